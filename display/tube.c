@@ -1,0 +1,97 @@
+/*
+** tube.c — the storage tube's memory (paper 003 §4; hardware-facts.md "The storage tube").
+**
+** This file contains code to store lit dots the way a bistable storage tube does: a dot
+** once written stays lit, writing it again changes nothing. Two structures:
+**   lit[]    one bit per dot, row-major from y = 0 (bottom), bit (y*TUBE_W + x) — answers
+**            "is it lit" and keeps each dot once;
+**   order[]  the dots in the order they were first written, each as y*TUBE_W + x; it can
+**            hold every dot of the tube, so storing never fails for lack of room.
+** Invariant: n == number of set bits in lit[] == number of entries in order[], and
+** order[] holds each lit dot exactly once.
+*/
+#include "display/tube.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define TUBE_DOTS (TUBE_W * TUBE_H)      /* 120,000 addressable dots */
+
+struct tube {
+  uint8_t  lit[(TUBE_DOTS + 7) / 8];     /* bit (y*TUBE_W + x): dot lit */
+  uint32_t order[TUBE_DOTS];             /* first-write order, y*TUBE_W + x each */
+  int      n;                            /* dots lit == entries of order[] in use */
+  struct t74_error err;                  /* first out-of-tube write, for tube_end */
+};
+
+struct tube *tube_new(void)
+{
+  struct tube *t = malloc(sizeof *t);
+  if (t) tube_erase(t);
+  return t;
+}
+
+void tube_free(struct tube *t)
+{
+  free(t);
+}
+
+void tube_erase(struct tube *t)
+{
+  memset(t->lit, 0, sizeof t->lit);
+  t->n = 0;
+  t->err.status = T74_OK;
+  t->err.msg[0] = '\0';
+}
+
+int tube_write(struct tube *t, int x, int y)
+{
+  if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H)
+    return t74_fail(&t->err, T74_EINPUT,
+                    "tube: dot (%d, %d) is outside the %d x %d tube", x, y, TUBE_W, TUBE_H);
+  uint32_t k = (uint32_t)y * TUBE_W + (uint32_t)x;
+  uint8_t bit = (uint8_t)(1u << (k & 7));
+  if (t->lit[k >> 3] & bit) return T74_OK;       /* stored already: keeps its first place */
+  t->lit[k >> 3] |= bit;
+  t->order[t->n++] = k;
+  return T74_OK;
+}
+
+int tube_lit(const struct tube *t, int x, int y)
+{
+  if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H) return 0;
+  uint32_t k = (uint32_t)y * TUBE_W + (uint32_t)x;
+  return (t->lit[k >> 3] >> (k & 7)) & 1;
+}
+
+int tube_count(const struct tube *t)
+{
+  return t->n;
+}
+
+int tube_order(const struct tube *t, int k, int *x, int *y)
+{
+  if (k < 0 || k >= t->n) return T74_EINPUT;
+  *x = (int)(t->order[k] % TUBE_W);
+  *y = (int)(t->order[k] / TUBE_W);
+  return T74_OK;
+}
+
+static int sink_tube_point(void *ctx, int x, int y)
+{
+  return tube_write(ctx, x, y);
+}
+
+static int sink_tube_end(void *ctx, struct t74_error *err)
+{
+  struct tube *t = ctx;
+  if (t->err.status == T74_OK) return T74_OK;
+  return t74_fail(err, t->err.status, "%s", t->err.msg);
+}
+
+struct sink tube_sink(struct tube *t)
+{
+  struct sink s = { t, sink_tube_point, sink_tube_end, NULL };
+  return s;
+}

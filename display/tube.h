@@ -1,0 +1,49 @@
+/*
+** tube.h — the storage tube's memory: 400 x 300 binary dots (paper 003 §4).
+**
+** This file contains code to model what a bistable storage CRT keeps: once the beam has
+** written a dot, the dot stays lit until the whole screen is erased (hardware-facts.md:
+** stores for 15 min or more). It is binary — a dot written twice is still one lit dot —
+** and this model also remembers the order in which dots were FIRST written, which is the
+** order `--dump points` reports and the order a plotter or Tek stream would draw them.
+**
+** The tube is a sink (display/sink.h): tube_sink() feeds it point by point. It is the
+** exact stored picture that `--dump tube` shows; glow, flash and fade are looks layered
+** on top elsewhere, never stored here (style.md).
+**
+** Coordinates: x 0..TUBE_W-1 left to right, y 0..TUBE_H-1 bottom to top (CONTRACT.md).
+*/
+#ifndef T74_TUBE_H
+#define T74_TUBE_H
+
+#include "display/sink.h"
+#include "emu/status.h"
+
+struct tube;                    /* opaque: bitmap + first-write order + sticky error */
+
+/* A new, erased tube; NULL when out of memory. */
+struct tube *tube_new(void);
+void tube_free(struct tube *t);
+
+/* Erase: no dot lit, the order forgotten, the sticky error cleared. */
+void tube_erase(struct tube *t);
+
+/* Store dot (x, y). T74_OK (also when it was lit already: it keeps its first place), or
+** T74_EINPUT for a dot outside the tube (recorded, first one only, for tube_end). */
+int tube_write(struct tube *t, int x, int y);
+
+/* 1 if dot (x, y) is lit, else 0 (also for any dot outside the tube). */
+int tube_lit(const struct tube *t, int x, int y);
+
+/* How many dots are lit. */
+int tube_count(const struct tube *t);
+
+/* The k-th lit dot in first-write order, k = 0 .. tube_count-1: sets *x, *y and returns
+** T74_OK, or returns T74_EINPUT for k out of range. */
+int tube_order(const struct tube *t, int k, int *x, int *y);
+
+/* The tube as a sink: point = tube_write; end reports the first out-of-tube write, if any,
+** into err; abort leaves the stored dots as they are (the tube is memory, not a file). */
+struct sink tube_sink(struct tube *t);
+
+#endif

@@ -1,0 +1,334 @@
+/*
+** core.c — the core memory model: 16-bit words, a low stack of tables and one
+** high table growing down, with "does not fit" as an explicit result.
+** Where described: emu/core.h (layout and API); paper 003 appendix (16 kW/16 bit) and
+** Fig. 9 (the Priority Matrix, 2 bits a pair of faces).
+**
+** This file contains code to hand out the emulated core to the renderer's tables and
+** to account for it.  The words themselves are an array of uint16_t; beside them the
+** host keeps a record of each live low-region table (for the layout dump and for
+** core_release) and a row per table name with the words it holds now and the most it
+** ever held.  That bookkeeping lives in host memory, not in the emulated core: the 1974
+** program knew its tables by fixed addresses and needed no directory.
+**
+** Invariants: low_top + high_len <= size; peak >= low_top + high_len at all times;
+** the live records are in address order and tile [0, low_top) exactly.
+*/
+#include "emu/core.h"
+
+#include <assert.h>
+#include <inttypes.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct core_stat {
+  char     name[CORE_NAME_MAX];   /* table name (truncated copy) */
+  uint64_t cur;                   /* words held now under this name */
+  uint32_t peak;                  /* the most held at once */
+};
+
+struct core_rec {
+  uint32_t addr;                  /* first word */
+  uint32_t words;                 /* length */
+  int      stat;                  /* index into stats */
+};
+
+struct core {
+  uint32_t          size;         /* words of core */
+  uint16_t         *w;            /* the words */
+  uint32_t          low_top;      /* first free word above the low region */
+  uint32_t          high_len;     /* words of the high region (at the top) */
+  int               high_stat;    /* its stats row, -1 before first use */
+  uint32_t          peak;         /* most words in use at once */
+  struct core_rec  *rec;          /* live low-region tables, in address order */
+  int               nrec, caprec;
+  struct core_stat *stat;         /* one row per table name, first-use order */
+  int               nstat, capstat;
+  int               inject_on;    /* fault injection armed */
+  int               inject_tripped; /* the budget has been exceeded: all requests fail */
+  uint64_t          inject_left;  /* words that may still be requested */
+};
+
+struct core *core_new(uint32_t words)
+{
+  if (words < 1 || words > (UINT32_C(1) << 31)) return NULL;
+  struct core *c = calloc(1, sizeof *c);
+  if (!c) return NULL;
+  c->w = calloc(words, sizeof *c->w);
+  if (!c->w) { free(c); return NULL; }
+  c->size = words;
+  c->high_stat = -1;
+  return c;
+}
+
+void core_free(struct core *c)
+{
+  if (!c) return;
+  free(c->w);
+  free(c->rec);
+  free(c->stat);
+  free(c);
+}
+
+uint32_t core_words(const struct core *c) { return c->size; }
+uint32_t core_mark(const struct core *c) { return c->low_top; }
+uint32_t core_used(const struct core *c) { return c->low_top + c->high_len; }
+uint32_t core_peak(const struct core *c) { return c->peak; }
+uint32_t core_high_words(const struct core *c) { return c->high_len; }
+
+/* Row of the stats for `name`, created if new; -1 when the host is out of memory. */
+static int stat_row(struct core *c, const char *name)
+{
+  char key[CORE_NAME_MAX];
+  snprintf(key, sizeof key, "%s", name ? name : "(unnamed)");
+  for (int i = 0; i < c->nstat; i++)
+    if (strcmp(c->stat[i].name, key) == 0) return i;
+  if (c->nstat == c->capstat) {
+    int cap = c->capstat ? 2 * c->capstat : 16;
+    struct core_stat *s = realloc(c->stat, (size_t)cap * sizeof *s);
+    if (!s) return -1;
+    c->stat = s;
+    c->capstat = cap;
+  }
+  struct core_stat *s = &c->stat[c->nstat];
+  memcpy(s->name, key, sizeof key);
+  s->cur = 0;
+  s->peak = 0;
+  return c->nstat++;
+}
+
+static void stat_add(struct core *c, int i, uint32_t words)
+{
+  struct core_stat *s = &c->stat[i];
+  s->cur += words;
+  if (s->cur > s->peak) s->peak = s->cur > UINT32_MAX ? UINT32_MAX : (uint32_t)s->cur;
+}
+
+static void note_peak(struct core *c)
+{
+  uint32_t used = c->low_top + c->high_len;
+  if (used > c->peak) c->peak = used;
+}
+
+/*
+** May `words` more words be given to `table`?  They fit when the two regions do not
+** cross and the injected budget (if armed) is not exceeded.  On refusal, the message of
+** CONTRACT.md exit status 3: words needed, words available, and which table asked.
+*/
+static int grant(struct core *c, const char *table, uint32_t words, const char *verb,
+                 struct t74_error *err)
+{
+  uint64_t used = (uint64_t)c->low_top + c->high_len;
+  uint64_t need = used + words;
+  uint64_t avail = c->size;
+  const char *why = "";
+  if (need <= avail) {
+    if (!c->inject_on) return T74_OK;
+    if (!c->inject_tripped && words <= c->inject_left) {
+      c->inject_left -= words;
+      return T74_OK;
+    }
+    avail = used + (c->inject_tripped ? 0 : c->inject_left);    /* as if core ended there */
+    c->inject_tripped = 1;
+    why = "; injected exhaustion";
+  }
+  if (err)
+    t74_fail(err, T74_ECORE,
+             "scene does not fit the core: needs %" PRIu64 " words, %" PRIu64 " available "
+             "(table %s could not %s %" PRIu32 " words%s)",
+             need, avail, table ? table : "(unnamed)", verb, words, why);
+  return T74_ECORE;
+}
+
+int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr,
+               struct t74_error *err)
+{
+  int rc = grant(c, table, words, "take", err);
+  if (rc != T74_OK) return rc;
+  int s = stat_row(c, table);
+  if (s >= 0 && c->nrec == c->caprec) {
+    int cap = c->caprec ? 2 * c->caprec : 32;
+    struct core_rec *r = realloc(c->rec, (size_t)cap * sizeof *r);
+    if (r) { c->rec = r; c->caprec = cap; } else s = -1;
+  }
+  if (s < 0) {
+    if (c->inject_on) c->inject_left += words;        /* nothing was given */
+    if (err) t74_fail(err, T74_EIO, "host out of memory recording core table %s",
+                      table ? table : "(unnamed)");
+    return T74_EIO;
+  }
+  uint32_t a = c->low_top;
+  memset(c->w + a, 0, (size_t)words * sizeof *c->w);
+  c->rec[c->nrec++] = (struct core_rec){ a, words, s };
+  c->low_top = a + words;
+  stat_add(c, s, words);
+  note_peak(c);
+  if (addr) *addr = a;
+  return T74_OK;
+}
+
+void core_release(struct core *c, uint32_t mark)
+{
+  if (mark >= c->low_top) return;
+  while (c->nrec > 0) {
+    struct core_rec *r = &c->rec[c->nrec - 1];
+    if (r->addr >= mark) {                             /* wholly above: drop it */
+      c->stat[r->stat].cur -= r->words;
+      c->nrec--;
+    } else {                                           /* straddles the mark: shorten */
+      uint32_t keep = mark - r->addr;
+      if (keep < r->words) {
+        c->stat[r->stat].cur -= r->words - keep;
+        r->words = keep;
+      }
+      break;
+    }
+  }
+  c->low_top = mark;
+}
+
+int core_high_grow(struct core *c, const char *table, uint32_t words, struct t74_error *err)
+{
+  if (words <= c->high_len) return T74_OK;
+  uint32_t more = words - c->high_len;
+  int rc = grant(c, table, more, "grow by", err);
+  if (rc != T74_OK) return rc;
+  if (c->high_stat < 0 || c->high_len == 0) {
+    int s = stat_row(c, table);
+    if (s < 0) {
+      if (c->inject_on) c->inject_left += more;
+      if (err) t74_fail(err, T74_EIO, "host out of memory recording core table %s",
+                        table ? table : "(unnamed)");
+      return T74_EIO;
+    }
+    c->high_stat = s;
+  }
+  /* new words: addresses size-words .. size-high_len-1, zeroed (they may hold what a
+     released low table left there) */
+  memset(c->w + (c->size - words), 0, (size_t)more * sizeof *c->w);
+  c->high_len = words;
+  stat_add(c, c->high_stat, more);
+  note_peak(c);
+  return T74_OK;
+}
+
+void core_high_free(struct core *c)
+{
+  if (c->high_stat >= 0) c->stat[c->high_stat].cur -= c->high_len;
+  c->high_len = 0;
+}
+
+uint16_t core_high_get(const struct core *c, uint32_t k)
+{
+  assert(k < c->high_len);
+  return c->w[c->size - 1 - k];
+}
+
+void core_high_set(struct core *c, uint32_t k, uint16_t w)
+{
+  assert(k < c->high_len);
+  c->w[c->size - 1 - k] = w;
+}
+
+unsigned core_high_get2(const struct core *c, uint64_t i)
+{
+  assert(i / 8 < c->high_len);
+  uint16_t w = c->w[c->size - 1 - (uint32_t)(i / 8)];
+  return (unsigned)(w >> (2 * (i % 8))) & 3u;
+}
+
+void core_high_set2(struct core *c, uint64_t i, unsigned v)
+{
+  assert(i / 8 < c->high_len);
+  assert(v <= 3);
+  uint16_t *w = &c->w[c->size - 1 - (uint32_t)(i / 8)];
+  unsigned sh = (unsigned)(2 * (i % 8));
+  *w = (uint16_t)((*w & ~(3u << sh)) | ((v & 3u) << sh));
+}
+
+uint16_t core_read(const struct core *c, uint32_t addr)
+{
+  assert(addr < c->size);
+  return c->w[addr];
+}
+
+void core_write(struct core *c, uint32_t addr, uint16_t w)
+{
+  assert(addr < c->size);
+  c->w[addr] = w;
+}
+
+void core_put_int(struct core *c, uint32_t addr, int nwords, int64_t v)
+{
+  assert(nwords >= 1 && nwords <= 4);
+  assert((uint64_t)addr + (uint64_t)nwords <= c->size);
+  uint64_t u = (uint64_t)v;
+  for (int i = nwords - 1; i >= 0; i--, u >>= 16) c->w[addr + (uint32_t)i] = (uint16_t)u;
+}
+
+int64_t core_get_int(const struct core *c, uint32_t addr, int nwords)
+{
+  assert(nwords >= 1 && nwords <= 4);
+  assert((uint64_t)addr + (uint64_t)nwords <= c->size);
+  uint64_t u = 0;
+  for (int i = 0; i < nwords; i++) u = (u << 16) | c->w[addr + (uint32_t)i];
+  int bits = 16 * nwords;
+  if (bits < 64 && (u >> (bits - 1)) & 1u) u |= ~UINT64_C(0) << bits;     /* sign-extend */
+  return (u >> 63) ? -(int64_t)(~u) - 1 : (int64_t)u;          /* no implementation-defined cast */
+}
+
+void core_put_wide(struct core *c, uint32_t addr, int nwords, core_wide v)
+{
+  assert(nwords >= 1 && nwords <= 8);
+  assert((uint64_t)addr + (uint64_t)nwords <= c->size);
+  core_uwide u = (core_uwide)v;
+  for (int i = nwords - 1; i >= 0; i--, u >>= 16) c->w[addr + (uint32_t)i] = (uint16_t)u;
+}
+
+core_wide core_get_wide(const struct core *c, uint32_t addr, int nwords)
+{
+  assert(nwords >= 1 && nwords <= 8);
+  assert((uint64_t)addr + (uint64_t)nwords <= c->size);
+  core_uwide u = 0;
+  for (int i = 0; i < nwords; i++) u = (u << 16) | c->w[addr + (uint32_t)i];
+  int bits = 16 * nwords;
+  if (bits < 128 && (u >> (bits - 1)) & 1u) u |= ~(core_uwide)0 << bits;
+  return (u >> 127) ? -(core_wide)(~u) - 1 : (core_wide)u;
+}
+
+int core_tables(const struct core *c, const char **names, uint32_t *peak_words, int max)
+{
+  for (int i = 0; i < c->nstat && i < max; i++) {
+    if (names) names[i] = c->stat[i].name;
+    if (peak_words) peak_words[i] = c->stat[i].peak;
+  }
+  return c->nstat;
+}
+
+int core_layout_dump(const struct core *c, FILE *f)
+{
+  fprintf(f, "core: %" PRIu32 " words of 16 bits; in use %" PRIu32 ", peak %" PRIu32 "\n",
+          c->size, core_used(c), c->peak);
+  fprintf(f, "  %10s %8s %10s  %s\n", "address", "(hex)", "words", "table");
+  for (int i = 0; i < c->nrec; i++)
+    fprintf(f, "  %10" PRIu32 " %08" PRIX32 " %10" PRIu32 "  %s\n", c->rec[i].addr,
+            c->rec[i].addr, c->rec[i].words, c->stat[c->rec[i].stat].name);
+  uint32_t gap = c->size - c->low_top - c->high_len;
+  fprintf(f, "  %10" PRIu32 " %08" PRIX32 " %10" PRIu32 "  (free)\n", c->low_top, c->low_top, gap);
+  if (c->high_len > 0) {
+    uint32_t a = c->size - c->high_len;
+    fprintf(f, "  %10" PRIu32 " %08" PRIX32 " %10" PRIu32 "  %s (high region, word k at %" PRIu32
+            "-k)\n", a, a, c->high_len, c->stat[c->high_stat].name, c->size - 1);
+  }
+  fprintf(f, "most words each table held at once:\n");
+  for (int i = 0; i < c->nstat; i++)
+    fprintf(f, "  %-31s %10" PRIu32 "\n", c->stat[i].name, c->stat[i].peak);
+  return ferror(f) ? T74_EIO : T74_OK;
+}
+
+void core_inject_exhaustion(struct core *c, uint32_t after)
+{
+  c->inject_on = after != UINT32_MAX;
+  c->inject_tripped = 0;
+  c->inject_left = after;
+}

@@ -1,0 +1,123 @@
+/*
+** core.h — the HITAC-10's core memory of 16-bit words, and how the renderer's tables
+** are laid out in it.
+** Where described: paper 003 appendix (core 16 kW/16 bit), §3 and Figs. 6, 8, 9 (the
+** tables: XSORT, IPL, PBS, LWS, UPS, the face data blocks, the Priority Matrix);
+** shared/notes/hardware-facts.md; CONTRACT.md (--core WORDS, exit status 3,
+** core_words / core_words_used in --stats).
+**
+** This file contains code to make the renderer live inside the 1974 machine's memory.
+** Every table the paper names is allocated from a model of the core (default 16,384
+** words, --core), so a scene that would not have fitted does not fit here either and
+** the run ends with T74_ECORE (exit 3) and a message giving the words needed and the
+** words available, never with a crash or a silently wrong picture.
+**
+** Layout.  Two regions grow towards each other, as a program of the time would have
+** laid out its working store:
+**
+**   address 0                                                          size-1
+**   +---------+----------+------+-------+------------+ .. +------------------+
+**   | PROGRAM | VERTICES | FACE | YSORT | XSORT  IPL | .. | PRIORITY MATRIX  |
+**   |         |          | DATA |       | PBS LWS UPS| .. | (2 bits a pair)  |
+**   +---------+----------+------+-------+------------+ .. +------------------+
+**   low region: allocated upward, released in stack      high region: ONE table,
+**   order (core_mark / core_release), so the scratch     growing downward as pairs
+**   tables of one face vanish when the face is done      of faces get a priority
+**
+** The low region is a stack: a stage marks the top, allocates its scratch tables, and
+** releases back to the mark.  The Priority Matrix (003 Fig. 9) is filled in lazily,
+** "only when needed" (003 §4), so it grows during the scan; it lives at the top of core,
+** word k of it at address size-1-k, so growing it never moves what is already there.
+** The two regions meet exactly: with L low words and H high words, L + H <= size.
+**
+** Statistics: the most words ever in use at once (core_peak, the --stats field
+** core_words_used) and, for each table name, the most words that name ever held
+** (core_tables), so a report can say which tables took the core.
+**
+** Addresses are 32-bit so that --core may exceed the HITAC-10's 32 K words for study.
+*/
+#ifndef T74_CORE_H
+#define T74_CORE_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "emu/hitac10.h"
+#include "emu/status.h"
+
+/* Names of the paper's tables, for core_alloc / core_high_grow (free text is allowed). */
+#define CORE_T_PROGRAM   "PROGRAM"          /* the 1974 program itself (program_words) */
+#define CORE_T_VERTICES  "VERTICES"         /* input vertices, mapped by eq. (1) */
+#define CORE_T_FACES     "FACE DATA"        /* Fig. 8 A/B/C/D blocks */
+#define CORE_T_YSORT     "YSORT"            /* faces by y (003 §2) */
+#define CORE_T_XSORT     "XSORT"            /* vertices by x, ccw on ties (Fig. 3) */
+#define CORE_T_IPL       "IPL"              /* intersection point list (Fig. 6) */
+#define CORE_T_PBS       "PBS"              /* boundary sequence with crossings (Fig. 6) */
+#define CORE_T_LWS       "LWS"              /* lower sub-faces (Fig. 6) */
+#define CORE_T_UPS       "UPS"              /* upper sub-faces (Fig. 6) */
+#define CORE_T_PRIORITY  "PRIORITY MATRIX"  /* 2-bit a_ij (Fig. 9), the high region */
+
+#define CORE_NAME_MAX 32                     /* table names are kept to 31 characters */
+
+struct core;                                   /* opaque */
+
+/* A core of `words` words (1 .. 2^31), all zero; NULL when words is out of range or the
+   host cannot allocate it. */
+struct core *core_new(uint32_t words);
+void core_free(struct core *c);
+uint32_t core_words(const struct core *c);     /* size */
+
+/* ---- Low region: tables allocated upward from address 0, released in stack order. */
+
+/* Allocate `words` zeroed words for `table`; *addr receives the first address.  When it
+   does not fit: T74_ECORE, "scene does not fit the core: needs N words, M available
+   (table T could not take K more words)", nothing allocated. */
+int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr,
+               struct t74_error *err);
+uint32_t core_mark(const struct core *c);      /* current top of the low region */
+void core_release(struct core *c, uint32_t mark); /* free everything at or above mark */
+
+/* ---- High region: ONE growable table at the top of core, growing downward.
+   core_high_grow makes it at least `words` long, keeping its contents (word k of the
+   region is at core address size-1-k; new words are zero); T74_ECORE when it would
+   meet the low region. */
+int core_high_grow(struct core *c, const char *table, uint32_t words, struct t74_error *err);
+uint32_t core_high_words(const struct core *c);
+void core_high_free(struct core *c);           /* drop the high region (length 0) */
+uint16_t core_high_get(const struct core *c, uint32_t k);
+void core_high_set(struct core *c, uint32_t k, uint16_t w);
+/* 2-bit fields in the high region: field i is in word i/8, bits 2*(i%8) .. 2*(i%8)+1. */
+unsigned core_high_get2(const struct core *c, uint64_t i);
+void core_high_set2(struct core *c, uint64_t i, unsigned v);
+
+/* ---- Words. */
+uint16_t core_read(const struct core *c, uint32_t addr);
+void core_write(struct core *c, uint32_t addr, uint16_t w);
+
+/* Multi-word integers, two's complement, most significant word first at addr.
+   core_put_int stores the low 16*nwords bits of v (nwords 1..4); core_get_int
+   sign-extends.  The _wide pair does the same for 128-bit values, nwords 1..8. */
+__extension__ typedef __int128 core_wide;            /* 128-bit signed */
+__extension__ typedef unsigned __int128 core_uwide;  /* and unsigned */
+void core_put_int(struct core *c, uint32_t addr, int nwords, int64_t v);
+int64_t core_get_int(const struct core *c, uint32_t addr, int nwords);
+void core_put_wide(struct core *c, uint32_t addr, int nwords, core_wide v);
+core_wide core_get_wide(const struct core *c, uint32_t addr, int nwords);
+
+/* ---- Statistics. */
+uint32_t core_used(const struct core *c);       /* low + high words in use now */
+uint32_t core_peak(const struct core *c);       /* the most ever in use at once */
+/* Tables by name, in the order first allocated: fills up to max names and their peak
+   words (the most words the name ever held at once); returns how many tables there are. */
+int core_tables(const struct core *c, const char **names, uint32_t *peak_words, int max);
+/* Readable table of the tables now allocated (name, address, words), the free gap, the
+   high region, the use and peak, and each table's peak; 0, or T74_EIO. */
+int core_layout_dump(const struct core *c, FILE *f);
+
+/* ---- Fault injection for tests (like SQLite's fault.c): the first allocation
+   (core_alloc, or the growth in core_high_grow) that would bring the words requested
+   from now on past `after` fails with T74_ECORE, and so does every one after it.  Words
+   released in between do not count back.  UINT32_MAX disarms. */
+void core_inject_exhaustion(struct core *c, uint32_t after);
+
+#endif

@@ -1,0 +1,211 @@
+/*
+** cost.h — the cost model: operations counted by class, turned into 1974 seconds.
+** Where described: emu/hitac10.h (the instruction classes), shared/notes/
+** hardware-facts.md (timings), emu/params.c (the one table of machine constants).
+** Paper 003 gives no run times of its own, so hitac10_seconds is an estimate.
+**
+** This file contains code to account for the time the renderer would have taken on the
+** HITAC-10.  The renderer does its work in C but, at each step, adds to a `struct cost`
+** the instructions the 1974 program would have executed, by class (a load is COST_MEM,
+** an add COST_ADD, ...; emu/hitac10.h says which instruction is which class).  Counting
+** is a plain increment through the COST_ADD_N macro, cheap enough for inner loops
+** (tools/bench_cost.c measures it).  Arithmetic wider than the 16-bit word (plane
+** equations, priority tests on products of coordinates) is counted by cost_mw_*, which
+** charge the multi-word sequence a single-accumulator machine needs.  At the end
+** cost_seconds multiplies each class's count by its time from the parameter table.
+**
+** The parameter table (struct cost_params) has one row per constant, each with its
+** name, value, unit and source ("inferred" with the reasoning where no document gives
+** the number).  cost_params_set changes a row from a "name=value" string, as --param
+** options or tests do; cost_params_list prints the table.
+*/
+#ifndef T74_COST_H
+#define T74_COST_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "emu/hitac10.h"
+#include "emu/status.h"
+
+/* Classes of counted operations; emu/hitac10.h maps each onto HITAC-10 instructions. */
+enum cost_class {
+  COST_MEM,      /* L or ST of a table word: one memory-reference instruction */
+  COST_ADD,      /* A or S (add, subtract, compare) with its operand in core */
+  COST_LOGIC,    /* N, X, O with an operand in core, or a register operation */
+  COST_SHIFT,    /* one shift instruction (count 1..16; typical count: shift_n) */
+  COST_BRANCH,   /* B, BAL, KCT, skips */
+  COST_MUL,      /* 16 x 16 -> 32 multiply (hardware unit or software routine) */
+  COST_DIV,      /* 32 / 16 divide (hardware unit or software routine) */
+  COST_IO,       /* one IOC instruction */
+  COST_IND,      /* one indirection (",I") added to another instruction */
+  COST_NCLASS
+};
+
+struct cost { uint64_t n[COST_NCLASS]; };     /* plain counters; the renderer adds to them */
+
+/* Count k operations of class cls: a plain add, for hot paths. */
+#define COST_ADD_N(c, cls, k) ((c)->n[(cls)] += (uint64_t)(k))
+
+/* Words a `bits`-bit operand takes on a 16-bit machine (at least one). */
+static inline uint64_t cost_words(int bits)
+{
+  return bits <= H10_WORD_BITS ? 1u : (uint64_t)(bits + H10_WORD_BITS - 1) / H10_WORD_BITS;
+}
+
+/*
+** Multi-word add, subtract or compare of two w-word operands in core, result to core.
+** Word by word from the least significant: L a_i, A b_i, ST c_i (2 MEM + 1 ADD per
+** word); each of the w-1 upper words also takes the carry of the word below: a skip on
+** carry and an add of the constant 1 (1 BRANCH + 1 ADD).
+**   w = 1: MEM 2, ADD 1.   w = 2: MEM 4, ADD 3, BRANCH 1.   w = 8: MEM 16, ADD 15, BRANCH 7.
+*/
+static inline void cost_mw_add(struct cost *c, int bits)
+{
+  uint64_t w = cost_words(bits);
+  c->n[COST_MEM]    += 2 * w;
+  c->n[COST_ADD]    += w + (w - 1);
+  c->n[COST_BRANCH] += w - 1;
+}
+
+/*
+** Multi-word multiply, schoolbook on 16-bit digits (the hardware, or the software
+** routine, multiplies one word by one word into AC:EC).
+** One word by one word: L a, M b, ST low, EC->AC, ST high: MEM 3, MUL 1, LOGIC 1.
+** Otherwise, for an wa-word by wb-word product of wa+wb words:
+**   clear the product:                      MEM wa+wb
+**   each of the wa*wb partial products:     L a_i, M b_j, A r_k, ST r_k, EC->AC, skip on
+**                                           carry, A one, A r_k+1, ST r_k+1:
+**                                           MEM 3, MUL 1, ADD 3, LOGIC 1, BRANCH 1
+**   each of the wa rows ripples its carry:  L, skip, A one, ST: MEM 2, ADD 1, BRANCH 1
+**   signs (two's complement operands):      2 skips + a multi-word negate of the product,
+**                                           charged as cost_mw_add of its width
+*/
+static inline void cost_mw_mul(struct cost *c, int bits_a, int bits_b)
+{
+  uint64_t wa = cost_words(bits_a), wb = cost_words(bits_b), pp = wa * wb;
+  if (pp == 1) {
+    c->n[COST_MEM] += 3; c->n[COST_MUL] += 1; c->n[COST_LOGIC] += 1;
+    return;
+  }
+  c->n[COST_MEM]    += (wa + wb) + 3 * pp + 2 * wa;
+  c->n[COST_MUL]    += pp;
+  c->n[COST_ADD]    += 3 * pp + wa;
+  c->n[COST_LOGIC]  += pp;
+  c->n[COST_BRANCH] += pp + wa + 2;
+  cost_mw_add(c, (int)((wa + wb) * H10_WORD_BITS));
+}
+
+/*
+** Multi-word divide, n-bit dividend by d-bit divisor (long division on 16-bit digits).
+** A one-word divisor: one 32/16 divide per dividend word, the remainder staying in the
+** high half: L n_i, D d, ST q_i, EC->AC: MEM 2, DIV 1, LOGIC 1 per word.
+** A wider divisor (Knuth's algorithm D, wn >= wd words, q = wn - wd + 1 quotient words):
+**   normalise divisor and dividend:         SHIFT 2(wn + wd), MEM 2(wn + wd)
+**   each quotient word: estimate (1 DIV, 2 MEM, 1 ADD test), multiply and subtract
+**   (wd MUL, 3 wd MEM, 2 wd ADD, wd LOGIC, wd BRANCH), add back test (1 BRANCH), store
+**   (1 MEM)
+**   signs:                                  2 skips + a negate of the quotient (mw_add)
+*/
+static inline void cost_mw_div(struct cost *c, int bits_n, int bits_d)
+{
+  uint64_t wn = cost_words(bits_n), wd = cost_words(bits_d);
+  if (wd == 1) {
+    c->n[COST_MEM] += 2 * wn; c->n[COST_DIV] += wn; c->n[COST_LOGIC] += wn;
+    return;
+  }
+  if (wn < wd) wn = wd;                         /* quotient 0: one trial still runs */
+  uint64_t q = wn - wd + 1;
+  c->n[COST_SHIFT]  += 2 * (wn + wd);
+  c->n[COST_MEM]    += 2 * (wn + wd) + q * (2 + 3 * wd + 1);
+  c->n[COST_DIV]    += q;
+  c->n[COST_MUL]    += q * wd;
+  c->n[COST_ADD]    += q * (1 + 2 * wd);
+  c->n[COST_LOGIC]  += q * wd;
+  c->n[COST_BRANCH] += q * (wd + 1) + 2;
+  cost_mw_add(c, (int)(q * H10_WORD_BITS));
+}
+
+/* Add every counter of `from` into `into`. */
+void cost_merge(struct cost *into, const struct cost *from);
+
+/* Total of all counters (instructions, counting an indirection as one). */
+uint64_t cost_total(const struct cost *c);
+
+/* Name of a class ("mem", "add", ...), or "?" for a value out of range. */
+const char *cost_class_name(int cls);
+
+/* ---------------------------------------------------------------------------------
+** The parameter table.  One row per constant; emu/params.c holds each row's name, unit,
+** default, limits and source.  `muldiv` is a choice row: 0 = hw, 1 = sw.
+*/
+enum cost_param {
+  CP_CORE_WORDS,        /* core size, words */
+  CP_PROGRAM_WORDS,     /* words of core the 1974 program itself is taken to occupy */
+  CP_STATE_NS,          /* one machine state */
+  CP_MEM_STATES,        /* memory-reference instruction (L, ST): COST_MEM */
+  CP_ADD_STATES,        /* A, S: COST_ADD */
+  CP_LOGIC_STATES,      /* N, X, O, register operations: COST_LOGIC */
+  CP_BRANCH_STATES,     /* B, BAL, KCT, skips: COST_BRANCH */
+  CP_SHIFT_STATES,      /* shift by one position: COST_SHIFT base */
+  CP_SHIFT_STEP_STATES, /* each further position of a shift */
+  CP_SHIFT_N,           /* typical shift count */
+  CP_IND_STATES,        /* one indirection: COST_IND */
+  CP_IO_STATES,         /* IOC: COST_IO */
+  CP_MULDIV,            /* 0 hw: optional multiply/divide unit fitted; 1 sw: trapped */
+  CP_MUL_HW_STATES,     /* multiply with the unit */
+  CP_DIV_HW_STATES,     /* divide with the unit */
+  CP_TRAP_STATES,       /* entering the software routine of a trapped instruction */
+  CP_MUL_SW_INSTR,      /* instructions of the software multiply routine */
+  CP_DIV_SW_INSTR,      /* instructions of the software divide routine */
+  CP_DISK_TRACK_MS,     /* disk: track-to-track move */
+  CP_DISK_SEEK_MS,      /* disk: mean random seek */
+  CP_DISK_ROT_MS,       /* disk: mean rotational delay */
+  CP_DISK_MBIT,         /* disk: capacity */
+  CP_DRUM_REV_S,        /* drum scanner: one turn */
+  CP_DRUM_PTS_MM,       /* drum scanner: points per mm around the drum */
+  CP_DRUM_LINES_MM,     /* drum scanner: lines per mm along the axis */
+  CP_ADC_US,            /* A-D converter: one conversion */
+  CP_ADC_BITS,          /* A-D converter: resolution */
+  CP_NPARAM
+};
+
+struct cost_params { double v[CP_NPARAM]; };   /* indexed by enum cost_param */
+
+/* One row of the table (emu/params.c). */
+struct cost_param_row {
+  const char *name;     /* as given to cost_params_set */
+  const char *unit;     /* "ns", "states", "hw|sw", ... */
+  double      def;      /* default value */
+  double      min, max; /* accepted range */
+  int         integer;  /* 1: only whole numbers */
+  const char *source;   /* hardware-facts.md / paper 003 wording, or "inferred: why" */
+};
+extern const struct cost_param_row cost_param_rows[CP_NPARAM];
+
+void cost_params_default(struct cost_params *p);
+
+/*
+** Set one row from "name=value" ("mem_states=7", "state_ns=250", "muldiv=sw").  For each
+** row counted in states, "CLASS_us=V" is accepted too and sets the states to V us at the
+** current state time (e.g. "mem_us=1.6").  Unknown name or bad value: T74_EINPUT, the
+** row unchanged.
+*/
+int cost_params_set(struct cost_params *p, const char *name_eq_value, struct t74_error *err);
+
+/* Value of the row called `name`; T74_EINPUT when there is none. */
+int cost_params_get(const struct cost_params *p, const char *name, double *value);
+
+/* Print the table: name, value, unit, source; 0, or T74_EIO when the stream fails. */
+int cost_params_list(const struct cost_params *p, FILE *f);
+
+/* Time of one operation of class cls, in microseconds, with the table's values. */
+double cost_class_us(const struct cost_params *p, int cls);
+
+/* Estimated 1974 run time of the counted operations, in seconds. */
+double cost_seconds(const struct cost *c, const struct cost_params *p);
+
+/* Print counts and seconds per class; 0, or T74_EIO when the stream fails. */
+int cost_report(const struct cost *c, const struct cost_params *p, FILE *f);
+
+#endif

@@ -1,0 +1,323 @@
+/*
+** picture.c — background pictures: PGM / PNG loading and box sampling.
+**
+** This file contains code to read the grey picture a scene names with `background FILE`
+** and to sample it at the perspective-plane points, where it shows behind all faces
+** (lowest priority). In the 1974 system a picture was scanned on the drum scanner into
+** 8-bit samples (hardware-facts.md); here it is a file, read whole into memory and then
+** parsed, so that every read failure is an I/O error (T74_EIO) and everything found in
+** the bytes themselves is an input error (T74_EINPUT "FILE: not a PGM/PNG picture: why").
+** The kind is told by the first bytes ("P2", "P5", or the PNG signature), not the name.
+**
+** SAMPLING. The picture (pw x ph pixels) is stretched over the W x H grid. Measuring x in
+** units of 1/W of a picture pixel and y in units of 1/H, every boundary is an integer:
+** pixel x spans [x*W, (x+1)*W), point i spans [i*pw, (i+1)*pw) (likewise in y), so the
+** area a pixel shares with a point's footprint is an integer product wx*wy, the weights
+** add up to exactly pw*ph, and the mean is
+**     grey(i, j) = floor((sum of pixel * wx * wy + pw*ph/2) / (pw*ph))
+** — rounded to nearest, halves up, with no error at all before that one rounding.
+*/
+#include "patterns/picture.h"
+
+#include <errno.h>
+#include <png.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct pic {
+  int w, h;                     /* width and height in pixels, 1..PIC_MAX_SIDE */
+  uint8_t px[];                 /* w*h grey pixels, row-major, row 0 at the top */
+};
+
+#define NOT_PIC "not a PGM/PNG picture"   /* the common part of every T74_EINPUT message */
+
+static struct pic *pic_alloc(int w, int h)
+{
+  if (w < 1 || h < 1 || w > PIC_MAX_SIDE || h > PIC_MAX_SIDE) return NULL;
+  struct pic *p = malloc(sizeof *p + (size_t)w * (size_t)h);
+  if (p) { p->w = w; p->h = h; }
+  return p;
+}
+
+struct pic *pic_new(int w, int h, const uint8_t *grey)
+{
+  struct pic *p = pic_alloc(w, h);
+  if (p) memcpy(p->px, grey, (size_t)w * (size_t)h);
+  return p;
+}
+
+void pic_free(struct pic *p)
+{
+  free(p);
+}
+
+int pic_width(const struct pic *p) { return p->w; }
+
+int pic_height(const struct pic *p) { return p->h; }
+
+int pic_pixel(const struct pic *p, int x, int y)
+{
+  if (x < 0 || x >= p->w || y < 0 || y >= p->h) return -1;
+  return p->px[(size_t)y * p->w + x];
+}
+
+/* ---- the whole file -------------------------------------------------------------- */
+
+/* Read all of path into *buf (*len bytes). T74_OK or T74_EIO. */
+static int read_all(const char *path, uint8_t **buf, size_t *len, struct t74_error *err)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return t74_fail(err, T74_EIO, "%s: cannot open: %s", path, strerror(errno));
+  size_t cap = 1 << 16, n = 0;  /* bytes allocated, bytes read */
+  uint8_t *b = malloc(cap);
+  while (b) {
+    n += fread(b + n, 1, cap - n, f);
+    if (n < cap) break;         /* end of file or a read error: told apart below */
+    uint8_t *nb = cap <= SIZE_MAX / 2 ? realloc(b, cap * 2) : NULL;
+    if (!nb) { free(b); b = NULL; break; }
+    b = nb;
+    cap *= 2;
+  }
+  int bad = !b || ferror(f);
+  int e = errno;
+  fclose(f);
+  if (bad) {
+    free(b);
+    return t74_fail(err, T74_EIO, "%s: cannot read: %s", path,
+                    b ? strerror(e) : "out of memory");
+  }
+  *buf = b;
+  *len = n;
+  return T74_OK;
+}
+
+/* ---- PGM (Netpbm P2 / P5) -------------------------------------------------------- */
+
+struct cursor {
+  const uint8_t *b;             /* the file */
+  size_t n;                     /* its length */
+  size_t pos;                   /* next byte to look at */
+};
+
+static int is_space(int c)
+{
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
+
+/* Skip white space and '#' comments (to the end of their line). */
+static void skip_blank(struct cursor *c)
+{
+  while (c->pos < c->n) {
+    if (is_space(c->b[c->pos])) c->pos++;
+    else if (c->b[c->pos] == '#')
+      while (c->pos < c->n && c->b[c->pos] != '\n') c->pos++;
+    else break;
+  }
+}
+
+/* Read an unsigned decimal number after optional blanks: 1 and *v, or 0 if there is no
+** digit there or the number exceeds limit. */
+static int read_number(struct cursor *c, unsigned long limit, unsigned long *v)
+{
+  skip_blank(c);
+  if (c->pos >= c->n || c->b[c->pos] < '0' || c->b[c->pos] > '9') return 0;
+  unsigned long x = 0;
+  while (c->pos < c->n && c->b[c->pos] >= '0' && c->b[c->pos] <= '9') {
+    x = x * 10 + (unsigned long)(c->b[c->pos++] - '0');
+    if (x > limit) return 0;
+  }
+  *v = x;
+  return 1;
+}
+
+/* Parse a P2 or P5 file in b. */
+static int load_pgm(const char *path, const uint8_t *b, size_t n, struct pic **out,
+                    struct t74_error *err)
+{
+  struct cursor c = { b, n, 2 };
+  int plain = b[1] == '2';      /* P2: decimal samples; P5: binary samples */
+  unsigned long w, h, maxval;
+  if (!read_number(&c, PIC_MAX_SIDE, &w) || !read_number(&c, PIC_MAX_SIDE, &h) || w < 1
+      || h < 1)
+    return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": width and height must be 1..%d",
+                    path, PIC_MAX_SIDE);
+  if (!read_number(&c, 65535, &maxval) || maxval < 1)
+    return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": maxval must be 1..65535", path);
+  if (c.pos >= c.n || !is_space(b[c.pos]))
+    return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": no white space after maxval", path);
+  c.pos++;                      /* the single white-space byte before the raster */
+
+  struct pic *p = pic_alloc((int)w, (int)h);
+  if (!p) return t74_fail(err, T74_EIO, "%s: out of memory", path);
+  size_t count = (size_t)w * h;           /* samples to read */
+  size_t bps = maxval < 256 ? 1 : 2;      /* P5: bytes per sample, big-endian */
+  if (!plain && c.n - c.pos < count * bps) {
+    pic_free(p);
+    return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": truncated: %zu of %zu samples",
+                    path, (c.n - c.pos) / bps, count);
+  }
+  for (size_t k = 0; k < count; k++) {
+    unsigned long v;
+    if (plain) {
+      if (!read_number(&c, 65535, &v)) {
+        skip_blank(&c);
+        pic_free(p);
+        if (c.pos >= c.n)
+          return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": truncated: %zu of %zu samples",
+                          path, k, count);
+        return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": bad sample %zu", path, k);
+      }
+    } else {
+      v = bps == 1 ? b[c.pos] : (unsigned long)b[c.pos] << 8 | b[c.pos + 1];
+      c.pos += bps;
+    }
+    if (v > maxval) {
+      pic_free(p);
+      return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": sample %lu at (%zu, %zu) exceeds "
+                      "maxval %lu", path, v, k % w, k / w, maxval);
+    }
+    p->px[k] = (uint8_t)((v * 255 + maxval / 2) / maxval);  /* to 0..255, to nearest */
+  }
+  *out = p;
+  return T74_OK;
+}
+
+/* ---- PNG (libpng, from memory) --------------------------------------------------- */
+
+struct png_in {
+  jmp_buf jb;                   /* back to load_png on a libpng error */
+  const uint8_t *b;             /* the file */
+  size_t n, pos;                /* its length, next byte to read */
+  struct t74_error *err;
+  const char *path;
+};
+
+static void png_in_error(png_structp png, png_const_charp msg)
+{
+  struct png_in *in = png_get_error_ptr(png);
+  t74_fail(in->err, T74_EINPUT, "%s: " NOT_PIC ": %s", in->path, msg);
+  longjmp(in->jb, 1);
+}
+
+static void png_in_warning(png_structp png, png_const_charp msg)
+{
+  (void)png;                    /* warnings (bad CRC in an ancillary chunk, ...) are */
+  (void)msg;                    /* about data libpng skips: the picture is still good */
+}
+
+static void png_in_read(png_structp png, png_bytep out, size_t len)
+{
+  struct png_in *in = png_get_io_ptr(png);
+  if (in->n - in->pos < len) png_error(png, "truncated");
+  memcpy(out, in->b + in->pos, len);
+  in->pos += len;
+}
+
+static int load_png(const char *path, const uint8_t *b, size_t n, struct pic **out,
+                    struct t74_error *err)
+{
+  struct png_in in;
+  in.b = b; in.n = n; in.pos = 0; in.err = err; in.path = path;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &in, png_in_error,
+                                           png_in_warning);
+  png_infop info = png ? png_create_info_struct(png) : NULL;
+  if (!info) {
+    if (png) png_destroy_read_struct(&png, NULL, NULL);
+    return t74_fail(err, T74_EIO, "%s: out of memory", path);
+  }
+  /* Set after the setjmp, used on the error path: hence volatile. */
+  uint8_t *volatile image = NULL;          /* the decoded rows, rowbytes each */
+  png_bytep *volatile rows = NULL;         /* pointers into image */
+  struct pic *volatile p = NULL;
+  if (setjmp(in.jb)) {
+    png_destroy_read_struct(&png, &info, NULL);
+    free(image);
+    free(rows);
+    pic_free(p);
+    return err->status;
+  }
+  png_set_read_fn(png, &in, png_in_read);
+  png_set_user_limits(png, PIC_MAX_SIDE, PIC_MAX_SIDE);
+  png_read_info(png, info);
+  int type = png_get_color_type(png, info);
+  png_set_expand(png);                     /* palette -> RGB, grey < 8 bit -> 8, tRNS -> alpha */
+  png_set_strip_16(png);                   /* 16-bit: keep the high byte */
+  if (type & PNG_COLOR_MASK_COLOR)         /* RGB or palette: to grey, libpng's weights */
+    png_set_rgb_to_gray_fixed(png, 1, -1, -1);
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+  int w = (int)png_get_image_width(png, info);
+  int h = (int)png_get_image_height(png, info);
+  int ch = png_get_channels(png, info);    /* 1 grey, or 2 grey + alpha */
+  size_t rowbytes = png_get_rowbytes(png, info);
+  if ((ch != 1 && ch != 2) || png_get_bit_depth(png, info) != 8)
+    png_error(png, "unexpected sample layout after conversion");
+  p = pic_alloc(w, h);
+  image = malloc(rowbytes * (size_t)h);
+  rows = malloc(sizeof(png_bytep) * (size_t)h);
+  if (!p || !image || !rows) {
+    t74_fail(err, T74_EIO, "%s: out of memory", path);
+    longjmp(in.jb, 1);
+  }
+  for (int y = 0; y < h; y++) rows[y] = image + rowbytes * (size_t)y;
+  png_read_image(png, rows);
+  png_read_end(png, NULL);
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) {
+      const uint8_t *s = rows[y] + ch * x;
+      /* grey + alpha: over the black tube face, g*a/255 to nearest */
+      p->px[(size_t)y * w + x] = ch == 1 ? s[0] : (uint8_t)((s[0] * s[1] + 127) / 255);
+    }
+  png_destroy_read_struct(&png, &info, NULL);
+  free(image);
+  free(rows);
+  *out = p;
+  return T74_OK;
+}
+
+/* ---- loading --------------------------------------------------------------------- */
+
+int pic_load(const char *path, struct pic **out, struct t74_error *err)
+{
+  uint8_t *b = NULL;            /* the whole file */
+  size_t n = 0;                 /* its length */
+  int rc = read_all(path, &b, &n, err);
+  if (rc != T74_OK) return rc;
+  if (n >= 8 && png_sig_cmp(b, 0, 8) == 0)
+    rc = load_png(path, b, n, out, err);
+  else if (n >= 2 && b[0] == 'P' && (b[1] == '2' || b[1] == '5'))
+    rc = load_pgm(path, b, n, out, err);
+  else if (n >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '7')
+    rc = t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": Netpbm P%c is not a grey PGM "
+                  "(P2 or P5)", path, b[1]);
+  else
+    rc = t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": unknown signature", path);
+  free(b);
+  return rc;
+}
+
+/* ---- sampling -------------------------------------------------------------------- */
+
+int pic_sample(const struct pic *p, int i, int j, int W, int H)
+{
+  if (W < 1 || H < 1 || i < 0 || i >= W || j < 0 || j >= H) return -1;
+  int64_t pw = p->w, ph = p->h;
+  int64_t x0 = i * pw, x1 = (i + 1) * pw;   /* footprint in 1/W pixel units */
+  int64_t y0 = j * ph, y1 = (j + 1) * ph;   /* and in 1/H pixel units */
+  uint64_t sum = 0;                         /* sum of pixel * shared area */
+  for (int64_t y = y0 / H; y <= (y1 - 1) / H; y++) {
+    int64_t top = y * H > y0 ? y * H : y0;
+    int64_t bot = (y + 1) * H < y1 ? (y + 1) * H : y1;
+    uint64_t row = 0;                       /* sum of pixel * wx along this row */
+    for (int64_t x = x0 / W; x <= (x1 - 1) / W; x++) {
+      int64_t lo = x * W > x0 ? x * W : x0;
+      int64_t hi = (x + 1) * W < x1 ? (x + 1) * W : x1;
+      row += (uint64_t)p->px[y * pw + x] * (uint64_t)(hi - lo);
+    }
+    sum += row * (uint64_t)(bot - top);
+  }
+  uint64_t total = (uint64_t)(pw * ph);     /* the weights add up to exactly this */
+  return (int)((sum + total / 2) / total);
+}

@@ -1,0 +1,55 @@
+/*
+** picture.h — background pictures (CONTRACT.md `background FILE`; paper 003 §4).
+**
+** This file contains code to bring a grey picture in behind the scene: it has the
+** lowest priority, showing wherever no face covers a perspective-plane point. In 1974
+** such pictures came from the drum scanner with its 8-bit A-D converter (hardware-facts.md);
+** here they come from files:
+**   PGM  P2 (plain) and P5 (binary), maxval 1..65535, samples scaled to 0..255 by
+**        round(v * 255 / maxval);
+**   PNG  grey or colour, any bit depth, via libpng: colour is turned to grey with libpng's
+**        default weights (0.2126 R + 0.7152 G + 0.0722 B on the stored values), 16-bit
+**        samples keep their high byte, and alpha, if any, composites the picture over
+**        black (the dark tube face).
+** Stored values are taken as perceived grey, like a face's `grey` (no gamma decoding).
+**
+** The picture is stretched over the window (the whole grid the tube shows): point (i, j)
+** of a W x H grid covers picture x in [i*pw/W, (i+1)*pw/W) and y in [j*ph/H, (j+1)*ph/H)
+** (pw x ph the picture, row 0 at the top like j = 0). pic_sample() box-averages the
+** pixels under that footprint, weighting each by the exact area it shares with it.
+**
+** Errors (emu/status.h): a file that cannot be opened or read is T74_EIO "FILE: ...";
+** one that is not a picture we read is T74_EINPUT "FILE: not a PGM/PNG picture: why".
+*/
+#ifndef T74_PICTURE_H
+#define T74_PICTURE_H
+
+#include <stdint.h>
+#include "emu/status.h"
+
+#define PIC_MAX_SIDE 16384      /* largest width or height accepted (a sanity bound) */
+
+struct pic;                     /* opaque: width, height, 8-bit grey pixels */
+
+/* Load a PGM or PNG picture (recognised by its first bytes, not its name). T74_OK with
+** *out set, else T74_EIO or T74_EINPUT with err's message naming path. */
+int pic_load(const char *path, struct pic **out, struct t74_error *err);
+
+/* A picture from w x h grey pixels, row 0 at the top (copied); NULL when out of memory
+** or when w or h is outside 1..PIC_MAX_SIDE. */
+struct pic *pic_new(int w, int h, const uint8_t *grey);
+
+void pic_free(struct pic *p);
+
+int pic_width(const struct pic *p);
+int pic_height(const struct pic *p);
+
+/* Pixel (x, y), y = 0 at the top: 0..255, or -1 outside the picture. */
+int pic_pixel(const struct pic *p, int x, int y);
+
+/* Grey 0..255 of point (i, j) of a W x H grid: the area-weighted mean of the pixels under
+** the point's footprint, rounded to nearest (halves up), in exact integer arithmetic.
+** -1 when W or H < 1 or (i, j) is outside the grid. */
+int pic_sample(const struct pic *p, int i, int j, int W, int H);
+
+#endif

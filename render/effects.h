@@ -1,0 +1,82 @@
+/*
+** effects.h — the `effects KEY=VALUE ...` line: which simulated effects a scene calls for.
+**
+** Paper references: halftone cells (paper 003), multi-scanning anti-aliasing (paper 000),
+** adaptive area sampling (paper 001), enhanced edges (paper 002), smooth and partial
+** smoothing (paper 004). The keys and their defaults are fixed by shared/CONTRACT.md,
+** section "Effects": only the effects named are simulated; a key given without `=VALUE`
+** takes the value listed first in the contract (halftone=4x4, aa=none, filter=box, n=3,
+** super=3, edges=on, smooth=gouraud, tube=stored).
+**
+** The same parser serves the scene file's `effects` line and the `--effects` option, so
+** a bad key or value is reported once, as "FILE:LINE: effects: ...".
+*/
+#ifndef T74_EFFECTS_H
+#define T74_EFFECTS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "emu/status.h"
+
+/* Bits of struct effects.given: which keys the text named. */
+enum {
+  EFFECTS_HALFTONE = 1u << 0,
+  EFFECTS_PATTERN  = 1u << 1,
+  EFFECTS_AA       = 1u << 2,
+  EFFECTS_FILTER   = 1u << 3,
+  EFFECTS_N        = 1u << 4,
+  EFFECTS_SUPER    = 1u << 5,
+  EFFECTS_EDGES    = 1u << 6,
+  EFFECTS_OUTLINE  = 1u << 7,
+  EFFECTS_INNER    = 1u << 8,
+  EFFECTS_SMOOTH   = 1u << 9,
+  EFFECTS_CONTOUR  = 1u << 10,
+  EFFECTS_TUBE     = 1u << 11
+};
+
+enum effects_aa     { EFFECTS_AA_NONE, EFFECTS_AA_MULTISCAN, EFFECTS_AA_AREA,
+                      EFFECTS_AA_SUPER, EFFECTS_AA_EXACT };
+enum effects_filter { EFFECTS_FILTER_BOX, EFFECTS_FILTER_GAUSS };
+enum effects_smooth { EFFECTS_SMOOTH_NONE,      /* flat: one intensity per face (absent) */
+                      EFFECTS_SMOOTH_GOURAUD, EFFECTS_SMOOTH_PHONG,
+                      EFFECTS_SMOOTH_FIXED,     /* fixed:C, C in smooth_c */
+                      EFFECTS_SMOOTH_PROP };    /* prop:C,  C in smooth_c */
+enum effects_tube   { EFFECTS_TUBE_STORED, EFFECTS_TUBE_FADE, EFFECTS_TUBE_FLASH };
+
+#define EFFECTS_PATTERN_MAX 31      /* longest pattern name */
+#define EFFECTS_NSUB_MAX    16      /* largest n= and super= */
+#define EFFECTS_WIDTH_MAX   16      /* largest outline/inner width, in points */
+
+struct effects {
+  unsigned given;                   /* EFFECTS_* bits of the keys named */
+  int   halftone;                   /* 3 or 4: dot cell side (absent: 4) */
+  char  pattern[EFFECTS_PATTERN_MAX + 1];  /* cell family; "" = the default family */
+  enum effects_aa aa;               /* absent: none */
+  enum effects_filter filter;       /* absent: box */
+  int   n;                          /* sub-scanlines per point, 1..16 (absent: 3) */
+  int   super;                      /* samples per axis, 1..16 (absent: 3) */
+  bool  edges;                      /* enhanced edges (absent: off; given alone: on) */
+  int   outline_w, outline_g;       /* outline width 0..16 points, grey 0..255 (1,255) */
+  int   inner_w, inner_g;           /* inner-edge width and grey (1,255) */
+  enum effects_smooth smooth;       /* absent: none (flat shading) */
+  double smooth_c;                  /* C of fixed:C / prop:C, finite, 0..1e6 */
+  int   contour;                    /* contour=CC: 0..255 (absent: 0) */
+  enum effects_tube tube;           /* absent: stored */
+  double fade_seconds;              /* tube=fade:SECONDS, > 0 and <= 1e6 */
+};
+
+/* The effects in force when none are named. */
+void effects_default(struct effects *out);
+
+/* Parse blank-separated KEY[=VALUE] tokens (text may be NULL or empty: no effects).
+   Starts from effects_default. A repeated key, an unknown key or a bad value fails with
+   T74_EINPUT "FILE:LINE: effects: ..." (file may be NULL: the message then starts
+   "effects: "). Returns T74_OK or the status held by err. */
+int effects_parse(const char *text, struct effects *out, const char *file, int line,
+                  struct t74_error *err);
+
+/* Canonical text of the keys given (fixed key order, full values), like snprintf:
+   returns the length the whole text needs; buf (n bytes) always NUL-terminated if n>0. */
+int effects_format(const struct effects *e, char *buf, size_t n);
+
+#endif

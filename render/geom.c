@@ -1,0 +1,167 @@
+/*
+** geom.c — exact plane geometry: orientation, oriented lines, rationals, 256-bit products.
+**
+** See geom.h for the formats and the bounds that make every expression here fit.
+*/
+#include "render/geom.h"
+
+#include <assert.h>
+
+wide geom_orient(struct gpoint p, struct gpoint q, struct gpoint r)
+{
+  return (wide)(q.x - p.x) * (r.y - p.y) - (wide)(q.y - p.y) * (r.x - p.x);
+}
+
+struct gline geom_line(struct gpoint p, struct gpoint q)
+{
+  struct gline l;
+  l.a = p.y - q.y;
+  l.b = q.x - p.x;
+  l.c = -(l.a * p.x + l.b * p.y);   /* |a*px| < 2^57: no overflow in 64 bits */
+  return l;
+}
+
+struct gline geom_hline(gcoord y0, bool up)
+{
+  struct gline l = { 0, up ? 1 : -1, up ? -y0 : y0 };
+  return l;
+}
+
+int geom_side(struct gline l, struct gpoint p)
+{
+  wide v = (wide)l.a * p.x + (wide)l.b * p.y + l.c;
+  return (v > 0) - (v < 0);
+}
+
+int geom_side_h(struct gline l, struct hpoint p)
+{
+  wide v = l.a * p.X + l.b * p.Y + l.c * p.W;
+  return (v > 0) - (v < 0);
+}
+
+bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out)
+{
+  wide W = (wide)l1.a * l2.b - (wide)l2.a * l1.b;
+  if (W == 0) return false;
+  wide X = (wide)l1.b * l2.c - (wide)l2.b * l1.c;
+  wide Y = (wide)l1.c * l2.a - (wide)l2.c * l1.a;
+  if (W < 0) { W = -W; X = -X; Y = -Y; }
+  out->X = X; out->Y = Y; out->W = W;
+  return true;
+}
+
+struct grat geom_x_at(struct gline l, int64_t yn, int64_t yd)
+{
+  assert(l.a != 0 && yd > 0);
+  /* a*x + b*y + c = 0  =>  x = -(b*yn + c*yd) / (a*yd) */
+  struct grat r;
+  r.num = -((wide)l.b * yn + (wide)l.c * yd);
+  r.den = (wide)l.a * yd;
+  if (r.den < 0) { r.den = -r.den; r.num = -r.num; }
+  return r;
+}
+
+int geom_rat_cmp(struct grat p, struct grat q)
+{
+  wide l = p.num * q.den, r = q.num * p.den;
+  return (l > r) - (l < r);
+}
+
+int geom_rat_cmp_frac(struct grat p, int64_t n, int64_t d)
+{
+  wide l = p.num * d, r = (wide)n * p.den;
+  return (l > r) - (l < r);
+}
+
+wide geom_rat_floor(struct grat p)
+{
+  wide q = p.num / p.den;
+  if (p.num % p.den != 0 && p.num < 0) q -= 1;
+  return q;
+}
+
+wide geom_rat_ceil(struct grat p)
+{
+  wide q = p.num / p.den;
+  if (p.num % p.den != 0 && p.num > 0) q += 1;
+  return q;
+}
+
+int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d)
+{
+  wide l = p.Y * d, r = (wide)n * p.W;
+  return (l > r) - (l < r);
+}
+
+/* ---- 256-bit integers ---------------------------------------------------------------- */
+
+struct i256 i256_from(wide a)
+{
+  struct i256 r;
+  uwide u = (uwide)a;
+  uint64_t fill = a < 0 ? ~(uint64_t)0 : 0;
+  r.w[0] = (uint64_t)u;
+  r.w[1] = (uint64_t)(u >> 64);
+  r.w[2] = fill;
+  r.w[3] = fill;
+  return r;
+}
+
+static struct i256 i256_neg(struct i256 a)
+{
+  struct i256 r;
+  unsigned carry = 1;
+  for (int k = 0; k < 4; k++) {
+    uint64_t v = ~a.w[k];
+    r.w[k] = v + carry;
+    carry = carry && r.w[k] == 0;
+  }
+  return r;
+}
+
+struct i256 i256_add(struct i256 a, struct i256 b)
+{
+  struct i256 r;
+  unsigned carry = 0;
+  for (int k = 0; k < 4; k++) {
+    uint64_t s = a.w[k] + b.w[k];
+    unsigned c1 = s < a.w[k];
+    uint64_t t = s + carry;
+    unsigned c2 = t < s;
+    r.w[k] = t;
+    carry = c1 | c2;
+  }
+  return r;
+}
+
+struct i256 i256_mul(wide a, wide b)
+{
+  bool neg = (a < 0) != (b < 0);
+  uwide ua = a < 0 ? (uwide)0 - (uwide)a : (uwide)a;
+  uwide ub = b < 0 ? (uwide)0 - (uwide)b : (uwide)b;
+  uint64_t x[2] = { (uint64_t)ua, (uint64_t)(ua >> 64) };
+  uint64_t y[2] = { (uint64_t)ub, (uint64_t)(ub >> 64) };
+  struct i256 r = { { 0, 0, 0, 0 } };
+  for (int i = 0; i < 2; i++) {
+    uwide carry = 0;
+    for (int j = 0; j < 2; j++) {
+      uwide t = (uwide)x[i] * y[j] + r.w[i + j] + carry;
+      r.w[i + j] = (uint64_t)t;
+      carry = t >> 64;
+    }
+    int k = i + 2;
+    while (carry && k < 4) {
+      uwide t = (uwide)r.w[k] + carry;
+      r.w[k] = (uint64_t)t;
+      carry = t >> 64;
+      k++;
+    }
+  }
+  return neg ? i256_neg(r) : r;
+}
+
+int i256_sign(struct i256 a)
+{
+  if ((int64_t)a.w[3] < 0) return -1;
+  return (a.w[0] | a.w[1] | a.w[2] | a.w[3]) != 0;
+}

@@ -1,0 +1,106 @@
+/*
+** geom.h — exact plane geometry of tube74: the plane grid, oriented lines, exact rationals.
+**
+** This file contains the number formats every render/ stage shares and the few exact
+** predicates built on them. Paper 003 decides side, crossing type and concavity "logically
+** from the order of coordinates and the slopes of edges" (003 §2.2), never from angles;
+** tube74 goes one step further and makes every such decision exactly, in integers.
+**
+** Formats (all bounds are proven in the comments and asserted where values are made):
+**   gcoord  a plane-grid coordinate: perspective-plane position in 1/GRID_ONE world units.
+**           The Mapper rounds each projected vertex to this grid once; from then on the
+**           grid polygon IS the face for coverage, and nothing is rounded again except
+**           the two grid points that carry an interpenetration line (priority.c).
+**           |gcoord| <= GRID_LIMIT (2^28), so any difference fits 29 bits.
+**   gline   an oriented line a*x + b*y + c = 0 through two grid points p -> q:
+**           a = py - qy, b = qx - px, c = -(a*px + b*py); |a|,|b| < 2^29, |c| < 2^58.
+**           L(r) = a*rx + b*ry + c is twice the signed area of (p, q, r): > 0 when r lies
+**           to the LEFT of p -> q. Pieces keep their interior on the left of every line.
+**   grat    an exact rational num/den, den > 0, used for x where a line meets a
+**           horizontal line y = n/d (d <= GRID_YDEN_MAX): |num| < 2^75, den < 2^46, so a
+**           cross-multiplied comparison stays below 2^121 in 128-bit integers.
+**   hpoint  a homogeneous point (X/W, Y/W) where two lines meet: |X|,|Y| < 2^88,
+**           0 < W < 2^59; a side test a*X + b*Y + c*W stays below 2^119.
+**   i256    a 256-bit integer for the one product that exceeds 128 bits: depth order,
+**           plane coefficients (2^85) times homogeneous coordinates (2^89).
+**
+** Tie rule for points exactly on a boundary (documented in README "Exactness"):
+**   a point on a non-horizontal line belongs to the side of larger x; a point on a
+**   horizontal line belongs to the side of larger y. So a piece owns its left and bottom
+**   boundaries and not its right and top ones: two pieces that share an edge never both
+**   cover a point of it, and never both miss one (no cracks, no double coverage).
+*/
+#ifndef T74_GEOM_H
+#define T74_GEOM_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#define GRID_BITS  8                          /* fraction bits of a grid coordinate */
+#define GRID_ONE   ((int64_t)1 << GRID_BITS)  /* grid units per world unit */
+#define GRID_LIMIT ((int64_t)1 << 28)         /* |gcoord| <= GRID_LIMIT (2^20 world units) */
+#define GRID_YDEN_MAX ((int64_t)1 << 16)      /* largest denominator of a scanline's y */
+
+__extension__ typedef __int128 wide;          /* exact intermediate products */
+__extension__ typedef unsigned __int128 uwide;
+
+typedef int64_t gcoord;                       /* plane-grid coordinate (see above) */
+
+struct gpoint { gcoord x, y; };
+
+struct gline  { int64_t a, b, c; };           /* a*x + b*y + c = 0, interior on the left */
+
+struct grat   { wide num; wide den; };        /* num/den, den > 0 */
+
+struct hpoint { wide X, Y, W; };              /* (X/W, Y/W), W > 0 */
+
+struct i256   { uint64_t w[4]; };             /* two's complement, w[0] least significant */
+
+/* ---- orientation and lines ---------------------------------------------------------- */
+
+/* Twice the signed area of triangle (p, q, r): > 0 counter-clockwise, 0 collinear. */
+wide geom_orient(struct gpoint p, struct gpoint q, struct gpoint r);
+
+/* The oriented line through p -> q (p != q). */
+struct gline geom_line(struct gpoint p, struct gpoint q);
+
+/* The horizontal line y = y0 with its interior above (up=true) or below (up=false). */
+struct gline geom_hline(gcoord y0, bool up);
+
+static inline bool geom_is_horizontal(struct gline l) { return l.a == 0; }
+
+/* Sign (-1, 0, 1) of L(p) for a grid point. */
+int geom_side(struct gline l, struct gpoint p);
+
+/* Sign of L at a homogeneous point. */
+int geom_side_h(struct gline l, struct hpoint p);
+
+/* Where two lines meet; false when they are parallel. */
+bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out);
+
+/* ---- rationals on scanlines --------------------------------------------------------- */
+
+/* x where the non-horizontal line l meets y = yn/yd (yd > 0). */
+struct grat geom_x_at(struct gline l, int64_t yn, int64_t yd);
+
+/* Compare two rationals: -1, 0, 1. */
+int geom_rat_cmp(struct grat p, struct grat q);
+
+/* Compare a rational with n/d (d > 0). */
+int geom_rat_cmp_frac(struct grat p, int64_t n, int64_t d);
+
+/* floor and ceiling of a rational. */
+wide geom_rat_floor(struct grat p);
+wide geom_rat_ceil(struct grat p);
+
+/* Compare the y of a homogeneous point with n/d (d > 0): -1, 0, 1. */
+int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d);
+
+/* ---- 256-bit integers for depth order ---------------------------------------------- */
+
+struct i256 i256_mul(wide a, wide b);
+struct i256 i256_add(struct i256 a, struct i256 b);
+struct i256 i256_from(wide a);
+int i256_sign(struct i256 a);
+
+#endif

@@ -1,0 +1,686 @@
+/*
+** import.c — the text line reader of the scene module, and Wavefront .obj / .off import
+** onto the integer grid (shared/CONTRACT.md "Scene files"; paper 003 §2.1 for the grid).
+**
+** This file contains code to read scene text safely and to turn polygon meshes into a
+** tube74 scene. The reader takes the whole file into memory and hands out one line at a
+** time as blank-separated tokens with `#` comments and CR line ends removed; it refuses
+** NUL bytes and over-large files, so no later stage meets them. Imports then map the mesh
+** onto the integer grid the 1974 system used (import.h gives the mapping): uniform
+** scale, round to nearest. Rounding can break what held in floating point: a planar quad
+** usually stops being exactly planar, a thin face can collapse. Each face is therefore
+** re-checked with the same exact test a .s74 face must pass (scene_check_face); a face
+** that fails for planarity or simplicity is split into a triangle fan and a face that has
+** collapsed is dropped, each with a warning "FILE:LINE: warning: ..." on stderr, counted in
+** scene->warnings. Nothing is silently changed: every deviation from the input is reported.
+*/
+#include "render/import.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- the line reader -------------------------------------------------------------- */
+
+int import_open(struct import_reader *r, const char *path, struct t74_error *err)
+{
+  memset(r, 0, sizeof *r);
+  r->file = path;
+  FILE *fp = fopen(path, "rb");
+  if (!fp) return t74_fail(err, T74_EIO, "%s: cannot read: %s", path, strerror(errno));
+  size_t cap = 1 << 16, len = 0;
+  char *buf = malloc(cap);
+  if (!buf) {
+    fclose(fp);
+    return t74_fail(err, T74_EIO, "%s: cannot read: out of memory", path);
+  }
+  for (;;) {
+    if (len + 1 >= cap) {
+      char *nb = realloc(buf, cap * 2);
+      if (!nb) {
+        free(buf);
+        fclose(fp);
+        return t74_fail(err, T74_EIO, "%s: cannot read: out of memory", path);
+      }
+      buf = nb;
+      cap *= 2;
+    }
+    size_t got = fread(buf + len, 1, cap - 1 - len, fp);
+    len += got;
+    if (got == 0 || len > IMPORT_FILE_MAX) break;   /* so cap stays <= 2 * the limit */
+  }
+  if (ferror(fp)) {
+    int e = errno;
+    free(buf);
+    fclose(fp);
+    return t74_fail(err, T74_EIO, "%s: cannot read: %s", path, strerror(e ? e : EIO));
+  }
+  fclose(fp);
+  if (len > IMPORT_FILE_MAX) {
+    free(buf);
+    return t74_fail(err, T74_EINPUT, "%s: too large (more than %zu bytes)", path,
+                    (size_t)IMPORT_FILE_MAX);
+  }
+  buf[len] = '\0';
+  r->buf = buf;
+  r->len = len;
+  return T74_OK;
+}
+
+static bool is_blank(char c)
+{
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
+
+int import_next(struct import_reader *r, struct t74_error *err)
+{
+  while (r->pos < r->len) {
+    char *start = r->buf + r->pos;
+    char *nl = memchr(start, '\n', r->len - r->pos);
+    char *end = nl ? nl : r->buf + r->len;   /* buf[len] is the terminating NUL */
+    r->pos = (size_t)(end - r->buf) + 1;
+    r->line = ++r->nlines;
+    if (memchr(start, '\0', (size_t)(end - start)))
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line, "NUL byte in the line");
+    *end = '\0';
+    char *hash = strchr(start, '#');
+    if (hash) *hash = '\0';
+    r->ntok = 0;
+    char *p = start;
+    for (;;) {
+      while (is_blank(*p)) p++;
+      if (!*p) break;
+      if (r->ntok == r->cap) {
+        int ncap = r->cap ? r->cap * 2 : 16;   /* tokens < 2^30 (file size): no overflow */
+        char **nt = realloc(r->tok, (size_t)ncap * sizeof *nt);
+        if (!nt) return t74_fail(err, T74_EIO, "%s: out of memory", r->file);
+        r->tok = nt;
+        r->cap = ncap;
+      }
+      r->tok[r->ntok++] = p;
+      while (*p && !is_blank(*p)) p++;
+      if (*p) *p++ = '\0';
+    }
+    if (r->ntok > 0) return 1;
+  }
+  r->ntok = 0;
+  return 0;
+}
+
+void import_close(struct import_reader *r)
+{
+  free(r->buf);
+  free(r->tok);
+  memset(r, 0, sizeof *r);
+}
+
+const char *import_show(const char *tok, char *buf, size_t n)
+{
+  if (n == 0) return "";
+  size_t k = 0, limit = n > 44 ? 40 : (n > 4 ? n - 4 : 0);
+  for (; tok[k] && k < limit; k++) {
+    unsigned char c = (unsigned char)tok[k];
+    buf[k] = (c >= 0x20 && c < 0x7f) ? (char)c : '?';
+  }
+  if (tok[k] && n >= 4) { memcpy(buf + k, "...", 3); k += 3; }
+  buf[k] = '\0';
+  return buf;
+}
+
+int import_int(const char *tok, long lo, long hi, long *out)
+{
+  const char *p = tok;
+  bool neg = false;
+  if (*p == '+' || *p == '-') neg = *p++ == '-';
+  if (!*p) return 1;
+  long long v = 0;
+  bool big = false;
+  for (; *p; p++) {
+    if (*p < '0' || *p > '9') return 1;
+    if (!big) {
+      v = v * 10 + (*p - '0');
+      if (v > 1000000000000LL) big = true;     /* beyond every range: stop before overflow */
+    }
+  }
+  if (neg) v = -v;
+  if (big || v < lo || v > hi) return 2;
+  *out = (long)v;
+  return 0;
+}
+
+/* ---- mesh as read ----------------------------------------------------------------- */
+
+struct mesh {
+  double *xyz;            /* 3 per vertex */
+  int    *vline;
+  int     nv, capv;
+  long   *idx;            /* face vertex indices, 0-based (positive .obj refs unchecked) */
+  size_t  nidx, capidx;
+  size_t *fstart;         /* nf + 1 offsets into idx */
+  int    *fline;
+  int     nf, capf;
+};
+
+static void mesh_free(struct mesh *m)
+{
+  free(m->xyz);
+  free(m->vline);
+  free(m->idx);
+  free(m->fstart);
+  free(m->fline);
+}
+
+static int oom(const char *file, struct t74_error *err)
+{
+  return t74_fail(err, T74_EIO, "%s: out of memory", file);
+}
+
+static int add_vertex(struct mesh *m, const double p[3], int line, const char *file,
+                      struct t74_error *err)
+{
+  if (m->nv >= SCENE_ID_MAX)
+    return t74_fail_at(err, T74_EINPUT, file, line, "more than %d vertices", SCENE_ID_MAX);
+  if (m->nv == m->capv) {
+    int nc = m->capv ? m->capv * 2 : 64;
+    double *nx = realloc(m->xyz, (size_t)nc * 3 * sizeof *nx);
+    if (!nx) return oom(file, err);
+    m->xyz = nx;
+    int *nl = realloc(m->vline, (size_t)nc * sizeof *nl);
+    if (!nl) return oom(file, err);
+    m->vline = nl;
+    m->capv = nc;
+  }
+  memcpy(m->xyz + 3 * m->nv, p, 3 * sizeof *p);
+  m->vline[m->nv++] = line;
+  return T74_OK;
+}
+
+/* Start a face at this line; indices follow with add_index. */
+static int begin_face(struct mesh *m, int line, const char *file, struct t74_error *err)
+{
+  if (m->nf >= SCENE_ID_MAX)
+    return t74_fail_at(err, T74_EINPUT, file, line, "more than %d faces", SCENE_ID_MAX);
+  if (m->nf + 1 >= m->capf) {
+    int nc = m->capf ? m->capf * 2 : 64;
+    size_t *ns = realloc(m->fstart, (size_t)(nc + 1) * sizeof *ns);
+    if (!ns) return oom(file, err);
+    m->fstart = ns;
+    int *nl = realloc(m->fline, (size_t)nc * sizeof *nl);
+    if (!nl) return oom(file, err);
+    m->fline = nl;
+    m->capf = nc;
+  }
+  m->fstart[m->nf] = m->nidx;
+  m->fline[m->nf] = line;
+  m->nf++;
+  m->fstart[m->nf] = m->nidx;
+  return T74_OK;
+}
+
+static int add_index(struct mesh *m, long i, const char *file, struct t74_error *err)
+{
+  if (m->nidx == m->capidx) {
+    size_t nc = m->capidx ? m->capidx * 2 : 256;
+    long *ni = realloc(m->idx, nc * sizeof *ni);
+    if (!ni) return oom(file, err);
+    m->idx = ni;
+    m->capidx = nc;
+  }
+  m->idx[m->nidx++] = i;
+  m->fstart[m->nf] = m->nidx;
+  return T74_OK;
+}
+
+/* A finite floating-point number filling the whole token. */
+static bool real_token(const char *tok, double *out)
+{
+  char *end;
+  errno = 0;
+  double v = strtod(tok, &end);
+  if (end == tok || *end || !isfinite(v)) return false;
+  *out = v;
+  return true;
+}
+
+static int bad_number(struct import_reader *r, const char *tok, struct t74_error *err)
+{
+  char b[48];
+  return t74_fail_at(err, T74_EINPUT, r->file, r->line, "bad number `%s`",
+                     import_show(tok, b, sizeof b));
+}
+
+/* Coordinates x y z from tokens t[0..2]; further tokens t[3..n) must be numbers too
+   (w, or vertex colours), and are ignored. */
+static int read_xyz(struct import_reader *r, char **t, int n, struct mesh *m,
+                    struct t74_error *err)
+{
+  double p[3], dummy;
+  for (int k = 0; k < 3; k++)
+    if (!real_token(t[k], &p[k])) return bad_number(r, t[k], err);
+  for (int k = 3; k < n; k++)
+    if (!real_token(t[k], &dummy)) return bad_number(r, t[k], err);
+  return add_vertex(m, p, r->line, r->file, err);
+}
+
+/* ---- .obj ------------------------------------------------------------------------- */
+
+static const char *const obj_ignored[] = {
+  "vt", "vn", "vp", "g", "o", "s", "usemtl", "mtllib", "l", "p", "cstype", "deg", "bmat",
+  "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp", "end", "con",
+  "mg", "bevel", "c_interp", "d_interp", "lod", "shadow_obj", "trace_obj", "ctech",
+  "stech", "maplib", "usemap", NULL
+};
+
+/* An integer (possibly empty when may_be_empty) ending at '/' or the end of the token. */
+static bool obj_part(const char **p, bool may_be_empty, long *out)
+{
+  char tmp[24];
+  size_t k = 0;
+  while (**p && **p != '/') {
+    if (k + 1 >= sizeof tmp) return false;
+    tmp[k++] = *(*p)++;
+  }
+  tmp[k] = '\0';
+  if (k == 0) return may_be_empty;
+  long v;
+  if (import_int(tmp, -2000000000L, 2000000000L, &v) != 0) return false;
+  *out = v;
+  return true;
+}
+
+/* One face reference: i, i/t, i//n or i/t/n. Sets the 0-based vertex index. */
+static int obj_ref(struct import_reader *r, const char *tok, struct mesh *m,
+                   struct t74_error *err)
+{
+  char b[48];
+  const char *p = tok;
+  long i = 0, dummy = 0;
+  if (!obj_part(&p, false, &i)) goto bad;
+  if (*p == '/') {
+    p++;
+    if (!obj_part(&p, true, &dummy)) goto bad;
+    if (*p == '/') {
+      p++;
+      if (!obj_part(&p, false, &dummy)) goto bad;
+    }
+  }
+  if (*p) goto bad;
+  if (i == 0)
+    return t74_fail_at(err, T74_EINPUT, r->file, r->line, "vertex index 0 (indices start at 1)");
+  if (i < 0) {
+    long at = (long)m->nv + i;      /* -1 is the last vertex defined so far */
+    if (at < 0)
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                         "relative vertex index %ld: only %d vertices defined so far", i,
+                         m->nv);
+    return add_index(m, at, r->file, err);
+  }
+  return add_index(m, i - 1, r->file, err);   /* checked against nv at the end */
+bad:
+  return t74_fail_at(err, T74_EINPUT, r->file, r->line, "bad face vertex `%s`",
+                     import_show(tok, b, sizeof b));
+}
+
+static int read_obj(struct import_reader *r, struct mesh *m, struct t74_error *err)
+{
+  int st;
+  char b[48];
+  while ((st = import_next(r, err)) == 1) {
+    const char *k = r->tok[0];
+    if (strcmp(k, "v") == 0) {
+      if (r->ntok < 4 || r->ntok > 8)
+        return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                           "`v` needs x y z (and at most 4 more numbers)");
+      if ((st = read_xyz(r, r->tok + 1, r->ntok - 1, m, err))) return st;
+    } else if (strcmp(k, "f") == 0 || strcmp(k, "fo") == 0) {
+      if ((st = begin_face(m, r->line, r->file, err))) return st;
+      for (int t = 1; t < r->ntok; t++)
+        if ((st = obj_ref(r, r->tok[t], m, err))) return st;
+    } else {
+      bool known = false;
+      for (int q = 0; obj_ignored[q]; q++)
+        if (strcmp(k, obj_ignored[q]) == 0) known = true;
+      if (!known)
+        return t74_fail_at(err, T74_EINPUT, r->file, r->line, "unknown statement `%s`",
+                           import_show(k, b, sizeof b));
+    }
+  }
+  if (st != 0) return st;
+  for (int f = 0; f < m->nf; f++)
+    for (size_t q = m->fstart[f]; q < m->fstart[f + 1]; q++)
+      if (m->idx[q] >= m->nv)
+        return t74_fail_at(err, T74_EINPUT, r->file, m->fline[f],
+                           "face %d: vertex index %ld but only %d vertices", f + 1,
+                           m->idx[q] + 1, m->nv);
+  return T74_OK;
+}
+
+/* ---- .off ------------------------------------------------------------------------- */
+
+/* OFF, or its variants with colours / normals / texture coordinates (ST, C, N, 4 are
+   not supported as 4D: "4OFF" is refused). Extra per-vertex numbers are ignored. */
+static bool off_header(const char *t)
+{
+  if (strncmp(t, "ST", 2) == 0) t += 2;
+  if (*t == 'C') t++;
+  if (*t == 'N') t++;
+  return strcmp(t, "OFF") == 0;
+}
+
+static int read_off(struct import_reader *r, struct mesh *m, struct t74_error *err)
+{
+  int st;
+  char b[48];
+  long nv = -1, nf = -1, dummy;
+  if ((st = import_next(r, err)) != 1)
+    return st ? st : t74_fail_at(err, T74_EINPUT, r->file, r->nlines > 0 ? r->nlines : 1,
+                                 "empty file: expected `OFF`");
+  if (!off_header(r->tok[0]))
+    return t74_fail_at(err, T74_EINPUT, r->file, r->line, "expected `OFF`, not `%s`",
+                       import_show(r->tok[0], b, sizeof b));
+  int first = 1;                        /* counts may follow OFF on the same line */
+  if (r->ntok == 1) {
+    if ((st = import_next(r, err)) != 1)
+      return st ? st : t74_fail_at(err, T74_EINPUT, r->file, r->nlines,
+                                   "missing vertex and face counts");
+    first = 0;
+  }
+  if (r->ntok - first < 2 || r->ntok - first > 3)
+    return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                       "expected the counts: vertices faces [edges]");
+  for (int k = first; k < r->ntok; k++) {
+    long *dst = k == first ? &nv : k == first + 1 ? &nf : &dummy;
+    int e = import_int(r->tok[k], 0, k == first + 2 ? 2000000000L : SCENE_ID_MAX, dst);
+    if (e == 1) return bad_number(r, r->tok[k], err);
+    if (e == 2)
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line, "count `%s` out of range 0..%d",
+                         import_show(r->tok[k], b, sizeof b), SCENE_ID_MAX);
+  }
+  for (long v = 0; v < nv; v++) {
+    if ((st = import_next(r, err)) != 1)
+      return st ? st : t74_fail_at(err, T74_EINPUT, r->file, r->nlines,
+                                   "file ends after %ld of %ld vertices", v, nv);
+    if (r->ntok < 3)
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line, "a vertex needs x y z");
+    if ((st = read_xyz(r, r->tok, r->ntok, m, err))) return st;
+  }
+  for (long f = 0; f < nf; f++) {
+    if ((st = import_next(r, err)) != 1)
+      return st ? st : t74_fail_at(err, T74_EINPUT, r->file, r->nlines,
+                                   "file ends after %ld of %ld faces", f, nf);
+    long n;
+    int e = import_int(r->tok[0], 0, SCENE_ID_MAX, &n);
+    if (e) return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                              "bad vertex count `%s`", import_show(r->tok[0], b, sizeof b));
+    if (r->ntok - 1 < n)
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                         "face needs %ld vertex indices, has %d", n, r->ntok - 1);
+    if ((st = begin_face(m, r->line, r->file, err))) return st;
+    for (long k = 1; k <= n; k++) {
+      long i;
+      e = import_int(r->tok[k], 0, nv - 1, &i);
+      if (e == 1) return bad_number(r, r->tok[k], err);
+      if (e == 2)
+        return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                           "vertex index `%s` out of range 0..%ld",
+                           import_show(r->tok[k], b, sizeof b), nv - 1);
+      if ((st = add_index(m, i, r->file, err))) return st;
+    }
+    double d;
+    for (long k = n + 1; k < r->ntok; k++)      /* a colour may follow */
+      if (!real_token(r->tok[k], &d)) return bad_number(r, r->tok[k], err);
+  }
+  if ((st = import_next(r, err)) == 1)
+    return t74_fail_at(err, T74_EINPUT, r->file, r->line, "unexpected data after the last face");
+  return st;
+}
+
+/* ---- onto the grid ------------------------------------------------------------------ */
+
+static void warn(struct scene *s, int line, const char *fmt, ...)
+#if defined(__GNUC__)
+  __attribute__((format(printf, 3, 4)))
+#endif
+  ;
+
+/* Print "FILE:LINE: warning: ..." to stderr and count it. */
+static void warn(struct scene *s, int line, const char *fmt, ...)
+{
+  va_list ap;
+  fprintf(stderr, "%s:%d: warning: ", s->file, line);
+  va_start(ap, fmt);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fputc('\n', stderr);
+  s->warnings++;
+}
+
+/* Append a face of one ring (n vertex indices) to s; the arrays are copied. */
+static int add_face(struct scene *s, int *cap, int id, int line, const int *v, int n,
+                    struct t74_error *err)
+{
+  if (s->nf == *cap) {
+    int nc = *cap ? *cap * 2 : 64;
+    struct scene_face *nfa = realloc(s->f, (size_t)nc * sizeof *nfa);
+    if (!nfa) return oom(s->file, err);
+    s->f = nfa;
+    *cap = nc;
+  }
+  struct scene_face *f = &s->f[s->nf];
+  memset(f, 0, sizeof *f);
+  f->ring_start = malloc(2 * sizeof *f->ring_start);
+  f->vidx = malloc((size_t)n * sizeof *f->vidx);
+  if (!f->ring_start || !f->vidx) {
+    free(f->ring_start);
+    free(f->vidx);
+    return oom(s->file, err);
+  }
+  f->id = (uint16_t)id;
+  f->line = line;
+  f->grey = -1;
+  f->object = 0;
+  f->nring = 1;
+  f->ring_start[0] = 0;
+  f->ring_start[1] = n;
+  memcpy(f->vidx, v, (size_t)n * sizeof *v);
+  s->nf++;
+  return T74_OK;
+}
+
+static bool same_pos(const struct scene *s, int a, int b)
+{
+  return s->v[a].x == s->v[b].x && s->v[a].y == s->v[b].y && s->v[a].z == s->v[b].z;
+}
+
+/* Defect of a one-ring face given by n indices (a scratch face, nothing kept). */
+static int defect(const struct scene *s, int id, int line, int *v, int n)
+{
+  int rs[2] = { 0, n };
+  struct scene_face f = { .id = (uint16_t)id, .line = line, .grey = -1, .nring = 1,
+                          .ring_start = rs, .vidx = v };
+  struct t74_error scratch = { 0 };
+  return scene_check_face(s, &f, &scratch);
+}
+
+/* Turn mesh face k into scene faces: kept, split into a fan, or dropped (with warning). */
+static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, int *buf,
+                      struct t74_error *err)
+{
+  int id = k + 1, line = m->fline[k], n = 0;
+  for (size_t q = m->fstart[k]; q < m->fstart[k + 1]; q++) {
+    int v = (int)m->idx[q];
+    if (n > 0 && same_pos(s, buf[n - 1], v)) continue;   /* rounded onto one point */
+    buf[n++] = v;
+  }
+  while (n > 1 && same_pos(s, buf[n - 1], buf[0])) n--;  /* closing repeat */
+  if (n < 3) {
+    warn(s, line, "face %d degenerate after rounding; dropped", id);
+    return T74_OK;
+  }
+  int d = defect(s, id, line, buf, n);
+  if (d < 0) return oom(s->file, err);
+  if (d == SCENE_FACE_OK) return add_face(s, cap, id, line, buf, n, err);
+  if (d == SCENE_FACE_DEGENERATE) {
+    warn(s, line, "face %d degenerate after rounding; dropped", id);
+    return T74_OK;
+  }
+  if (d == SCENE_FACE_NONPLANAR)
+    warn(s, line, "face %d not planar after rounding; split into triangles", id);
+  else
+    warn(s, line, "face %d not simple after rounding; split into triangles", id);
+  for (int t = 1; t + 1 < n; t++) {
+    int tri[3] = { buf[0], buf[t], buf[t + 1] };
+    int dt = defect(s, id, line, tri, 3);
+    if (dt < 0) return oom(s->file, err);
+    if (dt != SCENE_FACE_OK) {
+      warn(s, line, "face %d: triangle %d degenerate after rounding; dropped", id, t);
+      continue;
+    }
+    int st = add_face(s, cap, id, line, tri, 3, err);
+    if (st) return st;
+  }
+  return T74_OK;
+}
+
+static int32_t clamp_coord(double v)
+{
+  if (!(v > SCENE_COORD_MIN)) return SCENE_COORD_MIN;   /* also catches NaN */
+  if (v > SCENE_COORD_MAX) return SCENE_COORD_MAX;
+  return (int32_t)v;
+}
+
+/* The window: the bounding box [lo, hi] projected from the eye onto z = 0, grown to 4:3
+   around its centre, plus 5% of its size on every side, rounded outwards. */
+static void fit_window(struct scene *s, const int32_t lo[3], const int32_t hi[3])
+{
+  double ex = s->view[0], ey = s->view[1], ez = s->view[2];
+  if (ez >= 0 || lo[2] <= ez) {     /* camera invalid: scene_check_camera reports it */
+    s->window[0] = -1; s->window[1] = -1; s->window[2] = 1; s->window[3] = 1;
+    return;
+  }
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (int c = 0; c < 8; c++) {
+    double x = (c & 1) ? hi[0] : lo[0], y = (c & 2) ? hi[1] : lo[1];
+    double z = (c & 4) ? hi[2] : lo[2];
+    double t = -ez / (z - ez);      /* z > ez: 0 < t */
+    double px = ex + (x - ex) * t, py = ey + (y - ey) * t;
+    if (px < x0) x0 = px;
+    if (px > x1) x1 = px;
+    if (py < y0) y0 = py;
+    if (py > y1) y1 = py;
+  }
+  double cx = (x0 + x1) / 2, cy = (y0 + y1) / 2, w = x1 - x0, h = y1 - y0;
+  if (w * 3 < h * 4) w = h * 4 / 3; else h = w * 3 / 4;
+  if (w < 4) { w = 4; h = 3; }
+  w *= 1.1;
+  h *= 1.1;
+  s->window[0] = clamp_coord(floor(cx - w / 2));
+  s->window[1] = clamp_coord(floor(cy - h / 2));
+  s->window[2] = clamp_coord(ceil(cx + w / 2));
+  s->window[3] = clamp_coord(ceil(cy + h / 2));
+  if (s->window[0] >= s->window[2]) {
+    if (s->window[2] < SCENE_COORD_MAX) s->window[2] = s->window[0] + 1;
+    else s->window[0] = s->window[2] - 1;
+  }
+  if (s->window[1] >= s->window[3]) {
+    if (s->window[3] < SCENE_COORD_MAX) s->window[3] = s->window[1] + 1;
+    else s->window[1] = s->window[3] - 1;
+  }
+}
+
+static int build(const struct mesh *m, const char *path, const struct scene_opts *opts,
+                 int nlines, struct scene **out, struct t74_error *err)
+{
+  if (m->nv == 0)
+    return t74_fail_at(err, T74_EINPUT, path, nlines > 0 ? nlines : 1, "no vertices");
+  if (m->nf == 0)
+    return t74_fail_at(err, T74_EINPUT, path, nlines > 0 ? nlines : 1, "no faces");
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; a++) lo[a] = hi[a] = m->xyz[a];
+  for (int v = 1; v < m->nv; v++)
+    for (int a = 0; a < 3; a++) {
+      double c = m->xyz[3 * v + a];
+      if (c < lo[a]) lo[a] = c;
+      if (c > hi[a]) hi[a] = c;
+    }
+  double ext = 0;
+  for (int a = 0; a < 3; a++) {
+    double e = hi[a] - lo[a];      /* may overflow to inf for huge inputs */
+    if (!isfinite(e)) return t74_fail(err, T74_EINPUT, "%s: coordinates too large", path);
+    if (e > ext) ext = e;
+  }
+  if (ext <= 0)
+    return t74_fail(err, T74_EINPUT, "%s: the model has no extent (one point)", path);
+  double scale = IMPORT_EXTENT / ext;
+  if (!isfinite(scale))
+    return t74_fail(err, T74_EINPUT, "%s: the model is too small to map", path);
+
+  struct scene *s = calloc(1, sizeof *s);
+  if (!s) return oom(path, err);
+  int st = T74_OK, cap = 0;
+  int *buf = NULL;
+  s->file = malloc(strlen(path) + 1);
+  s->v = calloc((size_t)m->nv, sizeof *s->v);
+  if (!s->file || !s->v) { st = oom(path, err); goto fail; }
+  strcpy(s->file, path);
+  s->nv = m->nv;
+  /* |x - centre| <= ext/2, so |x'| <= IMPORT_EXTENT/2 and 0 <= z' <= IMPORT_EXTENT */
+  double cx = (lo[0] + hi[0]) / 2, cy = (lo[1] + hi[1]) / 2;
+  int32_t blo[3] = { SCENE_COORD_MAX, SCENE_COORD_MAX, SCENE_COORD_MAX };
+  int32_t bhi[3] = { SCENE_COORD_MIN, SCENE_COORD_MIN, SCENE_COORD_MIN };
+  for (int v = 0; v < m->nv; v++) {
+    struct scene_vertex *sv = &s->v[v];
+    sv->id = (uint16_t)(v + 1);
+    sv->line = m->vline[v];
+    sv->x = clamp_coord((double)lround((m->xyz[3 * v] - cx) * scale));
+    sv->y = clamp_coord((double)lround((m->xyz[3 * v + 1] - cy) * scale));
+    sv->z = clamp_coord((double)lround((hi[2] - m->xyz[3 * v + 2]) * scale));
+    int32_t c[3] = { sv->x, sv->y, sv->z };
+    for (int a = 0; a < 3; a++) {
+      if (c[a] < blo[a]) blo[a] = c[a];
+      if (c[a] > bhi[a]) bhi[a] = c[a];
+    }
+  }
+  s->has_view = s->has_window = true;
+  if (opts && opts->has_view) memcpy(s->view, opts->view, sizeof s->view);
+  else { s->view[0] = 0; s->view[1] = 0; s->view[2] = -(IMPORT_EXTENT * 5 / 2); }
+  if (opts && opts->has_window) memcpy(s->window, opts->window, sizeof s->window);
+  else fit_window(s, blo, bhi);
+
+  size_t longest = 0;
+  for (int k = 0; k < m->nf; k++)
+    if (m->fstart[k + 1] - m->fstart[k] > longest) longest = m->fstart[k + 1] - m->fstart[k];
+  buf = malloc((longest + 1) * sizeof *buf);
+  if (!buf) { st = oom(path, err); goto fail; }
+  for (int k = 0; k < m->nf; k++)
+    if ((st = place_face(s, &cap, m, k, buf, err))) goto fail;
+  free(buf);
+  buf = NULL;
+  if ((st = scene_check_camera(s, 0, 0, err))) goto fail;
+  *out = s;
+  return T74_OK;
+fail:
+  free(buf);
+  scene_free(s);
+  return st;
+}
+
+int import_load(const char *path, const char *kind, const struct scene_opts *opts,
+                struct scene **out, struct t74_error *err)
+{
+  struct import_reader r;
+  struct mesh m;
+  memset(&m, 0, sizeof m);
+  *out = NULL;
+  int st = import_open(&r, path, err);
+  if (st) return st;
+  st = strcmp(kind, "off") == 0 ? read_off(&r, &m, err) : read_obj(&r, &m, err);
+  if (st == T74_OK) st = build(&m, path, opts, r.nlines, out, err);
+  import_close(&r);
+  mesh_free(&m);
+  return st;
+}

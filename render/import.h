@@ -1,0 +1,64 @@
+/*
+** import.h — reading text input files, and Wavefront .obj / .off import (internal to the
+** scene module: only render/scene.c includes this).
+**
+** Paper reference: the 1974 system took its vertices as integers typed in (paper 003
+** §2.1); tube74 keeps that integer grid and maps polygon meshes onto it, so everything the
+** renderer sees downstream is exact. Contract: shared/CONTRACT.md, "Scene files".
+**
+** The line reader (import_reader) is shared with the .s74 parser: it reads the whole
+** file, refuses NUL bytes and files over IMPORT_FILE_MAX bytes, strips `#` comments and
+** CR line ends, and splits each line into blank-separated tokens (NUL-terminated, in
+** place). Blank lines are skipped.
+**
+** Grid mapping of an import (documented in README "Scene files"):
+**   the model's bounding box (all vertices) is scaled uniformly so that its largest side is
+**   IMPORT_EXTENT units; x and y are centred on 0 (so |x|, |y| <= IMPORT_EXTENT/2); the
+**   .obj/.off z axis is negated (right-handed mesh, eye looking along +z here, so the
+**   default view shows what a usual mesh viewer at +z shows, not a mirror image) and
+**   shifted so that the nearest point has z = 0; coordinates are rounded to nearest.
+**   Default eye: (0, 0, -2.5 * IMPORT_EXTENT). Default window: the projection of the
+**   bounding box on z = 0, grown to 4:3 around its centre, plus 5% margin on every side.
+*/
+#ifndef T74_IMPORT_H
+#define T74_IMPORT_H
+
+#include <stddef.h>
+#include "emu/status.h"
+#include "render/scene.h"
+
+#define IMPORT_FILE_MAX ((size_t)1 << 30)  /* larger input files are refused */
+#define IMPORT_EXTENT   12800              /* largest bounding-box side after mapping;
+                                              2.5x of it (32000) still fits an eye z */
+
+struct import_reader {
+  const char *file;     /* name for messages */
+  char   *buf;          /* whole file, NUL-terminated; tokens point into it */
+  size_t  len, pos;
+  int     line;         /* line number of the tokens now held (1-based) */
+  int     nlines;       /* lines seen so far (the last line number at the end) */
+  char  **tok;          /* tokens of the current line */
+  int     ntok, cap;
+};
+
+/* Read the whole file. T74_EIO "FILE: cannot read: reason" when it cannot be read. */
+int import_open(struct import_reader *r, const char *path, struct t74_error *err);
+
+/* Next line that holds tokens: returns 1 with r->tok / r->ntok / r->line set, 0 at the end
+   of the file, or an error status (NUL byte, out of memory) recorded in err. */
+int import_next(struct import_reader *r, struct t74_error *err);
+
+void import_close(struct import_reader *r);
+
+/* A token as it may be echoed in a message: printable, at most ~40 bytes. */
+const char *import_show(const char *tok, char *buf, size_t n);
+
+/* Parse a whole-token decimal integer (optional sign). Returns 0 and sets *out when it
+   is one inside lo..hi, 1 when it is not an integer, 2 when it is out of range. */
+int import_int(const char *tok, long lo, long hi, long *out);
+
+/* Import a .obj (kind "obj") or .off (kind "off") file onto the integer grid. */
+int import_load(const char *path, const char *kind, const struct scene_opts *opts,
+                struct scene **out, struct t74_error *err);
+
+#endif

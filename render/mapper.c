@@ -1,0 +1,271 @@
+/*
+** mapper.c — the Mapper (paper 003 §2.2, eq. (1) and (2), Fig. 1, Fig. 2).
+**
+** This file contains code to take a checked scene to the perspective plane. The paper's
+** three coordinate systems coincide (Fig. 2), so a point (x, y, z) seen from the eye
+** (X0, Y0, Z0) lands on the plane z = 0 at
+**     X' = X0 + (-Z0)/(z - Z0) * (x - X0),   Y' = Y0 + (-Z0)/(z - Z0) * (y - Y0)   (1)
+** computed here exactly as a fraction and rounded once, half up, to the plane grid of
+** geom.h (1/256 world unit). That rounding is the only approximation of the projection:
+** every later decision is exact on the grid polygon. Depth never uses the rounded points:
+** it comes from the exact plane of eq. (2), a x + b y + c z + d = 0 through three
+** vertices, kept in integers (|a|,|b|,|c| < 2^34, |d| < 2^51) and signed so the eye lies
+** on its negative side.
+**
+** The tables of Fig. 1 / Fig. 8 made here and stored in core:
+**   VERTEX  one row per vertex: id, x, y, z, X', Y'            (1 + 3 + 2 + 2 = 8 words)
+**   A-BLOCK one row per face: id, grey, y-min, y-max (grid, 2 words each) and the plane's
+**           a, b, c (3 words each) and d (4 words)                   (2 + 4 + 9 + 4 = 19 words)
+** Departure from the paper: faces are also given a uniform intensity here (grey, or
+** Lambert's law from `light`), which the paper reads from its input data.
+*/
+#include "render/mapper.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define VERTEX_ROW_WORDS 8
+#define ABLOCK_ROW_WORDS 19
+#define LAMBERT_AMBIENT  48     /* grey of a face turned away from the light (tuned by eye) */
+#define DEFAULT_GREY     255    /* a face with neither `grey` nor `light` */
+
+/* floor(n / d) for d > 0 */
+static int64_t floordiv(int64_t n, int64_t d)
+{
+  int64_t q = n / d;
+  if (n % d != 0 && n < 0) q -= 1;
+  return q;
+}
+
+/* eq. (1) on the grid: round(GRID_ONE * (e + f*(p - e)/w)), half up; w > 0. */
+static int64_t project(int64_t p, int64_t e, int64_t f, int64_t w)
+{
+  /* |num| < 2^8 * (2^15 * 2^17 + 2^16 * 2^16) < 2^42 */
+  int64_t num = GRID_ONE * (e * w + f * (p - e));
+  return floordiv(2 * num + w, 2 * w);
+}
+
+static uwide isqrt_u(uwide v)
+{
+  if (v == 0) return 0;
+  uwide x = v, y = (x + 1) / 2;
+  /* start from a power of two above sqrt(v) to keep Newton's steps few */
+  int bits = 0;
+  for (uwide t = v; t; t >>= 1) bits++;
+  x = (uwide)1 << ((bits + 1) / 2);
+  for (;;) {
+    y = (x + v / x) / 2;
+    if (y >= x) return x;
+    x = y;
+  }
+}
+
+/* Lambert's law with an ambient floor; n points away from the eye (plane(eye) < 0). */
+static int lambert(const int64_t n[3], const int32_t light[3])
+{
+  wide dot = -((wide)n[0] * light[0] + (wide)n[1] * light[1] + (wide)n[2] * light[2]);
+  if (dot <= 0) return LAMBERT_AMBIENT;
+  uwide nn = (uwide)((wide)n[0] * n[0] + (wide)n[1] * n[1] + (wide)n[2] * n[2]);
+  uwide ll = (uwide)((wide)light[0] * light[0] + (wide)light[1] * light[1] +
+                     (wide)light[2] * light[2]);
+  /* |n|^2 < 2^70, |L|^2 < 2^32: the product fits, and so does its square root */
+  wide den = (wide)isqrt_u(nn * ll);
+  if (den <= 0) return DEFAULT_GREY;
+  wide g = LAMBERT_AMBIENT + ((255 - LAMBERT_AMBIENT) * dot + den / 2) / den;
+  return g > 255 ? 255 : (int)g;
+}
+
+static wide ring_area2(const struct gpoint *p, int n)
+{
+  wide a = 0;
+  for (int k = 0; k < n; k++) {
+    const struct gpoint *u = &p[k], *v = &p[(k + 1) % n];
+    a += (wide)u->x * v->y - (wide)v->x * u->y;
+  }
+  return a;
+}
+
+static void ring_reverse(struct gpoint *p, uint16_t *id, int32_t (*xyz)[3], int n)
+{
+  for (int a = 0, b = n - 1; a < b; a++, b--) {
+    struct gpoint tp = p[a]; p[a] = p[b]; p[b] = tp;
+    uint16_t ti = id[a]; id[a] = id[b]; id[b] = ti;
+    for (int c = 0; c < 3; c++) { int32_t t = xyz[a][c]; xyz[a][c] = xyz[b][c]; xyz[b][c] = t; }
+  }
+}
+
+/* eq. (2): the plane through three vertices of the outer ring that are not collinear. */
+static int face_plane(const struct scene *s, const struct scene_face *f, int64_t pl[4])
+{
+  const int *r = f->vidx;
+  int n = f->ring_start[1] - f->ring_start[0];
+  const struct scene_vertex *p0 = &s->v[r[0]];
+  for (int i = 1; i < n; i++) {
+    const struct scene_vertex *p1 = &s->v[r[i]];
+    int64_t ux = p1->x - p0->x, uy = p1->y - p0->y, uz = p1->z - p0->z;
+    for (int k = i + 1; k < n; k++) {
+      const struct scene_vertex *p2 = &s->v[r[k]];
+      int64_t vx = p2->x - p0->x, vy = p2->y - p0->y, vz = p2->z - p0->z;
+      int64_t a = uy * vz - uz * vy, b = uz * vx - ux * vz, c = ux * vy - uy * vx;
+      if (a | b | c) {
+        pl[0] = a; pl[1] = b; pl[2] = c;
+        pl[3] = -(a * p0->x + b * p0->y + c * p0->z);
+        return 1;
+      }
+    }
+  }
+  return 0;
+}
+
+int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
+               struct cost *cost, struct t74_error *err)
+{
+  memset(out, 0, sizeof *out);
+  const int64_t X0 = s->view[0], Y0 = s->view[1], Z0 = s->view[2];
+  const int64_t f = -Z0;                    /* distance from the eye to the plane, > 0 */
+  out->eye[0] = X0; out->eye[1] = Y0; out->eye[2] = Z0;
+
+  struct gpoint *proj = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *proj);
+  out->f = calloc((size_t)(s->nf ? s->nf : 1), sizeof *out->f);
+  if (!proj || !out->f) {
+    free(proj);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+
+  uint32_t vt;
+  if (core_alloc(core, "VERTEX", (uint32_t)s->nv * VERTEX_ROW_WORDS, &vt, err) != T74_OK)
+    goto fail;
+  for (int k = 0; k < s->nv; k++) {
+    const struct scene_vertex *v = &s->v[k];
+    int64_t w = v->z - Z0;                  /* > 0: the scene reader checked z > Z0 */
+    proj[k].x = project(v->x, X0, f, w);
+    proj[k].y = project(v->y, Y0, f, w);
+    COST_ADD_N(cost, COST_MEM, 6);
+    cost_mw_mul(cost, 32, 32);
+    cost_mw_mul(cost, 32, 32);
+    cost_mw_div(cost, 48, 32);
+    cost_mw_div(cost, 48, 32);
+    if (proj[k].x < -GRID_LIMIT || proj[k].x > GRID_LIMIT ||
+        proj[k].y < -GRID_LIMIT || proj[k].y > GRID_LIMIT) {
+      t74_fail_at(err, T74_EINPUT, s->file, v->line,
+                  "vertex %u projects to (%.1f, %.1f), outside the perspective plane's "
+                  "range of +-%lld units; move the eye back or the vertex away from it",
+                  (unsigned)v->id, (double)proj[k].x / GRID_ONE, (double)proj[k].y / GRID_ONE,
+                  (long long)(GRID_LIMIT / GRID_ONE));
+      goto fail;
+    }
+    uint32_t a = vt + (uint32_t)k * VERTEX_ROW_WORDS;
+    core_write(core, a, v->id);
+    core_write(core, a + 1, (uint16_t)v->x);
+    core_write(core, a + 2, (uint16_t)v->y);
+    core_write(core, a + 3, (uint16_t)v->z);
+    core_put_int(core, a + 4, 2, proj[k].x);
+    core_put_int(core, a + 6, 2, proj[k].y);
+  }
+
+  uint32_t at;
+  if (core_alloc(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
+    goto fail;
+  for (int fi = 0; fi < s->nf; fi++) {
+    const struct scene_face *sf = &s->f[fi];
+    struct mface *m = &out->f[out->nface];
+    int64_t pl[4];
+    if (!face_plane(s, sf, pl)) { out->dropped++; continue; }
+    cost_mw_mul(cost, 17, 17);
+    COST_ADD_N(cost, COST_MEM, 9);
+    wide pe = (wide)pl[0] * X0 + (wide)pl[1] * Y0 + (wide)pl[2] * Z0 + pl[3];
+    if (pe == 0) { out->dropped++; continue; }     /* edge-on: the plane holds the eye */
+    if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
+
+    int nv = sf->ring_start[sf->nring];
+    m->ring_start = malloc((size_t)(sf->nring + 1) * sizeof *m->ring_start);
+    m->pt = malloc((size_t)nv * sizeof *m->pt);
+    m->vid = malloc((size_t)nv * sizeof *m->vid);
+    m->xyz = malloc((size_t)nv * sizeof *m->xyz);
+    if (!m->ring_start || !m->pt || !m->vid || !m->xyz) {
+      free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz);
+      t74_fail(err, T74_EIO, "out of host memory");
+      goto fail;
+    }
+    /* copy rings, dropping points that rounding made equal to their predecessor, and
+       rings that rounding collapsed; orient outer CCW, holes CW */
+    int nr = 0, np = 0;
+    bool keep = true;
+    for (int r = 0; r < sf->nring && keep; r++) {
+      int start = np;
+      for (int k = sf->ring_start[r]; k < sf->ring_start[r + 1]; k++) {
+        struct gpoint p = proj[sf->vidx[k]];
+        if (np > start && p.x == m->pt[np - 1].x && p.y == m->pt[np - 1].y) continue;
+        const struct scene_vertex *sv = &s->v[sf->vidx[k]];
+        m->pt[np] = p;
+        m->vid[np] = sv->id;
+        m->xyz[np][0] = sv->x; m->xyz[np][1] = sv->y; m->xyz[np][2] = sv->z;
+        np++;
+      }
+      while (np - start > 1 && m->pt[np - 1].x == m->pt[start].x &&
+             m->pt[np - 1].y == m->pt[start].y)
+        np--;
+      wide area = np - start >= 3 ? ring_area2(m->pt + start, np - start) : 0;
+      COST_ADD_N(cost, COST_MEM, 2 * (np - start));
+      cost_mw_mul(cost, 29, 29);
+      if (area == 0) {                    /* covers no point of the plane */
+        np = start;
+        if (r == 0) keep = false;
+        continue;
+      }
+      if ((r == 0) != (area > 0)) ring_reverse(m->pt + start, m->vid + start, m->xyz + start, np - start);
+      m->ring_start[nr++] = start;
+    }
+    if (!keep) {
+      free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz);
+      memset(m, 0, sizeof *m);
+      out->dropped++;
+      continue;
+    }
+    m->ring_start[nr] = np;
+    m->nring = nr;
+    m->id = sf->id;
+    m->sface = fi;
+    m->sline = sf->line;
+    memcpy(m->plane, pl, sizeof pl);
+    m->deye = (int64_t)-pe;
+    m->grey = sf->grey >= 0 ? sf->grey : s->has_light ? lambert(pl, s->light) : DEFAULT_GREY;
+
+    gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;
+    for (int k = 1; k < m->ring_start[1]; k++) {
+      if (m->pt[k].y < ymin) ymin = m->pt[k].y;
+      if (m->pt[k].y > ymax) ymax = m->pt[k].y;
+    }
+    uint32_t a = at + (uint32_t)out->nface * ABLOCK_ROW_WORDS;
+    core_write(core, a, m->id);
+    core_write(core, a + 1, (uint16_t)m->grey);
+    core_put_int(core, a + 2, 2, ymin);
+    core_put_int(core, a + 4, 2, ymax);
+    core_put_int(core, a + 6, 3, pl[0]);
+    core_put_int(core, a + 9, 3, pl[1]);
+    core_put_int(core, a + 12, 3, pl[2]);
+    core_put_int(core, a + 15, 4, pl[3]);
+    out->nface++;
+  }
+  free(proj);
+  return T74_OK;
+
+fail:
+  free(proj);
+  mapper_free(out);
+  return err->status;
+}
+
+void mapper_free(struct mapped *m)
+{
+  if (!m->f) return;
+  for (int k = 0; k < m->nface; k++) {
+    free(m->f[k].ring_start);
+    free(m->f[k].pt);
+    free(m->f[k].vid);
+    free(m->f[k].xyz);
+  }
+  free(m->f);
+  m->f = NULL;
+  m->nface = 0;
+}

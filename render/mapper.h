@@ -1,0 +1,48 @@
+/*
+** mapper.h — the Mapper of paper 003 (§2.2, eq. (1), eq. (2)): space to perspective plane.
+**
+** The Mapper projects every vertex onto the plane z = 0 seen from the eye (eq. (1)),
+** rounds it once onto the plane grid (geom.h), computes each face's plane a x + b y + c z
+** + d = 0 exactly from three of its vertices (eq. (2)), and orients the projected rings so
+** that the face lies on the left of every edge (outer ring counter-clockwise, holes
+** clockwise), whatever orientation the scene gave. Faces seen exactly edge-on (their plane
+** contains the eye) cover no point and are dropped.
+*/
+#ifndef T74_MAPPER_H
+#define T74_MAPPER_H
+
+#include <stdint.h>
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/geom.h"
+#include "render/scene.h"
+
+struct mface {
+  uint16_t id;              /* input face number */
+  int      sface;           /* index in scene.f */
+  int      grey;            /* 0..255: the face's uniform intensity (grey, or Lambert) */
+  int64_t  plane[4];        /* a, b, c, d of eq. (2), signed so that plane(eye) < 0 */
+  int64_t  deye;            /* |plane(eye)| > 0 */
+  int      nring;
+  int     *ring_start;      /* nring + 1 offsets into pt/vid */
+  struct gpoint *pt;        /* projected, on the grid; outer CCW, holes CW */
+  uint16_t *vid;            /* vertex ids */
+  int32_t (*xyz)[3];        /* the vertices in space (exact), for tests on both planes */
+  int      sline;           /* source line of the face statement */
+};
+
+struct mapped {
+  int nface;                /* faces kept */
+  struct mface *f;
+  int dropped;              /* faces dropped: edge-on to the eye or zero projected area */
+  int64_t eye[3];           /* X0, Y0, Z0 (world units) */
+};
+
+/* Map a checked scene. T74_EINPUT when a vertex projects outside the plane grid. */
+int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
+               struct cost *cost, struct t74_error *err);
+
+void mapper_free(struct mapped *m);
+
+#endif

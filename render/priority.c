@@ -1,0 +1,417 @@
+/*
+** priority.c — the Priority Matrix (paper 003 §4, Fig. 9) and interpenetration (§3.1,
+** Fig. 7, eq. (5)).
+**
+** This file contains code to decide, once per pair, which of two convex pieces is nearer
+** the eye where they overlap on the perspective plane, and to cut pieces that
+** interpenetrate. Two convex plane pieces that do not cross keep one order over their
+** whole overlap (003 §1): that is what makes a matrix of pairwise priorities enough.
+**
+** Depth, exactly. Along the ray from the eye E through a plane point r, face plane
+** n.x + d = 0 (signed so n.E + d = D < 0) is hit at t = |D| / (n.(r - E)). Face A is in
+** front of face B at r exactly when
+**     G(r) = |D_B| n_A.(r - E) - |D_A| n_B.(r - E) > 0,
+** and G is linear on the plane: G(x, y) = k0 x + k1 y + K on the grid, |k| < 2^86,
+** |K| < 2^111. G = 0 is the projected intersection line of the two planes.
+**
+** Interpenetration. The line G = 0 is carried by two grid points: where it leaves the
+** square of the plane grid (|x|, |y| <= GRID_LIMIT), each rounded to the grid. This line
+** L~ lies within half a grid unit of G = 0 everywhere pieces can be, and it depends only
+** on the two faces, so every piece of A meets every piece of B on the same L~. The pair
+** is then judged by L~ alone, exactly: the part of the overlap left of L~ is where A is in
+** front, the part right of it where B is. Overlap on both sides means the faces cross:
+** both pieces are cut along L~ (eq. (5); case (b) of Fig. 7, where the crossing ends
+** inside a face, is reduced to case (a) by cutting along the whole line), and their
+** halves, lying on one side of L~, never cross again. The half-grid-unit between L~ and
+** the true line is the only place where depth order is approximated.
+**
+** Ties. Coplanar overlapping faces (G = 0 everywhere): the face with the larger number is
+** in front (a window numbered after its wall shows). Pieces of one face never overlap.
+**
+** Storage (in core). Dense: the triangle of 2-bit codes a_ij, i < j, at field
+** j(j-1)/2 + i of the core's high region, growing as pieces are added. Sparse: an open-
+** addressed table of the pairs actually met, 5 words a slot (i: 2 words, j: 2, code: 1),
+** chosen when the triangle for the pieces at the start would take over a quarter of core.
+*/
+#include "render/priority.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define CODE_UNKNOWN 0u     /* 00 */
+#define CODE_LOWER   2u     /* 10: piece i lower than piece j */
+#define CODE_HIGHER  3u     /* 11: piece i higher than piece j */
+#define SLOT_WORDS   5
+#define DECIDED_SPLIT 4u   /* decide(): the pair was cut (not a code) */
+
+static uint64_t tri_words(uint64_t n)
+{
+  uint64_t pairs = n * (n - (n > 0)) / 2;
+  return (pairs + 7) / 8;
+}
+
+static int dense_cover(struct prio *pr, uint64_t n, struct t74_error *err)
+{
+  if (n <= pr->cover) return T74_OK;
+  uint64_t w = tri_words(n);
+  if (w > UINT32_MAX)
+    return t74_fail(err, T74_ECORE, "scene does not fit the core: the priority matrix for "
+                    "%llu pieces needs %llu words, %u available", (unsigned long long)n,
+                    (unsigned long long)w, core_words(pr->core));
+  if (core_high_grow(pr->core, "PRIORITY MATRIX", (uint32_t)w, err) != T74_OK) return err->status;
+  pr->cover = n;
+  return T74_OK;
+}
+
+/* ---- sparse store: slot = i (2 words), j (2 words), code (1 word); code 0 = empty ---- */
+
+static uint64_t slot_hash(uint64_t i, uint64_t j, uint64_t cap)
+{
+  uint64_t h = (i * 0x9E3779B97F4A7C15ull) ^ (j + 0x632BE59BD9B4E019ull + (i << 6) + (i >> 2));
+  h ^= h >> 29;
+  return h & (cap - 1);
+}
+
+static uint32_t slot_get32(const struct prio *pr, uint64_t s, int off)
+{
+  uint64_t k = s * SLOT_WORDS + (uint64_t)off;
+  return (uint32_t)core_high_get(pr->core, (uint32_t)k) << 16 |
+         core_high_get(pr->core, (uint32_t)k + 1);
+}
+
+static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsigned code)
+{
+  uint32_t k = (uint32_t)(s * SLOT_WORDS);
+  core_high_set(pr->core, k, (uint16_t)(i >> 16));
+  core_high_set(pr->core, k + 1, (uint16_t)i);
+  core_high_set(pr->core, k + 2, (uint16_t)(j >> 16));
+  core_high_set(pr->core, k + 3, (uint16_t)j);
+  core_high_set(pr->core, k + 4, (uint16_t)code);
+}
+
+static uint64_t slot_find(const struct prio *pr, uint32_t i, uint32_t j)
+{
+  uint64_t s = slot_hash(i, j, pr->hcap);
+  for (;;) {
+    unsigned code = core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS + 4));
+    COST_ADD_N(pr->cost, COST_MEM, 3);
+    if (code == CODE_UNKNOWN) return s;
+    if (slot_get32(pr, s, 0) == i && slot_get32(pr, s, 2) == j) return s;
+    s = (s + 1) & (pr->hcap - 1);
+  }
+}
+
+static int sparse_grow(struct prio *pr, struct t74_error *err)
+{
+  uint64_t ncap = pr->hcap ? 2 * pr->hcap : 1024;
+  uint64_t words = ncap * SLOT_WORDS;
+  if (words > UINT32_MAX)
+    return t74_fail(err, T74_ECORE, "scene does not fit the core: the priority pairs need "
+                    "%llu words", (unsigned long long)words);
+  /* keep the old entries on the host while the region is rebuilt */
+  uint64_t n = 0;
+  uint32_t (*old)[3] = malloc((size_t)(pr->hused ? pr->hused : 1) * sizeof *old);
+  if (!old) return t74_fail(err, T74_EIO, "out of host memory");
+  for (uint64_t s = 0; s < pr->hcap; s++) {
+    unsigned code = core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS + 4));
+    if (code == CODE_UNKNOWN) continue;
+    old[n][0] = slot_get32(pr, s, 0);
+    old[n][1] = slot_get32(pr, s, 2);
+    old[n][2] = code;
+    n++;
+  }
+  if (core_high_grow(pr->core, "PRIORITY PAIRS", (uint32_t)words, err) != T74_OK) {
+    free(old);
+    return err->status;
+  }
+  for (uint64_t k = 0; k < words; k++) core_high_set(pr->core, (uint32_t)k, 0);
+  pr->hcap = ncap;
+  for (uint64_t k = 0; k < n; k++)
+    slot_put(pr, slot_find(pr, old[k][0], old[k][1]), old[k][0], old[k][1], old[k][2]);
+  COST_ADD_N(pr->cost, COST_MEM, 2 * words);
+  free(old);
+  return T74_OK;
+}
+
+static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
+{
+  COST_ADD_N(pr->cost, COST_MEM, 1);
+  if (pr->store == PRIO_DENSE) {
+    if (j >= pr->cover) return CODE_UNKNOWN;
+    return core_high_get2(pr->core, (uint64_t)j * (j - 1) / 2 + i);
+  }
+  if (pr->hcap == 0) return CODE_UNKNOWN;
+  uint64_t s = slot_find(pr, i, j);
+  return core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS + 4));
+}
+
+static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
+                    struct t74_error *err)
+{
+  COST_ADD_N(pr->cost, COST_MEM, 2);
+  if (pr->store == PRIO_DENSE) {
+    if (dense_cover(pr, (uint64_t)pr->seg->n, err) != T74_OK) return err->status;
+    core_high_set2(pr->core, (uint64_t)j * (j - 1) / 2 + i, code);
+    return T74_OK;
+  }
+  if (2 * (pr->hused + 1) > pr->hcap && sparse_grow(pr, err) != T74_OK) return err->status;
+  slot_put(pr, slot_find(pr, i, j), i, j, code);
+  pr->hused++;
+  return T74_OK;
+}
+
+int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
+              struct core *core, struct cost *cost, int store, struct t74_error *err)
+{
+  memset(pr, 0, sizeof *pr);
+  pr->seg = seg;
+  pr->map = map;
+  pr->core = core;
+  pr->cost = cost;
+  if (store == PRIO_AUTO)
+    store = tri_words((uint64_t)seg->n) <= core_words(core) / 4 ? PRIO_DENSE : PRIO_SPARSE;
+  pr->store = store;
+  if (store == PRIO_DENSE) return dense_cover(pr, (uint64_t)seg->n, err);
+  return sparse_grow(pr, err);
+}
+
+/* ---- depth ------------------------------------------------------------------------- */
+
+struct depth { wide k0, k1, K; };      /* G(x, y) = k0 x + k1 y + K on the grid */
+
+static struct depth depth_of(const struct prio *pr, const struct mface *A, const struct mface *B)
+{
+  const int64_t *e = pr->map->eye;
+  wide k[3];
+  for (int c = 0; c < 3; c++) k[c] = (wide)B->deye * A->plane[c] - (wide)A->deye * B->plane[c];
+  struct depth g;
+  g.k0 = k[0];
+  g.k1 = k[1];
+  /* r' = (x - 256 X0, y - 256 Y0, 256 f) with f = -Z0 */
+  g.K = -GRID_ONE * (k[0] * e[0] + k[1] * e[1]) + GRID_ONE * (-e[2]) * k[2];
+  cost_mw_mul(pr->cost, 51, 34);
+  cost_mw_mul(pr->cost, 51, 34);
+  cost_mw_mul(pr->cost, 51, 34);
+  cost_mw_mul(pr->cost, 86, 24);
+  return g;
+}
+
+/* sign of G at a homogeneous point (256-bit: 2^86 * 2^88) */
+static int depth_sign(struct depth g, struct hpoint p)
+{
+  struct i256 s = i256_add(i256_add(i256_mul(g.k0, p.X), i256_mul(g.k1, p.Y)),
+                           i256_mul(g.K, p.W));
+  return i256_sign(s);
+}
+
+/* round(n / d) half up, d != 0 */
+static wide round_div(wide n, wide d)
+{
+  if (d < 0) { n = -n; d = -d; }
+  wide q = n / d, r = n % d;
+  if (r < 0) { q -= 1; r += d; }
+  if (2 * r >= d) q += 1;
+  return q;
+}
+
+/* plane(V) == 0 for a vertex in space, exactly (|terms| < 2^51) */
+static bool on_plane(const int64_t pl[4], const int32_t v[3])
+{
+  return pl[0] * v[0] + pl[1] * v[1] + pl[2] * v[2] + pl[3] == 0;
+}
+
+/* Grid points of the vertices of A and B that lie on both planes: the projected
+   intersection line passes exactly through them (a shared edge, a T-junction). */
+static int common_points(const struct mface *A, const struct mface *B, struct gpoint out[2],
+                         struct cost *cost)
+{
+  int n = 0;
+  const struct mface *F[2] = { A, B };
+  for (int s = 0; s < 2; s++) {
+    const struct mface *f = F[s], *o = F[1 - s];
+    for (int k = 0; k < f->ring_start[f->nring]; k++) {
+      cost_mw_mul(cost, 34, 17);
+      if (!on_plane(o->plane, f->xyz[k])) continue;
+      struct gpoint p = f->pt[k];
+      if (n == 0 || (n == 1 && (p.x != out[0].x || p.y != out[0].y))) out[n++] = p;
+      else if (n == 2) {               /* keep the two farthest apart */
+        for (int r = 0; r < 2; r++) {
+          wide d_old = (wide)(out[0].x - out[1].x) * (out[0].x - out[1].x) +
+                       (wide)(out[0].y - out[1].y) * (out[0].y - out[1].y);
+          wide d_new = (wide)(out[r].x - p.x) * (out[r].x - p.x) +
+                       (wide)(out[r].y - p.y) * (out[r].y - p.y);
+          if (d_new > d_old) { out[1 - r] = p; break; }
+        }
+      }
+    }
+  }
+  return n;
+}
+
+/* L~: G = 0 carried by two grid points, oriented so its left side is G > 0. The points
+   are vertices lying on both planes where there are such (then L~ is exactly the shared
+   edge of the grid polygons), else where G = 0 leaves the square of the plane grid,
+   rounded. Returns false when G = 0 misses the square. */
+static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
+                       struct gline *out)
+{
+  const wide lim = GRID_LIMIT;
+  struct gpoint pt[6];
+  int n = 0;
+  for (int k = 0; k < ncommon; k++) pt[n++] = common[k];
+  if (ncommon < 2) {
+    if (g.k1 != 0) {            /* sides x = -lim and x = +lim */
+      for (int s = -1; s <= 1; s += 2) {
+        wide y = round_div(-(g.k0 * (s * lim) + g.K), g.k1);
+        if (y >= -lim && y <= lim) { pt[n].x = (gcoord)(s * lim); pt[n].y = (gcoord)y; n++; }
+      }
+    }
+    if (g.k0 != 0) {            /* sides y = -lim and y = +lim */
+      for (int s = -1; s <= 1; s += 2) {
+        wide x = round_div(-(g.k1 * (s * lim) + g.K), g.k0);
+        if (x >= -lim && x <= lim) { pt[n].x = (gcoord)x; pt[n].y = (gcoord)(s * lim); n++; }
+      }
+    }
+  }
+  /* the two points farthest apart (a common vertex first, when there is one) */
+  int bi = -1, bj = -1;
+  wide best = 0;
+  for (int i = 0; i < (ncommon == 1 ? 1 : n); i++)
+    for (int j = i + 1; j < n; j++) {
+      wide dx = pt[i].x - pt[j].x, dy = pt[i].y - pt[j].y;
+      wide d = dx * dx + dy * dy;
+      if (d > best) { best = d; bi = i; bj = j; }
+    }
+  if (bi < 0) return false;
+  struct gline l = geom_line(pt[bi], pt[bj]);
+  /* the normal (a, b) must point where G grows: |a|,|b| < 2^29, |k| < 2^86 */
+  if ((wide)l.a * g.k0 + (wide)l.b * g.k1 < 0) l = geom_line(pt[bj], pt[bi]);
+  *out = l;
+  return true;
+}
+
+static struct gline reversed(struct gline l)
+{
+  struct gline r = { -l.a, -l.b, -l.c };
+  return r;
+}
+
+/* Add a clipped half as a new piece. */
+static int add_half(struct prio *pr, int face, const struct cpoly *c, struct t74_error *err)
+{
+  return seginfo_add(pr->seg, face, c->n, c->line, err);
+}
+
+/* Decide pieces i < j. Returns the code for (i, j), DECIDED_SPLIT, or PRIO_ERROR. */
+static int decide(struct prio *pr, int i, int j, struct t74_error *err)
+{
+  struct piece *P = &pr->seg->p[i], *Q = &pr->seg->p[j];
+  const struct mface *A = &pr->map->f[P->face], *B = &pr->map->f[Q->face];
+  pr->computed++;
+  if (P->face == Q->face) return CODE_HIGHER;           /* never overlap: any order */
+
+  struct depth g = depth_of(pr, A, B);
+  struct gline L;
+  struct gpoint common[2];
+  int ncommon = common_points(A, B, common, pr->cost);
+  if ((g.k0 == 0 && g.k1 == 0) || !depth_line(g, common, ncommon, &L)) {
+    /* one face in front of the other wherever they can be */
+    int s;
+    if (g.k0 == 0 && g.k1 == 0) s = (g.K > 0) - (g.K < 0);
+    else s = depth_sign(g, Q->v[0]);
+    if (s == 0) s = A->id > B->id ? 1 : -1;            /* coplanar: larger number in front */
+    if (pr->trace)
+      fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front%s\n",
+              i, (unsigned)A->id, j, (unsigned)B->id, s > 0 ? "first" : "second",
+              g.k0 == 0 && g.k1 == 0 && g.K == 0 ? " (coplanar: larger face number)" : "");
+    return s > 0 ? CODE_HIGHER : CODE_LOWER;
+  }
+
+  struct cpoly pl = { 0 }, pr_ = { 0 }, ql = { 0 }, qr = { 0 };
+  int result;
+  bool hasl = seginfo_clip(P, L, &pl, pr->cost);
+  bool hasr = seginfo_clip(P, reversed(L), &pr_, pr->cost);
+  bool ovl = hasl && seginfo_overlap(pl.n, pl.line, pl.v, Q->n, Q->line, Q->v, pr->cost);
+  bool ovr = hasr && seginfo_overlap(pr_.n, pr_.line, pr_.v, Q->n, Q->line, Q->v, pr->cost);
+  if (ovl && ovr) {
+    /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
+    bool qhl = seginfo_clip(Q, L, &ql, pr->cost);
+    bool qhr = seginfo_clip(Q, reversed(L), &qr, pr->cost);
+    int pf = P->face, qf = Q->face;
+    if (add_half(pr, pf, &pl, err) < 0 || add_half(pr, pf, &pr_, err) < 0) goto fail;
+    if (qhl && qhr && (add_half(pr, qf, &ql, err) < 0 || add_half(pr, qf, &qr, err) < 0))
+      goto fail;
+    /* seginfo may have moved: index afresh */
+    pr->seg->p[i].alive = false;
+    if (qhl && qhr) pr->seg->p[j].alive = false;
+    pr->splits++;
+    if (pr->trace)
+      fprintf(pr->trace, "INTERSECT pieces %d (face %u) and %d (face %u) cross: cut along "
+              "%lld x + %lld y + %lld = 0 into pieces %d..%d\n", i, (unsigned)A->id, j,
+              (unsigned)B->id, (long long)L.a, (long long)L.b, (long long)L.c,
+              pr->seg->n - (qhl && qhr ? 4 : 2), pr->seg->n - 1);
+    result = DECIDED_SPLIT;
+  } else {
+    result = ovr && !ovl ? CODE_LOWER : CODE_HIGHER;
+    if (pr->trace)
+      fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front\n",
+              i, (unsigned)A->id, j, (unsigned)B->id, result == CODE_HIGHER ? "first" : "second");
+  }
+  cpoly_free(&pl); cpoly_free(&pr_); cpoly_free(&ql); cpoly_free(&qr);
+  return result;
+fail:
+  cpoly_free(&pl); cpoly_free(&pr_); cpoly_free(&ql); cpoly_free(&qr);
+  return PRIO_ERROR;
+}
+
+int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
+{
+  uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
+  unsigned code = code_get(pr, i, j);
+  if (code == CODE_UNKNOWN) {
+    int d = decide(pr, (int)i, (int)j, err);
+    if (d == PRIO_ERROR) return PRIO_ERROR;
+    if (d == (int)DECIDED_SPLIT) return PRIO_SPLIT;
+    code = (unsigned)d;
+    if (code_set(pr, i, j, code, err) != T74_OK) return PRIO_ERROR;
+  }
+  bool i_front = code == CODE_HIGHER;
+  return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+void prio_dump(const struct prio *pr, FILE *f)
+{
+  struct prio *m = (struct prio *)pr;      /* reading only; code_get counts no cost here */
+  struct cost *saved = m->cost, scratch = { { 0 } };
+  m->cost = &scratch;
+  int n = pr->seg->n;
+  fprintf(f, "PRIORITY MATRIX (Fig. 9): %d pieces, %s store, %llu pairs computed\n", n,
+          pr->store == PRIO_DENSE ? "dense 2-bit" : "sparse", (unsigned long long)pr->computed);
+  fprintf(f, "  a_ij = 00 undefined, 10 piece i lower than piece j, 11 piece i higher\n");
+  if (n <= 48) {
+    fprintf(f, "      ");
+    for (int j = 0; j < n; j++) fprintf(f, "%3d", j);
+    fprintf(f, "\n");
+    for (int i = 0; i < n; i++) {
+      fprintf(f, "  %3d ", i);
+      for (int j = 0; j < n; j++) {
+        if (i == j) { fprintf(f, "  -"); continue; }
+        unsigned c = i < j ? code_get(m, (uint32_t)i, (uint32_t)j)
+                           : code_get(m, (uint32_t)j, (uint32_t)i);
+        if (i > j && c != CODE_UNKNOWN) c = c == CODE_HIGHER ? CODE_LOWER : CODE_HIGHER;
+        fprintf(f, " %s", c == CODE_UNKNOWN ? "00" : c == CODE_LOWER ? "10" : "11");
+      }
+      fprintf(f, "\n");
+    }
+  } else {
+    for (int j = 1; j < n; j++)
+      for (int i = 0; i < j; i++) {
+        unsigned c = code_get(m, (uint32_t)i, (uint32_t)j);
+        if (c != CODE_UNKNOWN)
+          fprintf(f, "  a(%d,%d) = %s\n", i, j, c == CODE_LOWER ? "10" : "11");
+      }
+  }
+  for (int k = 0; k < n; k++)
+    if (!pr->seg->p[k].alive) fprintf(f, "  piece %d was cut along an intersection line\n", k);
+  m->cost = saved;
+}

@@ -1,0 +1,55 @@
+/*
+** priority.h — the Priority Matrix of paper 003 (§4, Fig. 9) and interpenetration (§3.1,
+** Fig. 7, eq. (5)).
+**
+** The relative priority of two pieces is computed the first time the Visible Surface
+** Procedure finds both covering one stretch of a scanline, and never again. Codes as in
+** Fig. 9, for i < j: 00 not yet known, 10 piece i lower than piece j, 11 piece i higher.
+** At that first meeting the pieces are also tested for interpenetration; pieces that cross
+** are cut along their intersection line and the caller is told to look again.
+*/
+#ifndef T74_PRIORITY_H
+#define T74_PRIORITY_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/mapper.h"
+#include "render/seginfo.h"
+
+enum prio_result {
+  PRIO_ERROR  = -1,   /* err holds why (T74_ECORE: the matrix does not fit) */
+  PRIO_FIRST  = 1,    /* the first piece is in front */
+  PRIO_SECOND = 2,    /* the second piece is in front */
+  PRIO_SPLIT  = 3     /* they interpenetrated: both were cut, pieces were added */
+};
+
+enum prio_store { PRIO_AUTO = 0, PRIO_DENSE = 1, PRIO_SPARSE = 2 };
+
+struct prio {
+  struct seginfo *seg;
+  const struct mapped *map;
+  struct core *core;
+  struct cost *cost;
+  int      store;           /* PRIO_DENSE: Fig. 9's 2-bit triangle; PRIO_SPARSE: hashed pairs */
+  uint64_t cover;           /* dense: pieces the triangle covers now */
+  uint64_t hcap, hused;     /* sparse: slots and pairs held (5 words a slot) */
+  uint64_t computed;        /* pairs whose priority was computed */
+  int      splits;          /* interpenetrating pairs cut along their intersection */
+  FILE    *trace;           /* teaching dump of each decision, or NULL */
+};
+
+/* store: PRIO_AUTO keeps the paper's dense matrix while it takes at most a quarter of the
+   core for the pieces known now, else hashes the pairs that actually meet. */
+int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
+              struct core *core, struct cost *cost, int store, struct t74_error *err);
+
+/* The priority of pieces p and q (p != q), computed if not yet known. */
+int prio_order(struct prio *pr, int p, int q, struct t74_error *err);
+
+/* The matrix in Fig. 9 form (or as a list of known pairs when large). */
+void prio_dump(const struct prio *pr, FILE *f);
+
+#endif

@@ -1,0 +1,92 @@
+/*
+** render.c — the renderer's stages in the order of paper 003, Fig. 1.
+**
+** This file contains code to run, for one scene, the Mapper (eq. (1), (2)), the Segment
+** Generator on every face (§3.1), then set up the Priority Matrix (Fig. 9) and the Visible
+** Surface Procedure (§4), all with their tables in the machine's core. Operations are
+** counted per stage so the 1974 time can be reported stage by stage.
+*/
+#include "render/render.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/segment.h"
+
+static int segment_all(struct render *r, struct t74_error *err)
+{
+  struct cost *cost = &r->cost[RS_SEGMENT];
+  r->seg.cost = cost;
+  for (int k = 0; k < r->map.nface; k++) {
+    const struct mface *f = &r->map.f[k];
+    struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
+    struct seg_result res = { 0 };
+    int st = seg_generate(&in, &res, r->tables, r->core, cost, err);
+    if (st != T74_OK) {
+      seg_result_free(&res);
+      return st;
+    }
+    r->concave_splits += res.ncut;
+    for (int p = 0; p < res.npiece; p++)
+      if (seginfo_add(&r->seg, k, res.piece[p].n, res.piece[p].line, err) < 0) {
+        seg_result_free(&res);
+        return err->status;
+      }
+    seg_result_free(&res);
+  }
+  return T74_OK;
+}
+
+int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
+                   struct t74_error *err)
+{
+  memset(r, 0, sizeof *r);
+  r->tables = o->tables;
+  r->faces_in = s->nf;
+  r->core = core_new(o->core_words);
+  if (!r->core) return t74_fail(err, T74_EIO, "out of host memory for %u words of core",
+                                o->core_words);
+  seginfo_init(&r->seg, r->core, &r->cost[RS_SEGMENT]);
+
+  r->ran[RS_MAPPER] = 1;
+  int st = mapper_run(s, &r->map, r->core, &r->cost[RS_MAPPER], err);
+  if (st != T74_OK) return st;
+
+  r->ran[RS_SEGMENT] = 1;
+  st = segment_all(r, err);
+  if (st != T74_OK) return st;
+
+  r->seg.cost = &r->cost[RS_VISIBLE];
+  st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], o->store, err);
+  if (st != T74_OK) return st;
+  r->prio.trace = o->tables;
+  return vis_init(&r->vis, &r->seg, &r->prio, &r->cost[RS_VISIBLE], err);
+}
+
+int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, void *ctx,
+                struct t74_error *err)
+{
+  r->ran[RS_VISIBLE] = 1;
+  int st = vis_scan(&r->vis, g, point, ctx, err);
+  if (st == T74_OK && r->tables) {
+    fprintf(r->tables, "\n");
+    prio_dump(&r->prio, r->tables);
+  }
+  return st;
+}
+
+int render_pieces_alive(const struct render *r)
+{
+  int n = 0;
+  for (int k = 0; k < r->seg.n; k++) n += r->seg.p[k].alive;
+  return n;
+}
+
+void render_free(struct render *r)
+{
+  vis_free(&r->vis);
+  seginfo_free(&r->seg);
+  mapper_free(&r->map);
+  core_free(r->core);
+  r->core = NULL;
+}

@@ -1,0 +1,56 @@
+/*
+** render.h — the 1974 renderer as one object: Mapper -> Segment Generator -> Priority
+** Matrix + Visible Surface Procedure (paper 003, Fig. 1), in the machine's core.
+**
+** render_prepare runs the Mapper and the Segment Generator over a checked scene; render_scan
+** then walks the perspective-plane grid and hands each point's visible face to a callback,
+** bottom row first. Everything lives in one struct render passed explicitly.
+*/
+#ifndef T74_RENDER_H
+#define T74_RENDER_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/mapper.h"
+#include "render/priority.h"
+#include "render/scene.h"
+#include "render/seginfo.h"
+#include "render/visible.h"
+
+enum render_stage { RS_MAPPER, RS_SEGMENT, RS_VISIBLE, RS_NSTAGE };
+
+struct render_opts {
+  uint32_t core_words;       /* words of core (16384 in 1974) */
+  int      store;            /* PRIO_AUTO / PRIO_DENSE / PRIO_SPARSE */
+  FILE    *tables;           /* teaching dump (--dump tables), or NULL */
+};
+
+struct render {
+  struct core    *core;
+  struct mapped   map;
+  struct seginfo  seg;
+  struct prio     prio;
+  struct vis      vis;
+  struct cost     cost[RS_NSTAGE];   /* operations counted per stage */
+  int             faces_in;
+  int             concave_splits;
+  int             ran[RS_NSTAGE];
+  FILE           *tables;
+};
+
+int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
+                   struct t74_error *err);
+
+/* The grid scan; face passed to point() is an index in r->map.f, or -1. */
+int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, void *ctx,
+                struct t74_error *err);
+
+/* Pieces alive now (faces after all splits). */
+int render_pieces_alive(const struct render *r);
+
+void render_free(struct render *r);
+
+#endif

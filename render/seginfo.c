@@ -1,0 +1,258 @@
+/*
+** seginfo.c — Segment Information: the table of convex pieces (003 §3.2, Fig. 8).
+**
+** This file contains code to keep the convex pieces the Segment Generator and the
+** intersection splits produce, and the three exact operations the Priority Matrix and the
+** Visible Surface Procedure need on them: clipping by a line (to cut a piece along an
+** intersection line, eq. (5)), the overlap test of two pieces (separating line: two convex
+** regions have disjoint interiors exactly when one of their sides separates them), and the
+** span of a piece on a horizontal line (the D-block's xb, xe: the largest x of its left
+** sides and the smallest x of its right sides).
+**
+** All vertices are meets of two grid lines, never of derived lines, so their size stays
+** bounded (geom.h) however often pieces are cut.
+*/
+#include "render/seginfo.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define BBLOCK_ROW_WORDS 10
+#define CBLOCK_SIDE_WORDS 8
+
+void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost)
+{
+  memset(t, 0, sizeof *t);
+  t->core = core;
+  t->cost = cost;
+}
+
+void seginfo_free(struct seginfo *t)
+{
+  for (int k = 0; k < t->n; k++) {
+    free(t->p[k].line);
+    free(t->p[k].v);
+  }
+  free(t->p);
+  memset(t, 0, sizeof *t);
+}
+
+void cpoly_free(struct cpoly *c)
+{
+  free(c->line);
+  free(c->v);
+  memset(c, 0, sizeof *c);
+}
+
+static int cmp_hy(struct hpoint a, struct hpoint b)
+{
+  /* a.Y/a.W vs b.Y/b.W: products reach 2^147, so in 256 bits */
+  struct i256 d = i256_add(i256_mul(a.Y, b.W), i256_mul(-b.Y, a.W));
+  return i256_sign(d);
+}
+
+/* Two consecutive lines that are parallel share a vertex, so they are one line. */
+static bool same_direction(struct gline p, struct gline q)
+{
+  return (wide)p.a * q.b == (wide)q.a * p.b && ((wide)p.a * q.a + (wide)p.b * q.b) > 0;
+}
+
+/* Merge consecutive sides on one line; returns the new count. */
+static int merge_sides(struct gline *l, int n)
+{
+  int changed = 1;
+  while (changed && n >= 3) {
+    changed = 0;
+    for (int k = 0; k < n; k++) {
+      int nx = (k + 1) % n;
+      if (same_direction(l[k], l[nx])) {
+        memmove(&l[nx], &l[nx + 1], (size_t)(n - nx - 1) * sizeof *l);
+        n--;
+        changed = 1;
+        break;
+      }
+    }
+  }
+  return n;
+}
+
+int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
+                struct t74_error *err)
+{
+  if (t->n == t->cap) {
+    int cap = t->cap ? 2 * t->cap : 64;
+    struct piece *np = realloc(t->p, (size_t)cap * sizeof *np);
+    if (!np) { t74_fail(err, T74_EIO, "out of host memory"); return -1; }
+    t->p = np;
+    t->cap = cap;
+  }
+  struct piece *p = &t->p[t->n];
+  memset(p, 0, sizeof *p);
+  p->line = malloc((size_t)n * sizeof *p->line);
+  p->v = malloc((size_t)n * sizeof *p->v);
+  if (!p->line || !p->v) {
+    free(p->line); free(p->v);
+    t74_fail(err, T74_EIO, "out of host memory");
+    return -1;
+  }
+  memcpy(p->line, line, (size_t)n * sizeof *line);
+  n = merge_sides(p->line, n);
+  if (n < 3) {
+    free(p->line); free(p->v);
+    t74_fail(err, T74_EINPUT, "internal: a piece of face %d has fewer than 3 sides", face);
+    return -1;
+  }
+  p->n = n;
+  p->face = face;
+  p->alive = true;
+  for (int k = 0; k < n; k++) {
+    if (!geom_meet(p->line[(k + n - 1) % n], p->line[k], &p->v[k])) {
+      free(p->line); free(p->v);
+      t74_fail(err, T74_EINPUT, "internal: sides of a piece of face %d do not meet", face);
+      return -1;
+    }
+    cost_mw_mul(t->cost, 58, 29);
+    cost_mw_mul(t->cost, 58, 29);
+  }
+  p->ylo = p->yhi = p->v[0];
+  for (int k = 1; k < n; k++) {
+    if (cmp_hy(p->v[k], p->ylo) < 0) p->ylo = p->v[k];
+    if (cmp_hy(p->v[k], p->yhi) > 0) p->yhi = p->v[k];
+    cost_mw_mul(t->cost, 88, 59);
+  }
+
+  /* B and C blocks in core: the piece's row, and its sides */
+  uint32_t b, c;
+  if (core_alloc(t->core, "B-BLOCK", BBLOCK_ROW_WORDS, &b, err) != T74_OK ||
+      core_alloc(t->core, "C-BLOCK", (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK) {
+    free(p->line); free(p->v);
+    return -1;
+  }
+  core_put_int(t->core, b, 2, t->n);
+  core_write(t->core, b + 2, (uint16_t)face);
+  core_put_int(t->core, b + 3, 2, (int64_t)(p->ylo.Y / p->ylo.W));
+  core_put_int(t->core, b + 5, 2, (int64_t)(p->yhi.Y / p->yhi.W));
+  core_write(t->core, b + 7, (uint16_t)n);
+  core_put_int(t->core, b + 8, 2, c);
+  for (int k = 0; k < n; k++) {
+    core_put_int(t->core, c + 8 * (uint32_t)k, 2, p->line[k].a);
+    core_put_int(t->core, c + 8 * (uint32_t)k + 2, 2, p->line[k].b);
+    core_put_int(t->core, c + 8 * (uint32_t)k + 4, 4, p->line[k].c);
+  }
+  COST_ADD_N(t->cost, COST_MEM, BBLOCK_ROW_WORDS + (uint64_t)n * CBLOCK_SIDE_WORDS);
+  return t->n++;
+}
+
+static bool cpoly_push(struct cpoly *c, struct gline l, struct hpoint v)
+{
+  if (c->n == c->cap) {
+    int cap = c->cap ? 2 * c->cap : 16;
+    struct gline *nl = realloc(c->line, (size_t)cap * sizeof *nl);
+    if (!nl) return false;
+    c->line = nl;
+    struct hpoint *nv = realloc(c->v, (size_t)cap * sizeof *nv);
+    if (!nv) return false;
+    c->v = nv;
+    c->cap = cap;
+  }
+  c->line[c->n] = l;
+  c->v[c->n] = v;
+  c->n++;
+  return true;
+}
+
+static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
+{
+  if (n < 3) return false;
+  for (int k = 0; k < n; k++)
+    for (int j = 0; j < n; j++)
+      if (geom_side_h(l[k], v[j]) > 0) return true;
+  return false;
+}
+
+/* Sutherland-Hodgman on lines: each kept vertex carries the line of the side leaving it.
+   Vertex k of the result starts side k; a new vertex is the meet of the side it lies on
+   and h, so it stays a meet of two grid lines. */
+bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
+{
+  out->n = 0;
+  int n = p->n;
+  int s0 = geom_side_h(h, p->v[0]);
+  for (int k = 0; k < n; k++) {
+    int nx = (k + 1) % n;
+    int sk = k == 0 ? s0 : geom_side_h(h, p->v[k]);
+    int sn = nx == 0 ? s0 : geom_side_h(h, p->v[nx]);
+    struct gline lk = p->line[k];
+    struct hpoint x;
+    cost_mw_mul(cost, 88, 58);
+    if (sk > 0 || (sk == 0 && sn >= 0)) {
+      if (!cpoly_push(out, lk, p->v[k])) return false;
+      if (sk > 0 && sn < 0) {            /* leaves through h */
+        if (!geom_meet(lk, h, &x) || !cpoly_push(out, h, x)) return false;
+      }
+    } else if (sk == 0) {                /* on h, and the side goes outside */
+      if (!cpoly_push(out, h, p->v[k])) return false;
+    } else if (sn > 0) {                 /* enters through h */
+      if (!geom_meet(lk, h, &x) || !cpoly_push(out, lk, x)) return false;
+    }
+  }
+  /* merge consecutive sides that lie on one line (keep the first vertex) */
+  for (int k = 0; out->n >= 3 && k < out->n; ) {
+    int nx = (k + 1) % out->n;
+    if (same_direction(out->line[k], out->line[nx])) {
+      memmove(&out->line[nx], &out->line[nx + 1], (size_t)(out->n - nx - 1) * sizeof *out->line);
+      memmove(&out->v[nx], &out->v[nx + 1], (size_t)(out->n - nx - 1) * sizeof *out->v);
+      out->n--;
+      if (nx < k) k--;
+      continue;
+    }
+    k++;
+  }
+  return has_interior(out->n, out->line, out->v);
+}
+
+bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
+                     int n2, const struct gline *l2, const struct hpoint *v2,
+                     struct cost *cost)
+{
+  for (int k = 0; k < n1; k++) {
+    int j = 0;
+    while (j < n2 && geom_side_h(l1[k], v2[j]) <= 0) j++;
+    cost_mw_mul(cost, 88, 58);
+    if (j == n2) return false;           /* side k of the first separates them */
+  }
+  for (int k = 0; k < n2; k++) {
+    int j = 0;
+    while (j < n1 && geom_side_h(l2[k], v1[j]) <= 0) j++;
+    cost_mw_mul(cost, 88, 58);
+    if (j == n1) return false;
+  }
+  return true;
+}
+
+bool seginfo_span(const struct piece *p, int64_t yn, int64_t yd, struct grat *xl,
+                  struct grat *xr, struct cost *cost)
+{
+  bool have_l = false, have_r = false;
+  for (int k = 0; k < p->n; k++) {
+    struct gline l = p->line[k];
+    if (l.a == 0) {
+      /* horizontal side: a point on it belongs to the side of larger y (geom.h) */
+      wide v = (wide)l.b * yn + (wide)l.c * yd;
+      cost_mw_mul(cost, 58, 17);
+      if (v < 0 || (v == 0 && l.b < 0)) return false;
+      continue;
+    }
+    struct grat x = geom_x_at(l, yn, yd);
+    cost_mw_mul(cost, 58, 17);
+    if (l.a > 0) {                       /* interior to the right: a left side */
+      if (!have_l || geom_rat_cmp(x, *xl) > 0) *xl = x;
+      have_l = true;
+    } else {
+      if (!have_r || geom_rat_cmp(x, *xr) < 0) *xr = x;
+      have_r = true;
+    }
+    cost_mw_mul(cost, 75, 46);
+  }
+  return have_l && have_r && geom_rat_cmp(*xl, *xr) < 0;
+}

@@ -1,0 +1,73 @@
+/*
+** seginfo.h — Segment Information (paper 003 §2.2, §3.2, Fig. 8): the convex pieces.
+**
+** After the Segment Generator every face is a set of convex pieces (the paper's divided
+** faces S_i). A piece is the intersection of the half-planes left of its oriented lines
+** (geom.h), listed counter-clockwise; its vertices are where consecutive lines meet,
+** exactly, as homogeneous points. Pieces are only ever added: a piece cut along an
+** intersection line (priority.c) is marked dead and its two halves are appended, so a
+** piece number, once given, always means the same region.
+**
+** In core (Fig. 8): B-BLOCK, one row per piece: piece number (2 words), face (1), y-min and
+** y-max floored/ceiled to the grid (2 + 2), sides k (1), C-block address (2) = 10 words;
+** C-BLOCK, per piece k sides of a, b (2 words each) and c (4 words) = 8k words.
+*/
+#ifndef T74_SEGINFO_H
+#define T74_SEGINFO_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/geom.h"
+
+struct piece {
+  int    face;             /* index in mapped.f */
+  int    n;                /* number of sides, >= 3 */
+  struct gline  *line;     /* n oriented lines, counter-clockwise */
+  struct hpoint *v;        /* v[k]: where line[k-1] meets line[k] (start of side k) */
+  struct hpoint ylo, yhi;  /* its lowest and highest vertex */
+  bool   alive;            /* false once cut in two */
+};
+
+struct seginfo {
+  int    n, cap;
+  struct piece *p;
+  struct core *core;
+  struct cost *cost;
+};
+
+void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost);
+void seginfo_free(struct seginfo *t);
+
+/* Append a piece given by its lines (consecutive lines must meet). Returns the piece's
+   number, or -1 with err set (T74_ECORE when its blocks do not fit the core). */
+int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
+                struct t74_error *err);
+
+/* A convex polygon under construction (for clipping). */
+struct cpoly {
+  int n, cap;
+  struct gline  *line;
+  struct hpoint *v;
+};
+
+void cpoly_free(struct cpoly *c);
+
+/* Clip piece p by the half-plane left of h (closed). Returns true when what remains has
+   a non-empty interior, and then fills out (lines only; vertices computed too). */
+bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost);
+
+/* Do the interiors of two convex polygons overlap? (exact separating-line test) */
+bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
+                     int n2, const struct gline *l2, const struct hpoint *v2,
+                     struct cost *cost);
+
+/* The x-span of piece p on the horizontal line y = yn/yd: [xl, xr) by the tie rule of
+   geom.h. Returns false when the line misses the piece (or meets only its boundary
+   in a way the piece does not own). */
+bool seginfo_span(const struct piece *p, int64_t yn, int64_t yd, struct grat *xl,
+                  struct grat *xr, struct cost *cost);
+
+#endif

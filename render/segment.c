@@ -1,0 +1,1033 @@
+/*
+** segment.c — the Segment Generator: concave faces and faces with holes cut into convex
+** pieces by horizontal lines through concave vertices.
+** Stage: Segment Generator, 003 §3.1 eq. (3), Fig. 5, Fig. 6 (tables YSORT, XSORT of §2.2,
+** Fig. 3, Fig. 4; PBS, IPL, LWS, UPS of Fig. 6).
+**
+** INVARIANTS
+**   - Every working piece keeps the face on the LEFT of each of its sides; ring 0 is its
+**     outer boundary (counter-clockwise), the others are holes (clockwise).
+**   - A piece is cut at the y of its LOWEST concave vertex, and one cut handles every
+**     concave vertex of the piece on that line; the pieces below the cut have no concave
+**     vertex (they are the convex LWS pieces), the pieces above only concave vertices
+**     strictly above the cut (they are the UPS pieces, cut again): the work ends.
+**   - No point is ever rounded: a crossing point is (side's line) meet (y = c) exactly,
+**     and each output side lies on an input edge's line or on a cut line y = c.
+**
+** THE METHOD. Paper 003 cuts a concave face from the bottom up, each time along the
+** horizontal line through the lowest concave vertex (a vertex whose inner angle exceeds
+** 180 degrees; here: the turn from the arriving to the leaving side is to the right, an
+** exact sign of a 2x2 determinant of line coefficients; straight is not concave). The
+** crossing points of the line are inserted into the boundary (table PBS, rings separated
+** by '*'), listed in x order (IPL), and the rewrite rules of eq. (3) turn the boundary
+** into the pieces below the line (LWS) and above it (UPS):
+**     (a)  XaAb     -> aAb, abX             one piece below, one above
+**     (b)  XaAcBb   -> aAc, cBb, abX        a concave vertex c touching the line from below
+**     (b') XaAbYd   -> aAb, abX, dbY        a concave vertex touching it from above
+**     (c)  XaAb*Ye  -> aAb, aeYebX          a hole's lowest vertex e: the hole ring is
+**                                           joined to the outer ring through e
+** The paper reads the pieces off PBS by jumping between paired IPL entries (Fig. 6 (b),
+** (c)). tube74 does the same walk, but it derives all of eq. (3) from ONE rule with a
+** symbolic perturbation instead of a case per crossing type:
+**   Lower pieces = piece and {y < c}. A run is a maximal chain of ring vertices with
+**   y < c. Its crossings are the sides with exactly one endpoint y < c, at their point on
+**   y = c (when that endpoint is ON the line, the crossing is that vertex). They are
+**   sorted by x at c, ties by x at c - e (xsort_half), and paired (1,2), (3,4), ...: the
+**   cut intervals. The odd crossings must be where the counter-clockwise boundary goes
+**   down into y < c, the even ones where it comes back up; otherwise the ring was not
+**   simple and the face is refused (T74_EINPUT). Walk: leave a run at its crossing, go
+**   along the cut interval to the partner crossing, continue along that ring (which may be
+**   a hole: that is how rings are joined), until back at the start.
+**   Upper pieces = piece and {y > c}, the same with y > c and ties at c + e.
+** Vertices on the line and horizontal edges along it thus vanish into cut intervals
+** unless they are crossing points; a vertex touching the line from below gives two lower
+** crossings at one x (rule (b)), one touching from above two upper crossings (rules (b')
+** and (c)). A ring with no crossing lies wholly on one side and goes, as a hole, to the
+** piece of that side that contains it (exact point-in-polygon of one of its vertices).
+** Each cut is labelled in the trace with the rules it instantiates: (b) once per extra
+** lower piece, (b') once per extra upper piece, (c) once per hole ring it joins, (a)
+** when there is none of these.
+**
+** Departures from the paper: the ordering of crossings at one point by slope (above),
+** instead of the paper's type codes a..e; crossing points at a vertex keep the vertex's
+** number (as Fig. 6, where IPL holds vertices 10 and 8); new crossing points are numbered
+** from max(10, largest vertex id) + 1 so they never collide with a vertex id (11, 12, ..
+** as Fig. 6 for faces with ids up to 10). The output drops a vertex where the two sides
+** around it lie on the same oriented line or where a side has zero length; every output
+** piece is checked strictly convex, turning once (T74_EINPUT otherwise).
+**
+** Tables in core (emu/core.h), words on the 16-bit machine: YSORT 3 words a row (y 2,
+** id 1); XSORT 9 a row (xsort.h); PBS 1 word per vertex or crossing number plus 1 per
+** '*'; IPL 1 word per crossing number; LWS and UPS 1 word per vertex plus 1 separator per
+** piece. All are released when the face is done. Operations are counted in `cost`.
+*/
+#include "render/segment.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/xsort.h"
+#include "render/ysort.h"
+
+_Static_assert(XS_ORIG == SEGV_ORIG && XS_CROSS == SEGV_CROSS, "vertex kinds agree");
+
+#define PBS_STAR 0xFFFFu                 /* '*' in PBS, and the piece separator in LWS/UPS */
+
+/* ---- working pieces ------------------------------------------------------------------ */
+
+struct wpiece {                          /* a piece being cut: ring 0 outer, others holes */
+  int id;                                /* 1 = the face itself, then in order of making */
+  int nring;
+  struct xs_ring *ring;
+};
+
+struct cyc {                             /* a growable ring (a piece boundary being walked) */
+  int n, cap;
+  struct xs_vertex *v;
+  struct xs_side *s;
+};
+
+struct seg_ctx {
+  const struct seg_input *in;
+  FILE *trace;
+  struct core *core;
+  struct cost *cost;
+  struct t74_error *err;
+  int nvert;                             /* vertices of the face */
+  uint16_t next_num;                     /* next crossing number */
+  struct ysort_row *ys;                  /* YSORT */
+  int *conc;                             /* conc[i] == stamp: input vertex i concave in piece */
+  int stamp;
+  int ncut;
+  int next_id;                           /* next piece id */
+  /* the queue of pieces still to examine (FIFO: bottom pieces first, as the paper) */
+  struct wpiece *q;
+  int qhead, qn, qcap;
+  /* finished convex rings */
+  struct xs_ring *fin;
+  int nfin, fincap;
+};
+
+static int oom(struct seg_ctx *x)
+{
+  return t74_fail(x->err, T74_ECORE, "face %u: host memory exhausted in the Segment Generator",
+                  (unsigned)x->in->face_id);
+}
+
+static void ring_free(struct xs_ring *r)
+{
+  free(r->v);
+  free(r->s);
+  r->v = NULL;
+  r->s = NULL;
+  r->n = 0;
+}
+
+static void wpiece_free(struct wpiece *p)
+{
+  for (int r = 0; r < p->nring; r++) ring_free(&p->ring[r]);
+  free(p->ring);
+  p->ring = NULL;
+  p->nring = 0;
+}
+
+static int cyc_push(struct cyc *c, const struct xs_vertex *v, const struct xs_side *s)
+{
+  if (c->n == c->cap) {
+    int cap = c->cap ? 2 * c->cap : 16;
+    struct xs_vertex *nv = realloc(c->v, (size_t)cap * sizeof *nv);
+    if (!nv) return -1;
+    c->v = nv;
+    struct xs_side *ns = realloc(c->s, (size_t)cap * sizeof *ns);
+    if (!ns) return -1;
+    c->s = ns;
+    c->cap = cap;
+  }
+  c->v[c->n] = *v;
+  c->s[c->n] = *s;
+  c->n++;
+  return 0;
+}
+
+static void cyc_free(struct cyc *c)
+{
+  free(c->v);
+  free(c->s);
+  memset(c, 0, sizeof *c);
+}
+
+/* ---- counting ----------------------------------------------------------------------- */
+
+static void count_mem(struct cost *k, uint64_t words)
+{
+  if (k) COST_ADD_N(k, COST_MEM, words);
+}
+
+static void count_branch(struct cost *k)
+{
+  if (k) COST_ADD_N(k, COST_BRANCH, 1);
+}
+
+/* The turn at a vertex: sign of a1*b2 - a2*b1, two 30 x 30-bit products and a compare. */
+static void count_turn(struct cost *k)
+{
+  if (!k) return;
+  cost_mw_mul(k, 30, 30);
+  cost_mw_mul(k, 30, 30);
+  cost_mw_add(k, 60);
+}
+
+static void count_xcmp(struct cost *k)
+{
+  if (!k) return;
+  cost_mw_mul(k, 64, 32);
+  cost_mw_mul(k, 64, 32);
+  cost_mw_add(k, 96);
+}
+
+/* ---- exact predicates on lines and vertices ------------------------------------------- */
+
+/* Turn from a side on l1 to the next on l2: > 0 left (convex), < 0 right (concave).
+   A line's direction is (b, -a), so the cross product is a1*b2 - a2*b1. */
+static int turn(struct gline l1, struct gline l2)
+{
+  wide t = (wide)l1.a * l2.b - (wide)l2.a * l1.b;
+  return (t > 0) - (t < 0);
+}
+
+/* Do the two sides run in the same direction (dot product of directions > 0)? */
+static int same_dir(struct gline l1, struct gline l2)
+{
+  return (wide)l1.a * l2.a + (wide)l1.b * l2.b > 0;
+}
+
+/* The same oriented line: coefficients proportional with a positive factor. */
+static int same_line(struct gline l1, struct gline l2)
+{
+  return (wide)l1.a * l2.b == (wide)l2.a * l1.b && (wide)l1.a * l2.c == (wide)l2.a * l1.c &&
+         (wide)l1.b * l2.c == (wide)l2.b * l1.c && same_dir(l1, l2);
+}
+
+static int same_point(const struct xs_vertex *p, const struct xs_vertex *q)
+{
+  return p->y == q->y && geom_rat_cmp(p->x, q->x) == 0;
+}
+
+/* ---- trace helpers ------------------------------------------------------------------- */
+
+static void put_wide(FILE *f, wide v)
+{
+  char buf[48];
+  int n = 0;
+  uwide u = v < 0 ? (uwide)0 - (uwide)v : (uwide)v;
+  do { buf[n++] = (char)('0' + (int)(u % 10)); u /= 10; } while (u);
+  if (v < 0) fputc('-', f);
+  while (n) fputc(buf[--n], f);
+}
+
+static wide gcd_wide(wide a, wide b)
+{
+  if (a < 0) a = -a;
+  if (b < 0) b = -b;
+  while (b) { wide t = a % b; a = b; b = t; }
+  return a;
+}
+
+/* x as an integer or a reduced fraction num/den. */
+static void put_rat(FILE *f, struct grat x)
+{
+  wide g = gcd_wide(x.num, x.den);
+  if (g == 0) g = 1;
+  put_wide(f, x.num / g);
+  if (x.den / g != 1) { fputc('/', f); put_wide(f, x.den / g); }
+}
+
+/* ---- input check and the first piece -------------------------------------------------- */
+
+static int check_input(struct seg_ctx *x)
+{
+  const struct seg_input *in = x->in;
+  unsigned fid = in->face_id;
+  if (in->nring < 1 || !in->ring_start || !in->pt || !in->vid || in->ring_start[0] != 0)
+    return t74_fail(x->err, T74_EINPUT, "face %u: no boundary rings", fid);
+  for (int r = 0; r < in->nring; r++) {
+    int lo = in->ring_start[r], hi = in->ring_start[r + 1], n = hi - lo;
+    if (n < 3)
+      return t74_fail(x->err, T74_EINPUT, "face %u: ring %d has %d vertices (at least 3)",
+                      fid, r, n);
+    wide area2 = 0;
+    for (int k = 0; k < n; k++) {
+      struct gpoint p = in->pt[lo + k], q = in->pt[lo + (k + 1) % n],
+                    s = in->pt[lo + (k + 2) % n];
+      if (p.x > GRID_LIMIT || p.x < -GRID_LIMIT || p.y > GRID_LIMIT || p.y < -GRID_LIMIT)
+        return t74_fail(x->err, T74_EINPUT, "face %u: vertex %u outside the plane grid",
+                        fid, (unsigned)in->vid[lo + k]);
+      if (p.x == q.x && p.y == q.y)
+        return t74_fail(x->err, T74_EINPUT, "face %u: vertices %u and %u coincide", fid,
+                        (unsigned)in->vid[lo + k], (unsigned)in->vid[lo + (k + 1) % n]);
+      if (!(q.x == s.x && q.y == s.y) && geom_orient(p, q, s) == 0 &&
+          (wide)(q.x - p.x) * (s.x - q.x) + (wide)(q.y - p.y) * (s.y - q.y) < 0)
+        return t74_fail(x->err, T74_EINPUT, "face %u: the boundary doubles back at vertex %u",
+                        fid, (unsigned)in->vid[lo + (k + 1) % n]);
+      area2 += (wide)p.x * q.y - (wide)q.x * p.y;
+    }
+    if (r == 0 && area2 <= 0)
+      return t74_fail(x->err, T74_EINPUT,
+                      "face %u: outer ring is not counter-clockwise (twice its area %s 0)",
+                      fid, area2 == 0 ? "=" : "<");
+    if (r > 0 && area2 >= 0)
+      return t74_fail(x->err, T74_EINPUT, "face %u: hole ring %d is not clockwise", fid, r);
+  }
+  return T74_OK;
+}
+
+static struct xs_vertex orig_vertex(const struct seg_input *in, int i)
+{
+  struct xs_vertex v;
+  memset(&v, 0, sizeof v);
+  v.kind = XS_ORIG;
+  v.num = in->vid[i];
+  v.src = i;
+  v.y = in->pt[i].y;
+  v.x.num = in->pt[i].x;
+  v.x.den = 1;
+  v.p.X = in->pt[i].x;
+  v.p.Y = in->pt[i].y;
+  v.p.W = 1;
+  return v;
+}
+
+static int first_piece(struct seg_ctx *x, struct wpiece *p)
+{
+  const struct seg_input *in = x->in;
+  p->id = x->next_id++;
+  p->nring = in->nring;
+  p->ring = calloc((size_t)in->nring, sizeof *p->ring);
+  if (!p->ring) return oom(x);
+  for (int r = 0; r < in->nring; r++) {
+    int lo = in->ring_start[r], n = in->ring_start[r + 1] - lo;
+    struct xs_ring *g = &p->ring[r];
+    g->v = malloc((size_t)n * sizeof *g->v);
+    g->s = malloc((size_t)n * sizeof *g->s);
+    if (!g->v || !g->s) return oom(x);
+    g->n = n;
+    for (int k = 0; k < n; k++) {
+      int i = lo + k, j = lo + (k + 1) % n;
+      g->v[k] = orig_vertex(in, i);
+      memset(&g->s[k], 0, sizeof g->s[k]);
+      g->s[k].line = geom_line(in->pt[i], in->pt[j]);
+      g->s[k].ea = in->vid[i];
+      g->s[k].eb = in->vid[j];
+    }
+  }
+  return T74_OK;
+}
+
+/* ---- the queue and the finished rings ------------------------------------------------ */
+
+static int q_push(struct seg_ctx *x, struct wpiece *p)
+{
+  if (x->qn == x->qcap) {
+    int cap = x->qcap ? 2 * x->qcap : 8;
+    struct wpiece *nq = malloc((size_t)cap * sizeof *nq);
+    if (!nq) return oom(x);
+    for (int i = 0; i < x->qn; i++) nq[i] = x->q[(x->qhead + i) % x->qcap];
+    free(x->q);
+    x->q = nq;
+    x->qhead = 0;
+    x->qcap = cap;
+  }
+  x->q[(x->qhead + x->qn) % x->qcap] = *p;
+  x->qn++;
+  memset(p, 0, sizeof *p);
+  return T74_OK;
+}
+
+static int fin_push(struct seg_ctx *x, struct xs_ring *r)
+{
+  if (x->nfin == x->fincap) {
+    int cap = x->fincap ? 2 * x->fincap : 8;
+    struct xs_ring *nf = realloc(x->fin, (size_t)cap * sizeof *nf);
+    if (!nf) return oom(x);
+    x->fin = nf;
+    x->fincap = cap;
+  }
+  x->fin[x->nfin++] = *r;
+  memset(r, 0, sizeof *r);
+  return T74_OK;
+}
+
+/* ---- core tables ---------------------------------------------------------------------- */
+
+static int table(struct seg_ctx *x, const char *name, uint32_t words, uint32_t *addr)
+{
+  *addr = 0;
+  if (!x->core || words == 0) return T74_OK;
+  return core_alloc(x->core, name, words, addr, x->err);
+}
+
+static void put_word(struct seg_ctx *x, uint32_t addr, uint16_t w)
+{
+  count_mem(x->cost, 1);
+  if (x->core) core_write(x->core, addr, w);
+}
+
+/* ---- point in a walked cycle (to place an untouched hole) ------------------------------ */
+
+/* Where is the point (tn/td, yn/td) (td 1 or 2) for the closed cycle c: 1 inside, 0
+   outside, -1 on its boundary. Crossing number with the half-open rule, exact. */
+static int point_in_cycle(const struct cyc *c, wide tn, int64_t yn, int64_t td,
+                          struct cost *cost)
+{
+  int inside = 0;
+  for (int k = 0; k < c->n; k++) {
+    const struct xs_vertex *p = &c->v[k], *q = &c->v[(k + 1) % c->n];
+    count_xcmp(cost);
+    wide py = (wide)p->y * td, qy = (wide)q->y * td;
+    struct grat t = { tn, td };
+    if (py == yn && geom_rat_cmp(p->x, t) == 0) return -1;
+    if (py == qy) {                              /* horizontal: on it, or no crossing */
+      if (py == yn) {
+        int a = geom_rat_cmp(p->x, t), b = geom_rat_cmp(q->x, t);
+        if (a * b < 0) return -1;
+      }
+      continue;
+    }
+    if ((py > yn) != (qy > yn)) {
+      struct grat xs = geom_x_at(c->s[k].line, yn, td);
+      int s = geom_rat_cmp(xs, t);
+      if (s == 0) return -1;
+      if (s > 0) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+/* Which of the cycles contains the (untouched) ring g: its index, or -1. */
+static int place_ring(const struct xs_ring *g, const struct cyc *cy, int ncy, struct cost *cost)
+{
+  /* Try each vertex, then each edge midpoint (doubled coordinates), until one is not on
+     any cycle's boundary: a hole may touch a piece boundary at a vertex. The ring's
+     vertices are input grid points (an untouched ring was never cut). */
+  for (int pass = 0; pass < 2; pass++) {
+    for (int k = 0; k < g->n; k++) {
+      const struct xs_vertex *p = &g->v[k], *q = &g->v[(k + 1) % g->n];
+      wide tn;
+      int64_t yn, td;
+      if (pass == 0) { tn = p->x.num; yn = p->y; td = 1; }          /* the vertex */
+      else { tn = p->x.num + q->x.num; yn = p->y + q->y; td = 2; }  /* the midpoint */
+      int found = -1, boundary = 0;
+      for (int i = 0; i < ncy && !boundary; i++) {
+        int w = point_in_cycle(&cy[i], tn, yn, td, cost);
+        if (w < 0) boundary = 1;
+        else if (w > 0 && found < 0) found = i;
+      }
+      if (!boundary) return found;
+    }
+  }
+  return -1;
+}
+
+/* ---- one cut ------------------------------------------------------------------------- */
+
+struct halfcut {                          /* the crossings and pieces of one side of a cut */
+  int m;                                  /* crossings */
+  struct xsort_cross *x;
+  int ncy;                                /* pieces walked */
+  struct cyc *cy;
+  int *holes;                             /* untouched ring r -> cycle index, or -1 */
+};
+
+/* Number a crossing shows in IPL: the vertex's number at an endpoint, else its own. */
+static uint16_t cross_num(const struct wpiece *P, uint16_t *const *mid, const struct xsort_cross *c)
+{
+  const struct xs_ring *g = &P->ring[c->ring];
+  if (c->at == 1) return g->v[c->side].num;
+  if (c->at == 2) return g->v[(c->side + 1) % g->n].num;
+  return mid[c->ring][c->side];
+}
+
+/* The point of crossing c as a ring vertex. */
+static struct xs_vertex cross_point(const struct wpiece *P, uint16_t *const *mid,
+                                    const struct xsort_cross *c, gcoord y0)
+{
+  const struct xs_ring *g = &P->ring[c->ring];
+  if (c->at == 1) return g->v[c->side];
+  if (c->at == 2) return g->v[(c->side + 1) % g->n];
+  struct xs_vertex v;
+  memset(&v, 0, sizeof v);
+  v.kind = XS_CROSS;
+  v.num = mid[c->ring][c->side];
+  v.src = -1;
+  v.y = y0;
+  v.x = c->x;
+  if (!geom_meet(g->s[c->side].line, geom_hline(y0, true), &v.p)) {
+    /* never: a side crossing the line has one end strictly off it, so it is not
+       horizontal; keep the exact point from x anyway */
+    v.p.X = c->x.num; v.p.Y = (wide)y0 * c->x.den; v.p.W = c->x.den;
+  }
+  return v;
+}
+
+/* Pair and walk one half. Returns T74_OK or an error. */
+static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint16_t *const *mid,
+                     gcoord c, int half, struct halfcut *h, int *const *idx)
+{
+  unsigned fid = x->in->face_id;
+  int m = h->m;
+  /* The pairing must alternate: below (enter, exit), above (exit, enter). */
+  if (m % 2)
+    return t74_fail(x->err, T74_EINPUT, "face %u: odd number of crossings at y = %lld "
+                    "(boundary not simple?)", fid, (long long)c);
+  for (int j = 0; j < m; j++) {
+    int want_enter = half == XS_BELOW ? (j % 2 == 0) : (j % 2 == 1);
+    count_branch(x->cost);
+    if (h->x[j].enter != want_enter)
+      return t74_fail(x->err, T74_EINPUT,
+                      "face %u: crossings at y = %lld do not alternate (crossing %d of %d "
+                      "on the %s side): the boundary is not simple", fid, (long long)c,
+                      j + 1, m, half == XS_BELOW ? "lower" : "upper");
+  }
+  for (int j = 0; j < m; j++) idx[h->x[j].ring][h->x[j].side] = j;
+
+  char *seen = calloc((size_t)m + 1, 1);
+  h->cy = calloc((size_t)m / 2 + 1, sizeof *h->cy);
+  if (!seen || !h->cy) { free(seen); return oom(x); }
+  int total = 0;
+  for (int r = 0; r < P->nring; r++) total += P->ring[r].n;
+
+  struct xs_side cutside;
+  memset(&cutside, 0, sizeof cutside);
+  cutside.line = geom_hline(c, half == XS_ABOVE);   /* the piece's bottom above, top below */
+  cutside.cut = 1;
+
+  int rc = T74_OK;
+  for (int j0 = 0; j0 < m && rc == T74_OK; j0++) {
+    if (h->x[j0].enter || seen[j0]) continue;
+    struct cyc *cy = &h->cy[h->ncy++];
+    int j = j0, steps = 0;
+    do {
+      seen[j] = 1;
+      struct xs_vertex pe = cross_point(P, mid, &h->x[j], c);
+      if (cyc_push(cy, &pe, &cutside)) { rc = oom(x); break; }
+      int e = half == XS_BELOW ? j - 1 : j + 1;      /* the partner: an entry */
+      const struct xsort_cross *en = &h->x[e];
+      const struct xs_ring *g = &P->ring[en->ring];
+      struct xs_vertex pn = cross_point(P, mid, en, c);
+      if (cyc_push(cy, &pn, &g->s[en->side])) { rc = oom(x); break; }
+      count_mem(x->cost, 4);
+      int k = (en->side + 1) % g->n;
+      for (;;) {
+        if (cyc_push(cy, &g->v[k], &g->s[k])) { rc = oom(x); break; }
+        count_mem(x->cost, 1);
+        int k1 = (k + 1) % g->n;
+        if (!xsort_in_half(g->v[k1].y, c, half)) break;
+        k = k1;
+        if (++steps > total + 2 * m) break;
+      }
+      if (rc) break;
+      j = idx[en->ring][k];
+      if (j < 0 || h->x[j].enter || ++steps > total + 2 * m) {
+        rc = t74_fail(x->err, T74_EINPUT, "face %u: cannot close a piece at y = %lld "
+                      "(boundary not simple?)", fid, (long long)c);
+        break;
+      }
+    } while (j != j0);
+    if (rc == T74_OK && cy->n > 1) {
+      /* Start the piece at the entry point after its first cut interval, as the
+         paper lists LWS pieces ("11 2 12"): rotate the first vertex to the end. */
+      struct xs_vertex v0 = cy->v[0];
+      struct xs_side s0 = cy->s[0];
+      memmove(&cy->v[0], &cy->v[1], (size_t)(cy->n - 1) * sizeof cy->v[0]);
+      memmove(&cy->s[0], &cy->s[1], (size_t)(cy->n - 1) * sizeof cy->s[0]);
+      cy->v[cy->n - 1] = v0;
+      cy->s[cy->n - 1] = s0;
+    }
+  }
+  free(seen);
+  return rc;
+}
+
+/* Find the lowest concave vertex of P: returns 1 and *c when there is one. */
+static int lowest_concave(struct seg_ctx *x, const struct wpiece *P, gcoord *c, int *nconc)
+{
+  x->stamp++;
+  int any = 0;
+  *nconc = 0;
+  for (int r = 0; r < P->nring; r++) {
+    const struct xs_ring *g = &P->ring[r];
+    for (int k = 0; k < g->n; k++) {
+      count_turn(x->cost);
+      if (turn(g->s[(k + g->n - 1) % g->n].line, g->s[k].line) >= 0) continue;
+      if (g->v[k].kind != XS_ORIG) {
+        /* A crossing point lies on a cut and the piece is on one side of it: its
+           angle is at most 180 degrees. Reaching here means the ring was not simple. */
+        return -t74_fail(x->err, T74_EINPUT, "face %u: crossing point %u is concave "
+                         "(boundary not simple?)", (unsigned)x->in->face_id,
+                         (unsigned)g->v[k].num);
+      }
+      x->conc[g->v[k].src] = x->stamp;
+      any = 1;
+      (*nconc)++;
+    }
+  }
+  if (!any) return 0;
+  for (int i = 0; i < x->nvert; i++) {               /* YSORT from the bottom */
+    count_mem(x->cost, YSORT_ROW_WORDS);
+    count_branch(x->cost);
+    if (x->conc[x->ys[i].index] == x->stamp) { *c = x->ys[i].y; return 1; }
+  }
+  return 0;
+}
+
+static void trace_cycle_list(FILE *f, const char *name, const struct halfcut *h,
+                             const struct wpiece *P)
+{
+  fprintf(f, "%-6s ", name);
+  if (h->ncy == 0) fputs("(none)", f);
+  for (int i = 0; i < h->ncy; i++) {
+    if (i) fputs(" ; ", f);
+    for (int k = 0; k < h->cy[i].n; k++)
+      fprintf(f, "%s%u", k ? " " : "", (unsigned)h->cy[i].v[k].num);
+    for (int r = 0; r < P->nring; r++) {
+      if (h->holes[r] != i) continue;
+      const struct xs_ring *g = &P->ring[r];
+      fputs(" *", f);
+      for (int k = 0; k < g->n; k++) fprintf(f, " %u", (unsigned)g->v[k].num);
+    }
+  }
+  fputc('\n', f);
+}
+
+static void trace_ipl(FILE *f, const char *label, const struct halfcut *h,
+                      const struct wpiece *P, uint16_t *const *mid)
+{
+  fprintf(f, "%s:", label);
+  if (h->m == 0) fputs(" (none)", f);
+  for (int j = 0; j < h->m; j++)
+    fprintf(f, "%s %u", j && j % 2 == 0 ? " |" : "", (unsigned)cross_num(P, mid, &h->x[j]));
+}
+
+/* Cut piece P at y = c; its pieces go to the queue. P is consumed. */
+static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
+{
+  int rc = T74_OK;
+  int total = 0;
+  for (int r = 0; r < P->nring; r++) total += P->ring[r].n;
+  x->ncut++;
+
+  uint16_t **mid = calloc((size_t)P->nring, sizeof *mid);
+  int **idx = calloc((size_t)P->nring, sizeof *idx);
+  struct xsort_row *rows = malloc((size_t)(2 * total) * sizeof *rows);
+  struct halfcut hc[2];
+  memset(hc, 0, sizeof hc);
+  for (int s = 0; s < 2; s++) {
+    hc[s].x = malloc((size_t)(2 * total) * sizeof *hc[s].x);
+    hc[s].holes = malloc((size_t)P->nring * sizeof *hc[s].holes);
+  }
+  if (!mid || !idx || !rows || !hc[0].x || !hc[1].x || !hc[0].holes || !hc[1].holes) {
+    rc = oom(x);
+    goto done;
+  }
+  for (int r = 0; r < P->nring; r++) {
+    mid[r] = calloc((size_t)P->ring[r].n, sizeof *mid[r]);
+    idx[r] = malloc((size_t)P->ring[r].n * sizeof *idx[r]);
+    if (!mid[r] || !idx[r]) { rc = oom(x); goto done; }
+  }
+
+  /* XSORT for the line. */
+  int nx = xsort_build(P->ring, P->nring, c, rows, rows + total, x->cost);
+  uint32_t a;
+  if ((rc = table(x, CORE_T_XSORT, (uint32_t)nx * XSORT_ROW_WORDS, &a))) goto done;
+  for (int i = 0; i < nx && x->core; i++) {
+    const struct xs_side *sd = &P->ring[rows[i].ring].s[rows[i].side];
+    uint32_t w = a + (uint32_t)i * XSORT_ROW_WORDS;
+    core_put_int(x->core, w, 4, (int64_t)rows[i].x.num);
+    core_put_int(x->core, w + 4, 2, (int64_t)rows[i].x.den);
+    core_write(x->core, w + 6, sd->ea);
+    core_write(x->core, w + 7, sd->eb);
+    core_write(x->core, w + 8, rows[i].code);
+  }
+
+  /* Number the crossing points through the middle of a side, in ring order (PBS). */
+  uint32_t npbs = 0;
+  for (int r = 0; r < P->nring; r++) {
+    const struct xs_ring *g = &P->ring[r];
+    for (int k = 0; k < g->n; k++) {
+      gcoord y0 = g->v[k].y, y1 = g->v[(k + 1) % g->n].y;
+      npbs++;
+      if ((y0 < c && y1 > c) || (y0 > c && y1 < c)) {
+        if (x->next_num == UINT16_MAX) {
+          rc = t74_fail(x->err, T74_EINPUT, "face %u: more than %u crossing points",
+                        (unsigned)x->in->face_id, (unsigned)UINT16_MAX - 11);
+          goto done;
+        }
+        mid[r][k] = x->next_num++;
+        npbs++;
+      }
+    }
+  }
+  npbs += (uint32_t)P->nring - 1;
+  if ((rc = table(x, CORE_T_PBS, npbs, &a))) goto done;
+  {
+    uint32_t w = a;
+    for (int r = 0; r < P->nring; r++) {
+      if (r) put_word(x, w++, PBS_STAR);
+      for (int k = 0; k < P->ring[r].n; k++) {
+        put_word(x, w++, P->ring[r].v[k].num);
+        if (mid[r][k]) put_word(x, w++, mid[r][k]);
+      }
+    }
+  }
+
+  /* The two halves: crossings, pairing (IPL), walk. */
+  for (int s = 0; s < 2; s++) {
+    for (int r = 0; r < P->nring; r++)
+      for (int k = 0; k < P->ring[r].n; k++) idx[r][k] = -1;
+    hc[s].m = xsort_half(P->ring, P->nring, c, s, hc[s].x, hc[s].x + total, x->cost);
+    if ((rc = walk_half(x, P, mid, c, s, &hc[s], idx))) goto done;
+  }
+  if ((rc = table(x, CORE_T_IPL, (uint32_t)(hc[0].m + hc[1].m), &a))) goto done;
+  for (int s = 0, w = 0; s < 2; s++)
+    for (int j = 0; j < hc[s].m; j++)
+      put_word(x, a + (uint32_t)w++, cross_num(P, mid, &hc[s].x[j]));
+
+  /* Rings without crossings go, as holes, to the piece of their side containing them. */
+  int holes_joined = 0;
+  for (int r = 0; r < P->nring; r++) {
+    hc[0].holes[r] = hc[1].holes[r] = -1;
+    int touched = 0;
+    for (int s = 0; s < 2; s++)
+      for (int j = 0; j < hc[s].m; j++) touched |= hc[s].x[j].ring == r;
+    if (touched) { if (r > 0) holes_joined++; continue; }
+    int s = P->ring[r].v[0].y > c ? XS_ABOVE : XS_BELOW;
+    int i = r > 0 ? place_ring(&P->ring[r], hc[s].cy, hc[s].ncy, x->cost) : -1;
+    if (i < 0) {
+      rc = t74_fail(x->err, T74_EINPUT, "face %u: ring %d lies in no piece at y = %lld "
+                    "(rings not nested?)", (unsigned)x->in->face_id, r, (long long)c);
+      goto done;
+    }
+    hc[s].holes[r] = i;
+  }
+
+  /* LWS and UPS. */
+  for (int s = 0; s < 2; s++) {
+    uint32_t words = 0;
+    for (int i = 0; i < hc[s].ncy; i++) {
+      words += (uint32_t)hc[s].cy[i].n + 1;
+      for (int r = 0; r < P->nring; r++)
+        if (hc[s].holes[r] == i) words += (uint32_t)P->ring[r].n + 1;
+    }
+    if ((rc = table(x, s == XS_BELOW ? CORE_T_LWS : CORE_T_UPS, words, &a))) goto done;
+    uint32_t w = a;
+    for (int i = 0; i < hc[s].ncy; i++) {
+      for (int k = 0; k < hc[s].cy[i].n; k++) put_word(x, w++, hc[s].cy[i].v[k].num);
+      for (int r = 0; r < P->nring; r++) {
+        if (hc[s].holes[r] != i) continue;
+        put_word(x, w++, PBS_STAR);
+        for (int k = 0; k < P->ring[r].n; k++) put_word(x, w++, P->ring[r].v[k].num);
+      }
+      put_word(x, w++, PBS_STAR);
+    }
+  }
+
+  if (x->trace) {
+    FILE *f = x->trace;
+    int nl = hc[XS_BELOW].ncy, nu = hc[XS_ABOVE].ncy;
+    fprintf(f, "cut %d at y = %lld in piece %d (through concave vertex", x->ncut,
+            (long long)c, P->id);
+    int cnt = 0;
+    for (int r = 0; r < P->nring; r++) {
+      const struct xs_ring *g = &P->ring[r];
+      for (int k = 0; k < g->n; k++)
+        if (g->v[k].kind == XS_ORIG && g->v[k].y == c && x->conc[g->v[k].src] == x->stamp)
+          fprintf(f, "%s v%u", cnt++ ? "," : "", (unsigned)g->v[k].num);
+    }
+    fputs("): rule", f);
+    if (nl <= 1 && nu <= 1 && holes_joined == 0) fputs(" (a)", f);
+    for (int i = 1; i < nl; i++) fputs(" (b)", f);
+    for (int i = 1; i < nu; i++) fputs(" (b')", f);
+    for (int i = 0; i < holes_joined; i++) fputs(" (c)", f);
+    fprintf(f, "; %d below, %d above\n", nl, nu);
+    fputs("XSORT ", f);
+    for (int i = 0; i < nx; i++) {
+      const struct xs_side *sd = &P->ring[rows[i].ring].s[rows[i].side];
+      fputs(i ? " | x=" : " x=", f);
+      put_rat(f, rows[i].x);
+      if (sd->cut) fputs(" cut", f);
+      else fprintf(f, " edge v%u-v%u", (unsigned)sd->ea, (unsigned)sd->eb);
+      fprintf(f, " %s", xsort_code_name(rows[i].code));
+    }
+    fputs("\nPBS   ", f);
+    for (int r = 0; r < P->nring; r++) {
+      if (r) fputs(" *", f);
+      for (int k = 0; k < P->ring[r].n; k++) {
+        fprintf(f, " %u", (unsigned)P->ring[r].v[k].num);
+        if (mid[r][k]) fprintf(f, " %u", (unsigned)mid[r][k]);
+      }
+    }
+    fputs("\nIPL    ", f);
+    trace_ipl(f, "below", &hc[XS_BELOW], P, mid);
+    fputc('\n', f);
+    fputs("       ", f);
+    trace_ipl(f, "above", &hc[XS_ABOVE], P, mid);
+    fputc('\n', f);
+    trace_cycle_list(f, "LWS", &hc[XS_BELOW], P);
+    trace_cycle_list(f, "UPS", &hc[XS_ABOVE], P);
+  }
+
+  /* The new pieces, lower ones first, go to the queue. */
+  for (int s = 0; s < 2 && rc == T74_OK; s++) {
+    for (int i = 0; i < hc[s].ncy && rc == T74_OK; i++) {
+      struct wpiece np;
+      memset(&np, 0, sizeof np);
+      np.id = x->next_id++;
+      int nr = 1;
+      for (int r = 0; r < P->nring; r++) nr += hc[s].holes[r] == i;
+      np.ring = calloc((size_t)nr, sizeof *np.ring);
+      if (!np.ring) { rc = oom(x); break; }
+      np.nring = nr;
+      struct cyc *cy = &hc[s].cy[i];
+      np.ring[0].n = cy->n;
+      np.ring[0].v = cy->v;
+      np.ring[0].s = cy->s;
+      memset(cy, 0, sizeof *cy);
+      for (int r = 0, t = 1; r < P->nring; r++) {
+        if (hc[s].holes[r] != i) continue;
+        np.ring[t++] = P->ring[r];                 /* moved, not copied */
+        memset(&P->ring[r], 0, sizeof P->ring[r]);
+      }
+      rc = q_push(x, &np);
+      if (rc) wpiece_free(&np);
+    }
+  }
+
+done:
+  for (int s = 0; s < 2; s++) {
+    for (int i = 0; i < hc[s].ncy; i++) cyc_free(&hc[s].cy[i]);
+    free(hc[s].cy);
+    free(hc[s].x);
+    free(hc[s].holes);
+  }
+  if (mid) for (int r = 0; r < P->nring; r++) free(mid[r]);
+  if (idx) for (int r = 0; r < P->nring; r++) free(idx[r]);
+  free(mid);
+  free(idx);
+  free(rows);
+  wpiece_free(P);
+  return rc;
+}
+
+/* ---- output --------------------------------------------------------------------------- */
+
+/* Remove vertex i and the side leaving it. */
+static void ring_remove(struct xs_ring *g, int i)
+{
+  memmove(&g->v[i], &g->v[i + 1], (size_t)(g->n - i - 1) * sizeof g->v[0]);
+  memmove(&g->s[i], &g->s[i + 1], (size_t)(g->n - i - 1) * sizeof g->s[0]);
+  g->n--;
+}
+
+/* Drop zero-length sides and vertices between two sides on one line; check the ring is
+   strictly convex and turns once; make the output piece. */
+static int finish_ring(struct seg_ctx *x, struct xs_ring *g, struct seg_piece *out)
+{
+  unsigned fid = x->in->face_id;
+  int changed = 1;
+  while (changed && g->n >= 3) {
+    changed = 0;
+    for (int k = 0; k < g->n && g->n >= 3; k++) {
+      int k1 = (k + 1) % g->n;
+      count_xcmp(x->cost);
+      if (same_point(&g->v[k], &g->v[k1])) {
+        /* Side k has zero length: side k takes over side k1's line, vertex k1 goes. */
+        g->s[k] = g->s[k1];
+        ring_remove(g, k1);
+        changed = 1;
+        break;
+      }
+      count_turn(x->cost);
+      if (same_line(g->s[k].line, g->s[k1].line)) {
+        /* Vertex k1 lies inside one line: side k runs on over it, vertex k1 goes. */
+        ring_remove(g, k1);
+        changed = 1;
+        break;
+      }
+    }
+  }
+  if (g->n < 3)
+    return t74_fail(x->err, T74_EINPUT, "face %u: a piece degenerated to %d sides "
+                    "(boundary not simple?)", fid, g->n);
+  int wraps = 0;
+  for (int k = 0; k < g->n; k++) {
+    struct gline l1 = g->s[k].line, l2 = g->s[(k + 1) % g->n].line;
+    if (turn(l1, l2) <= 0)
+      return t74_fail(x->err, T74_EINPUT, "face %u: piece not convex at vertex %u "
+                      "(boundary not simple?)", fid, (unsigned)g->v[(k + 1) % g->n].num);
+    /* Directions (b, -a) in angular order: count where the order wraps around. */
+    int h1 = -l1.a > 0 || (l1.a == 0 && l1.b > 0), h2 = -l2.a > 0 || (l2.a == 0 && l2.b > 0);
+    if (h1 == 0 && h2 == 1) wraps++;            /* from the lower half back to the upper */
+  }
+  if (wraps != 1)
+    return t74_fail(x->err, T74_EINPUT, "face %u: piece winds %d times (boundary not simple?)",
+                    fid, wraps);
+  out->n = g->n;
+  out->line = malloc((size_t)g->n * sizeof *out->line);
+  out->v = malloc((size_t)g->n * sizeof *out->v);
+  if (!out->line || !out->v) {
+    free(out->line);
+    free(out->v);
+    out->line = NULL;
+    out->v = NULL;
+    return oom(x);
+  }
+  for (int k = 0; k < g->n; k++) {
+    out->line[k] = g->s[k].line;
+    out->v[k].kind = g->v[k].kind == XS_ORIG ? SEGV_ORIG : SEGV_CROSS;
+    out->v[k].num = g->v[k].num;
+    out->v[k].p = g->v[k].p;
+  }
+  return T74_OK;
+}
+
+/* ---- the entry point ------------------------------------------------------------------ */
+
+static void ctx_free(struct seg_ctx *x)
+{
+  while (x->qn) {
+    wpiece_free(&x->q[x->qhead]);
+    x->qhead = (x->qhead + 1) % x->qcap;
+    x->qn--;
+  }
+  free(x->q);
+  for (int i = 0; i < x->nfin; i++) ring_free(&x->fin[i]);
+  free(x->fin);
+  free(x->ys);
+  free(x->conc);
+}
+
+int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace,
+                 struct core *core, struct cost *cost, struct t74_error *err)
+{
+  struct seg_ctx xc;
+  struct seg_ctx *x = &xc;
+  memset(x, 0, sizeof *x);
+  x->in = in;
+  x->trace = trace;
+  x->core = core;
+  x->cost = cost;
+  x->err = err;
+  x->next_id = 1;
+  int rc = check_input(x);
+  if (rc) return rc;
+  uint32_t mark = core ? core_mark(core) : 0;
+
+  x->nvert = in->ring_start[in->nring];
+  uint16_t maxid = 10;
+  for (int i = 0; i < x->nvert; i++) if (in->vid[i] > maxid) maxid = in->vid[i];
+  if (maxid >= UINT16_MAX - 1)
+    return t74_fail(err, T74_EINPUT, "face %u: vertex id %u leaves no crossing numbers",
+                    (unsigned)in->face_id, (unsigned)maxid);
+  x->next_num = (uint16_t)(maxid + 1);
+
+  /* YSORT */
+  x->ys = malloc((size_t)x->nvert * 2 * sizeof *x->ys);
+  x->conc = calloc((size_t)x->nvert, sizeof *x->conc);
+  if (!x->ys || !x->conc) { rc = oom(x); goto fail; }
+  ysort_build(in->pt, in->vid, x->nvert, x->ys, x->ys + x->nvert, cost);
+  uint32_t a;
+  if ((rc = table(x, CORE_T_YSORT, (uint32_t)x->nvert * YSORT_ROW_WORDS, &a))) goto fail;
+  for (int i = 0; i < x->nvert && core; i++) {
+    core_put_int(core, a + 3 * (uint32_t)i, 2, x->ys[i].y);
+    core_write(core, a + 3 * (uint32_t)i + 2, x->ys[i].vid);
+  }
+
+  struct wpiece P;
+  memset(&P, 0, sizeof P);
+  if ((rc = first_piece(x, &P))) { wpiece_free(&P); goto fail; }
+  if (trace) {
+    int nconc;
+    x->cost = NULL;                       /* the trace's own look is not the machine's work */
+    rc = lowest_concave(x, &P, &(gcoord){0}, &nconc);
+    x->cost = cost;
+    if (rc < 0) { wpiece_free(&P); rc = -rc; goto fail; }
+    fprintf(trace, "face %u: %d ring%s, %d vertices, %d concave vertices\nYSORT  y:",
+            (unsigned)in->face_id, in->nring, in->nring == 1 ? "" : "s", x->nvert, nconc);
+    for (int i = 0; i < x->nvert; i++)
+      fprintf(trace, " %lld (v%u)", (long long)x->ys[i].y, (unsigned)x->ys[i].vid);
+    fputc('\n', trace);
+  }
+  if ((rc = q_push(x, &P))) { wpiece_free(&P); goto fail; }
+
+  while (x->qn) {
+    struct wpiece cur = x->q[x->qhead];
+    x->qhead = (x->qhead + 1) % x->qcap;
+    x->qn--;
+    gcoord c = 0;
+    int nconc;
+    int has = lowest_concave(x, &cur, &c, &nconc);
+    if (has < 0) { wpiece_free(&cur); rc = -has; goto fail; }
+    if (!has) {
+      if (cur.nring != 1) {
+        wpiece_free(&cur);
+        rc = t74_fail(err, T74_EINPUT, "face %u: a piece with a hole has no concave vertex "
+                      "(rings not simple?)", (unsigned)in->face_id);
+        goto fail;
+      }
+      rc = fin_push(x, &cur.ring[0]);
+      wpiece_free(&cur);
+      if (rc) goto fail;
+      continue;
+    }
+    if (x->ncut > 4 * x->nvert + 16) {
+      wpiece_free(&cur);
+      rc = t74_fail(err, T74_EINPUT, "face %u: too many cuts (boundary not simple?)",
+                    (unsigned)in->face_id);
+      goto fail;
+    }
+    if ((rc = cut_piece(x, &cur, c))) goto fail;
+  }
+
+  /* The convex pieces. */
+  struct seg_result res;
+  memset(&res, 0, sizeof res);
+  res.piece = calloc((size_t)x->nfin + 1, sizeof *res.piece);
+  if (!res.piece) { rc = oom(x); goto fail; }
+  res.ncut = x->ncut;
+  for (int i = 0; i < x->nfin; i++) {
+    if ((rc = finish_ring(x, &x->fin[i], &res.piece[i]))) { seg_result_free(&res); goto fail; }
+    res.npiece++;
+  }
+  if (trace) {
+    fprintf(trace, "face %u: %d convex piece%s after %d cut%s\n", (unsigned)in->face_id,
+            res.npiece, res.npiece == 1 ? "" : "s", res.ncut, res.ncut == 1 ? "" : "s");
+    for (int i = 0; i < res.npiece; i++) {
+      fprintf(trace, "  piece %d:", i + 1);
+      for (int k = 0; k < res.piece[i].n; k++)
+        fprintf(trace, " %u", (unsigned)res.piece[i].v[k].num);
+      fputc('\n', trace);
+    }
+  }
+  ctx_free(x);
+  if (core) core_release(core, mark);
+  *out = res;
+  return T74_OK;
+
+fail:
+  ctx_free(x);
+  if (core) core_release(core, mark);
+  return rc ? rc : T74_EINPUT;
+}
+
+void seg_result_free(struct seg_result *r)
+{
+  if (!r) return;
+  for (int i = 0; i < r->npiece; i++) {
+    free(r->piece[i].line);
+    free(r->piece[i].v);
+  }
+  free(r->piece);
+  r->piece = NULL;
+  r->npiece = 0;
+  r->ncut = 0;
+}

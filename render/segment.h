@@ -1,0 +1,58 @@
+/*
+** segment.h — the Segment Generator of paper 003 (§3.1, eq. (3), Fig. 4-6): concave faces
+** and faces with holes cut into convex pieces by horizontal lines through concave vertices.
+**
+** Input: one projected face on the plane grid, its rings already oriented by the Mapper
+** (outer boundary counter-clockwise, holes clockwise, so the face is always on the LEFT
+** of every directed edge). Output: convex pieces, each the intersection of the half-planes
+** left of its oriented lines (geom.h), listed counter-clockwise. A piece's sides lie on the
+** face's own edges or on horizontal cut lines y = c through concave vertices; no vertex is
+** ever rounded, so two faces that share an edge still share it exactly after the split.
+*/
+#ifndef T74_SEGMENT_H
+#define T74_SEGMENT_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/geom.h"
+
+struct seg_input {
+  uint16_t face_id;            /* input face number (for tables) */
+  int      nring;              /* 1 + holes */
+  const int *ring_start;       /* nring + 1 offsets into pt/vid; ring 0 = outer (CCW), others holes (CW) */
+  const struct gpoint *pt;     /* grid positions; consecutive points distinct, >= 3 per ring */
+  const uint16_t *vid;         /* vertex ids as typed (tables and dumps show these) */
+};
+
+enum seg_vkind { SEGV_ORIG = 0, SEGV_CROSS = 1 };
+
+struct seg_vertex {
+  uint8_t  kind;               /* SEGV_ORIG: an input vertex; SEGV_CROSS: a crossing point */
+  uint16_t num;                /* ORIG: vertex id; CROSS: crossing number (11, 12, ... as Fig. 6) */
+  struct hpoint p;             /* exact position */
+};
+
+struct seg_piece {
+  int n;                       /* sides, >= 3 */
+  struct gline *line;          /* n oriented lines, CCW; side k runs from v[k] to v[k+1] */
+  struct seg_vertex *v;        /* n vertices, CCW */
+};
+
+struct seg_result {
+  int npiece;
+  struct seg_piece *piece;
+  int ncut;                    /* horizontal cut lines applied (concave splits) */
+};
+
+/* Split one face. trace (nullable) receives the teaching dump: YSORT, XSORT rows, and each
+   PBS/IPL/LWS/UPS step. Tables are allocated in core for their lifetime (T74_ECORE when they
+   do not fit) and operations are counted in cost. Returns T74_OK or an error status. */
+int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace,
+                 struct core *core, struct cost *cost, struct t74_error *err);
+
+void seg_result_free(struct seg_result *r);
+
+#endif

@@ -1,0 +1,273 @@
+/*
+** visible.c — the Visible Surface Procedure (paper 003 §2.2, §4, Fig. 8 D-blocks).
+**
+** This file contains code to find, along a horizontal line of the perspective plane, which
+** piece is seen where. The paper scans the whole plane and, at each point, takes the piece
+** of highest priority among those containing it, using area coherence: near a point the
+** front piece rarely changes. Here the line is cut exactly into stretches:
+**
+**   1. active pieces: those whose lowest vertex is at or below the line (YSORT order,
+**      kept as `order`) and whose highest is above it;
+**   2. each active piece's span [xb, xe) on the line (its D-block): the largest x of its
+**      left sides and the smallest of its right sides, exact rationals;
+**   3. a sweep over span ends, left to right; between two ends the covering set is fixed,
+**      and its front piece is found through the Priority Matrix. Coherence: when a piece
+**      joins the set only it is compared with the current front; the whole set is looked
+**      at again only when the front piece leaves. Pieces are kept in x order from line to
+**      line, so re-sorting is an insertion sort over a nearly sorted list.
+**
+** A pair's priority is asked for only when both pieces cover a stretch of positive length,
+** so the matrix is filled lazily with pairs that really overlap on the plane. When a pair
+** turns out to interpenetrate, both pieces are cut (priority.c) and the line is done again.
+**
+** Invariant: after vis_spans, the stretches are disjoint, ordered, and each lies inside the
+** span of its piece; a point of the line lies in a stretch exactly when some alive piece
+** owns it under the tie rule of geom.h.
+*/
+#include "render/visible.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static int grow(void **p, int *cap, int need, size_t size)
+{
+  if (need <= *cap) return 1;
+  int c = *cap ? *cap : 64;
+  while (c < need) c *= 2;
+  void *n = realloc(*p, (size_t)c * size);
+  if (!n) return 0;
+  *p = n;
+  *cap = c;
+  return 1;
+}
+
+static int cmp_hy_frac(struct hpoint p, int64_t n, int64_t d)
+{
+  return geom_hy_cmp(p, n, d);
+}
+
+static int cmp_ylo(const struct seginfo *s, int a, int b)
+{
+  struct hpoint p = s->p[a].ylo, q = s->p[b].ylo;
+  struct i256 d = i256_add(i256_mul(p.Y, q.W), i256_mul(-q.Y, p.W));
+  int c = i256_sign(d);
+  return c ? c : (a > b) - (a < b);
+}
+
+/* place pieces added to seg since last time into `order` (after `next`, by lowest y) */
+static int take_new_pieces(struct vis *v)
+{
+  struct seginfo *s = v->seg;
+  if (!grow((void **)&v->order, &v->ordcap, s->n, sizeof *v->order)) return 0;
+  for (; v->seen < s->n; v->seen++) {
+    int p = v->seen;
+    if (!s->p[p].alive) continue;
+    int lo = v->next, hi = v->norder;
+    while (lo < hi) {
+      int mid = (lo + hi) / 2;
+      if (cmp_ylo(s, v->order[mid], p) < 0) lo = mid + 1; else hi = mid;
+      cost_mw_mul(v->cost, 88, 59);
+    }
+    memmove(&v->order[lo + 1], &v->order[lo], (size_t)(v->norder - lo) * sizeof *v->order);
+    v->order[lo] = p;
+    v->norder++;
+  }
+  return 1;
+}
+
+int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,
+             struct t74_error *err)
+{
+  memset(v, 0, sizeof *v);
+  v->seg = seg;
+  v->prio = prio;
+  v->cost = cost;
+  v->yd = 0;
+  if (!take_new_pieces(v)) return t74_fail(err, T74_EIO, "out of host memory");
+  return T74_OK;
+}
+
+void vis_free(struct vis *v)
+{
+  free(v->order);
+  free(v->act);
+  free(v->byxr);
+  free(v->set);
+  free(v->span);
+  memset(v, 0, sizeof *v);
+}
+
+static int push_span(struct vis *v, struct grat x0, struct grat x1, int piece)
+{
+  if (v->nspan > 0) {
+    struct vis_span *last = &v->span[v->nspan - 1];
+    if (last->piece == piece && geom_rat_cmp(last->x1, x0) == 0) {
+      last->x1 = x1;
+      return 1;
+    }
+  }
+  if (!grow((void **)&v->span, &v->spancap, v->nspan + 1, sizeof *v->span)) return 0;
+  struct vis_span *s = &v->span[v->nspan++];
+  s->x0 = x0;
+  s->x1 = x1;
+  s->piece = piece;
+  s->face = v->seg->p[piece].face;
+  return 1;
+}
+
+/* the front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative */
+static int front_of(struct vis *v, int start_best, int from, int *best, struct t74_error *err)
+{
+  int b = start_best;
+  for (int k = from; k < v->nset; k++) {
+    int c = v->set[k];
+    if (c == b) continue;
+    if (b < 0) { b = c; continue; }
+    int r = prio_order(v->prio, b, c, err);
+    if (r == PRIO_ERROR) return PRIO_ERROR;
+    if (r == PRIO_SPLIT) return PRIO_SPLIT;
+    if (r == PRIO_SECOND) b = c;
+  }
+  *best = b;
+  return PRIO_FIRST;
+}
+
+/* One attempt at the line; PRIO_SPLIT asks for another. */
+static int line_once(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
+{
+  struct seginfo *s = v->seg;
+  v->nspan = 0;
+  if (!take_new_pieces(v)) return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
+
+  /* 1. retire dead and finished pieces, activate those that begin at or below the line */
+  int k = 0;
+  for (int a = 0; a < v->nact; a++) {
+    const struct piece *p = &s->p[v->act[a].piece];
+    COST_ADD_N(v->cost, COST_MEM, 2);
+    if (!p->alive || cmp_hy_frac(p->yhi, yn, yd) <= 0) continue;
+    v->act[k++] = v->act[a];
+  }
+  v->nact = k;
+  while (v->next < v->norder && cmp_hy_frac(s->p[v->order[v->next]].ylo, yn, yd) <= 0) {
+    int p = v->order[v->next++];
+    cost_mw_mul(v->cost, 88, 17);
+    if (!s->p[p].alive || cmp_hy_frac(s->p[p].yhi, yn, yd) <= 0) continue;
+    if (!grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
+      return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
+    v->act[v->nact].piece = p;
+    v->act[v->nact].on = false;
+    v->nact++;
+  }
+
+  /* 2. the D-blocks: spans on this line */
+  for (int a = 0; a < v->nact; a++) {
+    struct vis_item *it = &v->act[a];
+    it->on = seginfo_span(&s->p[it->piece], yn, yd, &it->xl, &it->xr, v->cost);
+    COST_ADD_N(v->cost, COST_MEM, 10);
+  }
+  /* keep the x order of the last line: a stable insertion sort, pieces on the line by
+     xl first, pieces the line misses after them */
+  for (int a = 1; a < v->nact; a++) {
+    struct vis_item t = v->act[a];
+    int b = a - 1;
+    while (b >= 0 && t.on &&
+           (!v->act[b].on || geom_rat_cmp(v->act[b].xl, t.xl) > 0)) {
+      v->act[b + 1] = v->act[b];
+      b--;
+      cost_mw_mul(v->cost, 75, 46);
+    }
+    v->act[b + 1] = t;
+  }
+  int non = 0;
+  while (non < v->nact && v->act[non].on) non++;
+  if (!grow((void **)&v->byxr, &v->byxrcap, v->nact, sizeof *v->byxr) ||
+      !grow((void **)&v->set, &v->setcap, v->nact, sizeof *v->set))
+    return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
+  for (int a = 0; a < non; a++) {
+    int b = a - 1;
+    while (b >= 0 && geom_rat_cmp(v->act[v->byxr[b]].xr, v->act[a].xr) > 0) {
+      v->byxr[b + 1] = v->byxr[b];
+      b--;
+      cost_mw_mul(v->cost, 75, 46);
+    }
+    v->byxr[b + 1] = a;
+  }
+
+  /* 3. sweep the span ends */
+  int ia = 0, ir = 0, front = -1;
+  v->nset = 0;
+  while (ia < non || ir < non) {
+    struct grat x;
+    if (ia < non && (ir >= non || geom_rat_cmp(v->act[ia].xl, v->act[v->byxr[ir]].xr) <= 0))
+      x = v->act[ia].xl;
+    else
+      x = v->act[v->byxr[ir]].xr;
+    /* leave: spans ending at x */
+    while (ir < non && geom_rat_cmp(v->act[v->byxr[ir]].xr, x) == 0) {
+      int p = v->act[v->byxr[ir++]].piece;
+      for (int m = 0; m < v->nset; m++)
+        if (v->set[m] == p) { v->set[m] = v->set[--v->nset]; break; }
+      if (p == front) front = -1;
+      COST_ADD_N(v->cost, COST_MEM, 2);
+    }
+    /* join: spans starting at x */
+    int joined = v->nset;
+    while (ia < non && geom_rat_cmp(v->act[ia].xl, x) == 0) {
+      v->set[v->nset++] = v->act[ia++].piece;
+      COST_ADD_N(v->cost, COST_MEM, 2);
+    }
+    if (v->nset == 0) continue;
+    struct grat xn;
+    if (ia < non && geom_rat_cmp(v->act[ia].xl, v->act[v->byxr[ir]].xr) < 0) xn = v->act[ia].xl;
+    else xn = v->act[v->byxr[ir]].xr;
+    /* the stretch [x, xn) has a fixed covering set: find its front piece */
+    int r = front < 0 ? front_of(v, -1, 0, &front, err) : front_of(v, front, joined, &front, err);
+    if (r != PRIO_FIRST) return r;
+    if (!push_span(v, x, xn, front))
+      return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
+  }
+  return PRIO_FIRST;
+}
+
+int vis_spans(struct vis *v, int64_t yn, int64_t yd, const struct vis_span **span,
+              int *nspan, struct t74_error *err)
+{
+  v->yn = yn;
+  v->yd = yd;
+  v->lines++;
+  for (;;) {
+    int r = line_once(v, yn, yd, err);
+    if (r == PRIO_ERROR) return err->status ? err->status : T74_EINPUT;
+    if (r != PRIO_SPLIT) break;
+  }
+  *span = v->span;
+  *nspan = v->nspan;
+  return T74_OK;
+}
+
+int vis_scan(struct vis *v, const struct vis_grid *g, vis_point_fn point, void *ctx,
+             struct t74_error *err)
+{
+  const int64_t XL = g->window[0], YB = g->window[1], XR = g->window[2], YT = g->window[3];
+  const int64_t xd = 2 * (int64_t)g->W;          /* point centres: n / xd grid units */
+  for (int j = g->H - 1; j >= 0; j--) {
+    /* y = YT - (j + 1/2)(YT - YB)/H, on the grid */
+    int64_t yd = 2 * (int64_t)g->H;
+    int64_t yn = GRID_ONE * (yd * YT - (2 * (int64_t)j + 1) * (YT - YB));
+    const struct vis_span *sp;
+    int ns;
+    int st = vis_spans(v, yn, yd, &sp, &ns, err);
+    if (st != T74_OK) return st;
+    int k = 0;
+    for (int i = 0; i < g->W; i++) {
+      int64_t xn = GRID_ONE * (xd * XL + (2 * (int64_t)i + 1) * (XR - XL));
+      while (k < ns && geom_rat_cmp_frac(sp[k].x1, xn, xd) <= 0) k++;
+      int face = -1;
+      if (k < ns && geom_rat_cmp_frac(sp[k].x0, xn, xd) <= 0) face = sp[k].face;
+      cost_mw_mul(v->cost, 75, 17);
+      st = point(ctx, i, j, face);
+      if (st != T74_OK) return st;
+    }
+  }
+  return T74_OK;
+}

@@ -1,0 +1,61 @@
+/*
+** visible.h — the Visible Surface Procedure of paper 003 (§2.2, §4): the visible face
+** along horizontal lines of the perspective plane, and at every point of the grid.
+**
+** vis_spans gives the exact visible stretches along ANY horizontal line y = yn/yd (lines
+** must come in non-decreasing y): the scan of point centres below is built on it, and so
+** can be sub-scanline anti-aliasing later, with no second visibility code.
+*/
+#ifndef T74_VISIBLE_H
+#define T74_VISIBLE_H
+
+#include <stdint.h>
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/geom.h"
+#include "render/priority.h"
+#include "render/seginfo.h"
+
+struct vis_span {
+  struct grat x0, x1;       /* the stretch [x0, x1) on the line, grid units */
+  int piece;                /* the visible piece */
+  int face;                 /* its face (index in mapped.f) */
+};
+
+struct vis_grid {
+  int W, H;                 /* points across and down */
+  int32_t window[4];        /* XL YB XR YT, world units */
+};
+
+struct vis_item { int piece; struct grat xl, xr; bool on; };
+
+struct vis {
+  struct seginfo *seg;
+  struct prio    *prio;
+  struct cost    *cost;
+  int   *order, norder, next, ordcap;   /* pieces by lowest y; order[next..] not yet met */
+  struct vis_item *act; int nact, actcap;   /* active pieces, kept in order of xl */
+  int   *byxr, byxrcap;                  /* active items in order of xr */
+  int   *set, nset, setcap;              /* pieces covering the current stretch */
+  struct vis_span *span; int nspan, spancap;
+  int   seen;                            /* pieces in seg already placed in order */
+  int64_t yn, yd;                        /* the last line asked for */
+  uint64_t lines;                        /* lines scanned */
+};
+
+int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,
+             struct t74_error *err);
+void vis_free(struct vis *v);
+
+/* The visible stretches along y = yn/yd, left to right, gaps where nothing is seen. */
+int vis_spans(struct vis *v, int64_t yn, int64_t yd, const struct vis_span **span,
+              int *nspan, struct t74_error *err);
+
+/* Scan the grid, bottom row first and left to right (the order the 1974 program
+   displayed while it computed), calling point() with the visible face of each point
+   centre (index in mapped.f, or -1 for none). */
+typedef int (*vis_point_fn)(void *ctx, int i, int j, int face);
+int vis_scan(struct vis *v, const struct vis_grid *g, vis_point_fn point, void *ctx,
+             struct t74_error *err);
+
+#endif

@@ -1,0 +1,570 @@
+/*
+** test_emu.c — unit tests of the machine model: core (emu/core.h), cost model
+** (emu/cost.h), parameter table (emu/params.c) and instruction format (emu/hitac10.h).
+** Where described: emu/core.h, emu/cost.h; CONTRACT.md (exit status 3 message).
+**
+** This file contains code to check the machine model against hand computations: the
+** low region is a stack and the high region meets it exactly at the boundary; "does not
+** fit" is T74_ECORE with the words needed and available; the Priority Matrix's 2-bit
+** fields do not disturb their neighbours; multi-word integers round-trip; the cost of
+** known counts equals the sum worked out from the table's rows.  Standalone cmocka
+** program.
+*/
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/hitac10.h"
+
+/* ---------------------------------------------------------------- core: low region */
+
+static void test_new_bounds(void **state)
+{
+  (void)state;
+  assert_null(core_new(0));
+  struct core *c = core_new(1);
+  assert_non_null(c);
+  assert_int_equal(core_words(c), 1);
+  assert_int_equal(core_read(c, 0), 0);
+  core_free(c);
+  c = core_new(H10_CORE_PAPER);
+  assert_non_null(c);
+  for (uint32_t a = 0; a < H10_CORE_PAPER; a++) assert_int_equal(core_read(c, a), 0);
+  assert_int_equal(core_used(c), 0);
+  core_free(c);
+}
+
+static void test_alloc_release_stack(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(1000);
+  uint32_t a, b, d, e;
+  assert_int_equal(core_alloc(c, CORE_T_VERTICES, 10, &a, &err), T74_OK);
+  assert_int_equal(core_alloc(c, CORE_T_FACES, 20, &b, &err), T74_OK);
+  assert_int_equal(a, 0);
+  assert_int_equal(b, 10);
+  uint32_t m = core_mark(c);
+  assert_int_equal(m, 30);
+  assert_int_equal(core_alloc(c, CORE_T_PBS, 5, &d, &err), T74_OK);
+  assert_int_equal(d, 30);
+  core_write(c, d, 0xBEEF);
+  assert_int_equal(core_alloc(c, CORE_T_IPL, 7, &e, &err), T74_OK);
+  assert_int_equal(e, 35);
+  assert_int_equal(core_used(c), 42);
+  core_release(c, m);                                    /* PBS and IPL go */
+  assert_int_equal(core_mark(c), 30);
+  assert_int_equal(core_used(c), 30);
+  assert_int_equal(core_alloc(c, CORE_T_LWS, 3, &d, &err), T74_OK);
+  assert_int_equal(d, 30);                               /* same place again ... */
+  assert_int_equal(core_read(c, d), 0);                  /* ... and zeroed */
+  core_release(c, 0);
+  assert_int_equal(core_used(c), 0);
+  assert_int_equal(core_peak(c), 42);
+  assert_int_equal(err.status, T74_OK);
+  core_release(c, 500);                                  /* above the top: nothing */
+  assert_int_equal(core_mark(c), 0);
+  core_free(c);
+}
+
+static void test_fill_exactly(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(100);
+  uint32_t a;
+  assert_int_equal(core_alloc(c, "XSORT", 100, &a, &err), T74_OK);
+  assert_int_equal(core_used(c), 100);
+  assert_int_equal(core_alloc(c, "IPL", 1, &a, &err), T74_ECORE);
+  assert_int_equal(err.status, T74_ECORE);
+  assert_string_equal(err.msg, "scene does not fit the core: needs 101 words, 100 available "
+                               "(table IPL could not take 1 words)");
+  assert_int_equal(core_used(c), 100);                   /* nothing allocated */
+  assert_int_equal(core_mark(c), 100);
+  /* zero words fit even in a full core */
+  struct t74_error e2 = { 0 };
+  assert_int_equal(core_alloc(c, "EMPTY", 0, &a, &e2), T74_OK);
+  assert_int_equal(a, 100);
+  /* huge requests do not overflow the arithmetic of the message */
+  struct t74_error e3 = { 0 };
+  assert_int_equal(core_alloc(c, "HUGE", UINT32_MAX, &a, &e3), T74_ECORE);
+  assert_non_null(strstr(e3.msg, "needs 4294967395 words, 100 available"));
+  core_free(c);
+}
+
+/* ---------------------------------------------------------------- core: high region */
+
+static void test_high_keeps_contents(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(64);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 4, &err), T74_OK);
+  for (uint32_t k = 0; k < 4; k++) core_high_set(c, k, (uint16_t)(0x1000 + k));
+  for (uint32_t k = 0; k < 4; k++) assert_int_equal(core_read(c, 63 - k), 0x1000 + k);
+  /* a stale word where the region will grow to is cleared on growth */
+  core_write(c, 64 - 6, 0xDEAD);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 10, &err), T74_OK);
+  assert_int_equal(core_high_words(c), 10);
+  for (uint32_t k = 0; k < 4; k++) assert_int_equal(core_high_get(c, k), 0x1000 + k);
+  for (uint32_t k = 4; k < 10; k++) assert_int_equal(core_high_get(c, k), 0);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 3, &err), T74_OK);  /* no shrink */
+  assert_int_equal(core_high_words(c), 10);
+  core_high_free(c);
+  assert_int_equal(core_high_words(c), 0);
+  assert_int_equal(core_used(c), 0);
+  assert_int_equal(err.status, T74_OK);
+  core_free(c);
+}
+
+static void test_high_meets_low(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(64);
+  uint32_t a;
+  assert_int_equal(core_alloc(c, "LOW", 40, &a, &err), T74_OK);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 24, &err), T74_OK);
+  assert_int_equal(core_used(c), 64);                    /* exactly meet */
+  core_high_set(c, 23, 0x5555);
+  assert_int_equal(core_read(c, 40), 0x5555);            /* the lowest high word */
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 25, &err), T74_ECORE);
+  assert_string_equal(err.msg, "scene does not fit the core: needs 65 words, 64 available "
+                               "(table PRIORITY MATRIX could not grow by 1 words)");
+  assert_int_equal(core_high_words(c), 24);
+  struct t74_error e2 = { 0 };
+  assert_int_equal(core_alloc(c, "LOW2", 1, &a, &e2), T74_ECORE);  /* low cannot pass */
+  core_release(c, 39);
+  struct t74_error e3 = { 0 };
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 25, &e3), T74_OK);
+  assert_int_equal(core_high_get(c, 23), 0x5555);
+  assert_int_equal(core_high_get(c, 24), 0);
+  assert_int_equal(core_used(c), 64);
+  core_free(c);
+}
+
+static void test_contract_message(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(H10_CORE_PAPER);
+  uint32_t a;
+  assert_int_equal(core_alloc(c, "FACE DATA", 16373, &a, &err), T74_OK);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 12, &err), T74_ECORE);
+  assert_int_equal(err.status, 3);
+  assert_string_equal(err.msg, "scene does not fit the core: needs 16385 words, 16384 available "
+                               "(table PRIORITY MATRIX could not grow by 12 words)");
+  core_free(c);
+}
+
+static void test_2bit_fields(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(32);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 3, &err), T74_OK);
+  for (uint64_t i = 8; i < 16; i++)                     /* word 1: every position */
+    for (unsigned v = 0; v < 4; v++) {
+      for (uint64_t j = 0; j < 24; j++) core_high_set2(c, j, (unsigned)((j * 7 + 1) % 4));
+      core_high_set2(c, i, v);
+      assert_int_equal(core_high_get2(c, i), v);
+      for (uint64_t j = 0; j < 24; j++)
+        if (j != i) assert_int_equal(core_high_get2(c, j), (j * 7 + 1) % 4);
+      /* the layout: field i in word i/8, bits 2*(i%8)..+1 (8 pairs a word, Fig. 9) */
+      uint16_t w = core_high_get(c, 1);
+      assert_int_equal((w >> (2 * (i % 8))) & 3u, v);
+    }
+  /* all ones then clear one field */
+  for (uint64_t j = 0; j < 24; j++) core_high_set2(c, j, 3);
+  assert_int_equal(core_high_get(c, 0), 0xFFFF);
+  assert_int_equal(core_high_get(c, 2), 0xFFFF);
+  core_high_set2(c, 17, 0);
+  assert_int_equal(core_high_get(c, 2), 0xFFF3);
+  core_high_set2(c, 19, 2);
+  assert_int_equal(core_high_get(c, 2), 0xFFB3);
+  core_free(c);
+}
+
+/* ---------------------------------------------------------------- multi-word integers */
+
+static void test_multiword_int(void **state)
+{
+  (void)state;
+  struct core *c = core_new(64);
+  core_put_int(c, 0, 2, 0x12345678);
+  assert_int_equal(core_read(c, 0), 0x1234);             /* most significant first */
+  assert_int_equal(core_read(c, 1), 0x5678);
+  assert_int_equal(core_get_int(c, 0, 2), 0x12345678);
+  static const struct { int n; int64_t v; } cases[] = {
+    { 1, 0 }, { 1, 1 }, { 1, -1 }, { 1, INT16_MAX }, { 1, INT16_MIN },
+    { 2, -32769 }, { 2, INT32_MIN }, { 2, INT32_MAX }, { 2, -1 },
+    { 3, -((int64_t)1 << 47) }, { 3, ((int64_t)1 << 47) - 1 }, { 3, -123456789012LL },
+    { 4, INT64_MIN }, { 4, INT64_MAX }, { 4, -1 }, { 4, 0x0123456789ABCDEFLL },
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    core_put_int(c, 10, cases[i].n, cases[i].v);
+    assert_true(core_get_int(c, 10, cases[i].n) == cases[i].v);
+  }
+  core_put_int(c, 20, 1, -2);
+  assert_int_equal(core_read(c, 20), 0xFFFE);
+  core_put_int(c, 20, 1, 0x12345);                       /* low 16 bits kept */
+  assert_int_equal(core_get_int(c, 20, 1), 0x2345);
+  core_put_int(c, 20, 4, -2);
+  assert_int_equal(core_read(c, 20), 0xFFFF);
+  assert_int_equal(core_read(c, 23), 0xFFFE);
+  core_free(c);
+}
+
+static void test_multiword_wide(void **state)
+{
+  (void)state;
+  struct core *c = core_new(64);
+  core_wide one = 1;
+  core_wide max = (core_wide)(((core_uwide)1 << 127) - 1);
+  core_wide min = -max - 1;
+  core_wide cases8[] = { 0, 1, -1, max, min, -(one << 100) - 7, (one << 90) + 12345,
+                         (core_wide)INT64_MIN * 3 };
+  for (size_t i = 0; i < sizeof cases8 / sizeof cases8[0]; i++) {
+    core_put_wide(c, 5, 8, cases8[i]);
+    assert_true(core_get_wide(c, 5, 8) == cases8[i]);
+  }
+  core_put_wide(c, 5, 8, min);
+  assert_int_equal(core_read(c, 5), 0x8000);
+  for (int k = 1; k < 8; k++) assert_int_equal(core_read(c, 5 + (uint32_t)k), 0);
+  /* 5 words (80 bits), negative and positive */
+  core_wide v80 = -(one << 70) + 99;
+  core_put_wide(c, 30, 5, v80);
+  assert_true(core_get_wide(c, 30, 5) == v80);
+  core_put_wide(c, 30, 5, (one << 79) - 1);
+  assert_true(core_get_wide(c, 30, 5) == (one << 79) - 1);
+  assert_int_equal(core_read(c, 30), 0x7FFF);
+  /* narrow values agree with core_get_int */
+  core_put_wide(c, 40, 3, -5);
+  assert_true(core_get_int(c, 40, 3) == -5);
+  core_free(c);
+}
+
+/* ---------------------------------------------------------------- core: statistics */
+
+static void test_peak_and_tables(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(200);
+  uint32_t a;
+  assert_int_equal(core_alloc(c, "A", 50, &a, &err), T74_OK);
+  core_release(c, 0);
+  assert_int_equal(core_alloc(c, "B", 30, &a, &err), T74_OK);
+  assert_int_equal(core_peak(c), 50);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 20, &err), T74_OK);
+  assert_int_equal(core_peak(c), 50);                    /* 30 + 20: not more */
+  assert_int_equal(core_alloc(c, "PBS", 10, &a, &err), T74_OK);
+  assert_int_equal(core_alloc(c, "PBS", 15, &a, &err), T74_OK);  /* same name, both live */
+  assert_int_equal(core_peak(c), 75);
+  core_release(c, 30);
+  assert_int_equal(core_alloc(c, "PBS", 5, &a, &err), T74_OK);
+  assert_int_equal(core_used(c), 55);
+  assert_int_equal(core_peak(c), 75);
+  const char *names[8];
+  uint32_t peaks[8];
+  int n = core_tables(c, names, peaks, 8);
+  assert_int_equal(n, 4);
+  assert_string_equal(names[0], "A");               assert_int_equal(peaks[0], 50);
+  assert_string_equal(names[1], "B");               assert_int_equal(peaks[1], 30);
+  assert_string_equal(names[2], CORE_T_PRIORITY);   assert_int_equal(peaks[2], 20);
+  assert_string_equal(names[3], "PBS");             assert_int_equal(peaks[3], 25);
+  assert_int_equal(core_tables(c, names, peaks, 2), 4);   /* count even when max is short */
+
+  char *buf = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&buf, &len);
+  assert_int_equal(core_layout_dump(c, f), 0);
+  fclose(f);
+  assert_non_null(strstr(buf, "peak 75"));
+  assert_non_null(strstr(buf, "PRIORITY MATRIX (high region"));
+  assert_non_null(strstr(buf, "(free)"));
+  assert_non_null(strstr(buf, "PBS"));
+  free(buf);
+  core_free(c);
+}
+
+static void test_injected_exhaustion(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(1000);
+  uint32_t a;
+  assert_int_equal(core_alloc(c, "A", 100, &a, &err), T74_OK);
+  core_inject_exhaustion(c, 10);
+  assert_int_equal(core_alloc(c, "B", 6, &a, &err), T74_OK);
+  core_release(c, 100);                                  /* released words do not count back */
+  assert_int_equal(core_alloc(c, "C", 4, &a, &err), T74_OK);
+  assert_int_equal(core_alloc(c, "D", 1, &a, &err), T74_ECORE);
+  assert_string_equal(err.msg, "scene does not fit the core: needs 105 words, 104 available "
+                               "(table D could not take 1 words; injected exhaustion)");
+  struct t74_error e2 = { 0 };
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 1, &e2), T74_ECORE);  /* sticky */
+  assert_int_equal(e2.status, T74_ECORE);
+  assert_int_equal(core_used(c), 104);
+  core_inject_exhaustion(c, UINT32_MAX);                 /* disarm */
+  struct t74_error e3 = { 0 };
+  assert_int_equal(core_alloc(c, "D", 800, &a, &e3), T74_OK);
+  assert_int_equal(e3.status, T74_OK);
+  /* budget 0: the very next allocation fails, a zero-word one does not */
+  core_inject_exhaustion(c, 0);
+  assert_int_equal(core_alloc(c, "Z", 0, &a, &e3), T74_OK);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 2, &e3), T74_ECORE);
+  core_free(c);
+}
+
+/* ---------------------------------------------------------------- cost model */
+
+static void test_cost_seconds_by_hand(void **state)
+{
+  (void)state;
+  struct cost_params p;
+  cost_params_default(&p);
+  struct cost c = { { 0 } };
+  COST_ADD_N(&c, COST_MEM, 1000);
+  COST_ADD_N(&c, COST_ADD, 500);
+  COST_ADD_N(&c, COST_LOGIC, 40);
+  COST_ADD_N(&c, COST_SHIFT, 30);
+  COST_ADD_N(&c, COST_BRANCH, 200);
+  COST_ADD_N(&c, COST_MUL, 10);
+  COST_ADD_N(&c, COST_DIV, 5);
+  COST_ADD_N(&c, COST_IO, 7);
+  COST_ADD_N(&c, COST_IND, 11);
+  /* By hand from the table: 233.33 ns a state; MEM, ADD, LOGIC, BRANCH, IO 6 states;
+     SHIFT 6 + (4-1)*1 = 9; MUL (hw) 22; DIV (hw) 38; IND 3. */
+  double states = 1000 * 6 + 500 * 6 + 40 * 6 + 30 * 9 + 200 * 6 + 10 * 22 + 5 * 38 + 7 * 6 + 11 * 3;
+  double want = states * 233.33e-9;
+  assert_true(fabs(cost_seconds(&c, &p) - want) < 1e-12);
+  assert_true(fabs(cost_class_us(&p, COST_MEM) - 1.39998) < 1e-9);   /* "about 1.4 us" */
+  /* software multiply/divide: trap 6 + routine instructions x 6 states */
+  assert_int_equal(cost_params_set(&p, "muldiv=sw", NULL), T74_OK);
+  double sw = states - 10 * 22 - 5 * 38 + 10 * (6 + 138 * 6) + 5 * (6 + 172 * 6);
+  assert_true(fabs(cost_seconds(&c, &p) - sw * 233.33e-9) < 1e-12);
+  assert_true(cost_class_us(&p, COST_MUL) > 30 * cost_class_us(&p, COST_MEM));
+  /* merge and total */
+  struct cost d = { { 0 } };
+  cost_merge(&d, &c);
+  cost_merge(&d, &c);
+  assert_int_equal(d.n[COST_MEM], 2000);
+  assert_int_equal(cost_total(&d), 2 * (1000 + 500 + 40 + 30 + 200 + 10 + 5 + 7 + 11));
+  struct cost zero = { { 0 } };
+  assert_true(cost_seconds(&zero, &p) == 0.0);
+}
+
+static void test_params_set(void **state)
+{
+  (void)state;
+  struct cost_params p;
+  cost_params_default(&p);
+  struct t74_error err = { 0 };
+  double v;
+  assert_int_equal(cost_params_set(&p, "mem_states=7", &err), T74_OK);
+  assert_int_equal(cost_params_get(&p, "mem_states", &v), T74_OK);
+  assert_true(v == 7);
+  assert_int_equal(cost_params_set(&p, "state_ns=250", &err), T74_OK);
+  assert_true(fabs(cost_class_us(&p, COST_MEM) - 1.75) < 1e-12);
+  assert_int_equal(cost_params_set(&p, "mem_us=1.6", &err), T74_OK);  /* via states */
+  assert_true(fabs(cost_class_us(&p, COST_MEM) - 1.6) < 1e-12);
+  assert_true(fabs(p.v[CP_MEM_STATES] - 6.4) < 1e-12);
+  assert_int_equal(cost_params_set(&p, "muldiv=sw", &err), T74_OK);
+  assert_true(p.v[CP_MULDIV] == 1);
+  assert_int_equal(cost_params_set(&p, "muldiv=hw", &err), T74_OK);
+  assert_true(p.v[CP_MULDIV] == 0);
+  assert_int_equal(err.status, T74_OK);
+
+  struct cost_params before = p;
+  struct t74_error e1 = { 0 };
+  assert_int_equal(cost_params_set(&p, "bogus=1", &e1), T74_EINPUT);
+  assert_int_equal(e1.status, T74_EINPUT);
+  assert_non_null(strstr(e1.msg, "unknown machine parameter 'bogus'"));
+  struct t74_error e2 = { 0 };
+  assert_int_equal(cost_params_set(&p, "mem_states=fast", &e2), T74_EINPUT);
+  assert_non_null(strstr(e2.msg, "not a number"));
+  assert_int_equal(cost_params_set(&p, "mem_states=", NULL), T74_EINPUT);
+  assert_int_equal(cost_params_set(&p, "mem_states=6x", NULL), T74_EINPUT);
+  assert_int_equal(cost_params_set(&p, "mem_states=-1", NULL), T74_EINPUT);
+  assert_int_equal(cost_params_set(&p, "mem_states=nan", NULL), T74_EINPUT);
+  assert_int_equal(cost_params_set(&p, "core_words=1000.5", NULL), T74_EINPUT);
+  assert_int_equal(cost_params_set(&p, "muldiv=maybe", NULL), T74_EINPUT);
+  assert_int_equal(cost_params_set(&p, "mem_states", NULL), T74_EINPUT);
+  assert_int_equal(cost_params_set(&p, "=3", NULL), T74_EINPUT);
+  assert_int_equal(cost_params_set(&p, "disk_us=3", NULL), T74_EINPUT);   /* not a states row */
+  assert_memory_equal(&before, &p, sizeof p);           /* nothing changed */
+  assert_int_equal(cost_params_get(&p, "nope", &v), T74_EINPUT);
+}
+
+static void test_params_table(void **state)
+{
+  (void)state;
+  struct cost_params p;
+  cost_params_default(&p);
+  int inferred = 0;
+  for (int i = 0; i < CP_NPARAM; i++) {
+    const struct cost_param_row *r = &cost_param_rows[i];
+    assert_non_null(r->name);                           /* every row filled in */
+    assert_non_null(r->unit);
+    assert_non_null(r->source);
+    assert_true(strlen(r->source) > 10);
+    assert_true(r->def >= r->min && r->def <= r->max);
+    inferred += strstr(r->source, "inferred") != NULL;
+    for (int j = 0; j < i; j++) assert_true(strcmp(r->name, cost_param_rows[j].name) != 0);
+  }
+  assert_true(inferred >= 8);
+  assert_true(p.v[CP_CORE_WORDS] == 16384);
+  assert_true(p.v[CP_DISK_SEEK_MS] == 60 && p.v[CP_DISK_TRACK_MS] == 30);
+  assert_true(p.v[CP_DISK_ROT_MS] == 20 && p.v[CP_DISK_MBIT] == 10);
+  assert_true(p.v[CP_DRUM_REV_S] == 0.75 && p.v[CP_ADC_US] == 50);
+  assert_true(p.v[CP_MULDIV] == 0);                      /* hw, the stated assumption */
+
+  char *buf = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&buf, &len);
+  assert_int_equal(cost_params_list(&p, f), 0);
+  assert_int_equal(h10_list(f), 0);
+  fclose(f);
+  for (int i = 0; i < CP_NPARAM; i++) assert_non_null(strstr(buf, cost_param_rows[i].name));
+  assert_non_null(strstr(buf, "hw|sw"));
+  assert_non_null(strstr(buf, "EC"));
+  free(buf);
+}
+
+static void expect(const struct cost *c, uint64_t mem, uint64_t add, uint64_t logic,
+                   uint64_t shift, uint64_t branch, uint64_t mul, uint64_t div)
+{
+  assert_int_equal(c->n[COST_MEM], mem);
+  assert_int_equal(c->n[COST_ADD], add);
+  assert_int_equal(c->n[COST_LOGIC], logic);
+  assert_int_equal(c->n[COST_SHIFT], shift);
+  assert_int_equal(c->n[COST_BRANCH], branch);
+  assert_int_equal(c->n[COST_MUL], mul);
+  assert_int_equal(c->n[COST_DIV], div);
+  assert_int_equal(c->n[COST_IO], 0);
+}
+
+static void test_mw_add(void **state)
+{
+  (void)state;
+  struct cost c;
+  static const struct { int bits; uint64_t w; } t[] = {
+    { 1, 1 }, { 16, 1 }, { 17, 2 }, { 32, 2 }, { 64, 4 }, { 128, 8 } };
+  for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+    memset(&c, 0, sizeof c);
+    cost_mw_add(&c, t[i].bits);
+    uint64_t w = t[i].w;
+    /* 2w memory references, w adds plus w-1 carry adds, w-1 carry skips */
+    expect(&c, 2 * w, 2 * w - 1, 0, 0, w - 1, 0, 0);
+  }
+}
+
+static void test_mw_mul(void **state)
+{
+  (void)state;
+  struct cost c;
+  memset(&c, 0, sizeof c);
+  cost_mw_mul(&c, 16, 16);                               /* L, M, ST, EC->AC, ST */
+  expect(&c, 3, 0, 1, 0, 0, 1, 0);
+  static const struct { int a, b; uint64_t wa, wb; } t[] = {
+    { 32, 32, 2, 2 }, { 64, 64, 4, 4 }, { 128, 128, 8, 8 }, { 32, 16, 2, 1 }, { 64, 128, 4, 8 } };
+  for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+    memset(&c, 0, sizeof c);
+    cost_mw_mul(&c, t[i].a, t[i].b);
+    uint64_t wa = t[i].wa, wb = t[i].wb, pp = wa * wb, wr = wa + wb;
+    assert_int_equal(c.n[COST_MUL], pp);                /* wa*wb single-word multiplies */
+    /* clear + partials + row carries + sign fix-up (an add of the product width) */
+    expect(&c, wr + 3 * pp + 2 * wa + 2 * wr, 3 * pp + wa + (2 * wr - 1), pp, 0,
+           pp + wa + 2 + (wr - 1), pp, 0);
+  }
+  memset(&c, 0, sizeof c);
+  cost_mw_mul(&c, 32, 32);                               /* spelled out once */
+  expect(&c, 28, 21, 4, 0, 11, 4, 0);
+  memset(&c, 0, sizeof c);
+  cost_mw_mul(&c, 128, 128);
+  assert_int_equal(c.n[COST_MUL], 64);
+}
+
+static void test_mw_div(void **state)
+{
+  (void)state;
+  struct cost c;
+  memset(&c, 0, sizeof c);
+  cost_mw_div(&c, 16, 16);
+  expect(&c, 2, 0, 1, 0, 0, 0, 1);
+  memset(&c, 0, sizeof c);
+  cost_mw_div(&c, 64, 16);                               /* one divide per dividend word */
+  expect(&c, 8, 0, 4, 0, 0, 0, 4);
+  memset(&c, 0, sizeof c);
+  cost_mw_div(&c, 128, 64);                              /* wn 8, wd 4: 5 quotient words */
+  assert_int_equal(c.n[COST_DIV], 5);
+  assert_int_equal(c.n[COST_MUL], 20);
+  assert_int_equal(c.n[COST_SHIFT], 24);
+  expect(&c, 24 + 5 * 15 + 10, 5 * 9 + 9, 20, 24, 5 * 5 + 2 + 4, 20, 5);
+}
+
+/* ---------------------------------------------------------------- instruction format */
+
+static void test_instruction_format(void **state)
+{
+  (void)state;
+  /* words of the IPL that H10.v loads, with its comments */
+  assert_int_equal(H10_OPCODE(0x3C01), H10_ST);          /* ST ,I 1 */
+  assert_int_equal(H10_IND(0x3C01), 1);
+  assert_int_equal(H10_PAGE(0x3C01), 0);
+  assert_int_equal(H10_ADDR(0x3C01), 1);
+  assert_int_equal(H10_OPCODE(0x4005), H10_B);           /* B 5 */
+  assert_int_equal(H10_OPCODE(0x8804), H10_SLL);         /* SLL 4 */
+  assert_int_equal(0x8804 & H10_M_SHCNT, 4);
+  assert_int_equal(H10_OPCODE(0x5001), H10_KCT);         /* KCT 1 */
+  assert_int_equal(H10_OPCODE(0x6841), H10_K);           /* KNC */
+  assert_int_equal(H10_OPCODE(0x7024), H10_IOC);
+  assert_int_equal(H10_INSTR(H10_ST, 1, 0, 1), 0x3C01);
+  assert_int_equal(H10_INSTR(H10_L, 0, 1, 0x1FF), 0x0BFF);
+  for (unsigned w = 0; w <= 0xFFFF; w += 37)
+    assert_int_equal(H10_INSTR(H10_OPCODE(w), H10_IND(w), H10_PAGE(w), H10_ADDR(w)), w);
+  assert_int_equal(H10_EA(H10_INSTR(H10_L, 0, 1, 5), 0x1234), 0x1205);  /* current page */
+  assert_int_equal(H10_EA(H10_INSTR(H10_L, 0, 0, 5), 0x1234), 5);       /* page 0 */
+  assert_int_equal(H10_PAGE_WORDS, 1u << H10_PAGE_BITS);
+  assert_int_equal(H10_CORE_MAX, 1u << H10_PC_BITS);
+  assert_int_equal(H10_CORE_PAPER % H10_CORE_UNIT, 0);
+  for (int i = 0; i < h10_nops; i++) assert_true(h10_ops[i].cls >= 0 && h10_ops[i].cls < COST_NCLASS);
+  assert_true(h10_nregs >= 3);
+  assert_string_equal(h10_regs[0].name, "AC");
+  assert_int_equal(h10_regs[0].width, H10_WORD_BITS);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_new_bounds),
+    cmocka_unit_test(test_alloc_release_stack),
+    cmocka_unit_test(test_fill_exactly),
+    cmocka_unit_test(test_high_keeps_contents),
+    cmocka_unit_test(test_high_meets_low),
+    cmocka_unit_test(test_contract_message),
+    cmocka_unit_test(test_2bit_fields),
+    cmocka_unit_test(test_multiword_int),
+    cmocka_unit_test(test_multiword_wide),
+    cmocka_unit_test(test_peak_and_tables),
+    cmocka_unit_test(test_injected_exhaustion),
+    cmocka_unit_test(test_cost_seconds_by_hand),
+    cmocka_unit_test(test_params_set),
+    cmocka_unit_test(test_params_table),
+    cmocka_unit_test(test_mw_add),
+    cmocka_unit_test(test_mw_mul),
+    cmocka_unit_test(test_mw_div),
+    cmocka_unit_test(test_instruction_format),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,962 @@
+/*
+** test_segment.c — tests of the Segment Generator (render/segment.c, ysort.c, xsort.c),
+** 003 §3.1 eq. (3), Fig. 5, Fig. 6.
+**
+** Every split is checked three ways, all exact: (1) each piece is strictly convex (every
+** vertex lies on its two lines and strictly left of all the others); (2) the pieces'
+** areas (rational, from the homogeneous vertices) add up to the face's area; (3) on a
+** lattice of rational sample points, a point strictly inside the face lies strictly
+** inside exactly one piece, a point outside in none (points on any boundary skipped).
+** Together: the pieces tile the face. Then each case checks its expected pieces, cut
+** count or trace tables. Run from the repository root.
+*/
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/geom.h"
+#include "render/segment.h"
+#include "render/xsort.h"
+#include "render/ysort.h"
+
+/* ---- building faces ----------------------------------------------------------------- */
+
+#define TF_MAX 4096
+
+struct tface {
+  uint16_t id;
+  int nring;
+  int rs[17];
+  struct gpoint pt[TF_MAX];
+  uint16_t vid[TF_MAX];
+};
+
+static struct tface *tf_new(uint16_t id)
+{
+  struct tface *f = calloc(1, sizeof *f);
+  assert_non_null(f);
+  f->id = id;
+  return f;
+}
+
+/* Append a ring of n points (x0, y0, x1, y1, ...); ids continue 1, 2, 3, ... */
+static void tf_ring(struct tface *f, int n, const long long *xy)
+{
+  int base = f->rs[f->nring];
+  assert_true(base + n <= TF_MAX && f->nring < 16);
+  for (int k = 0; k < n; k++) {
+    f->pt[base + k].x = xy[2 * k];
+    f->pt[base + k].y = xy[2 * k + 1];
+    f->vid[base + k] = (uint16_t)(base + k + 1);
+  }
+  f->nring++;
+  f->rs[f->nring] = base + n;
+}
+
+static int run_face(const struct tface *f, struct seg_result *r, FILE *trace,
+                    struct core *core, struct cost *cost, struct t74_error *err)
+{
+  struct seg_input in = { f->id, f->nring, f->rs, f->pt, f->vid };
+  memset(err, 0, sizeof *err);
+  int rc = seg_generate(&in, r, trace, core, cost, err);
+  if (rc) print_message("seg_generate: %s\n", err->msg);
+  return rc;
+}
+
+/* ---- exact checks --------------------------------------------------------------------- */
+
+static wide gcdw(wide a, wide b)
+{
+  if (a < 0) a = -a;
+  if (b < 0) b = -b;
+  while (b) { wide t = a % b; a = b; b = t; }
+  return a;
+}
+
+static struct hpoint hreduce(struct hpoint p)
+{
+  wide g = gcdw(gcdw(p.X, p.Y), p.W);
+  if (g > 1) { p.X /= g; p.Y /= g; p.W /= g; }
+  return p;
+}
+
+struct frac { wide n, d; };
+
+static struct frac frac_add(struct frac a, struct frac b)
+{
+  wide g = gcdw(a.d, b.d);
+  struct frac r = { a.n * (b.d / g) + b.n * (a.d / g), a.d / g * b.d };
+  wide h = gcdw(r.n, r.d);
+  if (h > 1) { r.n /= h; r.d /= h; }
+  return r;
+}
+
+/* Twice the area of a piece, exactly. */
+static struct frac piece_area2(const struct seg_piece *p)
+{
+  struct frac s = { 0, 1 };
+  for (int k = 0; k < p->n; k++) {
+    struct hpoint a = hreduce(p->v[k].p), b = hreduce(p->v[(k + 1) % p->n].p);
+    struct frac t = { a.X * b.Y - b.X * a.Y, a.W * b.W };
+    wide g = gcdw(t.n, t.d);
+    if (g > 1) { t.n /= g; t.d /= g; }
+    s = frac_add(s, t);
+  }
+  return s;
+}
+
+static wide face_area2(const struct tface *f)
+{
+  wide s = 0;
+  for (int r = 0; r < f->nring; r++) {
+    int lo = f->rs[r], n = f->rs[r + 1] - lo;
+    for (int k = 0; k < n; k++) {
+      struct gpoint p = f->pt[lo + k], q = f->pt[lo + (k + 1) % n];
+      s += (wide)p.x * q.y - (wide)q.x * p.y;
+    }
+  }
+  return s;
+}
+
+static void check_convex(const struct seg_piece *p)
+{
+  assert_true(p->n >= 3);
+  for (int k = 0; k < p->n; k++) {
+    int kp = (k + p->n - 1) % p->n;
+    assert_int_equal(geom_side_h(p->line[kp], p->v[k].p), 0);
+    assert_int_equal(geom_side_h(p->line[k], p->v[k].p), 0);
+    for (int j = 0; j < p->n; j++) {
+      if (j == k || j == kp) continue;
+      assert_int_equal(geom_side_h(p->line[j], p->v[k].p), 1);
+    }
+  }
+}
+
+/* Where is the sample (X/W, Y/W) for the face: 1 inside, 0 outside, -1 on a ring. */
+static int face_contains(const struct tface *f, wide X, wide Y, wide W)
+{
+  int in = 0;
+  for (int r = 0; r < f->nring; r++) {
+    int lo = f->rs[r], n = f->rs[r + 1] - lo;
+    for (int k = 0; k < n; k++) {
+      struct gpoint p = f->pt[lo + k], q = f->pt[lo + (k + 1) % n];
+      wide px = (wide)p.x * W, py = (wide)p.y * W, qx = (wide)q.x * W, qy = (wide)q.y * W;
+      wide o = (qx - px) * (Y - py) - (qy - py) * (X - px);
+      if (o == 0 && X >= (px < qx ? px : qx) && X <= (px > qx ? px : qx) &&
+          Y >= (py < qy ? py : qy) && Y <= (py > qy ? py : qy))
+        return -1;
+      if ((py > Y) != (qy > Y)) {
+        /* x of the edge at Y compared with X: sign of o with the edge's direction */
+        int right = qy > py ? o > 0 : o < 0;   /* sample left of the upward edge */
+        if (right) in = !in;
+      }
+    }
+  }
+  return in;
+}
+
+static void check_cover(const struct tface *f, const struct seg_result *r, int S)
+{
+  gcoord x0 = f->pt[0].x, x1 = x0, y0 = f->pt[0].y, y1 = y0;
+  for (int i = 0; i < f->rs[f->nring]; i++) {
+    if (f->pt[i].x < x0) x0 = f->pt[i].x;
+    if (f->pt[i].x > x1) x1 = f->pt[i].x;
+    if (f->pt[i].y < y0) y0 = f->pt[i].y;
+    if (f->pt[i].y > y1) y1 = f->pt[i].y;
+  }
+  wide W = (wide)21 * S;
+  int tested = 0;
+  for (int i = 0; i < S; i++)
+    for (int j = 0; j < S; j++) {
+      wide X = W * x0 + (wide)(21 * i + 7) * (x1 - x0);
+      wide Y = W * y0 + (wide)(21 * j + 3) * (y1 - y0);
+      int in = face_contains(f, X, Y, W);
+      if (in < 0) continue;
+      struct hpoint h = { X, Y, W };
+      int count = 0, edge = 0;
+      for (int p = 0; p < r->npiece; p++) {
+        int mn = 1;
+        for (int k = 0; k < r->piece[p].n; k++) {
+          int s = geom_side_h(r->piece[p].line[k], h);
+          if (s < mn) mn = s;
+        }
+        if (mn > 0) count++;
+        else if (mn == 0) {
+          int neg = 0;
+          for (int k = 0; k < r->piece[p].n; k++)
+            neg |= geom_side_h(r->piece[p].line[k], h) < 0;
+          if (!neg) edge = 1;
+        }
+      }
+      if (edge) continue;
+      if (count != in)
+        print_message("sample (%lld/%lld, %lld/%lld): in face %d, in %d pieces\n",
+                      (long long)X, (long long)W, (long long)Y, (long long)W, in, count);
+      assert_int_equal(count, in);
+      tested++;
+    }
+  assert_true(tested > S);
+}
+
+/* All checks that hold for every split. */
+static void check_all(const struct tface *f, const struct seg_result *r)
+{
+  struct frac sum = { 0, 1 };
+  for (int i = 0; i < r->npiece; i++) {
+    check_convex(&r->piece[i]);
+    struct frac a = piece_area2(&r->piece[i]);
+    assert_true(a.n > 0);
+    sum = frac_add(sum, a);
+  }
+  assert_true(sum.d == 1);
+  assert_true(sum.n == face_area2(f));
+  check_cover(f, r, 37);
+}
+
+/* Is there a piece whose vertices are exactly the integer points e (cyclically)? */
+static int has_piece(const struct seg_result *r, const long long *e, int n)
+{
+  for (int i = 0; i < r->npiece; i++) {
+    const struct seg_piece *p = &r->piece[i];
+    if (p->n != n) continue;
+    for (int s = 0; s < n; s++) {
+      int ok = 1;
+      for (int k = 0; k < n && ok; k++) {
+        struct hpoint h = p->v[(s + k) % n].p;
+        ok = h.X == (wide)e[2 * k] * h.W && h.Y == (wide)e[2 * k + 1] * h.W;
+      }
+      if (ok) return 1;
+    }
+  }
+  return 0;
+}
+
+#define HAS(r, ...) do { const long long e_[] = { __VA_ARGS__ };                        \
+    if (!has_piece((r), e_, (int)(sizeof e_ / sizeof e_[0] / 2))) {                      \
+      print_message("missing piece: %s\n", #__VA_ARGS__); fail(); } } while (0)
+
+static int same_hpoint(struct hpoint a, struct hpoint b)
+{
+  return a.X * b.W == b.X * a.W && a.Y * b.W == b.Y * a.W;
+}
+
+/* Every piece of a is a piece of b (same vertex cycle), and the counts agree. */
+static void same_pieces(const struct seg_result *a, const struct seg_result *b)
+{
+  assert_int_equal(a->npiece, b->npiece);
+  for (int i = 0; i < a->npiece; i++) {
+    const struct seg_piece *p = &a->piece[i];
+    int found = 0;
+    for (int j = 0; j < b->npiece && !found; j++) {
+      const struct seg_piece *q = &b->piece[j];
+      if (q->n != p->n) continue;
+      for (int s = 0; s < q->n && !found; s++) {
+        int ok = 1;
+        for (int k = 0; k < p->n && ok; k++) ok = same_hpoint(p->v[k].p, q->v[(s + k) % q->n].p);
+        found = ok;
+      }
+    }
+    assert_true(found);
+  }
+}
+
+/* Run, check everything, return the result (caller frees). */
+static void split_ok(const struct tface *f, struct seg_result *r, int npiece, int ncut)
+{
+  struct t74_error err;
+  assert_int_equal(run_face(f, r, NULL, NULL, NULL, &err), T74_OK);
+  if (npiece >= 0) assert_int_equal(r->npiece, npiece);
+  if (ncut >= 0) assert_int_equal(r->ncut, ncut);
+  check_all(f, r);
+}
+
+/* The trace of a split as a string (caller frees). */
+static char *trace_of(const struct tface *f, struct seg_result *r)
+{
+  char *buf = NULL;
+  size_t len = 0;
+  FILE *m = open_memstream(&buf, &len);
+  assert_non_null(m);
+  struct t74_error err;
+  int rc = run_face(f, r, m, NULL, NULL, &err);
+  fclose(m);
+  assert_int_equal(rc, T74_OK);
+  return buf;
+}
+
+static void expect_in(const char *text, const char *needle)
+{
+  if (!strstr(text, needle)) {
+    print_message("trace lacks \"%s\" in:\n%s\n", needle, text);
+    fail();
+  }
+}
+
+/* ---- the shapes ------------------------------------------------------------------------ */
+
+/* Fig. 6 recreated: outer 1..5 (a notch at 3 between two legs 2 and 4), hole 6..10 whose
+   bottom vertices 10 and 8 lie on the first cut line y = 20 and whose vertex 9 rises. */
+static struct tface *fig6(int rot_outer, int rot_hole)
+{
+  static const long long outer[] = { 0, 100, 10, 0, 50, 40, 90, 0, 100, 100 };
+  static const long long hole[] = { 20, 80, 80, 80, 80, 20, 50, 50, 20, 20 };
+  struct tface *f = tf_new(6);
+  long long o[10], h[10];
+  for (int k = 0; k < 5; k++) {
+    int a = (k + rot_outer) % 5, b = (k + rot_hole) % 5;
+    o[2 * k] = outer[2 * a]; o[2 * k + 1] = outer[2 * a + 1];
+    h[2 * k] = hole[2 * b]; h[2 * k + 1] = hole[2 * b + 1];
+  }
+  tf_ring(f, 5, o);
+  tf_ring(f, 5, h);
+  return f;
+}
+
+/* ---- tests ----------------------------------------------------------------------------- */
+
+static void test_convex_quad(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(1);
+  tf_ring(f, 4, (const long long[]){ 0, 0, 40, 5, 35, 30, -3, 20 });
+  struct seg_result r;
+  split_ok(f, &r, 1, 0);
+  HAS(&r, 0, 0, 40, 5, 35, 30, -3, 20);
+  for (int k = 0; k < 4; k++) {
+    assert_int_equal(r.piece[0].v[k].kind, SEGV_ORIG);
+    assert_int_equal(r.piece[0].v[k].num, k + 1);
+  }
+  seg_result_free(&r);
+  free(f);
+}
+
+/* (a) XaAb -> aAb, abX: a "<" notch from the right; the cut meets the concave vertex at
+   an endpoint of the cut interval. */
+static void test_rule_a(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(2);
+  tf_ring(f, 5, (const long long[]){ 0, 0, 30, 0, 20, 10, 30, 20, 0, 20 });
+  struct seg_result r;
+  split_ok(f, &r, 2, 1);
+  HAS(&r, 0, 0, 30, 0, 20, 10, 0, 10);
+  HAS(&r, 0, 10, 20, 10, 30, 20, 0, 20);
+  seg_result_free(&r);
+  char *t = trace_of(f, &r);
+  expect_in(t, "rule (a);");
+  expect_in(t, "LWS    11 1 2 3");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* (b) XaAcBb -> aAc, cBb, abX: the concave vertex c touches the line from below. */
+static void test_rule_b(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(3);
+  tf_ring(f, 7, (const long long[]){ 0, 0, 10, 0, 15, 8, 20, 0, 30, 0, 30, 20, 0, 20 });
+  struct seg_result r;
+  split_ok(f, &r, 3, 1);
+  HAS(&r, 0, 8, 0, 0, 10, 0, 15, 8);
+  HAS(&r, 15, 8, 20, 0, 30, 0, 30, 8);
+  HAS(&r, 0, 8, 30, 8, 30, 20, 0, 20);
+  seg_result_free(&r);
+  char *t = trace_of(f, &r);
+  expect_in(t, "rule (b);");
+  expect_in(t, "IPL    below: 12 3 | 3 11");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* (b') XaAbYd -> aAb, abX, dbY: a V notch from above; its bottom b is on the line. */
+static void test_rule_b_prime(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(4);
+  tf_ring(f, 5, (const long long[]){ 0, 0, 30, 0, 30, 20, 15, 8, 0, 20 });
+  struct seg_result r;
+  split_ok(f, &r, 3, 1);
+  HAS(&r, 0, 0, 30, 0, 30, 8, 0, 8);
+  HAS(&r, 0, 8, 15, 8, 0, 20);
+  HAS(&r, 15, 8, 30, 8, 30, 20);
+  seg_result_free(&r);
+  char *t = trace_of(f, &r);
+  expect_in(t, "rule (b');");
+  expect_in(t, "IPL    below: 12 11");
+  expect_in(t, "above: 12 4 | 4 11");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* (c) XaAb*Ye -> aAb, aeYebX: a hole whose lowest vertex e is on the line is joined to
+   the outer ring through e. */
+static void test_rule_c(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(5);
+  tf_ring(f, 4, (const long long[]){ 0, 0, 40, 0, 40, 40, 0, 40 });
+  tf_ring(f, 4, (const long long[]){ 20, 10, 10, 25, 20, 30, 30, 25 });
+  struct seg_result r;
+  split_ok(f, &r, 6, 3);
+  HAS(&r, 0, 0, 40, 0, 40, 10, 0, 10);
+  HAS(&r, 0, 10, 20, 10, 10, 25, 0, 25);
+  HAS(&r, 20, 10, 40, 10, 40, 25, 30, 25);
+  HAS(&r, 0, 25, 10, 25, 20, 30, 0, 30);
+  HAS(&r, 30, 25, 40, 25, 40, 30, 20, 30);
+  HAS(&r, 0, 30, 40, 30, 40, 40, 0, 40);
+  seg_result_free(&r);
+  char *t = trace_of(f, &r);
+  expect_in(t, "cut 1 at y = 10 in piece 1 (through concave vertex v5): rule (c);");
+  expect_in(t, "UPS    5 6 7 8 5 11 3 4 12\n");        /* a e Y e b X: the hole ring joined */
+  expect_in(t, "PBS    1 2 11 3 4 12 * 5 6 7 8\n");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* Fig. 6: the tables of the first cut are the paper's, up to where a cycle starts. */
+static void test_fig6(void **state)
+{
+  (void)state;
+  struct tface *f = fig6(0, 0);
+  struct seg_result r;
+  split_ok(f, &r, 8, 3);
+  HAS(&r, 8, 20, 10, 0, 30, 20);                 /* LWS 11 2 12 */
+  HAS(&r, 70, 20, 90, 0, 92, 20);                /* LWS 13 4 14 */
+  HAS(&r, 20, 20, 30, 20, 50, 40, 40, 40);
+  HAS(&r, 50, 40, 70, 20, 80, 20, 60, 40);
+  HAS(&r, 40, 40, 60, 40, 50, 50);
+  HAS(&r, 8, 20, 20, 20, 20, 80, 2, 80);
+  HAS(&r, 80, 80, 80, 20, 92, 20, 98, 80);
+  HAS(&r, 2, 80, 98, 80, 100, 100, 0, 100);
+  seg_result_free(&r);
+  char *t = trace_of(f, &r);
+  expect_in(t, "face 6: 2 rings, 10 vertices, 5 concave vertices");
+  expect_in(t, "cut 1 at y = 20 in piece 1 (through concave vertex v8, v10)");
+  expect_in(t, "PBS    1 11 2 12 3 13 4 14 5 * 6 7 8 9 10\n");
+  expect_in(t, "above: 11 10 | 10 12 | 13 8 | 8 14");
+  expect_in(t, "LWS    11 2 12 ; 13 4 14\n");
+  expect_in(t, "UPS    10 6 7 8 14 5 1 11 ; 12 3 13 8 9 10\n");
+  expect_in(t, "XSORT  x=8 edge v1-v2 middle | x=20 edge v9-v10 endpoint | x=20 edge v10-v6 endpoint | x=30 edge v2-v3 middle");
+  expect_in(t, "rule (b)");
+  expect_in(t, "face 6: 8 convex pieces after 3 cuts");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* The same face started at every vertex of either ring gives the same pieces. */
+static void test_invariance(void **state)
+{
+  (void)state;
+  struct tface *f0 = fig6(0, 0);
+  struct seg_result r0;
+  split_ok(f0, &r0, 8, 3);
+  for (int a = 0; a < 5; a++)
+    for (int b = 0; b < 5; b++) {
+      struct tface *f = fig6(a, b);
+      struct seg_result r;
+      split_ok(f, &r, 8, 3);
+      same_pieces(&r0, &r);
+      same_pieces(&r, &r0);
+      seg_result_free(&r);
+      free(f);
+    }
+  /* and the comb-like (b) shape rotated */
+  static const long long m[] = { 0, 0, 10, 0, 15, 8, 20, 0, 30, 0, 30, 20, 0, 20 };
+  struct seg_result q0;
+  for (int a = 0; a < 7; a++) {
+    long long xy[14];
+    for (int k = 0; k < 7; k++) { xy[2 * k] = m[2 * ((k + a) % 7)]; xy[2 * k + 1] = m[2 * ((k + a) % 7) + 1]; }
+    struct tface *f = tf_new(9);
+    tf_ring(f, 7, xy);
+    struct seg_result r;
+    split_ok(f, &r, 3, 1);
+    if (a == 0) q0 = r;
+    else { same_pieces(&q0, &r); seg_result_free(&r); }
+    free(f);
+  }
+  seg_result_free(&q0);
+  seg_result_free(&r0);
+  free(f0);
+}
+
+/* Several concave vertices on one line, with horizontal edges along it: a flat-bottomed
+   notch (two concave vertices at y = 10) and a comb whose gaps all end at y = 10. */
+static void test_same_line_and_comb(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(10);
+  tf_ring(f, 8, (const long long[]){ 0, 0, 30, 0, 30, 20, 20, 20, 20, 10, 10, 10, 10, 20, 0, 20 });
+  struct seg_result r;
+  split_ok(f, &r, 3, 1);
+  HAS(&r, 0, 0, 30, 0, 30, 10, 0, 10);
+  HAS(&r, 20, 10, 30, 10, 30, 20, 20, 20);
+  HAS(&r, 0, 10, 10, 10, 10, 20, 0, 20);
+  seg_result_free(&r);
+  free(f);
+
+  /* comb: base 0..4T x 0..10, T teeth of width 2 up to y = 30, gaps of 2 */
+  enum { T = 50 };
+  long long xy[8 * T + 8];
+  int n = 0;
+  xy[n++] = 0; xy[n++] = 0;
+  xy[n++] = 4 * T - 2; xy[n++] = 0;
+  for (int t = T - 1; t >= 0; t--) {           /* along the top, right to left */
+    long long x0 = 4 * t, x1 = 4 * t + 2;
+    xy[n++] = x1; xy[n++] = 30;
+    xy[n++] = x0; xy[n++] = 30;
+    if (t > 0) { xy[n++] = x0; xy[n++] = 10; xy[n++] = x0 - 2; xy[n++] = 10; }
+  }
+  /* the first two points are the base's bottom; the walk above ends at (0, 30) */
+  f = tf_new(11);
+  tf_ring(f, n / 2, xy);
+  split_ok(f, &r, T + 1, 1);
+  HAS(&r, 0, 0, 4 * T - 2, 0, 4 * T - 2, 10, 0, 10);
+  HAS(&r, 8, 10, 10, 10, 10, 30, 8, 30);
+  seg_result_free(&r);
+  free(f);
+
+  /* the comb upside down: teeth hang down, gaps end at y = 20 on the top edge's side */
+  n = 0;
+  for (int t = 0; t < T; t++) {
+    long long x0 = 4 * t, x1 = 4 * t + 2;
+    xy[n++] = x0; xy[n++] = 0;
+    xy[n++] = x1; xy[n++] = 0;
+    if (t < T - 1) { xy[n++] = x1; xy[n++] = 20; xy[n++] = x1 + 2; xy[n++] = 20; }
+  }
+  xy[n++] = 4 * T - 2; xy[n++] = 30;
+  xy[n++] = 0; xy[n++] = 30;
+  f = tf_new(12);
+  tf_ring(f, n / 2, xy);
+  split_ok(f, &r, T + 1, 1);
+  HAS(&r, 0, 20, 4 * T - 2, 20, 4 * T - 2, 30, 0, 30);
+  HAS(&r, 0, 0, 2, 0, 2, 20, 0, 20);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* Convex vertices exactly on the cut line, on either side. */
+static void test_vertices_on_line(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(13);
+  tf_ring(f, 7, (const long long[]){ 0, 0, 30, 0, 35, 8, 30, 20, 15, 8, 0, 20, -5, 8 });
+  struct seg_result r;
+  split_ok(f, &r, 3, 1);
+  HAS(&r, -5, 8, 0, 0, 30, 0, 35, 8);
+  HAS(&r, -5, 8, 15, 8, 0, 20);
+  HAS(&r, 15, 8, 35, 8, 30, 20);
+  seg_result_free(&r);
+  char *t = trace_of(f, &r);
+  expect_in(t, "XSORT  x=-5 edge v6-v7 endpoint | x=-5 edge v7-v1 endpoint | x=15 edge v4-v5 endpoint"
+               " | x=15 edge v5-v6 endpoint | x=35 edge v2-v3 endpoint | x=35 edge v3-v4 endpoint\n");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* An L whose inner corner has a horizontal edge (the line runs along it), and the
+   same L mirrored so the horizontal edge is on the other side of the corner. */
+static void test_l_shapes(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(14);
+  tf_ring(f, 6, (const long long[]){ 0, 0, 20, 0, 20, 10, 10, 10, 10, 20, 0, 20 });
+  struct seg_result r;
+  split_ok(f, &r, 2, 1);
+  HAS(&r, 0, 0, 20, 0, 20, 10, 0, 10);
+  HAS(&r, 0, 10, 10, 10, 10, 20, 0, 20);
+  seg_result_free(&r);
+  free(f);
+  f = tf_new(15);                                /* an upside-down L: concave at (10,10) */
+  tf_ring(f, 6, (const long long[]){ 0, 0, 10, 0, 10, 10, 20, 10, 20, 20, 0, 20 });
+  split_ok(f, &r, 2, 1);
+  HAS(&r, 0, 0, 10, 0, 10, 10, 0, 10);
+  HAS(&r, 0, 10, 20, 10, 20, 20, 0, 20);
+  seg_result_free(&r);
+  free(f);
+  /* a staircase: three concave corners at three heights, horizontal treads */
+  f = tf_new(16);
+  tf_ring(f, 8, (const long long[]){ 0, 0, 40, 0, 40, 10, 30, 10, 30, 20, 20, 20, 20, 30, 0, 30 });
+  split_ok(f, &r, 3, 2);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* A hole touching the outer ring at a vertex: at its lowest vertex (on the outer ring's
+   bottom edge) and at a side vertex. */
+static void test_hole_touching(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(17);
+  tf_ring(f, 5, (const long long[]){ 0, 0, 5, 0, 10, 0, 10, 10, 0, 10 });
+  tf_ring(f, 3, (const long long[]){ 5, 0, 4, 3, 6, 3 });
+  struct seg_result r;
+  split_ok(f, &r, 3, 2);
+  HAS(&r, 0, 0, 5, 0, 4, 3, 0, 3);
+  HAS(&r, 5, 0, 10, 0, 10, 3, 6, 3);
+  HAS(&r, 0, 3, 10, 3, 10, 10, 0, 10);
+  seg_result_free(&r);
+  free(f);
+  f = tf_new(18);
+  tf_ring(f, 5, (const long long[]){ 0, 0, 10, 0, 10, 10, 0, 10, 0, 5 });
+  tf_ring(f, 3, (const long long[]){ 0, 5, 4, 8, 4, 2 });
+  split_ok(f, &r, -1, -1);
+  seg_result_free(&r);
+  free(f);
+  /* the bottom of a V notch from above is also the top vertex of a hole below it */
+  f = tf_new(24);
+  tf_ring(f, 5, (const long long[]){ 0, 0, 30, 0, 30, 20, 15, 8, 0, 20 });
+  tf_ring(f, 3, (const long long[]){ 15, 8, 20, 3, 10, 3 });
+  split_ok(f, &r, 5, 2);
+  HAS(&r, 0, 0, 30, 0, 30, 3, 0, 3);
+  HAS(&r, 0, 8, 0, 3, 10, 3, 15, 8);
+  HAS(&r, 15, 8, 20, 3, 30, 3, 30, 8);
+  HAS(&r, 0, 8, 15, 8, 0, 20);
+  HAS(&r, 15, 8, 30, 8, 30, 20);
+  seg_result_free(&r);
+  free(f);
+  /* two holes touching each other at a vertex, side by side on one line */
+  f = tf_new(25);
+  tf_ring(f, 4, (const long long[]){ 0, 0, 40, 0, 40, 30, 0, 30 });
+  tf_ring(f, 4, (const long long[]){ 10, 10, 10, 20, 20, 15, 20, 10 });
+  tf_ring(f, 4, (const long long[]){ 20, 15, 30, 20, 30, 10, 25, 10 });
+  split_ok(f, &r, -1, -1);
+  seg_result_free(&r);
+  free(f);
+  /* two holes, one above the other, the upper one untouched by the first cut */
+  f = tf_new(19);
+  tf_ring(f, 4, (const long long[]){ 0, 0, 50, 0, 50, 60, 0, 60 });
+  tf_ring(f, 4, (const long long[]){ 10, 10, 10, 20, 40, 20, 40, 10 });
+  tf_ring(f, 3, (const long long[]){ 25, 30, 15, 50, 35, 50 });
+  split_ok(f, &r, -1, -1);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* A five-pointed star and a sawtooth of slivers one grid unit wide. */
+static void test_star_and_slivers(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(20);
+  tf_ring(f, 10, (const long long[]){ 0, 100, -22, 31, -95, 31, -36, -12, -59, -81,
+                                      0, -38, 59, -81, 36, -12, 95, 31, 22, 31 });
+  /* listed clockwise from the top? make it counter-clockwise */
+  if (face_area2(f) < 0) {
+    struct gpoint t[10];
+    for (int k = 0; k < 10; k++) t[k] = f->pt[9 - k];
+    memcpy(f->pt, t, sizeof t);
+  }
+  struct seg_result r;
+  split_ok(f, &r, -1, -1);
+  assert_true(r.npiece >= 5);
+  seg_result_free(&r);
+  free(f);
+
+  /* zigzag band one unit thick: every tooth one unit wide */
+  enum { Z = 30 };
+  long long xy[8 * Z + 16];
+  int n = 0;
+  for (int t = 0; t < Z; t++) { xy[n++] = 2 * t; xy[n++] = 0; xy[n++] = 2 * t + 1; xy[n++] = 7; }
+  xy[n++] = 2 * Z; xy[n++] = 0;
+  xy[n++] = 2 * Z; xy[n++] = 1;
+  for (int t = Z - 1; t >= 0; t--) { xy[n++] = 2 * t + 1; xy[n++] = 8; xy[n++] = 2 * t; xy[n++] = 1; }
+  f = tf_new(21);
+  tf_ring(f, n / 2, xy);
+  split_ok(f, &r, -1, -1);
+  seg_result_free(&r);
+  free(f);
+
+  /* a one-unit-wide U */
+  f = tf_new(22);
+  tf_ring(f, 8, (const long long[]){ 0, 0, 3, 0, 3, 5, 2, 5, 2, 1, 1, 1, 1, 5, 0, 5 });
+  split_ok(f, &r, 3, 1);
+  HAS(&r, 0, 0, 3, 0, 3, 1, 0, 1);
+  HAS(&r, 0, 1, 1, 1, 1, 5, 0, 5);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* XSORT rows: each crossing code, and the counter-clockwise order at a vertex. */
+static void test_xsort_codes_and_ties(void **state)
+{
+  (void)state;
+  /* ring (0,0) (10,0) (10,5) (5,5) (0,10) at y = 5 */
+  struct xs_vertex v[5];
+  struct xs_side s[5];
+  const long long xy[] = { 0, 0, 10, 0, 10, 5, 5, 5, 0, 10 };
+  for (int k = 0; k < 5; k++) {
+    memset(&v[k], 0, sizeof v[k]);
+    v[k].kind = XS_ORIG; v[k].num = (uint16_t)(k + 1); v[k].y = xy[2 * k + 1];
+    v[k].x.num = xy[2 * k]; v[k].x.den = 1;
+  }
+  for (int k = 0; k < 5; k++) {
+    struct gpoint p = { xy[2 * k], xy[2 * k + 1] }, q = { xy[2 * ((k + 1) % 5)], xy[2 * ((k + 1) % 5) + 1] };
+    memset(&s[k], 0, sizeof s[k]);
+    s[k].line = geom_line(p, q);
+  }
+  struct xs_ring g = { 5, v, s };
+  struct xsort_row rows[10];
+  int m = xsort_build(&g, 1, 5, rows, rows + 5, NULL);
+  assert_int_equal(m, 4);
+  assert_int_equal(rows[0].code, XS_MIDDLE);     assert_int_equal(rows[0].side, 4);
+  assert_true(rows[0].x.num == 0);
+  assert_int_equal(rows[1].code, XS_COINCIDENT); assert_int_equal(rows[1].side, 2);
+  assert_int_equal(rows[2].code, XS_ENDPOINT);   assert_int_equal(rows[2].side, 3);
+  assert_int_equal(rows[3].code, XS_ENDPOINT);   assert_int_equal(rows[3].side, 1);
+  assert_string_equal(xsort_code_name(rows[1].code), "coincident");
+
+  /* a vertex touching y = 5 from below at the ring's start: the arriving side (the
+     last one, 4) comes before the leaving side 0 although 4 > 0 */
+  const long long t[] = { 5, 5, 0, 0, 12, 0, 12, 9, 7, 1 };
+  for (int k = 0; k < 5; k++) { v[k].y = t[2 * k + 1]; v[k].x.num = t[2 * k]; v[k].x.den = 1; }
+  for (int k = 0; k < 5; k++) {
+    struct gpoint p = { t[2 * k], t[2 * k + 1] }, q = { t[2 * ((k + 1) % 5)], t[2 * ((k + 1) % 5) + 1] };
+    s[k].line = geom_line(p, q);
+  }
+  m = xsort_build(&g, 1, 5, rows, rows + 5, NULL);
+  assert_int_equal(m, 4);
+  assert_int_equal(rows[0].side, 4);             /* (7,1) -> (5,5) arrives */
+  assert_int_equal(rows[1].side, 0);             /* (5,5) -> (0,0) leaves */
+  assert_int_equal(rows[2].code, XS_MIDDLE);     /* (12,9) -> (7,1): x = 9.5 */
+  assert_true(rows[2].x.num * 2 == rows[2].x.den * 19);
+  assert_int_equal(rows[3].code, XS_MIDDLE);     /* (12,0) -> (12,9) */
+
+  /* the lower half: slopes decide the order at (5,5): just below, (5,5)->(0,0) is to the
+     left of (7,1)->(5,5) */
+  struct xsort_cross xc[10];
+  m = xsort_half(&g, 1, 5, XS_BELOW, xc, xc + 5, NULL);
+  assert_int_equal(m, 4);
+  assert_int_equal(xc[0].side, 0); assert_int_equal(xc[0].enter, 1); assert_int_equal(xc[0].at, 1);
+  assert_int_equal(xc[1].side, 4); assert_int_equal(xc[1].enter, 0); assert_int_equal(xc[1].at, 2);
+  assert_int_equal(xc[2].side, 3); assert_int_equal(xc[2].enter, 1);
+  assert_int_equal(xc[3].side, 2); assert_int_equal(xc[3].enter, 0);
+  m = xsort_half(&g, 1, 5, XS_ABOVE, xc, xc + 5, NULL);
+  assert_int_equal(m, 2);
+  assert_int_equal(xc[0].side, 3); assert_int_equal(xc[0].enter, 0);
+  assert_int_equal(xc[1].side, 2); assert_int_equal(xc[1].enter, 1);
+}
+
+static void test_ysort(void **state)
+{
+  (void)state;
+  struct gpoint pt[6] = { { 0, 5 }, { 1, -3 }, { 2, 5 }, { 3, 0 }, { 4, -3 }, { 5, 9 } };
+  uint16_t id[6] = { 1, 2, 3, 4, 5, 6 };
+  struct ysort_row rows[6], tmp[6];
+  struct cost c;
+  memset(&c, 0, sizeof c);
+  ysort_build(pt, id, 6, rows, tmp, &c);
+  const int want[6] = { 2, 5, 4, 1, 3, 6 };
+  for (int i = 0; i < 6; i++) assert_int_equal(rows[i].vid, want[i]);
+  assert_true(c.n[COST_ADD] > 0 && c.n[COST_MEM] > 0);
+}
+
+/* Coordinates at the edge of the grid: the Fig. 6 face scaled by 2^21 and shifted so it
+   spans -2^28 .. 2^28 - ; every product must stay exact. */
+static void test_near_grid_limit(void **state)
+{
+  (void)state;
+  struct tface *f = fig6(0, 0);
+  const long long S = 1LL << 21, off = -(1LL << 27) - (1LL << 26);
+  for (int i = 0; i < f->rs[f->nring]; i++) {
+    f->pt[i].x = f->pt[i].x * S + off;
+    f->pt[i].y = f->pt[i].y * S + off;
+    assert_true(f->pt[i].x <= GRID_LIMIT && f->pt[i].x >= -GRID_LIMIT);
+  }
+  struct seg_result r;
+  split_ok(f, &r, 8, 3);
+  HAS(&r, 8 * S + off, 20 * S + off, 10 * S + off, off, 30 * S + off, 20 * S + off);
+  seg_result_free(&r);
+  /* a thin (b) notch with vertices on the limits */
+  struct tface *g = tf_new(23);
+  const long long L = GRID_LIMIT;
+  tf_ring(g, 7, (const long long[]){ -L, -L, -1, -L, 0, L - 1, 1, -L, L, -L, L, L, -L, L });
+  split_ok(g, &r, 3, 1);
+  seg_result_free(&r);
+  free(g);
+  free(f);
+}
+
+/* Tables live in core and are released; operations are counted; core exhaustion is
+   reported as T74_ECORE with nothing returned. */
+static void test_core_and_cost(void **state)
+{
+  (void)state;
+  struct tface *f = fig6(0, 0);
+  struct core *core = core_new(16384);
+  assert_non_null(core);
+  uint32_t used0 = core_used(core);
+  struct cost cost;
+  memset(&cost, 0, sizeof cost);
+  struct seg_result r;
+  struct t74_error err;
+  assert_int_equal(run_face(f, &r, NULL, core, &cost, &err), T74_OK);
+  assert_int_equal(r.npiece, 8);
+  assert_int_equal(core_used(core), used0);
+  assert_true(core_peak(core) > used0 + 10 * YSORT_ROW_WORDS);
+  const char *names[16];
+  uint32_t peak[16];
+  int nt = core_tables(core, names, peak, 16);
+  int seen = 0;
+  for (int i = 0; i < nt; i++)
+    for (int k = 0; k < 6; k++) {
+      static const char *const want[6] = { CORE_T_YSORT, CORE_T_XSORT, CORE_T_PBS,
+                                           CORE_T_IPL, CORE_T_LWS, CORE_T_UPS };
+      if (strcmp(names[i], want[k]) == 0) seen |= 1 << k;
+    }
+  assert_int_equal(seen, 63);
+  assert_true(cost.n[COST_MEM] > 100 && cost.n[COST_MUL] > 10 && cost.n[COST_ADD] > 100);
+  seg_result_free(&r);
+
+  core_inject_exhaustion(core, 40);
+  memset(&r, 0x5a, sizeof r);
+  struct seg_result before = r;
+  assert_int_equal(run_face(f, &r, NULL, core, NULL, &err), T74_ECORE);
+  assert_int_equal(err.status, T74_ECORE);
+  assert_memory_equal(&r, &before, sizeof r);   /* output untouched */
+  assert_int_equal(core_used(core), used0);
+  core_free(core);
+  free(f);
+}
+
+/* Bad rings are refused with a message naming the face. */
+static void test_bad_input(void **state)
+{
+  (void)state;
+  struct seg_result r;
+  struct t74_error err;
+  struct tface *f = tf_new(77);                  /* clockwise outer ring */
+  tf_ring(f, 4, (const long long[]){ 0, 0, 0, 10, 10, 10, 10, 0 });
+  assert_int_equal(run_face(f, &r, NULL, NULL, NULL, &err), T74_EINPUT);
+  assert_non_null(strstr(err.msg, "face 77"));
+  free(f);
+  f = tf_new(78);                                /* self-intersecting: crossings do not pair */
+  tf_ring(f, 6, (const long long[]){ 0, 0, 30, 0, 30, 20, 10, 5, 20, 5, 0, 20 });
+  int rc = run_face(f, &r, NULL, NULL, NULL, &err);
+  if (rc == T74_OK) seg_result_free(&r);
+  assert_int_equal(rc, T74_EINPUT);
+  assert_non_null(strstr(err.msg, "face 78"));
+  free(f);
+  f = tf_new(79);                                /* a spike doubling back */
+  tf_ring(f, 5, (const long long[]){ 0, 0, 10, 0, 20, 0, 10, 0, 10, 10 });
+  assert_int_equal(run_face(f, &r, NULL, NULL, NULL, &err), T74_EINPUT);
+  free(f);
+}
+
+
+/* ---- random star-shaped rings with many degeneracies -------------------------------- */
+
+static uint32_t lcg(uint32_t *s)
+{
+  *s = *s * 1664525u + 1013904223u;
+  return *s >> 8;
+}
+
+/* A ring star-shaped about (cx, cy): random grid points within +-R sorted by angle,
+   one per direction; 0 when the centre is not strictly inside. Counter-clockwise, or
+   clockwise when cw (a hole). */
+static int star_ring(uint32_t *seed, int R, int want, long long cx, long long cy, int cw,
+                     long long *xy)
+{
+  long long px[64], py[64];
+  int n = 0;
+  for (int t = 0; t < 4 * want && n < want; t++) {
+    long long x = (long long)(lcg(seed) % (2 * R + 1)) - R, y = (long long)(lcg(seed) % (2 * R + 1)) - R;
+    if (x == 0 && y == 0) continue;
+    int dup = 0;
+    for (int i = 0; i < n && !dup; i++)
+      dup = x * py[i] - y * px[i] == 0 && x * px[i] + y * py[i] > 0;
+    if (dup) continue;
+    px[n] = x; py[n] = y; n++;
+  }
+  /* insertion sort by angle: half-plane, then cross product */
+  for (int i = 1; i < n; i++)
+    for (int j = i; j > 0; j--) {
+      long long ax = px[j - 1], ay = py[j - 1], bx = px[j], by = py[j];
+      int ha = ay < 0 || (ay == 0 && ax < 0), hb = by < 0 || (by == 0 && bx < 0);
+      int before = hb < ha || (hb == ha && ax * by - ay * bx < 0);
+      if (!before) break;
+      px[j - 1] = bx; py[j - 1] = by; px[j] = ax; py[j] = ay;
+    }
+  if (n < 3) return 0;
+  for (int i = 0; i < n; i++) {
+    int j = (i + 1) % n;
+    if (px[i] * py[j] - py[i] * px[j] <= 0) return 0;
+  }
+  for (int i = 0; i < n; i++) {
+    int k = cw ? n - 1 - i : i;
+    xy[2 * i] = px[k] + cx;
+    xy[2 * i + 1] = py[k] + cy;
+  }
+  return n;
+}
+
+static void test_random_stars(void **state)
+{
+  (void)state;
+  uint32_t seed = 74;
+  int done = 0, cuts = 0;
+  for (int trial = 0; trial < 400; trial++) {
+    long long xy[128];
+    struct tface *f = tf_new((uint16_t)(100 + trial));
+    if (trial % 2 == 0) {
+      int n = star_ring(&seed, 3 + (int)(lcg(&seed) % 8), 6 + (int)(lcg(&seed) % 20), 0, 0, 0, xy);
+      if (!n) { free(f); continue; }
+      tf_ring(f, n, xy);
+    } else {
+      /* a rectangle with up to four star holes in separate cells, some cells shifted so
+         hole vertices share y values with each other and with the rectangle */
+      tf_ring(f, 4, (const long long[]){ -20, -20, 20, -20, 20, 20, -20, 20 });
+      for (int h = 0; h < 4; h++) {
+        long long cx = h % 2 ? 10 : -10, cy = h / 2 ? 10 : -10;
+        int n = star_ring(&seed, 2 + (int)(lcg(&seed) % 7), 5 + (int)(lcg(&seed) % 10), cx, cy, 1, xy);
+        if (n) tf_ring(f, n, xy);
+      }
+    }
+    struct seg_result r;
+    split_ok(f, &r, -1, -1);
+    cuts += r.ncut;
+    done++;
+    seg_result_free(&r);
+    free(f);
+  }
+  assert_true(done > 200);
+  assert_true(cuts > 300);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_convex_quad),
+    cmocka_unit_test(test_rule_a),
+    cmocka_unit_test(test_rule_b),
+    cmocka_unit_test(test_rule_b_prime),
+    cmocka_unit_test(test_rule_c),
+    cmocka_unit_test(test_fig6),
+    cmocka_unit_test(test_invariance),
+    cmocka_unit_test(test_same_line_and_comb),
+    cmocka_unit_test(test_vertices_on_line),
+    cmocka_unit_test(test_l_shapes),
+    cmocka_unit_test(test_hole_touching),
+    cmocka_unit_test(test_star_and_slivers),
+    cmocka_unit_test(test_xsort_codes_and_ties),
+    cmocka_unit_test(test_ysort),
+    cmocka_unit_test(test_near_grid_limit),
+    cmocka_unit_test(test_core_and_cost),
+    cmocka_unit_test(test_bad_input),
+    cmocka_unit_test(test_random_stars),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
