@@ -319,7 +319,9 @@ static int run_render(const struct options *o, struct t74_error *err)
     st = t74_fail(err, T74_EIO, "cannot make a temporary file for --dump tables");
     goto done;
   }
-  struct render_opts ro = { o->core_words, o->store, tables };
+  double prog = 0;
+  cost_params_get(&o->params, "program_words", &prog);
+  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
   st = render_prepare(&r, s, &ro, err);
   if (st != T74_OK) goto done;
 

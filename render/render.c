@@ -47,6 +47,9 @@ int render_prepare(struct render *r, const struct scene *s, const struct render_
   if (!r->core) return t74_fail(err, T74_EIO, "out of host memory for %u words of core",
                                 o->core_words);
   seginfo_init(&r->seg, r->core, &r->cost[RS_SEGMENT]);
+  uint32_t prog;
+  if (o->program_words && core_alloc(r->core, CORE_T_PROGRAM, o->program_words, &prog, err) != T74_OK)
+    return err->status;
 
   r->ran[RS_MAPPER] = 1;
   int st = mapper_run(s, &r->map, r->core, &r->cost[RS_MAPPER], err);

@@ -24,6 +24,7 @@ enum render_stage { RS_MAPPER, RS_SEGMENT, RS_VISIBLE, RS_NSTAGE };
 
 struct render_opts {
   uint32_t core_words;       /* words of core (16384 in 1974) */
+  uint32_t program_words;    /* core taken by the 1974 program itself (0: not charged) */
   int      store;            /* PRIO_AUTO / PRIO_DENSE / PRIO_SPARSE */
   FILE    *tables;           /* teaching dump (--dump tables), or NULL */
 };

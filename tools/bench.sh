@@ -1,0 +1,96 @@
+#!/bin/sh
+# tools/bench.sh — the measured figures of tube74 (make bench). Figures, not pass/fail.
+#
+#  1. every shipped scene: host time per frame (median of RUNS runs), the 1974 estimate
+#     hitac10_seconds, words of core used and whether the scene fits 16 kW;
+#  2. accounting overhead: the same binary built with -DT74_NO_COST (no counting), run
+#     in the same loop, as the peer: overhead = counted / uncounted - 1;
+#  3. growth from 10 to 10,000 faces (tools/mkgrowth.py), with the OSMesa z-buffer
+#     (tests/ref, llvmpipe) drawing the same scene as the peer where it is built.
+# Results go to stdout and build/bench/bench.md (+ growth.png when gnuplot is there).
+set -eu
+B=build/bench
+RUNS=${RUNS:-15}
+mkdir -p "$B"
+make -s tube74 >/dev/null
+make -s BUILD=build/nocost PROG=build/nocost/tube74 \
+     CPPFLAGS="-D_POSIX_C_SOURCE=200809L -I. -DT74_NO_COST" build/nocost/tube74 >/dev/null
+PEER=""
+if make -s build/bench/refbench >/dev/null 2>&1; then PEER=build/bench/refbench; fi
+
+field() { sed -n "s/.*\"$2\": \([0-9.eE+-]*\).*/\1/p" "$1" | head -n 1; }
+median() { sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
+
+# host seconds of RUNS renders (median), from the program's own host_seconds
+host_median() { # BIN SCENE EXTRA...
+  bin=$1; scene=$2; shift 2
+  i=0
+  while [ $i -lt "$RUNS" ]; do
+    "$bin" render "$scene" --stats "$B/run.json" "$@" >/dev/null 2>&1 || { echo "nan"; return; }
+    field "$B/run.json" host_seconds
+    i=$((i + 1))
+  done | median
+}
+
+out="$B/bench.md"
+{
+  echo "## Shipped scenes (median of $RUNS runs; host = this machine, cell from the scene)"
+  echo
+  echo "| scene | faces | pieces | host ms/frame | no-counting ms | counting overhead | hitac10_seconds | core words used | fits 16 kW |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---|"
+} >"$out"
+for s in scenes/*.s74; do
+  ./tube74 render "$s" --core 1048576 --stats "$B/one.json" >/dev/null
+  h=$(host_median ./tube74 "$s" --core 1048576)
+  h0=$(host_median build/nocost/tube74 "$s" --core 1048576)
+  used=$(field "$B/one.json" core_words_used)
+  fits=yes; [ "$used" -gt 16384 ] && fits=no
+  awk -v s="$(basename "$s")" -v f="$(field "$B/one.json" faces_in)" \
+      -v p="$(field "$B/one.json" faces_after_split)" -v h="$h" -v h0="$h0" \
+      -v t="$(field "$B/one.json" hitac10_seconds)" -v u="$used" -v fit="$fits" \
+      'BEGIN { printf "| %s | %d | %d | %.3f | %.3f | %+.0f%% | %.1f | %d | %s |\n", s, f, p, h*1000, h0*1000, (h/h0-1)*100, t, u, fit }' >>"$out"
+done
+
+{
+  echo
+  echo "## Growth (tools/mkgrowth.py boxes; --core 2^28 words; cell 4)"
+  echo
+  echo "| faces | pieces | pairs computed | pairs possible | host ms | host / host(10 faces) | counting overhead | OSMesa ms | tube74 / OSMesa | hitac10_seconds | core words used |"
+  echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+} >>"$out"
+: >"$B/growth.dat"
+base=""
+for n in 10 30 100 300 1000 3000 10000; do
+  g="$B/g$n.s74"
+  python3 tools/mkgrowth.py "$n" >"$g"
+  ./tube74 render "$g" --core 268435456 --stats "$B/one.json" >/dev/null
+  h=$(host_median ./tube74 "$g" --core 268435456)
+  h0=$(host_median build/nocost/tube74 "$g" --core 268435456)
+  [ -z "$base" ] && base=$h
+  if [ -n "$PEER" ]; then
+    r=$(i=0; while [ $i -lt "$RUNS" ]; do "$PEER" "$g"; i=$((i + 1)); done | median)
+  else
+    r=nan
+  fi
+  echo "$n $h $r" >>"$B/growth.dat"
+  awk -v n="$n" -v p="$(field "$B/one.json" faces_after_split)" \
+      -v pc="$(field "$B/one.json" priority_pairs_computed)" \
+      -v pp="$(field "$B/one.json" priority_pairs_possible)" -v h="$h" -v h0="$h0" -v b="$base" -v r="$r" \
+      -v t="$(field "$B/one.json" hitac10_seconds)" -v u="$(field "$B/one.json" core_words_used)" \
+      'BEGIN { printf "| %d | %d | %d | %d | %.2f | %.1f | %+.0f%% | %s | %s | %.1f | %d |\n", n, p, pc, pp, h*1000, h/b, (h/h0-1)*100,
+               (r == "nan" ? "-" : sprintf("%.2f", r*1000)), (r == "nan" ? "-" : sprintf("%.2f", h/r)), t, u }' >>"$out"
+done
+
+if command -v gnuplot >/dev/null 2>&1; then
+  gnuplot <<EOF 2>/dev/null || true
+set terminal pngcairo size 640,400
+set output "$B/growth.png"
+set logscale xy
+set xlabel "faces"
+set ylabel "host seconds per frame"
+set key left top
+plot "$B/growth.dat" using 1:2 with linespoints title "tube74", \
+     "$B/growth.dat" using 1:3 with linespoints title "OSMesa z-buffer (peer)"
+EOF
+fi
+cat "$out"
