@@ -95,6 +95,8 @@ struct seg_ctx {
   struct t74_error *err;
   int nvert;                             /* vertices of the face */
   uint16_t next_num;                     /* next crossing number */
+  uint32_t numbered;                     /* crossing numbers given so far */
+  uint8_t  idused[8192];                 /* bit k: k is a vertex id of this face */
   struct ysort_row *ys;                  /* YSORT */
   int *conc;                             /* conc[i] == stamp: input vertex i concave in piece */
   int stamp;
@@ -657,12 +659,20 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
       gcoord y0 = g->v[k].y, y1 = g->v[(k + 1) % g->n].y;
       npbs++;
       if ((y0 < c && y1 > c) || (y0 > c && y1 < c)) {
-        if (x->next_num == UINT16_MAX) {
-          rc = t74_fail(x->err, T74_EINPUT, "face %u: more than %u crossing points",
-                        (unsigned)x->in->face_id, (unsigned)UINT16_MAX - 11);
-          goto done;
+        /* numbers above the face's largest vertex id first (11, 12, ... as Fig. 6), then
+           wrapping onto numbers no vertex of the face uses: one word a number, 0xFFFF
+           being PBS's '*' */
+        while (x->next_num == 0 || x->next_num == PBS_STAR ||
+               (x->idused[x->next_num >> 3] >> (x->next_num & 7) & 1)) {
+          if (x->numbered >= UINT16_MAX - 1) {
+            rc = t74_fail(x->err, T74_EINPUT, "face %u: more crossing points than a "
+                          "16-bit number can tell apart", (unsigned)x->in->face_id);
+            goto done;
+          }
+          x->next_num++;
         }
         mid[r][k] = x->next_num++;
+        x->numbered++;
         npbs++;
       }
     }
@@ -925,9 +935,8 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
   x->nvert = in->ring_start[in->nring];
   uint16_t maxid = 10;
   for (int i = 0; i < x->nvert; i++) if (in->vid[i] > maxid) maxid = in->vid[i];
-  if (maxid >= UINT16_MAX - 1)
-    return t74_fail(err, T74_EINPUT, "face %u: vertex id %u leaves no crossing numbers",
-                    (unsigned)in->face_id, (unsigned)maxid);
+  memset(x->idused, 0, sizeof x->idused);
+  for (int i = 0; i < x->nvert; i++) x->idused[in->vid[i] >> 3] |= (uint8_t)(1u << (in->vid[i] & 7));
   x->next_num = (uint16_t)(maxid + 1);
 
   /* YSORT */
