@@ -17,13 +17,15 @@ CFLAGS  ?= $(OPT)
 WARN    := -std=c11 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes
 CPPFLAGS += -D_POSIX_C_SOURCE=200809L -I.
 
-PKGS     := libpng
-TESTPKGS := cmocka osmesa glu
+PKGS     := libpng libusb-1.0 sdl2
+TESTPKGS := cmocka osmesa glu umockdev-1.0 gio-2.0
 
 LIBDIRS := emu render patterns display
 LIBSRC  := $(foreach d,$(LIBDIRS),$(wildcard $(d)/*.c))
 LIBOBJ  := $(LIBSRC:%.c=$(BUILD)/%.o)
 LIB     := $(BUILD)/libtube74.a
+CLISRC  := $(wildcard cli/*.c)
+CLIOBJ  := $(CLISRC:%.c=$(BUILD)/%.o)
 
 TESTSRC := $(wildcard tests/test_*.c)
 TESTBIN := $(TESTSRC:tests/%.c=$(BUILD)/tests/%)
@@ -54,8 +56,8 @@ $(LIB): $(LIBOBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(PROG): $(BUILD)/cli/main.o $(LIB)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(PKG_LIBS) -lm
+$(PROG): $(CLIOBJ) $(LIB)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLIOBJ) $(LIB) $(PKG_LIBS) -lm
 
 $(BUILD)/tests/%: tests/%.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
@@ -82,4 +84,4 @@ bench: $(PROG)
 clean:
 	rm -rf build build-asan tube74 street.png street.json
 
--include $(LIBOBJ:.o=.d) $(BUILD)/cli/main.d $(REFOBJ:.o=.d)
+-include $(LIBOBJ:.o=.d) $(CLIOBJ:.o=.d) $(REFOBJ:.o=.d)

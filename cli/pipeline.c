@@ -1,0 +1,386 @@
+/*
+** pipeline.c — one rendering job (see pipeline.h).
+**
+** This file contains code to read render's options and run the pipeline of paper 003
+** Fig. 1 point by point: each point, as soon as its visible face is known, becomes a
+** halftone cell whose dots go to the sinks in the order the 1974 program displayed them.
+** Outputs are only written once everything succeeded, each atomically, so a failure
+** leaves no file created or changed.
+*/
+#include "cli/pipeline.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "display/image.h"
+#include "display/sink.h"
+#include "display/tube.h"
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "patterns/halftone.h"
+#include "patterns/picture.h"
+#include "render/effects.h"
+#include "render/render.h"
+#include "render/scene.h"
+
+#define DEFAULT_CORE_WORDS 16384u       /* HITAC-10 of paper 003: 16 kW x 16 bit */
+
+static const char *const dump_names[] = { "ids", "grey", "tube", "points", "tables", "core" };
+
+
+/* What the point callback needs: renderer, halftone, sinks, dump buffers. */
+struct pipeline {
+  struct render *r;
+  const struct pat_cell *pat;
+  int cell, W, H;
+  const struct pic *background;
+  struct sink out;
+  uint16_t *ids;
+  uint8_t *grey;
+  struct cost display;              /* halftone + display stage */
+  const struct job_hooks *hooks;
+  const struct cost_params *params;
+};
+
+void job_usage(FILE *f)
+{
+  fprintf(f,
+    "render options:\n"
+    "  -o FILE.png            the picture as the storage tube shows it\n"
+    "  --cell 3|4             halftone cell (overrides the scene)\n"
+    "  --effects \"K=V ...\"    replaces the scene's effects line\n"
+    "  --core WORDS           core memory in 16-bit words (default 16384)\n"
+    "  --stats FILE.json      statistics\n"
+    "  --dump KIND=FILE       ids | grey | tube | points | tables | core (repeatable)\n"
+    "  --view X0 Y0 Z0        eye for .obj/.off imports\n"
+    "  --window XL YB XR YT   window for .obj/.off imports\n"
+    "  --input s74|obj|off    input format (default: by extension)\n"
+    "  --hitac NAME=VALUE     change a cost-model constant (see `tube74 params`)\n"
+    "  --matrix auto|dense|sparse   priority matrix store (default auto)\n");
+}
+
+static int parse_long(const char *s, long lo, long hi, long *out)
+{
+  char *end;
+  errno = 0;
+  long v = strtol(s, &end, 10);
+  if (errno || end == s || *end || v < lo || v > hi) return 0;
+  *out = v;
+  return 1;
+}
+
+static int bad_usage(struct t74_error *err, const char *msg, const char *arg)
+{
+  return t74_fail(err, T74_EINPUT, "tube74: %s%s%s", msg, arg ? ": " : "", arg ? arg : "");
+}
+
+int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra, void *ctx,
+              struct t74_error *err)
+{
+  memset(o, 0, sizeof *o);
+  o->core_words = DEFAULT_CORE_WORDS;
+  o->store = PRIO_AUTO;
+  cost_params_default(&o->params);
+  for (int k = first; k < argc; k++) {
+    const char *a = argv[k];
+    long v;
+    if (extra) {
+      int took = extra(ctx, argc, argv, &k, err);
+      if (took < 0 || took > 1) return err->status ? err->status : T74_EINPUT;
+      if (took == 1) continue;
+    }
+#define NEED(n) do { if (k + (n) >= argc) return bad_usage(err, "missing value after", a); } while (0)
+    if (!strcmp(a, "-o")) { NEED(1); o->png = argv[++k]; }
+    else if (!strcmp(a, "--stats")) { NEED(1); o->stats = argv[++k]; }
+    else if (!strcmp(a, "--effects")) { NEED(1); o->effects = argv[++k]; }
+    else if (!strcmp(a, "--cell")) {
+      NEED(1);
+      if (!parse_long(argv[++k], 3, 4, &v)) return bad_usage(err, "--cell takes 3 or 4", argv[k]);
+      o->cell = (int)v;
+    } else if (!strcmp(a, "--core")) {
+      NEED(1);
+      if (!parse_long(argv[++k], 1, 2147483647L, &v))
+        return bad_usage(err, "--core takes a number of words, 1 .. 2^31-1", argv[k]);
+      o->core_words = (uint32_t)v;
+    } else if (!strcmp(a, "--dump")) {
+      NEED(1);
+      const char *spec = argv[++k], *eq = strchr(spec, '=');
+      if (!eq || !eq[1]) return bad_usage(err, "--dump takes KIND=FILE", spec);
+      int kind = -1;
+      for (int d = 0; d < (int)(sizeof dump_names / sizeof *dump_names); d++)
+        if (strlen(dump_names[d]) == (size_t)(eq - spec) && !strncmp(spec, dump_names[d], (size_t)(eq - spec)))
+          kind = d;
+      if (kind < 0) return bad_usage(err, "unknown --dump kind (ids, grey, tube, points, tables, core)", spec);
+      if (o->ndump == JOB_MAX_DUMPS) return bad_usage(err, "too many --dump options", spec);
+      o->dump_kind[o->ndump] = kind;
+      o->dump_path[o->ndump++] = eq + 1;
+    } else if (!strcmp(a, "--view")) {
+      NEED(3);
+      for (int c = 0; c < 3; c++) {
+        if (!parse_long(argv[++k], -32768, 32767, &v)) return bad_usage(err, "--view takes three integers", argv[k]);
+        o->sopts.view[c] = (int32_t)v;
+      }
+      o->sopts.has_view = true;
+    } else if (!strcmp(a, "--window")) {
+      NEED(4);
+      for (int c = 0; c < 4; c++) {
+        if (!parse_long(argv[++k], -32768, 32767, &v)) return bad_usage(err, "--window takes four integers", argv[k]);
+        o->sopts.window[c] = (int32_t)v;
+      }
+      if (o->sopts.window[0] >= o->sopts.window[2] || o->sopts.window[1] >= o->sopts.window[3])
+        return bad_usage(err, "--window needs XL < XR and YB < YT", NULL);
+      o->sopts.has_window = true;
+    } else if (!strcmp(a, "--input")) {
+      NEED(1);
+      o->sopts.input = argv[++k];
+      if (strcmp(o->sopts.input, "s74") && strcmp(o->sopts.input, "obj") && strcmp(o->sopts.input, "off"))
+        return bad_usage(err, "--input takes s74, obj or off (tek streams are not read yet)", o->sopts.input);
+    } else if (!strcmp(a, "--hitac")) {
+      NEED(1);
+      if (cost_params_set(&o->params, argv[++k], err) != T74_OK) return err->status;
+    } else if (!strcmp(a, "--matrix")) {
+      NEED(1);
+      const char *m = argv[++k];
+      if (!strcmp(m, "auto")) o->store = PRIO_AUTO;
+      else if (!strcmp(m, "dense")) o->store = PRIO_DENSE;
+      else if (!strcmp(m, "sparse")) o->store = PRIO_SPARSE;
+      else return bad_usage(err, "--matrix takes auto, dense or sparse", m);
+    } else if (a[0] == '-') {
+      return bad_usage(err, "unknown option", a);
+    } else if (!o->scene) {
+      o->scene = a;
+    } else {
+      return bad_usage(err, "more than one scene given", a);
+    }
+#undef NEED
+  }
+  if (!o->scene) return bad_usage(err, "no scene given", NULL);
+  return T74_OK;
+}
+
+/* Only the effects this version simulates may be named; others are refused, not faked. */
+static int check_effects(const struct effects *e, const char *file, int line, struct t74_error *err)
+{
+  const char *missing = NULL;
+  if (e->aa != EFFECTS_AA_NONE) missing = "aa (anti-aliasing, papers 000/001)";
+  else if (e->edges || (e->given & (EFFECTS_OUTLINE | EFFECTS_INNER))) missing = "edges (paper 002)";
+  else if (e->smooth != EFFECTS_SMOOTH_NONE || (e->given & EFFECTS_CONTOUR)) missing = "smooth (paper 004)";
+  else if (e->tube != EFFECTS_TUBE_STORED) missing = "tube= looks other than stored";
+  if (!missing) return T74_OK;
+  return t74_fail_at(err, T74_EINPUT, file, line,
+                     "effect %s is not implemented in this version of tube74 "
+                     "(implemented: halftone=, pattern=, tube=stored)", missing);
+}
+
+static int on_point(void *ctx, int i, int j, int face)
+{
+  struct pipeline *p = ctx;
+  int grey;
+  uint16_t id = 0;
+  if (face >= 0) {
+    grey = p->r->map.f[face].grey;
+    id = p->r->map.f[face].id;
+  } else {
+    grey = p->background ? pic_sample(p->background, i, j, p->W, p->H) : 0;
+  }
+  p->ids[(size_t)j * (size_t)p->W + (size_t)i] = id;
+  p->grey[(size_t)j * (size_t)p->W + (size_t)i] = (uint8_t)grey;
+  int level = pat_level(p->cell, grey);
+  if (p->hooks && p->hooks->clock) {
+    struct cost total = p->display;
+    for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &p->r->cost[s]);
+    p->hooks->clock(p->hooks->clock_ctx, cost_seconds(&total, p->params));
+  }
+  /* per point: intensity and level lookups, the cell's pattern word, then one display
+     command per lit dot */
+  COST_ADD_N(&p->display, COST_MEM, 4);
+  COST_ADD_N(&p->display, COST_SHIFT, p->cell * p->cell);
+  COST_ADD_N(&p->display, COST_IO, level);
+  return pat_emit_point(p->pat, i, j, level, &p->out);
+}
+
+static double now_seconds(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int copy_to_outfile(FILE *from, const char *path, struct t74_error *err)
+{
+  struct outfile *of;
+  if (outfile_open(&of, path, err) != T74_OK) return err->status;
+  rewind(from);
+  char buf[8192];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, from)) > 0)
+    if (outfile_write(of, buf, n) != T74_OK) { outfile_abort(of); return t74_fail(err, T74_EIO, "%s: write failed", path); }
+  return outfile_commit(of, err);
+}
+
+static const char *const stage_names[RS_NSTAGE] = { "mapper", "segment", "priority+visible" };
+
+static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
+                       const struct tube *t, double host, const struct effects *eff,
+                       struct t74_error *err)
+{
+  struct outfile *of;
+  if (outfile_open(&of, o->stats, err) != T74_OK) return err->status;
+  struct cost total = { { 0 } };
+  for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &r->cost[s]);
+  cost_merge(&total, &p->display);
+  uint64_t alive = (uint64_t)render_pieces_alive(r);
+  char effbuf[512];
+  effects_format(eff, effbuf, sizeof effbuf);
+  outfile_printf(of, "{\n");
+  outfile_printf(of, "  \"scene\": \"%s\",\n", o->scene);
+  outfile_printf(of, "  \"faces_in\": %d,\n", r->faces_in);
+  outfile_printf(of, "  \"faces_dropped\": %d,\n", r->map.dropped);
+  outfile_printf(of, "  \"faces_after_split\": %" PRIu64 ",\n", alive);
+  outfile_printf(of, "  \"concave_splits\": %d,\n", r->concave_splits);
+  outfile_printf(of, "  \"intersection_splits\": %d,\n", r->prio.splits);
+  outfile_printf(of, "  \"priority_pairs_computed\": %" PRIu64 ",\n", r->prio.computed);
+  outfile_printf(of, "  \"priority_pairs_possible\": %" PRIu64 ",\n", alive * (alive - (alive > 0)) / 2);
+  outfile_printf(of, "  \"priority_store\": \"%s\",\n", r->prio.store == PRIO_DENSE ? "dense" : "sparse");
+  outfile_printf(of, "  \"core_words\": %u,\n", core_words(r->core));
+  outfile_printf(of, "  \"core_words_used\": %u,\n", core_peak(r->core));
+  outfile_printf(of, "  \"hitac10_seconds\": %.6f,\n", cost_seconds(&total, &o->params));
+  outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
+  outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
+  outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
+  outfile_printf(of, "  \"effects\": \"%s\",\n", effbuf);
+  if (p->hooks && p->hooks->stats && p->hooks->stats(p->hooks->stats_ctx, of) != T74_OK) {
+    outfile_abort(of);
+    return t74_fail(err, T74_EIO, "%s: cannot write statistics", o->stats);
+  }
+  outfile_printf(of, "  \"stages\": [");
+  int first = 1;
+  for (int s = 0; s < RS_NSTAGE; s++)
+    if (r->ran[s]) { outfile_printf(of, "%s\"%s\"", first ? "" : ", ", stage_names[s]); first = 0; }
+  outfile_printf(of, "%s\"halftone\", \"tube\"],\n", first ? "" : ", ");
+  outfile_printf(of, "  \"stage_hitac10_seconds\": {");
+  for (int s = 0; s < RS_NSTAGE; s++)
+    outfile_printf(of, "\"%s\": %.6f, ", stage_names[s], cost_seconds(&r->cost[s], &o->params));
+  outfile_printf(of, "\"halftone+tube\": %.6f},\n", cost_seconds(&p->display, &o->params));
+  outfile_printf(of, "  \"operations\": {");
+  for (int c = 0; c < COST_NCLASS; c++)
+    outfile_printf(of, "%s\"%s\": %" PRIu64, c ? ", " : "", cost_class_name(c), total.n[c]);
+  outfile_printf(of, "}\n}\n");
+  return outfile_commit(of, err);
+}
+
+int job_run(const struct job *o, const struct job_hooks *h, struct job_result *res,
+            struct t74_error *err)
+{
+  struct scene *s = NULL;
+  struct render r;
+  struct pipeline p;
+  struct tube *t = NULL;
+  struct pic *bg = NULL;
+  FILE *tables = NULL;
+  int st;
+  memset(&r, 0, sizeof r);
+  memset(&p, 0, sizeof p);
+
+  double t0 = now_seconds();
+  st = scene_load(o->scene, &o->sopts, &s, err);
+  if (st != T74_OK) return st;
+
+  struct effects eff;
+  if (o->effects) st = effects_parse(o->effects, &eff, "--effects", 1, err);
+  else if (s->effects) st = effects_parse(s->effects, &eff, s->file, s->effects_line, err);
+  else { effects_default(&eff); st = T74_OK; }
+  if (st != T74_OK) goto done;
+  st = check_effects(&eff, o->effects ? "--effects" : s->file, o->effects ? 1 : s->effects_line, err);
+  if (st != T74_OK) goto done;
+  p.cell = o->cell ? o->cell : eff.halftone;
+  st = pat_find(eff.pattern[0] ? eff.pattern : NULL, p.cell, &p.pat);
+  if (st != T74_OK) {
+    st = t74_fail(err, T74_EINPUT, "%s: unknown halftone pattern `%s`", s->file, eff.pattern);
+    goto done;
+  }
+  p.W = pat_grid_w(p.cell);
+  p.H = pat_grid_h(p.cell);
+  if (s->background) {
+    st = pic_load(s->background, &bg, err);
+    if (st != T74_OK) goto done;
+    p.background = bg;
+  }
+
+  bool want_tables = false;
+  for (int d = 0; d < o->ndump; d++) want_tables |= o->dump_kind[d] == DUMP_TABLES;
+  if (want_tables && !(tables = tmpfile())) {
+    st = t74_fail(err, T74_EIO, "cannot make a temporary file for --dump tables");
+    goto done;
+  }
+  double prog = 0;
+  cost_params_get(&o->params, "program_words", &prog);
+  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
+  st = render_prepare(&r, s, &ro, err);
+  if (st != T74_OK) goto done;
+
+  t = tube_new();
+  p.ids = calloc((size_t)p.W * (size_t)p.H, sizeof *p.ids);
+  p.grey = calloc((size_t)p.W * (size_t)p.H, sizeof *p.grey);
+  if (!t || !p.ids || !p.grey) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
+  p.r = &r;
+  p.hooks = h;
+  p.params = &o->params;
+  struct sink_tee tee;
+  sink_tee_init(&tee);
+  sink_tee_add(&tee, tube_sink(t));
+  if (h && h->extra.point) sink_tee_add(&tee, h->extra);
+  p.out = sink_tee_sink(&tee);
+  struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
+  st = render_scan(&r, &g, on_point, &p, err);
+  if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
+  if (h && h->extra.point && (st = sink_end(&h->extra, err)) != T74_OK) goto done;
+  double host = now_seconds() - t0;
+  if (res) {
+    struct cost total = p.display;
+    for (int k = 0; k < RS_NSTAGE; k++) cost_merge(&total, &r.cost[k]);
+    res->hitac10_seconds = cost_seconds(&total, &o->params);
+    res->host_seconds = host;
+    res->points_lit = tube_count(t);
+    res->W = p.W; res->H = p.H; res->cell = p.cell;
+  }
+
+  /* outputs, each atomic */
+  if (o->png && (st = image_write_png(t, o->png, err)) != T74_OK) goto done;
+  for (int d = 0; d < o->ndump; d++) {
+    const char *path = o->dump_path[d];
+    switch (o->dump_kind[d]) {
+    case DUMP_IDS:    st = image_write_ids(p.ids, p.W, p.H, path, err); break;
+    case DUMP_GREY:   st = image_write_grey(p.grey, p.W, p.H, path, err); break;
+    case DUMP_TUBE:   st = image_write_pbm(t, path, err); break;
+    case DUMP_POINTS: st = image_write_points(t, path, err); break;
+    case DUMP_TABLES: st = copy_to_outfile(tables, path, err); break;
+    case DUMP_CORE: {
+      FILE *tmp = tmpfile();
+      if (!tmp) { st = t74_fail(err, T74_EIO, "cannot make a temporary file"); break; }
+      core_layout_dump(r.core, tmp);
+      st = copy_to_outfile(tmp, path, err);
+      fclose(tmp);
+      break;
+    }
+    }
+    if (st != T74_OK) goto done;
+  }
+  if (o->stats && (st = write_stats(o, &r, &p, t, host, &eff, err)) != T74_OK) goto done;
+
+done:
+  if (tables) fclose(tables);
+  free(p.ids);
+  free(p.grey);
+  if (t) tube_free(t);
+  if (bg) pic_free(bg);
+  render_free(&r);
+  scene_free(s);
+  return st;
+}
+

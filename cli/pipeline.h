@@ -1,0 +1,74 @@
+/*
+** pipeline.h — one rendering job: scene -> renderer -> halftone -> sinks -> outputs.
+**
+** Every command that draws a scene (render, tek, play, stream) parses render's options
+** with job_parse and runs job_run, adding its own sink (a Tek stream, a window, a USB
+** device) through job_hooks: that sink receives every tube dot the moment it is produced,
+** in scan order, as the 1974 program displayed while it computed, and a clock tells it
+** the 1974 computing time spent so far. Outputs (-o, --dump, --stats) are written only
+** when everything succeeded, each atomically.
+*/
+#ifndef T74_PIPELINE_H
+#define T74_PIPELINE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "display/outfile.h"
+#include "display/sink.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/scene.h"
+
+#define JOB_MAX_DUMPS 8
+
+enum job_dump { DUMP_IDS, DUMP_GREY, DUMP_TUBE, DUMP_POINTS, DUMP_TABLES, DUMP_CORE };
+
+struct job {
+  const char *scene;
+  const char *png;                  /* -o */
+  const char *stats;                /* --stats */
+  const char *effects;              /* --effects: replaces the scene's line */
+  int cell;                         /* --cell, 0 = from the scene */
+  uint32_t core_words;              /* --core */
+  int store;                        /* --matrix */
+  int ndump;
+  int dump_kind[JOB_MAX_DUMPS];
+  const char *dump_path[JOB_MAX_DUMPS];
+  struct scene_opts sopts;          /* --view, --window, --input */
+  struct cost_params params;        /* --hitac */
+};
+
+/* A command's own options: return 1 when argv[*k] (and any values, advancing *k) was
+   taken, 0 when it is not the command's, or a status on error. */
+typedef int (*job_opt_fn)(void *ctx, int argc, char **argv, int *k, struct t74_error *err);
+
+/* Parse argv[first..] as render's options plus the command's own (extra may be NULL). */
+int job_parse(int argc, char **argv, int first, struct job *j, job_opt_fn extra, void *ctx,
+              struct t74_error *err);
+
+struct job_hooks {
+  struct sink extra;                /* receives every dot as produced (point == NULL: none);
+                                       its end() runs before the outputs are written */
+  void (*clock)(void *ctx, double hitac10_seconds); /* before each point: 1974 time so far */
+  void *clock_ctx;
+  /* more "key": value lines for --stats (each ending with ",\n"), or NULL */
+  int (*stats)(void *ctx, struct outfile *of);
+  void *stats_ctx;
+};
+
+struct job_result {
+  double hitac10_seconds;           /* the 1974 computing time of the whole picture */
+  double host_seconds;
+  int points_lit;                   /* tube dots lit */
+  int W, H, cell;
+};
+
+int job_run(const struct job *j, const struct job_hooks *h, struct job_result *res,
+            struct t74_error *err);
+
+/* render's options, for --help */
+void job_usage(FILE *f);
+
+#endif
