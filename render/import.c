@@ -647,12 +647,7 @@ static int build(const struct mesh *m, const char *path, const struct scene_opts
   }
   s->has_view = s->has_window = true;
   if (opts && opts->has_view) memcpy(s->view, opts->view, sizeof s->view);
-  else {
-    /* a three-quarter view from above right, so that three sides of a box show */
-    s->view[0] = IMPORT_EXTENT * 3 / 5;
-    s->view[1] = IMPORT_EXTENT * 9 / 20;
-    s->view[2] = -(IMPORT_EXTENT * 5 / 2);
-  }
+  else { s->view[0] = 0; s->view[1] = 0; s->view[2] = -(IMPORT_EXTENT * 5 / 2); }
   /* imports carry no intensities: shade them by a light from above left, in front */
   s->has_light = true;
   s->light[0] = -1; s->light[1] = 2; s->light[2] = -3;
