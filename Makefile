@@ -85,3 +85,6 @@ clean:
 	rm -rf build build-asan tube74 street.png street.json
 
 -include $(LIBOBJ:.o=.d) $(CLIOBJ:.o=.d) $(REFOBJ:.o=.d)
+
+# keep the reference objects between runs (they are intermediate to the test programs)
+.SECONDARY: $(REFOBJ)
