@@ -94,6 +94,96 @@ static void ring_reverse(struct gpoint *p, uint16_t *id, int32_t (*xyz)[3], int 
   }
 }
 
+/* ---- T-junctions ---------------------------------------------------------------------
+   A vertex that lies exactly on another face's edge in space (a T-junction) is inserted
+   into that edge before anything else is done with the face. Projection and rounding then
+   give both faces the very same grid point there, so the faces still meet exactly on the
+   plane grid: rounding each vertex on its own would otherwise leave a crack or an overlap
+   up to half a grid unit wide along the edge. */
+
+struct tjunc {
+  const struct scene *s;
+  const struct gpoint *proj;
+  int *byx;                      /* vertices used by faces, by projected x */
+  int n;
+};
+
+static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *proj)
+{
+  t->s = s;
+  t->proj = proj;
+  t->n = 0;
+  char *used = calloc((size_t)(s->nv ? s->nv : 1), 1);
+  t->byx = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->byx);
+  if (!used || !t->byx) { free(used); free(t->byx); t->byx = NULL; return 0; }
+  for (int f = 0; f < s->nf; f++)
+    for (int k = 0; k < s->f[f].ring_start[s->f[f].nring]; k++) used[s->f[f].vidx[k]] = 1;
+  for (int v = 0; v < s->nv; v++) if (used[v]) t->byx[t->n++] = v;
+  free(used);
+  /* insertion into a sorted array would be quadratic: sort once by x, then by index */
+  for (int gap = t->n / 2; gap > 0; gap /= 2)          /* Shell sort: no global context */
+    for (int i = gap; i < t->n; i++) {
+      int v = t->byx[i], j = i;
+      while (j >= gap && (proj[t->byx[j - gap]].x > proj[v].x ||
+                          (proj[t->byx[j - gap]].x == proj[v].x && t->byx[j - gap] > v))) {
+        t->byx[j] = t->byx[j - gap];
+        j -= gap;
+      }
+      t->byx[j] = v;
+    }
+  return 1;
+}
+
+/* Append to (*buf, *n) the vertices lying strictly inside the segment a-b in space,
+   ordered from a to b. Rounding is monotone, so such a vertex projects inside the grid
+   box of a' and b': only those are tested, exactly. */
+static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
+                   struct cost *cost)
+{
+  const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
+  struct gpoint pa = t->proj[a], pb = t->proj[b];
+  gcoord x0 = pa.x < pb.x ? pa.x : pb.x, x1 = pa.x < pb.x ? pb.x : pa.x;
+  gcoord y0 = pa.y < pb.y ? pa.y : pb.y, y1 = pa.y < pb.y ? pb.y : pa.y;
+  int64_t dx = B->x - A->x, dy = B->y - A->y, dz = B->z - A->z;
+  int64_t dd = dx * dx + dy * dy + dz * dz;
+  int lo = 0, hi = t->n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (t->proj[t->byx[mid]].x < x0) lo = mid + 1; else hi = mid;
+  }
+  int first = *n;
+  for (int k = lo; k < t->n && t->proj[t->byx[k]].x <= x1; k++) {
+    int v = t->byx[k];
+    struct gpoint pv = t->proj[v];
+    COST_ADD_N(cost, COST_MEM, 2);
+    if (pv.y < y0 || pv.y > y1 || v == a || v == b) continue;
+    const struct scene_vertex *V = &t->s->v[v];
+    int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
+    cost_mw_mul(cost, 17, 17);
+    if (dy * ez - dz * ey || dz * ex - dx * ez || dx * ey - dy * ex) continue;
+    int64_t tt = ex * dx + ey * dy + ez * dz;
+    if (tt <= 0 || tt >= dd) continue;
+    if (*n == *cap) {
+      int c = *cap ? 2 * *cap : 64;
+      int *nb = realloc(*buf, (size_t)c * sizeof *nb);
+      if (!nb) return 0;
+      *buf = nb;
+      *cap = c;
+    }
+    /* insertion by the parameter along a-b (few vertices per edge) */
+    int j = (*n)++;
+    while (j > first) {
+      const struct scene_vertex *W = &t->s->v[(*buf)[j - 1]];
+      int64_t tw = (W->x - A->x) * dx + (W->y - A->y) * dy + (W->z - A->z) * dz;
+      if (tw <= tt) break;
+      (*buf)[j] = (*buf)[j - 1];
+      j--;
+    }
+    (*buf)[j] = v;
+  }
+  return 1;
+}
+
 /* eq. (2): the plane through three vertices of the outer ring that are not collinear. */
 static int face_plane(const struct scene *s, const struct scene_face *f, int64_t pl[4])
 {
@@ -163,9 +253,13 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     core_put_int(core, a + 6, 2, proj[k].y);
   }
 
+  struct tjunc tj;
+  int *ring = NULL, nring_v = 0, capring = 0;
+  if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+
   uint32_t at;
   if (core_alloc(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
-    goto fail;
+    goto fail_tj;
   for (int fi = 0; fi < s->nf; fi++) {
     const struct scene_face *sf = &s->f[fi];
     struct mface *m = &out->f[out->nface];
@@ -177,7 +271,30 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     if (pe == 0) { out->dropped++; continue; }     /* edge-on: the plane holds the eye */
     if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
 
-    int nv = sf->ring_start[sf->nring];
+    /* the rings with T-junction vertices inserted: ring r is ring[rs[r] .. rs[r+1]) */
+    int rs[sf->nring + 1];
+    nring_v = 0;
+    for (int r = 0; r < sf->nring; r++) {
+      rs[r] = nring_v;
+      int b = sf->ring_start[r], e = sf->ring_start[r + 1];
+      for (int k = b; k < e; k++) {
+        if (nring_v == capring) {
+          int c = capring ? 2 * capring : 64;
+          int *nb = realloc(ring, (size_t)c * sizeof *nb);
+          if (!nb) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+          ring = nb;
+          capring = c;
+        }
+        ring[nring_v++] = sf->vidx[k];
+        int nx = k + 1 < e ? k + 1 : b;
+        if (!tj_edge(&tj, sf->vidx[k], sf->vidx[nx], &ring, &nring_v, &capring, cost)) {
+          t74_fail(err, T74_EIO, "out of host memory");
+          goto fail_tj;
+        }
+      }
+    }
+    rs[sf->nring] = nring_v;
+    int nv = nring_v;
     m->ring_start = malloc((size_t)(sf->nring + 1) * sizeof *m->ring_start);
     m->pt = malloc((size_t)nv * sizeof *m->pt);
     m->vid = malloc((size_t)nv * sizeof *m->vid);
@@ -185,7 +302,7 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     if (!m->ring_start || !m->pt || !m->vid || !m->xyz) {
       free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz);
       t74_fail(err, T74_EIO, "out of host memory");
-      goto fail;
+      goto fail_tj;
     }
     /* copy rings, dropping points that rounding made equal to their predecessor, and
        rings that rounding collapsed; orient outer CCW, holes CW */
@@ -193,10 +310,10 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     bool keep = true;
     for (int r = 0; r < sf->nring && keep; r++) {
       int start = np;
-      for (int k = sf->ring_start[r]; k < sf->ring_start[r + 1]; k++) {
-        struct gpoint p = proj[sf->vidx[k]];
+      for (int k = rs[r]; k < rs[r + 1]; k++) {
+        struct gpoint p = proj[ring[k]];
         if (np > start && p.x == m->pt[np - 1].x && p.y == m->pt[np - 1].y) continue;
-        const struct scene_vertex *sv = &s->v[sf->vidx[k]];
+        const struct scene_vertex *sv = &s->v[ring[k]];
         m->pt[np] = p;
         m->vid[np] = sv->id;
         m->xyz[np][0] = sv->x; m->xyz[np][1] = sv->y; m->xyz[np][2] = sv->z;
@@ -247,9 +364,14 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     core_put_int(core, a + 15, 4, pl[3]);
     out->nface++;
   }
+  free(ring);
+  free(tj.byx);
   free(proj);
   return T74_OK;
 
+fail_tj:
+  free(ring);
+  free(tj.byx);
 fail:
   free(proj);
   mapper_free(out);

@@ -31,7 +31,9 @@
 ** Storage (in core). Dense: the triangle of 2-bit codes a_ij, i < j, at field
 ** j(j-1)/2 + i of the core's high region, growing as pieces are added. Sparse: an open-
 ** addressed table of the pairs actually met, 5 words a slot (i: 2 words, j: 2, code: 1),
-** chosen when the triangle for the pieces at the start would take over a quarter of core.
+** chosen when the triangle for the pieces at the start would take more than half of the
+** historical 16 kW. The choice depends on the scene alone, so a scene needs the same words
+** whatever --core it is given.
 */
 #include "render/priority.h"
 
@@ -42,6 +44,8 @@
 #define CODE_LOWER   2u     /* 10: piece i lower than piece j */
 #define CODE_HIGHER  3u     /* 11: piece i higher than piece j */
 #define SLOT_WORDS   5
+#define PRIO_DENSE_MAX_WORDS 8192u  /* dense while the starting triangle takes at most half
+                                       of the historical 16 kW (about 360 pieces) */
 #define DECIDED_SPLIT 4u   /* decide(): the pair was cut (not a code) */
 
 static uint64_t tri_words(uint64_t n)
@@ -168,8 +172,10 @@ int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
   pr->map = map;
   pr->core = core;
   pr->cost = cost;
+  /* The choice depends on the scene only, never on --core, so that the words a scene
+     needs are the same whatever core it is given. */
   if (store == PRIO_AUTO)
-    store = tri_words((uint64_t)seg->n) <= core_words(core) / 4 ? PRIO_DENSE : PRIO_SPARSE;
+    store = tri_words((uint64_t)seg->n) <= PRIO_DENSE_MAX_WORDS ? PRIO_DENSE : PRIO_SPARSE;
   pr->store = store;
   if (store == PRIO_DENSE) return dense_cover(pr, (uint64_t)seg->n, err);
   return sparse_grow(pr, err);
@@ -248,16 +254,41 @@ static int common_points(const struct mface *A, const struct mface *B, struct gp
   return n;
 }
 
-/* L~: G = 0 carried by two grid points, oriented so its left side is G > 0. The points
-   are vertices lying on both planes where there are such (then L~ is exactly the shared
-   edge of the grid polygons), else where G = 0 leaves the square of the plane grid,
-   rounded. Returns false when G = 0 misses the square. */
-static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
+/* The largest squared distance from p to a vertex of face A or B (grid units). */
+static wide reach2(const struct mface *A, const struct mface *B, struct gpoint p)
+{
+  wide r = 0;
+  const struct mface *F[2] = { A, B };
+  for (int s = 0; s < 2; s++)
+    for (int k = 0; k < F[s]->ring_start[F[s]->nring]; k++) {
+      wide dx = F[s]->pt[k].x - p.x, dy = F[s]->pt[k].y - p.y;
+      if (dx * dx + dy * dy > r) r = dx * dx + dy * dy;
+    }
+  return r;
+}
+
+/* L~: G = 0 carried by two grid points, oriented so its left side is G > 0. Each point
+   is within half a grid unit of the true line, so between them L~ is too; beyond them
+   the error grows with the distance. The points are:
+   - two vertices lying on both planes (a shared edge), when the faces reach no farther
+     than COMMON_REACH times their distance from the first: then L~ is exactly the shared
+     edge of the grid polygons, and within 0.5 (1 + 2 COMMON_REACH) units of the line
+     wherever the faces are;
+   - else one such vertex and the farthest point where G = 0 leaves the square of the
+     plane grid (within 1.5 units wherever the faces are);
+   - else the two points where G = 0 leaves the square (within 0.5 units).
+   Returns false when G = 0 misses the square. */
+#define COMMON_REACH 4
+static bool depth_line(struct depth g, const struct gpoint *common, int ncommon, wide reach,
                        struct gline *out)
 {
   const wide lim = GRID_LIMIT;
   struct gpoint pt[6];
   int n = 0;
+  if (ncommon == 2) {
+    wide dx = common[1].x - common[0].x, dy = common[1].y - common[0].y;
+    if (reach > COMMON_REACH * COMMON_REACH * (dx * dx + dy * dy)) ncommon = 1;
+  }
   for (int k = 0; k < ncommon; k++) pt[n++] = common[k];
   if (ncommon < 2) {
     if (g.k1 != 0) {            /* sides x = -lim and x = +lim */
@@ -314,7 +345,45 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
   struct gline L;
   struct gpoint common[2];
   int ncommon = common_points(A, B, common, pr->cost);
-  if ((g.k0 == 0 && g.k1 == 0) || !depth_line(g, common, ncommon, &L)) {
+  if (ncommon == 2) {
+    /* Faces meeting along an edge or at a T-junction: the true intersection line runs
+       through c0 c1 exactly. A piece that keeps to one side of the grid line E = c0' c1'
+       holds the whole overlap of the pair on that side, so in the exact geometry the pair
+       does not cross (the grid line and the true one part only by rounding). Their order
+       is then the true depth sign at that piece's vertex farthest from E (exact, 256-bit).
+       Both pieces cut by E means the faces cross along the edge: handled below. */
+    struct gline E = geom_line(common[0], common[1]);
+    const struct piece *PQ[2] = { P, Q };
+    for (int s2 = 0; s2 < 2; s2++) {
+      const struct piece *X = PQ[s2];
+      int side = 0;
+      bool mixed = false;
+      struct hpoint far = X->v[0];
+      wide farv = 0;
+      for (int k = 0; k < X->n && !mixed; k++) {
+        struct hpoint v = X->v[k];
+        wide val = E.a * v.X + E.b * v.Y + E.c * v.W;   /* < 2^119: geom.h */
+        int sg = (val > 0) - (val < 0);
+        if (sg && side && sg != side) mixed = true;
+        if (sg) side = sg;
+        wide av = val < 0 ? -val : val;                 /* distance = av / (W |(a,b)|) */
+        if (i256_sign(i256_add(i256_mul(av, far.W), i256_mul(-farv, v.W))) > 0) {
+          far = v;
+          farv = av;
+        }
+      }
+      if (mixed || farv == 0) continue;
+      int sg = depth_sign(g, far);
+      if (sg == 0) sg = A->id > B->id ? 1 : -1;
+      if (pr->trace)
+        fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front "
+                "(they meet along an edge)\n", i, (unsigned)A->id, j, (unsigned)B->id,
+                sg > 0 ? "first" : "second");
+      return sg > 0 ? CODE_HIGHER : CODE_LOWER;
+    }
+  }
+  wide reach = ncommon > 0 ? reach2(A, B, common[0]) : 0;
+  if ((g.k0 == 0 && g.k1 == 0) || !depth_line(g, common, ncommon, reach, &L)) {
     /* one face in front of the other wherever they can be */
     int s;
     if (g.k0 == 0 && g.k1 == 0) s = (g.K > 0) - (g.K < 0);

@@ -41,8 +41,8 @@ struct prio {
   FILE    *trace;           /* teaching dump of each decision, or NULL */
 };
 
-/* store: PRIO_AUTO keeps the paper's dense matrix while it takes at most a quarter of the
-   core for the pieces known now, else hashes the pairs that actually meet. */
+/* store: PRIO_AUTO keeps the paper's dense matrix while the triangle for the pieces known
+   now takes at most half of the historical 16 kW, else hashes the pairs that actually meet. */
 int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
               struct core *core, struct cost *cost, int store, struct t74_error *err);
 

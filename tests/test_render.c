@@ -1,0 +1,936 @@
+/*
+** test_render.c — unit tests of the render core (render/geom, seginfo, priority, visible)
+** linked against build/libtube74.a.
+**
+** geom: orientation signs, oriented lines, rationals at exact ties, 256-bit products at
+** the ends of the 128-bit range. seginfo: the tie rule of seginfo_span, clipping by a line
+** (diagonal, through a vertex, along a side), the overlap test. priority: parallel,
+** crossing and coplanar faces, each pair computed once, dense and sparse stores agree.
+** visible: exact spans on hand-made lines. Run from the repository root.
+*/
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/geom.h"
+#include "render/mapper.h"
+#include "render/priority.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "render/seginfo.h"
+#include "render/visible.h"
+
+#define G(v) ((gcoord)(v) * GRID_ONE)          /* world units -> plane grid */
+
+static const wide W128_MAX = (wide)(((uwide)1 << 127) - 1);
+static const wide W128_MIN = -(wide)(((uwide)1 << 127) - 1) - 1;
+
+/* ---- helpers ------------------------------------------------------------------------ */
+
+static char tmpdir[64];
+
+static int group_setup(void **state)
+{
+  (void)state;
+  strcpy(tmpdir, "/tmp/t74render.XXXXXX");
+  return mkdtemp(tmpdir) ? 0 : -1;
+}
+
+static int group_teardown(void **state)
+{
+  (void)state;
+  char cmd[128];
+  /* remove the scenes written (plain unlink of the files we know, then the dir) */
+  for (int k = 0; k < 64; k++) {
+    snprintf(cmd, sizeof cmd, "%s/s%d.s74", tmpdir, k);
+    unlink(cmd);
+  }
+  rmdir(tmpdir);
+  return 0;
+}
+
+static int nscene;
+
+/* Write a scene and load it. */
+static struct scene *load_scene(const char *text)
+{
+  char path[128];
+  snprintf(path, sizeof path, "%s/s%d.s74", tmpdir, nscene++ % 64);
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  fputs(text, f);
+  fclose(f);
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct scene *s = NULL;
+  struct t74_error err = { 0, "" };
+  int st = scene_load(path, &so, &s, &err);
+  if (st) print_message("scene_load: %s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  assert_non_null(s);
+  return s;
+}
+
+static struct scene *prepare(struct render *r, const char *text, int store)
+{
+  struct scene *s = load_scene(text);
+  struct render_opts o;
+  memset(&o, 0, sizeof o);
+  o.core_words = 1u << 22;
+  o.store = store;
+  struct t74_error err = { 0, "" };
+  int st = render_prepare(r, s, &o, &err);
+  if (st) print_message("render_prepare: %s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  return s;
+}
+
+static bool h_is(struct hpoint p, gcoord x, gcoord y)
+{
+  return p.W > 0 && p.X == (wide)x * p.W && p.Y == (wide)y * p.W;
+}
+
+static bool rat_is(struct grat r, int64_t n, int64_t d)
+{
+  return r.den > 0 && geom_rat_cmp_frac(r, n, d) == 0;
+}
+
+/* A piece from a CCW list of grid points (n <= 16). Returns its index. */
+static int add_piece(struct seginfo *t, int face, int n, const gcoord *xy)
+{
+  struct gline l[16];
+  assert_true(n <= 16);
+  for (int k = 0; k < n; k++) {
+    struct gpoint p = { xy[2 * k], xy[2 * k + 1] };
+    struct gpoint q = { xy[2 * ((k + 1) % n)], xy[2 * ((k + 1) % n) + 1] };
+    l[k] = geom_line(p, q);
+  }
+  struct t74_error err = { 0, "" };
+  int idx = seginfo_add(t, face, n, l, &err);
+  if (idx < 0) print_message("seginfo_add: %s\n", err.msg);
+  assert_true(idx >= 0);
+  return idx;
+}
+
+/* Does the polygon (n vertices) have exactly the vertices xy (any cyclic start)? */
+static bool poly_has(int n, const struct hpoint *v, int m, const gcoord *xy)
+{
+  if (n != m) return false;
+  for (int k = 0; k < m; k++) {
+    bool found = false;
+    for (int j = 0; j < n; j++) found |= h_is(v[j], xy[2 * k], xy[2 * k + 1]);
+    if (!found) return false;
+  }
+  return true;
+}
+
+/* ---- geom ----------------------------------------------------------------------------- */
+
+/* geom_orient: CCW positive, CW negative, collinear zero, exact at the grid's corners. */
+static void test_geom_orient(void **state)
+{
+  (void)state;
+  struct gpoint o = { 0, 0 }, x = { 1, 0 }, y = { 0, 1 }, d = { 2, 2 };
+  assert_true(geom_orient(o, x, y) == 1);
+  assert_true(geom_orient(o, y, x) == -1);
+  assert_true(geom_orient(o, (struct gpoint){ 1, 1 }, d) == 0);
+  const gcoord L = GRID_LIMIT;
+  struct gpoint a = { -L, -L }, b = { L, -L }, c = { L, L };
+  assert_true(geom_orient(a, b, c) == (wide)4 * L * L);
+  assert_true(geom_orient(a, c, b) == -(wide)4 * L * L);
+  /* one unit off a long diagonal */
+  assert_true(geom_orient(a, c, (struct gpoint){ L - 1, L }) > 0);
+  assert_true(geom_orient(a, c, (struct gpoint){ L, L - 1 }) < 0);
+}
+
+/* geom_line / geom_side / geom_hline: the interior (positive side) is on the LEFT. */
+static void test_geom_lines(void **state)
+{
+  (void)state;
+  struct gline l = geom_line((struct gpoint){ 0, 0 }, (struct gpoint){ 10, 0 });
+  assert_true(geom_is_horizontal(l));
+  assert_int_equal(geom_side(l, (struct gpoint){ 5, 1 }), 1);
+  assert_int_equal(geom_side(l, (struct gpoint){ 5, -1 }), -1);
+  assert_int_equal(geom_side(l, (struct gpoint){ 50, 0 }), 0);
+  struct gline up = geom_line((struct gpoint){ 3, -7 }, (struct gpoint){ 3, 9 });
+  assert_int_equal(geom_side(up, (struct gpoint){ 2, 100 }), 1);    /* left = smaller x */
+  assert_int_equal(geom_side(up, (struct gpoint){ 4, 100 }), -1);
+  assert_int_equal(geom_side(up, (struct gpoint){ 3, 1000 }), 0);
+  struct gline h = geom_hline(5, true), hd = geom_hline(5, false);
+  assert_int_equal(geom_side(h, (struct gpoint){ -9, 6 }), 1);
+  assert_int_equal(geom_side(h, (struct gpoint){ -9, 5 }), 0);
+  assert_int_equal(geom_side(h, (struct gpoint){ -9, 4 }), -1);
+  assert_int_equal(geom_side(hd, (struct gpoint){ -9, 4 }), 1);
+  /* meet: x = 3 and y = 5 meet at (3, 5); parallel lines do not meet */
+  struct hpoint m;
+  assert_true(geom_meet(up, h, &m));
+  assert_true(h_is(m, 3, 5));
+  assert_int_equal(geom_side_h(l, m), 1);
+  assert_int_equal(geom_side_h(h, m), 0);
+  assert_false(geom_meet(h, hd, &m));
+  assert_false(geom_meet(l, h, &m));
+  /* a meet with a rational position: x - y = 0 and x + 2y = 1 -> (1/3, 1/3) */
+  struct gline d1 = geom_line((struct gpoint){ 0, 0 }, (struct gpoint){ 1, 1 });
+  struct gline d2 = geom_line((struct gpoint){ 1, 0 }, (struct gpoint){ -1, 1 });
+  assert_true(geom_meet(d1, d2, &m));
+  assert_true(m.W > 0 && 3 * m.X == m.W && 3 * m.Y == m.W);
+  assert_int_equal(geom_hy_cmp(m, 1, 3), 0);
+  assert_int_equal(geom_hy_cmp(m, 1, 2), -1);
+  assert_int_equal(geom_hy_cmp(m, 1, 4), 1);
+}
+
+/* geom_x_at and the rational compares are exact at ties, whatever the line's direction. */
+static void test_geom_rationals(void **state)
+{
+  (void)state;
+  struct gline up = geom_line((struct gpoint){ 0, 0 }, (struct gpoint){ 3, 7 });
+  struct gline dn = geom_line((struct gpoint){ 3, 7 }, (struct gpoint){ 0, 0 });
+  struct grat a = geom_x_at(up, 7, 1), b = geom_x_at(dn, 7, 1);
+  assert_true(a.den > 0 && b.den > 0);
+  assert_true(rat_is(a, 3, 1) && rat_is(b, 3, 1));
+  assert_int_equal(geom_rat_cmp(a, b), 0);
+  a = geom_x_at(up, 7, 2);                  /* y = 3.5 -> x = 1.5 */
+  assert_true(rat_is(a, 3, 2));
+  assert_int_equal(geom_rat_cmp_frac(a, 3000001, 2000000), -1);
+  assert_int_equal(geom_rat_cmp_frac(a, 2999999, 2000000), 1);
+  a = geom_x_at(dn, -14, 4);                /* y = -3.5 -> x = -1.5 */
+  assert_true(rat_is(a, -3, 2));
+  assert_true(geom_rat_floor(a) == -2 && geom_rat_ceil(a) == -1);
+  /* equal values with different denominators compare equal */
+  struct grat t1 = { 1, 3 }, t2 = { 2, 6 }, t3 = { -1, 3 }, t4 = { -2, 6 };
+  assert_int_equal(geom_rat_cmp(t1, t2), 0);
+  assert_int_equal(geom_rat_cmp(t3, t4), 0);
+  assert_int_equal(geom_rat_cmp(t3, t1), -1);
+  assert_int_equal(geom_rat_cmp(t1, t3), 1);
+  /* floor / ceil at and around integers */
+  struct grat r72 = { 7, 2 }, rm72 = { -7, 2 }, rm62 = { -6, 2 }, r0 = { 0, 5 };
+  assert_true(geom_rat_floor(r72) == 3 && geom_rat_ceil(r72) == 4);
+  assert_true(geom_rat_floor(rm72) == -4 && geom_rat_ceil(rm72) == -3);
+  assert_true(geom_rat_floor(rm62) == -3 && geom_rat_ceil(rm62) == -3);
+  assert_true(geom_rat_floor(r0) == 0 && geom_rat_ceil(r0) == 0);
+  /* largest documented operands: |num| < 2^75, den < 2^46, differing by one unit */
+  struct grat big1 = { ((wide)1 << 74) + 1, ((wide)1 << 45) };
+  struct grat big2 = { ((wide)1 << 74), ((wide)1 << 45) };
+  struct grat big3 = { -((wide)1 << 74) * 2 + 1, ((wide)1 << 45) * 2 - 1 };
+  assert_int_equal(geom_rat_cmp(big1, big2), 1);
+  assert_int_equal(geom_rat_cmp(big2, big1), -1);
+  assert_int_equal(geom_rat_cmp(big3, big2), -1);
+  /* a steep line through grid-limit points, at y exactly on a vertex */
+  const gcoord L = GRID_LIMIT;
+  struct gline st = geom_line((struct gpoint){ -L, -L }, (struct gpoint){ L - 1, L });
+  struct grat e = geom_x_at(st, L, 1);
+  assert_true(rat_is(e, L - 1, 1));
+  e = geom_x_at(st, -L * GRID_YDEN_MAX, GRID_YDEN_MAX);
+  assert_true(rat_is(e, -L, 1));
+}
+
+static bool i256_is(struct i256 v, uint64_t w0, uint64_t w1, uint64_t w2, uint64_t w3)
+{
+  return v.w[0] == w0 && v.w[1] == w1 && v.w[2] == w2 && v.w[3] == w3;
+}
+
+/* i256_mul / i256_add / i256_sign against known 256-bit products, signs and carries. */
+static void test_i256(void **state)
+{
+  (void)state;
+  const uint64_t ONES = ~(uint64_t)0;
+  /* (2^127 - 1)^2 = 2^254 - 2^128 + 1 */
+  struct i256 p = i256_mul(W128_MAX, W128_MAX);
+  assert_true(i256_is(p, 1, 0, ONES, 0x3FFFFFFFFFFFFFFFull));
+  assert_int_equal(i256_sign(p), 1);
+  /* (-2^127)^2 = 2^254 */
+  p = i256_mul(W128_MIN, W128_MIN);
+  assert_true(i256_is(p, 0, 0, 0, 0x4000000000000000ull));
+  assert_int_equal(i256_sign(p), 1);
+  /* -2^127 * (2^127 - 1) = -2^254 + 2^127 */
+  p = i256_mul(W128_MIN, W128_MAX);
+  assert_true(i256_is(p, 0, 0x8000000000000000ull, 0, 0xC000000000000000ull));
+  assert_int_equal(i256_sign(p), -1);
+  p = i256_mul(W128_MAX, W128_MIN);
+  assert_true(i256_is(p, 0, 0x8000000000000000ull, 0, 0xC000000000000000ull));
+  /* small ones */
+  assert_true(i256_is(i256_mul(-1, 1), ONES, ONES, ONES, ONES));
+  assert_true(i256_is(i256_mul(-3, 5), 0xFFFFFFFFFFFFFFF1ull, ONES, ONES, ONES));
+  assert_true(i256_is(i256_mul(-3, -5), 15, 0, 0, 0));
+  assert_int_equal(i256_sign(i256_mul(0, W128_MIN)), 0);
+  assert_int_equal(i256_sign(i256_mul(-7, 0)), 0);
+  assert_true(i256_is(i256_mul(-7, 0), 0, 0, 0, 0));
+  /* 2^64 * 2^64 = 2^128, and its negative */
+  const wide T64 = (wide)1 << 64;
+  assert_true(i256_is(i256_mul(T64, T64), 0, 0, 1, 0));
+  assert_true(i256_is(i256_mul(-T64, T64), 0, 0, ONES, ONES));
+  /* i256_from sign-extends */
+  assert_true(i256_is(i256_from(W128_MIN), 0, 0x8000000000000000ull, ONES, ONES));
+  assert_true(i256_is(i256_from(-1), ONES, ONES, ONES, ONES));
+  /* add: carries through every word, a + (-a) = 0 */
+  struct i256 m1 = i256_from(-1), one = i256_from(1);
+  assert_true(i256_is(i256_add(m1, one), 0, 0, 0, 0));
+  assert_true(i256_is(i256_add(i256_from((wide)ONES), one), 0, 1, 0, 0));
+  struct i256 big = i256_mul(W128_MAX, W128_MAX), nbig = i256_mul(W128_MAX, -W128_MAX);
+  assert_true(i256_is(i256_add(big, nbig), 0, 0, 0, 0));
+  assert_int_equal(i256_sign(nbig), -1);
+  /* (2^100 + 1)(2^100 - 1) - 2^100 * 2^100 = -1 */
+  const wide T100 = (wide)1 << 100;
+  struct i256 d = i256_add(i256_mul(T100 + 1, T100 - 1), i256_mul(-T100, T100));
+  assert_true(i256_is(d, ONES, ONES, ONES, ONES));
+  assert_int_equal(i256_sign(d), -1);
+  /* a difference of one in the lowest word of two products near 2^250 */
+  d = i256_add(i256_mul(W128_MAX, W128_MAX - 1), i256_mul(-(W128_MAX - 1), W128_MAX));
+  assert_int_equal(i256_sign(d), 0);
+  d = i256_add(i256_mul(W128_MAX, W128_MAX), i256_mul(-(W128_MAX - 1), W128_MAX));
+  assert_int_equal(i256_sign(d), 1);
+  /* random products that fit 128 bits agree with the compiler's */
+  uint64_t s = 0x1234567887654321ull;
+  for (int k = 0; k < 20000; k++) {
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    int64_t a = (int64_t)s >> (s & 31);
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    int64_t b = (int64_t)s >> ((s >> 7) & 31);
+    wide ref = (wide)a * b;
+    struct i256 r = i256_mul(a, b), f = i256_from(ref);
+    assert_true(i256_is(r, f.w[0], f.w[1], f.w[2], f.w[3]));
+    assert_int_equal(i256_sign(r), (ref > 0) - (ref < 0));
+  }
+}
+
+/* ---- seginfo --------------------------------------------------------------------------- */
+
+/* seginfo_span on a square: left side owned, right side not, bottom owned, top not. */
+static void test_span_tie_rule(void **state)
+{
+  (void)state;
+  struct core *core = core_new(1u << 16);
+  struct cost cost = { { 0 } };
+  struct seginfo t;
+  seginfo_init(&t, core, &cost);
+  const gcoord sq[] = { 0, 0, 10, 0, 10, 10, 0, 10 };
+  int i = add_piece(&t, 0, 4, sq);
+  struct piece *p = &t.p[i];
+  struct grat xl, xr;
+  assert_true(seginfo_span(p, 5, 1, &xl, &xr, &cost));
+  assert_true(rat_is(xl, 0, 1) && rat_is(xr, 10, 1));   /* [0, 10): x = 0 in, x = 10 out */
+  assert_true(seginfo_span(p, 0, 1, &xl, &xr, &cost));   /* bottom side owned */
+  assert_true(rat_is(xl, 0, 1) && rat_is(xr, 10, 1));
+  assert_false(seginfo_span(p, 10, 1, &xl, &xr, &cost)); /* top side not */
+  assert_false(seginfo_span(p, -1, 2, &xl, &xr, &cost));
+  assert_true(seginfo_span(p, 19, 2, &xl, &xr, &cost));
+  assert_false(seginfo_span(p, 21, 2, &xl, &xr, &cost));
+  /* a triangle with slanted sides: exact rational ends */
+  const gcoord tri[] = { 0, 0, 12, 0, 4, 8 };
+  i = add_piece(&t, 0, 3, tri);
+  p = &t.p[i];
+  assert_true(seginfo_span(p, 3, 1, &xl, &xr, &cost));
+  assert_true(rat_is(xl, 3, 2) && rat_is(xr, 9, 1));
+  assert_true(seginfo_span(p, 1, 3, &xl, &xr, &cost));
+  assert_true(rat_is(xl, 1, 6) && rat_is(xr, 35, 3));
+  /* the apex: both sides meet at one point, which the piece does not own */
+  assert_false(seginfo_span(p, 8, 1, &xl, &xr, &cost));
+  /* a diamond: at its bottom vertex and top vertex nothing, in between a span */
+  const gcoord dia[] = { 5, 0, 10, 5, 5, 10, 0, 5 };
+  i = add_piece(&t, 0, 4, dia);
+  p = &t.p[i];
+  assert_false(seginfo_span(p, 0, 1, &xl, &xr, &cost));
+  assert_false(seginfo_span(p, 10, 1, &xl, &xr, &cost));
+  assert_true(seginfo_span(p, 5, 1, &xl, &xr, &cost));
+  assert_true(rat_is(xl, 0, 1) && rat_is(xr, 10, 1));
+  assert_true(seginfo_span(p, 1, 1, &xl, &xr, &cost));
+  assert_true(rat_is(xl, 4, 1) && rat_is(xr, 6, 1));
+  seginfo_free(&t);
+  core_free(core);
+}
+
+/* seginfo_clip: a diagonal makes two triangles; a line along a side or through a vertex
+   keeps all or nothing; a cut through two sides gives the right rectangle. */
+static void test_clip(void **state)
+{
+  (void)state;
+  struct core *core = core_new(1u << 16);
+  struct cost cost = { { 0 } };
+  struct seginfo t;
+  seginfo_init(&t, core, &cost);
+  const gcoord sq[] = { 0, 0, 10, 0, 10, 10, 0, 10 };
+  int i = add_piece(&t, 0, 4, sq);
+  const struct piece *p = &t.p[i];
+  struct cpoly c = { 0 };
+  struct gline diag = geom_line((struct gpoint){ 0, 0 }, (struct gpoint){ 10, 10 });
+  struct gline rdiag = { -diag.a, -diag.b, -diag.c };
+  assert_true(seginfo_clip(p, diag, &c, &cost));
+  const gcoord ul[] = { 0, 0, 10, 10, 0, 10 };
+  assert_true(poly_has(c.n, c.v, 3, ul));
+  /* the lines of the result carry its vertices and keep the interior on their left */
+  for (int k = 0; k < c.n; k++) {
+    assert_int_equal(geom_side_h(c.line[k], c.v[k]), 0);
+    assert_int_equal(geom_side_h(c.line[k], c.v[(k + 1) % c.n]), 0);
+    assert_int_equal(geom_side_h(c.line[k], c.v[(k + 2) % c.n]), 1);
+  }
+  assert_true(seginfo_clip(p, rdiag, &c, &cost));
+  const gcoord lr[] = { 0, 0, 10, 0, 10, 10 };
+  assert_true(poly_has(c.n, c.v, 3, lr));
+  /* along the bottom side: the square is on the left -> whole; reversed -> empty */
+  struct gline bot = geom_line((struct gpoint){ -5, 0 }, (struct gpoint){ 20, 0 });
+  struct gline rbot = { -bot.a, -bot.b, -bot.c };
+  assert_true(seginfo_clip(p, bot, &c, &cost));
+  assert_true(poly_has(c.n, c.v, 4, sq));
+  assert_false(seginfo_clip(p, rbot, &c, &cost));
+  /* through the vertex (10, 0) only, square on the left -> whole; reversed -> empty */
+  struct gline tv = geom_line((struct gpoint){ 10, 0 }, (struct gpoint){ 20, 10 });
+  struct gline rtv = { -tv.a, -tv.b, -tv.c };
+  assert_true(seginfo_clip(p, tv, &c, &cost));
+  assert_true(poly_has(c.n, c.v, 4, sq));
+  assert_false(seginfo_clip(p, rtv, &c, &cost));
+  /* through a vertex and the middle of a side: (0,0) -> (10,5) */
+  struct gline vm = geom_line((struct gpoint){ 0, 0 }, (struct gpoint){ 10, 5 });
+  assert_true(seginfo_clip(p, vm, &c, &cost));
+  const gcoord vmq[] = { 0, 0, 10, 5, 10, 10, 0, 10 };
+  assert_true(poly_has(c.n, c.v, 4, vmq));
+  /* x = 5 running down: its left is x > 5 */
+  struct gline x5 = geom_line((struct gpoint){ 5, 10 }, (struct gpoint){ 5, 0 });
+  assert_true(seginfo_clip(p, x5, &c, &cost));
+  const gcoord half[] = { 5, 0, 10, 0, 10, 10, 5, 10 };
+  assert_true(poly_has(c.n, c.v, 4, half));
+  struct gline rx5 = { -x5.a, -x5.b, -x5.c };
+  assert_true(seginfo_clip(p, rx5, &c, &cost));
+  const gcoord lhalf[] = { 0, 0, 5, 0, 5, 10, 0, 10 };
+  assert_true(poly_has(c.n, c.v, 4, lhalf));
+  /* a line missing the square: x = 100 running up, left is x < 100 (all of it) */
+  struct gline far = geom_line((struct gpoint){ 100, 0 }, (struct gpoint){ 100, 10 });
+  assert_true(seginfo_clip(p, far, &c, &cost));
+  assert_true(poly_has(c.n, c.v, 4, sq));
+  struct gline rfar = { -far.a, -far.b, -far.c };
+  assert_false(seginfo_clip(p, rfar, &c, &cost));
+  cpoly_free(&c);
+  seginfo_free(&t);
+  core_free(core);
+}
+
+static bool ovl(const struct seginfo *t, int a, int b, struct cost *cost)
+{
+  const struct piece *p = &t->p[a], *q = &t->p[b];
+  bool r1 = seginfo_overlap(p->n, p->line, p->v, q->n, q->line, q->v, cost);
+  bool r2 = seginfo_overlap(q->n, q->line, q->v, p->n, p->line, p->v, cost);
+  assert_true(r1 == r2);                          /* symmetric */
+  return r1;
+}
+
+/* seginfo_overlap: disjoint, sharing an edge, touching at a corner -> no; overlapping,
+   nested, identical, crossing without a vertex inside -> yes. */
+static void test_overlap(void **state)
+{
+  (void)state;
+  struct core *core = core_new(1u << 16);
+  struct cost cost = { { 0 } };
+  struct seginfo t;
+  seginfo_init(&t, core, &cost);
+  const gcoord a[] = { 0, 0, 10, 0, 10, 10, 0, 10 };
+  const gcoord far[] = { 20, 0, 30, 0, 30, 10, 20, 10 };
+  const gcoord edge[] = { 10, 0, 20, 0, 20, 10, 10, 10 };
+  const gcoord edgepart[] = { 10, 3, 20, 3, 20, 6, 10, 6 };
+  const gcoord corner[] = { 10, 10, 20, 10, 20, 20, 10, 20 };
+  const gcoord over[] = { 5, 5, 15, 5, 15, 15, 5, 15 };
+  const gcoord inside[] = { 2, 2, 4, 2, 4, 4, 2, 4 };
+  const gcoord cross[] = { -5, 4, 15, 4, 15, 6, -5, 6 };   /* a bar through the square */
+  const gcoord tri_touch[] = { 10, 10, 20, 0, 20, 20 };    /* corner of a to a triangle's */
+  const gcoord diag_touch[] = { 10, 0, 20, 10, 10, 20 };   /* along no edge: corner (10,10)?*/
+  int ia = add_piece(&t, 0, 4, a);
+  int ifar = add_piece(&t, 1, 4, far);
+  int iedge = add_piece(&t, 1, 4, edge);
+  int iep = add_piece(&t, 1, 4, edgepart);
+  int icor = add_piece(&t, 1, 4, corner);
+  int iover = add_piece(&t, 1, 4, over);
+  int iin = add_piece(&t, 1, 4, inside);
+  int isame = add_piece(&t, 1, 4, a);
+  int icross = add_piece(&t, 1, 4, cross);
+  int itt = add_piece(&t, 1, 3, tri_touch);
+  int idt = add_piece(&t, 1, 3, diag_touch);
+  assert_false(ovl(&t, ia, ifar, &cost));
+  assert_false(ovl(&t, ia, iedge, &cost));
+  assert_false(ovl(&t, ia, iep, &cost));
+  assert_false(ovl(&t, ia, icor, &cost));
+  assert_true(ovl(&t, ia, iover, &cost));
+  assert_true(ovl(&t, ia, iin, &cost));
+  assert_true(ovl(&t, ia, isame, &cost));
+  assert_true(ovl(&t, ia, icross, &cost));
+  assert_false(ovl(&t, ia, itt, &cost));
+  assert_false(ovl(&t, ia, idt, &cost));      /* touches the edge x = 10 from (10,0) to (10,10) */
+  seginfo_free(&t);
+  core_free(core);
+}
+
+/* ---- priority ------------------------------------------------------------------------ */
+
+#define HDR "view 0 0 -1000\nwindow -200 -150 200 150\n"
+
+/* The face index (in map.f) of face id. */
+static int fidx(const struct render *r, int id)
+{
+  for (int k = 0; k < r->map.nface; k++)
+    if (r->map.f[k].id == id) return k;
+  fail_msg("face %d not mapped", id);
+  return -1;
+}
+
+static int piece_of(const struct render *r, int id)
+{
+  int f = fidx(r, id);
+  for (int k = 0; k < r->seg.n; k++)
+    if (r->seg.p[k].alive && r->seg.p[k].face == f) return k;
+  fail_msg("no piece of face %d", id);
+  return -1;
+}
+
+/* The id of the face in front of pieces a, b, asked in the order (a, b). */
+static int front_id(struct render *r, int a, int b)
+{
+  struct t74_error err = { 0, "" };
+  int res = prio_order(&r->prio, a, b, &err);
+  assert_true(res == PRIO_FIRST || res == PRIO_SECOND);
+  int p = res == PRIO_FIRST ? a : b;
+  return r->map.f[r->seg.p[p].face].id;
+}
+
+/* Parallel faces (flat and slanted): the nearer is in front whichever order asked, and
+   whichever order the faces are listed in; the pair is computed once. */
+static void test_prio_parallel(void **state)
+{
+  (void)state;
+  static const char *scenes[] = {
+    HDR "vertex 1 -200 -200 1000\nvertex 2 200 -200 1000\nvertex 3 200 200 1000\n"
+        "vertex 4 -200 200 1000\nface 9 1 2 3 4\n"
+        "vertex 5 -50 -50 0\nvertex 6 50 -50 0\nvertex 7 50 50 0\nvertex 8 -50 50 0\n"
+        "face 2 5 6 7 8\n",
+    HDR "vertex 5 -50 -50 0\nvertex 6 50 -50 0\nvertex 7 50 50 0\nvertex 8 -50 50 0\n"
+        "face 2 5 6 7 8\n"
+        "vertex 1 -200 -200 1000\nvertex 2 200 -200 1000\nvertex 3 200 200 1000\n"
+        "vertex 4 -200 200 1000\nface 9 1 2 3 4\n",
+    /* slanted, z = x + 200 (face 2) and z = x + 400 (face 9) */
+    HDR "vertex 1 -100 -100 300\nvertex 2 100 -100 500\nvertex 3 100 100 500\n"
+        "vertex 4 -100 100 300\nface 9 1 2 3 4\n"
+        "vertex 5 -100 -100 100\nvertex 6 100 -100 300\nvertex 7 100 100 300\n"
+        "vertex 8 -100 100 100\nface 2 5 6 7 8\n",
+  };
+  for (int s = 0; s < 3; s++) {
+    for (int store = PRIO_DENSE; store <= PRIO_SPARSE; store++) {
+      struct render r;
+      struct scene *sc = prepare(&r, scenes[s], store);
+      int near = piece_of(&r, 2), farp = piece_of(&r, 9);
+      assert_int_equal(front_id(&r, near, farp), 2);
+      assert_int_equal(front_id(&r, farp, near), 2);
+      assert_int_equal(front_id(&r, near, farp), 2);
+      assert_int_equal((int)r.prio.computed, 1);
+      assert_int_equal(r.prio.splits, 0);
+      render_free(&r);
+      scene_free(sc);
+    }
+  }
+}
+
+/* Representative x (world units, double) of a piece: mean of its vertices. */
+static double piece_cx(const struct render *r, int k)
+{
+  const struct piece *p = &r->seg.p[k];
+  double s = 0;
+  for (int v = 0; v < p->n; v++) s += (double)p->v[v].X / (double)p->v[v].W;
+  return s / p->n / GRID_ONE;
+}
+
+static const char CROSSING[] =
+  HDR "vertex 1 -100 -100 0\nvertex 2 100 -100 0\nvertex 3 100 100 0\nvertex 4 -100 100 0\n"
+      "face 1 1 2 3 4 grey 100\n"
+      "vertex 5 -50 -50 -100\nvertex 6 150 -50 100\nvertex 7 150 150 100\n"
+      "vertex 8 -50 150 -100\nface 2 5 6 7 8 grey 200\n";
+
+/* Crossing squares (face 2: z = x - 50 crosses face 1: z = 0 along x = 50): PRIO_SPLIT
+   once; afterwards the halves are ordered (face 2 in front left of x = 50, face 1 right
+   of it), consistently in either order asked, and no further split happens. */
+static void test_prio_crossing(void **state)
+{
+  (void)state;
+  for (int store = PRIO_DENSE; store <= PRIO_SPARSE; store++) {
+    struct render r;
+    struct scene *sc = prepare(&r, CROSSING, store);
+    assert_int_equal(r.seg.n, 2);
+    struct t74_error err = { 0, "" };
+    int res = prio_order(&r.prio, 0, 1, &err);
+    assert_int_equal(res, PRIO_SPLIT);
+    assert_int_equal(r.prio.splits, 1);
+    assert_false(r.seg.p[0].alive);
+    assert_false(r.seg.p[1].alive);
+    assert_int_equal(r.seg.n, 6);
+    assert_int_equal(render_pieces_alive(&r), 4);
+    /* every half lies on one side of x = 50 (within a grid unit: L~ is rounded) */
+    int nchecked = 0;
+    for (int a = 2; a < 6; a++)
+      for (int b = 2; b < 6; b++) {
+        if (r.seg.p[a].face == r.seg.p[b].face || a == b) continue;
+        const struct piece *P = &r.seg.p[a], *Q = &r.seg.p[b];
+        if (!seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, &r.cost[0])) continue;
+        double cx = (piece_cx(&r, a) + piece_cx(&r, b)) / 2;
+        int want = cx < 50 ? 2 : 1;
+        assert_int_equal(front_id(&r, a, b), want);
+        assert_int_equal(front_id(&r, b, a), want);
+        nchecked++;
+      }
+    assert_int_equal(nchecked, 4);       /* two overlapping pairs, each asked both ways */
+    assert_int_equal(r.prio.splits, 1);
+    assert_int_equal(r.seg.n, 6);
+    /* the two halves of face 1 (or 2) never overlap each other */
+    for (int a = 2; a < 6; a++)
+      for (int b = a + 1; b < 6; b++)
+        if (r.seg.p[a].face == r.seg.p[b].face) {
+          const struct piece *P = &r.seg.p[a], *Q = &r.seg.p[b];
+          assert_false(seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, &r.cost[0]));
+        }
+    render_free(&r);
+    scene_free(sc);
+  }
+}
+
+/* Coplanar overlapping faces (flat and slanted): the larger face number is in front,
+   whichever is listed first and whichever order asked. */
+static void test_prio_coplanar(void **state)
+{
+  (void)state;
+  static const char *scenes[] = {
+    HDR "vertex 1 -100 -100 0\nvertex 2 50 -100 0\nvertex 3 50 50 0\nvertex 4 -100 50 0\n"
+        "vertex 5 -50 -50 0\nvertex 6 100 -50 0\nvertex 7 100 100 0\nvertex 8 -50 100 0\n"
+        "face 7 1 2 3 4\nface 3 5 6 7 8\n",
+    HDR "vertex 1 -100 -100 0\nvertex 2 50 -100 0\nvertex 3 50 50 0\nvertex 4 -100 50 0\n"
+        "vertex 5 -50 -50 0\nvertex 6 100 -50 0\nvertex 7 100 100 0\nvertex 8 -50 100 0\n"
+        "face 3 5 6 7 8\nface 7 1 2 3 4\n",
+    /* both on z = x + 200 */
+    HDR "vertex 1 -100 -100 100\nvertex 2 50 -100 250\nvertex 3 50 50 250\n"
+        "vertex 4 -100 50 100\nvertex 5 -50 -50 150\nvertex 6 100 -50 300\n"
+        "vertex 7 100 100 300\nvertex 8 -50 100 150\n"
+        "face 3 5 6 7 8\nface 7 1 2 3 4\n",
+    HDR "vertex 1 -100 -100 100\nvertex 2 50 -100 250\nvertex 3 50 50 250\n"
+        "vertex 4 -100 50 100\nvertex 5 -50 -50 150\nvertex 6 100 -50 300\n"
+        "vertex 7 100 100 300\nvertex 8 -50 100 150\n"
+        "face 7 1 2 3 4\nface 3 5 6 7 8\n",
+  };
+  for (int s = 0; s < 4; s++) {
+    struct render r;
+    struct scene *sc = prepare(&r, scenes[s], PRIO_AUTO);
+    int p7 = piece_of(&r, 7), p3 = piece_of(&r, 3);
+    assert_int_equal(front_id(&r, p7, p3), 7);
+    assert_int_equal(front_id(&r, p3, p7), 7);
+    assert_int_equal(r.prio.splits, 0);
+    assert_int_equal((int)r.prio.computed, 1);
+    render_free(&r);
+    scene_free(sc);
+  }
+}
+
+/* Grid scan into an array of face ids (0 = none). */
+struct grab { const struct render *r; uint16_t *ids; int W; int order_ok; int last; };
+
+#define GW 100
+#define GH 75
+
+static int grab_point(void *ctx, int i, int j, int face)
+{
+  struct grab *g = ctx;
+  int key = (GH - 1 - j) * g->W + i;      /* bottom row first, left to right: increasing */
+  if (g->last != INT32_MIN && key <= g->last) g->order_ok = 0;
+  g->last = key;
+  g->ids[j * g->W + i] = face < 0 ? 0 : g->r->map.f[face].id;
+  return T74_OK;
+}
+
+static void scan_ids(struct render *r, uint16_t *ids)
+{
+  struct vis_grid g = { GW, GH, { -200, -150, 200, 150 } };
+  struct grab gb = { r, ids, GW, 1, INT32_MIN };
+  struct t74_error err = { 0, "" };
+  int st = render_scan(r, &g, grab_point, &gb, &err);
+  if (st) print_message("render_scan: %s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  assert_true(gb.order_ok);                 /* bottom row first, left to right */
+}
+
+static const char CYCLIC[] =
+  "view 0 0 -1000\nwindow -200 -150 200 150\n"
+  "vertex 1 -140 -60 400\nvertex 2 140 -60 0\nvertex 3 140 -20 0\nvertex 4 -140 -20 400\n"
+  "face 1 1 2 3 4 grey 90\n"
+  "vertex 5 80 -120 300\nvertex 6 120 -120 300\nvertex 7 -20 120 0\nvertex 8 -60 120 0\n"
+  "face 2 5 6 7 8 grey 160\n"
+  "vertex 9 -120 -120 0\nvertex 10 -80 -120 0\nvertex 11 60 120 400\nvertex 12 20 120 400\n"
+  "face 3 9 10 11 12 grey 230\n";
+
+static const char COPLANAR3[] =
+  HDR "vertex 1 -100 -100 0\nvertex 2 50 -100 0\nvertex 3 50 50 0\nvertex 4 -100 50 0\n"
+      "vertex 5 -50 -50 0\nvertex 6 100 -50 0\nvertex 7 100 100 0\nvertex 8 -50 100 0\n"
+      "vertex 9 -150 -20 0\nvertex 10 150 -20 0\nvertex 11 0 130 0\n"
+      "face 7 1 2 3 4\nface 3 5 6 7 8\nface 12 9 10 11\n";
+
+/* A concave face with a hole in front of a slanted face that crosses the crossing pair. */
+static const char MIXED[] =
+  HDR "vertex 1 -180 -130 0\nvertex 2 180 -130 0\nvertex 3 180 130 0\nvertex 4 0 0 0\n"
+      "vertex 5 -180 130 0\nvertex 6 -120 -60 0\nvertex 7 -60 -60 0\nvertex 8 -90 -10 0\n"
+      "face 4 1 2 3 4 5 * 6 7 8 grey 120\n"
+      "vertex 9 -150 -140 -200\nvertex 10 150 -140 200\nvertex 11 150 140 200\n"
+      "vertex 12 -150 140 -200\nface 5 9 10 11 12\n"
+      "vertex 13 -100 -100 50\nvertex 14 100 -100 50\nvertex 15 0 120 -300\n"
+      "face 6 13 14 15\n";
+
+/* Each pair is computed at most once: a second scan over the same matrix computes no new
+   pair, and computed never exceeds the pairs of pieces that ever existed. */
+static void test_prio_computed_once(void **state)
+{
+  (void)state;
+  const char *scenes[] = { CROSSING, CYCLIC, COPLANAR3, MIXED };
+  uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b);
+  for (int s = 0; s < 4; s++) {
+    struct render r;
+    struct scene *sc = prepare(&r, scenes[s], PRIO_AUTO);
+    scan_ids(&r, a);
+    uint64_t c1 = r.prio.computed;
+    int n = r.seg.n;
+    assert_true(c1 <= (uint64_t)n * (uint64_t)(n - 1) / 2);
+    assert_true(c1 >= 1);
+    /* scan again through a fresh visible-surface state on the same pieces and matrix */
+    struct t74_error err = { 0, "" };
+    vis_free(&r.vis);
+    assert_int_equal(vis_init(&r.vis, &r.seg, &r.prio, &r.cost[RS_VISIBLE], &err), T74_OK);
+    scan_ids(&r, b);
+    assert_true(r.prio.computed == c1);
+    assert_int_equal(r.seg.n, n);
+    assert_memory_equal(a, b, GW * GH * sizeof *a);
+    render_free(&r);
+    scene_free(sc);
+  }
+  free(a);
+  free(b);
+}
+
+/* Dense and sparse stores give identical pictures, counts, splits and answers. */
+static void test_prio_dense_sparse(void **state)
+{
+  (void)state;
+  const char *scenes[] = { CROSSING, CYCLIC, COPLANAR3, MIXED };
+  uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b);
+  for (int s = 0; s < 4; s++) {
+    struct render rd, rs;
+    struct scene *sd = prepare(&rd, scenes[s], PRIO_DENSE);
+    struct scene *ss = prepare(&rs, scenes[s], PRIO_SPARSE);
+    assert_int_equal(rd.prio.store, PRIO_DENSE);
+    assert_int_equal(rs.prio.store, PRIO_SPARSE);
+    scan_ids(&rd, a);
+    scan_ids(&rs, b);
+    assert_memory_equal(a, b, GW * GH * sizeof *a);
+    assert_true(rd.prio.computed == rs.prio.computed);
+    assert_int_equal(rd.prio.splits, rs.prio.splits);
+    assert_int_equal(rd.seg.n, rs.seg.n);
+    for (int i = 0; i < rd.seg.n; i++)
+      for (int j = 0; j < rd.seg.n; j++) {
+        if (i == j || !rd.seg.p[i].alive || !rd.seg.p[j].alive) continue;
+        struct t74_error err = { 0, "" };
+        int x = prio_order(&rd.prio, i, j, &err), y = prio_order(&rs.prio, i, j, &err);
+        assert_int_equal(x, y);
+      }
+    render_free(&rd);
+    render_free(&rs);
+    scene_free(sd);
+    scene_free(ss);
+  }
+  free(a);
+  free(b);
+}
+
+/* ---- mapper ------------------------------------------------------------------------ */
+
+/* eq. (1) rounded once, half up, to the grid: with the eye at z = -1 a vertex at z = 511
+   shrinks 512 times, so x = +-1, +-3 land on +-0.5, +-1.5 grid units and round to 1, 0,
+   2, -1; edge-on faces are dropped; rings come out outer CCW, holes CW. */
+static void test_mapper_rounding(void **state)
+{
+  (void)state;
+  static const char text[] =
+    "view 0 0 -1\nwindow -200 -150 200 150\n"
+    "vertex 1 1 -1 511\nvertex 2 3 -3 511\nvertex 3 -1 1 511\nvertex 4 -3 3 511\n"
+    "vertex 5 1000 1000 511\nface 1 1 5 2\nface 2 3 4 5\n"
+    /* edge-on: the plane x = 0 holds the eye */
+    "vertex 6 0 0 0\nvertex 7 0 10 0\nvertex 8 0 10 10\nface 3 6 7 8\n"
+    /* clockwise outer ring and counter-clockwise hole, as given */
+    "vertex 10 -100 -100 0\nvertex 11 -100 100 0\nvertex 12 100 100 0\nvertex 13 100 -100 0\n"
+    "vertex 14 -10 -10 0\nvertex 15 10 -10 0\nvertex 16 10 10 0\nvertex 17 -10 10 0\n"
+    "face 4 10 11 12 13 * 14 15 16 17\n";
+  struct render r;
+  struct scene *sc = prepare(&r, text, PRIO_AUTO);
+  assert_int_equal(r.map.nface, 3);
+  assert_int_equal(r.map.dropped, 1);
+  const struct mface *f1 = &r.map.f[fidx(&r, 1)], *f2 = &r.map.f[fidx(&r, 2)];
+  bool s1 = false, s2 = false, s3 = false, s4 = false;
+  for (int k = 0; k < f1->ring_start[1]; k++) {
+    if (f1->vid[k] == 1) { s1 = true; assert_true(f1->pt[k].x == 1 && f1->pt[k].y == 0); }
+    if (f1->vid[k] == 2) { s2 = true; assert_true(f1->pt[k].x == 2 && f1->pt[k].y == -1); }
+  }
+  for (int k = 0; k < f2->ring_start[1]; k++) {
+    if (f2->vid[k] == 3) { s3 = true; assert_true(f2->pt[k].x == 0 && f2->pt[k].y == 1); }
+    if (f2->vid[k] == 4) { s4 = true; assert_true(f2->pt[k].x == -1 && f2->pt[k].y == 2); }
+  }
+  assert_true(s1 && s2 && s3 && s4);
+  const struct mface *f4 = &r.map.f[fidx(&r, 4)];
+  assert_int_equal(f4->nring, 2);
+  for (int ring = 0; ring < 2; ring++) {
+    wide a = 0;
+    int b = f4->ring_start[ring], e = f4->ring_start[ring + 1];
+    for (int k = b; k < e; k++) {
+      const struct gpoint *u = &f4->pt[k], *v = &f4->pt[k + 1 < e ? k + 1 : b];
+      a += (wide)u->x * v->y - (wide)v->x * u->y;
+    }
+    assert_true(ring == 0 ? a > 0 : a < 0);
+  }
+  /* the plane is signed so the eye is on its negative side */
+  for (int k = 0; k < r.map.nface; k++) {
+    const struct mface *m = &r.map.f[k];
+    wide pe = (wide)m->plane[0] * 0 + (wide)m->plane[1] * 0 + (wide)m->plane[2] * -1 + m->plane[3];
+    assert_true(pe < 0 && -pe == m->deye);
+  }
+  render_free(&r);
+  scene_free(sc);
+}
+
+/* ---- visible ------------------------------------------------------------------------- */
+
+/* face 1 (z = 1000, projected [-100, 0] x [-100, 100]) behind face 2 ([-50, 50]^2, z = 0);
+   face 3 ([80, 120] x [-50, 50], z = 0) apart, a gap [50, 80) between. */
+static const char VISCFG[] =
+  HDR "vertex 1 -200 -200 1000\nvertex 2 0 -200 1000\nvertex 3 0 200 1000\n"
+      "vertex 4 -200 200 1000\nface 1 1 2 3 4\n"
+      "vertex 5 -50 -50 0\nvertex 6 50 -50 0\nvertex 7 50 50 0\nvertex 8 -50 50 0\n"
+      "face 2 5 6 7 8\n"
+      "vertex 9 80 -50 0\nvertex 10 120 -50 0\nvertex 11 120 50 0\nvertex 12 80 50 0\n"
+      "face 3 9 10 11 12\n";
+
+struct want_span { int64_t x0, x1; int id; };     /* world units, id 0 = none expected */
+
+static void check_spans(struct render *r, int64_t yn, int64_t yd, int nw,
+                        const struct want_span *w)
+{
+  const struct vis_span *sp;
+  int ns;
+  struct t74_error err = { 0, "" };
+  assert_int_equal(vis_spans(&r->vis, yn, yd, &sp, &ns, &err), T74_OK);
+  bool same = ns == nw;
+  for (int k = 0; same && k < ns; k++)
+    same = rat_is(sp[k].x0, G(w[k].x0), 1) && rat_is(sp[k].x1, G(w[k].x1), 1) &&
+           r->map.f[sp[k].face].id == w[k].id;
+  for (int k = 0; !same && k < ns; k++)
+    print_message("  y=%lld/%lld span %d: [%g, %g) face %d\n", (long long)yn, (long long)yd, k,
+                  (double)sp[k].x0.num / (double)sp[k].x0.den / GRID_ONE,
+                  (double)sp[k].x1.num / (double)sp[k].x1.den / GRID_ONE,
+                  r->map.f[sp[k].face].id);
+  assert_int_equal(ns, nw);
+  for (int k = 0; k < ns; k++) {
+    assert_true(rat_is(sp[k].x0, G(w[k].x0), 1));
+    assert_true(rat_is(sp[k].x1, G(w[k].x1), 1));
+    assert_int_equal(r->map.f[sp[k].face].id, w[k].id);
+    assert_int_equal(sp[k].face, r->seg.p[sp[k].piece].face);
+  }
+}
+
+/* vis_spans on a hand-made configuration: exact ends, disjoint and ordered, gaps where
+   nothing is, bottom edges owned and top edges not. */
+static void test_vis_spans(void **state)
+{
+  (void)state;
+  struct render r;
+  struct scene *sc = prepare(&r, VISCFG, PRIO_AUTO);
+  /* y = -100: bottom of face 1 */
+  const struct want_span w0[] = { { -100, 0, 1 } };
+  check_spans(&r, G(-100), 1, 1, w0);
+  /* y = -50: bottom of faces 2 and 3 (owned) */
+  const struct want_span w1[] = { { -100, -50, 1 }, { -50, 50, 2 }, { 80, 120, 3 } };
+  check_spans(&r, G(-50), 1, 3, w1);
+  /* y = 1/3: the same, exactly */
+  check_spans(&r, G(1), 3, 3, w1);
+  /* y = 50: top of faces 2 and 3 (not owned) */
+  const struct want_span w2[] = { { -100, 0, 1 } };
+  check_spans(&r, G(50), 1, 1, w2);
+  /* y = 100: top of face 1: nothing */
+  check_spans(&r, G(100), 1, 0, NULL);
+  render_free(&r);
+  scene_free(sc);
+}
+
+/* On the crossing scene, on many lines: spans disjoint, ordered, each inside its piece's
+   own span, and a point is in a span exactly when some alive piece owns it. */
+static void test_vis_spans_invariant(void **state)
+{
+  (void)state;
+  const char *scenes[] = { CROSSING, MIXED, CYCLIC };
+  for (int s = 0; s < 3; s++) {
+    struct render r;
+    struct scene *sc = prepare(&r, scenes[s], PRIO_AUTO);
+    int lines = 0;
+    for (int64_t y = -150 * 4; y <= 150 * 4; y += 7) {    /* y = y/4 world, some ties */
+      const struct vis_span *sp;
+      int ns;
+      struct t74_error err = { 0, "" };
+      assert_int_equal(vis_spans(&r.vis, G(y), 4, &sp, &ns, &err), T74_OK);
+      lines++;
+      for (int k = 0; k < ns; k++) {
+        assert_int_equal(geom_rat_cmp(sp[k].x0, sp[k].x1), -1);
+        if (k > 0) assert_true(geom_rat_cmp(sp[k - 1].x1, sp[k].x0) <= 0);
+        const struct piece *p = &r.seg.p[sp[k].piece];
+        assert_true(p->alive);
+        struct grat xl, xr;
+        assert_true(seginfo_span(p, G(y), 4, &xl, &xr, &r.cost[0]));
+        assert_true(geom_rat_cmp(xl, sp[k].x0) <= 0 && geom_rat_cmp(sp[k].x1, xr) <= 0);
+      }
+      /* sample x on a fine lattice: covered <=> some alive piece owns it */
+      for (int64_t x = -200 * 8; x <= 200 * 8; x += 5) {
+        int64_t xn = G(x), xd = 8;
+        bool in_span = false;
+        for (int k = 0; k < ns; k++)
+          if (geom_rat_cmp_frac(sp[k].x0, xn, xd) <= 0 && geom_rat_cmp_frac(sp[k].x1, xn, xd) > 0)
+            in_span = true;
+        bool owned = false;
+        for (int q = 0; q < r.seg.n && !owned; q++) {
+          if (!r.seg.p[q].alive) continue;
+          struct grat xl, xr;
+          if (seginfo_span(&r.seg.p[q], G(y), 4, &xl, &xr, &r.cost[0]) &&
+              geom_rat_cmp_frac(xl, xn, xd) <= 0 && geom_rat_cmp_frac(xr, xn, xd) > 0)
+            owned = true;
+        }
+        if (in_span != owned)
+          fail_msg("scene %d y=%g x=%g: in a span %d, owned by a piece %d", s, y / 4.0,
+                   x / 8.0, in_span, owned);
+      }
+    }
+    assert_true(lines > 100);
+    render_free(&r);
+    scene_free(sc);
+  }
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_geom_orient),
+    cmocka_unit_test(test_geom_lines),
+    cmocka_unit_test(test_geom_rationals),
+    cmocka_unit_test(test_i256),
+    cmocka_unit_test(test_span_tie_rule),
+    cmocka_unit_test(test_clip),
+    cmocka_unit_test(test_overlap),
+    cmocka_unit_test(test_mapper_rounding),
+    cmocka_unit_test(test_prio_parallel),
+    cmocka_unit_test(test_prio_crossing),
+    cmocka_unit_test(test_prio_coplanar),
+    cmocka_unit_test(test_prio_computed_once),
+    cmocka_unit_test(test_prio_dense_sparse),
+    cmocka_unit_test(test_vis_spans),
+    cmocka_unit_test(test_vis_spans_invariant),
+  };
+  return cmocka_run_group_tests(tests, group_setup, group_teardown);
+}
