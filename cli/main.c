@@ -15,11 +15,13 @@
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "cli/pipeline.h"
+#include "cli/commands.h"
 
 static void usage(FILE *f)
 {
   fprintf(f,
-    "usage: tube74 render SCENE [options]     render a scene (.s74, .obj, .off)\n"
+    "usage: tube74 render SCENE [options]     render a scene (.s74, .obj, .off, or a Tek stream)\n"
+    "       tube74 tek SCENE [-o FILE] [options]   the picture as a Tektronix 4010/4014 stream\n"
     "       tube74 params                     the HITAC-10 cost model's constants and sources\n"
     "       tube74 --help\n");
   job_usage(f);
@@ -42,7 +44,9 @@ int main(int argc, char **argv)
     cost_params_default(&prm);
     cost_params_list(&prm, stdout);
     st = T74_OK;
-  } else if (!strcmp(argv[1], "tek") || !strcmp(argv[1], "play") || !strcmp(argv[1], "stream") ||
+  } else if (!strcmp(argv[1], "tek")) {
+    st = cmd_tek(argc, argv, &err);
+  } else if (!strcmp(argv[1], "play") || !strcmp(argv[1], "stream") ||
              !strcmp(argv[1], "devices")) {
     st = t74_fail(&err, T74_EINPUT, "tube74: `%s` is not implemented in this version", argv[1]);
   } else {

@@ -6,10 +6,22 @@
 ** halftone cell whose dots go to the sinks in the order the 1974 program displayed them.
 ** Outputs are only written once everything succeeded, each atomically, so a failure
 ** leaves no file created or changed.
+**
+** A background picture goes the 1974 way (patterns/scanner.h): scanned on the drum,
+** converted to halftone levels, packed 4 to a word onto the modelled disk, and read back a
+** row at a time while the grid is scanned; its disk time and unpacking count in
+** hitac10_seconds (stage "scanner"), the scanning itself (input time) in scanner_seconds.
+**
+** A Tektronix stream (`--input tek`, or a file whose first byte is a Tek control code,
+** display/tek.h) is not a scene: it is decoded straight onto the tube (run_tek below), and
+** only the outputs that a tube alone can give are written (-o, --dump tube, --dump points,
+** --stats with the renderer's fields at zero).
 */
 #include "cli/pipeline.h"
 
 #include <errno.h>
+#include <stdbool.h>
+#include <stdint.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,12 +30,14 @@
 
 #include "display/image.h"
 #include "display/sink.h"
+#include "display/tek.h"
 #include "display/tube.h"
 #include "emu/core.h"
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "patterns/halftone.h"
 #include "patterns/picture.h"
+#include "patterns/scanner.h"
 #include "render/effects.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -38,7 +52,9 @@ struct pipeline {
   struct render *r;
   const struct pat_cell *pat;
   int cell, W, H;
-  const struct pic *background;
+  struct scan_image *scan;          /* the background picture as on the disk, or NULL */
+  struct cost scanner;              /* display-time work of the background: unpacking, and
+                                       moving the rows read from the disk into core */
   struct sink out;
   uint16_t *ids;
   uint8_t *grey;
@@ -59,7 +75,8 @@ void job_usage(FILE *f)
     "  --dump KIND=FILE       ids | grey | tube | points | tables | core (repeatable)\n"
     "  --view X0 Y0 Z0        eye for .obj/.off imports\n"
     "  --window XL YB XR YT   window for .obj/.off imports\n"
-    "  --input s74|obj|off    input format (default: by extension)\n"
+    "  --input s74|obj|off|tek  input format (default: a Tek stream by its first byte,\n"
+    "                         else by extension)\n"
     "  --hitac NAME=VALUE     change a cost-model constant (see `tube74 params`)\n"
     "  --matrix auto|dense|sparse   priority matrix store (default auto)\n");
 }
@@ -138,8 +155,9 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
     } else if (!strcmp(a, "--input")) {
       NEED(1);
       o->sopts.input = argv[++k];
-      if (strcmp(o->sopts.input, "s74") && strcmp(o->sopts.input, "obj") && strcmp(o->sopts.input, "off"))
-        return bad_usage(err, "--input takes s74, obj or off (tek streams are not read yet)", o->sopts.input);
+      if (strcmp(o->sopts.input, "s74") && strcmp(o->sopts.input, "obj") && strcmp(o->sopts.input, "off") &&
+          strcmp(o->sopts.input, "tek"))
+        return bad_usage(err, "--input takes s74, obj, off or tek", o->sopts.input);
     } else if (!strcmp(a, "--hitac")) {
       NEED(1);
       if (cost_params_set(&o->params, argv[++k], err) != T74_OK) return err->status;
@@ -177,6 +195,22 @@ static int check_effects(const struct effects *e, const char *file, int line, st
                      "(implemented: halftone=, pattern=, tube=stored)", missing);
 }
 
+/* The 1974 display-run time so far: every stage's counted work, the background's
+** unpacking and its disk reads. */
+static double pipeline_seconds(const struct pipeline *p)
+{
+  struct cost total = p->display;
+  for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &p->r->cost[s]);
+  cost_merge(&total, &p->scanner);
+  double t = cost_seconds(&total, p->params);
+  if (p->scan) {
+    struct scan_stats ss;
+    scan_report(p->scan, &ss);
+    t += ss.disk_seconds;
+  }
+  return t;
+}
+
 static int on_point(void *ctx, int i, int j, int face)
 {
   struct pipeline *p = ctx;
@@ -186,16 +220,14 @@ static int on_point(void *ctx, int i, int j, int face)
     grey = p->r->map.f[face].grey;
     id = p->r->map.f[face].id;
   } else {
-    grey = p->background ? pic_sample(p->background, i, j, p->W, p->H) : 0;
+    grey = p->scan ? scan_grey(p->scan, i, j) : 0;
   }
   p->ids[(size_t)j * (size_t)p->W + (size_t)i] = id;
   p->grey[(size_t)j * (size_t)p->W + (size_t)i] = (uint8_t)grey;
-  int level = pat_level(p->cell, grey);
-  if (p->hooks && p->hooks->clock) {
-    struct cost total = p->display;
-    for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &p->r->cost[s]);
-    p->hooks->clock(p->hooks->clock_ctx, cost_seconds(&total, p->params));
-  }
+  /* a background point's level comes off the disk (4 bits: 4x4's level 16 is 15) */
+  int level = face < 0 && p->scan ? scan_level(p->scan, i, j, &p->scanner)
+                                  : pat_level(p->cell, grey);
+  if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
   /* per point: intensity and level lookups, the cell's pattern word, then one display
      command per lit dot */
   COST_ADD_N(&p->display, COST_MEM, 4);
@@ -234,6 +266,9 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   struct cost total = { { 0 } };
   for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &r->cost[s]);
   cost_merge(&total, &p->display);
+  struct scan_stats ss;
+  memset(&ss, 0, sizeof ss);
+  if (p->scan) scan_report(p->scan, &ss);
   uint64_t alive = (uint64_t)render_pieces_alive(r);
   char effbuf[512];
   effects_format(eff, effbuf, sizeof effbuf);
@@ -249,7 +284,15 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "  \"priority_store\": \"%s\",\n", r->prio.store == PRIO_DENSE ? "dense" : "sparse");
   outfile_printf(of, "  \"core_words\": %u,\n", core_words(r->core));
   outfile_printf(of, "  \"core_words_used\": %u,\n", core_peak(r->core));
-  outfile_printf(of, "  \"hitac10_seconds\": %.6f,\n", cost_seconds(&total, &o->params));
+  outfile_printf(of, "  \"hitac10_seconds\": %.6f,\n", pipeline_seconds(p));
+  outfile_printf(of, "  \"scanner_seconds\": %.6f,\n", ss.scanner_seconds);
+  outfile_printf(of, "  \"disk_seconds\": %.6f,\n", ss.disk_seconds);
+  if (p->scan)
+    outfile_printf(of, "  \"scanner\": {\"photo_mm\": [%.1f, %.1f], \"samples\": %d, \"lines\": %d, "
+                   "\"drum_seconds\": %.6f, \"input_disk_seconds\": %.6f, \"disk_words\": %u, "
+                   "\"disk_tracks\": %d, \"disk_reads\": %llu},\n", ss.photo_w_mm, ss.photo_h_mm,
+                   ss.samples, ss.lines, ss.drum_seconds, ss.input_disk_seconds, (unsigned)ss.words,
+                   ss.tracks, (unsigned long long)ss.disk_reads);
   outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
   outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
   outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
@@ -260,23 +303,180 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   }
   outfile_printf(of, "  \"stages\": [");
   int first = 1;
+  if (p->scan) { outfile_printf(of, "\"scanner\""); first = 0; }
   for (int s = 0; s < RS_NSTAGE; s++)
     if (r->ran[s]) { outfile_printf(of, "%s\"%s\"", first ? "" : ", ", stage_names[s]); first = 0; }
   outfile_printf(of, "%s\"halftone\", \"tube\"],\n", first ? "" : ", ");
   outfile_printf(of, "  \"stage_hitac10_seconds\": {");
   for (int s = 0; s < RS_NSTAGE; s++)
     outfile_printf(of, "\"%s\": %.6f, ", stage_names[s], cost_seconds(&r->cost[s], &o->params));
+  if (p->scan)
+    outfile_printf(of, "\"scanner\": %.6f, ", cost_seconds(&p->scanner, &o->params) + ss.disk_seconds);
   outfile_printf(of, "\"halftone+tube\": %.6f},\n", cost_seconds(&p->display, &o->params));
   outfile_printf(of, "  \"operations\": {");
+  cost_merge(&total, &p->scanner);
   for (int c = 0; c < COST_NCLASS; c++)
     outfile_printf(of, "%s\"%s\": %" PRIu64, c ? ", " : "", cost_class_name(c), total.n[c]);
   outfile_printf(of, "}\n}\n");
   return outfile_commit(of, err);
 }
 
+/* ---- Tektronix streams onto the tube ------------------------------------------------ */
+
+#define TEK_WARN_SHOWN 100              /* warnings printed; the rest are only counted */
+
+/* Is the job's input a Tek stream: --input tek, or (no --input) a first byte that is a Tek
+** control code. A file that cannot be read is left to the scene reader to report. */
+static bool job_is_tek(const struct job *o)
+{
+  if (o->sopts.input) return strcmp(o->sopts.input, "tek") == 0;
+  FILE *f = fopen(o->scene, "rb");
+  if (!f) return false;
+  uint8_t b[1];
+  size_t n = fread(b, 1, sizeof b, f);
+  fclose(f);
+  return tek_sniff(b, n);
+}
+
+/* The whole of a file in memory: T74_OK with *buf (malloc'd) and *n, or T74_EIO. */
+static int read_file(const char *path, uint8_t **buf, size_t *n, struct t74_error *err)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return t74_fail(err, T74_EIO, "%s: cannot open: %s", path, strerror(errno));
+  size_t cap = 1 << 16, len = 0;
+  uint8_t *b = malloc(cap);
+  while (b) {
+    len += fread(b + len, 1, cap - len, f);
+    if (len < cap) break;
+    uint8_t *nb = cap <= SIZE_MAX / 2 ? realloc(b, cap * 2) : NULL;
+    if (!nb) { free(b); b = NULL; break; }
+    b = nb;
+    cap *= 2;
+  }
+  int bad = !b || ferror(f);
+  int e = errno;
+  fclose(f);
+  if (bad) {
+    free(b);
+    return t74_fail(err, T74_EIO, "%s: cannot read: %s", path, b ? strerror(e) : "out of memory");
+  }
+  *buf = b;
+  *n = len;
+  return T74_OK;
+}
+
+struct tek_ctx {
+  const char *file;             /* for the warnings */
+  struct tube *tube;            /* erased by ESC FF */
+  size_t shown;                 /* warnings printed */
+};
+
+static void tek_warn(void *ctx, size_t offset, const char *msg)
+{
+  struct tek_ctx *c = ctx;
+  if (c->shown++ < TEK_WARN_SHOWN) fprintf(stderr, "%s: warning: byte %zu: %s\n", c->file, offset, msg);
+}
+
+static void tek_erase(void *ctx)
+{
+  struct tek_ctx *c = ctx;
+  tube_erase(c->tube);
+}
+
+static int write_tek_stats(const struct job *o, const struct job_hooks *h, const struct tube *t,
+                           const struct tek_report *rep, double host, struct t74_error *err)
+{
+  struct outfile *of;
+  if (outfile_open(&of, o->stats, err) != T74_OK) return err->status;
+  outfile_printf(of, "{\n");
+  outfile_printf(of, "  \"scene\": \"%s\",\n  \"input\": \"tek\",\n", o->scene);
+  /* the contract's renderer fields: no scene, nothing rendered */
+  outfile_printf(of, "  \"faces_in\": 0,\n  \"faces_after_split\": 0,\n  \"concave_splits\": 0,\n"
+                 "  \"intersection_splits\": 0,\n  \"priority_pairs_computed\": 0,\n"
+                 "  \"priority_pairs_possible\": 0,\n");
+  outfile_printf(of, "  \"core_words\": %u,\n  \"core_words_used\": 0,\n", o->core_words);
+  outfile_printf(of, "  \"hitac10_seconds\": 0.000000,\n  \"scanner_seconds\": 0.000000,\n"
+                 "  \"disk_seconds\": 0.000000,\n");
+  outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
+  outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
+  outfile_printf(of, "  \"tek_in\": {\"bytes\": %zu, \"warnings\": %zu, \"points\": %zu, "
+                 "\"vectors\": %zu, \"moves\": %zu, \"chars\": %zu, \"erases\": %zu, "
+                 "\"write_through\": %zu, \"dots\": %zu},\n", rep->bytes, rep->warnings,
+                 rep->points, rep->vectors, rep->moves, rep->chars, rep->erases, rep->wt_traces,
+                 rep->dots);
+  if (h && h->stats && h->stats(h->stats_ctx, of) != T74_OK) {
+    outfile_abort(of);
+    return t74_fail(err, T74_EIO, "%s: cannot write statistics", o->stats);
+  }
+  outfile_printf(of, "  \"stages\": [\"tek\", \"tube\"]\n}\n");
+  return outfile_commit(of, err);
+}
+
+/* Show a Tek stream on the tube, then write the outputs a tube can give. */
+static int run_tek(const struct job *o, const struct job_hooks *h, struct job_result *res,
+                   struct t74_error *err)
+{
+  for (int d = 0; d < o->ndump; d++)
+    if (o->dump_kind[d] != DUMP_TUBE && o->dump_kind[d] != DUMP_POINTS)
+      return t74_fail(err, T74_EINPUT, "%s: --dump %s needs a scene; a Tek stream gives only "
+                      "the tube's dots (--dump tube, --dump points)", o->scene,
+                      dump_names[o->dump_kind[d]]);
+  double t0 = now_seconds();
+  uint8_t *buf = NULL;
+  size_t n = 0;
+  int st = read_file(o->scene, &buf, &n, err);
+  if (st != T74_OK) return st;
+  struct tube *t = tube_new();
+  if (!t) { free(buf); return t74_fail(err, T74_EIO, "out of host memory"); }
+  bool extra = h && h->extra.point;
+  struct sink_tee tee;
+  sink_tee_init(&tee);
+  sink_tee_add(&tee, tube_sink(t));
+  if (extra) sink_tee_add(&tee, h->extra);
+  struct sink out = sink_tee_sink(&tee);
+  struct tek_ctx tc = { o->scene, t, 0 };
+  struct tek_report rep;
+  memset(&rep, 0, sizeof rep);
+  rep.warn = tek_warn;
+  rep.erase = tek_erase;
+  rep.ctx = &tc;
+  st = tek_decode(buf, n, &out, &rep);
+  free(buf);
+  if (rep.warnings > TEK_WARN_SHOWN)
+    fprintf(stderr, "%s: warning: %zu more warnings not shown\n", o->scene,
+            rep.warnings - TEK_WARN_SHOWN);
+  if (st != T74_OK) {
+    if (extra) sink_abort(&h->extra);
+    st = t74_fail(err, st, "%s: the stream's dots could not be stored", o->scene);
+    goto done;
+  }
+  if (extra && (st = sink_end(&h->extra, err)) != T74_OK) goto done;
+  double host = now_seconds() - t0;
+  if (res) {
+    res->hitac10_seconds = 0;
+    res->host_seconds = host;
+    res->points_lit = tube_count(t);
+    res->W = res->H = res->cell = 0;
+  }
+  if (o->png && (st = image_write_png(t, o->png, err)) != T74_OK) goto done;
+  for (int d = 0; d < o->ndump; d++) {
+    st = o->dump_kind[d] == DUMP_TUBE ? image_write_pbm(t, o->dump_path[d], err)
+                                      : image_write_points(t, o->dump_path[d], err);
+    if (st != T74_OK) goto done;
+  }
+  if (o->stats) st = write_tek_stats(o, h, t, &rep, host, err);
+done:
+  tube_free(t);
+  return st;
+}
+
+/* ---- the scene pipeline ------------------------------------------------------------- */
+
 int job_run(const struct job *o, const struct job_hooks *h, struct job_result *res,
             struct t74_error *err)
 {
+  if (job_is_tek(o)) return run_tek(o, h, res, err);
+
   struct scene *s = NULL;
   struct render r;
   struct pipeline p;
@@ -309,7 +509,9 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   if (s->background) {
     st = pic_load(s->background, &bg, err);
     if (st != T74_OK) goto done;
-    p.background = bg;
+    /* input time: the photograph through drum, A-D and packing onto the disk */
+    st = scan_photo(bg, p.cell, &o->params, &p.scan, err);
+    if (st != T74_OK) goto done;
   }
 
   bool want_tables = false;
@@ -342,9 +544,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   if (h && h->extra.point && (st = sink_end(&h->extra, err)) != T74_OK) goto done;
   double host = now_seconds() - t0;
   if (res) {
-    struct cost total = p.display;
-    for (int k = 0; k < RS_NSTAGE; k++) cost_merge(&total, &r.cost[k]);
-    res->hitac10_seconds = cost_seconds(&total, &o->params);
+    res->hitac10_seconds = pipeline_seconds(&p);
     res->host_seconds = host;
     res->points_lit = tube_count(t);
     res->W = p.W; res->H = p.H; res->cell = p.cell;
@@ -379,6 +579,7 @@ done:
   free(p.grey);
   if (t) tube_free(t);
   if (bg) pic_free(bg);
+  scan_free(p.scan);
   render_free(&r);
   scene_free(s);
   return st;
