@@ -22,6 +22,9 @@ static void usage(FILE *f)
   fprintf(f,
     "usage: tube74 render SCENE [options]     render a scene (.s74, .obj, .off, or a Tek stream)\n"
     "       tube74 tek SCENE [-o FILE] [options]   the picture as a Tektronix 4010/4014 stream\n"
+    "       tube74 stream SCENE --device hpgl|ebb|helios [--usb VID:PID] [--repeat N]\n"
+    "                     [--resume FILE] [options]   the dots to vector hardware over USB\n"
+    "       tube74 devices [PROFILE]          connected USB devices that match a profile\n"
     "       tube74 params                     the HITAC-10 cost model's constants and sources\n"
     "       tube74 --help\n");
   job_usage(f);
@@ -46,8 +49,11 @@ int main(int argc, char **argv)
     st = T74_OK;
   } else if (!strcmp(argv[1], "tek")) {
     st = cmd_tek(argc, argv, &err);
-  } else if (!strcmp(argv[1], "play") || !strcmp(argv[1], "stream") ||
-             !strcmp(argv[1], "devices")) {
+  } else if (!strcmp(argv[1], "stream")) {
+    st = cmd_stream(argc, argv, &err);
+  } else if (!strcmp(argv[1], "devices")) {
+    st = cmd_devices(argc, argv, &err);
+  } else if (!strcmp(argv[1], "play")) {
     st = t74_fail(&err, T74_EINPUT, "tube74: `%s` is not implemented in this version", argv[1]);
   } else {
     usage(stderr);

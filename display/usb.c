@@ -1,0 +1,526 @@
+/*
+** usb.c — the libusb transfer layer shared by the USB device profiles (see usb.h).
+**
+** This file contains code to find, open and claim a vector device and to move bytes to and
+** from it with libusb-1.0's asynchronous API, applying one fault policy everywhere: a
+** stall is cleared (libusb_clear_halt) and the rest of the transfer sent again; a timeout
+** or a transient error is retried with doubling backoff and then fails; a vanished device
+** (LIBUSB_ERROR_NO_DEVICE / LIBUSB_TRANSFER_NO_DEVICE) fails at once. Bytes the device took
+** before a failure are always reported (*done), because profiles acknowledge exactly those.
+**
+** Hardware source: the USB 2.0 specification for the transfer types and halt feature; the
+** Linux usbfs backend of libusb 1.0.26 for how faults surface (stall = urb status -EPIPE,
+** disconnect = -ENODEV / ESHUTDOWN, timeout = libusb cancels the URB).
+** Asynchronous transfers are waited for with libusb_handle_events_timeout_completed on the
+** link's own context: no threads, no global libusb state.
+*/
+#include "display/usb.h"
+
+#include <errno.h>
+#include <libusb.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* The link's rows (usb.h). The defaults are the usual USB host-side choices: a bulk
+** transfer to a plotter may wait while the plotter moves its pen, so the timeout is long. */
+const struct usb_param usb_link_params[USB_NLINK] = {
+  /* name          default  lo      hi        unit  source */
+  { "timeout_ms",  2000,    10,     600000,   "ms", "inferred: longest pen move plus margin" },
+  { "retries",     3,       0,      100,      "",   "inferred" },
+  { "backoff_ms",  20,      0,      60000,    "ms", "inferred: first pause, doubled each retry" },
+};
+
+struct usb_link {
+  libusb_context *ctx;
+  libusb_device_handle *h;
+  int iface;                    /* claimed interface number */
+  int alt;                      /* its selected alternate setting */
+  int reattach;                 /* a kernel driver was detached: give it back on close */
+  uint16_t vid, pid;
+  int gone;                     /* LIBUSB_ERROR_NO_DEVICE seen */
+  int timeout_ms, retries, backoff_ms;
+  const char *profile;
+  struct usb_counts counts;
+  /* endpoints of the claimed interface: address, or -1 */
+  int ep_bulk_in, ep_bulk_out, ep_int_in, ep_int_out;
+};
+
+double usb_now(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+void usb_sleep_ms(double ms)
+{
+  if (ms <= 0) return;
+  struct timespec ts;
+  ts.tv_sec = (time_t)(ms / 1000);
+  ts.tv_nsec = (long)((ms - (double)ts.tv_sec * 1000) * 1e6);
+  nanosleep(&ts, NULL);
+}
+
+void usb_udev_rule(char *buf, size_t n, uint16_t vid, uint16_t pid)
+{
+  /* TAG+="uaccess" lets systemd-logind give the seat's user access; MODE/GROUP cover
+     systems without logind (add yourself to plugdev). */
+  snprintf(buf, n,
+           "SUBSYSTEM==\"usb\", ATTRS{idVendor}==\"%04x\", ATTRS{idProduct}==\"%04x\", "
+           "MODE=\"0660\", GROUP=\"plugdev\", TAG+=\"uaccess\"", vid, pid);
+}
+
+/* ---- finding the device ----------------------------------------------------------- */
+
+/* The interface of dev that m asks for (its number), or -1. */
+static int match_interface(libusb_device *dev, const struct usb_match *m)
+{
+  struct libusb_config_descriptor *cfg;
+  if (libusb_get_active_config_descriptor(dev, &cfg) != 0 &&
+      libusb_get_config_descriptor(dev, 0, &cfg) != 0)
+    return -1;
+  int found = -1;
+  for (int i = 0; i < cfg->bNumInterfaces && found < 0; i++) {
+    const struct libusb_interface *itf = &cfg->interface[i];
+    for (int a = 0; a < itf->num_altsetting && found < 0; a++) {
+      const struct libusb_interface_descriptor *d = &itf->altsetting[a];
+      if (m->iface_class < 0 ? d->bInterfaceNumber == 0 : d->bInterfaceClass == m->iface_class)
+        found = d->bInterfaceNumber;
+    }
+  }
+  libusb_free_config_descriptor(cfg);
+  return found;
+}
+
+static int device_matches(libusb_device *dev, const struct usb_match *m, int *iface)
+{
+  struct libusb_device_descriptor dd;
+  if (libusb_get_device_descriptor(dev, &dd) != 0) return 0;
+  if ((m->vid || m->pid) && (dd.idVendor != m->vid || dd.idProduct != m->pid)) return 0;
+  if (!m->vid && !m->pid && m->iface_class < 0) return 0;   /* nothing to match by */
+  *iface = match_interface(dev, m);
+  return *iface >= 0;
+}
+
+/* Record the endpoints of the claimed interface's selected alt setting. */
+static void find_endpoints(struct usb_link *l)
+{
+  l->ep_bulk_in = l->ep_bulk_out = l->ep_int_in = l->ep_int_out = -1;
+  struct libusb_config_descriptor *cfg;
+  if (libusb_get_active_config_descriptor(libusb_get_device(l->h), &cfg) != 0) return;
+  for (int i = 0; i < cfg->bNumInterfaces; i++) {
+    const struct libusb_interface *itf = &cfg->interface[i];
+    for (int a = 0; a < itf->num_altsetting; a++) {
+      const struct libusb_interface_descriptor *d = &itf->altsetting[a];
+      if (d->bInterfaceNumber != l->iface || d->bAlternateSetting != (l->alt < 0 ? 0 : l->alt))
+        continue;
+      for (int e = 0; e < d->bNumEndpoints; e++) {
+        const struct libusb_endpoint_descriptor *ep = &d->endpoint[e];
+        int in = (ep->bEndpointAddress & LIBUSB_ENDPOINT_IN) != 0;
+        int type = ep->bmAttributes & 3;
+        int *slot = type == LIBUSB_TRANSFER_TYPE_BULK ? (in ? &l->ep_bulk_in : &l->ep_bulk_out)
+                  : type == LIBUSB_TRANSFER_TYPE_INTERRUPT ? (in ? &l->ep_int_in : &l->ep_int_out)
+                  : NULL;
+        if (slot && *slot < 0) *slot = ep->bEndpointAddress;
+      }
+    }
+  }
+  libusb_free_config_descriptor(cfg);
+}
+
+int usb_link_open(struct usb_link **out, const struct usb_match *m, const char *profile,
+                  const struct usb_settings *s, struct t74_error *err)
+{
+  *out = NULL;
+  struct usb_link *l = calloc(1, sizeof *l);
+  if (!l) return t74_fail(err, T74_EIO, "%s: out of memory", profile);
+  l->profile = profile;
+  l->timeout_ms = (int)s->link[USB_P_TIMEOUT];
+  l->retries = (int)s->link[USB_P_RETRIES];
+  l->backoff_ms = (int)s->link[USB_P_BACKOFF];
+  int r = libusb_init(&l->ctx);
+  if (r != 0) {
+    free(l);
+    return t74_fail(err, T74_EIO, "%s: cannot start libusb: %s", profile, libusb_error_name(r));
+  }
+  libusb_device **list;
+  ssize_t n = libusb_get_device_list(l->ctx, &list);
+  if (n < 0) {
+    libusb_exit(l->ctx);
+    free(l);
+    return t74_fail(err, T74_EIO, "%s: cannot list USB devices: %s", profile,
+                    libusb_error_name((int)n));
+  }
+  libusb_device *dev = NULL;
+  for (ssize_t i = 0; i < n && !dev; i++)
+    if (device_matches(list[i], m, &l->iface)) dev = list[i];
+  if (!dev) {
+    libusb_free_device_list(list, 1);
+    libusb_exit(l->ctx);
+    free(l);
+    if (m->vid || m->pid)
+      return t74_fail(err, T74_EIO, "%s: no USB device %04x:%04x is connected "
+                      "(`tube74 devices` lists what is)", profile, m->vid, m->pid);
+    return t74_fail(err, T74_EIO, "%s: no USB device with a class-%d interface is connected "
+                    "(`tube74 devices` lists what is)", profile, m->iface_class);
+  }
+  struct libusb_device_descriptor dd;
+  libusb_get_device_descriptor(dev, &dd);
+  l->vid = dd.idVendor;
+  l->pid = dd.idProduct;
+  r = libusb_open(dev, &l->h);
+  libusb_free_device_list(list, 1);
+  if (r != 0) {
+    char rule[256];
+    usb_udev_rule(rule, sizeof rule, l->vid, l->pid);
+    libusb_exit(l->ctx);
+    free(l);
+    if (r == LIBUSB_ERROR_ACCESS)
+      return t74_fail(err, T74_EIO,
+                      "%s: permission denied opening USB device %04x:%04x. Give your user "
+                      "access with a udev rule: put this line in "
+                      "/etc/udev/rules.d/70-tube74.rules\n  %s\nthen run `sudo udevadm control "
+                      "--reload && sudo udevadm trigger` and plug the device in again",
+                      profile, dd.idVendor, dd.idProduct, rule);
+    return t74_fail(err, T74_EIO, "%s: cannot open USB device %04x:%04x: %s", profile,
+                    dd.idVendor, dd.idProduct, libusb_error_name(r));
+  }
+  /* A kernel driver (usblp for printers, cdc_acm for the EBB) may own the interface. */
+  r = libusb_kernel_driver_active(l->h, l->iface);
+  if (r == 1) {
+    r = libusb_detach_kernel_driver(l->h, l->iface);
+    if (r != 0 && r != LIBUSB_ERROR_NOT_FOUND) {
+      int st = t74_fail(err, T74_EIO, "%s: cannot detach the kernel driver from interface %d "
+                        "of %04x:%04x: %s", profile, l->iface, l->vid, l->pid, libusb_error_name(r));
+      usb_link_close(l);
+      return st;
+    }
+    l->reattach = r == 0;
+  }
+  r = libusb_claim_interface(l->h, l->iface);
+  if (r != 0) {
+    int st = t74_fail(err, T74_EIO, "%s: cannot claim interface %d of %04x:%04x: %s%s", profile,
+                      l->iface, l->vid, l->pid, libusb_error_name(r),
+                      r == LIBUSB_ERROR_BUSY ? " (another program is using it)" : "");
+    usb_link_close(l);
+    return st;
+  }
+  l->alt = m->alt;
+  if (m->alt >= 0 && (r = libusb_set_interface_alt_setting(l->h, l->iface, m->alt)) != 0) {
+    int st = t74_fail(err, T74_EIO, "%s: cannot select alternate setting %d: %s", profile,
+                      m->alt, libusb_error_name(r));
+    usb_link_close(l);
+    return st;
+  }
+  find_endpoints(l);
+  *out = l;
+  return T74_OK;
+}
+
+void usb_link_close(struct usb_link *l)
+{
+  if (!l) return;
+  if (l->h) {
+    if (!l->gone) {
+      libusb_release_interface(l->h, l->iface);
+      if (l->reattach) libusb_attach_kernel_driver(l->h, l->iface);
+    }
+    libusb_close(l->h);
+  }
+  libusb_exit(l->ctx);
+  free(l);
+}
+
+int usb_link_endpoint(const struct usb_link *l, enum usb_type type, int in)
+{
+  if (type == USB_BULK) return in ? l->ep_bulk_in : l->ep_bulk_out;
+  if (type == USB_INTERRUPT) return in ? l->ep_int_in : l->ep_int_out;
+  return 0;
+}
+
+int usb_link_interface(const struct usb_link *l) { return l->iface; }
+int usb_link_gone(const struct usb_link *l) { return l->gone; }
+const struct usb_counts *usb_link_counts(const struct usb_link *l) { return &l->counts; }
+
+void usb_link_ids(const struct usb_link *l, uint16_t *vid, uint16_t *pid)
+{
+  *vid = l->vid;
+  *pid = l->pid;
+}
+
+/* ---- transfers -------------------------------------------------------------------- */
+
+static void LIBUSB_CALL on_done(struct libusb_transfer *t)
+{
+  struct usb_xfer *x = t->user_data;
+  x->completed = 1;
+}
+
+static const char *type_name(enum usb_type t)
+{
+  return t == USB_CONTROL ? "control" : t == USB_BULK ? "bulk" : "interrupt";
+}
+
+/* (Re)submit the part of x not yet moved. */
+static int submit_rest(struct usb_link *l, struct usb_xfer *x, struct t74_error *err)
+{
+  struct libusb_transfer *t = x->t;
+  x->completed = 0;
+  if (x->type == USB_CONTROL) {
+    /* a control transfer is never split: setup packet + data, all again */
+    libusb_fill_control_transfer(t, l->h, x->buf, on_done, x, (unsigned)l->timeout_ms);
+  } else {
+    unsigned timeout = (unsigned)l->timeout_ms;
+    if (x->type == USB_BULK)
+      libusb_fill_bulk_transfer(t, l->h, x->ep, x->buf + x->done, x->len - x->done, on_done, x, timeout);
+    else
+      libusb_fill_interrupt_transfer(t, l->h, x->ep, x->buf + x->done, x->len - x->done, on_done, x, timeout);
+  }
+  int r = libusb_submit_transfer(t);
+  if (r == 0) { x->busy = 1; return T74_OK; }
+  x->busy = 0;
+  if (r == LIBUSB_ERROR_NO_DEVICE) l->gone = 1;
+  return t74_fail(err, T74_EIO, "%s: %s", l->profile,
+                  r == LIBUSB_ERROR_NO_DEVICE
+                    ? "the USB device vanished (unplugged or powered off)"
+                    : libusb_error_name(r));
+}
+
+int usb_submit(struct usb_link *l, struct usb_xfer *x, enum usb_type type, unsigned char ep,
+               void *buf, int len, struct t74_error *err)
+{
+  if (!x->t && !(x->t = libusb_alloc_transfer(0)))
+    return t74_fail(err, T74_EIO, "%s: out of memory", l->profile);
+  x->type = type;
+  x->ep = ep;
+  x->buf = buf;
+  x->len = len;
+  x->done = 0;
+  x->tries = 0;
+  x->stalls = 0;
+  if (l->gone) return t74_fail(err, T74_EIO, "%s: the USB device vanished", l->profile);
+  return submit_rest(l, x, err);
+}
+
+/* Handle libusb events until x completes. */
+static void await(struct usb_link *l, struct usb_xfer *x)
+{
+  while (!x->completed) {
+    struct timeval tv = { 0, 100000 };
+    int c = 0;
+    /* an interrupted poll (SIGINT) returns LIBUSB_ERROR_INTERRUPTED: keep waiting, the
+       transfer ends by itself (completion or timeout) and the caller checks the flag */
+    libusb_handle_events_timeout_completed(l->ctx, &tv, &c);
+  }
+  x->busy = 0;
+}
+
+int usb_wait(struct usb_link *l, struct usb_xfer *x, int *done, struct t74_error *err)
+{
+  if (done) *done = x->done;
+  if (!x->busy) return T74_OK;
+  for (;;) {
+    await(l, x);
+    struct libusb_transfer *t = x->t;
+    int moved = t->actual_length;
+    if (x->type != USB_CONTROL) x->done += moved;
+    else x->done = moved;                       /* control: data bytes of the last try */
+    if (x->ep & LIBUSB_ENDPOINT_IN || x->type == USB_CONTROL) l->counts.bytes_in += moved;
+    else l->counts.bytes_out += moved;
+    if (done) *done = x->done;
+    int in = (x->ep & LIBUSB_ENDPOINT_IN) != 0;
+    switch (t->status) {
+    case LIBUSB_TRANSFER_COMPLETED:
+      l->counts.transfers++;
+      /* an OUT transfer is complete when everything went; an IN transfer may be short */
+      if (x->type == USB_CONTROL || in || x->done >= x->len) return T74_OK;
+      break;                                    /* (never seen: libusb completes fully) */
+    case LIBUSB_TRANSFER_NO_DEVICE:
+      l->gone = 1;
+      return t74_fail(err, T74_EIO, "%s: the USB device %04x:%04x vanished during a %s "
+                      "transfer (unplugged or powered off)", l->profile, l->vid, l->pid,
+                      type_name(x->type));
+    case LIBUSB_TRANSFER_STALL: {
+      l->counts.stalls++;
+      if (++x->stalls > l->retries + 1)
+        return t74_fail(err, T74_EIO, "%s: endpoint 0x%02x stalled %d times in a row", l->profile,
+                        x->ep, x->stalls);
+      if (x->type != USB_CONTROL) {
+        int r = libusb_clear_halt(l->h, x->ep);
+        if (r == LIBUSB_ERROR_NO_DEVICE) {
+          l->gone = 1;
+          return t74_fail(err, T74_EIO, "%s: the USB device vanished while clearing a stall",
+                          l->profile);
+        }
+        if (r != 0)
+          return t74_fail(err, T74_EIO, "%s: cannot clear the stall on endpoint 0x%02x: %s",
+                          l->profile, x->ep, libusb_error_name(r));
+      } else {
+        /* a stalled control request is the device refusing it: no retry helps */
+        return t74_fail(err, T74_EIO, "%s: the device refused control request 0x%02x",
+                        l->profile, x->buf[1]);
+      }
+      if (in && x->done > 0) return T74_OK;     /* data came before the stall: take it */
+      break;
+    }
+    case LIBUSB_TRANSFER_TIMED_OUT:
+    default:
+      if (t->status == LIBUSB_TRANSFER_TIMED_OUT) l->counts.timeouts++;
+      else l->counts.errors++;
+      if (in && x->done > 0 && x->type != USB_CONTROL) return T74_OK;  /* partial reply */
+      if (++x->tries > l->retries)
+        return t74_fail(err, T74_EIO, "%s: %s transfer on endpoint 0x%02x %s %d times "
+                        "(%d ms each, backoff from %d ms); giving up", l->profile,
+                        type_name(x->type), x->ep,
+                        t->status == LIBUSB_TRANSFER_TIMED_OUT ? "timed out" : "failed",
+                        x->tries, l->timeout_ms, l->backoff_ms);
+      usb_sleep_ms((double)l->backoff_ms * (double)(1 << (x->tries - 1 < 16 ? x->tries - 1 : 16)));
+      break;
+    }
+    if (submit_rest(l, x, err) != T74_OK) return err->status;
+  }
+}
+
+void usb_xfer_free(struct usb_xfer *x)
+{
+  if (x->t && !x->busy) libusb_free_transfer(x->t);
+  x->t = NULL;
+}
+
+int usb_transfer(struct usb_link *l, enum usb_type type, unsigned char ep, void *buf,
+                 int len, int *done, struct t74_error *err)
+{
+  struct usb_xfer x;
+  memset(&x, 0, sizeof x);
+  int st = usb_submit(l, &x, type, ep, buf, len, err);
+  if (st == T74_OK) st = usb_wait(l, &x, done, err);
+  else if (done) *done = 0;
+  if (x.t) libusb_free_transfer(x.t);
+  return st;
+}
+
+int usb_control_in(struct usb_link *l, uint8_t bmRequestType, uint8_t bRequest,
+                   uint16_t wValue, uint16_t wIndex, void *buf, int len, int *got,
+                   struct t74_error *err)
+{
+  unsigned char tb[LIBUSB_CONTROL_SETUP_SIZE + 256];
+  if (len > 256) len = 256;
+  libusb_fill_control_setup(tb, bmRequestType, bRequest, wValue, wIndex, (uint16_t)len);
+  int done = 0;
+  int st = usb_transfer(l, USB_CONTROL, 0, tb, LIBUSB_CONTROL_SETUP_SIZE + len, &done, err);
+  if (st == T74_OK) memcpy(buf, tb + LIBUSB_CONTROL_SETUP_SIZE, (size_t)done);
+  if (got) *got = st == T74_OK ? done : 0;
+  return st;
+}
+
+/* ---- profiles and their settings ---------------------------------------------------- */
+
+const struct usb_profile *const usb_profiles[] = {
+  &usb_profile_hpgl, &usb_profile_ebb, &usb_profile_helios, NULL
+};
+
+const struct usb_profile *usb_profile_find(const char *name)
+{
+  for (int k = 0; usb_profiles[k]; k++)
+    if (!strcmp(usb_profiles[k]->name, name)) return usb_profiles[k];
+  return NULL;
+}
+
+void usb_settings_default(struct usb_settings *s, const struct usb_profile *p)
+{
+  memset(s, 0, sizeof *s);
+  for (int k = 0; k < USB_NLINK; k++) s->link[k] = usb_link_params[k].def;
+  for (int k = 0; k < p->nparams && k < USB_MAX_PARAMS; k++) s->p[k] = p->params[k].def;
+}
+
+int usb_settings_set(struct usb_settings *s, const struct usb_profile *p, const char *kv,
+                     struct t74_error *err)
+{
+  const char *eq = strchr(kv, '=');
+  if (!eq || eq == kv || !eq[1])
+    return t74_fail(err, T74_EINPUT, "tube74: --set takes NAME=VALUE: %s", kv);
+  size_t n = (size_t)(eq - kv);
+  char *end;
+  errno = 0;
+  double v = strtod(eq + 1, &end);
+  const struct usb_param *row = NULL;
+  double *slot = NULL;
+  for (int k = 0; k < USB_NLINK; k++)
+    if (strlen(usb_link_params[k].name) == n && !strncmp(kv, usb_link_params[k].name, n)) {
+      row = &usb_link_params[k];
+      slot = &s->link[k];
+    }
+  for (int k = 0; k < p->nparams; k++)
+    if (strlen(p->params[k].name) == n && !strncmp(kv, p->params[k].name, n)) {
+      row = &p->params[k];
+      slot = &s->p[k];
+    }
+  if (!row)
+    return t74_fail(err, T74_EINPUT, "tube74: the %s profile has no setting `%.*s` "
+                    "(`tube74 stream --device %s --settings` lists them)", p->name, (int)n, kv,
+                    p->name);
+  if (errno || end == eq + 1 || *end || v < row->lo || v > row->hi)
+    return t74_fail(err, T74_EINPUT, "tube74: %s takes a number from %g to %g: %s", row->name,
+                    row->lo, row->hi, eq + 1);
+  *slot = v;
+  return T74_OK;
+}
+
+double usb_setting(const struct usb_settings *s, const struct usb_profile *p, const char *name)
+{
+  for (int k = 0; k < p->nparams; k++)
+    if (!strcmp(p->params[k].name, name)) return s->p[k];
+  for (int k = 0; k < USB_NLINK; k++)
+    if (!strcmp(usb_link_params[k].name, name)) return s->link[k];
+  return 0;
+}
+
+static void list_rows(const struct usb_param *rows, int n, const double *v, FILE *f)
+{
+  for (int k = 0; k < n; k++)
+    fprintf(f, "  %-18s %-10g %-9s %s\n", rows[k].name, v[k], rows[k].unit, rows[k].source);
+}
+
+void usb_settings_list(const struct usb_settings *s, const struct usb_profile *p, FILE *f)
+{
+  fprintf(f, "%s: %s\n  %-18s %-10s %-9s %s\n", p->name, p->what, "setting", "value", "unit",
+          "source");
+  list_rows(p->params, p->nparams, s->p, f);
+  list_rows(usb_link_params, USB_NLINK, s->link, f);
+}
+
+int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *err)
+{
+  libusb_context *ctx;
+  int r = libusb_init(&ctx);
+  if (r != 0) {
+    t74_fail(err, T74_EIO, "devices: cannot start libusb: %s", libusb_error_name(r));
+    return -1;
+  }
+  libusb_device **list;
+  ssize_t n = libusb_get_device_list(ctx, &list);
+  if (n < 0) {
+    libusb_exit(ctx);
+    t74_fail(err, T74_EIO, "devices: cannot list USB devices: %s", libusb_error_name((int)n));
+    return -1;
+  }
+  int shown = 0;
+  for (ssize_t i = 0; i < n; i++) {
+    for (int k = 0; usb_profiles[k]; k++) {
+      const struct usb_profile *p = usb_profiles[k];
+      int iface;
+      if (only && p != only) continue;
+      if (!device_matches(list[i], &p->match, &iface)) continue;
+      struct libusb_device_descriptor dd;
+      libusb_get_device_descriptor(list[i], &dd);
+      fprintf(f, "%-7s %04x:%04x  bus %03u device %03u  interface %d  %s\n", p->name,
+              dd.idVendor, dd.idProduct, libusb_get_bus_number(list[i]),
+              libusb_get_device_address(list[i]), iface, p->what);
+      shown++;
+    }
+  }
+  libusb_free_device_list(list, 1);
+  libusb_exit(ctx);
+  return shown;
+}
