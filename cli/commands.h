@@ -15,9 +15,13 @@
 int cmd_tek(int argc, char **argv, struct t74_error *err);
 
 /* `tube74 play SCENE`: watch the picture build up as on the 1974 tube (cli/cmd_play.c). */
+int cmd_play(int argc, char **argv, struct t74_error *err);
+
 /* `tube74 stream SCENE --device PROFILE [--usb VID:PID] [--repeat N] [--resume FILE] ...`:
 ** the dots to vector hardware over USB while the scene renders (cli/cmd_stream.c). */
 int cmd_stream(int argc, char **argv, struct t74_error *err);
+
 /* `tube74 devices [PROFILE]`: connected USB devices that match a profile (cli/cmd_stream.c). */
 int cmd_devices(int argc, char **argv, struct t74_error *err);
+
 #endif

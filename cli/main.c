@@ -16,6 +16,7 @@
 #include "emu/status.h"
 #include "cli/pipeline.h"
 #include "cli/commands.h"
+#include "cli/timing.h"
 
 static void usage(FILE *f)
 {
@@ -25,9 +26,11 @@ static void usage(FILE *f)
     "       tube74 stream SCENE --device hpgl|ebb|helios [--usb VID:PID] [--repeat N]\n"
     "                     [--resume FILE] [options]   the dots to vector hardware over USB\n"
     "       tube74 devices [PROFILE]          connected USB devices that match a profile\n"
+    "       tube74 play SCENE [--speed X] [--movie FILE] [options]   watch the picture build up\n"
     "       tube74 params                     the HITAC-10 cost model's constants and sources\n"
     "       tube74 --help\n");
   job_usage(f);
+  timing_usage(f);
 }
 
 int main(int argc, char **argv)
@@ -40,8 +43,14 @@ int main(int argc, char **argv)
   int st;
   if (!strcmp(argv[1], "render")) {
     struct job j;
-    st = job_parse(argc, argv, 2, &j, NULL, NULL, &err);
-    if (st == T74_OK) st = job_run(&j, NULL, NULL, &err);
+    struct timing tm;                       /* tube_seconds, total_1974_seconds, --look */
+    struct job_hooks h;
+    timing_init(&tm);
+    st = job_parse(argc, argv, 2, &j, timing_opt, &tm, &err);
+    if (st == T74_OK) st = timing_prepare(&tm, &j, &err);
+    timing_hooks(&tm, &h);
+    if (st == T74_OK) st = job_run(&j, &h, NULL, &err);
+    timing_free(&tm);
   } else if (!strcmp(argv[1], "params")) {
     struct cost_params prm;
     cost_params_default(&prm);
@@ -54,7 +63,7 @@ int main(int argc, char **argv)
   } else if (!strcmp(argv[1], "devices")) {
     st = cmd_devices(argc, argv, &err);
   } else if (!strcmp(argv[1], "play")) {
-    st = t74_fail(&err, T74_EINPUT, "tube74: `%s` is not implemented in this version", argv[1]);
+    st = cmd_play(argc, argv, &err);
   } else {
     usage(stderr);
     st = t74_fail(&err, T74_EINPUT, "tube74: unknown command `%s`", argv[1]);

@@ -188,11 +188,10 @@ static int check_effects(const struct effects *e, const char *file, int line, st
   if (e->aa != EFFECTS_AA_NONE) missing = "aa (anti-aliasing, papers 000/001)";
   else if (e->edges || (e->given & (EFFECTS_OUTLINE | EFFECTS_INNER))) missing = "edges (paper 002)";
   else if (e->smooth != EFFECTS_SMOOTH_NONE || (e->given & EFFECTS_CONTOUR)) missing = "smooth (paper 004)";
-  else if (e->tube != EFFECTS_TUBE_STORED) missing = "tube= looks other than stored";
   if (!missing) return T74_OK;
   return t74_fail_at(err, T74_EINPUT, file, line,
                      "effect %s is not implemented in this version of tube74 "
-                     "(implemented: halftone=, pattern=, tube=stored)", missing);
+                     "(implemented: halftone=, pattern=, tube=)", missing);
 }
 
 /* The 1974 display-run time so far: every stage's counted work, the background's
@@ -541,6 +540,8 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
   st = render_scan(&r, &g, on_point, &p, err);
   if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
+  /* the clock's last tick: the last point's own display work is done too */
+  if (h && h->clock) h->clock(h->clock_ctx, pipeline_seconds(&p));
   if (h && h->extra.point && (st = sink_end(&h->extra, err)) != T74_OK) goto done;
   double host = now_seconds() - t0;
   if (res) {

@@ -1,0 +1,434 @@
+/*
+** look.c — the storage tube's look over time (see look.h).
+** Sources: paper 003 appendix (21 x 16.3 cm face, 400 x 300 points, stores 15 min or
+** more, erases in under 500 ms); hardware-facts.md "The storage tube" (bright writing
+** flash, stored traces brighter than the flood glow, green erase flash, write-through,
+** charge spreading; P1 phosphor); rricharz/Tek4010's look constants (stored 0.7,
+** write-through 0.5, bright spot 1.0 fading over about 1 s, glow 0.08).
+**
+** This file contains code to turn the events of a look (dots with their write times,
+** write-through dots, erases) into a picture of the face at a given time.
+**
+** THE SPOT. A stored dot is a 2-D Gaussian of light, peak `stored`, sigma spot_mm, centred
+** on the dot. Its sigma is sized from the dot pitch (0.525 mm x 0.543 mm): with
+** 2 pi sigma^2 = pitch_x * pitch_y the light of one dot equals a pitch cell at the peak
+** level, so an area with every dot lit shines evenly at `stored` while a lone dot is a
+** round spot a little narrower than the pitch (FWHM 0.50 mm). Each pixel gets the MEAN of
+** the spot over its area (exact, with erf, separable in x and y), so at any scale
+**     sum over pixels of (value * pixel area) = peak * 2 pi sigma^2      (energy)
+** up to the kernel's cut at 5 sigma (a part in 10^6).
+**
+** TIME. At time t, with a = t - t_write the age of a dot:
+**   stored dot      amp = stored; with LOOK_FLASH plus (bright - stored)(1 - a/flash_s)
+**                   while a < flash_s; with LOOK_FADE the charge spreads and dims:
+**                   sigma^2 = spot^2 + spread^2 a/fade_s, amp *= spot^2/sigma^2 (the same
+**                   light, spread wider) * exp(-a/fade_s).
+**   write-through   amp = writethru (1 - a/writethru_s) while a < writethru_s; never stored.
+**   erase at te     the whole face adds erase_level (1 - (t-te)/erase_s) while
+**                   te <= t < te + erase_s; from te + erase_s on, every dot stored before
+**                   then is gone.
+**   glow            added everywhere, always.
+** Intensities add; look_colour maps them to P1 green, whitening above 1 (bloom).
+*/
+#include "display/look.h"
+
+#include <errno.h>
+#include <math.h>
+#include <png.h>
+#include <setjmp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "display/outfile.h"
+#include "display/sink.h"
+
+#define LOOK_PI    3.14159265358979323846   /* M_PI is not in strict C11 */
+#define LOOK_SQRT2 1.41421356237309504880
+
+/* One row per constant: name, unit, default, range, source. */
+const struct look_param_row look_param_rows[LP_NPARAM] = {
+  [LP_STORED]      = { "stored", "1", 0.7, 0, 4, "rricharz/Tek4010: stored intensity 0.7" },
+  [LP_WRITETHRU]   = { "writethru", "1", 0.5, 0, 4, "rricharz/Tek4010: write-through intensity 0.5" },
+  [LP_WRITETHRU_S] = { "writethru_s", "s", 0.1, 1e-6, 1e6,
+                       "tuned by eye: not stored, so it fades at once (P1 persistence is tens "
+                       "of ms; 0.1 s keeps a trace visible for a few frames)" },
+  [LP_BRIGHT]      = { "bright", "1", 1.0, 0, 4, "rricharz/Tek4010: bright writing spot 1.0" },
+  [LP_FLASH_S]     = { "flash_s", "s", 1.0, 1e-6, 1e6,
+                       "rricharz/Tek4010: the bright spot fades over about 1 s (linear here)" },
+  [LP_GLOW]        = { "glow", "1", 0.08, 0, 1, "rricharz/Tek4010: background (flood-gun) glow 0.08" },
+  [LP_ERASE_S]     = { "erase_s", "s", 0.45, 1e-6, 60,
+                       "paper 003 appendix: erases in under 500 ms (the Tektronix 613 takes "
+                       "about 0.9 s)" },
+  [LP_ERASE_LEVEL] = { "erase_level", "1", 1.0, 0, 4,
+                       "tuned by eye: the erase lights the whole face about as bright as the "
+                       "writing spot, then it dies away" },
+  [LP_PITCH_X_MM]  = { "pitch_x_mm", "mm", 0.525, 0.01, 10, "paper 003 appendix: 210 mm / 400 points" },
+  [LP_PITCH_Y_MM]  = { "pitch_y_mm", "mm", 0.5433, 0.01, 10, "paper 003 appendix: 163 mm / 300 points" },
+  [LP_SPOT_MM]     = { "spot_mm", "mm", 0.2130, 0.01, 10,
+                       "from the dot pitch: 2 pi sigma^2 = 0.525 x 0.543 mm^2, so a fully lit "
+                       "area is as bright as one dot's peak (FWHM 0.50 mm)" },
+  [LP_FADE_S]      = { "fade_s", "s", 900, 1e-3, 1e6,
+                       "paper 003 appendix: stores about 15 minutes or more (used only when "
+                       "fading is asked: tube=fade:SECONDS or --look fade)" },
+  [LP_FADE_SPREAD_MM] = { "fade_spread_mm", "mm", 0.53, 0, 10,
+                       "tuned by eye: in one fade time the charge spreads about one dot pitch" },
+  [LP_P1_R]        = { "p1_r", "0..1", 80 / 255.0, 0, 1,
+                       "tuned by eye: P1 green (peak 525 nm), as display/image.c's dot colour" },
+  [LP_P1_G]        = { "p1_g", "0..1", 1.0, 0, 1, "tuned by eye: P1 green" },
+  [LP_P1_B]        = { "p1_b", "0..1", 120 / 255.0, 0, 1, "tuned by eye: P1 green" },
+  [LP_BLOOM]       = { "bloom", "1", 0.6, 0, 4,
+                       "tuned by eye: light above intensity 1 whitens the spot" },
+};
+
+void look_params_default(struct look_params *p)
+{
+  for (int k = 0; k < LP_NPARAM; k++) p->v[k] = look_param_rows[k].def;
+}
+
+int look_params_set(struct look_params *p, const char *s, struct t74_error *err)
+{
+  const char *eq = strchr(s, '=');
+  if (!eq) return t74_fail(err, T74_EINPUT, "look: expected NAME=VALUE, got `%s`", s);
+  size_t n = (size_t)(eq - s);
+  for (int k = 0; k < LP_NPARAM; k++) {
+    const struct look_param_row *r = &look_param_rows[k];
+    if (strlen(r->name) != n || strncmp(r->name, s, n)) continue;
+    char *end;
+    errno = 0;
+    double v = strtod(eq + 1, &end);
+    if (errno || end == eq + 1 || *end || !isfinite(v) || v < r->min || v > r->max)
+      return t74_fail(err, T74_EINPUT, "look: %s takes a number in %g .. %g %s, got `%s`",
+                      r->name, r->min, r->max, r->unit, eq + 1);
+    p->v[k] = v;
+    return T74_OK;
+  }
+  return t74_fail(err, T74_EINPUT, "look: unknown constant `%.*s`", (int)n, s);
+}
+
+int look_params_list(const struct look_params *p, FILE *f)
+{
+  for (int k = 0; k < LP_NPARAM; k++)
+    fprintf(f, "%-16s %10g %-5s %s\n", look_param_rows[k].name, p->v[k],
+            look_param_rows[k].unit, look_param_rows[k].source);
+  return ferror(f) ? T74_EIO : T74_OK;
+}
+
+/* ---- events ------------------------------------------------------------------------ */
+
+enum { EV_STORED, EV_WRITETHRU };
+
+struct look_ev {
+  double t;             /* 1974 seconds */
+  int16_t x, y;         /* tube dot */
+  uint8_t kind;         /* EV_STORED or EV_WRITETHRU */
+};
+
+struct look {
+  struct look_params p;
+  unsigned flags;       /* LOOK_FLASH | LOOK_FADE */
+  struct look_ev *ev;   /* dots, in the order given */
+  size_t nev, cap;
+  size_t nstored;       /* EV_STORED events among them */
+  size_t *stored_ix;    /* index into ev[] of each stored event, in order (look_event) */
+  size_t scap;
+  double *erase;        /* erase start times, in the order given */
+  size_t nerase, ecap;
+};
+
+struct look *look_new(const struct look_params *p, unsigned flags)
+{
+  struct look *l = calloc(1, sizeof *l);
+  if (!l) return NULL;
+  l->p = *p;
+  l->flags = flags;
+  return l;
+}
+
+void look_free(struct look *l)
+{
+  if (!l) return;
+  free(l->ev);
+  free(l->stored_ix);
+  free(l->erase);
+  free(l);
+}
+
+void look_clear(struct look *l)
+{
+  l->nev = l->nstored = l->nerase = 0;
+}
+
+/* Grow *buf (elements of size sz) to hold one more than n; 0 on success. */
+static int grow(void **buf, size_t *cap, size_t n, size_t sz)
+{
+  if (n < *cap) return 0;
+  size_t nc = *cap ? *cap * 2 : 4096;
+  void *nb = realloc(*buf, nc * sz);
+  if (!nb) return -1;
+  *buf = nb;
+  *cap = nc;
+  return 0;
+}
+
+static int add_ev(struct look *l, int x, int y, double t, int kind)
+{
+  if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H) return T74_EINPUT;
+  if (grow((void **)&l->ev, &l->cap, l->nev, sizeof *l->ev)) return T74_EIO;
+  if (kind == EV_STORED) {
+    if (grow((void **)&l->stored_ix, &l->scap, l->nstored, sizeof *l->stored_ix)) return T74_EIO;
+    l->stored_ix[l->nstored++] = l->nev;
+  }
+  struct look_ev *e = &l->ev[l->nev++];
+  e->t = t;
+  e->x = (int16_t)x;
+  e->y = (int16_t)y;
+  e->kind = (uint8_t)kind;
+  return T74_OK;
+}
+
+int look_dot(struct look *l, int x, int y, double t) { return add_ev(l, x, y, t, EV_STORED); }
+
+int look_writethrough(struct look *l, int x, int y, double t)
+{
+  return add_ev(l, x, y, t, EV_WRITETHRU);
+}
+
+int look_erase(struct look *l, double t)
+{
+  if (grow((void **)&l->erase, &l->ecap, l->nerase, sizeof *l->erase)) return T74_EIO;
+  l->erase[l->nerase++] = t;
+  return T74_OK;
+}
+
+size_t look_count(const struct look *l) { return l->nstored; }
+
+int look_event(const struct look *l, size_t k, int *x, int *y, double *t)
+{
+  if (k >= l->nstored) return T74_EINPUT;
+  const struct look_ev *e = &l->ev[l->stored_ix[k]];
+  *x = e->x;
+  *y = e->y;
+  *t = e->t;
+  return T74_OK;
+}
+
+double look_settled(const struct look *l)
+{
+  double end = 0;
+  for (size_t k = 0; k < l->nev; k++) {
+    const struct look_ev *e = &l->ev[k];
+    double d = e->kind == EV_WRITETHRU ? l->p.v[LP_WRITETHRU_S]
+             : (l->flags & LOOK_FLASH) ? l->p.v[LP_FLASH_S] : 0;
+    if (e->t + d > end) end = e->t + d;
+  }
+  for (size_t k = 0; k < l->nerase; k++)
+    if (l->erase[k] + l->p.v[LP_ERASE_S] > end) end = l->erase[k] + l->p.v[LP_ERASE_S];
+  return end;
+}
+
+const struct look_params *look_get_params(const struct look *l) { return &l->p; }
+unsigned look_flags(const struct look *l) { return l->flags; }
+
+/* ---- the spot kernel --------------------------------------------------------------- */
+
+/* One axis of a dot's spot at scale s: dot (x) covers pixels x*s .. x*s+s-1 and its centre
+** is at x*s + s/2 (pixel units). k[m + R], m = -R .. s-1+R, is the mean of the unit-peak
+** Gaussian (sigma mm) over pixel x*s + m, whose width is pitch/s mm. */
+struct axis {
+  int R;                /* pixels of margin each side of the dot's own s pixels */
+  float *k;             /* s + 2R values */
+};
+
+static int axis_make(struct axis *a, double sigma_mm, double pitch_mm, int s)
+{
+  double px = pitch_mm / s;                           /* pixel width, mm */
+  a->R = (int)ceil(5.0 * sigma_mm / px);
+  a->k = malloc((size_t)(s + 2 * a->R) * sizeof *a->k);
+  if (!a->k) return -1;
+  double c = s / 2.0;                                 /* centre, pixels from x*s */
+  double f = sigma_mm * sqrt(LOOK_PI / 2) / px;          /* (1/px) * integral scale */
+  for (int m = -a->R; m < s + a->R; m++) {
+    double u0 = (m - c) * px / (sigma_mm * LOOK_SQRT2);
+    double u1 = (m + 1 - c) * px / (sigma_mm * LOOK_SQRT2);
+    a->k[m + a->R] = (float)(f * (erf(u1) - erf(u0)));
+  }
+  return 0;
+}
+
+/* Add amp * spot(ax, ay) for dot (x, y) into out (W x H, row 0 = top). */
+static void stamp(float *out, int W, int H, int s, int x, int y, double amp,
+                  const struct axis *ax, const struct axis *ay)
+{
+  int X0 = x * s - ax->R, Y0 = (TUBE_H - 1 - y) * s - ay->R;   /* top-left of the kernel */
+  int nx = s + 2 * ax->R, ny = s + 2 * ay->R;
+  for (int j = 0; j < ny; j++) {
+    int Y = Y0 + j;
+    if (Y < 0 || Y >= H) continue;
+    /* the spot is symmetric about the dot's centre, so row j of the picture (counted
+       downward) uses ay->k[j] as it stands */
+    float wy = (float)amp * ay->k[j];
+    float *row = out + (size_t)Y * (size_t)W;
+    for (int i = 0; i < nx; i++) {
+      int X = X0 + i;
+      if (X >= 0 && X < W) row[X] += wy * ax->k[i];
+    }
+  }
+}
+
+/* ---- rendering --------------------------------------------------------------------- */
+
+int look_intensity(const struct look *l, double t, int s, float *out)
+{
+  if (s < 1 || s > LOOK_SCALE_MAX) return T74_EINPUT;
+  const double *v = l->p.v;
+  int W = TUBE_W * s, H = TUBE_H * s;
+  size_t npx = (size_t)W * (size_t)H;
+
+  /* the erases: when the face was last cleared, and whether one is under way */
+  double cleared = -INFINITY, flash = 0;
+  for (size_t k = 0; k < l->nerase; k++) {
+    double te = l->erase[k], tend = te + v[LP_ERASE_S];
+    if (tend <= t && tend > cleared) cleared = tend;
+    if (te <= t && t < tend) {
+      double f = v[LP_ERASE_LEVEL] * (1 - (t - te) / v[LP_ERASE_S]);
+      if (f > flash) flash = f;
+    }
+  }
+  float base = (float)(v[LP_GLOW] + flash);
+  for (size_t k = 0; k < npx; k++) out[k] = base;
+
+  struct axis ax0, ay0;                  /* the unfaded spot, same for every dot */
+  if (axis_make(&ax0, v[LP_SPOT_MM], v[LP_PITCH_X_MM], s)) return T74_EIO;
+  if (axis_make(&ay0, v[LP_SPOT_MM], v[LP_PITCH_Y_MM], s)) { free(ax0.k); return T74_EIO; }
+  int st = T74_OK;
+  int fade = (l->flags & LOOK_FADE) != 0;
+  double spot2 = v[LP_SPOT_MM] * v[LP_SPOT_MM];
+  for (size_t k = 0; k < l->nev && st == T74_OK; k++) {
+    const struct look_ev *e = &l->ev[k];
+    if (e->t > t) continue;              /* not written yet */
+    double a = t - e->t;                 /* age */
+    if (e->kind == EV_WRITETHRU) {
+      if (a >= v[LP_WRITETHRU_S]) continue;
+      stamp(out, W, H, s, e->x, e->y, v[LP_WRITETHRU] * (1 - a / v[LP_WRITETHRU_S]), &ax0, &ay0);
+      continue;
+    }
+    if (e->t < cleared) continue;        /* erased */
+    double amp = v[LP_STORED];
+    if ((l->flags & LOOK_FLASH) && a < v[LP_FLASH_S])
+      amp += (v[LP_BRIGHT] - v[LP_STORED]) * (1 - a / v[LP_FLASH_S]);
+    if (!fade) { stamp(out, W, H, s, e->x, e->y, amp, &ax0, &ay0); continue; }
+    double sp = v[LP_FADE_SPREAD_MM];
+    double sig2 = spot2 + sp * sp * a / v[LP_FADE_S];
+    amp *= spot2 / sig2 * exp(-a / v[LP_FADE_S]);
+    struct axis ax, ay;
+    if (axis_make(&ax, sqrt(sig2), v[LP_PITCH_X_MM], s)) { st = T74_EIO; break; }
+    if (axis_make(&ay, sqrt(sig2), v[LP_PITCH_Y_MM], s)) { free(ax.k); st = T74_EIO; break; }
+    stamp(out, W, H, s, e->x, e->y, amp, &ax, &ay);
+    free(ax.k);
+    free(ay.k);
+  }
+  free(ax0.k);
+  free(ay0.k);
+  return st;
+}
+
+void look_colour(const struct look_params *p, float I, uint8_t rgba[4])
+{
+  double bloom = I > 1 ? (I - 1) * p->v[LP_BLOOM] : 0;
+  for (int c = 0; c < 3; c++) {
+    double x = I * p->v[LP_P1_R + c] + bloom;
+    x = x < 0 ? 0 : x > 1 ? 1 : x;
+    rgba[c] = (uint8_t)lrint(x * 255);
+  }
+  rgba[3] = 255;
+}
+
+int look_render(const struct look *l, double t, int s, uint8_t *rgba)
+{
+  if (s < 1 || s > LOOK_SCALE_MAX) return T74_EINPUT;
+  size_t npx = (size_t)TUBE_W * s * (size_t)TUBE_H * s;
+  float *I = malloc(npx * sizeof *I);
+  if (!I) return T74_EIO;
+  int st = look_intensity(l, t, s, I);
+  if (st == T74_OK)
+    for (size_t k = 0; k < npx; k++) look_colour(&l->p, I[k], rgba + 4 * k);
+  free(I);
+  return st;
+}
+
+/* ---- PNG --------------------------------------------------------------------------- */
+
+struct png_fail {               /* where libpng's error callback reports */
+  jmp_buf jb;
+  struct t74_error *err;
+  const char *path;
+};
+
+static void png_error_cb(png_structp png, png_const_charp msg)
+{
+  struct png_fail *pf = png_get_error_ptr(png);
+  t74_fail(pf->err, T74_EIO, "%s: cannot write PNG: %s", pf->path, msg);
+  longjmp(pf->jb, 1);
+}
+
+static void png_warning_cb(png_structp png, png_const_charp msg)
+{
+  (void)png;
+  (void)msg;
+}
+
+int look_png_rgba(const uint8_t *rgba, int w, int h, const char *path, struct t74_error *err)
+{
+  struct outfile *o;
+  if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  uint8_t *row = malloc(3 * (size_t)w);
+  struct png_fail pf;
+  pf.err = err;
+  pf.path = path;
+  png_structp png = row ? png_create_write_struct(PNG_LIBPNG_VER_STRING, &pf,
+                                                  png_error_cb, png_warning_cb) : NULL;
+  png_infop info = png ? png_create_info_struct(png) : NULL;
+  if (!info) {
+    if (png) png_destroy_write_struct(&png, NULL);
+    free(row);
+    outfile_abort(o);
+    return t74_fail(err, T74_EIO, "%s: out of memory", path);
+  }
+  if (setjmp(pf.jb)) {
+    png_destroy_write_struct(&png, &info);
+    free(row);
+    outfile_abort(o);
+    return err->status;
+  }
+  png_init_io(png, outfile_stream(o));
+  png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int r = 0; r < h; r++) {
+    const uint8_t *src = rgba + (size_t)r * (size_t)w * 4;
+    for (int x = 0; x < w; x++) memcpy(row + 3 * x, src + 4 * x, 3);
+    png_write_row(png, row);
+  }
+  png_write_end(png, NULL);
+  png_destroy_write_struct(&png, &info);
+  free(row);
+  return outfile_commit(o, err);
+}
+
+int look_write_png(const struct look *l, double t, int s, const char *path,
+                   struct t74_error *err)
+{
+  if (s < 1 || s > LOOK_SCALE_MAX)
+    return t74_fail(err, T74_EINPUT, "look: scale %d is outside 1..%d", s, LOOK_SCALE_MAX);
+  size_t n = (size_t)TUBE_W * s * (size_t)TUBE_H * s * 4;
+  uint8_t *rgba = malloc(n);
+  if (!rgba) return t74_fail(err, T74_EIO, "%s: out of memory", path);
+  int st = look_render(l, t, s, rgba);
+  if (st != T74_OK) {
+    free(rgba);
+    return t74_fail(err, st, "%s: cannot render the tube's look", path);
+  }
+  st = look_png_rgba(rgba, TUBE_W * s, TUBE_H * s, path, err);
+  free(rgba);
+  return st;
+}
