@@ -88,3 +88,8 @@ clean:
 
 # keep the reference objects between runs (they are intermediate to the test programs)
 .SECONDARY: $(REFOBJ)
+
+# the peer of make bench: OSMesa drawing the same scene (tools/refbench.c)
+$(BUILD)/bench/refbench: tools/refbench.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -o $@ $< $(REFOBJ) $(LIB) $(TEST_LIBS) $(PKG_LIBS) -lm
