@@ -49,11 +49,12 @@ static void png_warning_cb(png_structp png, png_const_charp msg)
   (void)msg;
 }
 
-int image_write_png(const struct tube *t, const char *path, struct t74_error *err)
+int image_write_rgb_png(int w, int h, image_row_fn fill, void *ctx, const char *path,
+                        struct t74_error *err)
 {
   struct outfile *o;
   if (outfile_open(&o, path, err) != T74_OK) return err->status;
-  uint8_t *row = malloc(3 * TUBE_W);      /* one RGB row of the picture */
+  uint8_t *row = malloc(3 * (size_t)w);   /* one RGB row of the picture */
   struct png_fail pf;
   pf.err = err;
   pf.path = path;
@@ -74,19 +75,31 @@ int image_write_png(const struct tube *t, const char *path, struct t74_error *er
     return err->status;
   }
   png_init_io(png, outfile_stream(o));
-  png_set_IHDR(png, info, TUBE_W, TUBE_H, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
-  for (int r = 0; r < TUBE_H; r++) {
-    int y = TUBE_H - 1 - r;               /* file row 0 is the top of the tube */
-    for (int x = 0; x < TUBE_W; x++)
-      memcpy(row + 3 * x, tube_lit(t, x, y) ? IMAGE_DOT_RGB : IMAGE_FACE_RGB, 3);
+  for (int r = 0; r < h; r++) {
+    fill(ctx, r, row);
     png_write_row(png, row);
   }
   png_write_end(png, NULL);
   png_destroy_write_struct(&png, &info);
   free(row);
   return outfile_commit(o, err);
+}
+
+/* file row r of the plain look: lit dots on the dark face; row 0 is the top of the tube */
+static void tube_row(void *ctx, int r, uint8_t *rgb)
+{
+  const struct tube *t = ctx;
+  int y = TUBE_H - 1 - r;
+  for (int x = 0; x < TUBE_W; x++)
+    memcpy(rgb + 3 * x, tube_lit(t, x, y) ? IMAGE_DOT_RGB : IMAGE_FACE_RGB, 3);
+}
+
+int image_write_png(const struct tube *t, const char *path, struct t74_error *err)
+{
+  return image_write_rgb_png(TUBE_W, TUBE_H, tube_row, (void *)t, path, err);
 }
 
 /* ---- PBM, points ----------------------------------------------------------------- */

@@ -19,6 +19,12 @@
 #include "display/tube.h"
 #include "emu/status.h"
 
+/* Write an 8-bit RGB PNG of w x h pixels atomically: fill(ctx, r, rgb) gives file row r
+   (0 = the top) as 3*w bytes. */
+typedef void (*image_row_fn)(void *ctx, int r, uint8_t *rgb);
+int image_write_rgb_png(int w, int h, image_row_fn fill, void *ctx, const char *path,
+                        struct t74_error *err);
+
 int image_write_png(const struct tube *t, const char *path, struct t74_error *err);
 int image_write_pbm(const struct tube *t, const char *path, struct t74_error *err);
 int image_write_points(const struct tube *t, const char *path, struct t74_error *err);

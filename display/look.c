@@ -32,10 +32,10 @@
 */
 #include "display/look.h"
 
+#include "display/image.h"
+
 #include <errno.h>
 #include <math.h>
-#include <png.h>
-#include <setjmp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -358,61 +358,19 @@ int look_render(const struct look *l, double t, int s, uint8_t *rgba)
 
 /* ---- PNG --------------------------------------------------------------------------- */
 
-struct png_fail {               /* where libpng's error callback reports */
-  jmp_buf jb;
-  struct t74_error *err;
-  const char *path;
-};
+struct rgba_rows { const uint8_t *rgba; int w; };
 
-static void png_error_cb(png_structp png, png_const_charp msg)
+static void rgba_row(void *ctx, int r, uint8_t *rgb)
 {
-  struct png_fail *pf = png_get_error_ptr(png);
-  t74_fail(pf->err, T74_EIO, "%s: cannot write PNG: %s", pf->path, msg);
-  longjmp(pf->jb, 1);
-}
-
-static void png_warning_cb(png_structp png, png_const_charp msg)
-{
-  (void)png;
-  (void)msg;
+  const struct rgba_rows *p = ctx;
+  const uint8_t *src = p->rgba + (size_t)r * (size_t)p->w * 4;
+  for (int x = 0; x < p->w; x++) memcpy(rgb + 3 * x, src + 4 * x, 3);
 }
 
 int look_png_rgba(const uint8_t *rgba, int w, int h, const char *path, struct t74_error *err)
 {
-  struct outfile *o;
-  if (outfile_open(&o, path, err) != T74_OK) return err->status;
-  uint8_t *row = malloc(3 * (size_t)w);
-  struct png_fail pf;
-  pf.err = err;
-  pf.path = path;
-  png_structp png = row ? png_create_write_struct(PNG_LIBPNG_VER_STRING, &pf,
-                                                  png_error_cb, png_warning_cb) : NULL;
-  png_infop info = png ? png_create_info_struct(png) : NULL;
-  if (!info) {
-    if (png) png_destroy_write_struct(&png, NULL);
-    free(row);
-    outfile_abort(o);
-    return t74_fail(err, T74_EIO, "%s: out of memory", path);
-  }
-  if (setjmp(pf.jb)) {
-    png_destroy_write_struct(&png, &info);
-    free(row);
-    outfile_abort(o);
-    return err->status;
-  }
-  png_init_io(png, outfile_stream(o));
-  png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  for (int r = 0; r < h; r++) {
-    const uint8_t *src = rgba + (size_t)r * (size_t)w * 4;
-    for (int x = 0; x < w; x++) memcpy(row + 3 * x, src + 4 * x, 3);
-    png_write_row(png, row);
-  }
-  png_write_end(png, NULL);
-  png_destroy_write_struct(&png, &info);
-  free(row);
-  return outfile_commit(o, err);
+  struct rgba_rows p = { rgba, w };
+  return image_write_rgb_png(w, h, rgba_row, &p, path, err);
 }
 
 int look_write_png(const struct look *l, double t, int s, const char *path,
