@@ -368,6 +368,7 @@ struct tek_ctx {
   const char *file;             /* for the warnings */
   struct tube *tube;            /* erased by ESC FF */
   size_t shown;                 /* warnings printed */
+  const struct job_hooks *h;    /* write-through traces and erases go on to these */
 };
 
 static void tek_warn(void *ctx, size_t offset, const char *msg)
@@ -380,6 +381,13 @@ static void tek_erase(void *ctx)
 {
   struct tek_ctx *c = ctx;
   tube_erase(c->tube);
+  if (c->h && c->h->erase) c->h->erase(c->h->events_ctx);
+}
+
+static void tek_writethrough(void *ctx, int x0, int y0, int x1, int y1)
+{
+  struct tek_ctx *c = ctx;
+  if (c->h && c->h->writethrough) c->h->writethrough(c->h->events_ctx, x0, y0, x1, y1);
 }
 
 static int write_tek_stats(const struct job *o, const struct job_hooks *h, const struct tube *t,
@@ -433,11 +441,12 @@ static int run_tek(const struct job *o, const struct job_hooks *h, struct job_re
   sink_tee_add(&tee, tube_sink(t));
   if (extra) sink_tee_add(&tee, h->extra);
   struct sink out = sink_tee_sink(&tee);
-  struct tek_ctx tc = { o->scene, t, 0 };
+  struct tek_ctx tc = { o->scene, t, 0, h };
   struct tek_report rep;
   memset(&rep, 0, sizeof rep);
   rep.warn = tek_warn;
   rep.erase = tek_erase;
+  rep.write_through = tek_writethrough;
   rep.ctx = &tc;
   st = tek_decode(buf, n, &out, &rep);
   free(buf);

@@ -53,6 +53,11 @@ struct job_hooks {
                                        its end() runs before the outputs are written */
   void (*clock)(void *ctx, double hitac10_seconds); /* before each point: 1974 time so far */
   void *clock_ctx;
+  /* what a Tek stream shows beyond stored dots (NULL: ignored): write-through traces
+     (dim, never stored; a point when x0 == x1 and y0 == y1) and erases (ESC FF) */
+  void (*writethrough)(void *ctx, int x0, int y0, int x1, int y1);
+  void (*erase)(void *ctx);
+  void *events_ctx;
   /* more "key": value lines for --stats (each ending with ",\n"), or NULL */
   int (*stats)(void *ctx, struct outfile *of);
   void *stats_ctx;

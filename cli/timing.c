@@ -204,6 +204,33 @@ static int on_dot(void *ctx, int x, int y)
   return st == T74_EINPUT ? T74_OK : st;    /* outside the tube: the tube sink reports it */
 }
 
+/* A write-through trace from a Tek stream: each of its dots (an integer line walk) is
+   written by the beam, dim and not stored. */
+static void on_writethrough(void *ctx, int x0, int y0, int x1, int y1)
+{
+  struct timing *t = ctx;
+  int dx = x1 > x0 ? x1 - x0 : x0 - x1, sx = x0 < x1 ? 1 : -1;
+  int dy = y1 > y0 ? y0 - y1 : y1 - y0, sy = y0 < y1 ? 1 : -1;
+  int e = dx + dy;
+  for (;;) {
+    if (x0 >= 0 && x0 < TUBE_W && y0 >= 0 && y0 < TUBE_H) {
+      double when = beam_dot(&t->beam, x0, y0, t->clock);
+      if (t->look) look_writethrough(t->look, x0, y0, when);
+    }
+    if (x0 == x1 && y0 == y1) break;
+    int e2 = 2 * e;
+    if (e2 >= dy) { e += dy; x0 += sx; }
+    if (e2 <= dx) { e += dx; y0 += sy; }
+  }
+}
+
+/* ESC FF in a Tek stream: the erase flash, then a clear face. */
+static void on_erase(void *ctx)
+{
+  struct timing *t = ctx;
+  if (t->look) look_erase(t->look, beam_total_seconds(&t->beam));
+}
+
 /* The scaled plain picture: image.c's look with each dot an s x s block. */
 static int write_plain(const struct timing *t, const char *path, struct t74_error *err)
 {
@@ -258,4 +285,7 @@ void timing_hooks(struct timing *t, struct job_hooks *h)
   h->clock_ctx = t;
   h->stats = on_stats;
   h->stats_ctx = t;
+  h->writethrough = on_writethrough;
+  h->erase = on_erase;
+  h->events_ctx = t;
 }
