@@ -10,8 +10,10 @@
 ** per --repeat pass; every jump of more than one dot must be preceded by a blanked point on
 ** the target. Runs both through the library (display/usb_stream.h) and the real binary.
 ** Also: double-buffer pacing (a slow DAC that is busy while it plays a frame at the pps
-** rate), transfers split into 16 KiB URBs, a DAC that answers garbage, and the figures for
-** docs/usb.md (points/s, time to first point).
+** rate), transfers split into 16 KiB URBs, a DAC that answers garbage, a DAC that vanishes
+** in the middle of a frame's transfer (exit 4, resume file; --resume then completes: the
+** frames both runs delivered hold every dot exactly once), and the figures for docs/usb.md
+** (points/s, time to first point).
 ** The program re-runs itself under umockdev-wrapper; without it, it exits 77 (skip).
 */
 #include <math.h>
@@ -42,6 +44,10 @@ struct dac {                    /* the emulated DAC's state (under m->lock) */
   int have_last, lx, ly;        /* last lit dot */
   int last_blank_x, last_blank_y, last_was_blank;
   double t_first_dot;           /* when the first frame with a lit dot arrived */
+  long lit_points;              /* lit points of whole frames (dwell points per dot) */
+  int vanish_frame;             /* vanish inside the frame after this many whole frames */
+  int vanish_bytes;             /* ... once it has taken this many bytes of it (0: never) */
+  int vanish_armed;
 };
 
 static void dac_frame(struct dac *d, const unsigned char *b, int len)
@@ -56,6 +62,7 @@ static void dac_frame(struct dac *d, const unsigned char *b, int len)
     const unsigned char *p = b + 7 * k;
     int X = p[0] << 4 | p[1] >> 4, Y = (p[1] & 15) << 8 | p[2];
     int lit = p[3] || p[4] || p[5] || p[6];
+    if (lit) d->lit_points++;
     if (!lit) {
       d->last_was_blank = 1;
       d->last_blank_x = X;
@@ -90,6 +97,12 @@ static void dac_out(struct mock *m, unsigned char ep, const unsigned char *b, in
       memset(r, 0x5a, sizeof r);
       mock_reply(m, 0x83, r, 32);
     } else if (b[0] == 0x03) {
+      /* the status poll just before the next frame: that frame's URB will cross the limit
+      ** (m->out_bytes already counts this poll; nothing else goes out in between) */
+      if (d->vanish_bytes && !d->vanish_armed && d->frames == d->vanish_frame) {
+        m->vanish_after = m->out_bytes + d->vanish_bytes;
+        d->vanish_armed = 1;
+      }
       r[0] = 0x83;
       r[1] = !d->paced || d->last_start <= mock_now();
       mock_reply(m, 0x83, r, 32);
@@ -311,6 +324,102 @@ static void test_garbage(void **state)
   g_free(save);
 }
 
+/* The DAC vanishes in the middle of a frame (ENODEV part way through its bulk transfer):
+** exit 4 naming the vanished device, a resume file whose acknowledged dots are exactly the
+** whole frames the DAC took (the cut frame's dots are not acknowledged); then --resume on a
+** connected DAC completes. What the DAC decoded from whole frames in the two runs is
+** `--dump points` exactly: each dot once (the cut frame's dots re-sent, none lost), and,
+** helios keeping production order, in the reference's order. */
+static void test_vanish_then_resume(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  enum { WHOLE = 3, CUT = 7 * 211 + 4 };         /* 4 bytes into point 211 of frame 4 */
+  g_mutex_lock(&fx->m.lock);
+  fx->d.vanish_frame = WHOLE;
+  fx->d.vanish_bytes = CUT;
+  g_mutex_unlock(&fx->m.lock);
+  char *save = g_strdup_printf("%s/v.resume", fx->dir);
+  char *errf = g_strdup_printf("%s/err.txt", fx->dir);
+  unlink(save);
+  char *argv[] = { (char *)mock_tube74(), "stream", SCENE, "--device", "helios", "--save", save,
+                   "--set", "frame_points=500", NULL };
+  int rc = mock_run(argv, errf);
+  gchar *msg = NULL;
+  g_file_get_contents(errf, &msg, NULL, NULL);
+  if (rc != 4 || !msg || !strstr(msg, "vanished")) fprintf(stderr, "first run: rc %d: %s\n", rc, msg);
+  assert_int_equal(rc, 4);
+  assert_non_null(msg);
+  assert_non_null(strstr(msg, "vanished"));
+  assert_non_null(strstr(msg, "--resume"));
+  g_free(msg);
+
+  struct dots all = { 0, 0, NULL };
+  g_mutex_lock(&fx->m.lock);
+  int gone = fx->m.gone, frames = fx->d.frames, partial = (int)fx->d.frame->len;
+  int bad = fx->d.bad_size + fx->d.off_grid + fx->d.unblanked_jumps;
+  int stops = fx->d.stops;
+  long lit_points = fx->d.lit_points;
+  for (int k = 0; k < fx->d.lit.n; k++) dots_add(&all, fx->d.lit.xy[k][0], fx->d.lit.xy[k][1]);
+  g_mutex_unlock(&fx->m.lock);
+  assert_true(gone);
+  assert_int_equal(frames, WHOLE);              /* it vanished inside the next frame ... */
+  assert_int_equal(partial, CUT);               /* ... mid-point, with part of it taken */
+  assert_int_equal(bad, 0);
+  assert_int_equal(stops, 0);                   /* nothing could reach a vanished DAC */
+  assert_int_equal(lit_points, all.n);          /* dwell 1: each dot lit once */
+  int first = all.n;
+  assert_true(first > 0 && first < fx->ref.n);
+
+  /* the resume file: acknowledged = the dots of the whole frames, a prefix, no extras */
+  gchar *res = NULL;
+  assert_true(g_file_get_contents(save, &res, NULL, NULL));
+  const char *a = strstr(res, "\nacked "), *pf = strstr(res, "\nprefix "), *ex = strstr(res, "\nextra ");
+  assert_non_null(a);
+  assert_non_null(pf);
+  assert_non_null(ex);
+  if (atoi(a + 7) != first || atoi(pf + 8) != first || atoi(ex + 7) != 0)
+    fprintf(stderr, "resume file (the DAC took %d dots in %d whole frames):\n%.400s\n", first,
+            frames, res);
+  assert_int_equal(atoi(a + 7), first);
+  assert_int_equal(atoi(pf + 8), first);
+  assert_int_equal(atoi(ex + 7), 0);
+  g_free(res);
+
+  reset(fx);                                    /* plugged in again */
+  char *argv2[] = { (char *)mock_tube74(), "stream", SCENE, "--device", "helios", "--resume", save,
+                    "--set", "frame_points=500", NULL };
+  rc = mock_run(argv2, errf);
+  if (rc != 0) {
+    gchar *m2 = NULL;
+    g_file_get_contents(errf, &m2, NULL, NULL);
+    fprintf(stderr, "resumed run: rc %d: %s\n", rc, m2);
+    g_free(m2);
+  }
+  assert_int_equal(rc, 0);
+  g_mutex_lock(&fx->m.lock);
+  bad = fx->d.bad_size + fx->d.off_grid + fx->d.unblanked_jumps;
+  stops = fx->d.stops;
+  lit_points = fx->d.lit_points;
+  partial = (int)fx->d.frame->len;
+  int second = fx->d.lit.n;
+  for (int k = 0; k < fx->d.lit.n; k++) dots_add(&all, fx->d.lit.xy[k][0], fx->d.lit.xy[k][1]);
+  g_mutex_unlock(&fx->m.lock);
+  assert_int_equal(bad, 0);
+  assert_int_equal(partial, 0);                 /* every frame arrived whole */
+  assert_int_equal(stops, 1);                   /* laser blanked at the end */
+  assert_int_equal(lit_points, second);
+  assert_false(g_file_test(save, G_FILE_TEST_EXISTS));   /* complete: nothing to resume */
+  if (all.n != fx->ref.n || !dots_same_set(&all, &fx->ref))
+    fprintf(stderr, "union: %d + %d = %d dots, the reference %d\n", first, second, all.n, fx->ref.n);
+  assert_int_equal(all.n, fx->ref.n);
+  assert_true(dots_same_set(&all, &fx->ref));   /* every dot, each once */
+  assert_true(dots_same_order(&all, &fx->ref)); /* and in production order */
+  free(all.xy);
+  g_free(save);
+  g_free(errf);
+}
+
 static void test_bad_settings(void **state)
 {
   (void)state;
@@ -359,6 +468,7 @@ int main(int argc, char **argv)
     cmocka_unit_test_prestate(test_slow_dac_paced, fx),
     cmocka_unit_test_prestate(test_throughput, fx),
     cmocka_unit_test_prestate(test_garbage, fx),
+    cmocka_unit_test_prestate(test_vanish_then_resume, fx),
   };
   rc = cmocka_run_group_tests(tests, NULL, NULL);
   mock_stop(&fx->m);
