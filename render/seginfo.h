@@ -65,8 +65,10 @@ bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
                      struct cost *cost);
 
 /* The x-span of piece p on the horizontal line y = yn/yd: [xl, xr) by the tie rule of
-   geom.h. Returns false when the line misses the piece (or meets only its boundary
-   in a way the piece does not own). */
+   geom.h, by definition (the largest x of its left sides, the smallest of its right
+   ones). Returns false when the line misses the piece (or meets only its boundary in a
+   way the piece does not own). The scan itself gets the same spans incrementally from
+   D-blocks (visible.c); the tests hold the two to each other. */
 bool seginfo_span(const struct piece *p, int64_t yn, int64_t yd, struct grat *xl,
                   struct grat *xr, struct cost *cost);
 

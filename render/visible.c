@@ -8,8 +8,11 @@
 **
 **   1. active pieces: those whose lowest vertex is at or below the line (YSORT order,
 **      kept as `order`) and whose highest is above it;
-**   2. each active piece's span [xb, xe) on the line (its D-block): the largest x of its
-**      left sides and the smallest of its right sides, exact rationals;
+**   2. each active piece's span [xb, xe) on the line, from its D-block (Fig. 8): the
+**      stretch between two vertex heights where the piece's left and right sides stay the
+**      same. Within a D-block, xb and xe move by fixed exact increments dxb, dxe from one
+**      line to the next (one multi-word add each, as in 1974); a new D-block is opened at
+**      y-max, or when the step between lines changes (sub-scanlines);
 **   3. a sweep over span ends, left to right; between two ends the covering set is fixed,
 **      and its front piece is found through the Priority Matrix. Coherence: when a piece
 **      joins the set only it is compared with the current front; the whole set is looked
@@ -89,6 +92,7 @@ int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost 
 
 void vis_free(struct vis *v)
 {
+  free(v->dfree);
   free(v->order);
   free(v->act);
   free(v->byxr);
@@ -113,6 +117,127 @@ static int push_span(struct vis *v, struct grat x0, struct grat x1, int piece)
   s->piece = piece;
   s->face = v->seg->p[piece].face;
   return 1;
+}
+
+/* ---- D-blocks ------------------------------------------------------------------------
+   A D-block row in core: xb and xe (numerator 5 words, denominator 3 words each), dxb and
+   dxe (5 words each), y-max (2 words, the grid line at or above it) = 28 words. Rows are
+   taken from a free list, in chunks of DBLOCK_CHUNK, and given back when a piece leaves
+   the line: only the pieces on the current line hold one, as the paper's display did. */
+#define DBLOCK_WORDS 28
+#define DBLOCK_CHUNK 16
+
+static int dblock_take(struct vis *v, uint32_t *addr, struct t74_error *err)
+{
+  if (v->ndfree == 0) {
+    uint32_t a;
+    if (core_alloc(v->seg->core, "D-BLOCK", DBLOCK_WORDS * DBLOCK_CHUNK, &a, err) != T74_OK)
+      return err->status;
+    if (!grow((void **)&v->dfree, &v->dfreecap, DBLOCK_CHUNK, sizeof *v->dfree))
+      return t74_fail(err, T74_EIO, "out of host memory");
+    for (int k = DBLOCK_CHUNK - 1; k >= 0; k--) v->dfree[v->ndfree++] = a + (uint32_t)k * DBLOCK_WORDS;
+  }
+  *addr = v->dfree[--v->ndfree];
+  return T74_OK;
+}
+
+static void dblock_give(struct vis *v, uint32_t addr)
+{
+  /* the free list never outgrows the rows taken: room was made when they were */
+  if (grow((void **)&v->dfree, &v->dfreecap, v->ndfree + 1, sizeof *v->dfree))
+    v->dfree[v->ndfree++] = addr;
+}
+
+static void dblock_store(struct vis *v, const struct vis_item *it)
+{
+  struct core *c = v->seg->core;
+  core_put_wide(c, it->core, 5, it->xl.num);
+  core_put_wide(c, it->core + 5, 3, it->xl.den);
+  core_put_wide(c, it->core + 8, 5, it->xr.num);
+  core_put_wide(c, it->core + 13, 3, it->xr.den);
+  core_put_wide(c, it->core + 16, 5, it->dxl);
+  core_put_wide(c, it->core + 21, 5, it->dxr);
+  core_put_int(c, it->core + 26, 2, (int64_t)(it->ymax.Y / it->ymax.W));
+}
+
+/* The lower of two heights. */
+static struct hpoint lower(struct hpoint p, struct hpoint q)
+{
+  struct i256 d = i256_add(i256_mul(p.Y, q.W), i256_mul(-q.Y, p.W));
+  return i256_sign(d) <= 0 ? p : q;
+}
+
+/* Open the D-block of piece p that holds the line y = yn/yd: its left side runs down
+   (a > 0) from v[k] to v[k+1], its right side up (a < 0) from v[k] to v[k+1]; each is
+   the one whose y-range [bottom, top) holds the line. False when none does: the line is
+   at or above the piece's top. */
+static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t yd)
+{
+  const struct piece *p = &v->seg->p[it->piece];
+  int kl = -1, kr = -1;
+  for (int k = 0; k < p->n && (kl < 0 || kr < 0); k++) {
+    const struct gline *l = &p->line[k];
+    if (l->a == 0) continue;
+    struct hpoint lo = l->a > 0 ? p->v[(k + 1) % p->n] : p->v[k];
+    struct hpoint hi = l->a > 0 ? p->v[k] : p->v[(k + 1) % p->n];
+    cost_mw_mul(v->cost, 88, 17);
+    if (geom_hy_cmp(lo, yn, yd) > 0 || geom_hy_cmp(hi, yn, yd) <= 0) continue;
+    if (l->a > 0) kl = k; else kr = k;
+  }
+  if (kl < 0 || kr < 0) return false;
+  it->kl = kl;
+  it->kr = kr;
+  it->xl = geom_x_at(p->line[kl], yn, yd);
+  it->xr = geom_x_at(p->line[kr], yn, yd);
+  /* geom_x_at: num = -(b yn + c yd), negated with the denominator when a < 0 */
+  it->sl = p->line[kl].a > 0 ? -(wide)p->line[kl].b : (wide)p->line[kl].b;
+  it->sr = p->line[kr].a > 0 ? -(wide)p->line[kr].b : (wide)p->line[kr].b;
+  it->dyn = 0;
+  it->dxl = it->dxr = 0;
+  it->ymax = lower(p->v[kl], p->v[(kr + 1) % p->n]);
+  cost_mw_mul(v->cost, 58, 17);
+  cost_mw_mul(v->cost, 58, 17);
+  it->open = true;
+  return true;
+}
+
+/* The span [xb, xe) of an active piece on the line y = yn/yd (y never decreasing):
+   by its D-block's increments while the line stays below y-max with the same
+   denominator, else from a newly opened D-block. */
+static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t yd,
+                       struct t74_error *err)
+{
+  bool same = it->open && yd == it->yd && geom_hy_cmp(it->ymax, yn, yd) > 0;
+  if (same && yn != it->yn) {
+    int64_t dyn = yn - it->yn;
+    if (dyn != it->dyn) {                /* a new step: dxb = (d xb / d yn) * step */
+      it->dxl = it->sl * dyn;
+      it->dxr = it->sr * dyn;
+      it->dyn = dyn;
+      cost_mw_mul(v->cost, 29, 44);
+      cost_mw_mul(v->cost, 29, 44);
+    }
+    it->xl.num += it->dxl;               /* xb += dxb, xe += dxe */
+    it->xr.num += it->dxr;
+    cost_mw_add(v->cost, 75);
+    cost_mw_add(v->cost, 75);
+  } else if (!same) {
+    if (!dblock_open(v, it, yn, yd)) {
+      it->open = false;
+      it->on = false;
+      it->yn = yn;
+      it->yd = yd;
+      return T74_OK;
+    }
+    if (!it->core && dblock_take(v, &it->core, err) != T74_OK) return err->status;
+  }
+  it->yn = yn;
+  it->yd = yd;
+  dblock_store(v, it);
+  COST_ADD_N(v->cost, COST_MEM, DBLOCK_WORDS);
+  it->on = geom_rat_cmp(it->xl, it->xr) < 0;
+  cost_mw_mul(v->cost, 75, 46);
+  return T74_OK;
 }
 
 /* the front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative */
@@ -144,7 +269,10 @@ static int line_once(struct vis *v, int64_t yn, int64_t yd, struct t74_error *er
   for (int a = 0; a < v->nact; a++) {
     const struct piece *p = &s->p[v->act[a].piece];
     COST_ADD_N(v->cost, COST_MEM, 2);
-    if (!p->alive || cmp_hy_frac(p->yhi, yn, yd) <= 0) continue;
+    if (!p->alive || cmp_hy_frac(p->yhi, yn, yd) <= 0) {
+      if (v->act[a].core) dblock_give(v, v->act[a].core);
+      continue;
+    }
     v->act[k++] = v->act[a];
   }
   v->nact = k;
@@ -154,17 +282,14 @@ static int line_once(struct vis *v, int64_t yn, int64_t yd, struct t74_error *er
     if (!s->p[p].alive || cmp_hy_frac(s->p[p].yhi, yn, yd) <= 0) continue;
     if (!grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
       return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
+    memset(&v->act[v->nact], 0, sizeof v->act[v->nact]);
     v->act[v->nact].piece = p;
-    v->act[v->nact].on = false;
     v->nact++;
   }
 
   /* 2. the D-blocks: spans on this line */
-  for (int a = 0; a < v->nact; a++) {
-    struct vis_item *it = &v->act[a];
-    it->on = seginfo_span(&s->p[it->piece], yn, yd, &it->xl, &it->xr, v->cost);
-    COST_ADD_N(v->cost, COST_MEM, 10);
-  }
+  for (int a = 0; a < v->nact; a++)
+    if (dblock_span(v, &v->act[a], yn, yd, err) != T74_OK) return PRIO_ERROR;
   /* keep the x order of the last line: a stable insertion sort, pieces on the line by
      xl first, pieces the line misses after them */
   for (int a = 1; a < v->nact; a++) {

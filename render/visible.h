@@ -27,7 +27,24 @@ struct vis_grid {
   int32_t window[4];        /* XL YB XR YT, world units */
 };
 
-struct vis_item { int piece; struct grat xl, xr; bool on; };
+/* An active piece and its D-block (003 Fig. 8): the stretch of the piece between two
+   vertex heights where its left side kl and right side kr stay the same, with the span
+   [xb, xe) on the current line, the increments of xb and xe from one line to the next,
+   and y-max, where the D-block ends. Exact: xb and xe are rationals whose denominators
+   stay fixed within a D-block, so the increments are exact integers. */
+struct vis_item {
+  int    piece;
+  bool   on;                 /* the line meets the piece (xl < xr) */
+  bool   open;               /* the D-block below is valid */
+  int    kl, kr;             /* left and right side (indices into the piece's lines) */
+  struct grat xl, xr;        /* xb, xe on the last line */
+  wide   sl, sr;             /* d(xb.num)/d(yn), d(xe.num)/d(yn) */
+  wide   dxl, dxr;           /* dxb, dxe: increments for a line step of dyn */
+  int64_t dyn;               /* the line step the increments are for (0: none yet) */
+  int64_t yn, yd;            /* the last line, y = yn / yd */
+  struct hpoint ymax;        /* where the D-block ends (the lower top of kl and kr) */
+  uint32_t core;             /* its row in the core's D-BLOCK table */
+};
 
 struct vis {
   struct seginfo *seg;
@@ -41,6 +58,7 @@ struct vis {
   int   seen;                            /* pieces in seg already placed in order */
   int64_t yn, yd;                        /* the last line asked for */
   uint64_t lines;                        /* lines scanned */
+  uint32_t *dfree; int ndfree, dfreecap; /* free D-block rows in core */
 };
 
 int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,

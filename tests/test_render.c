@@ -913,6 +913,48 @@ static void test_vis_spans_invariant(void **state)
   }
 }
 
+/* The D-blocks' incremental spans equal the definition (seginfo_span) exactly on every
+   line, whatever the steps between lines: regular rows, irregular steps, and lines with
+   another denominator in between (sub-scanlines), on scenes with splits and T-junctions. */
+static void test_dblock_matches_definition(void **state)
+{
+  (void)state;
+  const char *scenes[] = { CROSSING, MIXED, CYCLIC };
+  for (int s = 0; s < 3; s++) {
+    struct render r;
+    struct scene *sc = prepare(&r, scenes[s], PRIO_AUTO);
+    int checked = 0;
+    int64_t y12 = -150 * 12;                 /* y in 1/12 world units, increasing */
+    for (int step = 0; y12 <= 150 * 12; step++) {
+      /* mostly rows of 7/12; every fifth line a step of 5/12; every seventh line at
+         denominator 36 (a third of the way to the next row) */
+      int64_t yn = G(y12), yd = 12;
+      if (step % 7 == 3) { yn = G(3 * y12 + 1); yd = 36; }
+      const struct vis_span *sp;
+      int ns;
+      struct t74_error err = { 0, "" };
+      assert_int_equal(vis_spans(&r.vis, yn, yd, &sp, &ns, &err), T74_OK);
+      for (int a = 0; a < r.vis.nact; a++) {
+        const struct vis_item *it = &r.vis.act[a];
+        const struct piece *p = &r.seg.p[it->piece];
+        if (!p->alive) continue;
+        struct grat xl, xr;
+        bool on = seginfo_span(p, yn, yd, &xl, &xr, &r.cost[0]);
+        assert_int_equal(it->on, on);
+        if (on) {
+          assert_int_equal(geom_rat_cmp(it->xl, xl), 0);
+          assert_int_equal(geom_rat_cmp(it->xr, xr), 0);
+          checked++;
+        }
+      }
+      y12 += step % 5 == 4 ? 5 : 7;
+    }
+    assert_true(checked > 100);
+    render_free(&r);
+    scene_free(sc);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -931,6 +973,7 @@ int main(void)
     cmocka_unit_test(test_prio_dense_sparse),
     cmocka_unit_test(test_vis_spans),
     cmocka_unit_test(test_vis_spans_invariant),
+    cmocka_unit_test(test_dblock_matches_definition),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }
