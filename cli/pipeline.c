@@ -34,6 +34,7 @@
 #include "display/tube.h"
 #include "emu/core.h"
 #include "emu/cost.h"
+#include "emu/file.h"
 #include "emu/status.h"
 #include "patterns/halftone.h"
 #include "patterns/picture.h"
@@ -337,33 +338,6 @@ static bool job_is_tek(const struct job *o)
   return tek_sniff(b, n);
 }
 
-/* The whole of a file in memory: T74_OK with *buf (malloc'd) and *n, or T74_EIO. */
-static int read_file(const char *path, uint8_t **buf, size_t *n, struct t74_error *err)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return t74_fail(err, T74_EIO, "%s: cannot open: %s", path, strerror(errno));
-  size_t cap = 1 << 16, len = 0;
-  uint8_t *b = malloc(cap);
-  while (b) {
-    len += fread(b + len, 1, cap - len, f);
-    if (len < cap) break;
-    uint8_t *nb = cap <= SIZE_MAX / 2 ? realloc(b, cap * 2) : NULL;
-    if (!nb) { free(b); b = NULL; break; }
-    b = nb;
-    cap *= 2;
-  }
-  int bad = !b || ferror(f);
-  int e = errno;
-  fclose(f);
-  if (bad) {
-    free(b);
-    return t74_fail(err, T74_EIO, "%s: cannot read: %s", path, b ? strerror(e) : "out of memory");
-  }
-  *buf = b;
-  *n = len;
-  return T74_OK;
-}
-
 struct tek_ctx {
   const char *file;             /* for the warnings */
   struct tube *tube;            /* erased by ESC FF */
@@ -431,7 +405,7 @@ static int run_tek(const struct job *o, const struct job_hooks *h, struct job_re
   double t0 = now_seconds();
   uint8_t *buf = NULL;
   size_t n = 0;
-  int st = read_file(o->scene, &buf, &n, err);
+  int st = file_read_all(o->scene, &buf, &n, err);
   if (st != T74_OK) return st;
   struct tube *t = tube_new();
   if (!t) { free(buf); return t74_fail(err, T74_EIO, "out of host memory"); }

@@ -19,7 +19,8 @@
 */
 #include "patterns/picture.h"
 
-#include <errno.h>
+#include "emu/file.h"
+
 #include <png.h>
 #include <setjmp.h>
 #include <stdio.h>
@@ -61,36 +62,6 @@ int pic_pixel(const struct pic *p, int x, int y)
 {
   if (x < 0 || x >= p->w || y < 0 || y >= p->h) return -1;
   return p->px[(size_t)y * p->w + x];
-}
-
-/* ---- the whole file -------------------------------------------------------------- */
-
-/* Read all of path into *buf (*len bytes). T74_OK or T74_EIO. */
-static int read_all(const char *path, uint8_t **buf, size_t *len, struct t74_error *err)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return t74_fail(err, T74_EIO, "%s: cannot open: %s", path, strerror(errno));
-  size_t cap = 1 << 16, n = 0;  /* bytes allocated, bytes read */
-  uint8_t *b = malloc(cap);
-  while (b) {
-    n += fread(b + n, 1, cap - n, f);
-    if (n < cap) break;         /* end of file or a read error: told apart below */
-    uint8_t *nb = cap <= SIZE_MAX / 2 ? realloc(b, cap * 2) : NULL;
-    if (!nb) { free(b); b = NULL; break; }
-    b = nb;
-    cap *= 2;
-  }
-  int bad = !b || ferror(f);
-  int e = errno;
-  fclose(f);
-  if (bad) {
-    free(b);
-    return t74_fail(err, T74_EIO, "%s: cannot read: %s", path,
-                    b ? strerror(e) : "out of memory");
-  }
-  *buf = b;
-  *len = n;
-  return T74_OK;
 }
 
 /* ---- PGM (Netpbm P2 / P5) -------------------------------------------------------- */
@@ -283,7 +254,7 @@ int pic_load(const char *path, struct pic **out, struct t74_error *err)
 {
   uint8_t *b = NULL;            /* the whole file */
   size_t n = 0;                 /* its length */
-  int rc = read_all(path, &b, &n, err);
+  int rc = file_read_all(path, &b, &n, err);
   if (rc != T74_OK) return rc;
   if (n >= 8 && png_sig_cmp(b, 0, 8) == 0)
     rc = load_png(path, b, n, out, err);
