@@ -18,42 +18,41 @@
 */
 #include "display/beam.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "display/sink.h"
 
-/* One row per constant: name, unit, default, accepted range, source. */
-const struct beam_param_row beam_param_rows[BP_NPARAM] = {
-  [BP_FACE_W_CM]         = { "face_w_cm", "cm", 21.0, 1, 100,
+/* One row per constant: name, unit, default, accepted range, whole numbers only, source. */
+const struct param_row beam_param_rows[BP_NPARAM] = {
+  [BP_FACE_W_CM]         = { "face_w_cm", "cm", 21.0, 1, 100, 0,
                              "paper 003 appendix: screen 21 cm x 16.3 cm, 400 points across" },
-  [BP_FACE_H_CM]         = { "face_h_cm", "cm", 16.3, 1, 100,
+  [BP_FACE_H_CM]         = { "face_h_cm", "cm", 16.3, 1, 100, 0,
                              "paper 003 appendix: screen 21 cm x 16.3 cm, 300 points up" },
-  [BP_SETTLE_BASE_US]    = { "settle_base_us", "us", 14.0, 0, 1e6,
+  [BP_SETTLE_BASE_US]    = { "settle_base_us", "us", 14.0, 0, 1e6, 0,
                              "Tektronix 613 (1973): settling to 0.025 cm takes 14 us + 6 us/cm" },
-  [BP_SETTLE_NEAR_US_CM] = { "settle_near_us_cm", "us/cm", 6.0, 0, 1e6,
+  [BP_SETTLE_NEAR_US_CM] = { "settle_near_us_cm", "us/cm", 6.0, 0, 1e6, 0,
                              "Tektronix 613: 6 us per cm for moves up to 2 cm" },
-  [BP_SETTLE_NEAR_CM]    = { "settle_near_cm", "cm", 2.0, 0, 100,
+  [BP_SETTLE_NEAR_CM]    = { "settle_near_cm", "cm", 2.0, 0, 100, 0,
                              "Tektronix 613: the 6 us/cm rate holds up to 2 cm" },
-  [BP_SETTLE_FAR_US_CM]  = { "settle_far_us_cm", "us/cm", 3.0, 0, 1e6,
+  [BP_SETTLE_FAR_US_CM]  = { "settle_far_us_cm", "us/cm", 3.0, 0, 1e6, 0,
                              "Tektronix 613: 3 us per cm for longer moves (read as the rate "
                              "beyond 2 cm, so settling grows with distance)" },
-  [BP_DWELL_US]          = { "dwell_us", "us", 10.0, 0, 1e6,
+  [BP_DWELL_US]          = { "dwell_us", "us", 10.0, 0, 1e6, 0,
                              "inferred: no figure found for the time a bistable tube needs to "
                              "store one dot; taken of the order of the 613's shortest settle "
                              "(14 us), so a dot next to the last costs about 24 us (~40,000 "
                              "dots/s), the same order as one HITAC-10 display command loop" },
-  [BP_HOME_X]            = { "home_x", "point", 0, 0, TUBE_W - 1,
+  [BP_HOME_X]            = { "home_x", "point", 0, 0, TUBE_W - 1, 1,
                              "inferred: the beam starts at the lower-left corner (after erase)" },
-  [BP_HOME_Y]            = { "home_y", "point", 0, 0, TUBE_H - 1,
+  [BP_HOME_Y]            = { "home_y", "point", 0, 0, TUBE_H - 1, 1,
                              "inferred: the beam starts at the lower-left corner (after erase)" },
 };
 
 void beam_params_default(struct beam_params *p)
 {
-  for (int k = 0; k < BP_NPARAM; k++) p->v[k] = beam_param_rows[k].def;
+  param_defaults(beam_param_rows, BP_NPARAM, p->v);
 }
 
 int beam_params_set(struct beam_params *p, const char *s, struct t74_error *err)
@@ -61,29 +60,20 @@ int beam_params_set(struct beam_params *p, const char *s, struct t74_error *err)
   const char *eq = strchr(s, '=');
   if (!eq) return t74_fail(err, T74_EINPUT, "beam: expected NAME=VALUE, got `%s`", s);
   size_t n = (size_t)(eq - s);
-  for (int k = 0; k < BP_NPARAM; k++) {
-    const struct beam_param_row *r = &beam_param_rows[k];
-    if (strlen(r->name) != n || strncmp(r->name, s, n)) continue;
-    char *end;
-    errno = 0;
-    double v = strtod(eq + 1, &end);
-    if (errno || end == eq + 1 || *end || !isfinite(v) || v < r->min || v > r->max)
-      return t74_fail(err, T74_EINPUT, "beam: %s takes a number in %g .. %g %s, got `%s`",
-                      r->name, r->min, r->max, r->unit, eq + 1);
-    if ((k == BP_HOME_X || k == BP_HOME_Y) && v != floor(v))
-      return t74_fail(err, T74_EINPUT, "beam: %s takes a whole point number", r->name);
-    p->v[k] = v;
-    return T74_OK;
-  }
-  return t74_fail(err, T74_EINPUT, "beam: unknown constant `%.*s` (see `tube74 play --list`)",
-                  (int)n, s);
+  int k = param_find(beam_param_rows, BP_NPARAM, s, n);
+  if (k < 0)
+    return t74_fail(err, T74_EINPUT, "beam: unknown constant `%.*s` (see `tube74 play --list`)",
+                    (int)n, s);
+  const struct param_row *r = &beam_param_rows[k];
+  if (param_parse(r, eq + 1, &p->v[k]) != PARAM_OK)
+    return t74_fail(err, T74_EINPUT, "beam: %s takes a %s in %g .. %g %s, got `%s`", r->name,
+                    r->integer ? "whole number" : "number", r->min, r->max, r->unit, eq + 1);
+  return T74_OK;
 }
 
 int beam_params_list(const struct beam_params *p, FILE *f)
 {
-  for (int k = 0; k < BP_NPARAM; k++)
-    fprintf(f, "%-18s %10g %-6s %s\n", beam_param_rows[k].name, p->v[k],
-            beam_param_rows[k].unit, beam_param_rows[k].source);
+  param_list(beam_param_rows, BP_NPARAM, p->v, 18, f);
   return ferror(f) ? T74_EIO : T74_OK;
 }
 

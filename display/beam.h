@@ -37,6 +37,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "emu/param.h"
 #include "emu/status.h"
 
 enum beam_param {
@@ -54,14 +55,7 @@ enum beam_param {
 
 struct beam_params { double v[BP_NPARAM]; };  /* indexed by enum beam_param */
 
-struct beam_param_row {
-  const char *name;     /* as given to beam_params_set */
-  const char *unit;
-  double      def;      /* default value */
-  double      min, max; /* accepted range */
-  const char *source;   /* hardware-facts.md / paper 003, or "inferred: why" */
-};
-extern const struct beam_param_row beam_param_rows[BP_NPARAM];
+extern const struct param_row beam_param_rows[BP_NPARAM];   /* emu/param.h */
 
 void beam_params_default(struct beam_params *p);
 int  beam_params_set(struct beam_params *p, const char *name_eq_value, struct t74_error *err);

@@ -34,7 +34,6 @@
 
 #include "display/image.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,43 +45,43 @@
 #define LOOK_SQRT2 1.41421356237309504880
 
 /* One row per constant: name, unit, default, range, source. */
-const struct look_param_row look_param_rows[LP_NPARAM] = {
-  [LP_STORED]      = { "stored", "1", 0.7, 0, 4, "rricharz/Tek4010: stored intensity 0.7" },
-  [LP_WRITETHRU]   = { "writethru", "1", 0.5, 0, 4, "rricharz/Tek4010: write-through intensity 0.5" },
-  [LP_WRITETHRU_S] = { "writethru_s", "s", 0.1, 1e-6, 1e6,
+const struct param_row look_param_rows[LP_NPARAM] = {
+  [LP_STORED]      = { "stored", "1", 0.7, 0, 4, 0, "rricharz/Tek4010: stored intensity 0.7" },
+  [LP_WRITETHRU]   = { "writethru", "1", 0.5, 0, 4, 0, "rricharz/Tek4010: write-through intensity 0.5" },
+  [LP_WRITETHRU_S] = { "writethru_s", "s", 0.1, 1e-6, 1e6, 0,
                        "tuned by eye: not stored, so it fades at once (P1 persistence is tens "
                        "of ms; 0.1 s keeps a trace visible for a few frames)" },
-  [LP_BRIGHT]      = { "bright", "1", 1.0, 0, 4, "rricharz/Tek4010: bright writing spot 1.0" },
-  [LP_FLASH_S]     = { "flash_s", "s", 1.0, 1e-6, 1e6,
+  [LP_BRIGHT]      = { "bright", "1", 1.0, 0, 4, 0, "rricharz/Tek4010: bright writing spot 1.0" },
+  [LP_FLASH_S]     = { "flash_s", "s", 1.0, 1e-6, 1e6, 0,
                        "rricharz/Tek4010: the bright spot fades over about 1 s (linear here)" },
-  [LP_GLOW]        = { "glow", "1", 0.08, 0, 1, "rricharz/Tek4010: background (flood-gun) glow 0.08" },
-  [LP_ERASE_S]     = { "erase_s", "s", 0.45, 1e-6, 60,
+  [LP_GLOW]        = { "glow", "1", 0.08, 0, 1, 0, "rricharz/Tek4010: background (flood-gun) glow 0.08" },
+  [LP_ERASE_S]     = { "erase_s", "s", 0.45, 1e-6, 60, 0,
                        "paper 003 appendix: erases in under 500 ms (the Tektronix 613 takes "
                        "about 0.9 s)" },
-  [LP_ERASE_LEVEL] = { "erase_level", "1", 1.0, 0, 4,
+  [LP_ERASE_LEVEL] = { "erase_level", "1", 1.0, 0, 4, 0,
                        "tuned by eye: the erase lights the whole face about as bright as the "
                        "writing spot, then it dies away" },
-  [LP_PITCH_X_MM]  = { "pitch_x_mm", "mm", 0.525, 0.01, 10, "paper 003 appendix: 210 mm / 400 points" },
-  [LP_PITCH_Y_MM]  = { "pitch_y_mm", "mm", 0.5433, 0.01, 10, "paper 003 appendix: 163 mm / 300 points" },
-  [LP_SPOT_MM]     = { "spot_mm", "mm", 0.2130, 0.01, 10,
+  [LP_PITCH_X_MM]  = { "pitch_x_mm", "mm", 0.525, 0.01, 10, 0, "paper 003 appendix: 210 mm / 400 points" },
+  [LP_PITCH_Y_MM]  = { "pitch_y_mm", "mm", 0.5433, 0.01, 10, 0, "paper 003 appendix: 163 mm / 300 points" },
+  [LP_SPOT_MM]     = { "spot_mm", "mm", 0.2130, 0.01, 10, 0,
                        "from the dot pitch: 2 pi sigma^2 = 0.525 x 0.543 mm^2, so a fully lit "
                        "area is as bright as one dot's peak (FWHM 0.50 mm)" },
-  [LP_FADE_S]      = { "fade_s", "s", 900, 1e-3, 1e6,
+  [LP_FADE_S]      = { "fade_s", "s", 900, 1e-3, 1e6, 0,
                        "paper 003 appendix: stores about 15 minutes or more (used only when "
                        "fading is asked: tube=fade:SECONDS or --look fade)" },
-  [LP_FADE_SPREAD_MM] = { "fade_spread_mm", "mm", 0.53, 0, 10,
+  [LP_FADE_SPREAD_MM] = { "fade_spread_mm", "mm", 0.53, 0, 10, 0,
                        "tuned by eye: in one fade time the charge spreads about one dot pitch" },
-  [LP_P1_R]        = { "p1_r", "0..1", 80 / 255.0, 0, 1,
+  [LP_P1_R]        = { "p1_r", "0..1", 80 / 255.0, 0, 1, 0,
                        "tuned by eye: P1 green (peak 525 nm), as display/image.c's dot colour" },
-  [LP_P1_G]        = { "p1_g", "0..1", 1.0, 0, 1, "tuned by eye: P1 green" },
-  [LP_P1_B]        = { "p1_b", "0..1", 120 / 255.0, 0, 1, "tuned by eye: P1 green" },
-  [LP_BLOOM]       = { "bloom", "1", 0.6, 0, 4,
+  [LP_P1_G]        = { "p1_g", "0..1", 1.0, 0, 1, 0, "tuned by eye: P1 green" },
+  [LP_P1_B]        = { "p1_b", "0..1", 120 / 255.0, 0, 1, 0, "tuned by eye: P1 green" },
+  [LP_BLOOM]       = { "bloom", "1", 0.6, 0, 4, 0,
                        "tuned by eye: light above intensity 1 whitens the spot" },
 };
 
 void look_params_default(struct look_params *p)
 {
-  for (int k = 0; k < LP_NPARAM; k++) p->v[k] = look_param_rows[k].def;
+  param_defaults(look_param_rows, LP_NPARAM, p->v);
 }
 
 int look_params_set(struct look_params *p, const char *s, struct t74_error *err)
@@ -90,26 +89,18 @@ int look_params_set(struct look_params *p, const char *s, struct t74_error *err)
   const char *eq = strchr(s, '=');
   if (!eq) return t74_fail(err, T74_EINPUT, "look: expected NAME=VALUE, got `%s`", s);
   size_t n = (size_t)(eq - s);
-  for (int k = 0; k < LP_NPARAM; k++) {
-    const struct look_param_row *r = &look_param_rows[k];
-    if (strlen(r->name) != n || strncmp(r->name, s, n)) continue;
-    char *end;
-    errno = 0;
-    double v = strtod(eq + 1, &end);
-    if (errno || end == eq + 1 || *end || !isfinite(v) || v < r->min || v > r->max)
-      return t74_fail(err, T74_EINPUT, "look: %s takes a number in %g .. %g %s, got `%s`",
-                      r->name, r->min, r->max, r->unit, eq + 1);
-    p->v[k] = v;
-    return T74_OK;
-  }
-  return t74_fail(err, T74_EINPUT, "look: unknown constant `%.*s`", (int)n, s);
+  int k = param_find(look_param_rows, LP_NPARAM, s, n);
+  if (k < 0) return t74_fail(err, T74_EINPUT, "look: unknown constant `%.*s`", (int)n, s);
+  const struct param_row *r = &look_param_rows[k];
+  if (param_parse(r, eq + 1, &p->v[k]) != PARAM_OK)
+    return t74_fail(err, T74_EINPUT, "look: %s takes a number in %g .. %g %s, got `%s`",
+                    r->name, r->min, r->max, r->unit, eq + 1);
+  return T74_OK;
 }
 
 int look_params_list(const struct look_params *p, FILE *f)
 {
-  for (int k = 0; k < LP_NPARAM; k++)
-    fprintf(f, "%-16s %10g %-5s %s\n", look_param_rows[k].name, p->v[k],
-            look_param_rows[k].unit, look_param_rows[k].source);
+  param_list(look_param_rows, LP_NPARAM, p->v, 16, f);
   return ferror(f) ? T74_EIO : T74_OK;
 }
 

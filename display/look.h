@@ -37,6 +37,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "emu/param.h"
 #include "emu/status.h"
 
 #define LOOK_SCALE_MAX 8        /* largest --scale */
@@ -62,14 +63,7 @@ enum look_param {
 
 struct look_params { double v[LP_NPARAM]; };   /* indexed by enum look_param */
 
-struct look_param_row {
-  const char *name;     /* as given to look_params_set */
-  const char *unit;
-  double      def;
-  double      min, max;
-  const char *source;   /* where the number comes from, or "tuned by eye" */
-};
-extern const struct look_param_row look_param_rows[LP_NPARAM];
+extern const struct param_row look_param_rows[LP_NPARAM];   /* emu/param.h */
 
 void look_params_default(struct look_params *p);
 int  look_params_set(struct look_params *p, const char *name_eq_value, struct t74_error *err);

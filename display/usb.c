@@ -16,7 +16,6 @@
 */
 #include "display/usb.h"
 
-#include <errno.h>
 #include <libusb.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,11 +23,11 @@
 
 /* The link's rows (usb.h). The defaults are the usual USB host-side choices: a bulk
 ** transfer to a plotter may wait while the plotter moves its pen, so the timeout is long. */
-const struct usb_param usb_link_params[USB_NLINK] = {
-  /* name          default  lo      hi        unit  source */
-  { "timeout_ms",  2000,    10,     600000,   "ms", "inferred: longest pen move plus margin" },
-  { "retries",     3,       0,      100,      "",   "inferred" },
-  { "backoff_ms",  20,      0,      60000,    "ms", "inferred: first pause, doubled each retry" },
+const struct param_row usb_link_params[USB_NLINK] = {
+  /* name, unit, default, accepted range, whole numbers only, source (emu/param.h) */
+  { "timeout_ms", "ms", 2000, 10, 600000, 0, "inferred: longest pen move plus margin" },
+  { "retries",    "",   3,    0,  100,    0, "inferred" },
+  { "backoff_ms", "ms", 20,   0,  60000,  0, "inferred: first pause, doubled each retry" },
 };
 
 struct usb_link {
@@ -430,8 +429,8 @@ const struct usb_profile *usb_profile_find(const char *name)
 void usb_settings_default(struct usb_settings *s, const struct usb_profile *p)
 {
   memset(s, 0, sizeof *s);
-  for (int k = 0; k < USB_NLINK; k++) s->link[k] = usb_link_params[k].def;
-  for (int k = 0; k < p->nparams && k < USB_MAX_PARAMS; k++) s->p[k] = p->params[k].def;
+  param_defaults(usb_link_params, USB_NLINK, s->link);
+  param_defaults(p->params, p->nparams < USB_MAX_PARAMS ? p->nparams : USB_MAX_PARAMS, s->p);
 }
 
 int usb_settings_set(struct usb_settings *s, const struct usb_profile *p, const char *kv,
@@ -441,53 +440,40 @@ int usb_settings_set(struct usb_settings *s, const struct usb_profile *p, const 
   if (!eq || eq == kv || !eq[1])
     return t74_fail(err, T74_EINPUT, "tube74: --set takes NAME=VALUE: %s", kv);
   size_t n = (size_t)(eq - kv);
-  char *end;
-  errno = 0;
-  double v = strtod(eq + 1, &end);
-  const struct usb_param *row = NULL;
-  double *slot = NULL;
-  for (int k = 0; k < USB_NLINK; k++)
-    if (strlen(usb_link_params[k].name) == n && !strncmp(kv, usb_link_params[k].name, n)) {
-      row = &usb_link_params[k];
-      slot = &s->link[k];
-    }
-  for (int k = 0; k < p->nparams; k++)
-    if (strlen(p->params[k].name) == n && !strncmp(kv, p->params[k].name, n)) {
-      row = &p->params[k];
-      slot = &s->p[k];
-    }
-  if (!row)
+  const struct param_row *row;
+  double *slot;
+  int k = param_find(p->params, p->nparams, kv, n);
+  if (k >= 0) {
+    row = &p->params[k];
+    slot = &s->p[k];
+  } else if ((k = param_find(usb_link_params, USB_NLINK, kv, n)) >= 0) {
+    row = &usb_link_params[k];
+    slot = &s->link[k];
+  } else {
     return t74_fail(err, T74_EINPUT, "tube74: the %s profile has no setting `%.*s` "
                     "(`tube74 stream --device %s --settings` lists them)", p->name, (int)n, kv,
                     p->name);
-  if (errno || end == eq + 1 || *end || v < row->lo || v > row->hi)
+  }
+  if (param_parse(row, eq + 1, slot) != PARAM_OK)
     return t74_fail(err, T74_EINPUT, "tube74: %s takes a number from %g to %g: %s", row->name,
-                    row->lo, row->hi, eq + 1);
-  *slot = v;
+                    row->min, row->max, eq + 1);
   return T74_OK;
 }
 
 double usb_setting(const struct usb_settings *s, const struct usb_profile *p, const char *name)
 {
-  for (int k = 0; k < p->nparams; k++)
-    if (!strcmp(p->params[k].name, name)) return s->p[k];
-  for (int k = 0; k < USB_NLINK; k++)
-    if (!strcmp(usb_link_params[k].name, name)) return s->link[k];
-  return 0;
-}
-
-static void list_rows(const struct usb_param *rows, int n, const double *v, FILE *f)
-{
-  for (int k = 0; k < n; k++)
-    fprintf(f, "  %-18s %-10g %-9s %s\n", rows[k].name, v[k], rows[k].unit, rows[k].source);
+  int k = param_find(p->params, p->nparams, name, strlen(name));
+  if (k >= 0) return s->p[k];
+  k = param_find(usb_link_params, USB_NLINK, name, strlen(name));
+  return k >= 0 ? s->link[k] : 0;
 }
 
 void usb_settings_list(const struct usb_settings *s, const struct usb_profile *p, FILE *f)
 {
-  fprintf(f, "%s: %s\n  %-18s %-10s %-9s %s\n", p->name, p->what, "setting", "value", "unit",
+  fprintf(f, "%s: %s\n%-18s %12s  %-12s %s\n", p->name, p->what, "setting", "value", "unit",
           "source");
-  list_rows(p->params, p->nparams, s->p, f);
-  list_rows(usb_link_params, USB_NLINK, s->link, f);
+  param_list(p->params, p->nparams, s->p, 18, f);
+  param_list(usb_link_params, USB_NLINK, s->link, 18, f);
 }
 
 int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *err)

@@ -52,23 +52,16 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "emu/param.h"
 #include "emu/status.h"
 
 /* ---- parameters ------------------------------------------------------------------- */
 
 #define USB_MAX_PARAMS 24       /* rows in one profile's table (checked at start) */
 
-struct usb_param {
-  const char *name;             /* as given to --set NAME=VALUE */
-  double def;                   /* default value */
-  double lo, hi;                /* accepted range, inclusive */
-  const char *unit;             /* "ms", "mm", "points/s", ... */
-  const char *source;           /* where the number comes from, or "inferred" */
-};
-
 /* The link's own rows: indices into usb_settings.link[]. */
 enum { USB_P_TIMEOUT, USB_P_RETRIES, USB_P_BACKOFF, USB_NLINK };
-extern const struct usb_param usb_link_params[USB_NLINK];
+extern const struct param_row usb_link_params[USB_NLINK];   /* emu/param.h */
 
 struct usb_settings {
   double link[USB_NLINK];       /* usb_link_params values */
@@ -170,7 +163,7 @@ struct usb_profile {
   const char *name;             /* "hpgl", "ebb", "helios" */
   const char *what;             /* one line for --help and `devices` */
   struct usb_match match;       /* how its device is found */
-  const struct usb_param *params;
+  const struct param_row *params;   /* its settings (emu/param.h) */
   int nparams;
   int  (*open)(void **ctx, struct usb_link *l, const struct usb_settings *s,
                struct usb_ack ack, struct t74_error *err);

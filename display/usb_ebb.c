@@ -44,20 +44,20 @@ enum {                          /* rows of ebb_params, in order */
   EB_BAND, EB_QUEUE, EB_COREXY, EB_NPARAMS
 };
 
-static const struct usb_param ebb_params[EB_NPARAMS] = {
-  /* name            default lo     hi        unit      source */
-  { "area_x_mm",     10,     0,     2000,     "mm",     "A4 landscape with 10 mm margins" },
-  { "area_y_mm",     10,     0,     2000,     "mm",     "A4 landscape with 10 mm margins" },
-  { "area_w_mm",     277,    10,    2000,     "mm",     "A4 landscape: 297 - 2 x 10" },
-  { "area_h_mm",     190,    10,    2000,     "mm",     "A4 landscape: 210 - 2 x 10" },
-  { "steps_per_mm",  40,     1,     1000,     "1/mm",   "hardware-facts.md: ~1016 steps/inch" },
-  { "pen_up_speed",  8000,   2,     25000,    "steps/s","below the EBB's 25 kHz step rate; inferred" },
-  { "pen_down_speed",3000,   2,     25000,    "steps/s","inferred: AxiDraw default drawing speed" },
-  { "pen_lift_ms",   150,    0,     65535,    "ms",     "inferred: servo travel of one lift" },
-  { "runs",          1,      0,     1,        "",       "1: strokes where penplan.h rule says faster" },
-  { "band_rows",     12,     1,     300,      "rows",   "whole 3x3 and 4x4 cells (penplan.h)" },
-  { "queue",         3,      1,     64,       "commands","hardware-facts.md: a few queued; inferred 3" },
-  { "corexy",        1,      0,     1,        "",       "1: AxiDraw mixed axes, 0: EggBot native" },
+static const struct param_row ebb_params[EB_NPARAMS] = {
+  /* name, unit, default, accepted range, whole numbers only, source (emu/param.h) */
+  { "area_x_mm",      "mm",       10,   0,  2000,  0, "A4 landscape with 10 mm margins" },
+  { "area_y_mm",      "mm",       10,   0,  2000,  0, "A4 landscape with 10 mm margins" },
+  { "area_w_mm",      "mm",       277,  10, 2000,  0, "A4 landscape: 297 - 2 x 10" },
+  { "area_h_mm",      "mm",       190,  10, 2000,  0, "A4 landscape: 210 - 2 x 10" },
+  { "steps_per_mm",   "1/mm",     40,   1,  1000,  0, "hardware-facts.md: ~1016 steps/inch" },
+  { "pen_up_speed",   "steps/s",  8000, 2,  25000, 0, "below the EBB's 25 kHz step rate; inferred" },
+  { "pen_down_speed", "steps/s",  3000, 2,  25000, 0, "inferred: AxiDraw default drawing speed" },
+  { "pen_lift_ms",    "ms",       150,  0,  65535, 0, "inferred: servo travel of one lift" },
+  { "runs",           "",         1,    0,  1,     0, "1: strokes where penplan.h rule says faster" },
+  { "band_rows",      "rows",     12,   1,  300,   0, "whole 3x3 and 4x4 cells (penplan.h)" },
+  { "queue",          "commands", 3,    1,  64,    0, "hardware-facts.md: a few queued; inferred 3" },
+  { "corexy",         "",         1,    0,  1,     0, "1: AxiDraw mixed axes, 0: EggBot native" },
 };
 
 #define EB_MAX_CMD 48           /* longest command: "SM,16777215,-99999999,-99999999\r" */

@@ -36,16 +36,16 @@
 enum { HE_PPS, HE_FRAME, HE_BLANK_STEP, HE_DWELL, HE_INTENSITY, HE_STATUS_MS, HE_POLL_MS,
        HE_NPARAMS };
 
-static const struct usb_param helios_params[HE_NPARAMS] = {
-  /* name              default lo    hi      unit        source */
-  { "pps",             30000,  7,    65535,  "points/s", "hardware-facts.md: 7..65535 points/s" },
-  { "frame_points",    1000,   64,   4094,   "points",   "hardware-facts.md: at most 4095 "
-                                                         "(one kept for the SDK's size quirk)" },
-  { "blank_step",      40,     1,    400,    "dots",     "inferred: one blanked point per 40 dots moved" },
-  { "dwell",           1,      1,    16,     "points",   "lit points per dot; inferred" },
-  { "intensity",       255,    1,    255,    "",         "green and intensity of a lit point" },
-  { "status_timeout_ms",5000,  10,   600000, "ms",       "inferred: a frame lasts at most 4095/7 s" },
-  { "poll_ms",         1,      0,    1000,   "ms",       "pause between status polls; inferred" },
+static const struct param_row helios_params[HE_NPARAMS] = {
+  /* name, unit, default, accepted range, whole numbers only, source (emu/param.h) */
+  { "pps",               "points/s", 30000, 7,  65535,  0, "hardware-facts.md: 7..65535 points/s" },
+  { "frame_points",      "points",   1000,  64, 4094,   0, "hardware-facts.md: at most 4095 "
+                                                          "(one kept for the SDK's size quirk)" },
+  { "blank_step",        "dots",     40,    1,  400,    0, "inferred: one blanked point per 40 dots moved" },
+  { "dwell",             "points",   1,     1,  16,     0, "lit points per dot; inferred" },
+  { "intensity",         "",         255,   1,  255,    0, "green and intensity of a lit point" },
+  { "status_timeout_ms", "ms",       5000,  10, 600000, 0, "inferred: a frame lasts at most 4095/7 s" },
+  { "poll_ms",           "ms",       1,     0,  1000,   0, "pause between status polls; inferred" },
 };
 
 #define HE_POINT_BYTES 7        /* x>>4, x&15<<4|y>>8, y&255, r, g, b, i */

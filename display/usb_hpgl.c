@@ -39,20 +39,20 @@ enum {                          /* rows of hpgl_params, in order */
   HP_RUNS, HP_BAND, HP_CHUNK, HP_PEN, HP_NPARAMS
 };
 
-static const struct usb_param hpgl_params[HP_NPARAMS] = {
-  /* name            default lo     hi       unit    source */
-  { "area_x_mm",     10,     0,     2000,    "mm",   "A4 landscape with 10 mm margins" },
-  { "area_y_mm",     10,     0,     2000,    "mm",   "A4 landscape with 10 mm margins" },
-  { "area_w_mm",     277,    10,    2000,    "mm",   "A4 landscape: 297 - 2 x 10" },
-  { "area_h_mm",     190,    10,    2000,    "mm",   "A4 landscape: 210 - 2 x 10" },
-  { "units_per_mm",  40,     1,     1000,    "1/mm", "hardware-facts.md: HP-GL 40 units/mm" },
-  { "pen_up_speed",  500,    1,     5000,    "mm/s", "inferred: typical desk plotter slew" },
-  { "pen_down_speed",380,    1,     5000,    "mm/s", "inferred: HP 7475A-class 38 cm/s" },
-  { "pen_lift_ms",   30,     0,     2000,    "ms",   "inferred: one solenoid lift or drop" },
-  { "runs",          1,      0,     1,       "",     "1: strokes where penplan.h rule says faster" },
-  { "band_rows",     12,     1,     300,     "rows", "whole 3x3 and 4x4 cells (penplan.h)" },
-  { "chunk_bytes",   512,    16,    65536,   "bytes","hardware-facts.md: buffers 60 B .. 1 KiB" },
-  { "pen",           1,      1,     8,       "",     "HP-GL SP: carousel stall" },
+static const struct param_row hpgl_params[HP_NPARAMS] = {
+  /* name, unit, default, accepted range, whole numbers only, source (emu/param.h) */
+  { "area_x_mm",      "mm",    10,  0,  2000,  0, "A4 landscape with 10 mm margins" },
+  { "area_y_mm",      "mm",    10,  0,  2000,  0, "A4 landscape with 10 mm margins" },
+  { "area_w_mm",      "mm",    277, 10, 2000,  0, "A4 landscape: 297 - 2 x 10" },
+  { "area_h_mm",      "mm",    190, 10, 2000,  0, "A4 landscape: 210 - 2 x 10" },
+  { "units_per_mm",   "1/mm",  40,  1,  1000,  0, "hardware-facts.md: HP-GL 40 units/mm" },
+  { "pen_up_speed",   "mm/s",  500, 1,  5000,  0, "inferred: typical desk plotter slew" },
+  { "pen_down_speed", "mm/s",  380, 1,  5000,  0, "inferred: HP 7475A-class 38 cm/s" },
+  { "pen_lift_ms",    "ms",    30,  0,  2000,  0, "inferred: one solenoid lift or drop" },
+  { "runs",           "",      1,   0,  1,     0, "1: strokes where penplan.h rule says faster" },
+  { "band_rows",      "rows",  12,  1,  300,   0, "whole 3x3 and 4x4 cells (penplan.h)" },
+  { "chunk_bytes",    "bytes", 512, 16, 65536, 0, "hardware-facts.md: buffers 60 B .. 1 KiB" },
+  { "pen",            "",      1,   1,  8,     0, "HP-GL SP: carousel stall" },
 };
 
 #define HP_REQ_GET_PORT_STATUS 1        /* Printer Class 1.1 §4.2.2 */

@@ -26,6 +26,7 @@
 #include <stdio.h>
 
 #include "emu/hitac10.h"
+#include "emu/param.h"
 #include "emu/status.h"
 
 /* Classes of counted operations; emu/hitac10.h maps each onto HITAC-10 instructions. */
@@ -187,15 +188,7 @@ enum cost_param {
 struct cost_params { double v[CP_NPARAM]; };   /* indexed by enum cost_param */
 
 /* One row of the table (emu/params.c). */
-struct cost_param_row {
-  const char *name;     /* as given to cost_params_set */
-  const char *unit;     /* "ns", "states", "hw|sw", ... */
-  double      def;      /* default value */
-  double      min, max; /* accepted range */
-  int         integer;  /* 1: only whole numbers */
-  const char *source;   /* hardware-facts.md / paper 003 wording, or "inferred: why" */
-};
-extern const struct cost_param_row cost_param_rows[CP_NPARAM];
+extern const struct param_row cost_param_rows[CP_NPARAM];   /* emu/param.h */
 
 void cost_params_default(struct cost_params *p);
 

@@ -26,7 +26,6 @@
 */
 #include "emu/cost.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,7 +38,7 @@
 #define HF "hardware-facts.md: "
 #define P003 "paper 003 appendix: "
 
-const struct cost_param_row cost_param_rows[CP_NPARAM] = {
+const struct param_row cost_param_rows[CP_NPARAM] = {
   [CP_CORE_WORDS] = { "core_words", "words", 16384, 1, 2147483648.0, 1,
     P003 "'コア・メモリ 16 kW/16 BIT'; " HF "'Core memory in 4 K-word units; the paper's "
     "machine had 16 kW x 16 bit. 15-bit program counter: 32 K words at most.' "
@@ -131,15 +130,12 @@ static int row_in_states(int i)
 
 static int find_row(const char *name, size_t len)
 {
-  for (int i = 0; i < CP_NPARAM; i++)
-    if (strlen(cost_param_rows[i].name) == len && strncmp(cost_param_rows[i].name, name, len) == 0)
-      return i;
-  return -1;
+  return param_find(cost_param_rows, CP_NPARAM, name, len);
 }
 
 void cost_params_default(struct cost_params *p)
 {
-  for (int i = 0; i < CP_NPARAM; i++) p->v[i] = cost_param_rows[i].def;
+  param_defaults(cost_param_rows, CP_NPARAM, p->v);
 }
 
 int cost_params_get(const struct cost_params *p, const char *name, double *value)
@@ -180,17 +176,16 @@ int cost_params_set(struct cost_params *p, const char *s, struct t74_error *err)
     snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), s);
     return set_fail(err, "unknown machine parameter '%s'%s (see the parameter list)", name, "");
   }
-  const struct cost_param_row *r = &cost_param_rows[i];
+  const struct param_row *r = &cost_param_rows[i];
   double v;
   if (i == CP_MULDIV) {
     if (strcmp(val, "hw") == 0) v = 0;
     else if (strcmp(val, "sw") == 0) v = 1;
     else return set_fail(err, "machine parameter muldiv: '%s' is not hw or sw%s", val, "");
   } else {
-    char *end;
-    errno = 0;
-    v = strtod(val, &end);
-    if (end == val || *end != '\0' || errno == ERANGE || !isfinite(v))
+    /* read unchecked, then scale ("_us" to states) and check the row's range */
+    struct param_row any = { r->name, r->unit, 0, -HUGE_VAL, HUGE_VAL, 0, r->source };
+    if (param_parse(&any, val, &v) != PARAM_OK)
       return set_fail(err, "machine parameter %s: '%s' is not a number", r->name, val);
     v *= scale;
     if (v < r->min || v > r->max || (r->integer && v != floor(v))) {
@@ -208,7 +203,7 @@ int cost_params_list(const struct cost_params *p, FILE *f)
 {
   fprintf(f, "%-18s %12s  %-12s %s\n", "name", "value", "unit", "source");
   for (int i = 0; i < CP_NPARAM; i++) {
-    const struct cost_param_row *r = &cost_param_rows[i];
+    const struct param_row *r = &cost_param_rows[i];
     if (i == CP_MULDIV)
       fprintf(f, "%-18s %12s  %-12s %s\n", r->name, p->v[i] != 0 ? "sw" : "hw", r->unit, r->source);
     else

@@ -23,6 +23,7 @@
 
 #include "emu/core.h"
 #include "emu/cost.h"
+#include "emu/param.h"
 #include "emu/hitac10.h"
 
 /* ---------------------------------------------------------------- core: low region */
@@ -413,7 +414,7 @@ static void test_params_table(void **state)
   cost_params_default(&p);
   int inferred = 0;
   for (int i = 0; i < CP_NPARAM; i++) {
-    const struct cost_param_row *r = &cost_param_rows[i];
+    const struct param_row *r = &cost_param_rows[i];
     assert_non_null(r->name);                           /* every row filled in */
     assert_non_null(r->unit);
     assert_non_null(r->source);
@@ -544,9 +545,36 @@ static void test_instruction_format(void **state)
   assert_int_equal(h10_regs[0].width, H10_WORD_BITS);
 }
 
+/* emu/param: lookup by a name prefix, exact range and whole-number checks, defaults. */
+static void test_param_table(void **state)
+{
+  (void)state;
+  static const struct param_row rows[] = {
+    { "dwell_us", "us", 10, 0, 1e6, 0, "inferred" },
+    { "home_x", "point", 0, 0, 399, 1, "inferred" },
+  };
+  assert_int_equal(param_find(rows, 2, "home_x=3", 6), 1);
+  assert_int_equal(param_find(rows, 2, "home", 4), -1);         /* whole names only */
+  double v = -1;
+  assert_int_equal(param_parse(&rows[0], "12.5", &v), PARAM_OK);
+  assert_true(v == 12.5);
+  assert_int_equal(param_parse(&rows[0], "12.5x", &v), PARAM_NOT_NUMBER);
+  assert_int_equal(param_parse(&rows[0], "", &v), PARAM_NOT_NUMBER);
+  assert_int_equal(param_parse(&rows[0], "inf", &v), PARAM_NOT_NUMBER);
+  assert_int_equal(param_parse(&rows[0], "-0.001", &v), PARAM_OUT_OF_RANGE);
+  assert_int_equal(param_parse(&rows[1], "399", &v), PARAM_OK);
+  assert_int_equal(param_parse(&rows[1], "1.5", &v), PARAM_OUT_OF_RANGE);
+  assert_int_equal(param_parse(&rows[1], "400", &v), PARAM_OUT_OF_RANGE);
+  assert_true(v == 399);                                          /* untouched on failure */
+  double d[2] = { -1, -1 };
+  param_defaults(rows, 2, d);
+  assert_true(d[0] == 10 && d[1] == 0);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_param_table),
     cmocka_unit_test(test_new_bounds),
     cmocka_unit_test(test_alloc_release_stack),
     cmocka_unit_test(test_fill_exactly),
