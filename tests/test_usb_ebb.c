@@ -311,13 +311,8 @@ static void test_vanish_then_resume(void **state)
 
 static int fixture_start(struct fixture *fx)
 {
-  int rc = mock_start(&fx->m, 0x04D8, 0xFD92, MOCK_DESC_EBB);
+  int rc = mock_begin(&fx->m, 0x04D8, 0xFD92, MOCK_DESC_EBB, SCENE, &fx->ref, &fx->dir);
   if (rc) return rc;
-  fx->dir = mock_tmpdir();
-  if (!fx->dir || mock_reference(SCENE, &fx->ref, fx->dir) != 0 || fx->ref.n == 0) {
-    fprintf(stderr, "cannot get the reference dots from `%s render %s`\n", mock_tube74(), SCENE);
-    return 1;
-  }
   g_queue_init(&fx->b.unacked);
   fx->m.on_out = board_out;
   fx->m.on_in_done = board_in;
@@ -340,11 +335,8 @@ int main(int argc, char **argv)
     cmocka_unit_test_prestate(test_vanish_then_resume, fx),
   };
   rc = cmocka_run_group_tests(tests, NULL, NULL);
-  mock_stop(&fx->m);
-  mock_rmdir(fx->dir);
+  mock_end(&fx->m, &fx->ref, fx->dir);     /* first: the device thread stops */
   free(fx->b.drawn.xy);
-  free(fx->ref.xy);
-  g_free(fx->dir);
   free(fx);
   return rc;
 }

@@ -251,13 +251,8 @@ static void test_wrong_resume_file(void **state)
 
 static int fixture_start(struct fixture *fx)
 {
-  int rc = mock_start(&fx->m, 0x067b, 0x2305, MOCK_DESC_HPGL);
+  int rc = mock_begin(&fx->m, 0x067b, 0x2305, MOCK_DESC_HPGL, SCENE, &fx->ref, &fx->dir);
   if (rc) return rc;
-  fx->dir = mock_tmpdir();
-  if (!fx->dir || mock_reference(SCENE, &fx->ref, fx->dir) != 0 || fx->ref.n == 0) {
-    fprintf(stderr, "cannot get the reference dots from `%s render %s`\n", mock_tube74(), SCENE);
-    return 1;
-  }
   fx->m.on_out = plotter_out;
   fx->m.on_ctrl = plotter_ctrl;
   fx->m.user = &fx->p;
@@ -279,11 +274,8 @@ int main(int argc, char **argv)
     cmocka_unit_test_prestate(test_wrong_resume_file, fx),
   };
   rc = cmocka_run_group_tests(tests, NULL, NULL);
-  mock_stop(&fx->m);
-  mock_rmdir(fx->dir);
+  mock_end(&fx->m, &fx->ref, fx->dir);     /* first: the device thread stops */
   free(fx->p.drawn.xy);
-  free(fx->ref.xy);
-  g_free(fx->dir);
   free(fx);
   return rc;
 }

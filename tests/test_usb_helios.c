@@ -440,13 +440,8 @@ static void test_bad_settings(void **state)
 
 static int fixture_start(struct fixture *fx)
 {
-  int rc = mock_start(&fx->m, 0x1209, 0xE500, MOCK_DESC_HELIOS);
+  int rc = mock_begin(&fx->m, 0x1209, 0xE500, MOCK_DESC_HELIOS, SCENE, &fx->ref, &fx->dir);
   if (rc) return rc;
-  fx->dir = mock_tmpdir();
-  if (!fx->dir || mock_reference(SCENE, &fx->ref, fx->dir) != 0 || fx->ref.n == 0) {
-    fprintf(stderr, "cannot get the reference dots from `%s render %s`\n", mock_tube74(), SCENE);
-    return 1;
-  }
   fx->d.frame = g_byte_array_new();
   fx->m.on_out = dac_out;
   fx->m.user = &fx->d;
@@ -471,12 +466,9 @@ int main(int argc, char **argv)
     cmocka_unit_test_prestate(test_vanish_then_resume, fx),
   };
   rc = cmocka_run_group_tests(tests, NULL, NULL);
-  mock_stop(&fx->m);
-  mock_rmdir(fx->dir);
+  mock_end(&fx->m, &fx->ref, fx->dir);     /* first: the device thread stops */
   free(fx->d.lit.xy);
   g_byte_array_free(fx->d.frame, TRUE);
-  free(fx->ref.xy);
-  g_free(fx->dir);
   free(fx);
   return rc;
 }

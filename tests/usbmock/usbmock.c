@@ -511,3 +511,28 @@ MOCK_UNUSED static void mock_rmdir(const char *dir)
   if (system(cmd) != 0) { /* scratch only */ }
   g_free(cmd);
 }
+
+/* What every USB test program starts with: the emulated device (vid:pid, descriptors
+   desc), a scratch folder, and the reference dots of scene from the real program.
+   0, or the status to exit with (a line on stderr says why). */
+MOCK_UNUSED static int mock_begin(struct mock *m, unsigned vid, unsigned pid, const char *desc,
+                                  const char *scene, struct dots *ref, char **dir)
+{
+  int rc = mock_start(m, vid, pid, desc);
+  if (rc) return rc;
+  *dir = mock_tmpdir();
+  if (!*dir || mock_reference(scene, ref, *dir) != 0 || ref->n == 0) {
+    fprintf(stderr, "cannot get the reference dots from `%s render %s`\n", mock_tube74(), scene);
+    return 1;
+  }
+  return 0;
+}
+
+/* ... and ends with: the device gone, the scratch folder removed. */
+MOCK_UNUSED static void mock_end(struct mock *m, struct dots *ref, char *dir)
+{
+  mock_stop(m);
+  mock_rmdir(dir);
+  free(ref->xy);
+  g_free(dir);
+}
