@@ -40,6 +40,7 @@
 #include "patterns/picture.h"
 #include "patterns/scanner.h"
 #include "render/effects.h"
+#include "render/fx.h"
 #include "render/render.h"
 #include "render/scene.h"
 
@@ -59,7 +60,9 @@ struct pipeline {
   struct sink out;
   uint16_t *ids;
   uint8_t *grey;
+  int *face;                        /* the effects stage's frame (NULL: no effects) */
   struct cost display;              /* halftone + display stage */
+  struct cost fx;                   /* the effects stage (render/fx.h) */
   const struct job_hooks *hooks;
   const struct cost_params *params;
 };
@@ -182,19 +185,6 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
   return T74_OK;
 }
 
-/* Only the effects this version simulates may be named; others are refused, not faked. */
-static int check_effects(const struct effects *e, const char *file, int line, struct t74_error *err)
-{
-  const char *missing = NULL;
-  if (e->aa != EFFECTS_AA_NONE) missing = "aa (anti-aliasing, papers 000/001)";
-  else if (e->edges || (e->given & (EFFECTS_OUTLINE | EFFECTS_INNER))) missing = "edges (paper 002)";
-  else if (e->smooth != EFFECTS_SMOOTH_NONE || (e->given & EFFECTS_CONTOUR)) missing = "smooth (paper 004)";
-  if (!missing) return T74_OK;
-  return t74_fail_at(err, T74_EINPUT, file, line,
-                     "effect %s is not implemented in this version of tube74 "
-                     "(implemented: halftone=, pattern=, tube=)", missing);
-}
-
 /* The 1974 display-run time so far: every stage's counted work, the background's
 ** unpacking and its disk reads. */
 static double pipeline_seconds(const struct pipeline *p)
@@ -202,6 +192,7 @@ static double pipeline_seconds(const struct pipeline *p)
   struct cost total = p->display;
   for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &p->r->cost[s]);
   cost_merge(&total, &p->scanner);
+  cost_merge(&total, &p->fx);
   double t = cost_seconds(&total, p->params);
   if (p->scan) {
     struct scan_stats ss;
@@ -211,22 +202,12 @@ static double pipeline_seconds(const struct pipeline *p)
   return t;
 }
 
-static int on_point(void *ctx, int i, int j, int face)
+/* A point's halftone cell to the sinks: grey is its intensity; a background point whose
+** intensity no effect changed takes its level off the disk (4 bits: 4x4's level 16 is 15). */
+static int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_level)
 {
-  struct pipeline *p = ctx;
-  int grey;
-  uint16_t id = 0;
-  if (face >= 0) {
-    grey = p->r->map.f[face].grey;
-    id = p->r->map.f[face].id;
-  } else {
-    grey = p->scan ? scan_grey(p->scan, i, j) : 0;
-  }
-  p->ids[(size_t)j * (size_t)p->W + (size_t)i] = id;
-  p->grey[(size_t)j * (size_t)p->W + (size_t)i] = (uint8_t)grey;
-  /* a background point's level comes off the disk (4 bits: 4x4's level 16 is 15) */
-  int level = face < 0 && p->scan ? scan_level(p->scan, i, j, &p->scanner)
-                                  : pat_level(p->cell, grey);
+  int level = face < 0 && bg_level && p->scan ? scan_level(p->scan, i, j, &p->scanner)
+                                              : pat_level(p->cell, grey);
   if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
   /* per point: intensity and level lookups, the cell's pattern word, then one display
      command per lit dot */
@@ -234,6 +215,53 @@ static int on_point(void *ctx, int i, int j, int face)
   COST_ADD_N(&p->display, COST_SHIFT, p->cell * p->cell);
   COST_ADD_N(&p->display, COST_IO, level);
   return pat_emit_point(p->pat, i, j, level, &p->out);
+}
+
+static int on_point(void *ctx, int i, int j, int face)
+{
+  struct pipeline *p = ctx;
+  int grey;
+  uint16_t id = 0;
+  size_t at = (size_t)j * (size_t)p->W + (size_t)i;
+  if (face >= 0) {
+    grey = p->r->map.f[face].grey;
+    id = p->r->map.f[face].id;
+  } else {
+    grey = p->scan ? scan_grey(p->scan, i, j) : 0;
+  }
+  p->ids[at] = id;
+  p->grey[at] = (uint8_t)grey;
+  if (p->face) { p->face[at] = face; return T74_OK; }   /* effects: emitted after fx_run */
+  return emit_point(p, i, j, face, grey, true);
+}
+
+/* The effects stage: run the effects over the scanned frame, then send its points to the
+** sinks in the scan's order (bottom row first, left to right). */
+static int run_effects(struct pipeline *p, const struct scene *s, const struct effects *e,
+                       const struct vis_grid *g, struct fx_stats *fst, struct t74_error *err)
+{
+  size_t n = (size_t)p->W * (size_t)p->H;
+  uint8_t *bg = NULL;
+  if (p->scan) {
+    if (!(bg = malloc(n))) return t74_fail(err, T74_EIO, "out of host memory");
+    for (int j = 0; j < p->H; j++)
+      for (int i = 0; i < p->W; i++) bg[(size_t)j * (size_t)p->W + (size_t)i] = (uint8_t)scan_grey(p->scan, i, j);
+  }
+  uint8_t *flat = malloc(n);
+  if (!flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
+  memcpy(flat, p->grey, n);
+  struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg };
+  int st = fx_run(p->r, s, e, g, &f, fst, &p->fx, err);
+  for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
+    for (int i = 0; st == T74_OK && i < p->W; i++) {
+      size_t at = (size_t)j * (size_t)p->W + (size_t)i;
+      int face = p->face[at];
+      p->ids[at] = face >= 0 ? p->r->map.f[face].id : 0;
+      st = emit_point(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+    }
+  free(flat);
+  free(bg);
+  return st;
 }
 
 static double now_seconds(void)
@@ -259,7 +287,7 @@ static const char *const stage_names[RS_NSTAGE] = { "mapper", "segment", "priori
 
 static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
                        const struct tube *t, double host, const struct effects *eff,
-                       struct t74_error *err)
+                       const struct fx_stats *fst, struct t74_error *err)
 {
   struct outfile *of;
   if (outfile_open(&of, o->stats, err) != T74_OK) return err->status;
@@ -297,6 +325,10 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
   outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
   outfile_printf(of, "  \"effects\": \"%s\",\n", effbuf);
+  for (int k = 0; k < fst->n; k++) {
+    if (fst->integer[k]) outfile_printf(of, "  \"%s\": %.0f,\n", fst->name[k], fst->value[k]);
+    else outfile_printf(of, "  \"%s\": %.6f,\n", fst->name[k], fst->value[k]);
+  }
   if (p->hooks && p->hooks->stats && p->hooks->stats(p->hooks->stats_ctx, of) != T74_OK) {
     outfile_abort(of);
     return t74_fail(err, T74_EIO, "%s: cannot write statistics", o->stats);
@@ -306,15 +338,18 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   if (p->scan) { outfile_printf(of, "\"scanner\""); first = 0; }
   for (int s = 0; s < RS_NSTAGE; s++)
     if (r->ran[s]) { outfile_printf(of, "%s\"%s\"", first ? "" : ", ", stage_names[s]); first = 0; }
+  if (p->face) { outfile_printf(of, "%s\"effects\"", first ? "" : ", "); first = 0; }
   outfile_printf(of, "%s\"halftone\", \"tube\"],\n", first ? "" : ", ");
   outfile_printf(of, "  \"stage_hitac10_seconds\": {");
   for (int s = 0; s < RS_NSTAGE; s++)
     outfile_printf(of, "\"%s\": %.6f, ", stage_names[s], cost_seconds(&r->cost[s], &o->params));
   if (p->scan)
     outfile_printf(of, "\"scanner\": %.6f, ", cost_seconds(&p->scanner, &o->params) + ss.disk_seconds);
+  if (p->face) outfile_printf(of, "\"effects\": %.6f, ", cost_seconds(&p->fx, &o->params));
   outfile_printf(of, "\"halftone+tube\": %.6f},\n", cost_seconds(&p->display, &o->params));
   outfile_printf(of, "  \"operations\": {");
   cost_merge(&total, &p->scanner);
+  cost_merge(&total, &p->fx);
   for (int c = 0; c < COST_NCLASS; c++)
     outfile_printf(of, "%s\"%s\": %" PRIu64, c ? ", " : "", cost_class_name(c), total.n[c]);
   outfile_printf(of, "}\n}\n");
@@ -478,7 +513,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   else if (s->effects) st = effects_parse(s->effects, &eff, s->file, s->effects_line, err);
   else { effects_default(&eff); st = T74_OK; }
   if (st != T74_OK) goto done;
-  st = check_effects(&eff, o->effects ? "--effects" : s->file, o->effects ? 1 : s->effects_line, err);
+  st = fx_check(&eff, o->effects ? "--effects" : s->file, o->effects ? 1 : s->effects_line, err);
   if (st != T74_OK) goto done;
   p.cell = o->cell ? o->cell : eff.halftone;
   st = pat_find(eff.pattern[0] ? eff.pattern : NULL, p.cell, &p.pat);
@@ -511,7 +546,11 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   t = tube_new();
   p.ids = calloc((size_t)p.W * (size_t)p.H, sizeof *p.ids);
   p.grey = calloc((size_t)p.W * (size_t)p.H, sizeof *p.grey);
-  if (!t || !p.ids || !p.grey) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
+  if (fx_wanted(&eff)) p.face = calloc((size_t)p.W * (size_t)p.H, sizeof *p.face);
+  if (!t || !p.ids || !p.grey || (fx_wanted(&eff) && !p.face)) {
+    st = t74_fail(err, T74_EIO, "out of host memory");
+    goto done;
+  }
   p.r = &r;
   p.hooks = h;
   p.params = &o->params;
@@ -521,7 +560,10 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   if (h && h->extra.point) sink_tee_add(&tee, h->extra);
   p.out = sink_tee_sink(&tee);
   struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
+  struct fx_stats fst;
+  memset(&fst, 0, sizeof fst);
   st = render_scan(&r, &g, on_point, &p, err);
+  if (st == T74_OK && p.face) st = run_effects(&p, s, &eff, &g, &fst, err);
   if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
   /* the clock's last tick: the last point's own display work is done too */
   if (h && h->clock) h->clock(h->clock_ctx, pipeline_seconds(&p));
@@ -555,12 +597,13 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     }
     if (st != T74_OK) goto done;
   }
-  if (o->stats && (st = write_stats(o, &r, &p, t, host, &eff, err)) != T74_OK) goto done;
+  if (o->stats && (st = write_stats(o, &r, &p, t, host, &eff, &fst, err)) != T74_OK) goto done;
 
 done:
   if (tables) fclose(tables);
   free(p.ids);
   free(p.grey);
+  free(p.face);
   if (t) tube_free(t);
   if (bg) pic_free(bg);
   scan_free(p.scan);

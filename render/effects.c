@@ -31,14 +31,19 @@ void effects_default(struct effects *out)
   out->filter = EFFECTS_FILTER_BOX;
   out->n = 3;
   out->super = 3;
+  out->sigma = 0.5;
+  out->depth = 3;
   out->edges = false;
-  out->outline_w = 1;
-  out->outline_g = 255;
-  out->inner_w = 1;
-  out->inner_g = 255;
+  out->outline_w = 1.5;
+  out->outline_g = 0;
+  out->inner_w = 0.75;
+  out->inner_g = 160;
+  out->halo_w = 0.75;
+  out->halo_g = 255;
   out->smooth = EFFECTS_SMOOTH_NONE;
   out->smooth_c = 0.0;
-  out->contour = 0;
+  out->contour_on = false;
+  out->contour = 0.0;
   out->tube = EFFECTS_TUBE_STORED;
   out->fade_seconds = 0.0;
 }
@@ -107,16 +112,17 @@ static bool eq(const char *s, size_t len, const char *word)
   return strlen(word) == len && memcmp(s, word, len) == 0;
 }
 
-/* "W,G": width 0..EFFECTS_WIDTH_MAX, grey 0..255. */
-static bool width_grey(const char *s, size_t len, int *w, int *g)
+/* "W,G": width 0..EFFECTS_WIDTH_MAX points (a decimal, fractions allowed), grey 0..255. */
+static bool width_grey(const char *s, size_t len, double *w, int *g)
 {
   const char *comma = memchr(s, ',', len);
   if (!comma) return false;
-  long lw, lg;
+  long lg;
+  double dw;
   size_t n1 = (size_t)(comma - s);
-  if (!int_value(s, n1, 0, EFFECTS_WIDTH_MAX, &lw)) return false;
+  if (!real_value(s, n1, 0.0, EFFECTS_WIDTH_MAX, &dw)) return false;
   if (!int_value(comma + 1, len - n1 - 1, 0, 255, &lg)) return false;
-  *w = (int)lw;
+  *w = dw;
   *g = (int)lg;
   return true;
 }
@@ -177,6 +183,16 @@ static int apply(struct effects *e, const char *key, size_t klen, const char *va
     if (!val) e->super = 3;
     else if (int_value(val, vlen, 1, EFFECTS_NSUB_MAX, &l)) e->super = (int)l;
     else ok = false;
+  } else if (eq(key, klen, "sigma")) {
+    bit = EFFECTS_SIGMA;
+    if (!val) return fail(err, file, line, "sigma needs a value:", tok, toklen);
+    if (real_value(val, vlen, 0.0, EFFECTS_SIGMA_MAX, &d) && d > 0.0) e->sigma = d;
+    else ok = false;
+  } else if (eq(key, klen, "depth")) {
+    bit = EFFECTS_DEPTH;
+    if (!val) e->depth = 3;
+    else if (int_value(val, vlen, 1, EFFECTS_DEPTH_MAX, &l)) e->depth = (int)l;
+    else ok = false;
   } else if (eq(key, klen, "edges")) {
     bit = EFFECTS_EDGES;
     if (!val || eq(val, vlen, "on")) e->edges = true;
@@ -190,6 +206,10 @@ static int apply(struct effects *e, const char *key, size_t klen, const char *va
     bit = EFFECTS_INNER;
     if (!val) return fail(err, file, line, "inner needs W,G:", tok, toklen);
     ok = width_grey(val, vlen, &e->inner_w, &e->inner_g);
+  } else if (eq(key, klen, "halo")) {
+    bit = EFFECTS_HALO;
+    if (!val) return fail(err, file, line, "halo needs W,G:", tok, toklen);
+    ok = width_grey(val, vlen, &e->halo_w, &e->halo_g);
   } else if (eq(key, klen, "smooth")) {
     bit = EFFECTS_SMOOTH;
     if (!val || eq(val, vlen, "gouraud")) e->smooth = EFFECTS_SMOOTH_GOURAUD;
@@ -206,7 +226,8 @@ static int apply(struct effects *e, const char *key, size_t klen, const char *va
   } else if (eq(key, klen, "contour")) {
     bit = EFFECTS_CONTOUR;
     if (!val) return fail(err, file, line, "contour needs a value:", tok, toklen);
-    if (int_value(val, vlen, 0, 255, &l)) e->contour = (int)l;
+    if (eq(val, vlen, "none")) { e->contour_on = false; e->contour = 0.0; }
+    else if (real_value(val, vlen, 0.0, 1.0, &d)) { e->contour_on = true; e->contour = d; }
     else ok = false;
   } else if (eq(key, klen, "tube")) {
     bit = EFFECTS_TUBE;
@@ -289,13 +310,19 @@ int effects_format(const struct effects *e, char *buf, size_t n)
     snprintf(t, sizeof t, "super=%d", e->super);
     put(buf, n, &len, t);
   }
+  if (e->given & EFFECTS_SIGMA) { snprintf(t, sizeof t, "sigma=%g", e->sigma); put(buf, n, &len, t); }
+  if (e->given & EFFECTS_DEPTH) { snprintf(t, sizeof t, "depth=%d", e->depth); put(buf, n, &len, t); }
   if (e->given & EFFECTS_EDGES) put(buf, n, &len, e->edges ? "edges=on" : "edges=off");
   if (e->given & EFFECTS_OUTLINE) {
-    snprintf(t, sizeof t, "outline=%d,%d", e->outline_w, e->outline_g);
+    snprintf(t, sizeof t, "outline=%g,%d", e->outline_w, e->outline_g);
     put(buf, n, &len, t);
   }
   if (e->given & EFFECTS_INNER) {
-    snprintf(t, sizeof t, "inner=%d,%d", e->inner_w, e->inner_g);
+    snprintf(t, sizeof t, "inner=%g,%d", e->inner_w, e->inner_g);
+    put(buf, n, &len, t);
+  }
+  if (e->given & EFFECTS_HALO) {
+    snprintf(t, sizeof t, "halo=%g,%d", e->halo_w, e->halo_g);
     put(buf, n, &len, t);
   }
   if (e->given & EFFECTS_SMOOTH) {
@@ -308,7 +335,8 @@ int effects_format(const struct effects *e, char *buf, size_t n)
     put(buf, n, &len, t);
   }
   if (e->given & EFFECTS_CONTOUR) {
-    snprintf(t, sizeof t, "contour=%d", e->contour);
+    if (e->contour_on) snprintf(t, sizeof t, "contour=%g", e->contour);
+    else snprintf(t, sizeof t, "contour=none");
     put(buf, n, &len, t);
   }
   if (e->given & EFFECTS_TUBE) {

@@ -6,7 +6,8 @@
 ** smoothing (paper 004). The keys and their defaults are fixed by shared/CONTRACT.md,
 ** section "Effects": only the effects named are simulated; a key given without `=VALUE`
 ** takes the value listed first in the contract (halftone=4x4, aa=none, filter=box, n=3,
-** super=3, edges=on, smooth=gouraud, tube=stored).
+** super=3, depth=3, edges=on, smooth=gouraud, tube=stored); sigma= and contour= need
+** a value (contour=none is the default: no contour smoothing).
 **
 ** The same parser serves the scene file's `effects` line and the `--effects` option, so
 ** a bad key or value is reported once, as "FILE:LINE: effects: ...".
@@ -31,7 +32,10 @@ enum {
   EFFECTS_INNER    = 1u << 8,
   EFFECTS_SMOOTH   = 1u << 9,
   EFFECTS_CONTOUR  = 1u << 10,
-  EFFECTS_TUBE     = 1u << 11
+  EFFECTS_TUBE     = 1u << 11,
+  EFFECTS_SIGMA    = 1u << 12,
+  EFFECTS_DEPTH    = 1u << 13,
+  EFFECTS_HALO     = 1u << 14
 };
 
 enum effects_aa     { EFFECTS_AA_NONE, EFFECTS_AA_MULTISCAN, EFFECTS_AA_AREA,
@@ -45,7 +49,9 @@ enum effects_tube   { EFFECTS_TUBE_STORED, EFFECTS_TUBE_FADE, EFFECTS_TUBE_FLASH
 
 #define EFFECTS_PATTERN_MAX 31      /* longest pattern name */
 #define EFFECTS_NSUB_MAX    16      /* largest n= and super= */
-#define EFFECTS_WIDTH_MAX   16      /* largest outline/inner width, in points */
+#define EFFECTS_WIDTH_MAX   16      /* largest outline/inner/halo width, in points */
+#define EFFECTS_DEPTH_MAX   8       /* largest depth= (area sampling's subdivision limit) */
+#define EFFECTS_SIGMA_MAX   4.0     /* largest sigma=, in points */
 
 struct effects {
   unsigned given;                   /* EFFECTS_* bits of the keys named */
@@ -55,12 +61,17 @@ struct effects {
   enum effects_filter filter;       /* absent: box */
   int   n;                          /* sub-scanlines per point, 1..16 (absent: 3) */
   int   super;                      /* samples per axis, 1..16 (absent: 3) */
+  double sigma;                     /* Gaussian filter's sigma in points, (0, 4] (0.5) */
+  int   depth;                      /* area sampling's subdivision depth 1..8 (absent: 3) */
   bool  edges;                      /* enhanced edges (absent: off; given alone: on) */
-  int   outline_w, outline_g;       /* outline width 0..16 points, grey 0..255 (1,255) */
-  int   inner_w, inner_g;           /* inner-edge width and grey (1,255) */
+  double outline_w; int outline_g;  /* outline width 0..16 points (fractions allowed),
+                                       grey 0..255 (absent: 1.5 wide, 0 dark) */
+  double inner_w;   int inner_g;    /* inner-edge width and grey (absent: 0.75, 160) */
+  double halo_w;    int halo_g;     /* halo just outside an outline (absent: 0.75, 255) */
   enum effects_smooth smooth;       /* absent: none (flat shading) */
   double smooth_c;                  /* C of fixed:C / prop:C, finite, 0..1e6 */
-  int   contour;                    /* contour=CC: 0..255 (absent: 0) */
+  bool  contour_on;                 /* contour=CC given (not `none`) */
+  double contour;                   /* contour=CC: a real in 0..1 (absent / none: off) */
   enum effects_tube tube;           /* absent: stored */
   double fade_seconds;              /* tube=fade:SECONDS, > 0 and <= 1e6 */
 };

@@ -768,9 +768,9 @@ static void fx_every_key(void **state)
   (void)state;
   struct effects e;
   struct t74_error err = { 0 };
-  const char *text = "tube=fade:2.5 contour=12 smooth=prop:0.25 inner=2,128 outline=3,0 "
-                     "edges=off super=16 n=1 filter=gauss aa=exact pattern=clustered "
-                     "halftone=3x3";
+  const char *text = "tube=fade:2.5 contour=0.25 smooth=prop:0.25 inner=2,128 outline=3.5,0 "
+                     "halo=0.5,200 edges=off depth=4 sigma=0.75 super=16 n=1 filter=gauss "
+                     "aa=exact pattern=clustered halftone=3x3";
   assert_int_equal(effects_parse(text, &e, "f", 1, &err), T74_OK);
   assert_int_equal(e.halftone, 3);
   assert_string_equal(e.pattern, "clustered");
@@ -779,20 +779,25 @@ static void fx_every_key(void **state)
   assert_int_equal(e.n, 1);
   assert_int_equal(e.super, 16);
   assert_false(e.edges);
-  assert_int_equal(e.outline_w, 3);
+  assert_true(e.sigma == 0.75);
+  assert_int_equal(e.depth, 4);
+  assert_true(e.outline_w == 3.5);
   assert_int_equal(e.outline_g, 0);
-  assert_int_equal(e.inner_w, 2);
+  assert_true(e.inner_w == 2);
+  assert_true(e.halo_w == 0.5);
+  assert_int_equal(e.halo_g, 200);
   assert_int_equal(e.inner_g, 128);
   assert_int_equal(e.smooth, EFFECTS_SMOOTH_PROP);
   assert_true(e.smooth_c == 0.25);
-  assert_int_equal(e.contour, 12);
+  assert_true(e.contour_on);
+  assert_true(e.contour == 0.25);
   assert_int_equal(e.tube, EFFECTS_TUBE_FADE);
   assert_true(e.fade_seconds == 2.5);
   char buf[512];
   int n = effects_format(&e, buf, sizeof buf);
   const char *canon = "halftone=3x3 pattern=clustered aa=exact filter=gauss n=1 super=16 "
-                      "edges=off outline=3,0 inner=2,128 smooth=prop:0.25 contour=12 "
-                      "tube=fade:2.5";
+                      "sigma=0.75 depth=4 edges=off outline=3.5,0 inner=2,128 halo=0.5,200 "
+                      "smooth=prop:0.25 contour=0.25 tube=fade:2.5";
   assert_string_equal(buf, canon);
   assert_int_equal(n, (int)strlen(canon));
   /* round trip, and truncation keeps the full length and a terminated prefix */
@@ -834,7 +839,10 @@ static void fx_bad(void **state)
     { "smooth=fixed:", "bad value" }, { "smooth=fixed:x", "bad value" },
     { "smooth=prop:nan", "bad value" }, { "smooth=prop:-1", "bad value" },
     { "smooth=flat", "bad value" }, { "contour", "contour needs a value" },
-    { "contour=256", "bad value" }, { "tube=fade", "bad value" },
+    { "contour=256", "bad value" }, { "contour=1.5", "bad value" },
+    { "contour=-0.1", "bad value" }, { "sigma", "sigma needs a value" },
+    { "sigma=0", "bad value" }, { "sigma=5", "bad value" }, { "depth=0", "bad value" },
+    { "depth=9", "bad value" }, { "halo=1", "bad value" }, { "outline=16.5,0", "bad value" }, { "tube=fade", "bad value" },
     { "tube=fade:0", "bad value" }, { "tube=fade:1e9", "bad value" },
     { "tube=fade:inf", "bad value" }, { "tube=storage", "bad value" },
     { "filter=tent", "bad value" }, { "=3", "missing key" }, { "AA=none", "unknown key" },

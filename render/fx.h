@@ -1,0 +1,78 @@
+/*
+** fx.h — the effects stage: the picture as intensities, between the Visible Surface
+** Procedure and the halftone (the later papers' techniques, applied only when asked).
+**
+** This file contains the one place where the effects of papers 000/001 (anti-aliasing),
+** 002 (enhanced edges) and 004 (smooth and partial smoothing, contour smoothing) meet the
+** 1974 pipeline. With no such effect named, the pipeline never enters this stage and runs
+** exactly the code path of paper 003 (point -> face -> grey -> halftone -> sinks).
+**
+** With one named, the pipeline first scans the grid as usual into a frame (struct
+** fx_frame: the face seen at each point centre, its flat grey, the background's grey),
+** then fx_run hands the frame to each requested effect in a fixed order:
+**
+**     smooth (004: intensity per point, contour cut)  ->  aa (000/001: coverage mixed in
+**     light)  ->  edges (002: lines drawn over the picture)
+**
+** and the pipeline then sends the frame's points through the halftone to the sinks, in
+** the same scan order as ever (bottom row first, left to right). Every effect resolves
+** visibility with the renderer's own exact procedures (render/visible.h, priority.h);
+** none has a visibility code of its own.
+**
+** The machine model: each effect allocates its tables and row buffers in r->core and
+** counts its operations in the cost it is given, so hitac10_seconds and core_words_used
+** include it. Each effect adds its own --stats fields with fx_count().
+*/
+#ifndef T74_FX_H
+#define T74_FX_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/effects.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "render/visible.h"
+
+/* The picture of one render, point by point; index (j * W + i), j counted from the top. */
+struct fx_frame {
+  int W, H;                 /* points across and down */
+  int cell;                 /* halftone cell side (3 or 4) */
+  int *face;                /* visible face at each point centre (index in r->map.f), -1
+                               for none; an effect that changes what is seen (a contour
+                               cut) updates it, and the ids dump follows */
+  uint8_t *grey;            /* intensity 0..255 (perceptual, as pat_level takes it); on
+                               entry the flat face grey, or the background's */
+  const uint8_t *bg;        /* the background picture's intensity per point (NULL: none,
+                               the background is black) */
+};
+
+#define FX_MAX_COUNTERS 32
+#define FX_NAME_MAX 40
+
+/* Statistics an effect reports: named numbers, written into --stats as they are. */
+struct fx_stats {
+  int n;
+  char name[FX_MAX_COUNTERS][FX_NAME_MAX];
+  double value[FX_MAX_COUNTERS];
+  bool integer[FX_MAX_COUNTERS];    /* print as an integer */
+};
+
+/* Does e name an effect that works on the frame (aa, edges, smooth, contour)? */
+bool fx_wanted(const struct effects *e);
+
+/* Refuse, with T74_EINPUT "FILE:LINE: ...", an effect this build does not simulate. */
+int fx_check(const struct effects *e, const char *file, int line, struct t74_error *err);
+
+/* Run the requested effects over f (see the order above). r has been prepared and
+   scanned; s is the scene it came from; g the grid. Operations are counted in cost;
+   tables live in r->core (T74_ECORE when they do not fit). */
+int fx_run(struct render *r, const struct scene *s, const struct effects *e,
+           const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
+           struct cost *cost, struct t74_error *err);
+
+/* Add (or add to) a named statistic. */
+void fx_count(struct fx_stats *st, const char *name, double v, bool integer);
+
+#endif
