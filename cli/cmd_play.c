@@ -108,16 +108,32 @@ static int play_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *
 
 /* ---- the movie --------------------------------------------------------------------- */
 
+/* The name of movie frame i (1-based) into name (base + 32 bytes). */
+static void frame_name(char *name, const struct play_opts *o, size_t base, long i)
+{
+  snprintf(name, base + 32, "%.*s-%04ld.png", (int)base, o->movie, i);
+}
+
+/* The movie's name without a trailing ".png". */
+static size_t movie_base(const struct play_opts *o)
+{
+  size_t base = strlen(o->movie);
+  if (base > 4 && !strcmp(o->movie + base - 4, ".png")) base -= 4;
+  return base;
+}
+
+/* The frames join the job's set (display/outfile.h): frame 1 is opened before the job
+** (first, so its folder is checked before any work), the rest once their number is known;
+** all are committed with the job's other outputs by the caller. */
 static int write_movie(const struct look *l, const struct play_opts *o, int scale,
-                       struct t74_error *err)
+                       struct outset *set, struct outfile *first, struct t74_error *err)
 {
   double end = look_settled(l);                 /* the final picture, flash faded */
   double dt = o->speed / o->fps;                /* emulated seconds per frame */
   long n = (long)ceil(end / dt) + 1;            /* frames at 0, dt, ..., then `end` */
   if (n < 2) n = 2;
   if (n > o->max_frames) { n = o->max_frames; dt = end / (double)(n - 1); }
-  size_t base = strlen(o->movie);
-  if (base > 4 && !strcmp(o->movie + base - 4, ".png")) base -= 4;
+  size_t base = movie_base(o);
   char *name = malloc(base + 32);
   uint8_t *rgba = malloc((size_t)TUBE_W * scale * (size_t)TUBE_H * scale * 4);
   if (!name || !rgba) { free(name); free(rgba); return t74_fail(err, T74_EIO, "out of host memory"); }
@@ -125,10 +141,12 @@ static int write_movie(const struct look *l, const struct play_opts *o, int scal
   for (long i = 0; i < n && st == T74_OK; i++) {
     double t = i == n - 1 ? end : (double)i * dt;
     if (t > end) t = end;
-    snprintf(name, base + 32, "%.*s-%04ld.png", (int)base, o->movie, i + 1);
+    frame_name(name, o, base, i + 1);
+    struct outfile *of = first;
+    if (i > 0 && (st = outset_open(set, name, 0, &of, err)) != T74_OK) break;
     st = look_render(l, t, scale, rgba);
-    if (st != T74_OK) { t74_fail(err, st, "%s: cannot render the frame", name); break; }
-    st = look_png_rgba(rgba, TUBE_W * scale, TUBE_H * scale, name, err);
+    if (st != T74_OK) { outfile_abort(of); t74_fail(err, st, "%s: cannot render the frame", name); break; }
+    st = look_png_rgba_to(rgba, TUBE_W * scale, TUBE_H * scale, of, err);
   }
   if (st == T74_OK)
     printf("play: wrote %ld frames %.*s-0001.png .. %.*s-%04ld.png (%.3f s of 1974 time each; "
@@ -373,6 +391,19 @@ int cmd_play(int argc, char **argv, struct t74_error *err)
   st = timing_prepare(&tm, &j, err);
   struct job_hooks h;
   timing_hooks(&tm, &h);
+  struct outset *set = NULL;    /* with --movie: the frames and the job's outputs, one set */
+  struct outfile *first = NULL; /* frame 1, opened before the job */
+  if (st == T74_OK && o.movie && (st = outset_new(&set, err)) == T74_OK) {
+    size_t base = movie_base(&o);
+    char *name = malloc(base + 32);
+    if (!name) st = t74_fail(err, T74_EIO, "out of host memory");
+    else {
+      frame_name(name, &o, base, 1);
+      st = outset_open(set, name, 0, &first, err);
+      free(name);
+    }
+    h.outs = set;
+  }
   struct job_result res;
   if (st == T74_OK) st = job_run(&j, &h, &res, err);
   struct look *l = NULL;
@@ -393,8 +424,13 @@ int cmd_play(int argc, char **argv, struct t74_error *err)
             "(computing %.3f s)\n", look_count(l), timing_tube_seconds(&tm),
             timing_total_seconds(&tm), res.hitac10_seconds);
   int scale = tm.scale_given ? tm.scale : 2;
-  if (st == T74_OK && o.movie) st = write_movie(l, &o, scale, err);
-  else if (st == T74_OK) st = run_window(l, tm.look, &o, scale, j.scene, err);
+  if (st == T74_OK && o.movie) {
+    st = write_movie(l, &o, scale, set, first, err);
+    if (st == T74_OK) st = outset_commit(set, err);
+  } else if (st == T74_OK) {
+    st = run_window(l, tm.look, &o, scale, j.scene, err);
+  }
+  outset_free(set);             /* whatever was not committed is discarded */
   look_free(l);
   timing_free(&tm);
   return st;

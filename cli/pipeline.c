@@ -4,8 +4,9 @@
 ** This file contains code to read render's options and run the pipeline of paper 003
 ** Fig. 1 point by point: each point, as soon as its visible face is known, becomes a
 ** halftone cell whose dots go to the sinks in the order the 1974 program displayed them.
-** Outputs are only written once everything succeeded, each atomically, so a failure
-** leaves no file created or changed.
+** Outputs are one set (display/outfile.h): all opened and checked before the work starts,
+** written when everything succeeded and committed together, so a failure leaves no file
+** created or changed.
 **
 ** A background picture goes the 1974 way (patterns/scanner.h): scanned on the drum,
 ** converted to halftone levels, packed 4 to a word onto the modelled disk, and read back a
@@ -271,10 +272,52 @@ static double now_seconds(void)
   return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-static int copy_to_outfile(FILE *from, const char *path, struct t74_error *err)
+/* The job's outputs, opened into its set before any work (display/outfile.h). */
+struct job_outs {
+  struct outset *set;               /* the set they belong to */
+  bool own;                         /* the job made the set: it commits and frees it */
+  struct outfile *png;              /* -o, or NULL */
+  struct outfile *stats;            /* --stats, or NULL */
+  struct outfile *dump[JOB_MAX_DUMPS];  /* --dump KIND=FILE, in the order given */
+};
+
+/* Open every output of the job, then the hooks' own, into one set, and refuse any that is
+** one of the inputs (the scene; the background when there is one). Before any work. */
+static int outs_open(const struct job *o, const struct job_hooks *h, const char *background,
+                     struct job_outs *jo, struct t74_error *err)
 {
-  struct outfile *of;
-  if (outfile_open(&of, path, err) != T74_OK) return err->status;
+  memset(jo, 0, sizeof *jo);
+  if (h && h->outs) jo->set = h->outs;
+  else if (outset_new(&jo->set, err) != T74_OK) return err->status;
+  else jo->own = true;
+  if (o->png && outset_open(jo->set, o->png, 0, &jo->png, err) != T74_OK) return err->status;
+  for (int d = 0; d < o->ndump; d++)
+    if (outset_open(jo->set, o->dump_path[d], 0, &jo->dump[d], err) != T74_OK) return err->status;
+  if (o->stats && outset_open(jo->set, o->stats, 0, &jo->stats, err) != T74_OK) return err->status;
+  if (h && h->open_outputs && h->open_outputs(h->outputs_ctx, jo->set, err) != T74_OK)
+    return err->status ? err->status : T74_EIO;
+  if (outset_check_input(jo->set, o->scene, "scene", err) != T74_OK) return err->status;
+  if (background && outset_check_input(jo->set, background, "background", err) != T74_OK)
+    return err->status;
+  return T74_OK;
+}
+
+/* After a good run: publish the set when it is the job's own. */
+static int outs_commit(struct job_outs *jo, struct t74_error *err)
+{
+  return jo->own ? outset_commit(jo->set, err) : T74_OK;
+}
+
+/* Discard whatever was not committed (the job's own set only; a caller's is the caller's). */
+static void outs_free(struct job_outs *jo)
+{
+  if (jo->own) outset_free(jo->set);
+  jo->set = NULL;
+}
+
+static int copy_to_outfile(FILE *from, struct outfile *of, struct t74_error *err)
+{
+  const char *path = outfile_path(of);
   rewind(from);
   char buf[8192];
   size_t n;
@@ -287,10 +330,8 @@ static const char *const stage_names[RS_NSTAGE] = { "mapper", "segment", "priori
 
 static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
                        const struct tube *t, double host, const struct effects *eff,
-                       const struct fx_stats *fst, struct t74_error *err)
+                       const struct fx_stats *fst, struct outfile *of, struct t74_error *err)
 {
-  struct outfile *of;
-  if (outfile_open(&of, o->stats, err) != T74_OK) return err->status;
   struct cost total = { { 0 } };
   for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &r->cost[s]);
   cost_merge(&total, &p->display);
@@ -301,8 +342,9 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   char effbuf[512];
   effects_format(eff, effbuf, sizeof effbuf);
   outfile_printf(of, "{\n");
-  outfile_printf(of, "  \"scene\": \"%s\",\n", o->scene);
-  outfile_printf(of, "  \"faces_in\": %d,\n", r->faces_in);
+  outfile_printf(of, "  \"scene\": ");
+  outfile_json_string(of, o->scene);                   /* any path stays valid JSON */
+  outfile_printf(of, ",\n  \"faces_in\": %d,\n", r->faces_in);
   outfile_printf(of, "  \"faces_dropped\": %d,\n", r->map.dropped);
   outfile_printf(of, "  \"faces_after_split\": %" PRIu64 ",\n", alive);
   outfile_printf(of, "  \"concave_splits\": %d,\n", r->concave_splits);
@@ -324,7 +366,9 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
   outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
   outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
-  outfile_printf(of, "  \"effects\": \"%s\",\n", effbuf);
+  outfile_printf(of, "  \"effects\": ");
+  outfile_json_string(of, effbuf);
+  outfile_printf(of, ",\n");
   for (int k = 0; k < fst->n; k++) {
     if (fst->integer[k]) outfile_printf(of, "  \"%s\": %.0f,\n", fst->name[k], fst->value[k]);
     else outfile_printf(of, "  \"%s\": %.6f,\n", fst->name[k], fst->value[k]);
@@ -400,12 +444,13 @@ static void tek_writethrough(void *ctx, int x0, int y0, int x1, int y1)
 }
 
 static int write_tek_stats(const struct job *o, const struct job_hooks *h, const struct tube *t,
-                           const struct tek_report *rep, double host, struct t74_error *err)
+                           const struct tek_report *rep, double host, struct outfile *of,
+                           struct t74_error *err)
 {
-  struct outfile *of;
-  if (outfile_open(&of, o->stats, err) != T74_OK) return err->status;
   outfile_printf(of, "{\n");
-  outfile_printf(of, "  \"scene\": \"%s\",\n  \"input\": \"tek\",\n", o->scene);
+  outfile_printf(of, "  \"scene\": ");
+  outfile_json_string(of, o->scene);
+  outfile_printf(of, ",\n  \"input\": \"tek\",\n");
   /* the contract's renderer fields: no scene, nothing rendered */
   outfile_printf(of, "  \"faces_in\": 0,\n  \"faces_after_split\": 0,\n  \"concave_splits\": 0,\n"
                  "  \"intersection_splits\": 0,\n  \"priority_pairs_computed\": 0,\n"
@@ -438,12 +483,15 @@ static int run_tek(const struct job *o, const struct job_hooks *h, struct job_re
                       "the tube's dots (--dump tube, --dump points)", o->scene,
                       dump_names[o->dump_kind[d]]);
   double t0 = now_seconds();
+  struct job_outs jo;
+  int st = outs_open(o, h, NULL, &jo, err);
+  if (st != T74_OK) { outs_free(&jo); return st; }
   uint8_t *buf = NULL;
   size_t n = 0;
-  int st = file_read_all(o->scene, &buf, &n, err);
-  if (st != T74_OK) return st;
+  st = file_read_all(o->scene, &buf, &n, err);
+  if (st != T74_OK) { outs_free(&jo); return st; }
   struct tube *t = tube_new();
-  if (!t) { free(buf); return t74_fail(err, T74_EIO, "out of host memory"); }
+  if (!t) { free(buf); outs_free(&jo); return t74_fail(err, T74_EIO, "out of host memory"); }
   bool extra = h && h->extra.point;
   struct sink_tee tee;
   sink_tee_init(&tee);
@@ -475,14 +523,16 @@ static int run_tek(const struct job *o, const struct job_hooks *h, struct job_re
     res->points_lit = tube_count(t);
     res->W = res->H = res->cell = 0;
   }
-  if (o->png && (st = image_write_png(t, o->png, err)) != T74_OK) goto done;
+  if (jo.png && (st = image_write_png_to(t, jo.png, err)) != T74_OK) goto done;
   for (int d = 0; d < o->ndump; d++) {
-    st = o->dump_kind[d] == DUMP_TUBE ? image_write_pbm(t, o->dump_path[d], err)
-                                      : image_write_points(t, o->dump_path[d], err);
+    st = o->dump_kind[d] == DUMP_TUBE ? image_write_pbm_to(t, jo.dump[d], err)
+                                      : image_write_points_to(t, jo.dump[d], err);
     if (st != T74_OK) goto done;
   }
-  if (o->stats) st = write_tek_stats(o, h, t, &rep, host, err);
+  if (jo.stats && (st = write_tek_stats(o, h, t, &rep, host, jo.stats, err)) != T74_OK) goto done;
+  st = outs_commit(&jo, err);
 done:
+  outs_free(&jo);
   tube_free(t);
   return st;
 }
@@ -500,9 +550,11 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   struct tube *t = NULL;
   struct pic *bg = NULL;
   FILE *tables = NULL;
+  struct job_outs jo;
   int st;
   memset(&r, 0, sizeof r);
   memset(&p, 0, sizeof p);
+  memset(&jo, 0, sizeof jo);
 
   double t0 = now_seconds();
   st = scene_load(o->scene, &o->sopts, &s, err);
@@ -518,11 +570,17 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   p.cell = o->cell ? o->cell : eff.halftone;
   st = pat_find(eff.pattern[0] ? eff.pattern : NULL, p.cell, &p.pat);
   if (st != T74_OK) {
-    st = t74_fail(err, T74_EINPUT, "%s: unknown halftone pattern `%s`", s->file, eff.pattern);
+    /* the name came from the effects line (or --effects): point at it */
+    st = t74_fail(err, T74_EINPUT, "%s:%d: effects: unknown halftone pattern `%s` for the "
+                  "%dx%d cell", o->effects ? "--effects" : s->file,
+                  o->effects ? 1 : s->effects_line, eff.pattern, p.cell, p.cell);
     goto done;
   }
   p.W = pat_grid_w(p.cell);
   p.H = pat_grid_h(p.cell);
+  /* every output opened and checked before any work: all or nothing */
+  st = outs_open(o, h, s->background, &jo, err);
+  if (st != T74_OK) goto done;
   if (s->background) {
     st = pic_load(s->background, &bg, err);
     if (st != T74_OK) goto done;
@@ -576,30 +634,33 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     res->W = p.W; res->H = p.H; res->cell = p.cell;
   }
 
-  /* outputs, each atomic */
-  if (o->png && (st = image_write_png(t, o->png, err)) != T74_OK) goto done;
+  /* outputs: each written into its place in the set, then all committed together */
+  if (jo.png && (st = image_write_png_to(t, jo.png, err)) != T74_OK) goto done;
   for (int d = 0; d < o->ndump; d++) {
-    const char *path = o->dump_path[d];
+    struct outfile *of = jo.dump[d];
     switch (o->dump_kind[d]) {
-    case DUMP_IDS:    st = image_write_ids(p.ids, p.W, p.H, path, err); break;
-    case DUMP_GREY:   st = image_write_grey(p.grey, p.W, p.H, path, err); break;
-    case DUMP_TUBE:   st = image_write_pbm(t, path, err); break;
-    case DUMP_POINTS: st = image_write_points(t, path, err); break;
-    case DUMP_TABLES: st = copy_to_outfile(tables, path, err); break;
+    case DUMP_IDS:    st = image_write_ids_to(p.ids, p.W, p.H, of, err); break;
+    case DUMP_GREY:   st = image_write_grey_to(p.grey, p.W, p.H, of, err); break;
+    case DUMP_TUBE:   st = image_write_pbm_to(t, of, err); break;
+    case DUMP_POINTS: st = image_write_points_to(t, of, err); break;
+    case DUMP_TABLES: st = copy_to_outfile(tables, of, err); break;
     case DUMP_CORE: {
       FILE *tmp = tmpfile();
       if (!tmp) { st = t74_fail(err, T74_EIO, "cannot make a temporary file"); break; }
       core_layout_dump(r.core, tmp);
-      st = copy_to_outfile(tmp, path, err);
+      st = copy_to_outfile(tmp, of, err);
       fclose(tmp);
       break;
     }
     }
     if (st != T74_OK) goto done;
   }
-  if (o->stats && (st = write_stats(o, &r, &p, t, host, &eff, &fst, err)) != T74_OK) goto done;
+  if (jo.stats && (st = write_stats(o, &r, &p, t, host, &eff, &fst, jo.stats, err)) != T74_OK)
+    goto done;
+  st = outs_commit(&jo, err);
 
 done:
+  outs_free(&jo);
   if (tables) fclose(tables);
   free(p.ids);
   free(p.grey);

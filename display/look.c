@@ -358,10 +358,45 @@ static void rgba_row(void *ctx, int r, uint8_t *rgb)
   for (int x = 0; x < p->w; x++) memcpy(rgb + 3 * x, src + 4 * x, 3);
 }
 
-int look_png_rgba(const uint8_t *rgba, int w, int h, const char *path, struct t74_error *err)
+int look_png_rgba_to(const uint8_t *rgba, int w, int h, struct outfile *o,
+                     struct t74_error *err)
 {
   struct rgba_rows p = { rgba, w };
-  return image_write_rgb_png(w, h, rgba_row, &p, path, err);
+  return image_write_rgb_png_to(w, h, rgba_row, &p, o, err);
+}
+
+int look_png_rgba(const uint8_t *rgba, int w, int h, const char *path, struct t74_error *err)
+{
+  struct outfile *o;
+  if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  return look_png_rgba_to(rgba, w, h, o, err);
+}
+
+int look_write_png_to(const struct look *l, double t, int s, struct outfile *o,
+                      struct t74_error *err)
+{
+  const char *path = outfile_path(o);
+  if (s < 1 || s > LOOK_SCALE_MAX) {
+    outfile_abort(o);
+    return t74_fail(err, T74_EINPUT, "look: scale %d is outside 1..%d", s, LOOK_SCALE_MAX);
+  }
+  size_t n = (size_t)TUBE_W * s * (size_t)TUBE_H * s * 4;
+  uint8_t *rgba = malloc(n);
+  if (!rgba) {
+    t74_fail(err, T74_EIO, "%s: out of memory", path);
+    outfile_abort(o);
+    return T74_EIO;
+  }
+  int st = look_render(l, t, s, rgba);
+  if (st != T74_OK) {
+    free(rgba);
+    t74_fail(err, st, "%s: cannot render the tube's look", path);
+    outfile_abort(o);
+    return st;
+  }
+  st = look_png_rgba_to(rgba, TUBE_W * s, TUBE_H * s, o, err);
+  free(rgba);
+  return st;
 }
 
 int look_write_png(const struct look *l, double t, int s, const char *path,
@@ -369,15 +404,7 @@ int look_write_png(const struct look *l, double t, int s, const char *path,
 {
   if (s < 1 || s > LOOK_SCALE_MAX)
     return t74_fail(err, T74_EINPUT, "look: scale %d is outside 1..%d", s, LOOK_SCALE_MAX);
-  size_t n = (size_t)TUBE_W * s * (size_t)TUBE_H * s * 4;
-  uint8_t *rgba = malloc(n);
-  if (!rgba) return t74_fail(err, T74_EIO, "%s: out of memory", path);
-  int st = look_render(l, t, s, rgba);
-  if (st != T74_OK) {
-    free(rgba);
-    return t74_fail(err, st, "%s: cannot render the tube's look", path);
-  }
-  st = look_png_rgba(rgba, TUBE_W * s, TUBE_H * s, path, err);
-  free(rgba);
-  return st;
+  struct outfile *o;
+  if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  return look_write_png_to(l, t, s, o, err);
 }

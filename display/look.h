@@ -37,6 +37,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "display/outfile.h"
 #include "emu/param.h"
 #include "emu/status.h"
 
@@ -114,5 +115,12 @@ int look_write_png(const struct look *l, double t, int scale, const char *path,
 
 /* Any RGBA picture (w x h, row 0 at the top) as an RGB PNG, atomically. */
 int look_png_rgba(const uint8_t *rgba, int w, int h, const char *path, struct t74_error *err);
+
+/* The same two onto an output already opened (display/outfile.h: one of a set); they
+   finish it (outfile_commit) or discard it on failure. */
+int look_write_png_to(const struct look *l, double t, int scale, struct outfile *o,
+                      struct t74_error *err);
+int look_png_rgba_to(const uint8_t *rgba, int w, int h, struct outfile *o,
+                     struct t74_error *err);
 
 #endif

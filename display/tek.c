@@ -226,6 +226,20 @@ int tek_enc_open(struct tek_enc **out, const char *path, struct t74_error *err)
   return T74_OK;
 }
 
+int tek_enc_open_to(struct tek_enc **out, struct outfile *of, struct t74_error *err)
+{
+  struct tek_enc *e = calloc(1, sizeof *e);
+  if (!e) {
+    outfile_abort(of);
+    return t74_fail(err, T74_EIO, "%s: out of memory", outfile_path(of));
+  }
+  e->of = of;
+  e->f = outfile_stream(of);
+  e->hiy = e->extra = e->loy = e->hix = -1;
+  *out = e;
+  return T74_OK;
+}
+
 /* The header, written before the first dot (or at the end of an empty picture), so that a
 ** job that fails before drawing sends nothing to a terminal: erase, normal stored beam
 ** with solid lines, graph mode, point plot. */

@@ -72,6 +72,7 @@
 #include <stdint.h>
 
 #include "display/sink.h"
+#include "display/outfile.h"
 #include "emu/status.h"
 
 /* ---- PLOT 10 codes ----------------------------------------------------------------- */
@@ -107,6 +108,10 @@ struct tek_enc;                 /* opaque: output, last address bytes sent, coun
 ** the end of an empty picture): a job that fails before drawing sends nothing to stdout.
 ** T74_OK with *out set, or T74_EIO with err naming the file. */
 int tek_enc_open(struct tek_enc **out, const char *path, struct t74_error *err);
+
+/* The same onto an output already opened (display/outfile.h, one of a set): the encoder
+** finishes it at the end (outfile_commit) or discards it on abort; the set publishes it. */
+int tek_enc_open_to(struct tek_enc **out, struct outfile *of, struct t74_error *err);
 
 /* The encoder as a sink (valid until tek_enc_free). */
 struct sink tek_enc_sink(struct tek_enc *e);
