@@ -217,6 +217,99 @@ static int64_t seg_param(const int32_t *a, const int32_t *b, const int32_t *v)
   return t;
 }
 
+/* ---- is the grid polygon simple? (exact; edges of all rings pairwise) --------------- */
+
+static int sgn128(i128 v) { return (v > 0) - (v < 0); }
+
+static i128 orient3(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t cx, int64_t cy)
+{
+  return (i128)(bx - ax) * (cy - ay) - (i128)(by - ay) * (cx - ax);
+}
+
+static int between(int64_t a, int64_t b, int64_t p)
+{
+  return p >= (a < b ? a : b) && p <= (a < b ? b : a);
+}
+
+/* closed segments ab and cd meet */
+static int segs_meet(int64_t ax, int64_t ay, int64_t bx, int64_t by,
+                     int64_t cx, int64_t cy, int64_t dx, int64_t dy)
+{
+  int d1 = sgn128(orient3(cx, cy, dx, dy, ax, ay)), d2 = sgn128(orient3(cx, cy, dx, dy, bx, by));
+  int d3 = sgn128(orient3(ax, ay, bx, by, cx, cy)), d4 = sgn128(orient3(ax, ay, bx, by, dx, dy));
+  if (d1 * d2 < 0 && d3 * d4 < 0) return 1;
+  if (!d1 && between(cx, dx, ax) && between(cy, dy, ay)) return 1;
+  if (!d2 && between(cx, dx, bx) && between(cy, dy, by)) return 1;
+  if (!d3 && between(ax, bx, cx) && between(ay, by, cy)) return 1;
+  if (!d4 && between(ax, bx, dx) && between(ay, by, dy)) return 1;
+  return 0;
+}
+
+/* Simple: after dropping repeated consecutive points, no two edges meet except
+   neighbours at their shared point (and those do not overlap). Conservative: a hole
+   touching the boundary counts as not simple (that only widens the band). */
+static int grid_simple(const struct xr_pface *f)
+{
+  int tot = 0;
+  for (int g = 0; g < f->nring; g++) tot += f->ring[g].n;
+  int64_t (*e)[4] = malloc((size_t)(tot ? tot : 1) * sizeof *e);
+  int *ring = malloc((size_t)(tot ? tot : 1) * sizeof *ring);
+  if (!e || !ring) { free(e); free(ring); return 0; }
+  int ne = 0;
+  for (int g = 0; g < f->nring; g++) {
+    const struct xr_ring *R = &f->ring[g];
+    for (int k = 0; k < R->n; k++) {
+      int64_t ax = R->x[k], ay = R->y[k], bx = R->x[(k + 1) % R->n], by = R->y[(k + 1) % R->n];
+      if (ax == bx && ay == by) continue;
+      e[ne][0] = ax; e[ne][1] = ay; e[ne][2] = bx; e[ne][3] = by;
+      ring[ne++] = g;
+    }
+  }
+  int ok = 1;
+  for (int i = 0; i < ne && ok; i++)
+    for (int j = i + 1; j < ne && ok; j++) {
+      const int64_t *a = e[i], *b = e[j];
+      int next = ring[i] == ring[j] && (a[2] == b[0] && a[3] == b[1]);
+      int prev = ring[i] == ring[j] && (b[2] == a[0] && b[3] == a[1]);
+      if (next || prev) {
+        /* neighbours: they must not fold back over each other */
+        const int64_t *p = next ? a : b, *q = next ? b : a;    /* p ends where q starts */
+        if (sgn128(orient3(p[0], p[1], p[2], p[3], q[2], q[3])) == 0 &&
+            (i128)(p[2] - p[0]) * (q[2] - q[0]) + (i128)(p[3] - p[1]) * (q[3] - q[1]) < 0)
+          ok = 0;
+        if (next && prev) ok = 0;                 /* a ring of two edges */
+        continue;
+      }
+      if (segs_meet(a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3])) ok = 0;
+    }
+  free(e);
+  free(ring);
+  return ok;
+}
+
+/* distance from (x, y) to the closest chord between two grid vertices of f */
+static long double chord_dist(const struct xr_pface *f, long double x, long double y)
+{
+  long double best = 1e30L;
+  for (int g = 0; g < f->nring; g++)
+    for (int h = g; h < f->nring; h++) {
+      const struct xr_ring *A = &f->ring[g], *B = &f->ring[h];
+      for (int i = 0; i < A->n; i++)
+        for (int j = g == h ? i + 1 : 0; j < B->n; j++) {
+          long double ax = (long double)A->x[i], ay = (long double)A->y[i];
+          long double dx = (long double)B->x[j] - ax, dy = (long double)B->y[j] - ay;
+          long double l2 = dx * dx + dy * dy, t = 0;
+          if (l2 > 0) t = ((x - ax) * dx + (y - ay) * dy) / l2;
+          if (t < 0) t = 0;
+          if (t > 1) t = 1;
+          long double ex = ax + t * dx - x, ey = ay + t * dy - y;
+          long double d = sqrtl(ex * ex + ey * ey);
+          if (d < best) best = d;
+        }
+    }
+  return best;
+}
+
 int xr_prepare(const struct xr_scene *s, int cell, struct xr_ref *r)
 {
   memset(r, 0, sizeof *r);
@@ -295,6 +388,7 @@ int xr_prepare(const struct xr_scene *s, int cell, struct xr_ref *r)
       }
     }
   }
+  for (int k = 0; k < r->nf; k++) r->f[k].folded = !grid_simple(&r->f[k]);
   free(used);
   free(ins);
   return 0;
@@ -449,6 +543,12 @@ int xr_judge(const struct xr_ref *r, int i, int j, unsigned got, unsigned *want)
   unsigned w = k < 0 ? 0 : r->f[k].id;
   if (want) *want = w;
   if (w == got) return 0;
+  /* a folded face (got or want) near one of its chords */
+  long double x = (long double)c.xn / c.xd, y = (long double)c.yn / c.yd;
+  for (int g = 0; g < r->nf; g++)
+    if (r->f[g].folded && (r->f[g].id == got || r->f[g].id == w) &&
+        chord_dist(&r->f[g], x, y) <= XR_FOLD_BAND)
+      return 1;
   if (k < 0 || got == 0) return -1;
   for (int g = 0; g < r->nf; g++) {
     if (r->f[g].id != got || !covers(&r->f[g], c)) continue;

@@ -26,8 +26,13 @@
 ** units of the true intersection line (README "Exactness"). A point is in the band when
 ** the face the renderer shows covers the point too and the point's centre lies within
 ** XR_BAND grid units of the projected intersection line of that face's plane and the
-** reference's front face's plane. That distance is measured in long double: it decides
-** only whether a point is judged, never which face is seen.
+** reference's front face's plane. And a face whose grid polygon is not simple (rounding
+** folded it: seen almost edge-on or from far away) has no exact region on the grid; the
+** renderer covers it by its triangles' grid polygons, which differ from the folded
+** polygon's even-odd region only in slivers along the chords between its grid vertices:
+** a point differing there, within XR_FOLD_BAND grid units of such a chord, is in the band
+** too. Distances are measured in long double: they decide only whether a point is judged,
+** never which face is seen.
 */
 #ifndef TUBE74_TESTS_REF_EXACTREF_H
 #define TUBE74_TESTS_REF_EXACTREF_H
@@ -36,6 +41,7 @@
 #include <stdio.h>
 
 #define XR_BAND 5.0L          /* grid units (1/256 world unit each) */
+#define XR_FOLD_BAND 1.5L     /* grid units, around the chords of a folded face */
 
 struct xr_face {
   unsigned id;                /* face number */
@@ -76,6 +82,7 @@ struct xr_pface {
   struct xr_ring *ring;       /* grid polygon rings */
   __int128 n[3], D;           /* plane, signed so that D = n.E + d < 0 */
   int64_t bx0, by0, bx1, by1; /* bounding box of the grid polygon */
+  int folded;                 /* the grid polygon is not simple (exact test) */
 };
 struct xr_ref {
   int W, H;

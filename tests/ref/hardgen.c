@@ -33,7 +33,7 @@ static long rnd(struct rng *r, long lo, long hi)   /* lo..hi inclusive */
 const char *hg_family_name(int fam)
 {
   static const char *const n[HG_NFAMILIES] = {
-    "wall", "coplanar", "vshare", "tjunc", "sliver", "far", "edgeon", "snapped"
+    "wall", "coplanar", "vshare", "tjunc", "sliver", "far", "edgeon", "snapped", "fold"
   };
   return fam >= 0 && fam < HG_NFAMILIES ? n[fam] : "?";
 }
@@ -371,16 +371,19 @@ static void fam_sliver(struct gen *g)
 
 static void fam_far(struct gen *g)
 {
-  g->s->eye[2] = (int32_t)rnd(&g->r, -40, -1);
-  int n = (int)rnd(&g->r, 1, 4);
+  /* an eye close to the plane and faces far behind it: a star of radius R at depth z
+     projects to about 256 R |Z0| / z grid units, a few units only, so rounding each
+     vertex by up to half a unit can fold the outline */
+  g->s->eye[2] = (int32_t)rnd(&g->r, -12, -1);
+  int n = (int)rnd(&g->r, 1, 6);
   for (int k = 0; k < n; k++) {
     struct plane pl;
-    int64_t O[3] = { rnd(&g->r, -800, 800), rnd(&g->r, -800, 800), rnd(&g->r, 12000, 30000) };
+    int64_t O[3] = { rnd(&g->r, -400, 400), rnd(&g->r, -400, 400), rnd(&g->r, 12000, 30000) };
     int64_t U[3] = { 1, 0, 0 }, V[3] = { 0, 1, 0 };
     if (rnd(&g->r, 0, 1)) { U[2] = rnd(&g->r, -1, 1); V[2] = rnd(&g->r, -1, 1); }
     memcpy(pl.O, O, sizeof O); memcpy(pl.U, U, sizeof U); memcpy(pl.V, V, sizeof V);
     int64_t o[16][2];
-    int m = star(g, 0, 0, rnd(&g->r, 300, 2500), o);
+    int m = star(g, 0, 0, rnd(&g->r, 100, 3000), o);
     face2(g, &pl, m, (const int64_t (*)[2])o);
   }
 }
@@ -432,6 +435,52 @@ static void fam_snapped(struct gen *g)
     rvec(g, d, 60);
     for (int c = 0; c < 3; c++) r[c] = p[c] + d[c];
     tri3(g, p, q, r);
+  }
+}
+
+/* combs on z = z0 seen from an eye close to the plane: one world unit is 256 f / (z0 + f)
+   grid units (about 0.1 to 3), and the notches end 1..3 world units from the bottom edge,
+   which is tilted by a unit or two: after rounding, tips touch or cross it */
+static void fam_fold(struct gen *g)
+{
+  g->s->eye[2] = (int32_t)rnd(&g->r, -3, -1);
+  int n = (int)rnd(&g->r, 1, 3);
+  for (int k = 0; k < n; k++) {
+    struct plane pl;
+    int64_t O[3] = { rnd(&g->r, -100, 100), rnd(&g->r, -100, 100), rnd(&g->r, 150, 2500) };
+    int64_t U[3] = { 1, 0, 0 }, V[3] = { 0, 1, 0 };
+    if (rnd(&g->r, 0, 2) == 0) V[2] = rnd(&g->r, -1, 1);
+    memcpy(pl.O, O, sizeof O); memcpy(pl.U, U, sizeof U); memcpy(pl.V, V, sizeof V);
+    int teeth = (int)rnd(&g->r, 1, 5);
+    int64_t gap = rnd(&g->r, 4, 30), Wd = gap * (2 * teeth + 1), H = rnd(&g->r, 8, 60);
+    int64_t s = rnd(&g->r, -2, 2);              /* the bottom edge rises by s */
+    int64_t o[64][2];
+    int m = 0;
+    o[m][0] = 0; o[m][1] = s < 0 ? -s : 0; m++;
+    o[m][0] = Wd; o[m][1] = s > 0 ? s : 0; m++;
+    o[m][0] = Wd; o[m][1] = H; m++;
+    for (int t = teeth; t >= 1; t--) {
+      int64_t x = gap * 2 * t;
+      /* bottom edge height at x, rounded up, plus 1..3 */
+      int64_t y0 = o[0][1], y1 = o[1][1];
+      int64_t yb = y0 + ((y1 - y0) * x + (Wd - 1)) / Wd;
+      int64_t w = rnd(&g->r, 1, gap / 2 > 1 ? gap / 2 : 1);
+      o[m][0] = x + w; o[m][1] = H; m++;
+      o[m][0] = x + rnd(&g->r, -1, 1); o[m][1] = yb + rnd(&g->r, 1, 3); m++;
+      o[m][0] = x - w; o[m][1] = H; m++;
+    }
+    o[m][0] = 0; o[m][1] = H; m++;
+    face2(g, &pl, m, (const int64_t (*)[2])o);
+  }
+  /* something in front now and then */
+  if (rnd(&g->r, 0, 1)) {
+    struct plane pl;
+    int64_t O[3] = { rnd(&g->r, -100, 100), rnd(&g->r, -100, 100), rnd(&g->r, 100, 140) };
+    int64_t U[3] = { 1, 0, rnd(&g->r, -1, 1) }, V[3] = { 0, 1, 0 };
+    memcpy(pl.O, O, sizeof O); memcpy(pl.U, U, sizeof U); memcpy(pl.V, V, sizeof V);
+    int64_t o[4][2];
+    rect(0, 0, rnd(&g->r, 2, 20), rnd(&g->r, 2, 20), o);
+    face2(g, &pl, 4, (const int64_t (*)[2])o);
   }
 }
 
@@ -493,6 +542,7 @@ int hg_generate(int fam, uint64_t seed, struct xr_scene *s)
     case HG_SLIVER: fam_sliver(&g); break;
     case HG_FAR: fam_far(&g); break;
     case HG_EDGEON: fam_edgeon(&g); break;
+    case HG_FOLD: fam_fold(&g); break;
     default: fam_snapped(&g); break;
     }
     if (g.bad == 2) { xr_scene_free(s); return -1; }

@@ -13,7 +13,9 @@
 **   far       concave faces far from the eye, whose projections round into
 **             near-degenerate (even non-simple) grid polygons;
 **   edgeon    faces seen almost edge-on;
-**   snapped   random faces with vertices placed exactly in other faces' planes.
+**   snapped   random faces with vertices placed exactly in other faces' planes;
+**   fold      combs whose notches end within a grid unit of the opposite edge once
+**             projected: rounding touches or folds them.
 ** Every face is exactly planar (O + a U + b V with integer O, U, V, a, b), every ring is
 ** simple in the plane (checked exactly), every vertex lies in front of the eye, in range.
 ** The stream is splitmix64, so (family, seed) gives the same scene on every machine.
@@ -26,7 +28,7 @@
 
 enum hg_family {
   HG_WALL, HG_COPLANAR, HG_VSHARE, HG_TJUNC, HG_SLIVER, HG_FAR, HG_EDGEON, HG_SNAPPED,
-  HG_NFAMILIES
+  HG_FOLD, HG_NFAMILIES
 };
 
 const char *hg_family_name(int fam);

@@ -73,11 +73,13 @@ int xd_check_ids(struct xr_scene *s, int cell, int store, struct xd_result *res,
     return -1;
   }
   st = render_prepare(&r, sc, &ro, &err);
+  res->faces_split = r.map.split;
   if (st == T74_OK) {
     struct grab g = { ids, W, &r };
     struct vis_grid vg = { W, H, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
     st = render_scan(&r, &vg, on_point, &g, &err);
     res->pairs_computed = r.prio.computed;
+    res->faces_split = r.map.split;
   }
   render_free(&r);
   scene_free(sc);

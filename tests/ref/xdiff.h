@@ -23,6 +23,7 @@ struct xd_result {
   int first_i, first_j;      /* the first wrong point */
   unsigned first_got, first_want;
   uint64_t pairs_computed;   /* priority pairs the renderer decided */
+  int faces_split;           /* faces split into triangles because rounding folded them */
 };
 
 /* store: 0 auto, 1 dense, 2 sparse (enum prio_store). Returns 0, or -1 when the check
