@@ -5,6 +5,7 @@
 #   make test     build and run every test (unit, hard cases, OSMesa cross-check, invariance)
 #   make asan     the same test suite under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make bench    measured figures (host time, hitac10_seconds, growth 10..10,000 faces)
+#   make fuzz     every libFuzzer target (tools/fuzz.sh) for FUZZ_SECONDS each, one at a time
 #
 # Missing Debian packages are installed when run as root, else the exact apt-get line
 # is printed (see tools/deps.sh).
@@ -39,7 +40,8 @@ PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 TEST_CFLAGS = $(shell pkg-config --cflags $(TESTPKGS))
 TEST_LIBS   = $(shell pkg-config --libs $(TESTPKGS))
 
-.PHONY: all run test asan bench deps clean
+.PHONY: all run test asan bench fuzz deps clean
+FUZZ_SECONDS ?= 120
 all: $(PROG)
 
 $(DEPS_STAMP): tools/deps.sh
@@ -80,6 +82,9 @@ asan:
 
 bench: $(PROG)
 	@sh tools/bench.sh
+
+fuzz:
+	@sh tools/fuzz.sh $(FUZZ_SECONDS)
 
 clean:
 	rm -rf build build-asan tube74 street.png street.json
