@@ -5,11 +5,16 @@
 #   make test     build and run every test (unit, hard cases, OSMesa cross-check, invariance)
 #   make asan     the same test suite under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make bench    measured figures (host time, hitac10_seconds, growth 10..10,000 faces)
+#   make install  ./tube74 to $(DESTDIR)$(PREFIX)/bin and the man page tube74.1 to
+#                 $(DESTDIR)$(PREFIX)/share/man/man1 (PREFIX defaults to /usr/local);
+#                 make uninstall removes them
 #
 # Missing Debian packages are installed when run as root, else the exact apt-get line
 # is printed (see tools/deps.sh).
 
 CC      ?= cc
+PREFIX  ?= /usr/local
+DESTDIR ?=
 BUILD   ?= build
 PROG    ?= tube74
 OPT     ?= -O2 -g
@@ -41,7 +46,7 @@ PKG_LIBS   = $(shell pkg-config --libs $(PKGS)) $(NOPCLIBS)
 TEST_CFLAGS = $(shell pkg-config --cflags $(TESTPKGS))
 TEST_LIBS   = $(shell pkg-config --libs $(TESTPKGS))
 
-.PHONY: all run test asan bench deps clean
+.PHONY: all run test asan bench deps clean install uninstall
 all: $(PROG)
 
 $(DEPS_STAMP): tools/deps.sh
@@ -82,6 +87,12 @@ asan:
 
 bench: $(PROG)
 	@sh tools/bench.sh
+
+install: $(PROG)
+	sh tools/install.sh "$(DESTDIR)" "$(PREFIX)" "$(PROG)" tube74.1
+
+uninstall:
+	rm -f "$(DESTDIR)$(PREFIX)/bin/tube74" "$(DESTDIR)$(PREFIX)/share/man/man1/tube74.1"
 
 clean:
 	rm -rf build build-asan tube74 street.png street.json
