@@ -17,6 +17,7 @@
 #include "cli/pipeline.h"
 #include "cli/commands.h"
 #include "cli/timing.h"
+#include "cli/version.h"
 
 static void usage(FILE *f)
 {
@@ -28,7 +29,7 @@ static void usage(FILE *f)
     "       tube74 devices [PROFILE]          connected USB devices that match a profile\n"
     "       tube74 play SCENE [--speed X] [--movie FILE] [options]   watch the picture build up\n"
     "       tube74 params                     the HITAC-10 cost model's constants and sources\n"
-    "       tube74 --help\n");
+    "       tube74 --help | --version\n");
   job_usage(f);
   timing_usage(f);
 }
@@ -39,6 +40,10 @@ int main(int argc, char **argv)
   if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
     usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? T74_EINPUT : 0;
+  }
+  if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V")) {
+    printf("tube74 " TUBE74_VERSION "\n");
+    return 0;
   }
   int st;
   if (!strcmp(argv[1], "render")) {

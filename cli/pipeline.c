@@ -44,6 +44,7 @@
 #include "render/fx.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "render/turn.h"
 
 #define DEFAULT_CORE_WORDS 16384u       /* HITAC-10 of paper 003: 16 kW x 16 bit */
 
@@ -80,6 +81,7 @@ void job_usage(FILE *f)
     "  --dump KIND=FILE       ids | grey | tube | points | tables | core (repeatable)\n"
     "  --view X0 Y0 Z0        eye for .obj/.off imports\n"
     "  --window XL YB XR YT   window for .obj/.off imports\n"
+    "  --turn AZ,EL           turn an .obj/.off model (degrees; default 30,20)\n"
     "  --input s74|obj|off|tek  input format (default: a Tek stream by its first byte,\n"
     "                         else by extension)\n"
     "  --hitac NAME=VALUE     change a cost-model constant (see `tube74 params`)\n"
@@ -157,6 +159,11 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
       if (o->sopts.window[0] >= o->sopts.window[2] || o->sopts.window[1] >= o->sopts.window[3])
         return bad_usage(err, "--window needs XL < XR and YB < YT", NULL);
       o->sopts.has_window = true;
+    } else if (!strcmp(a, "--turn")) {
+      NEED(1);
+      if (turn_parse(argv[++k], &o->sopts.turn[0], &o->sopts.turn[1]))
+        return bad_usage(err, "--turn takes AZ,EL in degrees (e.g. 30,20), got", argv[k]);
+      o->sopts.has_turn = true;
     } else if (!strcmp(a, "--input")) {
       NEED(1);
       o->sopts.input = argv[++k];

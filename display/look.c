@@ -26,7 +26,8 @@
 **   write-through   amp = writethru (1 - a/writethru_s) while a < writethru_s; never stored.
 **   erase at te     the whole face adds erase_level (1 - (t-te)/erase_s) while
 **                   te <= t < te + erase_s; from te + erase_s on, every dot stored before
-**                   then is gone.
+**                   then is gone. A dot given a time inside the last erase is written at
+**                   its end, te + erase_s (the writing waits for the erase).
 **   glow            added everywhere, always.
 ** Intensities add; look_colour maps them to P1 green, whitening above 1 (bloom).
 */
@@ -164,6 +165,14 @@ static int grow(void **buf, size_t *cap, size_t n, size_t sz)
 static int add_ev(struct look *l, int x, int y, double t, int kind)
 {
   if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H) return T74_EINPUT;
+  /* A dot given while the last erase is under way is written when it is over: a tube
+     being erased stores nothing, and a 4014 host pads the erase (or the terminal holds
+     its input) rather than lose what follows ESC FF. Without this, a stream that begins
+     with an erase lost every dot of its first erase_s. */
+  if (l->nerase) {
+    double te = l->erase[l->nerase - 1], tend = te + l->p.v[LP_ERASE_S];
+    if (t >= te && t < tend) t = tend;
+  }
   if (grow((void **)&l->ev, &l->cap, l->nev, sizeof *l->ev)) return T74_EIO;
   if (kind == EV_STORED) {
     if (grow((void **)&l->stored_ix, &l->scap, l->nstored, sizeof *l->stored_ix)) return T74_EIO;

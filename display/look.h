@@ -17,7 +17,8 @@
 **                                 (the cursor / refreshed-trace mode of the 4010 family).
 **   look_erase(l, t)              the whole face flashes green, then is clear after
 **                                 erase_s (paper 003: under 500 ms). Dots stored before the
-**                                 erase ends are gone afterwards.
+**                                 erase are gone afterwards; a dot given a time inside the
+**                                 last erase is written when it ends.
 ** and look_render(l, t, scale, rgba) draws the face as it is at time t: the faint flood
 ** glow everywhere, each stored dot a P1-green spot whose size comes from the dot pitch
 ** (0.525 mm across x 0.543 mm up), flashes, traces and the erase flash added on top.

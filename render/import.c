@@ -21,6 +21,7 @@
 ** (only the face numbers, which are the file's order, do).
 */
 #include "render/import.h"
+#include "render/turn.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -1003,6 +1004,7 @@ int import_load(const char *path, const char *kind, const struct scene_opts *opt
   int st = import_open(&r, path, err);
   if (st) return st;
   st = strcmp(kind, "off") == 0 ? read_off(&r, &m, err) : read_obj(&r, &m, err);
+  if (st == T74_OK) turn_import(m.xyz, m.nv, opts);      /* the view: render/turn.h */
   if (st == T74_OK) st = build(&m, path, opts, r.nlines, out, err);
   import_close(&r);
   mesh_free(&m);

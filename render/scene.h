@@ -71,6 +71,8 @@ struct scene_opts {
   int32_t view[3];
   int32_t window[4];
   const char *input;                /* "s74", "obj", "off" or NULL to decide by extension */
+  bool    has_turn;                 /* --turn AZ,EL given (imports only; render/turn.h) */
+  double  turn[2];                  /* AZ, EL in degrees */
 };
 
 /* Read and check a scene. On failure returns T74_EINPUT (or T74_EIO when the file cannot
