@@ -3,7 +3,7 @@
 ** USB while the scene renders (CONTRACT.md "stream"; display stage, paper 003 §4).
 **
 ** This file contains code to read the stream command's options, open the device profile
-** (display/usb.h, display/usb_stream.h) and hand it to the rendering job as its extra sink,
+** (display/usb/usb.h, display/usb/stream.h) and hand it to the rendering job as its extra sink,
 ** so that each dot leaves for the device the moment the renderer produces it, as the 1974
 ** program displayed each point while it computed. Hardware source: the profiles' files.
 **
@@ -28,8 +28,8 @@
 
 #include "cli/commands.h"
 #include "cli/pipeline.h"
-#include "display/usb.h"
-#include "display/usb_stream.h"
+#include "display/usb/usb.h"
+#include "display/usb/stream.h"
 #include "emu/status.h"
 
 /* The one piece of global state (style.md allows it here only): a signal handler can reach

@@ -1,6 +1,6 @@
 /*
-** test_usb_faults.c — the fault policy of the USB transfer layer (display/usb.c) and the
-** stream's resume file and Ctrl-C handling (display/usb_stream.c, cli/cmd_stream.c).
+** test_usb_faults.c — the fault policy of the USB transfer layer (display/usb/usb.c) and the
+** stream's resume file and Ctrl-C handling (display/usb/stream.c, cli/cmd_stream.c).
 **
 ** This file contains code to inject faults into the emulated HP-GL plotter of
 ** tests/usbmock/plotter.c (a pure bulk-OUT device: every byte counts) and check, each time,
@@ -29,8 +29,8 @@
 #include "tests/usbmock/plotter.c"
 
 #include "display/sink.h"
-#include "display/usb.h"
-#include "display/usb_stream.h"
+#include "display/usb/usb.h"
+#include "display/usb/stream.h"
 
 #define SCENE "tests/data/usb/small.s74"
 

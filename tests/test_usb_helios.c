@@ -1,6 +1,6 @@
 /*
 ** test_usb_helios.c — the `helios` USB profile against an emulated Helios laser DAC
-** (display/usb_helios.c; hardware-facts.md "Helios laser DAC").
+** (display/usb/helios.c; hardware-facts.md "Helios laser DAC").
 **
 ** This file contains code to play a Helios DAC under umockdev (tests/usbmock/usbmock.c):
 ** it answers the interrupt-endpoint status (0x03 -> 0x83, ready) and version (0x04 -> 0x84)
@@ -8,7 +8,7 @@
 ** and limits (at most 4095 points, never (n-45) % 64 == 0), and decodes the lit points back
 ** into tube dots. The dots must equal `tube74 render --dump points` EXACTLY, in order, once
 ** per --repeat pass; every jump of more than one dot must be preceded by a blanked point on
-** the target. Runs both through the library (display/usb_stream.h) and the real binary.
+** the target. Runs both through the library (display/usb/stream.h) and the real binary.
 ** Also: double-buffer pacing (a slow DAC that is busy while it plays a frame at the pps
 ** rate), transfers split into 16 KiB URBs, a DAC that answers garbage, a DAC that vanishes
 ** in the middle of a frame's transfer (exit 4, resume file; --resume then completes: the
@@ -27,8 +27,8 @@
 #include "tests/usbmock/usbmock.c"
 
 #include "display/sink.h"
-#include "display/usb.h"
-#include "display/usb_stream.h"
+#include "display/usb/usb.h"
+#include "display/usb/stream.h"
 
 #define SCENE "tests/data/usb/small.s74"
 

@@ -1,6 +1,6 @@
 /*
-** usb_stream.c — a USB device profile as a point sink, with acknowledgement bookkeeping,
-** --repeat passes, the resume file and the progress line (see usb_stream.h).
+** stream.c — a USB device profile as a point sink, with acknowledgement bookkeeping,
+** --repeat passes, the resume file and the progress line (see stream.h).
 **
 ** This file contains code to stand between the rendering job and a device profile. It keeps
 ** every dot produced (in production order, for later passes and for the resume file), a
@@ -9,7 +9,7 @@
 ** dot is acknowledged at most once per pass (ack() ignores a repeat), and prefix only grows.
 ** Hardware source: none (profiles hold the device facts).
 */
-#include "display/usb_stream.h"
+#include "display/usb/stream.h"
 
 #include <errno.h>
 #include <inttypes.h>

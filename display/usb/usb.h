@@ -173,9 +173,9 @@ struct usb_profile {
   void (*close)(void *ctx, int clean);
 };
 
-extern const struct usb_profile usb_profile_hpgl;     /* usb_hpgl.c */
-extern const struct usb_profile usb_profile_ebb;      /* usb_ebb.c */
-extern const struct usb_profile usb_profile_helios;   /* usb_helios.c */
+extern const struct usb_profile usb_profile_hpgl;     /* hpgl.c */
+extern const struct usb_profile usb_profile_ebb;      /* ebb.c */
+extern const struct usb_profile usb_profile_helios;   /* helios.c */
 
 /* The profile called name, or NULL. */
 const struct usb_profile *usb_profile_find(const char *name);

@@ -14,7 +14,7 @@
 ** Asynchronous transfers are waited for with libusb_handle_events_timeout_completed on the
 ** link's own context: no threads, no global libusb state.
 */
-#include "display/usb.h"
+#include "display/usb/usb.h"
 
 #include <libusb.h>
 #include <stdlib.h>

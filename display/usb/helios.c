@@ -1,5 +1,5 @@
 /*
-** usb_helios.c — the `helios` USB profile: a Helios laser / XY DAC showing the tube's dots as
+** helios.c — the `helios` USB profile: a Helios laser / XY DAC showing the tube's dots as
 ** a refreshed vector picture (display stage, paper 003 §4; a display that does not store).
 **
 ** This file contains code to turn dots into Helios frames. Hardware source:
@@ -31,7 +31,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "display/usb.h"
+#include "display/usb/usb.h"
 
 enum { HE_PPS, HE_FRAME, HE_BLANK_STEP, HE_DWELL, HE_INTENSITY, HE_STATUS_MS, HE_POLL_MS,
        HE_NPARAMS };
