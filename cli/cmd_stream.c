@@ -39,8 +39,7 @@ static volatile sig_atomic_t stream_stop;
 
 static void on_sigint(int sig)
 {
-  (void)sig;
-  stream_stop = 1;
+  stream_stop = sig;            /* SIGINT, SIGTERM or SIGHUP: the stream names it */
 }
 
 #define STREAM_MAX_SETS 32
@@ -224,12 +223,15 @@ int cmd_stream(int argc, char **argv, struct t74_error *err)
   o.stop = &stream_stop;
   o.progress = (a.progress == 1 || (a.progress < 0 && isatty(2))) ? stderr : NULL;
 
-  struct sigaction sa, old;
+  /* SIGINT (Ctrl-C), SIGTERM (kill, shutdown) and SIGHUP (terminal closed) all end the run
+     the same safe way: the device is left blanked / pen up / motors off (issue 13) */
+  static const int sigs[3] = { SIGINT, SIGTERM, SIGHUP };
+  struct sigaction sa, old[3];
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_sigint;
   sigemptyset(&sa.sa_mask);
   stream_stop = 0;
-  sigaction(SIGINT, &sa, &old);
+  for (int k = 0; k < 3; k++) sigaction(sigs[k], &sa, &old[k]);
 
   struct usb_stream *s;
   int st = usb_stream_open(&s, &o, err);
@@ -244,7 +246,7 @@ int cmd_stream(int argc, char **argv, struct t74_error *err)
     st = job_run(&j, &h, NULL, err);
     st = usb_stream_finish(s, st, err);
   }
-  sigaction(SIGINT, &old, NULL);
+  for (int k = 0; k < 3; k++) sigaction(sigs[k], &old[k], NULL);
   return st;
 }
 
