@@ -3,7 +3,7 @@
 ** USB while the scene renders (CONTRACT.md "stream"; display stage, paper 003 §4).
 **
 ** This file contains code to read the stream command's options, open the device profile
-** (display/usb.h, display/usb_stream.h) and hand it to the rendering job as its extra sink,
+** (display/usb/usb.h, display/usb/stream.h) and hand it to the rendering job as its extra sink,
 ** so that each dot leaves for the device the moment the renderer produces it, as the 1974
 ** program displayed each point while it computed. Hardware source: the profiles' files.
 **
@@ -28,8 +28,8 @@
 
 #include "cli/commands.h"
 #include "cli/pipeline.h"
-#include "display/usb.h"
-#include "display/usb_stream.h"
+#include "display/usb/usb.h"
+#include "display/usb/stream.h"
 #include "emu/status.h"
 
 /* The one piece of global state (style.md allows it here only): a signal handler can reach
@@ -39,8 +39,7 @@ static volatile sig_atomic_t stream_stop;
 
 static void on_sigint(int sig)
 {
-  (void)sig;
-  stream_stop = 1;
+  stream_stop = sig;            /* SIGINT, SIGTERM or SIGHUP: the stream names it */
 }
 
 #define STREAM_MAX_SETS 32
@@ -229,12 +228,15 @@ int cmd_stream(int argc, char **argv, struct t74_error *err)
   o.stop = &stream_stop;
   o.progress = (a.progress == 1 || (a.progress < 0 && isatty(2))) ? stderr : NULL;
 
-  struct sigaction sa, old;
+  /* SIGINT (Ctrl-C), SIGTERM (kill, shutdown) and SIGHUP (terminal closed) all end the run
+     the same safe way: the device is left blanked / pen up / motors off (issue 13) */
+  static const int sigs[3] = { SIGINT, SIGTERM, SIGHUP };
+  struct sigaction sa, old[3];
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_sigint;
   sigemptyset(&sa.sa_mask);
   stream_stop = 0;
-  sigaction(SIGINT, &sa, &old);
+  for (int k = 0; k < 3; k++) sigaction(sigs[k], &sa, &old[k]);
 
   struct usb_stream *s;
   int st = usb_stream_open(&s, &o, err);
@@ -249,7 +251,7 @@ int cmd_stream(int argc, char **argv, struct t74_error *err)
     st = job_run(&j, &h, NULL, err);
     st = usb_stream_finish(s, st, err);
   }
-  sigaction(SIGINT, &old, NULL);
+  for (int k = 0; k < 3; k++) sigaction(sigs[k], &old[k], NULL);
   return st;
 }
 

@@ -1,5 +1,5 @@
 /*
-** test_usb_ebb.c — the `ebb` USB profile against an emulated EiBotBoard (display/usb_ebb.c;
+** test_usb_ebb.c — the `ebb` USB profile against an emulated EiBotBoard (display/usb/ebb.c;
 ** hardware-facts.md "EiBotBoard").
 **
 ** This file contains code to play an EBB on its CDC data endpoints under umockdev
@@ -23,10 +23,10 @@
 
 #include "tests/usbmock/usbmock.c"
 
-#include "display/penplan.h"
+#include "display/usb/penplan.h"
 #include "display/sink.h"
-#include "display/usb.h"
-#include "display/usb_stream.h"
+#include "display/usb/usb.h"
+#include "display/usb/stream.h"
 
 #define SCENE "tests/data/usb/tiny.s74"      /* every command waits for its OK: keep it short */
 

@@ -1,6 +1,6 @@
 /*
-** test_usb_faults.c — the fault policy of the USB transfer layer (display/usb.c) and the
-** stream's resume file and Ctrl-C handling (display/usb_stream.c, cli/cmd_stream.c).
+** test_usb_faults.c — the fault policy of the USB transfer layer (display/usb/usb.c) and the
+** stream's resume file and Ctrl-C handling (display/usb/stream.c, cli/cmd_stream.c).
 **
 ** This file contains code to inject faults into the emulated HP-GL plotter of
 ** tests/usbmock/plotter.c (a pure bulk-OUT device: every byte counts) and check, each time,
@@ -29,8 +29,8 @@
 #include "tests/usbmock/plotter.c"
 
 #include "display/sink.h"
-#include "display/usb.h"
-#include "display/usb_stream.h"
+#include "display/usb/usb.h"
+#include "display/usb/stream.h"
 
 #define SCENE "tests/data/usb/small.s74"
 
@@ -136,6 +136,29 @@ static void test_timeout_retried(void **state)
   check_exact(fx);
   assert_int_equal(fx->m.discards, 2);
   assert_true(t >= 0.2 + 0.05 + 0.1);           /* two timeouts, backoff 50 then 100 ms */
+}
+
+/* A slow plotter takes 100 bytes of each 512-byte chunk before the timeout, over and over:
+** bytes move, so the retry counter starts again each time and the run completes (with
+** retries=1 it would give up on the second timeout of the first chunk otherwise). */
+static void test_slow_bytes_reset_retries(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  g_mutex_lock(&fx->m.lock);
+  fx->m.trickle_bytes = 100;
+  fx->m.trickle_urbs = 12;
+  g_mutex_unlock(&fx->m.lock);
+  struct t74_error err = { T74_OK, "" };
+  const char *sets[] = { "timeout_ms=40", "retries=1", "backoff_ms=0", "chunk_bytes=512", NULL };
+  int st = stream_lib(fx, sets, &err);
+  if (st) fprintf(stderr, "%s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  check_exact(fx);
+  g_mutex_lock(&fx->m.lock);
+  int discards = fx->m.discards;
+  g_mutex_unlock(&fx->m.lock);
+  assert_int_equal(discards, 12);               /* every trickled URB timed out */
 }
 
 static void test_dead_device_then_resume(void **state)
@@ -268,6 +291,7 @@ int main(int argc, char **argv)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test_prestate(test_stall_cleared, fx),
     cmocka_unit_test_prestate(test_timeout_retried, fx),
+    cmocka_unit_test_prestate(test_slow_bytes_reset_retries, fx),
     cmocka_unit_test_prestate(test_dead_device_then_resume, fx),
     cmocka_unit_test_prestate(test_ctrl_c_then_resume, fx),
     cmocka_unit_test_prestate(test_split_urbs, fx),

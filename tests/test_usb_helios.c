@@ -1,6 +1,6 @@
 /*
 ** test_usb_helios.c — the `helios` USB profile against an emulated Helios laser DAC
-** (display/usb_helios.c; hardware-facts.md "Helios laser DAC").
+** (display/usb/helios.c; hardware-facts.md "Helios laser DAC").
 **
 ** This file contains code to play a Helios DAC under umockdev (tests/usbmock/usbmock.c):
 ** it answers the interrupt-endpoint status (0x03 -> 0x83, ready) and version (0x04 -> 0x84)
@@ -8,7 +8,7 @@
 ** and limits (at most 4095 points, never (n-45) % 64 == 0), and decodes the lit points back
 ** into tube dots. The dots must equal `tube74 render --dump points` EXACTLY, in order, once
 ** per --repeat pass; every jump of more than one dot must be preceded by a blanked point on
-** the target. Runs both through the library (display/usb_stream.h) and the real binary.
+** the target. Runs both through the library (display/usb/stream.h) and the real binary.
 ** Also: double-buffer pacing (a slow DAC that is busy while it plays a frame at the pps
 ** rate), transfers split into 16 KiB URBs, a DAC that answers garbage, a DAC that vanishes
 ** in the middle of a frame's transfer (exit 4, resume file; --resume then completes: the
@@ -18,6 +18,7 @@
 */
 #include <math.h>
 #include <setjmp.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -27,8 +28,8 @@
 #include "tests/usbmock/usbmock.c"
 
 #include "display/sink.h"
-#include "display/usb.h"
-#include "display/usb_stream.h"
+#include "display/usb/usb.h"
+#include "display/usb/stream.h"
 
 #define SCENE "tests/data/usb/small.s74"
 
@@ -38,26 +39,69 @@ struct dac {                    /* the emulated DAC's state (under m->lock) */
   int frames, max_points, bad_size, bad_pps, bad_count, unblanked_jumps, off_grid;
   int expect_pps;
   int stops, shutter_closed;
+  /* the firmware's state (Grix/helios_dac firmware main.c): shutter_set(LOW) at power-up;
+     a frame whose flags lack bit 1 is looped until the next one, one with it plays once */
+  int shutter;                  /* 1 open */
+  int shutter_opens;            /* 0x02,1 requests */
+  int dark_frames;              /* frames that arrived while the shutter was closed */
+  int looping_frames;           /* frames without the play-once flag */
+  int last_flags;               /* flags of the last frame */
+  int stopped_after_last;       /* a stop (0x01) came after the last frame */
+  int early_frames;             /* frames written while the DAC reported not ready */
+  double busy_until;            /* the DAC's buffers are full until then (a previous run's
+                                   frames still playing): status says not ready */
   int garbage;                  /* answer status requests with garbage */
   int paced;                    /* busy while a frame plays (double buffer at pps) */
   double last_start, play_end;  /* paced: start of the last frame, end of all */
-  int have_last, lx, ly;        /* last lit dot */
+  int have_last, lx, ly;        /* last lit point, tube dots */
   int last_blank_x, last_blank_y, last_was_blank;
   double t_first_dot;           /* when the first frame with a lit dot arrived */
   long lit_points;              /* lit points of whole frames (dwell points per dot) */
+  long points;                  /* all points of whole frames */
   int vanish_frame;             /* vanish inside the frame after this many whole frames */
   int vanish_bytes;             /* ... once it has taken this many bytes of it (0: never) */
   int vanish_armed;
+  int frame_cover_min;          /* per mille: the smallest share of the picture's extent in x
+                                   and y that one frame's lit dots span (steady pictures) */
+  int ref_x0, ref_x1, ref_y0, ref_y1;   /* the picture's extent, for frame_cover_min */
 };
 
+/* The DAC is ready for a frame (firmware: its second buffer is free). */
+static int dac_ready(struct dac *d)
+{
+  double now = mock_now();
+  if (now < d->busy_until) return 0;
+  return !d->paced || d->last_start <= now;
+}
+
+static void dac_paint(struct dac *d, int x, int y, int *fx0, int *fx1, int *fy0, int *fy1)
+{
+  if (d->t_first_dot == 0) d->t_first_dot = mock_now();
+  dots_add(&d->lit, x, y);
+  if (x < *fx0) *fx0 = x;
+  if (x > *fx1) *fx1 = x;
+  if (y < *fy0) *fy0 = y;
+  if (y > *fy1) *fy1 = y;
+}
+
+/* A whole frame arrived: decode it as the beam draws it. A lit point after a blanked one on
+** the same spot lights that dot; a lit point after a lit one lights the path between them
+** (along a row: every dot on it; a neighbour: that dot; anything else is a stray line). */
 static void dac_frame(struct dac *d, const unsigned char *b, int len)
 {
   int n = (len - 5) / 7;
   int pps = b[len - 5] | b[len - 4] << 8;
   d->frames++;
+  d->last_flags = b[len - 1];
+  d->stopped_after_last = 0;
+  if (!(d->last_flags & 2)) d->looping_frames++;
+  if (!d->shutter) d->dark_frames++;
+  if (!dac_ready(d)) d->early_frames++;
+  d->points += n;
   if (n > d->max_points) d->max_points = n;
   if (n > 4095 || (n - 45) % 64 == 0) d->bad_size++;
   if (d->expect_pps && pps != d->expect_pps) d->bad_pps++;
+  int fx0 = 9999, fx1 = -1, fy0 = 9999, fy1 = -1;
   for (int k = 0; k < n; k++) {
     const unsigned char *p = b + 7 * k;
     int X = p[0] << 4 | p[1] >> 4, Y = (p[1] & 15) << 8 | p[2];
@@ -71,15 +115,30 @@ static void dac_frame(struct dac *d, const unsigned char *b, int len)
     }
     if ((X - 48) % 10 || (Y - 548) % 10) { d->off_grid++; continue; }
     int x = (X - 48) / 10, y = (Y - 548) / 10;
-    if (d->have_last && x == d->lx && y == d->ly) { d->last_was_blank = 0; continue; }  /* dwell */
-    if (!d->have_last || abs(x - d->lx) > 1 || abs(y - d->ly) > 1)
-      if (!d->last_was_blank || d->last_blank_x != X || d->last_blank_y != Y) d->unblanked_jumps++;
-    if (d->t_first_dot == 0) d->t_first_dot = mock_now();
-    dots_add(&d->lit, x, y);
+    if (d->have_last && !d->last_was_blank) {   /* lit to lit */
+      int dx = x - d->lx, dy = y - d->ly;
+      if (dx == 0 && dy == 0) { /* dwell */ }
+      else if (abs(dx) <= 1 && abs(dy) <= 1) dac_paint(d, x, y, &fx0, &fx1, &fy0, &fy1);
+      else if (dy == 0)
+        for (int xx = d->lx + (dx > 0 ? 1 : -1);; xx += dx > 0 ? 1 : -1) {
+          dac_paint(d, xx, y, &fx0, &fx1, &fy0, &fy1);
+          if (xx == x) break;
+        }
+      else { d->unblanked_jumps++; dac_paint(d, x, y, &fx0, &fx1, &fy0, &fy1); }
+    } else {
+      if (d->last_was_blank && (d->last_blank_x != X || d->last_blank_y != Y)) d->unblanked_jumps++;
+      if (!d->last_was_blank && !d->have_last) d->unblanked_jumps++;
+      dac_paint(d, x, y, &fx0, &fx1, &fy0, &fy1);
+    }
     d->have_last = 1;
     d->lx = x;
     d->ly = y;
     d->last_was_blank = 0;
+  }
+  if (fx1 >= 0 && d->ref_x1 > d->ref_x0 && d->ref_y1 > d->ref_y0) {
+    int cx = 1000 * (fx1 - fx0) / (d->ref_x1 - d->ref_x0), cy = 1000 * (fy1 - fy0) / (d->ref_y1 - d->ref_y0);
+    int c = cx < cy ? cx : cy;
+    if (d->frame_cover_min < 0 || c < d->frame_cover_min) d->frame_cover_min = c;
   }
   if (d->paced) {
     double now = mock_now(), start = d->play_end > now ? d->play_end : now;
@@ -103,15 +162,21 @@ static void dac_out(struct mock *m, unsigned char ep, const unsigned char *b, in
         m->vanish_after = m->out_bytes + d->vanish_bytes;
         d->vanish_armed = 1;
       }
-      r[0] = 0x83;
-      r[1] = !d->paced || d->last_start <= mock_now();
-      mock_reply(m, 0x83, r, 32);
+      r[0] = 0x83;                              /* firmware: a 2-byte reply */
+      r[1] = (unsigned char)dac_ready(d);
+      mock_reply(m, 0x83, r, 2);
     } else if (b[0] == 0x04) {
-      r[0] = 0x84;
+      r[0] = 0x84;                              /* firmware: 0x84 + version, 32-bit LE */
       r[1] = 6;
-      mock_reply(m, 0x83, r, 32);
-    } else if (b[0] == 0x01) d->stops++;
-    else if (b[0] == 0x02 && n > 1 && b[1] == 0) d->shutter_closed++;
+      mock_reply(m, 0x83, r, 5);
+    } else if (b[0] == 0x01) {
+      d->stops++;
+      d->stopped_after_last = 1;
+    } else if (b[0] == 0x02 && n > 1) {
+      d->shutter = b[1] != 0;
+      if (b[1]) d->shutter_opens++;
+      else d->shutter_closed++;
+    }
     return;
   }
   if (ep != 0x02) return;
@@ -124,6 +189,13 @@ static void dac_out(struct mock *m, unsigned char ep, const unsigned char *b, in
   }
 }
 
+/* After the run: the laser can be on no longer (a stop came after the last frame, or the
+** last frame plays once) and the shutter is closed. */
+static int dac_safe(const struct dac *d)
+{
+  return (d->stopped_after_last || (d->frames > 0 && (d->last_flags & 2))) && !d->shutter;
+}
+
 static void dac_clear(struct dac *d)
 {
   GByteArray *f = d->frame;
@@ -133,6 +205,7 @@ static void dac_clear(struct dac *d)
   g_byte_array_set_size(f, 0);
   d->lit = l;
   d->lit.n = 0;
+  d->frame_cover_min = -1;
 }
 
 struct fixture {
@@ -145,7 +218,8 @@ struct fixture {
 static struct fixture *F(void **state) { return *state; }
 
 /* Stream ref through the library (no renderer: the dots as produced). */
-static int stream_lib(struct fixture *fx, const char *const *sets, int repeat, struct t74_error *err)
+static int stream_lib_n(struct fixture *fx, const char *const *sets, int repeat, int ndots,
+                        struct t74_error *err)
 {
   struct usb_stream_opts o;
   memset(&o, 0, sizeof o);
@@ -161,10 +235,15 @@ static int stream_lib(struct fixture *fx, const char *const *sets, int repeat, s
   if (usb_stream_open(&s, &o, err) != T74_OK) return err->status;
   struct sink k = usb_stream_sink(s);
   int st = T74_OK;
-  for (int i = 0; i < fx->ref.n && st == T74_OK; i++)
+  for (int i = 0; i < ndots && st == T74_OK; i++)
     st = sink_point(&k, fx->ref.xy[i][0], fx->ref.xy[i][1]);
   if (st == T74_OK) st = sink_end(&k, err);
   return usb_stream_finish(s, st, err);
+}
+
+static int stream_lib(struct fixture *fx, const char *const *sets, int repeat, struct t74_error *err)
+{
+  return stream_lib_n(fx, sets, repeat, fx->ref.n, err);
 }
 
 static void check_passes(struct fixture *fx, int passes)
@@ -199,9 +278,182 @@ static void test_library_exact(void **state)
   if (st) fprintf(stderr, "%s\n", err.msg);
   assert_int_equal(st, T74_OK);
   check_passes(fx, 1);
-  assert_true(fx->d.max_points <= 1000);
-  assert_true(fx->d.frames > 1);
-  assert_int_equal(fx->d.stops, 1);             /* laser blanked at the end */
+  g_mutex_lock(&fx->m.lock);
+  struct dac d = fx->d;
+  g_mutex_unlock(&fx->m.lock);
+  assert_true(d.max_points <= 1000);
+  assert_true(d.frames > 1);
+  assert_int_equal(d.stops, 1);                 /* laser blanked at the end */
+  assert_int_equal(d.shutter_opens, 1);         /* the shutter opened once ... */
+  assert_int_equal(d.dark_frames, 0);           /* ... before the first frame */
+  assert_int_equal(d.looping_frames, 0);        /* every frame plays once */
+  assert_int_equal(d.shutter, 0);               /* and closed at the end */
+  assert_true(dac_safe(&d));
+  printf("BENCH helios refresh, steady=0 (dots as produced): %d dots = %ld points in %d frames; "
+         "the whole picture every %ld/30000 s = %.1f Hz at 30 kpps, shown band by band\n",
+         fx->ref.n, d.points, d.frames, d.points, 30000.0 / (double)d.points);
+}
+
+/* Run the binary with --repeat 0 (a refreshed picture) and signal it once `frames` frames
+** have arrived; its exit status (-1: did not exit). */
+static int binary_signalled(struct fixture *fx, int sig, int frames, const char *const *extra)
+{
+  char *argv[16] = { (char *)mock_tube74(), "stream", SCENE, "--device", "helios", "--repeat", "0" };
+  int a = 7;
+  for (int k = 0; extra && extra[k] && a < 15; k++) argv[a++] = (char *)extra[k];
+  argv[a] = NULL;
+  pid_t pid = fork();
+  if (pid == 0) {
+    if (!freopen("/dev/null", "w", stderr)) _exit(127);
+    execv(argv[0], argv);
+    _exit(127);
+  }
+  for (int waited = 0; waited < 2000; waited++) {   /* up to 20 s: the machine may be busy */
+    g_mutex_lock(&fx->m.lock);
+    int got = fx->d.frames;
+    g_mutex_unlock(&fx->m.lock);
+    if (got >= frames) break;
+    usb_sleep_ms(10);
+  }
+  kill(pid, sig);
+  int wst;
+  waitpid(pid, &wst, 0);
+  return WIFEXITED(wst) ? WEXITSTATUS(wst) : -1;
+}
+
+/* SIGTERM in the middle of a refreshed picture: tube74 stops the DAC (blanked) and closes
+** the shutter before it exits; the picture had the shutter open and played each frame once. */
+static void test_sigterm_leaves_laser_safe(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  int rc = binary_signalled(fx, SIGTERM, 12, NULL);
+  assert_true(rc == 0 || rc == 4);              /* between pictures 0, inside one 4 */
+  g_mutex_lock(&fx->m.lock);
+  struct dac d = fx->d;
+  g_mutex_unlock(&fx->m.lock);
+  assert_true(d.frames >= 12);
+  assert_true(d.stopped_after_last);            /* blanked after the last frame */
+  assert_int_equal(d.shutter, 0);               /* shutter closed */
+  assert_int_equal(d.dark_frames, 0);
+  assert_int_equal(d.looping_frames, 0);
+  assert_true(dac_safe(&d));
+}
+
+/* tube74 killed outright (SIGKILL, as a crash): it can send nothing more, but every frame
+** it sent plays once, so the DAC blanks by itself instead of scanning the last frame. */
+static void test_sigkill_frames_play_once(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  int rc = binary_signalled(fx, SIGKILL, 8, NULL);
+  assert_int_equal(rc, -1);
+  g_mutex_lock(&fx->m.lock);
+  struct dac d = fx->d;
+  g_mutex_unlock(&fx->m.lock);
+  assert_true(d.frames >= 8);
+  assert_int_equal(d.looping_frames, 0);
+  assert_true(d.last_flags & 2);                /* the firmware stops after it: blanked */
+}
+
+/* Replies a previous program left on the interrupt IN endpoint (status "ready") while the
+** DAC is still busy: they are drained, not taken as answers, so no frame is written before
+** the DAC is ready (the firmware would not have armed its bulk endpoint). */
+static void test_stale_status_drained(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  static const unsigned char stale[2] = { 0x83, 1 };
+  g_mutex_lock(&fx->m.lock);
+  for (int k = 0; k < 3; k++) mock_reply(&fx->m, 0x83, stale, 2);
+  fx->d.busy_until = mock_now() + 0.2;
+  g_mutex_unlock(&fx->m.lock);
+  struct t74_error err = { T74_OK, "" };
+  int st = stream_lib(fx, NULL, 1, &err);
+  if (st) fprintf(stderr, "%s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  check_passes(fx, 1);
+  g_mutex_lock(&fx->m.lock);
+  int early = fx->d.early_frames;
+  g_mutex_unlock(&fx->m.lock);
+  assert_int_equal(early, 0);
+}
+
+/* Slow frames (250 points at 2,000 points/s: 125 ms each) with a status margin of 20 ms:
+** the wait for a free buffer is derived from the frames the DAC holds, not a fixed time. */
+static void test_status_timeout_from_frames(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  g_mutex_lock(&fx->m.lock);
+  fx->d.paced = 1;
+  g_mutex_unlock(&fx->m.lock);
+  struct t74_error err = { T74_OK, "" };
+  const char *sets[] = { "pps=2000", "frame_points=250", "status_margin_ms=20", NULL };
+  int st = stream_lib_n(fx, sets, 1, 900, &err);
+  if (st) fprintf(stderr, "%s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  g_mutex_lock(&fx->m.lock);
+  assert_int_equal(fx->d.lit.n, 900);
+  assert_memory_equal(fx->d.lit.xy, fx->ref.xy, sizeof *fx->ref.xy * 900);
+  assert_true(fx->d.frames >= 4);
+  g_mutex_unlock(&fx->m.lock);
+}
+
+/* The steady picture: frames that each span the whole picture. */
+static void steady_run(struct fixture *fx, const char *mode, long *points, int *frames)
+{
+  reset(fx);
+  g_mutex_lock(&fx->m.lock);
+  for (int k = 0; k < fx->ref.n; k++) {
+    int x = fx->ref.xy[k][0], y = fx->ref.xy[k][1];
+    if (!k || x < fx->d.ref_x0) fx->d.ref_x0 = x;
+    if (!k || x > fx->d.ref_x1) fx->d.ref_x1 = x;
+    if (!k || y < fx->d.ref_y0) fx->d.ref_y0 = y;
+    if (!k || y > fx->d.ref_y1) fx->d.ref_y1 = y;
+  }
+  g_mutex_unlock(&fx->m.lock);
+  struct t74_error err = { T74_OK, "" };
+  const char *sets[] = { mode, NULL };
+  int st = stream_lib(fx, sets, 1, &err);
+  if (st) fprintf(stderr, "%s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  g_mutex_lock(&fx->m.lock);
+  struct dac d = fx->d;
+  assert_true(dots_same_set(&fx->d.lit, &fx->ref));     /* every dot once, nothing else */
+  g_mutex_unlock(&fx->m.lock);
+  assert_int_equal(d.unblanked_jumps, 0);
+  assert_int_equal(d.off_grid, 0);
+  assert_int_equal(d.bad_size, 0);
+  assert_true(d.max_points <= 1000);
+  assert_true(d.frame_cover_min >= 800);        /* each frame spans >= 80 % both ways */
+  *points = d.points;
+  *frames = d.frames;
+}
+
+static void test_steady_interleaved(void **state)
+{
+  struct fixture *fx = F(state);
+  long pts;
+  int frames;
+  steady_run(fx, "steady=1", &pts, &frames);
+  assert_true(frames > 1);
+  printf("BENCH helios refresh, steady=1 (interleaved): %d dots = %ld points in %d frames of "
+         "the whole picture: %.0f Hz frames, every dot %.1f Hz, at 30 kpps\n", fx->ref.n, pts,
+         frames, 30000.0 * frames / (double)pts, 30000.0 / (double)pts);
+}
+
+static void test_steady_runs_as_lines(void **state)
+{
+  struct fixture *fx = F(state);
+  long pts0, pts;
+  int frames0, frames;
+  steady_run(fx, "steady=1", &pts0, &frames0);
+  steady_run(fx, "steady=2", &pts, &frames);
+  assert_true(pts < pts0);                      /* lines: fewer points for the same dots */
+  printf("BENCH helios refresh, steady=2 (runs as lines, run_step 4): %d dots = %ld points in "
+         "%d frame(s): %.0f Hz frames, every dot %.1f Hz, at 30 kpps\n", fx->ref.n, pts, frames,
+         30000.0 * frames / (double)pts, 30000.0 / (double)pts);
 }
 
 static void test_binary_exact_and_first_point(void **state)
@@ -464,6 +716,12 @@ int main(int argc, char **argv)
     cmocka_unit_test_prestate(test_throughput, fx),
     cmocka_unit_test_prestate(test_garbage, fx),
     cmocka_unit_test_prestate(test_vanish_then_resume, fx),
+    cmocka_unit_test_prestate(test_sigterm_leaves_laser_safe, fx),
+    cmocka_unit_test_prestate(test_sigkill_frames_play_once, fx),
+    cmocka_unit_test_prestate(test_stale_status_drained, fx),
+    cmocka_unit_test_prestate(test_status_timeout_from_frames, fx),
+    cmocka_unit_test_prestate(test_steady_interleaved, fx),
+    cmocka_unit_test_prestate(test_steady_runs_as_lines, fx),
   };
   rc = cmocka_run_group_tests(tests, NULL, NULL);
   mock_end(&fx->m, &fx->ref, fx->dir);     /* first: the device thread stops */

@@ -1,6 +1,6 @@
 /*
 ** test_usb_hpgl.c — the `hpgl` USB profile against an emulated HP-GL plotter on a USB
-** printer-class interface (display/usb_hpgl.c, display/penplan.c).
+** printer-class interface (display/usb/hpgl.c, display/usb/penplan.c).
 **
 ** This file contains code to check, with the plotter of tests/usbmock/plotter.c under
 ** umockdev, that the HP-GL the profile sends draws `tube74 render --dump points` EXACTLY
@@ -24,8 +24,8 @@
 #include "tests/usbmock/plotter.c"
 
 #include "display/sink.h"
-#include "display/usb.h"
-#include "display/usb_stream.h"
+#include "display/usb/usb.h"
+#include "display/usb/stream.h"
 
 #define SCENE "tests/data/usb/small.s74"
 

@@ -2,7 +2,7 @@
 ** plotter.c — an emulated HP-GL pen plotter behind a USB printer-class interface, for
 ** tests/test_usb_hpgl.c and tests/test_usb_faults.c (#included after usbmock.c).
 **
-** This file contains code to interpret what display/usb_hpgl.c sends: HP-GL commands ended
+** This file contains code to interpret what display/usb/hpgl.c sends: HP-GL commands ended
 ** by ';' (IN, SP, PU, PD with absolute x,y pairs; hardware-facts.md "HP-GL pen plotters"),
 ** arriving on bulk OUT 0x01 in whatever pieces the URBs carry. A dot is drawn when the pen
 ** goes down (PD) and along every pen-down line; plotter units are turned back into tube
@@ -13,7 +13,7 @@
 */
 #include <math.h>
 
-#include "display/penplan.h"
+#include "display/usb/penplan.h"
 #include "display/sink.h"
 
 struct plotter {                /* under m->lock */

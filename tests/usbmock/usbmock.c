@@ -77,11 +77,18 @@ struct mock {
   GQueue pending_in;            /* IN URBs waiting for reply bytes */
   GQueue held;                  /* OUT URBs never completed (timeouts) */
   GByteArray *reply[16];        /* reply bytes per IN endpoint number */
+  GQueue packets[16];           /* ... cut into the packets the device sent (lengths): an
+                                   IN URB ends with the first short packet (USB 2.0 5.8.3),
+                                   so one reply never runs into the next */
   /* behaviour */
   guint32 caps;
   int delay_us;
   int stall_at;
   int hold_from, hold_n;
+  int trickle_bytes, trickle_urbs;  /* the first trickle_urbs OUT URBs take only trickle_bytes
+                                   each and then hang until the host times out (a slow device
+                                   that NAKs after a few packets: bytes move, the URB ends in
+                                   a timeout with actual_length = what was taken) */
   long long vanish_after;       /* -1: never */
   int vanish_in_at;             /* 0: never */
   int gone;
@@ -107,7 +114,9 @@ MOCK_UNUSED static double mock_now(void)
 /* Queue reply bytes on IN endpoint ep (call with the lock held: from on_out / on_ctrl). */
 MOCK_UNUSED static void mock_reply(struct mock *m, unsigned char ep, const void *b, int n)
 {
+  if (n <= 0) return;
   g_byte_array_append(m->reply[ep & 15], b, (guint)n);
+  g_queue_push_tail(&m->packets[ep & 15], GINT_TO_POINTER(n));
 }
 
 MOCK_UNUSED static void urb_free(struct mock_urb *u)
@@ -141,10 +150,13 @@ MOCK_UNUSED static void pump(struct mock *m)
     struct mock_urb *u = l->data;
     struct usbdevfs_urb *urb = U(u);
     GByteArray *q = m->reply[urb->endpoint & 15];
+    GQueue *pk = &m->packets[urb->endpoint & 15];
     if (q->len > 0) {
       m->in_urbs++;
       if (m->vanish_in_at && m->in_urbs == m->vanish_in_at) { vanish(m); return; }
-      int n = (int)MIN((guint)urb->buffer_length, q->len);
+      int plen = GPOINTER_TO_INT(g_queue_pop_head(pk));
+      int n = MIN(urb->buffer_length, plen);
+      if (n < plen) g_queue_push_head(pk, GINT_TO_POINTER(plen - n));   /* the rest: next URB */
       memcpy(u->buf->data, q->data, (size_t)n);
       g_byte_array_remove_range(q, 0, (guint)n);
       urb->actual_length = n;
@@ -230,6 +242,12 @@ static gboolean mock_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gp
         urb->status = -EPIPE;
         g_queue_push_tail(&m->reapable, u);
       } else if (m->hold_n && m->out_urbs >= m->hold_from && m->out_urbs < m->hold_from + m->hold_n) {
+        g_queue_push_tail(&m->held, u);
+      } else if (m->trickle_urbs && m->out_urbs <= m->trickle_urbs) {
+        int t = MIN(n, m->trickle_bytes);
+        m->out_bytes += t;
+        if (t > 0 && m->on_out) m->on_out(m, urb->endpoint, u->buf->data, t);
+        urb->actual_length = t;
         g_queue_push_tail(&m->held, u);
       } else {
         int vanish_now = m->vanish_after >= 0 && m->out_bytes + n > m->vanish_after;
@@ -334,7 +352,10 @@ MOCK_UNUSED static int mock_start(struct mock *m, unsigned vid, unsigned pid, co
 {
   GError *err = NULL;
   g_mutex_init(&m->lock);
-  for (int k = 0; k < 16; k++) m->reply[k] = g_byte_array_new();
+  for (int k = 0; k < 16; k++) {
+    m->reply[k] = g_byte_array_new();
+    g_queue_init(&m->packets[k]);
+  }
   m->caps = USBDEVFS_CAP_BULK_SCATTER_GATHER | USBDEVFS_CAP_NO_PACKET_SIZE_LIM |
             USBDEVFS_CAP_BULK_CONTINUATION | USBDEVFS_CAP_ZERO_PACKET;
   m->vanish_after = -1;
@@ -365,8 +386,12 @@ MOCK_UNUSED static void mock_reset(struct mock *m)
     struct mock_urb *u;
     while ((u = g_queue_pop_head(qs[q]))) urb_free(u);
   }
-  for (int k = 0; k < 16; k++) g_byte_array_set_size(m->reply[k], 0);
+  for (int k = 0; k < 16; k++) {
+    g_byte_array_set_size(m->reply[k], 0);
+    g_queue_clear(&m->packets[k]);
+  }
   m->delay_us = m->stall_at = m->hold_from = m->hold_n = m->vanish_in_at = m->gone = 0;
+  m->trickle_bytes = m->trickle_urbs = 0;
   m->vanish_after = -1;
   m->out_urbs = m->in_urbs = m->ctrl_urbs = m->clear_halts = m->discards = 0;
   m->detaches = m->attaches = m->max_urb = 0;

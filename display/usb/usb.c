@@ -14,7 +14,7 @@
 ** Asynchronous transfers are waited for with libusb_handle_events_timeout_completed on the
 ** link's own context: no threads, no global libusb state.
 */
-#include "display/usb.h"
+#include "display/usb/usb.h"
 
 #include <libusb.h>
 #include <stdlib.h>
@@ -35,11 +35,13 @@ struct usb_link {
   libusb_device_handle *h;
   int iface;                    /* claimed interface number */
   int alt;                      /* its selected alternate setting */
-  int reattach;                 /* a kernel driver was detached: give it back on close */
+  unsigned had_driver;          /* bit i: interface i had a kernel driver at open: give
+                                   it back on close (a CDC ACM pair unbinds together) */
   uint16_t vid, pid;
   int gone;                     /* LIBUSB_ERROR_NO_DEVICE seen */
   int timeout_ms, retries, backoff_ms;
   const char *profile;
+  volatile sig_atomic_t *stop;  /* the stream's stop flag (Ctrl-C, SIGTERM), or NULL */
   struct usb_counts counts;
   /* endpoints of the claimed interface: address, or -1 */
   int ep_bulk_in, ep_bulk_out, ep_int_in, ep_int_out;
@@ -185,7 +187,18 @@ int usb_link_open(struct usb_link **out, const struct usb_match *m, const char *
     return t74_fail(err, T74_EIO, "%s: cannot open USB device %04x:%04x: %s", profile,
                     dd.idVendor, dd.idProduct, libusb_error_name(r));
   }
-  /* A kernel driver (usblp for printers, cdc_acm for the EBB) may own the interface. */
+  /* A kernel driver (usblp for printers, cdc_acm for the EBB) may own the interface. Note
+     every interface that has one now: detaching cdc_acm from its data interface unbinds it
+     from the communication interface too (Linux drivers/usb/class/cdc-acm.c, acm_disconnect
+     releases both), and only a probe of the communication interface binds it again. */
+  struct libusb_config_descriptor *cfg;
+  if (libusb_get_active_config_descriptor(libusb_get_device(l->h), &cfg) == 0) {
+    for (int i = 0; i < cfg->bNumInterfaces && i < 32; i++) {
+      int num = cfg->interface[i].altsetting[0].bInterfaceNumber;
+      if (num < 32 && libusb_kernel_driver_active(l->h, num) == 1) l->had_driver |= 1u << num;
+    }
+    libusb_free_config_descriptor(cfg);
+  }
   r = libusb_kernel_driver_active(l->h, l->iface);
   if (r == 1) {
     r = libusb_detach_kernel_driver(l->h, l->iface);
@@ -195,7 +208,6 @@ int usb_link_open(struct usb_link **out, const struct usb_match *m, const char *
       usb_link_close(l);
       return st;
     }
-    l->reattach = r == 0;
   }
   r = libusb_claim_interface(l->h, l->iface);
   if (r != 0) {
@@ -223,7 +235,11 @@ void usb_link_close(struct usb_link *l)
   if (l->h) {
     if (!l->gone) {
       libusb_release_interface(l->h, l->iface);
-      if (l->reattach) libusb_attach_kernel_driver(l->h, l->iface);
+      /* every interface that had a driver and has none now, lowest first: the CDC
+         communication interface (0) rebinds cdc_acm to both, so /dev/ttyACM returns */
+      for (int i = 0; i < 32; i++)
+        if ((l->had_driver >> i & 1) && libusb_kernel_driver_active(l->h, i) == 0)
+          libusb_attach_kernel_driver(l->h, i);
     }
     libusb_close(l->h);
   }
@@ -239,6 +255,8 @@ int usb_link_endpoint(const struct usb_link *l, enum usb_type type, int in)
 }
 
 int usb_link_interface(const struct usb_link *l) { return l->iface; }
+void usb_link_set_stop(struct usb_link *l, volatile sig_atomic_t *stop) { l->stop = stop; }
+int usb_link_stopped(const struct usb_link *l) { return l->stop && *l->stop; }
 int usb_link_gone(const struct usb_link *l) { return l->gone; }
 const struct usb_counts *usb_link_counts(const struct usb_link *l) { return &l->counts; }
 
@@ -368,6 +386,13 @@ int usb_wait(struct usb_link *l, struct usb_xfer *x, int *done, struct t74_error
       if (t->status == LIBUSB_TRANSFER_TIMED_OUT) l->counts.timeouts++;
       else l->counts.errors++;
       if (in && x->done > 0 && x->type != USB_CONTROL) return T74_OK;  /* partial reply */
+      /* bytes moved in this try: the device is slow, not stuck; only tries in a row that
+         move nothing count towards giving up, and no pause is needed */
+      if (!in && x->type != USB_CONTROL && x->done >= x->len) return T74_OK;  /* all went */
+      if (moved > 0 && x->type != USB_CONTROL) {
+        x->tries = 0;
+        break;
+      }
       if (++x->tries > l->retries)
         return t74_fail(err, T74_EIO, "%s: %s transfer on endpoint 0x%02x %s %d times "
                         "(%d ms each, backoff from %d ms); giving up", l->profile,
@@ -379,6 +404,45 @@ int usb_wait(struct usb_link *l, struct usb_xfer *x, int *done, struct t74_error
     }
     if (submit_rest(l, x, err) != T74_OK) return err->status;
   }
+}
+
+int usb_read_once(struct usb_link *l, enum usb_type type, unsigned char ep, void *buf, int len,
+                  int timeout_ms, int *got, struct t74_error *err)
+{
+  *got = 0;
+  if (l->gone) return t74_fail(err, T74_EIO, "%s: the USB device vanished", l->profile);
+  struct usb_xfer x;
+  memset(&x, 0, sizeof x);
+  if (!(x.t = libusb_alloc_transfer(0))) return t74_fail(err, T74_EIO, "%s: out of memory", l->profile);
+  struct libusb_transfer *t = x.t;
+  if (type == USB_BULK)
+    libusb_fill_bulk_transfer(t, l->h, ep, buf, len, on_done, &x, (unsigned)timeout_ms);
+  else
+    libusb_fill_interrupt_transfer(t, l->h, ep, buf, len, on_done, &x, (unsigned)timeout_ms);
+  int r = libusb_submit_transfer(t);
+  if (r != 0) {
+    libusb_free_transfer(t);
+    if (r == LIBUSB_ERROR_NO_DEVICE) l->gone = 1;
+    return t74_fail(err, T74_EIO, "%s: %s", l->profile, r == LIBUSB_ERROR_NO_DEVICE
+                    ? "the USB device vanished (unplugged or powered off)" : libusb_error_name(r));
+  }
+  x.busy = 1;
+  await(l, &x);
+  int st = T74_OK;
+  *got = t->actual_length;
+  l->counts.bytes_in += t->actual_length;
+  if (t->status == LIBUSB_TRANSFER_COMPLETED) l->counts.transfers++;
+  else if (t->status == LIBUSB_TRANSFER_TIMED_OUT) { /* nothing came: *got says so */ }
+  else if (t->status == LIBUSB_TRANSFER_NO_DEVICE) {
+    l->gone = 1;
+    st = t74_fail(err, T74_EIO, "%s: the USB device %04x:%04x vanished during a %s transfer "
+                  "(unplugged or powered off)", l->profile, l->vid, l->pid, type_name(type));
+  } else if (t->status == LIBUSB_TRANSFER_STALL) {
+    l->counts.stalls++;
+    libusb_clear_halt(l->h, ep);
+  } else l->counts.errors++;
+  libusb_free_transfer(t);
+  return st;
 }
 
 void usb_xfer_free(struct usb_xfer *x)

@@ -30,7 +30,7 @@
 #ifndef T74_PENPLAN_H
 #define T74_PENPLAN_H
 
-#include "display/usb.h"
+#include "display/usb/usb.h"
 
 struct pen_geom {               /* where dots land, in device units (plotter units, steps) */
   int pitch;                    /* units between neighbouring dots */

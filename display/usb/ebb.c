@@ -1,5 +1,5 @@
 /*
-** usb_ebb.c — the `ebb` USB profile: an EiBotBoard (AxiDraw, EggBot) pen plotter over its USB
+** ebb.c — the `ebb` USB profile: an EiBotBoard (AxiDraw, EggBot) pen plotter over its USB
 ** CDC bulk endpoints (display stage, paper 003 §4 dots drawn by a pen instead of a beam).
 **
 ** This file contains code to draw the tube's dots with EBB commands. Hardware source:
@@ -35,9 +35,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "display/penplan.h"
+#include "display/usb/penplan.h"
 #include "display/sink.h"
-#include "display/usb.h"
+#include "display/usb/usb.h"
 
 enum {                          /* rows of ebb_params, in order */
   EB_AREA_X, EB_AREA_Y, EB_AREA_W, EB_AREA_H, EB_SPMM, EB_V_UP, EB_V_DOWN, EB_LIFT, EB_RUNS,

@@ -1,6 +1,6 @@
 /*
-** usb_stream.c — a USB device profile as a point sink, with acknowledgement bookkeeping,
-** --repeat passes, the resume file and the progress line (see usb_stream.h).
+** stream.c — a USB device profile as a point sink, with acknowledgement bookkeeping,
+** --repeat passes, the resume file and the progress line (see stream.h).
 **
 ** This file contains code to stand between the rendering job and a device profile. It keeps
 ** every dot produced (in production order, for later passes and for the resume file), a
@@ -9,7 +9,7 @@
 ** dot is acknowledged at most once per pass (ack() ignores a repeat), and prefix only grows.
 ** Hardware source: none (profiles hold the device facts).
 */
-#include "display/usb_stream.h"
+#include "display/usb/stream.h"
 
 #include <errno.h>
 #include <inttypes.h>
@@ -187,6 +187,13 @@ static int write_resume(struct usb_stream *s, struct t74_error *err)
 
 /* ---- the sink --------------------------------------------------------------------- */
 
+/* The stop flag holds the signal that set it (cli/cmd_stream.c). */
+static const char *stop_words(int sig)
+{
+  return sig == SIGTERM ? "stopped by SIGTERM" : sig == SIGHUP ? "stopped by SIGHUP"
+                                                               : "stopped by Ctrl-C";
+}
+
 static int fail_point(struct usb_stream *s, int st, const struct t74_error *e)
 {
   if (!s->failed) {
@@ -203,7 +210,7 @@ static int stream_point(void *ctx, int x, int y)
   if (s->o.stop && *s->o.stop) {
     struct t74_error e = { T74_OK, "" };
     s->interrupted = 1;
-    t74_fail(&e, T74_EIO, "%s: stopped by Ctrl-C", s->o.prof->name);
+    t74_fail(&e, T74_EIO, "%s: %s", s->o.prof->name, stop_words(*s->o.stop));
     return fail_point(s, T74_EIO, &e);
   }
   if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H) return T74_OK;   /* the tube reports it */
@@ -278,6 +285,7 @@ int usb_stream_open(struct usb_stream **out, const struct usb_stream_opts *o, st
     stream_free(s);
     return err->status;
   }
+  usb_link_set_stop(s->link, o->stop);
   struct usb_ack ack = { s, on_ack };
   if (o->prof->open(&s->dev, s->link, &o->set, ack, err) != T74_OK) {
     usb_link_close(s->link);
@@ -298,7 +306,7 @@ static int pass_again(struct usb_stream *s, struct t74_error *err)
   for (int k = 0; k < s->produced; k++) {
     if (s->o.stop && *s->o.stop) {
       s->interrupted = 1;
-      return t74_fail(err, T74_EIO, "%s: stopped by Ctrl-C", s->o.prof->name);
+      return t74_fail(err, T74_EIO, "%s: %s", s->o.prof->name, stop_words(*s->o.stop));
     }
     struct usb_point p = s->order[k];
     p.pass = s->pass;
@@ -323,8 +331,9 @@ int usb_stream_finish(struct usb_stream *s, int status, struct t74_error *err)
     if (s->o.repeat == 0 && s->o.stop && *s->o.stop) break;
     if (pass_again(s, err) != T74_OK) st = err->status;
   }
-  int clean = !usb_link_gone(s->link);
-  s->o.prof->close(s->dev, clean);              /* pen up / laser blanked; acks may still come */
+  /* clean: the run completed; otherwise (failure, stop) the profile leaves the device safe
+     at once. A vanished device the profile sees itself (usb_link_gone). */
+  s->o.prof->close(s->dev, st == T74_OK);       /* pen up / laser blanked; acks may still come */
   progress(s, 1);
   if (s->o.progress) fputc('\n', s->o.progress);
   int complete = st == T74_OK;

@@ -49,6 +49,7 @@
 #ifndef T74_USB_H
 #define T74_USB_H
 
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -101,6 +102,10 @@ int usb_link_endpoint(const struct usb_link *l, enum usb_type type, int in);
 int usb_link_interface(const struct usb_link *l);
 void usb_link_ids(const struct usb_link *l, uint16_t *vid, uint16_t *pid);
 int usb_link_gone(const struct usb_link *l);      /* the device vanished */
+/* The stream's stop flag (set by Ctrl-C / SIGTERM / SIGHUP): profiles check it in their
+** own waiting loops (status polls, motion-queue polls) so that a stop is not held up. */
+void usb_link_set_stop(struct usb_link *l, volatile sig_atomic_t *stop);
+int usb_link_stopped(const struct usb_link *l);
 const struct usb_counts *usb_link_counts(const struct usb_link *l);
 
 struct usb_xfer {               /* one transfer in flight; owned by the profile */
@@ -126,6 +131,11 @@ void usb_xfer_free(struct usb_xfer *x);
 /* submit + wait. For IN transfers a short read is success; *done says how much came. */
 int usb_transfer(struct usb_link *l, enum usb_type type, unsigned char ep, void *buf,
                  int len, int *done, struct t74_error *err);
+/* One IN transfer with its own timeout and no retries: T74_OK with *got bytes (0 when
+** nothing came in time: draining stale replies, reading a reply that may never come), or
+** T74_EIO when the device vanished. */
+int usb_read_once(struct usb_link *l, enum usb_type type, unsigned char ep, void *buf, int len,
+                  int timeout_ms, int *got, struct t74_error *err);
 /* A class/vendor control transfer, device to host: wLength = len bytes into buf. */
 int usb_control_in(struct usb_link *l, uint8_t bmRequestType, uint8_t bRequest,
                    uint16_t wValue, uint16_t wIndex, void *buf, int len, int *got,
@@ -173,9 +183,9 @@ struct usb_profile {
   void (*close)(void *ctx, int clean);
 };
 
-extern const struct usb_profile usb_profile_hpgl;     /* usb_hpgl.c */
-extern const struct usb_profile usb_profile_ebb;      /* usb_ebb.c */
-extern const struct usb_profile usb_profile_helios;   /* usb_helios.c */
+extern const struct usb_profile usb_profile_hpgl;     /* hpgl.c */
+extern const struct usb_profile usb_profile_ebb;      /* ebb.c */
+extern const struct usb_profile usb_profile_helios;   /* helios.c */
 
 /* The profile called name, or NULL. */
 const struct usb_profile *usb_profile_find(const char *name);

@@ -1,5 +1,5 @@
 /*
-** usb_hpgl.c — the `hpgl` USB profile: an HP-GL pen plotter behind a USB printer-class
+** hpgl.c — the `hpgl` USB profile: an HP-GL pen plotter behind a USB printer-class
 ** interface (display stage, paper 003 §4 dots drawn by a pen instead of a beam).
 **
 ** This file contains code to draw the tube's dots with HP-GL. Hardware source:
@@ -30,9 +30,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "display/penplan.h"
+#include "display/usb/penplan.h"
 #include "display/sink.h"
-#include "display/usb.h"
+#include "display/usb/usb.h"
 
 enum {                          /* rows of hpgl_params, in order */
   HP_AREA_X, HP_AREA_Y, HP_AREA_W, HP_AREA_H, HP_UNITS, HP_V_UP, HP_V_DOWN, HP_LIFT,

@@ -1,5 +1,5 @@
 /*
-** usb_stream.h — a USB device profile as a point sink: dots go to the device while the scene
+** stream.h — a USB device profile as a point sink: dots go to the device while the scene
 ** renders, acknowledgements are counted, and a resume file records them (display stage,
 ** paper 003 §4: the 1974 program displayed each point as soon as it was computed).
 **
@@ -42,7 +42,7 @@
 
 #include "display/outfile.h"
 #include "display/sink.h"
-#include "display/usb.h"
+#include "display/usb/usb.h"
 
 struct usb_stream;
 

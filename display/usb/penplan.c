@@ -1,13 +1,13 @@
 /*
 ** penplan.c — band buffering, the stroke rule and the nearest-first order for pen plotters
-** (see penplan.h for the method; used by usb_hpgl.c and usb_ebb.c).
+** (see penplan.h for the method; used by hpgl.c and ebb.c).
 **
 ** This file contains code to plan one band of tube rows at a time. Hardware source: none
 ** beyond the pen-plotter timing model of penplan.h (its speeds and lift times are the
 ** profiles' parameters, each with its source). Integer dot coordinates throughout; the only
 ** floating point is the yes/no of the stroke rule, computed once.
 */
-#include "display/penplan.h"
+#include "display/usb/penplan.h"
 
 #include <stdlib.h>
 #include <string.h>
