@@ -102,7 +102,61 @@ struct area_run {
   struct aa_line *ln;       /* the 2^D + 1 border lines of the row, ln[0] at the top */
   int D, j;
   uint64_t divisions, one_edge, whole, leaves;
+  double (*bb)[4];          /* each piece's bounding box, u0 u1 v0 v1 (point units) */
+  int nbb, bbcap;
+  int *entry, nentry;       /* the row's entries: alive pieces whose box meets the row */
 };
+
+/* Does a piece other than X and Y enter the area (its box meets the area's inside)? The
+   paper's entry table: every pixel a polygon's edge touches at all is entered, seen or
+   not; such an area is neither whole nor one-edge, and is divided. */
+static bool others_enter(struct area_run *ar, int X, int Y, double a, double b, double vt, double vb)
+{
+  for (int k = 0; k < ar->nentry; k++) {
+    int p = ar->entry[k];
+    COST_ADD_N(ar->c->cost, COST_MEM, 4);
+    COST_ADD_N(ar->c->cost, COST_ADD, 4);
+    if (p == X || p == Y) continue;
+    const double *q = ar->bb[p];
+    if (q[0] < b && q[1] > a && q[2] < vb && q[3] > vt) return true;
+  }
+  return false;
+}
+
+/* The boxes of pieces made since last time, and the row's entries. */
+static int row_entries(struct area_run *ar, int j)
+{
+  struct aa_ctx *c = ar->c;
+  const struct seginfo *s = &c->r->seg;
+  if (s->n > ar->bbcap) {
+    int cap = ar->bbcap ? ar->bbcap : 64;
+    while (cap < s->n) cap *= 2;
+    double (*n)[4] = realloc(ar->bb, (size_t)cap * sizeof *n);
+    int *e = realloc(ar->entry, (size_t)cap * sizeof *e);
+    if (n) ar->bb = n;
+    if (e) ar->entry = e;
+    if (!n || !e) return t74_fail(c->err, T74_EIO, "out of host memory");
+    ar->bbcap = cap;
+  }
+  for (; ar->nbb < s->n; ar->nbb++) {
+    const struct piece *pc = &s->p[ar->nbb];
+    double *q = ar->bb[ar->nbb];
+    q[0] = q[2] = HUGE_VAL;
+    q[1] = q[3] = -HUGE_VAL;
+    for (int k = 0; k < pc->n; k++) {
+      double u = ((double)pc->v[k].X / (double)pc->v[k].W - c->xl) / c->pw;
+      double v = (c->yt - (double)pc->v[k].Y / (double)pc->v[k].W) / c->ph;
+      q[0] = fmin(q[0], u); q[1] = fmax(q[1], u); q[2] = fmin(q[2], v); q[3] = fmax(q[3], v);
+    }
+    COST_ADD_N(c->cost, COST_DIV, 2 * pc->n);
+  }
+  ar->nentry = 0;
+  for (int p = 0; p < s->n; p++) {
+    COST_ADD_N(c->cost, COST_MEM, 2);
+    if (s->p[p].alive && ar->bb[p][2] < j + 1 && ar->bb[p][3] > j) ar->entry[ar->nentry++] = p;
+  }
+  return T74_OK;
+}
 
 /* The fragments of line l within [a, b], background gaps included (piece -1). */
 static int frags(const struct aa_line *l, double a, double b, struct frag *out, int max)
@@ -266,6 +320,7 @@ static bool one_edge(struct area_run *ar, int i, double a, double b, int lt, int
   }
   const struct gline L = c->r->seg.p[owner].line[side];
   if (vertex_inside(c, X, a, b, vt, vb) || vertex_inside(c, Y, a, b, vt, vb)) return false;
+  if (others_enter(ar, X, Y, a, b, vt, vb)) return false;
   if (!consistent(ar, L, owner, owner == X ? Y : X, a, b, lt, lb)) return false;
   /* the edge in the area's own units: centre 0, side 1, y up */
   double xc = c->xl + (a + b) / 2 * c->pw, yc = c->yt - (vt + vb) / 2 * c->ph;
@@ -310,7 +365,8 @@ static void classify(struct area_run *ar, int i, double a, double b, int lt, int
   COST_ADD_N(c->cost, COST_MEM, 4 * (nt + nb));
   COST_ADD_N(c->cost, COST_ADD, 2 * (nt + nb));
   double area = (b - a) * (ar->ln[lb].v - ar->ln[lt].v);
-  if (nt == 1 && nb == 1 && T[0].piece == B[0].piece) {
+  if (nt == 1 && nb == 1 && T[0].piece == B[0].piece &&
+      (d == ar->D || !others_enter(ar, T[0].piece, T[0].piece, a, b, ar->ln[lt].v, ar->ln[lb].v))) {
     add(ar, T[0].face, i, area);                    /* whole (or, for the others, none) */
     ar->whole++;
     return;
@@ -336,7 +392,10 @@ static void classify(struct area_run *ar, int i, double a, double b, int lt, int
 int aa_area(struct aa_ctx *c)
 {
   const int D = c->e->depth, NL = (1 << D) + 1;
-  struct area_run ar = { c, 0, NULL, D, 0, 0, 0, 0, 0 };
+  struct area_run ar;
+  memset(&ar, 0, sizeof ar);
+  ar.c = c;
+  ar.D = D;
   int st = aa_core(c, "AA AREA TABLE", AA_AREA_WORDS, &ar.table);
   if (st != T74_OK) return st;
   uint16_t tab[AA_AREA_WORDS];
@@ -358,6 +417,7 @@ int aa_area(struct aa_ctx *c)
     for (int l = (j == c->H - 1 ? NL - 1 : NL - 2); st == T74_OK && l >= 0; l--)
       st = aa_line_v(c, (int64_t)(NL - 1) * j + l, NL - 1, &ar.ln[l]);
     if (st != T74_OK) break;
+    if ((st = row_entries(&ar, j)) != T74_OK) break;
     /* the row's lines in core while it is classified: 3 words a stretch */
     uint32_t words = 0, at;
     for (int l = 0; l < NL; l++) words += (uint32_t)(3 * ar.ln[l].n + 1);
@@ -371,5 +431,7 @@ int aa_area(struct aa_ctx *c)
   fx_count(c->st, "aa_depth_leaves", (double)ar.leaves, true);
   for (int l = 0; l < NL; l++) aa_line_free(&ar.ln[l]);
   free(ar.ln);
+  free(ar.bb);
+  free(ar.entry);
   return st;
 }

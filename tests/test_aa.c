@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <cmocka.h>
 
@@ -503,7 +504,8 @@ static void test_cli(void **state)
   char cmd[512];
   snprintf(cmd, sizeof cmd, "%s render scenes/fig5.s74 --effects 'aa=multiscan n=3' --dump grey=%s/g.pgm 2>/dev/null", bin, dir);
   assert_int_equal(system(cmd), 0);
-  assert_int_equal(access("g.pgm", F_OK) == 0 ? 0 : 0, 0);
+  snprintf(cmd, sizeof cmd, "%s/g.pgm", dir);
+  assert_int_equal(access(cmd, F_OK), 0);
   /* a core too small for the method's tables (aa=none fits 1751 words): exit 3, no file */
   snprintf(cmd, sizeof cmd, "%s render scenes/fig5.s74 --core 2000 --effects 'aa=multiscan n=3' -o %s/small.png 2>%s/err.txt", bin, dir, dir);
   int rc = system(cmd);
@@ -512,6 +514,13 @@ static void test_cli(void **state)
   assert_int_equal(access(cmd, F_OK), -1);
   snprintf(cmd, sizeof cmd, "%s render scenes/fig5.s74 --core 2000 -o %s/small.png 2>/dev/null", bin, dir);
   assert_int_equal(system(cmd), 0);
+  /* bench dispatches on its subcommand and refuses others (exit 2) */
+  snprintf(cmd, sizeof cmd, "%s bench nosuch 2>/dev/null", bin);
+  rc = system(cmd);
+  assert_true(WIFEXITED(rc) && WEXITSTATUS(rc) == 2);
+  snprintf(cmd, sizeof cmd, "%s bench 2>/dev/null", bin);
+  rc = system(cmd);
+  assert_true(WIFEXITED(rc) && WEXITSTATUS(rc) == 2);
 }
 
 static int setup(void **state)
