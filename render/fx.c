@@ -3,6 +3,8 @@
 */
 #include "render/fx.h"
 
+#include "render/aa.h"
+
 #include <stdio.h>
 #include <string.h>
 
@@ -15,8 +17,7 @@ bool fx_wanted(const struct effects *e)
 int fx_check(const struct effects *e, const char *file, int line, struct t74_error *err)
 {
   const char *missing = NULL;
-  if (e->aa != EFFECTS_AA_NONE) missing = "aa (anti-aliasing, papers 000/001)";
-  else if (e->edges) missing = "edges (paper 002)";
+  if (e->edges) missing = "edges (paper 002)";
   else if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) missing = "smooth/contour (paper 004)";
   if (!missing) return T74_OK;
   return t74_fail_at(err, T74_EINPUT, file, line,
@@ -42,5 +43,9 @@ int fx_run(struct render *r, const struct scene *s, const struct effects *e,
   (void)r; (void)s; (void)e; (void)g; (void)f; (void)st; (void)cost; (void)err;
   /* smooth (paper 004), then aa (papers 000/001), then edges (paper 002): each is
      called here when built; fx_check has refused the others before any work was done. */
+  if (e->aa != EFFECTS_AA_NONE) {
+    int rc = aa_run(r, e, g, f, st, cost, err);
+    if (rc != T74_OK) return rc;
+  }
   return T74_OK;
 }

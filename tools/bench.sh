@@ -6,7 +6,9 @@
 #  2. accounting overhead: the same program built with -DT74_NO_COST (no counting) as the
 #     peer, compared in host instructions (callgrind): overhead = counted / uncounted - 1;
 #  3. growth from 10 to 10,000 faces (tools/mkgrowth.py), with the OSMesa z-buffer
-#     (tests/ref, llvmpipe) drawing the same scene as the peer where it is built.
+#     (tests/ref, llvmpipe) drawing the same scene as the peer where it is built;
+#  4. what accuracy costs: `tube74 bench accuracy` (anti-aliasing, papers 000/001), its
+#     tables, plots and panels in build/bench/accuracy (ACC_RUNS runs a frame, default 5).
 # Results go to stdout and build/bench/bench.md (+ growth.png when gnuplot is there).
 set -eu
 B=build/bench
@@ -120,3 +122,5 @@ plot "$B/growth.dat" using 1:2 with linespoints title "tube74", \
 EOF
 fi
 cat "$out"
+echo
+./tube74 bench accuracy --out "$B/accuracy" --runs "${ACC_RUNS:-5}"

@@ -6,8 +6,8 @@
 #              tests/test_tek_tools.c, Chromium loads the teaching page); without them
 #              those tests are skipped (exit 77), so a missing one does not stop the build
 set -u
-need="pkg-config libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth libgif-dev"
-testneed="gnuplot-nox plotutils chromium"
+need="pkg-config gnuplot-nox libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth libgif-dev"
+testneed="plotutils chromium"
 missing=""
 for p in $need; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
