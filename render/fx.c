@@ -3,6 +3,8 @@
 */
 #include "render/fx.h"
 
+#include "render/edges.h"
+
 #include <stdio.h>
 #include <string.h>
 
@@ -16,7 +18,6 @@ int fx_check(const struct effects *e, const char *file, int line, struct t74_err
 {
   const char *missing = NULL;
   if (e->aa != EFFECTS_AA_NONE) missing = "aa (anti-aliasing, papers 000/001)";
-  else if (e->edges) missing = "edges (paper 002)";
   else if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) missing = "smooth/contour (paper 004)";
   if (!missing) return T74_OK;
   return t74_fail_at(err, T74_EINPUT, file, line,
@@ -42,5 +43,9 @@ int fx_run(struct render *r, const struct scene *s, const struct effects *e,
   (void)r; (void)s; (void)e; (void)g; (void)f; (void)st; (void)cost; (void)err;
   /* smooth (paper 004), then aa (papers 000/001), then edges (paper 002): each is
      called here when built; fx_check has refused the others before any work was done. */
+  if (e->edges) {
+    int rc = edge_run(r, s, e, g, f, EDGE_PASS_ROW | EDGE_PASS_COL, st, cost, err);
+    if (rc != T74_OK) return rc;
+  }
   return T74_OK;
 }

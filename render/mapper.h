@@ -45,4 +45,8 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
 
 void mapper_free(struct mapped *m);
 
+/* Vertex v (index in scene.v) on the plane grid, exactly as mapper_run places it (eq. (1),
+   rounded once, half up); for later stages that need a vertex the Mapper's faces dropped. */
+struct gpoint mapper_point(const struct scene *s, int v);
+
 #endif
