@@ -34,7 +34,7 @@
 **    coordinates X = 2W x, Y = 2H y (x, y in plane-grid units), where point centres are
 **    integers, an edge's line is K(X, Y) = A X + B Y + C = 0 and a centre is within
 **    perpendicular distance w/2 (in points) exactly when
-**        4 K^2 <= w^2 ((A sx)^2 + (B sy)^2)          (sx, sy: the window in grid units)
+**        K^2 <= w^2 ((A sx)^2 + (B sy)^2)            (sx, sy: the window in grid units)
 **    which is eq. (4)-(5) with l = w sqrt(dx^2+dy^2)/|dy| of eq. (3) on a row (|dx| on a
 **    column), in 256-bit integers. The row pass takes edges with 10|dy| >= 9|dx| (tangent
 **    against the row >= 0.9, in point units) and, on each row whose centre line lies
@@ -44,8 +44,9 @@
 **    where it starts and ends, and decided by the exact test on every candidate.
 ** 5. Hidden exactly. A strip point is kept only where the frame's face there is one of
 **    the edge's own faces (by input number), the background, or a face lying behind the
-**    edge: not nearer the eye, along the ray through the centre, than the plane of one of
-**    the faces that draw the edge (the seen ones: §3.3's strip stuck to its polygon).
+**    edge: not nearer the eye, along the ray through the centre, than the planes of the
+**    faces that draw the edge (the seen ones: §3.3's strip stuck to its polygon; planes
+**    the ray does not meet ahead are left out, and with none left the point is hidden).
 **    Depth is compared exactly as in priority.c: face F is hit at t = |D_F| / n_F.(r - E),
 **    so F is behind G at r when |D_F| n_G.(r-E) >= |D_G| n_F.(r-E) (256-bit products).
 ** 6. Rule 3, the halo. Beside an outline whose drawing faces all lie on one side of it,
@@ -296,23 +297,27 @@ static wide plane_at(const struct ectx *c, const struct mface *m, wide X, wide Y
          (wide)m->plane[2] * (wide)e[2] * SW * SH;
 }
 
-/* Is the face F seen at the centre (X, Y) behind the edge (not nearer than one of its
-   drawing planes along the ray)? */
+/* Is the face F seen at the centre (X, Y) behind the edge: not nearer the eye, along the
+   ray, than any of the edge's drawing planes that the ray meets ahead (and there is one)? */
 static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y)
 {
   const struct mface *mf = &c->r->map.f[F];
   wide dF = plane_at(c, mf, X, Y);
   cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
+  if (dF <= 0) return false;              /* cannot happen for a face seen there */
+  int met = 0;
   for (int k = 0; k < ed->ndraw; k++) {
     const struct mface *mg = &c->r->map.f[ed->draw[k]];
     wide dG = plane_at(c, mg, X, Y);
     cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
     cost_mw_mul(c->cost, 52, 88); cost_mw_mul(c->cost, 52, 88);
-    if (dG <= 0 || dF <= 0) continue;   /* the plane does not meet the ray ahead */
-    if (i256_sign(i256_add(i256_mul(mf->deye, dG), i256_mul(-(wide)mg->deye, dF))) >= 0)
-      return true;
+    if (dG <= 0) continue;                /* this plane does not meet the ray ahead */
+    met++;
+    /* t_F >= t_G:  |D_F| n_G.(r-E) >= |D_G| n_F.(r-E) */
+    if (i256_sign(i256_add(i256_mul(mf->deye, dG), i256_mul(-(wide)mg->deye, dF))) < 0)
+      return false;
   }
-  return false;
+  return met > 0;
 }
 
 static bool own(const struct ectx *c, const struct edge *ed, int F)
@@ -330,7 +335,7 @@ static void try_point(struct ectx *c, const struct edge *ed, int i, int j, int l
   wide X = c->S + (2 * (wide)i + 1) * c->sx, Y = c->T - (2 * (wide)j + 1) * c->sy;
   wide K = ed->A * X + ed->B * Y + ed->C;
   cost_mw_mul(c->cost, 40, 40); cost_mw_mul(c->cost, 40, 40); cost_mw_add(c->cost, 80);
-  struct i256 k2 = i256_mul(-2 * WQ * K, 2 * WQ * K);
+  struct i256 k2 = i256_mul(-WQ * K, WQ * K);
   cost_mw_mul(c->cost, 90, 90); cost_mw_add(c->cost, 180);
   int kind;
   if (i256_sign(i256_add(rline, k2)) >= 0) kind = line_mk;
