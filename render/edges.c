@@ -40,8 +40,12 @@
 **    against the row >= 0.9, in point units) and, on each row whose centre line lies
 **    within the edge's extent, the centres of that strip; the column pass the same with
 **    x and y exchanged. Points given a line by the row pass are left alone by the column
-**    pass (§3.3.1). Which centres a strip covers is found by a floating-point estimate of
-**    where it starts and ends, and decided by the exact test on every candidate.
+**    pass (§3.3.1). The test is made cheap and still exact by taking, once an edge, the
+**    integer bound kline = the largest k with (WQ k)^2 <= wq^2 M (a floating-point square
+**    root brackets it, exact 256-bit squares decide): a centre is on the line exactly when
+**    |K| <= kline. Along a row the strip is
+**    an interval of centres; a floating-point estimate says where to look, the exact
+**    test finds both ends from the outside in, and the centres between are filled.
 ** 5. Hidden exactly. A strip point is kept only where the frame's face there is one of
 **    the edge's own faces (by input number), the background, or a face lying behind the
 **    edge: not nearer the eye, along the ray through the centre, than the planes of the
@@ -52,10 +56,10 @@
 ** 6. Rule 3, the halo. Beside an outline whose drawing faces all lie on one side of it,
 **    centres on the other side between w/2 and w/2 + halo_w from the line get the halo's
 **    grey, but only where another face (not the background, not the edge's own) shows
-**    behind the edge. Lines always win over halos; outline over inner where strips meet.
+**    behind the edge, strictly farther (a window lying on its wall gets no halo). Lines always win over halos; outline over inner where strips meet.
 **
 ** The machine model: the edge table (5 words an edge: vertex ids, faces, class), the
-** intersection lines (11 words each) and the registered points of the first pass (2 bits
+** intersection lines (11 words each) and the registered points of the first pass (1 bit
 ** a point) are allocated in core for the stage and released after it; every exact test
 ** is counted with the multi-word costs of emu/cost.h.
 */
@@ -90,6 +94,8 @@ struct edge {
   int ndraw; int draw[MAX_OWN];         /* mapped faces whose planes the strip lies in */
   int halo;               /* +1/-1: the side of K the halo goes on; 0: no halo */
   wide A, B, C;           /* K = A X + B Y + C, scaled coordinates, left of the edge > 0 */
+  wide kline, khalo;      /* a centre is on the line when |K| <= kline, in the halo when
+                             kline < |K| <= khalo on the halo's side (see kbound) */
   struct gpoint p, q;     /* the extent's ends on the grid */
   int sface[2];           /* scene faces (for the dump), -1 when none */
 };
@@ -203,6 +209,9 @@ static int tj_insert(const struct scene *s, const int *byx, int n, int a, int b,
     COST_ADD_N(cost, COST_MEM, 2);
     if (v == a || v == b) continue;
     const struct scene_vertex *V = &s->v[v];
+    COST_ADD_N(cost, COST_ADD, 4);
+    if ((V->y < P->y && V->y < Q->y) || (V->y > P->y && V->y > Q->y) ||
+        (V->z < P->z && V->z < Q->z) || (V->z > P->z && V->z > Q->z)) continue;
     int64_t ex = V->x - P->x, ey = V->y - P->y, ez = V->z - P->z;
     cost_mw_mul(cost, 17, 17);
     if (dy * ez - dz * ey || dz * ex - dx * ez || dx * ey - dy * ex) continue;
@@ -297,9 +306,10 @@ static wide plane_at(const struct ectx *c, const struct mface *m, wide X, wide Y
          (wide)m->plane[2] * (wide)e[2] * SW * SH;
 }
 
-/* Is the face F seen at the centre (X, Y) behind the edge: not nearer the eye, along the
-   ray, than any of the edge's drawing planes that the ray meets ahead (and there is one)? */
-static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y)
+/* Is the face F seen at the centre (X, Y) behind the edge: not nearer the eye (strict:
+   farther), along the ray, than any of the edge's drawing planes that the ray meets ahead
+   (and there is one)? */
+static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y, bool strict)
 {
   const struct mface *mf = &c->r->map.f[F];
   wide dF = plane_at(c, mf, X, Y);
@@ -314,8 +324,8 @@ static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y)
     if (dG <= 0) continue;                /* this plane does not meet the ray ahead */
     met++;
     /* t_F >= t_G:  |D_F| n_G.(r-E) >= |D_G| n_F.(r-E) */
-    if (i256_sign(i256_add(i256_mul(mf->deye, dG), i256_mul(-(wide)mg->deye, dF))) < 0)
-      return false;
+    int sg = i256_sign(i256_add(i256_mul(mf->deye, dG), i256_mul(-(wide)mg->deye, dF)));
+    if (sg < 0 || (strict && sg == 0)) return false;
   }
   return met > 0;
 }
@@ -327,32 +337,80 @@ static bool own(const struct ectx *c, const struct edge *ed, int F)
   return false;
 }
 
-/* Decide the centre (i, j) for the edge: mark it as line or halo when the strip covers
-   it and what is seen there lets it show. */
-static void try_point(struct ectx *c, const struct edge *ed, int i, int j, int line_mk,
-                      struct i256 rline, struct i256 rhalo, bool row_pass)
+/* bits of |v| plus a sign bit: the words a 16-bit machine needs for it (cost_words) */
+static int wbits(wide v)
+{
+  uwide a = (uwide)(v < 0 ? -v : v);
+  int n = 1;
+  while (a) { n++; a >>= 1; }
+  return n;
+}
+
+static bool kfits(struct i256 r, wide k, struct cost *cost)
+{
+  int b = wbits(WQ * k);
+  cost_mw_mul(cost, b, b); cost_mw_add(cost, 2 * b); COST_ADD_N(cost, COST_BRANCH, 2);
+  return i256_sign(i256_add(r, i256_mul(-WQ * k, WQ * k))) >= 0;
+}
+
+/* The largest K >= 0 with (WQ K)^2 <= r, where r = wq^2 M = (wq A sx)^2 + (wq B sy)^2, so
+   that a centre is in the band exactly when |K| <= it (K is an integer). A floating-point
+   square root brackets it; exact 256-bit squares decide it (a few steps of bisection). */
+static wide kbound(struct i256 r, double u, double v, struct cost *cost)
+{
+  double est = sqrt(u * u + v * v) / WQ;
+  wide lo = (wide)(est * (1 - 1e-12)) - 2, hi = (wide)(est * (1 + 1e-12)) + 2;
+  if (lo < 0) lo = 0;
+  cost_mw_div(cost, 2 * wbits((wide)est * WQ), wbits((wide)est * WQ));   /* the square root's estimate */
+  while (!kfits(r, lo, cost)) lo /= 2;        /* never taken unless the estimate is off */
+  while (kfits(r, hi, cost)) hi *= 2;
+  while (hi - lo > 1) {                       /* invariant: lo fits, hi does not */
+    wide mid = lo + (hi - lo) / 2;
+    if (kfits(r, mid, cost)) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+
+/* Which band of the strip holds the centre (i, j): 2 the line (|d| <= w/2), 1 the halo
+   (on the halo's side, w/2 < |d| <= w/2 + halo), 0 neither. Exact: |K| against the
+   edge's bounds. Counted as the 1974 program would run it, K stepped along the row or
+   column by one multi-word add from the centre before. */
+static int band(struct ectx *c, const struct edge *ed, int i, int j)
 {
   wide X = c->S + (2 * (wide)i + 1) * c->sx, Y = c->T - (2 * (wide)j + 1) * c->sy;
   wide K = ed->A * X + ed->B * Y + ed->C;
-  cost_mw_mul(c->cost, 40, 40); cost_mw_mul(c->cost, 40, 40); cost_mw_add(c->cost, 80);
-  struct i256 k2 = i256_mul(-WQ * K, WQ * K);
-  cost_mw_mul(c->cost, 90, 90); cost_mw_add(c->cost, 180);
-  int kind;
-  if (i256_sign(i256_add(rline, k2)) >= 0) kind = line_mk;
-  else if (ed->halo && wsign(K) == ed->halo && i256_sign(i256_add(rhalo, k2)) >= 0) {
-    cost_mw_add(c->cost, 180);
-    kind = MK_HALO;
-  } else return;
+  int b = wbits(K);
+  cost_mw_add(c->cost, b); cost_mw_add(c->cost, b);
+  COST_ADD_N(c->cost, COST_BRANCH, 2);
+  wide aK = wabs(K);
+  if (aK <= ed->kline) return 2;
+  if (!ed->halo || wsign(K) != ed->halo) return 0;
+  cost_mw_add(c->cost, b);
+  return aK <= ed->khalo ? 1 : 0;
+}
+
+/* Mark the centre (i, j) as kind (MK_INNER / MK_OUTLINE / MK_HALO) where what is seen
+   there lets the edge show (§3.3.1: line points of the row pass are left alone). */
+static void put_point(struct ectx *c, const struct edge *ed, int i, int j, int kind,
+                      bool row_pass)
+{
   size_t at = (size_t)j * (size_t)c->W + (size_t)i;
   uint8_t m = c->mark[at];
   COST_ADD_N(c->cost, COST_MEM, 2);
   COST_ADD_N(c->cost, COST_BRANCH, 3);
-  if (!row_pass && (m & MK_ROW) && (m & 3) >= MK_INNER) return;   /* registered: §3.3.1 */
+  if (!row_pass && (m & MK_ROW) && (m & 3) >= MK_INNER) return;   /* registered */
   if ((m & 3) >= kind) return;                                      /* a stronger mark */
   int F = c->f->face[at];
+  bool ownf = F >= 0 && own(c, ed, F);
+  COST_ADD_N(c->cost, COST_MEM, 1 + ed->nown);
   if (kind == MK_HALO) {
-    if (F < 0 || own(c, ed, F) || !behind(c, ed, F, X, Y)) return;
-  } else if (F >= 0 && !own(c, ed, F) && !behind(c, ed, F, X, Y)) return;
+    if (F < 0 || ownf) return;
+  } else if (F < 0 || ownf) goto keep;
+  {
+    wide X = c->S + (2 * (wide)i + 1) * c->sx, Y = c->T - (2 * (wide)j + 1) * c->sy;
+    if (!behind(c, ed, F, X, Y, kind == MK_HALO)) return;
+  }
+keep:
   COST_ADD_N(c->cost, COST_MEM, 1);
   c->mark[at] = (uint8_t)(kind | (row_pass && kind >= MK_INNER ? MK_ROW : (m & MK_ROW)));
 }
@@ -388,7 +446,21 @@ static struct i256 neg_width2(const struct edge *ed, wide sx, wide sy, int64_t w
   return i256_add(i256_mul(u, u), i256_mul(v, v));
 }
 
-static void draw_edge(struct ectx *c, const struct edge *ed, bool row_pass, int64_t wline,
+/* The edge's exact bounds kline and khalo (once an edge, before the passes). */
+static void edge_bounds(struct ectx *c, struct edge *ed, int64_t wline, int64_t whalo)
+{
+  double du = (double)ed->A * (double)c->sx, dv = (double)ed->B * (double)c->sy;
+  ed->kline = kbound(neg_width2(ed, c->sx, c->sy, wline), du * (double)wline,
+                     dv * (double)wline, c->cost);
+  ed->khalo = ed->halo ? kbound(neg_width2(ed, c->sx, c->sy, wline + 2 * whalo),
+                                du * (double)(wline + 2 * whalo), dv * (double)(wline + 2 * whalo),
+                                c->cost) : 0;
+  int b = wbits((wide)(wline + 2 * whalo) * (wabs(ed->A) * c->sx > wabs(ed->B) * c->sy
+                                             ? wabs(ed->A) * c->sx : wabs(ed->B) * c->sy));
+  cost_mw_mul(c->cost, b, b); cost_mw_mul(c->cost, b, b); cost_mw_add(c->cost, 2 * b);
+}
+
+static void draw_edge(struct ectx *c, struct edge *ed, bool row_pass, int64_t wline,
                       int64_t whalo, int line_mk)
 {
   wide aA = wabs(ed->A) * c->sx, aB = wabs(ed->B) * c->sy;   /* 2 sy |dy|, 2 sx |dx| */
@@ -396,9 +468,6 @@ static void draw_edge(struct ectx *c, const struct edge *ed, bool row_pass, int6
   cost_mw_mul(c->cost, 40, 25); cost_mw_mul(c->cost, 40, 25); cost_mw_add(c->cost, 64);
   /* tangent of the edge against the row (in points) = |dy|/|dx| = (|A| sx)/(|B| sy) */
   if (row_pass ? 10 * aA < 9 * aB : 10 * aB < 9 * aA) return;
-  struct i256 rline = neg_width2(ed, c->sx, c->sy, wline);
-  struct i256 rhalo = neg_width2(ed, c->sx, c->sy, wline + 2 * whalo);
-  cost_mw_mul(c->cost, 80, 80); cost_mw_mul(c->cost, 80, 80);
   double len = sqrt((double)aA * (double)aA + (double)aB * (double)aB);
   double half = (double)(wline + 2 * (ed->halo ? whalo : 0)) / (2.0 * WQ);
   int first, last;
@@ -406,7 +475,9 @@ static void draw_edge(struct ectx *c, const struct edge *ed, bool row_pass, int6
   for (int k = first; k <= last; k++) {
     double ic, hl;
     int n;
-    cost_mw_mul(c->cost, 40, 40); cost_mw_div(c->cost, 80, 40); cost_mw_add(c->cost, 80);
+    /* the crossing steps from row to row (a DDA: one multi-word add), the ends of the
+       strip from it by l/2 of eq. (3)-(5) (two adds) */
+    cost_mw_add(c->cost, 80); cost_mw_add(c->cost, 80); cost_mw_add(c->cost, 80);
     if (row_pass) {
       wide Y = c->T - (2 * (wide)k + 1) * c->sy;
       double X = -((double)ed->B * (double)Y + (double)ed->C) / (double)ed->A;
@@ -423,10 +494,25 @@ static void draw_edge(struct ectx *c, const struct edge *ed, bool row_pass, int6
     double lo = floor(ic - hl) - 1, hi = ceil(ic + hl) + 1;
     if (hi < 0 || lo >= n) continue;
     int a = lo < 0 ? 0 : (int)lo, b = hi >= n ? n - 1 : (int)hi;
-    for (int t = a; t <= b; t++) {
-      if (row_pass) try_point(c, ed, t, k, line_mk, rline, rhalo, true);
-      else try_point(c, ed, k, t, line_mk, rline, rhalo, false);
+    /* Along a row (column) each band is an interval of centres: find the line's ends
+       exactly from the outside in, then the halo's beyond them; fill between. */
+#define BAND(t) (row_pass ? band(c, ed, (t), k) : band(c, ed, k, (t)))
+#define PUT(t, kind) (row_pass ? put_point(c, ed, (t), k, (kind), true) \
+                               : put_point(c, ed, k, (t), (kind), false))
+    int l0 = a, l1 = b, bl, bh = 0;
+    while (l0 <= b && (bl = BAND(l0)) != 2) {
+      if (bl == 1) PUT(l0, MK_HALO);
+      l0++;
     }
+    if (l0 > b) continue;
+    while (l1 > l0 && (bh = BAND(l1)) != 2) {
+      if (bh == 1) PUT(l1, MK_HALO);
+      l1--;
+    }
+    COST_ADD_N(c->cost, COST_ADD, 2);
+    for (int t = l0; t <= l1; t++) PUT(t, line_mk);
+#undef BAND
+#undef PUT
   }
 }
 
@@ -795,7 +881,7 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   size_t npts = (size_t)f->W * (size_t)f->H;
   if (core_alloc(r->core, "EDGE TABLE", (uint32_t)nregular * EDGE_ROW_WORDS, &et, err) != T74_OK ||
       core_alloc(r->core, "INTERSECTION LINES", (uint32_t)(L.n - nregular) * E4_ROW_WORDS, &lt, err) != T74_OK ||
-      core_alloc(r->core, "EDGE MARKS", (uint32_t)((npts + 7) / 8), &mt, err) != T74_OK) {
+      core_alloc(r->core, "EDGE MARKS", (uint32_t)((npts + 15) / 16), &mt, err) != T74_OK) {
     status = err->status;
     goto done;
   }
@@ -852,11 +938,18 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   if (!c.mark) goto oom;
   int64_t wo = llround(e->outline_w * WQ), wi = llround(e->inner_w * WQ);
   int64_t wh = llround(e->halo_w * WQ);
+  for (int k = 0; k < L.n; k++) {
+    struct edge *ed = &L.e[k];
+    if (ed->cls == EDGE_E1 || ed->ndraw == 0) continue;
+    bool outl = ed->cls == EDGE_E2 || ed->cls == EDGE_E4_OUTLINE;
+    int64_t w = outl ? wo : wi;
+    if (w > 0) edge_bounds(&c, ed, w, ed->halo ? wh : 0);
+  }
   for (int pass = 0; pass < 2; pass++) {
     bool row = pass == 0;
     if (!(passes & (row ? EDGE_PASS_ROW : EDGE_PASS_COL))) continue;
     for (int k = 0; k < L.n; k++) {
-      const struct edge *ed = &L.e[k];
+      struct edge *ed = &L.e[k];
       COST_ADD_N(cost, COST_MEM, 4);
       if (ed->cls == EDGE_E1 || ed->ndraw == 0) continue;
       bool outl = ed->cls == EDGE_E2 || ed->cls == EDGE_E4_OUTLINE;
