@@ -4,6 +4,7 @@
 #include "render/fx.h"
 
 #include "render/aa.h"
+#include "render/edges.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -17,8 +18,7 @@ bool fx_wanted(const struct effects *e)
 int fx_check(const struct effects *e, const char *file, int line, struct t74_error *err)
 {
   const char *missing = NULL;
-  if (e->edges) missing = "edges (paper 002)";
-  else if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) missing = "smooth/contour (paper 004)";
+  if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) missing = "smooth/contour (paper 004)";
   if (!missing) return T74_OK;
   return t74_fail_at(err, T74_EINPUT, file, line,
                      "effect %s is not implemented in this version of tube74 "
@@ -45,6 +45,10 @@ int fx_run(struct render *r, const struct scene *s, const struct effects *e,
      called here when built; fx_check has refused the others before any work was done. */
   if (e->aa != EFFECTS_AA_NONE) {
     int rc = aa_run(r, e, g, f, st, cost, err);
+    if (rc != T74_OK) return rc;
+  }
+  if (e->edges) {
+    int rc = edge_run(r, s, e, g, f, EDGE_PASS_ROW | EDGE_PASS_COL, st, cost, err);
     if (rc != T74_OK) return rc;
   }
   return T74_OK;

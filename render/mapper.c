@@ -508,6 +508,14 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
   return T74_OK;
 }
 
+struct gpoint mapper_point(const struct scene *s, int v)
+{
+  const int64_t X0 = s->view[0], Y0 = s->view[1], Z0 = s->view[2];
+  int64_t w = s->v[v].z - Z0;
+  struct gpoint p = { project(s->v[v].x, X0, -Z0, w), project(s->v[v].y, Y0, -Z0, w) };
+  return p;
+}
+
 void mapper_free(struct mapped *m)
 {
   if (!m->f) return;

@@ -58,4 +58,8 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
 
 void mapper_free(struct mapped *m);
 
+/* Vertex v (index in scene.v) on the plane grid, exactly as mapper_run places it (eq. (1),
+   rounded once, half up); for later stages that need a vertex the Mapper's faces dropped. */
+struct gpoint mapper_point(const struct scene *s, int v);
+
 #endif

@@ -120,6 +120,7 @@ int render_pieces_alive(const struct render *r)
 void render_free(struct render *r)
 {
   vis_free(&r->vis);
+  prio_free(&r->prio);
   seginfo_free(&r->seg);
   mapper_free(&r->map);
   core_free(r->core);

@@ -556,7 +556,10 @@ static int st_object(struct parse *p)
   struct scene *s = p->s;
   long id;
   int st;
-  if (p->r.ntok < 3) return at(p, "wrong number of values: expected `object N F1 F2 ...`");
+  int ntok = p->r.ntok;
+  bool smooth = ntok >= 3 && strcmp(p->r.tok[ntok - 1], "smooth") == 0;
+  if (smooth) ntok--;
+  if (ntok < 3) return at(p, "wrong number of values: expected `object N F1 F2 ... [smooth]`");
   if ((st = number(p, 1, 1, SCENE_ID_MAX, "object id", &id))) return st;
   if (p->omap[id] >= 0)
     return at(p, "object %ld already defined at line %d", id, s->obj[p->omap[id]].line);
@@ -569,12 +572,13 @@ static int st_object(struct parse *p)
   }
   struct scene_object *o = &s->obj[s->nobj];
   memset(o, 0, sizeof *o);
-  o->face = malloc((size_t)(p->r.ntok - 2) * sizeof *o->face);
+  o->face = malloc((size_t)(ntok - 2) * sizeof *o->face);
   if (!o->face) return oom(p);
   s->nobj++;
   o->id = (uint16_t)id;
   o->line = p->r.line;
-  for (int t = 2; t < p->r.ntok; t++) {
+  o->smooth = smooth;
+  for (int t = 2; t < ntok; t++) {
     long fid;
     if ((st = number(p, t, 1, SCENE_ID_MAX, "face id", &fid))) return st;
     o->face[o->nface++] = (int)fid;   /* an id until resolve() */

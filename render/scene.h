@@ -47,6 +47,8 @@ struct scene_object {
   int      line;
   int      nface;
   int     *face;          /* indices into scene.f */
+  bool     smooth;        /* `smooth`: a smoothing group (paper 002 §3.2, e'1): its shared
+                             edges are not drawn by enhanced edges, its silhouette is */
 };
 
 struct scene {
