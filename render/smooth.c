@@ -164,9 +164,10 @@ static void cross_int(const struct scene *s, const int v[3], int64_t o[3])
 }
 
 /* Orient the triangles [from, to) of one object (tri[] already filled with vertices):
-   breadth first across shared edges; then outward by volume when closed. */
-static int orient_object(struct smooth_model *m, const struct scene *s, int from, int to,
-                         struct t74_error *err)
+   breadth first across shared edges; then outward by volume when closed, towards the
+   eye when open. */
+static int orient_object(struct smooth_model *m, const struct scene *s, const int64_t eye[3],
+                         int from, int to, struct t74_error *err)
 {
   if (to <= from) return T74_OK;
   size_t n = (size_t)(to - from), ne = 3 * n;
@@ -234,7 +235,24 @@ static int orient_object(struct smooth_model *m, const struct scene *s, int from
       v[1] = v[2]; v[2] = x;
       m->flips++;
     }
-  if (closed) {
+  if (!closed) {
+    /* an open surface has no outside: its front is the side most of it turns to the
+       eye (the sum of o . (eye - v0) over its triangles, exact, positive) */
+    wide toward = 0;
+    for (size_t t = 0; t < n; t++) {
+      const int *v = m->tri[from + (int)t].v;
+      int64_t o3[3];
+      cross_int(s, v, o3);
+      const struct scene_vertex *v0 = &s->v[v[0]];
+      toward += (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
+                (wide)o3[2] * (eye[2] - v0->z);
+    }
+    if (toward < 0)
+      for (size_t t = 0; t < n; t++) {
+        int *v = m->tri[from + (int)t].v, x = v[1];
+        v[1] = v[2]; v[2] = x;
+      }
+  } else {
     /* outward: the volume sum of det(v0, v1, v2) / 6 is positive */
     wide vol = 0;
     for (size_t t = 0; t < n; t++) {
@@ -298,7 +316,7 @@ int smooth_model_build(struct smooth_model *m, const struct render *r,
     int to = m->ntri;
     if (to == from) continue;
     m->objects++;
-    if (orient_object(m, s, from, to, err) != T74_OK) {
+    if (orient_object(m, s, eye, from, to, err) != T74_OK) {
       free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
       return err->status;
     }
