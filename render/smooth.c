@@ -47,6 +47,7 @@
 #include "render/smooth.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -440,6 +441,10 @@ int smooth_run(struct render *r, const struct scene *s, const struct effects *e,
   struct smooth_model m;
   int rc = smooth_model_build(&m, r, s, e, err);
   if (rc != T74_OK) return rc;
+  if (m.ntri == 0)
+    fprintf(stderr, "%s:%d: warning: smooth=/contour=: no face is a triangle of an object "
+            "shaded from `light`; the picture stays flat\n", s->file ? s->file : "scene",
+            s->effects_line);
   uint32_t mark = core_mark(r->core), an, ab;
   rc = core_alloc(r->core, SMOOTH_TABLE_NORMALS, (uint32_t)m.vertex_normals * 3, &an, err);
   if (rc == T74_OK)

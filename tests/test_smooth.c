@@ -344,6 +344,70 @@ static void test_cut_shows_what_is_behind(void **state)
   out_free(&flat); out_free(&row);
 }
 
+static void test_concave_vertex_kept(void **state)
+{
+  (void)state;
+  /* a flat sheet with a notch: A B C convex, D the notch (concave), E convex */
+  write_text("notch.s74",
+             "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+             "vertex 1 -150 -100 0\nvertex 2 150 -100 0\nvertex 3 150 100 0\n"
+             "vertex 4 0 20 0\nvertex 5 -150 100 0\n"
+             "face 1 1 2 4\nface 2 2 3 4\nface 3 1 4 5\nobject 1 1 2 3\n");
+  struct out flat, row;
+  render(tpath("notch.s74"), "halftone=3x3", &flat);
+  render(tpath("notch.s74"), "halftone=3x3 smooth=phong contour=1.0", &row);
+  assert_int_equal((int)stat(&row, "contour_sides"), 5);
+  assert_int_equal((int)stat(&row, "contour_corners_convex"), 4);
+  assert_int_equal((int)stat(&row, "contour_corners_concave"), 1);
+  assert_true(stat(&row, "contour_points_cut") > 100);
+  /* the notch at (0, 20): point (66, 43) of the 133 x 100 grid; its neighbourhood is as
+     flat shading drew it */
+  int changed_near = 0;
+  for (int j = 43 - 6; j <= 43 + 6; j++)
+    for (int i = 66 - 6; i <= 66 + 6; i++)
+      changed_near += row.ids[j * row.W + i] != flat.ids[j * row.W + i];
+  assert_int_equal(changed_near, 0);
+  out_free(&flat); out_free(&row);
+}
+
+static void test_lone_triangle_is_flat(void **state)
+{
+  (void)state;
+  /* one triangle alone in its object: every vertex normal is the face normal, so
+     gouraud and phong (and any band) must give the flat picture */
+  write_text("tri.s74", big_triangle);
+  struct out flat, o;
+  render(tpath("tri.s74"), "halftone=3x3", &flat);
+  const char *effs[] = { "halftone=3x3 smooth=gouraud", "halftone=3x3 smooth=phong",
+                         "halftone=3x3 smooth=prop:0.2", "halftone=3x3 smooth=fixed:0.3" };
+  for (size_t k = 0; k < sizeof effs / sizeof *effs; k++) {
+    render(tpath("tri.s74"), effs[k], &o);
+    assert_memory_equal(flat.grey, o.grey, (size_t)flat.W * (size_t)flat.H);
+    assert_true(stat(&o, "smooth_points") > 5000);
+    out_free(&o);
+  }
+  out_free(&flat);
+}
+
+static void test_nothing_to_smooth_warns(void **state)
+{
+  (void)state;
+  /* no light: nothing can be smoothed; drawn flat, with a warning at the effects line */
+  write_text("nolight.s74", "view 0 0 -1000\nwindow -200 -150 200 150\n"
+             "vertex 1 0 0 0\nvertex 2 50 0 0\nvertex 3 0 50 0\nface 1 1 2 3\nobject 1 1\n"
+             "effects smooth=phong contour=0.5\n");
+  struct out flat, o;
+  render(tpath("nolight.s74"), "halftone=4x4", &flat);
+  render(tpath("nolight.s74"), NULL, &o);
+  char *e = slurp(tpath("err.txt"), NULL);
+  assert_non_null(e);
+  assert_non_null(strstr(e, "nolight.s74:8: warning: smooth=/contour=:"));
+  free(e);
+  assert_memory_equal(flat.ids, o.ids, (size_t)flat.W * (size_t)flat.H * sizeof *flat.ids);
+  assert_memory_equal(flat.grey, o.grey, (size_t)flat.W * (size_t)flat.H);
+  out_free(&flat); out_free(&o);
+}
+
 static void test_orientation(void **state)
 {
   (void)state;
@@ -591,6 +655,9 @@ int main(void)
     cmocka_unit_test(test_contour_none),
     cmocka_unit_test(test_cut_area_closed_form),
     cmocka_unit_test(test_cut_shows_what_is_behind),
+    cmocka_unit_test(test_concave_vertex_kept),
+    cmocka_unit_test(test_lone_triangle_is_flat),
+    cmocka_unit_test(test_nothing_to_smooth_warns),
     cmocka_unit_test(test_orientation),
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
