@@ -40,8 +40,8 @@ smooth_bench() {
   {
     echo "## Smooth shading, paper 004 Table 1 (median of $RUNS runs; host = this machine)"
     echo
-    echo "| row | effects | host ms flat | host ms | host x flat | hitac10 s flat | hitac10 s | 1974 x flat | points smoothed | points cut | core words used |"
-    echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    echo "| row | effects | host ms flat | host ms | host x flat | host Minstr flat | host Minstr | host Minstr added | hitac10 s flat | hitac10 s | 1974 x flat | points smoothed | points cut | core words used |"
+    echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
   }
   for s in scenes/t1-?.s74 scenes/sphere.s74; do
     eff=$(sed -n 's/^effects //p' "$s")
@@ -50,11 +50,21 @@ smooth_bench() {
     hf=$(host_median ./tube74 "$s" --effects halftone=3x3)
     hr=$(host_median ./tube74 "$s")
     cut=$(field "$B/row.json" contour_points_cut); cut=${cut:-0}
-    awk -v s="$(basename "$s" .s74)" -v e="$eff" -v hf="$hf" -v hr="$hr" \
+    # host instructions of the whole run (callgrind: exact and repeatable under load)
+    irf=nan; irr=nan
+    if command -v valgrind >/dev/null 2>&1; then
+      irf=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null ./tube74 render "$s" \
+            --effects halftone=3x3 2>&1 | sed -n 's/.*Collected : *\([0-9]*\).*/\1/p')
+      irr=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null ./tube74 render "$s" 2>&1 |
+            sed -n 's/.*Collected : *\([0-9]*\).*/\1/p')
+    fi
+    awk -v s="$(basename "$s" .s74)" -v e="$eff" -v hf="$hf" -v hr="$hr" -v irf="$irf" -v irr="$irr" \
         -v tf="$(field "$B/flat.json" hitac10_seconds)" -v tr="$(field "$B/row.json" hitac10_seconds)" \
         -v n="$(field "$B/row.json" smooth_points)" -v c="$cut" -v u="$(field "$B/row.json" core_words_used)" \
-        'BEGIN { printf "| %s | `%s` | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %d | %d | %d |\n",
-                 s, e, hf*1000, hr*1000, hr/hf, tf, tr, tr/tf, n, c, u }'
+        'BEGIN { printf "| %s | `%s` | %.2f | %.2f | %.2f | %s | %s | %s | %.2f | %.2f | %.2f | %d | %d | %d |\n",
+                 s, e, hf*1000, hr*1000, hr/hf,
+                 (irf == "nan" ? "-" : sprintf("%.2f", irf/1e6)), (irr == "nan" ? "-" : sprintf("%.2f", irr/1e6)),
+                 (irf == "nan" ? "-" : sprintf("%+.2f", (irr-irf)/1e6)), tf, tr, tr/tf, n, c, u }'
   done
 }
 if [ "${1:-}" = smooth ]; then

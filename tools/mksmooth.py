@@ -66,8 +66,8 @@ def place(p, ax, ay, centre):
 
 
 def pencil(s, ax=-25, ay=20, centre=(0, -10, 500)):
-    """Hexagonal prism (radius 110, height 170) under a pyramid (height 90)."""
-    r, y0, y1, y2 = 110, -120, 50, 140
+    """Hexagonal prism (radius 145, height 225) under a pyramid (height 120)."""
+    r, y0, y1, y2 = 145, -160, 65, 185
     ring0 = [s.v(place((r * math.cos(math.radians(30 + 60 * k)), y0,
                         r * math.sin(math.radians(30 + 60 * k))), ax, ay, centre)) for k in range(6)]
     ring1 = [s.v(place((r * math.cos(math.radians(30 + 60 * k)), y1,
@@ -82,7 +82,7 @@ def pencil(s, ax=-25, ay=20, centre=(0, -10, 500)):
         s.tri(ring1[a], ring1[b], apex)
 
 
-def cube(s, ax=-25, ay=30, centre=(0, 0, 500), h=95):
+def cube(s, ax=-25, ay=30, centre=(0, 0, 500), h=115):
     c = [s.v(place((x * h, y * h, z * h), ax, ay, centre))
          for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
     # corners: index = 4*(x>0) + 2*(y>0) + (z>0); quads listed outward
