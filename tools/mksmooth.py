@@ -92,6 +92,21 @@ def cube(s, ax=-25, ay=30, centre=(0, 0, 500), h=115):
         s.tri(c[a], c[cc], c[d])
 
 
+def lprism(s, ax=-30, ay=25, centre=(0, 0, 500), u=80, depth=80):
+    """An L-shaped prism (concave outline: one concave contour vertex at least)."""
+    ring = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
+    pts = [((x - 1) * u, (y - 1) * u) for x, y in ring]
+    front = [s.v(place((x, y, -depth), ax, ay, centre)) for x, y in pts]
+    back = [s.v(place((x, y, depth), ax, ay, centre)) for x, y in pts]
+    for k in range(1, 5):            # fan from corner 0: the L is star-shaped from it
+        s.tri(front[0], front[k + 1], front[k])
+        s.tri(back[0], back[k], back[k + 1])
+    for k in range(6):
+        a, b = k, (k + 1) % 6
+        s.tri(front[a], front[b], back[b])
+        s.tri(front[a], back[b], back[a])
+
+
 def icosphere(s, radius=125, centre=(0, 0, 500), levels=3):
     t = (1 + 5 ** 0.5) / 2
     vs = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
@@ -179,6 +194,10 @@ def main():
         else:
             cube(s)
         s.write("scenes/t1-%s.s74" % row, "halftone=3x3 " + eff)
+    s = Scene("A concave object for contour=: an L-shaped prism (20 triangles); its\n"
+              "concave contour vertices stay sharp. Written by tools/mksmooth.py.")
+    lprism(s)
+    s.write("scenes/lprism.s74", "halftone=3x3 smooth=phong contour=1.0")
     s = Scene("A many-triangle model for smooth=: the front of a globe of %d meridians and\n"
               "%d bands on the integer grid (its far side, hidden, left out to fit 16 kW).\n"
               "Written by tools/mksmooth.py." % (NLON, NLAT))
