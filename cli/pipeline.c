@@ -572,8 +572,6 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   else if (s->effects) st = effects_parse(s->effects, &eff, s->file, s->effects_line, err);
   else { effects_default(&eff); st = T74_OK; }
   if (st != T74_OK) goto done;
-  st = fx_check(&eff, o->effects ? "--effects" : s->file, o->effects ? 1 : s->effects_line, err);
-  if (st != T74_OK) goto done;
   p.cell = o->cell ? o->cell : eff.halftone;
   st = pat_find(eff.pattern[0] ? eff.pattern : NULL, p.cell, &p.pat);
   if (st != T74_OK) {

@@ -9,6 +9,7 @@
 #     (tests/ref, llvmpipe) drawing the same scene as the peer where it is built;
 #  4. what accuracy costs: `tube74 bench accuracy` (anti-aliasing, papers 000/001), its
 #     tables, plots and panels in build/bench/accuracy (ACC_RUNS runs a frame, default 5).
+#  5. paper 004's Table 1 scenes against flat shading (`tools/bench.sh smooth`: only this).
 # Results go to stdout and build/bench/bench.md (+ growth.png when gnuplot is there).
 set -eu
 B=build/bench
@@ -33,6 +34,45 @@ host_median() { # BIN SCENE EXTRA...
     i=$((i + 1))
   done | median
 }
+
+# Paper 004's Table 1 (tools/mksmooth.py scenes): each row against flat shading of the
+# same scene (the scene's own cell, no other effect), host and 1974 time.
+# `tools/bench.sh smooth` runs this section alone (to build/bench/smooth.md).
+smooth_bench() {
+  {
+    echo "## Smooth shading, paper 004 Table 1 (median of $RUNS runs; host = this machine)"
+    echo
+    echo "| row | effects | host ms flat | host ms | host x flat | host Minstr flat | host Minstr | host Minstr added | hitac10 s flat | hitac10 s | 1974 x flat | points smoothed | points cut | core words used |"
+    echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  }
+  for s in scenes/t1-?.s74 scenes/sphere.s74; do
+    eff=$(sed -n 's/^effects //p' "$s")
+    ./tube74 render "$s" --effects halftone=3x3 --stats "$B/flat.json" >/dev/null
+    ./tube74 render "$s" --stats "$B/row.json" >/dev/null
+    hf=$(host_median ./tube74 "$s" --effects halftone=3x3)
+    hr=$(host_median ./tube74 "$s")
+    cut=$(field "$B/row.json" contour_points_cut); cut=${cut:-0}
+    # host instructions of the whole run (callgrind: exact and repeatable under load)
+    irf=nan; irr=nan
+    if command -v valgrind >/dev/null 2>&1; then
+      irf=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null ./tube74 render "$s" \
+            --effects halftone=3x3 2>&1 | sed -n 's/.*Collected : *\([0-9]*\).*/\1/p')
+      irr=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null ./tube74 render "$s" 2>&1 |
+            sed -n 's/.*Collected : *\([0-9]*\).*/\1/p')
+    fi
+    awk -v s="$(basename "$s" .s74)" -v e="$eff" -v hf="$hf" -v hr="$hr" -v irf="$irf" -v irr="$irr" \
+        -v tf="$(field "$B/flat.json" hitac10_seconds)" -v tr="$(field "$B/row.json" hitac10_seconds)" \
+        -v n="$(field "$B/row.json" smooth_points)" -v c="$cut" -v u="$(field "$B/row.json" core_words_used)" \
+        'BEGIN { printf "| %s | `%s` | %.2f | %.2f | %.2f | %s | %s | %s | %.2f | %.2f | %.2f | %d | %d | %d |\n",
+                 s, e, hf*1000, hr*1000, hr/hf,
+                 (irf == "nan" ? "-" : sprintf("%.2f", irf/1e6)), (irr == "nan" ? "-" : sprintf("%.2f", irr/1e6)),
+                 (irf == "nan" ? "-" : sprintf("%+.2f", (irr-irf)/1e6)), tf, tr, tr/tf, n, c, u }'
+  done
+}
+if [ "${1:-}" = smooth ]; then
+  smooth_bench | tee "$B/smooth.md"
+  exit 0
+fi
 
 out="$B/bench.md"
 {
@@ -88,6 +128,9 @@ for n in 10 30 100 300 1000 3000 10000; do
       'BEGIN { printf "| %d | %d | %d | %d | %.2f | %.1f | %s | %s | %.1f | %d |\n", n, p, pc, pp, h*1000, h/b,
                (r == "nan" ? "-" : sprintf("%.2f", r*1000)), (r == "nan" ? "-" : sprintf("%.2f", h/r)), t, u }' >>"$out"
 done
+
+echo >>"$out"
+smooth_bench >>"$out"
 
 # Counting the 1974 operations costs the host: measured in instructions (callgrind counts
 # them exactly and repeatably, where millisecond timings scatter by tens of percent),
