@@ -50,6 +50,10 @@
 
 struct fx { char dir[64]; char path[256]; };
 
+
+/* The tests here are about the file as written, seen on the paper's axis: no --turn
+   (the three-quarter default of imports, render/turn.h, is tested in tests/test_turn.c). */
+static const struct scene_opts on_axis = { .has_turn = true, .turn = { 0.0, 0.0 } };
 static int group_setup(void **state)
 {
   struct fx *f = calloc(1, sizeof *f);
@@ -150,7 +154,7 @@ static void expect_refused(void **state, const char *name, const char *kind,
   write_file(f, file, text, len);
   struct scene *s = (struct scene *)1;
   struct t74_error err = { 0 };
-  int st = scene_load(f->path, NULL, &s, &err);
+  int st = scene_load(f->path, &on_axis, &s, &err);
   char prefix[300];
   snprintf(prefix, sizeof prefix, "%s:%d: ", f->path, line);
   if (st != T74_EINPUT || strncmp(err.msg, prefix, strlen(prefix)) != 0 ||
@@ -258,7 +262,7 @@ static void line_ends(void **state)
     write_file(f, name, base[k], strlen(base[k]));
     struct scene *ref = NULL;
     struct t74_error err = { 0 };
-    if (scene_load(f->path, NULL, &ref, &err)) fail_msg("%s", err.msg);
+    if (scene_load(f->path, &on_axis, &ref, &err)) fail_msg("%s", err.msg);
     assert_int_equal(ref->nf, 3);
     assert_int_equal(ref->warnings, 0);
     for (int bom = 0; bom < 2; bom++)
@@ -270,7 +274,7 @@ static void line_ends(void **state)
         free(t);
         struct scene *s = NULL;
         memset(&err, 0, sizeof err);
-        if (scene_load(f->path, NULL, &s, &err))
+        if (scene_load(f->path, &on_axis, &s, &err))
           fail_msg("%s, bom %d, line end %d: %s", kind[k], bom, e, err.msg);
         same_scene(ref, s);
         scene_free(s);
@@ -306,7 +310,7 @@ static struct scene *load_or_fail(struct fx *f, const char *name, const char *te
   write_file(f, name, text, len);
   struct scene *s = NULL;
   struct t74_error err = { 0 };
-  if (scene_load(f->path, NULL, &s, &err)) fail_msg("%s: %s", name, err.msg);
+  if (scene_load(f->path, &on_axis, &s, &err)) fail_msg("%s: %s", name, err.msg);
   return s;
 }
 
@@ -599,7 +603,7 @@ static void check_orders(struct fx *f, const struct mesh *m, const char *what,
         free(text);
         struct scene *s = NULL;
         struct t74_error err = { 0 };
-        int st = scene_load(f->path, NULL, &s, &err);
+        int st = scene_load(f->path, &on_axis, &s, &err);
         if (st) fail_msg("%s, %s writing %d: %s", what, kinds[ki], var, err.msg);
         uint16_t *ids = var == 0 ? ref : got;
         memset(&err, 0, sizeof err);
@@ -634,7 +638,7 @@ static void check_orders(struct fx *f, const struct mesh *m, const char *what,
         free(text);
         struct scene *s = NULL;
         struct t74_error err = { 0 };
-        if (scene_load(f->path, NULL, &s, &err)) fail_msg("%s as .s74: %s", what, err.msg);
+        if (scene_load(f->path, &on_axis, &s, &err)) fail_msg("%s as .s74: %s", what, err.msg);
         assert_int_equal(mr_render_ids(s, cell, got, &err), T74_OK);
         long d = mr_diff(ref, got, n);
         if (d) fail_msg("%s, cell %d: %ld points differ from the same geometry as .s74", what,
