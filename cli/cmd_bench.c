@@ -14,10 +14,11 @@
 **                   the difference in % of a fully lit tube;
 **   flicker         on the moving edge: the frame-to-frame change of every point's light
 **                   against the reference's, sqrt(sum (d - d_ref)^2 / sum d_ref^2);
-**   host time       per frame, Mapper to the last intensity (aa_frame_render), median of
-**                   --runs runs, and its ratio to aa=none measured in the same run;
-**   1974 time       hitac10_seconds of the counted operations (renderer, method, halftone
-**                   and display), and the core words used.
+**   host time       per frame: the whole `render` job (job_run: scene file to the dots on
+**                   the tube, no output files), median of --runs runs, and its ratio to
+**                   aa=none measured in the same run;
+**   1974 time       the job's hitac10_seconds (renderer, method, halftone and display),
+**                   and the core words used.
 ** Output in DIR (default build/bench/accuracy): accuracy.md, accuracy.csv, the plots
 ** error_host.png and error_1974.png (gnuplot, log scales, Pareto front marked), and the
 ** paper-style panels fig5e.png and fig5f.png. A progress bar goes to a terminal only.
@@ -31,6 +32,7 @@
 #include <unistd.h>
 
 #include "cli/commands.h"
+#include "cli/pipeline.h"
 #include "display/image.h"
 #include "emu/cost.h"
 #include "patterns/halftone.h"
@@ -200,21 +202,6 @@ static double *eye(const uint8_t *grey, int W, int H, int cell)
   return a;
 }
 
-static double seconds74(const struct aa_frame *f)
-{
-  struct cost c = f->render, disp = { { 0 } };
-  cost_merge(&c, &f->fx);
-  for (int k = 0; k < f->W * f->H; k++) {          /* halftone + display, as the pipeline */
-    COST_ADD_N(&disp, COST_MEM, 4);
-    COST_ADD_N(&disp, COST_SHIFT, f->cell * f->cell);
-    COST_ADD_N(&disp, COST_IO, pat_level(f->cell, f->grey[k]));
-  }
-  cost_merge(&c, &disp);
-  struct cost_params p;
-  cost_params_default(&p);
-  return cost_seconds(&c, &p);
-}
-
 struct bar_state { int done, total; bool tty; };
 
 static void progress(struct bar_state *b, const char *what)
@@ -242,12 +229,21 @@ static int measure_scene(const char *path, int runs, struct meas *m, uint8_t **k
   double *times = malloc((size_t)runs * sizeof *times);
   for (int k = 0; st == T74_OK && k < NMETHOD; k++) {
     struct aa_frame f;
+    if ((st = aa_frame_render(path, methods[k].effects, BENCH_CELL, BENCH_CORE, &f, err)) != T74_OK) break;
+    /* host and 1974 time: the whole render command (scene to tube), run by run */
+    char core[16] = "1048576", cell[4] = "4";
+    char *av[] = { "tube74", "render", (char *)path, "--effects", (char *)methods[k].effects,
+                   "--cell", cell, "--core", core, NULL };
+    struct job j;
+    struct job_result res;
+    double h74 = 0;
     for (int r = 0; st == T74_OK && r < runs; r++) {
-      if ((st = aa_frame_render(path, methods[k].effects, BENCH_CELL, BENCH_CORE, &f, err)) != T74_OK) break;
-      times[r] = f.host_seconds;
-      if (r + 1 < runs) aa_frame_free(&f);
+      if ((st = job_parse(9, av, 2, &j, NULL, NULL, err)) != T74_OK) break;
+      if ((st = job_run(&j, NULL, &res, err)) != T74_OK) break;
+      times[r] = res.host_seconds;
+      h74 = res.hitac10_seconds;
     }
-    if (st != T74_OK) break;
+    if (st != T74_OK) { aa_frame_free(&f); break; }
     const struct aa_frame *R = &ref[methods[k].gauss];
     double s2 = 0, mx = 0, t2 = 0;
     int n = f.W * f.H;
@@ -266,7 +262,7 @@ static int measure_scene(const char *path, int runs, struct meas *m, uint8_t **k
     m[k].max = mx;
     m[k].tube = 100 * sqrt(t2 / (n * BENCH_CELL * BENCH_CELL));
     m[k].host = median(times, runs);
-    m[k].h74 = seconds74(&f);
+    m[k].h74 = h74;
     m[k].core = f.core_peak;
     m[k].subdiv = 0;
     for (int q = 0; q < f.st.n; q++) if (!strcmp(f.st.name[q], "aa_subdivisions")) m[k].subdiv = f.st.value[q];
@@ -334,7 +330,7 @@ static void plot(const char *dir, const char *png, int col, const char *xlabel)
   char cmd[2048];
   snprintf(cmd, sizeof cmd,
     "cd '%s' && gnuplot 2>/dev/null <<'EOF'\n"
-    "set terminal pngcairo size 800,520\nset output '%s'\nset logscale xy\n"
+    "set terminal pngcairo size 800,520 noenhanced\nset output '%s'\nset logscale xy\n"
     "set xlabel '%s'\nset ylabel 'RMS grey error against exact (grey levels)'\n"
     "set key top right\nset grid\nset datafile separator ','\n"
     "plot 'summary.csv' using %d:3 with points pt 7 ps 1.2 title 'method', \\\n"
@@ -349,7 +345,7 @@ static void labelled(const char *dir, const char *png, const char *raw, int n, b
 {
   char cmd[4096];
   int len = snprintf(cmd, sizeof cmd,
-    "cd '%s' && gnuplot 2>/dev/null <<'EOF'\nset terminal pngcairo size %d,%d\nset output '%s'\n"
+    "cd '%s' && gnuplot 2>/dev/null <<'EOF'\nset terminal pngcairo size %d,%d noenhanced\nset output '%s'\n"
     "unset key; unset tics; unset border; set lmargin 0; set rmargin 0\n"
     "set multiplot layout %d,%d\n", dir, vertical ? w + 20 : n * (w + 8), vertical ? n * (h + 28) : h + 40, png,
     vertical ? n : 1, vertical ? 1 : n);
@@ -484,7 +480,7 @@ static int bench_accuracy(int argc, char **argv, struct t74_error *err)
   fprintf(md, "Errors against the exact reference of the method's own filter (box: `aa=exact`; "
               "Gaussian: `aa=exact filter=gauss`), averaged over %d scenes (%d test patterns, "
               "%d shipped); flicker on an edge moving 1/16 point a frame; host time per frame "
-              "(Mapper to the last intensity) as the geometric mean of its ratio to `aa=none` "
+              "(the whole render job, scene file to tube) as the geometric mean of its ratio to `aa=none` "
               "in the same run; 1974 time and core as the machine model counts them.\n\n",
           np, npat, np - npat);
   fprintf(md, "| method | effects | RMS grey | max grey | tube RMS %% | flicker | host / none | host ms | hitac10 s | core words |\n");
