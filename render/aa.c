@@ -423,7 +423,8 @@ int aa_light_map(struct render *r, const struct effects *e, const struct vis_gri
   c.yt = (double)GRID_ONE * g->window[3];
   c.pw = (double)GRID_ONE * (g->window[2] - g->window[0]) / c.W;
   c.ph = (double)GRID_ONE * (g->window[3] - g->window[1]) / c.H;
-  c.grey_at = NULL;                           /* flat shading */
+  c.grey_at = NULL;                           /* the frame's intensities */
+  c.flat = e->smooth == EFFECTS_SMOOTH_NONE && !e->contour_on;
   c.out = light;
   memset(light, 0, (size_t)c.W * (size_t)c.H * sizeof *light);
   int rc = aa_core(&c, "AA LIGHT TABLE", 256, &c.light_at);

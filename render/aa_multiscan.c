@@ -52,11 +52,12 @@ static void line_cover(struct aa_ctx *c, const struct aa_line *l, int j, double 
     const struct aa_seg *s = &l->s[k];
     if (s->u1 <= 0 || s->u0 >= c->W) continue;
     int i0 = (int)floor(fmax(s->u0, 0)), i1 = (int)floor(fmin(s->u1, c->W - 1e-9));
-    double flat = c->grey_at ? 0 : aa_frag_light(c, s->face, i0, j);   /* flat: one light */
+    bool one = c->flat && !c->grey_at;          /* flat shading: one light a stretch */
+    double flat = one ? aa_frag_light(c, s->face, i0, j) : 0;
     for (int i = i0; i <= i1; i++) {
       double len = fmin(s->u1, i + 1.0) - fmax(s->u0, (double)i);
       if (len <= 0) continue;
-      lc[i] += len * (c->grey_at ? aa_frag_light(c, s->face, i, j) : flat);
+      lc[i] += len * (one ? flat : aa_frag_light(c, s->face, i, j));
       ll[i] += len;
       COST_ADD_N(c->cost, COST_MUL, 1);     /* L_{f,l} I_f, one word by one word */
       COST_ADD_N(c->cost, COST_ADD, 4);
