@@ -20,8 +20,9 @@
 ** side leaves the area through its left or right side on the way to the other border;
 ** and no vertex of the two pieces lies inside the area. Neither case holds when another
 ** piece enters the area (meets it at all, seen or not: the paper's entry table), which is
-** then divided. A piece seen on no border of an area and entering none of the areas
-** around it at the depth limit is missed there (the blind spot each division halves).
+** then divided. At depth D an area is taken from its two borders alone, so a piece lying
+** between the borders of a smallest area is missed there (the blind spot each level of
+** depth halves).
 **
 ** THE TABLE. Coverage c(h, v) of the side of the edge holding the area's centre, for an
 ** edge crossing the horizontal through the centre at distance h and the vertical at
