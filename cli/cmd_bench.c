@@ -395,7 +395,10 @@ static int bench_accuracy(int argc, char **argv, struct t74_error *err)
   for (size_t k = 0; k < sizeof shipped / sizeof *shipped; k++)
     if (access(shipped[k], R_OK) == 0) snprintf(paths[np++], 256, "%s", shipped[k]);
   struct bar_state bar = { 0, np * NMETHOD + NMETHOD * BENCH_FRAMES, isatty(2) != 0 };
-  static struct meas m[16][NMETHOD];
+  struct meas (*m)[NMETHOD] = calloc(16, sizeof *m);          /* per scene, per method */
+  typedef double frame_light[BENCH_FRAMES][100 * 75];
+  frame_light *L = calloc(NMETHOD, sizeof *L);               /* the moving edge's light */
+  if (!m || !L) { free(m); free(L); return t74_fail(err, T74_EIO, "out of host memory"); }
   uint8_t *keep[16][NMETHOD];
   memset(keep, 0, sizeof keep);
   int st = T74_OK;
@@ -404,7 +407,6 @@ static int bench_accuracy(int argc, char **argv, struct t74_error *err)
   /* the moving edge: flicker */
   double flick[NMETHOD] = { 0 };
   if (st == T74_OK) {
-    static double L[NMETHOD + 1][BENCH_FRAMES][100 * 75];
     char ep[600];
     snprintf(ep, sizeof ep, "%s/scenes/edge.s74", dir);
     for (int t = 0; st == T74_OK && t < BENCH_FRAMES; t++) {
@@ -570,6 +572,8 @@ static int bench_accuracy(int argc, char **argv, struct t74_error *err)
 done:
   for (int s = 0; s < 16; s++)
     for (int k = 0; k < NMETHOD; k++) free(keep[s][k]);
+  free(m);
+  free(L);
   return st;
 }
 
