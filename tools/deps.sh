@@ -2,7 +2,7 @@
 # tube74 dependencies: Debian 12 packages, checked through pkg-config and dpkg.
 # As root, missing packages are installed; otherwise the exact apt-get line is printed.
 set -u
-need="pkg-config libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth"
+need="pkg-config libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth jq"
 missing=""
 for p in $need; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
