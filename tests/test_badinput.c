@@ -12,7 +12,8 @@
 **   `pattern=foo` names the effects line of the scene;
 **   a `background` that is a folder, /dev/zero or a file over PIC_FILE_MAX is refused
 **     with the scene's FILE:LINE and exit 2, without reading it whole (a sparse file of
-**     the limit plus one byte is refused by its size alone).
+**     the limit plus one byte is refused by its size alone);
+**   the fastest fade seen long after, at any spread, renders (once it never finished).
 ** A standalone cmocka program, run from the repository root. Scratch files go to a fresh
 ** folder under /tmp, removed at the end.
 */
@@ -275,6 +276,25 @@ static void test_background_bounded(void **state)
   assert_null(p);
 }
 
+/* ---- bounded looks --------------------------------------------------------------------- */
+
+/* The fastest fade, seen long after: every spot has spread over the whole face. Once each
+** spot was stamped with a kernel 5 sigma wide (here millions of pixels a side: the run
+** never ended; a shorter fade overflowed the int kernel radius). Now it is skipped or
+** drawn on a coarse grid, and the run ends like any other. */
+static void test_look_bounded(void **state)
+{
+  (void)state;
+  char msg[600];
+  const char *png = in_dir("look.png");
+  assert_int_equal(run(msg, sizeof msg, "render", "scenes/fig6.s74", "--look", "fade:0.001",
+                       "--look-at", "10000000", "-o", png, (char *)NULL), 0);
+  assert_int_equal(access(png, F_OK), 0);
+  assert_int_equal(run(msg, sizeof msg, "render", "scenes/fig6.s74", "--look", "fade:0.001",
+                       "--look-param", "fade_spread_mm=10", "--look-at", "0.002", "--scale", "2",
+                       "-o", png, (char *)NULL), 0);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -282,6 +302,7 @@ int main(void)
     cmocka_unit_test(test_fade_range_as_the_option),
     cmocka_unit_test(test_unknown_pattern_names_its_line),
     cmocka_unit_test(test_background_bounded),
+    cmocka_unit_test(test_look_bounded),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

@@ -251,6 +251,14 @@ static void test_fifo_read_by_a_reader(void **state)
   assert_true(S_ISFIFO(lmode(fifo)));                   /* not replaced by a file */
   assert_int_equal(n, rn);                              /* the reader got the picture */
   assert_memory_equal(got, want, rn);
+  /* all or nothing holds for a FIFO too: when another output fails, its reader gets
+     nothing at all */
+  rd = open(fifo, O_RDONLY | O_NONBLOCK);
+  assert_true(rd >= 0);
+  assert_int_equal(run(NULL, NULL, "render", SCENE, "-o", fifo, "--stats", in_dir("no/s.json"),
+                       (char *)NULL), 4);
+  assert_true(read(rd, got, 65536) <= 0);
+  close(rd);
   free(got);
   free(want);
   unlink(ref);
@@ -274,6 +282,21 @@ static void test_char_device_stays(void **state)
     assert_true(S_ISCHR(lmode(nodes[k])));
   }
   assert_int_equal(entries(), own);                     /* no temporary left */
+  /* a device that fails at the commit (/dev/full: ENOSPC) leaves the regular outputs
+     unwritten: direct outputs get their bytes before any rename */
+  if (access("/dev/full", W_OK) == 0) {
+    assert_int_equal(run(NULL, NULL, "render", SCENE, "--stats", in_dir("s.json"), "-o",
+                         "/dev/full", (char *)NULL), 4);
+    assert_int_equal(access(in_dir("s.json"), F_OK), -1);
+    assert_true(S_ISCHR(lmode("/dev/full")));
+  }
+  /* a block device is refused, and stays what it was */
+  const char *blk = in_dir("blk");
+  if (own && mknod(blk, S_IFBLK | 0600, makedev(7, 0)) == 0) {
+    assert_int_equal(run(NULL, NULL, "render", SCENE, "-o", blk, (char *)NULL), 4);
+    assert_true(S_ISBLK(lmode(blk)));
+    unlink(blk);
+  }
 }
 
 /* ---- standard output ------------------------------------------------------------------ */
