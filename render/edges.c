@@ -96,6 +96,7 @@ struct edge {
   wide A, B, C;           /* K = A X + B Y + C, scaled coordinates, left of the edge > 0 */
   wide kline, khalo;      /* a centre is on the line when |K| <= kline, in the halo when
                              kline < |K| <= khalo on the halo's side (see kbound) */
+  bool bounds;            /* kline and khalo are known */
   struct gpoint p, q;     /* the extent's ends on the grid */
   int sface[2];           /* scene faces (for the dump), -1 when none */
 };
@@ -112,6 +113,8 @@ struct ectx {
                              Y of centre j is T - (2j+1) sy */
   uint8_t *mark;          /* per point: MK_* class | MK_ROW */
   uint64_t pts_row, pts_col, pts_halo;
+  int run_face;                 /* the face and edge of the last depth test (for its cost) */
+  const struct edge *run_edge;
 };
 
 /* ---- small exact helpers ---------------------------------------------------------- */
@@ -313,14 +316,26 @@ static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y,
 {
   const struct mface *mf = &c->r->map.f[F];
   wide dF = plane_at(c, mf, X, Y);
-  cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
+  /* Counted: the difference |D_F| n_G.(r-E) - |D_G| n_F.(r-E) is linear along a row (it is
+     the priority module's G), so beside the point before, with the same faces, the 1974
+     program steps it by one multi-word add; otherwise it evaluates it afresh. */
+  bool step = c->run_face == F && c->run_edge == ed;
+  c->run_face = F;
+  c->run_edge = ed;
+  if (step) {
+    for (int k = 0; k < ed->ndraw; k++) { cost_mw_add(c->cost, 140); COST_ADD_N(c->cost, COST_BRANCH, 1); }
+  } else {
+    cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
+  }
   if (dF <= 0) return false;              /* cannot happen for a face seen there */
   int met = 0;
   for (int k = 0; k < ed->ndraw; k++) {
     const struct mface *mg = &c->r->map.f[ed->draw[k]];
     wide dG = plane_at(c, mg, X, Y);
-    cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
-    cost_mw_mul(c->cost, 52, 88); cost_mw_mul(c->cost, 52, 88);
+    if (!step) {
+      cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
+      cost_mw_mul(c->cost, 52, 88); cost_mw_mul(c->cost, 52, 88);
+    }
     if (dG <= 0) continue;                /* this plane does not meet the ray ahead */
     met++;
     /* t_F >= t_G:  |D_F| n_G.(r-E) >= |D_G| n_F.(r-E) */
@@ -359,9 +374,11 @@ static bool kfits(struct i256 r, wide k, struct cost *cost)
 static wide kbound(struct i256 r, double u, double v, struct cost *cost)
 {
   double est = sqrt(u * u + v * v) / WQ;
+  cost_mw_div(cost, 2 * wbits((wide)est * WQ), wbits((wide)est * WQ));   /* the square root's estimate */
+  wide k0 = (wide)est;
+  if (kfits(r, k0, cost) && !kfits(r, k0 + 1, cost)) return k0;           /* the usual case */
   wide lo = (wide)(est * (1 - 1e-12)) - 2, hi = (wide)(est * (1 + 1e-12)) + 2;
   if (lo < 0) lo = 0;
-  cost_mw_div(cost, 2 * wbits((wide)est * WQ), wbits((wide)est * WQ));   /* the square root's estimate */
   while (!kfits(r, lo, cost)) lo /= 2;        /* never taken unless the estimate is off */
   while (kfits(r, hi, cost)) hi *= 2;
   while (hi - lo > 1) {                       /* invariant: lo fits, hi does not */
@@ -472,6 +489,20 @@ static void draw_edge(struct ectx *c, struct edge *ed, bool row_pass, int64_t wl
   double half = (double)(wline + 2 * (ed->halo ? whalo : 0)) / (2.0 * WQ);
   int first, last;
   extent(c, ed, row_pass, &first, &last);
+  COST_ADD_N(c->cost, COST_ADD, 4);
+  if (first > last) return;                 /* no row (column) of the grid meets it */
+  {                                          /* nor when its box, widened, misses the grid */
+    wide m = ((wide)ceil(half) + 1) * 2;
+    wide xa = 2 * (wide)c->W * ed->p.x, xb = 2 * (wide)c->W * ed->q.x;
+    wide ya = 2 * (wide)c->H * ed->p.y, yb = 2 * (wide)c->H * ed->q.y;
+    wide xlo = xa < xb ? xa : xb, xhi = xa < xb ? xb : xa;
+    wide ylo = ya < yb ? ya : yb, yhi = ya < yb ? yb : ya;
+    COST_ADD_N(c->cost, COST_ADD, 8);
+    if (xhi < c->S + c->sx - m * c->sx || xlo > c->S + (2 * (wide)c->W - 1) * c->sx + m * c->sx ||
+        yhi < c->T - (2 * (wide)c->H - 1) * c->sy - m * c->sy || ylo > c->T - c->sy + m * c->sy)
+      return;
+  }
+  if (!ed->bounds) { edge_bounds(c, ed, wline, whalo); ed->bounds = true; }
   for (int k = first; k <= last; k++) {
     double ic, hl;
     int n;
@@ -505,6 +536,7 @@ static void draw_edge(struct ectx *c, struct edge *ed, bool row_pass, int64_t wl
       l0++;
     }
     if (l0 > b) continue;
+    c->run_face = -2;             /* a new row: depth differences are evaluated afresh */
     while (l1 > l0 && (bh = BAND(l1)) != 2) {
       if (bh == 1) PUT(l1, MK_HALO);
       l1--;
@@ -938,13 +970,6 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   if (!c.mark) goto oom;
   int64_t wo = llround(e->outline_w * WQ), wi = llround(e->inner_w * WQ);
   int64_t wh = llround(e->halo_w * WQ);
-  for (int k = 0; k < L.n; k++) {
-    struct edge *ed = &L.e[k];
-    if (ed->cls == EDGE_E1 || ed->ndraw == 0) continue;
-    bool outl = ed->cls == EDGE_E2 || ed->cls == EDGE_E4_OUTLINE;
-    int64_t w = outl ? wo : wi;
-    if (w > 0) edge_bounds(&c, ed, w, ed->halo ? wh : 0);
-  }
   for (int pass = 0; pass < 2; pass++) {
     bool row = pass == 0;
     if (!(passes & (row ? EDGE_PASS_ROW : EDGE_PASS_COL))) continue;

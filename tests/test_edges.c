@@ -521,6 +521,45 @@ static void test_halo(void **state)
   run_free(u);
 }
 
+/* `object N F1 F2 ... smooth`: the flag is read, the faces are still all listed; `smooth`
+   with no face is an error at its line. */
+static void test_smooth_parse(void **state)
+{
+  (void)state;
+  char b[4096];
+  int w = snprintf(b, sizeof b, "%s", HEAD);
+  w += put_cube(b + w, sizeof b - (size_t)w, 1, 1, 0, 4, 4, 3, 4, 3, 0, 0, 600, 100);
+  snprintf(b + w, sizeof b - (size_t)w, "object 7 1 2 3 smooth\nobject 8 4 5 6\n");
+  char path[128];
+  snprintf(path, sizeof path, "%s/s.s74", tmpdir);
+  FILE *fp = fopen(path, "w");
+  assert_non_null(fp);
+  fputs(b, fp);
+  fclose(fp);
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct scene *s = NULL;
+  struct t74_error err = { 0, "" };
+  assert_int_equal(scene_load(path, &so, &s, &err), T74_OK);
+  assert_int_equal(s->nobj, 2);
+  assert_true(s->obj[0].smooth);
+  assert_int_equal(s->obj[0].nface, 3);
+  assert_false(s->obj[1].smooth);
+  assert_int_equal(s->obj[1].nface, 3);
+  assert_int_equal(s->f[2].object, 7);
+  scene_free(s);
+  fp = fopen(path, "w");
+  assert_non_null(fp);
+  fprintf(fp, "%svertex 1 0 0 0\nvertex 2 9 0 0\nvertex 3 0 9 0\nface 1 1 2 3\n"
+          "object 1 smooth\n", HEAD);
+  fclose(fp);
+  s = NULL;
+  assert_int_equal(scene_load(path, &so, &s, &err), T74_EINPUT);
+  assert_null(s);
+  print_message("%s\n", err.msg);
+  assert_non_null(strstr(err.msg, ":7:"));
+}
+
 /* ---- the command line: --stats fields and --dump tables -------------------------- */
 
 static void test_cli_stats_and_dump(void **state)
@@ -595,6 +634,7 @@ int main(void)
     cmocka_unit_test(test_stacked_boxes),
     cmocka_unit_test(test_interpenetrating),
     cmocka_unit_test(test_halo),
+    cmocka_unit_test(test_smooth_parse),
     cmocka_unit_test(test_cli_stats_and_dump),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
