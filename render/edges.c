@@ -805,15 +805,13 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   free(badc);
 
   /* the edge table */
+  int nsplit = 0;
   for (int a = 0; a < nu;) {
     int b = a + 1;
     while (b < nu && u[b].lo == u[a].lo && u[b].hi == u[a].hi && u[b].part == u[a].part) b++;
     int n = b - a;
     if (n == 2 && s->f[u[a].face].id == s->f[u[a + 1].face].id) {
-      if (r->tables)
-        fprintf(r->tables, "EDGE %u-%u: not an edge (inside imported face %u, split by the "
-                "importer)\n", (unsigned)s->v[u[a].lo].id, (unsigned)s->v[u[a].hi].id,
-                (unsigned)s->f[u[a].face].id);
+      u[nsplit++] = u[a];              /* not an edge: listed in the dump (u[0..a) is done) */
       a = b;
       continue;
     }
@@ -1012,6 +1010,10 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
       fprintf(r->tables, "\nEDGES (paper 002 §3.2): %d edges, %d intersection lines; "
               "e1 %d, e2 %d, e3 %d, e4 %d\n", nregular, L.n - nregular, cnt[EDGE_E1],
               cnt[EDGE_E2], cnt[EDGE_E3], cnt[EDGE_E4_INNER] + cnt[EDGE_E4_OUTLINE]);
+      for (int k = 0; k < nsplit; k++)
+        fprintf(r->tables, "  edge %u-%u faces %u: not an edge (inside imported face %u, split "
+                "by the importer)\n", (unsigned)s->v[u[k].lo].id, (unsigned)s->v[u[k].hi].id,
+                (unsigned)s->f[u[k].face].id, (unsigned)s->f[u[k].face].id);
       for (int k = 0; k < L.n; k++) {
         const struct edge *ed = &L.e[k];
         if (k < nregular)

@@ -614,6 +614,33 @@ static void test_cli_stats_and_dump(void **state)
   assert_null(strstr(text, "edges_outline"));
 }
 
+/* The two triangles an import splits a non-planar face into keep its number; the side
+   between them is not an edge (tests/data/scene/quads.obj: face 2, vertices 5 and 7). */
+static void test_import_split_not_an_edge(void **state)
+{
+  (void)state;
+  const char *bin = getenv("TUBE74");
+  if (!bin) bin = "./tube74";
+  char cmd[512], dump[128], line[512];
+  snprintf(dump, sizeof dump, "%s/t.txt", tmpdir);
+  snprintf(cmd, sizeof cmd, "%s render tests/data/scene/quads.obj --effects edges=on "
+           "--dump tables=%s 2>/dev/null", bin, dump);
+  assert_int_equal(system(cmd), 0);
+  FILE *f = fopen(dump, "r");
+  assert_non_null(f);
+  int not_edge = 0, face2 = 0;
+  while (fgets(line, sizeof line, f)) {
+    if (strncmp(line, "  edge ", 7)) continue;
+    if (strstr(line, "not an edge")) {
+      not_edge++;
+      assert_non_null(strstr(line, "edge 5-7 "));
+    } else if (strstr(line, " faces 2:")) face2++;
+  }
+  fclose(f);
+  assert_int_equal(not_edge, 1);
+  assert_int_equal(face2, 4);            /* the quad's own four sides */
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -636,6 +663,7 @@ int main(void)
     cmocka_unit_test(test_halo),
     cmocka_unit_test(test_smooth_parse),
     cmocka_unit_test(test_cli_stats_and_dump),
+    cmocka_unit_test(test_import_split_not_an_edge),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }
