@@ -53,6 +53,10 @@
 **    the ray does not meet ahead are left out, and with none left the point is hidden).
 **    Depth is compared exactly as in priority.c: face F is hit at t = |D_F| / n_F.(r - E),
 **    so F is behind G at r when |D_F| n_G.(r-E) >= |D_G| n_F.(r-E) (256-bit products).
+**    Before the planes, F is held against the depths of the edge's two ends (t is the
+**    same for every ray at one z: t = (z - Z0) / -Z0): nearer than both ends, F hides the
+**    edge; behind both, the edge shows; only in between do the planes decide. So a face
+**    in front of the whole edge always hides it, whatever the planes' slopes.
 ** 6. Rule 3, the halo. Beside an outline whose drawing faces all lie on one side of it,
 **    centres on the other side between w/2 and w/2 + halo_w from the line get the halo's
 **    grey, but only where another face (not the background, not the edge's own) shows
@@ -97,6 +101,9 @@ struct edge {
   wide kline, khalo;      /* a centre is on the line when |K| <= kline, in the halo when
                              kline < |K| <= khalo on the halo's side (see kbound) */
   bool bounds;            /* kline and khalo are known */
+  bool trange;            /* the depths of its ends are known: */
+  wide tnear_n, tnear_d, tfar_n, tfar_d;   /* t (along the ray, as in priority.c) of its
+                             nearer and farther end, as fractions with positive denominator */
   struct gpoint p, q;     /* the extent's ends on the grid */
   int sface[2];           /* scene faces (for the dump), -1 when none */
 };
@@ -328,6 +335,16 @@ static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y,
     cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
   }
   if (dF <= 0) return false;              /* cannot happen for a face seen there */
+  if (ed->trange) {
+    /* First against the depths of the edge's two ends: nearer than both, F hides it;
+       behind both, the edge is in front of F. t_F = |D_F| SW SH / dF. */
+    wide SWH = 512 * (wide)c->W * 512 * (wide)c->H;
+    wide tn = (wide)mf->deye * SWH;
+    cost_mw_mul(c->cost, 52, 32); cost_mw_mul(c->cost, 100, 90); cost_mw_mul(c->cost, 100, 90);
+    if (rat_cmp(tn, dF, ed->tnear_n, ed->tnear_d) < 0) return false;
+    int far = rat_cmp(tn, dF, ed->tfar_n, ed->tfar_d);
+    if (far > 0 || (far == 0 && !strict)) return true;
+  }
   int met = 0;
   for (int k = 0; k < ed->ndraw; k++) {
     const struct mface *mg = &c->r->map.f[ed->draw[k]];
@@ -945,6 +962,13 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
     ed->B = DX;
     ed->C = DY * XP - DX * YP;
     cost_mw_mul(cost, 40, 40); cost_mw_mul(cost, 40, 40);
+    /* the ends' depths: t = (z - Z0) / -Z0 along the ray through each */
+    int32_t za = s->v[ed->va].z, zb = s->v[ed->vb].z;
+    ed->tnear_n = (wide)(za < zb ? za : zb) - r->map.eye[2];
+    ed->tfar_n = (wide)(za < zb ? zb : za) - r->map.eye[2];
+    ed->tnear_d = ed->tfar_d = -(wide)r->map.eye[2];
+    ed->trange = true;
+    COST_ADD_N(cost, COST_ADD, 3);
     if (ed->cls == EDGE_E2 && e->halo_w > 0 && ed->ndraw > 0) {
       int side = 0;
       for (int d = 0; d < ed->ndraw; d++) {
@@ -966,6 +990,23 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   c.T = 512 * (wide)c.H * g->window[3];
   c.mark = calloc(npts ? npts : 1, 1);
   if (!c.mark) goto oom;
+  /* the ends' depths of the intersection lines: on face A's plane at each end */
+  for (int k = nregular; k < L.n; k++) {
+    struct edge *ed = &L.e[k];
+    const struct mface *A = &r->map.f[ed->draw[0]];
+    wide SWH = 512 * (wide)c.W * 512 * (wide)c.H;
+    wide dp = plane_at(&c, A, 2 * (wide)c.W * ed->p.x, 2 * (wide)c.H * ed->p.y);
+    wide dq = plane_at(&c, A, 2 * (wide)c.W * ed->q.x, 2 * (wide)c.H * ed->q.y);
+    cost_mw_mul(cost, 34, 50); cost_mw_mul(cost, 34, 50); cost_mw_mul(cost, 34, 50);
+    cost_mw_mul(cost, 34, 50); cost_mw_mul(cost, 34, 50); cost_mw_mul(cost, 34, 50);
+    if (dp <= 0 || dq <= 0) continue;
+    wide tn = (wide)A->deye * SWH;
+    bool pnear = rat_cmp(tn, dp, tn, dq) <= 0;
+    ed->tnear_n = ed->tfar_n = tn;
+    ed->tnear_d = pnear ? dp : dq;
+    ed->tfar_d = pnear ? dq : dp;
+    ed->trange = true;
+  }
   int64_t wo = llround(e->outline_w * WQ), wi = llround(e->inner_w * WQ);
   int64_t wh = llround(e->halo_w * WQ);
   for (int pass = 0; pass < 2; pass++) {
