@@ -370,10 +370,9 @@ static int obj_at(const struct run *u, int k)
 /* Objects 1 and 2 rendered together and each alone: where object `front` is seen, every
    edge point comes from its own edges (as when alone); where object `back` is seen and
    its own edges are drawn when alone, they are drawn together too (inner and outline). */
-static void occlusion(const char *both, const char *front_only, const char *back_only,
-                      int front, int back)
+static void occlusion_fx(const char *both, const char *front_only, const char *back_only,
+                         int front, int back, const char *fx)
 {
-  const char *fx = "edges=on outline=1.5,40 inner=1.5,200 halo=0,255";
   struct run *ub = run_scene(both, fx, EDGE_PASS_ROW | EDGE_PASS_COL);
   struct run *uf = run_scene(front_only, fx, EDGE_PASS_ROW | EDGE_PASS_COL);
   struct run *uk = run_scene(back_only, fx, EDGE_PASS_ROW | EDGE_PASS_COL);
@@ -394,6 +393,13 @@ static void occlusion(const char *both, const char *front_only, const char *back
   assert_true(kept_back > 20);
   assert_int_equal(lost, 0);
   run_free(ub); run_free(uf); run_free(uk);
+}
+
+static void occlusion(const char *both, const char *front_only, const char *back_only,
+                      int front, int back)
+{
+  occlusion_fx(both, front_only, back_only, front, back,
+               "edges=on outline=1.5,40 inner=1.5,200 halo=0,255");
 }
 
 static void test_box_behind_box(void **state)
@@ -446,6 +452,48 @@ static void test_stacked_boxes(void **state)
   snprintf(a, sizeof a, "%s%s", view, upper);
   snprintf(c, sizeof c, "%s%s", view, lower);
   occlusion(both, a, c, 2, 1);
+}
+
+/* A floor seen from above (y = 0, z 200..600) and, just in front of its near edge, a box
+   (z 190..400, top at y = -5) in a smooth group (its front-top edge is not drawn), so that
+   below the floor's edge in the picture the box's top and then its front show. Beyond
+   the edge the floor's plane comes towards the eye: held against that plane alone the
+   box's front (z = 190) would lie "behind" and the floor's wide outline would show over
+   it; the front is nearer than the whole edge (z = 200), so it hides it. */
+static void test_face_in_front_of_whole_edge(void **state)
+{
+  (void)state;
+  const char *scene =
+    "view 0 300 -1000\nwindow -200 -150 200 150\n"
+    "vertex 1 -100 0 200\nvertex 2 100 0 200\nvertex 3 100 0 600\nvertex 4 -100 0 600\n"
+    "face 1 1 2 3 4 grey 230\nobject 1 1\n"
+    "vertex 11 -150 -100 190\nvertex 12 150 -100 190\nvertex 13 150 -5 190\n"
+    "vertex 14 -150 -5 190\nvertex 15 -150 -100 400\nvertex 16 150 -100 400\n"
+    "vertex 17 150 -5 400\nvertex 18 -150 -5 400\n"
+    "face 11 11 12 13 14 grey 90\nface 12 15 16 17 18 grey 90\n"
+    "face 13 14 13 17 18 grey 120\nface 14 11 12 16 15 grey 90\n"
+    "face 15 11 14 18 15 grey 90\nface 16 12 13 17 16 grey 90\n"
+    "object 2 11 12 13 14 15 16 smooth\n";
+  struct run *u = run_scene(scene, "edges=on outline=8,40 inner=1,200 halo=0,255",
+                            EDGE_PASS_ROW | EDGE_PASS_COL);
+  /* rows 18..34: around the floor's edge (row 24.5), away from the box's own bottom
+     outline (row 46) */
+  int on_front = 0, on_floor = 0, front_seen = 0;
+  for (int j = 18; j <= 34; j++)
+    for (int i = 30; i <= 70; i++) {
+      int k = j * GW + i;
+      int id = u->face[k] >= 0 ? u->r.map.f[u->face[k]].id : 0;
+      if (id == 11) front_seen++;
+      if (u->grey[k] != 40) continue;
+      if (id == 11) on_front++;
+      if (id == 1) on_floor++;
+    }
+  print_message("outline points over the box's front %d (front seen at %d), over the floor "
+                "%d\n", on_front, front_seen, on_floor);
+  assert_true(front_seen > 100);
+  assert_true(on_floor > 20);
+  assert_int_equal(on_front, 0);
+  run_free(u);
 }
 
 /* Fig. 7 (a) of paper 003: two faces cut through each other. Each face's own edges never
@@ -659,6 +707,7 @@ int main(void)
     cmocka_unit_test(test_passes),
     cmocka_unit_test(test_box_behind_box),
     cmocka_unit_test(test_stacked_boxes),
+    cmocka_unit_test(test_face_in_front_of_whole_edge),
     cmocka_unit_test(test_interpenetrating),
     cmocka_unit_test(test_halo),
     cmocka_unit_test(test_smooth_parse),
