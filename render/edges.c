@@ -340,7 +340,8 @@ static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y,
        behind both, the edge is in front of F. t_F = |D_F| SW SH / dF. */
     wide SWH = 512 * (wide)c->W * 512 * (wide)c->H;
     wide tn = (wide)mf->deye * SWH;
-    cost_mw_mul(c->cost, 52, 32); cost_mw_mul(c->cost, 100, 90); cost_mw_mul(c->cost, 100, 90);
+    if (step) { cost_mw_add(c->cost, 190); cost_mw_add(c->cost, 190); }   /* stepped, as G */
+    else { cost_mw_mul(c->cost, 52, 32); cost_mw_mul(c->cost, 100, 90); cost_mw_mul(c->cost, 100, 90); }
     if (rat_cmp(tn, dF, ed->tnear_n, ed->tnear_d) < 0) return false;
     int far = rat_cmp(tn, dF, ed->tfar_n, ed->tfar_d);
     if (far > 0 || (far == 0 && !strict)) return true;
