@@ -192,6 +192,9 @@ plot "$B/growth.dat" using 1:2 with linespoints title "tube74", \
      "$B/growth.dat" using 1:3 with linespoints title "OSMesa z-buffer (peer)"
 EOF
 fi
+# enhanced edges (paper 002): edges=on against the plain render of each edges scene
+sh tools/bench_edges.sh "$B/bench_edges.md" >/dev/null
+{ echo; cat "$B/bench_edges.md"; } >>"$out"
 cat "$out"
 echo
 ./tube74 bench accuracy --out "$B/accuracy" --runs "${ACC_RUNS:-5}"
