@@ -24,4 +24,8 @@ int cmd_stream(int argc, char **argv, struct t74_error *err);
 /* `tube74 devices [PROFILE]`: connected USB devices that match a profile (cli/cmd_stream.c). */
 int cmd_devices(int argc, char **argv, struct t74_error *err);
 
+/* `tube74 teach SCENE [-o DIR] [--line J]`: the paper's figures step by step as one HTML
+   page (cli/cmd_teach.c). */
+int cmd_teach(int argc, char **argv, struct t74_error *err);
+
 #endif
