@@ -41,6 +41,7 @@
 #include "cli/teach_page.h"
 #include "display/outfile.h"
 #include "display/sink.h"
+#include "display/tek.h"
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "patterns/halftone.h"
@@ -424,6 +425,16 @@ int cmd_teach(int argc, char **argv, struct t74_error *err)
   if (st == T74_OK && (j.png || j.ndump || j.stats))
     st = t74_fail(err, T74_EINPUT, "tube74 teach: -o names the folder; --dump and --stats "
                   "belong to render");
+  if (st == T74_OK) {                    /* a Tek stream has no tables to show */
+    uint8_t head[8];
+    size_t got = 0;
+    FILE *f = fopen(j.scene, "rb");
+    if (f) { got = fread(head, 1, sizeof head, f); fclose(f); }
+    if ((j.sopts.input && !strcmp(j.sopts.input, "tek")) ||
+        (!j.sopts.input && got && tek_sniff(head, got)))
+      st = t74_fail(err, T74_EINPUT, "%s: a Tektronix stream: teach needs a scene (.s74, "
+                    ".obj, .off)", j.scene);
+  }
   if (st != T74_OK) { free(rest); return st; }
 
   struct teach t;

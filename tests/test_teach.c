@@ -165,6 +165,10 @@ static void test_every_scene_self_contained(void **state)
   assert_int_equal(sh("printf 'vertex 1 0 0\\n' > bad.s74 && %s teach bad.s74 -o badpages "
                       "2> /dev/null", exe), 2);
   assert_int_equal(sh("! test -e badpages/bad.html"), 0);
+  /* a Tek stream is no scene: refused, no page */
+  assert_int_equal(sh("%s tek %s/scenes/fig5.s74 -o f5.tek > /dev/null && "
+                      "%s teach f5.tek -o tekpages 2> /dev/null", exe, root, exe), 2);
+  assert_int_equal(sh("! test -e tekpages/f5.html"), 0);
 }
 
 static void test_steps_in_chromium(void **state)
