@@ -239,7 +239,7 @@ static void write_trace(struct outfile *of, char *tables)
   for (char *line = tables; line && *line;) {
     char *nl = strchr(line, '\n');
     if (nl) *nl = 0;
-    if (!strncmp(line, "face ", 5) && strstr(line, " rings,")) {
+    if (!strncmp(line, "face ", 5) && (strstr(line, " ring,") || strstr(line, " rings,"))) {
       face = atoi(line + 5);
       in_cut = false;
     } else if (!strncmp(line, "YSORT", 5)) {

@@ -210,6 +210,17 @@ static void test_steps_in_chromium(void **state)
   fclose(f);
   assert_int_equal(vertices, want_v);
 
+  /* step 1: YSORT of the first face, one rank a vertex, as many as the tables list */
+  const char *ys = strstr(tables, "YSORT");
+  assert_non_null(ys);
+  int ranks = 0;
+  for (const char *p = ys; *p && *p != '\n'; p++) ranks += p[0] == '(' && p[1] == 'v';
+  assert_true(ranks >= 3);
+  d = dom(page, "R");
+  assert_true(body_kind(d, "ysort"));
+  assert_int_equal(count(d, "ysort-rank"), ranks);
+  free(d);
+
   /* Back at the first step stays; Right, Right, Left is step 1 */
   d = dom(page, "L");
   assert_int_equal(body_data(d, "step"), 0);
