@@ -218,7 +218,7 @@ static void test_steps_in_chromium(void **state)
   assert_true(ranks >= 3);
   d = dom(page, "R");
   assert_true(body_kind(d, "ysort"));
-  assert_int_equal(count(d, "ysort-rank"), ranks);
+  assert_int_equal(count(d, "class=\"vertex ysort-rank\""), ranks);
   free(d);
 
   /* Back at the first step stays; Right, Right, Left is step 1 */
