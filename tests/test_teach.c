@@ -253,6 +253,11 @@ static void test_steps_in_chromium(void **state)
       found = 1;
       assert_int_equal(count(d, "class=\"xsort-endpoint\""), endp + 1);   /* + the legend */
       assert_int_equal(count(d, "class=\"xsort-middle\""), mid + 1);
+      /* the pieces the cut borders, numbered, on both sides */
+      assert_true(count(d, "data-side=\"below\"") >= 1);
+      assert_true(count(d, "data-side=\"above\"") >= 1);
+      assert_int_equal(count(d, "class=\"piece cutpiece\""),
+                       count(d, "data-side=\"below\"") + count(d, "data-side=\"above\""));
     }
     free(d);
   }
