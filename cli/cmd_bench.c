@@ -579,7 +579,8 @@ done:
 
 int cmd_bench(int argc, char **argv, struct t74_error *err)
 {
-  if (argc < 3) return t74_fail(err, T74_EINPUT, "tube74: bench needs a subcommand: accuracy");
+  if (argc < 3) return t74_fail(err, T74_EINPUT, "tube74: bench needs a subcommand: accuracy, speed");
   if (!strcmp(argv[2], "accuracy")) return bench_accuracy(argc, argv, err);
-  return t74_fail(err, T74_EINPUT, "tube74: unknown bench subcommand `%s` (this version has: accuracy)", argv[2]);
+  if (!strcmp(argv[2], "speed")) return bench_speed(argc, argv, err);
+  return t74_fail(err, T74_EINPUT, "tube74: unknown bench subcommand `%s` (this version has: accuracy, speed)", argv[2]);
 }

@@ -85,7 +85,9 @@ void job_usage(FILE *f)
     "  --input s74|obj|off|tek  input format (default: a Tek stream by its first byte,\n"
     "                         else by extension)\n"
     "  --hitac NAME=VALUE     change a cost-model constant (see `tube74 params`)\n"
-    "  --matrix auto|dense|sparse   priority matrix store (default auto)\n");
+    "  --matrix auto|dense|sparse   priority matrix store (default auto)\n"
+    "  --frames K             render the loaded scene K times (outputs written once;\n"
+    "                         --stats gives frame_seconds, the median frame)\n");
 }
 
 static int parse_long(const char *s, long lo, long hi, long *out)
@@ -173,6 +175,11 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
     } else if (!strcmp(a, "--hitac")) {
       NEED(1);
       if (cost_params_set(&o->params, argv[++k], err) != T74_OK) return err->status;
+    } else if (!strcmp(a, "--frames")) {
+      NEED(1);
+      if (!parse_long(argv[++k], 1, 1000000L, &v))
+        return bad_usage(err, "--frames takes a number of frames, 1 .. 1000000", argv[k]);
+      o->frames = (int)v;
     } else if (!strcmp(a, "--matrix")) {
       NEED(1);
       const char *m = argv[++k];
@@ -336,7 +343,7 @@ static int copy_to_outfile(FILE *from, struct outfile *of, struct t74_error *err
 static const char *const stage_names[RS_NSTAGE] = { "mapper", "segment", "priority+visible" };
 
 static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
-                       const struct tube *t, double host, const struct effects *eff,
+                       const struct tube *t, double host, double frame, const struct effects *eff,
                        const struct fx_stats *fst, struct outfile *of, struct t74_error *err)
 {
   struct cost total = { { 0 } };
@@ -371,6 +378,8 @@ static int write_stats(const struct job *o, const struct render *r, const struct
                    ss.samples, ss.lines, ss.drum_seconds, ss.input_disk_seconds, (unsigned)ss.words,
                    ss.tracks, (unsigned long long)ss.disk_reads);
   outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
+  outfile_printf(of, "  \"frame_seconds\": %.6f,\n", frame);
+  outfile_printf(of, "  \"frames\": %d,\n", o->frames > 1 ? o->frames : 1);
   outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
   outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
   outfile_printf(of, "  \"effects\": ");
@@ -529,6 +538,7 @@ static int run_tek(const struct job *o, const struct job_hooks *h, struct job_re
   if (res) {
     res->hitac10_seconds = 0;
     res->host_seconds = host;
+    res->frame_seconds = 0;
     res->points_lit = tube_count(t);
     res->W = res->H = res->cell = 0;
   }
@@ -548,6 +558,47 @@ done:
 
 /* ---- the scene pipeline ------------------------------------------------------------- */
 
+/* One more frame of the loaded scene for --frames (the job's outputs come from the first):
+** Mapper, Segment Generator, priorities, visible surfaces, effects and halftone into a
+** tube of its own, the machine model counting as in the first, no hooks (a command's sink
+** sees one picture). The pipeline's counters are the copy's; the background's display-time
+** disk state starts afresh and ends as the first frame left it, so the statistics are
+** those of one frame. */
+static int spare_frame(const struct pipeline *p0, const struct scene *s, const struct effects *e,
+                       const struct render_opts *ro, const struct vis_grid *g, double *secs,
+                       struct t74_error *err)
+{
+  struct pipeline p = *p0;
+  struct render r;
+  memset(&r, 0, sizeof r);
+  double t0 = now_seconds();
+  if (p.scan) scan_display_reset(p.scan);
+  struct tube *t = tube_new();
+  if (!t) return t74_fail(err, T74_EIO, "out of host memory");
+  p.r = &r;
+  p.hooks = NULL;
+  p.out = tube_sink(t);
+  memset(&p.display, 0, sizeof p.display);
+  memset(&p.fx, 0, sizeof p.fx);
+  memset(&p.scanner, 0, sizeof p.scanner);
+  struct fx_stats fst;
+  memset(&fst, 0, sizeof fst);
+  int st = render_prepare(&r, s, ro, err);
+  if (st == T74_OK) st = render_scan(&r, g, on_point, &p, err);
+  if (st == T74_OK && p.face) st = run_effects(&p, s, e, g, &fst, err);
+  *secs = now_seconds() - t0;
+  tube_free(t);
+  render_free(&r);                  /* the disk now stands as after the first frame */
+  return st;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+
 int job_run(const struct job *o, const struct job_hooks *h, struct job_result *res,
             struct t74_error *err)
 {
@@ -560,6 +611,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   struct pic *bg = NULL;
   FILE *tables = NULL;
   struct job_outs jo;
+  double *frame_t = NULL;                   /* --frames: each frame's host seconds */
   int st;
   memset(&r, 0, sizeof r);
   memset(&p, 0, sizeof p);
@@ -609,6 +661,10 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
   struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
+  const int nframes = o->frames > 1 ? o->frames : 1;
+  frame_t = calloc((size_t)nframes, sizeof *frame_t);
+  if (!frame_t) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
+  double f0 = now_seconds();                /* frame 1: the Mapper to the last dot stored */
   st = render_prepare(&r, s, &ro, err);
   if (st != T74_OK) goto done;
 
@@ -634,6 +690,19 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   st = render_scan(&r, &g, on_point, &p, err);
   if (st == T74_OK && p.face) st = run_effects(&p, s, &eff, &g, &fst, err);
   if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
+  frame_t[0] = now_seconds() - f0;
+  if (nframes > 1) {
+    /* --frames: the same scene again, each frame timed; the scene stays loaded, the
+       outputs stay those of the first frame */
+    struct render_opts ro2 = ro;
+    ro2.tables = NULL;
+    for (int k = 1; k < nframes && st == T74_OK; k++)
+      st = spare_frame(&p, s, &eff, &ro2, &g, &frame_t[k], err);
+    if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
+  }
+  qsort(frame_t, (size_t)nframes, sizeof *frame_t, cmp_double);
+  const double frame_med = nframes % 2 ? frame_t[nframes / 2]
+                                       : (frame_t[nframes / 2 - 1] + frame_t[nframes / 2]) / 2;
   /* the clock's last tick: the last point's own display work is done too */
   if (h && h->clock) h->clock(h->clock_ctx, pipeline_seconds(&p));
   if (h && h->extra.point && (st = sink_end(&h->extra, err)) != T74_OK) goto done;
@@ -641,6 +710,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   if (res) {
     res->hitac10_seconds = pipeline_seconds(&p);
     res->host_seconds = host;
+    res->frame_seconds = frame_med;
     res->points_lit = tube_count(t);
     res->W = p.W; res->H = p.H; res->cell = p.cell;
   }
@@ -666,11 +736,12 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     }
     if (st != T74_OK) goto done;
   }
-  if (jo.stats && (st = write_stats(o, &r, &p, t, host, &eff, &fst, jo.stats, err)) != T74_OK)
+  if (jo.stats && (st = write_stats(o, &r, &p, t, host, frame_med, &eff, &fst, jo.stats, err)) != T74_OK)
     goto done;
   st = outs_commit(&jo, err);
 
 done:
+  free(frame_t);
   outs_free(&jo);
   if (tables) fclose(tables);
   free(p.ids);

@@ -36,6 +36,8 @@ struct job {
   int cell;                         /* --cell, 0 = from the scene */
   uint32_t core_words;              /* --core */
   int store;                        /* --matrix */
+  int frames;                       /* --frames: the loaded scene rendered this many times
+                                       (0 = 1); outputs come from one of them */
   int ndump;
   int dump_kind[JOB_MAX_DUMPS];
   const char *dump_path[JOB_MAX_DUMPS];
@@ -78,6 +80,7 @@ struct job_hooks {
 struct job_result {
   double hitac10_seconds;           /* the 1974 computing time of the whole picture */
   double host_seconds;
+  double frame_seconds;             /* median of the frames: Mapper to the last dot stored */
   int points_lit;                   /* tube dots lit */
   int W, H, cell;
 };

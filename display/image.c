@@ -97,18 +97,52 @@ int image_write_rgb_png_to(int w, int h, image_row_fn fill, void *ctx, struct ou
   return outfile_commit(o, err);
 }
 
-/* file row r of the plain look: lit dots on the dark face; row 0 is the top of the tube */
-static void tube_row(void *ctx, int r, uint8_t *rgb)
-{
-  const struct tube *t = ctx;
-  int y = TUBE_H - 1 - r;
-  for (int x = 0; x < TUBE_W; x++)
-    memcpy(rgb + 3 * x, tube_lit(t, x, y) ? IMAGE_DOT_RGB : IMAGE_FACE_RGB, 3);
-}
-
+/* The tube has two colours: a 1-bit palette PNG (dark face, lit dot), no row filter (the
+** right choice for palette data), zlib's level 6 — the same pixels as an RGB file, about a
+** twentieth of the bytes to compress. */
 int image_write_png_to(const struct tube *t, struct outfile *o, struct t74_error *err)
 {
-  return image_write_rgb_png_to(TUBE_W, TUBE_H, tube_row, (void *)t, o, err);
+  const char *path = outfile_path(o);
+  uint8_t *row = malloc((TUBE_W + 7) / 8);
+  struct png_fail pf;
+  pf.err = err;
+  pf.path = path;
+  png_structp png = row ? png_create_write_struct(PNG_LIBPNG_VER_STRING, &pf,
+                                                  png_error_cb, png_warning_cb) : NULL;
+  png_infop info = png ? png_create_info_struct(png) : NULL;
+  if (!info) {
+    if (png) png_destroy_write_struct(&png, NULL);
+    free(row);
+    outfile_abort(o);
+    return t74_fail(err, T74_EIO, "%s: out of memory", path);
+  }
+  if (setjmp(pf.jb)) {
+    png_destroy_write_struct(&png, &info);
+    free(row);
+    outfile_abort(o);
+    return err->status;
+  }
+  png_init_io(png, outfile_stream(o));
+  png_set_IHDR(png, info, TUBE_W, TUBE_H, 1, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_color pal[2];                       /* index 0 the face, 1 a lit dot */
+  pal[0].red = IMAGE_FACE_RGB[0]; pal[0].green = IMAGE_FACE_RGB[1]; pal[0].blue = IMAGE_FACE_RGB[2];
+  pal[1].red = IMAGE_DOT_RGB[0]; pal[1].green = IMAGE_DOT_RGB[1]; pal[1].blue = IMAGE_DOT_RGB[2];
+  png_set_PLTE(png, info, pal, 2);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
+  png_set_compression_level(png, 6);
+  png_write_info(png, info);
+  for (int r = 0; r < TUBE_H; r++) {
+    int y = TUBE_H - 1 - r;                 /* file row 0 is the top of the tube */
+    memset(row, 0, (TUBE_W + 7) / 8);
+    for (int x = 0; x < TUBE_W; x++)
+      if (tube_lit(t, x, y)) row[x >> 3] = (uint8_t)(row[x >> 3] | 0x80u >> (x & 7));
+    png_write_row(png, row);
+  }
+  png_write_end(png, NULL);
+  png_destroy_write_struct(&png, &info);
+  free(row);
+  return outfile_commit(o, err);
 }
 
 int image_write_png(const struct tube *t, const char *path, struct t74_error *err)

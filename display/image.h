@@ -2,8 +2,9 @@
 ** image.h — picture files written from the tube and the renderer (CONTRACT.md --dump).
 **
 ** This file contains code to write what tube74 shows and keeps as ordinary files:
-**   image_write_png     `-o FILE.png`: the tube as it looks, RGB 400 x 300, lit dots in
-**                       P1-phosphor green on the dark tube face (colours in image.c)
+**   image_write_png     `-o FILE.png`: the tube as it looks, 400 x 300, lit dots in
+**                       P1-phosphor green on the dark tube face (colours in image.c),
+**                       written as a 1-bit palette PNG of those two colours
 **   image_write_pbm     `--dump tube`: P4 PBM 400 x 300, 1 = lit, file row 0 = tube y 299
 **   image_write_points  `--dump points`: "X Y" per lit dot, in the order first written
 **   image_write_ids     `--dump ids`: P5 PGM, maxval 65535, big-endian, one face number

@@ -300,3 +300,42 @@ int pic_sample(const struct pic *p, int i, int j, int W, int H)
   uint64_t total = (uint64_t)(pw * ph);     /* the weights add up to exactly this */
   return (int)((sum + total / 2) / total);
 }
+
+int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out)
+{
+  if (W < 1 || H < 1) return -1;
+  const int64_t pw = p->w, ph = p->h;
+  /* pass 1: rowsum[y * W + i] = sum over x of pixel(x, y) * (x-overlap with column i) */
+  uint64_t *rowsum = malloc((size_t)ph * (size_t)W * sizeof *rowsum);
+  if (!rowsum) return -1;
+  for (int i = 0; i < W; i++) {
+    int64_t x0 = i * pw, x1 = (i + 1) * pw;
+    for (int64_t y = 0; y < ph; y++) {
+      const uint8_t *line = p->px + y * pw;
+      uint64_t row = 0;
+      for (int64_t x = x0 / W; x <= (x1 - 1) / W; x++) {
+        int64_t lo = x * W > x0 ? x * W : x0;
+        int64_t hi = (x + 1) * W < x1 ? (x + 1) * W : x1;
+        row += (uint64_t)line[x] * (uint64_t)(hi - lo);
+      }
+      rowsum[(size_t)y * (size_t)W + (size_t)i] = row;
+    }
+  }
+  /* pass 2: down the rows of each grid row's footprint, as pic_sample adds them */
+  const uint64_t total = (uint64_t)(pw * ph);
+  for (int j = 0; j < H; j++) {
+    int64_t y0 = j * ph, y1 = (j + 1) * ph;
+    uint8_t *o = out + (size_t)j * (size_t)W;
+    for (int i = 0; i < W; i++) {
+      uint64_t sum = 0;
+      for (int64_t y = y0 / H; y <= (y1 - 1) / H; y++) {
+        int64_t top = y * H > y0 ? y * H : y0;
+        int64_t bot = (y + 1) * H < y1 ? (y + 1) * H : y1;
+        sum += rowsum[(size_t)y * (size_t)W + (size_t)i] * (uint64_t)(bot - top);
+      }
+      o[i] = (uint8_t)((sum + total / 2) / total);
+    }
+  }
+  free(rowsum);
+  return 0;
+}

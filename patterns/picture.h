@@ -58,4 +58,10 @@ int pic_pixel(const struct pic *p, int x, int y);
 ** -1 when W or H < 1 or (i, j) is outside the grid. */
 int pic_sample(const struct pic *p, int i, int j, int W, int H);
 
+/* Every point of the W x H grid at once into out[j * W + i]: exactly pic_sample's values
+** (the same integer sums, taken in two passes: along each picture row for every grid
+** column, then down the rows for every point), without its per-point divisions. 0, or -1
+** when W or H < 1 or out of host memory (out unchanged). */
+int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out);
+
 #endif

@@ -6,7 +6,8 @@
 ** This file contains code to carry a background photograph through the 1974 input path:
 ** drum scan -> A-D -> scale conversion -> levels -> 4 to a word -> disk, and to read the
 ** rows back while the picture is displayed, counting the time each step takes. All the
-** picture arithmetic is integer (pic_sample's exact box means, integer rounding); only the
+** picture arithmetic is integer (pic_sample's exact box means, taken for a whole grid at
+** once by pic_sample_grid; integer rounding; A-D through a table of the 256 greys); only the
 ** times are doubles, as they are in emu/cost.c.
 */
 #include "patterns/scanner.h"
@@ -28,6 +29,7 @@ struct scan_image {
                                    (host-side, for --dump grey only: not on the disk) */
   int buffered;                 /* grid row in the one-row core buffer, -1 none */
   struct scan_disk disk;        /* display-time reads */
+  struct scan_disk disk0;       /* the disk as it stood before the first display read */
   double drum_seconds;          /* input: the drum's revolutions */
   double input_disk_seconds;    /* input: writing every row */
   double last_write_seconds;    /* input: the last row's write (not overlapped) */
@@ -193,11 +195,16 @@ int scan_photo(const struct pic *photo, int cell, const struct cost_params *prm,
     scan_free(s);
     return t74_fail(err, T74_EIO, "scanner: out of host memory");
   }
-  for (int l = 0; l < s->lines; l++)
-    for (int k = 0; k < s->samples; k++) {
-      int code = scan_adc(scan_photo_mv(pic_sample(photo, k, l, s->samples, s->lines)), bits);
-      scan[(size_t)l * (size_t)s->samples + (size_t)k] = (uint8_t)scan_code_grey(code, bits);
-    }
+  /* each sample's mean grey under its footprint (pic_sample's exact values, all at once),
+     then photocell and A-D: a function of that grey alone, so a table of 256 */
+  uint8_t adc_grey[256];
+  for (int g = 0; g < 256; g++) adc_grey[g] = (uint8_t)scan_code_grey(scan_adc(scan_photo_mv(g), bits), bits);
+  if (pic_sample_grid(photo, s->samples, s->lines, scan) != 0) {
+    free(scan);
+    scan_free(s);
+    return t74_fail(err, T74_EIO, "scanner: out of host memory");
+  }
+  for (size_t q = 0; q < (size_t)s->samples * (size_t)s->lines; q++) scan[q] = adc_grey[scan[q]];
   double rev_s = prm->v[CP_DRUM_REV_S];
   double line_s = s->samples * prm->v[CP_ADC_US] * 1e-6;   /* conversions of one line */
   double revs = rev_s > 0 ? ceil(line_s / rev_s - 1e-12) : 1;
@@ -208,11 +215,15 @@ int scan_photo(const struct pic *photo, int cell, const struct cost_params *prm,
   struct pic *sp = pic_new(s->samples, s->lines, scan);
   free(scan);
   if (!sp) { scan_free(s); return t74_fail(err, T74_EIO, "scanner: out of host memory"); }
+  if (pic_sample_grid(sp, s->W, s->H, s->grey) != 0) {
+    pic_free(sp);
+    scan_free(s);
+    return t74_fail(err, T74_EIO, "scanner: out of host memory");
+  }
   for (int r = 0; r < s->H; r++) {
     int j = s->H - 1 - r;                       /* disk row r holds grid row j */
     for (int i = 0; i < s->W; i++) {
-      int g = pic_sample(sp, i, j, s->W, s->H);
-      s->grey[(size_t)j * (size_t)s->W + (size_t)i] = (uint8_t)g;
+      int g = s->grey[(size_t)j * (size_t)s->W + (size_t)i];
       int code = scan_code_of_level(pat_level(cell, g));
       uint16_t *w = &s->words[(size_t)r * (size_t)s->row_words + (size_t)(i / SCAN_WORD_LEVELS)];
       int shift = SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS);
@@ -224,6 +235,7 @@ int scan_photo(const struct pic *photo, int cell, const struct cost_params *prm,
   pic_free(sp);
   s->input_disk_seconds = in_disk.seconds;
   scan_disk_init(&s->disk, prm);
+  s->disk0 = s->disk;
   *out = s;
   return T74_OK;
 }
@@ -248,6 +260,12 @@ int scan_level(struct scan_image *s, int i, int j, struct cost *c)
     COST_ADD_N(c, COST_LOGIC, 1);
   }
   return (w >> (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xF;
+}
+
+void scan_display_reset(struct scan_image *s)
+{
+  s->buffered = -1;
+  s->disk = s->disk0;
 }
 
 int scan_grey(const struct scan_image *s, int i, int j)

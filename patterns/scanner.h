@@ -132,6 +132,10 @@ void scan_free(struct scan_image *s);
 ** transfer instructions are counted into c (may be NULL). -1 for a point off the grid. */
 int scan_level(struct scan_image *s, int i, int j, struct cost *c);
 
+/* The display-time state back to just after scan_photo: no row in the buffer, the disk's
+** heads not known, no display-time reads (for rendering the same picture again). */
+void scan_display_reset(struct scan_image *s);
+
 /* Grey 0..255 of point (i, j) after scale conversion (the value the level was made from:
 ** for --dump grey); -1 off the grid. */
 int scan_grey(const struct scan_image *s, int i, int j);

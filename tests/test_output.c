@@ -561,8 +561,17 @@ static void test_png_readback(void **state)
   png_read_info(png, info);
   assert_int_equal(png_get_image_width(png, info), 400);
   assert_int_equal(png_get_image_height(png, info), 300);
-  assert_int_equal(png_get_color_type(png, info), PNG_COLOR_TYPE_RGB);
-  assert_int_equal(png_get_bit_depth(png, info), 8);
+  /* two colours: a 1-bit palette file; expanded it must give the RGB pixels below */
+  assert_int_equal(png_get_color_type(png, info), PNG_COLOR_TYPE_PALETTE);
+  assert_int_equal(png_get_bit_depth(png, info), 1);
+  png_colorp pal = NULL;
+  int npal = 0;
+  assert_int_equal(png_get_PLTE(png, info, &pal, &npal), PNG_INFO_PLTE);
+  assert_int_equal(npal, 2);
+  png_set_packing(png);
+  png_set_palette_to_rgb(png);
+  png_read_update_info(png, info);
+  assert_int_equal(png_get_rowbytes(png, info), 1200);
   png_read_image(png, rows);
   png_destroy_read_struct(&png, &info, NULL);
   fclose(f);

@@ -10,6 +10,9 @@
 #  4. what accuracy costs: `tube74 bench accuracy` (anti-aliasing, papers 000/001), its
 #     tables, plots and panels in build/bench/accuracy (ACC_RUNS runs a frame, default 5).
 #  5. paper 004's Table 1 scenes against flat shading (`tools/bench.sh smooth`: only this).
+#  6. speed against a warm OSMesa (llvmpipe on one thread, softpipe) and whole processes:
+#     `tube74 bench speed --quick` into build/bench/speed (SPEED_FULL=1: to 100,000 box faces
+#     and 2,560 interpenetrating triangles, which takes many minutes).
 # Results go to stdout and build/bench/bench.md (+ growth.png when gnuplot is there).
 set -eu
 B=build/bench
@@ -198,3 +201,6 @@ sh tools/bench_edges.sh "$B/bench_edges.md" >/dev/null
 cat "$out"
 echo
 ./tube74 bench accuracy --out "$B/accuracy" --runs "${ACC_RUNS:-5}"
+echo
+if [ "${SPEED_FULL:-0}" = 1 ]; then ./tube74 bench speed --out "$B/speed"
+else ./tube74 bench speed --quick --out "$B/speed"; fi

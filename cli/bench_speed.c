@@ -1,0 +1,436 @@
+/*
+** bench_speed.c — `tube74 bench speed [--out DIR] [--runs N] [--quick] [--peer PATH]`:
+** tube74's speed against a fair z-buffer peer (issue 12). Figures, not pass/fail.
+**
+** This file contains code to measure, for the shipped scenes, boxes of 1,000 to 100,000
+** faces (tools/mkgrowth.py) and large interpenetrating triangles of 160 to 2,560
+** (tools/mktris.py):
+**   frame      tube74's frame_seconds (`render --frames K`: the median frame from the
+**              Mapper to the last dot stored, machine model on, reading the scene
+**              excluded) against the peer's warm frame (tools/refbench.c `--warm`: OSMesa,
+**              the scene tessellated by GLU into a vertex array and a warm-up frame drawn
+**              before the clock; each timed frame is clear + glDrawArrays + glFinish + the
+**              face ids read back), with llvmpipe on one thread (LP_NUM_THREADS=1) and with
+**              softpipe, at tube74's point grid and at the tube's 400 x 300;
+**   process    the wall time a user waits for the PNG: `tube74 render SCENE -o PNG`
+**              against the peer's whole process (start, LLVM, parse, tessellation, context,
+**              one frame: `refbench SCENE`), and each one's peak memory (max RSS of the
+**              child, getrusage through wait4).
+** Every measurement is a child process; the programs take turns within a run (interleaved)
+** and each figure is the median of --runs runs (default 3). Growth exponents are the least
+** squares slope of log time over log faces. Output in DIR (default build/bench/speed):
+** speed.md (Markdown tables), speed.dat and speed.png (gnuplot, when installed). A progress
+** bar goes to a terminal only. --quick stops the boxes at 10,000 and the triangles at 640
+** (for runs of make bench). Wall times on a shared machine scatter; the ratios are of
+** figures taken in the same run, side by side.
+*/
+#define _DEFAULT_SOURCE        /* wait4: the child's peak memory */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/time.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli/commands.h"
+
+#define SP_MAX_SCENES 48
+#define SP_MAX_RUNS 31
+#define SP_CORE "268435456"            /* room for any scene: fits-16-kW is `make bench`'s */
+
+/* the figures of a run: tube74's frame, the peer's warm frames (llvmpipe at the grid and
+   at 400 x 300, softpipe likewise), the two whole processes */
+enum { P_TUBE, P_LLVM, P_LLVM_T, P_SOFT, P_SOFT_T, P_TPROC, P_PPROC, P_N };
+
+struct sp_scene {
+  char path[512], label[64];
+  int kind;                            /* 0 shipped, 1 boxes, 2 triangles */
+  int faces, pieces;
+  int frames;                          /* tube74 --frames for this scene */
+  double t[P_N][SP_MAX_RUNS];
+  long rss[2];                         /* KB: tube74 process, OSMesa process */
+  bool failed[P_N];
+  char why[160];
+};
+
+struct sp_bar { int done, total; bool tty; };
+
+static void bar_step(struct sp_bar *b, const char *what)
+{
+  b->done++;
+  if (!b->tty) return;
+  int w = 40, fill = b->total ? b->done * w / b->total : w;
+  fprintf(stderr, "\r[%.*s%*s] %3d%% %-40.40s", fill, "########################################",
+          w - fill, "", b->total ? 100 * b->done / b->total : 100, what);
+  if (b->done >= b->total) fprintf(stderr, "\n");
+}
+
+static double now(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Run argv with env (NAME=VALUE pairs, may be NULL) set, stdout to `out` (NULL: /dev/null),
+** stderr to /dev/null. Returns the exit status (-1: did not run or exit); *wall and *rss_kb
+** get the wall time and the child's peak memory. */
+static int spawn(char *const argv[], const char *const *env, const char *out, double *wall,
+                 long *rss_kb)
+{
+  double t0 = now();
+  pid_t pid = fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    for (int k = 0; env && env[k]; k++) {
+      char buf[128];
+      snprintf(buf, sizeof buf, "%s", env[k]);
+      char *eq = strchr(buf, '=');
+      if (eq) { *eq = 0; setenv(buf, eq + 1, 1); }
+    }
+    int fo = open(out ? out : "/dev/null", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    int fe = open("/dev/null", O_WRONLY);
+    if (fo >= 0) dup2(fo, 1);
+    if (fe >= 0) dup2(fe, 2);
+    execv(argv[0], argv);
+    _exit(127);
+  }
+  int st = 0;
+  struct rusage ru;
+  memset(&ru, 0, sizeof ru);
+  while (wait4(pid, &st, 0, &ru) < 0)
+    if (errno != EINTR) return -1;
+  if (wall) *wall = now() - t0;
+  if (rss_kb) *rss_kb = ru.ru_maxrss;
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static char *slurp(const char *path)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  char *b = malloc(1 << 16);
+  size_t n = b ? fread(b, 1, (1 << 16) - 1, f) : 0;
+  fclose(f);
+  if (b) b[n] = 0;
+  return b;
+}
+
+static double json_num(const char *text, const char *key)
+{
+  char k[64];
+  snprintf(k, sizeof k, "\"%s\":", key);
+  const char *p = text ? strstr(text, k) : NULL;
+  return p ? atof(p + strlen(k)) : NAN;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static double med(const double *v, int n)
+{
+  double w[SP_MAX_RUNS];
+  int m = 0;
+  for (int k = 0; k < n; k++) if (!isnan(v[k])) w[m++] = v[k];
+  if (!m) return NAN;
+  qsort(w, (size_t)m, sizeof *w, cmp_d);
+  return m % 2 ? w[m / 2] : (w[m / 2 - 1] + w[m / 2]) / 2;
+}
+
+/* Least squares slope of log t over log n for the scenes of one kind. */
+static double growth(const struct sp_scene *s, int ns, int kind, int prog, int runs)
+{
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int m = 0;
+  for (int k = 0; k < ns; k++) {
+    if (s[k].kind != kind) continue;
+    double t = med(s[k].t[prog], runs);
+    if (!(t > 0) || s[k].faces < 1) continue;
+    double x = log(s[k].faces), y = log(t);
+    sx += x; sy += y; sxx += x * x; sxy += x * y; m++;
+  }
+  if (m < 2) return NAN;
+  return (m * sxy - sx * sy) / (m * sxx - sx * sx);
+}
+
+static int mkdirs(const char *dir)
+{
+  char p[512];
+  snprintf(p, sizeof p, "%s", dir);
+  for (char *c = p + 1; *c; c++)
+    if (*c == '/') { *c = 0; mkdir(p, 0755); *c = '/'; }
+  return mkdir(p, 0755) == 0 || errno == EEXIST ? 0 : -1;
+}
+
+static void fmt_ms(char *buf, size_t n, double s)
+{
+  if (isnan(s)) snprintf(buf, n, "-");
+  else if (s < 0.01) snprintf(buf, n, "%.3f", s * 1000);
+  else snprintf(buf, n, "%.1f", s * 1000);
+}
+
+static void fmt_ratio(char *buf, size_t n, double a, double b)
+{
+  if (isnan(a) || isnan(b) || b <= 0) snprintf(buf, n, "-");
+  else snprintf(buf, n, a / b < 10 ? "%.2f" : "%.0f", a / b);
+}
+
+/* Generate a scene with a python3 tool into dir; 0 or -1. */
+static int gen(const char *tool, int n, const char *path)
+{
+  char nb[16];
+  snprintf(nb, sizeof nb, "%d", n);
+  char *argv[] = { (char *)"/usr/bin/python3", (char *)tool, nb, NULL };
+  return spawn(argv, NULL, path, NULL, NULL) == 0 ? 0 : -1;
+}
+
+/* One run of everything for scene s (run r): the programs take turns. */
+static void measure(struct sp_scene *s, int r, const char *self, const char *peer,
+                    const char *dir, struct sp_bar *bar)
+{
+  char stats[600], png[600], kb[16], out[600];
+  snprintf(stats, sizeof stats, "%s/run.json", dir);
+  snprintf(png, sizeof png, "%s/run.png", dir);
+  snprintf(out, sizeof out, "%s/peer.txt", dir);
+  snprintf(kb, sizeof kb, "%d", s->frames);
+  for (int p = 0; p < P_N; p++) s->t[p][r] = NAN;
+
+  /* tube74: frames, from its own stats */
+  char *a1[] = { (char *)self, (char *)"render", s->path, (char *)"--core", (char *)SP_CORE,
+                 (char *)"--frames", kb, (char *)"--stats", stats, NULL };
+  double wall;
+  if (spawn(a1, NULL, NULL, &wall, NULL) == 0) {
+    char *js = slurp(stats);
+    s->t[P_TUBE][r] = json_num(js, "frame_seconds");
+    s->faces = (int)json_num(js, "faces_in");
+    s->pieces = (int)json_num(js, "faces_after_split");
+    free(js);
+  } else {
+    s->failed[P_TUBE] = true;
+  }
+  bar_step(bar, s->label);
+  if (peer) {
+    static const char *const envl[] = { "GALLIUM_DRIVER=llvmpipe", "LP_NUM_THREADS=1", NULL };
+    static const char *const envs[] = { "GALLIUM_DRIVER=softpipe", NULL };
+    const char *const *envp[4] = { envl, envl, envs, envs };
+    const int slot[4] = { P_LLVM, P_LLVM_T, P_SOFT, P_SOFT_T };
+    for (int q = 0; q < 4; q++) {
+      char *a2[] = { (char *)peer, (char *)"--warm", (char *)"9", (char *)"--size",
+                     (char *)(q % 2 ? "tube" : "grid"), s->path, NULL };
+      if (spawn(a2, envp[q], out, NULL, NULL) == 0) {
+        char *txt = slurp(out);
+        if (txt) s->t[slot[q]][r] = atof(txt);
+        free(txt);
+      } else {
+        s->failed[slot[q]] = true;
+      }
+    }
+  }
+  bar_step(bar, s->label);
+  /* whole processes: what a user waits for the picture */
+  char *a3[] = { (char *)self, (char *)"render", s->path, (char *)"--core", (char *)SP_CORE,
+                 (char *)"-o", png, NULL };
+  long rss = 0;
+  if (spawn(a3, NULL, NULL, &wall, &rss) == 0) {
+    s->t[P_TPROC][r] = wall;
+    if (rss > s->rss[0]) s->rss[0] = rss;
+  }
+  if (peer) {
+    static const char *const envl[] = { "GALLIUM_DRIVER=llvmpipe", "LP_NUM_THREADS=1", NULL };
+    char *a4[] = { (char *)peer, s->path, NULL };
+    if (spawn(a4, envl, out, &wall, &rss) == 0) {
+      s->t[P_PPROC][r] = wall;
+      if (rss > s->rss[1]) s->rss[1] = rss;
+    }
+  }
+  bar_step(bar, s->label);
+}
+
+static void usage_fail(struct t74_error *err, const char *what)
+{
+  t74_fail(err, T74_EINPUT, "tube74: bench speed: %s (usage: bench speed [--out DIR] "
+           "[--runs N] [--quick] [--peer PATH])", what);
+}
+
+int bench_speed(int argc, char **argv, struct t74_error *err)
+{
+  const char *dir = "build/bench/speed", *peer = "build/bench/refbench";
+  int runs = 3;
+  bool quick = false;
+  for (int k = 3; k < argc; k++) {
+    if (!strcmp(argv[k], "--out") && k + 1 < argc) dir = argv[++k];
+    else if (!strcmp(argv[k], "--peer") && k + 1 < argc) peer = argv[++k];
+    else if (!strcmp(argv[k], "--quick")) quick = true;
+    else if (!strcmp(argv[k], "--runs") && k + 1 < argc) {
+      char *end;
+      long v = strtol(argv[++k], &end, 10);
+      if (*end || v < 1 || v > SP_MAX_RUNS) { usage_fail(err, "--runs takes 1 .. 31"); return err->status; }
+      runs = (int)v;
+    } else {
+      usage_fail(err, argv[k]);
+      return err->status;
+    }
+  }
+  if (mkdirs(dir) != 0) return t74_fail(err, T74_EIO, "%s: cannot make the folder: %s", dir, strerror(errno));
+  char self[512];
+  ssize_t sn = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (sn <= 0) return t74_fail(err, T74_EIO, "tube74: bench speed: cannot find its own program");
+  self[sn] = 0;
+  if (access(peer, X_OK) != 0) {
+    fprintf(stderr, "tube74: bench speed: no peer at %s (make build/bench/refbench); "
+            "tube74's own figures only\n", peer);
+    peer = NULL;
+  }
+
+  struct sp_scene *sc = calloc(SP_MAX_SCENES, sizeof *sc);
+  if (!sc) return t74_fail(err, T74_EIO, "out of host memory");
+  int ns = 0;
+  static const char *const shipped[] = { "fig5", "fig6", "fig7a", "fig7b", "crossing", "lprism",
+                                         "sphere", "street" };
+  for (size_t k = 0; k < sizeof shipped / sizeof *shipped; k++) {
+    struct sp_scene *s = &sc[ns];
+    memset(s, 0, sizeof *s);
+    snprintf(s->path, sizeof s->path, "scenes/%s.s74", shipped[k]);
+    if (access(s->path, R_OK) != 0) continue;
+    snprintf(s->label, sizeof s->label, "%s", shipped[k]);
+    ns++;
+  }
+  static const int boxes[] = { 1000, 3000, 10000, 30000, 100000 };
+  static const int tris[] = { 160, 320, 640, 1280, 2560 };
+  for (size_t k = 0; k < 5; k++) {
+    if (quick && boxes[k] > 10000) break;
+    struct sp_scene *s = &sc[ns];
+    memset(s, 0, sizeof *s);
+    s->kind = 1;
+    snprintf(s->path, sizeof s->path, "%s/boxes%d.s74", dir, boxes[k]);
+    snprintf(s->label, sizeof s->label, "%d box faces", boxes[k]);
+    if (gen("tools/mkgrowth.py", boxes[k], s->path) != 0)
+      { free(sc); return t74_fail(err, T74_EIO, "tube74: bench speed: tools/mkgrowth.py failed (run from the source tree)"); }
+    ns++;
+  }
+  for (size_t k = 0; k < 5; k++) {
+    if (quick && tris[k] > 640) break;
+    struct sp_scene *s = &sc[ns];
+    memset(s, 0, sizeof *s);
+    s->kind = 2;
+    snprintf(s->path, sizeof s->path, "%s/tris%d.s74", dir, tris[k]);
+    snprintf(s->label, sizeof s->label, "%d triangles", tris[k]);
+    if (gen("tools/mktris.py", tris[k], s->path) != 0)
+      { free(sc); return t74_fail(err, T74_EIO, "tube74: bench speed: tools/mktris.py failed (run from the source tree)"); }
+    ns++;
+  }
+
+  /* frames a run: about 0.3 s of tube74 frames, from one trial frame */
+  struct sp_bar bar = { 0, ns * (runs * 3 + 1), isatty(2) != 0 };
+  for (int k = 0; k < ns; k++) {
+    char stats[600];
+    snprintf(stats, sizeof stats, "%s/run.json", dir);
+    char *a[] = { self, (char *)"render", sc[k].path, (char *)"--core", (char *)SP_CORE,
+                  (char *)"--stats", stats, NULL };
+    sc[k].frames = 1;
+    if (spawn(a, NULL, NULL, NULL, NULL) == 0) {
+      char *js = slurp(stats);
+      double f = json_num(js, "frame_seconds");
+      free(js);
+      int fr = f > 0 ? (int)(0.3 / f) : 1;
+      sc[k].frames = fr < 1 ? 1 : fr > 15 ? 15 : fr;
+    } else {
+      snprintf(sc[k].why, sizeof sc[k].why, "tube74 refused it");
+    }
+    bar_step(&bar, sc[k].label);
+  }
+  for (int r = 0; r < runs; r++)            /* interleaved: every scene once a run */
+    for (int k = 0; k < ns; k++) measure(&sc[k], r, self, peer, dir, &bar);
+
+  /* ---- report ---- */
+  char md[600], dat[600], plotpng[600];
+  snprintf(md, sizeof md, "%s/speed.md", dir);
+  snprintf(dat, sizeof dat, "%s/speed.dat", dir);
+  snprintf(plotpng, sizeof plotpng, "%s/speed.png", dir);
+  FILE *f = fopen(md, "w"), *d = fopen(dat, "w");
+  if (!f || !d) {
+    if (f) fclose(f);
+    if (d) fclose(d);
+    free(sc);
+    return t74_fail(err, T74_EIO, "%s: cannot write the report", dir);
+  }
+  fprintf(f, "## One frame, warm (ms, median of %d runs; tube74 at its point grid)\n\n", runs);
+  fprintf(f, "| scene | faces | pieces | tube74 | llvmpipe 1 thread | tube74 / llvmpipe | llvmpipe 400x300 "
+             "| softpipe | tube74 / softpipe | softpipe 400x300 |\n");
+  fprintf(f, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  fprintf(d, "# kind faces tube74_frame llvmpipe softpipe tube74_process osmesa_process\n");
+  for (int k = 0; k < ns; k++) {
+    struct sp_scene *s = &sc[k];
+    double m[P_N];
+    for (int p = 0; p < P_N; p++) m[p] = med(s->t[p], runs);
+    char c[8][32];
+    fmt_ms(c[0], 32, m[P_TUBE]); fmt_ms(c[1], 32, m[P_LLVM]); fmt_ratio(c[2], 32, m[P_TUBE], m[P_LLVM]);
+    fmt_ms(c[3], 32, m[P_LLVM_T]); fmt_ms(c[4], 32, m[P_SOFT]); fmt_ratio(c[5], 32, m[P_TUBE], m[P_SOFT]);
+    fmt_ms(c[6], 32, m[P_SOFT_T]);
+    fprintf(f, "| %s | %d | %d | %s | %s | %s | %s | %s | %s | %s |\n", s->label, s->faces, s->pieces,
+            c[0], c[1], c[2], c[3], c[4], c[5], c[6]);
+    fprintf(d, "%d %d %.9g %.9g %.9g %.9g %.9g\n", s->kind, s->faces, m[P_TUBE], m[P_LLVM], m[P_SOFT],
+            m[P_TPROC], m[P_PPROC]);
+  }
+  fprintf(f, "\n## Whole process, what a user waits for the PNG (ms wall, median of %d runs)\n\n", runs);
+  fprintf(f, "| scene | tube74 render -o | OSMesa (start, parse, tessellate, context, 1 frame) | "
+             "tube74 / OSMesa | tube74 max RSS MB | OSMesa max RSS MB |\n");
+  fprintf(f, "|---|---:|---:|---:|---:|---:|\n");
+  for (int k = 0; k < ns; k++) {
+    struct sp_scene *s = &sc[k];
+    double a = med(s->t[P_TPROC], runs), b = med(s->t[P_PPROC], runs);
+    char c[3][32];
+    fmt_ms(c[0], 32, a); fmt_ms(c[1], 32, b); fmt_ratio(c[2], 32, a, b);
+    fprintf(f, "| %s | %s | %s | %s | %.1f | %.1f |\n", s->label, c[0], c[1], c[2],
+            s->rss[0] / 1024.0, s->rss[1] / 1024.0);
+  }
+  fprintf(f, "\n## Growth exponents (least squares slope of log time over log faces)\n\n");
+  fprintf(f, "| scenes | tube74 frame | llvmpipe frame | tube74 process | OSMesa process |\n|---|---:|---:|---:|---:|\n");
+  for (int kind = 1; kind <= 2; kind++)
+    fprintf(f, "| %s | %.2f | %.2f | %.2f | %.2f |\n", kind == 1 ? "boxes" : "interpenetrating triangles",
+            growth(sc, ns, kind, P_TUBE, runs), growth(sc, ns, kind, P_LLVM, runs),
+            growth(sc, ns, kind, P_TPROC, runs), growth(sc, ns, kind, P_PPROC, runs));
+  bool failed = false;
+  for (int k = 0; k < ns; k++)
+    if (sc[k].failed[P_TUBE]) {
+      if (!failed) fprintf(f, "\nNot measured:\n");
+      failed = true;
+      fprintf(f, "- %s: tube74 failed on it%s%s\n", sc[k].label, sc[k].why[0] ? ": " : "", sc[k].why);
+    }
+  fclose(f);
+  fclose(d);
+  free(sc);
+
+  /* the plot: frame times over faces, boxes and triangles, both programs */
+  char gp[600];
+  snprintf(gp, sizeof gp, "%s/speed.gp", dir);
+  FILE *g = fopen(gp, "w");
+  if (g) {
+    fprintf(g, "set terminal pngcairo size 720,440\nset output '%s'\nset logscale xy\n"
+               "set xlabel 'faces'\nset ylabel 'seconds a frame'\nset key left top\n"
+               "plot '%s' using ($1==1?$2:1/0):3 with linespoints title 'tube74, boxes', \\\n"
+               "     '%s' using ($1==1?$2:1/0):4 with linespoints title 'llvmpipe 1 thread, boxes', \\\n"
+               "     '%s' using ($1==2?$2:1/0):3 with linespoints title 'tube74, triangles', \\\n"
+               "     '%s' using ($1==2?$2:1/0):4 with linespoints title 'llvmpipe 1 thread, triangles'\n",
+            plotpng, dat, dat, dat, dat);
+    fclose(g);
+    char *a[] = { (char *)"/usr/bin/gnuplot", gp, NULL };
+    if (access(a[0], X_OK) == 0) spawn(a, NULL, NULL, NULL, NULL);
+  }
+  char *txt = slurp(md);
+  if (txt) fputs(txt, stdout);
+  free(txt);
+  printf("\n(written to %s, %s%s)\n", md, dat, access(plotpng, R_OK) == 0 ? ", speed.png" : "");
+  return T74_OK;
+}

@@ -1,0 +1,229 @@
+/*
+** test_speed.c — what the speed work (issue 12) must not change: `render --frames K`
+** renders the loaded scene K times and writes the outputs once, the same bytes as one
+** frame; --stats gains frame_seconds and frames; a bad K is refused before any output.
+**
+** This file contains code to run $TUBE74 (default ./tube74) as a user would (system(3))
+** on shipped scenes — one with a background photograph (the disk's display-time state must
+** come out as after one frame), one with the effects stage, one plain — and compare every
+** output byte for byte, and the statistics line by line but for the host times. No timing
+** is asserted (speed is a benchmark: `tube74 bench speed`). Also: pic_sample_grid (the
+** scanner's fast sampling) gives exactly pic_sample's value at every point, on pictures
+** and grids of awkward sizes (larger and smaller than the picture, primes, 1). A standalone cmocka program,
+** run from the repository root; scratch files go to a fresh folder under /tmp.
+*/
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "patterns/picture.h"
+
+static char scratch[64];
+
+static int group_setup(void **state)
+{
+  (void)state;
+  strcpy(scratch, "/tmp/t74speed.XXXXXX");
+  return mkdtemp(scratch) ? 0 : -1;
+}
+
+static int group_teardown(void **state)
+{
+  (void)state;
+  char cmd[128];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
+static const char *prog(void)
+{
+  const char *p = getenv("TUBE74");
+  return p && *p ? p : "./tube74";
+}
+
+/* Run a shell command; its exit status (-1 when it did not exit). */
+static int run(const char *fmt, ...)
+{
+  char cmd[2048];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(cmd, sizeof cmd, fmt, ap);
+  va_end(ap);
+  int st = system(cmd);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static char *slurp(const char *path, size_t *n)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  size_t cap = 1 << 16, len = 0;
+  char *b = malloc(cap + 1);
+  size_t got;
+  while (b && (got = fread(b + len, 1, cap - len, f)) > 0) {
+    len += got;
+    if (len == cap) {
+      char *nb = realloc(b, 2 * cap + 1);
+      if (!nb) { free(b); b = NULL; break; }
+      b = nb;
+      cap *= 2;
+    }
+  }
+  fclose(f);
+  if (b) b[len] = 0;
+  if (n) *n = len;
+  return b;
+}
+
+static void same_file(const char *a, const char *b)
+{
+  size_t na = 0, nb = 0;
+  char *x = slurp(a, &na), *y = slurp(b, &nb);
+  assert_non_null(x);
+  assert_non_null(y);
+  assert_true(na > 0);
+  assert_int_equal(na, nb);
+  assert_memory_equal(x, y, na);
+  free(x);
+  free(y);
+}
+
+/* The statistics of two runs agree line by line except the host's clock and the frame
+   count; returns frame_seconds of b (which must be there, >= 0, <= its host_seconds). */
+static double same_stats(const char *a, const char *b, int frames_b)
+{
+  char *x = slurp(a, NULL), *y = slurp(b, NULL);
+  assert_non_null(x);
+  assert_non_null(y);
+  char *sx = NULL, *sy = NULL;
+  char *lx = strtok_r(x, "\n", &sx), *ly = strtok_r(y, "\n", &sy);
+  double frame = -1, host = -1;
+  int frames = 0, lines = 0;
+  while (lx && ly) {
+    if (strstr(ly, "\"host_seconds\"")) host = atof(strchr(ly, ':') + 1);
+    if (strstr(ly, "\"frame_seconds\"")) frame = atof(strchr(ly, ':') + 1);
+    if (strstr(ly, "\"frames\"")) frames = atoi(strchr(ly, ':') + 1);
+    if (!strstr(lx, "host_seconds") && !strstr(lx, "frame_seconds") && !strstr(lx, "\"frames\""))
+      assert_string_equal(lx, ly);
+    lx = strtok_r(NULL, "\n", &sx);
+    ly = strtok_r(NULL, "\n", &sy);
+    lines++;
+  }
+  assert_null(lx);
+  assert_null(ly);
+  assert_true(lines > 10);
+  assert_int_equal(frames, frames_b);
+  assert_true(frame >= 0);
+  assert_true(host >= frame);
+  free(x);
+  free(y);
+  return frame;
+}
+
+static void frames_same(const char *scene, const char *extra)
+{
+  for (int k = 1; k <= 4; k += 3) {
+    int st = run("%s render %s %s --frames %d -o %s/p%d.png --stats %s/s%d.json "
+                 "--dump ids=%s/i%d.pgm --dump grey=%s/g%d.pgm --dump tables=%s/t%d.txt "
+                 "--dump points=%s/d%d.txt", prog(), scene, extra, k, scratch, k, scratch, k,
+                 scratch, k, scratch, k, scratch, k, scratch, k);
+    assert_int_equal(st, 0);
+  }
+  const char *kinds[] = { "p%d.png", "i%d.pgm", "g%d.pgm", "t%d.txt", "d%d.txt" };
+  for (size_t q = 0; q < sizeof kinds / sizeof *kinds; q++) {
+    char a[256], b[256], na[32], nb[32];
+    snprintf(na, sizeof na, kinds[q], 1);
+    snprintf(nb, sizeof nb, kinds[q], 4);
+    snprintf(a, sizeof a, "%s/%s", scratch, na);
+    snprintf(b, sizeof b, "%s/%s", scratch, nb);
+    same_file(a, b);
+  }
+  char a[256], b[256];
+  snprintf(a, sizeof a, "%s/s1.json", scratch);
+  snprintf(b, sizeof b, "%s/s4.json", scratch);
+  same_stats(a, b, 4);
+}
+
+/* The street has a background photograph: its disk reads and times are those of one frame. */
+static void test_frames_background(void **state) { (void)state; frames_same("scenes/street.s74", ""); }
+
+/* The effects stage runs in every frame; its statistics stay one frame's. */
+static void test_frames_effects(void **state)
+{
+  (void)state;
+  frames_same("scenes/fig5.s74", "--effects 'halftone=4x4 edges=on'");
+}
+
+static void test_frames_plain(void **state) { (void)state; frames_same("scenes/crossing.s74", ""); }
+
+/* A bad K: exit 2 and no output created. */
+static void test_frames_refused(void **state)
+{
+  (void)state;
+  const char *bad[] = { "0", "-1", "x", "2.5", "1000001" };
+  for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+    assert_int_equal(run("%s render scenes/fig6.s74 --frames %s -o %s/bad.png 2>/dev/null", prog(),
+                         bad[k], scratch), 2);
+    char p[256];
+    snprintf(p, sizeof p, "%s/bad.png", scratch);
+    struct stat sb;
+    assert_int_not_equal(stat(p, &sb), 0);
+  }
+  assert_int_equal(run("%s render scenes/fig6.s74 --frames 2>/dev/null", prog()), 2);
+}
+
+static void test_sample_grid_exact(void **state)
+{
+  (void)state;
+  static const int pics[][2] = { { 1, 1 }, { 7, 3 }, { 200, 150 }, { 13, 200 }, { 401, 2 } };
+  static const int grids[][2] = { { 1, 1 }, { 3, 5 }, { 100, 75 }, { 587, 555 }, { 400, 1 },
+                                  { 133, 100 } };
+  uint32_t seed = 12345;
+  for (size_t a = 0; a < sizeof pics / sizeof *pics; a++) {
+    int pw = pics[a][0], ph = pics[a][1];
+    uint8_t *px = malloc((size_t)pw * (size_t)ph);
+    assert_non_null(px);
+    for (int k = 0; k < pw * ph; k++) {
+      seed = seed * 1103515245u + 12345u;
+      px[k] = (uint8_t)(k % 3 == 0 ? 255 : seed >> 24);  /* extremes and noise */
+    }
+    struct pic *p = pic_new(pw, ph, px);
+    assert_non_null(p);
+    for (size_t b = 0; b < sizeof grids / sizeof *grids; b++) {
+      int W = grids[b][0], H = grids[b][1];
+      uint8_t *out = malloc((size_t)W * (size_t)H);
+      assert_non_null(out);
+      assert_int_equal(pic_sample_grid(p, W, H, out), 0);
+      for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++)
+          if (out[(size_t)j * (size_t)W + (size_t)i] != pic_sample(p, i, j, W, H))
+            fail_msg("%dx%d picture on a %dx%d grid: point (%d, %d) is %d, pic_sample %d", pw, ph,
+                     W, H, i, j, out[(size_t)j * (size_t)W + (size_t)i], pic_sample(p, i, j, W, H));
+      free(out);
+    }
+    assert_int_equal(pic_sample_grid(p, 0, 5, px), -1);
+    pic_free(p);
+    free(px);
+  }
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_sample_grid_exact),
+    cmocka_unit_test(test_frames_background),
+    cmocka_unit_test(test_frames_effects),
+    cmocka_unit_test(test_frames_plain),
+    cmocka_unit_test(test_frames_refused),
+  };
+  return cmocka_run_group_tests(tests, group_setup, group_teardown);
+}
