@@ -24,6 +24,8 @@ WARN    := -std=c11 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing
 CPPFLAGS += -D_POSIX_C_SOURCE=200809L -I.
 
 PKGS     := libpng libusb-1.0 sdl2
+# linked: SDL2 is opened with dlopen by `play` alone (cli/sdl_load.h), its headers still used
+LINKPKGS := libpng libusb-1.0
 # giflib (libgif-dev) has no pkg-config file
 NOPCLIBS := -lgif
 TESTPKGS := cmocka osmesa glu umockdev-1.0 gio-2.0
@@ -43,7 +45,7 @@ REFOBJ  := $(REFSRC:%.c=$(BUILD)/%.o)
 DEPS_STAMP := $(BUILD)/.deps-ok
 
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
-PKG_LIBS   = $(shell pkg-config --libs $(PKGS)) $(NOPCLIBS)
+PKG_LIBS   = $(shell pkg-config --libs $(LINKPKGS)) $(NOPCLIBS)
 TEST_CFLAGS = $(shell pkg-config --cflags $(TESTPKGS))
 TEST_LIBS   = $(shell pkg-config --libs $(TESTPKGS))
 

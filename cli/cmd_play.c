@@ -28,7 +28,6 @@
 ** looping viewer rests on the finished picture.
 */
 #define SDL_MAIN_HANDLED
-#include <SDL.h>
 
 #include <errno.h>
 #include <math.h>
@@ -39,6 +38,7 @@
 
 #include "cli/commands.h"
 #include "cli/pipeline.h"
+#include "cli/sdl_load.h"
 #include "cli/timing.h"
 #include "display/gif.h"
 #include "display/look.h"
@@ -236,16 +236,16 @@ static int seg_mask(char c)
 
 /* Draw text at (x, y) with digits w x h pixels; returns the x after it. '.' is a dot,
 ** 'x' a stroke-drawn multiplication sign, ' ' a gap. */
-static int draw_text(SDL_Renderer *r, int x, int y, int w, int h, const char *s)
+static int draw_text(const struct sdl_fns *S, SDL_Renderer *r, int x, int y, int w, int h, const char *s)
 {
   int t = w / 5 > 1 ? w / 5 : 1;                /* stroke thickness */
   for (; *s; s++) {
-    if (*s == '.') { SDL_Rect d = { x, y + h - t, t, t }; SDL_RenderFillRect(r, &d); x += 2 * t + 1; continue; }
+    if (*s == '.') { SDL_Rect d = { x, y + h - t, t, t }; S->RenderFillRect(r, &d); x += 2 * t + 1; continue; }
     if (*s == ' ') { x += w / 2 + 2; continue; }
     if (*s == 'x') {
       for (int k = 0; k < t; k++) {
-        SDL_RenderDrawLine(r, x + k, y + h / 2, x + w - t + k, y + h - 1);
-        SDL_RenderDrawLine(r, x + k, y + h - 1, x + w - t + k, y + h / 2);
+        S->RenderDrawLine(r, x + k, y + h / 2, x + w - t + k, y + h - 1);
+        S->RenderDrawLine(r, x + k, y + h - 1, x + w - t + k, y + h / 2);
       }
       x += w + 3;
       continue;
@@ -260,7 +260,7 @@ static int draw_text(SDL_Renderer *r, int x, int y, int w, int h, const char *s)
       { x, y, t, hh },                  /* f */
       { x, y + hh - t / 2, w, t },      /* g */
     };
-    for (int k = 0; k < 7; k++) if (m & (1 << k)) SDL_RenderFillRect(r, &seg[k]);
+    for (int k = 0; k < 7; k++) if (m & (1 << k)) S->RenderFillRect(r, &seg[k]);
     x += w + 3;
   }
   return x;
@@ -272,17 +272,20 @@ struct player {
   SDL_Window *win;
   SDL_Renderer *ren;
   SDL_Texture *tex;
+  struct sdl_fns sdl;           /* SDL2, loaded when the window opens */
   int scale, W, H;              /* face pixels: W x H; window W x (H + strip) */
   uint8_t *rgba;                /* the face, W x H x 4 */
 };
 
 static void player_close(struct player *p)
 {
-  if (p->tex) SDL_DestroyTexture(p->tex);
-  if (p->ren) SDL_DestroyRenderer(p->ren);
-  if (p->win) SDL_DestroyWindow(p->win);
+  const struct sdl_fns *S = &p->sdl;
+  if (p->tex) S->DestroyTexture(p->tex);
+  if (p->ren) S->DestroyRenderer(p->ren);
+  if (p->win) S->DestroyWindow(p->win);
   free(p->rgba);
-  SDL_Quit();
+  S->Quit();
+  sdl_unload(&p->sdl);
 }
 
 static int player_open(struct player *p, int scale, const char *scene, struct t74_error *err)
@@ -294,28 +297,34 @@ static int player_open(struct player *p, int scale, const char *scene, struct t7
   if (!getenv("DISPLAY") && !getenv("WAYLAND_DISPLAY") && !getenv("SDL_VIDEODRIVER"))
     return t74_fail(err, T74_EIO, "tube74 play: cannot open a window: no display (DISPLAY is "
                     "not set); use --movie FILE to write the build-up as PNG frames instead");
-  if (SDL_Init(SDL_INIT_VIDEO) != 0)
-    return t74_fail(err, T74_EIO, "tube74 play: cannot open a window: no display (%s); "
-                    "use --movie FILE to write the build-up as PNG frames instead", SDL_GetError());
+  if (sdl_load(&p->sdl, "tube74 play: cannot open a window", err) != T74_OK) return err->status;
+  const struct sdl_fns *S = &p->sdl;
+  if (S->Init(SDL_INIT_VIDEO) != 0) {
+    t74_fail(err, T74_EIO, "tube74 play: cannot open a window: no display (%s); "
+                    "use --movie FILE to write the build-up as PNG frames instead", S->GetError());
+    sdl_unload(&p->sdl);
+    return T74_EIO;
+  }
   /* SDL falls back to its offscreen driver when there is no display: that is no window
      anyone can see, so it counts as "no display" unless asked for by SDL_VIDEODRIVER. */
-  const char *drv = SDL_GetCurrentVideoDriver(), *want = getenv("SDL_VIDEODRIVER");
+  const char *drv = S->GetCurrentVideoDriver(), *want = getenv("SDL_VIDEODRIVER");
   if (drv && (!strcmp(drv, "offscreen") || !strcmp(drv, "dummy")) && !(want && !strcmp(want, drv))) {
-    SDL_Quit();
+    S->Quit();
+    sdl_unload(&p->sdl);
     return t74_fail(err, T74_EIO, "tube74 play: cannot open a window: no display (DISPLAY is "
                     "not set or unreachable); use --movie FILE to write the build-up as PNG "
                     "frames instead");
   }
   char title[256];
   snprintf(title, sizeof title, "tube74 play %s", scene);
-  p->win = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
+  p->win = S->CreateWindow(title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
                             p->W, p->H + PLAY_STRIP_H, 0);
-  if (p->win) p->ren = SDL_CreateRenderer(p->win, -1, 0);
-  if (p->ren) p->tex = SDL_CreateTexture(p->ren, SDL_PIXELFORMAT_RGBA32,
+  if (p->win) p->ren = S->CreateRenderer(p->win, -1, 0);
+  if (p->ren) p->tex = S->CreateTexture(p->ren, SDL_PIXELFORMAT_RGBA32,
                                          SDL_TEXTUREACCESS_STREAMING, p->W, p->H);
   p->rgba = malloc((size_t)p->W * (size_t)p->H * 4);
   if (!p->tex || !p->rgba) {
-    t74_fail(err, T74_EIO, "tube74 play: cannot open a window: %s", SDL_GetError());
+    t74_fail(err, T74_EIO, "tube74 play: cannot open a window: %s", S->GetError());
     player_close(p);
     return T74_EIO;
   }
@@ -326,20 +335,21 @@ static int player_open(struct player *p, int scale, const char *scene, struct t7
 static int player_draw(struct player *p, const struct look *l, double t, double speed,
                        bool paused, struct t74_error *err)
 {
+  const struct sdl_fns *S = &p->sdl;
   int st = look_render(l, t, p->scale, p->rgba);
   if (st != T74_OK) return t74_fail(err, st, "tube74 play: cannot render the face");
-  SDL_UpdateTexture(p->tex, NULL, p->rgba, p->W * 4);
-  SDL_SetRenderDrawColor(p->ren, 0, 0, 0, 255);
-  SDL_RenderClear(p->ren);
+  S->UpdateTexture(p->tex, NULL, p->rgba, p->W * 4);
+  S->SetRenderDrawColor(p->ren, 0, 0, 0, 255);
+  S->RenderClear(p->ren);
   SDL_Rect face = { 0, 0, p->W, p->H };
-  SDL_RenderCopy(p->ren, p->tex, NULL, &face);
+  S->RenderCopy(p->ren, p->tex, NULL, &face);
   char buf[64];
-  SDL_SetRenderDrawColor(p->ren, 80, 255, 120, 255);
+  S->SetRenderDrawColor(p->ren, 80, 255, 120, 255);
   snprintf(buf, sizeof buf, "t %09.3f", t);               /* emulated 1974 seconds */
-  int x = draw_text(p->ren, 6, p->H + 5, 10, PLAY_STRIP_H - 10, buf);
+  int x = draw_text(S, p->ren, 6, p->H + 5, 10, PLAY_STRIP_H - 10, buf);
   snprintf(buf, sizeof buf, "  x%g", speed);
-  x = draw_text(p->ren, x, p->H + 5, 10, PLAY_STRIP_H - 10, buf);
-  if (paused) draw_text(p->ren, x, p->H + 5, 10, PLAY_STRIP_H - 10, "  PAUSE");
+  x = draw_text(S, p->ren, x, p->H + 5, 10, PLAY_STRIP_H - 10, buf);
+  if (paused) draw_text(S, p->ren, x, p->H + 5, 10, PLAY_STRIP_H - 10, "  PAUSE");
   return T74_OK;
 }
 
@@ -348,9 +358,10 @@ static int player_screenshot(struct player *p, const char *path, struct t74_erro
   int w = p->W, h = p->H + PLAY_STRIP_H;
   uint8_t *buf = malloc((size_t)w * (size_t)h * 4);
   if (!buf) return t74_fail(err, T74_EIO, "%s: out of memory", path);
+  const struct sdl_fns *S = &p->sdl;
   int st;
-  if (SDL_RenderReadPixels(p->ren, NULL, SDL_PIXELFORMAT_RGBA32, buf, w * 4) != 0)
-    st = t74_fail(err, T74_EIO, "%s: cannot read the window: %s", path, SDL_GetError());
+  if (S->RenderReadPixels(p->ren, NULL, SDL_PIXELFORMAT_RGBA32, buf, w * 4) != 0)
+    st = t74_fail(err, T74_EIO, "%s: cannot read the window: %s", path, S->GetError());
   else
     st = look_png_rgba(buf, w, h, path, err);
   free(buf);
@@ -377,15 +388,16 @@ static int run_window(struct look *l, const struct look *orig, const struct play
   struct player p;
   int st = player_open(&p, scale, scene, err);
   if (st != T74_OK) return st;
+  const struct sdl_fns *S = &p.sdl;
   double speed = o->speed, te = 0;              /* emulated time now */
   double done_at = look_settled(l);             /* the picture is complete and settled */
   double quit_wall = -1;                        /* wall time to close, once known */
   bool paused = false, running = true;
-  Uint64 freq = SDL_GetPerformanceFrequency(), last = SDL_GetPerformanceCounter();
+  Uint64 freq = S->GetPerformanceFrequency(), last = S->GetPerformanceCounter();
   double wall = 0;
   while (running && st == T74_OK) {
     SDL_Event ev;
-    while (SDL_PollEvent(&ev)) {
+    while (S->PollEvent(&ev)) {
       if (ev.type == SDL_QUIT) running = false;
       if (ev.type != SDL_KEYDOWN) continue;
       switch (ev.key.keysym.sym) {
@@ -404,7 +416,7 @@ static int run_window(struct look *l, const struct look *orig, const struct play
       default: break;
       }
     }
-    Uint64 now = SDL_GetPerformanceCounter();
+    Uint64 now = S->GetPerformanceCounter();
     double dwall = (double)(now - last) / (double)freq;
     last = now;
     wall += dwall;
@@ -413,9 +425,9 @@ static int run_window(struct look *l, const struct look *orig, const struct play
     if (st == T74_OK) st = player_draw(&p, l, te, speed, paused, err);
     bool closing = !running || (quit_wall >= 0 && wall >= quit_wall);
     if (closing && o->screenshot && st == T74_OK) st = player_screenshot(&p, o->screenshot, err);
-    SDL_RenderPresent(p.ren);
+    S->RenderPresent(p.ren);
     if (closing) running = false;
-    else SDL_Delay(10);                         /* frame pacing only: time comes from the clock */
+    else S->Delay(10);                         /* frame pacing only: time comes from the clock */
   }
   player_close(&p);
   return st;

@@ -604,7 +604,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
 {
   if (job_is_tek(o)) return run_tek(o, h, res, err);
 
-  struct scene *s = NULL;
+  struct scene *own = NULL;                 /* the scene when the job reads it */
   struct render r;
   struct pipeline p;
   struct tube *t = NULL;
@@ -617,9 +617,15 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   memset(&p, 0, sizeof p);
   memset(&jo, 0, sizeof jo);
 
-  double t0 = now_seconds();
-  st = scene_load(o->scene, &o->sopts, &s, err);
-  if (st != T74_OK) return st;
+  double t0 = now_seconds() - o->preload_seconds;  /* reading the scene counts */
+  const struct scene *s;
+  if (o->preloaded) {
+    s = o->preloaded;                       /* read once, by the caller */
+  } else {
+    st = scene_load(o->scene, &o->sopts, &own, err);
+    if (st != T74_OK) return st;
+    s = own;
+  }
 
   struct effects eff;
   if (o->effects) st = effects_parse(o->effects, &eff, "--effects", 1, err);
@@ -751,7 +757,7 @@ done:
   if (bg) pic_free(bg);
   scan_free(p.scan);
   render_free(&r);
-  scene_free(s);
+  scene_free(own);
   return st;
 }
 

@@ -36,6 +36,9 @@ struct job {
   int cell;                         /* --cell, 0 = from the scene */
   uint32_t core_words;              /* --core */
   int store;                        /* --matrix */
+  const struct scene *preloaded;    /* the scene already read (with these sopts) by the
+                                       caller, who owns it; NULL: the job reads it */
+  double preload_seconds;           /* the time that reading took (in host_seconds) */
   int frames;                       /* --frames: the loaded scene rendered this many times
                                        (0 = 1); outputs come from one of them */
   int ndump;

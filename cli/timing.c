@@ -17,6 +17,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "display/outfile.h"
 #include "display/sink.h"
@@ -42,6 +43,8 @@ void timing_free(struct timing *t)
 {
   look_free(t->look);
   t->look = NULL;
+  scene_free(t->scene);
+  t->scene = NULL;
 }
 
 void timing_usage(FILE *f)
@@ -131,28 +134,36 @@ int timing_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err)
 }
 
 /* The tube= effect named by --effects or by the scene's effects line (if the scene is a
-** .s74 file that loads: anything wrong with it is the job's to report). */
-static int tube_effect(const struct job *j, struct effects *eff, struct t74_error *err)
+** .s74 file that loads: anything wrong with it is the job's to report). A scene read here
+** is kept (t->scene) and lent to the job with the time its reading took, so the job does
+** not read it again. */
+static int tube_effect(struct timing *t, struct job *j, struct effects *eff, struct t74_error *err)
 {
   effects_default(eff);
-  if (j->effects) return effects_parse(j->effects, eff, "--effects", 1, err);
   const char *dot = strrchr(j->scene, '.');
   bool s74 = j->sopts.input ? !strcmp(j->sopts.input, "s74") : (dot && !strcmp(dot, ".s74"));
+  if (j->effects) return effects_parse(j->effects, eff, "--effects", 1, err);
   if (!s74) return T74_OK;
   struct scene *s = NULL;
   struct t74_error quiet = { T74_OK, "" };
+  struct timespec a, b;
+  clock_gettime(CLOCK_MONOTONIC, &a);
   if (scene_load(j->scene, &j->sopts, &s, &quiet) != T74_OK) return T74_OK;
+  clock_gettime(CLOCK_MONOTONIC, &b);
   int st = T74_OK;
   if (s->effects) st = effects_parse(s->effects, eff, s->file, s->effects_line, &quiet);
-  scene_free(s);
   (void)st;                     /* a bad effects line is the job's to report */
+  scene_free(t->scene);
+  t->scene = s;
+  j->preloaded = s;
+  j->preload_seconds = (double)(b.tv_sec - a.tv_sec) + (double)(b.tv_nsec - a.tv_nsec) * 1e-9;
   return T74_OK;
 }
 
 int timing_prepare(struct timing *t, struct job *j, struct t74_error *err)
 {
   struct effects eff;
-  int st = tube_effect(j, &eff, err);
+  int st = tube_effect(t, j, &eff, err);
   if (st != T74_OK) return st;
   if (eff.tube == EFFECTS_TUBE_FLASH) { t->look_flags |= LOOK_FLASH; t->look_given = true; }
   if (eff.tube == EFFECTS_TUBE_FADE) {

@@ -47,6 +47,9 @@ struct timing {
   bool look_at_given;
   const char *png;              /* -o taken over from the job, or NULL */
   struct outfile *png_out;      /* that -o, opened in the job's set (open_outputs hook) */
+  struct scene *scene;          /* the scene timing_prepare read for its effects line, lent
+                                   to the job (j->preloaded) so that it is read once; freed
+                                   by timing_free */
 };
 
 void timing_init(struct timing *t);
@@ -57,7 +60,8 @@ void timing_free(struct timing *t);
 int timing_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err);
 
 /* After job_parse: read the tube= effect (from --effects or the scene's effects line),
-** decide whether -o is a look picture and, if so, take it over from j. */
+** decide whether -o is a look picture and, if so, take it over from j. A .s74 scene read
+** for its effects line is lent to the job (j->preloaded), not read again. */
 int timing_prepare(struct timing *t, struct job *j, struct t74_error *err);
 
 /* Fill h: the extra sink (beam + look), the clock and the stats hook. */

@@ -9,7 +9,8 @@
 ** output byte for byte, and the statistics line by line but for the host times. No timing
 ** is asserted (speed is a benchmark: `tube74 bench speed`). Also: pic_sample_grid (the
 ** scanner's fast sampling) gives exactly pic_sample's value at every point, on pictures
-** and grids of awkward sizes (larger and smaller than the picture, primes, 1). A standalone cmocka program,
+** and grids of awkward sizes (larger and smaller than the picture, primes, 1); and the
+** program does not load SDL2 at start-up. A standalone cmocka program,
 ** run from the repository root; scratch files go to a fresh folder under /tmp.
 */
 #include <setjmp.h>
@@ -216,10 +217,26 @@ static void test_sample_grid_exact(void **state)
   }
 }
 
+/* A render loads no SDL2 (play opens it with dlopen, cli/sdl_load.h): the program's
+   dynamic dependencies, as the loader resolves them, do not name it. */
+static void test_no_sdl_at_start(void **state)
+{
+  (void)state;
+  char out[256];
+  snprintf(out, sizeof out, "%s/ldd.txt", scratch);
+  assert_int_equal(run("ldd %s > %s 2>&1", prog(), out), 0);
+  char *t = slurp(out, NULL);
+  assert_non_null(t);
+  assert_non_null(strstr(t, "libpng"));          /* the listing is real */
+  assert_null(strstr(t, "libSDL2"));
+  free(t);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_sample_grid_exact),
+    cmocka_unit_test(test_no_sdl_at_start),
     cmocka_unit_test(test_frames_background),
     cmocka_unit_test(test_frames_effects),
     cmocka_unit_test(test_frames_plain),
