@@ -165,3 +165,13 @@ int i256_sign(struct i256 a)
   if ((int64_t)a.w[3] < 0) return -1;
   return (a.w[0] | a.w[1] | a.w[2] | a.w[3]) != 0;
 }
+
+int geom_cross_sign(wide a, wide b, wide c, wide d)
+{
+  const wide lim = (wide)1 << 62;
+  if (a > -lim && a < lim && b > -lim && b < lim && c > -lim && c < lim && d > -lim && d < lim) {
+    wide l = a * b, r = c * d;
+    return (l > r) - (l < r);
+  }
+  return i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d)));
+}

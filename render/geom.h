@@ -103,4 +103,9 @@ struct i256 i256_add(struct i256 a, struct i256 b);
 struct i256 i256_from(wide a);
 int i256_sign(struct i256 a);
 
+/* The sign of a*b - c*d, exactly: in 128 bits when every operand is below 2^62 in
+** magnitude (each product then below 2^124, the difference below 2^125: no overflow, so
+** the filter can never decide wrongly), else in 256 bits. -1, 0, 1. */
+int geom_cross_sign(wide a, wide b, wide c, wide d);
+
 #endif

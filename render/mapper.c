@@ -106,13 +106,28 @@ struct tjunc {
   const struct gpoint *proj;
   int *byx;                      /* vertices used by faces, by projected x */
   int n;
+  /* the host's index (issue 12): the same vertices bucketed by projected (x, y) on a
+     gw x gh grid of cells cw x ch wide from (gx0, gy0); cell c holds
+     cell_v[cell_start[c] .. cell_start[c+1]). Only where to look: every candidate is
+     still tested exactly, and the 1974 cost counts the x-slab the program scanned. */
+  gcoord gx0, gy0, cw, ch;
+  int gw, gh;
+  int *cell_start, *cell_v;
 };
+
+static void tj_free(struct tjunc *t)
+{
+  free(t->byx);
+  free(t->cell_start);
+  free(t->cell_v);
+  t->byx = t->cell_start = t->cell_v = NULL;
+}
 
 static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *proj)
 {
+  memset(t, 0, sizeof *t);
   t->s = s;
   t->proj = proj;
-  t->n = 0;
   char *used = calloc((size_t)(s->nv ? s->nv : 1), 1);
   t->byx = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->byx);
   if (!used || !t->byx) { free(used); free(t->byx); t->byx = NULL; return 0; }
@@ -131,12 +146,61 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
       }
       t->byx[j] = v;
     }
+  /* the cells: about two vertices a cell */
+  gcoord x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  for (int k = 0; k < t->n; k++) {
+    struct gpoint p = proj[t->byx[k]];
+    if (k == 0 || p.x < x0) x0 = p.x;
+    if (k == 0 || p.x > x1) x1 = p.x;
+    if (k == 0 || p.y < y0) y0 = p.y;
+    if (k == 0 || p.y > y1) y1 = p.y;
+  }
+  int side = 1;
+  while ((int64_t)side * side * 2 < t->n && side < 4096) side++;
+  t->gw = t->gh = side;
+  t->gx0 = x0;
+  t->gy0 = y0;
+  t->cw = (x1 - x0) / side + 1;
+  t->ch = (y1 - y0) / side + 1;
+  size_t ncell = (size_t)side * (size_t)side;
+  t->cell_start = calloc(ncell + 1, sizeof *t->cell_start);
+  t->cell_v = malloc((size_t)(t->n ? t->n : 1) * sizeof *t->cell_v);
+  if (!t->cell_start || !t->cell_v) { tj_free(t); return 0; }
+  for (int k = 0; k < t->n; k++) {
+    struct gpoint p = proj[t->byx[k]];
+    t->cell_start[(size_t)((p.y - y0) / t->ch) * (size_t)side + (size_t)((p.x - x0) / t->cw) + 1]++;
+  }
+  for (size_t c = 0; c < ncell; c++) t->cell_start[c + 1] += t->cell_start[c];
+  int *fill = malloc((ncell ? ncell : 1) * sizeof *fill);
+  if (!fill) { tj_free(t); return 0; }
+  memcpy(fill, t->cell_start, ncell * sizeof *fill);
+  for (int k = 0; k < t->n; k++) {
+    struct gpoint p = proj[t->byx[k]];
+    size_t c = (size_t)((p.y - y0) / t->ch) * (size_t)side + (size_t)((p.x - x0) / t->cw);
+    t->cell_v[fill[c]++] = t->byx[k];
+  }
+  free(fill);
   return 1;
 }
 
+/* First index of byx whose projected x is >= x (after: > x when after is set). */
+static int tj_bound(const struct tjunc *t, gcoord x, bool after)
+{
+  int lo = 0, hi = t->n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    gcoord m = t->proj[t->byx[mid]].x;
+    if (m < x || (after && m == x)) lo = mid + 1; else hi = mid;
+  }
+  return lo;
+}
+
 /* Append to (*buf, *n) the vertices lying strictly inside the segment a-b in space,
-   ordered from a to b. Rounding is monotone, so such a vertex projects inside the grid
-   box of a' and b': only those are tested, exactly. */
+   ordered from a to b (two at one point of space: by vertex index, as the x-ordered scan
+   of the 1974 program meets them). Rounding is monotone, so such a vertex projects inside
+   the grid box of a' and b': only those are tested, exactly. The 1974 program scans the
+   x-slab of the box (2 loads a vertex) and tests each vertex inside the box in space;
+   the host finds the same vertices through the cells that meet the box. */
 static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
                    struct cost *cost)
 {
@@ -146,41 +210,46 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
   gcoord y0 = pa.y < pb.y ? pa.y : pb.y, y1 = pa.y < pb.y ? pb.y : pa.y;
   int64_t dx = B->x - A->x, dy = B->y - A->y, dz = B->z - A->z;
   int64_t dd = dx * dx + dy * dy + dz * dz;
-  int lo = 0, hi = t->n;
-  while (lo < hi) {
-    int mid = (lo + hi) / 2;
-    if (t->proj[t->byx[mid]].x < x0) lo = mid + 1; else hi = mid;
-  }
+  COST_ADD_N(cost, COST_MEM, 2 * (tj_bound(t, x1, true) - tj_bound(t, x0, false)));
   int first = *n;
-  for (int k = lo; k < t->n && t->proj[t->byx[k]].x <= x1; k++) {
-    int v = t->byx[k];
-    struct gpoint pv = t->proj[v];
-    COST_ADD_N(cost, COST_MEM, 2);
-    if (pv.y < y0 || pv.y > y1 || v == a || v == b) continue;
-    const struct scene_vertex *V = &t->s->v[v];
-    int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
-    cost_mw_mul(cost, 17, 17);
-    if (dy * ez - dz * ey || dz * ex - dx * ez || dx * ey - dy * ex) continue;
-    int64_t tt = ex * dx + ey * dy + ez * dz;
-    if (tt <= 0 || tt >= dd) continue;
-    if (*n == *cap) {
-      int c = *cap ? 2 * *cap : 64;
-      int *nb = realloc(*buf, (size_t)c * sizeof *nb);
-      if (!nb) return 0;
-      *buf = nb;
-      *cap = c;
+  if (t->n == 0) return 1;
+  gcoord cx0 = x0 < t->gx0 ? 0 : (x0 - t->gx0) / t->cw, cx1 = (x1 - t->gx0) / t->cw;
+  gcoord cy0 = y0 < t->gy0 ? 0 : (y0 - t->gy0) / t->ch, cy1 = (y1 - t->gy0) / t->ch;
+  if (cx1 >= t->gw) cx1 = t->gw - 1;
+  if (cy1 >= t->gh) cy1 = t->gh - 1;
+  for (gcoord cy = cy0; cy <= cy1; cy++)
+    for (gcoord cx = cx0; cx <= cx1; cx++) {
+      size_t c = (size_t)cy * (size_t)t->gw + (size_t)cx;
+      for (int k = t->cell_start[c]; k < t->cell_start[c + 1]; k++) {
+        int v = t->cell_v[k];
+        struct gpoint pv = t->proj[v];
+        if (pv.x < x0 || pv.x > x1 || pv.y < y0 || pv.y > y1 || v == a || v == b) continue;
+        const struct scene_vertex *V = &t->s->v[v];
+        int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
+        cost_mw_mul(cost, 17, 17);
+        if (dy * ez - dz * ey || dz * ex - dx * ez || dx * ey - dy * ex) continue;
+        int64_t tt = ex * dx + ey * dy + ez * dz;
+        if (tt <= 0 || tt >= dd) continue;
+        if (*n == *cap) {
+          int cp = *cap ? 2 * *cap : 64;
+          int *nb = realloc(*buf, (size_t)cp * sizeof *nb);
+          if (!nb) return 0;
+          *buf = nb;
+          *cap = cp;
+        }
+        /* insertion by the parameter along a-b, then the index (few vertices per edge) */
+        int j = (*n)++;
+        while (j > first) {
+          int w = (*buf)[j - 1];
+          const struct scene_vertex *W = &t->s->v[w];
+          int64_t tw = (W->x - A->x) * dx + (W->y - A->y) * dy + (W->z - A->z) * dz;
+          if (tw < tt || (tw == tt && w < v)) break;
+          (*buf)[j] = w;
+          j--;
+        }
+        (*buf)[j] = v;
+      }
     }
-    /* insertion by the parameter along a-b (few vertices per edge) */
-    int j = (*n)++;
-    while (j > first) {
-      const struct scene_vertex *W = &t->s->v[(*buf)[j - 1]];
-      int64_t tw = (W->x - A->x) * dx + (W->y - A->y) * dy + (W->z - A->z) * dz;
-      if (tw <= tt) break;
-      (*buf)[j] = (*buf)[j - 1];
-      j--;
-    }
-    (*buf)[j] = v;
-  }
   return 1;
 }
 
@@ -366,13 +435,13 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     out->nface++;
   }
   free(ring);
-  free(tj.byx);
+  tj_free(&tj);
   free(proj);
   return T74_OK;
 
 fail_tj:
   free(ring);
-  free(tj.byx);
+  tj_free(&tj);
 fail:
   free(proj);
   mapper_free(out);

@@ -47,8 +47,7 @@ void cpoly_free(struct cpoly *c)
 static int cmp_hy(struct hpoint a, struct hpoint b)
 {
   /* a.Y/a.W vs b.Y/b.W: products reach 2^147, so in 256 bits */
-  struct i256 d = i256_add(i256_mul(a.Y, b.W), i256_mul(-b.Y, a.W));
-  return i256_sign(d);
+  return geom_cross_sign(a.Y, b.W, b.Y, a.W);
 }
 
 /* Two consecutive lines that are parallel share a vertex, so they are one line. */

@@ -935,7 +935,7 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
   x->nvert = in->ring_start[in->nring];
   uint16_t maxid = 10;
   for (int i = 0; i < x->nvert; i++) if (in->vid[i] > maxid) maxid = in->vid[i];
-  memset(x->idused, 0, sizeof x->idused);
+  /* x->idused is zero from the memset of *x above */
   for (int i = 0; i < x->nvert; i++) x->idused[in->vid[i] >> 3] |= (uint8_t)(1u << (in->vid[i] & 7));
   x->next_num = (uint16_t)(maxid + 1);
 

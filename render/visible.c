@@ -52,8 +52,7 @@ static int cmp_hy_frac(struct hpoint p, int64_t n, int64_t d)
 static int cmp_ylo(const struct seginfo *s, int a, int b)
 {
   struct hpoint p = s->p[a].ylo, q = s->p[b].ylo;
-  struct i256 d = i256_add(i256_mul(p.Y, q.W), i256_mul(-q.Y, p.W));
-  int c = i256_sign(d);
+  int c = geom_cross_sign(p.Y, q.W, q.Y, p.W);     /* p.Y/p.W vs q.Y/q.W, exactly */
   return c ? c : (a > b) - (a < b);
 }
 
