@@ -9,7 +9,7 @@
 **
 **   tube74 stream SCENE --device hpgl|ebb|helios [--usb VID:PID] [--repeat N]
 **                 [--resume FILE] [--save FILE] [--pps N] [--paper a4|a3|letter|WxH]
-**                 [--set NAME=VALUE]... [--settings] [--progress|--no-progress]
+**                 [--set NAME=VALUE]... [--settings] [--force] [--progress|--no-progress]
 **                 [render's options]
 **   tube74 devices [PROFILE]
 **
@@ -100,6 +100,7 @@ static int stream_opt(void *ctx, int argc, char **argv, int *k, struct t74_error
   else if (!strcmp(o, "--progress")) a->progress = 1;
   else if (!strcmp(o, "--no-progress")) a->progress = 0;
   else if (!strcmp(o, "--settings")) a->settings = 1;
+  else if (!strcmp(o, "--force")) return add_set(a, "force=1", err);  /* hpgl: see --help */
   else if (!strcmp(o, "--set")) return add_set(a, argv[++*k], err);
   else if (!strcmp(o, "--paper")) return paper(a, argv[++*k], err) < 0 ? -1 : 1;
   else if (!strcmp(o, "--repeat")) {
@@ -132,6 +133,8 @@ static void stream_usage(FILE *f)
     "                          file, else SCENE-NAME.PROFILE.resume here)\n"
     "  --pps N                 helios: points per second (7..65535)\n"
     "  --paper a4|a3|letter|WxH  hpgl, ebb: landscape sheet in mm, 10 mm margins\n"
+    "  --force                 hpgl: drive a printer-class device whose device id does not\n"
+    "                          declare HP-GL\n"
     "  --set NAME=VALUE        any profile setting; --settings lists them\n"
     "  --progress, --no-progress  progress line on stderr (default: when it is a terminal)\n");
 }

@@ -100,6 +100,7 @@ void usb_link_close(struct usb_link *l);
 ** direction (in = 1: device to host), or -1. */
 int usb_link_endpoint(const struct usb_link *l, enum usb_type type, int in);
 int usb_link_interface(const struct usb_link *l);
+int usb_link_alt(const struct usb_link *l);       /* its alternate setting */
 void usb_link_ids(const struct usb_link *l, uint16_t *vid, uint16_t *pid);
 int usb_link_gone(const struct usb_link *l);      /* the device vanished */
 /* The stream's stop flag (set by Ctrl-C / SIGTERM / SIGHUP): profiles check it in their
