@@ -13,9 +13,10 @@
 **                 [render's options]
 **   tube74 devices [PROFILE]
 **
-** Ctrl-C: the SIGINT handler only sets a flag (below); the sink sees it at the next dot,
-** the profile leaves the device safe (pen up, laser blanked) and the resume file is
-** written. Exit statuses: those of CONTRACT.md; a device failure or Ctrl-C is 4, except
+** Ctrl-C, SIGTERM, SIGHUP: the handler only sets a flag (below); the sink sees it at the
+** next dot and the profiles in their waits, the profile leaves the device safe (laser
+** stopped and shutter closed; pen raised with its wait, carriage home, motors off) and the
+** resume file is written. Exit statuses: those of CONTRACT.md; a device failure or Ctrl-C is 4, except
 ** that Ctrl-C ends `--repeat 0` (until stopped) normally, with 0.
 */
 #include <errno.h>

@@ -366,11 +366,11 @@ static void test_vanish_queued_not_acked(void **state)
   free(first.xy);
 }
 
-/* SIGTERM while plotting: the pen is raised with its wait, the carriage goes home, the
-** motors are turned off; exit 4 with a resume file from which the picture completes. */
-static void test_sigterm_pen_up_home_motors_off(void **state)
+/* A signal while plotting (SIGTERM; Ctrl-C is SIGINT): the pen is raised with its wait, the
+** carriage goes home, the motors are turned off; exit 4 with a resume file from which the
+** picture completes (resume: checked for SIGTERM). */
+static void signalled(struct fixture *fx, int sig, int resume)
 {
-  struct fixture *fx = F(state);
   reset(fx, 1);
   char *save = g_strdup_printf("%s/t.resume", fx->dir);
   unlink(save);
@@ -388,7 +388,7 @@ static void test_sigterm_pen_up_home_motors_off(void **state)
     if (got >= 60) break;
     usb_sleep_ms(10);
   }
-  kill(pid, SIGTERM);
+  kill(pid, sig);
   int wst;
   waitpid(pid, &wst, 0);
   assert_true(WIFEXITED(wst));
@@ -406,16 +406,28 @@ static void test_sigterm_pen_up_home_motors_off(void **state)
   assert_true(bd_X(&b) == 0 && bd_Y(&b) == 0);  /* home */
   assert_false(b.motors_on);                    /* motors off */
   assert_true(g_file_test(save, G_FILE_TEST_EXISTS));
-  reset(fx, 1);
-  char *argv2[] = { (char *)mock_tube74(), "stream", MICRO, "--device", "ebb", "--resume", save, NULL };
-  assert_int_equal(mock_run(argv2, NULL), 0);
-  finish(fx);
-  struct dots second = { 0, 0, NULL };
-  copy_drawn(fx, &second);
-  assert_true(dots_cover(&first, &second, &fx->small));
+  if (resume) {
+    reset(fx, 1);
+    char *argv2[] = { (char *)mock_tube74(), "stream", MICRO, "--device", "ebb", "--resume", save, NULL };
+    assert_int_equal(mock_run(argv2, NULL), 0);
+    finish(fx);
+    struct dots second = { 0, 0, NULL };
+    copy_drawn(fx, &second);
+    assert_true(dots_cover(&first, &second, &fx->small));
+    free(second.xy);
+  }
   free(first.xy);
-  free(second.xy);
   g_free(save);
+}
+
+static void test_sigterm_pen_up_home_motors_off(void **state)
+{
+  signalled(F(state), SIGTERM, 1);
+}
+
+static void test_ctrl_c_pen_up_home_motors_off(void **state)
+{
+  signalled(F(state), SIGINT, 0);
 }
 
 static int fixture_start(struct fixture *fx)
@@ -456,6 +468,7 @@ int main(int argc, char **argv)
     cmocka_unit_test_prestate(test_garbage_no_homing_then_resume, fx),
     cmocka_unit_test_prestate(test_vanish_queued_not_acked, fx),
     cmocka_unit_test_prestate(test_sigterm_pen_up_home_motors_off, fx),
+    cmocka_unit_test_prestate(test_ctrl_c_pen_up_home_motors_off, fx),
   };
   rc = cmocka_run_group_tests(tests, NULL, NULL);
   mock_end(&fx->m, &fx->ref, fx->dir);     /* first: the device thread stops */
