@@ -233,9 +233,9 @@ static void ran(struct ebb *e, int n)
   for (int k = 0; k < n; k++)
     for (int d = 0; d < e->cmd[k].n; d++) e->ack.fn(e->ack.ctx, &e->pend[e->cmd[k].first + d]);
   int shift = n < e->ncmd ? e->cmd[n].first : e->npend;
-  memmove(e->pend, e->pend + shift, sizeof *e->pend * (size_t)(e->npend - shift));
+  if (e->npend > shift) memmove(e->pend, e->pend + shift, sizeof *e->pend * (size_t)(e->npend - shift));
   e->npend -= shift;
-  memmove(e->cmd, e->cmd + n, sizeof *e->cmd * (size_t)(e->ncmd - n));
+  if (e->ncmd > n) memmove(e->cmd, e->cmd + n, sizeof *e->cmd * (size_t)(e->ncmd - n));
   e->ncmd -= n;
   e->nsent -= n;
   for (int k = 0; k < e->ncmd; k++) e->cmd[k].first -= shift;

@@ -268,7 +268,7 @@ static gboolean mock_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gp
         unsigned also = m->probe_also[i] | 1u << i;
         for (int k = 0; k < 4; k++)
           if ((also >> k & 1) && !m->claimed[k] && !m->drv[k][0])
-            snprintf(m->drv[k], sizeof m->drv[k], "%s", m->probe[i]);
+            memcpy(m->drv[k], m->probe[i], sizeof m->drv[k]);
         m->attaches++;
       }                                         /* no driver for it: nothing binds, 0 */
     } else { rc = -1; e = ENOTTY; }
