@@ -379,8 +379,9 @@ static void test_stale_status_drained(void **state)
   assert_int_equal(early, 0);
 }
 
-/* Slow frames (250 points at 2,000 points/s: 125 ms each) with a status margin of 20 ms:
-** the wait for a free buffer is derived from the frames the DAC holds, not a fixed time. */
+/* Slow frames (250 points at 1,000 points/s: 250 ms each) with a status margin of 60 ms:
+** from the third frame on the DAC is ready only after about 250 ms; the wait for a free
+** buffer is derived from the frames the DAC holds, not a fixed time. */
 static void test_status_timeout_from_frames(void **state)
 {
   struct fixture *fx = F(state);
@@ -389,7 +390,7 @@ static void test_status_timeout_from_frames(void **state)
   fx->d.paced = 1;
   mock_unlock(&fx->m);
   struct t74_error err = { T74_OK, "" };
-  const char *sets[] = { "pps=2000", "frame_points=250", "status_margin_ms=20", NULL };
+  const char *sets[] = { "pps=1000", "frame_points=250", "status_margin_ms=60", NULL };
   int st = stream_lib_n(fx, sets, 1, 900, &err);
   if (st) fprintf(stderr, "%s\n", err.msg);
   assert_int_equal(st, T74_OK);

@@ -318,7 +318,8 @@ static int ebb_drain(struct ebb *e, struct t74_error *err)
     if (usb_now() > t_end)
       return t74_fail(err, T74_EIO, "ebb: the board is still moving long after its commands "
                       "should have run");
-    if (usb_link_stopped(e->l)) return T74_OK;  /* stopping: close() takes over */
+    if (usb_link_stopped(e->l))                 /* close() takes over; the rest is resumable */
+      return t74_fail(err, T74_EIO, "ebb: stopped while the board was still drawing");
     usb_sleep_ms(e->poll_ms);
   }
   return T74_OK;
