@@ -298,8 +298,10 @@ static void test_library_exact(void **state)
 ** have arrived; its exit status (-1: did not exit). */
 static int binary_signalled(struct fixture *fx, int sig, int frames, const char *const *extra)
 {
-  char *argv[16] = { (char *)mock_tube74(), "stream", SCENE, "--device", "helios", "--repeat", "0" };
-  int a = 7;
+  char *save = g_strdup_printf("%s/sig.resume", fx->dir);   /* not in the working folder */
+  char *argv[16] = { (char *)mock_tube74(), "stream", SCENE, "--device", "helios", "--repeat", "0",
+                     "--save", save };
+  int a = 9;
   for (int k = 0; extra && extra[k] && a < 15; k++) argv[a++] = (char *)extra[k];
   argv[a] = NULL;
   pid_t pid = fork();
@@ -318,6 +320,8 @@ static int binary_signalled(struct fixture *fx, int sig, int frames, const char 
   kill(pid, sig);
   int wst;
   waitpid(pid, &wst, 0);
+  unlink(save);
+  g_free(save);
   return WIFEXITED(wst) ? WEXITSTATUS(wst) : -1;
 }
 
