@@ -4,7 +4,8 @@
 ** This file contains code to find, open and claim a vector device and to move bytes to and
 ** from it with libusb-1.0's asynchronous API, applying one fault policy everywhere: a
 ** stall is cleared (libusb_clear_halt) and the rest of the transfer sent again; a timeout
-** or a transient error is retried with doubling backoff and then fails; a vanished device
+** or a transient error is retried with doubling backoff and then fails, except that a
+** timeout after which bytes had moved starts the count again (a slow device); a vanished device
 ** (LIBUSB_ERROR_NO_DEVICE / LIBUSB_TRANSFER_NO_DEVICE) fails at once. Bytes the device took
 ** before a failure are always reported (*done), because profiles acknowledge exactly those.
 **
