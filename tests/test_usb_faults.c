@@ -210,7 +210,13 @@ static void test_ctrl_c_then_resume(void **state)
     execv(argv[0], argv);
     _exit(127);
   }
-  usb_sleep_ms(400);
+  for (int waited = 0; waited < 2000; waited++) {   /* until it draws: the machine may be busy */
+    mock_lock(&fx->m);
+    int got = fx->p.drawn.n;
+    mock_unlock(&fx->m);
+    if (got >= 50) break;
+    usb_sleep_ms(10);
+  }
   kill(pid, SIGINT);
   int wst;
   waitpid(pid, &wst, 0);
