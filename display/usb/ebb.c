@@ -402,7 +402,8 @@ static int ebb_move(struct ebb *e, long X, long Y, int down, const struct usb_po
   int na = (int)ceil(ta / e->slice - 1e-9);
   if (na < 1) na = 1;
   int nc = tc > 1e-9 ? (int)ceil(tc / (20 * e->slice) - 1e-9) : 0;
-  if (2 * na + nc > EB_MAX_SM) na = (EB_MAX_SM - nc) / 2;
+  if (nc > EB_MAX_SM / 2) nc = EB_MAX_SM / 2;   /* a very long cruise: longer pieces */
+  if (2 * na + nc > EB_MAX_SM) na = (EB_MAX_SM - nc) / 2;   /* >= 16: coarser slices */
   tb[nb++] = 0;
   for (int k = 1; k <= na; k++) tb[nb++] = ta * k / na;
   for (int k = 1; k <= nc; k++) tb[nb++] = ta + tc * k / nc;
