@@ -5,11 +5,17 @@
 #   make test     build and run every test (unit, hard cases, OSMesa cross-check, invariance)
 #   make asan     the same test suite under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make bench    measured figures (host time, hitac10_seconds, growth 10..10,000 faces)
+#   make fuzz     every libFuzzer target (tools/fuzz.sh) for FUZZ_SECONDS each, one at a time
+#   make install  ./tube74 to $(DESTDIR)$(PREFIX)/bin and the man page tube74.1 to
+#                 $(DESTDIR)$(PREFIX)/share/man/man1 (PREFIX defaults to /usr/local);
+#                 make uninstall removes them
 #
 # Missing Debian packages are installed when run as root, else the exact apt-get line
 # is printed (see tools/deps.sh).
 
 CC      ?= cc
+PREFIX  ?= /usr/local
+DESTDIR ?=
 BUILD   ?= build
 PROG    ?= tube74
 OPT     ?= -O2 -g
@@ -18,6 +24,8 @@ WARN    := -std=c11 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing
 CPPFLAGS += -D_POSIX_C_SOURCE=200809L -I.
 
 PKGS     := libpng libusb-1.0 sdl2
+# giflib (libgif-dev) has no pkg-config file
+NOPCLIBS := -lgif
 TESTPKGS := cmocka osmesa glu umockdev-1.0 gio-2.0
 
 LIBDIRS := emu render patterns display display/usb
@@ -35,11 +43,12 @@ REFOBJ  := $(REFSRC:%.c=$(BUILD)/%.o)
 DEPS_STAMP := $(BUILD)/.deps-ok
 
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
-PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
+PKG_LIBS   = $(shell pkg-config --libs $(PKGS)) $(NOPCLIBS)
 TEST_CFLAGS = $(shell pkg-config --cflags $(TESTPKGS))
 TEST_LIBS   = $(shell pkg-config --libs $(TESTPKGS))
 
-.PHONY: all run test asan bench deps clean
+.PHONY: all run test asan bench fuzz deps clean install uninstall
+FUZZ_SECONDS ?= 120
 all: $(PROG)
 
 $(DEPS_STAMP): tools/deps.sh
@@ -81,6 +90,15 @@ asan:
 bench: $(PROG)
 	@sh tools/bench.sh
 
+fuzz:
+	@sh tools/fuzz.sh $(FUZZ_SECONDS)
+
+install: $(PROG)
+	sh tools/install.sh "$(DESTDIR)" "$(PREFIX)" "$(PROG)" tube74.1
+
+uninstall:
+	rm -f "$(DESTDIR)$(PREFIX)/bin/tube74" "$(DESTDIR)$(PREFIX)/share/man/man1/tube74.1"
+
 clean:
 	rm -rf build build-asan tube74 street.png street.json
 
@@ -93,3 +111,14 @@ clean:
 $(BUILD)/bench/refbench: tools/refbench.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -o $@ $< $(REFOBJ) $(LIB) $(TEST_LIBS) $(PKG_LIBS) -lm
+
+# the differential soak (tests/soak.c): new hard scenes against the exact reference until
+# SOAK_SECONDS are up; failing scenes are saved as build/soak/fail-*.s74
+SOAK_SECONDS ?= 60
+.PHONY: soak
+$(BUILD)/soak: tests/soak.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -o $@ $< $(REFOBJ) $(LIB) $(TEST_LIBS) $(PKG_LIBS) -lm
+
+soak: $(BUILD)/soak
+	$(BUILD)/soak --seconds $(SOAK_SECONDS) --out $(BUILD)/soak

@@ -15,10 +15,17 @@
 ** Keys: space pause, + / - double / halve the speed, e erase (with its flash),
 ** r erase and redraw the whole picture, q or Esc quit.
 **
-** The movie: Debian 12's libpng 1.6.39 has no APNG (png_set_acTL is absent from png.h),
-** so --movie FILE writes FILE-0001.png, FILE-0002.png, ... (FILE without a trailing
-** ".png"): one frame every --speed / --fps seconds of emulated time, the last frame the
-** settled final picture (after the last dot's flash).
+** The movie, chosen by the name's extension: --movie FILE.gif writes one animated GIF
+** (display/gif.h, giflib) that any browser plays; any other name a PNG sequence FILE-0001.png,
+** FILE-0002.png, ... (FILE without a trailing ".png"; Debian 12's libpng 1.6.39 has no
+** APNG: png_set_acTL is absent from png.h). Either way one frame every --speed / --fps
+** seconds of emulated time, the last frame the settled final picture (after the last
+** dot's flash). The GIF's palette is one ramp of the look's colour (look_colour) at
+** PLAY_GIF_LEVELS intensities from 0 to PLAY_GIF_IMAX: the face is one phosphor at many
+** brightnesses, so each pixel takes the nearest level (steps of 0.008 of the bright spot;
+** brighter light, only in the writing flash and the erase, is shown at PLAY_GIF_IMAX,
+** already white with bloom). Each frame is shown 1/--fps s; the last one 3 s longer, so a
+** looping viewer rests on the finished picture.
 */
 #define SDL_MAIN_HANDLED
 #include <SDL.h>
@@ -33,12 +40,16 @@
 #include "cli/commands.h"
 #include "cli/pipeline.h"
 #include "cli/timing.h"
+#include "display/gif.h"
 #include "display/look.h"
 #include "display/sink.h"
 #include "emu/status.h"
 
 #define PLAY_STRIP_H   28       /* pixels of the clock strip under the face */
 #define PLAY_MAX_FRAMES_DEF 1000 /* default cap on --movie frames */
+#define PLAY_GIF_LEVELS 256     /* GIF palette: intensity levels (the whole palette) */
+#define PLAY_GIF_IMAX   2.0     /* intensity of the top level (1.0 = the bright spot) */
+#define PLAY_GIF_HOLD_CS 300    /* the last frame's extra time, hundredths of a second */
 
 struct play_opts {
   struct timing *tm;            /* --scale, --look, ... go to the timing options */
@@ -56,7 +67,8 @@ static void play_usage(FILE *f)
   fprintf(f,
     "usage: tube74 play SCENE [--speed X] [--movie FILE] [render's options]\n"
     "  --speed X              emulated seconds per wall second (default 1: 1974 speed)\n"
-    "  --movie FILE           write the build-up as FILE-0001.png ... (no window needed)\n"
+    "  --movie FILE           write the build-up (no window needed): FILE.gif as an\n"
+    "                         animated GIF, any other name as FILE-0001.png ...\n"
     "  --fps N                movie frames per second of playback (default 10)\n"
     "  --max-frames N         at most N movie frames (default 1000; longer plays are sampled)\n"
     "  --quit-after S         close the window S seconds after the picture is complete\n"
@@ -108,16 +120,83 @@ static int play_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *
 
 /* ---- the movie --------------------------------------------------------------------- */
 
+/* The name of movie frame i (1-based) into name (base + 32 bytes). */
+static void frame_name(char *name, const struct play_opts *o, size_t base, long i)
+{
+  snprintf(name, base + 32, "%.*s-%04ld.png", (int)base, o->movie, i);
+}
+
+/* The movie's name without a trailing ".png". */
+static size_t movie_base(const struct play_opts *o)
+{
+  size_t base = strlen(o->movie);
+  if (base > 4 && !strcmp(o->movie + base - 4, ".png")) base -= 4;
+  return base;
+}
+
+/* The frames join the job's set (display/outfile.h): frame 1 is opened before the job
+** (first, so its folder is checked before any work), the rest once their number is known;
+** all are committed with the job's other outputs by the caller. */
+
+/* The name ends in ".gif" (any case). */
+static bool is_gif(const char *name)
+{
+  size_t n = strlen(name);
+  if (n < 4) return false;
+  const char *e = name + n - 4;
+  return e[0] == '.' && (e[1] | 0x20) == 'g' && (e[2] | 0x20) == 'i' && (e[3] | 0x20) == 'f';
+}
+
+/* The animated GIF: frames at times t_i, each the look's intensities quantised to the
+** palette's ramp. */
+static int write_gif(const struct look *l, const struct play_opts *o, int scale, long n,
+                     double dt, double end, struct outfile *of, struct t74_error *err)
+{
+  int W = TUBE_W * scale, H = TUBE_H * scale;
+  size_t npx = (size_t)W * (size_t)H;
+  uint8_t pal[PLAY_GIF_LEVELS][3], rgba[4];
+  for (int k = 0; k < PLAY_GIF_LEVELS; k++) {
+    look_colour(look_get_params(l), (float)(k * PLAY_GIF_IMAX / (PLAY_GIF_LEVELS - 1)), rgba);
+    memcpy(pal[k], rgba, 3);
+  }
+  float *I = malloc(npx * sizeof *I);
+  uint8_t *idx = malloc(npx);
+  struct gif *g = NULL;
+  int st;
+  if (!I || !idx) { outfile_abort(of); st = t74_fail(err, T74_EIO, "out of host memory"); }
+  else st = gif_open_to(&g, of, o->movie, W, H, (const uint8_t (*)[3])pal, err);
+  int delay = (int)lround(100.0 / o->fps);
+  for (long i = 0; i < n && st == T74_OK; i++) {
+    double t = i == n - 1 ? end : (double)i * dt;
+    if (t > end) t = end;
+    st = look_intensity(l, t, scale, I);
+    if (st != T74_OK) { t74_fail(err, st, "%s: cannot render frame %ld", o->movie, i + 1); break; }
+    for (size_t p = 0; p < npx; p++) {
+      double q = I[p] / PLAY_GIF_IMAX * (PLAY_GIF_LEVELS - 1);
+      idx[p] = (uint8_t)(q <= 0 ? 0 : q >= PLAY_GIF_LEVELS - 1 ? PLAY_GIF_LEVELS - 1 : lrint(q));
+    }
+    st = gif_frame(g, idx, i == n - 1 ? delay + PLAY_GIF_HOLD_CS : delay, err);
+  }
+  if (st == T74_OK) { st = gif_commit(g, err); g = NULL; }
+  if (g) gif_abort(g);
+  free(I);
+  free(idx);
+  return st;
+}
+
 static int write_movie(const struct look *l, const struct play_opts *o, int scale,
-                       struct t74_error *err)
+                       struct outset *set, struct outfile *first, long *frames,
+                       double *frame_dt, struct t74_error *err)
 {
   double end = look_settled(l);                 /* the final picture, flash faded */
   double dt = o->speed / o->fps;                /* emulated seconds per frame */
   long n = (long)ceil(end / dt) + 1;            /* frames at 0, dt, ..., then `end` */
   if (n < 2) n = 2;
   if (n > o->max_frames) { n = o->max_frames; dt = end / (double)(n - 1); }
-  size_t base = strlen(o->movie);
-  if (base > 4 && !strcmp(o->movie + base - 4, ".png")) base -= 4;
+  *frames = n;
+  *frame_dt = dt;
+  if (is_gif(o->movie)) return write_gif(l, o, scale, n, dt, end, first, err);
+  size_t base = movie_base(o);
   char *name = malloc(base + 32);
   uint8_t *rgba = malloc((size_t)TUBE_W * scale * (size_t)TUBE_H * scale * 4);
   if (!name || !rgba) { free(name); free(rgba); return t74_fail(err, T74_EIO, "out of host memory"); }
@@ -125,15 +204,15 @@ static int write_movie(const struct look *l, const struct play_opts *o, int scal
   for (long i = 0; i < n && st == T74_OK; i++) {
     double t = i == n - 1 ? end : (double)i * dt;
     if (t > end) t = end;
-    snprintf(name, base + 32, "%.*s-%04ld.png", (int)base, o->movie, i + 1);
+    frame_name(name, o, base, i + 1);
+    struct outfile *of = first;
+    if (i > 0 && (st = outset_open(set, name, 0, &of, err)) != T74_OK) break;
     st = look_render(l, t, scale, rgba);
-    if (st != T74_OK) { t74_fail(err, st, "%s: cannot render the frame", name); break; }
-    st = look_png_rgba(rgba, TUBE_W * scale, TUBE_H * scale, name, err);
+    if (st != T74_OK) { outfile_abort(of); t74_fail(err, st, "%s: cannot render the frame", name); break; }
+    st = look_png_rgba_to(rgba, TUBE_W * scale, TUBE_H * scale, of, err);
   }
-  if (st == T74_OK)
-    printf("play: wrote %ld frames %.*s-0001.png .. %.*s-%04ld.png (%.3f s of 1974 time each; "
-           "PNG sequence: this libpng has no APNG)\n",
-           n, (int)base, o->movie, (int)base, o->movie, n, dt);
+  *frames = n;
+  *frame_dt = dt;
   free(name);
   free(rgba);
   return st;
@@ -373,6 +452,23 @@ int cmd_play(int argc, char **argv, struct t74_error *err)
   st = timing_prepare(&tm, &j, err);
   struct job_hooks h;
   timing_hooks(&tm, &h);
+  struct outset *set = NULL;    /* with --movie: the frames and the job's outputs, one set */
+  struct outfile *first = NULL; /* frame 1 (or the GIF), opened before the job */
+  if (st == T74_OK && o.movie && (st = outset_new(&set, err)) == T74_OK) {
+    size_t base = movie_base(&o);
+    char *name = malloc(base + 32);
+    if (!name) st = t74_fail(err, T74_EIO, "out of host memory");
+    else if (is_gif(o.movie)) {
+      st = outset_open(set, o.movie, 0, &first, err);
+      free(name);
+    }
+    else {
+      frame_name(name, &o, base, 1);
+      st = outset_open(set, name, 0, &first, err);
+      free(name);
+    }
+    h.outs = set;
+  }
   struct job_result res;
   if (st == T74_OK) st = job_run(&j, &h, &res, err);
   struct look *l = NULL;
@@ -393,8 +489,22 @@ int cmd_play(int argc, char **argv, struct t74_error *err)
             "(computing %.3f s)\n", look_count(l), timing_tube_seconds(&tm),
             timing_total_seconds(&tm), res.hitac10_seconds);
   int scale = tm.scale_given ? tm.scale : 2;
-  if (st == T74_OK && o.movie) st = write_movie(l, &o, scale, err);
-  else if (st == T74_OK) st = run_window(l, tm.look, &o, scale, j.scene, err);
+  if (st == T74_OK && o.movie) {
+    long n = 0;
+    double dt = 0;
+    st = write_movie(l, &o, scale, set, first, &n, &dt, err);
+    if (st == T74_OK) st = outset_commit(set, err);
+    size_t base = movie_base(&o);
+    if (st == T74_OK && is_gif(o.movie))  /* told once every frame is in place */
+      printf("play: wrote %s: %ld frames (%.3f s of 1974 time each)\n", o.movie, n, dt);
+    else if (st == T74_OK)
+      printf("play: wrote %ld frames %.*s-0001.png .. %.*s-%04ld.png (%.3f s of 1974 time "
+             "each; PNG sequence: this libpng has no APNG)\n",
+             n, (int)base, o.movie, (int)base, o.movie, n, dt);
+  } else if (st == T74_OK) {
+    st = run_window(l, tm.look, &o, scale, j.scene, err);
+  }
+  outset_free(set);             /* whatever was not committed is discarded */
   look_free(l);
   timing_free(&tm);
   return st;

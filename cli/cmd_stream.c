@@ -168,6 +168,11 @@ static int scene_hash(const struct job *j, uint64_t *out, struct t74_error *err)
            j->sopts.view[1], j->sopts.view[2], j->sopts.has_window, j->sopts.window[0],
            j->sopts.window[1], j->sopts.window[2], j->sopts.window[3],
            j->sopts.input ? j->sopts.input : "");
+  if (j->sopts.has_turn) {                /* only when given: older hashes stay valid */
+    size_t used = strlen(opts);
+    snprintf(opts + used, sizeof opts - used, "|turn=%.17g,%.17g", j->sopts.turn[0],
+             j->sopts.turn[1]);
+  }
   *out = usb_hash(h, opts, strlen(opts));
   return T74_OK;
 }

@@ -11,8 +11,10 @@
 ** Options: the FIRST -o names the Tek output (`-` or no -o: stdout); the command's option
 ** function sees it before render's parser does. A second -o goes on to render: the PNG.
 ** Everything else is render's (job_usage). With -o FILE the file appears only when the
-** whole job succeeded (display/outfile.h); on stdout a failed job has sent either nothing
-** (it failed before the first dot) or a partial picture followed by US.
+** whole job succeeded, together with the job's other outputs (one set, display/outfile.h;
+** a FIFO or a terminal named by -o gets the bytes as they come); on stdout a failed job
+** has sent either nothing (it failed before the first dot) or a partial picture followed
+** by US, and no other output may be `-`.
 */
 #include "cli/commands.h"
 
@@ -58,16 +60,27 @@ int cmd_tek(int argc, char **argv, struct t74_error *err)
   struct job j;
   int st = job_parse(argc, argv, 2, &j, tek_option, &c, err);
   if (st != T74_OK) return st;
-  struct tek_enc *e;
+  /* the Tek output is one of the job's outputs: checked with the others before any work,
+     committed with them; on stdout (`-` or no -o) it streams as the dots come */
+  struct outset *set;
+  if (outset_new(&set, err) != T74_OK) return err->status;
+  struct tek_enc *e = NULL;
+  struct outfile *of;
   const char *path = c.out && strcmp(c.out, "-") != 0 ? c.out : NULL;
-  st = tek_enc_open(&e, path, err);
-  if (st != T74_OK) return st;
+  if (!path) st = outset_reserve_stdout(set, err);
+  if (st == T74_OK && !path) st = tek_enc_open(&e, NULL, err);
+  if (st == T74_OK && path && (st = outset_open(set, path, OUTFILE_STREAM, &of, err)) == T74_OK)
+    st = tek_enc_open_to(&e, of, err);
+  if (st != T74_OK) { outset_free(set); return st; }
   struct job_hooks h;
   memset(&h, 0, sizeof h);
   h.extra = tek_enc_sink(e);
   h.stats = tek_stats;
   h.stats_ctx = e;
+  h.outs = set;
   st = job_run(&j, &h, NULL, err);
+  if (st == T74_OK) st = outset_commit(set, err);
   tek_enc_free(e);               /* aborts the output if the job never ended it */
+  outset_free(set);
   return st;
 }

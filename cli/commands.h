@@ -24,4 +24,12 @@ int cmd_stream(int argc, char **argv, struct t74_error *err);
 /* `tube74 devices [PROFILE]`: connected USB devices that match a profile (cli/cmd_stream.c). */
 int cmd_devices(int argc, char **argv, struct t74_error *err);
 
+/* `tube74 bench SUBCOMMAND [--out DIR]`: measured figures; dispatches on the subcommand
+** and refuses unknown ones (cli/cmd_bench.c; this version: accuracy). */
+int cmd_bench(int argc, char **argv, struct t74_error *err);
+
+/* `tube74 teach SCENE [-o DIR] [--line J]`: the paper's figures step by step as one HTML
+   page (cli/cmd_teach.c). */
+int cmd_teach(int argc, char **argv, struct t74_error *err);
+
 #endif

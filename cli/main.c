@@ -17,6 +17,7 @@
 #include "cli/pipeline.h"
 #include "cli/commands.h"
 #include "cli/timing.h"
+#include "cli/version.h"
 
 static void usage(FILE *f)
 {
@@ -27,8 +28,11 @@ static void usage(FILE *f)
     "                     [--resume FILE] [options]   the dots to vector hardware over USB\n"
     "       tube74 devices [PROFILE]          connected USB devices that match a profile\n"
     "       tube74 play SCENE [--speed X] [--movie FILE] [options]   watch the picture build up\n"
+    "       tube74 teach SCENE [-o DIR] [--line J] [options]   the paper's figures, step by\n"
+    "                     step, as one HTML page\n"
     "       tube74 params                     the HITAC-10 cost model's constants and sources\n"
-    "       tube74 --help\n");
+    "       tube74 bench accuracy [--out DIR] [--runs N]   what anti-aliasing costs in time\n"
+    "       tube74 --help | --version\n");
   job_usage(f);
   timing_usage(f);
 }
@@ -39,6 +43,10 @@ int main(int argc, char **argv)
   if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
     usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? T74_EINPUT : 0;
+  }
+  if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V")) {
+    printf("tube74 " TUBE74_VERSION "\n");
+    return 0;
   }
   int st;
   if (!strcmp(argv[1], "render")) {
@@ -64,6 +72,10 @@ int main(int argc, char **argv)
     st = cmd_devices(argc, argv, &err);
   } else if (!strcmp(argv[1], "play")) {
     st = cmd_play(argc, argv, &err);
+  } else if (!strcmp(argv[1], "bench")) {
+    st = cmd_bench(argc, argv, &err);
+  } else if (!strcmp(argv[1], "teach")) {
+    st = cmd_teach(argc, argv, &err);
   } else {
     usage(stderr);
     st = t74_fail(&err, T74_EINPUT, "tube74: unknown command `%s`", argv[1]);

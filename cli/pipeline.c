@@ -4,8 +4,9 @@
 ** This file contains code to read render's options and run the pipeline of paper 003
 ** Fig. 1 point by point: each point, as soon as its visible face is known, becomes a
 ** halftone cell whose dots go to the sinks in the order the 1974 program displayed them.
-** Outputs are only written once everything succeeded, each atomically, so a failure
-** leaves no file created or changed.
+** Outputs are one set (display/outfile.h): all opened and checked before the work starts,
+** written when everything succeeded and committed together, so a failure leaves no file
+** created or changed.
 **
 ** A background picture goes the 1974 way (patterns/scanner.h): scanned on the drum,
 ** converted to halftone levels, packed 4 to a word onto the modelled disk, and read back a
@@ -43,6 +44,7 @@
 #include "render/fx.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "render/turn.h"
 
 #define DEFAULT_CORE_WORDS 16384u       /* HITAC-10 of paper 003: 16 kW x 16 bit */
 
@@ -79,6 +81,7 @@ void job_usage(FILE *f)
     "  --dump KIND=FILE       ids | grey | tube | points | tables | core (repeatable)\n"
     "  --view X0 Y0 Z0        eye for .obj/.off imports\n"
     "  --window XL YB XR YT   window for .obj/.off imports\n"
+    "  --turn AZ,EL           turn an .obj/.off model (degrees; default 30,20)\n"
     "  --input s74|obj|off|tek  input format (default: a Tek stream by its first byte,\n"
     "                         else by extension)\n"
     "  --hitac NAME=VALUE     change a cost-model constant (see `tube74 params`)\n"
@@ -156,6 +159,11 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
       if (o->sopts.window[0] >= o->sopts.window[2] || o->sopts.window[1] >= o->sopts.window[3])
         return bad_usage(err, "--window needs XL < XR and YB < YT", NULL);
       o->sopts.has_window = true;
+    } else if (!strcmp(a, "--turn")) {
+      NEED(1);
+      if (turn_parse(argv[++k], &o->sopts.turn[0], &o->sopts.turn[1]))
+        return bad_usage(err, "--turn takes AZ,EL in degrees (e.g. 30,20), got", argv[k]);
+      o->sopts.has_turn = true;
     } else if (!strcmp(a, "--input")) {
       NEED(1);
       o->sopts.input = argv[++k];
@@ -271,10 +279,52 @@ static double now_seconds(void)
   return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-static int copy_to_outfile(FILE *from, const char *path, struct t74_error *err)
+/* The job's outputs, opened into its set before any work (display/outfile.h). */
+struct job_outs {
+  struct outset *set;               /* the set they belong to */
+  bool own;                         /* the job made the set: it commits and frees it */
+  struct outfile *png;              /* -o, or NULL */
+  struct outfile *stats;            /* --stats, or NULL */
+  struct outfile *dump[JOB_MAX_DUMPS];  /* --dump KIND=FILE, in the order given */
+};
+
+/* Open every output of the job, then the hooks' own, into one set, and refuse any that is
+** one of the inputs (the scene; the background when there is one). Before any work. */
+static int outs_open(const struct job *o, const struct job_hooks *h, const char *background,
+                     struct job_outs *jo, struct t74_error *err)
 {
-  struct outfile *of;
-  if (outfile_open(&of, path, err) != T74_OK) return err->status;
+  memset(jo, 0, sizeof *jo);
+  if (h && h->outs) jo->set = h->outs;
+  else if (outset_new(&jo->set, err) != T74_OK) return err->status;
+  else jo->own = true;
+  if (o->png && outset_open(jo->set, o->png, 0, &jo->png, err) != T74_OK) return err->status;
+  for (int d = 0; d < o->ndump; d++)
+    if (outset_open(jo->set, o->dump_path[d], 0, &jo->dump[d], err) != T74_OK) return err->status;
+  if (o->stats && outset_open(jo->set, o->stats, 0, &jo->stats, err) != T74_OK) return err->status;
+  if (h && h->open_outputs && h->open_outputs(h->outputs_ctx, jo->set, err) != T74_OK)
+    return err->status ? err->status : T74_EIO;
+  if (outset_check_input(jo->set, o->scene, "scene", err) != T74_OK) return err->status;
+  if (background && outset_check_input(jo->set, background, "background", err) != T74_OK)
+    return err->status;
+  return T74_OK;
+}
+
+/* After a good run: publish the set when it is the job's own. */
+static int outs_commit(struct job_outs *jo, struct t74_error *err)
+{
+  return jo->own ? outset_commit(jo->set, err) : T74_OK;
+}
+
+/* Discard whatever was not committed (the job's own set only; a caller's is the caller's). */
+static void outs_free(struct job_outs *jo)
+{
+  if (jo->own) outset_free(jo->set);
+  jo->set = NULL;
+}
+
+static int copy_to_outfile(FILE *from, struct outfile *of, struct t74_error *err)
+{
+  const char *path = outfile_path(of);
   rewind(from);
   char buf[8192];
   size_t n;
@@ -287,10 +337,8 @@ static const char *const stage_names[RS_NSTAGE] = { "mapper", "segment", "priori
 
 static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
                        const struct tube *t, double host, const struct effects *eff,
-                       const struct fx_stats *fst, struct t74_error *err)
+                       const struct fx_stats *fst, struct outfile *of, struct t74_error *err)
 {
-  struct outfile *of;
-  if (outfile_open(&of, o->stats, err) != T74_OK) return err->status;
   struct cost total = { { 0 } };
   for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &r->cost[s]);
   cost_merge(&total, &p->display);
@@ -301,8 +349,9 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   char effbuf[512];
   effects_format(eff, effbuf, sizeof effbuf);
   outfile_printf(of, "{\n");
-  outfile_printf(of, "  \"scene\": \"%s\",\n", o->scene);
-  outfile_printf(of, "  \"faces_in\": %d,\n", r->faces_in);
+  outfile_printf(of, "  \"scene\": ");
+  outfile_json_string(of, o->scene);                   /* any path stays valid JSON */
+  outfile_printf(of, ",\n  \"faces_in\": %d,\n", r->faces_in);
   outfile_printf(of, "  \"faces_dropped\": %d,\n", r->map.dropped);
   outfile_printf(of, "  \"faces_after_split\": %" PRIu64 ",\n", alive);
   outfile_printf(of, "  \"concave_splits\": %d,\n", r->concave_splits);
@@ -324,7 +373,9 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
   outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
   outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
-  outfile_printf(of, "  \"effects\": \"%s\",\n", effbuf);
+  outfile_printf(of, "  \"effects\": ");
+  outfile_json_string(of, effbuf);
+  outfile_printf(of, ",\n");
   for (int k = 0; k < fst->n; k++) {
     if (fst->integer[k]) outfile_printf(of, "  \"%s\": %.0f,\n", fst->name[k], fst->value[k]);
     else outfile_printf(of, "  \"%s\": %.6f,\n", fst->name[k], fst->value[k]);
@@ -359,6 +410,8 @@ static int write_stats(const struct job *o, const struct render *r, const struct
 /* ---- Tektronix streams onto the tube ------------------------------------------------ */
 
 #define TEK_WARN_SHOWN 100              /* warnings printed; the rest are only counted */
+#define TEK_FILE_MAX ((size_t)256 << 20) /* largest Tek stream read (256 MiB; a full 4014
+                                           screen of point plot is under 1 MiB) */
 
 /* Is the job's input a Tek stream: --input tek, or (no --input) a first byte that is a Tek
 ** control code. A file that cannot be read is left to the scene reader to report. */
@@ -400,12 +453,13 @@ static void tek_writethrough(void *ctx, int x0, int y0, int x1, int y1)
 }
 
 static int write_tek_stats(const struct job *o, const struct job_hooks *h, const struct tube *t,
-                           const struct tek_report *rep, double host, struct t74_error *err)
+                           const struct tek_report *rep, double host, struct outfile *of,
+                           struct t74_error *err)
 {
-  struct outfile *of;
-  if (outfile_open(&of, o->stats, err) != T74_OK) return err->status;
   outfile_printf(of, "{\n");
-  outfile_printf(of, "  \"scene\": \"%s\",\n  \"input\": \"tek\",\n", o->scene);
+  outfile_printf(of, "  \"scene\": ");
+  outfile_json_string(of, o->scene);
+  outfile_printf(of, ",\n  \"input\": \"tek\",\n");
   /* the contract's renderer fields: no scene, nothing rendered */
   outfile_printf(of, "  \"faces_in\": 0,\n  \"faces_after_split\": 0,\n  \"concave_splits\": 0,\n"
                  "  \"intersection_splits\": 0,\n  \"priority_pairs_computed\": 0,\n"
@@ -438,12 +492,15 @@ static int run_tek(const struct job *o, const struct job_hooks *h, struct job_re
                       "the tube's dots (--dump tube, --dump points)", o->scene,
                       dump_names[o->dump_kind[d]]);
   double t0 = now_seconds();
+  struct job_outs jo;
+  int st = outs_open(o, h, NULL, &jo, err);
+  if (st != T74_OK) { outs_free(&jo); return st; }
   uint8_t *buf = NULL;
   size_t n = 0;
-  int st = file_read_all(o->scene, &buf, &n, err);
-  if (st != T74_OK) return st;
+  st = file_read_all(o->scene, TEK_FILE_MAX, &buf, &n, err);
+  if (st != T74_OK) { outs_free(&jo); return st; }
   struct tube *t = tube_new();
-  if (!t) { free(buf); return t74_fail(err, T74_EIO, "out of host memory"); }
+  if (!t) { free(buf); outs_free(&jo); return t74_fail(err, T74_EIO, "out of host memory"); }
   bool extra = h && h->extra.point;
   struct sink_tee tee;
   sink_tee_init(&tee);
@@ -475,14 +532,16 @@ static int run_tek(const struct job *o, const struct job_hooks *h, struct job_re
     res->points_lit = tube_count(t);
     res->W = res->H = res->cell = 0;
   }
-  if (o->png && (st = image_write_png(t, o->png, err)) != T74_OK) goto done;
+  if (jo.png && (st = image_write_png_to(t, jo.png, err)) != T74_OK) goto done;
   for (int d = 0; d < o->ndump; d++) {
-    st = o->dump_kind[d] == DUMP_TUBE ? image_write_pbm(t, o->dump_path[d], err)
-                                      : image_write_points(t, o->dump_path[d], err);
+    st = o->dump_kind[d] == DUMP_TUBE ? image_write_pbm_to(t, jo.dump[d], err)
+                                      : image_write_points_to(t, jo.dump[d], err);
     if (st != T74_OK) goto done;
   }
-  if (o->stats) st = write_tek_stats(o, h, t, &rep, host, err);
+  if (jo.stats && (st = write_tek_stats(o, h, t, &rep, host, jo.stats, err)) != T74_OK) goto done;
+  st = outs_commit(&jo, err);
 done:
+  outs_free(&jo);
   tube_free(t);
   return st;
 }
@@ -500,9 +559,11 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   struct tube *t = NULL;
   struct pic *bg = NULL;
   FILE *tables = NULL;
+  struct job_outs jo;
   int st;
   memset(&r, 0, sizeof r);
   memset(&p, 0, sizeof p);
+  memset(&jo, 0, sizeof jo);
 
   double t0 = now_seconds();
   st = scene_load(o->scene, &o->sopts, &s, err);
@@ -513,19 +574,27 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   else if (s->effects) st = effects_parse(s->effects, &eff, s->file, s->effects_line, err);
   else { effects_default(&eff); st = T74_OK; }
   if (st != T74_OK) goto done;
-  st = fx_check(&eff, o->effects ? "--effects" : s->file, o->effects ? 1 : s->effects_line, err);
-  if (st != T74_OK) goto done;
   p.cell = o->cell ? o->cell : eff.halftone;
   st = pat_find(eff.pattern[0] ? eff.pattern : NULL, p.cell, &p.pat);
   if (st != T74_OK) {
-    st = t74_fail(err, T74_EINPUT, "%s: unknown halftone pattern `%s`", s->file, eff.pattern);
+    /* the name came from the effects line (or --effects): point at it */
+    st = t74_fail(err, T74_EINPUT, "%s:%d: effects: unknown halftone pattern `%s` for the "
+                  "%dx%d cell", o->effects ? "--effects" : s->file,
+                  o->effects ? 1 : s->effects_line, eff.pattern, p.cell, p.cell);
     goto done;
   }
   p.W = pat_grid_w(p.cell);
   p.H = pat_grid_h(p.cell);
+  /* every output opened and checked before any work: all or nothing */
+  st = outs_open(o, h, s->background, &jo, err);
+  if (st != T74_OK) goto done;
   if (s->background) {
-    st = pic_load(s->background, &bg, err);
-    if (st != T74_OK) goto done;
+    struct t74_error pe = { T74_OK, "" };
+    st = pic_load(s->background, &bg, &pe);
+    if (st != T74_OK) {   /* the scene's line that named it, then the loader's reason */
+      st = t74_fail(err, st, "%s:%d: background: %s", s->file, s->background_line, pe.msg);
+      goto done;
+    }
     /* input time: the photograph through drum, A-D and packing onto the disk */
     st = scan_photo(bg, p.cell, &o->params, &p.scan, err);
     if (st != T74_OK) goto done;
@@ -576,30 +645,33 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     res->W = p.W; res->H = p.H; res->cell = p.cell;
   }
 
-  /* outputs, each atomic */
-  if (o->png && (st = image_write_png(t, o->png, err)) != T74_OK) goto done;
+  /* outputs: each written into its place in the set, then all committed together */
+  if (jo.png && (st = image_write_png_to(t, jo.png, err)) != T74_OK) goto done;
   for (int d = 0; d < o->ndump; d++) {
-    const char *path = o->dump_path[d];
+    struct outfile *of = jo.dump[d];
     switch (o->dump_kind[d]) {
-    case DUMP_IDS:    st = image_write_ids(p.ids, p.W, p.H, path, err); break;
-    case DUMP_GREY:   st = image_write_grey(p.grey, p.W, p.H, path, err); break;
-    case DUMP_TUBE:   st = image_write_pbm(t, path, err); break;
-    case DUMP_POINTS: st = image_write_points(t, path, err); break;
-    case DUMP_TABLES: st = copy_to_outfile(tables, path, err); break;
+    case DUMP_IDS:    st = image_write_ids_to(p.ids, p.W, p.H, of, err); break;
+    case DUMP_GREY:   st = image_write_grey_to(p.grey, p.W, p.H, of, err); break;
+    case DUMP_TUBE:   st = image_write_pbm_to(t, of, err); break;
+    case DUMP_POINTS: st = image_write_points_to(t, of, err); break;
+    case DUMP_TABLES: st = copy_to_outfile(tables, of, err); break;
     case DUMP_CORE: {
       FILE *tmp = tmpfile();
       if (!tmp) { st = t74_fail(err, T74_EIO, "cannot make a temporary file"); break; }
       core_layout_dump(r.core, tmp);
-      st = copy_to_outfile(tmp, path, err);
+      st = copy_to_outfile(tmp, of, err);
       fclose(tmp);
       break;
     }
     }
     if (st != T74_OK) goto done;
   }
-  if (o->stats && (st = write_stats(o, &r, &p, t, host, &eff, &fst, err)) != T74_OK) goto done;
+  if (jo.stats && (st = write_stats(o, &r, &p, t, host, &eff, &fst, jo.stats, err)) != T74_OK)
+    goto done;
+  st = outs_commit(&jo, err);
 
 done:
+  outs_free(&jo);
   if (tables) fclose(tables);
   free(p.ids);
   free(p.grey);

@@ -5,8 +5,11 @@
 ** with job_parse and runs job_run, adding its own sink (a Tek stream, a window, a USB
 ** device) through job_hooks: that sink receives every tube dot the moment it is produced,
 ** in scan order, as the 1974 program displayed while it computed, and a clock tells it
-** the 1974 computing time spent so far. Outputs (-o, --dump, --stats) are written only
-** when everything succeeded, each atomically.
+** the 1974 computing time spent so far. Outputs (-o, --dump, --stats, and the hooks'
+** own) form one set (display/outfile.h): every path is opened and checked before the
+** work starts — two outputs on one file, or an output that is the scene or its
+** background, are refused (exit 2) — and all are committed together only when
+** everything succeeded; `-` is standard output.
 */
 #ifndef T74_PIPELINE_H
 #define T74_PIPELINE_H
@@ -61,6 +64,15 @@ struct job_hooks {
   /* more "key": value lines for --stats (each ending with ",\n"), or NULL */
   int (*stats)(void *ctx, struct outfile *of);
   void *stats_ctx;
+  /* the hook owner's own outputs (the look's -o), opened into the job's set after the
+     job's own and before any work, so that all are checked first and committed together
+     (display/outfile.h); NULL: none */
+  int (*open_outputs)(void *ctx, struct outset *set, struct t74_error *err);
+  void *outputs_ctx;
+  /* a set made by the caller, holding outputs the caller writes (tek -o): the job adds
+     its outputs to it and leaves the commit to the caller. NULL: the job makes its own
+     set and commits it when everything succeeded. */
+  struct outset *outs;
 };
 
 struct job_result {

@@ -81,8 +81,9 @@ static int look_item(struct timing *t, const char *it, size_t n, struct t74_erro
     t->look_flags |= LOOK_FADE;
     double s;
     if (buf[4] == ':') {
-      if (!parse_double(buf + 5, 1e-3, 1e6, &s))
-        return t74_fail(err, T74_EINPUT, "tube74: --look fade:SECONDS takes 0.001 .. 1e6, got `%s`", buf + 5);
+      if (!parse_double(buf + 5, EFFECTS_FADE_MIN, EFFECTS_FADE_MAX, &s))
+        return t74_fail(err, T74_EINPUT, "tube74: --look fade:SECONDS takes %g .. %g, got `%s`",
+                        EFFECTS_FADE_MIN, EFFECTS_FADE_MAX, buf + 5);
       t->lp.v[LP_FADE_S] = s;
     }
     return T74_OK;
@@ -232,12 +233,18 @@ static void on_erase(void *ctx)
 }
 
 /* The scaled plain picture: image.c's look with each dot an s x s block. */
-static int write_plain(const struct timing *t, const char *path, struct t74_error *err)
+static int write_plain(const struct timing *t, struct outfile *of, struct t74_error *err)
 {
   int s = t->scale, W = TUBE_W * s, H = TUBE_H * s;
   uint8_t *lit = calloc((size_t)TUBE_W * TUBE_H, 1);
   uint8_t *rgba = malloc((size_t)W * (size_t)H * 4);
-  if (!lit || !rgba) { free(lit); free(rgba); return t74_fail(err, T74_EIO, "%s: out of memory", path); }
+  if (!lit || !rgba) {
+    free(lit);
+    free(rgba);
+    t74_fail(err, T74_EIO, "%s: out of memory", outfile_path(of));
+    outfile_abort(of);
+    return T74_EIO;
+  }
   for (size_t k = 0; k < look_count(t->look); k++) {
     int x, y;
     double when;
@@ -251,7 +258,7 @@ static int write_plain(const struct timing *t, const char *path, struct t74_erro
       uint8_t *p = rgba + 4 * ((size_t)Y * (size_t)W + (size_t)X);
       p[0] = c[0]; p[1] = c[1]; p[2] = c[2]; p[3] = 255;
     }
-  int st = look_png_rgba(rgba, W, H, path, err);
+  int st = look_png_rgba_to(rgba, W, H, of, err);
   free(lit);
   free(rgba);
   return st;
@@ -261,9 +268,20 @@ static int on_end(void *ctx, struct t74_error *err)
 {
   struct timing *t = ctx;
   beam_clock(&t->beam, t->clock);
+  if (!t->png_out) return T74_OK;
+  struct outfile *of = t->png_out;        /* finished (or discarded) by the writer; the */
+  t->png_out = NULL;                      /* job's set commits it with the others */
+  if (!t->look_given) return write_plain(t, of, err);
+  return look_write_png_to(t->look, timing_show_time(t), t->scale, of, err);
+}
+
+/* job_hooks.open_outputs: the look's -o joins the job's outputs, checked before any work. */
+static int on_open_outputs(void *ctx, struct outset *set, struct t74_error *err)
+{
+  struct timing *t = ctx;
+  t->png_out = NULL;
   if (!t->png) return T74_OK;
-  if (!t->look_given) return write_plain(t, t->png, err);
-  return look_write_png(t->look, timing_show_time(t), t->scale, t->png, err);
+  return outset_open(set, t->png, 0, &t->png_out, err);
 }
 
 static int on_stats(void *ctx, struct outfile *of)
@@ -288,4 +306,6 @@ void timing_hooks(struct timing *t, struct job_hooks *h)
   h->writethrough = on_writethrough;
   h->erase = on_erase;
   h->events_ctx = t;
+  h->open_outputs = on_open_outputs;
+  h->outputs_ctx = t;
 }

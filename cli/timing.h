@@ -46,6 +46,7 @@ struct timing {
   double look_at;               /* --look-at: seconds after the picture is complete */
   bool look_at_given;
   const char *png;              /* -o taken over from the job, or NULL */
+  struct outfile *png_out;      /* that -o, opened in the job's set (open_outputs hook) */
 };
 
 void timing_init(struct timing *t);

@@ -10,7 +10,9 @@
 ** Tube y counts from the BOTTOM (as on the CRT) while image files store the top row
 ** first, so file row r shows tube row y = TUBE_H-1-r. The ids and grey arrays are already
 ** in grid order (row j = 0 at the top) and are written as they are.
-** All files go through display/outfile.h: complete or not at all.
+** All files go through display/outfile.h: complete or not at all. Each writer comes in
+** two forms: NAME(..., path, err) writes one file alone, NAME_to(..., outfile, err) writes
+** an output a caller opened (in a set, committed with the others) and finishes it.
 */
 #include "display/image.h"
 
@@ -54,6 +56,13 @@ int image_write_rgb_png(int w, int h, image_row_fn fill, void *ctx, const char *
 {
   struct outfile *o;
   if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  return image_write_rgb_png_to(w, h, fill, ctx, o, err);
+}
+
+int image_write_rgb_png_to(int w, int h, image_row_fn fill, void *ctx, struct outfile *o,
+                           struct t74_error *err)
+{
+  const char *path = outfile_path(o);
   uint8_t *row = malloc(3 * (size_t)w);   /* one RGB row of the picture */
   struct png_fail pf;
   pf.err = err;
@@ -97,9 +106,16 @@ static void tube_row(void *ctx, int r, uint8_t *rgb)
     memcpy(rgb + 3 * x, tube_lit(t, x, y) ? IMAGE_DOT_RGB : IMAGE_FACE_RGB, 3);
 }
 
+int image_write_png_to(const struct tube *t, struct outfile *o, struct t74_error *err)
+{
+  return image_write_rgb_png_to(TUBE_W, TUBE_H, tube_row, (void *)t, o, err);
+}
+
 int image_write_png(const struct tube *t, const char *path, struct t74_error *err)
 {
-  return image_write_rgb_png(TUBE_W, TUBE_H, tube_row, (void *)t, path, err);
+  struct outfile *o;
+  if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  return image_write_png_to(t, o, err);
 }
 
 /* ---- PBM, points ----------------------------------------------------------------- */
@@ -108,6 +124,11 @@ int image_write_pbm(const struct tube *t, const char *path, struct t74_error *er
 {
   struct outfile *o;
   if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  return image_write_pbm_to(t, o, err);
+}
+
+int image_write_pbm_to(const struct tube *t, struct outfile *o, struct t74_error *err)
+{
   outfile_printf(o, "P4\n%d %d\n", TUBE_W, TUBE_H);
   uint8_t row[(TUBE_W + 7) / 8];          /* one packed row: MSB = leftmost, 1 = lit */
   for (int r = 0; r < TUBE_H; r++) {
@@ -124,6 +145,11 @@ int image_write_points(const struct tube *t, const char *path, struct t74_error 
 {
   struct outfile *o;
   if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  return image_write_points_to(t, o, err);
+}
+
+int image_write_points_to(const struct tube *t, struct outfile *o, struct t74_error *err)
+{
   int n = tube_count(t);
   for (int k = 0; k < n; k++) {
     int x, y;
@@ -140,6 +166,13 @@ int image_write_ids(const uint16_t *ids, int w, int h, const char *path,
 {
   struct outfile *o;
   if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  return image_write_ids_to(ids, w, h, o, err);
+}
+
+int image_write_ids_to(const uint16_t *ids, int w, int h, struct outfile *o,
+                       struct t74_error *err)
+{
+  const char *path = outfile_path(o);
   outfile_printf(o, "P5\n%d %d\n65535\n", w, h);
   uint8_t *row = malloc(2 * (size_t)w);   /* one row of big-endian 16-bit samples */
   if (!row) {
@@ -163,6 +196,12 @@ int image_write_grey(const uint8_t *grey, int w, int h, const char *path,
 {
   struct outfile *o;
   if (outfile_open(&o, path, err) != T74_OK) return err->status;
+  return image_write_grey_to(grey, w, h, o, err);
+}
+
+int image_write_grey_to(const uint8_t *grey, int w, int h, struct outfile *o,
+                        struct t74_error *err)
+{
   outfile_printf(o, "P5\n%d %d\n255\n", w, h);
   outfile_write(o, grey, (size_t)w * (size_t)h);
   return outfile_commit(o, err);

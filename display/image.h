@@ -10,12 +10,14 @@
 **                       per perspective-plane point, file row 0 = grid row j = 0 (top)
 **   image_write_grey    `--dump grey`: P5 PGM, maxval 255, grey per point, row 0 = top
 ** Every writer is atomic (display/outfile.h): it returns T74_OK, or T74_EIO with a message
-** naming the file in err, and then no file was created or changed.
+** naming the file in err, and then no file was created or changed. A symlink is written
+** through, `-`, a FIFO or a device written directly (outfile.h).
 */
 #ifndef T74_IMAGE_H
 #define T74_IMAGE_H
 
 #include <stdint.h>
+#include "display/outfile.h"
 #include "display/tube.h"
 #include "emu/status.h"
 
@@ -34,5 +36,17 @@ int image_write_ids(const uint16_t *ids, int w, int h, const char *path,
                     struct t74_error *err);
 int image_write_grey(const uint8_t *grey, int w, int h, const char *path,
                      struct t74_error *err);
+
+/* The same writers onto an output already opened (display/outfile.h, e.g. one of a set):
+   they write o and finish it with outfile_commit (outfile_abort on failure). */
+int image_write_rgb_png_to(int w, int h, image_row_fn fill, void *ctx, struct outfile *o,
+                           struct t74_error *err);
+int image_write_png_to(const struct tube *t, struct outfile *o, struct t74_error *err);
+int image_write_pbm_to(const struct tube *t, struct outfile *o, struct t74_error *err);
+int image_write_points_to(const struct tube *t, struct outfile *o, struct t74_error *err);
+int image_write_ids_to(const uint16_t *ids, int w, int h, struct outfile *o,
+                       struct t74_error *err);
+int image_write_grey_to(const uint8_t *grey, int w, int h, struct outfile *o,
+                        struct t74_error *err);
 
 #endif

@@ -17,7 +17,8 @@
 **                                 (the cursor / refreshed-trace mode of the 4010 family).
 **   look_erase(l, t)              the whole face flashes green, then is clear after
 **                                 erase_s (paper 003: under 500 ms). Dots stored before the
-**                                 erase ends are gone afterwards.
+**                                 erase are gone afterwards; a dot given a time inside the
+**                                 last erase is written when it ends.
 ** and look_render(l, t, scale, rgba) draws the face as it is at time t: the faint flood
 ** glow everywhere, each stored dot a P1-green spot whose size comes from the dot pitch
 ** (0.525 mm across x 0.543 mm up), flashes, traces and the erase flash added on top.
@@ -37,6 +38,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "display/outfile.h"
 #include "emu/param.h"
 #include "emu/status.h"
 
@@ -114,5 +116,12 @@ int look_write_png(const struct look *l, double t, int scale, const char *path,
 
 /* Any RGBA picture (w x h, row 0 at the top) as an RGB PNG, atomically. */
 int look_png_rgba(const uint8_t *rgba, int w, int h, const char *path, struct t74_error *err);
+
+/* The same two onto an output already opened (display/outfile.h: one of a set); they
+   finish it (outfile_commit) or discard it on failure. */
+int look_write_png_to(const struct look *l, double t, int scale, struct outfile *o,
+                      struct t74_error *err);
+int look_png_rgba_to(const uint8_t *rgba, int w, int h, struct outfile *o,
+                     struct t74_error *err);
 
 #endif

@@ -226,6 +226,20 @@ int tek_enc_open(struct tek_enc **out, const char *path, struct t74_error *err)
   return T74_OK;
 }
 
+int tek_enc_open_to(struct tek_enc **out, struct outfile *of, struct t74_error *err)
+{
+  struct tek_enc *e = calloc(1, sizeof *e);
+  if (!e) {
+    outfile_abort(of);
+    return t74_fail(err, T74_EIO, "%s: out of memory", outfile_path(of));
+  }
+  e->of = of;
+  e->f = outfile_stream(of);
+  e->hiy = e->extra = e->loy = e->hix = -1;
+  *out = e;
+  return T74_OK;
+}
+
 /* The header, written before the first dot (or at the end of an empty picture), so that a
 ** job that fails before drawing sends nothing to a terminal: erase, normal stored beam
 ** with solid lines, graph mode, point plot. */
@@ -346,6 +360,12 @@ struct tek_dec {
                                    3 LoY (or Extra) */
   int ax, ay;                   /* address registers, 12 bits each, set group by group */
   bool dark;                    /* GS: the next address is a dark move */
+  bool after_gs;                /* the previous byte was GS: a BEL now makes the first
+                                   vector bright (GS BEL, xterm's CASE_PLT_STATE) */
+  int csi;                      /* inside ESC [ ... (an ANSI control sequence): bytes so
+                                   far, 0 when not in one */
+  size_t csi_at;                /* offset of its ESC */
+  char csi_buf[16];             /* its parameter and intermediate bytes, NUL-ended */
   bool pen;                     /* RS: pen down */
   int bx, by;                   /* beam (and alpha cursor) position, address units */
   int size;                     /* character size 0..3 */
@@ -462,8 +482,16 @@ static void address_byte(struct tek_dec *d, int c)
     if (d->seen_loy) d->ax = (d->ax & ~(0x1F << 7)) | v << 7;
     else             d->ay = (d->ay & ~(0x1F << 7)) | v << 7;
     break;
-  case 3:                                 /* LoY; a tag-11 byte just before was Extra */
-    if (d->prev_tag == 3) {
+  case 3:                                 /* LoY; an earlier tag-11 byte was Extra */
+    if (d->seen_loy) {
+      /* The 4014 takes a tag-11 byte as Extra only when the next byte is tag 11 too.
+         xterm's getpoint takes ANY earlier LoY of the address as the Extra byte, so for
+         the malformed order LoY HiX LoY LoX it moves the first LoY's bits to the low
+         bits and keeps the second as LoY. Follow xterm (the picture the user sees), and
+         say that the order was wrong. */
+      if (d->prev_tag != 3)
+        warn(d, d->at, "LoY after HiX in the address begun at byte %zu: the first LoY "
+             "taken as the Extra byte, as xterm does", d->addr_at);
       int e = (d->ay >> 2) & 0x1F;        /* it was loaded as LoY: take it back */
       d->ax = (d->ax & ~3) | (e & 3);
       d->ay = (d->ay & ~3) | ((e >> 2) & 3);
@@ -480,7 +508,13 @@ static void address_byte(struct tek_dec *d, int c)
 }
 
 /* Alpha cursor motions (the 4014's, without its second margin: a line past the bottom
-** wraps to the top line, at the left margin). */
+** wraps to the top line, at the left margin). LF and VT move the cursor ONE LINE HEIGHT
+** from where it is, and the right-margin wrap moves down one line from the current Y:
+** the 4014's alpha cursor is the beam position itself (a graph-mode address followed by
+** US puts text anywhere), and a line feed steps that Y register by the line height.
+** xterm instead snaps Y to a multiple of the line height (TCursorDown/Up/Forward in
+** Tekproc.c); rricharz/Tek4010, written from the 4014 manual, steps as here. See
+** docs/tek.md "Alpha cursor". */
 static void line_down(struct tek_dec *d)
 {
   const struct tek_charsize *cs = &tek_sizes[d->size];
@@ -548,11 +582,48 @@ static void escape_byte(struct tek_dec *d, int c)
   } else if (c == TEK_ESC) {
     d->esc = true;                        /* ESC ESC: the second one counts */
     d->esc_at = d->at;
+  } else if (c == 0x03) {
+    /* ESC ETX: xterm leaves its Tek window for the VT window (Tekparse CASE_VT_MODE);
+       the stored picture stays. gnuplot's `xterm` terminal and plotutils end with it. */
+  } else if (c == '[') {
+    d->csi = 1;                           /* ESC [ : an ANSI control sequence follows */
+    d->csi_at = d->esc_at;
+    d->csi_buf[0] = 0;
   } else if (c >= 0x80) {
-    warn(d, d->at, "byte 0x%02X after ESC is not a 7-bit code", c);
+    warn(d, d->esc_at, "byte 0x%02X after ESC is not a 7-bit code", c);
   } else {
-    warn(d, d->at, "unknown escape sequence ESC 0x%02X", c);
+    warn(d, d->esc_at, "unknown escape sequence ESC 0x%02X", c);
   }
+}
+
+/* A byte of an ANSI control sequence ESC [ P..P I..I F (parameters 0x30-3F, intermediates
+** 0x20-2F, final 0x40-7E). xterm's switch into its Tek window, ESC [ ? 3 8 h (DECTEK),
+** begins the streams of gnuplot's `xterm` terminal and of plotutils: no warning. Any
+** other sequence is skipped whole with one warning (the 4014 has none). Returns false
+** when c is not part of the sequence (a control code: the sequence is cut off and c is
+** handled as usual). */
+static bool csi_byte(struct tek_dec *d, int c)
+{
+  if (c < 0x20 || c >= 0x7F) {
+    warn(d, d->csi_at, "control sequence ESC [ %s cut off by byte 0x%02X", d->csi_buf, c);
+    d->csi = 0;
+    return false;
+  }
+  if (c >= 0x40) {                        /* the final byte */
+    if (!(c == 'h' && !strcmp(d->csi_buf, "?38")))
+      warn(d, d->csi_at, "ANSI control sequence ESC [ %s%c ignored", d->csi_buf, c);
+    d->csi = 0;
+    return true;
+  }
+  if ((size_t)d->csi < sizeof d->csi_buf) {
+    d->csi_buf[d->csi - 1] = (char)c;
+    d->csi_buf[d->csi] = 0;
+    d->csi++;
+  } else if ((size_t)d->csi == sizeof d->csi_buf) {
+    warn(d, d->csi_at, "control sequence ESC [ %s... is too long: skipped", d->csi_buf);
+    d->csi++;
+  }
+  return true;
 }
 
 /* Enter mode m (GS, FS, RS, US, CR). */
@@ -567,17 +638,24 @@ static void enter(struct tek_dec *d, enum tek_mode m, const char *name)
 /* One byte of the stream. */
 static void byte(struct tek_dec *d, int c)
 {
+  bool after_gs = d->after_gs;
+  d->after_gs = false;
   if (d->esc) { escape_byte(d, c); return; }
+  if (d->csi && csi_byte(d, c)) return;
   if (c >= 0x80) {
     warn(d, d->at, "byte 0x%02X is not a 7-bit code: ignored", c);
     return;
   }
   if (c < 0x20) {
     switch (c) {
-    case 0x00: case 0x16: case TEK_BEL:   /* NUL, SYN: fill; BEL: the bell */
+    case TEK_BEL:                         /* the bell; right after GS: the first
+                                             vector is drawn, not a dark move (xterm) */
+      if (after_gs && d->mode == TEK_GRAPH) d->dark = false;
+      return;
+    case 0x00: case 0x16:                 /* NUL, SYN: fill */
       return;
     case TEK_ESC: d->esc = true; d->esc_at = d->at; return;
-    case TEK_GS:  enter(d, TEK_GRAPH, "GS"); return;
+    case TEK_GS:  enter(d, TEK_GRAPH, "GS"); d->after_gs = true; return;
     case TEK_FS:  enter(d, TEK_POINT, "FS"); return;
     case TEK_RS:  enter(d, TEK_INCR, "RS"); return;
     case TEK_US:  enter(d, TEK_ALPHA, "US"); return;
@@ -660,6 +738,7 @@ int tek_decode(const uint8_t *buf, size_t n, const struct sink *stored, struct t
   if (d.status != T74_OK) return d.status;
   d.at = n;
   if (d.esc) warn(&d, d.esc_at, "the stream ends after ESC");
+  if (d.csi) warn(&d, d.csi_at, "the stream ends inside the control sequence begun here");
   if (d.addr_open) warn(&d, d.addr_at, "the stream ends inside the address begun here (no LoX)");
   return T74_OK;
 }

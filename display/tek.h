@@ -41,7 +41,8 @@
 ** DECODER: tek_decode(buf, n, stored, rep) reads a whole stream and sends every STORED
 **   dot to `stored` (normally the tube), in order. It understands
 **     GS          graph mode; the first address after GS is a dark move, later ones draw
-**                 vectors (rasterised onto the 400 x 300 dots: stored traces)
+**                 vectors (rasterised onto the 400 x 300 dots: stored traces); GS BEL
+**                 (BEL right after GS) makes the first one a drawn vector too, as in xterm
 **     FS          point plot: each address stores one dot
 **     RS          incremental plot: SP pen up, P pen down, then A E D F B J H I step one
 **                 address unit E, NE, N, NW, W, SW, S, SE; each step with the pen down
@@ -55,8 +56,13 @@
 **     ESC 8 .. ;  character size 1 .. 4
 **     ESC SUB, ESC ENQ, ESC ETB, ESC SO, ESC SI, ESC BEL  ignored without a warning
 **                 (GIN crosshair, status enquiry, hard copy, character sets, bell)
+**     ESC [ ? 3 8 h, ESC ETX   xterm's switches into and out of its Tek window (gnuplot's
+**                 `xterm` terminal and plotutils write them): ignored without a warning;
+**                 any other ESC [ sequence is skipped whole, with a warning
+**     LoY HiX LoY LoX  (a malformed order) read as xterm reads it, the first LoY as the
+**                 Extra byte, with a warning
 **     NUL, SYN, BEL, DEL (outside addresses)   fill and bell: ignored
-**   and warns, with the byte offset, about everything else: bytes 0x80..0xFF, control
+**   and warns, with the byte offset (of the ESC, for an escape sequence), about everything else: bytes 0x80..0xFF, control
 **   codes that mean nothing in the current mode, unknown ESC sequences, addresses off the
 **   tube, and a stream that ends inside an address or an ESC sequence. A malformed stream
 **   is shown as far as it is valid; nothing in the bytes can make the decoder fail.
@@ -72,6 +78,7 @@
 #include <stdint.h>
 
 #include "display/sink.h"
+#include "display/outfile.h"
 #include "emu/status.h"
 
 /* ---- PLOT 10 codes ----------------------------------------------------------------- */
@@ -107,6 +114,10 @@ struct tek_enc;                 /* opaque: output, last address bytes sent, coun
 ** the end of an empty picture): a job that fails before drawing sends nothing to stdout.
 ** T74_OK with *out set, or T74_EIO with err naming the file. */
 int tek_enc_open(struct tek_enc **out, const char *path, struct t74_error *err);
+
+/* The same onto an output already opened (display/outfile.h, one of a set): the encoder
+** finishes it at the end (outfile_commit) or discards it on abort; the set publishes it. */
+int tek_enc_open_to(struct tek_enc **out, struct outfile *of, struct t74_error *err);
 
 /* The encoder as a sink (valid until tek_enc_free). */
 struct sink tek_enc_sink(struct tek_enc *e);

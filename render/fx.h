@@ -62,9 +62,6 @@ struct fx_stats {
 /* Does e name an effect that works on the frame (aa, edges, smooth, contour)? */
 bool fx_wanted(const struct effects *e);
 
-/* Refuse, with T74_EINPUT "FILE:LINE: ...", an effect this build does not simulate. */
-int fx_check(const struct effects *e, const char *file, int line, struct t74_error *err);
-
 /* Run the requested effects over f (see the order above). r has been prepared and
    scanned; s is the scene it came from; g the grid. Operations are counted in cost;
    tables live in r->core (T74_ECORE when they do not fit). */

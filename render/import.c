@@ -4,17 +4,24 @@
 **
 ** This file contains code to read scene text safely and to turn polygon meshes into a
 ** tube74 scene. The reader takes the whole file into memory and hands out one line at a
-** time as blank-separated tokens with `#` comments and CR line ends removed; it refuses
-** NUL bytes and over-large files, so no later stage meets them. Imports then map the mesh
-** onto the integer grid the 1974 system used (import.h gives the mapping): uniform
-** scale, round to nearest. Rounding can break what held in floating point: a planar quad
-** usually stops being exactly planar, a thin face can collapse. Each face is therefore
-** re-checked with the same exact test a .s74 face must pass (scene_check_face); a face
-** that fails for planarity or simplicity is split into a triangle fan and a face that has
-** collapsed is dropped, each with a warning "FILE:LINE: warning: ..." on stderr, counted in
-** scene->warnings. Nothing is silently changed: every deviation from the input is reported.
+** time as blank-separated tokens with `#` comments removed; lines end at LF, CR LF or a
+** lone CR, and a UTF-8 byte order mark at the start is skipped; it refuses NUL bytes and
+** over-large files, so no later stage meets them. Imports then map the mesh onto the
+** integer grid the 1974 system used (import.h gives the mapping): uniform scale, round to
+** nearest. A face with fewer than 3 vertices in the file, or whose edges cross in the file
+** (a bow-tie; decided exactly on the file's numbers), is refused with FILE:LINE.
+** Rounding can break what held in floating point: a planar quad usually stops being
+** exactly planar, a thin face can collapse. Each face is therefore re-checked with the
+** same exact test a .s74 face must pass (scene_check_face); a face that is no longer
+** planar is split by exact ear clipping into triangles covering exactly its region (seen
+** along its dominant axis), the same triangles however its ring is written; one that has
+** collapsed is dropped, each with a warning "FILE:LINE: warning: ..." on stderr, counted
+** in scene->warnings; one that rounding made self-intersecting is refused. Every face is
+** handled on its own, so the scene does not depend on the order faces are listed in
+** (only the face numbers, which are the file's order, do).
 */
 #include "render/import.h"
+#include "render/turn.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -23,6 +30,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* Coordinates of .obj/.off files: 0, or of magnitude COORD_SMALL .. COORD_BIG, so that
+   products of two stay exact as double pairs (check_file_face). */
+#define COORD_BIG   0x1p400
+#define COORD_SMALL 0x1p-400
 
 /* ---- the line reader -------------------------------------------------------------- */
 
@@ -68,6 +80,7 @@ int import_open(struct import_reader *r, const char *path, struct t74_error *err
   buf[len] = '\0';
   r->buf = buf;
   r->len = len;
+  if (len >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0) r->pos = 3;   /* UTF-8 byte order mark */
   return T74_OK;
 }
 
@@ -79,13 +92,15 @@ static bool is_blank(char c)
 int import_next(struct import_reader *r, struct t74_error *err)
 {
   while (r->pos < r->len) {
-    char *start = r->buf + r->pos;
-    char *nl = memchr(start, '\n', r->len - r->pos);
-    char *end = nl ? nl : r->buf + r->len;   /* buf[len] is the terminating NUL */
+    char *start = r->buf + r->pos, *last = r->buf + r->len;   /* *last is the NUL */
+    char *end = start;
+    bool nul = false;
+    while (end < last && *end != '\n' && *end != '\r') nul |= *end++ == '\0';
+    /* the line ends at LF, CR LF or a lone CR (old Mac files): each counts one line */
     r->pos = (size_t)(end - r->buf) + 1;
+    if (end < last && *end == '\r' && end + 1 < last && end[1] == '\n') r->pos++;
     r->line = ++r->nlines;
-    if (memchr(start, '\0', (size_t)(end - start)))
-      return t74_fail_at(err, T74_EINPUT, r->file, r->line, "NUL byte in the line");
+    if (nul) return t74_fail_at(err, T74_EINPUT, r->file, r->line, "NUL byte in the line");
     *end = '\0';
     char *hash = strchr(start, '#');
     if (hash) *hash = '\0';
@@ -246,6 +261,13 @@ static bool real_token(const char *tok, double *out)
   return true;
 }
 
+/* The range in which a file's faces are checked exactly (check_file_face). */
+static bool coord_in_range(double v)
+{
+  double a = fabs(v);
+  return a == 0 || (a >= COORD_SMALL && a <= COORD_BIG);
+}
+
 static int bad_number(struct import_reader *r, const char *tok, struct t74_error *err)
 {
   char b[48];
@@ -259,8 +281,14 @@ static int read_xyz(struct import_reader *r, char **t, int n, struct mesh *m,
                     struct t74_error *err)
 {
   double p[3], dummy;
-  for (int k = 0; k < 3; k++)
+  char b[48];
+  for (int k = 0; k < 3; k++) {
     if (!real_token(t[k], &p[k])) return bad_number(r, t[k], err);
+    if (!coord_in_range(p[k]))
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                         "coordinate `%s` out of range (0, or magnitude 2^-400 .. 2^400)",
+                         import_show(t[k], b, sizeof b));
+  }
   for (int k = 3; k < n; k++)
     if (!real_token(t[k], &dummy)) return bad_number(r, t[k], err);
   return add_vertex(m, p, r->line, r->file, err);
@@ -337,6 +365,9 @@ static int read_obj(struct import_reader *r, struct mesh *m, struct t74_error *e
                            "`v` needs x y z (and at most 4 more numbers)");
       if ((st = read_xyz(r, r->tok + 1, r->ntok - 1, m, err))) return st;
     } else if (strcmp(k, "f") == 0 || strcmp(k, "fo") == 0) {
+      if (r->ntok < 4)
+        return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                           "`%s` needs at least 3 vertices, has %d", k, r->ntok - 1);
       if ((st = begin_face(m, r->line, r->file, err))) return st;
       for (int t = 1; t < r->ntok; t++)
         if ((st = obj_ref(r, r->tok[t], m, err))) return st;
@@ -416,6 +447,9 @@ static int read_off(struct import_reader *r, struct mesh *m, struct t74_error *e
     int e = import_int(r->tok[0], 0, SCENE_ID_MAX, &n);
     if (e) return t74_fail_at(err, T74_EINPUT, r->file, r->line,
                               "bad vertex count `%s`", import_show(r->tok[0], b, sizeof b));
+    if (n < 3)
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line,
+                         "a face needs at least 3 vertices, this one has %ld", n);
     if (r->ntok - 1 < n)
       return t74_fail_at(err, T74_EINPUT, r->file, r->line,
                          "face needs %ld vertex indices, has %d", n, r->ntok - 1);
@@ -506,11 +540,358 @@ static int defect(const struct scene *s, int id, int line, int *v, int n)
   return scene_check_face(s, &f, &scratch);
 }
 
-/* Turn mesh face k into scene faces: kept, split into a fan, or dropped (with warning). */
+/* ---- the face in the file: exact orientation on doubles ------------------------------
+   A face whose edges cross in the file (a bow-tie) was never simple: it is refused, not
+   blamed on rounding. The test is exact on the file's own numbers: the orientation
+   determinant of three points, expanded into six products, each an exact pair
+   (product, fma error), summed exactly as a non-overlapping expansion (Shewchuk's
+   Grow-Expansion); its sign is the sign of its largest component. Exact while every
+   coordinate is 0 or of magnitude 2^-400 .. 2^400 (read_xyz refuses others). */
+
+
+static void two_sum(double a, double b, double *x, double *y)
+{
+  double s = a + b, bv = s - a, av = s - bv;
+  *x = s;
+  *y = (a - av) + (b - bv);
+}
+
+/* e[0..*n) grows by b, exactly; components stay in increasing magnitude, zeros dropped */
+static void grow(double *e, int *n, double b)
+{
+  double q = b;
+  int k = 0;
+  for (int i = 0; i < *n; i++) {
+    double x, y;
+    two_sum(q, e[i], &x, &y);
+    q = x;
+    if (y != 0) e[k++] = y;
+  }
+  if (q != 0) e[k++] = q;
+  *n = k;
+}
+
+static void add_product(double *e, int *n, double a, double b)
+{
+  double x = a * b;
+  double y = fma(a, b, -x);           /* exact: no overflow or underflow in range */
+  grow(e, n, y);
+  grow(e, n, x);
+}
+
+/* sign of (b - a) x (c - a), exactly */
+static int orient_d(const double a[2], const double b[2], const double c[2])
+{
+  double e[32];
+  int n = 0;
+  add_product(e, &n, b[0], c[1]);
+  add_product(e, &n, -b[0], a[1]);
+  add_product(e, &n, -a[0], c[1]);
+  add_product(e, &n, -b[1], c[0]);
+  add_product(e, &n, b[1], a[0]);
+  add_product(e, &n, a[1], c[0]);
+  if (n == 0) return 0;
+  return e[n - 1] > 0 ? 1 : -1;
+}
+
+/* The axis a face is seen along to split it: the largest component of its normal (ties:
+   z before y before x). Returns 0, 1 or 2; the polygon is then read in the plane of the
+   other two axes, (u, v) = ((a+1)%3, (a+2)%3), a right-handed pair. */
+static int dominant_axis(const double n[3])
+{
+  double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
+  if (az >= ax && az >= ay) return 2;
+  return ay >= ax ? 1 : 0;
+}
+
+/* Pairs of edges of a closed polygon whose bounding boxes meet, found by a sweep over u
+   (edge k runs from point k to point k+1): test(ctx, n, i, j), i < j, is asked for each
+   such pair until it holds. Returns 1 (the pair in *ea < *eb), 0 when it never holds,
+   -1 when out of memory. The points are given as doubles (exact for the grid's
+   integers), the test reads its own exact copy through ctx. */
+struct ebox { double u0, u1, v0, v1; int k; };
+
+static int ebox_cmp(const void *a, const void *b)
+{
+  const struct ebox *x = a, *y = b;
+  if (x->u0 != y->u0) return x->u0 < y->u0 ? -1 : 1;
+  return (x->k > y->k) - (x->k < y->k);
+}
+
+typedef bool (*pair_fn)(const void *ctx, int n, int i, int j);
+
+static int sweep(const double (*p)[2], int n, pair_fn test, const void *ctx, int *ea, int *eb)
+{
+  struct ebox *e = malloc((size_t)n * sizeof *e);
+  if (!e) return -1;
+  for (int k = 0; k < n; k++) {
+    const double *a = p[k], *b = p[(k + 1) % n];
+    e[k] = (struct ebox){ fmin(a[0], b[0]), fmax(a[0], b[0]), fmin(a[1], b[1]),
+                          fmax(a[1], b[1]), k };
+  }
+  qsort(e, (size_t)n, sizeof *e, ebox_cmp);
+  int found = 0;
+  for (int i = 0; i < n && !found; i++)
+    for (int j = i + 1; j < n && e[j].u0 <= e[i].u1; j++) {
+      if (e[j].v0 > e[i].v1 || e[j].v1 < e[i].v0) continue;
+      int a = e[i].k < e[j].k ? e[i].k : e[j].k, b = e[i].k < e[j].k ? e[j].k : e[i].k;
+      if (test(ctx, n, a, b)) { *ea = a; *eb = b; found = 1; break; }
+    }
+  free(e);
+  return found;
+}
+
+/* Non-adjacent edges i < j of the file's polygon cross properly (each strictly through
+   the other). */
+static bool file_cross_pair(const void *ctx, int n, int i, int j)
+{
+  const double (*p)[2] = ctx;
+  if (j == i + 1 || (i == 0 && j == n - 1)) return false;       /* adjacent */
+  const double *a = p[i], *b = p[(i + 1) % n], *c = p[j], *d = p[(j + 1) % n];
+  int o1 = orient_d(a, b, c), o2 = orient_d(a, b, d);
+  if (o1 == 0 || o2 == 0 || o1 == o2) return false;
+  int o3 = orient_d(c, d, a), o4 = orient_d(c, d, b);
+  return o3 != 0 && o4 != 0 && o3 != o4;
+}
+
+static int file_crossing(const double (*p)[2], int n, int *ea, int *eb)
+{
+  return sweep(p, n, file_cross_pair, p, ea, eb);
+}
+
+/* Refuse mesh face k when two of its edges cross properly in the file, seen along the
+   dominant axis of its (floating-point) Newell normal; when that normal is exactly zero
+   (a bow-tie with lobes of equal area) seen along each axis. Touching edges and
+   collinear folds are left to the checks after rounding. */
+static int check_file_face(const struct scene *s, const struct mesh *m, int k,
+                           struct t74_error *err)
+{
+  size_t b = m->fstart[k], e = m->fstart[k + 1];
+  int n = 0;
+  double nn[3] = { 0, 0, 0 };
+  for (size_t q = b; q < e; q++) {
+    const double *p = m->xyz + 3 * m->idx[q], *r = m->xyz + 3 * m->idx[q + 1 < e ? q + 1 : b];
+    nn[0] += (p[1] - r[1]) * (p[2] + r[2]);
+    nn[1] += (p[2] - r[2]) * (p[0] + r[0]);
+    nn[2] += (p[0] - r[0]) * (p[1] + r[1]);
+  }
+  if (e - b < 4) return T74_OK;                 /* a triangle cannot cross itself */
+  int ax = dominant_axis(nn), u = (ax + 1) % 3, v = (ax + 2) % 3;
+  double (*p)[2] = malloc((e - b) * sizeof *p);
+  long *src = malloc((e - b) * sizeof *src);
+  if (!p || !src) { free(p); free(src); return oom(s->file, err); }
+  for (size_t q = b; q < e; q++) {
+    const double *c = m->xyz + 3 * m->idx[q];
+    if (n > 0 && p[n - 1][0] == c[u] && p[n - 1][1] == c[v]) continue;
+    p[n][0] = c[u];
+    p[n][1] = c[v];
+    src[n++] = (long)(q - b);
+  }
+  while (n > 1 && p[n - 1][0] == p[0][0] && p[n - 1][1] == p[0][1]) n--;
+  int ea, eb, st = T74_OK;
+  int crossed = n >= 4 ? file_crossing((const double (*)[2])p, n, &ea, &eb) : 0;
+  for (int a = 0; crossed == 0 && n >= 4 && nn[0] == 0 && nn[1] == 0 && nn[2] == 0 && a < 2;
+       a++) {
+    u = (a + 1) % 3;                  /* no normal (balanced lobes): every axis is tried */
+    v = (a + 2) % 3;
+    for (int q = 0; q < n; q++) {
+      const double *c = m->xyz + 3 * m->idx[b + (size_t)src[q]];
+      p[q][0] = c[u];
+      p[q][1] = c[v];
+    }
+    crossed = file_crossing((const double (*)[2])p, n, &ea, &eb);
+  }
+  if (crossed < 0) st = oom(s->file, err);
+  else if (crossed)
+    st = t74_fail_at(err, T74_EINPUT, s->file, m->fline[k],
+                     "face %d is not simple in the file: its edges %ld-%ld and %ld-%ld "
+                     "(vertex positions in the face) cross", k + 1, src[ea] + 1,
+                     src[(ea + 1) % n] + 1, src[eb] + 1, src[(eb + 1) % n] + 1);
+  free(p);
+  free(src);
+  return st;
+}
+
+/* ---- splitting on the grid: exact ear clipping -----------------------------------------
+   A face that is not planar once rounded is split into triangles that cover exactly the
+   region it covers seen along the dominant axis of its exact (integer) Newell normal, so
+   no notch is filled and no part is lost; each triangle is planar by construction. The
+   split is a function of the face alone, not of how it is written: the ring is turned
+   counter-clockwise in that view and started at its smallest vertex (x, then y, then z),
+   so reversing or rotating the ring in the file gives the same triangles. Ears are taken
+   in ring order from there: an ear is a vertex whose turn is strictly convex and whose
+   triangle (closed) holds no other remaining vertex. A straight vertex (collinear with
+   its neighbours) is never an ear itself but is kept as a corner of the triangles beside
+   it; a last triangle of zero area (all remaining vertices on one line) covers nothing
+   and is left out. The projected polygon must be simple (exact, 64-bit): one that is not
+   was made so by rounding and is refused with FILE:LINE. */
+
+struct p2i { int64_t u, v; };
+
+static int dominant_axis_i(const int64_t n[3])
+{
+  int64_t ax = n[0] < 0 ? -n[0] : n[0], ay = n[1] < 0 ? -n[1] : n[1];
+  int64_t az = n[2] < 0 ? -n[2] : n[2];
+  if (az >= ax && az >= ay) return 2;
+  return ay >= ax ? 1 : 0;
+}
+
+static int64_t orient_i(struct p2i a, struct p2i b, struct p2i c)
+{
+  return (b.u - a.u) * (c.v - a.v) - (b.v - a.v) * (c.u - a.u);   /* |.| < 2^35 */
+}
+
+static int sgn64(int64_t x) { return (x > 0) - (x < 0); }
+
+/* does p lie on the closed segment a-b? (collinear is given) */
+static bool on_seg(struct p2i a, struct p2i b, struct p2i p)
+{
+  return (p.u >= (a.u < b.u ? a.u : b.u)) && (p.u <= (a.u > b.u ? a.u : b.u)) &&
+         (p.v >= (a.v < b.v ? a.v : b.v)) && (p.v <= (a.v > b.v ? a.v : b.v));
+}
+
+/* closed segments a-b and c-d share a point */
+static bool seg_touch(struct p2i a, struct p2i b, struct p2i c, struct p2i d)
+{
+  int o1 = sgn64(orient_i(a, b, c)), o2 = sgn64(orient_i(a, b, d));
+  int o3 = sgn64(orient_i(c, d, a)), o4 = sgn64(orient_i(c, d, b));
+  if (o1 && o2 && o3 && o4) return o1 != o2 && o3 != o4;
+  return (o1 == 0 && on_seg(a, b, c)) || (o2 == 0 && on_seg(a, b, d)) ||
+         (o3 == 0 && on_seg(c, d, a)) || (o4 == 0 && on_seg(c, d, b));
+}
+
+/* Edges i < j of the rounded polygon meet where they must not: non-adjacent ones at any
+   point, adjacent ones anywhere but their common vertex (folding back along each other). */
+static bool bad_pair_2d(const void *ctx, int n, int i, int j)
+{
+  const struct p2i *p = ctx;
+  struct p2i a = p[i], b = p[(i + 1) % n], c = p[j], d = p[(j + 1) % n];
+  if (j == i + 1)
+    return orient_i(a, b, d) == 0 && (d.u - b.u) * (a.u - b.u) + (d.v - b.v) * (a.v - b.v) > 0;
+  if (i == 0 && j == n - 1)
+    return orient_i(c, a, b) == 0 && (b.u - a.u) * (c.u - a.u) + (b.v - a.v) * (c.v - a.v) > 0;
+  return seg_touch(a, b, c, d);
+}
+
+/* 1 when simple, 0 when not (*ea, *eb an offending pair), -1 when out of memory. */
+static int simple_2d(const struct p2i *p, int n, int *ea, int *eb)
+{
+  double (*d)[2] = malloc((size_t)n * sizeof *d);
+  if (!d) return -1;
+  for (int k = 0; k < n; k++) { d[k][0] = (double)p[k].u; d[k][1] = (double)p[k].v; }
+  int r = sweep((const double (*)[2])d, n, bad_pair_2d, p, ea, eb);
+  free(d);
+  return r < 0 ? -1 : !r;
+}
+
+static bool in_tri(struct p2i a, struct p2i b, struct p2i c, struct p2i p)
+{
+  return orient_i(a, b, p) >= 0 && orient_i(b, c, p) >= 0 && orient_i(c, a, p) >= 0;
+}
+
+static int vcmp(const struct scene_vertex *a, const struct scene_vertex *b)
+{
+  if (a->x != b->x) return a->x < b->x ? -1 : 1;
+  if (a->y != b->y) return a->y < b->y ? -1 : 1;
+  if (a->z != b->z) return a->z < b->z ? -1 : 1;
+  return 0;
+}
+
+/* Split the rounded ring v[0..n) (scene vertex indices, no two consecutive at one
+   position) into triangles added as faces of `id`. */
+static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, int n,
+                     struct t74_error *err)
+{
+  int64_t nn[3] = { 0, 0, 0 };     /* exact Newell normal: |terms| < 2^30 (|coords| <= 2^14) */
+  for (int k = 0; k < n; k++) {
+    const struct scene_vertex *p = &s->v[v[k]], *q = &s->v[v[(k + 1) % n]];
+    nn[0] += (int64_t)(p->y - q->y) * (p->z + q->z);
+    nn[1] += (int64_t)(p->z - q->z) * (p->x + q->x);
+    nn[2] += (int64_t)(p->x - q->x) * (p->y + q->y);
+  }
+  int ax = dominant_axis_i(nn);
+  if (nn[ax] == 0) {
+    warn(s, line, "face %d degenerate after rounding (no area); dropped", id);
+    return T74_OK;
+  }
+  int u = (ax + 1) % 3, w = (ax + 2) % 3;
+  struct p2i *p = malloc((size_t)n * sizeof *p);
+  int *ring = malloc((size_t)n * sizeof *ring), *nx = malloc((size_t)n * sizeof *nx);
+  int *pv = malloc((size_t)n * sizeof *pv);
+  int st = T74_OK;
+  if (!p || !ring || !nx || !pv) { st = oom(s->file, err); goto done; }
+  /* counter-clockwise seen along -axis (nn[ax] > 0), from the smallest vertex */
+  int first = 0;
+  for (int k = 1; k < n; k++) if (vcmp(&s->v[v[k]], &s->v[v[first]]) < 0) first = k;
+  for (int k = 0; k < n; k++) {
+    int at = nn[ax] > 0 ? (first + k) % n : (first - k + n) % n;
+    ring[k] = v[at];
+    const struct scene_vertex *sv = &s->v[v[at]];
+    int32_t c[3] = { sv->x, sv->y, sv->z };
+    p[k].u = c[u];
+    p[k].v = c[w];
+  }
+  int ea, eb;
+  int simple = simple_2d(p, n, &ea, &eb);
+  if (simple < 0) { st = oom(s->file, err); goto done; }
+  if (!simple) {
+    st = t74_fail_at(err, T74_EINPUT, s->file, line,
+                     "face %d is not simple once rounded onto the grid (edges %d-%d and "
+                     "%d-%d of its outline meet): the model is finer than the grid",
+                     id, s->v[ring[ea]].id, s->v[ring[(ea + 1) % n]].id, s->v[ring[eb]].id,
+                     s->v[ring[(eb + 1) % n]].id);
+    goto done;
+  }
+  for (int k = 0; k < n; k++) { nx[k] = (k + 1) % n; pv[k] = (k + n - 1) % n; }
+  int left = n, at = 0, tried = 0, made = 0;
+  while (left > 3) {
+    int a = pv[at], c = nx[at];
+    bool ear = orient_i(p[a], p[at], p[c]) > 0;
+    for (int q = nx[c]; ear && q != a; q = nx[q])
+      if (in_tri(p[a], p[at], p[c], p[q])) ear = false;
+    if (!ear) {
+      at = c;
+      if (++tried > left) {           /* no ear: impossible for a simple polygon */
+        st = t74_fail_at(err, T74_EINPUT, s->file, line,
+                         "face %d cannot be split into triangles on the grid", id);
+        goto done;
+      }
+      continue;
+    }
+    int tri[3] = { ring[a], ring[at], ring[c] };
+    if ((st = add_face(s, cap, id, line, tri, 3, err))) goto done;
+    made++;
+    nx[a] = c;
+    pv[c] = a;
+    left--;
+    tried = 0;
+    at = c;
+  }
+  {
+    int a = pv[at], c = nx[at];
+    if (orient_i(p[a], p[at], p[c]) > 0) {
+      int tri[3] = { ring[a], ring[at], ring[c] };
+      if ((st = add_face(s, cap, id, line, tri, 3, err))) goto done;
+      made++;
+    }
+  }
+  warn(s, line, "face %d not planar after rounding; split into %d triangles", id, made);
+done:
+  free(p);
+  free(ring);
+  free(nx);
+  free(pv);
+  return st;
+}
+
+/* Turn mesh face k into scene faces: kept, split into triangles, or dropped (with a
+   warning); refused when it is not simple in the file or once rounded. */
 static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, int *buf,
                       struct t74_error *err)
 {
   int id = k + 1, line = m->fline[k], n = 0;
+  int st = check_file_face(s, m, k, err);
+  if (st) return st;
   for (size_t q = m->fstart[k]; q < m->fstart[k + 1]; q++) {
     int v = (int)m->idx[q];
     if (n > 0 && same_pos(s, buf[n - 1], v)) continue;   /* rounded onto one point */
@@ -528,22 +909,7 @@ static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, in
     warn(s, line, "face %d degenerate after rounding; dropped", id);
     return T74_OK;
   }
-  if (d == SCENE_FACE_NONPLANAR)
-    warn(s, line, "face %d not planar after rounding; split into triangles", id);
-  else
-    warn(s, line, "face %d not simple after rounding; split into triangles", id);
-  for (int t = 1; t + 1 < n; t++) {
-    int tri[3] = { buf[0], buf[t], buf[t + 1] };
-    int dt = defect(s, id, line, tri, 3);
-    if (dt < 0) return oom(s->file, err);
-    if (dt != SCENE_FACE_OK) {
-      warn(s, line, "face %d: triangle %d degenerate after rounding; dropped", id, t);
-      continue;
-    }
-    int st = add_face(s, cap, id, line, tri, 3, err);
-    if (st) return st;
-  }
-  return T74_OK;
+  return ear_split(s, cap, id, line, buf, n, err);
 }
 
 static int32_t clamp_coord(double v)
@@ -682,6 +1048,7 @@ int import_load(const char *path, const char *kind, const struct scene_opts *opt
   int st = import_open(&r, path, err);
   if (st) return st;
   st = strcmp(kind, "off") == 0 ? read_off(&r, &m, err) : read_obj(&r, &m, err);
+  if (st == T74_OK) turn_import(m.xyz, m.nv, opts);      /* the view: render/turn.h */
   if (st == T74_OK) st = build(&m, path, opts, r.nlines, out, err);
   import_close(&r);
   mesh_free(&m);

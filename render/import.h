@@ -7,9 +7,10 @@
 ** renderer sees downstream is exact. Contract: shared/CONTRACT.md, "Scene files".
 **
 ** The line reader (import_reader) is shared with the .s74 parser: it reads the whole
-** file, refuses NUL bytes and files over IMPORT_FILE_MAX bytes, strips `#` comments and
-** CR line ends, and splits each line into blank-separated tokens (NUL-terminated, in
-** place). Blank lines are skipped.
+** file, refuses NUL bytes and files over IMPORT_FILE_MAX bytes, skips a UTF-8 byte order
+** mark at the start, ends lines at LF, CR LF or a lone CR, strips `#` comments, and splits
+** each line into blank-separated tokens (NUL-terminated, in place). Blank lines are
+** skipped.
 **
 ** Grid mapping of an import (documented in README "Scene files"):
 **   the model's bounding box (all vertices) is scaled uniformly so that its largest side is
@@ -19,6 +20,9 @@
 **   shifted so that the nearest point has z = 0; coordinates are rounded to nearest.
 **   Default eye: (0, 0, -2.5 * IMPORT_EXTENT). Default window: the projection of the
 **   bounding box on z = 0, grown to 4:3 around its centre, plus 5% margin on every side.
+** Faces: numbered 1, 2, ... in file order (what --dump ids shows); fewer than 3 vertices,
+** or edges crossing in the file, are refused; one not planar once rounded is split by
+** exact ear clipping (every triangle keeps the face's number), see import.c.
 */
 #ifndef T74_IMPORT_H
 #define T74_IMPORT_H

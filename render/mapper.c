@@ -217,6 +217,7 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
 
   struct gpoint *proj = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *proj);
   out->f = calloc((size_t)(s->nf ? s->nf : 1), sizeof *out->f);
+  out->cap = s->nf ? s->nf : 1;
   if (!proj || !out->f) {
     free(proj);
     return t74_fail(err, T74_EIO, "out of host memory");
@@ -376,6 +377,143 @@ fail:
   free(proj);
   mapper_free(out);
   return err->status;
+}
+
+/* ---- faces that rounding made not simple ------------------------------------------------
+   Ear clipping on the face's vertices in space, projected onto the coordinate plane the
+   face's normal is most nearly perpendicular to (the projection of a plane polygon along
+   an axis not in its plane keeps it simple). Coordinates are 16-bit, so orientations fit
+   64 bits. A vertex is an ear when it turns strictly left and no other vertex of what is
+   left lies in or on its triangle; a T-junction vertex (straight) is never an ear tip and
+   never lies on a cut, so it stays on the boundary of a triangle that shares the edge it
+   lies on. */
+
+static int64_t orient2(const int64_t *p, const int64_t *q, const int64_t *r)
+{
+  return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+}
+
+static bool in_tri(const int64_t *a, const int64_t *b, const int64_t *c, const int64_t *p)
+{
+  return orient2(a, b, p) >= 0 && orient2(b, c, p) >= 0 && orient2(c, a, p) >= 0;
+}
+
+int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *cost,
+                      int *ntri, struct t74_error *err)
+{
+  *ntri = 0;
+  struct mface *f = &m->f[k];
+  if (f->nring != 1) return T74_EINPUT;
+  int n = f->ring_start[1];
+  int ax = 0;
+  for (int c = 1; c < 3; c++)
+    if ((f->plane[c] < 0 ? -f->plane[c] : f->plane[c]) > (f->plane[ax] < 0 ? -f->plane[ax] : f->plane[ax]))
+      ax = c;
+  int u = ax == 0 ? 1 : 0, v = ax == 2 ? 1 : 2;
+  int64_t (*q)[2] = malloc((size_t)n * sizeof *q);
+  int *left = malloc((size_t)n * sizeof *left);
+  int (*tri)[3] = malloc((size_t)(n > 2 ? n - 2 : 1) * sizeof *tri);
+  if (!q || !left || !tri) {
+    free(q); free(left); free(tri);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  int64_t area = 0;
+  for (int i = 0; i < n; i++) { q[i][0] = f->xyz[i][u]; q[i][1] = f->xyz[i][v]; }
+  for (int i = 0; i < n; i++) area += q[i][0] * q[(i + 1) % n][1] - q[(i + 1) % n][0] * q[i][1];
+  for (int i = 0; i < n; i++) left[i] = area > 0 ? i : n - 1 - i;      /* counter-clockwise */
+  int nl = n, nt = 0;
+  while (nl > 3) {
+    int ear = -1;
+    for (int i = 0; i < nl && ear < 0; i++) {
+      const int64_t *a = q[left[(i + nl - 1) % nl]], *b = q[left[i]], *c = q[left[(i + 1) % nl]];
+      cost_mw_mul(cost, 17, 17);
+      if (orient2(a, b, c) <= 0) continue;
+      bool empty = true;
+      for (int j = 0; j < nl && empty; j++) {
+        if (j == i || j == (i + nl - 1) % nl || j == (i + 1) % nl) continue;
+        empty = !in_tri(a, b, c, q[left[j]]);
+      }
+      if (empty) ear = i;
+    }
+    if (ear < 0) break;                          /* not simple in space: give up */
+    tri[nt][0] = left[(ear + nl - 1) % nl]; tri[nt][1] = left[ear]; tri[nt][2] = left[(ear + 1) % nl];
+    nt++;
+    for (int j = ear; j + 1 < nl; j++) left[j] = left[j + 1];
+    nl--;
+  }
+  if (nl == 3) { tri[nt][0] = left[0]; tri[nt][1] = left[1]; tri[nt][2] = left[2]; nt++; }
+  free(q);
+  free(left);
+  if (nl > 3) { free(tri); return T74_EINPUT; }
+  /* keep the triangles that cover a point of the grid, counter-clockwise on it */
+  int keep = 0;
+  for (int t = 0; t < nt; t++) {
+    wide a2 = geom_orient(f->pt[tri[t][0]], f->pt[tri[t][1]], f->pt[tri[t][2]]);
+    if (a2 == 0) continue;
+    if (a2 < 0) { int x = tri[t][1]; tri[t][1] = tri[t][2]; tri[t][2] = x; }
+    tri[keep][0] = tri[t][0]; tri[keep][1] = tri[t][1]; tri[keep][2] = tri[t][2];
+    keep++;
+  }
+  if (keep == 0) { free(tri); return T74_OK; }
+  if (m->nface + keep - 1 > m->cap) {
+    int c = m->nface + keep - 1;
+    struct mface *nf = realloc(m->f, (size_t)c * sizeof *nf);
+    if (!nf) { free(tri); return t74_fail(err, T74_EIO, "out of host memory"); }
+    m->f = nf;
+    m->cap = c;
+    f = &m->f[k];
+  }
+  uint32_t at;
+  if (keep > 1 &&
+      core_alloc(core, "A-BLOCK", (uint32_t)(keep - 1) * ABLOCK_ROW_WORDS, &at, err) != T74_OK) {
+    free(tri);
+    return err->status;
+  }
+  struct mface base = *f;
+  for (int t = 0; t < keep; t++) {
+    struct mface g = base;
+    g.nring = 1;
+    g.ring_start = malloc(2 * sizeof *g.ring_start);
+    g.pt = malloc(3 * sizeof *g.pt);
+    g.vid = malloc(3 * sizeof *g.vid);
+    g.xyz = malloc(3 * sizeof *g.xyz);
+    if (!g.ring_start || !g.pt || !g.vid || !g.xyz) {
+      free(g.ring_start); free(g.pt); free(g.vid); free(g.xyz);
+      free(tri);
+      return t74_fail(err, T74_EIO, "out of host memory");
+    }
+    g.ring_start[0] = 0;
+    g.ring_start[1] = 3;
+    for (int c = 0; c < 3; c++) {
+      g.pt[c] = base.pt[tri[t][c]];
+      g.vid[c] = base.vid[tri[t][c]];
+      memcpy(g.xyz[c], base.xyz[tri[t][c]], sizeof g.xyz[c]);
+    }
+    COST_ADD_N(cost, COST_MEM, 12);
+    if (t == 0) {
+      m->f[k] = g;
+    } else {
+      uint32_t a = at + (uint32_t)(t - 1) * ABLOCK_ROW_WORDS;
+      core_write(core, a, g.id);
+      core_write(core, a + 1, (uint16_t)g.grey);
+      for (int c = 0; c < 3; c++) core_put_int(core, a + 6 + 3 * (uint32_t)c, 3, g.plane[c]);
+      core_put_int(core, a + 15, 4, g.plane[3]);
+      m->f[m->nface++] = g;
+    }
+  }
+  free(base.ring_start); free(base.pt); free(base.vid); free(base.xyz);
+  free(tri);
+  m->split++;
+  *ntri = keep;
+  return T74_OK;
+}
+
+struct gpoint mapper_point(const struct scene *s, int v)
+{
+  const int64_t X0 = s->view[0], Y0 = s->view[1], Z0 = s->view[2];
+  int64_t w = s->v[v].z - Z0;
+  struct gpoint p = { project(s->v[v].x, X0, -Z0, w), project(s->v[v].y, Y0, -Z0, w) };
+  return p;
 }
 
 void mapper_free(struct mapped *m)

@@ -36,6 +36,9 @@ struct mapped {
   int nface;                /* faces kept */
   struct mface *f;
   int dropped;              /* faces dropped: edge-on to the eye or zero projected area */
+  int cap;                  /* entries f has room for */
+  int split;                /* faces split into triangles because rounding made them
+                               not simple (mapper_split_face) */
   int64_t eye[3];           /* X0, Y0, Z0 (world units) */
 };
 
@@ -43,6 +46,20 @@ struct mapped {
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
                struct cost *cost, struct t74_error *err);
 
+/* Face k, whose grid polygon the Segment Generator refused as not simple (the rounding
+   of its vertices, seen almost edge-on or from far away, folded it), is split into
+   triangles by exact ear clipping in its own plane, before rounding matters: every
+   triangle keeps the face's number, plane and grid points, and is simple on the grid
+   (or covers no point). Face k becomes the first triangle, the others are appended;
+   *ntri is how many remain (0: none covers a point, face k is left as it was). Faces with
+   holes are not split (T74_EINPUT is returned, err untouched). */
+int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *cost,
+                      int *ntri, struct t74_error *err);
+
 void mapper_free(struct mapped *m);
+
+/* Vertex v (index in scene.v) on the plane grid, exactly as mapper_run places it (eq. (1),
+   rounded once, half up); for later stages that need a vertex the Mapper's faces dropped. */
+struct gpoint mapper_point(const struct scene *s, int v);
 
 #endif

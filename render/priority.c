@@ -333,6 +333,33 @@ static int add_half(struct prio *pr, int face, const struct cpoly *c, struct t74
   return seginfo_add(pr->seg, face, c->n, c->line, err);
 }
 
+/* Remember that faces fa and fb were cut along l (once a pair). */
+static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_error *err)
+{
+  for (int k = 0; k < pr->ncut; k++)
+    if ((pr->cut[k].fa == fa && pr->cut[k].fb == fb) || (pr->cut[k].fa == fb && pr->cut[k].fb == fa))
+      return T74_OK;
+  if (pr->ncut == pr->cutcap) {
+    int c = pr->cutcap ? 2 * pr->cutcap : 16;
+    struct prio_cut *n = realloc(pr->cut, (size_t)c * sizeof *n);
+    if (!n) return t74_fail(err, T74_EIO, "out of host memory");
+    pr->cut = n;
+    pr->cutcap = c;
+  }
+  pr->cut[pr->ncut].fa = fa;
+  pr->cut[pr->ncut].fb = fb;
+  pr->cut[pr->ncut].line = l;
+  pr->ncut++;
+  return T74_OK;
+}
+
+void prio_free(struct prio *pr)
+{
+  free(pr->cut);
+  pr->cut = NULL;
+  pr->ncut = pr->cutcap = 0;
+}
+
 /* Decide pieces i < j. Returns the code for (i, j), DECIDED_SPLIT, or PRIO_ERROR. */
 static int decide(struct prio *pr, int i, int j, struct t74_error *err)
 {
@@ -414,6 +441,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     pr->seg->p[i].alive = false;
     if (qhl && qhr) pr->seg->p[j].alive = false;
     pr->splits++;
+    if (note_cut(pr, pf, qf, L, err) != T74_OK) goto fail;
     if (pr->trace)
       fprintf(pr->trace, "INTERSECT pieces %d (face %u) and %d (face %u) cross: cut along "
               "%lld x + %lld y + %lld = 0 into pieces %d..%d\n", i, (unsigned)A->id, j,

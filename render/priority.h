@@ -28,6 +28,10 @@ enum prio_result {
 
 enum prio_store { PRIO_AUTO = 0, PRIO_DENSE = 1, PRIO_SPARSE = 2 };
 
+/* One pair of faces found crossing, and the line L~ both were cut along (kept for the
+   intersection lines of enhanced edges, paper 002 e4; host memory, one entry a pair). */
+struct prio_cut { int fa, fb; struct gline line; };
+
 struct prio {
   struct seginfo *seg;
   const struct mapped *map;
@@ -39,6 +43,8 @@ struct prio {
   uint64_t computed;        /* pairs whose priority was computed */
   int      splits;          /* interpenetrating pairs cut along their intersection */
   FILE    *trace;           /* teaching dump of each decision, or NULL */
+  struct prio_cut *cut;     /* the face pairs cut along their intersection, in order found */
+  int      ncut, cutcap;
 };
 
 /* store: PRIO_AUTO keeps the paper's dense matrix while the triangle for the pieces known
@@ -48,6 +54,9 @@ int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
 
 /* The priority of pieces p and q (p != q), computed if not yet known. */
 int prio_order(struct prio *pr, int p, int q, struct t74_error *err);
+
+/* Free the host-side list of cuts (the matrix itself lives in core). */
+void prio_free(struct prio *pr);
 
 /* The matrix in Fig. 9 form (or as a list of known pairs when large). */
 void prio_dump(const struct prio *pr, FILE *f);

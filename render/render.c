@@ -8,12 +8,17 @@
 */
 #include "render/render.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "render/segment.h"
 
-static int segment_all(struct render *r, struct t74_error *err)
+/* A face whose grid polygon the Segment Generator refuses was simple in the scene (the
+   scene reader checked it exactly): the rounding of its vertices folded it. It is split
+   into triangles in space (mapper_split_face) and the triangles are segmented instead;
+   a face with holes cannot be split so, and is refused at its line, naming the rounding. */
+static int segment_all(struct render *r, const struct scene *s, struct t74_error *err)
 {
   struct cost *cost = &r->cost[RS_SEGMENT];
   r->seg.cost = cost;
@@ -22,6 +27,35 @@ static int segment_all(struct render *r, struct t74_error *err)
     struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
     struct seg_result res = { 0 };
     int st = seg_generate(&in, &res, r->tables, r->core, cost, err);
+    if (st == T74_EINPUT) {
+      seg_result_free(&res);
+      char why[sizeof err->msg];
+      snprintf(why, sizeof why, "%s", err->msg);
+      memset(err, 0, sizeof *err);
+      int ntri = 0;
+      st = mapper_split_face(&r->map, k, r->core, cost, &ntri, err);
+      if (st == T74_EINPUT)
+        return t74_fail_at(err, T74_EINPUT, s->file, f->sline,
+                           "face %u: rounded onto the plane grid (1/%d unit) its boundary is "
+                           "no longer simple (%s), and %s; it is seen almost edge-on or from "
+                           "far away: move the eye or the face", (unsigned)f->id,
+                           (int)GRID_ONE, why,
+                           f->nring > 1 ? "a face with holes is not split into triangles"
+                                        : "no split into triangles was found");
+      if (st != T74_OK) return st;
+      if (ntri == 0) continue;
+      f = &r->map.f[k];
+      struct seg_input tin = { f->id, f->nring, f->ring_start, f->pt, f->vid };
+      st = seg_generate(&tin, &res, r->tables, r->core, cost, err);
+      if (st == T74_EINPUT) {
+        snprintf(why, sizeof why, "%s", err->msg);
+        memset(err, 0, sizeof *err);
+        seg_result_free(&res);
+        return t74_fail_at(err, T74_EINPUT, s->file, f->sline,
+                           "face %u: a triangle of it, rounded onto the plane grid, was "
+                           "refused: %s", (unsigned)f->id, why);
+      }
+    }
     if (st != T74_OK) {
       seg_result_free(&res);
       return st;
@@ -56,7 +90,7 @@ int render_prepare(struct render *r, const struct scene *s, const struct render_
   if (st != T74_OK) return st;
 
   r->ran[RS_SEGMENT] = 1;
-  st = segment_all(r, err);
+  st = segment_all(r, s, err);
   if (st != T74_OK) return st;
 
   r->seg.cost = &r->cost[RS_VISIBLE];
@@ -88,6 +122,7 @@ int render_pieces_alive(const struct render *r)
 void render_free(struct render *r)
 {
   vis_free(&r->vis);
+  prio_free(&r->prio);
   seginfo_free(&r->seg);
   mapper_free(&r->map);
   core_free(r->core);

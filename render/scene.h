@@ -47,6 +47,8 @@ struct scene_object {
   int      line;
   int      nface;
   int     *face;          /* indices into scene.f */
+  bool     smooth;        /* `smooth`: a smoothing group (paper 002 §3.2, e'1): its shared
+                             edges are not drawn by enhanced edges, its silhouette is */
 };
 
 struct scene {
@@ -60,6 +62,7 @@ struct scene {
   int32_t window[4];                /* XL YB XR YT on the plane z = 0; XL < XR, YB < YT */
   int32_t light[3];                 /* direction towards the light (not all zero) */
   char   *background;               /* PGM path resolved against the scene's folder, or NULL */
+  int     background_line;          /* its source line (0: none) */
   char   *effects;                  /* the effects line's KEY=VALUE text, or NULL */
   int     effects_line;             /* its source line */
   int     warnings;                 /* how many warnings were printed (imports) */
@@ -71,6 +74,8 @@ struct scene_opts {
   int32_t view[3];
   int32_t window[4];
   const char *input;                /* "s74", "obj", "off" or NULL to decide by extension */
+  bool    has_turn;                 /* --turn AZ,EL given (imports only; render/turn.h) */
+  double  turn[2];                  /* AZ, EL in degrees */
 };
 
 /* Read and check a scene. On failure returns T74_EINPUT (or T74_EIO when the file cannot

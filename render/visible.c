@@ -240,10 +240,21 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   return T74_OK;
 }
 
-/* the front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative */
-static int front_of(struct vis *v, int start_best, int from, int *best, struct t74_error *err)
+/* The front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative.
+   A pair's priority holds over the pair's whole overlap only once the pair itself has
+   been decided: deciding is also where crossing pieces are found and cut (priority.c).
+   So the winner of the elimination below is then compared DIRECTLY with every other
+   piece of the set — never by transitivity through a third piece, which would take the
+   order of two pieces that cross as settled (issue 7: three faces meeting at one vertex
+   showed a face behind the visible one, with one of the three pairs never decided). A
+   front kept from the last stretch was compared with every piece it still shares the set
+   with; only the pieces that joined are new to it. */
+static int front_of(struct vis *v, int start_best, int from, int *best, bool *sure,
+                    struct t74_error *err)
 {
   int b = start_best;
+  bool changed = start_best < 0;
+  *sure = true;
   for (int k = from; k < v->nset; k++) {
     int c = v->set[k];
     if (c == b) continue;
@@ -251,7 +262,23 @@ static int front_of(struct vis *v, int start_best, int from, int *best, struct t
     int r = prio_order(v->prio, b, c, err);
     if (r == PRIO_ERROR) return PRIO_ERROR;
     if (r == PRIO_SPLIT) return PRIO_SPLIT;
-    if (r == PRIO_SECOND) b = c;
+    if (r == PRIO_SECOND) { b = c; changed = true; }
+  }
+  /* a new front: check it against the whole set. With exact pairwise orders it wins every
+     pair on the first round; a later round runs only if three orders are cyclic (possible
+     only where pieces overlap within rounding of an intersection line's carrier), and
+     nset rounds bound that. A front left unproven so is not kept for the next stretch. */
+  for (int round = 0; changed && b >= 0; round++) {
+    if (round == v->nset) { *sure = false; break; }
+    changed = false;
+    for (int k = 0; k < v->nset && !changed; k++) {
+      int c = v->set[k];
+      if (c == b) continue;
+      int r = prio_order(v->prio, b, c, err);
+      if (r == PRIO_ERROR) return PRIO_ERROR;
+      if (r == PRIO_SPLIT) return PRIO_SPLIT;
+      if (r == PRIO_SECOND) { b = c; changed = true; }
+    }
   }
   *best = b;
   return PRIO_FIRST;
@@ -332,7 +359,12 @@ static int line_once(struct vis *v, int64_t yn, int64_t yd, struct t74_error *er
       int p = v->act[v->byxr[ir++]].piece;
       for (int m = 0; m < v->nset; m++)
         if (v->set[m] == p) { v->set[m] = v->set[--v->nset]; break; }
-      if (p == front) front = -1;
+      /* Any piece leaving may take the front's title with it: front_of leans on
+         transitivity (b before c, c before d), which holds point by point only where c
+         is there too. Once c has left, front and d may never have been compared, and
+         may cross (an intersection not yet cut) right here: choose afresh among the
+         pieces present, so every step of the chain is a pair met on this stretch. */
+      front = -1;
       COST_ADD_N(v->cost, COST_MEM, 2);
     }
     /* join: spans starting at x */
@@ -346,10 +378,13 @@ static int line_once(struct vis *v, int64_t yn, int64_t yd, struct t74_error *er
     if (ia < non && geom_rat_cmp(v->act[ia].xl, v->act[v->byxr[ir]].xr) < 0) xn = v->act[ia].xl;
     else xn = v->act[v->byxr[ir]].xr;
     /* the stretch [x, xn) has a fixed covering set: find its front piece */
-    int r = front < 0 ? front_of(v, -1, 0, &front, err) : front_of(v, front, joined, &front, err);
+    bool sure;
+    int r = front < 0 ? front_of(v, -1, 0, &front, &sure, err)
+                      : front_of(v, front, joined, &front, &sure, err);
     if (r != PRIO_FIRST) return r;
     if (!push_span(v, x, xn, front))
       return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
+    if (!sure) front = -1;
   }
   return PRIO_FIRST;
 }

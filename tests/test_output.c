@@ -631,8 +631,8 @@ static void test_writer_failures(void **state)
   assert_int_equal(err.status, T74_EIO);
   assert_non_null(strstr(err.msg, path));
   assert_int_equal(dir_entries(state), 0);
-  /* the final name is a folder: everything is written, the rename fails; the folder and
-  ** its content are untouched and the temporary is gone */
+  /* the final name is a folder: refused when opened (nothing is written); the folder and
+  ** its content are untouched and no temporary is left */
   path = in_dir(state, "taken");
   assert_int_equal(mkdir(path, 0777), 0);
   char inner[300];

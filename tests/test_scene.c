@@ -539,12 +539,16 @@ static void robust_huge_line(void **state)
 
 /* ---- .obj / .off ------------------------------------------------------------------------ */
 
+/* --turn 0,0: the mesh as written (imports are turned to a three-quarter view by default,
+   render/turn.h; these tests check the grid mapping itself) */
+static const struct scene_opts straight = { .has_turn = true };
+
 static void obj_split_and_drop(void **state)
 {
   (void)state;
   struct scene *s = NULL;
   struct t74_error err = { 0 };
-  int st = scene_load(DATA "quads.obj", NULL, &s, &err);
+  int st = scene_load(DATA "quads.obj", &straight, &s, &err);
   if (st) fail_msg("%s", err.msg);
   assert_int_equal(s->nv, 11);
   assert_int_equal(s->warnings, 2);          /* face 2 split, face 3 dropped */
@@ -625,7 +629,7 @@ static void off_cube(void **state)
   (void)state;
   struct scene *s = NULL;
   struct t74_error err = { 0 };
-  int st = scene_load(DATA "cube.off", NULL, &s, &err);
+  int st = scene_load(DATA "cube.off", &straight, &s, &err);
   if (st) fail_msg("%s", err.msg);
   assert_int_equal(s->nv, 8);
   assert_int_equal(s->nf, 6);

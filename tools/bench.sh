@@ -6,7 +6,10 @@
 #  2. accounting overhead: the same program built with -DT74_NO_COST (no counting) as the
 #     peer, compared in host instructions (callgrind): overhead = counted / uncounted - 1;
 #  3. growth from 10 to 10,000 faces (tools/mkgrowth.py), with the OSMesa z-buffer
-#     (tests/ref, llvmpipe) drawing the same scene as the peer where it is built.
+#     (tests/ref, llvmpipe) drawing the same scene as the peer where it is built;
+#  4. what accuracy costs: `tube74 bench accuracy` (anti-aliasing, papers 000/001), its
+#     tables, plots and panels in build/bench/accuracy (ACC_RUNS runs a frame, default 5).
+#  5. paper 004's Table 1 scenes against flat shading (`tools/bench.sh smooth`: only this).
 # Results go to stdout and build/bench/bench.md (+ growth.png when gnuplot is there).
 set -eu
 B=build/bench
@@ -31,6 +34,45 @@ host_median() { # BIN SCENE EXTRA...
     i=$((i + 1))
   done | median
 }
+
+# Paper 004's Table 1 (tools/mksmooth.py scenes): each row against flat shading of the
+# same scene (the scene's own cell, no other effect), host and 1974 time.
+# `tools/bench.sh smooth` runs this section alone (to build/bench/smooth.md).
+smooth_bench() {
+  {
+    echo "## Smooth shading, paper 004 Table 1 (median of $RUNS runs; host = this machine)"
+    echo
+    echo "| row | effects | host ms flat | host ms | host x flat | host Minstr flat | host Minstr | host Minstr added | hitac10 s flat | hitac10 s | 1974 x flat | points smoothed | points cut | core words used |"
+    echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  }
+  for s in scenes/t1-?.s74 scenes/sphere.s74; do
+    eff=$(sed -n 's/^effects //p' "$s")
+    ./tube74 render "$s" --effects halftone=3x3 --stats "$B/flat.json" >/dev/null
+    ./tube74 render "$s" --stats "$B/row.json" >/dev/null
+    hf=$(host_median ./tube74 "$s" --effects halftone=3x3)
+    hr=$(host_median ./tube74 "$s")
+    cut=$(field "$B/row.json" contour_points_cut); cut=${cut:-0}
+    # host instructions of the whole run (callgrind: exact and repeatable under load)
+    irf=nan; irr=nan
+    if command -v valgrind >/dev/null 2>&1; then
+      irf=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null ./tube74 render "$s" \
+            --effects halftone=3x3 2>&1 | sed -n 's/.*Collected : *\([0-9]*\).*/\1/p')
+      irr=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null ./tube74 render "$s" 2>&1 |
+            sed -n 's/.*Collected : *\([0-9]*\).*/\1/p')
+    fi
+    awk -v s="$(basename "$s" .s74)" -v e="$eff" -v hf="$hf" -v hr="$hr" -v irf="$irf" -v irr="$irr" \
+        -v tf="$(field "$B/flat.json" hitac10_seconds)" -v tr="$(field "$B/row.json" hitac10_seconds)" \
+        -v n="$(field "$B/row.json" smooth_points)" -v c="$cut" -v u="$(field "$B/row.json" core_words_used)" \
+        'BEGIN { printf "| %s | `%s` | %.2f | %.2f | %.2f | %s | %s | %s | %.2f | %.2f | %.2f | %d | %d | %d |\n",
+                 s, e, hf*1000, hr*1000, hr/hf,
+                 (irf == "nan" ? "-" : sprintf("%.2f", irf/1e6)), (irr == "nan" ? "-" : sprintf("%.2f", irr/1e6)),
+                 (irf == "nan" ? "-" : sprintf("%+.2f", (irr-irf)/1e6)), tf, tr, tr/tf, n, c, u }'
+  done
+}
+if [ "${1:-}" = smooth ]; then
+  smooth_bench | tee "$B/smooth.md"
+  exit 0
+fi
 
 out="$B/bench.md"
 {
@@ -87,6 +129,9 @@ for n in 10 30 100 300 1000 3000 10000; do
                (r == "nan" ? "-" : sprintf("%.2f", r*1000)), (r == "nan" ? "-" : sprintf("%.2f", h/r)), t, u }' >>"$out"
 done
 
+echo >>"$out"
+smooth_bench >>"$out"
+
 # Counting the 1974 operations costs the host: measured in instructions (callgrind counts
 # them exactly and repeatably, where millisecond timings scatter by tens of percent),
 # the counting build against the -DT74_NO_COST build on the same scene.
@@ -107,6 +152,34 @@ if command -v valgrind >/dev/null 2>&1; then
   done
 fi
 
+# The look layer's work is bounded by the picture (display/look.c "wide spots"): the
+# slowest fade (fade:0.001: every spot spread far) at the largest scale, beside the
+# plain glow look at the same scale as the peer. Wall seconds of whole runs (median;
+# under load only the ratios to the glow row, measured in the same run, are fair).
+{
+  echo
+  echo "## The tube's look at --scale 8 (street, median of 5 whole runs, wall seconds)"
+  echo
+  echo "| look | seconds | / glow |"
+  echo "|---|---:|---:|"
+} >>"$out"
+wall() { # LOOK...
+  i=0
+  while [ $i -lt 5 ]; do
+    t0=$(date +%s.%N)
+    ./tube74 render scenes/street.s74 --scale 8 -o "$B/look.png" "$@" >/dev/null 2>&1
+    t1=$(date +%s.%N)
+    awk -v a="$t0" -v b="$t1" 'BEGIN { print b - a }'
+    i=$((i + 1))
+  done | median
+}
+g=$(wall --look glow)
+for l in glow fade:0.001 fade:1 fade:100 "fade:10 --look-param fade_spread_mm=10"; do
+  # shellcheck disable=SC2086
+  w=$(wall --look $l)
+  awk -v l="$l" -v w="$w" -v g="$g" 'BEGIN { printf "| %s | %.2f | %.2f |\n", l, w, w/g }' >>"$out"
+done
+
 if command -v gnuplot >/dev/null 2>&1; then
   gnuplot <<EOF 2>/dev/null || true
 set terminal pngcairo size 640,400
@@ -119,4 +192,9 @@ plot "$B/growth.dat" using 1:2 with linespoints title "tube74", \
      "$B/growth.dat" using 1:3 with linespoints title "OSMesa z-buffer (peer)"
 EOF
 fi
+# enhanced edges (paper 002): edges=on against the plain render of each edges scene
+sh tools/bench_edges.sh "$B/bench_edges.md" >/dev/null
+{ echo; cat "$B/bench_edges.md"; } >>"$out"
 cat "$out"
+echo
+./tube74 bench accuracy --out "$B/accuracy" --runs "${ACC_RUNS:-5}"

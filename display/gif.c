@@ -1,0 +1,150 @@
+/*
+** gif.c — animated GIF writing with giflib (see gif.h); the movie of `play --movie
+** FILE.gif`, after the face has been rendered by display/look.c.
+**
+** This file contains code to put frames of palette indices into a GIF89a file: the
+** screen descriptor with the global palette, the looping block, then per frame a graphic
+** control extension and the changed rectangle. giflib (Debian libgif-dev, 5.2) does the
+** LZW coding; its output goes through our write callback into display/outfile.h, so the
+** file appears complete or not at all.
+*/
+#include "display/gif.h"
+
+#include <gif_lib.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "display/outfile.h"
+
+struct gif {
+  GifFileType *gf;              /* giflib's encoder */
+  struct outfile *of;           /* where its bytes go */
+  const char *path;             /* for messages (the caller's string) */
+  int w, h;
+  uint8_t *prev;                /* the previous frame (w x h), valid when frames > 0 */
+  long frames;
+  int io_failed;                /* a write of the callback failed */
+};
+
+static int gif_put(GifFileType *gf, const GifByteType *b, int n)
+{
+  struct gif *g = gf->UserData;
+  if (n <= 0) return 0;
+  if (outfile_write(g->of, b, (size_t)n) != T74_OK) { g->io_failed = 1; return 0; }
+  return n;
+}
+
+static int fail(struct gif *g, struct t74_error *err, const char *what, int code)
+{
+  return t74_fail(err, T74_EIO, "%s: cannot write the GIF (%s: %s)", g->path, what,
+                  g->io_failed ? "write error" : GifErrorString(code));
+}
+
+int gif_open_to(struct gif **out, struct outfile *of, const char *path, int w, int h,
+                const uint8_t palette[256][3], struct t74_error *err)
+{
+  *out = NULL;
+  if (w < 1 || h < 1 || w > 65535 || h > 65535) {
+    outfile_abort(of);
+    return t74_fail(err, T74_EIO, "%s: a GIF frame must be 1..65535 pixels a side", path);
+  }
+  struct gif *g = calloc(1, sizeof *g);
+  if (!g) { outfile_abort(of); return t74_fail(err, T74_EIO, "%s: out of memory", path); }
+  g->path = path;
+  g->w = w;
+  g->h = h;
+  g->prev = malloc((size_t)w * (size_t)h);
+  if (!g->prev) { outfile_abort(of); free(g); return t74_fail(err, T74_EIO, "%s: out of memory", path); }
+  g->of = of;
+  int st;
+  int code = 0;
+  g->gf = EGifOpen(g, gif_put, &code);
+  if (!g->gf) { st = fail(g, err, "open", code); gif_abort(g); return st; }
+  EGifSetGifVersion(g->gf, true);
+  GifColorType cols[256];
+  for (int k = 0; k < 256; k++) {
+    cols[k].Red = palette[k][0];
+    cols[k].Green = palette[k][1];
+    cols[k].Blue = palette[k][2];
+  }
+  ColorMapObject *map = GifMakeMapObject(256, cols);
+  if (!map) { gif_abort(g); return t74_fail(err, T74_EIO, "%s: out of memory", path); }
+  int ok = EGifPutScreenDesc(g->gf, w, h, 8, 0, map) == GIF_OK;
+  GifFreeMapObject(map);
+  /* loop for ever: the NETSCAPE2.0 application block, sub-block 1, count 0 */
+  static const GifByteType app[11] = { 'N', 'E', 'T', 'S', 'C', 'A', 'P', 'E', '2', '.', '0' };
+  static const GifByteType loop[3] = { 1, 0, 0 };
+  ok = ok && EGifPutExtensionLeader(g->gf, APPLICATION_EXT_FUNC_CODE) == GIF_OK &&
+       EGifPutExtensionBlock(g->gf, sizeof app, app) == GIF_OK &&
+       EGifPutExtensionBlock(g->gf, sizeof loop, loop) == GIF_OK &&
+       EGifPutExtensionTrailer(g->gf) == GIF_OK;
+  if (!ok) { st = fail(g, err, "header", g->gf->Error); gif_abort(g); return st; }
+  *out = g;
+  return T74_OK;
+}
+
+int gif_frame(struct gif *g, const uint8_t *idx, int delay_cs, struct t74_error *err)
+{
+  int x0 = 0, y0 = 0, x1 = g->w - 1, y1 = g->h - 1;   /* the rectangle to send */
+  if (g->frames > 0) {
+    x0 = g->w; y0 = g->h; x1 = -1; y1 = -1;
+    for (int y = 0; y < g->h; y++) {
+      const uint8_t *a = idx + (size_t)y * (size_t)g->w, *b = g->prev + (size_t)y * (size_t)g->w;
+      if (!memcmp(a, b, (size_t)g->w)) continue;
+      if (y < y0) y0 = y;
+      y1 = y;
+      for (int x = 0; x < g->w; x++)
+        if (a[x] != b[x]) { if (x < x0) x0 = x; if (x > x1) x1 = x; }
+    }
+    if (x1 < 0) { x0 = x1 = 0; y0 = y1 = 0; }          /* unchanged: one pixel, same value */
+  }
+  GraphicsControlBlock gcb = { DISPOSE_DO_NOT, false, delay_cs < 0 ? 0 : delay_cs,
+                               NO_TRANSPARENT_COLOR };
+  GifByteType ext[4];
+  EGifGCBToExtension(&gcb, ext);
+  int ok = EGifPutExtension(g->gf, GRAPHICS_EXT_FUNC_CODE, 4, ext) == GIF_OK &&
+           EGifPutImageDesc(g->gf, x0, y0, x1 - x0 + 1, y1 - y0 + 1, false, NULL) == GIF_OK;
+  for (int y = y0; ok && y <= y1; y++)
+    ok = EGifPutLine(g->gf, (GifPixelType *)(idx + (size_t)y * (size_t)g->w + (size_t)x0),
+                     x1 - x0 + 1) == GIF_OK;
+  if (!ok) return fail(g, err, "frame", g->gf->Error);
+  memcpy(g->prev, idx, (size_t)g->w * (size_t)g->h);
+  g->frames++;
+  return T74_OK;
+}
+
+int gif_open(struct gif **out, const char *path, int w, int h, const uint8_t palette[256][3],
+             struct t74_error *err)
+{
+  struct outfile *of;
+  *out = NULL;
+  int st = outfile_open(&of, path, err);
+  if (st != T74_OK) return st;
+  return gif_open_to(out, of, path, w, h, palette, err);
+}
+
+long gif_frames(const struct gif *g) { return g->frames; }
+
+int gif_commit(struct gif *g, struct t74_error *err)
+{
+  int code = 0, st = T74_OK;
+  if (EGifCloseFile(g->gf, &code) != GIF_OK) {
+    g->gf = NULL;                       /* freed by giflib even on failure */
+    st = fail(g, err, "close", code);
+    outfile_abort(g->of);
+  } else {
+    st = outfile_commit(g->of, err);
+  }
+  free(g->prev);
+  free(g);
+  return st;
+}
+
+void gif_abort(struct gif *g)
+{
+  if (!g) return;
+  if (g->gf) { int code; EGifCloseFile(g->gf, &code); }
+  if (g->of) outfile_abort(g->of);
+  free(g->prev);
+  free(g);
+}

@@ -1,0 +1,318 @@
+/*
+** contour.c — contour smoothing (paper 004 §5, procedures (C), (D)); see contour.h.
+**
+** Cost: building the contour is charged per front triangle side (a sort key, 3 loads);
+** each corner's control points (2 projections of a space point, eq. (1): 2 multiplies,
+** 1 divide each coordinate) and its CONTOUR_STEPS + 1 curve points (4 multiply-adds a
+** coordinate, Horner); each row of a corner's region its edge tests and crossings
+** (geom_x_at: a multi-word multiply and divide); each cut point the span of every piece
+** whose height range holds the row (seginfo_span counts its own work) and the priority
+** look-ups (prio_order counts into the Priority Matrix's stage).
+** Tables in core: CONTOUR CURVES, the region polygon of the corner being cut (4 words a
+** point, CONTOUR_STEPS + 2 points), reused from corner to corner.
+*/
+#include "render/contour.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CONTOUR_TABLE "CONTOUR CURVES"
+
+void contour_bezier(const double q[5][2], double t, double out[2])
+{
+  double u = 1 - t;
+  double b[5] = { u * u * u * u, 4 * u * u * u * t, 6 * u * u * t * t, 4 * u * t * t * t,
+                  t * t * t * t };
+  for (int c = 0; c < 2; c++)
+    out[c] = b[0] * q[0][c] + b[1] * q[1][c] + b[2] * q[2][c] + b[3] * q[3][c] + b[4] * q[4][c];
+}
+
+void contour_bezier_d(const double q[5][2], double t, double out[2])
+{
+  double u = 1 - t;
+  double b[4] = { u * u * u, 3 * u * u * t, 3 * u * t * t, t * t * t };
+  for (int c = 0; c < 2; c++) {
+    out[c] = 0;
+    for (int i = 0; i < 4; i++) out[c] += 4 * b[i] * (q[i + 1][c] - q[i][c]);
+  }
+}
+
+void contour_controls(const double q0[2], const double q2[2], const double q4[2], double cc,
+                      double q[5][2])
+{
+  for (int c = 0; c < 2; c++) {
+    q[0][c] = q0[c];
+    q[1][c] = q2[c] + cc * (q0[c] - q2[c]);
+    q[2][c] = q2[c];
+    q[3][c] = q2[c] + cc * (q4[c] - q2[c]);
+    q[4][c] = q4[c];
+  }
+}
+
+double contour_cut_share(double cc)
+{
+  return (8 * cc * cc + 8 * cc + 1) / 35;
+}
+
+void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
+{
+  double d[5][2];
+  for (int k = 0; k < 5; k++) { d[k][0] = (double)q[k].x; d[k][1] = (double)q[k].y; }
+  poly[0] = q[2];
+  /* Q4, the curve back towards Q0, then Q0: CONTOUR_STEPS + 1 points */
+  for (int m = CONTOUR_STEPS; m >= 0; m--) {
+    struct gpoint p;
+    if (m == CONTOUR_STEPS) p = q[4];
+    else if (m == 0) p = q[0];
+    else {
+      double o[2];
+      contour_bezier(d, (double)m / CONTOUR_STEPS, o);
+      p.x = (gcoord)llround(o[0]);
+      p.y = (gcoord)llround(o[1]);
+    }
+    poly[1 + CONTOUR_STEPS - m] = p;
+  }
+}
+
+/* ---- the contour ------------------------------------------------------------------ */
+
+struct cedge {
+  int object;
+  int a, b;                 /* scene vertices, directed with the triangle on the left */
+  int tri;                  /* the front triangle */
+  int lo, hi;               /* undirected key */
+};
+
+static int by_key(const void *pa, const void *pb)
+{
+  const struct cedge *x = pa, *y = pb;
+  if (x->object != y->object) return x->object < y->object ? -1 : 1;
+  if (x->lo != y->lo) return x->lo < y->lo ? -1 : 1;
+  if (x->hi != y->hi) return x->hi < y->hi ? -1 : 1;
+  return 0;
+}
+
+static int by_from(const void *pa, const void *pb)
+{
+  const struct cedge *x = pa, *y = pb;
+  if (x->object != y->object) return x->object < y->object ? -1 : 1;
+  if (x->a != y->a) return x->a < y->a ? -1 : 1;
+  return x->b < y->b ? -1 : x->b > y->b;
+}
+
+/* The projected grid point of scene vertex v in the mapped face mf. */
+static bool mapped_point(const struct scene *s, const struct mface *mf, int v, struct gpoint *out)
+{
+  for (int k = 0; k < mf->ring_start[1]; k++)
+    if (mf->vid[k] == s->v[v].id) { *out = mf->pt[k]; return true; }
+  return false;
+}
+
+/* Eq. (1) for a point in space, rounded onto the grid. */
+static struct gpoint project(const struct render *r, const double x[3], struct cost *cost)
+{
+  const int64_t *e = r->map.eye;
+  double f = (double)-e[2], w = x[2] - (double)e[2];
+  struct gpoint p = {
+    (gcoord)llround((double)GRID_ONE * ((double)e[0] + f * (x[0] - (double)e[0]) / w)),
+    (gcoord)llround((double)GRID_ONE * ((double)e[1] + f * (x[1] - (double)e[1]) / w)) };
+  for (int k = 0; k < 2; k++) { cost_mw_mul(cost, 32, 32); cost_mw_div(cost, 64, 32); }
+  return p;
+}
+
+/* The inset of triangle tr's side through corner vertex b other than the side b-a
+   (the side opposite a), capped at 1/2 so neighbouring corners' curves do not meet. */
+static double inset_at(const struct smooth_tri *tr, int a)
+{
+  for (int k = 0; k < 3; k++)
+    if (tr->v[k] == a) return tr->t[k] < 0.5 ? tr->t[k] : 0.5;
+  return 0.5;
+}
+
+struct cut_ctx {
+  struct render *r;
+  const struct scene *s;
+  struct cost *cost;
+  long behind_face, behind_none;
+};
+
+/* The object of mapped face k (0: none). */
+static int object_of(const struct render *r, const struct scene *s, int k)
+{
+  return s->f[r->map.f[k].sface].object;
+}
+
+/* The front-most piece of a face outside object obj covering the point centre
+   (xn/xd, yn/yd); its face index, or -1. PRIO_ERROR as -2. */
+static int behind(struct cut_ctx *c, int obj, int64_t xn, int64_t xd, int64_t yn, int64_t yd,
+                  struct t74_error *err)
+{
+  struct seginfo *sg = &c->r->seg;
+  for (;;) {
+    int best = -1;
+    bool again = false;
+    for (int p = 0; p < sg->n && !again; p++) {
+      const struct piece *pc = &sg->p[p];
+      COST_ADD_N(c->cost, COST_MEM, 3); COST_ADD_N(c->cost, COST_BRANCH, 2);
+      if (!pc->alive || object_of(c->r, c->s, pc->face) == obj) continue;
+      if (geom_hy_cmp(pc->ylo, yn, yd) > 0 || geom_hy_cmp(pc->yhi, yn, yd) < 0) continue;
+      struct grat xl, xr;
+      if (!seginfo_span(pc, yn, yd, &xl, &xr, c->cost)) continue;
+      if (geom_rat_cmp_frac(xl, xn, xd) > 0 || geom_rat_cmp_frac(xr, xn, xd) <= 0) continue;
+      if (best < 0) { best = p; continue; }
+      int o = prio_order(&c->r->prio, best, p, err);
+      if (o == PRIO_ERROR) return -2;
+      if (o == PRIO_SPLIT) again = true;    /* both were cut: look again */
+      else if (o == PRIO_SECOND) best = p;
+    }
+    if (!again) return best < 0 ? -1 : sg->p[best].face;
+  }
+}
+
+int contour_run(struct render *r, const struct scene *s, const struct effects *e,
+                const struct vis_grid *g, struct fx_frame *f, const struct smooth_model *m,
+                struct fx_stats *st, struct cost *cost, struct t74_error *err)
+{
+  (void)e;
+  int nfront = 0;
+  for (int t = 0; t < m->ntri; t++) nfront += m->tri[t].front;
+  struct cedge *ce = malloc(((size_t)nfront * 3 + 1) * sizeof *ce);
+  if (!ce) return t74_fail(err, T74_EIO, "out of host memory");
+  int n = 0;
+  for (int t = 0; t < m->ntri; t++) {
+    const struct smooth_tri *tr = &m->tri[t];
+    if (!tr->front) continue;
+    const struct mface *mf = &r->map.f[tr->mface];
+    struct gpoint p[3];
+    bool ok = true;
+    for (int k = 0; k < 3; k++) ok = ok && mapped_point(s, mf, tr->v[k], &p[k]);
+    if (!ok) continue;
+    bool ccw = geom_orient(p[0], p[1], p[2]) > 0;
+    for (int k = 0; k < 3; k++) {
+      int a = tr->v[k], b = tr->v[(k + 1) % 3];
+      if (!ccw) { int x = a; a = b; b = x; }
+      ce[n++] = (struct cedge){ tr->object, a, b, t, a < b ? a : b, a < b ? b : a };
+      COST_ADD_N(cost, COST_MEM, 3);
+    }
+  }
+  /* contour sides: shared with no other front triangle of the object */
+  qsort(ce, (size_t)n, sizeof *ce, by_key);
+  int nc = 0;
+  for (int k = 0; k < n;) {
+    int j = k;
+    while (j < n && by_key(&ce[j], &ce[k]) == 0) j++;
+    if (j - k == 1) ce[nc++] = ce[k];
+    k = j;
+  }
+  COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
+  qsort(ce, (size_t)nc, sizeof *ce, by_from);
+  long convex = 0, concave = 0, junction = 0, cut = 0;
+  struct cut_ctx cx = { r, s, cost, 0, 0 };
+  uint32_t mark = core_mark(r->core), at = 0;
+  int rc = T74_OK;
+  /* one corner's region polygon at a time: each corner is cut before the next is made */
+  if (nc > 0) rc = core_alloc(r->core, CONTOUR_TABLE, (CONTOUR_STEPS + 2) * 4, &at, err);
+  const int64_t XL = g->window[0], YB = g->window[1], XR = g->window[2], YT = g->window[3];
+  const int64_t xd = 2 * (int64_t)g->W, yd = 2 * (int64_t)g->H;
+  for (int k = 0; rc == T74_OK && k < nc; k++) {
+    /* the incoming side of vertex ce[k].a: a side ending there, in the same object */
+    const struct cedge *out = &ce[k];
+    int nin = 0, nout = 0, inc = -1;
+    for (int q = 0; q < nc; q++) {
+      if (ce[q].object != out->object) continue;
+      if (ce[q].b == out->a) { nin++; inc = q; }
+      if (ce[q].a == out->a) nout++;
+    }
+    COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)nc);
+    if (nin != 1 || nout != 1) { junction++; continue; }
+    const struct cedge *inw = &ce[inc];
+    const struct smooth_tri *A = &m->tri[inw->tri], *B = &m->tri[out->tri];
+    struct gpoint pa, pb, pc;
+    if (!mapped_point(s, &r->map.f[A->mface], inw->a, &pa) ||
+        !mapped_point(s, &r->map.f[A->mface], out->a, &pb) ||
+        !mapped_point(s, &r->map.f[B->mface], out->b, &pc)) { junction++; continue; }
+    if (geom_orient(pa, pb, pc) <= 0) { concave++; continue; }
+    convex++;
+    /* Q0 on the incoming side, Q4 on the outgoing one, in space, then eq. (1) */
+    const struct scene_vertex *va = &s->v[inw->a], *vb = &s->v[out->a], *vc = &s->v[out->b];
+    double ta = inset_at(A, inw->a), tc = inset_at(B, out->b);
+    double x0[3] = { vb->x + ta * (va->x - vb->x), vb->y + ta * (va->y - vb->y), vb->z + ta * (va->z - vb->z) };
+    double x4[3] = { vb->x + tc * (vc->x - vb->x), vb->y + tc * (vc->y - vb->y), vb->z + tc * (vc->z - vb->z) };
+    struct gpoint q[5];
+    q[0] = project(r, x0, cost);
+    q[2] = pb;
+    q[4] = project(r, x4, cost);
+    q[1].x = (gcoord)llround((double)q[2].x + e->contour * (double)(q[0].x - q[2].x));
+    q[1].y = (gcoord)llround((double)q[2].y + e->contour * (double)(q[0].y - q[2].y));
+    q[3].x = (gcoord)llround((double)q[2].x + e->contour * (double)(q[4].x - q[2].x));
+    q[3].y = (gcoord)llround((double)q[2].y + e->contour * (double)(q[4].y - q[2].y));
+    struct gpoint poly[CONTOUR_STEPS + 2];
+    contour_region(q, poly);
+    COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
+    for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {
+      for (int h = 0; h < 4; h++) cost_mw_mul(cost, 32, 16);
+      COST_ADD_N(cost, COST_ADD, 4);
+    }
+    for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
+      core_put_int(r->core, at + 4 * (uint32_t)v, 2, poly[v].x);
+      core_put_int(r->core, at + 4 * (uint32_t)v + 2, 2, poly[v].y);
+    }
+    /* procedure (D) (6): each row's stretches between the corner and the curve */
+    gcoord ylo = poly[0].y, yhi = poly[0].y, xlo = poly[0].x, xhi = poly[0].x;
+    for (int v = 1; v < CONTOUR_STEPS + 2; v++) {
+      if (poly[v].y < ylo) ylo = poly[v].y;
+      if (poly[v].y > yhi) yhi = poly[v].y;
+      if (poly[v].x < xlo) xlo = poly[v].x;
+      if (poly[v].x > xhi) xhi = poly[v].x;
+    }
+    for (int j = 0; rc == T74_OK && j < g->H; j++) {
+      int64_t yn = GRID_ONE * (yd * YT - (2 * (int64_t)j + 1) * (YT - YB));
+      if ((wide)yn < (wide)ylo * yd || (wide)yn >= (wide)yhi * yd) continue;
+      struct grat xs[CONTOUR_STEPS + 2];
+      int nx = 0;
+      for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
+        struct gpoint p0 = poly[v], p1 = poly[(v + 1) % (CONTOUR_STEPS + 2)];
+        bool c0 = (wide)p0.y * yd <= yn, c1 = (wide)p1.y * yd <= yn;
+        COST_ADD_N(cost, COST_ADD, 2); COST_ADD_N(cost, COST_BRANCH, 1);
+        if (c0 == c1) continue;
+        struct grat x = geom_x_at(geom_line(p0, p1), yn, yd);
+        cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46);
+        int h = nx++;
+        while (h > 0 && geom_rat_cmp(xs[h - 1], x) > 0) { xs[h] = xs[h - 1]; h--; }
+        xs[h] = x;
+      }
+      for (int i = 0; i < g->W; i++) {
+        int64_t xn = GRID_ONE * (xd * XL + (2 * (int64_t)i + 1) * (XR - XL));
+        if ((wide)xn < (wide)xlo * xd || (wide)xn > (wide)xhi * xd) continue;
+        bool inside = false;
+        for (int h = 0; h + 1 < nx; h += 2)
+          if (geom_rat_cmp_frac(xs[h], xn, xd) <= 0 && geom_rat_cmp_frac(xs[h + 1], xn, xd) > 0)
+            inside = true;
+        COST_ADD_N(cost, COST_ADD, (uint64_t)nx);
+        if (!inside) continue;
+        size_t pt = (size_t)j * (size_t)g->W + (size_t)i;
+        int face = f->face[pt];
+        if (face < 0 || object_of(r, s, face) != out->object) continue;
+        int nf = behind(&cx, out->object, xn, xd, yn, yd, err);
+        if (nf == -2) { rc = err->status; break; }
+        f->face[pt] = nf;
+        if (nf >= 0) { f->grey[pt] = (uint8_t)r->map.f[nf].grey; cx.behind_face++; }
+        else { f->grey[pt] = f->bg ? f->bg[pt] : 0; cx.behind_none++; }
+        cut++;
+      }
+    }
+  }
+  if (rc == T74_OK) {
+    fx_count(st, "contour_sides", nc, true);
+    fx_count(st, "contour_corners_convex", (double)convex, true);
+    fx_count(st, "contour_corners_concave", (double)concave, true);
+    fx_count(st, "contour_corners_junction", (double)junction, true);
+    fx_count(st, "contour_points_cut", (double)cut, true);
+    fx_count(st, "contour_points_show_face", (double)cx.behind_face, true);
+    fx_count(st, "contour_points_show_background", (double)cx.behind_none, true);
+  }
+  core_release(r->core, mark);
+  free(ce);
+  return rc;
+}

@@ -1,0 +1,66 @@
+/*
+** contour.h — contour smoothing (paper 004 §5, Def. 6-9, procedures (C) and (D)).
+**
+** This file declares the pass that rounds the corners of each object's outer contour in
+** the picture, part of the smooth slot of the effects stage (render/smooth.h calls it
+** before the shading pass, so a face uncovered by the cut is shaded like any other).
+**
+** The contour (instead of procedure (C)'s walk over projected vertices): for each object,
+** the projected sides of its front triangles (outward side towards the eye, decided
+** exactly in integers) that no other front triangle of the object shares. Each such side
+** is directed with its triangle on the left (the Mapper's counter-clockwise rings), so the
+** sides link into the contour, counter-clockwise round the object. For a convex object
+** this is exactly the outline of its projection.
+**
+** At a contour vertex Q2 where the contour turns left (a convex corner), with patch A on
+** the side coming in and patch B on the side going out: Q0 is where A's smoothing
+** boundary line through Q2's other side meets the incoming side, Q4 likewise in B
+** (the edge midpoints under whole smoothing), Q1 = Q2 + Cc(Q0 - Q2), Q3 = Q2 + Cc(Q4 -
+** Q2) (Def. 8), and the quartic Bezier of Def. 9 replaces the corner. Q0..Q4 are rounded
+** once onto the plane grid (1/256 world unit); the curve is taken as the polygon through
+** its points at t = m/CONTOUR_STEPS, rounded onto the grid likewise, with Q0 and Q4 exact.
+** From there every decision is exact: for each row (procedure (D) (6)) the row's
+** crossings with the region between the corner and the curve give the stretches cut
+** away, with the renderer's tie rule (a stretch owns its left end, not its right).
+**
+** At a cut point where the object is what is seen, the point shows what lies behind: the
+** front-most alive piece of any other face covering the point centre (the Segment
+** Generator's pieces, their exact spans on the row, and the Priority Matrix's order), or
+** the background. Faces of the object itself do not show through: beyond its smoothed
+** contour, the object is not there.
+**
+** Concave contour vertices (where the contour turns right, or goes straight on) are left
+** as they are; the paper treats convex objects only (004 §7 names concave ones as future
+** work), and a curve there would have to add points outside the object's faces.
+*/
+#ifndef T74_CONTOUR_H
+#define T74_CONTOUR_H
+
+#include "render/smooth.h"
+
+#define CONTOUR_STEPS 64          /* segments of the curve polygon */
+
+/* The quartic Bezier of Def. 9 at t (0..1): out = sum C(4,i) (1-t)^(4-i) t^i q[i]. */
+void contour_bezier(const double q[5][2], double t, double out[2]);
+
+/* Its derivative with respect to t. */
+void contour_bezier_d(const double q[5][2], double t, double out[2]);
+
+/* Control points of Def. 8/9 from Q0, Q2, Q4 and Cc. */
+void contour_controls(const double q0[2], const double q2[2], const double q4[2], double cc,
+                      double q[5][2]);
+
+/* The closed form: the area between the corner Q0 Q2 Q4 and the curve, as a share of the
+   triangle Q0 Q2 Q4: (8 Cc^2 + 8 Cc + 1) / 35. */
+double contour_cut_share(double cc);
+
+/* The region cut away at a corner, as the polygon Q2, Q4, the curve back to Q0, on the
+   grid: writes CONTOUR_STEPS + 2 points into poly (Q0..Q4 as grid points). */
+void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2]);
+
+/* The contour pass over the frame (see above); m is the smoothing model of the scene. */
+int contour_run(struct render *r, const struct scene *s, const struct effects *e,
+                const struct vis_grid *g, struct fx_frame *f, const struct smooth_model *m,
+                struct fx_stats *st, struct cost *cost, struct t74_error *err);
+
+#endif

@@ -1,0 +1,527 @@
+/*
+** smooth.c — smooth shading and partial smoothing (paper 004 §2-4), see smooth.h.
+**
+** Procedure (A) as built here, for a triangle V0 V1 V2 with barycentric coordinates
+** l0 l1 l2 (side k is l[k] = 0) and insets t0 t1 t2 (side k's smoothing boundary line is
+** l[k] = t[k]):
+**   (1) the smoothing boundary lines l[k] = t[k], parallel to the sides, inside;
+**   (2) where two boundary lines meet (the inner triangle's corners): the face normal;
+**   (3) where a boundary line meets a side: the side's two vertex normals interpolated
+**       linearly at that position;
+**   (4) at the vertices: the mean of the unit normals of the object's triangles there;
+**   (5) [the paper's text is cut here] taken as: the corner quadrilaterals (at Vc, between
+**       the two boundary lines of the sides through Vc) have corners Vc, the two points
+**       of (3) on those sides and the inner corner of (2); the edge quadrilaterals
+**       (trapezoids along a side, between the side and its boundary line) have the two
+**       points of (3) on the side and the two inner corners of (2);
+**   (6) inside a quadrilateral the normal is its corners' normals shared out in proportion:
+**       bilinear in (l_a/t_a, l_b/t_b) in a corner parallelogram; in a trapezoid along
+**       side k, linear across (v = l_k/t_k) between the side and the face normal, and
+**       linear along each line parallel to the side between the trapezoid's two slanted
+**       edges;
+**   (7) the inner triangle (every l[k] >= t[k]) keeps the face's flat intensity exactly;
+**   (8) intensity by Lambert's law per point (Phong).
+** On every side the normal is then exactly the linear interpolation of the side's two
+** vertex normals (as in Phong's method), whatever the insets; the two triangles sharing
+** a side share those vertex normals, so the normal is continuous across every shared
+** side (no seams), and across the quadrilaterals' own borders inside the triangle.
+**
+** Units (004 Def. 3 and 5). prop:C: every boundary line cuts the two other sides at the
+** fraction C of their lengths (m_i / l_i = C), so side k's band is C times the height on
+** side k, t[k] = C, and the flat inner triangle is similar to the patch with ratio 1-3C:
+** its share is (1-3C)^2. fixed:C: a band of one width w in space on every side, with
+** w = C times the object's mean triangle height (the mean over all triangles and sides
+** of 2 area / side); t[k] = w / height_k. On a mesh of equal triangles fixed:C and
+** prop:C are then the same picture, so the paper's 0.05 and 0.15 cut the same share in
+** both. Insets summing past 1 are scaled down to sum 1: the whole patch is smoothed and
+** the inner triangle is a point (prop:C beyond 1/3).
+**
+** Cost per shaded point, as a 16-bit program would do it in fixed point: the ray back
+** onto the plane (3 multiply-adds of the plane with the ray, 1 divide, 3 multiply-adds
+** for the space point), barycentric coordinates (2 cross products, 2 divides), region
+** tests (3 compares), normal interpolation (up to 4 corners x 3 components: 12 multiply-
+** adds), normalisation (3 squares, a 12-step square root, 3 divides), Lambert (3
+** multiply-adds, 1 multiply, 1 add) and the table loads. Gouraud stops after the
+** barycentric coordinates and interpolates 3 intensities.
+*/
+#include "render/smooth.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/contour.h"
+
+#define SMOOTH_AMBIENT 48          /* render/mapper.c LAMBERT_AMBIENT */
+#define SMOOTH_TABLE_NORMALS "SMOOTH VERTEX NORMALS"
+#define SMOOTH_TABLE_BANDS   "SMOOTH BAND TABLE"
+
+int smooth_lambert(const double n[3], const double l[3])
+{
+  double d = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+  if (!(d > 0)) return SMOOTH_AMBIENT;
+  double g = SMOOTH_AMBIENT + floor((255 - SMOOTH_AMBIENT) * d + 0.5);
+  return g > 255 ? 255 : (int)g;
+}
+
+static void unit(double v[3])
+{
+  double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (n > 0) { v[0] /= n; v[1] /= n; v[2] /= n; }
+}
+
+void smooth_insets(enum effects_smooth kind, double c, double w, const double len[3],
+                   double area2, double t[3])
+{
+  for (int k = 0; k < 3; k++) {
+    switch (kind) {
+    case EFFECTS_SMOOTH_PROP:  t[k] = c; break;
+    case EFFECTS_SMOOTH_FIXED: t[k] = area2 > 0 ? w * len[k] / area2 : 0; break;
+    default:                   t[k] = 0.5; break;
+    }
+    if (!(t[k] >= 0)) t[k] = 0;
+  }
+  if (kind != EFFECTS_SMOOTH_PROP && kind != EFFECTS_SMOOTH_FIXED) return;
+  double sum = t[0] + t[1] + t[2];
+  if (sum > 1) for (int k = 0; k < 3; k++) t[k] /= sum;
+}
+
+int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double out[3])
+{
+  const double *t = tr->t;
+  bool in[3];
+  int nb = 0;
+  for (int k = 0; k < 3; k++) { in[k] = l[k] < t[k]; nb += in[k]; }
+  if (nb == 0) { memcpy(out, tr->n, sizeof tr->n); return 0; }
+  if (nb == 1) {
+    int k = in[0] ? 0 : in[1] ? 1 : 2, a = (k + 1) % 3, b = (k + 2) % 3;
+    double v = l[k] / t[k];
+    double den = 1 - l[k] - t[a] - t[b];
+    double s = den > 1e-12 ? (l[a] - t[a]) / den : 0.5;
+    if (s < 0) s = 0;
+    if (s > 1) s = 1;
+    for (int c = 0; c < 3; c++) {
+      double na = t[a] * tr->cn[a][c] + (1 - t[a]) * tr->cn[b][c];   /* l_a = t_a on side k */
+      double nbv = (1 - t[b]) * tr->cn[a][c] + t[b] * tr->cn[b][c];  /* l_b = t_b on side k */
+      out[c] = (1 - v) * ((1 - s) * na + s * nbv) + v * tr->n[c];
+    }
+    return 1;
+  }
+  if (nb == 2) {
+    int cv = !in[0] ? 0 : !in[1] ? 1 : 2, a = (cv + 1) % 3, b = (cv + 2) % 3;
+    double u = l[a] / t[a], w = l[b] / t[b];
+    for (int c = 0; c < 3; c++) {
+      double n00 = tr->cn[cv][c];
+      double n10 = (1 - t[a]) * tr->cn[cv][c] + t[a] * tr->cn[a][c];
+      double n01 = (1 - t[b]) * tr->cn[cv][c] + t[b] * tr->cn[b][c];
+      out[c] = (1 - u) * (1 - w) * n00 + u * (1 - w) * n10 + (1 - u) * w * n01 +
+               u * w * tr->n[c];
+    }
+    return 2;
+  }
+  /* every coordinate inside a band: only when the insets sum to 1 and the point is the
+     inner point itself (rounding); Phong there */
+  for (int c = 0; c < 3; c++)
+    out[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
+  return 1;
+}
+
+/* ---- the model -------------------------------------------------------------------- */
+
+struct edge_rec { int lo, hi, tri; bool fwd; };
+
+static int edge_cmp(const void *pa, const void *pb)
+{
+  const struct edge_rec *a = pa, *b = pb;
+  if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
+  if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
+  return a->tri < b->tri ? -1 : a->tri > b->tri;
+}
+
+void smooth_model_free(struct smooth_model *m)
+{
+  free(m->tri);
+  free(m->tri_of_mface);
+  memset(m, 0, sizeof *m);
+}
+
+static wide det3(const struct scene_vertex *a, const struct scene_vertex *b,
+                 const struct scene_vertex *c)
+{
+  return (wide)a->x * ((wide)b->y * c->z - (wide)b->z * c->y) -
+         (wide)a->y * ((wide)b->x * c->z - (wide)b->z * c->x) +
+         (wide)a->z * ((wide)b->x * c->y - (wide)b->y * c->x);
+}
+
+static void cross_int(const struct scene *s, const int v[3], int64_t o[3])
+{
+  const struct scene_vertex *a = &s->v[v[0]], *b = &s->v[v[1]], *c = &s->v[v[2]];
+  int64_t u[3] = { b->x - a->x, b->y - a->y, b->z - a->z };
+  int64_t w[3] = { c->x - a->x, c->y - a->y, c->z - a->z };
+  o[0] = u[1] * w[2] - u[2] * w[1];
+  o[1] = u[2] * w[0] - u[0] * w[2];
+  o[2] = u[0] * w[1] - u[1] * w[0];
+}
+
+/* Orient the triangles [from, to) of one object (tri[] already filled with vertices):
+   breadth first across shared edges; then outward by volume when closed, towards the
+   eye when open. */
+static int orient_object(struct smooth_model *m, const struct scene *s, const int64_t eye[3],
+                         int from, int to, struct t74_error *err)
+{
+  if (to <= from) return T74_OK;
+  size_t n = (size_t)(to - from), ne = 3 * n;
+  struct edge_rec *e = malloc(ne * sizeof *e);
+  int *flip = malloc(n * sizeof *flip), *queue = malloc(n * sizeof *queue);
+  int *first = malloc((n + 1) * sizeof *first);
+  if (!e || !flip || !queue || !first) {
+    free(e); free(flip); free(queue); free(first);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  for (size_t t = 0; t < n; t++) {
+    const int *v = m->tri[from + (int)t].v;
+    for (int k = 0; k < 3; k++) {
+      int a = v[k], b = v[(k + 1) % 3];
+      e[3 * t + (size_t)k] = (struct edge_rec){ a < b ? a : b, a < b ? b : a, (int)t, a < b };
+    }
+    flip[t] = -1;
+  }
+  qsort(e, ne, sizeof *e, edge_cmp);
+  /* per triangle, its edge records: an index list sorted by triangle */
+  int *bytri = malloc(ne * sizeof *bytri);
+  if (!bytri) {
+    free(e); free(flip); free(queue); free(first);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  memset(first, 0, (n + 1) * sizeof *first);
+  for (size_t k = 0; k < ne; k++) first[e[k].tri + 1]++;
+  for (size_t t = 0; t < n; t++) first[t + 1] += first[t];
+  int *fill = queue;                      /* reused as a cursor before the search */
+  for (size_t t = 0; t < n; t++) fill[t] = first[t];
+  for (size_t k = 0; k < ne; k++) bytri[fill[e[k].tri]++] = (int)k;
+  bool closed = true;
+  for (size_t k = 0; k < ne;) {
+    size_t j = k;
+    while (j < ne && e[j].lo == e[k].lo && e[j].hi == e[k].hi) j++;
+    if (j - k != 2) closed = false;
+    if (j - k > 2) m->conflicts++;
+    k = j;
+  }
+  for (size_t seed = 0; seed < n; seed++) {
+    if (flip[seed] >= 0) continue;
+    size_t head = 0, tail = 0;
+    flip[seed] = 0;
+    queue[tail++] = (int)seed;
+    while (head < tail) {
+      int t = queue[head++];
+      for (int q = first[t]; q < first[t + 1]; q++) {
+        size_t k = (size_t)bytri[q];
+        size_t lo = k, hi = k;
+        while (lo > 0 && e[lo - 1].lo == e[k].lo && e[lo - 1].hi == e[k].hi) lo--;
+        while (hi + 1 < ne && e[hi + 1].lo == e[k].lo && e[hi + 1].hi == e[k].hi) hi++;
+        if (hi - lo != 1) continue;       /* a border or a non-manifold edge */
+        size_t o = lo == k ? hi : lo;
+        int u = e[o].tri;
+        /* consistent when the two run the edge in opposite directions */
+        int want = flip[t] ^ (e[o].fwd == e[k].fwd);
+        if (flip[u] < 0) { flip[u] = want; queue[tail++] = u; }
+        else if (flip[u] != want) m->conflicts++;
+      }
+    }
+  }
+  for (size_t t = 0; t < n; t++)
+    if (flip[t]) {
+      int *v = m->tri[from + (int)t].v, x = v[1];
+      v[1] = v[2]; v[2] = x;
+      m->flips++;
+    }
+  if (!closed) {
+    /* an open surface has no outside: its front is the side most of it turns to the
+       eye (the sum of o . (eye - v0) over its triangles, exact, positive) */
+    wide toward = 0;
+    for (size_t t = 0; t < n; t++) {
+      const int *v = m->tri[from + (int)t].v;
+      int64_t o3[3];
+      cross_int(s, v, o3);
+      const struct scene_vertex *v0 = &s->v[v[0]];
+      toward += (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
+                (wide)o3[2] * (eye[2] - v0->z);
+    }
+    if (toward < 0)
+      for (size_t t = 0; t < n; t++) {
+        int *v = m->tri[from + (int)t].v, x = v[1];
+        v[1] = v[2]; v[2] = x;
+      }
+  } else {
+    /* outward: the volume sum of det(v0, v1, v2) / 6 is positive */
+    wide vol = 0;
+    for (size_t t = 0; t < n; t++) {
+      const int *v = m->tri[from + (int)t].v;
+      vol += det3(&s->v[v[0]], &s->v[v[1]], &s->v[v[2]]);
+    }
+    if (vol < 0)
+      for (size_t t = 0; t < n; t++) {
+        int *v = m->tri[from + (int)t].v, x = v[1];
+        v[1] = v[2]; v[2] = x;
+      }
+  }
+  free(e); free(flip); free(queue); free(first); free(bytri);
+  return T74_OK;
+}
+
+static double mean_height(const struct smooth_model *m, int from, int to)
+{
+  double sum = 0;
+  int cnt = 0;
+  for (int t = from; t < to; t++)
+    for (int k = 0; k < 3; k++)
+      if (m->tri[t].len[k] > 0) { sum += m->tri[t].area2 / m->tri[t].len[k]; cnt++; }
+  return cnt ? sum / cnt : 0;
+}
+
+int smooth_model_build(struct smooth_model *m, const struct render *r,
+                       const struct scene *s, const struct effects *e,
+                       struct t74_error *err)
+{
+  memset(m, 0, sizeof *m);
+  int nm = r->map.nface;
+  m->tri_of_mface = malloc(((size_t)nm + 1) * sizeof *m->tri_of_mface);
+  int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
+  m->tri = malloc(((size_t)s->nf + 1) * sizeof *m->tri);
+  double (*acc)[3] = calloc((size_t)s->nv + 1, sizeof *acc);
+  int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
+  int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
+  if (!m->tri_of_mface || !mof || !m->tri || !acc || !seen || !row) {
+    free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  for (int k = 0; k < s->nf; k++) mof[k] = -1;
+  for (int k = 0; k < nm; k++) { mof[r->map.f[k].sface] = k; m->tri_of_mface[k] = -1; }
+  for (int k = 0; k < s->nv; k++) seen[k] = -1;
+  const int64_t *eye = r->map.eye;
+  for (int o = 0; o < s->nobj; o++) {
+    const struct scene_object *ob = &s->obj[o];
+    int from = m->ntri;
+    for (int q = 0; q < ob->nface; q++) {
+      int fi = ob->face[q];
+      const struct scene_face *sf = &s->f[fi];
+      if (sf->nring != 1 || sf->ring_start[1] != 3 || sf->grey >= 0 || !s->has_light) continue;
+      struct smooth_tri *tr = &m->tri[m->ntri++];
+      memset(tr, 0, sizeof *tr);
+      tr->sface = fi;
+      tr->mface = mof[fi];
+      tr->object = ob->id;
+      for (int k = 0; k < 3; k++) tr->v[k] = sf->vidx[k];
+    }
+    int to = m->ntri;
+    if (to == from) continue;
+    m->objects++;
+    if (orient_object(m, s, eye, from, to, err) != T74_OK) {
+      free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
+      return err->status;
+    }
+    for (int t = from; t < to; t++) {
+      struct smooth_tri *tr = &m->tri[t];
+      int64_t o3[3];
+      cross_int(s, tr->v, o3);
+      for (int c = 0; c < 3; c++) tr->n[c] = (double)o3[c];
+      tr->area2 = sqrt(tr->n[0] * tr->n[0] + tr->n[1] * tr->n[1] + tr->n[2] * tr->n[2]);
+      unit(tr->n);
+      for (int k = 0; k < 3; k++) {
+        const struct scene_vertex *a = &s->v[tr->v[(k + 1) % 3]], *b = &s->v[tr->v[(k + 2) % 3]];
+        double dx = b->x - a->x, dy = b->y - a->y, dz = b->z - a->z;
+        tr->len[k] = sqrt(dx * dx + dy * dy + dz * dz);
+      }
+      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly */
+      const struct scene_vertex *v0 = &s->v[tr->v[0]];
+      wide d = (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
+               (wide)o3[2] * (eye[2] - v0->z);
+      tr->front = tr->mface >= 0 && d > 0;
+      if (tr->mface >= 0) m->tri_of_mface[tr->mface] = t;
+      for (int k = 0; k < 3; k++) {
+        int v = tr->v[k];
+        if (seen[v] != o) {
+          seen[v] = o;
+          acc[v][0] = acc[v][1] = acc[v][2] = 0;
+          row[v] = m->vertex_normals++;
+        }
+        tr->ni[k] = row[v];
+        for (int c = 0; c < 3; c++) acc[v][c] += tr->n[c];
+      }
+    }
+    double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(m, from, to) : 0;
+    for (int t = from; t < to; t++) {
+      struct smooth_tri *tr = &m->tri[t];
+      for (int k = 0; k < 3; k++) {
+        memcpy(tr->cn[k], acc[tr->v[k]], sizeof tr->cn[k]);
+        unit(tr->cn[k]);
+      }
+      smooth_insets(e->smooth, e->smooth_c, w, tr->len, tr->area2, tr->t);
+    }
+  }
+  free(mof); free(acc); free(seen); free(row);
+  return T74_OK;
+}
+
+/* ---- the shading pass ------------------------------------------------------------- */
+
+static void cost_point(struct cost *c, bool gouraud, int region)
+{
+  COST_ADD_N(c, COST_MEM, 8);                /* face, triangle row, plane, eye */
+  for (int k = 0; k < 6; k++) cost_mw_mul(c, 32, 16);   /* ray onto the plane */
+  cost_mw_div(c, 48, 32);
+  for (int k = 0; k < 4; k++) cost_mw_mul(c, 32, 32);   /* barycentric coordinates */
+  cost_mw_div(c, 64, 32); cost_mw_div(c, 64, 32);
+  COST_ADD_N(c, COST_ADD, 3); COST_ADD_N(c, COST_BRANCH, 3);   /* region tests */
+  if (gouraud) {
+    for (int k = 0; k < 3; k++) cost_mw_mul(c, 16, 16);
+    COST_ADD_N(c, COST_ADD, 2);
+    return;
+  }
+  if (region == 0) return;                   /* the inner triangle: the face's grey */
+  int corners = 4;
+  COST_ADD_N(c, COST_MEM, 3 * corners);
+  for (int k = 0; k < 3 * corners; k++) cost_mw_mul(c, 16, 16);
+  COST_ADD_N(c, COST_ADD, 3 * corners);
+  for (int k = 0; k < 3; k++) cost_mw_mul(c, 16, 16);   /* |n|^2 */
+  COST_ADD_N(c, COST_DIV, 12); COST_ADD_N(c, COST_ADD, 24);   /* square root */
+  for (int k = 0; k < 3; k++) cost_mw_div(c, 32, 16);
+  for (int k = 0; k < 4; k++) cost_mw_mul(c, 16, 16);   /* Lambert */
+  COST_ADD_N(c, COST_ADD, 4);
+}
+
+/* The point centre (i, j) in space (z = 0) and the ray from the eye to it. */
+static void centre(const struct vis_grid *g, int i, int j, double p[3])
+{
+  p[0] = g->window[0] + (i + 0.5) * (double)(g->window[2] - g->window[0]) / g->W;
+  p[1] = g->window[3] - (j + 0.5) * (double)(g->window[3] - g->window[1]) / g->H;
+  p[2] = 0;
+}
+
+/* Barycentric coordinates of the point where the ray from the eye through the point
+   centre meets the triangle's plane; clamped into the triangle. */
+static void back_project(const struct render *r, const struct scene *s,
+                         const struct smooth_tri *tr, const double p[3], double l[3])
+{
+  const int64_t *pl = r->map.f[tr->mface].plane;
+  double E[3] = { (double)r->map.eye[0], (double)r->map.eye[1], (double)r->map.eye[2] };
+  double D[3] = { p[0] - E[0], p[1] - E[1], p[2] - E[2] };
+  double num = -((double)pl[0] * E[0] + (double)pl[1] * E[1] + (double)pl[2] * E[2] + (double)pl[3]);
+  double den = (double)pl[0] * D[0] + (double)pl[1] * D[1] + (double)pl[2] * D[2];
+  double sr = den != 0 ? num / den : 1;
+  double X[3] = { E[0] + sr * D[0], E[1] + sr * D[1], E[2] + sr * D[2] };
+  /* barycentric: areas of the sub-triangles, on the plane's dominant axis */
+  int ax = 0;
+  for (int c = 1; c < 3; c++) if (fabs(tr->n[c]) > fabs(tr->n[ax])) ax = c;
+  int u = (ax + 1) % 3, w = (ax + 2) % 3;
+  double V[3][2];
+  for (int k = 0; k < 3; k++) {
+    const struct scene_vertex *v = &s->v[tr->v[k]];
+    double q[3] = { (double)v->x, (double)v->y, (double)v->z };
+    V[k][0] = q[u]; V[k][1] = q[w];
+  }
+  double x = X[u], y = X[w], sum = 0;
+  double tot = (V[1][0] - V[0][0]) * (V[2][1] - V[0][1]) - (V[2][0] - V[0][0]) * (V[1][1] - V[0][1]);
+  for (int k = 0; k < 3; k++) {
+    const double *a = V[(k + 1) % 3], *b = V[(k + 2) % 3];
+    double ar = (b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1]);
+    l[k] = tot != 0 ? ar / tot : 1.0 / 3;
+    if (!(l[k] > 0)) l[k] = 0;
+    sum += l[k];
+  }
+  if (sum > 0) for (int k = 0; k < 3; k++) l[k] /= sum;
+  else l[0] = l[1] = l[2] = 1.0 / 3;
+}
+
+int smooth_run(struct render *r, const struct scene *s, const struct effects *e,
+               const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
+               struct cost *cost, struct t74_error *err)
+{
+  struct smooth_model m;
+  int rc = smooth_model_build(&m, r, s, e, err);
+  if (rc != T74_OK) return rc;
+  if (m.ntri == 0)
+    fprintf(stderr, "%s:%d: warning: smooth=/contour=: no face is a triangle of an object "
+            "shaded from `light`; the picture stays flat\n", s->file ? s->file : "scene",
+            s->effects_line);
+  uint32_t mark = core_mark(r->core), an, ab;
+  rc = core_alloc(r->core, SMOOTH_TABLE_NORMALS, (uint32_t)m.vertex_normals * 3, &an, err);
+  if (rc == T74_OK)
+    rc = core_alloc(r->core, SMOOTH_TABLE_BANDS, (uint32_t)m.ntri * 4, &ab, err);
+  if (rc != T74_OK) { smooth_model_free(&m); return rc; }
+  /* the tables themselves: Q1.14 vertex normals as the triangles meet them, the
+     triangle's face row and its insets in Q0.16 */
+  for (int t = 0; t < m.ntri; t++) {
+    const struct smooth_tri *tr = &m.tri[t];
+    core_write(r->core, ab + 4 * (uint32_t)t, (uint16_t)(tr->mface + 1));
+    for (int k = 0; k < 3; k++) {
+      double tk = tr->t[k] * 65535.0;
+      core_write(r->core, ab + 4 * (uint32_t)t + 1 + (uint32_t)k, (uint16_t)(tk > 65535 ? 65535 : tk));
+      for (int c = 0; c < 3; c++)
+        core_write(r->core, an + 3 * (uint32_t)tr->ni[k] + (uint32_t)c,
+                   (uint16_t)(int16_t)lrint(tr->cn[k][c] * 16384));
+    }
+    COST_ADD_N(cost, COST_MEM, 4 + 9);
+  }
+  if (e->contour_on) rc = contour_run(r, s, e, g, f, &m, st, cost, err);
+  double L[3] = { (double)s->light[0], (double)s->light[1], (double)s->light[2] };
+  unit(L);
+  long flat = 0, band = 0, corner = 0, shaded = 0;
+  for (int j = 0; rc == T74_OK && j < f->H && e->smooth != EFFECTS_SMOOTH_NONE; j++)
+    for (int i = 0; i < f->W; i++) {
+      size_t at = (size_t)j * (size_t)f->W + (size_t)i;
+      int face = f->face[at];
+      if (face < 0) continue;
+      int t = m.tri_of_mface[face];
+      COST_ADD_N(cost, COST_MEM, 2); COST_ADD_N(cost, COST_BRANCH, 1);
+      if (t < 0) continue;
+      const struct smooth_tri *tr = &m.tri[t];
+      double p[3], l[3], nrm[3];
+      centre(g, i, j, p);
+      back_project(r, s, tr, p, l);
+      double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+      int region = 1, grey;
+      if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
+        double gi = 0;
+        for (int k = 0; k < 3; k++) {
+          double nk[3] = { sgn * tr->cn[k][0], sgn * tr->cn[k][1], sgn * tr->cn[k][2] };
+          gi += l[k] * smooth_lambert(nk, L);
+        }
+        grey = (int)floor(gi + 0.5);
+      } else {
+        if (e->smooth == EFFECTS_SMOOTH_PHONG) {
+          for (int c = 0; c < 3; c++)
+            nrm[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
+        } else {
+          region = smooth_partial_normal(tr, l, nrm);
+        }
+        if (region == 0) grey = r->map.f[face].grey;   /* exactly the flat picture */
+        else {
+          unit(nrm);
+          for (int c = 0; c < 3; c++) nrm[c] *= sgn;
+          grey = smooth_lambert(nrm, L);
+        }
+      }
+      cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
+      f->grey[at] = (uint8_t)(grey < 0 ? 0 : grey > 255 ? 255 : grey);
+      shaded++;
+      if (region == 0) flat++;
+      else if (region == 2) corner++;
+      else band++;
+    }
+  if (rc == T74_OK) {
+    fx_count(st, "smooth_triangles", m.ntri, true);
+    fx_count(st, "smooth_objects", m.objects, true);
+    fx_count(st, "smooth_vertex_normals", m.vertex_normals, true);
+    fx_count(st, "smooth_orient_flips", m.flips, true);
+    fx_count(st, "smooth_orient_conflicts", m.conflicts, true);
+    fx_count(st, "smooth_points", (double)shaded, true);
+    fx_count(st, "smooth_points_flat", (double)flat, true);
+    fx_count(st, "smooth_points_edge_band", (double)band, true);
+    fx_count(st, "smooth_points_corner_band", (double)corner, true);
+  }
+  core_release(r->core, mark);
+  smooth_model_free(&m);
+  return rc;
+}

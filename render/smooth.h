@@ -1,0 +1,96 @@
+/*
+** smooth.h — smooth shading, partial smoothing (paper 004 §2-4) in the effects stage.
+**
+** This file declares the 004 model of a scene's triangle patches and the shading pass
+** that turns the frame's flat intensities into per-point intensities. It runs first in
+** the effects stage (render/fx.h): after the Visible Surface Procedure has put the face
+** seen at each point centre into the frame, and before anti-aliasing and edges.
+**
+**   smooth=gouraud  004 §2(a): intensities at the vertices, interpolated in the triangle
+**   smooth=phong    004 §2(b): normals at the vertices, interpolated, Lambert per point
+**                   (this is also the "whole" smoothing of 004 Table 1, rows f-i)
+**   smooth=fixed:C  004 Def. 2/3, procedure (A): a band of one width along every side
+**   smooth=prop:C   004 Def. 4/5, procedure (B): bands proportional to the sides
+**
+** The patches: every face of an object that is a triangle (no holes) and is shaded from
+** `light` (no `grey` of its own). Faces outside any object, other polygons and faces
+** with a grey keep their flat intensity. Within one object the triangles are oriented
+** consistently (smooth_model_build: across every edge two triangles share, the two run
+** the edge in opposite directions; closed surfaces are then turned outward by the sign
+** of their volume), and a vertex normal is the mean of the unit normals of the object's
+** triangles at that vertex (004 §2(a)(1)).
+**
+** The normal at a point: the point centre on the plane z = 0 is taken back along the ray
+** from the eye onto its face's exact plane (eq. (2) from the Mapper); the barycentric
+** coordinates of that space point in the triangle place it in the regions of procedure
+** (A) (see smooth.c). Floating point is used only for these intensities; which face a
+** point shows is never changed here (contour smoothing, render/contour.h, does that).
+**
+** Machine model: the vertex normals (3 words of Q1.14 each) and the band table (the
+** three insets of every triangle, Q0.16) are allocated in r->core for the run, and the
+** work per point is counted into the effects' cost (smooth.c lists the sequence).
+*/
+#ifndef T74_SMOOTH_H
+#define T74_SMOOTH_H
+
+#include <stdbool.h>
+#include "render/fx.h"
+
+/* One triangle patch of an object. Corner k is scene vertex v[k]; side k is the side
+   opposite corner k (where the barycentric coordinate l[k] is 0). */
+struct smooth_tri {
+  int    sface;            /* index in scene.f */
+  int    mface;            /* index in r->map.f, or -1 when the Mapper dropped it */
+  int    object;           /* object id */
+  int    v[3];             /* scene vertex indices, in the object's consistent order */
+  double n[3];             /* unit normal, outward by that order */
+  double area2;            /* twice its area in space */
+  double len[3];           /* length of side k */
+  bool   front;            /* its outward side faces the eye (exact, integer test) */
+  double cn[3][3];         /* unit vertex normals at the corners (outward) */
+  int    ni[3];            /* their rows in the vertex-normal table */
+  double t[3];             /* band inset of side k as a barycentric coordinate, 0..1;
+                              t[0]+t[1]+t[2] <= 1 */
+};
+
+struct smooth_model {
+  int ntri;
+  struct smooth_tri *tri;
+  int *tri_of_mface;       /* r->map.nface entries: triangle index, or -1 (flat) */
+  int objects;             /* objects with at least one triangle */
+  int flips;               /* triangles turned to agree with their object */
+  int conflicts;           /* edges two triangles could not be made to agree on
+                              (a one-sided surface, or more than 2 faces on an edge) */
+  int vertex_normals;      /* distinct (object, vertex) normals */
+};
+
+/* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.
+   Only host memory (T74_EIO when out of it). */
+int smooth_model_build(struct smooth_model *m, const struct render *r,
+                       const struct scene *s, const struct effects *e,
+                       struct t74_error *err);
+void smooth_model_free(struct smooth_model *m);
+
+/* The band insets of one triangle for smooth= (fixed: width w in space units): t[k] is
+   the barycentric coordinate of side k's inset line; scaled down so the three sum to at
+   most 1 (then the flat inner triangle is a point). Whole smoothing gives t = 1/2
+   (the edge midpoints, used by contour smoothing only). */
+void smooth_insets(enum effects_smooth kind, double c, double w, const double len[3],
+                   double area2, double t[3]);
+
+/* The normal at barycentric coordinates l (sum 1, each >= 0) of triangle tr under the
+   partial smoothing with insets t (procedure (A)): out is not normalised. Returns the
+   region: 0 the flat inner triangle (out = face normal), 1 an edge quadrilateral, 2 a
+   corner quadrilateral. */
+int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double out[3]);
+
+/* Lambert's law with the Mapper's ambient floor, for a unit normal facing the eye's side
+   and a unit light direction: 48 + 207 max(0, n.l), rounded (as render/mapper.c). */
+int smooth_lambert(const double n[3], const double l[3]);
+
+/* The shading pass over the frame (see above). */
+int smooth_run(struct render *r, const struct scene *s, const struct effects *e,
+               const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
+               struct cost *cost, struct t74_error *err);
+
+#endif

@@ -1,0 +1,41 @@
+/*
+** xdiff.h — one differential check: a scene through the real renderer (the library, as
+** `tube74 render --dump ids` runs it) and through the exact reference (exactref.h).
+**
+** The scene is written as .s74 text to a temporary file and read back by scene_load, so
+** the renderer sees exactly what a user's file would give it; the ids of every point are
+** then compared with xr_judge. Shared by tests/test_differential.c, tests/test_exact.c
+** and the soak program (tools/soak.c).
+*/
+#ifndef TUBE74_TESTS_REF_XDIFF_H
+#define TUBE74_TESTS_REF_XDIFF_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include "tests/ref/exactref.h"
+
+struct xd_result {
+  int status;                /* the renderer's status (0: rendered) */
+  char msg[1024];            /* its message when it refused */
+  long points;               /* points judged */
+  long band;                 /* points that differ inside the tolerance band */
+  long wrong;                /* points wrong outside it */
+  int first_i, first_j;      /* the first wrong point */
+  unsigned first_got, first_want;
+  uint64_t pairs_computed;   /* priority pairs the renderer decided */
+  int faces_split;           /* faces split into triangles because rounding folded them */
+};
+
+/* store: 0 auto, 1 dense, 2 sparse (enum prio_store). Returns 0, or -1 when the check
+   itself could not run (temporary file, memory; msg says why). */
+int xd_check(struct xr_scene *s, int cell, int store, struct xd_result *res);
+
+/* The same, handing back the renderer's ids (W x H, row j = 0 at the top; free them),
+   or NULL when it refused. */
+int xd_check_ids(struct xr_scene *s, int cell, int store, struct xd_result *res,
+                 unsigned **ids);
+
+/* Write s as .s74 to path. 0 or -1. */
+int xd_save(struct xr_scene *s, const char *path);
+
+#endif

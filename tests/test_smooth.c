@@ -1,0 +1,670 @@
+/*
+** test_smooth.c — cmocka tests of smooth shading, partial smoothing and contour smoothing
+** (paper 004; render/smooth.h, render/contour.h).
+**
+** This file contains two kinds of test. Through the real program ($TUBE74, default
+** ./tube74) on the shipped Table 1 scenes and on small scenes written at test time: that
+** prop:0 and fixed:0 are the flat picture byte for byte, that the flat share of a
+** triangle under prop:c is (1-3c)^2 of its points, that the whole smoothing with a
+** contour shades like smooth=phong wherever the contour did not cut, that contour=none
+** changes nothing and contour=0 (Table 1 row i) does, that the points cut show the face
+** behind, that the region cut matches the closed form, and that a cube given with mixed
+** face orientations is drawn as the consistently given one. And on the library: normals
+** agree along every shared edge (no seams) and are continuous inside each triangle,
+** Lambert per point is the Mapper's formula, and the Bezier of Def. 9 starts at Q0, ends
+** at Q4 with tangents along the contour sides, and cuts the closed-form area.
+*/
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "render/contour.h"
+#include "render/effects.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "render/smooth.h"
+
+static char tmpdir[64];
+static const char *tube74;
+
+static int group_setup(void **state)
+{
+  (void)state;
+  tube74 = getenv("TUBE74");
+  if (!tube74 || !*tube74) tube74 = "./tube74";
+  strcpy(tmpdir, "/tmp/t74smooth.XXXXXX");
+  return mkdtemp(tmpdir) ? 0 : -1;
+}
+
+static int group_teardown(void **state)
+{
+  (void)state;
+  char cmd[128];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
+static const char *tpath(const char *name)
+{
+  static char buf[16][256];
+  static int k;
+  k = (k + 1) % 16;
+  snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, name);
+  return buf[k];
+}
+
+static void write_text(const char *name, const char *text)
+{
+  FILE *f = fopen(tpath(name), "w");
+  assert_non_null(f);
+  fputs(text, f);
+  fclose(f);
+}
+
+static char *slurp(const char *path, size_t *len)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *b = malloc((size_t)n + 1);
+  assert_non_null(b);
+  size_t got = fread(b, 1, (size_t)n, f);
+  fclose(f);
+  b[got] = 0;
+  if (len) *len = got;
+  return b;
+}
+
+/* A render's dumps: ids (16-bit), grey, tube, and its stats text. */
+struct out {
+  int W, H;
+  uint16_t *ids;
+  uint8_t *grey;
+  char *tube; size_t tube_len;
+  char *stats;
+};
+
+static void out_free(struct out *o)
+{
+  free(o->ids); free(o->grey); free(o->tube); free(o->stats);
+  memset(o, 0, sizeof *o);
+}
+
+/* Parse a binary PGM; returns the start of its raster. */
+static const unsigned char *pgm(const char *b, size_t len, int *W, int *H, int *maxv)
+{
+  int off = 0;
+  assert_int_equal(sscanf(b, "P5 %d %d %d%n", W, H, maxv, &off), 3);
+  assert_true((size_t)off + 1 <= len);
+  return (const unsigned char *)b + off + 1;
+}
+
+static void render(const char *scene, const char *effects, struct out *o)
+{
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd,
+           "'%s' render '%s' %s%s%s --dump ids='%s' --dump grey='%s' --dump tube='%s' "
+           "--stats '%s' 2>'%s'",
+           tube74, scene, effects ? "--effects '" : "", effects ? effects : "",
+           effects ? "'" : "", tpath("ids.pgm"), tpath("grey.pgm"), tpath("tube.pbm"),
+           tpath("stats.json"), tpath("err.txt"));
+  int rc = system(cmd);
+  if (rc != 0) {
+    char *e = slurp(tpath("err.txt"), NULL);
+    print_message("%s\n%s\n", cmd, e ? e : "");
+    free(e);
+  }
+  assert_int_equal(rc, 0);
+  memset(o, 0, sizeof *o);
+  size_t n;
+  int mv;
+  char *b = slurp(tpath("ids.pgm"), &n);
+  assert_non_null(b);
+  const unsigned char *r = pgm(b, n, &o->W, &o->H, &mv);
+  assert_int_equal(mv, 65535);
+  o->ids = malloc((size_t)o->W * (size_t)o->H * sizeof *o->ids);
+  for (int k = 0; k < o->W * o->H; k++) o->ids[k] = (uint16_t)(r[2 * k] << 8 | r[2 * k + 1]);
+  free(b);
+  b = slurp(tpath("grey.pgm"), &n);
+  assert_non_null(b);
+  int W, H;
+  r = pgm(b, n, &W, &H, &mv);
+  assert_int_equal(W, o->W);
+  o->grey = malloc((size_t)W * (size_t)H);
+  memcpy(o->grey, r, (size_t)W * (size_t)H);
+  free(b);
+  o->tube = slurp(tpath("tube.pbm"), &o->tube_len);
+  o->stats = slurp(tpath("stats.json"), NULL);
+  assert_non_null(o->tube);
+  assert_non_null(o->stats);
+}
+
+static double stat(const struct out *o, const char *name)
+{
+  char key[96];
+  snprintf(key, sizeof key, "\"%s\": ", name);
+  const char *p = strstr(o->stats, key);
+  if (!p) fail_msg("no %s in the stats", name);
+  return strtod(p + strlen(key), NULL);
+}
+
+/* ---- through the program --------------------------------------------------------- */
+
+static void test_zero_band_is_flat(void **state)
+{
+  (void)state;
+  const char *scenes[] = { "scenes/t1-a.s74", "scenes/t1-g.s74", "scenes/sphere.s74" };
+  for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) {
+    struct out flat, p0, f0, p5;
+    render(scenes[k], "halftone=3x3", &flat);
+    render(scenes[k], "halftone=3x3 smooth=prop:0", &p0);
+    render(scenes[k], "halftone=3x3 smooth=fixed:0", &f0);
+    render(scenes[k], "halftone=3x3 smooth=prop:0.05", &p5);
+    size_t n = (size_t)flat.W * (size_t)flat.H;
+    assert_memory_equal(flat.grey, p0.grey, n);
+    assert_memory_equal(flat.grey, f0.grey, n);
+    assert_memory_equal(flat.ids, p0.ids, n * sizeof *flat.ids);
+    assert_int_equal(flat.tube_len, p0.tube_len);
+    assert_memory_equal(flat.tube, p0.tube, flat.tube_len);
+    assert_memory_equal(flat.tube, f0.tube, flat.tube_len);
+    assert_true(stat(&p0, "smooth_points") > 0);
+    assert_true(stat(&p0, "smooth_points") == stat(&p0, "smooth_points_flat"));
+    /* and a band at all changes the picture */
+    assert_true(memcmp(flat.grey, p5.grey, n) != 0);
+    out_free(&flat); out_free(&p0); out_free(&f0); out_free(&p5);
+  }
+}
+
+/* One big triangle in the plane z = 0 (seen exactly, no perspective distortion). */
+static const char *big_triangle =
+  "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+  "vertex 1 -190 -140 0\nvertex 2 190 -140 0\nvertex 3 10 145 0\n"
+  "face 1 1 2 3\nobject 1 1\n";
+
+static void test_flat_share(void **state)
+{
+  (void)state;
+  write_text("tri.s74", big_triangle);
+  const double cs[] = { 0.05, 0.10, 0.15, 0.25 };
+  for (size_t k = 0; k < sizeof cs / sizeof *cs; k++) {
+    char eff[64];
+    snprintf(eff, sizeof eff, "halftone=3x3 smooth=prop:%g", cs[k]);
+    struct out o;
+    render(tpath("tri.s74"), eff, &o);
+    double share = stat(&o, "smooth_points_flat") / stat(&o, "smooth_points");
+    double want = (1 - 3 * cs[k]) * (1 - 3 * cs[k]);
+    print_message("prop:%g flat share %.4f, (1-3c)^2 = %.4f (%.0f points)\n", cs[k], share,
+                  want, stat(&o, "smooth_points"));
+    /* about 6000 points: the sampling of two triangles' borders by point centres */
+    assert_true(fabs(share - want) < 0.01);
+    out_free(&o);
+  }
+}
+
+static void test_whole_is_phong(void **state)
+{
+  (void)state;
+  const char *scenes[] = { "scenes/t1-f.s74", "scenes/t1-g.s74", "scenes/t1-h.s74", "scenes/t1-i.s74" };
+  for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) {
+    struct out row, phong;
+    render(scenes[k], NULL, &row);             /* the scene's own effects line */
+    render(scenes[k], "halftone=3x3 smooth=phong", &phong);
+    int same = 0, cut = 0;
+    for (int q = 0; q < row.W * row.H; q++) {
+      if (row.ids[q] == phong.ids[q]) {
+        assert_int_equal(row.grey[q], phong.grey[q]);
+        same++;
+      } else {
+        assert_int_equal(row.ids[q], 0);       /* the cut shows the black background */
+        cut++;
+      }
+    }
+    assert_int_equal(cut, (int)stat(&row, "contour_points_cut"));
+    assert_true(cut > 0);
+    out_free(&row); out_free(&phong);
+  }
+}
+
+static void test_contour_none(void **state)
+{
+  (void)state;
+  struct out flat, none, zero;
+  render("scenes/t1-g.s74", "halftone=3x3", &flat);
+  render("scenes/t1-g.s74", "halftone=3x3 smooth=phong contour=none", &none);
+  render("scenes/t1-g.s74", "halftone=3x3 smooth=phong contour=0", &zero);
+  size_t n = (size_t)flat.W * (size_t)flat.H;
+  assert_memory_equal(flat.ids, none.ids, n * sizeof *flat.ids);
+  assert_null(strstr(none.stats, "contour_points_cut"));
+  /* Cc = 0 is a visible case (Table 1 row i), not "off" */
+  assert_true(memcmp(flat.ids, zero.ids, n * sizeof *flat.ids) != 0);
+  assert_true(stat(&zero, "contour_points_cut") > 0);
+  out_free(&flat); out_free(&none); out_free(&zero);
+}
+
+static bool in_poly(const double (*p)[2], int n, double x, double y)
+{
+  bool c = false;
+  for (int i = 0; i < n; i++) {
+    const double *a = p[i], *b = p[(i + 1) % n];
+    if ((a[1] <= y) != (b[1] <= y) && x >= a[0] + (y - a[1]) * (b[0] - a[0]) / (b[1] - a[1]))
+      c = !c;
+  }
+  return c;
+}
+
+/* Point centres of the 133 x 100 grid inside the regions cut at the big triangle's
+   three corners under whole smoothing (Q0, Q4 the side midpoints). */
+static int lattice_cut(double cc)
+{
+  static const double V[3][2] = { { -190, -140 }, { 190, -140 }, { 10, 145 } };
+  enum { NS = 4000 };
+  static double poly[3][NS + 2][2];
+  for (int k = 0; k < 3; k++) {
+    const double *a = V[(k + 2) % 3], *b = V[k], *c = V[(k + 1) % 3];
+    double q0[2] = { (a[0] + b[0]) / 2, (a[1] + b[1]) / 2 }, q4[2] = { (c[0] + b[0]) / 2, (c[1] + b[1]) / 2 };
+    double q[5][2];
+    contour_controls(q0, b, q4, cc, q);
+    poly[k][0][0] = b[0]; poly[k][0][1] = b[1];
+    for (int m = 0; m <= NS; m++) contour_bezier(q, 1 - (double)m / NS, poly[k][1 + m]);
+  }
+  int n = 0;
+  for (int j = 0; j < 100; j++)
+    for (int i = 0; i < 133; i++) {
+      double x = -200 + (i + 0.5) * 400.0 / 133, y = 150 - (j + 0.5) * 3.0;
+      for (int k = 0; k < 3; k++)
+        if (in_poly(poly[k], NS + 2, x, y)) { n++; break; }
+    }
+  return n;
+}
+
+static void test_cut_area_closed_form(void **state)
+{
+  (void)state;
+  write_text("tri.s74", big_triangle);
+  const double ccs[] = { 0.0, 0.25, 0.5, 0.75, 1.0 };
+  /* whole smoothing: Q0, Q4 are the side midpoints, so each corner's triangle Q0 Q2 Q4
+     is a quarter of the face; three corners */
+  double area = 0.5 * 380.0 * 285.0, point = (400.0 / 133) * (300.0 / 100);
+  for (size_t k = 0; k < sizeof ccs / sizeof *ccs; k++) {
+    char eff[64];
+    snprintf(eff, sizeof eff, "halftone=3x3 smooth=phong contour=%g", ccs[k]);
+    struct out o;
+    render(tpath("tri.s74"), eff, &o);
+    double want = 3 * 0.25 * area * contour_cut_share(ccs[k]) / point;
+    double got = stat(&o, "contour_points_cut");
+    print_message("contour=%g: %.0f points cut, closed form %.1f\n", ccs[k], got, want);
+    assert_int_equal((int)stat(&o, "contour_corners_convex"), 3);
+    /* the sampling of these thin regions by point centres: within 5% and 20 points */
+    assert_true(fabs(got - want) < 0.05 * want + 20);
+    /* and, exactly, the point centres inside the three regions of a fine reference
+       curve (4000 segments, in space: the triangle is on z = 0, seen straight on) */
+    int ref = lattice_cut(ccs[k]);
+    print_message("   reference count %d\n", ref);
+    assert_true(abs((int)got - ref) <= 4);
+    out_free(&o);
+  }
+}
+
+static void test_cut_shows_what_is_behind(void **state)
+{
+  (void)state;
+  /* the cube of row g in front of a big grey wall (face 99, in no object) */
+  char *cube = slurp("scenes/t1-g.s74", NULL);
+  assert_non_null(cube);
+  char *text = malloc(strlen(cube) + 512);
+  strcpy(text, cube);
+  strcat(text, "vertex 901 -400 -300 900\nvertex 902 400 -300 900\nvertex 903 400 300 900\n"
+               "vertex 904 -400 300 900\nface 99 901 902 903 904 grey 200\n");
+  write_text("wall.s74", text);
+  free(text); free(cube);
+  struct out flat, row;
+  render(tpath("wall.s74"), "halftone=3x3", &flat);
+  render(tpath("wall.s74"), "halftone=3x3 smooth=phong contour=1.0", &row);
+  int uncovered = 0;
+  for (int q = 0; q < row.W * row.H; q++)
+    if (row.ids[q] != flat.ids[q]) {
+      assert_int_equal(row.ids[q], 99);
+      assert_int_equal(row.grey[q], 200);
+      uncovered++;
+    }
+  assert_true(uncovered > 0);
+  assert_int_equal(uncovered, (int)stat(&row, "contour_points_show_face"));
+  assert_int_equal(0, (int)stat(&row, "contour_points_show_background"));
+  out_free(&flat); out_free(&row);
+}
+
+static void test_concave_vertex_kept(void **state)
+{
+  (void)state;
+  /* a flat sheet with a notch: A B C convex, D the notch (concave), E convex */
+  write_text("notch.s74",
+             "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+             "vertex 1 -150 -100 0\nvertex 2 150 -100 0\nvertex 3 150 100 0\n"
+             "vertex 4 0 20 0\nvertex 5 -150 100 0\n"
+             "face 1 1 2 4\nface 2 2 3 4\nface 3 1 4 5\nobject 1 1 2 3\n");
+  struct out flat, row;
+  render(tpath("notch.s74"), "halftone=3x3", &flat);
+  render(tpath("notch.s74"), "halftone=3x3 smooth=phong contour=1.0", &row);
+  assert_int_equal((int)stat(&row, "contour_sides"), 5);
+  assert_int_equal((int)stat(&row, "contour_corners_convex"), 4);
+  assert_int_equal((int)stat(&row, "contour_corners_concave"), 1);
+  assert_true(stat(&row, "contour_points_cut") > 100);
+  /* the notch at (0, 20): point (66, 43) of the 133 x 100 grid; its neighbourhood is as
+     flat shading drew it */
+  int changed_near = 0;
+  for (int j = 43 - 6; j <= 43 + 6; j++)
+    for (int i = 66 - 6; i <= 66 + 6; i++)
+      changed_near += row.ids[j * row.W + i] != flat.ids[j * row.W + i];
+  assert_int_equal(changed_near, 0);
+  out_free(&flat); out_free(&row);
+}
+
+static void test_lone_triangle_is_flat(void **state)
+{
+  (void)state;
+  /* one triangle alone in its object: every vertex normal is the face normal, so
+     gouraud and phong (and any band) must give the flat picture */
+  write_text("tri.s74", big_triangle);
+  struct out flat, o;
+  render(tpath("tri.s74"), "halftone=3x3", &flat);
+  const char *effs[] = { "halftone=3x3 smooth=gouraud", "halftone=3x3 smooth=phong",
+                         "halftone=3x3 smooth=prop:0.2", "halftone=3x3 smooth=fixed:0.3" };
+  for (size_t k = 0; k < sizeof effs / sizeof *effs; k++) {
+    render(tpath("tri.s74"), effs[k], &o);
+    assert_memory_equal(flat.grey, o.grey, (size_t)flat.W * (size_t)flat.H);
+    assert_true(stat(&o, "smooth_points") > 5000);
+    out_free(&o);
+  }
+  out_free(&flat);
+}
+
+static void test_nothing_to_smooth_warns(void **state)
+{
+  (void)state;
+  /* no light: nothing can be smoothed; drawn flat, with a warning at the effects line */
+  write_text("nolight.s74", "view 0 0 -1000\nwindow -200 -150 200 150\n"
+             "vertex 1 0 0 0\nvertex 2 50 0 0\nvertex 3 0 50 0\nface 1 1 2 3\nobject 1 1\n"
+             "effects smooth=phong contour=0.5\n");
+  struct out flat, o;
+  render(tpath("nolight.s74"), "halftone=4x4", &flat);
+  render(tpath("nolight.s74"), NULL, &o);
+  char *e = slurp(tpath("err.txt"), NULL);
+  assert_non_null(e);
+  assert_non_null(strstr(e, "nolight.s74:8: warning: smooth=/contour=:"));
+  free(e);
+  assert_memory_equal(flat.ids, o.ids, (size_t)flat.W * (size_t)flat.H * sizeof *flat.ids);
+  assert_memory_equal(flat.grey, o.grey, (size_t)flat.W * (size_t)flat.H);
+  out_free(&flat); out_free(&o);
+}
+
+static void test_orientation(void **state)
+{
+  (void)state;
+  /* row h's cube with every second triangle written the other way round */
+  char *cube = slurp("scenes/t1-h.s74", NULL);
+  assert_non_null(cube);
+  FILE *f = fopen(tpath("mixed.s74"), "w");
+  assert_non_null(f);
+  int swapped = 0;
+  for (char *line = strtok(cube, "\n"); line; line = strtok(NULL, "\n")) {
+    int id, a, b, c;
+    if (sscanf(line, "face %d %d %d %d", &id, &a, &b, &c) == 4 && id % 2 == 0) {
+      fprintf(f, "face %d %d %d %d\n", id, a, c, b);
+      swapped++;
+    } else {
+      fprintf(f, "%s\n", line);
+    }
+  }
+  fclose(f);
+  free(cube);
+  assert_int_equal(swapped, 6);
+  struct out given, mixed;
+  render("scenes/t1-h.s74", NULL, &given);
+  render(tpath("mixed.s74"), NULL, &mixed);
+  size_t n = (size_t)given.W * (size_t)given.H;
+  assert_memory_equal(given.ids, mixed.ids, n * sizeof *given.ids);
+  assert_memory_equal(given.grey, mixed.grey, n);
+  assert_int_equal((int)stat(&given, "smooth_orient_flips") + (int)stat(&mixed, "smooth_orient_flips"), 6);
+  out_free(&given); out_free(&mixed);
+}
+
+static void test_core_limit(void **state)
+{
+  (void)state;
+  /* the smoothing tables are in core: a core the flat picture fits but they do not */
+  struct out flat;
+  render("scenes/t1-d.s74", "halftone=3x3", &flat);
+  int used = (int)stat(&flat, "core_words_used");
+  out_free(&flat);
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "'%s' render scenes/t1-d.s74 --core %d -o '%s' 2>'%s'", tube74,
+           used + 20, tpath("no.png"), tpath("err.txt"));
+  int rc = system(cmd);
+  assert_true(WIFEXITED(rc) && WEXITSTATUS(rc) == 3);
+  char *e = slurp(tpath("err.txt"), NULL);
+  assert_non_null(strstr(e, "does not fit the core"));
+  free(e);
+  assert_int_equal(access(tpath("no.png"), F_OK), -1);
+}
+
+/* ---- the library ------------------------------------------------------------------- */
+
+struct lib { struct scene *s; struct render r; struct smooth_model m; struct effects e; };
+
+static void lib_open(struct lib *L, const char *scene, const char *effects)
+{
+  memset(L, 0, sizeof *L);
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct t74_error err = { 0, "" };
+  assert_int_equal(scene_load(scene, &so, &L->s, &err), T74_OK);
+  struct render_opts o;
+  memset(&o, 0, sizeof o);
+  o.core_words = 1u << 20;
+  assert_int_equal(render_prepare(&L->r, L->s, &o, &err), T74_OK);
+  assert_int_equal(effects_parse(effects, &L->e, NULL, 0, &err), T74_OK);
+  assert_int_equal(smooth_model_build(&L->m, &L->r, L->s, &L->e, &err), T74_OK);
+}
+
+static void lib_close(struct lib *L)
+{
+  smooth_model_free(&L->m);
+  render_free(&L->r);
+  scene_free(L->s);
+}
+
+static void normal_at(const struct smooth_tri *t, const double l[3], double n[3])
+{
+  smooth_partial_normal(t, l, n);
+  double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  assert_true(len > 0.1);
+  for (int c = 0; c < 3; c++) n[c] /= len;
+}
+
+static int corner_of(const struct smooth_tri *t, int v)
+{
+  for (int k = 0; k < 3; k++) if (t->v[k] == v) return k;
+  return -1;
+}
+
+static void test_no_seams(void **state)
+{
+  (void)state;
+  const char *effs[] = { "smooth=prop:0.05", "smooth=prop:0.15", "smooth=fixed:0.05",
+                         "smooth=fixed:0.15", "smooth=prop:0.3", "smooth=fixed:0.5" };
+  const char *scenes[] = { "scenes/t1-d.s74", "scenes/t1-g.s74", "scenes/sphere.s74" };
+  for (size_t si = 0; si < 3; si++)
+    for (size_t ei = 0; ei < sizeof effs / sizeof *effs; ei++) {
+      struct lib L;
+      lib_open(&L, scenes[si], effs[ei]);
+      int edges = 0;
+      for (int a = 0; a < L.m.ntri; a++)
+        for (int b = a + 1; b < L.m.ntri; b++) {
+          const struct smooth_tri *A = &L.m.tri[a], *B = &L.m.tri[b];
+          for (int k = 0; k < 3; k++) {
+            int p = A->v[k], q = A->v[(k + 1) % 3];
+            int bp = corner_of(B, p), bq = corner_of(B, q);
+            if (bp < 0 || bq < 0) continue;
+            edges++;
+            for (int m = 0; m <= 40; m++) {
+              double s = m / 40.0, la[3] = { 0, 0, 0 }, lb[3] = { 0, 0, 0 }, na[3], nb[3];
+              la[k] = 1 - s; la[(k + 1) % 3] = s;
+              lb[bp] = 1 - s; lb[bq] = s;
+              normal_at(A, la, na);
+              normal_at(B, lb, nb);
+              for (int c = 0; c < 3; c++) assert_true(fabs(na[c] - nb[c]) < 1e-9);
+            }
+          }
+        }
+      assert_true(edges > 0);
+      lib_close(&L);
+    }
+}
+
+static void test_continuous_inside(void **state)
+{
+  (void)state;
+  struct lib L;
+  lib_open(&L, "scenes/t1-d.s74", "smooth=fixed:0.15");
+  unsigned seed = 12345;
+  int regions[3] = { 0, 0, 0 };
+  for (int t = 0; t < L.m.ntri; t++)
+    for (int k = 0; k < 2000; k++) {
+      seed = seed * 1103515245u + 12345u;
+      double u = (seed >> 8) / 16777216.0;
+      seed = seed * 1103515245u + 12345u;
+      double v = (seed >> 8) / 16777216.0;
+      if (u + v > 1) { u = 1 - u; v = 1 - v; }
+      double l[3] = { u, v, 1 - u - v }, n0[3], n1[3];
+      int r = smooth_partial_normal(&L.m.tri[t], l, n0);
+      regions[r]++;
+      const double d = 1e-7;
+      double l2[3] = { u + d, v, 1 - u - v - d };
+      if (l2[2] < 0) continue;
+      normal_at(&L.m.tri[t], l, n0);
+      normal_at(&L.m.tri[t], l2, n1);
+      for (int c = 0; c < 3; c++) assert_true(fabs(n0[c] - n1[c]) < 1e-4);
+    }
+  assert_true(regions[0] > 0 && regions[1] > 0 && regions[2] > 0);
+  lib_close(&L);
+}
+
+static void test_lambert_is_the_mappers(void **state)
+{
+  (void)state;
+  struct lib L;
+  lib_open(&L, "scenes/sphere.s74", "smooth=phong");
+  double l[3] = { (double)L.s->light[0], (double)L.s->light[1], (double)L.s->light[2] };
+  double ll = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+  for (int c = 0; c < 3; c++) l[c] /= ll;
+  int checked = 0;
+  for (int t = 0; t < L.m.ntri; t++) {
+    const struct smooth_tri *tr = &L.m.tri[t];
+    if (tr->mface < 0) continue;
+    double sg = tr->front ? 1 : -1, n[3] = { sg * tr->n[0], sg * tr->n[1], sg * tr->n[2] };
+    assert_int_equal(smooth_lambert(n, l), L.r.map.f[tr->mface].grey);
+    checked++;
+  }
+  assert_true(checked > 50);
+  lib_close(&L);
+}
+
+static void test_insets(void **state)
+{
+  (void)state;
+  double len[3] = { 3, 4, 5 }, t[3];
+  smooth_insets(EFFECTS_SMOOTH_PROP, 0.15, 0, len, 12, t);   /* right triangle, area 6 */
+  for (int k = 0; k < 3; k++) assert_true(t[k] == 0.15);
+  /* fixed: width w over the height on each side (2 area / side) */
+  smooth_insets(EFFECTS_SMOOTH_FIXED, 0, 0.6, len, 12, t);
+  assert_true(fabs(t[0] - 0.6 / 4) < 1e-12 && fabs(t[1] - 0.6 / 3) < 1e-12 &&
+              fabs(t[2] - 0.6 / 2.4) < 1e-12);
+  /* too wide: scaled to sum 1 */
+  smooth_insets(EFFECTS_SMOOTH_PROP, 0.5, 0, len, 12, t);
+  assert_true(fabs(t[0] + t[1] + t[2] - 1) < 1e-12);
+}
+
+static void test_bezier(void **state)
+{
+  (void)state;
+  const double ccs[] = { 0.0, 0.1, 0.3, 0.5, 0.8, 1.0 };
+  const double q0[2] = { 1000, 200 }, q2[2] = { 3000, 900 }, q4[2] = { 2600, 4100 };
+  for (size_t k = 0; k < sizeof ccs / sizeof *ccs; k++) {
+    double q[5][2], p[2], d[2];
+    contour_controls(q0, q2, q4, ccs[k], q);
+    contour_bezier(q, 0, p);
+    assert_true(p[0] == q0[0] && p[1] == q0[1]);
+    contour_bezier(q, 1, p);
+    assert_true(p[0] == q4[0] && p[1] == q4[1]);
+    /* tangents along the contour sides (Q0 -> Q2 at the start, Q2 -> Q4 at the end),
+       pointing the right way; for Cc = 1 the start tangent vanishes (Q1 = Q0) */
+    double a[2] = { q2[0] - q0[0], q2[1] - q0[1] }, b[2] = { q4[0] - q2[0], q4[1] - q2[1] };
+    contour_bezier_d(q, 0, d);
+    assert_true(fabs(d[0] * a[1] - d[1] * a[0]) < 1e-6 * (fabs(d[0]) + fabs(d[1]) + 1) * 5000);
+    if (ccs[k] < 1) assert_true(d[0] * a[0] + d[1] * a[1] > 0);
+    contour_bezier_d(q, 1, d);
+    assert_true(fabs(d[0] * b[1] - d[1] * b[0]) < 1e-6 * (fabs(d[0]) + fabs(d[1]) + 1) * 5000);
+    if (ccs[k] < 1) assert_true(d[0] * b[0] + d[1] * b[1] > 0);
+    /* the area between the corner and the curve: numerically (Green, on the curve; the
+       two straight sides through Q2 add nothing about Q2), against the closed form */
+    double tri = 0.5 * fabs(a[0] * b[1] - a[1] * b[0]), num = 0;
+    const int N = 20000;
+    for (int m = 0; m < N; m++) {
+      double p0[2], p1[2];
+      contour_bezier(q, (double)m / N, p0);
+      contour_bezier(q, (double)(m + 1) / N, p1);
+      num += 0.5 * ((p0[0] - q2[0]) * (p1[1] - q2[1]) - (p1[0] - q2[0]) * (p0[1] - q2[1]));
+    }
+    assert_true(fabs(fabs(num) / tri - contour_cut_share(ccs[k])) < 1e-6);
+    /* and the grid polygon the renderer cuts with */
+    struct gpoint g[5], poly[CONTOUR_STEPS + 2];
+    for (int c = 0; c < 5; c++) { g[c].x = (gcoord)llround(q[c][0]); g[c].y = (gcoord)llround(q[c][1]); }
+    contour_region(g, poly);
+    assert_true(poly[0].x == g[2].x && poly[0].y == g[2].y);
+    assert_true(poly[1].x == g[4].x && poly[1].y == g[4].y);
+    assert_true(poly[CONTOUR_STEPS + 1].x == g[0].x && poly[CONTOUR_STEPS + 1].y == g[0].y);
+    double sh = 0;
+    for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
+      struct gpoint u = poly[v], w = poly[(v + 1) % (CONTOUR_STEPS + 2)];
+      sh += 0.5 * ((double)u.x * (double)w.y - (double)w.x * (double)u.y);
+    }
+    print_message("Cc %.1f: share %.5f, polygon %.5f, closed form %.5f\n", ccs[k],
+                  fabs(num) / tri, fabs(sh) / tri, contour_cut_share(ccs[k]));
+    assert_true(fabs(fabs(sh) / tri - contour_cut_share(ccs[k])) < 2e-3);
+  }
+  assert_true(fabs(contour_cut_share(0.5) - 0.2) < 1e-15);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_zero_band_is_flat),
+    cmocka_unit_test(test_flat_share),
+    cmocka_unit_test(test_whole_is_phong),
+    cmocka_unit_test(test_contour_none),
+    cmocka_unit_test(test_cut_area_closed_form),
+    cmocka_unit_test(test_cut_shows_what_is_behind),
+    cmocka_unit_test(test_concave_vertex_kept),
+    cmocka_unit_test(test_lone_triangle_is_flat),
+    cmocka_unit_test(test_nothing_to_smooth_warns),
+    cmocka_unit_test(test_orientation),
+    cmocka_unit_test(test_core_limit),
+    cmocka_unit_test(test_no_seams),
+    cmocka_unit_test(test_continuous_inside),
+    cmocka_unit_test(test_lambert_is_the_mappers),
+    cmocka_unit_test(test_insets),
+    cmocka_unit_test(test_bezier),
+  };
+  return cmocka_run_group_tests(tests, group_setup, group_teardown);
+}
