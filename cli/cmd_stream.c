@@ -80,7 +80,11 @@ static int paper(struct stream_args *a, const char *v, struct t74_error *err)
   snprintf(a->setbuf[a->nsetbuf], sizeof a->setbuf[0], "area_w_mm=%g", w - 20);
   if (add_set(a, a->setbuf[a->nsetbuf++], err) < 0) return -1;
   snprintf(a->setbuf[a->nsetbuf], sizeof a->setbuf[0], "area_h_mm=%g", h - 20);
-  return add_set(a, a->setbuf[a->nsetbuf++], err);
+  if (add_set(a, a->setbuf[a->nsetbuf++], err) < 0) return -1;
+  /* hpgl: which of the model's documented hard-clip areas, when the plotter cannot be asked */
+  if (a->device && !strcmp(a->device, "hpgl") && (!strcmp(v, "a4") || !strcmp(v, "letter")))
+    return add_set(a, !strcmp(v, "letter") ? "sheet=1" : "sheet=0", err);
+  return 1;
 }
 
 static int stream_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err)
@@ -133,7 +137,8 @@ static void stream_usage(FILE *f)
     "  --save FILE             where to save progress on failure (default: the --resume\n"
     "                          file, else SCENE-NAME.PROFILE.resume here)\n"
     "  --pps N                 helios: points per second (7..65535)\n"
-    "  --paper a4|a3|letter|WxH  hpgl, ebb: landscape sheet in mm, 10 mm margins\n"
+    "  --paper a4|a3|letter|WxH  hpgl, ebb: landscape sheet in mm, 10 mm margins (hpgl:\n"
+    "                          used when the plotter's limits are not known)\n"
     "  --force                 hpgl: drive a printer-class device whose device id does not\n"
     "                          declare HP-GL\n"
     "  --set NAME=VALUE        any profile setting; --settings lists them\n"

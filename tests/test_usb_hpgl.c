@@ -215,7 +215,8 @@ static void test_oh_limits_fitted(void **state)
   assert_int_equal(fx->p.oh_queries, 1);
 }
 
-/* A one-way link (OH never answered): the 7475A's documented A4 limits are used. */
+/* A one-way link (OH never answered): the 7475A's documented A4 limits are used, or its
+** letter limits with --paper letter. */
 static void test_model_limits_without_oh(void **state)
 {
   struct fixture *fx = F(state);
@@ -228,6 +229,18 @@ static void test_model_limits_without_oh(void **state)
   int st = stream_lib(fx, sets, &err);
   if (st) fprintf(stderr, "%s\n", err.msg);
   assert_int_equal(st, T74_OK);
+  check_exact(fx);
+
+  reset(fx);                                    /* letter paper, told with --paper */
+  mock_lock(&fx->m);
+  fx->p.answers = 0;
+  fx->p.clip[2] = 10365;
+  fx->p.clip[3] = 7962;
+  fx->p.g = pen_geom_fit(200, 200, 10365 - 400, 7962 - 400);
+  mock_unlock(&fx->m);
+  char *argv[] = { (char *)mock_tube74(), "stream", SCENE, "--device", "hpgl", "--paper", "letter",
+                   "--set", "query_ms=100", NULL };
+  assert_int_equal(mock_run(argv, NULL), 0);
   check_exact(fx);
 }
 
