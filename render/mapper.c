@@ -403,6 +403,17 @@ static bool in_tri(const int64_t *a, const int64_t *b, const int64_t *c, const i
   return orient2(a, b, p) >= 0 && orient2(b, c, p) >= 0 && orient2(c, a, p) >= 0;
 }
 
+/* The diagonal a-p leaves vertex a (neighbours ap before it, an after it, the polygon
+   counter-clockwise) into the polygon's inside: O'Rourke's in-cone test, strict. Needed
+   where a bridge makes one point a vertex twice: there the emptiness of an ear's triangle
+   alone does not tell which of the two copies the diagonal leaves from. */
+static bool in_cone(const int64_t *ap, const int64_t *a, const int64_t *an, const int64_t *p)
+{
+  if (orient2(ap, a, an) >= 0)                       /* convex (or straight) at a */
+    return orient2(a, p, ap) > 0 && orient2(p, a, an) > 0;
+  return !(orient2(a, p, an) >= 0 && orient2(p, a, ap) >= 0);
+}
+
 /* p strictly inside segment a-b (a != b) */
 static bool on_open_seg(const int64_t *a, const int64_t *b, const int64_t *p)
 {
@@ -478,7 +489,7 @@ static bool rings_simple(const int64_t (*q)[2], const int *rs, int nring, struct
    joined to what is built so far by a bridge from one of its vertices to a vertex in
    sight (crossing no edge and no bridge, its midpoint inside the face), walked around and
    back along the bridge. Returns the list's length, or -1 when no bridge was found. */
-static int bridge_rings(const int64_t (*q)[2], const int *rs, int nring, int *out,
+static int bridge_rings(const int64_t (*q)[2], const int *rs, int nring, int *out, int attempt,
                         struct cost *cost)
 {
   int n = 0;
@@ -495,11 +506,18 @@ static int bridge_rings(const int64_t (*q)[2], const int *rs, int nring, int *ou
       int j = i + 1 < he ? i + 1 : hb;
       ah += q[i][0] * q[j][1] - q[j][0] * q[i][1];
     }
+    /* attempt 0: the shortest bridge in sight; later attempts (when the ears ran into a
+       dead end): the first in sight from a rotated start */
     int bm = -1, bw = -1;
-    for (int mi = 0; mi < hn && bm < 0; mi++) {
+    wide best = 0;
+    for (int mi0 = 0; mi0 < hn && (attempt == 0 || bm < 0); mi0++) {
+      int mi = (mi0 + attempt) % hn;
       const int64_t *M = q[hb + mi];
-      for (int wi = 0; wi < n && bm < 0; wi++) {
+      for (int wi0 = 0; wi0 < n && (attempt == 0 || bm < 0); wi0++) {
+        int wi = (wi0 + 7 * attempt) % n;
         const int64_t *Wp = q[out[wi]];
+        wide dx = Wp[0] - M[0], dy = Wp[1] - M[1], d2 = dx * dx + dy * dy;
+        if (attempt == 0 && bm >= 0 && d2 >= best) continue;
         bool ok = true;
         if (!same2(M, Wp)) {
           for (int e = 0; e < n && ok; e++)
@@ -510,7 +528,7 @@ static int bridge_rings(const int64_t (*q)[2], const int *rs, int nring, int *ou
           cost_mw_mul(cost, 17, 17);
           ok = ok && inside2(q, rs, nring, M[0] + Wp[0], M[1] + Wp[1]) == 1;
         }
-        if (ok) { bm = mi; bw = wi; }
+        if (ok) { bm = mi; bw = wi; best = d2; }
       }
     }
     if (bm < 0) return -1;
@@ -530,6 +548,44 @@ static int bridge_rings(const int64_t (*q)[2], const int *rs, int nring, int *ou
   }
   return n;
 }
+
+/* Ear clipping of the counter-clockwise list left[0..*pnl) into tri; *pnl is left at 3
+   when done (the last triangle not yet in tri), above 3 at a dead end. Returns the
+   triangles made. */
+static int ear_clip(const int64_t (*q)[2], int *left, int *pnl, int (*tri)[3], struct cost *cost)
+{
+  int nt = 0, nl = *pnl;
+  while (nl > 3) {
+    int ear = -1;
+    for (int i = 0; i < nl && ear < 0; i++) {
+      const int64_t *a = q[left[(i + nl - 1) % nl]], *b = q[left[i]], *c = q[left[(i + 1) % nl]];
+      cost_mw_mul(cost, 17, 17);
+      if (orient2(a, b, c) <= 0) continue;
+      const int64_t *ap = q[left[(i + nl - 2) % nl]], *cn = q[left[(i + 2) % nl]];
+      if (!in_cone(ap, a, b, c) || !in_cone(b, c, cn, a)) continue;
+      /* and no edge crosses the cut a-c: an edge ending at a point the polygon passes
+         twice (a bridge's end) can enter the triangle without a vertex inside it */
+      bool empty = true;
+      for (int j = 0; j < nl && empty; j++)
+        empty = !bridge_hits(a, c, q[left[j]], q[left[(j + 1) % nl]]);
+      for (int j = 0; j < nl && empty; j++) {
+        const int64_t *p = q[left[j]];
+        if (same2(p, a) || same2(p, b) || same2(p, c)) continue;   /* bridge ends */
+        empty = !in_tri(a, b, c, p);
+      }
+      if (empty) ear = i;
+    }
+    if (ear < 0) break;                          /* not simple in space: give up */
+    tri[nt][0] = left[(ear + nl - 1) % nl]; tri[nt][1] = left[ear]; tri[nt][2] = left[(ear + 1) % nl];
+    nt++;
+    for (int j = ear; j + 1 < nl; j++) left[j] = left[j + 1];
+    nl--;
+  }
+  *pnl = nl;
+  return nt;
+}
+
+#define SPLIT_ATTEMPTS 8     /* bridge choices tried when the ears run into a dead end */
 
 int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *cost,
                       int *ntri, struct t74_error *err)
@@ -551,31 +607,15 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
     return t74_fail(err, T74_EIO, "out of host memory");
   }
   for (int i = 0; i < n; i++) { q[i][0] = f->xyz[i][u]; q[i][1] = f->xyz[i][v]; }
-  int nl = rings_simple((const int64_t (*)[2])q, f->ring_start, f->nring, cost)
-               ? bridge_rings((const int64_t (*)[2])q, f->ring_start, f->nring, left, cost)
-               : -1;
-  if (nl < 0) { free(q); free(left); free(tri); return T74_EINPUT; }
-  int nt = 0;
-  while (nl > 3) {
-    int ear = -1;
-    for (int i = 0; i < nl && ear < 0; i++) {
-      const int64_t *a = q[left[(i + nl - 1) % nl]], *b = q[left[i]], *c = q[left[(i + 1) % nl]];
-      cost_mw_mul(cost, 17, 17);
-      if (orient2(a, b, c) <= 0) continue;
-      bool empty = true;
-      for (int j = 0; j < nl && empty; j++) {
-        const int64_t *p = q[left[j]];
-        if (same2(p, a) || same2(p, b) || same2(p, c)) continue;   /* bridge ends */
-        empty = !in_tri(a, b, c, p);
-      }
-      if (empty) ear = i;
-    }
-    if (ear < 0) break;                          /* not simple in space: give up */
-    tri[nt][0] = left[(ear + nl - 1) % nl]; tri[nt][1] = left[ear]; tri[nt][2] = left[(ear + 1) % nl];
-    nt++;
-    for (int j = ear; j + 1 < nl; j++) left[j] = left[j + 1];
-    nl--;
+  bool simple = rings_simple((const int64_t (*)[2])q, f->ring_start, f->nring, cost);
+  int nl = -1, nt = 0;
+  for (int attempt = 0; simple && attempt < SPLIT_ATTEMPTS; attempt++) {
+    nl = bridge_rings((const int64_t (*)[2])q, f->ring_start, f->nring, left, attempt, cost);
+    if (nl < 0) break;
+    nt = ear_clip((const int64_t (*)[2])q, left, &nl, tri, cost);
+    if (nl == 3 || f->nring == 1) break;      /* done, or no bridge to choose otherwise */
   }
+  if (nl < 0) { free(q); free(left); free(tri); return T74_EINPUT; }
   if (nl == 3) { tri[nt][0] = left[0]; tri[nt][1] = left[1]; tri[nt][2] = left[2]; nt++; }
   free(q);
   free(left);

@@ -18,7 +18,9 @@
 **                     edge-on or from far away), refused before with "crossings ... do not
 **                     alternate" / "the boundary doubles back" and no FILE:LINE;
 **   folded-hole       a face with a hole that rounding pushes across its boundary (refused
-**                     before; now split into triangles with the hole bridged).
+**                     before; now split into triangles with the hole bridged);
+**   two-holes-folded  a plate with two holes seen almost edge-on: the first bridges chosen
+**                     led the ear clipping into a dead end (a point passed three times).
 ** And mapper_split_face itself: a square with a square hole splits into triangles whose
 ** grid areas add up to the face's exactly; a ring that is not simple in space (which the
 ** scene reader never lets through) is refused, not split into overlapping triangles.
@@ -125,6 +127,7 @@ static void test_folded_by_rounding(void **state)
   judge_all("rounding-folds");
   judge_all("doubles-back");
   judge_all("folded-hole");
+  judge_all("two-holes-folded");
 }
 
 /* ---- mapper_split_face on its own ---------------------------------------------------- */
