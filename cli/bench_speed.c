@@ -21,7 +21,7 @@
 ** squares slope of log time over log faces. Output in DIR (default build/bench/speed):
 ** speed.md (Markdown tables), speed.dat and speed.png (gnuplot, when installed). A progress
 ** bar goes to a terminal only. --quick stops the boxes at 10,000 and the triangles at 640
-** (for runs of make bench). Wall times on a shared machine scatter; the ratios are of
+** (for runs of make bench); --boxes-max N and --triangles-max N stop them at N. Wall times on a shared machine scatter; the ratios are of
 ** figures taken in the same run, side by side.
 */
 #define _DEFAULT_SOURCE        /* wait4: the child's peak memory */
@@ -81,10 +81,10 @@ static double now(void)
 }
 
 /* Run argv with env (NAME=VALUE pairs, may be NULL) set, stdout to `out` (NULL: /dev/null),
-** stderr to /dev/null. Returns the exit status (-1: did not run or exit); *wall and *rss_kb
+** stderr to errpath (NULL: /dev/null). Returns the exit status (-1: did not run or exit); *wall and *rss_kb
 ** get the wall time and the child's peak memory. */
-static int spawn(char *const argv[], const char *const *env, const char *out, double *wall,
-                 long *rss_kb)
+static int spawn_err(char *const argv[], const char *const *env, const char *out,
+                     const char *errpath, double *wall, long *rss_kb)
 {
   double t0 = now();
   pid_t pid = fork();
@@ -97,7 +97,7 @@ static int spawn(char *const argv[], const char *const *env, const char *out, do
       if (eq) { *eq = 0; setenv(buf, eq + 1, 1); }
     }
     int fo = open(out ? out : "/dev/null", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    int fe = open("/dev/null", O_WRONLY);
+    int fe = open(errpath ? errpath : "/dev/null", O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fo >= 0) dup2(fo, 1);
     if (fe >= 0) dup2(fe, 2);
     execv(argv[0], argv);
@@ -111,6 +111,12 @@ static int spawn(char *const argv[], const char *const *env, const char *out, do
   if (wall) *wall = now() - t0;
   if (rss_kb) *rss_kb = ru.ru_maxrss;
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static int spawn(char *const argv[], const char *const *env, const char *out, double *wall,
+                 long *rss_kb)
+{
+  return spawn_err(argv, env, out, NULL, wall, rss_kb);
 }
 
 static char *slurp(const char *path)
@@ -260,7 +266,7 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
 static void usage_fail(struct t74_error *err, const char *what)
 {
   t74_fail(err, T74_EINPUT, "tube74: bench speed: %s (usage: bench speed [--out DIR] "
-           "[--runs N] [--quick] [--peer PATH])", what);
+           "[--runs N] [--quick] [--boxes-max N] [--triangles-max N] [--peer PATH])", what);
 }
 
 int bench_speed(int argc, char **argv, struct t74_error *err)
@@ -268,8 +274,16 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
   const char *dir = "build/bench/speed", *peer = "build/bench/refbench";
   int runs = 3;
   bool quick = false;
+  long boxes_max = 100000, tris_max = 2560;
   for (int k = 3; k < argc; k++) {
     if (!strcmp(argv[k], "--out") && k + 1 < argc) dir = argv[++k];
+    else if ((!strcmp(argv[k], "--boxes-max") || !strcmp(argv[k], "--triangles-max")) && k + 1 < argc) {
+      char *end;
+      long v = strtol(argv[k + 1], &end, 10);
+      if (*end || v < 0 || v > 100000000L) { usage_fail(err, "--boxes-max and --triangles-max take a count"); return err->status; }
+      if (argv[k][2] == 'b') boxes_max = v; else tris_max = v;
+      k++;
+    }
     else if (!strcmp(argv[k], "--peer") && k + 1 < argc) peer = argv[++k];
     else if (!strcmp(argv[k], "--quick")) quick = true;
     else if (!strcmp(argv[k], "--runs") && k + 1 < argc) {
@@ -309,7 +323,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
   static const int boxes[] = { 1000, 3000, 10000, 30000, 100000 };
   static const int tris[] = { 160, 320, 640, 1280, 2560 };
   for (size_t k = 0; k < 5; k++) {
-    if (quick && boxes[k] > 10000) break;
+    if ((quick && boxes[k] > 10000) || boxes[k] > boxes_max) break;
     struct sp_scene *s = &sc[ns];
     memset(s, 0, sizeof *s);
     s->kind = 1;
@@ -320,7 +334,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     ns++;
   }
   for (size_t k = 0; k < 5; k++) {
-    if (quick && tris[k] > 640) break;
+    if ((quick && tris[k] > 640) || tris[k] > tris_max) break;
     struct sp_scene *s = &sc[ns];
     memset(s, 0, sizeof *s);
     s->kind = 2;
@@ -331,6 +345,9 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     ns++;
   }
 
+  for (int k = 0; k < ns; k++)              /* not measured (yet): no figure */
+    for (int p = 0; p < P_N; p++)
+      for (int r = 0; r < SP_MAX_RUNS; r++) sc[k].t[p][r] = NAN;
   /* frames a run: about 0.3 s of tube74 frames, from one trial frame */
   struct sp_bar bar = { 0, ns * (runs * 3 + 1), isatty(2) != 0 };
   for (int k = 0; k < ns; k++) {
@@ -339,19 +356,29 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     char *a[] = { self, (char *)"render", sc[k].path, (char *)"--core", (char *)SP_CORE,
                   (char *)"--stats", stats, NULL };
     sc[k].frames = 1;
-    if (spawn(a, NULL, NULL, NULL, NULL) == 0) {
+    char errp[600];
+    snprintf(errp, sizeof errp, "%s/run.err", dir);
+    if (spawn_err(a, NULL, NULL, errp, NULL, NULL) == 0) {
       char *js = slurp(stats);
       double f = json_num(js, "frame_seconds");
       free(js);
       int fr = f > 0 ? (int)(0.3 / f) : 1;
       sc[k].frames = fr < 1 ? 1 : fr > 15 ? 15 : fr;
     } else {
-      snprintf(sc[k].why, sizeof sc[k].why, "tube74 refused it");
+      char *why = slurp(errp);
+      char *nl = why ? strchr(why, '\n') : NULL;
+      if (nl) *nl = 0;
+      snprintf(sc[k].why, sizeof sc[k].why, "%s", why && *why ? why : "tube74 refused it");
+      free(why);
+      sc[k].failed[P_TUBE] = true;
     }
     bar_step(&bar, sc[k].label);
   }
   for (int r = 0; r < runs; r++)            /* interleaved: every scene once a run */
-    for (int k = 0; k < ns; k++) measure(&sc[k], r, self, peer, dir, &bar);
+    for (int k = 0; k < ns; k++) {
+      if (sc[k].why[0]) { bar_step(&bar, sc[k].label); bar_step(&bar, sc[k].label); bar_step(&bar, sc[k].label); continue; }
+      measure(&sc[k], r, self, peer, dir, &bar);
+    }
 
   /* ---- report ---- */
   char md[600], dat[600], plotpng[600];
@@ -378,6 +405,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     fmt_ms(c[0], 32, m[P_TUBE]); fmt_ms(c[1], 32, m[P_LLVM]); fmt_ratio(c[2], 32, m[P_TUBE], m[P_LLVM]);
     fmt_ms(c[3], 32, m[P_LLVM_T]); fmt_ms(c[4], 32, m[P_SOFT]); fmt_ratio(c[5], 32, m[P_TUBE], m[P_SOFT]);
     fmt_ms(c[6], 32, m[P_SOFT_T]);
+    if (s->why[0]) { fprintf(f, "| %s | - | - | - | - | - | - | - | - | - |\n", s->label); continue; }
     fprintf(f, "| %s | %d | %d | %s | %s | %s | %s | %s | %s | %s |\n", s->label, s->faces, s->pieces,
             c[0], c[1], c[2], c[3], c[4], c[5], c[6]);
     fprintf(d, "%d %d %.9g %.9g %.9g %.9g %.9g\n", s->kind, s->faces, m[P_TUBE], m[P_LLVM], m[P_SOFT],
@@ -389,6 +417,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
   fprintf(f, "|---|---:|---:|---:|---:|---:|\n");
   for (int k = 0; k < ns; k++) {
     struct sp_scene *s = &sc[k];
+    if (s->why[0]) { fprintf(f, "| %s | - | - | - | - | - |\n", s->label); continue; }
     double a = med(s->t[P_TPROC], runs), b = med(s->t[P_PPROC], runs);
     char c[3][32];
     fmt_ms(c[0], 32, a); fmt_ms(c[1], 32, b); fmt_ratio(c[2], 32, a, b);
@@ -397,10 +426,17 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
   }
   fprintf(f, "\n## Growth exponents (least squares slope of log time over log faces)\n\n");
   fprintf(f, "| scenes | tube74 frame | llvmpipe frame | tube74 process | OSMesa process |\n|---|---:|---:|---:|---:|\n");
-  for (int kind = 1; kind <= 2; kind++)
-    fprintf(f, "| %s | %.2f | %.2f | %.2f | %.2f |\n", kind == 1 ? "boxes" : "interpenetrating triangles",
-            growth(sc, ns, kind, P_TUBE, runs), growth(sc, ns, kind, P_LLVM, runs),
-            growth(sc, ns, kind, P_TPROC, runs), growth(sc, ns, kind, P_PPROC, runs));
+  for (int kind = 1; kind <= 2; kind++) {
+    const int prog[4] = { P_TUBE, P_LLVM, P_TPROC, P_PPROC };
+    char c[4][32];
+    for (int q = 0; q < 4; q++) {
+      double e = growth(sc, ns, kind, prog[q], runs);
+      if (isnan(e)) snprintf(c[q], sizeof c[q], "-");
+      else snprintf(c[q], sizeof c[q], "%.2f", e);
+    }
+    fprintf(f, "| %s | %s | %s | %s | %s |\n", kind == 1 ? "boxes" : "interpenetrating triangles",
+            c[0], c[1], c[2], c[3]);
+  }
   bool failed = false;
   for (int k = 0; k < ns; k++)
     if (sc[k].failed[P_TUBE]) {

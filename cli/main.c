@@ -32,7 +32,8 @@ static void usage(FILE *f)
     "                     step, as one HTML page\n"
     "       tube74 params                     the HITAC-10 cost model's constants and sources\n"
     "       tube74 bench accuracy [--out DIR] [--runs N]   what anti-aliasing costs in time\n"
-    "       tube74 bench speed [--out DIR] [--runs N] [--quick] [--peer PATH]   against OSMesa\n"
+    "       tube74 bench speed [--out DIR] [--runs N] [--quick] [--boxes-max N]\n"
+    "                     [--triangles-max N] [--peer PATH]   speed against OSMesa\n"
     "       tube74 --help | --version\n");
   job_usage(f);
   timing_usage(f);

@@ -598,7 +598,6 @@ static int cmp_double(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
-
 int job_run(const struct job *o, const struct job_hooks *h, struct job_result *res,
             struct t74_error *err)
 {

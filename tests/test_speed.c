@@ -232,11 +232,23 @@ static void test_no_sdl_at_start(void **state)
   free(t);
 }
 
+/* bench speed refuses bad options before measuring anything (exit 2). */
+static void test_bench_speed_usage(void **state)
+{
+  (void)state;
+  const char *bad[] = { "--runs 0", "--runs 32", "--runs x", "--bogus", "--boxes-max -1",
+                        "--triangles-max 1x", "--out" };
+  for (size_t k = 0; k < sizeof bad / sizeof *bad; k++)
+    assert_int_equal(run("%s bench speed %s --out %s/b 2>/dev/null", prog(), bad[k], scratch), 2);
+  assert_int_equal(run("%s bench nosuch 2>/dev/null", prog()), 2);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_sample_grid_exact),
     cmocka_unit_test(test_no_sdl_at_start),
+    cmocka_unit_test(test_bench_speed_usage),
     cmocka_unit_test(test_frames_background),
     cmocka_unit_test(test_frames_effects),
     cmocka_unit_test(test_frames_plain),
