@@ -116,14 +116,30 @@ struct tjunc {
   gcoord gx0, gy0, cw, ch;
   int gw, gh;
   int *cell_start, *cell_v;
+  struct gpoint *cell_p;         /* proj[cell_v[k]], kept beside it (no indirection) */
+  int *lb, *ub;                  /* by vertex: the first index of byx with its x, and the
+                                    first with a larger x (the x-slab's ends) */
 };
+
+struct tj_key { gcoord x; int v; };
+
+static int tj_key_cmp(const void *pa, const void *pb)
+{
+  const struct tj_key *a = pa, *b = pb;
+  if (a->x != b->x) return a->x < b->x ? -1 : 1;
+  return (a->v > b->v) - (a->v < b->v);
+}
 
 static void tj_free(struct tjunc *t)
 {
   free(t->byx);
   free(t->cell_start);
   free(t->cell_v);
-  t->byx = t->cell_start = t->cell_v = NULL;
+  free(t->lb);
+  free(t->ub);
+  free(t->cell_p);
+  t->byx = t->cell_start = t->cell_v = t->lb = t->ub = NULL;
+  t->cell_p = NULL;
 }
 
 static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *proj)
@@ -138,17 +154,22 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
     for (int k = 0; k < s->f[f].ring_start[s->f[f].nring]; k++) used[s->f[f].vidx[k]] = 1;
   for (int v = 0; v < s->nv; v++) if (used[v]) t->byx[t->n++] = v;
   free(used);
-  /* insertion into a sorted array would be quadratic: sort once by x, then by index */
-  for (int gap = t->n / 2; gap > 0; gap /= 2)          /* Shell sort: no global context */
-    for (int i = gap; i < t->n; i++) {
-      int v = t->byx[i], j = i;
-      while (j >= gap && (proj[t->byx[j - gap]].x > proj[v].x ||
-                          (proj[t->byx[j - gap]].x == proj[v].x && t->byx[j - gap] > v))) {
-        t->byx[j] = t->byx[j - gap];
-        j -= gap;
-      }
-      t->byx[j] = v;
-    }
+  /* sorted once by projected x, then by index (qsort of (x, index) pairs: the same total
+     order, no global context), with each vertex's slab bounds for the cost count */
+  struct tj_key *key = malloc((size_t)(t->n ? t->n : 1) * sizeof *key);
+  t->lb = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->lb);
+  t->ub = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->ub);
+  if (!key || !t->lb || !t->ub) { free(key); tj_free(t); return 0; }
+  for (int k = 0; k < t->n; k++) { key[k].x = proj[t->byx[k]].x; key[k].v = t->byx[k]; }
+  qsort(key, (size_t)t->n, sizeof *key, tj_key_cmp);
+  for (int k = 0; k < t->n; k++) t->byx[k] = key[k].v;
+  for (int k = 0; k < t->n;) {               /* a run of equal x: [k, e) */
+    int e = k;
+    while (e < t->n && key[e].x == key[k].x) e++;
+    for (int q = k; q < e; q++) { t->lb[key[q].v] = k; t->ub[key[q].v] = e; }
+    k = e;
+  }
+  free(key);
   /* the cells: about two vertices a cell */
   gcoord x0 = 0, x1 = 0, y0 = 0, y1 = 0;
   for (int k = 0; k < t->n; k++) {
@@ -168,7 +189,8 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   size_t ncell = (size_t)side * (size_t)side;
   t->cell_start = calloc(ncell + 1, sizeof *t->cell_start);
   t->cell_v = malloc((size_t)(t->n ? t->n : 1) * sizeof *t->cell_v);
-  if (!t->cell_start || !t->cell_v) { tj_free(t); return 0; }
+  t->cell_p = malloc((size_t)(t->n ? t->n : 1) * sizeof *t->cell_p);
+  if (!t->cell_start || !t->cell_v || !t->cell_p) { tj_free(t); return 0; }
   for (int k = 0; k < t->n; k++) {
     struct gpoint p = proj[t->byx[k]];
     t->cell_start[(size_t)((p.y - y0) / t->ch) * (size_t)side + (size_t)((p.x - x0) / t->cw) + 1]++;
@@ -180,22 +202,11 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   for (int k = 0; k < t->n; k++) {
     struct gpoint p = proj[t->byx[k]];
     size_t c = (size_t)((p.y - y0) / t->ch) * (size_t)side + (size_t)((p.x - x0) / t->cw);
+    t->cell_p[fill[c]] = p;
     t->cell_v[fill[c]++] = t->byx[k];
   }
   free(fill);
   return 1;
-}
-
-/* First index of byx whose projected x is >= x (after: > x when after is set). */
-static int tj_bound(const struct tjunc *t, gcoord x, bool after)
-{
-  int lo = 0, hi = t->n;
-  while (lo < hi) {
-    int mid = (lo + hi) / 2;
-    gcoord m = t->proj[t->byx[mid]].x;
-    if (m < x || (after && m == x)) lo = mid + 1; else hi = mid;
-  }
-  return lo;
 }
 
 /* Append to (*buf, *n) the vertices lying strictly inside the segment a-b in space,
@@ -213,7 +224,10 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
   gcoord y0 = pa.y < pb.y ? pa.y : pb.y, y1 = pa.y < pb.y ? pb.y : pa.y;
   int64_t dx = B->x - A->x, dy = B->y - A->y, dz = B->z - A->z;
   int64_t dd = dx * dx + dy * dy + dz * dz;
-  COST_ADD_N(cost, COST_MEM, 2 * (tj_bound(t, x1, true) - tj_bound(t, x0, false)));
+  /* the slab [x0, x1] of byx: from the first vertex with a's or b's smaller x to the
+     last with the larger */
+  int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
+  COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
   int first = *n;
   if (t->n == 0) return 1;
   gcoord cx0 = x0 < t->gx0 ? 0 : (x0 - t->gx0) / t->cw, cx1 = (x1 - t->gx0) / t->cw;
@@ -224,9 +238,10 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
     for (gcoord cx = cx0; cx <= cx1; cx++) {
       size_t c = (size_t)cy * (size_t)t->gw + (size_t)cx;
       for (int k = t->cell_start[c]; k < t->cell_start[c + 1]; k++) {
+        struct gpoint pv = t->cell_p[k];
+        if (pv.x < x0 || pv.x > x1 || pv.y < y0 || pv.y > y1) continue;
         int v = t->cell_v[k];
-        struct gpoint pv = t->proj[v];
-        if (pv.x < x0 || pv.x > x1 || pv.y < y0 || pv.y > y1 || v == a || v == b) continue;
+        if (v == a || v == b) continue;
         const struct scene_vertex *V = &t->s->v[v];
         int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
         cost_mw_mul(cost, 17, 17);
