@@ -23,6 +23,8 @@
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "render/geom.h"
+#include "render/render.h"
+#include "render/scene.h"
 #include "render/segment.h"
 #include "render/xsort.h"
 #include "render/ysort.h"
@@ -448,12 +450,164 @@ static void test_fig6(void **state)
   expect_in(t, "above: 11 10 | 10 12 | 13 8 | 8 14");
   expect_in(t, "LWS    11 2 12 ; 13 4 14\n");
   expect_in(t, "UPS    10 6 7 8 14 5 1 11 ; 12 3 13 8 9 10\n");
-  expect_in(t, "XSORT  x=8 edge v1-v2 middle | x=20 edge v9-v10 endpoint | x=20 edge v10-v6 endpoint | x=30 edge v2-v3 middle");
-  expect_in(t, "rule (b)");
+  expect_in(t, "XSORT  x=8 edge v1-v2 middle (a) | x=20 edge v9-v10 endpoint (e) | x=20 edge v10-v6 "
+               "endpoint (e) | x=30 edge v2-v3 middle (b)");
+  /* matched on the typed crossings: the hole joined through its first e (10) by (c), its
+     second e (8), on the joined ring, cut off by (b') as its d */
+  expect_in(t, "cut 1 at y = 20 in piece 1 (through concave vertex v8, v10): rule (c) (b');");
+  expect_in(t, "cut 2 at y = 80 in piece 4 (through concave vertex v6, v7): rule (b);");
+  expect_in(t, "cut 3 at y = 40 in piece 5 (through concave vertex v3): rule (b);");
   expect_in(t, "face 6: 8 convex pieces after 3 cuts");
   free(t);
   seg_result_free(&r);
   free(f);
+}
+
+/* The row NAME of state "Fig. 6 (S)" of the first cut in trace t, normalised: runs of
+   blanks one blank, no blank after a comma, no leading blank (caller frees). The type row
+   under a PBS or IPL row is asked for as NAME "+PBS" / "+IPL" (the row after it). */
+static char *fig6_row(const char *t, char state, const char *name)
+{
+  char head[16];
+  snprintf(head, sizeof head, "Fig. 6 (%c)\n", state);
+  const char *p = strstr(t, head), *end = strstr(t, "cut 2 ");
+  assert_non_null(p);
+  p += strlen(head);
+  int under = name[0] == '+';
+  if (under) name++;
+  while (*p == ' ' && (!end || p < end)) {
+    const char *eol = strchr(p, '\n');
+    assert_non_null(eol);
+    const char *q = p;
+    while (*q == ' ') q++;
+    if ((size_t)(eol - q) >= strlen(name) && strncmp(q, name, strlen(name)) == 0 &&
+        q[strlen(name)] == ' ') {
+      if (under) {
+        p = eol + 1;
+        eol = strchr(p, '\n');
+        assert_non_null(eol);
+        q = p + 2 + 5;                          /* past the indent and the name column */
+      } else q += strlen(name);
+      char *out = calloc((size_t)(eol - q) + 1, 1);
+      assert_non_null(out);
+      size_t n = 0;
+      for (const char *c = q; c < eol; c++) {
+        if (*c == ' ' && (n == 0 || out[n - 1] == ' ' || out[n - 1] == ',')) continue;
+        out[n++] = *c;
+      }
+      while (n && out[n - 1] == ' ') n--;
+      out[n] = 0;
+      return out;
+    }
+    p = eol + 1;
+  }
+  print_message("no row %s in state (%c) of:\n%s\n", name, state, t);
+  fail();
+  return NULL;
+}
+
+static void row_is(const char *t, char state, const char *name, const char *want)
+{
+  char *got = fig6_row(t, state, name);
+  if (strcmp(got, want) != 0) {
+    print_message("Fig. 6 (%c) %s: got \"%s\", the paper's \"%s\"\n", state, name, got, want);
+    fail();
+  }
+  free(got);
+}
+
+/* Every table of Fig. 6 (a)-(d) as the paper prints it, on the paper's face. Where the
+   paper's text (a transcription without the figure) is silent or cut short, it says so:
+   - (a), (b) PBS: the text's rows stop at 5, before the hole ring; the rest (* 6 7 8 9
+     10) is checked against the text's type row instead, whose last two letters, e e,
+     belong to the hole's vertices on the line, 8 and 10.
+   - (b) IPL: the text shows "11 10 12,13 8 14"; no crossing has been used twice yet, so
+     IPL is still (a)'s, and the comma is read as the cell border the LWS row below it
+     has there ("11 2 12,13 4 14").
+   - (c) PBS: the text's row has 9 cells "0 0 12 3 13 0 0 0 8" for 15 entries, so its
+     zeros cannot be placed; checked: its non-zero entries 12 3 13 8 are, in order, the
+     first non-zero entries of ours (ours goes on with 9 10, the hole's unused part). */
+static void test_fig6_tables(void **state)
+{
+  (void)state;
+  struct tface *f = fig6(0, 0);
+  struct seg_result r;
+  char *t = trace_of(f, &r);
+  /* (a) */
+  char *pbs = fig6_row(t, 'a', "PBS");
+  assert_string_equal(pbs, "1 11 2 12 3 13 4 14 5 * 6 7 8 9 10");
+  assert_true(strncmp(pbs, "1 11 2 12 3 13 4 14 5", 21) == 0);   /* the text's row */
+  free(pbs);
+  row_is(t, 'a', "+PBS", "a b a b * e e");   /* under 11 12 13 14, and 8 10 */
+  row_is(t, 'a', "IPL", "11 10 12 13 8 14");
+  row_is(t, 'a', "+IPL", "a e b a e b");
+  /* (b) */
+  pbs = fig6_row(t, 'b', "PBS");
+  assert_true(strncmp(pbs, "1 11 0 12 3 13 0 14 5", 21) == 0);
+  assert_string_equal(pbs + 21, " * 6 7 8 9 10");
+  free(pbs);
+  row_is(t, 'b', "IPL", "11 10 12 13 8 14");
+  row_is(t, 'b', "LWS", "11 2 12,13 4 14");
+  /* (c) */
+  pbs = fig6_row(t, 'c', "PBS");
+  char nz[64] = "";
+  for (char *tok = strtok(pbs, " "); tok; tok = strtok(NULL, " "))
+    if (strcmp(tok, "0") && strcmp(tok, "*")) { strcat(nz, nz[0] ? " " : ""); strcat(nz, tok); }
+  assert_true(strncmp(nz, "12 3 13 8", 9) == 0);
+  assert_string_equal(nz, "12 3 13 8 9 10");
+  free(pbs);
+  row_is(t, 'c', "IPL", "0 10 12 13 8 0");
+  row_is(t, 'c', "UPS", "1 11 10 6 7 8 14 5");
+  row_is(t, 'c', "LWS", "11 2 12,13 4 14");
+  /* (d) */
+  row_is(t, 'd', "PBS", "All Zero");
+  row_is(t, 'd', "IPL", "All Zero");
+  row_is(t, 'd', "UPS", "1 11 10 6 7 8 14 5,12 3 13 8 9 10");
+  row_is(t, 'd', "LWS", "11 2 12,13 4 14");
+  /* the text's walk for the first upper piece: 11-10-6-7-8-14-5-1-11 (a rotation of it) */
+  expect_in(t, "UPS    10 6 7 8 14 5 1 11 ; ");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* The shipped scenes/fig6.s74 is the paper's face: what --dump tables writes for it
+   (render_prepare's trace, the same stream) holds the same Fig. 6 tables. */
+static void test_fig6_scene(void **state)
+{
+  (void)state;
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct scene *sc = NULL;
+  struct t74_error err;
+  memset(&err, 0, sizeof err);
+  assert_int_equal(scene_load("scenes/fig6.s74", &so, &sc, &err), T74_OK);
+  char *buf = NULL;
+  size_t len = 0;
+  FILE *m = open_memstream(&buf, &len);
+  assert_non_null(m);
+  struct render_opts o;
+  memset(&o, 0, sizeof o);
+  o.core_words = 16384;
+  o.tables = m;
+  struct render *rd = calloc(1, sizeof *rd);
+  assert_non_null(rd);
+  int rc = render_prepare(rd, sc, &o, &err);
+  if (rc) print_message("render_prepare: %s\n", err.msg);
+  assert_int_equal(rc, T74_OK);
+  render_free(rd);
+  free(rd);
+  fclose(m);
+  expect_in(buf, "face 1: 2 rings, 10 vertices, 5 concave vertices");
+  expect_in(buf, "rule (c) (b');");
+  row_is(buf, 'a', "PBS", "1 11 2 12 3 13 4 14 5 * 6 7 8 9 10");
+  row_is(buf, 'a', "IPL", "11 10 12 13 8 14");
+  row_is(buf, 'b', "LWS", "11 2 12,13 4 14");
+  row_is(buf, 'c', "IPL", "0 10 12 13 8 0");
+  row_is(buf, 'd', "PBS", "All Zero");
+  row_is(buf, 'd', "UPS", "1 11 10 6 7 8 14 5,12 3 13 8 9 10");
+  free(buf);
+  scene_free(sc);
 }
 
 /* The same face started at every vertex of either ring gives the same pieces. */
@@ -560,8 +714,10 @@ static void test_vertices_on_line(void **state)
   HAS(&r, 15, 8, 35, 8, 30, 20);
   seg_result_free(&r);
   char *t = trace_of(f, &r);
-  expect_in(t, "XSORT  x=-5 edge v6-v7 endpoint | x=-5 edge v7-v1 endpoint | x=15 edge v4-v5 endpoint"
-               " | x=15 edge v5-v6 endpoint | x=35 edge v2-v3 endpoint | x=35 edge v3-v4 endpoint\n");
+  expect_in(t, "XSORT  x=-5 edge v6-v7 endpoint (a) | x=-5 edge v7-v1 endpoint (a) | x=15 edge v4-v5 "
+               "endpoint (d) | x=15 edge v5-v6 endpoint (d) | x=35 edge v2-v3 endpoint (b) | x=35 "
+               "edge v3-v4 endpoint (b)\n");
+  expect_in(t, "rule (b');");                 /* the convex vertices 7, 3 pass through: a, b */
   free(t);
   seg_result_free(&r);
   free(f);
@@ -945,6 +1101,8 @@ int main(void)
     cmocka_unit_test(test_rule_b_prime),
     cmocka_unit_test(test_rule_c),
     cmocka_unit_test(test_fig6),
+    cmocka_unit_test(test_fig6_tables),
+    cmocka_unit_test(test_fig6_scene),
     cmocka_unit_test(test_invariance),
     cmocka_unit_test(test_same_line_and_comb),
     cmocka_unit_test(test_vertices_on_line),
