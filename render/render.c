@@ -37,9 +37,11 @@ static int segment_all(struct render *r, const struct scene *s, struct t74_error
       if (st == T74_EINPUT)
         return t74_fail_at(err, T74_EINPUT, s->file, f->sline,
                            "face %u: rounded onto the plane grid (1/%d unit) its boundary is "
-                           "no longer simple (%s), and a face with holes is not split into "
-                           "triangles; it is seen almost edge-on or from far away: move the "
-                           "eye or the face", (unsigned)f->id, (int)GRID_ONE, why);
+                           "no longer simple (%s), and %s; it is seen almost edge-on or from "
+                           "far away: move the eye or the face", (unsigned)f->id,
+                           (int)GRID_ONE, why,
+                           f->nring > 1 ? "a face with holes is not split into triangles"
+                                        : "no split into triangles was found");
       if (st != T74_OK) return st;
       if (ntri == 0) continue;
       f = &r->map.f[k];
