@@ -794,7 +794,7 @@ static void command_dump_ids_reversed(void **state)
     snprintf(scene, sizeof scene, "%s", f->path);
     snprintf(dump, sizeof dump, "%s/ids%d.pgm", f->dir, var);
     snprintf(log, sizeof log, "%s/cmd%d.log", f->dir, var);
-    snprintf(cmd, sizeof cmd, "'%s' render '%s' --cell 3 --core 1000000 --dump ids='%s' 2>'%s'",
+    snprintf(cmd, sizeof cmd, "'%s' render '%s' --turn 0,0 --cell 3 --core 1000000 --dump ids='%s' 2>'%s'",
              prog(), scene, dump, log);
     int rc = system(cmd);
     assert_true(WIFEXITED(rc));
