@@ -618,7 +618,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
   struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
-  st = render_prepare(&r, s, &ro, err);
+  st = render_prepare_lazy(&r, s, &ro, err);
   if (st != T74_OK) goto done;
 
   t = tube_new();

@@ -610,6 +610,101 @@ static void test_fig6_scene(void **state)
   scene_free(sc);
 }
 
+/* Cut while displaying (003 §3.1: bottom to top, "displayed while it is computed"):
+   render_prepare_lazy cuts nothing; the scan cuts each face when it reaches the face's
+   lowest vertex. Against render_prepare (every face cut first): the same visible face at
+   every point, the same pieces and cuts; and when the first point showing a face is
+   handed on, the faces higher up are not cut yet. */
+struct lazy_run {
+  struct render *r;
+  int *face;
+  int W;
+  int cut_at_first;                        /* faces cut when the first point of a face came */
+};
+
+static int lazy_point(void *ctx, int i, int j, int face)
+{
+  struct lazy_run *lr = ctx;
+  if (lr->cut_at_first < 0 && face >= 0) lr->cut_at_first = lr->r->cut_next;
+  lr->face[(size_t)j * (size_t)lr->W + (size_t)i] = face;
+  return 0;
+}
+
+static void run_scene(const char *path, int lazy, int *face, int W, int H, struct lazy_run *out,
+                      int *npieces, int *ncut, int *nface, int *nsplit)
+{
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct scene *sc = NULL;
+  struct t74_error err;
+  memset(&err, 0, sizeof err);
+  assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
+  struct render_opts o;
+  memset(&o, 0, sizeof o);
+  o.core_words = 16384;
+  struct render *rd = calloc(1, sizeof *rd);
+  assert_non_null(rd);
+  int rc = lazy ? render_prepare_lazy(rd, sc, &o, &err) : render_prepare(rd, sc, &o, &err);
+  if (rc) print_message("prepare: %s\n", err.msg);
+  assert_int_equal(rc, T74_OK);
+  if (lazy) {
+    assert_int_equal(rd->seg.n, 0);        /* nothing cut before the scan */
+    assert_int_equal(rd->cut_next, 0);
+  } else {
+    assert_int_equal(rd->cut_next, rd->map.nface);
+  }
+  struct vis_grid g = { W, H, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
+  out->r = rd;
+  out->face = face;
+  out->W = W;
+  out->cut_at_first = -1;
+  rc = render_scan(rd, &g, lazy_point, out, &err);
+  if (rc) print_message("scan: %s\n", err.msg);
+  assert_int_equal(rc, T74_OK);
+  assert_int_equal(rd->cut_next, rd->map.nface);   /* every face cut in the end */
+  *npieces = render_pieces_alive(rd);
+  *ncut = rd->concave_splits;
+  *nface = rd->map.nface;
+  *nsplit = rd->map.split;
+  render_free(rd);
+  free(rd);
+  scene_free(sc);
+}
+
+static void test_cut_while_scanning(void **state)
+{
+  (void)state;
+  static const char *const scenes[] = { "scenes/fig6.s74", "scenes/street.s74",
+                                        "scenes/fig5.s74", "scenes/fig7b.s74",
+                                        "tests/data/scene/folded-far-174.s74" };
+  enum { W = 133, H = 100 };
+  for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) {
+    int *fe = calloc(W * H, sizeof *fe), *fl = calloc(W * H, sizeof *fl);
+    assert_non_null(fe);
+    assert_non_null(fl);
+    struct lazy_run re, rl;
+    int pe, pl, ce, cl, nfe, nfl, se, sl;
+    run_scene(scenes[k], 0, fe, W, H, &re, &pe, &ce, &nfe, &se);
+    run_scene(scenes[k], 1, fl, W, H, &rl, &pl, &cl, &nfl, &sl);
+    assert_int_equal(se, sl);
+    assert_int_equal(nfe, nfl);
+    if (strstr(scenes[k], "folded")) assert_true(sl > 0);   /* faces split into triangles
+                                                                while the scan runs */
+    assert_memory_equal(fe, fl, sizeof *fe * W * H);
+    assert_int_equal(pe, pl);
+    assert_int_equal(ce, cl);
+    assert_int_equal(re.cut_at_first, nfe);            /* eager: all before the first point */
+    assert_true(rl.cut_at_first > 0 && rl.cut_at_first <= nfl);
+    if (!strcmp(scenes[k], "scenes/street.s74")) {
+      /* the street's roofs and upper windows are above the bottom row */
+      print_message("street: %d of %d faces cut at the first face point\n", rl.cut_at_first, nfl);
+      assert_true(rl.cut_at_first > 0 && rl.cut_at_first < nfl);
+    }
+    free(fe);
+    free(fl);
+  }
+}
+
 /* The same face started at every vertex of either ring gives the same pieces. */
 static void test_invariance(void **state)
 {
@@ -1103,6 +1198,7 @@ int main(void)
     cmocka_unit_test(test_fig6),
     cmocka_unit_test(test_fig6_tables),
     cmocka_unit_test(test_fig6_scene),
+    cmocka_unit_test(test_cut_while_scanning),
     cmocka_unit_test(test_invariance),
     cmocka_unit_test(test_same_line_and_comb),
     cmocka_unit_test(test_vertices_on_line),
