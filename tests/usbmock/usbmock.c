@@ -261,8 +261,13 @@ static gboolean mock_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gp
       else if (!m->drv[i][0] && m->probe[i][0]) {
         unsigned also = m->probe_also[i] | 1u << i;
         for (int k = 0; k < 4; k++)
-          if ((also >> k & 1) && !m->claimed[k] && !m->drv[k][0])
-            snprintf(m->drv[k], sizeof m->drv[k], "%s", m->probe[i]);
+          if ((also >> k & 1) && !m->claimed[k] && !m->drv[k][0]) {
+            /* memcpy, not snprintf: gcc -O1 (make asan) misreads drv[k] and probe[i]
+               of one struct as overlapping (-Wrestrict) */
+            size_t len = strnlen(m->probe[i], sizeof m->drv[k] - 1);
+            memcpy(m->drv[k], m->probe[i], len);
+            m->drv[k][len] = '\0';
+          }
         m->attaches++;
       }                                         /* no driver for it: nothing binds, 0 */
     } else { rc = -1; e = ENOTTY; }
