@@ -784,6 +784,7 @@ struct pbs_entry {
   uint16_t num, now;                      /* number; now: the number, or 0 once deleted */
   int star;                               /* 1: the '*' between rings */
   int tc;                                 /* IPL index when a crossing number, else -1 */
+  int inner;                              /* a vertex inside a chain of sides along the line */
 };
 
 struct fig6 {
@@ -890,8 +891,9 @@ static void f6_take(struct fig6 *g, const struct halfcut *h, int i, const struct
 
 /* The states (a)-(d) of Fig. 6 for one cut: (a) PBS and IPL as written, with the type
    of every crossing under it; (b) after the lower pieces are taken (LWS); (c) after each
-   upper piece but the last (UPS so far); (d) after the last. */
-static void trace_fig6(FILE *f, const struct wpiece *P, uint16_t *const *mid,
+   upper piece but the last (UPS so far); (d) after the last. Vertices inside a chain of
+   sides along the cut line belong to no piece and are zeroed with the lower pieces. */
+static void trace_fig6(FILE *f, const struct wpiece *P, uint16_t *const *mid, gcoord c,
                        struct tcross *tc, int ntc, const struct halfcut *hc)
 {
   struct fig6 g;
@@ -910,6 +912,7 @@ static void trace_fig6(FILE *f, const struct wpiece *P, uint16_t *const *mid,
       struct pbs_entry *e = &g.pbs[g.npbs++];
       e->num = e->now = P->ring[r].v[k].num;
       e->tc = tc_find(tc, ntc, r, k);
+      e->inner = e->tc < 0 && P->ring[r].v[k].y == c;
       if (mid[r][k]) {
         e = &g.pbs[g.npbs++];
         e->num = e->now = mid[r][k];
@@ -924,6 +927,9 @@ static void trace_fig6(FILE *f, const struct wpiece *P, uint16_t *const *mid,
   f6_ipl(&g, 0);
   f6_ipl(&g, 1);
   for (int i = 0; i < hc[XS_BELOW].ncy; i++) f6_take(&g, &hc[XS_BELOW], i, P);
+  /* a vertex inside a chain of sides along the line is in no piece: the cut line takes
+     the chain's place (the paper's example has none); it goes with the lower pieces */
+  for (int i = 0; i < g.npbs; i++) if (g.pbs[i].inner) g.pbs[i].now = 0;
   fputs("Fig. 6 (b)\n", f);
   f6_pbs(&g, 0);
   f6_ipl(&g, 0);
@@ -1133,7 +1139,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     fputc('\n', f);
     trace_cycle_list(f, "LWS", &hc[XS_BELOW], P);
     trace_cycle_list(f, "UPS", &hc[XS_ABOVE], P);
-    trace_fig6(f, P, mid, tc, ntc, hc);
+    trace_fig6(f, P, mid, c, tc, ntc, hc);
   }
 
   /* The new pieces, lower ones first, go to the queue. */

@@ -705,6 +705,35 @@ static void test_cut_while_scanning(void **state)
   }
 }
 
+/* The tables of a cut through a flat-bottomed notch from above with a vertex inside its
+   bottom edge (1..9, vertex 6 inside the chain 5-6-7 along the line): the chain is one d,
+   one rule (b'); its ends 7 and 5 are in IPL once each and used once each; the inner
+   vertex 6 is in no piece and goes with the lower pieces; in the end all is zero. */
+static void test_fig6_tables_chain(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(15);
+  tf_ring(f, 9, (const long long[]){ 0, 0, 30, 0, 30, 20, 20, 20, 20, 10, 15, 10, 10, 10,
+                                     10, 20, 0, 20 });
+  struct seg_result r;
+  split_ok(f, &r, 3, 1);
+  seg_result_free(&r);
+  char *t = trace_of(f, &r);
+  expect_in(t, "rule (b');");
+  row_is(t, 'a', "PBS", "1 2 11 3 4 5 6 7 8 9 12");
+  row_is(t, 'a', "IPL", "12 7 5 11");
+  row_is(t, 'a', "+IPL", "a d d b");
+  row_is(t, 'b', "PBS", "0 0 11 3 4 5 0 7 8 9 12");
+  row_is(t, 'b', "LWS", "1 2 11 12");
+  row_is(t, 'c', "IPL", "0 0 5 11");
+  row_is(t, 'd', "PBS", "All Zero");
+  row_is(t, 'd', "IPL", "All Zero");
+  row_is(t, 'd', "UPS", "7 8 9 12,11 3 4 5");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
 /* The same face started at every vertex of either ring gives the same pieces. */
 static void test_invariance(void **state)
 {
@@ -1198,6 +1227,7 @@ int main(void)
     cmocka_unit_test(test_fig6),
     cmocka_unit_test(test_fig6_tables),
     cmocka_unit_test(test_fig6_scene),
+    cmocka_unit_test(test_fig6_tables_chain),
     cmocka_unit_test(test_cut_while_scanning),
     cmocka_unit_test(test_invariance),
     cmocka_unit_test(test_same_line_and_comb),
