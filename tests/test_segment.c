@@ -676,7 +676,8 @@ static void test_cut_while_scanning(void **state)
   (void)state;
   static const char *const scenes[] = { "scenes/fig6.s74", "scenes/street.s74",
                                         "scenes/fig5.s74", "scenes/fig7b.s74",
-                                        "tests/data/scene/folded-far-174.s74" };
+                                        "tests/data/scene/folded-far-174.s74",
+                                        "tests/data/exact/two-holes-folded.s74" };
   enum { W = 133, H = 100 };
   for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) {
     int *fe = calloc(W * H, sizeof *fe), *fl = calloc(W * H, sizeof *fl);
