@@ -28,4 +28,7 @@ int cmd_devices(int argc, char **argv, struct t74_error *err);
 ** and refuses unknown ones (cli/cmd_bench.c; this version: accuracy). */
 int cmd_bench(int argc, char **argv, struct t74_error *err);
 
+/* `tube74 bench arith [--out DIR]`: exact against 1974 arithmetic (cli/bench_arith.c). */
+int bench_arith(int argc, char **argv, struct t74_error *err);
+
 #endif

@@ -85,7 +85,9 @@ void job_usage(FILE *f)
     "  --input s74|obj|off|tek  input format (default: a Tek stream by its first byte,\n"
     "                         else by extension)\n"
     "  --hitac NAME=VALUE     change a cost-model constant (see `tube74 params`)\n"
-    "  --matrix auto|dense|sparse   priority matrix store (default auto)\n");
+    "  --matrix auto|dense|sparse   priority matrix store (default auto)\n"
+    "  --arith exact|hitac    decisions in exact arithmetic (default) or in the HITAC-10's\n"
+    "                         word sizes as the 1974 program would make them\n");
 }
 
 static int parse_long(const char *s, long lo, long hi, long *out)
@@ -173,6 +175,12 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
     } else if (!strcmp(a, "--hitac")) {
       NEED(1);
       if (cost_params_set(&o->params, argv[++k], err) != T74_OK) return err->status;
+    } else if (!strcmp(a, "--arith")) {
+      NEED(1);
+      const char *m = argv[++k];
+      if (!strcmp(m, "exact")) o->arith = GEOM_EXACT;
+      else if (!strcmp(m, "hitac")) o->arith = GEOM_HITAC;
+      else return bad_usage(err, "--arith takes exact or hitac", m);
     } else if (!strcmp(a, "--matrix")) {
       NEED(1);
       const char *m = argv[++k];
@@ -362,6 +370,19 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "  \"core_words\": %u,\n", core_words(r->core));
   outfile_printf(of, "  \"core_words_used\": %u,\n", core_peak(r->core));
   outfile_printf(of, "  \"hitac10_seconds\": %.6f,\n", pipeline_seconds(p));
+  {
+    /* the same run with every counted operation at its exact width (emu/cost.h) */
+    struct cost all = total;
+    cost_merge(&all, &p->scanner);
+    cost_merge(&all, &p->fx);
+    double prog = 0;
+    cost_params_get(&o->params, "program_words", &prog);
+    outfile_printf(of, "  \"exact_hitac10_seconds\": %.6f,\n",
+                   pipeline_seconds(p) - cost_seconds(&all, &o->params) +
+                   cost_seconds_exact(&all, &o->params));
+    outfile_printf(of, "  \"arith\": \"%s\",\n  \"program_words\": %.0f,\n",
+                   o->arith == GEOM_HITAC ? "hitac" : "exact", prog);
+  }
   outfile_printf(of, "  \"scanner_seconds\": %.6f,\n", ss.scanner_seconds);
   outfile_printf(of, "  \"disk_seconds\": %.6f,\n", ss.disk_seconds);
   if (p->scan)
@@ -602,7 +623,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   }
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
-  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
+  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables, o->arith };
   st = render_prepare(&r, s, &ro, err);
   if (st != T74_OK) goto done;
 

@@ -189,7 +189,17 @@ static struct depth depth_of(const struct prio *pr, const struct mface *A, const
 {
   const int64_t *e = pr->map->eye;
   wide k[3];
-  for (int c = 0; c < 3; c++) k[c] = (wide)B->deye * A->plane[c] - (wide)A->deye * B->plane[c];
+  if (pr->arith == GEOM_HITAC) {
+    /* --arith hitac: the planes as the 1974 program held them (one-word a, b, c; double-
+       word d), so depth order and the intersection line come from truncated planes */
+    int64_t a[4], b[4];
+    geom_h10_plane(A->plane, a);
+    geom_h10_plane(B->plane, b);
+    wide da = -((wide)a[0] * e[0] + (wide)a[1] * e[1] + (wide)a[2] * e[2] + a[3]);  /* |plane(eye)| */
+    wide db = -((wide)b[0] * e[0] + (wide)b[1] * e[1] + (wide)b[2] * e[2] + b[3]);
+    for (int c = 0; c < 3; c++) k[c] = db * a[c] - da * b[c];
+  } else
+    for (int c = 0; c < 3; c++) k[c] = (wide)B->deye * A->plane[c] - (wide)A->deye * B->plane[c];
   struct depth g;
   g.k0 = k[0];
   g.k1 = k[1];

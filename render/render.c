@@ -95,7 +95,10 @@ int render_prepare(struct render *r, const struct scene *s, const struct render_
   st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], o->store, err);
   if (st != T74_OK) return st;
   r->prio.trace = o->tables;
-  return vis_init(&r->vis, &r->seg, &r->prio, &r->cost[RS_VISIBLE], err);
+  r->prio.arith = o->arith;
+  st = vis_init(&r->vis, &r->seg, &r->prio, &r->cost[RS_VISIBLE], err);
+  r->vis.arith = o->arith;
+  return st;
 }
 
 int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, void *ctx,

@@ -27,6 +27,7 @@ struct render_opts {
   uint32_t program_words;    /* core taken by the 1974 program itself (0: not charged) */
   int      store;            /* PRIO_AUTO / PRIO_DENSE / PRIO_SPARSE */
   FILE    *tables;           /* teaching dump (--dump tables), or NULL */
+  int      arith;            /* --arith: GEOM_EXACT (0, the default) or GEOM_HITAC */
 };
 
 struct render {
