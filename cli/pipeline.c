@@ -380,8 +380,9 @@ static int write_stats(const struct job *o, const struct render *r, const struct
     outfile_printf(of, "  \"exact_hitac10_seconds\": %.6f,\n",
                    pipeline_seconds(p) - cost_seconds(&all, &o->params) +
                    cost_seconds_exact(&all, &o->params));
-    outfile_printf(of, "  \"arith\": \"%s\",\n  \"program_words\": %.0f,\n",
-                   o->arith == GEOM_HITAC ? "hitac" : "exact", prog);
+    outfile_printf(of, "  \"arith\": \"%s\",\n  \"arith_faces_skipped\": %d,\n"
+                   "  \"program_words\": %.0f,\n",
+                   o->arith == GEOM_HITAC ? "hitac" : "exact", r->arith_skipped, prog);
   }
   outfile_printf(of, "  \"scanner_seconds\": %.6f,\n", ss.scanner_seconds);
   outfile_printf(of, "  \"disk_seconds\": %.6f,\n", ss.disk_seconds);

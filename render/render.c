@@ -27,6 +27,16 @@ static int segment_all(struct render *r, const struct scene *s, struct t74_error
     struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
     struct seg_result res = { 0 };
     int st = seg_generate(&in, &res, r->tables, r->core, cost, err);
+    if (st == T74_EINPUT && r->arith == GEOM_HITAC) {
+      /* --arith hitac: the 1974 coordinates folded the face; that program would have
+         drawn nothing sensible of it: skip it, with a counted warning */
+      fprintf(stderr, "%s:%d: warning: face %u: its 1974 (one-word) coordinates fold it "
+              "(%s); not drawn (--arith hitac)\n", s->file, f->sline, (unsigned)f->id, err->msg);
+      memset(err, 0, sizeof *err);
+      seg_result_free(&res);
+      r->arith_skipped++;
+      continue;
+    }
     if (st == T74_EINPUT) {
       seg_result_free(&res);
       char why[sizeof err->msg];
@@ -69,6 +79,21 @@ static int segment_all(struct render *r, const struct scene *s, struct t74_error
   return T74_OK;
 }
 
+/* --arith hitac: X', Y' as the 1974 Mapper held them, one word each in whole world units
+   (eq. (1) by a 16 x 16 multiply and a 32 / 16 divide: the quotient, truncated toward
+   zero). A vertex that lay exactly on another face's edge (a T-junction) may now lie
+   beside it: the cracks of 1974 arithmetic. */
+static void hold_h10(struct mapped *m)
+{
+  for (int k = 0; k < m->nface; k++) {
+    struct mface *f = &m->f[k];
+    for (int v = 0; v < f->ring_start[f->nring]; v++) {
+      f->pt[v].x = f->pt[v].x / GRID_ONE * GRID_ONE;
+      f->pt[v].y = f->pt[v].y / GRID_ONE * GRID_ONE;
+    }
+  }
+}
+
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
                    struct t74_error *err)
 {
@@ -86,6 +111,8 @@ int render_prepare(struct render *r, const struct scene *s, const struct render_
   r->ran[RS_MAPPER] = 1;
   int st = mapper_run(s, &r->map, r->core, &r->cost[RS_MAPPER], err);
   if (st != T74_OK) return st;
+  r->arith = o->arith;
+  if (o->arith == GEOM_HITAC) hold_h10(&r->map);
 
   r->ran[RS_SEGMENT] = 1;
   st = segment_all(r, s, err);

@@ -41,6 +41,8 @@ struct render {
   int             concave_splits;
   int             ran[RS_NSTAGE];
   FILE           *tables;
+  int             arith;             /* GEOM_EXACT or GEOM_HITAC (--arith) */
+  int             arith_skipped;     /* hitac: faces folded by 1974 coordinates, not drawn */
 };
 
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
