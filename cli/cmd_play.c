@@ -179,21 +179,22 @@ static int write_gif(const struct look *l, const struct play_opts *o, int scale,
   }
   if (st == T74_OK) { st = gif_commit(g, err); g = NULL; }
   if (g) gif_abort(g);
-  if (st == T74_OK)
-    printf("play: wrote %s: %ld frames (%.3f s of 1974 time each)\n", o->movie, n, dt);
   free(I);
   free(idx);
   return st;
 }
 
 static int write_movie(const struct look *l, const struct play_opts *o, int scale,
-                       struct outset *set, struct outfile *first, struct t74_error *err)
+                       struct outset *set, struct outfile *first, long *frames,
+                       double *frame_dt, struct t74_error *err)
 {
   double end = look_settled(l);                 /* the final picture, flash faded */
   double dt = o->speed / o->fps;                /* emulated seconds per frame */
   long n = (long)ceil(end / dt) + 1;            /* frames at 0, dt, ..., then `end` */
   if (n < 2) n = 2;
   if (n > o->max_frames) { n = o->max_frames; dt = end / (double)(n - 1); }
+  *frames = n;
+  *frame_dt = dt;
   if (is_gif(o->movie)) return write_gif(l, o, scale, n, dt, end, first, err);
   size_t base = movie_base(o);
   char *name = malloc(base + 32);
@@ -210,10 +211,8 @@ static int write_movie(const struct look *l, const struct play_opts *o, int scal
     if (st != T74_OK) { outfile_abort(of); t74_fail(err, st, "%s: cannot render the frame", name); break; }
     st = look_png_rgba_to(rgba, TUBE_W * scale, TUBE_H * scale, of, err);
   }
-  if (st == T74_OK)
-    printf("play: wrote %ld frames %.*s-0001.png .. %.*s-%04ld.png (%.3f s of 1974 time each; "
-           "PNG sequence: this libpng has no APNG)\n",
-           n, (int)base, o->movie, (int)base, o->movie, n, dt);
+  *frames = n;
+  *frame_dt = dt;
   free(name);
   free(rgba);
   return st;
@@ -491,8 +490,17 @@ int cmd_play(int argc, char **argv, struct t74_error *err)
             timing_total_seconds(&tm), res.hitac10_seconds);
   int scale = tm.scale_given ? tm.scale : 2;
   if (st == T74_OK && o.movie) {
-    st = write_movie(l, &o, scale, set, first, err);
+    long n = 0;
+    double dt = 0;
+    st = write_movie(l, &o, scale, set, first, &n, &dt, err);
     if (st == T74_OK) st = outset_commit(set, err);
+    size_t base = movie_base(&o);
+    if (st == T74_OK && is_gif(o.movie))  /* told once every frame is in place */
+      printf("play: wrote %s: %ld frames (%.3f s of 1974 time each)\n", o.movie, n, dt);
+    else if (st == T74_OK)
+      printf("play: wrote %ld frames %.*s-0001.png .. %.*s-%04ld.png (%.3f s of 1974 time "
+             "each; PNG sequence: this libpng has no APNG)\n",
+             n, (int)base, o.movie, (int)base, o.movie, n, dt);
   } else if (st == T74_OK) {
     st = run_window(l, tm.look, &o, scale, j.scene, err);
   }

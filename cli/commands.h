@@ -31,4 +31,8 @@ int cmd_bench(int argc, char **argv, struct t74_error *err);
 /* `tube74 bench arith [--out DIR]`: exact against 1974 arithmetic (cli/bench_arith.c). */
 int bench_arith(int argc, char **argv, struct t74_error *err);
 
+/* `tube74 teach SCENE [-o DIR] [--line J]`: the paper's figures step by step as one HTML
+   page (cli/cmd_teach.c). */
+int cmd_teach(int argc, char **argv, struct t74_error *err);
+
 #endif

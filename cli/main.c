@@ -28,6 +28,8 @@ static void usage(FILE *f)
     "                     [--resume FILE] [options]   the dots to vector hardware over USB\n"
     "       tube74 devices [PROFILE]          connected USB devices that match a profile\n"
     "       tube74 play SCENE [--speed X] [--movie FILE] [options]   watch the picture build up\n"
+    "       tube74 teach SCENE [-o DIR] [--line J] [options]   the paper's figures, step by\n"
+    "                     step, as one HTML page\n"
     "       tube74 params                     the HITAC-10 cost model's constants and sources\n"
     "       tube74 bench accuracy [--out DIR] [--runs N]   what anti-aliasing costs in time\n"
     "       tube74 --help | --version\n");
@@ -72,6 +74,8 @@ int main(int argc, char **argv)
     st = cmd_play(argc, argv, &err);
   } else if (!strcmp(argv[1], "bench")) {
     st = cmd_bench(argc, argv, &err);
+  } else if (!strcmp(argv[1], "teach")) {
+    st = cmd_teach(argc, argv, &err);
   } else {
     usage(stderr);
     st = t74_fail(&err, T74_EINPUT, "tube74: unknown command `%s`", argv[1]);

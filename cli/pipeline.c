@@ -432,6 +432,8 @@ static int write_stats(const struct job *o, const struct render *r, const struct
 /* ---- Tektronix streams onto the tube ------------------------------------------------ */
 
 #define TEK_WARN_SHOWN 100              /* warnings printed; the rest are only counted */
+#define TEK_FILE_MAX ((size_t)256 << 20) /* largest Tek stream read (256 MiB; a full 4014
+                                           screen of point plot is under 1 MiB) */
 
 /* Is the job's input a Tek stream: --input tek, or (no --input) a first byte that is a Tek
 ** control code. A file that cannot be read is left to the scene reader to report. */
@@ -517,7 +519,7 @@ static int run_tek(const struct job *o, const struct job_hooks *h, struct job_re
   if (st != T74_OK) { outs_free(&jo); return st; }
   uint8_t *buf = NULL;
   size_t n = 0;
-  st = file_read_all(o->scene, &buf, &n, err);
+  st = file_read_all(o->scene, TEK_FILE_MAX, &buf, &n, err);
   if (st != T74_OK) { outs_free(&jo); return st; }
   struct tube *t = tube_new();
   if (!t) { free(buf); outs_free(&jo); return t74_fail(err, T74_EIO, "out of host memory"); }
@@ -609,8 +611,12 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   st = outs_open(o, h, s->background, &jo, err);
   if (st != T74_OK) goto done;
   if (s->background) {
-    st = pic_load(s->background, &bg, err);
-    if (st != T74_OK) goto done;
+    struct t74_error pe = { T74_OK, "" };
+    st = pic_load(s->background, &bg, &pe);
+    if (st != T74_OK) {   /* the scene's line that named it, then the loader's reason */
+      st = t74_fail(err, st, "%s:%d: background: %s", s->file, s->background_line, pe.msg);
+      goto done;
+    }
     /* input time: the photograph through drum, A-D and packing onto the disk */
     st = scan_photo(bg, p.cell, &o->params, &p.scan, err);
     if (st != T74_OK) goto done;
@@ -624,8 +630,8 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   }
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
-  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables, o->arith };
-  st = render_prepare(&r, s, &ro, err);
+  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
+  st = render_prepare_arith(&r, s, &ro, o->arith, err);
   if (st != T74_OK) goto done;
 
   t = tube_new();

@@ -81,8 +81,9 @@ static int look_item(struct timing *t, const char *it, size_t n, struct t74_erro
     t->look_flags |= LOOK_FADE;
     double s;
     if (buf[4] == ':') {
-      if (!parse_double(buf + 5, 1e-3, 1e6, &s))
-        return t74_fail(err, T74_EINPUT, "tube74: --look fade:SECONDS takes 0.001 .. 1e6, got `%s`", buf + 5);
+      if (!parse_double(buf + 5, EFFECTS_FADE_MIN, EFFECTS_FADE_MAX, &s))
+        return t74_fail(err, T74_EINPUT, "tube74: --look fade:SECONDS takes %g .. %g, got `%s`",
+                        EFFECTS_FADE_MIN, EFFECTS_FADE_MAX, buf + 5);
       t->lp.v[LP_FADE_S] = s;
     }
     return T74_OK;

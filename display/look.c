@@ -30,6 +30,12 @@
 **                   its end, te + erase_s (the writing waits for the erase).
 **   glow            added everywhere, always.
 ** Intensities add; look_colour maps them to P1 green, whitening above 1 (bloom).
+**
+** BOUNDED WORK. A fading spot widens without limit (tube=fade:0.001 an hour on), so a
+** spot too wide for a LOOK_KERNEL_MAX kernel is drawn on a coarser grid and interpolated
+** back (below, "wide spots"), and a spot whose peak is below LOOK_AMP_MIN is skipped: every
+** look costs O(dots + pixels), whatever its constants. Spots that fit (every unfaded
+** spot at every scale) are drawn exactly as described above.
 */
 #include "display/look.h"
 
@@ -275,6 +281,106 @@ static void stamp(float *out, int W, int H, int s, int x, int y, double amp,
   }
 }
 
+/* ---- wide spots: coarser grids ----------------------------------------------------- */
+
+/* A fading spot widens without bound as it ages (sigma^2 grows with a/fade_s), and a
+** kernel 5 sigma wide at full resolution would cost its width squared per dot. So a
+** spot whose kernel would be more than LOOK_KERNEL_MAX pixels across a side is drawn on
+** a coarser grid instead: grid L has cells of 2^L x 2^L output pixels, chosen as the
+** finest on which the kernel is at most LOOK_KERNEL_MAX cells a side, and each cell gets
+** the exact mean of the spot over the cell (erf, as at full resolution). At the end each
+** grid is added onto the picture by bilinear interpolation between cell centres: on a
+** coarse grid sigma is at least LOOK_KERNEL_MAX/10 cells, where interpolating a Gaussian
+** errs by under 2% of its (already dim) peak. The work per dot is bounded by
+** (2 LOOK_KERNEL_MAX + 2)^2, the work per grid by the picture's pixels: the whole look
+** costs O(dots + pixels), whatever fade_s, the age or the spread.
+** A dot whose peak has faded below LOOK_AMP_MIN (1/256 of one 8-bit step of the P1
+** colour) is not drawn at all: its whole light is below what a pixel can show. */
+#define LOOK_KERNEL_MAX 32      /* kernel radius, in cells of its grid (5 sigma) */
+#define LOOK_LEVELS     16      /* grids 0..15: 2^15 output pixels per cell > any picture */
+#define LOOK_AMP_MIN    (1.0 / (256.0 * 256.0))   /* dimmer peaks are not drawn */
+
+struct grid {
+  int f;                        /* output pixels per cell side: 2^L */
+  int w, h;                     /* cells: ceil(W / f) x ceil(H / f) */
+  float *v;                     /* w * h cell values, row 0 at the top; NULL until used */
+};
+
+/* The mean of a unit-peak Gaussian (sigma sp, centre c, in output pixels) over the cells
+** of side f that it reaches (5 sigma), clipped to 0..n-1: k[0..*cnt) for cells *first... */
+static int coarse_axis(double c, double sp, int f, int n, float *k, int *first, int *cnt)
+{
+  double lo = floor((c - 5 * sp) / f), hi = floor((c + 5 * sp) / f);
+  if (lo < 0) lo = 0;
+  if (hi > n - 1) hi = n - 1;
+  if (hi < lo) return 0;
+  *first = (int)lo;
+  *cnt = (int)(hi - lo) + 1;
+  double g = sp * sqrt(LOOK_PI / 2) / f;                 /* (1/f) * the integral's scale */
+  for (int m = 0; m < *cnt; m++) {
+    double u0 = ((*first + m) * (double)f - c) / (sp * LOOK_SQRT2);
+    double u1 = ((*first + m + 1) * (double)f - c) / (sp * LOOK_SQRT2);
+    k[m] = (float)(g * (erf(u1) - erf(u0)));
+  }
+  return 1;
+}
+
+/* Add amp * spot(sigma) for dot (x, y) at scale s onto grid g (allocated on first use). */
+static int stamp_coarse(struct grid *g, int s, int x, int y, double amp, double sig_mm,
+                        const double *v)
+{
+  if (!g->v && !(g->v = calloc((size_t)g->w * (size_t)g->h, sizeof *g->v))) return -1;
+  float kx[2 * LOOK_KERNEL_MAX + 4], ky[2 * LOOK_KERNEL_MAX + 4];
+  int x0, nx, y0, ny;
+  double cx = x * s + s / 2.0, cy = (TUBE_H - 1 - y) * s + s / 2.0;   /* output pixels */
+  if (!coarse_axis(cx, sig_mm * s / v[LP_PITCH_X_MM], g->f, g->w, kx, &x0, &nx)) return 0;
+  if (!coarse_axis(cy, sig_mm * s / v[LP_PITCH_Y_MM], g->f, g->h, ky, &y0, &ny)) return 0;
+  for (int j = 0; j < ny; j++) {
+    float wy = (float)amp * ky[j];
+    float *row = g->v + (size_t)(y0 + j) * (size_t)g->w + (size_t)x0;
+    for (int i = 0; i < nx; i++) row[i] += wy * kx[i];
+  }
+  return 0;
+}
+
+/* Add grid g onto out (W x H) by bilinear interpolation between cell centres. */
+static void grid_add(const struct grid *g, float *out, int W, int H)
+{
+  for (int Y = 0; Y < H; Y++) {
+    double u = (Y + 0.5) / g->f - 0.5;
+    int j0 = (int)floor(u);
+    double ty = u - j0;
+    int j1 = j0 + 1;
+    if (j0 < 0) j0 = 0;
+    if (j1 > g->h - 1) j1 = g->h - 1;
+    if (j0 > g->h - 1) j0 = g->h - 1;
+    const float *r0 = g->v + (size_t)j0 * (size_t)g->w, *r1 = g->v + (size_t)j1 * (size_t)g->w;
+    float *o = out + (size_t)Y * (size_t)W;
+    for (int X = 0; X < W; X++) {
+      double w = (X + 0.5) / g->f - 0.5;
+      int i0 = (int)floor(w);
+      double tx = w - i0;
+      int i1 = i0 + 1;
+      if (i0 < 0) i0 = 0;
+      if (i1 > g->w - 1) i1 = g->w - 1;
+      if (i0 > g->w - 1) i0 = g->w - 1;
+      o[X] += (float)((1 - ty) * ((1 - tx) * r0[i0] + tx * r0[i1]) +
+                      ty * ((1 - tx) * r1[i0] + tx * r1[i1]));
+    }
+  }
+}
+
+/* The grid for a spot of sigma sig_mm at scale s: 0 when its kernel fits LOOK_KERNEL_MAX
+** output pixels (drawn exactly, as an unfaded spot), else the finest coarse grid. */
+static int spot_level(double sig_mm, int s, const double *v)
+{
+  double px = fmin(v[LP_PITCH_X_MM], v[LP_PITCH_Y_MM]) / s;     /* the smaller pixel, mm */
+  double r = 5.0 * sig_mm / px;                                  /* kernel radius, pixels */
+  int L = 0;
+  while (L < LOOK_LEVELS - 1 && r > LOOK_KERNEL_MAX) { r /= 2; L++; }
+  return L;
+}
+
 /* ---- rendering --------------------------------------------------------------------- */
 
 int look_intensity(const struct look *l, double t, int s, float *out)
@@ -300,32 +406,57 @@ int look_intensity(const struct look *l, double t, int s, float *out)
   struct axis ax0, ay0;                  /* the unfaded spot, same for every dot */
   if (axis_make(&ax0, v[LP_SPOT_MM], v[LP_PITCH_X_MM], s)) return T74_EIO;
   if (axis_make(&ay0, v[LP_SPOT_MM], v[LP_PITCH_Y_MM], s)) { free(ax0.k); return T74_EIO; }
+  struct grid grids[LOOK_LEVELS];        /* grids[0] is unused: level 0 is out itself */
+  for (int L = 0; L < LOOK_LEVELS; L++) {
+    grids[L].f = 1 << L;
+    grids[L].w = (W + grids[L].f - 1) / grids[L].f;
+    grids[L].h = (H + grids[L].f - 1) / grids[L].f;
+    grids[L].v = NULL;
+  }
   int st = T74_OK;
   int fade = (l->flags & LOOK_FADE) != 0;
   double spot2 = v[LP_SPOT_MM] * v[LP_SPOT_MM];
+  int L0 = spot_level(v[LP_SPOT_MM], s, v);   /* a huge spot_mm alone may need a grid */
   for (size_t k = 0; k < l->nev && st == T74_OK; k++) {
     const struct look_ev *e = &l->ev[k];
     if (e->t > t) continue;              /* not written yet */
     double a = t - e->t;                 /* age */
+    double amp, sig = v[LP_SPOT_MM];
     if (e->kind == EV_WRITETHRU) {
       if (a >= v[LP_WRITETHRU_S]) continue;
-      stamp(out, W, H, s, e->x, e->y, v[LP_WRITETHRU] * (1 - a / v[LP_WRITETHRU_S]), &ax0, &ay0);
+      amp = v[LP_WRITETHRU] * (1 - a / v[LP_WRITETHRU_S]);
+    } else {
+      if (e->t < cleared) continue;      /* erased */
+      amp = v[LP_STORED];
+      if ((l->flags & LOOK_FLASH) && a < v[LP_FLASH_S])
+        amp += (v[LP_BRIGHT] - v[LP_STORED]) * (1 - a / v[LP_FLASH_S]);
+      if (fade) {
+        double u = a / v[LP_FADE_S];     /* ages in fade times: finite, fade_s >= 1e-3 */
+        double dim = exp(-u);
+        if (amp * dim < LOOK_AMP_MIN) continue;   /* then also far below once spread */
+        double sp = v[LP_FADE_SPREAD_MM];
+        double sig2 = spot2 + sp * sp * u;
+        amp *= spot2 / sig2 * dim;
+        sig = sqrt(sig2);
+      }
+    }
+    if (amp < LOOK_AMP_MIN) continue;
+    int L = sig == v[LP_SPOT_MM] ? L0 : spot_level(sig, s, v);
+    if (L > 0) {                         /* wide: onto its coarse grid */
+      if (stamp_coarse(&grids[L], s, e->x, e->y, amp, sig, v)) st = T74_EIO;
       continue;
     }
-    if (e->t < cleared) continue;        /* erased */
-    double amp = v[LP_STORED];
-    if ((l->flags & LOOK_FLASH) && a < v[LP_FLASH_S])
-      amp += (v[LP_BRIGHT] - v[LP_STORED]) * (1 - a / v[LP_FLASH_S]);
-    if (!fade) { stamp(out, W, H, s, e->x, e->y, amp, &ax0, &ay0); continue; }
-    double sp = v[LP_FADE_SPREAD_MM];
-    double sig2 = spot2 + sp * sp * a / v[LP_FADE_S];
-    amp *= spot2 / sig2 * exp(-a / v[LP_FADE_S]);
+    if (sig == v[LP_SPOT_MM]) { stamp(out, W, H, s, e->x, e->y, amp, &ax0, &ay0); continue; }
     struct axis ax, ay;
-    if (axis_make(&ax, sqrt(sig2), v[LP_PITCH_X_MM], s)) { st = T74_EIO; break; }
-    if (axis_make(&ay, sqrt(sig2), v[LP_PITCH_Y_MM], s)) { free(ax.k); st = T74_EIO; break; }
+    if (axis_make(&ax, sig, v[LP_PITCH_X_MM], s)) { st = T74_EIO; break; }
+    if (axis_make(&ay, sig, v[LP_PITCH_Y_MM], s)) { free(ax.k); st = T74_EIO; break; }
     stamp(out, W, H, s, e->x, e->y, amp, &ax, &ay);
     free(ax.k);
     free(ay.k);
+  }
+  for (int L = 1; L < LOOK_LEVELS; L++) {
+    if (grids[L].v && st == T74_OK) grid_add(&grids[L], out, W, H);
+    free(grids[L].v);
   }
   free(ax0.k);
   free(ay0.k);

@@ -17,6 +17,8 @@
 **   a FIFO, a character device (/dev/null, a terminal)   opened and written directly,
 **                       never replaced.
 **   a folder, a block device, a socket   refused.
+** Replacing gives the file a new inode: a hard link elsewhere keeps the old content, and
+** a file whose folder we may not write cannot be replaced (T74_EIO, nothing changed).
 ** A direct output cannot be taken back once written, so in a set its bytes wait in an
 ** anonymous temporary until the commit (unless OUTFILE_STREAM asks for them as written,
 ** for a Tek stream that a terminal shows growing).

@@ -116,6 +116,9 @@ static int load_pgm(const char *path, const uint8_t *b, size_t n, struct pic **o
                     path, PIC_MAX_SIDE);
   if (!read_number(&c, 65535, &maxval) || maxval < 1)
     return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": maxval must be 1..65535", path);
+  if ((long)w * (long)h > PIC_MAX_PIXELS)
+    return t74_fail(err, T74_EINPUT, "%s: %lu x %lu pixels is more than the limit of %ld",
+                    path, w, h, PIC_MAX_PIXELS);
   if (c.pos >= c.n || !is_space(b[c.pos]))
     return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": no white space after maxval", path);
   c.pos++;                      /* the single white-space byte before the raster */
@@ -225,6 +228,11 @@ static int load_png(const char *path, const uint8_t *b, size_t n, struct pic **o
   size_t rowbytes = png_get_rowbytes(png, info);
   if ((ch != 1 && ch != 2) || png_get_bit_depth(png, info) != 8)
     png_error(png, "unexpected sample layout after conversion");
+  if ((long)w * (long)h > PIC_MAX_PIXELS) {
+    t74_fail(err, T74_EINPUT, "%s: %d x %d pixels is more than the limit of %ld", path, w, h,
+             PIC_MAX_PIXELS);
+    longjmp(in.jb, 1);
+  }
   p = pic_alloc(w, h);
   image = malloc(rowbytes * (size_t)h);
   rows = malloc(sizeof(png_bytep) * (size_t)h);
@@ -254,7 +262,7 @@ int pic_load(const char *path, struct pic **out, struct t74_error *err)
 {
   uint8_t *b = NULL;            /* the whole file */
   size_t n = 0;                 /* its length */
-  int rc = file_read_all(path, &b, &n, err);
+  int rc = file_read_all(path, PIC_FILE_MAX, &b, &n, err);
   if (rc != T74_OK) return rc;
   if (n >= 8 && png_sig_cmp(b, 0, 8) == 0)
     rc = load_png(path, b, n, out, err);

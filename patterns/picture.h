@@ -28,11 +28,17 @@
 #include "emu/status.h"
 
 #define PIC_MAX_SIDE 16384      /* largest width or height accepted (a sanity bound) */
+#define PIC_MAX_PIXELS (1L << 26) /* largest width x height (64 Mpixel, 8192 x 8192):
+                                   the decoded picture stays under 64 MiB */
+#define PIC_FILE_MAX ((size_t)64 << 20) /* largest picture file read (64 MiB); a folder,
+                                   a device, /dev/zero or a larger file is refused
+                                   (T74_EINPUT) without reading more */
 
 struct pic;                     /* opaque: width, height, 8-bit grey pixels */
 
 /* Load a PGM or PNG picture (recognised by its first bytes, not its name). T74_OK with
-** *out set, else T74_EIO or T74_EINPUT with err's message naming path. */
+** *out set, else T74_EIO or T74_EINPUT with err's message naming path. At most
+** PIC_FILE_MAX bytes are read and PIC_MAX_PIXELS pixels decoded. */
 int pic_load(const char *path, struct pic **out, struct t74_error *err);
 
 /* A picture from w x h grey pixels, row 0 at the top (copied); NULL when out of memory

@@ -75,26 +75,6 @@ int aa_core(struct aa_ctx *c, const char *table, uint32_t words, uint32_t *addr)
   return core_alloc(c->r->core, table, words, addr, c->err);
 }
 
-static int grey_flat(void *ctx, int face, int i, int j)
-{
-  struct aa_ctx *c = ctx;
-  if (face >= 0) return c->r->map.f[face].grey;
-  if (!c->f->bg) return 0;
-  if (i < 0) i = 0;
-  if (i >= c->W) i = c->W - 1;
-  if (j < 0) j = 0;
-  if (j >= c->H) j = c->H - 1;
-  return c->f->bg[(size_t)j * (size_t)c->W + (size_t)i];
-}
-
-double aa_frag_light(struct aa_ctx *c, int face, int i, int j)
-{
-  int g = c->grey_at(c->grey_ctx, face, i, j);
-  COST_ADD_N(c->cost, COST_MEM, 3);          /* the grey, then its light from the table */
-  COST_ADD_N(c->cost, COST_ADD, 1);
-  return core_read(c->r->core, c->light_at + (uint32_t)g) / (double)AA_LIGHT_ONE;
-}
-
 void aa_line_free(struct aa_line *l)
 {
   free(l->s);
@@ -443,13 +423,14 @@ int aa_light_map(struct render *r, const struct effects *e, const struct vis_gri
   c.yt = (double)GRID_ONE * g->window[3];
   c.pw = (double)GRID_ONE * (g->window[2] - g->window[0]) / c.W;
   c.ph = (double)GRID_ONE * (g->window[3] - g->window[1]) / c.H;
-  c.grey_at = grey_flat;
-  c.grey_ctx = &c;
+  c.grey_at = NULL;                           /* the frame's intensities */
+  c.flat = e->smooth == EFFECTS_SMOOTH_NONE && !e->contour_on;
   c.out = light;
   memset(light, 0, (size_t)c.W * (size_t)c.H * sizeof *light);
   int rc = aa_core(&c, "AA LIGHT TABLE", 256, &c.light_at);
   if (rc != T74_OK) return rc;
   for (int k = 0; k < 256; k++) core_write(r->core, c.light_at + (uint32_t)k, (uint16_t)aa_light(c.cell, k));
+  for (int k = 0; k < 256; k++) c.ltab[k] = core_read(r->core, c.light_at + (uint32_t)k) / (double)AA_LIGHT_ONE;
   rc = vis_init(&c.vis, &r->seg, &r->prio, cost, err);
   if (rc == T74_OK) {
     switch (e->aa) {
@@ -475,17 +456,25 @@ int aa_run(struct render *r, const struct effects *e, const struct vis_grid *g,
   if (!light) return t74_fail(err, T74_EIO, "out of host memory");
   int rc = aa_light_map(r, e, g, f, st, cost, light, err);
   if (rc == T74_OK) {
-    int tab[256];                             /* the light table, as read from core */
+    int tab[256];                             /* the light table */
     for (int k = 0; k < 256; k++) tab[k] = aa_light(f->cell, k);
+    /* the host's shortcut to the same answer: inv[q] = the last grey with light <= 8q */
+    uint8_t inv[AA_LIGHT_ONE / 8 + 1];
+    for (int q = 0, gg = 0; q <= AA_LIGHT_ONE / 8; q++) {
+      while (gg < 255 && tab[gg + 1] <= 8 * q) gg++;
+      inv[q] = (uint8_t)gg;
+    }
     for (size_t k = 0; k < n; k++) {
-      /* the grey of nearest light: a search by halving in the table (8 compares) */
+      /* the grey of nearest light (ties to the darker), as a search by halving in the
+         table finds it on the machine (8 compares, counted below) */
       double q = light[k] * AA_LIGHT_ONE;
-      int lo = 0, hi = 255;
-      while (lo < hi) {
-        int mid = (lo + hi + 1) / 2;
-        if (tab[mid] <= q) lo = mid; else hi = mid - 1;
+      int lo = 0;
+      if (q > 0) {
+        int b = q >= AA_LIGHT_ONE ? AA_LIGHT_ONE / 8 : (int)(q / 8);
+        lo = inv[b];
+        while (lo < 255 && tab[lo + 1] <= q) lo++;
+        if (lo < 255 && tab[lo + 1] - q < q - tab[lo]) lo++;
       }
-      if (lo < 255 && tab[lo + 1] - q < q - tab[lo]) lo++;
       f->grey[k] = (uint8_t)lo;
       COST_ADD_N(cost, COST_MEM, 2 + 8 * 2);
       COST_ADD_N(cost, COST_ADD, 8);

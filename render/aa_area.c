@@ -18,8 +18,11 @@
 ** pieces (found exactly: the side's x on the border line equals the stretch's end, as
 ** exact rationals), on both borders when both have a boundary, or, with only one, the
 ** side leaves the area through its left or right side on the way to the other border;
-** and no vertex of the two pieces lies inside the area. A piece seen on neither border of
-** an area is taken as absent there (the blind spot each division halves).
+** and no vertex of the two pieces lies inside the area. Neither case holds when another
+** piece enters the area (meets it at all, seen or not: the paper's entry table), which is
+** then divided. At depth D an area is taken from its two borders alone, so a piece lying
+** between the borders of a smallest area is missed there (the blind spot each level of
+** depth halves).
 **
 ** THE TABLE. Coverage c(h, v) of the side of the edge holding the area's centre, for an
 ** edge crossing the horizontal through the centre at distance h and the vertical at
@@ -107,7 +110,7 @@ struct area_run {
   int *entry, nentry;       /* the row's entries: alive pieces whose box meets the row */
 };
 
-/* Does a piece other than X and Y enter the area (its box meets the area's inside)? The
+/* Does a piece other than X and Y enter the area (meet its inside)? The
    paper's entry table: every pixel a polygon's edge touches at all is entered, seen or
    not; such an area is neither whole nor one-edge, and is divided. */
 static bool others_enter(struct area_run *ar, int X, int Y, double a, double b, double vt, double vb)
@@ -118,7 +121,23 @@ static bool others_enter(struct area_run *ar, int X, int Y, double a, double b, 
     COST_ADD_N(ar->c->cost, COST_ADD, 4);
     if (p == X || p == Y) continue;
     const double *q = ar->bb[p];
-    if (q[0] < b && q[1] > a && q[2] < vb && q[3] > vt) return true;
+    if (!(q[0] < b && q[1] > a && q[2] < vb && q[3] > vt)) continue;
+    /* the box meets the area; so does the (convex) piece unless one of its sides has
+       the whole area outside (separating sides: the area's and the piece's) */
+    const struct piece *pc = &ar->c->r->seg.p[p];
+    double xs[2] = { ar->c->xl + a * ar->c->pw, ar->c->xl + b * ar->c->pw };
+    double ys[2] = { ar->c->yt - vb * ar->c->ph, ar->c->yt - vt * ar->c->ph };
+    bool apart = false;
+    for (int e = 0; e < pc->n && !apart; e++) {
+      const struct gline *l = &pc->line[e];
+      bool in = false;
+      for (int m = 0; m < 4 && !in; m++)
+        in = (double)l->a * xs[m & 1] + (double)l->b * ys[m >> 1] + (double)l->c > 0;
+      apart = !in;
+      COST_ADD_N(ar->c->cost, COST_MUL, 8);
+      COST_ADD_N(ar->c->cost, COST_ADD, 8);
+    }
+    if (!apart) return true;
   }
   return false;
 }

@@ -20,8 +20,11 @@
 #define AA_PI 3.14159265358979323846
 
 /* The intensity source: the grey of face `face` (-1: the background) for a fragment
-   lying in point (i, j) (clamped to the grid). Flat shading: the face's grey, or the
-   background picture's; a later per-point shading (smooth) gives its own function. */
+   lying in point (i, j) (clamped to the grid). Flat shading (no smooth effect before
+   aa): the face's grey, or the background picture's. When an effect before aa (smooth,
+   paper 004) has put a per-point intensity into the frame, a fragment of the face seen
+   at the point's centre takes that point's grey, any other face its flat grey; a later
+   shading that knows more can give its own function (grey_at). */
 typedef int (*aa_grey_fn)(void *ctx, int face, int i, int j);
 
 /* One visible stretch of a sub-scanline, in point units, with its exact ends. */
@@ -52,8 +55,10 @@ struct aa_ctx {
   double pw, ph;            /* grid units per point across and down */
   uint32_t light_at;        /* core address of the 256-word light table */
   double *out;              /* W * H: the light (0..1) each point shows, the result */
-  aa_grey_fn grey_at;
+  aa_grey_fn grey_at;       /* NULL: the frame's own intensities (see aa_grey_fn) */
+  bool flat;                /* no effect before aa changed the greys: one per face */
   void *grey_ctx;
+  double ltab[256];         /* the light table as read from core, 0..1 */
   uint64_t lines;           /* sub-scanlines asked for */
 };
 
@@ -66,8 +71,24 @@ int aa_line_y(struct aa_ctx *c, int64_t yn, int64_t yd, struct aa_line *l);
 void aa_line_free(struct aa_line *l);
 
 /* Light 0..1 of a fragment of face (-1: background) lying in point (i, j), through the
-   light table in core (counted). */
-double aa_frag_light(struct aa_ctx *c, int face, int i, int j);
+   light table in core (counted: the grey, then its light from the table). */
+static inline double aa_frag_light(struct aa_ctx *c, int face, int i, int j)
+{
+  int g;
+  if (c->grey_at) g = c->grey_at(c->grey_ctx, face, i, j);
+  else if (face >= 0 && c->flat) g = c->r->map.f[face].grey;
+  else if (face < 0 && !c->f->bg) g = 0;
+  else {
+    i = i < 0 ? 0 : i >= c->W ? c->W - 1 : i;
+    j = j < 0 ? 0 : j >= c->H ? c->H - 1 : j;
+    size_t at = (size_t)j * (size_t)c->W + (size_t)i;
+    if (face < 0) g = c->f->bg[at];
+    else g = c->f->face[at] == face ? c->f->grey[at] : c->r->map.f[face].grey;
+  }
+  COST_ADD_N(c->cost, COST_MEM, 3);
+  COST_ADD_N(c->cost, COST_ADD, 1);
+  return c->ltab[g];
+}
 
 /* Mean over t in [0, 1] of clamp(p + t (q - p), a, b): the length a straight boundary
    moving linearly from p to q leaves of [a, b], averaged (exact, for linear motion). */

@@ -52,10 +52,12 @@ static void line_cover(struct aa_ctx *c, const struct aa_line *l, int j, double 
     const struct aa_seg *s = &l->s[k];
     if (s->u1 <= 0 || s->u0 >= c->W) continue;
     int i0 = (int)floor(fmax(s->u0, 0)), i1 = (int)floor(fmin(s->u1, c->W - 1e-9));
+    bool one = c->flat && !c->grey_at;          /* flat shading: one light a stretch */
+    double flat = one ? aa_frag_light(c, s->face, i0, j) : 0;
     for (int i = i0; i <= i1; i++) {
       double len = fmin(s->u1, i + 1.0) - fmax(s->u0, (double)i);
       if (len <= 0) continue;
-      lc[i] += len * aa_frag_light(c, s->face, i, j);
+      lc[i] += len * (one ? flat : aa_frag_light(c, s->face, i, j));
       ll[i] += len;
       COST_ADD_N(c->cost, COST_MUL, 1);     /* L_{f,l} I_f, one word by one word */
       COST_ADD_N(c->cost, COST_ADD, 4);
@@ -69,7 +71,7 @@ static void add_line(struct aa_ctx *c, double *acc, const double *lc, const doub
 {
   for (int i = 0; i < c->W; i++) {
     double rest = 1 - ll[i];
-    double v = lc[i] + (rest > 1e-12 ? rest * aa_frag_light(c, -1, i, j) : 0);
+    double v = lc[i] + (rest > 1e-12 && (c->f->bg || c->grey_at) ? rest * aa_frag_light(c, -1, i, j) : 0);
     acc[i] += d * v;
     COST_ADD_N(c->cost, COST_MUL, 2);
     COST_ADD_N(c->cost, COST_ADD, 3);

@@ -53,6 +53,10 @@
 **    the ray does not meet ahead are left out, and with none left the point is hidden).
 **    Depth is compared exactly as in priority.c: face F is hit at t = |D_F| / n_F.(r - E),
 **    so F is behind G at r when |D_F| n_G.(r-E) >= |D_G| n_F.(r-E) (256-bit products).
+**    Before the planes, F is held against the depths of the edge's two ends (t is the
+**    same for every ray at one z: t = (z - Z0) / -Z0): nearer than both ends, F hides the
+**    edge; behind both, the edge shows; only in between do the planes decide. So a face
+**    in front of the whole edge always hides it, whatever the planes' slopes.
 ** 6. Rule 3, the halo. Beside an outline whose drawing faces all lie on one side of it,
 **    centres on the other side between w/2 and w/2 + halo_w from the line get the halo's
 **    grey, but only where another face (not the background, not the edge's own) shows
@@ -96,6 +100,10 @@ struct edge {
   wide A, B, C;           /* K = A X + B Y + C, scaled coordinates, left of the edge > 0 */
   wide kline, khalo;      /* a centre is on the line when |K| <= kline, in the halo when
                              kline < |K| <= khalo on the halo's side (see kbound) */
+  bool bounds;            /* kline and khalo are known */
+  bool trange;            /* the depths of its ends are known: */
+  wide tnear_n, tnear_d, tfar_n, tfar_d;   /* t (along the ray, as in priority.c) of its
+                             nearer and farther end, as fractions with positive denominator */
   struct gpoint p, q;     /* the extent's ends on the grid */
   int sface[2];           /* scene faces (for the dump), -1 when none */
 };
@@ -112,6 +120,8 @@ struct ectx {
                              Y of centre j is T - (2j+1) sy */
   uint8_t *mark;          /* per point: MK_* class | MK_ROW */
   uint64_t pts_row, pts_col, pts_halo;
+  int run_face;                 /* the face and edge of the last depth test (for its cost) */
+  const struct edge *run_edge;
 };
 
 /* ---- small exact helpers ---------------------------------------------------------- */
@@ -313,14 +323,37 @@ static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y,
 {
   const struct mface *mf = &c->r->map.f[F];
   wide dF = plane_at(c, mf, X, Y);
-  cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
+  /* Counted: the difference |D_F| n_G.(r-E) - |D_G| n_F.(r-E) is linear along a row (it is
+     the priority module's G), so beside the point before, with the same faces, the 1974
+     program steps it by one multi-word add; otherwise it evaluates it afresh. */
+  bool step = c->run_face == F && c->run_edge == ed;
+  c->run_face = F;
+  c->run_edge = ed;
+  if (step) {
+    for (int k = 0; k < ed->ndraw; k++) { cost_mw_add(c->cost, 140); COST_ADD_N(c->cost, COST_BRANCH, 1); }
+  } else {
+    cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
+  }
   if (dF <= 0) return false;              /* cannot happen for a face seen there */
+  if (ed->trange) {
+    /* First against the depths of the edge's two ends: nearer than both, F hides it;
+       behind both, the edge is in front of F. t_F = |D_F| SW SH / dF. */
+    wide SWH = 512 * (wide)c->W * 512 * (wide)c->H;
+    wide tn = (wide)mf->deye * SWH;
+    if (step) { cost_mw_add(c->cost, 190); cost_mw_add(c->cost, 190); }   /* stepped, as G */
+    else { cost_mw_mul(c->cost, 52, 32); cost_mw_mul(c->cost, 100, 90); cost_mw_mul(c->cost, 100, 90); }
+    if (rat_cmp(tn, dF, ed->tnear_n, ed->tnear_d) < 0) return false;
+    int far = rat_cmp(tn, dF, ed->tfar_n, ed->tfar_d);
+    if (far > 0 || (far == 0 && !strict)) return true;
+  }
   int met = 0;
   for (int k = 0; k < ed->ndraw; k++) {
     const struct mface *mg = &c->r->map.f[ed->draw[k]];
     wide dG = plane_at(c, mg, X, Y);
-    cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
-    cost_mw_mul(c->cost, 52, 88); cost_mw_mul(c->cost, 52, 88);
+    if (!step) {
+      cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
+      cost_mw_mul(c->cost, 52, 88); cost_mw_mul(c->cost, 52, 88);
+    }
     if (dG <= 0) continue;                /* this plane does not meet the ray ahead */
     met++;
     /* t_F >= t_G:  |D_F| n_G.(r-E) >= |D_G| n_F.(r-E) */
@@ -359,9 +392,11 @@ static bool kfits(struct i256 r, wide k, struct cost *cost)
 static wide kbound(struct i256 r, double u, double v, struct cost *cost)
 {
   double est = sqrt(u * u + v * v) / WQ;
+  cost_mw_div(cost, 2 * wbits((wide)est * WQ), wbits((wide)est * WQ));   /* the square root's estimate */
+  wide k0 = (wide)est;
+  if (kfits(r, k0, cost) && !kfits(r, k0 + 1, cost)) return k0;           /* the usual case */
   wide lo = (wide)(est * (1 - 1e-12)) - 2, hi = (wide)(est * (1 + 1e-12)) + 2;
   if (lo < 0) lo = 0;
-  cost_mw_div(cost, 2 * wbits((wide)est * WQ), wbits((wide)est * WQ));   /* the square root's estimate */
   while (!kfits(r, lo, cost)) lo /= 2;        /* never taken unless the estimate is off */
   while (kfits(r, hi, cost)) hi *= 2;
   while (hi - lo > 1) {                       /* invariant: lo fits, hi does not */
@@ -472,6 +507,20 @@ static void draw_edge(struct ectx *c, struct edge *ed, bool row_pass, int64_t wl
   double half = (double)(wline + 2 * (ed->halo ? whalo : 0)) / (2.0 * WQ);
   int first, last;
   extent(c, ed, row_pass, &first, &last);
+  COST_ADD_N(c->cost, COST_ADD, 4);
+  if (first > last) return;                 /* no row (column) of the grid meets it */
+  {                                          /* nor when its box, widened, misses the grid */
+    wide m = ((wide)ceil(half) + 1) * 2;
+    wide xa = 2 * (wide)c->W * ed->p.x, xb = 2 * (wide)c->W * ed->q.x;
+    wide ya = 2 * (wide)c->H * ed->p.y, yb = 2 * (wide)c->H * ed->q.y;
+    wide xlo = xa < xb ? xa : xb, xhi = xa < xb ? xb : xa;
+    wide ylo = ya < yb ? ya : yb, yhi = ya < yb ? yb : ya;
+    COST_ADD_N(c->cost, COST_ADD, 8);
+    if (xhi < c->S + c->sx - m * c->sx || xlo > c->S + (2 * (wide)c->W - 1) * c->sx + m * c->sx ||
+        yhi < c->T - (2 * (wide)c->H - 1) * c->sy - m * c->sy || ylo > c->T - c->sy + m * c->sy)
+      return;
+  }
+  if (!ed->bounds) { edge_bounds(c, ed, wline, whalo); ed->bounds = true; }
   for (int k = first; k <= last; k++) {
     double ic, hl;
     int n;
@@ -505,6 +554,7 @@ static void draw_edge(struct ectx *c, struct edge *ed, bool row_pass, int64_t wl
       l0++;
     }
     if (l0 > b) continue;
+    c->run_face = -2;             /* a new row: depth differences are evaluated afresh */
     while (l1 > l0 && (bh = BAND(l1)) != 2) {
       if (bh == 1) PUT(l1, MK_HALO);
       l1--;
@@ -773,15 +823,13 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   free(badc);
 
   /* the edge table */
+  int nsplit = 0;
   for (int a = 0; a < nu;) {
     int b = a + 1;
     while (b < nu && u[b].lo == u[a].lo && u[b].hi == u[a].hi && u[b].part == u[a].part) b++;
     int n = b - a;
     if (n == 2 && s->f[u[a].face].id == s->f[u[a + 1].face].id) {
-      if (r->tables)
-        fprintf(r->tables, "EDGE %u-%u: not an edge (inside imported face %u, split by the "
-                "importer)\n", (unsigned)s->v[u[a].lo].id, (unsigned)s->v[u[a].hi].id,
-                (unsigned)s->f[u[a].face].id);
+      u[nsplit++] = u[a];              /* not an edge: listed in the dump (u[0..a) is done) */
       a = b;
       continue;
     }
@@ -915,6 +963,13 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
     ed->B = DX;
     ed->C = DY * XP - DX * YP;
     cost_mw_mul(cost, 40, 40); cost_mw_mul(cost, 40, 40);
+    /* the ends' depths: t = (z - Z0) / -Z0 along the ray through each */
+    int32_t za = s->v[ed->va].z, zb = s->v[ed->vb].z;
+    ed->tnear_n = (wide)(za < zb ? za : zb) - r->map.eye[2];
+    ed->tfar_n = (wide)(za < zb ? zb : za) - r->map.eye[2];
+    ed->tnear_d = ed->tfar_d = -(wide)r->map.eye[2];
+    ed->trange = true;
+    COST_ADD_N(cost, COST_ADD, 3);
     if (ed->cls == EDGE_E2 && e->halo_w > 0 && ed->ndraw > 0) {
       int side = 0;
       for (int d = 0; d < ed->ndraw; d++) {
@@ -936,15 +991,25 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   c.T = 512 * (wide)c.H * g->window[3];
   c.mark = calloc(npts ? npts : 1, 1);
   if (!c.mark) goto oom;
+  /* the ends' depths of the intersection lines: on face A's plane at each end */
+  for (int k = nregular; k < L.n; k++) {
+    struct edge *ed = &L.e[k];
+    const struct mface *A = &r->map.f[ed->draw[0]];
+    wide SWH = 512 * (wide)c.W * 512 * (wide)c.H;
+    wide dp = plane_at(&c, A, 2 * (wide)c.W * ed->p.x, 2 * (wide)c.H * ed->p.y);
+    wide dq = plane_at(&c, A, 2 * (wide)c.W * ed->q.x, 2 * (wide)c.H * ed->q.y);
+    cost_mw_mul(cost, 34, 50); cost_mw_mul(cost, 34, 50); cost_mw_mul(cost, 34, 50);
+    cost_mw_mul(cost, 34, 50); cost_mw_mul(cost, 34, 50); cost_mw_mul(cost, 34, 50);
+    if (dp <= 0 || dq <= 0) continue;
+    wide tn = (wide)A->deye * SWH;
+    bool pnear = rat_cmp(tn, dp, tn, dq) <= 0;
+    ed->tnear_n = ed->tfar_n = tn;
+    ed->tnear_d = pnear ? dp : dq;
+    ed->tfar_d = pnear ? dq : dp;
+    ed->trange = true;
+  }
   int64_t wo = llround(e->outline_w * WQ), wi = llround(e->inner_w * WQ);
   int64_t wh = llround(e->halo_w * WQ);
-  for (int k = 0; k < L.n; k++) {
-    struct edge *ed = &L.e[k];
-    if (ed->cls == EDGE_E1 || ed->ndraw == 0) continue;
-    bool outl = ed->cls == EDGE_E2 || ed->cls == EDGE_E4_OUTLINE;
-    int64_t w = outl ? wo : wi;
-    if (w > 0) edge_bounds(&c, ed, w, ed->halo ? wh : 0);
-  }
   for (int pass = 0; pass < 2; pass++) {
     bool row = pass == 0;
     if (!(passes & (row ? EDGE_PASS_ROW : EDGE_PASS_COL))) continue;
@@ -987,6 +1052,10 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
       fprintf(r->tables, "\nEDGES (paper 002 §3.2): %d edges, %d intersection lines; "
               "e1 %d, e2 %d, e3 %d, e4 %d\n", nregular, L.n - nregular, cnt[EDGE_E1],
               cnt[EDGE_E2], cnt[EDGE_E3], cnt[EDGE_E4_INNER] + cnt[EDGE_E4_OUTLINE]);
+      for (int k = 0; k < nsplit; k++)
+        fprintf(r->tables, "  edge %u-%u faces %u: not an edge (inside imported face %u, split "
+                "by the importer)\n", (unsigned)s->v[u[k].lo].id, (unsigned)s->v[u[k].hi].id,
+                (unsigned)s->f[u[k].face].id, (unsigned)s->f[u[k].face].id);
       for (int k = 0; k < L.n; k++) {
         const struct edge *ed = &L.e[k];
         if (k < nregular)

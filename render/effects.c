@@ -234,7 +234,7 @@ static int apply(struct effects *e, const char *key, size_t klen, const char *va
     if (!val || eq(val, vlen, "stored")) e->tube = EFFECTS_TUBE_STORED;
     else if (eq(val, vlen, "flash")) e->tube = EFFECTS_TUBE_FLASH;
     else if (vlen > 5 && memcmp(val, "fade:", 5) == 0 &&
-             real_value(val + 5, vlen - 5, 0.0, 1e6, &d) && d > 0.0) {
+             real_value(val + 5, vlen - 5, EFFECTS_FADE_MIN, EFFECTS_FADE_MAX, &d)) {
       e->tube = EFFECTS_TUBE_FADE;
       e->fade_seconds = d;
     } else ok = false;

@@ -52,6 +52,8 @@ enum effects_tube   { EFFECTS_TUBE_STORED, EFFECTS_TUBE_FADE, EFFECTS_TUBE_FLASH
 #define EFFECTS_WIDTH_MAX   16      /* largest outline/inner/halo width, in points */
 #define EFFECTS_DEPTH_MAX   8       /* largest depth= (area sampling's subdivision limit) */
 #define EFFECTS_SIGMA_MAX   4.0     /* largest sigma=, in points */
+#define EFFECTS_FADE_MIN    1e-3    /* tube=fade:S range in seconds, the same as the */
+#define EFFECTS_FADE_MAX    1e6     /* --look fade:S option's and the look's fade_s row */
 
 struct effects {
   unsigned given;                   /* EFFECTS_* bits of the keys named */
@@ -73,7 +75,7 @@ struct effects {
   bool  contour_on;                 /* contour=CC given (not `none`) */
   double contour;                   /* contour=CC: a real in 0..1 (absent / none: off) */
   enum effects_tube tube;           /* absent: stored */
-  double fade_seconds;              /* tube=fade:SECONDS, > 0 and <= 1e6 */
+  double fade_seconds;              /* tube=fade:SECONDS, EFFECTS_FADE_MIN..MAX */
 };
 
 /* The effects in force when none are named. */

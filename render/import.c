@@ -604,23 +604,59 @@ static int dominant_axis(const double n[3])
   return ay >= ax ? 1 : 0;
 }
 
-/* Do two non-adjacent edges of the file's polygon cross properly (each strictly through
-   the other)? Sets *ea, *eb to the first such pair (edge k runs from point k to k+1). */
-static bool file_crossing(const double (*p)[2], int n, int *ea, int *eb)
+/* Pairs of edges of a closed polygon whose bounding boxes meet, found by a sweep over u
+   (edge k runs from point k to point k+1): test(ctx, n, i, j), i < j, is asked for each
+   such pair until it holds. Returns 1 (the pair in *ea < *eb), 0 when it never holds,
+   -1 when out of memory. The points are given as doubles (exact for the grid's
+   integers), the test reads its own exact copy through ctx. */
+struct ebox { double u0, u1, v0, v1; int k; };
+
+static int ebox_cmp(const void *a, const void *b)
 {
-  for (int i = 0; i < n; i++)
-    for (int j = i + 2; j < n; j++) {
-      if (i == 0 && j == n - 1) continue;       /* adjacent through the closing edge */
-      const double *a = p[i], *b = p[(i + 1) % n], *c = p[j], *d = p[(j + 1) % n];
-      int o1 = orient_d(a, b, c), o2 = orient_d(a, b, d);
-      if (o1 == 0 || o2 == 0 || o1 == o2) continue;
-      int o3 = orient_d(c, d, a), o4 = orient_d(c, d, b);
-      if (o3 == 0 || o4 == 0 || o3 == o4) continue;
-      *ea = i;
-      *eb = j;
-      return true;
+  const struct ebox *x = a, *y = b;
+  if (x->u0 != y->u0) return x->u0 < y->u0 ? -1 : 1;
+  return (x->k > y->k) - (x->k < y->k);
+}
+
+typedef bool (*pair_fn)(const void *ctx, int n, int i, int j);
+
+static int sweep(const double (*p)[2], int n, pair_fn test, const void *ctx, int *ea, int *eb)
+{
+  struct ebox *e = malloc((size_t)n * sizeof *e);
+  if (!e) return -1;
+  for (int k = 0; k < n; k++) {
+    const double *a = p[k], *b = p[(k + 1) % n];
+    e[k] = (struct ebox){ fmin(a[0], b[0]), fmax(a[0], b[0]), fmin(a[1], b[1]),
+                          fmax(a[1], b[1]), k };
+  }
+  qsort(e, (size_t)n, sizeof *e, ebox_cmp);
+  int found = 0;
+  for (int i = 0; i < n && !found; i++)
+    for (int j = i + 1; j < n && e[j].u0 <= e[i].u1; j++) {
+      if (e[j].v0 > e[i].v1 || e[j].v1 < e[i].v0) continue;
+      int a = e[i].k < e[j].k ? e[i].k : e[j].k, b = e[i].k < e[j].k ? e[j].k : e[i].k;
+      if (test(ctx, n, a, b)) { *ea = a; *eb = b; found = 1; break; }
     }
-  return false;
+  free(e);
+  return found;
+}
+
+/* Non-adjacent edges i < j of the file's polygon cross properly (each strictly through
+   the other). */
+static bool file_cross_pair(const void *ctx, int n, int i, int j)
+{
+  const double (*p)[2] = ctx;
+  if (j == i + 1 || (i == 0 && j == n - 1)) return false;       /* adjacent */
+  const double *a = p[i], *b = p[(i + 1) % n], *c = p[j], *d = p[(j + 1) % n];
+  int o1 = orient_d(a, b, c), o2 = orient_d(a, b, d);
+  if (o1 == 0 || o2 == 0 || o1 == o2) return false;
+  int o3 = orient_d(c, d, a), o4 = orient_d(c, d, b);
+  return o3 != 0 && o4 != 0 && o3 != o4;
+}
+
+static int file_crossing(const double (*p)[2], int n, int *ea, int *eb)
+{
+  return sweep(p, n, file_cross_pair, p, ea, eb);
 }
 
 /* Refuse mesh face k when two of its edges cross properly in the file, seen along the
@@ -653,8 +689,9 @@ static int check_file_face(const struct scene *s, const struct mesh *m, int k,
   }
   while (n > 1 && p[n - 1][0] == p[0][0] && p[n - 1][1] == p[0][1]) n--;
   int ea, eb, st = T74_OK;
-  bool crossed = n >= 4 && file_crossing((const double (*)[2])p, n, &ea, &eb);
-  for (int a = 0; !crossed && n >= 4 && nn[0] == 0 && nn[1] == 0 && nn[2] == 0 && a < 2; a++) {
+  int crossed = n >= 4 ? file_crossing((const double (*)[2])p, n, &ea, &eb) : 0;
+  for (int a = 0; crossed == 0 && n >= 4 && nn[0] == 0 && nn[1] == 0 && nn[2] == 0 && a < 2;
+       a++) {
     u = (a + 1) % 3;                  /* no normal (balanced lobes): every axis is tried */
     v = (a + 2) % 3;
     for (int q = 0; q < n; q++) {
@@ -664,7 +701,8 @@ static int check_file_face(const struct scene *s, const struct mesh *m, int k,
     }
     crossed = file_crossing((const double (*)[2])p, n, &ea, &eb);
   }
-  if (crossed)
+  if (crossed < 0) st = oom(s->file, err);
+  else if (crossed)
     st = t74_fail_at(err, T74_EINPUT, s->file, m->fline[k],
                      "face %d is not simple in the file: its edges %ld-%ld and %ld-%ld "
                      "(vertex positions in the face) cross", k + 1, src[ea] + 1,
@@ -722,24 +760,28 @@ static bool seg_touch(struct p2i a, struct p2i b, struct p2i c, struct p2i d)
          (o3 == 0 && on_seg(c, d, a)) || (o4 == 0 && on_seg(c, d, b));
 }
 
-/* Simple: non-adjacent edges share no point; adjacent ones only their common vertex (no
-   fold back along each other). Sets *ea, *eb to an offending pair. */
-static bool simple_2d(const struct p2i *p, int n, int *ea, int *eb)
+/* Edges i < j of the rounded polygon meet where they must not: non-adjacent ones at any
+   point, adjacent ones anywhere but their common vertex (folding back along each other). */
+static bool bad_pair_2d(const void *ctx, int n, int i, int j)
 {
-  for (int i = 0; i < n; i++) {
-    struct p2i a = p[i], b = p[(i + 1) % n];
-    for (int j = i + 1; j < n; j++) {
-      struct p2i c = p[j], d = p[(j + 1) % n];
-      bool bad;
-      if (j == i + 1) bad = orient_i(a, b, d) == 0 &&
-                            (d.u - b.u) * (a.u - b.u) + (d.v - b.v) * (a.v - b.v) > 0;
-      else if (i == 0 && j == n - 1) bad = orient_i(c, a, b) == 0 &&
-                            (b.u - a.u) * (c.u - a.u) + (b.v - a.v) * (c.v - a.v) > 0;
-      else bad = seg_touch(a, b, c, d);
-      if (bad) { *ea = i; *eb = j; return false; }
-    }
-  }
-  return true;
+  const struct p2i *p = ctx;
+  struct p2i a = p[i], b = p[(i + 1) % n], c = p[j], d = p[(j + 1) % n];
+  if (j == i + 1)
+    return orient_i(a, b, d) == 0 && (d.u - b.u) * (a.u - b.u) + (d.v - b.v) * (a.v - b.v) > 0;
+  if (i == 0 && j == n - 1)
+    return orient_i(c, a, b) == 0 && (b.u - a.u) * (c.u - a.u) + (b.v - a.v) * (c.v - a.v) > 0;
+  return seg_touch(a, b, c, d);
+}
+
+/* 1 when simple, 0 when not (*ea, *eb an offending pair), -1 when out of memory. */
+static int simple_2d(const struct p2i *p, int n, int *ea, int *eb)
+{
+  double (*d)[2] = malloc((size_t)n * sizeof *d);
+  if (!d) return -1;
+  for (int k = 0; k < n; k++) { d[k][0] = (double)p[k].u; d[k][1] = (double)p[k].v; }
+  int r = sweep((const double (*)[2])d, n, bad_pair_2d, p, ea, eb);
+  free(d);
+  return r < 0 ? -1 : !r;
 }
 
 static bool in_tri(struct p2i a, struct p2i b, struct p2i c, struct p2i p)
@@ -790,7 +832,9 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
     p[k].v = c[w];
   }
   int ea, eb;
-  if (!simple_2d(p, n, &ea, &eb)) {
+  int simple = simple_2d(p, n, &ea, &eb);
+  if (simple < 0) { st = oom(s->file, err); goto done; }
+  if (!simple) {
     st = t74_fail_at(err, T74_EINPUT, s->file, line,
                      "face %d is not simple once rounded onto the grid (edges %d-%d and "
                      "%d-%d of its outline meet): the model is finer than the grid",

@@ -47,9 +47,11 @@ static int segment_all(struct render *r, const struct scene *s, struct t74_error
       if (st == T74_EINPUT)
         return t74_fail_at(err, T74_EINPUT, s->file, f->sline,
                            "face %u: rounded onto the plane grid (1/%d unit) its boundary is "
-                           "no longer simple (%s), and a face with holes is not split into "
-                           "triangles; it is seen almost edge-on or from far away: move the "
-                           "eye or the face", (unsigned)f->id, (int)GRID_ONE, why);
+                           "no longer simple (%s), and %s; it is seen almost edge-on or from "
+                           "far away: move the eye or the face", (unsigned)f->id,
+                           (int)GRID_ONE, why,
+                           f->nring > 1 ? "a face with holes is not split into triangles"
+                                        : "no split into triangles was found");
       if (st != T74_OK) return st;
       if (ntri == 0) continue;
       f = &r->map.f[k];
@@ -97,6 +99,12 @@ static void hold_h10(struct mapped *m)
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
                    struct t74_error *err)
 {
+  return render_prepare_arith(r, s, o, GEOM_EXACT, err);
+}
+
+int render_prepare_arith(struct render *r, const struct scene *s, const struct render_opts *o,
+                         int arith, struct t74_error *err)
+{
   memset(r, 0, sizeof *r);
   r->tables = o->tables;
   r->faces_in = s->nf;
@@ -111,8 +119,8 @@ int render_prepare(struct render *r, const struct scene *s, const struct render_
   r->ran[RS_MAPPER] = 1;
   int st = mapper_run(s, &r->map, r->core, &r->cost[RS_MAPPER], err);
   if (st != T74_OK) return st;
-  r->arith = o->arith;
-  if (o->arith == GEOM_HITAC) hold_h10(&r->map);
+  r->arith = arith;
+  if (arith == GEOM_HITAC) hold_h10(&r->map);
 
   r->ran[RS_SEGMENT] = 1;
   st = segment_all(r, s, err);
@@ -122,9 +130,9 @@ int render_prepare(struct render *r, const struct scene *s, const struct render_
   st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], o->store, err);
   if (st != T74_OK) return st;
   r->prio.trace = o->tables;
-  r->prio.arith = o->arith;
+  r->prio.arith = arith;
   st = vis_init(&r->vis, &r->seg, &r->prio, &r->cost[RS_VISIBLE], err);
-  r->vis.arith = o->arith;
+  r->vis.arith = arith;
   return st;
 }
 

@@ -27,7 +27,6 @@ struct render_opts {
   uint32_t program_words;    /* core taken by the 1974 program itself (0: not charged) */
   int      store;            /* PRIO_AUTO / PRIO_DENSE / PRIO_SPARSE */
   FILE    *tables;           /* teaching dump (--dump tables), or NULL */
-  int      arith;            /* --arith: GEOM_EXACT (0, the default) or GEOM_HITAC */
 };
 
 struct render {
@@ -47,6 +46,11 @@ struct render {
 
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
                    struct t74_error *err);
+
+/* The same with the decisions in `arith` (--arith): GEOM_EXACT, as render_prepare, or
+   GEOM_HITAC, in the HITAC-10's word sizes as the 1974 program made them (geom.h). */
+int render_prepare_arith(struct render *r, const struct scene *s, const struct render_opts *o,
+                         int arith, struct t74_error *err);
 
 /* The grid scan; face passed to point() is an index in r->map.f, or -1. */
 int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, void *ctx,

@@ -8,7 +8,9 @@
 ** `*` only between vertex ids, `grey G` only at the end of a face line, the once-only
 ** statements (view, window, light, background, effects) at most once. Ids are resolved
 ** after the whole file is read, so a face may name a vertex defined further down; an
-** unknown id is still reported at the line that uses it.
+** unknown id is still reported at the line that uses it. The text may start with a UTF-8
+** byte-order mark and end its lines with LF, CR LF or a lone CR (text_conventions); UTF-16
+** is refused by name.
 **
 ** The geometric checks are exact, in integers, never in floating point:
 **  - each ring (outer boundary, then one ring per hole) has >= 3 distinct vertices, no
@@ -391,6 +393,23 @@ int scene_check_camera(const struct scene *s, int view_line, int window_line,
 
 /* ---- the .s74 parser --------------------------------------------------------------- */
 
+/* The text conventions of editors, before the lines are read: a UTF-8 byte-order mark
+** (EF BB BF, as some Windows editors start a file) is skipped; line ends may be LF,
+** CR LF or a lone CR (classic Mac OS): a lone CR is made a line end, so that lines and
+** their numbers are the ones the editor shows (CR LF stays: CR is a blank). A file in
+** UTF-16 (byte-order mark FF FE or FE FF) is refused by name at line 1. */
+static int text_conventions(struct import_reader *r, struct t74_error *err)
+{
+  const unsigned char *b = (const unsigned char *)r->buf;
+  if (r->len >= 2 && ((b[0] == 0xFF && b[1] == 0xFE) || (b[0] == 0xFE && b[1] == 0xFF)))
+    return t74_fail_at(err, T74_EINPUT, r->file, 1, "the file is UTF-16 (it starts with a "
+                       "byte-order mark %02X %02X): save it as ASCII or UTF-8", b[0], b[1]);
+  if (r->len >= 3 && b[0] == 0xEF && b[1] == 0xBB && b[2] == 0xBF) r->pos = 3;
+  for (size_t k = r->pos; k < r->len; k++)
+    if (r->buf[k] == '\r' && (k + 1 == r->len || r->buf[k + 1] != '\n')) r->buf[k] = '\n';
+  return T74_OK;
+}
+
 struct parse {
   struct scene *s;
   struct import_reader r;
@@ -639,6 +658,7 @@ static int statement(struct parse *p)
         (st = count(p, 2, "background FILE")))
       return st;
     s->background = resolve_path(s->file, p->r.tok[1]);
+    s->background_line = p->r.line;
     return s->background ? T74_OK : oom(p);
   }
   if (strcmp(k, "effects") == 0) {
@@ -760,6 +780,7 @@ static int load_s74(const char *path, const struct scene_opts *opts, struct scen
   memset(p.fmap, -1, NIDS * sizeof *p.fmap);
   memset(p.omap, -1, NIDS * sizeof *p.omap);
   if ((st = import_open(&p.r, path, err))) goto done;
+  if ((st = text_conventions(&p.r, err))) goto done;
   while ((st = import_next(&p.r, err)) == 1)
     if ((st = statement(&p))) break;
   if (st) goto done;

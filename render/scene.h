@@ -62,6 +62,7 @@ struct scene {
   int32_t window[4];                /* XL YB XR YT on the plane z = 0; XL < XR, YB < YT */
   int32_t light[3];                 /* direction towards the light (not all zero) */
   char   *background;               /* PGM path resolved against the scene's folder, or NULL */
+  int     background_line;          /* its source line (0: none) */
   char   *effects;                  /* the effects line's KEY=VALUE text, or NULL */
   int     effects_line;             /* its source line */
   int     warnings;                 /* how many warnings were printed (imports) */

@@ -378,7 +378,12 @@ static int line_once(struct vis *v, int64_t yn, int64_t yd, struct t74_error *er
       int p = v->act[v->byxr[ir++]].piece;
       for (int m = 0; m < v->nset; m++)
         if (v->set[m] == p) { v->set[m] = v->set[--v->nset]; break; }
-      if (p == front) front = -1;
+      /* Any piece leaving may take the front's title with it: front_of leans on
+         transitivity (b before c, c before d), which holds point by point only where c
+         is there too. Once c has left, front and d may never have been compared, and
+         may cross (an intersection not yet cut) right here: choose afresh among the
+         pieces present, so every step of the chain is a pair met on this stretch. */
+      front = -1;
       COST_ADD_N(v->cost, COST_MEM, 2);
     }
     /* join: spans starting at x */

@@ -11,7 +11,7 @@
 ** outside the reference's tolerance band (exactref.h: within XR_BAND grid units of the
 ** intersection line of the two faces in question). Both cell sizes and both priority
 ** stores (dense, sparse) are used, alternating by seed.
-** T74_DIFF_SEEDS (default 500) sets the seeds per hard family; a failing scene is saved
+** T74_DIFF_SEEDS (default 400) sets the seeds per hard family; a failing scene is saved
 ** as build/tests/diff-fail-FAMILY-SEED.s74 and named.
 */
 #include <setjmp.h>
@@ -59,8 +59,8 @@ static void judge(struct xr_scene *s, const char *fam, unsigned long long seed, 
 static int seeds(void)
 {
   const char *e = getenv("T74_DIFF_SEEDS");
-  int n = e ? atoi(e) : 500;
-  return n > 0 ? n : 500;
+  int n = e ? atoi(e) : 400;
+  return n > 0 ? n : 400;
 }
 
 static void report(const char *what, const struct tally *t)

@@ -98,7 +98,7 @@ static struct run *run_scene(const char *text, const char *fx, unsigned passes)
   assert_int_equal(st, T74_OK);
   struct effects e;
   assert_int_equal(effects_parse(fx, &e, "test", 1, &err), T74_OK);
-  struct render_opts ro = { 1u << 20, 0, PRIO_AUTO, NULL, GEOM_EXACT };
+  struct render_opts ro = { 1u << 20, 0, PRIO_AUTO, NULL };
   assert_int_equal(render_prepare(&u->r, u->s, &ro, &err), T74_OK);
   struct vis_grid g = { GW, GH, { u->s->window[0], u->s->window[1], u->s->window[2],
                                   u->s->window[3] } };
@@ -370,10 +370,9 @@ static int obj_at(const struct run *u, int k)
 /* Objects 1 and 2 rendered together and each alone: where object `front` is seen, every
    edge point comes from its own edges (as when alone); where object `back` is seen and
    its own edges are drawn when alone, they are drawn together too (inner and outline). */
-static void occlusion(const char *both, const char *front_only, const char *back_only,
-                      int front, int back)
+static void occlusion_fx(const char *both, const char *front_only, const char *back_only,
+                         int front, int back, const char *fx)
 {
-  const char *fx = "edges=on outline=1.5,40 inner=1.5,200 halo=0,255";
   struct run *ub = run_scene(both, fx, EDGE_PASS_ROW | EDGE_PASS_COL);
   struct run *uf = run_scene(front_only, fx, EDGE_PASS_ROW | EDGE_PASS_COL);
   struct run *uk = run_scene(back_only, fx, EDGE_PASS_ROW | EDGE_PASS_COL);
@@ -394,6 +393,13 @@ static void occlusion(const char *both, const char *front_only, const char *back
   assert_true(kept_back > 20);
   assert_int_equal(lost, 0);
   run_free(ub); run_free(uf); run_free(uk);
+}
+
+static void occlusion(const char *both, const char *front_only, const char *back_only,
+                      int front, int back)
+{
+  occlusion_fx(both, front_only, back_only, front, back,
+               "edges=on outline=1.5,40 inner=1.5,200 halo=0,255");
 }
 
 static void test_box_behind_box(void **state)
@@ -446,6 +452,48 @@ static void test_stacked_boxes(void **state)
   snprintf(a, sizeof a, "%s%s", view, upper);
   snprintf(c, sizeof c, "%s%s", view, lower);
   occlusion(both, a, c, 2, 1);
+}
+
+/* A floor seen from above (y = 0, z 200..600) and, just in front of its near edge, a box
+   (z 190..400, top at y = -5) in a smooth group (its front-top edge is not drawn), so that
+   below the floor's edge in the picture the box's top and then its front show. Beyond
+   the edge the floor's plane comes towards the eye: held against that plane alone the
+   box's front (z = 190) would lie "behind" and the floor's wide outline would show over
+   it; the front is nearer than the whole edge (z = 200), so it hides it. */
+static void test_face_in_front_of_whole_edge(void **state)
+{
+  (void)state;
+  const char *scene =
+    "view 0 300 -1000\nwindow -200 -150 200 150\n"
+    "vertex 1 -100 0 200\nvertex 2 100 0 200\nvertex 3 100 0 600\nvertex 4 -100 0 600\n"
+    "face 1 1 2 3 4 grey 230\nobject 1 1\n"
+    "vertex 11 -150 -100 190\nvertex 12 150 -100 190\nvertex 13 150 -5 190\n"
+    "vertex 14 -150 -5 190\nvertex 15 -150 -100 400\nvertex 16 150 -100 400\n"
+    "vertex 17 150 -5 400\nvertex 18 -150 -5 400\n"
+    "face 11 11 12 13 14 grey 90\nface 12 15 16 17 18 grey 90\n"
+    "face 13 14 13 17 18 grey 120\nface 14 11 12 16 15 grey 90\n"
+    "face 15 11 14 18 15 grey 90\nface 16 12 13 17 16 grey 90\n"
+    "object 2 11 12 13 14 15 16 smooth\n";
+  struct run *u = run_scene(scene, "edges=on outline=8,40 inner=1,200 halo=0,255",
+                            EDGE_PASS_ROW | EDGE_PASS_COL);
+  /* rows 18..34: around the floor's edge (row 24.5), away from the box's own bottom
+     outline (row 46) */
+  int on_front = 0, on_floor = 0, front_seen = 0;
+  for (int j = 18; j <= 34; j++)
+    for (int i = 30; i <= 70; i++) {
+      int k = j * GW + i;
+      int id = u->face[k] >= 0 ? u->r.map.f[u->face[k]].id : 0;
+      if (id == 11) front_seen++;
+      if (u->grey[k] != 40) continue;
+      if (id == 11) on_front++;
+      if (id == 1) on_floor++;
+    }
+  print_message("outline points over the box's front %d (front seen at %d), over the floor "
+                "%d\n", on_front, front_seen, on_floor);
+  assert_true(front_seen > 100);
+  assert_true(on_floor > 20);
+  assert_int_equal(on_front, 0);
+  run_free(u);
 }
 
 /* Fig. 7 (a) of paper 003: two faces cut through each other. Each face's own edges never
@@ -521,6 +569,45 @@ static void test_halo(void **state)
   run_free(u);
 }
 
+/* `object N F1 F2 ... smooth`: the flag is read, the faces are still all listed; `smooth`
+   with no face is an error at its line. */
+static void test_smooth_parse(void **state)
+{
+  (void)state;
+  char b[4096];
+  int w = snprintf(b, sizeof b, "%s", HEAD);
+  w += put_cube(b + w, sizeof b - (size_t)w, 1, 1, 0, 4, 4, 3, 4, 3, 0, 0, 600, 100);
+  snprintf(b + w, sizeof b - (size_t)w, "object 7 1 2 3 smooth\nobject 8 4 5 6\n");
+  char path[128];
+  snprintf(path, sizeof path, "%s/s.s74", tmpdir);
+  FILE *fp = fopen(path, "w");
+  assert_non_null(fp);
+  fputs(b, fp);
+  fclose(fp);
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct scene *s = NULL;
+  struct t74_error err = { 0, "" };
+  assert_int_equal(scene_load(path, &so, &s, &err), T74_OK);
+  assert_int_equal(s->nobj, 2);
+  assert_true(s->obj[0].smooth);
+  assert_int_equal(s->obj[0].nface, 3);
+  assert_false(s->obj[1].smooth);
+  assert_int_equal(s->obj[1].nface, 3);
+  assert_int_equal(s->f[2].object, 7);
+  scene_free(s);
+  fp = fopen(path, "w");
+  assert_non_null(fp);
+  fprintf(fp, "%svertex 1 0 0 0\nvertex 2 9 0 0\nvertex 3 0 9 0\nface 1 1 2 3\n"
+          "object 1 smooth\n", HEAD);
+  fclose(fp);
+  s = NULL;
+  assert_int_equal(scene_load(path, &so, &s, &err), T74_EINPUT);
+  assert_null(s);
+  print_message("%s\n", err.msg);
+  assert_non_null(strstr(err.msg, ":7:"));
+}
+
 /* ---- the command line: --stats fields and --dump tables -------------------------- */
 
 static void test_cli_stats_and_dump(void **state)
@@ -575,6 +662,33 @@ static void test_cli_stats_and_dump(void **state)
   assert_null(strstr(text, "edges_outline"));
 }
 
+/* The two triangles an import splits a non-planar face into keep its number; the side
+   between them is not an edge (tests/data/scene/quads.obj: face 2, vertices 5 and 7). */
+static void test_import_split_not_an_edge(void **state)
+{
+  (void)state;
+  const char *bin = getenv("TUBE74");
+  if (!bin) bin = "./tube74";
+  char cmd[512], dump[128], line[512];
+  snprintf(dump, sizeof dump, "%s/t.txt", tmpdir);
+  snprintf(cmd, sizeof cmd, "%s render tests/data/scene/quads.obj --effects edges=on "
+           "--dump tables=%s 2>/dev/null", bin, dump);
+  assert_int_equal(system(cmd), 0);
+  FILE *f = fopen(dump, "r");
+  assert_non_null(f);
+  int not_edge = 0, face2 = 0;
+  while (fgets(line, sizeof line, f)) {
+    if (strncmp(line, "  edge ", 7)) continue;
+    if (strstr(line, "not an edge")) {
+      not_edge++;
+      assert_non_null(strstr(line, "edge 5-7 "));
+    } else if (strstr(line, " faces 2:")) face2++;
+  }
+  fclose(f);
+  assert_int_equal(not_edge, 1);
+  assert_int_equal(face2, 4);            /* the quad's own four sides */
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -593,9 +707,12 @@ int main(void)
     cmocka_unit_test(test_passes),
     cmocka_unit_test(test_box_behind_box),
     cmocka_unit_test(test_stacked_boxes),
+    cmocka_unit_test(test_face_in_front_of_whole_edge),
     cmocka_unit_test(test_interpenetrating),
     cmocka_unit_test(test_halo),
+    cmocka_unit_test(test_smooth_parse),
     cmocka_unit_test(test_cli_stats_and_dump),
+    cmocka_unit_test(test_import_split_not_an_edge),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

@@ -158,7 +158,7 @@ static void test_cli_window_touching(void **state)
   struct xr_scene s;
   load("window-touching", &s);
   for (int cell = 3; cell <= 4; cell++) {
-    char dump[160], cs[8];
+    char dump[160], cs[16];
     snprintf(dump, sizeof dump, "ids=%s", ids);
     snprintf(cs, sizeof cs, "%d", cell);
     const char *args[] = { prog(), "render", DATA "window-touching.s74", "--cell", cs,

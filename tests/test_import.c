@@ -6,25 +6,31 @@
 ** This file contains the checks that an import is a function of the mesh, not of how it
 ** is written down, and that the region a face covers survives its split:
 **   bad input   `f` with 0-2 references, an .off face with 0-2 vertices, a bow-tie (edges
-**               crossing in the file, planar or not), a coordinate outside the exact range:
-**               each refused with FILE:LINE and status 2 (and exit 2 from the command);
-**   line ends   a UTF-8 byte order mark, CR LF and lone CR line ends are read like LF,
-**               with the same line numbers in messages;
+**               crossing in the file: planar, bent, in a vertical plane), a face that
+**               rounding pinches, a coordinate outside the exact range: each refused with
+**               FILE:LINE and status 2 (and exit 2 from the command, no output file);
+**   line ends   a UTF-8 byte order mark, CR LF and lone CR line ends are read like LF, in
+**               .obj, .off and .s74, with the same line numbers in messages;
 **   the notch   a concave face made non-planar by rounding is split by ear clipping into
 **               triangles that cover exactly its outline: the picture equals that of the
 **               same outline kept planar, and the notch stays empty; the triangles are the
 **               same for every way of writing the ring (8 rotations and orientations);
+**               straight vertices stay corners of the triangles;
 **   order       generated meshes (tori, spheres, boxes, terrains with non-planar quads, and
-**               the concave combs and stars of tests/ref/scenegen.c scaled off the grid),
-**               written as .obj and .off in four ways — as generated, faces reversed,
-**               every ring reversed, faces shuffled with every ring rotated — must give the
-**               same `ids` picture at both cell sizes, face numbers mapped through the
-**               permutation; where no face was split (so every number is one face), the
-**               imported scene written as .s74 must give the same picture too;
+**               the scenegen families, concave combs and stars among them, scaled off the
+**               grid), written as .obj and .off in four ways — as generated, faces
+**               reversed, every ring reversed, faces shuffled with every ring rotated —
+**               must give the same `ids` picture at both cell sizes, face numbers mapped
+**               through the permutation; where no face was split (so every number is one
+**               face), the imported scene written as .s74 must give the same picture too;
+**               and once through the command (`--dump ids` of a mesh and of its reversal);
+**   finds       the fuzzers' finds, each with the exact answer (a cube's corner pierced by
+**               a face: the front must be the face the plane equations put in front);
 **   corpora     every file of tests/fuzz/corpus_{s74,obj,off}/ read, rendered and rendered
-**               reversed (tests/ref/memrender.c: what the fuzz targets check), and every
-**               file of tests/fuzz/corpus_pic/ through pic_load: no crash, only status 2
-**               or 4 refusals naming the file.
+**               reversed (tests/ref/memrender.c: what the fuzz targets check; for .obj also
+**               every `f` line reversed in the text), and every file of
+**               tests/fuzz/corpus_pic/ through pic_load: no crash, only status 2 or 4
+**               refusals naming the file.
 */
 #include <dirent.h>
 #include <errno.h>
@@ -45,6 +51,7 @@
 #include "render/scene.h"
 #include "tests/ref/memrender.h"
 #include "tests/ref/scenegen.h"
+#include "tests/ref/tuberun.h"
 
 #define PI 3.14159265358979323846
 
@@ -115,8 +122,10 @@ static void tprintf(struct text *t, const char *fmt, ...)
 /* ---- bad input ------------------------------------------------------------------------- */
 
 #define BAD_IMPORTS(X)                                                                     \
-  X(obj_f_none, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf\n", 4, "`f` needs at least 3 vertices, has 0") \
-  X(obj_f_one, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1\n", 4, "`f` needs at least 3 vertices, has 1") \
+  X(obj_f_none, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf\n", 4,                                  \
+    "`f` needs at least 3 vertices, has 0")                                                \
+  X(obj_f_one, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1\n", 4,                                \
+    "`f` needs at least 3 vertices, has 1")                                                \
   X(obj_f_two, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 # a line\n", 5,                  \
     "`f` needs at least 3 vertices, has 2")                                                \
   X(obj_fo_two, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nfo 1 2\n", 4, "`fo` needs at least 3")  \
@@ -130,12 +139,15 @@ static void tprintf(struct text *t, const char *fmt, ...)
     "v 0 0 0\nv 3 0 0.01\nv 0 1 0.02\nv 1 1 0\nv 5 5 5\nf 5 1 2\nf 1 2 3 4\n", 7,        \
     "face 2 is not simple in the file: its edges 2-3 and 4-1")                            \
   X(obj_bowtie_vertical, "obj", "v 0 0 0\nv 0 1 0\nv 0 0 1\nv 0 1 1\nf 1 2 3 4\n", 5,     \
-    "face 1 is not simple in the file: its edges 2-3 and 4-1")                                                    \
+    "face 1 is not simple in the file: its edges 2-3 and 4-1")                             \
   X(obj_bowtie_second, "obj",                                                              \
     "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 3 2 4\n", 6,                      \
     "face 2 is not simple in the file")                                                    \
   X(off_bowtie, "off", "OFF\n4 1\n0 0 0\n2 0 0\n0 2 0\n2 2 0\n4 0 1 2 3\n", 7,              \
     "face 1 is not simple in the file")                                                    \
+  X(obj_rounding_pinches, "obj",                                                         \
+    "v 0 0 0\nv 1 0 0\nv 0.50002 0.5 0\nv 1 1 0\nv 0 1 0\nv 0.49998 0.5 0\nv 0 0 1\n"      \
+    "f 1 2 3 4 5 6\n", 8, "face 1 is not simple once rounded onto the grid")                \
   X(obj_tiny_coordinate, "obj", "v 0 0 1e-200\n", 1, "coordinate `1e-200` out of range")   \
   X(off_huge_coordinate, "off", "OFF\n3 1\n0 0 1e300\n1 0 0\n0 1 0\n3 0 1 2\n", 3,          \
     "coordinate `1e300` out of range")                                                     \
@@ -248,15 +260,18 @@ static char *rewrite(const char *text, const char *head, const char *nl, size_t 
 static void line_ends(void **state)
 {
   struct fx *f = *state;
-  static const char *const base[2] = {
+  static const char *const base[3] = {
     "# a cube's three faces\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
     "v 1 1 1\nv 0 1 1\n\nf 1 2 3 4\nf 1 2 6 5 # the bottom\nf 2 3 7 6\n",
     "OFF\n# comment\n8 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
     "4 0 1 2 3\n4 0 1 5 4\n\n4 1 2 6 5\n",
+    "# the same reader serves .s74\nview 0 0 -100\nwindow -10 -10 10 10\nvertex 1 0 0 0\n"
+    "vertex 2 5 0 0\nvertex 3 0 5 0\nvertex 4 5 5 9\nface 1 1 2 3\n\nface 2 2 3 4 # x\n"
+    "face 3 1 2 4\n",
   };
-  static const char *const kind[2] = { "obj", "off" };
+  static const char *const kind[3] = { "obj", "off", "s74" };
   static const char *const nl[3] = { "\r\n", "\r", "\n" };
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 3; k++) {
     char name[32];
     snprintf(name, sizeof name, "lf.%s", kind[k]);
     write_file(f, name, base[k], strlen(base[k]));
@@ -402,6 +417,70 @@ static void concave_nonplanar_keeps_notch(void **state)
   scene_free(bent);
 }
 
+/* A square with a vertex in the middle of every side, bent off its plane: the straight
+   vertices stay corners of the triangles (no vertex lost, no crack for a neighbour that
+   shares it), and the picture is that of the flat square. */
+static void straight_vertices_kept(void **state)
+{
+  struct fx *f = *state;
+  static const char flat[] =
+    "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 2 1 0\nv 2 2 0\nv 1 2 0\nv 0 2 0\nv 0 1 0\n"
+    "v -1 -1 -2\nv 3 3 1\nf 1 2 3 4 5 6 7 8\n";
+  static const char bent[] =
+    "v 0 0 0\nv 1 0 0\nv 2 0 0.001\nv 2 1 0\nv 2 2 0\nv 1 2 0\nv 0 2 0.0007\nv 0 1 0\n"
+    "v -1 -1 -2\nv 3 3 1\nf 8 1 2 3 4 5 6 7\n";
+  struct scene *a = load_or_fail(f, "sq.obj", flat, sizeof flat - 1);
+  struct scene *b = load_or_fail(f, "sqb.obj", bent, sizeof bent - 1);
+  assert_int_equal(a->nf, 1);
+  assert_int_equal(b->warnings, 1);
+  assert_int_equal(b->nf, 6);                    /* 8 corners, 6 triangles, none empty */
+  int used[8] = { 0 };
+  for (int k = 0; k < b->nf; k++)
+    for (int q = 0; q < 3; q++) {
+      assert_in_range(b->f[k].vidx[q], 0, 7);
+      used[b->f[k].vidx[q]]++;
+    }
+  for (int v = 0; v < 8; v++) assert_true(used[v] > 0);
+  for (int cell = 3; cell <= 4; cell++) {
+    size_t n = (size_t)pat_grid_w(cell) * (size_t)pat_grid_h(cell);
+    uint16_t *x = calloc(n, sizeof *x), *y = calloc(n, sizeof *y);
+    assert_non_null(x);
+    assert_non_null(y);
+    struct t74_error err = { 0 };
+    assert_int_equal(mr_render_ids(a, cell, x, &err), T74_OK);
+    assert_int_equal(mr_render_ids(b, cell, y, &err), T74_OK);
+    assert_int_equal(mr_diff(x, y, n), 0);
+    free(x);
+    free(y);
+  }
+  scene_free(a);
+  scene_free(b);
+}
+
+/* Found by fuzz_obj: three faces of a cube's corner pierced by a fourth. Face 10 is in
+   front of face 6 at points (46..48, 53) of the cell-4 grid (exact plane depths: 1.0322
+   against 1.0334 .. 1.0381 of the way to the plane z = 0); written in file order the
+   Visible Surface Procedure kept face 6 in front there, because face 9, through which it
+   had been compared with face 10, had left the covering set. Both orders must show 10. */
+static void pierced_corner_front(void **state)
+{
+  (void)state;
+  for (int rev = 0; rev < 2; rev++) {
+    struct scene *s = NULL;
+    struct t74_error err = { 0 };
+    if (scene_load("tests/data/import/pierced_corner.s74", NULL, &s, &err)) fail_msg("%s", err.msg);
+    if (rev) mr_reverse(s);
+    size_t n = (size_t)pat_grid_w(4) * (size_t)pat_grid_h(4);
+    uint16_t *ids = calloc(n, sizeof *ids);
+    assert_non_null(ids);
+    assert_int_equal(mr_render_ids(s, 4, ids, &err), T74_OK);
+    for (int i = 46; i <= 48; i++)
+      assert_int_equal(ids[53 * (size_t)pat_grid_w(4) + (size_t)i], 10);
+    free(ids);
+    scene_free(s);
+  }
+}
+
 /* ---- order independence ---------------------------------------------------------------- */
 
 struct mesh { double *v; int nv, capv; int *idx, nidx, capidx; int *fs; int nf, capf; };
@@ -513,7 +592,8 @@ static int m_from_scenegen(struct mesh *m, sg_family fam, uint64_t seed)
   char e[200];
   if (sg_generate(fam, seed, &rs, e, sizeof e)) return 0;
   for (int v = 0; v < rs.nv; v++)
-    m_vertex(m, 1.37 * (double)rs.v[v].x + 0.3, 1.37 * (double)rs.v[v].y, -1.37 * (double)rs.v[v].z);
+    m_vertex(m, 1.37 * (double)rs.v[v].x + 0.3, 1.37 * (double)rs.v[v].y,
+             -1.37 * (double)rs.v[v].z);
   for (int k = 0; k < rs.nf; k++)
     if (rs.f[k].nring == 1) m_face(m, rs.f[k].ring_len[0], rs.f[k].vi);
   sg_free(&rs);
@@ -575,7 +655,8 @@ static void check_orders(struct fx *f, const struct mesh *m, const char *what,
                          struct order_totals *tot)
 {
   static const char *const kinds[2] = { "obj", "off" };
-  int *perm = malloc((size_t)m->nf * sizeof *perm), *inv = malloc((size_t)(m->nf + 1) * sizeof *inv);
+  int *perm = malloc((size_t)m->nf * sizeof *perm);
+  int *inv = malloc((size_t)(m->nf + 1) * sizeof *inv);
   assert_non_null(perm);
   assert_non_null(inv);
   for (int ki = 0; ki < 2; ki++)
@@ -688,6 +769,56 @@ static void order_independent(void **state)
   assert_true(tot.split_faces > 0);
 }
 
+/* The same through the command: `--dump ids` of a mesh and of the mesh written with its
+   faces and rings reversed agree point for point, face numbers mapped (an outside check:
+   the file is what a user would give, the picture what a user would get). */
+static void command_dump_ids_reversed(void **state)
+{
+  struct fx *f = *state;
+  if (access(prog(), X_OK) != 0) skip();
+  struct mesh m = { 0 };
+  sg_rng r = { 4242 };
+  for (int o = 0; o < 3; o++) m_object(&m, &r);
+  int *perm = malloc((size_t)m.nf * sizeof *perm);
+  assert_non_null(perm);
+  uint16_t *ids[2] = { NULL, NULL };
+  int w = 0, h = 0;
+  for (int var = 0; var < 2; var++) {
+    for (int q = 0; q < m.nf; q++) perm[q] = var ? m.nf - 1 - q : q;
+    size_t len;
+    char *text = m_write(&m, "obj", perm, 0, var, &len);
+    char name[32], scene[300], dump[300], log[300], cmd[1400], e[200];
+    snprintf(name, sizeof name, "cmd%d.obj", var);
+    write_file(f, name, text, len);
+    free(text);
+    snprintf(scene, sizeof scene, "%s", f->path);
+    snprintf(dump, sizeof dump, "%s/ids%d.pgm", f->dir, var);
+    snprintf(log, sizeof log, "%s/cmd%d.log", f->dir, var);
+    snprintf(cmd, sizeof cmd, "'%s' render '%s' --turn 0,0 --cell 3 --core 1000000 --dump ids='%s' 2>'%s'",
+             prog(), scene, dump, log);
+    int rc = system(cmd);
+    assert_true(WIFEXITED(rc));
+    if (WEXITSTATUS(rc) != 0) fail_msg("exit %d (see %s)", WEXITSTATUS(rc), log);
+    ids[var] = tr_read_pgm16(dump, &w, &h, e, sizeof e);
+    if (!ids[var]) fail_msg("%s: %s", dump, e);
+    unlink(dump);
+    unlink(log);
+  }
+  assert_int_equal(w, pat_grid_w(3));
+  long lit = 0, d = 0;
+  for (long k = 0; k < (long)w * h; k++) {
+    uint16_t b = ids[1][k] ? (uint16_t)(m.nf + 1 - ids[1][k]) : 0;
+    lit += ids[0][k] != 0;
+    d += ids[0][k] != b;
+  }
+  assert_true(lit > 100);
+  assert_int_equal(d, 0);
+  free(ids[0]);
+  free(ids[1]);
+  free(perm);
+  m_free(&m);
+}
+
 /* ---- the fuzz corpora ---------------------------------------------------------------------- */
 
 static int replay_dir(const char *dir, const char *kind, int *rendered)
@@ -770,7 +901,10 @@ int main(void)
     cmocka_unit_test(command_exit_2),
     cmocka_unit_test(line_ends),
     cmocka_unit_test(concave_nonplanar_keeps_notch),
+    cmocka_unit_test(straight_vertices_kept),
+    cmocka_unit_test(pierced_corner_front),
     cmocka_unit_test(order_independent),
+    cmocka_unit_test(command_dump_ids_reversed),
     cmocka_unit_test(corpus_s74),
     cmocka_unit_test(corpus_obj),
     cmocka_unit_test(corpus_off),

@@ -410,6 +410,52 @@ static void test_png(void **state)
   look_free(l);
 }
 
+
+/* A wide faded spot goes onto a coarse grid (look.c "wide spots"): its light and its
+** profile stay those of the exact spot, within the 2% the file head promises, at every
+** scale; and a spot faded below what a pixel can show is not drawn at all. */
+static void test_wide_spot_on_a_coarse_grid(void **state)
+{
+  (void)state;
+  struct look_params p = params_noglow();
+  p.v[LP_FADE_S] = 1;
+  p.v[LP_FADE_SPREAD_MM] = 10;                   /* the largest spread */
+  struct look *l = look_new(&p, LOOK_FADE);
+  assert_non_null(l);
+  assert_int_equal(look_dot(l, 200, 150, 0.0), T74_OK);
+  double spot2 = p.v[LP_SPOT_MM] * p.v[LP_SPOT_MM];
+  double sig2 = spot2 + 100 * 1.0, sig = sqrt(sig2);           /* age 1 fade time */
+  double amp = p.v[LP_STORED] * spot2 / sig2 * exp(-1.0);
+  double e_want = amp * 2 * PI * sig2;
+  int scales[] = { 1, 4, 8 };
+  for (int k = 0; k < 3; k++) {
+    int s = scales[k], W = TUBE_W * s, H = TUBE_H * s;
+    float *I = intensity(l, 1.0, s);
+    assert_true(fabs(energy(I, s, &p) - e_want) < 0.01 * e_want);
+    double px = p.v[LP_PITCH_X_MM] / s, py = p.v[LP_PITCH_Y_MM] / s;
+    double cx = (200 + 0.5) * s, cy = (149 + 0.5) * s;
+    for (int X = 0; X < W; X += 1 + s / 4) {     /* the row and column through the dot */
+      int Y = 149 * s;
+      double want = amp * gmean(sig, (X - cx) * px, (X + 1 - cx) * px) *
+                    gmean(sig, (Y - cy) * py, (Y + 1 - cy) * py);
+      if (fabs(I[(size_t)Y * W + X] - want) >= 0.02 * amp)
+        fail_msg("scale %d, x %d: %g, exact %g (peak %g)", s, X, I[(size_t)Y * W + X], want, amp);
+    }
+    for (int Y = 0; Y < H; Y += 1 + s / 4) {
+      int X = 200 * s;
+      double want = amp * gmean(sig, (X - cx) * px, (X + 1 - cx) * px) *
+                    gmean(sig, (Y - cy) * py, (Y + 1 - cy) * py);
+      assert_true(fabs(I[(size_t)Y * W + X] - want) < 0.02 * amp);
+    }
+    free(I);
+  }
+  /* ten fade times later its peak is e^-10 of a dim spread: nothing is drawn */
+  float *I = intensity(l, 10.0, 1);
+  assert_true(energy(I, 1, &p) == 0);
+  free(I);
+  look_free(l);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -423,6 +469,7 @@ int main(void)
     cmocka_unit_test(test_writethrough),
     cmocka_unit_test(test_erase),
     cmocka_unit_test(test_fade_only_when_asked),
+    cmocka_unit_test(test_wide_spot_on_a_coarse_grid),
     cmocka_unit_test(test_params_and_colour),
     cmocka_unit_test(test_png),
   };

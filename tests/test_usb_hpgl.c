@@ -121,7 +121,7 @@ static void test_binary_exact_driver_detached(void **state)
   struct fixture *fx = F(state);
   reset(fx);
   g_mutex_lock(&fx->m.lock);
-  snprintf(fx->m.driver, sizeof fx->m.driver, "usblp");
+  snprintf(fx->m.drv[0], sizeof fx->m.drv[0], "usblp");
   g_mutex_unlock(&fx->m.lock);
   char *argv[] = { (char *)mock_tube74(), "stream", SCENE, "--device", "hpgl", "--usb", "067b:2305",
                    NULL };
@@ -133,6 +133,7 @@ static void test_binary_exact_driver_detached(void **state)
   g_mutex_lock(&fx->m.lock);
   assert_int_equal(fx->m.detaches, 1);
   assert_int_equal(fx->m.attaches, 1);
+  assert_string_equal(fx->m.drv[0], "usblp");   /* the printer driver is back */
   double first = fx->m.t_first_out - t0, dot = fx->p.t_first_dot - t0;
   g_mutex_unlock(&fx->m.lock);
   printf("BENCH hpgl binary: %d dots in %.3f s = %.0f dots/s; first byte at the device after "
@@ -222,6 +223,7 @@ static int fixture_start(struct fixture *fx)
   if (rc) return rc;
   fx->m.on_out = plotter_out;
   fx->m.on_ctrl = plotter_ctrl;
+  snprintf(fx->m.probe[0], sizeof fx->m.probe[0], "usblp");   /* the printer-class driver */
   fx->m.user = &fx->p;
   return 0;
 }

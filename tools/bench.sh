@@ -152,6 +152,34 @@ if command -v valgrind >/dev/null 2>&1; then
   done
 fi
 
+# The look layer's work is bounded by the picture (display/look.c "wide spots"): the
+# slowest fade (fade:0.001: every spot spread far) at the largest scale, beside the
+# plain glow look at the same scale as the peer. Wall seconds of whole runs (median;
+# under load only the ratios to the glow row, measured in the same run, are fair).
+{
+  echo
+  echo "## The tube's look at --scale 8 (street, median of 5 whole runs, wall seconds)"
+  echo
+  echo "| look | seconds | / glow |"
+  echo "|---|---:|---:|"
+} >>"$out"
+wall() { # LOOK...
+  i=0
+  while [ $i -lt 5 ]; do
+    t0=$(date +%s.%N)
+    ./tube74 render scenes/street.s74 --scale 8 -o "$B/look.png" "$@" >/dev/null 2>&1
+    t1=$(date +%s.%N)
+    awk -v a="$t0" -v b="$t1" 'BEGIN { print b - a }'
+    i=$((i + 1))
+  done | median
+}
+g=$(wall --look glow)
+for l in glow fade:0.001 fade:1 fade:100 "fade:10 --look-param fade_spread_mm=10"; do
+  # shellcheck disable=SC2086
+  w=$(wall --look $l)
+  awk -v l="$l" -v w="$w" -v g="$g" 'BEGIN { printf "| %s | %.2f | %.2f |\n", l, w, w/g }' >>"$out"
+done
+
 if command -v gnuplot >/dev/null 2>&1; then
   gnuplot <<EOF 2>/dev/null || true
 set terminal pngcairo size 640,400
@@ -164,6 +192,9 @@ plot "$B/growth.dat" using 1:2 with linespoints title "tube74", \
      "$B/growth.dat" using 1:3 with linespoints title "OSMesa z-buffer (peer)"
 EOF
 fi
+# enhanced edges (paper 002): edges=on against the plain render of each edges scene
+sh tools/bench_edges.sh "$B/bench_edges.md" >/dev/null
+{ echo; cat "$B/bench_edges.md"; } >>"$out"
 cat "$out"
 echo
 ./tube74 bench accuracy --out "$B/accuracy" --runs "${ACC_RUNS:-5}"

@@ -6,7 +6,7 @@
 #              tests/test_tek_tools.c, Chromium loads the teaching page); without them
 #              those tests are skipped (exit 77), so a missing one does not stop the build
 set -u
-need="pkg-config gnuplot-nox libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth libgif-dev"
+need="pkg-config gnuplot-nox libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth libgif-dev jq"
 testneed="plotutils chromium"
 missing=""
 for p in $need; do

@@ -16,8 +16,9 @@
 # build/fuzz/new_NAME/. With MERGE=1 those that reach code the kept corpus does not (new
 # edges only: -use_counters=0 keeps it small) are added to the kept corpus; keep each
 # under 200 files and 1 MB. A crash or a broken promise (abort) is written to
-# build/fuzz/NAME-crash-*: fix the code, then copy the file into the corpus, which
-# `make test` replays (tests/test_tek.c for tek, tests/test_import.c for the others).
+# build/fuzz/NAME-crash-* (with KEEP_GOING=1 fuzzing goes on after a find): fix the code,
+# then copy the file into the corpus, which `make test` replays (tests/test_tek.c for tek,
+# tests/test_import.c for the others). The exit status is 1 when anything was found.
 # Needs clang and its libFuzzer runtime (Debian: apt-get install clang libclang-rt-14-dev).
 set -eu
 secs=${1:-120}
@@ -60,13 +61,15 @@ for t in $targets; do
     *) echo "tools/fuzz.sh: unknown target $t (tek s74 obj off pic)" >&2; exit 2 ;;
   esac
   echo "fuzz_$t: fuzzing for $secs s (corpus: $corpus)"
+  # -fork=1: one worker process; with KEEP_GOING=1 a find is saved and fuzzing goes on
   "$out/fuzz_$t" -max_total_time="$secs" -max_len=$maxlen -timeout=10 -rss_limit_mb=2048 \
-    -artifact_prefix="$out/$t-" "$out/new_$t" "$corpus" 2>&1 | \
-    grep -v 'warning: face\|^INFO: \|^#[0-9]' | tail -n 5 || true
-  if ls "$out/$t-"crash-* "$out/$t-"timeout-* "$out/$t-"leak-* "$out/$t-"oom-* >/dev/null 2>&1; then
-    echo "fuzz_$t: FOUND: $(ls "$out/$t-"crash-* "$out/$t-"timeout-* "$out/$t-"leak-* "$out/$t-"oom-* 2>/dev/null | tr '\n' ' ')"
+    -fork=1 -ignore_crashes="${KEEP_GOING:-0}" -artifact_prefix="$out/$t-" \
+    "$out/new_$t" "$corpus" 2>&1 | grep -v 'warning: face' | grep -E '^#|^==|^SUMMARY|Done|crash|timeout|leak|oom|artifact' | tail -n 4 || true
+  for a in "$out/$t-"crash-* "$out/$t-"timeout-* "$out/$t-"leak-* "$out/$t-"oom-*; do
+    [ -e "$a" ] || continue
+    echo "fuzz_$t: FOUND $a"
     found=1
-  fi
+  done
   if [ "${MERGE:-0}" = 1 ]; then
     "$out/fuzz_$t" -merge=1 -use_counters=0 -max_len=$maxlen "$corpus" "$out/new_$t" 2>&1 | tail -n 1
     echo "kept corpus: $(ls "$corpus" | wc -l) files, $(du -sk "$corpus" | cut -f1) KB"

@@ -257,6 +257,7 @@ int usb_link_endpoint(const struct usb_link *l, enum usb_type type, int in)
 int usb_link_interface(const struct usb_link *l) { return l->iface; }
 void usb_link_set_stop(struct usb_link *l, volatile sig_atomic_t *stop) { l->stop = stop; }
 int usb_link_stopped(const struct usb_link *l) { return l->stop && *l->stop; }
+double usb_link_timeout_ms(const struct usb_link *l) { return l->timeout_ms; }
 int usb_link_gone(const struct usb_link *l) { return l->gone; }
 const struct usb_counts *usb_link_counts(const struct usb_link *l) { return &l->counts; }
 

@@ -106,6 +106,8 @@ int usb_link_gone(const struct usb_link *l);      /* the device vanished */
 ** own waiting loops (status polls, motion-queue polls) so that a stop is not held up. */
 void usb_link_set_stop(struct usb_link *l, volatile sig_atomic_t *stop);
 int usb_link_stopped(const struct usb_link *l);
+/* The link's timeout_ms setting (a profile adds the motion time it expects on top). */
+double usb_link_timeout_ms(const struct usb_link *l);
 const struct usb_counts *usb_link_counts(const struct usb_link *l);
 
 struct usb_xfer {               /* one transfer in flight; owned by the profile */

@@ -1,5 +1,6 @@
 /*
-** fuzz_obj.c — libFuzzer target for the Wavefront .obj import (render/import.c), with a full render.
+** fuzz_obj.c — libFuzzer target for the Wavefront .obj import (render/import.c), with a
+** full render.
 **
 ** This file contains code to take arbitrary bytes as a .obj scene: scene_load reads them
 ** from a temporary file; a scene it accepts is rendered through the library (Mapper,

@@ -10,6 +10,7 @@
 */
 #include "tests/ref/hardgen.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -33,7 +34,8 @@ static long rnd(struct rng *r, long lo, long hi)   /* lo..hi inclusive */
 const char *hg_family_name(int fam)
 {
   static const char *const n[HG_NFAMILIES] = {
-    "wall", "coplanar", "vshare", "tjunc", "sliver", "far", "edgeon", "snapped", "fold"
+    "wall", "coplanar", "vshare", "tjunc", "sliver", "far", "edgeon", "snapped", "fold",
+    "holes", "mix"
   };
   return fam >= 0 && fam < HG_NFAMILIES ? n[fam] : "?";
 }
@@ -484,6 +486,87 @@ static void fam_fold(struct gen *g)
   }
 }
 
+static int hole2(struct gen *g, const struct plane *pl, int face, int n, const int64_t (*ab)[2])
+{
+  if (face < 0 || n < 3 || n > 64 || !simple2(n, ab)) return -1;
+  int vi[64];
+  for (int k = 0; k < n; k++) {
+    int64_t p[3];
+    at(pl, ab[k][0], ab[k][1], p);
+    vi[k] = put(g, p);
+  }
+  if (g->bad) return -1;
+  if (xr_hole(g->s, face, n, vi) != 0) { g->bad = 2; return -1; }
+  return 0;
+}
+
+static void fam_holes(struct gen *g)
+{
+  struct plane pl;
+  rplane(g, &pl, 10);
+  int64_t A = rnd(&g->r, 8, 20), B = rnd(&g->r, 8, 20), o[4][2];
+  rect(0, 0, A, B, o);
+  int f = face2(g, &pl, 4, (const int64_t (*)[2])o);
+  /* one or two holes, apart, strictly inside */
+  int64_t a0 = rnd(&g->r, 1, A / 2 - 1), a1 = rnd(&g->r, a0 + 1, A / 2);
+  int64_t b0 = rnd(&g->r, 1, B - 3), b1 = rnd(&g->r, b0 + 1, B - 1);
+  int64_t h[4][2];
+  rect(a0, b0, a1, b1, h);
+  hole2(g, &pl, f, 4, (const int64_t (*)[2])h);
+  int64_t c0 = A / 2 + 1, c1 = rnd(&g->r, c0 + 1, A - 1);
+  int64_t d0 = rnd(&g->r, 1, B - 3), d1 = rnd(&g->r, d0 + 1, B - 1);
+  bool two = c1 > c0 && rnd(&g->r, 0, 1);
+  if (two) {
+    int64_t t[4][2] = { { c0, d0 }, { c1, (d0 + d1) / 2 }, { c0, d1 }, { c0, d1 } };
+    hole2(g, &pl, f, 3, (const int64_t (*)[2])t);
+  }
+  /* a coplanar face filling the first hole, or overlapping its edge */
+  if (rnd(&g->r, 0, 1)) {
+    face2(g, &pl, 4, (const int64_t (*)[2])h);
+  } else {
+    int64_t w[4][2];
+    rect(a0 - rnd(&g->r, 0, 1), b0, a1 + rnd(&g->r, 0, 1), b1 + rnd(&g->r, 0, 1), w);
+    face2(g, &pl, 4, (const int64_t (*)[2])w);
+  }
+  /* faces piercing the plate at a hole's corner or through the hole */
+  int np = (int)rnd(&g->r, 1, 2);
+  for (int k = 0; k < np; k++) {
+    int64_t p[3];
+    int c = (int)rnd(&g->r, 0, 3);
+    if (rnd(&g->r, 0, 2)) at(&pl, h[c][0], h[c][1], p);
+    else at(&pl, rnd(&g->r, 0, A), rnd(&g->r, 0, B), p);
+    piercer(g, &pl, p, rnd(&g->r, 0, 3) != 0);
+  }
+}
+
+static void fam_one(struct gen *g, int fam);
+
+static void fam_mix(struct gen *g)
+{
+  static const int pick[] = { HG_WALL, HG_COPLANAR, HG_VSHARE, HG_TJUNC, HG_SNAPPED, HG_HOLES,
+                              HG_SLIVER };
+  int n = (int)rnd(&g->r, 2, 3);
+  for (int k = 0; k < n && !g->bad; k++)
+    fam_one(g, pick[rnd(&g->r, 0, (long)(sizeof pick / sizeof pick[0]) - 1)]);
+}
+
+static void fam_one(struct gen *g, int fam)
+{
+  switch (fam) {
+  case HG_WALL: fam_wall(g); break;
+  case HG_COPLANAR: fam_coplanar(g); break;
+  case HG_VSHARE: fam_vshare(g); break;
+  case HG_TJUNC: fam_tjunc(g); break;
+  case HG_SLIVER: fam_sliver(g); break;
+  case HG_FAR: fam_far(g); break;
+  case HG_EDGEON: fam_edgeon(g); break;
+  case HG_FOLD: fam_fold(g); break;
+  case HG_HOLES: fam_holes(g); break;
+  case HG_MIX: fam_mix(g); break;
+  default: fam_snapped(g); break;
+  }
+}
+
 /* ---- the camera --------------------------------------------------------------------- */
 
 static void window_fit(struct gen *g)
@@ -534,17 +617,7 @@ int hg_generate(int fam, uint64_t seed, struct xr_scene *s)
     s->eye[0] = (int32_t)rnd(&g.r, -30, 30);
     s->eye[1] = (int32_t)rnd(&g.r, -30, 30);
     s->eye[2] = (int32_t)rnd(&g.r, -2000, -150);
-    switch (fam) {
-    case HG_WALL: fam_wall(&g); break;
-    case HG_COPLANAR: fam_coplanar(&g); break;
-    case HG_VSHARE: fam_vshare(&g); break;
-    case HG_TJUNC: fam_tjunc(&g); break;
-    case HG_SLIVER: fam_sliver(&g); break;
-    case HG_FAR: fam_far(&g); break;
-    case HG_EDGEON: fam_edgeon(&g); break;
-    case HG_FOLD: fam_fold(&g); break;
-    default: fam_snapped(&g); break;
-    }
+    fam_one(&g, fam);
     if (g.bad == 2) { xr_scene_free(s); return -1; }
     if (!g.bad && s->nf >= 1) {
       /* shuffle the face numbers now and then: the tie rules must hold either way */

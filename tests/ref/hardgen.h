@@ -15,7 +15,10 @@
 **   edgeon    faces seen almost edge-on;
 **   snapped   random faces with vertices placed exactly in other faces' planes;
 **   fold      combs whose notches end within a grid unit of the opposite edge once
-**             projected: rounding touches or folds them.
+**             projected: rounding touches or folds them;
+**   holes     plates with holes, a coplanar face filling a hole (sharing its edges),
+**             faces piercing the plate at a hole's corner;
+**   mix       two or three of the above in one scene.
 ** Every face is exactly planar (O + a U + b V with integer O, U, V, a, b), every ring is
 ** simple in the plane (checked exactly), every vertex lies in front of the eye, in range.
 ** The stream is splitmix64, so (family, seed) gives the same scene on every machine.
@@ -28,7 +31,7 @@
 
 enum hg_family {
   HG_WALL, HG_COPLANAR, HG_VSHARE, HG_TJUNC, HG_SLIVER, HG_FAR, HG_EDGEON, HG_SNAPPED,
-  HG_FOLD, HG_NFAMILIES
+  HG_FOLD, HG_HOLES, HG_MIX, HG_NFAMILIES
 };
 
 const char *hg_family_name(int fam);

@@ -61,6 +61,7 @@ struct mock;
 typedef void (*mock_out_fn)(struct mock *m, unsigned char ep, const unsigned char *b, int n);
 typedef int (*mock_ctrl_fn)(struct mock *m, const unsigned char *setup, unsigned char *data, int n);
 typedef void (*mock_in_fn)(struct mock *m, unsigned char ep, int n);
+typedef void (*mock_tick_fn)(struct mock *m);
 
 struct mock_urb {               /* a URB the device holds */
   UMockdevIoctlData *urb;       /* the usbdevfs_urb (client memory, resolved) */
@@ -92,7 +93,14 @@ struct mock {
   long long vanish_after;       /* -1: never */
   int vanish_in_at;             /* 0: never */
   int gone;
-  char driver[32];              /* bound kernel driver, "" for none */
+  /* kernel drivers, per interface, as Linux binds them (drivers/usb/core/devio.c: CLAIM of a
+     bound interface is EBUSY; USBDEVFS_CONNECT probes an unbound, unclaimed interface) */
+  char drv[4][16];              /* the driver bound to interface i now, "" none */
+  char probe[4][16];            /* the driver a probe of interface i binds, "" none */
+  unsigned probe_also[4];       /* ... binding these interfaces too (cdc_acm: comm -> data) */
+  unsigned unbind_also[4];      /* unbinding i unbinds these too (cdc_acm: acm_disconnect
+                                   releases both interfaces of the pair) */
+  int claimed[4];               /* claimed by the host (usbfs) */
   /* counts */
   int out_urbs, in_urbs, ctrl_urbs, clear_halts, discards, detaches, attaches, max_urb;
   long long out_bytes;
@@ -101,6 +109,8 @@ struct mock {
   mock_out_fn on_out;
   mock_ctrl_fn on_ctrl;
   mock_in_fn on_in_done;
+  mock_tick_fn on_tick;         /* called at every ioctl (under the lock): a device with its
+                                   own clock (the EBB's motion queue) catches up */
   void *user;
 };
 
@@ -109,6 +119,22 @@ MOCK_UNUSED static double mock_now(void)
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Queue reply bytes as a byte stream (a CDC serial line): they join the last packet not yet
+** taken by the host while it has room (64 bytes, a full-speed bulk packet), as a device's
+** transmit buffer fills its next IN packet. Lock held. */
+MOCK_UNUSED static void mock_reply_stream(struct mock *m, unsigned char ep, const void *b, int n)
+{
+  GQueue *pk = &m->packets[ep & 15];
+  if (n > 0 && pk->tail && GPOINTER_TO_INT(pk->tail->data) + n <= 64) {
+    g_byte_array_append(m->reply[ep & 15], b, (guint)n);
+    pk->tail->data = GINT_TO_POINTER(GPOINTER_TO_INT(pk->tail->data) + n);
+    return;
+  }
+  if (n <= 0) return;
+  g_byte_array_append(m->reply[ep & 15], b, (guint)n);
+  g_queue_push_tail(pk, GINT_TO_POINTER(n));
 }
 
 /* Queue reply bytes on IN endpoint ep (call with the lock held: from on_out / on_ctrl). */
@@ -178,6 +204,10 @@ static gboolean mock_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gp
   GError *err = NULL;
   (void)h;
   g_mutex_lock(&m->lock);
+  if (m->on_tick && !m->gone) {
+    m->on_tick(m);
+    if (!m->gone) pump(m);
+  }
   if (m->gone && req != USBDEVFS_REAPURB && req != USBDEVFS_REAPURBNDELAY &&
       req != USBDEVFS_DISCARDURB) {
     g_mutex_unlock(&m->lock);
@@ -192,7 +222,13 @@ static gboolean mock_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gp
     *(guint32 *)data->data = m->caps;
     break;
   case USBDEVFS_CLAIMINTERFACE:
-  case USBDEVFS_RELEASEINTERFACE:
+  case USBDEVFS_RELEASEINTERFACE: {
+    unsigned i = *(unsigned *)data->data;
+    if (i >= 4) { rc = -1; e = EINVAL; break; }
+    if (req == USBDEVFS_CLAIMINTERFACE && m->drv[i][0]) { rc = -1; e = EBUSY; break; }
+    m->claimed[i] = req == USBDEVFS_CLAIMINTERFACE;
+    break;
+  }
   case USBDEVFS_SETINTERFACE:
   case USBDEVFS_RESET:
     break;
@@ -201,18 +237,34 @@ static gboolean mock_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gp
     break;
   case USBDEVFS_GETDRIVER: {
     struct usbdevfs_getdriver *gd = (struct usbdevfs_getdriver *)data->data;
-    if (m->driver[0]) snprintf(gd->driver, sizeof gd->driver, "%s", m->driver);
+    if (gd->interface < 4 && m->drv[gd->interface][0])
+      snprintf(gd->driver, sizeof gd->driver, "%s", m->drv[gd->interface]);
+    else if (gd->interface < 4 && m->claimed[gd->interface])
+      snprintf(gd->driver, sizeof gd->driver, "usbfs");
     else { rc = -1; e = ENODATA; }
     break;
   }
   case USBDEVFS_IOCTL: {
     struct usbdevfs_ioctl *io = (struct usbdevfs_ioctl *)data->data;
-    if (io->ioctl_code == (int)USBDEVFS_DISCONNECT) {
-      if (!m->driver[0]) { rc = -1; e = ENODATA; }
-      else { m->driver[0] = 0; m->detaches++; }
+    int i = io->ifno;
+    if (i < 0 || i >= 4) { rc = -1; e = EINVAL; }
+    else if (io->ioctl_code == (int)USBDEVFS_DISCONNECT) {
+      if (!m->drv[i][0]) { rc = -1; e = ENODATA; }
+      else {
+        unsigned also = m->unbind_also[i] | 1u << i;
+        for (int k = 0; k < 4; k++)
+          if (also >> k & 1) m->drv[k][0] = 0;
+        m->detaches++;
+      }
     } else if (io->ioctl_code == (int)USBDEVFS_CONNECT) {
-      snprintf(m->driver, sizeof m->driver, "usblp");
-      m->attaches++;
+      if (m->claimed[i]) { rc = -1; e = EBUSY; }
+      else if (!m->drv[i][0] && m->probe[i][0]) {
+        unsigned also = m->probe_also[i] | 1u << i;
+        for (int k = 0; k < 4; k++)
+          if ((also >> k & 1) && !m->claimed[k] && !m->drv[k][0])
+            snprintf(m->drv[k], sizeof m->drv[k], "%s", m->probe[i]);
+        m->attaches++;
+      }                                         /* no driver for it: nothing binds, 0 */
     } else { rc = -1; e = ENOTTY; }
     break;
   }
@@ -395,6 +447,8 @@ MOCK_UNUSED static void mock_reset(struct mock *m)
   m->vanish_after = -1;
   m->out_urbs = m->in_urbs = m->ctrl_urbs = m->clear_halts = m->discards = 0;
   m->detaches = m->attaches = m->max_urb = 0;
+  memset(m->drv, 0, sizeof m->drv);
+  memset(m->claimed, 0, sizeof m->claimed);
   m->out_bytes = 0;
   m->t_first_out = 0;
   g_mutex_unlock(&m->lock);
