@@ -117,7 +117,10 @@ const struct param_row cost_param_rows[CP_NPARAM] = {
     HF "'Disk of paper 003: 10 Mbit' (" P003 "'容量 10 Mbit'). 'Picture data packed 4 "
     "samples to a word.'" },
   [CP_DRUM_REV_S] = { "drum_rev_s", "s", 0.75, 0, 1e6, 0,
-    HF "'Drum scanner of paper 003: 82.758 rpm (0.75 s a turn)'" },
+    HF "'Drum scanner of paper 003: 82.758 rpm (0.75 s a turn)'. The two figures the "
+    "paper prints ('82.758 rpm (0.75 sec/rev)') disagree: 60 / 82.758 = 0.725 s a turn. "
+    "The 0.75 s is kept (the paper's own per-turn figure); set drum_rev_s=0.725 for the "
+    "rpm" },
   [CP_DRUM_PTS_MM] = { "drum_pts_mm", "points/mm", 5.87, 0, 1e6, 0,
     HF "'5.87 points/mm around the drum'" },
   [CP_DRUM_LINES_MM] = { "drum_lines_mm", "lines/mm", 7.4, 0, 1e6, 0,
