@@ -14,7 +14,7 @@
 **                   their words are not charged; docs/machine.md).
 ** Scenes: the shipped scenes that exercise the paper (scenes/), and generated hard ones
 ** written to DIR: a comb (concave, many cuts), shallow crossings (two plates meeting at a
-** small angle), a sliver fan, far-away concave faces. Output in DIR (default
+** small angle), a sliver fan, far-away concave faces, nearly parallel plates crossing. Output in DIR (default
 ** build/bench/arith): arith.md (a Markdown table) and arith.png (every scene's dots:
 ** grey where both agree, red where only the exact picture has a dot, green where only the
 ** 1974 arithmetic's has one). The renders run at --core 1048576 so that every scene is
@@ -86,6 +86,18 @@ static void gen_shallow(FILE *f, int tilt)
   fprintf(f, "face 1 1 2 3 4 grey 220\nface 2 5 6 7 8 grey 120\nface 3 9 10 11 grey 60\n");
 }
 
+/* Two nearly parallel triangles crossing far from the eye: their intersection line comes
+   from plane coefficients that no longer fit one word, so the 1974 program's truncated
+   planes put it elsewhere (wrong faces along it). */
+static void gen_plates(FILE *f)
+{
+  fprintf(f, "# generated: nearly parallel plates crossing (bench arith)\n"
+          "view 0 0 -1400\nwindow -400 -300 400 300\n"
+          "vertex 1 -300 -200 2000\nvertex 2 300 -193 2003\nvertex 3 -290 207 2001\n"
+          "vertex 4 -301 -198 2001\nvertex 5 299 -203 2002\nvertex 6 -295 204 2000\n"
+          "face 1 1 2 3 grey 220\nface 2 4 5 6 grey 90\n");
+}
+
 /* A fan of slivers sharing one vertex: long, nearly collinear edges. */
 static void gen_fan(FILE *f, int n)
 {
@@ -119,7 +131,7 @@ static void gen_far(FILE *f)
 static int write_gen(const char *dir, int k, char *path, size_t len, char *name, size_t nlen)
 {
   static const char *const names[] = { "gen-comb24", "gen-comb60", "gen-shallow3",
-                                       "gen-shallow1", "gen-fan40", "gen-far" };
+                                       "gen-shallow1", "gen-fan40", "gen-far", "gen-plates" };
   if (k >= (int)(sizeof names / sizeof names[0])) return 0;
   snprintf(path, len, "%s/%s.s74", dir, names[k]);
   snprintf(name, nlen, "%s", names[k]);
@@ -131,7 +143,8 @@ static int write_gen(const char *dir, int k, char *path, size_t len, char *name,
   case 2: gen_shallow(f, 3); break;
   case 3: gen_shallow(f, 1); break;
   case 4: gen_fan(f, 40); break;
-  default: gen_far(f); break;
+  case 5: gen_far(f); break;
+  default: gen_plates(f); break;
   }
   return fclose(f) == 0 ? 1 : -1;
 }

@@ -240,6 +240,48 @@ static void test_bench_arith(void **state)
   assert_int_equal(run("%s bench arith --bogus 2>/dev/null", bin()), 2);
 }
 
+/* Fig. 10: three scenes over real photographs, each exercising concave faces (cut by the
+   Segment Generator), holes, and interpenetration (cut along intersection lines); every
+   photograph's source and licence is recorded in scenes/README.md. */
+static void test_fig10_scenes(void **state)
+{
+  (void)state;
+  char *readme = slurp("scenes/README.md");
+  assert_non_null(readme);
+  static const char *const names[] = { "fig10a", "fig10b", "fig10c" };
+  for (int k = 0; k < 3; k++) {
+    char path[64], js[128];
+    snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
+    snprintf(js, sizeof js, "%s/%s.json", dir, names[k]);
+    assert_int_equal(run("%s render %s --stats %s -o %s/%s.png 2>/dev/null", bin(), path, js, dir,
+                         names[k]), 0);
+    assert_true(field(js, "concave_splits") > 0);
+    assert_true(field(js, "intersection_splits") > 0);
+    assert_true(field(js, "core_words_used") <= 16384);     /* fits, program included */
+    char *sc = slurp(path);
+    assert_non_null(sc);
+    assert_non_null(strstr(sc, " * "));                      /* a face with a hole */
+    const char *bg = strstr(sc, "background ");
+    assert_non_null(bg);
+    char photo[64];
+    assert_int_equal(sscanf(bg, "background %63s", photo), 1);
+    char where[96];
+    snprintf(where, sizeof where, "scenes/%s", photo);
+    assert_int_equal(access(where, R_OK), 0);
+    char row[96];
+    snprintf(row, sizeof row, "| `%s` |", photo);
+    const char *r = strstr(readme, row);
+    assert_non_null(r);                                      /* source and licence row */
+    const char *eol = strchr(r, '\n');
+    assert_non_null(eol);
+    char line[1024];
+    snprintf(line, sizeof line, "%.*s", (int)(eol - r), r);
+    assert_true(strstr(line, "CC0") || strstr(line, "public domain"));
+    free(sc);
+  }
+  free(readme);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -250,6 +292,7 @@ int main(void)
     cmocka_unit_test(test_arith_usage),
     cmocka_unit_test(test_hitac_folds_gracefully),
     cmocka_unit_test(test_bench_arith),
+    cmocka_unit_test(test_fig10_scenes),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
