@@ -9,13 +9,14 @@
 **
 **   tube74 stream SCENE --device hpgl|ebb|helios [--usb VID:PID] [--repeat N]
 **                 [--resume FILE] [--save FILE] [--pps N] [--paper a4|a3|letter|WxH]
-**                 [--set NAME=VALUE]... [--settings] [--progress|--no-progress]
+**                 [--set NAME=VALUE]... [--settings] [--force] [--progress|--no-progress]
 **                 [render's options]
 **   tube74 devices [PROFILE]
 **
-** Ctrl-C: the SIGINT handler only sets a flag (below); the sink sees it at the next dot,
-** the profile leaves the device safe (pen up, laser blanked) and the resume file is
-** written. Exit statuses: those of CONTRACT.md; a device failure or Ctrl-C is 4, except
+** Ctrl-C, SIGTERM, SIGHUP: the handler only sets a flag (below); the sink sees it at the
+** next dot and the profiles in their waits, the profile leaves the device safe (laser
+** stopped and shutter closed; pen raised with its wait, carriage home, motors off) and the
+** resume file is written. Exit statuses: those of CONTRACT.md; a device failure or Ctrl-C is 4, except
 ** that Ctrl-C ends `--repeat 0` (until stopped) normally, with 0.
 */
 #include <errno.h>
@@ -79,7 +80,11 @@ static int paper(struct stream_args *a, const char *v, struct t74_error *err)
   snprintf(a->setbuf[a->nsetbuf], sizeof a->setbuf[0], "area_w_mm=%g", w - 20);
   if (add_set(a, a->setbuf[a->nsetbuf++], err) < 0) return -1;
   snprintf(a->setbuf[a->nsetbuf], sizeof a->setbuf[0], "area_h_mm=%g", h - 20);
-  return add_set(a, a->setbuf[a->nsetbuf++], err);
+  if (add_set(a, a->setbuf[a->nsetbuf++], err) < 0) return -1;
+  /* hpgl: which of the model's documented hard-clip areas, when the plotter cannot be asked */
+  if (a->device && !strcmp(a->device, "hpgl") && (!strcmp(v, "a4") || !strcmp(v, "letter")))
+    return add_set(a, !strcmp(v, "letter") ? "sheet=1" : "sheet=0", err);
+  return 1;
 }
 
 static int stream_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err)
@@ -100,6 +105,7 @@ static int stream_opt(void *ctx, int argc, char **argv, int *k, struct t74_error
   else if (!strcmp(o, "--progress")) a->progress = 1;
   else if (!strcmp(o, "--no-progress")) a->progress = 0;
   else if (!strcmp(o, "--settings")) a->settings = 1;
+  else if (!strcmp(o, "--force")) return add_set(a, "force=1", err);  /* hpgl: see --help */
   else if (!strcmp(o, "--set")) return add_set(a, argv[++*k], err);
   else if (!strcmp(o, "--paper")) return paper(a, argv[++*k], err) < 0 ? -1 : 1;
   else if (!strcmp(o, "--repeat")) {
@@ -131,7 +137,10 @@ static void stream_usage(FILE *f)
     "  --save FILE             where to save progress on failure (default: the --resume\n"
     "                          file, else SCENE-NAME.PROFILE.resume here)\n"
     "  --pps N                 helios: points per second (7..65535)\n"
-    "  --paper a4|a3|letter|WxH  hpgl, ebb: landscape sheet in mm, 10 mm margins\n"
+    "  --paper a4|a3|letter|WxH  hpgl, ebb: landscape sheet in mm, 10 mm margins (hpgl:\n"
+    "                          used when the plotter's limits are not known)\n"
+    "  --force                 hpgl: drive a printer-class device whose device id does not\n"
+    "                          declare HP-GL\n"
     "  --set NAME=VALUE        any profile setting; --settings lists them\n"
     "  --progress, --no-progress  progress line on stderr (default: when it is a terminal)\n");
 }

@@ -55,17 +55,17 @@ static void reset(struct fixture *fx, int corexy)
 {
   use_small(fx, 0);
   mock_reset(&fx->m);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   board_reset(&fx->b, corexy);
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 /* The board runs what it still holds (the host has gone). */
 static void finish(struct fixture *fx)
 {
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   if (!fx->m.gone) board_finish(&fx->m, &fx->b);
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 static int stream_lib(struct fixture *fx, const char *const *sets, struct t74_error *err)
@@ -93,7 +93,7 @@ static int stream_lib(struct fixture *fx, const char *const *sets, struct t74_er
 static void check_exact(struct fixture *fx)
 {
   finish(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   struct board *b = &fx->b;
   if (b->bad_cmd || b->bad_rate || b->off_grid || b->accel_viol || b->stray || b->uninked ||
       b->drawn.n != fx->cur->n)
@@ -111,7 +111,7 @@ static void check_exact(struct fixture *fx)
   assert_false(b->lowered);                     /* pen up at the end */
   assert_false(b->motors_on);                   /* motors off */
   assert_true(bd_X(b) == 0 && bd_Y(b) == 0);    /* and home */
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 /* dots a and b together hold every dot of ref and nothing else (repeats allowed). */
@@ -135,9 +135,9 @@ static int dots_cover(const struct dots *a, const struct dots *b, const struct d
 
 static void copy_drawn(struct fixture *fx, struct dots *d)
 {
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   for (int k = 0; k < fx->b.drawn.n; k++) dots_add(d, fx->b.drawn.xy[k][0], fx->b.drawn.xy[k][1]);
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 /* ---- tests ------------------------------------------------------------------------ */
@@ -153,10 +153,10 @@ static void test_library_exact(void **state)
   if (st) fprintf(stderr, "%s\n", err.msg);
   assert_int_equal(st, T74_OK);
   check_exact(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   double board_s = fx->b.t_last_end / 1000.0;
   int received = fx->b.received, qm = fx->b.qm;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   printf("BENCH ebb emulated board (library): %d dots, %d commands (%d QM) in %.3f s host time; "
          "the board's own motion time %.1f s = %.2f dots/s on a real AxiDraw at these settings\n",
          fx->ref.n, received, qm, t, board_s, fx->ref.n / board_s);
@@ -172,9 +172,9 @@ static void test_servo_configured(void **state)
   struct t74_error err = { T74_OK, "" };
   assert_int_equal(stream_lib(fx, NULL, &err), T74_OK);
   check_exact(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   struct board b = fx->b;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   assert_int_equal(b.sc4, 20641);               /* 9855 + 17976 x 60 % */
   assert_int_equal(b.sc5, 15248);               /* 9855 + 17976 x 30 % */
   assert_int_equal(b.sc11, 1618);               /* 17976 x 0.24 / 200 x 75 */
@@ -192,9 +192,9 @@ static void test_narrow_band_servo(void **state)
   const char *sets[] = { "narrow_band=1", NULL };
   assert_int_equal(stream_lib(fx, sets, &err), T74_OK);
   check_exact(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   struct board b = fx->b;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   assert_int_equal(b.sc4, 9720);                /* 5400 + 7200 x 60 % */
   assert_int_equal(b.sc5, 7560);
   assert_int_equal(b.sc8, 1);
@@ -217,9 +217,9 @@ static void true_size(struct fixture *fx, const char *const *sets, int small)
     if (y < y0) y0 = y;
     if (y > y1) y1 = y;
   }
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   double w = (fx->b.max16x - fx->b.min16x) * BD_UNIT16, h = (fx->b.max16y - fx->b.min16y) * BD_UNIT16;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   printf("BENCH ebb picture size: %.3f x %.3f mm for %d x %d dots (pitch 0.625 mm)\n", w, h,
          x1 - x0, y1 - y0);
   assert_true(fabs(w - 0.625 * (x1 - x0)) < 0.02);
@@ -254,21 +254,21 @@ static void test_binary_exact_cdc_returned(void **state)
   struct fixture *fx = F(state);
   reset(fx, 1);
   use_small(fx, 1);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   snprintf(fx->m.drv[0], sizeof fx->m.drv[0], "cdc_acm");
   snprintf(fx->m.drv[1], sizeof fx->m.drv[1], "cdc_acm");
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   char *argv[] = { (char *)mock_tube74(), "stream", MICRO, "--device", "ebb", NULL };
   double t0 = mock_now();
   int rc = mock_run(argv, NULL);
   double t = mock_now() - t0;
   assert_int_equal(rc, 0);
   check_exact(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   assert_string_equal(fx->m.drv[0], "cdc_acm");
   assert_string_equal(fx->m.drv[1], "cdc_acm");
   double first = fx->m.t_first_out - t0, dot = fx->b.t_first_dot - t0;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   printf("BENCH ebb binary: %d dots in %.3f s host time; first byte at the device after %.1f ms, "
          "first dot run after %.1f ms\n", fx->small.n, t, first * 1e3, dot * 1e3);
 }
@@ -278,9 +278,9 @@ static void test_slow_board(void **state)
   struct fixture *fx = F(state);
   reset(fx, 1);
   use_small(fx, 1);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->m.delay_us = 300;                         /* each transfer takes 0.3 ms */
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   struct t74_error err = { T74_OK, "" };
   const char *sets[] = { "queue=12", NULL };
   assert_int_equal(stream_lib(fx, sets, &err), T74_OK);
@@ -294,10 +294,10 @@ static void fault_then_resume(struct fixture *fx, int garbage_at, int vanish_aft
 {
   reset(fx, 1);
   use_small(fx, 1);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->b.garbage_at = garbage_at;
   fx->b.vanish_after = vanish_after;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   char *save = g_strdup_printf("%s/e.resume", fx->dir);
   char *errf = g_strdup_printf("%s/err.txt", fx->dir);
   unlink(save);
@@ -341,16 +341,16 @@ static void test_garbage_no_homing_then_resume(void **state)
   fault_then_resume(fx, 300, 0, "instead of OK", &first);
   free(first.xy);
   reset(fx, 1);                                 /* the same fault again, to look at it */
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->b.garbage_at = 300;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   char *argv[] = { (char *)mock_tube74(), "stream", MICRO, "--device", "ebb", "--save",
                    "/dev/null", NULL };
   assert_int_equal(mock_run(argv, NULL), 4);
   finish(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   int sm = fx->b.sm_after_garbage, off = fx->b.em_off_after_garbage, down = fx->b.lowered;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   assert_int_equal(sm, 0);                      /* no move after the garbage */
   assert_int_equal(off, 1);                     /* motors off */
   assert_false(down);                           /* pen up */
@@ -366,11 +366,11 @@ static void test_vanish_queued_not_acked(void **state)
   free(first.xy);
 }
 
-/* SIGTERM while plotting: the pen is raised with its wait, the carriage goes home, the
-** motors are turned off; exit 4 with a resume file from which the picture completes. */
-static void test_sigterm_pen_up_home_motors_off(void **state)
+/* A signal while plotting (SIGTERM; Ctrl-C is SIGINT): the pen is raised with its wait, the
+** carriage goes home, the motors are turned off; exit 4 with a resume file from which the
+** picture completes (resume: checked for SIGTERM). */
+static void signalled(struct fixture *fx, int sig, int resume)
 {
-  struct fixture *fx = F(state);
   reset(fx, 1);
   char *save = g_strdup_printf("%s/t.resume", fx->dir);
   unlink(save);
@@ -382,13 +382,13 @@ static void test_sigterm_pen_up_home_motors_off(void **state)
     _exit(127);
   }
   for (int waited = 0; waited < 2000; waited++) {   /* up to 20 s: the machine may be busy */
-    g_mutex_lock(&fx->m.lock);
+    mock_lock(&fx->m);
     int got = fx->b.drawn.n;
-    g_mutex_unlock(&fx->m.lock);
+    mock_unlock(&fx->m);
     if (got >= 60) break;
     usb_sleep_ms(10);
   }
-  kill(pid, SIGTERM);
+  kill(pid, sig);
   int wst;
   waitpid(pid, &wst, 0);
   assert_true(WIFEXITED(wst));
@@ -396,9 +396,9 @@ static void test_sigterm_pen_up_home_motors_off(void **state)
   finish(fx);
   struct dots first = { 0, 0, NULL };
   copy_drawn(fx, &first);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   struct board b = fx->b;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   assert_true(first.n >= 60 && first.n < fx->small.n);
   assert_int_equal(b.stray, 0);                 /* raised with its wait before the move */
   assert_int_equal(b.accel_viol, 0);
@@ -406,16 +406,28 @@ static void test_sigterm_pen_up_home_motors_off(void **state)
   assert_true(bd_X(&b) == 0 && bd_Y(&b) == 0);  /* home */
   assert_false(b.motors_on);                    /* motors off */
   assert_true(g_file_test(save, G_FILE_TEST_EXISTS));
-  reset(fx, 1);
-  char *argv2[] = { (char *)mock_tube74(), "stream", MICRO, "--device", "ebb", "--resume", save, NULL };
-  assert_int_equal(mock_run(argv2, NULL), 0);
-  finish(fx);
-  struct dots second = { 0, 0, NULL };
-  copy_drawn(fx, &second);
-  assert_true(dots_cover(&first, &second, &fx->small));
+  if (resume) {
+    reset(fx, 1);
+    char *argv2[] = { (char *)mock_tube74(), "stream", MICRO, "--device", "ebb", "--resume", save, NULL };
+    assert_int_equal(mock_run(argv2, NULL), 0);
+    finish(fx);
+    struct dots second = { 0, 0, NULL };
+    copy_drawn(fx, &second);
+    assert_true(dots_cover(&first, &second, &fx->small));
+    free(second.xy);
+  }
   free(first.xy);
-  free(second.xy);
   g_free(save);
+}
+
+static void test_sigterm_pen_up_home_motors_off(void **state)
+{
+  signalled(F(state), SIGTERM, 1);
+}
+
+static void test_ctrl_c_pen_up_home_motors_off(void **state)
+{
+  signalled(F(state), SIGINT, 0);
 }
 
 static int fixture_start(struct fixture *fx)
@@ -456,6 +468,7 @@ int main(int argc, char **argv)
     cmocka_unit_test_prestate(test_garbage_no_homing_then_resume, fx),
     cmocka_unit_test_prestate(test_vanish_queued_not_acked, fx),
     cmocka_unit_test_prestate(test_sigterm_pen_up_home_motors_off, fx),
+    cmocka_unit_test_prestate(test_ctrl_c_pen_up_home_motors_off, fx),
   };
   rc = cmocka_run_group_tests(tests, NULL, NULL);
   mock_end(&fx->m, &fx->ref, fx->dir);     /* first: the device thread stops */

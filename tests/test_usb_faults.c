@@ -46,11 +46,11 @@ static struct fixture *F(void **state) { return *state; }
 static void reset(struct fixture *fx)
 {
   mock_reset(&fx->m);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   plotter_clear(&fx->p);
   fx->m.caps = USBDEVFS_CAP_BULK_SCATTER_GATHER | USBDEVFS_CAP_NO_PACKET_SIZE_LIM |
                USBDEVFS_CAP_BULK_CONTINUATION | USBDEVFS_CAP_ZERO_PACKET;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 static int stream_lib(struct fixture *fx, const char *const *sets, struct t74_error *err)
@@ -77,18 +77,18 @@ static int stream_lib(struct fixture *fx, const char *const *sets, struct t74_er
 
 static void check_exact(struct fixture *fx)
 {
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   assert_int_equal(fx->p.bad_cmd, 0);
   assert_int_equal(fx->p.drawn.n, fx->ref.n);
   assert_true(dots_same_set(&fx->p.drawn, &fx->ref));
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 static void keep_drawn(struct fixture *fx, struct dots *all)
 {
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   for (int k = 0; k < fx->p.drawn.n; k++) dots_add(all, fx->p.drawn.xy[k][0], fx->p.drawn.xy[k][1]);
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 /* --resume FILE on a working plotter; then all = every dot, each once. */
@@ -109,9 +109,9 @@ static void test_stall_cleared(void **state)
 {
   struct fixture *fx = F(state);
   reset(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->m.stall_at = 4;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   struct t74_error err = { T74_OK, "" };
   assert_int_equal(stream_lib(fx, NULL, &err), T74_OK);
   check_exact(fx);
@@ -122,10 +122,10 @@ static void test_timeout_retried(void **state)
 {
   struct fixture *fx = F(state);
   reset(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->m.hold_from = 5;
   fx->m.hold_n = 2;                             /* two timeouts in a row */
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   struct t74_error err = { T74_OK, "" };
   const char *sets[] = { "timeout_ms=100", "backoff_ms=50", NULL };
   double t0 = mock_now();
@@ -145,19 +145,19 @@ static void test_slow_bytes_reset_retries(void **state)
 {
   struct fixture *fx = F(state);
   reset(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->m.trickle_bytes = 100;
   fx->m.trickle_urbs = 12;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   struct t74_error err = { T74_OK, "" };
   const char *sets[] = { "timeout_ms=40", "retries=1", "backoff_ms=0", "chunk_bytes=512", NULL };
   int st = stream_lib(fx, sets, &err);
   if (st) fprintf(stderr, "%s\n", err.msg);
   assert_int_equal(st, T74_OK);
   check_exact(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   int discards = fx->m.discards;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   assert_int_equal(discards, 12);               /* every trickled URB timed out */
 }
 
@@ -165,10 +165,10 @@ static void test_dead_device_then_resume(void **state)
 {
   struct fixture *fx = F(state);
   reset(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->m.hold_from = 8;
   fx->m.hold_n = 1000;                          /* it stops answering for good */
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   char *save = g_strdup_printf("%s/d.resume", fx->dir);
   char *errf = g_strdup_printf("%s/err.txt", fx->dir);
   unlink(save);
@@ -196,9 +196,9 @@ static void test_ctrl_c_then_resume(void **state)
 {
   struct fixture *fx = F(state);
   reset(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->m.delay_us = 10000;                       /* 10 ms a transfer: a slow plotter */
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   char *save = g_strdup_printf("%s/c.resume", fx->dir);
   char *errf = g_strdup_printf("%s/err.txt", fx->dir);
   unlink(save);
@@ -210,7 +210,13 @@ static void test_ctrl_c_then_resume(void **state)
     execv(argv[0], argv);
     _exit(127);
   }
-  usb_sleep_ms(400);
+  for (int waited = 0; waited < 2000; waited++) {   /* until it draws: the machine may be busy */
+    mock_lock(&fx->m);
+    int got = fx->p.drawn.n;
+    mock_unlock(&fx->m);
+    if (got >= 50) break;
+    usb_sleep_ms(10);
+  }
   kill(pid, SIGINT);
   int wst;
   waitpid(pid, &wst, 0);
@@ -221,10 +227,10 @@ static void test_ctrl_c_then_resume(void **state)
   assert_non_null(strstr(msg, "Ctrl-C"));
   assert_non_null(strstr(msg, "acknowledged"));  /* the progress line was drawn too */
   g_free(msg);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   assert_string_equal(fx->p.last, "SP0");       /* pen up and put away */
   assert_false(fx->p.pen_down);
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   struct dots all = { 0, 0, NULL };
   keep_drawn(fx, &all);
   assert_true(all.n > 0 && all.n < fx->ref.n);
@@ -238,9 +244,9 @@ static void test_split_urbs(void **state)
 {
   struct fixture *fx = F(state);
   reset(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->m.caps = USBDEVFS_CAP_BULK_CONTINUATION;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   struct t74_error err = { T74_OK, "" };
   const char *sets[] = { "chunk_bytes=65536", "band_rows=300", NULL };  /* one 60 KB transfer */
   assert_int_equal(stream_lib(fx, sets, &err), T74_OK);
@@ -264,9 +270,9 @@ static void test_wrong_resume_file(void **state)
   g_file_get_contents(errf, &msg, NULL, NULL);
   assert_int_equal(rc, 2);
   assert_non_null(strstr(msg, "another scene"));
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   assert_int_equal(fx->p.drawn.n, 0);           /* nothing was drawn */
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   g_free(msg);
   g_free(bad);
   g_free(errf);

@@ -24,6 +24,7 @@
 #include "tests/usbmock/plotter.c"
 
 #include "display/sink.h"
+#include "display/usb/penplan.h"
 #include "display/usb/usb.h"
 #include "display/usb/stream.h"
 
@@ -41,9 +42,9 @@ static struct fixture *F(void **state) { return *state; }
 static void reset(struct fixture *fx)
 {
   mock_reset(&fx->m);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   plotter_clear(&fx->p);
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 static int stream_lib(struct fixture *fx, const char *const *sets, struct t74_error *err)
@@ -70,14 +71,15 @@ static int stream_lib(struct fixture *fx, const char *const *sets, struct t74_er
 
 static void check_exact(struct fixture *fx)
 {
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   assert_int_equal(fx->p.bad_cmd, 0);
+  assert_int_equal(fx->p.clipped, 0);           /* all inside the hard-clip limits */
   assert_int_equal(fx->p.off_grid, 0);
   assert_int_equal(fx->p.drawn.n, fx->ref.n);
   assert_true(dots_same_set(&fx->p.drawn, &fx->ref));
   assert_false(fx->p.pen_down);
   assert_string_equal(fx->p.last, "SP0");       /* pen put away at the end */
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
 }
 
 /* ---- tests ------------------------------------------------------------------------ */
@@ -120,9 +122,9 @@ static void test_binary_exact_driver_detached(void **state)
 {
   struct fixture *fx = F(state);
   reset(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   snprintf(fx->m.drv[0], sizeof fx->m.drv[0], "usblp");
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   char *argv[] = { (char *)mock_tube74(), "stream", SCENE, "--device", "hpgl", "--usb", "067b:2305",
                    NULL };
   double t0 = mock_now();
@@ -130,12 +132,12 @@ static void test_binary_exact_driver_detached(void **state)
   double t = mock_now() - t0;
   assert_int_equal(rc, 0);
   check_exact(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   assert_int_equal(fx->m.detaches, 1);
   assert_int_equal(fx->m.attaches, 1);
   assert_string_equal(fx->m.drv[0], "usblp");   /* the printer driver is back */
   double first = fx->m.t_first_out - t0, dot = fx->p.t_first_dot - t0;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   printf("BENCH hpgl binary: %d dots in %.3f s = %.0f dots/s; first byte at the device after "
          "%.1f ms, first dot after %.1f ms\n", fx->ref.n, t, fx->ref.n / t, first * 1e3, dot * 1e3);
 }
@@ -146,10 +148,10 @@ static void fault_then_resume(struct fixture *fx, int paper_out_at, long long va
                               const char *word)
 {
   reset(fx);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   fx->p.paper_out_at = paper_out_at;
   fx->m.vanish_after = vanish_after;
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   char *save = g_strdup_printf("%s/h.resume", fx->dir);
   char *errf = g_strdup_printf("%s/err.txt", fx->dir);
   unlink(save);
@@ -163,9 +165,9 @@ static void fault_then_resume(struct fixture *fx, int paper_out_at, long long va
   assert_non_null(strstr(msg, word));
   g_free(msg);
   struct dots all = { 0, 0, NULL };
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   for (int k = 0; k < fx->p.drawn.n; k++) dots_add(&all, fx->p.drawn.xy[k][0], fx->p.drawn.xy[k][1]);
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   assert_true(all.n < fx->ref.n);
   assert_true(g_file_test(save, G_FILE_TEST_EXISTS));
 
@@ -174,9 +176,9 @@ static void fault_then_resume(struct fixture *fx, int paper_out_at, long long va
                     NULL };
   rc = mock_run(argv2, errf);
   assert_int_equal(rc, 0);
-  g_mutex_lock(&fx->m.lock);
+  mock_lock(&fx->m);
   for (int k = 0; k < fx->p.drawn.n; k++) dots_add(&all, fx->p.drawn.xy[k][0], fx->p.drawn.xy[k][1]);
-  g_mutex_unlock(&fx->m.lock);
+  mock_unlock(&fx->m);
   assert_int_equal(all.n, fx->ref.n);
   assert_true(dots_same_set(&all, &fx->ref));
   free(all.xy);
@@ -193,6 +195,88 @@ static void test_vanish_then_resume(void **state)
 {
   /* 7,777 bytes: inside a command, inside a band, after several strokes of it */
   fault_then_resume(F(state), 0, 7777, "vanished");
+}
+
+/* The picture is fitted inside the limits the plotter gives (OH): a letter-size 7475A. */
+static void test_oh_limits_fitted(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  mock_lock(&fx->m);
+  fx->p.clip[2] = 10365;                        /* 7475A, US A paper */
+  fx->p.clip[3] = 7962;
+  fx->p.g = pen_geom_fit(200, 200, 10365 - 400, 7962 - 400);
+  mock_unlock(&fx->m);
+  struct t74_error err = { T74_OK, "" };
+  int st = stream_lib(fx, NULL, &err);
+  if (st) fprintf(stderr, "%s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  check_exact(fx);
+  assert_int_equal(fx->p.oh_queries, 1);
+}
+
+/* A one-way link (OH never answered): the 7475A's documented A4 limits are used, or its
+** letter limits with --paper letter. */
+static void test_model_limits_without_oh(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  mock_lock(&fx->m);
+  fx->p.answers = 0;
+  mock_unlock(&fx->m);
+  struct t74_error err = { T74_OK, "" };
+  const char *sets[] = { "query_ms=100", NULL };
+  int st = stream_lib(fx, sets, &err);
+  if (st) fprintf(stderr, "%s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  check_exact(fx);
+
+  reset(fx);                                    /* letter paper, told with --paper */
+  mock_lock(&fx->m);
+  fx->p.answers = 0;
+  fx->p.clip[2] = 10365;
+  fx->p.clip[3] = 7962;
+  fx->p.g = pen_geom_fit(200, 200, 10365 - 400, 7962 - 400);
+  mock_unlock(&fx->m);
+  char *argv[] = { (char *)mock_tube74(), "stream", SCENE, "--device", "hpgl", "--paper", "letter",
+                   "--set", "query_ms=100", NULL };
+  assert_int_equal(mock_run(argv, NULL), 0);
+  check_exact(fx);
+}
+
+/* A printer-class device whose id does not declare HP-GL (a laser printer) is refused with
+** a clear message and nothing sent to it; --force drives it anyway. */
+static void test_not_hpgl_refused_then_forced(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  mock_lock(&fx->m);
+  snprintf(fx->p.id, sizeof fx->p.id, "MFG:Hewlett-Packard;MDL:LaserJet 4;CMD:PCL,PJL;CLS:PRINTER;");
+  mock_unlock(&fx->m);
+  char *errf = g_strdup_printf("%s/err.txt", fx->dir);
+  char *argv[] = { (char *)mock_tube74(), "stream", SCENE, "--device", "hpgl", "--save",
+                   "/dev/null", NULL };
+  int rc = mock_run(argv, errf);
+  gchar *msg = NULL;
+  g_file_get_contents(errf, &msg, NULL, NULL);
+  assert_int_equal(rc, 4);
+  assert_non_null(strstr(msg, "does not declare HP-GL"));
+  assert_non_null(strstr(msg, "PCL,PJL"));
+  assert_non_null(strstr(msg, "--force"));
+  g_free(msg);
+  mock_lock(&fx->m);
+  assert_int_equal(fx->p.id_queries, 1);
+  assert_int_equal(fx->m.out_bytes, 0);         /* not one byte went to the printer */
+  mock_unlock(&fx->m);
+
+  reset(fx);
+  mock_lock(&fx->m);
+  snprintf(fx->p.id, sizeof fx->p.id, "MFG:Hewlett-Packard;MDL:7475A;CMD:PCL;");
+  mock_unlock(&fx->m);
+  char *argv2[] = { (char *)mock_tube74(), "stream", SCENE, "--device", "hpgl", "--force", NULL };
+  assert_int_equal(mock_run(argv2, errf), 0);
+  check_exact(fx);
+  g_free(errf);
 }
 
 static void test_devices_lists_plotter(void **state)
@@ -240,6 +324,9 @@ int main(int argc, char **argv)
     cmocka_unit_test_prestate(test_binary_exact_driver_detached, fx),
     cmocka_unit_test_prestate(test_paper_out_then_resume, fx),
     cmocka_unit_test_prestate(test_vanish_then_resume, fx),
+    cmocka_unit_test_prestate(test_oh_limits_fitted, fx),
+    cmocka_unit_test_prestate(test_model_limits_without_oh, fx),
+    cmocka_unit_test_prestate(test_not_hpgl_refused_then_forced, fx),
     cmocka_unit_test_prestate(test_devices_lists_plotter, fx),
   };
   rc = cmocka_run_group_tests(tests, NULL, NULL);

@@ -233,9 +233,9 @@ static void ran(struct ebb *e, int n)
   for (int k = 0; k < n; k++)
     for (int d = 0; d < e->cmd[k].n; d++) e->ack.fn(e->ack.ctx, &e->pend[e->cmd[k].first + d]);
   int shift = n < e->ncmd ? e->cmd[n].first : e->npend;
-  memmove(e->pend, e->pend + shift, sizeof *e->pend * (size_t)(e->npend - shift));
+  if (e->npend > shift) memmove(e->pend, e->pend + shift, sizeof *e->pend * (size_t)(e->npend - shift));
   e->npend -= shift;
-  memmove(e->cmd, e->cmd + n, sizeof *e->cmd * (size_t)(e->ncmd - n));
+  if (e->ncmd > n) memmove(e->cmd, e->cmd + n, sizeof *e->cmd * (size_t)(e->ncmd - n));
   e->ncmd -= n;
   e->nsent -= n;
   for (int k = 0; k < e->ncmd; k++) e->cmd[k].first -= shift;
@@ -318,7 +318,8 @@ static int ebb_drain(struct ebb *e, struct t74_error *err)
     if (usb_now() > t_end)
       return t74_fail(err, T74_EIO, "ebb: the board is still moving long after its commands "
                       "should have run");
-    if (usb_link_stopped(e->l)) return T74_OK;  /* stopping: close() takes over */
+    if (usb_link_stopped(e->l))                 /* close() takes over; the rest is resumable */
+      return t74_fail(err, T74_EIO, "ebb: stopped while the board was still drawing");
     usb_sleep_ms(e->poll_ms);
   }
   return T74_OK;
@@ -401,7 +402,8 @@ static int ebb_move(struct ebb *e, long X, long Y, int down, const struct usb_po
   int na = (int)ceil(ta / e->slice - 1e-9);
   if (na < 1) na = 1;
   int nc = tc > 1e-9 ? (int)ceil(tc / (20 * e->slice) - 1e-9) : 0;
-  if (2 * na + nc > EB_MAX_SM) na = (EB_MAX_SM - nc) / 2;
+  if (nc > EB_MAX_SM / 2) nc = EB_MAX_SM / 2;   /* a very long cruise: longer pieces */
+  if (2 * na + nc > EB_MAX_SM) na = (EB_MAX_SM - nc) / 2;   /* >= 16: coarser slices */
   tb[nb++] = 0;
   for (int k = 1; k <= na; k++) tb[nb++] = ta * k / na;
   for (int k = 1; k <= nc; k++) tb[nb++] = ta + tc * k / nc;

@@ -2,26 +2,39 @@
 ** hpgl.c — the `hpgl` USB profile: an HP-GL pen plotter behind a USB printer-class
 ** interface (display stage, paper 003 §4 dots drawn by a pen instead of a beam).
 **
-** This file contains code to draw the tube's dots with HP-GL. Hardware source:
-** hardware-facts.md "HP-GL pen plotters" (40 plotter units per mm; IN; SP1; PU x,y; PD;
-** over USB through printer-class adapters: bulk OUT, class request GET_PORT_STATUS for
-** paper/error/select); USB Printer Class 1.1 §4.2.2 (GET_PORT_STATUS: bmRequestType 0xA1,
-** bRequest 1, wIndex = interface, one status byte: bit 5 paper empty, bit 4 selected,
-** bit 3 not error — the bits Linux usblp reads).
+** This file contains code to draw the tube's dots with HP-GL, inside the plotter's own
+** limits, on a device that says it speaks HP-GL. Hardware sources (docs/usb.md lists them
+** rule by rule):
+**   USB Printer Class 1.1: §4.2.1 GET_DEVICE_ID (bmRequestType 0xA1, bRequest 0, wValue the
+**     configuration index, wIndex interface << 8 | alternate setting — as Linux usblp sends
+**     it): a 2-byte big-endian length, then the IEEE 1284 device id "KEY:value;..." whose
+**     COMMAND SET (CMD) lists the languages; §4.2.2 GET_PORT_STATUS (bRequest 1): one byte,
+**     bit 5 paper empty, bit 4 selected, bit 3 not error (the bits usblp reads); protocol 2
+**     interfaces are bidirectional (a bulk IN endpoint carries the device's answers);
+**   the HP 7475A Interfacing and Programming Manual: plotter units of 0.025 mm (40 per mm);
+**     the origin (0, 0) is the lower left HARD-CLIP corner, not the paper's; pen moves are
+**     clipped at the hard-clip limits; OH outputs them as "XLL,YLL,XUR,YUR" CR; IN resets P1
+**     and P2 (A4: 603,521 / 10603,7721); the A4 hard-clip area is 0..11040 x 0..7721 and the
+**     US A (letter) one 0..10365 x 0..7962 (the letter figures also in WesleyAC/plotter-tools
+**     plotters/hp7475a/README.md).
 **
 ** What is sent:
-**   open      "IN;SP<pen>;"                              initialise, take the pen
+**   open      GET_DEVICE_ID: refused unless the command set names HP-GL (--force overrides)
+**             GET_PORT_STATUS: ready?
+**             "IN;OH;"  and the answer read from bulk IN (bidirectional link), within
+**                       query_ms; no answer: the model's documented limits (table below),
+**                       else the area_* settings, measured from the origin
 **   a dot     "PU<x>,<y>;PD;"                            move pen up, put it down once
 **   a stroke  "PU<x0>,<y>;PD<x1>,<y>;"                   a run of dots on a row (penplan.h)
 **   close     "PU;SP0;"                                  pen up, pen back in the carousel
-** Dot (x, y) of the tube is plotter point (ox + x*pitch, oy + y*pitch) in plotter units,
-** pitch the largest whole number of units that fits 400 x 300 dots into the paper area
-** (settings area_*_mm; default A4 landscape, 297 x 210 mm, less 10 mm margins: pitch 25
-** units = 0.625 mm). Plotter y grows upwards, as the tube's does.
+** Dot (x, y) of the tube is plotter point (ox + x*pitch, oy + y*pitch): the largest whole
+** pitch that fits 400 x 300 dots inside the hard-clip limits less margin_mm on each side,
+** centred there. Plotter y grows upwards, as the tube's does.
 **
 ** Order: dots are buffered per band of rows and planned by penplan.c (strokes when faster,
 ** nearest-first order). Transfers carry whole commands, at most chunk_bytes each, and are
-** waited for one by one: a small plotter buffer then simply NAKs until it has room.
+** waited for one by one: a small plotter buffer then simply NAKs until it has room (the
+** transport restarts its retry count whenever bytes move, usb.c).
 ** ACKNOWLEDGED: a dot is acknowledged when every byte up to the end of the command that
 ** draws it has been taken by the device (the bulk transfer's actual length, also when it
 ** failed part way). GET_PORT_STATUS is checked at open and before each band.
@@ -36,15 +49,15 @@
 
 enum {                          /* rows of hpgl_params, in order */
   HP_AREA_X, HP_AREA_Y, HP_AREA_W, HP_AREA_H, HP_UNITS, HP_V_UP, HP_V_DOWN, HP_LIFT,
-  HP_RUNS, HP_BAND, HP_CHUNK, HP_PEN, HP_NPARAMS
+  HP_RUNS, HP_BAND, HP_CHUNK, HP_PEN, HP_MARGIN, HP_SHEET, HP_QUERY, HP_FORCE, HP_NPARAMS
 };
 
 static const struct param_row hpgl_params[HP_NPARAMS] = {
   /* name, unit, default, accepted range, whole numbers only, source (emu/param.h) */
-  { "area_x_mm",      "mm",    10,  0,  2000,  0, "A4 landscape with 10 mm margins" },
-  { "area_y_mm",      "mm",    10,  0,  2000,  0, "A4 landscape with 10 mm margins" },
-  { "area_w_mm",      "mm",    277, 10, 2000,  0, "A4 landscape: 297 - 2 x 10" },
-  { "area_h_mm",      "mm",    190, 10, 2000,  0, "A4 landscape: 210 - 2 x 10" },
+  { "area_x_mm",      "mm",    10,  0,  2000,  0, "no limits known: from the origin; A4 landscape" },
+  { "area_y_mm",      "mm",    10,  0,  2000,  0, "no limits known: from the origin; A4 landscape" },
+  { "area_w_mm",      "mm",    277, 10, 2000,  0, "no limits known: A4 landscape: 297 - 2 x 10" },
+  { "area_h_mm",      "mm",    190, 10, 2000,  0, "no limits known: A4 landscape: 210 - 2 x 10" },
   { "units_per_mm",   "1/mm",  40,  1,  1000,  0, "hardware-facts.md: HP-GL 40 units/mm" },
   { "pen_up_speed",   "mm/s",  500, 1,  5000,  0, "inferred: typical desk plotter slew" },
   { "pen_down_speed", "mm/s",  380, 1,  5000,  0, "inferred: HP 7475A-class 38 cm/s" },
@@ -53,13 +66,31 @@ static const struct param_row hpgl_params[HP_NPARAMS] = {
   { "band_rows",      "rows",  12,  1,  300,   0, "whole 3x3 and 4x4 cells (penplan.h)" },
   { "chunk_bytes",    "bytes", 512, 16, 65536, 0, "hardware-facts.md: buffers 60 B .. 1 KiB" },
   { "pen",            "",      1,   1,  8,     0, "HP-GL SP: carousel stall" },
+  { "margin_mm",      "mm",    5,   0,  100,   0, "inside the hard-clip limits; inferred" },
+  { "sheet",          "",      0,   0,  1,     1, "model defaults without OH: 0 A4, 1 US A (letter)" },
+  { "query_ms",       "ms",    500, 0,  10000, 0, "wait for the OH answer; 0: do not ask" },
+  { "force",          "",      0,   0,  1,     1, "1: drive a device whose id lacks HP-GL (--force)" },
 };
 
+#define HP_REQ_GET_DEVICE_ID   0        /* Printer Class 1.1 §4.2.1 */
 #define HP_REQ_GET_PORT_STATUS 1        /* Printer Class 1.1 §4.2.2 */
 #define HP_RT_CLASS_IN_IFACE   0xA1     /* device-to-host, class, interface */
 #define HP_ST_PAPER_EMPTY      0x20     /* bit 5: 1 = paper empty */
 #define HP_ST_SELECTED         0x10     /* bit 4: 1 = selected (on line) */
 #define HP_ST_NOT_ERROR        0x08     /* bit 3: 0 = error */
+
+/* Hard-clip limits of the models whose manuals give them, in plotter units: the picture is
+** fitted inside when the plotter does not answer OH (a one-way adapter). */
+struct hp_model {
+  const char *mdl;              /* the MODEL of the 1284 id (a prefix match) */
+  int sheet;                    /* 0 A4, 1 US A */
+  int x0, y0, x1, y1;
+};
+
+static const struct hp_model hp_models[] = {
+  { "7475A", 0, 0, 0, 11040, 7721 },    /* 7475A manual: A4 */
+  { "7475A", 1, 0, 0, 10365, 7962 },    /* 7475A manual: US A (letter) */
+};
 
 struct hp_rec {                 /* a command whose acknowledgement acknowledges dots */
   long long end;                /* stream offset just past its last byte */
@@ -81,6 +112,10 @@ struct hpgl {
   int npend, cappend;
   struct hp_rec *rec;
   int nrec, caprec, rec0;       /* rec[rec0 .. nrec-1] are pending */
+  int ep_in;                    /* bulk IN (bidirectional link), or -1 */
+  char model[64];               /* MODEL of the device id, "" unknown */
+  int clip[4];                  /* hard-clip limits used: xll, yll, xur, yur */
+  const char *clip_from;        /* where they came from (OH, the model table, settings) */
 };
 
 static int hpgl_status(void *ctx, struct usb_status *st, struct t74_error *err)
@@ -194,6 +229,120 @@ static void hpgl_free(struct hpgl *h)
   free(h);
 }
 
+/* The value of key (or its short form) in a 1284 device id, into out; 0 when absent. */
+static int id_field(const char *id, const char *key, const char *alt, char *out, size_t n)
+{
+  for (const char *p = id; *p;) {
+    const char *colon = strchr(p, ':'), *semi = strchr(p, ';');
+    if (!colon || (semi && semi < colon)) break;
+    size_t kl = (size_t)(colon - p);
+    while (kl && p[0] == ' ') { p++; kl--; }
+    const char *end = semi ? semi : colon + strlen(colon);
+    if ((strlen(key) == kl && !strncmp(p, key, kl)) || (strlen(alt) == kl && !strncmp(p, alt, kl))) {
+      snprintf(out, n, "%.*s", (int)(end - colon - 1), colon + 1);
+      return 1;
+    }
+    if (!semi) break;
+    p = semi + 1;
+  }
+  return 0;
+}
+
+/* 1 when a command set list ("HPGL,PCL" ...) names HP-GL (HPGL, HP-GL, HPGL2, HP-GL/2). */
+static int names_hpgl(const char *cmds)
+{
+  char u[256];
+  size_t k = 0;
+  for (; cmds[k] && k < sizeof u - 1; k++) u[k] = (char)(cmds[k] >= 'a' && cmds[k] <= 'z' ? cmds[k] - 32 : cmds[k]);
+  u[k] = 0;
+  return strstr(u, "HPGL") || strstr(u, "HP-GL");
+}
+
+/* GET_DEVICE_ID: the device must declare HP-GL (unless force). */
+static int check_device_id(struct hpgl *h, int force, struct t74_error *err)
+{
+  unsigned char b[256];
+  int got = 0;
+  struct t74_error e = { T74_OK, "" };
+  uint16_t idx = (uint16_t)(usb_link_interface(h->l) << 8 | usb_link_alt(h->l));
+  char id[256] = "", cmd[128] = "", mfg[64] = "";
+  int rc = usb_control_in(h->l, HP_RT_CLASS_IN_IFACE, HP_REQ_GET_DEVICE_ID, 0, idx, b,
+                          (int)sizeof b, &got, &e);
+  if (rc != T74_OK && usb_link_gone(h->l)) return t74_fail(err, e.status, "%s", e.msg);
+  if (rc == T74_OK && got >= 2) {
+    int len = b[0] << 8 | b[1];                 /* big-endian, the 2 length bytes included */
+    if (len > got) len = got;
+    if (len > 2) snprintf(id, sizeof id, "%.*s", len - 2, (const char *)b + 2);
+  }
+  id_field(id, "MODEL", "MDL", h->model, sizeof h->model);
+  id_field(id, "MANUFACTURER", "MFG", mfg, sizeof mfg);
+  int has = id_field(id, "COMMAND SET", "CMD", cmd, sizeof cmd);
+  if (has && names_hpgl(cmd)) return T74_OK;
+  if (force) return T74_OK;
+  uint16_t vid, pid;
+  usb_link_ids(h->l, &vid, &pid);
+  if (!id[0])
+    return t74_fail(err, T74_EIO, "hpgl: the printer-class device %04x:%04x gives no device id "
+                    "(GET_DEVICE_ID), so it is not known to speak HP-GL; if it is a pen plotter, "
+                    "run again with --force", vid, pid);
+  return t74_fail(err, T74_EIO, "hpgl: the printer-class device %04x:%04x (%s%s%s) does not "
+                  "declare HP-GL: its command set is `%s`. It is probably a printer, not a pen "
+                  "plotter; if it does speak HP-GL, run again with --force", vid, pid,
+                  mfg[0] ? mfg : "?", " ", h->model[0] ? h->model : "?", has ? cmd : "none given");
+}
+
+/* The hard-clip limits: OH where the link answers, else the model's, else the settings. */
+static int find_limits(struct hpgl *h, const struct usb_settings *s, struct t74_error *err)
+{
+  if (h->ep_in >= 0 && s->p[HP_QUERY] > 0) {
+    if (put_cmd(h, "OH;", NULL, 0, err) != T74_OK || send_chunk(h, err) != T74_OK)
+      return err->status;
+    char line[128];
+    int n = 0;
+    double t_end = usb_now() + s->p[HP_QUERY] / 1000.0;
+    while (n < (int)sizeof line - 1) {
+      unsigned char in[64];
+      int got = 0;
+      double left = (t_end - usb_now()) * 1000.0;
+      if (left <= 0) break;
+      if (usb_read_once(h->l, USB_BULK, (unsigned char)h->ep_in, in, sizeof in,
+                        left < 1 ? 1 : (int)left, &got, err) != T74_OK)
+        return err->status;
+      int done = 0;
+      for (int k = 0; k < got && n < (int)sizeof line - 1; k++) {
+        if (in[k] == '\r' || in[k] == '\n') { if (n) { done = 1; break; } continue; }
+        line[n++] = (char)in[k];
+      }
+      if (done) break;
+    }
+    line[n] = 0;
+    int c[4];
+    if (n && sscanf(line, "%d,%d,%d,%d", &c[0], &c[1], &c[2], &c[3]) == 4 && c[2] > c[0] &&
+        c[3] > c[1]) {
+      memcpy(h->clip, c, sizeof c);
+      h->clip_from = "OH";
+      return T74_OK;
+    }
+  }
+  for (size_t k = 0; k < sizeof hp_models / sizeof hp_models[0]; k++)
+    if (h->model[0] && !strncmp(h->model, hp_models[k].mdl, strlen(hp_models[k].mdl)) &&
+        hp_models[k].sheet == (int)s->p[HP_SHEET]) {
+      h->clip[0] = hp_models[k].x0;
+      h->clip[1] = hp_models[k].y0;
+      h->clip[2] = hp_models[k].x1;
+      h->clip[3] = hp_models[k].y1;
+      h->clip_from = "the model's documented limits";
+      return T74_OK;
+    }
+  double upm = s->p[HP_UNITS];
+  h->clip[0] = (int)(s->p[HP_AREA_X] * upm);
+  h->clip[1] = (int)(s->p[HP_AREA_Y] * upm);
+  h->clip[2] = (int)((s->p[HP_AREA_X] + s->p[HP_AREA_W]) * upm);
+  h->clip[3] = (int)((s->p[HP_AREA_Y] + s->p[HP_AREA_H]) * upm);
+  h->clip_from = "the area_* settings";
+  return T74_OK;
+}
+
 static int hpgl_open(void **ctx, struct usb_link *l, const struct usb_settings *s,
                      struct usb_ack ack, struct t74_error *err)
 {
@@ -202,15 +351,10 @@ static int hpgl_open(void **ctx, struct usb_link *l, const struct usb_settings *
   h->l = l;
   h->ack = ack;
   h->ep = usb_link_endpoint(l, USB_BULK, 0);
-  double upm = s->p[HP_UNITS];
-  h->g = pen_geom_fit(s->p[HP_AREA_X] * upm, s->p[HP_AREA_Y] * upm, s->p[HP_AREA_W] * upm,
-                      s->p[HP_AREA_H] * upm);
-  double pitch_mm = h->g.pitch / upm;
-  int runs = s->p[HP_RUNS] != 0 &&
-             penplan_rule(pitch_mm, s->p[HP_V_UP], s->p[HP_V_DOWN], s->p[HP_LIFT]);
+  h->ep_in = usb_link_endpoint(l, USB_BULK, 1);
   h->chunk = (int)s->p[HP_CHUNK];
   h->buf = malloc((size_t)h->chunk + 64);
-  if (!h->buf || penplan_init(&h->plan, (int)s->p[HP_BAND], runs, err) != T74_OK) {
+  if (!h->buf) {
     hpgl_free(h);
     return t74_fail(err, T74_EIO, "hpgl: out of memory");
   }
@@ -218,10 +362,31 @@ static int hpgl_open(void **ctx, struct usb_link *l, const struct usb_settings *
     hpgl_free(h);
     return t74_fail(err, T74_EIO, "hpgl: the printer interface has no bulk OUT endpoint");
   }
-  char init[32];
-  snprintf(init, sizeof init, "IN;SP%d;", (int)s->p[HP_PEN]);
-  if (check_ready(h, err) != T74_OK || put_cmd(h, init, NULL, 0, err) != T74_OK ||
-      send_chunk(h, err) != T74_OK) {
+  if (check_device_id(h, s->p[HP_FORCE] != 0, err) != T74_OK || check_ready(h, err) != T74_OK ||
+      put_cmd(h, "IN;", NULL, 0, err) != T74_OK || find_limits(h, s, err) != T74_OK) {
+    hpgl_free(h);
+    return err->status;
+  }
+  double upm = s->p[HP_UNITS], m = s->p[HP_MARGIN] * upm;
+  h->g = pen_geom_fit(h->clip[0] + m, h->clip[1] + m, h->clip[2] - h->clip[0] - 2 * m,
+                      h->clip[3] - h->clip[1] - 2 * m);
+  if (h->g.pitch < 1) {
+    int st = t74_fail(err, T74_EINPUT, "hpgl: the plotter's limits (%d,%d)..(%d,%d) from %s, "
+                      "less margin_mm, hold no picture of 400 x 300 dots", h->clip[0], h->clip[1],
+                      h->clip[2], h->clip[3], h->clip_from);
+    hpgl_free(h);
+    return st;
+  }
+  double pitch_mm = h->g.pitch / upm;
+  int runs = s->p[HP_RUNS] != 0 &&
+             penplan_rule(pitch_mm, s->p[HP_V_UP], s->p[HP_V_DOWN], s->p[HP_LIFT]);
+  if (penplan_init(&h->plan, (int)s->p[HP_BAND], runs, err) != T74_OK) {
+    hpgl_free(h);
+    return t74_fail(err, T74_EIO, "hpgl: out of memory");
+  }
+  char sp[16];
+  snprintf(sp, sizeof sp, "SP%d;", (int)s->p[HP_PEN]);
+  if (put_cmd(h, sp, NULL, 0, err) != T74_OK || send_chunk(h, err) != T74_OK) {
     hpgl_free(h);
     return err->status;
   }

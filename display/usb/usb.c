@@ -4,7 +4,8 @@
 ** This file contains code to find, open and claim a vector device and to move bytes to and
 ** from it with libusb-1.0's asynchronous API, applying one fault policy everywhere: a
 ** stall is cleared (libusb_clear_halt) and the rest of the transfer sent again; a timeout
-** or a transient error is retried with doubling backoff and then fails; a vanished device
+** or a transient error is retried with doubling backoff and then fails, except that a
+** timeout after which bytes had moved starts the count again (a slow device); a vanished device
 ** (LIBUSB_ERROR_NO_DEVICE / LIBUSB_TRANSFER_NO_DEVICE) fails at once. Bytes the device took
 ** before a failure are always reported (*done), because profiles acknowledge exactly those.
 **
@@ -255,6 +256,7 @@ int usb_link_endpoint(const struct usb_link *l, enum usb_type type, int in)
 }
 
 int usb_link_interface(const struct usb_link *l) { return l->iface; }
+int usb_link_alt(const struct usb_link *l) { return l->alt < 0 ? 0 : l->alt; }
 void usb_link_set_stop(struct usb_link *l, volatile sig_atomic_t *stop) { l->stop = stop; }
 int usb_link_stopped(const struct usb_link *l) { return l->stop && *l->stop; }
 double usb_link_timeout_ms(const struct usb_link *l) { return l->timeout_ms; }

@@ -27,7 +27,8 @@
 **
 **   usb_link_open    find the first device that matches a profile (VID:PID and/or an
 **                    interface class), open it (ACCESS -> the udev rule to add), detach a
-**                    bound kernel driver (reattached on close), claim, select the alt setting
+**                    bound kernel driver, claim, select the alt setting; on close every
+**                    interface that had a driver gets it back (a CDC ACM pair: both)
 **   usb_submit / usb_wait   one asynchronous transfer (bulk, interrupt or control) and its
 **                    completion, with the fault policy below; a profile may keep one transfer
 **                    in flight while it prepares the next (helios double-buffering)
@@ -35,8 +36,11 @@
 **   FAULT POLICY (usb_wait):
 **     stall (LIBUSB_TRANSFER_STALL)   libusb_clear_halt, then the REST of the transfer is sent
 **                                     again (bytes before the stall were taken by the device)
-**     timeout                         retried `retries` times, sleeping backoff_ms, 2x, 4x...
+**     timeout, no bytes moved         retried `retries` times, sleeping backoff_ms, 2x, 4x...
 **                                     between tries, then T74_EIO
+**     timeout, bytes moved            a slow device (a plotter NAKing while its buffer is
+**                                     full): the rest is sent again at once and the count
+**                                     of tries starts again
 **     device gone (NO_DEVICE)         T74_EIO at once, usb_link_gone() turns true
 **     other errors                    retried like timeouts
 **   *done always tells how many bytes the device took, also when the transfer failed:
@@ -100,6 +104,7 @@ void usb_link_close(struct usb_link *l);
 ** direction (in = 1: device to host), or -1. */
 int usb_link_endpoint(const struct usb_link *l, enum usb_type type, int in);
 int usb_link_interface(const struct usb_link *l);
+int usb_link_alt(const struct usb_link *l);       /* its alternate setting */
 void usb_link_ids(const struct usb_link *l, uint16_t *vid, uint16_t *pid);
 int usb_link_gone(const struct usb_link *l);      /* the device vanished */
 /* The stream's stop flag (set by Ctrl-C / SIGTERM / SIGHUP): profiles check it in their

@@ -208,6 +208,7 @@ static void board_in(struct mock *m, unsigned char ep, int n)
 /* Take one command from the parser; 0 when it must wait (FIFO full) or none is there. */
 static int bd_parse_one(struct mock *m, struct board *b, double t)
 {
+  if (b->inbuf->len == 0) return 0;
   guint8 *cr = memchr(b->inbuf->data, '\r', b->inbuf->len);
   if (!cr) return 0;
   char cmd[128];

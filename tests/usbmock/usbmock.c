@@ -112,7 +112,13 @@ struct mock {
   mock_tick_fn on_tick;         /* called at every ioctl (under the lock): a device with its
                                    own clock (the EBB's motion queue) catches up */
   void *user;
+  int test_holds;               /* the test thread holds lock (mock_lock): a failed assertion
+                                   jumps out holding it; mock_reset lets it go */
 };
+
+/* The test thread's side of the lock. */
+#define mock_lock(m) do { g_mutex_lock(&(m)->lock); (m)->test_holds = 1; } while (0)
+#define mock_unlock(m) do { (m)->test_holds = 0; g_mutex_unlock(&(m)->lock); } while (0)
 
 MOCK_UNUSED static double mock_now(void)
 {
@@ -262,7 +268,7 @@ static gboolean mock_ioctl(UMockdevIoctlBase *h, UMockdevIoctlClient *client, gp
         unsigned also = m->probe_also[i] | 1u << i;
         for (int k = 0; k < 4; k++)
           if ((also >> k & 1) && !m->claimed[k] && !m->drv[k][0])
-            snprintf(m->drv[k], sizeof m->drv[k], "%s", m->probe[i]);
+            memcpy(m->drv[k], m->probe[i], sizeof m->drv[k]);
         m->attaches++;
       }                                         /* no driver for it: nothing binds, 0 */
     } else { rc = -1; e = ENOTTY; }
@@ -432,6 +438,7 @@ MOCK_UNUSED static int mock_start(struct mock *m, unsigned vid, unsigned pid, co
 /* Forget every URB and fault, empty the reply queues, the device is back (a new run). */
 MOCK_UNUSED static void mock_reset(struct mock *m)
 {
+  if (m->test_holds) mock_unlock(m);            /* left by an assertion that failed */
   g_mutex_lock(&m->lock);
   GQueue *qs[4] = { &m->reapable, &m->delayed, &m->pending_in, &m->held };
   for (int q = 0; q < 4; q++) {
