@@ -11,8 +11,11 @@
 ** is a plain increment through the COST_ADD_N macro, cheap enough for inner loops
 ** (tools/bench_cost.c measures it).  Arithmetic wider than the 16-bit word (plane
 ** equations, priority tests on products of coordinates) is counted by cost_mw_*, which
-** charge the multi-word sequence a single-accumulator machine needs.  At the end
-** cost_seconds multiplies each class's count by its time from the parameter table.
+** name the exact widths tube74 uses and charge the multi-word sequence a single-
+** accumulator machine needs twice over: at the 1974 program's widths (one word, double
+** word: n[], hitac10_seconds) and, apart, what the exact widths add (x[],
+** exact_hitac10_seconds); see "Two sets of counters" below and docs/machine.md.  At the
+** end cost_seconds multiplies each class's count by its time from the parameter table.
 **
 ** The parameter table (struct cost_params) has one row per constant, each with its
 ** name, value, unit and source ("inferred" with the reasoning where no document gives
