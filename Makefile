@@ -116,9 +116,9 @@ $(BUILD)/bench/refbench: tools/refbench.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
 # SOAK_SECONDS are up; failing scenes are saved as build/soak/fail-*.s74
 SOAK_SECONDS ?= 60
 .PHONY: soak
-$(BUILD)/soak: tests/soak.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
+$(BUILD)/tests/soak: tests/soak.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -o $@ $< $(REFOBJ) $(LIB) $(TEST_LIBS) $(PKG_LIBS) -lm
 
-soak: $(BUILD)/soak
-	$(BUILD)/soak --seconds $(SOAK_SECONDS) --out $(BUILD)/soak
+soak: $(BUILD)/tests/soak
+	$(BUILD)/tests/soak --seconds $(SOAK_SECONDS) --out $(BUILD)/soak

@@ -21,7 +21,10 @@
 ** written here are those values as the 1974 program held them (truncated), so that the
 ** core is charged what the 1974 program needed.
 ** Departure from the paper: faces are also given a uniform intensity here (grey, or
-** Lambert's law from `light`), which the paper reads from its input data.
+** Lambert's law from `light`), which the paper reads from its input data. And a face
+** that the rounding folds (simple in space, not on the grid: seen almost edge-on or from
+** far away) is split on request of the Segment Generator's caller into triangles by
+** exact ear clipping in its plane, holes bridged first (mapper_split_face).
 */
 #include "render/mapper.h"
 
@@ -397,45 +400,182 @@ static int64_t orient2(const int64_t *p, const int64_t *q, const int64_t *r)
   return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
 }
 
+static bool same2(const int64_t *p, const int64_t *q) { return p[0] == q[0] && p[1] == q[1]; }
+
 static bool in_tri(const int64_t *a, const int64_t *b, const int64_t *c, const int64_t *p)
 {
   return orient2(a, b, p) >= 0 && orient2(b, c, p) >= 0 && orient2(c, a, p) >= 0;
 }
 
-int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *cost,
-                      int *ntri, struct t74_error *err)
+/* The diagonal a-p leaves vertex a (neighbours ap before it, an after it, the polygon
+   counter-clockwise) into the polygon's inside: O'Rourke's in-cone test, strict. Needed
+   where a bridge makes one point a vertex twice: there the emptiness of an ear's triangle
+   alone does not tell which of the two copies the diagonal leaves from. */
+static bool in_cone(const int64_t *ap, const int64_t *a, const int64_t *an, const int64_t *p)
 {
-  *ntri = 0;
-  struct mface *f = &m->f[k];
-  if (f->nring != 1) return T74_EINPUT;
-  int n = f->ring_start[1];
-  int ax = 0;
-  for (int c = 1; c < 3; c++)
-    if ((f->plane[c] < 0 ? -f->plane[c] : f->plane[c]) > (f->plane[ax] < 0 ? -f->plane[ax] : f->plane[ax]))
-      ax = c;
-  int u = ax == 0 ? 1 : 0, v = ax == 2 ? 1 : 2;
-  int64_t (*q)[2] = malloc((size_t)n * sizeof *q);
-  int *left = malloc((size_t)n * sizeof *left);
-  int (*tri)[3] = malloc((size_t)(n > 2 ? n - 2 : 1) * sizeof *tri);
-  if (!q || !left || !tri) {
-    free(q); free(left); free(tri);
-    return t74_fail(err, T74_EIO, "out of host memory");
+  if (orient2(ap, a, an) >= 0)                       /* convex (or straight) at a */
+    return orient2(a, p, ap) > 0 && orient2(p, a, an) > 0;
+  return !(orient2(a, p, an) >= 0 && orient2(p, a, ap) >= 0);
+}
+
+/* p strictly inside segment a-b (a != b) */
+static bool on_open_seg(const int64_t *a, const int64_t *b, const int64_t *p)
+{
+  if (orient2(a, b, p) != 0 || same2(p, a) || same2(p, b)) return false;
+  return (p[0] - a[0]) * (p[0] - b[0]) <= 0 && (p[1] - a[1]) * (p[1] - b[1]) <= 0;
+}
+
+/* The bridge m-w (m != w) meets edge a-b elsewhere than at its own ends. */
+static bool bridge_hits(const int64_t *m, const int64_t *w, const int64_t *a, const int64_t *b)
+{
+  if (same2(a, b)) return on_open_seg(m, w, a);
+  if (on_open_seg(m, w, a) || on_open_seg(m, w, b) || on_open_seg(a, b, m) || on_open_seg(a, b, w))
+    return true;
+  int64_t d1 = orient2(a, b, m), d2 = orient2(a, b, w), d3 = orient2(m, w, a), d4 = orient2(m, w, b);
+  return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+/* Even-odd of the doubled point (px, py) / 2 against every ring (coordinates doubled);
+   -1 when it lies on an edge. */
+static int inside2(const int64_t (*q)[2], const int *rs, int nring, int64_t px, int64_t py)
+{
+  int in = 0;
+  for (int r = 0; r < nring; r++)
+    for (int i = rs[r]; i < rs[r + 1]; i++) {
+      int j = i + 1 < rs[r + 1] ? i + 1 : rs[r];
+      int64_t a[2] = { 2 * q[i][0], 2 * q[i][1] }, b[2] = { 2 * q[j][0], 2 * q[j][1] }, p[2] = { px, py };
+      if (same2(a, p) || on_open_seg(a, b, p)) return -1;
+      if ((a[1] > py) != (b[1] > py)) {
+        int64_t o = orient2(a, b, p);
+        if ((b[1] > a[1]) == (o > 0)) in ^= 1;      /* the edge passes right of p */
+      }
+    }
+  return in;
+}
+
+/* The rings are simple in the projected plane: no two edges meet except at a shared end
+   point (neighbours in a ring, or rings touching at one vertex position), and neighbours
+   do not fold back. The scene reader checked this of the face as given; it is checked
+   again here because the Mapper dropped vertices that rounded onto their predecessor. */
+static bool rings_simple(const int64_t (*q)[2], const int *rs, int nring, struct cost *cost)
+{
+  int n = rs[nring];
+  for (int i = 0; i < n; i++) {
+    int ri = 0;
+    while (i >= rs[ri + 1]) ri++;
+    int i2 = i + 1 < rs[ri + 1] ? i + 1 : rs[ri];
+    const int64_t *a = q[i], *b = q[i2];
+    if (same2(a, b)) return false;
+    for (int j = i + 1; j < n; j++) {
+      int rj = ri;
+      while (j >= rs[rj + 1]) rj++;
+      int j2 = j + 1 < rs[rj + 1] ? j + 1 : rs[rj];
+      const int64_t *c = q[j], *d = q[j2];
+      cost_mw_mul(cost, 17, 17);
+      if (j == i2 || j2 == i) {                /* neighbours: no folding back */
+        const int64_t *sh = j == i2 ? b : a, *x = j == i2 ? a : b, *y = j == i2 ? d : c;
+        if (orient2(sh, x, y) == 0 && (x[0] - sh[0]) * (y[0] - sh[0]) + (x[1] - sh[1]) * (y[1] - sh[1]) > 0)
+          return false;
+        continue;
+      }
+      if ((same2(a, c) && same2(b, d)) || (same2(a, d) && same2(b, c))) return false;
+      if (on_open_seg(a, b, c) || on_open_seg(a, b, d) || on_open_seg(c, d, a) || on_open_seg(c, d, b))
+        return false;
+      int64_t d1 = orient2(a, b, c), d2 = orient2(a, b, d), d3 = orient2(c, d, a), d4 = orient2(c, d, b);
+      if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+        return false;
+    }
   }
-  int64_t area = 0;
-  for (int i = 0; i < n; i++) { q[i][0] = f->xyz[i][u]; q[i][1] = f->xyz[i][v]; }
-  for (int i = 0; i < n; i++) area += q[i][0] * q[(i + 1) % n][1] - q[(i + 1) % n][0] * q[i][1];
-  for (int i = 0; i < n; i++) left[i] = area > 0 ? i : n - 1 - i;      /* counter-clockwise */
-  int nl = n, nt = 0;
+  return true;
+}
+
+/* The face's rings as one counter-clockwise index list in the projected plane: each hole
+   joined to what is built so far by a bridge from one of its vertices to a vertex in
+   sight (crossing no edge and no bridge, its midpoint inside the face), walked around and
+   back along the bridge. Returns the list's length, or -1 when no bridge was found. */
+static int bridge_rings(const int64_t (*q)[2], const int *rs, int nring, int *out, int attempt,
+                        struct cost *cost)
+{
+  int n = 0;
+  int64_t area0 = 0;
+  for (int i = rs[0]; i < rs[1]; i++) {
+    int j = i + 1 < rs[1] ? i + 1 : rs[0];
+    area0 += q[i][0] * q[j][1] - q[j][0] * q[i][1];
+  }
+  for (int i = rs[0]; i < rs[1]; i++) out[n++] = area0 > 0 ? i : rs[1] - 1 - (i - rs[0]);
+  for (int h = 1; h < nring; h++) {
+    int hb = rs[h], he = rs[h + 1], hn = he - hb;
+    int64_t ah = 0;
+    for (int i = hb; i < he; i++) {
+      int j = i + 1 < he ? i + 1 : hb;
+      ah += q[i][0] * q[j][1] - q[j][0] * q[i][1];
+    }
+    /* attempt 0: the shortest bridge in sight; later attempts (when the ears ran into a
+       dead end): the first in sight from a rotated start */
+    int bm = -1, bw = -1;
+    wide best = 0;
+    for (int mi0 = 0; mi0 < hn && (attempt == 0 || bm < 0); mi0++) {
+      int mi = (mi0 + attempt) % hn;
+      const int64_t *M = q[hb + mi];
+      for (int wi0 = 0; wi0 < n && (attempt == 0 || bm < 0); wi0++) {
+        int wi = (wi0 + 7 * attempt) % n;
+        const int64_t *Wp = q[out[wi]];
+        wide dx = Wp[0] - M[0], dy = Wp[1] - M[1], d2 = dx * dx + dy * dy;
+        if (attempt == 0 && bm >= 0 && d2 >= best) continue;
+        bool ok = true;
+        if (!same2(M, Wp)) {
+          for (int e = 0; e < n && ok; e++)
+            ok = !bridge_hits(M, Wp, q[out[e]], q[out[(e + 1) % n]]);
+          for (int r = h; r < nring && ok; r++)
+            for (int i = rs[r]; i < rs[r + 1] && ok; i++)
+              ok = !bridge_hits(M, Wp, q[i], q[i + 1 < rs[r + 1] ? i + 1 : rs[r]]);
+          cost_mw_mul(cost, 17, 17);
+          ok = ok && inside2(q, rs, nring, M[0] + Wp[0], M[1] + Wp[1]) == 1;
+        }
+        if (ok) { bm = mi; bw = wi; best = d2; }
+      }
+    }
+    if (bm < 0) return -1;
+    /* out[0..bw], then the hole clockwise from M round to M, then out[bw] again, then the
+       rest; when M and out[bw] are one point (the hole touches there), the walk starts
+       after M instead, so that point is passed twice but never twice in a row */
+    int dup = !same2(q[hb + bm], q[out[bw]]);
+    int walk = dup ? hn + 2 : hn, tail = n - bw - 1;
+    memmove(out + bw + 1 + walk, out + bw + 1, (size_t)tail * sizeof *out);
+    int at = bw + 1;
+    for (int t = dup ? 0 : 1; t <= hn; t++) {
+      int i = (bm + (ah < 0 ? t : hn - t)) % hn;          /* clockwise */
+      out[at++] = hb + i;
+    }
+    if (dup) out[at++] = out[bw];
+    n = at + tail;
+  }
+  return n;
+}
+
+/* Ear clipping of the counter-clockwise list left[0..*pnl) into tri; *pnl is left at 3
+   when done (the last triangle not yet in tri), above 3 at a dead end. Returns the
+   triangles made. */
+static int ear_clip(const int64_t (*q)[2], int *left, int *pnl, int (*tri)[3], struct cost *cost)
+{
+  int nt = 0, nl = *pnl;
   while (nl > 3) {
     int ear = -1;
     for (int i = 0; i < nl && ear < 0; i++) {
       const int64_t *a = q[left[(i + nl - 1) % nl]], *b = q[left[i]], *c = q[left[(i + 1) % nl]];
       cost_mw_mul(cost, 17, 17);
       if (orient2(a, b, c) <= 0) continue;
+      const int64_t *ap = q[left[(i + nl - 2) % nl]], *cn = q[left[(i + 2) % nl]];
+      if (!in_cone(ap, a, b, c) || !in_cone(b, c, cn, a)) continue;
+      /* and no edge crosses the cut a-c: an edge ending at a point the polygon passes
+         twice (a bridge's end) can enter the triangle without a vertex inside it */
       bool empty = true;
+      for (int j = 0; j < nl && empty; j++)
+        empty = !bridge_hits(a, c, q[left[j]], q[left[(j + 1) % nl]]);
       for (int j = 0; j < nl && empty; j++) {
-        if (j == i || j == (i + nl - 1) % nl || j == (i + 1) % nl) continue;
-        empty = !in_tri(a, b, c, q[left[j]]);
+        const int64_t *p = q[left[j]];
+        if (same2(p, a) || same2(p, b) || same2(p, c)) continue;   /* bridge ends */
+        empty = !in_tri(a, b, c, p);
       }
       if (empty) ear = i;
     }
@@ -445,6 +585,41 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
     for (int j = ear; j + 1 < nl; j++) left[j] = left[j + 1];
     nl--;
   }
+  *pnl = nl;
+  return nt;
+}
+
+#define SPLIT_ATTEMPTS 8     /* bridge choices tried when the ears run into a dead end */
+
+int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *cost,
+                      int *ntri, struct t74_error *err)
+{
+  *ntri = 0;
+  struct mface *f = &m->f[k];
+  int n = f->ring_start[f->nring];
+  int ax = 0;
+  for (int c = 1; c < 3; c++)
+    if ((f->plane[c] < 0 ? -f->plane[c] : f->plane[c]) > (f->plane[ax] < 0 ? -f->plane[ax] : f->plane[ax]))
+      ax = c;
+  int u = ax == 0 ? 1 : 0, v = ax == 2 ? 1 : 2;
+  int cap = n + 2 * f->nring + 2;
+  int64_t (*q)[2] = malloc((size_t)n * sizeof *q);
+  int *left = malloc((size_t)cap * sizeof *left);
+  int (*tri)[3] = malloc((size_t)cap * sizeof *tri);
+  if (!q || !left || !tri) {
+    free(q); free(left); free(tri);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  for (int i = 0; i < n; i++) { q[i][0] = f->xyz[i][u]; q[i][1] = f->xyz[i][v]; }
+  bool simple = rings_simple((const int64_t (*)[2])q, f->ring_start, f->nring, cost);
+  int nl = -1, nt = 0;
+  for (int attempt = 0; simple && attempt < SPLIT_ATTEMPTS; attempt++) {
+    nl = bridge_rings((const int64_t (*)[2])q, f->ring_start, f->nring, left, attempt, cost);
+    if (nl < 0) break;
+    nt = ear_clip((const int64_t (*)[2])q, left, &nl, tri, cost);
+    if (nl == 3 || f->nring == 1) break;      /* done, or no bridge to choose otherwise */
+  }
+  if (nl < 0) { free(q); free(left); free(tri); return T74_EINPUT; }
   if (nl == 3) { tri[nt][0] = left[0]; tri[nt][1] = left[1]; tri[nt][2] = left[2]; nt++; }
   free(q);
   free(left);

@@ -48,11 +48,13 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
 
 /* Face k, whose grid polygon the Segment Generator refused as not simple (the rounding
    of its vertices, seen almost edge-on or from far away, folded it), is split into
-   triangles by exact ear clipping in its own plane, before rounding matters: every
+   triangles by exact ear clipping in its own plane, before rounding matters (holes first
+   joined to the outer ring by bridges between vertices in sight of each other): every
    triangle keeps the face's number, plane and grid points, and is simple on the grid
    (or covers no point). Face k becomes the first triangle, the others are appended;
-   *ntri is how many remain (0: none covers a point, face k is left as it was). Faces with
-   holes are not split (T74_EINPUT is returned, err untouched). */
+   *ntri is how many remain (0: none covers a point, face k is left as it was).
+   T74_EINPUT (err untouched) when the rings are not simple in the plane either (the
+   Mapper dropped vertices that rounded onto their predecessor) or no split was found. */
 int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *cost,
                       int *ntri, struct t74_error *err);
 

@@ -16,8 +16,9 @@
 
 /* A face whose grid polygon the Segment Generator refuses was simple in the scene (the
    scene reader checked it exactly): the rounding of its vertices folded it. It is split
-   into triangles in space (mapper_split_face) and the triangles are segmented instead;
-   a face with holes cannot be split so, and is refused at its line, naming the rounding. */
+   into triangles in space (mapper_split_face, holes joined by bridges) and the triangles
+   are segmented instead; a face that cannot be split so is refused at its line, naming
+   the rounding. */
 static int segment_all(struct render *r, const struct scene *s, struct t74_error *err)
 {
   struct cost *cost = &r->cost[RS_SEGMENT];
@@ -47,11 +48,9 @@ static int segment_all(struct render *r, const struct scene *s, struct t74_error
       if (st == T74_EINPUT)
         return t74_fail_at(err, T74_EINPUT, s->file, f->sline,
                            "face %u: rounded onto the plane grid (1/%d unit) its boundary is "
-                           "no longer simple (%s), and %s; it is seen almost edge-on or from "
-                           "far away: move the eye or the face", (unsigned)f->id,
-                           (int)GRID_ONE, why,
-                           f->nring > 1 ? "a face with holes is not split into triangles"
-                                        : "no split into triangles was found");
+                           "no longer simple (%s), and no split into triangles was found; it "
+                           "is seen almost edge-on or from far away: move the eye or the face",
+                           (unsigned)f->id, (int)GRID_ONE, why);
       if (st != T74_OK) return st;
       if (ntri == 0) continue;
       f = &r->map.f[k];

@@ -131,7 +131,7 @@ int main(int argc, char **argv)
         char path[4096];
         snprintf(path, sizeof path, "%s/fail-%s-%llu.s74", out, hg_family_name(fam),
                  (unsigned long long)sd);
-        xd_save(&s, path);
+        if (xd_save(&s, path) != 0) fprintf(stderr, "%s: cannot write\n", path);
         fails++;
         if (r.status) fprintf(stderr, "%s (cell %d): refused: %s\n", path, cell, r.msg);
         else fprintf(stderr, "%s (cell %d, %s): %ld points wrong, first (%d, %d) got %u want %u\n",

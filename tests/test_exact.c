@@ -17,12 +17,16 @@
 **                     valid faces that rounding onto the plane grid folds (seen almost
 **                     edge-on or from far away), refused before with "crossings ... do not
 **                     alternate" / "the boundary doubles back" and no FILE:LINE;
-**   folded-hole       a face with a hole that rounding pushes across its boundary: the one
-**                     case still refused, now at FILE:LINE, naming the rounding.
+**   folded-hole       a face with a hole that rounding pushes across its boundary (refused
+**                     before; now split into triangles with the hole bridged);
+**   two-holes-folded  a plate with two holes seen almost edge-on: the first bridges chosen
+**                     led the ear clipping into a dead end (a point passed three times).
+** And mapper_split_face itself: a square with a square hole splits into triangles whose
+** grid areas add up to the face's exactly; a ring that is not simple in space (which the
+** scene reader never lets through) is refused, not split into overlapping triangles.
 ** Each scene is judged at both cell sizes with the dense and the sparse priority matrix
 ** through the library, and window-touching and folded-hole also through the real program
-** ($TUBE74, default ./tube74): --dump ids against the reference; exit status, message
-** and no output file for the refusal.
+** ($TUBE74, default ./tube74): --dump ids against the reference.
 */
 #include <errno.h>
 #include <fcntl.h>
@@ -39,6 +43,9 @@
 #include <unistd.h>
 #include <cmocka.h>
 
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "render/mapper.h"
 #include "tests/ref/exactref.h"
 #include "tests/ref/xdiff.h"
 
@@ -119,6 +126,91 @@ static void test_folded_by_rounding(void **state)
   judge_all("edge-on-2");
   judge_all("rounding-folds");
   judge_all("doubles-back");
+  judge_all("folded-hole");
+  judge_all("two-holes-folded");
+}
+
+/* ---- mapper_split_face on its own ---------------------------------------------------- */
+
+static struct mface mk_face(int nring, const int *rs, int n, const int (*xy)[2])
+{
+  struct mface f;
+  memset(&f, 0, sizeof f);
+  f.id = 5;
+  f.nring = nring;
+  f.ring_start = malloc((size_t)(nring + 1) * sizeof *f.ring_start);
+  f.pt = malloc((size_t)n * sizeof *f.pt);
+  f.vid = malloc((size_t)n * sizeof *f.vid);
+  f.xyz = malloc((size_t)n * sizeof *f.xyz);
+  assert_non_null(f.ring_start); assert_non_null(f.pt); assert_non_null(f.vid);
+  assert_non_null(f.xyz);
+  for (int r = 0; r <= nring; r++) f.ring_start[r] = rs[r];
+  for (int k = 0; k < n; k++) {
+    f.xyz[k][0] = xy[k][0]; f.xyz[k][1] = xy[k][1]; f.xyz[k][2] = 100;
+    f.pt[k].x = 256 * xy[k][0]; f.pt[k].y = 256 * xy[k][1];     /* as if seen head-on */
+    f.vid[k] = (uint16_t)(k + 1);
+  }
+  f.plane[2] = 1; f.plane[3] = -100; f.deye = 1100;
+  return f;
+}
+
+static __int128 tri_area2(const struct mface *f)
+{
+  const struct gpoint *p = f->pt;
+  return (__int128)(p[1].x - p[0].x) * (p[2].y - p[0].y) -
+         (__int128)(p[1].y - p[0].y) * (p[2].x - p[0].x);
+}
+
+static void test_split_face(void **state)
+{
+  (void)state;
+  struct core *core = core_new(1u << 20);
+  assert_non_null(core);
+  struct cost cost;
+  memset(&cost, 0, sizeof cost);
+  struct t74_error err = { 0, "" };
+  /* a 10 x 10 square (counter-clockwise) with a 4 x 4 hole (clockwise) off centre */
+  static const int sq[8][2] = { { 0, 0 }, { 10, 0 }, { 10, 10 }, { 0, 10 },
+                                { 2, 3 }, { 2, 7 }, { 6, 7 }, { 6, 3 } };
+  int rs[3] = { 0, 4, 8 };
+  struct mapped m;
+  memset(&m, 0, sizeof m);
+  m.f = calloc(1, sizeof *m.f);
+  assert_non_null(m.f);
+  m.cap = 1;
+  m.f[0] = mk_face(2, rs, 8, sq);
+  m.nface = 1;
+  int ntri = 0;
+  assert_int_equal(mapper_split_face(&m, 0, core, &cost, &ntri, &err), T74_OK);
+  assert_int_equal(ntri, 8);                  /* n + 2 (holes) - 2 for a bridged ring */
+  assert_int_equal(m.nface, 8);
+  assert_int_equal(m.split, 1);
+  __int128 sum = 0;
+  for (int k = 0; k < m.nface; k++) {
+    assert_int_equal(m.f[k].nring, 1);
+    assert_int_equal(m.f[k].id, 5);
+    __int128 a = tri_area2(&m.f[k]);
+    assert_true(a > 0);                       /* counter-clockwise on the grid */
+    sum += a;
+  }
+  assert_true(sum == (__int128)2 * 256 * 256 * (100 - 16));
+  mapper_free(&m);
+
+  /* a bow-tie: not simple in space, so no split (T74_EINPUT, nothing changed) */
+  static const int bow[4][2] = { { 0, 0 }, { 10, 10 }, { 10, 0 }, { 0, 10 } };
+  int rb[2] = { 0, 4 };
+  memset(&m, 0, sizeof m);
+  m.f = calloc(1, sizeof *m.f);
+  assert_non_null(m.f);
+  m.cap = 1;
+  m.f[0] = mk_face(1, rb, 4, bow);
+  m.nface = 1;
+  assert_int_equal(mapper_split_face(&m, 0, core, &cost, &ntri, &err), T74_EINPUT);
+  assert_int_equal(m.nface, 1);
+  assert_int_equal(m.f[0].nring, 1);
+  assert_int_equal(m.f[0].ring_start[1], 4);
+  mapper_free(&m);
+  core_free(core);
 }
 
 /* ---- through the real program ------------------------------------------------------- */
@@ -204,15 +296,11 @@ static void test_cli_folded_hole(void **state)
   snprintf(png, sizeof png, "%s/out.png", dir);
   snprintf(err, sizeof err, "%s/err.txt", dir);
   const char *args[] = { prog(), "render", DATA "folded-hole.s74", "-o", png, NULL };
-  assert_int_equal(run(args, err), 2);
-  char *msg = slurp(err, NULL);
-  assert_non_null(msg);
-  /* FILE:LINE of the face statement, and the reason: the rounding onto the plane grid */
-  assert_non_null(strstr(msg, DATA "folded-hole.s74:11: face 1: "));
-  assert_non_null(strstr(msg, "rounded onto the plane grid"));
-  free(msg);
+  assert_int_equal(run(args, err), 0);
   struct stat st;
-  assert_true(stat(png, &st) != 0 && errno == ENOENT);
+  assert_int_equal(stat(png, &st), 0);
+  assert_true(st.st_size > 0);
+  unlink(png);
   unlink(err);
   rmdir(dir);
 }
@@ -226,6 +314,7 @@ int main(void)
     cmocka_unit_test(test_edge_and_vertex),
     cmocka_unit_test(test_book_spine),
     cmocka_unit_test(test_folded_by_rounding),
+    cmocka_unit_test(test_split_face),
     cmocka_unit_test(test_cli_window_touching),
     cmocka_unit_test(test_cli_folded_hole),
   };

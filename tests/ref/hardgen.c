@@ -35,7 +35,7 @@ const char *hg_family_name(int fam)
 {
   static const char *const n[HG_NFAMILIES] = {
     "wall", "coplanar", "vshare", "tjunc", "sliver", "far", "edgeon", "snapped", "fold",
-    "holes", "mix"
+    "holes", "mix", "crowd"
   };
   return fam >= 0 && fam < HG_NFAMILIES ? n[fam] : "?";
 }
@@ -541,6 +541,29 @@ static void fam_holes(struct gen *g)
 
 static void fam_one(struct gen *g, int fam);
 
+static void fam_crowd(struct gen *g)
+{
+  struct plane pl[3];
+  int np = (int)rnd(&g->r, 1, 3);
+  for (int k = 0; k < np; k++) rplane(g, &pl[k], 10);
+  int64_t hub[3][3];
+  for (int k = 0; k < 3; k++) at(&pl[k % np], rnd(&g->r, -4, 4), rnd(&g->r, -4, 4), hub[k]);
+  int n = (int)rnd(&g->r, 10, 24);
+  for (int k = 0; k < n; k++) {
+    int64_t p[3][3];
+    for (int c = 0; c < 3; c++) {
+      switch (rnd(&g->r, 0, 3)) {
+      case 0: memcpy(p[c], hub[rnd(&g->r, 0, 2)], sizeof p[c]); break;     /* a shared point */
+      case 1: at(&pl[rnd(&g->r, 0, np - 1)], rnd(&g->r, -8, 8), rnd(&g->r, -8, 8), p[c]); break;
+      default:
+        for (int q = 0; q < 3; q++) p[c][q] = hub[0][q] + rnd(&g->r, -90, 90);
+        break;
+      }
+    }
+    tri3(g, p[0], p[1], p[2]);
+  }
+}
+
 static void fam_mix(struct gen *g)
 {
   static const int pick[] = { HG_WALL, HG_COPLANAR, HG_VSHARE, HG_TJUNC, HG_SNAPPED, HG_HOLES,
@@ -563,6 +586,7 @@ static void fam_one(struct gen *g, int fam)
   case HG_FOLD: fam_fold(g); break;
   case HG_HOLES: fam_holes(g); break;
   case HG_MIX: fam_mix(g); break;
+  case HG_CROWD: fam_crowd(g); break;
   default: fam_snapped(g); break;
   }
 }

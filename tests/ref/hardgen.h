@@ -18,7 +18,9 @@
 **             projected: rounding touches or folds them;
 **   holes     plates with holes, a coplanar face filling a hole (sharing its edges),
 **             faces piercing the plate at a hole's corner;
-**   mix       two or three of the above in one scene.
+**   mix       two or three of the above in one scene;
+**   crowd     ten to twenty-four triangles through a few shared planes and points,
+**             crossing each other many times over.
 ** Every face is exactly planar (O + a U + b V with integer O, U, V, a, b), every ring is
 ** simple in the plane (checked exactly), every vertex lies in front of the eye, in range.
 ** The stream is splitmix64, so (family, seed) gives the same scene on every machine.
@@ -31,7 +33,7 @@
 
 enum hg_family {
   HG_WALL, HG_COPLANAR, HG_VSHARE, HG_TJUNC, HG_SLIVER, HG_FAR, HG_EDGEON, HG_SNAPPED,
-  HG_FOLD, HG_HOLES, HG_MIX, HG_NFAMILIES
+  HG_FOLD, HG_HOLES, HG_MIX, HG_CROWD, HG_NFAMILIES
 };
 
 const char *hg_family_name(int fam);
