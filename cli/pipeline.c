@@ -67,6 +67,7 @@ struct pipeline {
   struct cost fx;                   /* the effects stage (render/fx.h) */
   const struct job_hooks *hooks;
   const struct cost_params *params;
+  double first_dot;                 /* 1974 time the first lit dot reached the tube (< 0: none yet) */
 };
 
 void job_usage(FILE *f)
@@ -225,6 +226,9 @@ static int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool
   int level = face < 0 && bg_level && p->scan ? scan_level(p->scan, i, j, &p->scanner)
                                               : pat_level(p->cell, grey);
   if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
+  /* the first dot: 003 cuts and scans bottom to top so that the picture shows while it is
+     computed; this is when the viewer first sees something (its own lookups not counted) */
+  if (level > 0 && p->first_dot < 0) p->first_dot = pipeline_seconds(p);
   /* per point: intensity and level lookups, the cell's pattern word, then one display
      command per lit dot */
   COST_ADD_N(&p->display, COST_MEM, 4);
@@ -409,6 +413,10 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   }
   outfile_printf(of, "  \"scanner_seconds\": %.6f,\n", ss.scanner_seconds);
   outfile_printf(of, "  \"disk_seconds\": %.6f,\n", ss.disk_seconds);
+  if (p->first_dot >= 0)
+    outfile_printf(of, "  \"first_dot_1974_seconds\": %.6f,\n", p->first_dot);
+  else
+    outfile_printf(of, "  \"first_dot_1974_seconds\": null,\n");
   if (p->scan)
     outfile_printf(of, "  \"scanner\": {\"photo_mm\": [%.1f, %.1f], \"samples\": %d, \"lines\": %d, "
                    "\"drum_seconds\": %.6f, \"input_disk_seconds\": %.6f, \"disk_words\": %u, "
@@ -608,6 +616,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   int st;
   memset(&r, 0, sizeof r);
   memset(&p, 0, sizeof p);
+  p.first_dot = -1;
   memset(&jo, 0, sizeof jo);
 
   double t0 = now_seconds();
@@ -654,7 +663,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
   struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
-  st = render_prepare_arith(&r, s, &ro, o->arith, err);
+  st = render_prepare_lazy_arith(&r, s, &ro, o->arith, err);
   if (st != T74_OK) goto done;
 
   t = tube_new();

@@ -164,6 +164,11 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
   return T74_OK;
 }
 
+int prio_auto_store(uint64_t n)
+{
+  return tri_words(n) <= PRIO_DENSE_MAX_WORDS ? PRIO_DENSE : PRIO_SPARSE;
+}
+
 int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
               struct core *core, struct cost *cost, int store, struct t74_error *err)
 {
@@ -175,7 +180,7 @@ int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
   /* The choice depends on the scene only, never on --core, so that the words a scene
      needs are the same whatever core it is given. */
   if (store == PRIO_AUTO)
-    store = tri_words((uint64_t)seg->n) <= PRIO_DENSE_MAX_WORDS ? PRIO_DENSE : PRIO_SPARSE;
+    store = prio_auto_store((uint64_t)seg->n);
   pr->store = store;
   if (store == PRIO_DENSE) return dense_cover(pr, (uint64_t)seg->n, err);
   return sparse_grow(pr, err);

@@ -50,6 +50,9 @@ struct prio {
 
 /* store: PRIO_AUTO keeps the paper's dense matrix while the triangle for the pieces known
    now takes at most half of the historical 16 kW, else hashes the pairs that actually meet. */
+/* The store PRIO_AUTO chooses for a scene of n pieces: PRIO_DENSE or PRIO_SPARSE. */
+int prio_auto_store(uint64_t n);
+
 int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
               struct core *core, struct cost *cost, int store, struct t74_error *err);
 

@@ -5,9 +5,18 @@
 ** Generator on every face (§3.1), then set up the Priority Matrix (Fig. 9) and the Visible
 ** Surface Procedure (§4), all with their tables in the machine's core. Operations are
 ** counted per stage so the 1974 time can be reported stage by stage.
+**
+** Cut while displaying (§3.1: faces are cut bottom to top "so that the picture is shown
+** while it is computed"): with render_prepare_lazy the scan drives the Segment Generator
+** through the Visible Surface Procedure's feed hook: before each line every face whose
+** lowest vertex the line has reached is cut (order: lowest y, then the Mapper's number),
+** and render_scan cuts the faces above its last line at the end, so the pieces never
+** depend on the window. The Priority Matrix's store is then chosen from an estimate of
+** the pieces (pieces_estimate), the pieces themselves not existing yet.
 */
 #include "render/render.h"
 
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,15 +28,17 @@
    into triangles in space (mapper_split_face, holes joined by bridges) and the triangles
    are segmented instead; a face that cannot be split so is refused at its line, naming
    the rounding. */
-static int segment_all(struct render *r, const struct scene *s, struct t74_error *err)
+static int segment_face(struct render *r, const struct scene *s, int k, struct t74_error *err)
 {
   struct cost *cost = &r->cost[RS_SEGMENT];
+  struct cost *was = r->seg.cost;
   r->seg.cost = cost;
-  for (int k = 0; k < r->map.nface; k++) {
+  int st = T74_OK;
+  {
     const struct mface *f = &r->map.f[k];
     struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
     struct seg_result res = { 0 };
-    int st = seg_generate(&in, &res, r->tables, r->core, cost, err);
+    st = seg_generate(&in, &res, r->tables, r->core, cost, err);
     if (st == T74_EINPUT && r->arith == GEOM_HITAC) {
       /* --arith hitac: the 1974 coordinates folded the face; that program would have
          drawn nothing sensible of it: skip it, with a counted warning */
@@ -36,7 +47,8 @@ static int segment_all(struct render *r, const struct scene *s, struct t74_error
       memset(err, 0, sizeof *err);
       seg_result_free(&res);
       r->arith_skipped++;
-      continue;
+      st = T74_OK;
+      goto out;
     }
     if (st == T74_EINPUT) {
       seg_result_free(&res);
@@ -45,14 +57,16 @@ static int segment_all(struct render *r, const struct scene *s, struct t74_error
       memset(err, 0, sizeof *err);
       int ntri = 0;
       st = mapper_split_face(&r->map, k, r->core, cost, &ntri, err);
-      if (st == T74_EINPUT)
-        return t74_fail_at(err, T74_EINPUT, s->file, f->sline,
+      if (st == T74_EINPUT) {
+        st = t74_fail_at(err, T74_EINPUT, s->file, f->sline,
                            "face %u: rounded onto the plane grid (1/%d unit) its boundary is "
                            "no longer simple (%s), and no split into triangles was found; it "
                            "is seen almost edge-on or from far away: move the eye or the face",
                            (unsigned)f->id, (int)GRID_ONE, why);
-      if (st != T74_OK) return st;
-      if (ntri == 0) continue;
+        goto out;
+      }
+      if (st != T74_OK) goto out;
+      if (ntri == 0) goto out;
       f = &r->map.f[k];
       struct seg_input tin = { f->id, f->nring, f->ring_start, f->pt, f->vid };
       st = seg_generate(&tin, &res, r->tables, r->core, cost, err);
@@ -60,24 +74,104 @@ static int segment_all(struct render *r, const struct scene *s, struct t74_error
         snprintf(why, sizeof why, "%s", err->msg);
         memset(err, 0, sizeof *err);
         seg_result_free(&res);
-        return t74_fail_at(err, T74_EINPUT, s->file, f->sline,
-                           "face %u: a triangle of it, rounded onto the plane grid, was "
-                           "refused: %s", (unsigned)f->id, why);
+        st = t74_fail_at(err, T74_EINPUT, s->file, f->sline,
+                         "face %u: a triangle of it, rounded onto the plane grid, was "
+                         "refused: %s", (unsigned)f->id, why);
+        goto out;
       }
     }
     if (st != T74_OK) {
       seg_result_free(&res);
-      return st;
+      goto out;
     }
     r->concave_splits += res.ncut;
-    for (int p = 0; p < res.npiece; p++)
-      if (seginfo_add(&r->seg, k, res.piece[p].n, res.piece[p].line, err) < 0) {
-        seg_result_free(&res);
-        return err->status;
-      }
+    for (int p = 0; p < res.npiece && st == T74_OK; p++)
+      if (seginfo_add(&r->seg, k, res.piece[p].n, res.piece[p].line, err) < 0) st = err->status;
     seg_result_free(&res);
   }
+out:
+  r->seg.cost = was;
+  return st;
+}
+
+/* The lowest grid y of mapped face k (its lowest vertex). */
+static int64_t face_ymin(const struct mface *f)
+{
+  int64_t y = f->pt[0].y;
+  for (int i = 1; i < f->ring_start[f->nring]; i++) if (f->pt[i].y < y) y = f->pt[i].y;
+  return y;
+}
+
+/* Put face k into the order faces are cut in, among those not cut yet: lazily by lowest
+   y (after the faces of equal y, so ties go by number in the Mapper's table: exact
+   integers); otherwise last, the Mapper's order. */
+static int order_add(struct render *r, int k)
+{
+  if (r->cut_n == r->cut_cap) {
+    int cap = r->cut_cap ? 2 * r->cut_cap : 16;
+    int *o = realloc(r->cut_order, (size_t)cap * sizeof *o);
+    if (!o) return 0;
+    r->cut_order = o;
+    r->cut_cap = cap;
+  }
+  int i = r->cut_n++;
+  if (r->lazy) {
+    int64_t y = face_ymin(&r->map.f[k]);
+    while (i > r->cut_next && face_ymin(&r->map.f[r->cut_order[i - 1]]) > y) {
+      r->cut_order[i] = r->cut_order[i - 1];
+      i--;
+    }
+  }
+  r->cut_order[i] = k;
+  return 1;
+}
+
+/* Cut, in order, every face not yet cut whose lowest vertex is at or below the line
+   y = yn / yd (yd > 0; every face when yd == 0). A face split into triangles
+   (mapper_split_face) appends the others to the Mapper's table: they join the order. */
+static int cut_upto(struct render *r, int64_t yn, int64_t yd, struct t74_error *err)
+{
+  while (r->cut_next < r->cut_n) {
+    int k = r->cut_order[r->cut_next];
+    if (yd > 0) {
+      COST_ADD_N(&r->cost[RS_SEGMENT], COST_MEM, 2);   /* the face's y-min against the line */
+      if ((wide)face_ymin(&r->map.f[k]) * yd > (wide)yn) break;
+    }
+    r->cut_next++;
+    int before = r->map.nface;
+    int st = segment_face(r, r->scene, k, err);
+    if (st != T74_OK) return st;
+    for (int n = before; n < r->map.nface; n++)
+      if (!order_add(r, n)) return t74_fail(err, T74_EIO, "out of host memory");
+  }
   return T74_OK;
+}
+
+static int feed(void *ctx, int64_t yn, int64_t yd, struct t74_error *err)
+{
+  return cut_upto(ctx, yn, yd, err);
+}
+
+/* An estimate of the pieces a scene is cut into, from the scene alone (for the Priority
+   Matrix's dense/sparse choice before the pieces exist): one per face plus two per
+   concave vertex (each cut through concave vertices adds at most two pieces per vertex
+   on its line). */
+static uint64_t pieces_estimate(const struct mapped *m)
+{
+  uint64_t n = 0;
+  for (int k = 0; k < m->nface; k++) {
+    const struct mface *f = &m->f[k];
+    n++;
+    for (int r = 0; r < f->nring; r++) {
+      int lo = f->ring_start[r], cnt = f->ring_start[r + 1] - lo;
+      for (int i = 0; i < cnt; i++) {
+        struct gpoint a = f->pt[lo + (i + cnt - 1) % cnt], b = f->pt[lo + i],
+                      c = f->pt[lo + (i + 1) % cnt];
+        if (geom_orient(a, b, c) < 0) n += 2;
+      }
+    }
+  }
+  return n;
 }
 
 /* --arith hitac: X', Y' as the 1974 Mapper held them, one word each in whole world units
@@ -95,14 +189,8 @@ static void hold_h10(struct mapped *m)
   }
 }
 
-int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
-                   struct t74_error *err)
-{
-  return render_prepare_arith(r, s, o, GEOM_EXACT, err);
-}
-
-int render_prepare_arith(struct render *r, const struct scene *s, const struct render_opts *o,
-                         int arith, struct t74_error *err)
+static int prepare(struct render *r, const struct scene *s, const struct render_opts *o,
+                   bool lazy, int arith, struct t74_error *err)
 {
   memset(r, 0, sizeof *r);
   r->tables = o->tables;
@@ -122,17 +210,51 @@ int render_prepare_arith(struct render *r, const struct scene *s, const struct r
   if (arith == GEOM_HITAC) hold_h10(&r->map);
 
   r->ran[RS_SEGMENT] = 1;
-  st = segment_all(r, s, err);
-  if (st != T74_OK) return st;
+  r->scene = s;
+  r->lazy = lazy;
+  for (int k = 0; k < r->map.nface; k++)
+    if (!order_add(r, k)) return t74_fail(err, T74_EIO, "out of host memory");
+  int store = o->store;
+  if (lazy) {
+    /* the scan drives the Segment Generator (cut_upto, from vis_spans): decide the
+       matrix's store from the scene now */
+    if (store == PRIO_AUTO) store = prio_auto_store(pieces_estimate(&r->map));
+  } else {
+    st = cut_upto(r, 0, 0, err);
+    if (st != T74_OK) return st;
+  }
 
   r->seg.cost = &r->cost[RS_VISIBLE];
-  st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], o->store, err);
+  st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], store, err);
   if (st != T74_OK) return st;
   r->prio.trace = o->tables;
   r->prio.arith = arith;
   st = vis_init(&r->vis, &r->seg, &r->prio, &r->cost[RS_VISIBLE], err);
+  if (st != T74_OK) return st;
   r->vis.arith = arith;
-  return st;
+  if (lazy) {
+    r->vis.feed = feed;
+    r->vis.feed_ctx = r;
+  }
+  return T74_OK;
+}
+
+int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
+                   struct t74_error *err)
+{
+  return prepare(r, s, o, false, GEOM_EXACT, err);
+}
+
+int render_prepare_lazy(struct render *r, const struct scene *s, const struct render_opts *o,
+                        struct t74_error *err)
+{
+  return prepare(r, s, o, true, GEOM_EXACT, err);
+}
+
+int render_prepare_lazy_arith(struct render *r, const struct scene *s,
+                              const struct render_opts *o, int arith, struct t74_error *err)
+{
+  return prepare(r, s, o, true, arith, err);
 }
 
 int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, void *ctx,
@@ -140,6 +262,10 @@ int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, 
 {
   r->ran[RS_VISIBLE] = 1;
   int st = vis_scan(&r->vis, g, point, ctx, err);
+  /* the faces the scan never reached (above the window's top row) are cut too, so that
+     the pieces and their counts do not depend on the window */
+  if (st == T74_OK) st = cut_upto(r, 0, 0, err);
+  r->vis.feed = NULL;
   if (st == T74_OK && r->tables) {
     fprintf(r->tables, "\n");
     prio_dump(&r->prio, r->tables);
@@ -156,6 +282,8 @@ int render_pieces_alive(const struct render *r)
 
 void render_free(struct render *r)
 {
+  free(r->cut_order);
+  r->cut_order = NULL;
   vis_free(&r->vis);
   prio_free(&r->prio);
   seginfo_free(&r->seg);

@@ -40,6 +40,11 @@ struct render {
   int             concave_splits;
   int             ran[RS_NSTAGE];
   FILE           *tables;
+  const struct scene *scene;         /* for messages while the scan cuts faces */
+  int            *cut_order;         /* the order faces are cut in (lazy: by lowest y) */
+  int             cut_n, cut_cap;    /* faces in it, room */
+  int             cut_next;          /* faces cut so far (a prefix of cut_order) */
+  int             lazy;              /* 1: the scan drives the Segment Generator */
   int             arith;             /* GEOM_EXACT or GEOM_HITAC (--arith) */
   int             arith_skipped;     /* hitac: faces folded by 1974 coordinates, not drawn */
 };
@@ -47,10 +52,18 @@ struct render {
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
                    struct t74_error *err);
 
-/* The same with the decisions in `arith` (--arith): GEOM_EXACT, as render_prepare, or
+/* The same, but the Segment Generator is driven by the scan (003 §3.1: cut bottom to top
+   so that the picture is displayed while it is computed): render_scan cuts each face when
+   its line reaches the face's lowest vertex, and the faces above the last line at its end.
+   The scene must live until render_scan returns. Nothing but render_scan may look at the
+   pieces before then. */
+int render_prepare_lazy(struct render *r, const struct scene *s, const struct render_opts *o,
+                        struct t74_error *err);
+
+/* render_prepare_lazy with the decisions in `arith` (--arith): GEOM_EXACT, the same, or
    GEOM_HITAC, in the HITAC-10's word sizes as the 1974 program made them (geom.h). */
-int render_prepare_arith(struct render *r, const struct scene *s, const struct render_opts *o,
-                         int arith, struct t74_error *err);
+int render_prepare_lazy_arith(struct render *r, const struct scene *s,
+                              const struct render_opts *o, int arith, struct t74_error *err);
 
 /* The grid scan; face passed to point() is an index in r->map.f, or -1. */
 int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, void *ctx,

@@ -44,12 +44,32 @@
 ** crossings at one x (rule (b)), one touching from above two upper crossings (rules (b')
 ** and (c)). A ring with no crossing lies wholly on one side and goes, as a hole, to the
 ** piece of that side that contains it (exact point-in-polygon of one of its vertices).
-** Each cut is labelled in the trace with the rules it instantiates: (b) once per extra
-** lower piece, (b') once per extra upper piece, (c) once per hole ring it joins, (a)
-** when there is none of these.
+** THE TYPES AND THE MATCH. Every crossing point of the line (an IPL entry) gets its type
+** of Fig. 4, 5, exactly, from the x-sorted half-crossings and the ring (type_crossings):
+** a the boundary passes down through the line, b up; c a concave vertex (or horizontal
+** chain) touching it from below, d from above on the outer ring, e from above on a hole
+** ring; t a convex vertex or chain touching it (the paper names no type: it cuts only
+** through concave vertices). A point whose type cannot be decided means the boundary was
+** not simple (T74_EINPUT). The rules of eq. (3) are matched on the typed IPL
+** (trace_rules): each c is one (b), each d one (b'), the first e of a hole ring (x order)
+** one (c) and each further e of that ring, on the outer ring once joined, one (b') as its
+** d; each application takes one lower piece aAb, and the lower pieces left over are (a).
+** The trace names the rules from this match, e.g. Fig. 6's first cut "(c) (b')".
+** TIES where the paper is silent: crossings at one x are ordered by the slopes of their
+** sides (xsort_half, below); IPL merges the two halves' lists in exact x order, the lower
+** half's entry first on equal x; a crossing number is deleted from IPL after as many uses
+** as it has half-crossings (two for a point: the paper's "used twice"; one for each end
+** of a horizontal chain along the line).
+** THE TABLES OF FIG. 6. With a trace, every cut also prints the states (a)-(d) of Fig. 6
+** (trace_fig6): (a) PBS and IPL with the types under them; (b) after the lower pieces,
+** PBS with their vertices zeroed and IPL with the crossing numbers used up zeroed, and
+** LWS; (c) after each upper piece but the last; (d) after the last, "All Zero". Pieces
+** are listed from their vertex that comes first in PBS, as the paper lists them.
 **
-** Departures from the paper: the ordering of crossings at one point by slope (above),
-** instead of the paper's type codes a..e; crossing points at a vertex keep the vertex's
+** Departures from the paper: the pieces are walked from the pairs of the x-sorted
+** half-crossings, (1,2), (3,4), ... of each half, the same walk as the paper's jumps
+** between IPL neighbours (the types decide nothing the pairing has not already fixed:
+** a c, d or e is exactly a point whose two half-crossings belong to two intervals); crossing points at a vertex keep the vertex's
 ** number (as Fig. 6, where IPL holds vertices 10 and 8); new crossing points are numbered
 ** from max(10, largest vertex id) + 1 so they never collide with a vertex id (11, 12, ..
 ** as Fig. 6 for faces with ids up to 10). The output drops a vertex where the two sides
@@ -610,6 +630,323 @@ static void trace_ipl(FILE *f, const char *label, const struct halfcut *h,
     fprintf(f, "%s %u", j && j % 2 == 0 ? " |" : "", (unsigned)cross_num(P, mid, &h->x[j]));
 }
 
+/* ---- typed crossings (Fig. 4, Fig. 5) and the rule match of eq. (3) ------------------- */
+
+/* One crossing point of the cut line: one entry of the paper's IPL. A middle crossing of
+   a side, or a ring vertex on the line; a horizontal chain of sides along the line is two
+   entries (its ends), typed alike. */
+struct tcross {
+  int ring, key;                          /* key: vertex index k, or -1 - side (middle) */
+  uint16_t num;                           /* its number in PBS and IPL */
+  char type;                              /* 'a'..'e' (Fig. 5), 't' (see below) */
+  int nhalf;                              /* half-crossings it stands for: uses before deletion */
+  int at[2][2];                           /* per half: indices into hc[s].x (or -1) */
+  int partner;                            /* a chain's other end (IPL index), else -1 */
+  int uses;                               /* tables only: times used by a piece so far */
+};
+
+static int tc_find(const struct tcross *tc, int n, int ring, int key)
+{
+  for (int i = 0; i < n; i++) if (tc[i].ring == ring && tc[i].key == key) return i;
+  return -1;
+}
+
+static int tc_key(const struct wpiece *P, const struct xsort_cross *h)
+{
+  if (h->at == 1) return h->side;
+  if (h->at == 2) return (h->side + 1) % P->ring[h->ring].n;
+  return -1 - h->side;
+}
+
+/* The other end of the horizontal chain along y = c that starts at vertex k of ring g and
+   runs against (dir -1) or with (dir +1) the ring's order. */
+static int chain_end(const struct xs_ring *g, int k, int dir, gcoord c)
+{
+  for (int steps = 0; steps < g->n; steps++) {
+    int k1 = (k + dir + g->n) % g->n;
+    if (g->v[k1].y != c) return k;
+    k = k1;
+  }
+  return k;
+}
+
+/* Build IPL: the crossing points of both halves, merged in exact x order (on equal x,
+   the lower half's first, each half in its own order), each typed. Types, decided from
+   the half-crossings alone (integers and exact rationals only):
+     a  the boundary passes down through the line (the left end of a piece below and of
+        one above), b  it passes up (the right ends);
+     c  a concave vertex (or horizontal chain) touching the line from below: the end of
+        one interval below and the start of the next (rule (b));
+     d  the same from above on the piece's outer ring (rule (b'));
+     e  the same from above on a hole ring (rule (c): the hole is joined there);
+     t  a convex vertex or chain touching the line: it closes a piece at a point or along
+        a side and cuts nothing (the paper cuts only at concave vertices and names no type
+        for it).
+   "Touching, concave" is decided by the pairing of the x-sorted half-crossings: the two
+   half-crossings of the point are the end of one cut interval and the start of the next
+   (the first of them at an odd index) rather than the two ends of one interval.
+   Returns the count (at most the half-crossings of both halves). */
+static int type_crossings(const struct wpiece *P, uint16_t *const *mid, gcoord c,
+                          const struct halfcut *hc, struct tcross *tc, struct cost *cost)
+{
+  int n = 0;
+  int i[2] = { 0, 0 };
+  while (i[0] < hc[0].m || i[1] < hc[1].m) {
+    int s;
+    if (i[0] >= hc[0].m) s = 1;
+    else if (i[1] >= hc[1].m) s = 0;
+    else s = geom_rat_cmp(hc[0].x[i[0]].x, hc[1].x[i[1]].x) <= 0 ? 0 : 1;
+    count_xcmp(cost);
+    const struct xsort_cross *h = &hc[s].x[i[s]];
+    int key = tc_key(P, h), t = tc_find(tc, n, h->ring, key);
+    if (t < 0) {
+      t = n++;
+      memset(&tc[t], 0, sizeof tc[t]);
+      tc[t].ring = h->ring;
+      tc[t].key = key;
+      tc[t].num = cross_num(P, mid, h);
+      tc[t].partner = -1;
+      for (int a = 0; a < 2; a++) tc[t].at[a][0] = tc[t].at[a][1] = -1;
+    }
+    struct tcross *e = &tc[t];
+    if (e->at[s][0] < 0) e->at[s][0] = i[s];
+    else e->at[s][1] = i[s];
+    e->nhalf++;
+    i[s]++;
+  }
+  for (int t = 0; t < n; t++) {
+    struct tcross *e = &tc[t];
+    count_branch(cost);
+    int nl = (e->at[0][0] >= 0) + (e->at[0][1] >= 0), nu = (e->at[1][0] >= 0) + (e->at[1][1] >= 0);
+    if (nl == 1 && nu == 1) {                      /* through the line */
+      e->type = hc[0].x[e->at[0][0]].enter ? 'a' : 'b';
+      continue;
+    }
+    int s = nl ? 0 : 1;
+    int j0 = e->at[s][0], j1 = e->at[s][1];
+    if (j1 < 0 && e->key >= 0) {                    /* one end of a chain along the line */
+      const struct xsort_cross *h = &hc[s].x[j0];
+      const struct xs_ring *g = &P->ring[e->ring];
+      int other = chain_end(g, e->key, h->at == 2 ? 1 : -1, c);
+      int u = other == e->key ? -1 : tc_find(tc, n, e->ring, other);
+      if (u >= 0 && tc[u].at[s][0] >= 0 && tc[u].at[s][1] < 0 && tc[u].at[1 - s][0] < 0) {
+        j1 = tc[u].at[s][0];
+        e->partner = u;
+      } else if (u >= 0 && tc[u].at[1 - s][0] >= 0 && tc[u].at[1 - s][1] < 0 &&
+                 tc[u].at[s][0] < 0) {
+        /* the chain comes from one side and leaves to the other: through the line */
+        const struct xsort_cross *lo = s == XS_BELOW ? h : &hc[XS_BELOW].x[tc[u].at[0][0]];
+        e->type = lo->enter ? 'a' : 'b';
+        e->partner = u;
+        continue;
+      }
+    }
+    if (j1 < 0) { e->type = '?'; continue; }       /* never for a simple boundary */
+    int lo = j0 < j1 ? j0 : j1;
+    if (lo % 2 == 0) e->type = 't';
+    else e->type = s == XS_BELOW ? 'c' : (e->ring == 0 ? 'd' : 'e');
+  }
+  return n;
+}
+
+/* The rules of eq. (3) matched on the typed crossings, written to f: each c is an
+   application of (b) XaAcBb -> aAc, cBb, abX; each d of (b') XaAbYd -> aAb, abX, dbY;
+   the first e of a hole ring (in x order) of (c) XaAb*Ye -> aAb, aeYebX, and every
+   further e of that ring, which after the join lies on the outer ring, of (b') as its d.
+   Each application takes one lower piece aAb (two for (b)); the lower pieces left over
+   are (a) XaAb -> aAb, abX. A chain along the line (two IPL entries) is one application.
+   Returns the number of applications. */
+static int trace_rules(FILE *f, const struct tcross *tc, int n, const struct halfcut *hc,
+                       int nring)
+{
+  int apps = 0, groups = hc[XS_BELOW].m / 2;      /* lower pieces, then lower groups */
+  char *joined = calloc((size_t)nring + 1, 1);
+  for (int t = 0; t < n; t++) {
+    const struct tcross *e = &tc[t];
+    if (e->type != 'c' && e->type != 'd' && e->type != 'e') continue;
+    if (e->partner >= 0 && e->partner < t) continue; /* a chain: named at its first end */
+    if (e->type == 'c') { fputs(" (b)", f); groups--; }
+    else if (e->type == 'e' && joined && !joined[e->ring]) { fputs(" (c)", f); joined[e->ring] = 1; }
+    else fputs(" (b')", f);
+    apps++;
+  }
+  for (int g = apps; g < groups; g++) { fputs(" (a)", f); }
+  free(joined);
+  return apps > groups ? apps : groups;
+}
+
+/* ---- the tables of Fig. 6, state by state ---------------------------------------------- */
+
+/* PBS as the paper keeps it while pieces are taken: one word per vertex or crossing
+   number, '*' between rings; an entry becomes 0 once used (a crossing number once it
+   has been used as often as it has half-crossings: twice for a point, the paper's rule). */
+struct pbs_entry {
+  uint16_t num, now;                      /* number; now: the number, or 0 once deleted */
+  int star;                               /* 1: the '*' between rings */
+  int tc;                                 /* IPL index when a crossing number, else -1 */
+  int inner;                              /* a vertex inside a chain of sides along the line */
+};
+
+struct fig6 {
+  FILE *f;
+  int npbs, ntc;
+  struct pbs_entry *pbs;
+  struct tcross *tc;
+  uint16_t *ipl;                          /* IPL now: the number, or 0 once deleted */
+};
+
+static void f6_width_row(FILE *f, const char *name, const struct pbs_entry *e, int n,
+                         int types, const struct tcross *tc)
+{
+  fprintf(f, "  %-5s", name);
+  for (int i = 0; i < n; i++) {
+    char num[8];
+    snprintf(num, sizeof num, "%u", (unsigned)e[i].num);
+    int w = (int)strlen(num);
+    if (e[i].star) fputs(" *", f);
+    else if (types) fprintf(f, " %*c", w, e[i].tc >= 0 ? tc[e[i].tc].type : ' ');
+    else fprintf(f, " %*u", w, (unsigned)e[i].now);
+  }
+  fputc('\n', f);
+}
+
+static void f6_pbs(struct fig6 *g, int types)
+{
+  int zero = 1;
+  for (int i = 0; i < g->npbs; i++) zero &= g->pbs[i].star || g->pbs[i].now == 0;
+  if (zero && !types) { fprintf(g->f, "  %-5s All Zero\n", "PBS"); return; }
+  f6_width_row(g->f, types ? "" : "PBS", g->pbs, g->npbs, types, g->tc);
+}
+
+static void f6_ipl(struct fig6 *g, int types)
+{
+  int zero = 1;
+  for (int i = 0; i < g->ntc; i++) zero &= g->ipl[i] == 0;
+  if (zero && !types) { fprintf(g->f, "  %-5s All Zero\n", "IPL"); return; }
+  fprintf(g->f, "  %-5s", types ? "" : "IPL");
+  for (int i = 0; i < g->ntc; i++) {
+    char num[8];
+    snprintf(num, sizeof num, "%u", (unsigned)g->tc[i].num);
+    int w = (int)strlen(num);
+    if (types) fprintf(g->f, " %*c", w, g->tc[i].type);
+    else fprintf(g->f, " %*u", w, (unsigned)g->ipl[i]);
+  }
+  fputc('\n', g->f);
+}
+
+/* Position of number v in PBS as it was first written (the order the paper lists a
+   piece in: from its vertex that comes first in PBS). */
+static int f6_pos(const struct fig6 *g, uint16_t v)
+{
+  for (int i = 0; i < g->npbs; i++) if (!g->pbs[i].star && g->pbs[i].num == v) return i;
+  return g->npbs;
+}
+
+/* Use one vertex of a piece: zero it in PBS, or count a use of a crossing number. */
+static void f6_use(struct fig6 *g, uint16_t v)
+{
+  for (int t = 0; t < g->ntc; t++) {
+    if (g->ipl[t] != v) continue;
+    if (++g->tc[t].uses >= g->tc[t].nhalf) {
+      g->ipl[t] = 0;
+      for (int i = 0; i < g->npbs; i++) if (g->pbs[i].tc == t) g->pbs[i].now = 0;
+    }
+    return;
+  }
+  for (int i = 0; i < g->npbs; i++)
+    if (!g->pbs[i].star && g->pbs[i].tc < 0 && g->pbs[i].now == v) { g->pbs[i].now = 0; return; }
+}
+
+/* One list of pieces (LWS or UPS) up to piece upto (exclusive), as the paper prints it:
+   pieces separated by ',', each from its vertex first in PBS, a hole after '*'. */
+static void f6_list(struct fig6 *g, const char *name, const struct halfcut *h, int upto,
+                    const struct wpiece *P)
+{
+  fprintf(g->f, "  %-5s", name);
+  for (int i = 0; i < upto; i++) {
+    const struct cyc *cy = &h->cy[i];
+    int k0 = 0;
+    for (int k = 1; k < cy->n; k++) if (f6_pos(g, cy->v[k].num) < f6_pos(g, cy->v[k0].num)) k0 = k;
+    fputs(i ? ", " : " ", g->f);
+    for (int k = 0; k < cy->n; k++)
+      fprintf(g->f, "%s%u", k ? " " : "", (unsigned)cy->v[(k0 + k) % cy->n].num);
+    for (int r = 0; r < P->nring; r++) {
+      if (h->holes[r] != i) continue;
+      fputs(" *", g->f);
+      for (int k = 0; k < P->ring[r].n; k++) fprintf(g->f, " %u", (unsigned)P->ring[r].v[k].num);
+    }
+  }
+  if (upto == 0) fputs(" (none)", g->f);
+  fputc('\n', g->f);
+}
+
+static void f6_take(struct fig6 *g, const struct halfcut *h, int i, const struct wpiece *P)
+{
+  const struct cyc *cy = &h->cy[i];
+  for (int k = 0; k < cy->n; k++) f6_use(g, cy->v[k].num);
+  for (int r = 0; r < P->nring; r++)
+    if (h->holes[r] == i)
+      for (int k = 0; k < P->ring[r].n; k++) f6_use(g, P->ring[r].v[k].num);
+}
+
+/* The states (a)-(d) of Fig. 6 for one cut: (a) PBS and IPL as written, with the type
+   of every crossing under it; (b) after the lower pieces are taken (LWS); (c) after each
+   upper piece but the last (UPS so far); (d) after the last. Vertices inside a chain of
+   sides along the cut line belong to no piece and are zeroed with the lower pieces. */
+static void trace_fig6(FILE *f, const struct wpiece *P, uint16_t *const *mid, gcoord c,
+                       struct tcross *tc, int ntc, const struct halfcut *hc)
+{
+  struct fig6 g;
+  memset(&g, 0, sizeof g);
+  g.f = f;
+  g.tc = tc;
+  g.ntc = ntc;
+  int total = 0;
+  for (int r = 0; r < P->nring; r++) total += 2 * P->ring[r].n + 1;
+  g.pbs = calloc((size_t)total, sizeof *g.pbs);
+  g.ipl = calloc((size_t)ntc + 1, sizeof *g.ipl);
+  if (!g.pbs || !g.ipl) { free(g.pbs); free(g.ipl); return; }
+  for (int r = 0; r < P->nring; r++) {
+    if (r) { g.pbs[g.npbs].star = 1; g.pbs[g.npbs++].tc = -1; }
+    for (int k = 0; k < P->ring[r].n; k++) {
+      struct pbs_entry *e = &g.pbs[g.npbs++];
+      e->num = e->now = P->ring[r].v[k].num;
+      e->tc = tc_find(tc, ntc, r, k);
+      e->inner = e->tc < 0 && P->ring[r].v[k].y == c;
+      if (mid[r][k]) {
+        e = &g.pbs[g.npbs++];
+        e->num = e->now = mid[r][k];
+        e->tc = tc_find(tc, ntc, r, -1 - k);
+      }
+    }
+  }
+  for (int t = 0; t < ntc; t++) { g.ipl[t] = tc[t].num; tc[t].uses = 0; }
+  fputs("Fig. 6 (a)\n", f);
+  f6_pbs(&g, 0);
+  f6_pbs(&g, 1);
+  f6_ipl(&g, 0);
+  f6_ipl(&g, 1);
+  for (int i = 0; i < hc[XS_BELOW].ncy; i++) f6_take(&g, &hc[XS_BELOW], i, P);
+  /* a vertex inside a chain of sides along the line is in no piece: the cut line takes
+     the chain's place (the paper's example has none); it goes with the lower pieces */
+  for (int i = 0; i < g.npbs; i++) if (g.pbs[i].inner) g.pbs[i].now = 0;
+  fputs("Fig. 6 (b)\n", f);
+  f6_pbs(&g, 0);
+  f6_ipl(&g, 0);
+  f6_list(&g, "LWS", &hc[XS_BELOW], hc[XS_BELOW].ncy, P);
+  int nu = hc[XS_ABOVE].ncy;
+  for (int i = 0; i < nu; i++) {
+    f6_take(&g, &hc[XS_ABOVE], i, P);
+    fprintf(f, "Fig. 6 (%c)\n", i + 1 < nu ? 'c' : 'd');
+    f6_pbs(&g, 0);
+    f6_ipl(&g, 0);
+    f6_list(&g, "UPS", &hc[XS_ABOVE], i + 1, P);
+    f6_list(&g, "LWS", &hc[XS_BELOW], hc[XS_BELOW].ncy, P);
+  }
+  free(g.pbs);
+  free(g.ipl);
+}
+
 /* Cut piece P at y = c; its pieces go to the queue. P is consumed. */
 static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
 {
@@ -622,6 +959,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
   int **idx = calloc((size_t)P->nring, sizeof *idx);
   struct xsort_row *rows = malloc((size_t)(2 * total) * sizeof *rows);
   struct halfcut hc[2];
+  struct tcross *tc = NULL;
   memset(hc, 0, sizeof hc);
   for (int s = 0; s < 2; s++) {
     hc[s].x = malloc((size_t)(2 * total) * sizeof *hc[s].x);
@@ -703,13 +1041,13 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
       put_word(x, a + (uint32_t)w++, cross_num(P, mid, &hc[s].x[j]));
 
   /* Rings without crossings go, as holes, to the piece of their side containing them. */
-  int holes_joined = 0;
+
   for (int r = 0; r < P->nring; r++) {
     hc[0].holes[r] = hc[1].holes[r] = -1;
     int touched = 0;
     for (int s = 0; s < 2; s++)
       for (int j = 0; j < hc[s].m; j++) touched |= hc[s].x[j].ring == r;
-    if (touched) { if (r > 0) holes_joined++; continue; }
+    if (touched) continue;
     int s = P->ring[r].v[0].y > c ? XS_ABOVE : XS_BELOW;
     int i = r > 0 ? place_ring(&P->ring[r], hc[s].cy, hc[s].ncy, x->cost) : -1;
     if (i < 0) {
@@ -719,6 +1057,18 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     }
     hc[s].holes[r] = i;
   }
+
+  /* IPL with each crossing typed (Fig. 4, 5): what the rules of eq. (3) are matched on. */
+  tc = malloc((size_t)(hc[0].m + hc[1].m + 1) * sizeof *tc);
+  if (!tc) { rc = oom(x); goto done; }
+  int ntc = type_crossings(P, mid, c, hc, tc, x->cost);
+  for (int t = 0; t < ntc; t++)
+    if (tc[t].type == '?') {
+      rc = t74_fail(x->err, T74_EINPUT, "face %u: crossing %u at y = %lld has no type "
+                    "(boundary not simple?)", (unsigned)x->in->face_id, (unsigned)tc[t].num,
+                    (long long)c);
+      goto done;
+    }
 
   /* LWS and UPS. */
   for (int s = 0; s < 2; s++) {
@@ -754,10 +1104,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
           fprintf(f, "%s v%u", cnt++ ? "," : "", (unsigned)g->v[k].num);
     }
     fputs("): rule", f);
-    if (nl <= 1 && nu <= 1 && holes_joined == 0) fputs(" (a)", f);
-    for (int i = 1; i < nl; i++) fputs(" (b)", f);
-    for (int i = 1; i < nu; i++) fputs(" (b')", f);
-    for (int i = 0; i < holes_joined; i++) fputs(" (c)", f);
+    trace_rules(f, tc, ntc, hc, P->nring);
     fprintf(f, "; %d below, %d above\n", nl, nu);
     fputs("XSORT ", f);
     for (int i = 0; i < nx; i++) {
@@ -767,6 +1114,14 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
       if (sd->cut) fputs(" cut", f);
       else fprintf(f, " edge v%u-v%u", (unsigned)sd->ea, (unsigned)sd->eb);
       fprintf(f, " %s", xsort_code_name(rows[i].code));
+      const struct xs_ring *g = &P->ring[rows[i].ring];
+      int k = rows[i].side, k1 = (k + 1) % g->n, t = -1;
+      if (rows[i].code == XS_MIDDLE) t = tc_find(tc, ntc, rows[i].ring, -1 - k);
+      else {
+        if (g->v[k].y == c) t = tc_find(tc, ntc, rows[i].ring, k);
+        if (t < 0 && g->v[k1].y == c) t = tc_find(tc, ntc, rows[i].ring, k1);
+      }
+      fprintf(f, " (%c)", t >= 0 ? tc[t].type : '-');
     }
     fputs("\nPBS   ", f);
     for (int r = 0; r < P->nring; r++) {
@@ -784,6 +1139,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     fputc('\n', f);
     trace_cycle_list(f, "LWS", &hc[XS_BELOW], P);
     trace_cycle_list(f, "UPS", &hc[XS_ABOVE], P);
+    trace_fig6(f, P, mid, c, tc, ntc, hc);
   }
 
   /* The new pieces, lower ones first, go to the queue. */
@@ -813,6 +1169,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
   }
 
 done:
+  free(tc);
   for (int s = 0; s < 2; s++) {
     for (int i = 0; i < hc[s].ncy; i++) cyc_free(&hc[s].cy[i]);
     free(hc[s].cy);

@@ -47,8 +47,9 @@ struct seg_result {
   int ncut;                    /* horizontal cut lines applied (concave splits) */
 };
 
-/* Split one face. trace (nullable) receives the teaching dump: YSORT, XSORT rows, and each
-   PBS/IPL/LWS/UPS step. Tables are allocated in core for their lifetime (T74_ECORE when they
+/* Split one face. trace (nullable) receives the teaching dump: YSORT, XSORT rows with each
+   crossing's type (a)-(e), the rules of eq. (3) matched on them, and for each cut the
+   states (a)-(d) of Fig. 6 (PBS, IPL, LWS, UPS). Tables are allocated in core for their lifetime (T74_ECORE when they
    do not fit) and operations are counted in cost. Returns T74_OK or an error status. */
 int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace,
                  struct core *core, struct cost *cost, struct t74_error *err);

@@ -308,6 +308,7 @@ static int line_once(struct vis *v, int64_t yn, int64_t yd, struct t74_error *er
 {
   struct seginfo *s = v->seg;
   v->nspan = 0;
+  if (v->feed && v->feed(v->feed_ctx, yn, yd, err) != T74_OK) return PRIO_ERROR;
   if (!take_new_pieces(v)) return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
 
   /* 1. retire dead and finished pieces, activate those that begin at or below the line */

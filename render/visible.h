@@ -60,6 +60,10 @@ struct vis {
   int64_t yn, yd;                        /* the last line asked for */
   uint64_t lines;                        /* lines scanned */
   uint32_t *dfree; int ndfree, dfreecap; /* free D-block rows in core */
+  /* optional: called before each line y = yn/yd is worked, to add the pieces of the faces
+     the line has reached (render.c: the Segment Generator driven by the scan) */
+  int (*feed)(void *ctx, int64_t yn, int64_t yd, struct t74_error *err);
+  void *feed_ctx;
   int   arith;                           /* GEOM_EXACT, or GEOM_HITAC: xb, xe, dxb, dxe
                                             held as the 1974 program held them */
 };

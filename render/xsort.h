@@ -18,11 +18,11 @@
 **                edges with exactly one endpoint strictly below (XS_BELOW) or strictly
 **                above (XS_ABOVE) the line, ordered by x at y = c and, on ties, by x
 **                at y = c - e (below) or c + e (above) for an infinitesimal e, i.e. by
-**                the slopes of the edges. This is where tube74 departs from the paper:
-**                the paper pairs crossings read from XSORT with its type codes (a, b, c,
-**                d, e of Fig. 5); tube74 pairs the crossings of each side separately, so
-**                a vertex on the line, a horizontal edge on the line and a vertex where
-**                two rings touch all come out of one rule instead of a case each.
+**                the slopes of the edges. The Segment Generator types each crossing
+**                point from these lists (a..e of Fig. 4, 5: segment.c type_crossings) and
+**                matches the rules of eq. (3) on the types; the slope order is the tie
+**                rule where the paper is silent: a vertex on the line, a horizontal edge
+**                on the line and a vertex where two rings touch all come out of it.
 **
 ** Every x is an exact rational (geom.h grat): a ring vertex's y is always an integer
 ** (input grid points, or crossing points on earlier cut lines y = c, c an integer), and

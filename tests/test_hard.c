@@ -1753,6 +1753,12 @@ static void test_stats_fields(void **state)
   assert_int_equal((int)stat_num(&o, "core_words"), 16384);  /* the default core */
   assert_true(stat_num(&o, "core_words_used") > 0 && stat_num(&o, "core_words_used") <= 16384);
   assert_true(stat_num(&o, "hitac10_seconds") > 0);
+  /* the first dot reaches the tube after the Mapper (the Segment Generator runs as the
+     scan reaches each face: tests/test_segment.c test_cut_while_scanning) and before the
+     run ends */
+  double first = stat_num(&o, "first_dot_1974_seconds");
+  assert_true(first >= stat_num(&o, "mapper"));
+  assert_true(first > 0 && first < stat_num(&o, "hitac10_seconds"));
   assert_int_equal((int)stat_num(&o, "points_lit"), o.npts);
   int n = (int)stat_num(&o, "faces_after_split");
   assert_int_equal((long)stat_num(&o, "priority_pairs_possible"), (long)n * (n - 1) / 2);

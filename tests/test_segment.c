@@ -23,6 +23,8 @@
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "render/geom.h"
+#include "render/render.h"
+#include "render/scene.h"
 #include "render/segment.h"
 #include "render/xsort.h"
 #include "render/ysort.h"
@@ -448,9 +450,286 @@ static void test_fig6(void **state)
   expect_in(t, "above: 11 10 | 10 12 | 13 8 | 8 14");
   expect_in(t, "LWS    11 2 12 ; 13 4 14\n");
   expect_in(t, "UPS    10 6 7 8 14 5 1 11 ; 12 3 13 8 9 10\n");
-  expect_in(t, "XSORT  x=8 edge v1-v2 middle | x=20 edge v9-v10 endpoint | x=20 edge v10-v6 endpoint | x=30 edge v2-v3 middle");
-  expect_in(t, "rule (b)");
+  expect_in(t, "XSORT  x=8 edge v1-v2 middle (a) | x=20 edge v9-v10 endpoint (e) | x=20 edge v10-v6 "
+               "endpoint (e) | x=30 edge v2-v3 middle (b)");
+  /* matched on the typed crossings: the hole joined through its first e (10) by (c), its
+     second e (8), on the joined ring, cut off by (b') as its d */
+  expect_in(t, "cut 1 at y = 20 in piece 1 (through concave vertex v8, v10): rule (c) (b');");
+  expect_in(t, "cut 2 at y = 80 in piece 4 (through concave vertex v6, v7): rule (b);");
+  expect_in(t, "cut 3 at y = 40 in piece 5 (through concave vertex v3): rule (b);");
   expect_in(t, "face 6: 8 convex pieces after 3 cuts");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* The row NAME of state "Fig. 6 (S)" of the first cut in trace t, normalised: runs of
+   blanks one blank, no blank after a comma, no leading blank (caller frees). The type row
+   under a PBS or IPL row is asked for as NAME "+PBS" / "+IPL" (the row after it). */
+static char *fig6_row(const char *t, char state, const char *name)
+{
+  char head[16];
+  snprintf(head, sizeof head, "Fig. 6 (%c)\n", state);
+  const char *p = strstr(t, head), *end = strstr(t, "cut 2 ");
+  assert_non_null(p);
+  p += strlen(head);
+  int under = name[0] == '+';
+  if (under) name++;
+  while (*p == ' ' && (!end || p < end)) {
+    const char *eol = strchr(p, '\n');
+    assert_non_null(eol);
+    const char *q = p;
+    while (*q == ' ') q++;
+    if ((size_t)(eol - q) >= strlen(name) && strncmp(q, name, strlen(name)) == 0 &&
+        q[strlen(name)] == ' ') {
+      if (under) {
+        p = eol + 1;
+        eol = strchr(p, '\n');
+        assert_non_null(eol);
+        q = p + 2 + 5;                          /* past the indent and the name column */
+      } else q += strlen(name);
+      char *out = calloc((size_t)(eol - q) + 1, 1);
+      assert_non_null(out);
+      size_t n = 0;
+      for (const char *c = q; c < eol; c++) {
+        if (*c == ' ' && (n == 0 || out[n - 1] == ' ' || out[n - 1] == ',')) continue;
+        out[n++] = *c;
+      }
+      while (n && out[n - 1] == ' ') n--;
+      out[n] = 0;
+      return out;
+    }
+    p = eol + 1;
+  }
+  print_message("no row %s in state (%c) of:\n%s\n", name, state, t);
+  fail();
+  return NULL;
+}
+
+static void row_is(const char *t, char state, const char *name, const char *want)
+{
+  char *got = fig6_row(t, state, name);
+  if (strcmp(got, want) != 0) {
+    print_message("Fig. 6 (%c) %s: got \"%s\", the paper's \"%s\"\n", state, name, got, want);
+    fail();
+  }
+  free(got);
+}
+
+/* Every table of Fig. 6 (a)-(d) as the paper prints it, on the paper's face. Where the
+   paper's text (a transcription without the figure) is silent or cut short, it says so:
+   - (a), (b) PBS: the text's rows stop at 5, before the hole ring; the rest (* 6 7 8 9
+     10) is checked against the text's type row instead, whose last two letters, e e,
+     belong to the hole's vertices on the line, 8 and 10.
+   - (b) IPL: the text shows "11 10 12,13 8 14"; no crossing has been used twice yet, so
+     IPL is still (a)'s, and the comma is read as the cell border the LWS row below it
+     has there ("11 2 12,13 4 14").
+   - (c) PBS: the text's row has 9 cells "0 0 12 3 13 0 0 0 8" for 15 entries, so its
+     zeros cannot be placed; checked: its non-zero entries 12 3 13 8 are, in order, the
+     first non-zero entries of ours (ours goes on with 9 10, the hole's unused part). */
+static void test_fig6_tables(void **state)
+{
+  (void)state;
+  struct tface *f = fig6(0, 0);
+  struct seg_result r;
+  char *t = trace_of(f, &r);
+  /* (a) */
+  char *pbs = fig6_row(t, 'a', "PBS");
+  assert_string_equal(pbs, "1 11 2 12 3 13 4 14 5 * 6 7 8 9 10");
+  assert_true(strncmp(pbs, "1 11 2 12 3 13 4 14 5", 21) == 0);   /* the text's row */
+  free(pbs);
+  row_is(t, 'a', "+PBS", "a b a b * e e");   /* under 11 12 13 14, and 8 10 */
+  row_is(t, 'a', "IPL", "11 10 12 13 8 14");
+  row_is(t, 'a', "+IPL", "a e b a e b");
+  /* (b) */
+  pbs = fig6_row(t, 'b', "PBS");
+  assert_true(strncmp(pbs, "1 11 0 12 3 13 0 14 5", 21) == 0);
+  assert_string_equal(pbs + 21, " * 6 7 8 9 10");
+  free(pbs);
+  row_is(t, 'b', "IPL", "11 10 12 13 8 14");
+  row_is(t, 'b', "LWS", "11 2 12,13 4 14");
+  /* (c) */
+  pbs = fig6_row(t, 'c', "PBS");
+  char nz[64] = "";
+  for (char *tok = strtok(pbs, " "); tok; tok = strtok(NULL, " "))
+    if (strcmp(tok, "0") && strcmp(tok, "*")) { strcat(nz, nz[0] ? " " : ""); strcat(nz, tok); }
+  assert_true(strncmp(nz, "12 3 13 8", 9) == 0);
+  assert_string_equal(nz, "12 3 13 8 9 10");
+  free(pbs);
+  row_is(t, 'c', "IPL", "0 10 12 13 8 0");
+  row_is(t, 'c', "UPS", "1 11 10 6 7 8 14 5");
+  row_is(t, 'c', "LWS", "11 2 12,13 4 14");
+  /* (d) */
+  row_is(t, 'd', "PBS", "All Zero");
+  row_is(t, 'd', "IPL", "All Zero");
+  row_is(t, 'd', "UPS", "1 11 10 6 7 8 14 5,12 3 13 8 9 10");
+  row_is(t, 'd', "LWS", "11 2 12,13 4 14");
+  /* the text's walk for the first upper piece: 11-10-6-7-8-14-5-1-11 (a rotation of it) */
+  expect_in(t, "UPS    10 6 7 8 14 5 1 11 ; ");
+  free(t);
+  seg_result_free(&r);
+  free(f);
+}
+
+/* The shipped scenes/fig6.s74 is the paper's face: what --dump tables writes for it
+   (render_prepare's trace, the same stream) holds the same Fig. 6 tables. */
+static void test_fig6_scene(void **state)
+{
+  (void)state;
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct scene *sc = NULL;
+  struct t74_error err;
+  memset(&err, 0, sizeof err);
+  assert_int_equal(scene_load("scenes/fig6.s74", &so, &sc, &err), T74_OK);
+  char *buf = NULL;
+  size_t len = 0;
+  FILE *m = open_memstream(&buf, &len);
+  assert_non_null(m);
+  struct render_opts o;
+  memset(&o, 0, sizeof o);
+  o.core_words = 16384;
+  o.tables = m;
+  struct render *rd = calloc(1, sizeof *rd);
+  assert_non_null(rd);
+  int rc = render_prepare(rd, sc, &o, &err);
+  if (rc) print_message("render_prepare: %s\n", err.msg);
+  assert_int_equal(rc, T74_OK);
+  render_free(rd);
+  free(rd);
+  fclose(m);
+  expect_in(buf, "face 1: 2 rings, 10 vertices, 5 concave vertices");
+  expect_in(buf, "rule (c) (b');");
+  row_is(buf, 'a', "PBS", "1 11 2 12 3 13 4 14 5 * 6 7 8 9 10");
+  row_is(buf, 'a', "IPL", "11 10 12 13 8 14");
+  row_is(buf, 'b', "LWS", "11 2 12,13 4 14");
+  row_is(buf, 'c', "IPL", "0 10 12 13 8 0");
+  row_is(buf, 'd', "PBS", "All Zero");
+  row_is(buf, 'd', "UPS", "1 11 10 6 7 8 14 5,12 3 13 8 9 10");
+  free(buf);
+  scene_free(sc);
+}
+
+/* Cut while displaying (003 §3.1: bottom to top, "displayed while it is computed"):
+   render_prepare_lazy cuts nothing; the scan cuts each face when it reaches the face's
+   lowest vertex. Against render_prepare (every face cut first): the same visible face at
+   every point, the same pieces and cuts; and when the first point showing a face is
+   handed on, the faces higher up are not cut yet. */
+struct lazy_run {
+  struct render *r;
+  int *face;
+  int W;
+  int cut_at_first;                        /* faces cut when the first point of a face came */
+};
+
+static int lazy_point(void *ctx, int i, int j, int face)
+{
+  struct lazy_run *lr = ctx;
+  if (lr->cut_at_first < 0 && face >= 0) lr->cut_at_first = lr->r->cut_next;
+  lr->face[(size_t)j * (size_t)lr->W + (size_t)i] = face;
+  return 0;
+}
+
+static void run_scene(const char *path, int lazy, int *face, int W, int H, struct lazy_run *out,
+                      int *npieces, int *ncut, int *nface, int *nsplit)
+{
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct scene *sc = NULL;
+  struct t74_error err;
+  memset(&err, 0, sizeof err);
+  assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
+  struct render_opts o;
+  memset(&o, 0, sizeof o);
+  o.core_words = 16384;
+  struct render *rd = calloc(1, sizeof *rd);
+  assert_non_null(rd);
+  int rc = lazy ? render_prepare_lazy(rd, sc, &o, &err) : render_prepare(rd, sc, &o, &err);
+  if (rc) print_message("prepare: %s\n", err.msg);
+  assert_int_equal(rc, T74_OK);
+  if (lazy) {
+    assert_int_equal(rd->seg.n, 0);        /* nothing cut before the scan */
+    assert_int_equal(rd->cut_next, 0);
+  } else {
+    assert_int_equal(rd->cut_next, rd->map.nface);
+  }
+  struct vis_grid g = { W, H, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
+  out->r = rd;
+  out->face = face;
+  out->W = W;
+  out->cut_at_first = -1;
+  rc = render_scan(rd, &g, lazy_point, out, &err);
+  if (rc) print_message("scan: %s\n", err.msg);
+  assert_int_equal(rc, T74_OK);
+  assert_int_equal(rd->cut_next, rd->map.nface);   /* every face cut in the end */
+  *npieces = render_pieces_alive(rd);
+  *ncut = rd->concave_splits;
+  *nface = rd->map.nface;
+  *nsplit = rd->map.split;
+  render_free(rd);
+  free(rd);
+  scene_free(sc);
+}
+
+static void test_cut_while_scanning(void **state)
+{
+  (void)state;
+  static const char *const scenes[] = { "scenes/fig6.s74", "scenes/street.s74",
+                                        "scenes/fig5.s74", "scenes/fig7b.s74",
+                                        "tests/data/scene/folded-far-174.s74",
+                                        "tests/data/exact/two-holes-folded.s74" };
+  enum { W = 133, H = 100 };
+  for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) {
+    int *fe = calloc(W * H, sizeof *fe), *fl = calloc(W * H, sizeof *fl);
+    assert_non_null(fe);
+    assert_non_null(fl);
+    struct lazy_run re, rl;
+    int pe, pl, ce, cl, nfe, nfl, se, sl;
+    run_scene(scenes[k], 0, fe, W, H, &re, &pe, &ce, &nfe, &se);
+    run_scene(scenes[k], 1, fl, W, H, &rl, &pl, &cl, &nfl, &sl);
+    assert_int_equal(se, sl);
+    assert_int_equal(nfe, nfl);
+    if (strstr(scenes[k], "folded")) assert_true(sl > 0);   /* faces split into triangles
+                                                                while the scan runs */
+    assert_memory_equal(fe, fl, sizeof *fe * W * H);
+    assert_int_equal(pe, pl);
+    assert_int_equal(ce, cl);
+    assert_int_equal(re.cut_at_first, nfe);            /* eager: all before the first point */
+    assert_true(rl.cut_at_first > 0 && rl.cut_at_first <= nfl);
+    if (!strcmp(scenes[k], "scenes/street.s74")) {
+      /* the street's roofs and upper windows are above the bottom row */
+      print_message("street: %d of %d faces cut at the first face point\n", rl.cut_at_first, nfl);
+      assert_true(rl.cut_at_first > 0 && rl.cut_at_first < nfl);
+    }
+    free(fe);
+    free(fl);
+  }
+}
+
+/* The tables of a cut through a flat-bottomed notch from above with a vertex inside its
+   bottom edge (1..9, vertex 6 inside the chain 5-6-7 along the line): the chain is one d,
+   one rule (b'); its ends 7 and 5 are in IPL once each and used once each; the inner
+   vertex 6 is in no piece and goes with the lower pieces; in the end all is zero. */
+static void test_fig6_tables_chain(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(15);
+  tf_ring(f, 9, (const long long[]){ 0, 0, 30, 0, 30, 20, 20, 20, 20, 10, 15, 10, 10, 10,
+                                     10, 20, 0, 20 });
+  struct seg_result r;
+  split_ok(f, &r, 3, 1);
+  seg_result_free(&r);
+  char *t = trace_of(f, &r);
+  expect_in(t, "rule (b');");
+  row_is(t, 'a', "PBS", "1 2 11 3 4 5 6 7 8 9 12");
+  row_is(t, 'a', "IPL", "12 7 5 11");
+  row_is(t, 'a', "+IPL", "a d d b");
+  row_is(t, 'b', "PBS", "0 0 11 3 4 5 0 7 8 9 12");
+  row_is(t, 'b', "LWS", "1 2 11 12");
+  row_is(t, 'c', "IPL", "0 0 5 11");
+  row_is(t, 'd', "PBS", "All Zero");
+  row_is(t, 'd', "IPL", "All Zero");
+  row_is(t, 'd', "UPS", "7 8 9 12,11 3 4 5");
   free(t);
   seg_result_free(&r);
   free(f);
@@ -560,8 +839,10 @@ static void test_vertices_on_line(void **state)
   HAS(&r, 15, 8, 35, 8, 30, 20);
   seg_result_free(&r);
   char *t = trace_of(f, &r);
-  expect_in(t, "XSORT  x=-5 edge v6-v7 endpoint | x=-5 edge v7-v1 endpoint | x=15 edge v4-v5 endpoint"
-               " | x=15 edge v5-v6 endpoint | x=35 edge v2-v3 endpoint | x=35 edge v3-v4 endpoint\n");
+  expect_in(t, "XSORT  x=-5 edge v6-v7 endpoint (a) | x=-5 edge v7-v1 endpoint (a) | x=15 edge v4-v5 "
+               "endpoint (d) | x=15 edge v5-v6 endpoint (d) | x=35 edge v2-v3 endpoint (b) | x=35 "
+               "edge v3-v4 endpoint (b)\n");
+  expect_in(t, "rule (b');");                 /* the convex vertices 7, 3 pass through: a, b */
   free(t);
   seg_result_free(&r);
   free(f);
@@ -945,6 +1226,10 @@ int main(void)
     cmocka_unit_test(test_rule_b_prime),
     cmocka_unit_test(test_rule_c),
     cmocka_unit_test(test_fig6),
+    cmocka_unit_test(test_fig6_tables),
+    cmocka_unit_test(test_fig6_scene),
+    cmocka_unit_test(test_fig6_tables_chain),
+    cmocka_unit_test(test_cut_while_scanning),
     cmocka_unit_test(test_invariance),
     cmocka_unit_test(test_same_line_and_comb),
     cmocka_unit_test(test_vertices_on_line),

@@ -92,13 +92,17 @@ Each lies flat on the plane z = 0 and is seen straight on.""")
 
 
 def fig6():
-    s = Scene("""Fig. 6 of paper 003: a face with a hole and several concave vertices, divided by
-horizontal cuts, bottom to top (PBS, IPL, LWS, UPS: see --dump tables).""")
+    s = Scene("""Fig. 6 of paper 003, the paper's own worked example: outer boundary 1..5 with a
+notch at 3 between the legs 2 and 4, a hole 6..10 whose bottom vertices 10 and 8 lie on the
+first cut line and whose vertex 9 rises between them. The first cut (through 10 and 8)
+makes crossing points 11, 12, 13, 14, and the tables of Fig. 6 (a)-(d): PBS, IPL, LWS,
+UPS. See them with --dump tables=FILE. (The test face of tests/test_segment.c, 0..100,
+mapped by x' = 3x - 150, y' = 2.5y - 125.)""")
     s.say("view 0 0 -1000")
     s.say("window -200 -150 200 150")
-    outer = [(-160, -120), (-20, -120), (0, -60), (30, -130), (170, -130), (170, 120),
-             (60, 120), (20, 40), (-30, 130), (-160, 130), (-110, 0)]
-    hole = [(60, -60), (120, -20), (90, 50), (40, 0)]
+    P = lambda x, y: (3 * x - 150, (5 * y) // 2 - 125)
+    outer = [P(0, 100), P(10, 0), P(50, 40), P(90, 0), P(100, 100)]
+    hole = [P(20, 80), P(80, 80), P(80, 20), P(50, 50), P(20, 20)]
     s.face([flat(outer), flat(hole)], 220)
     s.write("scenes/fig6.s74")
 
