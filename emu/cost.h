@@ -97,11 +97,11 @@ static inline uint64_t cost_cap_(uint64_t w, uint64_t cap) { return w < cap ? w 
 ** carry and an add of the constant 1 (1 BRANCH + 1 ADD).
 **   w = 1: MEM 2, ADD 1.   w = 2: MEM 4, ADD 3, BRANCH 1.   w = 8: MEM 16, ADD 15, BRANCH 7.
 */
-static inline void cost_mw_add_w_(uint64_t *n, uint64_t w)
+static inline void cost_mw_add_w_(uint64_t *n, uint64_t w, uint64_t sg)
 {
-  n[COST_MEM]    += 2 * w;
-  n[COST_ADD]    += w + (w - 1);
-  n[COST_BRANCH] += w - 1;
+  n[COST_MEM]    += sg * (2 * w);
+  n[COST_ADD]    += sg * (w + (w - 1));
+  n[COST_BRANCH] += sg * (w - 1);
 }
 
 /*
@@ -117,19 +117,19 @@ static inline void cost_mw_add_w_(uint64_t *n, uint64_t w)
 **   signs (two's complement operands):      2 skips + a multi-word negate of the product,
 **                                           charged as a multi-word add of its width
 */
-static inline void cost_mw_mul_w_(uint64_t *n, uint64_t wa, uint64_t wb)
+static inline void cost_mw_mul_w_(uint64_t *n, uint64_t wa, uint64_t wb, uint64_t sg)
 {
   uint64_t pp = wa * wb;
   if (pp == 1) {
-    n[COST_MEM] += 3; n[COST_MUL] += 1; n[COST_LOGIC] += 1;
+    n[COST_MEM] += sg * 3; n[COST_MUL] += sg; n[COST_LOGIC] += sg;
     return;
   }
-  n[COST_MEM]    += (wa + wb) + 3 * pp + 2 * wa;
-  n[COST_MUL]    += pp;
-  n[COST_ADD]    += 3 * pp + wa;
-  n[COST_LOGIC]  += pp;
-  n[COST_BRANCH] += pp + wa + 2;
-  cost_mw_add_w_(n, wa + wb);
+  n[COST_MEM]    += sg * ((wa + wb) + 3 * pp + 2 * wa);
+  n[COST_MUL]    += sg * pp;
+  n[COST_ADD]    += sg * (3 * pp + wa);
+  n[COST_LOGIC]  += sg * pp;
+  n[COST_BRANCH] += sg * (pp + wa + 2);
+  cost_mw_add_w_(n, wa + wb, sg);
 }
 
 /*
@@ -146,42 +146,42 @@ static inline void cost_mw_mul_w_(uint64_t *n, uint64_t wa, uint64_t wb)
 ** here: two; the paper's machine divided AC:EC by a word in one instruction, so this is
 ** one DIV more than it needed at worst.)
 */
-static inline void cost_mw_div_w_(uint64_t *n, uint64_t wn, uint64_t wd)
+static inline void cost_mw_div_w_(uint64_t *n, uint64_t wn, uint64_t wd, uint64_t sg)
 {
   if (wd == 1) {
-    n[COST_MEM] += 2 * wn; n[COST_DIV] += wn; n[COST_LOGIC] += wn;
+    n[COST_MEM] += sg * (2 * wn); n[COST_DIV] += sg * wn; n[COST_LOGIC] += sg * wn;
     return;
   }
   if (wn < wd) wn = wd;                         /* quotient 0: one trial still runs */
   uint64_t q = wn - wd + 1;
-  n[COST_SHIFT]  += 2 * (wn + wd);
-  n[COST_MEM]    += 2 * (wn + wd) + q * (2 + 3 * wd + 1);
-  n[COST_DIV]    += q;
-  n[COST_MUL]    += q * wd;
-  n[COST_ADD]    += q * (1 + 2 * wd);
-  n[COST_LOGIC]  += q * wd;
-  n[COST_BRANCH] += q * (wd + 1) + 2;
-  cost_mw_add_w_(n, q);
+  n[COST_SHIFT]  += sg * (2 * (wn + wd));
+  n[COST_MEM]    += sg * (2 * (wn + wd) + q * (2 + 3 * wd + 1));
+  n[COST_DIV]    += sg * q;
+  n[COST_MUL]    += sg * (q * wd);
+  n[COST_ADD]    += sg * (q * (1 + 2 * wd));
+  n[COST_LOGIC]  += sg * (q * wd);
+  n[COST_BRANCH] += sg * (q * (wd + 1) + 2);
+  cost_mw_add_w_(n, q, sg);
 }
 
-/* Charge the 1974 program's operation to c->n and the rest of the exact one to c->x. */
-static inline void cost_split_(struct cost *c, const uint64_t *exact, const uint64_t *prog)
-{
-  for (int k = 0; k < COST_NCLASS; k++) {
-    c->n[k] += prog[k];
-    COST_X(c, k) += exact[k] > prog[k] ? exact[k] - prog[k] : 0;
-  }
-}
+/* Each operation is charged at the 1974 widths to n[], and x[] gets the exact one minus
+   that (as unsigned sums modulo 2^64: a class may take fewer operations at the exact
+   widths, e.g. one DIV of a long division against two of the 1974 divide, so one x[k]
+   may run below zero; n[k] + x[k] is always the exact count, which is all that is read:
+   cost_seconds_exact). When the exact widths are the 1974 ones, x[] is not touched. */
+#define COST_PLUS_  ((uint64_t)1)
+#define COST_MINUS_ (~(uint64_t)0)
 
 /* An add, subtract or compare of `bits`-bit operands (the exact width). */
 static inline void cost_mw_add(struct cost *c, int bits)
 {
   (void)bits;
   COST_OFF_(c);
-  uint64_t w = cost_words(bits), e[COST_NCLASS] = { 0 }, p[COST_NCLASS] = { 0 };
-  cost_mw_add_w_(e, w);
-  cost_mw_add_w_(p, cost_cap_(w, COST_1974_ADD_WORDS));
-  cost_split_(c, e, p);
+  uint64_t w = cost_words(bits), w74 = cost_cap_(w, COST_1974_ADD_WORDS);
+  cost_mw_add_w_(c->n, w74, COST_PLUS_);
+  if (w == w74) return;
+  cost_mw_add_w_(&COST_X(c, 0), w, COST_PLUS_);
+  cost_mw_add_w_(&COST_X(c, 0), w74, COST_MINUS_);
 }
 
 /* A product of a bits_a-bit by a bits_b-bit operand (the exact widths). */
@@ -190,10 +190,11 @@ static inline void cost_mw_mul(struct cost *c, int bits_a, int bits_b)
   (void)bits_a; (void)bits_b;
   COST_OFF_(c);
   uint64_t wa = cost_words(bits_a), wb = cost_words(bits_b);
-  uint64_t e[COST_NCLASS] = { 0 }, p[COST_NCLASS] = { 0 };
-  cost_mw_mul_w_(e, wa, wb);
-  cost_mw_mul_w_(p, cost_cap_(wa, COST_1974_MUL_WORDS), cost_cap_(wb, COST_1974_MUL_WORDS));
-  cost_split_(c, e, p);
+  uint64_t a74 = cost_cap_(wa, COST_1974_MUL_WORDS), b74 = cost_cap_(wb, COST_1974_MUL_WORDS);
+  cost_mw_mul_w_(c->n, a74, b74, COST_PLUS_);
+  if (wa == a74 && wb == b74) return;
+  cost_mw_mul_w_(&COST_X(c, 0), wa, wb, COST_PLUS_);
+  cost_mw_mul_w_(&COST_X(c, 0), a74, b74, COST_MINUS_);
 }
 
 /* A quotient of a bits_n-bit dividend by a bits_d-bit divisor (the exact widths). */
@@ -202,10 +203,11 @@ static inline void cost_mw_div(struct cost *c, int bits_n, int bits_d)
   (void)bits_n; (void)bits_d;
   COST_OFF_(c);
   uint64_t wn = cost_words(bits_n), wd = cost_words(bits_d);
-  uint64_t e[COST_NCLASS] = { 0 }, p[COST_NCLASS] = { 0 };
-  cost_mw_div_w_(e, wn, wd);
-  cost_mw_div_w_(p, cost_cap_(wn, COST_1974_DIVN_WORDS), cost_cap_(wd, COST_1974_DIVD_WORDS));
-  cost_split_(c, e, p);
+  uint64_t n74 = cost_cap_(wn, COST_1974_DIVN_WORDS), d74 = cost_cap_(wd, COST_1974_DIVD_WORDS);
+  cost_mw_div_w_(c->n, n74, d74, COST_PLUS_);
+  if (wn == n74 && wd == d74) return;
+  cost_mw_div_w_(&COST_X(c, 0), wn, wd, COST_PLUS_);
+  cost_mw_div_w_(&COST_X(c, 0), n74, d74, COST_MINUS_);
 }
 
 /* Add every counter of `from` into `into`. */
