@@ -27,8 +27,8 @@
 **   finds       the fuzzers' finds, each with the exact answer (a cube's corner pierced by
 **               a face: the front must be the face the plane equations put in front);
 **   corpora     every file of tests/fuzz/corpus_{s74,obj,off}/ read, rendered and rendered
-**               reversed (tests/ref/memrender.c: what the fuzz targets check; for .obj also
-**               every `f` line reversed in the text), and every file of
+**               reversed (tests/ref/memrender.c: what the fuzz targets check; for .obj and
+**               .off also every face line reversed in the text), and every file of
 **               tests/fuzz/corpus_pic/ through pic_load: no crash, only status 2 or 4
 **               refusals naming the file.
 */
@@ -703,7 +703,7 @@ static void check_orders(struct fx *f, const struct mesh *m, const char *what,
           scene_free(s);
         } else {
           base = s;
-          for (int a = 0, last = 0; a < s->nf; a++) {
+          for (int a = 0, last = 0; ki == 0 && cell == 3 && a < s->nf; a++) {
             if (a > 0 && s->f[a].id == s->f[a - 1].id && s->f[a].id != last) {
               tot->split_faces++;
               last = s->f[a].id;
@@ -859,12 +859,13 @@ static int replay_dir(const char *dir, const char *kind, int *rendered)
         if (mr_check(buf, n, kind, cell, &r, why, sizeof why)) fail_msg("%s: %s", p, why);
       }
       *rendered += r;
-      if (strcmp(kind, "obj") == 0) {
+      if (strcmp(kind, "obj") == 0 || strcmp(kind, "off") == 0) {
         size_t rn;
-        uint8_t *rev = mr_obj_reverse_rings(buf, n, &rn);
+        uint8_t *rev = strcmp(kind, "obj") == 0 ? mr_obj_reverse_rings(buf, n, &rn)
+                                               : mr_off_reverse_rings(buf, n, &rn);
         assert_non_null(rev);
         struct scene *a = NULL, *b = NULL;
-        int s1 = mr_load_bytes(buf, n, "obj", &a), s2 = mr_load_bytes(rev, rn, "obj", &b);
+        int s1 = mr_load_bytes(buf, n, kind, &a), s2 = mr_load_bytes(rev, rn, kind, &b);
         if ((s1 == 0) != (s2 == 0)) fail_msg("%s: status %d, rings reversed %d", p, s1, s2);
         if (s1 == 0 && !mr_same_picture(a, b, 4)) fail_msg("%s: rings reversed: other picture", p);
         scene_free(a);
@@ -876,6 +877,27 @@ static int replay_dir(const char *dir, const char *kind, int *rendered)
   }
   closedir(d);
   return files;
+}
+
+/* The text reversals the fuzz targets and the replay use do reverse (and only faces). */
+static void text_reversals(void **state)
+{
+  (void)state;
+  static const char obj[] = "v 1 2 3\r\n  f 1 2/5 -1 # c\rfo 4 5 6\nvt 1 2\n";
+  static const char off[] = "OFF # x\n3 2 0\n0 0 0\n\n1 0 0\n0 1 0\n3 0 1 2 9 9\r\n4 2 1 0 1\n";
+  size_t n;
+  uint8_t *r = mr_obj_reverse_rings((const uint8_t *)obj, sizeof obj - 1, &n);
+  assert_non_null(r);
+  static const char obj_rev[] = "v 1 2 3\r\nf -1 2/5 1\rfo 6 5 4\nvt 1 2\n";
+  assert_int_equal(n, sizeof obj_rev - 1);
+  assert_memory_equal(r, obj_rev, n);
+  free(r);
+  r = mr_off_reverse_rings((const uint8_t *)off, sizeof off - 1, &n);
+  assert_non_null(r);
+  static const char off_rev[] = "OFF # x\n3 2 0\n0 0 0\n\n1 0 0\n0 1 0\n3 2 1 0 9 9\r\n4 1 0 1 2\n";
+  assert_int_equal(n, sizeof off_rev - 1);
+  assert_memory_equal(r, off_rev, n);
+  free(r);
 }
 
 #define CORPUS(name)                                                                      \
@@ -905,6 +927,7 @@ int main(void)
     cmocka_unit_test(pierced_corner_front),
     cmocka_unit_test(order_independent),
     cmocka_unit_test(command_dump_ids_reversed),
+    cmocka_unit_test(text_reversals),
     cmocka_unit_test(corpus_s74),
     cmocka_unit_test(corpus_obj),
     cmocka_unit_test(corpus_off),

@@ -61,9 +61,12 @@ for t in $targets; do
     *) echo "tools/fuzz.sh: unknown target $t (tek s74 obj off pic)" >&2; exit 2 ;;
   esac
   echo "fuzz_$t: fuzzing for $secs s (corpus: $corpus)"
-  # -fork=1: one worker process; with KEEP_GOING=1 a find is saved and fuzzing goes on
+  # KEEP_GOING=1: one worker process (-fork=1) that saves a find and goes on (slower)
+  keep=""
+  [ "${KEEP_GOING:-0}" = 1 ] && keep="-fork=1 -ignore_crashes=1"
+  # shellcheck disable=SC2086
   "$out/fuzz_$t" -max_total_time="$secs" -max_len=$maxlen -timeout=10 -rss_limit_mb=2048 \
-    -fork=1 -ignore_crashes="${KEEP_GOING:-0}" -artifact_prefix="$out/$t-" \
+    $keep -artifact_prefix="$out/$t-" \
     "$out/new_$t" "$corpus" 2>&1 | grep -v 'warning: face' | grep -E '^#|^==|^SUMMARY|Done|crash|timeout|leak|oom|artifact' | tail -n 4 || true
   for a in "$out/$t-"crash-* "$out/$t-"timeout-* "$out/$t-"leak-* "$out/$t-"oom-*; do
     [ -e "$a" ] || continue

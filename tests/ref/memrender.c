@@ -221,3 +221,87 @@ uint8_t *mr_obj_reverse_rings(const uint8_t *data, size_t size, size_t *outn)
   *outn = o;
   return out;
 }
+
+/* The tokens of one line (before any `#`), as offsets into data: at most max of them. */
+static int line_tokens(const uint8_t *data, size_t p, size_t e, size_t *ts, size_t *te, int max)
+{
+  int n = 0;
+  size_t q = p;
+  while (q < e && data[q] != '#') {
+    while (q < e && is_blank(data[q])) q++;
+    if (q >= e || data[q] == '#') break;
+    size_t b = q;
+    while (q < e && !is_blank(data[q]) && data[q] != '#') q++;
+    if (n < max) { ts[n] = b; te[n] = q; }
+    n++;
+  }
+  return n;
+}
+
+/* A token as a whole decimal integer 0..2^31-1, or -1. */
+static long token_count(const uint8_t *data, size_t b, size_t e)
+{
+  long v = 0;
+  if (b < e && data[b] == '+') b++;
+  if (b >= e || e - b > 9) return -1;
+  for (; b < e; b++) {
+    if (data[b] < '0' || data[b] > '9') return -1;
+    v = v * 10 + (data[b] - '0');
+  }
+  return v;
+}
+
+uint8_t *mr_off_reverse_rings(const uint8_t *data, size_t size, size_t *outn)
+{
+  uint8_t *out = malloc(size + 1);
+  enum { MAXT = 64 };
+  size_t *ts = malloc(MAXT * sizeof *ts), *te = malloc(MAXT * sizeof *te);
+  if (!out || !ts || !te) { free(out); free(ts); free(te); return NULL; }
+  size_t o = 0, p = 0;
+  int state = 0;                 /* 0 header, 1 counts, 2 vertices, 3 faces, 4 copy */
+  long nv = 0;
+  while (p < size) {
+    size_t e = p;
+    while (e < size && data[e] != '\n' && data[e] != '\r') e++;
+    int nt = memchr(data + p, 0, e - p) ? 0 : line_tokens(data, p, e, ts, te, MAXT);
+    bool rewritten = false;
+    if (nt > 0 && state < 4) {
+      if (state == 0) {
+        state = 1;
+        if (nt > 1) { nv = token_count(data, ts[1], te[1]); state = nv < 0 ? 4 : nv ? 2 : 3; }
+      } else if (state == 1) {
+        nv = token_count(data, ts[0], te[0]);
+        state = nv < 0 ? 4 : nv ? 2 : 3;
+      } else if (state == 2) {
+        if (--nv == 0) state = 3;
+      } else {
+        long n = token_count(data, ts[0], te[0]);
+        if (n < 0 || nt > MAXT || n > nt - 1) state = 4;
+        else {
+          for (int k = 0; k < nt; k++) {
+            int at = k >= 1 && k <= n ? (int)(n + 1 - k) : k;   /* 1..n reversed */
+            if (k) out[o++] = ' ';
+            memcpy(out + o, data + ts[at], te[at] - ts[at]);
+            o += te[at] - ts[at];
+          }
+          rewritten = true;
+        }
+      }
+    }
+    if (!rewritten) {
+      memcpy(out + o, data + p, e - p);
+      o += e - p;
+    }
+    if (e < size) {
+      size_t le = data[e] == '\r' && e + 1 < size && data[e + 1] == '\n' ? 2 : 1;
+      memcpy(out + o, data + e, le);
+      o += le;
+      e += le;
+    }
+    p = e;
+  }
+  free(ts);
+  free(te);
+  *outn = o;
+  return out;
+}

@@ -54,4 +54,9 @@ int mr_same_picture(const struct scene *a, const struct scene *b, int cell);
    them: LF, CR LF, CR). malloc'd, length in *outn; NULL when out of memory. */
 uint8_t *mr_obj_reverse_rings(const uint8_t *data, size_t size, size_t *outn);
 
+/* The same for .off: every face line's vertex indices in reverse order (its count and
+   any colour after them kept; lines of more than 63 tokens, and everything after a line
+   this reading does not understand, left as they are). */
+uint8_t *mr_off_reverse_rings(const uint8_t *data, size_t size, size_t *outn);
+
 #endif
