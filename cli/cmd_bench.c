@@ -579,8 +579,9 @@ done:
 
 int cmd_bench(int argc, char **argv, struct t74_error *err)
 {
-  if (argc < 3) return t74_fail(err, T74_EINPUT, "tube74: bench needs a subcommand: accuracy, speed");
+  if (argc < 3) return t74_fail(err, T74_EINPUT, "tube74: bench needs a subcommand: accuracy, speed, arith");
   if (!strcmp(argv[2], "accuracy")) return bench_accuracy(argc, argv, err);
-  if (!strcmp(argv[2], "speed")) return bench_speed(argc, argv, err);
-  return t74_fail(err, T74_EINPUT, "tube74: unknown bench subcommand `%s` (this version has: accuracy, speed)", argv[2]);
+  if (!strcmp(argv[2], "speed")) return bench_speed(argc, argv, err);   /* cli/bench_speed.c */
+  if (!strcmp(argv[2], "arith")) return bench_arith(argc, argv, err);   /* cli/bench_arith.c */
+  return t74_fail(err, T74_EINPUT, "tube74: unknown bench subcommand `%s` (this version has: accuracy, speed, arith)", argv[2]);
 }

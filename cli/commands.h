@@ -25,12 +25,15 @@ int cmd_stream(int argc, char **argv, struct t74_error *err);
 int cmd_devices(int argc, char **argv, struct t74_error *err);
 
 /* `tube74 bench SUBCOMMAND [--out DIR]`: measured figures; dispatches on the subcommand
-** and refuses unknown ones (cli/cmd_bench.c; this version: accuracy). */
+** and refuses unknown ones (cli/cmd_bench.c; this version: accuracy, speed, arith). */
 int cmd_bench(int argc, char **argv, struct t74_error *err);
 
 /* `tube74 bench speed [--out DIR] [--runs N] [--quick] [--peer PATH]`: against OSMesa
 ** (cli/bench_speed.c); cmd_bench dispatches to it. */
 int bench_speed(int argc, char **argv, struct t74_error *err);
+
+/* `tube74 bench arith [--out DIR]`: exact against 1974 arithmetic (cli/bench_arith.c). */
+int bench_arith(int argc, char **argv, struct t74_error *err);
 
 /* `tube74 teach SCENE [-o DIR] [--line J]`: the paper's figures step by step as one HTML
    page (cli/cmd_teach.c). */

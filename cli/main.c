@@ -34,6 +34,7 @@ static void usage(FILE *f)
     "       tube74 bench accuracy [--out DIR] [--runs N]   what anti-aliasing costs in time\n"
     "       tube74 bench speed [--out DIR] [--runs N] [--quick] [--boxes-max N]\n"
     "                     [--triangles-max N] [--peer PATH]   speed against OSMesa\n"
+    "       tube74 bench arith [--out DIR]    exact against 1974 arithmetic: dots, time, core\n"
     "       tube74 --help | --version\n");
   job_usage(f);
   timing_usage(f);

@@ -88,7 +88,9 @@ void job_usage(FILE *f)
     "  --hitac NAME=VALUE     change a cost-model constant (see `tube74 params`)\n"
     "  --matrix auto|dense|sparse   priority matrix store (default auto)\n"
     "  --frames K             render the loaded scene K times (outputs written once;\n"
-    "                         --stats gives frame_seconds, the median frame)\n");
+    "                         --stats gives frame_seconds, the median frame)\n"
+    "  --arith exact|hitac    decisions in exact arithmetic (default) or in the HITAC-10's\n"
+    "                         word sizes as the 1974 program would make them\n");
 }
 
 static int parse_long(const char *s, long lo, long hi, long *out)
@@ -181,6 +183,12 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
       if (!parse_long(argv[++k], 1, 1000000L, &v))
         return bad_usage(err, "--frames takes a number of frames, 1 .. 1000000", argv[k]);
       o->frames = (int)v;
+    } else if (!strcmp(a, "--arith")) {
+      NEED(1);
+      const char *m = argv[++k];
+      if (!strcmp(m, "exact")) o->arith = GEOM_EXACT;
+      else if (!strcmp(m, "hitac")) o->arith = GEOM_HITAC;
+      else return bad_usage(err, "--arith takes exact or hitac", m);
     } else if (!strcmp(a, "--matrix")) {
       NEED(1);
       const char *m = argv[++k];
@@ -344,6 +352,28 @@ static int copy_to_outfile(FILE *from, struct outfile *of, struct t74_error *err
   return outfile_commit(of, err);
 }
 
+/* What the core would hold if the tables kept tube74's exact values instead of the 1974
+   program's words (docs/machine.md): the peak plus, for each table, what its exact rows
+   add at that table's own peak (VERTEX 8 words for 6, A-BLOCK 19 for 10, B-BLOCK 10 for 6,
+   C-BLOCK 8 a side for 1 + 4 a side: at most as much again, D-BLOCK 28 for 10). An upper
+   estimate: the tables' peaks need not fall together. */
+static uint64_t exact_core_words(const struct core *c)
+{
+  static const struct { const char *name; int num, den; } extra[] = {
+    { "VERTEX", 2, 6 }, { "A-BLOCK", 9, 10 }, { "B-BLOCK", 4, 6 }, { "C-BLOCK", 1, 1 },
+    { "D-BLOCK", 18, 10 } };
+  const char *names[64];
+  uint32_t peak[64];
+  int n = core_tables(c, names, peak, 64);
+  uint64_t w = core_peak(c);
+  for (int k = 0; k < n && k < 64; k++)
+    for (size_t e = 0; e < sizeof extra / sizeof extra[0]; e++)
+      if (!strcmp(names[k], extra[e].name))
+        w += ((uint64_t)peak[k] * (uint64_t)extra[e].num + (uint64_t)extra[e].den - 1) /
+             (uint64_t)extra[e].den;
+  return w;
+}
+
 static const char *const stage_names[RS_NSTAGE] = { "mapper", "segment", "priority+visible" };
 
 static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
@@ -372,7 +402,22 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "  \"priority_store\": \"%s\",\n", r->prio.store == PRIO_DENSE ? "dense" : "sparse");
   outfile_printf(of, "  \"core_words\": %u,\n", core_words(r->core));
   outfile_printf(of, "  \"core_words_used\": %u,\n", core_peak(r->core));
+  outfile_printf(of, "  \"exact_core_words\": %llu,\n", (unsigned long long)exact_core_words(r->core));
   outfile_printf(of, "  \"hitac10_seconds\": %.6f,\n", pipeline_seconds(p));
+  {
+    /* the same run with every counted operation at its exact width (emu/cost.h) */
+    struct cost all = total;
+    cost_merge(&all, &p->scanner);
+    cost_merge(&all, &p->fx);
+    double prog = 0;
+    cost_params_get(&o->params, "program_words", &prog);
+    outfile_printf(of, "  \"exact_hitac10_seconds\": %.6f,\n",
+                   pipeline_seconds(p) - cost_seconds(&all, &o->params) +
+                   cost_seconds_exact(&all, &o->params));
+    outfile_printf(of, "  \"arith\": \"%s\",\n  \"arith_faces_skipped\": %d,\n"
+                   "  \"program_words\": %.0f,\n",
+                   o->arith == GEOM_HITAC ? "hitac" : "exact", r->arith_skipped, prog);
+  }
   outfile_printf(of, "  \"scanner_seconds\": %.6f,\n", ss.scanner_seconds);
   outfile_printf(of, "  \"disk_seconds\": %.6f,\n", ss.disk_seconds);
   if (p->first_dot >= 0)
@@ -573,8 +618,8 @@ done:
 ** disk state starts afresh and ends as the first frame left it, so the statistics are
 ** those of one frame. */
 static int spare_frame(const struct pipeline *p0, const struct scene *s, const struct effects *e,
-                       const struct render_opts *ro, const struct vis_grid *g, double *secs,
-                       struct t74_error *err)
+                       const struct render_opts *ro, int arith, const struct vis_grid *g,
+                       double *secs, struct t74_error *err)
 {
   struct pipeline p = *p0;
   struct render r;
@@ -591,7 +636,7 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   memset(&p.scanner, 0, sizeof p.scanner);
   struct fx_stats fst;
   memset(&fst, 0, sizeof fst);
-  int st = render_prepare_lazy(&r, s, ro, err);   /* as the first frame: cut while scanning */
+  int st = render_prepare_lazy_arith(&r, s, ro, arith, err);   /* as the first frame */
   if (st == T74_OK) st = render_scan(&r, g, on_point, &p, err);
   if (st == T74_OK && p.face) st = run_effects(&p, s, e, g, &fst, err);
   *secs = now_seconds() - t0;
@@ -679,7 +724,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   frame_t = calloc((size_t)nframes, sizeof *frame_t);
   if (!frame_t) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
   double f0 = now_seconds();                /* frame 1: the Mapper to the last dot stored */
-  st = render_prepare_lazy(&r, s, &ro, err);
+  st = render_prepare_lazy_arith(&r, s, &ro, o->arith, err);
   if (st != T74_OK) goto done;
 
   t = tube_new();
@@ -711,7 +756,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     struct render_opts ro2 = ro;
     ro2.tables = NULL;
     for (int k = 1; k < nframes && st == T74_OK; k++)
-      st = spare_frame(&p, s, &eff, &ro2, &g, &frame_t[k], err);
+      st = spare_frame(&p, s, &eff, &ro2, o->arith, &g, &frame_t[k], err);
     if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
   }
   qsort(frame_t, (size_t)nframes, sizeof *frame_t, cmp_double);

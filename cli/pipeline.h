@@ -41,6 +41,7 @@ struct job {
   double preload_seconds;           /* the time that reading took (in host_seconds) */
   int frames;                       /* --frames: the loaded scene rendered this many times
                                        (0 = 1); outputs come from one of them */
+  int arith;                        /* --arith: GEOM_EXACT (default) or GEOM_HITAC */
   int ndump;
   int dump_kind[JOB_MAX_DUMPS];
   const char *dump_path[JOB_MAX_DUMPS];
