@@ -9,8 +9,8 @@
 ** statements (view, window, light, background, effects) at most once. Ids are resolved
 ** after the whole file is read, so a face may name a vertex defined further down; an
 ** unknown id is still reported at the line that uses it. The text may start with a UTF-8
-** byte-order mark and end its lines with LF, CR LF or a lone CR (text_conventions); UTF-16
-** is refused by name.
+** byte-order mark and end its lines with LF, CR LF or a lone CR (the line reader of
+** render/import.h); UTF-16 is refused by name (text_conventions).
 **
 ** The geometric checks are exact, in integers, never in floating point:
 **  - each ring (outer boundary, then one ring per hole) has >= 3 distinct vertices, no
@@ -393,20 +393,17 @@ int scene_check_camera(const struct scene *s, int view_line, int window_line,
 
 /* ---- the .s74 parser --------------------------------------------------------------- */
 
-/* The text conventions of editors, before the lines are read: a UTF-8 byte-order mark
-** (EF BB BF, as some Windows editors start a file) is skipped; line ends may be LF,
-** CR LF or a lone CR (classic Mac OS): a lone CR is made a line end, so that lines and
-** their numbers are the ones the editor shows (CR LF stays: CR is a blank). A file in
-** UTF-16 (byte-order mark FF FE or FE FF) is refused by name at line 1. */
+/* The text conventions of editors: the line reader (render/import.h) already skips a
+** UTF-8 byte-order mark (EF BB BF, as some Windows editors start a file) and ends lines
+** at LF, CR LF or a lone CR (classic Mac OS), so that lines and their numbers are the
+** ones the editor shows. What is left for a scene: a file in UTF-16 (byte-order mark
+** FF FE or FE FF) is refused by name at line 1. */
 static int text_conventions(struct import_reader *r, struct t74_error *err)
 {
   const unsigned char *b = (const unsigned char *)r->buf;
   if (r->len >= 2 && ((b[0] == 0xFF && b[1] == 0xFE) || (b[0] == 0xFE && b[1] == 0xFF)))
     return t74_fail_at(err, T74_EINPUT, r->file, 1, "the file is UTF-16 (it starts with a "
                        "byte-order mark %02X %02X): save it as ASCII or UTF-8", b[0], b[1]);
-  if (r->len >= 3 && b[0] == 0xEF && b[1] == 0xBB && b[2] == 0xBF) r->pos = 3;
-  for (size_t k = r->pos; k < r->len; k++)
-    if (r->buf[k] == '\r' && (k + 1 == r->len || r->buf[k + 1] != '\n')) r->buf[k] = '\n';
   return T74_OK;
 }
 
