@@ -476,22 +476,23 @@ static int read_off(struct import_reader *r, struct mesh *m, struct t74_error *e
 
 /* ---- onto the grid ------------------------------------------------------------------ */
 
-static void warn(struct scene *s, int line, const char *fmt, ...)
+static void warn(struct scene *s, bool quiet, int line, const char *fmt, ...)
 #if defined(__GNUC__)
-  __attribute__((format(printf, 3, 4)))
+  __attribute__((format(printf, 4, 5)))
 #endif
   ;
 
-/* Print "FILE:LINE: warning: ..." to stderr and count it. */
-static void warn(struct scene *s, int line, const char *fmt, ...)
+/* Print "FILE:LINE: warning: ..." to stderr (unless quiet: scene_opts.quiet) and count it. */
+static void warn(struct scene *s, bool quiet, int line, const char *fmt, ...)
 {
+  s->warnings++;
+  if (quiet) return;
   va_list ap;
   fprintf(stderr, "%s:%d: warning: ", s->file, line);
   va_start(ap, fmt);
   vfprintf(stderr, fmt, ap);
   va_end(ap);
   fputc('\n', stderr);
-  s->warnings++;
 }
 
 /* Append a face of one ring (n vertex indices) to s; the arrays are copied. */
@@ -773,7 +774,7 @@ static int vcmp(const struct scene_vertex *a, const struct scene_vertex *b)
 /* Split the rounded ring v[0..n) (scene vertex indices, no two consecutive at one
    position) into triangles added as faces of `id`. */
 static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, int n,
-                     struct t74_error *err)
+                     bool quiet, struct t74_error *err)
 {
   int64_t nn[3] = { 0, 0, 0 };     /* exact Newell normal: |terms| < 2^30 (|coords| <= 2^14) */
   for (int k = 0; k < n; k++) {
@@ -784,7 +785,7 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
   }
   int ax = dominant_axis_i(nn);
   if (nn[ax] == 0) {
-    warn(s, line, "face %d degenerate after rounding (no area); dropped", id);
+    warn(s, quiet, line, "face %d degenerate after rounding (no area); dropped", id);
     return T74_OK;
   }
   int u = (ax + 1) % 3, w = (ax + 2) % 3;
@@ -848,7 +849,7 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
       made++;
     }
   }
-  warn(s, line, "face %d not planar after rounding; split into %d triangles", id, made);
+  warn(s, quiet, line, "face %d not planar after rounding; split into %d triangles", id, made);
 done:
   free(p);
   free(ring);
@@ -860,7 +861,7 @@ done:
 /* Turn mesh face k into scene faces: kept, split into triangles, or dropped (with a
    warning); refused when it is not simple in the file or once rounded. */
 static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, int *buf,
-                      struct t74_error *err)
+                      bool quiet, struct t74_error *err)
 {
   int id = k + 1, line = m->fline[k], n = 0;
   int st = check_file_face(s, m, k, err);
@@ -872,17 +873,17 @@ static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, in
   }
   while (n > 1 && same_pos(s, buf[n - 1], buf[0])) n--;  /* closing repeat */
   if (n < 3) {
-    warn(s, line, "face %d degenerate after rounding; dropped", id);
+    warn(s, quiet, line, "face %d degenerate after rounding; dropped", id);
     return T74_OK;
   }
   int d = defect(s, id, line, buf, n);
   if (d < 0) return oom(s->file, err);
   if (d == SCENE_FACE_OK) return add_face(s, cap, id, line, buf, n, err);
   if (d == SCENE_FACE_DEGENERATE) {
-    warn(s, line, "face %d degenerate after rounding; dropped", id);
+    warn(s, quiet, line, "face %d degenerate after rounding; dropped", id);
     return T74_OK;
   }
-  return ear_split(s, cap, id, line, buf, n, err);
+  return ear_split(s, cap, id, line, buf, n, quiet, err);
 }
 
 static int32_t clamp_coord(double v)
@@ -999,7 +1000,7 @@ static int build(const struct mesh *m, const char *path, const struct scene_opts
   buf = malloc((longest + 1) * sizeof *buf);
   if (!buf) { st = oom(path, err); goto fail; }
   for (int k = 0; k < m->nf; k++)
-    if ((st = place_face(s, &cap, m, k, buf, err))) goto fail;
+    if ((st = place_face(s, &cap, m, k, buf, opts && opts->quiet, err))) goto fail;
   free(buf);
   buf = NULL;
   if ((st = scene_check_camera(s, 0, 0, err))) goto fail;

@@ -4,7 +4,7 @@
 **
 ** This file contains code to check that:
 **   every shipped scene gets its page: one self-contained file (no src=, no <link>, no
-**   address other than the SVG namespace name);
+**   address other than the SVG namespace name); an import's warnings are printed once;
 **   in Chromium (--dump-dom after the page's own key handler has been driven through its
 **   #keys= hash, which presses the keys on load):
 **     step 0 is the projected scene with one marker per projected vertex; Back at the
@@ -309,6 +309,27 @@ static void test_steps_in_chromium(void **state)
   free(tables);
 }
 
+/* An import's warnings are printed once, as `render` prints them (the traced second read
+   of the scene is quiet). */
+static void test_import_warns_once(void **state)
+{
+  (void)state;
+  static const char obj[] = "v 0 0 0\nv 100 0 0\nv 100 100 1\nv 0 100 0\nv 50 50 30\n"
+                            "f 1 2 3 4\nf 1 2 5\n";   /* face 1 is not planar */
+  char p[300];
+  snprintf(p, sizeof p, "%s/np.obj", scratch);
+  assert_int_equal(tk_put(p, obj, sizeof obj - 1), 0);
+  assert_int_equal(sh("%s render np.obj -o np.png 2> r.txt && %s teach np.obj -o pages > /dev/null "
+                      "2> t.txt", exe, exe), 0);
+  char *r = slurp("r.txt"), *t = slurp("t.txt");
+  assert_non_null(r);
+  assert_non_null(t);
+  assert_int_equal(count(r, "np.obj:6: warning: face 1 not planar"), 1);
+  assert_string_equal(t, r);
+  free(r);
+  free(t);
+}
+
 int main(void)
 {
   if (system("command -v chromium > /dev/null 2>&1") != 0) {
@@ -321,6 +342,7 @@ int main(void)
   if (tk_mkscratch(scratch, sizeof scratch, "/tmp/t74teach.XXXXXX") != 0) return 1;
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_every_scene_self_contained),
+    cmocka_unit_test(test_import_warns_once),
     cmocka_unit_test(test_steps_in_chromium),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
