@@ -581,5 +581,6 @@ int cmd_bench(int argc, char **argv, struct t74_error *err)
 {
   if (argc < 3) return t74_fail(err, T74_EINPUT, "tube74: bench needs a subcommand: accuracy");
   if (!strcmp(argv[2], "accuracy")) return bench_accuracy(argc, argv, err);
-  return t74_fail(err, T74_EINPUT, "tube74: unknown bench subcommand `%s` (this version has: accuracy)", argv[2]);
+  if (!strcmp(argv[2], "arith")) return bench_arith(argc, argv, err);   /* cli/bench_arith.c */
+  return t74_fail(err, T74_EINPUT, "tube74: unknown bench subcommand `%s` (this version has: accuracy, arith)", argv[2]);
 }

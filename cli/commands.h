@@ -28,6 +28,9 @@ int cmd_devices(int argc, char **argv, struct t74_error *err);
 ** and refuses unknown ones (cli/cmd_bench.c; this version: accuracy). */
 int cmd_bench(int argc, char **argv, struct t74_error *err);
 
+/* `tube74 bench arith [--out DIR]`: exact against 1974 arithmetic (cli/bench_arith.c). */
+int bench_arith(int argc, char **argv, struct t74_error *err);
+
 /* `tube74 teach SCENE [-o DIR] [--line J]`: the paper's figures step by step as one HTML
    page (cli/cmd_teach.c). */
 int cmd_teach(int argc, char **argv, struct t74_error *err);

@@ -32,6 +32,7 @@ static void usage(FILE *f)
     "                     step, as one HTML page\n"
     "       tube74 params                     the HITAC-10 cost model's constants and sources\n"
     "       tube74 bench accuracy [--out DIR] [--runs N]   what anti-aliasing costs in time\n"
+    "       tube74 bench arith [--out DIR]    exact against 1974 arithmetic: dots, time, core\n"
     "       tube74 --help | --version\n");
   job_usage(f);
   timing_usage(f);

@@ -86,7 +86,9 @@ void job_usage(FILE *f)
     "  --input s74|obj|off|tek  input format (default: a Tek stream by its first byte,\n"
     "                         else by extension)\n"
     "  --hitac NAME=VALUE     change a cost-model constant (see `tube74 params`)\n"
-    "  --matrix auto|dense|sparse   priority matrix store (default auto)\n");
+    "  --matrix auto|dense|sparse   priority matrix store (default auto)\n"
+    "  --arith exact|hitac    decisions in exact arithmetic (default) or in the HITAC-10's\n"
+    "                         word sizes as the 1974 program would make them\n");
 }
 
 static int parse_long(const char *s, long lo, long hi, long *out)
@@ -174,6 +176,12 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
     } else if (!strcmp(a, "--hitac")) {
       NEED(1);
       if (cost_params_set(&o->params, argv[++k], err) != T74_OK) return err->status;
+    } else if (!strcmp(a, "--arith")) {
+      NEED(1);
+      const char *m = argv[++k];
+      if (!strcmp(m, "exact")) o->arith = GEOM_EXACT;
+      else if (!strcmp(m, "hitac")) o->arith = GEOM_HITAC;
+      else return bad_usage(err, "--arith takes exact or hitac", m);
     } else if (!strcmp(a, "--matrix")) {
       NEED(1);
       const char *m = argv[++k];
@@ -337,6 +345,28 @@ static int copy_to_outfile(FILE *from, struct outfile *of, struct t74_error *err
   return outfile_commit(of, err);
 }
 
+/* What the core would hold if the tables kept tube74's exact values instead of the 1974
+   program's words (docs/machine.md): the peak plus, for each table, what its exact rows
+   add at that table's own peak (VERTEX 8 words for 6, A-BLOCK 19 for 10, B-BLOCK 10 for 6,
+   C-BLOCK 8 a side for 1 + 4 a side: at most as much again, D-BLOCK 28 for 10). An upper
+   estimate: the tables' peaks need not fall together. */
+static uint64_t exact_core_words(const struct core *c)
+{
+  static const struct { const char *name; int num, den; } extra[] = {
+    { "VERTEX", 2, 6 }, { "A-BLOCK", 9, 10 }, { "B-BLOCK", 4, 6 }, { "C-BLOCK", 1, 1 },
+    { "D-BLOCK", 18, 10 } };
+  const char *names[64];
+  uint32_t peak[64];
+  int n = core_tables(c, names, peak, 64);
+  uint64_t w = core_peak(c);
+  for (int k = 0; k < n && k < 64; k++)
+    for (size_t e = 0; e < sizeof extra / sizeof extra[0]; e++)
+      if (!strcmp(names[k], extra[e].name))
+        w += ((uint64_t)peak[k] * (uint64_t)extra[e].num + (uint64_t)extra[e].den - 1) /
+             (uint64_t)extra[e].den;
+  return w;
+}
+
 static const char *const stage_names[RS_NSTAGE] = { "mapper", "segment", "priority+visible" };
 
 static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
@@ -365,7 +395,22 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "  \"priority_store\": \"%s\",\n", r->prio.store == PRIO_DENSE ? "dense" : "sparse");
   outfile_printf(of, "  \"core_words\": %u,\n", core_words(r->core));
   outfile_printf(of, "  \"core_words_used\": %u,\n", core_peak(r->core));
+  outfile_printf(of, "  \"exact_core_words\": %llu,\n", (unsigned long long)exact_core_words(r->core));
   outfile_printf(of, "  \"hitac10_seconds\": %.6f,\n", pipeline_seconds(p));
+  {
+    /* the same run with every counted operation at its exact width (emu/cost.h) */
+    struct cost all = total;
+    cost_merge(&all, &p->scanner);
+    cost_merge(&all, &p->fx);
+    double prog = 0;
+    cost_params_get(&o->params, "program_words", &prog);
+    outfile_printf(of, "  \"exact_hitac10_seconds\": %.6f,\n",
+                   pipeline_seconds(p) - cost_seconds(&all, &o->params) +
+                   cost_seconds_exact(&all, &o->params));
+    outfile_printf(of, "  \"arith\": \"%s\",\n  \"arith_faces_skipped\": %d,\n"
+                   "  \"program_words\": %.0f,\n",
+                   o->arith == GEOM_HITAC ? "hitac" : "exact", r->arith_skipped, prog);
+  }
   outfile_printf(of, "  \"scanner_seconds\": %.6f,\n", ss.scanner_seconds);
   outfile_printf(of, "  \"disk_seconds\": %.6f,\n", ss.disk_seconds);
   if (p->first_dot >= 0)
@@ -618,7 +663,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
   struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
-  st = render_prepare_lazy(&r, s, &ro, err);
+  st = render_prepare_lazy_arith(&r, s, &ro, o->arith, err);
   if (st != T74_OK) goto done;
 
   t = tube_new();

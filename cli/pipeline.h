@@ -36,6 +36,7 @@ struct job {
   int cell;                         /* --cell, 0 = from the scene */
   uint32_t core_words;              /* --core */
   int store;                        /* --matrix */
+  int arith;                        /* --arith: GEOM_EXACT (default) or GEOM_HITAC */
   int ndump;
   int dump_kind[JOB_MAX_DUMPS];
   const char *dump_path[JOB_MAX_DUMPS];

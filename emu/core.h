@@ -49,8 +49,14 @@
 #define CORE_T_PROGRAM   "PROGRAM"          /* the 1974 program itself (program_words) */
 #define CORE_T_VERTICES  "VERTICES"         /* input vertices, mapped by eq. (1) */
 #define CORE_T_FACES     "FACE DATA"        /* Fig. 8 A/B/C/D blocks */
-#define CORE_T_YSORT     "YSORT"            /* faces by y (003 §2) */
-#define CORE_T_XSORT     "XSORT"            /* vertices by x, ccw on ties (Fig. 3) */
+/* YSORT (003 §2.2): the projected vertices' y coordinates, smallest first; each is a
+   horizontal line y = const the face is met with. XSORT (§2.2, Fig. 3): the crossings of
+   one such line with the face's sides, smallest x first, each with its code (the side
+   crossed in its middle, at an end point, or lying on the line), the side's number and the
+   crossing's coordinates; crossings of equal x in the order met going counter-clockwise
+   with the face on the left. */
+#define CORE_T_YSORT     "YSORT"            /* vertex y values, ascending (003 §2.2) */
+#define CORE_T_XSORT     "XSORT"            /* crossings of one line, by x (Fig. 3) */
 #define CORE_T_IPL       "IPL"              /* intersection point list (Fig. 6) */
 #define CORE_T_PBS       "PBS"              /* boundary sequence with crossings (Fig. 6) */
 #define CORE_T_LWS       "LWS"              /* lower sub-faces (Fig. 6) */

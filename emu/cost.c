@@ -25,7 +25,10 @@ const char *cost_class_name(int cls)
 
 void cost_merge(struct cost *into, const struct cost *from)
 {
-  for (int k = 0; k < COST_NCLASS; k++) into->n[k] += from->n[k];
+  for (int k = 0; k < COST_NCLASS; k++) {
+    into->n[k] += from->n[k];
+    COST_X(into, k) += COST_X(from, k);
+  }
 }
 
 uint64_t cost_total(const struct cost *c)
@@ -65,6 +68,14 @@ double cost_seconds(const struct cost *c, const struct cost_params *p)
 {
   double states = 0;
   for (int k = 0; k < COST_NCLASS; k++) states += (double)c->n[k] * class_states(p, k);
+  return states * p->v[CP_STATE_NS] * 1e-9;
+}
+
+double cost_seconds_exact(const struct cost *c, const struct cost_params *p)
+{
+  double states = 0;
+  for (int k = 0; k < COST_NCLASS; k++)
+    states += (double)(c->n[k] + COST_X(c, k)) * class_states(p, k);
   return states * p->v[CP_STATE_NS] * 1e-9;
 }
 

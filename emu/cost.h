@@ -11,8 +11,11 @@
 ** is a plain increment through the COST_ADD_N macro, cheap enough for inner loops
 ** (tools/bench_cost.c measures it).  Arithmetic wider than the 16-bit word (plane
 ** equations, priority tests on products of coordinates) is counted by cost_mw_*, which
-** charge the multi-word sequence a single-accumulator machine needs.  At the end
-** cost_seconds multiplies each class's count by its time from the parameter table.
+** name the exact widths tube74 uses and charge the multi-word sequence a single-
+** accumulator machine needs twice over: at the 1974 program's widths (one word, double
+** word: n[], hitac10_seconds) and, apart, what the exact widths add (x[],
+** exact_hitac10_seconds); see "Two sets of counters" below and docs/machine.md.  At the
+** end cost_seconds multiplies each class's count by its time from the parameter table.
 **
 ** The parameter table (struct cost_params) has one row per constant, each with its
 ** name, value, unit and source ("inferred" with the reasoning where no document gives
@@ -43,7 +46,22 @@ enum cost_class {
   COST_NCLASS
 };
 
-struct cost { uint64_t n[COST_NCLASS]; };     /* plain counters; the renderer adds to them */
+/*
+** Two sets of counters.  n[] is the 1974 program as paper 003 describes it: its arithmetic
+** is the HITAC-10 programmer's (docs/machine.md, "Which quantity is held in what"): one
+** 16-bit word for a coordinate or a coefficient, a double word (32 bits, truncating fixed
+** point) for a product or a sum of products, a 16 x 16 -> 32 multiply and a 32 / 16 divide.
+** x[] (n[COST_NCLASS + k], read through COST_X; one array so that "= { { 0 } }" still
+** clears both) is what tube74's exact arithmetic needs ON TOP of that, on the same machine: the
+** renderer's counting calls name the exact widths of their operands (cost_mw_*), and
+** each call charges the capped widths to n[] and the difference to x[].  So
+**   hitac10_seconds        = seconds of n[]          (the 1974 program)
+**   exact_hitac10_seconds  = seconds of n[] + x[]    (the same run in exact arithmetic)
+** Plain COST_ADD_N counts (loads, stores, compares of one word, branches) are the same in
+** both and go to n[] only.
+*/
+struct cost { uint64_t n[2 * COST_NCLASS]; };
+#define COST_X(c, cls) ((c)->n[COST_NCLASS + (cls)])   /* x[cls] */
 
 /* Count k operations of class cls: a plain add, for hot paths. */
 /* T74_NO_COST builds the renderer without counting (make bench uses it to measure what
@@ -62,6 +80,16 @@ static inline uint64_t cost_words(int bits)
   return bits <= H10_WORD_BITS ? 1u : (uint64_t)(bits + H10_WORD_BITS - 1) / H10_WORD_BITS;
 }
 
+/* The widths of the 1974 program (docs/machine.md): an add or compare is on at most a
+   double word; a multiply takes one word by one word (a double-word operand is first cut
+   to its high word, fixed point); a divide is a double word by one word. */
+#define COST_1974_ADD_WORDS 2u
+#define COST_1974_MUL_WORDS 1u
+#define COST_1974_DIVN_WORDS 2u
+#define COST_1974_DIVD_WORDS 1u
+
+static inline uint64_t cost_cap_(uint64_t w, uint64_t cap) { return w < cap ? w : cap; }
+
 /*
 ** Multi-word add, subtract or compare of two w-word operands in core, result to core.
 ** Word by word from the least significant: L a_i, A b_i, ST c_i (2 MEM + 1 ADD per
@@ -69,14 +97,11 @@ static inline uint64_t cost_words(int bits)
 ** carry and an add of the constant 1 (1 BRANCH + 1 ADD).
 **   w = 1: MEM 2, ADD 1.   w = 2: MEM 4, ADD 3, BRANCH 1.   w = 8: MEM 16, ADD 15, BRANCH 7.
 */
-static inline void cost_mw_add(struct cost *c, int bits)
+static inline void cost_mw_add_w_(uint64_t *n, uint64_t w, uint64_t sg)
 {
-  (void)bits;
-  COST_OFF_(c);
-  uint64_t w = cost_words(bits);
-  c->n[COST_MEM]    += 2 * w;
-  c->n[COST_ADD]    += w + (w - 1);
-  c->n[COST_BRANCH] += w - 1;
+  n[COST_MEM]    += sg * (2 * w);
+  n[COST_ADD]    += sg * (w + (w - 1));
+  n[COST_BRANCH] += sg * (w - 1);
 }
 
 /*
@@ -90,23 +115,21 @@ static inline void cost_mw_add(struct cost *c, int bits)
 **                                           MEM 3, MUL 1, ADD 3, LOGIC 1, BRANCH 1
 **   each of the wa rows ripples its carry:  L, skip, A one, ST: MEM 2, ADD 1, BRANCH 1
 **   signs (two's complement operands):      2 skips + a multi-word negate of the product,
-**                                           charged as cost_mw_add of its width
+**                                           charged as a multi-word add of its width
 */
-static inline void cost_mw_mul(struct cost *c, int bits_a, int bits_b)
+static inline void cost_mw_mul_w_(uint64_t *n, uint64_t wa, uint64_t wb, uint64_t sg)
 {
-  (void)bits_a; (void)bits_b;
-  COST_OFF_(c);
-  uint64_t wa = cost_words(bits_a), wb = cost_words(bits_b), pp = wa * wb;
+  uint64_t pp = wa * wb;
   if (pp == 1) {
-    c->n[COST_MEM] += 3; c->n[COST_MUL] += 1; c->n[COST_LOGIC] += 1;
+    n[COST_MEM] += sg * 3; n[COST_MUL] += sg; n[COST_LOGIC] += sg;
     return;
   }
-  c->n[COST_MEM]    += (wa + wb) + 3 * pp + 2 * wa;
-  c->n[COST_MUL]    += pp;
-  c->n[COST_ADD]    += 3 * pp + wa;
-  c->n[COST_LOGIC]  += pp;
-  c->n[COST_BRANCH] += pp + wa + 2;
-  cost_mw_add(c, (int)((wa + wb) * H10_WORD_BITS));
+  n[COST_MEM]    += sg * ((wa + wb) + 3 * pp + 2 * wa);
+  n[COST_MUL]    += sg * pp;
+  n[COST_ADD]    += sg * (3 * pp + wa);
+  n[COST_LOGIC]  += sg * pp;
+  n[COST_BRANCH] += sg * (pp + wa + 2);
+  cost_mw_add_w_(n, wa + wb, sg);
 }
 
 /*
@@ -119,26 +142,72 @@ static inline void cost_mw_mul(struct cost *c, int bits_a, int bits_b)
 **   (wd MUL, 3 wd MEM, 2 wd ADD, wd LOGIC, wd BRANCH), add back test (1 BRANCH), store
 **   (1 MEM)
 **   signs:                                  2 skips + a negate of the quotient (mw_add)
+** (A double word by one word, the 1974 program's divide, is one DIV per dividend word
+** here: two; the paper's machine divided AC:EC by a word in one instruction, so this is
+** one DIV more than it needed at worst.)
 */
+static inline void cost_mw_div_w_(uint64_t *n, uint64_t wn, uint64_t wd, uint64_t sg)
+{
+  if (wd == 1) {
+    n[COST_MEM] += sg * (2 * wn); n[COST_DIV] += sg * wn; n[COST_LOGIC] += sg * wn;
+    return;
+  }
+  if (wn < wd) wn = wd;                         /* quotient 0: one trial still runs */
+  uint64_t q = wn - wd + 1;
+  n[COST_SHIFT]  += sg * (2 * (wn + wd));
+  n[COST_MEM]    += sg * (2 * (wn + wd) + q * (2 + 3 * wd + 1));
+  n[COST_DIV]    += sg * q;
+  n[COST_MUL]    += sg * (q * wd);
+  n[COST_ADD]    += sg * (q * (1 + 2 * wd));
+  n[COST_LOGIC]  += sg * (q * wd);
+  n[COST_BRANCH] += sg * (q * (wd + 1) + 2);
+  cost_mw_add_w_(n, q, sg);
+}
+
+/* Each operation is charged at the 1974 widths to n[], and x[] gets the exact one minus
+   that (as unsigned sums modulo 2^64: a class may take fewer operations at the exact
+   widths, e.g. one DIV of a long division against two of the 1974 divide, so one x[k]
+   may run below zero; n[k] + x[k] is always the exact count, which is all that is read:
+   cost_seconds_exact). When the exact widths are the 1974 ones, x[] is not touched. */
+#define COST_PLUS_  ((uint64_t)1)
+#define COST_MINUS_ (~(uint64_t)0)
+
+/* An add, subtract or compare of `bits`-bit operands (the exact width). */
+static inline void cost_mw_add(struct cost *c, int bits)
+{
+  (void)bits;
+  COST_OFF_(c);
+  uint64_t w = cost_words(bits), w74 = cost_cap_(w, COST_1974_ADD_WORDS);
+  cost_mw_add_w_(c->n, w74, COST_PLUS_);
+  if (w == w74) return;
+  cost_mw_add_w_(&COST_X(c, 0), w, COST_PLUS_);
+  cost_mw_add_w_(&COST_X(c, 0), w74, COST_MINUS_);
+}
+
+/* A product of a bits_a-bit by a bits_b-bit operand (the exact widths). */
+static inline void cost_mw_mul(struct cost *c, int bits_a, int bits_b)
+{
+  (void)bits_a; (void)bits_b;
+  COST_OFF_(c);
+  uint64_t wa = cost_words(bits_a), wb = cost_words(bits_b);
+  uint64_t a74 = cost_cap_(wa, COST_1974_MUL_WORDS), b74 = cost_cap_(wb, COST_1974_MUL_WORDS);
+  cost_mw_mul_w_(c->n, a74, b74, COST_PLUS_);
+  if (wa == a74 && wb == b74) return;
+  cost_mw_mul_w_(&COST_X(c, 0), wa, wb, COST_PLUS_);
+  cost_mw_mul_w_(&COST_X(c, 0), a74, b74, COST_MINUS_);
+}
+
+/* A quotient of a bits_n-bit dividend by a bits_d-bit divisor (the exact widths). */
 static inline void cost_mw_div(struct cost *c, int bits_n, int bits_d)
 {
   (void)bits_n; (void)bits_d;
   COST_OFF_(c);
   uint64_t wn = cost_words(bits_n), wd = cost_words(bits_d);
-  if (wd == 1) {
-    c->n[COST_MEM] += 2 * wn; c->n[COST_DIV] += wn; c->n[COST_LOGIC] += wn;
-    return;
-  }
-  if (wn < wd) wn = wd;                         /* quotient 0: one trial still runs */
-  uint64_t q = wn - wd + 1;
-  c->n[COST_SHIFT]  += 2 * (wn + wd);
-  c->n[COST_MEM]    += 2 * (wn + wd) + q * (2 + 3 * wd + 1);
-  c->n[COST_DIV]    += q;
-  c->n[COST_MUL]    += q * wd;
-  c->n[COST_ADD]    += q * (1 + 2 * wd);
-  c->n[COST_LOGIC]  += q * wd;
-  c->n[COST_BRANCH] += q * (wd + 1) + 2;
-  cost_mw_add(c, (int)(q * H10_WORD_BITS));
+  uint64_t n74 = cost_cap_(wn, COST_1974_DIVN_WORDS), d74 = cost_cap_(wd, COST_1974_DIVD_WORDS);
+  cost_mw_div_w_(c->n, n74, d74, COST_PLUS_);
+  if (wn == n74 && wd == d74) return;
+  cost_mw_div_w_(&COST_X(c, 0), wn, wd, COST_PLUS_);
+  cost_mw_div_w_(&COST_X(c, 0), n74, d74, COST_MINUS_);
 }
 
 /* Add every counter of `from` into `into`. */
@@ -209,8 +278,12 @@ int cost_params_list(const struct cost_params *p, FILE *f);
 /* Time of one operation of class cls, in microseconds, with the table's values. */
 double cost_class_us(const struct cost_params *p, int cls);
 
-/* Estimated 1974 run time of the counted operations, in seconds. */
+/* Estimated 1974 run time of the counted operations (the 1974 program's arithmetic, n[]),
+   in seconds. */
 double cost_seconds(const struct cost *c, const struct cost_params *p);
+
+/* The same run with exact arithmetic on the same machine (n[] + x[]), in seconds. */
+double cost_seconds_exact(const struct cost *c, const struct cost_params *p);
 
 /* Print counts and seconds per class; 0, or T74_EIO when the stream fails. */
 int cost_report(const struct cost *c, const struct cost_params *p, FILE *f);

@@ -146,6 +146,12 @@ extern const int h10_nregs;
 **               included: the disk and drum rows of the parameter table give those).
 **   COST_IND    one level of indirection (an ",I" address: a pointer chain such as
 **               the D-block chain of 003 Fig. 8) on top of the instruction it modifies.
+**
+** Word sizes of the 1974 program (docs/machine.md, "Which quantity is held in what"): a
+** coordinate, a plane or edge coefficient, a number in one word; a product, a sum of
+** products, a scanline crossing and its increment in a double word (AC:EC, 32 bits,
+** truncating fixed point). emu/cost.h prices the counted arithmetic at those widths
+** (hitac10_seconds) and, apart, at the exact widths tube74 uses (exact_hitac10_seconds).
 */
 struct h10_op {
   unsigned    code;                    /* enum h10_opcode */

@@ -43,9 +43,15 @@ const struct param_row cost_param_rows[CP_NPARAM] = {
     P003 "'コア・メモリ 16 kW/16 BIT'; " HF "'Core memory in 4 K-word units; the paper's "
     "machine had 16 kW x 16 bit. 15-bit program counter: 32 K words at most.' "
     "(larger values model a bigger machine than ever existed, for study)" },
-  [CP_PROGRAM_WORDS] = { "program_words", "words", 0, 0, 2147483648.0, 1,
-    "inferred: paper 003 does not give the size of its program; 0 reserves no core for "
-    "it, so a scene is charged only for the renderer's tables" },
+  [CP_PROGRAM_WORDS] = { "program_words", "words", 4096, 0, 2147483648.0, 1,
+    "inferred: paper 003 does not give the size of its program. Estimate, one 16-bit "
+    "instruction or constant a word, by routine (docs/machine.md): typewriter input of "
+    "vertices, faces and objects 400, Mapper (eq. 1, 2) 300, YSORT/XSORT 250, Segment "
+    "Generator (types, rules (3), IPL/PBS/LWS/UPS) 1000, interpenetration test and cut "
+    "(eq. 5) 450, Priority Matrix and depth 300, Visible Surface Procedure and D-blocks "
+    "600, halftone and display 200, background picture from the disk 250, double-word "
+    "arithmetic routines 146, device drivers 200 = 4096 words, one 4 K core unit. "
+    "0 charges the tables only" },
   [CP_STATE_NS] = { "state_ns", "ns", 233.33, 1, 1e6, 0,
     HF "'Inferred from the FPGA reconstruction: a memory-reference instruction takes 6 "
     "states of ~233 ns, about 1.4 us' (hi631/FPGA_HITAC10 H10/IP/cgen.v: CPU clock "
@@ -111,7 +117,10 @@ const struct param_row cost_param_rows[CP_NPARAM] = {
     HF "'Disk of paper 003: 10 Mbit' (" P003 "'容量 10 Mbit'). 'Picture data packed 4 "
     "samples to a word.'" },
   [CP_DRUM_REV_S] = { "drum_rev_s", "s", 0.75, 0, 1e6, 0,
-    HF "'Drum scanner of paper 003: 82.758 rpm (0.75 s a turn)'" },
+    HF "'Drum scanner of paper 003: 82.758 rpm (0.75 s a turn)'. The two figures the "
+    "paper prints ('82.758 rpm (0.75 sec/rev)') disagree: 60 / 82.758 = 0.725 s a turn. "
+    "The 0.75 s is kept (the paper's own per-turn figure); set drum_rev_s=0.725 for the "
+    "rpm" },
   [CP_DRUM_PTS_MM] = { "drum_pts_mm", "points/mm", 5.87, 0, 1e6, 0,
     HF "'5.87 points/mm around the drum'" },
   [CP_DRUM_LINES_MM] = { "drum_lines_mm", "lines/mm", 7.4, 0, 1e6, 0,

@@ -93,6 +93,33 @@ int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d)
   return (l > r) - (l < r);
 }
 
+/* ---- the 1974 arithmetic ------------------------------------------------------------- */
+
+struct grat geom_h10_x(struct grat x)
+{
+  struct grat r;
+  r.num = x.num * GEOM_H10_XONE / x.den;            /* C division truncates toward zero */
+  r.den = GEOM_H10_XONE;
+  return r;
+}
+
+wide geom_h10_dx(wide sl, int64_t dyn, wide den)
+{
+  return sl * dyn * GEOM_H10_XONE / den;
+}
+
+void geom_h10_plane(const int64_t in[4], int64_t out[4])
+{
+  int64_t m = 0;
+  for (int k = 0; k < 3; k++) {
+    int64_t a = in[k] < 0 ? -in[k] : in[k];
+    if (a > m) m = a;
+  }
+  int64_t div = 1;
+  while (m / div >= ((int64_t)1 << 15)) div *= 2;  /* the shift the program would use */
+  for (int k = 0; k < 4; k++) out[k] = in[k] / div;
+}
+
 /* ---- 256-bit integers ---------------------------------------------------------------- */
 
 struct i256 i256_from(wide a)

@@ -96,6 +96,34 @@ wide geom_rat_ceil(struct grat p);
 /* Compare the y of a homogeneous point with n/d (d > 0): -1, 0, 1. */
 int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d);
 
+/* ---- the 1974 arithmetic (--arith hitac) --------------------------------------------
+** tube74 decides exactly by default. With --arith hitac the decisions are made as the
+** HITAC-10 program would make them, in its word sizes (docs/machine.md, "Which quantity
+** is held in what"): these helpers turn an exact quantity into the value that program
+** would hold, truncating (toward zero, as a shift or a divide of the machine does), and
+** the exact predicates then decide on the held values. Where a stage asks (struct vis,
+** struct prio: `arith`), GEOM_HITAC routes it through them; nothing else changes, so the
+** renderer is one renderer with one switch.
+*/
+enum geom_arith { GEOM_EXACT = 0, GEOM_HITAC = 1 };
+
+/* Fraction bits of a scanline crossing x (xb, xe of a D-block) held in a double word:
+   x in world units with 16 fraction bits = grid units with 8 more (GEOM_H10_XBITS). */
+#define GEOM_H10_XBITS 8
+#define GEOM_H10_XONE ((wide)1 << GEOM_H10_XBITS)
+
+/* x as the 1974 program holds it: truncated to 1/GEOM_H10_XONE grid unit (a double word,
+   16.16 fixed point in world units); the result has denominator GEOM_H10_XONE. */
+struct grat geom_h10_x(struct grat x);
+
+/* The increment of xb (or xe) for a line step: the exact increment sl * dyn / den, as a
+   double word of the same fixed point, truncated. */
+wide geom_h10_dx(wide sl, int64_t dyn, wide den);
+
+/* A plane a x + b y + c z + d = 0 as the 1974 program holds it: a, b, c in one word each
+   (|.| < 2^15) and d in a double word, all shifted right by the same count, truncating. */
+void geom_h10_plane(const int64_t in[4], int64_t out[4]);
+
 /* ---- 256-bit integers for depth order ---------------------------------------------- */
 
 struct i256 i256_mul(wide a, wide b);

@@ -13,9 +13,13 @@
 ** on its negative side.
 **
 ** The tables of Fig. 1 / Fig. 8 made here and stored in core:
-**   VERTEX  one row per vertex: id, x, y, z, X', Y'            (1 + 3 + 2 + 2 = 8 words)
-**   A-BLOCK one row per face: id, grey, y-min, y-max (grid, 2 words each) and the plane's
-**           a, b, c (3 words each) and d (4 words)                   (2 + 4 + 9 + 4 = 19 words)
+**   VERTEX  one row per vertex: id, x, y, z, X', Y'            (1 + 3 + 1 + 1 = 6 words)
+**   A-BLOCK one row per face: id, grey, y-min, y-max, the plane's a, b, c (one word each),
+**           d (a double word) and the B-chain pointer               (4 + 3 + 2 + 1 = 10 words)
+** in the paper's formats (Fig. 8 (b); docs/machine.md says which quantity is held in what
+** word). tube74 decides on exact values held by the host (|a| < 2^34 ...); the words
+** written here are those values as the 1974 program held them (truncated), so that the
+** core is charged what the 1974 program needed.
 ** Departure from the paper: faces are also given a uniform intensity here (grey, or
 ** Lambert's law from `light`), which the paper reads from its input data. And a face
 ** that the rounding folds (simple in space, not on the grid: seen almost edge-on or from
@@ -27,8 +31,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define VERTEX_ROW_WORDS 8
-#define ABLOCK_ROW_WORDS 19
+#define VERTEX_ROW_WORDS 6
+#define ABLOCK_ROW_WORDS 10
 #define LAMBERT_AMBIENT  48     /* grey of a face turned away from the light (tuned by eye) */
 #define DEFAULT_GREY     255    /* a face with neither `grey` nor `light` */
 
@@ -253,8 +257,8 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     core_write(core, a + 1, (uint16_t)v->x);
     core_write(core, a + 2, (uint16_t)v->y);
     core_write(core, a + 3, (uint16_t)v->z);
-    core_put_int(core, a + 4, 2, proj[k].x);
-    core_put_int(core, a + 6, 2, proj[k].y);
+    core_write(core, a + 4, (uint16_t)(proj[k].x / GRID_ONE));
+    core_write(core, a + 5, (uint16_t)(proj[k].y / GRID_ONE));
   }
 
   struct tjunc tj;
@@ -360,12 +364,12 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     uint32_t a = at + (uint32_t)out->nface * ABLOCK_ROW_WORDS;
     core_write(core, a, m->id);
     core_write(core, a + 1, (uint16_t)m->grey);
-    core_put_int(core, a + 2, 2, ymin);
-    core_put_int(core, a + 4, 2, ymax);
-    core_put_int(core, a + 6, 3, pl[0]);
-    core_put_int(core, a + 9, 3, pl[1]);
-    core_put_int(core, a + 12, 3, pl[2]);
-    core_put_int(core, a + 15, 4, pl[3]);
+    core_write(core, a + 2, (uint16_t)(ymin / GRID_ONE));
+    core_write(core, a + 3, (uint16_t)(ymax / GRID_ONE));
+    int64_t h[4];
+    geom_h10_plane(pl, h);
+    for (int c = 0; c < 3; c++) core_write(core, a + 4 + (uint32_t)c, (uint16_t)h[c]);
+    core_put_int(core, a + 7, 2, h[3]);
     out->nface++;
   }
   free(ring);
@@ -671,8 +675,10 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
       uint32_t a = at + (uint32_t)(t - 1) * ABLOCK_ROW_WORDS;
       core_write(core, a, g.id);
       core_write(core, a + 1, (uint16_t)g.grey);
-      for (int c = 0; c < 3; c++) core_put_int(core, a + 6 + 3 * (uint32_t)c, 3, g.plane[c]);
-      core_put_int(core, a + 15, 4, g.plane[3]);
+      int64_t h[4];
+      geom_h10_plane(g.plane, h);
+      for (int c = 0; c < 3; c++) core_write(core, a + 4 + (uint32_t)c, (uint16_t)h[c]);
+      core_put_int(core, a + 7, 2, h[3]);
       m->f[m->nface++] = g;
     }
   }

@@ -188,14 +188,26 @@ int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
 
 /* ---- depth ------------------------------------------------------------------------- */
 
-struct depth { wide k0, k1, K; };      /* G(x, y) = k0 x + k1 y + K on the grid */
+struct depth { wide k0, k1, K; int h10; };  /* G(x, y) = k0 x + k1 y + K on the grid;
+                                                h10: --arith hitac (depth_sign) */
 
 static struct depth depth_of(const struct prio *pr, const struct mface *A, const struct mface *B)
 {
   const int64_t *e = pr->map->eye;
   wide k[3];
-  for (int c = 0; c < 3; c++) k[c] = (wide)B->deye * A->plane[c] - (wide)A->deye * B->plane[c];
+  if (pr->arith == GEOM_HITAC) {
+    /* --arith hitac: the planes as the 1974 program held them (one-word a, b, c; double-
+       word d), so depth order and the intersection line come from truncated planes */
+    int64_t a[4], b[4];
+    geom_h10_plane(A->plane, a);
+    geom_h10_plane(B->plane, b);
+    wide da = -((wide)a[0] * e[0] + (wide)a[1] * e[1] + (wide)a[2] * e[2] + a[3]);  /* |plane(eye)| */
+    wide db = -((wide)b[0] * e[0] + (wide)b[1] * e[1] + (wide)b[2] * e[2] + b[3]);
+    for (int c = 0; c < 3; c++) k[c] = db * a[c] - da * b[c];
+  } else
+    for (int c = 0; c < 3; c++) k[c] = (wide)B->deye * A->plane[c] - (wide)A->deye * B->plane[c];
   struct depth g;
+  g.h10 = pr->arith == GEOM_HITAC;
   g.k0 = k[0];
   g.k1 = k[1];
   /* r' = (x - 256 X0, y - 256 Y0, 256 f) with f = -Z0 */
@@ -210,6 +222,13 @@ static struct depth depth_of(const struct prio *pr, const struct mface *A, const
 /* sign of G at a homogeneous point (256-bit: 2^86 * 2^88) */
 static int depth_sign(struct depth g, struct hpoint p)
 {
+  if (g.h10) {
+    /* --arith hitac: the 1974 program compares depths at a point whose coordinates it
+       holds in one word each, whole world units (truncated) */
+    p.X = p.X / p.W / GRID_ONE * GRID_ONE;
+    p.Y = p.Y / p.W / GRID_ONE * GRID_ONE;
+    p.W = 1;
+  }
   struct i256 s = i256_add(i256_add(i256_mul(g.k0, p.X), i256_mul(g.k1, p.Y)),
                            i256_mul(g.K, p.W));
   return i256_sign(s);

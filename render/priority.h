@@ -45,6 +45,7 @@ struct prio {
   FILE    *trace;           /* teaching dump of each decision, or NULL */
   struct prio_cut *cut;     /* the face pairs cut along their intersection, in order found */
   int      ncut, cutcap;
+  int      arith;           /* GEOM_EXACT, or GEOM_HITAC: depth from the 1974 planes */
 };
 
 /* store: PRIO_AUTO keeps the paper's dense matrix while the triangle for the pieces known

@@ -39,6 +39,17 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
     struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
     struct seg_result res = { 0 };
     st = seg_generate(&in, &res, r->tables, r->core, cost, err);
+    if (st == T74_EINPUT && r->arith == GEOM_HITAC) {
+      /* --arith hitac: the 1974 coordinates folded the face; that program would have
+         drawn nothing sensible of it: skip it, with a counted warning */
+      fprintf(stderr, "%s:%d: warning: face %u: its 1974 (one-word) coordinates fold it "
+              "(%s); not drawn (--arith hitac)\n", s->file, f->sline, (unsigned)f->id, err->msg);
+      memset(err, 0, sizeof *err);
+      seg_result_free(&res);
+      r->arith_skipped++;
+      st = T74_OK;
+      goto out;
+    }
     if (st == T74_EINPUT) {
       seg_result_free(&res);
       char why[sizeof err->msg];
@@ -163,8 +174,23 @@ static uint64_t pieces_estimate(const struct mapped *m)
   return n;
 }
 
+/* --arith hitac: X', Y' as the 1974 Mapper held them, one word each in whole world units
+   (eq. (1) by a 16 x 16 multiply and a 32 / 16 divide: the quotient, truncated toward
+   zero). A vertex that lay exactly on another face's edge (a T-junction) may now lie
+   beside it: the cracks of 1974 arithmetic. */
+static void hold_h10(struct mapped *m)
+{
+  for (int k = 0; k < m->nface; k++) {
+    struct mface *f = &m->f[k];
+    for (int v = 0; v < f->ring_start[f->nring]; v++) {
+      f->pt[v].x = f->pt[v].x / GRID_ONE * GRID_ONE;
+      f->pt[v].y = f->pt[v].y / GRID_ONE * GRID_ONE;
+    }
+  }
+}
+
 static int prepare(struct render *r, const struct scene *s, const struct render_opts *o,
-                   bool lazy, struct t74_error *err)
+                   bool lazy, int arith, struct t74_error *err)
 {
   memset(r, 0, sizeof *r);
   r->tables = o->tables;
@@ -180,6 +206,8 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   r->ran[RS_MAPPER] = 1;
   int st = mapper_run(s, &r->map, r->core, &r->cost[RS_MAPPER], err);
   if (st != T74_OK) return st;
+  r->arith = arith;
+  if (arith == GEOM_HITAC) hold_h10(&r->map);
 
   r->ran[RS_SEGMENT] = 1;
   r->scene = s;
@@ -200,8 +228,10 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], store, err);
   if (st != T74_OK) return st;
   r->prio.trace = o->tables;
+  r->prio.arith = arith;
   st = vis_init(&r->vis, &r->seg, &r->prio, &r->cost[RS_VISIBLE], err);
   if (st != T74_OK) return st;
+  r->vis.arith = arith;
   if (lazy) {
     r->vis.feed = feed;
     r->vis.feed_ctx = r;
@@ -212,13 +242,19 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
                    struct t74_error *err)
 {
-  return prepare(r, s, o, false, err);
+  return prepare(r, s, o, false, GEOM_EXACT, err);
 }
 
 int render_prepare_lazy(struct render *r, const struct scene *s, const struct render_opts *o,
                         struct t74_error *err)
 {
-  return prepare(r, s, o, true, err);
+  return prepare(r, s, o, true, GEOM_EXACT, err);
+}
+
+int render_prepare_lazy_arith(struct render *r, const struct scene *s,
+                              const struct render_opts *o, int arith, struct t74_error *err)
+{
+  return prepare(r, s, o, true, arith, err);
 }
 
 int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, void *ctx,

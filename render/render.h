@@ -45,6 +45,8 @@ struct render {
   int             cut_n, cut_cap;    /* faces in it, room */
   int             cut_next;          /* faces cut so far (a prefix of cut_order) */
   int             lazy;              /* 1: the scan drives the Segment Generator */
+  int             arith;             /* GEOM_EXACT or GEOM_HITAC (--arith) */
+  int             arith_skipped;     /* hitac: faces folded by 1974 coordinates, not drawn */
 };
 
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
@@ -57,6 +59,11 @@ int render_prepare(struct render *r, const struct scene *s, const struct render_
    pieces before then. */
 int render_prepare_lazy(struct render *r, const struct scene *s, const struct render_opts *o,
                         struct t74_error *err);
+
+/* render_prepare_lazy with the decisions in `arith` (--arith): GEOM_EXACT, the same, or
+   GEOM_HITAC, in the HITAC-10's word sizes as the 1974 program made them (geom.h). */
+int render_prepare_lazy_arith(struct render *r, const struct scene *s,
+                              const struct render_opts *o, int arith, struct t74_error *err);
 
 /* The grid scan; face passed to point() is an index in r->map.f, or -1. */
 int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, void *ctx,

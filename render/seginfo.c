@@ -17,8 +17,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define BBLOCK_ROW_WORDS 10
-#define CBLOCK_SIDE_WORDS 8
+/* Fig. 8 (b), in the 1974 program's words (docs/machine.md). B block: piece number,
+   y-min, y-max, pointers to the C block, the D chain and the next B block (6 words).
+   C block: k and the k vertex numbers (1 + k words), and with it each side's share of
+   the edge table of §2.1-2.2 (an edge: its two vertex numbers, a and b one word each, c a
+   double word = 6 words, shared by the two pieces that meet on it: 3 words a side). */
+#define BBLOCK_ROW_WORDS 6
+#define CBLOCK_HEAD_WORDS 1
+#define CBLOCK_SIDE_WORDS 4
 
 void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost)
 {
@@ -124,22 +130,21 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   /* B and C blocks in core: the piece's row, and its sides */
   uint32_t b, c;
   if (core_alloc(t->core, "B-BLOCK", BBLOCK_ROW_WORDS, &b, err) != T74_OK ||
-      core_alloc(t->core, "C-BLOCK", (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK) {
+      core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK) {
     free(p->line); free(p->v);
     return -1;
   }
-  core_put_int(t->core, b, 2, t->n);
-  core_write(t->core, b + 2, (uint16_t)face);
-  core_put_int(t->core, b + 3, 2, (int64_t)(p->ylo.Y / p->ylo.W));
-  core_put_int(t->core, b + 5, 2, (int64_t)(p->yhi.Y / p->yhi.W));
-  core_write(t->core, b + 7, (uint16_t)n);
-  core_put_int(t->core, b + 8, 2, c);
-  for (int k = 0; k < n; k++) {
-    core_put_int(t->core, c + 8 * (uint32_t)k, 2, p->line[k].a);
-    core_put_int(t->core, c + 8 * (uint32_t)k + 2, 2, p->line[k].b);
-    core_put_int(t->core, c + 8 * (uint32_t)k + 4, 4, p->line[k].c);
+  core_write(t->core, b, (uint16_t)t->n);
+  core_write(t->core, b + 1, (uint16_t)(p->ylo.Y / p->ylo.W / GRID_ONE));
+  core_write(t->core, b + 2, (uint16_t)(p->yhi.Y / p->yhi.W / GRID_ONE));
+  core_write(t->core, b + 3, (uint16_t)c);
+  core_write(t->core, c, (uint16_t)n);
+  for (int k = 0; k < n; k++) {             /* vertex number, then the side's edge share */
+    core_write(t->core, c + 1 + 4 * (uint32_t)k, (uint16_t)k);
+    core_write(t->core, c + 2 + 4 * (uint32_t)k, (uint16_t)p->line[k].a);
+    core_write(t->core, c + 3 + 4 * (uint32_t)k, (uint16_t)p->line[k].b);
   }
-  COST_ADD_N(t->cost, COST_MEM, BBLOCK_ROW_WORDS + (uint64_t)n * CBLOCK_SIDE_WORDS);
+  COST_ADD_N(t->cost, COST_MEM, BBLOCK_ROW_WORDS + CBLOCK_HEAD_WORDS + (uint64_t)n * CBLOCK_SIDE_WORDS);
   return t->n++;
 }
 

@@ -27,17 +27,17 @@
 **     (c)  XaAb*Ye  -> aAb, aeYebX          a hole's lowest vertex e: the hole ring is
 **                                           joined to the outer ring through e
 ** The paper reads the pieces off PBS by jumping between paired IPL entries (Fig. 6 (b),
-** (c)). tube74 does the same walk, but it derives all of eq. (3) from ONE rule with a
-** symbolic perturbation instead of a case per crossing type:
+** (c)); tube74 does the same walk, the pairs decided by the rules matched on the types:
 **   Lower pieces = piece and {y < c}. A run is a maximal chain of ring vertices with
 **   y < c. Its crossings are the sides with exactly one endpoint y < c, at their point on
-**   y = c (when that endpoint is ON the line, the crossing is that vertex). They are
-**   sorted by x at c, ties by x at c - e (xsort_half), and paired (1,2), (3,4), ...: the
-**   cut intervals. The odd crossings must be where the counter-clockwise boundary goes
-**   down into y < c, the even ones where it comes back up; otherwise the ring was not
-**   simple and the face is refused (T74_EINPUT). Walk: leave a run at its crossing, go
-**   along the cut interval to the partner crossing, continue along that ring (which may be
-**   a hole: that is how rings are joined), until back at the start.
+**   y = c (when that endpoint is ON the line, the crossing is that vertex), sorted by x
+**   at c, ties by x at c - e (xsort_half). They must alternate: where the counter-
+**   clockwise boundary goes down into y < c, then where it comes back up; otherwise the
+**   ring was not simple and the face is refused (T74_EINPUT). The rules of eq. (3) on
+**   the typed crossing points (rule_pairs, below) then say which two crossings bound one
+**   cut interval. Walk: leave a run at its crossing, go along the cut interval to the
+**   crossing the rules pair with it, continue along that ring (which may be a hole: that
+**   is how rings are joined), until back at the start.
 **   Upper pieces = piece and {y > c}, the same with y > c and ties at c + e.
 ** Vertices on the line and horizontal edges along it thus vanish into cut intervals
 ** unless they are crossing points; a vertex touching the line from below gives two lower
@@ -45,18 +45,26 @@
 ** and (c)). A ring with no crossing lies wholly on one side and goes, as a hole, to the
 ** piece of that side that contains it (exact point-in-polygon of one of its vertices).
 ** THE TYPES AND THE MATCH. Every crossing point of the line (an IPL entry) gets its type
-** of Fig. 4, 5, exactly, from the x-sorted half-crossings and the ring (type_crossings):
+** of Fig. 4, 5, exactly, from the ring alone (type_crossings, touch_concave: the direction
+** a side passes the line; the turn at a touching vertex; the direction a touching chain
+** runs):
 ** a the boundary passes down through the line, b up; c a concave vertex (or horizontal
 ** chain) touching it from below, d from above on the outer ring, e from above on a hole
 ** ring; t a convex vertex or chain touching it (the paper names no type: it cuts only
 ** through concave vertices). A point whose type cannot be decided means the boundary was
-** not simple (T74_EINPUT). The rules of eq. (3) are matched on the typed IPL
+** not simple (T74_EINPUT). The cut intervals are matched from the types (rule_pairs):
+** left to right on each side, a opens and b closes (rule (a)), c closes aAc and opens cBb
+** (rule (b)), d and e close one upper interval and open the next (rules (b'), (c)), t
+** opens and closes a side of zero width. The rules are named in the trace
 ** (trace_rules): each c is one (b), each d one (b'), the first e of a hole ring (x order)
 ** one (c) and each further e of that ring, on the outer ring once joined, one (b') as its
 ** d; each application takes one lower piece aAb, and the lower pieces left over are (a).
 ** The trace names the rules from this match, e.g. Fig. 6's first cut "(c) (b')".
-** TIES where the paper is silent: crossings at one x are ordered by the slopes of their
-** sides (xsort_half, below); IPL merges the two halves' lists in exact x order, the lower
+** TIES where the paper is silent: crossing points at one x are ordered by the slopes of
+** their sides (xsort_half, below), the two crossings of one point by its type (unless
+** another point's crossing lies between them: points nested at one x keep the slope
+** order); a horizontal edge on the line belongs to a chain, typed by its direction, and
+** its inner vertices to no piece; IPL merges the two halves' lists in exact x order, the lower
 ** half's entry first on equal x; a crossing number is deleted from IPL after as many uses
 ** as it has half-crossings (two for a point: the paper's "used twice"; one for each end
 ** of a horizontal chain along the line).
@@ -66,10 +74,11 @@
 ** LWS; (c) after each upper piece but the last; (d) after the last, "All Zero". Pieces
 ** are listed from their vertex that comes first in PBS, as the paper lists them.
 **
-** Departures from the paper: the pieces are walked from the pairs of the x-sorted
-** half-crossings, (1,2), (3,4), ... of each half, the same walk as the paper's jumps
-** between IPL neighbours (the types decide nothing the pairing has not already fixed:
-** a c, d or e is exactly a point whose two half-crossings belong to two intervals); crossing points at a vertex keep the vertex's
+** THE CHECK. For a simple boundary the rules' intervals are exactly the neighbours
+** (1,2), (3,4), ... of the slope-ordered crossings of each half (tube74's cut before the
+** rules decided it): that pairing is kept only as a check in cut_piece, and a face where
+** the two differ is refused (T74_EINPUT) rather than cut a new way.
+** Departures from the paper: crossing points at a vertex keep the vertex's
 ** number (as Fig. 6, where IPL holds vertices 10 and 8); new crossing points are numbered
 ** from max(10, largest vertex id) + 1 so they never collide with a vertex id (11, 12, ..
 ** as Fig. 6 for faces with ids up to 10). The output drops a vertex where the two sides
@@ -458,6 +467,8 @@ struct halfcut {                          /* the crossings and pieces of one sid
   int ncy;                                /* pieces walked */
   struct cyc *cy;
   int *holes;                             /* untouched ring r -> cycle index, or -1 */
+  int *pair;                              /* crossing j -> the other end of its cut interval,
+                                             as the rules of eq. (3) decide (rule_pairs) */
 };
 
 /* Number a crossing shows in IPL: the vertex's number at an endpoint, else its own. */
@@ -491,13 +502,12 @@ static struct xs_vertex cross_point(const struct wpiece *P, uint16_t *const *mid
   return v;
 }
 
-/* Pair and walk one half. Returns T74_OK or an error. */
-static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint16_t *const *mid,
-                     gcoord c, int half, struct halfcut *h, int *const *idx)
+/* The crossings of one half, in x order, must alternate: below (enter, exit), above
+   (exit, enter); otherwise the boundary is not simple. Returns T74_OK or an error. */
+static int check_alternate(struct seg_ctx *x, gcoord c, int half, const struct halfcut *h)
 {
   unsigned fid = x->in->face_id;
   int m = h->m;
-  /* The pairing must alternate: below (enter, exit), above (exit, enter). */
   if (m % 2)
     return t74_fail(x->err, T74_EINPUT, "face %u: odd number of crossings at y = %lld "
                     "(boundary not simple?)", fid, (long long)c);
@@ -510,6 +520,17 @@ static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint16_t *const 
                       "on the %s side): the boundary is not simple", fid, (long long)c,
                       j + 1, m, half == XS_BELOW ? "lower" : "upper");
   }
+  return T74_OK;
+}
+
+/* Walk the pieces of one half: leave a run of the ring at an exit crossing, go along the
+   cut interval to the crossing h->pair names (decided by the rules of eq. (3)), follow
+   that ring to its next exit, until back at the start. Returns T74_OK or an error. */
+static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint16_t *const *mid,
+                     gcoord c, int half, struct halfcut *h, int *const *idx)
+{
+  unsigned fid = x->in->face_id;
+  int m = h->m;
   for (int j = 0; j < m; j++) idx[h->x[j].ring][h->x[j].side] = j;
 
   char *seen = calloc((size_t)m + 1, 1);
@@ -532,7 +553,12 @@ static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint16_t *const 
       seen[j] = 1;
       struct xs_vertex pe = cross_point(P, mid, &h->x[j], c);
       if (cyc_push(cy, &pe, &cutside)) { rc = oom(x); break; }
-      int e = half == XS_BELOW ? j - 1 : j + 1;      /* the partner: an entry */
+      int e = h->pair[j];                            /* the partner: an entry */
+      if (e < 0 || e >= m || !h->x[e].enter) {
+        rc = t74_fail(x->err, T74_EINPUT, "face %u: cannot close a piece at y = %lld "
+                      "(boundary not simple?)", fid, (long long)c);
+        break;
+      }
       const struct xsort_cross *en = &h->x[e];
       const struct xs_ring *g = &P->ring[en->ring];
       struct xs_vertex pn = cross_point(P, mid, en, c);
@@ -670,6 +696,34 @@ static int chain_end(const struct xs_ring *g, int k, int dir, gcoord c)
   return k;
 }
 
+/* Does the boundary touching the line from half s at IPL entry e (its half-crossings
+   j0, j1 in hc[s]) make a concave touch (the face on both sides of the touch, the outside
+   wedge between its two sides) rather than a convex one? Decided from the ring alone,
+   exactly: for a single vertex k by the turn at it (right: concave); for a chain of sides
+   along the line by the direction it runs (the face is on its left): from below, running
+   to +x (face above it) is concave; from above, running to -x (face below it). A chain of
+   zero length falls back to the turn from the side arriving at it to the side leaving.
+   1 concave, 0 convex, -1 undecidable (the boundary doubles back: not simple). */
+static int touch_concave(const struct wpiece *P, const struct halfcut *hc, int s,
+                         const struct tcross *e, int j0, int j1, struct cost *cost)
+{
+  const struct xs_ring *g = &P->ring[e->ring];
+  const struct xsort_cross *h0 = &hc[s].x[j0], *h1 = &hc[s].x[j1];
+  /* the side arriving at the touch (it leaves half s) and the side leaving it */
+  const struct xsort_cross *in = h0->enter ? h1 : h0, *out = h0->enter ? h0 : h1;
+  if (in->enter || !out->enter) return -1;
+  int kin = (in->side + 1) % g->n, kout = out->side;   /* first and last vertex on the line */
+  count_turn(cost);
+  if (kin != kout) {
+    count_xcmp(cost);
+    int dir = geom_rat_cmp(g->v[kout].x, g->v[kin].x);
+    if (dir != 0) return s == XS_BELOW ? dir > 0 : dir < 0;
+  }
+  int t = turn(g->s[in->side].line, g->s[out->side].line);
+  if (t == 0) return -1;
+  return t < 0;
+}
+
 /* Build IPL: the crossing points of both halves, merged in exact x order (on equal x,
    the lower half's first, each half in its own order), each typed. Types, decided from
    the half-crossings alone (integers and exact rationals only):
@@ -682,9 +736,8 @@ static int chain_end(const struct xs_ring *g, int k, int dir, gcoord c)
      t  a convex vertex or chain touching the line: it closes a piece at a point or along
         a side and cuts nothing (the paper cuts only at concave vertices and names no type
         for it).
-   "Touching, concave" is decided by the pairing of the x-sorted half-crossings: the two
-   half-crossings of the point are the end of one cut interval and the start of the next
-   (the first of them at an odd index) rather than the two ends of one interval.
+   "Touching, concave" is decided from the ring (touch_concave), not from any pairing of
+   the half-crossings: the pairing is what the rules then make from the types.
    Returns the count (at most the half-crossings of both halves). */
 static int type_crossings(const struct wpiece *P, uint16_t *const *mid, gcoord c,
                           const struct halfcut *hc, struct tcross *tc, struct cost *cost)
@@ -742,11 +795,81 @@ static int type_crossings(const struct wpiece *P, uint16_t *const *mid, gcoord c
       }
     }
     if (j1 < 0) { e->type = '?'; continue; }       /* never for a simple boundary */
-    int lo = j0 < j1 ? j0 : j1;
-    if (lo % 2 == 0) e->type = 't';
+    int concave = touch_concave(P, hc, s, e, j0, j1, cost);
+    if (concave < 0) { e->type = '?'; continue; }  /* never for a simple boundary */
+    if (!concave) e->type = 't';
     else e->type = s == XS_BELOW ? 'c' : (e->ring == 0 ? 'd' : 'e');
   }
   return n;
+}
+
+/* The cut: which crossings of half s bound one cut interval (the side of a piece along
+   the line), decided by matching the rules of eq. (3) on the typed IPL. Reading the
+   half's crossing points from left to right, a piece's side along the line opens at
+   the left end of a piece and closes at its right end:
+     a, b   rule (a) XaAb -> aAb, abX: one crossing each; a opens (the boundary passes
+            down: the left end of aAb below and of abX above), b closes (it passes up).
+     c      rule (b) XaAcBb -> aAc, cBb: below, c closes the piece aAc and opens cBb
+            (its arriving side first, then its leaving side);
+     d, e   rules (b') and (c): above, d or e closes the interval ab of abX and opens
+            the next one (dbY, or aeYebX: the walk then follows the hole ring from e,
+            which is the join);
+     t      a convex touch: it opens and closes a side of zero width (leaving side first
+            below, arriving side first above).
+   Ties where the paper is silent: several crossing points at one x are taken in the
+   order of xsort_half (by the x an infinitesimal step into the half: the slopes of their
+   sides); the two crossings of one point, when no other point's crossing lies between
+   them in that order, are ordered by its type as above (when one does, the points are
+   nested at one x and that order stands); a chain of
+   sides along the line is two points (its ends), each one crossing. In h->pair each
+   crossing gets the other end of its interval. Returns 0, or -1 when the openings and
+   closings do not alternate (the boundary is not simple). */
+static int rule_pairs(const struct tcross *tc, int ntc, struct halfcut *hc, int s,
+                      struct cost *cost)
+{
+  struct halfcut *h = &hc[s];
+  int m = h->m, rc = 0;
+  int *tix = malloc(((size_t)m + 1) * sizeof *tix);
+  int *seq = malloc(((size_t)m + 1) * sizeof *seq);
+  char *done = calloc((size_t)ntc + 1, 1);
+  if (!tix || !seq || !done) { free(tix); free(seq); free(done); return -2; }
+  for (int j = 0; j < m; j++) tix[j] = -1;
+  for (int t = 0; t < ntc; t++)
+    for (int a = 0; a < 2; a++) if (tc[t].at[s][a] >= 0) tix[tc[t].at[s][a]] = t;
+  int n = 0;
+  for (int j = 0; j < m; j++) {
+    int t = tix[j];
+    if (t < 0) { rc = -1; break; }
+    if (done[t]) continue;
+    int j0 = tc[t].at[s][0], j1 = tc[t].at[s][1];
+    count_branch(cost);
+    if (j1 < 0 || (j0 - j1 != 1 && j1 - j0 != 1)) {
+      /* one crossing of this point, or several points at this x nested one inside the
+         other (a hole touching the outer ring from inside its corner): x order decides */
+      seq[n++] = j;
+      continue;
+    }
+    done[t] = 1;
+    /* a point touching the line: closing crossing first when concave (c, d, e: the end
+       of one piece's side, then the start of the next), opening first when convex (t) */
+    int open0 = s == XS_BELOW ? h->x[j0].enter : !h->x[j0].enter;
+    int close_first = tc[t].type != 't';
+    if (open0 == close_first) { int tmp = j0; j0 = j1; j1 = tmp; }
+    seq[n++] = j0;
+    seq[n++] = j1;
+  }
+  for (int i = 0; rc == 0 && i < n; i++) {
+    const struct xsort_cross *q = &h->x[seq[i]];
+    int opening = s == XS_BELOW ? q->enter : !q->enter;
+    count_branch(cost);
+    if (opening != (i % 2 == 0)) { rc = -1; break; }
+    if (i % 2) { h->pair[seq[i]] = seq[i - 1]; h->pair[seq[i - 1]] = seq[i]; }
+  }
+  if (rc == 0 && n != m) rc = -1;
+  free(tix);
+  free(seq);
+  free(done);
+  return rc;
 }
 
 /* The rules of eq. (3) matched on the typed crossings, written to f: each c is an
@@ -1028,11 +1151,50 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     }
   }
 
-  /* The two halves: crossings, pairing (IPL), walk. */
+  /* The two halves' crossings in x order; IPL with each crossing point typed (Fig. 4,
+     5); the cut intervals decided by the rules of eq. (3) on the types; the walk. */
+  for (int s = 0; s < 2; s++) {
+    hc[s].m = xsort_half(P->ring, P->nring, c, s, hc[s].x, hc[s].x + total, x->cost);
+    if ((rc = check_alternate(x, c, s, &hc[s]))) goto done;
+  }
+  tc = malloc((size_t)(hc[0].m + hc[1].m + 1) * sizeof *tc);
+  if (!tc) { rc = oom(x); goto done; }
+  int ntc = type_crossings(P, mid, c, hc, tc, x->cost);
+  for (int t = 0; t < ntc; t++)
+    if (tc[t].type == '?') {
+      rc = t74_fail(x->err, T74_EINPUT, "face %u: crossing %u at y = %lld has no type "
+                    "(boundary not simple?)", (unsigned)x->in->face_id, (unsigned)tc[t].num,
+                    (long long)c);
+      goto done;
+    }
+  for (int s = 0; s < 2; s++) {
+    hc[s].pair = malloc(((size_t)hc[s].m + 1) * sizeof *hc[s].pair);
+    if (!hc[s].pair) { rc = oom(x); goto done; }
+    for (int j = 0; j < hc[s].m; j++) hc[s].pair[j] = -1;
+    int pr = rule_pairs(tc, ntc, hc, s, x->cost);
+    if (pr == -2) { rc = oom(x); goto done; }
+    if (pr < 0) {
+      rc = t74_fail(x->err, T74_EINPUT, "face %u: the typed crossings at y = %lld match no "
+                    "rule of eq. (3) (boundary not simple?)", (unsigned)x->in->face_id,
+                    (long long)c);
+      goto done;
+    }
+    /* The check that keeps every picture as it was: the intervals the rules make are
+       the neighbours (1,2), (3,4), ... of the x order with the slope tie rule, the
+       pairing tube74 cut with before; a face where they differ is refused, not cut
+       differently (none of the test suite's faces or shipped scenes does). */
+    for (int j = 0; j < hc[s].m; j++)
+      if (hc[s].pair[j] != (j ^ 1)) {
+        rc = t74_fail(x->err, T74_EINPUT, "face %u: at y = %lld the rules of eq. (3) join "
+                      "crossing %d of the %s side to %d, the slope order to %d (a tie the "
+                      "rules do not settle)", (unsigned)x->in->face_id, (long long)c, j + 1,
+                      s == XS_BELOW ? "lower" : "upper", hc[s].pair[j] + 1, (j ^ 1) + 1);
+        goto done;
+      }
+  }
   for (int s = 0; s < 2; s++) {
     for (int r = 0; r < P->nring; r++)
       for (int k = 0; k < P->ring[r].n; k++) idx[r][k] = -1;
-    hc[s].m = xsort_half(P->ring, P->nring, c, s, hc[s].x, hc[s].x + total, x->cost);
     if ((rc = walk_half(x, P, mid, c, s, &hc[s], idx))) goto done;
   }
   if ((rc = table(x, CORE_T_IPL, (uint32_t)(hc[0].m + hc[1].m), &a))) goto done;
@@ -1057,18 +1219,6 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     }
     hc[s].holes[r] = i;
   }
-
-  /* IPL with each crossing typed (Fig. 4, 5): what the rules of eq. (3) are matched on. */
-  tc = malloc((size_t)(hc[0].m + hc[1].m + 1) * sizeof *tc);
-  if (!tc) { rc = oom(x); goto done; }
-  int ntc = type_crossings(P, mid, c, hc, tc, x->cost);
-  for (int t = 0; t < ntc; t++)
-    if (tc[t].type == '?') {
-      rc = t74_fail(x->err, T74_EINPUT, "face %u: crossing %u at y = %lld has no type "
-                    "(boundary not simple?)", (unsigned)x->in->face_id, (unsigned)tc[t].num,
-                    (long long)c);
-      goto done;
-    }
 
   /* LWS and UPS. */
   for (int s = 0; s < 2; s++) {
@@ -1175,6 +1325,7 @@ done:
     free(hc[s].cy);
     free(hc[s].x);
     free(hc[s].holes);
+    free(hc[s].pair);
   }
   if (mid) for (int r = 0; r < P->nring; r++) free(mid[r]);
   if (idx) for (int r = 0; r < P->nring; r++) free(idx[r]);

@@ -29,6 +29,7 @@
 */
 #include "render/visible.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -120,11 +121,15 @@ static int push_span(struct vis *v, struct grat x0, struct grat x1, int piece)
 }
 
 /* ---- D-blocks ------------------------------------------------------------------------
-   A D-block row in core: xb and xe (numerator 5 words, denominator 3 words each), dxb and
-   dxe (5 words each), y-max (2 words, the grid line at or above it) = 28 words. Rows are
-   taken from a free list, in chunks of DBLOCK_CHUNK, and given back when a piece leaves
-   the line: only the pieces on the current line hold one, as the paper's display did. */
-#define DBLOCK_WORDS 28
+   A D-block row in core, in the paper's format (Fig. 8 (b)): xb and xe, dxb and dxe (a
+   double word each, 16.16 fixed point in world units as the 1974 program held them,
+   docs/machine.md), y-max (one word) and the chain pointer (one word) = 10 words. The
+   exact values tube74 decides on (rationals of up to 8 words) are held by the host; what
+   holding them in core would add is reported as exactness's cost, not charged here.
+   Rows are taken from a free list, in chunks of DBLOCK_CHUNK, and given back when a piece
+   leaves the line: only the pieces on the current line hold one, as the paper's display
+   did. */
+#define DBLOCK_WORDS 10
 #define DBLOCK_CHUNK 16
 
 static int dblock_take(struct vis *v, uint32_t *addr, struct t74_error *err)
@@ -148,16 +153,24 @@ static void dblock_give(struct vis *v, uint32_t addr)
     v->dfree[v->ndfree++] = addr;
 }
 
+/* n/d grid units as a 16.16 double word (world units), truncated; a 64-bit divide when
+   the operands allow (the common case), for the host's speed. */
+static int64_t fix16(wide n, wide d)
+{
+  wide m = n * GEOM_H10_XONE;
+  if (m >= INT64_MIN && m <= INT64_MAX && d <= INT64_MAX) return (int64_t)m / (int64_t)d;
+  return (int64_t)(m / d);
+}
+
 static void dblock_store(struct vis *v, const struct vis_item *it)
 {
   struct core *c = v->seg->core;
-  core_put_wide(c, it->core, 5, it->xl.num);
-  core_put_wide(c, it->core + 5, 3, it->xl.den);
-  core_put_wide(c, it->core + 8, 5, it->xr.num);
-  core_put_wide(c, it->core + 13, 3, it->xr.den);
-  core_put_wide(c, it->core + 16, 5, it->dxl);
-  core_put_wide(c, it->core + 21, 5, it->dxr);
-  core_put_int(c, it->core + 26, 2, (int64_t)(it->ymax.Y / it->ymax.W));
+  core_put_int(c, it->core, 2, fix16(it->xl.num, it->xl.den));
+  core_put_int(c, it->core + 2, 2, fix16(it->xr.num, it->xr.den));
+  core_put_int(c, it->core + 4, 2, fix16(it->dxl, it->xl.den));
+  core_put_int(c, it->core + 6, 2, fix16(it->dxr, it->xr.den));
+  core_write(c, it->core + 8, (uint16_t)(it->ymax.Y / it->ymax.W / GRID_ONE));
+  core_write(c, it->core + 9, 0);
 }
 
 /* The lower of two heights. */
@@ -192,6 +205,12 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
   /* geom_x_at: num = -(b yn + c yd), negated with the denominator when a < 0 */
   it->sl = p->line[kl].a > 0 ? -(wide)p->line[kl].b : (wide)p->line[kl].b;
   it->sr = p->line[kr].a > 0 ? -(wide)p->line[kr].b : (wide)p->line[kr].b;
+  if (v->arith == GEOM_HITAC) {         /* --arith hitac: xb, xe as double words */
+    it->hdl = it->xl.den;
+    it->hdr = it->xr.den;
+    it->xl = geom_h10_x(it->xl);
+    it->xr = geom_h10_x(it->xr);
+  }
   it->dyn = 0;
   it->dxl = it->dxr = 0;
   it->ymax = lower(p->v[kl], p->v[(kr + 1) % p->n]);
@@ -211,8 +230,8 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   if (same && yn != it->yn) {
     int64_t dyn = yn - it->yn;
     if (dyn != it->dyn) {                /* a new step: dxb = (d xb / d yn) * step */
-      it->dxl = it->sl * dyn;
-      it->dxr = it->sr * dyn;
+      it->dxl = v->arith == GEOM_HITAC ? geom_h10_dx(it->sl, dyn, it->hdl) : it->sl * dyn;
+      it->dxr = v->arith == GEOM_HITAC ? geom_h10_dx(it->sr, dyn, it->hdr) : it->sr * dyn;
       it->dyn = dyn;
       cost_mw_mul(v->cost, 29, 44);
       cost_mw_mul(v->cost, 29, 44);

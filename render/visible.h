@@ -41,6 +41,7 @@ struct vis_item {
   wide   sl, sr;             /* d(xb.num)/d(yn), d(xe.num)/d(yn) */
   wide   dxl, dxr;           /* dxb, dxe: increments for a line step of dyn */
   int64_t dyn;               /* the line step the increments are for (0: none yet) */
+  wide   hdl, hdr;           /* --arith hitac: the exact denominators of xb, xe */
   int64_t yn, yd;            /* the last line, y = yn / yd */
   struct hpoint ymax;        /* where the D-block ends (the lower top of kl and kr) */
   uint32_t core;             /* its row in the core's D-BLOCK table */
@@ -63,6 +64,8 @@ struct vis {
      the line has reached (render.c: the Segment Generator driven by the scan) */
   int (*feed)(void *ctx, int64_t yn, int64_t yd, struct t74_error *err);
   void *feed_ctx;
+  int   arith;                           /* GEOM_EXACT, or GEOM_HITAC: xb, xe, dxb, dxe
+                                            held as the 1974 program held them */
 };
 
 int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,

@@ -19,10 +19,11 @@
 **                above (XS_ABOVE) the line, ordered by x at y = c and, on ties, by x
 **                at y = c - e (below) or c + e (above) for an infinitesimal e, i.e. by
 **                the slopes of the edges. The Segment Generator types each crossing
-**                point from these lists (a..e of Fig. 4, 5: segment.c type_crossings) and
-**                matches the rules of eq. (3) on the types; the slope order is the tie
-**                rule where the paper is silent: a vertex on the line, a horizontal edge
-**                on the line and a vertex where two rings touch all come out of it.
+**                point (a..e of Fig. 4, 5: segment.c type_crossings) and matches the
+**                rules of eq. (3) on the types to decide the cut intervals (rule_pairs);
+**                this slope order is the tie rule between crossing points at one x (two
+**                rings touching), and the pairing (1,2), (3,4), ... it gives is kept as
+**                a check that the rules agree with it.
 **
 ** Every x is an exact rational (geom.h grat): a ring vertex's y is always an integer
 ** (input grid points, or crossing points on earlier cut lines y = c, c an integer), and

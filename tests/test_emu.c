@@ -442,17 +442,20 @@ static void test_params_table(void **state)
   free(buf);
 }
 
+/* Operations of an exact-width operation: the 1974 program's share plus the rest. */
+static uint64_t X_(const struct cost *c, int cls) { return c->n[cls] + COST_X(c, cls); }
+
 static void expect(const struct cost *c, uint64_t mem, uint64_t add, uint64_t logic,
                    uint64_t shift, uint64_t branch, uint64_t mul, uint64_t div)
 {
-  assert_int_equal(c->n[COST_MEM], mem);
-  assert_int_equal(c->n[COST_ADD], add);
-  assert_int_equal(c->n[COST_LOGIC], logic);
-  assert_int_equal(c->n[COST_SHIFT], shift);
-  assert_int_equal(c->n[COST_BRANCH], branch);
-  assert_int_equal(c->n[COST_MUL], mul);
-  assert_int_equal(c->n[COST_DIV], div);
-  assert_int_equal(c->n[COST_IO], 0);
+  assert_int_equal(X_(c, COST_MEM), mem);
+  assert_int_equal(X_(c, COST_ADD), add);
+  assert_int_equal(X_(c, COST_LOGIC), logic);
+  assert_int_equal(X_(c, COST_SHIFT), shift);
+  assert_int_equal(X_(c, COST_BRANCH), branch);
+  assert_int_equal(X_(c, COST_MUL), mul);
+  assert_int_equal(X_(c, COST_DIV), div);
+  assert_int_equal(X_(c, COST_IO), 0);
 }
 
 static void test_mw_add(void **state)
@@ -483,7 +486,7 @@ static void test_mw_mul(void **state)
     memset(&c, 0, sizeof c);
     cost_mw_mul(&c, t[i].a, t[i].b);
     uint64_t wa = t[i].wa, wb = t[i].wb, pp = wa * wb, wr = wa + wb;
-    assert_int_equal(c.n[COST_MUL], pp);                /* wa*wb single-word multiplies */
+    assert_int_equal(X_(&c, COST_MUL), pp);                /* wa*wb single-word multiplies */
     /* clear + partials + row carries + sign fix-up (an add of the product width) */
     expect(&c, wr + 3 * pp + 2 * wa + 2 * wr, 3 * pp + wa + (2 * wr - 1), pp, 0,
            pp + wa + 2 + (wr - 1), pp, 0);
@@ -493,7 +496,7 @@ static void test_mw_mul(void **state)
   expect(&c, 28, 21, 4, 0, 11, 4, 0);
   memset(&c, 0, sizeof c);
   cost_mw_mul(&c, 128, 128);
-  assert_int_equal(c.n[COST_MUL], 64);
+  assert_int_equal(X_(&c, COST_MUL), 64);
 }
 
 static void test_mw_div(void **state)
@@ -508,10 +511,43 @@ static void test_mw_div(void **state)
   expect(&c, 8, 0, 4, 0, 0, 0, 4);
   memset(&c, 0, sizeof c);
   cost_mw_div(&c, 128, 64);                              /* wn 8, wd 4: 5 quotient words */
-  assert_int_equal(c.n[COST_DIV], 5);
-  assert_int_equal(c.n[COST_MUL], 20);
-  assert_int_equal(c.n[COST_SHIFT], 24);
+  assert_int_equal(X_(&c, COST_DIV), 5);
+  assert_int_equal(X_(&c, COST_MUL), 20);
+  assert_int_equal(X_(&c, COST_SHIFT), 24);
   expect(&c, 24 + 5 * 15 + 10, 5 * 9 + 9, 20, 24, 5 * 5 + 2 + 4, 20, 5);
+}
+
+/* The 1974 program's share: adds on at most a double word, multiplies one word by one
+   word, divides a double word by a word (docs/machine.md); the rest goes to x[]. */
+static void test_mw_1974_share(void **state)
+{
+  (void)state;
+  struct cost c;
+  memset(&c, 0, sizeof c);
+  cost_mw_add(&c, 128);                         /* 8 words exact, 2 in 1974 */
+  assert_int_equal(c.n[COST_MEM], 4); assert_int_equal(c.n[COST_ADD], 3);
+  assert_int_equal(c.n[COST_BRANCH], 1);
+  assert_int_equal(COST_X(&c, COST_MEM), 12); assert_int_equal(COST_X(&c, COST_ADD), 12);
+  memset(&c, 0, sizeof c);
+  cost_mw_mul(&c, 88, 59);                      /* 6 x 4 words exact: 24 multiplies */
+  assert_int_equal(c.n[COST_MUL], 1);           /* 1974: one 16 x 16 multiply */
+  assert_int_equal(c.n[COST_MEM], 3);
+  assert_int_equal(COST_X(&c, COST_MUL), 23);
+  memset(&c, 0, sizeof c);
+  cost_mw_mul(&c, 16, 16);                      /* one word each: nothing extra */
+  for (int k = 0; k < COST_NCLASS; k++) assert_int_equal(COST_X(&c, k), 0);
+  memset(&c, 0, sizeof c);
+  cost_mw_div(&c, 128, 64);                     /* 1974: a double word by a word */
+  assert_int_equal(c.n[COST_DIV], 2); assert_int_equal(c.n[COST_MUL], 0);
+  assert_int_equal(COST_X(&c, COST_DIV), 3); assert_int_equal(COST_X(&c, COST_MUL), 20);
+  struct cost_params p;
+  cost_params_default(&p);
+  assert_true(cost_seconds_exact(&c, &p) > cost_seconds(&c, &p));
+  struct cost m;
+  memset(&m, 0, sizeof m);
+  cost_merge(&m, &c);
+  cost_merge(&m, &c);
+  assert_int_equal(COST_X(&m, COST_MUL), 40);
 }
 
 /* ---------------------------------------------------------------- instruction format */
@@ -592,6 +628,7 @@ int main(void)
     cmocka_unit_test(test_mw_add),
     cmocka_unit_test(test_mw_mul),
     cmocka_unit_test(test_mw_div),
+    cmocka_unit_test(test_mw_1974_share),
     cmocka_unit_test(test_instruction_format),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1217,6 +1217,51 @@ static void test_random_stars(void **state)
   assert_true(cuts > 300);
 }
 
+/* The cut is made by the rules of eq. (3) on the typed crossings (segment.c rule_pairs):
+   one line y = 10 meets a chain along it of each kind, each typed from the ring alone
+   (the direction the chain runs, the face on its left): from below running to +x (c,
+   rule (b)), from above on the outer ring running to -x (d, rule (b')), and a hole's
+   flat bottom (e, rule (c)). A wrong type would make the rules join the wrong crossings,
+   and the face would be refused or its pieces would not cover it. Then a hole nested in
+   the outer ring's corner at one point, where x order (not the type) must decide. */
+static void test_rules_decide(void **state)
+{
+  (void)state;
+  struct tface *f = tf_new(31);
+  tf_ring(f, 12, (const long long[]){ 0, 0, 10, 0, 12, 10, 16, 10, 18, 0, 40, 0, 40, 20,
+                                      32, 20, 30, 10, 26, 10, 24, 20, 0, 20 });
+  tf_ring(f, 3, (const long long[]){ 4, 10, 6, 16, 8, 10 });
+  struct seg_result r;
+  char *t = trace_of(f, &r);
+  expect_in(t, "cut 1 at y = 10 in piece 1 (through concave vertex v3, v4, v9, v10, v13, v15): rule (c) (b) (b')");
+  expect_in(t, "edge v3-v4 coincident (c)");
+  expect_in(t, "edge v9-v10 coincident (d)");
+  expect_in(t, "edge v15-v13 coincident (e)");
+  free(t);
+  seg_result_free(&r);
+  split_ok(f, &r, -1, -1);
+  HAS(&r, 0, 0, 10, 0, 12, 10, 0, 10);
+  HAS(&r, 16, 10, 18, 0, 40, 0, 40, 10);
+  seg_result_free(&r);
+  free(f);
+  /* the same chains run the other way round are convex touches (t): no rule, no cut
+     through them (the face is a plain rectangle with two bumps and a hole) */
+  f = tf_new(32);
+  tf_ring(f, 4, (const long long[]){ 0, 0, 40, 0, 40, 20, 0, 20 });
+  tf_ring(f, 3, (const long long[]){ 4, 10, 6, 16, 8, 10 });
+  tf_ring(f, 4, (const long long[]){ 12, 10, 16, 10, 18, 4, 10, 4 });
+  split_ok(f, &r, -1, -1);
+  seg_result_free(&r);
+  free(f);
+  /* a hole whose top vertex is the outer ring's top vertex, with the cut line through it */
+  f = tf_new(33);
+  tf_ring(f, 5, (const long long[]){ 0, 0, 20, 0, 20, 20, 14, 12, 10, 20 });
+  tf_ring(f, 3, (const long long[]){ 10, 20, 11, 12, 9, 12 });
+  split_ok(f, &r, -1, -1);
+  seg_result_free(&r);
+  free(f);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -1235,6 +1280,7 @@ int main(void)
     cmocka_unit_test(test_vertices_on_line),
     cmocka_unit_test(test_l_shapes),
     cmocka_unit_test(test_hole_touching),
+    cmocka_unit_test(test_rules_decide),
     cmocka_unit_test(test_star_and_slivers),
     cmocka_unit_test(test_xsort_codes_and_ties),
     cmocka_unit_test(test_ysort),

@@ -9,6 +9,8 @@
 #     (tests/ref, llvmpipe) drawing the same scene as the peer where it is built;
 #  4. what accuracy costs: `tube74 bench accuracy` (anti-aliasing, papers 000/001), its
 #     tables, plots and panels in build/bench/accuracy (ACC_RUNS runs a frame, default 5).
+#  4b. exact against 1974 arithmetic: `tube74 bench arith` (dots that differ, hitac10_seconds
+#     and core words for both) in build/bench/arith (arith.md, arith.png).
 #  5. paper 004's Table 1 scenes against flat shading (`tools/bench.sh smooth`: only this).
 # Results go to stdout and build/bench/bench.md (+ growth.png when gnuplot is there).
 set -eu
@@ -198,3 +200,5 @@ sh tools/bench_edges.sh "$B/bench_edges.md" >/dev/null
 cat "$out"
 echo
 ./tube74 bench accuracy --out "$B/accuracy" --runs "${ACC_RUNS:-5}"
+echo
+./tube74 bench arith --out "$B/arith" 2>/dev/null && cat "$B/arith/arith.md"
