@@ -71,17 +71,11 @@ static void put(const char *path, const char *text, size_t n)
 ** bytes, NUL-terminated). The exit status, or -1. */
 static int run(char *msg, size_t cap, ...)
 {
-  const char *argv[32];
-  int n = 0;
-  argv[n++] = tk_prog();
+  const char *errf = in_dir("stderr.txt");
   va_list ap;
   va_start(ap, cap);
-  const char *a;
-  while ((a = va_arg(ap, const char *)) != NULL && n < 31) argv[n++] = a;
+  int rc = tk_vrunl(NULL, errf, ap);
   va_end(ap);
-  argv[n] = NULL;
-  const char *errf = in_dir("stderr.txt");
-  int rc = tk_run(argv, NULL, errf);
   FILE *f = fopen(errf, "rb");
   assert_non_null(f);
   size_t got = fread(msg, 1, cap - 1, f);

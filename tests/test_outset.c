@@ -135,21 +135,9 @@ static mode_t lmode(const char *path)
 
 /* ---- running the program ------------------------------------------------------------ */
 
-/* Run $TUBE74 with args (NULL-terminated); stdout to out_path (or /dev/null), stderr to
-** err_path (or /dev/null). The exit status, or -1. */
-static int run(const char *out_path, const char *err_path, ...)
-{
-  const char *argv[40];
-  int n = 0;
-  argv[n++] = tk_prog();
-  va_list ap;
-  va_start(ap, err_path);
-  const char *a;
-  while ((a = va_arg(ap, const char *)) != NULL && n < 39) argv[n++] = a;
-  va_end(ap);
-  argv[n] = NULL;
-  return tk_run(argv, out_path, err_path);
-}
+/* run(OUT, ERR, ARG..., NULL): $TUBE74 ARG... with stdout to OUT and stderr to ERR (each
+** NULL for /dev/null); the exit status, or -1. */
+#define run tk_runl
 
 /* A reference picture of SCENE, written to a plain new file. */
 static const char *reference_png(void)

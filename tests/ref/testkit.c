@@ -130,6 +130,26 @@ int tk_run(const char *const argv[], const char *out_path, const char *err_path)
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
+int tk_vrunl(const char *out_path, const char *err_path, va_list ap)
+{
+  const char *argv[64];
+  int n = 0;
+  argv[n++] = tk_prog();
+  const char *a;
+  while ((a = va_arg(ap, const char *)) != NULL && n < 63) argv[n++] = a;
+  argv[n] = NULL;
+  return tk_run(argv, out_path, err_path);
+}
+
+int tk_runl(const char *out_path, const char *err_path, ...)
+{
+  va_list ap;
+  va_start(ap, err_path);
+  int rc = tk_vrunl(out_path, err_path, ap);
+  va_end(ap);
+  return rc;
+}
+
 char *tk_slurp(const char *path, size_t *n)
 {
   FILE *f = fopen(path, "rb");

@@ -41,6 +41,10 @@ int tk_vsh(const char *dir, const char *fmt, va_list ap);
    0..255, or -1 if it could not be started or a signal ended it. */
 int tk_run(const char *const argv[], const char *out_path, const char *err_path);
 
+/* tk_run of tk_prog() with the arguments that follow, up to a NULL (at most 62). */
+int tk_runl(const char *out_path, const char *err_path, ...);
+int tk_vrunl(const char *out_path, const char *err_path, va_list ap);
+
 /* The whole file, NUL-terminated, malloc'd; *n its length (n may be NULL).
    NULL if it cannot be read. */
 char *tk_slurp(const char *path, size_t *n);
