@@ -456,7 +456,9 @@ int cmd_teach(int argc, char **argv, struct t74_error *err)
   size_t tlen = 0;
   FILE *tf = NULL;
   bool prepared = false;
-  if (st == T74_OK) st = scene_load(j.scene, &j.sopts, &s, err);
+  struct scene_opts again = j.sopts;
+  again.quiet = true;              /* the job has printed the import's warnings once */
+  if (st == T74_OK) st = scene_load(j.scene, &again, &s, err);
   if (st == T74_OK && !(tf = open_memstream(&tables, &tlen)))
     st = t74_fail(err, T74_EIO, "out of host memory");
   if (st == T74_OK) {

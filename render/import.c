@@ -21,6 +21,7 @@
 ** (only the face numbers, which are the file's order, do).
 */
 #include "render/import.h"
+#include "render/plane.h"
 #include "render/turn.h"
 
 #include <ctype.h>
@@ -475,22 +476,23 @@ static int read_off(struct import_reader *r, struct mesh *m, struct t74_error *e
 
 /* ---- onto the grid ------------------------------------------------------------------ */
 
-static void warn(struct scene *s, int line, const char *fmt, ...)
+static void warn(struct scene *s, bool quiet, int line, const char *fmt, ...)
 #if defined(__GNUC__)
-  __attribute__((format(printf, 3, 4)))
+  __attribute__((format(printf, 4, 5)))
 #endif
   ;
 
-/* Print "FILE:LINE: warning: ..." to stderr and count it. */
-static void warn(struct scene *s, int line, const char *fmt, ...)
+/* Print "FILE:LINE: warning: ..." to stderr (unless quiet: scene_opts.quiet) and count it. */
+static void warn(struct scene *s, bool quiet, int line, const char *fmt, ...)
 {
+  s->warnings++;
+  if (quiet) return;
   va_list ap;
   fprintf(stderr, "%s:%d: warning: ", s->file, line);
   va_start(ap, fmt);
   vfprintf(stderr, fmt, ap);
   va_end(ap);
   fputc('\n', stderr);
-  s->warnings++;
 }
 
 /* Append a face of one ring (n vertex indices) to s; the arrays are copied. */
@@ -726,8 +728,6 @@ static int check_file_face(const struct scene *s, const struct mesh *m, int k,
    and is left out. The projected polygon must be simple (exact, 64-bit): one that is not
    was made so by rounding and is refused with FILE:LINE. */
 
-struct p2i { int64_t u, v; };
-
 static int dominant_axis_i(const int64_t n[3])
 {
   int64_t ax = n[0] < 0 ? -n[0] : n[0], ay = n[1] < 0 ? -n[1] : n[1];
@@ -736,45 +736,19 @@ static int dominant_axis_i(const int64_t n[3])
   return ay >= ax ? 1 : 0;
 }
 
-static int64_t orient_i(struct p2i a, struct p2i b, struct p2i c)
-{
-  return (b.u - a.u) * (c.v - a.v) - (b.v - a.v) * (c.u - a.u);   /* |.| < 2^35 */
-}
-
-static int sgn64(int64_t x) { return (x > 0) - (x < 0); }
-
-/* does p lie on the closed segment a-b? (collinear is given) */
-static bool on_seg(struct p2i a, struct p2i b, struct p2i p)
-{
-  return (p.u >= (a.u < b.u ? a.u : b.u)) && (p.u <= (a.u > b.u ? a.u : b.u)) &&
-         (p.v >= (a.v < b.v ? a.v : b.v)) && (p.v <= (a.v > b.v ? a.v : b.v));
-}
-
-/* closed segments a-b and c-d share a point */
-static bool seg_touch(struct p2i a, struct p2i b, struct p2i c, struct p2i d)
-{
-  int o1 = sgn64(orient_i(a, b, c)), o2 = sgn64(orient_i(a, b, d));
-  int o3 = sgn64(orient_i(c, d, a)), o4 = sgn64(orient_i(c, d, b));
-  if (o1 && o2 && o3 && o4) return o1 != o2 && o3 != o4;
-  return (o1 == 0 && on_seg(a, b, c)) || (o2 == 0 && on_seg(a, b, d)) ||
-         (o3 == 0 && on_seg(c, d, a)) || (o4 == 0 && on_seg(c, d, b));
-}
-
 /* Edges i < j of the rounded polygon meet where they must not: non-adjacent ones at any
    point, adjacent ones anywhere but their common vertex (folding back along each other). */
 static bool bad_pair_2d(const void *ctx, int n, int i, int j)
 {
-  const struct p2i *p = ctx;
-  struct p2i a = p[i], b = p[(i + 1) % n], c = p[j], d = p[(j + 1) % n];
-  if (j == i + 1)
-    return orient_i(a, b, d) == 0 && (d.u - b.u) * (a.u - b.u) + (d.v - b.v) * (a.v - b.v) > 0;
-  if (i == 0 && j == n - 1)
-    return orient_i(c, a, b) == 0 && (b.u - a.u) * (c.u - a.u) + (b.v - a.v) * (c.v - a.v) > 0;
-  return seg_touch(a, b, c, d);
+  const struct pl_pt *p = ctx;
+  struct pl_pt a = p[i], b = p[(i + 1) % n], c = p[j], d = p[(j + 1) % n];
+  if (j == i + 1) return pl_fold(b, a, d);           /* b is their common end */
+  if (i == 0 && j == n - 1) return pl_fold(a, b, c);  /* a (= d) is */
+  return pl_meet(a, b, c, d);
 }
 
 /* 1 when simple, 0 when not (*ea, *eb an offending pair), -1 when out of memory. */
-static int simple_2d(const struct p2i *p, int n, int *ea, int *eb)
+static int simple_2d(const struct pl_pt *p, int n, int *ea, int *eb)
 {
   double (*d)[2] = malloc((size_t)n * sizeof *d);
   if (!d) return -1;
@@ -784,9 +758,9 @@ static int simple_2d(const struct p2i *p, int n, int *ea, int *eb)
   return r < 0 ? -1 : !r;
 }
 
-static bool in_tri(struct p2i a, struct p2i b, struct p2i c, struct p2i p)
+static bool in_tri(struct pl_pt a, struct pl_pt b, struct pl_pt c, struct pl_pt p)
 {
-  return orient_i(a, b, p) >= 0 && orient_i(b, c, p) >= 0 && orient_i(c, a, p) >= 0;
+  return pl_orient(a, b, p) >= 0 && pl_orient(b, c, p) >= 0 && pl_orient(c, a, p) >= 0;
 }
 
 static int vcmp(const struct scene_vertex *a, const struct scene_vertex *b)
@@ -800,7 +774,7 @@ static int vcmp(const struct scene_vertex *a, const struct scene_vertex *b)
 /* Split the rounded ring v[0..n) (scene vertex indices, no two consecutive at one
    position) into triangles added as faces of `id`. */
 static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, int n,
-                     struct t74_error *err)
+                     bool quiet, struct t74_error *err)
 {
   int64_t nn[3] = { 0, 0, 0 };     /* exact Newell normal: |terms| < 2^30 (|coords| <= 2^14) */
   for (int k = 0; k < n; k++) {
@@ -811,11 +785,11 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
   }
   int ax = dominant_axis_i(nn);
   if (nn[ax] == 0) {
-    warn(s, line, "face %d degenerate after rounding (no area); dropped", id);
+    warn(s, quiet, line, "face %d degenerate after rounding (no area); dropped", id);
     return T74_OK;
   }
   int u = (ax + 1) % 3, w = (ax + 2) % 3;
-  struct p2i *p = malloc((size_t)n * sizeof *p);
+  struct pl_pt *p = malloc((size_t)n * sizeof *p);
   int *ring = malloc((size_t)n * sizeof *ring), *nx = malloc((size_t)n * sizeof *nx);
   int *pv = malloc((size_t)n * sizeof *pv);
   int st = T74_OK;
@@ -846,7 +820,7 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
   int left = n, at = 0, tried = 0, made = 0;
   while (left > 3) {
     int a = pv[at], c = nx[at];
-    bool ear = orient_i(p[a], p[at], p[c]) > 0;
+    bool ear = pl_orient(p[a], p[at], p[c]) > 0;
     for (int q = nx[c]; ear && q != a; q = nx[q])
       if (in_tri(p[a], p[at], p[c], p[q])) ear = false;
     if (!ear) {
@@ -869,13 +843,13 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
   }
   {
     int a = pv[at], c = nx[at];
-    if (orient_i(p[a], p[at], p[c]) > 0) {
+    if (pl_orient(p[a], p[at], p[c]) > 0) {
       int tri[3] = { ring[a], ring[at], ring[c] };
       if ((st = add_face(s, cap, id, line, tri, 3, err))) goto done;
       made++;
     }
   }
-  warn(s, line, "face %d not planar after rounding; split into %d triangles", id, made);
+  warn(s, quiet, line, "face %d not planar after rounding; split into %d triangles", id, made);
 done:
   free(p);
   free(ring);
@@ -887,7 +861,7 @@ done:
 /* Turn mesh face k into scene faces: kept, split into triangles, or dropped (with a
    warning); refused when it is not simple in the file or once rounded. */
 static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, int *buf,
-                      struct t74_error *err)
+                      bool quiet, struct t74_error *err)
 {
   int id = k + 1, line = m->fline[k], n = 0;
   int st = check_file_face(s, m, k, err);
@@ -899,17 +873,17 @@ static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, in
   }
   while (n > 1 && same_pos(s, buf[n - 1], buf[0])) n--;  /* closing repeat */
   if (n < 3) {
-    warn(s, line, "face %d degenerate after rounding; dropped", id);
+    warn(s, quiet, line, "face %d degenerate after rounding; dropped", id);
     return T74_OK;
   }
   int d = defect(s, id, line, buf, n);
   if (d < 0) return oom(s->file, err);
   if (d == SCENE_FACE_OK) return add_face(s, cap, id, line, buf, n, err);
   if (d == SCENE_FACE_DEGENERATE) {
-    warn(s, line, "face %d degenerate after rounding; dropped", id);
+    warn(s, quiet, line, "face %d degenerate after rounding; dropped", id);
     return T74_OK;
   }
-  return ear_split(s, cap, id, line, buf, n, err);
+  return ear_split(s, cap, id, line, buf, n, quiet, err);
 }
 
 static int32_t clamp_coord(double v)
@@ -1026,7 +1000,7 @@ static int build(const struct mesh *m, const char *path, const struct scene_opts
   buf = malloc((longest + 1) * sizeof *buf);
   if (!buf) { st = oom(path, err); goto fail; }
   for (int k = 0; k < m->nf; k++)
-    if ((st = place_face(s, &cap, m, k, buf, err))) goto fail;
+    if ((st = place_face(s, &cap, m, k, buf, opts && opts->quiet, err))) goto fail;
   free(buf);
   buf = NULL;
   if ((st = scene_check_camera(s, 0, 0, err))) goto fail;

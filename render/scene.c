@@ -9,8 +9,8 @@
 ** statements (view, window, light, background, effects) at most once. Ids are resolved
 ** after the whole file is read, so a face may name a vertex defined further down; an
 ** unknown id is still reported at the line that uses it. The text may start with a UTF-8
-** byte-order mark and end its lines with LF, CR LF or a lone CR (text_conventions); UTF-16
-** is refused by name.
+** byte-order mark and end its lines with LF, CR LF or a lone CR (the line reader of
+** render/import.h); UTF-16 is refused by name (text_conventions).
 **
 ** The geometric checks are exact, in integers, never in floating point:
 **  - each ring (outer boundary, then one ring per hole) has >= 3 distinct vertices, no
@@ -40,6 +40,7 @@
 
 #include "render/effects.h"
 #include "render/import.h"
+#include "render/plane.h"
 
 #define NIDS (SCENE_ID_MAX + 1)   /* id tables are indexed by id 0..65535 */
 
@@ -64,52 +65,15 @@ void scene_free(struct scene *s)
 
 /* ---- exact face geometry ----------------------------------------------------------- */
 
-struct p2 { int64_t u, v; };
-
-static int64_t orient2(struct p2 a, struct p2 b, struct p2 c)
-{
-  return (b.u - a.u) * (c.v - a.v) - (b.v - a.v) * (c.u - a.u);
-}
-
-static int sgn(int64_t x) { return (x > 0) - (x < 0); }
-
-static bool p2_eq(struct p2 a, struct p2 b) { return a.u == b.u && a.v == b.v; }
-
-/* Is c (collinear with a, b) inside the closed box of segment ab? */
-static bool within(struct p2 a, struct p2 b, struct p2 c)
-{
-  return (c.u >= (a.u < b.u ? a.u : b.u)) && (c.u <= (a.u > b.u ? a.u : b.u)) &&
-         (c.v >= (a.v < b.v ? a.v : b.v)) && (c.v <= (a.v > b.v ? a.v : b.v));
-}
-
-/* Do the closed segments ab and cd have a point in common? */
-static bool seg_meet(struct p2 a, struct p2 b, struct p2 c, struct p2 d)
-{
-  int o1 = sgn(orient2(a, b, c)), o2 = sgn(orient2(a, b, d));
-  int o3 = sgn(orient2(c, d, a)), o4 = sgn(orient2(c, d, b));
-  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
-  if (o1 == 0 && within(a, b, c)) return true;
-  if (o2 == 0 && within(a, b, d)) return true;
-  if (o3 == 0 && within(c, d, a)) return true;
-  if (o4 == 0 && within(c, d, b)) return true;
-  return false;
-}
-
-/* Edges pq and pr leave their common end p: do they overlap beyond p (same direction)? */
-static bool fold(struct p2 p, struct p2 q, struct p2 r)
-{
-  return orient2(p, q, r) == 0 && (q.u - p.u) * (r.u - p.u) + (q.v - p.v) * (r.v - p.v) > 0;
-}
-
 /* Where point t lies against the ring pts[0..n): 1 inside, 0 on the boundary, -1 outside.
    Winding number with exact orientation tests (Sunday's crossing rules). */
-static int in_ring(struct p2 t, const struct p2 *pts, int n)
+static int in_ring(struct pl_pt t, const struct pl_pt *pts, int n)
 {
   int wn = 0;
   for (int i = 0; i < n; i++) {
-    struct p2 a = pts[i], b = pts[(i + 1) % n];
-    int64_t o = orient2(a, b, t);
-    if (o == 0 && within(a, b, t)) return 0;
+    struct pl_pt a = pts[i], b = pts[(i + 1) % n];
+    int64_t o = pl_orient(a, b, t);
+    if (o == 0 && pl_on_seg(a, b, t)) return 0;
     if (a.v <= t.v) {
       if (b.v > t.v && o > 0) wn++;
     } else {
@@ -184,7 +148,7 @@ static int check_distinct(const struct scene *s, const struct scene_face *f, int
   return SCENE_FACE_OK;
 }
 
-static int face_check(const struct scene *s, const struct scene_face *f, struct p2 *pt,
+static int face_check(const struct scene *s, const struct scene_face *f, struct pl_pt *pt,
                       struct edge *e, struct vkey *keys, struct t74_error *err)
 {
   const int *rs = f->ring_start;
@@ -235,16 +199,16 @@ static int face_check(const struct scene *s, const struct scene_face *f, struct 
   int64_t anx = nx < 0 ? -nx : nx, any = ny < 0 ? -ny : ny, anz = nz < 0 ? -nz : nz;
   for (int q = 0; q < nall; q++) {
     const struct scene_vertex *p = &s->v[f->vidx[q]];
-    if (anz >= anx && anz >= any) pt[q] = (struct p2){ 2 * (int64_t)p->x, 2 * (int64_t)p->y };
-    else if (anx >= any) pt[q] = (struct p2){ 2 * (int64_t)p->y, 2 * (int64_t)p->z };
-    else pt[q] = (struct p2){ 2 * (int64_t)p->z, 2 * (int64_t)p->x };
+    if (anz >= anx && anz >= any) pt[q] = (struct pl_pt){ 2 * (int64_t)p->x, 2 * (int64_t)p->y };
+    else if (anx >= any) pt[q] = (struct pl_pt){ 2 * (int64_t)p->y, 2 * (int64_t)p->z };
+    else pt[q] = (struct pl_pt){ 2 * (int64_t)p->z, 2 * (int64_t)p->x };
   }
 
   /* Every pair of edges whose boxes overlap, found by a sweep over u. */
   for (int r = 0; r < f->nring; r++)
     for (int q = rs[r]; q < rs[r + 1]; q++) {
       int q2 = q + 1 < rs[r + 1] ? q + 1 : rs[r];
-      struct p2 a = pt[q], b = pt[q2];
+      struct pl_pt a = pt[q], b = pt[q2];
       e[q] = (struct edge){ r, q, q2, a.u < b.u ? a.u : b.u, a.u > b.u ? a.u : b.u,
                             a.v < b.v ? a.v : b.v, a.v > b.v ? a.v : b.v, q };
     }
@@ -252,14 +216,14 @@ static int face_check(const struct scene *s, const struct scene_face *f, struct 
   for (int i = 0; i < nall; i++)
     for (int j = i + 1; j < nall && e[j].umin <= e[i].umax; j++) {
       if (e[j].vmin > e[i].vmax || e[j].vmax < e[i].vmin) continue;
-      struct p2 a = pt[e[i].a], b = pt[e[i].b], c = pt[e[j].a], d = pt[e[j].b];
+      struct pl_pt a = pt[e[i].a], b = pt[e[i].b], c = pt[e[j].a], d = pt[e[j].b];
       bool bad;
-      if ((p2_eq(a, c) && p2_eq(b, d)) || (p2_eq(a, d) && p2_eq(b, c))) bad = true;
-      else if (p2_eq(a, c)) bad = fold(a, b, d);
-      else if (p2_eq(a, d)) bad = fold(a, b, c);
-      else if (p2_eq(b, c)) bad = fold(b, a, d);
-      else if (p2_eq(b, d)) bad = fold(b, a, c);
-      else bad = seg_meet(a, b, c, d);
+      if ((pl_eq(a, c) && pl_eq(b, d)) || (pl_eq(a, d) && pl_eq(b, c))) bad = true;
+      else if (pl_eq(a, c)) bad = pl_fold(a, b, d);
+      else if (pl_eq(a, d)) bad = pl_fold(a, b, c);
+      else if (pl_eq(b, c)) bad = pl_fold(b, a, d);
+      else if (pl_eq(b, d)) bad = pl_fold(b, a, c);
+      else bad = pl_meet(a, b, c, d);
       if (bad) {
         const struct edge *x = e[i].order < e[j].order ? &e[i] : &e[j];
         const struct edge *y = x == &e[i] ? &e[j] : &e[i];
@@ -295,7 +259,7 @@ static int face_check(const struct scene *s, const struct scene_face *f, struct 
       }
     for (int q = rs[h]; q < rs[h + 1]; q++) {
       int q2 = q + 1 < rs[h + 1] ? q + 1 : rs[h];
-      struct p2 m = { (pt[q].u + pt[q2].u) / 2, (pt[q].v + pt[q2].v) / 2 };  /* exact */
+      struct pl_pt m = { (pt[q].u + pt[q2].u) / 2, (pt[q].v + pt[q2].v) / 2 };  /* exact */
       if (in_ring(m, pt, rs[1]) <= 0) {
         t74_fail_at(err, T74_EINPUT, s->file, f->line,
                     "face %d: hole %d leaves the face along edge %d-%d", f->id, h,
@@ -326,7 +290,7 @@ int scene_check_face(const struct scene *s, const struct scene_face *f,
     return SCENE_FACE_DEGENERATE;
   }
   size_t n = (size_t)f->ring_start[f->nring] + 1;
-  struct p2 *pt = malloc(n * sizeof *pt);
+  struct pl_pt *pt = malloc(n * sizeof *pt);
   struct edge *e = malloc(n * sizeof *e);
   struct vkey *keys = malloc(n * sizeof *keys);
   int d;
@@ -393,20 +357,17 @@ int scene_check_camera(const struct scene *s, int view_line, int window_line,
 
 /* ---- the .s74 parser --------------------------------------------------------------- */
 
-/* The text conventions of editors, before the lines are read: a UTF-8 byte-order mark
-** (EF BB BF, as some Windows editors start a file) is skipped; line ends may be LF,
-** CR LF or a lone CR (classic Mac OS): a lone CR is made a line end, so that lines and
-** their numbers are the ones the editor shows (CR LF stays: CR is a blank). A file in
-** UTF-16 (byte-order mark FF FE or FE FF) is refused by name at line 1. */
+/* The text conventions of editors: the line reader (render/import.h) already skips a
+** UTF-8 byte-order mark (EF BB BF, as some Windows editors start a file) and ends lines
+** at LF, CR LF or a lone CR (classic Mac OS), so that lines and their numbers are the
+** ones the editor shows. What is left for a scene: a file in UTF-16 (byte-order mark
+** FF FE or FE FF) is refused by name at line 1. */
 static int text_conventions(struct import_reader *r, struct t74_error *err)
 {
   const unsigned char *b = (const unsigned char *)r->buf;
   if (r->len >= 2 && ((b[0] == 0xFF && b[1] == 0xFE) || (b[0] == 0xFE && b[1] == 0xFF)))
     return t74_fail_at(err, T74_EINPUT, r->file, 1, "the file is UTF-16 (it starts with a "
                        "byte-order mark %02X %02X): save it as ASCII or UTF-8", b[0], b[1]);
-  if (r->len >= 3 && b[0] == 0xEF && b[1] == 0xBB && b[2] == 0xBF) r->pos = 3;
-  for (size_t k = r->pos; k < r->len; k++)
-    if (r->buf[k] == '\r' && (k + 1 == r->len || r->buf[k + 1] != '\n')) r->buf[k] = '\n';
   return T74_OK;
 }
 

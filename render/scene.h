@@ -76,10 +76,13 @@ struct scene_opts {
   const char *input;                /* "s74", "obj", "off" or NULL to decide by extension */
   bool    has_turn;                 /* --turn AZ,EL given (imports only; render/turn.h) */
   double  turn[2];                  /* AZ, EL in degrees */
+  bool    quiet;                    /* import warnings counted (scene.warnings), not
+                                       printed: for a second read of one file */
 };
 
 /* Read and check a scene. On failure returns T74_EINPUT (or T74_EIO when the file cannot
-   be read), fills err, and *out is NULL. Warnings go to stderr as FILE:LINE: warning: ... */
+   be read), fills err, and *out is NULL. Warnings go to stderr as FILE:LINE: warning: ...
+   (not when opts->quiet). */
 int scene_load(const char *path, const struct scene_opts *opts, struct scene **out,
                struct t74_error *err);
 

@@ -37,22 +37,20 @@
 #include "patterns/picture.h"
 #include "render/effects.h"
 #include "render/scene.h"
+#include "tests/ref/testkit.h"
 
 static char scratch[64];
 
 static int group_setup(void **state)
 {
   (void)state;
-  strcpy(scratch, "/tmp/t74bad.XXXXXX");
-  return mkdtemp(scratch) ? 0 : -1;
+  return tk_mkscratch(scratch, sizeof scratch, "/tmp/t74bad.XXXXXX");
 }
 
 static int group_teardown(void **state)
 {
   (void)state;
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
-  return system(cmd) == 0 ? 0 : -1;
+  return tk_rmscratch(scratch);
 }
 
 static const char *in_dir(const char *name)
@@ -66,51 +64,24 @@ static const char *in_dir(const char *name)
 
 static void put(const char *path, const char *text, size_t n)
 {
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(text, 1, n, f), n);
-  assert_int_equal(fclose(f), 0);
-}
-
-static const char *prog(void)
-{
-  const char *p = getenv("TUBE74");
-  return p && *p ? p : "./tube74";
+  assert_int_equal(tk_put(path, text, n), 0);
 }
 
 /* Run $TUBE74 with args (NULL-terminated), stdout to /dev/null, stderr into msg (cap
 ** bytes, NUL-terminated). The exit status, or -1. */
 static int run(char *msg, size_t cap, ...)
 {
-  const char *argv[32];
-  int n = 0;
-  argv[n++] = prog();
+  const char *errf = in_dir("stderr.txt");
   va_list ap;
   va_start(ap, cap);
-  const char *a;
-  while ((a = va_arg(ap, const char *)) != NULL && n < 31) argv[n++] = a;
+  int rc = tk_vrunl(NULL, errf, ap);
   va_end(ap);
-  argv[n] = NULL;
-  const char *errf = in_dir("stderr.txt");
-  pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    int fo = open("/dev/null", O_WRONLY);
-    int fe = open(errf, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fo < 0 || fe < 0) _exit(126);
-    dup2(fo, 1);
-    dup2(fe, 2);
-    execv(argv[0], (char *const *)argv);
-    _exit(127);
-  }
-  int st;
-  if (waitpid(pid, &st, 0) != pid) return -1;
   FILE *f = fopen(errf, "rb");
   assert_non_null(f);
   size_t got = fread(msg, 1, cap - 1, f);
   msg[got] = 0;
   fclose(f);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return rc;
 }
 
 /* A small valid scene (lines 1-8), with line separator sep, then extra. */

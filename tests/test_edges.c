@@ -29,6 +29,7 @@
 #include "render/fx.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "tests/ref/testkit.h"
 
 #define GW 100                 /* the grid of a 4x4 cell: 100 x 75 points */
 #define GH 75
@@ -39,19 +40,13 @@ static char tmpdir[64];
 static int group_setup(void **state)
 {
   (void)state;
-  strcpy(tmpdir, "/tmp/t74edges.XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
+  return tk_mkscratch(tmpdir, sizeof tmpdir, "/tmp/t74edges.XXXXXX");
 }
 
 static int group_teardown(void **state)
 {
   (void)state;
-  char p[128];
-  snprintf(p, sizeof p, "%s/s.s74", tmpdir); unlink(p);
-  snprintf(p, sizeof p, "%s/o.json", tmpdir); unlink(p);
-  snprintf(p, sizeof p, "%s/t.txt", tmpdir); unlink(p);
-  rmdir(tmpdir);
-  return 0;
+  return tk_rmscratch(tmpdir);
 }
 
 /* ---- running the renderer and the edges over one scene ---------------------------- */

@@ -31,7 +31,6 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <setjmp.h>
-#include <spawn.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -47,38 +46,16 @@
 #include "emu/cost.h"
 #include "render/mapper.h"
 #include "tests/ref/exactref.h"
+#include "tests/ref/testkit.h"
 #include "tests/ref/xdiff.h"
 
-extern char **environ;
-
 #define DATA "tests/data/exact/"
-
-static char *slurp(const char *path, size_t *len)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  size_t cap = 1 << 16, n = 0;
-  char *b = malloc(cap + 1);
-  while (b) {
-    size_t k = fread(b + n, 1, cap - n, f);
-    n += k;
-    if (n < cap) break;
-    char *nb = realloc(b, 2 * cap + 1);
-    if (!nb) { free(b); b = NULL; break; }
-    b = nb;
-    cap *= 2;
-  }
-  fclose(f);
-  if (b) b[n] = '\0';
-  if (len) *len = n;
-  return b;
-}
 
 static void load(const char *name, struct xr_scene *s)
 {
   char path[256], err[128];
   snprintf(path, sizeof path, DATA "%s.s74", name);
-  char *text = slurp(path, NULL);
+  char *text = tk_slurp(path, NULL);
   assert_non_null(text);
   assert_int_equal(xr_read(text, s, err, sizeof err), 0);
   free(text);
@@ -215,33 +192,16 @@ static void test_split_face(void **state)
 
 /* ---- through the real program ------------------------------------------------------- */
 
-static const char *prog(void)
-{
-  const char *p = getenv("TUBE74");
-  return p && *p ? p : "./tube74";
-}
-
 /* run prog with args; stderr to errpath; returns the exit status */
 static int run(const char *const *args, const char *errpath)
 {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 2, errpath, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  pid_t pid;
-  int st = posix_spawn(&pid, args[0], &fa, NULL, (char *const *)args, environ);
-  posix_spawn_file_actions_destroy(&fa);
-  assert_int_equal(st, 0);
-  int ws;
-  assert_int_equal(waitpid(pid, &ws, 0), pid);
-  assert_true(WIFEXITED(ws));
-  return WEXITSTATUS(ws);
+  return tk_run(args, NULL, errpath);
 }
 
 static void test_cli_window_touching(void **state)
 {
   (void)state;
-  if (access(prog(), X_OK) != 0) skip();
+  if (access(tk_prog(), X_OK) != 0) skip();
   char dir[] = "/tmp/tube74-exact-XXXXXX";
   assert_non_null(mkdtemp(dir));
   char ids[128], err[128];
@@ -253,11 +213,11 @@ static void test_cli_window_touching(void **state)
     char dump[160], cs[16];
     snprintf(dump, sizeof dump, "ids=%s", ids);
     snprintf(cs, sizeof cs, "%d", cell);
-    const char *args[] = { prog(), "render", DATA "window-touching.s74", "--cell", cs,
+    const char *args[] = { tk_prog(), "render", DATA "window-touching.s74", "--cell", cs,
                            "--dump", dump, NULL };
     assert_int_equal(run(args, err), 0);
     size_t len;
-    unsigned char *b = (unsigned char *)slurp(ids, &len);
+    unsigned char *b = (unsigned char *)tk_slurp(ids, &len);
     assert_non_null(b);
     int W = 400 / cell, H = 300 / cell, w, h, mx, off = 0;
     assert_int_equal(sscanf((char *)b, "P5 %d %d %d%n", &w, &h, &mx, &off), 3);
@@ -289,13 +249,13 @@ static void test_cli_window_touching(void **state)
 static void test_cli_folded_hole(void **state)
 {
   (void)state;
-  if (access(prog(), X_OK) != 0) skip();
+  if (access(tk_prog(), X_OK) != 0) skip();
   char dir[] = "/tmp/tube74-exact-XXXXXX";
   assert_non_null(mkdtemp(dir));
   char png[128], err[128];
   snprintf(png, sizeof png, "%s/out.png", dir);
   snprintf(err, sizeof err, "%s/err.txt", dir);
-  const char *args[] = { prog(), "render", DATA "folded-hole.s74", "-o", png, NULL };
+  const char *args[] = { tk_prog(), "render", DATA "folded-hole.s74", "-o", png, NULL };
   assert_int_equal(run(args, err), 0);
   struct stat st;
   assert_int_equal(stat(png, &st), 0);

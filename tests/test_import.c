@@ -51,6 +51,7 @@
 #include "render/scene.h"
 #include "tests/ref/memrender.h"
 #include "tests/ref/scenegen.h"
+#include "tests/ref/testkit.h"
 #include "tests/ref/tuberun.h"
 
 #define PI 3.14159265358979323846
@@ -65,8 +66,10 @@ static int group_setup(void **state)
 {
   struct fx *f = calloc(1, sizeof *f);
   if (!f) return -1;
-  snprintf(f->dir, sizeof f->dir, "/tmp/tube74-import-XXXXXX");
-  if (!mkdtemp(f->dir)) { free(f); return -1; }
+  if (tk_mkscratch(f->dir, sizeof f->dir, "/tmp/tube74-import-XXXXXX") != 0) {
+    free(f);
+    return -1;
+  }
   *state = f;
   return 0;
 }
@@ -74,20 +77,9 @@ static int group_setup(void **state)
 static int group_teardown(void **state)
 {
   struct fx *f = *state;
-  DIR *d = opendir(f->dir);
-  if (d) {
-    struct dirent *e;
-    char p[400];
-    while ((e = readdir(d)) != NULL) {
-      if (e->d_name[0] == '.') continue;
-      snprintf(p, sizeof p, "%s/%s", f->dir, e->d_name);
-      unlink(p);
-    }
-    closedir(d);
-  }
-  rmdir(f->dir);
+  int rc = tk_rmscratch(f->dir);
   free(f);
-  return 0;
+  return rc;
 }
 
 static void write_file(struct fx *f, const char *name, const char *text, size_t len)
@@ -184,17 +176,11 @@ static void expect_refused(void **state, const char *name, const char *kind,
   }
 BAD_IMPORTS(DEFINE_BAD)
 
-static const char *prog(void)
-{
-  const char *p = getenv("TUBE74");
-  return p && *p ? p : "./tube74";
-}
-
 /* The command refuses such a file with exit 2, the message on stderr, no output. */
 static void command_exit_2(void **state)
 {
   struct fx *f = *state;
-  if (access(prog(), X_OK) != 0) skip();
+  if (access(tk_prog(), X_OK) != 0) skip();
   static const char *const texts[] = {
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\n",
@@ -206,7 +192,7 @@ static void command_exit_2(void **state)
     snprintf(out, sizeof out, "%s/cmd.png", f->dir);
     snprintf(errp, sizeof errp, "%s/cmd.err", f->dir);
     unlink(out);
-    snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' 2>'%s'", prog(), scene, out, errp);
+    snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' 2>'%s'", tk_prog(), scene, out, errp);
     int rc = system(cmd);
     assert_true(WIFEXITED(rc));
     assert_int_equal(WEXITSTATUS(rc), 2);
@@ -775,7 +761,7 @@ static void order_independent(void **state)
 static void command_dump_ids_reversed(void **state)
 {
   struct fx *f = *state;
-  if (access(prog(), X_OK) != 0) skip();
+  if (access(tk_prog(), X_OK) != 0) skip();
   struct mesh m = { 0 };
   sg_rng r = { 4242 };
   for (int o = 0; o < 3; o++) m_object(&m, &r);
@@ -795,7 +781,7 @@ static void command_dump_ids_reversed(void **state)
     snprintf(dump, sizeof dump, "%s/ids%d.pgm", f->dir, var);
     snprintf(log, sizeof log, "%s/cmd%d.log", f->dir, var);
     snprintf(cmd, sizeof cmd, "'%s' render '%s' --turn 0,0 --cell 3 --core 1000000 --dump ids='%s' 2>'%s'",
-             prog(), scene, dump, log);
+             tk_prog(), scene, dump, log);
     int rc = system(cmd);
     assert_true(WIFEXITED(rc));
     if (WEXITSTATUS(rc) != 0) fail_msg("exit %d (see %s)", WEXITSTATUS(rc), log);

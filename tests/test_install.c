@@ -26,42 +26,19 @@
 
 #include <cmocka.h>
 
+#include "tests/ref/testkit.h"
+
 static char scratch[64];
 static char exe[512];
+#define sh(...) tk_sh(scratch, __VA_ARGS__) /* a command run in the scratch folder */
 static char root[256];
-
-static int sh(const char *fmt, ...)
-{
-  char body[1400], cmd[1600];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(body, sizeof body, fmt, ap);
-  va_end(ap);
-  snprintf(cmd, sizeof cmd, "cd %s && %s", scratch, body);
-  int rc = system(cmd);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-static char *slurp(const char *path)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = malloc((size_t)n + 1);
-  if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
-  if (b) b[n] = 0;
-  fclose(f);
-  return b;
-}
 
 /* The man page as text: roff's "\-" read as "-", font escapes removed. */
 static char *man_text(void)
 {
   char p[300];
   snprintf(p, sizeof p, "%s/tube74.1", root);
-  char *m = slurp(p);
+  char *m = tk_slurp(p, NULL);
   assert_non_null(m);
   char *w = m;
   for (const char *r = m; *r; r++) {
@@ -93,7 +70,7 @@ static void test_version(void **state)
   assert_int_equal(sh("%s --version > v.txt", exe), 0);
   char p[128];
   snprintf(p, sizeof p, "%s/v.txt", scratch);
-  char *v = slurp(p);
+  char *v = tk_slurp(p, NULL);
   assert_non_null(v);
   assert_true(!strncmp(v, "tube74 ", 7));
   char ver[32] = { 0 };
@@ -115,7 +92,7 @@ static void test_man_has_every_option(void **state)
                       exe, exe, exe, exe), 0);
   char p[128];
   snprintf(p, sizeof p, "%s/h.txt", scratch);
-  char *h = slurp(p);
+  char *h = tk_slurp(p, NULL);
   assert_non_null(h);
   char *m = man_text();
   int options = 0, missing = 0, commands = 0;
@@ -188,11 +165,8 @@ static void test_install(void **state)
 int main(void)
 {
   if (!getcwd(root, sizeof root)) return 1;
-  const char *t = getenv("TUBE74") ? getenv("TUBE74") : "./tube74";
-  if (t[0] == '/') snprintf(exe, sizeof exe, "%s", t);
-  else snprintf(exe, sizeof exe, "%s/%s", root, t);
-  strcpy(scratch, "/tmp/t74inst.XXXXXX");
-  if (!mkdtemp(scratch)) return 1;
+  if (tk_exe(exe, sizeof exe) != 0) return 1;
+  if (tk_mkscratch(scratch, sizeof scratch, "/tmp/t74inst.XXXXXX") != 0) return 1;
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_version),
     cmocka_unit_test(test_man_has_every_option),
@@ -200,8 +174,6 @@ int main(void)
     cmocka_unit_test(test_install),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
-  if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", scratch);
+  tk_rmscratch(scratch);
   return rc;
 }

@@ -27,21 +27,11 @@
 #include <cmocka.h>
 
 #include "display/look.h"
+#include "tests/ref/testkit.h"
 
 static char scratch[64];
 static char exe[512];
-
-static int sh(const char *fmt, ...)
-{
-  char body[1024], cmd[1400];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(body, sizeof body, fmt, ap);
-  va_end(ap);
-  snprintf(cmd, sizeof cmd, "cd %s && %s", scratch, body);
-  int rc = system(cmd);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
+#define sh(...) tk_sh(scratch, __VA_ARGS__) /* a command run in the scratch folder */
 
 /* The tube dots of a --dump tube PBM: lit[y][x], y up. */
 static void read_pbm(const char *name, uint8_t lit[300][400])
@@ -169,13 +159,10 @@ static void test_gif_cannot_be_written(void **state)
 
 int main(void)
 {
-  const char *t = getenv("TUBE74") ? getenv("TUBE74") : "./tube74";
   char cwd[256];
   if (!getcwd(cwd, sizeof cwd)) return 1;
-  if (t[0] == '/') snprintf(exe, sizeof exe, "%s", t);
-  else snprintf(exe, sizeof exe, "%s/%s", cwd, t);
-  strcpy(scratch, "/tmp/t74movie.XXXXXX");
-  if (!mkdtemp(scratch)) return 1;
+  if (tk_exe(exe, sizeof exe) != 0) return 1;
+  if (tk_mkscratch(scratch, sizeof scratch, "/tmp/t74movie.XXXXXX") != 0) return 1;
   char link[128];
   snprintf(link, sizeof link, "%s/scenes", scratch);
   char target[300];
@@ -187,8 +174,6 @@ int main(void)
     cmocka_unit_test(test_gif_cannot_be_written),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
-  if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", scratch);
+  tk_rmscratch(scratch);
   return rc;
 }

@@ -43,6 +43,7 @@
 
 #include "display/outfile.h"
 #include "emu/status.h"
+#include "tests/ref/testkit.h"
 
 #define SCENE "scenes/fig6.s74"         /* small and fast; no background */
 #define BG_SCENE "scenes/street.s74"    /* has `background harbour.pgm` */
@@ -54,25 +55,20 @@ static char scratch[64];
 static int group_setup(void **state)
 {
   (void)state;
-  strcpy(scratch, "/tmp/t74outset.XXXXXX");
-  return mkdtemp(scratch) ? 0 : -1;
+  return tk_mkscratch(scratch, sizeof scratch, "/tmp/t74outset.XXXXXX");
 }
 
 static int group_teardown(void **state)
 {
   (void)state;
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
-  return system(cmd) == 0 ? 0 : -1;
+  return tk_rmscratch(scratch);
 }
 
 /* Each test starts with an empty scratch folder. */
 static int test_setup(void **state)
 {
   (void)state;
-  char cmd[160];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'/* '%s'/.[!.]*", scratch, scratch);
-  return system(cmd) == 0 ? 0 : -1;
+  return tk_clear(scratch);
 }
 
 /* scratch/name in one of a few rotating buffers (several live at once in a test). */
@@ -100,24 +96,14 @@ static int entries(void)
 
 static void put(const char *path, const char *text)
 {
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  fputs(text, f);
-  assert_int_equal(fclose(f), 0);
+  assert_int_equal(tk_put(path, text, strlen(text)), 0);
 }
 
 /* The whole file (NUL added), malloc'd; *n its length. */
 static char *slurp(const char *path, size_t *n)
 {
-  FILE *f = fopen(path, "rb");
-  if (!f) fail_msg("cannot open %s: %s", path, strerror(errno));
-  size_t cap = 1 << 22;
-  char *b = malloc(cap + 1);
-  assert_non_null(b);
-  *n = fread(b, 1, cap, f);
-  assert_true(*n < cap);
-  fclose(f);
-  b[*n] = 0;
+  char *b = tk_slurp(path, n);
+  if (!b) fail_msg("cannot read %s: %s", path, strerror(errno));
   return b;
 }
 
@@ -149,40 +135,9 @@ static mode_t lmode(const char *path)
 
 /* ---- running the program ------------------------------------------------------------ */
 
-static const char *prog(void)
-{
-  const char *p = getenv("TUBE74");
-  return p && *p ? p : "./tube74";
-}
-
-/* Run $TUBE74 with args (NULL-terminated); stdout to out_path (or /dev/null), stderr to
-** err_path (or /dev/null). The exit status, or -1. */
-static int run(const char *out_path, const char *err_path, ...)
-{
-  const char *argv[40];
-  int n = 0;
-  argv[n++] = prog();
-  va_list ap;
-  va_start(ap, err_path);
-  const char *a;
-  while ((a = va_arg(ap, const char *)) != NULL && n < 39) argv[n++] = a;
-  va_end(ap);
-  argv[n] = NULL;
-  pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    int fo = open(out_path ? out_path : "/dev/null", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    int fe = open(err_path ? err_path : "/dev/null", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fo < 0 || fe < 0) _exit(126);
-    dup2(fo, 1);
-    dup2(fe, 2);
-    execv(argv[0], (char *const *)argv);
-    _exit(127);
-  }
-  int st;
-  if (waitpid(pid, &st, 0) != pid) return -1;
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+/* run(OUT, ERR, ARG..., NULL): $TUBE74 ARG... with stdout to OUT and stderr to ERR (each
+** NULL for /dev/null); the exit status, or -1. */
+#define run tk_runl
 
 /* A reference picture of SCENE, written to a plain new file. */
 static const char *reference_png(void)
@@ -485,7 +440,7 @@ static void test_stats_json_any_path(void **state)
            scratch);                                    /* each bad byte: U+FFFD */
   assert_string_equal(got, want);
   /* the Tek input's --stats too */
-  snprintf(cmd, sizeof cmd, "%s tek " SCENE " -o '%s/x\"\\y.tek'", prog(), scratch);
+  snprintf(cmd, sizeof cmd, "%s tek " SCENE " -o '%s/x\"\\y.tek'", tk_prog(), scratch);
   assert_int_equal(system(cmd), 0);
   char tek[600];
   snprintf(tek, sizeof tek, "%s/x\"\\y.tek", scratch);

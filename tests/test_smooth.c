@@ -32,6 +32,7 @@
 #include "render/render.h"
 #include "render/scene.h"
 #include "render/smooth.h"
+#include "tests/ref/testkit.h"
 
 static char tmpdir[64];
 static const char *tube74;
@@ -41,16 +42,13 @@ static int group_setup(void **state)
   (void)state;
   tube74 = getenv("TUBE74");
   if (!tube74 || !*tube74) tube74 = "./tube74";
-  strcpy(tmpdir, "/tmp/t74smooth.XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
+  return tk_mkscratch(tmpdir, sizeof tmpdir, "/tmp/t74smooth.XXXXXX");
 }
 
 static int group_teardown(void **state)
 {
   (void)state;
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tk_rmscratch(tmpdir);
 }
 
 static const char *tpath(const char *name)
@@ -72,17 +70,8 @@ static void write_text(const char *name, const char *text)
 
 static char *slurp(const char *path, size_t *len)
 {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = malloc((size_t)n + 1);
+  char *b = tk_slurp(path, len);
   assert_non_null(b);
-  size_t got = fread(b, 1, (size_t)n, f);
-  fclose(f);
-  b[got] = 0;
-  if (len) *len = got;
   return b;
 }
 

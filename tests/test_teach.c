@@ -4,7 +4,7 @@
 **
 ** This file contains code to check that:
 **   every shipped scene gets its page: one self-contained file (no src=, no <link>, no
-**   address other than the SVG namespace name);
+**   address other than the SVG namespace name); an import's warnings are printed once;
 **   in Chromium (--dump-dom after the page's own key handler has been driven through its
 **   #keys= hash, which presses the keys on load):
 **     step 0 is the projected scene with one marker per projected vertex; Back at the
@@ -34,37 +34,20 @@
 
 #include <cmocka.h>
 
+#include "tests/ref/testkit.h"
+
 static char scratch[64];
 static char exe[512];
+#define sh(...) tk_sh(scratch, __VA_ARGS__) /* a command run in the scratch folder */
 static char root[256];
 static const char *chromium;
 
-static int sh(const char *fmt, ...)
-{
-  char body[2048], cmd[2300];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(body, sizeof body, fmt, ap);
-  va_end(ap);
-  snprintf(cmd, sizeof cmd, "cd %s && %s", scratch, body);
-  int rc = system(cmd);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
+/* A file of the scratch folder, whole; NULL if unreadable. */
 static char *slurp(const char *name)
 {
   char p[300];
   snprintf(p, sizeof p, "%s/%s", scratch, name);
-  FILE *f = fopen(p, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = malloc((size_t)n + 1);
-  if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
-  if (b) b[n] = 0;
-  fclose(f);
-  return b;
+  return tk_slurp(p, NULL);
 }
 
 static int count(const char *hay, const char *needle)
@@ -326,6 +309,27 @@ static void test_steps_in_chromium(void **state)
   free(tables);
 }
 
+/* An import's warnings are printed once, as `render` prints them (the traced second read
+   of the scene is quiet). */
+static void test_import_warns_once(void **state)
+{
+  (void)state;
+  static const char obj[] = "v 0 0 0\nv 100 0 0\nv 100 100 1\nv 0 100 0\nv 50 50 30\n"
+                            "f 1 2 3 4\nf 1 2 5\n";   /* face 1 is not planar */
+  char p[300];
+  snprintf(p, sizeof p, "%s/np.obj", scratch);
+  assert_int_equal(tk_put(p, obj, sizeof obj - 1), 0);
+  assert_int_equal(sh("%s render np.obj -o np.png 2> r.txt && %s teach np.obj -o pages > /dev/null "
+                      "2> t.txt", exe, exe), 0);
+  char *r = slurp("r.txt"), *t = slurp("t.txt");
+  assert_non_null(r);
+  assert_non_null(t);
+  assert_int_equal(count(r, "np.obj:6: warning: face 1 not planar"), 1);
+  assert_string_equal(t, r);
+  free(r);
+  free(t);
+}
+
 int main(void)
 {
   if (system("command -v chromium > /dev/null 2>&1") != 0) {
@@ -334,18 +338,14 @@ int main(void)
   }
   chromium = "chromium";
   if (!getcwd(root, sizeof root)) return 1;
-  const char *t = getenv("TUBE74") ? getenv("TUBE74") : "./tube74";
-  if (t[0] == '/') snprintf(exe, sizeof exe, "%s", t);
-  else snprintf(exe, sizeof exe, "%s/%s", root, t);
-  strcpy(scratch, "/tmp/t74teach.XXXXXX");
-  if (!mkdtemp(scratch)) return 1;
+  if (tk_exe(exe, sizeof exe) != 0) return 1;
+  if (tk_mkscratch(scratch, sizeof scratch, "/tmp/t74teach.XXXXXX") != 0) return 1;
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_every_scene_self_contained),
+    cmocka_unit_test(test_import_warns_once),
     cmocka_unit_test(test_steps_in_chromium),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
-  if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", scratch);
+  tk_rmscratch(scratch);
   return rc;
 }

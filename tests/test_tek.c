@@ -42,6 +42,7 @@
 #include "display/tek.h"
 #include "display/tube.h"
 #include "emu/status.h"
+#include "tests/ref/testkit.h"
 
 #define CORPUS "tests/fuzz/corpus_tek"
 #define N_RANDOM_SCENES 8
@@ -786,40 +787,9 @@ static void test_corpus_replay(void **state)
 
 /* ---- the command: round trips through $TUBE74 --------------------------------------- */
 
-static const char *prog(void)
-{
-  const char *p = getenv("TUBE74");
-  return p && *p ? p : "./tube74";
-}
-
-/* Run $TUBE74 with args (NULL-terminated); stdout to out_path (or /dev/null), stderr to
-** err_path (or /dev/null). Returns the exit status, or -1. */
-static int run(const char *out_path, const char *err_path, ...)
-{
-  const char *argv[32];
-  int n = 0;
-  argv[n++] = prog();
-  va_list ap;
-  va_start(ap, err_path);
-  const char *a;
-  while ((a = va_arg(ap, const char *)) != NULL && n < 31) argv[n++] = a;
-  va_end(ap);
-  argv[n] = NULL;
-  pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    int fo = open(out_path ? out_path : "/dev/null", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    int fe = open(err_path ? err_path : "/dev/null", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fo < 0 || fe < 0) _exit(126);
-    dup2(fo, 1);
-    dup2(fe, 2);
-    execv(argv[0], (char *const *)argv);
-    _exit(127);
-  }
-  int st;
-  if (waitpid(pid, &st, 0) != pid) return -1;
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+/* run(OUT, ERR, ARG..., NULL): $TUBE74 ARG... with stdout to OUT and stderr to ERR (each
+** NULL for /dev/null); the exit status, or -1. */
+#define run tk_runl
 
 /* Round trip of one scene: the points of `render SCENE` and of `render (tek SCENE)` are
 ** the same, in the same order. */

@@ -38,6 +38,7 @@
 #include "display/tek.h"
 #include "display/tube.h"
 #include "emu/status.h"
+#include "tests/ref/testkit.h"
 
 static char scratch[64];
 
@@ -45,28 +46,12 @@ static char scratch[64];
 
 static uint8_t *slurp(const char *path, size_t *n)
 {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  size_t cap = 4096, len = 0, got;
-  uint8_t *b = malloc(cap);
-  while (b && (got = fread(b + len, 1, cap - len, f)) > 0) {
-    len += got;
-    if (len == cap) {
-      uint8_t *nb = realloc(b, cap *= 2);
-      if (!nb) { free(b); b = NULL; } else b = nb;
-    }
-  }
-  fclose(f);
-  if (b) *n = len;
-  return b;
+  return (uint8_t *)tk_slurp(path, n);
 }
 
 static void spit(const char *path, const uint8_t *b, size_t n)
 {
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(b, 1, n, f), n);
-  assert_int_equal(fclose(f), 0);
+  assert_int_equal(tk_put(path, b, n), 0);
 }
 
 static int have(const char *tool)
@@ -79,14 +64,11 @@ static int have(const char *tool)
 /* Run a shell command in the scratch folder; it must succeed. */
 static void sh(const char *fmt, ...)
 {
-  char body[1024], cmd[1200];
   va_list ap;
   va_start(ap, fmt);
-  vsnprintf(body, sizeof body, fmt, ap);
+  int rc = tk_vsh(scratch, fmt, ap);
   va_end(ap);
-  snprintf(cmd, sizeof cmd, "cd %s && %s", scratch, body);
-  int rc = system(cmd);
-  if (rc != 0) fprintf(stderr, "command failed (%d): %s\n", rc, cmd);
+  if (rc != 0) fprintf(stderr, "command failed (%d): %s\n", rc, fmt);
   assert_int_equal(rc, 0);
 }
 
@@ -369,8 +351,7 @@ int main(void)
     printf("gnuplot or plotutils' graph is not installed (tools/deps.sh installs them)\n");
     return 77;
   }
-  strcpy(scratch, "/tmp/t74tektools.XXXXXX");
-  if (!mkdtemp(scratch)) return 1;
+  if (tk_mkscratch(scratch, sizeof scratch, "/tmp/t74tektools.XXXXXX") != 0) return 1;
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_erase_first_dots_shown),
     cmocka_unit_test(test_gs_bel_draws_first_vector),
@@ -379,8 +360,6 @@ int main(void)
     cmocka_unit_test(test_line_feed_from_cursor),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
-  if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", scratch);
+  tk_rmscratch(scratch);
   return rc;
 }

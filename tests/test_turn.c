@@ -26,21 +26,11 @@
 #include <cmocka.h>
 
 #include "render/turn.h"
+#include "tests/ref/testkit.h"
 
 static char scratch[64];
 static char exe[512];
-
-static int sh(const char *fmt, ...)
-{
-  char body[1024], cmd[1400];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(body, sizeof body, fmt, ap);
-  va_end(ap);
-  snprintf(cmd, sizeof cmd, "cd %s && %s", scratch, body);
-  int rc = system(cmd);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
+#define sh(...) tk_sh(scratch, __VA_ARGS__) /* a command run in the scratch folder */
 
 /* ---- the turn itself --------------------------------------------------------------- */
 
@@ -96,10 +86,7 @@ static void put(const char *name, const char *text)
 {
   char p[256];
   snprintf(p, sizeof p, "%s/%s", scratch, name);
-  FILE *f = fopen(p, "w");
-  assert_non_null(f);
-  fputs(text, f);
-  assert_int_equal(fclose(f), 0);
+  assert_int_equal(tk_put(p, text, strlen(text)), 0);
 }
 
 /* Faces seen: distinct non-zero ids in a --dump ids PGM (16-bit, big-endian). */
@@ -189,15 +176,8 @@ static void test_window_follows_turn(void **state)
 
 int main(void)
 {
-  const char *t = getenv("TUBE74") ? getenv("TUBE74") : "./tube74";
-  if (t[0] == '/') snprintf(exe, sizeof exe, "%s", t);
-  else {
-    char cwd[256];
-    if (!getcwd(cwd, sizeof cwd)) return 1;
-    snprintf(exe, sizeof exe, "%s/%s", cwd, t);
-  }
-  strcpy(scratch, "/tmp/t74turn.XXXXXX");
-  if (!mkdtemp(scratch)) return 1;
+  if (tk_exe(exe, sizeof exe) != 0) return 1;
+  if (tk_mkscratch(scratch, sizeof scratch, "/tmp/t74turn.XXXXXX") != 0) return 1;
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_turn_axes),
     cmocka_unit_test(test_turn_parse),
@@ -205,8 +185,6 @@ int main(void)
     cmocka_unit_test(test_window_follows_turn),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
-  if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", scratch);
+  tk_rmscratch(scratch);
   return rc;
 }

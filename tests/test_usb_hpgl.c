@@ -10,7 +10,8 @@
 ** bound kernel driver (usblp) is detached and given back; that GET_PORT_STATUS is asked
 ** before each band and "paper out" stops the run with exit 4 and a resume file from which
 ** the run continues without losing or repeating a dot; and a plotter that vanishes
-** mid-stream, then --resume; `tube74 devices` lists the plotter.
+** mid-stream, then --resume; `tube74 devices` lists the plotter and says whether its
+** device id declares HP-GL.
 ** The program re-runs itself under umockdev-wrapper; without it, it exits 77 (skip).
 */
 #include <setjmp.h>
@@ -279,10 +280,9 @@ static void test_not_hpgl_refused_then_forced(void **state)
   g_free(errf);
 }
 
-static void test_devices_lists_plotter(void **state)
+/* `tube74 devices` run against the mock: its stdout, g_free'd by the caller. */
+static gchar *devices_text(struct fixture *fx)
 {
-  struct fixture *fx = F(state);
-  reset(fx);
   char *out = g_strdup_printf("%s/devices.txt", fx->dir);
   pid_t pid = fork();
   if (pid == 0) {
@@ -295,10 +295,42 @@ static void test_devices_lists_plotter(void **state)
   assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
   gchar *txt = NULL;
   assert_true(g_file_get_contents(out, &txt, NULL, NULL));
+  g_free(out);
+  return txt;
+}
+
+/* devices lists the printer-class device and says whether its GET_DEVICE_ID declares
+** HP-GL (what streaming requires), sending nothing to it. */
+static void test_devices_lists_plotter(void **state)
+{
+  struct fixture *fx = F(state);
+  reset(fx);
+  gchar *txt = devices_text(fx);
   assert_non_null(strstr(txt, "hpgl    067b:2305"));   /* a printer-class interface */
+  assert_non_null(strstr(txt, "; declares HP-GL"));
   assert_null(strstr(txt, "helios"));                   /* and nothing else matches */
   g_free(txt);
-  g_free(out);
+
+  reset(fx);
+  mock_lock(&fx->m);
+  snprintf(fx->p.id, sizeof fx->p.id, "MFG:Hewlett-Packard;MDL:LaserJet 4;CMD:PCL,PJL;CLS:PRINTER;");
+  mock_unlock(&fx->m);
+  txt = devices_text(fx);
+  assert_non_null(strstr(txt, "hpgl    067b:2305"));
+  assert_non_null(strstr(txt, "; does not declare HP-GL (command set `PCL,PJL`)"));
+  g_free(txt);
+  mock_lock(&fx->m);
+  assert_int_equal(fx->p.id_queries, 1);
+  assert_int_equal(fx->m.out_bytes, 0);         /* listing sends nothing to the device */
+  mock_unlock(&fx->m);
+
+  reset(fx);
+  mock_lock(&fx->m);
+  fx->p.id[0] = 0;                              /* GET_DEVICE_ID not supported: a stall */
+  mock_unlock(&fx->m);
+  txt = devices_text(fx);
+  assert_non_null(strstr(txt, "; gives no device id"));
+  g_free(txt);
 }
 
 static int fixture_start(struct fixture *fx)

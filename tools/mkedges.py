@@ -14,7 +14,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mkscenes import Scene  # noqa: E402
+from s74 import Scene, street_blocks  # noqa: E402
 
 
 class Model(Scene):
@@ -161,37 +161,7 @@ road and the windows are faces in no object (each its own part: its edges are ou
     s.say("window -400 -300 400 300")
     s.say("background harbour.pgm")
     s.say("effects halftone=4x4 pattern=dispersed edges=on")
-    ground = -120
-    s.face([[(-700, ground, 0), (700, ground, 0), (700, ground, 3000), (-700, ground, 3000)]], 70)
-    buildings = [
-        (-330, -170, 0, 260, 210, 200, 130, 240),
-        (-360, -200, 420, 700, 300, 185, 120, 235),
-        (-390, -230, 860, 1200, 180, 175, 110, 225),
-        (160, 320, 80, 380, 260, 190, 135, 240),
-        (190, 350, 560, 820, 340, 180, 125, 235),
-        (220, 380, 1000, 1400, 230, 170, 115, 225),
-    ]
-    for (x0, x1, z0, z1, h, gf, gs, gt) in buildings:
-        y1 = ground + h
-        left_side = x1 < 0
-        side_windows = z0 < 500
-        s.obj(s.box(x0, ground, z0, x1, y1, z1, [gf, gs, gt, gs, gs, 60]))
-        wy = ground + 30
-        while wy + 34 <= y1 - 20:
-            wx = x0 + 18
-            while wx + 26 <= x1 - 14:
-                s.face([[(wx, wy, z0), (wx + 26, wy, z0), (wx + 26, wy + 34, z0), (wx, wy + 34, z0)]], 40)
-                wx += 44
-            xs = x1 if left_side else x0
-            wz = z0 + 30
-            while side_windows and wz + 50 <= z1 - 20:
-                if left_side:
-                    pts = [(xs, wy, wz + 50), (xs, wy, wz), (xs, wy + 34, wz), (xs, wy + 34, wz + 50)]
-                else:
-                    pts = [(xs, wy, wz), (xs, wy, wz + 50), (xs, wy + 34, wz + 50), (xs, wy + 34, wz)]
-                s.face([pts], 30)
-                wz += 80
-            wy += 60
+    street_blocks(s, each_box=s.obj)      # each building one object
     s.write("scenes/edges-street.s74")
 
 

@@ -503,5 +503,5 @@ const struct usb_profile usb_profile_helios = {
   "helios", "Helios laser / XY DAC (refreshed vector picture)",
   { 0x1209, 0xE500, -1, 1 },    /* interface 0, alt setting 1 (Helios SDK) */
   helios_params, HE_NPARAMS,
-  helios_open, helios_send, helios_flush, helios_status, helios_close
+  helios_open, helios_send, helios_flush, helios_status, helios_close, NULL
 };

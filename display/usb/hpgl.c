@@ -258,22 +258,31 @@ static int names_hpgl(const char *cmds)
   return strstr(u, "HPGL") || strstr(u, "HP-GL");
 }
 
-/* GET_DEVICE_ID: the device must declare HP-GL (unless force). */
-static int check_device_id(struct hpgl *h, int force, struct t74_error *err)
+/* The IEEE 1284 device id string by GET_DEVICE_ID into id ("" when none is given).
+   T74_OK, or the error status (in e) of the request. */
+static int read_device_id(struct usb_link *l, char *id, size_t n, struct t74_error *e)
 {
   unsigned char b[256];
   int got = 0;
-  struct t74_error e = { T74_OK, "" };
-  uint16_t idx = (uint16_t)(usb_link_interface(h->l) << 8 | usb_link_alt(h->l));
-  char id[256] = "", cmd[128] = "", mfg[64] = "";
-  int rc = usb_control_in(h->l, HP_RT_CLASS_IN_IFACE, HP_REQ_GET_DEVICE_ID, 0, idx, b,
-                          (int)sizeof b, &got, &e);
-  if (rc != T74_OK && usb_link_gone(h->l)) return t74_fail(err, e.status, "%s", e.msg);
+  uint16_t idx = (uint16_t)(usb_link_interface(l) << 8 | usb_link_alt(l));
+  id[0] = 0;
+  int rc = usb_control_in(l, HP_RT_CLASS_IN_IFACE, HP_REQ_GET_DEVICE_ID, 0, idx, b,
+                          (int)sizeof b, &got, e);
   if (rc == T74_OK && got >= 2) {
     int len = b[0] << 8 | b[1];                 /* big-endian, the 2 length bytes included */
     if (len > got) len = got;
-    if (len > 2) snprintf(id, sizeof id, "%.*s", len - 2, (const char *)b + 2);
+    if (len > 2) snprintf(id, n, "%.*s", len - 2, (const char *)b + 2);
   }
+  return rc;
+}
+
+/* GET_DEVICE_ID: the device must declare HP-GL (unless force). */
+static int check_device_id(struct hpgl *h, int force, struct t74_error *err)
+{
+  struct t74_error e = { T74_OK, "" };
+  char id[256] = "", cmd[128] = "", mfg[64] = "";
+  int rc = read_device_id(h->l, id, sizeof id, &e);
+  if (rc != T74_OK && usb_link_gone(h->l)) return t74_fail(err, e.status, "%s", e.msg);
   id_field(id, "MODEL", "MDL", h->model, sizeof h->model);
   id_field(id, "MANUFACTURER", "MFG", mfg, sizeof mfg);
   int has = id_field(id, "COMMAND SET", "CMD", cmd, sizeof cmd);
@@ -425,9 +434,22 @@ static void hpgl_close(void *ctx, int clean)
   hpgl_free(h);
 }
 
+/* For `devices`: does the device declare HP-GL (the check of streaming, without --force)? */
+static void hpgl_note(struct usb_link *l, char *out, size_t n)
+{
+  struct t74_error e = { T74_OK, "" };
+  char id[256], cmd[128] = "";
+  read_device_id(l, id, sizeof id, &e);
+  if (!id[0]) snprintf(out, n, "gives no device id: not known to speak HP-GL (--force)");
+  else if (!id_field(id, "COMMAND SET", "CMD", cmd, sizeof cmd))
+    snprintf(out, n, "declares no command set: not known to speak HP-GL (--force)");
+  else if (names_hpgl(cmd)) snprintf(out, n, "declares HP-GL (command set `%s`)", cmd);
+  else snprintf(out, n, "does not declare HP-GL (command set `%s`): a printer? (--force)", cmd);
+}
+
 const struct usb_profile usb_profile_hpgl = {
   "hpgl", "HP-GL pen plotter on a USB printer-class interface",
   { 0, 0, 7, -1 },              /* any device with a printer-class (7) interface */
   hpgl_params, HP_NPARAMS,
-  hpgl_open, hpgl_send, hpgl_flush, hpgl_status, hpgl_close
+  hpgl_open, hpgl_send, hpgl_flush, hpgl_status, hpgl_close, hpgl_note
 };

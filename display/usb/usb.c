@@ -134,6 +134,12 @@ static void find_endpoints(struct usb_link *l)
 int usb_link_open(struct usb_link **out, const struct usb_match *m, const char *profile,
                   const struct usb_settings *s, struct t74_error *err)
 {
+  return usb_link_open_at(out, m, -1, -1, profile, s, err);
+}
+
+int usb_link_open_at(struct usb_link **out, const struct usb_match *m, int bus, int address,
+                     const char *profile, const struct usb_settings *s, struct t74_error *err)
+{
   *out = NULL;
   struct usb_link *l = calloc(1, sizeof *l);
   if (!l) return t74_fail(err, T74_EIO, "%s: out of memory", profile);
@@ -156,7 +162,10 @@ int usb_link_open(struct usb_link **out, const struct usb_match *m, const char *
   }
   libusb_device *dev = NULL;
   for (ssize_t i = 0; i < n && !dev; i++)
-    if (device_matches(list[i], m, &l->iface)) dev = list[i];
+    if ((bus < 0 || (libusb_get_bus_number(list[i]) == bus &&
+                     libusb_get_device_address(list[i]) == address)) &&
+        device_matches(list[i], m, &l->iface))
+      dev = list[i];
   if (!dev) {
     libusb_free_device_list(list, 1);
     libusb_exit(l->ctx);
@@ -567,9 +576,26 @@ int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *
       if (!device_matches(list[i], &p->match, &iface)) continue;
       struct libusb_device_descriptor dd;
       libusb_get_device_descriptor(list[i], &dd);
-      fprintf(f, "%-7s %04x:%04x  bus %03u device %03u  interface %d  %s\n", p->name,
+      fprintf(f, "%-7s %04x:%04x  bus %03u device %03u  interface %d  %s", p->name,
               dd.idVendor, dd.idProduct, libusb_get_bus_number(list[i]),
               libusb_get_device_address(list[i]), iface, p->what);
+      if (p->note) {            /* what the device says of itself, on a link of its own */
+        char note[160] = "";
+        struct usb_settings us;
+        usb_settings_default(&us, p);
+        struct usb_link *l = NULL;
+        struct t74_error e = { T74_OK, "" };
+        if (usb_link_open_at(&l, &p->match, libusb_get_bus_number(list[i]),
+                             libusb_get_device_address(list[i]), p->name, &us, &e) == T74_OK) {
+          p->note(l, note, sizeof note);
+          usb_link_close(l);
+        } else {
+          snprintf(note, sizeof note, "not opened (%s)",
+                   strstr(e.msg, "permission denied") ? "permission denied" : "see `tube74 stream`");
+        }
+        if (note[0]) fprintf(f, "; %s", note);
+      }
+      fputc('\n', f);
       shown++;
     }
   }

@@ -98,6 +98,9 @@ struct usb_counts {
 ** the message gives the udev rule (usb_udev_rule). T74_EIO on any failure. */
 int usb_link_open(struct usb_link **out, const struct usb_match *m, const char *profile,
                   const struct usb_settings *s, struct t74_error *err);
+/* The same for the device at bus:address only (it must match m too). */
+int usb_link_open_at(struct usb_link **out, const struct usb_match *m, int bus, int address,
+                     const char *profile, const struct usb_settings *s, struct t74_error *err);
 void usb_link_close(struct usb_link *l);
 
 /* The claimed interface's first endpoint of a type (USB_BULK / USB_INTERRUPT) and
@@ -188,6 +191,9 @@ struct usb_profile {
   int  (*flush)(void *ctx, struct t74_error *err);
   int  (*status)(void *ctx, struct usb_status *st, struct t74_error *err);
   void (*close)(void *ctx, int clean);
+  /* Optional, for `devices`: what the device says of itself on an opened link (the
+     printer class's GET_DEVICE_ID for hpgl), one short phrase into out. NULL: nothing. */
+  void (*note)(struct usb_link *l, char *out, size_t n);
 };
 
 extern const struct usb_profile usb_profile_hpgl;     /* hpgl.c */
