@@ -316,9 +316,10 @@ static wide plane_at(const struct ectx *c, const struct mface *m, wide X, wide Y
          (wide)m->plane[2] * (wide)e[2] * SW * SH;
 }
 
-/* Is the face F seen at the centre (X, Y) behind the edge: not nearer the eye (strict:
-   farther), along the ray, than any of the edge's drawing planes that the ray meets ahead
-   (and there is one)? */
+/* Is the face F seen at the centre (X, Y) behind the edge? Nearer than both of the edge's
+   ends: no; behind both (strict: farther): yes; else when it is not nearer the eye
+   (strict: farther), along the ray, than any of the edge's drawing planes that the ray
+   meets ahead (and there is one). */
 static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y, bool strict)
 {
   const struct mface *mf = &c->r->map.f[F];
@@ -475,19 +476,20 @@ static void extent(const struct ectx *c, const struct edge *ed, bool rows, int *
   }
 }
 
-static struct i256 neg_width2(const struct edge *ed, wide sx, wide sy, int64_t wq)
+/* wq^2 M = (wq A sx)^2 + (wq B sy)^2: |wq A sx| < 2^16 2^38 2^25 (256-bit square) */
+static struct i256 width2(const struct edge *ed, wide sx, wide sy, int64_t wq)
 {
   wide u = wq * ed->A * sx, v = wq * ed->B * sy;
   return i256_add(i256_mul(u, u), i256_mul(v, v));
 }
 
-/* The edge's exact bounds kline and khalo (once an edge, before the passes). */
+/* The edge's exact bounds kline and khalo (once an edge, when it is first drawn). */
 static void edge_bounds(struct ectx *c, struct edge *ed, int64_t wline, int64_t whalo)
 {
   double du = (double)ed->A * (double)c->sx, dv = (double)ed->B * (double)c->sy;
-  ed->kline = kbound(neg_width2(ed, c->sx, c->sy, wline), du * (double)wline,
+  ed->kline = kbound(width2(ed, c->sx, c->sy, wline), du * (double)wline,
                      dv * (double)wline, c->cost);
-  ed->khalo = ed->halo ? kbound(neg_width2(ed, c->sx, c->sy, wline + 2 * whalo),
+  ed->khalo = ed->halo ? kbound(width2(ed, c->sx, c->sy, wline + 2 * whalo),
                                 du * (double)(wline + 2 * whalo), dv * (double)(wline + 2 * whalo),
                                 c->cost) : 0;
   int b = wbits((wide)(wline + 2 * whalo) * (wabs(ed->A) * c->sx > wabs(ed->B) * c->sy

@@ -536,6 +536,36 @@ static void test_interpenetrating(void **state)
   run_free(ub); run_free(u1); run_free(u2);
 }
 
+/* e4 within one object is inner, between objects (or faces in no object) outline. */
+static void test_intersection_classes(void **state)
+{
+  (void)state;
+  const char *plates = "vertex 1 -100 -80 200\nvertex 2 100 -80 200\nvertex 3 100 80 200\n"
+                       "vertex 4 -100 80 200\nface 1 1 2 3 4 grey 200\n"
+                       "vertex 5 0 -80 100\nvertex 6 0 -80 300\nvertex 7 0 80 300\n"
+                       "vertex 8 0 80 100\nface 2 5 6 7 8 grey 120\n";
+  const char *tail[3] = { "object 1 1 2\n", "object 1 1\nobject 2 2\n", "" };
+  int inner[3] = { 1, 0, 0 }, outline[3] = { 0, 1, 1 };
+  for (int k = 0; k < 3; k++) {
+    char b[1024];
+    snprintf(b, sizeof b, "view 300 0 -1000\nwindow -200 -150 200 150\n%s%s", plates, tail[k]);
+    struct run *u = run_scene(b, "edges=on", EDGE_PASS_ROW | EDGE_PASS_COL);
+    assert_int_equal((int)stat(u, "edges_intersection"), 1);
+    assert_int_equal((int)stat(u, "edges_intersection_inner"), inner[k]);
+    assert_int_equal((int)stat(u, "edges_intersection_outline"), outline[k]);
+    /* the line is drawn: points of the inner (or outline) grey along x = 0 */
+    int g = inner[k] ? 160 : 0, n = 0;
+    for (int j = 0; j < GH; j++)
+      for (int i = 0; i < GW; i++) {
+        int at = j * GW + i;
+        if (u->face[at] >= 0 && u->grey[at] == g && u->flat[at] != g) n++;
+      }
+    print_message("case %d: %d points of the line's grey\n", k, n);
+    assert_true(n >= 20);
+    run_free(u);
+  }
+}
+
 /* Rule 3: a square in front of a big face that covers only the left half of the window;
    the square's halo shows only over the big face, never over the empty background. */
 static void test_halo(void **state)
@@ -704,6 +734,7 @@ int main(void)
     cmocka_unit_test(test_stacked_boxes),
     cmocka_unit_test(test_face_in_front_of_whole_edge),
     cmocka_unit_test(test_interpenetrating),
+    cmocka_unit_test(test_intersection_classes),
     cmocka_unit_test(test_halo),
     cmocka_unit_test(test_smooth_parse),
     cmocka_unit_test(test_cli_stats_and_dump),
