@@ -59,11 +59,16 @@ int image_write_rgb_png(int w, int h, image_row_fn fill, void *ctx, const char *
   return image_write_rgb_png_to(w, h, fill, ctx, o, err);
 }
 
-int image_write_rgb_png_to(int w, int h, image_row_fn fill, void *ctx, struct outfile *o,
-                           struct t74_error *err)
+/* One PNG into o: w x h pixels of `depth` bits in `colour` (a PNG_COLOR_TYPE_), with a
+** palette when pal is given (then no row filter and zlib's level 6, the right choice for
+** palette data); fill(ctx, r, row) gives file row r (0 = the top) as rowbytes bytes.
+** o is finished with outfile_commit, or outfile_abort on failure. */
+static int write_png(int w, int h, int depth, int colour, const png_color *pal, int npal,
+                     size_t rowbytes, image_row_fn fill, void *ctx, struct outfile *o,
+                     struct t74_error *err)
 {
   const char *path = outfile_path(o);
-  uint8_t *row = malloc(3 * (size_t)w);   /* one RGB row of the picture */
+  uint8_t *row = malloc(rowbytes);
   struct png_fail pf;
   pf.err = err;
   pf.path = path;
@@ -84,8 +89,13 @@ int image_write_rgb_png_to(int w, int h, image_row_fn fill, void *ctx, struct ou
     return err->status;
   }
   png_init_io(png, outfile_stream(o));
-  png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, depth, colour, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (pal) {
+    png_set_PLTE(png, info, pal, npal);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
+    png_set_compression_level(png, 6);
+  }
   png_write_info(png, info);
   for (int r = 0; r < h; r++) {
     fill(ctx, r, row);
@@ -97,52 +107,33 @@ int image_write_rgb_png_to(int w, int h, image_row_fn fill, void *ctx, struct ou
   return outfile_commit(o, err);
 }
 
-/* The tube has two colours: a 1-bit palette PNG (dark face, lit dot), no row filter (the
-** right choice for palette data), zlib's level 6 — the same pixels as an RGB file, about a
-** twentieth of the bytes to compress. */
+int image_write_rgb_png_to(int w, int h, image_row_fn fill, void *ctx, struct outfile *o,
+                           struct t74_error *err)
+{
+  return write_png(w, h, 8, PNG_COLOR_TYPE_RGB, NULL, 0, 3 * (size_t)w, fill, ctx, o, err);
+}
+
+#define TUBE_ROW_BYTES ((TUBE_W + 7) / 8)
+
+/* File row r (0 = the top of the tube) packed one bit a dot: MSB = leftmost, 1 = lit. */
+static void tube_row(void *ctx, int r, uint8_t *row)
+{
+  const struct tube *t = ctx;
+  int y = TUBE_H - 1 - r;
+  memset(row, 0, TUBE_ROW_BYTES);
+  for (int x = 0; x < TUBE_W; x++)
+    if (tube_lit(t, x, y)) row[x >> 3] = (uint8_t)(row[x >> 3] | 0x80u >> (x & 7));
+}
+
+/* The tube has two colours: a 1-bit palette PNG (dark face, lit dot) — the same pixels as
+** an RGB file, about a twentieth of the bytes to compress. */
 int image_write_png_to(const struct tube *t, struct outfile *o, struct t74_error *err)
 {
-  const char *path = outfile_path(o);
-  uint8_t *row = malloc((TUBE_W + 7) / 8);
-  struct png_fail pf;
-  pf.err = err;
-  pf.path = path;
-  png_structp png = row ? png_create_write_struct(PNG_LIBPNG_VER_STRING, &pf,
-                                                  png_error_cb, png_warning_cb) : NULL;
-  png_infop info = png ? png_create_info_struct(png) : NULL;
-  if (!info) {
-    if (png) png_destroy_write_struct(&png, NULL);
-    free(row);
-    outfile_abort(o);
-    return t74_fail(err, T74_EIO, "%s: out of memory", path);
-  }
-  if (setjmp(pf.jb)) {
-    png_destroy_write_struct(&png, &info);
-    free(row);
-    outfile_abort(o);
-    return err->status;
-  }
-  png_init_io(png, outfile_stream(o));
-  png_set_IHDR(png, info, TUBE_W, TUBE_H, 1, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_color pal[2];                       /* index 0 the face, 1 a lit dot */
   pal[0].red = IMAGE_FACE_RGB[0]; pal[0].green = IMAGE_FACE_RGB[1]; pal[0].blue = IMAGE_FACE_RGB[2];
   pal[1].red = IMAGE_DOT_RGB[0]; pal[1].green = IMAGE_DOT_RGB[1]; pal[1].blue = IMAGE_DOT_RGB[2];
-  png_set_PLTE(png, info, pal, 2);
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
-  png_set_compression_level(png, 6);
-  png_write_info(png, info);
-  for (int r = 0; r < TUBE_H; r++) {
-    int y = TUBE_H - 1 - r;                 /* file row 0 is the top of the tube */
-    memset(row, 0, (TUBE_W + 7) / 8);
-    for (int x = 0; x < TUBE_W; x++)
-      if (tube_lit(t, x, y)) row[x >> 3] = (uint8_t)(row[x >> 3] | 0x80u >> (x & 7));
-    png_write_row(png, row);
-  }
-  png_write_end(png, NULL);
-  png_destroy_write_struct(&png, &info);
-  free(row);
-  return outfile_commit(o, err);
+  return write_png(TUBE_W, TUBE_H, 1, PNG_COLOR_TYPE_PALETTE, pal, 2, TUBE_ROW_BYTES,
+                   tube_row, (void *)t, o, err);
 }
 
 int image_write_png(const struct tube *t, const char *path, struct t74_error *err)
@@ -164,12 +155,9 @@ int image_write_pbm(const struct tube *t, const char *path, struct t74_error *er
 int image_write_pbm_to(const struct tube *t, struct outfile *o, struct t74_error *err)
 {
   outfile_printf(o, "P4\n%d %d\n", TUBE_W, TUBE_H);
-  uint8_t row[(TUBE_W + 7) / 8];          /* one packed row: MSB = leftmost, 1 = lit */
+  uint8_t row[TUBE_ROW_BYTES];            /* the same packing as the PNG's */
   for (int r = 0; r < TUBE_H; r++) {
-    int y = TUBE_H - 1 - r;               /* file row 0 is the top of the tube */
-    memset(row, 0, sizeof row);
-    for (int x = 0; x < TUBE_W; x++)
-      if (tube_lit(t, x, y)) row[x >> 3] |= (uint8_t)(0x80u >> (x & 7));
+    tube_row((void *)t, r, row);
     outfile_write(o, row, sizeof row);
   }
   return outfile_commit(o, err);          /* reports the first write failure, if any */
