@@ -343,31 +343,42 @@ static int stamp_coarse(struct grid *g, int s, int x, int y, double amp, double 
   return 0;
 }
 
-/* Add grid g onto out (W x H) by bilinear interpolation between cell centres. */
-static void grid_add(const struct grid *g, float *out, int W, int H)
+/* Output pixel k's place between the centres of cells i0 and i1 (of n, f pixels a cell),
+** clamped at the edges; t is the weight of i1. */
+static void grid_cell(int k, double f, int n, int *i0, int *i1, double *t)
 {
+  double u = (k + 0.5) / f - 0.5;
+  int c = (int)floor(u);
+  *t = u - c;
+  *i0 = c < 0 ? 0 : c > n - 1 ? n - 1 : c;
+  *i1 = c + 1 > n - 1 ? n - 1 : c + 1;
+}
+
+/* Add grid g onto out (W x H) by bilinear interpolation between cell centres; the columns'
+** cells and weights are found once, not again on every row. Returns -1 when out of host
+** memory, else 0. */
+static int grid_add(const struct grid *g, float *out, int W, int H)
+{
+  int *ci = malloc(2 * (size_t)W * sizeof *ci);
+  double *ct = malloc((size_t)W * sizeof *ct);
+  if (!ci || !ct) { free(ci); free(ct); return -1; }
+  for (int X = 0; X < W; X++) grid_cell(X, g->f, g->w, &ci[2 * X], &ci[2 * X + 1], &ct[X]);
   for (int Y = 0; Y < H; Y++) {
-    double u = (Y + 0.5) / g->f - 0.5;
-    int j0 = (int)floor(u);
-    double ty = u - j0;
-    int j1 = j0 + 1;
-    if (j0 < 0) j0 = 0;
-    if (j1 > g->h - 1) j1 = g->h - 1;
-    if (j0 > g->h - 1) j0 = g->h - 1;
+    int j0, j1;
+    double ty;
+    grid_cell(Y, g->f, g->h, &j0, &j1, &ty);
     const float *r0 = g->v + (size_t)j0 * (size_t)g->w, *r1 = g->v + (size_t)j1 * (size_t)g->w;
     float *o = out + (size_t)Y * (size_t)W;
     for (int X = 0; X < W; X++) {
-      double w = (X + 0.5) / g->f - 0.5;
-      int i0 = (int)floor(w);
-      double tx = w - i0;
-      int i1 = i0 + 1;
-      if (i0 < 0) i0 = 0;
-      if (i1 > g->w - 1) i1 = g->w - 1;
-      if (i0 > g->w - 1) i0 = g->w - 1;
+      int i0 = ci[2 * X], i1 = ci[2 * X + 1];
+      double tx = ct[X];
       o[X] += (float)((1 - ty) * ((1 - tx) * r0[i0] + tx * r0[i1]) +
                       ty * ((1 - tx) * r1[i0] + tx * r1[i1]));
     }
   }
+  free(ci);
+  free(ct);
+  return 0;
 }
 
 /* The grid for a spot of sigma sig_mm at scale s: 0 when its kernel fits LOOK_KERNEL_MAX
@@ -455,7 +466,7 @@ int look_intensity(const struct look *l, double t, int s, float *out)
     free(ay.k);
   }
   for (int L = 1; L < LOOK_LEVELS; L++) {
-    if (grids[L].v && st == T74_OK) grid_add(&grids[L], out, W, H);
+    if (grids[L].v && st == T74_OK && grid_add(&grids[L], out, W, H)) st = T74_EIO;
     free(grids[L].v);
   }
   free(ax0.k);
