@@ -17,43 +17,16 @@
 #include <cmocka.h>
 
 #include "tests/ref/hardgen.h"
+#include "tests/ref/testkit.h"
 
 static char dir[64];
 
-static const char *bin(void)
-{
-  const char *b = getenv("TUBE74");
-  return b ? b : "./tube74";
-}
-
-static int run(const char *fmt, ...)
-{
-  char cmd[2048];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(cmd, sizeof cmd, fmt, ap);
-  va_end(ap);
-  int rc = system(cmd);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-static char *slurp(const char *path)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = malloc((size_t)n + 1);
-  if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
-  if (b) b[n] = 0;
-  fclose(f);
-  return b;
-}
+/* Run a shell command from the working folder; its exit status. */
+#define run(...) tk_sh(".", __VA_ARGS__)
 
 static double field(const char *path, const char *key)
 {
-  char *js = slurp(path);
+  char *js = tk_slurp(path, NULL);
   assert_non_null(js);
   char k[96];
   snprintf(k, sizeof k, "\"%s\":", key);
@@ -67,7 +40,7 @@ static double field(const char *path, const char *key)
 /* Tube dots lit in one PBM and not in the other (-1: unreadable). */
 static long pbm_diff(const char *a, const char *b)
 {
-  char *x = slurp(a), *y = slurp(b);
+  char *x = tk_slurp(a, NULL), *y = tk_slurp(b, NULL);
   long d = -1;
   if (x && y && strncmp(x, "P4\n400 300\n", 11) == 0 && strncmp(y, "P4\n400 300\n", 11) == 0) {
     d = 0;
@@ -82,16 +55,13 @@ static long pbm_diff(const char *a, const char *b)
 static int setup(void **state)
 {
   (void)state;
-  snprintf(dir, sizeof dir, "/tmp/t74arith.XXXXXX");
-  return mkdtemp(dir) ? 0 : -1;
+  return tk_mkscratch(dir, sizeof dir, "/tmp/t74arith.XXXXXX");
 }
 
 static int teardown(void **state)
 {
   (void)state;
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tk_rmscratch(dir);
 }
 
 /* The program is charged to core by default (program_words, 4096), and "fits" includes it:
@@ -99,9 +69,9 @@ static int teardown(void **state)
 static void test_program_charged(void **state)
 {
   (void)state;
-  assert_int_equal(run("%s render scenes/fig6.s74 --stats %s/p.json 2>/dev/null", bin(), dir), 0);
+  assert_int_equal(run("%s render scenes/fig6.s74 --stats %s/p.json 2>/dev/null", tk_prog(), dir), 0);
   assert_int_equal(run("%s render scenes/fig6.s74 --hitac program_words=0 --stats %s/n.json 2>/dev/null",
-                       bin(), dir), 0);
+                       tk_prog(), dir), 0);
   char p[128], n[128];
   snprintf(p, sizeof p, "%s/p.json", dir);
   snprintf(n, sizeof n, "%s/n.json", dir);
@@ -110,14 +80,14 @@ static void test_program_charged(void **state)
   assert_true(with == without + 4096);
   int core = (int)without + 64;                      /* the tables fit, the program not */
   assert_int_equal(run("%s render scenes/fig6.s74 --core %d --hitac program_words=0 -o %s/a.png "
-                       "2>/dev/null", bin(), core, dir), 0);
-  assert_int_equal(run("%s render scenes/fig6.s74 --core %d -o %s/b.png 2>%s/err.txt", bin(), core,
+                       "2>/dev/null", tk_prog(), core, dir), 0);
+  assert_int_equal(run("%s render scenes/fig6.s74 --core %d -o %s/b.png 2>%s/err.txt", tk_prog(), core,
                        dir, dir), 3);
   char e[128], b[128];
   snprintf(e, sizeof e, "%s/err.txt", dir);
   snprintf(b, sizeof b, "%s/b.png", dir);
   assert_int_equal(access(b, F_OK), -1);             /* no output on exit 3 */
-  char *msg = slurp(e);
+  char *msg = tk_slurp(e, NULL);
   assert_non_null(msg);
   char want[96];
   snprintf(want, sizeof want, "%d available", core);
@@ -131,7 +101,7 @@ static void test_program_charged(void **state)
 static void test_exact_costs_more(void **state)
 {
   (void)state;
-  assert_int_equal(run("%s render scenes/fig5.s74 --stats %s/c.json 2>/dev/null", bin(), dir), 0);
+  assert_int_equal(run("%s render scenes/fig5.s74 --stats %s/c.json 2>/dev/null", tk_prog(), dir), 0);
   char c[128];
   snprintf(c, sizeof c, "%s/c.json", dir);
   double h = field(c, "hitac10_seconds"), x = field(c, "exact_hitac10_seconds");
@@ -144,16 +114,16 @@ static void test_exact_costs_more(void **state)
 static void test_hitac_differs(void **state)
 {
   (void)state;
-  assert_int_equal(run("%s render scenes/fig7a.s74 --dump tube=%s/e.pbm 2>/dev/null", bin(), dir), 0);
+  assert_int_equal(run("%s render scenes/fig7a.s74 --dump tube=%s/e.pbm 2>/dev/null", tk_prog(), dir), 0);
   assert_int_equal(run("%s render scenes/fig7a.s74 --arith hitac --dump tube=%s/h.pbm "
-                       "--stats %s/h.json 2>/dev/null", bin(), dir, dir), 0);
+                       "--stats %s/h.json 2>/dev/null", tk_prog(), dir, dir), 0);
   char e[128], h[128], j[128];
   snprintf(e, sizeof e, "%s/e.pbm", dir);
   snprintf(h, sizeof h, "%s/h.pbm", dir);
   snprintf(j, sizeof j, "%s/h.json", dir);
   long d = pbm_diff(e, h);
   assert_true(d > 100);
-  char *js = slurp(j);
+  char *js = tk_slurp(j, NULL);
   assert_non_null(js);
   assert_non_null(strstr(js, "\"arith\": \"hitac\""));
   free(js);
@@ -177,8 +147,8 @@ static void test_hitac_agrees(void **state)
           "vertex 8 -180 -140 0\nvertex 9 180 -140 0\nvertex 10 180 140 0\nvertex 11 -180 140 0\n"
           "face 2 1 2 3 4 grey 200\nface 3 5 6 7 12 grey 100\nface 1 8 9 10 11 grey 40\n");
   assert_int_equal(fclose(f), 0);
-  assert_int_equal(run("%s render %s --dump tube=%s/fe.pbm 2>/dev/null", bin(), s, dir), 0);
-  assert_int_equal(run("%s render %s --arith hitac --dump tube=%s/fh.pbm 2>/dev/null", bin(), s, dir), 0);
+  assert_int_equal(run("%s render %s --dump tube=%s/fe.pbm 2>/dev/null", tk_prog(), s, dir), 0);
+  assert_int_equal(run("%s render %s --arith hitac --dump tube=%s/fh.pbm 2>/dev/null", tk_prog(), s, dir), 0);
   char e[128], h[128];
   snprintf(e, sizeof e, "%s/fe.pbm", dir);
   snprintf(h, sizeof h, "%s/fh.pbm", dir);
@@ -189,7 +159,7 @@ static void test_hitac_agrees(void **state)
 static void test_arith_usage(void **state)
 {
   (void)state;
-  assert_int_equal(run("%s render scenes/fig6.s74 --arith float -o %s/u.png 2>/dev/null", bin(), dir), 2);
+  assert_int_equal(run("%s render scenes/fig6.s74 --arith float -o %s/u.png 2>/dev/null", tk_prog(), dir), 2);
   char u[128];
   snprintf(u, sizeof u, "%s/u.png", dir);
   assert_int_equal(access(u, F_OK), -1);
@@ -201,13 +171,13 @@ static void test_hitac_folds_gracefully(void **state)
 {
   (void)state;
   assert_int_equal(run("%s render scenes/sphere.s74 --arith hitac --stats %s/s.json -o %s/s.png "
-                       "2>%s/s.err", bin(), dir, dir, dir), 0);
+                       "2>%s/s.err", tk_prog(), dir, dir, dir), 0);
   char j[128], e[128];
   snprintf(j, sizeof j, "%s/s.json", dir);
   snprintf(e, sizeof e, "%s/s.err", dir);
   double skipped = field(j, "arith_faces_skipped");
   assert_true(skipped >= 1);
-  char *msg = slurp(e);
+  char *msg = tk_slurp(e, NULL);
   assert_non_null(msg);
   int warnings = 0;
   for (const char *q = strstr(msg, "warning: face"); q; q = strstr(q + 1, "warning: face")) warnings++;
@@ -220,11 +190,11 @@ static void test_hitac_folds_gracefully(void **state)
 static void test_bench_arith(void **state)
 {
   (void)state;
-  assert_int_equal(run("%s bench arith --out %s/bench >/dev/null 2>&1", bin(), dir), 0);
+  assert_int_equal(run("%s bench arith --out %s/bench >/dev/null 2>&1", tk_prog(), dir), 0);
   char md[128], png[128];
   snprintf(md, sizeof md, "%s/bench/arith.md", dir);
   snprintf(png, sizeof png, "%s/bench/arith.png", dir);
-  char *t = slurp(md), *p = slurp(png);
+  char *t = tk_slurp(md, NULL), *p = tk_slurp(png, NULL);
   assert_non_null(t);
   assert_non_null(p);
   assert_memory_equal(p, "\x89PNG", 4);
@@ -243,7 +213,7 @@ static void test_bench_arith(void **state)
   assert_non_null(strstr(t, "| gen-shallow1 | "));
   free(t);
   free(p);
-  assert_int_equal(run("%s bench arith --bogus 2>/dev/null", bin()), 2);
+  assert_int_equal(run("%s bench arith --bogus 2>/dev/null", tk_prog()), 2);
 }
 
 /* Fig. 10: three scenes over real photographs, each exercising concave faces (cut by the
@@ -252,19 +222,19 @@ static void test_bench_arith(void **state)
 static void test_fig10_scenes(void **state)
 {
   (void)state;
-  char *readme = slurp("scenes/README.md");
+  char *readme = tk_slurp("scenes/README.md", NULL);
   assert_non_null(readme);
   static const char *const names[] = { "fig10a", "fig10b", "fig10c" };
   for (int k = 0; k < 3; k++) {
     char path[64], js[128];
     snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
     snprintf(js, sizeof js, "%s/%s.json", dir, names[k]);
-    assert_int_equal(run("%s render %s --stats %s -o %s/%s.png 2>/dev/null", bin(), path, js, dir,
+    assert_int_equal(run("%s render %s --stats %s -o %s/%s.png 2>/dev/null", tk_prog(), path, js, dir,
                          names[k]), 0);
     assert_true(field(js, "concave_splits") > 0);
     assert_true(field(js, "intersection_splits") > 0);
     assert_true(field(js, "core_words_used") <= 16384);     /* fits, program included */
-    char *sc = slurp(path);
+    char *sc = tk_slurp(path, NULL);
     assert_non_null(sc);
     assert_non_null(strstr(sc, " * "));                      /* a face with a hole */
     const char *bg = strstr(sc, "background ");
@@ -307,8 +277,8 @@ static void test_hitac_hardgen(void **state)
       assert_int_equal(xr_write(&sc, f), 0);
       assert_int_equal(fclose(f), 0);
       xr_scene_free(&sc);
-      int a = run("%s render %s --dump tube=%s/hge.pbm 2>/dev/null", bin(), path, dir);
-      int b = run("%s render %s --arith hitac --dump tube=%s/hgh.pbm 2>/dev/null", bin(), path, dir);
+      int a = run("%s render %s --dump tube=%s/hge.pbm 2>/dev/null", tk_prog(), path, dir);
+      int b = run("%s render %s --arith hitac --dump tube=%s/hgh.pbm 2>/dev/null", tk_prog(), path, dir);
       assert_int_equal(b, a);
       if (a != 0) continue;
       char e[128], h[128];

@@ -27,68 +27,29 @@
 #include <cmocka.h>
 
 #include "patterns/picture.h"
+#include "tests/ref/testkit.h"
 
 static char scratch[64];
 
 static int group_setup(void **state)
 {
   (void)state;
-  strcpy(scratch, "/tmp/t74speed.XXXXXX");
-  return mkdtemp(scratch) ? 0 : -1;
+  return tk_mkscratch(scratch, sizeof scratch, "/tmp/t74speed.XXXXXX");
 }
 
 static int group_teardown(void **state)
 {
   (void)state;
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
-  return system(cmd) == 0 ? 0 : -1;
+  return tk_rmscratch(scratch);
 }
 
-static const char *prog(void)
-{
-  const char *p = getenv("TUBE74");
-  return p && *p ? p : "./tube74";
-}
-
-/* Run a shell command; its exit status (-1 when it did not exit). */
-static int run(const char *fmt, ...)
-{
-  char cmd[2048];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(cmd, sizeof cmd, fmt, ap);
-  va_end(ap);
-  int st = system(cmd);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static char *slurp(const char *path, size_t *n)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  size_t cap = 1 << 16, len = 0;
-  char *b = malloc(cap + 1);
-  size_t got;
-  while (b && (got = fread(b + len, 1, cap - len, f)) > 0) {
-    len += got;
-    if (len == cap) {
-      char *nb = realloc(b, 2 * cap + 1);
-      if (!nb) { free(b); b = NULL; break; }
-      b = nb;
-      cap *= 2;
-    }
-  }
-  fclose(f);
-  if (b) b[len] = 0;
-  if (n) *n = len;
-  return b;
-}
+/* Run a shell command from the working folder; its exit status. */
+#define run(...) tk_sh(".", __VA_ARGS__)
 
 static void same_file(const char *a, const char *b)
 {
   size_t na = 0, nb = 0;
-  char *x = slurp(a, &na), *y = slurp(b, &nb);
+  char *x = tk_slurp(a, &na), *y = tk_slurp(b, &nb);
   assert_non_null(x);
   assert_non_null(y);
   assert_true(na > 0);
@@ -102,7 +63,7 @@ static void same_file(const char *a, const char *b)
    count; returns frame_seconds of b (which must be there, >= 0, <= its host_seconds). */
 static double same_stats(const char *a, const char *b, int frames_b)
 {
-  char *x = slurp(a, NULL), *y = slurp(b, NULL);
+  char *x = tk_slurp(a, NULL), *y = tk_slurp(b, NULL);
   assert_non_null(x);
   assert_non_null(y);
   char *sx = NULL, *sy = NULL;
@@ -135,7 +96,7 @@ static void frames_same(const char *scene, const char *extra)
   for (int k = 1; k <= 4; k += 3) {
     int st = run("%s render %s %s --frames %d -o %s/p%d.png --stats %s/s%d.json "
                  "--dump ids=%s/i%d.pgm --dump grey=%s/g%d.pgm --dump tables=%s/t%d.txt "
-                 "--dump points=%s/d%d.txt", prog(), scene, extra, k, scratch, k, scratch, k,
+                 "--dump points=%s/d%d.txt", tk_prog(), scene, extra, k, scratch, k, scratch, k,
                  scratch, k, scratch, k, scratch, k, scratch, k);
     assert_int_equal(st, 0);
   }
@@ -172,14 +133,14 @@ static void test_frames_refused(void **state)
   (void)state;
   const char *bad[] = { "0", "-1", "x", "2.5", "1000001" };
   for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
-    assert_int_equal(run("%s render scenes/fig6.s74 --frames %s -o %s/bad.png 2>/dev/null", prog(),
+    assert_int_equal(run("%s render scenes/fig6.s74 --frames %s -o %s/bad.png 2>/dev/null", tk_prog(),
                          bad[k], scratch), 2);
     char p[256];
     snprintf(p, sizeof p, "%s/bad.png", scratch);
     struct stat sb;
     assert_int_not_equal(stat(p, &sb), 0);
   }
-  assert_int_equal(run("%s render scenes/fig6.s74 --frames 2>/dev/null", prog()), 2);
+  assert_int_equal(run("%s render scenes/fig6.s74 --frames 2>/dev/null", tk_prog()), 2);
 }
 
 static void test_sample_grid_exact(void **state)
@@ -224,8 +185,8 @@ static void test_no_sdl_at_start(void **state)
   (void)state;
   char out[256];
   snprintf(out, sizeof out, "%s/ldd.txt", scratch);
-  assert_int_equal(run("ldd %s > %s 2>&1", prog(), out), 0);
-  char *t = slurp(out, NULL);
+  assert_int_equal(run("ldd %s > %s 2>&1", tk_prog(), out), 0);
+  char *t = tk_slurp(out, NULL);
   assert_non_null(t);
   assert_non_null(strstr(t, "libpng"));          /* the listing is real */
   assert_null(strstr(t, "libSDL2"));
@@ -239,8 +200,8 @@ static void test_bench_speed_usage(void **state)
   const char *bad[] = { "--runs 0", "--runs 32", "--runs x", "--bogus", "--boxes-max -1",
                         "--triangles-max 1x", "--out" };
   for (size_t k = 0; k < sizeof bad / sizeof *bad; k++)
-    assert_int_equal(run("%s bench speed %s --out %s/b 2>/dev/null", prog(), bad[k], scratch), 2);
-  assert_int_equal(run("%s bench nosuch 2>/dev/null", prog()), 2);
+    assert_int_equal(run("%s bench speed %s --out %s/b 2>/dev/null", tk_prog(), bad[k], scratch), 2);
+  assert_int_equal(run("%s bench nosuch 2>/dev/null", tk_prog()), 2);
 }
 
 int main(void)
