@@ -28,6 +28,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cli/bench_util.h"
 #include "cli/commands.h"
 #include "cli/pipeline.h"
 #include "display/image.h"
@@ -39,14 +40,6 @@
 struct ba_run { double h74, exact74; long core; int lit; uint8_t *dots; };
 struct ba_scene { char path[256]; char name[64]; struct ba_run r[2]; long diff; };
 
-static int ba_mkdirs(const char *dir)
-{
-  char buf[1024];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *p = buf + 1; *p; p++)
-    if (*p == '/') { *p = 0; if (mkdir(buf, 0777) && errno != EEXIST) return 0; *p = '/'; }
-  return !(mkdir(buf, 0777) && errno != EEXIST);
-}
 
 /* ---- generated hard scenes ------------------------------------------------------------ */
 
@@ -271,7 +264,7 @@ int bench_arith(int argc, char **argv, struct t74_error *err)
     else return t74_fail(err, T74_EINPUT, "tube74: bench arith: unknown option `%s` "
                          "(usage: tube74 bench arith [--out DIR])", argv[k]);
   }
-  if (!ba_mkdirs(out)) return t74_fail(err, T74_EIO, "%s: cannot make the directory", out);
+  if (bench_mkdirs(out) != 0) return t74_fail(err, T74_EIO, "%s: cannot make the directory", out);
 
   static const char *const shipped[] = {
     "fig5", "fig6", "fig7a", "fig7b", "crossing", "lprism", "street", "sphere", "t1-a",

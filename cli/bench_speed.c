@@ -40,6 +40,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli/bench_util.h"
 #include "cli/commands.h"
 
 #define SP_MAX_SCENES 48
@@ -61,17 +62,6 @@ struct sp_scene {
   char why[160];
 };
 
-struct sp_bar { int done, total; bool tty; };
-
-static void bar_step(struct sp_bar *b, const char *what)
-{
-  b->done++;
-  if (!b->tty) return;
-  int w = 40, fill = b->total ? b->done * w / b->total : w;
-  fprintf(stderr, "\r[%.*s%*s] %3d%% %-40.40s", fill, "########################################",
-          w - fill, "", b->total ? 100 * b->done / b->total : 100, what);
-  if (b->done >= b->total) fprintf(stderr, "\n");
-}
 
 static double now(void)
 {
@@ -170,15 +160,6 @@ static double growth(const struct sp_scene *s, int ns, int kind, int prog, int r
   return (m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
-static int mkdirs(const char *dir)
-{
-  char p[512];
-  snprintf(p, sizeof p, "%s", dir);
-  for (char *c = p + 1; *c; c++)
-    if (*c == '/') { *c = 0; mkdir(p, 0755); *c = '/'; }
-  return mkdir(p, 0755) == 0 || errno == EEXIST ? 0 : -1;
-}
-
 static void fmt_ms(char *buf, size_t n, double s)
 {
   if (isnan(s)) snprintf(buf, n, "-");
@@ -203,7 +184,7 @@ static int gen(const char *tool, int n, const char *path)
 
 /* One run of everything for scene s (run r): the programs take turns. */
 static void measure(struct sp_scene *s, int r, const char *self, const char *peer,
-                    const char *dir, struct sp_bar *bar)
+                    const char *dir, struct bench_bar *bar)
 {
   char stats[600], png[600], kb[16], out[600];
   snprintf(stats, sizeof stats, "%s/run.json", dir);
@@ -225,7 +206,7 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
   } else {
     s->failed[P_TUBE] = true;
   }
-  bar_step(bar, s->label);
+  bench_bar_step(bar, s->label);
   if (peer) {
     static const char *const envl[] = { "GALLIUM_DRIVER=llvmpipe", "LP_NUM_THREADS=1", NULL };
     static const char *const envs[] = { "GALLIUM_DRIVER=softpipe", NULL };
@@ -243,7 +224,7 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
       }
     }
   }
-  bar_step(bar, s->label);
+  bench_bar_step(bar, s->label);
   /* whole processes: what a user waits for the picture */
   char *a3[] = { (char *)self, (char *)"render", s->path, (char *)"--core", (char *)SP_CORE,
                  (char *)"-o", png, NULL };
@@ -260,7 +241,7 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
       if (rss > s->rss[1]) s->rss[1] = rss;
     }
   }
-  bar_step(bar, s->label);
+  bench_bar_step(bar, s->label);
 }
 
 static void usage_fail(struct t74_error *err, const char *what)
@@ -296,7 +277,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
       return err->status;
     }
   }
-  if (mkdirs(dir) != 0) return t74_fail(err, T74_EIO, "%s: cannot make the folder: %s", dir, strerror(errno));
+  if (bench_mkdirs(dir) != 0) return t74_fail(err, T74_EIO, "%s: cannot make the folder: %s", dir, strerror(errno));
   char self[512];
   ssize_t sn = readlink("/proc/self/exe", self, sizeof self - 1);
   if (sn <= 0) return t74_fail(err, T74_EIO, "tube74: bench speed: cannot find its own program");
@@ -349,7 +330,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     for (int p = 0; p < P_N; p++)
       for (int r = 0; r < SP_MAX_RUNS; r++) sc[k].t[p][r] = NAN;
   /* frames a run: about 0.3 s of tube74 frames, from one trial frame */
-  struct sp_bar bar = { 0, ns * (runs * 3 + 1), isatty(2) != 0 };
+  struct bench_bar bar = bench_bar_new(ns * (runs * 3 + 1));
   for (int k = 0; k < ns; k++) {
     char stats[600];
     snprintf(stats, sizeof stats, "%s/run.json", dir);
@@ -372,11 +353,11 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
       free(why);
       sc[k].failed[P_TUBE] = true;
     }
-    bar_step(&bar, sc[k].label);
+    bench_bar_step(&bar, sc[k].label);
   }
   for (int r = 0; r < runs; r++)            /* interleaved: every scene once a run */
     for (int k = 0; k < ns; k++) {
-      if (sc[k].why[0]) { bar_step(&bar, sc[k].label); bar_step(&bar, sc[k].label); bar_step(&bar, sc[k].label); continue; }
+      if (sc[k].why[0]) { bench_bar_step(&bar, sc[k].label); bench_bar_step(&bar, sc[k].label); bench_bar_step(&bar, sc[k].label); continue; }
       measure(&sc[k], r, self, peer, dir, &bar);
     }
 

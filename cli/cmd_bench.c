@@ -33,6 +33,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli/bench_util.h"
 #include "cli/commands.h"
 #include "cli/pipeline.h"
 #include "display/image.h"
@@ -213,21 +214,10 @@ static double cpu_seconds(void)
   return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-struct bar_state { int done, total; bool tty; };
-
-static void progress(struct bar_state *b, const char *what)
-{
-  b->done++;
-  if (!b->tty) return;
-  int w = 40, fill = b->total ? b->done * w / b->total : w;
-  fprintf(stderr, "\r[%.*s%*s] %3d%% %-40.40s", fill, "########################################",
-          w - fill, "", b->total ? 100 * b->done / b->total : 100, what);
-  if (b->done == b->total) fprintf(stderr, "\n");
-}
 
 /* Render `path` with every method; grey maps kept for the panels when keep != NULL. */
 static int measure_scene(const char *path, int runs, struct meas *m, uint8_t **keep,
-                         struct bar_state *bar, struct t74_error *err)
+                         struct bench_bar *bar, struct t74_error *err)
 {
   struct aa_frame ref[2];
   int st;
@@ -281,7 +271,7 @@ static int measure_scene(const char *path, int runs, struct meas *m, uint8_t **k
     for (int q = 0; q < f.st.n; q++) if (!strcmp(f.st.name[q], "aa_subdivisions")) m[k].subdiv = f.st.value[q];
     if (keep) { keep[k] = f.grey; f.grey = NULL; }
     aa_frame_free(&f);
-    progress(bar, path);
+    bench_bar_step(bar, path);
   }
   free(times);
   free(eref[0]);
@@ -329,14 +319,6 @@ static int write_panel(struct panel *p, const char *path, struct t74_error *err)
 
 /* ---- output -------------------------------------------------------------------------------- */
 
-static int mkdirs(const char *dir)
-{
-  char buf[1024];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *p = buf + 1; *p; p++)
-    if (*p == '/') { *p = 0; if (mkdir(buf, 0777) && errno != EEXIST) return 0; *p = '/'; }
-  return !(mkdir(buf, 0777) && errno != EEXIST);
-}
 
 static void plot(const char *dir, const char *png, int col, const char *xlabel)
 {
@@ -385,7 +367,7 @@ static int bench_accuracy(int argc, char **argv, struct t74_error *err)
   }
   char sub[600];
   snprintf(sub, sizeof sub, "%s/scenes", dir);
-  if (!mkdirs(sub)) return t74_fail(err, T74_EIO, "%s: cannot make the folder", sub);
+  if (bench_mkdirs(sub) != 0) return t74_fail(err, T74_EIO, "%s: cannot make the folder", sub);
   char paths[16][256];
   int np = 0;
   if (!write_patterns(dir, paths, &np)) return t74_fail(err, T74_EIO, "%s: cannot write the patterns", sub);
@@ -394,7 +376,7 @@ static int bench_accuracy(int argc, char **argv, struct t74_error *err)
                                          "scenes/fig7b.s74", "scenes/crossing.s74", "scenes/street.s74" };
   for (size_t k = 0; k < sizeof shipped / sizeof *shipped; k++)
     if (access(shipped[k], R_OK) == 0) snprintf(paths[np++], 256, "%s", shipped[k]);
-  struct bar_state bar = { 0, np * NMETHOD + NMETHOD * BENCH_FRAMES, isatty(2) != 0 };
+  struct bench_bar bar = bench_bar_new(np * NMETHOD + NMETHOD * BENCH_FRAMES);
   struct meas (*m)[NMETHOD] = calloc(16, sizeof *m);          /* per scene, per method */
   typedef double frame_light[BENCH_FRAMES][100 * 75];
   frame_light *L = calloc(NMETHOD, sizeof *L);               /* the moving edge's light */
@@ -416,7 +398,7 @@ static int bench_accuracy(int argc, char **argv, struct t74_error *err)
         if ((st = aa_frame_render(ep, methods[k].effects, BENCH_CELL, BENCH_CORE, &f, err)) != T74_OK) break;
         memcpy(L[k][t], f.light, sizeof L[k][t]);
         aa_frame_free(&f);
-        progress(&bar, "moving edge");
+        bench_bar_step(&bar, "moving edge");
       }
     }
     for (int k = 0; st == T74_OK && k < NMETHOD; k++) {
