@@ -48,7 +48,10 @@ struct fx_frame {
                                the background is black) */
 };
 
-#define FX_MAX_COUNTERS 32
+/* Room for every statistic the effects can name in one run: 36 names when smooth, contour,
+   aa and edges all run (grep fx_count render/). Keep it above that count: fx_count drops
+   a name that finds no room, and its --stats field would be missing. */
+#define FX_MAX_COUNTERS 64
 #define FX_NAME_MAX 40
 
 /* Statistics an effect reports: named numbers, written into --stats as they are. */
