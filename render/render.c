@@ -102,9 +102,25 @@ static int64_t face_ymin(const struct mface *f)
   return y;
 }
 
+/* Face k's lowest grid y, computed once (the order below compares it often). */
+static int ymin_note(struct render *r, int k)
+{
+  if (k >= r->ymin_cap) {
+    int cap = r->ymin_cap ? r->ymin_cap : 16;
+    while (cap <= k) cap *= 2;
+    int64_t *y = realloc(r->cut_ymin, (size_t)cap * sizeof *y);
+    if (!y) return 0;
+    r->cut_ymin = y;
+    r->ymin_cap = cap;
+  }
+  r->cut_ymin[k] = face_ymin(&r->map.f[k]);
+  return 1;
+}
+
 /* Put face k into the order faces are cut in, among those not cut yet: lazily by lowest
    y (after the faces of equal y, so ties go by number in the Mapper's table: exact
-   integers); otherwise last, the Mapper's order. */
+   integers); otherwise last, the Mapper's order. Faces come here one at a time only when
+   a split appends them (a few); the scene's faces are ordered at once by order_all. */
 static int order_add(struct render *r, int k)
 {
   if (r->cut_n == r->cut_cap) {
@@ -116,13 +132,50 @@ static int order_add(struct render *r, int k)
   }
   int i = r->cut_n++;
   if (r->lazy) {
-    int64_t y = face_ymin(&r->map.f[k]);
-    while (i > r->cut_next && face_ymin(&r->map.f[r->cut_order[i - 1]]) > y) {
+    if (!ymin_note(r, k)) return 0;
+    int64_t y = r->cut_ymin[k];
+    while (i > r->cut_next && r->cut_ymin[r->cut_order[i - 1]] > y) {
       r->cut_order[i] = r->cut_order[i - 1];
       i--;
     }
   }
   r->cut_order[i] = k;
+  return 1;
+}
+
+struct ymin_key { int64_t y; int k; };
+
+static int ymin_key_cmp(const void *a, const void *b)
+{
+  const struct ymin_key *p = a, *q = b;
+  if (p->y != q->y) return p->y < q->y ? -1 : 1;
+  return (p->k > q->k) - (p->k < q->k);
+}
+
+/* The Mapper's faces 0..n-1 into the cut order at once: the order order_add would build
+   one face at a time (lowest y, ties by number), by one sort instead of an insertion
+   sort that is quadratic when the faces come shuffled (issue 12). */
+static int order_all(struct render *r, int n)
+{
+  if (!r->lazy || n < 2) {
+    for (int k = 0; k < n; k++)
+      if (!order_add(r, k)) return 0;
+    return 1;
+  }
+  struct ymin_key *key = malloc((size_t)n * sizeof *key);
+  if (!key || !ymin_note(r, n - 1)) return free(key), 0;
+  for (int k = 0; k < n; k++) {
+    r->cut_ymin[k] = face_ymin(&r->map.f[k]);
+    key[k].y = r->cut_ymin[k];
+    key[k].k = k;
+  }
+  qsort(key, (size_t)n, sizeof *key, ymin_key_cmp);
+  int *o = realloc(r->cut_order, (size_t)n * sizeof *o);
+  if (!o) return free(key), 0;
+  for (int k = 0; k < n; k++) o[k] = key[k].k;
+  free(key);
+  r->cut_order = o;
+  r->cut_n = r->cut_cap = n;
   return 1;
 }
 
@@ -135,7 +188,7 @@ static int cut_upto(struct render *r, int64_t yn, int64_t yd, struct t74_error *
     int k = r->cut_order[r->cut_next];
     if (yd > 0) {
       COST_ADD_N(&r->cost[RS_SEGMENT], COST_MEM, 2);   /* the face's y-min against the line */
-      if ((wide)face_ymin(&r->map.f[k]) * yd > (wide)yn) break;
+      if ((wide)r->cut_ymin[k] * yd > (wide)yn) break;
     }
     r->cut_next++;
     int before = r->map.nface;
@@ -212,8 +265,7 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   r->ran[RS_SEGMENT] = 1;
   r->scene = s;
   r->lazy = lazy;
-  for (int k = 0; k < r->map.nface; k++)
-    if (!order_add(r, k)) return t74_fail(err, T74_EIO, "out of host memory");
+  if (!order_all(r, r->map.nface)) return t74_fail(err, T74_EIO, "out of host memory");
   int store = o->store;
   if (lazy) {
     /* the scan drives the Segment Generator (cut_upto, from vis_spans): decide the
@@ -284,6 +336,8 @@ void render_free(struct render *r)
 {
   free(r->cut_order);
   r->cut_order = NULL;
+  free(r->cut_ymin);
+  r->cut_ymin = NULL;
   vis_free(&r->vis);
   prio_free(&r->prio);
   seginfo_free(&r->seg);
