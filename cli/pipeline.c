@@ -27,6 +27,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "display/image.h"
@@ -476,10 +477,16 @@ static int write_stats(const struct job *o, const struct render *r, const struct
                                            screen of point plot is under 1 MiB) */
 
 /* Is the job's input a Tek stream: --input tek, or (no --input) a first byte that is a Tek
-** control code. A file that cannot be read is left to the scene reader to report. */
+** control code. A file that cannot be read is left to the scene reader to report. Only a
+** regular file is looked at: the first byte of a pipe or FIFO cannot be looked at without
+** taking it from the reader (such an input is a scene unless --input tek says otherwise),
+** and a scene already read (o->preloaded) is not opened again. */
 static bool job_is_tek(const struct job *o)
 {
   if (o->sopts.input) return strcmp(o->sopts.input, "tek") == 0;
+  if (o->preloaded) return false;       /* read once already, as a scene */
+  struct stat sb;
+  if (stat(o->scene, &sb) != 0 || !S_ISREG(sb.st_mode)) return false;
   FILE *f = fopen(o->scene, "rb");
   if (!f) return false;
   uint8_t b[1];
@@ -672,6 +679,10 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
 
   double t0 = now_seconds() - o->preload_seconds;  /* reading the scene counts */
   const struct scene *s;
+  if (o->preload_failed) {
+    *err = *o->preload_failed;              /* read once, by the caller: it failed */
+    return err->status;
+  }
   if (o->preloaded) {
     s = o->preloaded;                       /* read once, by the caller */
   } else {
