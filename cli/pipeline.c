@@ -61,6 +61,7 @@ struct pipeline {
   struct cost scanner;              /* display-time work of the background: unpacking, and
                                        moving the rows read from the disk into core */
   struct sink out;
+  struct tube *tube_only;           /* out is this tube alone: its faster path, or NULL */
   uint16_t *ids;
   uint8_t *grey;
   int *face;                        /* the effects stage's frame (NULL: no effects) */
@@ -242,7 +243,8 @@ static int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool
   COST_ADD_N(&p->display, COST_MEM, 4);
   COST_ADD_N(&p->display, COST_SHIFT, p->cell * p->cell);
   COST_ADD_N(&p->display, COST_IO, level);
-  return pat_emit_point(p->pat, i, j, level, &p->out);
+  return p->tube_only ? pat_emit_point_tube(p->pat, i, j, level, p->tube_only)
+                      : pat_emit_point(p->pat, i, j, level, &p->out);
 }
 
 static int on_point(void *ctx, int i, int j, int face)
@@ -638,6 +640,7 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   p.r = &r;
   p.hooks = NULL;
   p.out = tube_sink(t);
+  p.tube_only = t;
   memset(&p.display, 0, sizeof p.display);
   memset(&p.fx, 0, sizeof p.fx);
   memset(&p.scanner, 0, sizeof p.scanner);
@@ -754,6 +757,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   sink_tee_add(&tee, tube_sink(t));
   if (h && h->extra.point) sink_tee_add(&tee, h->extra);
   p.out = sink_tee_sink(&tee);
+  if (tee.n == 1) p.tube_only = t;          /* the tube alone: its faster path */
   struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
   struct fx_stats fst;
   memset(&fst, 0, sizeof fst);

@@ -72,5 +72,8 @@ void pat_dot_xy(int cell, int i, int j, int cx, int cy, int *x, int *y);
 ** not written), or T74_EINPUT when (i, j) is outside the grid. */
 int pat_emit_point(const struct pat_cell *p, int i, int j, int level,
                    const struct sink *s);
+/* pat_emit_point to the tube t alone (what tube_sink(t) would be given), faster. */
+struct tube;
+int pat_emit_point_tube(const struct pat_cell *p, int i, int j, int level, struct tube *t);
 
 #endif
