@@ -62,6 +62,8 @@ struct pipeline {
                                        moving the rows read from the disk into core */
   struct sink out;
   struct tube *tube_only;           /* out is this tube alone: its faster path, or NULL */
+  uint8_t level[256];               /* pat_level(cell, grey) for grey 0..255 */
+  uint16_t mask[PAT_CELL_MAX * PAT_CELL_MAX + 1];  /* pat_cell_dots(pat, level) */
   uint16_t *ids;
   uint8_t *grey;
   int *face;                        /* the effects stage's frame (NULL: no effects) */
@@ -230,10 +232,11 @@ static double pipeline_seconds(const struct pipeline *p)
 
 /* A point's halftone cell to the sinks: grey is its intensity; a background point whose
 ** intensity no effect changed takes its level off the disk (4 bits: 4x4's level 16 is 15). */
-static int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_level)
+static inline __attribute__((always_inline))
+int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_level)
 {
   int level = face < 0 && bg_level && p->scan ? scan_level(p->scan, i, j, &p->scanner)
-                                              : pat_level(p->cell, grey);
+                : (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
   if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
   /* the first dot: 003 cuts and scans bottom to top so that the picture shows while it is
      computed; this is when the viewer first sees something (its own lookups not counted) */
@@ -243,8 +246,15 @@ static int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool
   COST_ADD_N(&p->display, COST_MEM, 4);
   COST_ADD_N(&p->display, COST_SHIFT, p->cell * p->cell);
   COST_ADD_N(&p->display, COST_IO, level);
-  return p->tube_only ? pat_emit_point_tube(p->pat, i, j, level, p->tube_only)
-                      : pat_emit_point(p->pat, i, j, level, &p->out);
+  if (p->tube_only && i >= 0 && i < p->W && j >= 0 && j < p->H && level >= 0 &&
+      level <= p->cell * p->cell) {
+    /* the tube alone: pat_emit_point's dots in its order, as one cell write */
+    if (!p->mask[level]) return T74_OK;
+    int x0, y0;
+    pat_cell_origin(p->cell, i, j, &x0, &y0);
+    return tube_write_dots(p->tube_only, x0, y0, p->cell, p->mask[level]);
+  }
+  return pat_emit_point(p->pat, i, j, level, &p->out);
 }
 
 static int on_point(void *ctx, int i, int j, int face)
@@ -710,6 +720,8 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   }
   p.W = pat_grid_w(p.cell);
   p.H = pat_grid_h(p.cell);
+  for (int g = 0; g < 256; g++) p.level[g] = (uint8_t)pat_level(p.cell, g);
+  for (int l = 0; l <= p.cell * p.cell; l++) pat_cell_dots(p.pat, l, &p.mask[l]);
   /* every output opened and checked before any work: all or nothing */
   st = outs_open(o, h, s->background, &jo, err);
   if (st != T74_OK) goto done;

@@ -86,7 +86,20 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
     return T74_OK;
   }
   uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every dot is on the tube */
-  if (cell == 4) write_dots(t, base, 4, mask);   /* constant cells: no divide per dot */
+  if (cell == 4 && (x0 & 3) == 0) {
+    /* a row of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8) */
+    uint8_t *lit = t->lit;
+    uint32_t *next = t->order + t->n;
+    for (int cy = 0; mask; cy++, mask >>= 4) {
+      unsigned row = mask & 15u;
+      if (!row) continue;
+      uint32_t d = base - (uint32_t)cy * TUBE_W;
+      unsigned sh = d & 7, fresh = row & ~((unsigned)lit[d >> 3] >> sh);
+      lit[d >> 3] |= (uint8_t)(fresh << sh);
+      for (; fresh; fresh &= fresh - 1) *next++ = d + (uint32_t)__builtin_ctz(fresh);
+    }
+    t->n = (int)(next - t->order);
+  } else if (cell == 4) write_dots(t, base, 4, mask);   /* constant cells: no divide per dot */
   else if (cell == 3) write_dots(t, base, 3, mask);
   else write_dots(t, base, cell, mask);
   return T74_OK;

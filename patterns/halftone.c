@@ -40,8 +40,6 @@
 */
 #include "patterns/halftone.h"
 
-#include "display/tube.h"
-
 #include <assert.h>
 #include <stddef.h>
 #include <string.h>
@@ -220,8 +218,10 @@ int pat_grid_h(int cell) { return cell > 0 ? TUBE_H / cell : 0; }
 
 void pat_dot_xy(int cell, int i, int j, int cx, int cy, int *x, int *y)
 {
-  *x = cell * i + cx;                     /* cells abut left to right from X = 0 */
-  *y = (TUBE_H - 1) - cell * j - cy;      /* and downward from the top row Y = 299 */
+  int x0, y0;
+  pat_cell_origin(cell, i, j, &x0, &y0);
+  *x = x0 + cx;
+  *y = y0 - cy;
 }
 
 /* Dot k of a cell (bit k of a mask): its column and row, for 3x3 and 4x4 cells. */
@@ -241,21 +241,12 @@ int pat_emit_point(const struct pat_cell *p, int i, int j, int level,
   /* bit k = cy * cell + cx: rising bits are the top row of the cell first, each row left
      to right (pat_dot_xy's placement, one dot at a time) */
   const uint8_t *cxs = dot_cx[cell - PAT_CELL_MIN], *cys = dot_cy[cell - PAT_CELL_MIN];
-  int x0 = cell * i, y0 = (TUBE_H - 1) - cell * j;
+  int x0, y0;
+  pat_cell_origin(cell, i, j, &x0, &y0);
   for (unsigned m = mask; m; m &= m - 1) {
     int k = __builtin_ctz(m);
     int rc = sink_point(s, x0 + cxs[k], y0 - cys[k]);
     if (rc != T74_OK) return rc;
   }
   return T74_OK;
-}
-
-int pat_emit_point_tube(const struct pat_cell *p, int i, int j, int level, struct tube *t)
-{
-  int cell = p->cell;
-  /* in the grid: i < floor(TUBE_W / cell) exactly when cell (i + 1) <= TUBE_W */
-  if (i < 0 || cell * (i + 1) > TUBE_W || j < 0 || cell * (j + 1) > TUBE_H) return T74_EINPUT;
-  uint16_t mask;
-  pat_cell_dots(p, level, &mask);
-  return tube_write_dots(t, cell * i, (TUBE_H - 1) - cell * j, cell, mask);
 }
