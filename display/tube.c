@@ -96,7 +96,11 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
       uint32_t d = base - (uint32_t)cy * TUBE_W;
       unsigned sh = d & 7, fresh = row & ~((unsigned)lit[d >> 3] >> sh);
       lit[d >> 3] |= (uint8_t)(fresh << sh);
-      for (; fresh; fresh &= fresh - 1) *next++ = d + (uint32_t)__builtin_ctz(fresh);
+      if (fresh == 15u) {                  /* a whole row, the common case of bright faces */
+        next[0] = d; next[1] = d + 1; next[2] = d + 2; next[3] = d + 3;
+        next += 4;
+      } else
+        for (; fresh; fresh &= fresh - 1) *next++ = d + (uint32_t)__builtin_ctz(fresh);
     }
     t->n = (int)(next - t->order);
   } else if (cell == 4) write_dots(t, base, 4, mask);   /* constant cells: no divide per dot */
