@@ -694,6 +694,14 @@ int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
 }
 
+/* qsort order of listed pairs {i, j, code}: by j, then i */
+static int pair_cmp(const void *a, const void *b)
+{
+  const uint32_t *x = a, *y = b;
+  if (x[1] != y[1]) return x[1] < y[1] ? -1 : 1;
+  return (x[0] > y[0]) - (x[0] < y[0]);
+}
+
 void prio_dump(const struct prio *pr, FILE *f)
 {
   struct prio *m = (struct prio *)pr;      /* reading only; code_get counts no cost here */
@@ -718,6 +726,27 @@ void prio_dump(const struct prio *pr, FILE *f)
       }
       fprintf(f, "\n");
     }
+  } else if (pr->store == PRIO_SPARSE) {
+    /* the pairs held, in the triangle's order (j, then i), without asking for every pair */
+    uint64_t count = 0;
+    uint32_t (*list)[3] = malloc((size_t)(pr->hused ? pr->hused : 1) * sizeof *list);
+    for (uint64_t sl = 0; list && sl < pr->hcap && count < pr->hused; sl++) {
+      unsigned c = slot_code(pr, sl);
+      if (c == CODE_UNKNOWN) continue;
+      uint32_t k = (uint32_t)(sl * SLOT_WORDS);
+      list[count][0] = (uint32_t)(core_high_get(pr->core, k) & 0x3fff) << 16 | core_high_get(pr->core, k + 1);
+      list[count][1] = (uint32_t)core_high_get(pr->core, k + 2) << 16 | core_high_get(pr->core, k + 3);
+      list[count][2] = c;
+      count++;
+    }
+    if (list) {
+      qsort(list, (size_t)count, sizeof *list, pair_cmp);
+      for (uint64_t k = 0; k < count; k++)
+        fprintf(f, "  a(%u,%u) = %s\n", (unsigned)list[k][0], (unsigned)list[k][1],
+                list[k][2] == CODE_LOWER ? "10" : "11");
+      free(list);
+    } else
+      fprintf(f, "  (out of host memory listing the pairs)\n");
   } else {
     for (int j = 1; j < n; j++)
       for (int i = 0; i < j; i++) {

@@ -797,6 +797,23 @@ static void test_prio_auto_migrates(void **state)
   print_message("# %d pieces, %llu pairs held: dense %u words at peak, auto %u\n", rd.seg.n,
                 (unsigned long long)rd.prio.hused, core_peak(rd.core), core_peak(ra.core));
   assert_true(core_peak(ra.core) < core_peak(rd.core));
+  /* the matrix dumps list the same pairs (all but the heading, which names the store) */
+  char *da = NULL, *db = NULL;
+  size_t la = 0, lb = 0;
+  FILE *fa = open_memstream(&da, &la), *fb = open_memstream(&db, &lb);
+  assert_non_null(fa);
+  assert_non_null(fb);
+  prio_dump(&rd.prio, fa);
+  prio_dump(&ra.prio, fb);
+  fclose(fa);
+  fclose(fb);
+  const char *ba = strchr(da, '\n'), *bb = strchr(db, '\n');
+  assert_non_null(ba);
+  assert_non_null(bb);
+  assert_non_null(strstr(ba, "a(0,"));
+  assert_string_equal(ba, bb);
+  free(da);
+  free(db);
   for (int i = 0; i < rd.seg.n; i++)
     for (int j = 0; j < rd.seg.n; j++) {
       if (i == j || !rd.seg.p[i].alive || !rd.seg.p[j].alive) continue;
