@@ -57,8 +57,8 @@
 #define DECIDED_SPLIT 4u   /* decide(): the pair was cut (not a code) */
 
 /* The sparse store. A slot is 4 words: code (2 bits) and piece i (30 bits) in words 0-1,
-   piece j in words 2-3; code 0 is an empty slot. Open addressing, linear probing, the
-   home slot from the pair's 64-bit hash scaled to the table (any number of slots).
+   piece j in words 2-3; code 0 is an empty slot. Open addressing, linear probing, any
+   number of slots, the home slot from the pair's hash scaled to the count (slot_hash).
    Load factor: the table is rebuilt when a pair would make it more than 2/3 full, to
    three slots per pair held (load 1/3), so the load stays between 1/3 and 2/3 and the
    store takes 6 to 12 words a pair (expected probes at 2/3: 2 for a pair held, 5 for
@@ -70,7 +70,7 @@
    more than PRIO_DENSE_MAX_WORDS and more than PRIO_MIGRATE_FACTOR times the words the
    sparse store would be rebuilt to for the pairs held then (12 words a pair: twice what
    they take when the table is fullest, which leaves room for the pairs still to come).
-   The move's list adds at most 4 words a pair, a third of the table, for a moment.
+   The move's list adds 4 words a pair, a third of the table, for a moment.
    Sparse to dense (PRIO_AUTO only): when a rebuild of the sparse table would take more
    than PRIO_RETURN_FACTOR times the triangle for the pieces there are. The triangle grows
    with the square of the pieces, the sparse table with the pairs that meet; the gap
@@ -95,9 +95,10 @@ static uint64_t slot_hash(uint64_t i, uint64_t j, uint64_t cap)
 {
   /* the pair as one 64-bit key through splitmix64's finaliser: every bit of i and j
      reaches the bits that choose the slot (the earlier mix left long probe runs at 640
-     interpenetrating triangles, issue 12), then scaled to [0, cap) by the high half of
-     a 64 x 64 product. Where a pair lands changes nothing but the probe count: the code
-     found is the same. */
+     interpenetrating triangles, issue 12), scaled to [0, cap) by the high half of its
+     product with cap (a mask below a power of two folded back into the table makes
+     runs that a 2/3 load cannot bear). Where a pair lands changes nothing but the
+     probe count: the code found is the same. */
   uint64_t h = i << 32 | j;
   h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
   h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
@@ -121,6 +122,19 @@ static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsign
   COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);
 }
 
+/* The stored program's home slot of a pair: the words of i, j and the slot count loaded,
+   j shifted and exclusive-ored into i twice (a one-word hash), and the hash scaled to the
+   count by the high half of its product with it (one word by two). The host mixes the
+   pair more thoroughly (slot_hash), which spreads the same probes better; the 1974 work
+   charged is this. */
+static void charge_home(const struct prio *pr)
+{
+  COST_ADD_N(pr->cost, COST_MEM, 3);
+  COST_ADD_N(pr->cost, COST_SHIFT, 2);
+  COST_ADD_N(pr->cost, COST_LOGIC, 2);
+  cost_mw_mul(pr->cost, 16, 32);
+}
+
 /* The slot holding (i, j), or the empty slot where it belongs. A probe loads the slot's
    first word (empty, or code and i's high bits) and goes on comparing word by word only
    while they match: the words compared are what is charged. */
@@ -131,6 +145,7 @@ static uint64_t slot_find_n(const struct prio *pr, uint64_t cap, uint32_t i, uin
   uint16_t w0 = (uint16_t)(i >> 16), w1 = (uint16_t)i, w2 = (uint16_t)(j >> 16),
            w3 = (uint16_t)j;
   uint64_t s = slot_hash(i, j, cap), loads = 0;
+  charge_home(pr);
   for (;;) {
     const uint16_t *w = top - s * SLOT_WORDS;
     loads++;
@@ -301,6 +316,7 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
   if (pr->hit) {
     h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 20 & (PRIO_HIT_SLOTS - 1)];
     if (h->code && h->i == i && h->j == j) {
+      charge_home(pr);
       COST_ADD_N(pr->cost, COST_MEM, h->loads);
       return h->code;
     }
