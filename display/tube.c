@@ -77,8 +77,9 @@ static inline __attribute__((always_inline)) void write_dots(struct tube *t, uin
 
 int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
 {
-  if (x0 < 0 || x0 + cell > TUBE_W || y0 - cell + 1 < 0 || y0 >= TUBE_H || cell < 1) {
-    for (; mask; mask &= mask - 1) {       /* some dot may be off the tube: one by one */
+  if (cell < 1 || cell > 4 || (mask >> (cell * cell)) != 0 || x0 < 0 || x0 > TUBE_W - cell ||
+      y0 < cell - 1 || y0 >= TUBE_H) {
+    for (; mask; mask &= mask - 1) {       /* a dot may be off the tube: one by one */
       int k = __builtin_ctz(mask);
       int rc = tube_write(t, x0 + k % (cell > 0 ? cell : 1), y0 - k / (cell > 0 ? cell : 1));
       if (rc != T74_OK) return rc;

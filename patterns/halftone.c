@@ -235,7 +235,9 @@ int pat_emit_point(const struct pat_cell *p, int i, int j, int level,
 {
   int cell = p->cell;
   /* in the grid: i < floor(TUBE_W / cell) exactly when cell (i + 1) <= TUBE_W */
-  if (i < 0 || cell * (i + 1) > TUBE_W || j < 0 || cell * (j + 1) > TUBE_H) return T74_EINPUT;
+  if (i < 0 || i >= TUBE_W || cell * (i + 1) > TUBE_W || j < 0 || j >= TUBE_H ||
+      cell * (j + 1) > TUBE_H)
+    return T74_EINPUT;
   uint16_t mask;                          /* the dots lit at this level */
   pat_cell_dots(p, level, &mask);
   /* bit k = cy * cell + cx: rising bits are the top row of the cell first, each row left
