@@ -37,9 +37,10 @@
 ** the interpenetration cuts add, would take more than half of 16 kW and more than the
 ** sparse table the pairs held would be rebuilt to, moves the pairs to the sparse store;
 ** a sparse store whose next rebuild would take more than twice the triangle goes back to
-** the triangle. Each move reads the old store through and lists the pairs held beyond it
-** (list_pairs), so for a moment the core holds the larger store and the list: the peak
-** that core_words_used reports. Every step depends on the scene alone (the pieces and
+** the triangle. Each move reads the old store through and lists the pairs held beyond
+** both stores (list_pairs), so for a moment the core holds the larger store and the list:
+** the peak that core_words_used reports. Each lookup in the sparse store is charged its
+** home slot (a hash and one multiply) and the words its probes compare. Every step depends on the scene alone (the pieces and
 ** the pairs met, in scan order), never on --core, so a scene needs the same words
 ** whatever core it is given; the scenes of the papers (a few hundred pieces at most)
 ** never leave the triangle.

@@ -55,10 +55,12 @@ struct prio {
 
 /* store: PRIO_AUTO starts with the paper's dense matrix when the triangle for the `expect`
    pieces expected at the start takes at most half of the historical 16 kW, else with the
-   sparse store of the pairs that actually meet; a dense start turns sparse (the pairs
-   known are moved over) when growing the triangle would take more than twice the words
-   the sparse store needs for the pairs held then (priority.c). Every step depends on the
-   scene alone, never on --core. PRIO_DENSE and PRIO_SPARSE keep their store. */
+   sparse store of the pairs that actually meet; the dense store turns sparse (the pairs
+   known are moved over) when growing the triangle would take more than the sparse table
+   the pairs held then would be rebuilt to (12 words a pair, twice their fullest need),
+   and back when that table would take more than twice the triangle (priority.c). Every
+   step depends on the scene alone, never on --core. PRIO_DENSE and PRIO_SPARSE keep
+   their store. */
 /* The store PRIO_AUTO starts with for a scene of n pieces: PRIO_DENSE or PRIO_SPARSE. */
 int prio_auto_store(uint64_t n);
 
