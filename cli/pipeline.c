@@ -27,6 +27,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "display/image.h"
@@ -60,6 +61,9 @@ struct pipeline {
   struct cost scanner;              /* display-time work of the background: unpacking, and
                                        moving the rows read from the disk into core */
   struct sink out;
+  struct tube *tube_only;           /* out is this tube alone: its faster path, or NULL */
+  uint8_t level[256];               /* pat_level(cell, grey) for grey 0..255 */
+  uint16_t mask[PAT_CELL_MAX * PAT_CELL_MAX + 1];  /* pat_cell_dots(pat, level) */
   uint16_t *ids;
   uint8_t *grey;
   int *face;                        /* the effects stage's frame (NULL: no effects) */
@@ -228,10 +232,11 @@ static double pipeline_seconds(const struct pipeline *p)
 
 /* A point's halftone cell to the sinks: grey is its intensity; a background point whose
 ** intensity no effect changed takes its level off the disk (4 bits: 4x4's level 16 is 15). */
-static int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_level)
+static inline __attribute__((always_inline))
+int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_level)
 {
   int level = face < 0 && bg_level && p->scan ? scan_level(p->scan, i, j, &p->scanner)
-                                              : pat_level(p->cell, grey);
+                : (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
   if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
   /* the first dot: 003 cuts and scans bottom to top so that the picture shows while it is
      computed; this is when the viewer first sees something (its own lookups not counted) */
@@ -241,6 +246,14 @@ static int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool
   COST_ADD_N(&p->display, COST_MEM, 4);
   COST_ADD_N(&p->display, COST_SHIFT, p->cell * p->cell);
   COST_ADD_N(&p->display, COST_IO, level);
+  if (p->tube_only && i >= 0 && i < p->W && j >= 0 && j < p->H && level >= 0 &&
+      level <= p->cell * p->cell) {
+    /* the tube alone: pat_emit_point's dots in its order, as one cell write */
+    if (!p->mask[level]) return T74_OK;
+    int x0, y0;
+    pat_cell_origin(p->cell, i, j, &x0, &y0);
+    return tube_write_dots(p->tube_only, x0, y0, p->cell, p->mask[level]);
+  }
   return pat_emit_point(p->pat, i, j, level, &p->out);
 }
 
@@ -476,10 +489,16 @@ static int write_stats(const struct job *o, const struct render *r, const struct
                                            screen of point plot is under 1 MiB) */
 
 /* Is the job's input a Tek stream: --input tek, or (no --input) a first byte that is a Tek
-** control code. A file that cannot be read is left to the scene reader to report. */
+** control code. A file that cannot be read is left to the scene reader to report. Only a
+** regular file is looked at: the first byte of a pipe or FIFO cannot be looked at without
+** taking it from the reader (such an input is a scene unless --input tek says otherwise),
+** and a scene already read (o->preloaded) is not opened again. */
 static bool job_is_tek(const struct job *o)
 {
   if (o->sopts.input) return strcmp(o->sopts.input, "tek") == 0;
+  if (o->preloaded) return false;       /* read once already, as a scene */
+  struct stat sb;
+  if (stat(o->scene, &sb) != 0 || !S_ISREG(sb.st_mode)) return false;
   FILE *f = fopen(o->scene, "rb");
   if (!f) return false;
   uint8_t b[1];
@@ -631,6 +650,7 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   p.r = &r;
   p.hooks = NULL;
   p.out = tube_sink(t);
+  p.tube_only = t;
   memset(&p.display, 0, sizeof p.display);
   memset(&p.fx, 0, sizeof p.fx);
   memset(&p.scanner, 0, sizeof p.scanner);
@@ -672,6 +692,10 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
 
   double t0 = now_seconds() - o->preload_seconds;  /* reading the scene counts */
   const struct scene *s;
+  if (o->preload_failed) {
+    *err = *o->preload_failed;              /* read once, by the caller: it failed */
+    return err->status;
+  }
   if (o->preloaded) {
     s = o->preloaded;                       /* read once, by the caller */
   } else {
@@ -696,6 +720,8 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   }
   p.W = pat_grid_w(p.cell);
   p.H = pat_grid_h(p.cell);
+  for (int g = 0; g < 256; g++) p.level[g] = (uint8_t)pat_level(p.cell, g);
+  for (int l = 0; l <= p.cell * p.cell; l++) pat_cell_dots(p.pat, l, &p.mask[l]);
   /* every output opened and checked before any work: all or nothing */
   st = outs_open(o, h, s->background, &jo, err);
   if (st != T74_OK) goto done;
@@ -743,6 +769,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   sink_tee_add(&tee, tube_sink(t));
   if (h && h->extra.point) sink_tee_add(&tee, h->extra);
   p.out = sink_tee_sink(&tee);
+  if (tee.n == 1) p.tube_only = t;          /* the tube alone: its faster path */
   struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
   struct fx_stats fst;
   memset(&fst, 0, sizeof fst);

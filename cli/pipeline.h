@@ -39,6 +39,9 @@ struct job {
   const struct scene *preloaded;    /* the scene already read (with these sopts) by the
                                        caller, who owns it; NULL: the job reads it */
   double preload_seconds;           /* the time that reading took (in host_seconds) */
+  const struct t74_error *preload_failed; /* the caller's reading failed with this (owned
+                                       by the caller; NULL: it did not fail or did not
+                                       read): the job reports it and does not read again */
   int frames;                       /* --frames: the loaded scene rendered this many times
                                        (0 = 1); outputs come from one of them */
   int arith;                        /* --arith: GEOM_EXACT (default) or GEOM_HITAC */

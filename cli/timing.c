@@ -136,7 +136,7 @@ int timing_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err)
 /* The tube= effect named by --effects or by the scene's effects line (if the scene is a
 ** .s74 file that loads: anything wrong with it is the job's to report). A scene read here
 ** is kept (t->scene) and lent to the job with the time its reading took, so the job does
-** not read it again. */
+** not read it again; a scene that fails to load lends its failure the same way. */
 static int tube_effect(struct timing *t, struct job *j, struct effects *eff, struct t74_error *err)
 {
   effects_default(eff);
@@ -148,7 +148,11 @@ static int tube_effect(struct timing *t, struct job *j, struct effects *eff, str
   struct t74_error quiet = { T74_OK, "" };
   struct timespec a, b;
   clock_gettime(CLOCK_MONOTONIC, &a);
-  if (scene_load(j->scene, &j->sopts, &s, &quiet) != T74_OK) return T74_OK;
+  if (scene_load(j->scene, &j->sopts, &s, &quiet) != T74_OK) {
+    t->scene_err = quiet;       /* the job reports it, without reading the file again */
+    j->preload_failed = &t->scene_err;
+    return T74_OK;
+  }
   clock_gettime(CLOCK_MONOTONIC, &b);
   int st = T74_OK;
   if (s->effects) st = effects_parse(s->effects, eff, s->file, s->effects_line, &quiet);

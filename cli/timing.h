@@ -50,6 +50,7 @@ struct timing {
   struct scene *scene;          /* the scene timing_prepare read for its effects line, lent
                                    to the job (j->preloaded) so that it is read once; freed
                                    by timing_free */
+  struct t74_error scene_err;   /* why that reading failed (j->preload_failed) */
 };
 
 void timing_init(struct timing *t);
@@ -61,7 +62,8 @@ int timing_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err);
 
 /* After job_parse: read the tube= effect (from --effects or the scene's effects line),
 ** decide whether -o is a look picture and, if so, take it over from j. A .s74 scene read
-** for its effects line is lent to the job (j->preloaded), not read again. */
+** for its effects line is lent to the job (j->preloaded), not read again; when reading it
+** failed, the failure is lent instead (j->preload_failed), for the job to report. */
 int timing_prepare(struct timing *t, struct job *j, struct t74_error *err);
 
 /* Fill h: the extra sink (beam + look), the clock and the stats hook. */

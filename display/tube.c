@@ -58,6 +58,58 @@ int tube_write(struct tube *t, int x, int y)
   return T74_OK;
 }
 
+/* tube_write_dots with every dot on the tube; base: the dot (x0, y0) */
+static inline __attribute__((always_inline)) void write_dots(struct tube *t, uint32_t base,
+                                                             int cell, unsigned mask)
+{
+  uint8_t *lit = t->lit;
+  uint32_t *next = t->order + t->n;
+  for (; mask; mask &= mask - 1) {
+    int k = __builtin_ctz(mask);
+    uint32_t d = base - (uint32_t)(k / cell) * TUBE_W + (uint32_t)(k % cell);
+    uint8_t bit = (uint8_t)(1u << (d & 7));
+    if (lit[d >> 3] & bit) continue;       /* stored already: keeps its first place */
+    lit[d >> 3] |= bit;
+    *next++ = d;
+  }
+  t->n = (int)(next - t->order);
+}
+
+int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
+{
+  if (cell < 1 || cell > 4 || (mask >> (cell * cell)) != 0 || x0 < 0 || x0 > TUBE_W - cell ||
+      y0 < cell - 1 || y0 >= TUBE_H) {
+    for (; mask; mask &= mask - 1) {       /* a dot may be off the tube: one by one */
+      int k = __builtin_ctz(mask);
+      int rc = tube_write(t, x0 + k % (cell > 0 ? cell : 1), y0 - k / (cell > 0 ? cell : 1));
+      if (rc != T74_OK) return rc;
+    }
+    return T74_OK;
+  }
+  uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every dot is on the tube */
+  if (cell == 4 && (x0 & 3) == 0) {
+    /* a row of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8) */
+    uint8_t *lit = t->lit;
+    uint32_t *next = t->order + t->n;
+    for (int cy = 0; mask; cy++, mask >>= 4) {
+      unsigned row = mask & 15u;
+      if (!row) continue;
+      uint32_t d = base - (uint32_t)cy * TUBE_W;
+      unsigned sh = d & 7, fresh = row & ~((unsigned)lit[d >> 3] >> sh);
+      lit[d >> 3] |= (uint8_t)(fresh << sh);
+      if (fresh == 15u) {                  /* a whole row, the common case of bright faces */
+        next[0] = d; next[1] = d + 1; next[2] = d + 2; next[3] = d + 3;
+        next += 4;
+      } else
+        for (; fresh; fresh &= fresh - 1) *next++ = d + (uint32_t)__builtin_ctz(fresh);
+    }
+    t->n = (int)(next - t->order);
+  } else if (cell == 4) write_dots(t, base, 4, mask);   /* constant cells: no divide per dot */
+  else if (cell == 3) write_dots(t, base, 3, mask);
+  else write_dots(t, base, cell, mask);
+  return T74_OK;
+}
+
 int tube_lit(const struct tube *t, int x, int y)
 {
   if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H) return 0;

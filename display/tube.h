@@ -32,6 +32,12 @@ void tube_erase(struct tube *t);
 ** T74_EINPUT for a dot outside the tube (recorded, first one only, for tube_end). */
 int tube_write(struct tube *t, int x, int y);
 
+/* The lit dots of one halftone cell (patterns/halftone.h): bit k of mask is the dot
+** (x0 + k % cell, y0 - k / cell), cell >= 1 (3 or 4 for the halftone cells); written in
+** rising bit order, each as tube_write would (the same order, the same first failure,
+** after which the rest are not written). */
+int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask);
+
 /* 1 if dot (x, y) is lit, else 0 (also for any dot outside the tube). */
 int tube_lit(const struct tube *t, int x, int y);
 

@@ -224,6 +224,11 @@ uint16_t core_high_get(const struct core *c, uint32_t k)
   return c->w[c->size - 1 - k];
 }
 
+const uint16_t *core_high_top(const struct core *c)
+{
+  return c->w + (c->size - 1);
+}
+
 void core_high_set(struct core *c, uint32_t k, uint16_t w)
 {
   assert(k < c->high_len);

@@ -92,6 +92,9 @@ uint32_t core_high_words(const struct core *c);
 void core_high_free(struct core *c);           /* drop the high region (length 0) */
 uint16_t core_high_get(const struct core *c, uint32_t k);
 void core_high_set(struct core *c, uint32_t k, uint16_t w);
+/* Reading the high region in an inner loop: word k (k < core_high_words) is at p[-k] for
+   p = core_high_top(c), until the region next grows or is freed. */
+const uint16_t *core_high_top(const struct core *c);
 /* 2-bit fields in the high region: field i is in word i/8, bits 2*(i%8) .. 2*(i%8)+1. */
 unsigned core_high_get2(const struct core *c, uint64_t i);
 void core_high_set2(struct core *c, uint64_t i, unsigned v);

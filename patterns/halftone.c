@@ -93,37 +93,71 @@ struct pat_cell {
   int cell;                       /* 3 or 4 */
   uint8_t rank[PAT_CELL_MAX][PAT_CELL_MAX];  /* rank[cy][cx], cy from the top of the cell;
                                      lit at level n iff rank < n; unused entries 0 */
+  uint16_t mask[PAT_CELL_MAX * PAT_CELL_MAX + 1];  /* mask[n]: the dots lit at level n
+                                     (bit cy*cell + cx), from the same ranks at compile
+                                     time (PAT_MASKS3/4 below) */
 };
+
+/* The dot masks of a family, as constant expressions of its ranks r0.. (row by row from
+   the top): bit k is set at level n iff r_k < n. */
+#define PAT_B_(r, k, n) ((unsigned)((r) < (n)) << (k))
+#define PAT_M3_(n, a, b, c, d, e, f, g, h, i)                                              \
+  (uint16_t)(PAT_B_(a, 0, n) | PAT_B_(b, 1, n) | PAT_B_(c, 2, n) | PAT_B_(d, 3, n) |       \
+             PAT_B_(e, 4, n) | PAT_B_(f, 5, n) | PAT_B_(g, 6, n) | PAT_B_(h, 7, n) |       \
+             PAT_B_(i, 8, n))
+#define PAT_MASKS3(...)                                                                    \
+  { PAT_M3_(0, __VA_ARGS__), PAT_M3_(1, __VA_ARGS__), PAT_M3_(2, __VA_ARGS__),             \
+    PAT_M3_(3, __VA_ARGS__), PAT_M3_(4, __VA_ARGS__), PAT_M3_(5, __VA_ARGS__),             \
+    PAT_M3_(6, __VA_ARGS__), PAT_M3_(7, __VA_ARGS__), PAT_M3_(8, __VA_ARGS__),             \
+    PAT_M3_(9, __VA_ARGS__) }
+#define PAT_M4_(n, a, b, c, d, e, f, g, h, i, j, k, l, m, o, p, q)                         \
+  (uint16_t)(PAT_B_(a, 0, n) | PAT_B_(b, 1, n) | PAT_B_(c, 2, n) | PAT_B_(d, 3, n) |       \
+             PAT_B_(e, 4, n) | PAT_B_(f, 5, n) | PAT_B_(g, 6, n) | PAT_B_(h, 7, n) |       \
+             PAT_B_(i, 8, n) | PAT_B_(j, 9, n) | PAT_B_(k, 10, n) | PAT_B_(l, 11, n) |     \
+             PAT_B_(m, 12, n) | PAT_B_(o, 13, n) | PAT_B_(p, 14, n) | PAT_B_(q, 15, n))
+#define PAT_MASKS4(...)                                                                    \
+  { PAT_M4_(0, __VA_ARGS__), PAT_M4_(1, __VA_ARGS__), PAT_M4_(2, __VA_ARGS__),             \
+    PAT_M4_(3, __VA_ARGS__), PAT_M4_(4, __VA_ARGS__), PAT_M4_(5, __VA_ARGS__),             \
+    PAT_M4_(6, __VA_ARGS__), PAT_M4_(7, __VA_ARGS__), PAT_M4_(8, __VA_ARGS__),             \
+    PAT_M4_(9, __VA_ARGS__), PAT_M4_(10, __VA_ARGS__), PAT_M4_(11, __VA_ARGS__),           \
+    PAT_M4_(12, __VA_ARGS__), PAT_M4_(13, __VA_ARGS__), PAT_M4_(14, __VA_ARGS__),          \
+    PAT_M4_(15, __VA_ARGS__), PAT_M4_(16, __VA_ARGS__) }
+/* A family: its ranks written once, row by row, giving both rank[][] and mask[]. */
+#define PAT_CELL3(name, a, b, c, d, e, f, g, h, i)                                          \
+  { name, 3, { { a, b, c }, { d, e, f }, { g, h, i } }, PAT_MASKS3(a, b, c, d, e, f, g, h, i) }
+#define PAT_CELL4(name, a, b, c, d, e, f, g, h, i, j, k, l, m, o, p, q)                     \
+  { name, 4, { { a, b, c, d }, { e, f, g, h }, { i, j, k, l }, { m, o, p, q } },           \
+    PAT_MASKS4(a, b, c, d, e, f, g, h, i, j, k, l, m, o, p, q) }
 
 /* The ranks below read as the cell looks on the tube: first row = top row of the cell. */
 static const struct pat_cell families[] = {
-  { "dispersed", 3, {             /* 3x3 ordered dither (the classic 3x3 dither matrix) */
-    { 0, 7, 3 },                  /* top:    1st, 8th, 4th dot */
-    { 6, 5, 2 },                  /* middle: 7th, 6th, 3rd */
-    { 4, 1, 8 } } },              /* bottom: 5th, 2nd, 9th */
-  { "dispersed", 4, {             /* 4x4 Bayer matrix: each dot far from those lit */
-    {  0,  8,  2, 10 },           /* top row:  1st, 9th, 3rd, 11th dot */
-    { 12,  4, 14,  6 },           /* row 2:    13th, 5th, 15th, 7th */
-    {  3, 11,  1,  9 },           /* row 3:    4th, 12th, 2nd, 10th */
-    { 15,  7, 13,  5 } } },       /* bottom:   16th, 8th, 14th, 6th */
-  { "clustered", 3, {             /* 3x3 cluster: centre, then the 4 sides, then corners */
-    { 5, 2, 6 },                  /* top:    corner, side (3rd), corner */
-    { 3, 0, 1 },                  /* middle: side (4th), CENTRE first, side (2nd) */
-    { 8, 4, 7 } } },              /* bottom: corner (last), side (5th), corner */
-  { "clustered", 4, {             /* 4x4 cluster: the middle 2x2, then a spiral outward */
-    { 12,  5,  6, 13 },           /* top row: corners late */
-    {  4,  0,  1,  7 },           /* row 2:   middle dots 1st and 2nd */
-    { 11,  3,  2,  8 },           /* row 3:   middle dots 4th and 3rd */
-    { 15, 10,  9, 14 } } },       /* bottom:  last corner 16th */
-  { "line", 3, {                  /* 3x3 lines: the middle row fills first */
-    { 3, 7, 5 },                  /* top:    after the middle row, alternating with bottom */
-    { 0, 2, 1 },                  /* middle: 1st, 3rd, 2nd dot (full line at level 3) */
-    { 4, 8, 6 } } },              /* bottom: alternating with the top row */
-  { "line", 4, {                  /* 4x4 lines: rows 2 and 4 first (every other line) */
-    {  8, 12, 10, 14 },           /* top row: third line to fill */
-    {  0,  4,  2,  6 },           /* row 2:   first line (with row 4, dot by dot) */
-    {  9, 13, 11, 15 },           /* row 3:   fourth line */
-    {  1,  5,  3,  7 } } },       /* bottom:  second line; rows 2 and 4 full at level 8 */
+  PAT_CELL3("dispersed", /* 3x3 ordered dither (the classic 3x3 dither matrix) */
+     0,  7,  3,          /* top:    1st, 8th, 4th dot */
+     6,  5,  2,          /* middle: 7th, 6th, 3rd */
+     4,  1,  8),         /* bottom: 5th, 2nd, 9th */
+  PAT_CELL4("dispersed", /* 4x4 Bayer matrix: each dot far from those lit */
+     0,  8,  2, 10,      /* top row:  1st, 9th, 3rd, 11th dot */
+    12,  4, 14,  6,      /* row 2:    13th, 5th, 15th, 7th */
+     3, 11,  1,  9,      /* row 3:    4th, 12th, 2nd, 10th */
+    15,  7, 13,  5),     /* bottom:   16th, 8th, 14th, 6th */
+  PAT_CELL3("clustered", /* 3x3 cluster: centre, then the 4 sides, then corners */
+     5,  2,  6,          /* top:    corner, side (3rd), corner */
+     3,  0,  1,          /* middle: side (4th), CENTRE first, side (2nd) */
+     8,  4,  7),         /* bottom: corner (last), side (5th), corner */
+  PAT_CELL4("clustered", /* 4x4 cluster: the middle 2x2, then a spiral outward */
+    12,  5,  6, 13,      /* top row: corners late */
+     4,  0,  1,  7,      /* row 2:   middle dots 1st and 2nd */
+    11,  3,  2,  8,      /* row 3:   middle dots 4th and 3rd */
+    15, 10,  9, 14),     /* bottom:  last corner 16th */
+  PAT_CELL3("line", /* 3x3 lines: the middle row fills first */
+     3,  7,  5,          /* top:    after the middle row, alternating with bottom */
+     0,  2,  1,          /* middle: 1st, 3rd, 2nd dot (full line at level 3) */
+     4,  8,  6),         /* bottom: alternating with the top row */
+  PAT_CELL4("line", /* 4x4 lines: rows 2 and 4 first (every other line) */
+     8, 12, 10, 14,      /* top row: third line to fill */
+     0,  4,  2,  6,      /* row 2:   first line (with row 4, dot by dot) */
+     9, 13, 11, 15,      /* row 3:   fourth line */
+     1,  5,  3,  7),     /* bottom:  second line; rows 2 and 4 full at level 8 */
 };
 
 #define NFAMILY_ROWS ((int)(sizeof families / sizeof families[0]))
@@ -174,11 +208,8 @@ int pat_rank(const struct pat_cell *p, int cx, int cy)
 
 void pat_cell_dots(const struct pat_cell *p, int level, uint16_t *mask)
 {
-  uint16_t m = 0;
-  for (int cy = 0; cy < p->cell; cy++)
-    for (int cx = 0; cx < p->cell; cx++)
-      if (p->rank[cy][cx] < level) m |= (uint16_t)(1u << (cy * p->cell + cx));
-  *mask = m;
+  int top = p->cell * p->cell;
+  *mask = p->mask[level < 0 ? 0 : level > top ? top : level];
 }
 
 int pat_grid_w(int cell) { return cell > 0 ? TUBE_W / cell : 0; }
@@ -187,24 +218,37 @@ int pat_grid_h(int cell) { return cell > 0 ? TUBE_H / cell : 0; }
 
 void pat_dot_xy(int cell, int i, int j, int cx, int cy, int *x, int *y)
 {
-  *x = cell * i + cx;                     /* cells abut left to right from X = 0 */
-  *y = (TUBE_H - 1) - cell * j - cy;      /* and downward from the top row Y = 299 */
+  int x0, y0;
+  pat_cell_origin(cell, i, j, &x0, &y0);
+  *x = x0 + cx;
+  *y = y0 - cy;
 }
+
+/* Dot k of a cell (bit k of a mask): its column and row, for 3x3 and 4x4 cells. */
+static const uint8_t dot_cx[2][16] = { { 0, 1, 2, 0, 1, 2, 0, 1, 2 },
+                                       { 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3 } };
+static const uint8_t dot_cy[2][16] = { { 0, 0, 0, 1, 1, 1, 2, 2, 2 },
+                                       { 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3 } };
 
 int pat_emit_point(const struct pat_cell *p, int i, int j, int level,
                    const struct sink *s)
 {
   int cell = p->cell;
-  if (i < 0 || i >= pat_grid_w(cell) || j < 0 || j >= pat_grid_h(cell)) return T74_EINPUT;
+  /* in the grid: i < floor(TUBE_W / cell) exactly when cell (i + 1) <= TUBE_W */
+  if (i < 0 || i >= TUBE_W || cell * (i + 1) > TUBE_W || j < 0 || j >= TUBE_H ||
+      cell * (j + 1) > TUBE_H)
+    return T74_EINPUT;
   uint16_t mask;                          /* the dots lit at this level */
   pat_cell_dots(p, level, &mask);
-  for (int cy = 0; cy < cell; cy++)       /* top row of the cell first ... */
-    for (int cx = 0; cx < cell; cx++) {   /* ... each row left to right */
-      if (!(mask & (1u << (cy * cell + cx)))) continue;
-      int x, y;
-      pat_dot_xy(cell, i, j, cx, cy, &x, &y);
-      int rc = sink_point(s, x, y);
-      if (rc != T74_OK) return rc;
-    }
+  /* bit k = cy * cell + cx: rising bits are the top row of the cell first, each row left
+     to right (pat_dot_xy's placement, one dot at a time) */
+  const uint8_t *cxs = dot_cx[cell - PAT_CELL_MIN], *cys = dot_cy[cell - PAT_CELL_MIN];
+  int x0, y0;
+  pat_cell_origin(cell, i, j, &x0, &y0);
+  for (unsigned m = mask; m; m &= m - 1) {
+    int k = __builtin_ctz(m);
+    int rc = sink_point(s, x0 + cxs[k], y0 - cys[k]);
+    if (rc != T74_OK) return rc;
+  }
   return T74_OK;
 }

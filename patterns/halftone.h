@@ -72,5 +72,12 @@ void pat_dot_xy(int cell, int i, int j, int cx, int cy, int *x, int *y);
 ** not written), or T74_EINPUT when (i, j) is outside the grid. */
 int pat_emit_point(const struct pat_cell *p, int i, int j, int level,
                    const struct sink *s);
+/* The tube coordinates of dot (0, 0) of point (i, j), the top left dot of its cell: dot
+** (cx, cy) is at (x0 + cx, y0 - cy) (pat_dot_xy). */
+static inline void pat_cell_origin(int cell, int i, int j, int *x0, int *y0)
+{
+  *x0 = cell * i;                         /* cells abut left to right from X = 0 */
+  *y0 = (TUBE_H - 1) - cell * j;          /* and downward from the top row Y = 299 */
+}
 
 #endif

@@ -30,10 +30,20 @@
 **
 ** Storage (in core). Dense: the triangle of 2-bit codes a_ij, i < j, at field
 ** j(j-1)/2 + i of the core's high region, growing as pieces are added. Sparse: an open-
-** addressed table of the pairs actually met, 5 words a slot (i: 2 words, j: 2, code: 1),
-** chosen when the triangle for the pieces at the start would take more than half of the
-** historical 16 kW. The choice depends on the scene alone, so a scene needs the same words
-** whatever --core it is given.
+** addressed table of the pairs actually met, 4 words a slot, 3 slots a pair after each
+** rebuild (see SLOT_WORDS). PRIO_AUTO starts dense when the triangle for the pieces
+** expected at the start takes at most half of the historical 16 kW, else sparse. It
+** then follows what the scene needs: a dense store whose triangle, grown for the pieces
+** the interpenetration cuts add, would take more than half of 16 kW and more than the
+** sparse table the pairs held would be rebuilt to, moves the pairs to the sparse store;
+** a sparse store whose next rebuild would take more than twice the triangle goes back to
+** the triangle. Each move reads the old store through and lists the pairs held beyond
+** both stores (list_pairs), so for a moment the core holds the larger store and the list:
+** the peak that core_words_used reports. Each lookup in the sparse store is charged its
+** home slot (a hash and one multiply) and the words its probes compare. Every step depends on the scene alone (the pieces and
+** the pairs met, in scan order), never on --core, so a scene needs the same words
+** whatever core it is given; the scenes of the papers (a few hundred pieces at most)
+** never leave the triangle.
 */
 #include "render/priority.h"
 
@@ -43,15 +53,243 @@
 #define CODE_UNKNOWN 0u     /* 00 */
 #define CODE_LOWER   2u     /* 10: piece i lower than piece j */
 #define CODE_HIGHER  3u     /* 11: piece i higher than piece j */
-#define SLOT_WORDS   5
-#define PRIO_DENSE_MAX_WORDS 8192u  /* dense while the starting triangle takes at most half
-                                       of the historical 16 kW (about 360 pieces) */
+#define PRIO_DENSE_MAX_WORDS 8192u  /* the triangle is always kept while it takes at most
+                                       half of the historical 16 kW (about 360 pieces) */
 #define DECIDED_SPLIT 4u   /* decide(): the pair was cut (not a code) */
+
+/* The sparse store. A slot is 4 words: code (2 bits) and piece i (30 bits) in words 0-1,
+   piece j in words 2-3; code 0 is an empty slot. Open addressing, linear probing, any
+   number of slots, the home slot from the pair's hash scaled to the count (slot_hash).
+   Load factor: the table is rebuilt when a pair would make it more than 2/3 full, to
+   three slots per pair held (load 1/3), so the load stays between 1/3 and 2/3 and the
+   store takes 6 to 12 words a pair (expected probes at 2/3: 2 for a pair held, 5 for
+   one not yet held). */
+#define SLOT_WORDS   4
+#define SPARSE_MIN_SLOTS 64u
+#define SPARSE_PIECE_LIMIT (1u << 30)
+/* Dense to sparse (PRIO_AUTO only): the triangle is given up when growing it would take
+   more than PRIO_DENSE_MAX_WORDS and more than PRIO_MIGRATE_FACTOR times the words the
+   sparse store would be rebuilt to for the pairs held then (12 words a pair: twice what
+   they take when the table is fullest, which leaves room for the pairs still to come).
+   The move's list adds 4 words a pair, a third of the table, for a moment.
+   Sparse to dense (PRIO_AUTO only): when a rebuild of the sparse table would take more
+   than PRIO_RETURN_FACTOR times the triangle for the pieces there are. The triangle grows
+   with the square of the pieces, the sparse table with the pairs that meet; the gap
+   between the two factors keeps a scene from going to and fro. */
+#define PRIO_MIGRATE_FACTOR 1u
+#define PRIO_RETURN_FACTOR 2u
 
 static uint64_t tri_words(uint64_t n)
 {
   uint64_t pairs = n * (n - (n > 0)) / 2;
   return (pairs + 7) / 8;
+}
+
+/* the slots a rebuild makes for h pairs */
+static uint64_t sparse_slots_for(uint64_t h)
+{
+  uint64_t s = 3 * h;
+  return s < SPARSE_MIN_SLOTS ? SPARSE_MIN_SLOTS : s;
+}
+
+static uint64_t slot_hash(uint64_t i, uint64_t j, uint64_t cap)
+{
+  /* the pair as one 64-bit key through splitmix64's finaliser: every bit of i and j
+     reaches the bits that choose the slot (the earlier mix left long probe runs at 640
+     interpenetrating triangles, issue 12), scaled to [0, cap) by the high half of its
+     product with cap (a mask below a power of two folded back into the table makes
+     runs that a 2/3 load cannot bear). Where a pair lands changes nothing but the
+     probe count: the code found is the same. */
+  uint64_t h = i << 32 | j;
+  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+  h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+  h ^= h >> 31;
+  return (uint64_t)(((core_uwide)h * cap) >> 64);
+}
+
+/* the code held in slot s */
+static unsigned slot_code(const struct prio *pr, uint64_t s)
+{
+  return core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS)) >> 14;
+}
+
+static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsigned code)
+{
+  uint32_t k = (uint32_t)(s * SLOT_WORDS);
+  core_high_set(pr->core, k, (uint16_t)(code << 14 | i >> 16));
+  core_high_set(pr->core, k + 1, (uint16_t)i);
+  core_high_set(pr->core, k + 2, (uint16_t)(j >> 16));
+  core_high_set(pr->core, k + 3, (uint16_t)j);
+  COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);
+}
+
+/* The stored program's home slot of a pair: the words of i, j and the slot count loaded,
+   j shifted and exclusive-ored into i twice (a one-word hash), and the hash scaled to the
+   count by the high half of its product with it (one word by two). The host mixes the
+   pair more thoroughly (slot_hash), which spreads the same probes better; the 1974 work
+   charged is this. */
+static void charge_home(const struct prio *pr)
+{
+  COST_ADD_N(pr->cost, COST_MEM, 3);
+  COST_ADD_N(pr->cost, COST_SHIFT, 2);
+  COST_ADD_N(pr->cost, COST_LOGIC, 2);
+  cost_mw_mul(pr->cost, 16, 32);
+}
+
+/* The slot holding (i, j), or the empty slot where it belongs. A probe loads the slot's
+   first word (empty, or code and i's high bits) and goes on comparing word by word only
+   while they match: the words compared are what is charged. */
+static uint64_t slot_find_n(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
+                            uint64_t *nloads)
+{
+  const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
+  uint16_t w0 = (uint16_t)(i >> 16), w1 = (uint16_t)i, w2 = (uint16_t)(j >> 16),
+           w3 = (uint16_t)j;
+  uint64_t s = slot_hash(i, j, cap), loads = 0;
+  charge_home(pr);
+  for (;;) {
+    const uint16_t *w = top - s * SLOT_WORDS;
+    loads++;
+    if ((w[0] >> 14) == CODE_UNKNOWN) break;
+    if ((w[0] & 0x3fff) == w0) {
+      loads++;
+      if (w[-1] == w1) {
+        loads++;
+        if (w[-3] == w3) {
+          loads++;
+          if (w[-2] == w2) break;
+        }
+      }
+    }
+    s = s + 1 == cap ? 0 : s + 1;
+  }
+  COST_ADD_N(pr->cost, COST_MEM, loads);
+  *nloads = loads;
+  return s;
+}
+
+static uint64_t slot_find(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j)
+{
+  uint64_t loads;
+  return slot_find_n(pr, cap, i, j, &loads);
+}
+
+/* A host-side memo of pairs the sparse store was found to hold: the pair, its code and
+   the words the probe sequence loaded. A pair held keeps its slot and the slots before it
+   on its probe path stay as they are until the table is rebuilt (linear probing, no
+   deletions), so a memo hit charges exactly what the probe would and returns what it
+   would; a rebuild forgets the memo. It only spares the host the walk through a large
+   table; pairs not held are never memoised. */
+#define PRIO_HIT_SLOTS 4096u
+struct prio_hit { uint32_t i, j, code, loads; };
+
+/* Moving the pairs to a new store. The stored program reads the old store through and
+   lists the pairs held (4 words a pair, as in a slot) in the words beyond both the old
+   store and the new one, clears the new store over the old one's place and enters the
+   list: the high region's peak is the larger of the two stores plus the list. (The list
+   is kept on the host here; its words are taken from the core while it exists.) */
+static uint32_t (*list_pairs(struct prio *pr, uint64_t newwords, uint64_t *count,
+                             struct t74_error *err))[3]
+{
+  uint64_t old = core_high_words(pr->core), held = pr->hused;
+  uint64_t room = (old > newwords ? old : newwords) + held * SLOT_WORDS;
+  if (room > UINT32_MAX) {
+    t74_fail(err, T74_ECORE, "scene does not fit the core: the priority pairs need %llu "
+             "words", (unsigned long long)room);
+    return NULL;
+  }
+  const char *name = pr->store == PRIO_DENSE ? CORE_T_PRIORITY : "PRIORITY PAIRS";
+  if (core_high_grow(pr->core, name, (uint32_t)room, err) != T74_OK) return NULL;
+  uint32_t (*list)[3] = malloc((size_t)(held ? held : 1) * sizeof *list);
+  if (!list) {
+    t74_fail(err, T74_EIO, "out of host memory");
+    return NULL;
+  }
+  uint64_t n = 0;
+  if (pr->store == PRIO_DENSE) {
+    /* the triangle, word by word; field f = j(j-1)/2 + i */
+    uint64_t tw = tri_words(pr->cover), j = 1, row = 0;   /* row: field of (0, j) */
+    for (uint64_t w = 0; w < tw && n < held; w++) {
+      uint16_t v = core_high_get(pr->core, (uint32_t)w);
+      COST_ADD_N(pr->cost, COST_MEM, 1);
+      for (unsigned b = 0; v; b++, v >>= 2) {
+        unsigned code = v & 3u;
+        if (!code) continue;
+        uint64_t f = 8 * w + b;
+        while (f >= row + j) { row += j; j++; }
+        list[n][0] = (uint32_t)(f - row);
+        list[n][1] = (uint32_t)j;
+        list[n][2] = code;
+        n++;
+      }
+    }
+  } else {
+    for (uint64_t s = 0; s < pr->hcap && n < held; s++) {
+      unsigned code = slot_code(pr, s);
+      COST_ADD_N(pr->cost, COST_MEM, 1);
+      if (code == CODE_UNKNOWN) continue;
+      uint32_t k = (uint32_t)(s * SLOT_WORDS);
+      list[n][0] = (uint32_t)(core_high_get(pr->core, k) & 0x3fff) << 16 | core_high_get(pr->core, k + 1);
+      list[n][1] = (uint32_t)core_high_get(pr->core, k + 2) << 16 | core_high_get(pr->core, k + 3);
+      list[n][2] = code;
+      n++;
+    }
+  }
+  COST_ADD_N(pr->cost, COST_MEM, n * SLOT_WORDS);       /* the list written */
+  core_high_free(pr->core);
+  *count = n;
+  return list;
+}
+
+/* Rebuild the store as a sparse table of `slots` slots holding every pair known now. */
+static int sparse_rebuild(struct prio *pr, uint64_t slots, struct t74_error *err)
+{
+  uint64_t words = slots * SLOT_WORDS, n = 0;
+  uint32_t (*list)[3] = list_pairs(pr, words, &n, err);
+  if (!list) return err->status;
+  if (core_high_grow(pr->core, "PRIORITY PAIRS", (uint32_t)words, err) != T74_OK) {
+    free(list);
+    return err->status;
+  }
+  COST_ADD_N(pr->cost, COST_MEM, words);                 /* the new table cleared */
+  pr->store = PRIO_SPARSE;
+  pr->hcap = slots;
+  pr->cover = 0;
+  for (uint64_t k = 0; k < n; k++) {
+    COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);          /* an entry read from the list */
+    slot_put(pr, slot_find(pr, slots, list[k][0], list[k][1]), list[k][0], list[k][1],
+             list[k][2]);
+  }
+  free(list);
+  pr->hused = n;
+  if (!pr->hit) pr->hit = malloc(PRIO_HIT_SLOTS * sizeof *pr->hit);  /* NULL: no memo */
+  if (pr->hit) memset(pr->hit, 0, PRIO_HIT_SLOTS * sizeof *pr->hit);
+  return T74_OK;
+}
+
+/* Rebuild the store as the triangle for the pieces there are now (PRIO_AUTO, when the
+   pairs held have come to need more than the triangle). */
+static int dense_rebuild(struct prio *pr, struct t74_error *err)
+{
+  uint64_t pieces = (uint64_t)pr->seg->n, words = tri_words(pieces), n = 0;
+  uint32_t (*list)[3] = list_pairs(pr, words, &n, err);
+  if (!list) return err->status;
+  if (core_high_grow(pr->core, CORE_T_PRIORITY, (uint32_t)words, err) != T74_OK) {
+    free(list);
+    return err->status;
+  }
+  COST_ADD_N(pr->cost, COST_MEM, words);                 /* the triangle cleared */
+  pr->store = PRIO_DENSE;
+  pr->hcap = 0;
+  pr->cover = pieces;
+  for (uint64_t k = 0; k < n; k++) {
+    COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS + 1);      /* read from the list, stored */
+    core_high_set2(pr->core, (uint64_t)list[k][1] * (list[k][1] - 1) / 2 + list[k][0],
+                   list[k][2]);
+  }
+  free(list);
+  pr->hused = n;
+  return T74_OK;
 }
 
 static int dense_cover(struct prio *pr, uint64_t n, struct t74_error *err)
@@ -62,84 +300,8 @@ static int dense_cover(struct prio *pr, uint64_t n, struct t74_error *err)
     return t74_fail(err, T74_ECORE, "scene does not fit the core: the priority matrix for "
                     "%llu pieces needs %llu words, %u available", (unsigned long long)n,
                     (unsigned long long)w, core_words(pr->core));
-  if (core_high_grow(pr->core, "PRIORITY MATRIX", (uint32_t)w, err) != T74_OK) return err->status;
+  if (core_high_grow(pr->core, CORE_T_PRIORITY, (uint32_t)w, err) != T74_OK) return err->status;
   pr->cover = n;
-  return T74_OK;
-}
-
-/* ---- sparse store: slot = i (2 words), j (2 words), code (1 word); code 0 = empty ---- */
-
-static uint64_t slot_hash(uint64_t i, uint64_t j, uint64_t cap)
-{
-  /* the pair as one 64-bit key through splitmix64's finaliser: every bit of i and j
-     reaches the low bits the table uses (the earlier mix left long probe runs at 640
-     interpenetrating triangles: slot_find was a third of the run, issue 12). Where a pair
-     lands changes nothing but the probe count: the code found is the same. */
-  uint64_t h = i << 32 | j;
-  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
-  h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
-  h ^= h >> 31;
-  return h & (cap - 1);
-}
-
-static uint32_t slot_get32(const struct prio *pr, uint64_t s, int off)
-{
-  uint64_t k = s * SLOT_WORDS + (uint64_t)off;
-  return (uint32_t)core_high_get(pr->core, (uint32_t)k) << 16 |
-         core_high_get(pr->core, (uint32_t)k + 1);
-}
-
-static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsigned code)
-{
-  uint32_t k = (uint32_t)(s * SLOT_WORDS);
-  core_high_set(pr->core, k, (uint16_t)(i >> 16));
-  core_high_set(pr->core, k + 1, (uint16_t)i);
-  core_high_set(pr->core, k + 2, (uint16_t)(j >> 16));
-  core_high_set(pr->core, k + 3, (uint16_t)j);
-  core_high_set(pr->core, k + 4, (uint16_t)code);
-}
-
-static uint64_t slot_find(const struct prio *pr, uint32_t i, uint32_t j)
-{
-  uint64_t s = slot_hash(i, j, pr->hcap);
-  for (;;) {
-    unsigned code = core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS + 4));
-    COST_ADD_N(pr->cost, COST_MEM, 3);
-    if (code == CODE_UNKNOWN) return s;
-    if (slot_get32(pr, s, 0) == i && slot_get32(pr, s, 2) == j) return s;
-    s = (s + 1) & (pr->hcap - 1);
-  }
-}
-
-static int sparse_grow(struct prio *pr, struct t74_error *err)
-{
-  uint64_t ncap = pr->hcap ? 2 * pr->hcap : 1024;
-  uint64_t words = ncap * SLOT_WORDS;
-  if (words > UINT32_MAX)
-    return t74_fail(err, T74_ECORE, "scene does not fit the core: the priority pairs need "
-                    "%llu words", (unsigned long long)words);
-  /* keep the old entries on the host while the region is rebuilt */
-  uint64_t n = 0;
-  uint32_t (*old)[3] = malloc((size_t)(pr->hused ? pr->hused : 1) * sizeof *old);
-  if (!old) return t74_fail(err, T74_EIO, "out of host memory");
-  for (uint64_t s = 0; s < pr->hcap; s++) {
-    unsigned code = core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS + 4));
-    if (code == CODE_UNKNOWN) continue;
-    old[n][0] = slot_get32(pr, s, 0);
-    old[n][1] = slot_get32(pr, s, 2);
-    old[n][2] = code;
-    n++;
-  }
-  if (core_high_grow(pr->core, "PRIORITY PAIRS", (uint32_t)words, err) != T74_OK) {
-    free(old);
-    return err->status;
-  }
-  for (uint64_t k = 0; k < words; k++) core_high_set(pr->core, (uint32_t)k, 0);
-  pr->hcap = ncap;
-  for (uint64_t k = 0; k < n; k++)
-    slot_put(pr, slot_find(pr, old[k][0], old[k][1]), old[k][0], old[k][1], old[k][2]);
-  COST_ADD_N(pr->cost, COST_MEM, 2 * words);
-  free(old);
   return T74_OK;
 }
 
@@ -151,8 +313,24 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
     return core_high_get2(pr->core, (uint64_t)j * (j - 1) / 2 + i);
   }
   if (pr->hcap == 0) return CODE_UNKNOWN;
-  uint64_t s = slot_find(pr, i, j);
-  return core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS + 4));
+  struct prio_hit *h = NULL;
+  if (pr->hit) {
+    h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 20 & (PRIO_HIT_SLOTS - 1)];
+    if (h->code && h->i == i && h->j == j) {
+      charge_home(pr);
+      COST_ADD_N(pr->cost, COST_MEM, h->loads);
+      return h->code;
+    }
+  }
+  uint64_t loads;
+  unsigned code = slot_code(pr, slot_find_n(pr, pr->hcap, i, j, &loads));
+  if (h && code != CODE_UNKNOWN && loads <= UINT32_MAX) {
+    h->i = i;
+    h->j = j;
+    h->code = code;
+    h->loads = (uint32_t)loads;
+  }
+  return code;
 }
 
 static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
@@ -160,12 +338,34 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
 {
   COST_ADD_N(pr->cost, COST_MEM, 2);
   if (pr->store == PRIO_DENSE) {
-    if (dense_cover(pr, (uint64_t)pr->seg->n, err) != T74_OK) return err->status;
-    core_high_set2(pr->core, (uint64_t)j * (j - 1) / 2 + i, code);
-    return T74_OK;
+    uint64_t n = (uint64_t)pr->seg->n;
+    uint64_t w = tri_words(n);
+    if (pr->migrate && n > pr->cover && w > PRIO_DENSE_MAX_WORDS &&
+        w > PRIO_MIGRATE_FACTOR * SLOT_WORDS * sparse_slots_for(pr->hused + 1)) {
+      if (sparse_rebuild(pr, sparse_slots_for(pr->hused + 1), err) != T74_OK) return err->status;
+      pr->migrated = 1;
+    } else {
+      if (dense_cover(pr, n, err) != T74_OK) return err->status;
+      core_high_set2(pr->core, (uint64_t)j * (j - 1) / 2 + i, code);
+      pr->hused++;
+      return T74_OK;
+    }
   }
-  if (2 * (pr->hused + 1) > pr->hcap && sparse_grow(pr, err) != T74_OK) return err->status;
-  slot_put(pr, slot_find(pr, i, j), i, j, code);
+  if (j >= SPARSE_PIECE_LIMIT)
+    return t74_fail(err, T74_ECORE, "scene does not fit the core: piece %u, the priority "
+                    "pairs hold piece numbers below 2^30", (unsigned)j);
+  if (3 * (pr->hused + 1) > 2 * pr->hcap) {
+    uint64_t slots = sparse_slots_for(pr->hused + 1);
+    if (pr->migrate && SLOT_WORDS * slots > PRIO_RETURN_FACTOR * tri_words((uint64_t)pr->seg->n)) {
+      /* the pairs now need more than the triangle: back to the paper's matrix */
+      if (dense_rebuild(pr, err) != T74_OK) return err->status;
+      core_high_set2(pr->core, (uint64_t)j * (j - 1) / 2 + i, code);
+      pr->hused++;
+      return T74_OK;
+    }
+    if (sparse_rebuild(pr, slots, err) != T74_OK) return err->status;
+  }
+  slot_put(pr, slot_find(pr, pr->hcap, i, j), i, j, code);
   pr->hused++;
   return T74_OK;
 }
@@ -176,7 +376,8 @@ int prio_auto_store(uint64_t n)
 }
 
 int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
-              struct core *core, struct cost *cost, int store, struct t74_error *err)
+              struct core *core, struct cost *cost, int store, uint64_t expect,
+              struct t74_error *err)
 {
   memset(pr, 0, sizeof *pr);
   pr->seg = seg;
@@ -185,11 +386,13 @@ int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
   pr->cost = cost;
   /* The choice depends on the scene only, never on --core, so that the words a scene
      needs are the same whatever core it is given. */
-  if (store == PRIO_AUTO)
-    store = prio_auto_store((uint64_t)seg->n);
+  if (store == PRIO_AUTO) {
+    store = prio_auto_store(expect);
+    pr->migrate = 1;
+  }
   pr->store = store;
   if (store == PRIO_DENSE) return dense_cover(pr, (uint64_t)seg->n, err);
-  return sparse_grow(pr, err);
+  return sparse_rebuild(pr, sparse_slots_for(0), err);
 }
 
 /* ---- depth ------------------------------------------------------------------------- */
@@ -385,6 +588,8 @@ static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_
 
 void prio_free(struct prio *pr)
 {
+  free(pr->hit);
+  pr->hit = NULL;
   free(pr->cut);
   pr->cut = NULL;
   pr->ncut = pr->cutcap = 0;
@@ -506,6 +711,14 @@ int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
 }
 
+/* qsort order of listed pairs {i, j, code}: by j, then i */
+static int pair_cmp(const void *a, const void *b)
+{
+  const uint32_t *x = a, *y = b;
+  if (x[1] != y[1]) return x[1] < y[1] ? -1 : 1;
+  return (x[0] > y[0]) - (x[0] < y[0]);
+}
+
 void prio_dump(const struct prio *pr, FILE *f)
 {
   struct prio *m = (struct prio *)pr;      /* reading only; code_get counts no cost here */
@@ -530,6 +743,27 @@ void prio_dump(const struct prio *pr, FILE *f)
       }
       fprintf(f, "\n");
     }
+  } else if (pr->store == PRIO_SPARSE) {
+    /* the pairs held, in the triangle's order (j, then i), without asking for every pair */
+    uint64_t count = 0;
+    uint32_t (*list)[3] = malloc((size_t)(pr->hused ? pr->hused : 1) * sizeof *list);
+    for (uint64_t sl = 0; list && sl < pr->hcap && count < pr->hused; sl++) {
+      unsigned c = slot_code(pr, sl);
+      if (c == CODE_UNKNOWN) continue;
+      uint32_t k = (uint32_t)(sl * SLOT_WORDS);
+      list[count][0] = (uint32_t)(core_high_get(pr->core, k) & 0x3fff) << 16 | core_high_get(pr->core, k + 1);
+      list[count][1] = (uint32_t)core_high_get(pr->core, k + 2) << 16 | core_high_get(pr->core, k + 3);
+      list[count][2] = c;
+      count++;
+    }
+    if (list) {
+      qsort(list, (size_t)count, sizeof *list, pair_cmp);
+      for (uint64_t k = 0; k < count; k++)
+        fprintf(f, "  a(%u,%u) = %s\n", (unsigned)list[k][0], (unsigned)list[k][1],
+                list[k][2] == CODE_LOWER ? "10" : "11");
+      free(list);
+    } else
+      fprintf(f, "  (out of host memory listing the pairs)\n");
   } else {
     for (int j = 1; j < n; j++)
       for (int i = 0; i < j; i++) {

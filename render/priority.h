@@ -31,6 +31,7 @@ enum prio_store { PRIO_AUTO = 0, PRIO_DENSE = 1, PRIO_SPARSE = 2 };
 /* One pair of faces found crossing, and the line L~ both were cut along (kept for the
    intersection lines of enhanced edges, paper 002 e4; host memory, one entry a pair). */
 struct prio_cut { int fa, fb; struct gline line; };
+struct prio_hit;
 
 struct prio {
   struct seginfo *seg;
@@ -39,7 +40,11 @@ struct prio {
   struct cost *cost;
   int      store;           /* PRIO_DENSE: Fig. 9's 2-bit triangle; PRIO_SPARSE: hashed pairs */
   uint64_t cover;           /* dense: pieces the triangle covers now */
-  uint64_t hcap, hused;     /* sparse: slots and pairs held (5 words a slot) */
+  uint64_t hcap;            /* sparse: slots (4 words a slot) */
+  uint64_t hused;           /* pairs held (either store) */
+  int      migrate;         /* PRIO_AUTO: the triangle may be given up for the sparse store */
+  int      migrated;        /* it was: the store began dense and became sparse */
+  struct prio_hit *hit;     /* host-side memo of sparse pairs found (priority.c), or NULL */
   uint64_t computed;        /* pairs whose priority was computed */
   int      splits;          /* interpenetrating pairs cut along their intersection */
   FILE    *trace;           /* teaching dump of each decision, or NULL */
@@ -48,13 +53,20 @@ struct prio {
   int      arith;           /* GEOM_EXACT, or GEOM_HITAC: depth from the 1974 planes */
 };
 
-/* store: PRIO_AUTO keeps the paper's dense matrix while the triangle for the pieces known
-   now takes at most half of the historical 16 kW, else hashes the pairs that actually meet. */
-/* The store PRIO_AUTO chooses for a scene of n pieces: PRIO_DENSE or PRIO_SPARSE. */
+/* store: PRIO_AUTO starts with the paper's dense matrix when the triangle for the `expect`
+   pieces expected at the start takes at most half of the historical 16 kW, else with the
+   sparse store of the pairs that actually meet; the dense store turns sparse (the pairs
+   known are moved over) when growing the triangle would take more than the sparse table
+   the pairs held then would be rebuilt to (12 words a pair, twice their fullest need),
+   and back when that table would take more than twice the triangle (priority.c). Every
+   step depends on the scene alone, never on --core. PRIO_DENSE and PRIO_SPARSE keep
+   their store. */
+/* The store PRIO_AUTO starts with for a scene of n pieces: PRIO_DENSE or PRIO_SPARSE. */
 int prio_auto_store(uint64_t n);
 
 int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
-              struct core *core, struct cost *cost, int store, struct t74_error *err);
+              struct core *core, struct cost *cost, int store, uint64_t expect,
+              struct t74_error *err);
 
 /* The priority of pieces p and q (p != q), computed if not yet known. */
 int prio_order(struct prio *pr, int p, int q, struct t74_error *err);

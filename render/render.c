@@ -266,18 +266,20 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   r->scene = s;
   r->lazy = lazy;
   if (!order_all(r, r->map.nface)) return t74_fail(err, T74_EIO, "out of host memory");
-  int store = o->store;
+  uint64_t expect;
   if (lazy) {
-    /* the scan drives the Segment Generator (cut_upto, from vis_spans): decide the
-       matrix's store from the scene now */
-    if (store == PRIO_AUTO) store = prio_auto_store(pieces_estimate(&r->map));
+    /* the scan drives the Segment Generator (cut_upto, from vis_spans): the matrix's
+       starting store is chosen from the pieces the scene is expected to be cut into */
+    expect = pieces_estimate(&r->map);
   } else {
     st = cut_upto(r, 0, 0, err);
     if (st != T74_OK) return st;
+    expect = (uint64_t)r->seg.n;
   }
 
   r->seg.cost = &r->cost[RS_VISIBLE];
-  st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], store, err);
+  st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], o->store,
+                  expect, err);
   if (st != T74_OK) return st;
   r->prio.trace = o->tables;
   r->prio.arith = arith;

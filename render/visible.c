@@ -427,8 +427,18 @@ int vis_spans(struct vis *v, int64_t yn, int64_t yd, const struct vis_span **spa
 int vis_scan(struct vis *v, const struct vis_grid *g, vis_point_fn point, void *ctx,
              struct t74_error *err)
 {
+  /* Point i of a line is at x_i = xn_i / xd with xn_i = GRID_ONE (xd XL + (2i + 1)(XR - XL)),
+     and a point belongs to the first span k (in order) with x_i < x1_k, when x0_k <= x_i.
+     With XL < XR (the scene reader's rule) x_i grows with i, so "x1_k <= x_i" and
+     "x0_k <= x_i" each hold from some index on: for each span the scan enters, the index
+     where it reaches x0 and the one where it leaves x1 are found once, by a galloping
+     search from the current point with the same exact compare (geom_rat_cmp_frac), and
+     the points between take their face without a compare of their own. The faces are
+     those of comparing every point; a window with XL >= XR compares every point. */
   const int64_t XL = g->window[0], YB = g->window[1], XR = g->window[2], YT = g->window[3];
   const int64_t xd = 2 * (int64_t)g->W;          /* point centres: n / xd grid units */
+  const int W = g->W;
+#define XN(i) (GRID_ONE * (xd * XL + (2 * (int64_t)(i) + 1) * (XR - XL)))
   for (int j = g->H - 1; j >= 0; j--) {
     /* y = YT - (j + 1/2)(YT - YB)/H, on the grid */
     int64_t yd = 2 * (int64_t)g->H;
@@ -437,16 +447,73 @@ int vis_scan(struct vis *v, const struct vis_grid *g, vis_point_fn point, void *
     int ns;
     int st = vis_spans(v, yn, yd, &sp, &ns, err);
     if (st != T74_OK) return st;
-    int k = 0;
-    for (int i = 0; i < g->W; i++) {
-      int64_t xn = GRID_ONE * (xd * XL + (2 * (int64_t)i + 1) * (XR - XL));
-      while (k < ns && geom_rat_cmp_frac(sp[k].x1, xn, xd) <= 0) k++;
-      int face = -1;
-      if (k < ns && geom_rat_cmp_frac(sp[k].x0, xn, xd) <= 0) face = sp[k].face;
-      cost_mw_mul(v->cost, 75, 17);
-      st = point(ctx, i, j, face);
-      if (st != T74_OK) return st;
+    if (XL >= XR) {
+      int k = 0;
+      for (int i = 0; i < W; i++) {
+        int64_t xn = XN(i);
+        while (k < ns && geom_rat_cmp_frac(sp[k].x1, xn, xd) <= 0) k++;
+        int face = -1;
+        if (k < ns && geom_rat_cmp_frac(sp[k].x0, xn, xd) <= 0) face = sp[k].face;
+        cost_mw_mul(v->cost, 75, 17);
+        st = point(ctx, i, j, face);
+        if (st != T74_OK) return st;
+      }
+      continue;
+    }
+    int k = 0, i = 0;
+    while (i < W) {
+      /* the spans the point i has left */
+      int leave = W;                   /* first index with x1_k <= x_i: the scan leaves k */
+      for (; k < ns; k++) {
+        struct grat e = sp[k].x1;
+        if (geom_rat_cmp_frac(e, XN(i), xd) <= 0) continue;   /* already past it */
+        /* gallop: x1_k > x_i; find the first index lo > i with x1_k <= x_lo, or W */
+        int lo = i, step = 1, hi;
+        for (;;) {
+          hi = lo + step;
+          if (hi >= W) { hi = W; break; }
+          if (geom_rat_cmp_frac(e, XN(hi), xd) <= 0) break;
+          lo = hi;
+          step *= 2;
+        }
+        while (hi - lo > 1) {          /* x1_k > x_lo; x1_k <= x_hi (or hi == W) */
+          int mid = lo + (hi - lo) / 2;
+          if (geom_rat_cmp_frac(e, XN(mid), xd) <= 0) hi = mid;
+          else lo = mid;
+        }
+        leave = hi;
+        break;
+      }
+      int enter = leave;               /* first index with x0_k <= x_i (points before: none) */
+      if (k < ns) {
+        struct grat b = sp[k].x0;
+        if (geom_rat_cmp_frac(b, XN(i), xd) <= 0) enter = i;
+        else {
+          int lo = i, hi = leave;      /* x0_k > x_lo; the answer is in (lo, leave] */
+          int step = 1;
+          for (;;) {
+            int t = lo + step;
+            if (t >= hi) break;
+            if (geom_rat_cmp_frac(b, XN(t), xd) <= 0) { hi = t; break; }
+            lo = t;
+            step *= 2;
+          }
+          while (hi - lo > 1) {
+            int mid = lo + (hi - lo) / 2;
+            if (geom_rat_cmp_frac(b, XN(mid), xd) <= 0) hi = mid;
+            else lo = mid;
+          }
+          enter = hi;
+        }
+      }
+      for (; i < leave; i++) {
+        cost_mw_mul(v->cost, 75, 17);
+        st = point(ctx, i, j, i >= enter ? sp[k].face : -1);
+        if (st != T74_OK) return st;
+      }
+      k++;                             /* left (or W reached) */
     }
   }
+#undef XN
   return T74_OK;
 }

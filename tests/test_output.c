@@ -367,6 +367,50 @@ static void test_emit_partial_and_failure(void **state)
 
 /* ---- tube and tee ------------------------------------------------------------------ */
 
+/* tube_write_dots stores exactly what tube_write of each set bit would, in rising bit
+   order: the same dots, order, count and first failure, for cells of 1 to 4 at every
+   offset (a 4x4 cell at x0 not a multiple of 4 too), cells partly off the tube, masks
+   with bits beyond the cell, and dots already lit. */
+static void test_tube_write_dots(void **state)
+{
+  (void)state;
+  struct tube *a = tube_new(), *b = tube_new();
+  assert_non_null(a);
+  assert_non_null(b);
+  uint32_t x = 12345;
+  for (int round = 0; round < 4000; round++) {
+    x = x * 1103515245u + 12345u;
+    int cell = 1 + (int)((x >> 8) % 4);
+    x = x * 1103515245u + 12345u;
+    int x0 = (int)((x >> 8) % 404) - 2;
+    x = x * 1103515245u + 12345u;
+    int y0 = (int)((x >> 8) % 304) - 2;
+    x = x * 1103515245u + 12345u;
+    unsigned mask = (x >> 4) & ((round % 7 == 0) ? 0x3ffffu : (1u << (cell * cell)) - 1u);
+    int want = T74_OK;
+    for (unsigned m = mask; m; m &= m - 1) {
+      int k = __builtin_ctz(m);
+      want = tube_write(a, x0 + k % cell, y0 - k / cell);
+      if (want != T74_OK) break;
+    }
+    assert_int_equal(tube_write_dots(b, x0, y0, cell, mask), want);
+    assert_int_equal(tube_count(a), tube_count(b));
+    if (round % 500 != 499) continue;
+    assert_true(tube_count(a) > 1000);
+    for (int k = 0; k < tube_count(a); k++) {
+      int xa, ya, xb, yb;
+      assert_int_equal(tube_order(a, k, &xa, &ya), T74_OK);
+      assert_int_equal(tube_order(b, k, &xb, &yb), T74_OK);
+      assert_int_equal(xa, xb);
+      assert_int_equal(ya, yb);
+    }
+    tube_erase(a);
+    tube_erase(b);
+  }
+  tube_free(a);
+  tube_free(b);
+}
+
 static void test_tube_once_in_order(void **state)
 {
   (void)state;
@@ -876,6 +920,7 @@ int main(void)
     cmocka_unit_test_setup(test_cell_placement, test_setup),
     cmocka_unit_test_setup(test_emit_partial_and_failure, test_setup),
     cmocka_unit_test_setup(test_tube_once_in_order, test_setup),
+    cmocka_unit_test_setup(test_tube_write_dots, test_setup),
     cmocka_unit_test_setup(test_tee, test_setup),
     cmocka_unit_test_setup(test_pbm_bytes, test_setup),
     cmocka_unit_test_setup(test_points_bytes, test_setup),

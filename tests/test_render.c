@@ -745,6 +745,105 @@ static void test_prio_dense_sparse(void **state)
   free(b);
 }
 
+/* Large triangles at random slants in depth (as tools/mktris.py makes them): nearly every
+   pair overlaps and many pierce each other, so the interpenetration cuts multiply the
+   pieces long after the start. */
+static char *tris_scene(int n, uint32_t seed)
+{
+  size_t cap = 128 + (size_t)n * 160, len = 0;
+  char *t = malloc(cap);
+  assert_non_null(t);
+  len += (size_t)snprintf(t + len, cap - len, "view 0 0 -3000\nwindow -200 -150 200 150\n");
+  uint32_t x = seed;
+#define RND(lo, hi) (x = x * 1103515245u + 12345u, (int)(lo) + (int)((x >> 8) % (uint32_t)((hi) - (lo) + 1)))
+  for (int k = 0; k < n; k++) {
+    int cx = RND(-120, 120), cy = RND(-90, 90), r = RND(60, 130);
+    for (int v = 0; v < 3; v++) {
+      int vx = cx + RND(-r, r), vy = cy + RND(-r, r), vz = RND(500, 2500);
+      len += (size_t)snprintf(t + len, cap - len, "vertex %d %d %d %d\n", 3 * k + v + 1, vx, vy, vz);
+    }
+    len += (size_t)snprintf(t + len, cap - len, "face %d %d %d %d grey %d\n", k + 1, 3 * k + 1,
+                            3 * k + 2, 3 * k + 3, RND(60, 255));
+  }
+#undef RND
+  assert_true(len < cap);
+  return t;
+}
+
+/* PRIO_AUTO starts a scene of few faces with the dense triangle and, when the cuts have
+   made the triangle larger than the pairs met need, moves the pairs to the sparse store:
+   the picture, the pairs computed and every answer stay those of the dense store, the
+   core taken is smaller than the dense store's; when every pair has been asked for, the
+   store goes back to the triangle; a scene that stays small keeps the dense store. */
+static void test_prio_auto_migrates(void **state)
+{
+  (void)state;
+  char *text = tris_scene(100, 7);
+  uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b);
+  struct render rd, ra;
+  struct scene *sd = prepare(&rd, text, PRIO_DENSE);
+  struct scene *sa = prepare(&ra, text, PRIO_AUTO);
+  assert_int_equal(ra.prio.store, PRIO_DENSE);        /* 100 pieces at the start */
+  scan_ids(&rd, a);
+  scan_ids(&ra, b);
+  assert_int_equal(rd.prio.store, PRIO_DENSE);
+  assert_int_equal(ra.prio.store, PRIO_SPARSE);
+  assert_true(ra.prio.migrated);
+  assert_memory_equal(a, b, GW * GH * sizeof *a);
+  assert_true(rd.prio.computed == ra.prio.computed);
+  assert_true(rd.prio.hused == ra.prio.hused);
+  assert_int_equal(rd.prio.splits, ra.prio.splits);
+  assert_int_equal(rd.seg.n, ra.seg.n);
+  print_message("# %d pieces, %llu pairs held: dense %u words at peak, auto %u\n", rd.seg.n,
+                (unsigned long long)rd.prio.hused, core_peak(rd.core), core_peak(ra.core));
+  assert_true(core_peak(ra.core) < core_peak(rd.core));
+  /* the matrix dumps list the same pairs (all but the heading, which names the store) */
+  char *da = NULL, *db = NULL;
+  size_t la = 0, lb = 0;
+  FILE *fa = open_memstream(&da, &la), *fb = open_memstream(&db, &lb);
+  assert_non_null(fa);
+  assert_non_null(fb);
+  prio_dump(&rd.prio, fa);
+  prio_dump(&ra.prio, fb);
+  fclose(fa);
+  fclose(fb);
+  const char *ba = strchr(da, '\n'), *bb = strchr(db, '\n');
+  assert_non_null(ba);
+  assert_non_null(bb);
+  assert_non_null(strstr(ba, "a(0,"));
+  assert_string_equal(ba, bb);
+  free(da);
+  free(db);
+  for (int i = 0; i < rd.seg.n; i++)
+    for (int j = 0; j < rd.seg.n; j++) {
+      if (i == j || !rd.seg.p[i].alive || !rd.seg.p[j].alive) continue;
+      struct t74_error e1 = { 0, "" }, e2 = { 0, "" };
+      int x = prio_order(&rd.prio, i, j, &e1), y = prio_order(&ra.prio, i, j, &e2);
+      if (x != y) print_message("# %d %d: %d %s / %d %s\n", i, j, x, e1.msg, y, e2.msg);
+      assert_int_equal(x, y);
+    }
+  /* every pair of living pieces is now known: the pairs need more than the triangle, and
+     the automatic store has gone back to it */
+  assert_true(rd.prio.hused == ra.prio.hused);
+  assert_int_equal(ra.prio.store, PRIO_DENSE);
+  render_free(&rd);
+  render_free(&ra);
+  scene_free(sd);
+  scene_free(sa);
+  free(text);
+  /* few crossings: the triangle stays */
+  text = tris_scene(12, 3);
+  sa = prepare(&ra, text, PRIO_AUTO);
+  scan_ids(&ra, b);
+  assert_int_equal(ra.prio.store, PRIO_DENSE);
+  assert_false(ra.prio.migrated);
+  render_free(&ra);
+  scene_free(sa);
+  free(text);
+  free(a);
+  free(b);
+}
+
 /* ---- mapper ------------------------------------------------------------------------ */
 
 /* eq. (1) rounded once, half up, to the grid: with the eye at z = -1 a vertex at z = 511
@@ -971,6 +1070,7 @@ int main(void)
     cmocka_unit_test(test_prio_coplanar),
     cmocka_unit_test(test_prio_computed_once),
     cmocka_unit_test(test_prio_dense_sparse),
+    cmocka_unit_test(test_prio_auto_migrates),
     cmocka_unit_test(test_vis_spans),
     cmocka_unit_test(test_vis_spans_invariant),
     cmocka_unit_test(test_dblock_matches_definition),

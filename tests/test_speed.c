@@ -10,7 +10,8 @@
 ** is asserted (speed is a benchmark: `tube74 bench speed`). Also: pic_sample_grid (the
 ** scanner's fast sampling) gives exactly pic_sample's value at every point, on pictures
 ** and grids of awkward sizes (larger and smaller than the picture, primes, 1); and the
-** program does not load SDL2 at start-up. A standalone cmocka program,
+** program does not load SDL2 at start-up; and `render` reads the scene once (through a
+** FIFO whose later readers get no scene). A standalone cmocka program,
 ** run from the repository root; scratch files go to a fresh folder under /tmp.
 */
 #include <setjmp.h>
@@ -20,8 +21,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/types.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -127,6 +132,103 @@ static void test_frames_effects(void **state)
 
 static void test_frames_plain(void **state) { (void)state; frames_same("scenes/crossing.s74", ""); }
 
+/* ---- the scene is read once (issue 12: one parse) ---- */
+
+/* Wait until no reader has the FIFO open (a writer's non-blocking open fails with ENXIO).
+   Each probe opens and closes the write end without writing: a reader at that moment
+   waits, then sees the end of the stream as before. */
+static void fifo_wait_unread(const char *path)
+{
+  for (;;) {
+    int fd = open(path, O_WRONLY | O_NONBLOCK);
+    if (fd < 0) return;
+    close(fd);
+    struct timespec ms = { 0, 1000000 };
+    nanosleep(&ms, NULL);
+  }
+}
+
+/* A writer for the FIFO `path`: gives `text` to the first reader that opens it and, once
+   that reader has closed it, a line that is not a scene (`bogus`) to each later reader,
+   so that a second reading of the scene cannot give the first one's picture or message
+   (a reader that opens it between two probes of fifo_wait_unread gets an empty stream,
+   no scene either). Runs until killed. */
+static pid_t fifo_writer(const char *path, const char *text)
+{
+  pid_t pid = fork();
+  if (pid != 0) return pid;
+  signal(SIGPIPE, SIG_IGN);
+  for (int k = 0;; k++) {
+    int fd = open(path, O_WRONLY);          /* waits for a reader */
+    if (fd < 0) _exit(1);
+    const char *t = k == 0 ? text : "bogus\n";
+    size_t n = strlen(t), off = 0;
+    while (off < n) {
+      ssize_t w = write(fd, t + off, n - off);
+      if (w <= 0) break;
+      off += (size_t)w;
+    }
+    close(fd);
+    fifo_wait_unread(path);
+  }
+}
+
+/* Render the scene text given through a FIFO (with extra arguments); the exit status. */
+static int render_fifo(const char *text, const char *extra, const char *out)
+{
+  char fifo[256];
+  snprintf(fifo, sizeof fifo, "%s/once.s74", scratch);
+  unlink(fifo);
+  assert_int_equal(mkfifo(fifo, 0600), 0);
+  pid_t w = fifo_writer(fifo, text);
+  assert_true(w > 0);
+  int st = run("%s render %s %s -o %s 2>%s/once.err", tk_prog(), fifo, extra, out, scratch);
+  kill(w, SIGKILL);
+  int ws;
+  waitpid(w, &ws, 0);
+  unlink(fifo);
+  return st;
+}
+
+/* `render` reads the scene once: from a FIFO whose later readers get a line that is not
+   a scene, the picture is that of the same scene read from a file, with the effects from
+   --effects or from the scene's own effects line (read from the same parse). A scene that
+   fails to load is reported from that one reading too (its FILE:LINE, exit 2, no output). */
+static void test_scene_read_once(void **state)
+{
+  (void)state;
+  const char *const scenes[] = { "scenes/fig5.s74", "scenes/street.s74" };
+  for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) {
+    char *text = tk_slurp(scenes[k], NULL);
+    assert_non_null(text);
+    char a[256], b[256];
+    snprintf(a, sizeof a, "%s/once_file.png", scratch);
+    snprintf(b, sizeof b, "%s/once_fifo.png", scratch);
+    /* the street's background photograph is named relative to the scene: beside the
+       FIFO, a copy */
+    assert_int_equal(run("cp scenes/harbour.pgm %s/", scratch), 0);
+    assert_int_equal(run("%s render %s --effects 'halftone=4x4 edges=on' -o %s", tk_prog(),
+                         scenes[k], a), 0);
+    assert_int_equal(render_fifo(text, "--effects 'halftone=4x4 edges=on'", b), 0);
+    same_file(a, b);
+    /* the scene's own effects line, read from that one parse */
+    assert_int_equal(run("%s render %s -o %s", tk_prog(), scenes[k], a), 0);
+    assert_int_equal(render_fifo(text, "", b), 0);
+    same_file(a, b);
+    free(text);
+  }
+  char b[256], e[256];
+  snprintf(b, sizeof b, "%s/once_bad.png", scratch);
+  assert_int_equal(render_fifo("view 0 0 -100\nview 0 0 -100 7\n", "", b), 2);
+  struct stat sb;
+  assert_int_not_equal(stat(b, &sb), 0);
+  snprintf(e, sizeof e, "%s/once.err", scratch);
+  char *msg = tk_slurp(e, NULL);
+  assert_non_null(msg);
+  assert_non_null(strstr(msg, "once.s74:2: `view` given twice"));
+  free(msg);
+}
+
 /* A bad K: exit 2 and no output created. */
 static void test_frames_refused(void **state)
 {
@@ -214,6 +316,7 @@ int main(void)
     cmocka_unit_test(test_frames_effects),
     cmocka_unit_test(test_frames_plain),
     cmocka_unit_test(test_frames_refused),
+    cmocka_unit_test(test_scene_read_once),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }
