@@ -92,11 +92,11 @@ static wide ring_area2(const struct gpoint *p, int n)
   return a;
 }
 
-static void ring_reverse(struct gpoint *p, uint16_t *id, int32_t (*xyz)[3], int n)
+static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t (*xyz)[3], int n)
 {
   for (int a = 0, b = n - 1; a < b; a++, b--) {
     struct gpoint tp = p[a]; p[a] = p[b]; p[b] = tp;
-    uint16_t ti = id[a]; id[a] = id[b]; id[b] = ti;
+    uint32_t ti = id[a]; id[a] = id[b]; id[b] = ti;
     for (int c = 0; c < 3; c++) { int32_t t = xyz[a][c]; xyz[a][c] = xyz[b][c]; xyz[b][c] = t; }
   }
 }
@@ -337,7 +337,8 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
       goto fail;
     }
     uint32_t a = vt + (uint32_t)k * VERTEX_ROW_WORDS;
-    core_write(core, a, v->id);
+    core_write(core, a, (uint16_t)v->id);   /* an import's id above 65535: its low word
+                                               (the 1974 layout; never read back) */
     core_write(core, a + 1, (uint16_t)v->x);
     core_write(core, a + 2, (uint16_t)v->y);
     core_write(core, a + 3, (uint16_t)v->z);
@@ -446,7 +447,7 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
       if (m->pt[k].y > ymax) ymax = m->pt[k].y;
     }
     uint32_t a = at + (uint32_t)out->nface * ABLOCK_ROW_WORDS;
-    core_write(core, a, m->id);
+    core_write(core, a, (uint16_t)m->id);
     core_write(core, a + 1, (uint16_t)m->grey);
     core_write(core, a + 2, (uint16_t)(ymin / GRID_ONE));
     core_write(core, a + 3, (uint16_t)(ymax / GRID_ONE));
@@ -757,7 +758,7 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
       m->f[k] = g;
     } else {
       uint32_t a = at + (uint32_t)(t - 1) * ABLOCK_ROW_WORDS;
-      core_write(core, a, g.id);
+      core_write(core, a, (uint16_t)g.id);
       core_write(core, a + 1, (uint16_t)g.grey);
       int64_t h[4];
       geom_h10_plane(g.plane, h);

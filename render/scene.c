@@ -703,14 +703,14 @@ static int resolve(struct parse *p)
         return t74_fail_at(err, T74_EINPUT, s->file, o->line, "object %d: unknown face %d",
                            o->id, fid);
       struct scene_face *f = &s->f[idx];
-      if (f->object == o->id)
+      if (f->object == (int)o->id)
         return t74_fail_at(err, T74_EINPUT, s->file, o->line,
                            "object %d: face %d is listed twice", o->id, fid);
       if (f->object)
         return t74_fail_at(err, T74_EINPUT, s->file, o->line,
                            "face %d is already in object %d (line %d)", fid, f->object,
                            s->obj[p->omap[f->object]].line);
-      f->object = o->id;
+      f->object = (int)o->id;
       o->face[k] = idx;
     }
   }
