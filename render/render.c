@@ -126,6 +126,39 @@ static int order_add(struct render *r, int k)
   return 1;
 }
 
+/* The Mapper's faces in the order they are cut: lazily by lowest y, ties by number in
+   the Mapper's table, exactly as order_add would put them one by one (whose insertion
+   grows as n^2 when faces come in no y order: 44% of a frame at 100,000 boxes), by one
+   sort of (lowest y, number) pairs; otherwise the Mapper's order. */
+struct yk { int64_t y; int k; };
+
+static int cmp_yk(const void *a, const void *b)
+{
+  const struct yk *x = a, *y = b;
+  if (x->y != y->y) return x->y < y->y ? -1 : 1;
+  return (x->k > y->k) - (x->k < y->k);
+}
+
+static int order_init(struct render *r)
+{
+  int n = r->map.nface;
+  r->cut_cap = n > 16 ? n : 16;
+  r->cut_order = malloc((size_t)r->cut_cap * sizeof *r->cut_order);
+  if (!r->cut_order) return 0;
+  r->cut_n = n;
+  if (!r->lazy) {
+    for (int k = 0; k < n; k++) r->cut_order[k] = k;
+    return 1;
+  }
+  struct yk *t = malloc((size_t)(n ? n : 1) * sizeof *t);
+  if (!t) return 0;
+  for (int k = 0; k < n; k++) { t[k].y = face_ymin(&r->map.f[k]); t[k].k = k; }
+  qsort(t, (size_t)n, sizeof *t, cmp_yk);
+  for (int k = 0; k < n; k++) r->cut_order[k] = t[k].k;
+  free(t);
+  return 1;
+}
+
 /* Cut, in order, every face not yet cut whose lowest vertex is at or below the line
    y = yn / yd (yd > 0; every face when yd == 0). A face split into triangles
    (mapper_split_face) appends the others to the Mapper's table: they join the order. */
@@ -212,8 +245,7 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   r->ran[RS_SEGMENT] = 1;
   r->scene = s;
   r->lazy = lazy;
-  for (int k = 0; k < r->map.nface; k++)
-    if (!order_add(r, k)) return t74_fail(err, T74_EIO, "out of host memory");
+  if (!order_init(r)) return t74_fail(err, T74_EIO, "out of host memory");
   int store = o->store;
   if (lazy) {
     /* the scan drives the Segment Generator (cut_upto, from vis_spans): decide the
