@@ -112,17 +112,22 @@ static int order_add(struct render *r, int k)
     int *o = realloc(r->cut_order, (size_t)cap * sizeof *o);
     if (!o) return 0;
     r->cut_order = o;
+    int64_t *yy = realloc(r->cut_y, (size_t)cap * sizeof *yy);
+    if (!yy) return 0;
+    r->cut_y = yy;
     r->cut_cap = cap;
   }
   int i = r->cut_n++;
+  int64_t y = face_ymin(&r->map.f[k]);
   if (r->lazy) {
-    int64_t y = face_ymin(&r->map.f[k]);
-    while (i > r->cut_next && face_ymin(&r->map.f[r->cut_order[i - 1]]) > y) {
+    while (i > r->cut_next && r->cut_y[i - 1] > y) {
       r->cut_order[i] = r->cut_order[i - 1];
+      r->cut_y[i] = r->cut_y[i - 1];
       i--;
     }
   }
   r->cut_order[i] = k;
+  r->cut_y[i] = y;
   return 1;
 }
 
@@ -144,17 +149,18 @@ static int order_init(struct render *r)
   int n = r->map.nface;
   r->cut_cap = n > 16 ? n : 16;
   r->cut_order = malloc((size_t)r->cut_cap * sizeof *r->cut_order);
-  if (!r->cut_order) return 0;
+  r->cut_y = malloc((size_t)r->cut_cap * sizeof *r->cut_y);
+  if (!r->cut_order || !r->cut_y) return 0;
   r->cut_n = n;
   if (!r->lazy) {
-    for (int k = 0; k < n; k++) r->cut_order[k] = k;
+    for (int k = 0; k < n; k++) { r->cut_order[k] = k; r->cut_y[k] = face_ymin(&r->map.f[k]); }
     return 1;
   }
   struct yk *t = malloc((size_t)(n ? n : 1) * sizeof *t);
   if (!t) return 0;
   for (int k = 0; k < n; k++) { t[k].y = face_ymin(&r->map.f[k]); t[k].k = k; }
   qsort(t, (size_t)n, sizeof *t, cmp_yk);
-  for (int k = 0; k < n; k++) r->cut_order[k] = t[k].k;
+  for (int k = 0; k < n; k++) { r->cut_order[k] = t[k].k; r->cut_y[k] = t[k].y; }
   free(t);
   return 1;
 }
@@ -168,7 +174,7 @@ static int cut_upto(struct render *r, int64_t yn, int64_t yd, struct t74_error *
     int k = r->cut_order[r->cut_next];
     if (yd > 0) {
       COST_ADD_N(&r->cost[RS_SEGMENT], COST_MEM, 2);   /* the face's y-min against the line */
-      if ((wide)face_ymin(&r->map.f[k]) * yd > (wide)yn) break;
+      if ((wide)r->cut_y[r->cut_next] * yd > (wide)yn) break;
     }
     r->cut_next++;
     int before = r->map.nface;
@@ -315,7 +321,9 @@ int render_pieces_alive(const struct render *r)
 void render_free(struct render *r)
 {
   free(r->cut_order);
+  free(r->cut_y);
   r->cut_order = NULL;
+  r->cut_y = NULL;
   vis_free(&r->vis);
   prio_free(&r->prio);
   seginfo_free(&r->seg);

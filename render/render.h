@@ -42,6 +42,7 @@ struct render {
   FILE           *tables;
   const struct scene *scene;         /* for messages while the scan cuts faces */
   int            *cut_order;         /* the order faces are cut in (lazy: by lowest y) */
+  int64_t        *cut_y;             /* cut_y[i]: the lowest grid y of face cut_order[i] */
   int             cut_n, cut_cap;    /* faces in it, room */
   int             cut_next;          /* faces cut so far (a prefix of cut_order) */
   int             lazy;              /* 1: the scan drives the Segment Generator */
