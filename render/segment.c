@@ -103,6 +103,7 @@
 _Static_assert(XS_ORIG == SEGV_ORIG && XS_CROSS == SEGV_CROSS, "vertex kinds agree");
 
 #define PBS_STAR 0xFFFFu                 /* '*' in PBS, and the piece separator in LWS/UPS */
+#define SEG_INLINE 4                     /* queue and finished rings held in the context */
 
 /* ---- working pieces ------------------------------------------------------------------ */
 
@@ -145,6 +146,10 @@ struct seg_ctx {
   /* finished convex rings */
   struct xs_ring *fin;
   int nfin, fincap;
+  /* the first entries of both in the context itself: a convex face (most faces) then
+     takes no host allocation for them */
+  struct wpiece q0[SEG_INLINE];
+  struct xs_ring fin0[SEG_INLINE];
 };
 
 static int oom(struct seg_ctx *x)
@@ -367,11 +372,11 @@ static int first_piece(struct seg_ctx *x, struct wpiece *p)
 static int q_push(struct seg_ctx *x, struct wpiece *p)
 {
   if (x->qn == x->qcap) {
-    int cap = x->qcap ? 2 * x->qcap : 8;
+    int cap = 2 * x->qcap;
     struct wpiece *nq = malloc((size_t)cap * sizeof *nq);
     if (!nq) return oom(x);
     for (int i = 0; i < x->qn; i++) nq[i] = x->q[(x->qhead + i) % x->qcap];
-    free(x->q);
+    if (x->q != x->q0) free(x->q);
     x->q = nq;
     x->qhead = 0;
     x->qcap = cap;
@@ -385,9 +390,11 @@ static int q_push(struct seg_ctx *x, struct wpiece *p)
 static int fin_push(struct seg_ctx *x, struct xs_ring *r)
 {
   if (x->nfin == x->fincap) {
-    int cap = x->fincap ? 2 * x->fincap : 8;
-    struct xs_ring *nf = realloc(x->fin, (size_t)cap * sizeof *nf);
+    int cap = 2 * x->fincap;
+    struct xs_ring *nf = x->fin == x->fin0 ? malloc((size_t)cap * sizeof *nf)
+                                           : realloc(x->fin, (size_t)cap * sizeof *nf);
     if (!nf) return oom(x);
+    if (x->fin == x->fin0) memcpy(nf, x->fin0, sizeof x->fin0);
     x->fin = nf;
     x->fincap = cap;
   }
@@ -1474,9 +1481,9 @@ static void ctx_free(struct seg_ctx *x)
     x->qhead = (x->qhead + 1) % x->qcap;
     x->qn--;
   }
-  free(x->q);
+  if (x->q != x->q0) free(x->q);
   for (int i = 0; i < x->nfin; i++) ring_free(&x->fin[i]);
-  free(x->fin);
+  if (x->fin != x->fin0) free(x->fin);
   free(x->ys);
   free(x->conc);
 }
@@ -1493,6 +1500,10 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
   x->cost = cost;
   x->err = err;
   x->next_id = 1;
+  x->q = x->q0;
+  x->qcap = SEG_INLINE;
+  x->fin = x->fin0;
+  x->fincap = SEG_INLINE;
   int rc = check_input(x);
   if (rc) return rc;
   uint32_t mark = core ? core_mark(core) : 0;
