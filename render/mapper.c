@@ -101,6 +101,18 @@ static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t (*xyz)[3], int 
   }
 }
 
+/* A face's ring_start, pt, vid, xyz: one block (mapper_run) or four (the rest). */
+static void mface_arrays_free(struct mface *m)
+{
+  if (m->block) {
+    free(m->block);
+  } else {
+    free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz);
+  }
+  m->block = NULL;
+  m->ring_start = NULL; m->pt = NULL; m->vid = NULL; m->xyz = NULL;
+}
+
 /* ---- T-junctions ---------------------------------------------------------------------
    A vertex that lies exactly on another face's edge in space (a T-junction) is inserted
    into that edge before anything else is done with the face. Projection and rounding then
@@ -388,15 +400,22 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     }
     rs[sf->nring] = nring_v;
     int nv = nring_v;
-    m->ring_start = malloc((size_t)(sf->nring + 1) * sizeof *m->ring_start);
-    m->pt = malloc((size_t)nv * sizeof *m->pt);
-    m->vid = malloc((size_t)nv * sizeof *m->vid);
-    m->xyz = malloc((size_t)nv * sizeof *m->xyz);
-    if (!m->ring_start || !m->pt || !m->vid || !m->xyz) {
-      free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz);
+    /* one allocation for the face's arrays (100,000 faces: 300,000 fewer mallocs a
+       frame), the widest elements first so each array stays aligned */
+    size_t bytes = (size_t)nv * (sizeof *m->pt + sizeof *m->xyz + sizeof *m->vid) +
+                   (size_t)(sf->nring + 1) * sizeof *m->ring_start;
+    _Static_assert(_Alignof(struct gpoint) >= _Alignof(int32_t[3]) &&
+                   _Alignof(int32_t[3]) >= _Alignof(uint32_t) &&
+                   _Alignof(uint32_t) >= _Alignof(int), "mface block layout");
+    m->block = malloc(bytes);
+    if (!m->block) {
       t74_fail(err, T74_EIO, "out of host memory");
       goto fail_tj;
     }
+    m->pt = m->block;
+    m->xyz = (int32_t (*)[3])(m->pt + nv);
+    m->vid = (uint32_t *)(m->xyz + nv);
+    m->ring_start = (int *)(m->vid + nv);
     /* copy rings, dropping points that rounding made equal to their predecessor, and
        rings that rounding collapsed; orient outer CCW, holes CW */
     int nr = 0, np = 0;
@@ -427,7 +446,7 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
       m->ring_start[nr++] = start;
     }
     if (!keep) {
-      free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz);
+      mface_arrays_free(m);
       memset(m, 0, sizeof *m);
       out->dropped++;
       continue;
@@ -737,6 +756,7 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
   for (int t = 0; t < keep; t++) {
     struct mface g = base;
     g.nring = 1;
+    g.block = NULL;
     g.ring_start = malloc(2 * sizeof *g.ring_start);
     g.pt = malloc(3 * sizeof *g.pt);
     g.vid = malloc(3 * sizeof *g.vid);
@@ -767,7 +787,7 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
       m->f[m->nface++] = g;
     }
   }
-  free(base.ring_start); free(base.pt); free(base.vid); free(base.xyz);
+  mface_arrays_free(&base);
   free(tri);
   m->split++;
   *ntri = keep;
@@ -785,12 +805,7 @@ struct gpoint mapper_point(const struct scene *s, int v)
 void mapper_free(struct mapped *m)
 {
   if (!m->f) return;
-  for (int k = 0; k < m->nface; k++) {
-    free(m->f[k].ring_start);
-    free(m->f[k].pt);
-    free(m->f[k].vid);
-    free(m->f[k].xyz);
-  }
+  for (int k = 0; k < m->nface; k++) mface_arrays_free(&m->f[k]);
   free(m->f);
   m->f = NULL;
   m->nface = 0;
