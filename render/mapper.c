@@ -27,6 +27,7 @@
 ** exact ear clipping in its plane, holes bridged first (mapper_split_face).
 */
 #include "render/mapper.h"
+#include "render/rsort.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -137,14 +138,6 @@ struct tjunc {
                                     first with a larger x (the x-slab's ends) */
 };
 
-struct tj_key { gcoord x; int v; };
-
-static int tj_key_cmp(const void *pa, const void *pb)
-{
-  const struct tj_key *a = pa, *b = pb;
-  if (a->x != b->x) return a->x < b->x ? -1 : 1;
-  return (a->v > b->v) - (a->v < b->v);
-}
 
 static void tj_free(struct tjunc *t)
 {
@@ -170,19 +163,20 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
     for (int k = 0; k < s->f[f].ring_start[s->f[f].nring]; k++) used[s->f[f].vidx[k]] = 1;
   for (int v = 0; v < s->nv; v++) if (used[v]) t->byx[t->n++] = v;
   free(used);
-  /* sorted once by projected x, then by index (qsort of (x, index) pairs: the same total
-     order, no global context), with each vertex's slab bounds for the cost count */
-  struct tj_key *key = malloc((size_t)(t->n ? t->n : 1) * sizeof *key);
+  /* sorted once by projected x, then by index (a radix sort of (x, index) pairs,
+     render/rsort.h: the same total order), with each vertex's slab bounds for the cost
+     count */
+  struct rs_pair *key = malloc((size_t)(t->n ? 2 * t->n : 1) * sizeof *key);
   t->lb = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->lb);
   t->ub = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->ub);
   if (!key || !t->lb || !t->ub) { free(key); tj_free(t); return 0; }
-  for (int k = 0; k < t->n; k++) { key[k].x = proj[t->byx[k]].x; key[k].v = t->byx[k]; }
-  qsort(key, (size_t)t->n, sizeof *key, tj_key_cmp);
-  for (int k = 0; k < t->n; k++) t->byx[k] = key[k].v;
+  for (int k = 0; k < t->n; k++) { key[k].key = proj[t->byx[k]].x; key[k].idx = t->byx[k]; }
+  rsort_pairs(key, key + t->n, t->n);
+  for (int k = 0; k < t->n; k++) t->byx[k] = key[k].idx;
   for (int k = 0; k < t->n;) {               /* a run of equal x: [k, e) */
     int e = k;
-    while (e < t->n && key[e].x == key[k].x) e++;
-    for (int q = k; q < e; q++) { t->lb[key[q].v] = k; t->ub[key[q].v] = e; }
+    while (e < t->n && key[e].key == key[k].key) e++;
+    for (int q = k; q < e; q++) { t->lb[key[q].idx] = k; t->ub[key[q].idx] = e; }
     k = e;
   }
   free(key);

@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/rsort.h"
 #include "render/segment.h"
 
 /* A face whose grid polygon the Segment Generator refuses was simple in the scene (the
@@ -134,15 +135,7 @@ static int order_add(struct render *r, int k)
 /* The Mapper's faces in the order they are cut: lazily by lowest y, ties by number in
    the Mapper's table, exactly as order_add would put them one by one (whose insertion
    grows as n^2 when faces come in no y order: 44% of a frame at 100,000 boxes), by one
-   sort of (lowest y, number) pairs; otherwise the Mapper's order. */
-struct yk { int64_t y; int k; };
-
-static int cmp_yk(const void *a, const void *b)
-{
-  const struct yk *x = a, *y = b;
-  if (x->y != y->y) return x->y < y->y ? -1 : 1;
-  return (x->k > y->k) - (x->k < y->k);
-}
+   sort of (lowest y, number) pairs (render/rsort.h); otherwise the Mapper's order. */
 
 static int order_init(struct render *r)
 {
@@ -156,11 +149,11 @@ static int order_init(struct render *r)
     for (int k = 0; k < n; k++) { r->cut_order[k] = k; r->cut_y[k] = face_ymin(&r->map.f[k]); }
     return 1;
   }
-  struct yk *t = malloc((size_t)(n ? n : 1) * sizeof *t);
+  struct rs_pair *t = malloc((size_t)(n ? 2 * n : 1) * sizeof *t);
   if (!t) return 0;
-  for (int k = 0; k < n; k++) { t[k].y = face_ymin(&r->map.f[k]); t[k].k = k; }
-  qsort(t, (size_t)n, sizeof *t, cmp_yk);
-  for (int k = 0; k < n; k++) { r->cut_order[k] = t[k].k; r->cut_y[k] = t[k].y; }
+  for (int k = 0; k < n; k++) { t[k].key = face_ymin(&r->map.f[k]); t[k].idx = k; }
+  rsort_pairs(t, t + n, n);
+  for (int k = 0; k < n; k++) { r->cut_order[k] = t[k].idx; r->cut_y[k] = t[k].key; }
   free(t);
   return 1;
 }
