@@ -134,6 +134,24 @@ void import_close(struct import_reader *r)
   memset(r, 0, sizeof *r);
 }
 
+void import_sort(void *base, size_t n, size_t size, int (*cmp)(const void *, const void *))
+{
+  if (n > 16 || size > 64) {
+    qsort(base, n, size, cmp);
+    return;
+  }
+  unsigned char *b = base, t[64];
+  for (size_t i = 1; i < n; i++) {
+    size_t j = i;
+    memcpy(t, b + i * size, size);
+    while (j > 0 && cmp(b + (j - 1) * size, t) > 0) {
+      memcpy(b + j * size, b + (j - 1) * size, size);
+      j--;
+    }
+    if (j != i) memcpy(b + j * size, t, size);
+  }
+}
+
 const char *import_show(const char *tok, char *buf, size_t n)
 {
   if (n == 0) return "";
@@ -632,7 +650,7 @@ static int sweep(const double (*p)[2], int n, pair_fn test, const void *ctx, int
     e[k] = (struct ebox){ fmin(a[0], b[0]), fmax(a[0], b[0]), fmin(a[1], b[1]),
                           fmax(a[1], b[1]), k };
   }
-  qsort(e, (size_t)n, sizeof *e, ebox_cmp);
+  import_sort(e, (size_t)n, sizeof *e, ebox_cmp);
   int found = 0;
   for (int i = 0; i < n && !found; i++)
     for (int j = i + 1; j < n && e[j].u0 <= e[i].u1; j++) {

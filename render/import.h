@@ -64,6 +64,12 @@ void import_close(struct import_reader *r);
 /* A token as it may be echoed in a message: printable, at most ~40 bytes. */
 const char *import_show(const char *tok, char *buf, size_t n);
 
+/* qsort for the per-face checks: cmp must be a total order (ties broken by a unique
+   index), so the result is the one qsort gives; a few elements (most faces: 3 to 16) are
+   sorted by insertion, without qsort's set-up and calls (issue 12: qsort was 15% of an
+   import of 100,000 faces). Elements of at most 64 bytes. */
+void import_sort(void *base, size_t n, size_t size, int (*cmp)(const void *, const void *));
+
 /* Parse a whole-token decimal integer (optional sign). Returns 0 and sets *out when it
    is one inside lo..hi, 1 when it is not an integer, 2 when it is out of range. */
 int import_int(const char *tok, long lo, long hi, long *out);
