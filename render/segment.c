@@ -83,14 +83,16 @@
 ** from max(10, largest vertex id) + 1 so they never collide with a vertex id (11, 12, ..
 ** as Fig. 6 for faces with ids up to 10), past 65534 wrapping onto the numbers the face's
 ** vertices leave free (a face of an import with vertex ids above 65535 numbers on in 32
-** bits, docs/scale.md); nothing per face is kept for this but its largest id. The output drops a vertex where the two sides
-** around it lie on the same oriented line or where a side has zero length; every output
-** piece is checked strictly convex, turning once (T74_EINPUT otherwise).
+** bits, docs/scale.md); nothing per face is kept for this but its largest id. The output
+** drops a vertex where the two sides around it lie on the same oriented line or where a
+** side has zero length; every output piece is checked strictly convex, turning once
+** (T74_EINPUT otherwise).
 **
 ** Tables in core (emu/core.h), words on the 16-bit machine: YSORT 3 words a row (y 2,
 ** id 1); XSORT 9 a row (xsort.h); PBS 1 word per vertex or crossing number plus 1 per
 ** '*'; IPL 1 word per crossing number; LWS and UPS 1 word per vertex plus 1 separator per
-** piece (an id above 65535 still counted as one word). All are released when the face is done. Operations are counted in `cost`.
+** piece (an id above 65535 still counted as one word). All are released when the face
+** is done. Operations are counted in `cost`.
 */
 #include "render/segment.h"
 
@@ -132,7 +134,7 @@ struct seg_ctx {
                                             number) while every vertex id fits a word, else
                                             UINT32_MAX (docs/scale.md) */
   uint32_t *ids;                         /* the face's vertex ids, ascending, no repeats:
-                                            made only once the numbers wrap (next_free) */
+                                            made only once the numbers wrap (next_used) */
   int nids, idcur;                       /* ids[idcur] is the first id >= next_num */
   uint32_t maxid;                        /* the largest vertex id of the face (at least 10) */
   struct ysort_row *ys;                  /* YSORT */
