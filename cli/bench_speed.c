@@ -21,7 +21,10 @@
 ** squares slope of log time over log faces. Output in DIR (default build/bench/speed):
 ** speed.md (Markdown tables), speed.dat and speed.png (gnuplot, when installed). A progress
 ** bar goes to a terminal only. --quick stops the boxes at 10,000 and the triangles at 640
-** (for runs of make bench); --boxes-max N and --triangles-max N stop them at N. Wall times on a shared machine scatter; the ratios are of
+** (for runs of make bench); --boxes-max N and --triangles-max N stop them at N. Box
+** scenes beyond what a .s74 file holds (vertex ids above 65535: 100,000 faces) are written
+** as .obj (mkgrowth.py --obj, scale exactly 4 on import) and read by both programs with
+** --turn 0,0, so both draw the boxes as generated (docs/scale.md). Wall times on a shared machine scatter; the ratios are of
 ** figures taken in the same run, side by side.
 */
 #define _DEFAULT_SOURCE        /* wait4: the child's peak memory */
@@ -56,6 +59,7 @@ struct sp_scene {
   int kind;                            /* 0 shipped, 1 boxes, 2 triangles */
   int faces, pieces;
   int frames;                          /* tube74 --frames for this scene */
+  bool obj;                            /* an .obj import: both programs get --turn 0,0 */
   double t[P_N][SP_MAX_RUNS];
   long rss[2];                         /* KB: tube74 process, OSMesa process */
   bool failed[P_N];
@@ -174,11 +178,11 @@ static void fmt_ratio(char *buf, size_t n, double a, double b)
 }
 
 /* Generate a scene with a python3 tool into dir; 0 or -1. */
-static int gen(const char *tool, int n, const char *path)
+static int gen(const char *tool, int n, bool obj, const char *path)
 {
   char nb[16];
   snprintf(nb, sizeof nb, "%d", n);
-  char *argv[] = { (char *)"/usr/bin/python3", (char *)tool, nb, NULL };
+  char *argv[] = { (char *)"/usr/bin/python3", (char *)tool, nb, obj ? (char *)"--obj" : NULL, NULL };
   return spawn(argv, NULL, path, NULL, NULL) == 0 ? 0 : -1;
 }
 
@@ -195,7 +199,8 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
 
   /* tube74: frames, from its own stats */
   char *a1[] = { (char *)self, (char *)"render", s->path, (char *)"--core", (char *)SP_CORE,
-                 (char *)"--frames", kb, (char *)"--stats", stats, NULL };
+                 (char *)"--frames", kb, (char *)"--stats", stats,
+                 s->obj ? (char *)"--turn" : NULL, (char *)"0,0", NULL };
   double wall;
   if (spawn(a1, NULL, NULL, &wall, NULL) == 0) {
     char *js = slurp(stats);
@@ -213,8 +218,11 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
     const char *const *envp[4] = { envl, envl, envs, envs };
     const int slot[4] = { P_LLVM, P_LLVM_T, P_SOFT, P_SOFT_T };
     for (int q = 0; q < 4; q++) {
-      char *a2[] = { (char *)peer, (char *)"--warm", (char *)"9", (char *)"--size",
-                     (char *)(q % 2 ? "tube" : "grid"), s->path, NULL };
+      char *a2w[] = { (char *)peer, (char *)"--warm", (char *)"9", (char *)"--size",
+                      (char *)(q % 2 ? "tube" : "grid"), s->path, NULL };
+      char *a2t[] = { (char *)peer, (char *)"--turn", (char *)"0,0", (char *)"--warm", (char *)"9",
+                      (char *)"--size", (char *)(q % 2 ? "tube" : "grid"), s->path, NULL };
+      char **a2 = s->obj ? a2t : a2w;
       if (spawn(a2, envp[q], out, NULL, NULL) == 0) {
         char *txt = slurp(out);
         if (txt) s->t[slot[q]][r] = atof(txt);
@@ -227,7 +235,7 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
   bench_bar_step(bar, s->label);
   /* whole processes: what a user waits for the picture */
   char *a3[] = { (char *)self, (char *)"render", s->path, (char *)"--core", (char *)SP_CORE,
-                 (char *)"-o", png, NULL };
+                 (char *)"-o", png, s->obj ? (char *)"--turn" : NULL, (char *)"0,0", NULL };
   long rss = 0;
   if (spawn(a3, NULL, NULL, &wall, &rss) == 0) {
     s->t[P_TPROC][r] = wall;
@@ -235,7 +243,8 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
   }
   if (peer) {
     static const char *const envl[] = { "GALLIUM_DRIVER=llvmpipe", "LP_NUM_THREADS=1", NULL };
-    char *a4[] = { (char *)peer, s->path, NULL };
+    char *a4[] = { (char *)peer, s->obj ? (char *)"--turn" : s->path, s->obj ? (char *)"0,0" : NULL,
+                   s->path, NULL };
     if (spawn(a4, envl, out, &wall, &rss) == 0) {
       s->t[P_PPROC][r] = wall;
       if (rss > s->rss[1]) s->rss[1] = rss;
@@ -308,9 +317,10 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     struct sp_scene *s = &sc[ns];
     memset(s, 0, sizeof *s);
     s->kind = 1;
-    snprintf(s->path, sizeof s->path, "%s/boxes%d.s74", dir, boxes[k]);
+    s->obj = 8 * ((boxes[k] + 5) / 6) > 65535;   /* mkgrowth.py: 8 vertex ids a box */
+    snprintf(s->path, sizeof s->path, "%s/boxes%d.%s", dir, boxes[k], s->obj ? "obj" : "s74");
     snprintf(s->label, sizeof s->label, "%d box faces", boxes[k]);
-    if (gen("tools/mkgrowth.py", boxes[k], s->path) != 0)
+    if (gen("tools/mkgrowth.py", boxes[k], s->obj, s->path) != 0)
       { free(sc); return t74_fail(err, T74_EIO, "tube74: bench speed: tools/mkgrowth.py failed (run from the source tree)"); }
     ns++;
   }
@@ -321,7 +331,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     s->kind = 2;
     snprintf(s->path, sizeof s->path, "%s/tris%d.s74", dir, tris[k]);
     snprintf(s->label, sizeof s->label, "%d triangles", tris[k]);
-    if (gen("tools/mktris.py", tris[k], s->path) != 0)
+    if (gen("tools/mktris.py", tris[k], false, s->path) != 0)
       { free(sc); return t74_fail(err, T74_EIO, "tube74: bench speed: tools/mktris.py failed (run from the source tree)"); }
     ns++;
   }
@@ -335,7 +345,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     char stats[600];
     snprintf(stats, sizeof stats, "%s/run.json", dir);
     char *a[] = { self, (char *)"render", sc[k].path, (char *)"--core", (char *)SP_CORE,
-                  (char *)"--stats", stats, NULL };
+                  (char *)"--stats", stats, sc[k].obj ? (char *)"--turn" : NULL, (char *)"0,0", NULL };
     sc[k].frames = 1;
     char errp[600];
     snprintf(errp, sizeof errp, "%s/run.err", dir);

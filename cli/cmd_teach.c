@@ -314,12 +314,12 @@ static int write_page(const char *path, const char *name, const struct scene *s,
   outfile_printf(of, "\"faces\":[");
   for (int f = 0; f < r->map.nface; f++) {
     const struct mface *m = &r->map.f[f];
-    outfile_printf(of, "%s\n{\"id\":%d,\"grey\":%d,\"rings\":[", f ? "," : "", m->id, m->grey);
+    outfile_printf(of, "%s\n{\"id\":%u,\"grey\":%d,\"rings\":[", f ? "," : "", (unsigned)m->id, m->grey);
     for (int g = 0; g < m->nring; g++) {
       outfile_printf(of, "%s[", g ? "," : "");
       for (int k = m->ring_start[g]; k < m->ring_start[g + 1]; k++)
-        outfile_printf(of, "%s[%.6g,%.6g,%d]", k > m->ring_start[g] ? "," : "",
-                       (double)m->pt[k].x / GRID_ONE, (double)m->pt[k].y / GRID_ONE, m->vid[k]);
+        outfile_printf(of, "%s[%.6g,%.6g,%u]", k > m->ring_start[g] ? "," : "",
+                       (double)m->pt[k].x / GRID_ONE, (double)m->pt[k].y / GRID_ONE, (unsigned)m->vid[k]);
       outfile_printf(of, "]");
     }
     outfile_printf(of, "]}");

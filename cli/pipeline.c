@@ -64,7 +64,7 @@ struct pipeline {
   struct tube *tube_only;           /* out is this tube alone: its faster path, or NULL */
   uint8_t level[256];               /* pat_level(cell, grey) for grey 0..255 */
   uint16_t mask[PAT_CELL_MAX * PAT_CELL_MAX + 1];  /* pat_cell_dots(pat, level) */
-  uint16_t *ids;
+  uint32_t *ids;                    /* face number seen per point, 0 none (--dump ids) */
   uint8_t *grey;
   int *face;                        /* the effects stage's frame (NULL: no effects) */
   struct cost display;              /* halftone + display stage */
@@ -261,7 +261,7 @@ static int on_point(void *ctx, int i, int j, int face)
 {
   struct pipeline *p = ctx;
   int grey;
-  uint16_t id = 0;
+  uint32_t id = 0;
   size_t at = (size_t)j * (size_t)p->W + (size_t)i;
   if (face >= 0) {
     grey = p->r->map.f[face].grey;
@@ -352,6 +352,33 @@ static void outs_free(struct job_outs *jo)
 {
   if (jo->own) outset_free(jo->set);
   jo->set = NULL;
+}
+
+/* `--dump ids`: a 16-bit PGM (CONTRACT.md). A face number above 65535 (an import of more
+   faces, docs/scale.md) cannot be written in it: refused at the face's line, status 2,
+   naming the first point (scan order: top row first) that shows such a face; the caller
+   then commits no output. */
+static int write_ids(const struct pipeline *p, const struct scene *s, struct outfile *of,
+                     struct t74_error *err)
+{
+  size_t n = (size_t)p->W * (size_t)p->H;
+  for (size_t at = 0; at < n; at++) {
+    if (p->ids[at] <= 0xFFFFu) continue;
+    int line = 0;
+    for (int k = 0; k < p->r->map.nface && !line; k++)
+      if (p->r->map.f[k].id == p->ids[at]) line = s->f[p->r->map.f[k].sface].line;
+    return t74_fail_at(err, T74_EINPUT, s->file, line > 0 ? line : 1,
+                       "face %lu is seen at point (%d, %d), but --dump ids %s is a 16-bit "
+                       "PGM of face numbers 0..65535; no output written (docs/scale.md)",
+                       (unsigned long)p->ids[at], (int)(at % (size_t)p->W),
+                       (int)(at / (size_t)p->W), outfile_path(of));
+  }
+  uint16_t *w = malloc((n ? n : 1) * sizeof *w);
+  if (!w) return t74_fail(err, T74_EIO, "out of host memory");
+  for (size_t at = 0; at < n; at++) w[at] = (uint16_t)p->ids[at];
+  int st = image_write_ids_to(w, p->W, p->H, of, err);
+  free(w);
+  return st;
 }
 
 static int copy_to_outfile(FILE *from, struct outfile *of, struct t74_error *err)
@@ -806,7 +833,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   for (int d = 0; d < o->ndump; d++) {
     struct outfile *of = jo.dump[d];
     switch (o->dump_kind[d]) {
-    case DUMP_IDS:    st = image_write_ids_to(p.ids, p.W, p.H, of, err); break;
+    case DUMP_IDS:    st = write_ids(&p, s, of, err); break;
     case DUMP_GREY:   st = image_write_grey_to(p.grey, p.W, p.H, of, err); break;
     case DUMP_TUBE:   st = image_write_pbm_to(t, of, err); break;
     case DUMP_POINTS: st = image_write_points_to(t, of, err); break;

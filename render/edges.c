@@ -84,7 +84,7 @@ enum { MK_NONE = 0, MK_HALO = 1, MK_INNER = 2, MK_OUTLINE = 3, MK_ROW = 4 };
 /* One use of an edge by a face: the ring step u -> v in the face's own orientation. */
 struct use {
   int lo, hi;             /* vertex indices, lo < hi */
-  int part;               /* object id, or 65536 + face id for a face in no object */
+  int64_t part;           /* object id, or 65536 + face id for a face in no object */
   int face;               /* scene face index */
   int dir;                /* +1: u = lo, v = hi; -1: the other way */
 };
@@ -94,7 +94,7 @@ struct edge {
   int cls;                /* enum edge_class */
   const char *why;
   int va, vb;             /* scene vertex indices (-1, -1 for an intersection line) */
-  int nown; uint16_t own[MAX_OWN];      /* input numbers of its faces */
+  int nown; uint32_t own[MAX_OWN];      /* input numbers of its faces */
   int ndraw; int draw[MAX_OWN];         /* mapped faces whose planes the strip lies in */
   int halo;               /* +1/-1: the side of K the halo goes on; 0: no halo */
   wide A, B, C;           /* K = A X + B Y + C, scaled coordinates, left of the edge > 0 */
@@ -366,7 +366,7 @@ static bool behind(struct ectx *c, const struct edge *ed, int F, wide X, wide Y,
 
 static bool own(const struct ectx *c, const struct edge *ed, int F)
 {
-  uint16_t id = c->r->map.f[F].id;
+  uint32_t id = c->r->map.f[F].id;
   for (int k = 0; k < ed->nown; k++) if (ed->own[k] == id) return true;
   return false;
 }
@@ -687,12 +687,12 @@ static struct edge *add_edge(struct elist *L)
 }
 
 /* Side (+1 left, -1 right, 0 unknown) of mapped face m relative to the line u -> v. */
-static int face_side(const struct mface *m, uint16_t u, uint16_t v)
+static int face_side(const struct mface *m, uint32_t u, uint32_t v)
 {
   for (int r = 0; r < m->nring; r++) {
     int b = m->ring_start[r], e = m->ring_start[r + 1];
     for (int k = b; k < e; k++) {
-      uint16_t a = m->vid[k], z = m->vid[k + 1 < e ? k + 1 : b];
+      uint32_t a = m->vid[k], z = m->vid[k + 1 < e ? k + 1 : b];
       if (a == u && z == v) return 1;
       if (a == v && z == u) return -1;
     }
@@ -712,7 +712,7 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   struct rings R;
   struct use *u = NULL;
   int nu = 0;
-  int *par = NULL, *part = NULL, *sf2m = NULL, *sigma = NULL, *outw = NULL, *bad = NULL;
+  int *par = NULL; int64_t *part = NULL; int *sf2m = NULL, *sigma = NULL, *outw = NULL, *bad = NULL;
   int8_t *flip = NULL;
   bool *smooth = NULL;
   wide *vol = NULL;
@@ -745,7 +745,7 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   const int64_t *E = r->map.eye;
   for (int fi = 0; fi < nf; fi++) {
     const struct scene_face *sf = &s->f[fi];
-    part[fi] = sf->object ? sf->object : 65536 + sf->id;
+    part[fi] = sf->object ? (int64_t)sf->object : 65536 + (int64_t)sf->id;
     int64_t n0[3], N[3];
     newell(s, &R, R.start[fi], n0, cost);
     memcpy(N, n0, sizeof N);
@@ -939,16 +939,17 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
     struct edge *ed = &L.e[k];
     if (k < nregular) {
       uint32_t a = et + (uint32_t)k * EDGE_ROW_WORDS;
-      core_write(r->core, a, s->v[ed->va].id);
-      core_write(r->core, a + 1, s->v[ed->vb].id);
-      core_write(r->core, a + 2, ed->own[0]);
-      core_write(r->core, a + 3, ed->nown > 1 ? ed->own[1] : 0);
+      /* ids above 65535 (imports, docs/scale.md): their low word, the 1974 layout */
+      core_write(r->core, a, (uint16_t)s->v[ed->va].id);
+      core_write(r->core, a + 1, (uint16_t)s->v[ed->vb].id);
+      core_write(r->core, a + 2, (uint16_t)ed->own[0]);
+      core_write(r->core, a + 3, (uint16_t)(ed->nown > 1 ? ed->own[1] : 0));
       core_write(r->core, a + 4, (uint16_t)ed->cls);
       COST_ADD_N(cost, COST_MEM, EDGE_ROW_WORDS);
     } else {
       uint32_t a = lt + (uint32_t)(k - nregular) * E4_ROW_WORDS;
-      core_write(r->core, a, ed->own[0]);
-      core_write(r->core, a + 1, ed->own[1]);
+      core_write(r->core, a, (uint16_t)ed->own[0]);
+      core_write(r->core, a + 1, (uint16_t)ed->own[1]);
       core_write(r->core, a + 2, (uint16_t)ed->cls);
       COST_ADD_N(cost, COST_MEM, E4_ROW_WORDS);
     }

@@ -134,6 +134,24 @@ void import_close(struct import_reader *r)
   memset(r, 0, sizeof *r);
 }
 
+void import_sort(void *base, size_t n, size_t size, int (*cmp)(const void *, const void *))
+{
+  if (n > 16 || size > 64) {
+    qsort(base, n, size, cmp);
+    return;
+  }
+  unsigned char *b = base, t[64];
+  for (size_t i = 1; i < n; i++) {
+    size_t j = i;
+    memcpy(t, b + i * size, size);
+    while (j > 0 && cmp(b + (j - 1) * size, t) > 0) {
+      memcpy(b + j * size, b + (j - 1) * size, size);
+      j--;
+    }
+    if (j != i) memcpy(b + j * size, t, size);
+  }
+}
+
 const char *import_show(const char *tok, char *buf, size_t n)
 {
   if (n == 0) return "";
@@ -198,8 +216,8 @@ static int oom(const char *file, struct t74_error *err)
 static int add_vertex(struct mesh *m, const double p[3], int line, const char *file,
                       struct t74_error *err)
 {
-  if (m->nv >= SCENE_ID_MAX)
-    return t74_fail_at(err, T74_EINPUT, file, line, "more than %d vertices", SCENE_ID_MAX);
+  if (m->nv >= IMPORT_COUNT_MAX)
+    return t74_fail_at(err, T74_EINPUT, file, line, "more than %ld vertices", IMPORT_COUNT_MAX);
   if (m->nv == m->capv) {
     int nc = m->capv ? m->capv * 2 : 64;
     double *nx = realloc(m->xyz, (size_t)nc * 3 * sizeof *nx);
@@ -218,8 +236,8 @@ static int add_vertex(struct mesh *m, const double p[3], int line, const char *f
 /* Start a face at this line; indices follow with add_index. */
 static int begin_face(struct mesh *m, int line, const char *file, struct t74_error *err)
 {
-  if (m->nf >= SCENE_ID_MAX)
-    return t74_fail_at(err, T74_EINPUT, file, line, "more than %d faces", SCENE_ID_MAX);
+  if (m->nf >= IMPORT_COUNT_MAX)
+    return t74_fail_at(err, T74_EINPUT, file, line, "more than %ld faces", IMPORT_COUNT_MAX);
   if (m->nf + 1 >= m->capf) {
     int nc = m->capf ? m->capf * 2 : 64;
     size_t *ns = realloc(m->fstart, (size_t)(nc + 1) * sizeof *ns);
@@ -426,11 +444,12 @@ static int read_off(struct import_reader *r, struct mesh *m, struct t74_error *e
                        "expected the counts: vertices faces [edges]");
   for (int k = first; k < r->ntok; k++) {
     long *dst = k == first ? &nv : k == first + 1 ? &nf : &dummy;
-    int e = import_int(r->tok[k], 0, k == first + 2 ? 2000000000L : SCENE_ID_MAX, dst);
+    int e = import_int(r->tok[k], 0, k == first + 2 ? 2000000000L : IMPORT_COUNT_MAX, dst);
     if (e == 1) return bad_number(r, r->tok[k], err);
     if (e == 2)
-      return t74_fail_at(err, T74_EINPUT, r->file, r->line, "count `%s` out of range 0..%d",
-                         import_show(r->tok[k], b, sizeof b), SCENE_ID_MAX);
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line, "count `%s` out of range 0..%ld",
+                         import_show(r->tok[k], b, sizeof b),
+                         k == first + 2 ? 2000000000L : IMPORT_COUNT_MAX);
   }
   for (long v = 0; v < nv; v++) {
     if ((st = import_next(r, err)) != 1)
@@ -445,7 +464,7 @@ static int read_off(struct import_reader *r, struct mesh *m, struct t74_error *e
       return st ? st : t74_fail_at(err, T74_EINPUT, r->file, r->nlines,
                                    "file ends after %ld of %ld faces", f, nf);
     long n;
-    int e = import_int(r->tok[0], 0, SCENE_ID_MAX, &n);
+    int e = import_int(r->tok[0], 0, IMPORT_COUNT_MAX, &n);
     if (e) return t74_fail_at(err, T74_EINPUT, r->file, r->line,
                               "bad vertex count `%s`", import_show(r->tok[0], b, sizeof b));
     if (n < 3)
@@ -515,7 +534,7 @@ static int add_face(struct scene *s, int *cap, int id, int line, const int *v, i
     free(f->vidx);
     return oom(s->file, err);
   }
-  f->id = (uint16_t)id;
+  f->id = (uint32_t)id;
   f->line = line;
   f->grey = -1;
   f->object = 0;
@@ -536,7 +555,7 @@ static bool same_pos(const struct scene *s, int a, int b)
 static int defect(const struct scene *s, int id, int line, int *v, int n)
 {
   int rs[2] = { 0, n };
-  struct scene_face f = { .id = (uint16_t)id, .line = line, .grey = -1, .nring = 1,
+  struct scene_face f = { .id = (uint32_t)id, .line = line, .grey = -1, .nring = 1,
                           .ring_start = rs, .vidx = v };
   struct t74_error scratch = { 0 };
   return scene_check_face(s, &f, &scratch);
@@ -631,7 +650,7 @@ static int sweep(const double (*p)[2], int n, pair_fn test, const void *ctx, int
     e[k] = (struct ebox){ fmin(a[0], b[0]), fmax(a[0], b[0]), fmin(a[1], b[1]),
                           fmax(a[1], b[1]), k };
   }
-  qsort(e, (size_t)n, sizeof *e, ebox_cmp);
+  import_sort(e, (size_t)n, sizeof *e, ebox_cmp);
   int found = 0;
   for (int i = 0; i < n && !found; i++)
     for (int j = i + 1; j < n && e[j].u0 <= e[i].u1; j++) {
@@ -974,7 +993,7 @@ static int build(const struct mesh *m, const char *path, const struct scene_opts
   int32_t bhi[3] = { SCENE_COORD_MIN, SCENE_COORD_MIN, SCENE_COORD_MIN };
   for (int v = 0; v < m->nv; v++) {
     struct scene_vertex *sv = &s->v[v];
-    sv->id = (uint16_t)(v + 1);
+    sv->id = (uint32_t)(v + 1);
     sv->line = m->vline[v];
     sv->x = clamp_coord((double)lround((m->xyz[3 * v] - cx) * scale));
     sv->y = clamp_coord((double)lround((m->xyz[3 * v + 1] - cy) * scale));

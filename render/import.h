@@ -20,7 +20,8 @@
 **   shifted so that the nearest point has z = 0; coordinates are rounded to nearest.
 **   Default eye: (0, 0, -2.5 * IMPORT_EXTENT). Default window: the projection of the
 **   bounding box on z = 0, grown to 4:3 around its centre, plus 5% margin on every side.
-** Faces: numbered 1, 2, ... in file order (what --dump ids shows); fewer than 3 vertices,
+** Faces: numbered 1, 2, ... in file order (what --dump ids shows, while they fit its 16
+** bits), any count up to IMPORT_COUNT_MAX; fewer than 3 vertices,
 ** or edges crossing in the file, are refused; one not planar once rounded is split by
 ** exact ear clipping (every triangle keeps the face's number), see import.c.
 */
@@ -32,6 +33,12 @@
 #include "render/scene.h"
 
 #define IMPORT_FILE_MAX ((size_t)1 << 30)  /* larger input files are refused */
+/* Most vertices, faces (and vertices of one face) an import may have: more than a file
+   of IMPORT_FILE_MAX bytes can hold (a vertex or face line takes at least 6 bytes), so
+   only an absurd .off header count meets it; below it the count is limited by memory
+   alone. Face and vertex numbers are 32-bit inside the renderer (docs/scale.md); a .s74
+   file keeps ids 1..65535 (SCENE_ID_MAX). */
+#define IMPORT_COUNT_MAX 200000000L
 #define IMPORT_EXTENT   12800              /* largest bounding-box side after mapping;
                                               2.5x of it (32000) still fits an eye z */
 
@@ -56,6 +63,12 @@ void import_close(struct import_reader *r);
 
 /* A token as it may be echoed in a message: printable, at most ~40 bytes. */
 const char *import_show(const char *tok, char *buf, size_t n);
+
+/* qsort for the per-face checks: cmp must be a total order (ties broken by a unique
+   index), so the result is the one qsort gives; a few elements (most faces: 3 to 16) are
+   sorted by insertion, without qsort's set-up and calls (issue 12: qsort was 15% of an
+   import of 100,000 faces). Elements of at most 64 bytes. */
+void import_sort(void *base, size_t n, size_t size, int (*cmp)(const void *, const void *));
 
 /* Parse a whole-token decimal integer (optional sign). Returns 0 and sets *out when it
    is one inside lo..hi, 1 when it is not an integer, 2 when it is out of range. */

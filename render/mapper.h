@@ -19,7 +19,7 @@
 #include "render/scene.h"
 
 struct mface {
-  uint16_t id;              /* input face number */
+  uint32_t id;              /* input face number */
   int      sface;           /* index in scene.f */
   int      grey;            /* 0..255: the face's uniform intensity (grey, or Lambert) */
   int64_t  plane[4];        /* a, b, c, d of eq. (2), signed so that plane(eye) < 0 */
@@ -27,9 +27,12 @@ struct mface {
   int      nring;
   int     *ring_start;      /* nring + 1 offsets into pt/vid */
   struct gpoint *pt;        /* projected, on the grid; outer CCW, holes CW */
-  uint16_t *vid;            /* vertex ids */
+  uint32_t *vid;            /* vertex ids */
   int32_t (*xyz)[3];        /* the vertices in space (exact), for tests on both planes */
   int      sline;           /* source line of the face statement */
+  void    *block;           /* non-NULL: ring_start, pt, vid and xyz live in this one
+                               allocation (mapper_run's faces), freed with it; NULL: each
+                               is its own allocation */
 };
 
 struct mapped {

@@ -42,10 +42,9 @@ struct render {
   FILE           *tables;
   const struct scene *scene;         /* for messages while the scan cuts faces */
   int            *cut_order;         /* the order faces are cut in (lazy: by lowest y) */
+  int64_t        *cut_y;             /* cut_y[i]: the lowest grid y of face cut_order[i] */
   int             cut_n, cut_cap;    /* faces in it, room */
   int             cut_next;          /* faces cut so far (a prefix of cut_order) */
-  int64_t        *cut_ymin;          /* lazy: each face's lowest grid y, by face index */
-  int             ymin_cap;          /* room in cut_ymin */
   int             lazy;              /* 1: the scan drives the Segment Generator */
   int             arith;             /* GEOM_EXACT or GEOM_HITAC (--arith) */
   int             arith_skipped;     /* hitac: faces folded by 1974 coordinates, not drawn */

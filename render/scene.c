@@ -124,7 +124,7 @@ static int check_distinct(const struct scene *s, const struct scene_face *f, int
     const struct scene_vertex *v = &s->v[f->vidx[lo + k]];
     keys[k] = (struct vkey){ v->x, v->y, v->z, k };
   }
-  qsort(keys, (size_t)n, sizeof *keys, vkey_cmp);
+  import_sort(keys, (size_t)n, sizeof *keys, vkey_cmp);
   for (int k = 0; k + 1 < n; k++) {
     if (keys[k].x != keys[k + 1].x || keys[k].y != keys[k + 1].y ||
         keys[k].z != keys[k + 1].z)
@@ -212,7 +212,7 @@ static int face_check(const struct scene *s, const struct scene_face *f, struct 
       e[q] = (struct edge){ r, q, q2, a.u < b.u ? a.u : b.u, a.u > b.u ? a.u : b.u,
                             a.v < b.v ? a.v : b.v, a.v > b.v ? a.v : b.v, q };
     }
-  qsort(e, (size_t)nall, sizeof *e, edge_cmp);
+  import_sort(e, (size_t)nall, sizeof *e, edge_cmp);
   for (int i = 0; i < nall; i++)
     for (int j = i + 1; j < nall && e[j].umin <= e[i].umax; j++) {
       if (e[j].vmin > e[i].vmax || e[j].vmax < e[i].vmin) continue;
@@ -703,14 +703,14 @@ static int resolve(struct parse *p)
         return t74_fail_at(err, T74_EINPUT, s->file, o->line, "object %d: unknown face %d",
                            o->id, fid);
       struct scene_face *f = &s->f[idx];
-      if (f->object == o->id)
+      if (f->object == (int)o->id)
         return t74_fail_at(err, T74_EINPUT, s->file, o->line,
                            "object %d: face %d is listed twice", o->id, fid);
       if (f->object)
         return t74_fail_at(err, T74_EINPUT, s->file, o->line,
                            "face %d is already in object %d (line %d)", fid, f->object,
                            s->obj[p->omap[f->object]].line);
-      f->object = o->id;
+      f->object = (int)o->id;
       o->face[k] = idx;
     }
   }

@@ -24,13 +24,15 @@
 #define SCENE_ID_MAX    65535
 
 struct scene_vertex {
-  uint16_t id;            /* 1..65535 as written */
+  uint32_t id;            /* 1..65535 as written in .s74; imports: 1..nv */
   int32_t  x, y, z;       /* -32768..32767 */
   int      line;          /* source line (for messages) */
 };
 
 struct scene_face {
-  uint16_t id;            /* 1..65535: the number --dump ids reports. Unique in a .s74
+  uint32_t id;            /* .s74: 1..65535; imports: 1..faces in the file (any count
+                             that fits memory, docs/scale.md): the number --dump ids
+                             reports (refused there above 65535). Unique in a .s74
                              scene; the triangles an import splits a face into all keep
                              that face's id (its input number) */
   int      line;          /* source line */
@@ -43,7 +45,7 @@ struct scene_face {
 };
 
 struct scene_object {
-  uint16_t id;
+  uint32_t id;
   int      line;
   int      nface;
   int     *face;          /* indices into scene.f */

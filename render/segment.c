@@ -81,14 +81,18 @@
 ** Departures from the paper: crossing points at a vertex keep the vertex's
 ** number (as Fig. 6, where IPL holds vertices 10 and 8); new crossing points are numbered
 ** from max(10, largest vertex id) + 1 so they never collide with a vertex id (11, 12, ..
-** as Fig. 6 for faces with ids up to 10). The output drops a vertex where the two sides
-** around it lie on the same oriented line or where a side has zero length; every output
-** piece is checked strictly convex, turning once (T74_EINPUT otherwise).
+** as Fig. 6 for faces with ids up to 10), past 65534 wrapping onto the numbers the face's
+** vertices leave free (a face of an import with vertex ids above 65535 numbers on in 32
+** bits, docs/scale.md); nothing per face is kept for this but its largest id. The output
+** drops a vertex where the two sides around it lie on the same oriented line or where a
+** side has zero length; every output piece is checked strictly convex, turning once
+** (T74_EINPUT otherwise).
 **
 ** Tables in core (emu/core.h), words on the 16-bit machine: YSORT 3 words a row (y 2,
 ** id 1); XSORT 9 a row (xsort.h); PBS 1 word per vertex or crossing number plus 1 per
 ** '*'; IPL 1 word per crossing number; LWS and UPS 1 word per vertex plus 1 separator per
-** piece. All are released when the face is done. Operations are counted in `cost`.
+** piece (an id above 65535 still counted as one word). All are released when the face
+** is done. Operations are counted in `cost`.
 */
 #include "render/segment.h"
 
@@ -101,6 +105,7 @@
 _Static_assert(XS_ORIG == SEGV_ORIG && XS_CROSS == SEGV_CROSS, "vertex kinds agree");
 
 #define PBS_STAR 0xFFFFu                 /* '*' in PBS, and the piece separator in LWS/UPS */
+#define SEG_INLINE 4                     /* queue and finished rings held in the context */
 
 /* ---- working pieces ------------------------------------------------------------------ */
 
@@ -123,9 +128,15 @@ struct seg_ctx {
   struct cost *cost;
   struct t74_error *err;
   int nvert;                             /* vertices of the face */
-  uint16_t next_num;                     /* next crossing number */
+  uint32_t next_num;                     /* next crossing number */
   uint32_t numbered;                     /* crossing numbers given so far */
-  uint8_t  idused[8192];                 /* bit k: k is a vertex id of this face */
+  uint32_t num_end;                      /* numbers stay below: 0xFFFF (PBS's '*', one word a
+                                            number) while every vertex id fits a word, else
+                                            UINT32_MAX (docs/scale.md) */
+  uint32_t *ids;                         /* the face's vertex ids, ascending, no repeats:
+                                            made only once the numbers wrap (next_used) */
+  int nids, idcur;                       /* ids[idcur] is the first id >= next_num */
+  uint32_t maxid;                        /* the largest vertex id of the face (at least 10) */
   struct ysort_row *ys;                  /* YSORT */
   int *conc;                             /* conc[i] == stamp: input vertex i concave in piece */
   int stamp;
@@ -137,6 +148,10 @@ struct seg_ctx {
   /* finished convex rings */
   struct xs_ring *fin;
   int nfin, fincap;
+  /* the first entries of both in the context itself: a convex face (most faces) then
+     takes no host allocation for them */
+  struct wpiece q0[SEG_INLINE];
+  struct xs_ring fin0[SEG_INLINE];
 };
 
 static int oom(struct seg_ctx *x)
@@ -359,11 +374,11 @@ static int first_piece(struct seg_ctx *x, struct wpiece *p)
 static int q_push(struct seg_ctx *x, struct wpiece *p)
 {
   if (x->qn == x->qcap) {
-    int cap = x->qcap ? 2 * x->qcap : 8;
+    int cap = 2 * x->qcap;
     struct wpiece *nq = malloc((size_t)cap * sizeof *nq);
     if (!nq) return oom(x);
     for (int i = 0; i < x->qn; i++) nq[i] = x->q[(x->qhead + i) % x->qcap];
-    free(x->q);
+    if (x->q != x->q0) free(x->q);
     x->q = nq;
     x->qhead = 0;
     x->qcap = cap;
@@ -377,9 +392,11 @@ static int q_push(struct seg_ctx *x, struct wpiece *p)
 static int fin_push(struct seg_ctx *x, struct xs_ring *r)
 {
   if (x->nfin == x->fincap) {
-    int cap = x->fincap ? 2 * x->fincap : 8;
-    struct xs_ring *nf = realloc(x->fin, (size_t)cap * sizeof *nf);
+    int cap = 2 * x->fincap;
+    struct xs_ring *nf = x->fin == x->fin0 ? malloc((size_t)cap * sizeof *nf)
+                                           : realloc(x->fin, (size_t)cap * sizeof *nf);
     if (!nf) return oom(x);
+    if (x->fin == x->fin0) memcpy(nf, x->fin0, sizeof x->fin0);
     x->fin = nf;
     x->fincap = cap;
   }
@@ -397,10 +414,13 @@ static int table(struct seg_ctx *x, const char *name, uint32_t words, uint32_t *
   return core_alloc(x->core, name, words, addr, x->err);
 }
 
-static void put_word(struct seg_ctx *x, uint32_t addr, uint16_t w)
+/* One word of a table. A number wider than a word (an import's vertex id above 65535,
+   docs/scale.md) is counted as one word and keeps its low 16 bits in the model: the
+   tables are laid out as the 1974 program's; decisions never read them back. */
+static void put_word(struct seg_ctx *x, uint32_t addr, uint32_t w)
 {
   count_mem(x->cost, 1);
-  if (x->core) core_write(x->core, addr, w);
+  if (x->core) core_write(x->core, addr, (uint16_t)w);
 }
 
 /* ---- point in a walked cycle (to place an untouched hole) ------------------------------ */
@@ -472,7 +492,7 @@ struct halfcut {                          /* the crossings and pieces of one sid
 };
 
 /* Number a crossing shows in IPL: the vertex's number at an endpoint, else its own. */
-static uint16_t cross_num(const struct wpiece *P, uint16_t *const *mid, const struct xsort_cross *c)
+static uint32_t cross_num(const struct wpiece *P, uint32_t *const *mid, const struct xsort_cross *c)
 {
   const struct xs_ring *g = &P->ring[c->ring];
   if (c->at == 1) return g->v[c->side].num;
@@ -481,7 +501,7 @@ static uint16_t cross_num(const struct wpiece *P, uint16_t *const *mid, const st
 }
 
 /* The point of crossing c as a ring vertex. */
-static struct xs_vertex cross_point(const struct wpiece *P, uint16_t *const *mid,
+static struct xs_vertex cross_point(const struct wpiece *P, uint32_t *const *mid,
                                     const struct xsort_cross *c, gcoord y0)
 {
   const struct xs_ring *g = &P->ring[c->ring];
@@ -526,7 +546,7 @@ static int check_alternate(struct seg_ctx *x, gcoord c, int half, const struct h
 /* Walk the pieces of one half: leave a run of the ring at an exit crossing, go along the
    cut interval to the crossing h->pair names (decided by the rules of eq. (3)), follow
    that ring to its next exit, until back at the start. Returns T74_OK or an error. */
-static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint16_t *const *mid,
+static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint32_t *const *mid,
                      gcoord c, int half, struct halfcut *h, int *const *idx)
 {
   unsigned fid = x->in->face_id;
@@ -648,7 +668,7 @@ static void trace_cycle_list(FILE *f, const char *name, const struct halfcut *h,
 }
 
 static void trace_ipl(FILE *f, const char *label, const struct halfcut *h,
-                      const struct wpiece *P, uint16_t *const *mid)
+                      const struct wpiece *P, uint32_t *const *mid)
 {
   fprintf(f, "%s:", label);
   if (h->m == 0) fputs(" (none)", f);
@@ -663,7 +683,7 @@ static void trace_ipl(FILE *f, const char *label, const struct halfcut *h,
    entries (its ends), typed alike. */
 struct tcross {
   int ring, key;                          /* key: vertex index k, or -1 - side (middle) */
-  uint16_t num;                           /* its number in PBS and IPL */
+  uint32_t num;                           /* its number in PBS and IPL */
   char type;                              /* 'a'..'e' (Fig. 5), 't' (see below) */
   int nhalf;                              /* half-crossings it stands for: uses before deletion */
   int at[2][2];                           /* per half: indices into hc[s].x (or -1) */
@@ -739,7 +759,7 @@ static int touch_concave(const struct wpiece *P, const struct halfcut *hc, int s
    "Touching, concave" is decided from the ring (touch_concave), not from any pairing of
    the half-crossings: the pairing is what the rules then make from the types.
    Returns the count (at most the half-crossings of both halves). */
-static int type_crossings(const struct wpiece *P, uint16_t *const *mid, gcoord c,
+static int type_crossings(const struct wpiece *P, uint32_t *const *mid, gcoord c,
                           const struct halfcut *hc, struct tcross *tc, struct cost *cost)
 {
   int n = 0;
@@ -904,7 +924,7 @@ static int trace_rules(FILE *f, const struct tcross *tc, int n, const struct hal
    number, '*' between rings; an entry becomes 0 once used (a crossing number once it
    has been used as often as it has half-crossings: twice for a point, the paper's rule). */
 struct pbs_entry {
-  uint16_t num, now;                      /* number; now: the number, or 0 once deleted */
+  uint32_t num, now;                      /* number; now: the number, or 0 once deleted */
   int star;                               /* 1: the '*' between rings */
   int tc;                                 /* IPL index when a crossing number, else -1 */
   int inner;                              /* a vertex inside a chain of sides along the line */
@@ -915,7 +935,7 @@ struct fig6 {
   int npbs, ntc;
   struct pbs_entry *pbs;
   struct tcross *tc;
-  uint16_t *ipl;                          /* IPL now: the number, or 0 once deleted */
+  uint32_t *ipl;                          /* IPL now: the number, or 0 once deleted */
 };
 
 static void f6_width_row(FILE *f, const char *name, const struct pbs_entry *e, int n,
@@ -923,7 +943,7 @@ static void f6_width_row(FILE *f, const char *name, const struct pbs_entry *e, i
 {
   fprintf(f, "  %-5s", name);
   for (int i = 0; i < n; i++) {
-    char num[8];
+    char num[12];
     snprintf(num, sizeof num, "%u", (unsigned)e[i].num);
     int w = (int)strlen(num);
     if (e[i].star) fputs(" *", f);
@@ -948,7 +968,7 @@ static void f6_ipl(struct fig6 *g, int types)
   if (zero && !types) { fprintf(g->f, "  %-5s All Zero\n", "IPL"); return; }
   fprintf(g->f, "  %-5s", types ? "" : "IPL");
   for (int i = 0; i < g->ntc; i++) {
-    char num[8];
+    char num[12];
     snprintf(num, sizeof num, "%u", (unsigned)g->tc[i].num);
     int w = (int)strlen(num);
     if (types) fprintf(g->f, " %*c", w, g->tc[i].type);
@@ -959,14 +979,14 @@ static void f6_ipl(struct fig6 *g, int types)
 
 /* Position of number v in PBS as it was first written (the order the paper lists a
    piece in: from its vertex that comes first in PBS). */
-static int f6_pos(const struct fig6 *g, uint16_t v)
+static int f6_pos(const struct fig6 *g, uint32_t v)
 {
   for (int i = 0; i < g->npbs; i++) if (!g->pbs[i].star && g->pbs[i].num == v) return i;
   return g->npbs;
 }
 
 /* Use one vertex of a piece: zero it in PBS, or count a use of a crossing number. */
-static void f6_use(struct fig6 *g, uint16_t v)
+static void f6_use(struct fig6 *g, uint32_t v)
 {
   for (int t = 0; t < g->ntc; t++) {
     if (g->ipl[t] != v) continue;
@@ -1016,7 +1036,7 @@ static void f6_take(struct fig6 *g, const struct halfcut *h, int i, const struct
    of every crossing under it; (b) after the lower pieces are taken (LWS); (c) after each
    upper piece but the last (UPS so far); (d) after the last. Vertices inside a chain of
    sides along the cut line belong to no piece and are zeroed with the lower pieces. */
-static void trace_fig6(FILE *f, const struct wpiece *P, uint16_t *const *mid, gcoord c,
+static void trace_fig6(FILE *f, const struct wpiece *P, uint32_t *const *mid, gcoord c,
                        struct tcross *tc, int ntc, const struct halfcut *hc)
 {
   struct fig6 g;
@@ -1070,6 +1090,47 @@ static void trace_fig6(FILE *f, const struct wpiece *P, uint16_t *const *mid, gc
   free(g.ipl);
 }
 
+/* ---- crossing numbers ------------------------------------------------------------------
+   Numbers above the face's largest vertex id first (11, 12, ... as Fig. 6), then, past
+   the last number a word holds, wrapping onto 1, 2, ... skipping the numbers the face's
+   vertices use. Until the wrap no vertex id can be met, so nothing is kept per face; at
+   the wrap (rare: tens of thousands of crossings in one face) the face's ids are sorted
+   once, and a cursor walks them as the numbers grow again. */
+
+static int cmp_u32(const void *a, const void *b)
+{
+  uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+  return (x > y) - (x < y);
+}
+
+/* The numbers run past num_end - 1: start again from 0 (never given: 0 is "deleted"). */
+static void wrap_numbers(struct seg_ctx *x)
+{
+  x->next_num = 0;
+  x->idcur = 0;
+}
+
+/* 1 when next_num cannot be given (0, PBS's '*', a vertex id of the face), 0 when it can,
+   -1 out of memory. */
+static int next_used(struct seg_ctx *x)
+{
+  uint32_t v = x->next_num;
+  if (v == 0 || v == PBS_STAR) return 1;
+  if (v > x->maxid) return 0;                   /* above every id: before the wrap */
+  if (!x->ids) {
+    x->ids = malloc((size_t)x->nvert * sizeof *x->ids);
+    if (!x->ids) return -1;
+    for (int i = 0; i < x->nvert; i++) x->ids[i] = x->in->vid[i];
+    qsort(x->ids, (size_t)x->nvert, sizeof *x->ids, cmp_u32);
+    int n = 0;
+    for (int i = 0; i < x->nvert; i++) if (!n || x->ids[i] != x->ids[n - 1]) x->ids[n++] = x->ids[i];
+    x->nids = n;
+    x->idcur = 0;
+  }
+  while (x->idcur < x->nids && x->ids[x->idcur] < v) x->idcur++;
+  return x->idcur < x->nids && x->ids[x->idcur] == v;
+}
+
 /* Cut piece P at y = c; its pieces go to the queue. P is consumed. */
 static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
 {
@@ -1078,7 +1139,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
   for (int r = 0; r < P->nring; r++) total += P->ring[r].n;
   x->ncut++;
 
-  uint16_t **mid = calloc((size_t)P->nring, sizeof *mid);
+  uint32_t **mid = calloc((size_t)P->nring, sizeof *mid);
   int **idx = calloc((size_t)P->nring, sizeof *idx);
   struct xsort_row *rows = malloc((size_t)(2 * total) * sizeof *rows);
   struct halfcut hc[2];
@@ -1107,8 +1168,8 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     uint32_t w = a + (uint32_t)i * XSORT_ROW_WORDS;
     core_put_int(x->core, w, 4, (int64_t)rows[i].x.num);
     core_put_int(x->core, w + 4, 2, (int64_t)rows[i].x.den);
-    core_write(x->core, w + 6, sd->ea);
-    core_write(x->core, w + 7, sd->eb);
+    core_write(x->core, w + 6, (uint16_t)sd->ea);   /* ids above 65535: low word (put_word) */
+    core_write(x->core, w + 7, (uint16_t)sd->eb);
     core_write(x->core, w + 8, rows[i].code);
   }
 
@@ -1123,16 +1184,20 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
         /* numbers above the face's largest vertex id first (11, 12, ... as Fig. 6), then
            wrapping onto numbers no vertex of the face uses: one word a number, 0xFFFF
            being PBS's '*' */
-        while (x->next_num == 0 || x->next_num == PBS_STAR ||
-               (x->idused[x->next_num >> 3] >> (x->next_num & 7) & 1)) {
-          if (x->numbered >= UINT16_MAX - 1) {
+        int u;
+        while ((u = next_used(x)) != 0) {
+          if (u < 0) { rc = oom(x); goto done; }
+          if (x->numbered >= x->num_end - 1) {
             rc = t74_fail(x->err, T74_EINPUT, "face %u: more crossing points than a "
-                          "16-bit number can tell apart", (unsigned)x->in->face_id);
+                          "%s number can tell apart", (unsigned)x->in->face_id,
+                          x->num_end == PBS_STAR ? "16-bit" : "32-bit");
             goto done;
           }
           x->next_num++;
+          if (x->next_num > x->num_end) wrap_numbers(x);
         }
         mid[r][k] = x->next_num++;
+        if (x->next_num > x->num_end) wrap_numbers(x);
         x->numbered++;
         npbs++;
       }
@@ -1412,14 +1477,15 @@ static int finish_ring(struct seg_ctx *x, struct xs_ring *g, struct seg_piece *o
 
 static void ctx_free(struct seg_ctx *x)
 {
+  free(x->ids);
   while (x->qn) {
     wpiece_free(&x->q[x->qhead]);
     x->qhead = (x->qhead + 1) % x->qcap;
     x->qn--;
   }
-  free(x->q);
+  if (x->q != x->q0) free(x->q);
   for (int i = 0; i < x->nfin; i++) ring_free(&x->fin[i]);
-  free(x->fin);
+  if (x->fin != x->fin0) free(x->fin);
   free(x->ys);
   free(x->conc);
 }
@@ -1436,16 +1502,21 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
   x->cost = cost;
   x->err = err;
   x->next_id = 1;
+  x->q = x->q0;
+  x->qcap = SEG_INLINE;
+  x->fin = x->fin0;
+  x->fincap = SEG_INLINE;
   int rc = check_input(x);
   if (rc) return rc;
   uint32_t mark = core ? core_mark(core) : 0;
 
   x->nvert = in->ring_start[in->nring];
-  uint16_t maxid = 10;
+  uint32_t maxid = 10;
   for (int i = 0; i < x->nvert; i++) if (in->vid[i] > maxid) maxid = in->vid[i];
-  /* x->idused is zero from the memset of *x above */
-  for (int i = 0; i < x->nvert; i++) x->idused[in->vid[i] >> 3] |= (uint8_t)(1u << (in->vid[i] & 7));
-  x->next_num = (uint16_t)(maxid + 1);
+  x->maxid = maxid;
+  x->num_end = maxid <= 0xFFFFu ? PBS_STAR : UINT32_MAX;
+  x->next_num = maxid + 1;
+  if (x->next_num > x->num_end) wrap_numbers(x);
 
   /* YSORT */
   x->ys = malloc((size_t)x->nvert * 2 * sizeof *x->ys);
@@ -1456,7 +1527,7 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
   if ((rc = table(x, CORE_T_YSORT, (uint32_t)x->nvert * YSORT_ROW_WORDS, &a))) goto fail;
   for (int i = 0; i < x->nvert && core; i++) {
     core_put_int(core, a + 3 * (uint32_t)i, 2, x->ys[i].y);
-    core_write(core, a + 3 * (uint32_t)i + 2, x->ys[i].vid);
+    core_write(core, a + 3 * (uint32_t)i + 2, (uint16_t)x->ys[i].vid);
   }
 
   struct wpiece P;

@@ -20,18 +20,18 @@
 #include "render/geom.h"
 
 struct seg_input {
-  uint16_t face_id;            /* input face number (for tables) */
+  uint32_t face_id;            /* input face number (for tables) */
   int      nring;              /* 1 + holes */
   const int *ring_start;       /* nring + 1 offsets into pt/vid; ring 0 = outer (CCW), others holes (CW) */
   const struct gpoint *pt;     /* grid positions; consecutive points distinct, >= 3 per ring */
-  const uint16_t *vid;         /* vertex ids as typed (tables and dumps show these) */
+  const uint32_t *vid;         /* vertex ids as typed (tables and dumps show these) */
 };
 
 enum seg_vkind { SEGV_ORIG = 0, SEGV_CROSS = 1 };
 
 struct seg_vertex {
   uint8_t  kind;               /* SEGV_ORIG: an input vertex; SEGV_CROSS: a crossing point */
-  uint16_t num;                /* ORIG: vertex id; CROSS: crossing number (11, 12, ... as Fig. 6) */
+  uint32_t num;                /* ORIG: vertex id; CROSS: crossing number (11, 12, ... as Fig. 6) */
   struct hpoint p;             /* exact position */
 };
 

@@ -44,7 +44,7 @@
 /* One vertex of a working ring. */
 struct xs_vertex {
   uint8_t  kind;                   /* XS_ORIG or XS_CROSS */
-  uint16_t num;                    /* ORIG: vertex id; CROSS: crossing number (11, 12, ..) */
+  uint32_t num;                    /* ORIG: vertex id; CROSS: crossing number (11, 12, ..) */
   int      src;                    /* ORIG: index into the face's point array; CROSS: -1 */
   gcoord   y;                      /* exact y: always on the grid */
   struct grat x;                   /* exact x */
@@ -54,7 +54,7 @@ struct xs_vertex {
 /* The side of a working ring from vertex k to vertex k+1. */
 struct xs_side {
   struct gline line;               /* its oriented line, the face on the left */
-  uint16_t ea, eb;                 /* ids of the input edge it lies on ("ea-eb") */
+  uint32_t ea, eb;                 /* ids of the input edge it lies on ("ea-eb") */
   uint8_t  cut;                    /* 1: it lies on a cut line (then ea, eb unused) */
 };
 

@@ -12,7 +12,7 @@
 */
 #include "render/ysort.h"
 
-void ysort_build(const struct gpoint *pt, const uint16_t *vid, int n,
+void ysort_build(const struct gpoint *pt, const uint32_t *vid, int n,
                  struct ysort_row *rows, struct ysort_row *scratch, struct cost *cost)
 {
   for (int i = 0; i < n; i++) {

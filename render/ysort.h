@@ -23,13 +23,13 @@
 
 struct ysort_row {
   gcoord   y;                      /* the vertex's y */
-  uint16_t vid;                    /* its id as typed */
+  uint32_t vid;                    /* its id as typed */
   int      index;                  /* its index in the face's point array */
 };
 
 /* Fill rows[0..n-1] with the n points in ascending y, ties in input order (stable merge
    sort on scratch, n rows). cost may be NULL. */
-void ysort_build(const struct gpoint *pt, const uint16_t *vid, int n,
+void ysort_build(const struct gpoint *pt, const uint32_t *vid, int n,
                  struct ysort_row *rows, struct ysort_row *scratch, struct cost *cost);
 
 #endif

@@ -689,7 +689,8 @@ static void check_orders(struct fx *f, const struct mesh *m, const char *what,
           scene_free(s);
         } else {
           base = s;
-          for (int a = 0, last = 0; ki == 0 && cell == 3 && a < s->nf; a++) {
+          uint32_t last = 0;
+          for (int a = 0; ki == 0 && cell == 3 && a < s->nf; a++) {
             if (a > 0 && s->f[a].id == s->f[a - 1].id && s->f[a].id != last) {
               tot->split_faces++;
               last = s->f[a].id;

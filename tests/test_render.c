@@ -473,7 +473,7 @@ static void test_overlap(void **state)
 static int fidx(const struct render *r, int id)
 {
   for (int k = 0; k < r->map.nface; k++)
-    if (r->map.f[k].id == id) return k;
+    if (r->map.f[k].id == (uint32_t)id) return k;
   fail_msg("face %d not mapped", id);
   return -1;
 }
@@ -922,7 +922,7 @@ static void check_spans(struct render *r, int64_t yn, int64_t yd, int nw,
   bool same = ns == nw;
   for (int k = 0; same && k < ns; k++)
     same = rat_is(sp[k].x0, G(w[k].x0), 1) && rat_is(sp[k].x1, G(w[k].x1), 1) &&
-           r->map.f[sp[k].face].id == w[k].id;
+           r->map.f[sp[k].face].id == (uint32_t)w[k].id;
   for (int k = 0; !same && k < ns; k++)
     print_message("  y=%lld/%lld span %d: [%g, %g) face %d\n", (long long)yn, (long long)yd, k,
                   (double)sp[k].x0.num / (double)sp[k].x0.den / GRID_ONE,

@@ -34,14 +34,14 @@
 #define TF_MAX 4096
 
 struct tface {
-  uint16_t id;
+  uint32_t id;
   int nring;
   int rs[17];
   struct gpoint pt[TF_MAX];
-  uint16_t vid[TF_MAX];
+  uint32_t vid[TF_MAX];
 };
 
-static struct tface *tf_new(uint16_t id)
+static struct tface *tf_new(uint32_t id)
 {
   struct tface *f = calloc(1, sizeof *f);
   assert_non_null(f);
@@ -1034,7 +1034,7 @@ static void test_ysort(void **state)
 {
   (void)state;
   struct gpoint pt[6] = { { 0, 5 }, { 1, -3 }, { 2, 5 }, { 3, 0 }, { 4, -3 }, { 5, 9 } };
-  uint16_t id[6] = { 1, 2, 3, 4, 5, 6 };
+  uint32_t id[6] = { 1, 2, 3, 4, 5, 6 };
   struct ysort_row rows[6], tmp[6];
   struct cost c;
   memset(&c, 0, sizeof c);

@@ -18,6 +18,9 @@
 **     frame_median_seconds setup_seconds triangles
 ** (setup: read + tessellation + context + warm-up frame). The driver is Mesa's choice of
 ** GALLIUM_DRIVER (llvmpipe or softpipe; LP_NUM_THREADS sets llvmpipe's threads).
+** `--turn AZ,EL` first (either form) turns an .obj/.off import as tube74's --turn does
+** (bench speed's box scenes beyond what .s74 holds are .obj read with --turn 0,0); the
+** warm frames read face numbers back in 24 bits (the colour holds 24).
 */
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,6 +33,7 @@
 
 #include "render/effects.h"
 #include "render/scene.h"
+#include "render/turn.h"
 #include "tests/ref/osmesa_ref.h"
 
 static double now(void)
@@ -103,12 +107,12 @@ static int cmp_d(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
-static int warm(const char *path, int frames, int tube_size)
+static int warm(const char *path, const struct scene_opts *so, int frames, int tube_size)
 {
   double t0 = now();
   struct t74_error err = { T74_OK, "" };
   struct scene *s = NULL;
-  if (scene_load(path, NULL, &s, &err) != T74_OK) { fprintf(stderr, "%s\n", err.msg); return err.status; }
+  if (scene_load(path, so, &s, &err) != T74_OK) { fprintf(stderr, "%s\n", err.msg); return err.status; }
   struct effects eff;
   effects_default(&eff);
   if (s->effects) effects_parse(s->effects, &eff, s->file, s->effects_line, &err);
@@ -173,7 +177,7 @@ static int warm(const char *path, int frames, int tube_size)
 
   OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
   GLubyte *buf = malloc((size_t)w * (size_t)h * 4);
-  uint16_t *ids = malloc((size_t)w * (size_t)h * sizeof *ids);
+  uint32_t *ids = malloc((size_t)w * (size_t)h * sizeof *ids);
   double *ft = malloc((size_t)frames * sizeof *ft);
   if (!ctx || !buf || !ids || !ft || !OSMesaMakeCurrent(ctx, buf, GL_UNSIGNED_BYTE, w, h)) {
     fprintf(stderr, "refbench: no OSMesa context\n");
@@ -203,7 +207,7 @@ static int warm(const char *path, int frames, int tube_size)
     glFinish();
     for (int j = 0; j < h; j++) {
       const GLubyte *row = buf + (size_t)(h - 1 - j) * (size_t)w * 4;
-      for (int i = 0; i < w; i++) ids[(size_t)j * (size_t)w + (size_t)i] = (uint16_t)(row[4 * i] | row[4 * i + 1] << 8);
+      for (int i = 0; i < w; i++) ids[(size_t)j * (size_t)w + (size_t)i] = (uint32_t)row[4 * i] | (uint32_t)row[4 * i + 1] << 8 | (uint32_t)row[4 * i + 2] << 16;
     }
     if (k < 0) {
       setup = now() - t0;
@@ -226,13 +230,25 @@ static int warm(const char *path, int frames, int tube_size)
 
 int main(int argc, char **argv)
 {
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  if (argc >= 3 && !strcmp(argv[1], "--turn")) {
+    if (turn_parse(argv[2], &so.turn[0], &so.turn[1]) != 0) {
+      fprintf(stderr, "refbench: --turn takes AZ,EL\n");
+      return 2;
+    }
+    so.has_turn = true;
+    argv[2] = argv[0];
+    argv += 2;
+    argc -= 2;
+  }
   if (argc >= 4 && !strcmp(argv[1], "--warm")) {
     int frames = atoi(argv[2]), tube_size = 0, a = 3;
     if (argc == 6 && !strcmp(argv[3], "--size")) { tube_size = !strcmp(argv[4], "tube"); a = 5; }
-    if (frames < 1 || a != argc - 1) { fprintf(stderr, "usage: refbench --warm K [--size grid|tube] SCENE\n"); return 2; }
-    return warm(argv[a], frames, tube_size);
+    if (frames < 1 || a != argc - 1) { fprintf(stderr, "usage: refbench [--turn AZ,EL] --warm K [--size grid|tube] SCENE\n"); return 2; }
+    return warm(argv[a], &so, frames, tube_size);
   }
-  if (argc != 2) { fprintf(stderr, "usage: refbench SCENE.s74 | --warm K [--size grid|tube] SCENE\n"); return 2; }
+  if (argc != 2) { fprintf(stderr, "usage: refbench [--turn AZ,EL] SCENE | --warm K [--size grid|tube] SCENE\n"); return 2; }
   char msg[256];
   ref_renderer *rr = ref_open(msg, sizeof msg);
   if (!rr) { fprintf(stderr, "refbench: %s\n", msg); return 4; }
@@ -240,7 +256,7 @@ int main(int argc, char **argv)
   double t0 = now();
   struct t74_error err = { T74_OK, "" };
   struct scene *s = NULL;
-  if (scene_load(argv[1], NULL, &s, &err) != T74_OK) {
+  if (scene_load(argv[1], &so, &s, &err) != T74_OK) {
     fprintf(stderr, "%s\n", err.msg);
     ref_close(rr);
     return err.status;

@@ -1,0 +1,37 @@
+/*
+** rsort.c — (key, index) pairs sorted by key, ties by index (rsort.h): a host helper for
+** the Mapper's T-junction search and the lazy cut order; no 1974 work is counted here.
+**
+** This file contains a least significant digit radix sort: one histogram pass over the
+** eight key bytes (the sign bit flipped, so signed keys sort as unsigned), then one
+** stable scatter pass for each byte in which the keys differ. Stable, so pairs of equal
+** key keep the (ascending) order of their indices.
+*/
+#include "render/rsort.h"
+
+#include <string.h>
+
+void rsort_pairs(struct rs_pair *a, struct rs_pair *tmp, int n)
+{
+  if (n < 2) return;
+  static const uint64_t flip = (uint64_t)1 << 63;
+  uint32_t count[8][256];
+  memset(count, 0, sizeof count);
+  for (int i = 0; i < n; i++) {
+    uint64_t u = (uint64_t)a[i].key ^ flip;
+    for (int b = 0; b < 8; b++) count[b][(u >> (8 * b)) & 0xff]++;
+  }
+  struct rs_pair *src = a, *dst = tmp;
+  for (int b = 0; b < 8; b++) {
+    uint32_t first = (uint32_t)(((uint64_t)src[0].key ^ flip) >> (8 * b)) & 0xff;
+    if (count[b][first] == (uint32_t)n) continue;      /* every key has this byte */
+    uint32_t at[256], sum = 0;
+    for (int d = 0; d < 256; d++) { at[d] = sum; sum += count[b][d]; }
+    for (int i = 0; i < n; i++) {
+      uint32_t d = (uint32_t)(((uint64_t)src[i].key ^ flip) >> (8 * b)) & 0xff;
+      dst[at[d]++] = src[i];
+    }
+    struct rs_pair *t = src; src = dst; dst = t;
+  }
+  if (src != a) memcpy(a, src, (size_t)n * sizeof *a);
+}
