@@ -123,6 +123,34 @@ static void sort_kept(const struct vis *v, int *a, int n, vis_cmp cmp)
   }
 }
 
+/* Take item `it` out of the sorted ord[0..*n) (found by a binary search, then among
+   equal keys). */
+static void ord_remove(const struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
+{
+  int lo = 0, hi = *n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (cmp(v, ord[mid], it) < 0) lo = mid + 1; else hi = mid;
+  }
+  while (lo < *n && ord[lo] != it) lo++;
+  if (lo == *n) return;
+  memmove(&ord[lo], &ord[lo + 1], (size_t)(*n - lo - 1) * sizeof *ord);
+  (*n)--;
+}
+
+/* Put item `it` into the sorted ord[0..*n), after the equal keys (room for one more). */
+static void ord_insert(const struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
+{
+  int lo = 0, hi = *n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (cmp(v, ord[mid], it) <= 0) lo = mid + 1; else hi = mid;
+  }
+  memmove(&ord[lo + 1], &ord[lo], (size_t)(*n - lo) * sizeof *ord);
+  ord[lo] = it;
+  (*n)++;
+}
+
 /* Place pieces added to seg since last time into `order` (after `next`, by lowest y):
    the new ones sorted apart, then merged in from the back, each placed by a binary
    search over the pieces not yet passed (as one piece alone is placed), so every piece
@@ -177,6 +205,7 @@ void vis_free(struct vis *v)
   free(v->byxl);
   free(v->byxr);
   free(v->set);
+  free(v->seti);
   free(v->span);
   free(v->span2);
   free(v->tmp);
@@ -395,6 +424,39 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
   return PRIO_FIRST;
 }
 
+/* A first candidate for the front of the covering set at the point (x, y): the piece
+   whose face's plane is nearest the eye there, by an estimate — the depth form of
+   priority.c (G = deye_B plane_A(r) - deye_A plane_B(r) > 0: face A in front), per face
+   plane_A(r) / deye_A, at x and y cut to whole grid units, the quotient scaled by 2^32
+   and truncated. Only the order in which front_of meets the pieces depends on it: the
+   front is still the piece that won a decided pair against every other (a poor guess
+   costs pairs decided, never a wrong picture). Charged as the 1974 program would
+   evaluate a plane: two products and a sum, a quotient, a compare. */
+static int front_guess(struct vis *v, struct grat x, int64_t yn, int64_t yd)
+{
+  const struct mapped *m = v->prio->map;
+  const int64_t *e = m->eye;
+  wide xi = x.num / x.den, yi = yn / yd;
+  wide rx = xi - GRID_ONE * (wide)e[0], ry = yi - GRID_ONE * (wide)e[1];
+  wide rz = -GRID_ONE * (wide)e[2];
+  int best = -1;
+  wide bq = 0;
+  for (int k = 0; k < v->nset; k++) {
+    const struct mface *f = &m->f[v->seg->p[v->set[k]].face];
+    wide n = (wide)f->plane[0] * rx + (wide)f->plane[1] * ry + (wide)f->plane[2] * rz;
+    wide an = n < 0 ? -n : n;
+    wide q = an < ((wide)1 << 94) ? n * ((wide)1 << 32) / f->deye
+                                  : n / f->deye * ((wide)1 << 32);
+    cost_mw_mul(v->cost, 51, 34);
+    cost_mw_mul(v->cost, 51, 34);
+    cost_mw_add(v->cost, 86);
+    cost_mw_div(v->cost, 86, 48);
+    cost_mw_add(v->cost, 64);
+    if (best < 0 || q > bq) { best = v->set[k]; bq = q; }
+  }
+  return best;
+}
+
 /* Activate the pieces of `order` that begin at or below the line (appended to act). */
 static int activate(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
 {
@@ -418,6 +480,7 @@ static int room(struct vis *v, int n)
   return grow((void **)&v->byxl, &v->byxlcap, n, sizeof *v->byxl) &&
          grow((void **)&v->byxr, &v->byxrcap, n, sizeof *v->byxr) &&
          grow((void **)&v->set, &v->setcap, n, sizeof *v->set) &&
+         grow((void **)&v->seti, &v->seticap, n, sizeof *v->seti) &&
          grow((void **)&v->tmp, &v->tmpcap, n, sizeof *v->tmp) &&
          grow((void **)&v->tmp2, &v->tmp2cap, n, sizeof *v->tmp2) &&
          grow((void **)&v->tmp3, &v->tmp3cap, n, sizeof *v->tmp3);
@@ -532,30 +595,19 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
   for (int a = first; a < v->nact; a++)
     if (dblock_span(v, &v->act[a], yn, yd, err) != T74_OK) return err->status;
   if (!room(v, v->nact)) return t74_fail(err, T74_EIO, "out of host memory");
-  int nnew = v->nact - first;
 
-  /* the order by xb */
-  int m = 0;
-  for (int i = 0; i < v->nbyxl; i++)
-    if (s->p[v->act[v->byxl[i]].piece].alive) v->byxl[m++] = v->byxl[i];
-  for (int a = 0; a < nnew; a++) v->tmp[a] = first + a;
-  sort_batch(v, v->tmp, nnew, v->tmp2, by_xl);
-  merge_runs(v, v->byxl, m, v->tmp, nnew, v->tmp2, by_xl);
-  memcpy(v->byxl, v->tmp2, (size_t)(m + nnew) * sizeof *v->byxl);
-  v->nbyxl = m + nnew;
+  /* both x orders: the dead out (they are pieces of the set: the pair just decided),
+     the halves in, each by a binary search */
+  for (int i = 0; i < v->nset; i++)
+    if (!s->p[v->set[i]].alive) {
+      ord_remove(v, v->byxl, &v->nbyxl, v->seti[i], by_xl);
+      ord_remove(v, v->byxr, &v->nbyxr, v->seti[i], by_xr);
+    }
+  for (int a = first; a < v->nact; a++) {
+    ord_insert(v, v->byxl, &v->nbyxl, a, by_xl);
+    if (v->act[a].on) ord_insert(v, v->byxr, &v->nbyxr, a, by_xr);
+  }
   *non = count_on(v);
-
-  /* the order by xe */
-  m = 0;
-  for (int i = 0; i < v->nbyxr; i++)
-    if (s->p[v->act[v->byxr[i]].piece].alive) v->byxr[m++] = v->byxr[i];
-  int nb = 0;
-  for (int a = first; a < v->nact; a++)
-    if (v->act[a].on) v->tmp[nb++] = a;
-  sort_batch(v, v->tmp, nb, v->tmp2, by_xr);
-  merge_runs(v, v->byxr, m, v->tmp, nb, v->tmp2, by_xr);
-  memcpy(v->byxr, v->tmp2, (size_t)(m + nb) * sizeof *v->byxr);
-  v->nbyxr = m + nb;
 
   *ia = after_x(v, v->byxl, *non, x, false);
   *ir = after_x(v, v->byxr, v->nbyxr, x, true);
@@ -565,6 +617,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
   for (int i = 0; i < v->nset; i++) {
     if (!s->p[v->set[i]].alive) continue;
     if (i < *joined) j++;
+    v->seti[k] = v->seti[i];
     v->set[k++] = v->set[i];
   }
   *joined = j;
@@ -574,6 +627,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
     cost_mw_mul(v->cost, 75, 46);
     cost_mw_mul(v->cost, 75, 46);
     if (geom_rat_cmp(it->xl, x) <= 0 && geom_rat_cmp(x, it->xr) < 0) {
+      v->seti[k] = a;
       v->set[k++] = it->piece;
       COST_ADD_N(v->cost, COST_MEM, 2);
     }
@@ -600,7 +654,12 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     while (ir < v->nbyxr && geom_rat_cmp(XR(ir), x) == 0) {
       int p = v->act[v->byxr[ir++]].piece;
       for (int m = 0; m < v->nset; m++)
-        if (v->set[m] == p) { v->set[m] = v->set[--v->nset]; break; }
+        if (v->set[m] == p) {
+          v->nset--;
+          v->set[m] = v->set[v->nset];
+          v->seti[m] = v->seti[v->nset];
+          break;
+        }
       /* Only the front's own leaving calls for a new choice. A front kept (front_of
          returned it sure) has met every other piece of the set in a pair decided
          directly, and won each: not by transitivity through a third piece (issue 7,
@@ -615,6 +674,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     /* join: spans starting at x */
     int joined = v->nset;
     while (ia < non && geom_rat_cmp(XL(ia), x) == 0) {
+      v->seti[v->nset] = v->byxl[ia];
       v->set[v->nset++] = v->act[v->byxl[ia++]].piece;
       COST_ADD_N(v->cost, COST_MEM, 2);
     }
@@ -623,7 +683,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
          a piece of the set has not left yet) */
       struct grat xn = ia < non && geom_rat_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
       bool sure;
-      int r = front < 0 ? front_of(v, -1, 0, &front, &sure, err)
+      int r = front < 0 ? front_of(v, front_guess(v, x, yn, yd), 0, &front, &sure, err)
                         : front_of(v, front, joined, &front, &sure, err);
       if (r == PRIO_SPLIT) {
         if (resume(v, x, yn, yd, &ia, &ir, &non, &joined, err) != T74_OK) return PRIO_ERROR;

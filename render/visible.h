@@ -59,6 +59,7 @@ struct vis {
   int   *byxr, nbyxr, byxrcap;           /* act indices of the pieces the line meets, in
                                             order of xr; kept from line to line */
   int   *set, nset, setcap;              /* pieces covering the current stretch */
+  int   *seti, seticap;                  /* their items (act indices), in step with set */
   struct vis_span *span; int nspan, spancap;
   int   *tmp, tmpcap, *tmp2, tmp2cap, *tmp3, tmp3cap;   /* scratch for sorts and merges */
   struct vis_item *act2; int act2cap;    /* scratch: act put in x order at a line's end */
