@@ -357,6 +357,18 @@ static struct gline reversed(struct gline l)
   return r;
 }
 
+/* Does a side of piece X lie on line l (either way round)? */
+static bool on_line_side(const struct piece *X, struct gline l)
+{
+  for (int k = 0; k < X->n; k++) {
+    struct gline m = X->line[k];
+    if ((wide)m.a * l.b == (wide)m.b * l.a && (wide)m.a * l.c == (wide)m.c * l.a &&
+        (wide)m.b * l.c == (wide)m.c * l.b)
+      return true;
+  }
+  return false;
+}
+
 /* Add a clipped half as a new piece. */
 static int add_half(struct prio *pr, int face, const struct cpoly *c, struct t74_error *err)
 {
@@ -480,6 +492,12 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     result = DECIDED_SPLIT;
   } else {
     result = ovr && !ovl ? CODE_LOWER : CODE_HIGHER;
+    /* No crossing inside this pair's overlap; but where one of the pieces was cut before
+       along this very line (by a third face in the same plane as one of these), the two
+       faces still meet along it: the line is noted for enhanced edges (paper 002 e4),
+       so which pairs happen to be decided first does not choose the lines drawn. */
+    if ((on_line_side(P, L) || on_line_side(Q, L)) && note_cut(pr, P->face, Q->face, L, err) != T74_OK)
+      goto fail;
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front\n",
               i, (unsigned)A->id, j, (unsigned)B->id, result == CODE_HIGHER ? "first" : "second");

@@ -607,7 +607,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
     ord_insert(v, v->byxl, &v->nbyxl, a, by_xl);
     if (v->act[a].on) ord_insert(v, v->byxr, &v->nbyxr, a, by_xr);
   }
-  *non = count_on(v);
+  *non = v->nbyxr;                        /* the items on the line, at the head of byxl */
 
   *ia = after_x(v, v->byxl, *non, x, false);
   *ir = after_x(v, v->byxr, v->nbyxr, x, true);
