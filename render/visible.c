@@ -441,6 +441,7 @@ static int front_guess(struct vis *v, struct grat x, int64_t yn, int64_t yd)
   wide rz = -GRID_ONE * (wide)e[2];
   int best = -1;
   wide bq = 0;
+  if (v->nset <= 2) return v->set[0];     /* one pair at most: nothing to gain */
   for (int k = 0; k < v->nset; k++) {
     const struct mface *f = &m->f[v->seg->p[v->set[k]].face];
     wide n = (wide)f->plane[0] * rx + (wide)f->plane[1] * ry + (wide)f->plane[2] * rz;
