@@ -378,6 +378,37 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   return T74_OK;
 }
 
+/* The piece p was cut from (priority.c), or -1. */
+static int parent_of(const struct vis *v, int p)
+{
+  COST_ADD_N(v->cost, COST_MEM, 1);
+  return v->seg->p[p].parent;
+}
+
+/* Ancestors looked at on each side before a pair is decided afresh. */
+#define ANC_MAX 16
+
+/* The order of pieces b and c. A decided pair's order holds over the pair's whole
+   overlap, and a half is part of the piece it was cut from: so when b and c are not
+   decided themselves, a decided pair of b (or an ancestor of b) with c (or an ancestor
+   of c) gives their order over their overlap, exactly, as their own deciding would
+   (they do not cross there: the ancestors did not). Looked at: b's ancestors against c,
+   b against c's ancestors, the two parents; else prio_order decides (and may cut). */
+static int order_of(struct vis *v, int b, int c, struct t74_error *err)
+{
+  int pb = parent_of(v, b), pc = parent_of(v, c);
+  if (pb >= 0 || pc >= 0) {
+    int r = prio_known(v->prio, b, c);
+    if (r) return r;
+    for (int a = pb, k = 0; a >= 0 && k < ANC_MAX; a = parent_of(v, a), k++)
+      if ((r = prio_known(v->prio, a, c))) return r;
+    for (int a = pc, k = 0; a >= 0 && k < ANC_MAX; a = parent_of(v, a), k++)
+      if ((r = prio_known(v->prio, b, a))) return r;
+    if (pb >= 0 && pc >= 0 && (r = prio_known(v->prio, pb, pc))) return r;
+  }
+  return prio_order(v->prio, b, c, err);
+}
+
 /* The front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative.
    A pair's priority holds over the pair's whole overlap only once the pair itself has
    been decided: deciding is also where crossing pieces are found and cut (priority.c).
@@ -399,7 +430,7 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
     int c = v->set[k];
     if (c == b) continue;
     if (b < 0) { b = c; continue; }
-    int r = prio_order(v->prio, b, c, err);
+    int r = order_of(v, b, c, err);
     if (r == PRIO_ERROR) return PRIO_ERROR;
     if (r == PRIO_SPLIT) return PRIO_SPLIT;
     if (r == PRIO_SECOND) { b = c; changed = true; }
@@ -414,7 +445,7 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
     for (int k = 0; k < v->nset && !changed; k++) {
       int c = v->set[k];
       if (c == b) continue;
-      int r = prio_order(v->prio, b, c, err);
+      int r = order_of(v, b, c, err);
       if (r == PRIO_ERROR) return PRIO_ERROR;
       if (r == PRIO_SPLIT) return PRIO_SPLIT;
       if (r == PRIO_SECOND) { b = c; changed = true; }
