@@ -862,13 +862,37 @@ static void test_vis_spans(void **state)
   scene_free(sc);
 }
 
+/* n large triangles at random slants in depth (the scene of tools/mktris.py, by a small
+   LCG): nearly every pair overlaps on the plane and many pierce each other, so the sweep
+   meets splits on most lines. Written into buf (room for n * 120 + 64 characters). */
+static const char *tris_scene(char *buf, size_t room, int n, uint32_t seed)
+{
+  size_t at = (size_t)snprintf(buf, room, "view 0 0 -3000\nwindow -400 -300 400 300\n");
+  uint32_t x = seed;
+#define RND(lo, hi) (x = x * 1664525u + 1013904223u, (int)((lo) + (int)((x >> 8) % (uint32_t)((hi) - (lo) + 1))))
+  for (int t = 0; t < n && at < room; t++) {
+    int cx = RND(-250, 250), cy = RND(-180, 180), r = RND(120, 260);
+    for (int k = 0; k < 3 && at < room; k++) {
+      int vx = cx + RND(-r, r), vy = cy + RND(-r, r), vz = RND(500, 2500);
+      at += (size_t)snprintf(buf + at, room - at, "vertex %d %d %d %d\n", 3 * t + k + 1, vx, vy, vz);
+    }
+    if (at < room)
+      at += (size_t)snprintf(buf + at, room - at, "face %d %d %d %d grey %d\n", t + 1, 3 * t + 1,
+                             3 * t + 2, 3 * t + 3, RND(60, 255));
+  }
+#undef RND
+  return buf;
+}
+
 /* On the crossing scene, on many lines: spans disjoint, ordered, each inside its piece's
    own span, and a point is in a span exactly when some alive piece owns it. */
 static void test_vis_spans_invariant(void **state)
 {
   (void)state;
-  const char *scenes[] = { CROSSING, MIXED, CYCLIC };
-  for (int s = 0; s < 3; s++) {
+  static char tris[2][24 * 120 + 64];
+  const char *scenes[] = { CROSSING, MIXED, CYCLIC, tris_scene(tris[0], sizeof tris[0], 24, 1),
+                           tris_scene(tris[1], sizeof tris[1], 16, 7) };
+  for (int s = 0; s < 5; s++) {
     struct render r;
     struct scene *sc = prepare(&r, scenes[s], PRIO_AUTO);
     int lines = 0;
@@ -908,9 +932,74 @@ static void test_vis_spans_invariant(void **state)
       }
     }
     assert_true(lines > 100);
+    /* the triangles: splits were met inside sweeps, which went on from there */
+    if (s >= 3) assert_true(r.vis.resumes > 0);
     render_free(&r);
     scene_free(sc);
   }
+}
+
+/* prio_known only looks: it never decides a pair (computed does not move), says 0 for a
+   pair not decided, and for a decided one what prio_order says, both ways round. */
+static void test_prio_known(void **state)
+{
+  (void)state;
+  static char tris[20 * 120 + 64];
+  struct render r;
+  struct scene *sc = prepare(&r, tris_scene(tris, sizeof tris, 20, 3), PRIO_AUTO);
+  uint64_t c0 = r.prio.computed;
+  int n = r.seg.n;
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) assert_int_equal(prio_known(&r.prio, i, j), 0);
+  assert_true(r.prio.computed == c0);
+  uint16_t *a = calloc(GW * GH, sizeof *a);
+  scan_ids(&r, a);
+  uint64_t c1 = r.prio.computed;
+  assert_true(c1 > c0);
+  int known = 0;
+  struct t74_error err = { 0, "" };
+  for (int i = 0; i < r.seg.n; i++)
+    for (int j = i + 1; j < r.seg.n; j++) {
+      int k = prio_known(&r.prio, i, j);
+      assert_true(r.prio.computed == c1);
+      if (!k) continue;
+      known++;
+      assert_int_equal(prio_known(&r.prio, j, i), k == PRIO_FIRST ? PRIO_SECOND : PRIO_FIRST);
+      assert_int_equal(prio_order(&r.prio, i, j, &err), k);
+      assert_true(r.prio.computed == c1);
+    }
+  assert_true(known > 0);
+  free(a);
+  render_free(&r);
+  scene_free(sc);
+}
+
+/* Halves know the piece they were cut from; a piece the Segment Generator made has none;
+   a half lies inside its parent (each of its vertices is in every half-plane of the
+   parent's, exactly), and both halves of a cut share its face. */
+static void test_piece_parents(void **state)
+{
+  (void)state;
+  static char tris[20 * 120 + 64];
+  struct render r;
+  struct scene *sc = prepare(&r, tris_scene(tris, sizeof tris, 20, 5), PRIO_AUTO);
+  int n0 = r.seg.n;
+  for (int k = 0; k < n0; k++) assert_int_equal(r.seg.p[k].parent, -1);
+  uint16_t *a = calloc(GW * GH, sizeof *a);
+  scan_ids(&r, a);
+  assert_true(r.seg.n > n0);
+  for (int k = n0; k < r.seg.n; k++) {
+    const struct piece *h = &r.seg.p[k];
+    assert_true(h->parent >= 0 && h->parent < k);
+    const struct piece *P = &r.seg.p[h->parent];
+    assert_false(P->alive);
+    assert_int_equal(h->face, P->face);
+    for (int v = 0; v < h->n; v++)
+      for (int l = 0; l < P->n; l++) assert_true(geom_side_h(P->line[l], h->v[v]) >= 0);
+  }
+  free(a);
+  render_free(&r);
+  scene_free(sc);
 }
 
 /* The D-blocks' incremental spans equal the definition (seginfo_span) exactly on every
@@ -973,6 +1062,8 @@ int main(void)
     cmocka_unit_test(test_prio_dense_sparse),
     cmocka_unit_test(test_vis_spans),
     cmocka_unit_test(test_vis_spans_invariant),
+    cmocka_unit_test(test_prio_known),
+    cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
