@@ -438,9 +438,16 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
   /* a new front: check it against the whole set. With exact pairwise orders it wins every
      pair on the first round; a later round runs only if three orders are cyclic (possible
      only where pieces overlap within rounding of an intersection line's carrier), and
-     nset rounds bound that. A front left unproven so is not kept for the next stretch. */
+     nset rounds bound that. A front left unproven so is not kept for the next stretch;
+     when it was chosen afresh (from == 0), start_best, the piece whose plane is nearest
+     the eye in the stretch, is taken (front_guess), not whichever piece the rounds
+     stopped at. */
   for (int round = 0; changed && b >= 0; round++) {
-    if (round == v->nset) { *sure = false; break; }
+    if (round == v->nset) {            /* cyclic: see front_guess */
+      *sure = false;
+      if (from == 0 && start_best >= 0) b = start_best;
+      break;
+    }
     changed = false;
     for (int k = 0; k < v->nset && !changed; k++) {
       int c = v->set[k];
@@ -455,19 +462,22 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
   return PRIO_FIRST;
 }
 
-/* A first candidate for the front of the covering set at the point (x, y): the piece
-   whose face's plane is nearest the eye there, by an estimate — the depth form of
-   priority.c (G = deye_B plane_A(r) - deye_A plane_B(r) > 0: face A in front), per face
-   plane_A(r) / deye_A, at x and y cut to whole grid units, the quotient scaled by 2^32
-   and truncated. Only the order in which front_of meets the pieces depends on it: the
-   front is still the piece that won a decided pair against every other (a poor guess
-   costs pairs decided, never a wrong picture). Charged as the 1974 program would
-   evaluate a plane: two products and a sum, a quotient, a compare. */
-static int front_guess(struct vis *v, struct grat x, int64_t yn, int64_t yd)
+/* A first candidate for the front of the covering set on the stretch [x0, x1) of the
+   line y: the piece whose face's plane is nearest the eye at the stretch's middle, by
+   an estimate — the depth form of priority.c (G = deye_B plane_A(r) - deye_A plane_B(r)
+   > 0: face A in front), per face plane_A(r) / deye_A, at x and y cut to whole grid
+   units, the quotient scaled by 2^32 and truncated. With exact pairwise orders it only
+   orders front_of's pairs: the front is still the piece that won a decided pair against
+   every other (a poor guess costs pairs decided, never a wrong picture). Where pairwise
+   orders turn cyclic (pieces within rounding of an intersection line's carrier, where no
+   order of the pairs is right everywhere), it is the tie rule: the piece nearest the eye
+   there. Charged as the 1974 program would evaluate a plane: two products and a sum, a
+   quotient, a compare. */
+static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn, int64_t yd)
 {
   const struct mapped *m = v->prio->map;
   const int64_t *e = m->eye;
-  wide xi = x.num / x.den, yi = yn / yd;
+  wide xi = (x0.num / x0.den + x1.num / x1.den) / 2, yi = yn / yd;
   wide rx = xi - GRID_ONE * (wide)e[0], ry = yi - GRID_ONE * (wide)e[1];
   wide rz = -GRID_ONE * (wide)e[2];
   int best = -1;
@@ -715,7 +725,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
          a piece of the set has not left yet) */
       struct grat xn = ia < non && geom_rat_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
       bool sure;
-      int r = front < 0 ? front_of(v, front_guess(v, x, yn, yd), 0, &front, &sure, err)
+      int r = front < 0 ? front_of(v, front_guess(v, x, xn, yn, yd), 0, &front, &sure, err)
                         : front_of(v, front, joined, &front, &sure, err);
       if (r == PRIO_SPLIT) {
         if (resume(v, x, yn, yd, &ia, &ir, &non, &joined, err) != T74_OK) return PRIO_ERROR;
