@@ -378,6 +378,9 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   return T74_OK;
 }
 
+/* The stretch [x0, x1) of the line y = yn/yd whose front is looked for. */
+struct vis_stretch { struct grat x0, x1; int64_t yn, yd; };
+
 /* The piece p was cut from (priority.c), or -1. */
 static int parent_of(const struct vis *v, int p)
 {
@@ -420,8 +423,10 @@ static int order_of(struct vis *v, int b, int c, struct t74_error *err)
    it: either it was kept from the last stretch, had so met every piece it still shares
    the set with, and won against each piece from `from` on (the pieces that joined), or
    it is new and won the whole checking round below. The sweep relies on exactly this. */
+static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn, int64_t yd);
+
 static int front_of(struct vis *v, int start_best, int from, int *best, bool *sure,
-                    struct t74_error *err)
+                    const struct vis_stretch *st, struct t74_error *err)
 {
   int b = start_best;
   bool changed = start_best < 0;
@@ -438,14 +443,13 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
   /* a new front: check it against the whole set. With exact pairwise orders it wins every
      pair on the first round; a later round runs only if three orders are cyclic (possible
      only where pieces overlap within rounding of an intersection line's carrier), and
-     nset rounds bound that. A front left unproven so is not kept for the next stretch;
-     when it was chosen afresh (from == 0), start_best, the piece whose plane is nearest
-     the eye in the stretch, is taken (front_guess), not whichever piece the rounds
-     stopped at. */
+     nset rounds bound that. A front left unproven so is not kept for the next stretch,
+     and it is the piece whose plane is nearest the eye in the stretch (front_guess), not
+     whichever piece the rounds stopped at. */
   for (int round = 0; changed && b >= 0; round++) {
-    if (round == v->nset) {            /* cyclic: see front_guess */
+    if (round == v->nset) {            /* cyclic: the tie rule of front_guess */
       *sure = false;
-      if (from == 0 && start_best >= 0) b = start_best;
+      b = front_guess(v, st->x0, st->x1, st->yn, st->yd);
       break;
     }
     changed = false;
@@ -461,6 +465,10 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
   *best = b;
   return PRIO_FIRST;
 }
+
+/* Sets from this size on start their front's election from front_guess: below it the
+   pairs an estimate can save do not pay for the planes evaluated (1974 seconds). */
+#define GUESS_MIN 8
 
 /* A first candidate for the front of the covering set on the stretch [x0, x1) of the
    line y: the piece whose face's plane is nearest the eye at the stretch's middle, by
@@ -725,8 +733,10 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
          a piece of the set has not left yet) */
       struct grat xn = ia < non && geom_rat_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
       bool sure;
-      int r = front < 0 ? front_of(v, front_guess(v, x, xn, yn, yd), 0, &front, &sure, err)
-                        : front_of(v, front, joined, &front, &sure, err);
+      struct vis_stretch st = { x, xn, yn, yd };
+      int r = front >= 0 ? front_of(v, front, joined, &front, &sure, &st, err)
+              : front_of(v, v->nset >= GUESS_MIN ? front_guess(v, x, xn, yn, yd) : -1, 0,
+                         &front, &sure, &st, err);
       if (r == PRIO_SPLIT) {
         if (resume(v, x, yn, yd, &ia, &ir, &non, &joined, err) != T74_OK) return PRIO_ERROR;
         if (front >= 0 && !v->seg->p[front].alive) front = -1;
