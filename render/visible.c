@@ -24,7 +24,10 @@
 ** so the matrix is filled lazily with pairs that really overlap on the plane. When a pair
 ** turns out to interpenetrate, both pieces are cut (priority.c); the sweep takes the
 ** halves in where it stands and goes on from there (resume below): the stretches already
-** found to its left stay as they are, and are given to the halves at the line's end.
+** found to its left stay as they are, and are given to the halves at the line's end. A
+** pair of halves takes the order of a decided pair of the pieces they were cut from
+** (order_of), and a large set's front is looked for first at the piece nearest the eye
+** by an estimate (front_guess): both only spare pairs from being decided.
 **
 ** Invariant: after vis_spans, the stretches are disjoint, ordered, and each lies inside the
 ** span of its piece, an alive one; a point of the line lies in a stretch exactly when some
