@@ -527,9 +527,11 @@ static int activate(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err
   return T74_OK;
 }
 
-/* Room for n active items in the orders and the scratch arrays. */
+/* Room for n active items in the orders and the scratch arrays (at least one: every
+   array then exists, as memcpy wants even for no bytes). */
 static int room(struct vis *v, int n)
 {
+  n++;
   return grow((void **)&v->byxl, &v->byxlcap, n, sizeof *v->byxl) &&
          grow((void **)&v->byxr, &v->byxrcap, n, sizeof *v->byxr) &&
          grow((void **)&v->set, &v->setcap, n, sizeof *v->set) &&
@@ -823,7 +825,7 @@ static int line_end(struct vis *v, struct t74_error *err)
 {
   const struct seginfo *s = v->seg;
   if (s->n > v->born && rename_spans(v, err) != T74_OK) return err->status;
-  if (!grow((void **)&v->act2, &v->act2cap, v->nbyxl, sizeof *v->act2))
+  if (!grow((void **)&v->act2, &v->act2cap, v->nbyxl + 1, sizeof *v->act2))
     return t74_fail(err, T74_EIO, "out of host memory");
   for (int a = 0; a < v->nact; a++) {
     v->tmp[a] = -1;
