@@ -560,6 +560,18 @@ static struct gline reversed(struct gline l)
   return r;
 }
 
+/* Does a side of piece X lie on line l (either way round)? */
+static bool on_line_side(const struct piece *X, struct gline l)
+{
+  for (int k = 0; k < X->n; k++) {
+    struct gline m = X->line[k];
+    if ((wide)m.a * l.b == (wide)m.b * l.a && (wide)m.a * l.c == (wide)m.c * l.a &&
+        (wide)m.b * l.c == (wide)m.c * l.b)
+      return true;
+  }
+  return false;
+}
+
 /* Add a clipped half as a new piece. */
 static int add_half(struct prio *pr, int face, const struct cpoly *c, struct t74_error *err)
 {
@@ -569,7 +581,7 @@ static int add_half(struct prio *pr, int face, const struct cpoly *c, struct t74
 /* Remember that faces fa and fb were cut along l (once a pair). */
 static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_error *err)
 {
-  for (int k = 0; k < pr->ncut; k++)
+  for (int k = pr->ncut - 1; k >= 0; k--)      /* the latest first: a pair cut again */
     if ((pr->cut[k].fa == fa && pr->cut[k].fb == fb) || (pr->cut[k].fa == fb && pr->cut[k].fb == fa))
       return T74_OK;
   if (pr->ncut == pr->cutcap) {
@@ -675,6 +687,8 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     /* seginfo may have moved: index afresh */
     pr->seg->p[i].alive = false;
     if (qhl && qhr) pr->seg->p[j].alive = false;
+    for (int k = pr->seg->n - (qhl && qhr ? 4 : 2); k < pr->seg->n; k++)
+      pr->seg->p[k].parent = pr->seg->p[k].face == pf ? i : j;
     pr->splits++;
     if (note_cut(pr, pf, qf, L, err) != T74_OK) goto fail;
     if (pr->trace)
@@ -685,6 +699,12 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     result = DECIDED_SPLIT;
   } else {
     result = ovr && !ovl ? CODE_LOWER : CODE_HIGHER;
+    /* No crossing inside this pair's overlap; but where one of the pieces was cut before
+       along this very line (by a third face in the same plane as one of these), the two
+       faces still meet along it: the line is noted for enhanced edges (paper 002 e4),
+       so which pairs happen to be decided first does not choose the lines drawn. */
+    if ((on_line_side(P, L) || on_line_side(Q, L)) && note_cut(pr, P->face, Q->face, L, err) != T74_OK)
+      goto fail;
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front\n",
               i, (unsigned)A->id, j, (unsigned)B->id, result == CODE_HIGHER ? "first" : "second");
@@ -707,6 +727,15 @@ int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
     code = (unsigned)d;
     if (code_set(pr, i, j, code, err) != T74_OK) return PRIO_ERROR;
   }
+  bool i_front = code == CODE_HIGHER;
+  return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+int prio_known(struct prio *pr, int p, int q)
+{
+  uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
+  unsigned code = code_get(pr, i, j);
+  if (code == CODE_UNKNOWN) return 0;
   bool i_front = code == CODE_HIGHER;
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
 }

@@ -71,6 +71,10 @@ int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
 /* The priority of pieces p and q (p != q), computed if not yet known. */
 int prio_order(struct prio *pr, int p, int q, struct t74_error *err);
 
+/* The priority of p and q if it is already known (PRIO_FIRST or PRIO_SECOND), else 0;
+   never decides (one look at the matrix). */
+int prio_known(struct prio *pr, int p, int q);
+
 /* Free the host-side list of cuts (the matrix itself lives in core). */
 void prio_free(struct prio *pr);
 

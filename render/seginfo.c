@@ -110,6 +110,7 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   p->n = n;
   p->face = face;
   p->alive = true;
+  p->parent = -1;
   for (int k = 0; k < n; k++) {
     if (!geom_meet(p->line[(k + n - 1) % n], p->line[k], &p->v[k])) {
       free(p->line); free(p->v);

@@ -29,6 +29,7 @@ struct piece {
   struct hpoint *v;        /* v[k]: where line[k-1] meets line[k] (start of side k) */
   struct hpoint ylo, yhi;  /* its lowest and highest vertex */
   bool   alive;            /* false once cut in two */
+  int    parent;           /* the piece it is a half of (cut by priority.c), else -1 */
 };
 
 struct seginfo {

@@ -16,16 +16,22 @@
 **   3. a sweep over span ends, left to right; between two ends the covering set is fixed,
 **      and its front piece is found through the Priority Matrix. Coherence: when a piece
 **      joins the set only it is compared with the current front; the whole set is looked
-**      at again only when the front piece leaves. Pieces are kept in x order from line to
-**      line, so re-sorting is an insertion sort over a nearly sorted list.
+**      at again only when the front piece itself leaves. The pieces' order by xb and their
+**      order by xe are both kept from line to line, so each line re-sorts a nearly sorted
+**      list (an insertion sort), and pieces new on the line are sorted apart and merged in.
 **
 ** A pair's priority is asked for only when both pieces cover a stretch of positive length,
 ** so the matrix is filled lazily with pairs that really overlap on the plane. When a pair
-** turns out to interpenetrate, both pieces are cut (priority.c) and the line is done again.
+** turns out to interpenetrate, both pieces are cut (priority.c); the sweep takes the
+** halves in where it stands and goes on from there (resume below): the stretches already
+** found to its left stay as they are, and are given to the halves at the line's end. A
+** pair of halves takes the order of a decided pair of the pieces they were cut from
+** (order_of), and a large set's front is looked for first at the piece nearest the eye
+** by an estimate (front_guess): both only spare pairs from being decided.
 **
 ** Invariant: after vis_spans, the stretches are disjoint, ordered, and each lies inside the
-** span of its piece; a point of the line lies in a stretch exactly when some alive piece
-** owns it under the tie rule of geom.h.
+** span of its piece, an alive one; a point of the line lies in a stretch exactly when some
+** alive piece owns it under the tie rule of geom.h.
 */
 #include "render/visible.h"
 
@@ -57,24 +63,127 @@ static int cmp_ylo(const struct seginfo *s, int a, int b)
   return c ? c : (a > b) - (a < b);
 }
 
-/* place pieces added to seg since last time into `order` (after `next`, by lowest y) */
+/* ---- orders of indices -----------------------------------------------------------------
+   Comparisons of two pieces (by lowest y) or of two active items (by xb or by xe, pieces
+   the line meets before those it misses); each compare made is charged as the 1974
+   program would make it: a lowest y a product of 88 x 59 bits, an x one of 75 x 46. */
+typedef int (*vis_cmp)(const struct vis *v, int a, int b);
+
+static int by_ylo(const struct vis *v, int a, int b)
+{
+  cost_mw_mul(v->cost, 88, 59);
+  return cmp_ylo(v->seg, a, b);
+}
+
+static int by_xl(const struct vis *v, int i, int j)
+{
+  const struct vis_item *a = &v->act[i], *b = &v->act[j];
+  if (a->on != b->on) return a->on ? -1 : 1;
+  if (!a->on) return 0;
+  cost_mw_mul(v->cost, 75, 46);
+  return geom_rat_cmp(a->xl, b->xl);
+}
+
+static int by_xr(const struct vis *v, int i, int j)
+{
+  cost_mw_mul(v->cost, 75, 46);
+  return geom_rat_cmp(v->act[i].xr, v->act[j].xr);
+}
+
+/* Merge the sorted runs a[0..na) and b[0..nb) into out (stable: a first on ties). */
+static void merge_runs(const struct vis *v, const int *a, int na, const int *b, int nb,
+                       int *out, vis_cmp cmp)
+{
+  int i = 0, j = 0, k = 0;
+  while (i < na && j < nb) out[k++] = cmp(v, b[j], a[i]) < 0 ? b[j++] : a[i++];
+  while (i < na) out[k++] = a[i++];
+  while (j < nb) out[k++] = b[j++];
+}
+
+/* A stable bottom-up merge sort of a[0..n), scratch tmp[0..n): for a batch of new pieces. */
+static void sort_batch(const struct vis *v, int *a, int n, int *tmp, vis_cmp cmp)
+{
+  for (int w = 1; w < n; w *= 2) {
+    for (int lo = 0; lo < n; lo += 2 * w) {
+      int mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n;
+      merge_runs(v, a + lo, mid - lo, a + mid, hi - mid, tmp + lo, cmp);
+    }
+    memcpy(a, tmp, (size_t)n * sizeof *a);
+  }
+}
+
+/* A stable insertion sort of a[0..n): for the order kept from the last line, which moves
+   only where two ends pass each other between the lines. */
+static void sort_kept(const struct vis *v, int *a, int n, vis_cmp cmp)
+{
+  for (int i = 1; i < n; i++) {
+    int t = a[i], j = i - 1;
+    while (j >= 0 && cmp(v, a[j], t) > 0) {
+      a[j + 1] = a[j];
+      j--;
+    }
+    a[j + 1] = t;
+  }
+}
+
+/* Take item `it` out of the sorted ord[0..*n) (found by a binary search, then among
+   equal keys). */
+static void ord_remove(const struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
+{
+  int lo = 0, hi = *n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (cmp(v, ord[mid], it) < 0) lo = mid + 1; else hi = mid;
+  }
+  while (lo < *n && ord[lo] != it) lo++;
+  if (lo == *n) return;
+  memmove(&ord[lo], &ord[lo + 1], (size_t)(*n - lo - 1) * sizeof *ord);
+  (*n)--;
+}
+
+/* Put item `it` into the sorted ord[0..*n), after the equal keys (room for one more). */
+static void ord_insert(const struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
+{
+  int lo = 0, hi = *n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (cmp(v, ord[mid], it) <= 0) lo = mid + 1; else hi = mid;
+  }
+  memmove(&ord[lo + 1], &ord[lo], (size_t)(*n - lo) * sizeof *ord);
+  ord[lo] = it;
+  (*n)++;
+}
+
+/* Place pieces added to seg since last time into `order` (after `next`, by lowest y):
+   the new ones sorted apart, then merged in from the back, each placed by a binary
+   search over the pieces not yet passed (as one piece alone is placed), so every piece
+   already in order moves at most once however many arrive together. */
 static int take_new_pieces(struct vis *v)
 {
   struct seginfo *s = v->seg;
-  if (!grow((void **)&v->order, &v->ordcap, s->n, sizeof *v->order)) return 0;
-  for (; v->seen < s->n; v->seen++) {
-    int p = v->seen;
-    if (!s->p[p].alive) continue;
-    int lo = v->next, hi = v->norder;
-    while (lo < hi) {
-      int mid = (lo + hi) / 2;
-      if (cmp_ylo(s, v->order[mid], p) < 0) lo = mid + 1; else hi = mid;
-      cost_mw_mul(v->cost, 88, 59);
+  int room = s->n - v->seen;
+  if (room <= 0) return 1;
+  if (!grow((void **)&v->order, &v->ordcap, s->n, sizeof *v->order) ||
+      !grow((void **)&v->tmp, &v->tmpcap, room, sizeof *v->tmp) ||
+      !grow((void **)&v->tmp2, &v->tmp2cap, room, sizeof *v->tmp2))
+    return 0;
+  int k = 0;
+  for (; v->seen < s->n; v->seen++)
+    if (s->p[v->seen].alive) v->tmp[k++] = v->seen;
+  sort_batch(v, v->tmp, k, v->tmp2, by_ylo);
+  int hi = v->norder, dst = v->norder + k;  /* order[next..hi): not yet moved */
+  for (int j = k - 1; j >= 0; j--) {
+    int p = v->tmp[j], lo = v->next, h = hi;
+    while (lo < h) {
+      int mid = (lo + h) / 2;
+      if (by_ylo(v, v->order[mid], p) < 0) lo = mid + 1; else h = mid;
     }
-    memmove(&v->order[lo + 1], &v->order[lo], (size_t)(v->norder - lo) * sizeof *v->order);
-    v->order[lo] = p;
-    v->norder++;
+    dst -= hi - lo;
+    memmove(&v->order[dst], &v->order[lo], (size_t)(hi - lo) * sizeof *v->order);
+    v->order[--dst] = p;
+    hi = lo;
   }
+  v->norder += k;
   return 1;
 }
 
@@ -95,28 +204,42 @@ void vis_free(struct vis *v)
   free(v->dfree);
   free(v->order);
   free(v->act);
+  free(v->act2);
+  free(v->byxl);
   free(v->byxr);
   free(v->set);
+  free(v->seti);
   free(v->span);
+  free(v->span2);
+  free(v->tmp);
+  free(v->tmp2);
+  free(v->tmp3);
   memset(v, 0, sizeof *v);
 }
 
-static int push_span(struct vis *v, struct grat x0, struct grat x1, int piece)
+/* Append [x0, x1) of piece to a list of stretches, joined to the last when it goes on. */
+static int put_span(struct vis_span **sp, int *n, int *cap, struct grat x0, struct grat x1,
+                    int piece, int face)
 {
-  if (v->nspan > 0) {
-    struct vis_span *last = &v->span[v->nspan - 1];
+  if (*n > 0) {
+    struct vis_span *last = &(*sp)[*n - 1];
     if (last->piece == piece && geom_rat_cmp(last->x1, x0) == 0) {
       last->x1 = x1;
       return 1;
     }
   }
-  if (!grow((void **)&v->span, &v->spancap, v->nspan + 1, sizeof *v->span)) return 0;
-  struct vis_span *s = &v->span[v->nspan++];
+  if (!grow((void **)sp, cap, *n + 1, sizeof **sp)) return 0;
+  struct vis_span *s = &(*sp)[(*n)++];
   s->x0 = x0;
   s->x1 = x1;
   s->piece = piece;
-  s->face = v->seg->p[piece].face;
+  s->face = face;
   return 1;
+}
+
+static int push_span(struct vis *v, struct grat x0, struct grat x1, int piece)
+{
+  return put_span(&v->span, &v->nspan, &v->spancap, x0, x1, piece, v->seg->p[piece].face);
 }
 
 /* ---- D-blocks ------------------------------------------------------------------------
@@ -258,17 +381,55 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   return T74_OK;
 }
 
+/* The stretch [x0, x1) of the line y = yn/yd whose front is looked for. */
+struct vis_stretch { struct grat x0, x1; int64_t yn, yd; };
+
+/* The piece p was cut from (priority.c), or -1. */
+static int parent_of(const struct vis *v, int p)
+{
+  COST_ADD_N(v->cost, COST_MEM, 1);
+  return v->seg->p[p].parent;
+}
+
+/* Ancestors looked at on each side before a pair is decided afresh. */
+#define ANC_MAX 16
+
+/* The order of pieces b and c. A decided pair's order holds over the pair's whole
+   overlap, and a half is part of the piece it was cut from: so when b and c are not
+   decided themselves, a decided pair of b (or an ancestor of b) with c (or an ancestor
+   of c) gives their order over their overlap, exactly, as their own deciding would
+   (they do not cross there: the ancestors did not). Looked at: b's ancestors against c,
+   b against c's ancestors, the two parents; else prio_order decides (and may cut). */
+static int order_of(struct vis *v, int b, int c, struct t74_error *err)
+{
+  int pb = parent_of(v, b), pc = parent_of(v, c);
+  if (pb >= 0 || pc >= 0) {
+    int r = prio_known(v->prio, b, c);
+    if (r) return r;
+    for (int a = pb, k = 0; a >= 0 && k < ANC_MAX; a = parent_of(v, a), k++)
+      if ((r = prio_known(v->prio, a, c))) return r;
+    for (int a = pc, k = 0; a >= 0 && k < ANC_MAX; a = parent_of(v, a), k++)
+      if ((r = prio_known(v->prio, b, a))) return r;
+    if (pb >= 0 && pc >= 0 && (r = prio_known(v->prio, pb, pc))) return r;
+  }
+  return prio_order(v->prio, b, c, err);
+}
+
 /* The front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative.
    A pair's priority holds over the pair's whole overlap only once the pair itself has
    been decided: deciding is also where crossing pieces are found and cut (priority.c).
    So the winner of the elimination below is then compared DIRECTLY with every other
    piece of the set — never by transitivity through a third piece, which would take the
    order of two pieces that cross as settled (issue 7: three faces meeting at one vertex
-   showed a face behind the visible one, with one of the three pairs never decided). A
-   front kept from the last stretch was compared with every piece it still shares the set
-   with; only the pieces that joined are new to it. */
+   showed a face behind the visible one, with one of the three pairs never decided).
+   On return with *sure, *best has met every piece of the set in a decided pair and won
+   it: either it was kept from the last stretch, had so met every piece it still shares
+   the set with, and won against each piece from `from` on (the pieces that joined), or
+   it is new and won the whole checking round below. The sweep relies on exactly this. */
+static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn, int64_t yd);
+
 static int front_of(struct vis *v, int start_best, int from, int *best, bool *sure,
-                    struct t74_error *err)
+                    const struct vis_stretch *st, struct t74_error *err)
 {
   int b = start_best;
   bool changed = start_best < 0;
@@ -277,7 +438,7 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
     int c = v->set[k];
     if (c == b) continue;
     if (b < 0) { b = c; continue; }
-    int r = prio_order(v->prio, b, c, err);
+    int r = order_of(v, b, c, err);
     if (r == PRIO_ERROR) return PRIO_ERROR;
     if (r == PRIO_SPLIT) return PRIO_SPLIT;
     if (r == PRIO_SECOND) { b = c; changed = true; }
@@ -285,14 +446,20 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
   /* a new front: check it against the whole set. With exact pairwise orders it wins every
      pair on the first round; a later round runs only if three orders are cyclic (possible
      only where pieces overlap within rounding of an intersection line's carrier), and
-     nset rounds bound that. A front left unproven so is not kept for the next stretch. */
+     nset rounds bound that. A front left unproven so is not kept for the next stretch,
+     and it is the piece whose plane is nearest the eye in the stretch (front_guess), not
+     whichever piece the rounds stopped at. */
   for (int round = 0; changed && b >= 0; round++) {
-    if (round == v->nset) { *sure = false; break; }
+    if (round == v->nset) {            /* cyclic: the tie rule of front_guess */
+      *sure = false;
+      b = front_guess(v, st->x0, st->x1, st->yn, st->yd);
+      break;
+    }
     changed = false;
     for (int k = 0; k < v->nset && !changed; k++) {
       int c = v->set[k];
       if (c == b) continue;
-      int r = prio_order(v->prio, b, c, err);
+      int r = order_of(v, b, c, err);
       if (r == PRIO_ERROR) return PRIO_ERROR;
       if (r == PRIO_SPLIT) return PRIO_SPLIT;
       if (r == PRIO_SECOND) { b = c; changed = true; }
@@ -302,110 +469,377 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
   return PRIO_FIRST;
 }
 
-/* One attempt at the line; PRIO_SPLIT asks for another. */
-static int line_once(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
+/* Sets from this size on start their front's election from front_guess: below it the
+   pairs an estimate can save do not pay for the planes evaluated (1974 seconds). */
+#define GUESS_MIN 8
+
+/* A first candidate for the front of the covering set on the stretch [x0, x1) of the
+   line y: the piece whose face's plane is nearest the eye at the stretch's middle, by
+   an estimate — the depth form of priority.c (G = deye_B plane_A(r) - deye_A plane_B(r)
+   > 0: face A in front), per face plane_A(r) / deye_A, at x and y cut to whole grid
+   units, the quotient scaled by 2^32 and truncated. With exact pairwise orders it only
+   orders front_of's pairs: the front is still the piece that won a decided pair against
+   every other (a poor guess costs pairs decided, never a wrong picture). Where pairwise
+   orders turn cyclic (pieces within rounding of an intersection line's carrier, where no
+   order of the pairs is right everywhere), it is the tie rule: the piece nearest the eye
+   there. Charged as the 1974 program would evaluate a plane: two products and a sum, a
+   quotient, a compare. */
+static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn, int64_t yd)
+{
+  const struct mapped *m = v->prio->map;
+  const int64_t *e = m->eye;
+  wide xi = (x0.num / x0.den + x1.num / x1.den) / 2, yi = yn / yd;
+  wide rx = xi - GRID_ONE * (wide)e[0], ry = yi - GRID_ONE * (wide)e[1];
+  wide rz = -GRID_ONE * (wide)e[2];
+  int best = -1;
+  wide bq = 0;
+  if (v->nset <= 2) return v->set[0];     /* one pair at most: nothing to gain */
+  for (int k = 0; k < v->nset; k++) {
+    const struct mface *f = &m->f[v->seg->p[v->set[k]].face];
+    wide n = (wide)f->plane[0] * rx + (wide)f->plane[1] * ry + (wide)f->plane[2] * rz;
+    wide an = n < 0 ? -n : n;
+    wide q = an < ((wide)1 << 94) ? n * ((wide)1 << 32) / f->deye
+                                  : n / f->deye * ((wide)1 << 32);
+    cost_mw_mul(v->cost, 51, 34);
+    cost_mw_mul(v->cost, 51, 34);
+    cost_mw_add(v->cost, 86);
+    cost_mw_div(v->cost, 86, 48);
+    cost_mw_add(v->cost, 64);
+    if (best < 0 || q > bq) { best = v->set[k]; bq = q; }
+  }
+  return best;
+}
+
+/* Activate the pieces of `order` that begin at or below the line (appended to act). */
+static int activate(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
+{
+  struct seginfo *s = v->seg;
+  while (v->next < v->norder && cmp_hy_frac(s->p[v->order[v->next]].ylo, yn, yd) <= 0) {
+    int p = v->order[v->next++];
+    cost_mw_mul(v->cost, 88, 17);
+    if (!s->p[p].alive || cmp_hy_frac(s->p[p].yhi, yn, yd) <= 0) continue;
+    if (!grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
+      return t74_fail(err, T74_EIO, "out of host memory");
+    memset(&v->act[v->nact], 0, sizeof v->act[v->nact]);
+    v->act[v->nact].piece = p;
+    v->nact++;
+  }
+  return T74_OK;
+}
+
+/* Room for n active items in the orders and the scratch arrays (at least one: every
+   array then exists, as memcpy wants even for no bytes). */
+static int room(struct vis *v, int n)
+{
+  n++;
+  return grow((void **)&v->byxl, &v->byxlcap, n, sizeof *v->byxl) &&
+         grow((void **)&v->byxr, &v->byxrcap, n, sizeof *v->byxr) &&
+         grow((void **)&v->set, &v->setcap, n, sizeof *v->set) &&
+         grow((void **)&v->seti, &v->seticap, n, sizeof *v->seti) &&
+         grow((void **)&v->tmp, &v->tmpcap, n, sizeof *v->tmp) &&
+         grow((void **)&v->tmp2, &v->tmp2cap, n, sizeof *v->tmp2) &&
+         grow((void **)&v->tmp3, &v->tmp3cap, n, sizeof *v->tmp3);
+}
+
+/* Items on the line at the head of byxl (the pieces the line meets come first). */
+static int count_on(const struct vis *v)
+{
+  int non = 0;
+  while (non < v->nbyxl && v->act[v->byxl[non]].on) non++;
+  return non;
+}
+
+/* The line's active set, spans and both x orders, before the sweep. */
+static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
 {
   struct seginfo *s = v->seg;
   v->nspan = 0;
-  if (v->feed && v->feed(v->feed_ctx, yn, yd, err) != T74_OK) return PRIO_ERROR;
-  if (!take_new_pieces(v)) return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
+  if (v->feed && v->feed(v->feed_ctx, yn, yd, err) != T74_OK) return err->status;
+  if (!take_new_pieces(v)) return t74_fail(err, T74_EIO, "out of host memory");
+  v->born = s->n;
 
-  /* 1. retire dead and finished pieces, activate those that begin at or below the line */
+  /* 1. retire dead and finished pieces (tmp: where each item moves, -1 gone), activate
+     those that begin at or below the line */
+  if (!room(v, v->nact)) return t74_fail(err, T74_EIO, "out of host memory");
   int k = 0;
   for (int a = 0; a < v->nact; a++) {
     const struct piece *p = &s->p[v->act[a].piece];
     COST_ADD_N(v->cost, COST_MEM, 2);
     if (!p->alive || cmp_hy_frac(p->yhi, yn, yd) <= 0) {
       if (v->act[a].core) dblock_give(v, v->act[a].core);
+      v->tmp[a] = -1;
       continue;
     }
+    v->tmp[a] = k;
     v->act[k++] = v->act[a];
   }
+  int m = 0;
+  for (int i = 0; i < v->nbyxr; i++)
+    if (v->tmp[v->byxr[i]] >= 0) v->byxr[m++] = v->tmp[v->byxr[i]];
+  v->nbyxr = m;
   v->nact = k;
-  while (v->next < v->norder && cmp_hy_frac(s->p[v->order[v->next]].ylo, yn, yd) <= 0) {
-    int p = v->order[v->next++];
-    cost_mw_mul(v->cost, 88, 17);
-    if (!s->p[p].alive || cmp_hy_frac(s->p[p].yhi, yn, yd) <= 0) continue;
-    if (!grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
-      return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
-    memset(&v->act[v->nact], 0, sizeof v->act[v->nact]);
-    v->act[v->nact].piece = p;
-    v->nact++;
-  }
+  int kept = k;
+  if (activate(v, yn, yd, err) != T74_OK) return err->status;
 
   /* 2. the D-blocks: spans on this line */
   for (int a = 0; a < v->nact; a++)
-    if (dblock_span(v, &v->act[a], yn, yd, err) != T74_OK) return PRIO_ERROR;
-  /* keep the x order of the last line: a stable insertion sort, pieces on the line by
-     xl first, pieces the line misses after them */
-  for (int a = 1; a < v->nact; a++) {
-    struct vis_item t = v->act[a];
-    int b = a - 1;
-    while (b >= 0 && t.on &&
-           (!v->act[b].on || geom_rat_cmp(v->act[b].xl, t.xl) > 0)) {
-      v->act[b + 1] = v->act[b];
-      b--;
-      cost_mw_mul(v->cost, 75, 46);
-    }
-    v->act[b + 1] = t;
-  }
-  int non = 0;
-  while (non < v->nact && v->act[non].on) non++;
-  if (!grow((void **)&v->byxr, &v->byxrcap, v->nact, sizeof *v->byxr) ||
-      !grow((void **)&v->set, &v->setcap, v->nact, sizeof *v->set))
-    return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
-  for (int a = 0; a < non; a++) {
-    int b = a - 1;
-    while (b >= 0 && geom_rat_cmp(v->act[v->byxr[b]].xr, v->act[a].xr) > 0) {
-      v->byxr[b + 1] = v->byxr[b];
-      b--;
-      cost_mw_mul(v->cost, 75, 46);
-    }
-    v->byxr[b + 1] = a;
-  }
+    if (dblock_span(v, &v->act[a], yn, yd, err) != T74_OK) return err->status;
+  if (!room(v, v->nact)) return t74_fail(err, T74_EIO, "out of host memory");
 
-  /* 3. sweep the span ends */
+  /* 3. the order by xb: the pieces kept are in the last line's order (act is left so),
+     the new ones are sorted apart and merged in */
+  for (int a = 0; a < v->nact; a++) v->byxl[a] = a;
+  sort_kept(v, v->byxl, kept, by_xl);
+  sort_batch(v, v->byxl + kept, v->nact - kept, v->tmp, by_xl);
+  merge_runs(v, v->byxl, kept, v->byxl + kept, v->nact - kept, v->tmp, by_xl);
+  memcpy(v->byxl, v->tmp, (size_t)v->nact * sizeof *v->byxl);
+  v->nbyxl = v->nact;
+
+  /* 4. the order by xe, kept from the last line likewise (tmp3 marks the items in it) */
+  for (int a = 0; a < v->nact; a++) v->tmp3[a] = 0;
+  m = 0;
+  for (int i = 0; i < v->nbyxr; i++)
+    if (v->act[v->byxr[i]].on) { v->tmp3[v->byxr[i]] = 1; v->byxr[m++] = v->byxr[i]; }
+  sort_kept(v, v->byxr, m, by_xr);
+  int nb = 0;
+  for (int a = 0; a < v->nact; a++)
+    if (v->act[a].on && !v->tmp3[a]) v->tmp[nb++] = a;
+  sort_batch(v, v->tmp, nb, v->tmp2, by_xr);
+  merge_runs(v, v->byxr, m, v->tmp, nb, v->tmp2, by_xr);
+  memcpy(v->byxr, v->tmp2, (size_t)(m + nb) * sizeof *v->byxr);
+  v->nbyxr = m + nb;
+  return T74_OK;
+}
+
+/* The first of the n items of ord whose xb (xe when xr) lies right of x. */
+static int after_x(const struct vis *v, const int *ord, int n, struct grat x, bool xr)
+{
+  int lo = 0, hi = n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    const struct vis_item *it = &v->act[ord[mid]];
+    cost_mw_mul(v->cost, 75, 46);
+    if (geom_rat_cmp(xr ? it->xr : it->xl, x) <= 0) lo = mid + 1; else hi = mid;
+  }
+  return lo;
+}
+
+/* A pair of the covering set at x crossed and was cut (priority.c: the dead pieces have
+   alive == false, their halves were appended to seg). Take the halves in on this line,
+   where the sweep stands, instead of doing the line again:
+   - the halves join `order`; those the line meets get their D-blocks now (appended to
+     act, so every index the sweep holds stays valid) and join both x orders;
+   - the dead leave both orders and the set; ia, ir are found again for x;
+   - the set gains the halves that cover x (xb <= x < xe); the set keeps its order, so
+     the pieces the front had already met stay before *joined, and the halves come after.
+   Why the stretches left of x stay right: each was given to a piece that had won, in a
+   decided pair, against every piece then covering it, and a decided pair's order holds
+   over the pair's whole overlap. A half is part of its dead piece (the two halves' union
+   is the old piece, and they do not overlap), in the same plane, so every order with it
+   that was decided there still holds for the half at the same points; left of x nothing
+   else changed. Only the name of a stretch's piece is out of date where that piece died:
+   line_end gives such stretches to the halves. */
+static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia, int *ir,
+                  int *non, int *joined, struct t74_error *err)
+{
+  struct seginfo *s = v->seg;
+  v->resumes++;
+  if (!take_new_pieces(v)) return t74_fail(err, T74_EIO, "out of host memory");
+  int first = v->nact;
+  if (activate(v, yn, yd, err) != T74_OK) return err->status;
+  for (int a = first; a < v->nact; a++)
+    if (dblock_span(v, &v->act[a], yn, yd, err) != T74_OK) return err->status;
+  if (!room(v, v->nact)) return t74_fail(err, T74_EIO, "out of host memory");
+
+  /* both x orders: the dead out (they are pieces of the set: the pair just decided),
+     the halves in, each by a binary search */
+  for (int i = 0; i < v->nset; i++)
+    if (!s->p[v->set[i]].alive) {
+      ord_remove(v, v->byxl, &v->nbyxl, v->seti[i], by_xl);
+      ord_remove(v, v->byxr, &v->nbyxr, v->seti[i], by_xr);
+    }
+  for (int a = first; a < v->nact; a++) {
+    ord_insert(v, v->byxl, &v->nbyxl, a, by_xl);
+    if (v->act[a].on) ord_insert(v, v->byxr, &v->nbyxr, a, by_xr);
+  }
+  *non = v->nbyxr;                        /* the items on the line, at the head of byxl */
+
+  *ia = after_x(v, v->byxl, *non, x, false);
+  *ir = after_x(v, v->byxr, v->nbyxr, x, true);
+
+  /* the covering set */
+  int k = 0, j = 0;
+  for (int i = 0; i < v->nset; i++) {
+    if (!s->p[v->set[i]].alive) continue;
+    if (i < *joined) j++;
+    v->seti[k] = v->seti[i];
+    v->set[k++] = v->set[i];
+  }
+  *joined = j;
+  for (int a = first; a < v->nact; a++) {
+    const struct vis_item *it = &v->act[a];
+    if (!it->on) continue;
+    cost_mw_mul(v->cost, 75, 46);
+    cost_mw_mul(v->cost, 75, 46);
+    if (geom_rat_cmp(it->xl, x) <= 0 && geom_rat_cmp(x, it->xr) < 0) {
+      v->seti[k] = a;
+      v->set[k++] = it->piece;
+      COST_ADD_N(v->cost, COST_MEM, 2);
+    }
+  }
+  v->nset = k;
+  return T74_OK;
+}
+
+/* The sweep over the span ends of the line; PRIO_FIRST when done. */
+static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
+{
+#define XL(i) (v->act[v->byxl[i]].xl)
+#define XR(i) (v->act[v->byxr[i]].xr)
+  int non = count_on(v);
   int ia = 0, ir = 0, front = -1;
   v->nset = 0;
-  while (ia < non || ir < non) {
+  while (ia < non || ir < v->nbyxr) {
     struct grat x;
-    if (ia < non && (ir >= non || geom_rat_cmp(v->act[ia].xl, v->act[v->byxr[ir]].xr) <= 0))
-      x = v->act[ia].xl;
+    if (ia < non && (ir >= v->nbyxr || geom_rat_cmp(XL(ia), XR(ir)) <= 0))
+      x = XL(ia);
     else
-      x = v->act[v->byxr[ir]].xr;
+      x = XR(ir);
     /* leave: spans ending at x */
-    while (ir < non && geom_rat_cmp(v->act[v->byxr[ir]].xr, x) == 0) {
+    while (ir < v->nbyxr && geom_rat_cmp(XR(ir), x) == 0) {
       int p = v->act[v->byxr[ir++]].piece;
       for (int m = 0; m < v->nset; m++)
-        if (v->set[m] == p) { v->set[m] = v->set[--v->nset]; break; }
-      /* Any piece leaving may take the front's title with it: front_of leans on
-         transitivity (b before c, c before d), which holds point by point only where c
-         is there too. Once c has left, front and d may never have been compared, and
-         may cross (an intersection not yet cut) right here: choose afresh among the
-         pieces present, so every step of the chain is a pair met on this stretch. */
-      front = -1;
+        if (v->set[m] == p) {
+          v->nset--;
+          v->set[m] = v->set[v->nset];
+          v->seti[m] = v->seti[v->nset];
+          break;
+        }
+      /* Only the front's own leaving calls for a new choice. A front kept (front_of
+         returned it sure) has met every other piece of the set in a pair decided
+         directly, and won each: not by transitivity through a third piece (issue 7,
+         three faces at one vertex, tests/data/import/pierced_corner.s74), which is what
+         once made any leave reset the front, when front_of still chained its choice.
+         The pieces still here after another one leaves are a subset of those it beat,
+         on a stretch inside each such pair's overlap, where a decided order holds
+         point by point: the front is still in front of every one of them. */
+      if (p == front) front = -1;
       COST_ADD_N(v->cost, COST_MEM, 2);
     }
     /* join: spans starting at x */
     int joined = v->nset;
-    while (ia < non && geom_rat_cmp(v->act[ia].xl, x) == 0) {
-      v->set[v->nset++] = v->act[ia++].piece;
+    while (ia < non && geom_rat_cmp(XL(ia), x) == 0) {
+      v->seti[v->nset] = v->byxl[ia];
+      v->set[v->nset++] = v->act[v->byxl[ia++]].piece;
       COST_ADD_N(v->cost, COST_MEM, 2);
     }
-    if (v->nset == 0) continue;
-    struct grat xn;
-    if (ia < non && geom_rat_cmp(v->act[ia].xl, v->act[v->byxr[ir]].xr) < 0) xn = v->act[ia].xl;
-    else xn = v->act[v->byxr[ir]].xr;
-    /* the stretch [x, xn) has a fixed covering set: find its front piece */
-    bool sure;
-    int r = front < 0 ? front_of(v, -1, 0, &front, &sure, err)
-                      : front_of(v, front, joined, &front, &sure, err);
-    if (r != PRIO_FIRST) return r;
-    if (!push_span(v, x, xn, front))
-      return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
-    if (!sure) front = -1;
+    while (v->nset > 0) {
+      /* the stretch [x, xn) has a fixed covering set: find its front piece (ir < nbyxr:
+         a piece of the set has not left yet) */
+      struct grat xn = ia < non && geom_rat_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
+      bool sure;
+      struct vis_stretch st = { x, xn, yn, yd };
+      int r = front >= 0 ? front_of(v, front, joined, &front, &sure, &st, err)
+              : front_of(v, v->nset >= GUESS_MIN ? front_guess(v, x, xn, yn, yd) : -1, 0,
+                         &front, &sure, &st, err);
+      if (r == PRIO_SPLIT) {
+        if (resume(v, x, yn, yd, &ia, &ir, &non, &joined, err) != T74_OK) return PRIO_ERROR;
+        if (front >= 0 && !v->seg->p[front].alive) front = -1;
+        continue;
+      }
+      if (r != PRIO_FIRST) return r;
+      if (!push_span(v, x, xn, front))
+        return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
+      if (!sure) front = -1;
+      break;
+    }
   }
+#undef XL
+#undef XR
   return PRIO_FIRST;
+}
+
+/* After the sweep: stretches given to a piece that was cut during it go to its halves
+   (host bookkeeping, not the 1974 program's: it showed the face, which is the same).
+   A dead piece's halves, and theirs, were all made on this line (pieces >= born), are in
+   act with the dead piece's face, and partition its span on the line; no other piece of
+   that face overlaps it. So the stretch is cut where those pieces' spans meet: at their
+   xb, in order. In exact arithmetic each part must then lie in its piece's span (checked:
+   an internal error if not); under --arith hitac xb and xe are rounded as in 1974 and the
+   halves' spans may part or overlap by a rounding, so a part goes to the half whose xb
+   is last at or before it (the first half when none is), and a stretch with no half on
+   the line at all keeps the dead piece's number (its face is the same). */
+static int rename_spans(struct vis *v, struct t74_error *err)
+{
+  const struct seginfo *s = v->seg;
+  int non = count_on(v), nc = 0;
+  for (int i = 0; i < non; i++)                     /* candidates, in order of xb */
+    if (v->act[v->byxl[i]].piece >= v->born) v->tmp[nc++] = v->byxl[i];
+  v->nspan2 = 0;
+  for (int k = 0; k < v->nspan; k++) {
+    const struct vis_span *sp = &v->span[k];
+    int c = -1;                                     /* the half of the first part */
+    if (!s->p[sp->piece].alive)
+      for (int i = 0; i < nc; i++) {
+        const struct vis_item *it = &v->act[v->tmp[i]];
+        if (s->p[it->piece].face != sp->face) continue;
+        if (c >= 0 && geom_rat_cmp(it->xl, sp->x0) > 0) break;
+        c = i;
+      }
+    if (c < 0) {
+      if (!s->p[sp->piece].alive && v->arith == GEOM_EXACT)
+        return t74_fail(err, T74_EINPUT, "internal: cut piece %d has no half on the line",
+                        sp->piece);
+      if (!put_span(&v->span2, &v->nspan2, &v->span2cap, sp->x0, sp->x1, sp->piece, sp->face))
+        return t74_fail(err, T74_EIO, "out of host memory");
+      continue;
+    }
+    struct grat at = sp->x0;
+    while (geom_rat_cmp(at, sp->x1) < 0) {
+      int nx = c + 1;                               /* the next half of the face */
+      while (nx < nc && s->p[v->act[v->tmp[nx]].piece].face != sp->face) nx++;
+      const struct vis_item *it = &v->act[v->tmp[c]];
+      struct grat to = sp->x1;
+      if (nx < nc && geom_rat_cmp(v->act[v->tmp[nx]].xl, to) < 0) to = v->act[v->tmp[nx]].xl;
+      if (v->arith == GEOM_EXACT &&
+          (geom_rat_cmp(it->xl, at) > 0 || geom_rat_cmp(to, it->xr) > 0))
+        return t74_fail(err, T74_EINPUT, "internal: the halves of cut piece %d do not "
+                        "cover its stretch", sp->piece);
+      if (geom_rat_cmp(at, to) < 0 &&
+          !put_span(&v->span2, &v->nspan2, &v->span2cap, at, to, it->piece, sp->face))
+        return t74_fail(err, T74_EIO, "out of host memory");
+      if (geom_rat_cmp(to, at) > 0) at = to;
+      if (nx >= nc) break;
+      c = nx;
+    }
+  }
+  struct vis_span *t = v->span; v->span = v->span2; v->span2 = t;
+  int cp = v->spancap; v->spancap = v->span2cap; v->span2cap = cp;
+  v->nspan = v->nspan2;
+  return T74_OK;
+}
+
+/* After the sweep: the dead leave act, and act is put in order of xb (the next line's
+   insertion sort starts from it); byxr follows the items. */
+static int line_end(struct vis *v, struct t74_error *err)
+{
+  const struct seginfo *s = v->seg;
+  if (s->n > v->born && rename_spans(v, err) != T74_OK) return err->status;
+  if (!grow((void **)&v->act2, &v->act2cap, v->nbyxl + 1, sizeof *v->act2))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  for (int a = 0; a < v->nact; a++) {
+    v->tmp[a] = -1;
+    if (!s->p[v->act[a].piece].alive && v->act[a].core) dblock_give(v, v->act[a].core);
+  }
+  for (int i = 0; i < v->nbyxl; i++) {
+    v->act2[i] = v->act[v->byxl[i]];
+    v->tmp[v->byxl[i]] = i;
+  }
+  for (int i = 0; i < v->nbyxr; i++) v->byxr[i] = v->tmp[v->byxr[i]];
+  struct vis_item *t = v->act; v->act = v->act2; v->act2 = t;
+  int c = v->actcap; v->actcap = v->act2cap; v->act2cap = c;
+  v->nact = v->nbyxl;
+  return T74_OK;
 }
 
 int vis_spans(struct vis *v, int64_t yn, int64_t yd, const struct vis_span **span,
@@ -414,11 +848,11 @@ int vis_spans(struct vis *v, int64_t yn, int64_t yd, const struct vis_span **spa
   v->yn = yn;
   v->yd = yd;
   v->lines++;
-  for (;;) {
-    int r = line_once(v, yn, yd, err);
-    if (r == PRIO_ERROR) return err->status ? err->status : T74_EINPUT;
-    if (r != PRIO_SPLIT) break;
-  }
+  int st = line_begin(v, yn, yd, err);
+  if (st != T74_OK) return st;
+  if (sweep(v, yn, yd, err) != PRIO_FIRST) return err->status ? err->status : T74_EINPUT;
+  st = line_end(v, err);
+  if (st != T74_OK) return st;
   *span = v->span;
   *nspan = v->nspan;
   return T74_OK;

@@ -52,10 +52,20 @@ struct vis {
   struct prio    *prio;
   struct cost    *cost;
   int   *order, norder, next, ordcap;   /* pieces by lowest y; order[next..] not yet met */
-  struct vis_item *act; int nact, actcap;   /* active pieces, kept in order of xl */
-  int   *byxr, byxrcap;                  /* active items in order of xr */
+  struct vis_item *act; int nact, actcap;   /* active pieces; between lines in order of xl,
+                                               pieces the line meets first */
+  int   *byxl, nbyxl, byxlcap;           /* during a line: act indices in order of xl, pieces
+                                            the line meets first (the dead left out) */
+  int   *byxr, nbyxr, byxrcap;           /* act indices of the pieces the line meets, in
+                                            order of xr; kept from line to line */
   int   *set, nset, setcap;              /* pieces covering the current stretch */
+  int   *seti, seticap;                  /* their items (act indices), in step with set */
   struct vis_span *span; int nspan, spancap;
+  int   *tmp, tmpcap, *tmp2, tmp2cap, *tmp3, tmp3cap;   /* scratch for sorts and merges */
+  struct vis_item *act2; int act2cap;    /* scratch: act put in x order at a line's end */
+  struct vis_span *span2; int nspan2, span2cap;   /* scratch: spans given to cut halves */
+  int   born;                            /* seg->n when the current line's sweep began */
+  uint64_t resumes;                      /* splits met in a sweep, which went on from there */
   int   seen;                            /* pieces in seg already placed in order */
   int64_t yn, yd;                        /* the last line asked for */
   uint64_t lines;                        /* lines scanned */

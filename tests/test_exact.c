@@ -13,6 +13,11 @@
 **   book-spine        three faces sharing one line in space (T-junctions along it): three
 **                     pair orders were cyclic on a sliver near the line, and the front
 **                     chosen there was kept for the stretches after it (37 points);
+**   tjunc-cyclic-1, -2  (found by the soak of issue 12) T-junction scenes where three pair
+**                     orders are cyclic within rounding: the front the checking rounds
+**                     stopped at was wrong at one point (-1 on the renderer as it was
+**                     before issue 12 too, -2 once the sweep met the pairs in another
+**                     order); now the piece nearest the eye in the stretch is taken;
 **   edge-on-1, -2, rounding-folds, doubles-back
 **                     valid faces that rounding onto the plane grid folds (seen almost
 **                     edge-on or from far away), refused before with "crossings ... do not
@@ -88,6 +93,12 @@ static void test_window_touching(void **state) { (void)state; judge_all("window-
 static void test_coplanar_pierced(void **state) { (void)state; judge_all("coplanar-pierced"); }
 static void test_edge_and_vertex(void **state) { (void)state; judge_all("edge-and-vertex"); }
 static void test_book_spine(void **state) { (void)state; judge_all("book-spine"); }
+static void test_tjunc_cyclic(void **state)
+{
+  (void)state;
+  judge_all("tjunc-cyclic-1");
+  judge_all("tjunc-cyclic-2");
+}
 
 static void test_shared_vertex(void **state)
 {
@@ -273,6 +284,7 @@ int main(void)
     cmocka_unit_test(test_shared_vertex),
     cmocka_unit_test(test_edge_and_vertex),
     cmocka_unit_test(test_book_spine),
+    cmocka_unit_test(test_tjunc_cyclic),
     cmocka_unit_test(test_folded_by_rounding),
     cmocka_unit_test(test_split_face),
     cmocka_unit_test(test_cli_window_touching),

@@ -966,8 +966,9 @@ static void test_vis_spans(void **state)
 static void test_vis_spans_invariant(void **state)
 {
   (void)state;
-  const char *scenes[] = { CROSSING, MIXED, CYCLIC };
-  for (int s = 0; s < 3; s++) {
+  char *tris[2] = { tris_scene(24, 1), tris_scene(16, 7) };
+  const char *scenes[] = { CROSSING, MIXED, CYCLIC, tris[0], tris[1] };
+  for (int s = 0; s < 5; s++) {
     struct render r;
     struct scene *sc = prepare(&r, scenes[s], PRIO_AUTO);
     int lines = 0;
@@ -1007,9 +1008,78 @@ static void test_vis_spans_invariant(void **state)
       }
     }
     assert_true(lines > 100);
+    /* the triangles: splits were met inside sweeps, which went on from there */
+    if (s >= 3) assert_true(r.vis.resumes > 0);
     render_free(&r);
     scene_free(sc);
   }
+  free(tris[0]);
+  free(tris[1]);
+}
+
+/* prio_known only looks: it never decides a pair (computed does not move), says 0 for a
+   pair not decided, and for a decided one what prio_order says, both ways round. */
+static void test_prio_known(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(20, 3);
+  struct render r;
+  struct scene *sc = prepare(&r, tris, PRIO_AUTO);
+  free(tris);
+  uint64_t c0 = r.prio.computed;
+  int n = r.seg.n;
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) assert_int_equal(prio_known(&r.prio, i, j), 0);
+  assert_true(r.prio.computed == c0);
+  uint16_t *a = calloc(GW * GH, sizeof *a);
+  scan_ids(&r, a);
+  uint64_t c1 = r.prio.computed;
+  assert_true(c1 > c0);
+  int known = 0;
+  struct t74_error err = { 0, "" };
+  for (int i = 0; i < r.seg.n; i++)
+    for (int j = i + 1; j < r.seg.n; j++) {
+      int k = prio_known(&r.prio, i, j);
+      assert_true(r.prio.computed == c1);
+      if (!k) continue;
+      known++;
+      assert_int_equal(prio_known(&r.prio, j, i), k == PRIO_FIRST ? PRIO_SECOND : PRIO_FIRST);
+      assert_int_equal(prio_order(&r.prio, i, j, &err), k);
+      assert_true(r.prio.computed == c1);
+    }
+  assert_true(known > 0);
+  free(a);
+  render_free(&r);
+  scene_free(sc);
+}
+
+/* Halves know the piece they were cut from; a piece the Segment Generator made has none;
+   a half lies inside its parent (each of its vertices is in every half-plane of the
+   parent's, exactly), and both halves of a cut share its face. */
+static void test_piece_parents(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(20, 5);
+  struct render r;
+  struct scene *sc = prepare(&r, tris, PRIO_AUTO);
+  free(tris);
+  int n0 = r.seg.n;
+  for (int k = 0; k < n0; k++) assert_int_equal(r.seg.p[k].parent, -1);
+  uint16_t *a = calloc(GW * GH, sizeof *a);
+  scan_ids(&r, a);
+  assert_true(r.seg.n > n0);
+  for (int k = n0; k < r.seg.n; k++) {
+    const struct piece *h = &r.seg.p[k];
+    assert_true(h->parent >= 0 && h->parent < k);
+    const struct piece *P = &r.seg.p[h->parent];
+    assert_false(P->alive);
+    assert_int_equal(h->face, P->face);
+    for (int v = 0; v < h->n; v++)
+      for (int l = 0; l < P->n; l++) assert_true(geom_side_h(P->line[l], h->v[v]) >= 0);
+  }
+  free(a);
+  render_free(&r);
+  scene_free(sc);
 }
 
 /* The D-blocks' incremental spans equal the definition (seginfo_span) exactly on every
@@ -1073,6 +1143,8 @@ int main(void)
     cmocka_unit_test(test_prio_auto_migrates),
     cmocka_unit_test(test_vis_spans),
     cmocka_unit_test(test_vis_spans_invariant),
+    cmocka_unit_test(test_prio_known),
+    cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
