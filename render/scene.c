@@ -46,12 +46,44 @@
 
 /* ---- freeing ------------------------------------------------------------------------- */
 
+/* The pool: a chain of blocks of ints, each handed out from its start. */
+struct pool_block {
+  struct pool_block *next;
+  size_t used, cap;
+  int    data[];
+};
+
+#define POOL_BLOCK_INTS ((size_t)1 << 16)
+
+int *scene_pool_ints(struct scene *s, size_t n)
+{
+  struct pool_block *b = s->pool;
+  if (!b || b->cap - b->used < n) {
+    size_t cap = n > POOL_BLOCK_INTS ? n : POOL_BLOCK_INTS;
+    if (cap > (SIZE_MAX - sizeof *b) / sizeof b->data[0]) return NULL;
+    struct pool_block *nb = malloc(sizeof *nb + cap * sizeof nb->data[0]);
+    if (!nb) return NULL;
+    nb->next = b;
+    nb->used = 0;
+    nb->cap = cap;
+    s->pool = b = nb;
+  }
+  int *p = b->data + b->used;
+  b->used += n;
+  return p;
+}
+
 void scene_free(struct scene *s)
 {
   if (!s) return;
   for (int i = 0; i < s->nf; i++) {
+    if (s->f[i].pooled) continue;
     free(s->f[i].ring_start);
     free(s->f[i].vidx);
+  }
+  for (struct pool_block *b = s->pool, *nx; b; b = nx) {
+    nx = b->next;
+    free(b);
   }
   for (int i = 0; i < s->nobj; i++) free(s->obj[i].face);
   free(s->f);
@@ -290,9 +322,15 @@ int scene_check_face(const struct scene *s, const struct scene_face *f,
     return SCENE_FACE_DEGENERATE;
   }
   size_t n = (size_t)f->ring_start[f->nring] + 1;
-  struct pl_pt *pt = malloc(n * sizeof *pt);
-  struct edge *e = malloc(n * sizeof *e);
-  struct vkey *keys = malloc(n * sizeof *keys);
+  /* most faces are small: their scratch on the stack (issue 12: three mallocs a face) */
+  enum { SMALL = 32 };
+  struct pl_pt spt[SMALL];
+  struct edge se[SMALL];
+  struct vkey skeys[SMALL];
+  bool small = n <= SMALL;
+  struct pl_pt *pt = small ? spt : malloc(n * sizeof *pt);
+  struct edge *e = small ? se : malloc(n * sizeof *e);
+  struct vkey *keys = small ? skeys : malloc(n * sizeof *keys);
   int d;
   if (!pt || !e || !keys) {
     t74_fail(err, T74_EIO, "%s: out of memory", s->file);
@@ -300,9 +338,11 @@ int scene_check_face(const struct scene *s, const struct scene_face *f,
   } else {
     d = face_check(s, f, pt, e, keys, err);
   }
-  free(pt);
-  free(e);
-  free(keys);
+  if (!small) {
+    free(pt);
+    free(e);
+    free(keys);
+  }
   return d;
 }
 
