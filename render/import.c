@@ -86,31 +86,35 @@ int import_open(struct import_reader *r, const char *path, struct t74_error *err
   return T74_OK;
 }
 
-static bool is_blank(char c)
-{
-  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
-}
+/* Byte classes of the line reader, one table look-up a byte (issue 12): BC_END ends the
+   line scan (LF, CR, NUL); in a line BC_BLANK separates tokens (blank, tab, CR, FF, VT) and BC_STOP
+   ends the last one (NUL, or the `#` of a comment). */
+enum { BC_END = 1, BC_BLANK = 2, BC_STOP = 4 };
+static const unsigned char byte_class[256] = {
+  ['\0'] = BC_END | BC_STOP, ['\n'] = BC_END, ['\r'] = BC_END | BC_BLANK, [' '] = BC_BLANK,
+  ['\t'] = BC_BLANK, ['\f'] = BC_BLANK, ['\v'] = BC_BLANK, ['#'] = BC_STOP,
+};
+
+static unsigned char byte_of(const char *p) { return byte_class[(unsigned char)*p]; }
 
 int import_next(struct import_reader *r, struct t74_error *err)
 {
   while (r->pos < r->len) {
     char *start = r->buf + r->pos, *last = r->buf + r->len;   /* *last is the NUL */
     char *end = start;
-    bool nul = false;
-    while (end < last && *end != '\n' && *end != '\r') nul |= *end++ == '\0';
+    while (!(byte_of(end) & BC_END)) end++;
+    bool nul = end < last && *end == '\0';   /* a NUL before the line's end */
     /* the line ends at LF, CR LF or a lone CR (old Mac files): each counts one line */
     r->pos = (size_t)(end - r->buf) + 1;
     if (end < last && *end == '\r' && end + 1 < last && end[1] == '\n') r->pos++;
     r->line = ++r->nlines;
     if (nul) return t74_fail_at(err, T74_EINPUT, r->file, r->line, "NUL byte in the line");
     *end = '\0';
-    char *hash = strchr(start, '#');
-    if (hash) *hash = '\0';
     r->ntok = 0;
     char *p = start;
     for (;;) {
-      while (is_blank(*p)) p++;
-      if (!*p) break;
+      while (byte_of(p) & BC_BLANK) p++;
+      if (byte_of(p) & BC_STOP) { *p = '\0'; break; }   /* the end, or a comment */
       if (r->ntok == r->cap) {
         int ncap = r->cap ? r->cap * 2 : 16;   /* tokens < 2^30 (file size): no overflow */
         char **nt = realloc(r->tok, (size_t)ncap * sizeof *nt);
@@ -119,8 +123,9 @@ int import_next(struct import_reader *r, struct t74_error *err)
         r->cap = ncap;
       }
       r->tok[r->ntok++] = p;
-      while (*p && !is_blank(*p)) p++;
-      if (*p) *p++ = '\0';
+      while (!(byte_of(p) & (BC_BLANK | BC_STOP))) p++;
+      if (byte_of(p) & BC_STOP) { *p = '\0'; break; }
+      *p++ = '\0';
     }
     if (r->ntok > 0) return 1;
   }
@@ -369,17 +374,22 @@ static const char *const obj_ignored[] = {
 /* An integer (possibly empty when may_be_empty) ending at '/' or the end of the token. */
 static bool obj_part(const char **p, bool may_be_empty, long *out)
 {
-  char tmp[24];
-  size_t k = 0;
-  while (**p && **p != '/') {
-    if (k + 1 >= sizeof tmp) return false;
-    tmp[k++] = *(*p)++;
+  /* as import_int on the part (at most 22 bytes) in range +-2000000000, read in place */
+  const char *s = *p, *q = s;
+  while (*q && *q != '/') q++;
+  *p = q;
+  if (q - s > 22) return false;
+  if (q == s) return may_be_empty;
+  bool neg = false;
+  if (*s == '+' || *s == '-') neg = *s++ == '-';
+  if (s == q) return false;
+  long long v = 0;
+  for (; s < q; s++) {
+    if (*s < '0' || *s > '9') return false;
+    if (v <= 1000000000000LL) v = v * 10 + (*s - '0');   /* beyond the range: stop */
   }
-  tmp[k] = '\0';
-  if (k == 0) return may_be_empty;
-  long v;
-  if (import_int(tmp, -2000000000L, 2000000000L, &v) != 0) return false;
-  *out = v;
+  if (v > 2000000000LL) return false;
+  *out = (long)(neg ? -v : v);
   return true;
 }
 
@@ -598,7 +608,9 @@ static int defect(const struct scene *s, int id, int line, int *v, int n)
   int rs[2] = { 0, n };
   struct scene_face f = { .id = (uint32_t)id, .line = line, .grey = -1, .nring = 1,
                           .ring_start = rs, .vidx = v };
-  struct t74_error scratch = { 0 };
+  struct t74_error scratch;             /* (not cleared: 1 kB a face; only written) */
+  scratch.status = T74_OK;
+  scratch.msg[0] = '\0';
   return scene_check_face(s, &f, &scratch);
 }
 
@@ -694,7 +706,16 @@ static int sweep(const double (*p)[2], int n, pair_fn test, const void *ctx, int
     e[k] = (struct ebox){ fmin(a[0], b[0]), fmax(a[0], b[0]), fmin(a[1], b[1]),
                           fmax(a[1], b[1]), k };
   }
-  import_sort(e, (size_t)n, sizeof *e, ebox_cmp);
+  if (n > 16) {
+    qsort(e, (size_t)n, sizeof *e, ebox_cmp);
+  } else {                /* a few: by insertion, the comparison inlined (same order) */
+    for (int i = 1; i < n; i++) {
+      struct ebox t = e[i];
+      int j = i;
+      for (; j > 0 && ebox_cmp(&e[j - 1], &t) > 0; j--) e[j] = e[j - 1];
+      e[j] = t;
+    }
+  }
   int found = 0;
   for (int i = 0; i < n && !found; i++)
     for (int j = i + 1; j < n && e[j].u0 <= e[i].u1; j++) {
@@ -717,6 +738,13 @@ static bool file_cross_pair(const void *ctx, int n, int i, int j)
   if (o1 == 0 || o2 == 0 || o1 == o2) return false;
   int o3 = orient_d(c, d, a), o4 = orient_d(c, d, b);
   return o3 != 0 && o4 != 0 && o3 != o4;
+}
+
+/* The boxes of segments a-b and c-d meet (closed): a proper crossing needs it. */
+static bool boxes_meet(const double *a, const double *b, const double *c, const double *d)
+{
+  return fmax(a[0], b[0]) >= fmin(c[0], d[0]) && fmax(c[0], d[0]) >= fmin(a[0], b[0]) &&
+         fmax(a[1], b[1]) >= fmin(c[1], d[1]) && fmax(c[1], d[1]) >= fmin(a[1], b[1]);
 }
 
 static int file_crossing(const double (*p)[2], int n, int *ea, int *eb)
@@ -760,7 +788,19 @@ static int check_file_face(const struct scene *s, const struct mesh *m, int k,
   }
   while (n > 1 && p[n - 1][0] == p[0][0] && p[n - 1][1] == p[0][1]) n--;
   int ea, eb, st = T74_OK;
-  int crossed = n >= 4 ? file_crossing((const double (*)[2])p, n, &ea, &eb) : 0;
+  /* a quadrilateral: its only non-adjacent pairs are edges 0, 2 and 1, 3, and at most one
+     of them crosses properly (of the three ways to pair four points, one at most), so
+     the sweep would find the pair tested here */
+  int crossed = 0;
+  if (n == 4) {             /* (as the sweep: only pairs whose boxes meet are tested) */
+    if (boxes_meet(p[0], p[1], p[2], p[3]) && file_cross_pair(p, 4, 0, 2)) {
+      ea = 0; eb = 2; crossed = 1;
+    } else if (boxes_meet(p[1], p[2], p[3], p[0]) && file_cross_pair(p, 4, 1, 3)) {
+      ea = 1; eb = 3; crossed = 1;
+    }
+  } else if (n > 4) {
+    crossed = file_crossing((const double (*)[2])p, n, &ea, &eb);
+  }
   for (int a = 0; crossed == 0 && n >= 4 && nn[0] == 0 && nn[1] == 0 && nn[2] == 0 && a < 2;
        a++) {
     u = (a + 1) % 3;                  /* no normal (balanced lobes): every axis is tried */

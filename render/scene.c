@@ -146,6 +146,31 @@ static int edge_cmp(const void *pa, const void *pb)
   return (a->order > b->order) - (a->order < b->order);
 }
 
+/* The sorts of a face's few keys and edges: insertion sorts with the comparison inlined
+   (issue 12), qsort beyond 16; both comparisons are total orders (ties broken by a unique
+   index), so the order is the one qsort or import_sort gives. */
+static void sort_vkeys(struct vkey *k, size_t n)
+{
+  if (n > 16) { qsort(k, n, sizeof *k, vkey_cmp); return; }
+  for (size_t i = 1; i < n; i++) {
+    struct vkey t = k[i];
+    size_t j = i;
+    for (; j > 0 && vkey_cmp(&k[j - 1], &t) > 0; j--) k[j] = k[j - 1];
+    k[j] = t;
+  }
+}
+
+static void sort_edges(struct edge *e, size_t n)
+{
+  if (n > 16) { qsort(e, n, sizeof *e, edge_cmp); return; }
+  for (size_t i = 1; i < n; i++) {
+    struct edge t = e[i];
+    size_t j = i;
+    for (; j > 0 && edge_cmp(&e[j - 1], &t) > 0; j--) e[j] = e[j - 1];
+    e[j] = t;
+  }
+}
+
 /* Positions in ring r: is any position repeated? Sorting makes this O(n log n). */
 static int check_distinct(const struct scene *s, const struct scene_face *f, int r,
                           struct vkey *keys, struct t74_error *err)
@@ -156,7 +181,7 @@ static int check_distinct(const struct scene *s, const struct scene_face *f, int
     const struct scene_vertex *v = &s->v[f->vidx[lo + k]];
     keys[k] = (struct vkey){ v->x, v->y, v->z, k };
   }
-  import_sort(keys, (size_t)n, sizeof *keys, vkey_cmp);
+  sort_vkeys(keys, (size_t)n);
   for (int k = 0; k + 1 < n; k++) {
     if (keys[k].x != keys[k + 1].x || keys[k].y != keys[k + 1].y ||
         keys[k].z != keys[k + 1].z)
@@ -244,7 +269,7 @@ static int face_check(const struct scene *s, const struct scene_face *f, struct 
       e[q] = (struct edge){ r, q, q2, a.u < b.u ? a.u : b.u, a.u > b.u ? a.u : b.u,
                             a.v < b.v ? a.v : b.v, a.v > b.v ? a.v : b.v, q };
     }
-  import_sort(e, (size_t)nall, sizeof *e, edge_cmp);
+  sort_edges(e, (size_t)nall);
   for (int i = 0; i < nall; i++)
     for (int j = i + 1; j < nall && e[j].umin <= e[i].umax; j++) {
       if (e[j].vmin > e[i].vmax || e[j].vmax < e[i].vmin) continue;

@@ -128,6 +128,10 @@ static void tprintf(struct text *t, const char *fmt, ...)
     "a face needs at least 3 vertices, this one has 2")                                    \
   X(obj_bowtie, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\n", 5,               \
     "face 1 is not simple in the file: its edges 2-3 and 4-1")                             \
+  X(obj_bowtie_first_pair, "obj", "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n", 5,      \
+    "face 1 is not simple in the file: its edges 1-2 and 3-4")                             \
+  X(obj_bowtie_five, "obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 2 2 0\nv 1 -1 0\nf 1 2 3 4 5\n", 6, \
+    "face 1 is not simple in the file")                                                    \
   X(obj_bowtie_nonplanar, "obj",                                                           \
     "v 0 0 0\nv 3 0 0.01\nv 0 1 0.02\nv 1 1 0\nv 5 5 5\nf 5 1 2\nf 1 2 3 4\n", 7,        \
     "face 2 is not simple in the file: its edges 2-3 and 4-1")                            \
