@@ -339,9 +339,44 @@ static int face_check(const struct scene *s, const struct scene_face *f, struct 
   return SCENE_FACE_OK;
 }
 
+/* The common case first (issue 12: the box faces of a large scene): a quadrilateral
+   without holes, exactly planar, whose projection along its normal's largest component
+   turns strictly the same way at all four corners. Four strict turns of one sense add up
+   to one full turn (each less than a half turn, the sum a multiple of a full one), so the
+   quadrilateral is convex and simple: its vertices are distinct, no two edges meet but
+   neighbours at their common end, and face_check would pass it. Exact, in the integers
+   face_check uses; false sends the face the whole way. */
+static bool convex_quad(const struct scene *s, const struct scene_face *f)
+{
+  if (f->nring != 1 || f->ring_start[1] - f->ring_start[0] != 4) return false;
+  const int *r = f->vidx + f->ring_start[0];
+  const struct scene_vertex *p[4] = { &s->v[r[0]], &s->v[r[1]], &s->v[r[2]], &s->v[r[3]] };
+  int64_t ax = p[1]->x - p[0]->x, ay = p[1]->y - p[0]->y, az = p[1]->z - p[0]->z;
+  int64_t bx = p[2]->x - p[0]->x, by = p[2]->y - p[0]->y, bz = p[2]->z - p[0]->z;
+  int64_t nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+  if (!(nx || ny || nz)) return false;
+  if (nx * (p[3]->x - p[0]->x) + ny * (p[3]->y - p[0]->y) + nz * (p[3]->z - p[0]->z) != 0)
+    return false;
+  int64_t anx = nx < 0 ? -nx : nx, any = ny < 0 ? -ny : ny, anz = nz < 0 ? -nz : nz;
+  struct pl_pt q[4];
+  for (int k = 0; k < 4; k++) {
+    if (anz >= anx && anz >= any) q[k] = (struct pl_pt){ p[k]->x, p[k]->y };
+    else if (anx >= any) q[k] = (struct pl_pt){ p[k]->y, p[k]->z };
+    else q[k] = (struct pl_pt){ p[k]->z, p[k]->x };
+  }
+  int pos = 0, neg = 0;
+  for (int k = 0; k < 4; k++) {
+    int64_t o = pl_orient(q[(k + 3) % 4], q[k], q[(k + 1) % 4]);
+    pos += o > 0;
+    neg += o < 0;
+  }
+  return pos == 4 || neg == 4;
+}
+
 int scene_check_face(const struct scene *s, const struct scene_face *f,
                      struct t74_error *err)
 {
+  if (convex_quad(s, f)) return SCENE_FACE_OK;
   if (f->nring < 1) {
     t74_fail_at(err, T74_EINPUT, s->file, f->line, "face %d has no vertices", f->id);
     return SCENE_FACE_DEGENERATE;
