@@ -374,21 +374,20 @@ static const char *const obj_ignored[] = {
 /* An integer (possibly empty when may_be_empty) ending at '/' or the end of the token. */
 static bool obj_part(const char **p, bool may_be_empty, long *out)
 {
-  /* as import_int on the part (at most 22 bytes) in range +-2000000000, read in place */
-  const char *s = *p, *q = s;
-  while (*q && *q != '/') q++;
-  *p = q;
-  if (q - s > 22) return false;
-  if (q == s) return may_be_empty;
+  /* as import_int on the part (at most 23 bytes) in range +-2000000000, read in place
+     in one pass */
+  const char *start = *p, *s = start;
   bool neg = false;
   if (*s == '+' || *s == '-') neg = *s++ == '-';
-  if (s == q) return false;
+  const char *digits = s;
   long long v = 0;
-  for (; s < q; s++) {
-    if (*s < '0' || *s > '9') return false;
+  for (; *s >= '0' && *s <= '9'; s++)
     if (v <= 1000000000000LL) v = v * 10 + (*s - '0');   /* beyond the range: stop */
-  }
-  if (v > 2000000000LL) return false;
+  if (*s && *s != '/') return false;                       /* not an integer */
+  *p = s;
+  if (s - start > 23) return false;
+  if (s == start) return may_be_empty;
+  if (s == digits || v > 2000000000LL) return false;
   *out = (long)(neg ? -v : v);
   return true;
 }

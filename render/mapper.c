@@ -60,7 +60,9 @@ static uwide isqrt_u(uwide v)
   uwide x = v, y = (x + 1) / 2;
   /* start from a power of two above sqrt(v) to keep Newton's steps few */
   int bits = 0;
-  for (uwide t = v; t; t >>= 1) bits++;
+  uwide t = v;
+  for (; t >> 8; t >>= 8) bits += 8;
+  for (; t; t >>= 1) bits++;
   x = (uwide)1 << ((bits + 1) / 2);
   for (;;) {
     y = (x + v / x) / 2;

@@ -128,6 +128,9 @@ static void tprintf(struct text *t, const char *fmt, ...)
     "a face needs at least 3 vertices, this one has 2")                                    \
   X(obj_bowtie, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\n", 5,               \
     "face 1 is not simple in the file: its edges 2-3 and 4-1")                             \
+  X(obj_index_24_bytes, "obj",                                                            \
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 000000000000000000000003\n", 4,                      \
+    "bad face vertex `000000000000000000000003`")                                          \
   X(obj_bowtie_first_pair, "obj", "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n", 5,      \
     "face 1 is not simple in the file: its edges 1-2 and 3-4")                             \
   X(obj_bowtie_five, "obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 2 2 0\nv 1 -1 0\nf 1 2 3 4 5\n", 6, \
@@ -954,6 +957,28 @@ static void real_tokens_as_strtod(void **state)
   }
 }
 
+/* The parts of a face reference are read in place: the forms i, i/t, i//n, i/t/n, a sign,
+   and parts of up to 23 bytes (leading zeros) are taken as before (24 bytes are refused:
+   BAD_IMPORTS); the indices found are the ones written. */
+static void obj_refs_in_place(void **state)
+{
+  struct fx *f = *state;
+  static const char text[] =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\n"
+    "f 1/7/9 +2//3 00000000000000000000003/00000000000000000000001/-0000000000000000000001\n"
+    "f -3 4/2 -2/-1/+0\n";
+  struct scene *s = load_or_fail(f, "refs.obj", text, sizeof text - 1);
+  assert_int_equal(s->nf, 2);
+  assert_int_equal(s->f[0].ring_start[1], 3);
+  assert_int_equal(s->f[0].vidx[0], 0);
+  assert_int_equal(s->f[0].vidx[1], 1);
+  assert_int_equal(s->f[0].vidx[2], 2);
+  assert_int_equal(s->f[1].vidx[0], 1);
+  assert_int_equal(s->f[1].vidx[1], 3);
+  assert_int_equal(s->f[1].vidx[2], 2);
+  scene_free(s);
+}
+
 int main(void)
 {
 #define LIST_BAD(name, kind, text, line, what) cmocka_unit_test(bad_##name),
@@ -961,6 +986,7 @@ int main(void)
     BAD_IMPORTS(LIST_BAD)
     cmocka_unit_test(command_exit_2),
     cmocka_unit_test(real_tokens_as_strtod),
+    cmocka_unit_test(obj_refs_in_place),
     cmocka_unit_test(line_ends),
     cmocka_unit_test(concave_nonplanar_keeps_notch),
     cmocka_unit_test(straight_vertices_kept),
