@@ -164,10 +164,12 @@ struct tjunc {
   int *byx;                      /* vertices used by faces, by projected x */
   int n;
   /* the host's index (issue 12): the same vertices bucketed by projected (x, y) on a
-     gw x gh grid of cells cw x ch wide from (gx0, gy0); cell c holds
+     gw x gh grid of cells 2^sx x 2^sy wide from (gx0, gy0) (shifts, not divisions:
+     four a T-junction search); cell c holds
      cell_v[cell_start[c] .. cell_start[c+1]). Only where to look: every candidate is
      still tested exactly, and the 1974 cost counts the x-slab the program scanned. */
-  gcoord gx0, gy0, cw, ch;
+  gcoord gx0, gy0;
+  int sx, sy;
   int gw, gh;
   int *cell_start, *cell_v;
   struct gpoint *cell_p;         /* proj[cell_v[k]], kept beside it (no indirection) */
@@ -230,19 +232,20 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   }
   int side = 1;
   while ((int64_t)side * side < 2 * (int64_t)t->n && side < 4096) side++;
-  t->gw = t->gh = side;
   t->gx0 = x0;
   t->gy0 = y0;
-  t->cw = (x1 - x0) / side + 1;
-  t->ch = (y1 - y0) / side + 1;
-  size_t ncell = (size_t)side * (size_t)side;
+  while ((x1 - x0) >> t->sx >= side) t->sx++;     /* the narrowest cells that make at */
+  while ((y1 - y0) >> t->sy >= side) t->sy++;     /* most side x side of them */
+  t->gw = (int)((x1 - x0) >> t->sx) + 1;
+  t->gh = (int)((y1 - y0) >> t->sy) + 1;
+  size_t ncell = (size_t)t->gw * (size_t)t->gh;
   t->cell_start = calloc(ncell + 1, sizeof *t->cell_start);
   t->cell_v = malloc((size_t)(t->n ? t->n : 1) * sizeof *t->cell_v);
   t->cell_p = malloc((size_t)(t->n ? t->n : 1) * sizeof *t->cell_p);
   if (!t->cell_start || !t->cell_v || !t->cell_p) { tj_free(t); return 0; }
   for (int k = 0; k < t->n; k++) {
     struct gpoint p = proj[t->byx[k]];
-    t->cell_start[(size_t)((p.y - y0) / t->ch) * (size_t)side + (size_t)((p.x - x0) / t->cw) + 1]++;
+    t->cell_start[(size_t)((p.y - y0) >> t->sy) * (size_t)t->gw + (size_t)((p.x - x0) >> t->sx) + 1]++;
   }
   for (size_t c = 0; c < ncell; c++) t->cell_start[c + 1] += t->cell_start[c];
   int *fill = malloc((ncell ? ncell : 1) * sizeof *fill);
@@ -250,7 +253,7 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   memcpy(fill, t->cell_start, ncell * sizeof *fill);
   for (int k = 0; k < t->n; k++) {
     struct gpoint p = proj[t->byx[k]];
-    size_t c = (size_t)((p.y - y0) / t->ch) * (size_t)side + (size_t)((p.x - x0) / t->cw);
+    size_t c = (size_t)((p.y - y0) >> t->sy) * (size_t)t->gw + (size_t)((p.x - x0) >> t->sx);
     t->cell_p[fill[c]] = p;
     t->cell_v[fill[c]++] = t->byx[k];
   }
@@ -279,8 +282,8 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
   COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
   int first = *n;
   if (t->n == 0) return 1;
-  gcoord cx0 = x0 < t->gx0 ? 0 : (x0 - t->gx0) / t->cw, cx1 = (x1 - t->gx0) / t->cw;
-  gcoord cy0 = y0 < t->gy0 ? 0 : (y0 - t->gy0) / t->ch, cy1 = (y1 - t->gy0) / t->ch;
+  gcoord cx0 = x0 < t->gx0 ? 0 : (x0 - t->gx0) >> t->sx, cx1 = (x1 - t->gx0) >> t->sx;
+  gcoord cy0 = y0 < t->gy0 ? 0 : (y0 - t->gy0) >> t->sy, cy1 = (y1 - t->gy0) >> t->sy;
   if (cx1 >= t->gw) cx1 = t->gw - 1;
   if (cy1 >= t->gh) cy1 = t->gh - 1;
   for (gcoord cy = cy0; cy <= cy1; cy++)
