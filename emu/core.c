@@ -18,8 +18,11 @@
 
 #include <assert.h>
 #include <inttypes.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define STAT_HINTS 8
 
 struct core_stat {
   char     name[CORE_NAME_MAX];   /* table name (truncated copy) */
@@ -44,6 +47,11 @@ struct core {
   int               nrec, caprec;
   struct core_stat *stat;         /* one row per table name, first-use order */
   int               nstat, capstat;
+  /* where a table name was last found, by the name's address (a hint only: the row is
+     still compared; issue 12: 300,000 scans of the rows at 100,000 boxes) */
+  const char       *hint_name[STAT_HINTS];
+  int               hint_row[STAT_HINTS];
+  int               hint_next;    /* the hint replaced next (round robin) */
   int               inject_on;    /* fault injection armed */
   int               inject_tripped; /* the budget has been exceeded: all requests fail */
   uint64_t          inject_left;  /* words that may still be requested */
@@ -76,15 +84,37 @@ uint32_t core_used(const struct core *c) { return c->low_top + c->high_len; }
 uint32_t core_peak(const struct core *c) { return c->peak; }
 uint32_t core_high_words(const struct core *c) { return c->high_len; }
 
+/* The name `key` as kept (its first CORE_NAME_MAX - 1 bytes) is the row's name `row`. */
+static bool same_name(const char *row, const char *key)
+{
+  for (size_t k = 0; k < CORE_NAME_MAX - 1; k++) {
+    if (row[k] != key[k]) return false;
+    if (!key[k]) return true;
+  }
+  return row[CORE_NAME_MAX - 1] == '\0';
+}
+
 /* Row of the stats for `name`, created if new; -1 when the host is out of memory. */
 static int stat_row(struct core *c, const char *name)
 {
   /* the name as kept: at most CORE_NAME_MAX - 1 bytes of it (compared in place: this runs
      for every table of every face and piece, 500,000 times a frame at 100,000 boxes) */
   const char *key = name ? name : "(unnamed)";
-  size_t len = strnlen(key, CORE_NAME_MAX - 1);
+  int h = 0;
+  while (h < STAT_HINTS && c->hint_name[h] != key) h++;
+  if (h < STAT_HINTS) {                    /* rows have distinct names: a match is the row */
+    int i = c->hint_row[h];
+    if (same_name(c->stat[i].name, key)) return i;
+  } else {                                 /* (a stale hint, its buffer rewritten: reused) */
+    h = c->hint_next;
+    c->hint_next = (h + 1) % STAT_HINTS;
+  }
   for (int i = 0; i < c->nstat; i++)
-    if (strncmp(c->stat[i].name, key, len) == 0 && c->stat[i].name[len] == '\0') return i;
+    if (same_name(c->stat[i].name, key)) {
+      c->hint_name[h] = key;
+      c->hint_row[h] = i;
+      return i;
+    }
   if (c->nstat == c->capstat) {
     int cap = c->capstat ? 2 * c->capstat : 16;
     struct core_stat *s = realloc(c->stat, (size_t)cap * sizeof *s);
@@ -93,10 +123,13 @@ static int stat_row(struct core *c, const char *name)
     c->capstat = cap;
   }
   struct core_stat *s = &c->stat[c->nstat];
+  size_t len = strnlen(key, CORE_NAME_MAX - 1);
   memcpy(s->name, key, len);
   s->name[len] = '\0';
   s->cur = 0;
   s->peak = 0;
+  c->hint_name[h] = key;
+  c->hint_row[h] = c->nstat;
   return c->nstat++;
 }
 

@@ -74,6 +74,10 @@ void import_sort(void *base, size_t n, size_t size, int (*cmp)(const void *, con
    is one inside lo..hi, 1 when it is not an integer, 2 when it is out of range. */
 int import_int(const char *tok, long lo, long hi, long *out);
 
+/* A finite floating-point number filling the whole token, as strtod reads it (plain
+   decimals of up to 15 significant digits without strtod, giving the same double). */
+bool import_real(const char *tok, double *out);
+
 /* Import a .obj (kind "obj") or .off (kind "off") file onto the integer grid. */
 int import_load(const char *path, const char *kind, const struct scene_opts *opts,
                 struct scene **out, struct t74_error *err);

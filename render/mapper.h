@@ -31,8 +31,10 @@ struct mface {
   int32_t (*xyz)[3];        /* the vertices in space (exact), for tests on both planes */
   int      sline;           /* source line of the face statement */
   void    *block;           /* non-NULL: ring_start, pt, vid and xyz live in this one
-                               allocation (mapper_run's faces), freed with it; NULL: each
-                               is its own allocation */
+                               allocation, freed with it; NULL: each is its own
+                               allocation (unless pooled) */
+  bool     pooled;          /* ring_start, pt, vid and xyz live in the mapped scene's pool
+                               (mapper_run's faces), freed by mapper_free */
 };
 
 struct mapped {
@@ -43,6 +45,8 @@ struct mapped {
   int split;                /* faces split into triangles because rounding made them
                                not simple (mapper_split_face) */
   int64_t eye[3];           /* X0, Y0, Z0 (world units) */
+  void    *pool;            /* host blocks holding pooled faces' arrays (issue 12: one
+                               malloc a face fewer), freed by mapper_free */
 };
 
 /* Map a checked scene. T74_EINPUT when a vertex projects outside the plane grid. */

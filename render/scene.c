@@ -46,12 +46,44 @@
 
 /* ---- freeing ------------------------------------------------------------------------- */
 
+/* The pool: a chain of blocks of ints, each handed out from its start. */
+struct pool_block {
+  struct pool_block *next;
+  size_t used, cap;
+  int    data[];
+};
+
+#define POOL_BLOCK_INTS ((size_t)1 << 16)
+
+int *scene_pool_ints(struct scene *s, size_t n)
+{
+  struct pool_block *b = s->pool;
+  if (!b || b->cap - b->used < n) {
+    size_t cap = n > POOL_BLOCK_INTS ? n : POOL_BLOCK_INTS;
+    if (cap > (SIZE_MAX - sizeof *b) / sizeof b->data[0]) return NULL;
+    struct pool_block *nb = malloc(sizeof *nb + cap * sizeof nb->data[0]);
+    if (!nb) return NULL;
+    nb->next = b;
+    nb->used = 0;
+    nb->cap = cap;
+    s->pool = b = nb;
+  }
+  int *p = b->data + b->used;
+  b->used += n;
+  return p;
+}
+
 void scene_free(struct scene *s)
 {
   if (!s) return;
   for (int i = 0; i < s->nf; i++) {
+    if (s->f[i].pooled) continue;
     free(s->f[i].ring_start);
     free(s->f[i].vidx);
+  }
+  for (struct pool_block *b = s->pool, *nx; b; b = nx) {
+    nx = b->next;
+    free(b);
   }
   for (int i = 0; i < s->nobj; i++) free(s->obj[i].face);
   free(s->f);
@@ -114,6 +146,31 @@ static int edge_cmp(const void *pa, const void *pb)
   return (a->order > b->order) - (a->order < b->order);
 }
 
+/* The sorts of a face's few keys and edges: insertion sorts with the comparison inlined
+   (issue 12), qsort beyond 16; both comparisons are total orders (ties broken by a unique
+   index), so the order is the one qsort or import_sort gives. */
+static void sort_vkeys(struct vkey *k, size_t n)
+{
+  if (n > 16) { qsort(k, n, sizeof *k, vkey_cmp); return; }
+  for (size_t i = 1; i < n; i++) {
+    struct vkey t = k[i];
+    size_t j = i;
+    for (; j > 0 && vkey_cmp(&k[j - 1], &t) > 0; j--) k[j] = k[j - 1];
+    k[j] = t;
+  }
+}
+
+static void sort_edges(struct edge *e, size_t n)
+{
+  if (n > 16) { qsort(e, n, sizeof *e, edge_cmp); return; }
+  for (size_t i = 1; i < n; i++) {
+    struct edge t = e[i];
+    size_t j = i;
+    for (; j > 0 && edge_cmp(&e[j - 1], &t) > 0; j--) e[j] = e[j - 1];
+    e[j] = t;
+  }
+}
+
 /* Positions in ring r: is any position repeated? Sorting makes this O(n log n). */
 static int check_distinct(const struct scene *s, const struct scene_face *f, int r,
                           struct vkey *keys, struct t74_error *err)
@@ -124,7 +181,7 @@ static int check_distinct(const struct scene *s, const struct scene_face *f, int
     const struct scene_vertex *v = &s->v[f->vidx[lo + k]];
     keys[k] = (struct vkey){ v->x, v->y, v->z, k };
   }
-  import_sort(keys, (size_t)n, sizeof *keys, vkey_cmp);
+  sort_vkeys(keys, (size_t)n);
   for (int k = 0; k + 1 < n; k++) {
     if (keys[k].x != keys[k + 1].x || keys[k].y != keys[k + 1].y ||
         keys[k].z != keys[k + 1].z)
@@ -212,7 +269,7 @@ static int face_check(const struct scene *s, const struct scene_face *f, struct 
       e[q] = (struct edge){ r, q, q2, a.u < b.u ? a.u : b.u, a.u > b.u ? a.u : b.u,
                             a.v < b.v ? a.v : b.v, a.v > b.v ? a.v : b.v, q };
     }
-  import_sort(e, (size_t)nall, sizeof *e, edge_cmp);
+  sort_edges(e, (size_t)nall);
   for (int i = 0; i < nall; i++)
     for (int j = i + 1; j < nall && e[j].umin <= e[i].umax; j++) {
       if (e[j].vmin > e[i].vmax || e[j].vmax < e[i].vmin) continue;
@@ -282,17 +339,58 @@ static int face_check(const struct scene *s, const struct scene_face *f, struct 
   return SCENE_FACE_OK;
 }
 
+/* The common case first (issue 12: the box faces of a large scene): a quadrilateral
+   without holes, exactly planar, whose projection along its normal's largest component
+   turns strictly the same way at all four corners. Four strict turns of one sense add up
+   to one full turn (each less than a half turn, the sum a multiple of a full one), so the
+   quadrilateral is convex and simple: its vertices are distinct, no two edges meet but
+   neighbours at their common end, and face_check would pass it. Exact, in the integers
+   face_check uses; false sends the face the whole way. */
+static bool convex_quad(const struct scene *s, const struct scene_face *f)
+{
+  if (f->nring != 1 || f->ring_start[1] - f->ring_start[0] != 4) return false;
+  const int *r = f->vidx + f->ring_start[0];
+  const struct scene_vertex *p[4] = { &s->v[r[0]], &s->v[r[1]], &s->v[r[2]], &s->v[r[3]] };
+  int64_t ax = p[1]->x - p[0]->x, ay = p[1]->y - p[0]->y, az = p[1]->z - p[0]->z;
+  int64_t bx = p[2]->x - p[0]->x, by = p[2]->y - p[0]->y, bz = p[2]->z - p[0]->z;
+  int64_t nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+  if (!(nx || ny || nz)) return false;
+  if (nx * (p[3]->x - p[0]->x) + ny * (p[3]->y - p[0]->y) + nz * (p[3]->z - p[0]->z) != 0)
+    return false;
+  int64_t anx = nx < 0 ? -nx : nx, any = ny < 0 ? -ny : ny, anz = nz < 0 ? -nz : nz;
+  struct pl_pt q[4];
+  for (int k = 0; k < 4; k++) {
+    if (anz >= anx && anz >= any) q[k] = (struct pl_pt){ p[k]->x, p[k]->y };
+    else if (anx >= any) q[k] = (struct pl_pt){ p[k]->y, p[k]->z };
+    else q[k] = (struct pl_pt){ p[k]->z, p[k]->x };
+  }
+  int pos = 0, neg = 0;
+  for (int k = 0; k < 4; k++) {
+    int64_t o = pl_orient(q[(k + 3) % 4], q[k], q[(k + 1) % 4]);
+    pos += o > 0;
+    neg += o < 0;
+  }
+  return pos == 4 || neg == 4;
+}
+
 int scene_check_face(const struct scene *s, const struct scene_face *f,
                      struct t74_error *err)
 {
+  if (convex_quad(s, f)) return SCENE_FACE_OK;
   if (f->nring < 1) {
     t74_fail_at(err, T74_EINPUT, s->file, f->line, "face %d has no vertices", f->id);
     return SCENE_FACE_DEGENERATE;
   }
   size_t n = (size_t)f->ring_start[f->nring] + 1;
-  struct pl_pt *pt = malloc(n * sizeof *pt);
-  struct edge *e = malloc(n * sizeof *e);
-  struct vkey *keys = malloc(n * sizeof *keys);
+  /* most faces are small: their scratch on the stack (issue 12: three mallocs a face) */
+  enum { SMALL = 32 };
+  struct pl_pt spt[SMALL];
+  struct edge se[SMALL];
+  struct vkey skeys[SMALL];
+  bool small = n <= SMALL;
+  struct pl_pt *pt = small ? spt : malloc(n * sizeof *pt);
+  struct edge *e = small ? se : malloc(n * sizeof *e);
+  struct vkey *keys = small ? skeys : malloc(n * sizeof *keys);
   int d;
   if (!pt || !e || !keys) {
     t74_fail(err, T74_EIO, "%s: out of memory", s->file);
@@ -300,9 +398,11 @@ int scene_check_face(const struct scene *s, const struct scene_face *f,
   } else {
     d = face_check(s, f, pt, e, keys, err);
   }
-  free(pt);
-  free(e);
-  free(keys);
+  if (!small) {
+    free(pt);
+    free(e);
+    free(keys);
+  }
   return d;
 }
 

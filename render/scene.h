@@ -16,6 +16,7 @@
 #define T74_SCENE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include "emu/status.h"
 
@@ -42,6 +43,8 @@ struct scene_face {
   int     *ring_start;    /* nring + 1 offsets into vidx: ring r is vidx[ring_start[r] ..
                              ring_start[r+1]) ; ring 0 is the outer boundary */
   int     *vidx;          /* indices into scene.v (not ids); consecutive duplicates removed */
+  bool     pooled;        /* ring_start and vidx live in the scene's pool (imports:
+                             scene_pool_ints), freed with the scene, not one by one */
 };
 
 struct scene_object {
@@ -68,6 +71,8 @@ struct scene {
   char   *effects;                  /* the effects line's KEY=VALUE text, or NULL */
   int     effects_line;             /* its source line */
   int     warnings;                 /* how many warnings were printed (imports) */
+  void   *pool;                     /* host blocks holding pooled faces' arrays (issue 12:
+                                       two mallocs a face fewer), freed by scene_free */
 };
 
 /* Options for reading: camera for .obj/.off imports (ignored for .s74 unless given). */
@@ -89,6 +94,10 @@ int scene_load(const char *path, const struct scene_opts *opts, struct scene **o
                struct t74_error *err);
 
 void scene_free(struct scene *s);
+
+/* n ints (n >= 1) from the scene's pool, for a face's arrays (the face is then marked
+   pooled); they live until scene_free. NULL when the host is out of memory. */
+int *scene_pool_ints(struct scene *s, size_t n);
 
 /* What is wrong with a face's geometry (scene_check_face). */
 enum scene_defect {

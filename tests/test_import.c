@@ -48,6 +48,7 @@
 
 #include "patterns/halftone.h"
 #include "patterns/picture.h"
+#include "render/import.h"
 #include "render/scene.h"
 #include "tests/ref/memrender.h"
 #include "tests/ref/scenegen.h"
@@ -127,6 +128,13 @@ static void tprintf(struct text *t, const char *fmt, ...)
     "a face needs at least 3 vertices, this one has 2")                                    \
   X(obj_bowtie, "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\n", 5,               \
     "face 1 is not simple in the file: its edges 2-3 and 4-1")                             \
+  X(obj_index_24_bytes, "obj",                                                            \
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 000000000000000000000003\n", 4,                      \
+    "bad face vertex `000000000000000000000003`")                                          \
+  X(obj_bowtie_first_pair, "obj", "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n", 5,      \
+    "face 1 is not simple in the file: its edges 1-2 and 3-4")                             \
+  X(obj_bowtie_five, "obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 2 2 0\nv 1 -1 0\nf 1 2 3 4 5\n", 6, \
+    "face 1 is not simple in the file")                                                    \
   X(obj_bowtie_nonplanar, "obj",                                                           \
     "v 0 0 0\nv 3 0 0.01\nv 0 1 0.02\nv 1 1 0\nv 5 5 5\nf 5 1 2\nf 1 2 3 4\n", 7,        \
     "face 2 is not simple in the file: its edges 2-3 and 4-1")                            \
@@ -902,12 +910,83 @@ CORPUS(obj)
 CORPUS(off)
 CORPUS(pic)
 
+
+/* import_real reads plain decimals without strtod (Clinger's fast path): every token must
+   give the very double strtod gives, bit for bit, and the same refusals. Tokens at the
+   path's edges (15/16 significant digits, 22/23 after the point, leading zeros, signs,
+   a bare point) and random ones, where a division rounded differently would show. */
+static void real_tokens_as_strtod(void **state)
+{
+  (void)state;
+  static const char *const fixed[] = {
+    "0", "-0", "+0", "0.0", "-0.000", "1", "-1", "+17", "1.", ".5", "-.5", "+.25", ".",
+    "-", "+", "", "1.2.3", "1e3", "1E-3", "0x1p3", "inf", "-nan", "1,5", "12a", " 1",
+    "0.1", "0.2", "0.3", "2.675", "1.0000000000000002", "123456789012345",
+    "1234567890123456", "12345678901234.5", "999999999999999", "9999999999999999",
+    "0.0000000000000000000001", "0.00000000000000000000001", "00000000000000000000123.5",
+    "3.14159265358979", "-2.71828182845904", "0.000000000000000000000", "7.0e0",
+    "1.7976931348623157", "4.9406564584124654", "0.1234567890123456789012",
+  };
+  char *end;
+  for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++) {
+    double a = 0, b = strtod(fixed[k], &end);
+    bool want = end != fixed[k] && *end == '\0' && isfinite(b);
+    bool got = import_real(fixed[k], &a);
+    if (got != want) fail_msg("token `%s`: import_real says %d, strtod %d", fixed[k], got, want);
+    if (want && memcmp(&a, &b, sizeof a) != 0)
+      fail_msg("token `%s`: %a, strtod %a", fixed[k], a, b);
+  }
+  uint64_t x = 0x9e3779b97f4a7c15u;
+  char tok[40];
+  for (int k = 0; k < 200000; k++) {
+    x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+    int nd = 1 + (int)(x % 18), point = (int)((x >> 8) % (uint64_t)(nd + 2)) - 1, n = 0;
+    if ((x >> 16) & 1) tok[n++] = '-';
+    uint64_t y = x;
+    for (int d = 0; d < nd; d++) {
+      if (d == point) tok[n++] = '.';
+      y = y * 6364136223846793005u + 1442695040888963407u;
+      tok[n++] = (char)('0' + (y >> 60) % 10);
+    }
+    tok[n] = '\0';
+    double a = 0, b = strtod(tok, &end);
+    bool want = end != tok && *end == '\0' && isfinite(b);
+    bool got = import_real(tok, &a);
+    if (got != want) fail_msg("token `%s`: import_real says %d, strtod %d", tok, got, want);
+    if (want && memcmp(&a, &b, sizeof a) != 0) fail_msg("token `%s`: %a, strtod %a", tok, a, b);
+  }
+}
+
+/* The parts of a face reference are read in place: the forms i, i/t, i//n, i/t/n, a sign,
+   and parts of up to 23 bytes (leading zeros) are taken as before (24 bytes are refused:
+   BAD_IMPORTS); the indices found are the ones written. */
+static void obj_refs_in_place(void **state)
+{
+  struct fx *f = *state;
+  static const char text[] =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\n"
+    "f 1/7/9 +2//3 00000000000000000000003/00000000000000000000001/-0000000000000000000001\n"
+    "f -3 4/2 -2/-1/+0\n";
+  struct scene *s = load_or_fail(f, "refs.obj", text, sizeof text - 1);
+  assert_int_equal(s->nf, 2);
+  assert_int_equal(s->f[0].ring_start[1], 3);
+  assert_int_equal(s->f[0].vidx[0], 0);
+  assert_int_equal(s->f[0].vidx[1], 1);
+  assert_int_equal(s->f[0].vidx[2], 2);
+  assert_int_equal(s->f[1].vidx[0], 1);
+  assert_int_equal(s->f[1].vidx[1], 3);
+  assert_int_equal(s->f[1].vidx[2], 2);
+  scene_free(s);
+}
+
 int main(void)
 {
 #define LIST_BAD(name, kind, text, line, what) cmocka_unit_test(bad_##name),
   const struct CMUnitTest tests[] = {
     BAD_IMPORTS(LIST_BAD)
     cmocka_unit_test(command_exit_2),
+    cmocka_unit_test(real_tokens_as_strtod),
+    cmocka_unit_test(obj_refs_in_place),
     cmocka_unit_test(line_ends),
     cmocka_unit_test(concave_nonplanar_keeps_notch),
     cmocka_unit_test(straight_vertices_kept),

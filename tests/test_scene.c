@@ -473,6 +473,42 @@ static void ok_check_face_direct(void **state)
   assert_int_equal(err.status, T74_OK);
 }
 
+/* Quadrilaterals, which scene_check_face passes by a convexity test when every corner
+   turns strictly one way, and sends the whole way otherwise: convex either way round and
+   tilted in space (projected along x or y) pass; a bow-tie, a fold back, a repeated
+   vertex and a non-planar one are refused as before; a dart (concave) and one with a
+   straight corner still pass the whole check. */
+static void quad_check_face(void **state)
+{
+  (void)state;
+  static const struct { int32_t p[4][3]; int want; } cases[] = {
+    { { { 0, 0, 0 }, { 40, 0, 0 }, { 40, 30, 0 }, { 0, 30, 0 } }, SCENE_FACE_OK },
+    { { { 0, 30, 0 }, { 40, 30, 0 }, { 40, 0, 0 }, { 0, 0, 0 } }, SCENE_FACE_OK },
+    { { { 5, 0, 0 }, { 5, 40, 1 }, { 5, 40, 31 }, { 5, 0, 30 } }, SCENE_FACE_OK },
+    { { { 0, 7, 0 }, { 40, 7, 0 }, { 40, 7, 30 }, { 0, 7, 30 } }, SCENE_FACE_OK },
+    { { { 0, 0, 0 }, { 40, 30, 0 }, { 40, 0, 0 }, { 0, 30, 0 } }, SCENE_FACE_NONSIMPLE },
+    { { { 0, 0, 0 }, { 40, 0, 0 }, { 20, 0, 0 }, { 20, 20, 0 } }, SCENE_FACE_NONSIMPLE },
+    { { { 0, 0, 0 }, { 40, 0, 0 }, { 40, 0, 0 }, { 20, 20, 0 } }, SCENE_FACE_DEGENERATE },
+    { { { 0, 0, 0 }, { 40, 0, 0 }, { 40, 30, 1 }, { 0, 30, 0 } }, SCENE_FACE_NONPLANAR },
+    { { { 0, 0, 0 }, { 40, 0, 0 }, { 10, 10, 0 }, { 0, 40, 0 } }, SCENE_FACE_OK },
+    { { { 0, 0, 0 }, { 20, 0, 0 }, { 40, 0, 0 }, { 20, 20, 0 } }, SCENE_FACE_OK },
+  };
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    struct scene_vertex v[4];
+    for (int k = 0; k < 4; k++)
+      v[k] = (struct scene_vertex){ (uint32_t)(k + 1), cases[c].p[k][0], cases[c].p[k][1],
+                                    cases[c].p[k][2], k + 1 };
+    int rs[2] = { 0, 4 }, idx[4] = { 0, 1, 2, 3 };
+    struct scene sc = { .file = "mem", .nv = 4, .v = v };
+    struct scene_face f = { .id = 3, .line = 7, .grey = -1, .nring = 1, .ring_start = rs,
+                            .vidx = idx };
+    struct t74_error err = { 0 };
+    int d = scene_check_face(&sc, &f, &err);
+    if (d != cases[c].want) fail_msg("quad %zu: defect %d, want %d", c, d, cases[c].want);
+    assert_int_equal(err.status, d == SCENE_FACE_OK ? T74_OK : T74_EINPUT);
+  }
+}
+
 /* ---- robustness ---------------------------------------------------------------------- */
 
 /* Random garbage, and random corruptions of a valid scene: never a crash, never a status
@@ -896,6 +932,7 @@ int main(void)
     IMPORT_ERRORS(LIST_IMPORT)
     cmocka_unit_test(obj_fuzz),
     cmocka_unit_test(fx_defaults),
+    cmocka_unit_test(quad_check_face),
     cmocka_unit_test(fx_keys_without_values),
     cmocka_unit_test(fx_every_key),
     cmocka_unit_test(fx_bad),
