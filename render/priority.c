@@ -180,7 +180,7 @@ static uint64_t slot_find(const struct prio *pr, uint64_t cap, uint32_t i, uint3
    deletions), so a memo hit charges exactly what the probe would and returns what it
    would; a rebuild forgets the memo. It only spares the host the walk through a large
    table; pairs not held are never memoised. */
-#define PRIO_HIT_SLOTS 4096u
+#define PRIO_HIT_SLOTS 32768u
 struct prio_hit { uint32_t i, j, code, loads; };
 
 /* Moving the pairs to a new store. The stored program reads the old store through and
@@ -315,7 +315,7 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
   if (pr->hcap == 0) return CODE_UNKNOWN;
   struct prio_hit *h = NULL;
   if (pr->hit) {
-    h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 20 & (PRIO_HIT_SLOTS - 1)];
+    h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 17 & (PRIO_HIT_SLOTS - 1)];
     if (h->code && h->i == i && h->j == j) {
       charge_home(pr);
       COST_ADD_N(pr->cost, COST_MEM, h->loads);
@@ -602,6 +602,7 @@ void prio_free(struct prio *pr)
 {
   free(pr->hit);
   pr->hit = NULL;
+  for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
   free(pr->cut);
   pr->cut = NULL;
   pr->ncut = pr->cutcap = 0;
@@ -670,27 +671,28 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     return s > 0 ? CODE_HIGHER : CODE_LOWER;
   }
 
-  struct cpoly pl = { 0 }, pr_ = { 0 }, ql = { 0 }, qr = { 0 };
+  /* the halves in host scratch kept from pair to pair (no allocation a decision) */
+  struct cpoly *pl = &pr->clip[0], *pr_ = &pr->clip[1], *ql = &pr->clip[2], *qr = &pr->clip[3];
   int result;
-  bool hasl = seginfo_clip(P, L, &pl, pr->cost);
-  bool hasr = seginfo_clip(P, reversed(L), &pr_, pr->cost);
-  bool ovl = hasl && seginfo_overlap(pl.n, pl.line, pl.v, Q->n, Q->line, Q->v, pr->cost);
-  bool ovr = hasr && seginfo_overlap(pr_.n, pr_.line, pr_.v, Q->n, Q->line, Q->v, pr->cost);
+  bool hasl = seginfo_clip(P, L, pl, pr->cost);
+  bool hasr = seginfo_clip(P, reversed(L), pr_, pr->cost);
+  bool ovl = hasl && seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost);
+  bool ovr = hasr && seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost);
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
-    bool qhl = seginfo_clip(Q, L, &ql, pr->cost);
-    bool qhr = seginfo_clip(Q, reversed(L), &qr, pr->cost);
+    bool qhl = seginfo_clip(Q, L, ql, pr->cost);
+    bool qhr = seginfo_clip(Q, reversed(L), qr, pr->cost);
     int pf = P->face, qf = Q->face;
-    if (add_half(pr, pf, &pl, err) < 0 || add_half(pr, pf, &pr_, err) < 0) goto fail;
-    if (qhl && qhr && (add_half(pr, qf, &ql, err) < 0 || add_half(pr, qf, &qr, err) < 0))
-      goto fail;
+    if (add_half(pr, pf, pl, err) < 0 || add_half(pr, pf, pr_, err) < 0) return PRIO_ERROR;
+    if (qhl && qhr && (add_half(pr, qf, ql, err) < 0 || add_half(pr, qf, qr, err) < 0))
+      return PRIO_ERROR;
     /* seginfo may have moved: index afresh */
     pr->seg->p[i].alive = false;
     if (qhl && qhr) pr->seg->p[j].alive = false;
     for (int k = pr->seg->n - (qhl && qhr ? 4 : 2); k < pr->seg->n; k++)
       pr->seg->p[k].parent = pr->seg->p[k].face == pf ? i : j;
     pr->splits++;
-    if (note_cut(pr, pf, qf, L, err) != T74_OK) goto fail;
+    if (note_cut(pr, pf, qf, L, err) != T74_OK) return PRIO_ERROR;
     if (pr->trace)
       fprintf(pr->trace, "INTERSECT pieces %d (face %u) and %d (face %u) cross: cut along "
               "%lld x + %lld y + %lld = 0 into pieces %d..%d\n", i, (unsigned)A->id, j,
@@ -704,16 +706,12 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
        faces still meet along it: the line is noted for enhanced edges (paper 002 e4),
        so which pairs happen to be decided first does not choose the lines drawn. */
     if ((on_line_side(P, L) || on_line_side(Q, L)) && note_cut(pr, P->face, Q->face, L, err) != T74_OK)
-      goto fail;
+      return PRIO_ERROR;
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front\n",
               i, (unsigned)A->id, j, (unsigned)B->id, result == CODE_HIGHER ? "first" : "second");
   }
-  cpoly_free(&pl); cpoly_free(&pr_); cpoly_free(&ql); cpoly_free(&qr);
   return result;
-fail:
-  cpoly_free(&pl); cpoly_free(&pr_); cpoly_free(&ql); cpoly_free(&qr);
-  return PRIO_ERROR;
 }
 
 int prio_order(struct prio *pr, int p, int q, struct t74_error *err)

@@ -51,6 +51,8 @@ struct prio {
   struct prio_cut *cut;     /* the face pairs cut along their intersection, in order found */
   int      ncut, cutcap;
   int      arith;           /* GEOM_EXACT, or GEOM_HITAC: depth from the 1974 planes */
+  struct cpoly clip[4];     /* host scratch of decide's clipped halves, kept from pair to
+                               pair (freed by prio_free) */
 };
 
 /* store: PRIO_AUTO starts with the paper's dense matrix when the triangle for the `expect`
