@@ -174,14 +174,17 @@ static uint64_t slot_find(const struct prio *pr, uint64_t cap, uint32_t i, uint3
   return slot_find_n(pr, cap, i, j, &loads);
 }
 
-/* A host-side memo of pairs the sparse store was found to hold: the pair, its code and
-   the words the probe sequence loaded. A pair held keeps its slot and the slots before it
-   on its probe path stay as they are until the table is rebuilt (linear probing, no
-   deletions), so a memo hit charges exactly what the probe would and returns what it
-   would; a rebuild forgets the memo. It only spares the host the walk through a large
-   table; pairs not held are never memoised. */
+/* A host-side memo of the sparse store's answers: the pair, its code (0: not held), the
+   words the probe sequence loaded and the slot it ended at. Linear probing, no deletions:
+   until the table is rebuilt, the slots a probe passes keep what they hold, and only an
+   empty slot can change (be filled). So a pair held keeps its answer; a pair not held
+   keeps its answer while the empty slot its probe ended at stays empty (a new pair fills
+   the first empty slot of its own path: filling any other slot of this path is
+   impossible, they are full). A memo hit charges exactly what the probe would and returns
+   what it would; a rebuild forgets the memo. It only spares the host the walk through a
+   large table (the sweep's order_of asks the same pairs not held again and again). */
 #define PRIO_HIT_SLOTS 32768u
-struct prio_hit { uint32_t i, j, code, loads; };
+struct prio_hit { uint32_t i, j, code, loads, slot; };    /* loads 0: an empty entry */
 
 /* Moving the pairs to a new store. The stored program reads the old store through and
    lists the pairs held (4 words a pair, as in a slot) in the words beyond both the old
@@ -316,19 +319,21 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
   struct prio_hit *h = NULL;
   if (pr->hit) {
     h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 17 & (PRIO_HIT_SLOTS - 1)];
-    if (h->code && h->i == i && h->j == j) {
+    if (h->loads && h->i == i && h->j == j &&
+        (h->code != CODE_UNKNOWN || slot_code(pr, h->slot) == CODE_UNKNOWN)) {
       charge_home(pr);
       COST_ADD_N(pr->cost, COST_MEM, h->loads);
       return h->code;
     }
   }
-  uint64_t loads;
-  unsigned code = slot_code(pr, slot_find_n(pr, pr->hcap, i, j, &loads));
-  if (h && code != CODE_UNKNOWN && loads <= UINT32_MAX) {
+  uint64_t loads, s = slot_find_n(pr, pr->hcap, i, j, &loads);
+  unsigned code = slot_code(pr, s);
+  if (h && loads <= UINT32_MAX) {
     h->i = i;
     h->j = j;
     h->code = code;
     h->loads = (uint32_t)loads;
+    h->slot = (uint32_t)s;
   }
   return code;
 }
