@@ -317,12 +317,13 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
   }
   if (pr->hcap == 0) return CODE_UNKNOWN;
   struct prio_hit *h = NULL;
-  if (pr->hit) {
+  if (pr->hit && !pr->memo_off) {
     h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 17 & (PRIO_HIT_SLOTS - 1)];
     if (h->loads && h->i == i && h->j == j &&
         (h->code != CODE_UNKNOWN || slot_code(pr, h->slot) == CODE_UNKNOWN)) {
       charge_home(pr);
       COST_ADD_N(pr->cost, COST_MEM, h->loads);
+      pr->memo_hits++;
       return h->code;
     }
   }
