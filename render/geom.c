@@ -33,12 +33,6 @@ int geom_side(struct gline l, struct gpoint p)
   return (v > 0) - (v < 0);
 }
 
-int geom_side_h(struct gline l, struct hpoint p)
-{
-  wide v = l.a * p.X + l.b * p.Y + l.c * p.W;
-  return (v > 0) - (v < 0);
-}
-
 bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out)
 {
   wide W = (wide)l1.a * l2.b - (wide)l2.a * l1.b;

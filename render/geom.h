@@ -72,8 +72,14 @@ static inline bool geom_is_horizontal(struct gline l) { return l.a == 0; }
 /* Sign (-1, 0, 1) of L(p) for a grid point. */
 int geom_side(struct gline l, struct gpoint p);
 
-/* Sign of L at a homogeneous point. */
-int geom_side_h(struct gline l, struct hpoint p);
+/* Sign of L at a homogeneous point, exact (the sum stays below 2^119, by the bounds
+   above). Inline: the clipping and overlap tests of the Priority
+   Matrix call it for every vertex of every pair decided (issue 12). */
+static inline int geom_side_h(struct gline l, struct hpoint p)
+{
+  wide v = l.a * p.X + l.b * p.Y + l.c * p.W;
+  return (v > 0) - (v < 0);
+}
 
 /* Where two lines meet; false when they are parallel. */
 bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out);

@@ -174,14 +174,17 @@ static uint64_t slot_find(const struct prio *pr, uint64_t cap, uint32_t i, uint3
   return slot_find_n(pr, cap, i, j, &loads);
 }
 
-/* A host-side memo of pairs the sparse store was found to hold: the pair, its code and
-   the words the probe sequence loaded. A pair held keeps its slot and the slots before it
-   on its probe path stay as they are until the table is rebuilt (linear probing, no
-   deletions), so a memo hit charges exactly what the probe would and returns what it
-   would; a rebuild forgets the memo. It only spares the host the walk through a large
-   table; pairs not held are never memoised. */
-#define PRIO_HIT_SLOTS 4096u
-struct prio_hit { uint32_t i, j, code, loads; };
+/* A host-side memo of the sparse store's answers: the pair, its code (0: not held), the
+   words the probe sequence loaded and the slot it ended at. Linear probing, no deletions:
+   until the table is rebuilt, the slots a probe passes keep what they hold, and only an
+   empty slot can change (be filled). So a pair held keeps its answer; a pair not held
+   keeps its answer while the empty slot its probe ended at stays empty (a new pair fills
+   the first empty slot of its own path: filling any other slot of this path is
+   impossible, they are full). A memo hit charges exactly what the probe would and returns
+   what it would; a rebuild forgets the memo. It only spares the host the walk through a
+   large table (the sweep's order_of asks the same pairs not held again and again). */
+#define PRIO_HIT_SLOTS 32768u
+struct prio_hit { uint32_t i, j, code, loads, slot; };    /* loads 0: an empty entry */
 
 /* Moving the pairs to a new store. The stored program reads the old store through and
    lists the pairs held (4 words a pair, as in a slot) in the words beyond both the old
@@ -314,21 +317,24 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
   }
   if (pr->hcap == 0) return CODE_UNKNOWN;
   struct prio_hit *h = NULL;
-  if (pr->hit) {
-    h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 20 & (PRIO_HIT_SLOTS - 1)];
-    if (h->code && h->i == i && h->j == j) {
+  if (pr->hit && !pr->memo_off) {
+    h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 17 & (PRIO_HIT_SLOTS - 1)];
+    if (h->loads && h->i == i && h->j == j &&
+        (h->code != CODE_UNKNOWN || slot_code(pr, h->slot) == CODE_UNKNOWN)) {
       charge_home(pr);
       COST_ADD_N(pr->cost, COST_MEM, h->loads);
+      pr->memo_hits++;
       return h->code;
     }
   }
-  uint64_t loads;
-  unsigned code = slot_code(pr, slot_find_n(pr, pr->hcap, i, j, &loads));
-  if (h && code != CODE_UNKNOWN && loads <= UINT32_MAX) {
+  uint64_t loads, s = slot_find_n(pr, pr->hcap, i, j, &loads);
+  unsigned code = slot_code(pr, s);
+  if (h && loads <= UINT32_MAX) {
     h->i = i;
     h->j = j;
     h->code = code;
     h->loads = (uint32_t)loads;
+    h->slot = (uint32_t)s;
   }
   return code;
 }
@@ -572,6 +578,23 @@ static bool on_line_side(const struct piece *X, struct gline l)
   return false;
 }
 
+/* 1 when every vertex of X is on or left of l and one strictly left, -1 the same on the
+   right, and X has an interior (the test seginfo_clip ends with); else 0. */
+static int one_side(const struct piece *X, struct gline l)
+{
+  bool pos = false, neg = false;
+  for (int k = 0; k < X->n; k++) {
+    int sg = geom_side_h(l, X->v[k]);
+    pos |= sg > 0;
+    neg |= sg < 0;
+  }
+  if (pos == neg || X->n < 3) return 0;
+  for (int k = 0; k < X->n; k++)
+    for (int j = 0; j < X->n; j++)
+      if (geom_side_h(X->line[k], X->v[j]) > 0) return pos ? 1 : -1;
+  return 0;
+}
+
 /* Add a clipped half as a new piece. */
 static int add_half(struct prio *pr, int face, const struct cpoly *c, struct t74_error *err)
 {
@@ -602,6 +625,7 @@ void prio_free(struct prio *pr)
 {
   free(pr->hit);
   pr->hit = NULL;
+  for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
   free(pr->cut);
   pr->cut = NULL;
   pr->ncut = pr->cutcap = 0;
@@ -670,27 +694,42 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     return s > 0 ? CODE_HIGHER : CODE_LOWER;
   }
 
-  struct cpoly pl = { 0 }, pr_ = { 0 }, ql = { 0 }, qr = { 0 };
+  /* the halves in host scratch kept from pair to pair (no allocation a decision) */
+  struct cpoly *pl = &pr->clip[0], *pr_ = &pr->clip[1], *ql = &pr->clip[2], *qr = &pr->clip[3];
   int result;
-  bool hasl = seginfo_clip(P, L, &pl, pr->cost);
-  bool hasr = seginfo_clip(P, reversed(L), &pr_, pr->cost);
-  bool ovl = hasl && seginfo_overlap(pl.n, pl.line, pl.v, Q->n, Q->line, Q->v, pr->cost);
-  bool ovr = hasr && seginfo_overlap(pr_.n, pr_.line, pr_.v, Q->n, Q->line, Q->v, pr->cost);
+  bool hasl, hasr, ovl, ovr;
+  int side = one_side(P, L);
+  if (side) {
+    /* P on one side of L: the clip to that side is P itself (its sides are merged, its
+       vertices kept: seginfo_add), the clip to the other has no interior. Host work
+       spared, the 1974 work of both clips charged as seginfo_clip does (one product a
+       vertex). */
+    for (int k = 0; k < 2 * P->n; k++) cost_mw_mul(pr->cost, 88, 58);
+    hasl = side > 0;
+    hasr = side < 0;
+    ovl = hasl && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
+    ovr = hasr && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
+  } else {
+    hasl = seginfo_clip(P, L, pl, pr->cost);
+    hasr = seginfo_clip(P, reversed(L), pr_, pr->cost);
+    ovl = hasl && seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost);
+    ovr = hasr && seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost);
+  }
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
-    bool qhl = seginfo_clip(Q, L, &ql, pr->cost);
-    bool qhr = seginfo_clip(Q, reversed(L), &qr, pr->cost);
+    bool qhl = seginfo_clip(Q, L, ql, pr->cost);
+    bool qhr = seginfo_clip(Q, reversed(L), qr, pr->cost);
     int pf = P->face, qf = Q->face;
-    if (add_half(pr, pf, &pl, err) < 0 || add_half(pr, pf, &pr_, err) < 0) goto fail;
-    if (qhl && qhr && (add_half(pr, qf, &ql, err) < 0 || add_half(pr, qf, &qr, err) < 0))
-      goto fail;
+    if (add_half(pr, pf, pl, err) < 0 || add_half(pr, pf, pr_, err) < 0) return PRIO_ERROR;
+    if (qhl && qhr && (add_half(pr, qf, ql, err) < 0 || add_half(pr, qf, qr, err) < 0))
+      return PRIO_ERROR;
     /* seginfo may have moved: index afresh */
     pr->seg->p[i].alive = false;
     if (qhl && qhr) pr->seg->p[j].alive = false;
     for (int k = pr->seg->n - (qhl && qhr ? 4 : 2); k < pr->seg->n; k++)
       pr->seg->p[k].parent = pr->seg->p[k].face == pf ? i : j;
     pr->splits++;
-    if (note_cut(pr, pf, qf, L, err) != T74_OK) goto fail;
+    if (note_cut(pr, pf, qf, L, err) != T74_OK) return PRIO_ERROR;
     if (pr->trace)
       fprintf(pr->trace, "INTERSECT pieces %d (face %u) and %d (face %u) cross: cut along "
               "%lld x + %lld y + %lld = 0 into pieces %d..%d\n", i, (unsigned)A->id, j,
@@ -704,16 +743,12 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
        faces still meet along it: the line is noted for enhanced edges (paper 002 e4),
        so which pairs happen to be decided first does not choose the lines drawn. */
     if ((on_line_side(P, L) || on_line_side(Q, L)) && note_cut(pr, P->face, Q->face, L, err) != T74_OK)
-      goto fail;
+      return PRIO_ERROR;
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front\n",
               i, (unsigned)A->id, j, (unsigned)B->id, result == CODE_HIGHER ? "first" : "second");
   }
-  cpoly_free(&pl); cpoly_free(&pr_); cpoly_free(&ql); cpoly_free(&qr);
   return result;
-fail:
-  cpoly_free(&pl); cpoly_free(&pr_); cpoly_free(&ql); cpoly_free(&qr);
-  return PRIO_ERROR;
 }
 
 int prio_order(struct prio *pr, int p, int q, struct t74_error *err)

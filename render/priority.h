@@ -45,12 +45,17 @@ struct prio {
   int      migrate;         /* PRIO_AUTO: the triangle may be given up for the sparse store */
   int      migrated;        /* it was: the store began dense and became sparse */
   struct prio_hit *hit;     /* host-side memo of sparse pairs found (priority.c), or NULL */
+  int      memo_off;        /* tests: answer every look from the table (same answers and
+                               charges, by the memo's argument in priority.c) */
+  uint64_t memo_hits;       /* looks the memo answered (host statistic) */
   uint64_t computed;        /* pairs whose priority was computed */
   int      splits;          /* interpenetrating pairs cut along their intersection */
   FILE    *trace;           /* teaching dump of each decision, or NULL */
   struct prio_cut *cut;     /* the face pairs cut along their intersection, in order found */
   int      ncut, cutcap;
   int      arith;           /* GEOM_EXACT, or GEOM_HITAC: depth from the 1974 planes */
+  struct cpoly clip[4];     /* host scratch of decide's clipped halves, kept from pair to
+                               pair (freed by prio_free) */
 };
 
 /* store: PRIO_AUTO starts with the paper's dense matrix when the triangle for the `expect`
