@@ -1,6 +1,8 @@
 /*
-** rsort.c — (key, index) pairs sorted by key, ties by index (rsort.h): a host helper for
-** the Mapper's T-junction search and the lazy cut order; no 1974 work is counted here.
+** rsort.c — the renderer's general sorts (rsort.h): (key, index) pairs by key for the
+** Mapper's T-junction search and the lazy cut order, and a stable merge sort for XSORT
+** and the Visible Surface Procedure; no 1974 work is counted here (callers charge their
+** own compares).
 **
 ** This file contains a least significant digit radix sort: one histogram pass over the
 ** eight key bytes (the sign bit flipped, so signed keys sort as unsigned), then one
@@ -34,4 +36,26 @@ void rsort_pairs(struct rs_pair *a, struct rs_pair *tmp, int n)
     struct rs_pair *t = src; src = dst; dst = t;
   }
   if (src != a) memcpy(a, src, (size_t)n * sizeof *a);
+}
+
+void rsort_merge(void *base, int n, size_t sz, void *tmp, rs_cmp cmp, void *ctx)
+{
+  char *src = base, *dst = tmp;
+  for (int width = 1; width < n; width *= 2) {
+    for (int lo = 0; lo < n; lo += 2 * width) {
+      int mid = lo + width < n ? lo + width : n;
+      int hi = lo + 2 * width < n ? lo + 2 * width : n;
+      int i = lo, j = mid, k = lo;
+      while (i < mid && j < hi) {
+        if (cmp(src + (size_t)j * sz, src + (size_t)i * sz, ctx) < 0)
+          memcpy(dst + (size_t)k++ * sz, src + (size_t)j++ * sz, sz);
+        else
+          memcpy(dst + (size_t)k++ * sz, src + (size_t)i++ * sz, sz);
+      }
+      while (i < mid) memcpy(dst + (size_t)k++ * sz, src + (size_t)i++ * sz, sz);
+      while (j < hi) memcpy(dst + (size_t)k++ * sz, src + (size_t)j++ * sz, sz);
+    }
+    char *t = src; src = dst; dst = t;
+  }
+  if (src != (char *)base) memcpy(base, src, (size_t)n * sz);
 }

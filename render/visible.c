@@ -34,6 +34,7 @@
 ** alive piece owns it under the tie rule of geom.h.
 */
 #include "render/visible.h"
+#include "render/rsort.h"
 
 #include <stdint.h>
 #include <stdlib.h>
@@ -100,16 +101,19 @@ static void merge_runs(const struct vis *v, const int *a, int na, const int *b, 
   while (j < nb) out[k++] = b[j++];
 }
 
-/* A stable bottom-up merge sort of a[0..n), scratch tmp[0..n): for a batch of new pieces. */
+/* A batch of new pieces sorted stably (rsort_merge), scratch tmp[0..n). */
+struct ord_ctx { const struct vis *v; vis_cmp cmp; };
+
+static int ord_cmp(const void *x, const void *y, void *ctx)
+{
+  const struct ord_ctx *o = ctx;
+  return o->cmp(o->v, *(const int *)x, *(const int *)y);
+}
+
 static void sort_batch(const struct vis *v, int *a, int n, int *tmp, vis_cmp cmp)
 {
-  for (int w = 1; w < n; w *= 2) {
-    for (int lo = 0; lo < n; lo += 2 * w) {
-      int mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n;
-      merge_runs(v, a + lo, mid - lo, a + mid, hi - mid, tmp + lo, cmp);
-    }
-    memcpy(a, tmp, (size_t)n * sizeof *a);
-  }
+  struct ord_ctx o = { v, cmp };
+  rsort_merge(a, n, sizeof *a, tmp, ord_cmp, &o);
 }
 
 /* A stable insertion sort of a[0..n): for the order kept from the last line, which moves

@@ -18,6 +18,7 @@
 ** starts except through the documented ring/side tie-break of coincident lines.
 */
 #include "render/xsort.h"
+#include "render/rsort.h"
 
 #include <string.h>
 
@@ -50,31 +51,6 @@ static struct grat x_at_c(struct gline l, gcoord c, struct cost *k)
 {
   if (k) { cost_mw_mul(k, 30, 30); cost_mw_add(k, 60); }
   return geom_x_at(l, c, 1);
-}
-
-/* Stable bottom-up merge sort of n elements of size sz, with a comparison context. */
-typedef int (*cmp_fn)(const void *a, const void *b, void *ctx);
-
-static void merge_sort(void *base, int n, size_t sz, void *tmp, cmp_fn cmp, void *ctx)
-{
-  char *src = base, *dst = tmp;
-  for (int width = 1; width < n; width *= 2) {
-    for (int lo = 0; lo < n; lo += 2 * width) {
-      int mid = lo + width < n ? lo + width : n;
-      int hi = lo + 2 * width < n ? lo + 2 * width : n;
-      int i = lo, j = mid, k = lo;
-      while (i < mid && j < hi) {
-        if (cmp(src + (size_t)j * sz, src + (size_t)i * sz, ctx) < 0)
-          memcpy(dst + (size_t)k++ * sz, src + (size_t)j++ * sz, sz);
-        else
-          memcpy(dst + (size_t)k++ * sz, src + (size_t)i++ * sz, sz);
-      }
-      while (i < mid) memcpy(dst + (size_t)k++ * sz, src + (size_t)i++ * sz, sz);
-      while (j < hi) memcpy(dst + (size_t)k++ * sz, src + (size_t)j++ * sz, sz);
-    }
-    char *t = src; src = dst; dst = t;
-  }
-  if (src != (char *)base) memcpy(base, src, (size_t)n * sz);
 }
 
 /* ---- XSORT ------------------------------------------------------------------------------ */
@@ -139,7 +115,7 @@ int xsort_build(const struct xs_ring *rings, int nring, gcoord c,
       rows[m++] = row;
     }
   }
-  merge_sort(rows, m, sizeof rows[0], scratch, row_cmp, cost);
+  rsort_merge(rows, m, sizeof rows[0], scratch, row_cmp, cost);
   return m;
 }
 
@@ -208,6 +184,6 @@ int xsort_half(const struct xs_ring *rings, int nring, gcoord c, int half,
     }
   }
   struct half_ctx ctx = { rings, half, cost };
-  merge_sort(out, m, sizeof out[0], scratch, cross_cmp, &ctx);
+  rsort_merge(out, m, sizeof out[0], scratch, cross_cmp, &ctx);
   return m;
 }
