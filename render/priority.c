@@ -40,10 +40,10 @@
 ** the triangle. Each move reads the old store through and lists the pairs held beyond
 ** both stores (list_pairs), so for a moment the core holds the larger store and the list:
 ** the peak that core_words_used reports. Each lookup in the sparse store is charged its
-** home slot (a hash and one multiply) and the words its probes compare. Every step depends on the scene alone (the pieces and
-** the pairs met, in scan order), never on --core, so a scene needs the same words
-** whatever core it is given; the scenes of the papers (a few hundred pieces at most)
-** never leave the triangle.
+** home slot (a hash and one multiply) and the words its probes compare. Every step
+** depends on the scene alone (the pieces and the pairs met, in scan order), never on
+** --core, so a scene needs the same words whatever core it is given; the scenes of the
+** papers (a few hundred pieces at most) never leave the triangle.
 */
 #include "render/priority.h"
 
@@ -183,8 +183,8 @@ static uint64_t slot_find(const struct prio *pr, uint64_t cap, uint32_t i, uint3
    impossible, they are full). A memo hit charges exactly what the probe would and returns
    what it would; a rebuild forgets the memo. It only spares the host the walk through a
    large table (the sweep's order_of asks the same pairs not held again and again). */
-#define PRIO_HIT_SLOTS 32768u
-struct prio_hit { uint32_t i, j, code, loads, slot; };    /* loads 0: an empty entry */
+#define PRIO_MEMO_SLOTS 32768u
+struct prio_memo { uint32_t i, j, code, loads, slot; };    /* loads 0: an empty entry */
 
 /* Moving the pairs to a new store. The stored program reads the old store through and
    lists the pairs held (4 words a pair, as in a slot) in the words beyond both the old
@@ -265,8 +265,8 @@ static int sparse_rebuild(struct prio *pr, uint64_t slots, struct t74_error *err
   }
   free(list);
   pr->hused = n;
-  if (!pr->hit) pr->hit = malloc(PRIO_HIT_SLOTS * sizeof *pr->hit);  /* NULL: no memo */
-  if (pr->hit) memset(pr->hit, 0, PRIO_HIT_SLOTS * sizeof *pr->hit);
+  if (!pr->memo) pr->memo = malloc(PRIO_MEMO_SLOTS * sizeof *pr->memo);  /* NULL: no memo */
+  if (pr->memo) memset(pr->memo, 0, PRIO_MEMO_SLOTS * sizeof *pr->memo);
   return T74_OK;
 }
 
@@ -316,9 +316,9 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
     return core_high_get2(pr->core, (uint64_t)j * (j - 1) / 2 + i);
   }
   if (pr->hcap == 0) return CODE_UNKNOWN;
-  struct prio_hit *h = NULL;
-  if (pr->hit && !pr->memo_off) {
-    h = &pr->hit[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 17 & (PRIO_HIT_SLOTS - 1)];
+  struct prio_memo *h = NULL;
+  if (pr->memo && !pr->memo_off) {
+    h = &pr->memo[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 17 & (PRIO_MEMO_SLOTS - 1)];
     if (h->loads && h->i == i && h->j == j &&
         (h->code != CODE_UNKNOWN || slot_code(pr, h->slot) == CODE_UNKNOWN)) {
       charge_home(pr);
@@ -623,8 +623,8 @@ static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_
 
 void prio_free(struct prio *pr)
 {
-  free(pr->hit);
-  pr->hit = NULL;
+  free(pr->memo);
+  pr->memo = NULL;
   for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
   free(pr->cut);
   pr->cut = NULL;
