@@ -135,18 +135,11 @@ static void *mpool_alloc(struct mapped *m, size_t bytes)
   return p;
 }
 
-/* A face's ring_start, pt, vid, xyz: in the pool (mapper_run), one block or four (the
-   rest). */
+/* A face's ring_start, pt, vid, xyz: in the pool (mapper_run), or four allocations (the
+   triangles of a split face). */
 static void mface_arrays_free(struct mface *m)
 {
-  if (m->pooled) {
-    /* freed with the pool */
-  } else if (m->block) {
-    free(m->block);
-  } else {
-    free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz);
-  }
-  m->block = NULL;
+  if (!m->pooled) { free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz); }
   m->pooled = false;
   m->ring_start = NULL; m->pt = NULL; m->vid = NULL; m->xyz = NULL;
 }
@@ -792,7 +785,6 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
   for (int t = 0; t < keep; t++) {
     struct mface g = base;
     g.nring = 1;
-    g.block = NULL;
     g.pooled = false;
     g.ring_start = malloc(2 * sizeof *g.ring_start);
     g.pt = malloc(3 * sizeof *g.pt);

@@ -30,11 +30,9 @@ struct mface {
   uint32_t *vid;            /* vertex ids */
   int32_t (*xyz)[3];        /* the vertices in space (exact), for tests on both planes */
   int      sline;           /* source line of the face statement */
-  void    *block;           /* non-NULL: ring_start, pt, vid and xyz live in this one
-                               allocation, freed with it; NULL: each is its own
-                               allocation (unless pooled) */
   bool     pooled;          /* ring_start, pt, vid and xyz live in the mapped scene's pool
-                               (mapper_run's faces), freed by mapper_free */
+                               (mapper_run's faces), freed by mapper_free; else each is
+                               its own allocation (faces split into triangles) */
 };
 
 struct mapped {
