@@ -105,7 +105,8 @@ static int stat_row(struct core *c, const char *name)
   if (h < STAT_HINTS) {                    /* rows have distinct names: a match is the row */
     int i = c->hint_row[h];
     if (same_name(c->stat[i].name, key)) return i;
-  } else {                                 /* (a stale hint, its buffer rewritten: reused) */
+    /* else a stale hint (the caller's buffer was rewritten): it is reused below */
+  } else {                                 /* no hint for this address: the next in turn */
     h = c->hint_next;
     c->hint_next = (h + 1) % STAT_HINTS;
   }
