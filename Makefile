@@ -30,7 +30,7 @@ LINKPKGS := libpng libusb-1.0
 NOPCLIBS := -lgif
 TESTPKGS := cmocka osmesa glu umockdev-1.0 gio-2.0
 
-LIBDIRS := emu render patterns display display/usb
+LIBDIRS := emu render effects patterns display display/usb
 LIBSRC  := $(foreach d,$(LIBDIRS),$(wildcard $(d)/*.c))
 LIBOBJ  := $(LIBSRC:%.c=$(BUILD)/%.o)
 LIB     := $(BUILD)/libtube74.a

@@ -1,7 +1,7 @@
 /*
 ** cmd_bench.c — `tube74 bench SUBCOMMAND [--out DIR]`: measurements that are figures,
 ** not pass/fail. This version has one subcommand, `accuracy`: what anti-aliasing
-** (papers 000, 001; render/aa.h) costs in time, against how much error it removes.
+** (papers 000, 001; effects/aa.h) costs in time, against how much error it removes.
 **
 ** This file contains code to write the test patterns (after paper 000 Fig. 3 and Fig. 5,
 ** the project's own since the paper prints no figure data: slivers at many angles, rows
@@ -39,7 +39,7 @@
 #include "display/image.h"
 #include "emu/cost.h"
 #include "patterns/halftone.h"
-#include "render/aa.h"
+#include "effects/aa.h"
 
 #define BENCH_EYE_SIGMA 1.5        /* the eye model's blur, in tube dots (documented) */
 #define BENCH_CORE (1u << 20)      /* core for measuring; "fits 16 kW" is reported apart */

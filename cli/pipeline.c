@@ -42,7 +42,7 @@
 #include "patterns/picture.h"
 #include "patterns/scanner.h"
 #include "render/effects.h"
-#include "render/fx.h"
+#include "effects/fx.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "render/turn.h"
@@ -68,7 +68,7 @@ struct pipeline {
   uint8_t *grey;
   int *face;                        /* the effects stage's frame (NULL: no effects) */
   struct cost display;              /* halftone + display stage */
-  struct cost fx;                   /* the effects stage (render/fx.h) */
+  struct cost fx;                   /* the effects stage (effects/fx.h) */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double first_dot;                 /* 1974 time the first lit dot reached the tube (< 0: none yet) */

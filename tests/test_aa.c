@@ -1,5 +1,5 @@
 /*
-** test_aa.c — tests of the anti-aliasing methods (render/aa*.c; papers 000 and 001).
+** test_aa.c — tests of the anti-aliasing methods (effects/aa*.c; papers 000 and 001).
 **
 ** Each scene here lies flat on the plane z = 0 (seen straight on, so the plane is the
 ** picture) in a window of 40000 x 30000 world units: with cell 4 a point is 400 units,
@@ -27,7 +27,7 @@
 #include <cmocka.h>
 
 #include "patterns/halftone.h"
-#include "render/aa.h"
+#include "effects/aa.h"
 #include "render/render.h"
 #include "render/scene.h"
 

@@ -1,5 +1,5 @@
 /*
-** test_edges.c — enhanced edges (paper 002, render/edges.c) against what the paper and
+** test_edges.c — enhanced edges (paper 002, effects/edges.c) against what the paper and
 ** issue 9 ask for, linked against build/libtube74.a (and the CLI for --stats / --dump).
 **
 ** Classification counts (inner / outline / not drawn) on cubes seen corner-on, showing two
@@ -24,9 +24,9 @@
 #include <cmocka.h>
 
 #include "emu/status.h"
-#include "render/edges.h"
+#include "effects/edges.h"
 #include "render/effects.h"
-#include "render/fx.h"
+#include "effects/fx.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "tests/ref/testkit.h"

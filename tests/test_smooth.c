@@ -1,6 +1,6 @@
 /*
 ** test_smooth.c — cmocka tests of smooth shading, partial smoothing and contour smoothing
-** (paper 004; render/smooth.h, render/contour.h).
+** (paper 004; effects/smooth.h, effects/contour.h).
 **
 ** This file contains two kinds of test. Through the real program ($TUBE74, default
 ** ./tube74) on the shipped Table 1 scenes and on small scenes written at test time: that
@@ -27,11 +27,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "render/contour.h"
+#include "effects/contour.h"
 #include "render/effects.h"
 #include "render/render.h"
 #include "render/scene.h"
-#include "render/smooth.h"
+#include "effects/smooth.h"
 #include "tests/ref/testkit.h"
 
 static char tmpdir[64];

@@ -33,7 +33,7 @@ mkdir -p "$out/obj"
 # the library, instrumented once for all scene and picture targets
 libobjs=""
 build_lib() {
-  for src in emu/*.c render/*.c patterns/*.c tests/ref/memrender.c; do
+  for src in emu/*.c render/*.c effects/*.c patterns/*.c tests/ref/memrender.c; do
     o="$out/obj/$(echo "$src" | tr / _ | sed 's/\.c$/.o/')"
     if [ ! -f "$o" ] || [ "$src" -nt "$o" ] || [ -n "$(find render emu patterns tests/ref \
          -name '*.h' -newer "$o" 2>/dev/null | head -n 1)" ]; then

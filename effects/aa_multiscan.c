@@ -36,7 +36,7 @@
 ** there). Accumulation by eq. (5) into two rows of accumulators, C_{i,j} and C_{i,j+1}
 ** (32-bit, 2 words each), as the paper says; row j+1 is finished when band j is done.
 */
-#include "render/aa_int.h"
+#include "effects/aa_int.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -32,7 +32,7 @@
 ** A band whose two lines do not match (a piece cut by the Priority Matrix between them)
 ** is counted in aa_exact_unmatched and taken as two halves with constant stretches.
 */
-#include "render/aa_int.h"
+#include "effects/aa_int.h"
 
 #include <math.h>
 #include <stdlib.h>

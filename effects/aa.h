@@ -1,7 +1,7 @@
 /*
 ** aa.h — anti-aliasing of papers 000 (Nishita & Nakamae, multi-scanning) and 001
 ** (Kumamoto, area sampling), with supersampling and an exact reference: the "aa" slot of
-** the effects stage (render/fx.h), between the Visible Surface Procedure and the halftone.
+** the effects stage (effects/fx.h), between the Visible Surface Procedure and the halftone.
 **
 ** This file contains the interface of the aa_ module. aa_run replaces each point's flat
 ** grey in the frame by the mix of what the point's filter sees, for the method named by
@@ -28,7 +28,7 @@
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "render/effects.h"
-#include "render/fx.h"
+#include "effects/fx.h"
 #include "render/render.h"
 
 /* Run the method e->aa (not EFFECTS_AA_NONE) over frame f (see fx_run). */
@@ -86,7 +86,7 @@ void aa_area_table(uint16_t *t);
    1/32 steps. */
 double aa_area_lookup(const uint16_t *t, double h, double v);
 
-/* ---- one frame from a scene file, for tests and the bench (render/aa_frame.c) ----------- */
+/* ---- one frame from a scene file, for tests and the bench (effects/aa_frame.c) ----------- */
 
 struct aa_frame {
   int W, H, cell;

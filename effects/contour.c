@@ -11,7 +11,7 @@
 ** Tables in core: CONTOUR CURVES, the region polygon of the corner being cut (4 words a
 ** point, CONTOUR_STEPS + 2 points), reused from corner to corner.
 */
-#include "render/contour.h"
+#include "effects/contour.h"
 
 #include <math.h>
 #include <stdlib.h>

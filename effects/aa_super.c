@@ -14,7 +14,7 @@
 ** Other K than 3 are extensions of the paper. Core: the weight table (one word each)
 ** and the rows of accumulators the filter spans (2 words a point).
 */
-#include "render/aa_int.h"
+#include "effects/aa_int.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -2,7 +2,7 @@
 ** contour.h — contour smoothing (paper 004 §5, Def. 6-9, procedures (C) and (D)).
 **
 ** This file declares the pass that rounds the corners of each object's outer contour in
-** the picture, part of the smooth slot of the effects stage (render/smooth.h calls it
+** the picture, part of the smooth slot of the effects stage (effects/smooth.h calls it
 ** before the shading pass, so a face uncovered by the cut is shaded like any other).
 **
 ** The contour (instead of procedure (C)'s walk over projected vertices): for each object,
@@ -36,7 +36,7 @@
 #ifndef T74_CONTOUR_H
 #define T74_CONTOUR_H
 
-#include "render/smooth.h"
+#include "effects/smooth.h"
 
 #define CONTOUR_STEPS 64          /* segments of the curve polygon */
 

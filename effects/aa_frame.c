@@ -1,6 +1,6 @@
 /*
 ** aa_frame.c — one anti-aliased frame from a scene file, without halftone or sinks: the
-** harness the tests of render/aa and `tube74 bench accuracy` share.
+** harness the tests of effects/aa and `tube74 bench accuracy` share.
 **
 ** This file contains code to run the renderer's stages (render/render.h) and the point
 ** scan on a scene, build the effects frame as cli/pipeline.c does (face at each point
@@ -8,7 +8,7 @@
 ** the host (CLOCK_MONOTONIC) from the Mapper to the last intensity. The grid is the
 ** contract's: W = floor(400 / cell), H = floor(300 / cell).
 */
-#include "render/aa.h"
+#include "effects/aa.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -2,7 +2,7 @@
 ** edges.c — enhanced edges (paper 002 §3): classify the edges of the input faces and draw
 ** them as strips over the frame, hidden exactly like the faces.
 **
-** This file contains code for the last slot of the effects stage (render/fx.h). Paper 002
+** This file contains code for the last slot of the effects stage (effects/fx.h). Paper 002
 ** draws each edge as a strip stuck to its polygon inside a z-buffer scan; tube74 has no
 ** z-buffer, so the same picture is made from the frame of the priority renderer (the face
 ** seen at every point centre) and the faces' exact planes.
@@ -67,7 +67,7 @@
 ** a point) are allocated in core for the stage and released after it; every exact test
 ** is counted with the multi-word costs of emu/cost.h.
 */
-#include "render/edges.h"
+#include "effects/edges.h"
 
 #include <math.h>
 #include <stdio.h>

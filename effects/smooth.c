@@ -44,14 +44,14 @@
 ** multiply-adds, 1 multiply, 1 add) and the table loads. Gouraud stops after the
 ** barycentric coordinates and interpolates 3 intensities.
 */
-#include "render/smooth.h"
+#include "effects/smooth.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/contour.h"
+#include "effects/contour.h"
 
 #define SMOOTH_AMBIENT 48          /* render/mapper.c LAMBERT_AMBIENT */
 #define SMOOTH_TABLE_NORMALS "SMOOTH VERTEX NORMALS"

@@ -34,7 +34,7 @@
 ** The table's error against exact clipping, over all edges: at most 0.0151 of the area
 ** (measured by tests/test_aa.c, which holds it to 1/64).
 */
-#include "render/aa_int.h"
+#include "effects/aa_int.h"
 
 #include <math.h>
 #include <stdlib.h>

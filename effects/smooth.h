@@ -3,7 +3,7 @@
 **
 ** This file declares the 004 model of a scene's triangle patches and the shading pass
 ** that turns the frame's flat intensities into per-point intensities. It runs first in
-** the effects stage (render/fx.h): after the Visible Surface Procedure has put the face
+** the effects stage (effects/fx.h): after the Visible Surface Procedure has put the face
 ** seen at each point centre into the frame, and before anti-aliasing and edges.
 **
 **   smooth=gouraud  004 §2(a): intensities at the vertices, interpolated in the triangle
@@ -24,7 +24,7 @@
 ** from the eye onto its face's exact plane (eq. (2) from the Mapper); the barycentric
 ** coordinates of that space point in the triangle place it in the regions of procedure
 ** (A) (see smooth.c). Floating point is used only for these intensities; which face a
-** point shows is never changed here (contour smoothing, render/contour.h, does that).
+** point shows is never changed here (contour smoothing, effects/contour.h, does that).
 **
 ** Machine model: the vertex normals (3 words of Q1.14 each) and the band table (the
 ** three insets of every triangle, Q0.16) are allocated in r->core for the run, and the
@@ -34,7 +34,7 @@
 #define T74_SMOOTH_H
 
 #include <stdbool.h>
-#include "render/fx.h"
+#include "effects/fx.h"
 
 /* One triangle patch of an object. Corner k is scene vertex v[k]; side k is the side
    opposite corner k (where the barycentric coordinate l[k] is 0). */

@@ -1,8 +1,8 @@
 /*
-** aa_int.h — what the anti-aliasing methods (render/aa*.c) share: the context of one
+** aa_int.h — what the anti-aliasing methods (effects/aa*.c) share: the context of one
 ** run, sub-scanlines from the exact visible-span procedure, fragment light, the result.
 **
-** This file contains the internal interface of the aa_ module (render/aa.h is the public
+** This file contains the internal interface of the aa_ module (effects/aa.h is the public
 ** one). Coordinates: a point (i, j) is the unit square [i, i+1] x [j, j+1] in point units
 ** u (across, from the window's left) and v (down, from the window's top), as the contract
 ** places point centres at (i + 1/2, j + 1/2). A sub-scanline v = vn / vd is the plane's
@@ -14,7 +14,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
-#include "render/aa.h"
+#include "effects/aa.h"
 #include "render/visible.h"
 
 #define AA_PI 3.14159265358979323846

@@ -3,7 +3,7 @@
 ** input faces classified by the faces on either side and drawn as strips of a chosen
 ** width and grey, hidden exactly like the faces.
 **
-** This file declares the last effect of the effects stage (render/fx.h): it runs after
+** This file declares the last effect of the effects stage (effects/fx.h): it runs after
 ** smooth and anti-aliasing, on the frame the Visible Surface Procedure scanned, and draws
 ** over the frame's greys. The method and every rule it follows are in edges.c's opening
 ** comment and docs/edges.md.
@@ -14,7 +14,7 @@
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "render/effects.h"
-#include "render/fx.h"
+#include "effects/fx.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "render/visible.h"

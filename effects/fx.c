@@ -1,14 +1,14 @@
 /*
 ** fx.c — the effects stage (see fx.h): which effects run, in what order.
 */
-#include "render/fx.h"
+#include "effects/fx.h"
 
 #include <stdio.h>
 #include <string.h>
 
-#include "render/aa.h"
-#include "render/edges.h"
-#include "render/smooth.h"
+#include "effects/aa.h"
+#include "effects/edges.h"
+#include "effects/smooth.h"
 
 bool fx_wanted(const struct effects *e)
 {
