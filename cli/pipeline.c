@@ -290,7 +290,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   uint8_t *flat = malloc(n);
   if (!flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
   memcpy(flat, p->grey, n);
-  struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg };
+  struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL };
   int st = fx_run(p->r, s, e, g, &f, fst, &p->fx, err);
   for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
     for (int i = 0; st == T74_OK && i < p->W; i++) {
@@ -783,8 +783,8 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   t = tube_new();
   p.ids = calloc((size_t)p.W * (size_t)p.H, sizeof *p.ids);
   p.grey = calloc((size_t)p.W * (size_t)p.H, sizeof *p.grey);
-  if (fx_wanted(&eff)) p.face = calloc((size_t)p.W * (size_t)p.H, sizeof *p.face);
-  if (!t || !p.ids || !p.grey || (fx_wanted(&eff) && !p.face)) {
+  if (fx_wanted(&eff, s)) p.face = calloc((size_t)p.W * (size_t)p.H, sizeof *p.face);
+  if (!t || !p.ids || !p.grey || (fx_wanted(&eff, s) && !p.face)) {
     st = t74_fail(err, T74_EIO, "out of host memory");
     goto done;
   }

@@ -83,13 +83,34 @@ void aa_line_free(struct aa_line *l)
 
 static double rat_d(struct grat x) { return (double)x.num / (double)x.den; }
 
+double aa_frag_light(struct aa_ctx *c, int face, unsigned blocked, double u, double v, int i, int j)
+{
+  int g;
+  if (c->model) g = fx_shade(c->model, face, blocked, u, v, i, j, c->cost, NULL);
+  else if (c->grey_at) g = c->grey_at(c->grey_ctx, face, i, j);
+  else if (face >= 0 && c->flat) g = c->r->map.f[face].grey;
+  else if (face < 0 && !c->f->bg) g = 0;
+  else {
+    i = i < 0 ? 0 : i >= c->W ? c->W - 1 : i;
+    j = j < 0 ? 0 : j >= c->H ? c->H - 1 : j;
+    size_t at = (size_t)j * (size_t)c->W + (size_t)i;
+    if (face < 0) g = c->f->bg[at];
+    else g = c->f->face[at] == face ? c->f->grey[at] : c->r->map.f[face].grey;
+  }
+  COST_ADD_N(c->cost, COST_MEM, 3);
+  COST_ADD_N(c->cost, COST_ADD, 1);
+  return c->ltab[g];
+}
+
 int aa_line_y(struct aa_ctx *c, int64_t yn, int64_t yd, struct aa_line *l)
 {
-  const struct vis_span *sp;
+  const struct vis_span *vsp = NULL;
+  const struct fx_span *fsp = NULL;
   int ns;
-  int st = vis_spans(&c->vis, yn, yd, &sp, &ns, c->err);
+  int st = c->lines ? fx_lines_get(c->lines, yn, yd, &fsp, &ns, c->err)
+                    : vis_spans(&c->vis, yn, yd, &vsp, &ns, c->err);
   if (st != T74_OK) return st;
-  c->lines++;
+  c->nlines++;
   if (ns > l->cap) {
     int cap = l->cap ? l->cap : 16;
     while (cap < ns) cap *= 2;
@@ -104,12 +125,15 @@ int aa_line_y(struct aa_ctx *c, int64_t yn, int64_t yd, struct aa_line *l)
   l->v = (c->yt - (double)yn / (double)yd) / c->ph;
   for (int k = 0; k < ns; k++) {
     struct aa_seg *s = &l->s[k];
-    s->x0 = sp[k].x0;
-    s->x1 = sp[k].x1;
-    s->u0 = (rat_d(sp[k].x0) - c->xl) / c->pw;
-    s->u1 = (rat_d(sp[k].x1) - c->xl) / c->pw;
-    s->piece = sp[k].piece;
-    s->face = sp[k].face;
+    if (fsp) {
+      s->x0 = fsp[k].x0; s->x1 = fsp[k].x1;
+      s->piece = fsp[k].piece; s->face = fsp[k].face; s->blocked = fsp[k].blocked;
+    } else {
+      s->x0 = vsp[k].x0; s->x1 = vsp[k].x1;
+      s->piece = vsp[k].piece; s->face = vsp[k].face; s->blocked = 0;
+    }
+    s->u0 = (rat_d(s->x0) - c->xl) / c->pw;
+    s->u1 = (rat_d(s->x1) - c->xl) / c->pw;
     /* each end to a one-word fraction of a point: a divide of the exact rational */
     cost_mw_div(c->cost, 75, 46);
     cost_mw_div(c->cost, 75, 46);
@@ -251,7 +275,10 @@ static void box_band(struct aa_ctx *c, double va, double vb, const struct aa_lin
       COST_ADD_N(c->cost, COST_ADD, 6);
       if (cov <= 0) continue;
       size_t at = (size_t)j * (size_t)c->W + (size_t)i;
-      c->out[at] += cov * aa_frag_light(c, p->face, i, j);
+      double tm = (ta + tb) / 2;
+      c->out[at] += cov * aa_frag_light(c, p->face, p->blocked,
+                                        aa_mid(lerp(p->u0, q->u0, tm), lerp(p->u1, q->u1, tm), i),
+                                        (va + vb) / 2, i, j);
       b->cov[at] += cov;
     }
   }
@@ -271,14 +298,14 @@ static double gint(double a, double b, double s)
 /* The Gaussian's share of [s0, s1) on the line v for the points whose filter reaches it,
    times wgt * light (the fragment's intensity taken in each column it crosses). */
 static void gauss_stretch(struct aa_ctx *c, const struct gauss_acc *g, double v, double s0,
-                          double s1, int face, double wgt)
+                          double s1, int face, unsigned blocked, double wgt)
 {
   int jr = (int)floor(v);                     /* the row the line lies in (intensity) */
   int ja = (int)floor(v - 0.5);               /* rows whose centres lie within 1 of v */
   for (int col = (int)floor(s0); col < s1; col++) {
     double a = fmax(s0, col), b = fmin(s1, col + 1.0);
     if (b <= a) continue;
-    double light = aa_frag_light(c, face, col, jr);
+    double light = aa_frag_light(c, face, blocked, (a + b) / 2, v, col, jr);
     for (int jj = ja; jj <= ja + 1; jj++) {
       if (jj < 0 || jj >= c->H) continue;
       double dy = v - (jj + 0.5);
@@ -313,11 +340,11 @@ static void gauss_band(struct aa_ctx *c, double va, double vb, const struct aa_l
       double x = lo;
       for (int k = 0; k < A->n; k++) {
         double u0 = lerp(A->s[k].u0, B->s[k].u0, t), u1 = lerp(A->s[k].u1, B->s[k].u1, t);
-        if (u0 > x) gauss_stretch(c, g, v, x, fmin(u0, hi), -1, wgt);
-        gauss_stretch(c, g, v, fmax(u0, lo), fmin(u1, hi), A->s[k].face, wgt);
+        if (u0 > x) gauss_stretch(c, g, v, x, fmin(u0, hi), -1, 0, wgt);
+        gauss_stretch(c, g, v, fmax(u0, lo), fmin(u1, hi), A->s[k].face, A->s[k].blocked, wgt);
         if (u1 > x) x = u1;
       }
-      if (x < hi) gauss_stretch(c, g, v, x, hi, -1, wgt);
+      if (x < hi) gauss_stretch(c, g, v, x, hi, -1, 0, wgt);
     }
   }
 }
@@ -403,7 +430,7 @@ int aa_exact(struct aa_ctx *c)
     for (int i = 0; i < c->W; i++) {
       size_t at = (size_t)j * (size_t)c->W + (size_t)i;
       double rest = 1 - b.cov[at];
-      if (rest > 1e-12) c->out[at] += rest * aa_frag_light(c, -1, i, j);
+      if (rest > 1e-12) c->out[at] += rest * aa_frag_light(c, -1, 0, i + 0.5, j + 0.5, i, j);
     }
   free(b.cov);
   return st;
@@ -431,7 +458,9 @@ int aa_light_map(struct render *r, const struct effects *e, const struct vis_gri
   if (rc != T74_OK) return rc;
   for (int k = 0; k < 256; k++) core_write(r->core, c.light_at + (uint32_t)k, (uint16_t)aa_light(c.cell, k));
   for (int k = 0; k < 256; k++) c.ltab[k] = core_read(r->core, c.light_at + (uint32_t)k) / (double)AA_LIGHT_ONE;
-  rc = vis_init(&c.vis, &r->seg, &r->prio, cost, err);
+  c.model = f->model;
+  if (c.model) rc = fx_lines_open(&c.lines, c.model, cost, err);
+  else rc = vis_init(&c.vis, &r->seg, &r->prio, cost, err);
   if (rc == T74_OK) {
     switch (e->aa) {
     case EFFECTS_AA_EXACT:     rc = aa_exact(&c); break;
@@ -442,8 +471,9 @@ int aa_light_map(struct render *r, const struct effects *e, const struct vis_gri
     default:                   break;
     }
   }
-  if (rc == T74_OK) fx_count(st, "aa_sub_scanlines", (double)c.lines, true);
-  vis_free(&c.vis);
+  if (rc == T74_OK) fx_count(st, "aa_sub_scanlines", (double)c.nlines, true);
+  if (c.model) fx_lines_close(c.lines);
+  else vis_free(&c.vis);
   return rc;
 }
 

@@ -97,7 +97,7 @@ double aa_area_lookup(const uint16_t *t, double h, double v)
 
 #define AA_FRAG_MAX 64          /* fragments of one border within one area, at most */
 
-struct frag { int piece, face; double u0, u1; struct grat x0, x1; bool x0_exact, x1_exact; };
+struct frag { int piece, face; double u0, u1; struct grat x0, x1; bool x0_exact, x1_exact; unsigned blocked; };
 
 struct area_run {
   struct aa_ctx *c;
@@ -138,6 +138,21 @@ static bool others_enter(struct area_run *ar, int X, int Y, double a, double b, 
       COST_ADD_N(ar->c->cost, COST_ADD, 8);
     }
     if (!apart) return true;
+  }
+  /* a region of the frame model (a contour cut, a shadow) whose box meets the area
+     enters it too: its boundary is no piece's side */
+  const struct fx_model *m = ar->c->model;
+  if (m && fx_model_regions(m)) {
+    double x0 = ar->c->xl + a * ar->c->pw, x1 = ar->c->xl + b * ar->c->pw;
+    double y0 = ar->c->yt - vb * ar->c->ph, y1 = ar->c->yt - vt * ar->c->ph;
+    const struct fx_polys *sets[2] = { &m->cuts, &m->shadows };
+    for (int q = 0; q < 2; q++)
+      for (int k = 0; k < sets[q]->n; k++) {
+        const struct fx_poly *p = &sets[q]->p[k];
+        COST_ADD_N(ar->c->cost, COST_ADD, 4);
+        if ((double)p->xlo < x1 && (double)p->xhi > x0 && (double)p->ylo < y1 && (double)p->yhi > y0)
+          return true;
+      }
   }
   return false;
 }
@@ -188,11 +203,11 @@ static int frags(const struct aa_line *l, double a, double b, struct frag *out, 
     if (s->u0 >= b) break;
     double u0 = fmax(s->u0, a), u1 = fmin(s->u1, b);
     if (u1 <= u0) continue;
-    if (u0 > x && n < max) out[n++] = (struct frag){ -1, -1, x, u0, { 0, 1 }, s->x0, false, true };
-    if (n < max) out[n++] = (struct frag){ s->piece, s->face, u0, u1, s->x0, s->x1, s->u0 > a, s->u1 < b };
+    if (u0 > x && n < max) out[n++] = (struct frag){ -1, -1, x, u0, { 0, 1 }, s->x0, false, true, 0 };
+    if (n < max) out[n++] = (struct frag){ s->piece, s->face, u0, u1, s->x0, s->x1, s->u0 > a, s->u1 < b, s->blocked };
     x = u1;
   }
-  if (x < b && n < max) out[n++] = (struct frag){ -1, -1, x, b, { 0, 1 }, { 0, 1 }, false, false };
+  if (x < b && n < max) out[n++] = (struct frag){ -1, -1, x, b, { 0, 1 }, { 0, 1 }, false, false, 0 };
   /* a gap's right end is the next stretch's left end (exact); mark a gap's left end */
   for (int k = 1; k < n; k++)
     if (out[k].piece < 0 && out[k - 1].piece >= 0) { out[k].x0 = out[k - 1].x1; out[k].x0_exact = true; }
@@ -229,11 +244,12 @@ static bool vertex_inside(struct aa_ctx *c, int p, double a, double b, double vt
   return false;
 }
 
-static void add(struct area_run *ar, int face, int i, double share)
+static void add(struct area_run *ar, int face, unsigned blocked, double u, double v, int i,
+                double share)
 {
   struct aa_ctx *c = ar->c;
   if (share <= 0) return;
-  c->out[(size_t)ar->j * (size_t)c->W + (size_t)i] += share * aa_frag_light(c, face, i, ar->j);
+  c->out[(size_t)ar->j * (size_t)c->W + (size_t)i] += share * aa_frag_light(c, face, blocked, u, v, i, ar->j);
   COST_ADD_N(c->cost, COST_MUL, 1);
   COST_ADD_N(c->cost, COST_ADD, 2);
 }
@@ -369,8 +385,14 @@ static bool one_edge(struct area_run *ar, int i, double a, double b, int lt, int
   int other = owner == X ? Y : X;
   int fo = owner >= 0 ? c->r->seg.p[owner].face : -1, fx = other >= 0 ? c->r->seg.p[other].face : -1;
   if (C == 0) cov = 0.5;
-  add(ar, fo, i, area * (centre_owner ? cov : 1 - cov));
-  add(ar, fx, i, area * (centre_owner ? 1 - cov : cov));
+  unsigned bo = 0, bx = 0;                 /* no region enters: one mask a piece here */
+  for (int k = 0; k < nt; k++) {
+    if (T[k].piece == owner) bo = T[k].blocked;
+    if (T[k].piece == other) bx = T[k].blocked;
+  }
+  double um = (a + b) / 2, vm = (vt + vb) / 2;
+  add(ar, fo, bo, um, vm, i, area * (centre_owner ? cov : 1 - cov));
+  add(ar, fx, bx, um, vm, i, area * (centre_owner ? 1 - cov : cov));
   ar->one_edge++;
   return true;
 }
@@ -384,9 +406,9 @@ static void classify(struct area_run *ar, int i, double a, double b, int lt, int
   COST_ADD_N(c->cost, COST_MEM, 4 * (nt + nb));
   COST_ADD_N(c->cost, COST_ADD, 2 * (nt + nb));
   double area = (b - a) * (ar->ln[lb].v - ar->ln[lt].v);
-  if (nt == 1 && nb == 1 && T[0].piece == B[0].piece &&
+  if (nt == 1 && nb == 1 && T[0].piece == B[0].piece && T[0].blocked == B[0].blocked &&
       (d == ar->D || !others_enter(ar, T[0].piece, T[0].piece, a, b, ar->ln[lt].v, ar->ln[lb].v))) {
-    add(ar, T[0].face, i, area);                    /* whole (or, for the others, none) */
+    add(ar, T[0].face, T[0].blocked, (a + b) / 2, (ar->ln[lt].v + ar->ln[lb].v) / 2, i, area);   /* whole */
     ar->whole++;
     return;
   }
@@ -404,8 +426,10 @@ static void classify(struct area_run *ar, int i, double a, double b, int lt, int
   }
   /* depth D: the trapezoid rule on the two borders */
   ar->leaves++;
-  for (int k = 0; k < nt; k++) add(ar, T[k].face, i, area * (T[k].u1 - T[k].u0) / (2 * (b - a)));
-  for (int k = 0; k < nb; k++) add(ar, B[k].face, i, area * (B[k].u1 - B[k].u0) / (2 * (b - a)));
+  for (int k = 0; k < nt; k++)
+    add(ar, T[k].face, T[k].blocked, (T[k].u0 + T[k].u1) / 2, ar->ln[lt].v, i, area * (T[k].u1 - T[k].u0) / (2 * (b - a)));
+  for (int k = 0; k < nb; k++)
+    add(ar, B[k].face, B[k].blocked, (B[k].u0 + B[k].u1) / 2, ar->ln[lb].v, i, area * (B[k].u1 - B[k].u0) / (2 * (b - a)));
 }
 
 int aa_area(struct aa_ctx *c)

@@ -86,7 +86,7 @@ int aa_frame_render(const char *path, const char *effects, int cell, uint32_t co
   struct scan_ctx sc = { &r, f, bg };
   if (st == T74_OK) st = render_scan(&r, &g, on_point, &sc, err);
   if (st == T74_OK && e.aa != EFFECTS_AA_NONE) {
-    struct fx_frame fr = { f->W, f->H, f->cell, f->face, f->grey, bg };
+    struct fx_frame fr = { f->W, f->H, f->cell, f->face, f->grey, bg, NULL };
     st = aa_light_map(&r, &e, &g, &fr, &f->st, &f->fx, f->light, err);
     for (size_t k = 0; st == T74_OK && k < n; k++) f->grey[k] = (uint8_t)aa_grey(f->cell, f->light[k]);
   } else if (st == T74_OK) {

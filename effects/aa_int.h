@@ -15,6 +15,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 #include "effects/aa.h"
+#include "effects/model.h"
 #include "render/visible.h"
 
 #define AA_PI 3.14159265358979323846
@@ -32,6 +33,7 @@ struct aa_seg {
   double u0, u1;            /* [u0, u1) across, point units */
   struct grat x0, x1;       /* the same, exact, grid units (from vis_spans) */
   int piece, face;
+  unsigned blocked;         /* lights in shadow there (effects/model.h) */
 };
 
 struct aa_line {
@@ -49,7 +51,10 @@ struct aa_ctx {
   struct fx_stats *st;
   struct cost *cost;
   struct t74_error *err;
-  struct vis vis;           /* a fresh Visible Surface Procedure over r->seg, r->prio */
+  struct vis vis;           /* a fresh Visible Surface Procedure over r->seg, r->prio
+                               (no frame model) */
+  const struct fx_model *model;   /* the frame model (f->model), or NULL */
+  struct fx_lines *lines;   /* its lines (with a model) */
   int W, H, cell;
   double xl, yt;            /* XL and YT in grid units */
   double pw, ph;            /* grid units per point across and down */
@@ -59,7 +64,7 @@ struct aa_ctx {
   bool flat;                /* no effect before aa changed the greys: one per face */
   void *grey_ctx;
   double ltab[256];         /* the light table as read from core, 0..1 */
-  uint64_t lines;           /* sub-scanlines asked for */
+  uint64_t nlines;          /* sub-scanlines asked for */
 };
 
 /* The visible stretches of the line v = vn / vd (vd * H <= GRID_YDEN_MAX). */
@@ -70,24 +75,18 @@ int aa_line_y(struct aa_ctx *c, int64_t yn, int64_t yd, struct aa_line *l);
 
 void aa_line_free(struct aa_line *l);
 
-/* Light 0..1 of a fragment of face (-1: background) lying in point (i, j), through the
-   light table in core (counted: the grey, then its light from the table). */
-static inline double aa_frag_light(struct aa_ctx *c, int face, int i, int j)
+/* Light 0..1 of a fragment of face (-1: background) lying in point (i, j), at position
+   (u, v) of the plane (point units) with the lights in blocked in shadow, through the
+   light table in core (counted: the grey, then its light from the table). With a frame
+   model the grey is the model's shading at (u, v) (000 §3.3 (1): a fragment's intensity
+   at the midpoint of its stretch within the point); without one, the frame's own. */
+double aa_frag_light(struct aa_ctx *c, int face, unsigned blocked, double u, double v, int i, int j);
+
+/* The midpoint of [u0, u1] within point column i ([i, i + 1]); i + 1/2 when they miss. */
+static inline double aa_mid(double u0, double u1, int i)
 {
-  int g;
-  if (c->grey_at) g = c->grey_at(c->grey_ctx, face, i, j);
-  else if (face >= 0 && c->flat) g = c->r->map.f[face].grey;
-  else if (face < 0 && !c->f->bg) g = 0;
-  else {
-    i = i < 0 ? 0 : i >= c->W ? c->W - 1 : i;
-    j = j < 0 ? 0 : j >= c->H ? c->H - 1 : j;
-    size_t at = (size_t)j * (size_t)c->W + (size_t)i;
-    if (face < 0) g = c->f->bg[at];
-    else g = c->f->face[at] == face ? c->f->grey[at] : c->r->map.f[face].grey;
-  }
-  COST_ADD_N(c->cost, COST_MEM, 3);
-  COST_ADD_N(c->cost, COST_ADD, 1);
-  return c->ltab[g];
+  double a = u0 > i ? u0 : i, b = u1 < i + 1 ? u1 : i + 1;
+  return b > a ? (a + b) / 2 : i + 0.5;
 }
 
 /* Mean over t in [0, 1] of clamp(p + t (q - p), a, b): the length a straight boundary

@@ -52,12 +52,13 @@ static void line_cover(struct aa_ctx *c, const struct aa_line *l, int j, double 
     const struct aa_seg *s = &l->s[k];
     if (s->u1 <= 0 || s->u0 >= c->W) continue;
     int i0 = (int)floor(fmax(s->u0, 0)), i1 = (int)floor(fmin(s->u1, c->W - 1e-9));
-    bool one = c->flat && !c->grey_at;          /* flat shading: one light a stretch */
-    double flat = one ? aa_frag_light(c, s->face, i0, j) : 0;
+    /* flat shading: one light a stretch */
+    bool one = c->model ? !fx_model_shades(c->model) : c->flat && !c->grey_at;
+    double flat = one ? aa_frag_light(c, s->face, s->blocked, aa_mid(s->u0, s->u1, i0), l->v, i0, j) : 0;
     for (int i = i0; i <= i1; i++) {
       double len = fmin(s->u1, i + 1.0) - fmax(s->u0, (double)i);
       if (len <= 0) continue;
-      lc[i] += len * (one ? flat : aa_frag_light(c, s->face, i, j));
+      lc[i] += len * (one ? flat : aa_frag_light(c, s->face, s->blocked, aa_mid(s->u0, s->u1, i), l->v, i, j));
       ll[i] += len;
       COST_ADD_N(c->cost, COST_MUL, 1);     /* L_{f,l} I_f, one word by one word */
       COST_ADD_N(c->cost, COST_ADD, 4);
@@ -71,7 +72,7 @@ static void add_line(struct aa_ctx *c, double *acc, const double *lc, const doub
 {
   for (int i = 0; i < c->W; i++) {
     double rest = 1 - ll[i];
-    double v = lc[i] + (rest > 1e-12 && (c->f->bg || c->grey_at) ? rest * aa_frag_light(c, -1, i, j) : 0);
+    double v = lc[i] + (rest > 1e-12 && (c->f->bg || c->grey_at || (c->model && c->model->bg)) ? rest * aa_frag_light(c, -1, 0, i + 0.5, j + 0.5, i, j) : 0);
     acc[i] += d * v;
     COST_ADD_N(c->cost, COST_MUL, 2);
     COST_ADD_N(c->cost, COST_ADD, 3);
@@ -173,7 +174,7 @@ static int fcore(struct aa_ctx *c, uint32_t base, int l, int32_t xq)
 
 /* ---- gauss: the sweep ---------------------------------------------------------------------- */
 
-struct gseg { double u0, u1; int face; };
+struct gseg { double u0, u1; int face; unsigned blocked; };
 
 int aa_multiscan_gauss(struct aa_ctx *c)
 {
@@ -211,11 +212,11 @@ int aa_multiscan_gauss(struct aa_ctx *c)
       for (int k = 0; k < line.n; k++) {
         double u0 = fmax(line.s[k].u0, ulo), u1 = fmin(line.s[k].u1, uhi);
         if (u1 <= u0) continue;
-        if (u0 > x) seg[ns++] = (struct gseg){ x, u0, -1 };
-        seg[ns++] = (struct gseg){ u0, u1, line.s[k].face };
+        if (u0 > x) seg[ns++] = (struct gseg){ x, u0, -1, 0 };
+        seg[ns++] = (struct gseg){ u0, u1, line.s[k].face, line.s[k].blocked };
         x = u1;
       }
-      if (x < uhi) seg[ns++] = (struct gseg){ x, uhi, -1 };
+      if (x < uhi) seg[ns++] = (struct gseg){ x, uhi, -1, 0 };
       int s = 0;
       for (int i = -1; i < W; i++) {               /* region R_{i,b}: u in [i+1/2, i+3/2] */
         double r0 = i + 0.5;
@@ -228,7 +229,7 @@ int aa_multiscan_gauss(struct aa_ctx *c)
           if (x1 < 0) x1 = 0;
           if (x2 > 65536) x2 = 65536;
           double mid = (a + e) / 2;
-          int64_t I = lround(aa_frag_light(c, seg[q].face, (int)floor(mid), jr) * AA_LIGHT_ONE);
+          int64_t I = lround(aa_frag_light(c, seg[q].face, seg[q].blocked, mid, line.v, (int)floor(mid), jr) * AA_LIGHT_ONE);
           int64_t w0 = fcore(c, ft, l, x2) - fcore(c, ft, l, x1);
           int64_t w1 = fcore(c, ft, l, 65536 - x1) - fcore(c, ft, l, 65536 - x2);
           top[i + 1] += w0 * I;                   /* eq. (5): C_{i,j}, C_{i+1,j} */

@@ -65,10 +65,14 @@ int aa_super(struct aa_ctx *c)
       int64_t xn = GRID_ONE * (xd * win[0] + (2 * (int64_t)k + 1) * ((int64_t)win[2] - win[0]));
       while (s < line.n && geom_rat_cmp_frac(line.s[s].x1, xn, xd) <= 0) s++;
       int face = -1;
-      if (s < line.n && geom_rat_cmp_frac(line.s[s].x0, xn, xd) <= 0) face = line.s[s].face;
+      unsigned blocked = 0;
+      if (s < line.n && geom_rat_cmp_frac(line.s[s].x0, xn, xd) <= 0) {
+        face = line.s[s].face;
+        blocked = line.s[s].blocked;
+      }
       cost_mw_mul(c->cost, 75, 17);
       samples++;
-      double light = aa_frag_light(c, face, (int)floor((k + 0.5) / K), jr);
+      double light = aa_frag_light(c, face, blocked, (k + 0.5) / K, line.v, (int)floor((k + 0.5) / K), jr);
       /* to every point whose filter holds the sample */
       for (int b = 0; b < D; b++) {
         int dm = off0 + b, jj = m - dm;

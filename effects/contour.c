@@ -130,51 +130,10 @@ static double inset_at(const struct smooth_tri *tr, int a)
   return 0.5;
 }
 
-struct cut_ctx {
-  struct render *r;
-  const struct scene *s;
-  struct cost *cost;
-  long behind_face, behind_none;
-};
-
-/* The object of mapped face k (0: none). */
-static int object_of(const struct render *r, const struct scene *s, int k)
+int contour_build(struct render *r, const struct scene *s, const struct effects *e,
+                  const struct smooth_model *m, struct fx_polys *cuts, struct fx_stats *st,
+                  struct cost *cost, struct t74_error *err)
 {
-  return s->f[r->map.f[k].sface].object;
-}
-
-/* The front-most piece of a face outside object obj covering the point centre
-   (xn/xd, yn/yd); its face index, or -1. PRIO_ERROR as -2. */
-static int behind(struct cut_ctx *c, int obj, int64_t xn, int64_t xd, int64_t yn, int64_t yd,
-                  struct t74_error *err)
-{
-  struct seginfo *sg = &c->r->seg;
-  for (;;) {
-    int best = -1;
-    bool again = false;
-    for (int p = 0; p < sg->n && !again; p++) {
-      const struct piece *pc = &sg->p[p];
-      COST_ADD_N(c->cost, COST_MEM, 3); COST_ADD_N(c->cost, COST_BRANCH, 2);
-      if (!pc->alive || object_of(c->r, c->s, pc->face) == obj) continue;
-      if (geom_hy_cmp(pc->ylo, yn, yd) > 0 || geom_hy_cmp(pc->yhi, yn, yd) < 0) continue;
-      struct grat xl, xr;
-      if (!seginfo_span(pc, yn, yd, &xl, &xr, c->cost)) continue;
-      if (geom_rat_cmp_frac(xl, xn, xd) > 0 || geom_rat_cmp_frac(xr, xn, xd) <= 0) continue;
-      if (best < 0) { best = p; continue; }
-      int o = prio_order(&c->r->prio, best, p, err);
-      if (o == PRIO_ERROR) return -2;
-      if (o == PRIO_SPLIT) again = true;    /* both were cut: look again */
-      else if (o == PRIO_SECOND) best = p;
-    }
-    if (!again) return best < 0 ? -1 : sg->p[best].face;
-  }
-}
-
-int contour_run(struct render *r, const struct scene *s, const struct effects *e,
-                const struct vis_grid *g, struct fx_frame *f, const struct smooth_model *m,
-                struct fx_stats *st, struct cost *cost, struct t74_error *err)
-{
-  (void)e;
   int nfront = 0;
   for (int t = 0; t < m->ntri; t++) nfront += m->tri[t].front;
   struct cedge *ce = malloc(((size_t)nfront * 3 + 1) * sizeof *ce);
@@ -207,14 +166,11 @@ int contour_run(struct render *r, const struct scene *s, const struct effects *e
   }
   COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
   qsort(ce, (size_t)nc, sizeof *ce, by_from);
-  long convex = 0, concave = 0, junction = 0, cut = 0;
-  struct cut_ctx cx = { r, s, cost, 0, 0 };
+  long convex = 0, concave = 0, junction = 0;
   uint32_t mark = core_mark(r->core), at = 0;
   int rc = T74_OK;
   /* one corner's region polygon at a time: each corner is cut before the next is made */
   if (nc > 0) rc = core_alloc(r->core, CONTOUR_TABLE, (CONTOUR_STEPS + 2) * 4, &at, err);
-  const int64_t XL = g->window[0], YB = g->window[1], XR = g->window[2], YT = g->window[3];
-  const int64_t xd = 2 * (int64_t)g->W, yd = 2 * (int64_t)g->H;
   for (int k = 0; rc == T74_OK && k < nc; k++) {
     /* the incoming side of vertex ce[k].a: a side ending there, in the same object */
     const struct cedge *out = &ce[k];
@@ -258,59 +214,16 @@ int contour_run(struct render *r, const struct scene *s, const struct effects *e
       core_put_int(r->core, at + 4 * (uint32_t)v, 2, poly[v].x);
       core_put_int(r->core, at + 4 * (uint32_t)v + 2, 2, poly[v].y);
     }
-    /* procedure (D) (6): each row's stretches between the corner and the curve */
-    gcoord ylo = poly[0].y, yhi = poly[0].y, xlo = poly[0].x, xhi = poly[0].x;
-    for (int v = 1; v < CONTOUR_STEPS + 2; v++) {
-      if (poly[v].y < ylo) ylo = poly[v].y;
-      if (poly[v].y > yhi) yhi = poly[v].y;
-      if (poly[v].x < xlo) xlo = poly[v].x;
-      if (poly[v].x > xhi) xhi = poly[v].x;
-    }
-    for (int j = 0; rc == T74_OK && j < g->H; j++) {
-      int64_t yn = GRID_ONE * (yd * YT - (2 * (int64_t)j + 1) * (YT - YB));
-      if ((wide)yn < (wide)ylo * yd || (wide)yn >= (wide)yhi * yd) continue;
-      struct grat xs[CONTOUR_STEPS + 2];
-      int nx = 0;
-      for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
-        struct gpoint p0 = poly[v], p1 = poly[(v + 1) % (CONTOUR_STEPS + 2)];
-        bool c0 = (wide)p0.y * yd <= yn, c1 = (wide)p1.y * yd <= yn;
-        COST_ADD_N(cost, COST_ADD, 2); COST_ADD_N(cost, COST_BRANCH, 1);
-        if (c0 == c1) continue;
-        struct grat x = geom_x_at(geom_line(p0, p1), yn, yd);
-        cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46);
-        int h = nx++;
-        while (h > 0 && geom_rat_cmp(xs[h - 1], x) > 0) { xs[h] = xs[h - 1]; h--; }
-        xs[h] = x;
-      }
-      for (int i = 0; i < g->W; i++) {
-        int64_t xn = GRID_ONE * (xd * XL + (2 * (int64_t)i + 1) * (XR - XL));
-        if ((wide)xn < (wide)xlo * xd || (wide)xn > (wide)xhi * xd) continue;
-        bool inside = false;
-        for (int h = 0; h + 1 < nx; h += 2)
-          if (geom_rat_cmp_frac(xs[h], xn, xd) <= 0 && geom_rat_cmp_frac(xs[h + 1], xn, xd) > 0)
-            inside = true;
-        COST_ADD_N(cost, COST_ADD, (uint64_t)nx);
-        if (!inside) continue;
-        size_t pt = (size_t)j * (size_t)g->W + (size_t)i;
-        int face = f->face[pt];
-        if (face < 0 || object_of(r, s, face) != out->object) continue;
-        int nf = behind(&cx, out->object, xn, xd, yn, yd, err);
-        if (nf == -2) { rc = err->status; break; }
-        f->face[pt] = nf;
-        if (nf >= 0) { f->grey[pt] = (uint8_t)r->map.f[nf].grey; cx.behind_face++; }
-        else { f->grey[pt] = f->bg ? f->bg[pt] : 0; cx.behind_none++; }
-        cut++;
-      }
-    }
+    /* the region joins the frame model (effects/model.h), which cuts it out of the
+       object's stretches on every line asked for: procedure (D) (6) */
+    int rs[2] = { 0, CONTOUR_STEPS + 2 };
+    if (!fx_polys_add(cuts, 1, rs, poly, out->object, 0)) rc = t74_fail(err, T74_EIO, "out of host memory");
   }
   if (rc == T74_OK) {
     fx_count(st, "contour_sides", nc, true);
     fx_count(st, "contour_corners_convex", (double)convex, true);
     fx_count(st, "contour_corners_concave", (double)concave, true);
     fx_count(st, "contour_corners_junction", (double)junction, true);
-    fx_count(st, "contour_points_cut", (double)cut, true);
-    fx_count(st, "contour_points_show_face", (double)cx.behind_face, true);
-    fx_count(st, "contour_points_show_background", (double)cx.behind_none, true);
   }
   core_release(r->core, mark);
   free(ce);

@@ -36,6 +36,7 @@
 #ifndef T74_CONTOUR_H
 #define T74_CONTOUR_H
 
+#include "effects/poly.h"
 #include "effects/smooth.h"
 
 #define CONTOUR_STEPS 64          /* segments of the curve polygon */
@@ -58,9 +59,12 @@ double contour_cut_share(double cc);
    grid: writes CONTOUR_STEPS + 2 points into poly (Q0..Q4 as grid points). */
 void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2]);
 
-/* The contour pass over the frame (see above); m is the smoothing model of the scene. */
-int contour_run(struct render *r, const struct scene *s, const struct effects *e,
-                const struct vis_grid *g, struct fx_frame *f, const struct smooth_model *m,
-                struct fx_stats *st, struct cost *cost, struct t74_error *err);
+/* The regions the contour smoothing cuts away (see above), one polygon per convex corner
+   (owner: the object), appended to cuts; m is the smoothing model of the scene. The
+   corner's region polygon passes through r->core (one at a time), counted in cost. The
+   frame model (effects/model.h) cuts them out of the object's stretches. */
+int contour_build(struct render *r, const struct scene *s, const struct effects *e,
+                  const struct smooth_model *m, struct fx_polys *cuts, struct fx_stats *st,
+                  struct cost *cost, struct t74_error *err);
 
 #endif

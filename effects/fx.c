@@ -8,12 +8,16 @@
 
 #include "effects/aa.h"
 #include "effects/edges.h"
-#include "effects/smooth.h"
+#include "effects/model.h"
 
-bool fx_wanted(const struct effects *e)
+bool fx_wanted(const struct effects *e, const struct scene *s)
 {
-  return e->aa != EFFECTS_AA_NONE || e->edges || e->smooth != EFFECTS_SMOOTH_NONE ||
-         e->contour_on;
+  if (e->aa != EFFECTS_AA_NONE || e->edges || e->smooth != EFFECTS_SMOOTH_NONE ||
+      e->contour_on || (e->shadows && s->has_light))
+    return true;
+  for (int k = 0; k < s->nf; k++)
+    if (s->f[k].texture) return true;
+  return false;
 }
 
 void fx_count(struct fx_stats *st, const char *name, double v, bool integer)
@@ -31,18 +35,19 @@ int fx_run(struct render *r, const struct scene *s, const struct effects *e,
            const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
            struct cost *cost, struct t74_error *err)
 {
-  /* smooth (paper 004), then aa (papers 000/001), then edges (paper 002) */
-  if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) {
-    int rc = smooth_run(r, s, e, g, f, st, cost, err);
-    if (rc != T74_OK) return rc;
-  }
-  if (e->aa != EFFECTS_AA_NONE) {
-    int rc = aa_run(r, e, g, f, st, cost, err);
-    if (rc != T74_OK) return rc;
-  }
-  if (e->edges) {
-    int rc = edge_run(r, s, e, g, f, EDGE_PASS_ROW | EDGE_PASS_COL, st, cost, err);
-    if (rc != T74_OK) return rc;
-  }
-  return T74_OK;
+  /* the model (contour regions, shadows, textures, smoothing), the point frame from it,
+     then aa (papers 000/001) over the same model, then edges (paper 002) */
+  uint32_t mark = core_mark(r->core);
+  struct fx_model m;
+  int rc = fx_model_build(&m, r, s, e, g, f->bg, st, cost, err);
+  if (rc == T74_OK && (fx_model_shades(&m) || fx_model_regions(&m)))
+    rc = fx_points(&m, f, st, cost, err);
+  f->model = &m;
+  if (rc == T74_OK && e->aa != EFFECTS_AA_NONE) rc = aa_run(r, e, g, f, st, cost, err);
+  if (rc == T74_OK && e->edges)
+    rc = edge_run(r, s, e, g, f, EDGE_PASS_ROW | EDGE_PASS_COL, st, cost, err);
+  f->model = NULL;
+  fx_model_free(&m);
+  core_release(r->core, mark);
+  return rc;
 }

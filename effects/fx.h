@@ -46,6 +46,9 @@ struct fx_frame {
                                entry the flat face grey, or the background's */
   const uint8_t *bg;        /* the background picture's intensity per point (NULL: none,
                                the background is black) */
+  const struct fx_model *model;   /* while fx_run runs: the frame model every effect reads
+                               (effects/model.h); NULL: the Visible Surface Procedure's
+                               stretches and the frame's greys as they are */
 };
 
 /* Room for every statistic the effects can name in one run: 36 names when smooth, contour,
@@ -62,8 +65,11 @@ struct fx_stats {
   bool integer[FX_MAX_COUNTERS];    /* print as an integer */
 };
 
-/* Does e name an effect that works on the frame (aa, edges, smooth, contour)? */
-bool fx_wanted(const struct effects *e);
+struct fx_model;
+
+/* Does e, or scene s, call for an effect that works on the frame (aa, edges, smooth,
+   contour, shadows, a texture)? */
+bool fx_wanted(const struct effects *e, const struct scene *s);
 
 /* Run the requested effects over f (see the order above). r has been prepared and
    scanned; s is the scene it came from; g the grid. Operations are counted in cost;

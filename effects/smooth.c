@@ -51,7 +51,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "effects/contour.h"
+#include "render/shade.h"
 
 #define SMOOTH_AMBIENT 48          /* render/mapper.c LAMBERT_AMBIENT */
 #define SMOOTH_TABLE_NORMALS "SMOOTH VERTEX NORMALS"
@@ -391,26 +391,10 @@ static void cost_point(struct cost *c, bool gouraud, int region)
   COST_ADD_N(c, COST_ADD, 4);
 }
 
-/* The point centre (i, j) in space (z = 0) and the ray from the eye to it. */
-static void centre(const struct vis_grid *g, int i, int j, double p[3])
+/* Barycentric coordinates of space point X (on the triangle's plane) in the triangle,
+   clamped into it. */
+static void bary(const struct scene *s, const struct smooth_tri *tr, const double X[3], double l[3])
 {
-  p[0] = g->window[0] + (i + 0.5) * (double)(g->window[2] - g->window[0]) / g->W;
-  p[1] = g->window[3] - (j + 0.5) * (double)(g->window[3] - g->window[1]) / g->H;
-  p[2] = 0;
-}
-
-/* Barycentric coordinates of the point where the ray from the eye through the point
-   centre meets the triangle's plane; clamped into the triangle. */
-static void back_project(const struct render *r, const struct scene *s,
-                         const struct smooth_tri *tr, const double p[3], double l[3])
-{
-  const int64_t *pl = r->map.f[tr->mface].plane;
-  double E[3] = { (double)r->map.eye[0], (double)r->map.eye[1], (double)r->map.eye[2] };
-  double D[3] = { p[0] - E[0], p[1] - E[1], p[2] - E[2] };
-  double num = -((double)pl[0] * E[0] + (double)pl[1] * E[1] + (double)pl[2] * E[2] + (double)pl[3]);
-  double den = (double)pl[0] * D[0] + (double)pl[1] * D[1] + (double)pl[2] * D[2];
-  double sr = den != 0 ? num / den : 1;
-  double X[3] = { E[0] + sr * D[0], E[1] + sr * D[1], E[2] + sr * D[2] };
   /* barycentric: areas of the sub-triangles, on the plane's dominant axis */
   int ax = 0;
   for (int c = 1; c < 3; c++) if (fabs(tr->n[c]) > fabs(tr->n[ax])) ax = c;
@@ -434,26 +418,57 @@ static void back_project(const struct render *r, const struct scene *s,
   else l[0] = l[1] = l[2] = 1.0 / 3;
 }
 
-int smooth_run(struct render *r, const struct scene *s, const struct effects *e,
-               const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
-               struct cost *cost, struct t74_error *err)
+int smooth_grey_at(const struct smooth_model *m, const struct render *r, const struct scene *s,
+                   const struct effects *e, int t, const double X[3], double refl,
+                   unsigned blocked, struct cost *cost, int *region_out)
 {
-  struct smooth_model m;
-  int rc = smooth_model_build(&m, r, s, e, err);
-  if (rc != T74_OK) return rc;
-  if (m.ntri == 0)
-    fprintf(stderr, "%s:%d: warning: smooth=/contour=: no face is a triangle of an object "
-            "shaded from `light`; the picture stays flat\n", s->file ? s->file : "scene",
-            s->effects_line);
-  uint32_t mark = core_mark(r->core), an, ab;
-  rc = core_alloc(r->core, SMOOTH_TABLE_NORMALS, (uint32_t)m.vertex_normals * 3, &an, err);
+  const struct smooth_tri *tr = &m->tri[t];
+  double l[3], nrm[3];
+  bary(s, tr, X, l);
+  double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+  int region = 1, grey;
+  if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
+    double gi = 0;
+    for (int k = 0; k < 3; k++) {
+      double nk[3] = { sgn * tr->cn[k][0], sgn * tr->cn[k][1], sgn * tr->cn[k][2] };
+      const struct scene_vertex *v = &s->v[tr->v[k]];
+      double at[3] = { v->x, v->y, v->z };
+      gi += l[k] * shade_grey(s, nk, at, refl, blocked);
+    }
+    grey = (int)floor(gi + 0.5);
+  } else {
+    if (e->smooth == EFFECTS_SMOOTH_PHONG) {
+      for (int c = 0; c < 3; c++)
+        nrm[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
+    } else {
+      region = smooth_partial_normal(tr, l, nrm);
+    }
+    if (region == 0 && refl == 1 && !blocked)
+      grey = r->map.f[tr->mface].grey;   /* exactly the flat picture */
+    else {
+      if (region == 0) memcpy(nrm, tr->n, sizeof nrm);
+      unit(nrm);
+      for (int c = 0; c < 3; c++) nrm[c] *= sgn;
+      grey = shade_grey(s, nrm, X, refl, blocked);
+    }
+  }
+  cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
+  if (region_out) *region_out = region;
+  return grey < 0 ? 0 : grey > 255 ? 255 : grey;
+}
+
+int smooth_tables(struct render *r, const struct smooth_model *m, struct cost *cost,
+                  struct t74_error *err)
+{
+  uint32_t an, ab;
+  int rc = core_alloc(r->core, SMOOTH_TABLE_NORMALS, (uint32_t)m->vertex_normals * 3, &an, err);
   if (rc == T74_OK)
-    rc = core_alloc(r->core, SMOOTH_TABLE_BANDS, (uint32_t)m.ntri * 4, &ab, err);
-  if (rc != T74_OK) { smooth_model_free(&m); return rc; }
+    rc = core_alloc(r->core, SMOOTH_TABLE_BANDS, (uint32_t)m->ntri * 4, &ab, err);
+  if (rc != T74_OK) return rc;
   /* the tables themselves: Q1.14 vertex normals as the triangles meet them, the
      triangle's face row and its insets in Q0.16 */
-  for (int t = 0; t < m.ntri; t++) {
-    const struct smooth_tri *tr = &m.tri[t];
+  for (int t = 0; t < m->ntri; t++) {
+    const struct smooth_tri *tr = &m->tri[t];
     core_write(r->core, ab + 4 * (uint32_t)t, (uint16_t)(tr->mface + 1));
     for (int k = 0; k < 3; k++) {
       double tk = tr->t[k] * 65535.0;
@@ -464,64 +479,14 @@ int smooth_run(struct render *r, const struct scene *s, const struct effects *e,
     }
     COST_ADD_N(cost, COST_MEM, 4 + 9);
   }
-  if (e->contour_on) rc = contour_run(r, s, e, g, f, &m, st, cost, err);
-  double L[3] = { (double)s->light[0], (double)s->light[1], (double)s->light[2] };
-  unit(L);
-  long flat = 0, band = 0, corner = 0, shaded = 0;
-  for (int j = 0; rc == T74_OK && j < f->H && e->smooth != EFFECTS_SMOOTH_NONE; j++)
-    for (int i = 0; i < f->W; i++) {
-      size_t at = (size_t)j * (size_t)f->W + (size_t)i;
-      int face = f->face[at];
-      if (face < 0) continue;
-      int t = m.tri_of_mface[face];
-      COST_ADD_N(cost, COST_MEM, 2); COST_ADD_N(cost, COST_BRANCH, 1);
-      if (t < 0) continue;
-      const struct smooth_tri *tr = &m.tri[t];
-      double p[3], l[3], nrm[3];
-      centre(g, i, j, p);
-      back_project(r, s, tr, p, l);
-      double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
-      int region = 1, grey;
-      if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
-        double gi = 0;
-        for (int k = 0; k < 3; k++) {
-          double nk[3] = { sgn * tr->cn[k][0], sgn * tr->cn[k][1], sgn * tr->cn[k][2] };
-          gi += l[k] * smooth_lambert(nk, L);
-        }
-        grey = (int)floor(gi + 0.5);
-      } else {
-        if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-          for (int c = 0; c < 3; c++)
-            nrm[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
-        } else {
-          region = smooth_partial_normal(tr, l, nrm);
-        }
-        if (region == 0) grey = r->map.f[face].grey;   /* exactly the flat picture */
-        else {
-          unit(nrm);
-          for (int c = 0; c < 3; c++) nrm[c] *= sgn;
-          grey = smooth_lambert(nrm, L);
-        }
-      }
-      cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
-      f->grey[at] = (uint8_t)(grey < 0 ? 0 : grey > 255 ? 255 : grey);
-      shaded++;
-      if (region == 0) flat++;
-      else if (region == 2) corner++;
-      else band++;
-    }
-  if (rc == T74_OK) {
-    fx_count(st, "smooth_triangles", m.ntri, true);
-    fx_count(st, "smooth_objects", m.objects, true);
-    fx_count(st, "smooth_vertex_normals", m.vertex_normals, true);
-    fx_count(st, "smooth_orient_flips", m.flips, true);
-    fx_count(st, "smooth_orient_conflicts", m.conflicts, true);
-    fx_count(st, "smooth_points", (double)shaded, true);
-    fx_count(st, "smooth_points_flat", (double)flat, true);
-    fx_count(st, "smooth_points_edge_band", (double)band, true);
-    fx_count(st, "smooth_points_corner_band", (double)corner, true);
-  }
-  core_release(r->core, mark);
-  smooth_model_free(&m);
-  return rc;
+  return T74_OK;
+}
+
+void smooth_count(const struct smooth_model *m, struct fx_stats *st)
+{
+  fx_count(st, "smooth_triangles", m->ntri, true);
+  fx_count(st, "smooth_objects", m->objects, true);
+  fx_count(st, "smooth_vertex_normals", m->vertex_normals, true);
+  fx_count(st, "smooth_orient_flips", m->flips, true);
+  fx_count(st, "smooth_orient_conflicts", m->conflicts, true);
 }

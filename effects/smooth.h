@@ -88,9 +88,22 @@ int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double
    and a unit light direction: 48 + 207 max(0, n.l), rounded (as render/mapper.c). */
 int smooth_lambert(const double n[3], const double l[3]);
 
-/* The shading pass over the frame (see above). */
-int smooth_run(struct render *r, const struct scene *s, const struct effects *e,
-               const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
-               struct cost *cost, struct t74_error *err);
+/* The patches' tables in r->core (vertex normals, bands): allocated for the effects' run
+   and counted (T74_ECORE when they do not fit). */
+int smooth_tables(struct render *r, const struct smooth_model *m, struct cost *cost,
+                  struct t74_error *err);
+
+/* The grey of triangle t of m at space point X on its plane (the shaded point), with
+   reflectance refl (a texture's, else 1) and the lights whose bits are set in blocked in
+   shadow (render/shade.h); *region (may be NULL) gets the region of procedure (A) (0 the
+   flat inner triangle, 1 an edge band, 2 a corner band; Gouraud and Phong: 1). Counted in
+   cost as the 16-bit program's sequence (smooth.c). The inner triangle with refl 1 and no
+   light blocked is exactly the face's flat grey. */
+int smooth_grey_at(const struct smooth_model *m, const struct render *r, const struct scene *s,
+                   const struct effects *e, int t, const double X[3], double refl,
+                   unsigned blocked, struct cost *cost, int *region);
+
+/* The model's statistics into st (smooth_triangles, ...). */
+void smooth_count(const struct smooth_model *m, struct fx_stats *st);
 
 #endif

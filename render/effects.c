@@ -34,6 +34,7 @@ void effects_default(struct effects *out)
   out->sigma = 0.5;
   out->depth = 3;
   out->edges = false;
+  out->shadows = false;
   out->outline_w = 1.5;
   out->outline_g = 0;
   out->inner_w = 0.75;
@@ -193,6 +194,11 @@ static int apply(struct effects *e, const char *key, size_t klen, const char *va
     if (!val) e->depth = 3;
     else if (int_value(val, vlen, 1, EFFECTS_DEPTH_MAX, &l)) e->depth = (int)l;
     else ok = false;
+  } else if (eq(key, klen, "shadows")) {
+    bit = EFFECTS_SHADOWS;
+    if (!val || eq(val, vlen, "on")) e->shadows = true;
+    else if (eq(val, vlen, "off")) e->shadows = false;
+    else ok = false;
   } else if (eq(key, klen, "edges")) {
     bit = EFFECTS_EDGES;
     if (!val || eq(val, vlen, "on")) e->edges = true;
@@ -313,6 +319,7 @@ int effects_format(const struct effects *e, char *buf, size_t n)
   if (e->given & EFFECTS_SIGMA) { snprintf(t, sizeof t, "sigma=%g", e->sigma); put(buf, n, &len, t); }
   if (e->given & EFFECTS_DEPTH) { snprintf(t, sizeof t, "depth=%d", e->depth); put(buf, n, &len, t); }
   if (e->given & EFFECTS_EDGES) put(buf, n, &len, e->edges ? "edges=on" : "edges=off");
+  if (e->given & EFFECTS_SHADOWS) put(buf, n, &len, e->shadows ? "shadows=on" : "shadows=off");
   if (e->given & EFFECTS_OUTLINE) {
     snprintf(t, sizeof t, "outline=%g,%d", e->outline_w, e->outline_g);
     put(buf, n, &len, t);

@@ -35,7 +35,8 @@ enum {
   EFFECTS_TUBE     = 1u << 11,
   EFFECTS_SIGMA    = 1u << 12,
   EFFECTS_DEPTH    = 1u << 13,
-  EFFECTS_HALO     = 1u << 14
+  EFFECTS_HALO     = 1u << 14,
+  EFFECTS_SHADOWS  = 1u << 15
 };
 
 enum effects_aa     { EFFECTS_AA_NONE, EFFECTS_AA_MULTISCAN, EFFECTS_AA_AREA,
@@ -66,6 +67,8 @@ struct effects {
   double sigma;                     /* Gaussian filter's sigma in points, (0, 4] (0.5) */
   int   depth;                      /* area sampling's subdivision depth 1..8 (absent: 3) */
   bool  edges;                      /* enhanced edges (absent: off; given alone: on) */
+  bool  shadows;                    /* shadows of the scene's lights, paper 000 §3 (absent:
+                                       off; given alone: on) */
   double outline_w; int outline_g;  /* outline width 0..16 points (fractions allowed),
                                        grey 0..255 (absent: 1.5 wide, 0 dark) */
   double inner_w;   int inner_g;    /* inner-edge width and grey (absent: 0.75, 160) */

@@ -1100,7 +1100,8 @@ static int build(const struct mesh *m, const char *path, const struct scene_opts
   else { s->view[0] = 0; s->view[1] = 0; s->view[2] = -(IMPORT_EXTENT * 5 / 2); }
   /* imports carry no intensities: shade them by a light from above left, in front */
   s->has_light = true;
-  s->light[0] = -1; s->light[1] = 2; s->light[2] = -3;
+  s->nlight = 1;
+  s->light[0] = (struct scene_light){ false, { -1, 2, -3 }, 0 };
   if (opts && opts->has_window) memcpy(s->window, opts->window, sizeof s->window);
   else fit_window(s, blo, bhi);
 

@@ -28,7 +28,9 @@
 */
 #include "render/mapper.h"
 #include "render/rsort.h"
+#include "render/shade.h"
 
+#include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,6 +86,23 @@ static int lambert(const int64_t n[3], const int32_t light[3])
   if (den <= 0) return DEFAULT_GREY;
   wide g = LAMBERT_AMBIENT + ((255 - LAMBERT_AMBIENT) * dot + den / 2) / den;
   return g > 255 ? 255 : (int)g;
+}
+
+/* The flat grey of a face shaded from the scene's lights: one parallel light by the exact
+   integer law above (the 1974 figures); several lights or point lights by shade_grey at
+   the mean of the face's outer vertices (render/shade.h). */
+static int face_grey(const struct scene *s, const struct mface *m, const int64_t pl[4])
+{
+  if (!s->has_light) return DEFAULT_GREY;
+  if (s->nlight == 1 && !s->light[0].point) return lambert(pl, s->light[0].v);
+  double n[3] = { -(double)pl[0], -(double)pl[1], -(double)pl[2] }, c[3] = { 0, 0, 0 };
+  double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int k = 0; k < 3; k++) n[k] /= len;
+  int nv = m->ring_start[1];
+  for (int v = 0; v < nv; v++)
+    for (int k = 0; k < 3; k++) c[k] += m->xyz[v][k];
+  for (int k = 0; k < 3; k++) c[k] /= nv;
+  return shade_grey(s, n, c, 1.0, 0);
 }
 
 static wide ring_area2(const struct gpoint *p, int n)
@@ -483,11 +502,12 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     m->ring_start[nr] = np;
     m->nring = nr;
     m->id = sf->id;
+    m->on = sf->on_id;
     m->sface = fi;
     m->sline = sf->line;
     memcpy(m->plane, pl, sizeof pl);
     m->deye = (int64_t)-pe;
-    m->grey = sf->grey >= 0 ? sf->grey : s->has_light ? lambert(pl, s->light) : DEFAULT_GREY;
+    m->grey = sf->grey >= 0 ? sf->grey : face_grey(s, m, pl);
 
     gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;
     for (int k = 1; k < m->ring_start[1]; k++) {

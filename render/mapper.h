@@ -20,6 +20,8 @@
 
 struct mface {
   uint32_t id;              /* input face number */
+  uint32_t on;              /* `on F`: the number F of the face this pattern lies on, 0 none
+                               (a coplanar tie goes to the pattern: render/priority.c) */
   int      sface;           /* index in scene.f */
   int      grey;            /* 0..255: the face's uniform intensity (grey, or Lambert) */
   int64_t  plane[4];        /* a, b, c, d of eq. (2), signed so that plane(eye) < 0 */

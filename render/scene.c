@@ -77,6 +77,7 @@ void scene_free(struct scene *s)
 {
   if (!s) return;
   for (int i = 0; i < s->nf; i++) {
+    free(s->f[i].texture);
     if (s->f[i].pooled) continue;
     free(s->f[i].ring_start);
     free(s->f[i].vidx);
@@ -477,7 +478,9 @@ struct parse {
   struct t74_error *err;
   int capv, capf, capo;
   int *vmap, *fmap, *omap;          /* id -> index, -1 when not defined */
-  int view_line, window_line, light_line, background_line;
+  int view_line, window_line, background_line;
+  struct tex_line { int face, line; char *path; } *tex;   /* `texture` lines, resolved */
+  int ntex, captex;                                        /* after the faces */
 };
 
 static int oom(struct parse *p)
@@ -577,15 +580,26 @@ static int st_face(struct parse *p)
   if (p->fmap[id] >= 0)
     return at(p, "face %ld already defined at line %d", id, s->f[p->fmap[id]].line);
   int end = ntok;                       /* ring tokens are tok[2..end) */
-  for (int t = 2; t < ntok; t++)
-    if (strcmp(tok[t], "grey") == 0) {
-      if (t != ntok - 2)
-        return at(p, "`grey` must be followed by exactly one intensity 0..255 at the end "
-                     "of the line");
-      if ((st = number(p, t + 1, 0, 255, "grey", &g))) return st;
-      end = t;
-      break;
+  long on = 0;
+  /* the trailing keywords, `on F` and `grey G`, in either order, each at most once */
+  for (int round = 0; round < 2 && end >= 4; round++) {
+    if (strcmp(tok[end - 2], "grey") == 0 && g < 0) {
+      if ((st = number(p, end - 1, 0, 255, "grey", &g))) return st;
+      end -= 2;
+    } else if (strcmp(tok[end - 2], "on") == 0 && on == 0) {
+      if ((st = number(p, end - 1, 1, SCENE_ID_MAX, "face id after `on`", &on))) return st;
+      if (on == id) return at(p, "face %ld cannot lie on itself", id);
+      end -= 2;
     }
+  }
+  for (int t = 2; t < end; t++) {
+    if (strcmp(tok[t], "grey") == 0)
+      return at(p, "`grey` must be followed by exactly one intensity 0..255 at the end "
+                   "of the line");
+    if (strcmp(tok[t], "on") == 0)
+      return at(p, "`on` must be followed by exactly one face id at the end of the line "
+                   "(`face N V1 V2 ... on F [grey G]`)");
+  }
   int nstar = 0;
   for (int t = 2; t < end; t++) {
     if (strcmp(tok[t], "*") != 0) continue;
@@ -614,6 +628,7 @@ static int st_face(struct parse *p)
   f->id = (uint16_t)id;
   f->line = p->r.line;
   f->grey = (int)g;
+  f->on_id = (uint32_t)on;
   f->nring = nstar + 1;
   int n = 0, r = 0;
   f->ring_start[0] = 0;
@@ -706,12 +721,42 @@ static int statement(struct parse *p)
     return T74_OK;
   }
   if (strcmp(k, "light") == 0) {
-    if ((st = once(p, &p->light_line, "light")) || (st = count(p, 4, "light DX DY DZ")) ||
-        (st = coords(p, 1, 3, s->light, "light value")))
-      return st;
-    if (!s->light[0] && !s->light[1] && !s->light[2])
-      return at(p, "light direction (0, 0, 0) has no direction");
+    bool point = p->r.ntok >= 2 && strcmp(p->r.tok[1], "point") == 0;
+    if (s->nlight == SCENE_LIGHT_MAX)
+      return at(p, "more than %d lights", SCENE_LIGHT_MAX);
+    struct scene_light *l = &s->light[s->nlight];
+    if (point) {
+      if ((st = count(p, 5, "light point X Y Z")) ||
+          (st = coords(p, 2, 3, l->v, "light position")))
+        return st;
+    } else {
+      if ((st = count(p, 4, "light DX DY DZ` or `light point X Y Z")) ||
+          (st = coords(p, 1, 3, l->v, "light value")))
+        return st;
+      if (!l->v[0] && !l->v[1] && !l->v[2])
+        return at(p, "light direction (0, 0, 0) has no direction");
+    }
+    l->point = point;
+    l->line = p->r.line;
+    s->nlight++;
     s->has_light = true;
+    return T74_OK;
+  }
+  if (strcmp(k, "texture") == 0) {
+    long fid;
+    if ((st = count(p, 3, "texture F FILE")) ||
+        (st = number(p, 1, 1, SCENE_ID_MAX, "face id", &fid)))
+      return st;
+    if (p->ntex == p->captex) {
+      int nc = p->captex ? 2 * p->captex : 8;
+      struct tex_line *nt = realloc(p->tex, (size_t)nc * sizeof *nt);
+      if (!nt) return oom(p);
+      p->tex = nt;
+      p->captex = nc;
+    }
+    char *path = resolve_path(s->file, p->r.tok[2]);
+    if (!path) return oom(p);
+    p->tex[p->ntex++] = (struct tex_line){ (int)fid, p->r.line, path };
     return T74_OK;
   }
   if (strcmp(k, "background") == 0) {
@@ -817,6 +862,94 @@ static int resolve(struct parse *p)
   return T74_OK;
 }
 
+/* Pattern face pf (`on F`) against its face F: coplanar exactly, and every vertex of it
+   inside F or on F's boundary, not inside one of F's holes (exact, on the coordinate
+   plane the face's normal is largest across). */
+static int check_pattern(const struct scene *s, const struct scene_face *pf,
+                         const struct scene_face *F, struct t74_error *err)
+{
+  const struct scene_vertex *a = &s->v[F->vidx[0]];
+  int64_t n[3] = { 0, 0, 0 };
+  int nr = F->ring_start[1];
+  for (int k = 1; k + 1 < nr && !n[0] && !n[1] && !n[2]; k++) {
+    const struct scene_vertex *b = &s->v[F->vidx[k]], *c = &s->v[F->vidx[k + 1]];
+    int64_t u[3] = { b->x - a->x, b->y - a->y, b->z - a->z };
+    int64_t w[3] = { c->x - a->x, c->y - a->y, c->z - a->z };
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+  }
+  int64_t ax = n[0] < 0 ? -n[0] : n[0], ay = n[1] < 0 ? -n[1] : n[1], az = n[2] < 0 ? -n[2] : n[2];
+  int drop = az >= ax && az >= ay ? 2 : ax >= ay ? 0 : 1;
+  int np = pf->ring_start[pf->nring], nf = F->ring_start[F->nring];
+  struct pl_pt *ring = malloc((size_t)nf * sizeof *ring);
+  if (!ring) return t74_fail(err, T74_EIO, "%s: out of memory", s->file);
+  for (int k = 0; k < nf; k++) {
+    const struct scene_vertex *v = &s->v[F->vidx[k]];
+    int64_t c[3] = { v->x, v->y, v->z };
+    ring[k] = (struct pl_pt){ c[(drop + 1) % 3], c[(drop + 2) % 3] };
+  }
+  int st = T74_OK;
+  for (int q = 0; q < np && st == T74_OK; q++) {
+    const struct scene_vertex *v = &s->v[pf->vidx[q]];
+    int64_t d = n[0] * (v->x - a->x) + n[1] * (v->y - a->y) + n[2] * (v->z - a->z);
+    if (d != 0) {
+      st = t74_fail_at(err, T74_EINPUT, s->file, pf->line, "face %d is `on %d` but its vertex "
+                       "%d is not in face %d's plane", pf->id, F->id, v->id, F->id);
+      break;
+    }
+    int64_t c[3] = { v->x, v->y, v->z };
+    struct pl_pt t = { c[(drop + 1) % 3], c[(drop + 2) % 3] };
+    bool inside = in_ring(t, ring, F->ring_start[1]) >= 0;
+    for (int h = 1; h < F->nring && inside; h++)
+      if (in_ring(t, ring + F->ring_start[h], F->ring_start[h + 1] - F->ring_start[h]) > 0)
+        inside = false;
+    if (!inside)
+      st = t74_fail_at(err, T74_EINPUT, s->file, pf->line, "face %d is `on %d` but its vertex "
+                       "%d lies outside face %d", pf->id, F->id, v->id, F->id);
+  }
+  free(ring);
+  return st;
+}
+
+/* `on F` and `texture F FILE`: face ids to indices, patterns checked against their face. */
+static int resolve_layers(struct parse *p)
+{
+  struct scene *s = p->s;
+  for (int i = 0; i < s->nf; i++) {
+    struct scene_face *f = &s->f[i];
+    if (!f->on_id) continue;
+    int idx = p->fmap[f->on_id];
+    if (idx < 0)
+      return t74_fail_at(p->err, T74_EINPUT, s->file, f->line, "face %d: `on %u`: no face %u",
+                         f->id, f->on_id, f->on_id);
+    f->on = idx;
+    int st = check_pattern(s, f, &s->f[idx], p->err);
+    if (st) return st;
+  }
+  for (int i = 0; i < s->nf; i++) {        /* a chain of patterns must end on a face */
+    int at_ = i, steps = 0;
+    while (s->f[at_].on_id && steps <= s->nf) { at_ = s->f[at_].on; steps++; }
+    if (steps > s->nf)
+      return t74_fail_at(p->err, T74_EINPUT, s->file, s->f[i].line, "face %d: its `on` "
+                         "faces go round in a circle", s->f[i].id);
+  }
+  for (int k = 0; k < p->ntex; k++) {
+    struct tex_line *t = &p->tex[k];
+    int idx = p->fmap[t->face];
+    if (idx < 0)
+      return t74_fail_at(p->err, T74_EINPUT, s->file, t->line, "texture: no face %d", t->face);
+    struct scene_face *f = &s->f[idx];
+    if (f->texture)
+      return t74_fail_at(p->err, T74_EINPUT, s->file, t->line, "texture: face %d already has "
+                         "one (line %d)", t->face, f->texture_line);
+    f->texture = t->path;
+    f->texture_line = t->line;
+    t->path = NULL;
+  }
+  return T74_OK;
+}
+
 static int load_s74(const char *path, const struct scene_opts *opts, struct scene **out,
                     struct t74_error *err)
 {
@@ -846,6 +979,7 @@ static int load_s74(const char *path, const struct scene_opts *opts, struct scen
     if ((st = statement(&p))) break;
   if (st) goto done;
   if ((st = resolve(&p))) goto done;
+  if ((st = resolve_layers(&p))) goto done;
   int last = p.r.nlines > 0 ? p.r.nlines : 1;
   if (opts && opts->has_view) {
     memcpy(p.s->view, opts->view, sizeof p.s->view);
@@ -871,6 +1005,8 @@ done:
   free(p.vmap);
   free(p.fmap);
   free(p.omap);
+  for (int k = 0; k < p.ntex; k++) free(p.tex[k].path);
+  free(p.tex);
   if (st) {
     scene_free(p.s);
     return st;

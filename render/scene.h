@@ -38,6 +38,12 @@ struct scene_face {
                              that face's id (its input number) */
   int      line;          /* source line */
   int      grey;          /* 0..255, or -1 when not given (shaded from `light`, else 255) */
+  uint32_t on_id;         /* `on F`: the number F of the face this pattern lies on (paper
+                             000 §3: drawn over F whatever the numbering); 0: none */
+  int      on;            /* when on_id: F's index in scene.f */
+  char    *texture;       /* `texture F FILE`: the reflectance picture's path (resolved
+                             against the scene's folder), or NULL */
+  int      texture_line;  /* its source line */
   int      object;        /* object id it belongs to, 0 if none */
   int      nring;         /* 1 + number of holes */
   int     *ring_start;    /* nring + 1 offsets into vidx: ring r is vidx[ring_start[r] ..
@@ -56,6 +62,15 @@ struct scene_object {
                              edges are not drawn by enhanced edges, its silhouette is */
 };
 
+/* A light (CONTRACT.md `light DX DY DZ`, `light point X Y Z`; several add up). */
+struct scene_light {
+  bool    point;          /* a point light at v; else a parallel light towards v */
+  int32_t v[3];           /* direction towards the light (not all zero), or position */
+  int     line;           /* source line (0: an import's default light) */
+};
+
+#define SCENE_LIGHT_MAX 16     /* lights a scene may have */
+
 struct scene {
   char   *file;                     /* path as given, for messages */
   int     nv, nf, nobj;
@@ -65,7 +80,8 @@ struct scene {
   bool    has_view, has_window, has_light;
   int32_t view[3];                  /* X0 Y0 Z0: eye; Z0 < 0 and every vertex z > Z0 */
   int32_t window[4];                /* XL YB XR YT on the plane z = 0; XL < XR, YB < YT */
-  int32_t light[3];                 /* direction towards the light (not all zero) */
+  int     nlight;                   /* lights given (has_light: nlight > 0) */
+  struct scene_light light[SCENE_LIGHT_MAX];
   char   *background;               /* PGM path resolved against the scene's folder, or NULL */
   int     background_line;          /* its source line (0: none) */
   char   *effects;                  /* the effects line's KEY=VALUE text, or NULL */

@@ -173,7 +173,8 @@ static int take_new_pieces(struct vis *v)
     return 0;
   int k = 0;
   for (; v->seen < s->n; v->seen++)
-    if (s->p[v->seen].alive) v->tmp[k++] = v->seen;
+    if (s->p[v->seen].alive && !(v->skip_face && v->skip_face[s->p[v->seen].face]))
+      v->tmp[k++] = v->seen;
   sort_batch(v, v->tmp, k, v->tmp2, by_ylo);
   int hi = v->norder, dst = v->norder + k;  /* order[next..hi): not yet moved */
   for (int j = k - 1; j >= 0; j--) {
@@ -194,10 +195,17 @@ static int take_new_pieces(struct vis *v)
 int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,
              struct t74_error *err)
 {
+  return vis_init_without(v, seg, prio, cost, NULL, err);
+}
+
+int vis_init_without(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,
+                     const uint8_t *skip_face, struct t74_error *err)
+{
   memset(v, 0, sizeof *v);
   v->seg = seg;
   v->prio = prio;
   v->cost = cost;
+  v->skip_face = skip_face;
   v->yd = 0;
   if (!take_new_pieces(v)) return t74_fail(err, T74_EIO, "out of host memory");
   return T74_OK;

@@ -76,10 +76,17 @@ struct vis {
   void *feed_ctx;
   int   arith;                           /* GEOM_EXACT, or GEOM_HITAC: xb, xe, dxb, dxe
                                             held as the 1974 program held them */
+  const uint8_t *skip_face;              /* NULL, or per mapped face: 1 = leave its pieces
+                                            out (vis_init_without) */
 };
 
 int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,
              struct t74_error *err);
+/* The same over the pieces of the faces whose flag skip_face[face] (indexed by mapped
+   face, kept by the caller while v lives) is 0: what the other faces would show where
+   those are taken away (the effects: a contour cut shows what its object hid). */
+int vis_init_without(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,
+                     const uint8_t *skip_face, struct t74_error *err);
 void vis_free(struct vis *v);
 
 /* The visible stretches along y = yn/yd, left to right, gaps where nothing is seen. */

@@ -630,7 +630,7 @@ static char *scene_as_s74(const struct scene *s, size_t *len)
   struct text t = { 0 };
   tprintf(&t, "view %d %d %d\nwindow %d %d %d %d\n", s->view[0], s->view[1], s->view[2],
           s->window[0], s->window[1], s->window[2], s->window[3]);
-  if (s->has_light) tprintf(&t, "light %d %d %d\n", s->light[0], s->light[1], s->light[2]);
+  if (s->has_light) tprintf(&t, "light %d %d %d\n", s->light[0].v[0], s->light[0].v[1], s->light[0].v[2]);
   for (int v = 0; v < s->nv; v++)
     tprintf(&t, "vertex %d %d %d %d\n", v + 1, s->v[v].x, s->v[v].y, s->v[v].z);
   for (int k = s->nf - 1; k >= 0; k--) {          /* listed backwards, too */

@@ -226,7 +226,20 @@ static struct scene *expect_ok(void **state, const char *name, const char *text)
   X(light_zero, BASE "light 0 0 0\n", 7, "light direction (0, 0, 0)")                      \
   X(repeat_view, BASE "view 0 0 -5\n", 7, "`view` given twice (first at line 1)")          \
   X(repeat_window, BASE "window 0 0 1 1\n", 7, "`window` given twice (first at line 2)")   \
-  X(repeat_light, BASE "light 1 0 0\nlight 0 1 0\n", 8, "`light` given twice (first at line 7)") \
+  X(too_many_lights, BASE "light 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\nlight 1 0 0\n", 23, "more than 16 lights")                   \
+  X(light_point_count, BASE "light point 1 2\n", 7, "expected `light point X Y Z`")        \
+  X(light_point_range, BASE "light point 1 2 99999\n", 7, "light position")               \
+  X(on_unknown, BASE "face 1 1 2 3 4 on 9\n", 7, "face 1: `on 9`: no face 9")              \
+  X(on_itself, BASE "face 1 1 2 3 4 on 1\n", 7, "face 1 cannot lie on itself")            \
+  X(on_twice, BASE "face 1 1 2 3 4 on 2 on 3\n", 7, "`on` must be followed by exactly one face id") \
+  X(on_not_coplanar, BASE "vertex 5 10 10 10\nvertex 6 50 10 10\nvertex 7 50 50 11\n"       \
+    "face 1 1 2 3 4\nface 2 5 6 7 on 1\n", 11, "face 2 is `on 1` but its vertex 7 is not in face 1's plane") \
+  X(on_outside, BASE "vertex 5 10 10 10\nvertex 6 150 10 10\nvertex 7 50 50 10\n"          \
+    "face 1 1 2 3 4\nface 2 5 6 7 on 1\n", 11, "face 2 is `on 1` but its vertex 6 lies outside face 1") \
+  X(on_circle, BASE "face 1 1 2 3 4 on 2\nface 2 4 3 2 1 on 1\n", 7, "face 1: its `on` faces go round in a circle") \
+  X(texture_unknown, BASE "face 1 1 2 3 4\ntexture 2 a.pgm\n", 8, "texture: no face 2")      \
+  X(texture_twice, BASE "face 1 1 2 3 4\ntexture 1 a.pgm\ntexture 1 b.pgm\n", 9, "texture: face 1 already has one (line 8)") \
+  X(texture_count, BASE "face 1 1 2 3 4\ntexture 1\n", 8, "expected `texture F FILE`")      \
   X(repeat_background, BASE "background a.pgm\nbackground b.pgm\n", 8, "(first at line 7)") \
   X(repeat_effects, BASE "effects aa\neffects\n", 8, "`effects` given twice (first at line 7)") \
   X(effects_unknown_key, BASE "effects halftone=3x3 glow=on\n", 7, "effects: unknown key `glow`") \
@@ -306,8 +319,8 @@ static void ok_valid_structure(void **state)
   assert_int_equal(s->view[2], -500);
   assert_int_equal(s->window[0], -20);
   assert_int_equal(s->window[3], 120);
-  assert_int_equal(s->light[1], 2);
-  assert_int_equal(s->light[2], -3);
+  assert_int_equal(s->light[0].v[1], 2);
+  assert_int_equal(s->light[0].v[2], -3);
   assert_string_equal(s->background, DATA "pics/sky.pgm");
   assert_string_equal(s->effects, "halftone=3x3 aa=multiscan n=4");
   assert_int_equal(s->effects_line, 7);

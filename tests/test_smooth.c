@@ -554,7 +554,7 @@ static void test_lambert_is_the_mappers(void **state)
   (void)state;
   struct lib L;
   lib_open(&L, "scenes/sphere.s74", "smooth=phong");
-  double l[3] = { (double)L.s->light[0], (double)L.s->light[1], (double)L.s->light[2] };
+  double l[3] = { (double)L.s->light[0].v[0], (double)L.s->light[0].v[1], (double)L.s->light[0].v[2] };
   double ll = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
   for (int c = 0; c < 3; c++) l[c] /= ll;
   int checked = 0;

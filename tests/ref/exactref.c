@@ -94,6 +94,7 @@ int xr_write(struct xr_scene *s, FILE *o)
       if (r) fprintf(o, " *");
       for (int q = f->rs[r]; q < f->rs[r + 1]; q++) fprintf(o, " %d", f->vi[q] + 1);
     }
+    if (f->on) fprintf(o, " on %u", f->on);
     if (f->grey >= 0) fprintf(o, " grey %d", f->grey);
     fprintf(o, "\n");
   }
@@ -146,12 +147,18 @@ int xr_read(const char *text, struct xr_scene *s, char *err, size_t errlen)
         if (!next_tok(&q, tok, sizeof tok)) goto bad;
         unsigned id = (unsigned)strtoul(tok, NULL, 10);
         int vi[1024], nvi = 0, rs[64], nr = 1, grey = -1;
+        unsigned on = 0;
         rs[0] = 0;
         while (next_tok(&q, tok, sizeof tok)) {
           if (!strcmp(tok, "*")) { if (nr == 63) goto bad; rs[nr++] = nvi; continue; }
           if (!strcmp(tok, "grey")) {
             if (!next_tok(&q, tok, sizeof tok)) goto bad;
             grey = atoi(tok);
+            continue;
+          }
+          if (!strcmp(tok, "on")) {
+            if (!next_tok(&q, tok, sizeof tok)) goto bad;
+            on = (unsigned)strtoul(tok, NULL, 10);
             continue;
           }
           long v = strtol(tok, NULL, 10);
@@ -164,6 +171,7 @@ int xr_read(const char *text, struct xr_scene *s, char *err, size_t errlen)
         for (int r = 1; r < nr; r++)
           if (xr_hole(s, f, rs[r + 1] - rs[r], vi + rs[r]) < 0) goto bad;
         s->f[f].grey = grey;
+        s->f[f].on = on;
         s->f[f].line = line;
       } else if (strcmp(tok, "light") && strcmp(tok, "effects") && strcmp(tok, "object") &&
                  strcmp(tok, "background")) {
@@ -329,6 +337,7 @@ int xr_prepare(const struct xr_scene *s, int cell, struct xr_ref *r)
     const struct xr_face *f = &s->f[k];
     struct xr_pface *pf = &r->f[k];
     pf->id = f->id;
+    pf->on = f->on;
     /* plane from the first non-collinear triple of the outer ring */
     int n0 = f->rs[1];
     const int32_t *p0 = s->v[f->vi[0]];
@@ -502,6 +511,17 @@ static int in_front(const struct xr_ref *r, const struct xr_pface *a, const stru
   return cmp_prod(-b->D, ua, -a->D, ub);
 }
 
+/* Equal depth (coplanar faces, as the contract fixes it): a face lying `on` the other is in
+   front of it (paper 000 §3.2); a face lying on some face wins over one that lies on none;
+   else the larger number. Does a win over b? */
+static int tie_wins(const struct xr_pface *a, const struct xr_pface *b)
+{
+  if (a->on && a->on == b->id) return 1;
+  if (b->on && b->on == a->id) return 0;
+  if (!a->on != !b->on) return a->on != 0;
+  return a->id > b->id;
+}
+
 static int front_index(const struct xr_ref *r, struct centre c)
 {
   int best = -1;
@@ -509,7 +529,7 @@ static int front_index(const struct xr_ref *r, struct centre c)
     if (!covers(&r->f[k], c)) continue;
     if (best < 0) { best = k; continue; }
     int s = in_front(r, &r->f[k], &r->f[best], c);
-    if (s > 0 || (s == 0 && r->f[k].id > r->f[best].id)) best = k;
+    if (s > 0 || (s == 0 && tie_wins(&r->f[k], &r->f[best]))) best = k;
   }
   return best;
 }

@@ -45,6 +45,7 @@
 
 struct xr_face {
   unsigned id;                /* face number */
+  unsigned on;                /* `on F`: the face it lies on (a pattern), 0 none */
   int grey;                   /* -1: not given */
   int line;                   /* line in the written .s74 (xr_write fills it), 0 unknown */
   int nring;
@@ -77,6 +78,7 @@ int xr_read(const char *text, struct xr_scene *s, char *err, size_t errlen);
 struct xr_ring { int n; int64_t *x, *y; };
 struct xr_pface {
   unsigned id;
+  unsigned on;                /* as xr_face.on */
   int used;                   /* 0: the plane holds the eye (covers nothing) */
   int nring;
   struct xr_ring *ring;       /* grid polygon rings */

@@ -1,0 +1,497 @@
+/*
+** model.c — the frame model (see model.h): building it, shading, lines, the point frame.
+*/
+#include "effects/model.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "effects/contour.h"
+#include "effects/shadow.h"
+#include "patterns/picture.h"
+#include "render/shade.h"
+
+/* A texture: the picture and its frame on the face (V0 + a U + b T, a, b in [0, 1) over
+   the picture; repeated beyond). */
+struct fx_tex {
+  struct pic *pic;
+  double o[3], U[3], T[3];
+  int du, dv;               /* the coordinate plane the face is solved on */
+  double det;
+};
+
+/* ---- building ---------------------------------------------------------------------- */
+
+static int by_owner(const void *pa, const void *pb)
+{
+  const struct fx_poly *a = pa, *b = pb;
+  if (a->owner != b->owner) return a->owner < b->owner ? -1 : 1;
+  return (a->light > b->light) - (a->light < b->light);
+}
+
+static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *cost,
+                         struct t74_error *err)
+{
+  const struct scene *s = m->s;
+  for (int k = 0; k < s->nf; k++) {
+    const struct scene_face *f = &s->f[k];
+    if (!f->texture) continue;
+    if (!m->tex && !(m->tex = calloc((size_t)s->nf, sizeof *m->tex)))
+      return t74_fail(err, T74_EIO, "out of host memory");
+    struct fx_tex *t = &m->tex[k];
+    struct t74_error e2;
+    memset(&e2, 0, sizeof e2);
+    int rc = pic_load(f->texture, &t->pic, &e2);
+    if (rc != T74_OK)
+      return t74_fail_at(err, rc, s->file, f->texture_line, "texture: %s", e2.msg);
+    int n = f->ring_start[1];
+    const struct scene_vertex *a = &s->v[f->vidx[0]], *b = &s->v[f->vidx[1]], *c = &s->v[f->vidx[n - 1]];
+    double A[3] = { a->x, a->y, a->z }, B[3] = { b->x, b->y, b->z }, C[3] = { c->x, c->y, c->z };
+    for (int q = 0; q < 3; q++) { t->o[q] = A[q]; t->U[q] = B[q] - A[q]; t->T[q] = C[q] - A[q]; }
+    double nr[3] = { t->U[1] * t->T[2] - t->U[2] * t->T[1], t->U[2] * t->T[0] - t->U[0] * t->T[2],
+                     t->U[0] * t->T[1] - t->U[1] * t->T[0] };
+    int ax = 0;
+    for (int q = 1; q < 3; q++) if (fabs(nr[q]) > fabs(nr[ax])) ax = q;
+    t->du = (ax + 1) % 3;
+    t->dv = (ax + 2) % 3;
+    t->det = t->U[t->du] * t->T[t->dv] - t->U[t->dv] * t->T[t->du];
+    if (t->det == 0)
+      return t74_fail_at(err, T74_EINPUT, s->file, f->texture_line, "texture: face %d's first, "
+                         "second and last vertices are in a line: no frame for the picture", f->id);
+    m->ntex++;
+    COST_ADD_N(cost, COST_MEM, 9);
+  }
+  if (m->ntex) fx_count(st, "texture_faces", m->ntex, true);
+  return T74_OK;
+}
+
+int fx_model_build(struct fx_model *m, struct render *r, const struct scene *s,
+                   const struct effects *e, const struct vis_grid *g, const uint8_t *bg,
+                   struct fx_stats *st, struct cost *cost, struct t74_error *err)
+{
+  memset(m, 0, sizeof *m);
+  m->r = r; m->s = s; m->e = e; m->g = g; m->bg = bg;
+  m->W = g->W; m->H = g->H;
+  int rc = T74_OK;
+  if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) {
+    if ((rc = smooth_model_build(&m->sm, r, s, e, err)) != T74_OK) return rc;
+    m->smooth = true;
+    if (m->sm.ntri == 0)
+      fprintf(stderr, "%s:%d: warning: smooth=/contour=: no face is a triangle of an object "
+              "shaded from `light`; the picture stays flat\n", s->file ? s->file : "scene",
+              s->effects_line);
+    if ((rc = smooth_tables(r, &m->sm, cost, err)) != T74_OK) return rc;
+    smooth_count(&m->sm, st);
+  }
+  if (e->contour_on && m->smooth) {
+    if ((rc = contour_build(r, s, e, &m->sm, &m->cuts, st, cost, err)) != T74_OK) return rc;
+    for (int k = 0; k < m->cuts.n; k++) {
+      int o = m->cuts.p[k].owner, seen = 0;
+      for (int q = 0; q < m->ncut; q++) seen |= m->cut_obj[q] == o;
+      if (seen) continue;
+      int *no = realloc(m->cut_obj, (size_t)(m->ncut + 1) * sizeof *no);
+      uint8_t **ns = no ? realloc(m->cut_skip, (size_t)(m->ncut + 1) * sizeof *ns) : NULL;
+      if (no) m->cut_obj = no;
+      if (ns) m->cut_skip = ns;
+      uint8_t *sk = ns ? calloc((size_t)r->map.nface + 1, 1) : NULL;
+      if (!sk) return t74_fail(err, T74_EIO, "out of host memory");
+      for (int f = 0; f < r->map.nface; f++) sk[f] = s->f[r->map.f[f].sface].object == o;
+      m->cut_obj[m->ncut] = o;
+      m->cut_skip[m->ncut++] = sk;
+    }
+  }
+  if (e->shadows && s->has_light) {
+    if ((rc = shadow_build(r, s, &m->shadows, st, cost, err)) != T74_OK) return rc;
+    qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
+    m->shadow_first = calloc((size_t)r->map.nface + 1, sizeof *m->shadow_first);
+    if (!m->shadow_first) return t74_fail(err, T74_EIO, "out of host memory");
+    for (int f = 0, k = 0; f <= r->map.nface; f++) {
+      while (k < m->shadows.n && m->shadows.p[k].owner < f) k++;
+      m->shadow_first[f] = k;
+    }
+  }
+  return load_textures(m, st, cost, err);
+}
+
+void fx_model_free(struct fx_model *m)
+{
+  if (m->smooth) smooth_model_free(&m->sm);
+  if (m->tex) {
+    for (int k = 0; k < m->s->nf; k++) pic_free(m->tex[k].pic);
+    free(m->tex);
+  }
+  fx_polys_free(&m->cuts);
+  fx_polys_free(&m->shadows);
+  for (int q = 0; q < m->ncut; q++) free(m->cut_skip[q]);
+  free(m->cut_skip);
+  free(m->cut_obj);
+  free(m->shadow_first);
+  memset(m, 0, sizeof *m);
+}
+
+bool fx_model_regions(const struct fx_model *m) { return m->cuts.n > 0 || m->shadows.n > 0; }
+
+bool fx_model_shades(const struct fx_model *m)
+{
+  return (m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE) || m->ntex > 0 || m->shadows.n > 0;
+}
+
+/* ---- shading ----------------------------------------------------------------------- */
+
+/* The space point of face f seen through plane position (px, py, 0): the ray from the eye
+   onto the face's exact plane (eq. (2)). */
+static void space_point(const struct render *r, int f, double px, double py, double X[3])
+{
+  const int64_t *pl = r->map.f[f].plane;
+  double E[3] = { (double)r->map.eye[0], (double)r->map.eye[1], (double)r->map.eye[2] };
+  double D[3] = { px - E[0], py - E[1], -E[2] };
+  double num = -((double)pl[0] * E[0] + (double)pl[1] * E[1] + (double)pl[2] * E[2] + (double)pl[3]);
+  double den = (double)pl[0] * D[0] + (double)pl[1] * D[1] + (double)pl[2] * D[2];
+  double t = den != 0 ? num / den : 1;
+  for (int c = 0; c < 3; c++) X[c] = E[c] + t * D[c];
+}
+
+static double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
+{
+  double du = X[t->du] - t->o[t->du], dv = X[t->dv] - t->o[t->dv];
+  double a = (du * t->T[t->dv] - dv * t->T[t->du]) / t->det;
+  double b = (t->U[t->du] * dv - t->U[t->dv] * du) / t->det;
+  a -= floor(a);
+  b -= floor(b);
+  int w = pic_width(t->pic), h = pic_height(t->pic);
+  int x = (int)(a * w), y = (int)((1 - b) * h);
+  if (x >= w) x = w - 1;
+  if (y >= h) y = h - 1;
+  if (y < 0) y = 0;
+  for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 16);
+  cost_mw_div(cost, 32, 16); cost_mw_div(cost, 32, 16);
+  COST_ADD_N(cost, COST_MEM, 2);
+  return pic_pixel(t->pic, x, y) / 255.0;
+}
+
+int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, double v,
+             int i, int j, struct cost *cost, int *region)
+{
+  if (region) *region = -1;
+  if (face < 0) {
+    if (!m->bg) return 0;
+    i = i < 0 ? 0 : i >= m->W ? m->W - 1 : i;
+    j = j < 0 ? 0 : j >= m->H ? m->H - 1 : j;
+    return m->bg[(size_t)j * (size_t)m->W + (size_t)i];
+  }
+  const struct render *r = m->r;
+  const struct mface *mf = &r->map.f[face];
+  const struct scene_face *sf = &m->s->f[mf->sface];
+  const struct fx_tex *t = m->tex && m->tex[mf->sface].pic ? &m->tex[mf->sface] : NULL;
+  int tri = m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE ? m->sm.tri_of_mface[face] : -1;
+  bool lit = sf->grey < 0 && m->s->has_light;
+  COST_ADD_N(cost, COST_MEM, 2); COST_ADD_N(cost, COST_BRANCH, 2);
+  if (!lit) blocked = 0;                     /* a face of its own grey is not lit */
+  if (tri < 0 && !t && !blocked) return mf->grey;
+  const struct vis_grid *g = m->g;
+  double px = g->window[0] + u * (double)(g->window[2] - g->window[0]) / g->W;
+  double py = g->window[3] - v * (double)(g->window[3] - g->window[1]) / g->H;
+  double X[3];
+  space_point(r, face, px, py, X);
+  for (int k = 0; k < 6; k++) cost_mw_mul(cost, 32, 16);
+  cost_mw_div(cost, 48, 32);
+  double refl = t ? reflectance(t, X, cost) : 1.0;
+  if (tri >= 0) return smooth_grey_at(&m->sm, r, m->s, m->e, tri, X, refl, blocked, cost, region);
+  if (!lit) return (int)floor(mf->grey * refl + 0.5);
+  double n[3] = { -(double)mf->plane[0], -(double)mf->plane[1], -(double)mf->plane[2] };
+  double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int c = 0; c < 3; c++) n[c] /= len;
+  for (int k = 0; k < m->s->nlight; k++) { cost_mw_mul(cost, 16, 16); cost_mw_mul(cost, 16, 16); }
+  return shade_grey(m->s, n, X, refl, blocked);
+}
+
+/* ---- lines --------------------------------------------------------------------------- */
+
+struct fx_lines {
+  const struct fx_model *m;
+  struct cost *cost;
+  struct vis vis;
+  struct vis *behind;       /* per cut object */
+  struct fx_span *a, *b;    /* the line's stretches, and scratch */
+  int na, nb, cap;
+  struct grat *x;           /* crossings */
+  int xcap;
+  struct ev { struct grat x; int light, d; } *ev;
+  int evcap;
+};
+
+static bool room(struct fx_lines *L, int n)
+{
+  if (n <= L->cap) return true;
+  int cap = L->cap ? L->cap : 64;
+  while (cap < n) cap *= 2;
+  struct fx_span *na = realloc(L->a, (size_t)cap * sizeof *na);
+  if (!na) return false;
+  L->a = na;
+  struct fx_span *nb = realloc(L->b, (size_t)cap * sizeof *nb);
+  if (!nb) return false;
+  L->b = nb;
+  L->cap = cap;
+  return true;
+}
+
+int fx_lines_open(struct fx_lines **out, const struct fx_model *m, struct cost *cost,
+                  struct t74_error *err)
+{
+  struct fx_lines *L = calloc(1, sizeof *L);
+  if (!L) return t74_fail(err, T74_EIO, "out of host memory");
+  L->m = m;
+  L->cost = cost;
+  int rc = vis_init(&L->vis, &m->r->seg, &m->r->prio, cost, err);
+  if (rc == T74_OK && m->ncut) {
+    L->behind = calloc((size_t)m->ncut, sizeof *L->behind);
+    if (!L->behind) rc = t74_fail(err, T74_EIO, "out of host memory");
+    for (int q = 0; rc == T74_OK && q < m->ncut; q++)
+      rc = vis_init_without(&L->behind[q], &m->r->seg, &m->r->prio, cost, m->cut_skip[q], err);
+  }
+  if (rc != T74_OK) { fx_lines_close(L); return rc; }
+  *out = L;
+  return T74_OK;
+}
+
+void fx_lines_close(struct fx_lines *L)
+{
+  if (!L) return;
+  vis_free(&L->vis);
+  if (L->behind)
+    for (int q = 0; q < L->m->ncut; q++) vis_free(&L->behind[q]);
+  free(L->behind);
+  free(L->a); free(L->b); free(L->x); free(L->ev);
+  free(L);
+}
+
+static struct grat rmax(struct grat p, struct grat q) { return geom_rat_cmp(p, q) >= 0 ? p : q; }
+static struct grat rmin(struct grat p, struct grat q) { return geom_rat_cmp(p, q) <= 0 ? p : q; }
+
+/* The crossings of every polygon in [k0, k1) of ps with the line, as stretches appended
+   to L->ev (d = +1 at a start, -1 at an end; light from the polygon). */
+static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int k1, int64_t yn,
+                     int64_t yd, int *nev, struct t74_error *err)
+{
+  for (int k = k0; k < k1; k++) {
+    const struct fx_poly *p = &ps->p[k];
+    if ((wide)yn < (wide)p->ylo * yd || (wide)yn >= (wide)p->yhi * yd) continue;
+    int need = p->rs[p->nring];
+    if (need > L->xcap) {
+      struct grat *nx = realloc(L->x, (size_t)need * sizeof *nx);
+      if (!nx) return t74_fail(err, T74_EIO, "out of host memory");
+      L->x = nx;
+      L->xcap = need;
+    }
+    int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->cost);
+    if (*nev + nx > L->evcap) {
+      int cap = L->evcap ? L->evcap : 64;
+      while (cap < *nev + nx) cap *= 2;
+      struct ev *ne = realloc(L->ev, (size_t)cap * sizeof *ne);
+      if (!ne) return t74_fail(err, T74_EIO, "out of host memory");
+      L->ev = ne;
+      L->evcap = cap;
+    }
+    for (int h = 0; h + 1 < nx; h += 2) {
+      if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
+      L->ev[(*nev)++] = (struct ev){ L->x[h], p->light, +1 };
+      L->ev[(*nev)++] = (struct ev){ L->x[h + 1], p->light, -1 };
+    }
+  }
+  return T74_OK;
+}
+
+static int ev_cmp(const void *pa, const void *pb)
+{
+  const struct ev *a = pa, *b = pb;
+  return geom_rat_cmp(a->x, b->x);
+}
+
+/* Cut object q's regions out of its stretches on the line. */
+static int cut_line(struct fx_lines *L, int q, int64_t yn, int64_t yd, struct t74_error *err)
+{
+  const struct fx_model *m = L->m;
+  int nev = 0;
+  /* the object's corner regions (they do not overlap: each lies at its own corner) */
+  int k0 = -1, k1 = -1;
+  for (int k = 0; k < m->cuts.n; k++)
+    if (m->cuts.p[k].owner == m->cut_obj[q]) { if (k0 < 0) k0 = k; k1 = k + 1; }
+  if (k0 < 0) return T74_OK;
+  int rc = stretches(L, &m->cuts, k0, k1, yn, yd, &nev, err);
+  if (rc != T74_OK || nev == 0) return rc;
+  qsort(L->ev, (size_t)nev, sizeof *L->ev, ev_cmp);
+  const uint8_t *skip = m->cut_skip[q];
+  bool hit = false;
+  for (int s = 0; s < L->na && !hit; s++) hit = skip[L->a[s].face] != 0;
+  if (!hit) return T74_OK;
+  const struct vis_span *bs;
+  int nbs;
+  if ((rc = vis_spans(&L->behind[q], yn, yd, &bs, &nbs, err)) != T74_OK) return rc;
+  int nb = 0;
+  for (int s = 0; s < L->na; s++) {
+    struct fx_span sp = L->a[s];
+    if (!skip[sp.face]) {
+      if (!room(L, nb + 1)) return t74_fail(err, T74_EIO, "out of host memory");
+      L->b[nb++] = sp;
+      continue;
+    }
+    /* walk the cut stretches across sp: outside them sp stays, inside the line behind */
+    struct grat at = sp.x0;
+    for (int h = 0; h + 1 < nev && geom_rat_cmp(at, sp.x1) < 0; h += 2) {
+      struct grat c0 = rmax(L->ev[h].x, at), c1 = rmin(L->ev[h + 1].x, sp.x1);
+      if (geom_rat_cmp(c0, c1) >= 0) continue;
+      if (!room(L, nb + 2 + nbs)) return t74_fail(err, T74_EIO, "out of host memory");
+      if (geom_rat_cmp(at, c0) < 0) { L->b[nb] = sp; L->b[nb].x0 = at; L->b[nb++].x1 = c0; }
+      for (int k = 0; k < nbs; k++) {
+        struct grat b0 = rmax(bs[k].x0, c0), b1 = rmin(bs[k].x1, c1);
+        if (geom_rat_cmp(b0, b1) >= 0) continue;
+        L->b[nb++] = (struct fx_span){ b0, b1, bs[k].piece, bs[k].face, 0 };
+      }
+      at = c1;
+    }
+    if (geom_rat_cmp(at, sp.x1) < 0) {
+      if (!room(L, nb + 1)) return t74_fail(err, T74_EIO, "out of host memory");
+      L->b[nb] = sp; L->b[nb++].x0 = at;
+    }
+    COST_ADD_N(L->cost, COST_ADD, (uint64_t)nev); COST_ADD_N(L->cost, COST_BRANCH, (uint64_t)nev);
+  }
+  struct fx_span *t = L->a; L->a = L->b; L->b = t;
+  L->na = nb;
+  return T74_OK;
+}
+
+/* Split the stretches where shadows begin and end. */
+static int shadow_line(struct fx_lines *L, int64_t yn, int64_t yd, struct t74_error *err)
+{
+  const struct fx_model *m = L->m;
+  int nb = 0;
+  for (int s = 0; s < L->na; s++) {
+    struct fx_span sp = L->a[s];
+    int nev = 0;
+    int rc = stretches(L, &m->shadows, m->shadow_first[sp.face], m->shadow_first[sp.face + 1],
+                       yn, yd, &nev, err);
+    if (rc != T74_OK) return rc;
+    if (!room(L, nb + 2 * nev + 1)) return t74_fail(err, T74_EIO, "out of host memory");
+    if (nev == 0) { L->b[nb++] = sp; continue; }
+    qsort(L->ev, (size_t)nev, sizeof *L->ev, ev_cmp);
+    int cnt[SCENE_LIGHT_MAX] = { 0 };
+    unsigned mask = 0;
+    struct grat at = sp.x0;
+    int h = 0;
+    /* the events at or left of the stretch's start set its first mask */
+    while (h < nev && geom_rat_cmp(L->ev[h].x, at) <= 0) {
+      cnt[L->ev[h].light] += L->ev[h].d;
+      h++;
+    }
+    for (int k = 0; k < SCENE_LIGHT_MAX; k++) if (cnt[k] > 0) mask |= 1u << k;
+    while (geom_rat_cmp(at, sp.x1) < 0) {
+      struct grat nx = h < nev ? rmin(L->ev[h].x, sp.x1) : sp.x1;
+      if (geom_rat_cmp(at, nx) < 0) {
+        if (nb > 0 && L->b[nb - 1].face == sp.face && L->b[nb - 1].piece == sp.piece &&
+            L->b[nb - 1].blocked == mask && geom_rat_cmp(L->b[nb - 1].x1, at) == 0)
+          L->b[nb - 1].x1 = nx;
+        else
+          L->b[nb++] = (struct fx_span){ at, nx, sp.piece, sp.face, mask };
+      }
+      at = nx;
+      if (h >= nev) break;
+      while (h < nev && geom_rat_cmp(L->ev[h].x, at) <= 0) {
+        cnt[L->ev[h].light] += L->ev[h].d;
+        h++;
+      }
+      mask = 0;
+      for (int k = 0; k < SCENE_LIGHT_MAX; k++) if (cnt[k] > 0) mask |= 1u << k;
+      COST_ADD_N(L->cost, COST_ADD, 2); COST_ADD_N(L->cost, COST_BRANCH, 2);
+    }
+  }
+  struct fx_span *t = L->a; L->a = L->b; L->b = t;
+  L->na = nb;
+  return T74_OK;
+}
+
+int fx_lines_get(struct fx_lines *L, int64_t yn, int64_t yd, const struct fx_span **span,
+                 int *nspan, struct t74_error *err)
+{
+  const struct vis_span *vs;
+  int nv;
+  int rc = vis_spans(&L->vis, yn, yd, &vs, &nv, err);
+  if (rc != T74_OK) return rc;
+  if (!room(L, nv + 1)) return t74_fail(err, T74_EIO, "out of host memory");
+  for (int k = 0; k < nv; k++) L->a[k] = (struct fx_span){ vs[k].x0, vs[k].x1, vs[k].piece, vs[k].face, 0 };
+  L->na = nv;
+  for (int q = 0; q < L->m->ncut && rc == T74_OK; q++) rc = cut_line(L, q, yn, yd, err);
+  if (rc == T74_OK && L->m->shadows.n) rc = shadow_line(L, yn, yd, err);
+  if (rc != T74_OK) return rc;
+  *span = L->a;
+  *nspan = L->na;
+  return T74_OK;
+}
+
+/* ---- the point frame ------------------------------------------------------------------ */
+
+int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
+              struct cost *cost, struct t74_error *err)
+{
+  const struct vis_grid *g = m->g;
+  const int64_t XL = g->window[0], YB = g->window[1], XR = g->window[2], YT = g->window[3];
+  const int64_t xd = 2 * (int64_t)g->W, yd = 2 * (int64_t)g->H;
+  size_t n = (size_t)f->W * (size_t)f->H;
+  unsigned *blocked = calloc(n ? n : 1, sizeof *blocked);
+  if (!blocked) return t74_fail(err, T74_EIO, "out of host memory");
+  int rc = T74_OK;
+  long cut = 0, show_face = 0, show_none = 0, shadowed = 0;
+  if (fx_model_regions(m)) {
+    struct fx_lines *L;
+    if ((rc = fx_lines_open(&L, m, cost, err)) != T74_OK) { free(blocked); return rc; }
+    for (int j = f->H - 1; j >= 0 && rc == T74_OK; j--) {     /* bottom row first */
+      int64_t yn = GRID_ONE * (yd * YT - (2 * (int64_t)j + 1) * (YT - YB));
+      const struct fx_span *sp;
+      int ns;
+      if ((rc = fx_lines_get(L, yn, yd, &sp, &ns, err)) != T74_OK) break;
+      int k = 0;
+      for (int i = 0; i < f->W; i++) {
+        int64_t xn = GRID_ONE * (xd * XL + (2 * (int64_t)i + 1) * (XR - XL));
+        while (k < ns && geom_rat_cmp_frac(sp[k].x1, xn, xd) <= 0) k++;
+        bool in = k < ns && geom_rat_cmp_frac(sp[k].x0, xn, xd) <= 0;
+        size_t at = (size_t)j * (size_t)f->W + (size_t)i;
+        int face = in ? sp[k].face : -1;
+        if (face != f->face[at]) {
+          cut++;
+          if (face >= 0) show_face++; else show_none++;
+        }
+        f->face[at] = face;
+        blocked[at] = in ? sp[k].blocked : 0;
+        shadowed += blocked[at] != 0;
+        COST_ADD_N(cost, COST_ADD, 2); COST_ADD_N(cost, COST_BRANCH, 2);
+      }
+    }
+    fx_lines_close(L);
+  }
+  long pts = 0, flat = 0, band = 0, corner = 0;
+  for (int j = 0; j < f->H && rc == T74_OK; j++)
+    for (int i = 0; i < f->W; i++) {
+      size_t at = (size_t)j * (size_t)f->W + (size_t)i;
+      int region;
+      f->grey[at] = (uint8_t)fx_shade(m, f->face[at], blocked[at], i + 0.5, j + 0.5, i, j, cost, &region);
+      if (region < 0) continue;
+      pts++;
+      if (region == 0) flat++; else if (region == 2) corner++; else band++;
+    }
+  free(blocked);
+  if (rc != T74_OK) return rc;
+  if (m->cuts.n || m->ncut || (m->e->contour_on && m->smooth)) {
+    fx_count(st, "contour_points_cut", (double)cut, true);
+    fx_count(st, "contour_points_show_face", (double)show_face, true);
+    fx_count(st, "contour_points_show_background", (double)show_none, true);
+  }
+  if (m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE) {
+    fx_count(st, "smooth_points", (double)pts, true);
+    fx_count(st, "smooth_points_flat", (double)flat, true);
+    fx_count(st, "smooth_points_edge_band", (double)band, true);
+    fx_count(st, "smooth_points_corner_band", (double)corner, true);
+  }
+  if (m->e->shadows) fx_count(st, "shadow_points", (double)shadowed, true);
+  return T74_OK;
+}

@@ -1,0 +1,44 @@
+/*
+** poly.h — the polygons the effects lay over the visible picture: a contour cut's region
+** (paper 004 §5), a shadow on a face (paper 000 §3). Each is a set of rings on the plane
+** grid (render/geom.h), filled by the even-odd rule, its vertices rounded once onto the
+** grid: from there the polygon IS the region, and every decision about it is exact.
+**
+** On a horizontal line y = yn/yd a polygon covers the stretches between its crossings
+** taken in pairs, left to right, each [x0, x1): a point exactly on a crossing belongs to
+** the stretch on its right, the renderer's tie rule (geom.h), so a shadow and the face
+** beside it, or a cut and the surface it leaves, never both own a point and never both
+** miss one.
+*/
+#ifndef T74_POLY_H
+#define T74_POLY_H
+
+#include <stdbool.h>
+#include "emu/cost.h"
+#include "render/geom.h"
+
+struct fx_poly {
+  int nring;
+  int *rs;                  /* nring + 1 offsets into pt */
+  struct gpoint *pt;
+  gcoord xlo, xhi, ylo, yhi;   /* bounding box */
+  int owner;                /* the mapped face a shadow lies on; the object a cut belongs to */
+  int light;                /* a shadow: the light it hides (index in scene.light) */
+};
+
+struct fx_polys { struct fx_poly *p; int n, cap; };
+
+/* Append a polygon of nring rings (rs[0..nring], pt) — copied; the box is computed.
+   false when out of host memory. Rings of fewer than 3 points are dropped (and a polygon
+   left with none is not added). */
+bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
+                  int owner, int light);
+void fx_polys_free(struct fx_polys *ps);
+
+/* The stretches of polygon p on the line y = yn/yd (yd <= GRID_YDEN_MAX): up to max
+   crossings in x (sorted) written, their count returned (even; -1 when more than max).
+   Counted in cost. */
+int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,
+                  struct cost *cost);
+
+#endif

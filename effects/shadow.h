@@ -1,0 +1,32 @@
+/*
+** shadow.h — shadows (paper 000 §3, Nishita & Nakamae): the polygons the scene's lights
+** cast on the faces, extracted before the scan (§3.1 step (3)), as polygons lying on the
+** faces they fall on.
+**
+** For every face R shaded from the lights, every light k that reaches R's seen side and
+** every other face A of the scene (its holes let light through): the part of A between
+** the light and R's plane is projected through the light onto R's plane (a point light:
+** centrally from its position; a parallel light: along its direction), clipped to R's box
+** in space, and mapped onto the perspective plane by eq. (1). Each vertex is computed in
+** extended precision from the exact integer data and rounded once onto the plane grid;
+** from there the shadow IS that grid polygon (effects/poly.h) and every decision is exact:
+** a point of R is in light k's shadow when a shadow polygon of light k on R covers it.
+** The clipping to the box keeps far-flung projections on the grid and changes nothing on
+** R itself (R lies inside its box).
+**
+** Faces with a `grey` of their own are not lit by the lights, and get no shadows. Faces
+** coplanar with R (R's patterns, R's own face) cast none on it.
+*/
+#ifndef T74_SHADOW_H
+#define T74_SHADOW_H
+
+#include "effects/fx.h"
+#include "effects/poly.h"
+
+/* The shadow polygons of the scene r was prepared from (owner: the mapped face, light:
+   the light), appended to out. Counted in cost; statistics shadow_polygons and
+   shadow_receivers into st. */
+int shadow_build(const struct render *r, const struct scene *s, struct fx_polys *out,
+                 struct fx_stats *st, struct cost *cost, struct t74_error *err);
+
+#endif

@@ -1,0 +1,36 @@
+/*
+** shade.h — a face's intensity from the scene's lights (Lambert's law with an ambient
+** floor; paper 003 reads intensities from its input, paper 000 §3.3 (1) makes a polygon's
+** colour I(S) its reflectance times its illumination, from several lights).
+**
+** This file declares the one shading law every stage uses: the Mapper for a face's flat
+** grey, the effects (effects/) for the intensity at a point of a face (smooth shading's
+** interpolated normals, a texture's reflectance, the lights a shadow blocks).
+**
+**   grey = AMBIENT + (255 - AMBIENT) * r * sum over the lights k not blocked of max(0, n.l_k)
+**
+** clamped to 255 and rounded to nearest, with n the unit normal on the eye's side, l_k
+** the unit direction towards light k (a parallel light's own direction; a point light's
+** from the shaded point), r the reflectance 0..1 (1 without a texture). The ambient floor
+** is what a face turned away from every light (or in every light's shadow) shows; it is
+** not scaled by r, so a texture's dark parts stay visible as the ambient grey (the tube
+** cannot go below it for a lit face). With one parallel light and r = 1 this is exactly
+** the Mapper's integer law (render/mapper.c), which it keeps for that case.
+*/
+#ifndef T74_SHADE_H
+#define T74_SHADE_H
+
+#include <stdbool.h>
+#include "render/scene.h"
+
+#define SHADE_AMBIENT 48            /* the grey of a face no light reaches (tuned by eye) */
+
+/* The unit direction from space point at towards light k of s. */
+void shade_dir(const struct scene *s, int k, const double at[3], double l[3]);
+
+/* Grey at space point at with unit normal n (on the eye's side) and reflectance r; the
+   lights whose bit is set in blocked (bit k: light k) are in shadow there. */
+int shade_grey(const struct scene *s, const double n[3], const double at[3], double r,
+               unsigned blocked);
+
+#endif
