@@ -740,6 +740,15 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   for (int k = 0; k < r->map.nface; k++) sf2m[r->map.f[k].sface] = k;
   for (int o = 0; o < s->nobj; o++)
     for (int k = 0; k < s->obj[o].nface; k++) smooth[s->obj[o].face[k]] = s->obj[o].smooth;
+  /* smooth= (paper 004) smooths every patch of an object (a triangle shaded from the
+     lights, effects/smooth.h): the edges two patches of one object share are no creases
+     any more, so they are not drawn, like a smooth group's (e'1) */
+  if (e->smooth != EFFECTS_SMOOTH_NONE)
+    for (int k = 0; k < nf; k++) {
+      const struct scene_face *sf_ = &s->f[k];
+      if (sf_->object && sf_->nring == 1 && sf_->ring_start[1] == 3 && sf_->grey < 0 && s->has_light)
+        smooth[k] = true;
+    }
 
   /* faces: which way each ring turns, which side the eye sees, the uses of its edges */
   const int64_t *E = r->map.eye;
@@ -854,8 +863,9 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
           seen_b = sigma[fb] * outw[fb] > 0;
           if (!seen_a && !seen_b) { ed->cls = EDGE_E1; ed->why = "both faces turned away"; }
           else if (seen_a && seen_b) {
-            ed->cls = smooth[fa] ? EDGE_E1 : EDGE_E3;
-            ed->why = smooth[fa] ? "both faces seen, smooth group (e'1)" : "both faces seen";
+            bool sm = smooth[fa] && smooth[fb] && s->f[fa].object == s->f[fb].object;
+            ed->cls = sm ? EDGE_E1 : EDGE_E3;
+            ed->why = sm ? "both faces seen, smooth group or smoothed patches (e'1)" : "both faces seen";
           } else { ed->cls = EDGE_E2; ed->why = "one face seen (silhouette)"; }
         } else {
           seen_a = sigma[fa] != 0;
@@ -864,9 +874,10 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
           if (!seen_a && !seen_b) { ed->cls = EDGE_E1; ed->why = "open surface, both faces edge-on"; }
           else if (!seen_a || !seen_b) { ed->cls = EDGE_E2; ed->why = "open surface, one face edge-on"; }
           else if (same) {
-            ed->cls = smooth[fa] ? EDGE_E1 : EDGE_E3;
-            ed->why = smooth[fa] ? "open surface, same side seen, smooth group"
-                                 : "open surface, same side of both faces seen";
+            bool sm = smooth[fa] && smooth[fb] && s->f[fa].object == s->f[fb].object;
+            ed->cls = sm ? EDGE_E1 : EDGE_E3;
+            ed->why = sm ? "open surface, same side seen, smooth group or smoothed patches"
+                         : "open surface, same side of both faces seen";
           } else { ed->cls = EDGE_E2; ed->why = "open surface folds away (one side each)"; }
         }
       } else {
