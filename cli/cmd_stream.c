@@ -437,12 +437,17 @@ int cmd_devices(int argc, char **argv, struct t74_error *err)
   const struct usb_profile *only = NULL;
   if (argc > 2) {
     if (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h")) {
-      printf("usage: tube74 devices [hpgl|ebb|helios]   connected USB devices a profile can drive\n");
+      printf("usage: tube74 devices [hpgl|ebb|helios|tek]   connected USB devices a profile can drive\n");
       return T74_OK;
     }
     if (!(only = usb_profile_find(argv[2])))
-      return t74_fail(err, T74_EINPUT, "tube74: unknown device profile `%s` (hpgl, ebb, helios)",
-                      argv[2]);
+      return t74_fail(err, T74_EINPUT, "tube74: unknown device profile `%s` (hpgl, ebb, helios, "
+                      "tek)", argv[2]);
+  }
+  if (only && !(only->links & USB_LINKS(USB_LINK_USB))) {
+    printf("%s: not a USB device (%s): drive it with `tube74 stream SCENE --device %s --serial "
+           "DEV`\n", only->name, only->what, only->name);
+    return T74_OK;
   }
   int n = usb_list_devices(stdout, only, err);
   if (n < 0) return err->status;
