@@ -9,7 +9,7 @@
 **
 **   tube74 stream SCENE --device hpgl|ebb|helios|tek [--usb VID:PID | --serial DEV
 **                 [--baud N] [--flow none|xonxoff|rtscts] | --dry-run | --to FILE]
-**                 [--svg FILE] [--repeat N] [--resume FILE] [--save FILE] [--pps N]
+**                 [--svg FILE | --no-svg] [--repeat N] [--resume FILE] [--save FILE] [--pps N]
 **                 [--paper a4|a3|letter|WxH] [--set NAME=VALUE]... [--settings] [--force]
 **                 [--no-estimate] [--progress|--no-progress] [render's options]
 **   tube74 devices [PROFILE]
@@ -19,7 +19,8 @@
 ** --dry-run the same into nowhere. With a file link nothing is sent anywhere and a summary
 ** (dots, strokes, pen moves, commands, estimated time) is printed at the end: on stdout, or
 ** on stderr when the file itself goes to stdout (`--to -`). --svg FILE: the pen / beam path
-** as an SVG picture, with any link. The files are outputs of the job's set
+** as an SVG picture, with any link; --to FILE (a regular file or a new name) brings
+** FILE.svg beside it unless --svg names another or --no-svg. The files are outputs of the job's set
 ** (display/outfile.h): written only when everything succeeded, all or none.
 ** THE ESTIMATE: before a real run (USB or serial) the picture is first rendered into a file
 ** link that goes nowhere, with the same profile and settings: its tally is the device's
@@ -39,6 +40,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "cli/commands.h"
@@ -80,6 +82,8 @@ struct stream_args {            /* the options job_parse does not know */
   const char *svg;              /* --svg FILE: the pen / beam path */
   const char *serial;           /* --serial DEV */
   int no_estimate;              /* --no-estimate */
+  int no_svg;                   /* --no-svg: no preview beside the --to file */
+  char svgbuf[1024];            /* FILE.svg beside --to FILE */
 };
 
 static int add_set(struct stream_args *a, const char *kv, struct t74_error *err)
@@ -132,6 +136,7 @@ static int stream_opt(void *ctx, int argc, char **argv, int *k, struct t74_error
   else if (!strcmp(o, "--settings")) a->settings = 1;
   else if (!strcmp(o, "--dry-run")) a->dry_run = 1;
   else if (!strcmp(o, "--no-estimate")) a->no_estimate = 1;
+  else if (!strcmp(o, "--no-svg")) a->no_svg = 1;
   else if (!strcmp(o, "--to")) a->to = argv[++*k];
   else if (!strcmp(o, "--svg")) a->svg = argv[++*k];
   else if (!strcmp(o, "--serial")) a->serial = argv[++*k];
@@ -184,7 +189,8 @@ static void stream_usage(FILE *f)
     "  --dry-run               send nothing: print dots, pen moves and the estimated time\n"
     "  --to FILE               the device's commands into FILE instead of the device\n"
     "                          (HP-GL, EBB commands, ILDA .ild, Tek stream); `-` stdout\n"
-    "  --svg FILE              the pen / beam path as an SVG picture\n"
+    "  --svg FILE              the pen / beam path as an SVG picture (with --to FILE:\n"
+    "                          FILE.svg beside it unless --svg or --no-svg says otherwise)\n"
     "  --no-estimate           no time estimate (and no second render) before a real run\n"
     "  --repeat N              send the picture N times; 0 = until Ctrl-C (default 1)\n"
     "  --resume FILE           continue a run that failed or was stopped\n"
@@ -354,6 +360,15 @@ int cmd_stream(int argc, char **argv, struct t74_error *err)
     return t74_fail(err, T74_EINPUT, "tube74: the %s profile has no %s link%s", prof->name,
                     kind == USB_LINK_USB ? "USB" : kind == USB_LINK_SERIAL ? "serial" : "file",
                     kind == USB_LINK_USB ? ": give --serial DEV (or --to FILE / --dry-run)" : "");
+  if (a.to && !a.svg && !a.no_svg) {          /* the preview beside the commands */
+    struct stat sb;
+    int plain = stat(a.to, &sb) != 0 ? errno == ENOENT : S_ISREG(sb.st_mode);
+    if (plain && strcmp(a.to, "-") && strlen(a.to) + 5 <= sizeof a.svgbuf) {
+      snprintf(a.svgbuf, sizeof a.svgbuf, "%s.svg", a.to);
+      a.svg = a.svgbuf;
+    }
+  }
+  if (a.no_svg) a.svg = NULL;
   if (kind == USB_LINK_FILE && a.repeat == 0)
     return t74_fail(err, T74_EINPUT, "tube74: --repeat 0 (until stopped) needs a device; a file "
                     "holds a number of passes");

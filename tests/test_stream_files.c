@@ -101,6 +101,10 @@ static void test_hpgl_file_parses_back(void **state)
   assert_non_null(strstr((char *)s, "estimated time"));
   assert_non_null(strstr((char *)s, out));
   free(s);
+  /* the SVG preview beside it (--to FILE brings FILE.svg) */
+  char svg[700];
+  snprintf(svg, sizeof svg, "%s.svg", out);
+  assert_true(dev_exists(svg));
   free(b);
   free(r.marks.xy);
 }
@@ -548,6 +552,11 @@ static void test_bad_input_no_file(void **state)
   assert_int_equal(dev_run(argv, "/dev/null", errf), 2);
   assert_false(dev_exists(out));
   assert_false(dev_exists(svg));
+  char beside[700];
+  snprintf(beside, sizeof beside, "%s.svg", out);
+  char *argv_b[] = { (char *)dev_tube74(), "stream", bad, "--device", "hpgl", "--to", out, NULL };
+  assert_int_equal(dev_run(argv_b, "/dev/null", "/dev/null"), 2);
+  assert_false(dev_exists(beside));
   unsigned char *e = dev_slurp(errf, NULL);
   assert_non_null(strstr((char *)e, "bad.s74:2:"));     /* FILE:LINE: message */
   free(e);
