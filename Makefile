@@ -70,7 +70,7 @@ $(LIB): $(LIBOBJ)
 $(PROG): $(CLIOBJ) $(LIB)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLIOBJ) $(LIB) $(PKG_LIBS) -lm
 
-$(BUILD)/tests/%: tests/%.c $(wildcard tests/usbmock/*.c) $(REFOBJ) $(LIB) | $(DEPS_STAMP)
+$(BUILD)/tests/%: tests/%.c $(wildcard tests/usbmock/*.c) $(wildcard tests/devices/*.c) $(REFOBJ) $(LIB) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -o $@ $< $(REFOBJ) $(LIB) $(TEST_LIBS) $(PKG_LIBS) -lm
 

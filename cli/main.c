@@ -24,8 +24,9 @@ static void usage(FILE *f)
   fprintf(f,
     "usage: tube74 render SCENE [options]     render a scene (.s74, .obj, .off, or a Tek stream)\n"
     "       tube74 tek SCENE [-o FILE] [options]   the picture as a Tektronix 4010/4014 stream\n"
-    "       tube74 stream SCENE --device hpgl|ebb|helios [--usb VID:PID] [--repeat N]\n"
-    "                     [--resume FILE] [options]   the dots to vector hardware over USB\n"
+    "       tube74 stream SCENE --device hpgl|ebb|helios|tek [--usb VID:PID | --serial DEV |\n"
+    "                     --dry-run | --to FILE] [--svg FILE] [--repeat N] [--resume FILE]\n"
+    "                     [options]   the dots to vector hardware (USB, RS-232) or its file\n"
     "       tube74 devices [PROFILE]          connected USB devices that match a profile\n"
     "       tube74 play SCENE [--speed X] [--movie FILE] [options]   watch the picture build up\n"
     "       tube74 teach SCENE [-o DIR] [--line J] [options]   the paper's figures, step by\n"

@@ -195,10 +195,34 @@ bool tek_sniff(const uint8_t *buf, size_t n)
 ** Encoder.
 */
 
+void tek_regs_reset(struct tek_regs *r)
+{
+  r->hiy = r->extra = r->loy = r->hix = -1;
+}
+
+size_t tek_addr_bytes(struct tek_regs *r, int x, int y, uint8_t b[5])
+{
+  int X = tek_addr_of_dot(x), Y = tek_addr_of_dot(y);
+  int hiy = 0x20 | ((Y >> 7) & 0x1F);
+  int extra = 0x60 | ((Y & 3) << 2) | (X & 3);
+  int loy = 0x60 | ((Y >> 2) & 0x1F);
+  int hix = 0x20 | ((X >> 7) & 0x1F);
+  int lox = 0x40 | ((X >> 2) & 0x1F);
+  size_t n = 0;
+  bool send_extra = extra != r->extra, send_hix = hix != r->hix;
+  if (hiy != r->hiy) b[n++] = (uint8_t)hiy;
+  if (send_extra) b[n++] = (uint8_t)extra;
+  if (send_extra || send_hix || loy != r->loy) b[n++] = (uint8_t)loy;
+  if (send_hix) b[n++] = (uint8_t)hix;
+  b[n++] = (uint8_t)lox;
+  r->hiy = hiy; r->extra = extra; r->loy = loy; r->hix = hix;
+  return n;
+}
+
 struct tek_enc {
   struct outfile *of;           /* the output file, NULL when writing stdout */
   FILE *f;                      /* where the bytes go: outfile_stream(of) or stdout */
-  int hiy, extra, loy, hix;     /* last byte of each group sent, -1 = none yet */
+  struct tek_regs r;            /* what the terminal holds of the last address */
   bool started;                 /* the header has been written */
   bool finished;                /* end or abort has run */
   uint64_t points, bytes;       /* dots encoded, bytes written */
@@ -221,7 +245,7 @@ int tek_enc_open(struct tek_enc **out, const char *path, struct t74_error *err)
   } else {
     e->f = stdout;
   }
-  e->hiy = e->extra = e->loy = e->hix = -1;
+  tek_regs_reset(&e->r);
   *out = e;
   return T74_OK;
 }
@@ -235,7 +259,7 @@ int tek_enc_open_to(struct tek_enc **out, struct outfile *of, struct t74_error *
   }
   e->of = of;
   e->f = outfile_stream(of);
-  e->hiy = e->extra = e->loy = e->hix = -1;
+  tek_regs_reset(&e->r);
   *out = e;
   return T74_OK;
 }
@@ -259,22 +283,9 @@ static int enc_point(void *ctx, int x, int y)
     return t74_fail(&e->err, T74_EINPUT, "tek: dot (%d, %d) is outside the %d x %d tube",
                     x, y, TUBE_W, TUBE_H);
   enc_start(e);
-  int X = tek_addr_of_dot(x), Y = tek_addr_of_dot(y);
-  int hiy = 0x20 | ((Y >> 7) & 0x1F);
-  int extra = 0x60 | ((Y & 3) << 2) | (X & 3);
-  int loy = 0x60 | ((Y >> 2) & 0x1F);
-  int hix = 0x20 | ((X >> 7) & 0x1F);
-  int lox = 0x40 | ((X >> 2) & 0x1F);
   uint8_t b[5];
-  size_t n = 0;
-  bool send_extra = extra != e->extra, send_hix = hix != e->hix;
-  if (hiy != e->hiy) b[n++] = (uint8_t)hiy;
-  if (send_extra) b[n++] = (uint8_t)extra;
-  if (send_extra || send_hix || loy != e->loy) b[n++] = (uint8_t)loy;
-  if (send_hix) b[n++] = (uint8_t)hix;
-  b[n++] = (uint8_t)lox;
+  size_t n = tek_addr_bytes(&e->r, x, y, b);
   enc_put(e, b, n);
-  e->hiy = hiy; e->extra = extra; e->loy = loy; e->hix = hix;
   e->points++;
   return T74_OK;
 }

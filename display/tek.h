@@ -108,6 +108,15 @@ static inline int tek_dot_of_addr(int a) { return a >= 0 ? a * 25 / 256 : -((-a 
 
 /* ---- encoder ----------------------------------------------------------------------- */
 
+/* What the terminal holds of the last address: the last byte of each group sent (-1: none
+** yet, so the next address goes whole). The encoder below and the `tek` serial profile
+** (display/usb/tekterm.c) share the address rules through these two. */
+struct tek_regs { int hiy, extra, loy, hix; };
+void tek_regs_reset(struct tek_regs *r);
+/* The bytes of the point-plot address of tube dot (x, y) into b (1..5 bytes, the omissions
+** of ENCODER above), r updated. */
+size_t tek_addr_bytes(struct tek_regs *r, int x, int y, uint8_t b[5]);
+
 struct tek_enc;                 /* opaque: output, last address bytes sent, counts */
 
 /* Start a stream to path (NULL: stdout). The header goes out with the first dot (or at

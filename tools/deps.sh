@@ -3,11 +3,12 @@
 # As root, missing packages are installed; otherwise the exact apt-get line is printed.
 #   need       to build tube74 and its tests (missing ones stop the build)
 #   testneed   tools some tests drive (gnuplot and plotutils write Tek streams for
-#              tests/test_tek_tools.c, Chromium loads the teaching page); without them
+#              tests/test_tek_tools.c, Chromium loads the teaching page, xmllint checks the
+#              stream SVG previews in tests/test_stream_files.c); without them
 #              those tests are skipped (exit 77), so a missing one does not stop the build
 set -u
 need="pkg-config gnuplot-nox libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth libgif-dev jq"
-testneed="plotutils chromium"
+testneed="plotutils chromium libxml2-utils"
 missing=""
 for p in $need; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

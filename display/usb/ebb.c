@@ -54,6 +54,12 @@
 ** flush() polls QM until the board is idle. Any reply line that is not "OK" (an "!8 Err" or
 ** noise) fails the run.
 ** Strokes, bands and order: penplan.h, as for hpgl.
+** A FILE (--to, --dry-run) gets the same commands and no QM: nothing answers, so every
+** command counts as run once written. Over --serial (the board's own /dev/ttyACM0, cdc_acm
+** bound) the same commands and replies go over the tty (not tested against an emulator).
+** TIME MODEL (the estimate, usb_tally): the board runs its motion commands one after the
+** other, so the time is the sum of what they ask: each SM's duration and each SP's wait
+** (the ramps and servo waits above) — the figure the emulated board's motion clock gives.
 */
 #include <math.h>
 #include <stdio.h>
@@ -62,6 +68,7 @@
 
 #include "display/sink.h"
 #include "display/usb/penplan.h"
+#include "display/usb/preview.h"
 #include "display/usb/usb.h"
 
 enum {                          /* rows of ebb_params, in order */
@@ -133,6 +140,9 @@ struct ebb {
   int nline;
   unsigned char in[64];         /* reply bytes read, in[ipos .. nin-1] not yet used */
   int ipos, nin;
+  int offline;                  /* a file link: nothing answers, all written counts as run */
+  struct usb_tally *t;
+  struct preview *pv;
 };
 
 /* ---- servo: positions, rates and waits, as the AxiDraw software sets them ------------- */
@@ -289,6 +299,11 @@ static int ebb_sync(struct ebb *e, struct t74_error *err)
   }
   if (usb_transfer(e->l, USB_BULK, (unsigned char)e->ep_out, out, n, NULL, err) != T74_OK)
     return err->status;
+  if (e->offline) {             /* a file: written is all there is */
+    e->nsent = e->ncmd;
+    ran(e, e->nsent);
+    return T74_OK;
+  }
   double link_ms = usb_link_timeout_ms(e->l);
   while (e->nsent < e->ncmd) {
     struct eb_cmd *c = &e->cmd[e->nsent];
@@ -311,6 +326,7 @@ static int ebb_sync(struct ebb *e, struct t74_error *err)
 static int ebb_drain(struct ebb *e, struct t74_error *err)
 {
   if (ebb_sync(e, err) != T74_OK) return err->status;
+  if (e->offline) return T74_OK;
   double t_end = usb_now() + (usb_link_timeout_ms(e->l) + ms_from(e, 0)) / 1000.0;
   while (e->ncmd > 0) {
     if (learn_ran(e, err) != T74_OK) return err->status;
@@ -345,6 +361,8 @@ static int ebb_cmd(struct ebb *e, const char *text, int queued, double ms,
   }
   struct eb_cmd *c = &e->cmd[e->ncmd++];
   snprintf(c->text, sizeof c->text, "%s\r", text);
+  e->t->commands++;
+  if (queued) e->t->device_s += ms / 1000.0;
   c->queued = queued;
   c->ms = ms;
   c->first = e->npend;
@@ -360,6 +378,7 @@ static int pen(struct ebb *e, int up, const struct usb_point *dot, struct t74_er
   int ms = up ? e->raise_ms : e->lower_ms;
   if (e->pin) snprintf(t, sizeof t, "SP,%d,%d,%d", up, ms, e->pin);
   else snprintf(t, sizeof t, "SP,%d,%d", up, ms);
+  preview_pen(e->pv, !up);
   return ebb_cmd(e, t, 1, ms, dot, dot ? 1 : 0, err);
 }
 
@@ -394,6 +413,11 @@ static int ebb_move(struct ebb *e, long X, long Y, int down, const struct usb_po
   if (dx == 0 && dy == 0) return T74_OK;
   double D = sqrt((double)dx * dx + (double)dy * dy);
   double v = down ? e->v_down : e->v_up, a = down ? e->a_down : e->a_up, T;
+  if (down) e->t->down_mm += D / e->spmm;
+  else {
+    e->t->up_mm += D / e->spmm;
+    e->t->pen_moves++;
+  }
   ramp_s(0, D, v, a, &T);
   double ta = fmin(v / a, sqrt(D / a)), tc = T - 2 * ta;
   /* piece boundaries in time */
@@ -438,6 +462,7 @@ static int ebb_move(struct ebb *e, long X, long Y, int down, const struct usb_po
     py = qy;
     e->X = qx;
     e->Y = qy;
+    preview_to(e->pv, (double)qx, (double)qy);
     if (ebb_cmd(e, t, 1, (double)ms, dots ? dots + d0 : NULL, nd, err) != T74_OK) return err->status;
     d0 += nd;
   }
@@ -454,6 +479,7 @@ static int emit_band(struct ebb *e, struct t74_error *err)
   for (int k = 0; k < e->plan.nst; k++) {
     const struct pen_stroke *s = &e->plan.st[k];
     const struct usb_point *d = &e->plan.pts[s->first];
+    e->t->strokes++;
     if (ebb_move(e, ebb_X(e, s->x0), ebb_Y(e, s->y), 0, NULL, 0, err) != T74_OK ||
         pen(e, 0, d, err) != T74_OK)
       return err->status;
@@ -479,6 +505,9 @@ static int ebb_open(void **ctx, struct usb_link *l, const struct usb_settings *s
   if (!e) return t74_fail(err, T74_EIO, "ebb: out of memory");
   e->l = l;
   e->ack = ack;
+  e->offline = usb_link_kind(l) == USB_LINK_FILE;
+  e->t = usb_link_tally(l);
+  e->pv = usb_link_preview(l);
   e->ep_out = usb_link_endpoint(l, USB_BULK, 0);
   e->ep_in = usb_link_endpoint(l, USB_BULK, 1);
   e->spmm = s->p[EB_SPMM];
@@ -503,10 +532,14 @@ static int ebb_open(void **ctx, struct usb_link *l, const struct usb_settings *s
     ebb_free(e);
     return t74_fail(err, T74_EIO, "ebb: out of memory");
   }
-  if (e->ep_out < 0 || e->ep_in < 0) {
+  if (e->ep_out < 0 || (e->ep_in < 0 && !e->offline)) {
     ebb_free(e);
     return t74_fail(err, T74_EIO, "ebb: the CDC data interface lacks bulk endpoints");
   }
+  preview_area(e->pv, 0, 0, (s->p[EB_AREA_X] + s->p[EB_AREA_W]) * e->spmm,
+               (s->p[EB_AREA_Y] + s->p[EB_AREA_H]) * e->spmm, 0, e->spmm,
+               "EiBotBoard plotter, steps from the home corner (top left)");
+  preview_at(e->pv, 0, 0);
   char t[5][EB_MAX_CMD];
   snprintf(t[0], sizeof t[0], "SC,4,%d", sv.up);
   snprintf(t[1], sizeof t[1], "SC,5,%d", sv.down);
@@ -553,8 +586,8 @@ static int ebb_status(void *ctx, struct usb_status *st, struct t74_error *err)
 {
   struct ebb *e = ctx;
   memset(st, 0, sizeof *st);
-  int busy, fifo;
-  if (query_motion(e, &busy, &fifo, err) != T74_OK) return err->status;
+  int busy = 0, fifo = 0;
+  if (!e->offline && query_motion(e, &busy, &fifo, err) != T74_OK) return err->status;
   st->ready = 1;                /* the EBB has no paper sensor */
   snprintf(st->text, sizeof st->text, "EBB: %s%s", busy ? "moving" : "idle",
            fifo ? ", a command waits in the FIFO" : "");
@@ -599,5 +632,6 @@ const struct usb_profile usb_profile_ebb = {
   "ebb", "EiBotBoard (AxiDraw, EggBot) pen plotter, USB CDC",
   { 0x04D8, 0xFD92, 10, -1 },   /* hardware-facts.md; the CDC data interface (class 10) */
   ebb_params, EB_NPARAMS,
-  ebb_open, ebb_send, ebb_flush, ebb_status, ebb_close, NULL
+  ebb_open, ebb_send, ebb_flush, ebb_status, ebb_close, NULL,
+  USB_LINKS(USB_LINK_USB) | USB_LINKS(USB_LINK_SERIAL) | USB_LINKS(USB_LINK_FILE), "EBB commands"
 };

@@ -46,12 +46,17 @@
 ** ACKNOWLEDGED: a dot is acknowledged when the bulk transfer of its frame has completed
 ** (the DAC took the whole frame). --repeat passes are the stream's (stream.c): each pass
 ** sends every dot again, as a refresh.
+** A FILE (--to FILE.ild, --dry-run) gets the same frames as ILDA IDTF format-1 sections
+** (display/usb/ilda.h), one a frame, no status polls and no shutter commands; the DAC's pps
+** is not in the file. TIME MODEL (the estimate): a frame of n points plays in n / pps s.
 */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "display/sink.h"
+#include "display/usb/ilda.h"
+#include "display/usb/preview.h"
 #include "display/usb/usb.h"
 
 enum { HE_PPS, HE_FRAME, HE_BLANK_STEP, HE_DWELL, HE_INTENSITY, HE_STATUS_MS, HE_POLL_MS,
@@ -112,6 +117,10 @@ struct helios {
   struct usb_point *pass;       /* steady: the pass's dots, buffered until flush */
   int npass;
   int *order;                   /* steady: scratch (indices) */
+  int offline;                  /* a file link: frames become ILDA sections */
+  struct ilda_writer ilda;
+  struct usb_tally *t;
+  struct preview *pv;
 };
 
 static void put_point(struct he_frame *f, int X, int Y, int g, int i)
@@ -230,6 +239,21 @@ static int send_frame(struct helios *h, struct t74_error *err)
     int X = (last[0] << 4) | (last[1] >> 4), Y = ((last[1] & 0x0F) << 8) | last[2];
     put_point(f, X, Y, 0, 0);
   }
+  h->t->frames++;
+  h->t->commands++;
+  h->t->points += f->npts;
+  h->t->device_s += (double)f->npts / h->pps;
+  for (int k = 0; k < f->npts; k++) {           /* the beam's path, for --svg */
+    const unsigned char *b = f->buf + (size_t)k * HE_POINT_BYTES;
+    preview_pen(h->pv, b[4] != 0 || b[6] != 0);
+    preview_to(h->pv, (b[0] << 4) | (b[1] >> 4), ((b[1] & 0x0F) << 8) | b[2]);
+  }
+  if (h->offline) {             /* a file: the frame as an ILDA section, taken at once */
+    if (ilda_frame(&h->ilda, f->buf, f->npts, err) != T74_OK) return err->status;
+    for (int k = 0; k < f->ndots; k++) h->ack.fn(h->ack.ctx, &f->dots[k]);
+    f->npts = f->ndots = 0;
+    return T74_OK;
+  }
   if (wait_inflight(h, err) != T74_OK || wait_ready(h, err) != T74_OK) return err->status;
   if (!h->shutter_open) {                       /* the SDK opens it before the first frame */
     if (he_control(h, HE_CMD_SHUTTER, 1, err) != T74_OK) return err->status;
@@ -268,6 +292,8 @@ static void beam_to(struct helios *h, struct he_frame *f, int x, int y, int lit)
   int X = HE_X0 + HE_DOT_UNITS * x, Y = HE_Y0 + HE_DOT_UNITS * y;
   int lx = h->have_pos ? HE_X0 + HE_DOT_UNITS * h->lx : X;
   int ly = h->have_pos ? HE_Y0 + HE_DOT_UNITS * h->ly : Y;
+  if (nb > 0) h->t->pen_moves++;
+  h->t->strokes += lit > 0;
   for (int k = 1; k <= nb; k++)                 /* blanked, interpolated; the last on the dot */
     put_point(f, lx + (X - lx) * k / nb, ly + (Y - ly) * k / nb, 0, 0);
   for (int k = 0; k < lit; k++) put_point(f, X, Y, h->intensity, h->intensity);
@@ -397,6 +423,7 @@ static void helios_free(struct helios *h)
     free(h->f[k].dots);
   }
   usb_xfer_free(&h->x);
+  ilda_free(&h->ilda);
   free(h->pass);
   free(h->order);
   free(h);
@@ -409,6 +436,11 @@ static int helios_open(void **ctx, struct usb_link *l, const struct usb_settings
   if (!h) return t74_fail(err, T74_EIO, "helios: out of memory");
   h->l = l;
   h->ack = ack;
+  h->offline = usb_link_kind(l) == USB_LINK_FILE;
+  h->t = usb_link_tally(l);
+  h->pv = usb_link_preview(l);
+  ilda_init(&h->ilda);
+  preview_area(h->pv, 0, 0, 4095, 4095, 1, 0, "Helios DAC field, 12-bit X and Y");
   h->ep_bulk = usb_link_endpoint(l, USB_BULK, 0);
   h->ep_iout = usb_link_endpoint(l, USB_INTERRUPT, 0);
   h->ep_iin = usb_link_endpoint(l, USB_INTERRUPT, 1);
@@ -432,6 +464,10 @@ static int helios_open(void **ctx, struct usb_link *l, const struct usb_settings
   if (!ok) {
     helios_free(h);
     return t74_fail(err, T74_EIO, "helios: out of memory");
+  }
+  if (h->offline) {             /* nothing to ask a file */
+    *ctx = h;
+    return T74_OK;
   }
   if (h->ep_bulk < 0 || h->ep_iout < 0 || h->ep_iin < 0) {
     helios_free(h);
@@ -485,6 +521,14 @@ static void helios_close(void *ctx, int clean)
 {
   struct helios *h = ctx;
   struct t74_error err = { T74_OK, "" };
+  if (h->offline) {             /* the ILDA file: every frame, then the end header */
+    const unsigned char *b;
+    size_t n;
+    if (clean && ilda_finish(&h->ilda, &b, &n, &err) == T74_OK)
+      usb_transfer(h->l, USB_BULK, (unsigned char)h->ep_bulk, (void *)b, (int)n, NULL, &err);
+    helios_free(h);
+    return;
+  }
   if (!usb_link_gone(h->l)) {
     if (h->inflight >= 0) {
       if (!clean) h->f[h->inflight].ndots = 0;  /* stopping: nothing more counts as shown */
@@ -503,5 +547,6 @@ const struct usb_profile usb_profile_helios = {
   "helios", "Helios laser / XY DAC (refreshed vector picture)",
   { 0x1209, 0xE500, -1, 1 },    /* interface 0, alt setting 1 (Helios SDK) */
   helios_params, HE_NPARAMS,
-  helios_open, helios_send, helios_flush, helios_status, helios_close, NULL
+  helios_open, helios_send, helios_flush, helios_status, helios_close, NULL,
+  USB_LINKS(USB_LINK_USB) | USB_LINKS(USB_LINK_FILE), "ILDA IDTF (.ild, format 1)"
 };

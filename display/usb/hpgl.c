@@ -38,18 +38,48 @@
 ** ACKNOWLEDGED: a dot is acknowledged when every byte up to the end of the command that
 ** draws it has been taken by the device (the bulk transfer's actual length, also when it
 ** failed part way). GET_PORT_STATUS is checked at open and before each band.
+**
+** OVER RS-232 (--serial, display/usb/serial.h; the HP 7470A / 7475A interfacing manuals'
+** device-control instructions, "ESC ." sequences the plotter obeys at once, outside its
+** buffer): there is no device id and no port status; OH is answered on the line. The
+** handshake (setting `handshake`):
+**   auto (0)   with the link's flow `none`: SOFTWARE CHECKING — before a block the plotter
+**              is asked ESC.B ("output buffer space": a decimal number of free bytes, then
+**              the output terminator, CR by default) and sent at most that many bytes, so
+**              its buffer (1,024 bytes on the 7475A) never overflows whatever the cable;
+**              with flow XON/XOFF: the plotter's Xon-Xoff handshake is switched on first,
+**              ESC.I<xoff_bytes>;;17: (Xoff threshold, no enquiry character, DC1 as the Xon
+**              trigger) and ESC.N;19: (DC3 as the Xoff trigger), then serial.c obeys them;
+**              with flow RTS/CTS: nothing is sent for it (the 7475A wakes up with its
+**              hardwire handshake on: DTR low while fewer than 80 bytes are free)
+**   ESC.B (1)  software checking whatever the link's flow
+**   none (2)   nothing: the bytes are only paced (a plotter slower than its line overflows)
+** Acknowledged: bytes the plotter took into its buffer, as over USB.
+** A FILE (--to, --dry-run) gets exactly the bytes a plotter would; with no OH answer and no
+** device id, the picture is fitted to the 7475A's documented limits for `sheet` (`limits=1`:
+** to the area_* settings instead).
+**
+** TIME MODEL (the estimate, usb_tally): every stroke costs the pen-up move to its start at
+** pen_up_speed, a pen drop and a lift (pen_lift_ms each) and its length at pen_down_speed;
+** no acceleration is modelled (the 7475A's manual gives none), so the estimate is a lower
+** bound of the plotter's motion. Over a serial line the bytes' own time at the baud may be
+** longer; the stream takes the longer of the two.
 */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "display/usb/penplan.h"
 #include "display/sink.h"
+#include "display/usb/preview.h"
+#include "display/usb/serial.h"
 #include "display/usb/usb.h"
 
 enum {                          /* rows of hpgl_params, in order */
   HP_AREA_X, HP_AREA_Y, HP_AREA_W, HP_AREA_H, HP_UNITS, HP_V_UP, HP_V_DOWN, HP_LIFT,
-  HP_RUNS, HP_BAND, HP_CHUNK, HP_PEN, HP_MARGIN, HP_SHEET, HP_QUERY, HP_FORCE, HP_NPARAMS
+  HP_RUNS, HP_BAND, HP_CHUNK, HP_PEN, HP_MARGIN, HP_SHEET, HP_QUERY, HP_FORCE, HP_HANDSHAKE,
+  HP_XOFF, HP_POLL, HP_LIMITS, HP_NPARAMS
 };
 
 static const struct param_row hpgl_params[HP_NPARAMS] = {
@@ -70,6 +100,14 @@ static const struct param_row hpgl_params[HP_NPARAMS] = {
   { "sheet",          "",      0,   0,  1,     1, "model defaults without OH: 0 A4, 1 US A (letter)" },
   { "query_ms",       "ms",    500, 0,  10000, 0, "wait for the OH answer; 0: do not ask" },
   { "force",          "",      0,   0,  1,     1, "1: drive a device whose id lacks HP-GL (--force)" },
+  { "handshake",      "",      0,   0,  2,     1, "--serial: 0 auto, 1 ESC.B checking, 2 none "
+                                                   "(7475A manual; hpgl.c)" },
+  { "xoff_bytes",     "bytes", 80,  16, 1000,  1, "--flow xonxoff: ESC.I Xoff threshold (7470A/"
+                                                   "7475A default block size 80)" },
+  { "poll_ms",        "ms",    50,  1,  5000,  0, "ESC.B: pause before asking again when full; "
+                                                   "inferred" },
+  { "limits",         "",      0,   0,  1,     1, "0 OH, else the model's (7475A for files), "
+                                                   "else area_*; 1 area_* always" },
 };
 
 #define HP_REQ_GET_DEVICE_ID   0        /* Printer Class 1.1 §4.2.1 */
@@ -78,6 +116,7 @@ static const struct param_row hpgl_params[HP_NPARAMS] = {
 #define HP_ST_PAPER_EMPTY      0x20     /* bit 5: 1 = paper empty */
 #define HP_ST_SELECTED         0x10     /* bit 4: 1 = selected (on line) */
 #define HP_ST_NOT_ERROR        0x08     /* bit 3: 0 = error */
+#define HP_MIN_BLOCK           32       /* ESC.B: wait for this much room (or all that is left) */
 
 /* Hard-clip limits of the models whose manuals give them, in plotter units: the picture is
 ** fitted inside when the plotter does not answer OH (a one-way adapter). */
@@ -116,6 +155,14 @@ struct hpgl {
   char model[64];               /* MODEL of the device id, "" unknown */
   int clip[4];                  /* hard-clip limits used: xll, yll, xur, yur */
   const char *clip_from;        /* where they came from (OH, the model table, settings) */
+  int usb;                      /* the link is USB (device id, port status exist) */
+  int escb;                     /* software checking: ESC.B before each block */
+  int room;                     /* ESC.B: bytes the plotter said it had free, less those sent */
+  double poll_ms, query_ms;
+  double upm, v_up, v_down, lift_s;   /* the time model (TIME MODEL above) */
+  long px, py;                  /* where the pen is, plotter units */
+  struct usb_tally *t;
+  struct preview *pv;
 };
 
 static int hpgl_status(void *ctx, struct usb_status *st, struct t74_error *err)
@@ -124,6 +171,11 @@ static int hpgl_status(void *ctx, struct usb_status *st, struct t74_error *err)
   unsigned char b[4] = { 0 };
   int got = 0;
   memset(st, 0, sizeof *st);
+  if (!h->usb) {                /* RS-232 and files have no port status */
+    st->ready = 1;
+    snprintf(st->text, sizeof st->text, "no port status on %s", usb_link_name(h->l));
+    return T74_OK;
+  }
   int rc = usb_control_in(h->l, HP_RT_CLASS_IN_IFACE, HP_REQ_GET_PORT_STATUS, 0,
                           (uint16_t)usb_link_interface(h->l), b, 1, &got, err);
   if (rc != T74_OK) return rc;
@@ -151,12 +203,87 @@ static int check_ready(struct hpgl *h, struct t74_error *err)
   return T74_OK;
 }
 
+/* One answer line of the plotter (CR or LF ends it; blank lines skipped) within ms into
+** line; 0 bytes when none came. A serial line is read a byte at a time, so that nothing
+** after the terminator is taken from the next answer. */
+static int read_answer(struct hpgl *h, double ms, char *line, int cap, struct t74_error *err)
+{
+  int n = 0;
+  double t_end = usb_now() + ms / 1000.0;
+  while (n < cap - 1) {
+    unsigned char in[64];
+    int got = 0;
+    double left = (t_end - usb_now()) * 1000.0;
+    if (left <= 0) break;
+    if (usb_read_once(h->l, USB_BULK, (unsigned char)h->ep_in, in, h->usb ? (int)sizeof in : 1,
+                      left < 1 ? 1 : (int)left, &got, err) != T74_OK)
+      return -1;
+    int done = 0;
+    for (int k = 0; k < got && n < cap - 1; k++) {
+      if (in[k] == '\r' || in[k] == '\n') { if (n) { done = 1; break; } continue; }
+      line[n++] = (char)in[k];
+    }
+    if (done) break;
+  }
+  line[n] = 0;
+  return n;
+}
+
+/* ESC.B: the plotter's free buffer space into h->room. */
+static int ask_room(struct hpgl *h, struct t74_error *err)
+{
+  static const char q[] = "\x1b.B";          /* output buffer space (no parameters) */
+  if (usb_transfer(h->l, USB_BULK, (unsigned char)h->ep, (void *)q, 3, NULL, err) != T74_OK)
+    return err->status;
+  char line[32];
+  int n = read_answer(h, h->query_ms, line, sizeof line, err);
+  if (n < 0) return err->status;
+  char *end;
+  long v = strtol(line, &end, 10);
+  if (n == 0 || *end || v < 0)
+    return t74_fail(err, T74_EIO, "hpgl: the plotter %s ESC.B (its free buffer space) within "
+                    "%.0f ms%s%s%s: check the cable's receive line and the baud", n ? "answered" : "did not answer",
+                    h->query_ms, n ? " `" : "", n ? line : "", n ? "`" : "");
+  h->room = (int)v;
+  return T74_OK;
+}
+
+/* Write b[0..n) to the plotter: with software checking, never more than it has room for. */
+static int hp_write(struct hpgl *h, const unsigned char *b, int n, int *done, struct t74_error *err)
+{
+  if (!h->escb) return usb_transfer(h->l, USB_BULK, (unsigned char)h->ep, (void *)b, n, done, err);
+  *done = 0;
+  double t_room = usb_now();                    /* since the room last grew */
+  while (*done < n) {
+    int want = n - *done < HP_MIN_BLOCK ? n - *done : HP_MIN_BLOCK;
+    if (h->room < want) {
+      int before = h->room;
+      if (ask_room(h, err) != T74_OK) return err->status;
+      if (h->room > before) t_room = usb_now();
+      if (h->room < want) {                     /* full: the pen is busy, ask again soon */
+        if (usb_link_stopped(h->l)) return t74_fail(err, T74_EIO, "hpgl: stopped");
+        if ((usb_now() - t_room) * 1000 > usb_link_timeout_ms(h->l))
+          return t74_fail(err, T74_EIO, "hpgl: the plotter's buffer stayed full for %.0f ms "
+                          "(ESC.B answered %d free bytes)", usb_link_timeout_ms(h->l), h->room);
+        usb_sleep_ms(h->poll_ms);
+        continue;
+      }
+    }
+    int k = n - *done < h->room ? n - *done : h->room, d = 0;
+    int rc = usb_transfer(h->l, USB_BULK, (unsigned char)h->ep, (void *)(b + *done), k, &d, err);
+    *done += d;
+    h->room -= d;
+    if (rc != T74_OK) return rc;
+  }
+  return T74_OK;
+}
+
 /* Send the filled chunk; acknowledge every command it completed. */
 static int send_chunk(struct hpgl *h, struct t74_error *err)
 {
   if (h->nbuf == 0) return T74_OK;
   int done = 0;
-  int rc = usb_transfer(h->l, USB_BULK, (unsigned char)h->ep, h->buf, h->nbuf, &done, err);
+  int rc = hp_write(h, h->buf, h->nbuf, &done, err);
   h->sent += done;
   while (h->rec0 < h->nrec && h->rec[h->rec0].end <= h->sent) {
     const struct hp_rec *r = &h->rec[h->rec0++];
@@ -176,6 +303,7 @@ static int put_cmd(struct hpgl *h, const char *cmd, const struct usb_point *dots
   memcpy(h->buf + h->nbuf, cmd, (size_t)len);
   h->nbuf += len;
   h->queued += len;
+  for (int k = 0; k < len; k++) h->t->commands += cmd[k] == ';';
   if (n == 0) return T74_OK;
   if (h->npend + n > h->cappend) {
     int cap = (h->npend + n) * 2;
@@ -204,12 +332,26 @@ static int put_cmd(struct hpgl *h, const char *cmd, const struct usb_point *dots
 static int emit_band(struct hpgl *h, struct t74_error *err)
 {
   if (h->plan.nin == 0) return T74_OK;
-  if (check_ready(h, err) != T74_OK) return err->status;
+  if (h->usb && check_ready(h, err) != T74_OK) return err->status;
   if (penplan_plan(&h->plan, err) != T74_OK) return err->status;
   for (int k = 0; k < h->plan.nst; k++) {
     const struct pen_stroke *s = &h->plan.st[k];
     char cmd[64];
     int y = h->g.oy + s->y * h->g.pitch;
+    long xa = h->g.ox + (long)s->x0 * h->g.pitch, xb = h->g.ox + (long)s->x1 * h->g.pitch;
+    double up = hypot((double)(xa - h->px), (double)(y - h->py)) / h->upm;
+    double down = labs(xb - xa) / h->upm;
+    h->t->device_s += up / h->v_up + 2 * h->lift_s + down / h->v_down;
+    h->t->up_mm += up;
+    h->t->down_mm += down;
+    h->t->strokes++;
+    if (up > 0) h->t->pen_moves++;
+    preview_to(h->pv, (double)xa, y);
+    preview_pen(h->pv, 1);
+    preview_to(h->pv, (double)xb, y);
+    preview_pen(h->pv, 0);
+    h->px = xb;
+    h->py = y;
     if (s->n == 1)
       snprintf(cmd, sizeof cmd, "PU%d,%d;PD;", h->g.ox + s->x0 * h->g.pitch, y);
     else
@@ -307,24 +449,8 @@ static int find_limits(struct hpgl *h, const struct usb_settings *s, struct t74_
     if (put_cmd(h, "OH;", NULL, 0, err) != T74_OK || send_chunk(h, err) != T74_OK)
       return err->status;
     char line[128];
-    int n = 0;
-    double t_end = usb_now() + s->p[HP_QUERY] / 1000.0;
-    while (n < (int)sizeof line - 1) {
-      unsigned char in[64];
-      int got = 0;
-      double left = (t_end - usb_now()) * 1000.0;
-      if (left <= 0) break;
-      if (usb_read_once(h->l, USB_BULK, (unsigned char)h->ep_in, in, sizeof in,
-                        left < 1 ? 1 : (int)left, &got, err) != T74_OK)
-        return err->status;
-      int done = 0;
-      for (int k = 0; k < got && n < (int)sizeof line - 1; k++) {
-        if (in[k] == '\r' || in[k] == '\n') { if (n) { done = 1; break; } continue; }
-        line[n++] = (char)in[k];
-      }
-      if (done) break;
-    }
-    line[n] = 0;
+    int n = read_answer(h, s->p[HP_QUERY], line, sizeof line, err);
+    if (n < 0) return err->status;
     int c[4];
     if (n && sscanf(line, "%d,%d,%d,%d", &c[0], &c[1], &c[2], &c[3]) == 4 && c[2] > c[0] &&
         c[3] > c[1]) {
@@ -359,6 +485,18 @@ static int hpgl_open(void **ctx, struct usb_link *l, const struct usb_settings *
   if (!h) return t74_fail(err, T74_EIO, "hpgl: out of memory");
   h->l = l;
   h->ack = ack;
+  h->usb = usb_link_kind(l) == USB_LINK_USB;
+  h->t = usb_link_tally(l);
+  h->pv = usb_link_preview(l);
+  h->upm = s->p[HP_UNITS];
+  h->v_up = s->p[HP_V_UP];
+  h->v_down = s->p[HP_V_DOWN];
+  h->lift_s = s->p[HP_LIFT] / 1000.0;
+  h->poll_ms = s->p[HP_POLL];
+  h->query_ms = s->p[HP_QUERY] > 0 ? s->p[HP_QUERY] : 500;
+  int hs = (int)s->p[HP_HANDSHAKE], flow = usb_link_flow(l);
+  int serial = usb_link_kind(l) == USB_LINK_SERIAL;
+  h->escb = serial && (hs == 1 || (hs == 0 && flow == SERIAL_FLOW_NONE));
   h->ep = usb_link_endpoint(l, USB_BULK, 0);
   h->ep_in = usb_link_endpoint(l, USB_BULK, 1);
   h->chunk = (int)s->p[HP_CHUNK];
@@ -371,8 +509,24 @@ static int hpgl_open(void **ctx, struct usb_link *l, const struct usb_settings *
     hpgl_free(h);
     return t74_fail(err, T74_EIO, "hpgl: the printer interface has no bulk OUT endpoint");
   }
-  if (check_device_id(h, s->p[HP_FORCE] != 0, err) != T74_OK || check_ready(h, err) != T74_OK ||
-      put_cmd(h, "IN;", NULL, 0, err) != T74_OK || find_limits(h, s, err) != T74_OK) {
+  if (h->usb && (check_device_id(h, s->p[HP_FORCE] != 0, err) != T74_OK ||
+                 check_ready(h, err) != T74_OK)) {
+    hpgl_free(h);
+    return err->status;
+  }
+  if (!h->usb && s->p[HP_LIMITS] == 0)
+    snprintf(h->model, sizeof h->model, "7475A");   /* no device id: the reference plotter */
+  if (serial && hs == 0 && flow == SERIAL_FLOW_XONXOFF) {
+    /* the plotter's Xon-Xoff handshake: Xoff threshold, no enquiry character, DC1 as the
+       Xon trigger (ESC.I); DC3 as the Xoff trigger (ESC.N) — device control, not buffered */
+    char x[48];
+    int n = snprintf(x, sizeof x, "\x1b.I%d;;17:\x1b.N;19:", (int)s->p[HP_XOFF]);
+    if (usb_transfer(l, USB_BULK, (unsigned char)h->ep, x, n, NULL, err) != T74_OK) {
+      hpgl_free(h);
+      return err->status;
+    }
+  }
+  if (put_cmd(h, "IN;", NULL, 0, err) != T74_OK || find_limits(h, s, err) != T74_OK) {
     hpgl_free(h);
     return err->status;
   }
@@ -393,6 +547,9 @@ static int hpgl_open(void **ctx, struct usb_link *l, const struct usb_settings *
     hpgl_free(h);
     return t74_fail(err, T74_EIO, "hpgl: out of memory");
   }
+  preview_area(h->pv, h->clip[0], h->clip[1], h->clip[2], h->clip[3], 1, upm,
+               "HP-GL plotter, hard-clip limits in plotter units (40 a mm)");
+  preview_at(h->pv, 0, 0);
   char sp[16];
   snprintf(sp, sizeof sp, "SP%d;", (int)s->p[HP_PEN]);
   if (put_cmd(h, sp, NULL, 0, err) != T74_OK || send_chunk(h, err) != T74_OK) {
@@ -448,8 +605,9 @@ static void hpgl_note(struct usb_link *l, char *out, size_t n)
 }
 
 const struct usb_profile usb_profile_hpgl = {
-  "hpgl", "HP-GL pen plotter on a USB printer-class interface",
+  "hpgl", "HP-GL pen plotter on a USB printer-class interface or RS-232",
   { 0, 0, 7, -1 },              /* any device with a printer-class (7) interface */
   hpgl_params, HP_NPARAMS,
-  hpgl_open, hpgl_send, hpgl_flush, hpgl_status, hpgl_close, hpgl_note
+  hpgl_open, hpgl_send, hpgl_flush, hpgl_status, hpgl_close, hpgl_note,
+  USB_LINKS(USB_LINK_USB) | USB_LINKS(USB_LINK_SERIAL) | USB_LINKS(USB_LINK_FILE), "HP-GL"
 };

@@ -11,6 +11,8 @@
 */
 #include "display/usb/stream.h"
 
+#include "display/usb/preview.h"
+
 #include <errno.h>
 #include <inttypes.h>
 #include <stdlib.h>
@@ -41,7 +43,13 @@ struct usb_stream {
   int failed;                   /* a point/end call failed */
   struct t74_error err;         /* its message */
   int interrupted;
+  struct preview *pv;           /* --svg, or NULL */
 };
+
+double usb_estimate_seconds(const struct usb_tally *t)
+{
+  return t->device_s > t->line_s ? t->device_s : t->line_s;
+}
 
 uint64_t usb_hash(uint64_t h, const void *p, size_t n)
 {
@@ -64,15 +72,32 @@ static void progress(struct usb_stream *s, int force)
   double real = now - s->o.t0;
   double rate = s->t_first_ack > 0 && now > s->t_first_ack
                   ? (double)s->acked_total / (now - s->t_first_ack) : 0;
-  char bar[24] = "";
-  if (s->render_done && s->produced > 0) {
-    int fill = (int)(20.0 * s->nacked / s->produced);
+  /* the whole run's dots: known from the estimate, else once this pass is rendered */
+  long long per = s->o.expect_dots > 0 ? s->o.expect_dots : s->render_done ? s->produced : 0;
+  long long total = s->o.repeat > 0 ? per * s->o.repeat : per;
+  long long done = s->o.repeat > 0 ? s->acked_total + (long long)s->skip_prefix : s->nacked;
+  char bar[24] = "", eta[48] = "";
+  if (total > 0) {
+    double f = (double)done / (double)total;
+    if (f > 1) f = 1;
+    int fill = (int)(20.0 * f);
     for (int k = 0; k < 20; k++) bar[k] = k < fill ? '#' : '.';
     bar[20] = 0;
+    if (s->o.repeat > 0) {
+      /* measured once some of the run is done, else the estimate's */
+      double left = -1;
+      if (f >= 0.02 && s->t_first_ack > 0) left = (now - s->t_first_ack) * (1 - f) / f;
+      else if (s->o.expect_seconds > 0) left = s->o.expect_seconds * (1 - f);
+      if (left >= 0) {
+        char d[32];
+        usb_duration(d, sizeof d, left);
+        snprintf(eta, sizeof eta, " | ETA %s", d);
+      }
+    }
   }
   fprintf(s->o.progress, "\r%s %s%s%spass %" PRIu32 ": sent %lld, acknowledged %lld | 1974 %.1f s"
-          " | real %.1f s | %.0f points/s   ", s->o.prof->name, bar[0] ? "[" : "", bar,
-          bar[0] ? "] " : "", s->pass + 1, s->sent_total, s->acked_total, s->hitac, real, rate);
+          " | real %.1f s | %.0f points/s%s   ", s->o.prof->name, bar[0] ? "[" : "", bar,
+          bar[0] ? "] " : "", s->pass + 1, s->sent_total, s->acked_total, s->hitac, real, rate, eta);
   fflush(s->o.progress);
 }
 
@@ -281,14 +306,32 @@ int usb_stream_open(struct usb_stream **out, const struct usb_stream_opts *o, st
     stream_free(s);
     return err->status;
   }
-  if (usb_link_open(&s->link, &o->match, o->prof->name, &o->set, err) != T74_OK) {
+  if (!(o->prof->links & USB_LINKS(o->kind))) {
+    stream_free(s);
+    return t74_fail(err, T74_EINPUT, "tube74: the %s profile cannot be driven %s", o->prof->name,
+                    o->kind == USB_LINK_SERIAL ? "over a serial line" : o->kind == USB_LINK_USB
+                    ? "over USB (give --serial DEV, or --to FILE / --dry-run)" : "into a file");
+  }
+  if (o->svg && preview_new(&s->pv, err) != T74_OK) {
+    stream_free(s);
+    return err->status;
+  }
+  int lst = o->kind == USB_LINK_SERIAL
+              ? usb_link_open_serial(&s->link, o->serial, o->prof->name, &o->set, err)
+          : o->kind == USB_LINK_FILE
+              ? usb_link_open_file(&s->link, o->to, o->line_estimate, o->prof->name, &o->set, err)
+              : usb_link_open(&s->link, &o->match, o->prof->name, &o->set, err);
+  if (lst != T74_OK) {
+    preview_free(s->pv);
     stream_free(s);
     return err->status;
   }
   usb_link_set_stop(s->link, o->stop);
+  usb_link_set_preview(s->link, s->pv);
   struct usb_ack ack = { s, on_ack };
   if (o->prof->open(&s->dev, s->link, &o->set, ack, err) != T74_OK) {
     usb_link_close(s->link);
+    preview_free(s->pv);
     stream_free(s);
     return err->status;
   }
@@ -336,8 +379,35 @@ int usb_stream_finish(struct usb_stream *s, int status, struct t74_error *err)
   s->o.prof->close(s->dev, st == T74_OK);       /* pen up / laser blanked; acks may still come */
   progress(s, 1);
   if (s->o.progress) fputc('\n', s->o.progress);
+  /* the file of commands and the preview: finished when the run completed, else discarded */
+  if (st == T74_OK && s->o.svg) {
+    char title[400], desc[200];
+    snprintf(title, sizeof title, "tube74 stream %s --device %s", s->o.scene ? s->o.scene : "",
+             s->o.prof->name);
+    snprintf(desc, sizeof desc, "%d dots a pass, %u pass(es)", s->produced, s->pass + 1);
+    if (preview_write(s->pv, s->o.svg, title, desc, err) != T74_OK) st = err->status;
+  }
+  if (st == T74_OK && s->o.svg && outfile_commit(s->o.svg, err) != T74_OK) st = err->status;
+  else if (st != T74_OK && s->o.svg) outfile_abort(s->o.svg);
+  if (s->o.kind == USB_LINK_FILE && s->o.to) {
+    if (st == T74_OK) {
+      if (outfile_commit(s->o.to, err) != T74_OK) st = err->status;
+    } else {
+      outfile_abort(s->o.to);
+    }
+  }
+  if (s->o.result) {
+    struct usb_stream_result *r = s->o.result;
+    r->dots = s->produced;
+    r->sent = s->sent_total;
+    r->acked = s->acked_total;
+    r->passes = (int)s->pass + 1;
+    r->tally = *usb_link_tally(s->link);
+    snprintf(r->device, sizeof r->device, "%s %s", s->o.prof->name,
+             s->o.kind == USB_LINK_FILE ? (s->o.to ? "file" : "dry run") : usb_link_name(s->link));
+  }
   int complete = st == T74_OK;
-  if (!complete && st == T74_EIO && s->o.resume_out) {
+  if (!complete && st == T74_EIO && s->o.resume_out && s->o.kind != USB_LINK_FILE) {
     struct t74_error e = { T74_OK, "" };
     char note[1200];                            /* e.msg (1024) and the words around it */
     if (write_resume(s, &e) == T74_OK)
@@ -350,10 +420,11 @@ int usb_stream_finish(struct usb_stream *s, int status, struct t74_error *err)
                s->o.prof->name, e.msg);
     size_t n = strlen(err->msg);
     snprintf(err->msg + n, sizeof err->msg - n, "%s", note);
-  } else if (complete && s->o.resume_out) {
+  } else if (complete && s->o.resume_out && s->o.kind != USB_LINK_FILE) {
     if (unlink(s->o.resume_out) != 0 && errno != ENOENT) { /* nothing left to resume */ }
   }
   usb_link_close(s->link);
+  preview_free(s->pv);
   stream_free(s);
   return st;
 }
@@ -361,10 +432,15 @@ int usb_stream_finish(struct usb_stream *s, int status, struct t74_error *err)
 int usb_stream_stats(void *ctx, struct outfile *of)
 {
   struct usb_stream *s = ctx;
-  uint16_t vid, pid;
-  usb_link_ids(s->link, &vid, &pid);
   const struct usb_counts *c = usb_link_counts(s->link);
-  outfile_printf(of, "  \"usb_device\": \"%s %04x:%04x\",\n", s->o.prof->name, vid, pid);
+  char dev[320];
+  snprintf(dev, sizeof dev, "%s %s", s->o.prof->name,
+           s->o.kind == USB_LINK_FILE ? (s->o.to ? "file" : "dry run") : usb_link_name(s->link));
+  outfile_printf(of, "  \"usb_device\": ");
+  outfile_json_string(of, dev);
+  outfile_printf(of, ",\n  \"stream_link\": \"%s\",\n", s->o.kind == USB_LINK_USB ? "usb"
+                 : s->o.kind == USB_LINK_SERIAL ? "serial" : "file");
+  outfile_printf(of, "  \"stream_estimated_seconds\": %.3f,\n", s->o.expect_seconds);
   outfile_printf(of, "  \"usb_points_sent\": %lld,\n", s->sent_total);
   outfile_printf(of, "  \"usb_points_acknowledged\": %lld,\n", s->acked_total);
   outfile_printf(of, "  \"usb_acknowledged_before_render_end\": %lld,\n", s->acked_before_end);

@@ -32,6 +32,16 @@
 ** union of both runs is every dot, each once. A file for another scene, other options or
 ** another profile is refused (exit 2). After a run that completes, the resume file it would
 ** write is removed (nothing is left to resume).
+**
+** LINKS (opts.kind): USB (libusb, the default), SERIAL (opts.serial, an RS-232 tty), FILE
+** (opts.to: the device's own commands into an output, or NULL for nowhere: a dry run and the
+** estimate made before a real run). A file link writes no resume file.
+** OUTPUTS: opts.to and opts.svg are finished (outfile_commit) by usb_stream_finish when the
+** run completed, and discarded (outfile_abort) otherwise; in a set (display/outfile.h) the
+** caller then commits the set, so a failed run leaves no partial file behind.
+** THE ESTIMATE: opts.expect_dots / expect_seconds (from a FILE run of the same picture,
+** usb_estimate_seconds of its tally) give the progress line a bar and an ETA from the start;
+** once dots are acknowledged the ETA follows the measured rate.
 */
 #ifndef T74_USB_STREAM_H
 #define T74_USB_STREAM_H
@@ -46,6 +56,18 @@
 
 struct usb_stream;
 
+struct usb_stream_result {      /* what a run did (usb_stream_finish fills it) */
+  long long dots;               /* dots of the picture (one pass) */
+  long long sent, acked;        /* dots sent / acknowledged over all passes */
+  int passes;                   /* passes drawn (complete or not) */
+  struct usb_tally tally;       /* the link's tally (usb.h) */
+  char device[320];             /* "hpgl 067b:2305", "tek /dev/ttyUSB0", "ebb file" */
+};
+
+/* The device's time for a tally: its own timing model, or its line's time when that is
+** longer (a plotter cannot draw faster than its bytes arrive). */
+double usb_estimate_seconds(const struct usb_tally *t);
+
 struct usb_stream_opts {
   const struct usb_profile *prof;
   struct usb_match match;       /* the profile's, or --usb VID:PID */
@@ -58,6 +80,14 @@ struct usb_stream_opts {
   volatile sig_atomic_t *stop;  /* set by the SIGINT handler; may be NULL */
   FILE *progress;               /* progress line goes here, or NULL for none */
   double t0;                    /* usb_now() when the command started */
+  enum usb_link_kind kind;      /* USB (0, the default), SERIAL, FILE */
+  const char *serial;           /* SERIAL: the tty's path */
+  struct outfile *to;           /* FILE: the device's commands go here (NULL: nowhere) */
+  int line_estimate;            /* FILE: count the bytes at the baud (estimating --serial) */
+  struct outfile *svg;          /* --svg: the pen / beam path (display/usb/preview.h) */
+  long long expect_dots;        /* the estimate: dots a pass, 0 unknown */
+  double expect_seconds;        /* the estimate: device seconds of the whole run, 0 unknown */
+  struct usb_stream_result *result;   /* filled by usb_stream_finish; may be NULL */
 };
 
 int usb_stream_open(struct usb_stream **s, const struct usb_stream_opts *o, struct t74_error *err);

@@ -22,6 +22,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "display/outfile.h"
+#include "display/usb/serial.h"
+
 /* The link's rows (usb.h). The defaults are the usual USB host-side choices: a bulk
 ** transfer to a plotter may wait while the plotter moves its pen, so the timeout is long. */
 const struct param_row usb_link_params[USB_NLINK] = {
@@ -29,9 +32,22 @@ const struct param_row usb_link_params[USB_NLINK] = {
   { "timeout_ms", "ms", 2000, 10, 600000, 0, "inferred: longest pen move plus margin" },
   { "retries",    "",   3,    0,  100,    0, "inferred" },
   { "backoff_ms", "ms", 20,   0,  60000,  0, "inferred: first pause, doubled each retry" },
+  { "baud",       "bit/s", 9600, 50, 4000000, 1, "--serial: line rate, 8N1 (the 4014's "
+                                                  "and the 7475A's usual 9600)" },
+  { "flow",       "",   0,    0,  2,      1, "--serial: 0 none, 1 XON/XOFF, 2 RTS/CTS (serial.h)" },
+  { "pace",       "",   1,    0,  1,      1, "--serial: 1 writes timed to baud/10 bytes/s" },
 };
 
 struct usb_link {
+  enum usb_link_kind kind;
+  struct serial_line *ser;      /* SERIAL: the tty */
+  struct outfile *to;           /* FILE: where OUT bytes go, or NULL */
+  int line;                     /* FILE: count the bytes' time at the baud (an estimate) */
+  double baud;                  /* SERIAL, or FILE with line: bits a second */
+  int flow;                     /* SERIAL: enum serial_flow */
+  char name[280];               /* "067b:2305", the tty's path, "a file" */
+  struct usb_tally tally;
+  struct preview *preview;      /* --svg, or NULL */
   libusb_context *ctx;
   libusb_device_handle *h;
   int iface;                    /* claimed interface number */
@@ -62,6 +78,14 @@ void usb_sleep_ms(double ms)
   ts.tv_sec = (time_t)(ms / 1000);
   ts.tv_nsec = (long)((ms - (double)ts.tv_sec * 1000) * 1e6);
   nanosleep(&ts, NULL);
+}
+
+void usb_duration(char *buf, size_t n, double t)
+{
+  if (t < 0) t = 0;
+  if (t < 60) snprintf(buf, n, "%.1f s", t);
+  else if (t < 3600) snprintf(buf, n, "%d min %02d s", (int)(t / 60), (int)t % 60);
+  else snprintf(buf, n, "%d h %02d min", (int)(t / 3600), (int)(t / 60) % 60);
 }
 
 void usb_udev_rule(char *buf, size_t n, uint16_t vid, uint16_t pid)
@@ -235,13 +259,103 @@ int usb_link_open_at(struct usb_link **out, const struct usb_match *m, int bus, 
     return st;
   }
   find_endpoints(l);
+  snprintf(l->name, sizeof l->name, "%04x:%04x", l->vid, l->pid);
   *out = l;
   return T74_OK;
+}
+
+/* A link that is not libusb: the common fields. */
+static struct usb_link *other_link(enum usb_link_kind kind, const char *profile,
+                                   const struct usb_settings *s)
+{
+  struct usb_link *l = calloc(1, sizeof *l);
+  if (!l) return NULL;
+  l->kind = kind;
+  l->profile = profile;
+  l->timeout_ms = (int)s->link[USB_P_TIMEOUT];
+  l->retries = (int)s->link[USB_P_RETRIES];
+  l->backoff_ms = (int)s->link[USB_P_BACKOFF];
+  l->baud = s->link[USB_P_BAUD];
+  l->ep_bulk_out = 0x01;                        /* the line out / the file */
+  l->ep_bulk_in = kind == USB_LINK_SERIAL ? 0x81 : -1;   /* what the device sends */
+  l->ep_int_in = l->ep_int_out = -1;
+  return l;
+}
+
+int usb_link_open_serial(struct usb_link **out, const char *path, const char *profile,
+                         const struct usb_settings *s, struct t74_error *err)
+{
+  *out = NULL;
+  struct usb_link *l = other_link(USB_LINK_SERIAL, profile, s);
+  if (!l) return t74_fail(err, T74_EIO, "%s: out of memory", profile);
+  struct serial_opts so = { (long)s->link[USB_P_BAUD], (int)s->link[USB_P_FLOW],
+                            (int)s->link[USB_P_PACE] };
+  if (serial_open(&l->ser, path, &so, err) != T74_OK) {
+    free(l);
+    return err->status;
+  }
+  l->flow = so.flow;
+  snprintf(l->name, sizeof l->name, "%s", path);
+  *out = l;
+  return T74_OK;
+}
+
+int usb_link_open_file(struct usb_link **out, struct outfile *to, int line, const char *profile,
+                       const struct usb_settings *s, struct t74_error *err)
+{
+  *out = NULL;
+  struct usb_link *l = other_link(USB_LINK_FILE, profile, s);
+  if (!l) return t74_fail(err, T74_EIO, "%s: out of memory", profile);
+  l->to = to;
+  l->line = line;
+  snprintf(l->name, sizeof l->name, "%s", to ? outfile_path(to) : "nowhere (dry run)");
+  *out = l;
+  return T74_OK;
+}
+
+enum usb_link_kind usb_link_kind(const struct usb_link *l) { return l->kind; }
+const char *usb_link_name(const struct usb_link *l) { return l->name; }
+struct usb_tally *usb_link_tally(struct usb_link *l) { return &l->tally; }
+void usb_link_set_preview(struct usb_link *l, struct preview *p) { l->preview = p; }
+struct preview *usb_link_preview(const struct usb_link *l) { return l->preview; }
+int usb_link_flow(const struct usb_link *l) { return l->kind == USB_LINK_SERIAL ? l->flow : 0; }
+
+/* One transfer on a serial or file link (no control transfers there). */
+static int other_transfer(struct usb_link *l, enum usb_type type, unsigned char ep, void *buf,
+                          int len, int timeout_ms, int *done, struct t74_error *err)
+{
+  int d = 0, st = T74_OK;
+  if (done) *done = 0;
+  if (type == USB_CONTROL)
+    return t74_fail(err, T74_EIO, "%s: %s has no USB control requests", l->profile, l->name);
+  if (!(ep & 0x80)) {                           /* out */
+    if (l->kind == USB_LINK_FILE) {
+      if (l->to && len > 0) st = outfile_write(l->to, buf, (size_t)len);
+      if (st != T74_OK) st = t74_fail(err, T74_EIO, "%s: cannot write", outfile_path(l->to));
+      d = st == T74_OK ? len : 0;
+    } else {
+      st = serial_write(l->ser, buf, len, timeout_ms, l->stop, &d, err);
+    }
+    l->counts.bytes_out += d;
+    l->tally.bytes += d;
+    if ((l->kind == USB_LINK_SERIAL || l->line) && l->baud > 0) l->tally.line_s += d * 10.0 / l->baud;
+    if (st == T74_OK) l->counts.transfers++;
+  } else if (l->kind == USB_LINK_SERIAL) {      /* in: what the device sent */
+    st = serial_read(l->ser, buf, len, timeout_ms, &d, err);
+    l->counts.bytes_in += d;
+  }
+  if (done) *done = d;
+  return st;
 }
 
 void usb_link_close(struct usb_link *l)
 {
   if (!l) return;
+  if (l->kind != USB_LINK_USB) {
+    serial_close(l->ser);                       /* NULL-safe; a file link's output is the stream's */
+    free(l);
+    return;
+  }
   if (l->h) {
     if (!l->gone) {
       libusb_release_interface(l->h, l->iface);
@@ -269,7 +383,10 @@ int usb_link_alt(const struct usb_link *l) { return l->alt < 0 ? 0 : l->alt; }
 void usb_link_set_stop(struct usb_link *l, volatile sig_atomic_t *stop) { l->stop = stop; }
 int usb_link_stopped(const struct usb_link *l) { return l->stop && *l->stop; }
 double usb_link_timeout_ms(const struct usb_link *l) { return l->timeout_ms; }
-int usb_link_gone(const struct usb_link *l) { return l->gone; }
+int usb_link_gone(const struct usb_link *l)
+{
+  return l->kind == USB_LINK_SERIAL ? serial_gone(l->ser) : l->gone;
+}
 const struct usb_counts *usb_link_counts(const struct usb_link *l) { return &l->counts; }
 
 void usb_link_ids(const struct usb_link *l, uint16_t *vid, uint16_t *pid)
@@ -319,6 +436,14 @@ static int submit_rest(struct usb_link *l, struct usb_xfer *x, struct t74_error 
 int usb_submit(struct usb_link *l, struct usb_xfer *x, enum usb_type type, unsigned char ep,
                void *buf, int len, struct t74_error *err)
 {
+  if (l->kind != USB_LINK_USB) {                /* done at once: usb_wait has nothing to wait */
+    x->type = type;
+    x->ep = ep;
+    x->buf = buf;
+    x->len = len;
+    x->busy = 0;
+    return other_transfer(l, type, ep, buf, len, l->timeout_ms, &x->done, err);
+  }
   if (!x->t && !(x->t = libusb_alloc_transfer(0)))
     return t74_fail(err, T74_EIO, "%s: out of memory", l->profile);
   x->type = type;
@@ -356,7 +481,10 @@ int usb_wait(struct usb_link *l, struct usb_xfer *x, int *done, struct t74_error
     if (x->type != USB_CONTROL) x->done += moved;
     else x->done = moved;                       /* control: data bytes of the last try */
     if (x->ep & LIBUSB_ENDPOINT_IN || x->type == USB_CONTROL) l->counts.bytes_in += moved;
-    else l->counts.bytes_out += moved;
+    else {
+      l->counts.bytes_out += moved;
+      l->tally.bytes += moved;
+    }
     if (done) *done = x->done;
     int in = (x->ep & LIBUSB_ENDPOINT_IN) != 0;
     switch (t->status) {
@@ -422,6 +550,7 @@ int usb_read_once(struct usb_link *l, enum usb_type type, unsigned char ep, void
                   int timeout_ms, int *got, struct t74_error *err)
 {
   *got = 0;
+  if (l->kind != USB_LINK_USB) return other_transfer(l, type, ep | 0x80, buf, len, timeout_ms, got, err);
   if (l->gone) return t74_fail(err, T74_EIO, "%s: the USB device vanished", l->profile);
   struct usb_xfer x;
   memset(&x, 0, sizeof x);
@@ -459,13 +588,14 @@ int usb_read_once(struct usb_link *l, enum usb_type type, unsigned char ep, void
 
 void usb_xfer_free(struct usb_xfer *x)
 {
-  if (x->t && !x->busy) libusb_free_transfer(x->t);
+  if (x->t && !x->busy) libusb_free_transfer(x->t);   /* (other links never allocate one) */
   x->t = NULL;
 }
 
 int usb_transfer(struct usb_link *l, enum usb_type type, unsigned char ep, void *buf,
                  int len, int *done, struct t74_error *err)
 {
+  if (l->kind != USB_LINK_USB) return other_transfer(l, type, ep, buf, len, l->timeout_ms, done, err);
   struct usb_xfer x;
   memset(&x, 0, sizeof x);
   int st = usb_submit(l, &x, type, ep, buf, len, err);
@@ -480,6 +610,9 @@ int usb_control_in(struct usb_link *l, uint8_t bmRequestType, uint8_t bRequest,
                    struct t74_error *err)
 {
   unsigned char tb[LIBUSB_CONTROL_SETUP_SIZE + 256];
+  if (got) *got = 0;
+  if (l->kind != USB_LINK_USB)
+    return t74_fail(err, T74_EIO, "%s: %s has no USB control requests", l->profile, l->name);
   if (len > 256) len = 256;
   libusb_fill_control_setup(tb, bmRequestType, bRequest, wValue, wIndex, (uint16_t)len);
   int done = 0;
@@ -492,7 +625,7 @@ int usb_control_in(struct usb_link *l, uint8_t bmRequestType, uint8_t bRequest,
 /* ---- profiles and their settings ---------------------------------------------------- */
 
 const struct usb_profile *const usb_profiles[] = {
-  &usb_profile_hpgl, &usb_profile_ebb, &usb_profile_helios, NULL
+  &usb_profile_hpgl, &usb_profile_ebb, &usb_profile_helios, &usb_profile_tek, NULL
 };
 
 const struct usb_profile *usb_profile_find(const char *name)

@@ -46,9 +46,27 @@
 **   *done always tells how many bytes the device took, also when the transfer failed:
 **   a profile acknowledges exactly what was taken, never more.
 **
+** OTHER LINKS (the same calls, so a profile does not care which it drives):
+**   usb_link_open_serial   an RS-232 tty (display/usb/serial.h): bulk OUT is the line out,
+**                    bulk IN what the device sends; no control transfers (T74_EIO), no
+**                    interrupt endpoints. HP-GL plotters on RS-232 (HP 7475A), Tektronix
+**                    terminals, an EBB as /dev/ttyACM0.
+**   usb_link_open_file     the device's commands written to a file (or nowhere, for a dry
+**                    run or the estimate): every OUT byte is taken at once, nothing ever
+**                    answers (IN reads give 0 bytes, at once), no control transfers. Profiles
+**                    that wait for replies (EBB OK / QM, Helios status) skip them when
+**                    usb_link_kind() says FILE and count everything sent as acknowledged.
+** THE TALLY (struct usb_tally, usb_link_tally): what went over the link and how long the
+**   device needs for it, by the profile's own timing model (each profile says which); the
+**   link counts bytes and, on a serial line, their time at the baud. The stream's estimate
+**   and the dry run's summary are read from it.
+** THE PREVIEW (usb_link_preview): the --svg recorder (display/usb/preview.h) or NULL; the
+**   profiles report every pen / beam move to it in device units.
+**
 ** PARAMETERS: every number a user may want to change is a row of a profile's parameter
 ** table (name, default, range, unit, source), set with `--set NAME=VALUE` (SIMH's MTAB
-** idea, style.md). The link's own rows (timeout_ms, retries, backoff_ms) are in usb_link_params.
+** idea, style.md). The link's own rows (timeout_ms, retries, backoff_ms; baud, flow, pace
+** for serial lines) are in usb_link_params.
 */
 #ifndef T74_USB_H
 #define T74_USB_H
@@ -60,12 +78,16 @@
 #include "emu/param.h"
 #include "emu/status.h"
 
+struct preview;                 /* display/usb/preview.h */
+struct outfile;                 /* display/outfile.h */
+
 /* ---- parameters ------------------------------------------------------------------- */
 
-#define USB_MAX_PARAMS 24       /* rows in one profile's table (checked at start) */
+#define USB_MAX_PARAMS 28       /* rows in one profile's table (checked at start) */
 
 /* The link's own rows: indices into usb_settings.link[]. */
-enum { USB_P_TIMEOUT, USB_P_RETRIES, USB_P_BACKOFF, USB_NLINK };
+enum { USB_P_TIMEOUT, USB_P_RETRIES, USB_P_BACKOFF, USB_P_BAUD, USB_P_FLOW, USB_P_PACE,
+       USB_NLINK };
 extern const struct param_row usb_link_params[USB_NLINK];   /* emu/param.h */
 
 struct usb_settings {
@@ -76,6 +98,27 @@ struct usb_settings {
 /* ---- the transfer layer ----------------------------------------------------------- */
 
 struct usb_link;                /* opaque: libusb context, handle, interface, counters */
+
+enum usb_link_kind {            /* what a link is (a bit each, for usb_profile.links) */
+  USB_LINK_USB = 0,             /* libusb */
+  USB_LINK_SERIAL = 1,          /* an RS-232 tty (serial.h) */
+  USB_LINK_FILE = 2             /* commands to a file or nowhere (dry run, estimate) */
+};
+#define USB_LINKS(k) (1u << (k))
+
+/* What went over a link and how long the device needs for it (see THE TALLY). */
+struct usb_tally {
+  long long bytes;              /* bytes sent (the link counts them) */
+  long long commands;           /* device commands: HP-GL instructions, EBB commands, Helios
+                                   frames, Tektronix addresses */
+  long long strokes;            /* pen plotters: pen-down strokes (a dot or a run); laser /
+                                   terminal: lit dots */
+  long long pen_moves;          /* pen-up moves, blanked jumps, dark moves */
+  double up_mm, down_mm;        /* pen-up and pen-down travel, mm (0: no physical scale) */
+  long long points, frames;     /* helios: DAC points and frames */
+  double device_s;              /* seconds the device needs (the profile's timing model) */
+  double line_s;                /* serial (or a file estimating one): the bytes at the baud */
+};
 
 struct usb_match {              /* which device a profile drives */
   uint16_t vid, pid;            /* 0, 0: any device (then iface_class decides) */
@@ -102,6 +145,22 @@ int usb_link_open(struct usb_link **out, const struct usb_match *m, const char *
 int usb_link_open_at(struct usb_link **out, const struct usb_match *m, int bus, int address,
                      const char *profile, const struct usb_settings *s, struct t74_error *err);
 void usb_link_close(struct usb_link *l);
+/* An RS-232 line: path, with s's baud, flow and pace rows. T74_EIO (or T74_EINPUT for a baud
+** termios has no constant for) on failure. */
+int usb_link_open_serial(struct usb_link **out, const char *path, const char *profile,
+                         const struct usb_settings *s, struct t74_error *err);
+/* A file link: OUT bytes go to `to` (NULL: nowhere). line: 1 to count the bytes' time at
+** s's baud as a serial line would (an estimate made for a --serial run). */
+int usb_link_open_file(struct usb_link **out, struct outfile *to, int line, const char *profile,
+                       const struct usb_settings *s, struct t74_error *err);
+enum usb_link_kind usb_link_kind(const struct usb_link *l);
+/* Where it goes, for messages and --stats: "067b:2305", "/dev/ttyUSB0", "a file". */
+const char *usb_link_name(const struct usb_link *l);
+struct usb_tally *usb_link_tally(struct usb_link *l);
+void usb_link_set_preview(struct usb_link *l, struct preview *p);
+struct preview *usb_link_preview(const struct usb_link *l);
+/* The link's serial flow setting (enum serial_flow; 0 for USB and files). */
+int usb_link_flow(const struct usb_link *l);
 
 /* The claimed interface's first endpoint of a type (USB_BULK / USB_INTERRUPT) and
 ** direction (in = 1: device to host), or -1. */
@@ -158,6 +217,8 @@ void usb_udev_rule(char *buf, size_t n, uint16_t vid, uint16_t pid);
 void usb_sleep_ms(double ms);
 /* Monotonic seconds. */
 double usb_now(void);
+/* A duration for people: "45.2 s", "12 min 30 s", "4 h 05 min". */
+void usb_duration(char *buf, size_t n, double seconds);
 
 /* ---- the profile interface -------------------------------------------------------- */
 
@@ -194,11 +255,14 @@ struct usb_profile {
   /* Optional, for `devices`: what the device says of itself on an opened link (the
      printer class's GET_DEVICE_ID for hpgl), one short phrase into out. NULL: nothing. */
   void (*note)(struct usb_link *l, char *out, size_t n);
+  unsigned links;               /* USB_LINKS() of the link kinds it can drive */
+  const char *file_kind;        /* what --to writes: "HP-GL", "EBB commands", ... */
 };
 
 extern const struct usb_profile usb_profile_hpgl;     /* hpgl.c */
 extern const struct usb_profile usb_profile_ebb;      /* ebb.c */
 extern const struct usb_profile usb_profile_helios;   /* helios.c */
+extern const struct usb_profile usb_profile_tek;      /* tekterm.c */
 
 /* The profile called name, or NULL. */
 const struct usb_profile *usb_profile_find(const char *name);
