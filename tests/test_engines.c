@@ -27,6 +27,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <cmocka.h>
 
@@ -310,9 +311,106 @@ static void test_shipped(void **state)
   assert_true(t.differ * 10000 < t.points);
 }
 
+/* ---- the command line: --engine, --stats, the refusals ---------------------------- */
+
+static char *slurp_file(const char *path)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  char *buf = malloc(1 << 20);
+  size_t n = buf ? fread(buf, 1, (1 << 20) - 1, f) : 0;
+  fclose(f);
+  if (buf) buf[n] = 0;
+  return buf;
+}
+
+/* Run `$TUBE74 ARGS` (a shell line); the exit status. */
+static int run(const char *args)
+{
+  const char *bin = getenv("TUBE74");
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd, "%s %s >/dev/null 2>&1", bin ? bin : "./tube74", args);
+  int ws = system(cmd);
+  return WIFEXITED(ws) ? WEXITSTATUS(ws) : 128;
+}
+
+static void test_cli(void **state)
+{
+  (void)state;
+  char dir[] = "/tmp/tube74-engines-cli-XXXXXX";
+  assert_non_null(mkdtemp(dir));
+  char a[2048], path[512], path2[512];
+  /* auto: an import takes the points engine, its 1974 figures null */
+  snprintf(path, sizeof path, "%s/a.json", dir);
+  snprintf(a, sizeof a, "render tests/data/scene/cube.off --stats %s --dump ids=%s/a.pgm", path, dir);
+  assert_int_equal(run(a), 0);
+  char *js = slurp_file(path);
+  assert_non_null(js);
+  assert_non_null(strstr(js, "\"engine\": \"points\""));
+  assert_non_null(strstr(js, "\"hitac10_seconds\": null"));
+  assert_non_null(strstr(js, "\"first_dot_1974_seconds\": null"));
+  assert_non_null(strstr(js, "\"core_words_used\": null"));
+  assert_non_null(strstr(js, "\"priority_pairs_computed\": null"));
+  assert_non_null(strstr(js, "\"total_1974_seconds\": null"));
+  assert_non_null(strstr(js, "\"faces_in\": 6"));
+  free(js);
+  /* --engine 1974 on the same: the figures, and the same ids byte for byte */
+  snprintf(a, sizeof a, "render tests/data/scene/cube.off --engine 1974 --stats %s --dump ids=%s/b.pgm",
+           path, dir);
+  assert_int_equal(run(a), 0);
+  js = slurp_file(path);
+  assert_non_null(js);
+  assert_non_null(strstr(js, "\"engine\": \"1974\""));
+  assert_null(strstr(js, "\"hitac10_seconds\": null"));
+  free(js);
+  snprintf(path, sizeof path, "%s/a.pgm", dir);
+  snprintf(path2, sizeof path2, "%s/b.pgm", dir);
+  char *ia = slurp_file(path), *ib = slurp_file(path2);
+  assert_non_null(ia);
+  assert_non_null(ib);
+  assert_memory_equal(ia, ib, 15 + 2 * 100 * 75);
+  free(ia);
+  free(ib);
+  /* auto: a .s74 scene takes the 1974 program; an import with an effect too */
+  snprintf(path, sizeof path, "%s/c.json", dir);
+  snprintf(a, sizeof a, "render scenes/fig6.s74 --stats %s", path);
+  assert_int_equal(run(a), 0);
+  js = slurp_file(path);
+  assert_non_null(strstr(js, "\"engine\": \"1974\""));
+  free(js);
+  snprintf(a, sizeof a, "render tests/data/scene/cube.off --effects edges=on --stats %s", path);
+  assert_int_equal(run(a), 0);
+  js = slurp_file(path);
+  assert_non_null(strstr(js, "\"engine\": \"1974\""));
+  free(js);
+  /* --engine points on a .s74 scene, with --frames */
+  snprintf(a, sizeof a, "render scenes/fig7b.s74 --engine points --frames 3 --stats %s", path);
+  assert_int_equal(run(a), 0);
+  js = slurp_file(path);
+  assert_non_null(strstr(js, "\"engine\": \"points\""));
+  assert_non_null(strstr(js, "\"frames\": 3"));
+  free(js);
+  /* what only the 1974 program does is refused under --engine points, exit 2, no output */
+  snprintf(path, sizeof path, "%s/never.png", dir);
+  snprintf(a, sizeof a, "render scenes/sphere.s74 --engine points -o %s", path);
+  assert_int_equal(run(a), 2);
+  assert_int_equal(access(path, F_OK), -1);
+  snprintf(a, sizeof a, "render scenes/fig6.s74 --engine points --arith hitac -o %s", path);
+  assert_int_equal(run(a), 2);
+  snprintf(a, sizeof a, "render scenes/fig6.s74 --engine points --dump tables=%s", path);
+  assert_int_equal(run(a), 2);
+  assert_int_equal(access(path, F_OK), -1);
+  assert_int_equal(run("render scenes/fig6.s74 --engine fast"), 2);
+  snprintf(a, sizeof a, "tek scenes/fig6.s74 --engine points -o %s/f.tek", dir);
+  assert_int_equal(run(a), 0);
+  snprintf(a, sizeof a, "rm -rf %s", dir);
+  assert_int_equal(system(a), 0);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_cli),
     cmocka_unit_test(test_shipped),
     cmocka_unit_test(test_scenegen_families),
     cmocka_unit_test(test_hard_families),
