@@ -38,7 +38,8 @@
 ** |Yc| <= 2H 2^17, 4WH < 2^16: |P| < 3 2^66 < 2^68; |alpha|, |beta| < 2^60; |D| = deye
 ** < 2^51 (mapper.c). A in front of B: |D_B| P_A > |D_A| P_B, products < 2^119 — 128-bit,
 ** exact. A plane met at or behind the eye (P <= 0) is never in front; equal depth: the
-** larger face number.
+** sign just right of the centre, then just above it (tie_front), then the larger face
+** number.
 */
 #include "render/points.h"
 

@@ -16,8 +16,10 @@
 **   - depth: the ray from the eye through the centre meets plane A at t_A = |D_A| / n_A.u
 **     (u = centre - eye); A is in front of B when t_A < t_B, compared as
 **     |D_B| n_A.u > |D_A| n_B.u; a plane met at or behind the eye (n.u <= 0) is never in
-**     front; equal depth (coplanar faces, or a centre exactly on the intersection line):
-**     the larger face number in front;
+**     front; equal depth at the centre (it lies on the two planes' intersection line):
+**     the face in front just right of it, then just above it (the edges' tie rule, as the
+**     1974 program's cut lines give it); planes of equal depth everywhere (coplanar): the
+**     larger face number in front;
 **   - a face whose grid polygon the Segment Generator refuses as not simple (rounding
 **     folded it) is split into triangles by mapper_split_face, exactly as the 1974 engine
 **     splits it, so both engines see the same faces.
