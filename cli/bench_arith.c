@@ -207,6 +207,7 @@ static int run_one(const char *scene, const char *dir, int hitac, struct ba_run 
   struct job j;
   int st = job_parse(argc, argv, 2, &j, NULL, NULL, err);
   if (st != T74_OK) return st;
+  j.need_1974 = true;                     /* exact against 1974 arithmetic: the 1974 program */
   struct job_result res;
   st = job_run(&j, NULL, &res, err);
   if (st != T74_OK) return st;

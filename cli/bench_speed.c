@@ -4,7 +4,7 @@
 **
 ** This file contains code to measure, for the shipped scenes, boxes of 1,000 to 100,000
 ** faces (tools/mkgrowth.py) and large interpenetrating triangles of 160 to 2,560
-** (tools/mktris.py):
+** (tools/mktris.py), with both engines (--engine 1974 and --engine points, issue 19):
 **   frame      tube74's frame_seconds (`render --frames K`: the median frame from the
 **              Mapper to the last dot stored, machine model on, reading the scene
 **              excluded) against the peer's warm frame (tools/refbench.c `--warm`: OSMesa,
@@ -53,7 +53,9 @@
 
 /* the figures of a run: tube74's frame, the peer's warm frames (llvmpipe at the grid and
    at 400 x 300, softpipe likewise), the two whole processes */
-enum { P_TUBE, P_LLVM, P_LLVM_T, P_SOFT, P_SOFT_T, P_TPROC, P_PPROC, P_N };
+enum { P_TUBE, P_LLVM, P_LLVM_T, P_SOFT, P_SOFT_T, P_TPROC, P_PPROC, P_PTS, P_PTSPROC, P_N };
+/* P_TUBE, P_TPROC: --engine 1974; P_PTS, P_PTSPROC: --engine points (issue 19) */
+#define SP_POINTS_FRAMES "15"          /* points-engine frames a run (each well under 0.1 s) */
 
 struct sp_scene {
   char path[512], label[64];
@@ -62,7 +64,7 @@ struct sp_scene {
   int frames;                          /* tube74 --frames for this scene */
   bool obj;                            /* an .obj import: both programs get --turn 0,0 */
   double t[P_N][SP_MAX_RUNS];
-  long rss[2];                         /* KB: tube74 process, OSMesa process */
+  long rss[3];                         /* KB: tube74 process (1974, points), OSMesa process */
   bool failed[P_N];
   char why[160];
 };
@@ -198,8 +200,9 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
   snprintf(kb, sizeof kb, "%d", s->frames);
   for (int p = 0; p < P_N; p++) s->t[p][r] = NAN;
 
-  /* tube74: frames, from its own stats */
-  char *a1[] = { (char *)self, (char *)"render", s->path, (char *)"--core", (char *)SP_CORE,
+  /* tube74: frames, from its own stats; the 1974 engine, then the points engine */
+  char *a1[] = { (char *)self, (char *)"render", s->path, (char *)"--engine", (char *)"1974",
+                 (char *)"--core", (char *)SP_CORE,
                  (char *)"--frames", kb, (char *)"--stats", stats,
                  s->obj ? (char *)"--turn" : NULL, (char *)"0,0", NULL };
   double wall;
@@ -211,6 +214,16 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
     free(js);
   } else {
     s->failed[P_TUBE] = true;
+  }
+  char *a1p[] = { (char *)self, (char *)"render", s->path, (char *)"--engine", (char *)"points",
+                  (char *)"--frames", (char *)SP_POINTS_FRAMES, (char *)"--stats", stats,
+                  s->obj ? (char *)"--turn" : NULL, (char *)"0,0", NULL };
+  if (spawn(a1p, NULL, NULL, &wall, NULL) == 0) {
+    char *js = slurp(stats);
+    s->t[P_PTS][r] = json_num(js, "frame_seconds");
+    free(js);
+  } else {
+    s->failed[P_PTS] = true;
   }
   bench_bar_step(bar, s->label);
   if (peer) {
@@ -235,12 +248,20 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
   }
   bench_bar_step(bar, s->label);
   /* whole processes: what a user waits for the picture */
-  char *a3[] = { (char *)self, (char *)"render", s->path, (char *)"--core", (char *)SP_CORE,
+  char *a3[] = { (char *)self, (char *)"render", s->path, (char *)"--engine", (char *)"1974",
+                 (char *)"--core", (char *)SP_CORE,
                  (char *)"-o", png, s->obj ? (char *)"--turn" : NULL, (char *)"0,0", NULL };
   long rss = 0;
   if (spawn(a3, NULL, NULL, &wall, &rss) == 0) {
     s->t[P_TPROC][r] = wall;
     if (rss > s->rss[0]) s->rss[0] = rss;
+  }
+  char *a3p[] = { (char *)self, (char *)"render", s->path, (char *)"--engine", (char *)"points",
+                  (char *)"-o", png, s->obj ? (char *)"--turn" : NULL, (char *)"0,0", NULL };
+  rss = 0;
+  if (spawn(a3p, NULL, NULL, &wall, &rss) == 0) {
+    s->t[P_PTSPROC][r] = wall;
+    if (rss > s->rss[2]) s->rss[2] = rss;
   }
   if (peer) {
     static const char *const envl[] = { "GALLIUM_DRIVER=llvmpipe", "LP_NUM_THREADS=1", NULL };
@@ -345,7 +366,8 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
   for (int k = 0; k < ns; k++) {
     char stats[600];
     snprintf(stats, sizeof stats, "%s/run.json", dir);
-    char *a[] = { self, (char *)"render", sc[k].path, (char *)"--core", (char *)SP_CORE,
+    char *a[] = { self, (char *)"render", sc[k].path, (char *)"--engine", (char *)"1974",
+                  (char *)"--core", (char *)SP_CORE,
                   (char *)"--stats", stats, sc[k].obj ? (char *)"--turn" : NULL, (char *)"0,0", NULL };
     sc[k].frames = 1;
     char errp[600];
@@ -385,49 +407,56 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     return t74_fail(err, T74_EIO, "%s: cannot write the report", dir);
   }
   fprintf(f, "## One frame, warm (ms, median of %d runs; tube74 at its point grid)\n\n", runs);
-  fprintf(f, "| scene | faces | pieces | tube74 | llvmpipe 1 thread | tube74 / llvmpipe | llvmpipe 400x300 "
-             "| softpipe | tube74 / softpipe | softpipe 400x300 |\n");
-  fprintf(f, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  fprintf(d, "# kind faces tube74_frame llvmpipe softpipe tube74_process osmesa_process\n");
+  fprintf(f, "| scene | faces | pieces | tube74 1974 | tube74 points | llvmpipe 1 thread | 1974 / llvmpipe "
+             "| points / llvmpipe | llvmpipe 400x300 | softpipe | 1974 / softpipe | points / softpipe "
+             "| softpipe 400x300 |\n");
+  fprintf(f, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  fprintf(d, "# kind faces tube74_frame llvmpipe softpipe tube74_process osmesa_process "
+             "points_frame points_process\n");
   for (int k = 0; k < ns; k++) {
     struct sp_scene *s = &sc[k];
     double m[P_N];
     for (int p = 0; p < P_N; p++) m[p] = med(s->t[p], runs);
-    char c[8][32];
+    char c[10][32];
     fmt_ms(c[0], 32, m[P_TUBE]); fmt_ms(c[1], 32, m[P_LLVM]); fmt_ratio(c[2], 32, m[P_TUBE], m[P_LLVM]);
     fmt_ms(c[3], 32, m[P_LLVM_T]); fmt_ms(c[4], 32, m[P_SOFT]); fmt_ratio(c[5], 32, m[P_TUBE], m[P_SOFT]);
     fmt_ms(c[6], 32, m[P_SOFT_T]);
-    if (s->why[0]) { fprintf(f, "| %s | - | - | - | - | - | - | - | - | - |\n", s->label); continue; }
-    fprintf(f, "| %s | %d | %d | %s | %s | %s | %s | %s | %s | %s |\n", s->label, s->faces, s->pieces,
-            c[0], c[1], c[2], c[3], c[4], c[5], c[6]);
-    fprintf(d, "%d %d %.9g %.9g %.9g %.9g %.9g\n", s->kind, s->faces, m[P_TUBE], m[P_LLVM], m[P_SOFT],
-            m[P_TPROC], m[P_PPROC]);
+    fmt_ms(c[7], 32, m[P_PTS]); fmt_ratio(c[8], 32, m[P_PTS], m[P_LLVM]);
+    fmt_ratio(c[9], 32, m[P_PTS], m[P_SOFT]);
+    if (s->why[0]) { fprintf(f, "| %s | - | - | - | - | - | - | - | - | - | - | - | - |\n", s->label); continue; }
+    fprintf(f, "| %s | %d | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", s->label,
+            s->faces, s->pieces, c[0], c[7], c[1], c[2], c[8], c[3], c[4], c[5], c[9], c[6]);
+    fprintf(d, "%d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", s->kind, s->faces, m[P_TUBE], m[P_LLVM],
+            m[P_SOFT], m[P_TPROC], m[P_PPROC], m[P_PTS], m[P_PTSPROC]);
   }
   fprintf(f, "\n## Whole process, what a user waits for the PNG (ms wall, median of %d runs)\n\n", runs);
-  fprintf(f, "| scene | tube74 render -o | OSMesa (start, parse, tessellate, context, 1 frame) | "
-             "tube74 / OSMesa | tube74 max RSS MB | OSMesa max RSS MB |\n");
-  fprintf(f, "|---|---:|---:|---:|---:|---:|\n");
+  fprintf(f, "| scene | tube74 1974 render -o | tube74 points render -o | OSMesa (start, parse, "
+             "tessellate, context, 1 frame) | 1974 / OSMesa | points / OSMesa | 1974 max RSS MB | "
+             "points max RSS MB | OSMesa max RSS MB |\n");
+  fprintf(f, "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int k = 0; k < ns; k++) {
     struct sp_scene *s = &sc[k];
-    if (s->why[0]) { fprintf(f, "| %s | - | - | - | - | - |\n", s->label); continue; }
-    double a = med(s->t[P_TPROC], runs), b = med(s->t[P_PPROC], runs);
-    char c[3][32];
+    if (s->why[0]) { fprintf(f, "| %s | - | - | - | - | - | - | - | - |\n", s->label); continue; }
+    double a = med(s->t[P_TPROC], runs), b = med(s->t[P_PPROC], runs), pp = med(s->t[P_PTSPROC], runs);
+    char c[5][32];
     fmt_ms(c[0], 32, a); fmt_ms(c[1], 32, b); fmt_ratio(c[2], 32, a, b);
-    fprintf(f, "| %s | %s | %s | %s | %.1f | %.1f |\n", s->label, c[0], c[1], c[2],
-            s->rss[0] / 1024.0, s->rss[1] / 1024.0);
+    fmt_ms(c[3], 32, pp); fmt_ratio(c[4], 32, pp, b);
+    fprintf(f, "| %s | %s | %s | %s | %s | %s | %.1f | %.1f | %.1f |\n", s->label, c[0], c[3], c[1],
+            c[2], c[4], s->rss[0] / 1024.0, s->rss[2] / 1024.0, s->rss[1] / 1024.0);
   }
   fprintf(f, "\n## Growth exponents (least squares slope of log time over log faces)\n\n");
-  fprintf(f, "| scenes | tube74 frame | llvmpipe frame | tube74 process | OSMesa process |\n|---|---:|---:|---:|---:|\n");
+  fprintf(f, "| scenes | 1974 frame | points frame | llvmpipe frame | 1974 process | points process "
+             "| OSMesa process |\n|---|---:|---:|---:|---:|---:|---:|\n");
   for (int kind = 1; kind <= 2; kind++) {
-    const int prog[4] = { P_TUBE, P_LLVM, P_TPROC, P_PPROC };
-    char c[4][32];
-    for (int q = 0; q < 4; q++) {
+    const int prog[6] = { P_TUBE, P_PTS, P_LLVM, P_TPROC, P_PTSPROC, P_PPROC };
+    char c[6][32];
+    for (int q = 0; q < 6; q++) {
       double e = growth(sc, ns, kind, prog[q], runs);
       if (isnan(e)) snprintf(c[q], sizeof c[q], "-");
       else snprintf(c[q], sizeof c[q], "%.2f", e);
     }
-    fprintf(f, "| %s | %s | %s | %s | %s |\n", kind == 1 ? "boxes" : "interpenetrating triangles",
-            c[0], c[1], c[2], c[3]);
+    fprintf(f, "| %s | %s | %s | %s | %s | %s | %s |\n", kind == 1 ? "boxes" : "interpenetrating triangles",
+            c[0], c[1], c[2], c[3], c[4], c[5]);
   }
   bool failed = false;
   for (int k = 0; k < ns; k++)
@@ -436,6 +465,9 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
       failed = true;
       fprintf(f, "- %s: tube74 failed on it%s%s\n", sc[k].label, sc[k].why[0] ? ": " : "", sc[k].why);
     }
+  for (int k = 0; k < ns; k++)
+    if (sc[k].failed[P_PTS] && !sc[k].why[0])
+      fprintf(f, "- %s: not by --engine points (its effects need the 1974 engine)\n", sc[k].label);
   fclose(f);
   fclose(d);
   free(sc);
@@ -450,8 +482,10 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
                "plot '%s' using ($1==1?$2:1/0):3 with linespoints title 'tube74, boxes', \\\n"
                "     '%s' using ($1==1?$2:1/0):4 with linespoints title 'llvmpipe 1 thread, boxes', \\\n"
                "     '%s' using ($1==2?$2:1/0):3 with linespoints title 'tube74, triangles', \\\n"
-               "     '%s' using ($1==2?$2:1/0):4 with linespoints title 'llvmpipe 1 thread, triangles'\n",
-            plotpng, dat, dat, dat, dat);
+               "     '%s' using ($1==2?$2:1/0):4 with linespoints title 'llvmpipe 1 thread, triangles', \\\n"
+               "     '%s' using ($1==1?$2:1/0):8 with linespoints title 'tube74 points, boxes', \\\n"
+               "     '%s' using ($1==2?$2:1/0):8 with linespoints title 'tube74 points, triangles'\n",
+            plotpng, dat, dat, dat, dat, dat, dat);
     fclose(g);
     char *a[] = { (char *)"/usr/bin/gnuplot", gp, NULL };
     if (access(a[0], X_OK) == 0) spawn(a, NULL, NULL, NULL, NULL);

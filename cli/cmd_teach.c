@@ -422,6 +422,7 @@ int cmd_teach(int argc, char **argv, struct t74_error *err)
   }
   struct job j;
   int st = job_parse(nrest, rest, 2, &j, NULL, NULL, err);
+  j.need_1974 = true;                    /* the page shows the 1974 program's steps */
   if (st == T74_OK && (j.png || j.ndump || j.stats))
     st = t74_fail(err, T74_EINPUT, "tube74 teach: -o names the folder; --dump and --stats "
                   "belong to render");

@@ -43,6 +43,7 @@
 #include "patterns/scanner.h"
 #include "render/effects.h"
 #include "effects/fx.h"
+#include "render/points.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "render/turn.h"
@@ -54,7 +55,9 @@ static const char *const dump_names[] = { "ids", "grey", "tube", "points", "tabl
 
 /* What the point callback needs: renderer, halftone, sinks, dump buffers. */
 struct pipeline {
-  struct render *r;
+  struct render *r;                 /* the 1974 engine (NULL under --engine points) */
+  const struct mapped *map;         /* the Mapper's faces, of either engine */
+  bool timed;                       /* the 1974 engine: its clock, first dot, figures */
   const struct pat_cell *pat;
   int cell, W, H;
   struct scan_image *scan;          /* the background picture as on the disk, or NULL */
@@ -94,7 +97,12 @@ void job_usage(FILE *f)
     "  --frames K             render the loaded scene K times (outputs written once;\n"
     "                         --stats gives frame_seconds, the median frame)\n"
     "  --arith exact|hitac    decisions in exact arithmetic (default) or in the HITAC-10's\n"
-    "                         word sizes as the 1974 program would make them\n");
+    "                         word sizes as the 1974 program would make them\n"
+    "  --engine 1974|points|auto  the 1974 program with every HITAC-10 figure, or exact\n"
+    "                         visibility at each point centre without them (no effects\n"
+    "                         aa/edges/smooth/contour, --arith hitac, --dump tables|core);\n"
+    "                         auto (default): points for .obj/.off imports that need\n"
+    "                         nothing of the 1974 program, else 1974\n");
 }
 
 static int parse_long(const char *s, long lo, long hi, long *out)
@@ -129,6 +137,14 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
     }
 #define NEED(n) do { if (k + (n) >= argc) return bad_usage(err, "missing value after", a); } while (0)
     if (!strcmp(a, "-o")) { NEED(1); o->png = argv[++k]; }
+    else if (!strcmp(a, "--engine")) {
+      NEED(1);
+      const char *m = argv[++k];
+      if (!strcmp(m, "auto")) o->engine = JOB_ENGINE_AUTO;
+      else if (!strcmp(m, "1974")) o->engine = JOB_ENGINE_1974;
+      else if (!strcmp(m, "points")) o->engine = JOB_ENGINE_POINTS;
+      else return bad_usage(err, "--engine takes 1974, points or auto", m);
+    }
     else if (!strcmp(a, "--stats")) { NEED(1); o->stats = argv[++k]; }
     else if (!strcmp(a, "--effects")) { NEED(1); o->effects = argv[++k]; }
     else if (!strcmp(a, "--cell")) {
@@ -140,6 +156,7 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
       if (!parse_long(argv[++k], 1, 2147483647L, &v))
         return bad_usage(err, "--core takes a number of words, 1 .. 2^31-1", argv[k]);
       o->core_words = (uint32_t)v;
+      o->machine_given = true;
     } else if (!strcmp(a, "--dump")) {
       NEED(1);
       const char *spec = argv[++k], *eq = strchr(spec, '=');
@@ -182,6 +199,7 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
     } else if (!strcmp(a, "--hitac")) {
       NEED(1);
       if (cost_params_set(&o->params, argv[++k], err) != T74_OK) return err->status;
+      o->machine_given = true;
     } else if (!strcmp(a, "--frames")) {
       NEED(1);
       if (!parse_long(argv[++k], 1, 1000000L, &v))
@@ -200,6 +218,7 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
       else if (!strcmp(m, "dense")) o->store = PRIO_DENSE;
       else if (!strcmp(m, "sparse")) o->store = PRIO_SPARSE;
       else return bad_usage(err, "--matrix takes auto, dense or sparse", m);
+      o->machine_given = true;
     } else if (a[0] == '-') {
       return bad_usage(err, "unknown option", a);
     } else if (!o->scene) {
@@ -217,6 +236,7 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
 ** unpacking and its disk reads. */
 static double pipeline_seconds(const struct pipeline *p)
 {
+  if (!p->timed) return 0;                  /* --engine points: no 1974 time */
   struct cost total = p->display;
   for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &p->r->cost[s]);
   cost_merge(&total, &p->scanner);
@@ -237,10 +257,13 @@ int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_lev
 {
   int level = face < 0 && bg_level && p->scan ? scan_level(p->scan, i, j, &p->scanner)
                 : (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
-  if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
-  /* the first dot: 003 cuts and scans bottom to top so that the picture shows while it is
-     computed; this is when the viewer first sees something (its own lookups not counted) */
-  if (level > 0 && p->first_dot < 0) p->first_dot = pipeline_seconds(p);
+  if (p->timed) {
+    if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
+    /* the first dot: 003 cuts and scans bottom to top so that the picture shows while it
+       is computed; this is when the viewer first sees something (its own lookups not
+       counted) */
+    if (level > 0 && p->first_dot < 0) p->first_dot = pipeline_seconds(p);
+  }
   /* per point: intensity and level lookups, the cell's pattern word, then one display
      command per lit dot */
   COST_ADD_N(&p->display, COST_MEM, 4);
@@ -264,8 +287,8 @@ static int on_point(void *ctx, int i, int j, int face)
   uint32_t id = 0;
   size_t at = (size_t)j * (size_t)p->W + (size_t)i;
   if (face >= 0) {
-    grey = p->r->map.f[face].grey;
-    id = p->r->map.f[face].id;
+    grey = p->map->f[face].grey;
+    id = p->map->f[face].id;
   } else {
     grey = p->scan ? scan_grey(p->scan, i, j) : 0;
   }
@@ -296,7 +319,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
     for (int i = 0; st == T74_OK && i < p->W; i++) {
       size_t at = (size_t)j * (size_t)p->W + (size_t)i;
       int face = p->face[at];
-      p->ids[at] = face >= 0 ? p->r->map.f[face].id : 0;
+      p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
       st = emit_point(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
     }
   free(flat);
@@ -354,6 +377,53 @@ static void outs_free(struct job_outs *jo)
   jo->set = NULL;
 }
 
+/* ---- engines (CONTRACT.md "Engines") --------------------------------------------- */
+
+const char *job_engine_name(int engine)
+{
+  return engine == JOB_ENGINE_POINTS ? "points" : "1974";
+}
+
+/* Is the job's scene an import (.obj, .off), as scene_load decides it? */
+static bool job_is_import(const struct job *o)
+{
+  const char *in = o->sopts.input;
+  if (in) return !strcmp(in, "obj") || !strcmp(in, "off");
+  size_t n = strlen(o->scene);
+  if (n < 4) return false;
+  const char *x = o->scene + n - 4;
+  char l[5];
+  for (int k = 0; k < 4; k++) l[k] = (char)(x[k] >= 'A' && x[k] <= 'Z' ? x[k] - 'A' + 'a' : x[k]);
+  l[4] = 0;
+  return !strcmp(l, ".obj") || !strcmp(l, ".off");
+}
+
+int job_engine_for(const struct job *o, const struct effects *e, struct t74_error *err)
+{
+  /* what only the 1974 program does */
+  const char *why = NULL;
+  if (e->aa != EFFECTS_AA_NONE || e->edges || e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on ||
+      e->shadows)
+    why = "the effects aa=, edges=, smooth=, contour= and shadows= work on the 1974 engine's "
+          "renderer";
+  else if (o->arith == GEOM_HITAC)
+    why = "--arith hitac is the 1974 program's arithmetic";
+  else if (o->need_1974)
+    why = "this command shows the 1974 program at work";
+  for (int d = 0; d < o->ndump && !why; d++)
+    if (o->dump_kind[d] == DUMP_TABLES || o->dump_kind[d] == DUMP_CORE)
+      why = "--dump tables and --dump core show the 1974 program's tables and core";
+  if (o->engine == JOB_ENGINE_1974) return JOB_ENGINE_1974;
+  if (o->engine == JOB_ENGINE_POINTS) {
+    if (!why) return JOB_ENGINE_POINTS;
+    t74_fail(err, T74_EINPUT, "tube74: --engine points cannot run this: %s; use --engine "
+             "1974 or auto", why);
+    return -1;
+  }
+  if (why || o->machine_given || !job_is_import(o)) return JOB_ENGINE_1974;
+  return JOB_ENGINE_POINTS;
+}
+
 /* `--dump ids`: a 16-bit PGM (CONTRACT.md). A face number above 65535 (an import of more
    faces, docs/scale.md) cannot be written in it: refused at the face's line, status 2,
    naming the first point (scan order: top row first) that shows such a face; the caller
@@ -365,8 +435,8 @@ static int write_ids(const struct pipeline *p, const struct scene *s, struct out
   for (size_t at = 0; at < n; at++) {
     if (p->ids[at] <= 0xFFFFu) continue;
     int line = 0;
-    for (int k = 0; k < p->r->map.nface && !line; k++)
-      if (p->r->map.f[k].id == p->ids[at]) line = s->f[p->r->map.f[k].sface].line;
+    for (int k = 0; k < p->map->nface && !line; k++)
+      if (p->map->f[k].id == p->ids[at]) line = s->f[p->map->f[k].sface].line;
     return t74_fail_at(err, T74_EINPUT, s->file, line > 0 ? line : 1,
                        "face %lu is seen at point (%d, %d), but --dump ids %s is a 16-bit "
                        "PGM of face numbers 0..65535; no output written (docs/scale.md)",
@@ -432,7 +502,8 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "{\n");
   outfile_printf(of, "  \"scene\": ");
   outfile_json_string(of, o->scene);                   /* any path stays valid JSON */
-  outfile_printf(of, ",\n  \"faces_in\": %d,\n", r->faces_in);
+  outfile_printf(of, ",\n  \"engine\": \"1974\",\n");
+  outfile_printf(of, "  \"faces_in\": %d,\n", r->faces_in);
   outfile_printf(of, "  \"faces_dropped\": %d,\n", r->map.dropped);
   outfile_printf(of, "  \"faces_after_split\": %" PRIu64 ",\n", alive);
   outfile_printf(of, "  \"concave_splits\": %d,\n", r->concave_splits);
@@ -506,6 +577,52 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   for (int c = 0; c < COST_NCLASS; c++)
     outfile_printf(of, "%s\"%s\": %" PRIu64, c ? ", " : "", cost_class_name(c), total.n[c]);
   outfile_printf(of, "}\n}\n");
+  return outfile_commit(of, err);
+}
+
+/* --stats under --engine points: the contract's fields, the 1974 figures null. */
+static int write_stats_points(const struct job *o, const struct scene *s, const struct points *pt,
+                              const struct pipeline *p, const struct tube *t, double host,
+                              double frame, const struct effects *eff, struct outfile *of,
+                              struct t74_error *err)
+{
+  char effbuf[512];
+  effects_format(eff, effbuf, sizeof effbuf);
+  int drawn = 0;
+  for (int k = 0; k < pt->map.nface; k++) drawn += !pt->skip[k];
+  outfile_printf(of, "{\n");
+  outfile_printf(of, "  \"scene\": ");
+  outfile_json_string(of, o->scene);
+  outfile_printf(of, ",\n  \"engine\": \"points\",\n");
+  outfile_printf(of, "  \"faces_in\": %d,\n", s->nf);
+  outfile_printf(of, "  \"faces_dropped\": %d,\n", pt->map.dropped);
+  outfile_printf(of, "  \"faces_after_split\": %d,\n", drawn);
+  outfile_printf(of, "  \"faces_folded\": %d,\n", pt->faces_split);
+  outfile_printf(of, "  \"faces_culled\": %d,\n", pt->faces_culled);
+  outfile_printf(of, "  \"concave_splits\": null,\n  \"intersection_splits\": null,\n"
+                 "  \"priority_pairs_computed\": null,\n  \"priority_pairs_possible\": null,\n"
+                 "  \"priority_store\": null,\n");
+  outfile_printf(of, "  \"core_words\": %u,\n", o->core_words);
+  outfile_printf(of, "  \"core_words_used\": null,\n  \"exact_core_words\": null,\n"
+                 "  \"hitac10_seconds\": null,\n  \"exact_hitac10_seconds\": null,\n"
+                 "  \"arith\": \"exact\",\n  \"arith_faces_skipped\": null,\n"
+                 "  \"program_words\": null,\n  \"scanner_seconds\": null,\n"
+                 "  \"disk_seconds\": null,\n  \"first_dot_1974_seconds\": null,\n");
+  outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
+  outfile_printf(of, "  \"frame_seconds\": %.6f,\n", frame);
+  outfile_printf(of, "  \"frames\": %d,\n", o->frames > 1 ? o->frames : 1);
+  outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
+  outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
+  outfile_printf(of, "  \"effects\": ");
+  outfile_json_string(of, effbuf);
+  outfile_printf(of, ",\n");
+  if (p->hooks && p->hooks->stats && p->hooks->stats(p->hooks->stats_ctx, of) != T74_OK) {
+    outfile_abort(of);
+    return t74_fail(err, T74_EIO, "%s: cannot write statistics", o->stats);
+  }
+  outfile_printf(of, "  \"stages\": [%s\"mapper\", \"points\", \"halftone\", \"tube\"],\n",
+                 p->scan ? "\"scanner\", " : "");
+  outfile_printf(of, "  \"stage_hitac10_seconds\": null,\n  \"operations\": null\n}\n");
   return outfile_commit(of, err);
 }
 
@@ -670,6 +787,7 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   struct pipeline p = *p0;
   struct render r;
   memset(&r, 0, sizeof r);
+  p.map = &r.map;
   double t0 = now_seconds();
   if (p.scan) scan_display_reset(p.scan);
   struct tube *t = tube_new();
@@ -692,6 +810,40 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   return st;
 }
 
+/* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
+** first, left to right), through the same per-point path. */
+static int points_emit(struct pipeline *p, const struct points *pt)
+{
+  for (int j = p->H - 1; j >= 0; j--)
+    for (int i = 0; i < p->W; i++) {
+      int st = on_point(p, i, j, pt->face[(size_t)j * (size_t)p->W + (size_t)i]);
+      if (st != T74_OK) return st;          /* as vis_scan: the sink's status */
+    }
+  return T74_OK;
+}
+
+/* One more frame under --engine points (see spare_frame): the engine's scratch reused. */
+static int spare_points_frame(const struct pipeline *p0, const struct scene *s, struct points *pt,
+                              const struct vis_grid *g, double *secs, struct t74_error *err)
+{
+  struct pipeline p = *p0;
+  double t0 = now_seconds();
+  if (p.scan) scan_display_reset(p.scan);
+  struct tube *t = tube_new();
+  if (!t) return t74_fail(err, T74_EIO, "out of host memory");
+  p.hooks = NULL;
+  p.out = tube_sink(t);
+  p.tube_only = t;
+  memset(&p.display, 0, sizeof p.display);
+  memset(&p.scanner, 0, sizeof p.scanner);
+  int st = points_render(pt, s, g, err);
+  p.map = &pt->map;
+  if (st == T74_OK) st = points_emit(&p, pt);
+  *secs = now_seconds() - t0;
+  tube_free(t);
+  return st;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
   double x = *(const double *)a, y = *(const double *)b;
@@ -705,6 +857,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
 
   struct scene *own = NULL;                 /* the scene when the job reads it */
   struct render r;
+  struct points pts;
   struct pipeline p;
   struct tube *t = NULL;
   struct pic *bg = NULL;
@@ -713,8 +866,10 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   double *frame_t = NULL;                   /* --frames: each frame's host seconds */
   int st;
   memset(&r, 0, sizeof r);
+  memset(&pts, 0, sizeof pts);
   memset(&p, 0, sizeof p);
   p.first_dot = -1;
+  int engine = JOB_ENGINE_1974;
   memset(&jo, 0, sizeof jo);
 
   double t0 = now_seconds() - o->preload_seconds;  /* reading the scene counts */
@@ -736,6 +891,9 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   else if (s->effects) st = effects_parse(s->effects, &eff, s->file, s->effects_line, err);
   else { effects_default(&eff); st = T74_OK; }
   if (st != T74_OK) goto done;
+  engine = job_engine_for(o, &eff, err);
+  if (engine < 0) { st = err->status; goto done; }
+  p.timed = engine == JOB_ENGINE_1974;
   p.cell = o->cell ? o->cell : eff.halftone;
   st = pat_find(eff.pattern[0] ? eff.pattern : NULL, p.cell, &p.pat);
   if (st != T74_OK) {
@@ -776,8 +934,10 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   const int nframes = o->frames > 1 ? o->frames : 1;
   frame_t = calloc((size_t)nframes, sizeof *frame_t);
   if (!frame_t) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
+  struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
   double f0 = now_seconds();                /* frame 1: the Mapper to the last dot stored */
-  st = render_prepare_lazy_arith(&r, s, &ro, o->arith, err);
+  if (engine == JOB_ENGINE_POINTS) st = points_render(&pts, s, &g, err);
+  else st = render_prepare_lazy_arith(&r, s, &ro, o->arith, err);
   if (st != T74_OK) goto done;
 
   t = tube_new();
@@ -788,7 +948,8 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     st = t74_fail(err, T74_EIO, "out of host memory");
     goto done;
   }
-  p.r = &r;
+  p.r = engine == JOB_ENGINE_1974 ? &r : NULL;
+  p.map = engine == JOB_ENGINE_1974 ? &r.map : &pts.map;
   p.hooks = h;
   p.params = &o->params;
   struct sink_tee tee;
@@ -797,10 +958,13 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   if (h && h->extra.point) sink_tee_add(&tee, h->extra);
   p.out = sink_tee_sink(&tee);
   if (tee.n == 1) p.tube_only = t;          /* the tube alone: its faster path */
-  struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
   struct fx_stats fst;
   memset(&fst, 0, sizeof fst);
-  st = render_scan(&r, &g, on_point, &p, err);
+  if (engine == JOB_ENGINE_POINTS) {
+    if (h && h->untimed) h->untimed(h->untimed_ctx);
+    st = points_emit(&p, &pts);
+  } else
+    st = render_scan(&r, &g, on_point, &p, err);
   if (st == T74_OK && p.face) st = run_effects(&p, s, &eff, &g, &fst, err);
   if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
   frame_t[0] = now_seconds() - f0;
@@ -810,14 +974,15 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     struct render_opts ro2 = ro;
     ro2.tables = NULL;
     for (int k = 1; k < nframes && st == T74_OK; k++)
-      st = spare_frame(&p, s, &eff, &ro2, o->arith, &g, &frame_t[k], err);
+      st = engine == JOB_ENGINE_POINTS ? spare_points_frame(&p, s, &pts, &g, &frame_t[k], err)
+                                       : spare_frame(&p, s, &eff, &ro2, o->arith, &g, &frame_t[k], err);
     if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
   }
   qsort(frame_t, (size_t)nframes, sizeof *frame_t, cmp_double);
   const double frame_med = nframes % 2 ? frame_t[nframes / 2]
                                        : (frame_t[nframes / 2 - 1] + frame_t[nframes / 2]) / 2;
   /* the clock's last tick: the last point's own display work is done too */
-  if (h && h->clock) h->clock(h->clock_ctx, pipeline_seconds(&p));
+  if (p.timed && h && h->clock) h->clock(h->clock_ctx, pipeline_seconds(&p));
   if (h && h->extra.point && (st = sink_end(&h->extra, err)) != T74_OK) goto done;
   double host = now_seconds() - t0;
   if (res) {
@@ -826,6 +991,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     res->frame_seconds = frame_med;
     res->points_lit = tube_count(t);
     res->W = p.W; res->H = p.H; res->cell = p.cell;
+    res->engine = engine;
   }
 
   /* outputs: each written into its place in the set, then all committed together */
@@ -849,7 +1015,11 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     }
     if (st != T74_OK) goto done;
   }
-  if (jo.stats && (st = write_stats(o, &r, &p, t, host, frame_med, &eff, &fst, jo.stats, err)) != T74_OK)
+  if (jo.stats && engine == JOB_ENGINE_POINTS &&
+      (st = write_stats_points(o, s, &pts, &p, t, host, frame_med, &eff, jo.stats, err)) != T74_OK)
+    goto done;
+  if (jo.stats && engine == JOB_ENGINE_1974 &&
+      (st = write_stats(o, &r, &p, t, host, frame_med, &eff, &fst, jo.stats, err)) != T74_OK)
     goto done;
   st = outs_commit(&jo, err);
 
@@ -864,6 +1034,7 @@ done:
   if (bg) pic_free(bg);
   scan_free(p.scan);
   render_free(&r);
+  points_free(&pts);
   scene_free(own);
   return st;
 }

@@ -22,11 +22,20 @@
 #include "display/sink.h"
 #include "emu/cost.h"
 #include "emu/status.h"
+#include "render/effects.h"
 #include "render/scene.h"
 
 #define JOB_MAX_DUMPS 8
 
 enum job_dump { DUMP_IDS, DUMP_GREY, DUMP_TUBE, DUMP_POINTS, DUMP_TABLES, DUMP_CORE };
+
+/* --engine (CONTRACT.md "Engines"): which program decides visibility. */
+enum job_engine {
+  JOB_ENGINE_AUTO = 0,              /* 1974 for .s74 scenes and wherever something needs
+                                       the 1974 program; points for imports otherwise */
+  JOB_ENGINE_1974,                  /* paper 003's program in the memory model (render.h) */
+  JOB_ENGINE_POINTS                 /* exact visibility at each point centre (points.h) */
+};
 
 struct job {
   const char *scene;
@@ -45,6 +54,11 @@ struct job {
   int frames;                       /* --frames: the loaded scene rendered this many times
                                        (0 = 1); outputs come from one of them */
   int arith;                        /* --arith: GEOM_EXACT (default) or GEOM_HITAC */
+  int engine;                       /* --engine: enum job_engine (default auto) */
+  bool machine_given;               /* --core, --matrix or --hitac given: questions about
+                                       the 1974 machine (auto then takes the 1974 engine) */
+  bool need_1974;                   /* the command needs the 1974 program (teach, bench
+                                       arith): auto takes it, --engine points is refused */
   int ndump;
   int dump_kind[JOB_MAX_DUMPS];
   const char *dump_path[JOB_MAX_DUMPS];
@@ -82,6 +96,10 @@ struct job_hooks {
      its outputs to it and leaves the commit to the caller. NULL: the job makes its own
      set and commits it when everything succeeded. */
   struct outset *outs;
+  /* called once, before the first point, when the engine keeps no 1974 time (--engine
+     points): the clock above will not tick (NULL: not told) */
+  void (*untimed)(void *ctx);
+  void *untimed_ctx;
 };
 
 struct job_result {
@@ -90,7 +108,16 @@ struct job_result {
   double frame_seconds;             /* median of the frames: Mapper to the last dot stored */
   int points_lit;                   /* tube dots lit */
   int W, H, cell;
+  int engine;                       /* the engine that ran: JOB_ENGINE_1974 or _POINTS */
 };
+
+/* The engine job j runs with effects e (parsed from its scene or --effects) on its scene:
+   JOB_ENGINE_1974 or JOB_ENGINE_POINTS, or -1 with a usage error in err (T74_EINPUT: an
+   explicit --engine points with something only the 1974 program does). */
+int job_engine_for(const struct job *j, const struct effects *e, struct t74_error *err);
+
+/* "1974" or "points" */
+const char *job_engine_name(int engine);
 
 int job_run(const struct job *j, const struct job_hooks *h, struct job_result *res,
             struct t74_error *err);

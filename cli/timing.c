@@ -182,6 +182,7 @@ int timing_prepare(struct timing *t, struct job *j, struct t74_error *err)
   }
   beam_init(&t->beam, &t->bp);
   t->clock = 0;
+  t->untimed = false;
   look_free(t->look);
   t->look = NULL;
   if (t->want_look || t->record) {
@@ -303,8 +304,17 @@ static int on_stats(void *ctx, struct outfile *of)
 {
   struct timing *t = ctx;
   outfile_printf(of, "  \"tube_seconds\": %.6f,\n", timing_tube_seconds(t));
-  outfile_printf(of, "  \"total_1974_seconds\": %.6f,\n", timing_total_seconds(t));
+  if (t->untimed)       /* --engine points: no 1974 computing time to add the beam's to */
+    outfile_printf(of, "  \"total_1974_seconds\": null,\n");
+  else
+    outfile_printf(of, "  \"total_1974_seconds\": %.6f,\n", timing_total_seconds(t));
   return outfile_printf(of, "  \"beam_dwell_us\": %g,\n", t->bp.v[BP_DWELL_US]);
+}
+
+static void on_untimed(void *ctx)
+{
+  struct timing *t = ctx;
+  t->untimed = true;
 }
 
 void timing_hooks(struct timing *t, struct job_hooks *h)
@@ -323,4 +333,6 @@ void timing_hooks(struct timing *t, struct job_hooks *h)
   h->events_ctx = t;
   h->open_outputs = on_open_outputs;
   h->outputs_ctx = t;
+  h->untimed = on_untimed;
+  h->untimed_ctx = t;
 }

@@ -37,6 +37,7 @@ struct timing {
   struct look *look;            /* dots with their write times (made by timing_prepare
                                    when a look or a recording is wanted), else NULL */
   double clock;                 /* latest computing time from the clock hook */
+  bool untimed;                 /* the engine keeps no 1974 time (--engine points) */
   int scale;                    /* --scale 1..8 (default 1; play: 2) */
   bool scale_given;
   unsigned look_flags;          /* LOOK_FLASH | LOOK_FADE */

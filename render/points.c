@@ -1,0 +1,442 @@
+/*
+** points.c — the points engine (see points.h): each face's grid polygon rasterised by
+** exact scanline crossings into a per-point (face, depth) buffer.
+**
+** Numbers (every bound proven here; the scene reader keeps coordinates in 16 bits):
+**
+** Point centres.  Point (i, j) has its centre at x = XN(i) / xd grid units with
+** XN(i) = GRID_ONE (xd XL + (2i + 1)(XR - XL)), xd = 2W, and y = yn_j / yd with
+** yn_j = GRID_ONE (yd YT - (2j + 1)(YT - YB)), yd = 2H (CONTRACT.md; the same numbers
+** as vis_scan). W <= 133, H <= 100.
+**
+** Rows of an edge.  An edge from (x0, y0) up to (x1, y1) (y0 < y1) crosses the line of
+** row j, with the tie rule (the centre shifted up by e^2), when y0 <= y_j < y1. With
+** N(y) = yd (GRID_ONE YT - y) and Dy = GRID_ONE (YT - YB):  y_j >= y  <=>
+** (2j + 1) Dy <= N(y); |N| < 2^8 (2^23 + 2^28) < 2^37, Dy < 2^24: 64-bit.
+**
+** Columns of a crossing.  The crossing's x is (x0 dy yd + (yn - y0 yd) dx) / (dy yd)
+** (dx = x1 - x0, dy = y1 - y0 > 0), and the tie rule (the centre shifted right by e)
+** counts it left of the centre when x <= x_i. Point i is right of it when
+** (2i + 1) D >= R with D = S dy yd, S = GRID_ONE (XR - XL), and
+** R = xd (x0 dy yd + (yn - y0 yd) dx) - GRID_ONE xd XL dy yd:
+** |dx|, |dy| < 2^29, |x0|, |y0| <= 2^28, |yn| < 2^33, yd < 2^8, xd < 2^9, S < 2^24:
+** D < 2^61, |R| < 2^9 (2^65 + 2^37 2^29) + 2^69 < 2^77 — 128-bit. The first such i is
+** floor(ceil(R / D) / 2). From one row to the next up, yn grows by 2 Dy, so R grows by a
+** constant; R / D is stepped as quotient and remainder (remainder < D < 2^61), with one
+** division per edge for the start and one for the step.
+**
+** Even-odd.  On one row the crossings of a face (all rings; an even number, each ring
+** giving an even number under the half-open rule) are sorted by their first columns c_k;
+** a point i is inside when an odd number of crossings lie left of it, i.e. when an odd
+** number of c_k are <= i: the points [c_0, c_1), [c_2, c_3), ... Columns clamped to
+** [0, W] keep that order, so the clamp changes nothing inside the window.
+**
+** Depth.  With the centre in world units u = (Xc / 2W, Yc / 2H, -Z0) - eye-relative,
+** P = 4WH n.u = a 2H Xc + b 2W Yc - c 4WH Z0' is an integer linear in (i, j):
+** P = alpha i + beta j + gamma, alpha = 4H (XR - XL) a, beta = -4W (YT - YB) b.
+** |a|, |b|, |c| <= 2^33 (cross products of 16-bit differences), |Xc| <= 2W 2^17,
+** |Yc| <= 2H 2^17, 4WH < 2^16: |P| < 3 2^66 < 2^68; |alpha|, |beta| < 2^60; |D| = deye
+** < 2^51 (mapper.c). A in front of B: |D_B| P_A > |D_A| P_B, products < 2^119 — 128-bit,
+** exact. A plane met at or behind the eye (P <= 0) is never in front; equal depth: the
+** sign just right of the centre, then just above it (tie_front), then the larger face
+** number.
+*/
+#include "render/points.h"
+
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "render/geom.h"
+#include "render/segment.h"
+
+struct points_edge {
+  int32_t jtop, jbot;       /* rows crossed: jtop .. jbot (j from the top), jtop <= jbot */
+  wide q;                   /* floor(R / D) at row jbot */
+  int64_t rem;              /* R - q D, 0 <= rem < D */
+  int64_t D;
+  wide dq;                  /* floor(dR / D) for a row up */
+  int64_t drem;             /* dR - dq D */
+};
+
+/* floor(n / d), d > 0 */
+static inline wide floor_div(wide n, wide d)
+{
+  wide q = n / d;
+  if ((n % d) < 0) q--;
+  return q;
+}
+
+static inline int64_t floor_div64(int64_t n, int64_t d)
+{
+  int64_t q = n / d;
+  if ((n % d) < 0) q--;
+  return q;
+}
+
+/* A face the Segment Generator takes as it is without asking it: a triangle, or one
+   outer ring that turns strictly left at every corner and winds once (the sign of dy
+   changes exactly twice around it). */
+static bool plain_convex(const struct mface *f)
+{
+  if (f->nring != 1) return false;
+  int n = f->ring_start[1];
+  if (n == 3) return true;
+  const struct gpoint *p = f->pt;
+  int first = 0, prev = 0, changes = 0;
+  for (int k = 0; k < n; k++) {
+    struct gpoint a = p[(k + n - 1) % n], b = p[k], c = p[(k + 1) % n];
+    if (geom_orient(a, b, c) <= 0) return false;
+    int64_t dy = c.y - b.y;
+    int sg = (dy > 0) - (dy < 0);
+    if (!sg) continue;
+    if (!first) first = sg;
+    else if (sg != prev) changes++;
+    prev = sg;
+  }
+  if (prev != first) changes++;
+  return changes == 2;
+}
+
+/* Would the 1974 engine's Segment Generator take face k as it is? 1 yes, 0 it refuses it
+   (not simple on the grid), or a negative status. The check runs in a core of its own,
+   grown when a face's tables need more. */
+static int segment_takes(struct points *p, const struct mface *f, struct t74_error *err)
+{
+  for (;;) {
+    if (!p->segcore) {
+      p->segcore = core_new(1u << 16);
+      if (!p->segcore) return -t74_fail(err, T74_EIO, "out of host memory");
+    }
+    struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
+    struct seg_result res;
+    memset(&res, 0, sizeof res);
+    struct cost c;
+    memset(&c, 0, sizeof c);
+    uint32_t mark = core_mark(p->segcore);
+    int st = seg_generate(&in, &res, NULL, p->segcore, &c, err);
+    seg_result_free(&res);
+    core_release(p->segcore, mark);
+    if (st == T74_OK) return 1;
+    if (st == T74_EINPUT) { memset(err, 0, sizeof *err); return 0; }
+    if (st != T74_ECORE || core_words(p->segcore) >= (1u << 30)) return -st;
+    uint32_t w = core_words(p->segcore) * 4;
+    memset(err, 0, sizeof *err);
+    core_free(p->segcore);
+    p->segcore = core_new(w);
+    if (!p->segcore) return -t74_fail(err, T74_EIO, "out of host memory");
+  }
+}
+
+static bool grow(void **buf, int *cap, int need, size_t size)
+{
+  if (need <= *cap) return true;
+  int c = *cap ? *cap : 64;
+  while (c < need) c *= 2;
+  void *nb = realloc(*buf, (size_t)c * size);
+  if (!nb) return false;
+  *buf = nb;
+  *cap = c;
+  return true;
+}
+
+/* The Mapper, then the faces folded by rounding split as the 1974 engine splits them. */
+static int map_faces(struct points *p, const struct scene *s, struct t74_error *err)
+{
+  mapper_free(&p->map);
+  uint64_t words = 1024 + 6 * (uint64_t)s->nv + 10 * (uint64_t)s->nf;
+  for (int k = 0; k < s->nf; k++) words += 10 * (uint64_t)s->f[k].ring_start[s->f[k].nring];
+  if (words > (UINT64_C(1) << 31)) words = UINT64_C(1) << 31;
+  if (p->core && core_words(p->core) < words) { core_free(p->core); p->core = NULL; }
+  if (!p->core && !(p->core = core_new((uint32_t)words)))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  core_release(p->core, 0);
+  struct cost cost;
+  memset(&cost, 0, sizeof cost);
+  int st = mapper_run(s, &p->map, p->core, &cost, err);
+  if (st != T74_OK) return st;
+  p->faces_split = 0;
+  int n0 = p->map.nface;
+  int *left = NULL, nleft = 0, capleft = 0;
+  for (int k = 0; k < n0; k++) {
+    if (plain_convex(&p->map.f[k])) continue;
+    int takes = segment_takes(p, &p->map.f[k], err);
+    if (takes < 0) { free(left); return -takes; }
+    if (takes) continue;
+    const struct mface *f = &p->map.f[k];
+    int ntri = 0;
+    st = mapper_split_face(&p->map, k, p->core, &cost, &ntri, err);
+    if (st == T74_EINPUT) {
+      f = &p->map.f[k];
+      st = t74_fail_at(err, T74_EINPUT, s->file, f->sline,
+                       "face %u: rounded onto the plane grid (1/%d unit) its boundary is "
+                       "no longer simple, and no split into triangles was found; it "
+                       "is seen almost edge-on or from far away: move the eye or the face",
+                       (unsigned)f->id, (int)GRID_ONE);
+    }
+    if (st != T74_OK) { free(left); return st; }
+    p->faces_split++;
+    if (ntri == 0) {
+      if (!grow((void **)&left, &capleft, nleft + 1, sizeof *left)) {
+        free(left);
+        return t74_fail(err, T74_EIO, "out of host memory");
+      }
+      left[nleft++] = k;
+    }
+  }
+  if (!grow((void **)&p->skip, &p->skipcap, p->map.nface + 1, 1)) {
+    free(left);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  if (p->map.nface > 0) memset(p->skip, 0, (size_t)p->map.nface);
+  for (int k = 0; k < nleft; k++) p->skip[left[k]] = 1;
+  free(left);
+  return T74_OK;
+}
+
+/* The grid's constants for one render. */
+struct grid {
+  int W, H;
+  int64_t XL, YB, XR, YT, xd, yd, S, Dy;
+  wide Ex, Ey, Ez;
+};
+
+/* Rows j (from the top) with y_j >= y: j <= row_at_or_above(y). */
+static inline int64_t row_last_at_or_above(const struct grid *g, int64_t y)
+{
+  int64_t q = floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);   /* 2j+1 <= q */
+  return floor_div64(q - 1, 2);
+}
+
+/* Rows with y_j < y: j >= row_first_below(y). */
+static inline int64_t row_first_below(const struct grid *g, int64_t y)
+{
+  int64_t q = floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);   /* 2j+1 > q */
+  return -floor_div64(-q, 2);                                       /* ceil(q / 2) */
+}
+
+/* Columns i with x_i >= x (grid units, an integer): i >= col_first_at_or_right(x). */
+static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
+{
+  /* (2i + 1) S >= xd (x - GRID_ONE XL) */
+  int64_t R = g->xd * (x - GRID_ONE * g->XL);
+  int64_t q = -floor_div64(-R, g->S);                               /* ceil */
+  return floor_div64(q, 2);
+}
+
+/* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row. */
+static int face_edges(struct points *p, const struct grid *g, const struct mface *f,
+                      int64_t jlo, int64_t jhi, int *nedge, struct t74_error *err)
+{
+  int n = f->ring_start[f->nring];
+  if (!grow((void **)&p->edge, &p->edgecap, n, sizeof *p->edge))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  int ne = 0;
+  const wide dyn_row = 2 * (wide)g->Dy;         /* yn grows by this a row up */
+  for (int r = 0; r < f->nring; r++) {
+    int lo = f->ring_start[r], hi = f->ring_start[r + 1];
+    for (int k = lo; k < hi; k++) {
+      struct gpoint a = f->pt[k], b = f->pt[k + 1 < hi ? k + 1 : lo];
+      if (a.y == b.y) continue;
+      if (a.y > b.y) { struct gpoint t = a; a = b; b = t; }
+      int64_t jb = row_last_at_or_above(g, a.y), jt = row_first_below(g, b.y);
+      if (jb > jhi) jb = jhi;
+      if (jt < jlo) jt = jlo;
+      if (jt > jb) continue;
+      struct points_edge *e = &p->edge[ne++];
+      e->jtop = (int32_t)jt;
+      e->jbot = (int32_t)jb;
+      int64_t dx = b.x - a.x, dy = b.y - a.y;
+      e->D = g->S * dy * g->yd;
+      wide yn = (wide)GRID_ONE * ((wide)g->yd * g->YT - (2 * (wide)jb + 1) * (g->YT - g->YB));
+      wide R = (wide)g->xd * ((wide)a.x * dy * g->yd + (yn - (wide)a.y * g->yd) * dx) -
+               (wide)GRID_ONE * g->xd * g->XL * dy * g->yd;
+      e->q = floor_div(R, e->D);
+      e->rem = (int64_t)(R - e->q * e->D);
+      wide dR = (wide)g->xd * dyn_row * dx;
+      e->dq = floor_div(dR, e->D);
+      e->drem = (int64_t)(dR - e->dq * e->D);
+    }
+  }
+  *nedge = ne;
+  return T74_OK;
+}
+
+static inline int32_t col_of(const struct grid *g, wide q, int64_t rem)
+{
+  wide c = q + (rem != 0);                      /* ceil(R / D) */
+  c = floor_div(c, 2);
+  if (c < 0) return 0;
+  if (c > g->W) return g->W;
+  return (int32_t)c;
+}
+
+/* Depth ties at a centre: the sign of G = |D_o| P_k - |D_k| P_o just right of the centre
+   (then just above it), the tie rule of the edges (the centre shifted by (e, e^2)); planes
+   of equal depth everywhere (coplanar): the larger face number in front. |D| |alpha| <
+   2^111: 128-bit. */
+static bool tie_front(const struct grid *g, const struct mface *fk, const struct mface *fo)
+{
+  wide ak = (wide)fk->plane[0] * 4 * g->H * (g->XR - g->XL);
+  wide ao = (wide)fo->plane[0] * 4 * g->H * (g->XR - g->XL);
+  wide l = (wide)fo->deye * ak, r = (wide)fk->deye * ao;
+  if (l != r) return l > r;                     /* i grows with x */
+  wide bk = (wide)fk->plane[1] * 4 * g->W * (g->YT - g->YB);   /* -beta: y grows as j falls */
+  wide bo = (wide)fo->plane[1] * 4 * g->W * (g->YT - g->YB);
+  l = (wide)fo->deye * bk;
+  r = (wide)fk->deye * bo;
+  if (l != r) return l > r;
+  return fk->id > fo->id;
+}
+
+/* Is face k (P_k) in front of the face o seen so far (P_o) at a centre? */
+static inline bool in_front(const struct grid *g, wide Pk, const struct mface *fk, wide Po,
+                            const struct mface *fo)
+{
+  int s;
+  if (Pk <= 0 || Po <= 0) s = (Pk > 0) - (Po > 0);
+  else {
+    wide l = (wide)fo->deye * Pk, r = (wide)fk->deye * Po;
+    s = (l > r) - (l < r);
+    if (s == 0) return tie_front(g, fk, fo);
+  }
+  if (s == 0) return fk->id > fo->id;
+  return s > 0;
+}
+
+/* Rasterise face k into the buffer. */
+static int raster_face(struct points *p, const struct grid *g, int k, struct t74_error *err)
+{
+  const struct mface *f = &p->map.f[k];
+  int n = f->ring_start[f->nring];
+  gcoord xmin = f->pt[0].x, xmax = xmin, ymin = f->pt[0].y, ymax = ymin;
+  for (int v = 1; v < n; v++) {
+    const struct gpoint q = f->pt[v];
+    if (q.x < xmin) xmin = q.x;
+    if (q.x > xmax) xmax = q.x;
+    if (q.y < ymin) ymin = q.y;
+    if (q.y > ymax) ymax = q.y;
+  }
+  int64_t jlo = row_first_below(g, ymax), jhi = row_last_at_or_above(g, ymin);
+  if (jlo < 0) jlo = 0;
+  if (jhi > g->H - 1) jhi = g->H - 1;
+  int64_t ilo = col_first_at_or_right(g, xmin), ihi = col_first_at_or_right(g, xmax);
+  if (ilo < 0) ilo = 0;
+  if (ihi > g->W) ihi = g->W;
+  if (jlo > jhi || ilo >= ihi) { p->faces_culled++; return T74_OK; }
+  int ne;
+  int st = face_edges(p, g, f, jlo, jhi, &ne, err);
+  if (st != T74_OK) return st;
+  int nrow = (int)(jhi - jlo + 1);
+  if (!grow((void **)&p->rowcount, &p->rowcap, nrow + 1, sizeof *p->rowcount))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  int *rc = p->rowcount;
+  memset(rc, 0, (size_t)(nrow + 1) * sizeof *rc);
+  for (int e = 0; e < ne; e++)
+    for (int32_t j = p->edge[e].jtop; j <= p->edge[e].jbot; j++) rc[j - jlo + 1]++;
+  for (int r = 0; r < nrow; r++) rc[r + 1] += rc[r];
+  if (!grow((void **)&p->cross, &p->crosscap, rc[nrow] + 1, sizeof *p->cross))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  /* fill: rc[r] is the next free slot of row r (rc[r] ends as row r+1's start) */
+  for (int e = 0; e < ne; e++) {
+    struct points_edge *E = &p->edge[e];
+    wide q = E->q;
+    int64_t rem = E->rem;
+    for (int32_t j = E->jbot;; j--) {
+      p->cross[rc[j - jlo]++] = col_of(g, q, rem);
+      if (j == E->jtop) break;
+      q += E->dq;
+      rem += E->drem;
+      if (rem >= E->D) { rem -= E->D; q++; }
+    }
+  }
+  /* depth: P = alpha i + beta j + gamma */
+  const wide a = f->plane[0], b = f->plane[1], c = f->plane[2];
+  const wide alpha = a * 4 * g->H * (g->XR - g->XL);
+  const wide beta = -b * 4 * g->W * (g->YT - g->YB);
+  const wide gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
+                     b * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
+                     c * 4 * g->W * g->H * (-g->Ez);
+  const struct mface *F = p->map.f;
+  bool any = false;
+  int start = 0;
+  for (int r = 0; r < nrow; r++) {
+    int end = rc[r];                            /* row r: cross[start .. end) */
+    int32_t *cs = p->cross + start;
+    int m = end - start;
+    for (int x = 1; x < m; x++) {               /* insertion sort: rows hold few */
+      int32_t v = cs[x];
+      int y = x - 1;
+      while (y >= 0 && cs[y] > v) { cs[y + 1] = cs[y]; y--; }
+      cs[y + 1] = v;
+    }
+    int64_t j = jlo + r;
+    size_t row = (size_t)j * (size_t)g->W;
+    wide Prow = beta * j + gamma;
+    for (int x = 0; x + 1 < m; x += 2) {
+      int32_t i0 = cs[x], i1 = cs[x + 1];
+      if (i0 >= i1) continue;
+      any = true;
+      wide P = Prow + alpha * i0;
+      int32_t *fb = p->face + row;
+      wide *db = p->depth + row;
+      for (int32_t i = i0; i < i1; i++, P += alpha) {
+        int32_t o = fb[i];
+        if (o < 0 || in_front(g, P, f, db[i], &F[o])) { fb[i] = k; db[i] = P; }
+      }
+    }
+    start = end;
+  }
+  if (!any) p->faces_culled++;
+  return T74_OK;
+}
+
+int points_render(struct points *p, const struct scene *s, const struct vis_grid *vg,
+                  struct t74_error *err)
+{
+  if (vg->window[0] >= vg->window[2] || vg->window[1] >= vg->window[3])
+    return t74_fail(err, T74_EINPUT, "%s: the window needs XL < XR and YB < YT", s->file);
+  int st = map_faces(p, s, err);
+  if (st != T74_OK) return st;
+  size_t n = (size_t)vg->W * (size_t)vg->H;
+  if (!p->face || p->W != vg->W || p->H != vg->H) {
+    free(p->face);
+    free(p->depth);
+    p->face = malloc((n ? n : 1) * sizeof *p->face);
+    p->depth = malloc((n ? n : 1) * sizeof *p->depth);
+    if (!p->face || !p->depth) return t74_fail(err, T74_EIO, "out of host memory");
+    p->W = vg->W;
+    p->H = vg->H;
+  }
+  memset(p->face, 0xff, n * sizeof *p->face);   /* -1: nothing seen */
+  struct grid g;
+  g.W = vg->W; g.H = vg->H;
+  g.XL = vg->window[0]; g.YB = vg->window[1]; g.XR = vg->window[2]; g.YT = vg->window[3];
+  g.xd = 2 * (int64_t)g.W;
+  g.yd = 2 * (int64_t)g.H;
+  g.S = GRID_ONE * (g.XR - g.XL);
+  g.Dy = GRID_ONE * (g.YT - g.YB);
+  g.Ex = p->map.eye[0]; g.Ey = p->map.eye[1]; g.Ez = p->map.eye[2];
+  p->faces_culled = 0;
+  for (int k = 0; k < p->map.nface; k++) {
+    if (p->skip[k]) continue;
+    if ((st = raster_face(p, &g, k, err)) != T74_OK) return st;
+  }
+  return T74_OK;
+}
+
+void points_free(struct points *p)
+{
+  mapper_free(&p->map);
+  core_free(p->core);
+  core_free(p->segcore);
+  free(p->face);
+  free(p->depth);
+  free(p->edge);
+  free(p->cross);
+  free(p->rowcount);
+  free(p->skip);
+  memset(p, 0, sizeof *p);
+}

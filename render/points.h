@@ -1,0 +1,63 @@
+/*
+** points.h — the points engine (--engine points): the visible face at every point centre of
+** the perspective-plane grid, decided exactly point by point, without the 1974 program.
+**
+** The question is the one the Visible Surface Procedure answers for each point (paper 003
+** §4), asked directly: which of the Mapper's faces (render/mapper.h, the same grid
+** polygons and exact planes as the 1974 engine) covers the point's centre and is nearest
+** the eye there. Each face's grid polygon is rasterised by exact scanline crossings into a
+** per-point buffer of (face, depth); depths are compared exactly in 128-bit integers.
+** Nothing of the HITAC-10 is modelled: no core budget, no operation counts, no 1974 times.
+**
+** Rules (the same as the 1974 engine's, README "Exactness"):
+**   - coverage: even-odd over the face's rings with the tie rule of render/geom.h (a point
+**     on a non-horizontal edge belongs to the side of larger x, on a horizontal edge to
+**     the side of larger y: the symbolic shift of the centre by (e, e^2));
+**   - depth: the ray from the eye through the centre meets plane A at t_A = |D_A| / n_A.u
+**     (u = centre - eye); A is in front of B when t_A < t_B, compared as
+**     |D_B| n_A.u > |D_A| n_B.u; a plane met at or behind the eye (n.u <= 0) is never in
+**     front; equal depth at the centre (it lies on the two planes' intersection line):
+**     the face in front just right of it, then just above it (the edges' tie rule, as the
+**     1974 program's cut lines give it); planes of equal depth everywhere (coplanar): the
+**     larger face number in front;
+**   - a face whose grid polygon the Segment Generator refuses as not simple (rounding
+**     folded it) is split into triangles by mapper_split_face, exactly as the 1974 engine
+**     splits it, so both engines see the same faces.
+*/
+#ifndef T74_POINTS_H
+#define T74_POINTS_H
+
+#include <stdint.h>
+#include "emu/status.h"
+#include "render/mapper.h"
+#include "render/scene.h"
+#include "render/visible.h"
+
+struct points_edge;                 /* scratch, points.c */
+
+struct points {
+  struct mapped map;                /* the Mapper's faces (plus triangles of folded faces) */
+  int W, H;
+  int32_t *face;                    /* W x H, index (j * W + i), j from the top: the face
+                                       seen (index in map.f), or -1 */
+  int faces_split;                  /* faces folded by rounding, drawn as their triangles */
+  int faces_culled;                 /* faces that cover no point centre */
+  /* host scratch, kept from frame to frame (points_render reuses it) */
+  struct core *core;                /* room for the Mapper's tables (never reported) */
+  struct core *segcore;             /* room for the Segment Generator's simplicity check */
+  __int128 *depth;                  /* W x H: n.u of the face seen, scaled (points.c) */
+  struct points_edge *edge; int edgecap;
+  int32_t *cross; int crosscap;     /* column thresholds of one face, row by row */
+  int *rowcount; int rowcap;
+  uint8_t *skip; int skipcap;       /* faces left out (folded, no triangle covers a point) */
+};
+
+/* Map scene s and find the face seen at every point of grid g. Returns T74_OK, T74_EINPUT
+   (a face that cannot be drawn, with the same message as the 1974 engine) or T74_EIO.
+   p must be zeroed before the first call; a later call reuses its scratch. */
+int points_render(struct points *p, const struct scene *s, const struct vis_grid *g,
+                  struct t74_error *err);
+
+void points_free(struct points *p);
+
+#endif
