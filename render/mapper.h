@@ -49,6 +49,17 @@ struct mapped {
                                malloc a face fewer), freed by mapper_free */
 };
 
+/* The tie between coplanar faces (both engines' rule): is A in front of B? A pattern lying
+   on the other face (`on F`; paper 000 §3.2: a pattern is in front of its face) is; else a
+   pattern is in front of a face that is none; else the larger face number is. */
+static inline bool mface_coplanar_front(const struct mface *A, const struct mface *B)
+{
+  if (A->on && A->on == B->id) return true;
+  if (B->on && B->on == A->id) return false;
+  if ((A->on != 0) != (B->on != 0)) return A->on != 0;
+  return A->id > B->id;
+}
+
 /* Map a checked scene. T74_EINPUT when a vertex projects outside the plane grid. */
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
                struct cost *cost, struct t74_error *err);

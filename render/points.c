@@ -275,8 +275,8 @@ static inline int32_t col_of(const struct grid *g, wide q, int64_t rem)
 
 /* Depth ties at a centre: the sign of G = |D_o| P_k - |D_k| P_o just right of the centre
    (then just above it), the tie rule of the edges (the centre shifted by (e, e^2)); planes
-   of equal depth everywhere (coplanar): the larger face number in front. |D| |alpha| <
-   2^111: 128-bit. */
+   of equal depth everywhere (coplanar): mface_coplanar_front (render/mapper.h: a pattern
+   over its face, else the larger number). |D| |alpha| < 2^111: 128-bit. */
 static bool tie_front(const struct grid *g, const struct mface *fk, const struct mface *fo)
 {
   wide ak = (wide)fk->plane[0] * 4 * g->H * (g->XR - g->XL);
@@ -288,7 +288,7 @@ static bool tie_front(const struct grid *g, const struct mface *fk, const struct
   l = (wide)fo->deye * bk;
   r = (wide)fk->deye * bo;
   if (l != r) return l > r;
-  return fk->id > fo->id;
+  return mface_coplanar_front(fk, fo);
 }
 
 /* Is face k (P_k) in front of the face o seen so far (P_o) at a centre? */
@@ -302,7 +302,7 @@ static inline bool in_front(const struct grid *g, wide Pk, const struct mface *f
     s = (l > r) - (l < r);
     if (s == 0) return tie_front(g, fk, fo);
   }
-  if (s == 0) return fk->id > fo->id;
+  if (s == 0) return mface_coplanar_front(fk, fo);
   return s > 0;
 }
 

@@ -408,17 +408,6 @@ int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
 struct depth { wide k0, k1, K; int h10; };  /* G(x, y) = k0 x + k1 y + K on the grid;
                                                 h10: --arith hitac (depth_sign) */
 
-/* The tie between coplanar faces A and B (1: A in front, -1: B): a pattern lying on the
-   other face (`on F`, paper 000 §3.2: a pattern is in front of its face) wins; else a
-   pattern wins over a face that is none; else the larger face number. */
-static int coplanar_front(const struct mface *A, const struct mface *B)
-{
-  if (A->on == B->id && A->on) return 1;
-  if (B->on == A->id && B->on) return -1;
-  if ((A->on != 0) != (B->on != 0)) return A->on ? 1 : -1;
-  return A->id > B->id ? 1 : -1;
-}
-
 static struct depth depth_of(const struct prio *pr, const struct mface *A, const struct mface *B)
 {
   const int64_t *e = pr->map->eye;
@@ -685,7 +674,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
       }
       if (mixed || farv == 0) continue;
       int sg = depth_sign(g, far);
-      if (sg == 0) sg = coplanar_front(A, B);
+      if (sg == 0) sg = mface_coplanar_front(A, B) ? 1 : -1;
       if (pr->trace)
         fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front "
                 "(they meet along an edge)\n", i, (unsigned)A->id, j, (unsigned)B->id,
@@ -699,7 +688,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     int s;
     if (g.k0 == 0 && g.k1 == 0) s = (g.K > 0) - (g.K < 0);
     else s = depth_sign(g, Q->v[0]);
-    if (s == 0) s = coplanar_front(A, B);              /* coplanar: see coplanar_front */
+    if (s == 0) s = mface_coplanar_front(A, B) ? 1 : -1;   /* coplanar: render/mapper.h */
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front%s\n",
               i, (unsigned)A->id, j, (unsigned)B->id, s > 0 ? "first" : "second",

@@ -88,6 +88,7 @@ static int to_ref(const struct scene *sc, struct xr_scene *x)
     int fi = xr_face(x, f->id, f->ring_start[1] - f->ring_start[0], f->vidx);
     if (fi < 0) return -1;
     x->f[fi].grey = f->grey;
+    x->f[fi].on = f->on_id;
     for (int h = 1; h < f->nring; h++)
       if (xr_hole(x, fi, f->ring_start[h + 1] - f->ring_start[h], f->vidx + f->ring_start[h]) < 0)
         return -1;
