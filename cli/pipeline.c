@@ -486,6 +486,20 @@ static uint64_t exact_core_words(const struct core *c)
 
 static const char *const stage_names[RS_NSTAGE] = { "mapper", "segment", "priority+visible" };
 
+/* The fields both engines' --stats share: the host's times, the picture, the effects. */
+static void write_run_fields(struct outfile *of, const struct job *o, const struct pipeline *p,
+                             const struct tube *t, double host, double frame, const char *effbuf)
+{
+  outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
+  outfile_printf(of, "  \"frame_seconds\": %.6f,\n", frame);
+  outfile_printf(of, "  \"frames\": %d,\n", o->frames > 1 ? o->frames : 1);
+  outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
+  outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
+  outfile_printf(of, "  \"effects\": ");
+  outfile_json_string(of, effbuf);
+  outfile_printf(of, ",\n");
+}
+
 static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
                        const struct tube *t, double host, double frame, const struct effects *eff,
                        const struct fx_stats *fst, struct outfile *of, struct t74_error *err)
@@ -541,14 +555,7 @@ static int write_stats(const struct job *o, const struct render *r, const struct
                    "\"disk_tracks\": %d, \"disk_reads\": %llu},\n", ss.photo_w_mm, ss.photo_h_mm,
                    ss.samples, ss.lines, ss.drum_seconds, ss.input_disk_seconds, (unsigned)ss.words,
                    ss.tracks, (unsigned long long)ss.disk_reads);
-  outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
-  outfile_printf(of, "  \"frame_seconds\": %.6f,\n", frame);
-  outfile_printf(of, "  \"frames\": %d,\n", o->frames > 1 ? o->frames : 1);
-  outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
-  outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
-  outfile_printf(of, "  \"effects\": ");
-  outfile_json_string(of, effbuf);
-  outfile_printf(of, ",\n");
+  write_run_fields(of, o, p, t, host, frame, effbuf);
   for (int k = 0; k < fst->n; k++) {
     if (fst->integer[k]) outfile_printf(of, "  \"%s\": %.0f,\n", fst->name[k], fst->value[k]);
     else outfile_printf(of, "  \"%s\": %.6f,\n", fst->name[k], fst->value[k]);
@@ -608,14 +615,7 @@ static int write_stats_points(const struct job *o, const struct scene *s, const 
                  "  \"arith\": \"exact\",\n  \"arith_faces_skipped\": null,\n"
                  "  \"program_words\": null,\n  \"scanner_seconds\": null,\n"
                  "  \"disk_seconds\": null,\n  \"first_dot_1974_seconds\": null,\n");
-  outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
-  outfile_printf(of, "  \"frame_seconds\": %.6f,\n", frame);
-  outfile_printf(of, "  \"frames\": %d,\n", o->frames > 1 ? o->frames : 1);
-  outfile_printf(of, "  \"points_lit\": %d,\n", tube_count(t));
-  outfile_printf(of, "  \"cell\": %d,\n  \"grid\": [%d, %d],\n", p->cell, p->W, p->H);
-  outfile_printf(of, "  \"effects\": ");
-  outfile_json_string(of, effbuf);
-  outfile_printf(of, ",\n");
+  write_run_fields(of, o, p, t, host, frame, effbuf);
   if (p->hooks && p->hooks->stats && p->hooks->stats(p->hooks->stats_ctx, of) != T74_OK) {
     outfile_abort(of);
     return t74_fail(err, T74_EIO, "%s: cannot write statistics", o->stats);

@@ -1,9 +1,10 @@
 /*
 ** contour.h — contour smoothing (paper 004 §5, Def. 6-9, procedures (C) and (D)).
 **
-** This file declares the pass that rounds the corners of each object's outer contour in
-** the picture, part of the smooth slot of the effects stage (effects/smooth.h calls it
-** before the shading pass, so a face uncovered by the cut is shaded like any other).
+** This file declares the construction of the regions that round the corners of each
+** object's outer contour; the frame model (effects/model.h) takes them out of the object's
+** stretches on every line, before any shading, so a face uncovered by the cut is shaded
+** like any other and every filter sees the curve.
 **
 ** The contour (instead of procedure (C)'s walk over projected vertices): for each object,
 ** the projected sides of its front triangles (outward side towards the eye, decided
@@ -23,10 +24,9 @@
 ** crossings with the region between the corner and the curve give the stretches cut
 ** away, with the renderer's tie rule (a stretch owns its left end, not its right).
 **
-** At a cut point where the object is what is seen, the point shows what lies behind: the
-** front-most alive piece of any other face covering the point centre (the Segment
-** Generator's pieces, their exact spans on the row, and the Priority Matrix's order), or
-** the background. Faces of the object itself do not show through: beyond its smoothed
+** Where the object is what is seen inside a region, the line shows what lies behind: the
+** stretches of a second Visible Surface Procedure over the pieces of every other face
+** (vis_init_without), or the background. Faces of the object itself do not show through: beyond its smoothed
 ** contour, the object is not there.
 **
 ** Concave contour vertices (where the contour turns right, or goes straight on) are left

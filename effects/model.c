@@ -481,7 +481,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     }
   free(blocked);
   if (rc != T74_OK) return rc;
-  if (m->cuts.n || m->ncut || (m->e->contour_on && m->smooth)) {
+  if (m->e->contour_on && m->smooth) {
     fx_count(st, "contour_points_cut", (double)cut, true);
     fx_count(st, "contour_points_show_face", (double)show_face, true);
     fx_count(st, "contour_points_show_background", (double)show_none, true);

@@ -85,10 +85,9 @@ int shadow_build(const struct render *r, const struct scene *s, struct fx_polys 
   /* a ring clipped by 8 half-spaces gains at most one vertex per half-space */
   size_t cap = (size_t)maxv + 16;
   ld (*b0)[3] = malloc(cap * sizeof *b0), (*b1)[3] = malloc(cap * sizeof *b1);
-  struct gpoint *gp = malloc(cap * sizeof *gp);
   int *rs = malloc(((size_t)maxv + 2) * sizeof *rs);
-  if (!b0 || !b1 || !gp || !rs) {
-    free(b0); free(b1); free(gp); free(rs);
+  if (!b0 || !b1 || !rs) {
+    free(b0); free(b1); free(rs);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
   struct gpoint *poly = NULL;
@@ -213,7 +212,7 @@ int shadow_build(const struct render *r, const struct scene *s, struct fx_polys 
     }
     receivers += any;
   }
-  free(b0); free(b1); free(gp); free(rs); free(poly);
+  free(b0); free(b1); free(rs); free(poly);
   if (st_ == T74_OK) {
     fx_count(st, "shadow_polygons", (double)(out->n - polys0), true);
     fx_count(st, "shadow_receivers", (double)receivers, true);

@@ -53,15 +53,14 @@
 
 #include "render/shade.h"
 
-#define SMOOTH_AMBIENT 48          /* render/mapper.c LAMBERT_AMBIENT */
 #define SMOOTH_TABLE_NORMALS "SMOOTH VERTEX NORMALS"
 #define SMOOTH_TABLE_BANDS   "SMOOTH BAND TABLE"
 
 int smooth_lambert(const double n[3], const double l[3])
 {
   double d = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
-  if (!(d > 0)) return SMOOTH_AMBIENT;
-  double g = SMOOTH_AMBIENT + floor((255 - SMOOTH_AMBIENT) * d + 0.5);
+  if (!(d > 0)) return SHADE_AMBIENT;
+  double g = SHADE_AMBIENT + floor((255 - SHADE_AMBIENT) * d + 0.5);
   return g > 255 ? 255 : (int)g;
 }
 

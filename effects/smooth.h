@@ -1,10 +1,9 @@
 /*
 ** smooth.h — smooth shading, partial smoothing (paper 004 §2-4) in the effects stage.
 **
-** This file declares the 004 model of a scene's triangle patches and the shading pass
-** that turns the frame's flat intensities into per-point intensities. It runs first in
-** the effects stage (effects/fx.h): after the Visible Surface Procedure has put the face
-** seen at each point centre into the frame, and before anti-aliasing and edges.
+** This file declares the 004 model of a scene's triangle patches and the intensity of a
+** patch at any point of it (smooth_grey_at), which the frame model (effects/model.h)
+** uses for the point frame and for every anti-aliased fragment alike.
 **
 **   smooth=gouraud  004 §2(a): intensities at the vertices, interpolated in the triangle
 **   smooth=phong    004 §2(b): normals at the vertices, interpolated, Lambert per point

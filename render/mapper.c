@@ -37,7 +37,6 @@
 
 #define VERTEX_ROW_WORDS 6
 #define ABLOCK_ROW_WORDS 10
-#define LAMBERT_AMBIENT  48     /* grey of a face turned away from the light (tuned by eye) */
 #define DEFAULT_GREY     255    /* a face with neither `grey` nor `light` */
 
 /* floor(n / d) for d > 0 */
@@ -77,14 +76,14 @@ static uwide isqrt_u(uwide v)
 static int lambert(const int64_t n[3], const int32_t light[3])
 {
   wide dot = -((wide)n[0] * light[0] + (wide)n[1] * light[1] + (wide)n[2] * light[2]);
-  if (dot <= 0) return LAMBERT_AMBIENT;
+  if (dot <= 0) return SHADE_AMBIENT;
   uwide nn = (uwide)((wide)n[0] * n[0] + (wide)n[1] * n[1] + (wide)n[2] * n[2]);
   uwide ll = (uwide)((wide)light[0] * light[0] + (wide)light[1] * light[1] +
                      (wide)light[2] * light[2]);
   /* |n|^2 < 2^70, |L|^2 < 2^32: the product fits, and so does its square root */
   wide den = (wide)isqrt_u(nn * ll);
   if (den <= 0) return DEFAULT_GREY;
-  wide g = LAMBERT_AMBIENT + ((255 - LAMBERT_AMBIENT) * dot + den / 2) / den;
+  wide g = SHADE_AMBIENT + ((255 - SHADE_AMBIENT) * dot + den / 2) / den;
   return g > 255 ? 255 : (int)g;
 }
 
