@@ -64,14 +64,14 @@ static int both(const struct scene *sc, int cell, unsigned *a, unsigned *b, char
   struct grab gr = { a, W, &r.map };
   if (st == T74_OK) st = render_scan(&r, &g, on_point, &gr, &err);
   render_free(&r);
-  if (st != T74_OK) { snprintf(msg, n, "1974: %s", err.msg); return st; }
+  if (st != T74_OK) { snprintf(msg, n, "1974: %.900s", err.msg); return st; }
   struct points p;
   memset(&p, 0, sizeof p);
   st = points_render(&p, sc, &g, &err);
   if (st == T74_OK)
     for (int k = 0; k < W * H; k++) b[k] = p.face[k] < 0 ? 0u : p.map.f[p.face[k]].id;
   points_free(&p);
-  if (st != T74_OK) snprintf(msg, n, "points: %s", err.msg);
+  if (st != T74_OK) snprintf(msg, n, "points: %.900s", err.msg);
   return st;
 }
 
