@@ -381,7 +381,7 @@ static int write_page(const char *path, const char *name, const struct scene *s,
 
 /* ---- the command ------------------------------------------------------------------- */
 
-static void teach_usage(FILE *f)
+void teach_usage(FILE *f)
 {
   fprintf(f,
     "usage: tube74 teach SCENE [-o DIR] [--line J] [render's options]\n"
@@ -394,10 +394,6 @@ static void teach_usage(FILE *f)
 
 int cmd_teach(int argc, char **argv, struct t74_error *err)
 {
-  if (argc >= 3 && (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h"))) {
-    teach_usage(stdout);
-    return T74_OK;
-  }
   /* teach's own options out, render's to job_parse */
   const char *dir = ".";
   long line = -1;
