@@ -120,6 +120,11 @@ void beam_clock(struct beam *b, double compute_s)
   if (compute_s > b->compute_s) b->compute_s = compute_s;
 }
 
+void beam_wait(struct beam *b, double until_s)
+{
+  if (until_s > b->free_s) b->free_s = until_s;
+}
+
 double beam_tube_seconds(const struct beam *b) { return b->tube_s; }
 
 double beam_total_seconds(const struct beam *b)
