@@ -460,7 +460,8 @@ int cmd_teach(int argc, char **argv, struct t74_error *err)
   if (st == T74_OK) {
     double prog = 0;
     cost_params_get(&j.params, "program_words", &prog);
-    struct render_opts ro = { j.core_words, (uint32_t)prog, j.store, tf };
+    /* the core the job was drawn with (an import may have needed more than --core's default) */
+    struct render_opts ro = { res.core_words, (uint32_t)prog, j.store, tf, 0 };
     st = render_prepare(&r, s, &ro, err);
     prepared = true;
   }

@@ -892,15 +892,25 @@ static bool ends_with(const char *path, const char *ext)
   return true;
 }
 
+const char *scene_kind(const char *path, const struct scene_opts *opts)
+{
+  return opts && opts->input ? opts->input
+         : ends_with(path, ".obj") ? "obj"
+         : ends_with(path, ".off") ? "off" : "s74";
+}
+
 int scene_load(const char *path, const struct scene_opts *opts, struct scene **out,
                struct t74_error *err)
 {
   *out = NULL;
-  const char *kind = opts && opts->input ? opts->input
-                     : ends_with(path, ".obj") ? "obj"
-                     : ends_with(path, ".off") ? "off" : "s74";
+  const char *kind = scene_kind(path, opts);
   if (strcmp(kind, "obj") == 0 || strcmp(kind, "off") == 0)
     return import_load(path, kind, opts, out, err);
+  /* a .s74 scene places its eye by its own `view` line: a turn would be silently lost */
+  if (strcmp(kind, "s74") == 0 && opts && opts->has_turn)
+    return t74_fail(err, T74_EINPUT, "tube74: --turn turns .obj and .off imports only; %s "
+                    "is a .s74 scene, seen from its own `view` line (change that instead)",
+                    path);
   if (strcmp(kind, "s74") == 0) return load_s74(path, opts, out, err);
   return t74_fail(err, T74_EINPUT, "%s: unknown input kind `%s` (s74, obj or off)", path,
                   kind);
