@@ -1,7 +1,7 @@
 /*
 ** beam.h — the writing beam's timing: when each tube dot was written (paper 003 §4).
 ** Sources: paper 003 appendix (the tube: 21 x 16.3 cm face, 400 x 300 points);
-** shared/notes/hardware-facts.md "The storage tube" (Tektronix 613 beam settling).
+** docs/hardware.md "The storage tube" (Tektronix 613 beam settling).
 **
 ** This file contains code to put 1974 times on the dots of a picture. The program of
 ** paper 003 displayed while it computed: each point's halftone cell went to the tube as

@@ -3,7 +3,7 @@
 ** are laid out in it.
 ** Where described: paper 003 appendix (core 16 kW/16 bit), §3 and Figs. 6, 8, 9 (the
 ** tables: XSORT, IPL, PBS, LWS, UPS, the face data blocks, the Priority Matrix);
-** shared/notes/hardware-facts.md; CONTRACT.md (--core WORDS, exit status 3,
+** docs/hardware.md; CONTRACT.md (--core WORDS, exit status 3,
 ** core_words / core_words_used in --stats).
 **
 ** This file contains code to make the renderer live inside the 1974 machine's memory.
