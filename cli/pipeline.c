@@ -601,9 +601,6 @@ static int write_tek_stats(const struct job *o, const struct job_hooks *h, const
 static int run_tek(const struct job *o, const struct job_hooks *h, struct job_result *res,
                    struct t74_error *err)
 {
-  if (o->sopts.has_turn)
-    return t74_fail(err, T74_EINPUT, "tube74: --turn turns .obj and .off imports only; %s is "
-                    "a Tek stream", o->scene);
   for (int d = 0; d < o->ndump; d++)
     if (o->dump_kind[d] != DUMP_TUBE && o->dump_kind[d] != DUMP_POINTS)
       return t74_fail(err, T74_EINPUT, "%s: --dump %s needs a scene; a Tek stream gives only "
@@ -897,9 +894,16 @@ static bool core_too_small(const struct t74_error *e)
 int job_run(const struct job *o, const struct job_hooks *h, struct job_result *res,
             struct t74_error *err)
 {
-  if (job_is_tek(o)) return run_tek(o, h, res, err);
+  bool tek = job_is_tek(o);
+  bool import = !tek && strcmp(scene_kind(o->scene, &o->sopts), "s74") != 0;
+  /* --turn turns imports (render/turn.h); a .s74 scene places its eye by its own `view`
+     line and a Tek stream is a picture already, so a turn there would be silently lost */
+  if (o->sopts.has_turn && !import)
+    return t74_fail(err, T74_EINPUT, "tube74: --turn turns .obj and .off imports only; %s is %s",
+                    o->scene, tek ? "a Tek stream"
+                    : "a .s74 scene, seen from its own `view` line (change that instead)");
+  if (tek) return run_tek(o, h, res, err);
   /* an import without --core: drawn with the core it needs */
-  bool import = strcmp(scene_kind(o->scene, &o->sopts), "s74") != 0;
   int st = run_scene(o, h, import && !o->core_given ? CORE_GROW_MAX : 0, false, res, err);
   if (!core_too_small(err)) return st;
   /* it did not fit the core given: how much it needs in all, from one more run on a

@@ -5,8 +5,8 @@
 ** This file contains code to read scene text safely and to turn polygon meshes into a
 ** tube74 scene. The reader takes the whole file into memory and hands out one line at a
 ** time as blank-separated tokens with `#` comments removed; lines end at LF, CR LF or a
-** lone CR, and a UTF-8 byte order mark at the start is skipped; it refuses NUL bytes and
-** over-large files, so no later stage meets them. Imports then map the mesh onto the
+** lone CR, and a UTF-8 byte order mark at the start is skipped; it refuses a file in
+** UTF-16 by name, NUL bytes and over-large files, so no later stage meets them. Imports then map the mesh onto the
 ** integer grid the 1974 system used (import.h gives the mapping): uniform scale, round to
 ** nearest. A face with fewer than 3 vertices in the file, or whose edges cross in the file
 ** (a bow-tie; decided exactly on the file's numbers), is refused with FILE:LINE.
@@ -39,6 +39,25 @@
 #define COORD_SMALL 0x1p-400
 
 /* ---- the line reader -------------------------------------------------------------- */
+
+/* A text in UTF-16, as some Windows editors save it: a byte-order mark (FF FE, FE FF), or
+   none but the first line's characters all ASCII with a NUL beside each (every second
+   byte zero, the others not). The kind, for the message, or NULL. */
+static const char *utf16_kind(const unsigned char *b, size_t len)
+{
+  if (len >= 2 && b[0] == 0xFF && b[1] == 0xFE) return "it starts with a byte-order mark FF FE";
+  if (len >= 2 && b[0] == 0xFE && b[1] == 0xFF) return "it starts with a byte-order mark FE FF";
+  size_t n = len < 64 ? len & ~(size_t)1 : 64;
+  if (n < 4) return NULL;
+  int even0 = 0, odd0 = 0;               /* zero bytes at even and at odd offsets */
+  for (size_t k = 0; k < n; k++) {
+    if (b[k] == 0) { if (k % 2) odd0++; else even0++; }
+    else if (b[k] >= 0x80) return NULL;
+  }
+  if (odd0 == (int)(n / 2) && even0 == 0) return "little-endian, no byte-order mark";
+  if (even0 == (int)(n / 2) && odd0 == 0) return "big-endian, no byte-order mark";
+  return NULL;
+}
 
 int import_open(struct import_reader *r, const char *path, struct t74_error *err)
 {
@@ -80,6 +99,12 @@ int import_open(struct import_reader *r, const char *path, struct t74_error *err
                     (size_t)IMPORT_FILE_MAX);
   }
   buf[len] = '\0';
+  const char *u16 = utf16_kind((const unsigned char *)buf, len);
+  if (u16) {
+    free(buf);
+    return t74_fail_at(err, T74_EINPUT, path, 1, "the file is UTF-16 (%s): save it as ASCII "
+                       "or UTF-8", u16);
+  }
   r->buf = buf;
   r->len = len;
   if (len >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0) r->pos = 3;   /* UTF-8 byte order mark */
