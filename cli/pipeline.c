@@ -112,6 +112,8 @@ static int bad_usage(struct t74_error *err, const char *msg, const char *arg)
   return t74_fail(err, T74_EINPUT, "tube74: %s%s%s", msg, arg ? ": " : "", arg ? arg : "");
 }
 
+static int turn_misplaced(const struct job *o, struct t74_error *err);
+
 int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra, void *ctx,
               struct t74_error *err)
 {
@@ -211,6 +213,7 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
 #undef NEED
   }
   if (!o->scene) return bad_usage(err, "no scene given", NULL);
+  if (turn_misplaced(o, err)) return err->status;   /* before any device or output opens */
   return T74_OK;
 }
 
@@ -882,6 +885,20 @@ done:
   return st;
 }
 
+/* --turn turns imports (render/turn.h); a .s74 scene places its eye by its own `view`
+   line and a Tek stream is a picture already, so a turn there would be silently lost: it
+   is refused (exit 2). 1 when refused (err set), else 0. */
+static int turn_misplaced(const struct job *o, struct t74_error *err)
+{
+  if (!o->sopts.has_turn) return 0;
+  bool tek = job_is_tek(o);
+  if (!tek && strcmp(scene_kind(o->scene, &o->sopts), "s74") != 0) return 0;
+  t74_fail(err, T74_EINPUT, "tube74: --turn turns .obj and .off imports only; %s is %s",
+           o->scene, tek ? "a Tek stream"
+           : "a .s74 scene, seen from its own `view` line (change that instead)");
+  return 1;
+}
+
 #define CORE_GROW_MAX (UINT32_C(1) << 31)   /* the largest core: core_new's limit */
 
 /* A core that was too small for a table: a "does not fit" of emu/core.c's (the words
@@ -896,12 +913,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
 {
   bool tek = job_is_tek(o);
   bool import = !tek && strcmp(scene_kind(o->scene, &o->sopts), "s74") != 0;
-  /* --turn turns imports (render/turn.h); a .s74 scene places its eye by its own `view`
-     line and a Tek stream is a picture already, so a turn there would be silently lost */
-  if (o->sopts.has_turn && !import)
-    return t74_fail(err, T74_EINPUT, "tube74: --turn turns .obj and .off imports only; %s is %s",
-                    o->scene, tek ? "a Tek stream"
-                    : "a .s74 scene, seen from its own `view` line (change that instead)");
+  if (turn_misplaced(o, err)) return err->status;
   if (tek) return run_tek(o, h, res, err);
   /* an import without --core: drawn with the core it needs */
   int st = run_scene(o, h, import && !o->core_given ? CORE_GROW_MAX : 0, false, res, err);
