@@ -26,6 +26,7 @@
 */
 #include <errno.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -557,6 +558,30 @@ done:
   free(m);
   free(L);
   return st;
+}
+
+void bench_usage(FILE *f, const char *sub)
+{
+  bool all = !sub || (strcmp(sub, "accuracy") && strcmp(sub, "speed") && strcmp(sub, "arith"));
+  if (all || !strcmp(sub, "accuracy"))
+    fprintf(f,
+      "usage: tube74 bench accuracy [--out DIR] [--runs N]   what anti-aliasing costs\n"
+      "  --out DIR              where the tables, plots and panels go\n"
+      "                         (default build/bench/accuracy)\n"
+      "  --runs N               timed runs a frame, the median kept (1..1000, default 5)\n");
+  if (all || !strcmp(sub, "speed"))
+    fprintf(f,
+      "usage: tube74 bench speed [--out DIR] [--runs N] [--quick] [--boxes-max N]\n"
+      "                          [--triangles-max N] [--peer PATH]   speed against OSMesa\n"
+      "  --out DIR              where the report goes (default build/bench/speed)\n"
+      "  --runs N               timed runs a case, the median kept (1..31, default 3)\n"
+      "  --quick                boxes to 10,000 faces and triangles to 640\n"
+      "  --boxes-max N, --triangles-max N   stop the boxes / triangles at N\n"
+      "  --peer PATH            the OSMesa peer (default build/bench/refbench)\n");
+  if (all || !strcmp(sub, "arith"))
+    fprintf(f,
+      "usage: tube74 bench arith [--out DIR]   exact against 1974 arithmetic: dots, time, core\n"
+      "  --out DIR              where arith.md and arith.png go (default build/bench/arith)\n");
 }
 
 int cmd_bench(int argc, char **argv, struct t74_error *err)

@@ -62,7 +62,7 @@ struct play_opts {
   bool list;                    /* --list: print the beam and look constants */
 };
 
-static void play_usage(FILE *f)
+void play_usage(FILE *f)
 {
   fprintf(f,
     "usage: tube74 play SCENE [--speed X] [--movie FILE] [render's options]\n"
@@ -75,7 +75,6 @@ static void play_usage(FILE *f)
     "  --screenshot FILE.png  save the window's contents when it closes\n"
     "  --list                 print the beam timing and look constants with their sources\n"
     "keys: space pause, + faster, - slower, e erase, r redraw, q / Esc quit\n");
-  timing_usage(f);
 }
 
 static int num(const char *s, double lo, double hi, double *out)
@@ -441,10 +440,6 @@ int cmd_play(int argc, char **argv, struct t74_error *err)
   timing_init(&tm);
   tm.record = true;
   struct play_opts o = { &tm, 1.0, NULL, 10.0, PLAY_MAX_FRAMES_DEF, -1, NULL, false };
-  if (argc >= 3 && (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h"))) {
-    play_usage(stdout);
-    return T74_OK;
-  }
   struct job j;
   int st = job_parse(argc, argv, 2, &j, play_opt, &o, err);
   if (st != T74_OK && o.list && !strcmp(err->msg, "tube74: no scene given")) {

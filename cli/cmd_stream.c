@@ -176,7 +176,7 @@ static int stream_opt(void *ctx, int argc, char **argv, int *k, struct t74_error
   return 1;
 }
 
-static void stream_usage(FILE *f)
+void stream_usage(FILE *f)
 {
   fprintf(f,
     "usage: tube74 stream SCENE --device PROFILE [options] [render's options]\n"
@@ -325,11 +325,6 @@ int cmd_stream(int argc, char **argv, struct t74_error *err)
   a.repeat = 1;
   a.progress = -1;
   for (int k = 2; k < argc; k++) {
-    if (!strcmp(argv[k], "--help") || !strcmp(argv[k], "-h")) {
-      stream_usage(stdout);
-      job_usage(stdout);
-      return T74_OK;
-    }
     if (!strcmp(argv[k], "--settings")) a.settings = 1;
     if (!strcmp(argv[k], "--device") && k + 1 < argc) a.device = argv[k + 1];
   }
@@ -447,14 +442,15 @@ int cmd_stream(int argc, char **argv, struct t74_error *err)
   return st;
 }
 
+void devices_usage(FILE *f)
+{
+  fprintf(f, "usage: tube74 devices [hpgl|ebb|helios|tek]   connected USB devices a profile can drive\n");
+}
+
 int cmd_devices(int argc, char **argv, struct t74_error *err)
 {
   const struct usb_profile *only = NULL;
   if (argc > 2) {
-    if (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h")) {
-      printf("usage: tube74 devices [hpgl|ebb|helios|tek]   connected USB devices a profile can drive\n");
-      return T74_OK;
-    }
     if (!(only = usb_profile_find(argv[2])))
       return t74_fail(err, T74_EINPUT, "tube74: unknown device profile `%s` (hpgl, ebb, helios, "
                       "tek)", argv[2]);

@@ -381,7 +381,7 @@ static int write_page(const char *path, const char *name, const struct scene *s,
 
 /* ---- the command ------------------------------------------------------------------- */
 
-static void teach_usage(FILE *f)
+void teach_usage(FILE *f)
 {
   fprintf(f,
     "usage: tube74 teach SCENE [-o DIR] [--line J] [render's options]\n"
@@ -394,10 +394,6 @@ static void teach_usage(FILE *f)
 
 int cmd_teach(int argc, char **argv, struct t74_error *err)
 {
-  if (argc >= 3 && (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h"))) {
-    teach_usage(stdout);
-    return T74_OK;
-  }
   /* teach's own options out, render's to job_parse */
   const char *dir = ".";
   long line = -1;
@@ -465,7 +461,8 @@ int cmd_teach(int argc, char **argv, struct t74_error *err)
   if (st == T74_OK) {
     double prog = 0;
     cost_params_get(&j.params, "program_words", &prog);
-    struct render_opts ro = { j.core_words, (uint32_t)prog, j.store, tf };
+    /* the core the job was drawn with (an import may have needed more than --core's default) */
+    struct render_opts ro = { res.core_words, (uint32_t)prog, j.store, tf, 0 };
     st = render_prepare(&r, s, &ro, err);
     prepared = true;
   }

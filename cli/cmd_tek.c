@@ -20,6 +20,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "cli/pipeline.h"
@@ -52,6 +53,14 @@ static int tek_stats(void *ctx, struct outfile *of)
   const struct tek_enc *e = ctx;
   outfile_printf(of, "  \"tek_points\": %llu,\n", (unsigned long long)tek_enc_points(e));
   return outfile_printf(of, "  \"tek_bytes\": %llu,\n", (unsigned long long)tek_enc_bytes(e));
+}
+
+void tek_usage(FILE *f)
+{
+  fprintf(f,
+    "usage: tube74 tek SCENE [-o FILE] [render's options]\n"
+    "  -o FILE                the Tek 4010/4014 stream (default or `-`: stdout, streamed as\n"
+    "                         the dots come); a second -o is render's PNG\n");
 }
 
 int cmd_tek(int argc, char **argv, struct t74_error *err)

@@ -8,7 +8,19 @@
 #ifndef T74_COMMANDS_H
 #define T74_COMMANDS_H
 
+#include <stdio.h>
+
 #include "emu/status.h"
+
+/* Each command's own part of its --help (main.c adds render's options where they apply):
+** printed to stdout with exit status 0 by `tube74 COMMAND --help` (or -h anywhere in its
+** arguments); tests/test_help.c checks them against the man page tube74.1. */
+void tek_usage(FILE *f);
+void play_usage(FILE *f);
+void stream_usage(FILE *f);
+void devices_usage(FILE *f);
+void teach_usage(FILE *f);
+void bench_usage(FILE *f, const char *sub);   /* sub: accuracy, speed, arith; else all */
 
 /* `tube74 tek SCENE [-o FILE] [render's options]`: the picture as a Tektronix 4010/4014
 ** byte stream (display/tek.h), written while the scene renders; stdout without -o. */

@@ -36,9 +36,81 @@ static void usage(FILE *f)
     "       tube74 bench speed [--out DIR] [--runs N] [--quick] [--boxes-max N]\n"
     "                     [--triangles-max N] [--peer PATH]   speed against OSMesa\n"
     "       tube74 bench arith [--out DIR]    exact against 1974 arithmetic: dots, time, core\n"
-    "       tube74 --help | --version\n");
+    "       tube74 --help | --version\n"
+    "       tube74 COMMAND --help            that command's options\n");
   job_usage(f);
   timing_usage(f);
+}
+
+/* `tube74 render SCENE [options]`: the job with the tube's timing and look (cli/timing.h). */
+static int cmd_render(int argc, char **argv, struct t74_error *err)
+{
+  struct job j;
+  struct timing tm;                       /* tube_seconds, total_1974_seconds, --look */
+  struct job_hooks h;
+  timing_init(&tm);
+  int st = job_parse(argc, argv, 2, &j, timing_opt, &tm, err);
+  if (st == T74_OK) st = timing_prepare(&tm, &j, err);
+  timing_hooks(&tm, &h);
+  if (st == T74_OK) st = job_run(&j, &h, NULL, err);
+  timing_free(&tm);
+  return st;
+}
+
+/* `tube74 params`: the cost model's constants, each with its source. */
+static int cmd_params(int argc, char **argv, struct t74_error *err)
+{
+  if (argc > 2)
+    return t74_fail(err, T74_EINPUT, "tube74: params takes no arguments (got `%s`)", argv[2]);
+  struct cost_params prm;
+  cost_params_default(&prm);
+  cost_params_list(&prm, stdout);
+  return T74_OK;
+}
+
+/* ---- each command's --help ----------------------------------------------------------- */
+
+static void help_render(FILE *f)
+{
+  fprintf(f, "usage: tube74 render SCENE [options]   a scene (.s74, .obj, .off) or a Tek stream\n"
+             "                                       on the emulated storage tube\n");
+  job_usage(f);
+  timing_usage(f);
+}
+
+static void help_tek(FILE *f) { tek_usage(f); job_usage(f); }
+static void help_stream(FILE *f) { stream_usage(f); job_usage(f); }
+static void help_play(FILE *f) { play_usage(f); job_usage(f); timing_usage(f); }
+static void help_teach(FILE *f) { teach_usage(f); job_usage(f); }
+
+static void help_params(FILE *f)
+{
+  fprintf(f, "usage: tube74 params   the HITAC-10 cost model's constants, each with its source\n"
+             "                       (change one for a run with render's --hitac NAME=VALUE)\n");
+}
+
+/* The commands: name, entry point, --help (bench's help depends on its subcommand). */
+static const struct command {
+  const char *name;
+  int (*run)(int argc, char **argv, struct t74_error *err);
+  void (*help)(FILE *f);                 /* NULL: bench */
+} commands[] = {
+  { "render",  cmd_render,  help_render },
+  { "tek",     cmd_tek,     help_tek },
+  { "stream",  cmd_stream,  help_stream },
+  { "devices", cmd_devices, devices_usage },
+  { "play",    cmd_play,    help_play },
+  { "teach",   cmd_teach,   help_teach },
+  { "params",  cmd_params,  help_params },
+  { "bench",   cmd_bench,   NULL },
+};
+
+/* --help or -h among a command's arguments. */
+static int asks_help(int argc, char **argv)
+{
+  for (int k = 2; k < argc; k++)
+    if (!strcmp(argv[k], "--help") || !strcmp(argv[k], "-h")) return 1;
+  return 0;
 }
 
 int main(int argc, char **argv)
@@ -52,37 +124,20 @@ int main(int argc, char **argv)
     printf("tube74 " TUBE74_VERSION "\n");
     return 0;
   }
+  const struct command *c = NULL;
+  for (size_t k = 0; k < sizeof commands / sizeof commands[0]; k++)
+    if (!strcmp(argv[1], commands[k].name)) c = &commands[k];
   int st;
-  if (!strcmp(argv[1], "render")) {
-    struct job j;
-    struct timing tm;                       /* tube_seconds, total_1974_seconds, --look */
-    struct job_hooks h;
-    timing_init(&tm);
-    st = job_parse(argc, argv, 2, &j, timing_opt, &tm, &err);
-    if (st == T74_OK) st = timing_prepare(&tm, &j, &err);
-    timing_hooks(&tm, &h);
-    if (st == T74_OK) st = job_run(&j, &h, NULL, &err);
-    timing_free(&tm);
-  } else if (!strcmp(argv[1], "params")) {
-    struct cost_params prm;
-    cost_params_default(&prm);
-    cost_params_list(&prm, stdout);
-    st = T74_OK;
-  } else if (!strcmp(argv[1], "tek")) {
-    st = cmd_tek(argc, argv, &err);
-  } else if (!strcmp(argv[1], "stream")) {
-    st = cmd_stream(argc, argv, &err);
-  } else if (!strcmp(argv[1], "devices")) {
-    st = cmd_devices(argc, argv, &err);
-  } else if (!strcmp(argv[1], "play")) {
-    st = cmd_play(argc, argv, &err);
-  } else if (!strcmp(argv[1], "bench")) {
-    st = cmd_bench(argc, argv, &err);
-  } else if (!strcmp(argv[1], "teach")) {
-    st = cmd_teach(argc, argv, &err);
-  } else {
+  if (!c) {
     usage(stderr);
     st = t74_fail(&err, T74_EINPUT, "tube74: unknown command `%s`", argv[1]);
+  } else if (asks_help(argc, argv)) {
+    if (c->help) c->help(stdout);
+    else bench_usage(stdout, argc > 2 ? argv[2] : NULL);
+    st = fflush(stdout) == 0 && !ferror(stdout) ? T74_OK
+         : t74_fail(&err, T74_EIO, "tube74: cannot write the usage to stdout");
+  } else {
+    st = c->run(argc, argv, &err);
   }
   if (st != T74_OK) fprintf(stderr, "%s\n", err.msg[0] ? err.msg : "tube74: failed");
   return st;

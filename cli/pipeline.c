@@ -120,6 +120,8 @@ static int bad_usage(struct t74_error *err, const char *msg, const char *arg)
   return t74_fail(err, T74_EINPUT, "tube74: %s%s%s", msg, arg ? ": " : "", arg ? arg : "");
 }
 
+static int turn_misplaced(const struct job *o, struct t74_error *err);
+
 int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra, void *ctx,
               struct t74_error *err)
 {
@@ -157,6 +159,7 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
         return bad_usage(err, "--core takes a number of words, 1 .. 2^31-1", argv[k]);
       o->core_words = (uint32_t)v;
       o->machine_given = true;
+      o->core_given = true;
     } else if (!strcmp(a, "--dump")) {
       NEED(1);
       const char *spec = argv[++k], *eq = strchr(spec, '=');
@@ -229,6 +232,7 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
 #undef NEED
   }
   if (!o->scene) return bad_usage(err, "no scene given", NULL);
+  if (turn_misplaced(o, err)) return err->status;   /* before any device or output opens */
   return T74_OK;
 }
 
@@ -527,6 +531,11 @@ static int write_stats(const struct job *o, const struct render *r, const struct
   outfile_printf(of, "  \"priority_store\": \"%s\",\n", r->prio.store == PRIO_DENSE ? "dense" : "sparse");
   outfile_printf(of, "  \"core_words\": %u,\n", core_words(r->core));
   outfile_printf(of, "  \"core_words_used\": %u,\n", core_peak(r->core));
+  /* what the HITAC-10 would have needed: the peak, whatever core it was drawn with */
+  outfile_printf(of, "  \"core_words_needed\": %u,\n  \"fits_16k\": %s,\n", core_peak(r->core),
+                 core_peak(r->core) <= DEFAULT_CORE_WORDS ? "true" : "false");
+  outfile_printf(of, "  \"core_grown\": %s,\n", core_words(r->core) > core_first_words(r->core)
+                 ? "true" : "false");
   outfile_printf(of, "  \"exact_core_words\": %llu,\n", (unsigned long long)exact_core_words(r->core));
   outfile_printf(of, "  \"hitac10_seconds\": %.6f,\n", pipeline_seconds(p));
   {
@@ -610,7 +619,8 @@ static int write_stats_points(const struct job *o, const struct scene *s, const 
                  "  \"priority_pairs_computed\": null,\n  \"priority_pairs_possible\": null,\n"
                  "  \"priority_store\": null,\n");
   outfile_printf(of, "  \"core_words\": %u,\n", o->core_words);
-  outfile_printf(of, "  \"core_words_used\": null,\n  \"exact_core_words\": null,\n"
+  outfile_printf(of, "  \"core_words_used\": null,\n  \"core_words_needed\": null,\n"
+                 "  \"fits_16k\": null,\n  \"core_grown\": false,\n  \"exact_core_words\": null,\n"
                  "  \"hitac10_seconds\": null,\n  \"exact_hitac10_seconds\": null,\n"
                  "  \"arith\": \"exact\",\n  \"arith_faces_skipped\": null,\n"
                  "  \"program_words\": null,\n  \"scanner_seconds\": null,\n"
@@ -689,7 +699,8 @@ static int write_tek_stats(const struct job *o, const struct job_hooks *h, const
   outfile_printf(of, "  \"faces_in\": 0,\n  \"faces_after_split\": 0,\n  \"concave_splits\": 0,\n"
                  "  \"intersection_splits\": 0,\n  \"priority_pairs_computed\": 0,\n"
                  "  \"priority_pairs_possible\": 0,\n");
-  outfile_printf(of, "  \"core_words\": %u,\n  \"core_words_used\": 0,\n", o->core_words);
+  outfile_printf(of, "  \"core_words\": %u,\n  \"core_words_used\": 0,\n"
+                 "  \"core_words_needed\": 0,\n  \"fits_16k\": true,\n", o->core_words);
   outfile_printf(of, "  \"hitac10_seconds\": 0.000000,\n  \"scanner_seconds\": 0.000000,\n"
                  "  \"disk_seconds\": 0.000000,\n");
   outfile_printf(of, "  \"host_seconds\": %.6f,\n", host);
@@ -850,11 +861,12 @@ static int cmp_double(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
-int job_run(const struct job *o, const struct job_hooks *h, struct job_result *res,
-            struct t74_error *err)
+/* The scene through the pipeline into the sinks and outputs, on a core of o->core_words
+   words that grows up to `grow_max` words (0: it does not grow); `dry`: a run only to
+   measure the core (no outputs, no sinks, no warnings). */
+static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t grow_max,
+                     bool dry, struct job_result *res, struct t74_error *err)
 {
-  if (job_is_tek(o)) return run_tek(o, h, res, err);
-
   struct scene *own = NULL;                 /* the scene when the job reads it */
   struct render r;
   struct points pts;
@@ -930,7 +942,7 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
   }
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
-  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables };
+  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables, grow_max };
   const int nframes = o->frames > 1 ? o->frames : 1;
   frame_t = calloc((size_t)nframes, sizeof *frame_t);
   if (!frame_t) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
@@ -992,7 +1004,13 @@ int job_run(const struct job *o, const struct job_hooks *h, struct job_result *r
     res->points_lit = tube_count(t);
     res->W = p.W; res->H = p.H; res->cell = p.cell;
     res->engine = engine;
+    res->core_words = r.core ? core_words(r.core) : 0;
+    res->core_words_used = r.core ? core_peak(r.core) : 0;
   }
+  if (!dry && r.core && core_words(r.core) > core_first_words(r.core) && core_peak(r.core) > DEFAULT_CORE_WORDS)
+    fprintf(stderr, "%s: warning: the model needs %u words of core; the HITAC-10 had %u "
+            "(drawn with %u; --stats: core_words_needed, fits_16k)\n", o->scene,
+            core_peak(r.core), DEFAULT_CORE_WORDS, core_words(r.core));
 
   /* outputs: each written into its place in the set, then all committed together */
   if (jo.png && (st = image_write_png_to(t, jo.png, err)) != T74_OK) goto done;
@@ -1037,5 +1055,60 @@ done:
   points_free(&pts);
   scene_free(own);
   return st;
+}
+
+/* --turn turns imports (render/turn.h); a .s74 scene places its eye by its own `view`
+   line and a Tek stream is a picture already, so a turn there would be silently lost: it
+   is refused (exit 2). 1 when refused (err set), else 0. */
+static int turn_misplaced(const struct job *o, struct t74_error *err)
+{
+  if (!o->sopts.has_turn) return 0;
+  bool tek = job_is_tek(o);
+  if (!tek && strcmp(scene_kind(o->scene, &o->sopts), "s74") != 0) return 0;
+  t74_fail(err, T74_EINPUT, "tube74: --turn turns .obj and .off imports only; %s is %s",
+           o->scene, tek ? "a Tek stream"
+           : "a .s74 scene, seen from its own `view` line (change that instead)");
+  return 1;
+}
+
+#define CORE_GROW_MAX (UINT32_C(1) << 31)   /* the largest core: core_new's limit */
+
+/* A core that was too small for a table: a "does not fit" of emu/core.c's (the words
+   needed and available), which a larger core would cure. */
+static bool core_too_small(const struct t74_error *e)
+{
+  return e->status == T74_ECORE && strstr(e->msg, "available (table ") != NULL;
+}
+
+int job_run(const struct job *o, const struct job_hooks *h, struct job_result *res,
+            struct t74_error *err)
+{
+  bool tek = job_is_tek(o);
+  bool import = !tek && strcmp(scene_kind(o->scene, &o->sopts), "s74") != 0;
+  if (turn_misplaced(o, err)) return err->status;
+  if (tek) return run_tek(o, h, res, err);
+  /* an import without --core: drawn with the core it needs */
+  int st = run_scene(o, h, import && !o->core_given ? CORE_GROW_MAX : 0, false, res, err);
+  if (!core_too_small(err)) return st;
+  /* it did not fit the core given: how much it needs in all, from one more run on a
+     growing core with no outputs and no sinks (the program is the same at any size) */
+  struct job d = *o;
+  d.png = NULL;
+  d.stats = NULL;
+  d.ndump = 0;
+  d.frames = 1;
+  d.sopts.quiet = true;                     /* its warnings were printed by the first run */
+  struct job_result dr;
+  struct t74_error de = { T74_OK, "" };
+  if (run_scene(&d, NULL, CORE_GROW_MAX, true, &dr, &de) != T74_OK) return st;   /* keep the first */
+  char first[sizeof err->msg];
+  const char *why = strstr(err->msg, "(table ");
+  snprintf(first, sizeof first, "%s", why ? why + 7 : "");
+  size_t n = strlen(first);
+  if (n && first[n - 1] == ')') first[n - 1] = '\0';
+  err->status = T74_OK;                     /* the first message, replaced by the whole */
+  return t74_fail(err, T74_ECORE, "%s: scene does not fit the core: needs %u words in all, "
+                  "%u available (the first table short: %s); run it with --core %u",
+                  o->scene, dr.core_words_used, o->core_words, first, dr.core_words_used);
 }
 

@@ -44,6 +44,7 @@ struct job {
   const char *effects;              /* --effects: replaces the scene's line */
   int cell;                         /* --cell, 0 = from the scene */
   uint32_t core_words;              /* --core */
+  bool core_given;                  /* --core was given: the core is that, never grown */
   int store;                        /* --matrix */
   const struct scene *preloaded;    /* the scene already read (with these sopts) by the
                                        caller, who owns it; NULL: the job reads it */
@@ -109,6 +110,8 @@ struct job_result {
   int points_lit;                   /* tube dots lit */
   int W, H, cell;
   int engine;                       /* the engine that ran: JOB_ENGINE_1974 or _POINTS */
+  uint32_t core_words;              /* the core the picture was drawn with */
+  uint32_t core_words_used;         /* the most of it in use at once: what it needs */
 };
 
 /* The engine job j runs with effects e (parsed from its scene or --effects) on its scene:
@@ -119,6 +122,13 @@ int job_engine_for(const struct job *j, const struct effects *e, struct t74_erro
 /* "1974" or "points" */
 const char *job_engine_name(int engine);
 
+/* Core: a .s74 scene, a Tek stream, or any scene with --core gets the core given (16384
+** words by default); one that does not fit it ends with T74_ECORE (exit 3), the message
+** giving the words it needs in all (found by a second run, without outputs, on a core
+** that grows: emu/core.h core_set_growth), the words available, and --core. An .obj/.off
+** import without --core is drawn with the core it needs (a growing core), with a warning
+** "FILE: warning: the model needs N words of core; the HITAC-10 had 16384" when that is
+** more; --stats gives core_words_needed and fits_16k either way. */
 int job_run(const struct job *j, const struct job_hooks *h, struct job_result *res,
             struct t74_error *err);
 

@@ -241,11 +241,18 @@ static void on_writethrough(void *ctx, int x0, int y0, int x1, int y1)
   }
 }
 
-/* ESC FF in a Tek stream: the erase flash, then a clear face. */
+/* ESC FF in a Tek stream: the erase flash, then a clear face. The tube stores nothing
+** while it erases, so the beam waits for the erase to end (erase_s, the look's constant):
+** the dots after it are written, and the picture is complete, only then. That keeps the
+** beam's times and the look's (display/look.c writes a dot given inside an erase at its
+** end) the same, and puts the -o picture of a stream that begins with ESC FF (gnuplot's
+** tek40xx) after the flash has died, showing its dots, as a viewer saw them. */
 static void on_erase(void *ctx)
 {
   struct timing *t = ctx;
-  if (t->look) look_erase(t->look, beam_total_seconds(&t->beam));
+  double te = beam_total_seconds(&t->beam);
+  if (t->look) look_erase(t->look, te);
+  beam_wait(&t->beam, te + t->lp.v[LP_ERASE_S]);
 }
 
 /* The scaled plain picture: image.c's look with each dot an s x s block. */

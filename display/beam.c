@@ -1,6 +1,6 @@
 /*
 ** beam.c — the writing beam's timing (see beam.h).
-** Sources: paper 003 appendix (21 cm x 16.3 cm face, 400 x 300 points); hardware-facts.md
+** Sources: paper 003 appendix (21 cm x 16.3 cm face, 400 x 300 points); docs/hardware.md
 ** "The storage tube" (Tektronix 613: settling to 0.025 cm takes 14 us + 6 us/cm for moves
 ** up to 2 cm, then 3 us/cm for longer moves).
 **
@@ -118,6 +118,11 @@ double beam_dot(struct beam *b, int x, int y, double compute_s)
 void beam_clock(struct beam *b, double compute_s)
 {
   if (compute_s > b->compute_s) b->compute_s = compute_s;
+}
+
+void beam_wait(struct beam *b, double until_s)
+{
+  if (until_s > b->free_s) b->free_s = until_s;
 }
 
 double beam_tube_seconds(const struct beam *b) { return b->tube_s; }

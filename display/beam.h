@@ -1,7 +1,7 @@
 /*
 ** beam.h — the writing beam's timing: when each tube dot was written (paper 003 §4).
 ** Sources: paper 003 appendix (the tube: 21 x 16.3 cm face, 400 x 300 points);
-** shared/notes/hardware-facts.md "The storage tube" (Tektronix 613 beam settling).
+** docs/hardware.md "The storage tube" (Tektronix 613 beam settling).
 **
 ** This file contains code to put 1974 times on the dots of a picture. The program of
 ** paper 003 displayed while it computed: each point's halftone cell went to the tube as
@@ -28,6 +28,7 @@
 **   beam_init(b, p)             a beam at rest at (home_x, home_y), nothing written yet
 **   beam_dot(b, x, y, compute_s)     write one dot; returns the time it was written (s)
 **   beam_clock(b, compute_s)    note computing time without a dot (end of the picture)
+**   beam_wait(b, until_s)       the tube takes no dot before until_s (an erase under way)
 **   beam_tube_seconds(b), beam_total_seconds(b), beam_dots(b)
 ** Nothing here allocates; a struct beam is plain data the caller owns.
 */
@@ -84,6 +85,11 @@ double beam_dot(struct beam *b, int x, int y, double compute_s);
 
 /* Note computing time with no dot (e.g. the end of the job). */
 void beam_clock(struct beam *b, double compute_s);
+
+/* The tube stores nothing before until_s (1974 seconds): an erase (ESC FF) is under way.
+** The next dot starts no earlier, and the picture is not complete before then
+** (beam_total_seconds); the beam is not busy meanwhile (beam_tube_seconds unchanged). */
+void beam_wait(struct beam *b, double until_s);
 
 double beam_tube_seconds(const struct beam *b);
 double beam_total_seconds(const struct beam *b);

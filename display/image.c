@@ -23,7 +23,7 @@
 
 #include "display/outfile.h"
 
-/* The plain tube look (tuned by eye; hardware-facts.md: P1 phosphor, green):          */
+/* The plain tube look (tuned by eye; docs/hardware.md: P1 phosphor, green):           */
 static const uint8_t IMAGE_DOT_RGB[3]  = { 80, 255, 120 };  /* a stored, lit dot: P1 green */
 static const uint8_t IMAGE_FACE_RGB[3] = { 8, 20, 12 };     /* the unlit tube face: dark,
                                                                faintly green (flood glow) */

@@ -1,7 +1,7 @@
 /*
 ** look.c — the storage tube's look over time (see look.h).
 ** Sources: paper 003 appendix (21 x 16.3 cm face, 400 x 300 points, stores 15 min or
-** more, erases in under 500 ms); hardware-facts.md "The storage tube" (bright writing
+** more, erases in under 500 ms); docs/hardware.md "The storage tube" (bright writing
 ** flash, stored traces brighter than the flood glow, green erase flash, write-through,
 ** charge spreading; P1 phosphor); rricharz/Tek4010's look constants (stored 0.7,
 ** write-through 0.5, bright spot 1.0 fading over about 1 s, glow 0.08).

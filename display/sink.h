@@ -46,7 +46,7 @@
 #include <stddef.h>
 #include "emu/status.h"
 
-/* The tube's addressable points (paper 003 §4; hardware-facts.md: 400 x 300). Every sink
+/* The tube's addressable points (paper 003 §4; docs/hardware.md: 400 x 300). Every sink
 ** speaks these coordinates. */
 #define TUBE_W 400              /* dots across: x = 0 .. TUBE_W-1, left to right */
 #define TUBE_H 300              /* dots up:     y = 0 .. TUBE_H-1, bottom to top */

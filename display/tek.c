@@ -1,7 +1,7 @@
 /*
 ** tek.c — Tektronix 4010/4014 PLOT 10 streams: encoder (a sink) and decoder (onto the tube).
 ** Where described: display/tek.h (the interface, the dot <-> address mapping);
-** hardware-facts.md "Tektronix 4010/4014 byte stream"; the Tektronix 4014 user manual
+** docs/hardware.md "Tektronix 4010/4014 byte stream"; the Tektronix 4014 user manual
 ** (070-1647-00) as summarised there; character sizes as xterm and GNU tek2plot use them.
 **
 ** This file contains code to turn the stored dots of the emulated tube into the byte

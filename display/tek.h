@@ -1,6 +1,6 @@
 /*
 ** tek.h — Tektronix 4010/4014 PLOT 10 byte streams: writing the tube as one, reading one
-** onto the tube (CONTRACT.md `tek` and `render FILE.tek`; hardware-facts.md "Tektronix
+** onto the tube (CONTRACT.md `tek` and `render FILE.tek`; docs/hardware.md "Tektronix
 ** 4010/4014 byte stream").
 **
 ** This file contains code to speak the language of the storage-tube terminals that

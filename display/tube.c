@@ -1,5 +1,5 @@
 /*
-** tube.c — the storage tube's memory (paper 003 §4; hardware-facts.md "The storage tube").
+** tube.c — the storage tube's memory (paper 003 §4; docs/hardware.md "The storage tube").
 **
 ** This file contains code to store lit dots the way a bistable storage tube does: a dot
 ** once written stays lit, writing it again changes nothing. Two structures:

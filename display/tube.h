@@ -2,7 +2,7 @@
 ** tube.h — the storage tube's memory: 400 x 300 binary dots (paper 003 §4).
 **
 ** This file contains code to model what a bistable storage CRT keeps: once the beam has
-** written a dot, the dot stays lit until the whole screen is erased (hardware-facts.md:
+** written a dot, the dot stays lit until the whole screen is erased (docs/hardware.md:
 ** stores for 15 min or more). It is binary — a dot written twice is still one lit dot —
 ** and this model also remembers the order in which dots were FIRST written, which is the
 ** order `--dump points` reports and the order a plotter or Tek stream would draw them.

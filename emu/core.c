@@ -52,6 +52,9 @@ struct core {
   const char       *hint_name[STAT_HINTS];
   int               hint_row[STAT_HINTS];
   int               hint_next;    /* the hint replaced next (round robin) */
+  uint32_t          grow_max;     /* core_set_growth: the core grows up to this many
+                                     words instead of refusing (0: it never grows) */
+  uint32_t          first_size;   /* the size it was made with */
   int               inject_on;    /* fault injection armed */
   int               inject_tripped; /* the budget has been exceeded: all requests fail */
   uint64_t          inject_left;  /* words that may still be requested */
@@ -65,8 +68,37 @@ struct core *core_new(uint32_t words)
   c->w = calloc(words, sizeof *c->w);
   if (!c->w) { free(c); return NULL; }
   c->size = words;
+  c->first_size = words;
   c->high_stat = -1;
   return c;
+}
+
+void core_set_growth(struct core *c, uint32_t max_words)
+{
+  c->grow_max = max_words > c->size ? max_words : 0;
+}
+
+uint32_t core_first_words(const struct core *c) { return c->first_size; }
+
+/* A growing core (core_set_growth) made room for `need` words in all: the size doubled
+** until it holds them (at most grow_max), the new words zero, the high region moved to
+** the new top (word k of it stays word k: only core_high_top's pointer changes, which is
+** valid until the region next grows anyway). Returns 0, or -1 when it may not or the host
+** cannot. */
+static int grow_core(struct core *c, uint64_t need)
+{
+  if (!c->grow_max || need > c->grow_max) return -1;
+  uint64_t size = c->size;
+  while (size < need) size *= 2;
+  if (size > c->grow_max) size = c->grow_max;
+  uint16_t *w = realloc(c->w, (size_t)size * sizeof *w);
+  if (!w) return -1;
+  uint32_t old = c->size, ns = (uint32_t)size;
+  memmove(w + (ns - c->high_len), w + (old - c->high_len), (size_t)c->high_len * sizeof *w);
+  memset(w + c->low_top, 0, (size_t)(ns - c->high_len - c->low_top) * sizeof *w);
+  c->w = w;
+  c->size = ns;
+  return 0;
 }
 
 void core_free(struct core *c)
@@ -159,6 +191,7 @@ static int grant(struct core *c, const char *table, uint32_t words, const char *
   uint64_t need = used + words;
   uint64_t avail = c->size;
   const char *why = "";
+  if (need > avail && grow_core(c, need) == 0) avail = c->size;   /* a growing core */
   if (need <= avail) {
     if (!c->inject_on) return T74_OK;
     if (!c->inject_tripped && words <= c->inject_left) {

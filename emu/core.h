@@ -3,7 +3,7 @@
 ** are laid out in it.
 ** Where described: paper 003 appendix (core 16 kW/16 bit), §3 and Figs. 6, 8, 9 (the
 ** tables: XSORT, IPL, PBS, LWS, UPS, the face data blocks, the Priority Matrix);
-** shared/notes/hardware-facts.md; CONTRACT.md (--core WORDS, exit status 3,
+** docs/hardware.md; CONTRACT.md (--core WORDS, exit status 3,
 ** core_words / core_words_used in --stats).
 **
 ** This file contains code to make the renderer live inside the 1974 machine's memory.
@@ -73,6 +73,15 @@ struct core *core_new(uint32_t words);
 void core_free(struct core *c);
 uint32_t core_words(const struct core *c);     /* size */
 
+/* A core that grows instead of refusing (for study: an imported model drawn with the core
+   it needs, and the words a scene needs found in one run): a table that does not fit
+   makes the core twice as large (repeatedly, at most max_words) before it is placed,
+   the high region moved to the new top with its words' numbering kept. The tables and
+   every decision are those of a core of the final size; core_peak is what a fixed core
+   must hold. max_words at or below the size: it never grows (the default). */
+void core_set_growth(struct core *c, uint32_t max_words);
+uint32_t core_first_words(const struct core *c);   /* the size it was made with */
+
 /* ---- Low region: tables allocated upward from address 0, released in stack order. */
 
 /* Allocate `words` zeroed words for `table`; *addr receives the first address.  When it
@@ -93,7 +102,8 @@ void core_high_free(struct core *c);           /* drop the high region (length 0
 uint16_t core_high_get(const struct core *c, uint32_t k);
 void core_high_set(struct core *c, uint32_t k, uint16_t w);
 /* Reading the high region in an inner loop: word k (k < core_high_words) is at p[-k] for
-   p = core_high_top(c), until the region next grows or is freed. */
+   p = core_high_top(c), until the region next grows or is freed, or a growing core
+   (core_set_growth) grows. */
 const uint16_t *core_high_top(const struct core *c);
 /* 2-bit fields in the high region: field i is in word i/8, bits 2*(i%8) .. 2*(i%8)+1. */
 unsigned core_high_get2(const struct core *c, uint64_t i);

@@ -1,7 +1,7 @@
 /*
 ** cost.h — the cost model: operations counted by class, turned into 1974 seconds.
 ** Where described: emu/hitac10.h (the instruction classes), shared/notes/
-** hardware-facts.md (timings), emu/params.c (the one table of machine constants).
+** docs/hardware.md (timings), emu/params.c (the one table of machine constants).
 ** Paper 003 gives no run times of its own, so hitac10_seconds is an estimate.
 **
 ** This file contains code to account for the time the renderer would have taken on the

@@ -2,7 +2,7 @@
 ** hitac10.h — the HITAC-10 (Hitachi, 1969) described as tables: word, instruction
 ** format, registers, instruction set and how the cost model's classes map onto it.
 ** Where described: paper 003, appendix "システム構成" (CPU HITAC-10, core 16 kW/16 bit);
-** shared/notes/hardware-facts.md; the FPGA reconstruction hi631/FPGA_HITAC10
+** docs/hardware.md; the FPGA reconstruction hi631/FPGA_HITAC10
 ** (H10/H10.v for the instruction set and its state sequence, H10/IP/cgen.v for the clock).
 **
 ** This file contains code to describe the machine that ran the 1974 renderer, in the
@@ -18,7 +18,7 @@
 ** Change history
 **   tube74 first version: instruction format and state timing read from
 **   hi631/FPGA_HITAC10 H10.v (the only timing evidence found; the primary source, Hitachi
-**   Review Nov. 1969, was not available); core sizes from paper 003 and hardware-facts.md.
+**   Review Nov. 1969, was not available); core sizes from paper 003 and docs/hardware.md.
 */
 #ifndef T74_HITAC10_H
 #define T74_HITAC10_H
@@ -39,7 +39,7 @@ _Static_assert(sizeof(h10_word) * CHAR_BIT == H10_WORD_BITS,
                "the HITAC-10 word is 16 bits");
 
 /* ---------------------------------------------------------------------------------
-** Core memory (paper 003 appendix; hardware-facts.md).
+** Core memory (paper 003 appendix; docs/hardware.md).
 */
 #define H10_CORE_UNIT     4096u        /* core is bought in 4 K-word units */
 #define H10_CORE_PAPER    16384u       /* the paper's machine: 16 kW x 16 bit */

@@ -1,13 +1,13 @@
 /*
 ** params.c — the one table of HITAC-10 machine constants, and the register and
 ** instruction tables of emu/hitac10.h.
-** Where described: shared/notes/hardware-facts.md; paper 003 appendix (system
+** Where described: docs/hardware.md; paper 003 appendix (system
 ** configuration); hi631/FPGA_HITAC10 H10/H10.v and H10/IP/cgen.v.
 **
 ** This file contains code to hold every number the machine model uses, one row each,
 ** with its source, in the manner of SIMH's REG/MTAB tables: a reader checking a
 ** hitac10_seconds figure finds here what each instruction class was charged and why.
-** Numbers that a document gives are quoted as hardware-facts.md (or the paper) gives
+** Numbers that a document gives are quoted as docs/hardware.md (or the paper) gives
 ** them; numbers that no document gives are marked "inferred" with the reasoning, and
 ** every row can be changed by the user (cost_params_set, "name=value").
 **
@@ -35,13 +35,14 @@
 ** designated initialisers); the groups are: core, instruction timing, multiply/divide,
 ** then the peripherals of paper 003 that later stages (background picture, disk) use.
 */
-#define HF "hardware-facts.md: "
+#define HF "docs/hardware.md: "
 #define P003 "paper 003 appendix: "
 
 const struct param_row cost_param_rows[CP_NPARAM] = {
   [CP_CORE_WORDS] = { "core_words", "words", 16384, 1, 2147483648.0, 1,
-    P003 "'コア・メモリ 16 kW/16 BIT'; " HF "'Core memory in 4 K-word units; the paper's "
-    "machine had 16 kW x 16 bit. 15-bit program counter: 32 K words at most.' "
+    P003 "'コア・メモリ 16 kW/16 BIT'; " HF "'The HITAC-10's core came in units of 4,096 "
+    "words; the machine of paper 003 had 16,384 words of 16 bits. Its program counter has "
+    "15 bits, so 32,768 words is the most it can address.' "
     "(larger values model a bigger machine than ever existed, for study)" },
   [CP_PROGRAM_WORDS] = { "program_words", "words", 4096, 0, 2147483648.0, 1,
     "inferred: paper 003 does not give the size of its program. Estimate, one 16-bit "
@@ -53,12 +54,14 @@ const struct param_row cost_param_rows[CP_NPARAM] = {
     "arithmetic routines 146, device drivers 200 = 4096 words, one 4 K core unit. "
     "0 charges the tables only" },
   [CP_STATE_NS] = { "state_ns", "ns", 233.33, 1, 1e6, 0,
-    HF "'Inferred from the FPGA reconstruction: a memory-reference instruction takes 6 "
-    "states of ~233 ns, about 1.4 us' (hi631/FPGA_HITAC10 H10/IP/cgen.v: CPU clock "
+    HF "'No primary timing figure was found' ... 'The FPGA reconstruction runs a "
+    "memory-reference instruction in 6 states of about 233 ns: 1.4 us.' (inferred; "
+    "hi631/FPGA_HITAC10 H10/IP/cgen.v: CPU clock "
     "50 MHz x 42857/500000 = 4.2857 MHz)" },
   [CP_MEM_STATES] = { "mem_states", "states", 6, 0, 1000, 0,
-    HF "'a memory-reference instruction takes 6 states of ~233 ns, about 1.4 us' "
-    "(H10.v: fetch states 0-2, execute 3-5). COST_MEM: L or ST of a table word" },
+    HF "'The FPGA reconstruction runs a memory-reference instruction in 6 states of "
+    "about 233 ns: 1.4 us.' (H10.v: fetch states 0-2, execute 3-5). COST_MEM: L or ST of "
+    "a table word" },
   [CP_ADD_STATES] = { "add_states", "states", 6, 0, 1000, 0,
     "inferred: A and S are memory-reference instructions in H10.v (opcodes 02, 03), so "
     "6 states like L and ST" },
@@ -76,17 +79,20 @@ const struct param_row cost_param_rows[CP_NPARAM] = {
     "address bits 3..0)" },
   [CP_SHIFT_N] = { "shift_n", "positions", 4, 1, 16, 0,
     "inferred: typical shift count. The renderer's packed data are 4-bit picture "
-    "samples ('Picture data packed 4 samples to a word') and 2-bit priority fields "
+    "samples (docs/hardware.md: 'Pictures are stored four samples to a 16-bit word.') and "
+    "2-bit priority fields "
     "(003 Fig. 9): shifts of 2..12; 4 taken as typical" },
   [CP_IND_STATES] = { "ind_states", "states", 3, 0, 1000, 0,
-    HF "'each indirection adds 3 states' (H10.v repeats fetch states 0-2). COST_IND" },
+    HF "'An indirect address costs 3 more states.' (H10.v repeats fetch states 0-2). "
+    "COST_IND" },
   [CP_IO_STATES] = { "io_states", "states", 6, 0, 1000, 0,
     "inferred: IOC (opcode 0E) runs states 0-5 in H10.v; waiting for the device is not "
     "included" },
   [CP_MULDIV] = { "muldiv", "hw|sw", 0, 0, 1, 1,
-    "assumption: " HF "'Multiply/divide: an optional unit added an extension register "
-    "(AC+EC = 32 bits); machines without it trapped those instructions to software "
-    "routines (slower, transparent).' Paper 003 does not say which its machine had; hw "
+    "assumption: " HF "'Multiply and divide came as an option: a unit that adds an "
+    "extension register (AC and EC together 32 bits). Without it, those instructions trap "
+    "to software routines, slower but invisible to the program.' Paper 003 does not say "
+    "which its machine had; hw "
     "is assumed (plane equations and perspective division are its main arithmetic). "
     "sw: the trap to a software routine" },
   [CP_MUL_HW_STATES] = { "mul_hw_states", "states", 22, 0, 100000, 0,
@@ -107,28 +113,29 @@ const struct param_row cost_param_rows[CP_NPARAM] = {
     "handling + 16 steps x 10 (shift the pair, trial subtract, skip, restore on borrow, "
     "set the quotient bit, KCT count, branch); each charged mem_states" },
   [CP_DISK_TRACK_MS] = { "disk_track_ms", "ms", 30, 0, 1e6, 0,
-    HF "'Disk of paper 003: 10 Mbit; track-to-track 30 ms, mean seek 60 ms, mean "
-    "rotational delay 20 ms.' (" P003 "IOMEC, 'トラック間 30 ms')" },
+    HF "'The disk of paper 003 holds 10 Mbit; moving one track takes 30 ms, a seek 60 ms "
+    "on average and the rotational delay is 20 ms on average.' (" P003 "IOMEC, "
+    "'トラック間 30 ms')" },
   [CP_DISK_SEEK_MS] = { "disk_seek_ms", "ms", 60, 0, 1e6, 0,
-    HF "'mean seek 60 ms' (" P003 "'平均ランダム移動 60 ms')" },
+    HF "'a seek 60 ms on average' (" P003 "'平均ランダム移動 60 ms')" },
   [CP_DISK_ROT_MS] = { "disk_rot_ms", "ms", 20, 0, 1e6, 0,
-    HF "'mean rotational delay 20 ms' (" P003 "'平均回転遅延 20 ms')" },
+    HF "'the rotational delay is 20 ms on average' (" P003 "'平均回転遅延 20 ms')" },
   [CP_DISK_MBIT] = { "disk_mbit", "Mbit", 10, 0, 1e6, 0,
-    HF "'Disk of paper 003: 10 Mbit' (" P003 "'容量 10 Mbit'). 'Picture data packed 4 "
-    "samples to a word.'" },
+    HF "'The disk of paper 003 holds 10 Mbit' (" P003 "'容量 10 Mbit'). 'Pictures are "
+    "stored four samples to a 16-bit word.'" },
   [CP_DRUM_REV_S] = { "drum_rev_s", "s", 0.75, 0, 1e6, 0,
-    HF "'Drum scanner of paper 003: 82.758 rpm (0.75 s a turn)'. The two figures the "
+    HF "'The drum scanner turns at 82.758 rpm, given as 0.75 s a turn'. The two figures the "
     "paper prints ('82.758 rpm (0.75 sec/rev)') disagree: 60 / 82.758 = 0.725 s a turn. "
     "The 0.75 s is kept (the paper's own per-turn figure); set drum_rev_s=0.725 for the "
     "rpm" },
   [CP_DRUM_PTS_MM] = { "drum_pts_mm", "points/mm", 5.87, 0, 1e6, 0,
-    HF "'5.87 points/mm around the drum'" },
+    HF "'5.87 points per mm around the drum'" },
   [CP_DRUM_LINES_MM] = { "drum_lines_mm", "lines/mm", 7.4, 0, 1e6, 0,
-    HF "'7.4 lines/mm along the axis'" },
+    HF "'7.4 lines per mm along its axis'" },
   [CP_ADC_US] = { "adc_us", "us", 50, 0, 1e6, 0,
-    HF "'8-bit A-D converter (50 us a conversion, 0..+10 V)'" },
+    HF "'an 8-bit A-D converter taking 50 us a conversion over 0 to +10 V'" },
   [CP_ADC_BITS] = { "adc_bits", "bits", 8, 1, 32, 1,
-    HF "'8-bit A-D converter' (" P003 "'純 2 進 8 BIT')" },
+    HF "'an 8-bit A-D converter' (" P003 "'純 2 進 8 BIT')" },
 };
 
 /* Rows counted in states whose time may also be given as "CLASS_us=V". */

@@ -4,7 +4,7 @@
 ** This file contains code to read the grey picture a scene names with `background FILE`
 ** and to sample it at the perspective-plane points, where it shows behind all faces
 ** (lowest priority). In the 1974 system a picture was scanned on the drum scanner into
-** 8-bit samples (hardware-facts.md); here it is a file, read whole into memory and then
+** 8-bit samples (docs/hardware.md); here it is a file, read whole into memory and then
 ** parsed, so that every read failure is an I/O error (T74_EIO) and everything found in
 ** the bytes themselves is an input error (T74_EINPUT "FILE: not a PGM/PNG picture: why").
 ** The kind is told by the first bytes ("P2", "P5", or the PNG signature), not the name.

@@ -3,7 +3,7 @@
 **
 ** This file contains code to bring a grey picture in behind the scene: it has the
 ** lowest priority, showing wherever no face covers a perspective-plane point. In 1974
-** such pictures came from the drum scanner with its 8-bit A-D converter (hardware-facts.md);
+** such pictures came from the drum scanner with its 8-bit A-D converter (docs/hardware.md);
 ** here they come from files:
 **   PGM  P2 (plain) and P5 (binary), maxval 1..65535, samples scaled to 0..255 by
 **        round(v * 255 / maxval);

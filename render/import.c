@@ -5,8 +5,8 @@
 ** This file contains code to read scene text safely and to turn polygon meshes into a
 ** tube74 scene. The reader takes the whole file into memory and hands out one line at a
 ** time as blank-separated tokens with `#` comments removed; lines end at LF, CR LF or a
-** lone CR, and a UTF-8 byte order mark at the start is skipped; it refuses NUL bytes and
-** over-large files, so no later stage meets them. Imports then map the mesh onto the
+** lone CR, and a UTF-8 byte order mark at the start is skipped; it refuses a file in
+** UTF-16 by name, NUL bytes and over-large files, so no later stage meets them. Imports then map the mesh onto the
 ** integer grid the 1974 system used (import.h gives the mapping): uniform scale, round to
 ** nearest. A face with fewer than 3 vertices in the file, or whose edges cross in the file
 ** (a bow-tie; decided exactly on the file's numbers), is refused with FILE:LINE.
@@ -39,6 +39,25 @@
 #define COORD_SMALL 0x1p-400
 
 /* ---- the line reader -------------------------------------------------------------- */
+
+/* A text in UTF-16, as some Windows editors save it: a byte-order mark (FF FE, FE FF), or
+   none but the first line's characters all ASCII with a NUL beside each (every second
+   byte zero, the others not). The kind, for the message, or NULL. */
+static const char *utf16_kind(const unsigned char *b, size_t len)
+{
+  if (len >= 2 && b[0] == 0xFF && b[1] == 0xFE) return "it starts with a byte-order mark FF FE";
+  if (len >= 2 && b[0] == 0xFE && b[1] == 0xFF) return "it starts with a byte-order mark FE FF";
+  size_t n = len < 64 ? len & ~(size_t)1 : 64;
+  if (n < 4) return NULL;
+  int even0 = 0, odd0 = 0;               /* zero bytes at even and at odd offsets */
+  for (size_t k = 0; k < n; k++) {
+    if (b[k] == 0) { if (k % 2) odd0++; else even0++; }
+    else if (b[k] >= 0x80) return NULL;
+  }
+  if (odd0 == (int)(n / 2) && even0 == 0) return "little-endian, no byte-order mark";
+  if (even0 == (int)(n / 2) && odd0 == 0) return "big-endian, no byte-order mark";
+  return NULL;
+}
 
 int import_open(struct import_reader *r, const char *path, struct t74_error *err)
 {
@@ -80,6 +99,12 @@ int import_open(struct import_reader *r, const char *path, struct t74_error *err
                     (size_t)IMPORT_FILE_MAX);
   }
   buf[len] = '\0';
+  const char *u16 = utf16_kind((const unsigned char *)buf, len);
+  if (u16) {
+    free(buf);
+    return t74_fail_at(err, T74_EINPUT, path, 1, "the file is UTF-16 (%s): save it as ASCII "
+                       "or UTF-8", u16);
+  }
   r->buf = buf;
   r->len = len;
   if (len >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0) r->pos = 3;   /* UTF-8 byte order mark */
@@ -836,7 +861,10 @@ static int check_file_face(const struct scene *s, const struct mesh *m, int k,
    its neighbours) is never an ear itself but is kept as a corner of the triangles beside
    it; a last triangle of zero area (all remaining vertices on one line) covers nothing
    and is left out. The projected polygon must be simple (exact, 64-bit): one that is not
-   was made so by rounding and is refused with FILE:LINE. */
+   (rounding folded it, or the file's outline touches itself, as a keyhole's bridge does)
+   is split in the file's own coordinates instead (file_split, below). */
+
+#define SPLIT_IN_FILE (-1)   /* ear_split: not simple on the grid; file_split takes it */
 
 static int dominant_axis_i(const int64_t n[3])
 {
@@ -899,6 +927,8 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
     return T74_OK;
   }
   int u = (ax + 1) % 3, w = (ax + 2) % 3;
+  int nf0 = s->nf;                 /* faces before this one's triangles (taken back when
+                                      the split goes to the file's coordinates) */
   struct pl_pt *p = malloc((size_t)n * sizeof *p);
   int *ring = malloc((size_t)n * sizeof *ring), *nx = malloc((size_t)n * sizeof *nx);
   int *pv = malloc((size_t)n * sizeof *pv);
@@ -918,14 +948,7 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
   int ea, eb;
   int simple = simple_2d(p, n, &ea, &eb);
   if (simple < 0) { st = oom(s->file, err); goto done; }
-  if (!simple) {
-    st = t74_fail_at(err, T74_EINPUT, s->file, line,
-                     "face %d is not simple once rounded onto the grid (edges %d-%d and "
-                     "%d-%d of its outline meet): the model is finer than the grid",
-                     id, s->v[ring[ea]].id, s->v[ring[(ea + 1) % n]].id, s->v[ring[eb]].id,
-                     s->v[ring[(eb + 1) % n]].id);
-    goto done;
-  }
+  if (!simple) { st = SPLIT_IN_FILE; goto done; }   /* folded: split in the file instead */
   for (int k = 0; k < n; k++) { nx[k] = (k + 1) % n; pv[k] = (k + n - 1) % n; }
   int left = n, at = 0, tried = 0, made = 0;
   while (left > 3) {
@@ -936,8 +959,7 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
     if (!ear) {
       at = c;
       if (++tried > left) {           /* no ear: impossible for a simple polygon */
-        st = t74_fail_at(err, T74_EINPUT, s->file, line,
-                         "face %d cannot be split into triangles on the grid", id);
+        st = SPLIT_IN_FILE;
         goto done;
       }
       continue;
@@ -961,6 +983,7 @@ static int ear_split(struct scene *s, int *cap, int id, int line, const int *v, 
   }
   warn(s, quiet, line, "face %d not planar after rounding; split into %d triangles", id, made);
 done:
+  if (st == SPLIT_IN_FILE) s->nf = nf0;   /* (their arrays stay in the scene's pool) */
   free(p);
   free(ring);
   free(nx);
@@ -968,16 +991,244 @@ done:
   return st;
 }
 
-/* Turn mesh face k into scene faces: kept, split into triangles, or dropped (with a
-   warning); refused when it is not simple in the file or once rounded. */
-static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, int *buf,
-                      bool quiet, struct t74_error *err)
+/* ---- faces the grid cannot take whole: split in the file's own coordinates -----------
+   A face whose outline, rounded onto the grid, is not simple (rounding folded it: a sliver
+   seen from afar, vertices finer than the grid), or whose outline touches itself in the
+   file (a keyhole: a ring with a hole joined by a bridge walked there and back, as
+   LightWave writes a face with a hole), cannot be one scene face, and ear clipping on the
+   grid needs a simple polygon. It is cut into triangles on the file's own numbers instead
+   (after the turn, as check_file_face sees them: along the dominant axis of the face's
+   Newell normal, every orientation exact, orient_d), where the outline is simple or only
+   touches itself (no proper crossing: check_file_face refused those); then each triangle is
+   rounded onto the grid, where three points are always planar, and a triangle that
+   rounding collapsed is left out. So such a face is drawn, never refused for the grid.
+   The clipping is O'Rourke's with the guards a touching outline needs (as
+   mapper_split_face's): an ear's diagonal must leave both its ends into the face (in-cone)
+   and cross no edge, and no vertex other than copies of its corners may lie in its
+   triangle. */
+
+static bool same_d(const double *a, const double *b) { return a[0] == b[0] && a[1] == b[1]; }
+
+/* p strictly inside segment a-b (a != b); the comparisons are exact on doubles */
+static bool on_open_seg_d(const double *a, const double *b, const double *p)
 {
-  int id = k + 1, line = m->fline[k], n = 0;
+  if (orient_d(a, b, p) != 0 || same_d(p, a) || same_d(p, b)) return false;
+  return p[0] >= fmin(a[0], b[0]) && p[0] <= fmax(a[0], b[0]) &&
+         p[1] >= fmin(a[1], b[1]) && p[1] <= fmax(a[1], b[1]);
+}
+
+/* The cut m-w (m != w) meets edge a-b elsewhere than at its own ends. */
+static bool cut_hits_d(const double *m, const double *w, const double *a, const double *b)
+{
+  if (same_d(a, b)) return on_open_seg_d(m, w, a);
+  if (on_open_seg_d(m, w, a) || on_open_seg_d(m, w, b) || on_open_seg_d(a, b, m) ||
+      on_open_seg_d(a, b, w))
+    return true;
+  int d1 = orient_d(a, b, m), d2 = orient_d(a, b, w), d3 = orient_d(m, w, a), d4 = orient_d(m, w, b);
+  return d1 * d2 < 0 && d3 * d4 < 0;
+}
+
+static bool in_tri_d(const double *a, const double *b, const double *c, const double *p)
+{
+  return orient_d(a, b, p) >= 0 && orient_d(b, c, p) >= 0 && orient_d(c, a, p) >= 0;
+}
+
+/* The diagonal a-p leaves vertex a (ap before it, an after it, counter-clockwise) into the
+   polygon's inside: O'Rourke's in-cone test, strict. */
+static bool in_cone_d(const double *ap, const double *a, const double *an, const double *p)
+{
+  if (orient_d(ap, a, an) >= 0) return orient_d(a, p, ap) > 0 && orient_d(p, a, an) > 0;
+  return !(orient_d(a, p, an) >= 0 && orient_d(p, a, ap) >= 0);
+}
+
+/* The sign of the polygon's area, exactly (sum of the edges' cross products as one
+   expansion, as orient_d); -2 when out of memory. */
+static int area_sign_d(const double (*p)[2], int n)
+{
+  double *e = malloc((4 * (size_t)n + 4) * sizeof *e);
+  if (!e) return -2;
+  int len = 0;
+  for (int i = 0; i < n; i++) {
+    const double *a = p[i], *b = p[(i + 1) % n];
+    add_product(e, &len, a[0], b[1]);
+    add_product(e, &len, -b[0], a[1]);
+  }
+  int sg = len == 0 ? 0 : e[len - 1] > 0 ? 1 : -1;
+  free(e);
+  return sg;
+}
+
+/* Triangle (a, b, c) of scene vertex indices, rounded, as a face of `id` unless rounding
+   collapsed it. 1 when added, 0 when left out, or a status (< 0 never). */
+static int add_rounded_tri(struct scene *s, int *cap, int id, int line, int a, int b, int c,
+                           struct t74_error *err)
+{
+  if (same_pos(s, a, b) || same_pos(s, b, c) || same_pos(s, c, a)) return 0;
+  int tri[3] = { a, b, c };
+  int d = defect(s, id, line, tri, 3);
+  if (d < 0) return -oom(s->file, err);
+  if (d != SCENE_FACE_OK) return 0;                 /* collinear once rounded */
+  int st = add_face(s, cap, id, line, tri, 3, err);
+  return st ? -st : 1;
+}
+
+static bool same_file_pos(const struct mesh *m, long a, long b)
+{
+  const double *p = m->xyz + 3 * a, *q = m->xyz + 3 * b;
+  return a == b || (p[0] == q[0] && p[1] == q[1] && p[2] == q[2]);
+}
+
+/* Split mesh face k, its ring ring[0..n) (vertex indices, no two consecutive at one file
+   position), into triangles on the file's numbers, each rounded onto the grid. */
+static int file_split(struct scene *s, int *cap, const struct mesh *m, int k, const int *ring,
+                      int n, bool quiet, struct t74_error *err)
+{
+  int id = k + 1, line = m->fline[k];
+  bool touches = false;           /* the file's ring itself passes a position twice */
+  for (int i = 0; i < n && !touches && n <= 4096; i++)
+    for (int j = i + 1; j < n && !touches; j++)
+      touches = same_file_pos(m, ring[i], ring[j]);
+  double nn[3] = { 0, 0, 0 };
+  for (int i = 0; i < n; i++) {
+    const double *a = m->xyz + 3 * ring[i], *b = m->xyz + 3 * ring[(i + 1) % n];
+    nn[0] += (a[1] - b[1]) * (a[2] + b[2]);
+    nn[1] += (a[2] - b[2]) * (a[0] + b[0]);
+    nn[2] += (a[0] - b[0]) * (a[1] + b[1]);
+  }
+  int ax = dominant_axis(nn), u = (ax + 1) % 3, v = (ax + 2) % 3;
+  double (*p)[2] = malloc((size_t)n * sizeof *p);
+  int *left = malloc((size_t)n * sizeof *left);
+  int st = T74_OK, made = 0;
+  if (!p || !left) { st = oom(s->file, err); goto done; }
+  for (int i = 0; i < n; i++) {
+    p[i][0] = m->xyz[3 * ring[i] + u];
+    p[i][1] = m->xyz[3 * ring[i] + v];
+  }
+  int o = area_sign_d((const double (*)[2])p, n);
+  if (o == -2) { st = oom(s->file, err); goto done; }
+  if (o == 0) {
+    warn(s, quiet, line, "face %d has no area in the file; dropped", id);
+    goto done;
+  }
+  for (int i = 0; i < n; i++) left[i] = o > 0 ? i : n - 1 - i;   /* counter-clockwise */
+  int nl = n;
+  while (nl > 3) {
+    int ear = -1;
+    for (int i = 0; i < nl && ear < 0; i++) {
+      const double *a = p[left[(i + nl - 1) % nl]], *b = p[left[i]], *c = p[left[(i + 1) % nl]];
+      if (orient_d(a, b, c) <= 0) continue;
+      const double *ap = p[left[(i + nl - 2) % nl]], *cn = p[left[(i + 2) % nl]];
+      if (!in_cone_d(ap, a, b, c) || !in_cone_d(b, c, cn, a)) continue;
+      bool empty = true;
+      for (int j = 0; j < nl && empty; j++)
+        empty = !cut_hits_d(a, c, p[left[j]], p[left[(j + 1) % nl]]);
+      for (int j = 0; j < nl && empty; j++) {
+        const double *q = p[left[j]];
+        if (same_d(q, a) || same_d(q, b) || same_d(q, c)) continue;
+        empty = !in_tri_d(a, b, c, q);
+      }
+      if (empty) ear = i;
+    }
+    if (ear < 0) {
+      st = t74_fail_at(err, T74_EINPUT, s->file, line,
+                       "face %d is not simple in the file: its outline runs over itself "
+                       "and cannot be cut into triangles", id);
+      s->nf -= made;                  /* none of its triangles stays */
+      goto done;
+    }
+    int r = add_rounded_tri(s, cap, id, line, ring[left[(ear + nl - 1) % nl]], ring[left[ear]],
+                            ring[left[(ear + 1) % nl]], err);
+    if (r < 0) { st = -r; goto done; }
+    made += r;
+    for (int j = ear; j + 1 < nl; j++) left[j] = left[j + 1];
+    nl--;
+  }
+  if (orient_d(p[left[0]], p[left[1]], p[left[2]]) != 0) {
+    int r = add_rounded_tri(s, cap, id, line, ring[left[0]], ring[left[1]], ring[left[2]], err);
+    if (r < 0) { st = -r; goto done; }
+    made += r;
+  }
+  if (made == 0) warn(s, quiet, line, "face %d degenerate after rounding; dropped", id);
+  else if (touches)
+    warn(s, quiet, line, "face %d passes one point twice in the file (a bridge to a hole, "
+         "say); split into %d triangles", id, made);
+  else
+    warn(s, quiet, line, "face %d not simple once rounded onto the grid; split into %d "
+         "triangles in the file's coordinates", id, made);
+done:
+  free(p);
+  free(left);
+  return st;
+}
+
+/* Mesh face k's ring as in the file, into out: consecutive repeats of one position
+   dropped (and the closing one), and an outline traced several times over (`f 1 2 3 4 1 2
+   3 4 ...`) taken once; *times says how often it was traced. Returns its length. */
+static int file_ring(const struct mesh *m, int k, int *out, int *times)
+{
+  int n = 0;
+  for (size_t q = m->fstart[k]; q < m->fstart[k + 1]; q++) {
+    long v = m->idx[q];
+    if (n > 0 && same_file_pos(m, out[n - 1], v)) continue;
+    out[n++] = (int)v;
+  }
+  while (n > 1 && same_file_pos(m, out[n - 1], out[0])) n--;
+  *times = 1;
+  for (int per = 1; per <= n / 2; per++) {
+    if (n % per) continue;
+    int i = per;
+    while (i < n && same_file_pos(m, out[i], out[i - per])) i++;
+    if (i == n) { *times = n / per; return per; }
+  }
+  return n;
+}
+
+static int pos_cmp(const void *a, const void *b)
+{
+  const int32_t *x = a, *y = b;
+  for (int c = 0; c < 3; c++)
+    if (x[c] != y[c]) return x[c] < y[c] ? -1 : 1;
+  return 0;
+}
+
+/* Two vertices of the ring v[0..n) at one grid position (-1 when out of memory): by pairs
+   for a small ring, by sorting the positions for a large one. */
+static int ring_repeats(const struct scene *s, const int *v, int n)
+{
+  if (n <= SMALL_FACE) {
+    for (int i = 0; i < n; i++)
+      for (int j = i + 1; j < n; j++)
+        if (same_pos(s, v[i], v[j])) return 1;
+    return 0;
+  }
+  int32_t (*c)[3] = malloc((size_t)n * sizeof *c);
+  if (!c) return -1;
+  for (int i = 0; i < n; i++) {
+    c[i][0] = s->v[v[i]].x;
+    c[i][1] = s->v[v[i]].y;
+    c[i][2] = s->v[v[i]].z;
+  }
+  qsort(c, (size_t)n, sizeof *c, pos_cmp);
+  int r = 0;
+  for (int i = 1; i < n && !r; i++) r = pos_cmp(c[i - 1], c[i]) == 0;
+  free(c);
+  return r;
+}
+
+/* Turn mesh face k into scene faces: kept, split into triangles (on the grid, or in the
+   file's coordinates when the grid cannot take its outline), or dropped (with a warning);
+   refused only when its edges cross in the file. fbuf and buf: room for its ring each. */
+static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, int *fbuf,
+                      int *buf, bool quiet, struct t74_error *err)
+{
+  int id = k + 1, line = m->fline[k], n = 0, times;
   int st = check_file_face(s, m, k, err);
   if (st) return st;
-  for (size_t q = m->fstart[k]; q < m->fstart[k + 1]; q++) {
-    int v = (int)m->idx[q];
+  int nfile = file_ring(m, k, fbuf, &times);
+  if (times > 1)
+    warn(s, quiet, line, "face %d traces its outline %d times; taken once", id, times);
+  for (int q = 0; q < nfile; q++) {
+    int v = fbuf[q];
     if (n > 0 && same_pos(s, buf[n - 1], v)) continue;   /* rounded onto one point */
     buf[n++] = v;
   }
@@ -986,6 +1237,11 @@ static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, in
     warn(s, quiet, line, "face %d degenerate after rounding; dropped", id);
     return T74_OK;
   }
+  /* a ring through one grid position twice (a keyhole's bridge, or rounding pinched it)
+     is no scene face: straight to the file's triangles */
+  int rep = ring_repeats(s, buf, n);
+  if (rep < 0) return oom(s->file, err);
+  if (rep) return file_split(s, cap, m, k, fbuf, nfile, quiet, err);
   int d = defect(s, id, line, buf, n);
   if (d < 0) return oom(s->file, err);
   if (d == SCENE_FACE_OK) return add_face(s, cap, id, line, buf, n, err);
@@ -993,7 +1249,9 @@ static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, in
     warn(s, quiet, line, "face %d degenerate after rounding; dropped", id);
     return T74_OK;
   }
-  return ear_split(s, cap, id, line, buf, n, quiet, err);
+  st = ear_split(s, cap, id, line, buf, n, quiet, err);
+  if (st != SPLIT_IN_FILE) return st;
+  return file_split(s, cap, m, k, fbuf, nfile, quiet, err);
 }
 
 static int32_t clamp_coord(double v)
@@ -1108,10 +1366,11 @@ static int build(const struct mesh *m, const char *path, const struct scene_opts
   size_t longest = 0;
   for (int k = 0; k < m->nf; k++)
     if (m->fstart[k + 1] - m->fstart[k] > longest) longest = m->fstart[k + 1] - m->fstart[k];
-  buf = malloc((longest + 1) * sizeof *buf);
+  buf = malloc(2 * (longest + 1) * sizeof *buf);
   if (!buf) { st = oom(path, err); goto fail; }
   for (int k = 0; k < m->nf; k++)
-    if ((st = place_face(s, &cap, m, k, buf, opts && opts->quiet, err))) goto fail;
+    if ((st = place_face(s, &cap, m, k, buf, buf + longest + 1, opts && opts->quiet, err)))
+      goto fail;
   free(buf);
   buf = NULL;
   if ((st = scene_check_camera(s, 0, 0, err))) goto fail;

@@ -230,6 +230,7 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   r->core = core_new(o->core_words);
   if (!r->core) return t74_fail(err, T74_EIO, "out of host memory for %u words of core",
                                 o->core_words);
+  core_set_growth(r->core, o->core_max);
   seginfo_init(&r->seg, r->core, &r->cost[RS_SEGMENT]);
   uint32_t prog;
   if (o->program_words && core_alloc(r->core, CORE_T_PROGRAM, o->program_words, &prog, err) != T74_OK)

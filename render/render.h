@@ -27,6 +27,8 @@ struct render_opts {
   uint32_t program_words;    /* core taken by the 1974 program itself (0: not charged) */
   int      store;            /* PRIO_AUTO / PRIO_DENSE / PRIO_SPARSE */
   FILE    *tables;           /* teaching dump (--dump tables), or NULL */
+  uint32_t core_max;         /* > core_words: the core grows up to this many words instead
+                                of refusing (core_set_growth; imports without --core) */
 };
 
 struct render {

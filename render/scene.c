@@ -10,7 +10,7 @@
 ** after the whole file is read, so a face may name a vertex defined further down; an
 ** unknown id is still reported at the line that uses it. The text may start with a UTF-8
 ** byte-order mark and end its lines with LF, CR LF or a lone CR (the line reader of
-** render/import.h); UTF-16 is refused by name (text_conventions).
+** render/import.h); UTF-16 is refused by name (the reader, import_open).
 **
 ** The geometric checks are exact, in integers, never in floating point:
 **  - each ring (outer boundary, then one ring per hole) has >= 3 distinct vertices, no
@@ -457,20 +457,6 @@ int scene_check_camera(const struct scene *s, int view_line, int window_line,
 }
 
 /* ---- the .s74 parser --------------------------------------------------------------- */
-
-/* The text conventions of editors: the line reader (render/import.h) already skips a
-** UTF-8 byte-order mark (EF BB BF, as some Windows editors start a file) and ends lines
-** at LF, CR LF or a lone CR (classic Mac OS), so that lines and their numbers are the
-** ones the editor shows. What is left for a scene: a file in UTF-16 (byte-order mark
-** FF FE or FE FF) is refused by name at line 1. */
-static int text_conventions(struct import_reader *r, struct t74_error *err)
-{
-  const unsigned char *b = (const unsigned char *)r->buf;
-  if (r->len >= 2 && ((b[0] == 0xFF && b[1] == 0xFE) || (b[0] == 0xFE && b[1] == 0xFF)))
-    return t74_fail_at(err, T74_EINPUT, r->file, 1, "the file is UTF-16 (it starts with a "
-                       "byte-order mark %02X %02X): save it as ASCII or UTF-8", b[0], b[1]);
-  return T74_OK;
-}
 
 struct parse {
   struct scene *s;
@@ -974,7 +960,6 @@ static int load_s74(const char *path, const struct scene_opts *opts, struct scen
   memset(p.fmap, -1, NIDS * sizeof *p.fmap);
   memset(p.omap, -1, NIDS * sizeof *p.omap);
   if ((st = import_open(&p.r, path, err))) goto done;
-  if ((st = text_conventions(&p.r, err))) goto done;
   while ((st = import_next(&p.r, err)) == 1)
     if ((st = statement(&p))) break;
   if (st) goto done;
@@ -1028,13 +1013,18 @@ static bool ends_with(const char *path, const char *ext)
   return true;
 }
 
+const char *scene_kind(const char *path, const struct scene_opts *opts)
+{
+  return opts && opts->input ? opts->input
+         : ends_with(path, ".obj") ? "obj"
+         : ends_with(path, ".off") ? "off" : "s74";
+}
+
 int scene_load(const char *path, const struct scene_opts *opts, struct scene **out,
                struct t74_error *err)
 {
   *out = NULL;
-  const char *kind = opts && opts->input ? opts->input
-                     : ends_with(path, ".obj") ? "obj"
-                     : ends_with(path, ".off") ? "off" : "s74";
+  const char *kind = scene_kind(path, opts);
   if (strcmp(kind, "obj") == 0 || strcmp(kind, "off") == 0)
     return import_load(path, kind, opts, out, err);
   if (strcmp(kind, "s74") == 0) return load_s74(path, opts, out, err);

@@ -103,6 +103,10 @@ struct scene_opts {
                                        printed: for a second read of one file */
 };
 
+/* The kind of scene a path is read as: opts->input when given (--input), else "obj" or
+   "off" by the extension (any case), else "s74". */
+const char *scene_kind(const char *path, const struct scene_opts *opts);
+
 /* Read and check a scene. On failure returns T74_EINPUT (or T74_EIO when the file cannot
    be read), fills err, and *out is NULL. Warnings go to stderr as FILE:LINE: warning: ...
    (not when opts->quiet). */

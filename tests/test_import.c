@@ -6,9 +6,12 @@
 ** This file contains the checks that an import is a function of the mesh, not of how it
 ** is written down, and that the region a face covers survives its split:
 **   bad input   `f` with 0-2 references, an .off face with 0-2 vertices, a bow-tie (edges
-**               crossing in the file: planar, bent, in a vertical plane), a face that
-**               rounding pinches, a coordinate outside the exact range: each refused with
-**               FILE:LINE and status 2 (and exit 2 from the command, no output file);
+**               crossing in the file: planar, bent, in a vertical plane), a coordinate
+**               outside the exact range: each refused with FILE:LINE and status 2 (and
+**               exit 2 from the command, no output file);
+**   the pinch   a face that rounding pinches (two vertices onto one grid point) is split
+**               into triangles in the file's coordinates, not refused: it covers what its
+**               two lobes written as two faces cover;
 **   line ends   a UTF-8 byte order mark, CR LF and lone CR line ends are read like LF, in
 **               .obj, .off and .s74, with the same line numbers in messages;
 **   the notch   a concave face made non-planar by rounding is split by ear clipping into
@@ -145,9 +148,6 @@ static void tprintf(struct text *t, const char *fmt, ...)
     "face 2 is not simple in the file")                                                    \
   X(off_bowtie, "off", "OFF\n4 1\n0 0 0\n2 0 0\n0 2 0\n2 2 0\n4 0 1 2 3\n", 7,              \
     "face 1 is not simple in the file")                                                    \
-  X(obj_rounding_pinches, "obj",                                                         \
-    "v 0 0 0\nv 1 0 0\nv 0.50002 0.5 0\nv 1 1 0\nv 0 1 0\nv 0.49998 0.5 0\nv 0 0 1\n"      \
-    "f 1 2 3 4 5 6\n", 8, "face 1 is not simple once rounded onto the grid")                \
   X(obj_tiny_coordinate, "obj", "v 0 0 1e-200\n", 1, "coordinate `1e-200` out of range")   \
   X(off_huge_coordinate, "off", "OFF\n3 1\n0 0 1e300\n1 0 0\n0 1 0\n3 0 1 2\n", 3,          \
     "coordinate `1e300` out of range")                                                     \
@@ -409,6 +409,45 @@ static void concave_nonplanar_keeps_notch(void **state)
     }
   scene_free(flat);
   scene_free(bent);
+}
+
+/* An hourglass whose waist (vertices 3 and 6, 0.00004 apart) rounds onto one grid point:
+   the face is no longer simple on the grid, so it is split into triangles in the file's
+   coordinates (warning), every one numbered 1, covering what its two lobes cover. */
+static void rounding_pinch_split(void **state)
+{
+  struct fx *f = *state;
+  static const char pinch[] =
+    "v 0 0 0\nv 1 0 0\nv 0.50002 0.5 0\nv 1 1 0\nv 0 1 0\nv 0.49998 0.5 0\nv 0 0 1\n"
+    "f 1 2 3 4 5 6\n";
+  static const char lobes[] =
+    "v 0 0 0\nv 1 0 0\nv 0.50002 0.5 0\nv 1 1 0\nv 0 1 0\nv 0.49998 0.5 0\nv 0 0 1\n"
+    "f 1 2 3 6\nf 6 3 4 5\n";
+  struct scene *a = load_or_fail(f, "pinch.obj", pinch, sizeof pinch - 1);
+  struct scene *b = load_or_fail(f, "lobes.obj", lobes, sizeof lobes - 1);
+  assert_true(a->warnings >= 1);
+  assert_true(a->nf >= 2);
+  for (int k = 0; k < a->nf; k++) assert_int_equal(a->f[k].id, 1);
+  for (int cell = 3; cell <= 4; cell++) {
+    size_t n = (size_t)pat_grid_w(cell) * (size_t)pat_grid_h(cell);
+    uint16_t *ia = calloc(n, sizeof *ia), *ib = calloc(n, sizeof *ib);
+    assert_non_null(ia);
+    assert_non_null(ib);
+    struct t74_error err = { 0 };
+    assert_int_equal(mr_render_ids(a, cell, ia, &err), T74_OK);
+    assert_int_equal(mr_render_ids(b, cell, ib, &err), T74_OK);
+    long lit = 0, differ = 0;
+    for (size_t k = 0; k < n; k++) {
+      lit += ib[k] != 0;
+      differ += (ia[k] != 0) != (ib[k] != 0);
+    }
+    assert_true(lit > (long)n / 20);
+    if (differ > 0) fail_msg("cell %d: %ld of %ld points differ from the two lobes", cell, differ, lit);
+    free(ia);
+    free(ib);
+  }
+  scene_free(a);
+  scene_free(b);
 }
 
 /* A square with a vertex in the middle of every side, bent off its plane: the straight
@@ -990,6 +1029,7 @@ int main(void)
     cmocka_unit_test(line_ends),
     cmocka_unit_test(concave_nonplanar_keeps_notch),
     cmocka_unit_test(straight_vertices_kept),
+    cmocka_unit_test(rounding_pinch_split),
     cmocka_unit_test(pierced_corner_front),
     cmocka_unit_test(order_independent),
     cmocka_unit_test(command_dump_ids_reversed),

@@ -1,7 +1,7 @@
 /*
 ** test_look.c — tests of the tube's timing and look (display/beam.h, display/look.h).
 ** Sources: paper 003 appendix (21 x 16.3 cm face, 400 x 300 points, erase under 500 ms);
-** hardware-facts.md (Tektronix 613 settling: 14 us + 6 us/cm up to 2 cm, 3 us/cm beyond;
+** docs/hardware.md (Tektronix 613 settling: 14 us + 6 us/cm up to 2 cm, 3 us/cm beyond;
 ** rricharz/Tek4010 look constants).
 **
 ** This file contains code to check, against the numbers in the parameter tables and

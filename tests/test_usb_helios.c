@@ -1,6 +1,6 @@
 /*
 ** test_usb_helios.c — the `helios` USB profile against an emulated Helios laser DAC
-** (display/usb/helios.c; hardware-facts.md "Helios laser DAC").
+** (display/usb/helios.c; docs/hardware.md "Helios laser DAC").
 **
 ** This file contains code to play a Helios DAC under umockdev (tests/usbmock/usbmock.c):
 ** it answers the interrupt-endpoint status (0x03 -> 0x83, ready) and version (0x04 -> 0x84)

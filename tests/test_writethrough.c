@@ -5,7 +5,8 @@
 ** does not keep. This test takes a scene through `tube74 tek`, switches the stream's
 ** stored beam (ESC `) to write-through (ESC p), reads it back with `render --look glow`,
 ** and checks that nothing was stored while the most recently written dots glow on the
-** face; and that an erase (ESC FF) at the end of a stored stream flashes the whole face.
+** face; and that an erase (ESC FF) at the end of a stored stream flashes the whole face
+** while it erases and leaves it bare once it is over (when the picture is complete).
 */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -174,17 +175,33 @@ static void test_erase_flashes_the_look(void **state)
   free(b);
   char pbmarg[128];
   snprintf(pbmarg, sizeof pbmarg, "tube=%s", p.pbm);
+  /* the picture is complete when the erase is over (the tube stores nothing meanwhile):
+     --look-at -0.2 is 0.2 s before that, inside the 0.45 s erase */
   char *rd[] = { (char *)tube74(), "render", p.wt, "--look", "glow", "--scale", "1",
-                 "-o", p.png, "--dump", pbmarg, NULL };
+                 "-o", p.png, "--dump", pbmarg, "--look-at", "-0.2", NULL };
   assert_int_equal(run(rd, NULL), 0);
   int w, h;
   uint8_t *g = read_green(p.png, &w, &h);
   assert_non_null(g);
-  /* right after the erase the whole face is lit by the flash, evenly: the corner that was
+  /* during the erase the whole face is lit by the flash, evenly: the corner that was
      never drawn is as bright as the middle */
   int corner = g[0], middle = g[(size_t)150 * 400 + 200];
   assert_true(corner > 60);
   assert_true(abs(corner - middle) < 30);
+  free(g);
+  /* by default the face as it is once the erase is over: dark and bare, every dot gone */
+  char *rd2[] = { (char *)tube74(), "render", p.wt, "--look", "glow", "--scale", "1",
+                  "-o", p.png, NULL };
+  assert_int_equal(run(rd2, NULL), 0);
+  g = read_green(p.png, &w, &h);
+  assert_non_null(g);
+  int lo = 255, hi = 0;
+  for (size_t k = 0; k < (size_t)w * (size_t)h; k++) {
+    if (g[k] < lo) lo = g[k];
+    if (g[k] > hi) hi = g[k];
+  }
+  assert_true(hi < 40);
+  assert_true(hi - lo <= 1);
   free(g);
   drop_paths(&p);
 }

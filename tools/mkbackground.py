@@ -4,7 +4,7 @@
 This file contains code to make, from nothing but arithmetic, the grey picture that
 tube74's demo scenes put behind everything (`background scenes/harbour.pgm`; CONTRACT.md).
 In 1974 such a picture came off the drum scanner as 8-bit samples (paper 003; see
-shared/notes/hardware-facts.md); here it is drawn procedurally so the project ships no
+docs/hardware.md); here it is drawn procedurally so the project ships no
 borrowed material: a sky brightening toward the horizon with soft clouds, two ranges of
 hills, a calm sea with ripples and a reflection of the sun, a breakwater with a
 lighthouse, and a few moored boats. The output is deterministic (a fixed hash, no

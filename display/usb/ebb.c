@@ -630,7 +630,7 @@ static void ebb_close(void *ctx, int clean)
 
 const struct usb_profile usb_profile_ebb = {
   "ebb", "EiBotBoard (AxiDraw, EggBot) pen plotter, USB CDC",
-  { 0x04D8, 0xFD92, 10, -1 },   /* hardware-facts.md; the CDC data interface (class 10) */
+  { 0x04D8, 0xFD92, 10, -1 },   /* docs/hardware.md; the CDC data interface (class 10) */
   ebb_params, EB_NPARAMS,
   ebb_open, ebb_send, ebb_flush, ebb_status, ebb_close, NULL,
   USB_LINKS(USB_LINK_USB) | USB_LINKS(USB_LINK_SERIAL) | USB_LINKS(USB_LINK_FILE), "EBB commands"

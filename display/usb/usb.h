@@ -1,6 +1,6 @@
 /*
 ** usb.h — vector hardware over USB: the device-profile interface and the libusb transfer
-** layer every profile shares (display stage, paper 003 §4; hardware-facts.md "Vector
+** layer every profile shares (display stage, paper 003 §4; docs/hardware.md "Vector
 ** hardware over USB").
 **
 ** This file contains code to drive real pen plotters and laser/XY DACs with the tube's

@@ -3,7 +3,7 @@
 ** tests/test_usb_hpgl.c and tests/test_usb_faults.c (#included after usbmock.c).
 **
 ** This file contains code to interpret what display/usb/hpgl.c sends: HP-GL commands ended
-** by ';' (IN, SP, PU, PD with absolute x,y pairs, OH; hardware-facts.md "HP-GL pen plotters"),
+** by ';' (IN, SP, PU, PD with absolute x,y pairs, OH; docs/hardware.md "HP-GL pen plotters"),
 ** arriving on bulk OUT 0x01 in whatever pieces the URBs carry. Modelled on the HP 7475A
 ** manual: the origin is the lower left hard-clip corner; a point outside the hard-clip
 ** limits (A4: 0..11040 x 0..7721) is clipped, not drawn (counted); OH answers the limits as
