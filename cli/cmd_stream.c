@@ -276,11 +276,7 @@ static void summary(FILE *f, const struct job *j, const struct usb_stream_opts *
 /* Before a real run: the same picture through a file link to nowhere, for its tally. */
 static int estimate(const struct job *j, struct usb_stream_opts *o, struct t74_error *err)
 {
-  struct job je = *j;           /* no outputs: only the dots */
-  je.png = NULL;
-  je.stats = NULL;
-  je.ndump = 0;
-  je.frames = 0;
+  struct job je = job_dots_only(j);
   struct usb_stream_result r;
   memset(&r, 0, sizeof r);
   struct usb_stream_opts oe = *o;

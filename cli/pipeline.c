@@ -391,15 +391,8 @@ const char *job_engine_name(int engine)
 /* Is the job's scene an import (.obj, .off), as scene_load decides it? */
 static bool job_is_import(const struct job *o)
 {
-  const char *in = o->sopts.input;
-  if (in) return !strcmp(in, "obj") || !strcmp(in, "off");
-  size_t n = strlen(o->scene);
-  if (n < 4) return false;
-  const char *x = o->scene + n - 4;
-  char l[5];
-  for (int k = 0; k < 4; k++) l[k] = (char)(x[k] >= 'A' && x[k] <= 'Z' ? x[k] - 'A' + 'a' : x[k]);
-  l[4] = 0;
-  return !strcmp(l, ".obj") || !strcmp(l, ".off");
+  const char *kind = scene_kind(o->scene, &o->sopts);
+  return !strcmp(kind, "obj") || !strcmp(kind, "off");
 }
 
 int job_engine_for(const struct job *o, const struct effects *e, struct t74_error *err)
@@ -1057,6 +1050,16 @@ done:
   return st;
 }
 
+struct job job_dots_only(const struct job *o)
+{
+  struct job d = *o;
+  d.png = NULL;
+  d.stats = NULL;
+  d.ndump = 0;
+  d.frames = 1;
+  return d;
+}
+
 /* --turn turns imports (render/turn.h); a .s74 scene places its eye by its own `view`
    line and a Tek stream is a picture already, so a turn there would be silently lost: it
    is refused (exit 2). 1 when refused (err set), else 0. */
@@ -1064,7 +1067,7 @@ static int turn_misplaced(const struct job *o, struct t74_error *err)
 {
   if (!o->sopts.has_turn) return 0;
   bool tek = job_is_tek(o);
-  if (!tek && strcmp(scene_kind(o->scene, &o->sopts), "s74") != 0) return 0;
+  if (!tek && job_is_import(o)) return 0;
   t74_fail(err, T74_EINPUT, "tube74: --turn turns .obj and .off imports only; %s is %s",
            o->scene, tek ? "a Tek stream"
            : "a .s74 scene, seen from its own `view` line (change that instead)");
@@ -1083,20 +1086,15 @@ static bool core_too_small(const struct t74_error *e)
 int job_run(const struct job *o, const struct job_hooks *h, struct job_result *res,
             struct t74_error *err)
 {
-  bool tek = job_is_tek(o);
-  bool import = !tek && strcmp(scene_kind(o->scene, &o->sopts), "s74") != 0;
-  if (turn_misplaced(o, err)) return err->status;
-  if (tek) return run_tek(o, h, res, err);
+  /* (--turn on a .s74 scene or a Tek stream was refused by job_parse, which alone sets it) */
+  if (job_is_tek(o)) return run_tek(o, h, res, err);
   /* an import without --core: drawn with the core it needs */
-  int st = run_scene(o, h, import && !o->core_given ? CORE_GROW_MAX : 0, false, res, err);
+  int st = run_scene(o, h, job_is_import(o) && !o->core_given ? CORE_GROW_MAX : 0, false, res,
+                     err);
   if (!core_too_small(err)) return st;
   /* it did not fit the core given: how much it needs in all, from one more run on a
      growing core with no outputs and no sinks (the program is the same at any size) */
-  struct job d = *o;
-  d.png = NULL;
-  d.stats = NULL;
-  d.ndump = 0;
-  d.frames = 1;
+  struct job d = job_dots_only(o);
   d.sopts.quiet = true;                     /* its warnings were printed by the first run */
   struct job_result dr;
   struct t74_error de = { T74_OK, "" };

@@ -122,6 +122,10 @@ int job_engine_for(const struct job *j, const struct effects *e, struct t74_erro
 /* "1974" or "points" */
 const char *job_engine_name(int engine);
 
+/* The same job with no outputs (-o, --stats, --dump) and one frame: for a run that only
+   wants its dots or its figures (a plotter's estimate, the core a scene needs). */
+struct job job_dots_only(const struct job *j);
+
 /* Core: a .s74 scene, a Tek stream, or any scene with --core gets the core given (16384
 ** words by default); one that does not fit it ends with T74_ECORE (exit 3), the message
 ** giving the words it needs in all (found by a second run, without outputs, on a core
