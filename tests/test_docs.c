@@ -42,6 +42,19 @@ static void path(char *out, size_t cap, const char *name)
   snprintf(out, cap, "%s/%s", scratch, name);
 }
 
+/* The repository's README (malloc'd), *sec at its first `heading`; the test fails when
+   either is missing. */
+static char *readme_at(const char *heading, const char **sec)
+{
+  char p[400];
+  snprintf(p, sizeof p, "%s/README.md", root);
+  char *readme = tk_slurp(p, NULL);
+  assert_non_null(readme);
+  *sec = strstr(readme, heading);
+  assert_non_null(*sec);
+  return readme;
+}
+
 /* Distinct colours in an RGB PNG (up to 3 counted), or -1 if unreadable. */
 static int png_colours(const char *p)
 {
@@ -68,12 +81,8 @@ static int png_colours(const char *p)
 static void test_readme_import_example(void **state)
 {
   (void)state;
-  char p[400];
-  snprintf(p, sizeof p, "%s/README.md", root);
-  char *readme = tk_slurp(p, NULL);
-  assert_non_null(readme);
-  const char *sec = strstr(readme, "### import views");
-  assert_non_null(sec);
+  const char *sec;
+  char *readme = readme_at("### import views", &sec);
   assert_int_equal(tk_sh(scratch, "ln -s '%s/scenes' scenes && ln -s '%s' tube74", root, exe), 0);
   /* the section's first code block */
   const char *b0 = strstr(sec, "\n```\n"), *b1 = b0 ? strstr(b0 + 5, "\n```") : NULL;
@@ -184,12 +193,8 @@ static void test_params_cites_shipped(void **state)
 static void test_papers_cited(void **state)
 {
   (void)state;
-  char p[400];
-  snprintf(p, sizeof p, "%s/README.md", root);
-  char *readme = tk_slurp(p, NULL);
-  assert_non_null(readme);
-  const char *sec = strstr(readme, "\n## The papers\n");
-  assert_non_null(sec);
+  const char *sec;
+  char *readme = readme_at("\n## The papers\n", &sec);
   static const struct { const char *num, *authors[3], *title; } paper[] = {
     { "**000**", { "Tomoyuki Nishita", "Nakamae", NULL },
       "Half-Tone Representation of 3-D Objects with Smooth Edges by Using a Multi-Scanning Method" },

@@ -84,14 +84,8 @@ static uint8_t *read_pbm(const char *p)
 
 static double stat_field(const char *json, const char *key)
 {
-  char *s = tk_slurp(json, NULL);
-  assert_non_null(s);
-  char k[64];
-  snprintf(k, sizeof k, "\"%s\":", key);
-  const char *p = strstr(s, k);
-  assert_non_null(p);
-  double v = atof(p + strlen(k));
-  free(s);
+  double v;
+  assert_int_equal(tk_stat(json, key, &v), 0);
   return v;
 }
 

@@ -181,3 +181,22 @@ int tk_put(const char *path, const void *data, size_t n)
   if (fclose(f) != 0) ok = 0;
   return ok ? 0 : -1;
 }
+
+int tk_stat(const char *path, const char *key, double *v)
+{
+  char *s = tk_slurp(path, NULL);
+  if (!s) return -1;
+  char k[96];
+  snprintf(k, sizeof k, "\"%s\":", key);
+  const char *p = strstr(s, k);
+  int r = p ? 0 : -1;
+  *v = 0;
+  if (p) {
+    p += strlen(k);
+    while (*p == ' ') p++;
+    if (!strncmp(p, "null", 4)) r = 1;
+    else *v = !strncmp(p, "true", 4) ? 1 : !strncmp(p, "false", 5) ? 0 : atof(p);
+  }
+  free(s);
+  return r;
+}

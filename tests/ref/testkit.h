@@ -52,4 +52,9 @@ char *tk_slurp(const char *path, size_t *n);
 /* Write n bytes to path (created or truncated). 0, or -1 if any step failed. */
 int tk_put(const char *path, const void *data, size_t n);
 
+/* The value of "key" in the --stats JSON file at path, as *v (true 1, false 0).
+   0 for a number or a truth value, 1 for null, -1 when the file cannot be read or has
+   no such key. */
+int tk_stat(const char *path, const char *key, double *v);
+
 #endif
