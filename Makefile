@@ -5,6 +5,7 @@
 #   make test     build and run every test (unit, hard cases, OSMesa cross-check, invariance)
 #   make asan     the same test suite under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make bench    measured figures (host time, hitac10_seconds, growth 10..10,000 faces)
+#   make docs     rewrite the figure tables of README.md and docs/*.md from a run
 #   make fuzz     every libFuzzer target (tools/fuzz.sh) for FUZZ_SECONDS each, one at a time
 #   make install  ./tube74 to $(DESTDIR)$(PREFIX)/bin and the man page tube74.1 to
 #                 $(DESTDIR)$(PREFIX)/share/man/man1 (PREFIX defaults to /usr/local);
@@ -49,7 +50,7 @@ PKG_LIBS   = $(shell pkg-config --libs $(LINKPKGS)) $(NOPCLIBS)
 TEST_CFLAGS = $(shell pkg-config --cflags $(TESTPKGS))
 TEST_LIBS   = $(shell pkg-config --libs $(TESTPKGS))
 
-.PHONY: all run test asan bench fuzz deps clean install uninstall
+.PHONY: all run test asan bench docs fuzz deps clean install uninstall
 FUZZ_SECONDS ?= 120
 all: $(PROG)
 
@@ -91,6 +92,11 @@ asan:
 
 bench: $(PROG)
 	@sh tools/bench.sh
+
+# the README's and docs/'s figure tables rewritten from a run (tools/docs.sh; DOCS_HOST=0:
+# only the deterministic ones, which make test checks)
+docs: $(PROG)
+	@sh tools/docs.sh
 
 fuzz:
 	@sh tools/fuzz.sh $(FUZZ_SECONDS)

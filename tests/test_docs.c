@@ -15,7 +15,11 @@
 **   --turn        on a .s74 scene or a Tek stream is refused (exit 2, a message naming
 **                 --turn and the scene, no output), on an .obj it turns;
 **   UTF-16        an .obj or .off in UTF-16 (with a byte-order mark either way round, or
-**                 without one) is refused as UTF-16 at line 1, not as a NUL byte.
+**                 without one) is refused as UTF-16 at line 1, not as a NUL byte;
+**   the figures   every `<!-- docs:NAME begin/end -->` table of README.md and the docs/ pages
+**                 that tools/figures.sh makes (1974 seconds, core words, pieces, dots) is
+**                 exactly what it prints from this tree now; every other one (host
+**                 times) says the date, the machine and the commit it was measured on.
 ** A standalone cmocka program run from the repository root; $TUBE74 (default ./tube74).
 */
 #include <ctype.h>
@@ -300,6 +304,80 @@ static void test_utf16_import(void **state)
   assert_int_equal(tk_runl(NULL, NULL, "render", file, (char *)NULL), 0);
 }
 
+/* ---- the figures between docs markers ----------------------------------------------- */
+
+/* Each `<!-- docs:NAME begin -->` .. `<!-- docs:NAME end -->` block of file `rel`: the
+   deterministic ones (names tools/figures.sh --list prints) must be exactly what the
+   script prints now from this tree's tube74; the measured ones must name the day, the
+   machine and the commit they were measured on. Counts the blocks of each kind. */
+static void check_blocks(const char *rel, const char *names, int *det, int *host)
+{
+  char p[600];
+  snprintf(p, sizeof p, "%s/%s", root, rel);
+  char *text = tk_slurp(p, NULL);
+  assert_non_null(text);
+  for (const char *at = text; (at = strstr(at, "\n<!-- docs:")) != NULL; ) {
+    at += strlen("\n<!-- docs:");
+    char name[64];
+    int len = 0;
+    while (len < 63 && (isalnum((unsigned char)at[len]) || at[len] == '-')) { name[len] = at[len]; len++; }
+    name[len] = 0;
+    if (strncmp(at + len, " begin -->\n", 11) != 0) continue;
+    const char *body = at + len + 11;
+    char endmark[96];
+    snprintf(endmark, sizeof endmark, "<!-- docs:%s end -->", name);
+    const char *end = strstr(body, endmark);
+    if (!end) fail_msg("%s: block docs:%s has no end marker", rel, name);
+    char word[72];
+    snprintf(word, sizeof word, " %s ", name);
+    if (strstr(names, word)) {
+      char out[400];
+      path(out, sizeof out, "figure.md");
+      assert_int_equal(tk_sh(root, "sh tools/figures.sh %s '%s' >'%s'", name, exe, out), 0);
+      char *want = tk_slurp(out, NULL);
+      assert_non_null(want);
+      size_t n = (size_t)(end - body);
+      if (strlen(want) != n || memcmp(want, body, n) != 0)
+        fail_msg("%s: the figures in docs:%s are not what the tree computes; run "
+                 "`DOCS_HOST=0 make docs` (now:\n%s)", rel, name, want);
+      free(want);
+      (*det)++;
+    } else {
+      /* a measured table: dated, with its machine and commit */
+      int y, m, d;
+      const char *h = strstr(body, "Measured ");
+      if (!h || h > end || sscanf(h, "Measured %4d-%2d-%2d on ", &y, &m, &d) != 3 ||
+          !strstr(h, ", commit ") || strstr(h, ", commit ") > end)
+        fail_msg("%s: docs:%s holds host figures without the date, machine and commit", rel, name);
+      (*host)++;
+    }
+    at = end;
+  }
+  free(text);
+}
+
+static void test_figures_current(void **state)
+{
+  (void)state;
+  char out[400];
+  path(out, sizeof out, "names.txt");
+  assert_int_equal(tk_sh(root, "sh tools/figures.sh --list >'%s'", out), 0);
+  char *list = tk_slurp(out, NULL);
+  assert_non_null(list);
+  char names[400];
+  snprintf(names, sizeof names, " %s", list);
+  for (char *c = names; *c; c++) if (*c == '\n') *c = ' ';
+  free(list);
+  int det = 0, host = 0;
+  check_blocks("README.md", names, &det, &host);
+  check_blocks("docs/aa.md", names, &det, &host);
+  check_blocks("docs/edges.md", names, &det, &host);
+  check_blocks("docs/smooth.md", names, &det, &host);
+  /* the README carries every deterministic table and the measured ones */
+  assert_true(det >= 4);
+  assert_true(host >= 5);
+}
+
 int main(void)
 {
   if (!getcwd(root, sizeof root)) return 1;
@@ -312,6 +390,7 @@ int main(void)
     cmocka_unit_test(test_papers_cited),
     cmocka_unit_test(test_turn_refused),
     cmocka_unit_test(test_utf16_import),
+    cmocka_unit_test(test_figures_current),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   tk_rmscratch(scratch);

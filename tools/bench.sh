@@ -9,6 +9,8 @@
 #     (tests/ref, llvmpipe) drawing the same scene as the peer where it is built;
 #  4. what accuracy costs: `tube74 bench accuracy` (anti-aliasing, papers 000/001), its
 #     tables, plots and panels in build/bench/accuracy (ACC_RUNS runs a frame, default 5).
+#  4a. every effect alone and composed (tools/bench_effects.sh per frame on the host,
+#     tools/figures.sh effects in 1974 time), on fig5, sphere, street and fig6-building.
 #  4b. exact against 1974 arithmetic: `tube74 bench arith` (dots that differ, hitac10_seconds
 #     and core words for both) in build/bench/arith (arith.md, arith.png).
 #  5. paper 004's Table 1 scenes against flat shading (`tools/bench.sh smooth`: only this).
@@ -203,6 +205,13 @@ sh tools/bench_edges.sh "$B/bench_edges.md" >/dev/null
 cat "$out"
 echo
 ./tube74 bench accuracy --out "$B/accuracy" --runs "${ACC_RUNS:-5}"
+echo
+# every effect alone and composed: per frame on this host, and in 1974 time
+echo "## What each effect costs a frame (host: tools/bench_effects.sh; 1974: tools/figures.sh effects)"
+echo
+sh tools/bench_effects.sh "$B/effects"
+echo
+sh tools/figures.sh effects
 echo
 ./tube74 bench arith --out "$B/arith" 2>/dev/null && cat "$B/arith/arith.md"
 if [ "${SPEED_FULL:-0}" = 1 ]; then ./tube74 bench speed --out "$B/speed"

@@ -7,7 +7,7 @@
 #              stream SVG previews in tests/test_stream_files.c); without them
 #              those tests are skipped (exit 77), so a missing one does not stop the build
 set -u
-need="pkg-config gnuplot-nox libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth libgif-dev jq"
+need="pkg-config python3 gnuplot-nox libpng-dev libcmocka-dev libosmesa6-dev libglu1-mesa-dev libusb-1.0-0-dev libsdl2-dev umockdev libumockdev-dev xvfb xauth libgif-dev jq"
 testneed="plotutils chromium libxml2-utils"
 missing=""
 for p in $need; do
