@@ -19,9 +19,9 @@ set -eu
 cd "$(dirname "$0")/.."
 B=build/docs
 mkdir -p "$B"
-make -s tube74 >/dev/null
-[ "${DOCS_HOST:-1}" = 1 ] && make -s build/bench/refbench >/dev/null
 HOST=${DOCS_HOST:-1}
+make -s tube74 >/dev/null
+if [ "$HOST" = 1 ]; then make -s build/bench/refbench >/dev/null; fi
 RUNS=${RUNS:-5}
 FRAMES=${FRAMES:-20}
 

@@ -62,33 +62,30 @@ growth)
       "$(f core_words_used)"
   done ;;
 effects)
-  # rows: each effect alone, then composed; columns: the 1974 seconds (x the plain render)
-  # and the most core any of the four scenes used (a core of 2^20 words, so that every
-  # combination is drawn; "fits" says whether that most is within 16 kW)
-  scenes="fig5 sphere street fig6-building"
-  printf '| effects |'; for s in $scenes; do printf ' %s 1974 s (x plain) |' "$s"; done
+  # rows (tools/effects_rows.sh): each effect alone, then composed; columns: the 1974
+  # seconds (x the plain render, the first row) and the most core any of the scenes used
+  # (a core of 2^28 words, so that every combination is drawn; "fits" says whether that
+  # most is within 16 kW)
+  . tools/effects_rows.sh
+  printf '| effects |'; for s in $FX_SCENES; do printf ' %s 1974 s (x plain) |' "$s"; done
   echo ' most core words | fits 16 kW |'
-  printf '|---|'; for s in $scenes; do printf -- '---:|'; done; echo '---:|---|'
-  for e in "" "edges=on" "smooth=phong" "smooth=phong contour=1.0" "smooth=prop:0.15" \
-           "shadows=on" "aa=multiscan filter=box n=3" "aa=multiscan filter=gauss n=3" \
-           "aa=area depth=2" "aa=super super=3" "aa=exact" \
-           "smooth=phong contour=1.0 edges=on shadows=on" \
-           "smooth=phong contour=1.0 edges=on shadows=on aa=multiscan n=3"; do
-    printf '| `%s` |' "${e:-none}"
+  printf '|---|'; for s in $FX_SCENES; do printf -- '---:|'; done; echo '---:|---|'
+  while IFS= read -r e; do
+    label=$e; [ "$e" = aa=none ] && label=none
+    printf '| `%s` |' "$label"
     most=0
-    for s in $scenes; do
-      if [ ! -f "$tmp/plain-$s" ]; then
-        stats "scenes/$s.s74" --core 268435456 --effects "aa=none"
-        f hitac10_seconds >"$tmp/plain-$s"
-      fi
-      plain=$(cat "$tmp/plain-$s")
-      stats "scenes/$s.s74" --core 268435456 --effects "${e:-aa=none}"
+    for s in $FX_SCENES; do
+      stats "scenes/$s.s74" --core 268435456 --effects "$e"
       t=$(f hitac10_seconds); w=$(f core_words_used)
+      [ "$e" = aa=none ] && echo "$t" >"$tmp/plain-$s"
       [ "$w" -gt "$most" ] && most=$w
-      awk -v t="$t" -v p="$plain" 'BEGIN { printf " %.2f (%.2f) |", t, t / p }'
+      awk -v t="$t" -v p="$(cat "$tmp/plain-$s")" 'BEGIN { printf " %.2f (%.2f) |", t, t / p }'
     done
     printf ' %s | %s |\n' "$most" "$([ "$most" -le 16384 ] && echo yes || echo no)"
-  done ;;
+  done <<EOF
+$FX_ROWS
+EOF
+  ;;
 edges)
   echo "| scene | edges drawn | hitac10 s plain | hitac10 s edges | 1974 ratio | core words edges | fits 16 kW |"
   echo "|---|---:|---:|---:|---:|---:|---|"
