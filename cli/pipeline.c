@@ -395,7 +395,8 @@ static bool job_is_import(const struct job *o)
   return !strcmp(kind, "obj") || !strcmp(kind, "off");
 }
 
-int job_engine_for(const struct job *o, const struct effects *e, struct t74_error *err)
+int job_engine_for(const struct job *o, const struct scene *s, const struct effects *e,
+                   struct t74_error *err)
 {
   /* what only the 1974 program does */
   const char *why = NULL;
@@ -403,6 +404,12 @@ int job_engine_for(const struct job *o, const struct effects *e, struct t74_erro
       e->shadows)
     why = "the effects aa=, edges=, smooth=, contour= and shadows= work on the 1974 engine's "
           "renderer";
+  int at = 0;                       /* the scene line the refusal names, if one */
+  for (int k = 0; k < s->nf && !why; k++)
+    if (s->f[k].texture) {
+      why = "a texture (`texture F FILE`) is applied by the 1974 engine's renderer";
+      at = s->f[k].texture_line;
+    }
   else if (o->arith == GEOM_HITAC)
     why = "--arith hitac is the 1974 program's arithmetic";
   else if (o->need_1974)
@@ -413,8 +420,12 @@ int job_engine_for(const struct job *o, const struct effects *e, struct t74_erro
   if (o->engine == JOB_ENGINE_1974) return JOB_ENGINE_1974;
   if (o->engine == JOB_ENGINE_POINTS) {
     if (!why) return JOB_ENGINE_POINTS;
-    t74_fail(err, T74_EINPUT, "tube74: --engine points cannot run this: %s; use --engine "
-             "1974 or auto", why);
+    if (at > 0)
+      t74_fail_at(err, T74_EINPUT, s->file, at, "--engine points cannot run this: %s; use "
+                  "--engine 1974 or auto", why);
+    else
+      t74_fail(err, T74_EINPUT, "tube74: --engine points cannot run this: %s; use --engine "
+               "1974 or auto", why);
     return -1;
   }
   if (why || o->machine_given || !job_is_import(o)) return JOB_ENGINE_1974;
@@ -896,7 +907,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   else if (s->effects) st = effects_parse(s->effects, &eff, s->file, s->effects_line, err);
   else { effects_default(&eff); st = T74_OK; }
   if (st != T74_OK) goto done;
-  engine = job_engine_for(o, &eff, err);
+  engine = job_engine_for(o, s, &eff, err);
   if (engine < 0) { st = err->status; goto done; }
   p.timed = engine == JOB_ENGINE_1974;
   p.cell = o->cell ? o->cell : eff.halftone;

@@ -114,10 +114,12 @@ struct job_result {
   uint32_t core_words_used;         /* the most of it in use at once: what it needs */
 };
 
-/* The engine job j runs with effects e (parsed from its scene or --effects) on its scene:
+/* The engine job j runs with effects e (parsed from its scene or --effects) on its scene s:
    JOB_ENGINE_1974 or JOB_ENGINE_POINTS, or -1 with a usage error in err (T74_EINPUT: an
-   explicit --engine points with something only the 1974 program does). */
-int job_engine_for(const struct job *j, const struct effects *e, struct t74_error *err);
+   explicit --engine points with something only the 1974 program does: an effect, a
+   texture, --arith hitac, a dump of its tables). */
+int job_engine_for(const struct job *j, const struct scene *s, const struct effects *e,
+                   struct t74_error *err);
 
 /* "1974" or "points" */
 const char *job_engine_name(int engine);

@@ -396,6 +396,10 @@ static void test_cli(void **state)
   snprintf(a, sizeof a, "render scenes/sphere.s74 --engine points -o %s", path);
   assert_int_equal(run(a), 2);
   assert_int_equal(access(path, F_OK), -1);
+  /* a texture is applied by the 1974 engine alone: refused, not a crash (it was exit 139) */
+  snprintf(a, sizeof a, "render scenes/fig6-room.s74 --engine points --effects '' -o %s", path);
+  assert_int_equal(run(a), 2);
+  assert_int_equal(access(path, F_OK), -1);
   snprintf(a, sizeof a, "render scenes/fig6.s74 --engine points --arith hitac -o %s", path);
   assert_int_equal(run(a), 2);
   snprintf(a, sizeof a, "render scenes/fig6.s74 --engine points --dump tables=%s", path);
