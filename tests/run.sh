@@ -22,7 +22,7 @@ for t in "$build"/tests/test_*; do
   fi
   if [ $rc -ne 0 ] && [ "$f" -eq 0 ]; then f=1; fi
   pass=$((pass + p)); fail=$((fail + f))
-  if [ $rc -eq 0 ]; then echo "ok   $name ($p)"; else echo "FAIL $name"; sed 's/^/     /' "$log" | tail -n 40; fi
+  if [ $rc -eq 0 ]; then echo "ok   $name ($p)"; else echo "FAIL $name (exit status $rc)"; sed 's/^/     /' "$log" | tail -n 40; fi
 done
 echo "$pass passed, $fail failed, $skip skipped"
 [ $fail -eq 0 ]
