@@ -61,11 +61,14 @@
 **    centres on the other side between w/2 and w/2 + halo_w from the line get the halo's
 **    grey, but only where another face (not the background, not the edge's own) shows
 **    behind the edge, strictly farther (a window lying on its wall gets no halo). Lines always win over halos; outline over inner where strips meet.
+** 7. With contour smoothing (paper 004) the outline follows the rounded contour: see
+**    "the outline along the contour curve" below.
 **
 ** The machine model: the edge table (5 words an edge: vertex ids, faces, class), the
-** intersection lines (11 words each) and the registered points of the first pass (1 bit
-** a point) are allocated in core for the stage and released after it; every exact test
-** is counted with the multi-word costs of emu/cost.h.
+** intersection lines (11 words each), the contour's corners (22 words each) and the
+** registered points of the first pass (1 bit a point) are allocated in core for the stage
+** and released after it; every exact test is counted with the multi-word costs of
+** emu/cost.h.
 */
 #include "effects/edges.h"
 

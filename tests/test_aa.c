@@ -12,7 +12,9 @@
 ** every method. Multiscan box within 1/(2n) of exact where one edge crosses a point's
 ** top and bottom, its error falling with n; the F table's volume; the area table and
 ** area sampling on single-edge points within 1/64; stacked faces (the hidden one never
-** shows); the slivers of paper 000 Fig. 3; the command line's refusal and exit 3.
+** shows); aa=exact with the frame model's regions, against clipping: a shadow (paper 000
+** §3) and the corners a contour cut takes away (paper 004); the slivers of paper 000
+** Fig. 3; the command line's refusal and exit 3.
 */
 #include <setjmp.h>
 #include <stdarg.h>
