@@ -17,12 +17,16 @@
 **
 ** EXACT (a reference path: floating point, host only; its operations are counted but it
 ** was never a 1974 method). The visible picture changes its structure along y only where
-** a piece has a vertex or two piece boundaries cross; between two such heights every
-** visible stretch on every line has ends moving linearly in y. So each point row is cut
-** at all such heights (vertices of the alive pieces, crossings of their sides, computed
-** from the exact lines), and in each band vis_spans is asked at two lines inside it (1/4
-** and 3/4 of the way, rounded to 1/65536 of a grid unit); the stretches are matched one
-** to one and their ends extended linearly to the band's edges. Then:
+** a piece has a vertex or two piece boundaries cross, and, with the frame model
+** (effects/model.h), where a polygon of it (a contour cut's region, a shadow) has a vertex
+** or its sides cross each other or a piece's; between two such heights every visible
+** stretch on every line has ends moving linearly in y. So each point row is cut at all
+** such heights (computed from the exact lines), and in each band the lines (vis_spans, or
+** the model's fx_lines_get) are asked at two heights inside it (1/4 and 3/4 of the way,
+** rounded to 1/65536 of a grid unit); the stretches are matched one to one (the same
+** piece and the same lights blocked) and their ends extended linearly to the band's
+** edges. So the cut's curve (its polygon) and a shadow's edges are integrated exactly,
+** like a face's sides. Then:
 **   filter=box    the area of each stretch within each point is integrated in closed
 **                 form (the mean of a clamped linear function, aa_mean_clamp);
 **   filter=gauss  the Gaussian of radius one point (sigma=) is integrated: across x in
@@ -30,7 +34,9 @@
 **                 most 1/32 point of each band, band edges also at every row's centre
 **                 line (where the filter disk's top and bottom lie).
 ** A band whose two lines do not match (a piece cut by the Priority Matrix between them)
-** is counted in aa_exact_unmatched and taken as two halves with constant stretches.
+** is counted in aa_exact_unmatched and taken as two halves with constant stretches; with
+** every height above taken, none is expected (the tests hold it to 0 with cuts and
+** shadows, tests/test_aa.c and test_compose.c).
 */
 #include "effects/aa_int.h"
 
@@ -164,7 +170,11 @@ double aa_mean_clamp(double p, double q, double a, double b)
 
 /* ---- exact: the bands ------------------------------------------------------------------ */
 
-struct xline { int64_t a, b, c; double ylo, yhi; int piece; };
+struct xline {
+  int64_t a, b, c;          /* the side's line */
+  double ylo, yhi, xlo, xhi;   /* its extent */
+  int piece;                /* a piece's index, or a polygon's id (>= the pieces' count) */
+};
 
 static int cmp_double(const void *p, const void *q)
 {
@@ -187,8 +197,53 @@ static int ev_push(struct evlist *e, double y)
   return 1;
 }
 
+static int ln_push(struct evlist *e, struct xline l)
+{
+  if (e->nl == e->lcap) {
+    int cap = e->lcap ? 2 * e->lcap : 64;
+    struct xline *n = realloc(e->ln, (size_t)cap * sizeof *n);
+    if (!n) return 0;
+    e->ln = n;
+    e->lcap = cap;
+  }
+  e->ln[e->nl++] = l;
+  return 1;
+}
+
+/* The vertices and sides of the frame model's polygons ps (a contour cut's regions, the
+   shadows) that reach into (ya, yb): where a stretch is cut or split, its end follows a
+   side of the polygon. Their lines carry id, id + 1, ... (one a polygon) in `piece`. */
+static int poly_events(struct aa_ctx *c, const struct fx_polys *ps, int id, double ya,
+                       double yb, struct evlist *e)
+{
+  for (int k = 0; k < ps->n; k++) {
+    const struct fx_poly *p = &ps->p[k];
+    COST_ADD_N(c->cost, COST_MEM, 2);
+    if ((double)p->ylo >= yb || (double)p->yhi <= ya) continue;
+    for (int r = 0; r < p->nring; r++) {
+      int a = p->rs[r], n = p->rs[r + 1] - a;
+      for (int v = 0; v < n; v++) {
+        struct gpoint p0 = p->pt[a + v], p1 = p->pt[a + (v + 1) % n];
+        double y0 = (double)p0.y, y1 = (double)p1.y;
+        COST_ADD_N(c->cost, COST_MEM, 4);
+        if (y0 > ya && y0 < yb && !ev_push(e, y0)) return 0;
+        if (p0.y == p1.y) continue;
+        double l = y0 < y1 ? y0 : y1, h = y0 < y1 ? y1 : y0;
+        if (l >= yb || h <= ya) continue;
+        struct gline g = geom_line(p0, p1);
+        double x0 = (double)p0.x, x1 = (double)p1.x;
+        if (!ln_push(e, (struct xline){ g.a, g.b, g.c, l, h, x0 < x1 ? x0 : x1, x0 < x1 ? x1 : x0,
+                                        id + k }))
+          return 0;
+      }
+    }
+  }
+  return 1;
+}
+
 /* Heights in (ya, yb) where the visible structure can change: vertices of alive pieces
-   and crossings of their sides; sorted, with ya and yb at the ends. */
+   and crossings of their sides, and with a frame model the same of its polygons (a cut
+   or a shadow begins, ends or turns there); sorted, with ya and yb at the ends. */
 static int events(struct aa_ctx *c, double ya, double yb, struct evlist *e)
 {
   const struct seginfo *s = &c->r->seg;
@@ -209,20 +264,30 @@ static int events(struct aa_ctx *c, double ya, double yb, struct evlist *e)
       if (pc->line[k].a == 0) continue;
       double l = y0 < y1 ? y0 : y1, h = y0 < y1 ? y1 : y0;
       if (l >= yb || h <= ya) continue;
-      if (e->nl == e->lcap) {
-        int cap = e->lcap ? 2 * e->lcap : 64;
-        struct xline *n = realloc(e->ln, (size_t)cap * sizeof *n);
-        if (!n) return 0;
-        e->ln = n;
-        e->lcap = cap;
-      }
-      e->ln[e->nl++] = (struct xline){ pc->line[k].a, pc->line[k].b, pc->line[k].c, l, h, p };
+      double x0 = (double)pc->v[k].X / (double)pc->v[k].W;
+      double x1 = (double)pc->v[(k + 1) % pc->n].X / (double)pc->v[(k + 1) % pc->n].W;
+      if (!ln_push(e, (struct xline){ pc->line[k].a, pc->line[k].b, pc->line[k].c, l, h,
+                                      x0 < x1 ? x0 : x1, x0 < x1 ? x1 : x0, p }))
+        return 0;
     }
+  }
+  if (c->model) {
+    const struct fx_model *m = c->model;
+    if (!poly_events(c, &m->cuts, s->n, ya, yb, e) ||
+        !poly_events(c, &m->shadows, s->n + m->cuts.n, ya, yb, e))
+      return 0;
   }
   for (int m = 0; m < e->nl; m++)
     for (int q = m + 1; q < e->nl; q++) {
       const struct xline *A = &e->ln[m], *B = &e->ln[q];
       if (A->piece == B->piece) continue;
+      /* a polygon's side against anything: sides whose x extents lie a grid unit or more
+         apart do not meet (two pieces' sides are taken as they always were) */
+      if ((A->piece >= s->n || B->piece >= s->n) &&
+          (A->xhi + 1 < B->xlo || B->xhi + 1 < A->xlo)) {
+        COST_ADD_N(c->cost, COST_ADD, 2); COST_ADD_N(c->cost, COST_BRANCH, 2);
+        continue;
+      }
       wide den = (wide)A->a * B->b - (wide)B->a * A->b;
       cost_mw_mul(c->cost, 29, 29);
       if (den == 0) continue;
@@ -379,7 +444,8 @@ static int exact_rows(struct aa_ctx *c, double vtop, double vbot, bool centres,
       double ta = (y1 - ys0) / (ys1 - ys0), tb = (y0 - ys0) / (ys1 - ys0);
       double va = (c->yt - y1) / c->ph, vb = (c->yt - y0) / c->ph;
       bool match = A.n == B.n;
-      for (int m = 0; match && m < A.n; m++) match = A.s[m].piece == B.s[m].piece;
+      for (int m = 0; match && m < A.n; m++)
+        match = A.s[m].piece == B.s[m].piece && A.s[m].blocked == B.s[m].blocked;
       if (match) {
         fn->run(c, va, vb, &A, &B, ta, tb, fn->ctx);
       } else {

@@ -4,7 +4,9 @@
 **
 ** This file contains code to run the renderer's stages (render/render.h) and the point
 ** scan on a scene, build the effects frame as cli/pipeline.c does (face at each point
-** centre, flat grey, background grey), and hand it to aa_light_map, timing the whole on
+** centre, flat grey, background grey) and, when the effects or the scene ask for it
+** (smoothing, a contour cut, shadows, textures), the frame model over it as fx_run does
+** (effects/model.h), and hand it to aa_light_map, timing the whole on
 ** the host (CLOCK_MONOTONIC) from the Mapper to the last intensity. The grid is the
 ** contract's: W = floor(400 / cell), H = floor(300 / cell).
 */
@@ -14,6 +16,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "effects/model.h"
 #include "patterns/picture.h"
 
 static double now(void)
@@ -85,13 +88,24 @@ int aa_frame_render(const char *path, const char *effects, int cell, uint32_t co
   struct vis_grid g = { f->W, f->H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
   struct scan_ctx sc = { &r, f, bg };
   if (st == T74_OK) st = render_scan(&r, &g, on_point, &sc, err);
+  /* the frame model, as fx_run builds it, when the effects or the scene ask for what it
+     holds (smoothing, a contour cut, shadows, textures): the point frame from it, and
+     the anti-aliasing over it */
+  struct fx_model m;
+  bool built = st == T74_OK;
+  struct fx_frame fr = { f->W, f->H, f->cell, f->face, f->grey, bg, NULL };
+  if (built && (st = fx_model_build(&m, &r, s, &e, &g, bg, &f->st, &f->fx, err)) == T74_OK &&
+      (fx_model_shades(&m) || fx_model_regions(&m))) {
+    st = fx_points(&m, &fr, &f->st, &f->fx, err);
+    fr.model = &m;
+  }
   if (st == T74_OK && e.aa != EFFECTS_AA_NONE) {
-    struct fx_frame fr = { f->W, f->H, f->cell, f->face, f->grey, bg, NULL };
     st = aa_light_map(&r, &e, &g, &fr, &f->st, &f->fx, f->light, err);
     for (size_t k = 0; st == T74_OK && k < n; k++) f->grey[k] = (uint8_t)aa_grey(f->cell, f->light[k]);
   } else if (st == T74_OK) {
     for (size_t k = 0; k < n; k++) f->light[k] = aa_light(f->cell, f->grey[k]) / (double)AA_LIGHT_ONE;
   }
+  if (built) fx_model_free(&m);
   f->host_seconds = now() - t0;
   if (st == T74_OK) {
     for (int k = 0; k < RS_NSTAGE; k++) cost_merge(&f->render, &r.cost[k]);

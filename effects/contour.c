@@ -130,9 +130,29 @@ static double inset_at(const struct smooth_tri *tr, int a)
   return 0.5;
 }
 
+void contour_corners_free(struct contour_corners *cs)
+{
+  free(cs->c);
+  memset(cs, 0, sizeof *cs);
+}
+
+static bool corner_add(struct contour_corners *cs, const struct contour_corner *k)
+{
+  if (cs->n == cs->cap) {
+    int cap = cs->cap ? 2 * cs->cap : 16;
+    struct contour_corner *n = realloc(cs->c, (size_t)cap * sizeof *n);
+    if (!n) return false;
+    cs->c = n;
+    cs->cap = cap;
+  }
+  cs->c[cs->n++] = *k;
+  return true;
+}
+
 int contour_build(struct render *r, const struct scene *s, const struct effects *e,
-                  const struct smooth_model *m, struct fx_polys *cuts, struct fx_stats *st,
-                  struct cost *cost, struct t74_error *err)
+                  const struct smooth_model *m, struct fx_polys *cuts,
+                  struct contour_corners *corners, struct fx_stats *st, struct cost *cost,
+                  struct t74_error *err)
 {
   int nfront = 0;
   for (int t = 0; t < m->ntri; t++) nfront += m->tri[t].front;
@@ -217,7 +237,10 @@ int contour_build(struct render *r, const struct scene *s, const struct effects 
     /* the region joins the frame model (effects/model.h), which cuts it out of the
        object's stretches on every line asked for: procedure (D) (6) */
     int rs[2] = { 0, CONTOUR_STEPS + 2 };
-    if (!fx_polys_add(cuts, 1, rs, poly, out->object, 0)) rc = t74_fail(err, T74_EIO, "out of host memory");
+    struct contour_corner cn = { out->object, inw->a, out->a, out->b, A->mface, B->mface,
+                                { q[0], q[1], q[2], q[3], q[4] } };
+    if (!fx_polys_add(cuts, 1, rs, poly, out->object, 0) || !corner_add(corners, &cn))
+      rc = t74_fail(err, T74_EIO, "out of host memory");
   }
   if (rc == T74_OK) {
     fx_count(st, "contour_sides", nc, true);

@@ -59,12 +59,32 @@ double contour_cut_share(double cc);
    grid: writes CONTOUR_STEPS + 2 points into poly (Q0..Q4 as grid points). */
 void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2]);
 
+/* One convex corner the contour smoothing rounds, as the enhanced edges (effects/edges.h)
+   need it to draw the outline along the curve: the object; the contour's scene vertices
+   a (before the corner), b (the corner, Q2) and c (after it), so that the side a-b ends
+   at Q0 and the side b-c begins at Q4; the mapped faces of patch A (on side a-b) and
+   patch B (on side b-c); Q0..Q4 on the grid. contour_region(q, ...) gives the curve's
+   points, the same the cut is made with: region points CONTOUR_STEPS + 1 down to 1 run
+   along the curve from Q0 to Q4, the contour's direction (the object on the left). */
+struct contour_corner {
+  int object;
+  int va, vb, vc;
+  int mface_a, mface_b;
+  struct gpoint q[5];
+};
+
+struct contour_corners { struct contour_corner *c; int n, cap; };
+
+void contour_corners_free(struct contour_corners *cs);
+
 /* The regions the contour smoothing cuts away (see above), one polygon per convex corner
-   (owner: the object), appended to cuts; m is the smoothing model of the scene. The
-   corner's region polygon passes through r->core (one at a time), counted in cost. The
-   frame model (effects/model.h) cuts them out of the object's stretches. */
+   (owner: the object), appended to cuts, and each corner appended to corners; m is the
+   smoothing model of the scene. The corner's region polygon passes through r->core (one
+   at a time), counted in cost. The frame model (effects/model.h) cuts them out of the
+   object's stretches. */
 int contour_build(struct render *r, const struct scene *s, const struct effects *e,
-                  const struct smooth_model *m, struct fx_polys *cuts, struct fx_stats *st,
-                  struct cost *cost, struct t74_error *err);
+                  const struct smooth_model *m, struct fx_polys *cuts,
+                  struct contour_corners *corners, struct fx_stats *st, struct cost *cost,
+                  struct t74_error *err);
 
 #endif

@@ -61,11 +61,14 @@
 **    centres on the other side between w/2 and w/2 + halo_w from the line get the halo's
 **    grey, but only where another face (not the background, not the edge's own) shows
 **    behind the edge, strictly farther (a window lying on its wall gets no halo). Lines always win over halos; outline over inner where strips meet.
+** 7. With contour smoothing (paper 004) the outline follows the rounded contour: see
+**    "the outline along the contour curve" below.
 **
 ** The machine model: the edge table (5 words an edge: vertex ids, faces, class), the
-** intersection lines (11 words each) and the registered points of the first pass (1 bit
-** a point) are allocated in core for the stage and released after it; every exact test
-** is counted with the multi-word costs of emu/cost.h.
+** intersection lines (11 words each), the contour's corners (22 words each) and the
+** registered points of the first pass (1 bit a point) are allocated in core for the stage
+** and released after it; every exact test is counted with the multi-word costs of
+** emu/cost.h.
 */
 #include "effects/edges.h"
 
@@ -73,6 +76,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "effects/contour.h"
+#include "effects/model.h"
 
 #define WQ 1024                 /* widths in 1/WQ point */
 #define EDGE_ROW_WORDS 5        /* EDGE TABLE: vertex ids 2, faces 2, class 1 */
@@ -106,6 +112,9 @@ struct edge {
                              nearer and farther end, as fractions with positive denominator */
   struct gpoint p, q;     /* the extent's ends on the grid */
   int sface[2];           /* scene faces (for the dump), -1 when none */
+  int curve;              /* a segment of contour corner curve - 1 (0: an edge of the
+                             faces or an intersection line) */
+  bool gone;              /* a contour cut took the whole of it away: not drawn */
 };
 
 struct ectx {
@@ -700,6 +709,185 @@ static int face_side(const struct mface *m, uint32_t u, uint32_t v)
   return 0;
 }
 
+/* ---- the outline along the contour curve (papers 004 and 002) ---------------------- */
+
+/* Where contour smoothing (effects/contour.h) rounds a convex corner Q2 of an object, the
+   object ends at the curve, not at the corner: the outline goes along the curve.
+   - The corner's two sides stop where the curve begins and ends: the side a-b at Q0, the
+     side b-c at Q4 (their lines stay the sides' own; only the extents end there). A side
+     both of whose ends are rounded away and nothing left between is not drawn.
+   - Every other drawn edge of the object that leaves the corner vertex into the corner
+     (inside the angle Q0 Q2 Q4) stops where it crosses the curve (the crossing, exact in
+     integers, rounded once onto the grid), or is not drawn when it ends inside the cut.
+   - The curve's CONTOUR_STEPS segments, the very points the cut is made with
+     (contour_region), are outlines (e2), drawn like every edge: their faces are the
+     patches A and B, their planes hide and are hidden as an edge's faces are; the halo
+     goes on their right, away from the object (the contour runs counter-clockwise).
+   The machine model: each corner's row in CONTOUR OUTLINE (Q0..Q4, 4 words each, and the
+   two faces); the curve's points are made again from them into one buffer of
+   CONTOUR_STEPS + 1 points for each pass, counted as contour.c counts them. */
+
+#define CORNER_ROW_WORDS 22     /* CONTOUR OUTLINE: Q0..Q4 (x, y: 2 words each), faces 2 */
+
+struct ccount { long curve, sides, inner, gone; };
+
+/* End `at` (a scene vertex) of regular edge ed moves to point t; gone when nothing is left
+   of it along its own direction. */
+static void cut_end(const struct scene *s, struct edge *ed, int at, struct gpoint t,
+                    struct cost *cost)
+{
+  struct gpoint P = mapper_point(s, ed->va), Q = mapper_point(s, ed->vb);
+  if (ed->va == at) ed->p = t; else ed->q = t;
+  wide dot = (wide)(ed->q.x - ed->p.x) * (Q.x - P.x) + (wide)(ed->q.y - ed->p.y) * (Q.y - P.y);
+  cost_mw_mul(cost, 30, 30); cost_mw_mul(cost, 30, 30); cost_mw_add(cost, 60);
+  if (dot <= 0) ed->gone = true;
+}
+
+/* Where the segment b -> o first leaves the corner's region across the curve pts[0..n]:
+   the crossing farthest from b along it, rounded onto the grid. False when it does not
+   cross (it ends inside). */
+static bool leave_curve(struct gpoint b, struct gpoint o, const struct gpoint *pts, int n,
+                        struct gpoint *out, struct cost *cost)
+{
+  bool found = false;
+  wide bn = 0, bd = 1;                  /* the parameter along b -> o, bn / bd */
+  for (int m = 0; m < n; m++) {
+    struct gpoint u = pts[m], v = pts[m + 1];
+    wide su = geom_orient(b, o, u), sv = geom_orient(b, o, v);
+    wide tb = geom_orient(u, v, b), to = geom_orient(u, v, o);
+    for (int k = 0; k < 4; k++) cost_mw_mul(cost, 30, 30);
+    COST_ADD_N(cost, COST_BRANCH, 4);
+    if ((su > 0 && sv > 0) || (su < 0 && sv < 0)) continue;
+    if ((tb > 0 && to > 0) || (tb < 0 && to < 0) || tb == to) continue;
+    wide n_ = tb, d_ = tb - to;          /* t = tb / (tb - to), in [0, 1] */
+    if (d_ < 0) { n_ = -n_; d_ = -d_; }
+    if (!found || rat_cmp(n_, d_, bn, bd) > 0) { bn = n_; bd = d_; found = true; }
+  }
+  if (!found) return false;
+  /* exact: |bn|, bd < 2^61 (orientations of 2^29 coordinates), |o - b| < 2^30 */
+  out->x = b.x + (gcoord)round_rat(bn * (wide)(o.x - b.x), bd);
+  out->y = b.y + (gcoord)round_rat(bn * (wide)(o.y - b.y), bd);
+  cost_mw_mul(cost, 60, 30); cost_mw_div(cost, 90, 60);
+  cost_mw_mul(cost, 60, 30); cost_mw_div(cost, 90, 60);
+  return true;
+}
+
+static int face_object(const struct scene *s, const struct edge *ed)
+{
+  return ed->sface[0] >= 0 ? s->f[ed->sface[0]].object : 0;
+}
+
+/* The contour's corners into the edges (see above): sides and edges from the corners cut
+   back, the curves' segments appended to L. */
+static int contour_outline(struct ectx *c, const struct effects *e,
+                           const struct contour_corners *cc, struct elist *L, int nregular,
+                           struct ccount *n, struct t74_error *err)
+{
+  const struct scene *s = c->s;
+  struct render *r = c->r;
+  uint32_t rows, buf;
+  int rc = core_alloc(r->core, "CONTOUR OUTLINE", (uint32_t)cc->n * CORNER_ROW_WORDS, &rows, err);
+  if (rc == T74_OK)
+    rc = core_alloc(r->core, "CONTOUR OUTLINE CURVE", (CONTOUR_STEPS + 1) * 4, &buf, err);
+  if (rc != T74_OK) return rc;
+  for (int k = 0; k < cc->n; k++) {
+    const struct contour_corner *q = &cc->c[k];
+    uint32_t at = rows + (uint32_t)k * CORNER_ROW_WORDS;
+    for (int i = 0; i < 5; i++) {
+      core_put_int(r->core, at + 4 * (uint32_t)i, 2, q->q[i].x);
+      core_put_int(r->core, at + 4 * (uint32_t)i + 2, 2, q->q[i].y);
+    }
+    core_write(r->core, at + 20, (uint16_t)r->map.f[q->mface_a].id);
+    core_write(r->core, at + 21, (uint16_t)r->map.f[q->mface_b].id);
+    COST_ADD_N(c->cost, COST_MEM, CORNER_ROW_WORDS);
+  }
+  /* the edges from each corner vertex, cut back to the curve */
+  for (int k = 0; k < cc->n; k++) {
+    const struct contour_corner *q = &cc->c[k];
+    struct gpoint poly[CONTOUR_STEPS + 2], pts[CONTOUR_STEPS + 1];
+    contour_region(q->q, poly);
+    for (int m = 0; m <= CONTOUR_STEPS; m++) pts[m] = poly[CONTOUR_STEPS + 1 - m];
+    struct gpoint b = q->q[2], pa = mapper_point(s, q->va), pc = mapper_point(s, q->vc);
+    for (int i = 0; i < nregular; i++) {
+      struct edge *ed = &L->e[i];
+      COST_ADD_N(c->cost, COST_MEM, 3); COST_ADD_N(c->cost, COST_BRANCH, 3);
+      if (ed->gone || (ed->va != q->vb && ed->vb != q->vb) || face_object(s, ed) != q->object)
+        continue;
+      int o = ed->va == q->vb ? ed->vb : ed->va;
+      if (o == q->va || o == q->vc) {               /* a side: to Q0 or Q4 */
+        cut_end(s, ed, q->vb, o == q->va ? q->q[0] : q->q[4], c->cost);
+        n->sides++;
+        continue;
+      }
+      if (ed->cls == EDGE_E1) continue;
+      struct gpoint po = mapper_point(s, o), t;
+      cost_mw_mul(c->cost, 30, 30); cost_mw_mul(c->cost, 30, 30);
+      if (geom_orient(b, pc, po) <= 0 || geom_orient(b, po, pa) <= 0) continue;  /* not into it */
+      n->inner++;
+      if (leave_curve(b, po, pts, CONTOUR_STEPS, &t, c->cost)) cut_end(s, ed, q->vb, t, c->cost);
+      else ed->gone = true;
+    }
+  }
+  /* the curves' segments */
+  wide SWH = 512 * (wide)c->W * 512 * (wide)c->H;
+  for (int k = 0; k < cc->n; k++) {
+    const struct contour_corner *q = &cc->c[k];
+    struct gpoint poly[CONTOUR_STEPS + 2];
+    contour_region(q->q, poly);
+    int mf[2] = { q->mface_a, q->mface_b };
+    for (int m = 0; m < CONTOUR_STEPS; m++) {
+      struct edge *ed = add_edge(L);
+      if (!ed) return t74_fail(err, T74_EIO, "out of host memory");
+      ed->cls = EDGE_E2;
+      ed->why = "contour curve (paper 004 Def. 9)";
+      ed->curve = k + 1;
+      ed->p = poly[CONTOUR_STEPS + 1 - m];         /* from Q0 towards Q4 */
+      ed->q = poly[CONTOUR_STEPS - m];
+      for (int h = 0; h < 2 && (h == 0 || mf[1] != mf[0]); h++) {
+        ed->own[ed->nown++] = r->map.f[mf[h]].id;
+        ed->draw[ed->ndraw++] = mf[h];
+        ed->sface[h] = r->map.f[mf[h]].sface;
+      }
+      wide DX = 2 * (wide)c->W * (ed->q.x - ed->p.x), DY = 2 * (wide)c->H * (ed->q.y - ed->p.y);
+      wide XP = 2 * (wide)c->W * ed->p.x, YP = 2 * (wide)c->H * ed->p.y;
+      ed->A = -DY;
+      ed->B = DX;
+      ed->C = DY * XP - DX * YP;
+      cost_mw_mul(c->cost, 40, 40); cost_mw_mul(c->cost, 40, 40);
+      ed->halo = e->halo_w > 0 ? -1 : 0;       /* right of Q0 -> Q4: away from the object */
+      /* the ends' depths on the planes of A and B: the nearest and the farthest */
+      for (int h = 0; h < ed->ndraw; h++) {
+        const struct mface *F = &r->map.f[ed->draw[h]];
+        wide tn = (wide)F->deye * SWH;
+        struct gpoint ends[2] = { ed->p, ed->q };
+        for (int z = 0; z < 2; z++) {
+          wide d = plane_at(c, F, 2 * (wide)c->W * ends[z].x, 2 * (wide)c->H * ends[z].y);
+          cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50); cost_mw_mul(c->cost, 34, 50);
+          if (d <= 0) continue;
+          if (!ed->trange || rat_cmp(tn, d, ed->tnear_n, ed->tnear_d) < 0) { ed->tnear_n = tn; ed->tnear_d = d; }
+          if (!ed->trange || rat_cmp(tn, d, ed->tfar_n, ed->tfar_d) > 0) { ed->tfar_n = tn; ed->tfar_d = d; }
+          ed->trange = true;
+        }
+      }
+      n->curve++;
+    }
+  }
+  return T74_OK;
+}
+
+/* The curve's points made again for one pass (the host keeps the segments; the 1974
+   program would make each corner's points into CONTOUR OUTLINE CURVE again): counted. */
+static void curve_pass_cost(const struct contour_corners *cc, struct cost *cost)
+{
+  for (int k = 0; k < cc->n; k++) {
+    COST_ADD_N(cost, COST_MEM, CORNER_ROW_WORDS + 4 * (CONTOUR_STEPS + 1));
+    for (int m = 0; m < 2 * (CONTOUR_STEPS + 1); m++) {
+      for (int h = 0; h < 4; h++) cost_mw_mul(cost, 32, 16);
+      COST_ADD_N(cost, COST_ADD, 4);
+    }
+  }
+}
+
 static const char *const class_name[] = { "e1 not drawn", "e2 outline", "e3 inner",
                                           "e4 intersection (inner)",
                                           "e4 intersection (outline)" };
@@ -1022,15 +1210,21 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
     ed->tfar_d = pnear ? dq : dp;
     ed->trange = true;
   }
+  /* the outline along the contour's curve, where contour smoothing rounds corners */
+  const struct contour_corners *cc = f->model && f->model->corners.n ? &f->model->corners : NULL;
+  struct ccount ncc = { 0, 0, 0, 0 };
+  int nedges = L.n;
+  if (cc && (status = contour_outline(&c, e, cc, &L, nregular, &ncc, err)) != T74_OK) goto done;
   int64_t wo = llround(e->outline_w * WQ), wi = llround(e->inner_w * WQ);
   int64_t wh = llround(e->halo_w * WQ);
   for (int pass = 0; pass < 2; pass++) {
     bool row = pass == 0;
     if (!(passes & (row ? EDGE_PASS_ROW : EDGE_PASS_COL))) continue;
+    if (cc) curve_pass_cost(cc, cost);
     for (int k = 0; k < L.n; k++) {
       struct edge *ed = &L.e[k];
       COST_ADD_N(cost, COST_MEM, 4);
-      if (ed->cls == EDGE_E1 || ed->ndraw == 0) continue;
+      if (ed->cls == EDGE_E1 || ed->ndraw == 0 || ed->gone) continue;
       bool outl = ed->cls == EDGE_E2 || ed->cls == EDGE_E4_OUTLINE;
       int64_t w = outl ? wo : wi;
       if (w <= 0) continue;
@@ -1052,7 +1246,7 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
   /* counts and the dump */
   {
     int cnt[5] = { 0 };
-    for (int k = 0; k < L.n; k++) cnt[L.e[k].cls]++;
+    for (int k = 0; k < nedges; k++) cnt[L.e[k].cls]++;
     fx_count(st, "edges_not_drawn", cnt[EDGE_E1], true);
     fx_count(st, "edges_outline", cnt[EDGE_E2], true);
     fx_count(st, "edges_inner", cnt[EDGE_E3], true);
@@ -1062,15 +1256,26 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
     fx_count(st, "edge_points_row_pass", (double)c.pts_row, true);
     fx_count(st, "edge_points_column_pass", (double)c.pts_col, true);
     fx_count(st, "edge_points_halo", (double)c.pts_halo, true);
+    if (cc) {
+      long gone = 0;
+      for (int k = 0; k < nregular; k++) gone += L.e[k].gone;
+      fx_count(st, "edges_contour_curve_segments", (double)ncc.curve, true);
+      fx_count(st, "edges_contour_sides_cut", (double)ncc.sides, true);
+      fx_count(st, "edges_contour_inner_cut", (double)ncc.inner, true);
+      fx_count(st, "edges_contour_gone", (double)gone, true);
+    }
     if (r->tables) {
       fprintf(r->tables, "\nEDGES (paper 002 §3.2): %d edges, %d intersection lines; "
-              "e1 %d, e2 %d, e3 %d, e4 %d\n", nregular, L.n - nregular, cnt[EDGE_E1],
+              "e1 %d, e2 %d, e3 %d, e4 %d\n", nregular, nedges - nregular, cnt[EDGE_E1],
               cnt[EDGE_E2], cnt[EDGE_E3], cnt[EDGE_E4_INNER] + cnt[EDGE_E4_OUTLINE]);
+      if (cc)
+        fprintf(r->tables, "CONTOUR OUTLINE (papers 004 and 002): %d curves of %d segments "
+                "(e2)\n", cc->n, CONTOUR_STEPS);
       for (int k = 0; k < nsplit; k++)
         fprintf(r->tables, "  edge %u-%u faces %u: not an edge (inside imported face %u, split "
                 "by the importer)\n", (unsigned)s->v[u[k].lo].id, (unsigned)s->v[u[k].hi].id,
                 (unsigned)s->f[u[k].face].id, (unsigned)s->f[u[k].face].id);
-      for (int k = 0; k < L.n; k++) {
+      for (int k = 0; k < nedges; k++) {
         const struct edge *ed = &L.e[k];
         if (k < nregular)
           fprintf(r->tables, "  edge %u-%u", (unsigned)s->v[ed->va].id, (unsigned)s->v[ed->vb].id);
@@ -1079,8 +1284,29 @@ int edge_run(struct render *r, const struct scene *s, const struct effects *e,
                   (double)ed->p.y / GRID_ONE, (double)ed->q.x / GRID_ONE, (double)ed->q.y / GRID_ONE);
         fprintf(r->tables, " faces %u", (unsigned)ed->own[0]);
         if (ed->nown > 1) fprintf(r->tables, ",%u", (unsigned)ed->own[1]);
-        fprintf(r->tables, ": %s: %s%s\n", class_name[ed->cls], ed->why,
+        fprintf(r->tables, ": %s: %s%s", class_name[ed->cls], ed->why,
                 ed->halo ? "; halo outside" : "");
+        if (k < nregular && cc) {
+          struct gpoint P = mapper_point(s, ed->va), Q = mapper_point(s, ed->vb);
+          if (ed->gone) fprintf(r->tables, "; cut away by the contour");
+          else if (P.x != ed->p.x || P.y != ed->p.y || Q.x != ed->q.x || Q.y != ed->q.y)
+            fprintf(r->tables, "; drawn (%.2f,%.2f)-(%.2f,%.2f) (contour)",
+                    (double)ed->p.x / GRID_ONE, (double)ed->p.y / GRID_ONE,
+                    (double)ed->q.x / GRID_ONE, (double)ed->q.y / GRID_ONE);
+        }
+        fputc('\n', r->tables);
+      }
+      for (int k = 0; cc && k < cc->n; k++) {
+        const struct contour_corner *q = &cc->c[k];
+        fprintf(r->tables, "  curve at vertex %u (object %d) faces %u", (unsigned)s->v[q->vb].id,
+                q->object, (unsigned)r->map.f[q->mface_a].id);
+        if (q->mface_b != q->mface_a) fprintf(r->tables, ",%u", (unsigned)r->map.f[q->mface_b].id);
+        fprintf(r->tables, ": %s: %d segments (%.2f,%.2f)-(%.2f,%.2f), sides %u-%u and %u-%u "
+                "end there%s\n", class_name[EDGE_E2], CONTOUR_STEPS,
+                (double)q->q[0].x / GRID_ONE, (double)q->q[0].y / GRID_ONE,
+                (double)q->q[4].x / GRID_ONE, (double)q->q[4].y / GRID_ONE,
+                (unsigned)s->v[q->va].id, (unsigned)s->v[q->vb].id, (unsigned)s->v[q->vb].id,
+                (unsigned)s->v[q->vc].id, e->halo_w > 0 ? "; halo outside" : "");
       }
     }
   }

@@ -51,8 +51,8 @@ struct fx_frame {
                                stretches and the frame's greys as they are */
 };
 
-/* Room for every statistic the effects can name in one run: 36 names when smooth, contour,
-   aa and edges all run (grep fx_count render/). Keep it above that count: fx_count drops
+/* Room for every statistic the effects can name in one run: 44 names in all, every aa
+   method's included (grep fx_count effects/). Keep it above that count: fx_count drops
    a name that finds no room, and its --stats field would be missing. */
 #define FX_MAX_COUNTERS 64
 #define FX_NAME_MAX 40

@@ -86,7 +86,7 @@ int fx_model_build(struct fx_model *m, struct render *r, const struct scene *s,
     smooth_count(&m->sm, st);
   }
   if (e->contour_on && m->smooth) {
-    if ((rc = contour_build(r, s, e, &m->sm, &m->cuts, st, cost, err)) != T74_OK) return rc;
+    if ((rc = contour_build(r, s, e, &m->sm, &m->cuts, &m->corners, st, cost, err)) != T74_OK) return rc;
     for (int k = 0; k < m->cuts.n; k++) {
       int o = m->cuts.p[k].owner, seen = 0;
       for (int q = 0; q < m->ncut; q++) seen |= m->cut_obj[q] == o;
@@ -123,6 +123,7 @@ void fx_model_free(struct fx_model *m)
     free(m->tex);
   }
   fx_polys_free(&m->cuts);
+  contour_corners_free(&m->corners);
   fx_polys_free(&m->shadows);
   for (int q = 0; q < m->ncut; q++) free(m->cut_skip[q]);
   free(m->cut_skip);

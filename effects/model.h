@@ -29,6 +29,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include "effects/contour.h"
 #include "effects/fx.h"
 #include "effects/poly.h"
 #include "effects/smooth.h"
@@ -48,6 +49,7 @@ struct fx_model {
   struct fx_tex *tex;       /* per scene face: its texture, or NULL entries */
   int ntex;                 /* faces with a texture */
   struct fx_polys cuts;     /* contour cut regions (owner: object id) */
+  struct contour_corners corners;   /* their corners, one a region, in the same order */
   int ncut;                 /* objects with a cut */
   int *cut_obj;             /* their ids */
   uint8_t **cut_skip;       /* per cut object: per mapped face, 1 = a face of the object */

@@ -12,7 +12,9 @@
 ** every method. Multiscan box within 1/(2n) of exact where one edge crosses a point's
 ** top and bottom, its error falling with n; the F table's volume; the area table and
 ** area sampling on single-edge points within 1/64; stacked faces (the hidden one never
-** shows); the slivers of paper 000 Fig. 3; the command line's refusal and exit 3.
+** shows); aa=exact with the frame model's regions, against clipping: a shadow (paper 000
+** §3) and the corners a contour cut takes away (paper 004); the slivers of paper 000
+** Fig. 3; the command line's refusal and exit 3.
 */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -28,6 +30,7 @@
 
 #include "patterns/halftone.h"
 #include "effects/aa.h"
+#include "effects/contour.h"
 #include "render/render.h"
 #include "render/scene.h"
 
@@ -425,6 +428,167 @@ static void test_area_single_edge(void **state)
   }
 }
 
+/* ---- the frame model's regions, exactly: a shadow, a contour cut ---------------------------- */
+
+/* The area of the simple polygon (u, v)[0..n) (convex or not) inside point (i, j): the
+   polygon clipped by the square's four sides, which are convex (Sutherland-Hodgman). */
+static double poly_in_square(int i, int j, const double *u, const double *v, int n)
+{
+  static double px[1024], py[1024], qx[1024], qy[1024];
+  assert_true(n <= 256);
+  int m = n;
+  memcpy(px, u, (size_t)n * sizeof *u);
+  memcpy(py, v, (size_t)n * sizeof *v);
+  for (int side = 0; side < 4 && m > 0; side++) {
+    int q = 0;
+    for (int e = 0; e < m; e++) {
+      double cx = px[e], cy = py[e], dx = px[(e + 1) % m], dy = py[(e + 1) % m];
+      double fc = side == 0 ? cx - i : side == 1 ? i + 1 - cx : side == 2 ? cy - j : j + 1 - cy;
+      double fd = side == 0 ? dx - i : side == 1 ? i + 1 - dx : side == 2 ? dy - j : j + 1 - dy;
+      if (fc >= 0) { qx[q] = cx; qy[q] = cy; q++; }
+      if ((fc >= 0) != (fd >= 0)) {
+        double t = fc / (fc - fd);
+        qx[q] = cx + t * (dx - cx); qy[q] = cy + t * (dy - cy); q++;
+      }
+    }
+    m = q;
+    memcpy(px, qx, (size_t)m * sizeof *px);
+    memcpy(py, qy, (size_t)m * sizeof *py);
+  }
+  double a = 0;
+  for (int k = 0; k < m; k++) a += px[k] * py[(k + 1) % m] - px[(k + 1) % m] * py[k];
+  return fabs(a) / 2;
+}
+
+static double stat_of(const struct aa_frame *fr, const char *name)
+{
+  for (int k = 0; k < fr->st.n; k++) if (!strcmp(fr->st.name[k], name)) return fr->st.value[k];
+  return -1;
+}
+
+static double lt(int g) { return aa_light(4, g) / (double)AA_LIGHT_ONE; }
+
+/* world -> point units (the window of these tests: 400 units a point) */
+static double wu(double x) { return (x + 20000) / 400; }
+static double wv(double y) { return (15000 - y) / 400; }
+
+/* A shadow (paper 000 §3): a lit ground filling the window, and a triangle 50 units
+   before the eye, outside the window, throwing its shadow down the parallel light (2, 0,
+   -1) onto the ground, shifted by 1900 units in x: on the grid exactly. aa=exact gives
+   each point the light of the shadow's area in it and the lit ground's in the rest,
+   computed here by clipping, within 1e-6; no band is left unmatched. */
+static void test_exact_shadow(void **state)
+{
+  (void)state;
+  static const double T[3][2] = { { 1050, -3000 }, { 3000, 200 }, { 1200, 2500 } };
+  char path[128];
+  snprintf(path, sizeof path, "%s/shadow.s74", dir);
+  FILE *o = fopen(path, "w");
+  assert_non_null(o);
+  fprintf(o, "view 0 0 -1000\nwindow -20000 -15000 20000 15000\nlight 2 0 -1\n"
+          "vertex 1 -30000 -20000 0\nvertex 2 30000 -20000 0\nvertex 3 30000 20000 0\n"
+          "vertex 4 -30000 20000 0\nface 1 1 2 3 4\n");
+  for (int k = 0; k < 3; k++) fprintf(o, "vertex %d %d %d -950\n", 5 + k, (int)T[k][0], (int)T[k][1]);
+  fprintf(o, "face 2 5 6 7 grey 0\n");
+  fclose(o);
+  double u[3], v[3];
+  for (int k = 0; k < 3; k++) { u[k] = wu(T[k][0] - 1900); v[k] = wv(T[k][1]); }
+  struct aa_frame pt, ex, plain;
+  render(path, "shadows=on", &pt);
+  render(path, "shadows=on aa=exact", &ex);
+  render(path, "aa=exact", &plain);
+  int lit = pt.grey[5 * W4 + 90];                        /* far from the shadow */
+  int sh = pt.grey[(int)((v[0] + v[1] + v[2]) / 3) * W4 + (int)((u[0] + u[1] + u[2]) / 3)];
+  print_message("ground grey %d lit, %d in the shadow; %g shadow polygons\n", lit, sh,
+                stat_of(&ex, "shadow_polygons"));
+  assert_true(lit > sh + 40);
+  double worst = 0, moved = 0;
+  int partial = 0;
+  for (int j = 0; j < H4; j++)
+    for (int i = 0; i < W4; i++) {
+      double c = poly_in_square(i, j, u, v, 3), want = c * lt(sh) + (1 - c) * lt(lit);
+      partial += c > 1e-9 && c < 1 - 1e-9;
+      worst = fmax(worst, fabs(ex.light[j * W4 + i] - want));
+      moved = fmax(moved, fabs(plain.light[j * W4 + i] - want));
+    }
+  print_message("exact against clipping: worst %.2g; without the shadow %.3f; %d points "
+                "partly in it; unmatched bands %g\n", worst, moved, partial,
+                stat_of(&ex, "aa_exact_unmatched"));
+  assert_true(partial > 20);
+  assert_true(moved > 0.1);                   /* the shadow is what the picture is about */
+  assert_true(worst <= 1e-6);
+  assert_true(stat_of(&ex, "aa_exact_unmatched") == 0);
+  aa_frame_free(&pt);
+  aa_frame_free(&ex);
+  aa_frame_free(&plain);
+}
+
+/* A contour cut (paper 004): a square of two triangles, turned, on the plane, in front of
+   a wall of its own grey; contour=1.0 alone rounds each corner between the sides'
+   midpoints. aa=exact gives each point the light of the square's area in it less the
+   four regions contour_region makes (the polygons the cut is made with), and the wall's
+   in the rest, within 1e-6. */
+static void test_exact_contour_cut(void **state)
+{
+  (void)state;
+  static const double C[4][2] = { { 8400, -1200 }, { 1200, 8400 }, { -8400, 1200 }, { -1200, -8400 } };
+  char path[128];
+  snprintf(path, sizeof path, "%s/cut.s74", dir);
+  FILE *o = fopen(path, "w");
+  assert_non_null(o);
+  fprintf(o, "view 0 0 -1000\nwindow -20000 -15000 20000 15000\nlight 1 2 -4\n");
+  for (int k = 0; k < 4; k++) fprintf(o, "vertex %d %d %d 0\n", k + 1, (int)C[k][0], (int)C[k][1]);
+  fprintf(o, "face 1 1 2 3\nface 2 1 3 4\nobject 1 1 2\n"
+          "vertex 11 -30000 -25000 300\nvertex 12 30000 -25000 300\nvertex 13 30000 25000 300\n"
+          "vertex 14 -30000 25000 300\nface 3 11 12 13 14 grey 30\n");
+  fclose(o);
+  /* the cut regions: Q0, Q4 the sides' midpoints, Q1 = Q0 and Q3 = Q4 at Cc = 1 */
+  static double ru[4][CONTOUR_STEPS + 2], rv[4][CONTOUR_STEPS + 2];
+  double su[4], sv[4];
+  for (int k = 0; k < 4; k++) {
+    const double *q2 = C[k], *a = C[(k + 3) % 4], *b = C[(k + 1) % 4];
+    struct gpoint q[5];
+    q[2] = (struct gpoint){ (gcoord)q2[0] * GRID_ONE, (gcoord)q2[1] * GRID_ONE };
+    q[0] = q[1] = (struct gpoint){ (gcoord)(q2[0] + a[0]) / 2 * GRID_ONE, (gcoord)(q2[1] + a[1]) / 2 * GRID_ONE };
+    q[3] = q[4] = (struct gpoint){ (gcoord)(q2[0] + b[0]) / 2 * GRID_ONE, (gcoord)(q2[1] + b[1]) / 2 * GRID_ONE };
+    struct gpoint poly[CONTOUR_STEPS + 2];
+    contour_region(q, poly);
+    for (int m = 0; m < CONTOUR_STEPS + 2; m++) {
+      ru[k][m] = wu((double)poly[m].x / GRID_ONE);
+      rv[k][m] = wv((double)poly[m].y / GRID_ONE);
+    }
+    su[k] = wu(C[k][0]);
+    sv[k] = wv(C[k][1]);
+  }
+  struct aa_frame pt, ex;
+  render(path, "contour=1.0", &pt);
+  render(path, "contour=1.0 aa=exact", &ex);
+  int obj = pt.grey[37 * W4 + 50], wall = pt.grey[2 * W4 + 2];
+  print_message("square grey %d, wall %d; %g convex corners\n", obj, wall,
+                stat_of(&ex, "contour_corners_convex"));
+  assert_int_equal(wall, 30);
+  assert_true(abs(obj - wall) > 40);
+  assert_true(stat_of(&ex, "contour_corners_convex") == 4);
+  double worst = 0;
+  int cut = 0;
+  for (int j = 0; j < H4; j++)
+    for (int i = 0; i < W4; i++) {
+      double whole = poly_in_square(i, j, su, sv, 4), c = whole;
+      for (int k = 0; k < 4; k++) c -= poly_in_square(i, j, ru[k], rv[k], CONTOUR_STEPS + 2);
+      double want = c * lt(obj) + (1 - c) * lt(wall), got = ex.light[j * W4 + i];
+      if (fabs(got - (whole * lt(obj) + (1 - whole) * lt(wall))) > 0.05) cut++;
+      worst = fmax(worst, fabs(got - want));
+    }
+  print_message("exact against clipping: worst %.2g; %d points 0.05 or more from the "
+                "uncut square's light; unmatched bands %g\n", worst, cut,
+                stat_of(&ex, "aa_exact_unmatched"));
+  assert_true(cut >= 40);
+  assert_true(worst <= 1e-6);
+  assert_true(stat_of(&ex, "aa_exact_unmatched") == 0);
+  aa_frame_free(&pt);
+  aa_frame_free(&ex);
+}
+
 /* ---- occlusion --------------------------------------------------------------------------------- */
 
 static void test_stacked(void **state)
@@ -620,6 +784,8 @@ int main(void)
     cmocka_unit_test(test_area_table),
     cmocka_unit_test(test_area_single_edge),
     cmocka_unit_test(test_stacked),
+    cmocka_unit_test(test_exact_shadow),
+    cmocka_unit_test(test_exact_contour_cut),
     cmocka_unit_test(test_fig3_slivers),
     cmocka_unit_test(test_frame_intensities),
     cmocka_unit_test(test_cli),

@@ -714,6 +714,326 @@ static void test_import_split_not_an_edge(void **state)
   assert_int_equal(face2, 4);            /* the quad's own four sides */
 }
 
+/* ---- the outline along the contour curve (contour= with edges=on, paper 004 + 002) ---- */
+
+/* A square turned by the 3-4-5 triangle (corners C[k] = (±u ± v), |u| = |v| = 100) at
+   z = 0, where the perspective plane is the scene itself (a point is 4 units), in front
+   of a wall at z = 400 that fills the window. The test's own model of what paper 004
+   asks: at corner C[k], Q0 = C[k] + t (C[k-1] - C[k]), Q4 = C[k] + t (C[k+1] - C[k]),
+   Q1, Q3 by Cc (Def. 8), the quartic Bezier (Def. 9) between; the outline is the curves
+   and the sides' straight parts between Q4 of one corner and Q0 of the next. */
+static const double SQ[4][2] = { { 140, -20 }, { 20, 140 }, { -140, 20 }, { -20, -140 } };
+
+#define OUT_G 7                /* outline grey, inner grey and halo grey of these tests */
+#define INN_G 160
+#define HAL_G 250
+#define SLACK 0.3              /* points: the curve's 64 chords and the grid's rounding */
+
+struct cpic { unsigned ids[GW * GH]; uint8_t grey[GW * GH]; char json[160]; };
+
+static const char *WALL = "vertex 91 -390 -340 400\nvertex 92 390 -340 400\n"
+                          "vertex 93 390 340 400\nvertex 94 -390 340 400\n"
+                          "face 90 91 92 93 94 grey 120\n";
+
+/* The square as two triangles (fan 0) or four round its centre (fan 1), object 1. */
+static int put_square(char *b, size_t n, int fan)
+{
+  int w = snprintf(b, n, "view 0 0 -1000\nwindow -200 -150 200 150\nlight 0 0 -1\n");
+  for (int k = 0; k < 4; k++)
+    w += snprintf(b + w, n - (size_t)w, "vertex %d %d %d 0\n", k + 1, (int)SQ[k][0], (int)SQ[k][1]);
+  if (fan)
+    w += snprintf(b + w, n - (size_t)w, "vertex 5 0 0 0\nface 1 1 2 5\nface 2 2 3 5\n"
+                  "face 3 3 4 5\nface 4 4 1 5\nobject 1 1 2 3 4\n");
+  else
+    w += snprintf(b + w, n - (size_t)w, "face 1 1 2 3\nface 2 1 3 4\nobject 1 1 2\n");
+  return w;
+}
+
+static void cli_render(const char *scene, const char *fx, struct cpic *p)
+{
+  static int runs;                         /* each run its own --stats file */
+  char sp[128], ip[128], gp[128], ia[160], ga[160];
+  snprintf(sp, sizeof sp, "%s/c.s74", tmpdir);
+  snprintf(ip, sizeof ip, "%s/ids.pgm", tmpdir);
+  snprintf(gp, sizeof gp, "%s/grey.pgm", tmpdir);
+  snprintf(p->json, sizeof p->json, "%s/c%d.json", tmpdir, ++runs);
+  snprintf(ia, sizeof ia, "ids=%s", ip);
+  snprintf(ga, sizeof ga, "grey=%s", gp);
+  assert_int_equal(tk_put(sp, scene, strlen(scene)), 0);
+  int rc = tk_runl(NULL, NULL, "render", sp, "--effects", fx, "--dump", ia, "--dump", ga,
+                   "--stats", p->json, (char *)NULL);
+  if (rc) print_message("render --effects '%s': exit %d\n", fx, rc);
+  assert_int_equal(rc, 0);
+  size_t n;
+  char *b = tk_slurp(ip, &n);
+  assert_non_null(b);
+  assert_true(n >= 2 * GW * GH);
+  const unsigned char *q = (const unsigned char *)b + n - 2 * GW * GH;
+  for (int k = 0; k < GW * GH; k++) p->ids[k] = (unsigned)(q[2 * k] << 8 | q[2 * k + 1]);
+  free(b);
+  b = tk_slurp(gp, &n);
+  assert_non_null(b);
+  assert_true(n >= GW * GH);
+  memcpy(p->grey, b + n - GW * GH, GW * GH);
+  free(b);
+}
+
+static double cstat(const struct cpic *p, const char *key)
+{
+  double v = -1;
+  if (tk_stat(p->json, key, &v) != 0) fail_msg("no statistic %s", key);
+  return v;
+}
+
+/* point centre (i, j) in scene units on the plane z = 0 */
+static void centre(int i, int j, double c[2])
+{
+  c[0] = -200 + (i + 0.5) * 4;
+  c[1] = 150 - (j + 0.5) * 4;
+}
+
+static double seg_dist(const double p[2], const double a[2], const double b[2])
+{
+  double dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
+  double t = l2 > 0 ? ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2 : 0;
+  t = t < 0 ? 0 : t > 1 ? 1 : t;
+  double ex = a[0] + t * dx - p[0], ey = a[1] + t * dy - p[1];
+  return sqrt(ex * ex + ey * ey);
+}
+
+#define CURVE_N 400
+
+/* corner k's curve (CURVE_N + 1 points from Q0 to Q4) and its region (Q2, the curve) */
+static void corner_curve(int k, double t, double cc, double pts[CURVE_N + 1][2])
+{
+  const double *q2 = SQ[k], *pv = SQ[(k + 3) % 4], *nx = SQ[(k + 1) % 4];
+  double Q[5][2];
+  for (int c = 0; c < 2; c++) {
+    Q[0][c] = q2[c] + t * (pv[c] - q2[c]);
+    Q[4][c] = q2[c] + t * (nx[c] - q2[c]);
+    Q[2][c] = q2[c];
+    Q[1][c] = q2[c] + cc * (Q[0][c] - q2[c]);
+    Q[3][c] = q2[c] + cc * (Q[4][c] - q2[c]);
+  }
+  for (int m = 0; m <= CURVE_N; m++) {
+    double s = (double)m / CURVE_N, u = 1 - s;
+    double w[5] = { u * u * u * u, 4 * u * u * u * s, 6 * u * u * s * s, 4 * u * s * s * s, s * s * s * s };
+    for (int c = 0; c < 2; c++)
+      pts[m][c] = w[0] * Q[0][c] + w[1] * Q[1][c] + w[2] * Q[2][c] + w[3] * Q[3][c] + w[4] * Q[4][c];
+  }
+}
+
+/* even-odd: p inside the polygon pts[0..n) */
+static bool inside(const double p[2], const double (*pts)[2], int n)
+{
+  bool in = false;
+  for (int a = 0, b = n - 1; a < n; b = a++)
+    if ((pts[a][1] > p[1]) != (pts[b][1] > p[1]) &&
+        p[0] < pts[b][0] + (pts[a][0] - pts[b][0]) * (p[1] - pts[b][1]) / (pts[a][1] - pts[b][1]))
+      in = !in;
+  return in;
+}
+
+struct shape {
+  double curve[4][CURVE_N + 1][2];
+  double region[4][CURVE_N + 2][2];        /* Q2 and the curve: what the cut takes away */
+  double side[4][2][2];                     /* the straight part of side k (C[k] -> C[k+1]) */
+};
+
+static void shape_make(struct shape *S, double t, double cc)
+{
+  for (int k = 0; k < 4; k++) {
+    corner_curve(k, t, cc, S->curve[k]);
+    S->region[k][0][0] = SQ[k][0];
+    S->region[k][0][1] = SQ[k][1];
+    memcpy(S->region[k] + 1, S->curve[k], sizeof S->curve[k]);
+  }
+  for (int k = 0; k < 4; k++) {
+    const double *a = SQ[k], *b = SQ[(k + 1) % 4];
+    for (int c = 0; c < 2; c++) {
+      S->side[k][0][c] = a[c] + t * (b[c] - a[c]);
+      S->side[k][1][c] = b[c] + t * (a[c] - b[c]);
+    }
+  }
+}
+
+/* distance in points from centre p to the curves (and the straight parts, sides) */
+static double shape_dist(const struct shape *S, const double p[2], bool sides)
+{
+  double d = 1e30;
+  for (int k = 0; k < 4; k++) {
+    for (int m = 0; m < CURVE_N; m++) d = fmin(d, seg_dist(p, S->curve[k][m], S->curve[k][m + 1]));
+    if (sides) d = fmin(d, seg_dist(p, S->side[k][0], S->side[k][1]));
+  }
+  return d / 4;
+}
+
+static int in_region(const struct shape *S, const double p[2])
+{
+  for (int k = 0; k < 4; k++)
+    if (inside(p, (const double (*)[2])S->region[k], CURVE_N + 2)) return k;
+  return -1;
+}
+
+/* The outline goes along the curve: every outline point lies within w/2 of the curves or
+   of the sides' straight parts, none deeper in a cut-away corner, every centre within
+   w/2 of them (less the slack) is one, the halo lies outside over the wall; away from
+   the corners the picture is the one without contour=; the statistics add up. */
+static void test_contour_outline_follows_curve(void **state)
+{
+  (void)state;
+  static struct cpic on, off;
+  static struct shape S;
+  char b[2048];
+  int w = put_square(b, sizeof b, 0);
+  snprintf(b + w, sizeof b - (size_t)w, "%s", WALL);
+  cli_render(b, "smooth=prop:0.2 contour=1.0 edges=on outline=1.5,7 inner=0.75,160 "
+             "halo=0.75,250", &on);
+  cli_render(b, "smooth=prop:0.2 edges=on outline=1.5,7 inner=0.75,160 halo=0.75,250", &off);
+  shape_make(&S, 0.2, 1.0);
+  int outline = 0, deep = 0, deep_out = 0, near = 0, near_miss = 0, halo = 0, corner_old = 0;
+  double worst = 0;
+  for (int j = 0; j < GH; j++)
+    for (int i = 0; i < GW; i++) {
+      int at = j * GW + i;
+      double p[2];
+      centre(i, j, p);
+      double d = shape_dist(&S, p, true), dc = shape_dist(&S, p, false);
+      int reg = in_region(&S, p);
+      if (reg >= 0 && dc > 0.75 + SLACK) {
+        deep++;
+        if (on.grey[at] == OUT_G) deep_out++;
+        if (off.grey[at] == OUT_G) corner_old++;
+      }
+      if (on.grey[at] == OUT_G) {
+        outline++;
+        if (d > worst) worst = d;
+      }
+      if (d < 0.75 - SLACK) { near++; if (on.grey[at] != OUT_G) near_miss++; }
+      if (on.grey[at] == HAL_G) {
+        halo++;
+        /* outside the rounded square (in a cut corner or beyond the sides), over the wall */
+        bool out = reg >= 0 || !inside(p, SQ, 4);
+        if (!out || on.ids[at] != 90 || d > 0.75 + 0.75 + SLACK)
+          print_message("halo point (%d, %d): d %.2f, on face %u, outside %d\n", i, j, d, on.ids[at], out);
+        assert_true(out);
+        assert_int_equal(on.ids[at], 90);
+        assert_true(d <= 1.5 + SLACK);
+      }
+      /* far from every corner the picture is the one without contour= */
+      bool far = true;
+      for (int k = 0; k < 4; k++)
+        if (hypot(p[0] - SQ[k][0], p[1] - SQ[k][1]) < 0.25 * 200 + 12) far = false;
+      if (far && on.grey[at] != off.grey[at])
+        print_message("(%d, %d) far from the corners: grey %u with contour, %u without\n", i, j,
+                      on.grey[at], off.grey[at]);
+      if (far) assert_int_equal(on.grey[at], off.grey[at]);
+    }
+  print_message("outline points %d (farthest %.2f points from the curves and sides); cut "
+                "corners: %d points deeper than w/2, %d of them outline (%d without contour=); "
+                "%d centres within w/2 - %.1f, %d not outline; halo %d\n", outline, worst, deep,
+                deep_out, corner_old, near, SLACK, near_miss, halo);
+  assert_true(outline > 200);
+  assert_true(worst <= 0.75 + SLACK);
+  assert_true(deep >= 20);
+  assert_int_equal(deep_out, 0);
+  assert_true(corner_old >= 8);             /* the old outline ran through the corners */
+  assert_true(near > 150);
+  assert_int_equal(near_miss, 0);
+  assert_true(halo > 100);
+  /* the statistics: the edges are the same edges, 4 curves of 64 segments, each corner
+     ends two sides, nothing else leaves a corner inwards, no side is gone */
+  assert_int_equal((int)cstat(&on, "edges_outline"), (int)cstat(&off, "edges_outline"));
+  assert_int_equal((int)cstat(&on, "edges_not_drawn"), (int)cstat(&off, "edges_not_drawn"));
+  assert_int_equal((int)cstat(&on, "contour_corners_convex"), 4);
+  assert_int_equal((int)cstat(&on, "edges_contour_curve_segments"), 4 * 64);
+  assert_int_equal((int)cstat(&on, "edges_contour_sides_cut"), 8);
+  assert_int_equal((int)cstat(&on, "edges_contour_inner_cut"), 0);
+  assert_int_equal((int)cstat(&on, "edges_contour_gone"), 0);
+  double v;
+  assert_int_equal(tk_stat(off.json, "edges_contour_curve_segments", &v), -1);
+}
+
+/* contour= alone rounds with the sides' midpoints (whole smoothing's insets): the four
+   sides are cut away whole, the inner edges from the corners to the centre stop at the
+   curves; no line of either kind lies deeper in a cut corner. */
+static void test_contour_inner_edges_stop_at_curve(void **state)
+{
+  (void)state;
+  static struct cpic on;
+  static struct shape S;
+  char b[2048];
+  int w = put_square(b, sizeof b, 1);
+  snprintf(b + w, sizeof b - (size_t)w, "%s", WALL);
+  cli_render(b, "contour=1.0 edges=on outline=1.5,7 inner=1,160 halo=0.75,250", &on);
+  shape_make(&S, 0.5, 1.0);
+  int deep = 0, deep_line = 0, inner = 0, inner_far = 0;
+  double worst = 0;
+  for (int j = 0; j < GH; j++)
+    for (int i = 0; i < GW; i++) {
+      int at = j * GW + i;
+      double p[2];
+      centre(i, j, p);
+      double dc = shape_dist(&S, p, false);
+      if (in_region(&S, p) >= 0 && dc > 0.75 + SLACK) {
+        deep++;
+        if (on.grey[at] == OUT_G || on.grey[at] == INN_G) deep_line++;
+      }
+      if (on.grey[at] == OUT_G && dc > worst) worst = dc;
+      if (on.grey[at] == INN_G) {
+        inner++;
+        /* on a diagonal, from the centre out to the curve */
+        double d = fmin(seg_dist(p, SQ[0], SQ[2]), seg_dist(p, SQ[1], SQ[3])) / 4;
+        if (d > 0.5 + SLACK) inner_far++;
+      }
+    }
+  print_message("cut corners: %d points deeper than w/2, %d on a line; outline at most %.2f "
+                "points from the curves; %d inner points, %d off the diagonals\n", deep,
+                deep_line, worst, inner, inner_far);
+  assert_true(deep >= 40);
+  assert_int_equal(deep_line, 0);
+  assert_true(worst <= 0.75 + SLACK);
+  assert_true(inner > 60);
+  assert_int_equal(inner_far, 0);
+  assert_int_equal((int)cstat(&on, "edges_contour_curve_segments"), 4 * 64);
+  assert_int_equal((int)cstat(&on, "edges_contour_sides_cut"), 8);
+  assert_int_equal((int)cstat(&on, "edges_contour_inner_cut"), 4);
+  assert_int_equal((int)cstat(&on, "edges_contour_gone"), 4);
+  assert_int_equal((int)cstat(&on, "edges_inner"), 4);
+}
+
+/* The curve is an outline like any other: a face in front of a corner hides it. */
+static void test_contour_outline_hidden(void **state)
+{
+  (void)state;
+  static struct cpic open, hid;
+  char b[2048];
+  int w = put_square(b, sizeof b, 0);
+  w += snprintf(b + w, sizeof b - (size_t)w, "%s", WALL);
+  const char *fx = "smooth=prop:0.2 contour=1.0 edges=on outline=1.5,7 inner=0.75,160 halo=0,250";
+  cli_render(b, fx, &open);
+  /* a card at z = -300 (seen 1/0.7 times larger) over the corner (20, 140) */
+  snprintf(b + w, sizeof b - (size_t)w, "vertex 81 -21 63 -300\nvertex 82 35 63 -300\n"
+           "vertex 83 35 98 -300\nvertex 84 -21 98 -300\nface 80 81 82 83 84 grey 200\n");
+  cli_render(b, fx, &hid);
+  int under = 0, before = 0, after = 0;
+  for (int j = 2; j < GH - 2; j++)
+    for (int i = 2; i < GW - 2; i++) {
+      bool card = true;                    /* the card all round: not its own outline */
+      for (int dj = -2; dj <= 2; dj++)
+        for (int di = -2; di <= 2; di++) card = card && hid.ids[(j + dj) * GW + i + di] == 80;
+      if (!card) continue;
+      under++;
+      before += open.grey[j * GW + i] == OUT_G;
+      after += hid.grey[j * GW + i] == OUT_G;
+    }
+  print_message("%d points inside the card: %d outline points there without it, %d with it\n",
+                under, before, after);
+  assert_true(under > 50);
+  assert_true(before >= 10);
+  assert_int_equal(after, 0);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -739,6 +1059,9 @@ int main(void)
     cmocka_unit_test(test_smooth_parse),
     cmocka_unit_test(test_cli_stats_and_dump),
     cmocka_unit_test(test_import_split_not_an_edge),
+    cmocka_unit_test(test_contour_outline_follows_curve),
+    cmocka_unit_test(test_contour_inner_edges_stop_at_curve),
+    cmocka_unit_test(test_contour_outline_hidden),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }
