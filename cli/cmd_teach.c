@@ -213,9 +213,9 @@ static int write_page(const char *path, const char *name, const struct teach *t,
   outfile_printf(of, "%s", teach_page_head);
   outfile_printf(of, "<script>\nconst T = {\n\"scene\":");
   json_str(of, name, strlen(name));
-  outfile_printf(of, ",\n\"W\":%d,\"H\":%d,\"cell\":%d,\"line\":%d,\"one\":%d,\"seconds\":%.4g,"
-                 "\"lit\":%d,\"pattern\":", t->W, t->H, res->cell, line, (int)GRID_ONE,
-                 res->hitac10_seconds, res->points_lit);
+  outfile_printf(of, ",\n\"W\":%d,\"H\":%d,\"cell\":%d,\"line\":%d,\"lineGiven\":%s,\"one\":%d,"
+                 "\"seconds\":%.4g,\"lit\":%d,\"pattern\":", t->W, t->H, res->cell, line < 0 ? t->H / 2 : line,
+                 line < 0 ? "false" : "true", (int)GRID_ONE, res->hitac10_seconds, res->points_lit);
   json_str(of, pat_cell_name(res->pat), strlen(pat_cell_name(res->pat)));
   /* the halftone cells of every level, and each grey's level (patterns/halftone.h) */
   outfile_printf(of, ",\n\"cells\":[");
@@ -274,7 +274,8 @@ void teach_usage(FILE *f)
     "  -o DIR                 where to write NAME.html (default: the current folder;\n"
     "                         made if missing)\n"
     "  --line J               the grid row whose D-blocks are shown first (0 = top;\n"
-    "                         default: the middle row)\n"
+    "                         default: the middle row, or the row nearest it that\n"
+    "                         meets a piece)\n"
     "the page steps through the figures with Next/Back or the arrow keys; NAME.html#step=N\n"
     "opens step N, NAME.html#all shows every step on one page\n");
 }
@@ -390,7 +391,7 @@ int cmd_teach(int argc, char **argv, struct t74_error *err)
       st = t74_fail(err, T74_EIO, "%s: cannot make the folder: %s", a.dir, strerror(errno));
     char path[1024];
     snprintf(path, sizeof path, "%s/%s.html", a.dir, name);
-    int ln = a.line >= 0 ? (int)(a.line < t.H ? a.line : t.H - 1) : t.H / 2;
+    int ln = a.line >= 0 ? (int)(a.line < t.H ? a.line : t.H - 1) : -1;   /* -1: the page picks */
     if (st == T74_OK) st = write_page(path, name, &t, &res, tables, tlen, ln, err);
     if (st == T74_OK) printf("teach: wrote %s\n", path);
   }
