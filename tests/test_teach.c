@@ -482,18 +482,43 @@ static void test_import_warns_once(void **state)
   free(t);
 }
 
+/* What every page gets checked for: made, loaded, no fault, its dump render's byte for
+   byte, every step (every_step), the pieces listed on its first step of kind pieces_kind
+   the dump's (returned in *pieces, "N:labels" lines), the matrix steps, the D-block step,
+   the halftone and tube steps. Returns the steps (*n), the dump in *tables. */
+static struct step *check_page(const char *scene, const char *pieces_kind, char **tables,
+                               char **pieces, int *n)
+{
+  char page[64], name[64];
+  snprintf(page, sizeof page, "pages/%s.html", scene);
+  make_page(scene);
+  snprintf(name, sizeof name, "%s.txt", scene);
+  *tables = slurp(name);
+  assert_non_null(*tables);
+  load(page, "#step=1");
+  no_faults();
+  same_dump(name);
+  struct step *s = every_step(scene, n);
+  int k = find_kind(s, *n, pieces_kind, 0);
+  assert_true(k > 0);
+  char *want = dump_pieces(*tables);
+  *pieces = page_pieces(k);
+  assert_string_equal(*pieces, want);
+  free(want);
+  matrix_steps(s, *n, *tables);
+  dblock_step(page, s, *n);
+  snprintf(name, sizeof name, "%s.pbm", scene);
+  display_steps(s, *n, name, 4);
+  return s;
+}
+
 /* fig6: the paper's face, cut three times. */
 static void test_fig6(void **state)
 {
   (void)state;
-  make_page("fig6");
-  char *tables = slurp("fig6.txt");
-  assert_non_null(tables);
-  load("pages/fig6.html", "#step=1");
-  no_faults();
-  same_dump("fig6.txt");
+  char *tables, *pieces;
   int n;
-  struct step *s = every_step("fig6", &n);
+  struct step *s = check_page("fig6", "facepieces", &tables, &pieces, &n);
   /* the first cut, state (a): the crossings of IPL with the dump's numbers */
   int k = find_kind(s, n, "cut", 0);
   assert_true(k > 0);
@@ -511,18 +536,8 @@ static void test_fig6(void **state)
   free(rows);
   /* state (b) shades the lower pieces of LWS */
   assert_int_equal(js_int("(teach.show(%d), document.querySelectorAll('section.step [data-side=below]').length)", k + 1), 2);
-  /* the face's pieces: the dump's */
-  int fp = find_kind(s, n, "facepieces", 0);
-  assert_true(fp > 0);
-  char *got = page_pieces(fp), *want = dump_pieces(tables);
-  assert_string_equal(got, want);
-  free(got);
-  free(want);
-  /* the matrix stays empty, and says why */
-  matrix_steps(s, n, tables);
+  /* one face: the matrix stays empty (and every matrix step says why: matrix_steps) */
   assert_int_equal(dump_known(tables), 0);
-  dblock_step("pages/fig6.html", s, n);
-  display_steps(s, n, "fig6.pbm", 4);
   all_steps("pages/fig6.html", n);
   /* the keys: Back at the first step stays; Right, Right, Left is step 2 */
   load("pages/fig6.html", "#keys=L");
@@ -530,6 +545,7 @@ static void test_fig6(void **state)
   load("pages/fig6.html", "#keys=RRL");
   assert_int_equal(js_int("document.body.dataset.step"), 2);
   no_faults();
+  free(pieces);
   free(s);
   free(tables);
 }
@@ -538,24 +554,12 @@ static void test_fig6(void **state)
 static void test_fig7b(void **state)
 {
   (void)state;
-  make_page("fig7b");
-  char *tables = slurp("fig7b.txt");
-  assert_non_null(tables);
-  load("pages/fig7b.html", "#step=1");
-  same_dump("fig7b.txt");
+  char *tables, *pieces;
   int n;
-  struct step *s = every_step("fig7b", &n);
-  int k = find_kind(s, n, "pieces", 0);
-  assert_true(k > 0);
-  char *got = page_pieces(k), *want = dump_pieces(tables);
-  assert_string_equal(got, want);
-  assert_non_null(strstr(got, "7:9 10 11\n"));      /* face 3, cut when the scan reached it */
-  free(got);
-  free(want);
-  matrix_steps(s, n, tables);
+  struct step *s = check_page("fig7b", "pieces", &tables, &pieces, &n);
+  assert_non_null(strstr(pieces, "7:9 10 11\n"));   /* face 3, cut when the scan reached it */
   assert_true(dump_known(tables) > 0);
-  dblock_step("pages/fig7b.html", s, n);
-  display_steps(s, n, "fig7b.pbm", 4);
+  free(pieces);
   free(s);
   free(tables);
 }
@@ -564,27 +568,15 @@ static void test_fig7b(void **state)
 static void test_street(void **state)
 {
   (void)state;
-  make_page("street");
-  char *tables = slurp("street.txt");
-  assert_non_null(tables);
-  load("pages/street.html", "#step=1");
-  same_dump("street.txt");
+  char *tables, *pieces;
   int n;
-  struct step *s = every_step("street", &n);
-  int k = find_kind(s, n, "pieces", 0);
-  assert_true(k > 0);
-  char *got = page_pieces(k), *want = dump_pieces(tables);
-  assert_string_equal(got, want);
-  free(got);
-  free(want);
-  matrix_steps(s, n, tables);
+  struct step *s = check_page("street", "pieces", &tables, &pieces, &n);
   /* the matrix steps show a part of the matrix and say so */
   int m = find_kind(s, n, "matrix", 1);
   char *note = js("(teach.show(%d), document.querySelector('section.step .side').textContent)", m);
   assert_non_null(strstr(note, "too many to read"));
   free(note);
-  dblock_step("pages/street.html", s, n);
-  display_steps(s, n, "street.pbm", 4);
+  free(pieces);
   free(s);
   free(tables);
 }
