@@ -104,21 +104,23 @@ static void snap_row(struct teach *t, const struct render *r, int j)
   const int32_t *w = r->scene->window;
   double step = 2.0 * (double)GRID_ONE * ((double)w[3] - (double)w[1]);
   struct buf b = { 0 };
-  fflush(t->tables);
   bput(&b, "{\"at\":%ld,\"n\":%d,\"d\":[", ftell(t->tables), r->seg.n);
   int first = 1;
   for (int k = 0; k < v->nact; k++) {
     const struct vis_item *it = &v->act[k];
     if (!it->on) continue;
-    /* dxb, dxe as the D-block holds them; on the line that opened it (no step yet) the
-       increments are the sides' slopes times the scan's step, set at the next line */
-    bool fresh = it->dyn == 0;
-    double dxl = fresh ? (double)it->sl * step : (double)it->dxl;
-    double dxr = fresh ? (double)it->sr * step : (double)it->dxr;
+    /* dxb, dxe as the D-block holds them (in units of xb's and xe's denominators); on
+       the line that opened it (no step yet) the sides' slopes times the scan's step, which
+       the next line sets (the slopes are per the exact denominators, hdl and hdr with
+       --arith hitac) */
+    bool fresh = it->dyn == 0, h10 = v->arith == GEOM_HITAC;
+    double dxl = fresh ? (double)it->sl * step / (double)(h10 ? it->hdl : it->xl.den)
+                       : (double)it->dxl / (double)it->xl.den;
+    double dxr = fresh ? (double)it->sr * step / (double)(h10 ? it->hdr : it->xr.den)
+                       : (double)it->dxr / (double)it->xr.den;
     bput(&b, "%s[%d,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d,%d]", first ? "" : ",", it->piece + 1,
-         gx(it->xl.num, it->xl.den), gx(it->xr.num, it->xr.den),
-         dxl / (double)it->xl.den / (double)GRID_ONE, dxr / (double)it->xr.den / (double)GRID_ONE,
-         gx(it->ymax.Y, it->ymax.W), it->kl, it->kr, fresh ? 1 : 0);
+         gx(it->xl.num, it->xl.den), gx(it->xr.num, it->xr.den), dxl / (double)GRID_ONE,
+         dxr / (double)GRID_ONE, gx(it->ymax.Y, it->ymax.W), it->kl, it->kr, fresh ? 1 : 0);
     first = 0;
   }
   bput(&b, "],\"s\":[");
