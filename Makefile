@@ -36,7 +36,8 @@ LIBSRC  := $(foreach d,$(LIBDIRS),$(wildcard $(d)/*.c))
 LIBOBJ  := $(LIBSRC:%.c=$(BUILD)/%.o)
 LIB     := $(BUILD)/libtube74.a
 CLISRC  := $(wildcard cli/*.c)
-CLIOBJ  := $(CLISRC:%.c=$(BUILD)/%.o)
+# the teaching page (cli/teach_page.html) is compiled in as C strings made at build time
+CLIOBJ  := $(CLISRC:%.c=$(BUILD)/%.o) $(BUILD)/gen/teach_page.o
 
 TESTSRC := $(wildcard tests/test_*.c)
 TESTBIN := $(TESTSRC:tests/%.c=$(BUILD)/tests/%)
@@ -63,6 +64,13 @@ deps: $(DEPS_STAMP)
 $(BUILD)/%.o: %.c | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/gen/teach_page.c: cli/teach_page.html tools/text2c.sh
+	@mkdir -p $(dir $@)
+	sh tools/text2c.sh cli/teach_page.html teach_page > $@.tmp && mv $@.tmp $@
+
+$(BUILD)/gen/teach_page.o: $(BUILD)/gen/teach_page.c cli/teach_page.h
+	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) -include cli/teach_page.h -c $< -o $@
 
 $(LIB): $(LIBOBJ)
 	@rm -f $@

@@ -1,27 +1,32 @@
 /*
 ** cmd_teach.c — `tube74 teach SCENE [-o DIR] [--line J] [render's options]`: the paper's
-** figures, drawn step by step, as one self-contained HTML page (README "teach").
-** Sources: paper 003 §2.2 (YSORT, XSORT, crossing types), §3.1 and Fig. 6 (cuts through
-** concave vertices, the rules, the numbered pieces), §4 and Fig. 8 (D-blocks), Fig. 9
-** (the Priority Matrix filling during the scan), §4 (the picture displayed while computed).
+** figures, drawn step by step from one run of the 1974 program, as one self-contained HTML
+** page (README "teach"; the page itself: cli/teach_page.html).
+** Sources: paper 003 §2.2 (the Mapper, YSORT, XSORT, crossing types of Fig. 4), §3.1 and
+** Fig. 5, 6 (cuts through concave vertices, eq. (3), the tables PBS, IPL, LWS, UPS), §3.2
+** and Fig. 8 (D-blocks), §4 and Fig. 9 (the Priority Matrix filled during the scan, the
+** halftone cells, the picture displayed while it is computed).
 **
-** This file contains code to run the renderer once more with its own trace and write what
-** it did as data for a teaching page. Nothing here decides anything: the numbers come from
-** the renderer's structures and its teaching dump, read after each stage:
-**   the Mapper's projected rings (render/mapper.h)           -> the projected faces
-**   the --dump tables text of the Segment Generator          -> YSORT order, each cut's
-**     (render_opts.tables: "YSORT", "cut", "XSORT" lines)       line, rule and crossings
-**   the Segment Information (render/seginfo.h)               -> the numbered pieces
-**   at the first point of every grid row of the scan:
-**     the Priority Matrix as prio_dump prints it              -> Fig. 9 as it fills
-**     the active pieces' D-blocks and the visible stretches   -> the D-blocks of a line
-**     (struct vis: act[], span[], render/visible.h)
-**   the point callback's visible face per grid point          -> the picture by rows
-**   a normal job (cli/pipeline.h) with a sink that keeps dots -> the tube's dots
-** Exact values are shown as decimals in world units (grid units / GRID_ONE); they are only
-** drawn. The page (a fixed script and style below, the data as one JSON object) needs no
-** network: inline SVG built by the script, Next/Back buttons and the arrow keys (Up/Down
-** move the chosen line on the D-block step).
+** This file contains code to watch the ordinary job (cli/pipeline.h) as it draws the scene
+** and to write down what it did. The page is one trace of one program: the dots, the
+** teaching dump and every number on the page come from the same run that `tube74 render`
+** makes with the same options (the scan cutting each face when it reaches it, so piece
+** numbers are the ones `render --dump tables` prints). Nothing here decides anything:
+**   the teaching dump (the text of --dump tables), whole       -> YSORT, XSORT, the cuts and
+**                                                                 their Fig. 6 tables, the
+**                                                                 pieces, PRIORITY and
+**                                                                 INTERSECT lines, the matrix
+**   at the first point of every grid row (job_hooks.watch):
+**     where the dump had got to (its length then)              -> which row each line of it
+**                                                                 belongs to: the matrix as
+**                                                                 it filled (Fig. 9)
+**     the active pieces' D-blocks (struct vis_item)            -> xb, xe, dxb, dxe, y-max
+**     and the visible stretches (struct vis_span)                 (Fig. 8) on that line
+**   every point's visible face                                 -> the picture by rows
+**   after the scan: the Mapper's faces, every piece's vertices -> the figures' geometry
+**   the job's dots (its sink) and its halftone cells           -> the halftone and the tube
+** Exact values are written as decimals in world units for drawing only. The data is one
+** JSON object placed between the page's two fixed parts; the page needs no network.
 **
 ** The file is DIR/NAME.html (NAME: the scene's file name without its extension), written
 ** atomically (display/outfile.h); DIR is made when it does not exist (one level).
@@ -42,44 +47,12 @@
 #include "display/outfile.h"
 #include "display/sink.h"
 #include "display/tek.h"
-#include "emu/cost.h"
 #include "emu/status.h"
 #include "patterns/halftone.h"
 #include "render/geom.h"
 #include "render/render.h"
-#include "render/scene.h"
 
-#define TEACH_MATRIX_MAX 48     /* prio_dump prints the whole matrix up to this many pieces */
-
-/* ---- what the scan showed, row by row ---------------------------------------------- */
-
-struct snap {                   /* the state at the first point of one grid row */
-  int j;                        /* grid row (0 = top) */
-  char *dblocks;                /* JSON array text: [piece, xl, xr, kl, kr] ... */
-  char *spans;                  /* JSON array text: [x0, x1, piece, face] ... */
-};
-
-struct mstep {                  /* the Priority Matrix when it changed */
-  int j;                        /* the row whose scan changed it */
-  int n;                        /* pieces (rows and columns) */
-  char *codes;                  /* n*n codes: '-' diagonal, '0' 00, 'L' 10, 'H' 11 */
-};
-
-struct teach {
-  struct render *r;
-  int W, H;
-  int *face;                    /* W x H: visible face index per grid point, -1 none */
-  struct snap *row;             /* H rows, by j */
-  struct mstep *ms;
-  int nms, capms;
-  int status;                   /* first failure (out of memory) */
-  /* the tube's dots, from the job */
-  uint8_t *lit;                 /* 400 x 300, y up */
-};
-
-static double rat(struct grat q) { return (double)q.num / (double)q.den / (double)GRID_ONE; }
-
-/* A growing string, for the JSON of one row or of the trace. */
+/* A growing string (the JSON of the rows and of the geometry). */
 struct buf { char *s; size_t n, cap; bool oom; };
 
 static void bput(struct buf *b, const char *fmt, ...)
@@ -97,7 +70,8 @@ static void bput(struct buf *b, const char *fmt, ...)
     int k = b->cap ? vsnprintf(b->s + b->n, room, fmt, ap) : -1;
     va_end(ap);
     if (k >= 0 && (size_t)k < room) { b->n += (size_t)k; return; }
-    size_t nc = b->cap ? b->cap * 2 : 256;
+    if (b->oom) return;
+    size_t nc = b->cap ? b->cap * 2 : 4096;
     while (k >= 0 && nc - b->n <= (size_t)k) nc *= 2;
     char *ns = realloc(b->s, nc);
     if (!ns) { b->oom = true; return; }
@@ -106,89 +80,100 @@ static void bput(struct buf *b, const char *fmt, ...)
   }
 }
 
-/* The matrix as prio_dump prints it (dense form), read back into codes. */
-static char *matrix_codes(const struct prio *pr, int *n_out)
-{
-  int n = pr->seg->n;
-  *n_out = n;
-  if (n > TEACH_MATRIX_MAX) return NULL;
-  char *text = NULL;
-  size_t len = 0;
-  FILE *f = open_memstream(&text, &len);
-  if (!f) return NULL;
-  prio_dump(pr, f);
-  fclose(f);
-  char *codes = malloc((size_t)n * (size_t)n + 1);
-  if (!codes) { free(text); return NULL; }
-  memset(codes, '0', (size_t)n * (size_t)n);
-  codes[(size_t)n * (size_t)n] = 0;
-  /* rows: "  %3d " then n tokens; they follow the column header line */
-  char *line = text;
-  int row = -3;                   /* two header lines and the column numbers come first */
-  while (line && *line) {
-    char *nl = strchr(line, '\n');
-    if (nl) *nl = 0;
-    if (row >= 0 && row < n) {
-      char *p = line;
-      int i = (int)strtol(p, &p, 10);
-      for (int c = 0; c < n && i == row; c++) {
-        while (*p == ' ') p++;
-        char code = p[0] == '-' ? '-' : p[0] == '1' && p[1] == '0' ? 'L' : p[0] == '1' ? 'H' : '0';
-        codes[(size_t)row * (size_t)n + (size_t)c] = code;
-        while (*p && *p != ' ') p++;
-      }
-    }
-    row++;
-    line = nl ? nl + 1 : NULL;
-  }
-  free(text);
-  return codes;
-}
+struct teach {
+  FILE *tables;                 /* the teaching dump, as the job writes it */
+  int W, H;                     /* the job's grid (known from its result, after the run) */
+  int SW, SH;                   /* the largest grid (3x3 cells): room while the job runs */
+  int *face;                    /* SW x SH: visible face (index in the Mapper's table), -1 none */
+  char **row;                   /* SH: each grid row's JSON, by j */
+  struct buf geom;              /* "faces" and "pieces", written after the scan */
+  long end_at;                  /* the dump's length after the scan */
+  bool watched_end;
+  uint8_t *lit;                 /* 400 x 300 dots, y up */
+  int status;                   /* the first failure (out of memory) */
+};
 
-static void snap_row(struct teach *t, int j)
+static double gx(wide num, wide den) { return (double)num / (double)den / (double)GRID_ONE; }
+
+/* Row j's state at its first point: where the dump is, the D-blocks, the visible stretches. */
+static void snap_row(struct teach *t, const struct render *r, int j)
 {
-  const struct vis *v = &t->r->vis;
-  struct buf d = { 0 }, s = { 0 };
-  bput(&d, "[");
+  const struct vis *v = &r->vis;
+  /* the scan's line step in yn units: y = yn / yd with yd = 2H and yn stepping by
+     2 GRID_ONE (YT - YB) (vis_scan) */
+  const int32_t *w = r->scene->window;
+  double step = 2.0 * (double)GRID_ONE * ((double)w[3] - (double)w[1]);
+  struct buf b = { 0 };
+  bput(&b, "{\"at\":%ld,\"n\":%d,\"d\":[", ftell(t->tables), r->seg.n);
   int first = 1;
   for (int k = 0; k < v->nact; k++) {
     const struct vis_item *it = &v->act[k];
     if (!it->on) continue;
-    bput(&d, "%s[%d,%.6g,%.6g,%d,%d]", first ? "" : ",", it->piece, rat(it->xl), rat(it->xr),
-         it->kl, it->kr);
+    /* dxb, dxe as the D-block holds them (in units of xb's and xe's denominators); on
+       the line that opened it (no step yet) the sides' slopes times the scan's step, which
+       the next line sets (the slopes are per the exact denominators, hdl and hdr with
+       --arith hitac) */
+    bool fresh = it->dyn == 0, h10 = v->arith == GEOM_HITAC;
+    double dxl = fresh ? (double)it->sl * step / (double)(h10 ? it->hdl : it->xl.den)
+                       : (double)it->dxl / (double)it->xl.den;
+    double dxr = fresh ? (double)it->sr * step / (double)(h10 ? it->hdr : it->xr.den)
+                       : (double)it->dxr / (double)it->xr.den;
+    bput(&b, "%s[%d,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d,%d]", first ? "" : ",", it->piece + 1,
+         gx(it->xl.num, it->xl.den), gx(it->xr.num, it->xr.den), dxl / (double)GRID_ONE,
+         dxr / (double)GRID_ONE, gx(it->ymax.Y, it->ymax.W), it->kl, it->kr, fresh ? 1 : 0);
     first = 0;
   }
-  bput(&d, "]");
-  bput(&s, "[");
+  bput(&b, "],\"s\":[");
   for (int k = 0; k < v->nspan; k++)
-    bput(&s, "%s[%.6g,%.6g,%d,%d]", k ? "," : "", rat(v->span[k].x0), rat(v->span[k].x1),
-         v->span[k].piece, v->span[k].face);
-  bput(&s, "]");
-  if (d.oom || s.oom) { free(d.s); free(s.s); t->status = T74_EIO; return; }
-  t->row[j].j = j;
-  t->row[j].dblocks = d.s;
-  t->row[j].spans = s.s;
-  /* the matrix, when it changed on this row */
-  int n;
-  char *codes = matrix_codes(&t->r->prio, &n);
-  if (!codes) return;             /* too many pieces to draw (or no memory: just fewer steps) */
-  const struct mstep *last = t->nms ? &t->ms[t->nms - 1] : NULL;
-  if (last && last->n == n && !strcmp(last->codes, codes)) { free(codes); return; }
-  if (t->nms == t->capms) {
-    int nc = t->capms ? 2 * t->capms : 16;
-    struct mstep *nm = realloc(t->ms, (size_t)nc * sizeof *nm);
-    if (!nm) { free(codes); t->status = T74_EIO; return; }
-    t->ms = nm;
-    t->capms = nc;
-  }
-  t->ms[t->nms++] = (struct mstep){ j, n, codes };
+    bput(&b, "%s[%.6g,%.6g,%d,%d]", k ? "," : "", gx(v->span[k].x0.num, v->span[k].x0.den),
+         gx(v->span[k].x1.num, v->span[k].x1.den), v->span[k].piece + 1, v->span[k].face);
+  bput(&b, "]}");
+  if (b.oom) { free(b.s); t->status = T74_EIO; return; }
+  free(t->row[j]);
+  t->row[j] = b.s;
 }
 
-static int on_point(void *ctx, int i, int j, int face)
+/* After the scan: the Mapper's faces (rings, vertex numbers, grey) and every piece. */
+static void snap_end(struct teach *t, const struct render *r)
+{
+  struct buf *b = &t->geom;
+  fflush(t->tables);
+  t->end_at = ftell(t->tables);
+  const int32_t *w = r->scene->window;
+  bput(b, "\"window\":[%d,%d,%d,%d],\n\"faces\":[", (int)w[0], (int)w[1], (int)w[2], (int)w[3]);
+  for (int f = 0; f < r->map.nface; f++) {
+    const struct mface *m = &r->map.f[f];
+    bput(b, "%s\n{\"id\":%u,\"grey\":%d,\"rings\":[", f ? "," : "", (unsigned)m->id, m->grey);
+    for (int g = 0; g < m->nring; g++) {
+      bput(b, "%s[", g ? "," : "");
+      for (int k = m->ring_start[g]; k < m->ring_start[g + 1]; k++)
+        bput(b, "%s[%.6g,%.6g,%u]", k > m->ring_start[g] ? "," : "",
+             (double)m->pt[k].x / GRID_ONE, (double)m->pt[k].y / GRID_ONE, (unsigned)m->vid[k]);
+      bput(b, "]");
+    }
+    bput(b, "]}");
+  }
+  bput(b, "],\n\"pieces\":[");
+  for (int k = 0; k < r->seg.n; k++) {
+    const struct piece *p = &r->seg.p[k];
+    bput(b, "%s\n{\"n\":%d,\"face\":%d,\"alive\":%d,\"parent\":%d,\"v\":[", k ? "," : "", k + 1,
+         p->face, p->alive ? 1 : 0, p->parent + 1);
+    for (int i = 0; i < p->n; i++)
+      bput(b, "%s[%.6g,%.6g]", i ? "," : "", gx(p->v[i].X, p->v[i].W), gx(p->v[i].Y, p->v[i].W));
+    bput(b, "]}");
+  }
+  bput(b, "],\n");
+  if (b->oom) t->status = T74_EIO;
+  t->watched_end = true;
+}
+
+static int watch(void *ctx, const struct render *r, int i, int j, int face)
 {
   struct teach *t = ctx;
-  if (i == 0) snap_row(t, j);
-  t->face[(size_t)j * (size_t)t->W + (size_t)i] = face;
+  if (i < 0) { snap_end(t, r); return t->status; }
+  if (i >= t->SW || j < 0 || j >= t->SH) return T74_OK;
+  if (i == 0) snap_row(t, r, j);
+  t->face[(size_t)j * (size_t)t->SW + (size_t)i] = face;
   return t->status;
 }
 
@@ -205,148 +190,48 @@ static void keep_abort(void *ctx) { (void)ctx; }
 
 /* ---- the page ---------------------------------------------------------------------- */
 
-/* A JSON string of s (ASCII; anything else escaped). */
-static void json_str(struct outfile *of, const char *s)
+/* s[0..n) as a JSON string: printable ASCII kept, except what could end the script
+   element or be read as markup; everything else escaped. */
+static void json_str(struct outfile *of, const char *s, size_t n)
 {
   outfile_write(of, "\"", 1);
-  for (; *s; s++) {
-    unsigned char c = (unsigned char)*s;
+  for (size_t k = 0; k < n; k++) {
+    unsigned char c = (unsigned char)s[k];
     if (c == '"' || c == '\\') outfile_printf(of, "\\%c", c);
+    else if (c == '\n') outfile_write(of, "\\n", 2);
     else if (c < 0x20 || c >= 0x7F || c == '<' || c == '>' || c == '&') outfile_printf(of, "\\u%04x", c);
-    else outfile_write(of, s, 1);
+    else outfile_write(of, s + k, 1);
   }
   outfile_write(of, "\"", 1);
 }
 
-/* "a/b" or "a" (grid units) as world units. */
-static double grid_num(const char *s)
-{
-  char *e;
-  double a = strtod(s, &e);
-  if (*e == '/') { double b = strtod(e + 1, NULL); if (b != 0) a /= b; }
-  return a / (double)GRID_ONE;
-}
-
-/* The Segment Generator's trace: YSORT, cuts and XSORT lines of the tables text, as JSON
-** arrays "ysort" and "cuts". */
-static void write_trace(struct outfile *of, char *tables)
-{
-  struct buf ys = { 0 }, cuts = { 0 };
-  int face = 0, nys = 0, ncut = 0;
-  bool in_cut = false;
-  bput(&ys, "[");
-  bput(&cuts, "[");
-  for (char *line = tables; line && *line;) {
-    char *nl = strchr(line, '\n');
-    if (nl) *nl = 0;
-    if (!strncmp(line, "face ", 5) && (strstr(line, " ring,") || strstr(line, " rings,"))) {
-      face = atoi(line + 5);
-      in_cut = false;
-    } else if (!strncmp(line, "YSORT", 5)) {
-      bput(&ys, "%s{\"face\":%d,\"order\":[", nys++ ? "," : "", face);
-      int k = 0;
-      for (char *p = strstr(line, "y:"); p && (p = strchr(p, '(')); p++) {
-        char *q = strchr(p, ')');
-        if (!q) break;
-        bput(&ys, "%s\"%.*s\"", k++ ? "," : "", (int)(q - p - 1), p + 1);
-      }
-      bput(&ys, "]}");
-    } else if (!strncmp(line, "cut ", 4)) {
-      if (in_cut) bput(&cuts, "]}");
-      char *y = strstr(line, "at y = ");
-      char *rule = strchr(line, ':');
-      bput(&cuts, "%s{\"face\":%d,\"y\":%.6g,\"text\":", ncut++ ? "," : "", face,
-           y ? grid_num(y + 7) : 0.0);
-      /* the text as a JSON string, by hand (no outfile here) */
-      bput(&cuts, "\"");
-      for (const char *p = rule ? rule + 2 : line; *p; p++)
-        bput(&cuts, (*p == '"' || *p == '\\') ? "\\%c" : "%c", *p);
-      bput(&cuts, "\",\"head\":\"");
-      for (const char *p = line; *p && p != rule; p++)
-        bput(&cuts, (*p == '"' || *p == '\\') ? "\\%c" : "%c", *p);
-      bput(&cuts, "\",\"xsort\":[");
-      in_cut = true;
-    } else if (in_cut && !strncmp(line, "XSORT", 5)) {
-      int k = 0;
-      for (char *p = strstr(line, "x="); p; p = strstr(p + 1, "x=")) {
-        char *e = strstr(p, " edge ");
-        if (!e) break;
-        char edge[64] = "", type[16] = "";
-        if (sscanf(e + 6, "%63s %15s", edge, type) != 2) break;
-        bput(&cuts, "%s[%.6g,\"%s\",\"%s\"]", k++ ? "," : "", grid_num(p + 2), edge, type);
-      }
-    } else if (in_cut && (!strncmp(line, "PBS", 3) || !strncmp(line, "IPL", 3) ||
-                          !strncmp(line, "LWS", 3) || !strncmp(line, "UPS", 3) ||
-                          !strncmp(line, "       above", 12))) {
-      /* the steps' lists stay in the dump (--dump tables); the page names the rule */
-    } else if (in_cut && strstr(line, "convex pieces after")) {
-      bput(&cuts, "]}");
-      in_cut = false;
-    }
-    line = nl ? nl + 1 : NULL;
-  }
-  if (in_cut) bput(&cuts, "]}");
-  bput(&ys, "]");
-  bput(&cuts, "]");
-  if (!ys.oom && !cuts.oom) {
-    outfile_printf(of, "\"ysort\":%s,\n\"cuts\":%s,\n", ys.s, cuts.s);
-  } else {
-    outfile_printf(of, "\"ysort\":[],\n\"cuts\":[],\n");
-  }
-  free(ys.s);
-  free(cuts.s);
-}
-
-static int write_page(const char *path, const char *name, const struct scene *s,
-                      struct teach *t, char *tables, int cell, int line, struct t74_error *err)
+static int write_page(const char *path, const char *name, const struct teach *t,
+                      const struct job_result *res, const char *tables, size_t tlen, int line,
+                      struct t74_error *err)
 {
   struct outfile *of;
   int st = outfile_open(&of, path, err);
   if (st != T74_OK) return st;
-  const struct render *r = t->r;
   outfile_printf(of, "%s", teach_page_head);
   outfile_printf(of, "<script>\nconst T = {\n\"scene\":");
-  json_str(of, name);
-  outfile_printf(of, ",\n\"window\":[%d,%d,%d,%d],\"W\":%d,\"H\":%d,\"cell\":%d,\"line\":%d,\n",
-                 (int)s->window[0], (int)s->window[1], (int)s->window[2], (int)s->window[3],
-                 t->W, t->H, cell, line);
-  /* faces: projected rings */
-  outfile_printf(of, "\"faces\":[");
-  for (int f = 0; f < r->map.nface; f++) {
-    const struct mface *m = &r->map.f[f];
-    outfile_printf(of, "%s\n{\"id\":%u,\"grey\":%d,\"rings\":[", f ? "," : "", (unsigned)m->id, m->grey);
-    for (int g = 0; g < m->nring; g++) {
-      outfile_printf(of, "%s[", g ? "," : "");
-      for (int k = m->ring_start[g]; k < m->ring_start[g + 1]; k++)
-        outfile_printf(of, "%s[%.6g,%.6g,%u]", k > m->ring_start[g] ? "," : "",
-                       (double)m->pt[k].x / GRID_ONE, (double)m->pt[k].y / GRID_ONE, (unsigned)m->vid[k]);
-      outfile_printf(of, "]");
-    }
-    outfile_printf(of, "]}");
+  json_str(of, name, strlen(name));
+  outfile_printf(of, ",\n\"W\":%d,\"H\":%d,\"cell\":%d,\"line\":%d,\"lineGiven\":%s,\"one\":%d,"
+                 "\"seconds\":%.4g,\"lit\":%d,\"pattern\":", t->W, t->H, res->cell, line < 0 ? t->H / 2 : line,
+                 line < 0 ? "false" : "true", (int)GRID_ONE, res->hitac10_seconds, res->points_lit);
+  json_str(of, pat_cell_name(res->pat), strlen(pat_cell_name(res->pat)));
+  /* the halftone cells of every level, and each grey's level (patterns/halftone.h) */
+  outfile_printf(of, ",\n\"cells\":[");
+  for (int l = 0; l <= res->cell * res->cell; l++) {
+    uint16_t m;
+    pat_cell_dots(res->pat, l, &m);
+    outfile_printf(of, "%s%u", l ? "," : "", (unsigned)m);
   }
-  outfile_printf(of, "],\n");
-  write_trace(of, tables);
-  /* pieces: every piece the Segment Information holds, with its face and vertices */
-  outfile_printf(of, "\"pieces\":[");
-  for (int k = 0; k < r->seg.n; k++) {
-    const struct piece *p = &r->seg.p[k];
-    outfile_printf(of, "%s\n{\"n\":%d,\"face\":%d,\"alive\":%s,\"v\":[", k ? "," : "", k,
-                   p->face, p->alive ? "true" : "false");
-    for (int i = 0; i < p->n; i++)
-      outfile_printf(of, "%s[%.6g,%.6g]", i ? "," : "",
-                     (double)p->v[i].X / (double)p->v[i].W / GRID_ONE,
-                     (double)p->v[i].Y / (double)p->v[i].W / GRID_ONE);
-    outfile_printf(of, "]}");
-  }
-  outfile_printf(of, "],\n\"matrix\":[");
-  for (int k = 0; k < t->nms; k++)
-    outfile_printf(of, "%s\n{\"row\":%d,\"n\":%d,\"codes\":\"%s\"}", k ? "," : "", t->ms[k].j,
-                   t->ms[k].n, t->ms[k].codes);
-  outfile_printf(of, "],\n\"rows\":[");
+  outfile_printf(of, "],\n\"levelOf\":[");
+  for (int g = 0; g < 256; g++) outfile_printf(of, "%s%d", g ? "," : "", pat_level(res->cell, g));
+  outfile_printf(of, "],\n%.*s", (int)t->geom.n, t->geom.s);
+  outfile_printf(of, "\"end\":%ld,\n\"rows\":[", t->end_at);
   for (int j = 0; j < t->H; j++)
-    outfile_printf(of, "%s\n{\"dblocks\":%s,\"spans\":%s}", j ? "," : "",
-                   t->row[j].dblocks ? t->row[j].dblocks : "[]",
-                   t->row[j].spans ? t->row[j].spans : "[]");
+    outfile_printf(of, "%s\n%s", j ? "," : "", t->row[j] ? t->row[j] : "{\"at\":0,\"n\":0,\"d\":[],\"s\":[]}");
   /* the picture by grid rows: runs [i0, i1, face] */
   outfile_printf(of, "],\n\"grid\":[");
   for (int j = 0; j < t->H; j++) {
@@ -375,7 +260,10 @@ static int write_page(const char *path, const char *name, const struct scene *s,
     }
     outfile_printf(of, "]");
   }
-  outfile_printf(of, "]\n};\n</script>\n%s", teach_page_tail);
+  /* the teaching dump, byte for byte what --dump tables writes */
+  outfile_printf(of, "],\n\"tables\":");
+  json_str(of, tables, tlen);
+  outfile_printf(of, "\n};\n</script>\n%s", teach_page_tail);
   return outfile_commit(of, err);
 }
 
@@ -388,40 +276,61 @@ void teach_usage(FILE *f)
     "  -o DIR                 where to write NAME.html (default: the current folder;\n"
     "                         made if missing)\n"
     "  --line J               the grid row whose D-blocks are shown first (0 = top;\n"
-    "                         default: the middle row)\n"
-    "the page steps through the figures with Next/Back or the arrow keys\n");
+    "                         default: the middle row, or the row nearest it that\n"
+    "                         meets a piece)\n"
+    "the page steps through the figures with Next/Back or the arrow keys; NAME.html#step=N\n"
+    "opens step N, NAME.html#all shows every step on one page\n");
+}
+
+struct teach_args { const char *dir; long line; };
+
+static int teach_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err)
+{
+  struct teach_args *a = ctx;
+  const char *o = argv[*k];
+  if (strcmp(o, "-o") && strcmp(o, "--line")) return 0;
+  if (*k + 1 >= argc) { t74_fail(err, T74_EINPUT, "tube74: missing value after: %s", o); return -1; }
+  const char *v = argv[++*k];
+  if (!strcmp(o, "-o")) { a->dir = v; return 1; }
+  char *e;
+  errno = 0;
+  a->line = strtol(v, &e, 10);
+  if (errno || *e || e == v || a->line < 0 || a->line > 1000) {
+    t74_fail(err, T74_EINPUT, "tube74: --line takes a grid row 0..1000: %s", v);
+    return -1;
+  }
+  return 1;
+}
+
+/* The whole of f (rewound), NUL-terminated; NULL when out of memory. */
+static char *read_all(FILE *f, size_t *n)
+{
+  fflush(f);
+  rewind(f);
+  size_t cap = 1 << 16, len = 0;
+  char *s = malloc(cap);
+  while (s) {
+    len += fread(s + len, 1, cap - len - 1, f);
+    if (len < cap - 1) break;
+    char *ns = realloc(s, cap * 2);
+    if (!ns) { free(s); return NULL; }
+    s = ns;
+    cap *= 2;
+  }
+  if (s) s[len] = 0;
+  *n = len;
+  return s;
 }
 
 int cmd_teach(int argc, char **argv, struct t74_error *err)
 {
-  /* teach's own options out, render's to job_parse */
-  const char *dir = ".";
-  long line = -1;
-  char **rest = malloc((size_t)argc * sizeof *rest);
-  if (!rest) return t74_fail(err, T74_EIO, "out of host memory");
-  int nrest = 0;
-  for (int k = 0; k < argc; k++) {
-    if (k >= 2 && !strcmp(argv[k], "-o")) {
-      if (k + 1 >= argc) { free(rest); return t74_fail(err, T74_EINPUT, "tube74: missing value after: -o"); }
-      dir = argv[++k];
-    } else if (k >= 2 && !strcmp(argv[k], "--line")) {
-      char *e;
-      if (k + 1 >= argc || (errno = 0, line = strtol(argv[k + 1], &e, 10), errno) || *e ||
-          e == argv[k + 1] || line < 0 || line > 1000) {
-        free(rest);
-        return t74_fail(err, T74_EINPUT, "tube74: --line takes a grid row 0..1000");
-      }
-      k++;
-    } else {
-      rest[nrest++] = argv[k];
-    }
-  }
+  struct teach_args a = { ".", -1 };
   struct job j;
-  int st = job_parse(nrest, rest, 2, &j, NULL, NULL, err);
+  int st = job_parse(argc, argv, 2, &j, teach_opt, &a, err);
   j.need_1974 = true;                    /* the page shows the 1974 program's steps */
-  if (st == T74_OK && (j.png || j.ndump || j.stats))
-    st = t74_fail(err, T74_EINPUT, "tube74 teach: -o names the folder; --dump and --stats "
-                  "belong to render");
+  if (st == T74_OK && (j.ndump || j.stats || j.frames > 1))
+    st = t74_fail(err, T74_EINPUT, "tube74 teach: -o names the folder; --dump, --stats and "
+                  "--frames belong to render");
   if (st == T74_OK) {                    /* a Tek stream has no tables to show */
     uint8_t head[8];
     size_t got = 0;
@@ -432,82 +341,69 @@ int cmd_teach(int argc, char **argv, struct t74_error *err)
       st = t74_fail(err, T74_EINPUT, "%s: a Tektronix stream: teach needs a scene (.s74, "
                     ".obj, .off)", j.scene);
   }
-  if (st != T74_OK) { free(rest); return st; }
+  if (st != T74_OK) return st;
 
   struct teach t;
   memset(&t, 0, sizeof t);
+  /* the job's grid (--cell or the scene's halftone) is known only inside it: the points
+     are kept on the largest grid's stride while it runs */
+  t.SW = pat_grid_w(PAT_CELL_MIN);
+  t.SH = pat_grid_h(PAT_CELL_MIN);
   t.lit = calloc((size_t)TUBE_W * TUBE_H, 1);
-  if (!t.lit) { free(rest); return t74_fail(err, T74_EIO, "out of host memory"); }
-  /* 1. the picture, by the ordinary job (its checks and messages too) */
+  t.face = malloc((size_t)t.SW * (size_t)t.SH * sizeof *t.face);
+  t.row = calloc((size_t)t.SH, sizeof *t.row);
+  t.tables = tmpfile();
+  if (!t.lit || !t.face || !t.row || !t.tables)
+    st = t74_fail(err, T74_EIO, "out of host memory (or no temporary file for the tables)");
+
+  /* the one run: the picture, the dump and the states the page shows */
   struct job_hooks h;
   memset(&h, 0, sizeof h);
   h.extra = (struct sink){ &t, keep_dot, keep_end, keep_abort };
+  h.tables = t.tables;
+  h.watch = watch;
+  h.watch_ctx = &t;
   struct job_result res;
-  st = job_run(&j, &h, &res, err);
-
-  /* 2. the renderer again, traced */
-  struct scene *s = NULL;
-  struct render r;
-  memset(&r, 0, sizeof r);
-  char *tables = NULL;
-  size_t tlen = 0;
-  FILE *tf = NULL;
-  bool prepared = false;
-  struct scene_opts again = j.sopts;
-  again.quiet = true;              /* the job has printed the import's warnings once */
-  if (st == T74_OK) st = scene_load(j.scene, &again, &s, err);
-  if (st == T74_OK && !(tf = open_memstream(&tables, &tlen)))
-    st = t74_fail(err, T74_EIO, "out of host memory");
+  memset(&res, 0, sizeof res);
   if (st == T74_OK) {
-    double prog = 0;
-    cost_params_get(&j.params, "program_words", &prog);
-    /* the core the job was drawn with (an import may have needed more than --core's default) */
-    struct render_opts ro = { res.core_words, (uint32_t)prog, j.store, tf, 0 };
-    st = render_prepare(&r, s, &ro, err);
-    prepared = true;
-  }
-  t.r = &r;
-  t.W = res.W;
-  t.H = res.H;
-  if (st == T74_OK) {
-    t.face = malloc((size_t)t.W * (size_t)t.H * sizeof *t.face);
-    t.row = calloc((size_t)t.H, sizeof *t.row);
-    if (!t.face || !t.row) st = t74_fail(err, T74_EIO, "out of host memory");
-  }
-  if (st == T74_OK) {
-    struct vis_grid g = { t.W, t.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
-    st = render_scan(&r, &g, on_point, &t, err);
+    for (size_t k = 0; k < (size_t)t.SW * (size_t)t.SH; k++) t.face[k] = -1;
+    st = job_run(&j, &h, &res, err);
     if (st != T74_OK && !err->msg[0]) t74_fail(err, st, "tube74 teach: out of host memory");
   }
-  if (tf) fclose(tf);
+  if (st == T74_OK && !t.watched_end)
+    st = t74_fail(err, T74_EIO, "tube74 teach: the 1974 program was not run");
+  char *tables = NULL;
+  size_t tlen = 0;
+  if (st == T74_OK && !(tables = read_all(t.tables, &tlen)))
+    st = t74_fail(err, T74_EIO, "out of host memory");
   if (st == T74_OK) {
-    /* the page's name */
+    /* the points were kept on the largest grid's stride: close it up to the job's */
+    t.W = res.W;
+    t.H = res.H;
+    for (int jj = 0; jj < t.H; jj++)
+      memmove(t.face + (size_t)jj * (size_t)t.W, t.face + (size_t)jj * (size_t)t.SW,
+              (size_t)t.W * sizeof *t.face);
     const char *base = strrchr(j.scene, '/');
     base = base ? base + 1 : j.scene;
     char name[256];
     snprintf(name, sizeof name, "%s", base);
     char *dot = strrchr(name, '.');
     if (dot && dot != name) *dot = 0;
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-      st = t74_fail(err, T74_EIO, "%s: cannot make the folder: %s", dir, strerror(errno));
+    if (mkdir(a.dir, 0777) != 0 && errno != EEXIST)
+      st = t74_fail(err, T74_EIO, "%s: cannot make the folder: %s", a.dir, strerror(errno));
     char path[1024];
-    snprintf(path, sizeof path, "%s/%s.html", dir, name);
-    int ln = line >= 0 ? (int)(line < t.H ? line : t.H - 1) : t.H / 2;
-    if (st == T74_OK) st = write_page(path, name, s, &t, tables ? tables : (char *)"", res.cell, ln, err);
-    if (st == T74_OK)
-      printf("teach: wrote %s (%d faces, %d pieces, %d matrix steps)\n", path, r.map.nface,
-             r.seg.n, t.nms);
+    snprintf(path, sizeof path, "%s/%s.html", a.dir, name);
+    int ln = a.line >= 0 ? (int)(a.line < t.H ? a.line : t.H - 1) : -1;   /* -1: the page picks */
+    if (st == T74_OK) st = write_page(path, name, &t, &res, tables, tlen, ln, err);
+    if (st == T74_OK) printf("teach: wrote %s\n", path);
   }
+  free(tables);
   if (t.row)
-    for (int k = 0; k < t.H; k++) { free(t.row[k].dblocks); free(t.row[k].spans); }
-  for (int k = 0; k < t.nms; k++) free(t.ms[k].codes);
-  free(t.ms);
+    for (int k = 0; k < t.SH; k++) free(t.row[k]);
   free(t.row);
   free(t.face);
   free(t.lit);
-  free(tables);
-  if (prepared) render_free(&r);
-  scene_free(s);
-  free(rest);
+  free(t.geom.s);
+  if (t.tables) fclose(t.tables);
   return st;
 }

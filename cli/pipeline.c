@@ -287,6 +287,10 @@ int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_lev
 static int on_point(void *ctx, int i, int j, int face)
 {
   struct pipeline *p = ctx;
+  if (p->hooks && p->hooks->watch) {
+    int ws = p->hooks->watch(p->hooks->watch_ctx, p->r, i, j, face);
+    if (ws != T74_OK) return ws;
+  }
   int grey;
   uint32_t id = 0;
   size_t at = (size_t)j * (size_t)p->W + (size_t)i;
@@ -940,7 +944,8 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
 
   bool want_tables = false;
   for (int d = 0; d < o->ndump; d++) want_tables |= o->dump_kind[d] == DUMP_TABLES;
-  if (want_tables && !(tables = tmpfile())) {
+  if (h && h->tables) tables = h->tables;   /* the watcher's file: the job does not close it */
+  else if (want_tables && !(tables = tmpfile())) {
     st = t74_fail(err, T74_EIO, "cannot make a temporary file for --dump tables");
     goto done;
   }
@@ -981,6 +986,8 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
     st = points_emit(&p, &pts);
   } else
     st = render_scan(&r, &g, on_point, &p, err);
+  if (st == T74_OK && engine == JOB_ENGINE_1974 && h && h->watch)
+    st = h->watch(h->watch_ctx, &r, -1, -1, -1);
   if (st == T74_OK && p.face) st = run_effects(&p, s, &eff, &g, &fst, err);
   if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
   frame_t[0] = now_seconds() - f0;
@@ -1010,6 +1017,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
     res->engine = engine;
     res->core_words = r.core ? core_words(r.core) : 0;
     res->core_words_used = r.core ? core_peak(r.core) : 0;
+    res->pat = p.pat;
   }
   if (!dry && r.core && core_words(r.core) > core_first_words(r.core) && core_peak(r.core) > DEFAULT_CORE_WORDS)
     fprintf(stderr, "%s: warning: the model needs %u words of core; the HITAC-10 had %u "
@@ -1048,7 +1056,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
 done:
   free(frame_t);
   outs_free(&jo);
-  if (tables) fclose(tables);
+  if (tables && !(h && h->tables == tables)) fclose(tables);
   free(p.ids);
   free(p.grey);
   free(p.face);

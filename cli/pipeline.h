@@ -25,6 +25,9 @@
 #include "render/effects.h"
 #include "render/scene.h"
 
+struct render;
+struct pat_cell;
+
 #define JOB_MAX_DUMPS 8
 
 enum job_dump { DUMP_IDS, DUMP_GREY, DUMP_TUBE, DUMP_POINTS, DUMP_TABLES, DUMP_CORE };
@@ -101,6 +104,16 @@ struct job_hooks {
      points): the clock above will not tick (NULL: not told) */
   void (*untimed)(void *ctx);
   void *untimed_ctx;
+  /* the 1974 program watched as it runs (tube74 teach; NULL: not watched): its teaching
+     dump, the text --dump tables writes, goes to `tables` as it is made (a seekable file
+     when the job has --dump tables as well); watch() sees the renderer at every point of
+     the scan, before the point is displayed (i, j and face as render_scan gives them:
+     face an index in r->map.f, or -1), and once more after the scan with i = j = -1,
+     when the faces above the window have been cut and the final matrix written. A
+     status other than T74_OK from it ends the job with that status. */
+  FILE *tables;
+  int (*watch)(void *ctx, const struct render *r, int i, int j, int face);
+  void *watch_ctx;
 };
 
 struct job_result {
@@ -112,6 +125,7 @@ struct job_result {
   int engine;                       /* the engine that ran: JOB_ENGINE_1974 or _POINTS */
   uint32_t core_words;              /* the core the picture was drawn with */
   uint32_t core_words_used;         /* the most of it in use at once: what it needs */
+  const struct pat_cell *pat;       /* the halftone cells the dots were drawn with */
 };
 
 /* The engine job j runs with effects e (parsed from its scene or --effects) on its scene s:

@@ -110,7 +110,7 @@ static int segment_takes(struct points *p, const struct mface *f, struct t74_err
       p->segcore = core_new(1u << 16);
       if (!p->segcore) return -t74_fail(err, T74_EIO, "out of host memory");
     }
-    struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
+    struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid, 1 };
     struct seg_result res;
     memset(&res, 0, sizeof res);
     struct cost c;

@@ -677,7 +677,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
       if (sg == 0) sg = mface_coplanar_front(A, B) ? 1 : -1;
       if (pr->trace)
         fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front "
-                "(they meet along an edge)\n", i, (unsigned)A->id, j, (unsigned)B->id,
+                "(they meet along an edge)\n", i + 1, (unsigned)A->id, j + 1, (unsigned)B->id,
                 sg > 0 ? "first" : "second");
       return sg > 0 ? CODE_HIGHER : CODE_LOWER;
     }
@@ -691,7 +691,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     if (s == 0) s = mface_coplanar_front(A, B) ? 1 : -1;   /* coplanar: render/mapper.h */
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front%s\n",
-              i, (unsigned)A->id, j, (unsigned)B->id, s > 0 ? "first" : "second",
+              i + 1, (unsigned)A->id, j + 1, (unsigned)B->id, s > 0 ? "first" : "second",
               g.k0 == 0 && g.k1 == 0 && g.K == 0 ? (A->on || B->on ? " (coplanar: the pattern)"
                                                                   : " (coplanar: larger face number)") : "");
     return s > 0 ? CODE_HIGHER : CODE_LOWER;
@@ -735,9 +735,9 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     if (note_cut(pr, pf, qf, L, err) != T74_OK) return PRIO_ERROR;
     if (pr->trace)
       fprintf(pr->trace, "INTERSECT pieces %d (face %u) and %d (face %u) cross: cut along "
-              "%lld x + %lld y + %lld = 0 into pieces %d..%d\n", i, (unsigned)A->id, j,
+              "%lld x + %lld y + %lld = 0 into pieces %d..%d\n", i + 1, (unsigned)A->id, j + 1,
               (unsigned)B->id, (long long)L.a, (long long)L.b, (long long)L.c,
-              pr->seg->n - (qhl && qhr ? 4 : 2), pr->seg->n - 1);
+              pr->seg->n - (qhl && qhr ? 4 : 2) + 1, pr->seg->n);
     result = DECIDED_SPLIT;
   } else {
     result = ovr && !ovl ? CODE_LOWER : CODE_HIGHER;
@@ -749,7 +749,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
       return PRIO_ERROR;
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front\n",
-              i, (unsigned)A->id, j, (unsigned)B->id, result == CODE_HIGHER ? "first" : "second");
+              i + 1, (unsigned)A->id, j + 1, (unsigned)B->id, result == CODE_HIGHER ? "first" : "second");
   }
   return result;
 }
@@ -797,10 +797,10 @@ void prio_dump(const struct prio *pr, FILE *f)
   fprintf(f, "  a_ij = 00 undefined, 10 piece i lower than piece j, 11 piece i higher\n");
   if (n <= 48) {
     fprintf(f, "      ");
-    for (int j = 0; j < n; j++) fprintf(f, "%3d", j);
+    for (int j = 0; j < n; j++) fprintf(f, "%3d", j + 1);
     fprintf(f, "\n");
     for (int i = 0; i < n; i++) {
-      fprintf(f, "  %3d ", i);
+      fprintf(f, "  %3d ", i + 1);
       for (int j = 0; j < n; j++) {
         if (i == j) { fprintf(f, "  -"); continue; }
         unsigned c = i < j ? code_get(m, (uint32_t)i, (uint32_t)j)
@@ -826,7 +826,7 @@ void prio_dump(const struct prio *pr, FILE *f)
     if (list) {
       qsort(list, (size_t)count, sizeof *list, pair_cmp);
       for (uint64_t k = 0; k < count; k++)
-        fprintf(f, "  a(%u,%u) = %s\n", (unsigned)list[k][0], (unsigned)list[k][1],
+        fprintf(f, "  a(%u,%u) = %s\n", (unsigned)list[k][0] + 1, (unsigned)list[k][1] + 1,
                 list[k][2] == CODE_LOWER ? "10" : "11");
       free(list);
     } else
@@ -836,10 +836,10 @@ void prio_dump(const struct prio *pr, FILE *f)
       for (int i = 0; i < j; i++) {
         unsigned c = code_get(m, (uint32_t)i, (uint32_t)j);
         if (c != CODE_UNKNOWN)
-          fprintf(f, "  a(%d,%d) = %s\n", i, j, c == CODE_LOWER ? "10" : "11");
+          fprintf(f, "  a(%d,%d) = %s\n", i + 1, j + 1, c == CODE_LOWER ? "10" : "11");
       }
   }
   for (int k = 0; k < n; k++)
-    if (!pr->seg->p[k].alive) fprintf(f, "  piece %d was cut along an intersection line\n", k);
+    if (!pr->seg->p[k].alive) fprintf(f, "  piece %d was cut along an intersection line\n", k + 1);
   m->cost = saved;
 }

@@ -83,7 +83,9 @@ int prio_known(struct prio *pr, int p, int q);
 /* Free the host-side list of cuts (the matrix itself lives in core). */
 void prio_free(struct prio *pr);
 
-/* The matrix in Fig. 9 form (or as a list of known pairs when large). */
+/* The matrix in Fig. 9 form (or as a list of known pairs when large). The dump and the
+   trace number pieces from 1 (piece k is seg->p[k - 1]), as the Segment Generator's
+   listing of each face's pieces does. */
 void prio_dump(const struct prio *pr, FILE *f);
 
 #endif

@@ -37,7 +37,7 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
   int st = T74_OK;
   {
     const struct mface *f = &r->map.f[k];
-    struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
+    struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid, r->seg.n + 1 };
     struct seg_result res = { 0 };
     st = seg_generate(&in, &res, r->tables, r->core, cost, err);
     if (st == T74_EINPUT && r->arith == GEOM_HITAC) {
@@ -69,7 +69,7 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
       if (st != T74_OK) goto out;
       if (ntri == 0) goto out;
       f = &r->map.f[k];
-      struct seg_input tin = { f->id, f->nring, f->ring_start, f->pt, f->vid };
+      struct seg_input tin = { f->id, f->nring, f->ring_start, f->pt, f->vid, r->seg.n + 1 };
       st = seg_generate(&tin, &res, r->tables, r->core, cost, err);
       if (st == T74_EINPUT) {
         snprintf(why, sizeof why, "%s", err->msg);

@@ -1309,7 +1309,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
   if (x->trace) {
     FILE *f = x->trace;
     int nl = hc[XS_BELOW].ncy, nu = hc[XS_ABOVE].ncy;
-    fprintf(f, "cut %d at y = %lld in piece %d (through concave vertex", x->ncut,
+    fprintf(f, "cut %d at y = %lld in part %d (through concave vertex", x->ncut,
             (long long)c, P->id);
     int cnt = 0;
     for (int r = 0; r < P->nring; r++) {
@@ -1590,7 +1590,7 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
     fprintf(trace, "face %u: %d convex piece%s after %d cut%s\n", (unsigned)in->face_id,
             res.npiece, res.npiece == 1 ? "" : "s", res.ncut, res.ncut == 1 ? "" : "s");
     for (int i = 0; i < res.npiece; i++) {
-      fprintf(trace, "  piece %d:", i + 1);
+      fprintf(trace, "  piece %d:", (in->first_piece > 0 ? in->first_piece : 1) + i);
       for (int k = 0; k < res.piece[i].n; k++)
         fprintf(trace, " %u", (unsigned)res.piece[i].v[k].num);
       fputc('\n', trace);

@@ -25,6 +25,8 @@ struct seg_input {
   const int *ring_start;       /* nring + 1 offsets into pt/vid; ring 0 = outer (CCW), others holes (CW) */
   const struct gpoint *pt;     /* grid positions; consecutive points distinct, >= 3 per ring */
   const uint32_t *vid;         /* vertex ids as typed (tables and dumps show these) */
+  int      first_piece;        /* the number the trace gives the face's first piece (the
+                                  Segment Information's number, from 1); 0: 1 */
 };
 
 enum seg_vkind { SEGV_ORIG = 0, SEGV_CROSS = 1 };
@@ -49,7 +51,9 @@ struct seg_result {
 
 /* Split one face. trace (nullable) receives the teaching dump: YSORT, XSORT rows with each
    crossing's type (a)-(e), the rules of eq. (3) matched on them, and for each cut the
-   states (a)-(d) of Fig. 6 (PBS, IPL, LWS, UPS). Tables are allocated in core for their lifetime (T74_ECORE when they
+   states (a)-(d) of Fig. 6 (PBS, IPL, LWS, UPS). A cut names the part it cuts ("in part
+   P": 1 is the face, then the pieces the cuts make, each cut's lower ones first); the
+   convex pieces are listed with numbers from in->first_piece on. Tables are allocated in core for their lifetime (T74_ECORE when they
    do not fit) and operations are counted in cost. Returns T74_OK or an error status. */
 int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace,
                  struct core *core, struct cost *cost, struct t74_error *err);

@@ -810,7 +810,7 @@ static void test_prio_auto_migrates(void **state)
   const char *ba = strchr(da, '\n'), *bb = strchr(db, '\n');
   assert_non_null(ba);
   assert_non_null(bb);
-  assert_non_null(strstr(ba, "a(0,"));
+  assert_non_null(strstr(ba, "a(1,"));
   assert_string_equal(ba, bb);
   free(da);
   free(db);

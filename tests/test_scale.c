@@ -281,7 +281,7 @@ static void seg_u(const uint32_t ids[8], uint32_t newnum[2])
   struct gpoint pt[8];
   for (int k = 0; k < 8; k++) { pt[k].x = xy[k][0] * GRID_ONE; pt[k].y = xy[k][1] * GRID_ONE; }
   int rs[2] = { 0, 8 };
-  struct seg_input in = { 70001, 1, rs, pt, ids };
+  struct seg_input in = { 70001, 1, rs, pt, ids, 1 };
   struct seg_result r;
   struct t74_error err;
   memset(&err, 0, sizeof err);

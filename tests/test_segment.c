@@ -66,7 +66,7 @@ static void tf_ring(struct tface *f, int n, const long long *xy)
 static int run_face(const struct tface *f, struct seg_result *r, FILE *trace,
                     struct core *core, struct cost *cost, struct t74_error *err)
 {
-  struct seg_input in = { f->id, f->nring, f->rs, f->pt, f->vid };
+  struct seg_input in = { f->id, f->nring, f->rs, f->pt, f->vid, 1 };
   memset(err, 0, sizeof *err);
   int rc = seg_generate(&in, r, trace, core, cost, err);
   if (rc) print_message("seg_generate: %s\n", err->msg);
@@ -419,7 +419,7 @@ static void test_rule_c(void **state)
   HAS(&r, 0, 30, 40, 30, 40, 40, 0, 40);
   seg_result_free(&r);
   char *t = trace_of(f, &r);
-  expect_in(t, "cut 1 at y = 10 in piece 1 (through concave vertex v5): rule (c);");
+  expect_in(t, "cut 1 at y = 10 in part 1 (through concave vertex v5): rule (c);");
   expect_in(t, "UPS    5 6 7 8 5 11 3 4 12\n");        /* a e Y e b X: the hole ring joined */
   expect_in(t, "PBS    1 2 11 3 4 12 * 5 6 7 8\n");
   free(t);
@@ -445,7 +445,7 @@ static void test_fig6(void **state)
   seg_result_free(&r);
   char *t = trace_of(f, &r);
   expect_in(t, "face 6: 2 rings, 10 vertices, 5 concave vertices");
-  expect_in(t, "cut 1 at y = 20 in piece 1 (through concave vertex v8, v10)");
+  expect_in(t, "cut 1 at y = 20 in part 1 (through concave vertex v8, v10)");
   expect_in(t, "PBS    1 11 2 12 3 13 4 14 5 * 6 7 8 9 10\n");
   expect_in(t, "above: 11 10 | 10 12 | 13 8 | 8 14");
   expect_in(t, "LWS    11 2 12 ; 13 4 14\n");
@@ -454,9 +454,9 @@ static void test_fig6(void **state)
                "endpoint (e) | x=30 edge v2-v3 middle (b)");
   /* matched on the typed crossings: the hole joined through its first e (10) by (c), its
      second e (8), on the joined ring, cut off by (b') as its d */
-  expect_in(t, "cut 1 at y = 20 in piece 1 (through concave vertex v8, v10): rule (c) (b');");
-  expect_in(t, "cut 2 at y = 80 in piece 4 (through concave vertex v6, v7): rule (b);");
-  expect_in(t, "cut 3 at y = 40 in piece 5 (through concave vertex v3): rule (b);");
+  expect_in(t, "cut 1 at y = 20 in part 1 (through concave vertex v8, v10): rule (c) (b');");
+  expect_in(t, "cut 2 at y = 80 in part 4 (through concave vertex v6, v7): rule (b);");
+  expect_in(t, "cut 3 at y = 40 in part 5 (through concave vertex v3): rule (b);");
   expect_in(t, "face 6: 8 convex pieces after 3 cuts");
   free(t);
   seg_result_free(&r);
@@ -1233,7 +1233,7 @@ static void test_rules_decide(void **state)
   tf_ring(f, 3, (const long long[]){ 4, 10, 6, 16, 8, 10 });
   struct seg_result r;
   char *t = trace_of(f, &r);
-  expect_in(t, "cut 1 at y = 10 in piece 1 (through concave vertex v3, v4, v9, v10, v13, v15): rule (c) (b) (b')");
+  expect_in(t, "cut 1 at y = 10 in part 1 (through concave vertex v3, v4, v9, v10, v13, v15): rule (c) (b) (b')");
   expect_in(t, "edge v3-v4 coincident (c)");
   expect_in(t, "edge v9-v10 coincident (d)");
   expect_in(t, "edge v15-v13 coincident (e)");
