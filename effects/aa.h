@@ -18,7 +18,7 @@
 ** (aa_light / aa_grey; a 256-word table in core, searched by halving).
 **
 ** The machine model: each method's tables (light table, F table, area table) and row
-** buffers are allocated in r->core; its operations are counted in the cost it is given.
+** buffers are allocated in the engine's core; its operations are counted in the cost it is given.
 ** Details and choices: docs/aa.md.
 */
 #ifndef T74_AA_H
@@ -32,13 +32,13 @@
 #include "render/render.h"
 
 /* Run the method e->aa (not EFFECTS_AA_NONE) over frame f (see fx_run). */
-int aa_run(struct render *r, const struct effects *e, const struct vis_grid *g,
+int aa_run(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
            struct fx_frame *f, struct fx_stats *st, struct cost *cost,
            struct t74_error *err);
 
 /* The same, but the light (0..1, the fraction of the cell's dots) of every point into
    light[j * W + i], the frame untouched: for tests and the bench. */
-int aa_light_map(struct render *r, const struct effects *e, const struct vis_grid *g,
+int aa_light_map(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
                  const struct fx_frame *f, struct fx_stats *st, struct cost *cost,
                  double *light, struct t74_error *err);
 

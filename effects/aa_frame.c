@@ -87,7 +87,9 @@ int aa_frame_render(const char *path, const char *effects, int cell, uint32_t co
   if (st == T74_OK) st = render_scan(&r, &g, on_point, &sc, err);
   if (st == T74_OK && e.aa != EFFECTS_AA_NONE) {
     struct fx_frame fr = { f->W, f->H, f->cell, f->face, f->grey, bg, NULL };
-    st = aa_light_map(&r, &e, &g, &fr, &f->st, &f->fx, f->light, err);
+    struct fx_engine eng;
+    fx_engine_1974(&eng, &r, &g);
+    st = aa_light_map(&eng, &e, &g, &fr, &f->st, &f->fx, f->light, err);
     for (size_t k = 0; st == T74_OK && k < n; k++) f->grey[k] = (uint8_t)aa_grey(f->cell, f->light[k]);
   } else if (st == T74_OK) {
     for (size_t k = 0; k < n; k++) f->light[k] = aa_light(f->cell, f->grey[k]) / (double)AA_LIGHT_ONE;

@@ -61,10 +61,10 @@ void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS +
 
 /* The regions the contour smoothing cuts away (see above), one polygon per convex corner
    (owner: the object), appended to cuts; m is the smoothing model of the scene. The
-   corner's region polygon passes through r->core (one at a time), counted in cost. The
+   corner's region polygon passes through core (one at a time), counted in cost. The
    frame model (effects/model.h) cuts them out of the object's stretches. */
-int contour_build(struct render *r, const struct scene *s, const struct effects *e,
-                  const struct smooth_model *m, struct fx_polys *cuts, struct fx_stats *st,
-                  struct cost *cost, struct t74_error *err);
+int contour_build(const struct mapped *map, struct core *core, const struct scene *s,
+                  const struct effects *e, const struct smooth_model *m, struct fx_polys *cuts,
+                  struct fx_stats *st, struct cost *cost, struct t74_error *err);
 
 #endif
