@@ -100,10 +100,10 @@ void job_usage(FILE *f)
     "  --arith exact|hitac    decisions in exact arithmetic (default) or in the HITAC-10's\n"
     "                         word sizes as the 1974 program would make them\n"
     "  --engine 1974|points|auto  the 1974 program with every HITAC-10 figure, or exact\n"
-    "                         visibility at each point centre without them (no effects\n"
-    "                         aa/edges/smooth/contour, --arith hitac, --dump tables|core);\n"
-    "                         auto (default): points for .obj/.off imports that need\n"
-    "                         nothing of the 1974 program, else 1974\n");
+    "                         visibility at each point centre without them (not\n"
+    "                         aa=multiscan|area|exact, edges=, --arith hitac, --dump\n"
+    "                         tables|core); auto (default): points for .obj/.off imports\n"
+    "                         that need nothing of the 1974 program, else 1974\n");
 }
 
 static int parse_long(const char *s, long lo, long hi, long *out)
