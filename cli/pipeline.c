@@ -1050,7 +1050,8 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
     if (st != T74_OK) goto done;
   }
   if (jo.stats && engine == JOB_ENGINE_POINTS &&
-      (st = write_stats_points(o, s, &pts, &p, t, host, frame_med, &eff, &fst, jo.stats, err)) != T74_OK)
+      (st = write_stats_points(o, s, &pts, &p, t, host, frame_med, &eff, &fst, jo.stats,
+                               err)) != T74_OK)
     goto done;
   if (jo.stats && engine == JOB_ENGINE_1974 &&
       (st = write_stats(o, &r, &p, t, host, frame_med, &eff, &fst, jo.stats, err)) != T74_OK)

@@ -87,7 +87,8 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
     smooth_count(&m->sm, st);
   }
   if (e->contour_on && m->smooth) {
-    if ((rc = contour_build(map, eng->core, s, e, &m->sm, &m->cuts, st, cost, err)) != T74_OK) return rc;
+    rc = contour_build(map, eng->core, s, e, &m->sm, &m->cuts, st, cost, err);
+    if (rc != T74_OK) return rc;
     for (int k = 0; k < m->cuts.n; k++) {
       int o = m->cuts.p[k].owner, seen = 0;
       for (int q = 0; q < m->ncut; q++) seen |= m->cut_obj[q] == o;

@@ -28,8 +28,9 @@
 ** point); enhanced edges draw over the result. A region decided stretch by stretch and
 ** sample by sample is the same region: a point on a polygon's boundary belongs to the
 ** stretch on its right either way (effects/poly.h), and tests/test_engines.c checks the
-** two ways against each other on the 1974 engine. So a cut corner stays cut under every filter, a smooth surface
-** has no seams under anti-aliasing, and a shadow's edge is anti-aliased like a face's.
+** two ways against each other on the 1974 engine. So a cut corner stays cut under every
+** filter, a smooth surface has no seams under anti-aliasing, and a shadow's edge is
+** anti-aliased like a face's.
 */
 #ifndef T74_MODEL_H
 #define T74_MODEL_H

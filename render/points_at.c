@@ -13,19 +13,20 @@
 ** Crossings.  An edge from (x0, y0) up to (x1, y1) meets the row when y0 yd <= yn < y1 yd
 ** (the sample shifted up by e^2: geom.h's tie rule). Its crossing lies at or left of sample
 ** k (the sample then belongs to the side right of the edge) when (2k + 1) D >= R with
-** D = S dy yd, S = GRID_ONE (XR - XL), R = xd (x0 dy yd + (yn - y0 yd) dx) - GRID_ONE xd XL
-** dy yd: D < 2^24 2^29 2^13 = 2^66, |yn - y0 yd| < 2^42, |R| < 2^13 (2^70 + 2^42 2^29) +
-** 2^78 < 2^86, in 128 bits. The first such k is floor(ceil(R / D) / 2), one division a crossing.
+** D = S dy yd, S = GRID_ONE (XR - XL), R = xd (x0 dy yd + (yn - y0 yd) dx) - GRID_ONE xd
+** XL dy yd: D < 2^24 2^29 2^13 = 2^66, |yn - y0 yd| < 2^42, |R| < 2^13 (2^70 + 2^42 2^29)
+** + 2^78 < 2^86, in 128 bits. The first such k is floor(ceil(R / D) / 2), one division a
+** crossing.
 **
 ** Depth.  With Xc = xd (x - Ex) = xd (XL - Ex) + (2k + 1)(XR - XL) and Yc = yd (y - Ey), in
 ** world units, P = xd yd n.u = a yd Xc + b xd Yc - c xd yd Ez, linear in k. Samples lie at
 ** most one point beyond the window (W, H >= 2): |x - Ex| < 2^17, so |Xc| < 2^30,
 ** |Yc| < 2^30 and |P| < 2^34 (2 2^13 2^30 + 2^26 2^15) < 2^79; alpha = 2 a yd (XR - XL)
 ** < 2^64. A is in front of B when |D_B| P_A > |D_A| P_B; the products reach 2^131, so they
-** are taken in 128 bits while
-** both P are below 2^74 (products below 2^126) and in 256 bits (geom_cross_sign) beyond.
-** Equal depth: the sign of |D_B| a_A - |D_A| a_B (just right of the sample), then of the
-** b's (just above), below 2^86; then mface_coplanar_front — points.c's rules.
+** are taken in 128 bits while both P are below 2^74 (products below 2^126) and in 256 bits
+** (geom_cross_sign) beyond. Equal depth: the sign of |D_B| a_A - |D_A| a_B (just right of
+** the sample), then of the b's (just above), below 2^86; then mface_coplanar_front —
+** points.c's rules.
 */
 #include "render/points_at.h"
 
@@ -35,30 +36,22 @@
 
 #include "render/geom.h"
 
-static bool grow(void **buf, int *cap, int need, size_t size)
+/* Room for n elements of size sz in *buf (capacity *cap); false when the host has none. */
+static bool room(void **buf, int *cap, int n, size_t sz)
 {
-  if (need <= *cap) return true;
-  int c = *cap ? *cap : 64;
-  while (c < need) c *= 2;
-  void *nb = realloc(*buf, (size_t)c * size);
+  if (n <= *cap) return true;
+  void *nb = realloc(*buf, (size_t)n * 2 * sz);
   if (!nb) return false;
   *buf = nb;
-  *cap = c;
+  *cap = n * 2;
   return true;
-}
-
-/* floor(n / d), d > 0 */
-static wide floor_div(wide n, wide d)
-{
-  wide q = n / d;
-  if ((n % d) < 0) q--;
-  return q;
 }
 
 /* Each face's extent in y, once a frame. */
 static int extents(struct points_at *q, const struct points *p, struct t74_error *err)
 {
   if (q->of == p && q->nface == p->map.nface) return T74_OK;
+  q->of = NULL;
   free(q->ylo);
   free(q->yhi);
   int n = p->map.nface;
@@ -117,7 +110,7 @@ int points_at_row(struct points_at *q, const struct points *p, const struct vis_
     return t74_fail(err, T74_EIO, "points_at_row: sample lattice out of range");
   int st = extents(q, p, err);
   if (st != T74_OK) return st;
-  if (!grow((void **)&q->depth, &q->depthcap, n + 1, sizeof *q->depth))
+  if (!room((void **)&q->depth, &q->depthcap, n + 1, sizeof *q->depth))
     return t74_fail(err, T74_EIO, "out of host memory");
   for (int i = 0; i < n; i++) face[i] = -1;
   const wide yn = (wide)GRID_ONE * (yd * YT - (2 * m + 1) * (YT - YB));
@@ -129,6 +122,8 @@ int points_at_row(struct points_at *q, const struct points *p, const struct vis_
     if (p->skip[k] || (skip && skip[k])) continue;
     if (yn < (wide)q->ylo[k] * yd || yn >= (wide)q->yhi[k] * yd) continue;
     const struct mface *f = &F[k];
+    if (!room((void **)&q->col, &q->colcap, f->ring_start[f->nring], sizeof *q->col))
+      return t74_fail(err, T74_EIO, "out of host memory");
     int nc = 0;
     for (int r = 0; r < f->nring; r++) {
       int lo = f->ring_start[r], hi = f->ring_start[r + 1];
@@ -141,12 +136,10 @@ int points_at_row(struct points_at *q, const struct points *p, const struct vis_
         wide D = S * dy * yd;
         wide R = xd * ((wide)a.x * dy * yd + (yn - (wide)a.y * yd) * dx) -
                  (wide)GRID_ONE * xd * XL * dy * yd;
-        wide c = floor_div(R, D) + (R % D != 0);       /* ceil(R / D) */
-        c = floor_div(c, 2) - k0;
+        wide c = geom_rat_ceil((struct grat){ R, D });
+        c = geom_rat_floor((struct grat){ c, 2 }) - k0;
         if (c < 0) c = 0;
         if (c > n) c = n;
-        if (!grow((void **)&q->col, &q->colcap, nc + 1, sizeof *q->col))
-          return t74_fail(err, T74_EIO, "out of host memory");
         q->col[nc++] = (int32_t)c;
       }
     }

@@ -194,6 +194,18 @@ static long judge_xr(struct xr_scene *x, int cell, const char *name, struct tall
   return bad;
 }
 
+/* A shipped scene, read quietly as a user's file would be. */
+static struct scene *load_quiet(const char *path)
+{
+  struct scene *sc = NULL;
+  struct t74_error err = { 0, "" };
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  so.quiet = true;
+  assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
+  return sc;
+}
+
 /* ---- the effects under both engines ----------------------------------------------- */
 
 /* Both engines on one scene and grid, as the effects see them (effects/see.h). */
@@ -290,7 +302,8 @@ static void lattice(struct duo *d, const struct effects *e, int K, const char *n
   assert_true(nq <= 16);
   for (int q = 0; q < nq; q++) {
     for (int k = 0; k < 2; k++)
-      assert_int_equal(fx_see_open(&see[k][q], &d->eng[k], q ? m[k].cut_skip[q - 1] : NULL, &cost, &err), T74_OK);
+      assert_int_equal(fx_see_open(&see[k][q], &d->eng[k], q ? m[k].cut_skip[q - 1] : NULL,
+                                   &cost, &err), T74_OK);
     struct xr_scene xs;
     assert_int_equal(to_ref_without(d->s, q ? (uint32_t)m[0].cut_obj[q - 1] : 0, &xs), 0);
     assert_int_equal(xr_prepare(&xs, d->cell, &ref[q]), 0);
@@ -636,12 +649,7 @@ static void test_shipped(void **state)
   for (int k = 0; k < nn; k++) {
     char path[512];
     snprintf(path, sizeof path, "scenes/%s", names[k]);
-    struct scene *sc = NULL;
-    struct t74_error err = { 0, "" };
-    struct scene_opts so;
-    memset(&so, 0, sizeof so);
-    so.quiet = true;
-    assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
+    struct scene *sc = load_quiet(path);
     for (int cell = 3; cell <= 4; cell++) {
       long before = t.differ;
       bad += judge_scene(sc, cell, names[k], &t);
@@ -688,14 +696,11 @@ static void add_poly(struct fx_polys *ps, const struct vis_grid *g, const int (*
 static void test_regions_on_samples(void **state)
 {
   (void)state;
-  struct scene *sc = NULL;
+  struct scene *sc = load_quiet("scenes/lprism.s74");
   struct t74_error err = { 0, "" };
-  struct scene_opts so;
-  memset(&so, 0, sizeof so);
-  so.quiet = true;
-  assert_int_equal(scene_load("scenes/lprism.s74", &so, &sc, &err), T74_OK);
   struct effects e;
-  assert_int_equal(effects_parse("halftone=4x4 smooth=phong contour=0.5 shadows=on", &e, "test", 1, &err), T74_OK);
+  assert_int_equal(effects_parse("halftone=4x4 smooth=phong contour=0.5 shadows=on", &e, "test", 1,
+                                 &err), T74_OK);
   struct duo d;
   char msg[1024];
   assert_int_equal(duo_open(&d, sc, 4, msg, sizeof msg), T74_OK);
@@ -727,7 +732,8 @@ static void test_regions_on_samples(void **state)
     struct fx_see *plain;
     assert_int_equal(fx_see_open(&plain, &d.eng[0], NULL, &cost, &err), T74_OK);
     const int nk = K * (d.W + 2);
-    int *fa = calloc((size_t)nk, sizeof *fa), *fb = calloc((size_t)nk, sizeof *fb), *fp = calloc((size_t)nk, sizeof *fp);
+    int *fa = calloc((size_t)nk, sizeof *fa), *fb = calloc((size_t)nk, sizeof *fb);
+    int *fp = calloc((size_t)nk, sizeof *fp);
     unsigned *ba = calloc((size_t)nk, sizeof *ba), *bb = calloc((size_t)nk, sizeof *bb);
     for (int mr = K * (d.H + 1) - 1; mr >= -K; mr--) {
       assert_int_equal(fx_lines_samples(L[0], K, mr, -K, nk, fa, ba, &err), T74_OK);
@@ -768,12 +774,8 @@ static void test_fx_shipped(void **state)
   for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
     char path[256], name[1024], fx[512];
     snprintf(path, sizeof path, "scenes/%s.s74", scenes[k]);
-    struct scene *sc = NULL;
+    struct scene *sc = load_quiet(path);
     struct t74_error err = { 0, "" };
-    struct scene_opts so;
-    memset(&so, 0, sizeof so);
-    so.quiet = true;
-    assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
     const char *own = sc->effects ? sc->effects : "";
     struct effects e;
     assert_int_equal(effects_parse(own, &e, "test", 1, &err), T74_OK);
