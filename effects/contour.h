@@ -24,9 +24,11 @@
 ** crossings with the region between the corner and the curve give the stretches cut
 ** away, with the renderer's tie rule (a stretch owns its left end, not its right).
 **
-** Where the object is what is seen inside a region, the line shows what lies behind: the
-** stretches of a second Visible Surface Procedure over the pieces of every other face
-** (vis_init_without), or the background. Faces of the object itself do not show through: beyond its smoothed
+** Where the object is what is seen inside a region, the line shows what lies behind: what
+** the engine sees there with the object's faces taken away (effects/see.h: under the 1974
+** engine the stretches of a second Visible Surface Procedure over the pieces of every
+** other face, vis_init_without; under the points engine its exact answer at the point),
+** or the background. Faces of the object itself do not show through: beyond its smoothed
 ** contour, the object is not there.
 **
 ** Concave contour vertices (where the contour turns right, or goes straight on) are left
