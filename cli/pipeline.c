@@ -56,6 +56,7 @@ static const char *const dump_names[] = { "ids", "grey", "tube", "points", "tabl
 /* What the point callback needs: renderer, halftone, sinks, dump buffers. */
 struct pipeline {
   struct render *r;                 /* the 1974 engine (NULL under --engine points) */
+  const struct points *pts;         /* the points engine (NULL under --engine 1974) */
   const struct mapped *map;         /* the Mapper's faces, of either engine */
   bool timed;                       /* the 1974 engine: its clock, first dot, figures */
   const struct pat_cell *pat;
@@ -99,10 +100,10 @@ void job_usage(FILE *f)
     "  --arith exact|hitac    decisions in exact arithmetic (default) or in the HITAC-10's\n"
     "                         word sizes as the 1974 program would make them\n"
     "  --engine 1974|points|auto  the 1974 program with every HITAC-10 figure, or exact\n"
-    "                         visibility at each point centre without them (no effects\n"
-    "                         aa/edges/smooth/contour, --arith hitac, --dump tables|core);\n"
-    "                         auto (default): points for .obj/.off imports that need\n"
-    "                         nothing of the 1974 program, else 1974\n");
+    "                         visibility at each point centre without them (not\n"
+    "                         aa=multiscan|area|exact, edges=, --arith hitac, --dump\n"
+    "                         tables|core); auto (default): points for .obj/.off imports\n"
+    "                         that need nothing of the 1974 program, else 1974\n");
 }
 
 static int parse_long(const char *s, long lo, long hi, long *out)
@@ -322,7 +323,12 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   if (!flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
   memcpy(flat, p->grey, n);
   struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL };
-  int st = fx_run(p->r, s, e, g, &f, fst, &p->fx, err);
+  struct fx_engine eng;                     /* the engine that drew the frame (effects/see.h) */
+  int st = T74_OK;
+  if (p->r) fx_engine_1974(&eng, p->r, g);
+  else st = fx_engine_points(&eng, p->pts, g, err);
+  if (st == T74_OK) st = fx_run(&eng, s, e, g, &f, fst, &p->fx, err);
+  fx_engine_free(&eng);
   for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
     for (int i = 0; st == T74_OK && i < p->W; i++) {
       size_t at = (size_t)j * (size_t)p->W + (size_t)i;
@@ -402,21 +408,12 @@ static bool job_is_import(const struct job *o)
 int job_engine_for(const struct job *o, const struct scene *s, const struct effects *e,
                    struct t74_error *err)
 {
-  /* what only the 1974 program does */
-  const char *why = NULL;
-  if (e->aa != EFFECTS_AA_NONE || e->edges || e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on ||
-      e->shadows)
-    why = "the effects aa=, edges=, smooth=, contour= and shadows= work on the 1974 engine's "
-          "renderer";
-  int at = 0;                       /* the scene line the refusal names, if one */
-  for (int k = 0; k < s->nf && !why; k++)
-    if (s->f[k].texture) {
-      why = "a texture (`texture F FILE`) is applied by the 1974 engine's renderer";
-      at = s->f[k].texture_line;
-    }
-  else if (o->arith == GEOM_HITAC)
+  /* what only the 1974 program does: effects on its stretches and cuts (effects/see.h) */
+  const char *why = fx_needs_1974(e);
+  int at = why && !o->effects ? s->effects_line : 0;   /* the scene line the refusal names */
+  if (!why && o->arith == GEOM_HITAC)
     why = "--arith hitac is the 1974 program's arithmetic";
-  else if (o->need_1974)
+  else if (!why && o->need_1974)
     why = "this command shows the 1974 program at work";
   for (int d = 0; d < o->ndump && !why; d++)
     if (o->dump_kind[d] == DUMP_TABLES || o->dump_kind[d] == DUMP_CORE)
@@ -512,6 +509,15 @@ static void write_run_fields(struct outfile *of, const struct job *o, const stru
   outfile_printf(of, ",\n");
 }
 
+/* The effects' own counters (fx_count), either engine. */
+static void write_fx_fields(struct outfile *of, const struct fx_stats *fst)
+{
+  for (int k = 0; k < fst->n; k++) {
+    if (fst->integer[k]) outfile_printf(of, "  \"%s\": %.0f,\n", fst->name[k], fst->value[k]);
+    else outfile_printf(of, "  \"%s\": %.6f,\n", fst->name[k], fst->value[k]);
+  }
+}
+
 static int write_stats(const struct job *o, const struct render *r, const struct pipeline *p,
                        const struct tube *t, double host, double frame, const struct effects *eff,
                        const struct fx_stats *fst, struct outfile *of, struct t74_error *err)
@@ -573,10 +579,7 @@ static int write_stats(const struct job *o, const struct render *r, const struct
                    ss.samples, ss.lines, ss.drum_seconds, ss.input_disk_seconds, (unsigned)ss.words,
                    ss.tracks, (unsigned long long)ss.disk_reads);
   write_run_fields(of, o, p, t, host, frame, effbuf);
-  for (int k = 0; k < fst->n; k++) {
-    if (fst->integer[k]) outfile_printf(of, "  \"%s\": %.0f,\n", fst->name[k], fst->value[k]);
-    else outfile_printf(of, "  \"%s\": %.6f,\n", fst->name[k], fst->value[k]);
-  }
+  write_fx_fields(of, fst);
   if (p->hooks && p->hooks->stats && p->hooks->stats(p->hooks->stats_ctx, of) != T74_OK) {
     outfile_abort(of);
     return t74_fail(err, T74_EIO, "%s: cannot write statistics", o->stats);
@@ -607,7 +610,8 @@ static int write_stats(const struct job *o, const struct render *r, const struct
 /* --stats under --engine points: the contract's fields, the 1974 figures null. */
 static int write_stats_points(const struct job *o, const struct scene *s, const struct points *pt,
                               const struct pipeline *p, const struct tube *t, double host,
-                              double frame, const struct effects *eff, struct outfile *of,
+                              double frame, const struct effects *eff,
+                              const struct fx_stats *fst, struct outfile *of,
                               struct t74_error *err)
 {
   char effbuf[512];
@@ -634,12 +638,13 @@ static int write_stats_points(const struct job *o, const struct scene *s, const 
                  "  \"program_words\": null,\n  \"scanner_seconds\": null,\n"
                  "  \"disk_seconds\": null,\n  \"first_dot_1974_seconds\": null,\n");
   write_run_fields(of, o, p, t, host, frame, effbuf);
+  write_fx_fields(of, fst);
   if (p->hooks && p->hooks->stats && p->hooks->stats(p->hooks->stats_ctx, of) != T74_OK) {
     outfile_abort(of);
     return t74_fail(err, T74_EIO, "%s: cannot write statistics", o->stats);
   }
-  outfile_printf(of, "  \"stages\": [%s\"mapper\", \"points\", \"halftone\", \"tube\"],\n",
-                 p->scan ? "\"scanner\", " : "");
+  outfile_printf(of, "  \"stages\": [%s\"mapper\", \"points\", %s\"halftone\", \"tube\"],\n",
+                 p->scan ? "\"scanner\", " : "", p->face ? "\"effects\", " : "");
   outfile_printf(of, "  \"stage_hitac10_seconds\": null,\n  \"operations\": null\n}\n");
   return outfile_commit(of, err);
 }
@@ -842,7 +847,8 @@ static int points_emit(struct pipeline *p, const struct points *pt)
 }
 
 /* One more frame under --engine points (see spare_frame): the engine's scratch reused. */
-static int spare_points_frame(const struct pipeline *p0, const struct scene *s, struct points *pt,
+static int spare_points_frame(const struct pipeline *p0, const struct scene *s,
+                              const struct effects *e, struct points *pt,
                               const struct vis_grid *g, double *secs, struct t74_error *err)
 {
   struct pipeline p = *p0;
@@ -854,10 +860,15 @@ static int spare_points_frame(const struct pipeline *p0, const struct scene *s, 
   p.out = tube_sink(t);
   p.tube_only = t;
   memset(&p.display, 0, sizeof p.display);
+  memset(&p.fx, 0, sizeof p.fx);
   memset(&p.scanner, 0, sizeof p.scanner);
+  struct fx_stats fst;
+  memset(&fst, 0, sizeof fst);
   int st = points_render(pt, s, g, err);
   p.map = &pt->map;
+  p.pts = pt;
   if (st == T74_OK) st = points_emit(&p, pt);
+  if (st == T74_OK && p.face) st = run_effects(&p, s, e, g, &fst, err);
   *secs = now_seconds() - t0;
   tube_free(t);
   return st;
@@ -970,6 +981,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
     goto done;
   }
   p.r = engine == JOB_ENGINE_1974 ? &r : NULL;
+  p.pts = engine == JOB_ENGINE_POINTS ? &pts : NULL;
   p.map = engine == JOB_ENGINE_1974 ? &r.map : &pts.map;
   p.hooks = h;
   p.params = &o->params;
@@ -997,7 +1009,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
     struct render_opts ro2 = ro;
     ro2.tables = NULL;
     for (int k = 1; k < nframes && st == T74_OK; k++)
-      st = engine == JOB_ENGINE_POINTS ? spare_points_frame(&p, s, &pts, &g, &frame_t[k], err)
+      st = engine == JOB_ENGINE_POINTS ? spare_points_frame(&p, s, &eff, &pts, &g, &frame_t[k], err)
                                        : spare_frame(&p, s, &eff, &ro2, o->arith, &g, &frame_t[k], err);
     if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
   }
@@ -1046,7 +1058,8 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
     if (st != T74_OK) goto done;
   }
   if (jo.stats && engine == JOB_ENGINE_POINTS &&
-      (st = write_stats_points(o, s, &pts, &p, t, host, frame_med, &eff, jo.stats, err)) != T74_OK)
+      (st = write_stats_points(o, s, &pts, &p, t, host, frame_med, &eff, &fst, jo.stats,
+                               err)) != T74_OK)
     goto done;
   if (jo.stats && engine == JOB_ENGINE_1974 &&
       (st = write_stats(o, &r, &p, t, host, frame_med, &eff, &fst, jo.stats, err)) != T74_OK)

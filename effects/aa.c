@@ -78,7 +78,7 @@ void *aa_calloc(struct aa_ctx *c, size_t n, size_t sz)
 
 int aa_core(struct aa_ctx *c, const char *table, uint32_t words, uint32_t *addr)
 {
-  return core_alloc(c->r->core, table, words, addr, c->err);
+  return core_alloc(c->eng->core, table, words, addr, c->err);
 }
 
 void aa_line_free(struct aa_line *l)
@@ -94,14 +94,14 @@ double aa_frag_light(struct aa_ctx *c, int face, unsigned blocked, double u, dou
   int g;
   if (c->model) g = fx_shade(c->model, face, blocked, u, v, i, j, c->cost, NULL);
   else if (c->grey_at) g = c->grey_at(c->grey_ctx, face, i, j);
-  else if (face >= 0 && c->flat) g = c->r->map.f[face].grey;
+  else if (face >= 0 && c->flat) g = c->eng->map->f[face].grey;
   else if (face < 0 && !c->f->bg) g = 0;
   else {
     i = i < 0 ? 0 : i >= c->W ? c->W - 1 : i;
     j = j < 0 ? 0 : j >= c->H ? c->H - 1 : j;
     size_t at = (size_t)j * (size_t)c->W + (size_t)i;
     if (face < 0) g = c->f->bg[at];
-    else g = c->f->face[at] == face ? c->f->grey[at] : c->r->map.f[face].grey;
+    else g = c->f->face[at] == face ? c->f->grey[at] : c->eng->map->f[face].grey;
   }
   COST_ADD_N(c->cost, COST_MEM, 3);
   COST_ADD_N(c->cost, COST_ADD, 1);
@@ -114,7 +114,7 @@ int aa_line_y(struct aa_ctx *c, int64_t yn, int64_t yd, struct aa_line *l)
   const struct fx_span *fsp = NULL;
   int ns;
   int st = c->lines ? fx_lines_get(c->lines, yn, yd, &fsp, &ns, c->err)
-                    : vis_spans(&c->vis, yn, yd, &vsp, &ns, c->err);
+                    : fx_see_spans(c->see, yn, yd, &vsp, &ns, c->err);
   if (st != T74_OK) return st;
   c->nlines++;
   if (ns > l->cap) {
@@ -128,7 +128,7 @@ int aa_line_y(struct aa_ctx *c, int64_t yn, int64_t yd, struct aa_line *l)
   l->n = ns;
   l->yn = yn;
   l->yd = yd;
-  l->v = (c->yt - (double)yn / (double)yd) / c->ph;
+  l->v = aa_v_at(c, yn, yd);
   for (int k = 0; k < ns; k++) {
     struct aa_seg *s = &l->s[k];
     if (fsp) {
@@ -147,11 +147,22 @@ int aa_line_y(struct aa_ctx *c, int64_t yn, int64_t yd, struct aa_line *l)
   return T74_OK;
 }
 
-int aa_line_v(struct aa_ctx *c, int64_t vn, int64_t vd, struct aa_line *l)
+double aa_v_at(const struct aa_ctx *c, int64_t yn, int64_t yd)
+{
+  return (c->yt - (double)yn / (double)yd) / c->ph;
+}
+
+void aa_y_of_v(const struct aa_ctx *c, int64_t vn, int64_t vd, int64_t *yn, int64_t *yd)
 {
   const int32_t *w = c->g->window;
-  int64_t yd = vd * (int64_t)c->H;
-  int64_t yn = GRID_ONE * (yd * (int64_t)w[3] - vn * ((int64_t)w[3] - w[1]));
+  *yd = vd * (int64_t)c->H;
+  *yn = GRID_ONE * (*yd * (int64_t)w[3] - vn * ((int64_t)w[3] - w[1]));
+}
+
+int aa_line_v(struct aa_ctx *c, int64_t vn, int64_t vd, struct aa_line *l)
+{
+  int64_t yn, yd;
+  aa_y_of_v(c, vn, vd, &yn, &yd);
   return aa_line_y(c, yn, yd, l);
 }
 
@@ -504,13 +515,13 @@ int aa_exact(struct aa_ctx *c)
 
 /* ---- the run ---------------------------------------------------------------------------- */
 
-int aa_light_map(struct render *r, const struct effects *e, const struct vis_grid *g,
+int aa_light_map(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
                  const struct fx_frame *f, struct fx_stats *st, struct cost *cost,
                  double *light, struct t74_error *err)
 {
   struct aa_ctx c;
   memset(&c, 0, sizeof c);
-  c.r = r; c.e = e; c.g = g; c.f = f; c.st = st; c.cost = cost; c.err = err;
+  c.eng = eng; c.r = eng->r; c.e = e; c.g = g; c.f = f; c.st = st; c.cost = cost; c.err = err;
   c.W = f->W; c.H = f->H; c.cell = f->cell;
   c.xl = (double)GRID_ONE * g->window[0];
   c.yt = (double)GRID_ONE * g->window[3];
@@ -520,13 +531,15 @@ int aa_light_map(struct render *r, const struct effects *e, const struct vis_gri
   c.flat = e->smooth == EFFECTS_SMOOTH_NONE && !e->contour_on;
   c.out = light;
   memset(light, 0, (size_t)c.W * (size_t)c.H * sizeof *light);
+  const char *why = eng->r ? NULL : fx_needs_1974(e);
+  if (why) return t74_fail(err, T74_EINPUT, "the points engine cannot run this: %s", why);
   int rc = aa_core(&c, "AA LIGHT TABLE", 256, &c.light_at);
   if (rc != T74_OK) return rc;
-  for (int k = 0; k < 256; k++) core_write(r->core, c.light_at + (uint32_t)k, (uint16_t)aa_light(c.cell, k));
-  for (int k = 0; k < 256; k++) c.ltab[k] = core_read(r->core, c.light_at + (uint32_t)k) / (double)AA_LIGHT_ONE;
+  for (int k = 0; k < 256; k++) core_write(eng->core, c.light_at + (uint32_t)k, (uint16_t)aa_light(c.cell, k));
+  for (int k = 0; k < 256; k++) c.ltab[k] = core_read(eng->core, c.light_at + (uint32_t)k) / (double)AA_LIGHT_ONE;
   c.model = f->model;
-  if (c.model) rc = fx_lines_open(&c.lines, c.model, cost, err);
-  else rc = vis_init(&c.vis, &r->seg, &r->prio, cost, err);
+  if (c.model) rc = fx_lines_open(&c.lines, c.model, false, cost, err);
+  else rc = fx_see_open(&c.see, eng, NULL, cost, err);
   if (rc == T74_OK) {
     switch (e->aa) {
     case EFFECTS_AA_EXACT:     rc = aa_exact(&c); break;
@@ -539,18 +552,18 @@ int aa_light_map(struct render *r, const struct effects *e, const struct vis_gri
   }
   if (rc == T74_OK) fx_count(st, "aa_sub_scanlines", (double)c.nlines, true);
   if (c.model) fx_lines_close(c.lines);
-  else vis_free(&c.vis);
+  else fx_see_close(c.see);
   return rc;
 }
 
-int aa_run(struct render *r, const struct effects *e, const struct vis_grid *g,
+int aa_run(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
            struct fx_frame *f, struct fx_stats *st, struct cost *cost,
            struct t74_error *err)
 {
   size_t n = (size_t)f->W * (size_t)f->H;
   double *light = malloc(n * sizeof *light);
   if (!light) return t74_fail(err, T74_EIO, "out of host memory");
-  int rc = aa_light_map(r, e, g, f, st, cost, light, err);
+  int rc = aa_light_map(eng, e, g, f, st, cost, light, err);
   if (rc == T74_OK) {
     int tab[256];                             /* the light table */
     for (int k = 0; k < 256; k++) tab[k] = aa_light(f->cell, k);

@@ -7,10 +7,12 @@
 ** grey in the frame by the mix of what the point's filter sees, for the method named by
 ** `aa=`: multiscan (filter=box: 000 §2.2.1 eq. (1)-(3); filter=gauss: 000 §2.2.2, §3.3
 ** eq. (4), (5)), area (001), super (000 method D), exact (the yardstick). Every method
-** asks the renderer's own exact visible-span procedure (vis_spans, render/visible.h) for
-** what is seen along sub-scanlines: its covering set with the front piece from the
-** Priority Matrix is paper 000's NEXT stack (§3.2); there is no second visibility code,
-** and a hidden face contributes nothing.
+** asks the engine that drew the frame (effects/see.h) what is seen: with the 1974 engine,
+** its exact visible-span procedure (vis_spans, render/visible.h) along sub-scanlines, whose
+** covering set with the front piece from the Priority Matrix is paper 000's NEXT stack
+** (§3.2); with the points engine (aa=super only: the other methods integrate the 1974
+** program's stretches), its exact answer at each sample. There is no second visibility
+** code, and a hidden face contributes nothing.
 **
 ** Light, not grey: grey G lights round((L+1)^(G/255) - 1) of a cell's L dots
 ** (patterns/halftone.c), so every method mixes the dot fraction ((L+1)^(G/255) - 1) / L
@@ -18,7 +20,8 @@
 ** (aa_light / aa_grey; a 256-word table in core, searched by halving).
 **
 ** The machine model: each method's tables (light table, F table, area table) and row
-** buffers are allocated in r->core; its operations are counted in the cost it is given.
+** buffers are allocated in the engine's core; its operations are counted in the cost it
+** is given.
 ** Details and choices: docs/aa.md.
 */
 #ifndef T74_AA_H
@@ -32,13 +35,13 @@
 #include "render/render.h"
 
 /* Run the method e->aa (not EFFECTS_AA_NONE) over frame f (see fx_run). */
-int aa_run(struct render *r, const struct effects *e, const struct vis_grid *g,
+int aa_run(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
            struct fx_frame *f, struct fx_stats *st, struct cost *cost,
            struct t74_error *err);
 
 /* The same, but the light (0..1, the fraction of the cell's dots) of every point into
    light[j * W + i], the frame untouched: for tests and the bench. */
-int aa_light_map(struct render *r, const struct effects *e, const struct vis_grid *g,
+int aa_light_map(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
                  const struct fx_frame *f, struct fx_stats *st, struct cost *cost,
                  double *light, struct t74_error *err);
 

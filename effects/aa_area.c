@@ -371,7 +371,7 @@ static bool one_edge(struct area_run *ar, int i, double a, double b, int lt, int
     if (ia >= AA_AREA_STEPS) ia = AA_AREA_STEPS - 1;
     if (ib >= AA_AREA_STEPS) ib = AA_AREA_STEPS - 1;
     double fs = s - ia, fw = w - ib;
-    struct core *k = c->r->core;
+    struct core *k = c->eng->core;
     double c00 = core_read(k, ar->table + (uint32_t)(ia * R + ib)), c01 = core_read(k, ar->table + (uint32_t)(ia * R + ib + 1));
     double c10 = core_read(k, ar->table + (uint32_t)((ia + 1) * R + ib)), c11 = core_read(k, ar->table + (uint32_t)((ia + 1) * R + ib + 1));
     cov = ((c00 * (1 - fw) + c01 * fw) * (1 - fs) + (c10 * (1 - fw) + c11 * fw) * fs) / AA_LIGHT_ONE;
@@ -443,7 +443,7 @@ int aa_area(struct aa_ctx *c)
   if (st != T74_OK) return st;
   uint16_t tab[AA_AREA_WORDS];
   aa_area_table(tab);
-  for (int k = 0; k < AA_AREA_WORDS; k++) core_write(c->r->core, ar.table + (uint32_t)k, tab[k]);
+  for (int k = 0; k < AA_AREA_WORDS; k++) core_write(c->eng->core, ar.table + (uint32_t)k, tab[k]);
   uint32_t rowbuf;
   if ((st = aa_core(c, "AA AREA ROW", (uint32_t)(2 * c->W), &rowbuf)) != T74_OK) return st;
   ar.ln = aa_calloc(c, (size_t)NL, sizeof *ar.ln);
@@ -451,7 +451,7 @@ int aa_area(struct aa_ctx *c)
   for (int j = c->H - 1; st == T74_OK && j >= 0; j--) {
     ar.j = j;
     /* the border lines, bottom first; line NL-1 is the row below's line 0 */
-    uint32_t mark = core_mark(c->r->core);
+    uint32_t mark = core_mark(c->eng->core);
     if (j < c->H - 1) {
       struct aa_line t = ar.ln[NL - 1];
       ar.ln[NL - 1] = ar.ln[0];
@@ -466,7 +466,7 @@ int aa_area(struct aa_ctx *c)
     for (int l = 0; l < NL; l++) words += (uint32_t)(3 * ar.ln[l].n + 1);
     if ((st = aa_core(c, "AA AREA LINES", words, &at)) != T74_OK) break;
     for (int i = 0; i < c->W; i++) classify(&ar, i, i, i + 1.0, 0, NL - 1, 0);
-    core_release(c->r->core, mark);
+    core_release(c->eng->core, mark);
   }
   fx_count(c->st, "aa_subdivisions", (double)ar.divisions, true);
   fx_count(c->st, "aa_one_edge", (double)ar.one_edge, true);

@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include "effects/aa.h"
 #include "effects/model.h"
+#include "render/render.h"
 #include "render/visible.h"
 
 #define AA_PI 3.14159265358979323846
@@ -44,15 +45,16 @@ struct aa_line {
 };
 
 struct aa_ctx {
-  struct render *r;
+  const struct fx_engine *eng;    /* the engine that drew the frame (effects/see.h) */
+  struct render *r;               /* the 1974 engine (eng->r): the pieces the methods that
+                                     work on its stretches read; NULL under points */
   const struct effects *e;
   const struct vis_grid *g;
   const struct fx_frame *f;
   struct fx_stats *st;
   struct cost *cost;
   struct t74_error *err;
-  struct vis vis;           /* a fresh Visible Surface Procedure over r->seg, r->prio
-                               (no frame model) */
+  struct fx_see *see;       /* the engine's answers (no frame model) */
   const struct fx_model *model;   /* the frame model (f->model), or NULL */
   struct fx_lines *lines;   /* its lines (with a model) */
   int W, H, cell;
@@ -72,6 +74,10 @@ int aa_line_v(struct aa_ctx *c, int64_t vn, int64_t vd, struct aa_line *l);
 
 /* The same for the line y = yn / yd in grid units. */
 int aa_line_y(struct aa_ctx *c, int64_t yn, int64_t yd, struct aa_line *l);
+
+/* The line v = vn / vd as y = yn / yd in grid units, and back to v (point units down). */
+void aa_y_of_v(const struct aa_ctx *c, int64_t vn, int64_t vd, int64_t *yn, int64_t *yd);
+double aa_v_at(const struct aa_ctx *c, int64_t yn, int64_t yd);
 
 void aa_line_free(struct aa_line *l);
 

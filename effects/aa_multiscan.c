@@ -110,7 +110,7 @@ int aa_multiscan_box(struct aa_ctx *c)
     }
     for (int i = 0; i < W; i++) {
       c->out[(size_t)j * (size_t)W + (size_t)i] = acc[i];
-      core_put_int(c->r->core, rows + (uint32_t)(2 * i), 2, (int64_t)(acc[i] * AA_LIGHT_ONE));
+      core_put_int(c->eng->core, rows + (uint32_t)(2 * i), 2, (int64_t)(acc[i] * AA_LIGHT_ONE));
     }
     COST_ADD_N(c->cost, COST_MEM, 2 * W);
   }
@@ -165,10 +165,10 @@ static int fcore(struct aa_ctx *c, uint32_t base, int l, int32_t xq)
   COST_ADD_N(c->cost, COST_SHIFT, 2);
   COST_ADD_N(c->cost, COST_ADD, 3);
   uint32_t row = base + (uint32_t)(l * (AA_FSTEPS + 1));
-  if (xq <= 0) return core_read(c->r->core, row);
+  if (xq <= 0) return core_read(c->eng->core, row);
   int k = xq >> 10, fr = xq & 1023;
-  if (k >= AA_FSTEPS) return core_read(c->r->core, row + AA_FSTEPS);
-  int a = core_read(c->r->core, row + (uint32_t)k), b = core_read(c->r->core, row + (uint32_t)k + 1);
+  if (k >= AA_FSTEPS) return core_read(c->eng->core, row + AA_FSTEPS);
+  int a = core_read(c->eng->core, row + (uint32_t)k), b = core_read(c->eng->core, row + (uint32_t)k + 1);
   return a + ((b - a) * fr >> 10);
 }
 
@@ -187,7 +187,7 @@ int aa_multiscan_gauss(struct aa_ctx *c)
   int64_t *acc = aa_calloc(c, (size_t)2 * (size_t)(W + 2), sizeof *acc);
   if (!tab || !acc) { free(tab); free(acc); return t74_fail(c->err, T74_EIO, "out of host memory"); }
   aa_ftable(n, c->e->sigma, tab);
-  for (int k = 0; k < n * (AA_FSTEPS + 1); k++) core_write(c->r->core, ft + (uint32_t)k, tab[k]);
+  for (int k = 0; k < n * (AA_FSTEPS + 1); k++) core_write(c->eng->core, ft + (uint32_t)k, tab[k]);
   free(tab);
   int64_t *top = acc, *bot = acc + (W + 2);      /* C_{., b} and C_{., b+1}, index i + 1 */
   struct aa_line line = { 0 };
@@ -254,7 +254,7 @@ int aa_multiscan_gauss(struct aa_ctx *c)
       for (int i = 0; i < W; i++) {
         c->out[(size_t)(b + 1) * (size_t)W + (size_t)i] =
             (double)bot[i + 1] / ((double)AA_FONE * AA_LIGHT_ONE);
-        core_put_int(c->r->core, rows + (uint32_t)(2 * i), 2, bot[i + 1]);
+        core_put_int(c->eng->core, rows + (uint32_t)(2 * i), 2, bot[i + 1]);
       }
       COST_ADD_N(c->cost, COST_MEM, 2 * W);
     }

@@ -110,9 +110,9 @@ static bool mapped_point(const struct scene *s, const struct mface *mf, int v, s
 }
 
 /* Eq. (1) for a point in space, rounded onto the grid. */
-static struct gpoint project(const struct render *r, const double x[3], struct cost *cost)
+static struct gpoint project(const struct mapped *map, const double x[3], struct cost *cost)
 {
-  const int64_t *e = r->map.eye;
+  const int64_t *e = map->eye;
   double f = (double)-e[2], w = x[2] - (double)e[2];
   struct gpoint p = {
     (gcoord)llround((double)GRID_ONE * ((double)e[0] + f * (x[0] - (double)e[0]) / w)),
@@ -149,8 +149,8 @@ static bool corner_add(struct contour_corners *cs, const struct contour_corner *
   return true;
 }
 
-int contour_build(struct render *r, const struct scene *s, const struct effects *e,
-                  const struct smooth_model *m, struct fx_polys *cuts,
+int contour_build(const struct mapped *map, struct core *core, const struct scene *s,
+                  const struct effects *e, const struct smooth_model *m, struct fx_polys *cuts,
                   struct contour_corners *corners, struct fx_stats *st, struct cost *cost,
                   struct t74_error *err)
 {
@@ -162,7 +162,7 @@ int contour_build(struct render *r, const struct scene *s, const struct effects 
   for (int t = 0; t < m->ntri; t++) {
     const struct smooth_tri *tr = &m->tri[t];
     if (!tr->front) continue;
-    const struct mface *mf = &r->map.f[tr->mface];
+    const struct mface *mf = &map->f[tr->mface];
     struct gpoint p[3];
     bool ok = true;
     for (int k = 0; k < 3; k++) ok = ok && mapped_point(s, mf, tr->v[k], &p[k]);
@@ -187,10 +187,10 @@ int contour_build(struct render *r, const struct scene *s, const struct effects 
   COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
   qsort(ce, (size_t)nc, sizeof *ce, by_from);
   long convex = 0, concave = 0, junction = 0;
-  uint32_t mark = core_mark(r->core), at = 0;
+  uint32_t mark = core_mark(core), at = 0;
   int rc = T74_OK;
   /* one corner's region polygon at a time: each corner is cut before the next is made */
-  if (nc > 0) rc = core_alloc(r->core, CONTOUR_TABLE, (CONTOUR_STEPS + 2) * 4, &at, err);
+  if (nc > 0) rc = core_alloc(core, CONTOUR_TABLE, (CONTOUR_STEPS + 2) * 4, &at, err);
   for (int k = 0; rc == T74_OK && k < nc; k++) {
     /* the incoming side of vertex ce[k].a: a side ending there, in the same object */
     const struct cedge *out = &ce[k];
@@ -205,9 +205,9 @@ int contour_build(struct render *r, const struct scene *s, const struct effects 
     const struct cedge *inw = &ce[inc];
     const struct smooth_tri *A = &m->tri[inw->tri], *B = &m->tri[out->tri];
     struct gpoint pa, pb, pc;
-    if (!mapped_point(s, &r->map.f[A->mface], inw->a, &pa) ||
-        !mapped_point(s, &r->map.f[A->mface], out->a, &pb) ||
-        !mapped_point(s, &r->map.f[B->mface], out->b, &pc)) { junction++; continue; }
+    if (!mapped_point(s, &map->f[A->mface], inw->a, &pa) ||
+        !mapped_point(s, &map->f[A->mface], out->a, &pb) ||
+        !mapped_point(s, &map->f[B->mface], out->b, &pc)) { junction++; continue; }
     if (geom_orient(pa, pb, pc) <= 0) { concave++; continue; }
     convex++;
     /* Q0 on the incoming side, Q4 on the outgoing one, in space, then eq. (1) */
@@ -216,9 +216,9 @@ int contour_build(struct render *r, const struct scene *s, const struct effects 
     double x0[3] = { vb->x + ta * (va->x - vb->x), vb->y + ta * (va->y - vb->y), vb->z + ta * (va->z - vb->z) };
     double x4[3] = { vb->x + tc * (vc->x - vb->x), vb->y + tc * (vc->y - vb->y), vb->z + tc * (vc->z - vb->z) };
     struct gpoint q[5];
-    q[0] = project(r, x0, cost);
+    q[0] = project(map, x0, cost);
     q[2] = pb;
-    q[4] = project(r, x4, cost);
+    q[4] = project(map, x4, cost);
     q[1].x = (gcoord)llround((double)q[2].x + e->contour * (double)(q[0].x - q[2].x));
     q[1].y = (gcoord)llround((double)q[2].y + e->contour * (double)(q[0].y - q[2].y));
     q[3].x = (gcoord)llround((double)q[2].x + e->contour * (double)(q[4].x - q[2].x));
@@ -231,8 +231,8 @@ int contour_build(struct render *r, const struct scene *s, const struct effects 
       COST_ADD_N(cost, COST_ADD, 4);
     }
     for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
-      core_put_int(r->core, at + 4 * (uint32_t)v, 2, poly[v].x);
-      core_put_int(r->core, at + 4 * (uint32_t)v + 2, 2, poly[v].y);
+      core_put_int(core, at + 4 * (uint32_t)v, 2, poly[v].x);
+      core_put_int(core, at + 4 * (uint32_t)v + 2, 2, poly[v].y);
     }
     /* the region joins the frame model (effects/model.h), which cuts it out of the
        object's stretches on every line asked for: procedure (D) (6) */
@@ -248,7 +248,7 @@ int contour_build(struct render *r, const struct scene *s, const struct effects 
     fx_count(st, "contour_corners_concave", (double)concave, true);
     fx_count(st, "contour_corners_junction", (double)junction, true);
   }
-  core_release(r->core, mark);
+  core_release(core, mark);
   free(ce);
   return rc;
 }

@@ -24,9 +24,11 @@
 ** crossings with the region between the corner and the curve give the stretches cut
 ** away, with the renderer's tie rule (a stretch owns its left end, not its right).
 **
-** Where the object is what is seen inside a region, the line shows what lies behind: the
-** stretches of a second Visible Surface Procedure over the pieces of every other face
-** (vis_init_without), or the background. Faces of the object itself do not show through: beyond its smoothed
+** Where the object is what is seen inside a region, the line shows what lies behind: what
+** the engine sees there with the object's faces taken away (effects/see.h: under the 1974
+** engine the stretches of a second Visible Surface Procedure over the pieces of every
+** other face, vis_init_without; under the points engine its exact answer at the point),
+** or the background. Faces of the object itself do not show through: beyond its smoothed
 ** contour, the object is not there.
 **
 ** Concave contour vertices (where the contour turns right, or goes straight on) are left
@@ -79,11 +81,11 @@ void contour_corners_free(struct contour_corners *cs);
 
 /* The regions the contour smoothing cuts away (see above), one polygon per convex corner
    (owner: the object), appended to cuts, and each corner appended to corners; m is the
-   smoothing model of the scene. The corner's region polygon passes through r->core (one
-   at a time), counted in cost. The frame model (effects/model.h) cuts them out of the
-   object's stretches. */
-int contour_build(struct render *r, const struct scene *s, const struct effects *e,
-                  const struct smooth_model *m, struct fx_polys *cuts,
+   smoothing model of the scene, map the Mapper's faces. The corner's region polygon passes
+   through core (one at a time), counted in cost. The frame model (effects/model.h) cuts
+   them out of the object's stretches. */
+int contour_build(const struct mapped *map, struct core *core, const struct scene *s,
+                  const struct effects *e, const struct smooth_model *m, struct fx_polys *cuts,
                   struct contour_corners *corners, struct fx_stats *st, struct cost *cost,
                   struct t74_error *err);
 

@@ -16,12 +16,16 @@
 **
 ** and the pipeline then sends the frame's points through the halftone to the sinks, in
 ** the same scan order as ever (bottom row first, left to right). Every effect resolves
-** visibility with the renderer's own exact procedures (render/visible.h, priority.h);
-** none has a visibility code of its own.
+** visibility by asking the engine that drew the frame (effects/see.h: the 1974 program or
+** the points engine, each its own exact way); none has a visibility code of its own.
+** Smoothing, contour cuts, shadows, textures and supersampling run with either engine;
+** multi-scanning, area sampling, the exact reference and enhanced edges work on the 1974
+** program's sub-scanline stretches and cuts, and run with it alone (fx_needs_1974).
 **
-** The machine model: each effect allocates its tables and row buffers in r->core and
-** counts its operations in the cost it is given, so hitac10_seconds and core_words_used
-** include it. Each effect adds its own --stats fields with fx_count().
+** The machine model: each effect allocates its tables and row buffers in the engine's
+** core and counts its operations in the cost it is given, so under the 1974 engine
+** hitac10_seconds and core_words_used include it (the points engine reports neither).
+** Each effect adds its own --stats fields with fx_count().
 */
 #ifndef T74_FX_H
 #define T74_FX_H
@@ -30,8 +34,8 @@
 #include <stdint.h>
 #include "emu/cost.h"
 #include "emu/status.h"
+#include "effects/see.h"
 #include "render/effects.h"
-#include "render/render.h"
 #include "render/scene.h"
 #include "render/visible.h"
 
@@ -39,7 +43,8 @@
 struct fx_frame {
   int W, H;                 /* points across and down */
   int cell;                 /* halftone cell side (3 or 4) */
-  int *face;                /* visible face at each point centre (index in r->map.f), -1
+  int *face;                /* visible face at each point centre (index in the engine's
+                               map.f), -1
                                for none; an effect that changes what is seen (a contour
                                cut) updates it, and the ids dump follows */
   uint8_t *grey;            /* intensity 0..255 (perceptual, as pat_level takes it); on
@@ -71,10 +76,11 @@ struct fx_model;
    contour, shadows, a texture)? */
 bool fx_wanted(const struct effects *e, const struct scene *s);
 
-/* Run the requested effects over f (see the order above). r has been prepared and
-   scanned; s is the scene it came from; g the grid. Operations are counted in cost;
-   tables live in r->core (T74_ECORE when they do not fit). */
-int fx_run(struct render *r, const struct scene *s, const struct effects *e,
+/* Run the requested effects over f (see the order above). eng is the engine that drew
+   the frame (see.h); s is the scene it came from; g the grid. Operations are counted in
+   cost; tables live in eng->core (T74_ECORE when they do not fit). An effect only the 1974
+   engine draws, asked of the points engine: T74_EINPUT (fx_needs_1974 says why). */
+int fx_run(const struct fx_engine *eng, const struct scene *s, const struct effects *e,
            const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
            struct cost *cost, struct t74_error *err);
 

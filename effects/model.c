@@ -67,26 +67,28 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
   return T74_OK;
 }
 
-int fx_model_build(struct fx_model *m, struct render *r, const struct scene *s,
+int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct scene *s,
                    const struct effects *e, const struct vis_grid *g, const uint8_t *bg,
                    struct fx_stats *st, struct cost *cost, struct t74_error *err)
 {
   memset(m, 0, sizeof *m);
-  m->r = r; m->s = s; m->e = e; m->g = g; m->bg = bg;
+  const struct mapped *map = eng->map;
+  m->eng = eng; m->map = map; m->s = s; m->e = e; m->g = g; m->bg = bg;
   m->W = g->W; m->H = g->H;
   int rc = T74_OK;
   if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) {
-    if ((rc = smooth_model_build(&m->sm, r, s, e, err)) != T74_OK) return rc;
+    if ((rc = smooth_model_build(&m->sm, map, s, e, err)) != T74_OK) return rc;
     m->smooth = true;
     if (m->sm.ntri == 0)
       fprintf(stderr, "%s:%d: warning: smooth=/contour=: no face is a triangle of an object "
               "shaded from `light`; the picture stays flat\n", s->file ? s->file : "scene",
               s->effects_line);
-    if ((rc = smooth_tables(r, &m->sm, cost, err)) != T74_OK) return rc;
+    if ((rc = smooth_tables(eng->core, &m->sm, cost, err)) != T74_OK) return rc;
     smooth_count(&m->sm, st);
   }
   if (e->contour_on && m->smooth) {
-    if ((rc = contour_build(r, s, e, &m->sm, &m->cuts, &m->corners, st, cost, err)) != T74_OK) return rc;
+    rc = contour_build(map, eng->core, s, e, &m->sm, &m->cuts, &m->corners, st, cost, err);
+    if (rc != T74_OK) return rc;
     for (int k = 0; k < m->cuts.n; k++) {
       int o = m->cuts.p[k].owner, seen = 0;
       for (int q = 0; q < m->ncut; q++) seen |= m->cut_obj[q] == o;
@@ -95,19 +97,19 @@ int fx_model_build(struct fx_model *m, struct render *r, const struct scene *s,
       uint8_t **ns = no ? realloc(m->cut_skip, (size_t)(m->ncut + 1) * sizeof *ns) : NULL;
       if (no) m->cut_obj = no;
       if (ns) m->cut_skip = ns;
-      uint8_t *sk = ns ? calloc((size_t)r->map.nface + 1, 1) : NULL;
+      uint8_t *sk = ns ? calloc((size_t)map->nface + 1, 1) : NULL;
       if (!sk) return t74_fail(err, T74_EIO, "out of host memory");
-      for (int f = 0; f < r->map.nface; f++) sk[f] = s->f[r->map.f[f].sface].object == o;
+      for (int f = 0; f < map->nface; f++) sk[f] = s->f[map->f[f].sface].object == o;
       m->cut_obj[m->ncut] = o;
       m->cut_skip[m->ncut++] = sk;
     }
   }
   if (e->shadows && s->has_light) {
-    if ((rc = shadow_build(r, s, &m->shadows, st, cost, err)) != T74_OK) return rc;
+    if ((rc = shadow_build(map, s, &m->shadows, st, cost, err)) != T74_OK) return rc;
     qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
-    m->shadow_first = calloc((size_t)r->map.nface + 1, sizeof *m->shadow_first);
+    m->shadow_first = calloc((size_t)map->nface + 1, sizeof *m->shadow_first);
     if (!m->shadow_first) return t74_fail(err, T74_EIO, "out of host memory");
-    for (int f = 0, k = 0; f <= r->map.nface; f++) {
+    for (int f = 0, k = 0; f <= map->nface; f++) {
       while (k < m->shadows.n && m->shadows.p[k].owner < f) k++;
       m->shadow_first[f] = k;
     }
@@ -143,10 +145,10 @@ bool fx_model_shades(const struct fx_model *m)
 
 /* The space point of face f seen through plane position (px, py, 0): the ray from the eye
    onto the face's exact plane (eq. (2)). */
-static void space_point(const struct render *r, int f, double px, double py, double X[3])
+static void space_point(const struct mapped *map, int f, double px, double py, double X[3])
 {
-  const int64_t *pl = r->map.f[f].plane;
-  double E[3] = { (double)r->map.eye[0], (double)r->map.eye[1], (double)r->map.eye[2] };
+  const int64_t *pl = map->f[f].plane;
+  double E[3] = { (double)map->eye[0], (double)map->eye[1], (double)map->eye[2] };
   double D[3] = { px - E[0], py - E[1], -E[2] };
   double num = -((double)pl[0] * E[0] + (double)pl[1] * E[1] + (double)pl[2] * E[2] + (double)pl[3]);
   double den = (double)pl[0] * D[0] + (double)pl[1] * D[1] + (double)pl[2] * D[2];
@@ -182,8 +184,7 @@ int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, dou
     j = j < 0 ? 0 : j >= m->H ? m->H - 1 : j;
     return m->bg[(size_t)j * (size_t)m->W + (size_t)i];
   }
-  const struct render *r = m->r;
-  const struct mface *mf = &r->map.f[face];
+  const struct mface *mf = &m->map->f[face];
   const struct scene_face *sf = &m->s->f[mf->sface];
   const struct fx_tex *t = m->tex && m->tex[mf->sface].pic ? &m->tex[mf->sface] : NULL;
   int tri = m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE ? m->sm.tri_of_mface[face] : -1;
@@ -195,11 +196,11 @@ int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, dou
   double px = g->window[0] + u * (double)(g->window[2] - g->window[0]) / g->W;
   double py = g->window[3] - v * (double)(g->window[3] - g->window[1]) / g->H;
   double X[3];
-  space_point(r, face, px, py, X);
+  space_point(m->map, face, px, py, X);
   for (int k = 0; k < 6; k++) cost_mw_mul(cost, 32, 16);
   cost_mw_div(cost, 48, 32);
   double refl = t ? reflectance(t, X, cost) : 1.0;
-  if (tri >= 0) return smooth_grey_at(&m->sm, r, m->s, m->e, tri, X, refl, blocked, cost, region);
+  if (tri >= 0) return smooth_grey_at(&m->sm, m->map, m->s, m->e, tri, X, refl, blocked, cost, region);
   if (!lit) return (int)floor(mf->grey * refl + 0.5);
   double n[3] = { -(double)mf->plane[0], -(double)mf->plane[1], -(double)mf->plane[2] };
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
@@ -213,14 +214,16 @@ int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, dou
 struct fx_lines {
   const struct fx_model *m;
   struct cost *cost;
-  struct vis vis;
-  struct vis *behind;       /* per cut object */
+  bool spans;               /* by the engine's stretches (else sample by sample) */
+  struct fx_see *see;       /* the engine's answers */
+  struct fx_see **behind;   /* per cut object: the same with the object's faces taken away */
   struct fx_span *a, *b;    /* the line's stretches, and scratch */
   int na, nb, cap;
   struct grat *x;           /* crossings */
   int xcap;
   struct ev { struct grat x; int light, d; } *ev;
   int evcap;
+  int *brow; int browcap;   /* samples: the row behind a cut object */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -238,33 +241,36 @@ static bool room(struct fx_lines *L, int n)
   return true;
 }
 
-int fx_lines_open(struct fx_lines **out, const struct fx_model *m, struct cost *cost,
-                  struct t74_error *err)
+int fx_lines_open(struct fx_lines **out, const struct fx_model *m, bool by_samples,
+                  struct cost *cost, struct t74_error *err)
 {
   struct fx_lines *L = calloc(1, sizeof *L);
   if (!L) return t74_fail(err, T74_EIO, "out of host memory");
   L->m = m;
   L->cost = cost;
-  int rc = vis_init(&L->vis, &m->r->seg, &m->r->prio, cost, err);
+  int rc = fx_see_open(&L->see, m->eng, NULL, cost, err);
   if (rc == T74_OK && m->ncut) {
     L->behind = calloc((size_t)m->ncut, sizeof *L->behind);
     if (!L->behind) rc = t74_fail(err, T74_EIO, "out of host memory");
     for (int q = 0; rc == T74_OK && q < m->ncut; q++)
-      rc = vis_init_without(&L->behind[q], &m->r->seg, &m->r->prio, cost, m->cut_skip[q], err);
+      rc = fx_see_open(&L->behind[q], m->eng, m->cut_skip[q], cost, err);
   }
   if (rc != T74_OK) { fx_lines_close(L); return rc; }
+  L->spans = !by_samples && fx_see_has_spans(L->see);
   *out = L;
   return T74_OK;
 }
 
+bool fx_lines_have_spans(const struct fx_lines *L) { return L->spans; }
+
 void fx_lines_close(struct fx_lines *L)
 {
   if (!L) return;
-  vis_free(&L->vis);
+  fx_see_close(L->see);
   if (L->behind)
-    for (int q = 0; q < L->m->ncut; q++) vis_free(&L->behind[q]);
+    for (int q = 0; q < L->m->ncut; q++) fx_see_close(L->behind[q]);
   free(L->behind);
-  free(L->a); free(L->b); free(L->x); free(L->ev);
+  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->brow);
   free(L);
 }
 
@@ -310,26 +316,36 @@ static int ev_cmp(const void *pa, const void *pb)
   return geom_rat_cmp(a->x, b->x);
 }
 
+/* The stretches of cut object q's regions on the line, sorted, into L->ev[0..*nev) (they
+   do not overlap: each region lies at its own corner). */
+static int cut_stretches(struct fx_lines *L, int q, int64_t yn, int64_t yd, int *nev,
+                         struct t74_error *err)
+{
+  const struct fx_model *m = L->m;
+  int k0 = -1, k1 = -1;
+  *nev = 0;
+  for (int k = 0; k < m->cuts.n; k++)
+    if (m->cuts.p[k].owner == m->cut_obj[q]) { if (k0 < 0) k0 = k; k1 = k + 1; }
+  if (k0 < 0) return T74_OK;
+  int rc = stretches(L, &m->cuts, k0, k1, yn, yd, nev, err);
+  if (rc == T74_OK && *nev > 0) qsort(L->ev, (size_t)*nev, sizeof *L->ev, ev_cmp);
+  return rc;
+}
+
 /* Cut object q's regions out of its stretches on the line. */
 static int cut_line(struct fx_lines *L, int q, int64_t yn, int64_t yd, struct t74_error *err)
 {
   const struct fx_model *m = L->m;
-  int nev = 0;
-  /* the object's corner regions (they do not overlap: each lies at its own corner) */
-  int k0 = -1, k1 = -1;
-  for (int k = 0; k < m->cuts.n; k++)
-    if (m->cuts.p[k].owner == m->cut_obj[q]) { if (k0 < 0) k0 = k; k1 = k + 1; }
-  if (k0 < 0) return T74_OK;
-  int rc = stretches(L, &m->cuts, k0, k1, yn, yd, &nev, err);
+  int nev;
+  int rc = cut_stretches(L, q, yn, yd, &nev, err);
   if (rc != T74_OK || nev == 0) return rc;
-  qsort(L->ev, (size_t)nev, sizeof *L->ev, ev_cmp);
   const uint8_t *skip = m->cut_skip[q];
   bool hit = false;
   for (int s = 0; s < L->na && !hit; s++) hit = skip[L->a[s].face] != 0;
   if (!hit) return T74_OK;
   const struct vis_span *bs;
   int nbs;
-  if ((rc = vis_spans(&L->behind[q], yn, yd, &bs, &nbs, err)) != T74_OK) return rc;
+  if ((rc = fx_see_spans(L->behind[q], yn, yd, &bs, &nbs, err)) != T74_OK) return rc;
   int nb = 0;
   for (int s = 0; s < L->na; s++) {
     struct fx_span sp = L->a[s];
@@ -417,7 +433,7 @@ int fx_lines_get(struct fx_lines *L, int64_t yn, int64_t yd, const struct fx_spa
 {
   const struct vis_span *vs;
   int nv;
-  int rc = vis_spans(&L->vis, yn, yd, &vs, &nv, err);
+  int rc = fx_see_spans(L->see, yn, yd, &vs, &nv, err);
   if (rc != T74_OK) return rc;
   if (!room(L, nv + 1)) return t74_fail(err, T74_EIO, "out of host memory");
   for (int k = 0; k < nv; k++) L->a[k] = (struct fx_span){ vs[k].x0, vs[k].x1, vs[k].piece, vs[k].face, 0 };
@@ -430,46 +446,152 @@ int fx_lines_get(struct fx_lines *L, int64_t yn, int64_t yd, const struct fx_spa
   return T74_OK;
 }
 
+/* ---- samples ------------------------------------------------------------------------- */
+
+/* Does the sample at xn / xd lie in one of the stretches [ev[h], ev[h + 1]) (h even)? */
+static bool in_stretches(const struct ev *ev, int nev, int64_t xn, int64_t xd)
+{
+  for (int h = 0; h + 1 < nev; h += 2)
+    if (geom_rat_cmp_frac(ev[h].x, xn, xd) <= 0 && geom_rat_cmp_frac(ev[h + 1].x, xn, xd) > 0)
+      return true;
+  return false;
+}
+
+/* Cut object q's regions out of a row of samples: a sample showing one of the object's
+   faces inside a region shows what the engine sees there without the object (cut_line's
+   answer, sample by sample). */
+static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t yn, int64_t yd,
+                       int64_t xd, int64_t k0, int n, int *face, struct t74_error *err)
+{
+  const struct fx_model *m = L->m;
+  const uint8_t *skip = m->cut_skip[q];
+  bool hit = false;
+  for (int i = 0; i < n && !hit; i++) hit = face[i] >= 0 && skip[face[i]];
+  if (!hit) return T74_OK;
+  int nev;
+  int rc = cut_stretches(L, q, yn, yd, &nev, err);
+  if (rc != T74_OK || nev == 0) return rc;
+  const int32_t *win = m->g->window;
+  bool behind = false;
+  for (int i = 0; i < n; i++) {
+    if (face[i] < 0 || !skip[face[i]]) continue;
+    int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
+    if (!in_stretches(L->ev, nev, xn, xd)) continue;
+    if (!behind) {
+      if (n > L->browcap) {
+        int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
+        if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+        L->brow = nb;
+        L->browcap = n;
+      }
+      if ((rc = fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err)) != T74_OK) return rc;
+      behind = true;
+    }
+    face[i] = L->brow[i];
+  }
+  return T74_OK;
+}
+
+/* The lights blocked at each sample of a row: the shadows lying on the face seen there,
+   counted up to the sample (shadow_line's answer, sample by sample). */
+static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd, int64_t k0,
+                          int n, const int *face, unsigned *blocked, struct t74_error *err)
+{
+  const struct fx_model *m = L->m;
+  const int32_t *win = m->g->window;
+  for (int i = 0; i < n;) {
+    int f = face[i], e = i + 1;
+    while (e < n && face[e] == f) e++;
+    int nev = 0;
+    if (f >= 0 && m->shadows.n) {
+      int rc = stretches(L, &m->shadows, m->shadow_first[f], m->shadow_first[f + 1], yn, yd,
+                         &nev, err);
+      if (rc != T74_OK) return rc;
+      if (nev > 0) qsort(L->ev, (size_t)nev, sizeof *L->ev, ev_cmp);
+    }
+    int cnt[SCENE_LIGHT_MAX] = { 0 }, h = 0;
+    for (; i < e; i++) {
+      int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
+      for (; h < nev && geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0; h++)
+        cnt[L->ev[h].light] += L->ev[h].d;
+      unsigned mask = 0;
+      for (int k = 0; k < SCENE_LIGHT_MAX && h > 0; k++) if (cnt[k] > 0) mask |= 1u << k;
+      blocked[i] = mask;
+    }
+  }
+  return T74_OK;
+}
+
+int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n, int *face,
+                     unsigned *blocked, struct t74_error *err)
+{
+  const int32_t *win = L->m->g->window;
+  const int64_t XL = win[0], YB = win[1], XR = win[2], YT = win[3];
+  const int64_t xd = 2 * (int64_t)K * L->m->W, yd = 2 * (int64_t)K * L->m->H;
+  const int64_t yn = GRID_ONE * (yd * YT - (2 * mrow + 1) * (YT - YB));
+  int rc;
+  if (L->spans) {
+    /* the stretches of the row's line after the regions, each sample placed in its own */
+    const struct fx_span *sp;
+    int ns;
+    if ((rc = fx_lines_get(L, yn, yd, &sp, &ns, err)) != T74_OK) return rc;
+    int h = 0;
+    for (int i = 0; i < n; i++) {
+      int64_t xn = GRID_ONE * (xd * XL + (2 * (k0 + i) + 1) * (XR - XL));
+      while (h < ns && geom_rat_cmp_frac(sp[h].x1, xn, xd) <= 0) h++;
+      bool in = h < ns && geom_rat_cmp_frac(sp[h].x0, xn, xd) <= 0;
+      face[i] = in ? sp[h].face : -1;
+      blocked[i] = in ? sp[h].blocked : 0;
+    }
+    return T74_OK;
+  }
+  if ((rc = fx_see_row(L->see, K, mrow, k0, n, face, err)) != T74_OK) return rc;
+  for (int q = 0; q < L->m->ncut && rc == T74_OK; q++)
+    rc = cut_samples(L, q, K, mrow, yn, yd, xd, k0, n, face, err);
+  if (rc == T74_OK) rc = shadow_samples(L, yn, yd, xd, k0, n, face, blocked, err);
+  return rc;
+}
+
 /* ---- the point frame ------------------------------------------------------------------ */
 
 int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
               struct cost *cost, struct t74_error *err)
 {
-  const struct vis_grid *g = m->g;
-  const int64_t XL = g->window[0], YB = g->window[1], XR = g->window[2], YT = g->window[3];
-  const int64_t xd = 2 * (int64_t)g->W, yd = 2 * (int64_t)g->H;
   size_t n = (size_t)f->W * (size_t)f->H;
   unsigned *blocked = calloc(n ? n : 1, sizeof *blocked);
-  if (!blocked) return t74_fail(err, T74_EIO, "out of host memory");
+  int *row = calloc((size_t)f->W + 1, sizeof *row);
+  if (!blocked || !row) {
+    free(blocked);
+    free(row);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
   int rc = T74_OK;
   long cut = 0, show_face = 0, show_none = 0, shadowed = 0;
   if (fx_model_regions(m)) {
     struct fx_lines *L;
-    if ((rc = fx_lines_open(&L, m, cost, err)) != T74_OK) { free(blocked); return rc; }
+    if ((rc = fx_lines_open(&L, m, false, cost, err)) != T74_OK) {
+      free(blocked);
+      free(row);
+      return rc;
+    }
     for (int j = f->H - 1; j >= 0 && rc == T74_OK; j--) {     /* bottom row first */
-      int64_t yn = GRID_ONE * (yd * YT - (2 * (int64_t)j + 1) * (YT - YB));
-      const struct fx_span *sp;
-      int ns;
-      if ((rc = fx_lines_get(L, yn, yd, &sp, &ns, err)) != T74_OK) break;
-      int k = 0;
+      size_t at0 = (size_t)j * (size_t)f->W;
+      if ((rc = fx_lines_samples(L, 1, j, 0, f->W, row, blocked + at0, err)) != T74_OK) break;
       for (int i = 0; i < f->W; i++) {
-        int64_t xn = GRID_ONE * (xd * XL + (2 * (int64_t)i + 1) * (XR - XL));
-        while (k < ns && geom_rat_cmp_frac(sp[k].x1, xn, xd) <= 0) k++;
-        bool in = k < ns && geom_rat_cmp_frac(sp[k].x0, xn, xd) <= 0;
-        size_t at = (size_t)j * (size_t)f->W + (size_t)i;
-        int face = in ? sp[k].face : -1;
+        size_t at = at0 + (size_t)i;
+        int face = row[i];
         if (face != f->face[at]) {
           cut++;
           if (face >= 0) show_face++; else show_none++;
         }
         f->face[at] = face;
-        blocked[at] = in ? sp[k].blocked : 0;
         shadowed += blocked[at] != 0;
         COST_ADD_N(cost, COST_ADD, 2); COST_ADD_N(cost, COST_BRANCH, 2);
       }
     }
     fx_lines_close(L);
   }
+  free(row);
   long pts = 0, flat = 0, band = 0, corner = 0;
   for (int j = 0; j < f->H && rc == T74_OK; j++)
     for (int i = 0; i < f->W; i++) {

@@ -6,23 +6,31 @@
 ** (a texture's, §3.3 (1)) times illumination. Paper 004 gives a smoothed patch its
 ** intensity point by point and cuts its contour. tube74 holds all of it here, once:
 **
-**   the region   fx_lines_get: the visible stretches of any horizontal line, from the
-**                Visible Surface Procedure (render/visible.h), with the contour cut's
-**                regions (effects/contour.h) taken out of their object — where the object
-**                is cut away the line shows what the object hid, found by a second
-**                Visible Surface Procedure without the object's faces — and each stretch
-**                split where a shadow polygon (effects/shadow.h) begins or ends, carrying
-**                the set of lights blocked there;
+**   the region   what is seen along a line, from the engine that drew the frame
+**                (effects/see.h), with the contour cut's regions (effects/contour.h)
+**                taken out of their object — where the object is cut away the line shows
+**                what the object hid, asked of the engine again without the object's
+**                faces — and the set of lights a shadow polygon (effects/shadow.h) blocks
+**                there. With the 1974 engine, fx_lines_get gives it as the visible
+**                stretches of any horizontal line (the Visible Surface Procedure's, each
+**                split where a shadow begins or ends); with either engine,
+**                fx_lines_samples gives it at the samples of a lattice row (the point
+**                centres, or supersampling's samples), sample by sample from the engine's
+**                answers when it gives no stretches (the points engine);
 **   the shading  fx_shade: the grey of a face at any position of the plane: flat, or the
 **                patch's smooth / partial shading (effects/smooth.h), times the texture's
 **                reflectance, from the lights not blocked (render/shade.h).
 **
 ** The point frame (fx_points: the face and grey at each point centre, as --dump ids and
 ** grey show them) is the model sampled at the centres; anti-aliasing (effects/aa.h)
-** integrates the same model over sub-scanlines, its fragments shaded at their own
-** positions (000 §3.3 (1): the midpoint of each stretch within a point); enhanced edges
-** draw over the result. So a cut corner stays cut under every filter, a smooth surface
-** has no seams under anti-aliasing, and a shadow's edge is anti-aliased like a face's.
+** integrates the same model over sub-scanlines, or samples it (aa=super), its fragments
+** shaded at their own positions (000 §3.3 (1): the midpoint of each stretch within a
+** point); enhanced edges draw over the result. A region decided stretch by stretch and
+** sample by sample is the same region: a point on a polygon's boundary belongs to the
+** stretch on its right either way (effects/poly.h), and tests/test_engines.c checks the
+** two ways against each other on the 1974 engine. So a cut corner stays cut under every
+** filter, a smooth surface has no seams under anti-aliasing, and a shadow's edge is
+** anti-aliased like a face's.
 */
 #ifndef T74_MODEL_H
 #define T74_MODEL_H
@@ -38,7 +46,8 @@ struct pic;
 struct fx_tex;
 
 struct fx_model {
-  struct render *r;
+  const struct fx_engine *eng;    /* the engine that drew the frame */
+  const struct mapped *map;       /* its faces */
   const struct scene *s;
   const struct effects *e;
   const struct vis_grid *g;
@@ -57,9 +66,9 @@ struct fx_model {
   int *shadow_first;        /* per mapped face + 1: its shadows are [first[f], first[f+1]) */
 };
 
-/* Build the model the effects e call for over the prepared, scanned render r (contour
-   regions, shadows, textures, smoothing patches; tables in r->core, work in cost). */
-int fx_model_build(struct fx_model *m, struct render *r, const struct scene *s,
+/* Build the model the effects e call for over the frame engine eng drew (contour regions,
+   shadows, textures, smoothing patches; tables in eng->core, work in cost). */
+int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct scene *s,
                    const struct effects *e, const struct vis_grid *g, const uint8_t *bg,
                    struct fx_stats *st, struct cost *cost, struct t74_error *err);
 void fx_model_free(struct fx_model *m);
@@ -70,7 +79,7 @@ bool fx_model_regions(const struct fx_model *m);
 /* Does the model shade point by point (smoothing, textures or shadows)? */
 bool fx_model_shades(const struct fx_model *m);
 
-/* The grey 0..255 of face (index in r->map.f; -1: the background of point (i, j)) at
+/* The grey 0..255 of face (index in map->f; -1: the background of point (i, j)) at
    position (u, v) of the plane in point units (u across from the window's left, v down
    from its top), with the lights in blocked in shadow. *region (may be NULL): the
    smoothing region (smooth.h), -1 for a flat face. */
@@ -86,11 +95,21 @@ struct fx_span {
 
 struct fx_lines;
 
-/* Lines of the model, asked in non-decreasing y like vis_spans. */
-int fx_lines_open(struct fx_lines **out, const struct fx_model *m, struct cost *cost,
-                  struct t74_error *err);
+/* Lines of the model, asked in non-decreasing y like vis_spans: by the engine's
+   stretches when it gives them (the 1974 engine) and by_samples is false, else sample by
+   sample (the points engine; by_samples: the 1974 engine too, for the tests). */
+int fx_lines_open(struct fx_lines **out, const struct fx_model *m, bool by_samples,
+                  struct cost *cost, struct t74_error *err);
+bool fx_lines_have_spans(const struct fx_lines *L);
+
+/* The stretches of the line y = yn / yd (only when fx_lines_have_spans). */
 int fx_lines_get(struct fx_lines *L, int64_t yn, int64_t yd, const struct fx_span **span,
                  int *nspan, struct t74_error *err);
+
+/* The face seen (after the cuts) and the lights blocked at samples k0 .. k0 + n - 1 of
+   row m of the lattice K times finer than the points (effects/see.h, fx_see_row). */
+int fx_lines_samples(struct fx_lines *L, int K, int64_t m, int64_t k0, int n, int *face,
+                     unsigned *blocked, struct t74_error *err);
 void fx_lines_close(struct fx_lines *L);
 
 /* The point frame: f->face (after the cut) and f->grey from the model at each point

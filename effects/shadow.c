@@ -74,7 +74,7 @@ static int clip(const struct proj *q, const ld box[2][3], int k, const ld (*in)[
   return m;
 }
 
-int shadow_build(const struct render *r, const struct scene *s, struct fx_polys *out,
+int shadow_build(const struct mapped *map, const struct scene *s, struct fx_polys *out,
                  struct fx_stats *st, struct cost *cost, struct t74_error *err)
 {
   int maxv = 3;
@@ -93,10 +93,10 @@ int shadow_build(const struct render *r, const struct scene *s, struct fx_polys 
   struct gpoint *poly = NULL;
   size_t polycap = 0;
   long receivers = 0, polys0 = out->n;
-  const ld E[3] = { (ld)r->map.eye[0], (ld)r->map.eye[1], (ld)r->map.eye[2] };
+  const ld E[3] = { (ld)map->eye[0], (ld)map->eye[1], (ld)map->eye[2] };
   int st_ = T74_OK;
-  for (int R = 0; R < r->map.nface && st_ == T74_OK; R++) {
-    const struct mface *mf = &r->map.f[R];
+  for (int R = 0; R < map->nface && st_ == T74_OK; R++) {
+    const struct mface *mf = &map->f[R];
     const struct scene_face *sr = &s->f[mf->sface];
     if (sr->grey >= 0 || !s->has_light) continue;
     /* R's box in space (outer ring), one unit wider; and on the grid */

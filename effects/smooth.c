@@ -279,12 +279,12 @@ static double mean_height(const struct smooth_model *m, int from, int to)
   return cnt ? sum / cnt : 0;
 }
 
-int smooth_model_build(struct smooth_model *m, const struct render *r,
+int smooth_model_build(struct smooth_model *m, const struct mapped *map,
                        const struct scene *s, const struct effects *e,
                        struct t74_error *err)
 {
   memset(m, 0, sizeof *m);
-  int nm = r->map.nface;
+  int nm = map->nface;
   m->tri_of_mface = malloc(((size_t)nm + 1) * sizeof *m->tri_of_mface);
   int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
   m->tri = malloc(((size_t)s->nf + 1) * sizeof *m->tri);
@@ -296,9 +296,9 @@ int smooth_model_build(struct smooth_model *m, const struct render *r,
     return t74_fail(err, T74_EIO, "out of host memory");
   }
   for (int k = 0; k < s->nf; k++) mof[k] = -1;
-  for (int k = 0; k < nm; k++) { mof[r->map.f[k].sface] = k; m->tri_of_mface[k] = -1; }
+  for (int k = 0; k < nm; k++) { mof[map->f[k].sface] = k; m->tri_of_mface[k] = -1; }
   for (int k = 0; k < s->nv; k++) seen[k] = -1;
-  const int64_t *eye = r->map.eye;
+  const int64_t *eye = map->eye;
   for (int o = 0; o < s->nobj; o++) {
     const struct scene_object *ob = &s->obj[o];
     int from = m->ntri;
@@ -417,7 +417,7 @@ static void bary(const struct scene *s, const struct smooth_tri *tr, const doubl
   else l[0] = l[1] = l[2] = 1.0 / 3;
 }
 
-int smooth_grey_at(const struct smooth_model *m, const struct render *r, const struct scene *s,
+int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
                    unsigned blocked, struct cost *cost, int *region_out)
 {
@@ -443,7 +443,7 @@ int smooth_grey_at(const struct smooth_model *m, const struct render *r, const s
       region = smooth_partial_normal(tr, l, nrm);
     }
     if (region == 0 && refl == 1 && !blocked)
-      grey = r->map.f[tr->mface].grey;   /* exactly the flat picture */
+      grey = map->f[tr->mface].grey;     /* exactly the flat picture */
     else {
       if (region == 0) memcpy(nrm, tr->n, sizeof nrm);
       unit(nrm);
@@ -456,24 +456,24 @@ int smooth_grey_at(const struct smooth_model *m, const struct render *r, const s
   return grey < 0 ? 0 : grey > 255 ? 255 : grey;
 }
 
-int smooth_tables(struct render *r, const struct smooth_model *m, struct cost *cost,
+int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,
                   struct t74_error *err)
 {
   uint32_t an, ab;
-  int rc = core_alloc(r->core, SMOOTH_TABLE_NORMALS, (uint32_t)m->vertex_normals * 3, &an, err);
+  int rc = core_alloc(core, SMOOTH_TABLE_NORMALS, (uint32_t)m->vertex_normals * 3, &an, err);
   if (rc == T74_OK)
-    rc = core_alloc(r->core, SMOOTH_TABLE_BANDS, (uint32_t)m->ntri * 4, &ab, err);
+    rc = core_alloc(core, SMOOTH_TABLE_BANDS, (uint32_t)m->ntri * 4, &ab, err);
   if (rc != T74_OK) return rc;
   /* the tables themselves: Q1.14 vertex normals as the triangles meet them, the
      triangle's face row and its insets in Q0.16 */
   for (int t = 0; t < m->ntri; t++) {
     const struct smooth_tri *tr = &m->tri[t];
-    core_write(r->core, ab + 4 * (uint32_t)t, (uint16_t)(tr->mface + 1));
+    core_write(core, ab + 4 * (uint32_t)t, (uint16_t)(tr->mface + 1));
     for (int k = 0; k < 3; k++) {
       double tk = tr->t[k] * 65535.0;
-      core_write(r->core, ab + 4 * (uint32_t)t + 1 + (uint32_t)k, (uint16_t)(tk > 65535 ? 65535 : tk));
+      core_write(core, ab + 4 * (uint32_t)t + 1 + (uint32_t)k, (uint16_t)(tk > 65535 ? 65535 : tk));
       for (int c = 0; c < 3; c++)
-        core_write(r->core, an + 3 * (uint32_t)tr->ni[k] + (uint32_t)c,
+        core_write(core, an + 3 * (uint32_t)tr->ni[k] + (uint32_t)c,
                    (uint16_t)(int16_t)lrint(tr->cn[k][c] * 16384));
     }
     COST_ADD_N(cost, COST_MEM, 4 + 9);

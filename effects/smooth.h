@@ -26,7 +26,7 @@
 ** point shows is never changed here (contour smoothing, effects/contour.h, does that).
 **
 ** Machine model: the vertex normals (3 words of Q1.14 each) and the band table (the
-** three insets of every triangle, Q0.16) are allocated in r->core for the run, and the
+** three insets of every triangle, Q0.16) are allocated in the engine's core for the run, and the
 ** work per point is counted into the effects' cost (smooth.c lists the sequence).
 */
 #ifndef T74_SMOOTH_H
@@ -39,7 +39,7 @@
    opposite corner k (where the barycentric coordinate l[k] is 0). */
 struct smooth_tri {
   int    sface;            /* index in scene.f */
-  int    mface;            /* index in r->map.f, or -1 when the Mapper dropped it */
+  int    mface;            /* index in the Mapper's faces, or -1 when it dropped it */
   int    object;           /* object id */
   int    v[3];             /* scene vertex indices, in the object's consistent order */
   double n[3];             /* unit normal, outward by that order */
@@ -55,7 +55,7 @@ struct smooth_tri {
 struct smooth_model {
   int ntri;
   struct smooth_tri *tri;
-  int *tri_of_mface;       /* r->map.nface entries: triangle index, or -1 (flat) */
+  int *tri_of_mface;       /* map->nface entries: triangle index, or -1 (flat) */
   int objects;             /* objects with at least one triangle */
   int flips;               /* triangles turned to agree with their object */
   int conflicts;           /* edges two triangles could not be made to agree on
@@ -65,7 +65,7 @@ struct smooth_model {
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.
    Only host memory (T74_EIO when out of it). */
-int smooth_model_build(struct smooth_model *m, const struct render *r,
+int smooth_model_build(struct smooth_model *m, const struct mapped *map,
                        const struct scene *s, const struct effects *e,
                        struct t74_error *err);
 void smooth_model_free(struct smooth_model *m);
@@ -87,9 +87,9 @@ int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double
    and a unit light direction: 48 + 207 max(0, n.l), rounded (as render/mapper.c). */
 int smooth_lambert(const double n[3], const double l[3]);
 
-/* The patches' tables in r->core (vertex normals, bands): allocated for the effects' run
+/* The patches' tables in core (vertex normals, bands): allocated for the effects' run
    and counted (T74_ECORE when they do not fit). */
-int smooth_tables(struct render *r, const struct smooth_model *m, struct cost *cost,
+int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,
                   struct t74_error *err);
 
 /* The grey of triangle t of m at space point X on its plane (the shaded point), with
@@ -98,7 +98,7 @@ int smooth_tables(struct render *r, const struct smooth_model *m, struct cost *c
    flat inner triangle, 1 an edge band, 2 a corner band; Gouraud and Phong: 1). Counted in
    cost as the 16-bit program's sequence (smooth.c). The inner triangle with refl 1 and no
    light blocked is exactly the face's flat grey. */
-int smooth_grey_at(const struct smooth_model *m, const struct render *r, const struct scene *s,
+int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
                    unsigned blocked, struct cost *cost, int *region);
 

@@ -463,7 +463,7 @@ static void lib_open(struct lib *L, const char *scene, const char *effects)
   o.core_words = 1u << 20;
   assert_int_equal(render_prepare(&L->r, L->s, &o, &err), T74_OK);
   assert_int_equal(effects_parse(effects, &L->e, NULL, 0, &err), T74_OK);
-  assert_int_equal(smooth_model_build(&L->m, &L->r, L->s, &L->e, &err), T74_OK);
+  assert_int_equal(smooth_model_build(&L->m, &L->r.map, L->s, &L->e, &err), T74_OK);
 }
 
 static void lib_close(struct lib *L)

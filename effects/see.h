@@ -1,0 +1,91 @@
+/*
+** see.h — the engine as the effects see it: its faces, room for the effects' tables, and
+** one question, "which face is seen here", answered by each engine its own exact way.
+**
+** The effects of papers 000-004 work on the picture, not on how visibility was found.
+** What they need from the engine that drew the frame is small:
+**   - the Mapper's faces (render/mapper.h: planes, greys, grid polygons; the frame's face
+**     numbers index them), the same for both engines;
+**   - a core for their tables: the 1974 engine's own (its words are charged and show in
+**     --stats), or under the points engine a host core of the effects' own that grows as
+**     needed and is never reported (the points engine models no machine);
+**   - the face seen at the samples of a lattice K times finer than the points (fx_see_row;
+**     K = 1: the point centres), optionally with some faces taken away (what a contour cut
+**     shows behind its object). The 1974 engine answers from the Visible Surface
+**     Procedure's exact stretches along the sample row (render/visible.h), the points
+**     engine from its exact per-sample test (render/points_at.h). Both use the same
+**     coverage and tie rules; they differ only where the 1974 program cuts crossing faces
+**     along a carrier line a few grid units from the true intersection (README
+**     "Exactness"), where the points engine is the exact one.
+**
+** The 1974 engine also answers with whole stretches along any horizontal line
+** (fx_see_spans): anti-aliasing by multi-scanning (paper 000) and by area sampling (001)
+** and the exact reference integrate coverage over sub-scanlines, and enhanced edges (002)
+** draw the lines along which its Priority Matrix cut crossing faces. Those work on the
+** 1974 program's own stretches and cuts, which the points engine does not make: they run
+** with the 1974 engine only, and fx_needs_1974 names them for the refusal.
+*/
+#ifndef T74_SEE_H
+#define T74_SEE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/effects.h"
+#include "render/mapper.h"
+#include "render/visible.h"
+
+struct render;
+struct points;
+
+struct fx_engine {
+  const struct mapped *map;         /* the Mapper's faces */
+  struct core *core;                /* where the effects keep their tables */
+  const struct vis_grid *g;         /* the grid the frame was drawn on */
+  struct render *r;                 /* the 1974 engine (prepared and scanned), or NULL */
+  const struct points *pts;         /* the points engine (rendered), or NULL */
+  bool own_core;                    /* core is the effects' own (points engine) */
+};
+
+/* The 1974 engine r, scanned on grid g (both kept by the caller while e is used). */
+void fx_engine_1974(struct fx_engine *e, struct render *r, const struct vis_grid *g);
+
+/* The points engine p, rendered on grid g, with a host core of its own for the effects'
+   tables (T74_EIO when the host has no room). Free with fx_engine_free. */
+int fx_engine_points(struct fx_engine *e, const struct points *p, const struct vis_grid *g,
+                     struct t74_error *err);
+void fx_engine_free(struct fx_engine *e);
+
+/* What of the effects e only the 1974 engine can draw, as a sentence for a refusal
+   ("... work on ..."), or NULL when the points engine draws them all. */
+const char *fx_needs_1974(const struct effects *e);
+
+/* ---- which face is seen ------------------------------------------------------------ */
+
+struct fx_see;                      /* one question: an engine, faces taken away */
+
+/* Ask engine e, with the faces whose skip[face] is set taken away (skip NULL: none; kept by
+   the caller while the question lives). Lines and rows must then come in non-decreasing
+   y. Work is counted in cost (the 1974 engine's; the points engine counts nothing). */
+int fx_see_open(struct fx_see **out, const struct fx_engine *e, const uint8_t *skip,
+                struct cost *cost, struct t74_error *err);
+void fx_see_close(struct fx_see *s);
+
+/* Does the engine give whole stretches (fx_see_spans)? The 1974 engine does. */
+bool fx_see_has_spans(const struct fx_see *s);
+
+/* The visible stretches of the line y = yn / yd (grid units), left to right, gaps where
+   nothing is seen (the 1974 engine only: T74_EIO otherwise). */
+int fx_see_spans(struct fx_see *s, int64_t yn, int64_t yd, const struct vis_span **span,
+                 int *nspan, struct t74_error *err);
+
+/* The face seen (index in map.f, or -1) at samples k0 .. k0 + n - 1 of row m of the lattice
+   K times finer than the points: sample (k, m) at u = (k + 1/2) / K across, v = (m + 1/2) / K
+   down, in point units from the window's top left; K <= 16 and at most one point beyond
+   the grid. */
+int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
+               struct t74_error *err);
+
+#endif
