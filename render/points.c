@@ -40,9 +40,36 @@
 ** exact. A plane met at or behind the eye (P <= 0) is never in front; equal depth: the
 ** sign just right of the centre, then just above it (tie_front), then the larger face
 ** number.
+**
+** Float filter (issue 19).  The exact compare is asked only where doubles cannot decide
+** it. z = P / D (D = |D| above; 1/t up to a constant: larger is nearer) is computed in
+** IEEE doubles rounded to nearest (u = 2^-53) as za = alpha / D, zb = beta / D,
+** zc = gamma / D (an integer to double, rounded or truncated: error < 2u; D < 2^51 is
+** exact; one division: < 3.01u together); zr = zb j + zc a row; z0 = za i0 + zr where a
+** span starts; zl = z0 - E and zh = z0 + E, each stepped by + za from point to point;
+** E = 2^-40 M' with M' the computed M = (|alpha| W + |beta| H + |gamma|) / D, M' >
+** (1 - 8u) M. |z| <= M at every point and E < M / 2^39, so every value computed stays
+** below 2M and each rounding costs at most 2uM. Against z - E (and z + E): the errors of
+** za, zb, zc count 3.01u (|alpha| i + |beta| j + |gamma|) / D <= 3.01uM (za's is met i0
+** times in z0 and once a step: i times, i < W); the roundings, two in zr, two in z0, one
+** in zl (zh), one a step (fewer than W steps), (W + 4) 2uM. In all below (2W + 12) uM,
+** which is < 2^-42 M < E for W < 2^9 (W <= 133). So zl < z < zh at every centre.
+** The buffer keeps at each point, for the face o seen there, hi = max(zh, 0) and lo = zl
+** when zl > 0, else -inf (both -inf where no face is yet): z_o < hi, 0 <= hi, and lo is
+** finite only when z_o > lo > 0, i.e. P_o > 0. Face k at the point:
+**   zl > hi: z_k > zl > hi >= max(z_o, 0), so P_k > 0 and either P_o <= 0 or
+**     |D_o| P_k > |D_k| P_o: the exact compare puts k in front (with no face yet, any
+**     zl > -inf: k is taken, as before);
+**   zh < lo: z_k < zh < lo < z_o with P_o > 0: the exact compare does not;
+**   else the exact compare from the two faces' exact alpha, beta, gamma: only where the
+**     two depths are within about 2^-38 M of each other (the line where the faces meet,
+**     coplanar faces) or a P may be <= 0.
+** Needed: double arithmetic as C11 Annex F (x86-64's SSE2, FLT_EVAL_METHOD 0; wider
+** intermediates or fused multiply-adds only shrink the errors); never -ffast-math.
 */
 #include "render/points.h"
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,6 +87,20 @@ struct points_edge {
   wide dq;                  /* floor(dR / D) for a row up */
   int64_t drem;             /* dR - dq D */
 };
+
+/* A face's depth numerator P = alpha i + beta j + gamma over the grid (exact). */
+struct points_plane {
+  wide alpha, beta, gamma;
+};
+
+/* What a point's buffer knows of the face seen there in doubles: z = P / D lies strictly
+   between lo and hi; hi >= 0 and lo > 0 (else -inf) once a face is seen, both -inf while
+   none is (see the top of the file). */
+struct points_z {
+  double hi, lo;
+};
+
+#define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
 /* floor(n / d), d > 0 */
 static inline wide floor_div(wide n, wide d)
@@ -306,6 +347,16 @@ static inline bool in_front(const struct grid *g, wide Pk, const struct mface *f
   return s > 0;
 }
 
+/* The exact compare at point (i, j) between face k and the face o seen there, from the
+   faces' exact depth numerators. */
+static bool in_front_exact(const struct grid *g, const struct points *p, int k, int o,
+                           int64_t i, int64_t j)
+{
+  const struct points_plane *A = &p->plane[k], *B = &p->plane[o];
+  wide Pk = A->alpha * i + A->beta * j + A->gamma, Po = B->alpha * i + B->beta * j + B->gamma;
+  return in_front(g, Pk, &p->map.f[k], Po, &p->map.f[o]);
+}
+
 /* Rasterise face k into the buffer. */
 static int raster_face(struct points *p, const struct grid *g, int k, struct t74_error *err)
 {
@@ -352,14 +403,20 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
       if (rem >= E->D) { rem -= E->D; q++; }
     }
   }
-  /* depth: P = alpha i + beta j + gamma */
+  /* depth: P = alpha i + beta j + gamma exactly (kept for the exact compare), z = P / D
+     in doubles with its error bound E (the filter, see the top of the file) */
   const wide a = f->plane[0], b = f->plane[1], c = f->plane[2];
-  const wide alpha = a * 4 * g->H * (g->XR - g->XL);
-  const wide beta = -b * 4 * g->W * (g->YT - g->YB);
-  const wide gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
-                     b * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
-                     c * 4 * g->W * g->H * (-g->Ez);
-  const struct mface *F = p->map.f;
+  struct points_plane *pl = &p->plane[k];
+  pl->alpha = a * 4 * g->H * (g->XR - g->XL);
+  pl->beta = -b * 4 * g->W * (g->YT - g->YB);
+  pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
+              b * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
+              c * 4 * g->W * g->H * (-g->Ez);
+  const double Dd = (double)f->deye;
+  const double za = (double)pl->alpha / Dd, zb = (double)pl->beta / Dd,
+               zc = (double)pl->gamma / Dd;
+  const double E = Z_MARGIN * ((fabs((double)pl->alpha) * g->W + fabs((double)pl->beta) * g->H +
+                                fabs((double)pl->gamma)) / Dd);
   bool any = false;
   int start = 0;
   for (int r = 0; r < nrow; r++) {
@@ -374,17 +431,23 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
     }
     int64_t j = jlo + r;
     size_t row = (size_t)j * (size_t)g->W;
-    wide Prow = beta * j + gamma;
+    const double zr = zb * (double)j + zc;
     for (int x = 0; x + 1 < m; x += 2) {
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      wide P = Prow + alpha * i0;
+      const double z0 = za * (double)i0 + zr;
+      double zl = z0 - E, zh = z0 + E;
       int32_t *fb = p->face + row;
-      wide *db = p->depth + row;
-      for (int32_t i = i0; i < i1; i++, P += alpha) {
-        int32_t o = fb[i];
-        if (o < 0 || in_front(g, P, f, db[i], &F[o])) { fb[i] = k; db[i] = P; }
+      struct points_z *zbuf = p->z + row;
+      for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+        if (!(zl > zbuf[i].hi)) {
+          if (zh < zbuf[i].lo) continue;         /* behind, certainly */
+          if (!in_front_exact(g, p, k, fb[i], i, j)) continue;
+        }
+        fb[i] = k;
+        zbuf[i].hi = zh > 0 ? zh : 0;
+        zbuf[i].lo = zl > 0 ? zl : -HUGE_VAL;
       }
     }
     start = end;
@@ -403,14 +466,17 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   size_t n = (size_t)vg->W * (size_t)vg->H;
   if (!p->face || p->W != vg->W || p->H != vg->H) {
     free(p->face);
-    free(p->depth);
+    free(p->z);
     p->face = malloc((n ? n : 1) * sizeof *p->face);
-    p->depth = malloc((n ? n : 1) * sizeof *p->depth);
-    if (!p->face || !p->depth) return t74_fail(err, T74_EIO, "out of host memory");
+    p->z = malloc((n ? n : 1) * sizeof *p->z);
+    if (!p->face || !p->z) return t74_fail(err, T74_EIO, "out of host memory");
     p->W = vg->W;
     p->H = vg->H;
   }
   memset(p->face, 0xff, n * sizeof *p->face);   /* -1: nothing seen */
+  for (size_t q = 0; q < n; q++) p->z[q].hi = p->z[q].lo = -HUGE_VAL;
+  if (!grow((void **)&p->plane, &p->planecap, p->map.nface + 1, sizeof *p->plane))
+    return t74_fail(err, T74_EIO, "out of host memory");
   struct grid g;
   g.W = vg->W; g.H = vg->H;
   g.XL = vg->window[0]; g.YB = vg->window[1]; g.XR = vg->window[2]; g.YT = vg->window[3];
@@ -433,7 +499,8 @@ void points_free(struct points *p)
   core_free(p->core);
   core_free(p->segcore);
   free(p->face);
-  free(p->depth);
+  free(p->z);
+  free(p->plane);
   free(p->edge);
   free(p->cross);
   free(p->rowcount);
