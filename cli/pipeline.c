@@ -826,9 +826,41 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
 }
 
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
-** first, left to right), through the same per-point path. */
+** first, left to right), through the same per-point path. To the tube alone with neither
+** a background nor effects (each --frames frame after the first): on_point's and
+** emit_point's steps for that case, the display's counts added once (issue 19). */
 static int points_emit(struct pipeline *p, const struct points *pt)
 {
+  if (p->tube_only && !p->face && !p->scan && !p->timed) {
+    uint64_t n = 0, levels = 0;
+    for (int j = p->H - 1; j >= 0; j--) {
+      size_t at = (size_t)j * (size_t)p->W;
+      for (int i = 0; i < p->W; i++, at++) {
+        int face = pt->face[at], grey = 0;
+        uint32_t id = 0;
+        if (face >= 0) { grey = p->map->f[face].grey; id = p->map->f[face].id; }
+        p->ids[at] = id;
+        p->grey[at] = (uint8_t)grey;
+        if ((unsigned)grey >= 256) {            /* not from the Mapper: the whole path */
+          int st = emit_point(p, i, j, face, grey, true);
+          if (st != T74_OK) return st;
+          continue;
+        }
+        int level = p->level[grey];
+        n++;
+        levels += (uint64_t)level;
+        if (!p->mask[level]) continue;
+        int x0, y0;
+        pat_cell_origin(p->cell, i, j, &x0, &y0);
+        int st = tube_write_dots(p->tube_only, x0, y0, p->cell, p->mask[level]);
+        if (st != T74_OK) return st;
+      }
+    }
+    COST_ADD_N(&p->display, COST_MEM, 4 * n);
+    COST_ADD_N(&p->display, COST_SHIFT, (uint64_t)(p->cell * p->cell) * n);
+    COST_ADD_N(&p->display, COST_IO, levels);
+    return T74_OK;
+  }
   for (int j = p->H - 1; j >= 0; j--)
     for (int i = 0; i < p->W; i++) {
       int st = on_point(p, i, j, pt->face[(size_t)j * (size_t)p->W + (size_t)i]);
