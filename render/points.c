@@ -364,11 +364,18 @@ static inline bool in_front(const struct grid *g, wide Pk, const struct mface *f
 }
 
 /* The exact compare at point (i, j) between face k and the face o seen there, from the
-   faces' exact depth numerators (out of line: the spans' loop keeps no 128-bit state). */
-static __attribute__((noinline)) bool in_front_exact(const struct grid *g, const struct points *p, int k, int o,
-                           int64_t i, int64_t j)
+   faces' exact depth numerators (out of line: the spans' loop keeps no 128-bit state).
+   *same: the two planes are one (P_k |D_o| = P_o |D_k| everywhere: |alpha| |D| < 2^111,
+   |gamma| |D| < 2^119), where the answer is mface_coplanar_front's at every point: the
+   signs of P_k and P_o agree, so in_front finds either both <= 0 or equal depths and
+   equal slopes (tie_front's a and b are alpha and -beta). */
+static __attribute__((noinline)) bool in_front_exact(const struct grid *g, const struct points *p,
+                                                     int k, int o, int64_t i, int64_t j, bool *same)
 {
   const struct points_plane *A = &p->plane[k], *B = &p->plane[o];
+  const wide Dk = p->map.f[k].deye, Do = p->map.f[o].deye;
+  *same = A->alpha * Do == B->alpha * Dk && A->beta * Do == B->beta * Dk &&
+          A->gamma * Do == B->gamma * Dk;
   wide Pk = A->alpha * i + A->beta * j + A->gamma, Po = B->alpha * i + B->beta * j + B->gamma;
   return in_front(g, Pk, &p->map.f[k], Po, &p->map.f[o]);
 }
@@ -383,10 +390,18 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
   struct points_z *zb = p->z + row;
+  int co = -1;                                  /* a face in face k's plane met on the span */
+  bool cofront = false;                         /* and the exact compare's answer against it */
   for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
     if (!(zl > zb[i].hi)) {
       if (zh < zb[i].lo) continue;              /* behind, certainly */
-      if (!in_front_exact(g, p, k, fb[i], i, j)) continue;
+      int o = fb[i];
+      bool front = cofront, same;
+      if (o != co) {
+        front = in_front_exact(g, p, k, o, i, j, &same);
+        if (same) { co = o; cofront = front; }
+      }
+      if (!front) continue;
     }
     fb[i] = k;
     if (plus) {
