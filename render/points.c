@@ -1,6 +1,6 @@
 /*
 ** points.c — the points engine (see points.h): each face's grid polygon rasterised by
-** exact scanline crossings into a per-point (face, depth) buffer.
+** exact scanline crossings into a per-point (face, depth bounds) buffer.
 **
 ** Numbers (every bound proven here; the scene reader keeps coordinates in 16 bits):
 **
@@ -47,8 +47,9 @@
 ** Float filter (issue 19).  The exact compare is asked only where doubles cannot decide
 ** it. z = P / D (D = |D| above; 1/t up to a constant: larger is nearer) is computed in
 ** IEEE doubles rounded to nearest (u = 2^-53) as za = alpha / D, zb = beta / D,
-** zc = gamma / D (an integer to double, rounded or truncated: error < 2u; D < 2^51 is
-** exact; one division: < 3.01u together); zr = zb j + zc a row; z0 = za i0 + zr where a
+** zc = gamma / D (alpha and beta as the product of their two factors, exact doubles;
+** gamma an integer to double, rounded or truncated: error < 2u; D < 2^51 is exact; one
+** division: < 3.01u together); zr = zb j + zc a row; z0 = za i0 + zr where a
 ** span starts; zl = z0 - E and zh = z0 + E, each stepped by + za from point to point;
 ** E = 2^-40 M' with M' the computed M = (|alpha| W + |beta| H + |gamma|) / D, M' >
 ** (1 - 8u) M. |z| <= M at every point and E < M / 2^39, so every value computed stays
@@ -67,6 +68,10 @@
 **   else the exact compare from the two faces' exact alpha, beta, gamma: only where the
 **     two depths are within about 2^-38 M of each other (the line where the faces meet,
 **     coplanar faces) or a P may be <= 0.
+** A face whose least z over its box (at a corner; its double computed as z0 is, within
+** 11.01uM < E) is > 4E has zl > z - 2E > 0 at all its points: it stores zl and zh as they
+** are. Two faces in one plane get mface_coplanar_front's answer at every point
+** (in_front_exact), so the exact compare is asked once a span for such a pair.
 ** Needed: double arithmetic as C11 Annex F (x86-64's SSE2, FLT_EVAL_METHOD 0; wider
 ** intermediates or fused multiply-adds only shrink the errors); never -ffast-math.
 */
@@ -462,22 +467,23 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
   /* depth: P = alpha i + beta j + gamma exactly (kept for the exact compare), z = P / D
      in doubles with its error bound E (the filter, see the top of the file) */
   const wide a = f->plane[0], b = f->plane[1], c = f->plane[2];
+  const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
   struct points_plane *pl = &p->plane[k];
-  pl->alpha = a * 4 * g->H * (g->XR - g->XL);
-  pl->beta = -b * 4 * g->W * (g->YT - g->YB);
+  pl->alpha = a * ca;
+  pl->beta = -b * cb;
   pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
               b * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
               c * 4 * g->W * g->H * (-g->Ez);
   const double Dd = (double)f->deye;
-  const double za = (double)pl->alpha / Dd, zb = (double)pl->beta / Dd,
-               zc = (double)pl->gamma / Dd;
-  const double E = Z_MARGIN * ((fabs((double)pl->alpha) * g->W + fabs((double)pl->beta) * g->H +
-                                fabs((double)pl->gamma)) / Dd);
-  /* z > 2E over the box (P is linear: its least value is at a corner; the double of it
-     over D is within 3.01u of the exact z there): zl > z - 2E > 0 at every point */
-  wide Pmin = pl->alpha * (pl->alpha > 0 ? ilo : ihi - 1) +
-              pl->beta * (pl->beta > 0 ? jlo : jhi) + pl->gamma;
-  const bool plus = Pmin > 0 && (double)Pmin / Dd > 4 * E;
+  const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
+               Gd = (double)pl->gamma;
+  const double za = Ad / Dd, zb = Bd / Dd, zc = Gd / Dd;
+  const double E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
+  /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
+     error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
+  const double zmin = za * (double)(pl->alpha > 0 ? ilo : ihi - 1) +
+                      (zb * (double)(pl->beta > 0 ? jlo : jhi) + zc);
+  const bool plus = zmin > 4 * E;
   bool any = false;
   int start = 0;
   for (int r = 0; r < nrow; r++) {
