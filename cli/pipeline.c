@@ -255,13 +255,41 @@ static double pipeline_seconds(const struct pipeline *p)
   return t;
 }
 
-/* A point's halftone cell to the sinks: grey is its intensity; a background point whose
-** intensity no effect changed takes its level off the disk (4 bits: 4x4's level 16 is 15). */
+/* A point's halftone level: grey is its intensity; a background point whose intensity no
+** effect changed takes its level off the disk (4 bits: 4x4's level 16 is 15). */
+static inline __attribute__((always_inline))
+int point_level(struct pipeline *p, int i, int j, int face, int grey, bool bg_level)
+{
+  return face < 0 && bg_level && p->scan ? scan_level(p->scan, i, j, &p->scanner)
+           : (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
+}
+
+/* The tube alone: pat_emit_point's dots of point (i, j) in its order, as one cell write
+** (dots: the cell's pattern word). */
+static inline __attribute__((always_inline))
+int cell_to_tube(struct tube *t, int cell, int i, int j, unsigned dots)
+{
+  if (!dots) return T74_OK;
+  int x0, y0;
+  pat_cell_origin(cell, i, j, &x0, &y0);
+  return tube_write_dots(t, x0, y0, cell, dots);
+}
+
+/* A point's halftone cell of that level to the sinks. */
+static inline __attribute__((always_inline))
+int cell_out(struct pipeline *p, int i, int j, int level)
+{
+  if (p->tube_only && i >= 0 && i < p->W && j >= 0 && j < p->H && level >= 0 &&
+      level <= p->cell * p->cell)
+    return cell_to_tube(p->tube_only, p->cell, i, j, p->mask[level]);
+  return pat_emit_point(p->pat, i, j, level, &p->out);
+}
+
+/* A point's halftone cell to the sinks, its time and counts. */
 static inline __attribute__((always_inline))
 int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_level)
 {
-  int level = face < 0 && bg_level && p->scan ? scan_level(p->scan, i, j, &p->scanner)
-                : (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
+  int level = point_level(p, i, j, face, grey, bg_level);
   if (p->timed) {
     if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
     /* the first dot: 003 cuts and scans bottom to top so that the picture shows while it
@@ -274,15 +302,25 @@ int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_lev
   COST_ADD_N(&p->display, COST_MEM, 4);
   COST_ADD_N(&p->display, COST_SHIFT, p->cell * p->cell);
   COST_ADD_N(&p->display, COST_IO, level);
-  if (p->tube_only && i >= 0 && i < p->W && j >= 0 && j < p->H && level >= 0 &&
-      level <= p->cell * p->cell) {
-    /* the tube alone: pat_emit_point's dots in its order, as one cell write */
-    if (!p->mask[level]) return T74_OK;
-    int x0, y0;
-    pat_cell_origin(p->cell, i, j, &x0, &y0);
-    return tube_write_dots(p->tube_only, x0, y0, p->cell, p->mask[level]);
+  return cell_out(p, i, j, level);
+}
+
+/* Point (i, j) (at = j W + i) sees face (< 0: none): its id and grey kept for the dumps;
+** its grey. */
+static inline __attribute__((always_inline))
+int point_seen(struct pipeline *p, int i, int j, size_t at, int face)
+{
+  int grey;
+  uint32_t id = 0;
+  if (face >= 0) {
+    grey = p->map->f[face].grey;
+    id = p->map->f[face].id;
+  } else {
+    grey = p->scan ? scan_grey(p->scan, i, j) : 0;
   }
-  return pat_emit_point(p->pat, i, j, level, &p->out);
+  p->ids[at] = id;
+  p->grey[at] = (uint8_t)grey;
+  return grey;
 }
 
 static int on_point(void *ctx, int i, int j, int face)
@@ -292,17 +330,8 @@ static int on_point(void *ctx, int i, int j, int face)
     int ws = p->hooks->watch(p->hooks->watch_ctx, p->r, i, j, face);
     if (ws != T74_OK) return ws;
   }
-  int grey;
-  uint32_t id = 0;
   size_t at = (size_t)j * (size_t)p->W + (size_t)i;
-  if (face >= 0) {
-    grey = p->map->f[face].grey;
-    id = p->map->f[face].id;
-  } else {
-    grey = p->scan ? scan_grey(p->scan, i, j) : 0;
-  }
-  p->ids[at] = id;
-  p->grey[at] = (uint8_t)grey;
+  int grey = point_seen(p, i, j, at, face);
   if (p->face) { p->face[at] = face; return T74_OK; }   /* effects: emitted after fx_run */
   return emit_point(p, i, j, face, grey, true);
 }
@@ -835,9 +864,31 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
 }
 
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
-** first, left to right), through the same per-point path. */
+** first, left to right), through the same per-point path. To the tube alone without
+** effects (each --frames frame after the first): on_point's steps without a call a point,
+** the display's counts added once (issue 19). */
 static int points_emit(struct pipeline *p, const struct points *pt)
 {
+  if (p->tube_only && !p->face && !p->timed) {
+    struct tube *t = p->tube_only;
+    const int W = p->W, H = p->H, cell = p->cell, cc = cell * cell;
+    uint64_t levels = 0;
+    for (int j = H - 1; j >= 0; j--)
+      for (int i = 0; i < W; i++) {
+        size_t at = (size_t)j * (size_t)W + (size_t)i;
+        int face = pt->face[at];
+        int level = point_level(p, i, j, face, point_seen(p, i, j, at, face), true);
+        levels += (uint64_t)level;
+        int st = level >= 0 && level <= cc ? cell_to_tube(t, cell, i, j, p->mask[level])
+                                           : cell_out(p, i, j, level);
+        if (st != T74_OK) return st;
+      }
+    uint64_t n = (uint64_t)W * (uint64_t)H;
+    COST_ADD_N(&p->display, COST_MEM, 4 * n);
+    COST_ADD_N(&p->display, COST_SHIFT, (uint64_t)cc * n);
+    COST_ADD_N(&p->display, COST_IO, levels);
+    return T74_OK;
+  }
   for (int j = p->H - 1; j >= 0; j--)
     for (int i = 0; i < p->W; i++) {
       int st = on_point(p, i, j, pt->face[(size_t)j * (size_t)p->W + (size_t)i]);

@@ -87,8 +87,15 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
     return T74_OK;
   }
   uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every dot is on the tube */
-  if (cell == 4 && (x0 & 3) == 0) {
-    /* a row of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8) */
+  if (cell == 4 && (x0 & 3) == 0 && t->n <= TUBE_DOTS - 16) {
+    /* a row of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8); its
+       new dots go to order[] as four entries of which the first `count` are kept (room
+       for all 16 of the cell's is left at the end of order[]) */
+    static const uint8_t bit_at[16][4] = {   /* the set bits of a row, lowest first */
+      {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0},
+      {1, 2, 0, 0}, {0, 1, 2, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0},
+      {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3} };
+    static const uint8_t count[16] = { 0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4 };
     uint8_t *lit = t->lit;
     uint32_t *next = t->order + t->n;
     for (int cy = 0; mask; cy++, mask >>= 4) {
@@ -97,11 +104,9 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
       uint32_t d = base - (uint32_t)cy * TUBE_W;
       unsigned sh = d & 7, fresh = row & ~((unsigned)lit[d >> 3] >> sh);
       lit[d >> 3] |= (uint8_t)(fresh << sh);
-      if (fresh == 15u) {                  /* a whole row, the common case of bright faces */
-        next[0] = d; next[1] = d + 1; next[2] = d + 2; next[3] = d + 3;
-        next += 4;
-      } else
-        for (; fresh; fresh &= fresh - 1) *next++ = d + (uint32_t)__builtin_ctz(fresh);
+      const uint8_t *b = bit_at[fresh];
+      next[0] = d + b[0]; next[1] = d + b[1]; next[2] = d + b[2]; next[3] = d + b[3];
+      next += count[fresh];
     }
     t->n = (int)(next - t->order);
   } else if (cell == 4) write_dots(t, base, 4, mask);   /* constant cells: no divide per dot */

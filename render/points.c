@@ -1,6 +1,6 @@
 /*
 ** points.c — the points engine (see points.h): each face's grid polygon rasterised by
-** exact scanline crossings into a per-point (face, depth) buffer.
+** exact scanline crossings into a per-point (face, depth bounds) buffer.
 **
 ** Numbers (every bound proven here; the scene reader keeps coordinates in 16 bits):
 **
@@ -22,8 +22,11 @@
 ** |dx|, |dy| < 2^29, |x0|, |y0| <= 2^28, |yn| < 2^33, yd < 2^8, xd < 2^9, S < 2^24:
 ** D < 2^61, |R| < 2^9 (2^65 + 2^37 2^29) + 2^69 < 2^77 — 128-bit. The first such i is
 ** floor(ceil(R / D) / 2). From one row to the next up, yn grows by 2 Dy, so R grows by a
-** constant; R / D is stepped as quotient and remainder (remainder < D < 2^61), with one
-** division per edge for the start and one for the step.
+** constant dR = 2 xd Dy dx; R / D is stepped as quotient and remainder (remainder < D <
+** 2^61), with one division per edge for the start and one for the step. The quotients
+** fit 64 bits: R / D = xd (x - GRID_ONE XL) / S at the crossing's x (|x| <= 2^28, S >=
+** 2^8), |R / D| < 2^9 2^29 / 2^8 = 2^30; |dR| < 2^9 2^25 2^29 = 2^63. A division is
+** done in 64 bits when its dividend fits them, else in 128.
 **
 ** Even-odd.  On one row the crossings of a face (all rings; an even number, each ring
 ** giving an even number under the half-open rule) are sorted by their first columns c_k;
@@ -40,9 +43,41 @@
 ** exact. A plane met at or behind the eye (P <= 0) is never in front; equal depth: the
 ** sign just right of the centre, then just above it (tie_front), then the larger face
 ** number.
+**
+** Float filter (issue 19).  The exact compare is asked only where doubles cannot decide
+** it. z = P / D (D = |D| above; 1/t up to a constant: larger is nearer) is computed in
+** IEEE doubles rounded to nearest (u = 2^-53) as za = alpha / D, zb = beta / D,
+** zc = gamma / D (alpha and beta as the product of their two factors, exact doubles;
+** gamma an integer to double, rounded or truncated: error < 2u; D < 2^51 is exact; one
+** division: < 3.01u together); zr = zb j + zc a row; z0 = za i0 + zr where a
+** span starts; zl = z0 - E and zh = z0 + E, each stepped by + za from point to point;
+** E = 2^-40 M' with M' the computed M = (|alpha| W + |beta| H + |gamma|) / D, M' >
+** (1 - 8u) M. |z| <= M at every point and E < M / 2^39, so every value computed stays
+** below 2M and each rounding costs at most 2uM. Against z - E (and z + E): the errors of
+** za, zb, zc count 3.01u (|alpha| i + |beta| j + |gamma|) / D <= 3.01uM (za's is met i0
+** times in z0 and once a step: i times, i < W); the roundings, two in zr, two in z0, one
+** in zl (zh), one a step (fewer than W steps), (W + 4) 2uM. In all below (2W + 12) uM,
+** which is < 2^-42 M < E for W < 2^9 (W <= 133). So zl < z < zh at every centre.
+** The buffer keeps at each point, for the face o seen there, hi = max(zh, 0) and lo = zl
+** when zl > 0, else -inf (both -inf where no face is yet): z_o < hi, 0 <= hi, and lo is
+** finite only when z_o > lo > 0, i.e. P_o > 0. Face k at the point:
+**   zl > hi: z_k > zl > hi >= max(z_o, 0), so P_k > 0 and either P_o <= 0 or
+**     |D_o| P_k > |D_k| P_o: the exact compare puts k in front (with no face yet, any
+**     zl > -inf: k is taken, as before);
+**   zh < lo: z_k < zh < lo < z_o with P_o > 0: the exact compare does not;
+**   else the exact compare from the two faces' exact alpha, beta, gamma: only where the
+**     two depths are within about 2^-38 M of each other (the line where the faces meet,
+**     coplanar faces) or a P may be <= 0.
+** A face whose least z over its box (at a corner; its double computed as z0 is, within
+** 11.01uM < E) is > 4E has zl > z - 2E > 0 at all its points: it stores zl and zh as they
+** are. Two faces in one plane get mface_coplanar_front's answer at every point
+** (in_front_exact), so the exact compare is asked once a span for such a pair.
+** Needed: double arithmetic as C11 Annex F (x86-64's SSE2, FLT_EVAL_METHOD 0; wider
+** intermediates or fused multiply-adds only shrink the errors); never -ffast-math.
 */
 #include "render/points.h"
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -54,26 +89,49 @@
 
 struct points_edge {
   int32_t jtop, jbot;       /* rows crossed: jtop .. jbot (j from the top), jtop <= jbot */
-  wide q;                   /* floor(R / D) at row jbot */
+  int64_t q;                /* floor(R / D) at row jbot */
   int64_t rem;              /* R - q D, 0 <= rem < D */
   int64_t D;
-  wide dq;                  /* floor(dR / D) for a row up */
+  int64_t dq;               /* floor(dR / D) for a row up */
   int64_t drem;             /* dR - dq D */
 };
 
-/* floor(n / d), d > 0 */
-static inline wide floor_div(wide n, wide d)
-{
-  wide q = n / d;
-  if ((n % d) < 0) q--;
-  return q;
-}
+/* A face's depth numerator P = alpha i + beta j + gamma over the grid (exact). */
+struct points_plane {
+  wide alpha, beta, gamma;
+};
+
+/* What a point's buffer knows of the face seen there in doubles: z = P / D lies strictly
+   between lo and hi; hi >= 0 and lo > 0 (else -inf) once a face is seen, both -inf while
+   none is (see the top of the file). */
+struct points_z {
+  double hi, lo;
+};
+
+#define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
 static inline int64_t floor_div64(int64_t n, int64_t d)
 {
   int64_t q = n / d;
   if ((n % d) < 0) q--;
   return q;
+}
+
+/* *q = floor(n / d), *r = n - *q d (0 <= *r < d), d > 0, for a quotient that fits 64
+   bits: in 64-bit arithmetic when n does (nearly always), else in 128-bit. */
+static inline void floor_divmod(wide n, int64_t d, int64_t *q, int64_t *r)
+{
+  if (n == (int64_t)n) {
+    int64_t n64 = (int64_t)n, q64 = n64 / d, r64 = n64 % d;
+    if (r64 < 0) { q64--; r64 += d; }
+    *q = q64;
+    *r = r64;
+    return;
+  }
+  wide qw = n / d, rw = n % d;
+  if (rw < 0) { qw--; rw += d; }
+  *q = (int64_t)qw;
+  *r = (int64_t)rw;
 }
 
 /* A face the Segment Generator takes as it is without asking it: a triangle, or one
@@ -85,12 +143,16 @@ static bool plain_convex(const struct mface *f)
   int n = f->ring_start[1];
   if (n == 3) return true;
   const struct gpoint *p = f->pt;
+  struct gpoint a = p[n - 1], b = p[0];
   int first = 0, prev = 0, changes = 0;
   for (int k = 0; k < n; k++) {
-    struct gpoint a = p[(k + n - 1) % n], b = p[k], c = p[(k + 1) % n];
-    if (geom_orient(a, b, c) <= 0) return false;
+    struct gpoint c = p[k + 1 < n ? k + 1 : 0];
+    /* geom_orient(a, b, c) in 64 bits: differences < 2^29, products < 2^58 */
+    if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= 0) return false;
     int64_t dy = c.y - b.y;
     int sg = (dy > 0) - (dy < 0);
+    a = b;
+    b = c;
     if (!sg) continue;
     if (!first) first = sg;
     else if (sg != prev) changes++;
@@ -203,19 +265,17 @@ struct grid {
   wide Ex, Ey, Ez;
 };
 
-/* Rows j (from the top) with y_j >= y: j <= row_at_or_above(y). */
-static inline int64_t row_last_at_or_above(const struct grid *g, int64_t y)
+/* Row j (from the top) has y_j >= y exactly when 2j + 1 <= row_q(y). */
+static inline int64_t row_q(const struct grid *g, int64_t y)
 {
-  int64_t q = floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);   /* 2j+1 <= q */
-  return floor_div64(q - 1, 2);
+  return floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);
 }
 
-/* Rows with y_j < y: j >= row_first_below(y). */
-static inline int64_t row_first_below(const struct grid *g, int64_t y)
-{
-  int64_t q = floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);   /* 2j+1 > q */
-  return -floor_div64(-q, 2);                                       /* ceil(q / 2) */
-}
+/* Rows with y_j >= y, from q = row_q(y): j <= floor((q - 1) / 2). */
+static inline int64_t rows_at_or_above(int64_t q) { return floor_div64(q - 1, 2); }
+
+/* Rows with y_j < y (2j + 1 > q): j >= ceil(q / 2). */
+static inline int64_t rows_below(int64_t q) { return -floor_div64(-q, 2); }
 
 /* Columns i with x_i >= x (grid units, an integer): i >= col_first_at_or_right(x). */
 static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
@@ -237,11 +297,17 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   const wide dyn_row = 2 * (wide)g->Dy;         /* yn grows by this a row up */
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
+    const int64_t qlo = row_q(g, f->pt[lo].y);  /* each vertex's row_q once */
+    int64_t qb = qlo;
     for (int k = lo; k < hi; k++) {
-      struct gpoint a = f->pt[k], b = f->pt[k + 1 < hi ? k + 1 : lo];
+      int nk = k + 1 < hi ? k + 1 : lo;
+      struct gpoint a = f->pt[k], b = f->pt[nk];
+      int64_t qa = qb;
+      qb = nk == lo ? qlo : row_q(g, b.y);
       if (a.y == b.y) continue;
-      if (a.y > b.y) { struct gpoint t = a; a = b; b = t; }
-      int64_t jb = row_last_at_or_above(g, a.y), jt = row_first_below(g, b.y);
+      int64_t qbot = qa, qtop = qb;             /* of the lower end a, the upper end b */
+      if (a.y > b.y) { struct gpoint t = a; a = b; b = t; qbot = qb; qtop = qa; }
+      int64_t jb = rows_at_or_above(qbot), jt = rows_below(qtop);
       if (jb > jhi) jb = jhi;
       if (jt < jlo) jt = jlo;
       if (jt > jb) continue;
@@ -253,24 +319,20 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       wide yn = (wide)GRID_ONE * ((wide)g->yd * g->YT - (2 * (wide)jb + 1) * (g->YT - g->YB));
       wide R = (wide)g->xd * ((wide)a.x * dy * g->yd + (yn - (wide)a.y * g->yd) * dx) -
                (wide)GRID_ONE * g->xd * g->XL * dy * g->yd;
-      e->q = floor_div(R, e->D);
-      e->rem = (int64_t)(R - e->q * e->D);
-      wide dR = (wide)g->xd * dyn_row * dx;
-      e->dq = floor_div(dR, e->D);
-      e->drem = (int64_t)(dR - e->dq * e->D);
+      floor_divmod(R, e->D, &e->q, &e->rem);
+      floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
     }
   }
   *nedge = ne;
   return T74_OK;
 }
 
-static inline int32_t col_of(const struct grid *g, wide q, int64_t rem)
+static inline int32_t col_of(const struct grid *g, int64_t q, int64_t rem)
 {
-  wide c = q + (rem != 0);                      /* ceil(R / D) */
-  c = floor_div(c, 2);
-  if (c < 0) return 0;
-  if (c > g->W) return g->W;
-  return (int32_t)c;
+  int64_t c = q + (rem != 0);                   /* ceil(R / D) */
+  if (c <= 0) return 0;                         /* floor(c / 2) <= 0 */
+  c /= 2;
+  return c > g->W ? g->W : (int32_t)c;
 }
 
 /* Depth ties at a centre: the sign of G = |D_o| P_k - |D_k| P_o just right of the centre
@@ -306,6 +368,57 @@ static inline bool in_front(const struct grid *g, wide Pk, const struct mface *f
   return s > 0;
 }
 
+/* The exact compare at point (i, j) between face k and the face o seen there, from the
+   faces' exact depth numerators (out of line: the spans' loop keeps no 128-bit state).
+   *same: the two planes are one (P_k |D_o| = P_o |D_k| everywhere: |alpha| |D| < 2^111,
+   |gamma| |D| < 2^119), where the answer is mface_coplanar_front's at every point: the
+   signs of P_k and P_o agree, so in_front finds either both <= 0 or equal depths and
+   equal slopes (tie_front's a and b are alpha and -beta). */
+static __attribute__((noinline)) bool in_front_exact(const struct grid *g, const struct points *p,
+                                                     int k, int o, int64_t i, int64_t j, bool *same)
+{
+  const struct points_plane *A = &p->plane[k], *B = &p->plane[o];
+  const wide Dk = p->map.f[k].deye, Do = p->map.f[o].deye;
+  *same = A->alpha * Do == B->alpha * Dk && A->beta * Do == B->beta * Dk &&
+          A->gamma * Do == B->gamma * Dk;
+  wide Pk = A->alpha * i + A->beta * j + A->gamma, Po = B->alpha * i + B->beta * j + B->gamma;
+  return in_front(g, Pk, &p->map.f[k], Po, &p->map.f[o]);
+}
+
+/* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
+   (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
+   and max(zh, 0)), as the caller proved. */
+static inline __attribute__((always_inline)) void
+raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0, int32_t i1,
+            double zl, double zh, double za, bool plus)
+{
+  size_t row = (size_t)j * (size_t)g->W;
+  int32_t *fb = p->face + row;
+  struct points_z *zb = p->z + row;
+  int co = -1;                                  /* a face in face k's plane met on the span */
+  bool cofront = false;                         /* and the exact compare's answer against it */
+  for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+    if (!(zl > zb[i].hi)) {
+      if (zh < zb[i].lo) continue;              /* behind, certainly */
+      int o = fb[i];
+      bool front = cofront, same;
+      if (o != co) {
+        front = in_front_exact(g, p, k, o, i, j, &same);
+        if (same) { co = o; cofront = front; }
+      }
+      if (!front) continue;
+    }
+    fb[i] = k;
+    if (plus) {
+      zb[i].hi = zh;
+      zb[i].lo = zl;
+    } else {
+      zb[i].hi = zh > 0 ? zh : 0;
+      zb[i].lo = zl > 0 ? zl : -HUGE_VAL;
+    }
+  }
+}
+
 /* Rasterise face k into the buffer. */
 static int raster_face(struct points *p, const struct grid *g, int k, struct t74_error *err)
 {
@@ -319,7 +432,7 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
     if (q.y < ymin) ymin = q.y;
     if (q.y > ymax) ymax = q.y;
   }
-  int64_t jlo = row_first_below(g, ymax), jhi = row_last_at_or_above(g, ymin);
+  int64_t jlo = rows_below(row_q(g, ymax)), jhi = rows_at_or_above(row_q(g, ymin));
   if (jlo < 0) jlo = 0;
   if (jhi > g->H - 1) jhi = g->H - 1;
   int64_t ilo = col_first_at_or_right(g, xmin), ihi = col_first_at_or_right(g, xmax);
@@ -342,8 +455,7 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
   /* fill: rc[r] is the next free slot of row r (rc[r] ends as row r+1's start) */
   for (int e = 0; e < ne; e++) {
     struct points_edge *E = &p->edge[e];
-    wide q = E->q;
-    int64_t rem = E->rem;
+    int64_t q = E->q, rem = E->rem;
     for (int32_t j = E->jbot;; j--) {
       p->cross[rc[j - jlo]++] = col_of(g, q, rem);
       if (j == E->jtop) break;
@@ -352,14 +464,26 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
       if (rem >= E->D) { rem -= E->D; q++; }
     }
   }
-  /* depth: P = alpha i + beta j + gamma */
+  /* depth: P = alpha i + beta j + gamma exactly (kept for the exact compare), z = P / D
+     in doubles with its error bound E (the filter, see the top of the file) */
   const wide a = f->plane[0], b = f->plane[1], c = f->plane[2];
-  const wide alpha = a * 4 * g->H * (g->XR - g->XL);
-  const wide beta = -b * 4 * g->W * (g->YT - g->YB);
-  const wide gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
-                     b * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
-                     c * 4 * g->W * g->H * (-g->Ez);
-  const struct mface *F = p->map.f;
+  const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
+  struct points_plane *pl = &p->plane[k];
+  pl->alpha = a * ca;
+  pl->beta = -b * cb;
+  pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
+              b * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
+              c * 4 * g->W * g->H * (-g->Ez);
+  const double Dd = (double)f->deye;
+  const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
+               Gd = (double)pl->gamma;
+  const double za = Ad / Dd, zb = Bd / Dd, zc = Gd / Dd;
+  const double E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
+  /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
+     error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
+  const double zmin = za * (double)(pl->alpha > 0 ? ilo : ihi - 1) +
+                      (zb * (double)(pl->beta > 0 ? jlo : jhi) + zc);
+  const bool plus = zmin > 4 * E;
   bool any = false;
   int start = 0;
   for (int r = 0; r < nrow; r++) {
@@ -373,19 +497,14 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
       cs[y + 1] = v;
     }
     int64_t j = jlo + r;
-    size_t row = (size_t)j * (size_t)g->W;
-    wide Prow = beta * j + gamma;
+    const double zr = zb * (double)j + zc;
     for (int x = 0; x + 1 < m; x += 2) {
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      wide P = Prow + alpha * i0;
-      int32_t *fb = p->face + row;
-      wide *db = p->depth + row;
-      for (int32_t i = i0; i < i1; i++, P += alpha) {
-        int32_t o = fb[i];
-        if (o < 0 || in_front(g, P, f, db[i], &F[o])) { fb[i] = k; db[i] = P; }
-      }
+      const double z0 = za * (double)i0 + zr;
+      if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true);
+      else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false);
     }
     start = end;
   }
@@ -403,14 +522,19 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   size_t n = (size_t)vg->W * (size_t)vg->H;
   if (!p->face || p->W != vg->W || p->H != vg->H) {
     free(p->face);
-    free(p->depth);
+    free(p->z);
     p->face = malloc((n ? n : 1) * sizeof *p->face);
-    p->depth = malloc((n ? n : 1) * sizeof *p->depth);
-    if (!p->face || !p->depth) return t74_fail(err, T74_EIO, "out of host memory");
+    p->z = malloc((n ? n : 1) * sizeof *p->z);
+    if (!p->face || !p->z) return t74_fail(err, T74_EIO, "out of host memory");
     p->W = vg->W;
     p->H = vg->H;
   }
   memset(p->face, 0xff, n * sizeof *p->face);   /* -1: nothing seen */
+  for (int i = 0; i < vg->W; i++) p->z[i].hi = p->z[i].lo = -HUGE_VAL;
+  for (int j = 1; j < vg->H; j++)                 /* the other rows as the first */
+    memcpy(p->z + (size_t)j * (size_t)vg->W, p->z, (size_t)vg->W * sizeof *p->z);
+  if (!grow((void **)&p->plane, &p->planecap, p->map.nface + 1, sizeof *p->plane))
+    return t74_fail(err, T74_EIO, "out of host memory");
   struct grid g;
   g.W = vg->W; g.H = vg->H;
   g.XL = vg->window[0]; g.YB = vg->window[1]; g.XR = vg->window[2]; g.YT = vg->window[3];
@@ -433,7 +557,8 @@ void points_free(struct points *p)
   core_free(p->core);
   core_free(p->segcore);
   free(p->face);
-  free(p->depth);
+  free(p->z);
+  free(p->plane);
   free(p->edge);
   free(p->cross);
   free(p->rowcount);

@@ -6,7 +6,8 @@
 ** §4), asked directly: which of the Mapper's faces (render/mapper.h, the same grid
 ** polygons and exact planes as the 1974 engine) covers the point's centre and is nearest
 ** the eye there. Each face's grid polygon is rasterised by exact scanline crossings into a
-** per-point buffer of (face, depth); depths are compared exactly in 128-bit integers.
+** per-point buffer of (face, depth bounds); depths are compared exactly: in doubles where
+** a proven error bound decides, else in 128-bit integers (points.c).
 ** Nothing of the HITAC-10 is modelled: no core budget, no operation counts, no 1974 times.
 **
 ** Rules (the same as the 1974 engine's, README "Exactness"):
@@ -34,6 +35,8 @@
 #include "render/visible.h"
 
 struct points_edge;                 /* scratch, points.c */
+struct points_z;
+struct points_plane;
 
 struct points {
   struct mapped map;                /* the Mapper's faces (plus triangles of folded faces) */
@@ -45,7 +48,8 @@ struct points {
   /* host scratch, kept from frame to frame (points_render reuses it) */
   struct core *core;                /* room for the Mapper's tables (never reported) */
   struct core *segcore;             /* room for the Segment Generator's simplicity check */
-  __int128 *depth;                  /* W x H: n.u of the face seen, scaled (points.c) */
+  struct points_z *z;               /* W x H: bounds on the depth of the face seen (points.c) */
+  struct points_plane *plane; int planecap;   /* each face's exact depth over the grid */
   struct points_edge *edge; int edgecap;
   int32_t *cross; int crosscap;     /* column thresholds of one face, row by row */
   int *rowcount; int rowcap;

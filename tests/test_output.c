@@ -367,6 +367,19 @@ static void test_emit_partial_and_failure(void **state)
 
 /* ---- tube and tee ------------------------------------------------------------------ */
 
+/* Tubes a and b hold the same dots in the same order from the k-th on. */
+static void tubes_same_from(const struct tube *a, const struct tube *b, int from)
+{
+  assert_int_equal(tube_count(a), tube_count(b));
+  for (int k = from; k < tube_count(a); k++) {
+    int xa, ya, xb, yb;
+    assert_int_equal(tube_order(a, k, &xa, &ya), T74_OK);
+    assert_int_equal(tube_order(b, k, &xb, &yb), T74_OK);
+    assert_int_equal(xa, xb);
+    assert_int_equal(ya, yb);
+  }
+}
+
 /* tube_write_dots stores exactly what tube_write of each set bit would, in rising bit
    order: the same dots, order, count and first failure, for cells of 1 to 4 at every
    offset (a 4x4 cell at x0 not a multiple of 4 too), cells partly off the tube, masks
@@ -397,16 +410,45 @@ static void test_tube_write_dots(void **state)
     assert_int_equal(tube_count(a), tube_count(b));
     if (round % 500 != 499) continue;
     assert_true(tube_count(a) > 1000);
-    for (int k = 0; k < tube_count(a); k++) {
-      int xa, ya, xb, yb;
-      assert_int_equal(tube_order(a, k, &xa, &ya), T74_OK);
-      assert_int_equal(tube_order(b, k, &xb, &yb), T74_OK);
-      assert_int_equal(xa, xb);
-      assert_int_equal(ya, yb);
-    }
+    tubes_same_from(a, b, 0);
     tube_erase(a);
     tube_erase(b);
   }
+  tube_free(a);
+  tube_free(b);
+}
+
+/* The same on a tube lit all but a few dots (order[] nearly full): 4x4 cells over the
+   last unlit dots store exactly what tube_write would, and the tube ends full. */
+static void test_tube_write_dots_full(void **state)
+{
+  (void)state;
+  struct tube *a = tube_new(), *b = tube_new();
+  assert_non_null(a);
+  assert_non_null(b);
+  /* unlit: a few dots in the cells at x0 = 0, 4, 8 of the top rows */
+  static const int hole[][2] = { { 1, 299 }, { 2, 298 }, { 3, 297 }, { 4, 299 }, { 7, 296 },
+                                 { 8, 299 }, { 9, 299 }, { 10, 299 }, { 11, 299 } };
+  const int nh = (int)(sizeof hole / sizeof hole[0]);
+  for (int y = 0; y < 300; y++)
+    for (int x = 0; x < 400; x++) {
+      int skip = 0;
+      for (int h = 0; h < nh; h++) skip |= hole[h][0] == x && hole[h][1] == y;
+      if (skip) continue;
+      assert_int_equal(tube_write(a, x, y), T74_OK);
+      assert_int_equal(tube_write(b, x, y), T74_OK);
+    }
+  assert_int_equal(tube_count(b), 400 * 300 - nh);
+  for (int x0 = 0; x0 <= 8; x0 += 4) {
+    for (int k = 0; k < 16; k++) assert_int_equal(tube_write(a, x0 + k % 4, 299 - k / 4), T74_OK);
+    assert_int_equal(tube_write_dots(b, x0, 299, 4, 0xffffu), T74_OK);
+    assert_int_equal(tube_count(a), tube_count(b));
+  }
+  assert_int_equal(tube_count(b), 400 * 300);
+  struct t74_error err = { T74_OK, "" };         /* nothing written past the tube's store */
+  struct sink sb = tube_sink(b);
+  assert_int_equal(sink_end(&sb, &err), T74_OK);
+  tubes_same_from(a, b, 400 * 300 - nh);
   tube_free(a);
   tube_free(b);
 }
@@ -921,6 +963,7 @@ int main(void)
     cmocka_unit_test_setup(test_emit_partial_and_failure, test_setup),
     cmocka_unit_test_setup(test_tube_once_in_order, test_setup),
     cmocka_unit_test_setup(test_tube_write_dots, test_setup),
+    cmocka_unit_test_setup(test_tube_write_dots_full, test_setup),
     cmocka_unit_test_setup(test_tee, test_setup),
     cmocka_unit_test_setup(test_pbm_bytes, test_setup),
     cmocka_unit_test_setup(test_points_bytes, test_setup),
