@@ -301,41 +301,119 @@ int pic_sample(const struct pic *p, int i, int j, int W, int H)
   return (int)((sum + total / 2) / total);
 }
 
+/* One axis of the stretch, npx picture pixels over m grid points, in pic_sample's units:
+** pixel x spans [x*m, (x+1)*m), point k spans [k*npx, (k+1)*npx). Point k overlaps
+** pixels first[k] .. last[k] (consecutive): the first and the last by wfirst[k] and
+** wlast[k] (wlast 0 when they are the same pixel), every pixel between them wholly, by m.
+** Made by walking both axes together, with no division. */
+struct pic_axis {
+  int32_t *first, *last;        /* m each */
+  uint32_t *wfirst, *wlast;     /* m each: shared lengths, 1..m (wlast 0..m) */
+};
+
+static void axis_free(struct pic_axis *a)
+{
+  free(a->first);
+  free(a->last);
+  free(a->wfirst);
+  free(a->wlast);
+}
+
+static int axis_make(int64_t npx, int m, struct pic_axis *a)
+{
+  size_t n = (size_t)(unsigned)m;
+  a->first = malloc(n * sizeof *a->first);
+  a->last = malloc(n * sizeof *a->last);
+  a->wfirst = malloc(n * sizeof *a->wfirst);
+  a->wlast = malloc(n * sizeof *a->wlast);
+  if (!a->first || !a->last || !a->wfirst || !a->wlast) { axis_free(a); return -1; }
+  int64_t x = 0;                              /* the pixel the point starts in */
+  for (int k = 0; k < m; k++) {
+    int64_t lo = k * npx, hi = lo + npx;      /* the point's footprint */
+    a->first[k] = (int32_t)x;
+    if ((x + 1) * m >= hi) {                  /* all in pixel x */
+      a->last[k] = (int32_t)x;
+      a->wfirst[k] = (uint32_t)npx;
+      a->wlast[k] = 0;
+    } else {
+      a->wfirst[k] = (uint32_t)((x + 1) * m - lo);
+      while ((x + 2) * m < hi) x++;           /* pixels wholly inside */
+      x++;                                    /* the last pixel it reaches into */
+      a->last[k] = (int32_t)x;
+      a->wlast[k] = (uint32_t)(hi - x * m);
+    }
+    if ((x + 1) * m == hi) x++;               /* the next point starts in the next pixel */
+  }
+  return 0;
+}
+
+/* One picture row along the x axis: r[i] = the sum over x of line[x] x (x-overlap with
+** column i), at most 255 x npx < 2^22. */
+static void sample_row(const uint8_t *line, const struct pic_axis *ax, int W, uint32_t m,
+                       uint32_t *r)
+{
+  for (int i = 0; i < W; i++) {
+    int32_t a = ax->first[i], b = ax->last[i];
+    uint32_t mid = 0;
+    for (int32_t x = a + 1; x < b; x++) mid += line[x];
+    r[i] = line[a] * ax->wfirst[i] + line[b] * ax->wlast[i] + mid * m;
+  }
+}
+
+/* floor(n / d) for a quotient known to be 0..255, with mul = floor(2^40 / d): floor(n x mul
+** / 2^40) is the quotient or one less (n x mul < 256 x 2^40: no overflow; the error is
+** under n / 2^40 < 1/32 for n < 2^35), set right by one comparison. */
+static inline uint8_t quotient(uint64_t n, uint64_t d, uint64_t mul)
+{
+  uint64_t q = n * mul >> 40;
+  return (uint8_t)(q + ((q + 1) * d <= n));
+}
+
 int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out)
 {
   if (W < 1 || H < 1) return -1;
   const int64_t pw = p->w, ph = p->h;
-  /* pass 1: rowsum[y * W + i] = sum over x of pixel(x, y) * (x-overlap with column i) */
-  uint64_t *rowsum = malloc((size_t)ph * (size_t)W * sizeof *rowsum);
-  if (!rowsum) return -1;
-  for (int i = 0; i < W; i++) {
-    int64_t x0 = i * pw, x1 = (i + 1) * pw;
-    for (int64_t y = 0; y < ph; y++) {
-      const uint8_t *line = p->px + y * pw;
-      uint64_t row = 0;
-      for (int64_t x = x0 / W; x <= (x1 - 1) / W; x++) {
-        int64_t lo = x * W > x0 ? x * W : x0;
-        int64_t hi = (x + 1) * W < x1 ? (x + 1) * W : x1;
-        row += (uint64_t)line[x] * (uint64_t)(hi - lo);
-      }
-      rowsum[(size_t)y * (size_t)W + (size_t)i] = row;
-    }
+  struct pic_axis ax, ay;
+  if (axis_make(pw, W, &ax) != 0) return -1;
+  if (axis_make(ph, H, &ay) != 0) { axis_free(&ax); return -1; }
+  uint32_t *row = malloc((size_t)W * sizeof *row);   /* one picture row, sampled along x */
+  uint64_t *acc = malloc((size_t)W * sizeof *acc);   /* one grid row's sums */
+  if (!row || !acc) {
+    free(row);
+    free(acc);
+    axis_free(&ax);
+    axis_free(&ay);
+    return -1;
   }
-  /* pass 2: down the rows of each grid row's footprint, as pic_sample adds them */
-  const uint64_t total = (uint64_t)(pw * ph);
+  /* down the picture rows under each grid row, each row sampled along x once (a row a
+     grid row shares with the next is the last of the one and the first of the other):
+     the sums pic_sample makes, exact integers (the order they are added in does not
+     matter), at most 255 x pw x ph < 2^34; then floor((sum + total/2) / total) */
+  const uint64_t total = (uint64_t)(pw * ph), mul = ((uint64_t)1 << 40) / total;
+  const uint64_t half = total / 2;
+  int32_t have = -1;                          /* the picture row in row[] */
   for (int j = 0; j < H; j++) {
-    int64_t y0 = j * ph, y1 = (j + 1) * ph;
-    uint8_t *o = out + (size_t)j * (size_t)W;
-    for (int i = 0; i < W; i++) {
-      uint64_t sum = 0;
-      for (int64_t y = y0 / H; y <= (y1 - 1) / H; y++) {
-        int64_t top = y * H > y0 ? y * H : y0;
-        int64_t bot = (y + 1) * H < y1 ? (y + 1) * H : y1;
-        sum += rowsum[(size_t)y * (size_t)W + (size_t)i] * (uint64_t)(bot - top);
-      }
-      o[i] = (uint8_t)((sum + total / 2) / total);
+    int32_t y0 = ay.first[j], y1 = ay.last[j];
+    for (int32_t y = y0; y <= y1; y++) {
+      uint64_t wy = y == y0 ? ay.wfirst[j] : y == y1 ? ay.wlast[j] : (uint64_t)H;
+      if (y != have) sample_row(p->px + y * pw, &ax, W, (uint32_t)W, row);
+      have = y;
+      if (y == y1) break;                     /* the last row: taken with the quotient */
+      if (y == y0)
+        for (int i = 0; i < W; i++) acc[i] = row[i] * wy;
+      else
+        for (int i = 0; i < W; i++) acc[i] += row[i] * wy;
     }
+    uint8_t *o = out + (size_t)j * (size_t)W;
+    const uint64_t wy = y0 == y1 ? ay.wfirst[j] : ay.wlast[j];
+    if (y0 == y1)
+      for (int i = 0; i < W; i++) o[i] = quotient(row[i] * wy + half, total, mul);
+    else
+      for (int i = 0; i < W; i++) o[i] = quotient(acc[i] + row[i] * wy + half, total, mul);
   }
-  free(rowsum);
+  free(row);
+  free(acc);
+  axis_free(&ax);
+  axis_free(&ay);
   return 0;
 }

@@ -59,9 +59,10 @@ int pic_pixel(const struct pic *p, int x, int y);
 int pic_sample(const struct pic *p, int i, int j, int W, int H);
 
 /* Every point of the W x H grid at once into out[j * W + i]: exactly pic_sample's values
-** (the same integer sums, taken in two passes: along each picture row for every grid
-** column, then down the rows for every point), without its per-point divisions. 0, or -1
-** when W or H < 1 or out of host memory (out unchanged). */
+** (the same integer sums, taken row by row: each picture row sampled along x once, then
+** added with its weight into the grid rows it lies under), with no division in the
+** loops; it holds two rows of sums, not the picture's. 0, or -1 when W or H < 1 or out of
+** host memory (out unchanged). */
 int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out);
 
 #endif

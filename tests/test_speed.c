@@ -280,6 +280,34 @@ static void test_sample_grid_exact(void **state)
   }
 }
 
+/* The same at the largest sums: a picture of nearly PIC_MAX_PIXELS, where the sums come
+   near 255 x 2^26 (pic_sample_grid takes its quotients without a divide instruction). */
+static void test_sample_grid_large(void **state)
+{
+  (void)state;
+  const int pw = 8191, ph = 8191;
+  uint8_t *px = malloc((size_t)pw * (size_t)ph);
+  assert_non_null(px);
+  uint32_t seed = 777;
+  for (size_t k = 0; k < (size_t)pw * (size_t)ph; k++) {
+    seed = seed * 1103515245u + 12345u;
+    px[k] = (uint8_t)(seed >> 31 ? 255 : 254 + (seed >> 30 & 1));   /* near white */
+  }
+  struct pic *p = pic_new(pw, ph, px);
+  assert_non_null(p);
+  static const int grids[][2] = { { 1, 1 }, { 2, 3 }, { 5, 4 } };
+  for (size_t b = 0; b < sizeof grids / sizeof *grids; b++) {
+    int W = grids[b][0], H = grids[b][1];
+    uint8_t out[20];
+    assert_int_equal(pic_sample_grid(p, W, H, out), 0);
+    for (int j = 0; j < H; j++)
+      for (int i = 0; i < W; i++)
+        assert_int_equal(out[j * W + i], pic_sample(p, i, j, W, H));
+  }
+  pic_free(p);
+  free(px);
+}
+
 /* A render loads no SDL2 (play opens it with dlopen, cli/sdl_load.h): the program's
    dynamic dependencies, as the loader resolves them, do not name it. */
 static void test_no_sdl_at_start(void **state)
@@ -310,6 +338,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_sample_grid_exact),
+    cmocka_unit_test(test_sample_grid_large),
     cmocka_unit_test(test_no_sdl_at_start),
     cmocka_unit_test(test_bench_speed_usage),
     cmocka_unit_test(test_frames_background),
