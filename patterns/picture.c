@@ -369,51 +369,136 @@ static inline uint8_t quotient(uint64_t n, uint64_t d, uint64_t mul)
   return (uint8_t)(q + ((q + 1) * d <= n));
 }
 
+/* A picture's W x H grid made a grid row at a time, in increasing order; its picture is a
+** struct pic, or (src) the grid of another sampler, whose rows it asks for in increasing
+** order as it needs them: so a grid of a grid holds no more than a few rows. */
+struct sampler {
+  const uint8_t *px;            /* the picture's pixels, or NULL: rows from src */
+  struct sampler *src;          /* the sampler whose grid is the picture */
+  const uint8_t *map;           /* each value through map[256] */
+  int64_t pw, ph;               /* the picture's size */
+  int W, H;                     /* the grid */
+  struct pic_axis ax, ay;
+  uint64_t total, mul;          /* pw x ph, floor(2^40 / total) (see quotient) */
+  uint32_t *row;                /* W: picture row `have` sampled along x */
+  uint64_t *acc;                /* W: one grid row's sums */
+  uint8_t *line;                /* pw: src's row `have`, when the picture is src's grid */
+  int32_t have;                 /* the picture row in row[], -1 none */
+};
+
+static void sampler_free(struct sampler *s)
+{
+  axis_free(&s->ax);
+  axis_free(&s->ay);
+  free(s->row);
+  free(s->acc);
+  free(s->line);
+}
+
+/* The W x H grid of a pw x ph picture (pixels px, or src's grid when px is NULL). */
+static int sampler_init(struct sampler *s, const uint8_t *px, struct sampler *src, int pw,
+                        int ph, const uint8_t *map, int W, int H)
+{
+  memset(s, 0, sizeof *s);
+  s->px = px;
+  s->src = src;
+  s->map = map;
+  s->pw = pw;
+  s->ph = ph;
+  s->W = W;
+  s->H = H;
+  s->total = (uint64_t)pw * (uint64_t)ph;
+  s->mul = ((uint64_t)1 << 40) / s->total;
+  s->have = -1;
+  int ok = axis_make(pw, W, &s->ax) == 0;
+  ok = ok && axis_make(ph, H, &s->ay) == 0;
+  s->row = ok ? malloc((size_t)W * sizeof *s->row) : NULL;
+  s->acc = ok ? malloc((size_t)W * sizeof *s->acc) : NULL;
+  s->line = ok && !px ? malloc((size_t)pw) : NULL;
+  if (!s->row || !s->acc || (!px && !s->line)) {
+    sampler_free(s);
+    memset(s, 0, sizeof *s);
+    return -1;
+  }
+  return 0;
+}
+
+/* Picture row y sampled along x into s->row (once: a row a grid row shares with the next
+** is the last of the one and the first of the other). */
+static void sampler_take(struct sampler *s, int32_t y);
+
+/* Grid row j into dst[0 .. W-1]: down the picture rows under it, the sums pic_sample makes,
+** exact integers (the order they are added in does not matter), at most 255 x pw x ph
+** < 2^34; then floor((sum + total/2) / total) through the map. */
+static void sampler_row(struct sampler *s, int j, uint8_t *dst)
+{
+  const int W = s->W;
+  const uint64_t total = s->total, mul = s->mul, half = total / 2;
+  int32_t y0 = s->ay.first[j], y1 = s->ay.last[j];
+  for (int32_t y = y0; y < y1; y++) {         /* all but the last */
+    uint64_t wy = y == y0 ? s->ay.wfirst[j] : (uint64_t)s->H;
+    sampler_take(s, y);
+    uint32_t *row = s->row;
+    uint64_t *acc = s->acc;
+    if (y == y0)
+      for (int i = 0; i < W; i++) acc[i] = row[i] * wy;
+    else
+      for (int i = 0; i < W; i++) acc[i] += row[i] * wy;
+  }
+  sampler_take(s, y1);                        /* the last, taken with the quotient */
+  const uint32_t *row = s->row;
+  const uint64_t *acc = s->acc;
+  const uint8_t *map = s->map;
+  if (y0 == y1) {
+    const uint64_t wy = s->ay.wfirst[j];
+    for (int i = 0; i < W; i++) dst[i] = map[quotient(row[i] * wy + half, total, mul)];
+  } else {
+    const uint64_t wy = s->ay.wlast[j];
+    for (int i = 0; i < W; i++) dst[i] = map[quotient(acc[i] + row[i] * wy + half, total, mul)];
+  }
+}
+
+static void sampler_take(struct sampler *s, int32_t y)
+{
+  if (y == s->have) return;
+  const uint8_t *line = s->px ? s->px + y * s->pw : s->line;
+  if (!s->px) sampler_row(s->src, y, s->line);
+  sample_row(line, &s->ax, s->W, (uint32_t)s->W, s->row);
+  s->have = y;
+}
+
+/* The map that leaves every value as it is. */
+static void same_map(uint8_t map[256])
+{
+  for (int g = 0; g < 256; g++) map[g] = (uint8_t)g;
+}
+
 int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out)
 {
   if (W < 1 || H < 1) return -1;
-  const int64_t pw = p->w, ph = p->h;
-  struct pic_axis ax, ay;
-  if (axis_make(pw, W, &ax) != 0) return -1;
-  if (axis_make(ph, H, &ay) != 0) { axis_free(&ax); return -1; }
-  uint32_t *row = malloc((size_t)W * sizeof *row);   /* one picture row, sampled along x */
-  uint64_t *acc = malloc((size_t)W * sizeof *acc);   /* one grid row's sums */
-  if (!row || !acc) {
-    free(row);
-    free(acc);
-    axis_free(&ax);
-    axis_free(&ay);
+  uint8_t same[256];
+  same_map(same);
+  struct sampler s;
+  if (sampler_init(&s, p->px, NULL, p->w, p->h, same, W, H) != 0) return -1;
+  for (int j = 0; j < H; j++) sampler_row(&s, j, out + (size_t)j * (size_t)W);
+  sampler_free(&s);
+  return 0;
+}
+
+int pic_sample_twice(const struct pic *p, int W1, int H1, const uint8_t map[256], int W,
+                     int H, uint8_t *out)
+{
+  if (W1 < 1 || H1 < 1 || W < 1 || H < 1) return -1;
+  struct sampler first, second;
+  if (sampler_init(&first, p->px, NULL, p->w, p->h, map, W1, H1) != 0) return -1;
+  uint8_t same[256];
+  same_map(same);
+  if (sampler_init(&second, NULL, &first, W1, H1, same, W, H) != 0) {
+    sampler_free(&first);
     return -1;
   }
-  /* down the picture rows under each grid row, each row sampled along x once (a row a
-     grid row shares with the next is the last of the one and the first of the other):
-     the sums pic_sample makes, exact integers (the order they are added in does not
-     matter), at most 255 x pw x ph < 2^34; then floor((sum + total/2) / total) */
-  const uint64_t total = (uint64_t)(pw * ph), mul = ((uint64_t)1 << 40) / total;
-  const uint64_t half = total / 2;
-  int32_t have = -1;                          /* the picture row in row[] */
-  for (int j = 0; j < H; j++) {
-    int32_t y0 = ay.first[j], y1 = ay.last[j];
-    for (int32_t y = y0; y <= y1; y++) {
-      uint64_t wy = y == y0 ? ay.wfirst[j] : y == y1 ? ay.wlast[j] : (uint64_t)H;
-      if (y != have) sample_row(p->px + y * pw, &ax, W, (uint32_t)W, row);
-      have = y;
-      if (y == y1) break;                     /* the last row: taken with the quotient */
-      if (y == y0)
-        for (int i = 0; i < W; i++) acc[i] = row[i] * wy;
-      else
-        for (int i = 0; i < W; i++) acc[i] += row[i] * wy;
-    }
-    uint8_t *o = out + (size_t)j * (size_t)W;
-    const uint64_t wy = y0 == y1 ? ay.wfirst[j] : ay.wlast[j];
-    if (y0 == y1)
-      for (int i = 0; i < W; i++) o[i] = quotient(row[i] * wy + half, total, mul);
-    else
-      for (int i = 0; i < W; i++) o[i] = quotient(acc[i] + row[i] * wy + half, total, mul);
-  }
-  free(row);
-  free(acc);
-  axis_free(&ax);
-  axis_free(&ay);
+  for (int j = 0; j < H; j++) sampler_row(&second, j, out + (size_t)j * (size_t)W);
+  sampler_free(&second);
+  sampler_free(&first);
   return 0;
 }

@@ -65,4 +65,13 @@ int pic_sample(const struct pic *p, int i, int j, int W, int H);
 ** host memory (out unchanged). */
 int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out);
 
+/* Sampled twice, as the drum scanner's picture is (patterns/scanner.h): p's W1 x H1 grid,
+** each value through map[256], sampled again onto a W x H grid into out[j * W + i]. The
+** same values as pic_sample_grid onto W1 x H1, the map applied, pic_new of the result and
+** pic_sample_grid of that onto W x H; but the first grid is made a row at a time as the
+** second needs it and is never held whole. 0, or -1 when a side is < 1 or out of host
+** memory (out unchanged). */
+int pic_sample_twice(const struct pic *p, int W1, int H1, const uint8_t map[256], int W,
+                     int H, uint8_t *out);
+
 #endif

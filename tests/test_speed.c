@@ -280,6 +280,53 @@ static void test_sample_grid_exact(void **state)
   }
 }
 
+/* pic_sample_twice (the scanner's drum grid, mapped, sampled again without being held)
+   gives what the two steps give one after the other, the first grid held whole. */
+static void test_sample_twice(void **state)
+{
+  (void)state;
+  static const int pics[][2] = { { 1, 1 }, { 7, 3 }, { 200, 150 }, { 13, 200 } };
+  static const int grids[][4] = { { 587, 555, 100, 75 }, { 587, 555, 133, 100 },
+                                  { 1, 1, 1, 1 }, { 3, 5, 7, 2 }, { 50, 40, 100, 75 } };
+  uint32_t seed = 99;
+  uint8_t map[256];
+  for (int g = 0; g < 256; g++) {
+    seed = seed * 1103515245u + 12345u;
+    map[g] = (uint8_t)(seed >> 24);                  /* any map: not monotonic either */
+  }
+  for (size_t a = 0; a < sizeof pics / sizeof *pics; a++) {
+    int pw = pics[a][0], ph = pics[a][1];
+    uint8_t *px = malloc((size_t)pw * (size_t)ph);
+    assert_non_null(px);
+    for (int k = 0; k < pw * ph; k++) {
+      seed = seed * 1103515245u + 12345u;
+      px[k] = (uint8_t)(seed >> 24);
+    }
+    struct pic *p = pic_new(pw, ph, px);
+    assert_non_null(p);
+    for (size_t b = 0; b < sizeof grids / sizeof *grids; b++) {
+      int W1 = grids[b][0], H1 = grids[b][1], W = grids[b][2], H = grids[b][3];
+      uint8_t *g1 = malloc((size_t)W1 * (size_t)H1), *want = malloc((size_t)W * (size_t)H);
+      uint8_t *got = malloc((size_t)W * (size_t)H);
+      assert_true(g1 && want && got);
+      assert_int_equal(pic_sample_grid(p, W1, H1, g1), 0);
+      for (int k = 0; k < W1 * H1; k++) g1[k] = map[g1[k]];
+      struct pic *q = pic_new(W1, H1, g1);
+      assert_non_null(q);
+      assert_int_equal(pic_sample_grid(q, W, H, want), 0);
+      assert_int_equal(pic_sample_twice(p, W1, H1, map, W, H, got), 0);
+      assert_memory_equal(got, want, (size_t)W * (size_t)H);
+      pic_free(q);
+      free(g1);
+      free(want);
+      free(got);
+    }
+    assert_int_equal(pic_sample_twice(p, 0, 5, map, 3, 3, px), -1);
+    pic_free(p);
+    free(px);
+  }
+}
+
 /* The same at the largest sums: a picture of nearly PIC_MAX_PIXELS, where the sums come
    near 255 x 2^26 (pic_sample_grid takes its quotients without a divide instruction). */
 static void test_sample_grid_large(void **state)
@@ -339,6 +386,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_sample_grid_exact),
     cmocka_unit_test(test_sample_grid_large),
+    cmocka_unit_test(test_sample_twice),
     cmocka_unit_test(test_no_sdl_at_start),
     cmocka_unit_test(test_bench_speed_usage),
     cmocka_unit_test(test_frames_background),
