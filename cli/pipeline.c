@@ -74,6 +74,7 @@ struct pipeline {
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   const struct job_hooks *hooks;
   const struct cost_params *params;
+  double states[COST_NCLASS];       /* machine states of one operation of each class */
   double first_dot;                 /* 1974 time the first lit dot reached the tube (< 0: none yet) */
 };
 
@@ -237,20 +238,22 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
 }
 
 /* The 1974 display-run time so far: every stage's counted work, the background's
-** unpacking and its disk reads. */
+** unpacking and its disk reads. Read at every lit point, so it adds up only the counts
+** the 1974 figure uses (n[], not x[]) with the classes' states taken once (p->states):
+** the same double as cost_seconds of the stages' merged counts (issue 19: merging the
+** stages' whole counters and working out each class's states anew at every point was
+** 11% of the street's run). */
 static double pipeline_seconds(const struct pipeline *p)
 {
   if (!p->timed) return 0;                  /* --engine points: no 1974 time */
-  struct cost total = p->display;
-  for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &p->r->cost[s]);
-  cost_merge(&total, &p->scanner);
-  cost_merge(&total, &p->fx);
-  double t = cost_seconds(&total, p->params);
-  if (p->scan) {
-    struct scan_stats ss;
-    scan_report(p->scan, &ss);
-    t += ss.disk_seconds;
+  uint64_t n[COST_NCLASS];
+  for (int k = 0; k < COST_NCLASS; k++) {
+    uint64_t sum = p->display.n[k] + p->scanner.n[k] + p->fx.n[k];
+    for (int s = 0; s < RS_NSTAGE; s++) sum += p->r->cost[s].n[k];
+    n[k] = sum;
   }
+  double t = cost_seconds_of(n, p->states, p->params);
+  if (p->scan) t += scan_disk_seconds(p->scan);
   return t;
 }
 
@@ -261,12 +264,17 @@ int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_lev
 {
   int level = face < 0 && bg_level && p->scan ? scan_level(p->scan, i, j, &p->scanner)
                 : (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
-  if (p->timed) {
-    if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
+  bool tick = p->hooks && p->hooks->clock;
+  if (p->timed && level > 0 && (tick || p->first_dot < 0)) {
+    /* the clock before a point that lights dots (a point with none gives the beam no work,
+       and the clock only goes forward: the beam takes the larger time, and the last tick
+       comes after the scan) */
+    double now = pipeline_seconds(p);
+    if (tick) p->hooks->clock(p->hooks->clock_ctx, now);
     /* the first dot: 003 cuts and scans bottom to top so that the picture shows while it
        is computed; this is when the viewer first sees something (its own lookups not
        counted) */
-    if (level > 0 && p->first_dot < 0) p->first_dot = pipeline_seconds(p);
+    if (p->first_dot < 0) p->first_dot = now;
   }
   /* per point: intensity and level lookups, the cell's pattern word, then one display
      command per lit dot */
@@ -968,6 +976,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   p.map = engine == JOB_ENGINE_1974 ? &r.map : &pts.map;
   p.hooks = h;
   p.params = &o->params;
+  cost_class_states(p.params, p.states);
   struct sink_tee tee;
   sink_tee_init(&tee);
   sink_tee_add(&tee, tube_sink(t));

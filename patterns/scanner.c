@@ -261,6 +261,11 @@ int scan_grey(const struct scan_image *s, int i, int j)
   return s->grey[(size_t)j * (size_t)s->W + (size_t)i];
 }
 
+double scan_disk_seconds(const struct scan_image *s)
+{
+  return s->disk.seconds;
+}
+
 void scan_report(const struct scan_image *s, struct scan_stats *st)
 {
   memset(st, 0, sizeof *st);
@@ -277,6 +282,6 @@ void scan_report(const struct scan_image *s, struct scan_stats *st)
   st->drum_seconds = s->drum_seconds;
   st->input_disk_seconds = s->input_disk_seconds;
   st->scanner_seconds = s->drum_seconds + s->last_write_seconds;
-  st->disk_seconds = s->disk.seconds;
+  st->disk_seconds = scan_disk_seconds(s);
   st->disk_reads = s->disk.accesses;
 }
