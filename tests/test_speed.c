@@ -9,9 +9,10 @@
 ** output byte for byte, and the statistics line by line but for the host times. No timing
 ** is asserted (speed is a benchmark: `tube74 bench speed`). Also: pic_sample_grid (the
 ** scanner's fast sampling) gives exactly pic_sample's value at every point, on pictures
-** and grids of awkward sizes (larger and smaller than the picture, primes, 1); and the
-** program does not load SDL2 at start-up; and `render` reads the scene once (through a
-** FIFO whose later readers get no scene). A standalone cmocka program,
+** and grids of awkward sizes (larger and smaller than the picture, primes, 1), also at the
+** largest sums and sampled twice as the scanner does (pic_sample_twice); and `render`
+** reads the scene once (through a FIFO whose later readers get no scene). (What the
+** program loads at start-up: tests/test_dynlib.c.) A standalone cmocka program,
 ** run from the repository root; scratch files go to a fresh folder under /tmp.
 */
 #include <setjmp.h>
@@ -355,21 +356,6 @@ static void test_sample_grid_large(void **state)
   free(px);
 }
 
-/* A render loads no SDL2 (play opens it with dlopen, cli/sdl_load.h): the program's
-   dynamic dependencies, as the loader resolves them, do not name it. */
-static void test_no_sdl_at_start(void **state)
-{
-  (void)state;
-  char out[256];
-  snprintf(out, sizeof out, "%s/ldd.txt", scratch);
-  assert_int_equal(run("ldd %s > %s 2>&1", tk_prog(), out), 0);
-  char *t = tk_slurp(out, NULL);
-  assert_non_null(t);
-  assert_non_null(strstr(t, "libpng"));          /* the listing is real */
-  assert_null(strstr(t, "libSDL2"));
-  free(t);
-}
-
 /* bench speed refuses bad options before measuring anything (exit 2). */
 static void test_bench_speed_usage(void **state)
 {
@@ -387,7 +373,6 @@ int main(void)
     cmocka_unit_test(test_sample_grid_exact),
     cmocka_unit_test(test_sample_grid_large),
     cmocka_unit_test(test_sample_twice),
-    cmocka_unit_test(test_no_sdl_at_start),
     cmocka_unit_test(test_bench_speed_usage),
     cmocka_unit_test(test_frames_background),
     cmocka_unit_test(test_frames_effects),

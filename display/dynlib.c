@@ -1,0 +1,39 @@
+/*
+** dynlib.c — shared libraries opened with dlopen when first needed (see dynlib.h).
+**
+** This file contains code to open a library and copy the address of each function a
+** caller's table lists into its slot; the loader's own words say why a library is
+** missing, and a missing function is named.
+*/
+#include "display/dynlib.h"
+
+#include <dlfcn.h>
+#include <string.h>
+
+int dynlib_open(void **lib, const char *soname, const char *label, const char *package,
+                const struct dynlib_sym *syms, size_t n, void *table, const char *what,
+                struct t74_error *err)
+{
+  *lib = NULL;
+  void *h = dlopen(soname, RTLD_NOW | RTLD_LOCAL);
+  if (!h) {
+    const char *why = dlerror();
+    return t74_fail(err, T74_EIO, "%s: cannot load %s (%s); install the Debian package %s",
+                    what, label, why ? why : soname, package);
+  }
+  for (size_t k = 0; k < n; k++) {
+    void *sym = dlsym(h, syms[k].name);
+    if (!sym) {
+      dlclose(h);
+      return t74_fail(err, T74_EIO, "%s: %s has no %s", what, soname, syms[k].name);
+    }
+    memcpy((char *)table + syms[k].at, &sym, sizeof sym);
+  }
+  *lib = h;
+  return T74_OK;
+}
+
+void dynlib_close(void *lib)
+{
+  if (lib) dlclose(lib);
+}
