@@ -458,13 +458,36 @@ static void sampler_row(struct sampler *s, int j, uint8_t *dst)
   }
 }
 
+/* Grid rows that lie within one picture row are that row's values, alike (each takes it
+** with the weight of its whole footprint): row j's key is that picture row, or -1 - j for
+** a row made of several. Rows with the same key hold the same values (when the grid is
+** finer than the picture, most rows: the street's drum lines, 555 from 150). */
+static int64_t sampler_key(const struct sampler *s, int j)
+{
+  return s->ay.first[j] == s->ay.last[j] ? s->ay.first[j] : -1 - (int64_t)j;
+}
+
 static void sampler_take(struct sampler *s, int32_t y)
 {
   if (y == s->have) return;
-  const uint8_t *line = s->px ? s->px + y * s->pw : s->line;
-  if (!s->px) sampler_row(s->src, y, s->line);
-  sample_row(line, &s->ax, s->W, (uint32_t)s->W, s->row);
+  if (s->px) {
+    sample_row(s->px + y * s->pw, &s->ax, s->W, (uint32_t)s->W, s->row);
+  } else if (s->have < 0 || sampler_key(s->src, y) != sampler_key(s->src, s->have)) {
+    sampler_row(s->src, y, s->line);
+    sample_row(s->line, &s->ax, s->W, (uint32_t)s->W, s->row);
+  }                                           /* else: row `have`'s values, its sums stand */
   s->have = y;
+}
+
+/* Every grid row into out[j * W ..], a row with the key of the one before copied. */
+static void sampler_all(struct sampler *s, uint8_t *out)
+{
+  const size_t W = (size_t)s->W;
+  for (int j = 0; j < s->H; j++)
+    if (j > 0 && sampler_key(s, j) == sampler_key(s, j - 1))
+      memcpy(out + (size_t)j * W, out + (size_t)(j - 1) * W, W);
+    else
+      sampler_row(s, j, out + (size_t)j * W);
 }
 
 /* The map that leaves every value as it is. */
@@ -480,7 +503,7 @@ int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out)
   same_map(same);
   struct sampler s;
   if (sampler_init(&s, p->px, NULL, p->w, p->h, same, W, H) != 0) return -1;
-  for (int j = 0; j < H; j++) sampler_row(&s, j, out + (size_t)j * (size_t)W);
+  sampler_all(&s, out);
   sampler_free(&s);
   return 0;
 }
@@ -497,7 +520,7 @@ int pic_sample_twice(const struct pic *p, int W1, int H1, const uint8_t map[256]
     sampler_free(&first);
     return -1;
   }
-  for (int j = 0; j < H; j++) sampler_row(&second, j, out + (size_t)j * (size_t)W);
+  sampler_all(&second, out);
   sampler_free(&second);
   sampler_free(&first);
   return 0;
