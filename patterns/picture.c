@@ -23,6 +23,7 @@
 
 #include <png.h>
 #include <setjmp.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,6 +132,11 @@ static int load_pgm(const char *path, const uint8_t *b, size_t n, struct pic **o
     pic_free(p);
     return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": truncated: %zu of %zu samples",
                     path, (c.n - c.pos) / bps, count);
+  }
+  if (!plain && maxval == 255) {        /* bytes as they are: round(v * 255 / 255) = v */
+    memcpy(p->px, b + c.pos, count);
+    *out = p;
+    return T74_OK;
   }
   for (size_t k = 0; k < count; k++) {
     unsigned long v;
@@ -309,6 +315,7 @@ int pic_sample(const struct pic *p, int i, int j, int W, int H)
 struct pic_axis {
   int32_t *first, *last;        /* m each */
   uint32_t *wfirst, *wlast;     /* m each: shared lengths, 1..m (wlast 0..m) */
+  bool wide;                    /* some point has pixels between its first and last */
 };
 
 static void axis_free(struct pic_axis *a)
@@ -327,6 +334,7 @@ static int axis_make(int64_t npx, int m, struct pic_axis *a)
   a->wfirst = malloc(n * sizeof *a->wfirst);
   a->wlast = malloc(n * sizeof *a->wlast);
   if (!a->first || !a->last || !a->wfirst || !a->wlast) { axis_free(a); return -1; }
+  a->wide = false;
   int64_t x = 0;                              /* the pixel the point starts in */
   for (int k = 0; k < m; k++) {
     int64_t lo = k * npx, hi = lo + npx;      /* the point's footprint */
@@ -341,22 +349,32 @@ static int axis_make(int64_t npx, int m, struct pic_axis *a)
       x++;                                    /* the last pixel it reaches into */
       a->last[k] = (int32_t)x;
       a->wlast[k] = (uint32_t)(hi - x * m);
+      if (a->last[k] > a->first[k] + 1) a->wide = true;
     }
     if ((x + 1) * m == hi) x++;               /* the next point starts in the next pixel */
   }
   return 0;
 }
 
-/* One picture row along the x axis: r[i] = the sum over x of line[x] x (x-overlap with
-** column i), at most 255 x npx < 2^22. */
-static void sample_row(const uint8_t *line, const struct pic_axis *ax, int W, uint32_t m,
-                       uint32_t *r)
+/* One picture row of npx pixels along the x axis: r[i] = the sum over x of line[x] x
+** (x-overlap with column i), at most 255 x npx < 2^22. When points take whole pixels
+** between their first and last (ax->wide), those are one difference of the row's running
+** sums, pre[npx + 1]. */
+static void sample_row(const uint8_t *line, int64_t npx, const struct pic_axis *ax, int W,
+                       uint32_t m, uint32_t *pre, uint32_t *r)
 {
+  const int32_t *first = ax->first, *last = ax->last;
+  const uint32_t *wfirst = ax->wfirst, *wlast = ax->wlast;
+  if (!ax->wide) {
+    for (int i = 0; i < W; i++) r[i] = line[first[i]] * wfirst[i] + line[last[i]] * wlast[i];
+    return;
+  }
+  uint32_t sum = 0;
+  pre[0] = 0;
+  for (int64_t x = 0; x < npx; x++) pre[x + 1] = sum += line[x];
   for (int i = 0; i < W; i++) {
-    int32_t a = ax->first[i], b = ax->last[i];
-    uint32_t mid = 0;
-    for (int32_t x = a + 1; x < b; x++) mid += line[x];
-    r[i] = line[a] * ax->wfirst[i] + line[b] * ax->wlast[i] + mid * m;
+    int32_t a = first[i], b = last[i], e = b > a + 1 ? b : a + 1;
+    r[i] = line[a] * wfirst[i] + line[b] * wlast[i] + (pre[e] - pre[a + 1]) * m;
   }
 }
 
@@ -383,6 +401,7 @@ struct sampler {
   uint32_t *row;                /* W: picture row `have` sampled along x */
   uint64_t *acc;                /* W: one grid row's sums */
   uint8_t *line;                /* pw: src's row `have`, when the picture is src's grid */
+  uint32_t *pre;                /* pw + 1: sample_row's running sums (ax.wide), else NULL */
   int32_t have;                 /* the picture row in row[], -1 none */
 };
 
@@ -393,6 +412,7 @@ static void sampler_free(struct sampler *s)
   free(s->row);
   free(s->acc);
   free(s->line);
+  free(s->pre);
 }
 
 /* The W x H grid of a pw x ph picture (pixels px, or src's grid when px is NULL). */
@@ -415,7 +435,8 @@ static int sampler_init(struct sampler *s, const uint8_t *px, struct sampler *sr
   s->row = ok ? malloc((size_t)W * sizeof *s->row) : NULL;
   s->acc = ok ? malloc((size_t)W * sizeof *s->acc) : NULL;
   s->line = ok && !px ? malloc((size_t)pw) : NULL;
-  if (!s->row || !s->acc || (!px && !s->line)) {
+  s->pre = ok && s->ax.wide ? malloc(((size_t)pw + 1) * sizeof *s->pre) : NULL;
+  if (!s->row || !s->acc || (!px && !s->line) || (ok && s->ax.wide && !s->pre)) {
     sampler_free(s);
     memset(s, 0, sizeof *s);
     return -1;
@@ -471,10 +492,10 @@ static void sampler_take(struct sampler *s, int32_t y)
 {
   if (y == s->have) return;
   if (s->px) {
-    sample_row(s->px + y * s->pw, &s->ax, s->W, (uint32_t)s->W, s->row);
+    sample_row(s->px + y * s->pw, s->pw, &s->ax, s->W, (uint32_t)s->W, s->pre, s->row);
   } else if (s->have < 0 || sampler_key(s->src, y) != sampler_key(s->src, s->have)) {
     sampler_row(s->src, y, s->line);
-    sample_row(s->line, &s->ax, s->W, (uint32_t)s->W, s->row);
+    sample_row(s->line, s->pw, &s->ax, s->W, (uint32_t)s->W, s->pre, s->row);
   }                                           /* else: row `have`'s values, its sums stand */
   s->have = y;
 }
