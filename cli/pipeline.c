@@ -64,7 +64,10 @@ struct pipeline {
   struct cost scanner;              /* display-time work of the background: unpacking, and
                                        moving the rows read from the disk into core */
   struct sink out;
-  struct tube *tube_only;           /* out is this tube alone: its faster path, or NULL */
+  struct tube *tube_direct;         /* out is this tube, then `also` when set: each cell
+                                       stored in one write (tube_write_dots), or NULL */
+  const struct sink *also;          /* with tube_direct: the one other sink, given the
+                                       cell's dots one by one after it is stored, or NULL */
   uint8_t level[256];               /* pat_level(cell, grey) for grey 0..255 */
   uint16_t mask[PAT_CELL_MAX * PAT_CELL_MAX + 1];  /* pat_cell_dots(pat, level) */
   uint32_t *ids;                    /* face number seen per point, 0 none (--dump ids) */
@@ -281,13 +284,18 @@ int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_lev
   COST_ADD_N(&p->display, COST_MEM, 4);
   COST_ADD_N(&p->display, COST_SHIFT, p->cell * p->cell);
   COST_ADD_N(&p->display, COST_IO, level);
-  if (p->tube_only && i >= 0 && i < p->W && j >= 0 && j < p->H && level >= 0 &&
+  if (p->tube_direct && i >= 0 && i < p->W && j >= 0 && j < p->H && level >= 0 &&
       level <= p->cell * p->cell) {
-    /* the tube alone: pat_emit_point's dots in its order, as one cell write */
-    if (!p->mask[level]) return T74_OK;
+    /* the tube: pat_emit_point's dots in its order, as one cell write (a cell of the grid
+       lies on the tube: no dot fails); then the other sink, if any, each dot as
+       pat_emit_point gives it (it does not read the tube) */
+    unsigned mask = p->mask[level];
+    if (!mask) return T74_OK;
     int x0, y0;
     pat_cell_origin(p->cell, i, j, &x0, &y0);
-    return tube_write_dots(p->tube_only, x0, y0, p->cell, p->mask[level]);
+    int st = tube_write_dots(p->tube_direct, x0, y0, p->cell, mask);
+    if (st != T74_OK || !p->also) return st;
+    return pat_emit_dots(p->cell, x0, y0, mask, p->also);
   }
   return pat_emit_point(p->pat, i, j, level, &p->out);
 }
@@ -818,7 +826,8 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   p.r = &r;
   p.hooks = NULL;
   p.out = tube_sink(t);
-  p.tube_only = t;
+  p.tube_direct = t;
+  p.also = NULL;
   memset(&p.display, 0, sizeof p.display);
   memset(&p.fx, 0, sizeof p.fx);
   memset(&p.scanner, 0, sizeof p.scanner);
@@ -856,7 +865,8 @@ static int spare_points_frame(const struct pipeline *p0, const struct scene *s, 
   if (!t) return t74_fail(err, T74_EIO, "out of host memory");
   p.hooks = NULL;
   p.out = tube_sink(t);
-  p.tube_only = t;
+  p.tube_direct = t;
+  p.also = NULL;
   memset(&p.display, 0, sizeof p.display);
   memset(&p.scanner, 0, sizeof p.scanner);
   int st = points_render(pt, s, g, err);
@@ -982,7 +992,10 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   sink_tee_add(&tee, tube_sink(t));
   if (h && h->extra.point) sink_tee_add(&tee, h->extra);
   p.out = sink_tee_sink(&tee);
-  if (tee.n == 1) p.tube_only = t;          /* the tube alone: its faster path */
+  if (tee.n <= 2) {                         /* the tube, and the job's other sink if any */
+    p.tube_direct = t;
+    p.also = tee.n == 2 ? &tee.out[1] : NULL;
+  }
   struct fx_stats fst;
   memset(&fst, 0, sizeof fst);
   if (engine == JOB_ENGINE_POINTS) {
