@@ -380,7 +380,8 @@ static void sample_row(const uint8_t *line, int64_t npx, const struct pic_axis *
 
 /* floor(n / d) for a quotient known to be 0..255, with mul = floor(2^40 / d): floor(n x mul
 ** / 2^40) is the quotient or one less (n x mul < 256 x 2^40: no overflow; the error is
-** under n / 2^40 < 1/32 for n < 2^35), set right by one comparison. */
+** under n / 2^40 < 256 d / 2^40 <= 1/16, d being a picture's pixels, at most
+** PIC_MAX_SIDE^2 = 2^28), set right by one comparison. */
 static inline uint8_t quotient(uint64_t n, uint64_t d, uint64_t mul)
 {
   uint64_t q = n * mul >> 40;
@@ -450,7 +451,7 @@ static void sampler_take(struct sampler *s, int32_t y);
 
 /* Grid row j into dst[0 .. W-1]: down the picture rows under it, the sums pic_sample makes,
 ** exact integers (the order they are added in does not matter), at most 255 x pw x ph
-** < 2^34; then floor((sum + total/2) / total) through the map. */
+** < 2^36; then floor((sum + total/2) / total) through the map. */
 static void sampler_row(struct sampler *s, int j, uint8_t *dst)
 {
   const int W = s->W;
