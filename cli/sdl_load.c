@@ -22,26 +22,17 @@
 
 int sdl_load(struct sdl_fns *f, const char *what, struct t74_error *err)
 {
-  memset(f, 0, sizeof *f);
 #define SYM(name) { "SDL_" #name, offsetof(struct sdl_fns, name) },
   static const struct dynlib_sym syms[] = { SDL_FNS(SYM) };
 #undef SYM
 #define CHECK(name) DYNLIB_CHECK(f, name, SDL_##name);
   SDL_FNS(CHECK)
 #undef CHECK
-  void *lib;
-  int st = dynlib_open(&lib, SDL_LIB, "SDL2", "libsdl2-2.0-0", syms, sizeof syms / sizeof *syms,
-                       f, what, err);
-  if (st != T74_OK) {
-    memset(f, 0, sizeof *f);
-    return st;
-  }
-  f->lib = lib;
-  return T74_OK;
+  return dynlib_open(f, sizeof *f, SDL_LIB, "SDL2", "libsdl2-2.0-0", syms,
+                     sizeof syms / sizeof *syms, what, err);
 }
 
 void sdl_unload(struct sdl_fns *f)
 {
-  dynlib_close(f->lib);
-  memset(f, 0, sizeof *f);
+  dynlib_close(f, sizeof *f);
 }

@@ -17,7 +17,8 @@
 #include "emu/status.h"
 
 struct sdl_fns {
-  void *lib;                                    /* dlopen handle, NULL: not loaded */
+  void *lib;                                    /* dlopen handle, NULL: not loaded (first:
+                                                   display/dynlib.h) */
   int (*Init)(Uint32);
   void (*Quit)(void);
   const char *(*GetError)(void);

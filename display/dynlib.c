@@ -10,11 +10,11 @@
 #include <dlfcn.h>
 #include <string.h>
 
-int dynlib_open(void **lib, const char *soname, const char *label, const char *package,
-                const struct dynlib_sym *syms, size_t n, void *table, const char *what,
-                struct t74_error *err)
+int dynlib_open(void *table, size_t size, const char *soname, const char *label,
+                const char *package, const struct dynlib_sym *syms, size_t n,
+                const char *what, struct t74_error *err)
 {
-  *lib = NULL;
+  memset(table, 0, size);
   void *h = dlopen(soname, RTLD_NOW | RTLD_LOCAL);
   if (!h) {
     const char *why = dlerror();
@@ -25,15 +25,19 @@ int dynlib_open(void **lib, const char *soname, const char *label, const char *p
     void *sym = dlsym(h, syms[k].name);
     if (!sym) {
       dlclose(h);
+      memset(table, 0, size);
       return t74_fail(err, T74_EIO, "%s: %s has no %s", what, soname, syms[k].name);
     }
     memcpy((char *)table + syms[k].at, &sym, sizeof sym);
   }
-  *lib = h;
+  memcpy(table, &h, sizeof h);          /* the first member, void *lib */
   return T74_OK;
 }
 
-void dynlib_close(void *lib)
+void dynlib_close(void *table, size_t size)
 {
-  if (lib) dlclose(lib);
+  void *h;
+  memcpy(&h, table, sizeof h);
+  if (h) dlclose(h);
+  memset(table, 0, size);
 }

@@ -35,15 +35,17 @@ struct dynlib_sym {
    and the linker does not make it need the library). */
 #define DYNLIB_CHECK(table, slot, function) ((void)sizeof((table)->slot = (function)))
 
-/* Open soname (e.g. "libusb-1.0.so.0") and fill table's slots from syms[0..n-1]. T74_OK
-** with *lib the handle; else T74_EIO, *lib NULL and err's message "what: cannot load
-** LABEL (the loader's reason); install the Debian package PACKAGE" or "what: SONAME has no
+/* Open soname (e.g. "libusb-1.0.so.0") into table, a struct of `size` bytes whose first
+** member is `void *lib`: the handle goes there and each slot of syms[0..n-1] is filled.
+** T74_OK; else T74_EIO with the table all zero and err's message "what: cannot load LABEL
+** (the loader's reason); install the Debian package PACKAGE" or "what: SONAME has no
 ** FUNCTION". */
-int dynlib_open(void **lib, const char *soname, const char *label, const char *package,
-                const struct dynlib_sym *syms, size_t n, void *table, const char *what,
-                struct t74_error *err);
+int dynlib_open(void *table, size_t size, const char *soname, const char *label,
+                const char *package, const struct dynlib_sym *syms, size_t n,
+                const char *what, struct t74_error *err);
 
-/* Close a handle from dynlib_open (nothing for NULL). */
-void dynlib_close(void *lib);
+/* Close the library of a table from dynlib_open and zero the table (nothing to close
+** when its handle is NULL). */
+void dynlib_close(void *table, size_t size);
 
 #endif

@@ -22,7 +22,7 @@
 
 /* The giflib functions a movie calls, opened with the library (dynlib.h). */
 struct giflib {
-  void *lib;                    /* dlopen handle, NULL: not loaded */
+  void *lib;                    /* dlopen handle, NULL: not loaded (first: dynlib.h) */
   GifFileType *(*EGifOpen)(void *, OutputFunc, int *);
   void (*EGifSetGifVersion)(GifFileType *, bool);
   ColorMapObject *(*GifMakeMapObject)(int, const GifColorType *);
@@ -46,22 +46,14 @@ struct giflib {
 
 static int giflib_load(struct giflib *f, const char *path, struct t74_error *err)
 {
-  memset(f, 0, sizeof *f);
 #define SYM(name) { #name, offsetof(struct giflib, name) },
   static const struct dynlib_sym syms[] = { GIF_FNS(SYM) };
 #undef SYM
 #define CHECK(name) DYNLIB_CHECK(f, name, name);
   GIF_FNS(CHECK)
 #undef CHECK
-  void *lib;
-  int st = dynlib_open(&lib, GIF_LIB, "giflib", "libgif7", syms, sizeof syms / sizeof *syms,
-                       f, path, err);
-  if (st != T74_OK) {
-    memset(f, 0, sizeof *f);
-    return st;
-  }
-  f->lib = lib;
-  return T74_OK;
+  return dynlib_open(f, sizeof *f, GIF_LIB, "giflib", "libgif7", syms,
+                     sizeof syms / sizeof *syms, path, err);
 }
 
 struct gif {
@@ -187,7 +179,7 @@ int gif_commit(struct gif *g, struct t74_error *err)
   } else {
     st = outfile_commit(g->of, err);
   }
-  dynlib_close(g->fn.lib);
+  dynlib_close(&g->fn, sizeof g->fn);
   free(g->prev);
   free(g);
   return st;
@@ -198,7 +190,7 @@ void gif_abort(struct gif *g)
   if (!g) return;
   if (g->gf) { int code; g->fn.EGifCloseFile(g->gf, &code); }
   if (g->of) outfile_abort(g->of);
-  dynlib_close(g->fn.lib);
+  dynlib_close(&g->fn, sizeof g->fn);
   free(g->prev);
   free(g);
 }

@@ -72,6 +72,7 @@ static void test_startup_libraries(void **state)
 }
 
 struct mathfns {
+  void *lib;                     /* first, as dynlib_open wants */
   double (*cos)(double);
   double (*sqrt)(double);
 };
@@ -81,27 +82,28 @@ static void test_open_fills_table(void **state)
   (void)state;
   static const struct dynlib_sym syms[] = { { "cos", offsetof(struct mathfns, cos) },
                                             { "sqrt", offsetof(struct mathfns, sqrt) } };
-  struct mathfns f = { NULL, NULL };
-  void *lib = NULL;
+  struct mathfns f;
   struct t74_error err = { T74_OK, "" };
-  assert_int_equal(dynlib_open(&lib, "libm.so.6", "libm", "libc6", syms, 2, &f, "t", &err),
+  assert_int_equal(dynlib_open(&f, sizeof f, "libm.so.6", "libm", "libc6", syms, 2, "t", &err),
                    T74_OK);
-  assert_non_null(lib);
+  assert_non_null(f.lib);
   assert_true(f.cos(0.0) == 1.0);
   assert_true(f.sqrt(2.25) == 1.5);
-  dynlib_close(lib);
+  dynlib_close(&f, sizeof f);
+  assert_null(f.lib);
+  assert_null(f.cos);
 }
 
 static void test_open_missing_library(void **state)
 {
   (void)state;
-  static const struct dynlib_sym syms[] = { { "cos", 0 } };
-  struct mathfns f = { NULL, NULL };
-  void *lib = &f;
+  static const struct dynlib_sym syms[] = { { "cos", offsetof(struct mathfns, cos) } };
+  struct mathfns f;
+  memset(&f, 0xA5, sizeof f);     /* not left as it was: all zero */
   struct t74_error err = { T74_OK, "" };
-  assert_int_equal(dynlib_open(&lib, "libt74-not-installed.so.9", "the thing", "thing9", syms,
-                               1, &f, "what", &err), T74_EIO);
-  assert_null(lib);
+  assert_int_equal(dynlib_open(&f, sizeof f, "libt74-not-installed.so.9", "the thing", "thing9",
+                               syms, 1, "what", &err), T74_EIO);
+  assert_null(f.lib);
   assert_null(f.cos);
   assert_int_equal(err.status, T74_EIO);
   assert_non_null(strstr(err.msg, "what: cannot load the thing ("));
@@ -115,12 +117,13 @@ static void test_open_missing_function(void **state)
   static const struct dynlib_sym syms[] = { { "cos", offsetof(struct mathfns, cos) },
                                             { "t74_no_such_function",
                                               offsetof(struct mathfns, sqrt) } };
-  struct mathfns f = { NULL, NULL };
-  void *lib = &f;
+  struct mathfns f;
+  memset(&f, 0xA5, sizeof f);
   struct t74_error err = { T74_OK, "" };
-  assert_int_equal(dynlib_open(&lib, "libm.so.6", "libm", "libc6", syms, 2, &f, "what", &err),
+  assert_int_equal(dynlib_open(&f, sizeof f, "libm.so.6", "libm", "libc6", syms, 2, "what", &err),
                    T74_EIO);
-  assert_null(lib);
+  assert_null(f.lib);
+  assert_null(f.cos);                  /* found before the missing one, then cleared */
   assert_string_equal(err.msg, "what: libm.so.6 has no t74_no_such_function");
 }
 

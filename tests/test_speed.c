@@ -17,6 +17,7 @@
 */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -246,6 +247,21 @@ static void test_frames_refused(void **state)
   assert_int_equal(run("%s render scenes/fig6.s74 --frames 2>/dev/null", tk_prog()), 2);
 }
 
+/* A pw x ph picture of noise from *seed (every third pixel white when extremes). */
+static struct pic *noise_pic(int pw, int ph, uint32_t *seed, bool extremes)
+{
+  uint8_t *px = malloc((size_t)pw * (size_t)ph);
+  assert_non_null(px);
+  for (int k = 0; k < pw * ph; k++) {
+    *seed = *seed * 1103515245u + 12345u;
+    px[k] = (uint8_t)(extremes && k % 3 == 0 ? 255 : *seed >> 24);
+  }
+  struct pic *p = pic_new(pw, ph, px);
+  assert_non_null(p);
+  free(px);
+  return p;
+}
+
 static void test_sample_grid_exact(void **state)
 {
   (void)state;
@@ -255,14 +271,8 @@ static void test_sample_grid_exact(void **state)
   uint32_t seed = 12345;
   for (size_t a = 0; a < sizeof pics / sizeof *pics; a++) {
     int pw = pics[a][0], ph = pics[a][1];
-    uint8_t *px = malloc((size_t)pw * (size_t)ph);
-    assert_non_null(px);
-    for (int k = 0; k < pw * ph; k++) {
-      seed = seed * 1103515245u + 12345u;
-      px[k] = (uint8_t)(k % 3 == 0 ? 255 : seed >> 24);  /* extremes and noise */
-    }
-    struct pic *p = pic_new(pw, ph, px);
-    assert_non_null(p);
+    struct pic *p = noise_pic(pw, ph, &seed, true);     /* extremes and noise */
+    uint8_t spare[4];
     for (size_t b = 0; b < sizeof grids / sizeof *grids; b++) {
       int W = grids[b][0], H = grids[b][1];
       uint8_t *out = malloc((size_t)W * (size_t)H);
@@ -275,9 +285,8 @@ static void test_sample_grid_exact(void **state)
                      W, H, i, j, out[(size_t)j * (size_t)W + (size_t)i], pic_sample(p, i, j, W, H));
       free(out);
     }
-    assert_int_equal(pic_sample_grid(p, 0, 5, px), -1);
+    assert_int_equal(pic_sample_grid(p, 0, 5, spare), -1);
     pic_free(p);
-    free(px);
   }
 }
 
@@ -297,15 +306,8 @@ static void test_sample_twice(void **state)
     map[g] = (uint8_t)(seed >> 24);                  /* any map: not monotonic either */
   }
   for (size_t a = 0; a < sizeof pics / sizeof *pics; a++) {
-    int pw = pics[a][0], ph = pics[a][1];
-    uint8_t *px = malloc((size_t)pw * (size_t)ph);
-    assert_non_null(px);
-    for (int k = 0; k < pw * ph; k++) {
-      seed = seed * 1103515245u + 12345u;
-      px[k] = (uint8_t)(seed >> 24);
-    }
-    struct pic *p = pic_new(pw, ph, px);
-    assert_non_null(p);
+    struct pic *p = noise_pic(pics[a][0], pics[a][1], &seed, false);
+    uint8_t spare[4];
     for (size_t b = 0; b < sizeof grids / sizeof *grids; b++) {
       int W1 = grids[b][0], H1 = grids[b][1], W = grids[b][2], H = grids[b][3];
       uint8_t *g1 = malloc((size_t)W1 * (size_t)H1), *want = malloc((size_t)W * (size_t)H);
@@ -324,9 +326,8 @@ static void test_sample_twice(void **state)
       free(want);
       free(got);
     }
-    assert_int_equal(pic_sample_twice(p, 0, 5, map, 3, 3, px), -1);
+    assert_int_equal(pic_sample_twice(p, 0, 5, map, 3, 3, spare), -1);
     pic_free(p);
-    free(px);
   }
 }
 

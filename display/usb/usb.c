@@ -35,7 +35,7 @@
    named as the functions are. (libusb_fill_*_transfer and libusb_fill_control_setup are
    inline functions of the header: not looked up.) */
 struct usblib {
-  void *lib;                    /* dlopen handle, NULL: not loaded */
+  void *lib;                    /* dlopen handle, NULL: not loaded (first: dynlib.h) */
   int (LIBUSB_CALL *libusb_init)(libusb_context **);
   void (LIBUSB_CALL *libusb_exit)(libusb_context *);
   ssize_t (LIBUSB_CALL *libusb_get_device_list)(libusb_context *, libusb_device ***);
@@ -80,22 +80,14 @@ struct usblib {
 /* Open libusb into f; `what` names the command or profile in the message. */
 static int usblib_load(struct usblib *f, const char *what, struct t74_error *err)
 {
-  memset(f, 0, sizeof *f);
 #define SYM(name) { #name, offsetof(struct usblib, name) },
   static const struct dynlib_sym syms[] = { USB_FNS(SYM) };
 #undef SYM
 #define CHECK(name) DYNLIB_CHECK(f, name, name);
   USB_FNS(CHECK)
 #undef CHECK
-  void *lib;
-  int st = dynlib_open(&lib, USB_LIB, "libusb-1.0", "libusb-1.0-0", syms,
-                       sizeof syms / sizeof *syms, f, what, err);
-  if (st != T74_OK) {
-    memset(f, 0, sizeof *f);
-    return st;
-  }
-  f->lib = lib;
-  return T74_OK;
+  return dynlib_open(f, sizeof *f, USB_LIB, "libusb-1.0", "libusb-1.0-0", syms,
+                     sizeof syms / sizeof *syms, what, err);
 }
 
 /* The link's rows (usb.h). The defaults are the usual USB host-side choices: a bulk
@@ -253,7 +245,7 @@ int usb_link_open_at(struct usb_link **out, const struct usb_match *m, int bus, 
   int r = l->u.libusb_init(&l->ctx);
   if (r != 0) {
     t74_fail(err, T74_EIO, "%s: cannot start libusb: %s", profile, l->u.libusb_error_name(r));
-    dynlib_close(l->u.lib);
+    dynlib_close(&l->u, sizeof l->u);
     free(l);
     return err->status;
   }
@@ -452,7 +444,7 @@ void usb_link_close(struct usb_link *l)
     l->u.libusb_close(l->h);
   }
   if (l->ctx) l->u.libusb_exit(l->ctx);
-  dynlib_close(l->u.lib);
+  dynlib_close(&l->u, sizeof l->u);
   free(l);
 }
 
@@ -780,7 +772,7 @@ int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *
   int r = u.libusb_init(&ctx);
   if (r != 0) {
     t74_fail(err, T74_EIO, "devices: cannot start libusb: %s", u.libusb_error_name(r));
-    dynlib_close(u.lib);
+    dynlib_close(&u, sizeof u);
     return -1;
   }
   libusb_device **list;
@@ -788,7 +780,7 @@ int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *
   if (n < 0) {
     t74_fail(err, T74_EIO, "devices: cannot list USB devices: %s", u.libusb_error_name((int)n));
     u.libusb_exit(ctx);
-    dynlib_close(u.lib);
+    dynlib_close(&u, sizeof u);
     return -1;
   }
   int shown = 0;
@@ -825,6 +817,6 @@ int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *
   }
   u.libusb_free_device_list(list, 1);
   u.libusb_exit(ctx);
-  dynlib_close(u.lib);
+  dynlib_close(&u, sizeof u);
   return shown;
 }
