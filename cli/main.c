@@ -196,7 +196,6 @@ int main(int argc, char **argv)
   } else {
     void *heap_gap = host_allocator();
     st = c->run(argc, argv, &err);
-    if (getenv("T74DBG")) { FILE *f = fopen("/proc/self/smaps", "r"); char line[512]; int show = 0; while (f && fgets(line, sizeof line, f)) { if (strstr(line, "[heap]")) { show = 1; fputs(line, stderr);} else if (strchr(line, '-') && strstr(line, " rw") == NULL && show) show = 0; if (show && (strstr(line, "AnonHuge") || strstr(line, "Rss") || strstr(line, "VmFlags"))) fputs(line, stderr); } if (f) fclose(f); fprintf(stderr, "gap %p\n", heap_gap); }
     free(heap_gap);
   }
   if (st != T74_OK) fprintf(stderr, "%s\n", err.msg[0] ? err.msg : "tube74: failed");
