@@ -25,10 +25,12 @@ WARN    := -std=c11 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing
 CPPFLAGS += -D_POSIX_C_SOURCE=200809L -I.
 
 PKGS     := libpng libusb-1.0 sdl2
-# linked: SDL2 is opened with dlopen by `play` alone (cli/sdl_load.h), its headers still used
-LINKPKGS := libpng libusb-1.0
-# giflib (libgif-dev) has no pkg-config file
-NOPCLIBS := -lgif
+# linked: libpng alone. SDL2 (play's window), libusb-1.0 (stream to a USB device, devices)
+# and giflib (play --movie) are opened with dlopen by the code that uses them
+# (display/dynlib.h), their headers still used: a render loads none of them
+LINKPKGS := libpng
+# giflib (libgif-dev) has no pkg-config file; test_movie reads the GIFs back with it
+TESTNOPCLIBS := -lgif
 TESTPKGS := cmocka osmesa glu umockdev-1.0 gio-2.0
 
 LIBDIRS := emu render effects patterns display display/usb
@@ -47,9 +49,9 @@ REFOBJ  := $(REFSRC:%.c=$(BUILD)/%.o)
 DEPS_STAMP := $(BUILD)/.deps-ok
 
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
-PKG_LIBS   = $(shell pkg-config --libs $(LINKPKGS)) $(NOPCLIBS)
+PKG_LIBS   = $(shell pkg-config --libs $(LINKPKGS))
 TEST_CFLAGS = $(shell pkg-config --cflags $(TESTPKGS))
-TEST_LIBS   = $(shell pkg-config --libs $(TESTPKGS))
+TEST_LIBS   = $(shell pkg-config --libs $(TESTPKGS)) $(TESTNOPCLIBS)
 
 .PHONY: all run test asan bench docs fuzz deps clean install uninstall
 FUZZ_SECONDS ?= 120

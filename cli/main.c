@@ -5,8 +5,15 @@
 ** `tek` and `stream`; the README describes the others). The rendering itself is a job
 ** (pipeline.c). Only this file turns result codes into exit statuses.
 */
+#define _DEFAULT_SOURCE        /* sbrk, madvise: the host allocator's set-up below */
 #include <errno.h>
 #include <inttypes.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -113,6 +120,56 @@ static int asks_help(int argc, char **argv)
   return 0;
 }
 
+/* The host's allocator, set for one command's run (issue 19). A page the process touches for
+** the first time costs about 10 us on the machine measured (2,000 fresh pages: 29 ms; the
+** street's whole render touched 800 before this work), so memory one stage frees should
+** serve the next rather than go back to the kernel: glibc gives each block above 128 kB its
+** own mapping, unmapped when freed, and the next stage's blocks are then fresh pages again
+** (100,000 box faces: the file and the mesh freed before the Mapper fills as much). Blocks
+** up to 32 MB (glibc's largest setting) come from the heap instead, and the heap is not
+** trimmed; what the process holds at its peak is unchanged.
+** And the heap takes huge pages where the kernel gives them for the asking (Linux
+** transparent huge pages in "madvise" mode), so that it faults in 2 MB at a time, not
+** 4 kB (100,000 box faces: 12,600 page faults and 270 ms of CPU -> 650 and 95 ms). Its
+** next growth is made HOST_HEAP_RESERVE larger than asked (address space only: nothing is
+** touched) and marked MADV_HUGEPAGE. A huge page is given only to a 2 MB stretch none of
+** whose 4 kB pages is in use yet, so the growth is asked for by a block that ends below a
+** 2 MB boundary (the heap's top, whose header malloc writes, starts there) and is held
+** until the end, untouched; the run's blocks then fill the stretches from that boundary.
+** Without THP, or under another allocator (sanitizers, valgrind: the break does not
+** move), nothing changes. Returns that block (NULL: none), for main to free. */
+#define HOST_HEAP_RESERVE ((size_t)256 << 20)
+#define HOST_HEAP_SLACK ((uintptr_t)512 << 10)  /* more than a young heap has free: it grows */
+#define HOST_HUGE_PAGE ((uintptr_t)2 << 20)     /* x86-64's transparent huge page */
+
+static void *host_allocator(void)
+{
+  void *gap = NULL;
+#ifdef __GLIBC__
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#ifdef MADV_HUGEPAGE
+  char *first = malloc(1);                /* the heap made if it is not: its top follows */
+  if (!first) return NULL;
+  uintptr_t top = (uintptr_t)first + 64;  /* at or above where the top now starts */
+  uintptr_t boundary = (top + HOST_HEAP_SLACK + HOST_HUGE_PAGE - 1) & ~(HOST_HUGE_PAGE - 1);
+  mallopt(M_TOP_PAD, (int)HOST_HEAP_RESERVE);
+  char *before = sbrk(0);
+  gap = malloc(boundary - top - 256);     /* from the top; ends below the boundary */
+  char *after = sbrk(0);
+  mallopt(M_TOP_PAD, 128 << 10);          /* glibc's default for any later growth */
+  free(first);
+  if (gap && before != (char *)-1 && after != (char *)-1 &&
+      (uintptr_t)after - (uintptr_t)before >= HOST_HEAP_RESERVE) {
+    uintptr_t page = (uintptr_t)sysconf(_SC_PAGESIZE);
+    uintptr_t from = ((uintptr_t)before + page - 1) & ~(page - 1);
+    madvise((void *)from, (uintptr_t)after - from, MADV_HUGEPAGE);   /* advice: errors ignored */
+  }
+#endif
+#endif
+  return gap;
+}
+
 int main(int argc, char **argv)
 {
   struct t74_error err = { T74_OK, "" };
@@ -137,7 +194,9 @@ int main(int argc, char **argv)
     st = fflush(stdout) == 0 && !ferror(stdout) ? T74_OK
          : t74_fail(&err, T74_EIO, "tube74: cannot write the usage to stdout");
   } else {
+    void *heap_gap = host_allocator();
     st = c->run(argc, argv, &err);
+    free(heap_gap);
   }
   if (st != T74_OK) fprintf(stderr, "%s\n", err.msg[0] ? err.msg : "tube74: failed");
   return st;

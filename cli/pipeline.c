@@ -65,7 +65,10 @@ struct pipeline {
   struct cost scanner;              /* display-time work of the background: unpacking, and
                                        moving the rows read from the disk into core */
   struct sink out;
-  struct tube *tube_only;           /* out is this tube alone: its faster path, or NULL */
+  struct tube *tube_direct;         /* out is this tube, then `also` when set: each cell
+                                       stored in one write (tube_write_dots), or NULL */
+  const struct sink *also;          /* with tube_direct: the one other sink, given the
+                                       cell's dots one by one after it is stored, or NULL */
   uint8_t level[256];               /* pat_level(cell, grey) for grey 0..255 */
   uint16_t mask[PAT_CELL_MAX * PAT_CELL_MAX + 1];  /* pat_cell_dots(pat, level) */
   uint32_t *ids;                    /* face number seen per point, 0 none (--dump ids) */
@@ -75,6 +78,7 @@ struct pipeline {
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   const struct job_hooks *hooks;
   const struct cost_params *params;
+  double states[COST_NCLASS];       /* machine states of one operation of each class */
   double first_dot;                 /* 1974 time the first lit dot reached the tube (< 0: none yet) */
 };
 
@@ -238,20 +242,22 @@ int job_parse(int argc, char **argv, int first, struct job *o, job_opt_fn extra,
 }
 
 /* The 1974 display-run time so far: every stage's counted work, the background's
-** unpacking and its disk reads. */
+** unpacking and its disk reads. Read at every lit point, so it adds up only the counts
+** the 1974 figure uses (n[], not x[]) with the classes' states taken once (p->states):
+** the same double as cost_seconds of the stages' merged counts (issue 19: merging the
+** stages' whole counters and working out each class's states anew at every point was
+** 11% of the street's run). */
 static double pipeline_seconds(const struct pipeline *p)
 {
   if (!p->timed) return 0;                  /* --engine points: no 1974 time */
-  struct cost total = p->display;
-  for (int s = 0; s < RS_NSTAGE; s++) cost_merge(&total, &p->r->cost[s]);
-  cost_merge(&total, &p->scanner);
-  cost_merge(&total, &p->fx);
-  double t = cost_seconds(&total, p->params);
-  if (p->scan) {
-    struct scan_stats ss;
-    scan_report(p->scan, &ss);
-    t += ss.disk_seconds;
+  uint64_t n[COST_NCLASS];
+  for (int k = 0; k < COST_NCLASS; k++) {
+    uint64_t sum = p->display.n[k] + p->scanner.n[k] + p->fx.n[k];
+    for (int s = 0; s < RS_NSTAGE; s++) sum += p->r->cost[s].n[k];
+    n[k] = sum;
   }
+  double t = cost_seconds_of(n, p->states, p->params);
+  if (p->scan) t += scan_disk_seconds(p->scan);
   return t;
 }
 
@@ -264,24 +270,27 @@ int point_level(struct pipeline *p, int i, int j, int face, int grey, bool bg_le
            : (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
 }
 
-/* The tube alone: pat_emit_point's dots of point (i, j) in its order, as one cell write
-** (dots: the cell's pattern word). */
+/* The tube: pat_emit_point's dots of point (i, j) in its order, as one cell write (dots:
+** the cell's pattern word; a cell of the grid lies on the tube: no dot fails); then the
+** other sink also, if any, each dot as pat_emit_point gives it (it does not read the tube). */
 static inline __attribute__((always_inline))
-int cell_to_tube(struct tube *t, int cell, int i, int j, unsigned dots)
+int cell_to_tube(struct tube *t, const struct sink *also, int cell, int i, int j, unsigned dots)
 {
   if (!dots) return T74_OK;
   int x0, y0;
   pat_cell_origin(cell, i, j, &x0, &y0);
-  return tube_write_dots(t, x0, y0, cell, dots);
+  int st = tube_write_dots(t, x0, y0, cell, dots);
+  if (st != T74_OK || !also) return st;
+  return pat_emit_dots(cell, x0, y0, dots, also);
 }
 
 /* A point's halftone cell of that level to the sinks. */
 static inline __attribute__((always_inline))
 int cell_out(struct pipeline *p, int i, int j, int level)
 {
-  if (p->tube_only && i >= 0 && i < p->W && j >= 0 && j < p->H && level >= 0 &&
+  if (p->tube_direct && i >= 0 && i < p->W && j >= 0 && j < p->H && level >= 0 &&
       level <= p->cell * p->cell)
-    return cell_to_tube(p->tube_only, p->cell, i, j, p->mask[level]);
+    return cell_to_tube(p->tube_direct, p->also, p->cell, i, j, p->mask[level]);
   return pat_emit_point(p->pat, i, j, level, &p->out);
 }
 
@@ -290,12 +299,17 @@ static inline __attribute__((always_inline))
 int emit_point(struct pipeline *p, int i, int j, int face, int grey, bool bg_level)
 {
   int level = point_level(p, i, j, face, grey, bg_level);
-  if (p->timed) {
-    if (p->hooks && p->hooks->clock) p->hooks->clock(p->hooks->clock_ctx, pipeline_seconds(p));
+  bool tick = p->hooks && p->hooks->clock;
+  if (p->timed && level > 0 && (tick || p->first_dot < 0)) {
+    /* the clock before a point that lights dots (a point with none gives the beam no work,
+       and the clock only goes forward: the beam takes the larger time, and the last tick
+       comes after the scan) */
+    double now = pipeline_seconds(p);
+    if (tick) p->hooks->clock(p->hooks->clock_ctx, now);
     /* the first dot: 003 cuts and scans bottom to top so that the picture shows while it
        is computed; this is when the viewer first sees something (its own lookups not
        counted) */
-    if (level > 0 && p->first_dot < 0) p->first_dot = pipeline_seconds(p);
+    if (p->first_dot < 0) p->first_dot = now;
   }
   /* per point: intensity and level lookups, the cell's pattern word, then one display
      command per lit dot */
@@ -848,7 +862,8 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   p.r = &r;
   p.hooks = NULL;
   p.out = tube_sink(t);
-  p.tube_only = t;
+  p.tube_direct = t;
+  p.also = NULL;
   memset(&p.display, 0, sizeof p.display);
   memset(&p.fx, 0, sizeof p.fx);
   memset(&p.scanner, 0, sizeof p.scanner);
@@ -869,8 +884,8 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
 ** the display's counts added once (issue 19). */
 static int points_emit(struct pipeline *p, const struct points *pt)
 {
-  if (p->tube_only && !p->face && !p->timed) {
-    struct tube *t = p->tube_only;
+  if (p->tube_direct && !p->also && !p->face && !p->timed) {
+    struct tube *t = p->tube_direct;
     const int W = p->W, H = p->H, cell = p->cell, cc = cell * cell;
     uint64_t levels = 0;
     for (int j = H - 1; j >= 0; j--)
@@ -879,7 +894,7 @@ static int points_emit(struct pipeline *p, const struct points *pt)
         int face = pt->face[at];
         int level = point_level(p, i, j, face, point_seen(p, i, j, at, face), true);
         levels += (uint64_t)level;
-        int st = level >= 0 && level <= cc ? cell_to_tube(t, cell, i, j, p->mask[level])
+        int st = level >= 0 && level <= cc ? cell_to_tube(t, NULL, cell, i, j, p->mask[level])
                                            : cell_out(p, i, j, level);
         if (st != T74_OK) return st;
       }
@@ -909,7 +924,8 @@ static int spare_points_frame(const struct pipeline *p0, const struct scene *s,
   if (!t) return t74_fail(err, T74_EIO, "out of host memory");
   p.hooks = NULL;
   p.out = tube_sink(t);
-  p.tube_only = t;
+  p.tube_direct = t;
+  p.also = NULL;
   memset(&p.display, 0, sizeof p.display);
   memset(&p.fx, 0, sizeof p.fx);
   memset(&p.scanner, 0, sizeof p.scanner);
@@ -1036,12 +1052,16 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   p.map = engine == JOB_ENGINE_1974 ? &r.map : &pts.map;
   p.hooks = h;
   p.params = &o->params;
+  cost_class_states(p.params, p.states);
   struct sink_tee tee;
   sink_tee_init(&tee);
   sink_tee_add(&tee, tube_sink(t));
   if (h && h->extra.point) sink_tee_add(&tee, h->extra);
   p.out = sink_tee_sink(&tee);
-  if (tee.n == 1) p.tube_only = t;          /* the tube alone: its faster path */
+  if (tee.n <= 2) {                         /* the tube, and the job's other sink if any */
+    p.tube_direct = t;
+    p.also = tee.n == 2 ? &tee.out[1] : NULL;
+  }
   struct fx_stats fst;
   memset(&fst, 0, sizeof fst);
   if (engine == JOB_ENGINE_POINTS) {

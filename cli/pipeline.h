@@ -81,7 +81,8 @@ int job_parse(int argc, char **argv, int first, struct job *j, job_opt_fn extra,
 struct job_hooks {
   struct sink extra;                /* receives every dot as produced (point == NULL: none);
                                        its end() runs before the outputs are written */
-  void (*clock)(void *ctx, double hitac10_seconds); /* before each point: 1974 time so far */
+  void (*clock)(void *ctx, double hitac10_seconds); /* before each point that lights dots,
+                                       and once after the last point: 1974 time so far */
   void *clock_ctx;
   /* what a Tek stream shows beyond stored dots (NULL: ignored): write-through traces
      (dim, never stored; a point when x0 == x1 and y0 == y1) and erases (ESC FF) */

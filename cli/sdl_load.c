@@ -1,47 +1,38 @@
 /*
 ** sdl_load.c — SDL2 through dlopen for `tube74 play` (see sdl_load.h).
 **
-** This file contains code to open libSDL2-2.0.so.0 and look up each function `play` uses;
-** a missing library or symbol is an I/O failure with the loader's reason, never a crash.
+** This file contains the list of the SDL2 functions `play` calls: display/dynlib.h opens
+** libSDL2-2.0.so.0 and looks each one up; a missing library or function is an I/O
+** failure with the loader's reason, never a crash.
 */
 #include "cli/sdl_load.h"
 
-#include <dlfcn.h>
 #include <string.h>
+
+#include "display/dynlib.h"
 
 #define SDL_LIB "libSDL2-2.0.so.0"
 
+/* every slot of struct sdl_fns, by its name without SDL_ */
+#define SDL_FNS(X) X(Init) X(Quit) X(GetError) X(GetCurrentVideoDriver) X(CreateWindow)    \
+  X(CreateRenderer) X(CreateTexture) X(DestroyTexture) X(DestroyRenderer) X(DestroyWindow) \
+  X(UpdateTexture) X(SetRenderDrawColor) X(RenderClear) X(RenderCopy) X(RenderDrawLine)    \
+  X(RenderFillRect) X(RenderPresent) X(RenderReadPixels) X(PollEvent)                      \
+  X(GetPerformanceCounter) X(GetPerformanceFrequency) X(Delay)
+
 int sdl_load(struct sdl_fns *f, const char *what, struct t74_error *err)
 {
-  memset(f, 0, sizeof *f);
-  void *lib = dlopen(SDL_LIB, RTLD_NOW | RTLD_LOCAL);
-  if (!lib) return t74_fail(err, T74_EIO, "%s: cannot load SDL2 (%s)", what, dlerror());
-  const char *missing = NULL;
-  /* POSIX: a dlsym result converts to a function pointer; copied bytewise, as ISO C
-     has no cast between object and function pointers */
-#define LOAD(name) do {                                          \
-    void *sym = dlsym(lib, "SDL_" #name);                        \
-    if (!sym && !missing) missing = "SDL_" #name;                \
-    memcpy(&f->name, &sym, sizeof sym);                          \
-  } while (0)
-  LOAD(Init); LOAD(Quit); LOAD(GetError); LOAD(GetCurrentVideoDriver);
-  LOAD(CreateWindow); LOAD(CreateRenderer); LOAD(CreateTexture);
-  LOAD(DestroyTexture); LOAD(DestroyRenderer); LOAD(DestroyWindow);
-  LOAD(UpdateTexture); LOAD(SetRenderDrawColor); LOAD(RenderClear); LOAD(RenderCopy);
-  LOAD(RenderDrawLine); LOAD(RenderFillRect); LOAD(RenderPresent); LOAD(RenderReadPixels);
-  LOAD(PollEvent); LOAD(GetPerformanceCounter); LOAD(GetPerformanceFrequency); LOAD(Delay);
-#undef LOAD
-  if (missing) {
-    dlclose(lib);
-    memset(f, 0, sizeof *f);
-    return t74_fail(err, T74_EIO, "%s: %s has no %s", what, SDL_LIB, missing);
-  }
-  f->lib = lib;
-  return T74_OK;
+#define SYM(name) { "SDL_" #name, offsetof(struct sdl_fns, name) },
+  static const struct dynlib_sym syms[] = { SDL_FNS(SYM) };
+#undef SYM
+#define CHECK(name) DYNLIB_CHECK(f, name, SDL_##name);
+  SDL_FNS(CHECK)
+#undef CHECK
+  return dynlib_open(f, sizeof *f, SDL_LIB, "SDL2", "libsdl2-2.0-0", syms,
+                     sizeof syms / sizeof *syms, what, err);
 }
 
 void sdl_unload(struct sdl_fns *f)
 {
-  if (f->lib) dlclose(f->lib);
-  memset(f, 0, sizeof *f);
+  dynlib_close(f, sizeof *f);
 }

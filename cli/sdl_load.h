@@ -4,8 +4,10 @@
 ** This file contains the table of the SDL2 functions `tube74 play` calls. The program is
 ** not linked against SDL2: a render never opens a window, and loading SDL2 with the some
 ** fifty libraries it depends on cost every run milliseconds before main(). sdl_load opens
-** libSDL2-2.0.so.0 with dlopen and fills the table; the types and constants still come from
-** <SDL.h> at compile time, so a call through the table is checked as a direct call would be.
+** libSDL2-2.0.so.0 with dlopen (display/dynlib.h) and fills the table; the types and
+** constants still come from <SDL.h> at compile time, and each slot's type is checked
+** against its declaration there, so a call through the table is checked as a direct call
+** would be.
 */
 #ifndef T74_SDL_LOAD_H
 #define T74_SDL_LOAD_H
@@ -15,7 +17,8 @@
 #include "emu/status.h"
 
 struct sdl_fns {
-  void *lib;                                    /* dlopen handle, NULL: not loaded */
+  void *lib;                                    /* dlopen handle, NULL: not loaded (first:
+                                                   display/dynlib.h) */
   int (*Init)(Uint32);
   void (*Quit)(void);
   const char *(*GetError)(void);

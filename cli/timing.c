@@ -5,11 +5,11 @@
 **
 ** This file contains code to parse the timing and look options shared by `render` and
 ** `play`, and to give a job the three hooks that time its dots: the clock hook records
-** the 1974 computing time before each perspective-plane point; the extra sink passes each
-** of the point's dots to the beam (which answers when the dot was written) and, when a
-** look or a recording is wanted, to the look model; its end() writes the -o look picture
-** (before the job's other outputs, so a failure there leaves nothing written); the stats
-** hook adds "tube_seconds" and "total_1974_seconds".
+** the 1974 computing time before each perspective-plane point that lights dots; the
+** extra sink passes each of the point's dots to the beam (which answers when the dot was
+** written) and, when a look or a recording is wanted, to the look model; its end()
+** writes the -o look picture (before the job's other outputs, so a failure there leaves
+** nothing written); the stats hook adds "tube_seconds" and "total_1974_seconds".
 */
 #include "cli/timing.h"
 

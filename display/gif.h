@@ -13,7 +13,9 @@
 **   gif_open(&g, path, w, h, palette, err)   palette: 256 RGB triples
 **   gif_frame(g, idx, delay_cs, err)         delay in hundredths of a second
 **   gif_commit(g, err) or gif_abort(g)       exactly one; both free g
-** Errors are T74_EIO "FILE: what failed"; a failed or aborted movie leaves no file.
+** Errors are T74_EIO "FILE: what failed"; a failed or aborted movie leaves no file. giflib
+** is opened with dlopen by gif_open (display/dynlib.h): when it cannot be, that is the
+** failure ("FILE: cannot load giflib (why); install the Debian package libgif7").
 */
 #ifndef T74_GIF_H
 #define T74_GIF_H

@@ -113,16 +113,10 @@ int image_write_rgb_png_to(int w, int h, image_row_fn fill, void *ctx, struct ou
   return write_png(w, h, 8, PNG_COLOR_TYPE_RGB, NULL, 0, 3 * (size_t)w, fill, ctx, o, err);
 }
 
-#define TUBE_ROW_BYTES ((TUBE_W + 7) / 8)
-
 /* File row r (0 = the top of the tube) packed one bit a dot: MSB = leftmost, 1 = lit. */
 static void tube_row(void *ctx, int r, uint8_t *row)
 {
-  const struct tube *t = ctx;
-  int y = TUBE_H - 1 - r;
-  memset(row, 0, TUBE_ROW_BYTES);
-  for (int x = 0; x < TUBE_W; x++)
-    if (tube_lit(t, x, y)) row[x >> 3] = (uint8_t)(row[x >> 3] | 0x80u >> (x & 7));
+  tube_row_packed(ctx, TUBE_H - 1 - r, row);
 }
 
 /* The tube has two colours: a 1-bit palette PNG (dark face, lit dot) — the same pixels as

@@ -122,6 +122,21 @@ int tube_lit(const struct tube *t, int x, int y)
   return (t->lit[k >> 3] >> (k & 7)) & 1;
 }
 
+_Static_assert(TUBE_W % 8 == 0, "a row of lit[] starts on a byte");
+
+void tube_row_packed(const struct tube *t, int y, uint8_t *out)
+{
+  if (y < 0 || y >= TUBE_H) { memset(out, 0, TUBE_ROW_BYTES); return; }
+  const uint8_t *lit = t->lit + (size_t)y * TUBE_ROW_BYTES;  /* TUBE_W: a multiple of 8 */
+  for (int b = 0; b < TUBE_ROW_BYTES; b++) {     /* lit[] has the leftmost dot in bit 0 */
+    unsigned v = lit[b];
+    v = (v & 0xF0u) >> 4 | (v & 0x0Fu) << 4;
+    v = (v & 0xCCu) >> 2 | (v & 0x33u) << 2;
+    v = (v & 0xAAu) >> 1 | (v & 0x55u) << 1;
+    out[b] = (uint8_t)v;
+  }
+}
+
 int tube_count(const struct tube *t)
 {
   return t->n;

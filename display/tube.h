@@ -16,6 +16,8 @@
 #ifndef T74_TUBE_H
 #define T74_TUBE_H
 
+#include <stdint.h>
+
 #include "display/sink.h"
 #include "emu/status.h"
 
@@ -40,6 +42,12 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask);
 
 /* 1 if dot (x, y) is lit, else 0 (also for any dot outside the tube). */
 int tube_lit(const struct tube *t, int x, int y);
+
+/* Row y (0 = the bottom) packed one bit a dot, 1 = lit, the leftmost dot in the most
+** significant bit of out[0] (the packing of PBM and 1-bit PNG rows): TUBE_ROW_BYTES bytes;
+** all 0 for a row outside the tube. */
+#define TUBE_ROW_BYTES (TUBE_W / 8)
+void tube_row_packed(const struct tube *t, int y, uint8_t *out);
 
 /* How many dots are lit. */
 int tube_count(const struct tube *t);

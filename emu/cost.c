@@ -64,11 +64,24 @@ double cost_class_us(const struct cost_params *p, int cls)
   return class_states(p, cls) * p->v[CP_STATE_NS] / 1000.0;
 }
 
+void cost_class_states(const struct cost_params *p, double states[COST_NCLASS])
+{
+  for (int k = 0; k < COST_NCLASS; k++) states[k] = class_states(p, k);
+}
+
+double cost_seconds_of(const uint64_t n[COST_NCLASS], const double states[COST_NCLASS],
+                       const struct cost_params *p)
+{
+  double sum = 0;
+  for (int k = 0; k < COST_NCLASS; k++) sum += (double)n[k] * states[k];
+  return sum * p->v[CP_STATE_NS] * 1e-9;
+}
+
 double cost_seconds(const struct cost *c, const struct cost_params *p)
 {
-  double states = 0;
-  for (int k = 0; k < COST_NCLASS; k++) states += (double)c->n[k] * class_states(p, k);
-  return states * p->v[CP_STATE_NS] * 1e-9;
+  double states[COST_NCLASS];
+  cost_class_states(p, states);
+  return cost_seconds_of(c->n, states, p);
 }
 
 double cost_seconds_exact(const struct cost *c, const struct cost_params *p)

@@ -293,6 +293,13 @@ double cost_class_us(const struct cost_params *p, int cls);
    in seconds. */
 double cost_seconds(const struct cost *c, const struct cost_params *p);
 
+/* The same in two steps, for a clock read often (cli/pipeline.c, at every lit point): the
+   states one operation of each class takes, once; then the seconds of the class counts
+   n[] with them: exactly cost_seconds's value for a struct cost holding those counts. */
+void cost_class_states(const struct cost_params *p, double states[COST_NCLASS]);
+double cost_seconds_of(const uint64_t n[COST_NCLASS], const double states[COST_NCLASS],
+                       const struct cost_params *p);
+
 /* The same run with exact arithmetic on the same machine (n[] + x[]), in seconds. */
 double cost_seconds_exact(const struct cost *c, const struct cost_params *p);
 

@@ -240,11 +240,16 @@ int pat_emit_point(const struct pat_cell *p, int i, int j, int level,
     return T74_EINPUT;
   uint16_t mask;                          /* the dots lit at this level */
   pat_cell_dots(p, level, &mask);
+  int x0, y0;
+  pat_cell_origin(cell, i, j, &x0, &y0);
+  return pat_emit_dots(cell, x0, y0, mask, s);
+}
+
+int pat_emit_dots(int cell, int x0, int y0, unsigned mask, const struct sink *s)
+{
   /* bit k = cy * cell + cx: rising bits are the top row of the cell first, each row left
      to right (pat_dot_xy's placement, one dot at a time) */
   const uint8_t *cxs = dot_cx[cell - PAT_CELL_MIN], *cys = dot_cy[cell - PAT_CELL_MIN];
-  int x0, y0;
-  pat_cell_origin(cell, i, j, &x0, &y0);
   for (unsigned m = mask; m; m &= m - 1) {
     int k = __builtin_ctz(m);
     int rc = sink_point(s, x0 + cxs[k], y0 - cys[k]);

@@ -72,6 +72,11 @@ void pat_dot_xy(int cell, int i, int j, int cx, int cy, int *x, int *y);
 ** not written), or T74_EINPUT when (i, j) is outside the grid. */
 int pat_emit_point(const struct pat_cell *p, int i, int j, int level,
                    const struct sink *s);
+/* Write the dots of mask (bit cy*cell + cx, as pat_cell_dots gives them) of a cell of 3 or
+** 4 whose dot (0, 0) is at (x0, y0) to s, in pat_emit_point's order. T74_OK, or the first
+** failure of s's point call (the rest of the cell is not written). */
+int pat_emit_dots(int cell, int x0, int y0, unsigned mask, const struct sink *s);
+
 /* The tube coordinates of dot (0, 0) of point (i, j), the top left dot of its cell: dot
 ** (cx, cy) is at (x0 + cx, y0 - cy) (pat_dot_xy). */
 static inline void pat_cell_origin(int cell, int i, int j, int *x0, int *y0)

@@ -23,6 +23,7 @@
 
 #include <png.h>
 #include <setjmp.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,6 +132,11 @@ static int load_pgm(const char *path, const uint8_t *b, size_t n, struct pic **o
     pic_free(p);
     return t74_fail(err, T74_EINPUT, "%s: " NOT_PIC ": truncated: %zu of %zu samples",
                     path, (c.n - c.pos) / bps, count);
+  }
+  if (!plain && maxval == 255) {        /* bytes as they are: round(v * 255 / 255) = v */
+    memcpy(p->px, b + c.pos, count);
+    *out = p;
+    return T74_OK;
   }
   for (size_t k = 0; k < count; k++) {
     unsigned long v;
@@ -301,41 +307,243 @@ int pic_sample(const struct pic *p, int i, int j, int W, int H)
   return (int)((sum + total / 2) / total);
 }
 
+/* One axis of the stretch, npx picture pixels over m grid points, in pic_sample's units:
+** pixel x spans [x*m, (x+1)*m), point k spans [k*npx, (k+1)*npx). Point k overlaps
+** pixels first[k] .. last[k] (consecutive): the first and the last by wfirst[k] and
+** wlast[k] (wlast 0 when they are the same pixel), every pixel between them wholly, by m.
+** Made by walking both axes together, with no division. */
+struct pic_axis {
+  int32_t *first, *last;        /* m each */
+  uint32_t *wfirst, *wlast;     /* m each: shared lengths, 1..m (wlast 0..m) */
+  bool wide;                    /* some point has pixels between its first and last */
+};
+
+static void axis_free(struct pic_axis *a)
+{
+  free(a->first);
+  free(a->last);
+  free(a->wfirst);
+  free(a->wlast);
+}
+
+static int axis_make(int64_t npx, int m, struct pic_axis *a)
+{
+  size_t n = (size_t)(unsigned)m;
+  a->first = malloc(n * sizeof *a->first);
+  a->last = malloc(n * sizeof *a->last);
+  a->wfirst = malloc(n * sizeof *a->wfirst);
+  a->wlast = malloc(n * sizeof *a->wlast);
+  if (!a->first || !a->last || !a->wfirst || !a->wlast) { axis_free(a); return -1; }
+  a->wide = false;
+  int64_t x = 0;                              /* the pixel the point starts in */
+  for (int k = 0; k < m; k++) {
+    int64_t lo = k * npx, hi = lo + npx;      /* the point's footprint */
+    a->first[k] = (int32_t)x;
+    if ((x + 1) * m >= hi) {                  /* all in pixel x */
+      a->last[k] = (int32_t)x;
+      a->wfirst[k] = (uint32_t)npx;
+      a->wlast[k] = 0;
+    } else {
+      a->wfirst[k] = (uint32_t)((x + 1) * m - lo);
+      while ((x + 2) * m < hi) x++;           /* pixels wholly inside */
+      x++;                                    /* the last pixel it reaches into */
+      a->last[k] = (int32_t)x;
+      a->wlast[k] = (uint32_t)(hi - x * m);
+      if (a->last[k] > a->first[k] + 1) a->wide = true;
+    }
+    if ((x + 1) * m == hi) x++;               /* the next point starts in the next pixel */
+  }
+  return 0;
+}
+
+/* One picture row of npx pixels along the x axis: r[i] = the sum over x of line[x] x
+** (x-overlap with column i), at most 255 x npx < 2^22. When points take whole pixels
+** between their first and last (ax->wide), those are one difference of the row's running
+** sums, pre[npx + 1]. */
+static void sample_row(const uint8_t *line, int64_t npx, const struct pic_axis *ax, int W,
+                       uint32_t m, uint32_t *pre, uint32_t *r)
+{
+  const int32_t *first = ax->first, *last = ax->last;
+  const uint32_t *wfirst = ax->wfirst, *wlast = ax->wlast;
+  if (!ax->wide) {
+    for (int i = 0; i < W; i++) r[i] = line[first[i]] * wfirst[i] + line[last[i]] * wlast[i];
+    return;
+  }
+  uint32_t sum = 0;
+  pre[0] = 0;
+  for (int64_t x = 0; x < npx; x++) pre[x + 1] = sum += line[x];
+  for (int i = 0; i < W; i++) {
+    int32_t a = first[i], b = last[i], e = b > a + 1 ? b : a + 1;
+    r[i] = line[a] * wfirst[i] + line[b] * wlast[i] + (pre[e] - pre[a + 1]) * m;
+  }
+}
+
+/* floor(n / d) for a quotient known to be 0..255, with mul = floor(2^40 / d): floor(n x mul
+** / 2^40) is the quotient or one less (n x mul < 256 x 2^40: no overflow; the error is
+** under n / 2^40 < 256 d / 2^40 <= 1/16, d being a picture's pixels, at most
+** PIC_MAX_SIDE^2 = 2^28), set right by one comparison. */
+static inline uint8_t quotient(uint64_t n, uint64_t d, uint64_t mul)
+{
+  uint64_t q = n * mul >> 40;
+  return (uint8_t)(q + ((q + 1) * d <= n));
+}
+
+/* A picture's W x H grid made a grid row at a time, in increasing order; its picture is a
+** struct pic, or (src) the grid of another sampler, whose rows it asks for in increasing
+** order as it needs them: so a grid of a grid holds no more than a few rows. */
+struct sampler {
+  const uint8_t *px;            /* the picture's pixels, or NULL: rows from src */
+  struct sampler *src;          /* the sampler whose grid is the picture */
+  const uint8_t *map;           /* each value through map[256] */
+  int64_t pw, ph;               /* the picture's size */
+  int W, H;                     /* the grid */
+  struct pic_axis ax, ay;
+  uint64_t total, mul;          /* pw x ph, floor(2^40 / total) (see quotient) */
+  uint32_t *row;                /* W: picture row `have` sampled along x */
+  uint64_t *acc;                /* W: one grid row's sums */
+  uint8_t *line;                /* pw: src's row `have`, when the picture is src's grid */
+  uint32_t *pre;                /* pw + 1: sample_row's running sums (ax.wide), else NULL */
+  int32_t have;                 /* the picture row in row[], -1 none */
+};
+
+static void sampler_free(struct sampler *s)
+{
+  axis_free(&s->ax);
+  axis_free(&s->ay);
+  free(s->row);
+  free(s->acc);
+  free(s->line);
+  free(s->pre);
+}
+
+/* The W x H grid of a pw x ph picture (pixels px, or src's grid when px is NULL). */
+static int sampler_init(struct sampler *s, const uint8_t *px, struct sampler *src, int pw,
+                        int ph, const uint8_t *map, int W, int H)
+{
+  memset(s, 0, sizeof *s);
+  s->px = px;
+  s->src = src;
+  s->map = map;
+  s->pw = pw;
+  s->ph = ph;
+  s->W = W;
+  s->H = H;
+  s->total = (uint64_t)pw * (uint64_t)ph;
+  s->mul = ((uint64_t)1 << 40) / s->total;
+  s->have = -1;
+  int ok = axis_make(pw, W, &s->ax) == 0;
+  ok = ok && axis_make(ph, H, &s->ay) == 0;
+  s->row = ok ? malloc((size_t)W * sizeof *s->row) : NULL;
+  s->acc = ok ? malloc((size_t)W * sizeof *s->acc) : NULL;
+  s->line = ok && !px ? malloc((size_t)pw) : NULL;
+  s->pre = ok && s->ax.wide ? malloc(((size_t)pw + 1) * sizeof *s->pre) : NULL;
+  if (!s->row || !s->acc || (!px && !s->line) || (ok && s->ax.wide && !s->pre)) {
+    sampler_free(s);
+    memset(s, 0, sizeof *s);
+    return -1;
+  }
+  return 0;
+}
+
+/* Picture row y sampled along x into s->row (once: a row a grid row shares with the next
+** is the last of the one and the first of the other). */
+static void sampler_take(struct sampler *s, int32_t y);
+
+/* Grid row j into dst[0 .. W-1]: down the picture rows under it, the sums pic_sample makes,
+** exact integers (the order they are added in does not matter), at most 255 x pw x ph
+** < 2^36; then floor((sum + total/2) / total) through the map. */
+static void sampler_row(struct sampler *s, int j, uint8_t *dst)
+{
+  const int W = s->W;
+  const uint64_t total = s->total, mul = s->mul, half = total / 2;
+  int32_t y0 = s->ay.first[j], y1 = s->ay.last[j];
+  for (int32_t y = y0; y < y1; y++) {         /* all but the last */
+    uint64_t wy = y == y0 ? s->ay.wfirst[j] : (uint64_t)s->H;
+    sampler_take(s, y);
+    uint32_t *row = s->row;
+    uint64_t *acc = s->acc;
+    if (y == y0)
+      for (int i = 0; i < W; i++) acc[i] = row[i] * wy;
+    else
+      for (int i = 0; i < W; i++) acc[i] += row[i] * wy;
+  }
+  sampler_take(s, y1);                        /* the last, taken with the quotient */
+  const uint32_t *row = s->row;
+  const uint64_t *acc = s->acc;
+  const uint8_t *map = s->map;
+  if (y0 == y1) {
+    const uint64_t wy = s->ay.wfirst[j];
+    for (int i = 0; i < W; i++) dst[i] = map[quotient(row[i] * wy + half, total, mul)];
+  } else {
+    const uint64_t wy = s->ay.wlast[j];
+    for (int i = 0; i < W; i++) dst[i] = map[quotient(acc[i] + row[i] * wy + half, total, mul)];
+  }
+}
+
+/* Grid rows that lie within one picture row are that row's values, alike (each takes it
+** with the weight of its whole footprint): row j's key is that picture row, or -1 - j for
+** a row made of several. Rows with the same key hold the same values (when the grid is
+** finer than the picture, most rows: the street's drum lines, 555 from 150). */
+static int64_t sampler_key(const struct sampler *s, int j)
+{
+  return s->ay.first[j] == s->ay.last[j] ? s->ay.first[j] : -1 - (int64_t)j;
+}
+
+static void sampler_take(struct sampler *s, int32_t y)
+{
+  if (y == s->have) return;
+  if (s->px) {
+    sample_row(s->px + y * s->pw, s->pw, &s->ax, s->W, (uint32_t)s->W, s->pre, s->row);
+  } else if (s->have < 0 || sampler_key(s->src, y) != sampler_key(s->src, s->have)) {
+    sampler_row(s->src, y, s->line);
+    sample_row(s->line, s->pw, &s->ax, s->W, (uint32_t)s->W, s->pre, s->row);
+  }                                           /* else: row `have`'s values, its sums stand */
+  s->have = y;
+}
+
+/* Every grid row into out[j * W ..], a row with the key of the one before copied. */
+static void sampler_all(struct sampler *s, uint8_t *out)
+{
+  const size_t W = (size_t)s->W;
+  for (int j = 0; j < s->H; j++)
+    if (j > 0 && sampler_key(s, j) == sampler_key(s, j - 1))
+      memcpy(out + (size_t)j * W, out + (size_t)(j - 1) * W, W);
+    else
+      sampler_row(s, j, out + (size_t)j * W);
+}
+
+/* The map that leaves every value as it is. */
+static void same_map(uint8_t map[256])
+{
+  for (int g = 0; g < 256; g++) map[g] = (uint8_t)g;
+}
+
 int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out)
 {
   if (W < 1 || H < 1) return -1;
-  const int64_t pw = p->w, ph = p->h;
-  /* pass 1: rowsum[y * W + i] = sum over x of pixel(x, y) * (x-overlap with column i) */
-  uint64_t *rowsum = malloc((size_t)ph * (size_t)W * sizeof *rowsum);
-  if (!rowsum) return -1;
-  for (int i = 0; i < W; i++) {
-    int64_t x0 = i * pw, x1 = (i + 1) * pw;
-    for (int64_t y = 0; y < ph; y++) {
-      const uint8_t *line = p->px + y * pw;
-      uint64_t row = 0;
-      for (int64_t x = x0 / W; x <= (x1 - 1) / W; x++) {
-        int64_t lo = x * W > x0 ? x * W : x0;
-        int64_t hi = (x + 1) * W < x1 ? (x + 1) * W : x1;
-        row += (uint64_t)line[x] * (uint64_t)(hi - lo);
-      }
-      rowsum[(size_t)y * (size_t)W + (size_t)i] = row;
-    }
+  uint8_t same[256];
+  same_map(same);
+  struct sampler s;
+  if (sampler_init(&s, p->px, NULL, p->w, p->h, same, W, H) != 0) return -1;
+  sampler_all(&s, out);
+  sampler_free(&s);
+  return 0;
+}
+
+int pic_sample_twice(const struct pic *p, int W1, int H1, const uint8_t map[256], int W,
+                     int H, uint8_t *out)
+{
+  if (W1 < 1 || H1 < 1 || W < 1 || H < 1) return -1;
+  struct sampler first, second;
+  if (sampler_init(&first, p->px, NULL, p->w, p->h, map, W1, H1) != 0) return -1;
+  uint8_t same[256];
+  same_map(same);
+  if (sampler_init(&second, NULL, &first, W1, H1, same, W, H) != 0) {
+    sampler_free(&first);
+    return -1;
   }
-  /* pass 2: down the rows of each grid row's footprint, as pic_sample adds them */
-  const uint64_t total = (uint64_t)(pw * ph);
-  for (int j = 0; j < H; j++) {
-    int64_t y0 = j * ph, y1 = (j + 1) * ph;
-    uint8_t *o = out + (size_t)j * (size_t)W;
-    for (int i = 0; i < W; i++) {
-      uint64_t sum = 0;
-      for (int64_t y = y0 / H; y <= (y1 - 1) / H; y++) {
-        int64_t top = y * H > y0 ? y * H : y0;
-        int64_t bot = (y + 1) * H < y1 ? (y + 1) * H : y1;
-        sum += rowsum[(size_t)y * (size_t)W + (size_t)i] * (uint64_t)(bot - top);
-      }
-      o[i] = (uint8_t)((sum + total / 2) / total);
-    }
-  }
-  free(rowsum);
+  sampler_all(&second, out);
+  sampler_free(&second);
+  sampler_free(&first);
   return 0;
 }

@@ -59,9 +59,19 @@ int pic_pixel(const struct pic *p, int x, int y);
 int pic_sample(const struct pic *p, int i, int j, int W, int H);
 
 /* Every point of the W x H grid at once into out[j * W + i]: exactly pic_sample's values
-** (the same integer sums, taken in two passes: along each picture row for every grid
-** column, then down the rows for every point), without its per-point divisions. 0, or -1
-** when W or H < 1 or out of host memory (out unchanged). */
+** (the same integer sums, taken row by row: each picture row sampled along x once, then
+** added with its weight into the grid rows it lies under), with no division in the
+** loops; it holds two rows of sums, not the picture's. 0, or -1 when W or H < 1 or out of
+** host memory (out unchanged). */
 int pic_sample_grid(const struct pic *p, int W, int H, uint8_t *out);
+
+/* Sampled twice, as the drum scanner's picture is (patterns/scanner.h): p's W1 x H1 grid,
+** each value through map[256], sampled again onto a W x H grid into out[j * W + i]. The
+** same values as pic_sample_grid onto W1 x H1, the map applied, pic_new of the result and
+** pic_sample_grid of that onto W x H; but the first grid is made a row at a time as the
+** second needs it and is never held whole. 0, or -1 when a side is < 1 or out of host
+** memory (out unchanged). */
+int pic_sample_twice(const struct pic *p, int W1, int H1, const uint8_t map[256], int W,
+                     int H, uint8_t *out);
 
 #endif

@@ -6,8 +6,9 @@
 ** This file contains code to carry a background photograph through the 1974 input path:
 ** drum scan -> A-D -> scale conversion -> levels -> 4 to a word -> disk, and to read the
 ** rows back while the picture is displayed, counting the time each step takes. All the
-** picture arithmetic is integer (pic_sample's exact box means, taken for a whole grid at
-** once by pic_sample_grid; integer rounding; A-D through a table of the 256 greys); only the
+** picture arithmetic is integer (pic_sample's exact box means, taken for both grids, the
+** drum's and the perspective plane's, by pic_sample_twice; integer rounding; A-D through a
+** table of the 256 greys); only the
 ** times are doubles, as they are in emu/cost.c.
 */
 #include "patterns/scanner.h"
@@ -186,40 +187,27 @@ int scan_photo(const struct pic *photo, int cell, const struct cost_params *prm,
                     "disk holds %llu", (unsigned long long)need, (unsigned long long)have);
   }
 
-  /* step 2: the drum, one line a revolution, each sample through photocell and A-D */
-  uint8_t *scan = malloc((size_t)s->samples * (size_t)s->lines);
+  /* step 2: the drum, one line a revolution, each sample through photocell and A-D; steps
+     3-4: scale conversion onto the grid. Each sample is the print's mean grey under its
+     footprint (pic_sample's exact values) and photocell and A-D are a function of that
+     grey alone, so a table of 256; the samples are made a drum line at a time as the
+     conversion takes them (pic_sample_twice) */
   s->words = calloc((size_t)need ? (size_t)need : 1, sizeof *s->words);
   s->grey = malloc((size_t)s->W * (size_t)s->H);
-  if (!scan || !s->words || !s->grey) {
-    free(scan);
-    scan_free(s);
-    return t74_fail(err, T74_EIO, "scanner: out of host memory");
-  }
-  /* each sample's mean grey under its footprint (pic_sample's exact values, all at once),
-     then photocell and A-D: a function of that grey alone, so a table of 256 */
   uint8_t adc_grey[256];
   for (int g = 0; g < 256; g++) adc_grey[g] = (uint8_t)scan_code_grey(scan_adc(scan_photo_mv(g), bits), bits);
-  if (pic_sample_grid(photo, s->samples, s->lines, scan) != 0) {
-    free(scan);
+  if (!s->words || !s->grey
+      || pic_sample_twice(photo, s->samples, s->lines, adc_grey, s->W, s->H, s->grey) != 0) {
     scan_free(s);
     return t74_fail(err, T74_EIO, "scanner: out of host memory");
   }
-  for (size_t q = 0; q < (size_t)s->samples * (size_t)s->lines; q++) scan[q] = adc_grey[scan[q]];
   double rev_s = prm->v[CP_DRUM_REV_S];
   double line_s = s->samples * prm->v[CP_ADC_US] * 1e-6;   /* conversions of one line */
   double revs = rev_s > 0 ? ceil(line_s / rev_s - 1e-12) : 1;
   if (revs < 1) revs = 1;
   s->drum_seconds = s->lines * revs * rev_s;
 
-  /* steps 3-6: scale conversion, levels, packing, one disk write per row */
-  struct pic *sp = pic_new(s->samples, s->lines, scan);
-  free(scan);
-  if (!sp) { scan_free(s); return t74_fail(err, T74_EIO, "scanner: out of host memory"); }
-  if (pic_sample_grid(sp, s->W, s->H, s->grey) != 0) {
-    pic_free(sp);
-    scan_free(s);
-    return t74_fail(err, T74_EIO, "scanner: out of host memory");
-  }
+  /* steps 4-6: levels, packing, one disk write per row */
   for (int r = 0; r < s->H; r++) {
     int j = s->H - 1 - r;                       /* disk row r holds grid row j */
     for (int i = 0; i < s->W; i++) {
@@ -232,7 +220,6 @@ int scan_photo(const struct pic *photo, int cell, const struct cost_params *prm,
     s->last_write_seconds =
       scan_disk_access(&in_disk, (uint32_t)(r * s->row_words), (uint32_t)s->row_words);
   }
-  pic_free(sp);
   s->input_disk_seconds = in_disk.seconds;
   scan_disk_init(&s->disk, prm);
   s->disk0 = s->disk;
@@ -274,6 +261,11 @@ int scan_grey(const struct scan_image *s, int i, int j)
   return s->grey[(size_t)j * (size_t)s->W + (size_t)i];
 }
 
+double scan_disk_seconds(const struct scan_image *s)
+{
+  return s->disk.seconds;
+}
+
 void scan_report(const struct scan_image *s, struct scan_stats *st)
 {
   memset(st, 0, sizeof *st);
@@ -290,6 +282,6 @@ void scan_report(const struct scan_image *s, struct scan_stats *st)
   st->drum_seconds = s->drum_seconds;
   st->input_disk_seconds = s->input_disk_seconds;
   st->scanner_seconds = s->drum_seconds + s->last_write_seconds;
-  st->disk_seconds = s->disk.seconds;
+  st->disk_seconds = scan_disk_seconds(s);
   st->disk_reads = s->disk.accesses;
 }

@@ -157,4 +157,7 @@ struct scan_stats {
 
 void scan_report(const struct scan_image *s, struct scan_stats *st);
 
+/* scan_report's disk_seconds alone (read at every lit point by the display's clock). */
+double scan_disk_seconds(const struct scan_image *s);
+
 #endif

@@ -458,12 +458,20 @@ int scene_check_camera(const struct scene *s, int view_line, int window_line,
 
 /* ---- the .s74 parser --------------------------------------------------------------- */
 
+/* An id table: ids 0 .. SCENE_ID_MAX in blocks of IDMAP_BLOCK, a block made (zeroed) when
+** an id in it is first defined; an entry holds the index + 1, 0 when the id is not
+** defined. A scene's ids are few and mostly small, so the table stays a few kB (issue
+** 19: three flat tables of 64 k ids set to -1 were 192 of a small scene's 440 page
+** faults, each page touched costing about 10 us). */
+#define IDMAP_BLOCK 256
+struct idmap { int *block[NIDS / IDMAP_BLOCK]; };
+
 struct parse {
   struct scene *s;
   struct import_reader r;
   struct t74_error *err;
   int capv, capf, capo;
-  int *vmap, *fmap, *omap;          /* id -> index, -1 when not defined */
+  struct idmap vmap, fmap, omap;    /* id -> index (map_get) */
   int view_line, window_line, background_line;
   struct tex_line { int face, line; char *path; } *tex;   /* `texture` lines, resolved */
   int ntex, captex;                                        /* after the faces */
@@ -527,6 +535,27 @@ static int count(struct parse *p, int want, const char *usage)
   return T74_OK;
 }
 
+/* An id table's entry for id: the index, or -1 when the id is not defined. */
+static int map_get(const struct idmap *m, long id)
+{
+  const int *b = m->block[id / IDMAP_BLOCK];
+  return b ? b[id % IDMAP_BLOCK] - 1 : -1;
+}
+
+/* Define id as index idx: 0, or -1 when out of memory. */
+static int map_set(struct idmap *m, long id, int idx)
+{
+  int **b = &m->block[id / IDMAP_BLOCK];
+  if (!*b && !(*b = calloc(IDMAP_BLOCK, sizeof **b))) return -1;
+  (*b)[id % IDMAP_BLOCK] = idx + 1;
+  return 0;
+}
+
+static void map_free(struct idmap *m)
+{
+  for (int k = 0; k < NIDS / IDMAP_BLOCK; k++) free(m->block[k]);
+}
+
 static int st_vertex(struct parse *p)
 {
   struct scene *s = p->s;
@@ -534,8 +563,8 @@ static int st_vertex(struct parse *p)
   int st;
   if ((st = count(p, 5, "vertex N X Y Z"))) return st;
   if ((st = number(p, 1, 1, SCENE_ID_MAX, "vertex id", &id))) return st;
-  if (p->vmap[id] >= 0)
-    return at(p, "vertex %ld already defined at line %d", id, s->v[p->vmap[id]].line);
+  if (map_get(&p->vmap, id) >= 0)
+    return at(p, "vertex %ld already defined at line %d", id, s->v[map_get(&p->vmap, id)].line);
   if (s->nv == p->capv) {
     int nc = p->capv ? p->capv * 2 : 256;
     struct scene_vertex *nv = realloc(s->v, (size_t)nc * sizeof *nv);
@@ -551,7 +580,8 @@ static int st_vertex(struct parse *p)
   v->y = c[1];
   v->z = c[2];
   v->line = p->r.line;
-  p->vmap[id] = s->nv++;
+  if (map_set(&p->vmap, id, s->nv)) return oom(p);
+  s->nv++;
   return T74_OK;
 }
 
@@ -563,8 +593,8 @@ static int st_face(struct parse *p)
   long id, g = -1;
   if (ntok < 2) return at(p, "wrong number of values: expected `face N V1 V2 V3 ...`");
   if ((st = number(p, 1, 1, SCENE_ID_MAX, "face id", &id))) return st;
-  if (p->fmap[id] >= 0)
-    return at(p, "face %ld already defined at line %d", id, s->f[p->fmap[id]].line);
+  if (map_get(&p->fmap, id) >= 0)
+    return at(p, "face %ld already defined at line %d", id, s->f[map_get(&p->fmap, id)].line);
   int end = ntok;                       /* ring tokens are tok[2..end) */
   long on = 0;
   /* the trailing keywords, `on F` and `grey G`, in either order, each at most once */
@@ -628,7 +658,7 @@ static int st_face(struct parse *p)
     f->vidx[n++] = (int)vid;          /* an id until resolve() */
   }
   f->ring_start[f->nring] = n;
-  p->fmap[id] = s->nf - 1;
+  if (map_set(&p->fmap, id, s->nf - 1)) return oom(p);
   return T74_OK;
 }
 
@@ -642,8 +672,8 @@ static int st_object(struct parse *p)
   if (smooth) ntok--;
   if (ntok < 3) return at(p, "wrong number of values: expected `object N F1 F2 ... [smooth]`");
   if ((st = number(p, 1, 1, SCENE_ID_MAX, "object id", &id))) return st;
-  if (p->omap[id] >= 0)
-    return at(p, "object %ld already defined at line %d", id, s->obj[p->omap[id]].line);
+  if (map_get(&p->omap, id) >= 0)
+    return at(p, "object %ld already defined at line %d", id, s->obj[map_get(&p->omap, id)].line);
   if (s->nobj == p->capo) {
     int nc = p->capo ? p->capo * 2 : 16;
     struct scene_object *no = realloc(s->obj, (size_t)nc * sizeof *no);
@@ -664,7 +694,7 @@ static int st_object(struct parse *p)
     if ((st = number(p, t, 1, SCENE_ID_MAX, "face id", &fid))) return st;
     o->face[o->nface++] = (int)fid;   /* an id until resolve() */
   }
-  p->omap[id] = s->nobj - 1;
+  if (map_set(&p->omap, id, s->nobj - 1)) return oom(p);
   return T74_OK;
 }
 
@@ -784,7 +814,7 @@ static int resolve(struct parse *p)
     struct scene_face *f = &s->f[i];
     int n = f->ring_start[f->nring];
     for (int q = 0; q < n; q++) {
-      int idx = p->vmap[f->vidx[q]];
+      int idx = map_get(&p->vmap, f->vidx[q]);
       if (idx < 0) {
         st = t74_fail_at(err, T74_EINPUT, s->file, f->line, "face %d: unknown vertex %d",
                          f->id, f->vidx[q]);
@@ -829,7 +859,7 @@ static int resolve(struct parse *p)
   for (int i = 0; i < s->nobj; i++) {
     struct scene_object *o = &s->obj[i];
     for (int k = 0; k < o->nface; k++) {
-      int fid = o->face[k], idx = p->fmap[fid];
+      int fid = o->face[k], idx = map_get(&p->fmap, fid);
       if (idx < 0)
         return t74_fail_at(err, T74_EINPUT, s->file, o->line, "object %d: unknown face %d",
                            o->id, fid);
@@ -840,7 +870,7 @@ static int resolve(struct parse *p)
       if (f->object)
         return t74_fail_at(err, T74_EINPUT, s->file, o->line,
                            "face %d is already in object %d (line %d)", fid, f->object,
-                           s->obj[p->omap[f->object]].line);
+                           s->obj[map_get(&p->omap, f->object)].line);
       f->object = (int)o->id;
       o->face[k] = idx;
     }
@@ -905,7 +935,7 @@ static int resolve_layers(struct parse *p)
   for (int i = 0; i < s->nf; i++) {
     struct scene_face *f = &s->f[i];
     if (!f->on_id) continue;
-    int idx = p->fmap[f->on_id];
+    int idx = map_get(&p->fmap, f->on_id);
     if (idx < 0)
       return t74_fail_at(p->err, T74_EINPUT, s->file, f->line, "face %d: `on %u`: no face %u",
                          f->id, f->on_id, f->on_id);
@@ -922,7 +952,7 @@ static int resolve_layers(struct parse *p)
   }
   for (int k = 0; k < p->ntex; k++) {
     struct tex_line *t = &p->tex[k];
-    int idx = p->fmap[t->face];
+    int idx = map_get(&p->fmap, t->face);
     if (idx < 0)
       return t74_fail_at(p->err, T74_EINPUT, s->file, t->line, "texture: no face %d", t->face);
     struct scene_face *f = &s->f[idx];
@@ -946,19 +976,13 @@ static int load_s74(const char *path, const struct scene_opts *opts, struct scen
   int st = T74_OK;
   if (!p.s) return t74_fail(err, T74_EIO, "%s: out of memory", path);
   p.s->file = malloc(strlen(path) + 1);
-  p.vmap = malloc(NIDS * sizeof *p.vmap);
-  p.fmap = malloc(NIDS * sizeof *p.fmap);
-  p.omap = malloc(NIDS * sizeof *p.omap);
-  if (!p.s->file || !p.vmap || !p.fmap || !p.omap) {
+  if (!p.s->file) {
     free(p.s->file);
     p.s->file = NULL;
     st = t74_fail(err, T74_EIO, "%s: out of memory", path);
     goto done;
   }
   strcpy(p.s->file, path);
-  memset(p.vmap, -1, NIDS * sizeof *p.vmap);   /* all bits set: -1 */
-  memset(p.fmap, -1, NIDS * sizeof *p.fmap);
-  memset(p.omap, -1, NIDS * sizeof *p.omap);
   if ((st = import_open(&p.r, path, err))) goto done;
   while ((st = import_next(&p.r, err)) == 1)
     if ((st = statement(&p))) break;
@@ -987,9 +1011,9 @@ static int load_s74(const char *path, const struct scene_opts *opts, struct scen
   st = scene_check_camera(p.s, p.view_line, p.window_line, err);
 done:
   import_close(&p.r);
-  free(p.vmap);
-  free(p.fmap);
-  free(p.omap);
+  map_free(&p.vmap);
+  map_free(&p.fmap);
+  map_free(&p.omap);
   for (int k = 0; k < p.ntex; k++) free(p.tex[k].path);
   free(p.tex);
   if (st) {

@@ -9,13 +9,15 @@
 ** output byte for byte, and the statistics line by line but for the host times. No timing
 ** is asserted (speed is a benchmark: `tube74 bench speed`). Also: pic_sample_grid (the
 ** scanner's fast sampling) gives exactly pic_sample's value at every point, on pictures
-** and grids of awkward sizes (larger and smaller than the picture, primes, 1); and the
-** program does not load SDL2 at start-up; and `render` reads the scene once (through a
-** FIFO whose later readers get no scene). A standalone cmocka program,
+** and grids of awkward sizes (larger and smaller than the picture, primes, 1), also at the
+** largest sums and sampled twice as the scanner does (pic_sample_twice); and `render`
+** reads the scene once (through a FIFO whose later readers get no scene). (What the
+** program loads at start-up: tests/test_dynlib.c.) A standalone cmocka program,
 ** run from the repository root; scratch files go to a fresh folder under /tmp.
 */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -245,6 +247,21 @@ static void test_frames_refused(void **state)
   assert_int_equal(run("%s render scenes/fig6.s74 --frames 2>/dev/null", tk_prog()), 2);
 }
 
+/* A pw x ph picture of noise from *seed (every third pixel white when extremes). */
+static struct pic *noise_pic(int pw, int ph, uint32_t *seed, bool extremes)
+{
+  uint8_t *px = malloc((size_t)pw * (size_t)ph);
+  assert_non_null(px);
+  for (int k = 0; k < pw * ph; k++) {
+    *seed = *seed * 1103515245u + 12345u;
+    px[k] = (uint8_t)(extremes && k % 3 == 0 ? 255 : *seed >> 24);
+  }
+  struct pic *p = pic_new(pw, ph, px);
+  assert_non_null(p);
+  free(px);
+  return p;
+}
+
 static void test_sample_grid_exact(void **state)
 {
   (void)state;
@@ -254,14 +271,8 @@ static void test_sample_grid_exact(void **state)
   uint32_t seed = 12345;
   for (size_t a = 0; a < sizeof pics / sizeof *pics; a++) {
     int pw = pics[a][0], ph = pics[a][1];
-    uint8_t *px = malloc((size_t)pw * (size_t)ph);
-    assert_non_null(px);
-    for (int k = 0; k < pw * ph; k++) {
-      seed = seed * 1103515245u + 12345u;
-      px[k] = (uint8_t)(k % 3 == 0 ? 255 : seed >> 24);  /* extremes and noise */
-    }
-    struct pic *p = pic_new(pw, ph, px);
-    assert_non_null(p);
+    struct pic *p = noise_pic(pw, ph, &seed, true);     /* extremes and noise */
+    uint8_t spare[4];
     for (size_t b = 0; b < sizeof grids / sizeof *grids; b++) {
       int W = grids[b][0], H = grids[b][1];
       uint8_t *out = malloc((size_t)W * (size_t)H);
@@ -274,25 +285,78 @@ static void test_sample_grid_exact(void **state)
                      W, H, i, j, out[(size_t)j * (size_t)W + (size_t)i], pic_sample(p, i, j, W, H));
       free(out);
     }
-    assert_int_equal(pic_sample_grid(p, 0, 5, px), -1);
+    assert_int_equal(pic_sample_grid(p, 0, 5, spare), -1);
     pic_free(p);
-    free(px);
   }
 }
 
-/* A render loads no SDL2 (play opens it with dlopen, cli/sdl_load.h): the program's
-   dynamic dependencies, as the loader resolves them, do not name it. */
-static void test_no_sdl_at_start(void **state)
+/* pic_sample_twice (the scanner's drum grid, mapped, sampled again without being held)
+   gives what the two steps give one after the other, the first grid held whole, each
+   point by pic_sample (not by the grid code pic_sample_twice shares). */
+static void test_sample_twice(void **state)
 {
   (void)state;
-  char out[256];
-  snprintf(out, sizeof out, "%s/ldd.txt", scratch);
-  assert_int_equal(run("ldd %s > %s 2>&1", tk_prog(), out), 0);
-  char *t = tk_slurp(out, NULL);
-  assert_non_null(t);
-  assert_non_null(strstr(t, "libpng"));          /* the listing is real */
-  assert_null(strstr(t, "libSDL2"));
-  free(t);
+  static const int pics[][2] = { { 1, 1 }, { 7, 3 }, { 200, 150 }, { 13, 200 } };
+  static const int grids[][4] = { { 587, 555, 100, 75 }, { 587, 555, 133, 100 },
+                                  { 1, 1, 1, 1 }, { 3, 5, 7, 2 }, { 50, 40, 100, 75 } };
+  uint32_t seed = 99;
+  uint8_t map[256];
+  for (int g = 0; g < 256; g++) {
+    seed = seed * 1103515245u + 12345u;
+    map[g] = (uint8_t)(seed >> 24);                  /* any map: not monotonic either */
+  }
+  for (size_t a = 0; a < sizeof pics / sizeof *pics; a++) {
+    struct pic *p = noise_pic(pics[a][0], pics[a][1], &seed, false);
+    uint8_t spare[4];
+    for (size_t b = 0; b < sizeof grids / sizeof *grids; b++) {
+      int W1 = grids[b][0], H1 = grids[b][1], W = grids[b][2], H = grids[b][3];
+      uint8_t *g1 = malloc((size_t)W1 * (size_t)H1), *want = malloc((size_t)W * (size_t)H);
+      uint8_t *got = malloc((size_t)W * (size_t)H);
+      assert_true(g1 && want && got);
+      for (int j = 0; j < H1; j++)
+        for (int i = 0; i < W1; i++) g1[j * W1 + i] = map[pic_sample(p, i, j, W1, H1)];
+      struct pic *q = pic_new(W1, H1, g1);
+      assert_non_null(q);
+      for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) want[j * W + i] = (uint8_t)pic_sample(q, i, j, W, H);
+      assert_int_equal(pic_sample_twice(p, W1, H1, map, W, H, got), 0);
+      assert_memory_equal(got, want, (size_t)W * (size_t)H);
+      pic_free(q);
+      free(g1);
+      free(want);
+      free(got);
+    }
+    assert_int_equal(pic_sample_twice(p, 0, 5, map, 3, 3, spare), -1);
+    pic_free(p);
+  }
+}
+
+/* The same at the largest sums: a picture of nearly PIC_MAX_PIXELS, where the sums come
+   near 255 x 2^26 (pic_sample_grid takes its quotients without a divide instruction). */
+static void test_sample_grid_large(void **state)
+{
+  (void)state;
+  const int pw = 8191, ph = 8191;
+  uint8_t *px = malloc((size_t)pw * (size_t)ph);
+  assert_non_null(px);
+  uint32_t seed = 777;
+  for (size_t k = 0; k < (size_t)pw * (size_t)ph; k++) {
+    seed = seed * 1103515245u + 12345u;
+    px[k] = (uint8_t)(seed >> 31 ? 255 : 254 + (seed >> 30 & 1));   /* near white */
+  }
+  struct pic *p = pic_new(pw, ph, px);
+  assert_non_null(p);
+  static const int grids[][2] = { { 1, 1 }, { 2, 3 }, { 5, 4 } };
+  for (size_t b = 0; b < sizeof grids / sizeof *grids; b++) {
+    int W = grids[b][0], H = grids[b][1];
+    uint8_t out[20];
+    assert_int_equal(pic_sample_grid(p, W, H, out), 0);
+    for (int j = 0; j < H; j++)
+      for (int i = 0; i < W; i++)
+        assert_int_equal(out[j * W + i], pic_sample(p, i, j, W, H));
+  }
+  pic_free(p);
+  free(px);
 }
 
 /* bench speed refuses bad options before measuring anything (exit 2). */
@@ -310,7 +374,8 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_sample_grid_exact),
-    cmocka_unit_test(test_no_sdl_at_start),
+    cmocka_unit_test(test_sample_grid_large),
+    cmocka_unit_test(test_sample_twice),
     cmocka_unit_test(test_bench_speed_usage),
     cmocka_unit_test(test_frames_background),
     cmocka_unit_test(test_frames_effects),

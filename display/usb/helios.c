@@ -422,7 +422,7 @@ static void helios_free(struct helios *h)
     free(h->f[k].buf);
     free(h->f[k].dots);
   }
-  usb_xfer_free(&h->x);
+  usb_xfer_free(h->l, &h->x);
   ilda_free(&h->ilda);
   free(h->pass);
   free(h->order);

@@ -13,7 +13,10 @@
 ** Linux usbfs backend of libusb 1.0.26 for how faults surface (stall = urb status -EPIPE,
 ** disconnect = -ENODEV / ESHUTDOWN, timeout = libusb cancels the URB).
 ** Asynchronous transfers are waited for with libusb_handle_events_timeout_completed on the
-** link's own context: no threads, no global libusb state.
+** link's own context: no threads, no global libusb state. libusb itself is opened with
+** dlopen when a USB link is opened or the devices are listed (display/dynlib.h): a render,
+** a file or a serial line never loads it (issue 19), and a missing libusb is a failure of
+** that command alone ("PROFILE: cannot load libusb-1.0 (why)", exit 4).
 */
 #include "display/usb/usb.h"
 
@@ -22,8 +25,70 @@
 #include <string.h>
 #include <time.h>
 
+#include "display/dynlib.h"
 #include "display/outfile.h"
 #include "display/usb/serial.h"
+
+#define USB_LIB "libusb-1.0.so.0"
+
+/* The libusb functions this file calls, opened with the library (dynlib.h); the slots are
+   named as the functions are. (libusb_fill_*_transfer and libusb_fill_control_setup are
+   inline functions of the header: not looked up.) */
+struct usblib {
+  void *lib;                    /* dlopen handle, NULL: not loaded (first: dynlib.h) */
+  int (LIBUSB_CALL *libusb_init)(libusb_context **);
+  void (LIBUSB_CALL *libusb_exit)(libusb_context *);
+  ssize_t (LIBUSB_CALL *libusb_get_device_list)(libusb_context *, libusb_device ***);
+  void (LIBUSB_CALL *libusb_free_device_list)(libusb_device **, int);
+  int (LIBUSB_CALL *libusb_get_device_descriptor)(libusb_device *,
+                                                  struct libusb_device_descriptor *);
+  uint8_t (LIBUSB_CALL *libusb_get_bus_number)(libusb_device *);
+  uint8_t (LIBUSB_CALL *libusb_get_device_address)(libusb_device *);
+  int (LIBUSB_CALL *libusb_open)(libusb_device *, libusb_device_handle **);
+  void (LIBUSB_CALL *libusb_close)(libusb_device_handle *);
+  libusb_device *(LIBUSB_CALL *libusb_get_device)(libusb_device_handle *);
+  int (LIBUSB_CALL *libusb_get_active_config_descriptor)(libusb_device *,
+                                                         struct libusb_config_descriptor **);
+  int (LIBUSB_CALL *libusb_get_config_descriptor)(libusb_device *, uint8_t,
+                                                  struct libusb_config_descriptor **);
+  void (LIBUSB_CALL *libusb_free_config_descriptor)(struct libusb_config_descriptor *);
+  int (LIBUSB_CALL *libusb_kernel_driver_active)(libusb_device_handle *, int);
+  int (LIBUSB_CALL *libusb_detach_kernel_driver)(libusb_device_handle *, int);
+  int (LIBUSB_CALL *libusb_attach_kernel_driver)(libusb_device_handle *, int);
+  int (LIBUSB_CALL *libusb_claim_interface)(libusb_device_handle *, int);
+  int (LIBUSB_CALL *libusb_release_interface)(libusb_device_handle *, int);
+  int (LIBUSB_CALL *libusb_set_interface_alt_setting)(libusb_device_handle *, int, int);
+  const char *(LIBUSB_CALL *libusb_error_name)(int);
+  struct libusb_transfer *(LIBUSB_CALL *libusb_alloc_transfer)(int);
+  void (LIBUSB_CALL *libusb_free_transfer)(struct libusb_transfer *);
+  int (LIBUSB_CALL *libusb_submit_transfer)(struct libusb_transfer *);
+  int (LIBUSB_CALL *libusb_clear_halt)(libusb_device_handle *, unsigned char);
+  int (LIBUSB_CALL *libusb_handle_events_timeout_completed)(libusb_context *, struct timeval *,
+                                                            int *);
+};
+
+#define USB_FNS(X) X(libusb_init) X(libusb_exit) X(libusb_get_device_list)                 \
+  X(libusb_free_device_list) X(libusb_get_device_descriptor) X(libusb_get_bus_number)     \
+  X(libusb_get_device_address) X(libusb_open) X(libusb_close) X(libusb_get_device)        \
+  X(libusb_get_active_config_descriptor) X(libusb_get_config_descriptor)                  \
+  X(libusb_free_config_descriptor) X(libusb_kernel_driver_active)                         \
+  X(libusb_detach_kernel_driver) X(libusb_attach_kernel_driver) X(libusb_claim_interface) \
+  X(libusb_release_interface) X(libusb_set_interface_alt_setting) X(libusb_error_name)    \
+  X(libusb_alloc_transfer) X(libusb_free_transfer) X(libusb_submit_transfer)              \
+  X(libusb_clear_halt) X(libusb_handle_events_timeout_completed)
+
+/* Open libusb into f; `what` names the command or profile in the message. */
+static int usblib_load(struct usblib *f, const char *what, struct t74_error *err)
+{
+#define SYM(name) { #name, offsetof(struct usblib, name) },
+  static const struct dynlib_sym syms[] = { USB_FNS(SYM) };
+#undef SYM
+#define CHECK(name) DYNLIB_CHECK(f, name, name);
+  USB_FNS(CHECK)
+#undef CHECK
+  return dynlib_open(f, sizeof *f, USB_LIB, "libusb-1.0", "libusb-1.0-0", syms,
+                     sizeof syms / sizeof *syms, what, err);
+}
 
 /* The link's rows (usb.h). The defaults are the usual USB host-side choices: a bulk
 ** transfer to a plotter may wait while the plotter moves its pen, so the timeout is long. */
@@ -48,6 +113,7 @@ struct usb_link {
   char name[280];               /* "067b:2305", the tty's path, "a file" */
   struct usb_tally tally;
   struct preview *preview;      /* --svg, or NULL */
+  struct usblib u;              /* USB: libusb, opened for this link */
   libusb_context *ctx;
   libusb_device_handle *h;
   int iface;                    /* claimed interface number */
@@ -100,11 +166,11 @@ void usb_udev_rule(char *buf, size_t n, uint16_t vid, uint16_t pid)
 /* ---- finding the device ----------------------------------------------------------- */
 
 /* The interface of dev that m asks for (its number), or -1. */
-static int match_interface(libusb_device *dev, const struct usb_match *m)
+static int match_interface(const struct usblib *u, libusb_device *dev, const struct usb_match *m)
 {
   struct libusb_config_descriptor *cfg;
-  if (libusb_get_active_config_descriptor(dev, &cfg) != 0 &&
-      libusb_get_config_descriptor(dev, 0, &cfg) != 0)
+  if (u->libusb_get_active_config_descriptor(dev, &cfg) != 0 &&
+      u->libusb_get_config_descriptor(dev, 0, &cfg) != 0)
     return -1;
   int found = -1;
   for (int i = 0; i < cfg->bNumInterfaces && found < 0; i++) {
@@ -115,17 +181,18 @@ static int match_interface(libusb_device *dev, const struct usb_match *m)
         found = d->bInterfaceNumber;
     }
   }
-  libusb_free_config_descriptor(cfg);
+  u->libusb_free_config_descriptor(cfg);
   return found;
 }
 
-static int device_matches(libusb_device *dev, const struct usb_match *m, int *iface)
+static int device_matches(const struct usblib *u, libusb_device *dev, const struct usb_match *m,
+                          int *iface)
 {
   struct libusb_device_descriptor dd;
-  if (libusb_get_device_descriptor(dev, &dd) != 0) return 0;
+  if (u->libusb_get_device_descriptor(dev, &dd) != 0) return 0;
   if ((m->vid || m->pid) && (dd.idVendor != m->vid || dd.idProduct != m->pid)) return 0;
   if (!m->vid && !m->pid && m->iface_class < 0) return 0;   /* nothing to match by */
-  *iface = match_interface(dev, m);
+  *iface = match_interface(u, dev, m);
   return *iface >= 0;
 }
 
@@ -134,7 +201,7 @@ static void find_endpoints(struct usb_link *l)
 {
   l->ep_bulk_in = l->ep_bulk_out = l->ep_int_in = l->ep_int_out = -1;
   struct libusb_config_descriptor *cfg;
-  if (libusb_get_active_config_descriptor(libusb_get_device(l->h), &cfg) != 0) return;
+  if (l->u.libusb_get_active_config_descriptor(l->u.libusb_get_device(l->h), &cfg) != 0) return;
   for (int i = 0; i < cfg->bNumInterfaces; i++) {
     const struct libusb_interface *itf = &cfg->interface[i];
     for (int a = 0; a < itf->num_altsetting; a++) {
@@ -152,7 +219,7 @@ static void find_endpoints(struct usb_link *l)
       }
     }
   }
-  libusb_free_config_descriptor(cfg);
+  l->u.libusb_free_config_descriptor(cfg);
 }
 
 int usb_link_open(struct usb_link **out, const struct usb_match *m, const char *profile,
@@ -171,29 +238,34 @@ int usb_link_open_at(struct usb_link **out, const struct usb_match *m, int bus, 
   l->timeout_ms = (int)s->link[USB_P_TIMEOUT];
   l->retries = (int)s->link[USB_P_RETRIES];
   l->backoff_ms = (int)s->link[USB_P_BACKOFF];
-  int r = libusb_init(&l->ctx);
-  if (r != 0) {
+  if (usblib_load(&l->u, profile, err) != T74_OK) {
     free(l);
-    return t74_fail(err, T74_EIO, "%s: cannot start libusb: %s", profile, libusb_error_name(r));
+    return err->status;
+  }
+  int r = l->u.libusb_init(&l->ctx);
+  if (r != 0) {
+    t74_fail(err, T74_EIO, "%s: cannot start libusb: %s", profile, l->u.libusb_error_name(r));
+    dynlib_close(&l->u, sizeof l->u);
+    free(l);
+    return err->status;
   }
   libusb_device **list;
-  ssize_t n = libusb_get_device_list(l->ctx, &list);
+  ssize_t n = l->u.libusb_get_device_list(l->ctx, &list);
   if (n < 0) {
-    libusb_exit(l->ctx);
-    free(l);
-    return t74_fail(err, T74_EIO, "%s: cannot list USB devices: %s", profile,
-                    libusb_error_name((int)n));
+    t74_fail(err, T74_EIO, "%s: cannot list USB devices: %s", profile,
+             l->u.libusb_error_name((int)n));
+    usb_link_close(l);
+    return err->status;
   }
   libusb_device *dev = NULL;
   for (ssize_t i = 0; i < n && !dev; i++)
-    if ((bus < 0 || (libusb_get_bus_number(list[i]) == bus &&
-                     libusb_get_device_address(list[i]) == address)) &&
-        device_matches(list[i], m, &l->iface))
+    if ((bus < 0 || (l->u.libusb_get_bus_number(list[i]) == bus &&
+                     l->u.libusb_get_device_address(list[i]) == address)) &&
+        device_matches(&l->u, list[i], m, &l->iface))
       dev = list[i];
   if (!dev) {
-    libusb_free_device_list(list, 1);
-    libusb_exit(l->ctx);
-    free(l);
+    l->u.libusb_free_device_list(list, 1);
+    usb_link_close(l);
     if (m->vid || m->pid)
       return t74_fail(err, T74_EIO, "%s: no USB device %04x:%04x is connected "
                       "(`tube74 devices` lists what is)", profile, m->vid, m->pid);
@@ -201,60 +273,64 @@ int usb_link_open_at(struct usb_link **out, const struct usb_match *m, int bus, 
                     "(`tube74 devices` lists what is)", profile, m->iface_class);
   }
   struct libusb_device_descriptor dd;
-  libusb_get_device_descriptor(dev, &dd);
+  l->u.libusb_get_device_descriptor(dev, &dd);
   l->vid = dd.idVendor;
   l->pid = dd.idProduct;
-  r = libusb_open(dev, &l->h);
-  libusb_free_device_list(list, 1);
+  r = l->u.libusb_open(dev, &l->h);
+  l->u.libusb_free_device_list(list, 1);
   if (r != 0) {
     char rule[256];
     usb_udev_rule(rule, sizeof rule, l->vid, l->pid);
-    libusb_exit(l->ctx);
-    free(l);
     if (r == LIBUSB_ERROR_ACCESS)
-      return t74_fail(err, T74_EIO,
-                      "%s: permission denied opening USB device %04x:%04x. Give your user "
-                      "access with a udev rule: put this line in "
-                      "/etc/udev/rules.d/70-tube74.rules\n  %s\nthen run `sudo udevadm control "
-                      "--reload && sudo udevadm trigger` and plug the device in again",
-                      profile, dd.idVendor, dd.idProduct, rule);
-    return t74_fail(err, T74_EIO, "%s: cannot open USB device %04x:%04x: %s", profile,
-                    dd.idVendor, dd.idProduct, libusb_error_name(r));
+      t74_fail(err, T74_EIO,
+               "%s: permission denied opening USB device %04x:%04x. Give your user "
+               "access with a udev rule: put this line in "
+               "/etc/udev/rules.d/70-tube74.rules\n  %s\nthen run `sudo udevadm control "
+               "--reload && sudo udevadm trigger` and plug the device in again",
+               profile, dd.idVendor, dd.idProduct, rule);
+    else
+      t74_fail(err, T74_EIO, "%s: cannot open USB device %04x:%04x: %s", profile,
+               dd.idVendor, dd.idProduct, l->u.libusb_error_name(r));
+    l->h = NULL;
+    usb_link_close(l);                  /* (libusb's strings go with it: the message first) */
+    return err->status;
   }
   /* A kernel driver (usblp for printers, cdc_acm for the EBB) may own the interface. Note
      every interface that has one now: detaching cdc_acm from its data interface unbinds it
      from the communication interface too (Linux drivers/usb/class/cdc-acm.c, acm_disconnect
      releases both), and only a probe of the communication interface binds it again. */
   struct libusb_config_descriptor *cfg;
-  if (libusb_get_active_config_descriptor(libusb_get_device(l->h), &cfg) == 0) {
+  if (l->u.libusb_get_active_config_descriptor(l->u.libusb_get_device(l->h), &cfg) == 0) {
     for (int i = 0; i < cfg->bNumInterfaces && i < 32; i++) {
       int num = cfg->interface[i].altsetting[0].bInterfaceNumber;
-      if (num < 32 && libusb_kernel_driver_active(l->h, num) == 1) l->had_driver |= 1u << num;
+      if (num < 32 && l->u.libusb_kernel_driver_active(l->h, num) == 1)
+        l->had_driver |= 1u << num;
     }
-    libusb_free_config_descriptor(cfg);
+    l->u.libusb_free_config_descriptor(cfg);
   }
-  r = libusb_kernel_driver_active(l->h, l->iface);
+  r = l->u.libusb_kernel_driver_active(l->h, l->iface);
   if (r == 1) {
-    r = libusb_detach_kernel_driver(l->h, l->iface);
+    r = l->u.libusb_detach_kernel_driver(l->h, l->iface);
     if (r != 0 && r != LIBUSB_ERROR_NOT_FOUND) {
       int st = t74_fail(err, T74_EIO, "%s: cannot detach the kernel driver from interface %d "
-                        "of %04x:%04x: %s", profile, l->iface, l->vid, l->pid, libusb_error_name(r));
+                        "of %04x:%04x: %s", profile, l->iface, l->vid, l->pid,
+                        l->u.libusb_error_name(r));
       usb_link_close(l);
       return st;
     }
   }
-  r = libusb_claim_interface(l->h, l->iface);
+  r = l->u.libusb_claim_interface(l->h, l->iface);
   if (r != 0) {
     int st = t74_fail(err, T74_EIO, "%s: cannot claim interface %d of %04x:%04x: %s%s", profile,
-                      l->iface, l->vid, l->pid, libusb_error_name(r),
+                      l->iface, l->vid, l->pid, l->u.libusb_error_name(r),
                       r == LIBUSB_ERROR_BUSY ? " (another program is using it)" : "");
     usb_link_close(l);
     return st;
   }
   l->alt = m->alt;
-  if (m->alt >= 0 && (r = libusb_set_interface_alt_setting(l->h, l->iface, m->alt)) != 0) {
+  if (m->alt >= 0 && (r = l->u.libusb_set_interface_alt_setting(l->h, l->iface, m->alt)) != 0) {
     int st = t74_fail(err, T74_EIO, "%s: cannot select alternate setting %d: %s", profile,
-                      m->alt, libusb_error_name(r));
+                      m->alt, l->u.libusb_error_name(r));
     usb_link_close(l);
     return st;
   }
@@ -358,16 +434,17 @@ void usb_link_close(struct usb_link *l)
   }
   if (l->h) {
     if (!l->gone) {
-      libusb_release_interface(l->h, l->iface);
+      l->u.libusb_release_interface(l->h, l->iface);
       /* every interface that had a driver and has none now, lowest first: the CDC
          communication interface (0) rebinds cdc_acm to both, so /dev/ttyACM returns */
       for (int i = 0; i < 32; i++)
-        if ((l->had_driver >> i & 1) && libusb_kernel_driver_active(l->h, i) == 0)
-          libusb_attach_kernel_driver(l->h, i);
+        if ((l->had_driver >> i & 1) && l->u.libusb_kernel_driver_active(l->h, i) == 0)
+          l->u.libusb_attach_kernel_driver(l->h, i);
     }
-    libusb_close(l->h);
+    l->u.libusb_close(l->h);
   }
-  libusb_exit(l->ctx);
+  if (l->ctx) l->u.libusb_exit(l->ctx);
+  dynlib_close(&l->u, sizeof l->u);
   free(l);
 }
 
@@ -423,14 +500,14 @@ static int submit_rest(struct usb_link *l, struct usb_xfer *x, struct t74_error 
     else
       libusb_fill_interrupt_transfer(t, l->h, x->ep, x->buf + x->done, x->len - x->done, on_done, x, timeout);
   }
-  int r = libusb_submit_transfer(t);
+  int r = l->u.libusb_submit_transfer(t);
   if (r == 0) { x->busy = 1; return T74_OK; }
   x->busy = 0;
   if (r == LIBUSB_ERROR_NO_DEVICE) l->gone = 1;
   return t74_fail(err, T74_EIO, "%s: %s", l->profile,
                   r == LIBUSB_ERROR_NO_DEVICE
                     ? "the USB device vanished (unplugged or powered off)"
-                    : libusb_error_name(r));
+                    : l->u.libusb_error_name(r));
 }
 
 int usb_submit(struct usb_link *l, struct usb_xfer *x, enum usb_type type, unsigned char ep,
@@ -444,7 +521,7 @@ int usb_submit(struct usb_link *l, struct usb_xfer *x, enum usb_type type, unsig
     x->busy = 0;
     return other_transfer(l, type, ep, buf, len, l->timeout_ms, &x->done, err);
   }
-  if (!x->t && !(x->t = libusb_alloc_transfer(0)))
+  if (!x->t && !(x->t = l->u.libusb_alloc_transfer(0)))
     return t74_fail(err, T74_EIO, "%s: out of memory", l->profile);
   x->type = type;
   x->ep = ep;
@@ -465,7 +542,7 @@ static void await(struct usb_link *l, struct usb_xfer *x)
     int c = 0;
     /* an interrupted poll (SIGINT) returns LIBUSB_ERROR_INTERRUPTED: keep waiting, the
        transfer ends by itself (completion or timeout) and the caller checks the flag */
-    libusb_handle_events_timeout_completed(l->ctx, &tv, &c);
+    l->u.libusb_handle_events_timeout_completed(l->ctx, &tv, &c);
   }
   x->busy = 0;
 }
@@ -504,7 +581,7 @@ int usb_wait(struct usb_link *l, struct usb_xfer *x, int *done, struct t74_error
         return t74_fail(err, T74_EIO, "%s: endpoint 0x%02x stalled %d times in a row", l->profile,
                         x->ep, x->stalls);
       if (x->type != USB_CONTROL) {
-        int r = libusb_clear_halt(l->h, x->ep);
+        int r = l->u.libusb_clear_halt(l->h, x->ep);
         if (r == LIBUSB_ERROR_NO_DEVICE) {
           l->gone = 1;
           return t74_fail(err, T74_EIO, "%s: the USB device vanished while clearing a stall",
@@ -512,7 +589,7 @@ int usb_wait(struct usb_link *l, struct usb_xfer *x, int *done, struct t74_error
         }
         if (r != 0)
           return t74_fail(err, T74_EIO, "%s: cannot clear the stall on endpoint 0x%02x: %s",
-                          l->profile, x->ep, libusb_error_name(r));
+                          l->profile, x->ep, l->u.libusb_error_name(r));
       } else {
         /* a stalled control request is the device refusing it: no retry helps */
         return t74_fail(err, T74_EIO, "%s: the device refused control request 0x%02x",
@@ -554,18 +631,20 @@ int usb_read_once(struct usb_link *l, enum usb_type type, unsigned char ep, void
   if (l->gone) return t74_fail(err, T74_EIO, "%s: the USB device vanished", l->profile);
   struct usb_xfer x;
   memset(&x, 0, sizeof x);
-  if (!(x.t = libusb_alloc_transfer(0))) return t74_fail(err, T74_EIO, "%s: out of memory", l->profile);
+  if (!(x.t = l->u.libusb_alloc_transfer(0)))
+    return t74_fail(err, T74_EIO, "%s: out of memory", l->profile);
   struct libusb_transfer *t = x.t;
   if (type == USB_BULK)
     libusb_fill_bulk_transfer(t, l->h, ep, buf, len, on_done, &x, (unsigned)timeout_ms);
   else
     libusb_fill_interrupt_transfer(t, l->h, ep, buf, len, on_done, &x, (unsigned)timeout_ms);
-  int r = libusb_submit_transfer(t);
+  int r = l->u.libusb_submit_transfer(t);
   if (r != 0) {
-    libusb_free_transfer(t);
+    l->u.libusb_free_transfer(t);
     if (r == LIBUSB_ERROR_NO_DEVICE) l->gone = 1;
     return t74_fail(err, T74_EIO, "%s: %s", l->profile, r == LIBUSB_ERROR_NO_DEVICE
-                    ? "the USB device vanished (unplugged or powered off)" : libusb_error_name(r));
+                    ? "the USB device vanished (unplugged or powered off)"
+                    : l->u.libusb_error_name(r));
   }
   x.busy = 1;
   await(l, &x);
@@ -580,15 +659,15 @@ int usb_read_once(struct usb_link *l, enum usb_type type, unsigned char ep, void
                   "(unplugged or powered off)", l->profile, l->vid, l->pid, type_name(type));
   } else if (t->status == LIBUSB_TRANSFER_STALL) {
     l->counts.stalls++;
-    libusb_clear_halt(l->h, ep);
+    l->u.libusb_clear_halt(l->h, ep);
   } else l->counts.errors++;
-  libusb_free_transfer(t);
+  l->u.libusb_free_transfer(t);
   return st;
 }
 
-void usb_xfer_free(struct usb_xfer *x)
+void usb_xfer_free(struct usb_link *l, struct usb_xfer *x)
 {
-  if (x->t && !x->busy) libusb_free_transfer(x->t);   /* (other links never allocate one) */
+  if (x->t && !x->busy) l->u.libusb_free_transfer(x->t);   /* (other links never allocate one) */
   x->t = NULL;
 }
 
@@ -601,7 +680,7 @@ int usb_transfer(struct usb_link *l, enum usb_type type, unsigned char ep, void 
   int st = usb_submit(l, &x, type, ep, buf, len, err);
   if (st == T74_OK) st = usb_wait(l, &x, done, err);
   else if (done) *done = 0;
-  if (x.t) libusb_free_transfer(x.t);
+  if (x.t) l->u.libusb_free_transfer(x.t);
   return st;
 }
 
@@ -687,17 +766,21 @@ void usb_settings_list(const struct usb_settings *s, const struct usb_profile *p
 
 int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *err)
 {
+  struct usblib u;
+  if (usblib_load(&u, "devices", err) != T74_OK) return -1;
   libusb_context *ctx;
-  int r = libusb_init(&ctx);
+  int r = u.libusb_init(&ctx);
   if (r != 0) {
-    t74_fail(err, T74_EIO, "devices: cannot start libusb: %s", libusb_error_name(r));
+    t74_fail(err, T74_EIO, "devices: cannot start libusb: %s", u.libusb_error_name(r));
+    dynlib_close(&u, sizeof u);
     return -1;
   }
   libusb_device **list;
-  ssize_t n = libusb_get_device_list(ctx, &list);
+  ssize_t n = u.libusb_get_device_list(ctx, &list);
   if (n < 0) {
-    libusb_exit(ctx);
-    t74_fail(err, T74_EIO, "devices: cannot list USB devices: %s", libusb_error_name((int)n));
+    t74_fail(err, T74_EIO, "devices: cannot list USB devices: %s", u.libusb_error_name((int)n));
+    u.libusb_exit(ctx);
+    dynlib_close(&u, sizeof u);
     return -1;
   }
   int shown = 0;
@@ -706,20 +789,20 @@ int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *
       const struct usb_profile *p = usb_profiles[k];
       int iface;
       if (only && p != only) continue;
-      if (!device_matches(list[i], &p->match, &iface)) continue;
+      if (!device_matches(&u, list[i], &p->match, &iface)) continue;
       struct libusb_device_descriptor dd;
-      libusb_get_device_descriptor(list[i], &dd);
+      u.libusb_get_device_descriptor(list[i], &dd);
       fprintf(f, "%-7s %04x:%04x  bus %03u device %03u  interface %d  %s", p->name,
-              dd.idVendor, dd.idProduct, libusb_get_bus_number(list[i]),
-              libusb_get_device_address(list[i]), iface, p->what);
+              dd.idVendor, dd.idProduct, u.libusb_get_bus_number(list[i]),
+              u.libusb_get_device_address(list[i]), iface, p->what);
       if (p->note) {            /* what the device says of itself, on a link of its own */
         char note[160] = "";
         struct usb_settings us;
         usb_settings_default(&us, p);
         struct usb_link *l = NULL;
         struct t74_error e = { T74_OK, "" };
-        if (usb_link_open_at(&l, &p->match, libusb_get_bus_number(list[i]),
-                             libusb_get_device_address(list[i]), p->name, &us, &e) == T74_OK) {
+        if (usb_link_open_at(&l, &p->match, u.libusb_get_bus_number(list[i]),
+                             u.libusb_get_device_address(list[i]), p->name, &us, &e) == T74_OK) {
           p->note(l, note, sizeof note);
           usb_link_close(l);
         } else {
@@ -732,7 +815,8 @@ int usb_list_devices(FILE *f, const struct usb_profile *only, struct t74_error *
       shown++;
     }
   }
-  libusb_free_device_list(list, 1);
-  libusb_exit(ctx);
+  u.libusb_free_device_list(list, 1);
+  u.libusb_exit(ctx);
+  dynlib_close(&u, sizeof u);
   return shown;
 }

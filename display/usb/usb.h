@@ -195,8 +195,8 @@ int usb_submit(struct usb_link *l, struct usb_xfer *x, enum usb_type type, unsig
                void *buf, int len, struct t74_error *err);
 /* Wait for x with the fault policy. *done (may be NULL): bytes moved in all. */
 int usb_wait(struct usb_link *l, struct usb_xfer *x, int *done, struct t74_error *err);
-/* Free x's libusb transfer (x must not be busy: usb_wait first). */
-void usb_xfer_free(struct usb_xfer *x);
+/* Free x's libusb transfer (x must not be busy: usb_wait first); l is x's link. */
+void usb_xfer_free(struct usb_link *l, struct usb_xfer *x);
 /* submit + wait. For IN transfers a short read is success; *done says how much came. */
 int usb_transfer(struct usb_link *l, enum usb_type type, unsigned char ep, void *buf,
                  int len, int *done, struct t74_error *err);
