@@ -462,7 +462,7 @@ int cmd_teach(int argc, char **argv, struct t74_error *err)
     double prog = 0;
     cost_params_get(&j.params, "program_words", &prog);
     /* the core the job was drawn with (an import may have needed more than --core's default) */
-    struct render_opts ro = { res.core_words, (uint32_t)prog, j.store, tf, 0 };
+    struct render_opts ro = { res.core_words, (uint32_t)prog, j.store, tf, 0, NULL };
     st = render_prepare(&r, s, &ro, err);
     prepared = true;
   }

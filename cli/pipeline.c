@@ -869,7 +869,9 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   FILE *tables = NULL;
   struct job_outs jo;
   double *frame_t = NULL;                   /* --frames: each frame's host seconds */
+  struct render_keep keep;                  /* what a frame leaves for the next */
   int st;
+  memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
   memset(&pts, 0, sizeof pts);
   memset(&p, 0, sizeof p);
@@ -935,7 +937,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   }
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
-  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables, grow_max };
+  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables, grow_max, &keep };
   const int nframes = o->frames > 1 ? o->frames : 1;
   frame_t = calloc((size_t)nframes, sizeof *frame_t);
   if (!frame_t) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
@@ -1045,6 +1047,7 @@ done:
   if (bg) pic_free(bg);
   scan_free(p.scan);
   render_free(&r);
+  render_keep_free(&keep);
   points_free(&pts);
   scene_free(own);
   return st;

@@ -357,8 +357,21 @@ static int face_plane(const struct scene *s, const struct scene_face *f, int64_t
   return 0;
 }
 
+void mapper_tj_free(struct mapper_tj *tj)
+{
+  free(tj->ring);
+  free(tj->start);
+  memset(tj, 0, sizeof *tj);
+}
+
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
                struct cost *cost, struct t74_error *err)
+{
+  return mapper_run_kept(s, out, core, cost, NULL, err);
+}
+
+int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core,
+                    struct cost *cost, struct mapper_tj *kt, struct t74_error *err)
 {
   memset(out, 0, sizeof *out);
   const int64_t X0 = s->view[0], Y0 = s->view[1], Z0 = s->view[2];
@@ -405,9 +418,27 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     core_write(core, a + 5, (uint16_t)(proj[k].y / GRID_ONE));
   }
 
+  /* The T-junctions: taken from kt when it holds this scene's (replay), else searched for
+     (tj), the rings built in the scratch ring[] or, to be kept, in kt's own array. The
+     search's charges go to tjc, added to cost at the end either way. */
+  bool replay = kt && kt->s == s;
   struct tjunc tj;
+  memset(&tj, 0, sizeof tj);
+  struct cost tjc = { { 0 } };
   int *ring = NULL, nring_v = 0, capring = 0;
-  if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+  int **rbuf = &ring, *rn = &nring_v, *rcap = &capring;
+  if (!replay) {
+    if (kt) {
+      mapper_tj_free(kt);
+      int nrings = 0;
+      for (int fi = 0; fi < s->nf; fi++) nrings += s->f[fi].nring;
+      kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
+      if (!kt->start) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+      rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;
+    }
+    if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+  }
+  int g0 = 0;                               /* the scene's first ring of face fi */
 
   uint32_t at;
   if (core_alloc(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
@@ -415,6 +446,8 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
   for (int fi = 0; fi < s->nf; fi++) {
     const struct scene_face *sf = &s->f[fi];
     struct mface *m = &out->f[out->nface];
+    int g = g0;
+    g0 += sf->nring;
     int64_t pl[4];
     if (!face_plane(s, sf, pl)) { out->dropped++; continue; }
     cost_mw_mul(cost, 17, 17);
@@ -423,30 +456,36 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     if (pe == 0) { out->dropped++; continue; }     /* edge-on: the plane holds the eye */
     if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
 
-    /* the rings with T-junction vertices inserted: ring r is ring[rs[r] .. rs[r+1]) */
+    /* the rings with T-junction vertices inserted: ring r is rv[rs[r] .. rs[r+1]) */
     int rs[sf->nring + 1];
-    nring_v = 0;
-    for (int r = 0; r < sf->nring; r++) {
-      rs[r] = nring_v;
-      int b = sf->ring_start[r], e = sf->ring_start[r + 1];
-      for (int k = b; k < e; k++) {
-        if (nring_v == capring) {
-          int c = capring ? 2 * capring : 64;
-          int *nb = realloc(ring, (size_t)c * sizeof *nb);
-          if (!nb) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
-          ring = nb;
-          capring = c;
-        }
-        ring[nring_v++] = sf->vidx[k];
-        int nx = k + 1 < e ? k + 1 : b;
-        if (!tj_edge(&tj, sf->vidx[k], sf->vidx[nx], &ring, &nring_v, &capring, cost)) {
-          t74_fail(err, T74_EIO, "out of host memory");
-          goto fail_tj;
+    if (replay) {
+      for (int r = 0; r <= sf->nring; r++) rs[r] = kt->start[g + r];
+    } else {
+      if (!kt) nring_v = 0;
+      for (int r = 0; r < sf->nring; r++) {
+        rs[r] = *rn;
+        int b = sf->ring_start[r], e = sf->ring_start[r + 1];
+        for (int k = b; k < e; k++) {
+          if (*rn == *rcap) {
+            int c = *rcap ? 2 * *rcap : 64;
+            int *nb = realloc(*rbuf, (size_t)c * sizeof *nb);
+            if (!nb) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+            *rbuf = nb;
+            *rcap = c;
+          }
+          (*rbuf)[(*rn)++] = sf->vidx[k];
+          int nx = k + 1 < e ? k + 1 : b;
+          if (!tj_edge(&tj, sf->vidx[k], sf->vidx[nx], rbuf, rn, rcap, &tjc)) {
+            t74_fail(err, T74_EIO, "out of host memory");
+            goto fail_tj;
+          }
         }
       }
+      rs[sf->nring] = *rn;
+      if (kt) for (int r = 0; r <= sf->nring; r++) kt->start[g + r] = rs[r];
     }
-    rs[sf->nring] = nring_v;
-    int nv = nring_v;
+    const int *rv = replay ? kt->ring : *rbuf;
+    int nv = rs[sf->nring] - rs[0];
     /* the face's arrays in one piece of the pool (100,000 faces: 400,000 fewer mallocs
        a frame), the widest elements first so each array stays aligned */
     size_t bytes = (size_t)nv * (sizeof *m->pt + sizeof *m->xyz + sizeof *m->vid) +
@@ -470,9 +509,9 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     for (int r = 0; r < sf->nring && keep; r++) {
       int start = np;
       for (int k = rs[r]; k < rs[r + 1]; k++) {
-        struct gpoint p = proj[ring[k]];
+        struct gpoint p = proj[rv[k]];
         if (np > start && p.x == m->pt[np - 1].x && p.y == m->pt[np - 1].y) continue;
-        const struct scene_vertex *sv = &s->v[ring[k]];
+        const struct scene_vertex *sv = &s->v[rv[k]];
         m->pt[np] = p;
         m->vid[np] = sv->id;
         m->xyz[np][0] = sv->x; m->xyz[np][1] = sv->y; m->xyz[np][2] = sv->z;
@@ -527,11 +566,17 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
   free(ring);
   tj_free(&tj);
   free(proj);
+  if (kt && !replay) {
+    kt->s = s;
+    kt->cost = tjc;
+  }
+  cost_merge(cost, replay ? &kt->cost : &tjc);
   return T74_OK;
 
 fail_tj:
   free(ring);
   tj_free(&tj);
+  if (kt && !replay) mapper_tj_free(kt);
 fail:
   free(proj);
   mapper_free(out);

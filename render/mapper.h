@@ -64,6 +64,28 @@ static inline bool mface_coplanar_front(const struct mface *A, const struct mfac
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
                struct cost *cost, struct t74_error *err);
 
+/* The T-junctions of one scene as mapper_run found them (issue 19: found once, not again
+   for every frame of --frames): each face's rings with the vertices lying on its edges
+   inserted, and the operations the search was charged. Host memory only. */
+struct mapper_tj {
+  const struct scene *s;    /* the scene they are of; NULL: none found yet */
+  int *ring;                /* scene ring g (face f's ring r is g = f's first + r):
+                               ring[start[g] .. start[g + 1]) */
+  int *start;               /* one more than the scene's rings */
+  int  n, cap;              /* entries of ring, room */
+  struct cost cost;         /* what the search charged (the 1974 program's x-slab scans
+                               and exact tests) */
+};
+
+/* mapper_run with the T-junctions kept in tj: when tj holds those of s, they are taken
+   from it and its charges added to cost, as the search would have charged them (the
+   mapped scene, the core and the counts are those of mapper_run); otherwise they are
+   searched for as mapper_run does and, when the scene maps, kept in tj. */
+int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core,
+                    struct cost *cost, struct mapper_tj *tj, struct t74_error *err);
+
+void mapper_tj_free(struct mapper_tj *tj);
+
 /* Face k, whose grid polygon the Segment Generator refused as not simple (the rounding
    of its vertices, seen almost edge-on or from far away, folded it), is split into
    triangles by exact ear clipping in its own plane, before rounding matters (holes first

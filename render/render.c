@@ -237,7 +237,8 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
     return err->status;
 
   r->ran[RS_MAPPER] = 1;
-  int st = mapper_run(s, &r->map, r->core, &r->cost[RS_MAPPER], err);
+  int st = mapper_run_kept(s, &r->map, r->core, &r->cost[RS_MAPPER],
+                           o->keep ? &o->keep->tj : NULL, err);
   if (st != T74_OK) return st;
   r->arith = arith;
   if (arith == GEOM_HITAC) hold_h10(&r->map);
@@ -312,6 +313,11 @@ int render_pieces_alive(const struct render *r)
   int n = 0;
   for (int k = 0; k < r->seg.n; k++) n += r->seg.p[k].alive;
   return n;
+}
+
+void render_keep_free(struct render_keep *k)
+{
+  mapper_tj_free(&k->tj);
 }
 
 void render_free(struct render *r)

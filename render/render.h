@@ -22,6 +22,16 @@
 
 enum render_stage { RS_MAPPER, RS_SEGMENT, RS_VISIBLE, RS_NSTAGE };
 
+/* What one render of a scene keeps for the next renders of the same scene (--frames,
+   issue 19): the T-junctions the Mapper found (mapper.h), so a later frame does not
+   search again (its charges are added all the same: every figure is the first frame's).
+   Zeroed before the first render; render_keep_free when done. */
+struct render_keep {
+  struct mapper_tj tj;
+};
+
+void render_keep_free(struct render_keep *k);
+
 struct render_opts {
   uint32_t core_words;       /* words of core (16384 in 1974) */
   uint32_t program_words;    /* core taken by the 1974 program itself (0: not charged) */
@@ -29,6 +39,7 @@ struct render_opts {
   FILE    *tables;           /* teaching dump (--dump tables), or NULL */
   uint32_t core_max;         /* > core_words: the core grows up to this many words instead
                                 of refusing (core_set_growth; imports without --core) */
+  struct render_keep *keep;  /* kept from render to render of one scene, or NULL */
 };
 
 struct render {

@@ -59,7 +59,7 @@ static int both(const struct scene *sc, int cell, unsigned *a, unsigned *b, char
   struct vis_grid g = { W, H, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
   struct t74_error err = { 0, "" };
   struct render r;
-  struct render_opts ro = { 1u << 24, 0, PRIO_AUTO, NULL, 0 };
+  struct render_opts ro = { 1u << 24, 0, PRIO_AUTO, NULL, 0, NULL };
   int st = render_prepare_lazy(&r, sc, &ro, &err);
   struct grab gr = { a, W, &r.map };
   if (st == T74_OK) st = render_scan(&r, &g, on_point, &gr, &err);

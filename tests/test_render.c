@@ -1050,6 +1050,79 @@ static void test_prio_memo_exact(void **state)
   scene_free(s2);
 }
 
+/* Three coplanar squares, the upper two meeting the lower one's top edge at a vertex of
+   theirs inside it (a T-junction: the Mapper inserts vertex 5 into face 1's edge 3-4). */
+static const char TJUNCTION[] =
+  HDR "vertex 1 -100 -100 0\nvertex 2 100 -100 0\nvertex 3 100 0 0\nvertex 4 -100 0 0\n"
+      "vertex 5 0 0 0\nvertex 6 100 100 0\nvertex 7 -100 100 0\nvertex 8 0 100 0\n"
+      "face 1 1 2 3 4 grey 90\nface 2 4 5 8 7 grey 160\nface 3 5 3 6 8 grey 230\n";
+
+/* A render of one loaded scene, the T-junctions kept in `keep` (NULL: none kept); scanned. */
+static void render_kept(struct render *r, const struct scene *s, struct render_keep *keep,
+                        uint16_t *ids)
+{
+  struct render_opts o;
+  memset(&o, 0, sizeof o);
+  o.core_words = 1u << 22;
+  o.keep = keep;
+  struct t74_error err = { 0, "" };
+  int st = render_prepare_lazy(r, s, &o, &err);
+  if (st) print_message("render_prepare_lazy: %s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  scan_ids(r, ids);
+}
+
+/* Issue 19: the T-junctions found by one render are kept for the next of the same scene;
+   that render searches no more, and every figure is as the search would have made it: the
+   mapped faces, the pieces, the picture, the operations charged per stage, the core. */
+static void test_keep_tjunctions(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(48, 7);
+  const char *scenes[] = { TJUNCTION, tris, MIXED, CROSSING };
+  uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b),
+           *c = calloc(GW * GH, sizeof *c);
+  for (int k = 0; k < 4; k++) {
+    struct scene *sc = load_scene(scenes[k]);
+    struct render_keep keep;
+    memset(&keep, 0, sizeof keep);
+    struct render r0, r1, r2;
+    render_kept(&r0, sc, NULL, a);            /* nothing kept */
+    render_kept(&r1, sc, &keep, b);           /* searched, kept */
+    assert_true(keep.tj.s == sc);
+    render_kept(&r2, sc, &keep, c);           /* taken from keep */
+    assert_memory_equal(a, b, GW * GH * sizeof *a);
+    assert_memory_equal(a, c, GW * GH * sizeof *a);
+    for (const struct render *r = &r1; r; r = r == &r1 ? &r2 : NULL) {
+      assert_memory_equal(r0.cost, r->cost, sizeof r0.cost);
+      assert_int_equal(core_peak(r0.core), core_peak(r->core));
+      assert_int_equal(r0.map.nface, r->map.nface);
+      for (int f = 0; f < r0.map.nface; f++) {
+        const struct mface *x = &r0.map.f[f], *y = &r->map.f[f];
+        assert_int_equal(x->nring, y->nring);
+        int n = x->ring_start[x->nring];
+        assert_int_equal(n, y->ring_start[y->nring]);
+        assert_memory_equal(x->pt, y->pt, (size_t)n * sizeof *x->pt);
+        assert_memory_equal(x->vid, y->vid, (size_t)n * sizeof *x->vid);
+      }
+      assert_int_equal(r0.seg.n, r->seg.n);
+    }
+    if (k == 0) {                             /* vertex 5 inserted into face 1's top edge */
+      assert_int_equal(r2.map.f[0].id, 1);
+      assert_int_equal(r2.map.f[0].ring_start[1], 5);
+    }
+    render_free(&r0);
+    render_free(&r1);
+    render_free(&r2);
+    render_keep_free(&keep);
+    scene_free(sc);
+  }
+  free(tris);
+  free(a);
+  free(b);
+  free(c);
+}
+
 /* prio_known only looks: it never decides a pair (computed does not move), says 0 for a
    pair not decided, and for a decided one what prio_order says, both ways round. */
 static void test_prio_known(void **state)
@@ -1178,6 +1251,7 @@ int main(void)
     cmocka_unit_test(test_vis_spans_invariant),
     cmocka_unit_test(test_prio_known),
     cmocka_unit_test(test_prio_memo_exact),
+    cmocka_unit_test(test_keep_tjunctions),
     cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
   };
