@@ -227,7 +227,13 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   memset(r, 0, sizeof *r);
   r->tables = o->tables;
   r->faces_in = s->nf;
-  r->core = core_new(o->core_words);
+  r->keep = o->keep;
+  if (o->keep && o->keep->core && core_words(o->keep->core) == o->core_words) {
+    r->core = o->keep->core;                 /* a core of the last frame, made as new */
+    o->keep->core = NULL;
+    core_reset(r->core);
+  } else
+    r->core = core_new(o->core_words);
   if (!r->core) return t74_fail(err, T74_EIO, "out of host memory for %u words of core",
                                 o->core_words);
   core_set_growth(r->core, o->core_max);
@@ -318,6 +324,8 @@ int render_pieces_alive(const struct render *r)
 void render_keep_free(struct render_keep *k)
 {
   mapper_tj_free(&k->tj);
+  core_free(k->core);
+  k->core = NULL;
 }
 
 void render_free(struct render *r)
@@ -330,6 +338,10 @@ void render_free(struct render *r)
   prio_free(&r->prio);
   seginfo_free(&r->seg);
   mapper_free(&r->map);
-  core_free(r->core);
+  if (r->keep && r->core && core_words(r->core) == core_first_words(r->core)) {
+    core_free(r->keep->core);
+    r->keep->core = r->core;
+  } else
+    core_free(r->core);
   r->core = NULL;
 }

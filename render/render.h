@@ -24,10 +24,12 @@ enum render_stage { RS_MAPPER, RS_SEGMENT, RS_VISIBLE, RS_NSTAGE };
 
 /* What one render of a scene keeps for the next renders of the same scene (--frames,
    issue 19): the T-junctions the Mapper found (mapper.h), so a later frame does not
-   search again (its charges are added all the same: every figure is the first frame's).
-   Zeroed before the first render; render_keep_free when done. */
+   search again (its charges are added all the same: every figure is the first frame's),
+   and the core model once render_free is done with it (core_reset: a core as new, in host
+   memory already touched). Zeroed before the first render; render_keep_free when done. */
 struct render_keep {
   struct mapper_tj tj;
+  struct core *core;         /* a core of render_opts.core_words words, not in use, or NULL */
 };
 
 void render_keep_free(struct render_keep *k);
@@ -61,6 +63,7 @@ struct render {
   int             lazy;              /* 1: the scan drives the Segment Generator */
   int             arith;             /* GEOM_EXACT or GEOM_HITAC (--arith) */
   int             arith_skipped;     /* hitac: faces folded by 1974 coordinates, not drawn */
+  struct render_keep *keep;          /* render_opts.keep: render_free gives the core to it */
 };
 
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
@@ -86,6 +89,7 @@ int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, 
 /* Pieces alive now (faces after all splits). */
 int render_pieces_alive(const struct render *r);
 
+/* Everything freed; the core to r's keep when there is one (and it never grew). */
 void render_free(struct render *r);
 
 #endif

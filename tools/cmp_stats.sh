@@ -6,11 +6,12 @@
 # 1974 operations are counted must leave hitac10_seconds, exact_hitac10_seconds, the
 # operations counts and every other field as they were.
 # CMP_FULL=1 (issue 19, speed work on the 1974 engine) widens the check: the exit status,
-# the PNG, `--dump ids` (but at 100,000 faces) and `--dump tables` too, every run with `--frames 2` (later frames
-# must not change what the first gives), each scene also with `--arith hitac`, the shipped
-# scenes also on the default core, and besides scenes/*.s74: scenes/cube.obj with
-# --engine 1974, the boxes of `tube74 bench speed` (tools/mkgrowth.py --obj: 1,000, 10,000,
-# 100,000 faces) and its interpenetrating triangles (tools/mktris.py: 160 .. 2,560).
+# the PNG, `--dump ids` (not at 100,000 faces: a 16-bit PGM) and `--dump tables` too, every
+# run with `--frames 2` (the frame before must not change what the written one gives), each
+# scene also with `--arith hitac`, the shipped scenes also on the default core, and besides
+# scenes/*.s74: scenes/cube.obj with --engine 1974, the boxes of `tube74 bench speed`
+# (tools/mkgrowth.py --obj: 1,000, 10,000, 100,000 faces) and its interpenetrating
+# triangles (tools/mktris.py: 160 .. 2,560).
 # Usage: tools/cmp_stats.sh OLD_BINARY NEW_BINARY [WORKDIR]; exit 0 when all agree.
 set -u
 old=$1; new=$2; dir=${3:-build/cmp_stats}
@@ -37,7 +38,6 @@ run() {
     o="$dir/$side/$b"
     rm -f "$o".json "$o".png "$o".ids "$o".tables "$o".rc
     if [ "$full" = 1 ]; then
-      # --dump ids is a 16-bit PGM: not for 100,000 faces (docs/scale.md)
       case $g in *100000*) ids="" ;; *) ids="--dump ids=$o.ids" ;; esac
       # shellcheck disable=SC2086
       "$bin" render "$g" --stats "$o.json" -o "$o.png" $ids \
