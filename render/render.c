@@ -39,7 +39,10 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
     const struct mface *f = &r->map.f[k];
     struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid };
     struct seg_result res = { 0 };
-    st = seg_generate(&in, &res, r->tables, r->core, cost, err);
+    struct gline cl[SEG_CONVEX_MAX];       /* a convex face's one piece (seg_convex) */
+    int cn = 0;
+    st = seg_convex(&in, cl, &cn, r->tables, r->core, cost, err);
+    if (st == T74_OK && cn == 0) st = seg_generate(&in, &res, r->tables, r->core, cost, err);
     if (st == T74_EINPUT && r->arith == GEOM_HITAC) {
       /* --arith hitac: the 1974 coordinates folded the face; that program would have
          drawn nothing sensible of it: skip it, with a counted warning */
@@ -86,6 +89,7 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
       goto out;
     }
     r->concave_splits += res.ncut;
+    if (cn > 0 && seginfo_add(&r->seg, k, cn, cl, err) < 0) st = err->status;
     for (int p = 0; p < res.npiece && st == T74_OK; p++)
       if (seginfo_add(&r->seg, k, res.piece[p].n, res.piece[p].line, err) < 0) st = err->status;
     seg_result_free(&res);

@@ -39,9 +39,10 @@ run() {
     rm -f "$o".json "$o".png "$o".ids "$o".tables "$o".rc
     if [ "$full" = 1 ]; then
       case $g in *100000*) ids="" ;; *) ids="--dump ids=$o.ids" ;; esac
+      # the tables apart: a trace takes the Segment Generator's general path (seg_convex)
+      "$bin" render "$g" --dump tables="$o.tables" "$@" >/dev/null 2>&1
       # shellcheck disable=SC2086
-      "$bin" render "$g" --stats "$o.json" -o "$o.png" $ids \
-        --dump tables="$o.tables" --frames 2 "$@" >/dev/null 2>&1
+      "$bin" render "$g" --stats "$o.json" -o "$o.png" $ids --frames 2 "$@" >/dev/null 2>&1
     else
       "$bin" render "$g" --stats "$o.json" -o "$o.png" "$@" >/dev/null 2>&1
     fi
