@@ -115,6 +115,26 @@ static unsigned slot_code(const struct prio *pr, uint64_t s)
   return core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS)) >> 14;
 }
 
+/* The tags. Beside the sparse table the host keeps one byte a slot, pr->tag[s]: 0 for an
+   empty slot, else TAG_USED, TAG_LOW when the slot's piece i is below 2^16 (its first
+   word then holds 0 beside the code), and six bits of a hash of i. A look walks its
+   probe sequence through the tags instead of the table: every slot whose tag says how
+   its words compare with the pair's is counted without reading it (a different i: when
+   both are below 2^16 the first words agree and the second differs, two loads; when one
+   is and the other is not the first words differ, one load), an empty slot ends the walk
+   (one load: the pair is not held), and only a slot whose tag cannot tell (the same tag,
+   or both pieces above 2^16) is compared in the table itself, word by word as the probe
+   does. So the answer and the words charged are the probe's exactly; the host reads a
+   byte a slot, from a table an eighth of the size, instead of four words. Each slot's tag
+   is written with its words (slot_put), and a rebuild starts both afresh. */
+#define TAG_USED 0x80u
+#define TAG_LOW  0x40u
+
+static uint8_t slot_tag(uint32_t i)
+{
+  return (uint8_t)(TAG_USED | (i < 0x10000u ? TAG_LOW : 0) | ((i * 0x9E3779B1u) >> 26));
+}
+
 static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsigned code)
 {
   uint32_t k = (uint32_t)(s * SLOT_WORDS);
@@ -122,6 +142,7 @@ static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsign
   core_high_set(pr->core, k + 1, (uint16_t)i);
   core_high_set(pr->core, k + 2, (uint16_t)(j >> 16));
   core_high_set(pr->core, k + 3, (uint16_t)j);
+  if (pr->tag) pr->tag[s] = slot_tag(i);
   COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);
 }
 
@@ -138,55 +159,60 @@ static void charge_home(const struct prio *pr)
   cost_mw_mul(pr->cost, 16, 32);
 }
 
-/* The slot holding (i, j), or the empty slot where it belongs. A probe loads the slot's
-   first word (empty, or code and i's high bits) and goes on comparing word by word only
-   while they match: the words compared are what is charged. */
-static uint64_t slot_find_n(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
-                            uint64_t *nloads)
+/* One probe of slot s for (i, j): it loads the slot's first word (empty, or code and i's
+   high bits) and goes on comparing word by word only while they match. Returns 1 when
+   the slot holds (i, j) or is empty (where the probe stops), with *loads the words it
+   loaded. */
+static int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32_t j, uint64_t *loads)
+{
+  const uint16_t *w = top - s * SLOT_WORDS;
+  *loads = 1;
+  if ((w[0] >> 14) == CODE_UNKNOWN) return 1;
+  if ((w[0] & 0x3fff) != (uint16_t)(i >> 16)) return 0;
+  ++*loads;
+  if (w[-1] != (uint16_t)i) return 0;
+  ++*loads;
+  if (w[-3] != (uint16_t)j) return 0;
+  ++*loads;
+  return w[-2] == (uint16_t)(j >> 16);
+}
+
+/* The slot holding (i, j), or the empty slot where it belongs, and its code (*code:
+   CODE_UNKNOWN for an empty slot); the words the probes compared are charged (and the
+   home slot). Through the tags when there are (and tests have not turned them off), else
+   through the table. */
+static uint64_t slot_find(struct prio *pr, uint64_t cap, uint32_t i, uint32_t j, unsigned *code)
 {
   const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
-  uint16_t w0 = (uint16_t)(i >> 16), w1 = (uint16_t)i, w2 = (uint16_t)(j >> 16),
-           w3 = (uint16_t)j;
-  uint64_t s = slot_hash(i, j, cap), loads = 0;
+  uint64_t s = slot_hash(i, j, cap), loads = 0, l;
   charge_home(pr);
-  for (;;) {
-    const uint16_t *w = top - s * SLOT_WORDS;
-    loads++;
-    if ((w[0] >> 14) == CODE_UNKNOWN) break;
-    if ((w[0] & 0x3fff) == w0) {
-      loads++;
-      if (w[-1] == w1) {
-        loads++;
-        if (w[-3] == w3) {
-          loads++;
-          if (w[-2] == w2) break;
-        }
+  if (pr->tag && !pr->tag_off) {
+    const uint8_t *tag = pr->tag;
+    uint8_t q = slot_tag(i);
+    for (;;) {
+      uint8_t t = tag[s];
+      if (!t) { loads++; *code = CODE_UNKNOWN; break; }  /* empty: where the pair belongs */
+      if (t != q && (t & q & TAG_LOW)) loads += 2;       /* i differs, both below 2^16 */
+      else if (t != q && ((t ^ q) & TAG_LOW)) loads += 1;   /* one above, one below */
+      else {                                             /* the table must tell */
+        int stop = slot_probe(top, s, i, j, &l);
+        loads += l;
+        if (stop) { *code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
       }
+      s = s + 1 == cap ? 0 : s + 1;
     }
-    s = s + 1 == cap ? 0 : s + 1;
+    pr->tag_looks++;
+  } else {
+    while (!slot_probe(top, s, i, j, &l)) {
+      loads += l;
+      s = s + 1 == cap ? 0 : s + 1;
+    }
+    loads += l;
+    *code = top[-(int64_t)(s * SLOT_WORDS)] >> 14;
   }
   COST_ADD_N(pr->cost, COST_MEM, loads);
-  *nloads = loads;
   return s;
 }
-
-static uint64_t slot_find(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j)
-{
-  uint64_t loads;
-  return slot_find_n(pr, cap, i, j, &loads);
-}
-
-/* A host-side memo of the sparse store's answers: the pair, its code (0: not held), the
-   words the probe sequence loaded and the slot it ended at. Linear probing, no deletions:
-   until the table is rebuilt, the slots a probe passes keep what they hold, and only an
-   empty slot can change (be filled). So a pair held keeps its answer; a pair not held
-   keeps its answer while the empty slot its probe ended at stays empty (a new pair fills
-   the first empty slot of its own path: filling any other slot of this path is
-   impossible, they are full). A memo hit charges exactly what the probe would and returns
-   what it would; a rebuild forgets the memo. It only spares the host the walk through a
-   large table (the sweep's order_of asks the same pairs not held again and again). */
-#define PRIO_MEMO_SLOTS 32768u
-struct prio_memo { uint32_t i, j, code, loads, slot; };    /* loads 0: an empty entry */
 
 /* Moving the pairs to a new store. The stored program reads the old store through and
    lists the pairs held (4 words a pair, as in a slot) in the words beyond both the old
@@ -260,15 +286,16 @@ static int sparse_rebuild(struct prio *pr, uint64_t slots, struct t74_error *err
   pr->store = PRIO_SPARSE;
   pr->hcap = slots;
   pr->cover = 0;
+  free(pr->tag);                                         /* NULL: probes read the table */
+  pr->tag = slots <= SIZE_MAX ? calloc((size_t)slots, 1) : NULL;
   for (uint64_t k = 0; k < n; k++) {
     COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);          /* an entry read from the list */
-    slot_put(pr, slot_find(pr, slots, list[k][0], list[k][1]), list[k][0], list[k][1],
+    unsigned held;
+    slot_put(pr, slot_find(pr, slots, list[k][0], list[k][1], &held), list[k][0], list[k][1],
              list[k][2]);
   }
   free(list);
   pr->hused = n;
-  if (!pr->memo) pr->memo = malloc(PRIO_MEMO_SLOTS * sizeof *pr->memo);  /* NULL: no memo */
-  if (pr->memo) memset(pr->memo, 0, PRIO_MEMO_SLOTS * sizeof *pr->memo);
   return T74_OK;
 }
 
@@ -286,6 +313,8 @@ static int dense_rebuild(struct prio *pr, struct t74_error *err)
   COST_ADD_N(pr->cost, COST_MEM, words);                 /* the triangle cleared */
   pr->store = PRIO_DENSE;
   pr->hcap = 0;
+  free(pr->tag);
+  pr->tag = NULL;
   pr->cover = pieces;
   for (uint64_t k = 0; k < n; k++) {
     COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS + 1);      /* read from the list, stored */
@@ -318,26 +347,8 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
     return core_high_get2(pr->core, (uint64_t)j * (j - 1) / 2 + i);
   }
   if (pr->hcap == 0) return CODE_UNKNOWN;
-  struct prio_memo *h = NULL;
-  if (pr->memo && !pr->memo_off) {
-    h = &pr->memo[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 17 & (PRIO_MEMO_SLOTS - 1)];
-    if (h->loads && h->i == i && h->j == j &&
-        (h->code != CODE_UNKNOWN || slot_code(pr, h->slot) == CODE_UNKNOWN)) {
-      charge_home(pr);
-      COST_ADD_N(pr->cost, COST_MEM, h->loads);
-      pr->memo_hits++;
-      return h->code;
-    }
-  }
-  uint64_t loads, s = slot_find_n(pr, pr->hcap, i, j, &loads);
-  unsigned code = slot_code(pr, s);
-  if (h && loads <= UINT32_MAX) {
-    h->i = i;
-    h->j = j;
-    h->code = code;
-    h->loads = (uint32_t)loads;
-    h->slot = (uint32_t)s;
-  }
+  unsigned code;
+  slot_find(pr, pr->hcap, i, j, &code);
   return code;
 }
 
@@ -373,7 +384,8 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
     }
     if (sparse_rebuild(pr, slots, err) != T74_OK) return err->status;
   }
-  slot_put(pr, slot_find(pr, pr->hcap, i, j), i, j, code);
+  unsigned held;
+  slot_put(pr, slot_find(pr, pr->hcap, i, j, &held), i, j, code);
   pr->hused++;
   return T74_OK;
 }
@@ -625,8 +637,8 @@ static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_
 
 void prio_free(struct prio *pr)
 {
-  free(pr->memo);
-  pr->memo = NULL;
+  free(pr->tag);
+  pr->tag = NULL;
   for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
   free(pr->cut);
   pr->cut = NULL;

@@ -31,7 +31,6 @@ enum prio_store { PRIO_AUTO = 0, PRIO_DENSE = 1, PRIO_SPARSE = 2 };
 /* One pair of faces found crossing, and the line L~ both were cut along (kept for the
    intersection lines of enhanced edges, paper 002 e4; host memory, one entry a pair). */
 struct prio_cut { int fa, fb; struct gline line; };
-struct prio_memo;
 
 struct prio {
   struct seginfo *seg;
@@ -44,10 +43,11 @@ struct prio {
   uint64_t hused;           /* pairs held (either store) */
   int      migrate;         /* PRIO_AUTO: the triangle may be given up for the sparse store */
   int      migrated;        /* it was: the store began dense and became sparse */
-  struct prio_memo *memo;   /* host-side memo of sparse pairs found (priority.c), or NULL */
-  int      memo_off;        /* tests: answer every look from the table (same answers and
-                               charges, by the memo's argument in priority.c) */
-  uint64_t memo_hits;       /* looks the memo answered (host statistic) */
+  uint8_t *tag;             /* sparse: one byte a slot beside the table, host only
+                               (priority.c, "The tags"), or NULL */
+  int      tag_off;         /* tests: every look probes the table itself (the same answers
+                               and charges, by the tags' argument in priority.c) */
+  uint64_t tag_looks;       /* looks the tags answered (host statistic) */
   uint64_t computed;        /* pairs whose priority was computed */
   int      splits;          /* interpenetrating pairs cut along their intersection */
   FILE    *trace;           /* teaching dump of each decision, or NULL */
