@@ -163,7 +163,8 @@ static void charge_home(const struct prio *pr)
    high bits) and goes on comparing word by word only while they match. Returns 1 when
    the slot holds (i, j) or is empty (where the probe stops), with *loads the words it
    loaded. */
-static int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32_t j, uint64_t *loads)
+static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32_t j,
+                             uint64_t *loads)
 {
   const uint16_t *w = top - s * SLOT_WORDS;
   *loads = 1;
@@ -181,28 +182,29 @@ static int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32_t j, u
    CODE_UNKNOWN for an empty slot); the words the probes compared are charged (and the
    home slot). Through the tags when there are (and tests have not turned them off), else
    through the table. */
-static uint64_t slot_find(struct prio *pr, uint64_t cap, uint32_t i, uint32_t j, unsigned *code)
+static inline uint64_t slot_find(struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
+                                 unsigned *code)
 {
-  const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
   uint64_t s = slot_hash(i, j, cap), loads = 0, l;
   charge_home(pr);
   if (pr->tag && !pr->tag_off) {
     const uint8_t *tag = pr->tag;
-    uint8_t q = slot_tag(i);
-    for (;;) {
-      uint8_t t = tag[s];
+    const uint8_t q = slot_tag(i);
+    for (;; s = s + 1 == cap ? 0 : s + 1) {
+      const uint8_t t = tag[s];
       if (!t) { loads++; *code = CODE_UNKNOWN; break; }  /* empty: where the pair belongs */
-      if (t != q && (t & q & TAG_LOW)) loads += 2;       /* i differs, both below 2^16 */
-      else if (t != q && ((t ^ q) & TAG_LOW)) loads += 1;   /* one above, one below */
-      else {                                             /* the table must tell */
-        int stop = slot_probe(top, s, i, j, &l);
-        loads += l;
-        if (stop) { *code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
+      if (t != q) {
+        if (t & q & TAG_LOW) { loads += 2; continue; }   /* i differs, both below 2^16 */
+        if ((t ^ q) & TAG_LOW) { loads += 1; continue; }  /* one above 2^16, one below */
       }
-      s = s + 1 == cap ? 0 : s + 1;
+      const uint16_t *top = core_high_top(pr->core);    /* the table must tell */
+      int stop = slot_probe(top, s, i, j, &l);
+      loads += l;
+      if (stop) { *code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
     }
     pr->tag_looks++;
   } else {
+    const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
     while (!slot_probe(top, s, i, j, &l)) {
       loads += l;
       s = s + 1 == cap ? 0 : s + 1;
@@ -339,7 +341,7 @@ static int dense_cover(struct prio *pr, uint64_t n, struct t74_error *err)
   return T74_OK;
 }
 
-static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
+static inline unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
 {
   COST_ADD_N(pr->cost, COST_MEM, 1);
   if (pr->store == PRIO_DENSE) {
@@ -615,12 +617,39 @@ static int add_half(struct prio *pr, int face, const struct cpoly *c, struct t74
   return seginfo_add(pr->seg, face, c->n, c->line, err);
 }
 
-/* Remember that faces fa and fb were cut along l (once a pair). */
+/* The unordered face pair {fa, fb} as a key of the host's index of pr->cut (never 0). */
+static uint64_t cut_key(int fa, int fb)
+{
+  return ((uint64_t)(uint32_t)(fa < fb ? fa : fb) << 32 | (uint32_t)(fa < fb ? fb : fa)) + 1;
+}
+
+/* The slot of {fa, fb} in that index (open addressing, cuthcap a power of two): the slot
+   holding it, or the empty one where it belongs. */
+static uint32_t cut_slot(const struct prio *pr, int fa, int fb)
+{
+  uint64_t key = cut_key(fa, fb);
+  uint32_t m = pr->cuthcap - 1, s = (uint32_t)((key * 0x9E3779B97F4A7C15ull) >> 32) & m;
+  while (pr->cuth[s] && pr->cuth[s] != key) s = (s + 1) & m;
+  return s;
+}
+
+/* Remember that faces fa and fb were cut along l (once a pair: the first line stays). */
 static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_error *err)
 {
-  for (int k = pr->ncut - 1; k >= 0; k--)      /* the latest first: a pair cut again */
-    if ((pr->cut[k].fa == fa && pr->cut[k].fb == fb) || (pr->cut[k].fa == fb && pr->cut[k].fb == fa))
-      return T74_OK;
+  if (2 * ((uint64_t)pr->ncut + 1) > pr->cuthcap) {      /* the index at most half full */
+    uint32_t cap = pr->cuthcap ? 2 * pr->cuthcap : 64;
+    uint64_t *h = calloc(cap, sizeof *h);
+    if (!h) return t74_fail(err, T74_EIO, "out of host memory");
+    free(pr->cuth);
+    pr->cuth = h;
+    pr->cuthcap = cap;
+    for (int k = 0; k < pr->ncut; k++) {
+      const struct prio_cut *c = &pr->cut[k];
+      h[cut_slot(pr, c->fa, c->fb)] = cut_key(c->fa, c->fb);
+    }
+  }
+  uint32_t s = cut_slot(pr, fa, fb);
+  if (pr->cuth[s]) return T74_OK;
   if (pr->ncut == pr->cutcap) {
     int c = pr->cutcap ? 2 * pr->cutcap : 16;
     struct prio_cut *n = realloc(pr->cut, (size_t)c * sizeof *n);
@@ -628,6 +657,7 @@ static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_
     pr->cut = n;
     pr->cutcap = c;
   }
+  pr->cuth[s] = cut_key(fa, fb);
   pr->cut[pr->ncut].fa = fa;
   pr->cut[pr->ncut].fb = fb;
   pr->cut[pr->ncut].line = l;
@@ -643,6 +673,9 @@ void prio_free(struct prio *pr)
   free(pr->cut);
   pr->cut = NULL;
   pr->ncut = pr->cutcap = 0;
+  free(pr->cuth);
+  pr->cuth = NULL;
+  pr->cuthcap = 0;
 }
 
 /* Decide pieces i < j. Returns the code for (i, j), DECIDED_SPLIT, or PRIO_ERROR. */
@@ -781,13 +814,38 @@ int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
 }
 
-int prio_known(struct prio *pr, int p, int q)
+static inline int known(struct prio *pr, int p, int q)
 {
   uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
   unsigned code = code_get(pr, i, j);
   if (code == CODE_UNKNOWN) return 0;
   bool i_front = code == CODE_HIGHER;
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+int prio_known(struct prio *pr, int p, int q)
+{
+  return known(pr, p, q);
+}
+
+/* The parent of piece p (seginfo), one word loaded. */
+static inline int parent(const struct prio *pr, int p, struct cost *cost)
+{
+  COST_ADD_N(cost, COST_MEM, 1);
+  return pr->seg->p[p].parent;
+}
+
+int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                       struct cost *cost)
+{
+  int r = known(pr, b, c);
+  if (r) return r;
+  for (int a = pb, k = 0; a >= 0 && k < anc_max; a = parent(pr, a, cost), k++)
+    if ((r = known(pr, a, c))) return r;
+  for (int a = pc, k = 0; a >= 0 && k < anc_max; a = parent(pr, a, cost), k++)
+    if ((r = known(pr, b, a))) return r;
+  if (pb >= 0 && pc >= 0 && (r = known(pr, pb, pc))) return r;
+  return 0;
 }
 
 /* qsort order of listed pairs {i, j, code}: by j, then i */

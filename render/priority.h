@@ -53,6 +53,8 @@ struct prio {
   FILE    *trace;           /* teaching dump of each decision, or NULL */
   struct prio_cut *cut;     /* the face pairs cut along their intersection, in order found */
   int      ncut, cutcap;
+  uint64_t *cuth;           /* host index of the pairs in cut (priority.c note_cut) */
+  uint32_t cuthcap;         /* its slots: 0, or a power of two above 2 ncut */
   int      arith;           /* GEOM_EXACT, or GEOM_HITAC: depth from the 1974 planes */
   struct cpoly clip[4];     /* host scratch of decide's clipped halves, kept from pair to
                                pair (freed by prio_free) */
@@ -79,6 +81,14 @@ int prio_order(struct prio *pr, int p, int q, struct t74_error *err);
 /* The priority of p and q if it is already known (PRIO_FIRST or PRIO_SECOND), else 0;
    never decides (one look at the matrix). */
 int prio_known(struct prio *pr, int p, int q);
+
+/* prio_known of b and c, else of an ancestor of b (its parent, the parent's parent, ...:
+   seginfo's parent, at most anc_max of them) and c, else of b and an ancestor of c, else
+   of the parents pb and pc of b and c (both >= 0), in that order: the first known. Each
+   parent looked up is charged one load to `cost`. 0 when none is known. (The Visible
+   Surface Procedure's order_of: the looks in one place, for the host's speed.) */
+int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                       struct cost *cost);
 
 /* Free the host-side list of cuts (the matrix itself lives in core). */
 void prio_free(struct prio *pr);

@@ -416,13 +416,8 @@ static int order_of(struct vis *v, int b, int c, struct t74_error *err)
 {
   int pb = parent_of(v, b), pc = parent_of(v, c);
   if (pb >= 0 || pc >= 0) {
-    int r = prio_known(v->prio, b, c);
+    int r = prio_known_lineage(v->prio, b, c, pb, pc, ANC_MAX, v->cost);
     if (r) return r;
-    for (int a = pb, k = 0; a >= 0 && k < ANC_MAX; a = parent_of(v, a), k++)
-      if ((r = prio_known(v->prio, a, c))) return r;
-    for (int a = pc, k = 0; a >= 0 && k < ANC_MAX; a = parent_of(v, a), k++)
-      if ((r = prio_known(v->prio, b, a))) return r;
-    if (pb >= 0 && pc >= 0 && (r = prio_known(v->prio, pb, pc))) return r;
   }
   return prio_order(v->prio, b, c, err);
 }
