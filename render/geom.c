@@ -55,12 +55,6 @@ struct grat geom_x_at(struct gline l, int64_t yn, int64_t yd)
   return r;
 }
 
-int geom_rat_cmp(struct grat p, struct grat q)
-{
-  wide l = p.num * q.den, r = q.num * p.den;
-  return (l > r) - (l < r);
-}
-
 int geom_rat_cmp_frac(struct grat p, int64_t n, int64_t d)
 {
   wide l = p.num * d, r = (wide)n * p.den;

@@ -89,8 +89,13 @@ bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out);
 /* x where the non-horizontal line l meets y = yn/yd (yd > 0). */
 struct grat geom_x_at(struct gline l, int64_t yn, int64_t yd);
 
-/* Compare two rationals: -1, 0, 1. */
-int geom_rat_cmp(struct grat p, struct grat q);
+/* Compare two rationals: -1, 0, 1. Inline: the sweep's orders compare a line's span ends
+   millions of times a frame (issue 19). */
+static inline int geom_rat_cmp(struct grat p, struct grat q)
+{
+  wide l = p.num * q.den, r = q.num * p.den;
+  return (l > r) - (l < r);
+}
 
 /* Compare a rational with n/d (d > 0). */
 int geom_rat_cmp_frac(struct grat p, int64_t n, int64_t d);

@@ -576,12 +576,6 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
   return true;
 }
 
-static struct gline reversed(struct gline l)
-{
-  struct gline r = { -l.a, -l.b, -l.c };
-  return r;
-}
-
 /* Does a side of piece X lie on line l (either way round)? */
 static bool on_line_side(const struct piece *X, struct gline l)
 {
@@ -758,15 +752,14 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     ovl = hasl && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
     ovr = hasr && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
   } else {
-    hasl = seginfo_clip(P, L, pl, pr->cost);
-    hasr = seginfo_clip(P, reversed(L), pr_, pr->cost);
+    seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, pr->cost);
     ovl = hasl && seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost);
     ovr = hasr && seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost);
   }
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
-    bool qhl = seginfo_clip(Q, L, ql, pr->cost);
-    bool qhr = seginfo_clip(Q, reversed(L), qr, pr->cost);
+    bool qhl, qhr;
+    seginfo_clip_both(Q, L, ql, &qhl, qr, &qhr, pr->cost);
     int pf = P->face, qf = Q->face;
     if (add_half(pr, pf, pl, err) < 0 || add_half(pr, pf, pr_, err) < 0) return PRIO_ERROR;
     if (qhl && qhr && (add_half(pr, qf, ql, err) < 0 || add_half(pr, qf, qr, err) < 0))

@@ -177,16 +177,17 @@ static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
 
 /* Sutherland-Hodgman on lines: each kept vertex carries the line of the side leaving it.
    Vertex k of the result starts side k; a new vertex is the meet of the side it lies on
-   and h, so it stays a meet of two grid lines. */
-bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
+   and h, so it stays a meet of two grid lines. side[k] is the side of p's vertex k of h
+   (geom_side_h), or side is NULL and it is found here. */
+static bool clip_sides(const struct piece *p, struct gline h, const signed char *side,
+                       struct cpoly *out, struct cost *cost)
 {
   out->n = 0;
   int n = p->n;
-  int s0 = geom_side_h(h, p->v[0]);
+  int s0 = side ? side[0] : geom_side_h(h, p->v[0]), sk = s0;
   for (int k = 0; k < n; k++) {
     int nx = (k + 1) % n;
-    int sk = k == 0 ? s0 : geom_side_h(h, p->v[k]);
-    int sn = nx == 0 ? s0 : geom_side_h(h, p->v[nx]);
+    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_h(h, p->v[nx]);
     struct gline lk = p->line[k];
     struct hpoint x;
     cost_mw_mul(cost, 88, 58);
@@ -200,6 +201,7 @@ bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, stru
     } else if (sn > 0) {                 /* enters through h */
       if (!geom_meet(lk, h, &x) || !cpoly_push(out, lk, x)) return false;
     }
+    sk = sn;
   }
   /* merge consecutive sides that lie on one line (keep the first vertex) */
   for (int k = 0; out->n >= 3 && k < out->n; ) {
@@ -214,6 +216,31 @@ bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, stru
     k++;
   }
   return has_interior(out->n, out->line, out->v);
+}
+
+bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
+{
+  return clip_sides(p, h, NULL, out, cost);
+}
+
+#define CLIP_SIDES_MAX 64                  /* pieces with more sides: seginfo_clip twice */
+
+void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left, bool *hasl,
+                       struct cpoly *right, bool *hasr, struct cost *cost)
+{
+  struct gline rh = { -h.a, -h.b, -h.c };
+  if (p->n > CLIP_SIDES_MAX) {
+    *hasl = seginfo_clip(p, h, left, cost);
+    *hasr = seginfo_clip(p, rh, right, cost);
+    return;
+  }
+  signed char side[CLIP_SIDES_MAX], rside[CLIP_SIDES_MAX];
+  for (int k = 0; k < p->n; k++) {
+    side[k] = (signed char)geom_side_h(h, p->v[k]);
+    rside[k] = (signed char)-side[k];      /* the reversed line: the negated sum, exactly */
+  }
+  *hasl = clip_sides(p, h, side, left, cost);
+  *hasr = clip_sides(p, rh, rside, right, cost);
 }
 
 bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,

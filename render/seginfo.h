@@ -60,6 +60,11 @@ void cpoly_free(struct cpoly *c);
    a non-empty interior, and then fills out (lines only; vertices computed too). */
 bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost);
 
+/* seginfo_clip by h into left and by the reversed h (-a, -b, -c) into right, each of p's
+   vertices placed once: the same halves, results and charges as the two calls. */
+void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left, bool *hasl,
+                       struct cpoly *right, bool *hasr, struct cost *cost);
+
 /* Do the interiors of two convex polygons overlap? (exact separating-line test) */
 bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
                      int n2, const struct gline *l2, const struct hpoint *v2,

@@ -104,11 +104,11 @@ static bool rat_is(struct grat r, int64_t n, int64_t d)
   return r.den > 0 && geom_rat_cmp_frac(r, n, d) == 0;
 }
 
-/* A piece from a CCW list of grid points (n <= 16). Returns its index. */
+/* A piece from a CCW list of grid points (n <= 80). Returns its index. */
 static int add_piece(struct seginfo *t, int face, int n, const gcoord *xy)
 {
-  struct gline l[16];
-  assert_true(n <= 16);
+  struct gline l[80];
+  assert_true(n <= 80);
   for (int k = 0; k < n; k++) {
     struct gpoint p = { xy[2 * k], xy[2 * k + 1] };
     struct gpoint q = { xy[2 * ((k + 1) % n)], xy[2 * ((k + 1) % n) + 1] };
@@ -408,6 +408,91 @@ static void test_clip(void **state)
   struct gline rfar = { -far.a, -far.b, -far.c };
   assert_false(seginfo_clip(p, rfar, &c, &cost));
   cpoly_free(&c);
+  seginfo_free(&t);
+  core_free(core);
+}
+
+static uint32_t lcg(uint32_t *s)
+{
+  *s = *s * 1664525u + 1013904223u;
+  return *s >> 8;
+}
+
+/* Issue 19: seginfo_clip_both is seginfo_clip by a line and by its reverse, to the bit:
+   the halves' lines and vertices, whether each has an interior, the operations charged;
+   on random convex pieces (up to the grid's size) and lines through their vertices, along
+   their sides and anywhere, and on a piece of more sides than it places at once. */
+static void test_clip_both(void **state)
+{
+  (void)state;
+  struct core *core = core_new(1u << 20);
+  struct cost c0 = { { 0 } };
+  struct seginfo t;
+  seginfo_init(&t, core, &c0);
+  uint32_t seed = 1974;
+  static const int dir[16][2] = { { 10, 0 }, { 9, 4 }, { 7, 7 }, { 4, 9 }, { 0, 10 }, { -4, 9 },
+                                  { -7, 7 }, { -9, 4 }, { -10, 0 }, { -9, -4 }, { -7, -7 },
+                                  { -4, -9 }, { 0, -10 }, { 4, -9 }, { 7, -7 }, { 9, -4 } };
+  struct cpoly a = { 0 }, b = { 0 }, l = { 0 }, r = { 0 };
+  int both = 0;
+  for (int trial = 0; trial < 3000; trial++) {
+    gcoord xy[2 * 80];
+    int n = 0;
+    int64_t R = trial % 3 == 0 ? GRID_LIMIT / 20 : 1 + (int64_t)(lcg(&seed) % 100);
+    if (trial == 0) {                          /* more sides than placed at once: a wide */
+      for (int k = 0; k < 70; k++) {           /* parabola's arc, closed by its chord */
+        xy[2 * n] = 10 * k; xy[2 * n + 1] = (gcoord)k * k; n++;
+      }
+      for (int k = 0; k < 2 * n; k++) xy[k] = -xy[k];   /* turned half round: counter-clockwise */
+    } else
+      for (int d = 0; d < 16; d++)             /* a random subset of the directions, in turn */
+        if (lcg(&seed) % 2) { xy[2 * n] = R * dir[d][0] + 5; xy[2 * n + 1] = R * dir[d][1] - 3; n++; }
+    if (n < 3) continue;
+    bool convex = true;
+    for (int k = 0; k < n && convex; k++) {
+      struct gpoint p0 = { xy[2 * k], xy[2 * k + 1] };
+      struct gpoint p1 = { xy[2 * ((k + 1) % n)], xy[2 * ((k + 1) % n) + 1] };
+      struct gpoint p2 = { xy[2 * ((k + 2) % n)], xy[2 * ((k + 2) % n) + 1] };
+      convex = geom_orient(p0, p1, p2) > 0;
+    }
+    if (!convex) continue;
+    int i = add_piece(&t, 0, n, xy);
+    const struct piece *p = &t.p[i];
+    struct gpoint u, w;
+    int kind = (int)(lcg(&seed) % 3);
+    int v0 = (int)(lcg(&seed) % (uint32_t)n), v1 = (v0 + 1 + (int)(lcg(&seed) % (uint32_t)(n - 1))) % n;
+    int64_t span = 21 * R;
+    u = (struct gpoint){ xy[2 * v0], xy[2 * v0 + 1] };
+    if (kind == 0) w = (struct gpoint){ xy[2 * v1], xy[2 * v1 + 1] };      /* two vertices */
+    else if (kind == 1) w = (struct gpoint){ xy[2 * ((v0 + 1) % n)], xy[2 * ((v0 + 1) % n) + 1] };
+    else {                                                                  /* anywhere */
+      u.x = (gcoord)(lcg(&seed) % (uint32_t)span) - span / 2;
+      u.y = (gcoord)(lcg(&seed) % (uint32_t)span) - span / 2;
+      w.x = (gcoord)(lcg(&seed) % (uint32_t)span) - span / 2;
+      w.y = (gcoord)(lcg(&seed) % (uint32_t)span) - span / 2;
+    }
+    if (u.x == w.x && u.y == w.y) continue;
+    struct gline h = geom_line(u, w), rh = { -h.a, -h.b, -h.c };
+    struct cost k1 = { { 0 } }, k2 = { { 0 } };
+    bool ha = seginfo_clip(p, h, &a, &k1), hb = seginfo_clip(p, rh, &b, &k1);
+    bool hl, hr;
+    seginfo_clip_both(p, h, &l, &hl, &r, &hr, &k2);
+    assert_int_equal(ha, hl);
+    assert_int_equal(hb, hr);
+    assert_int_equal(a.n, l.n);
+    assert_int_equal(b.n, r.n);
+    assert_memory_equal(a.line, l.line, (size_t)a.n * sizeof *a.line);
+    assert_memory_equal(a.v, l.v, (size_t)a.n * sizeof *a.v);
+    assert_memory_equal(b.line, r.line, (size_t)b.n * sizeof *b.line);
+    assert_memory_equal(b.v, r.v, (size_t)b.n * sizeof *b.v);
+    assert_memory_equal(&k1, &k2, sizeof k1);
+    both += ha && hb;
+  }
+  assert_true(both > 300);                     /* lines that cut the piece in two */
+  cpoly_free(&a);
+  cpoly_free(&b);
+  cpoly_free(&l);
+  cpoly_free(&r);
   seginfo_free(&t);
   core_free(core);
 }
@@ -1267,6 +1352,7 @@ int main(void)
     cmocka_unit_test(test_vis_spans_invariant),
     cmocka_unit_test(test_prio_known),
     cmocka_unit_test(test_prio_tags_exact),
+    cmocka_unit_test(test_clip_both),
     cmocka_unit_test(test_keep_tjunctions),
     cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
