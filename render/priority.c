@@ -490,8 +490,8 @@ static int common_points(const struct mface *A, const struct mface *B, struct gp
   const struct mface *F[2] = { A, B };
   for (int s = 0; s < 2; s++) {
     const struct mface *f = F[s], *o = F[1 - s];
+    cost_mw_mul_n(cost, 34, 17, (uint64_t)f->ring_start[f->nring]);   /* one a vertex */
     for (int k = 0; k < f->ring_start[f->nring]; k++) {
-      cost_mw_mul(cost, 34, 17);
       if (!on_plane(o->plane, f->xyz[k])) continue;
       struct gpoint p = f->pt[k];
       if (n == 0 || (n == 1 && (p.x != out[0].x || p.y != out[0].y))) out[n++] = p;
@@ -746,7 +746,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
        vertices kept: seginfo_add), the clip to the other has no interior. Host work
        spared, the 1974 work of both clips charged as seginfo_clip does (one product a
        vertex). */
-    for (int k = 0; k < 2 * P->n; k++) cost_mw_mul(pr->cost, 88, 58);
+    cost_mw_mul_n(pr->cost, 88, 58, 2 * (uint64_t)P->n);
     hasl = side > 0;
     hasr = side < 0;
     ovl = hasl && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);

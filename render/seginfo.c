@@ -117,15 +117,14 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
       t74_fail(err, T74_EINPUT, "internal: sides of a piece of face %d do not meet", face);
       return -1;
     }
-    cost_mw_mul(t->cost, 58, 29);
-    cost_mw_mul(t->cost, 58, 29);
   }
+  cost_mw_mul_n(t->cost, 58, 29, 2 * (uint64_t)n);     /* two products a vertex */
   p->ylo = p->yhi = p->v[0];
   for (int k = 1; k < n; k++) {
     if (cmp_hy(p->v[k], p->ylo) < 0) p->ylo = p->v[k];
     if (cmp_hy(p->v[k], p->yhi) > 0) p->yhi = p->v[k];
-    cost_mw_mul(t->cost, 88, 59);
   }
+  cost_mw_mul_n(t->cost, 88, 59, (uint64_t)n - 1);      /* a compare a vertex but the first */
 
   /* B and C blocks in core: the piece's row, and its sides */
   uint32_t b, c;
@@ -185,12 +184,12 @@ static bool clip_sides(const struct piece *p, struct gline h, const signed char 
   out->n = 0;
   int n = p->n;
   int s0 = side ? side[0] : geom_side_h(h, p->v[0]), sk = s0;
+  cost_mw_mul_n(cost, 88, 58, (uint64_t)n);       /* a product a vertex */
   for (int k = 0; k < n; k++) {
     int nx = (k + 1) % n;
     int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_h(h, p->v[nx]);
     struct gline lk = p->line[k];
     struct hpoint x;
-    cost_mw_mul(cost, 88, 58);
     if (sk > 0 || (sk == 0 && sn >= 0)) {
       if (!cpoly_push(out, lk, p->v[k])) return false;
       if (sk > 0 && sn < 0) {            /* leaves through h */
@@ -247,18 +246,24 @@ bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
                      int n2, const struct gline *l2, const struct hpoint *v2,
                      struct cost *cost)
 {
+  /* one product charged for each side looked at (at once, when the answer is known) */
   for (int k = 0; k < n1; k++) {
     int j = 0;
     while (j < n2 && geom_side_h(l1[k], v2[j]) <= 0) j++;
-    cost_mw_mul(cost, 88, 58);
-    if (j == n2) return false;           /* side k of the first separates them */
+    if (j == n2) {                       /* side k of the first separates them */
+      cost_mw_mul_n(cost, 88, 58, (uint64_t)k + 1);
+      return false;
+    }
   }
   for (int k = 0; k < n2; k++) {
     int j = 0;
     while (j < n1 && geom_side_h(l2[k], v1[j]) <= 0) j++;
-    cost_mw_mul(cost, 88, 58);
-    if (j == n1) return false;
+    if (j == n1) {
+      cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)k + 1);
+      return false;
+    }
   }
+  cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)n2);
   return true;
 }
 

@@ -215,21 +215,24 @@ static void count_branch(struct cost *k)
 }
 
 /* The turn at a vertex: sign of a1*b2 - a2*b1, two 30 x 30-bit products and a compare. */
-static void count_turn(struct cost *k)
+static void count_turns(struct cost *k, uint64_t n)
 {
   if (!k) return;
-  cost_mw_mul(k, 30, 30);
-  cost_mw_mul(k, 30, 30);
-  cost_mw_add(k, 60);
+  cost_mw_mul_n(k, 30, 30, 2 * n);
+  cost_mw_add_n(k, 60, n);
 }
 
-static void count_xcmp(struct cost *k)
+static void count_turn(struct cost *k) { count_turns(k, 1); }
+
+/* A compare of two crossings' x: two 64 x 32-bit products and a compare. */
+static void count_xcmps(struct cost *k, uint64_t n)
 {
   if (!k) return;
-  cost_mw_mul(k, 64, 32);
-  cost_mw_mul(k, 64, 32);
-  cost_mw_add(k, 96);
+  cost_mw_mul_n(k, 64, 32, 2 * n);
+  cost_mw_add_n(k, 96, n);
 }
+
+static void count_xcmp(struct cost *k) { count_xcmps(k, 1); }
 
 /* ---- exact predicates on lines and vertices ------------------------------------------- */
 
@@ -1424,11 +1427,12 @@ static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
 {
   unsigned fid = x->in->face_id;
   int changed = 1;
+  uint64_t xcmps = 0, turns = 0;         /* the compares made, charged once */
   while (changed && g->n >= 3) {
     changed = 0;
     for (int k = 0; k < g->n && g->n >= 3; k++) {
       int k1 = (k + 1) % g->n;
-      count_xcmp(x->cost);
+      xcmps++;
       if (same_point(&g->v[k], &g->v[k1])) {
         /* Side k has zero length: side k takes over side k1's line, vertex k1 goes. */
         g->s[k] = g->s[k1];
@@ -1436,7 +1440,7 @@ static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
         changed = 1;
         break;
       }
-      count_turn(x->cost);
+      turns++;
       if (same_line(g->s[k].line, g->s[k1].line)) {
         /* Vertex k1 lies inside one line: side k runs on over it, vertex k1 goes. */
         ring_remove(g, k1);
@@ -1445,6 +1449,8 @@ static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
       }
     }
   }
+  count_xcmps(x->cost, xcmps);
+  count_turns(x->cost, turns);
   if (g->n < 3)
     return t74_fail(x->err, T74_EINPUT, "face %u: a piece degenerated to %d sides "
                     "(boundary not simple?)", fid, g->n);
@@ -1565,7 +1571,7 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   ysort_build(in->pt, in->vid, nv, ys, ys + nv, cost);
   int rc = ysort_table(x, ys);
   if (rc == T74_OK) {
-    for (int k = 0; k < nv; k++) count_turn(cost);     /* lowest_concave: none */
+    count_turns(cost, (uint64_t)nv);                   /* lowest_concave: none */
     rc = tidy_ring(x, &g);
   }
   if (rc == T74_OK) {

@@ -507,13 +507,13 @@ static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn
     wide an = n < 0 ? -n : n;
     wide q = an < ((wide)1 << 94) ? n * ((wide)1 << 32) / f->deye
                                   : n / f->deye * ((wide)1 << 32);
-    cost_mw_mul(v->cost, 51, 34);
-    cost_mw_mul(v->cost, 51, 34);
-    cost_mw_add(v->cost, 86);
-    cost_mw_div(v->cost, 86, 48);
-    cost_mw_add(v->cost, 64);
     if (best < 0 || q > bq) { best = v->set[k]; bq = q; }
   }
+  uint64_t k = (uint64_t)v->nset;         /* each plane: two products and a sum, a quotient, */
+  cost_mw_mul_n(v->cost, 51, 34, 2 * k);  /* a compare */
+  cost_mw_add_n(v->cost, 86, k);
+  cost_mw_div_n(v->cost, 86, 48, k);
+  cost_mw_add_n(v->cost, 64, k);
   return best;
 }
 

@@ -569,6 +569,31 @@ static void test_mw_div(void **state)
   expect(&c, 24 + 5 * 15 + 10, 5 * 9 + 9, 20, 24, 5 * 5 + 2 + 4, 20, 5);
 }
 
+/* Issue 19: cost_mw_*_n(c, ..., k) charges exactly what k single calls charge, in both
+   sets of counters (x[] below zero included), for k = 0, 1 and more, at widths within and
+   beyond the 1974 program's. */
+static void test_mw_n(void **state)
+{
+  (void)state;
+  static const int bits[][2] = { { 16, 16 }, { 17, 17 }, { 30, 30 }, { 64, 32 }, { 88, 58 },
+                                 { 86, 48 }, { 128, 128 }, { 1, 200 } };
+  static const uint64_t ks[] = { 0, 1, 2, 7, 1000 };
+  for (size_t b = 0; b < sizeof bits / sizeof bits[0]; b++)
+    for (size_t q = 0; q < sizeof ks / sizeof ks[0]; q++) {
+      struct cost one = { { 0 } }, many = { { 0 } };
+      for (uint64_t i = 0; i < ks[q]; i++) {
+        cost_mw_add(&one, bits[b][0]);
+        cost_mw_mul(&one, bits[b][0], bits[b][1]);
+        cost_mw_div(&one, bits[b][0], bits[b][1]);
+      }
+      cost_mw_add_n(&many, bits[b][0], ks[q]);
+      cost_mw_mul_n(&many, bits[b][0], bits[b][1], ks[q]);
+      cost_mw_div_n(&many, bits[b][0], bits[b][1], ks[q]);
+      assert_memory_equal(&one, &many, sizeof one);
+      if (ks[q] == 2 && bits[b][0] > 32) assert_true(cost_total(&many) > 0);
+    }
+}
+
 /* The 1974 program's share: adds on at most a double word, multiplies one word by one
    word, divides a double word by a word (docs/machine.md); the rest goes to x[]. */
 static void test_mw_1974_share(void **state)
@@ -682,6 +707,7 @@ int main(void)
     cmocka_unit_test(test_mw_mul),
     cmocka_unit_test(test_mw_div),
     cmocka_unit_test(test_mw_1974_share),
+    cmocka_unit_test(test_mw_n),
     cmocka_unit_test(test_instruction_format),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
