@@ -27,6 +27,7 @@
 ** exact ear clipping in its plane, holes bridged first (mapper_split_face).
 */
 #include "render/mapper.h"
+#include "render/pool.h"
 #include "render/rsort.h"
 #include "render/shade.h"
 
@@ -121,36 +122,6 @@ static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t (*xyz)[3], int 
     uint32_t ti = id[a]; id[a] = id[b]; id[b] = ti;
     for (int c = 0; c < 3; c++) { int32_t t = xyz[a][c]; xyz[a][c] = xyz[b][c]; xyz[b][c] = t; }
   }
-}
-
-/* The pool of mapper_run's faces: a chain of blocks, each handed out from its start in
-   units of max_align_t (so every face's arrays start aligned). */
-struct mpool {
-  struct mpool *next;
-  size_t used, cap;         /* units of data */
-  max_align_t data[];
-};
-
-#define MPOOL_BLOCK_BYTES ((size_t)1 << 20)
-
-static void *mpool_alloc(struct mapped *m, size_t bytes)
-{
-  size_t units = (bytes + sizeof(max_align_t) - 1) / sizeof(max_align_t);
-  struct mpool *b = m->pool;
-  if (!b || b->cap - b->used < units) {
-    size_t cap = MPOOL_BLOCK_BYTES / sizeof(max_align_t);
-    if (units > cap) cap = units;
-    if (cap > (SIZE_MAX - sizeof *b) / sizeof(max_align_t)) return NULL;
-    struct mpool *nb = malloc(sizeof *nb + cap * sizeof(max_align_t));
-    if (!nb) return NULL;
-    nb->next = b;
-    nb->used = 0;
-    nb->cap = cap;
-    m->pool = b = nb;
-  }
-  void *p = b->data + b->used;
-  b->used += units;
-  return p;
 }
 
 /* A face's ring_start, pt, vid, xyz: in the pool (mapper_run), or four allocations (the
@@ -357,11 +328,29 @@ static int face_plane(const struct scene *s, const struct scene_face *f, int64_t
   return 0;
 }
 
-void mapper_tj_free(struct mapper_tj *tj)
+/* Forget the T-junctions (the blocks stay). */
+static void tj_forget(struct mapper_keep *k)
 {
-  free(tj->ring);
-  free(tj->start);
-  memset(tj, 0, sizeof *tj);
+  free(k->ring);
+  free(k->start);
+  k->s = NULL;
+  k->ring = k->start = NULL;
+  k->n = k->cap = 0;
+  memset(&k->cost, 0, sizeof k->cost);
+}
+
+void mapper_keep_free(struct mapper_keep *k)
+{
+  tj_forget(k);
+  pool_free(&k->pool);
+}
+
+void mapper_keep_faces(struct mapped *m, struct mapper_keep *k)
+{
+  pool_reset(&m->pool);
+  pool_free(&k->pool);
+  k->pool = m->pool;
+  memset(&m->pool, 0, sizeof m->pool);
 }
 
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
@@ -371,9 +360,13 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
 }
 
 int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core,
-                    struct cost *cost, struct mapper_tj *kt, struct t74_error *err)
+                    struct cost *cost, struct mapper_keep *kt, struct t74_error *err)
 {
   memset(out, 0, sizeof *out);
+  if (kt) {                                 /* the last run's blocks */
+    out->pool = kt->pool;
+    memset(&kt->pool, 0, sizeof kt->pool);
+  }
   const int64_t X0 = s->view[0], Y0 = s->view[1], Z0 = s->view[2];
   const int64_t f = -Z0;                    /* distance from the eye to the plane, > 0 */
   out->eye[0] = X0; out->eye[1] = Y0; out->eye[2] = Z0;
@@ -429,7 +422,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   int **rbuf = &ring, *rn = &nring_v, *rcap = &capring;
   if (!replay) {
     if (kt) {
-      mapper_tj_free(kt);
+      tj_forget(kt);
       int nrings = 0;
       for (int fi = 0; fi < s->nf; fi++) nrings += s->f[fi].nring;
       kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
@@ -493,7 +486,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     _Static_assert(_Alignof(struct gpoint) >= _Alignof(int32_t[3]) &&
                    _Alignof(int32_t[3]) >= _Alignof(uint32_t) &&
                    _Alignof(uint32_t) >= _Alignof(int), "mface block layout");
-    m->pt = mpool_alloc(out, bytes);
+    m->pt = pool_alloc(&out->pool, bytes, _Alignof(struct gpoint));
     if (!m->pt) {
       t74_fail(err, T74_EIO, "out of host memory");
       goto fail_tj;
@@ -576,7 +569,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
 fail_tj:
   free(ring);
   tj_free(&tj);
-  if (kt && !replay) mapper_tj_free(kt);
+  if (kt && !replay) tj_forget(kt);
 fail:
   free(proj);
   mapper_free(out);
@@ -903,9 +896,5 @@ void mapper_free(struct mapped *m)
     m->f = NULL;
     m->nface = 0;
   }
-  for (struct mpool *b = m->pool, *nx; b; b = nx) {
-    nx = b->next;
-    free(b);
-  }
-  m->pool = NULL;
+  pool_free(&m->pool);
 }

@@ -247,8 +247,12 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
     return err->status;
 
   r->ran[RS_MAPPER] = 1;
+  if (o->keep) {                             /* the last frame's blocks for the pieces */
+    r->seg.pool = o->keep->seg;
+    memset(&o->keep->seg, 0, sizeof o->keep->seg);
+  }
   int st = mapper_run_kept(s, &r->map, r->core, &r->cost[RS_MAPPER],
-                           o->keep ? &o->keep->tj : NULL, err);
+                           o->keep ? &o->keep->map : NULL, err);
   if (st != T74_OK) return st;
   r->arith = arith;
   if (arith == GEOM_HITAC) hold_h10(&r->map);
@@ -327,9 +331,10 @@ int render_pieces_alive(const struct render *r)
 
 void render_keep_free(struct render_keep *k)
 {
-  mapper_tj_free(&k->tj);
+  mapper_keep_free(&k->map);
   core_free(k->core);
   k->core = NULL;
+  pool_free(&k->seg);
 }
 
 void render_free(struct render *r)
@@ -340,6 +345,13 @@ void render_free(struct render *r)
   r->cut_y = NULL;
   vis_free(&r->vis);
   prio_free(&r->prio);
+  if (r->keep) {                             /* the blocks, for the next frame */
+    pool_reset(&r->seg.pool);
+    pool_free(&r->keep->seg);
+    r->keep->seg = r->seg.pool;
+    memset(&r->seg.pool, 0, sizeof r->seg.pool);
+    mapper_keep_faces(&r->map, &r->keep->map);
+  }
   seginfo_free(&r->seg);
   mapper_free(&r->map);
   if (r->keep && r->core && core_words(r->core) == core_first_words(r->core)) {

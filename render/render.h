@@ -25,11 +25,13 @@ enum render_stage { RS_MAPPER, RS_SEGMENT, RS_VISIBLE, RS_NSTAGE };
 /* What one render of a scene keeps for the next renders of the same scene (--frames,
    issue 19): the T-junctions the Mapper found (mapper.h), so a later frame does not
    search again (its charges are added all the same: every figure is the first frame's),
-   and the core model once render_free is done with it (core_reset: a core as new, in host
-   memory already touched). Zeroed before the first render; render_keep_free when done. */
+   and the host memory render_free is done with: the core model (core_reset: a core as
+   new) and the blocks of the faces and pieces, so a later frame works in memory already
+   touched. Zeroed before the first render; render_keep_free when done. */
 struct render_keep {
-  struct mapper_tj tj;
+  struct mapper_keep map;    /* the T-junctions, and the faces' blocks */
   struct core *core;         /* a core of render_opts.core_words words, not in use, or NULL */
+  struct pool seg;           /* the pieces' blocks */
 };
 
 void render_keep_free(struct render_keep *k);

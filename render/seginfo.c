@@ -13,6 +13,7 @@
 ** bounded (geom.h) however often pieces are cut.
 */
 #include "render/seginfo.h"
+#include "render/pool.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -35,10 +36,7 @@ void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost)
 
 void seginfo_free(struct seginfo *t)
 {
-  for (int k = 0; k < t->n; k++) {
-    free(t->p[k].line);
-    free(t->p[k].v);
-  }
+  pool_free(&t->pool);
   free(t->p);
   memset(t, 0, sizeof *t);
 }
@@ -93,17 +91,18 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   }
   struct piece *p = &t->p[t->n];
   memset(p, 0, sizeof *p);
-  p->line = malloc((size_t)n * sizeof *p->line);
-  p->v = malloc((size_t)n * sizeof *p->v);
-  if (!p->line || !p->v) {
-    free(p->line); free(p->v);
+  /* its vertices, then its lines, in one piece of the pool (issue 19: no allocation a
+     piece; a piece is never freed before the others) */
+  _Static_assert(_Alignof(struct hpoint) >= _Alignof(struct gline), "piece block layout");
+  p->v = pool_alloc(&t->pool, (size_t)n * (sizeof *p->v + sizeof *p->line), _Alignof(struct hpoint));
+  if (!p->v) {
     t74_fail(err, T74_EIO, "out of host memory");
     return -1;
   }
+  p->line = (struct gline *)(p->v + n);
   memcpy(p->line, line, (size_t)n * sizeof *line);
   n = merge_sides(p->line, n);
   if (n < 3) {
-    free(p->line); free(p->v);
     t74_fail(err, T74_EINPUT, "internal: a piece of face %d has fewer than 3 sides", face);
     return -1;
   }
@@ -113,7 +112,6 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   p->parent = -1;
   for (int k = 0; k < n; k++) {
     if (!geom_meet(p->line[(k + n - 1) % n], p->line[k], &p->v[k])) {
-      free(p->line); free(p->v);
       t74_fail(err, T74_EINPUT, "internal: sides of a piece of face %d do not meet", face);
       return -1;
     }
@@ -129,10 +127,8 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   /* B and C blocks in core: the piece's row, and its sides */
   uint32_t b, c;
   if (core_alloc(t->core, "B-BLOCK", BBLOCK_ROW_WORDS, &b, err) != T74_OK ||
-      core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK) {
-    free(p->line); free(p->v);
+      core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK)
     return -1;
-  }
   core_write(t->core, b, (uint16_t)t->n);
   core_write(t->core, b + 1, (uint16_t)(p->ylo.Y / p->ylo.W / GRID_ONE));
   core_write(t->core, b + 2, (uint16_t)(p->yhi.Y / p->yhi.W / GRID_ONE));

@@ -21,6 +21,7 @@
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "render/geom.h"
+#include "render/pool.h"
 
 struct piece {
   int    face;             /* index in mapped.f */
@@ -37,6 +38,7 @@ struct seginfo {
   struct piece *p;
   struct core *core;
   struct cost *cost;
+  struct pool pool;        /* host blocks of the pieces' lines and vertices */
 };
 
 void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost);

@@ -23,6 +23,7 @@
 #include "emu/status.h"
 #include "render/geom.h"
 #include "render/mapper.h"
+#include "render/pool.h"
 #include "render/priority.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -1137,6 +1138,38 @@ static void test_prio_tags_exact(void **state)
   scene_free(s2);
 }
 
+/* render/pool.h: each request aligned and inside a block, what is handed out not reused
+   before pool_reset, the same blocks (the same addresses, in the order handed out) after
+   it, a request larger than a block in a block of its own. */
+static void test_pool(void **state)
+{
+  (void)state;
+  struct pool p = { 0 };
+  char *got[200];
+  size_t size[200];
+  for (int k = 0; k < 200; k++) {
+    size[k] = (size_t)(k % 7) * 1000 + 1 + (k == 100 ? ((size_t)3 << 20) : 0);
+    size_t align = (size_t)1 << (k % 5);
+    got[k] = pool_alloc(&p, size[k], align);
+    assert_non_null(got[k]);
+    assert_int_equal((uintptr_t)got[k] % align, 0);
+    memset(got[k], k, size[k]);
+  }
+  for (int k = 0; k < 200; k++)                /* nothing overwritten: no overlap */
+    for (size_t b = 0; b < size[k]; b += 97) assert_int_equal((unsigned char)got[k][b], k);
+  pool_reset(&p);
+  assert_null(p.used);
+  assert_non_null(p.spare);
+  for (int k = 0; k < 200; k++) {
+    char *again = pool_alloc(&p, size[k], (size_t)1 << (k % 5));
+    if (k == 0) assert_true(again != NULL);
+    assert_true(again == got[k]);              /* the same blocks, handed out alike */
+  }
+  pool_free(&p);
+  assert_null(p.used);
+  assert_null(p.spare);
+}
+
 /* Three coplanar squares, the upper two meeting the lower one's top edge at a vertex of
    theirs inside it (a T-junction: the Mapper inserts vertex 5 into face 1's edge 3-4). */
 static const char TJUNCTION[] =
@@ -1195,13 +1228,16 @@ static void test_keep_tjunctions(void **state)
     struct render r0, r1;
     render_kept(&r0, sc, NULL, a);            /* nothing kept */
     render_kept(&r1, sc, &keep, b);           /* searched, kept */
-    assert_true(keep.tj.s == sc);
+    assert_true(keep.map.s == sc);
     assert_null(keep.core);
     assert_memory_equal(a, b, GW * GH * sizeof *a);
     same_render(&r0, &r1);
     struct core *used = r1.core;
     render_free(&r1);
     assert_true(keep.core == used);           /* the core kept for the next frame */
+    assert_non_null(keep.seg.spare);          /* and the blocks of the pieces and faces */
+    assert_null(keep.seg.used);
+    assert_non_null(keep.map.pool.spare);
     for (int again = 0; again < 2; again++) {
       memset(b, 0, GW * GH * sizeof *b);
       render_kept(&r1, sc, &keep, b);         /* taken from keep, on the kept core */
@@ -1353,6 +1389,7 @@ int main(void)
     cmocka_unit_test(test_prio_known),
     cmocka_unit_test(test_prio_tags_exact),
     cmocka_unit_test(test_clip_both),
+    cmocka_unit_test(test_pool),
     cmocka_unit_test(test_keep_tjunctions),
     cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
