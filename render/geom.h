@@ -81,8 +81,18 @@ static inline int geom_side_h(struct gline l, struct hpoint p)
   return (v > 0) - (v < 0);
 }
 
-/* Where two lines meet; false when they are parallel. */
-bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out);
+/* Where two lines meet; false when they are parallel. Inline: every piece's vertices and
+   every clip's new ones (issue 19). */
+static inline bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out)
+{
+  wide W = (wide)l1.a * l2.b - (wide)l2.a * l1.b;
+  if (W == 0) return false;
+  wide X = (wide)l1.b * l2.c - (wide)l2.b * l1.c;
+  wide Y = (wide)l1.c * l2.a - (wide)l2.c * l1.a;
+  if (W < 0) { W = -W; X = -X; Y = -Y; }
+  out->X = X; out->Y = Y; out->W = W;
+  return true;
+}
 
 /* ---- rationals on scanlines --------------------------------------------------------- */
 

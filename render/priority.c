@@ -475,6 +475,14 @@ static wide round_div(wide n, wide d)
   return q;
 }
 
+/* round_div(n, d) = floor(n/d + 1/2) lies in [-lim, lim], decided without the divide
+   (|n| < 2^115, |d| < 2^86, lim = 2^28: every product below 2^117) */
+static bool round_in(wide n, wide d, wide lim)
+{
+  if (d < 0) { n = -n; d = -d; }
+  return 2 * n + d >= -2 * lim * d && 2 * n < (2 * lim + 1) * d;
+}
+
 /* plane(V) == 0 for a vertex in space, exactly (|terms| < 2^51) */
 static bool on_plane(const int64_t pl[4], const int32_t v[3])
 {
@@ -548,14 +556,20 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
   if (ncommon < 2) {
     if (g.k1 != 0) {            /* sides x = -lim and x = +lim */
       for (int s = -1; s <= 1; s += 2) {
-        wide y = round_div(-(g.k0 * (s * lim) + g.K), g.k1);
-        if (y >= -lim && y <= lim) { pt[n].x = (gcoord)(s * lim); pt[n].y = (gcoord)y; n++; }
+        wide num = -(g.k0 * (s * lim) + g.K);
+        if (!round_in(num, g.k1, lim)) continue;
+        pt[n].x = (gcoord)(s * lim);
+        pt[n].y = (gcoord)round_div(num, g.k1);
+        n++;
       }
     }
     if (g.k0 != 0) {            /* sides y = -lim and y = +lim */
       for (int s = -1; s <= 1; s += 2) {
-        wide x = round_div(-(g.k1 * (s * lim) + g.K), g.k0);
-        if (x >= -lim && x <= lim) { pt[n].x = (gcoord)x; pt[n].y = (gcoord)(s * lim); n++; }
+        wide num = -(g.k1 * (s * lim) + g.K);
+        if (!round_in(num, g.k0, lim)) continue;
+        pt[n].x = (gcoord)round_div(num, g.k0);
+        pt[n].y = (gcoord)(s * lim);
+        n++;
       }
     }
   }

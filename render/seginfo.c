@@ -143,10 +143,12 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   return t->n++;
 }
 
-static bool cpoly_push(struct cpoly *c, struct gline l, struct hpoint v)
+/* Room for n entries in c. */
+static bool cpoly_room(struct cpoly *c, int n)
 {
-  if (c->n == c->cap) {
-    int cap = c->cap ? 2 * c->cap : 16;
+  if (n > c->cap) {
+    int cap = c->cap ? c->cap : 16;
+    while (cap < n) cap *= 2;
     struct gline *nl = realloc(c->line, (size_t)cap * sizeof *nl);
     if (!nl) return false;
     c->line = nl;
@@ -155,10 +157,15 @@ static bool cpoly_push(struct cpoly *c, struct gline l, struct hpoint v)
     c->v = nv;
     c->cap = cap;
   }
+  return true;
+}
+
+/* Append a side and its vertex (room made by cpoly_room). */
+static inline void cpoly_push(struct cpoly *c, struct gline l, struct hpoint v)
+{
   c->line[c->n] = l;
   c->v[c->n] = v;
   c->n++;
-  return true;
 }
 
 static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
@@ -179,6 +186,7 @@ static bool clip_sides(const struct piece *p, struct gline h, const signed char 
 {
   out->n = 0;
   int n = p->n;
+  if (!cpoly_room(out, n + 2)) return false;   /* a convex piece crosses a line twice at most */
   int s0 = side ? side[0] : geom_side_h(h, p->v[0]), sk = s0;
   cost_mw_mul_n(cost, 88, 58, (uint64_t)n);       /* a product a vertex */
   for (int k = 0; k < n; k++) {
@@ -187,14 +195,16 @@ static bool clip_sides(const struct piece *p, struct gline h, const signed char 
     struct gline lk = p->line[k];
     struct hpoint x;
     if (sk > 0 || (sk == 0 && sn >= 0)) {
-      if (!cpoly_push(out, lk, p->v[k])) return false;
+      cpoly_push(out, lk, p->v[k]);
       if (sk > 0 && sn < 0) {            /* leaves through h */
-        if (!geom_meet(lk, h, &x) || !cpoly_push(out, h, x)) return false;
+        if (!geom_meet(lk, h, &x)) return false;
+        cpoly_push(out, h, x);
       }
     } else if (sk == 0) {                /* on h, and the side goes outside */
-      if (!cpoly_push(out, h, p->v[k])) return false;
+      cpoly_push(out, h, p->v[k]);
     } else if (sn > 0) {                 /* enters through h */
-      if (!geom_meet(lk, h, &x) || !cpoly_push(out, lk, x)) return false;
+      if (!geom_meet(lk, h, &x)) return false;
+      cpoly_push(out, lk, x);
     }
     sk = sn;
   }
