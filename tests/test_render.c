@@ -81,17 +81,25 @@ static struct scene *load_scene(const char *text)
   return s;
 }
 
-static struct scene *prepare(struct render *r, const char *text, int store)
+/* render_prepare (or render_prepare_lazy) of a loaded scene on 2^22 words of core. */
+static void prepare_scene(struct render *r, const struct scene *s, int store, bool lazy,
+                          struct render_keep *keep)
 {
-  struct scene *s = load_scene(text);
   struct render_opts o;
   memset(&o, 0, sizeof o);
   o.core_words = 1u << 22;
   o.store = store;
+  o.keep = keep;
   struct t74_error err = { 0, "" };
-  int st = render_prepare(r, s, &o, &err);
+  int st = lazy ? render_prepare_lazy(r, s, &o, &err) : render_prepare(r, s, &o, &err);
   if (st) print_message("render_prepare: %s\n", err.msg);
   assert_int_equal(st, T74_OK);
+}
+
+static struct scene *prepare(struct render *r, const char *text, int store)
+{
+  struct scene *s = load_scene(text);
+  prepare_scene(r, s, store, false, NULL);
   return s;
 }
 
@@ -1181,14 +1189,7 @@ static const char TJUNCTION[] =
 static void render_kept(struct render *r, const struct scene *s, struct render_keep *keep,
                         uint16_t *ids)
 {
-  struct render_opts o;
-  memset(&o, 0, sizeof o);
-  o.core_words = 1u << 22;
-  o.keep = keep;
-  struct t74_error err = { 0, "" };
-  int st = render_prepare_lazy(r, s, &o, &err);
-  if (st) print_message("render_prepare_lazy: %s\n", err.msg);
-  assert_int_equal(st, T74_OK);
+  prepare_scene(r, s, PRIO_AUTO, true, keep);
   scan_ids(r, ids);
 }
 
