@@ -841,12 +841,12 @@ done:
 
 /* ---- the scene pipeline ------------------------------------------------------------- */
 
-/* One more frame of the loaded scene for --frames (the job's outputs come from the first):
-** Mapper, Segment Generator, priorities, visible surfaces, effects and halftone into a
-** tube of its own, the machine model counting as in the first, no hooks (a command's sink
-** sees one picture). The pipeline's counters are the copy's; the background's display-time
-** disk state starts afresh and ends as the first frame left it, so the statistics are
-** those of one frame. */
+/* One more frame of the loaded scene for --frames (the job's outputs come from the frame
+** after these): Mapper, Segment Generator, priorities, visible surfaces, effects and
+** halftone into a tube of its own, the machine model counting as in that frame, no hooks
+** (a command's sink sees one picture). The pipeline's counters are the copy's; the
+** background's display-time disk state starts afresh (and afresh again for the frame after
+** these), so the statistics are those of one frame. */
 static int spare_frame(const struct pipeline *p0, const struct scene *s, const struct effects *e,
                        const struct render_opts *ro, int arith, const struct vis_grid *g,
                        double *secs, struct t74_error *err)
@@ -874,7 +874,7 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   if (st == T74_OK && p.face) st = run_effects(&p, s, e, g, &fst, err);
   *secs = now_seconds() - t0;
   tube_free(t);
-  render_free(&r);                  /* the disk now stands as after the first frame */
+  render_free(&r);                  /* its core to ro->keep, for the next frame */
   return st;
 }
 
@@ -962,7 +962,9 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   FILE *tables = NULL;
   struct job_outs jo;
   double *frame_t = NULL;                   /* --frames: each frame's host seconds */
+  struct render_keep keep;                  /* what a frame leaves for the next */
   int st;
+  memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
   memset(&pts, 0, sizeof pts);
   memset(&p, 0, sizeof p);
@@ -1029,16 +1031,11 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   }
   double prog = 0;
   cost_params_get(&o->params, "program_words", &prog);
-  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables, grow_max };
+  struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables, grow_max, &keep };
   const int nframes = o->frames > 1 ? o->frames : 1;
   frame_t = calloc((size_t)nframes, sizeof *frame_t);
   if (!frame_t) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
   struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
-  double f0 = now_seconds();                /* frame 1: the Mapper to the last dot stored */
-  if (engine == JOB_ENGINE_POINTS) st = points_render(&pts, s, &g, err);
-  else st = render_prepare_lazy_arith(&r, s, &ro, o->arith, err);
-  if (st != T74_OK) goto done;
-
   t = tube_new();
   p.ids = calloc((size_t)p.W * (size_t)p.H, sizeof *p.ids);
   p.grey = calloc((size_t)p.W * (size_t)p.H, sizeof *p.grey);
@@ -1047,12 +1044,28 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
     st = t74_fail(err, T74_EIO, "out of host memory");
     goto done;
   }
+  p.params = &o->params;
+  cost_class_states(p.params, p.states);
+  if (nframes > 1) {
+    /* --frames: the scene rendered K - 1 times more, each frame timed, before the frame
+       whose outputs are written (so that one render is alive at a time, each taking what
+       the last left in `keep`); the scene stays loaded */
+    struct render_opts ro2 = ro;
+    ro2.tables = NULL;
+    for (int k = 1; k < nframes && st == T74_OK; k++)
+      st = engine == JOB_ENGINE_POINTS ? spare_points_frame(&p, s, &eff, &pts, &g, &frame_t[k], err)
+                                       : spare_frame(&p, s, &eff, &ro2, o->arith, &g, &frame_t[k], err);
+    if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
+    if (p.scan) scan_display_reset(p.scan);
+  }
+  double f0 = now_seconds();                /* the frame: the Mapper to the last dot stored */
+  if (engine == JOB_ENGINE_POINTS) st = points_render(&pts, s, &g, err);
+  else st = render_prepare_lazy_arith(&r, s, &ro, o->arith, err);
+  if (st != T74_OK) goto done;
   p.r = engine == JOB_ENGINE_1974 ? &r : NULL;
   p.pts = engine == JOB_ENGINE_POINTS ? &pts : NULL;
   p.map = engine == JOB_ENGINE_1974 ? &r.map : &pts.map;
   p.hooks = h;
-  p.params = &o->params;
-  cost_class_states(p.params, p.states);
   struct sink_tee tee;
   sink_tee_init(&tee);
   sink_tee_add(&tee, tube_sink(t));
@@ -1074,16 +1087,6 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   if (st == T74_OK && p.face) st = run_effects(&p, s, &eff, &g, &fst, err);
   if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
   frame_t[0] = now_seconds() - f0;
-  if (nframes > 1) {
-    /* --frames: the same scene again, each frame timed; the scene stays loaded, the
-       outputs stay those of the first frame */
-    struct render_opts ro2 = ro;
-    ro2.tables = NULL;
-    for (int k = 1; k < nframes && st == T74_OK; k++)
-      st = engine == JOB_ENGINE_POINTS ? spare_points_frame(&p, s, &eff, &pts, &g, &frame_t[k], err)
-                                       : spare_frame(&p, s, &eff, &ro2, o->arith, &g, &frame_t[k], err);
-    if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
-  }
   qsort(frame_t, (size_t)nframes, sizeof *frame_t, cmp_double);
   const double frame_med = nframes % 2 ? frame_t[nframes / 2]
                                        : (frame_t[nframes / 2 - 1] + frame_t[nframes / 2]) / 2;
@@ -1148,6 +1151,7 @@ done:
   if (bg) pic_free(bg);
   scan_free(p.scan);
   render_free(&r);
+  render_keep_free(&keep);
   points_free(&pts);
   scene_free(own);
   return st;

@@ -83,7 +83,7 @@ int aa_frame_render(const char *path, const char *effects, int cell, uint32_t co
   }
   double t0 = now();
   struct render r;
-  struct render_opts ro = { core_words, 0, PRIO_AUTO, NULL, 0 };
+  struct render_opts ro = { core_words, 0, PRIO_AUTO, NULL, 0, NULL };
   st = render_prepare(&r, s, &ro, err);
   struct vis_grid g = { f->W, f->H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
   struct scan_ctx sc = { &r, f, bg };

@@ -73,6 +73,24 @@ struct core *core_new(uint32_t words)
   return c;
 }
 
+void core_reset(struct core *c)
+{
+  c->low_top = 0;
+  c->high_len = 0;
+  c->high_stat = -1;
+  c->peak = 0;
+  c->nrec = 0;
+  c->nstat = 0;
+  memset(c->hint_name, 0, sizeof c->hint_name);
+  memset(c->hint_row, 0, sizeof c->hint_row);
+  c->hint_next = 0;
+  c->grow_max = 0;
+  c->first_size = c->size;
+  c->inject_on = 0;
+  c->inject_tripped = 0;
+  c->inject_left = 0;
+}
+
 void core_set_growth(struct core *c, uint32_t max_words)
 {
   c->grow_max = max_words > c->size ? max_words : 0;

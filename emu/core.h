@@ -72,6 +72,11 @@ struct core;                                   /* opaque */
 struct core *core_new(uint32_t words);
 void core_free(struct core *c);
 uint32_t core_words(const struct core *c);     /* size */
+/* The core as core_new(core_words(c)) makes it: no tables, no statistics, no growth, no
+   injected exhaustion; its host memory kept (issue 19: a core for each frame of --frames
+   without touching fresh pages). What the words held is never seen: a table's words are
+   zeroed when it is allocated, the high region's when it grows. */
+void core_reset(struct core *c);
 
 /* A core that grows instead of refusing (for study: an imported model drawn with the core
    it needs, and the words a scene needs found in one run): a table that does not fit

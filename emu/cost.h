@@ -183,42 +183,57 @@ COST_INLINE_ void cost_mw_div_w_(uint64_t *n, uint64_t wn, uint64_t wd, uint64_t
 #define COST_PLUS_  ((uint64_t)1)
 #define COST_MINUS_ (~(uint64_t)0)
 
-/* An add, subtract or compare of `bits`-bit operands (the exact width). */
-COST_INLINE_ void cost_mw_add(struct cost *c, int bits)
+/* k adds, subtracts or compares of `bits`-bit operands (the exact width), charged at once
+   (every count is a sum of the same increments, x[]'s modulo 2^64 too: a loop may count
+   its operations and charge them once, issue 19); cost_mw_add is one of them. */
+COST_INLINE_ void cost_mw_add_n(struct cost *c, int bits, uint64_t k)
 {
-  (void)bits;
+  (void)bits; (void)k;
   COST_OFF_(c);
   uint64_t w = cost_words(bits), w74 = cost_cap_(w, COST_1974_ADD_WORDS);
-  cost_mw_add_w_(c->n, w74, COST_PLUS_);
+  cost_mw_add_w_(c->n, w74, k * COST_PLUS_);
   if (w == w74) return;
-  cost_mw_add_w_(&COST_X(c, 0), w, COST_PLUS_);
-  cost_mw_add_w_(&COST_X(c, 0), w74, COST_MINUS_);
+  cost_mw_add_w_(&COST_X(c, 0), w, k * COST_PLUS_);
+  cost_mw_add_w_(&COST_X(c, 0), w74, k * COST_MINUS_);
 }
 
-/* A product of a bits_a-bit by a bits_b-bit operand (the exact widths). */
-COST_INLINE_ void cost_mw_mul(struct cost *c, int bits_a, int bits_b)
+COST_INLINE_ void cost_mw_add(struct cost *c, int bits) { cost_mw_add_n(c, bits, 1); }
+
+/* k products of a bits_a-bit by a bits_b-bit operand (the exact widths); cost_mw_mul one. */
+COST_INLINE_ void cost_mw_mul_n(struct cost *c, int bits_a, int bits_b, uint64_t k)
 {
-  (void)bits_a; (void)bits_b;
+  (void)bits_a; (void)bits_b; (void)k;
   COST_OFF_(c);
   uint64_t wa = cost_words(bits_a), wb = cost_words(bits_b);
   uint64_t a74 = cost_cap_(wa, COST_1974_MUL_WORDS), b74 = cost_cap_(wb, COST_1974_MUL_WORDS);
-  cost_mw_mul_w_(c->n, a74, b74, COST_PLUS_);
+  cost_mw_mul_w_(c->n, a74, b74, k * COST_PLUS_);
   if (wa == a74 && wb == b74) return;
-  cost_mw_mul_w_(&COST_X(c, 0), wa, wb, COST_PLUS_);
-  cost_mw_mul_w_(&COST_X(c, 0), a74, b74, COST_MINUS_);
+  cost_mw_mul_w_(&COST_X(c, 0), wa, wb, k * COST_PLUS_);
+  cost_mw_mul_w_(&COST_X(c, 0), a74, b74, k * COST_MINUS_);
 }
 
-/* A quotient of a bits_n-bit dividend by a bits_d-bit divisor (the exact widths). */
-COST_INLINE_ void cost_mw_div(struct cost *c, int bits_n, int bits_d)
+COST_INLINE_ void cost_mw_mul(struct cost *c, int bits_a, int bits_b)
 {
-  (void)bits_n; (void)bits_d;
+  cost_mw_mul_n(c, bits_a, bits_b, 1);
+}
+
+/* k quotients of a bits_n-bit dividend by a bits_d-bit divisor (the exact widths);
+   cost_mw_div one. */
+COST_INLINE_ void cost_mw_div_n(struct cost *c, int bits_n, int bits_d, uint64_t k)
+{
+  (void)bits_n; (void)bits_d; (void)k;
   COST_OFF_(c);
   uint64_t wn = cost_words(bits_n), wd = cost_words(bits_d);
   uint64_t n74 = cost_cap_(wn, COST_1974_DIVN_WORDS), d74 = cost_cap_(wd, COST_1974_DIVD_WORDS);
-  cost_mw_div_w_(c->n, n74, d74, COST_PLUS_);
+  cost_mw_div_w_(c->n, n74, d74, k * COST_PLUS_);
   if (wn == n74 && wd == d74) return;
-  cost_mw_div_w_(&COST_X(c, 0), wn, wd, COST_PLUS_);
-  cost_mw_div_w_(&COST_X(c, 0), n74, d74, COST_MINUS_);
+  cost_mw_div_w_(&COST_X(c, 0), wn, wd, k * COST_PLUS_);
+  cost_mw_div_w_(&COST_X(c, 0), n74, d74, k * COST_MINUS_);
+}
+
+COST_INLINE_ void cost_mw_div(struct cost *c, int bits_n, int bits_d)
+{
+  cost_mw_div_n(c, bits_n, bits_d, 1);
 }
 
 /* Add every counter of `from` into `into`. */

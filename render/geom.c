@@ -33,17 +33,6 @@ int geom_side(struct gline l, struct gpoint p)
   return (v > 0) - (v < 0);
 }
 
-bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out)
-{
-  wide W = (wide)l1.a * l2.b - (wide)l2.a * l1.b;
-  if (W == 0) return false;
-  wide X = (wide)l1.b * l2.c - (wide)l2.b * l1.c;
-  wide Y = (wide)l1.c * l2.a - (wide)l2.c * l1.a;
-  if (W < 0) { W = -W; X = -X; Y = -Y; }
-  out->X = X; out->Y = Y; out->W = W;
-  return true;
-}
-
 struct grat geom_x_at(struct gline l, int64_t yn, int64_t yd)
 {
   assert(l.a != 0 && yd > 0);
@@ -53,12 +42,6 @@ struct grat geom_x_at(struct gline l, int64_t yn, int64_t yd)
   r.den = (wide)l.a * yd;
   if (r.den < 0) { r.den = -r.den; r.num = -r.num; }
   return r;
-}
-
-int geom_rat_cmp(struct grat p, struct grat q)
-{
-  wide l = p.num * q.den, r = q.num * p.den;
-  return (l > r) - (l < r);
 }
 
 int geom_rat_cmp_frac(struct grat p, int64_t n, int64_t d)

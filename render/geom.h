@@ -81,16 +81,31 @@ static inline int geom_side_h(struct gline l, struct hpoint p)
   return (v > 0) - (v < 0);
 }
 
-/* Where two lines meet; false when they are parallel. */
-bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out);
+/* Where two lines meet; false when they are parallel. Inline: every piece's vertices and
+   every clip's new ones (issue 19). */
+static inline bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out)
+{
+  wide W = (wide)l1.a * l2.b - (wide)l2.a * l1.b;
+  if (W == 0) return false;
+  wide X = (wide)l1.b * l2.c - (wide)l2.b * l1.c;
+  wide Y = (wide)l1.c * l2.a - (wide)l2.c * l1.a;
+  if (W < 0) { W = -W; X = -X; Y = -Y; }
+  out->X = X; out->Y = Y; out->W = W;
+  return true;
+}
 
 /* ---- rationals on scanlines --------------------------------------------------------- */
 
 /* x where the non-horizontal line l meets y = yn/yd (yd > 0). */
 struct grat geom_x_at(struct gline l, int64_t yn, int64_t yd);
 
-/* Compare two rationals: -1, 0, 1. */
-int geom_rat_cmp(struct grat p, struct grat q);
+/* Compare two rationals: -1, 0, 1. Inline: the sweep's orders compare a line's span ends
+   millions of times a frame (issue 19). */
+static inline int geom_rat_cmp(struct grat p, struct grat q)
+{
+  wide l = p.num * q.den, r = q.num * p.den;
+  return (l > r) - (l < r);
+}
 
 /* Compare a rational with n/d (d > 0). */
 int geom_rat_cmp_frac(struct grat p, int64_t n, int64_t d);

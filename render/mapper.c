@@ -27,6 +27,7 @@
 ** exact ear clipping in its plane, holes bridged first (mapper_split_face).
 */
 #include "render/mapper.h"
+#include "render/pool.h"
 #include "render/rsort.h"
 #include "render/shade.h"
 
@@ -121,36 +122,6 @@ static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t (*xyz)[3], int 
     uint32_t ti = id[a]; id[a] = id[b]; id[b] = ti;
     for (int c = 0; c < 3; c++) { int32_t t = xyz[a][c]; xyz[a][c] = xyz[b][c]; xyz[b][c] = t; }
   }
-}
-
-/* The pool of mapper_run's faces: a chain of blocks, each handed out from its start in
-   units of max_align_t (so every face's arrays start aligned). */
-struct mpool {
-  struct mpool *next;
-  size_t used, cap;         /* units of data */
-  max_align_t data[];
-};
-
-#define MPOOL_BLOCK_BYTES ((size_t)1 << 20)
-
-static void *mpool_alloc(struct mapped *m, size_t bytes)
-{
-  size_t units = (bytes + sizeof(max_align_t) - 1) / sizeof(max_align_t);
-  struct mpool *b = m->pool;
-  if (!b || b->cap - b->used < units) {
-    size_t cap = MPOOL_BLOCK_BYTES / sizeof(max_align_t);
-    if (units > cap) cap = units;
-    if (cap > (SIZE_MAX - sizeof *b) / sizeof(max_align_t)) return NULL;
-    struct mpool *nb = malloc(sizeof *nb + cap * sizeof(max_align_t));
-    if (!nb) return NULL;
-    nb->next = b;
-    nb->used = 0;
-    nb->cap = cap;
-    m->pool = b = nb;
-  }
-  void *p = b->data + b->used;
-  b->used += units;
-  return p;
 }
 
 /* A face's ring_start, pt, vid, xyz: in the pool (mapper_run), or four allocations (the
@@ -357,10 +328,45 @@ static int face_plane(const struct scene *s, const struct scene_face *f, int64_t
   return 0;
 }
 
+/* Forget the T-junctions (the blocks stay). */
+static void tj_forget(struct mapper_keep *k)
+{
+  free(k->ring);
+  free(k->start);
+  k->s = NULL;
+  k->ring = k->start = NULL;
+  k->n = k->cap = 0;
+  memset(&k->cost, 0, sizeof k->cost);
+}
+
+void mapper_keep_free(struct mapper_keep *k)
+{
+  tj_forget(k);
+  pool_free(&k->pool);
+}
+
+void mapper_keep_faces(struct mapped *m, struct mapper_keep *k)
+{
+  pool_reset(&m->pool);
+  pool_free(&k->pool);
+  k->pool = m->pool;
+  memset(&m->pool, 0, sizeof m->pool);
+}
+
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
                struct cost *cost, struct t74_error *err)
 {
+  return mapper_run_kept(s, out, core, cost, NULL, err);
+}
+
+int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core,
+                    struct cost *cost, struct mapper_keep *kt, struct t74_error *err)
+{
   memset(out, 0, sizeof *out);
+  if (kt) {                                 /* the last run's blocks */
+    out->pool = kt->pool;
+    memset(&kt->pool, 0, sizeof kt->pool);
+  }
   const int64_t X0 = s->view[0], Y0 = s->view[1], Z0 = s->view[2];
   const int64_t f = -Z0;                    /* distance from the eye to the plane, > 0 */
   out->eye[0] = X0; out->eye[1] = Y0; out->eye[2] = Z0;
@@ -405,9 +411,27 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     core_write(core, a + 5, (uint16_t)(proj[k].y / GRID_ONE));
   }
 
+  /* The T-junctions: taken from kt when it holds this scene's (replay), else searched for
+     (tj), the rings built in the scratch ring[] or, to be kept, in kt's own array. The
+     search's charges go to tjc, added to cost at the end either way. */
+  bool replay = kt && kt->s == s;
   struct tjunc tj;
+  memset(&tj, 0, sizeof tj);
+  struct cost tjc = { { 0 } };
   int *ring = NULL, nring_v = 0, capring = 0;
-  if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+  int **rbuf = &ring, *rn = &nring_v, *rcap = &capring;
+  if (!replay) {
+    if (kt) {
+      tj_forget(kt);
+      int nrings = 0;
+      for (int fi = 0; fi < s->nf; fi++) nrings += s->f[fi].nring;
+      kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
+      if (!kt->start) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+      rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;
+    }
+    if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+  }
+  int g0 = 0;                               /* the scene's first ring of face fi */
 
   uint32_t at;
   if (core_alloc(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
@@ -415,6 +439,8 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
   for (int fi = 0; fi < s->nf; fi++) {
     const struct scene_face *sf = &s->f[fi];
     struct mface *m = &out->f[out->nface];
+    int g = g0;
+    g0 += sf->nring;
     int64_t pl[4];
     if (!face_plane(s, sf, pl)) { out->dropped++; continue; }
     cost_mw_mul(cost, 17, 17);
@@ -423,30 +449,36 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     if (pe == 0) { out->dropped++; continue; }     /* edge-on: the plane holds the eye */
     if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
 
-    /* the rings with T-junction vertices inserted: ring r is ring[rs[r] .. rs[r+1]) */
+    /* the rings with T-junction vertices inserted: ring r is rv[rs[r] .. rs[r+1]) */
     int rs[sf->nring + 1];
-    nring_v = 0;
-    for (int r = 0; r < sf->nring; r++) {
-      rs[r] = nring_v;
-      int b = sf->ring_start[r], e = sf->ring_start[r + 1];
-      for (int k = b; k < e; k++) {
-        if (nring_v == capring) {
-          int c = capring ? 2 * capring : 64;
-          int *nb = realloc(ring, (size_t)c * sizeof *nb);
-          if (!nb) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
-          ring = nb;
-          capring = c;
-        }
-        ring[nring_v++] = sf->vidx[k];
-        int nx = k + 1 < e ? k + 1 : b;
-        if (!tj_edge(&tj, sf->vidx[k], sf->vidx[nx], &ring, &nring_v, &capring, cost)) {
-          t74_fail(err, T74_EIO, "out of host memory");
-          goto fail_tj;
+    if (replay) {
+      for (int r = 0; r <= sf->nring; r++) rs[r] = kt->start[g + r];
+    } else {
+      if (!kt) nring_v = 0;
+      for (int r = 0; r < sf->nring; r++) {
+        rs[r] = *rn;
+        int b = sf->ring_start[r], e = sf->ring_start[r + 1];
+        for (int k = b; k < e; k++) {
+          if (*rn == *rcap) {
+            int c = *rcap ? 2 * *rcap : 64;
+            int *nb = realloc(*rbuf, (size_t)c * sizeof *nb);
+            if (!nb) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+            *rbuf = nb;
+            *rcap = c;
+          }
+          (*rbuf)[(*rn)++] = sf->vidx[k];
+          int nx = k + 1 < e ? k + 1 : b;
+          if (!tj_edge(&tj, sf->vidx[k], sf->vidx[nx], rbuf, rn, rcap, &tjc)) {
+            t74_fail(err, T74_EIO, "out of host memory");
+            goto fail_tj;
+          }
         }
       }
+      rs[sf->nring] = *rn;
+      if (kt) for (int r = 0; r <= sf->nring; r++) kt->start[g + r] = rs[r];
     }
-    rs[sf->nring] = nring_v;
-    int nv = nring_v;
+    const int *rv = replay ? kt->ring : *rbuf;
+    int nv = rs[sf->nring] - rs[0];
     /* the face's arrays in one piece of the pool (100,000 faces: 400,000 fewer mallocs
        a frame), the widest elements first so each array stays aligned */
     size_t bytes = (size_t)nv * (sizeof *m->pt + sizeof *m->xyz + sizeof *m->vid) +
@@ -454,7 +486,7 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     _Static_assert(_Alignof(struct gpoint) >= _Alignof(int32_t[3]) &&
                    _Alignof(int32_t[3]) >= _Alignof(uint32_t) &&
                    _Alignof(uint32_t) >= _Alignof(int), "mface block layout");
-    m->pt = mpool_alloc(out, bytes);
+    m->pt = pool_alloc(&out->pool, bytes, _Alignof(struct gpoint));
     if (!m->pt) {
       t74_fail(err, T74_EIO, "out of host memory");
       goto fail_tj;
@@ -470,9 +502,9 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
     for (int r = 0; r < sf->nring && keep; r++) {
       int start = np;
       for (int k = rs[r]; k < rs[r + 1]; k++) {
-        struct gpoint p = proj[ring[k]];
+        struct gpoint p = proj[rv[k]];
         if (np > start && p.x == m->pt[np - 1].x && p.y == m->pt[np - 1].y) continue;
-        const struct scene_vertex *sv = &s->v[ring[k]];
+        const struct scene_vertex *sv = &s->v[rv[k]];
         m->pt[np] = p;
         m->vid[np] = sv->id;
         m->xyz[np][0] = sv->x; m->xyz[np][1] = sv->y; m->xyz[np][2] = sv->z;
@@ -527,11 +559,17 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
   free(ring);
   tj_free(&tj);
   free(proj);
+  if (kt && !replay) {
+    kt->s = s;
+    kt->cost = tjc;
+  }
+  cost_merge(cost, replay ? &kt->cost : &tjc);
   return T74_OK;
 
 fail_tj:
   free(ring);
   tj_free(&tj);
+  if (kt && !replay) tj_forget(kt);
 fail:
   free(proj);
   mapper_free(out);
@@ -858,9 +896,5 @@ void mapper_free(struct mapped *m)
     m->f = NULL;
     m->nface = 0;
   }
-  for (struct mpool *b = m->pool, *nx; b; b = nx) {
-    nx = b->next;
-    free(b);
-  }
-  m->pool = NULL;
+  pool_free(&m->pool);
 }

@@ -17,6 +17,7 @@
 #include "emu/status.h"
 #include "render/geom.h"
 #include "render/scene.h"
+#include "render/pool.h"
 
 struct mface {
   uint32_t id;              /* input face number */
@@ -45,7 +46,7 @@ struct mapped {
   int split;                /* faces split into triangles because rounding made them
                                not simple (mapper_split_face) */
   int64_t eye[3];           /* X0, Y0, Z0 (world units) */
-  void    *pool;            /* host blocks holding pooled faces' arrays (issue 12: one
+  struct pool pool;         /* host blocks holding pooled faces' arrays (issue 12: one
                                malloc a face fewer), freed by mapper_free */
 };
 
@@ -63,6 +64,33 @@ static inline bool mface_coplanar_front(const struct mface *A, const struct mfac
 /* Map a checked scene. T74_EINPUT when a vertex projects outside the plane grid. */
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
                struct cost *cost, struct t74_error *err);
+
+/* What mapper_run keeps from one run to the next of the same scene (issue 19, --frames):
+   the T-junctions as it found them, each face's rings with the vertices lying on its
+   edges inserted, and the operations the search was charged; and the host blocks of the
+   last run's faces (mapper_keep_faces). Host memory only. */
+struct mapper_keep {
+  const struct scene *s;    /* the scene the T-junctions are of; NULL: none found yet */
+  int *ring;                /* scene ring g (face f's ring r is g = f's first + r):
+                               ring[start[g] .. start[g + 1]) */
+  int *start;               /* one more than the scene's rings */
+  int  n, cap;              /* entries of ring, room */
+  struct cost cost;         /* what the search charged (the 1974 program's x-slab scans
+                               and exact tests) */
+  struct pool pool;         /* blocks for the next run's faces */
+};
+
+/* mapper_run with what k keeps: when k holds the T-junctions of s, they are taken from it
+   and its charges added to cost, as the search would have charged them (the mapped scene,
+   the core and the counts are those of mapper_run); otherwise they are searched for as
+   mapper_run does and, when the scene maps, kept in k. The faces' arrays take k's blocks. */
+int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core,
+                    struct cost *cost, struct mapper_keep *k, struct t74_error *err);
+
+/* Before mapper_free: m's blocks to k, for the next mapper_run_kept. */
+void mapper_keep_faces(struct mapped *m, struct mapper_keep *k);
+
+void mapper_keep_free(struct mapper_keep *k);
 
 /* Face k, whose grid polygon the Segment Generator refused as not simple (the rounding
    of its vertices, seen almost edge-on or from far away, folded it), is split into

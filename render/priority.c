@@ -115,6 +115,26 @@ static unsigned slot_code(const struct prio *pr, uint64_t s)
   return core_high_get(pr->core, (uint32_t)(s * SLOT_WORDS)) >> 14;
 }
 
+/* The tags. Beside the sparse table the host keeps one byte a slot, pr->tag[s]: 0 for an
+   empty slot, else TAG_USED, TAG_LOW when the slot's piece i is below 2^16 (its first
+   word then holds 0 beside the code), and six bits of a hash of i. A look walks its
+   probe sequence through the tags instead of the table: every slot whose tag says how
+   its words compare with the pair's is counted without reading it (a different i: when
+   both are below 2^16 the first words agree and the second differs, two loads; when one
+   is and the other is not the first words differ, one load), an empty slot ends the walk
+   (one load: the pair is not held), and only a slot whose tag cannot tell (the same tag,
+   or both pieces above 2^16) is compared in the table itself, word by word as the probe
+   does. So the answer and the words charged are the probe's exactly; the host reads a
+   byte a slot, from a table an eighth of the size, instead of four words. Each slot's tag
+   is written with its words (slot_put), and a rebuild starts both afresh. */
+#define TAG_USED 0x80u
+#define TAG_LOW  0x40u
+
+static uint8_t slot_tag(uint32_t i)
+{
+  return (uint8_t)(TAG_USED | (i < 0x10000u ? TAG_LOW : 0) | ((i * 0x9E3779B1u) >> 26));
+}
+
 static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsigned code)
 {
   uint32_t k = (uint32_t)(s * SLOT_WORDS);
@@ -122,6 +142,7 @@ static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsign
   core_high_set(pr->core, k + 1, (uint16_t)i);
   core_high_set(pr->core, k + 2, (uint16_t)(j >> 16));
   core_high_set(pr->core, k + 3, (uint16_t)j);
+  if (pr->tag) pr->tag[s] = slot_tag(i);
   COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);
 }
 
@@ -138,55 +159,62 @@ static void charge_home(const struct prio *pr)
   cost_mw_mul(pr->cost, 16, 32);
 }
 
-/* The slot holding (i, j), or the empty slot where it belongs. A probe loads the slot's
-   first word (empty, or code and i's high bits) and goes on comparing word by word only
-   while they match: the words compared are what is charged. */
-static uint64_t slot_find_n(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
-                            uint64_t *nloads)
+/* One probe of slot s for (i, j): it loads the slot's first word (empty, or code and i's
+   high bits) and goes on comparing word by word only while they match. Returns 1 when
+   the slot holds (i, j) or is empty (where the probe stops), with *loads the words it
+   loaded. */
+static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32_t j,
+                             uint64_t *loads)
 {
-  const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
-  uint16_t w0 = (uint16_t)(i >> 16), w1 = (uint16_t)i, w2 = (uint16_t)(j >> 16),
-           w3 = (uint16_t)j;
-  uint64_t s = slot_hash(i, j, cap), loads = 0;
+  const uint16_t *w = top - s * SLOT_WORDS;
+  *loads = 1;
+  if ((w[0] >> 14) == CODE_UNKNOWN) return 1;
+  if ((w[0] & 0x3fff) != (uint16_t)(i >> 16)) return 0;
+  ++*loads;
+  if (w[-1] != (uint16_t)i) return 0;
+  ++*loads;
+  if (w[-3] != (uint16_t)j) return 0;
+  ++*loads;
+  return w[-2] == (uint16_t)(j >> 16);
+}
+
+/* The slot holding (i, j), or the empty slot where it belongs, and its code (*code:
+   CODE_UNKNOWN for an empty slot); the words the probes compared are charged (and the
+   home slot). Through the tags when there are (and tests have not turned them off), else
+   through the table. */
+static inline uint64_t slot_find(struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
+                                 unsigned *code)
+{
+  uint64_t s = slot_hash(i, j, cap), loads = 0, l;
   charge_home(pr);
-  for (;;) {
-    const uint16_t *w = top - s * SLOT_WORDS;
-    loads++;
-    if ((w[0] >> 14) == CODE_UNKNOWN) break;
-    if ((w[0] & 0x3fff) == w0) {
-      loads++;
-      if (w[-1] == w1) {
-        loads++;
-        if (w[-3] == w3) {
-          loads++;
-          if (w[-2] == w2) break;
-        }
+  if (pr->tag && !pr->tag_off) {
+    const uint8_t *tag = pr->tag;
+    const uint8_t q = slot_tag(i);
+    for (;; s = s + 1 == cap ? 0 : s + 1) {
+      const uint8_t t = tag[s];
+      if (!t) { loads++; *code = CODE_UNKNOWN; break; }  /* empty: where the pair belongs */
+      if (t != q) {
+        if (t & q & TAG_LOW) { loads += 2; continue; }   /* i differs, both below 2^16 */
+        if ((t ^ q) & TAG_LOW) { loads += 1; continue; }  /* one above 2^16, one below */
       }
+      const uint16_t *top = core_high_top(pr->core);    /* the table must tell */
+      int stop = slot_probe(top, s, i, j, &l);
+      loads += l;
+      if (stop) { *code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
     }
-    s = s + 1 == cap ? 0 : s + 1;
+    pr->tag_looks++;
+  } else {
+    const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
+    while (!slot_probe(top, s, i, j, &l)) {
+      loads += l;
+      s = s + 1 == cap ? 0 : s + 1;
+    }
+    loads += l;
+    *code = top[-(int64_t)(s * SLOT_WORDS)] >> 14;
   }
   COST_ADD_N(pr->cost, COST_MEM, loads);
-  *nloads = loads;
   return s;
 }
-
-static uint64_t slot_find(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j)
-{
-  uint64_t loads;
-  return slot_find_n(pr, cap, i, j, &loads);
-}
-
-/* A host-side memo of the sparse store's answers: the pair, its code (0: not held), the
-   words the probe sequence loaded and the slot it ended at. Linear probing, no deletions:
-   until the table is rebuilt, the slots a probe passes keep what they hold, and only an
-   empty slot can change (be filled). So a pair held keeps its answer; a pair not held
-   keeps its answer while the empty slot its probe ended at stays empty (a new pair fills
-   the first empty slot of its own path: filling any other slot of this path is
-   impossible, they are full). A memo hit charges exactly what the probe would and returns
-   what it would; a rebuild forgets the memo. It only spares the host the walk through a
-   large table (the sweep's order_of asks the same pairs not held again and again). */
-#define PRIO_MEMO_SLOTS 32768u
-struct prio_memo { uint32_t i, j, code, loads, slot; };    /* loads 0: an empty entry */
 
 /* Moving the pairs to a new store. The stored program reads the old store through and
    lists the pairs held (4 words a pair, as in a slot) in the words beyond both the old
@@ -260,15 +288,16 @@ static int sparse_rebuild(struct prio *pr, uint64_t slots, struct t74_error *err
   pr->store = PRIO_SPARSE;
   pr->hcap = slots;
   pr->cover = 0;
+  free(pr->tag);                                         /* NULL: probes read the table */
+  pr->tag = slots <= SIZE_MAX ? calloc((size_t)slots, 1) : NULL;
   for (uint64_t k = 0; k < n; k++) {
     COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);          /* an entry read from the list */
-    slot_put(pr, slot_find(pr, slots, list[k][0], list[k][1]), list[k][0], list[k][1],
+    unsigned held;
+    slot_put(pr, slot_find(pr, slots, list[k][0], list[k][1], &held), list[k][0], list[k][1],
              list[k][2]);
   }
   free(list);
   pr->hused = n;
-  if (!pr->memo) pr->memo = malloc(PRIO_MEMO_SLOTS * sizeof *pr->memo);  /* NULL: no memo */
-  if (pr->memo) memset(pr->memo, 0, PRIO_MEMO_SLOTS * sizeof *pr->memo);
   return T74_OK;
 }
 
@@ -286,6 +315,8 @@ static int dense_rebuild(struct prio *pr, struct t74_error *err)
   COST_ADD_N(pr->cost, COST_MEM, words);                 /* the triangle cleared */
   pr->store = PRIO_DENSE;
   pr->hcap = 0;
+  free(pr->tag);
+  pr->tag = NULL;
   pr->cover = pieces;
   for (uint64_t k = 0; k < n; k++) {
     COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS + 1);      /* read from the list, stored */
@@ -310,7 +341,7 @@ static int dense_cover(struct prio *pr, uint64_t n, struct t74_error *err)
   return T74_OK;
 }
 
-static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
+static inline unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
 {
   COST_ADD_N(pr->cost, COST_MEM, 1);
   if (pr->store == PRIO_DENSE) {
@@ -318,26 +349,8 @@ static unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
     return core_high_get2(pr->core, (uint64_t)j * (j - 1) / 2 + i);
   }
   if (pr->hcap == 0) return CODE_UNKNOWN;
-  struct prio_memo *h = NULL;
-  if (pr->memo && !pr->memo_off) {
-    h = &pr->memo[(i * 0x9E3779B1u ^ j * 0x85EBCA77u) >> 17 & (PRIO_MEMO_SLOTS - 1)];
-    if (h->loads && h->i == i && h->j == j &&
-        (h->code != CODE_UNKNOWN || slot_code(pr, h->slot) == CODE_UNKNOWN)) {
-      charge_home(pr);
-      COST_ADD_N(pr->cost, COST_MEM, h->loads);
-      pr->memo_hits++;
-      return h->code;
-    }
-  }
-  uint64_t loads, s = slot_find_n(pr, pr->hcap, i, j, &loads);
-  unsigned code = slot_code(pr, s);
-  if (h && loads <= UINT32_MAX) {
-    h->i = i;
-    h->j = j;
-    h->code = code;
-    h->loads = (uint32_t)loads;
-    h->slot = (uint32_t)s;
-  }
+  unsigned code;
+  slot_find(pr, pr->hcap, i, j, &code);
   return code;
 }
 
@@ -373,7 +386,8 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
     }
     if (sparse_rebuild(pr, slots, err) != T74_OK) return err->status;
   }
-  slot_put(pr, slot_find(pr, pr->hcap, i, j), i, j, code);
+  unsigned held;
+  slot_put(pr, slot_find(pr, pr->hcap, i, j, &held), i, j, code);
   pr->hused++;
   return T74_OK;
 }
@@ -461,6 +475,14 @@ static wide round_div(wide n, wide d)
   return q;
 }
 
+/* round_div(n, d) = floor(n/d + 1/2) lies in [-lim, lim], decided without the divide
+   (|n| < 2^115, |d| < 2^86, lim = 2^28: every product below 2^117) */
+static bool round_in(wide n, wide d, wide lim)
+{
+  if (d < 0) { n = -n; d = -d; }
+  return 2 * n + d >= -2 * lim * d && 2 * n < (2 * lim + 1) * d;
+}
+
 /* plane(V) == 0 for a vertex in space, exactly (|terms| < 2^51) */
 static bool on_plane(const int64_t pl[4], const int32_t v[3])
 {
@@ -476,8 +498,8 @@ static int common_points(const struct mface *A, const struct mface *B, struct gp
   const struct mface *F[2] = { A, B };
   for (int s = 0; s < 2; s++) {
     const struct mface *f = F[s], *o = F[1 - s];
+    cost_mw_mul_n(cost, 34, 17, (uint64_t)f->ring_start[f->nring]);   /* one a vertex */
     for (int k = 0; k < f->ring_start[f->nring]; k++) {
-      cost_mw_mul(cost, 34, 17);
       if (!on_plane(o->plane, f->xyz[k])) continue;
       struct gpoint p = f->pt[k];
       if (n == 0 || (n == 1 && (p.x != out[0].x || p.y != out[0].y))) out[n++] = p;
@@ -534,14 +556,20 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
   if (ncommon < 2) {
     if (g.k1 != 0) {            /* sides x = -lim and x = +lim */
       for (int s = -1; s <= 1; s += 2) {
-        wide y = round_div(-(g.k0 * (s * lim) + g.K), g.k1);
-        if (y >= -lim && y <= lim) { pt[n].x = (gcoord)(s * lim); pt[n].y = (gcoord)y; n++; }
+        wide num = -(g.k0 * (s * lim) + g.K);
+        if (!round_in(num, g.k1, lim)) continue;
+        pt[n].x = (gcoord)(s * lim);
+        pt[n].y = (gcoord)round_div(num, g.k1);
+        n++;
       }
     }
     if (g.k0 != 0) {            /* sides y = -lim and y = +lim */
       for (int s = -1; s <= 1; s += 2) {
-        wide x = round_div(-(g.k1 * (s * lim) + g.K), g.k0);
-        if (x >= -lim && x <= lim) { pt[n].x = (gcoord)x; pt[n].y = (gcoord)(s * lim); n++; }
+        wide num = -(g.k1 * (s * lim) + g.K);
+        if (!round_in(num, g.k0, lim)) continue;
+        pt[n].x = (gcoord)round_div(num, g.k0);
+        pt[n].y = (gcoord)(s * lim);
+        n++;
       }
     }
   }
@@ -560,12 +588,6 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
   if ((wide)l.a * g.k0 + (wide)l.b * g.k1 < 0) l = geom_line(pt[bj], pt[bi]);
   *out = l;
   return true;
-}
-
-static struct gline reversed(struct gline l)
-{
-  struct gline r = { -l.a, -l.b, -l.c };
-  return r;
 }
 
 /* Does a side of piece X lie on line l (either way round)? */
@@ -603,12 +625,39 @@ static int add_half(struct prio *pr, int face, const struct cpoly *c, struct t74
   return seginfo_add(pr->seg, face, c->n, c->line, err);
 }
 
-/* Remember that faces fa and fb were cut along l (once a pair). */
+/* The unordered face pair {fa, fb} as a key of the host's index of pr->cut (never 0). */
+static uint64_t cut_key(int fa, int fb)
+{
+  return ((uint64_t)(uint32_t)(fa < fb ? fa : fb) << 32 | (uint32_t)(fa < fb ? fb : fa)) + 1;
+}
+
+/* The slot of {fa, fb} in that index (open addressing, cuthcap a power of two): the slot
+   holding it, or the empty one where it belongs. */
+static uint32_t cut_slot(const struct prio *pr, int fa, int fb)
+{
+  uint64_t key = cut_key(fa, fb);
+  uint32_t m = pr->cuthcap - 1, s = (uint32_t)((key * 0x9E3779B97F4A7C15ull) >> 32) & m;
+  while (pr->cuth[s] && pr->cuth[s] != key) s = (s + 1) & m;
+  return s;
+}
+
+/* Remember that faces fa and fb were cut along l (once a pair: the first line stays). */
 static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_error *err)
 {
-  for (int k = pr->ncut - 1; k >= 0; k--)      /* the latest first: a pair cut again */
-    if ((pr->cut[k].fa == fa && pr->cut[k].fb == fb) || (pr->cut[k].fa == fb && pr->cut[k].fb == fa))
-      return T74_OK;
+  if (2 * ((uint64_t)pr->ncut + 1) > pr->cuthcap) {      /* the index at most half full */
+    uint32_t cap = pr->cuthcap ? 2 * pr->cuthcap : 64;
+    uint64_t *h = calloc(cap, sizeof *h);
+    if (!h) return t74_fail(err, T74_EIO, "out of host memory");
+    free(pr->cuth);
+    pr->cuth = h;
+    pr->cuthcap = cap;
+    for (int k = 0; k < pr->ncut; k++) {
+      const struct prio_cut *c = &pr->cut[k];
+      h[cut_slot(pr, c->fa, c->fb)] = cut_key(c->fa, c->fb);
+    }
+  }
+  uint32_t s = cut_slot(pr, fa, fb);
+  if (pr->cuth[s]) return T74_OK;
   if (pr->ncut == pr->cutcap) {
     int c = pr->cutcap ? 2 * pr->cutcap : 16;
     struct prio_cut *n = realloc(pr->cut, (size_t)c * sizeof *n);
@@ -616,6 +665,7 @@ static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_
     pr->cut = n;
     pr->cutcap = c;
   }
+  pr->cuth[s] = cut_key(fa, fb);
   pr->cut[pr->ncut].fa = fa;
   pr->cut[pr->ncut].fb = fb;
   pr->cut[pr->ncut].line = l;
@@ -625,12 +675,15 @@ static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_
 
 void prio_free(struct prio *pr)
 {
-  free(pr->memo);
-  pr->memo = NULL;
+  free(pr->tag);
+  pr->tag = NULL;
   for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
   free(pr->cut);
   pr->cut = NULL;
   pr->ncut = pr->cutcap = 0;
+  free(pr->cuth);
+  pr->cuth = NULL;
+  pr->cuthcap = 0;
 }
 
 /* Decide pieces i < j. Returns the code for (i, j), DECIDED_SPLIT, or PRIO_ERROR. */
@@ -707,21 +760,20 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
        vertices kept: seginfo_add), the clip to the other has no interior. Host work
        spared, the 1974 work of both clips charged as seginfo_clip does (one product a
        vertex). */
-    for (int k = 0; k < 2 * P->n; k++) cost_mw_mul(pr->cost, 88, 58);
+    cost_mw_mul_n(pr->cost, 88, 58, 2 * (uint64_t)P->n);
     hasl = side > 0;
     hasr = side < 0;
     ovl = hasl && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
     ovr = hasr && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
   } else {
-    hasl = seginfo_clip(P, L, pl, pr->cost);
-    hasr = seginfo_clip(P, reversed(L), pr_, pr->cost);
+    seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, pr->cost);
     ovl = hasl && seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost);
     ovr = hasr && seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost);
   }
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
-    bool qhl = seginfo_clip(Q, L, ql, pr->cost);
-    bool qhr = seginfo_clip(Q, reversed(L), qr, pr->cost);
+    bool qhl, qhr;
+    seginfo_clip_both(Q, L, ql, &qhl, qr, &qhr, pr->cost);
     int pf = P->face, qf = Q->face;
     if (add_half(pr, pf, pl, err) < 0 || add_half(pr, pf, pr_, err) < 0) return PRIO_ERROR;
     if (qhl && qhr && (add_half(pr, qf, ql, err) < 0 || add_half(pr, qf, qr, err) < 0))
@@ -769,13 +821,38 @@ int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
 }
 
-int prio_known(struct prio *pr, int p, int q)
+static inline int known(struct prio *pr, int p, int q)
 {
   uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
   unsigned code = code_get(pr, i, j);
   if (code == CODE_UNKNOWN) return 0;
   bool i_front = code == CODE_HIGHER;
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+int prio_known(struct prio *pr, int p, int q)
+{
+  return known(pr, p, q);
+}
+
+/* The parent of piece p (seginfo), one word loaded. */
+static inline int parent(const struct prio *pr, int p, struct cost *cost)
+{
+  COST_ADD_N(cost, COST_MEM, 1);
+  return pr->seg->p[p].parent;
+}
+
+int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                       struct cost *cost)
+{
+  int r = known(pr, b, c);
+  if (r) return r;
+  for (int a = pb, k = 0; a >= 0 && k < anc_max; a = parent(pr, a, cost), k++)
+    if ((r = known(pr, a, c))) return r;
+  for (int a = pc, k = 0; a >= 0 && k < anc_max; a = parent(pr, a, cost), k++)
+    if ((r = known(pr, b, a))) return r;
+  if (pb >= 0 && pc >= 0 && (r = known(pr, pb, pc))) return r;
+  return 0;
 }
 
 /* qsort order of listed pairs {i, j, code}: by j, then i */

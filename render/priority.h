@@ -31,7 +31,6 @@ enum prio_store { PRIO_AUTO = 0, PRIO_DENSE = 1, PRIO_SPARSE = 2 };
 /* One pair of faces found crossing, and the line L~ both were cut along (kept for the
    intersection lines of enhanced edges, paper 002 e4; host memory, one entry a pair). */
 struct prio_cut { int fa, fb; struct gline line; };
-struct prio_memo;
 
 struct prio {
   struct seginfo *seg;
@@ -44,15 +43,18 @@ struct prio {
   uint64_t hused;           /* pairs held (either store) */
   int      migrate;         /* PRIO_AUTO: the triangle may be given up for the sparse store */
   int      migrated;        /* it was: the store began dense and became sparse */
-  struct prio_memo *memo;   /* host-side memo of sparse pairs found (priority.c), or NULL */
-  int      memo_off;        /* tests: answer every look from the table (same answers and
-                               charges, by the memo's argument in priority.c) */
-  uint64_t memo_hits;       /* looks the memo answered (host statistic) */
+  uint8_t *tag;             /* sparse: one byte a slot beside the table, host only
+                               (priority.c, "The tags"), or NULL */
+  int      tag_off;         /* tests: every look probes the table itself (the same answers
+                               and charges, by the tags' argument in priority.c) */
+  uint64_t tag_looks;       /* looks the tags answered (host statistic) */
   uint64_t computed;        /* pairs whose priority was computed */
   int      splits;          /* interpenetrating pairs cut along their intersection */
   FILE    *trace;           /* teaching dump of each decision, or NULL */
   struct prio_cut *cut;     /* the face pairs cut along their intersection, in order found */
   int      ncut, cutcap;
+  uint64_t *cuth;           /* host index of the pairs in cut (priority.c note_cut) */
+  uint32_t cuthcap;         /* its slots: 0, or a power of two above 2 ncut */
   int      arith;           /* GEOM_EXACT, or GEOM_HITAC: depth from the 1974 planes */
   struct cpoly clip[4];     /* host scratch of decide's clipped halves, kept from pair to
                                pair (freed by prio_free) */
@@ -79,6 +81,14 @@ int prio_order(struct prio *pr, int p, int q, struct t74_error *err);
 /* The priority of p and q if it is already known (PRIO_FIRST or PRIO_SECOND), else 0;
    never decides (one look at the matrix). */
 int prio_known(struct prio *pr, int p, int q);
+
+/* prio_known of b and c, else of an ancestor of b (its parent, the parent's parent, ...:
+   seginfo's parent, at most anc_max of them) and c, else of b and an ancestor of c, else
+   of the parents pb and pc of b and c (both >= 0), in that order: the first known. Each
+   parent looked up is charged one load to `cost`. 0 when none is known. (The Visible
+   Surface Procedure's order_of: the looks in one place, for the host's speed.) */
+int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                       struct cost *cost);
 
 /* Free the host-side list of cuts (the matrix itself lives in core). */
 void prio_free(struct prio *pr);

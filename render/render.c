@@ -39,7 +39,10 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
     const struct mface *f = &r->map.f[k];
     struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid, r->seg.n + 1 };
     struct seg_result res = { 0 };
-    st = seg_generate(&in, &res, r->tables, r->core, cost, err);
+    struct gline cl[SEG_CONVEX_MAX];       /* a convex face's one piece (seg_convex) */
+    int cn = 0;
+    st = seg_convex(&in, cl, &cn, r->tables, r->core, cost, err);
+    if (st == T74_OK && cn == 0) st = seg_generate(&in, &res, r->tables, r->core, cost, err);
     if (st == T74_EINPUT && r->arith == GEOM_HITAC) {
       /* --arith hitac: the 1974 coordinates folded the face; that program would have
          drawn nothing sensible of it: skip it, with a counted warning */
@@ -86,6 +89,7 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
       goto out;
     }
     r->concave_splits += res.ncut;
+    if (cn > 0 && seginfo_add(&r->seg, k, cn, cl, err) < 0) st = err->status;
     for (int p = 0; p < res.npiece && st == T74_OK; p++)
       if (seginfo_add(&r->seg, k, res.piece[p].n, res.piece[p].line, err) < 0) st = err->status;
     seg_result_free(&res);
@@ -227,7 +231,13 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   memset(r, 0, sizeof *r);
   r->tables = o->tables;
   r->faces_in = s->nf;
-  r->core = core_new(o->core_words);
+  r->keep = o->keep;
+  if (o->keep && o->keep->core && core_words(o->keep->core) == o->core_words) {
+    r->core = o->keep->core;                 /* a core of the last frame, made as new */
+    o->keep->core = NULL;
+    core_reset(r->core);
+  } else
+    r->core = core_new(o->core_words);
   if (!r->core) return t74_fail(err, T74_EIO, "out of host memory for %u words of core",
                                 o->core_words);
   core_set_growth(r->core, o->core_max);
@@ -237,7 +247,12 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
     return err->status;
 
   r->ran[RS_MAPPER] = 1;
-  int st = mapper_run(s, &r->map, r->core, &r->cost[RS_MAPPER], err);
+  if (o->keep) {                             /* the last frame's blocks for the pieces */
+    r->seg.pool = o->keep->seg;
+    memset(&o->keep->seg, 0, sizeof o->keep->seg);
+  }
+  int st = mapper_run_kept(s, &r->map, r->core, &r->cost[RS_MAPPER],
+                           o->keep ? &o->keep->map : NULL, err);
   if (st != T74_OK) return st;
   r->arith = arith;
   if (arith == GEOM_HITAC) hold_h10(&r->map);
@@ -314,6 +329,14 @@ int render_pieces_alive(const struct render *r)
   return n;
 }
 
+void render_keep_free(struct render_keep *k)
+{
+  mapper_keep_free(&k->map);
+  core_free(k->core);
+  k->core = NULL;
+  pool_free(&k->seg);
+}
+
 void render_free(struct render *r)
 {
   free(r->cut_order);
@@ -322,8 +345,19 @@ void render_free(struct render *r)
   r->cut_y = NULL;
   vis_free(&r->vis);
   prio_free(&r->prio);
+  if (r->keep) {                             /* the blocks, for the next frame */
+    pool_reset(&r->seg.pool);
+    pool_free(&r->keep->seg);
+    r->keep->seg = r->seg.pool;
+    memset(&r->seg.pool, 0, sizeof r->seg.pool);
+    mapper_keep_faces(&r->map, &r->keep->map);
+  }
   seginfo_free(&r->seg);
   mapper_free(&r->map);
-  core_free(r->core);
+  if (r->keep && r->core && core_words(r->core) == core_first_words(r->core)) {
+    core_free(r->keep->core);
+    r->keep->core = r->core;
+  } else
+    core_free(r->core);
   r->core = NULL;
 }

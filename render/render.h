@@ -22,6 +22,20 @@
 
 enum render_stage { RS_MAPPER, RS_SEGMENT, RS_VISIBLE, RS_NSTAGE };
 
+/* What one render of a scene keeps for the next renders of the same scene (--frames,
+   issue 19): the T-junctions the Mapper found (mapper.h), so a later frame does not
+   search again (its charges are added all the same: every figure is the first frame's),
+   and the host memory render_free is done with: the core model (core_reset: a core as
+   new) and the blocks of the faces and pieces, so a later frame works in memory already
+   touched. Zeroed before the first render; render_keep_free when done. */
+struct render_keep {
+  struct mapper_keep map;    /* the T-junctions, and the faces' blocks */
+  struct core *core;         /* a core of render_opts.core_words words, not in use, or NULL */
+  struct pool seg;           /* the pieces' blocks */
+};
+
+void render_keep_free(struct render_keep *k);
+
 struct render_opts {
   uint32_t core_words;       /* words of core (16384 in 1974) */
   uint32_t program_words;    /* core taken by the 1974 program itself (0: not charged) */
@@ -29,6 +43,7 @@ struct render_opts {
   FILE    *tables;           /* teaching dump (--dump tables), or NULL */
   uint32_t core_max;         /* > core_words: the core grows up to this many words instead
                                 of refusing (core_set_growth; imports without --core) */
+  struct render_keep *keep;  /* kept from render to render of one scene, or NULL */
 };
 
 struct render {
@@ -50,6 +65,7 @@ struct render {
   int             lazy;              /* 1: the scan drives the Segment Generator */
   int             arith;             /* GEOM_EXACT or GEOM_HITAC (--arith) */
   int             arith_skipped;     /* hitac: faces folded by 1974 coordinates, not drawn */
+  struct render_keep *keep;          /* render_opts.keep: render_free gives the core to it */
 };
 
 int render_prepare(struct render *r, const struct scene *s, const struct render_opts *o,
@@ -75,6 +91,7 @@ int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, 
 /* Pieces alive now (faces after all splits). */
 int render_pieces_alive(const struct render *r);
 
+/* Everything freed; the core to r's keep when there is one (and it never grew). */
 void render_free(struct render *r);
 
 #endif

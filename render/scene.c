@@ -41,36 +41,16 @@
 #include "render/effects.h"
 #include "render/import.h"
 #include "render/plane.h"
+#include "render/pool.h"
 
 #define NIDS (SCENE_ID_MAX + 1)   /* id tables are indexed by id 0..65535 */
 
 /* ---- freeing ------------------------------------------------------------------------- */
 
-/* The pool: a chain of blocks of ints, each handed out from its start. */
-struct pool_block {
-  struct pool_block *next;
-  size_t used, cap;
-  int    data[];
-};
-
-#define POOL_BLOCK_INTS ((size_t)1 << 16)
-
 int *scene_pool_ints(struct scene *s, size_t n)
 {
-  struct pool_block *b = s->pool;
-  if (!b || b->cap - b->used < n) {
-    size_t cap = n > POOL_BLOCK_INTS ? n : POOL_BLOCK_INTS;
-    if (cap > (SIZE_MAX - sizeof *b) / sizeof b->data[0]) return NULL;
-    struct pool_block *nb = malloc(sizeof *nb + cap * sizeof nb->data[0]);
-    if (!nb) return NULL;
-    nb->next = b;
-    nb->used = 0;
-    nb->cap = cap;
-    s->pool = b = nb;
-  }
-  int *p = b->data + b->used;
-  b->used += n;
-  return p;
+  if (n > SIZE_MAX / sizeof(int)) return NULL;
+  return pool_alloc(&s->pool, n * sizeof(int), _Alignof(int));
 }
 
 void scene_free(struct scene *s)
@@ -82,10 +62,7 @@ void scene_free(struct scene *s)
     free(s->f[i].ring_start);
     free(s->f[i].vidx);
   }
-  for (struct pool_block *b = s->pool, *nx; b; b = nx) {
-    nx = b->next;
-    free(b);
-  }
+  pool_free(&s->pool);
   for (int i = 0; i < s->nobj; i++) free(s->obj[i].face);
   free(s->f);
   free(s->obj);

@@ -19,6 +19,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "emu/status.h"
+#include "render/pool.h"
 
 #define SCENE_COORD_MIN (-32768)
 #define SCENE_COORD_MAX 32767
@@ -87,7 +88,7 @@ struct scene {
   char   *effects;                  /* the effects line's KEY=VALUE text, or NULL */
   int     effects_line;             /* its source line */
   int     warnings;                 /* how many warnings were printed (imports) */
-  void   *pool;                     /* host blocks holding pooled faces' arrays (issue 12:
+  struct pool pool;                 /* host blocks holding pooled faces' arrays (issue 12:
                                        two mallocs a face fewer), freed by scene_free */
 };
 

@@ -13,6 +13,7 @@
 ** bounded (geom.h) however often pieces are cut.
 */
 #include "render/seginfo.h"
+#include "render/pool.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -35,10 +36,7 @@ void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost)
 
 void seginfo_free(struct seginfo *t)
 {
-  for (int k = 0; k < t->n; k++) {
-    free(t->p[k].line);
-    free(t->p[k].v);
-  }
+  pool_free(&t->pool);
   free(t->p);
   memset(t, 0, sizeof *t);
 }
@@ -93,17 +91,18 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   }
   struct piece *p = &t->p[t->n];
   memset(p, 0, sizeof *p);
-  p->line = malloc((size_t)n * sizeof *p->line);
-  p->v = malloc((size_t)n * sizeof *p->v);
-  if (!p->line || !p->v) {
-    free(p->line); free(p->v);
+  /* its vertices, then its lines, in one piece of the pool (issue 19: no allocation a
+     piece; a piece is never freed before the others) */
+  _Static_assert(_Alignof(struct hpoint) >= _Alignof(struct gline), "piece block layout");
+  p->v = pool_alloc(&t->pool, (size_t)n * (sizeof *p->v + sizeof *p->line), _Alignof(struct hpoint));
+  if (!p->v) {
     t74_fail(err, T74_EIO, "out of host memory");
     return -1;
   }
+  p->line = (struct gline *)(p->v + n);
   memcpy(p->line, line, (size_t)n * sizeof *line);
   n = merge_sides(p->line, n);
   if (n < 3) {
-    free(p->line); free(p->v);
     t74_fail(err, T74_EINPUT, "internal: a piece of face %d has fewer than 3 sides", face);
     return -1;
   }
@@ -113,27 +112,23 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   p->parent = -1;
   for (int k = 0; k < n; k++) {
     if (!geom_meet(p->line[(k + n - 1) % n], p->line[k], &p->v[k])) {
-      free(p->line); free(p->v);
       t74_fail(err, T74_EINPUT, "internal: sides of a piece of face %d do not meet", face);
       return -1;
     }
-    cost_mw_mul(t->cost, 58, 29);
-    cost_mw_mul(t->cost, 58, 29);
   }
+  cost_mw_mul_n(t->cost, 58, 29, 2 * (uint64_t)n);     /* two products a vertex */
   p->ylo = p->yhi = p->v[0];
   for (int k = 1; k < n; k++) {
     if (cmp_hy(p->v[k], p->ylo) < 0) p->ylo = p->v[k];
     if (cmp_hy(p->v[k], p->yhi) > 0) p->yhi = p->v[k];
-    cost_mw_mul(t->cost, 88, 59);
   }
+  cost_mw_mul_n(t->cost, 88, 59, (uint64_t)n - 1);      /* a compare a vertex but the first */
 
   /* B and C blocks in core: the piece's row, and its sides */
   uint32_t b, c;
   if (core_alloc(t->core, "B-BLOCK", BBLOCK_ROW_WORDS, &b, err) != T74_OK ||
-      core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK) {
-    free(p->line); free(p->v);
+      core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK)
     return -1;
-  }
   core_write(t->core, b, (uint16_t)t->n);
   core_write(t->core, b + 1, (uint16_t)(p->ylo.Y / p->ylo.W / GRID_ONE));
   core_write(t->core, b + 2, (uint16_t)(p->yhi.Y / p->yhi.W / GRID_ONE));
@@ -148,10 +143,12 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   return t->n++;
 }
 
-static bool cpoly_push(struct cpoly *c, struct gline l, struct hpoint v)
+/* Room for n entries in c. */
+static bool cpoly_room(struct cpoly *c, int n)
 {
-  if (c->n == c->cap) {
-    int cap = c->cap ? 2 * c->cap : 16;
+  if (n > c->cap) {
+    int cap = c->cap ? c->cap : 16;
+    while (cap < n) cap *= 2;
     struct gline *nl = realloc(c->line, (size_t)cap * sizeof *nl);
     if (!nl) return false;
     c->line = nl;
@@ -160,10 +157,15 @@ static bool cpoly_push(struct cpoly *c, struct gline l, struct hpoint v)
     c->v = nv;
     c->cap = cap;
   }
+  return true;
+}
+
+/* Append a side and its vertex (room made by cpoly_room). */
+static inline void cpoly_push(struct cpoly *c, struct gline l, struct hpoint v)
+{
   c->line[c->n] = l;
   c->v[c->n] = v;
   c->n++;
-  return true;
 }
 
 static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
@@ -177,29 +179,34 @@ static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
 
 /* Sutherland-Hodgman on lines: each kept vertex carries the line of the side leaving it.
    Vertex k of the result starts side k; a new vertex is the meet of the side it lies on
-   and h, so it stays a meet of two grid lines. */
-bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
+   and h, so it stays a meet of two grid lines. side[k] is the side of p's vertex k of h
+   (geom_side_h), or side is NULL and it is found here. */
+static bool clip_sides(const struct piece *p, struct gline h, const signed char *side,
+                       struct cpoly *out, struct cost *cost)
 {
   out->n = 0;
   int n = p->n;
-  int s0 = geom_side_h(h, p->v[0]);
+  if (!cpoly_room(out, n + 2)) return false;   /* a convex piece crosses a line twice at most */
+  int s0 = side ? side[0] : geom_side_h(h, p->v[0]), sk = s0;
+  cost_mw_mul_n(cost, 88, 58, (uint64_t)n);       /* a product a vertex */
   for (int k = 0; k < n; k++) {
     int nx = (k + 1) % n;
-    int sk = k == 0 ? s0 : geom_side_h(h, p->v[k]);
-    int sn = nx == 0 ? s0 : geom_side_h(h, p->v[nx]);
+    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_h(h, p->v[nx]);
     struct gline lk = p->line[k];
     struct hpoint x;
-    cost_mw_mul(cost, 88, 58);
     if (sk > 0 || (sk == 0 && sn >= 0)) {
-      if (!cpoly_push(out, lk, p->v[k])) return false;
+      cpoly_push(out, lk, p->v[k]);
       if (sk > 0 && sn < 0) {            /* leaves through h */
-        if (!geom_meet(lk, h, &x) || !cpoly_push(out, h, x)) return false;
+        if (!geom_meet(lk, h, &x)) return false;
+        cpoly_push(out, h, x);
       }
     } else if (sk == 0) {                /* on h, and the side goes outside */
-      if (!cpoly_push(out, h, p->v[k])) return false;
+      cpoly_push(out, h, p->v[k]);
     } else if (sn > 0) {                 /* enters through h */
-      if (!geom_meet(lk, h, &x) || !cpoly_push(out, lk, x)) return false;
+      if (!geom_meet(lk, h, &x)) return false;
+      cpoly_push(out, lk, x);
     }
+    sk = sn;
   }
   /* merge consecutive sides that lie on one line (keep the first vertex) */
   for (int k = 0; out->n >= 3 && k < out->n; ) {
@@ -216,22 +223,53 @@ bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, stru
   return has_interior(out->n, out->line, out->v);
 }
 
+bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
+{
+  return clip_sides(p, h, NULL, out, cost);
+}
+
+#define CLIP_SIDES_MAX 64                  /* pieces with more sides: seginfo_clip twice */
+
+void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left, bool *hasl,
+                       struct cpoly *right, bool *hasr, struct cost *cost)
+{
+  struct gline rh = { -h.a, -h.b, -h.c };
+  if (p->n > CLIP_SIDES_MAX) {
+    *hasl = seginfo_clip(p, h, left, cost);
+    *hasr = seginfo_clip(p, rh, right, cost);
+    return;
+  }
+  signed char side[CLIP_SIDES_MAX], rside[CLIP_SIDES_MAX];
+  for (int k = 0; k < p->n; k++) {
+    side[k] = (signed char)geom_side_h(h, p->v[k]);
+    rside[k] = (signed char)-side[k];      /* the reversed line: the negated sum, exactly */
+  }
+  *hasl = clip_sides(p, h, side, left, cost);
+  *hasr = clip_sides(p, rh, rside, right, cost);
+}
+
 bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
                      int n2, const struct gline *l2, const struct hpoint *v2,
                      struct cost *cost)
 {
+  /* one product charged for each side looked at (at once, when the answer is known) */
   for (int k = 0; k < n1; k++) {
     int j = 0;
     while (j < n2 && geom_side_h(l1[k], v2[j]) <= 0) j++;
-    cost_mw_mul(cost, 88, 58);
-    if (j == n2) return false;           /* side k of the first separates them */
+    if (j == n2) {                       /* side k of the first separates them */
+      cost_mw_mul_n(cost, 88, 58, (uint64_t)k + 1);
+      return false;
+    }
   }
   for (int k = 0; k < n2; k++) {
     int j = 0;
     while (j < n1 && geom_side_h(l2[k], v1[j]) <= 0) j++;
-    cost_mw_mul(cost, 88, 58);
-    if (j == n1) return false;
+    if (j == n1) {
+      cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)k + 1);
+      return false;
+    }
   }
+  cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)n2);
   return true;
 }
 

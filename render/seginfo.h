@@ -21,6 +21,7 @@
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "render/geom.h"
+#include "render/pool.h"
 
 struct piece {
   int    face;             /* index in mapped.f */
@@ -37,6 +38,7 @@ struct seginfo {
   struct piece *p;
   struct core *core;
   struct cost *cost;
+  struct pool pool;        /* host blocks of the pieces' lines and vertices */
 };
 
 void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost);
@@ -59,6 +61,11 @@ void cpoly_free(struct cpoly *c);
 /* Clip piece p by the half-plane left of h (closed). Returns true when what remains has
    a non-empty interior, and then fills out (lines only; vertices computed too). */
 bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost);
+
+/* seginfo_clip by h into left and by the reversed h (-a, -b, -c) into right, each of p's
+   vertices placed once: the same halves, results and charges as the two calls. */
+void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left, bool *hasl,
+                       struct cpoly *right, bool *hasr, struct cost *cost);
 
 /* Do the interiors of two convex polygons overlap? (exact separating-line test) */
 bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,

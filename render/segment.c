@@ -215,21 +215,24 @@ static void count_branch(struct cost *k)
 }
 
 /* The turn at a vertex: sign of a1*b2 - a2*b1, two 30 x 30-bit products and a compare. */
-static void count_turn(struct cost *k)
+static void count_turns(struct cost *k, uint64_t n)
 {
   if (!k) return;
-  cost_mw_mul(k, 30, 30);
-  cost_mw_mul(k, 30, 30);
-  cost_mw_add(k, 60);
+  cost_mw_mul_n(k, 30, 30, 2 * n);
+  cost_mw_add_n(k, 60, n);
 }
 
-static void count_xcmp(struct cost *k)
+static void count_turn(struct cost *k) { count_turns(k, 1); }
+
+/* A compare of two crossings' x: two 64 x 32-bit products and a compare. */
+static void count_xcmps(struct cost *k, uint64_t n)
 {
   if (!k) return;
-  cost_mw_mul(k, 64, 32);
-  cost_mw_mul(k, 64, 32);
-  cost_mw_add(k, 96);
+  cost_mw_mul_n(k, 64, 32, 2 * n);
+  cost_mw_add_n(k, 96, n);
 }
+
+static void count_xcmp(struct cost *k) { count_xcmps(k, 1); }
 
 /* ---- exact predicates on lines and vertices ------------------------------------------- */
 
@@ -343,6 +346,21 @@ static struct xs_vertex orig_vertex(const struct seg_input *in, int i)
   return v;
 }
 
+/* Ring r of the input as a working ring (g->v, g->s: room for its vertices). */
+static void input_ring(const struct seg_input *in, int r, struct xs_ring *g)
+{
+  int lo = in->ring_start[r], n = in->ring_start[r + 1] - lo;
+  g->n = n;
+  for (int k = 0; k < n; k++) {
+    int i = lo + k, j = lo + (k + 1) % n;
+    g->v[k] = orig_vertex(in, i);
+    memset(&g->s[k], 0, sizeof g->s[k]);
+    g->s[k].line = geom_line(in->pt[i], in->pt[j]);
+    g->s[k].ea = in->vid[i];
+    g->s[k].eb = in->vid[j];
+  }
+}
+
 static int first_piece(struct seg_ctx *x, struct wpiece *p)
 {
   const struct seg_input *in = x->in;
@@ -351,20 +369,12 @@ static int first_piece(struct seg_ctx *x, struct wpiece *p)
   p->ring = calloc((size_t)in->nring, sizeof *p->ring);
   if (!p->ring) return oom(x);
   for (int r = 0; r < in->nring; r++) {
-    int lo = in->ring_start[r], n = in->ring_start[r + 1] - lo;
+    int n = in->ring_start[r + 1] - in->ring_start[r];
     struct xs_ring *g = &p->ring[r];
     g->v = malloc((size_t)n * sizeof *g->v);
     g->s = malloc((size_t)n * sizeof *g->s);
     if (!g->v || !g->s) return oom(x);
-    g->n = n;
-    for (int k = 0; k < n; k++) {
-      int i = lo + k, j = lo + (k + 1) % n;
-      g->v[k] = orig_vertex(in, i);
-      memset(&g->s[k], 0, sizeof g->s[k]);
-      g->s[k].line = geom_line(in->pt[i], in->pt[j]);
-      g->s[k].ea = in->vid[i];
-      g->s[k].eb = in->vid[j];
-    }
+    input_ring(in, r, g);
   }
   return T74_OK;
 }
@@ -1412,16 +1422,17 @@ static void ring_remove(struct xs_ring *g, int i)
 }
 
 /* Drop zero-length sides and vertices between two sides on one line; check the ring is
-   strictly convex and turns once; make the output piece. */
-static int finish_ring(struct seg_ctx *x, struct xs_ring *g, struct seg_piece *out)
+   strictly convex and turns once. */
+static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
 {
   unsigned fid = x->in->face_id;
   int changed = 1;
+  uint64_t xcmps = 0, turns = 0;         /* the compares made, charged once */
   while (changed && g->n >= 3) {
     changed = 0;
     for (int k = 0; k < g->n && g->n >= 3; k++) {
       int k1 = (k + 1) % g->n;
-      count_xcmp(x->cost);
+      xcmps++;
       if (same_point(&g->v[k], &g->v[k1])) {
         /* Side k has zero length: side k takes over side k1's line, vertex k1 goes. */
         g->s[k] = g->s[k1];
@@ -1429,7 +1440,7 @@ static int finish_ring(struct seg_ctx *x, struct xs_ring *g, struct seg_piece *o
         changed = 1;
         break;
       }
-      count_turn(x->cost);
+      turns++;
       if (same_line(g->s[k].line, g->s[k1].line)) {
         /* Vertex k1 lies inside one line: side k runs on over it, vertex k1 goes. */
         ring_remove(g, k1);
@@ -1438,6 +1449,8 @@ static int finish_ring(struct seg_ctx *x, struct xs_ring *g, struct seg_piece *o
       }
     }
   }
+  count_xcmps(x->cost, xcmps);
+  count_turns(x->cost, turns);
   if (g->n < 3)
     return t74_fail(x->err, T74_EINPUT, "face %u: a piece degenerated to %d sides "
                     "(boundary not simple?)", fid, g->n);
@@ -1454,6 +1467,14 @@ static int finish_ring(struct seg_ctx *x, struct xs_ring *g, struct seg_piece *o
   if (wraps != 1)
     return t74_fail(x->err, T74_EINPUT, "face %u: piece winds %d times (boundary not simple?)",
                     fid, wraps);
+  return T74_OK;
+}
+
+/* tidy_ring, then the output piece. */
+static int finish_ring(struct seg_ctx *x, struct xs_ring *g, struct seg_piece *out)
+{
+  int rc = tidy_ring(x, g);
+  if (rc) return rc;
   out->n = g->n;
   out->line = malloc((size_t)g->n * sizeof *out->line);
   out->v = malloc((size_t)g->n * sizeof *out->v);
@@ -1490,11 +1511,9 @@ static void ctx_free(struct seg_ctx *x)
   free(x->conc);
 }
 
-int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace,
-                 struct core *core, struct cost *cost, struct t74_error *err)
+static void ctx_init(struct seg_ctx *x, const struct seg_input *in, FILE *trace,
+                     struct core *core, struct cost *cost, struct t74_error *err)
 {
-  struct seg_ctx xc;
-  struct seg_ctx *x = &xc;
   memset(x, 0, sizeof *x);
   x->in = in;
   x->trace = trace;
@@ -1506,6 +1525,69 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
   x->qcap = SEG_INLINE;
   x->fin = x->fin0;
   x->fincap = SEG_INLINE;
+}
+
+/* YSORT into core: the table of the face's ys[0..nvert) rows. */
+static int ysort_table(struct seg_ctx *x, const struct ysort_row *ys)
+{
+  uint32_t a;
+  int rc = table(x, CORE_T_YSORT, (uint32_t)x->nvert * YSORT_ROW_WORDS, &a);
+  for (int i = 0; rc == T74_OK && i < x->nvert && x->core; i++) {
+    core_put_int(x->core, a + 3 * (uint32_t)i, 2, ys[i].y);
+    core_write(x->core, a + 3 * (uint32_t)i + 2, (uint16_t)ys[i].vid);
+  }
+  return rc;
+}
+
+/* The fast path (issue 19): a face of one ring that turns nowhere to the right is its own
+   one piece. What seg_generate does for it, in its order: YSORT built and put in core,
+   the turn at every vertex charged as the look for the lowest concave vertex is, the
+   ring tidied and checked as a finished piece, the core released; without the queue, the
+   working pieces and their host allocations. */
+int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *trace,
+               struct core *core, struct cost *cost, struct t74_error *err)
+{
+  *n = 0;
+  if (trace || in->nring != 1 || !in->ring_start || in->ring_start[0] != 0) return T74_OK;
+  int nv = in->ring_start[1];
+  if (nv < 3 || nv > SEG_CONVEX_MAX) return T74_OK;
+  struct seg_ctx xc;
+  struct seg_ctx *x = &xc;
+  ctx_init(x, in, NULL, core, cost, err);
+  struct t74_error quiet;
+  x->err = &quiet;                      /* a refused face is left to seg_generate */
+  if (check_input(x)) return T74_OK;
+  x->err = err;
+  struct xs_vertex v[SEG_CONVEX_MAX];
+  struct xs_side sd[SEG_CONVEX_MAX];
+  struct xs_ring g = { 0, v, sd };
+  input_ring(in, 0, &g);
+  for (int k = 0; k < nv; k++)
+    if (turn(sd[(k + nv - 1) % nv].line, sd[k].line) < 0) return T74_OK;   /* concave */
+
+  x->nvert = nv;
+  uint32_t mark = core ? core_mark(core) : 0;
+  struct ysort_row ys[2 * SEG_CONVEX_MAX];
+  ysort_build(in->pt, in->vid, nv, ys, ys + nv, cost);
+  int rc = ysort_table(x, ys);
+  if (rc == T74_OK) {
+    count_turns(cost, (uint64_t)nv);                   /* lowest_concave: none */
+    rc = tidy_ring(x, &g);
+  }
+  if (rc == T74_OK) {
+    for (int k = 0; k < g.n; k++) line[k] = g.s[k].line;
+    *n = g.n;
+  }
+  if (core) core_release(core, mark);
+  return rc;
+}
+
+int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace,
+                 struct core *core, struct cost *cost, struct t74_error *err)
+{
+  struct seg_ctx xc;
+  struct seg_ctx *x = &xc;
+  ctx_init(x, in, trace, core, cost, err);
   int rc = check_input(x);
   if (rc) return rc;
   uint32_t mark = core ? core_mark(core) : 0;
@@ -1523,12 +1605,7 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
   x->conc = calloc((size_t)x->nvert, sizeof *x->conc);
   if (!x->ys || !x->conc) { rc = oom(x); goto fail; }
   ysort_build(in->pt, in->vid, x->nvert, x->ys, x->ys + x->nvert, cost);
-  uint32_t a;
-  if ((rc = table(x, CORE_T_YSORT, (uint32_t)x->nvert * YSORT_ROW_WORDS, &a))) goto fail;
-  for (int i = 0; i < x->nvert && core; i++) {
-    core_put_int(core, a + 3 * (uint32_t)i, 2, x->ys[i].y);
-    core_write(core, a + 3 * (uint32_t)i + 2, (uint16_t)x->ys[i].vid);
-  }
+  if ((rc = ysort_table(x, x->ys))) goto fail;
 
   struct wpiece P;
   memset(&P, 0, sizeof P);

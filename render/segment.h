@@ -60,4 +60,13 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
 
 void seg_result_free(struct seg_result *r);
 
+/* seg_generate for the faces most scenes are made of (issue 19): no trace, one ring of
+   at most SEG_CONVEX_MAX vertices, no concave vertex. Its one piece's lines go to line[]
+   (room for SEG_CONVEX_MAX), *n of them; the operations charged, the core tables made
+   and released and any refusal are seg_generate's, without its host allocations. For
+   any other face: T74_OK with *n = 0, nothing done, nothing charged (seg_generate's). */
+#define SEG_CONVEX_MAX 32
+int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *trace,
+               struct core *core, struct cost *cost, struct t74_error *err);
+
 #endif

@@ -67,32 +67,42 @@ static int cmp_ylo(const struct seginfo *s, int a, int b)
 /* ---- orders of indices -----------------------------------------------------------------
    Comparisons of two pieces (by lowest y) or of two active items (by xb or by xe, pieces
    the line meets before those it misses); each compare made is charged as the 1974
-   program would make it: a lowest y a product of 88 x 59 bits, an x one of 75 x 46. */
-typedef int (*vis_cmp)(const struct vis *v, int a, int b);
+   program would make it: a lowest y a product of 88 x 59 bits, an x one of 75 x 46,
+   counted as it is made and charged at the end of the line (charge_compares). */
+typedef int (*vis_cmp)(struct vis *v, int a, int b);
 
-static int by_ylo(const struct vis *v, int a, int b)
+static int by_ylo(struct vis *v, int a, int b)
 {
-  cost_mw_mul(v->cost, 88, 59);
+  v->pend_ycmp++;
   return cmp_ylo(v->seg, a, b);
 }
 
-static int by_xl(const struct vis *v, int i, int j)
+static int by_xl(struct vis *v, int i, int j)
 {
   const struct vis_item *a = &v->act[i], *b = &v->act[j];
   if (a->on != b->on) return a->on ? -1 : 1;
   if (!a->on) return 0;
-  cost_mw_mul(v->cost, 75, 46);
+  v->pend_xcmp++;
   return geom_rat_cmp(a->xl, b->xl);
 }
 
-static int by_xr(const struct vis *v, int i, int j)
+static int by_xr(struct vis *v, int i, int j)
 {
-  cost_mw_mul(v->cost, 75, 46);
+  v->pend_xcmp++;
   return geom_rat_cmp(v->act[i].xr, v->act[j].xr);
 }
 
+/* The compares the orders counted, charged (before anything reads the counters: at the
+   end of vis_init and of each line). */
+static void charge_compares(struct vis *v)
+{
+  cost_mw_mul_n(v->cost, 88, 59, v->pend_ycmp);
+  cost_mw_mul_n(v->cost, 75, 46, v->pend_xcmp);
+  v->pend_ycmp = v->pend_xcmp = 0;
+}
+
 /* Merge the sorted runs a[0..na) and b[0..nb) into out (stable: a first on ties). */
-static void merge_runs(const struct vis *v, const int *a, int na, const int *b, int nb,
+static void merge_runs(struct vis *v, const int *a, int na, const int *b, int nb,
                        int *out, vis_cmp cmp)
 {
   int i = 0, j = 0, k = 0;
@@ -102,15 +112,15 @@ static void merge_runs(const struct vis *v, const int *a, int na, const int *b, 
 }
 
 /* A batch of new pieces sorted stably (rsort_merge), scratch tmp[0..n). */
-struct ord_ctx { const struct vis *v; vis_cmp cmp; };
+struct ord_ctx { struct vis *v; vis_cmp cmp; };
 
 static int ord_cmp(const void *x, const void *y, void *ctx)
 {
-  const struct ord_ctx *o = ctx;
+  struct ord_ctx *o = ctx;
   return o->cmp(o->v, *(const int *)x, *(const int *)y);
 }
 
-static void sort_batch(const struct vis *v, int *a, int n, int *tmp, vis_cmp cmp)
+static void sort_batch(struct vis *v, int *a, int n, int *tmp, vis_cmp cmp)
 {
   struct ord_ctx o = { v, cmp };
   rsort_merge(a, n, sizeof *a, tmp, ord_cmp, &o);
@@ -118,7 +128,7 @@ static void sort_batch(const struct vis *v, int *a, int n, int *tmp, vis_cmp cmp
 
 /* A stable insertion sort of a[0..n): for the order kept from the last line, which moves
    only where two ends pass each other between the lines. */
-static void sort_kept(const struct vis *v, int *a, int n, vis_cmp cmp)
+static void sort_kept(struct vis *v, int *a, int n, vis_cmp cmp)
 {
   for (int i = 1; i < n; i++) {
     int t = a[i], j = i - 1;
@@ -132,7 +142,7 @@ static void sort_kept(const struct vis *v, int *a, int n, vis_cmp cmp)
 
 /* Take item `it` out of the sorted ord[0..*n) (found by a binary search, then among
    equal keys). */
-static void ord_remove(const struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
+static void ord_remove(struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
 {
   int lo = 0, hi = *n;
   while (lo < hi) {
@@ -146,7 +156,7 @@ static void ord_remove(const struct vis *v, int *ord, int *n, int it, vis_cmp cm
 }
 
 /* Put item `it` into the sorted ord[0..*n), after the equal keys (room for one more). */
-static void ord_insert(const struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
+static void ord_insert(struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
 {
   int lo = 0, hi = *n;
   while (lo < hi) {
@@ -207,7 +217,9 @@ int vis_init_without(struct vis *v, struct seginfo *seg, struct prio *prio, stru
   v->cost = cost;
   v->skip_face = skip_face;
   v->yd = 0;
-  if (!take_new_pieces(v)) return t74_fail(err, T74_EIO, "out of host memory");
+  int ok = take_new_pieces(v);
+  charge_compares(v);
+  if (!ok) return t74_fail(err, T74_EIO, "out of host memory");
   return T74_OK;
 }
 
@@ -416,13 +428,8 @@ static int order_of(struct vis *v, int b, int c, struct t74_error *err)
 {
   int pb = parent_of(v, b), pc = parent_of(v, c);
   if (pb >= 0 || pc >= 0) {
-    int r = prio_known(v->prio, b, c);
+    int r = prio_known_lineage(v->prio, b, c, pb, pc, ANC_MAX, v->cost);
     if (r) return r;
-    for (int a = pb, k = 0; a >= 0 && k < ANC_MAX; a = parent_of(v, a), k++)
-      if ((r = prio_known(v->prio, a, c))) return r;
-    for (int a = pc, k = 0; a >= 0 && k < ANC_MAX; a = parent_of(v, a), k++)
-      if ((r = prio_known(v->prio, b, a))) return r;
-    if (pb >= 0 && pc >= 0 && (r = prio_known(v->prio, pb, pc))) return r;
   }
   return prio_order(v->prio, b, c, err);
 }
@@ -512,13 +519,13 @@ static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn
     wide an = n < 0 ? -n : n;
     wide q = an < ((wide)1 << 94) ? n * ((wide)1 << 32) / f->deye
                                   : n / f->deye * ((wide)1 << 32);
-    cost_mw_mul(v->cost, 51, 34);
-    cost_mw_mul(v->cost, 51, 34);
-    cost_mw_add(v->cost, 86);
-    cost_mw_div(v->cost, 86, 48);
-    cost_mw_add(v->cost, 64);
     if (best < 0 || q > bq) { best = v->set[k]; bq = q; }
   }
+  uint64_t k = (uint64_t)v->nset;         /* each plane: two products and a sum, a quotient, */
+  cost_mw_mul_n(v->cost, 51, 34, 2 * k);  /* a compare */
+  cost_mw_add_n(v->cost, 86, k);
+  cost_mw_div_n(v->cost, 86, 48, k);
+  cost_mw_add_n(v->cost, 64, k);
   return best;
 }
 
@@ -624,13 +631,13 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
 }
 
 /* The first of the n items of ord whose xb (xe when xr) lies right of x. */
-static int after_x(const struct vis *v, const int *ord, int n, struct grat x, bool xr)
+static int after_x(struct vis *v, const int *ord, int n, struct grat x, bool xr)
 {
   int lo = 0, hi = n;
   while (lo < hi) {
     int mid = (lo + hi) / 2;
     const struct vis_item *it = &v->act[ord[mid]];
-    cost_mw_mul(v->cost, 75, 46);
+    v->pend_xcmp++;
     if (geom_rat_cmp(xr ? it->xr : it->xl, x) <= 0) lo = mid + 1; else hi = mid;
   }
   return lo;
@@ -861,9 +868,9 @@ int vis_spans(struct vis *v, int64_t yn, int64_t yd, const struct vis_span **spa
   v->yd = yd;
   v->lines++;
   int st = line_begin(v, yn, yd, err);
-  if (st != T74_OK) return st;
-  if (sweep(v, yn, yd, err) != PRIO_FIRST) return err->status ? err->status : T74_EINPUT;
-  st = line_end(v, err);
+  if (st == T74_OK && sweep(v, yn, yd, err) != PRIO_FIRST) st = err->status ? err->status : T74_EINPUT;
+  if (st == T74_OK) st = line_end(v, err);
+  charge_compares(v);
   if (st != T74_OK) return st;
   *span = v->span;
   *nspan = v->nspan;

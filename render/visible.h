@@ -78,6 +78,8 @@ struct vis {
                                             held as the 1974 program held them */
   const uint8_t *skip_face;              /* NULL, or per mapped face: 1 = leave its pieces
                                             out (vis_init_without) */
+  uint64_t pend_ycmp, pend_xcmp;         /* compares of lowest y and of x made and not yet
+                                            charged (charged at the end of each line) */
 };
 
 int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,

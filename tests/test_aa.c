@@ -700,7 +700,7 @@ static void test_frame_intensities(void **state)
     struct effects e;
     assert_int_equal(effects_parse(eff[m], &e, NULL, 0, &err), T74_OK);
     struct render r;
-    struct render_opts ro = { 1u << 20, 0, PRIO_AUTO, NULL, 0 };
+    struct render_opts ro = { 1u << 20, 0, PRIO_AUTO, NULL, 0, NULL };
     assert_int_equal(render_prepare(&r, s, &ro, &err), T74_OK);
     int face[W4 * H4];
     uint8_t grey[W4 * H4];

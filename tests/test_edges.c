@@ -93,7 +93,7 @@ static struct run *run_scene(const char *text, const char *fx, unsigned passes)
   assert_int_equal(st, T74_OK);
   struct effects e;
   assert_int_equal(effects_parse(fx, &e, "test", 1, &err), T74_OK);
-  struct render_opts ro = { 1u << 20, 0, PRIO_AUTO, NULL, 0 };
+  struct render_opts ro = { 1u << 20, 0, PRIO_AUTO, NULL, 0, NULL };
   assert_int_equal(render_prepare(&u->r, u->s, &ro, &err), T74_OK);
   struct vis_grid g = { GW, GH, { u->s->window[0], u->s->window[1], u->s->window[2],
                                   u->s->window[3] } };

@@ -327,6 +327,58 @@ static void test_injected_exhaustion(void **state)
   core_free(c);
 }
 
+/* The layout dump of a core, as a string (caller frees). */
+static char *layout_of(const struct core *c)
+{
+  char *buf = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&buf, &len);
+  assert_non_null(f);
+  assert_int_equal(core_layout_dump(c, f), 0);
+  fclose(f);
+  return buf;
+}
+
+/* core_reset (issue 19: one core for every frame of --frames) leaves a core that cannot be
+   told from a new one: no tables, no names, no peak, no growth, no injected budget, every
+   table's words zero when allocated, the same refusals. */
+static void test_reset_as_new(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *fresh = core_new(300), *c = core_new(300);
+  uint32_t a, b;
+  assert_int_equal(core_alloc(c, "A", 120, &a, &err), T74_OK);
+  for (uint32_t k = 0; k < 120; k++) core_write(c, a + k, 0xBEEF);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 100, &err), T74_OK);
+  for (uint32_t k = 0; k < 100; k++) core_high_set(c, k, 0xF00D);
+  core_inject_exhaustion(c, 5);
+  core_set_growth(c, 1000);
+  core_reset(c);
+  assert_int_equal(core_used(c), 0);
+  assert_int_equal(core_peak(c), 0);
+  assert_int_equal(core_high_words(c), 0);
+  assert_int_equal(core_tables(c, NULL, NULL, 0), 0);
+  assert_int_equal(core_words(c), 300);
+  assert_int_equal(core_first_words(c), 300);
+  char *x = layout_of(fresh), *y = layout_of(c);
+  assert_string_equal(x, y);
+  free(x);
+  free(y);
+  /* the same tables on both: the same addresses, zero words, the same figures */
+  assert_int_equal(core_alloc(fresh, "B", 200, &a, &err), T74_OK);
+  assert_int_equal(core_alloc(c, "B", 200, &b, &err), T74_OK);   /* past the old budget */
+  assert_int_equal(a, b);
+  for (uint32_t k = 0; k < 200; k++) assert_int_equal(core_read(c, b + k), 0);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 100, &err), T74_OK);
+  for (uint32_t k = 0; k < 100; k++) assert_int_equal(core_high_get(c, k), 0);
+  /* no growth any more: one more word than the core has is refused */
+  assert_int_equal(core_alloc(c, "C", 1, &b, &err), T74_ECORE);
+  assert_int_equal(core_words(c), 300);
+  core_free(fresh);
+  core_free(c);
+}
+
 /* ---------------------------------------------------------------- cost model */
 
 static void test_cost_seconds_by_hand(void **state)
@@ -517,6 +569,31 @@ static void test_mw_div(void **state)
   expect(&c, 24 + 5 * 15 + 10, 5 * 9 + 9, 20, 24, 5 * 5 + 2 + 4, 20, 5);
 }
 
+/* Issue 19: cost_mw_*_n(c, ..., k) charges exactly what k single calls charge, in both
+   sets of counters (x[] below zero included), for k = 0, 1 and more, at widths within and
+   beyond the 1974 program's. */
+static void test_mw_n(void **state)
+{
+  (void)state;
+  static const int bits[][2] = { { 16, 16 }, { 17, 17 }, { 30, 30 }, { 64, 32 }, { 88, 58 },
+                                 { 86, 48 }, { 128, 128 }, { 1, 200 } };
+  static const uint64_t ks[] = { 0, 1, 2, 7, 1000 };
+  for (size_t b = 0; b < sizeof bits / sizeof bits[0]; b++)
+    for (size_t q = 0; q < sizeof ks / sizeof ks[0]; q++) {
+      struct cost one = { { 0 } }, many = { { 0 } };
+      for (uint64_t i = 0; i < ks[q]; i++) {
+        cost_mw_add(&one, bits[b][0]);
+        cost_mw_mul(&one, bits[b][0], bits[b][1]);
+        cost_mw_div(&one, bits[b][0], bits[b][1]);
+      }
+      cost_mw_add_n(&many, bits[b][0], ks[q]);
+      cost_mw_mul_n(&many, bits[b][0], bits[b][1], ks[q]);
+      cost_mw_div_n(&many, bits[b][0], bits[b][1], ks[q]);
+      assert_memory_equal(&one, &many, sizeof one);
+      if (ks[q] == 2 && bits[b][0] > 32) assert_true(cost_total(&many) > 0);
+    }
+}
+
 /* The 1974 program's share: adds on at most a double word, multiplies one word by one
    word, divides a double word by a word (docs/machine.md); the rest goes to x[]. */
 static void test_mw_1974_share(void **state)
@@ -622,6 +699,7 @@ int main(void)
     cmocka_unit_test(test_multiword_wide),
     cmocka_unit_test(test_peak_and_tables),
     cmocka_unit_test(test_injected_exhaustion),
+    cmocka_unit_test(test_reset_as_new),
     cmocka_unit_test(test_cost_seconds_by_hand),
     cmocka_unit_test(test_params_set),
     cmocka_unit_test(test_params_table),
@@ -629,6 +707,7 @@ int main(void)
     cmocka_unit_test(test_mw_mul),
     cmocka_unit_test(test_mw_div),
     cmocka_unit_test(test_mw_1974_share),
+    cmocka_unit_test(test_mw_n),
     cmocka_unit_test(test_instruction_format),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -79,7 +79,7 @@ static int both(const struct scene *sc, int cell, unsigned *a, unsigned *b, char
   struct vis_grid g = { W, H, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
   struct t74_error err = { 0, "" };
   struct render r;
-  struct render_opts ro = { 1u << 24, 0, PRIO_AUTO, NULL, 0 };
+  struct render_opts ro = { 1u << 24, 0, PRIO_AUTO, NULL, 0, NULL };
   int st = render_prepare_lazy(&r, sc, &ro, &err);
   struct grab gr = { a, W, &r.map };
   if (st == T74_OK) st = render_scan(&r, &g, on_point, &gr, &err);
@@ -249,7 +249,7 @@ static int duo_open(struct duo *d, const struct scene *s, int cell, char *msg, s
   assert_non_null(d->face[0]);
   assert_non_null(d->face[1]);
   struct t74_error err = { 0, "" };
-  struct render_opts ro = { 1u << 24, 0, PRIO_AUTO, NULL, 0 };
+  struct render_opts ro = { 1u << 24, 0, PRIO_AUTO, NULL, 0, NULL };
   int st = render_prepare_lazy(&d->r, s, &ro, &err);
   if (st == T74_OK) st = render_scan(&d->r, &d->g, duo_point, d, &err);
   if (st == T74_OK) st = points_render(&d->p, s, &d->g, &err);

@@ -23,6 +23,7 @@
 #include "emu/status.h"
 #include "render/geom.h"
 #include "render/mapper.h"
+#include "render/pool.h"
 #include "render/priority.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -80,17 +81,25 @@ static struct scene *load_scene(const char *text)
   return s;
 }
 
-static struct scene *prepare(struct render *r, const char *text, int store)
+/* render_prepare (or render_prepare_lazy) of a loaded scene on 2^22 words of core. */
+static void prepare_scene(struct render *r, const struct scene *s, int store, bool lazy,
+                          struct render_keep *keep)
 {
-  struct scene *s = load_scene(text);
   struct render_opts o;
   memset(&o, 0, sizeof o);
   o.core_words = 1u << 22;
   o.store = store;
+  o.keep = keep;
   struct t74_error err = { 0, "" };
-  int st = render_prepare(r, s, &o, &err);
+  int st = lazy ? render_prepare_lazy(r, s, &o, &err) : render_prepare(r, s, &o, &err);
   if (st) print_message("render_prepare: %s\n", err.msg);
   assert_int_equal(st, T74_OK);
+}
+
+static struct scene *prepare(struct render *r, const char *text, int store)
+{
+  struct scene *s = load_scene(text);
+  prepare_scene(r, s, store, false, NULL);
   return s;
 }
 
@@ -104,11 +113,11 @@ static bool rat_is(struct grat r, int64_t n, int64_t d)
   return r.den > 0 && geom_rat_cmp_frac(r, n, d) == 0;
 }
 
-/* A piece from a CCW list of grid points (n <= 16). Returns its index. */
+/* A piece from a CCW list of grid points (n <= 80). Returns its index. */
 static int add_piece(struct seginfo *t, int face, int n, const gcoord *xy)
 {
-  struct gline l[16];
-  assert_true(n <= 16);
+  struct gline l[80];
+  assert_true(n <= 80);
   for (int k = 0; k < n; k++) {
     struct gpoint p = { xy[2 * k], xy[2 * k + 1] };
     struct gpoint q = { xy[2 * ((k + 1) % n)], xy[2 * ((k + 1) % n) + 1] };
@@ -408,6 +417,91 @@ static void test_clip(void **state)
   struct gline rfar = { -far.a, -far.b, -far.c };
   assert_false(seginfo_clip(p, rfar, &c, &cost));
   cpoly_free(&c);
+  seginfo_free(&t);
+  core_free(core);
+}
+
+static uint32_t lcg(uint32_t *s)
+{
+  *s = *s * 1664525u + 1013904223u;
+  return *s >> 8;
+}
+
+/* Issue 19: seginfo_clip_both is seginfo_clip by a line and by its reverse, to the bit:
+   the halves' lines and vertices, whether each has an interior, the operations charged;
+   on random convex pieces (up to the grid's size) and lines through their vertices, along
+   their sides and anywhere, and on a piece of more sides than it places at once. */
+static void test_clip_both(void **state)
+{
+  (void)state;
+  struct core *core = core_new(1u << 20);
+  struct cost c0 = { { 0 } };
+  struct seginfo t;
+  seginfo_init(&t, core, &c0);
+  uint32_t seed = 1974;
+  static const int dir[16][2] = { { 10, 0 }, { 9, 4 }, { 7, 7 }, { 4, 9 }, { 0, 10 }, { -4, 9 },
+                                  { -7, 7 }, { -9, 4 }, { -10, 0 }, { -9, -4 }, { -7, -7 },
+                                  { -4, -9 }, { 0, -10 }, { 4, -9 }, { 7, -7 }, { 9, -4 } };
+  struct cpoly a = { 0 }, b = { 0 }, l = { 0 }, r = { 0 };
+  int both = 0;
+  for (int trial = 0; trial < 3000; trial++) {
+    gcoord xy[2 * 80];
+    int n = 0;
+    int64_t R = trial % 3 == 0 ? GRID_LIMIT / 20 : 1 + (int64_t)(lcg(&seed) % 100);
+    if (trial == 0) {                          /* more sides than placed at once: a wide */
+      for (int k = 0; k < 70; k++) {           /* parabola's arc, closed by its chord */
+        xy[2 * n] = 10 * k; xy[2 * n + 1] = (gcoord)k * k; n++;
+      }
+      for (int k = 0; k < 2 * n; k++) xy[k] = -xy[k];   /* turned half round: counter-clockwise */
+    } else
+      for (int d = 0; d < 16; d++)             /* a random subset of the directions, in turn */
+        if (lcg(&seed) % 2) { xy[2 * n] = R * dir[d][0] + 5; xy[2 * n + 1] = R * dir[d][1] - 3; n++; }
+    if (n < 3) continue;
+    bool convex = true;
+    for (int k = 0; k < n && convex; k++) {
+      struct gpoint p0 = { xy[2 * k], xy[2 * k + 1] };
+      struct gpoint p1 = { xy[2 * ((k + 1) % n)], xy[2 * ((k + 1) % n) + 1] };
+      struct gpoint p2 = { xy[2 * ((k + 2) % n)], xy[2 * ((k + 2) % n) + 1] };
+      convex = geom_orient(p0, p1, p2) > 0;
+    }
+    if (!convex) continue;
+    int i = add_piece(&t, 0, n, xy);
+    const struct piece *p = &t.p[i];
+    struct gpoint u, w;
+    int kind = (int)(lcg(&seed) % 3);
+    int v0 = (int)(lcg(&seed) % (uint32_t)n), v1 = (v0 + 1 + (int)(lcg(&seed) % (uint32_t)(n - 1))) % n;
+    int64_t span = 21 * R;
+    u = (struct gpoint){ xy[2 * v0], xy[2 * v0 + 1] };
+    if (kind == 0) w = (struct gpoint){ xy[2 * v1], xy[2 * v1 + 1] };      /* two vertices */
+    else if (kind == 1) w = (struct gpoint){ xy[2 * ((v0 + 1) % n)], xy[2 * ((v0 + 1) % n) + 1] };
+    else {                                                                  /* anywhere */
+      u.x = (gcoord)(lcg(&seed) % (uint32_t)span) - span / 2;
+      u.y = (gcoord)(lcg(&seed) % (uint32_t)span) - span / 2;
+      w.x = (gcoord)(lcg(&seed) % (uint32_t)span) - span / 2;
+      w.y = (gcoord)(lcg(&seed) % (uint32_t)span) - span / 2;
+    }
+    if (u.x == w.x && u.y == w.y) continue;
+    struct gline h = geom_line(u, w), rh = { -h.a, -h.b, -h.c };
+    struct cost k1 = { { 0 } }, k2 = { { 0 } };
+    bool ha = seginfo_clip(p, h, &a, &k1), hb = seginfo_clip(p, rh, &b, &k1);
+    bool hl, hr;
+    seginfo_clip_both(p, h, &l, &hl, &r, &hr, &k2);
+    assert_int_equal(ha, hl);
+    assert_int_equal(hb, hr);
+    assert_int_equal(a.n, l.n);
+    assert_int_equal(b.n, r.n);
+    assert_memory_equal(a.line, l.line, (size_t)a.n * sizeof *a.line);
+    assert_memory_equal(a.v, l.v, (size_t)a.n * sizeof *a.v);
+    assert_memory_equal(b.line, r.line, (size_t)b.n * sizeof *b.line);
+    assert_memory_equal(b.v, r.v, (size_t)b.n * sizeof *b.v);
+    assert_memory_equal(&k1, &k2, sizeof k1);
+    both += ha && hb;
+  }
+  assert_true(both > 300);                     /* lines that cut the piece in two */
+  cpoly_free(&a);
+  cpoly_free(&b);
+  cpoly_free(&l);
+  cpoly_free(&r);
   seginfo_free(&t);
   core_free(core);
 }
@@ -1017,11 +1111,13 @@ static void test_vis_spans_invariant(void **state)
   free(tris[1]);
 }
 
-/* The host memo of the sparse store (priority.c) changes nothing but host time: with it
-   and without it, the same picture, the same pairs computed and cut, the same 1974
-   operations counted in every stage and the same core words, on triangles that pierce
-   each other (pairs held and not held asked again and again while the table fills). */
-static void test_prio_memo_exact(void **state)
+/* The sparse store's tags (priority.c) change nothing but host time: looks walked through
+   them and looks that probe the table itself give the same picture, the same pairs
+   computed and cut, the same 1974 operations counted in every stage (the words each probe
+   compares) and the same core words, on triangles that pierce each other (pairs held and
+   not held asked again and again while the table fills and is rebuilt). Pieces numbered
+   from 2^16 on (a slot's first word not 0) are the 100,000 boxes of tools/cmp_stats.sh. */
+static void test_prio_tags_exact(void **state)
 {
   (void)state;
   char *tris = tris_scene(48, 7);
@@ -1030,11 +1126,11 @@ static void test_prio_memo_exact(void **state)
   struct scene *s1 = prepare(&r1, tris, PRIO_SPARSE);
   struct scene *s2 = prepare(&r2, tris, PRIO_SPARSE);
   free(tris);
-  r2.prio.memo_off = 1;
+  r2.prio.tag_off = 1;
   scan_ids(&r1, a);
   scan_ids(&r2, b);
-  assert_true(r1.prio.memo_hits > 0);
-  assert_true(r2.prio.memo_hits == 0);
+  assert_true(r1.prio.tag_looks > 0);
+  assert_true(r2.prio.tag_looks == 0);
   assert_true(r1.prio.splits > 0);
   assert_memory_equal(a, b, GW * GH * sizeof *a);
   assert_true(r1.prio.computed == r2.prio.computed);
@@ -1048,6 +1144,121 @@ static void test_prio_memo_exact(void **state)
   render_free(&r2);
   scene_free(s1);
   scene_free(s2);
+}
+
+/* render/pool.h: each request aligned and inside a block, what is handed out not reused
+   before pool_reset, the same blocks (the same addresses, in the order handed out) after
+   it, a request larger than a block in a block of its own. */
+static void test_pool(void **state)
+{
+  (void)state;
+  struct pool p = { 0 };
+  char *got[200];
+  size_t size[200];
+  for (int k = 0; k < 200; k++) {
+    size[k] = (size_t)(k % 7) * 1000 + 1 + (k == 100 ? ((size_t)3 << 20) : 0);
+    size_t align = (size_t)1 << (k % 5);
+    got[k] = pool_alloc(&p, size[k], align);
+    assert_non_null(got[k]);
+    assert_int_equal((uintptr_t)got[k] % align, 0);
+    memset(got[k], k, size[k]);
+  }
+  for (int k = 0; k < 200; k++)                /* nothing overwritten: no overlap */
+    for (size_t b = 0; b < size[k]; b += 97) assert_int_equal((unsigned char)got[k][b], k);
+  pool_reset(&p);
+  assert_null(p.used);
+  assert_non_null(p.spare);
+  for (int k = 0; k < 200; k++) {
+    char *again = pool_alloc(&p, size[k], (size_t)1 << (k % 5));
+    if (k == 0) assert_true(again != NULL);
+    assert_true(again == got[k]);              /* the same blocks, handed out alike */
+  }
+  pool_free(&p);
+  assert_null(p.used);
+  assert_null(p.spare);
+}
+
+/* Three coplanar squares, the upper two meeting the lower one's top edge at a vertex of
+   theirs inside it (a T-junction: the Mapper inserts vertex 5 into face 1's edge 3-4). */
+static const char TJUNCTION[] =
+  HDR "vertex 1 -100 -100 0\nvertex 2 100 -100 0\nvertex 3 100 0 0\nvertex 4 -100 0 0\n"
+      "vertex 5 0 0 0\nvertex 6 100 100 0\nvertex 7 -100 100 0\nvertex 8 0 100 0\n"
+      "face 1 1 2 3 4 grey 90\nface 2 4 5 8 7 grey 160\nface 3 5 3 6 8 grey 230\n";
+
+/* A render of one loaded scene, the T-junctions kept in `keep` (NULL: none kept); scanned. */
+static void render_kept(struct render *r, const struct scene *s, struct render_keep *keep,
+                        uint16_t *ids)
+{
+  prepare_scene(r, s, PRIO_AUTO, true, keep);
+  scan_ids(r, ids);
+}
+
+/* The figures of two renders of one scene agree: the operations charged per stage, the
+   core, the mapped faces, the pieces. */
+static void same_render(const struct render *x, const struct render *y)
+{
+  assert_memory_equal(x->cost, y->cost, sizeof x->cost);
+  assert_int_equal(core_peak(x->core), core_peak(y->core));
+  assert_int_equal(core_words(x->core), core_words(y->core));
+  assert_int_equal(x->map.nface, y->map.nface);
+  for (int f = 0; f < x->map.nface; f++) {
+    const struct mface *a = &x->map.f[f], *b = &y->map.f[f];
+    assert_int_equal(a->nring, b->nring);
+    int n = a->ring_start[a->nring];
+    assert_int_equal(n, b->ring_start[b->nring]);
+    assert_memory_equal(a->pt, b->pt, (size_t)n * sizeof *a->pt);
+    assert_memory_equal(a->vid, b->vid, (size_t)n * sizeof *a->vid);
+  }
+  assert_int_equal(x->seg.n, y->seg.n);
+}
+
+/* Issue 19: the T-junctions found by one render are kept for the next of the same scene,
+   and so is its core once it is freed; that render searches no more, and every figure is
+   as the search would have made it on a new core: the mapped faces, the pieces, the
+   picture, the operations charged per stage, the core's peak. */
+static void test_keep_tjunctions(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(48, 7);
+  const char *scenes[] = { TJUNCTION, tris, MIXED, CROSSING };
+  uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b);
+  for (int k = 0; k < 4; k++) {
+    struct scene *sc = load_scene(scenes[k]);
+    struct render_keep keep;
+    memset(&keep, 0, sizeof keep);
+    struct render r0, r1;
+    render_kept(&r0, sc, NULL, a);            /* nothing kept */
+    render_kept(&r1, sc, &keep, b);           /* searched, kept */
+    assert_true(keep.map.s == sc);
+    assert_null(keep.core);
+    assert_memory_equal(a, b, GW * GH * sizeof *a);
+    same_render(&r0, &r1);
+    struct core *used = r1.core;
+    render_free(&r1);
+    assert_true(keep.core == used);           /* the core kept for the next frame */
+    assert_non_null(keep.seg.spare);          /* and the blocks of the pieces and faces */
+    assert_null(keep.seg.used);
+    assert_non_null(keep.map.pool.spare);
+    for (int again = 0; again < 2; again++) {
+      memset(b, 0, GW * GH * sizeof *b);
+      render_kept(&r1, sc, &keep, b);         /* taken from keep, on the kept core */
+      assert_true(r1.core == used);
+      assert_null(keep.core);
+      assert_memory_equal(a, b, GW * GH * sizeof *a);
+      same_render(&r0, &r1);
+      if (k == 0) {                           /* vertex 5 inserted into face 1's top edge */
+        assert_int_equal(r1.map.f[0].id, 1);
+        assert_int_equal(r1.map.f[0].ring_start[1], 5);
+      }
+      render_free(&r1);
+    }
+    render_free(&r0);
+    render_keep_free(&keep);
+    scene_free(sc);
+  }
+  free(tris);
+  free(a);
+  free(b);
 }
 
 /* prio_known only looks: it never decides a pair (computed does not move), says 0 for a
@@ -1177,7 +1388,10 @@ int main(void)
     cmocka_unit_test(test_vis_spans),
     cmocka_unit_test(test_vis_spans_invariant),
     cmocka_unit_test(test_prio_known),
-    cmocka_unit_test(test_prio_memo_exact),
+    cmocka_unit_test(test_prio_tags_exact),
+    cmocka_unit_test(test_clip_both),
+    cmocka_unit_test(test_pool),
+    cmocka_unit_test(test_keep_tjunctions),
     cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
   };

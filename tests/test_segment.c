@@ -1217,6 +1217,138 @@ static void test_random_stars(void **state)
   assert_true(cuts > 300);
 }
 
+/* seg_convex against seg_generate on one face, each on a core and counters of its own:
+   either it declines (nothing charged, no core touched) or it gives what seg_generate
+   gives: the status and message, the one piece's lines, the operations, the core's peak
+   and what is left in use. Returns 1 when it took the face. */
+static int convex_as_general(const struct tface *f)
+{
+  struct seg_input in = { f->id, f->nring, f->rs, f->pt, f->vid, 0 };
+  struct core *c1 = core_new(1u << 16), *c2 = core_new(1u << 16);
+  assert_non_null(c1);
+  assert_non_null(c2);
+  uint32_t a;
+  struct t74_error e1 = { 0, "" }, e2 = { 0, "" };
+  assert_int_equal(core_alloc(c1, "BEFORE", 7, &a, &e1), T74_OK);   /* a table below */
+  assert_int_equal(core_alloc(c2, "BEFORE", 7, &a, &e2), T74_OK);
+  struct cost k1, k2;
+  memset(&k1, 0, sizeof k1);
+  memset(&k2, 0, sizeof k2);
+  struct seg_result r;
+  memset(&r, 0, sizeof r);
+  int s1 = seg_generate(&in, &r, NULL, c1, &k1, &e1);
+  struct gline line[SEG_CONVEX_MAX];
+  int n = -1;
+  int s2 = seg_convex(&in, line, &n, NULL, c2, &k2, &e2);
+  int took = !(s2 == T74_OK && n == 0);
+  if (!took) {
+    struct cost zero;
+    memset(&zero, 0, sizeof zero);
+    assert_memory_equal(&k2, &zero, sizeof zero);
+    assert_int_equal(core_peak(c2), 7);
+  } else {
+    assert_int_equal(s1, s2);
+    if (s1 == T74_OK) {
+      assert_int_equal(r.npiece, 1);
+      assert_int_equal(r.ncut, 0);
+      assert_int_equal(r.piece[0].n, n);
+      assert_memory_equal(r.piece[0].line, line, (size_t)n * sizeof *line);
+    } else
+      assert_string_equal(e1.msg, e2.msg);
+    assert_memory_equal(&k1, &k2, sizeof k1);
+    assert_int_equal(core_peak(c1), core_peak(c2));
+    assert_int_equal(core_used(c1), core_used(c2));
+  }
+  if (s1 == T74_OK) seg_result_free(&r);
+  core_free(c1);
+  core_free(c2);
+  return took;
+}
+
+/* Issue 19: the fast path for convex faces (seg_convex) gives seg_generate's piece,
+   charges, core and refusals: random star-shaped rings (convex or not), convex rings with
+   vertices on their sides (straight turns, T-junctions), rings with holes, too many
+   vertices, and rings refused: clockwise, a pentagram (left turns only, winding twice), a
+   spike doubling back, two vertices at one point. */
+static void test_convex_fast(void **state)
+{
+  (void)state;
+  uint32_t seed = 19;
+  int took = 0, declined = 0;
+  for (int trial = 0; trial < 600; trial++) {
+    long long xy[128];
+    struct tface *f = tf_new((uint16_t)(500 + trial));
+    int n = star_ring(&seed, 2 + (int)(lcg(&seed) % 12), 3 + (int)(lcg(&seed) % 40), 0, 0, 0, xy);
+    if (!n) { free(f); continue; }
+    if (trial % 2 == 0) {                       /* its hull-like convex part, sides split */
+      /* the convex hull of its points (Andrew's monotone chain), counter-clockwise */
+      long long pts[128], cx[260];
+      memcpy(pts, xy, (size_t)(2 * n) * sizeof *pts);
+      for (int i = 1; i < n; i++)               /* by x, then y */
+        for (int j = i; j > 0 && (pts[2 * j] < pts[2 * j - 2] ||
+                                  (pts[2 * j] == pts[2 * j - 2] && pts[2 * j + 1] < pts[2 * j - 1])); j--) {
+          long long tx = pts[2 * j], ty = pts[2 * j + 1];
+          pts[2 * j] = pts[2 * j - 2]; pts[2 * j + 1] = pts[2 * j - 1];
+          pts[2 * j - 2] = tx; pts[2 * j - 1] = ty;
+        }
+      int m = 0;
+      for (int pass = 0; pass < 2; pass++) {
+        int lo = m;
+        for (int q = 0; q < n; q++) {
+          int i = pass ? n - 1 - q : q;
+          long long px = pts[2 * i], py = pts[2 * i + 1];
+          while (m >= lo + 2 && (cx[2 * m - 2] - cx[2 * m - 4]) * (py - cx[2 * m - 3]) -
+                                (cx[2 * m - 1] - cx[2 * m - 3]) * (px - cx[2 * m - 4]) <= 0) m--;
+          cx[2 * m] = px; cx[2 * m + 1] = py; m++;
+        }
+        m--;                                    /* its last point starts the other chain */
+      }
+      long long sp[256];
+      int k = 0;
+      for (int i = 0; i < m; i++) {
+        sp[2 * k] = 2 * cx[2 * i]; sp[2 * k + 1] = 2 * cx[2 * i + 1]; k++;
+        int j = (i + 1) % m;
+        if (lcg(&seed) % 2) {                   /* the side's midpoint: a straight turn */
+          sp[2 * k] = cx[2 * i] + cx[2 * j]; sp[2 * k + 1] = cx[2 * i + 1] + cx[2 * j + 1]; k++;
+        }
+      }
+      if (m < 3) { free(f); continue; }
+      tf_ring(f, k, sp);
+    } else
+      tf_ring(f, n, xy);
+    if (trial % 10 == 1) {                      /* a hole: never the fast path */
+      tf_ring(f, 3, (const long long[]){ 0, 0, 0, 0, 0, 0 });
+      f->pt[f->rs[1]] = (struct gpoint){ -1, -1 };
+      f->pt[f->rs[1] + 1] = (struct gpoint){ -1, 1 };
+      f->pt[f->rs[1] + 2] = (struct gpoint){ 1, 0 };
+      for (int i = 0; i < f->rs[1]; i++) { f->pt[i].x *= 8; f->pt[i].y *= 8; }
+    }
+    if (convex_as_general(f)) took++; else declined++;
+    free(f);
+  }
+  assert_true(took > 100);
+  assert_true(declined > 100);
+  static const long long bad[][14] = {
+    { 4, 0, 0, 0, 10, 10, 10, 10, 0 },                         /* clockwise */
+    { 5, 0, 10, -6, -8, 10, 3, -10, 3, 6, -8 },                 /* pentagram */
+    { 5, 0, 0, 10, 0, 20, 0, 10, 0, 10, 10 },                   /* a spike */
+    { 4, 0, 0, 10, 0, 10, 0, 0, 10 },                           /* one point twice */
+  };
+  for (int b = 0; b < 4; b++) {
+    struct tface *f = tf_new((uint16_t)(900 + b));
+    tf_ring(f, (int)bad[b][0], &bad[b][1]);
+    convex_as_general(f);
+    free(f);
+  }
+  struct tface *f = tf_new(999);                /* more vertices than the fast path takes */
+  long long big[2 * (SEG_CONVEX_MAX + 1)];
+  for (int i = 0; i <= SEG_CONVEX_MAX; i++) { big[2 * i] = i * (i + 1) / 2; big[2 * i + 1] = -i; }
+  big[2 * SEG_CONVEX_MAX] = 0; big[2 * SEG_CONVEX_MAX + 1] = 1000;
+  tf_ring(f, SEG_CONVEX_MAX + 1, big);
+  assert_int_equal(convex_as_general(f), 0);
+  free(f);
+}
+
 /* The cut is made by the rules of eq. (3) on the typed crossings (segment.c rule_pairs):
    one line y = 10 meets a chain along it of each kind, each typed from the ring alone
    (the direction the chain runs, the face on its left): from below running to +x (c,
@@ -1288,6 +1420,7 @@ int main(void)
     cmocka_unit_test(test_core_and_cost),
     cmocka_unit_test(test_bad_input),
     cmocka_unit_test(test_random_stars),
+    cmocka_unit_test(test_convex_fast),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

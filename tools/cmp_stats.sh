@@ -5,28 +5,87 @@
 # frame_seconds (host timings). Used for issue 12 (counting overhead): a change to how the
 # 1974 operations are counted must leave hitac10_seconds, exact_hitac10_seconds, the
 # operations counts and every other field as they were.
+# CMP_FULL=1 (issue 19, speed work on the 1974 engine) widens the check: the exit status,
+# the PNG, `--dump ids` (not at 100,000 faces: a 16-bit PGM) and `--dump tables` too, every
+# run with `--frames 2` (the frame before must not change what the written one gives), each
+# scene also with `--arith hitac`, the shipped scenes also on the default core, and besides
+# scenes/*.s74: scenes/cube.obj with --engine 1974, the boxes of `tube74 bench speed`
+# (tools/mkgrowth.py --obj: 1,000, 10,000, 100,000 faces) and its interpenetrating
+# triangles (tools/mktris.py: 160 .. 2,560).
 # Usage: tools/cmp_stats.sh OLD_BINARY NEW_BINARY [WORKDIR]; exit 0 when all agree.
 set -u
 old=$1; new=$2; dir=${3:-build/cmp_stats}
+full=${CMP_FULL:-0}
 mkdir -p build/bench "$dir/old" "$dir/new"
 for n in 1000 10000; do
   [ -f build/bench/g$n.s74 ] || python3 tools/mkgrowth.py $n >build/bench/g$n.s74
 done
+if [ "$full" = 1 ]; then
+  for n in 1000 10000 100000; do
+    [ -f build/bench/boxes$n.obj ] || python3 tools/mkgrowth.py $n --obj >build/bench/boxes$n.obj
+  done
+  for n in 160 320 640 1280 2560; do
+    [ -f build/bench/tris$n.s74 ] || python3 tools/mktris.py $n >build/bench/tris$n.s74
+  done
+fi
+
+# one run of each binary: SCENE TAG EXTRA...; the outputs compared are listed in $dir/*/TAG.*
 bad=0; count=0
-for g in scenes/*.s74 build/bench/g1000.s74 build/bench/g10000.s74; do
-  b=$(basename "$g")
+run() {
+  g=$1; b=$2; shift 2
   for side in old new; do
     eval bin=\$$side
-    rm -f "$dir/$side/$b.json"
-    "$bin" render "$g" --core 268435456 --stats "$dir/$side/$b.json" -o "$dir/$side/$b.png" \
-      >/dev/null 2>&1
-    sed -E 's/"(host_seconds|frame_seconds)": *[-0-9.eE+]+,? *//g' "$dir/$side/$b.json" \
-      >"$dir/$side/$b.cmp" 2>/dev/null || : >"$dir/$side/$b.cmp"
+    o="$dir/$side/$b"
+    rm -f "$o".json "$o".png "$o".ids "$o".tables "$o".rc
+    if [ "$full" = 1 ]; then
+      case $g in *100000*) ids="" ;; *) ids="--dump ids=$o.ids" ;; esac
+      # the tables apart: a trace takes the Segment Generator's general path (seg_convex)
+      "$bin" render "$g" --dump tables="$o.tables" "$@" >/dev/null 2>&1
+      # shellcheck disable=SC2086
+      "$bin" render "$g" --stats "$o.json" -o "$o.png" $ids --frames 2 "$@" >/dev/null 2>&1
+    else
+      "$bin" render "$g" --stats "$o.json" -o "$o.png" "$@" >/dev/null 2>&1
+    fi
+    echo $? >"$o.rc"
+    sed -E 's/"(host_seconds|frame_seconds)": *[-0-9.eE+]+,? *//g' "$o.json" \
+      >"$o.cmp" 2>/dev/null || : >"$o.cmp"
   done
   count=$((count + 1))
-  if [ ! -s "$dir/old/$b.cmp" ] || ! cmp -s "$dir/old/$b.cmp" "$dir/new/$b.cmp"; then
-    echo "differs (or no stats): $b"; bad=$((bad + 1))
+  what=""
+  cmp -s "$dir/old/$b.rc" "$dir/new/$b.rc" || what="$what status"
+  if [ "$(cat "$dir/old/$b.rc")" = 0 ] && [ ! -s "$dir/old/$b.cmp" ]; then what="$what no-stats"; fi
+  cmp -s "$dir/old/$b.cmp" "$dir/new/$b.cmp" || what="$what stats"
+  if [ "$full" = 1 ]; then
+    for e in png ids tables; do
+      if [ -f "$dir/old/$b.$e" ] || [ -f "$dir/new/$b.$e" ]; then
+        cmp -s "$dir/old/$b.$e" "$dir/new/$b.$e" || what="$what $e"
+      fi
+    done
+  fi
+  if [ -n "$what" ]; then echo "differs ($what ): $b $*"; bad=$((bad + 1)); fi
+}
+
+for g in scenes/*.s74 build/bench/g1000.s74 build/bench/g10000.s74; do
+  b=$(basename "$g")
+  run "$g" "$b" --core 268435456
+  if [ "$full" = 1 ]; then
+    run "$g" "$b.hitac" --core 268435456 --arith hitac
+    case $g in scenes/*) run "$g" "$b.16k" ;; esac
   fi
 done
-echo "$count scenes, $bad differ"
+if [ "$full" = 1 ]; then
+  run scenes/cube.obj cube.obj --engine 1974
+  run scenes/cube.obj cube.obj.hitac --engine 1974 --arith hitac
+  for g in build/bench/boxes1000.obj build/bench/boxes10000.obj build/bench/boxes100000.obj \
+           build/bench/tris160.s74 build/bench/tris320.s74 build/bench/tris640.s74 \
+           build/bench/tris1280.s74 build/bench/tris2560.s74; do
+    b=$(basename "$g")
+    t=""; case $g in *.obj) t="--turn 0,0" ;; esac
+    # shellcheck disable=SC2086
+    run "$g" "$b" --engine 1974 --core 268435456 $t
+    # shellcheck disable=SC2086
+    run "$g" "$b.hitac" --engine 1974 --core 268435456 $t --arith hitac
+  done
+fi
+echo "$count runs, $bad differ"
 [ "$bad" -eq 0 ]

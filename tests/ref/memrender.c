@@ -55,7 +55,7 @@ static int on_point(void *ctx, int i, int j, int face)
 int mr_render_ids(const struct scene *s, int cell, uint16_t *ids, struct t74_error *err)
 {
   struct render r;
-  struct render_opts o = { MR_CORE_WORDS, 0, PRIO_AUTO, NULL, 0 };
+  struct render_opts o = { MR_CORE_WORDS, 0, PRIO_AUTO, NULL, 0, NULL };
   int W = pat_grid_w(cell), H = pat_grid_h(cell);
   memset(ids, 0, (size_t)W * (size_t)H * sizeof *ids);
   int st = render_prepare(&r, s, &o, err);

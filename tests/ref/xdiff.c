@@ -62,7 +62,7 @@ int xd_check_ids(struct xr_scene *s, int cell, int store, struct xd_result *res,
     return 0;
   }
   struct render r;
-  struct render_opts ro = { 1u << 22, 0, store, NULL, 0 };
+  struct render_opts ro = { 1u << 22, 0, store, NULL, 0, NULL };
   struct xr_ref ref;
   int W = 400 / cell, H = 300 / cell;
   unsigned *ids = calloc((size_t)W * (size_t)H, sizeof *ids);
