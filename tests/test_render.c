@@ -23,6 +23,7 @@
 #include "emu/status.h"
 #include "render/geom.h"
 #include "render/mapper.h"
+#include "render/points.h"
 #include "render/pool.h"
 #include "render/priority.h"
 #include "render/render.h"
@@ -1261,6 +1262,71 @@ static void test_keep_tjunctions(void **state)
   free(b);
 }
 
+/* The points engine's frame: the mapped faces, the faces seen and the counts. */
+static void same_points(const struct points *x, const struct points *y)
+{
+  assert_int_equal(x->map.nface, y->map.nface);
+  assert_int_equal(x->map.dropped, y->map.dropped);
+  for (int f = 0; f < x->map.nface; f++) {
+    const struct mface *a = &x->map.f[f], *b = &y->map.f[f];
+    assert_int_equal(a->id, b->id);
+    assert_int_equal(a->nring, b->nring);
+    assert_memory_equal(a->ring_start, b->ring_start, (size_t)(a->nring + 1) * sizeof *a->ring_start);
+    int n = a->ring_start[a->nring];
+    assert_memory_equal(a->pt, b->pt, (size_t)n * sizeof *a->pt);
+    assert_memory_equal(a->vid, b->vid, (size_t)n * sizeof *a->vid);
+    assert_memory_equal(a->xyz, b->xyz, (size_t)n * sizeof *a->xyz);
+  }
+  assert_int_equal(x->faces_split, y->faces_split);
+  assert_int_equal(x->faces_culled, y->faces_culled);
+  assert_int_equal(x->W, y->W);
+  assert_int_equal(x->H, y->H);
+  assert_memory_equal(x->face, y->face, (size_t)x->W * (size_t)x->H * sizeof *x->face);
+}
+
+/* Issue 19 under --engine points: the rings (T-junctions inserted) found by the first
+   call of a scene are kept in points.keep, and a later call maps the very same faces and
+   sees the very same face at every point as a call that searched afresh. The kept rings
+   are what a later call uses: with face 1's inserted vertex 5 taken out of them, its
+   ring has one vertex fewer. */
+static void test_points_keep_tjunctions(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(48, 7);
+  const char *scenes[] = { TJUNCTION, tris, MIXED, CROSSING };
+  for (int k = 0; k < 4; k++) {
+    struct scene *sc = load_scene(scenes[k]);
+    struct vis_grid g = { GW, GH, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
+    struct t74_error err = { 0, "" };
+    struct mapper_keep keep;
+    memset(&keep, 0, sizeof keep);
+    struct points p0, p1;
+    memset(&p0, 0, sizeof p0);
+    memset(&p1, 0, sizeof p1);
+    p1.keep = &keep;
+    assert_int_equal(points_render(&p0, sc, &g, &err), T74_OK);   /* nothing kept */
+    for (int again = 0; again < 3; again++) {  /* searched and kept, then taken from keep */
+      assert_int_equal(points_render(&p1, sc, &g, &err), T74_OK);
+      assert_true(keep.s == sc);
+      same_points(&p0, &p1);
+    }
+    if (k == 0) {                 /* face 1's ring 1 2 3 4 (indices 0..3) with 5 after 3 */
+      assert_int_equal(p1.map.f[0].ring_start[1], 5);
+      assert_int_equal(keep.start[0], 0);
+      assert_int_equal(keep.start[1], 5);
+      assert_int_equal(keep.ring[3], 4);
+      keep.ring[3] = keep.ring[2];            /* vertex 3 twice: the second is dropped */
+      assert_int_equal(points_render(&p1, sc, &g, &err), T74_OK);
+      assert_int_equal(p1.map.f[0].ring_start[1], 4);
+    }
+    points_free(&p0);
+    points_free(&p1);
+    mapper_keep_free(&keep);
+    scene_free(sc);
+  }
+  free(tris);
+}
+
 /* prio_known only looks: it never decides a pair (computed does not move), says 0 for a
    pair not decided, and for a decided one what prio_order says, both ways round. */
 static void test_prio_known(void **state)
@@ -1392,6 +1458,7 @@ int main(void)
     cmocka_unit_test(test_clip_both),
     cmocka_unit_test(test_pool),
     cmocka_unit_test(test_keep_tjunctions),
+    cmocka_unit_test(test_points_keep_tjunctions),
     cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
   };
