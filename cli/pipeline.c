@@ -967,6 +967,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
   memset(&pts, 0, sizeof pts);
+  pts.keep = &keep.map;                     /* the points engine's frames keep its rings too */
   memset(&p, 0, sizeof p);
   p.first_dot = -1;
   int engine = JOB_ENGINE_1974;

@@ -387,11 +387,13 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     int64_t w = v->z - Z0;                  /* > 0: the scene reader checked z > Z0 */
     proj[k].x = project(v->x, X0, f, w);
     proj[k].y = project(v->y, Y0, f, w);
-    COST_ADD_N(cost, COST_MEM, 6);
-    cost_mw_mul(cost, 32, 32);
-    cost_mw_mul(cost, 32, 32);
-    cost_mw_div(cost, 48, 32);
-    cost_mw_div(cost, 48, 32);
+    if (cost) {                             /* NULL: not counted (the points engine) */
+      COST_ADD_N(cost, COST_MEM, 6);
+      cost_mw_mul(cost, 32, 32);
+      cost_mw_mul(cost, 32, 32);
+      cost_mw_div(cost, 48, 32);
+      cost_mw_div(cost, 48, 32);
+    }
     if (proj[k].x < -GRID_LIMIT || proj[k].x > GRID_LIMIT ||
         proj[k].y < -GRID_LIMIT || proj[k].y > GRID_LIMIT) {
       t74_fail_at(err, T74_EINPUT, s->file, v->line,
@@ -443,8 +445,10 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     g0 += sf->nring;
     int64_t pl[4];
     if (!face_plane(s, sf, pl)) { out->dropped++; continue; }
-    cost_mw_mul(cost, 17, 17);
-    COST_ADD_N(cost, COST_MEM, 9);
+    if (cost) {
+      cost_mw_mul(cost, 17, 17);
+      COST_ADD_N(cost, COST_MEM, 9);
+    }
     wide pe = (wide)pl[0] * X0 + (wide)pl[1] * Y0 + (wide)pl[2] * Z0 + pl[3];
     if (pe == 0) { out->dropped++; continue; }     /* edge-on: the plane holds the eye */
     if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
@@ -514,8 +518,10 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
              m->pt[np - 1].y == m->pt[start].y)
         np--;
       wide area = np - start >= 3 ? ring_area2(m->pt + start, np - start) : 0;
-      COST_ADD_N(cost, COST_MEM, 2 * (np - start));
-      cost_mw_mul(cost, 29, 29);
+      if (cost) {
+        COST_ADD_N(cost, COST_MEM, 2 * (np - start));
+        cost_mw_mul(cost, 29, 29);
+      }
       if (area == 0) {                    /* covers no point of the plane */
         np = start;
         if (r == 0) keep = false;
@@ -563,7 +569,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     kt->s = s;
     kt->cost = tjc;
   }
-  cost_merge(cost, replay ? &kt->cost : &tjc);
+  if (cost) cost_merge(cost, replay ? &kt->cost : &tjc);
   return T74_OK;
 
 fail_tj:

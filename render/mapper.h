@@ -61,7 +61,9 @@ static inline bool mface_coplanar_front(const struct mface *A, const struct mfac
   return A->id > B->id;
 }
 
-/* Map a checked scene. T74_EINPUT when a vertex projects outside the plane grid. */
+/* Map a checked scene. T74_EINPUT when a vertex projects outside the plane grid. The 1974
+   program's operations are added to cost; cost NULL: not counted (the points engine
+   reports no 1974 figures). */
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
                struct cost *cost, struct t74_error *err);
 

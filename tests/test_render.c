@@ -23,6 +23,7 @@
 #include "emu/status.h"
 #include "render/geom.h"
 #include "render/mapper.h"
+#include "render/points.h"
 #include "render/pool.h"
 #include "render/priority.h"
 #include "render/render.h"
@@ -1193,6 +1194,24 @@ static void render_kept(struct render *r, const struct scene *s, struct render_k
   scan_ids(r, ids);
 }
 
+/* Two mapped scenes are the same: every face's number, plane, rings, points and vertices. */
+static void same_mapped(const struct mapped *x, const struct mapped *y)
+{
+  assert_int_equal(x->nface, y->nface);
+  assert_int_equal(x->dropped, y->dropped);
+  for (int f = 0; f < x->nface; f++) {
+    const struct mface *a = &x->f[f], *b = &y->f[f];
+    assert_int_equal(a->id, b->id);
+    assert_memory_equal(a->plane, b->plane, sizeof a->plane);
+    assert_int_equal(a->nring, b->nring);
+    assert_memory_equal(a->ring_start, b->ring_start, (size_t)(a->nring + 1) * sizeof *a->ring_start);
+    int n = a->ring_start[a->nring];
+    assert_memory_equal(a->pt, b->pt, (size_t)n * sizeof *a->pt);
+    assert_memory_equal(a->vid, b->vid, (size_t)n * sizeof *a->vid);
+    assert_memory_equal(a->xyz, b->xyz, (size_t)n * sizeof *a->xyz);
+  }
+}
+
 /* The figures of two renders of one scene agree: the operations charged per stage, the
    core, the mapped faces, the pieces. */
 static void same_render(const struct render *x, const struct render *y)
@@ -1200,15 +1219,7 @@ static void same_render(const struct render *x, const struct render *y)
   assert_memory_equal(x->cost, y->cost, sizeof x->cost);
   assert_int_equal(core_peak(x->core), core_peak(y->core));
   assert_int_equal(core_words(x->core), core_words(y->core));
-  assert_int_equal(x->map.nface, y->map.nface);
-  for (int f = 0; f < x->map.nface; f++) {
-    const struct mface *a = &x->map.f[f], *b = &y->map.f[f];
-    assert_int_equal(a->nring, b->nring);
-    int n = a->ring_start[a->nring];
-    assert_int_equal(n, b->ring_start[b->nring]);
-    assert_memory_equal(a->pt, b->pt, (size_t)n * sizeof *a->pt);
-    assert_memory_equal(a->vid, b->vid, (size_t)n * sizeof *a->vid);
-  }
+  same_mapped(&x->map, &y->map);
   assert_int_equal(x->seg.n, y->seg.n);
 }
 
@@ -1259,6 +1270,89 @@ static void test_keep_tjunctions(void **state)
   free(tris);
   free(a);
   free(b);
+}
+
+/* The points engine's frame: the mapped faces, the faces seen and the counts. */
+static void same_points(const struct points *x, const struct points *y)
+{
+  same_mapped(&x->map, &y->map);
+  assert_int_equal(x->faces_split, y->faces_split);
+  assert_int_equal(x->faces_culled, y->faces_culled);
+  assert_int_equal(x->W, y->W);
+  assert_int_equal(x->H, y->H);
+  assert_memory_equal(x->face, y->face, (size_t)x->W * (size_t)x->H * sizeof *x->face);
+}
+
+/* Issue 19 under --engine points: the rings (T-junctions inserted) found by the first
+   call of a scene are kept in points.keep, and a later call maps the very same faces and
+   sees the very same face at every point as a call that searched afresh. The kept rings
+   are what a later call uses: with face 1's inserted vertex 5 taken out of them, its
+   ring has one vertex fewer. */
+static void test_points_keep_tjunctions(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(48, 7);
+  const char *scenes[] = { TJUNCTION, tris, MIXED, CROSSING };
+  for (int k = 0; k < 4; k++) {
+    struct scene *sc = load_scene(scenes[k]);
+    struct vis_grid g = { GW, GH, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
+    struct t74_error err = { 0, "" };
+    struct mapper_keep keep;
+    memset(&keep, 0, sizeof keep);
+    struct points p0, p1;
+    memset(&p0, 0, sizeof p0);
+    memset(&p1, 0, sizeof p1);
+    p1.keep = &keep;
+    assert_int_equal(points_render(&p0, sc, &g, &err), T74_OK);   /* nothing kept */
+    for (int again = 0; again < 3; again++) {  /* searched and kept, then taken from keep */
+      assert_int_equal(points_render(&p1, sc, &g, &err), T74_OK);
+      assert_true(keep.s == sc);
+      same_points(&p0, &p1);
+    }
+    if (k == 0) {                 /* face 1's ring 1 2 3 4 (indices 0..3) with 5 after 3 */
+      assert_int_equal(p1.map.f[0].ring_start[1], 5);
+      assert_int_equal(keep.start[0], 0);
+      assert_int_equal(keep.start[1], 5);
+      assert_int_equal(keep.ring[3], 4);
+      keep.ring[3] = keep.ring[2];            /* vertex 3 twice: the second is dropped */
+      assert_int_equal(points_render(&p1, sc, &g, &err), T74_OK);
+      assert_int_equal(p1.map.f[0].ring_start[1], 4);
+    }
+    points_free(&p0);
+    points_free(&p1);
+    mapper_keep_free(&keep);
+    scene_free(sc);
+  }
+  free(tris);
+}
+
+/* The Mapper with a NULL cost (the points engine) counts nothing and maps exactly as with
+   one, which it charges: the faces are the same, T-junctions and all. */
+static void test_mapper_uncounted(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(48, 7);
+  const char *scenes[] = { TJUNCTION, tris, MIXED };
+  for (int k = 0; k < 3; k++) {
+    struct scene *sc = load_scene(scenes[k]);
+    struct t74_error err = { 0, "" };
+    struct core *c0 = core_new(1u << 20), *c1 = core_new(1u << 20);
+    assert_non_null(c0);
+    assert_non_null(c1);
+    struct cost cost = { { 0 } }, none = { { 0 } };
+    struct mapped m0, m1;
+    assert_int_equal(mapper_run(sc, &m0, c0, &cost, &err), T74_OK);
+    assert_int_equal(mapper_run(sc, &m1, c1, NULL, &err), T74_OK);
+    assert_true(memcmp(&cost, &none, sizeof cost) != 0);
+    same_mapped(&m0, &m1);
+    assert_int_equal(core_peak(c0), core_peak(c1));
+    mapper_free(&m0);
+    mapper_free(&m1);
+    core_free(c0);
+    core_free(c1);
+    scene_free(sc);
+  }
+  free(tris);
 }
 
 /* prio_known only looks: it never decides a pair (computed does not move), says 0 for a
@@ -1392,6 +1486,8 @@ int main(void)
     cmocka_unit_test(test_clip_both),
     cmocka_unit_test(test_pool),
     cmocka_unit_test(test_keep_tjunctions),
+    cmocka_unit_test(test_points_keep_tjunctions),
+    cmocka_unit_test(test_mapper_uncounted),
     cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
   };
