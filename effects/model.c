@@ -106,7 +106,8 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
   }
   if (e->shadows && s->has_light) {
     if ((rc = shadow_build(map, s, &m->shadows, st, cost, err)) != T74_OK) return rc;
-    qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
+    if (m->shadows.n > 0)              /* none cast: p may be NULL, which qsort may not take */
+      qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
     m->shadow_first = calloc((size_t)map->nface + 1, sizeof *m->shadow_first);
     if (!m->shadow_first) return t74_fail(err, T74_EIO, "out of host memory");
     for (int f = 0, k = 0; f <= map->nface; f++) {

@@ -189,7 +189,7 @@ static char *wait_for(struct cdp *c, int id)
   clock_gettime(CLOCK_MONOTONIC, &t0);
   for (;;) {
     char *z;
-    while ((z = memchr(c->buf, 0, c->n))) {    /* every whole message */
+    while (c->n > 0 && (z = memchr(c->buf, 0, c->n))) {   /* every whole message (buf may be NULL while empty) */
       size_t len = (size_t)(z - c->buf);
       char *m = malloc(len + 1);
       if (!m) return NULL;
