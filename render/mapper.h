@@ -61,6 +61,20 @@ static inline bool mface_coplanar_front(const struct mface *A, const struct mfac
   return A->id > B->id;
 }
 
+/* Equal depth at a point (it lies on the two planes' intersection line): is A in front of
+   B? The face in front just right of the point, then just above it: the sign of
+   |D_B| a_A - |D_A| a_B, then of the b's (the tie rule of the edges, the point shifted by
+   (e, e^2); |D| < 2^52, |a|, |b| < 2^34: 128-bit); planes of equal depth everywhere
+   (coplanar): mface_coplanar_front. Both engines' rule (render/points.c, points_at.c). */
+static inline bool mface_tie_front(const struct mface *A, const struct mface *B)
+{
+  for (int c = 0; c < 2; c++) {
+    wide l = (wide)B->deye * A->plane[c], r = (wide)A->deye * B->plane[c];
+    if (l != r) return l > r;
+  }
+  return mface_coplanar_front(A, B);
+}
+
 /* Map a checked scene. T74_EINPUT when a vertex projects outside the plane grid. The 1974
    program's operations are added to cost; cost NULL: not counted (the points engine
    reports no 1974 figures). */

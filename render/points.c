@@ -41,8 +41,8 @@
 ** |Yc| <= 2H 2^17, 4WH < 2^16: |P| < 3 2^66 < 2^68; |alpha|, |beta| < 2^60; |D| = deye
 ** < 2^51 (mapper.c). A in front of B: |D_B| P_A > |D_A| P_B, products < 2^119 — 128-bit,
 ** exact. A plane met at or behind the eye (P <= 0) is never in front; equal depth: the
-** sign just right of the centre, then just above it (tie_front), then the larger face
-** number.
+** sign just right of the centre, then just above it, then the coplanar rule
+** (mface_tie_front, render/mapper.h).
 **
 ** Float filter (issue 19).  The exact compare is asked only where doubles cannot decide
 ** it. z = P / D (D = |D| above; 1/t up to a constant: larger is nearer) is computed in
@@ -336,34 +336,15 @@ static inline int32_t col_of(const struct grid *g, int64_t q, int64_t rem)
   return c > g->W ? g->W : (int32_t)c;
 }
 
-/* Depth ties at a centre: the sign of G = |D_o| P_k - |D_k| P_o just right of the centre
-   (then just above it), the tie rule of the edges (the centre shifted by (e, e^2)); planes
-   of equal depth everywhere (coplanar): mface_coplanar_front (render/mapper.h: a pattern
-   over its face, else the larger number). |D| |alpha| < 2^111: 128-bit. */
-static bool tie_front(const struct grid *g, const struct mface *fk, const struct mface *fo)
-{
-  wide ak = (wide)fk->plane[0] * 4 * g->H * (g->XR - g->XL);
-  wide ao = (wide)fo->plane[0] * 4 * g->H * (g->XR - g->XL);
-  wide l = (wide)fo->deye * ak, r = (wide)fk->deye * ao;
-  if (l != r) return l > r;                     /* i grows with x */
-  wide bk = (wide)fk->plane[1] * 4 * g->W * (g->YT - g->YB);   /* -beta: y grows as j falls */
-  wide bo = (wide)fo->plane[1] * 4 * g->W * (g->YT - g->YB);
-  l = (wide)fo->deye * bk;
-  r = (wide)fk->deye * bo;
-  if (l != r) return l > r;
-  return mface_coplanar_front(fk, fo);
-}
-
 /* Is face k (P_k) in front of the face o seen so far (P_o) at a centre? */
-static inline bool in_front(const struct grid *g, wide Pk, const struct mface *fk, wide Po,
-                            const struct mface *fo)
+static inline bool in_front(wide Pk, const struct mface *fk, wide Po, const struct mface *fo)
 {
   int s;
   if (Pk <= 0 || Po <= 0) s = (Pk > 0) - (Po > 0);
   else {
     wide l = (wide)fo->deye * Pk, r = (wide)fk->deye * Po;
     s = (l > r) - (l < r);
-    if (s == 0) return tie_front(g, fk, fo);
+    if (s == 0) return mface_tie_front(fk, fo);   /* equal depth: render/mapper.h */
   }
   if (s == 0) return mface_coplanar_front(fk, fo);
   return s > 0;
@@ -374,16 +355,16 @@ static inline bool in_front(const struct grid *g, wide Pk, const struct mface *f
    *same: the two planes are one (P_k |D_o| = P_o |D_k| everywhere: |alpha| |D| < 2^111,
    |gamma| |D| < 2^119), where the answer is mface_coplanar_front's at every point: the
    signs of P_k and P_o agree, so in_front finds either both <= 0 or equal depths and
-   equal slopes (tie_front's a and b are alpha and -beta). */
-static __attribute__((noinline)) bool in_front_exact(const struct grid *g, const struct points *p,
-                                                     int k, int o, int64_t i, int64_t j, bool *same)
+   equal slopes (alpha and -beta are mface_tie_front's a and b times positive factors). */
+static __attribute__((noinline)) bool in_front_exact(const struct points *p, int k, int o,
+                                                     int64_t i, int64_t j, bool *same)
 {
   const struct points_plane *A = &p->plane[k], *B = &p->plane[o];
   const wide Dk = p->map.f[k].deye, Do = p->map.f[o].deye;
   *same = A->alpha * Do == B->alpha * Dk && A->beta * Do == B->beta * Dk &&
           A->gamma * Do == B->gamma * Dk;
   wide Pk = A->alpha * i + A->beta * j + A->gamma, Po = B->alpha * i + B->beta * j + B->gamma;
-  return in_front(g, Pk, &p->map.f[k], Po, &p->map.f[o]);
+  return in_front(Pk, &p->map.f[k], Po, &p->map.f[o]);
 }
 
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
@@ -404,7 +385,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
       int o = fb[i];
       bool front = cofront, same;
       if (o != co) {
-        front = in_front_exact(g, p, k, o, i, j, &same);
+        front = in_front_exact(p, k, o, i, j, &same);
         if (same) { co = o; cofront = front; }
       }
       if (!front) continue;

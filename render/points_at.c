@@ -24,9 +24,8 @@
 ** |Yc| < 2^30 and |P| < 2^34 (2 2^13 2^30 + 2^26 2^15) < 2^79; alpha = 2 a yd (XR - XL)
 ** < 2^64. A is in front of B when |D_B| P_A > |D_A| P_B; the products reach 2^131, so they
 ** are taken in 128 bits while both P are below 2^74 (products below 2^126) and in 256 bits
-** (geom_cross_sign) beyond. Equal depth: the sign of |D_B| a_A - |D_A| a_B (just right of
-** the sample), then of the b's (just above), below 2^86; then mface_coplanar_front —
-** points.c's rules.
+** (geom_cross_sign) beyond. Equal depth: mface_tie_front (render/mapper.h), the rule
+** points.c follows too.
 */
 #include "render/points_at.h"
 
@@ -87,12 +86,7 @@ static bool front(wide Pk, const struct mface *fk, wide Po, const struct mface *
     } else {
       s = geom_cross_sign(fo->deye, Pk, fk->deye, Po);
     }
-    if (s == 0) {                               /* on the two planes' intersection line */
-      for (int c = 0; c < 2 && s == 0; c++) {
-        wide l = (wide)fo->deye * fk->plane[c], r = (wide)fk->deye * fo->plane[c];
-        s = (l > r) - (l < r);
-      }
-    }
+    if (s == 0) return mface_tie_front(fk, fo); /* on the two planes' intersection line */
   }
   if (s == 0) return mface_coplanar_front(fk, fo);
   return s > 0;
