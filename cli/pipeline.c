@@ -841,43 +841,6 @@ done:
 
 /* ---- the scene pipeline ------------------------------------------------------------- */
 
-/* One more frame of the loaded scene for --frames (the job's outputs come from the frame
-** after these): Mapper, Segment Generator, priorities, visible surfaces, effects and
-** halftone into a tube of its own, the machine model counting as in that frame, no hooks
-** (a command's sink sees one picture). The pipeline's counters are the copy's; the
-** background's display-time disk state starts afresh (and afresh again for the frame after
-** these), so the statistics are those of one frame. */
-static int spare_frame(const struct pipeline *p0, const struct scene *s, const struct effects *e,
-                       const struct render_opts *ro, int arith, const struct vis_grid *g,
-                       double *secs, struct t74_error *err)
-{
-  struct pipeline p = *p0;
-  struct render r;
-  memset(&r, 0, sizeof r);
-  p.map = &r.map;
-  double t0 = now_seconds();
-  if (p.scan) scan_display_reset(p.scan);
-  struct tube *t = tube_new();
-  if (!t) return t74_fail(err, T74_EIO, "out of host memory");
-  p.r = &r;
-  p.hooks = NULL;
-  p.out = tube_sink(t);
-  p.tube_direct = t;
-  p.also = NULL;
-  memset(&p.display, 0, sizeof p.display);
-  memset(&p.fx, 0, sizeof p.fx);
-  memset(&p.scanner, 0, sizeof p.scanner);
-  struct fx_stats fst;
-  memset(&fst, 0, sizeof fst);
-  int st = render_prepare_lazy_arith(&r, s, ro, arith, err);   /* as the first frame */
-  if (st == T74_OK) st = render_scan(&r, g, on_point, &p, err);
-  if (st == T74_OK && p.face) st = run_effects(&p, s, e, g, &fst, err);
-  *secs = now_seconds() - t0;
-  tube_free(t);
-  render_free(&r);                  /* its core to ro->keep, for the next frame */
-  return st;
-}
-
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
 ** first, left to right), through the same per-point path. To the tube alone without
 ** effects (each --frames frame after the first): on_point's steps without a call a point,
@@ -912,12 +875,21 @@ static int points_emit(struct pipeline *p, const struct points *pt)
   return T74_OK;
 }
 
-/* One more frame under --engine points (see spare_frame): the engine's scratch reused. */
-static int spare_points_frame(const struct pipeline *p0, const struct scene *s,
-                              const struct effects *e, struct points *pt,
-                              const struct vis_grid *g, double *secs, struct t74_error *err)
+/* One more frame of the loaded scene for --frames (the job's outputs come from the frame
+** after these), by the job's engine: the 1974 program (Mapper, Segment Generator,
+** priorities, visible surfaces, a render of its own on ro, its core to ro->keep) or the
+** points engine (pt's scratch reused); then effects and halftone into a tube of its own,
+** the machine model counting as in that frame, no hooks (a command's sink sees one
+** picture). The pipeline's counters are the copy's; the background's display-time disk
+** state starts afresh (and afresh again for the frame after these), so the statistics are
+** those of one frame. */
+static int spare_frame(const struct pipeline *p0, const struct scene *s, const struct effects *e,
+                       int engine, const struct render_opts *ro, int arith, struct points *pt,
+                       const struct vis_grid *g, double *secs, struct t74_error *err)
 {
   struct pipeline p = *p0;
+  struct render r;
+  memset(&r, 0, sizeof r);
   double t0 = now_seconds();
   if (p.scan) scan_display_reset(p.scan);
   struct tube *t = tube_new();
@@ -931,13 +903,24 @@ static int spare_points_frame(const struct pipeline *p0, const struct scene *s,
   memset(&p.scanner, 0, sizeof p.scanner);
   struct fx_stats fst;
   memset(&fst, 0, sizeof fst);
-  int st = points_render(pt, s, g, err);
-  p.map = &pt->map;
-  p.pts = pt;
-  if (st == T74_OK) st = points_emit(&p, pt);
+  int st;
+  if (engine == JOB_ENGINE_POINTS) {
+    p.r = NULL;
+    p.pts = pt;
+    p.map = &pt->map;
+    st = points_render(pt, s, g, err);
+    if (st == T74_OK) st = points_emit(&p, pt);
+  } else {
+    p.r = &r;
+    p.pts = NULL;
+    p.map = &r.map;
+    st = render_prepare_lazy_arith(&r, s, ro, arith, err);   /* as the first frame */
+    if (st == T74_OK) st = render_scan(&r, g, on_point, &p, err);
+  }
   if (st == T74_OK && p.face) st = run_effects(&p, s, e, g, &fst, err);
   *secs = now_seconds() - t0;
   tube_free(t);
+  if (engine == JOB_ENGINE_1974) render_free(&r);   /* its core to ro->keep, for the next frame */
   return st;
 }
 
@@ -1054,8 +1037,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
     struct render_opts ro2 = ro;
     ro2.tables = NULL;
     for (int k = 1; k < nframes && st == T74_OK; k++)
-      st = engine == JOB_ENGINE_POINTS ? spare_points_frame(&p, s, &eff, &pts, &g, &frame_t[k], err)
-                                       : spare_frame(&p, s, &eff, &ro2, o->arith, &g, &frame_t[k], err);
+      st = spare_frame(&p, s, &eff, engine, &ro2, o->arith, &pts, &g, &frame_t[k], err);
     if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
     if (p.scan) scan_display_reset(p.scan);
   }
