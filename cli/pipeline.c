@@ -370,7 +370,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   int st = T74_OK;
   if (p->r) fx_engine_1974(&eng, p->r, g);
   else st = fx_engine_points(&eng, p->pts, g, err);
-  if (st == T74_OK) st = fx_run(&eng, s, e, g, &f, fst, &p->fx, err);
+  if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
   for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
     for (int i = 0; st == T74_OK && i < p->W; i++) {

@@ -515,10 +515,10 @@ int aa_exact(struct aa_ctx *c)
 
 /* ---- the run ---------------------------------------------------------------------------- */
 
-int aa_light_map(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
-                 const struct fx_frame *f, struct fx_stats *st, struct cost *cost,
+int aa_light_map(const struct fx_engine *eng, const struct effects *e, const struct fx_frame *f, struct fx_stats *st, struct cost *cost,
                  double *light, struct t74_error *err)
 {
+  const struct vis_grid *g = eng->g;
   struct aa_ctx c;
   memset(&c, 0, sizeof c);
   c.eng = eng; c.r = eng->r; c.e = e; c.g = g; c.f = f; c.st = st; c.cost = cost; c.err = err;
@@ -556,14 +556,13 @@ int aa_light_map(const struct fx_engine *eng, const struct effects *e, const str
   return rc;
 }
 
-int aa_run(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
-           struct fx_frame *f, struct fx_stats *st, struct cost *cost,
+int aa_run(const struct fx_engine *eng, const struct effects *e, struct fx_frame *f, struct fx_stats *st, struct cost *cost,
            struct t74_error *err)
 {
   size_t n = (size_t)f->W * (size_t)f->H;
   double *light = malloc(n * sizeof *light);
   if (!light) return t74_fail(err, T74_EIO, "out of host memory");
-  int rc = aa_light_map(eng, e, g, f, st, cost, light, err);
+  int rc = aa_light_map(eng, e, f, st, cost, light, err);
   if (rc == T74_OK) {
     int tab[256];                             /* the light table */
     for (int k = 0; k < 256; k++) tab[k] = aa_light(f->cell, k);

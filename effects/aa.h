@@ -34,16 +34,15 @@
 #include "effects/fx.h"
 #include "render/render.h"
 
-/* Run the method e->aa (not EFFECTS_AA_NONE) over frame f (see fx_run). */
-int aa_run(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
-           struct fx_frame *f, struct fx_stats *st, struct cost *cost,
-           struct t74_error *err);
+/* Run the method e->aa (not EFFECTS_AA_NONE) over frame f (see fx_run), drawn by eng on
+   its grid eng->g. */
+int aa_run(const struct fx_engine *eng, const struct effects *e, struct fx_frame *f,
+           struct fx_stats *st, struct cost *cost, struct t74_error *err);
 
 /* The same, but the light (0..1, the fraction of the cell's dots) of every point into
    light[j * W + i], the frame untouched: for tests and the bench. */
-int aa_light_map(const struct fx_engine *eng, const struct effects *e, const struct vis_grid *g,
-                 const struct fx_frame *f, struct fx_stats *st, struct cost *cost,
-                 double *light, struct t74_error *err);
+int aa_light_map(const struct fx_engine *eng, const struct effects *e, const struct fx_frame *f,
+                 struct fx_stats *st, struct cost *cost, double *light, struct t74_error *err);
 
 /* ---- light <-> grey (exposed for tests and the bench) ------------------------------- */
 

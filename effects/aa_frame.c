@@ -96,13 +96,13 @@ int aa_frame_render(const char *path, const char *effects, int cell, uint32_t co
   struct fx_frame fr = { f->W, f->H, f->cell, f->face, f->grey, bg, NULL };
   struct fx_engine eng;
   fx_engine_1974(&eng, &r, &g);
-  if (built && (st = fx_model_build(&m, &eng, s, &e, &g, bg, &f->st, &f->fx, err)) == T74_OK &&
+  if (built && (st = fx_model_build(&m, &eng, s, &e, bg, &f->st, &f->fx, err)) == T74_OK &&
       (fx_model_shades(&m) || fx_model_regions(&m))) {
     st = fx_points(&m, &fr, &f->st, &f->fx, err);
     fr.model = &m;
   }
   if (st == T74_OK && e.aa != EFFECTS_AA_NONE) {
-    st = aa_light_map(&eng, &e, &g, &fr, &f->st, &f->fx, f->light, err);
+    st = aa_light_map(&eng, &e, &fr, &f->st, &f->fx, f->light, err);
     for (size_t k = 0; st == T74_OK && k < n; k++) f->grey[k] = (uint8_t)aa_grey(f->cell, f->light[k]);
   } else if (st == T74_OK) {
     for (size_t k = 0; k < n; k++) f->light[k] = aa_light(f->cell, f->grey[k]) / (double)AA_LIGHT_ONE;

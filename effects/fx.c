@@ -32,8 +32,7 @@ void fx_count(struct fx_stats *st, const char *name, double v, bool integer)
 }
 
 int fx_run(const struct fx_engine *eng, const struct scene *s, const struct effects *e,
-           const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
-           struct cost *cost, struct t74_error *err)
+           struct fx_frame *f, struct fx_stats *st, struct cost *cost, struct t74_error *err)
 {
   const char *why = eng->r ? NULL : fx_needs_1974(e);
   if (why) return t74_fail(err, T74_EINPUT, "the points engine cannot run this: %s", why);
@@ -41,13 +40,13 @@ int fx_run(const struct fx_engine *eng, const struct scene *s, const struct effe
      then aa (papers 000/001) over the same model, then edges (paper 002) */
   uint32_t mark = core_mark(eng->core);
   struct fx_model m;
-  int rc = fx_model_build(&m, eng, s, e, g, f->bg, st, cost, err);
+  int rc = fx_model_build(&m, eng, s, e, f->bg, st, cost, err);
   if (rc == T74_OK && (fx_model_shades(&m) || fx_model_regions(&m)))
     rc = fx_points(&m, f, st, cost, err);
   f->model = &m;
-  if (rc == T74_OK && e->aa != EFFECTS_AA_NONE) rc = aa_run(eng, e, g, f, st, cost, err);
+  if (rc == T74_OK && e->aa != EFFECTS_AA_NONE) rc = aa_run(eng, e, f, st, cost, err);
   if (rc == T74_OK && e->edges)
-    rc = edge_run(eng->r, s, e, g, f, EDGE_PASS_ROW | EDGE_PASS_COL, st, cost, err);
+    rc = edge_run(eng->r, s, e, eng->g, f, EDGE_PASS_ROW | EDGE_PASS_COL, st, cost, err);
   f->model = NULL;
   fx_model_free(&m);
   core_release(eng->core, mark);

@@ -77,12 +77,11 @@ struct fx_model;
 bool fx_wanted(const struct effects *e, const struct scene *s);
 
 /* Run the requested effects over f (see the order above). eng is the engine that drew
-   the frame (see.h); s is the scene it came from; g the grid. Operations are counted in
+   the frame (see.h) on its grid eng->g; s is the scene it came from. Operations are counted in
    cost; tables live in eng->core (T74_ECORE when they do not fit). An effect only the 1974
    engine draws, asked of the points engine: T74_EINPUT (fx_needs_1974 says why). */
 int fx_run(const struct fx_engine *eng, const struct scene *s, const struct effects *e,
-           const struct vis_grid *g, struct fx_frame *f, struct fx_stats *st,
-           struct cost *cost, struct t74_error *err);
+           struct fx_frame *f, struct fx_stats *st, struct cost *cost, struct t74_error *err);
 
 /* Add (or add to) a named statistic. */
 void fx_count(struct fx_stats *st, const char *name, double v, bool integer);

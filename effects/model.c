@@ -68,11 +68,12 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
 }
 
 int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct scene *s,
-                   const struct effects *e, const struct vis_grid *g, const uint8_t *bg,
+                   const struct effects *e, const uint8_t *bg,
                    struct fx_stats *st, struct cost *cost, struct t74_error *err)
 {
   memset(m, 0, sizeof *m);
   const struct mapped *map = eng->map;
+  const struct vis_grid *g = eng->g;
   m->eng = eng; m->map = map; m->s = s; m->e = e; m->g = g; m->bg = bg;
   m->W = g->W; m->H = g->H;
   int rc = T74_OK;

@@ -66,10 +66,11 @@ struct fx_model {
   int *shadow_first;        /* per mapped face + 1: its shadows are [first[f], first[f+1]) */
 };
 
-/* Build the model the effects e call for over the frame engine eng drew (contour regions,
-   shadows, textures, smoothing patches; tables in eng->core, work in cost). */
+/* Build the model the effects e call for over the frame engine eng drew on its grid eng->g
+   (contour regions, shadows, textures, smoothing patches; tables in eng->core, work in
+   cost). */
 int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct scene *s,
-                   const struct effects *e, const struct vis_grid *g, const uint8_t *bg,
+                   const struct effects *e, const uint8_t *bg,
                    struct fx_stats *st, struct cost *cost, struct t74_error *err);
 void fx_model_free(struct fx_model *m);
 

@@ -716,7 +716,7 @@ static void test_frame_intensities(void **state)
     double light[W4 * H4];
     struct fx_engine eng;
     fx_engine_1974(&eng, &r, &g);
-    assert_int_equal(aa_light_map(&eng, &e, &g, &fr, &st, &cost, light, &err), T74_OK);
+    assert_int_equal(aa_light_map(&eng, &e, &fr, &st, &cost, light, &err), T74_OK);
     for (int j = 2; j < H4 - 2; j++) {
       assert_int_equal(aa_grey(4, light[j * W4 + 70]), 200);
       /* on the ramp every method mixes neighbouring greys: within the ramp's range */

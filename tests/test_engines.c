@@ -288,7 +288,7 @@ static void lattice(struct duo *d, const struct effects *e, int K, const char *n
   struct t74_error err = { 0, "" };
   struct fx_model m[2];
   for (int k = 0; k < 2; k++)
-    assert_int_equal(fx_model_build(&m[k], &d->eng[k], d->s, e, &d->g, NULL, &st, &cost, &err), T74_OK);
+    assert_int_equal(fx_model_build(&m[k], &d->eng[k], d->s, e, NULL, &st, &cost, &err), T74_OK);
   assert_int_equal(m[0].ncut, m[1].ncut);
   assert_int_equal(m[0].shadows.n, m[1].shadows.n);
   if (K == 1) {
@@ -422,7 +422,7 @@ static void judge_fx(const struct scene *s, int cell, const char *fx, const char
     struct fx_stats st;
     memset(&st, 0, sizeof st);
     struct cost cost = { { 0 } };
-    assert_int_equal(fx_run(&d.eng[k], s, &e, &d.g, &f, &st, &cost, &err), T74_OK);
+    assert_int_equal(fx_run(&d.eng[k], s, &e, &f, &st, &cost, &err), T74_OK);
   }
   for (int j = 0; j < d.H; j++)
     for (int i = 0; i < d.W; i++) {
@@ -708,7 +708,7 @@ static void test_regions_on_samples(void **state)
   memset(&st, 0, sizeof st);
   struct cost cost = { { 0 } };
   struct fx_model m;
-  assert_int_equal(fx_model_build(&m, &d.eng[0], sc, &e, &d.g, NULL, &st, &cost, &err), T74_OK);
+  assert_int_equal(fx_model_build(&m, &d.eng[0], sc, &e, NULL, &st, &cost, &err), T74_OK);
   assert_true(m.ncut == 1 && m.shadows.n > 0);
   static const int rect[4][2] = { { 20, 20 }, { 60, 20 }, { 60, 50 }, { 20, 50 } };
   static const int diamond[4][2] = { { 10, 37 }, { 50, 5 }, { 90, 37 }, { 50, 69 } };
