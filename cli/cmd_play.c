@@ -458,7 +458,7 @@ int cmd_play(int argc, char **argv, struct t74_error *err)
   }
   st = timing_prepare(&tm, &j, err);
   struct job_hooks h;
-  timing_hooks(&tm, &h);
+  timing_hooks(&tm, &j, &h);
   struct outset *set = NULL;    /* with --movie: the frames and the job's outputs, one set */
   struct outfile *first = NULL; /* frame 1 (or the GIF), opened before the job */
   if (st == T74_OK && o.movie && (st = outset_new(&set, err)) == T74_OK) {

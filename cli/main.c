@@ -58,7 +58,7 @@ static int cmd_render(int argc, char **argv, struct t74_error *err)
   timing_init(&tm);
   int st = job_parse(argc, argv, 2, &j, timing_opt, &tm, err);
   if (st == T74_OK) st = timing_prepare(&tm, &j, err);
-  timing_hooks(&tm, &h);
+  timing_hooks(&tm, &j, &h);
   if (st == T74_OK) st = job_run(&j, &h, NULL, err);
   timing_free(&tm);
   return st;

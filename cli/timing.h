@@ -15,7 +15,7 @@
 **   struct timing tm;  timing_init(&tm);
 **   st = job_parse(argc, argv, 2, &j, timing_opt, &tm, &err);     // takes --scale, --look..
 **   if (st == T74_OK) st = timing_prepare(&tm, &j, &err);          // may take over -o
-**   struct job_hooks h;  timing_hooks(&tm, &h);
+**   struct job_hooks h;  timing_hooks(&tm, &j, &h);
 **   if (st == T74_OK) st = job_run(&j, &h, NULL, &err);
 **   timing_free(&tm);
 */
@@ -67,8 +67,10 @@ int timing_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err);
 ** failed, the failure is lent instead (j->preload_failed), for the job to report. */
 int timing_prepare(struct timing *t, struct job *j, struct t74_error *err);
 
-/* Fill h: the extra sink (beam + look), the clock and the stats hook. */
-void timing_hooks(struct timing *t, struct job_hooks *h);
+/* Fill h: the extra sink (beam + look), the clock and the stats hook; or leave h empty
+** when none of j's outputs would show the beam's times (no --stats, look, recording or
+** scaled picture). */
+void timing_hooks(struct timing *t, const struct job *j, struct job_hooks *h);
 
 /* When the picture was complete (1974 seconds) and how long the beam was busy. */
 double timing_total_seconds(const struct timing *t);

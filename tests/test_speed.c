@@ -122,6 +122,39 @@ static void frames_same(const char *scene, const char *extra)
   same_stats(a, b, 4);
 }
 
+/* Without --stats (nor a look or a scaled picture) `render` does not time the beam
+   (issue 19: nothing would show it): the pictures and dumps must be those of a run that
+   does, on a scene with a background photograph, one with the effects stage and a Tek
+   stream with an erase, under both engines. */
+static void untimed_same(const char *scene, const char *extra)
+{
+  const char *dump = strstr(scene, ".tek") ? "points" : "ids";   /* a stream has no ids */
+  int st = run("%s render %s %s -o %s/u1.png --dump %s=%s/v1.pgm --stats %s/w1.json",
+               tk_prog(), scene, extra, scratch, dump, scratch, scratch);
+  assert_int_equal(st, 0);
+  st = run("%s render %s %s -o %s/u2.png --dump %s=%s/v2.pgm", tk_prog(), scene, extra,
+           scratch, dump, scratch);
+  assert_int_equal(st, 0);
+  char a[256], b[256];
+  snprintf(a, sizeof a, "%s/u1.png", scratch);
+  snprintf(b, sizeof b, "%s/u2.png", scratch);
+  same_file(a, b);
+  snprintf(a, sizeof a, "%s/v1.pgm", scratch);
+  snprintf(b, sizeof b, "%s/v2.pgm", scratch);
+  same_file(a, b);
+}
+
+static void test_untimed_same_picture(void **state)
+{
+  (void)state;
+  untimed_same("scenes/street.s74", "");
+  untimed_same("scenes/street.s74", "--engine points");
+  untimed_same("scenes/fig5.s74", "--effects 'halftone=4x4 edges=on'");
+  untimed_same("scenes/sphere.s74", "--engine points");
+  untimed_same("tests/fuzz/corpus_tek/erase_mid.tek", "");
+  untimed_same("tests/fuzz/corpus_tek/gs_box.tek", "");
+}
+
 /* The street has a background photograph: its disk reads and times are those of one frame. */
 static void test_frames_background(void **state) { (void)state; frames_same("scenes/street.s74", ""); }
 
@@ -380,6 +413,7 @@ int main(void)
     cmocka_unit_test(test_frames_background),
     cmocka_unit_test(test_frames_effects),
     cmocka_unit_test(test_frames_plain),
+    cmocka_unit_test(test_untimed_same_picture),
     cmocka_unit_test(test_frames_refused),
     cmocka_unit_test(test_scene_read_once),
   };
