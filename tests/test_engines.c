@@ -4,8 +4,9 @@
 ** reference (tests/ref/exactref.h, which shares no code with render/).
 **
 ** Scenes: the hard generators (tests/ref/hardgen.c, every family), the cross-check's
-** families (tests/ref/scenegen.c) and every shipped scene (the .s74 files of scenes/, visibility only:
-** the ids a render dumps do not depend on the effects), each in both cell sizes. For
+** families (tests/ref/scenegen.c), every shipped scene (the .s74 files of scenes/, visibility only:
+** the ids a render dumps do not depend on the effects) and every file of the fuzz corpus
+** the reader takes (tests/fuzz/corpus_s74, _obj, _off), each in both cell sizes. For
 ** every point of every scene:
 **   - the points engine is exact: it agrees with the reference, except at a centre lying
 **     exactly on two faces' intersection line, where the reference takes the larger face
@@ -119,8 +120,11 @@ static int to_ref_without(const struct scene *sc, uint32_t without, struct xr_sc
 
 static int to_ref(const struct scene *sc, struct xr_scene *x) { return to_ref_without(sc, 0, x); }
 
-/* Judge one loaded scene in one cell size; returns the points that break the rules. */
-static long judge_scene(const struct scene *sc, int cell, const char *name, struct tally *t)
+/* Judge one loaded scene in one cell size; returns the points that break the rules. A
+   refusal by either engine is one (refused counts it instead, when given: the fuzz
+   corpus holds scenes the 1974 program may refuse, such as for its limits). */
+static long judge_scene_or(const struct scene *sc, int cell, const char *name, struct tally *t,
+                           long *refused)
 {
   int W = 400 / cell, H = 300 / cell;
   unsigned *a = calloc((size_t)W * H, sizeof *a), *b = calloc((size_t)W * H, sizeof *b);
@@ -129,10 +133,11 @@ static long judge_scene(const struct scene *sc, int cell, const char *name, stru
   char msg[1024];
   long bad = 0;
   if (both(sc, cell, a, b, msg, sizeof msg) != T74_OK) {
-    print_message("%s cell %d: refused: %s\n", name, cell, msg);
+    if (!refused) print_message("%s cell %d: refused: %s\n", name, cell, msg);
     free(a);
     free(b);
-    return 1;
+    if (refused) (*refused)++;
+    return refused ? 0 : 1;
   }
   struct xr_scene xs;
   struct xr_ref ref;
@@ -171,6 +176,11 @@ static long judge_scene(const struct scene *sc, int cell, const char *name, stru
   free(a);
   free(b);
   return bad;
+}
+
+static long judge_scene(const struct scene *sc, int cell, const char *name, struct tally *t)
+{
+  return judge_scene_or(sc, cell, name, t, NULL);
 }
 
 /* Write x to a temporary .s74 and load it as a user's file would be. */
@@ -668,6 +678,53 @@ static void test_shipped(void **state)
   assert_true(t.differ * 10000 < t.points);
 }
 
+/* The fuzz corpus (tests/fuzz/corpus_s74, _obj, _off: the inputs the fuzzers kept, most
+   of them odd): every file the reader takes, in both cells, judged as the shipped scenes
+   are. A file the reader refuses is no scene (counted, not judged); a scene the 1974
+   program refuses (its limits) is counted, and then the points engine is not asked. */
+static void test_fuzz_corpus(void **state)
+{
+  (void)state;
+  static const char *const dirs[] = { "tests/fuzz/corpus_s74", "tests/fuzz/corpus_obj",
+                                      "tests/fuzz/corpus_off" };
+  static const char *const kinds[] = { "s74", "obj", "off" };
+  struct tally t;
+  memset(&t, 0, sizeof t);
+  long bad = 0, refused = 0, files = 0;
+  for (size_t q = 0; q < sizeof dirs / sizeof *dirs; q++) {
+    DIR *d = opendir(dirs[q]);
+    assert_non_null(d);
+    char *names[1024];
+    int nn = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) && nn < 1024)
+      if (e->d_name[0] != '.') names[nn++] = strdup(e->d_name);
+    closedir(d);
+    qsort(names, (size_t)nn, sizeof *names, cmp_str);
+    for (int k = 0; k < nn; k++) {
+      char path[512];
+      snprintf(path, sizeof path, "%s/%s", dirs[q], names[k]);
+      files++;
+      struct scene *sc = NULL;
+      struct t74_error err = { 0, "" };
+      struct scene_opts so;
+      memset(&so, 0, sizeof so);
+      so.quiet = true;
+      so.input = kinds[q];
+      if (scene_load(path, &so, &sc, &err) != T74_OK) { t.skipped++; free(names[k]); continue; }
+      for (int cell = 3; cell <= 4; cell++) bad += judge_scene_or(sc, cell, names[k], &t, &refused);
+      scene_free(sc);
+      free(names[k]);
+    }
+  }
+  report("fuzz corpus", &t);
+  print_message("fuzz corpus: %ld files, %ld not scenes, %ld renders refused by the 1974 "
+                "program\n", files, t.skipped, refused);
+  assert_int_equal(bad, 0);
+  assert_true(t.scenes >= 100);          /* most of the corpus is read and judged */
+  assert_true(t.differ * 1000 < t.points);
+}
+
 /* The point centre (i, j) on the plane grid (it must lie on it). */
 static struct gpoint centre_pt(const struct vis_grid *g, int i, int j)
 {
@@ -979,6 +1036,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_cli),
     cmocka_unit_test(test_shipped),
+    cmocka_unit_test(test_fuzz_corpus),
     cmocka_unit_test(test_fx_shipped),
     cmocka_unit_test(test_regions_on_samples),
     cmocka_unit_test(test_scenegen_families),
