@@ -841,26 +841,65 @@ done:
 
 /* ---- the scene pipeline ------------------------------------------------------------- */
 
+/* What point_seen and point_level give a point that sees face f - 1 (f = 0: none, where
+** there is no background picture): its id, grey, level and the cell's dots. */
+struct face_out {
+  uint32_t id;
+  int level;
+  uint16_t mask;                    /* p->mask[level] when 0 <= level <= cell * cell */
+  uint8_t grey;
+};
+
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
 ** first, left to right), through the same per-point path. To the tube alone without
-** effects (each --frames frame after the first): on_point's steps without a call a point,
-** the display's counts added once (issue 19). */
+** effects (each --frames frame after the first): on_point's steps looked up per face once,
+** not a call a point, a row's cells stored in one write, the display's counts added once
+** (issue 19). */
 static int points_emit(struct pipeline *p, const struct points *pt)
 {
-  if (p->tube_direct && !p->also && !p->face && !p->timed) {
+  struct face_out *fo = NULL;
+  if (p->tube_direct && !p->also && !p->face && !p->timed)
+    fo = malloc(((size_t)p->map->nface + 1) * sizeof *fo);   /* none: the way below */
+  if (fo) {
     struct tube *t = p->tube_direct;
     const int W = p->W, H = p->H, cell = p->cell, cc = cell * cell;
+    for (int f = 0; f <= p->map->nface; f++) {
+      int grey = f ? p->map->f[f - 1].grey : 0;
+      fo[f].id = f ? p->map->f[f - 1].id : 0;
+      fo[f].grey = (uint8_t)grey;
+      fo[f].level = (unsigned)grey < 256 ? p->level[grey] : pat_level(cell, grey);
+      fo[f].mask = fo[f].level >= 0 && fo[f].level <= cc ? p->mask[fo[f].level] : 0;
+    }
+    uint16_t masks[TUBE_W];                 /* a row's cells (W <= TUBE_W) */
     uint64_t levels = 0;
-    for (int j = H - 1; j >= 0; j--)
-      for (int i = 0; i < W; i++) {
-        size_t at = (size_t)j * (size_t)W + (size_t)i;
-        int face = pt->face[at];
-        int level = point_level(p, i, j, face, point_seen(p, i, j, at, face), true);
+    int st = T74_OK;
+    for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
+      int x0, y0, i0 = 0;                   /* cells i0 .. i - 1 not yet stored */
+      pat_cell_origin(cell, 0, j, &x0, &y0);
+      const int *face = pt->face + (size_t)j * (size_t)W;
+      uint32_t *ids = p->ids + (size_t)j * (size_t)W;
+      uint8_t *greys = p->grey + (size_t)j * (size_t)W;
+      for (int i = 0; i < W && st == T74_OK; i++) {
+        int level;
+        if (face[i] < 0 && p->scan) {
+          size_t at = (size_t)j * (size_t)W + (size_t)i;
+          level = point_level(p, i, j, face[i], point_seen(p, i, j, at, face[i]), true);
+        } else {
+          const struct face_out *o = &fo[face[i] + 1];
+          ids[i] = o->id;
+          greys[i] = o->grey;
+          level = o->level;
+        }
         levels += (uint64_t)level;
-        int st = level >= 0 && level <= cc ? cell_to_tube(t, NULL, cell, i, j, p->mask[level])
-                                           : cell_out(p, i, j, level);
-        if (st != T74_OK) return st;
+        if (level >= 0 && level <= cc) { masks[i] = p->mask[level]; continue; }
+        st = tube_write_cells(t, x0 + i0 * cell, y0, cell, masks + i0, i - i0);
+        if (st == T74_OK) st = cell_out(p, i, j, level);
+        i0 = i + 1;
       }
+      if (st == T74_OK) st = tube_write_cells(t, x0 + i0 * cell, y0, cell, masks + i0, W - i0);
+    }
+    free(fo);
+    if (st != T74_OK) return st;
     uint64_t n = (uint64_t)W * (uint64_t)H;
     COST_ADD_N(&p->display, COST_MEM, 4 * n);
     COST_ADD_N(&p->display, COST_SHIFT, (uint64_t)cc * n);

@@ -7,8 +7,13 @@
 **            "is it lit" and keeps each dot once;
 **   order[]  the dots in the order they were first written, each as y*TUBE_W + x; it can
 **            hold every dot of the tube, so storing never fails for lack of room.
-** Invariant: n == number of set bits in lit[] == number of entries in order[], and
-** order[] holds each lit dot exactly once.
+** order[] is written late (issue 19: a frame of --frames nobody reads the order of wrote
+** every dot into it, half of a small scene's frame): order[0 .. done) holds dots, and
+** after them order[done .. done + nlog) holds writes not yet spelled out, each one word
+** for one or more new dots (a dot; a row of up to 4 dots; an aligned 4x4 cell), spelled
+** out in place when the order is first read (settle).
+** Invariant: n == number of set bits in lit[] == done + the new dots of the nlog writes;
+** spelled out, order[0 .. n) holds each lit dot exactly once.
 */
 #include "display/tube.h"
 
@@ -19,11 +24,22 @@
 #define TUBE_DOTS (TUBE_W * TUBE_H)      /* 120,000 addressable dots */
 
 struct tube {
-  uint8_t  lit[(TUBE_DOTS + 7) / 8];     /* bit (y*TUBE_W + x): dot lit */
-  uint32_t order[TUBE_DOTS];             /* first-write order, y*TUBE_W + x each */
-  int      n;                            /* dots lit == entries of order[] in use */
+  uint8_t  lit[(TUBE_DOTS + 7) / 8 + 1]; /* bit (y*TUBE_W + x): dot lit; a last byte spare
+                                            (a row of dots is read two bytes at a time) */
+  uint32_t order[TUBE_DOTS];             /* first-write order, y*TUBE_W + x each, then the
+                                            writes not yet spelled out */
+  int      n;                            /* dots lit */
+  int      done;                         /* order[0 .. done): dots */
+  int      nlog;                         /* order[done .. done + nlog): writes */
   struct t74_error err;                  /* first out-of-tube write, for tube_end */
 };
+
+/* A write of order[], one word: bit 31 set, an aligned 4x4 cell: bits 0-14 its dot
+** (x0, y0) over 4, bits 15-30 its new dots as tube_write_dots' mask; bits 31-30 01, a 3x3
+** cell: bits 0-16 its dot (x0, y0), bits 17-25 its new dots as that mask; bits 31-30 00, a
+** row: bits 0-16 its first dot, bits 17-20 its new dots (bit b: that dot + b). */
+_Static_assert(TUBE_DOTS <= 1 << 17 && TUBE_DOTS / 4 <= 1 << 15, "a dot in a write's bits");
+_Static_assert(TUBE_W % 4 == 0, "an aligned 4x4 cell's dot is a multiple of 4");
 
 struct tube *tube_new(void)
 {
@@ -40,9 +56,51 @@ void tube_free(struct tube *t)
 void tube_erase(struct tube *t)
 {
   memset(t->lit, 0, sizeof t->lit);
-  t->n = 0;
+  t->n = t->done = t->nlog = 0;
   t->err.status = T74_OK;
   t->err.msg[0] = '\0';
+}
+
+/* The writes spelled out into dots, in place from the last: each write's dots take at
+** least its one word, so no write is overwritten before it is read. */
+static void settle(struct tube *t)
+{
+  if (!t->nlog) return;
+  uint32_t *o = t->order;
+  int w = t->n;
+  for (int e = t->done + t->nlog - 1; e >= t->done; e--) {
+    uint32_t v = o[e], d;
+    unsigned m, cell;
+    if (v >> 31) { d = (v & 0x7fffu) << 2; m = (v >> 15) & 0xffffu; cell = 4; }
+    else if (v >> 30) { d = v & 0x1ffffu; m = (v >> 17) & 0x1ffu; cell = 3; }
+    else { d = v & 0x1ffffu; m = (v >> 17) & 15u; cell = 4; }   /* a row: one row of a cell */
+    for (; m; ) {                          /* the last dot first */
+      unsigned k = 31u - (unsigned)__builtin_clz(m);
+      o[--w] = d - (k / cell) * TUBE_W + k % cell;
+      m &= ~(1u << k);
+    }
+  }
+  t->done = t->n;
+  t->nlog = 0;
+}
+
+/* how many bits of a 4-bit row are set */
+static const uint8_t pop4[16] = { 0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4 };
+
+/* Dots d + b for each bit b of row (at most 4, in one row of the tube): the new ones lit,
+** one write for them. */
+static inline __attribute__((always_inline)) void write_row(struct tube *t, uint32_t d,
+                                                            unsigned row)
+{
+  uint8_t *l = t->lit + (d >> 3);
+  unsigned sh = d & 7, v = (unsigned)l[0] | (unsigned)l[1] << 8;
+  unsigned fresh = row & ~(v >> sh);
+  if (!fresh) return;                      /* stored already: they keep their first places */
+  v |= fresh << sh;
+  l[0] = (uint8_t)v;
+  l[1] = (uint8_t)(v >> 8);
+  t->order[t->done + t->nlog++] = fresh << 17 | d;
+  t->n += pop4[fresh];
 }
 
 int tube_write(struct tube *t, int x, int y)
@@ -50,29 +108,81 @@ int tube_write(struct tube *t, int x, int y)
   if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H)
     return t74_fail(&t->err, T74_EINPUT,
                     "tube: dot (%d, %d) is outside the %d x %d tube", x, y, TUBE_W, TUBE_H);
-  uint32_t k = (uint32_t)y * TUBE_W + (uint32_t)x;
-  uint8_t bit = (uint8_t)(1u << (k & 7));
-  if (t->lit[k >> 3] & bit) return T74_OK;       /* stored already: keeps its first place */
-  t->lit[k >> 3] |= bit;
-  t->order[t->n++] = k;
+  write_row(t, (uint32_t)y * TUBE_W + (uint32_t)x, 1);
   return T74_OK;
 }
 
-/* tube_write_dots with every dot on the tube; base: the dot (x0, y0) */
+/* tube_write_dots with every dot on the tube; base: the dot (x0, y0); a row at a time */
 static inline __attribute__((always_inline)) void write_dots(struct tube *t, uint32_t base,
                                                              int cell, unsigned mask)
 {
-  uint8_t *lit = t->lit;
-  uint32_t *next = t->order + t->n;
-  for (; mask; mask &= mask - 1) {
-    int k = __builtin_ctz(mask);
-    uint32_t d = base - (uint32_t)(k / cell) * TUBE_W + (uint32_t)(k % cell);
-    uint8_t bit = (uint8_t)(1u << (d & 7));
-    if (lit[d >> 3] & bit) continue;       /* stored already: keeps its first place */
-    lit[d >> 3] |= bit;
-    *next++ = d;
+  const unsigned full = (1u << cell) - 1;
+  for (int cy = 0; mask; cy++, mask >>= cell)
+    if (mask & full) write_row(t, base - (uint32_t)cy * TUBE_W, mask & full);
+}
+
+/* Where writes go: the next word of order[] and the dots lit, kept out of the tube while
+** cells are stored (lit[] is written through bytes, which could alias them). */
+struct cursor {
+  uint32_t *next;
+  int n;
+};
+
+static inline struct cursor cursor_at(const struct tube *t)
+{
+  struct cursor c = { (uint32_t *)t->order + t->done + t->nlog, t->n };
+  return c;
+}
+
+static inline void cursor_keep(struct tube *t, struct cursor c)
+{
+  t->nlog = (int)(c.next - (t->order + t->done));
+  t->n = c.n;
+}
+
+/* An aligned 4x4 cell (x0 a multiple of 4) on the tube, base its dot (x0, y0): each row
+** of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8), at the same
+** shift in each; its new dots are one write. */
+static inline __attribute__((always_inline)) void write_cell4(uint8_t *lit, struct cursor *c,
+                                                              uint32_t base, unsigned mask)
+{
+  enum { R = TUBE_W / 8 };
+  uint8_t *l = lit + (base >> 3);
+  const unsigned sh = base & 7;
+  unsigned f0 = mask & 15u & ~((unsigned)l[0] >> sh);
+  unsigned f1 = (mask >> 4) & 15u & ~((unsigned)l[-R] >> sh);
+  unsigned f2 = (mask >> 8) & 15u & ~((unsigned)l[-2 * R] >> sh);
+  unsigned f3 = (mask >> 12) & 15u & ~((unsigned)l[-3 * R] >> sh);
+  unsigned fresh = f0 | f1 << 4 | f2 << 8 | f3 << 12;
+  if (!fresh) return;                      /* stored already: they keep their first places */
+  l[0] |= (uint8_t)(f0 << sh);
+  l[-R] |= (uint8_t)(f1 << sh);
+  l[-2 * R] |= (uint8_t)(f2 << sh);
+  l[-3 * R] |= (uint8_t)(f3 << sh);
+  *c->next++ = 1u << 31 | fresh << 15 | base >> 2;
+  c->n += pop4[f0] + pop4[f1] + pop4[f2] + pop4[f3];
+}
+
+/* A 3x3 cell on the tube, base its dot (x0, y0): a row of the cell is 3 dots in two bytes
+** of lit[]; its new dots are one write. */
+static inline __attribute__((always_inline)) void write_cell3(uint8_t *lit, struct cursor *c,
+                                                              uint32_t base, unsigned mask)
+{
+  unsigned fresh = 0, n = 0;
+  for (int cy = 0; cy < 3; cy++) {
+    uint32_t d = base - (uint32_t)cy * TUBE_W;
+    uint8_t *l = lit + (d >> 3);
+    unsigned sh = d & 7, v = (unsigned)l[0] | (unsigned)l[1] << 8;
+    unsigned f = (mask >> (3 * cy)) & 7u & ~(v >> sh);
+    v |= f << sh;
+    l[0] = (uint8_t)v;
+    l[1] = (uint8_t)(v >> 8);
+    fresh |= f << (3 * cy);
+    n += pop4[f];
   }
-  t->n = (int)(next - t->order);
+  if (!fresh) return;
+  *c->next++ = 1u << 30 | fresh << 17 | base;
+  c->n += (int)n;
 }
 
 int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
@@ -87,31 +197,42 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
     return T74_OK;
   }
   uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every dot is on the tube */
-  if (cell == 4 && (x0 & 3) == 0 && t->n <= TUBE_DOTS - 16) {
-    /* a row of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8); its
-       new dots go to order[] as four entries of which the first `count` are kept (room
-       for all 16 of the cell's is left at the end of order[]) */
-    static const uint8_t bit_at[16][4] = {   /* the set bits of a row, lowest first */
-      {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0},
-      {1, 2, 0, 0}, {0, 1, 2, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0},
-      {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3} };
-    static const uint8_t count[16] = { 0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4 };
-    uint8_t *lit = t->lit;
-    uint32_t *next = t->order + t->n;
-    for (int cy = 0; mask; cy++, mask >>= 4) {
-      unsigned row = mask & 15u;
-      if (!row) continue;
-      uint32_t d = base - (uint32_t)cy * TUBE_W;
-      unsigned sh = d & 7, fresh = row & ~((unsigned)lit[d >> 3] >> sh);
-      lit[d >> 3] |= (uint8_t)(fresh << sh);
-      const uint8_t *b = bit_at[fresh];
-      next[0] = d + b[0]; next[1] = d + b[1]; next[2] = d + b[2]; next[3] = d + b[3];
-      next += count[fresh];
+  if (cell == 3 || (cell == 4 && (x0 & 3) == 0)) {
+    struct cursor c = cursor_at(t);
+    if (cell == 4) write_cell4(t->lit, &c, base, mask);
+    else write_cell3(t->lit, &c, base, mask);
+    cursor_keep(t, c);
+  } else write_dots(t, base, cell, mask);
+  return T74_OK;
+}
+
+int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *masks, int count)
+{
+  if (count <= 0) return T74_OK;
+  if ((cell != 3 && cell != 4) || x0 < 0 || x0 > TUBE_W - cell * count || y0 < cell - 1 ||
+      y0 >= TUBE_H || (cell == 4 && (x0 & 3))) {
+    for (int c = 0; c < count; c++) {      /* one by one */
+      int rc = tube_write_dots(t, x0 + c * cell, y0, cell, masks[c]);
+      if (rc != T74_OK) return rc;
     }
-    t->n = (int)(next - t->order);
-  } else if (cell == 4) write_dots(t, base, 4, mask);   /* constant cells: no divide per dot */
-  else if (cell == 3) write_dots(t, base, 3, mask);
-  else write_dots(t, base, cell, mask);
+    return T74_OK;
+  }
+  uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every cell is on the tube */
+  const unsigned full = (1u << (cell * cell)) - 1;
+  uint8_t *lit = t->lit;
+  struct cursor cur = cursor_at(t);
+  for (int c = 0; c < count; c++, base += (uint32_t)cell) {
+    unsigned m = masks[c];
+    if (!m) continue;
+    if (m & ~full) {                        /* dots past the cell: one by one */
+      cursor_keep(t, cur);
+      int rc = tube_write_dots(t, x0 + c * cell, y0, cell, m);
+      if (rc != T74_OK) return rc;
+      cur = cursor_at(t);
+    } else if (cell == 4) write_cell4(lit, &cur, base, m);
+    else write_cell3(lit, &cur, base, m);
+  }
+  cursor_keep(t, cur);
   return T74_OK;
 }
 
@@ -145,6 +266,9 @@ int tube_count(const struct tube *t)
 int tube_order(const struct tube *t, int k, int *x, int *y)
 {
   if (k < 0 || k >= t->n) return T74_EINPUT;
+  /* the order spelled out on its first read: what the tube stores does not change (every
+     tube is tube_new's, never a const object) */
+  settle((struct tube *)t);
   *x = (int)(t->order[k] % TUBE_W);
   *y = (int)(t->order[k] / TUBE_W);
   return T74_OK;
