@@ -846,7 +846,8 @@ done:
 struct face_out {
   uint32_t id;
   int level;
-  uint16_t mask;                    /* p->mask[level] when 0 <= level <= cell * cell */
+  uint16_t mask;                    /* p->mask[level] */
+  bool odd;                         /* level is not 0 .. cell * cell: no mask, cell_out */
   uint8_t grey;
 };
 
@@ -868,9 +869,12 @@ static int points_emit(struct pipeline *p, const struct points *pt)
       fo[f].id = f ? p->map->f[f - 1].id : 0;
       fo[f].grey = (uint8_t)grey;
       fo[f].level = (unsigned)grey < 256 ? p->level[grey] : pat_level(cell, grey);
-      fo[f].mask = fo[f].level >= 0 && fo[f].level <= cc ? p->mask[fo[f].level] : 0;
+      fo[f].odd = fo[f].level < 0 || fo[f].level > cc;
+      fo[f].mask = fo[f].odd ? 0 : p->mask[fo[f].level];
     }
+    const bool scan = p->scan != NULL;
     uint16_t masks[TUBE_W];                 /* a row's cells (W <= TUBE_W) */
+    uint8_t bg_level[TUBE_W], bg_grey[TUBE_W];   /* a row's background points' */
     uint64_t levels = 0;
     int st = T74_OK;
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
@@ -879,22 +883,28 @@ static int points_emit(struct pipeline *p, const struct points *pt)
       const int *face = pt->face + (size_t)j * (size_t)W;
       uint32_t *ids = p->ids + (size_t)j * (size_t)W;
       uint8_t *greys = p->grey + (size_t)j * (size_t)W;
-      for (int i = 0; i < W && st == T74_OK; i++) {
-        int level;
-        if (face[i] < 0 && p->scan) {
-          size_t at = (size_t)j * (size_t)W + (size_t)i;
-          level = point_level(p, i, j, face[i], point_seen(p, i, j, at, face[i]), true);
+      if (scan) scan_row_background(p->scan, j, face, bg_level, bg_grey, &p->scanner);
+      for (int i = 0; i < W; i++) {
+        int f = face[i], level;
+        if (f < 0 && scan) {                /* the background's, from the disk: 0 .. 15 */
+          ids[i] = 0;
+          greys[i] = bg_grey[i];
+          level = bg_level[i];
+          levels += (uint64_t)level;
+          if (level <= cc) { masks[i] = p->mask[level]; continue; }
         } else {
-          const struct face_out *o = &fo[face[i] + 1];
+          const struct face_out *o = &fo[f + 1];
           ids[i] = o->id;
           greys[i] = o->grey;
+          masks[i] = o->mask;
+          levels += (uint64_t)o->level;
+          if (!o->odd) continue;
           level = o->level;
         }
-        levels += (uint64_t)level;
-        if (level >= 0 && level <= cc) { masks[i] = p->mask[level]; continue; }
         st = tube_write_cells(t, x0 + i0 * cell, y0, cell, masks + i0, i - i0);
         if (st == T74_OK) st = cell_out(p, i, j, level);
         i0 = i + 1;
+        if (st != T74_OK) break;
       }
       if (st == T74_OK) st = tube_write_cells(t, x0 + i0 * cell, y0, cell, masks + i0, W - i0);
     }

@@ -12,8 +12,8 @@
 ** after them order[done .. done + nlog) holds writes not yet spelled out, each one word
 ** for one or more new dots (a dot; a row of up to 4 dots; an aligned 4x4 cell), spelled
 ** out in place when the order is first read (settle).
-** Invariant: n == number of set bits in lit[] == done + the new dots of the nlog writes;
-** spelled out, order[0 .. n) holds each lit dot exactly once.
+** Invariant: the set bits in lit[] are the dots of order[0 .. done) and the new dots of the
+** nlog writes; spelled out, order[0 .. done) holds each lit dot exactly once.
 */
 #include "display/tube.h"
 
@@ -28,7 +28,6 @@ struct tube {
                                             (a row of dots is read two bytes at a time) */
   uint32_t order[TUBE_DOTS];             /* first-write order, y*TUBE_W + x each, then the
                                             writes not yet spelled out */
-  int      n;                            /* dots lit */
   int      done;                         /* order[0 .. done): dots */
   int      nlog;                         /* order[done .. done + nlog): writes */
   struct t74_error err;                  /* first out-of-tube write, for tube_end */
@@ -39,7 +38,8 @@ struct tube {
 ** cell: bits 0-16 its dot (x0, y0), bits 17-25 its new dots as that mask; bits 31-30 00, a
 ** row: bits 0-16 its first dot, bits 17-20 its new dots (bit b: that dot + b). */
 _Static_assert(TUBE_DOTS <= 1 << 17 && TUBE_DOTS / 4 <= 1 << 15, "a dot in a write's bits");
-_Static_assert(TUBE_W % 4 == 0, "an aligned 4x4 cell's dot is a multiple of 4");
+_Static_assert(TUBE_W % 8 == 0, "a row of lit[] starts on a byte; an aligned 4x4 cell's "
+               "rows are the low or high half of a byte each");
 
 struct tube *tube_new(void)
 {
@@ -56,36 +56,48 @@ void tube_free(struct tube *t)
 void tube_erase(struct tube *t)
 {
   memset(t->lit, 0, sizeof t->lit);
-  t->n = t->done = t->nlog = 0;
+  t->done = t->nlog = 0;
   t->err.status = T74_OK;
   t->err.msg[0] = '\0';
 }
 
-/* The writes spelled out into dots, in place from the last: each write's dots take at
-** least its one word, so no write is overwritten before it is read. */
-static void settle(struct tube *t)
+/* A write's first dot, its new dots as a cell's mask, and that cell's width. */
+static inline uint32_t write_of(uint32_t v, unsigned *m, unsigned *cell)
 {
-  if (!t->nlog) return;
+  if (v >> 31) { *m = (v >> 15) & 0xffffu; *cell = 4; return (v & 0x7fffu) << 2; }
+  if (v >> 30) { *m = (v >> 17) & 0x1ffu; *cell = 3; return v & 0x1ffffu; }
+  *m = (v >> 17) & 15u;                    /* a row: the top row of a 4-wide cell */
+  *cell = 4;
+  return v & 0x1ffffu;
+}
+
+/* The writes spelled out into dots, in place from the last: each write's dots take at
+** least its one word, so no write is overwritten before it is read. A tube is only read
+** through const pointers: what it stores does not change, and every tube is tube_new's
+** (never a const object). */
+static void settle(const struct tube *ct)
+{
+  if (!ct->nlog) return;
+  struct tube *t = (struct tube *)ct;
   uint32_t *o = t->order;
-  int w = t->n;
+  int n = t->done;
+  unsigned m, cell;
+  for (int e = t->done; e < t->done + t->nlog; e++) {
+    write_of(o[e], &m, &cell);
+    n += __builtin_popcount(m);
+  }
+  int w = n;
   for (int e = t->done + t->nlog - 1; e >= t->done; e--) {
-    uint32_t v = o[e], d;
-    unsigned m, cell;
-    if (v >> 31) { d = (v & 0x7fffu) << 2; m = (v >> 15) & 0xffffu; cell = 4; }
-    else if (v >> 30) { d = v & 0x1ffffu; m = (v >> 17) & 0x1ffu; cell = 3; }
-    else { d = v & 0x1ffffu; m = (v >> 17) & 15u; cell = 4; }   /* a row: one row of a cell */
+    uint32_t d = write_of(o[e], &m, &cell);
     for (; m; ) {                          /* the last dot first */
       unsigned k = 31u - (unsigned)__builtin_clz(m);
       o[--w] = d - (k / cell) * TUBE_W + k % cell;
       m &= ~(1u << k);
     }
   }
-  t->done = t->n;
+  t->done = n;
   t->nlog = 0;
 }
-
-/* how many bits of a 4-bit row are set */
-static const uint8_t pop4[16] = { 0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4 };
 
 /* Dots d + b for each bit b of row (at most 4, in one row of the tube): the new ones lit,
 ** one write for them. */
@@ -100,7 +112,6 @@ static inline __attribute__((always_inline)) void write_row(struct tube *t, uint
   l[0] = (uint8_t)v;
   l[1] = (uint8_t)(v >> 8);
   t->order[t->done + t->nlog++] = fresh << 17 | d;
-  t->n += pop4[fresh];
 }
 
 int tube_write(struct tube *t, int x, int y)
@@ -121,54 +132,75 @@ static inline __attribute__((always_inline)) void write_dots(struct tube *t, uin
     if (mask & full) write_row(t, base - (uint32_t)cy * TUBE_W, mask & full);
 }
 
-/* Where writes go: the next word of order[] and the dots lit, kept out of the tube while
-** cells are stored (lit[] is written through bytes, which could alias them). */
-struct cursor {
-  uint32_t *next;
-  int n;
-};
-
-static inline struct cursor cursor_at(const struct tube *t)
+/* A 4x4 cell's mask, row r (bits 4r .. 4r + 3) to the low half of byte r; and back. */
+static inline uint32_t spread4(unsigned m)
 {
-  struct cursor c = { (uint32_t *)t->order + t->done + t->nlog, t->n };
-  return c;
+  uint32_t v = m & 0xffffu;
+  v = (v | v << 8) & 0x00ff00ffu;
+  return (v | v << 4) & 0x0f0f0f0fu;
 }
 
-static inline void cursor_keep(struct tube *t, struct cursor c)
+static inline unsigned gather4(uint32_t v)
 {
-  t->nlog = (int)(c.next - (t->order + t->done));
-  t->n = c.n;
+  v &= 0x0f0f0f0fu;
+  v = (v | v >> 4) & 0x00ff00ffu;
+  return (v | v >> 8) & 0xffffu;
+}
+
+/* The lit[] bytes of an aligned 4x4 cell's rows, l its top row's: byte r of the word is
+** the cell's row r (one row of the tube lower each); and stored back. */
+enum { ROW_BYTES = TUBE_W / 8 };
+
+static inline uint32_t rows_of(const uint8_t *l)
+{
+  return (uint32_t)l[0] | (uint32_t)l[-ROW_BYTES] << 8 | (uint32_t)l[-2 * ROW_BYTES] << 16 |
+         (uint32_t)l[-3 * ROW_BYTES] << 24;
+}
+
+static inline void rows_put(uint8_t *l, uint32_t v)
+{
+  l[0] = (uint8_t)v;
+  l[-ROW_BYTES] = (uint8_t)(v >> 8);
+  l[-2 * ROW_BYTES] = (uint8_t)(v >> 16);
+  l[-3 * ROW_BYTES] = (uint8_t)(v >> 24);
 }
 
 /* An aligned 4x4 cell (x0 a multiple of 4) on the tube, base its dot (x0, y0): each row
 ** of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8), at the same
-** shift in each; its new dots are one write. */
-static inline __attribute__((always_inline)) void write_cell4(uint8_t *lit, struct cursor *c,
+** shift in each; its new dots are one write at *next. */
+static inline __attribute__((always_inline)) void write_cell4(uint8_t *lit, uint32_t **next,
                                                               uint32_t base, unsigned mask)
 {
-  enum { R = TUBE_W / 8 };
   uint8_t *l = lit + (base >> 3);
   const unsigned sh = base & 7;
-  unsigned f0 = mask & 15u & ~((unsigned)l[0] >> sh);
-  unsigned f1 = (mask >> 4) & 15u & ~((unsigned)l[-R] >> sh);
-  unsigned f2 = (mask >> 8) & 15u & ~((unsigned)l[-2 * R] >> sh);
-  unsigned f3 = (mask >> 12) & 15u & ~((unsigned)l[-3 * R] >> sh);
-  unsigned fresh = f0 | f1 << 4 | f2 << 8 | f3 << 12;
+  uint32_t have = rows_of(l), fresh = spread4(mask) << sh & ~have;
   if (!fresh) return;                      /* stored already: they keep their first places */
-  l[0] |= (uint8_t)(f0 << sh);
-  l[-R] |= (uint8_t)(f1 << sh);
-  l[-2 * R] |= (uint8_t)(f2 << sh);
-  l[-3 * R] |= (uint8_t)(f3 << sh);
-  *c->next++ = 1u << 31 | fresh << 15 | base >> 2;
-  c->n += pop4[f0] + pop4[f1] + pop4[f2] + pop4[f3];
+  rows_put(l, have | fresh);
+  *(*next)++ = 1u << 31 | gather4(fresh >> sh) << 15 | base >> 2;
+}
+
+/* Two aligned 4x4 cells side by side, the first at a byte's start (x0 a multiple of 8):
+** their rows share the bytes; as write_cell4 of each in turn. */
+static inline __attribute__((always_inline)) void write_cell4_pair(uint8_t *lit,
+                                                                   uint32_t **next,
+                                                                   uint32_t base,
+                                                                   unsigned ma, unsigned mb)
+{
+  uint8_t *l = lit + (base >> 3);
+  uint32_t have = rows_of(l), fresh = (spread4(ma) | spread4(mb) << 4) & ~have;
+  if (!fresh) return;
+  rows_put(l, have | fresh);
+  unsigned fa = gather4(fresh), fb = gather4(fresh >> 4);
+  if (fa) *(*next)++ = 1u << 31 | fa << 15 | base >> 2;
+  if (fb) *(*next)++ = 1u << 31 | fb << 15 | (base + 4) >> 2;
 }
 
 /* A 3x3 cell on the tube, base its dot (x0, y0): a row of the cell is 3 dots in two bytes
-** of lit[]; its new dots are one write. */
-static inline __attribute__((always_inline)) void write_cell3(uint8_t *lit, struct cursor *c,
+** of lit[]; its new dots are one write at *next. */
+static inline __attribute__((always_inline)) void write_cell3(uint8_t *lit, uint32_t **next,
                                                               uint32_t base, unsigned mask)
 {
-  unsigned fresh = 0, n = 0;
+  unsigned fresh = 0;
   for (int cy = 0; cy < 3; cy++) {
     uint32_t d = base - (uint32_t)cy * TUBE_W;
     uint8_t *l = lit + (d >> 3);
@@ -178,11 +210,8 @@ static inline __attribute__((always_inline)) void write_cell3(uint8_t *lit, stru
     l[0] = (uint8_t)v;
     l[1] = (uint8_t)(v >> 8);
     fresh |= f << (3 * cy);
-    n += pop4[f];
   }
-  if (!fresh) return;
-  *c->next++ = 1u << 30 | fresh << 17 | base;
-  c->n += (int)n;
+  if (fresh) *(*next)++ = 1u << 30 | fresh << 17 | base;
 }
 
 int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
@@ -198,10 +227,10 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
   }
   uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every dot is on the tube */
   if (cell == 3 || (cell == 4 && (x0 & 3) == 0)) {
-    struct cursor c = cursor_at(t);
-    if (cell == 4) write_cell4(t->lit, &c, base, mask);
-    else write_cell3(t->lit, &c, base, mask);
-    cursor_keep(t, c);
+    uint32_t *next = t->order + t->done + t->nlog;
+    if (cell == 4) write_cell4(t->lit, &next, base, mask);
+    else write_cell3(t->lit, &next, base, mask);
+    t->nlog = (int)(next - (t->order + t->done));
   } else write_dots(t, base, cell, mask);
   return T74_OK;
 }
@@ -220,19 +249,24 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every cell is on the tube */
   const unsigned full = (1u << (cell * cell)) - 1;
   uint8_t *lit = t->lit;
-  struct cursor cur = cursor_at(t);
+  /* the writes go to `next` (kept out of the tube while lit[] is written through bytes,
+     which could alias it) */
+  uint32_t *next = t->order + t->done + t->nlog;
   for (int c = 0; c < count; c++, base += (uint32_t)cell) {
     unsigned m = masks[c];
-    if (!m) continue;
     if (m & ~full) {                        /* dots past the cell: one by one */
-      cursor_keep(t, cur);
+      t->nlog = (int)(next - (t->order + t->done));
       int rc = tube_write_dots(t, x0 + c * cell, y0, cell, m);
       if (rc != T74_OK) return rc;
-      cur = cursor_at(t);
-    } else if (cell == 4) write_cell4(lit, &cur, base, m);
-    else write_cell3(lit, &cur, base, m);
+      next = t->order + t->done + t->nlog;
+    } else if (cell == 3) write_cell3(lit, &next, base, m);
+    else if ((base & 7) == 0 && c + 1 < count && !(masks[c + 1] & ~full)) {
+      write_cell4_pair(lit, &next, base, m, masks[c + 1]);
+      c++;
+      base += 4;
+    } else write_cell4(lit, &next, base, m);
   }
-  cursor_keep(t, cur);
+  t->nlog = (int)(next - (t->order + t->done));
   return T74_OK;
 }
 
@@ -242,8 +276,6 @@ int tube_lit(const struct tube *t, int x, int y)
   uint32_t k = (uint32_t)y * TUBE_W + (uint32_t)x;
   return (t->lit[k >> 3] >> (k & 7)) & 1;
 }
-
-_Static_assert(TUBE_W % 8 == 0, "a row of lit[] starts on a byte");
 
 void tube_row_packed(const struct tube *t, int y, uint8_t *out)
 {
@@ -260,15 +292,14 @@ void tube_row_packed(const struct tube *t, int y, uint8_t *out)
 
 int tube_count(const struct tube *t)
 {
-  return t->n;
+  settle(t);
+  return t->done;
 }
 
 int tube_order(const struct tube *t, int k, int *x, int *y)
 {
-  if (k < 0 || k >= t->n) return T74_EINPUT;
-  /* the order spelled out on its first read: what the tube stores does not change (every
-     tube is tube_new's, never a const object) */
-  settle((struct tube *)t);
+  settle(t);                               /* the order spelled out on its first read */
+  if (k < 0 || k >= t->done) return T74_EINPUT;
   *x = (int)(t->order[k] % TUBE_W);
   *y = (int)(t->order[k] / TUBE_W);
   return T74_OK;
