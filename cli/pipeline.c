@@ -350,6 +350,44 @@ static int on_point(void *ctx, int i, int j, int face)
   return emit_point(p, i, j, face, grey, true);
 }
 
+/* A grid row's cells to the tube alone (p->tube_direct, no other sink, untimed), each
+** point's as emit_point stores it: the cells of levels 0 .. cell * cell gathered into one
+** tube_write_cells, a cell of any other level through cell_out in its turn. */
+struct row_cells {
+  int j, x0, y0, i0;                /* row j's cell 0 at (x0, y0); cells i0 .. not stored */
+  uint16_t masks[TUBE_W];           /* W <= TUBE_W */
+};
+
+static void row_start(const struct pipeline *p, struct row_cells *rc, int j)
+{
+  rc->j = j;
+  rc->i0 = 0;
+  pat_cell_origin(p->cell, 0, j, &rc->x0, &rc->y0);
+}
+
+/* point i of the row, of a level that is not 0 .. cell * cell */
+static int row_odd(struct pipeline *p, struct row_cells *rc, int i, int level)
+{
+  int st = tube_write_cells(p->tube_direct, rc->x0 + rc->i0 * p->cell, rc->y0, p->cell,
+                            rc->masks + rc->i0, i - rc->i0);
+  rc->i0 = i + 1;
+  return st == T74_OK ? cell_out(p, i, rc->j, level) : st;
+}
+
+static int row_end(struct pipeline *p, struct row_cells *rc)
+{
+  return tube_write_cells(p->tube_direct, rc->x0 + rc->i0 * p->cell, rc->y0, p->cell,
+                          rc->masks + rc->i0, p->W - rc->i0);
+}
+
+/* emit_point's counts of n points of these levels in all, added at once (untimed) */
+static void emit_counts(struct pipeline *p, uint64_t n, uint64_t levels)
+{
+  COST_ADD_N(&p->display, COST_MEM, 4 * n);
+  COST_ADD_N(&p->display, COST_SHIFT, (uint64_t)(p->cell * p->cell) * n);
+  COST_ADD_N(&p->display, COST_IO, levels);
+}
+
 /* The effects stage: run the effects over the scanned frame, then send its points to the
 ** sinks in the scan's order (bottom row first, left to right). */
 static int run_effects(struct pipeline *p, const struct scene *s, const struct effects *e,
@@ -372,13 +410,34 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   else st = fx_engine_points(&eng, p->pts, g, err);
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
-  for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
-    for (int i = 0; st == T74_OK && i < p->W; i++) {
-      size_t at = (size_t)j * (size_t)p->W + (size_t)i;
-      int face = p->face[at];
-      p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
-      st = emit_point(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+  if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
+    /* to the tube alone, untimed: emit_point's steps a row at a time (issue 19) */
+    struct row_cells rc;
+    const int cc = p->cell * p->cell;
+    uint64_t levels = 0;
+    for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
+      row_start(p, &rc, j);
+      for (int i = 0; st == T74_OK && i < p->W; i++) {
+        size_t at = (size_t)j * (size_t)p->W + (size_t)i;
+        int face = p->face[at];
+        p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
+        int level = point_level(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+        levels += (uint64_t)level;
+        if (level >= 0 && level <= cc) rc.masks[i] = p->mask[level];
+        else st = row_odd(p, &rc, i, level);
+      }
+      if (st == T74_OK) st = row_end(p, &rc);
     }
+    if (st == T74_OK) emit_counts(p, (uint64_t)p->W * (uint64_t)p->H, levels);
+  } else {
+    for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
+      for (int i = 0; st == T74_OK && i < p->W; i++) {
+        size_t at = (size_t)j * (size_t)p->W + (size_t)i;
+        int face = p->face[at];
+        p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
+        st = emit_point(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+      }
+  }
   free(flat);
   free(bg);
   return st;
@@ -842,7 +901,8 @@ done:
 /* ---- the scene pipeline ------------------------------------------------------------- */
 
 /* What point_seen and point_level give a point that sees face f - 1 (f = 0: none, where
-** there is no background picture): its id, grey, level and the cell's dots. */
+** there is no background picture): its id, grey, level and the cell's dots; for every
+** face, malloc'd (NULL when out of memory: the caller takes the way a point at a time). */
 struct face_out {
   uint32_t id;
   int level;
@@ -851,74 +911,85 @@ struct face_out {
   uint8_t grey;
 };
 
+static struct face_out *face_outs(const struct pipeline *p)
+{
+  struct face_out *fo = malloc(((size_t)p->map->nface + 1) * sizeof *fo);
+  for (int f = 0; fo && f <= p->map->nface; f++) {
+    int grey = f ? p->map->f[f - 1].grey : 0;
+    fo[f].id = f ? p->map->f[f - 1].id : 0;
+    fo[f].grey = (uint8_t)grey;
+    fo[f].level = (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
+    fo[f].odd = fo[f].level < 0 || fo[f].level > p->cell * p->cell;
+    fo[f].mask = fo[f].odd ? 0 : p->mask[fo[f].level];
+  }
+  return fo;
+}
+
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
-** first, left to right), through the same per-point path. To the tube alone without
-** effects (each --frames frame after the first): on_point's steps looked up per face once,
-** not a call a point, a row's cells stored in one write, the display's counts added once
-** (issue 19). */
+** first, left to right), through the same per-point path; or into the effects stage's
+** frame. Unwatched (always, but for tube74 teach's 1974 engine), on_point's steps are
+** looked up per face once, not a call a point; to the tube alone without effects (each
+** --frames frame after the first), a row's cells are stored in one write and the
+** display's counts added once (issue 19). */
 static int points_emit(struct pipeline *p, const struct points *pt)
 {
+  const bool direct = p->tube_direct && !p->also && !p->timed;
   struct face_out *fo = NULL;
-  if (p->tube_direct && !p->also && !p->face && !p->timed)
-    fo = malloc(((size_t)p->map->nface + 1) * sizeof *fo);   /* none: the way below */
+  if (!(p->hooks && p->hooks->watch) && (p->face || direct)) fo = face_outs(p);
+  const int W = p->W, H = p->H, cc = p->cell * p->cell;
+  if (fo && p->face) {                      /* the effects' frame: emitted after fx_run */
+    for (int j = H - 1; j >= 0; j--)
+      for (int i = 0; i < W; i++) {
+        size_t at = (size_t)j * (size_t)W + (size_t)i;
+        int f = pt->face[at];
+        p->face[at] = f;
+        p->ids[at] = fo[f + 1].id;
+        p->grey[at] = f < 0 && p->scan ? (uint8_t)scan_grey(p->scan, i, j) : fo[f + 1].grey;
+      }
+    free(fo);
+    return T74_OK;
+  }
   if (fo) {
-    struct tube *t = p->tube_direct;
-    const int W = p->W, H = p->H, cell = p->cell, cc = cell * cell;
-    for (int f = 0; f <= p->map->nface; f++) {
-      int grey = f ? p->map->f[f - 1].grey : 0;
-      fo[f].id = f ? p->map->f[f - 1].id : 0;
-      fo[f].grey = (uint8_t)grey;
-      fo[f].level = (unsigned)grey < 256 ? p->level[grey] : pat_level(cell, grey);
-      fo[f].odd = fo[f].level < 0 || fo[f].level > cc;
-      fo[f].mask = fo[f].odd ? 0 : p->mask[fo[f].level];
-    }
     const bool scan = p->scan != NULL;
-    uint16_t masks[TUBE_W];                 /* a row's cells (W <= TUBE_W) */
+    struct row_cells rc;
     uint8_t bg_level[TUBE_W], bg_grey[TUBE_W];   /* a row's background points' */
     uint64_t levels = 0;
     int st = T74_OK;
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
-      int x0, y0, i0 = 0;                   /* cells i0 .. i - 1 not yet stored */
-      pat_cell_origin(cell, 0, j, &x0, &y0);
+      row_start(p, &rc, j);
       const int *face = pt->face + (size_t)j * (size_t)W;
       uint32_t *ids = p->ids + (size_t)j * (size_t)W;
       uint8_t *greys = p->grey + (size_t)j * (size_t)W;
       if (scan) scan_row_background(p->scan, j, face, bg_level, bg_grey, &p->scanner);
-      for (int i = 0; i < W; i++) {
+      for (int i = 0; i < W && st == T74_OK; i++) {
         int f = face[i], level;
         if (f < 0 && scan) {                /* the background's, from the disk: 0 .. 15 */
           ids[i] = 0;
           greys[i] = bg_grey[i];
           level = bg_level[i];
           levels += (uint64_t)level;
-          if (level <= cc) { masks[i] = p->mask[level]; continue; }
+          if (level <= cc) { rc.masks[i] = p->mask[level]; continue; }
         } else {
           const struct face_out *o = &fo[f + 1];
           ids[i] = o->id;
           greys[i] = o->grey;
-          masks[i] = o->mask;
+          rc.masks[i] = o->mask;
           levels += (uint64_t)o->level;
           if (!o->odd) continue;
           level = o->level;
         }
-        st = tube_write_cells(t, x0 + i0 * cell, y0, cell, masks + i0, i - i0);
-        if (st == T74_OK) st = cell_out(p, i, j, level);
-        i0 = i + 1;
-        if (st != T74_OK) break;
+        st = row_odd(p, &rc, i, level);
       }
-      if (st == T74_OK) st = tube_write_cells(t, x0 + i0 * cell, y0, cell, masks + i0, W - i0);
+      if (st == T74_OK) st = row_end(p, &rc);
     }
     free(fo);
     if (st != T74_OK) return st;
-    uint64_t n = (uint64_t)W * (uint64_t)H;
-    COST_ADD_N(&p->display, COST_MEM, 4 * n);
-    COST_ADD_N(&p->display, COST_SHIFT, (uint64_t)cc * n);
-    COST_ADD_N(&p->display, COST_IO, levels);
+    emit_counts(p, (uint64_t)W * (uint64_t)H, levels);
     return T74_OK;
   }
-  for (int j = p->H - 1; j >= 0; j--)
-    for (int i = 0; i < p->W; i++) {
-      int st = on_point(p, i, j, pt->face[(size_t)j * (size_t)p->W + (size_t)i]);
+  for (int j = H - 1; j >= 0; j--)
+    for (int i = 0; i < W; i++) {
+      int st = on_point(p, i, j, pt->face[(size_t)j * (size_t)W + (size_t)i]);
       if (st != T74_OK) return st;          /* as vis_scan: the sink's status */
     }
   return T74_OK;

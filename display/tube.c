@@ -254,6 +254,7 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   uint32_t *next = t->order + t->done + t->nlog;
   for (int c = 0; c < count; c++, base += (uint32_t)cell) {
     unsigned m = masks[c];
+    if (!m) continue;
     if (m & ~full) {                        /* dots past the cell: one by one */
       t->nlog = (int)(next - (t->order + t->done));
       int rc = tube_write_dots(t, x0 + c * cell, y0, cell, m);
