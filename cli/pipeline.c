@@ -76,6 +76,7 @@ struct pipeline {
   int *face;                        /* the effects stage's frame (NULL: no effects) */
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
+  struct core **fx_keep;            /* the points engine's effects core between frames */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -407,7 +408,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   struct fx_engine eng;                     /* the engine that drew the frame (effects/see.h) */
   int st = T74_OK;
   if (p->r) fx_engine_1974(&eng, p->r, g);
-  else st = fx_engine_points(&eng, p->pts, g, err);
+  else st = fx_engine_points(&eng, p->pts, g, p->fx_keep, err);
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
   if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
@@ -1066,6 +1067,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   struct job_outs jo;
   double *frame_t = NULL;                   /* --frames: each frame's host seconds */
   struct render_keep keep;                  /* what a frame leaves for the next */
+  struct core *fx_core = NULL;              /* the effects' core, kept for the next frame */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -1073,6 +1075,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   pts.keep = &keep.map;                     /* the points engine's frames keep its rings too */
   memset(&p, 0, sizeof p);
   p.first_dot = -1;
+  p.fx_keep = &fx_core;
   int engine = JOB_ENGINE_1974;
   memset(&jo, 0, sizeof jo);
 
@@ -1255,6 +1258,7 @@ done:
   scan_free(p.scan);
   render_free(&r);
   render_keep_free(&keep);
+  core_free(fx_core);
   points_free(&pts);
   scene_free(own);
   return st;

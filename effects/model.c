@@ -501,6 +501,10 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
 {
   const struct fx_model *m = L->m;
   const int32_t *win = m->g->window;
+  if (!m->shadows.n) {                      /* none: no light blocked anywhere */
+    memset(blocked, 0, (size_t)n * sizeof *blocked);
+    return T74_OK;
+  }
   for (int i = 0; i < n;) {
     int f = face[i], e = i + 1;
     while (e < n && face[e] == f) e++;
@@ -599,6 +603,10 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     for (int i = 0; i < f->W; i++) {
       size_t at = (size_t)j * (size_t)f->W + (size_t)i;
       int region;
+      if (f->face[at] < 0 && !m->bg) {      /* fx_shade's answer, without the call */
+        f->grey[at] = 0;
+        continue;
+      }
       f->grey[at] = (uint8_t)fx_shade(m, f->face[at], blocked[at], i + 0.5, j + 0.5, i, j, cost, &region);
       if (region < 0) continue;
       pts++;
