@@ -475,10 +475,17 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   if (rc != T74_OK || nev == 0) return rc;
   const int32_t *win = m->g->window;
   bool behind = false;
+  /* samples left to right (xn rising): the stretch a sample may lie in is found by moving
+     on from the last one's (they are sorted and apart), not from the first */
+  const bool rising = win[2] > win[0];
+  int h = 0;
   for (int i = 0; i < n; i++) {
     if (face[i] < 0 || !skip[face[i]]) continue;
     int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
-    if (!in_stretches(L->ev, nev, xn, xd)) continue;
+    if (rising) {
+      while (h + 1 < nev && geom_rat_cmp_frac(L->ev[h + 1].x, xn, xd) <= 0) h += 2;
+      if (h + 1 >= nev || geom_rat_cmp_frac(L->ev[h].x, xn, xd) > 0) continue;
+    } else if (!in_stretches(L->ev, nev, xn, xd)) continue;
     if (!behind) {
       if (n > L->browcap) {
         int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
