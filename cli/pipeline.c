@@ -416,13 +416,16 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
     struct row_cells rc;
     const int cc = p->cell * p->cell;
     uint64_t levels = 0;
+    const struct mface *mf = p->map->f;
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
       row_start(p, &rc, j);
+      const size_t at0 = (size_t)j * (size_t)p->W;
+      const int *face = p->face + at0;
+      const uint8_t *greys = p->grey + at0, *flats = flat + at0;
+      uint32_t *ids = p->ids + at0;
       for (int i = 0; st == T74_OK && i < p->W; i++) {
-        size_t at = (size_t)j * (size_t)p->W + (size_t)i;
-        int face = p->face[at];
-        p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
-        int level = point_level(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+        ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
+        int level = point_level(p, i, j, face[i], greys[i], greys[i] == flats[i]);
         levels += (uint64_t)level;
         if (level >= 0 && level <= cc) rc.masks[i] = p->mask[level];
         else st = row_odd(p, &rc, i, level);
@@ -939,14 +942,20 @@ static int points_emit(struct pipeline *p, const struct points *pt)
   if (!(p->hooks && p->hooks->watch) && (p->face || direct)) fo = face_outs(p);
   const int W = p->W, H = p->H, cc = p->cell * p->cell;
   if (fo && p->face) {                      /* the effects' frame: emitted after fx_run */
-    for (int j = H - 1; j >= 0; j--)
+    const struct scan_image *scan = p->scan;
+    for (int j = H - 1; j >= 0; j--) {
+      const size_t at0 = (size_t)j * (size_t)W;
+      const int *face = pt->face + at0;
+      int *out = p->face + at0;
+      uint32_t *ids = p->ids + at0;
+      uint8_t *greys = p->grey + at0;
       for (int i = 0; i < W; i++) {
-        size_t at = (size_t)j * (size_t)W + (size_t)i;
-        int f = pt->face[at];
-        p->face[at] = f;
-        p->ids[at] = fo[f + 1].id;
-        p->grey[at] = f < 0 && p->scan ? (uint8_t)scan_grey(p->scan, i, j) : fo[f + 1].grey;
+        int f = face[i];
+        out[i] = f;
+        ids[i] = fo[f + 1].id;
+        greys[i] = f < 0 && scan ? (uint8_t)scan_grey(scan, i, j) : fo[f + 1].grey;
       }
+    }
     free(fo);
     return T74_OK;
   }

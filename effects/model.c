@@ -590,31 +590,34 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     for (int j = f->H - 1; j >= 0 && rc == T74_OK; j--) {     /* bottom row first */
       size_t at0 = (size_t)j * (size_t)f->W;
       if ((rc = fx_lines_samples(L, 1, j, 0, f->W, row, blocked + at0, err)) != T74_OK) break;
+      int *fr = f->face + at0;
+      const unsigned *bl = blocked + at0;
       for (int i = 0; i < f->W; i++) {
-        size_t at = at0 + (size_t)i;
         int face = row[i];
-        if (face != f->face[at]) {
+        if (face != fr[i]) {
           cut++;
           if (face >= 0) show_face++; else show_none++;
         }
-        f->face[at] = face;
-        shadowed += blocked[at] != 0;
-        COST_ADD_N(cost, COST_ADD, 2); COST_ADD_N(cost, COST_BRANCH, 2);
+        fr[i] = face;
+        shadowed += bl[i] != 0;
       }
+      COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)f->W);   /* 2 and 2 a point */
+      COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)f->W);
     }
     fx_lines_close(L);
   }
   free(row);
   long pts = 0, flat = 0, band = 0, corner = 0;
+  const bool bg = m->bg != NULL;
   for (int j = 0; j < f->H && rc == T74_OK; j++)
     for (int i = 0; i < f->W; i++) {
       size_t at = (size_t)j * (size_t)f->W + (size_t)i;
-      int region;
-      if (f->face[at] < 0 && !m->bg) {      /* fx_shade's answer, without the call */
+      int region, face = f->face[at];
+      if (face < 0 && !bg) {                /* fx_shade's answer, without the call */
         f->grey[at] = 0;
         continue;
       }
-      f->grey[at] = (uint8_t)fx_shade(m, f->face[at], blocked[at], i + 0.5, j + 0.5, i, j, cost, &region);
+      f->grey[at] = (uint8_t)fx_shade(m, face, blocked[at], i + 0.5, j + 0.5, i, j, cost, &region);
       if (region < 0) continue;
       pts++;
       if (region == 0) flat++; else if (region == 2) corner++; else band++;
