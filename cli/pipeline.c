@@ -929,6 +929,43 @@ static struct face_out *face_outs(const struct pipeline *p)
   return fo;
 }
 
+/* The points i .. of a row whose cells are of a level 0 .. cell * cell, up to the first
+** other one: their ids, greys and cells from their faces' entries, or from the background
+** picture's levels and greys of the row (bg, NULL: none); its index, or n. (A loop of its
+** own: few values live, none spilled.) */
+struct row_bg {
+  const uint8_t *level, *grey;      /* scan_row_background's */
+  const uint16_t *mask;             /* p->mask */
+  int cc;                           /* cell * cell */
+};
+
+static int faces_run(const struct face_out *fo, const int *face, int i, int n,
+                     const struct row_bg *bg, uint32_t *ids, uint8_t *greys, uint16_t *masks,
+                     uint64_t *levels)
+{
+  uint64_t sum = 0;
+  for (; i < n; i++) {
+    int f = face[i];
+    if (f < 0 && bg) {
+      int level = bg->level[i];
+      if (level > bg->cc) break;
+      ids[i] = 0;
+      greys[i] = bg->grey[i];
+      masks[i] = bg->mask[level];
+      sum += (uint64_t)level;
+      continue;
+    }
+    const struct face_out *o = &fo[f + 1];
+    if (o->odd) break;
+    ids[i] = o->id;
+    greys[i] = o->grey;
+    masks[i] = o->mask;
+    sum += (uint64_t)o->level;
+  }
+  *levels += sum;
+  return i;
+}
+
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
 ** first, left to right), through the same per-point path; or into the effects stage's
 ** frame. Unwatched (always, but for tube74 teach's 1974 engine), on_point's steps are
@@ -963,6 +1000,7 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     const bool scan = p->scan != NULL;
     struct row_cells rc;
     uint8_t bg_level[TUBE_W], bg_grey[TUBE_W];   /* a row's background points' */
+    const struct row_bg bg = { bg_level, bg_grey, p->mask, cc };
     uint64_t levels = 0;
     int st = T74_OK;
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
@@ -972,22 +1010,19 @@ static int points_emit(struct pipeline *p, const struct points *pt)
       uint8_t *greys = p->grey + (size_t)j * (size_t)W;
       if (scan) scan_row_background(p->scan, j, face, bg_level, bg_grey, &p->scanner);
       for (int i = 0; i < W && st == T74_OK; i++) {
-        int f = face[i], level;
-        if (f < 0 && scan) {                /* the background's, from the disk: 0 .. 15 */
+        i = faces_run(fo, face, i, W, scan ? &bg : NULL, ids, greys, rc.masks, &levels);
+        if (i == W) break;
+        int f = face[i], level;             /* a cell of another level */
+        if (f < 0 && scan) {                /* the background's, from the disk */
           ids[i] = 0;
           greys[i] = bg_grey[i];
           level = bg_level[i];
-          levels += (uint64_t)level;
-          if (level <= cc) { rc.masks[i] = p->mask[level]; continue; }
         } else {
-          const struct face_out *o = &fo[f + 1];
-          ids[i] = o->id;
-          greys[i] = o->grey;
-          rc.masks[i] = o->mask;
-          levels += (uint64_t)o->level;
-          if (!o->odd) continue;
-          level = o->level;
+          ids[i] = fo[f + 1].id;
+          greys[i] = fo[f + 1].grey;
+          level = fo[f + 1].level;
         }
+        levels += (uint64_t)level;
         st = row_odd(p, &rc, i, level);
       }
       if (st == T74_OK) st = row_end(p, &rc);
