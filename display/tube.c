@@ -75,17 +75,25 @@ static inline uint32_t write_of(uint32_t v, unsigned *m, unsigned *cell)
 ** least its one word, so no write is overwritten before it is read. A tube is only read
 ** through const pointers: what it stores does not change, and every tube is tube_new's
 ** (never a const object). */
+/* the dots lit: those spelled out and the writes' new ones */
+static int count(const struct tube *t)
+{
+  int n = t->done;
+  unsigned m, cell;
+  for (int e = t->done; e < t->done + t->nlog; e++) {
+    write_of(t->order[e], &m, &cell);
+    n += __builtin_popcount(m);
+  }
+  return n;
+}
+
 static void settle(const struct tube *ct)
 {
   if (!ct->nlog) return;
   struct tube *t = (struct tube *)ct;
   uint32_t *o = t->order;
-  int n = t->done;
   unsigned m, cell;
-  for (int e = t->done; e < t->done + t->nlog; e++) {
-    write_of(o[e], &m, &cell);
-    n += __builtin_popcount(m);
-  }
+  const int n = count(t);
   int w = n;
   for (int e = t->done + t->nlog - 1; e >= t->done; e--) {
     uint32_t d = write_of(o[e], &m, &cell);
@@ -293,8 +301,7 @@ void tube_row_packed(const struct tube *t, int y, uint8_t *out)
 
 int tube_count(const struct tube *t)
 {
-  settle(t);
-  return t->done;
+  return count(t);
 }
 
 int tube_order(const struct tube *t, int k, int *x, int *y)
