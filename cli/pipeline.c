@@ -389,6 +389,25 @@ static void emit_counts(struct pipeline *p, uint64_t n, uint64_t levels)
   COST_ADD_N(&p->display, COST_IO, levels);
 }
 
+/* The effects' points i .. of a row, without a background picture, whose greys' levels are
+** 0 .. cc, up to the first other one: their ids, cells and levels as emit_point gives
+** them; its index, or n. (A loop of its own: few values live.) */
+static int greys_run(const struct mface *mf, const int *face, const uint8_t *greys, int i,
+                     int n, const uint8_t *level_of, const uint16_t *mask_of, int cc,
+                     uint32_t *ids, uint16_t *masks, uint64_t *levels)
+{
+  uint64_t sum = 0;
+  for (; i < n; i++) {
+    int level = level_of[greys[i]];
+    if (level > cc) break;
+    ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
+    masks[i] = mask_of[level];
+    sum += (uint64_t)level;
+  }
+  *levels += sum;
+  return i;
+}
+
 /* The effects stage: run the effects over the scanned frame, then send its points to the
 ** sinks in the scan's order (bottom row first, left to right). */
 static int run_effects(struct pipeline *p, const struct scene *s, const struct effects *e,
@@ -424,6 +443,10 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       const uint8_t *greys = p->grey + at0, *flats = flat + at0;
       uint32_t *ids = p->ids + at0;
       for (int i = 0; st == T74_OK && i < p->W; i++) {
+        if (!p->scan) {                     /* no background: the greys' levels */
+          i = greys_run(mf, face, greys, i, p->W, p->level, p->mask, cc, ids, rc.masks, &levels);
+          if (i == p->W) break;
+        }
         ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
         int level = point_level(p, i, j, face[i], greys[i], greys[i] == flats[i]);
         levels += (uint64_t)level;
