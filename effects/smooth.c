@@ -415,8 +415,9 @@ static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
 {
   const double (*V)[2] = tr->bV;
   double x = X[tr->bu], y = X[tr->bw], sum = 0, tot = tr->btot;
+  static const int next[3][2] = { { 1, 2 }, { 2, 0 }, { 0, 1 } };   /* (k + 1, k + 2) % 3 */
   for (int k = 0; k < 3; k++) {
-    const double *a = V[(k + 1) % 3], *b = V[(k + 2) % 3];
+    const double *a = V[next[k][0]], *b = V[next[k][1]];
     double ar = (b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1]);
     l[k] = tot != 0 ? ar / tot : 1.0 / 3;
     if (!(l[k] > 0)) l[k] = 0;
