@@ -195,10 +195,14 @@ static inline __attribute__((always_inline)) void write_cell4_pair(uint8_t *lit,
                                                                    unsigned ma, unsigned mb)
 {
   uint8_t *l = lit + (base >> 3);
-  uint32_t have = rows_of(l), fresh = (spread4(ma) | spread4(mb) << 4) & ~have;
+  uint32_t have = rows_of(l), want = spread4(ma) | spread4(mb) << 4, fresh = want & ~have;
   if (!fresh) return;
   rows_put(l, have | fresh);
-  unsigned fa = gather4(fresh), fb = gather4(fresh >> 4);
+  unsigned fa = ma, fb = mb;               /* every dot new (a tube being drawn) */
+  if (fresh != want) {
+    fa = gather4(fresh);
+    fb = gather4(fresh >> 4);
+  }
   if (fa) *(*next)++ = 1u << 31 | fa << 15 | base >> 2;
   if (fb) *(*next)++ = 1u << 31 | fb << 15 | (base + 4) >> 2;
 }
