@@ -17,6 +17,7 @@
 */
 #include "display/tube.h"
 
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -247,6 +248,30 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
   return T74_OK;
 }
 
+/* Are the 4 rows of lit[] under count aligned 4x4 cells from dot base (on the tube) all
+** unlit, and their masks all within the cell (full)? */
+static bool blank4(const uint8_t *lit, uint32_t base, int count, const uint16_t *masks,
+                   unsigned full)
+{
+  unsigned any = 0;
+  for (int c = 0; c < count; c++) any |= masks[c];
+  if (any & ~full) return false;
+  const uint32_t b0 = base >> 3, b1 = (base + 4 * (uint32_t)count - 1) >> 3;
+  for (int r = 0; r < 4; r++) {
+    const uint8_t *l = lit + b0 - (uint32_t)r * ROW_BYTES;
+    uint32_t k = 0, n = b1 - b0 + 1;
+    uint64_t v = 0;
+    for (; k + 8 <= n; k += 8) {
+      uint64_t w;
+      memcpy(&w, l + k, sizeof w);
+      v |= w;
+    }
+    for (; k < n; k++) v |= l[k];
+    if (v) return false;
+  }
+  return true;
+}
+
 int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *masks, int count)
 {
   if (count <= 0) return T74_OK;
@@ -264,6 +289,27 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   /* the writes go to `next` (kept out of the tube while lit[] is written through bytes,
      which could alias it) */
   uint32_t *next = t->order + t->done + t->nlog;
+  if (cell == 4 && blank4(lit, base, count, masks, full)) {
+    /* nothing lit yet where the cells go (a tube being drawn): every dot is new, and a
+       byte of lit[] is the row of two cells of this row, or of one and nothing */
+    for (int c = 0; c < count; c++, base += 4) {
+      unsigned m = masks[c];
+      if ((base & 7) == 0 && c + 1 < count) {
+        unsigned mb = masks[c + 1];
+        rows_put(lit + (base >> 3), spread4(m) | spread4(mb) << 4);
+        if (m) *next++ = 1u << 31 | m << 15 | base >> 2;
+        if (mb) *next++ = 1u << 31 | mb << 15 | (base + 4) >> 2;
+        c++;
+        base += 4;
+      } else if (m) {
+        uint8_t *l = lit + (base >> 3);
+        rows_put(l, rows_of(l) | spread4(m) << (base & 7));
+        *next++ = 1u << 31 | m << 15 | base >> 2;
+      }
+    }
+    t->nlog = (int)(next - (t->order + t->done));
+    return T74_OK;
+  }
   for (int c = 0; c < count; c++, base += (uint32_t)cell) {
     unsigned m = masks[c];
     if (!m) continue;
