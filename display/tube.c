@@ -294,11 +294,13 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
        byte of lit[] is the row of two cells of this row, or of one and nothing */
     for (int c = 0; c < count; c++, base += 4) {
       unsigned m = masks[c];
-      if ((base & 7) == 0 && c + 1 < count) {
+      if ((base & 7) == 0 && c + 1 < count) {   /* two cells: a byte of each row */
         unsigned mb = masks[c + 1];
-        rows_put(lit + (base >> 3), spread4(m) | spread4(mb) << 4);
-        if (m) *next++ = 1u << 31 | m << 15 | base >> 2;
-        if (mb) *next++ = 1u << 31 | mb << 15 | (base + 4) >> 2;
+        if (m | mb) {                       /* (else the bytes stay unlit) */
+          rows_put(lit + (base >> 3), spread4(m) | spread4(mb) << 4);
+          if (m) *next++ = 1u << 31 | m << 15 | base >> 2;
+          if (mb) *next++ = 1u << 31 | mb << 15 | (base + 4) >> 2;
+        }
         c++;
         base += 4;
       } else if (m) {
