@@ -76,6 +76,7 @@ struct pipeline {
   int *face;                        /* the effects stage's frame (NULL: no effects) */
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
+  struct core **fx_keep;            /* the points engine's effects core between frames */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -350,6 +351,63 @@ static int on_point(void *ctx, int i, int j, int face)
   return emit_point(p, i, j, face, grey, true);
 }
 
+/* A grid row's cells to the tube alone (p->tube_direct, no other sink, untimed), each
+** point's as emit_point stores it: the cells of levels 0 .. cell * cell gathered into one
+** tube_write_cells, a cell of any other level through cell_out in its turn. */
+struct row_cells {
+  int j, x0, y0, i0;                /* row j's cell 0 at (x0, y0); cells i0 .. not stored */
+  uint16_t masks[TUBE_W];           /* W <= TUBE_W */
+};
+
+static void row_start(const struct pipeline *p, struct row_cells *rc, int j)
+{
+  rc->j = j;
+  rc->i0 = 0;
+  pat_cell_origin(p->cell, 0, j, &rc->x0, &rc->y0);
+}
+
+/* point i of the row, of a level that is not 0 .. cell * cell */
+static int row_odd(struct pipeline *p, struct row_cells *rc, int i, int level)
+{
+  int st = tube_write_cells(p->tube_direct, rc->x0 + rc->i0 * p->cell, rc->y0, p->cell,
+                            rc->masks + rc->i0, i - rc->i0);
+  rc->i0 = i + 1;
+  return st == T74_OK ? cell_out(p, i, rc->j, level) : st;
+}
+
+static int row_end(struct pipeline *p, struct row_cells *rc)
+{
+  return tube_write_cells(p->tube_direct, rc->x0 + rc->i0 * p->cell, rc->y0, p->cell,
+                          rc->masks + rc->i0, p->W - rc->i0);
+}
+
+/* emit_point's counts of n points of these levels in all, added at once (untimed) */
+static void emit_counts(struct pipeline *p, uint64_t n, uint64_t levels)
+{
+  COST_ADD_N(&p->display, COST_MEM, 4 * n);
+  COST_ADD_N(&p->display, COST_SHIFT, (uint64_t)(p->cell * p->cell) * n);
+  COST_ADD_N(&p->display, COST_IO, levels);
+}
+
+/* The effects' points i .. of a row, without a background picture, whose greys' levels are
+** 0 .. cc, up to the first other one: their ids, cells and levels as emit_point gives
+** them; its index, or n. (A loop of its own: few values live.) */
+static int greys_run(const struct mface *mf, const int *face, const uint8_t *greys, int i,
+                     int n, const uint8_t *level_of, const uint16_t *mask_of, int cc,
+                     uint32_t *ids, uint16_t *masks, uint64_t *levels)
+{
+  uint64_t sum = 0;
+  for (; i < n; i++) {
+    int level = level_of[greys[i]];
+    if (level > cc) break;
+    ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
+    masks[i] = mask_of[level];
+    sum += (uint64_t)level;
+  }
+  *levels += sum;
+  return i;
+}
+
 /* The effects stage: run the effects over the scanned frame, then send its points to the
 ** sinks in the scan's order (bottom row first, left to right). */
 static int run_effects(struct pipeline *p, const struct scene *s, const struct effects *e,
@@ -369,16 +427,44 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   struct fx_engine eng;                     /* the engine that drew the frame (effects/see.h) */
   int st = T74_OK;
   if (p->r) fx_engine_1974(&eng, p->r, g);
-  else st = fx_engine_points(&eng, p->pts, g, err);
+  else st = fx_engine_points(&eng, p->pts, g, p->fx_keep, err);
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
-  for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
-    for (int i = 0; st == T74_OK && i < p->W; i++) {
-      size_t at = (size_t)j * (size_t)p->W + (size_t)i;
-      int face = p->face[at];
-      p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
-      st = emit_point(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+  if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
+    /* to the tube alone, untimed: emit_point's steps a row at a time (issue 19) */
+    struct row_cells rc;
+    const int cc = p->cell * p->cell;
+    uint64_t levels = 0;
+    const struct mface *mf = p->map->f;
+    for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
+      row_start(p, &rc, j);
+      const size_t at0 = (size_t)j * (size_t)p->W;
+      const int *face = p->face + at0;
+      const uint8_t *greys = p->grey + at0, *flats = flat + at0;
+      uint32_t *ids = p->ids + at0;
+      for (int i = 0; st == T74_OK && i < p->W; i++) {
+        if (!p->scan) {                     /* no background: the greys' levels */
+          i = greys_run(mf, face, greys, i, p->W, p->level, p->mask, cc, ids, rc.masks, &levels);
+          if (i == p->W) break;
+        }
+        ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
+        int level = point_level(p, i, j, face[i], greys[i], greys[i] == flats[i]);
+        levels += (uint64_t)level;
+        if (level >= 0 && level <= cc) rc.masks[i] = p->mask[level];
+        else st = row_odd(p, &rc, i, level);
+      }
+      if (st == T74_OK) st = row_end(p, &rc);
     }
+    if (st == T74_OK) emit_counts(p, (uint64_t)p->W * (uint64_t)p->H, levels);
+  } else {
+    for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
+      for (int i = 0; st == T74_OK && i < p->W; i++) {
+        size_t at = (size_t)j * (size_t)p->W + (size_t)i;
+        int face = p->face[at];
+        p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
+        st = emit_point(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+      }
+  }
   free(flat);
   free(bg);
   return st;
@@ -841,35 +927,137 @@ done:
 
 /* ---- the scene pipeline ------------------------------------------------------------- */
 
+/* What point_seen and point_level give a point that sees face f - 1 (f = 0: none, where
+** there is no background picture): its id, grey, level and the cell's dots; for every
+** face, malloc'd (NULL when out of memory: the caller takes the way a point at a time). */
+struct face_out {
+  uint32_t id;
+  int level;
+  uint16_t mask;                    /* p->mask[level] */
+  bool odd;                         /* level is not 0 .. cell * cell: no mask, cell_out */
+  uint8_t grey;
+};
+
+static struct face_out *face_outs(const struct pipeline *p)
+{
+  struct face_out *fo = malloc(((size_t)p->map->nface + 1) * sizeof *fo);
+  for (int f = 0; fo && f <= p->map->nface; f++) {
+    int grey = f ? p->map->f[f - 1].grey : 0;
+    fo[f].id = f ? p->map->f[f - 1].id : 0;
+    fo[f].grey = (uint8_t)grey;
+    fo[f].level = (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
+    fo[f].odd = fo[f].level < 0 || fo[f].level > p->cell * p->cell;
+    fo[f].mask = fo[f].odd ? 0 : p->mask[fo[f].level];
+  }
+  return fo;
+}
+
+/* The points i .. of a row whose cells are of a level 0 .. cell * cell, up to the first
+** other one: their ids, greys and cells from their faces' entries, or from the background
+** picture's levels and greys of the row (bg, NULL: none); its index, or n. (A loop of its
+** own: few values live, none spilled.) */
+struct row_bg {
+  const uint8_t *level, *grey;      /* scan_row_background's */
+  const uint16_t *mask;             /* p->mask */
+  int cc;                           /* cell * cell */
+};
+
+static int faces_run(const struct face_out *fo, const int *face, int i, int n,
+                     const struct row_bg *bg, uint32_t *ids, uint8_t *greys, uint16_t *masks,
+                     uint64_t *levels)
+{
+  uint64_t sum = 0;
+  for (; i < n; i++) {
+    int f = face[i];
+    if (f < 0 && bg) {
+      int level = bg->level[i];
+      if (level > bg->cc) break;
+      ids[i] = 0;
+      greys[i] = bg->grey[i];
+      masks[i] = bg->mask[level];
+      sum += (uint64_t)level;
+      continue;
+    }
+    const struct face_out *o = &fo[f + 1];
+    if (o->odd) break;
+    ids[i] = o->id;
+    greys[i] = o->grey;
+    masks[i] = o->mask;
+    sum += (uint64_t)o->level;
+  }
+  *levels += sum;
+  return i;
+}
+
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
-** first, left to right), through the same per-point path. To the tube alone without
-** effects (each --frames frame after the first): on_point's steps without a call a point,
-** the display's counts added once (issue 19). */
+** first, left to right), through the same per-point path; or into the effects stage's
+** frame. Unwatched (always, but for tube74 teach's 1974 engine), on_point's steps are
+** looked up per face once, not a call a point; to the tube alone without effects (each
+** --frames frame after the first), a row's cells are stored in one write and the
+** display's counts added once (issue 19). */
 static int points_emit(struct pipeline *p, const struct points *pt)
 {
-  if (p->tube_direct && !p->also && !p->face && !p->timed) {
-    struct tube *t = p->tube_direct;
-    const int W = p->W, H = p->H, cell = p->cell, cc = cell * cell;
-    uint64_t levels = 0;
-    for (int j = H - 1; j >= 0; j--)
+  const bool direct = p->tube_direct && !p->also && !p->timed;
+  struct face_out *fo = NULL;
+  if (!(p->hooks && p->hooks->watch) && (p->face || direct)) fo = face_outs(p);
+  const int W = p->W, H = p->H, cc = p->cell * p->cell;
+  if (fo && p->face) {                      /* the effects' frame: emitted after fx_run */
+    const struct scan_image *scan = p->scan;
+    for (int j = H - 1; j >= 0; j--) {
+      const size_t at0 = (size_t)j * (size_t)W;
+      const int *face = pt->face + at0;
+      int *out = p->face + at0;
+      uint32_t *ids = p->ids + at0;
+      uint8_t *greys = p->grey + at0;
       for (int i = 0; i < W; i++) {
-        size_t at = (size_t)j * (size_t)W + (size_t)i;
-        int face = pt->face[at];
-        int level = point_level(p, i, j, face, point_seen(p, i, j, at, face), true);
-        levels += (uint64_t)level;
-        int st = level >= 0 && level <= cc ? cell_to_tube(t, NULL, cell, i, j, p->mask[level])
-                                           : cell_out(p, i, j, level);
-        if (st != T74_OK) return st;
+        int f = face[i];
+        out[i] = f;
+        ids[i] = fo[f + 1].id;
+        greys[i] = f < 0 && scan ? (uint8_t)scan_grey(scan, i, j) : fo[f + 1].grey;
       }
-    uint64_t n = (uint64_t)W * (uint64_t)H;
-    COST_ADD_N(&p->display, COST_MEM, 4 * n);
-    COST_ADD_N(&p->display, COST_SHIFT, (uint64_t)cc * n);
-    COST_ADD_N(&p->display, COST_IO, levels);
+    }
+    free(fo);
     return T74_OK;
   }
-  for (int j = p->H - 1; j >= 0; j--)
-    for (int i = 0; i < p->W; i++) {
-      int st = on_point(p, i, j, pt->face[(size_t)j * (size_t)p->W + (size_t)i]);
+  if (fo) {
+    const bool scan = p->scan != NULL;
+    struct row_cells rc;
+    uint8_t bg_level[TUBE_W], bg_grey[TUBE_W];   /* a row's background points' */
+    const struct row_bg bg = { bg_level, bg_grey, p->mask, cc };
+    uint64_t levels = 0;
+    int st = T74_OK;
+    for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
+      row_start(p, &rc, j);
+      const int *face = pt->face + (size_t)j * (size_t)W;
+      uint32_t *ids = p->ids + (size_t)j * (size_t)W;
+      uint8_t *greys = p->grey + (size_t)j * (size_t)W;
+      if (scan) scan_row_background(p->scan, j, face, bg_level, bg_grey, &p->scanner);
+      for (int i = 0; i < W && st == T74_OK; i++) {
+        i = faces_run(fo, face, i, W, scan ? &bg : NULL, ids, greys, rc.masks, &levels);
+        if (i == W) break;
+        int f = face[i], level;             /* a cell of another level */
+        if (f < 0 && scan) {                /* the background's, from the disk */
+          ids[i] = 0;
+          greys[i] = bg_grey[i];
+          level = bg_level[i];
+        } else {
+          ids[i] = fo[f + 1].id;
+          greys[i] = fo[f + 1].grey;
+          level = fo[f + 1].level;
+        }
+        levels += (uint64_t)level;
+        st = row_odd(p, &rc, i, level);
+      }
+      if (st == T74_OK) st = row_end(p, &rc);
+    }
+    free(fo);
+    if (st != T74_OK) return st;
+    emit_counts(p, (uint64_t)W * (uint64_t)H, levels);
+    return T74_OK;
+  }
+  for (int j = H - 1; j >= 0; j--)
+    for (int i = 0; i < W; i++) {
+      int st = on_point(p, i, j, pt->face[(size_t)j * (size_t)W + (size_t)i]);
       if (st != T74_OK) return st;          /* as vis_scan: the sink's status */
     }
   return T74_OK;
@@ -946,6 +1134,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   struct job_outs jo;
   double *frame_t = NULL;                   /* --frames: each frame's host seconds */
   struct render_keep keep;                  /* what a frame leaves for the next */
+  struct core *fx_core = NULL;              /* the effects' core, kept for the next frame */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -953,6 +1142,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   pts.keep = &keep.map;                     /* the points engine's frames keep its rings too */
   memset(&p, 0, sizeof p);
   p.first_dot = -1;
+  p.fx_keep = &fx_core;
   int engine = JOB_ENGINE_1974;
   memset(&jo, 0, sizeof jo);
 
@@ -1135,6 +1325,7 @@ done:
   scan_free(p.scan);
   render_free(&r);
   render_keep_free(&keep);
+  core_free(fx_core);
   points_free(&pts);
   scene_free(own);
   return st;

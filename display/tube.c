@@ -7,11 +7,17 @@
 **            "is it lit" and keeps each dot once;
 **   order[]  the dots in the order they were first written, each as y*TUBE_W + x; it can
 **            hold every dot of the tube, so storing never fails for lack of room.
-** Invariant: n == number of set bits in lit[] == number of entries in order[], and
-** order[] holds each lit dot exactly once.
+** order[] is written late (issue 19: a frame of --frames nobody reads the order of wrote
+** every dot into it, half of a small scene's frame): order[0 .. done) holds dots, and
+** after them order[done .. done + nlog) holds writes not yet spelled out, each one word
+** for one or more new dots (a dot; a row of up to 4 dots; an aligned 4x4 cell), spelled
+** out in place when the order is first read (settle).
+** Invariant: the set bits in lit[] are the dots of order[0 .. done) and the new dots of the
+** nlog writes; spelled out, order[0 .. done) holds each lit dot exactly once.
 */
 #include "display/tube.h"
 
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,11 +25,22 @@
 #define TUBE_DOTS (TUBE_W * TUBE_H)      /* 120,000 addressable dots */
 
 struct tube {
-  uint8_t  lit[(TUBE_DOTS + 7) / 8];     /* bit (y*TUBE_W + x): dot lit */
-  uint32_t order[TUBE_DOTS];             /* first-write order, y*TUBE_W + x each */
-  int      n;                            /* dots lit == entries of order[] in use */
+  uint8_t  lit[(TUBE_DOTS + 7) / 8 + 1]; /* bit (y*TUBE_W + x): dot lit; a last byte spare
+                                            (a row of dots is read two bytes at a time) */
+  uint32_t order[TUBE_DOTS];             /* first-write order, y*TUBE_W + x each, then the
+                                            writes not yet spelled out */
+  int      done;                         /* order[0 .. done): dots */
+  int      nlog;                         /* order[done .. done + nlog): writes */
   struct t74_error err;                  /* first out-of-tube write, for tube_end */
 };
+
+/* A write of order[], one word: bit 31 set, an aligned 4x4 cell: bits 0-14 its dot
+** (x0, y0) over 4, bits 15-30 its new dots as tube_write_dots' mask; bits 31-30 01, a 3x3
+** cell: bits 0-16 its dot (x0, y0), bits 17-25 its new dots as that mask; bits 31-30 00, a
+** row: bits 0-16 its first dot, bits 17-20 its new dots (bit b: that dot + b). */
+_Static_assert(TUBE_DOTS <= 1 << 17 && TUBE_DOTS / 4 <= 1 << 15, "a dot in a write's bits");
+_Static_assert(TUBE_W % 8 == 0, "a row of lit[] starts on a byte; an aligned 4x4 cell's "
+               "rows are the low or high half of a byte each");
 
 struct tube *tube_new(void)
 {
@@ -40,9 +57,70 @@ void tube_free(struct tube *t)
 void tube_erase(struct tube *t)
 {
   memset(t->lit, 0, sizeof t->lit);
-  t->n = 0;
+  t->done = t->nlog = 0;
   t->err.status = T74_OK;
   t->err.msg[0] = '\0';
+}
+
+/* A write's first dot, its new dots as a cell's mask, and that cell's width. */
+static inline uint32_t write_of(uint32_t v, unsigned *m, unsigned *cell)
+{
+  if (v >> 31) { *m = (v >> 15) & 0xffffu; *cell = 4; return (v & 0x7fffu) << 2; }
+  if (v >> 30) { *m = (v >> 17) & 0x1ffu; *cell = 3; return v & 0x1ffffu; }
+  *m = (v >> 17) & 15u;                    /* a row: the top row of a 4-wide cell */
+  *cell = 4;
+  return v & 0x1ffffu;
+}
+
+/* The writes spelled out into dots, in place from the last: each write's dots take at
+** least its one word, so no write is overwritten before it is read. A tube is only read
+** through const pointers: what it stores does not change, and every tube is tube_new's
+** (never a const object). */
+/* the dots lit: those spelled out and the writes' new ones */
+static int count(const struct tube *t)
+{
+  int n = t->done;
+  unsigned m, cell;
+  for (int e = t->done; e < t->done + t->nlog; e++) {
+    write_of(t->order[e], &m, &cell);
+    n += __builtin_popcount(m);
+  }
+  return n;
+}
+
+static void settle(const struct tube *ct)
+{
+  if (!ct->nlog) return;
+  struct tube *t = (struct tube *)ct;
+  uint32_t *o = t->order;
+  unsigned m, cell;
+  const int n = count(t);
+  int w = n;
+  for (int e = t->done + t->nlog - 1; e >= t->done; e--) {
+    uint32_t d = write_of(o[e], &m, &cell);
+    for (; m; ) {                          /* the last dot first */
+      unsigned k = 31u - (unsigned)__builtin_clz(m);
+      o[--w] = d - (k / cell) * TUBE_W + k % cell;
+      m &= ~(1u << k);
+    }
+  }
+  t->done = n;
+  t->nlog = 0;
+}
+
+/* Dots d + b for each bit b of row (at most 4, in one row of the tube): the new ones lit,
+** one write for them. */
+static inline __attribute__((always_inline)) void write_row(struct tube *t, uint32_t d,
+                                                            unsigned row)
+{
+  uint8_t *l = t->lit + (d >> 3);
+  unsigned sh = d & 7, v = (unsigned)l[0] | (unsigned)l[1] << 8;
+  unsigned fresh = row & ~(v >> sh);
+  if (!fresh) return;                      /* stored already: they keep their first places */
+  v |= fresh << sh;
+  l[0] = (uint8_t)v;
+  l[1] = (uint8_t)(v >> 8);
+  t->order[t->done + t->nlog++] = fresh << 17 | d;
 }
 
 int tube_write(struct tube *t, int x, int y)
@@ -50,29 +128,103 @@ int tube_write(struct tube *t, int x, int y)
   if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H)
     return t74_fail(&t->err, T74_EINPUT,
                     "tube: dot (%d, %d) is outside the %d x %d tube", x, y, TUBE_W, TUBE_H);
-  uint32_t k = (uint32_t)y * TUBE_W + (uint32_t)x;
-  uint8_t bit = (uint8_t)(1u << (k & 7));
-  if (t->lit[k >> 3] & bit) return T74_OK;       /* stored already: keeps its first place */
-  t->lit[k >> 3] |= bit;
-  t->order[t->n++] = k;
+  write_row(t, (uint32_t)y * TUBE_W + (uint32_t)x, 1);
   return T74_OK;
 }
 
-/* tube_write_dots with every dot on the tube; base: the dot (x0, y0) */
+/* tube_write_dots with every dot on the tube; base: the dot (x0, y0); a row at a time */
 static inline __attribute__((always_inline)) void write_dots(struct tube *t, uint32_t base,
                                                              int cell, unsigned mask)
 {
-  uint8_t *lit = t->lit;
-  uint32_t *next = t->order + t->n;
-  for (; mask; mask &= mask - 1) {
-    int k = __builtin_ctz(mask);
-    uint32_t d = base - (uint32_t)(k / cell) * TUBE_W + (uint32_t)(k % cell);
-    uint8_t bit = (uint8_t)(1u << (d & 7));
-    if (lit[d >> 3] & bit) continue;       /* stored already: keeps its first place */
-    lit[d >> 3] |= bit;
-    *next++ = d;
+  const unsigned full = (1u << cell) - 1;
+  for (int cy = 0; mask; cy++, mask >>= cell)
+    if (mask & full) write_row(t, base - (uint32_t)cy * TUBE_W, mask & full);
+}
+
+/* A 4x4 cell's mask, row r (bits 4r .. 4r + 3) to the low half of byte r; and back. */
+static inline uint32_t spread4(unsigned m)
+{
+  uint32_t v = m & 0xffffu;
+  v = (v | v << 8) & 0x00ff00ffu;
+  return (v | v << 4) & 0x0f0f0f0fu;
+}
+
+static inline unsigned gather4(uint32_t v)
+{
+  v &= 0x0f0f0f0fu;
+  v = (v | v >> 4) & 0x00ff00ffu;
+  return (v | v >> 8) & 0xffffu;
+}
+
+/* The lit[] bytes of an aligned 4x4 cell's rows, l its top row's: byte r of the word is
+** the cell's row r (one row of the tube lower each); and stored back. */
+enum { ROW_BYTES = TUBE_W / 8 };
+
+static inline uint32_t rows_of(const uint8_t *l)
+{
+  return (uint32_t)l[0] | (uint32_t)l[-ROW_BYTES] << 8 | (uint32_t)l[-2 * ROW_BYTES] << 16 |
+         (uint32_t)l[-3 * ROW_BYTES] << 24;
+}
+
+static inline void rows_put(uint8_t *l, uint32_t v)
+{
+  l[0] = (uint8_t)v;
+  l[-ROW_BYTES] = (uint8_t)(v >> 8);
+  l[-2 * ROW_BYTES] = (uint8_t)(v >> 16);
+  l[-3 * ROW_BYTES] = (uint8_t)(v >> 24);
+}
+
+/* An aligned 4x4 cell (x0 a multiple of 4) on the tube, base its dot (x0, y0): each row
+** of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8), at the same
+** shift in each; its new dots are one write at *next. */
+static inline __attribute__((always_inline)) void write_cell4(uint8_t *lit, uint32_t **next,
+                                                              uint32_t base, unsigned mask)
+{
+  uint8_t *l = lit + (base >> 3);
+  const unsigned sh = base & 7;
+  uint32_t have = rows_of(l), fresh = spread4(mask) << sh & ~have;
+  if (!fresh) return;                      /* stored already: they keep their first places */
+  rows_put(l, have | fresh);
+  *(*next)++ = 1u << 31 | gather4(fresh >> sh) << 15 | base >> 2;
+}
+
+/* Two aligned 4x4 cells side by side, the first at a byte's start (x0 a multiple of 8):
+** their rows share the bytes; as write_cell4 of each in turn. */
+static inline __attribute__((always_inline)) void write_cell4_pair(uint8_t *lit,
+                                                                   uint32_t **next,
+                                                                   uint32_t base,
+                                                                   unsigned ma, unsigned mb)
+{
+  uint8_t *l = lit + (base >> 3);
+  uint32_t have = rows_of(l), want = spread4(ma) | spread4(mb) << 4, fresh = want & ~have;
+  if (!fresh) return;
+  rows_put(l, have | fresh);
+  unsigned fa = ma, fb = mb;               /* every dot new (a tube being drawn) */
+  if (fresh != want) {
+    fa = gather4(fresh);
+    fb = gather4(fresh >> 4);
   }
-  t->n = (int)(next - t->order);
+  if (fa) *(*next)++ = 1u << 31 | fa << 15 | base >> 2;
+  if (fb) *(*next)++ = 1u << 31 | fb << 15 | (base + 4) >> 2;
+}
+
+/* A 3x3 cell on the tube, base its dot (x0, y0): a row of the cell is 3 dots in two bytes
+** of lit[]; its new dots are one write at *next. */
+static inline __attribute__((always_inline)) void write_cell3(uint8_t *lit, uint32_t **next,
+                                                              uint32_t base, unsigned mask)
+{
+  unsigned fresh = 0;
+  for (int cy = 0; cy < 3; cy++) {
+    uint32_t d = base - (uint32_t)cy * TUBE_W;
+    uint8_t *l = lit + (d >> 3);
+    unsigned sh = d & 7, v = (unsigned)l[0] | (unsigned)l[1] << 8;
+    unsigned f = (mask >> (3 * cy)) & 7u & ~(v >> sh);
+    v |= f << sh;
+    l[0] = (uint8_t)v;
+    l[1] = (uint8_t)(v >> 8);
+    fresh |= f << (3 * cy);
+  }
+  if (fresh) *(*next)++ = 1u << 30 | fresh << 17 | base;
 }
 
 int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
@@ -87,31 +239,95 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
     return T74_OK;
   }
   uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every dot is on the tube */
-  if (cell == 4 && (x0 & 3) == 0 && t->n <= TUBE_DOTS - 16) {
-    /* a row of the cell is 4 dots in one byte of lit[] (TUBE_W is a multiple of 8); its
-       new dots go to order[] as four entries of which the first `count` are kept (room
-       for all 16 of the cell's is left at the end of order[]) */
-    static const uint8_t bit_at[16][4] = {   /* the set bits of a row, lowest first */
-      {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0},
-      {1, 2, 0, 0}, {0, 1, 2, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0},
-      {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3} };
-    static const uint8_t count[16] = { 0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4 };
-    uint8_t *lit = t->lit;
-    uint32_t *next = t->order + t->n;
-    for (int cy = 0; mask; cy++, mask >>= 4) {
-      unsigned row = mask & 15u;
-      if (!row) continue;
-      uint32_t d = base - (uint32_t)cy * TUBE_W;
-      unsigned sh = d & 7, fresh = row & ~((unsigned)lit[d >> 3] >> sh);
-      lit[d >> 3] |= (uint8_t)(fresh << sh);
-      const uint8_t *b = bit_at[fresh];
-      next[0] = d + b[0]; next[1] = d + b[1]; next[2] = d + b[2]; next[3] = d + b[3];
-      next += count[fresh];
+  if (cell == 3 || (cell == 4 && (x0 & 3) == 0)) {
+    uint32_t *next = t->order + t->done + t->nlog;
+    if (cell == 4) write_cell4(t->lit, &next, base, mask);
+    else write_cell3(t->lit, &next, base, mask);
+    t->nlog = (int)(next - (t->order + t->done));
+  } else write_dots(t, base, cell, mask);
+  return T74_OK;
+}
+
+/* Are the 4 rows of lit[] under count aligned 4x4 cells from dot base (on the tube) all
+** unlit, and their masks all within the cell (full)? */
+static bool blank4(const uint8_t *lit, uint32_t base, int count, const uint16_t *masks,
+                   unsigned full)
+{
+  unsigned any = 0;
+  for (int c = 0; c < count; c++) any |= masks[c];
+  if (any & ~full) return false;
+  const uint32_t b0 = base >> 3, b1 = (base + 4 * (uint32_t)count - 1) >> 3;
+  for (int r = 0; r < 4; r++) {
+    const uint8_t *l = lit + b0 - (uint32_t)r * ROW_BYTES;
+    uint32_t k = 0, n = b1 - b0 + 1;
+    uint64_t v = 0;
+    for (; k + 8 <= n; k += 8) {
+      uint64_t w;
+      memcpy(&w, l + k, sizeof w);
+      v |= w;
     }
-    t->n = (int)(next - t->order);
-  } else if (cell == 4) write_dots(t, base, 4, mask);   /* constant cells: no divide per dot */
-  else if (cell == 3) write_dots(t, base, 3, mask);
-  else write_dots(t, base, cell, mask);
+    for (; k < n; k++) v |= l[k];
+    if (v) return false;
+  }
+  return true;
+}
+
+int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *masks, int count)
+{
+  if (count <= 0) return T74_OK;
+  if ((cell != 3 && cell != 4) || x0 < 0 || x0 > TUBE_W - cell * count || y0 < cell - 1 ||
+      y0 >= TUBE_H || (cell == 4 && (x0 & 3))) {
+    for (int c = 0; c < count; c++) {      /* one by one */
+      int rc = tube_write_dots(t, x0 + c * cell, y0, cell, masks[c]);
+      if (rc != T74_OK) return rc;
+    }
+    return T74_OK;
+  }
+  uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every cell is on the tube */
+  const unsigned full = (1u << (cell * cell)) - 1;
+  uint8_t *lit = t->lit;
+  /* the writes go to `next` (kept out of the tube while lit[] is written through bytes,
+     which could alias it) */
+  uint32_t *next = t->order + t->done + t->nlog;
+  if (cell == 4 && blank4(lit, base, count, masks, full)) {
+    /* nothing lit yet where the cells go (a tube being drawn): every dot is new, and a
+       byte of lit[] is the row of two cells of this row, or of one and nothing */
+    for (int c = 0; c < count; c++, base += 4) {
+      unsigned m = masks[c];
+      if ((base & 7) == 0 && c + 1 < count) {   /* two cells: a byte of each row */
+        unsigned mb = masks[c + 1];
+        if (m | mb) {                       /* (else the bytes stay unlit) */
+          rows_put(lit + (base >> 3), spread4(m) | spread4(mb) << 4);
+          if (m) *next++ = 1u << 31 | m << 15 | base >> 2;
+          if (mb) *next++ = 1u << 31 | mb << 15 | (base + 4) >> 2;
+        }
+        c++;
+        base += 4;
+      } else if (m) {
+        uint8_t *l = lit + (base >> 3);
+        rows_put(l, rows_of(l) | spread4(m) << (base & 7));
+        *next++ = 1u << 31 | m << 15 | base >> 2;
+      }
+    }
+    t->nlog = (int)(next - (t->order + t->done));
+    return T74_OK;
+  }
+  for (int c = 0; c < count; c++, base += (uint32_t)cell) {
+    unsigned m = masks[c];
+    if (!m) continue;
+    if (m & ~full) {                        /* dots past the cell: one by one */
+      t->nlog = (int)(next - (t->order + t->done));
+      int rc = tube_write_dots(t, x0 + c * cell, y0, cell, m);
+      if (rc != T74_OK) return rc;
+      next = t->order + t->done + t->nlog;
+    } else if (cell == 3) write_cell3(lit, &next, base, m);
+    else if ((base & 7) == 0 && c + 1 < count && !(masks[c + 1] & ~full)) {
+      write_cell4_pair(lit, &next, base, m, masks[c + 1]);
+      c++;
+      base += 4;
+    } else write_cell4(lit, &next, base, m);
+  }
+  t->nlog = (int)(next - (t->order + t->done));
   return T74_OK;
 }
 
@@ -121,8 +337,6 @@ int tube_lit(const struct tube *t, int x, int y)
   uint32_t k = (uint32_t)y * TUBE_W + (uint32_t)x;
   return (t->lit[k >> 3] >> (k & 7)) & 1;
 }
-
-_Static_assert(TUBE_W % 8 == 0, "a row of lit[] starts on a byte");
 
 void tube_row_packed(const struct tube *t, int y, uint8_t *out)
 {
@@ -139,12 +353,13 @@ void tube_row_packed(const struct tube *t, int y, uint8_t *out)
 
 int tube_count(const struct tube *t)
 {
-  return t->n;
+  return count(t);
 }
 
 int tube_order(const struct tube *t, int k, int *x, int *y)
 {
-  if (k < 0 || k >= t->n) return T74_EINPUT;
+  settle(t);                               /* the order spelled out on its first read */
+  if (k < 0 || k >= t->done) return T74_EINPUT;
   *x = (int)(t->order[k] % TUBE_W);
   *y = (int)(t->order[k] / TUBE_W);
   return T74_OK;

@@ -40,6 +40,11 @@ int tube_write(struct tube *t, int x, int y);
 ** after which the rest are not written). */
 int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask);
 
+/* count cells abutting left to right, cell c at (x0 + c * cell, y0) with masks[c]: as
+** tube_write_dots of each in turn (the first failure ends it). */
+int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *masks,
+                     int count);
+
 /* 1 if dot (x, y) is lit, else 0 (also for any dot outside the tube). */
 int tube_lit(const struct tube *t, int x, int y);
 

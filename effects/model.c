@@ -475,10 +475,17 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   if (rc != T74_OK || nev == 0) return rc;
   const int32_t *win = m->g->window;
   bool behind = false;
+  /* samples left to right (xn rising): the stretch a sample may lie in is found by moving
+     on from the last one's (they are sorted and apart), not from the first */
+  const bool rising = win[2] > win[0];
+  int h = 0;
   for (int i = 0; i < n; i++) {
     if (face[i] < 0 || !skip[face[i]]) continue;
     int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
-    if (!in_stretches(L->ev, nev, xn, xd)) continue;
+    if (rising) {
+      while (h + 1 < nev && geom_rat_cmp_frac(L->ev[h + 1].x, xn, xd) <= 0) h += 2;
+      if (h + 1 >= nev || geom_rat_cmp_frac(L->ev[h].x, xn, xd) > 0) continue;
+    } else if (!in_stretches(L->ev, nev, xn, xd)) continue;
     if (!behind) {
       if (n > L->browcap) {
         int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
@@ -501,6 +508,10 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
 {
   const struct fx_model *m = L->m;
   const int32_t *win = m->g->window;
+  if (!m->shadows.n) {                      /* none: no light blocked anywhere */
+    memset(blocked, 0, (size_t)n * sizeof *blocked);
+    return T74_OK;
+  }
   for (int i = 0; i < n;) {
     int f = face[i], e = i + 1;
     while (e < n && face[e] == f) e++;
@@ -579,27 +590,34 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     for (int j = f->H - 1; j >= 0 && rc == T74_OK; j--) {     /* bottom row first */
       size_t at0 = (size_t)j * (size_t)f->W;
       if ((rc = fx_lines_samples(L, 1, j, 0, f->W, row, blocked + at0, err)) != T74_OK) break;
+      int *fr = f->face + at0;
+      const unsigned *bl = blocked + at0;
       for (int i = 0; i < f->W; i++) {
-        size_t at = at0 + (size_t)i;
         int face = row[i];
-        if (face != f->face[at]) {
+        if (face != fr[i]) {
           cut++;
           if (face >= 0) show_face++; else show_none++;
         }
-        f->face[at] = face;
-        shadowed += blocked[at] != 0;
-        COST_ADD_N(cost, COST_ADD, 2); COST_ADD_N(cost, COST_BRANCH, 2);
+        fr[i] = face;
+        shadowed += bl[i] != 0;
       }
+      COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)f->W);   /* 2 and 2 a point */
+      COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)f->W);
     }
     fx_lines_close(L);
   }
   free(row);
   long pts = 0, flat = 0, band = 0, corner = 0;
+  const bool bg = m->bg != NULL;
   for (int j = 0; j < f->H && rc == T74_OK; j++)
     for (int i = 0; i < f->W; i++) {
       size_t at = (size_t)j * (size_t)f->W + (size_t)i;
-      int region;
-      f->grey[at] = (uint8_t)fx_shade(m, f->face[at], blocked[at], i + 0.5, j + 0.5, i, j, cost, &region);
+      int region, face = f->face[at];
+      if (face < 0 && !bg) {                /* fx_shade's answer, without the call */
+        f->grey[at] = 0;
+        continue;
+      }
+      f->grey[at] = (uint8_t)fx_shade(m, face, blocked[at], i + 0.5, j + 0.5, i, j, cost, &region);
       if (region < 0) continue;
       pts++;
       if (region == 0) flat++; else if (region == 2) corner++; else band++;

@@ -62,20 +62,32 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
   if ((wide)yn < (wide)p->ylo * yd || (wide)yn >= (wide)p->yhi * yd) return 0;
   for (int r = 0; r < p->nring; r++) {
     int a = p->rs[r], n = p->rs[r + 1] - a;
+    if (n <= 0) continue;
+    /* an edge crosses the line when its ends lie on either side, a point on the line
+       counting as above it (half-open: each crossing counted once); each vertex's side
+       found once, for the edge it ends and the one it starts */
+    struct gpoint p0 = p->pt[a];
+    const struct gpoint first = p0;
+    bool c0 = (wide)p0.y * yd <= yn;
+    const bool cfirst = c0;
     for (int v = 0; v < n; v++) {
-      struct gpoint p0 = p->pt[a + v], p1 = p->pt[a + (v + 1) % n];
-      /* an edge crosses the line when its ends lie on either side, a point on the line
-         counting as above it (half-open: each crossing counted once) */
-      bool c0 = (wide)p0.y * yd <= yn, c1 = (wide)p1.y * yd <= yn;
-      COST_ADD_N(cost, COST_ADD, 2); COST_ADD_N(cost, COST_BRANCH, 1);
-      if (c0 == c1) continue;
-      if (nx == max) return -1;
-      struct grat xc = geom_x_at(geom_line(p0, p1), yn, yd);
-      cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46);
-      int h = nx++;
-      while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }
-      x[h] = xc;
+      struct gpoint p1 = v + 1 < n ? p->pt[a + v + 1] : first;
+      bool c1 = v + 1 < n ? (wide)p1.y * yd <= yn : cfirst;
+      if (c0 != c1) {
+        if (nx == max) {
+          COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);
+          return -1;
+        }
+        struct grat xc = geom_x_at(geom_line(p0, p1), yn, yd);
+        cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46);
+        int h = nx++;
+        while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }
+        x[h] = xc;
+      }
+      p0 = p1;
+      c0 = c1;
     }
+    COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)n); COST_ADD_N(cost, COST_BRANCH, n);  /* an edge's */
   }
   return nx;
 }

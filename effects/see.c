@@ -40,13 +40,20 @@ void fx_engine_1974(struct fx_engine *e, struct render *r, const struct vis_grid
 #define FX_POINTS_CORE_MAX   (UINT32_C(1) << 31)
 
 int fx_engine_points(struct fx_engine *e, const struct points *p, const struct vis_grid *g,
-                     struct t74_error *err)
+                     struct core **keep, struct t74_error *err)
 {
   memset(e, 0, sizeof *e);
-  e->core = core_new(FX_POINTS_CORE_FIRST);
+  if (keep && *keep) {
+    e->core = *keep;                        /* its first size: as core_new makes one */
+    *keep = NULL;
+    core_reset(e->core);
+  } else {
+    e->core = core_new(FX_POINTS_CORE_FIRST);
+  }
   if (!e->core) return t74_fail(err, T74_EIO, "out of host memory");
   core_set_growth(e->core, FX_POINTS_CORE_MAX);
   e->own_core = true;
+  e->keep = keep;
   e->map = &p->map;
   e->g = g;
   e->pts = p;
@@ -55,7 +62,10 @@ int fx_engine_points(struct fx_engine *e, const struct points *p, const struct v
 
 void fx_engine_free(struct fx_engine *e)
 {
-  if (e->own_core) core_free(e->core);
+  if (e->own_core && e->keep && core_words(e->core) == FX_POINTS_CORE_FIRST)
+    *e->keep = e->core;
+  else if (e->own_core)
+    core_free(e->core);
   memset(e, 0, sizeof *e);
 }
 
@@ -128,7 +138,8 @@ int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
   if (s->e->pts) {
     const struct points *p = s->e->pts;
     if (K == 1 && !s->skip && m >= 0 && m < g->H && k0 >= 0 && k0 + n <= g->W) {
-      for (int i = 0; i < n; i++) face[i] = p->face[m * g->W + k0 + i];
+      _Static_assert(sizeof *p->face == sizeof *face, "the engine's faces are ints");
+      memcpy(face, p->face + m * g->W + k0, (size_t)n * sizeof *face);   /* the row as drawn */
       return T74_OK;
     }
     return points_at_row(&s->at, p, g, K, m, k0, n, s->skip, face, err);

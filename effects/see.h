@@ -47,15 +47,20 @@ struct fx_engine {
   struct render *r;                 /* the 1974 engine (prepared and scanned), or NULL */
   const struct points *pts;         /* the points engine (rendered), or NULL */
   bool own_core;                    /* core is the effects' own (points engine) */
+  struct core **keep;               /* fx_engine_free leaves the core here, or NULL */
 };
 
 /* The 1974 engine r, scanned on grid g (both kept by the caller while e is used). */
 void fx_engine_1974(struct fx_engine *e, struct render *r, const struct vis_grid *g);
 
 /* The points engine p, rendered on grid g, with a host core of its own for the effects'
-   tables (T74_EIO when the host has no room). Free with fx_engine_free. */
+   tables (T74_EIO when the host has no room). Free with fx_engine_free. keep (may be NULL):
+   where a frame's core is kept for the next frame's (issue 19, --frames: no fresh host
+   memory a frame): *keep, when set, is taken (core_reset: as a new one), and
+   fx_engine_free leaves the core there when it is still its first size (else frees it and
+   sets *keep NULL); the caller core_frees *keep at the end. */
 int fx_engine_points(struct fx_engine *e, const struct points *p, const struct vis_grid *g,
-                     struct t74_error *err);
+                     struct core **keep, struct t74_error *err);
 void fx_engine_free(struct fx_engine *e);
 
 /* What of the effects e only the 1974 engine can draw, as a sentence for a refusal

@@ -279,6 +279,24 @@ static double mean_height(const struct smooth_model *m, int from, int to)
   return cnt ? sum / cnt : 0;
 }
 
+/* The barycentric set-up of a triangle (its unit normal n found), once a triangle: the
+   sub-triangles' areas are taken on the plane's dominant axis. */
+static void bary_setup(const struct scene *s, struct smooth_tri *tr)
+{
+  int ax = 0;
+  for (int c = 1; c < 3; c++) if (fabs(tr->n[c]) > fabs(tr->n[ax])) ax = c;
+  int u = (ax + 1) % 3, w = (ax + 2) % 3;
+  double (*V)[2] = tr->bV;
+  for (int k = 0; k < 3; k++) {
+    const struct scene_vertex *v = &s->v[tr->v[k]];
+    double q[3] = { (double)v->x, (double)v->y, (double)v->z };
+    V[k][0] = q[u]; V[k][1] = q[w];
+  }
+  tr->bu = u;
+  tr->bw = w;
+  tr->btot = (V[1][0] - V[0][0]) * (V[2][1] - V[0][1]) - (V[2][0] - V[0][0]) * (V[1][1] - V[0][1]);
+}
+
 int smooth_model_build(struct smooth_model *m, const struct mapped *map,
                        const struct scene *s, const struct effects *e,
                        struct t74_error *err)
@@ -327,6 +345,7 @@ int smooth_model_build(struct smooth_model *m, const struct mapped *map,
       for (int c = 0; c < 3; c++) tr->n[c] = (double)o3[c];
       tr->area2 = sqrt(tr->n[0] * tr->n[0] + tr->n[1] * tr->n[1] + tr->n[2] * tr->n[2]);
       unit(tr->n);
+      bary_setup(s, tr);
       for (int k = 0; k < 3; k++) {
         const struct scene_vertex *a = &s->v[tr->v[(k + 1) % 3]], *b = &s->v[tr->v[(k + 2) % 3]];
         double dx = b->x - a->x, dy = b->y - a->y, dz = b->z - a->z;
@@ -392,22 +411,13 @@ static void cost_point(struct cost *c, bool gouraud, int region)
 
 /* Barycentric coordinates of space point X (on the triangle's plane) in the triangle,
    clamped into it. */
-static void bary(const struct scene *s, const struct smooth_tri *tr, const double X[3], double l[3])
+static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
 {
-  /* barycentric: areas of the sub-triangles, on the plane's dominant axis */
-  int ax = 0;
-  for (int c = 1; c < 3; c++) if (fabs(tr->n[c]) > fabs(tr->n[ax])) ax = c;
-  int u = (ax + 1) % 3, w = (ax + 2) % 3;
-  double V[3][2];
+  const double (*V)[2] = tr->bV;
+  double x = X[tr->bu], y = X[tr->bw], sum = 0, tot = tr->btot;
+  static const int next[3][2] = { { 1, 2 }, { 2, 0 }, { 0, 1 } };   /* (k + 1, k + 2) % 3 */
   for (int k = 0; k < 3; k++) {
-    const struct scene_vertex *v = &s->v[tr->v[k]];
-    double q[3] = { (double)v->x, (double)v->y, (double)v->z };
-    V[k][0] = q[u]; V[k][1] = q[w];
-  }
-  double x = X[u], y = X[w], sum = 0;
-  double tot = (V[1][0] - V[0][0]) * (V[2][1] - V[0][1]) - (V[2][0] - V[0][0]) * (V[1][1] - V[0][1]);
-  for (int k = 0; k < 3; k++) {
-    const double *a = V[(k + 1) % 3], *b = V[(k + 2) % 3];
+    const double *a = V[next[k][0]], *b = V[next[k][1]];
     double ar = (b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1]);
     l[k] = tot != 0 ? ar / tot : 1.0 / 3;
     if (!(l[k] > 0)) l[k] = 0;
@@ -423,7 +433,7 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
 {
   const struct smooth_tri *tr = &m->tri[t];
   double l[3], nrm[3];
-  bary(s, tr, X, l);
+  bary(tr, X, l);
   double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   int region = 1, grey;
   if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {

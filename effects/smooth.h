@@ -50,6 +50,10 @@ struct smooth_tri {
   int    ni[3];            /* their rows in the vertex-normal table */
   double t[3];             /* band inset of side k as a barycentric coordinate, 0..1;
                               t[0]+t[1]+t[2] <= 1 */
+  int    bu, bw;           /* barycentric coordinates are taken on these two axes (the
+                              plane's dominant one left out) */
+  double bV[3][2];         /* the corners on them */
+  double btot;             /* twice the signed area of the triangle so projected */
 };
 
 struct smooth_model {

@@ -249,6 +249,31 @@ int scan_level(struct scan_image *s, int i, int j, struct cost *c)
   return (w >> (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xF;
 }
 
+void scan_row_background(struct scan_image *s, int j, const int *face, uint8_t *level,
+                         uint8_t *grey, struct cost *c)
+{
+  const size_t r = (size_t)(s->H - 1 - j);
+  const uint16_t *words = s->words + r * (size_t)s->row_words;
+  const uint8_t *g = s->grey + (size_t)j * (size_t)s->W;
+  uint64_t n = 0;                          /* points unpacked here, not by scan_level */
+  for (int i = 0; i < s->W; i++) {
+    if (face[i] >= 0) continue;
+    grey[i] = g[i];
+    if (s->buffered != j) {                /* the first: the row read, by scan_level */
+      level[i] = (uint8_t)scan_level(s, i, j, c);
+      continue;
+    }
+    n++;
+    uint16_t w = words[i / SCAN_WORD_LEVELS];
+    level[i] = (uint8_t)((w >> (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xF);
+  }
+  if (c && n > 1) {
+    COST_ADD_N(c, COST_MEM, n);
+    COST_ADD_N(c, COST_SHIFT, n);
+    COST_ADD_N(c, COST_LOGIC, n);
+  }
+}
+
 void scan_display_reset(struct scan_image *s)
 {
   s->buffered = -1;

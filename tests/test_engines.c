@@ -266,7 +266,7 @@ static int duo_open(struct duo *d, const struct scene *s, int cell, char *msg, s
   if (st == T74_OK) {
     for (int k = 0; k < d->W * d->H; k++) d->face[1][k] = d->p.face[k];
     fx_engine_1974(&d->eng[0], &d->r, &d->g);
-    st = fx_engine_points(&d->eng[1], &d->p, &d->g, &err);
+    st = fx_engine_points(&d->eng[1], &d->p, &d->g, NULL, &err);
   }
   if (st != T74_OK) {
     snprintf(msg, n, "%.900s", err.msg);

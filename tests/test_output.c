@@ -383,7 +383,8 @@ static void tubes_same_from(const struct tube *a, const struct tube *b, int from
 /* tube_write_dots stores exactly what tube_write of each set bit would, in rising bit
    order: the same dots, order, count and first failure, for cells of 1 to 4 at every
    offset (a 4x4 cell at x0 not a multiple of 4 too), cells partly off the tube, masks
-   with bits beyond the cell, and dots already lit. */
+   with bits beyond the cell, and dots already lit; b's order read now and then between
+   writes (it is spelled out when read: writes after a read go on from there). */
 static void test_tube_write_dots(void **state)
 {
   (void)state;
@@ -408,12 +409,61 @@ static void test_tube_write_dots(void **state)
     }
     assert_int_equal(tube_write_dots(b, x0, y0, cell, mask), want);
     assert_int_equal(tube_count(a), tube_count(b));
+    if (round % 61 == 7 && tube_count(b) > 0) {
+      int xb, yb;
+      assert_int_equal(tube_order(b, tube_count(b) - 1, &xb, &yb), T74_OK);
+      assert_int_equal(tube_lit(b, xb, yb), 1);
+    }
     if (round % 500 != 499) continue;
     assert_true(tube_count(a) > 1000);
     tubes_same_from(a, b, 0);
     tube_erase(a);
     tube_erase(b);
   }
+  tube_free(a);
+  tube_free(b);
+}
+
+/* tube_write_cells stores exactly what tube_write_dots of each cell in turn would: rows of
+   3x3 and 4x4 cells (aligned or not, partly off the tube, masks with bits beyond the
+   cell, empty masks) over dots already lit, the same status, dots, count and order. */
+static void test_tube_write_cells(void **state)
+{
+  (void)state;
+  struct tube *a = tube_new(), *b = tube_new();
+  assert_non_null(a);
+  assert_non_null(b);
+  uint32_t x = 777;
+  int fails = 0;
+  for (int round = 0; round < 3000; round++) {
+    uint16_t masks[140];
+    x = x * 1103515245u + 12345u;
+    int cell = 3 + (int)((x >> 8) % 2);
+    x = x * 1103515245u + 12345u;
+    int count = (int)((x >> 8) % 140);
+    x = x * 1103515245u + 12345u;
+    int x0 = round % 5 == 0 ? (int)((x >> 8) % 420) - 10 : cell * (int)((x >> 8) % 40);
+    x = x * 1103515245u + 12345u;
+    int y0 = round % 11 == 0 ? (int)((x >> 12) % 310) - 5 : (int)((x >> 12) % 300);
+    for (int c = 0; c < count; c++) {
+      x = x * 1103515245u + 12345u;
+      unsigned m = (x >> 8) & 0xffffu;
+      masks[c] = (uint16_t)(c % 9 == 4 ? 0 : round % 13 == 0 ? m : m & ((1u << (cell * cell)) - 1u));
+    }
+    int want = T74_OK;
+    for (int c = 0; c < count && want == T74_OK; c++)
+      want = tube_write_dots(a, x0 + c * cell, y0, cell, masks[c]);
+    int got = tube_write_cells(b, x0, y0, cell, masks, count);
+    assert_int_equal(got, want);
+    fails += got != T74_OK;
+    assert_int_equal(tube_count(a), tube_count(b));
+    if (round % 300 != 299) continue;
+    assert_true(tube_count(a) > 1000);
+    tubes_same_from(a, b, 0);
+    tube_erase(a);
+    tube_erase(b);
+  }
+  assert_true(fails > 0);
   tube_free(a);
   tube_free(b);
 }
@@ -964,6 +1014,7 @@ int main(void)
     cmocka_unit_test_setup(test_tube_once_in_order, test_setup),
     cmocka_unit_test_setup(test_tube_write_dots, test_setup),
     cmocka_unit_test_setup(test_tube_write_dots_full, test_setup),
+    cmocka_unit_test_setup(test_tube_write_cells, test_setup),
     cmocka_unit_test_setup(test_tee, test_setup),
     cmocka_unit_test_setup(test_pbm_bytes, test_setup),
     cmocka_unit_test_setup(test_points_bytes, test_setup),

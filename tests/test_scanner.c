@@ -235,6 +235,65 @@ static void test_disk_picture(void **state)
   pic_free(p);
 }
 
+/* scan_row_background gives a row's background points what scan_level and scan_grey give
+   them, point by point, with the same row reads, disk time and counts, and leaves the
+   other points' entries alone; on a picture of varied greys, both cells, rows of only
+   faces, only background and a mix, in the display's order (bottom row first) and out of
+   it (a row twice, the buffered row). */
+static void test_row_background(void **state)
+{
+  (void)state;
+  struct cost_params prm;
+  defaults(&prm);
+  struct t74_error err = { T74_OK, "" };
+  uint8_t *px = malloc(171 * 113);
+  assert_non_null(px);
+  for (int k = 0; k < 171 * 113; k++) px[k] = (uint8_t)((k * 37 + k / 171 * 11) % 256);
+  struct pic *p = pic_new(171, 113, px);
+  free(px);
+  assert_non_null(p);
+  for (int cell = 3; cell <= 4; cell++) {
+    struct scan_image *a, *b;
+    assert_int_equal(scan_photo(p, cell, &prm, &a, &err), T74_OK);
+    assert_int_equal(scan_photo(p, cell, &prm, &b, &err), T74_OK);
+    const int W = pat_grid_w(cell), H = pat_grid_h(cell);
+    struct cost ca = { { 0 } }, cb = { { 0 } };
+    int face[TUBE_W];
+    uint8_t level[TUBE_W], grey[TUBE_W];
+    int varied = 0;
+    const int rows[] = { 5, 5, 4, H - 1, 3, 3, 0 };   /* then each row, bottom first */
+    for (int q = 0; q < 7 + H; q++) {
+      int j = q < 7 ? rows[q] : H - 1 - (q - 7);
+      for (int i = 0; i < W; i++) {
+        face[i] = q % 3 == 1 ? 0 : q % 3 == 2 ? -1 : ((i * 7 + q) % 5 < 2 ? 3 : -1);
+        level[i] = grey[i] = 200;
+      }
+      scan_row_background(b, j, face, level, grey, &cb);
+      for (int i = 0; i < W; i++) {
+        if (face[i] >= 0) {
+          assert_int_equal(level[i], 200);
+          assert_int_equal(grey[i], 200);
+          continue;
+        }
+        assert_int_equal(level[i], scan_level(a, i, j, &ca));
+        assert_int_equal(grey[i], scan_grey(a, i, j));
+        varied += level[i] != level[0];
+      }
+    }
+    for (int k = 0; k < COST_NCLASS; k++) assert_int_equal(ca.n[k], cb.n[k]);
+    struct scan_stats sa, sb;
+    scan_report(a, &sa);
+    scan_report(b, &sb);
+    assert_int_equal(sa.disk_reads, sb.disk_reads);
+    assert_true(sa.disk_seconds == sb.disk_seconds);
+    assert_true(sa.disk_reads > (uint64_t)H / 2);      /* rows of faces alone read nothing */
+    assert_true(varied > 100);
+    scan_free(a);
+    scan_free(b);
+  }
+  pic_free(p);
+}
+
 static void test_flat_grey(void **state)
 {
   (void)state;
@@ -356,6 +415,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_density),
+    cmocka_unit_test(test_row_background),
     cmocka_unit_test(test_adc),
     cmocka_unit_test(test_pack_unpack),
     cmocka_unit_test(test_levels),
