@@ -108,6 +108,28 @@ struct points_z {
   double hi, lo;
 };
 
+/* A face's box of points (columns ilo .. ihi - 1, rows jlo .. jhi) and its depth z in
+   doubles: z0 = za i + (zb j + zc), within E (see the top of the file). */
+struct points_box {
+  int32_t ilo, ihi, jlo, jhi;
+  double za, zb, zc, E;
+  bool plus;                                /* zl > 0 at every point of the box */
+  bool arise, brise;                        /* alpha > 0, beta > 0 (exact): z grows with i, j */
+};
+
+/* A tile of TILE x TILE points (the last ones cut by the grid): lo <= the lo of each of
+   its points whose lo is finite, exactly their least when !dirty; ninf: its points whose
+   lo is -inf (no face yet, or a face not proven in front of the eye there). */
+struct points_tile {
+  double lo;
+  int32_t ninf;
+  bool dirty;
+};
+
+#define TILE_SHIFT 3
+#define TILE (1 << TILE_SHIFT)
+#define BUCKETS_MAX 4096                    /* nearest-first order: buckets of depth */
+
 #define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
 static inline int64_t floor_div64(int64_t n, int64_t d)
@@ -336,6 +358,14 @@ static inline int32_t col_of(const struct grid *g, int64_t q, int64_t rem)
   return c > g->W ? g->W : (int32_t)c;
 }
 
+/* The rule's answer for a pair it leaves undecided both ways (two faces of one number in
+   one plane: the triangles of one folded face) made strict: the one first in the Mapper's
+   order is in front, as drawing the faces in that order has always made it ("Order"). */
+static bool strict_front(bool ab, const struct mface *A, const struct mface *B, bool ba)
+{
+  return ab || (!ba && A < B);
+}
+
 /* Is face k (P_k) in front of the face o seen so far (P_o) at a centre? */
 static inline bool in_front(wide Pk, const struct mface *fk, wide Po, const struct mface *fo)
 {
@@ -344,9 +374,11 @@ static inline bool in_front(wide Pk, const struct mface *fk, wide Po, const stru
   else {
     wide l = (wide)fo->deye * Pk, r = (wide)fk->deye * Po;
     s = (l > r) - (l < r);
-    if (s == 0) return mface_tie_front(fk, fo);   /* equal depth: render/mapper.h */
+    if (s == 0)                                   /* equal depth: render/mapper.h */
+      return strict_front(mface_tie_front(fk, fo), fk, fo, mface_tie_front(fo, fk));
   }
-  if (s == 0) return mface_coplanar_front(fk, fo);
+  if (s == 0)
+    return strict_front(mface_coplanar_front(fk, fo), fk, fo, mface_coplanar_front(fo, fk));
   return s > 0;
 }
 
@@ -367,12 +399,12 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
   return in_front(Pk, &p->map.f[k], Po, &p->map.f[o]);
 }
 
-/* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
-   (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
-   and max(zh, 0)), as the caller proved. */
+/* Face k over the columns i0 .. i1 - 1 of row j, all in tile T: zl, zh its bounds at i0,
+   stepped by za (see the top of the file). `plus`: zl > 0 at every point of the face's
+   box (so are zh and max(zh, 0)), as the caller proved. T's bound is kept ("Tiles"). */
 static inline __attribute__((always_inline)) void
 raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0, int32_t i1,
-            double zl, double zh, double za, bool plus)
+            double zl, double zh, double za, bool plus, struct points_tile *T)
 {
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
@@ -380,8 +412,9 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   int co = -1;                                  /* a face in face k's plane met on the span */
   bool cofront = false;                         /* and the exact compare's answer against it */
   for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+    const double was = zb[i].lo;
     if (!(zl > zb[i].hi)) {
-      if (zh < zb[i].lo) continue;              /* behind, certainly */
+      if (zh < was) continue;                   /* behind, certainly */
       int o = fb[i];
       bool front = cofront, same;
       if (o != co) {
@@ -391,18 +424,26 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
       if (!front) continue;
     }
     fb[i] = k;
+    double lo;
     if (plus) {
       zb[i].hi = zh;
-      zb[i].lo = zl;
+      lo = zl;
     } else {
       zb[i].hi = zh > 0 ? zh : 0;
-      zb[i].lo = zl > 0 ? zl : -HUGE_VAL;
+      lo = zl > 0 ? zl : -HUGE_VAL;
     }
+    T->ninf += (lo == -HUGE_VAL) - (was == -HUGE_VAL);
+    zb[i].lo = lo;
+    if (lo < T->lo) T->lo = lo;
+    else if (was <= T->lo) T->dirty = true;     /* the least may have risen */
   }
 }
-
-/* Rasterise face k into the buffer. */
-static int raster_face(struct points *p, const struct grid *g, int k, struct t74_error *err)
+/* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
+   false: the box holds no point centre (the face is culled). *key: the face's nearest
+   depth over its box, in doubles (the drawing order's key; any order gives the same
+   picture, "Order"). */
+static bool face_box(struct points *p, const struct grid *g, int k, struct points_box *b,
+                     double *key)
 {
   const struct mface *f = &p->map.f[k];
   int n = f->ring_start[f->nring];
@@ -420,7 +461,71 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
   int64_t ilo = col_first_at_or_right(g, xmin), ihi = col_first_at_or_right(g, xmax);
   if (ilo < 0) ilo = 0;
   if (ihi > g->W) ihi = g->W;
-  if (jlo > jhi || ilo >= ihi) { p->faces_culled++; return T74_OK; }
+  if (jlo > jhi || ilo >= ihi) return false;
+  b->ilo = (int32_t)ilo; b->ihi = (int32_t)ihi; b->jlo = (int32_t)jlo; b->jhi = (int32_t)jhi;
+  /* depth: P = alpha i + beta j + gamma exactly (kept for the exact compare), z = P / D
+     in doubles with its error bound E (the filter, see the top of the file) */
+  const wide a = f->plane[0], bb = f->plane[1], c = f->plane[2];
+  const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
+  struct points_plane *pl = &p->plane[k];
+  pl->alpha = a * ca;
+  pl->beta = -bb * cb;
+  pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
+              bb * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
+              c * 4 * g->W * g->H * (-g->Ez);
+  const double Dd = (double)f->deye;
+  const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
+               Gd = (double)pl->gamma;
+  b->za = Ad / Dd;
+  b->zb = Bd / Dd;
+  b->zc = Gd / Dd;
+  b->E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
+  b->arise = pl->alpha > 0;
+  b->brise = pl->beta > 0;
+  /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
+     error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
+  const double zmin = b->za * (double)(b->arise ? ilo : ihi - 1) +
+                      (b->zb * (double)(b->brise ? jlo : jhi) + b->zc);
+  b->plus = zmin > 4 * b->E;
+  *key = b->za * (double)(b->arise ? ihi - 1 : ilo) + (b->zb * (double)(b->brise ? jhi : jlo) + b->zc);
+  return true;
+}
+
+/* The proven bound zh_T > z of face b at every point of its box within columns i0 .. i1
+   and rows j0 .. j1 ("Tiles"). */
+static double box_zh(const struct points_box *b, int32_t i0, int32_t i1, int32_t j0, int32_t j1)
+{
+  if (i0 < b->ilo) i0 = b->ilo;
+  if (i1 > b->ihi - 1) i1 = b->ihi - 1;
+  if (j0 < b->jlo) j0 = b->jlo;
+  if (j1 > b->jhi) j1 = b->jhi;
+  const double z0 = b->za * (double)(b->arise ? i1 : i0) + (b->zb * (double)(b->brise ? j1 : j0) + b->zc);
+  return z0 + 2 * b->E;
+}
+
+/* Tile (tx, ty)'s bound made exact: the least lo of its points (all finite). */
+static void tile_least(struct points *p, const struct grid *g, struct points_tile *T, int tx,
+                       int ty)
+{
+  int i0 = tx << TILE_SHIFT, i1 = i0 + TILE, j0 = ty << TILE_SHIFT, j1 = j0 + TILE;
+  if (i1 > g->W) i1 = g->W;
+  if (j1 > g->H) j1 = g->H;
+  double m = HUGE_VAL;
+  for (int j = j0; j < j1; j++) {
+    const struct points_z *zb = p->z + (size_t)j * (size_t)g->W;
+    for (int i = i0; i < i1; i++) m = zb[i].lo < m ? zb[i].lo : m;
+  }
+  T->lo = m;
+  T->dirty = false;
+}
+
+/* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
+   tile skipped when the tile's bound proves the face behind there ("Tiles"). */
+static int face_draw(struct points *p, const struct grid *g, int k, const struct points_box *b,
+                     struct t74_error *err)
+{
+  const struct mface *f = &p->map.f[k];
+  const int64_t jlo = b->jlo, jhi = b->jhi;
   int ne;
   int st = face_edges(p, g, f, jlo, jhi, &ne, err);
   if (st != T74_OK) return st;
@@ -446,26 +551,12 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
       if (rem >= E->D) { rem -= E->D; q++; }
     }
   }
-  /* depth: P = alpha i + beta j + gamma exactly (kept for the exact compare), z = P / D
-     in doubles with its error bound E (the filter, see the top of the file) */
-  const wide a = f->plane[0], b = f->plane[1], c = f->plane[2];
-  const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
-  struct points_plane *pl = &p->plane[k];
-  pl->alpha = a * ca;
-  pl->beta = -b * cb;
-  pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
-              b * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
-              c * 4 * g->W * g->H * (-g->Ez);
-  const double Dd = (double)f->deye;
-  const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
-               Gd = (double)pl->gamma;
-  const double za = Ad / Dd, zb = Bd / Dd, zc = Gd / Dd;
-  const double E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
-  /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
-     error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
-  const double zmin = za * (double)(pl->alpha > 0 ? ilo : ihi - 1) +
-                      (zb * (double)(pl->beta > 0 ? jlo : jhi) + zc);
-  const bool plus = zmin > 4 * E;
+  const double za = b->za, zb = b->zb, zc = b->zc, E = b->E;
+  const bool plus = b->plus, coarse = !p->plain;
+  const int ntx = (g->W + TILE - 1) >> TILE_SHIFT, tx0 = b->ilo >> TILE_SHIFT;
+  double fzh[(133 + TILE - 1) / TILE + 1];      /* the face's zh_T over the tiles of a row */
+  struct points_tile none = { -HUGE_VAL, 1, false };   /* plain: a tile never used */
+  int tyat = -1;
   bool any = false;
   int start = 0;
   for (int r = 0; r < nrow; r++) {
@@ -479,14 +570,42 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
       cs[y + 1] = v;
     }
     int64_t j = jlo + r;
+    const int ty = (int)(j >> TILE_SHIFT);
     const double zr = zb * (double)j + zc;
     for (int x = 0; x + 1 < m; x += 2) {
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      const double z0 = za * (double)i0 + zr;
-      if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true);
-      else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false);
+      if (!coarse) {
+        const double z0 = za * (double)i0 + zr;
+        p->points_visited += i1 - i0;
+        if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, &none);
+        else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, &none);
+        continue;
+      }
+      if (ty != tyat) {                         /* a new row of tiles: no bound known yet */
+        for (int t = tx0; t <= (b->ihi - 1) >> TILE_SHIFT; t++) fzh[t - tx0] = NAN;
+        tyat = ty;
+      }
+      for (int32_t a = i0; a < i1;) {           /* the span's parts, tile by tile */
+        const int tx = a >> TILE_SHIFT;
+        int32_t e = (tx + 1) << TILE_SHIFT;
+        if (e > i1) e = i1;
+        struct points_tile *T = &p->tile[ty * ntx + tx];
+        if (T->ninf == 0) {
+          double h = fzh[tx - tx0];
+          if (h != h)
+            h = fzh[tx - tx0] = box_zh(b, tx << TILE_SHIFT, ((tx + 1) << TILE_SHIFT) - 1,
+                                       ty << TILE_SHIFT, ((ty + 1) << TILE_SHIFT) - 1);
+          if (!(h < T->lo) && T->dirty) tile_least(p, g, T, tx, ty);
+          if (h < T->lo) { p->spans_skipped++; a = e; continue; }
+        }
+        const double z0 = za * (double)a + zr;
+        p->points_visited += e - a;
+        if (plus) raster_span(p, g, k, j, a, e, z0 - E, z0 + E, za, true, T);
+        else raster_span(p, g, k, j, a, e, z0 - E, z0 + E, za, false, T);
+        a = e;
+      }
     }
     start = end;
   }
@@ -494,6 +613,61 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
   return T74_OK;
 }
 
+static uint64_t splitmix(uint64_t *x)
+{
+  uint64_t z = (*x += UINT64_C(0x9e3779b97f4a7c15));
+  z = (z ^ (z >> 30)) * UINT64_C(0xbf58476d1ce4e5b9);
+  z = (z ^ (z >> 27)) * UINT64_C(0x94d049bb133111eb);
+  return z ^ (z >> 31);
+}
+
+/* Does a pattern lie on a pattern in s? Then mface_coplanar_front is no order (three
+   patterns can go round in a circle) and the faces are drawn in the Mapper's order. */
+static bool pattern_chain(const struct scene *s)
+{
+  for (int k = 0; k < s->nf; k++)
+    if (s->f[k].on_id && s->f[s->f[k].on].on_id) return true;
+  return false;
+}
+
+/* p->order[0 .. n): the faces to draw, nearest first (by buckets of their keys: the order
+   is a matter of speed only, "Order"), or shuffled by p->shuffle, or as they are. */
+static int draw_order(struct points *p, const struct scene *s, int n, struct t74_error *err)
+{
+  if (p->plain || n < 2 || pattern_chain(s)) return T74_OK;
+  int *o = p->order;
+  if (p->shuffle) {
+    uint64_t x = p->shuffle;
+    for (int k = n - 1; k > 0; k--) {
+      int r = (int)(splitmix(&x) % (uint64_t)(k + 1)), t = o[k];
+      o[k] = o[r];
+      o[r] = t;
+    }
+    return T74_OK;
+  }
+  double kmin = p->key[0], kmax = kmin;
+  for (int k = 1; k < n; k++) {
+    if (p->key[k] < kmin) kmin = p->key[k];
+    if (p->key[k] > kmax) kmax = p->key[k];
+  }
+  if (!(kmax > kmin)) return T74_OK;
+  int nb = n < BUCKETS_MAX ? n : BUCKETS_MAX;
+  const double scale = (nb - 1) / (kmax - kmin);
+  if (!grow((void **)&p->bucket, &p->bucketcap, nb + 1 + n, sizeof *p->bucket))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  int *cnt = p->bucket, *out = p->bucket + nb + 1;
+  memset(cnt, 0, (size_t)(nb + 1) * sizeof *cnt);
+  for (int k = 0; k < n; k++) {             /* bucket 0 the nearest */
+    const double t = (kmax - p->key[k]) * scale;
+    int bk = t >= 0 ? (t < nb - 1 ? (int)t : nb - 1) : 0;
+    p->key[k] = (double)bk;
+    cnt[bk + 1]++;
+  }
+  for (int bk = 0; bk < nb; bk++) cnt[bk + 1] += cnt[bk];
+  for (int k = 0; k < n; k++) out[cnt[(int)p->key[k]]++] = o[k];
+  memcpy(o, out, (size_t)n * sizeof *o);
+  return T74_OK;
+}
 int points_render(struct points *p, const struct scene *s, const struct vis_grid *vg,
                   struct t74_error *err)
 {
@@ -526,9 +700,34 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.Dy = GRID_ONE * (g.YT - g.YB);
   g.Ex = p->map.eye[0]; g.Ey = p->map.eye[1]; g.Ez = p->map.eye[2];
   p->faces_culled = 0;
-  for (int k = 0; k < p->map.nface; k++) {
+  p->spans_skipped = 0;
+  p->points_visited = 0;
+  int nf = p->map.nface;
+  if (!grow((void **)&p->box, &p->boxcap, nf + 1, sizeof *p->box) ||
+      !grow((void **)&p->order, &p->ordercap, nf + 1, sizeof *p->order) ||
+      !grow((void **)&p->key, &p->keycap, nf + 1, sizeof *p->key))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  int nd = 0;                                     /* faces whose box holds a centre */
+  for (int k = 0; k < nf; k++) {
     if (p->skip[k]) continue;
-    if ((st = raster_face(p, &g, k, err)) != T74_OK) return st;
+    if (!face_box(p, &g, k, &p->box[k], &p->key[nd])) { p->faces_culled++; continue; }
+    p->order[nd++] = k;
+  }
+  if ((st = draw_order(p, s, nd, err)) != T74_OK) return st;
+  const int ntx = (g.W + TILE - 1) >> TILE_SHIFT, nty = (g.H + TILE - 1) >> TILE_SHIFT;
+  if (!grow((void **)&p->tile, &p->tilecap, ntx * nty + 1, sizeof *p->tile))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  for (int ty = 0; ty < nty; ty++)
+    for (int tx = 0; tx < ntx; tx++) {
+      int w = g.W - (tx << TILE_SHIFT), h = g.H - (ty << TILE_SHIFT);
+      struct points_tile *T = &p->tile[ty * ntx + tx];
+      T->lo = -HUGE_VAL;
+      T->ninf = (w < TILE ? w : TILE) * (h < TILE ? h : TILE);
+      T->dirty = true;
+    }
+  for (int d = 0; d < nd; d++) {
+    int k = p->order[d];
+    if ((st = face_draw(p, &g, k, &p->box[k], err)) != T74_OK) return st;
   }
   return T74_OK;
 }
@@ -545,5 +744,10 @@ void points_free(struct points *p)
   free(p->cross);
   free(p->rowcount);
   free(p->skip);
+  free(p->box);
+  free(p->order);
+  free(p->key);
+  free(p->bucket);
+  free(p->tile);
   memset(p, 0, sizeof *p);
 }
