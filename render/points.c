@@ -286,6 +286,7 @@ struct grid {
   int W, H;
   int64_t XL, YB, XR, YT, xd, yd, S, Dy;
   wide Ex, Ey, Ez;
+  double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
 };
 
 /* Row j (from the top) has y_j >= y exactly when 2j + 1 <= row_q(y). */
@@ -399,13 +400,15 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
   return in_front(Pk, &p->map.f[k], Po, &p->map.f[o]);
 }
 
-/* Face k over the columns i0 .. i1 - 1 of row j, all in tile T: zl, zh its bounds at i0,
-   stepped by za (see the top of the file). `plus`: zl > 0 at every point of the face's
-   box (so are zh and max(zh, 0)), as the caller proved. T's bound is kept ("Tiles"). */
+/* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
+   (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
+   and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
+   ("Tiles"). */
 static inline __attribute__((always_inline)) void
 raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0, int32_t i1,
-            double zl, double zh, double za, bool plus, struct points_tile *T)
+            double zl, double zh, double za, bool plus, struct points_tile *trow)
 {
+  p->points_visited += i1 - i0;
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
   struct points_z *zb = p->z + row;
@@ -432,6 +435,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
       zb[i].hi = zh > 0 ? zh : 0;
       lo = zl > 0 ? zl : -HUGE_VAL;
     }
+    struct points_tile *T = trow + (i >> TILE_SHIFT);
     T->ninf += (lo == -HUGE_VAL) - (was == -HUGE_VAL);
     zb[i].lo = lo;
     if (lo < T->lo) T->lo = lo;
@@ -487,7 +491,15 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   const double zmin = b->za * (double)(b->arise ? ilo : ihi - 1) +
                       (b->zb * (double)(b->brise ? jlo : jhi) + b->zc);
   b->plus = zmin > 4 * b->E;
-  *key = b->za * (double)(b->arise ? ihi - 1 : ilo) + (b->zb * (double)(b->brise ? jhi : jlo) + b->zc);
+  /* the key: z at the face's nearest vertex (z is linear: its greatest over the face),
+     at the vertex's place (i, j) in point units (only the order depends on it) */
+  double best = -HUGE_VAL;
+  for (int v = 0; v < n; v++) {
+    const double z = b->za * (g->i0 + g->ki * (double)f->pt[v].x) +
+                     (b->zb * (g->j0 - g->kj * (double)f->pt[v].y) + b->zc);
+    if (z > best) best = z;
+  }
+  *key = best;
   return true;
 }
 
@@ -517,6 +529,59 @@ static void tile_least(struct points *p, const struct grid *g, struct points_til
   }
   T->lo = m;
   T->dirty = false;
+}
+
+/* The tiles of band ty (columns tx0 .. tx1 of it, a bit each from tx0) where face b is
+   proven behind the faces seen: zh_T below the tile's bound ("Tiles"). */
+static uint32_t band_hidden(struct points *p, const struct grid *g, const struct points_box *b,
+                            int ty, int tx0, int tx1)
+{
+  const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
+  struct points_tile *trow = p->tile + (size_t)ty * (size_t)ntx;
+  uint32_t hid = 0;
+  for (int t = tx0; t <= tx1; t++) {
+    struct points_tile *T = trow + t;
+    if (T->ninf) continue;
+    const double h = box_zh(b, t << TILE_SHIFT, ((t + 1) << TILE_SHIFT) - 1, ty << TILE_SHIFT,
+                            ((ty + 1) << TILE_SHIFT) - 1);
+    if (!(h < T->lo) && T->dirty) tile_least(p, g, T, t, ty);
+    if (h < T->lo) hid |= 1u << (t - tx0);
+  }
+  return hid;
+}
+
+/* Is face b proven behind at every tile of its box? */
+static bool face_hidden(struct points *p, const struct grid *g, const struct points_box *b)
+{
+  const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
+  const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
+  for (int ty = b->jlo >> TILE_SHIFT; ty <= b->jhi >> TILE_SHIFT; ty++)
+    if (band_hidden(p, g, b, ty, tx0, tx1) != all) return false;
+  p->tiles_skipped += (long)((b->jhi >> TILE_SHIFT) - (b->jlo >> TILE_SHIFT) + 1) * (tx1 - tx0 + 1);
+  return true;
+}
+
+/* Does face k (box b) cover a point centre of its box's middle row? (*yes; no says
+   nothing of the other rows.) The row's crossings as face_draw finds them. */
+static int covers_middle(struct points *p, const struct grid *g, int k, const struct points_box *b,
+                         bool *yes, struct t74_error *err)
+{
+  const int64_t jm = (b->jlo + b->jhi) / 2;
+  int ne;
+  int st = face_edges(p, g, &p->map.f[k], jm, jm, &ne, err);
+  if (st != T74_OK) return st;
+  if (!grow((void **)&p->cross, &p->crosscap, ne + 1, sizeof *p->cross))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  int32_t *cs = p->cross;
+  for (int e = 0; e < ne; e++) {                /* insertion sort */
+    int32_t v = col_of(g, p->edge[e].q, p->edge[e].rem);
+    int y = e - 1;
+    while (y >= 0 && cs[y] > v) { cs[y + 1] = cs[y]; y--; }
+    cs[y + 1] = v;
+  }
+  *yes = false;
+  for (int x = 0; x + 1 < ne; x += 2) *yes = *yes || cs[x] < cs[x + 1];
+  return T74_OK;
 }
 
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
@@ -553,9 +618,10 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   }
   const double za = b->za, zb = b->zb, zc = b->zc, E = b->E;
   const bool plus = b->plus, coarse = !p->plain;
-  const int ntx = (g->W + TILE - 1) >> TILE_SHIFT, tx0 = b->ilo >> TILE_SHIFT;
-  double fzh[(133 + TILE - 1) / TILE + 1];      /* the face's zh_T over the tiles of a row */
-  struct points_tile none = { -HUGE_VAL, 1, false };   /* plain: a tile never used */
+  const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
+  const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
+  const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
+  uint32_t hid = 0;                             /* the band's tiles where face k is behind */
   int tyat = -1;
   bool any = false;
   int start = 0;
@@ -563,51 +629,45 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     int end = rc[r];                            /* row r: cross[start .. end) */
     int32_t *cs = p->cross + start;
     int m = end - start;
+    start = end;
+    int64_t j = jlo + r;
+    const int ty = (int)(j >> TILE_SHIFT);
+    struct points_tile *trow = p->tile + (size_t)ty * (size_t)ntx;
+    if (coarse && ty != tyat) {                 /* a new band of tiles */
+      hid = band_hidden(p, g, b, ty, tx0, tx1);
+      p->tiles_skipped += __builtin_popcount(hid);
+      tyat = ty;
+    }
+    if (hid == all && any) continue;            /* behind all along the band's rows */
     for (int x = 1; x < m; x++) {               /* insertion sort: rows hold few */
       int32_t v = cs[x];
       int y = x - 1;
       while (y >= 0 && cs[y] > v) { cs[y + 1] = cs[y]; y--; }
       cs[y + 1] = v;
     }
-    int64_t j = jlo + r;
-    const int ty = (int)(j >> TILE_SHIFT);
     const double zr = zb * (double)j + zc;
     for (int x = 0; x + 1 < m; x += 2) {
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      if (!coarse) {
-        const double z0 = za * (double)i0 + zr;
-        p->points_visited += i1 - i0;
-        if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, &none);
-        else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, &none);
-        continue;
-      }
-      if (ty != tyat) {                         /* a new row of tiles: no bound known yet */
-        for (int t = tx0; t <= (b->ihi - 1) >> TILE_SHIFT; t++) fzh[t - tx0] = NAN;
-        tyat = ty;
-      }
-      for (int32_t a = i0; a < i1;) {           /* the span's parts, tile by tile */
-        const int tx = a >> TILE_SHIFT;
-        int32_t e = (tx + 1) << TILE_SHIFT;
-        if (e > i1) e = i1;
-        struct points_tile *T = &p->tile[ty * ntx + tx];
-        if (T->ninf == 0) {
-          double h = fzh[tx - tx0];
-          if (h != h)
-            h = fzh[tx - tx0] = box_zh(b, tx << TILE_SHIFT, ((tx + 1) << TILE_SHIFT) - 1,
-                                       ty << TILE_SHIFT, ((ty + 1) << TILE_SHIFT) - 1);
-          if (!(h < T->lo) && T->dirty) tile_least(p, g, T, tx, ty);
-          if (h < T->lo) { p->spans_skipped++; a = e; continue; }
+      int32_t a = i0;                           /* the span's parts over tiles not hidden */
+      if (hid) {
+        for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
+          if (!(hid >> (t - tx0) & 1)) continue;
+          int32_t ts = t << TILE_SHIFT, te = ts + TILE;
+          if (ts > a) {
+            const double z0 = za * (double)a + zr;
+            if (plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
+            else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
+          }
+          a = te < i1 ? te : i1;
         }
-        const double z0 = za * (double)a + zr;
-        p->points_visited += e - a;
-        if (plus) raster_span(p, g, k, j, a, e, z0 - E, z0 + E, za, true, T);
-        else raster_span(p, g, k, j, a, e, z0 - E, z0 + E, za, false, T);
-        a = e;
+        if (a >= i1) continue;
       }
+      const double z0 = za * (double)a + zr;
+      if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
+      else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
     }
-    start = end;
   }
   if (!any) p->faces_culled++;
   return T74_OK;
@@ -699,8 +759,12 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.S = GRID_ONE * (g.XR - g.XL);
   g.Dy = GRID_ONE * (g.YT - g.YB);
   g.Ex = p->map.eye[0]; g.Ey = p->map.eye[1]; g.Ez = p->map.eye[2];
+  g.ki = (double)g.xd / (2.0 * (double)GRID_ONE * (double)(g.XR - g.XL));
+  g.kj = (double)g.yd / (2.0 * (double)GRID_ONE * (double)(g.YT - g.YB));
+  g.i0 = -((double)g.xd * (double)g.XL / (double)(g.XR - g.XL) + 1) / 2;
+  g.j0 = ((double)g.yd * (double)g.YT / (double)(g.YT - g.YB) - 1) / 2;
   p->faces_culled = 0;
-  p->spans_skipped = 0;
+  p->tiles_skipped = 0;
   p->points_visited = 0;
   int nf = p->map.nface;
   if (!grow((void **)&p->box, &p->boxcap, nf + 1, sizeof *p->box) ||
@@ -727,6 +791,13 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     }
   for (int d = 0; d < nd; d++) {
     int k = p->order[d];
+    if (!p->plain && p->box[k].jhi - p->box[k].jlo >= 2 && face_hidden(p, &g, &p->box[k])) {
+      /* behind all over: its points are not visited; drawn only when it is not yet
+         known to cover a point centre (faces_culled counts the ones that cover none) */
+      bool yes = false;
+      if ((st = covers_middle(p, &g, k, &p->box[k], &yes, err)) != T74_OK) return st;
+      if (yes) continue;
+    }
     if ((st = face_draw(p, &g, k, &p->box[k], err)) != T74_OK) return st;
   }
   return T74_OK;

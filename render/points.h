@@ -56,7 +56,8 @@ struct points {
                                        seed instead of nearest first (tests: the picture
                                        does not depend on the order) */
   /* what the last points_render did (work counts, not times) */
-  long spans_skipped;               /* span parts over a tile skipped without their points */
+  long tiles_skipped;               /* (face, tile) pairs where the face was proven behind
+                                       all along and its points were not visited */
   long points_visited;              /* point visits of the faces' spans (the per-point work) */
   /* host scratch, kept from frame to frame (points_render reuses it) */
   struct core *core;                /* room for the Mapper's tables (never reported) */

@@ -50,7 +50,7 @@ static int render_with(const struct scene *sc, const struct vis_grid *g, bool pl
   if (st == T74_OK) {
     memcpy(out, p.face, (size_t)g->W * (size_t)g->H * sizeof *out);
     *culled = p.faces_culled;
-    *skipped = p.spans_skipped;
+    *skipped = p.tiles_skipped;
     *visited = p.points_visited;
   }
   points_free(&p);
@@ -139,7 +139,7 @@ static int seeds(void)
 static void report(const char *what, const struct tally *t)
 {
   print_message("%s: %ld scenes (%ld refused by the engine), %ld points, the same in every "
-                "order; %ld span parts skipped, %ld point visits (%ld without tiles)\n",
+                "order; %ld tiles skipped, %ld point visits (%ld without tiles)\n",
                 what, t->scenes, t->refused, t->points, t->skipped, t->visited,
                 t->visited_plain);
 }
