@@ -129,6 +129,7 @@ struct points_tile {
 #define TILE_SHIFT 3
 #define TILE (1 << TILE_SHIFT)
 #define BUCKETS_MAX 4096                    /* nearest-first order: buckets of depth */
+#define COARSE_DEPTH 3                      /* tiles where boxes cover the grid as often */
 
 #define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
@@ -587,7 +588,7 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
    tile skipped when the tile's bound proves the face behind there ("Tiles"). */
 static int face_draw(struct points *p, const struct grid *g, int k, const struct points_box *b,
-                     struct t74_error *err)
+                     bool coarse, struct t74_error *err)
 {
   const struct mface *f = &p->map.f[k];
   const int64_t jlo = b->jlo, jhi = b->jhi;
@@ -617,7 +618,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     }
   }
   const double za = b->za, zb = b->zb, zc = b->zc, E = b->E;
-  const bool plus = b->plus, coarse = !p->plain;
+  const bool plus = b->plus;
   const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
   const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
   const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
@@ -694,7 +695,7 @@ static bool pattern_chain(const struct scene *s)
    is a matter of speed only, "Order"), or shuffled by p->shuffle, or as they are. */
 static int draw_order(struct points *p, const struct scene *s, int n, struct t74_error *err)
 {
-  if (p->plain || n < 2 || pattern_chain(s)) return T74_OK;
+  if (n < 2 || pattern_chain(s)) return T74_OK;
   int *o = p->order;
   if (p->shuffle) {
     uint64_t x = p->shuffle;
@@ -777,7 +778,15 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (!face_box(p, &g, k, &p->box[k], &p->key[nd])) { p->faces_culled++; continue; }
     p->order[nd++] = k;
   }
-  if ((st = draw_order(p, s, nd, err)) != T74_OK) return st;
+  /* coarse coverage where faces overlap: their boxes cover the grid COARSE_DEPTH times
+     over (else its upkeep costs more than it saves), or always when asked to shuffle */
+  long area = 0;
+  for (int d = 0; d < nd; d++) {
+    const struct points_box *bx = &p->box[p->order[d]];
+    area += (long)(bx->ihi - bx->ilo) * (bx->jhi - bx->jlo + 1);
+  }
+  const bool coarse = !p->plain && (p->shuffle || area >= COARSE_DEPTH * (long)g.W * g.H);
+  if (coarse && (st = draw_order(p, s, nd, err)) != T74_OK) return st;
   const int ntx = (g.W + TILE - 1) >> TILE_SHIFT, nty = (g.H + TILE - 1) >> TILE_SHIFT;
   if (!grow((void **)&p->tile, &p->tilecap, ntx * nty + 1, sizeof *p->tile))
     return t74_fail(err, T74_EIO, "out of host memory");
@@ -791,14 +800,14 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     }
   for (int d = 0; d < nd; d++) {
     int k = p->order[d];
-    if (!p->plain && p->box[k].jhi - p->box[k].jlo >= 2 && face_hidden(p, &g, &p->box[k])) {
+    if (coarse && p->box[k].jhi - p->box[k].jlo >= 2 && face_hidden(p, &g, &p->box[k])) {
       /* behind all over: its points are not visited; drawn only when it is not yet
          known to cover a point centre (faces_culled counts the ones that cover none) */
       bool yes = false;
       if ((st = covers_middle(p, &g, k, &p->box[k], &yes, err)) != T74_OK) return st;
       if (yes) continue;
     }
-    if ((st = face_draw(p, &g, k, &p->box[k], err)) != T74_OK) return st;
+    if ((st = face_draw(p, &g, k, &p->box[k], coarse, err)) != T74_OK) return st;
   }
   return T74_OK;
 }

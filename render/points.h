@@ -52,9 +52,10 @@ struct points {
      the engine as it runs */
   bool plain;                       /* true: no tiles, faces drawn in the Mapper's order
                                        (the engine without coarse coverage, for tests) */
-  uint64_t shuffle;                 /* not 0: faces drawn in an order shuffled by this
-                                       seed instead of nearest first (tests: the picture
-                                       does not depend on the order) */
+  uint64_t shuffle;                 /* not 0: tiles used whatever the scene, the faces
+                                       drawn in an order shuffled by this seed instead of
+                                       nearest first (tests: the picture does not depend
+                                       on the order) */
   /* what the last points_render did (work counts, not times) */
   long tiles_skipped;               /* (face, tile) pairs where the face was proven behind
                                        all along and its points were not visited */
