@@ -72,6 +72,45 @@
 ** 11.01uM < E) is > 4E has zl > z - 2E > 0 at all its points: it stores zl and zh as they
 ** are. Two faces in one plane get mface_coplanar_front's answer at every point
 ** (in_front_exact), so the exact compare is asked once a span for such a pair.
+**
+** Tiles (coarse coverage, issue 19).  The grid is cut into tiles of TILE x TILE points
+** (the last ones cut by the grid). A tile T keeps ninf, the number of its points whose lo
+** is -inf (exact: every write adds the change at its point), and a bound T.lo <= lo at
+** each of its points whose lo is finite (a write of lo' lowers T.lo to lo' when below it;
+** a recount, done when the bound is asked for after a write may have raised the least,
+** sets it to the least). Face k's bound over a rectangle [i0, i1] x [j0, j1] of its box:
+** z is linear in (i, j) with the signs of alpha and beta (D > 0), greatest at the corner
+** i = (alpha > 0 ? i1 : i0), j = (beta > 0 ? j1 : j0); there its double z0, computed as
+** the box's corner above, is within 11.01uM of z, so z0 + 2E > z + E, and the addition's
+** rounding (under 2uM < E) keeps zh_T = fl(z0 + 2E) > z at every point of the rectangle.
+** Where T.ninf = 0 and zh_T < T.lo over T's part of the box, at each of face k's points
+** there the face o seen has a finite lo: z_o > lo > 0 (P_o > 0), and z_k < zh_T < T.lo <=
+** lo < z_o. So P_k <= 0 (never in front) or |D_o| P_k < |D_k| P_o strictly: the exact
+** compare keeps o (no tie to break). Skipping those points leaves every face and bound as
+** the point-by-point loop leaves them. Face k writes nowhere it is behind, so the tiles a
+** band's test finds hold for all of the band's rows while k is drawn. A face behind all
+** over its box is not drawn; only whether it covers a centre is asked (faces_culled):
+** its middle row's crossings, as face_draw finds them, say yes, or face_draw runs with
+** every part skipped. The tiles are used where the faces' boxes cover the grid
+** COARSE_DEPTH times over (their upkeep costs more elsewhere); either way the same frame.
+**
+** Order.  The faces are drawn nearest first (buckets of their nearest vertex's z in
+** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
+** strict total order on the faces covering each centre. It is, as the exact compare
+** decides it (the float filter and the coplanar cache answer as it does): faces with
+** P > 0 before those with P <= 0; among P > 0 by z = P / |D| (real numbers), equal z by
+** a / |D|, then b / |D| (mface_tie_front), all three equal only for one plane (a depth and
+** both slopes equal at a point); within one plane, and among P <= 0, the coplanar rule:
+** a pattern before the face it lies on, a pattern before a face that is none, else the
+** larger number. Without a pattern lying on a pattern, the first part only ever compares
+** a pattern with a face that is none, as the second part does: the rule is the order of
+** (pattern, number), strict and total except between faces of one number (the triangles
+** of a folded face), which strict_front orders by their place in the Mapper's array, the
+** first in front. Drawn in that array's order, a later face k meets an earlier o, which
+** strict_front keeps as the rule alone did (no both ways): the frame is the one the
+** engine always drew. A pattern on a pattern can make the rule go round in a circle
+** (3 on 5, 2 on 3, 1 on 2: 2 before 3, 1 before 2, 3 before 1); such scenes are drawn in
+** the Mapper's order.
 ** Needed: double arithmetic as C11 Annex F (x86-64's SSE2, FLT_EVAL_METHOD 0; wider
 ** intermediates or fused multiply-adds only shrink the errors); never -ffast-math.
 */

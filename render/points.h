@@ -7,7 +7,10 @@
 ** polygons and exact planes as the 1974 engine) covers the point's centre and is nearest
 ** the eye there. Each face's grid polygon is rasterised by exact scanline crossings into a
 ** per-point buffer of (face, depth bounds); depths are compared exactly: in doubles where
-** a proven error bound decides, else in 128-bit integers (points.c).
+** a proven error bound decides, else in 128-bit integers (points.c). Where faces overlap
+** deeply, tiles of the grid keep a bound of the depth stored, so that a face's parts
+** proven behind are skipped without visiting their points, and the faces are drawn nearest
+** first: the frame is the same in any order (points.c, "Tiles" and "Order").
 ** Nothing of the HITAC-10 is modelled: no core budget, no operation counts, no 1974 times.
 **
 ** Rules (the same as the 1974 engine's, README "Exactness"):

@@ -1,6 +1,6 @@
 /*
 ** test_points_coarse.c — the points engine's coarse coverage (render/points.c, "Tiles" and
-** "Order", issue 19): the tiles that skip a face's span parts proven behind, and the
+** "Order", issue 19): the tiles that skip the parts of a face proven behind, and the
 ** nearest-first drawing order, change nothing but the work done.
 **
 ** For every scene: the frame (the face index at every point, and the faces culled) of the
@@ -383,7 +383,7 @@ static void test_layered(void **state)
   long s0, v0, s1, v1;
   assert_int_equal(render_with(sc, &g, true, 0, a, &c0, &s0, &v0), T74_OK);
   assert_int_equal(render_with(sc, &g, false, 0, b, &c1, &s1, &v1), T74_OK);
-  print_message("layered: %d plates, %ld point visits without tiles, %ld with them (%ld span "
+  print_message("layered: %d plates, %ld point visits without tiles, %ld with them (%ld tiles "
                 "parts skipped)\n", nplate, v0, v1, s1);
   assert_memory_equal(a, b, 100 * 75 * sizeof *a);
   for (int k = 0; k < 100 * 75; k++) assert_int_equal(a[k], nplate - 1);   /* the nearest */
