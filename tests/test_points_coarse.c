@@ -384,7 +384,7 @@ static void test_layered(void **state)
   assert_int_equal(render_with(sc, &g, true, 0, a, &c0, &s0, &v0), T74_OK);
   assert_int_equal(render_with(sc, &g, false, 0, b, &c1, &s1, &v1), T74_OK);
   print_message("layered: %d plates, %ld point visits without tiles, %ld with them (%ld tiles "
-                "parts skipped)\n", nplate, v0, v1, s1);
+                "skipped)\n", nplate, v0, v1, s1);
   assert_memory_equal(a, b, 100 * 75 * sizeof *a);
   for (int k = 0; k < 100 * 75; k++) assert_int_equal(a[k], nplate - 1);   /* the nearest */
   assert_int_equal(v0, (long)nplate * 100 * 75);
