@@ -91,10 +91,12 @@
 ** band's test finds hold for all of the band's rows while k is drawn. A face behind all
 ** over its box is not drawn; only whether it covers a centre is asked (faces_culled):
 ** its middle row's crossings, as face_draw finds them, say yes, or face_draw runs with
-** every part skipped. The tiles are used where the faces' boxes cover the grid
-** COARSE_DEPTH times over (their upkeep costs more elsewhere); either way the same frame.
+** every part skipped. The faces are drawn in the Mapper's order without the tiles' tests
+** until their boxes have covered the grid COARSE_DEPTH times over (below that the tests
+** cost more than they save), the rest nearest first with them; every write keeps the
+** bounds, so they hold however a face was drawn, and the frame is the same ("Order").
 **
-** Order.  The faces are drawn nearest first (buckets of their nearest vertex's z in
+** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
 ** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
 ** strict total order on the faces covering each centre. It is, as the exact compare
 ** decides it (the float filter and the coplanar cache answer as it does): faces with
@@ -116,6 +118,7 @@
 */
 #include "render/points.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -150,6 +153,7 @@ struct points_z {
 /* A face's box of points (columns ilo .. ihi - 1, rows jlo .. jhi) and its depth z in
    doubles: z0 = za i + (zb j + zc), within E (see the top of the file). */
 struct points_box {
+  int32_t k;                                /* the face (index in map.f) */
   int32_t ilo, ihi, jlo, jhi;
   double za, zb, zc, E;
   bool plus;                                /* zl > 0 at every point of the box */
@@ -483,11 +487,8 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   }
 }
 /* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
-   false: the box holds no point centre (the face is culled). *key: the face's nearest
-   depth over its box, in doubles (the drawing order's key; any order gives the same
-   picture, "Order"). */
-static bool face_box(struct points *p, const struct grid *g, int k, struct points_box *b,
-                     double *key)
+   false: the box holds no point centre (the face is culled). */
+static bool face_box(struct points *p, const struct grid *g, int k, struct points_box *b)
 {
   const struct mface *f = &p->map.f[k];
   int n = f->ring_start[f->nring];
@@ -531,16 +532,23 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   const double zmin = b->za * (double)(b->arise ? ilo : ihi - 1) +
                       (b->zb * (double)(b->brise ? jlo : jhi) + b->zc);
   b->plus = zmin > 4 * b->E;
-  /* the key: z at the face's nearest vertex (z is linear: its greatest over the face),
-     at the vertex's place (i, j) in point units (only the order depends on it) */
+  return true;
+}
+
+/* Face k's key for the nearest-first order: z at its nearest vertex (z is linear: its
+   greatest over the face), at the vertex's place (i, j) in point units, in doubles (only
+   the order depends on it). */
+static double face_key(const struct points *p, const struct grid *g, int k,
+                       const struct points_box *b)
+{
+  const struct mface *f = &p->map.f[k];
   double best = -HUGE_VAL;
-  for (int v = 0; v < n; v++) {
+  for (int v = 0; v < f->ring_start[f->nring]; v++) {
     const double z = b->za * (g->i0 + g->ki * (double)f->pt[v].x) +
                      (b->zb * (g->j0 - g->kj * (double)f->pt[v].y) + b->zc);
     if (z > best) best = z;
   }
-  *key = best;
-  return true;
+  return best;
 }
 
 /* The proven bound zh_T > z of face b at every point of its box within columns i0 .. i1
@@ -730,8 +738,9 @@ static bool pattern_chain(const struct scene *s)
   return false;
 }
 
-/* p->order[0 .. n): the faces to draw, nearest first (by buckets of their keys: the order
-   is a matter of speed only, "Order"), or shuffled by p->shuffle, or as they are. */
+/* p->order[0 .. n): the kept faces (p->box[0 .. n), their keys p->key) in drawing order:
+   nearest first by buckets of their keys (a matter of speed only, "Order"), or shuffled
+   by p->shuffle, or as they came. */
 static int draw_order(struct points *p, const struct scene *s, int n, struct t74_error *err)
 {
   if (n < 2 || pattern_chain(s)) return T74_OK;
@@ -768,6 +777,7 @@ static int draw_order(struct points *p, const struct scene *s, int n, struct t74
   memcpy(o, out, (size_t)n * sizeof *o);
   return T74_OK;
 }
+
 int points_render(struct points *p, const struct scene *s, const struct vis_grid *vg,
                   struct t74_error *err)
 {
@@ -811,21 +821,6 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       !grow((void **)&p->order, &p->ordercap, nf + 1, sizeof *p->order) ||
       !grow((void **)&p->key, &p->keycap, nf + 1, sizeof *p->key))
     return t74_fail(err, T74_EIO, "out of host memory");
-  int nd = 0;                                     /* faces whose box holds a centre */
-  for (int k = 0; k < nf; k++) {
-    if (p->skip[k]) continue;
-    if (!face_box(p, &g, k, &p->box[k], &p->key[nd])) { p->faces_culled++; continue; }
-    p->order[nd++] = k;
-  }
-  /* coarse coverage where faces overlap: their boxes cover the grid COARSE_DEPTH times
-     over (else its upkeep costs more than it saves), or always when asked to shuffle */
-  long area = 0;
-  for (int d = 0; d < nd; d++) {
-    const struct points_box *bx = &p->box[p->order[d]];
-    area += (long)(bx->ihi - bx->ilo) * (bx->jhi - bx->jlo + 1);
-  }
-  const bool coarse = !p->plain && (p->shuffle || area >= COARSE_DEPTH * (long)g.W * g.H);
-  if (coarse && (st = draw_order(p, s, nd, err)) != T74_OK) return st;
   const int ntx = (g.W + TILE - 1) >> TILE_SHIFT, nty = (g.H + TILE - 1) >> TILE_SHIFT;
   if (!grow((void **)&p->tile, &p->tilecap, ntx * nty + 1, sizeof *p->tile))
     return t74_fail(err, T74_EIO, "out of host memory");
@@ -837,16 +832,40 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       T->ninf = (w < TILE ? w : TILE) * (h < TILE ? h : TILE);
       T->dirty = true;
     }
+  /* The faces are drawn in the Mapper's order while their boxes cover the grid less than
+     COARSE_DEPTH times over (there the tiles' tests and the order cost more than they
+     save); the rest are kept, then drawn nearest first with the tiles (always all of
+     them when asked to shuffle, none when plain). The tiles' bounds are kept by every
+     write, so they hold for the faces drawn either way ("Tiles", "Order"). */
+  long area = 0;
+  const long limit = p->plain ? LONG_MAX : p->shuffle ? 0 : COARSE_DEPTH * (long)g.W * g.H;
+  int nd = 0;                                     /* faces kept */
+  for (int k = 0; k < nf; k++) {
+    if (p->skip[k]) continue;
+    struct points_box *b = &p->box[nd];
+    if (!face_box(p, &g, k, b)) { p->faces_culled++; continue; }
+    if (area < limit) {
+      area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
+      if ((st = face_draw(p, &g, k, b, false, err)) != T74_OK) return st;
+      continue;
+    }
+    b->k = k;
+    p->key[nd] = face_key(p, &g, k, b);
+    p->order[nd] = nd;
+    nd++;
+  }
+  if ((st = draw_order(p, s, nd, err)) != T74_OK) return st;
   for (int d = 0; d < nd; d++) {
-    int k = p->order[d];
-    if (coarse && p->box[k].jhi - p->box[k].jlo >= 2 && face_hidden(p, &g, &p->box[k])) {
+    const struct points_box *b = &p->box[p->order[d]];
+    const int k = b->k;
+    if (b->jhi - b->jlo >= 2 && face_hidden(p, &g, b)) {
       /* behind all over: its points are not visited; drawn only when it is not yet
          known to cover a point centre (faces_culled counts the ones that cover none) */
       bool yes = false;
-      if ((st = covers_middle(p, &g, k, &p->box[k], &yes, err)) != T74_OK) return st;
+      if ((st = covers_middle(p, &g, k, b, &yes, err)) != T74_OK) return st;
       if (yes) continue;
     }
-    if ((st = face_draw(p, &g, k, &p->box[k], coarse, err)) != T74_OK) return st;
+    if ((st = face_draw(p, &g, k, b, true, err)) != T74_OK) return st;
   }
   return T74_OK;
 }

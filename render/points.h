@@ -72,8 +72,9 @@ struct points {
   int32_t *cross; int crosscap;     /* column thresholds of one face, row by row */
   int *rowcount; int rowcap;
   uint8_t *skip; int skipcap;       /* faces left out (folded, no triangle covers a point) */
-  struct points_box *box; int boxcap;         /* each face's box and depth in doubles */
-  int *order; int ordercap;                   /* the faces to draw, in drawing order */
+  struct points_box *box; int boxcap;         /* the faces kept to draw nearest first: box,
+                                                 depth in doubles */
+  int *order; int ordercap;                   /* their drawing order (indices in box) */
   double *key; int keycap;                    /* and their nearest depths (the order's key) */
   int *bucket; int bucketcap;
   struct points_tile *tile; int tilecap;      /* the tiles' depth bounds */
