@@ -838,7 +838,8 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
      them when asked to shuffle, none when plain). The tiles' bounds are kept by every
      write, so they hold for the faces drawn either way ("Tiles", "Order"). */
   long area = 0;
-  const long limit = p->plain ? LONG_MAX : p->shuffle ? 0 : COARSE_DEPTH * (long)g.W * g.H;
+  const long limit = p->plain || ntx > 32 ? LONG_MAX    /* a band's tiles: bits of 32 */
+                    : p->shuffle ? 0 : COARSE_DEPTH * (long)g.W * g.H;
   int nd = 0;                                     /* faces kept */
   for (int k = 0; k < nf; k++) {
     if (p->skip[k]) continue;
