@@ -403,6 +403,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
                   (long long)(GRID_LIMIT / GRID_ONE));
       goto fail;
     }
+    if (!cost) continue;                    /* the points engine: the rows unwritten */
     uint32_t a = vt + (uint32_t)k * VERTEX_ROW_WORDS;
     core_write(core, a, (uint16_t)v->id);   /* an import's id above 65535: its low word
                                                (the 1974 layout; never read back) */
@@ -546,6 +547,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     m->deye = (int64_t)-pe;
     m->grey = sf->grey >= 0 ? sf->grey : face_grey(s, m, pl);
 
+    if (!cost) { out->nface++; continue; }  /* the points engine: the row unwritten */
     gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;
     for (int k = 1; k < m->ring_start[1]; k++) {
       if (m->pt[k].y < ymin) ymin = m->pt[k].y;

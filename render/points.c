@@ -72,11 +72,53 @@
 ** 11.01uM < E) is > 4E has zl > z - 2E > 0 at all its points: it stores zl and zh as they
 ** are. Two faces in one plane get mface_coplanar_front's answer at every point
 ** (in_front_exact), so the exact compare is asked once a span for such a pair.
+**
+** Tiles (coarse coverage, issue 19).  The grid is cut into tiles of TILE x TILE points
+** (the last ones cut by the grid). A tile T keeps ninf, the number of its points whose lo
+** is -inf (exact: every write adds the change at its point), and a bound T.lo <= lo at
+** each of its points whose lo is finite (a write of lo' lowers T.lo to lo' when below it;
+** a recount, done when the bound is asked for after a write may have raised the least,
+** sets it to the least). Face k's bound over a rectangle [i0, i1] x [j0, j1] of its box:
+** z is linear in (i, j) with the signs of alpha and beta (D > 0), greatest at the corner
+** i = (alpha > 0 ? i1 : i0), j = (beta > 0 ? j1 : j0); there its double z0, computed as
+** the box's corner above, is within 11.01uM of z, so z0 + 2E > z + E, and the addition's
+** rounding (under 2uM < E) keeps zh_T = fl(z0 + 2E) > z at every point of the rectangle.
+** Where T.ninf = 0 and zh_T < T.lo over T's part of the box, at each of face k's points
+** there the face o seen has a finite lo: z_o > lo > 0 (P_o > 0), and z_k < zh_T < T.lo <=
+** lo < z_o. So P_k <= 0 (never in front) or |D_o| P_k < |D_k| P_o strictly: the exact
+** compare keeps o (no tie to break). Skipping those points leaves every face and bound as
+** the point-by-point loop leaves them. Face k writes nowhere it is behind, so the tiles a
+** band's test finds hold for all of the band's rows while k is drawn. A face behind all
+** over its box is not drawn; only whether it covers a centre is asked (faces_culled):
+** its middle row's crossings, as face_draw finds them, say yes, or face_draw runs with
+** every part skipped. The faces are drawn in the Mapper's order without the tiles' tests
+** until their boxes have covered the grid COARSE_DEPTH times over (below that the tests
+** cost more than they save), the rest nearest first with them; every write keeps the
+** bounds, so they hold however a face was drawn, and the frame is the same ("Order").
+**
+** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
+** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
+** strict total order on the faces covering each centre. It is, as the exact compare
+** decides it (the float filter and the coplanar cache answer as it does): faces with
+** P > 0 before those with P <= 0; among P > 0 by z = P / |D| (real numbers), equal z by
+** a / |D|, then b / |D| (mface_tie_front), all three equal only for one plane (a depth and
+** both slopes equal at a point); within one plane, and among P <= 0, the coplanar rule:
+** a pattern before the face it lies on, a pattern before a face that is none, else the
+** larger number. Without a pattern lying on a pattern, the first part only ever compares
+** a pattern with a face that is none, as the second part does: the rule is the order of
+** (pattern, number), strict and total except between faces of one number (the triangles
+** of a folded face), which strict_front orders by their place in the Mapper's array, the
+** first in front. Drawn in that array's order, a later face k meets an earlier o, which
+** strict_front keeps as the rule alone did (no both ways): the frame is the one the
+** engine always drew. A pattern on a pattern can make the rule go round in a circle
+** (3 on 5, 2 on 3, 1 on 2: 2 before 3, 1 before 2, 3 before 1); such scenes are drawn in
+** the Mapper's order.
 ** Needed: double arithmetic as C11 Annex F (x86-64's SSE2, FLT_EVAL_METHOD 0; wider
 ** intermediates or fused multiply-adds only shrink the errors); never -ffast-math.
 */
 #include "render/points.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -107,6 +149,30 @@ struct points_plane {
 struct points_z {
   double hi, lo;
 };
+
+/* A face's box of points (columns ilo .. ihi - 1, rows jlo .. jhi) and its depth z in
+   doubles: z0 = za i + (zb j + zc), within E (see the top of the file). */
+struct points_box {
+  int32_t k;                                /* the face (index in map.f) */
+  int32_t ilo, ihi, jlo, jhi;
+  double za, zb, zc, E;
+  bool plus;                                /* zl > 0 at every point of the box */
+  bool arise, brise;                        /* alpha > 0, beta > 0 (exact): z grows with i, j */
+};
+
+/* A tile of TILE x TILE points (the last ones cut by the grid): lo <= the lo of each of
+   its points whose lo is finite, exactly their least when !dirty; ninf: its points whose
+   lo is -inf (no face yet, or a face not proven in front of the eye there). */
+struct points_tile {
+  double lo;
+  int32_t ninf;
+  bool dirty;
+};
+
+#define TILE_SHIFT 3
+#define TILE (1 << TILE_SHIFT)
+#define BUCKETS_MAX 4096                    /* nearest-first order: buckets of depth */
+#define COARSE_DEPTH 3                      /* tiles where boxes cover the grid as often */
 
 #define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
@@ -264,6 +330,7 @@ struct grid {
   int W, H;
   int64_t XL, YB, XR, YT, xd, yd, S, Dy;
   wide Ex, Ey, Ez;
+  double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
 };
 
 /* Row j (from the top) has y_j >= y exactly when 2j + 1 <= row_q(y). */
@@ -336,6 +403,14 @@ static inline int32_t col_of(const struct grid *g, int64_t q, int64_t rem)
   return c > g->W ? g->W : (int32_t)c;
 }
 
+/* The rule's answer for a pair it leaves undecided both ways (two faces of one number in
+   one plane: the triangles of one folded face) made strict: the one first in the Mapper's
+   order is in front, as drawing the faces in that order has always made it ("Order"). */
+static bool strict_front(bool ab, const struct mface *A, const struct mface *B, bool ba)
+{
+  return ab || (!ba && A < B);
+}
+
 /* Is face k (P_k) in front of the face o seen so far (P_o) at a centre? */
 static inline bool in_front(wide Pk, const struct mface *fk, wide Po, const struct mface *fo)
 {
@@ -344,9 +419,11 @@ static inline bool in_front(wide Pk, const struct mface *fk, wide Po, const stru
   else {
     wide l = (wide)fo->deye * Pk, r = (wide)fk->deye * Po;
     s = (l > r) - (l < r);
-    if (s == 0) return mface_tie_front(fk, fo);   /* equal depth: render/mapper.h */
+    if (s == 0)                                   /* equal depth: render/mapper.h */
+      return strict_front(mface_tie_front(fk, fo), fk, fo, mface_tie_front(fo, fk));
   }
-  if (s == 0) return mface_coplanar_front(fk, fo);
+  if (s == 0)
+    return strict_front(mface_coplanar_front(fk, fo), fk, fo, mface_coplanar_front(fo, fk));
   return s > 0;
 }
 
@@ -369,19 +446,22 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
 
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
-   and max(zh, 0)), as the caller proved. */
+   and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
+   ("Tiles"). */
 static inline __attribute__((always_inline)) void
 raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0, int32_t i1,
-            double zl, double zh, double za, bool plus)
+            double zl, double zh, double za, bool plus, struct points_tile *trow)
 {
+  p->points_visited += i1 - i0;
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
   struct points_z *zb = p->z + row;
   int co = -1;                                  /* a face in face k's plane met on the span */
   bool cofront = false;                         /* and the exact compare's answer against it */
   for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+    const double was = zb[i].lo;
     if (!(zl > zb[i].hi)) {
-      if (zh < zb[i].lo) continue;              /* behind, certainly */
+      if (zh < was) continue;                   /* behind, certainly */
       int o = fb[i];
       bool front = cofront, same;
       if (o != co) {
@@ -391,18 +471,24 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
       if (!front) continue;
     }
     fb[i] = k;
+    double lo;
     if (plus) {
       zb[i].hi = zh;
-      zb[i].lo = zl;
+      lo = zl;
     } else {
       zb[i].hi = zh > 0 ? zh : 0;
-      zb[i].lo = zl > 0 ? zl : -HUGE_VAL;
+      lo = zl > 0 ? zl : -HUGE_VAL;
     }
+    struct points_tile *T = trow + (i >> TILE_SHIFT);
+    T->ninf += (lo == -HUGE_VAL) - (was == -HUGE_VAL);
+    zb[i].lo = lo;
+    if (lo < T->lo) T->lo = lo;
+    else if (was <= T->lo) T->dirty = true;     /* the least may have risen */
   }
 }
-
-/* Rasterise face k into the buffer. */
-static int raster_face(struct points *p, const struct grid *g, int k, struct t74_error *err)
+/* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
+   false: the box holds no point centre (the face is culled). */
+static bool face_box(struct points *p, const struct grid *g, int k, struct points_box *b)
 {
   const struct mface *f = &p->map.f[k];
   int n = f->ring_start[f->nring];
@@ -420,7 +506,139 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
   int64_t ilo = col_first_at_or_right(g, xmin), ihi = col_first_at_or_right(g, xmax);
   if (ilo < 0) ilo = 0;
   if (ihi > g->W) ihi = g->W;
-  if (jlo > jhi || ilo >= ihi) { p->faces_culled++; return T74_OK; }
+  if (jlo > jhi || ilo >= ihi) return false;
+  b->ilo = (int32_t)ilo; b->ihi = (int32_t)ihi; b->jlo = (int32_t)jlo; b->jhi = (int32_t)jhi;
+  /* depth: P = alpha i + beta j + gamma exactly (kept for the exact compare), z = P / D
+     in doubles with its error bound E (the filter, see the top of the file) */
+  const wide a = f->plane[0], bb = f->plane[1], c = f->plane[2];
+  const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
+  struct points_plane *pl = &p->plane[k];
+  pl->alpha = a * ca;
+  pl->beta = -bb * cb;
+  pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
+              bb * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
+              c * 4 * g->W * g->H * (-g->Ez);
+  const double Dd = (double)f->deye;
+  const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
+               Gd = (double)pl->gamma;
+  b->za = Ad / Dd;
+  b->zb = Bd / Dd;
+  b->zc = Gd / Dd;
+  b->E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
+  b->arise = pl->alpha > 0;
+  b->brise = pl->beta > 0;
+  /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
+     error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
+  const double zmin = b->za * (double)(b->arise ? ilo : ihi - 1) +
+                      (b->zb * (double)(b->brise ? jlo : jhi) + b->zc);
+  b->plus = zmin > 4 * b->E;
+  return true;
+}
+
+/* Face k's key for the nearest-first order: z at its nearest vertex (z is linear: its
+   greatest over the face), at the vertex's place (i, j) in point units, in doubles (only
+   the order depends on it). */
+static double face_key(const struct points *p, const struct grid *g, int k,
+                       const struct points_box *b)
+{
+  const struct mface *f = &p->map.f[k];
+  double best = -HUGE_VAL;
+  for (int v = 0; v < f->ring_start[f->nring]; v++) {
+    const double z = b->za * (g->i0 + g->ki * (double)f->pt[v].x) +
+                     (b->zb * (g->j0 - g->kj * (double)f->pt[v].y) + b->zc);
+    if (z > best) best = z;
+  }
+  return best;
+}
+
+/* The proven bound zh_T > z of face b at every point of its box within columns i0 .. i1
+   and rows j0 .. j1 ("Tiles"). */
+static double box_zh(const struct points_box *b, int32_t i0, int32_t i1, int32_t j0, int32_t j1)
+{
+  if (i0 < b->ilo) i0 = b->ilo;
+  if (i1 > b->ihi - 1) i1 = b->ihi - 1;
+  if (j0 < b->jlo) j0 = b->jlo;
+  if (j1 > b->jhi) j1 = b->jhi;
+  const double z0 = b->za * (double)(b->arise ? i1 : i0) + (b->zb * (double)(b->brise ? j1 : j0) + b->zc);
+  return z0 + 2 * b->E;
+}
+
+/* Tile (tx, ty)'s bound made exact: the least lo of its points (all finite). */
+static void tile_least(struct points *p, const struct grid *g, struct points_tile *T, int tx,
+                       int ty)
+{
+  int i0 = tx << TILE_SHIFT, i1 = i0 + TILE, j0 = ty << TILE_SHIFT, j1 = j0 + TILE;
+  if (i1 > g->W) i1 = g->W;
+  if (j1 > g->H) j1 = g->H;
+  double m = HUGE_VAL;
+  for (int j = j0; j < j1; j++) {
+    const struct points_z *zb = p->z + (size_t)j * (size_t)g->W;
+    for (int i = i0; i < i1; i++) m = zb[i].lo < m ? zb[i].lo : m;
+  }
+  T->lo = m;
+  T->dirty = false;
+}
+
+/* The tiles of band ty (columns tx0 .. tx1 of it, a bit each from tx0) where face b is
+   proven behind the faces seen: zh_T below the tile's bound ("Tiles"). */
+static uint32_t band_hidden(struct points *p, const struct grid *g, const struct points_box *b,
+                            int ty, int tx0, int tx1)
+{
+  const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
+  struct points_tile *trow = p->tile + (size_t)ty * (size_t)ntx;
+  uint32_t hid = 0;
+  for (int t = tx0; t <= tx1; t++) {
+    struct points_tile *T = trow + t;
+    if (T->ninf) continue;
+    const double h = box_zh(b, t << TILE_SHIFT, ((t + 1) << TILE_SHIFT) - 1, ty << TILE_SHIFT,
+                            ((ty + 1) << TILE_SHIFT) - 1);
+    if (!(h < T->lo) && T->dirty) tile_least(p, g, T, t, ty);
+    if (h < T->lo) hid |= 1u << (t - tx0);
+  }
+  return hid;
+}
+
+/* Is face b proven behind at every tile of its box? */
+static bool face_hidden(struct points *p, const struct grid *g, const struct points_box *b)
+{
+  const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
+  const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
+  for (int ty = b->jlo >> TILE_SHIFT; ty <= b->jhi >> TILE_SHIFT; ty++)
+    if (band_hidden(p, g, b, ty, tx0, tx1) != all) return false;
+  p->tiles_skipped += (long)((b->jhi >> TILE_SHIFT) - (b->jlo >> TILE_SHIFT) + 1) * (tx1 - tx0 + 1);
+  return true;
+}
+
+/* Does face k (box b) cover a point centre of its box's middle row? (*yes; no says
+   nothing of the other rows.) The row's crossings as face_draw finds them. */
+static int covers_middle(struct points *p, const struct grid *g, int k, const struct points_box *b,
+                         bool *yes, struct t74_error *err)
+{
+  const int64_t jm = (b->jlo + b->jhi) / 2;
+  int ne;
+  int st = face_edges(p, g, &p->map.f[k], jm, jm, &ne, err);
+  if (st != T74_OK) return st;
+  if (!grow((void **)&p->cross, &p->crosscap, ne + 1, sizeof *p->cross))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  int32_t *cs = p->cross;
+  for (int e = 0; e < ne; e++) {                /* insertion sort */
+    int32_t v = col_of(g, p->edge[e].q, p->edge[e].rem);
+    int y = e - 1;
+    while (y >= 0 && cs[y] > v) { cs[y + 1] = cs[y]; y--; }
+    cs[y + 1] = v;
+  }
+  *yes = false;
+  for (int x = 0; x + 1 < ne; x += 2) *yes = *yes || cs[x] < cs[x + 1];
+  return T74_OK;
+}
+
+/* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
+   tile skipped when the tile's bound proves the face behind there ("Tiles"). */
+static int face_draw(struct points *p, const struct grid *g, int k, const struct points_box *b,
+                     bool coarse, struct t74_error *err)
+{
+  const struct mface *f = &p->map.f[k];
+  const int64_t jlo = b->jlo, jhi = b->jhi;
   int ne;
   int st = face_edges(p, g, f, jlo, jhi, &ne, err);
   if (st != T74_OK) return st;
@@ -446,51 +664,117 @@ static int raster_face(struct points *p, const struct grid *g, int k, struct t74
       if (rem >= E->D) { rem -= E->D; q++; }
     }
   }
-  /* depth: P = alpha i + beta j + gamma exactly (kept for the exact compare), z = P / D
-     in doubles with its error bound E (the filter, see the top of the file) */
-  const wide a = f->plane[0], b = f->plane[1], c = f->plane[2];
-  const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
-  struct points_plane *pl = &p->plane[k];
-  pl->alpha = a * ca;
-  pl->beta = -b * cb;
-  pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
-              b * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
-              c * 4 * g->W * g->H * (-g->Ez);
-  const double Dd = (double)f->deye;
-  const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
-               Gd = (double)pl->gamma;
-  const double za = Ad / Dd, zb = Bd / Dd, zc = Gd / Dd;
-  const double E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
-  /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
-     error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
-  const double zmin = za * (double)(pl->alpha > 0 ? ilo : ihi - 1) +
-                      (zb * (double)(pl->beta > 0 ? jlo : jhi) + zc);
-  const bool plus = zmin > 4 * E;
+  const double za = b->za, zb = b->zb, zc = b->zc, E = b->E;
+  const bool plus = b->plus;
+  const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
+  const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
+  const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
+  uint32_t hid = 0;                             /* the band's tiles where face k is behind */
+  int tyat = -1;
   bool any = false;
   int start = 0;
   for (int r = 0; r < nrow; r++) {
     int end = rc[r];                            /* row r: cross[start .. end) */
     int32_t *cs = p->cross + start;
     int m = end - start;
+    start = end;
+    int64_t j = jlo + r;
+    const int ty = (int)(j >> TILE_SHIFT);
+    struct points_tile *trow = p->tile + (size_t)ty * (size_t)ntx;
+    if (coarse && ty != tyat) {                 /* a new band of tiles */
+      hid = band_hidden(p, g, b, ty, tx0, tx1);
+      p->tiles_skipped += __builtin_popcount(hid);
+      tyat = ty;
+    }
+    if (hid == all && any) continue;            /* behind all along the band's rows */
     for (int x = 1; x < m; x++) {               /* insertion sort: rows hold few */
       int32_t v = cs[x];
       int y = x - 1;
       while (y >= 0 && cs[y] > v) { cs[y + 1] = cs[y]; y--; }
       cs[y + 1] = v;
     }
-    int64_t j = jlo + r;
     const double zr = zb * (double)j + zc;
     for (int x = 0; x + 1 < m; x += 2) {
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      const double z0 = za * (double)i0 + zr;
-      if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true);
-      else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false);
+      int32_t a = i0;                           /* the span's parts over tiles not hidden */
+      if (hid) {
+        for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
+          if (!(hid >> (t - tx0) & 1)) continue;
+          int32_t ts = t << TILE_SHIFT, te = ts + TILE;
+          if (ts > a) {
+            const double z0 = za * (double)a + zr;
+            if (plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
+            else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
+          }
+          a = te < i1 ? te : i1;
+        }
+        if (a >= i1) continue;
+      }
+      const double z0 = za * (double)a + zr;
+      if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
+      else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
     }
-    start = end;
   }
   if (!any) p->faces_culled++;
+  return T74_OK;
+}
+
+static uint64_t splitmix(uint64_t *x)
+{
+  uint64_t z = (*x += UINT64_C(0x9e3779b97f4a7c15));
+  z = (z ^ (z >> 30)) * UINT64_C(0xbf58476d1ce4e5b9);
+  z = (z ^ (z >> 27)) * UINT64_C(0x94d049bb133111eb);
+  return z ^ (z >> 31);
+}
+
+/* Does a pattern lie on a pattern in s? Then mface_coplanar_front is no order (three
+   patterns can go round in a circle) and the faces are drawn in the Mapper's order. */
+static bool pattern_chain(const struct scene *s)
+{
+  for (int k = 0; k < s->nf; k++)
+    if (s->f[k].on_id && s->f[s->f[k].on].on_id) return true;
+  return false;
+}
+
+/* p->order[0 .. n): the kept faces (p->box[0 .. n), their keys p->key) in drawing order:
+   nearest first by buckets of their keys (a matter of speed only, "Order"), or shuffled
+   by p->shuffle, or as they came. */
+static int draw_order(struct points *p, const struct scene *s, int n, struct t74_error *err)
+{
+  if (n < 2 || pattern_chain(s)) return T74_OK;
+  int *o = p->order;
+  if (p->shuffle) {
+    uint64_t x = p->shuffle;
+    for (int k = n - 1; k > 0; k--) {
+      int r = (int)(splitmix(&x) % (uint64_t)(k + 1)), t = o[k];
+      o[k] = o[r];
+      o[r] = t;
+    }
+    return T74_OK;
+  }
+  double kmin = p->key[0], kmax = kmin;
+  for (int k = 1; k < n; k++) {
+    if (p->key[k] < kmin) kmin = p->key[k];
+    if (p->key[k] > kmax) kmax = p->key[k];
+  }
+  if (!(kmax > kmin)) return T74_OK;
+  int nb = n < BUCKETS_MAX ? n : BUCKETS_MAX;
+  const double scale = (nb - 1) / (kmax - kmin);
+  if (!grow((void **)&p->bucket, &p->bucketcap, nb + 1 + n, sizeof *p->bucket))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  int *cnt = p->bucket, *out = p->bucket + nb + 1;
+  memset(cnt, 0, (size_t)(nb + 1) * sizeof *cnt);
+  for (int k = 0; k < n; k++) {             /* bucket 0 the nearest */
+    const double t = (kmax - p->key[k]) * scale;
+    int bk = t >= 0 ? (t < nb - 1 ? (int)t : nb - 1) : 0;
+    p->key[k] = (double)bk;
+    cnt[bk + 1]++;
+  }
+  for (int bk = 0; bk < nb; bk++) cnt[bk + 1] += cnt[bk];
+  for (int k = 0; k < n; k++) out[cnt[(int)p->key[k]]++] = o[k];
+  memcpy(o, out, (size_t)n * sizeof *o);
   return T74_OK;
 }
 
@@ -525,10 +809,64 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.S = GRID_ONE * (g.XR - g.XL);
   g.Dy = GRID_ONE * (g.YT - g.YB);
   g.Ex = p->map.eye[0]; g.Ey = p->map.eye[1]; g.Ez = p->map.eye[2];
+  g.ki = (double)g.xd / (2.0 * (double)GRID_ONE * (double)(g.XR - g.XL));
+  g.kj = (double)g.yd / (2.0 * (double)GRID_ONE * (double)(g.YT - g.YB));
+  g.i0 = -((double)g.xd * (double)g.XL / (double)(g.XR - g.XL) + 1) / 2;
+  g.j0 = ((double)g.yd * (double)g.YT / (double)(g.YT - g.YB) - 1) / 2;
   p->faces_culled = 0;
-  for (int k = 0; k < p->map.nface; k++) {
+  p->tiles_skipped = 0;
+  p->points_visited = 0;
+  int nf = p->map.nface;
+  if (!grow((void **)&p->box, &p->boxcap, nf + 1, sizeof *p->box) ||
+      !grow((void **)&p->order, &p->ordercap, nf + 1, sizeof *p->order) ||
+      !grow((void **)&p->key, &p->keycap, nf + 1, sizeof *p->key))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  const int ntx = (g.W + TILE - 1) >> TILE_SHIFT, nty = (g.H + TILE - 1) >> TILE_SHIFT;
+  if (!grow((void **)&p->tile, &p->tilecap, ntx * nty + 1, sizeof *p->tile))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  for (int ty = 0; ty < nty; ty++)
+    for (int tx = 0; tx < ntx; tx++) {
+      int w = g.W - (tx << TILE_SHIFT), h = g.H - (ty << TILE_SHIFT);
+      struct points_tile *T = &p->tile[ty * ntx + tx];
+      T->lo = -HUGE_VAL;
+      T->ninf = (w < TILE ? w : TILE) * (h < TILE ? h : TILE);
+      T->dirty = true;
+    }
+  /* The faces are drawn in the Mapper's order while their boxes cover the grid less than
+     COARSE_DEPTH times over (there the tiles' tests and the order cost more than they
+     save); the rest are kept, then drawn nearest first with the tiles (always all of
+     them when asked to shuffle, none when plain). The tiles' bounds are kept by every
+     write, so they hold for the faces drawn either way ("Tiles", "Order"). */
+  long area = 0;
+  const long limit = p->plain || ntx > 32 ? LONG_MAX    /* a band's tiles: bits of 32 */
+                    : p->shuffle ? 0 : COARSE_DEPTH * (long)g.W * g.H;
+  int nd = 0;                                     /* faces kept */
+  for (int k = 0; k < nf; k++) {
     if (p->skip[k]) continue;
-    if ((st = raster_face(p, &g, k, err)) != T74_OK) return st;
+    struct points_box *b = &p->box[nd];
+    if (!face_box(p, &g, k, b)) { p->faces_culled++; continue; }
+    if (area < limit) {
+      area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
+      if ((st = face_draw(p, &g, k, b, false, err)) != T74_OK) return st;
+      continue;
+    }
+    b->k = k;
+    p->key[nd] = face_key(p, &g, k, b);
+    p->order[nd] = nd;
+    nd++;
+  }
+  if ((st = draw_order(p, s, nd, err)) != T74_OK) return st;
+  for (int d = 0; d < nd; d++) {
+    const struct points_box *b = &p->box[p->order[d]];
+    const int k = b->k;
+    if (b->jhi - b->jlo >= 2 && face_hidden(p, &g, b)) {
+      /* behind all over: its points are not visited; drawn only when it is not yet
+         known to cover a point centre (faces_culled counts the ones that cover none) */
+      bool yes = false;
+      if ((st = covers_middle(p, &g, k, b, &yes, err)) != T74_OK) return st;
+      if (yes) continue;
+    }
+    if ((st = face_draw(p, &g, k, b, true, err)) != T74_OK) return st;
   }
   return T74_OK;
 }
@@ -545,5 +883,10 @@ void points_free(struct points *p)
   free(p->cross);
   free(p->rowcount);
   free(p->skip);
+  free(p->box);
+  free(p->order);
+  free(p->key);
+  free(p->bucket);
+  free(p->tile);
   memset(p, 0, sizeof *p);
 }

@@ -7,7 +7,10 @@
 ** polygons and exact planes as the 1974 engine) covers the point's centre and is nearest
 ** the eye there. Each face's grid polygon is rasterised by exact scanline crossings into a
 ** per-point buffer of (face, depth bounds); depths are compared exactly: in doubles where
-** a proven error bound decides, else in 128-bit integers (points.c).
+** a proven error bound decides, else in 128-bit integers (points.c). Where faces overlap
+** deeply, tiles of the grid keep a bound of the depth stored, so that a face's parts
+** proven behind are skipped without visiting their points, and the faces are drawn nearest
+** first: the frame is the same in any order (points.c, "Tiles" and "Order").
 ** Nothing of the HITAC-10 is modelled: no core budget, no operation counts, no 1974 times.
 **
 ** Rules (the same as the 1974 engine's, README "Exactness"):
@@ -28,6 +31,7 @@
 #ifndef T74_POINTS_H
 #define T74_POINTS_H
 
+#include <stdbool.h>
 #include <stdint.h>
 #include "emu/status.h"
 #include "render/mapper.h"
@@ -37,6 +41,8 @@
 struct points_edge;                 /* scratch, points.c */
 struct points_z;
 struct points_plane;
+struct points_box;
+struct points_tile;
 
 struct points {
   struct mapped map;                /* the Mapper's faces (plus triangles of folded faces) */
@@ -45,6 +51,18 @@ struct points {
                                        seen (index in map.f), or -1 */
   int faces_split;                  /* faces folded by rounding, drawn as their triangles */
   int faces_culled;                 /* faces that cover no point centre */
+  /* coarse coverage (points.c, "Tiles"): set by the caller before points_render; zero is
+     the engine as it runs */
+  bool plain;                       /* true: no tiles, faces drawn in the Mapper's order
+                                       (the engine without coarse coverage, for tests) */
+  uint64_t shuffle;                 /* not 0: tiles used whatever the scene, the faces
+                                       drawn in an order shuffled by this seed instead of
+                                       nearest first (tests: the picture does not depend
+                                       on the order) */
+  /* what the last points_render did (work counts, not times) */
+  long tiles_skipped;               /* (face, tile) pairs where the face was proven behind
+                                       all along and its points were not visited */
+  long points_visited;              /* point visits of the faces' spans (the per-point work) */
   /* host scratch, kept from frame to frame (points_render reuses it) */
   struct core *core;                /* room for the Mapper's tables (never reported) */
   struct core *segcore;             /* room for the Segment Generator's simplicity check */
@@ -54,6 +72,12 @@ struct points {
   int32_t *cross; int crosscap;     /* column thresholds of one face, row by row */
   int *rowcount; int rowcap;
   uint8_t *skip; int skipcap;       /* faces left out (folded, no triangle covers a point) */
+  struct points_box *box; int boxcap;         /* the faces kept to draw nearest first: box,
+                                                 depth in doubles */
+  int *order; int ordercap;                   /* their drawing order (indices in box) */
+  double *key; int keycap;                    /* and their nearest depths (the order's key) */
+  int *bucket; int bucketcap;
+  struct points_tile *tile; int tilecap;      /* the tiles' depth bounds */
   /* set by the caller: the Mapper's T-junctions (each face's rings) and face blocks kept
      from call to call of one scene (--frames, issue 19); NULL: searched for at every call */
   struct mapper_keep *keep;
