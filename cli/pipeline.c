@@ -756,6 +756,8 @@ static int write_stats_points(const struct job *o, const struct scene *s, const 
   outfile_printf(of, "  \"faces_after_split\": %d,\n", drawn);
   outfile_printf(of, "  \"faces_folded\": %d,\n", pt->faces_split);
   outfile_printf(of, "  \"faces_culled\": %d,\n", pt->faces_culled);
+  outfile_printf(of, "  \"points_visited\": %ld,\n  \"points_tiles_skipped\": %ld,\n",
+                 pt->points_visited, pt->tiles_skipped);
   outfile_printf(of, "  \"concave_splits\": null,\n  \"intersection_splits\": null,\n"
                  "  \"priority_pairs_computed\": null,\n  \"priority_pairs_possible\": null,\n"
                  "  \"priority_store\": null,\n");

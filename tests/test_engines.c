@@ -902,6 +902,12 @@ static void test_cli(void **state)
   assert_non_null(strstr(js, "\"priority_pairs_computed\": null"));
   assert_non_null(strstr(js, "\"total_1974_seconds\": null"));
   assert_non_null(strstr(js, "\"faces_in\": 6"));
+  /* the points engine's own work: point visits of its spans (some), tiles skipped (none:
+     six faces do not cover the grid three times over, render/points.c "Tiles") */
+  const char *pv = strstr(js, "\"points_visited\": ");
+  assert_non_null(pv);
+  assert_true(atol(pv + strlen("\"points_visited\": ")) > 0);
+  assert_non_null(strstr(js, "\"points_tiles_skipped\": 0,"));
   free(js);
   /* --engine 1974 on the same: the figures, and the same ids byte for byte */
   snprintf(a, sizeof a, "render tests/data/scene/cube.off --engine 1974 --stats %s --dump ids=%s/b.pgm",
