@@ -151,12 +151,17 @@ static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsign
    count by the high half of its product with it (one word by two). The host mixes the
    pair more thoroughly (slot_hash), which spreads the same probes better; the 1974 work
    charged is this. */
+static inline void charge_home_n(struct cost *c, uint64_t n)
+{
+  COST_ADD_N(c, COST_MEM, 3 * n);
+  COST_ADD_N(c, COST_SHIFT, 2 * n);
+  COST_ADD_N(c, COST_LOGIC, 2 * n);
+  cost_mw_mul_n(c, 16, 32, n);
+}
+
 static void charge_home(const struct prio *pr)
 {
-  COST_ADD_N(pr->cost, COST_MEM, 3);
-  COST_ADD_N(pr->cost, COST_SHIFT, 2);
-  COST_ADD_N(pr->cost, COST_LOGIC, 2);
-  cost_mw_mul(pr->cost, 16, 32);
+  charge_home_n(pr->cost, 1);
 }
 
 /* One probe of slot s for (i, j): it loads the slot's first word (empty, or code and i's
@@ -178,6 +183,34 @@ static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32
   return w[-2] == (uint16_t)(j >> 16);
 }
 
+/* The probe of (i, j) walked through the tags (pr->tag): the code found (CODE_UNKNOWN: not
+   held), the slot where the probe stopped (*slot: the pair's, or the empty one where it
+   belongs) and the words it compared, added to *loads; nothing charged. */
+static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
+                                uint64_t *slot, uint64_t *loads)
+{
+  const uint8_t *tag = pr->tag;
+  const uint8_t q = slot_tag(i);
+  uint64_t s = slot_hash(i, j, cap), l = 0;
+  unsigned code;
+  for (;; s = s + 1 == cap ? 0 : s + 1) {
+    const uint8_t t = tag[s];
+    if (!t) { l++; code = CODE_UNKNOWN; break; }       /* empty: where the pair belongs */
+    if (t != q) {
+      if (t & q & TAG_LOW) { l += 2; continue; }        /* i differs, both below 2^16 */
+      if ((t ^ q) & TAG_LOW) { l += 1; continue; }       /* one above 2^16, one below */
+    }
+    const uint16_t *top = core_high_top(pr->core);     /* the table must tell */
+    uint64_t pl;
+    int stop = slot_probe(top, s, i, j, &pl);
+    l += pl;
+    if (stop) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
+  }
+  *slot = s;
+  *loads += l;
+  return code;
+}
+
 /* The slot holding (i, j), or the empty slot where it belongs, and its code (*code:
    CODE_UNKNOWN for an empty slot); the words the probes compared are charged (and the
    home slot). Through the tags when there are (and tests have not turned them off), else
@@ -185,26 +218,14 @@ static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32
 static inline uint64_t slot_find(struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
                                  unsigned *code)
 {
-  uint64_t s = slot_hash(i, j, cap), loads = 0, l;
+  uint64_t s, loads = 0, l;
   charge_home(pr);
   if (pr->tag && !pr->tag_off) {
-    const uint8_t *tag = pr->tag;
-    const uint8_t q = slot_tag(i);
-    for (;; s = s + 1 == cap ? 0 : s + 1) {
-      const uint8_t t = tag[s];
-      if (!t) { loads++; *code = CODE_UNKNOWN; break; }  /* empty: where the pair belongs */
-      if (t != q) {
-        if (t & q & TAG_LOW) { loads += 2; continue; }   /* i differs, both below 2^16 */
-        if ((t ^ q) & TAG_LOW) { loads += 1; continue; }  /* one above 2^16, one below */
-      }
-      const uint16_t *top = core_high_top(pr->core);    /* the table must tell */
-      int stop = slot_probe(top, s, i, j, &l);
-      loads += l;
-      if (stop) { *code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
-    }
+    *code = tag_walk(pr, cap, i, j, &s, &loads);
     pr->tag_looks++;
   } else {
     const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
+    s = slot_hash(i, j, cap);
     while (!slot_probe(top, s, i, j, &l)) {
       loads += l;
       s = s + 1 == cap ? 0 : s + 1;
@@ -354,8 +375,15 @@ static inline unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
   return code;
 }
 
+/* A probe of a pair not held, made through the tags while the table stays as it is: the
+   empty slot where the pair belongs and the words the probe compared. */
+struct probe { uint64_t slot, loads; };
+
+/* Store the code of (i, j). `miss`: NULL, or the probe of (i, j) made since the table last
+   changed, which the store's own probe repeats (the same slot, the same words charged) as
+   long as the table is not rebuilt first. */
 static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
-                    struct t74_error *err)
+                    const struct probe *miss, struct t74_error *err)
 {
   COST_ADD_N(pr->cost, COST_MEM, 2);
   if (pr->store == PRIO_DENSE) {
@@ -365,6 +393,7 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
         w > PRIO_MIGRATE_FACTOR * SLOT_WORDS * sparse_slots_for(pr->hused + 1)) {
       if (sparse_rebuild(pr, sparse_slots_for(pr->hused + 1), err) != T74_OK) return err->status;
       pr->migrated = 1;
+      miss = NULL;
     } else {
       if (dense_cover(pr, n, err) != T74_OK) return err->status;
       core_high_set2(pr->core, (uint64_t)j * (j - 1) / 2 + i, code);
@@ -385,9 +414,16 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
       return T74_OK;
     }
     if (sparse_rebuild(pr, slots, err) != T74_OK) return err->status;
+    miss = NULL;
   }
   unsigned held;
-  slot_put(pr, slot_find(pr, pr->hcap, i, j, &held), i, j, code);
+  if (miss) {
+    charge_home(pr);
+    COST_ADD_N(pr->cost, COST_MEM, miss->loads);
+    pr->tag_looks++;
+    slot_put(pr, miss->slot, i, j, code);
+  } else
+    slot_put(pr, slot_find(pr, pr->hcap, i, j, &held), i, j, code);
   pr->hused++;
   return T74_OK;
 }
@@ -806,17 +842,23 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
   return result;
 }
 
+/* Decide pieces i < j (the pair not held) and store the code; `miss` as for code_set. The
+   order of p and q as prio_order gives it. */
+static int order_new(struct prio *pr, uint32_t i, uint32_t j, int p, const struct probe *miss,
+                     struct t74_error *err)
+{
+  int d = decide(pr, (int)i, (int)j, err);
+  if (d == PRIO_ERROR) return PRIO_ERROR;
+  if (d == (int)DECIDED_SPLIT) return PRIO_SPLIT;
+  if (code_set(pr, i, j, (unsigned)d, miss, err) != T74_OK) return PRIO_ERROR;
+  return ((unsigned)d == CODE_HIGHER) == ((uint32_t)p == i) ? PRIO_FIRST : PRIO_SECOND;
+}
+
 int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
 {
   uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
   unsigned code = code_get(pr, i, j);
-  if (code == CODE_UNKNOWN) {
-    int d = decide(pr, (int)i, (int)j, err);
-    if (d == PRIO_ERROR) return PRIO_ERROR;
-    if (d == (int)DECIDED_SPLIT) return PRIO_SPLIT;
-    code = (unsigned)d;
-    if (code_set(pr, i, j, code, err) != T74_OK) return PRIO_ERROR;
-  }
+  if (code == CODE_UNKNOWN) return order_new(pr, i, j, p, NULL, err);
   bool i_front = code == CODE_HIGHER;
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
 }
@@ -842,8 +884,10 @@ static inline int parent(const struct prio *pr, int p, struct cost *cost)
   return pr->seg->p[p].parent;
 }
 
-int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
-                       struct cost *cost)
+/* known(b, c), else of an ancestor of b and c, else of b and an ancestor of c, else of the
+   parents: the first known, or 0. Each look charged as it is made. */
+static int known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                         struct cost *cost)
 {
   int r = known(pr, b, c);
   if (r) return r;
@@ -853,6 +897,69 @@ int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_ma
     if ((r = known(pr, b, a))) return r;
   if (pb >= 0 && pc >= 0 && (r = known(pr, pb, pc))) return r;
   return 0;
+}
+
+/* The order of p and q as held in the sparse store (0: not held), looked at through the
+   tags: the look counted in *n and the words its probe compared added to *loads, for
+   charge_looks. */
+static inline int known_counted(const struct prio *pr, int p, int q, uint64_t *n,
+                                uint64_t *loads)
+{
+  uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
+  uint64_t s;
+  unsigned code = tag_walk(pr, pr->hcap, i, j, &s, loads);
+  ++*n;
+  if (code == CODE_UNKNOWN) return 0;
+  return (code == CODE_HIGHER) == ((uint32_t)p == i) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+/* n looks at the sparse store whose probes compared `loads` words, charged at once: what
+   code_get and slot_find charge for each (the look, the home slot, the words), summed
+   (each counter is a sum of the same increments: emu/cost.h). */
+static void charge_looks(struct prio *pr, uint64_t n, uint64_t loads)
+{
+  COST_ADD_N(pr->cost, COST_MEM, n + loads);
+  charge_home_n(pr->cost, n);
+  pr->tag_looks += n;
+}
+
+int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                       struct cost *cost, struct t74_error *err)
+{
+  bool lineage = pb >= 0 || pc >= 0;
+  if (pr->store != PRIO_SPARSE || !pr->tag || pr->tag_off) {
+    /* the long way: each look made and charged one by one */
+    int r = lineage ? known_lineage(pr, b, c, pb, pc, anc_max, cost) : 0;
+    return r ? r : prio_order(pr, b, c, err);
+  }
+  /* Through the tags, the looks counted and charged at once. The table does not change
+     while they are made, so prio_order's look at (b, c) after the lineage is the first
+     one again (the same slot, the same words), and so is the store's probe when the
+     pair is decided and no rebuild comes first (code_set). */
+  uint32_t i = (uint32_t)(b < c ? b : c), j = (uint32_t)(b < c ? c : b);
+  uint64_t n = 1, loads = 0;
+  struct probe first;
+  unsigned code = tag_walk(pr, pr->hcap, i, j, &first.slot, &loads);
+  first.loads = loads;
+  int r = code == CODE_UNKNOWN ? 0
+          : (code == CODE_HIGHER) == ((uint32_t)b == i) ? PRIO_FIRST : PRIO_SECOND;
+  if (!r && lineage) {
+    for (int a = pb, k = 0; !r && a >= 0 && k < anc_max; k++) {
+      if ((r = known_counted(pr, a, c, &n, &loads))) break;
+      a = parent(pr, a, cost);
+    }
+    for (int a = pc, k = 0; !r && a >= 0 && k < anc_max; k++) {
+      if ((r = known_counted(pr, b, a, &n, &loads))) break;
+      a = parent(pr, a, cost);
+    }
+    if (!r && pb >= 0 && pc >= 0) r = known_counted(pr, pb, pc, &n, &loads);
+    if (!r) {                                   /* prio_order's own look */
+      n++;
+      loads += first.loads;
+    }
+  }
+  charge_looks(pr, n, loads);
+  return r ? r : order_new(pr, i, j, b, &first, err);
 }
 
 /* qsort order of listed pairs {i, j, code}: by j, then i */

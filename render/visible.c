@@ -427,11 +427,7 @@ static int parent_of(const struct vis *v, int p)
 static int order_of(struct vis *v, int b, int c, struct t74_error *err)
 {
   int pb = parent_of(v, b), pc = parent_of(v, c);
-  if (pb >= 0 || pc >= 0) {
-    int r = prio_known_lineage(v->prio, b, c, pb, pc, ANC_MAX, v->cost);
-    if (r) return r;
-  }
-  return prio_order(v->prio, b, c, err);
+  return prio_order_lineage(v->prio, b, c, pb, pc, ANC_MAX, v->cost, err);
 }
 
 /* The front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative.
