@@ -278,16 +278,18 @@ static uint32_t (*list_pairs(struct prio *pr, uint64_t newwords, uint64_t *count
       }
     }
   } else {
-    for (uint64_t s = 0; s < pr->hcap && n < held; s++) {
-      unsigned code = slot_code(pr, s);
-      COST_ADD_N(pr->cost, COST_MEM, 1);
+    const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
+    uint64_t s = 0;
+    for (; s < pr->hcap && n < held; s++) {             /* a load a slot (charged below) */
+      const uint16_t *w = top - s * SLOT_WORDS;
+      unsigned code = w[0] >> 14;
       if (code == CODE_UNKNOWN) continue;
-      uint32_t k = (uint32_t)(s * SLOT_WORDS);
-      list[n][0] = (uint32_t)(core_high_get(pr->core, k) & 0x3fff) << 16 | core_high_get(pr->core, k + 1);
-      list[n][1] = (uint32_t)core_high_get(pr->core, k + 2) << 16 | core_high_get(pr->core, k + 3);
+      list[n][0] = (uint32_t)(w[0] & 0x3fff) << 16 | w[-1];
+      list[n][1] = (uint32_t)w[-2] << 16 | w[-3];
       list[n][2] = code;
       n++;
     }
+    COST_ADD_N(pr->cost, COST_MEM, s);
   }
   COST_ADD_N(pr->cost, COST_MEM, n * SLOT_WORDS);       /* the list written */
   core_high_free(pr->core);
@@ -311,11 +313,22 @@ static int sparse_rebuild(struct prio *pr, uint64_t slots, struct t74_error *err
   pr->cover = 0;
   free(pr->tag);                                         /* NULL: probes read the table */
   pr->tag = slots <= SIZE_MAX ? calloc((size_t)slots, 1) : NULL;
+  /* each entry read from the list (4 words), its home slot and probe, its slot written;
+     through the tags the probes' words are counted and charged at once, as slot_find
+     would have charged each */
+  bool counted = pr->tag && !pr->tag_off;
+  uint64_t loads = 0;
   for (uint64_t k = 0; k < n; k++) {
-    COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);          /* an entry read from the list */
+    uint64_t at;
     unsigned held;
-    slot_put(pr, slot_find(pr, slots, list[k][0], list[k][1], &held), list[k][0], list[k][1],
-             list[k][2]);
+    if (counted) tag_walk(pr, slots, list[k][0], list[k][1], &at, &loads);
+    else at = slot_find(pr, slots, list[k][0], list[k][1], &held);
+    slot_put(pr, at, list[k][0], list[k][1], list[k][2]);
+  }
+  COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS * n + loads);
+  if (counted) {
+    charge_home_n(pr->cost, n);
+    pr->tag_looks += n;
   }
   free(list);
   pr->hused = n;
