@@ -735,9 +735,44 @@ void prio_free(struct prio *pr)
   pr->cuthcap = 0;
 }
 
-/* Decide pieces i < j. Returns the code for (i, j), DECIDED_SPLIT, or PRIO_ERROR. */
-static int decide(struct prio *pr, int i, int j, struct t74_error *err)
+/* The stretch. When the two pieces of a pair both cover a stretch [x0, x1) of a line y
+   (x0 < x1, each within its exact span there), their interiors meet: a point z of the
+   open stretch lies strictly inside each piece's span, and a convex piece whose span at y
+   holds z strictly, y below its top, holds the points just above z in its interior. So
+   seginfo_overlap of the two is true (a side of one with every vertex of the other on
+   or outside it would leave no interior point of the other inside that side, yet z is
+   one), and so is that of a half of P cut along L with Q where the open stretch has
+   points strictly on that half's side of L (z taken there). Such a test's answer is
+   known: the host charges what it charges when true (a product a side of both) and does
+   not make it. *side gets which sides of L the open stretch reaches: bit 0 left (L > 0),
+   bit 1 right; L at x0 and x1 in 128 bits (|a num yd|, |b yn den|, |c den yd| < 2^121). */
+static int meet_sides(const struct prio_meet *at, struct gline L)
 {
+  int sides = 0;
+  const struct grat *x[2] = { &at->x0, &at->x1 };
+  for (int k = 0; k < 2; k++) {
+    wide v = (wide)L.a * x[k]->num * at->yd + (wide)L.b * at->yn * x[k]->den +
+             (wide)L.c * x[k]->den * at->yd;
+    sides |= v > 0 ? 1 : v < 0 ? 2 : 0;
+  }
+  return sides;
+}
+
+/* seginfo_overlap of the n1-sided first with the n2-sided second when known true: its
+   charge alone (the host statistic counted). */
+static bool overlap_known(struct prio *pr, int n1, int n2)
+{
+  cost_mw_mul_n(pr->cost, 88, 58, (uint64_t)n1 + (uint64_t)n2);
+  pr->meet_known++;
+  return true;
+}
+
+/* Decide pieces i < j, met on the stretch `at` (or NULL). Returns the code for (i, j),
+   DECIDED_SPLIT, or PRIO_ERROR. */
+static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
+                  struct t74_error *err)
+{
+  if (pr->meet_off) at = NULL;
   struct piece *P = &pr->seg->p[i], *Q = &pr->seg->p[j];
   const struct mface *A = &pr->map->f[P->face], *B = &pr->map->f[Q->face];
   pr->computed++;
@@ -812,12 +847,17 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     cost_mw_mul_n(pr->cost, 88, 58, 2 * (uint64_t)P->n);
     hasl = side > 0;
     hasr = side < 0;
-    ovl = hasl && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
-    ovr = hasr && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
+    bool ov = at ? overlap_known(pr, P->n, Q->n)
+                 : seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
+    ovl = hasl && ov;
+    ovr = hasr && ov;
   } else {
     seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, pr->cost);
-    ovl = hasl && seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost);
-    ovr = hasr && seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost);
+    int met = at ? meet_sides(at, L) : 0;
+    ovl = hasl && (met & 1 ? overlap_known(pr, pl->n, Q->n)
+                           : seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost));
+    ovr = hasr && (met & 2 ? overlap_known(pr, pr_->n, Q->n)
+                           : seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost));
   }
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
@@ -858,22 +898,29 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
 /* Decide pieces i < j (the pair not held) and store the code; `miss` as for code_set. The
    order of p and q as prio_order gives it. */
 static int order_new(struct prio *pr, uint32_t i, uint32_t j, int p, const struct probe *miss,
-                     struct t74_error *err)
+                     const struct prio_meet *at, struct t74_error *err)
 {
-  int d = decide(pr, (int)i, (int)j, err);
+  int d = decide(pr, (int)i, (int)j, at, err);
   if (d == PRIO_ERROR) return PRIO_ERROR;
   if (d == (int)DECIDED_SPLIT) return PRIO_SPLIT;
   if (code_set(pr, i, j, (unsigned)d, miss, err) != T74_OK) return PRIO_ERROR;
   return ((unsigned)d == CODE_HIGHER) == ((uint32_t)p == i) ? PRIO_FIRST : PRIO_SECOND;
 }
 
-int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
+/* prio_order, the pair met on the stretch `at` (or NULL) */
+static int order_at(struct prio *pr, int p, int q, const struct prio_meet *at,
+                    struct t74_error *err)
 {
   uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
   unsigned code = code_get(pr, i, j);
-  if (code == CODE_UNKNOWN) return order_new(pr, i, j, p, NULL, err);
+  if (code == CODE_UNKNOWN) return order_new(pr, i, j, p, NULL, at, err);
   bool i_front = code == CODE_HIGHER;
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
+{
+  return order_at(pr, p, q, NULL, err);
 }
 
 static inline int known(struct prio *pr, int p, int q)
@@ -937,13 +984,13 @@ static void charge_looks(struct prio *pr, uint64_t n, uint64_t loads)
 }
 
 int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
-                       struct cost *cost, struct t74_error *err)
+                       struct cost *cost, const struct prio_meet *at, struct t74_error *err)
 {
   bool lineage = pb >= 0 || pc >= 0;
   if (pr->store != PRIO_SPARSE || !pr->tag || pr->tag_off) {
     /* the long way: each look made and charged one by one */
     int r = lineage ? known_lineage(pr, b, c, pb, pc, anc_max, cost) : 0;
-    return r ? r : prio_order(pr, b, c, err);
+    return r ? r : order_at(pr, b, c, at, err);
   }
   /* Through the tags, the looks counted and charged at once. The table does not change
      while they are made, so prio_order's look at (b, c) after the lineage is the first
@@ -972,7 +1019,7 @@ int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_ma
     }
   }
   charge_looks(pr, n, loads);
-  return r ? r : order_new(pr, i, j, b, &first, err);
+  return r ? r : order_new(pr, i, j, b, &first, at, err);
 }
 
 /* qsort order of listed pairs {i, j, code}: by j, then i */

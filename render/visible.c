@@ -405,8 +405,6 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   return T74_OK;
 }
 
-/* The stretch [x0, x1) of the line y = yn/yd whose front is looked for. */
-struct vis_stretch { struct grat x0, x1; int64_t yn, yd; };
 
 /* The piece p was cut from (priority.c), or -1. */
 static int parent_of(const struct vis *v, int p)
@@ -423,14 +421,21 @@ static int parent_of(const struct vis *v, int p)
    decided themselves, a decided pair of b (or an ancestor of b) with c (or an ancestor
    of c) gives their order over their overlap, exactly, as their own deciding would
    (they do not cross there: the ancestors did not). Looked at: b's ancestors against c,
-   b against c's ancestors, the two parents; else prio_order decides (and may cut). */
-static int order_of(struct vis *v, int b, int c, struct t74_error *err)
+   b against c's ancestors, the two parents; else prio_order decides (and may cut). Both
+   cover the stretch st, each within its span (the sweep's covering set): in exact
+   arithmetic that answers some of the deciding's overlap tests (priority.h, struct
+   prio_meet); under --arith hitac the spans are the 1974 program's rounded ones, and
+   every test is made. */
+static int order_of(struct vis *v, int b, int c, const struct prio_meet *st,
+                    struct t74_error *err)
 {
   int pb = parent_of(v, b), pc = parent_of(v, c);
-  return prio_order_lineage(v->prio, b, c, pb, pc, ANC_MAX, v->cost, err);
+  return prio_order_lineage(v->prio, b, c, pb, pc, ANC_MAX, v->cost,
+                            v->arith == GEOM_EXACT ? st : NULL, err);
 }
 
-/* The front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative.
+/* The front piece of the covering set of the stretch st; PRIO_SPLIT/PRIO_ERROR pass
+   through as negative.
    A pair's priority holds over the pair's whole overlap only once the pair itself has
    been decided: deciding is also where crossing pieces are found and cut (priority.c).
    So the winner of the elimination below is then compared DIRECTLY with every other
@@ -444,7 +449,7 @@ static int order_of(struct vis *v, int b, int c, struct t74_error *err)
 static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn, int64_t yd);
 
 static int front_of(struct vis *v, int start_best, int from, int *best, bool *sure,
-                    const struct vis_stretch *st, struct t74_error *err)
+                    const struct prio_meet *st, struct t74_error *err)
 {
   int b = start_best;
   bool changed = start_best < 0;
@@ -453,7 +458,7 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
     int c = v->set[k];
     if (c == b) continue;
     if (b < 0) { b = c; continue; }
-    int r = order_of(v, b, c, err);
+    int r = order_of(v, b, c, st, err);
     if (r == PRIO_ERROR) return PRIO_ERROR;
     if (r == PRIO_SPLIT) return PRIO_SPLIT;
     if (r == PRIO_SECOND) { b = c; changed = true; }
@@ -474,7 +479,7 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
     for (int k = 0; k < v->nset && !changed; k++) {
       int c = v->set[k];
       if (c == b) continue;
-      int r = order_of(v, b, c, err);
+      int r = order_of(v, b, c, st, err);
       if (r == PRIO_ERROR) return PRIO_ERROR;
       if (r == PRIO_SPLIT) return PRIO_SPLIT;
       if (r == PRIO_SECOND) { b = c; changed = true; }
@@ -753,7 +758,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
          a piece of the set has not left yet) */
       struct grat xn = ia < non && geom_rat_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
       bool sure;
-      struct vis_stretch st = { x, xn, yn, yd };
+      struct prio_meet st = { x, xn, yn, yd };
       int r = front >= 0 ? front_of(v, front, joined, &front, &sure, &st, err)
               : front_of(v, v->nset >= GUESS_MIN ? front_guess(v, x, xn, yn, yd) : -1, 0,
                          &front, &sure, &st, err);
