@@ -492,11 +492,7 @@ static struct depth depth_of(const struct prio *pr, const struct mface *A, const
   g.k1 = k[1];
   /* r' = (x - 256 X0, y - 256 Y0, 256 f) with f = -Z0 */
   g.K = -GRID_ONE * (k[0] * e[0] + k[1] * e[1]) + GRID_ONE * (-e[2]) * k[2];
-  cost_mw_mul(pr->cost, 51, 34);
-  cost_mw_mul(pr->cost, 51, 34);
-  cost_mw_mul(pr->cost, 51, 34);
-  cost_mw_mul(pr->cost, 86, 24);
-  return g;
+  return g;            /* charged by charge_faces */
 }
 
 /* sign of G at a homogeneous point (256-bit: 2^86 * 2^88) */
@@ -540,14 +536,12 @@ static bool on_plane(const int64_t pl[4], const int32_t v[3])
 
 /* Grid points of the vertices of A and B that lie on both planes: the projected
    intersection line passes exactly through them (a shared edge, a T-junction). */
-static int common_points(const struct mface *A, const struct mface *B, struct gpoint out[2],
-                         struct cost *cost)
+static int common_points(const struct mface *A, const struct mface *B, struct gpoint out[2])
 {
   int n = 0;
   const struct mface *F[2] = { A, B };
   for (int s = 0; s < 2; s++) {
-    const struct mface *f = F[s], *o = F[1 - s];
-    cost_mw_mul_n(cost, 34, 17, (uint64_t)f->ring_start[f->nring]);   /* one a vertex */
+    const struct mface *f = F[s], *o = F[1 - s];   /* a product a vertex: charge_faces */
     for (int k = 0; k < f->ring_start[f->nring]; k++) {
       if (!on_plane(o->plane, f->xyz[k])) continue;
       struct gpoint p = f->pt[k];
@@ -639,6 +633,72 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
   return true;
 }
 
+/* Face pairs. What decide finds of two faces alone (G, the vertices on both planes, the
+   reach from the first of them, L~) is the same for every pair of their pieces, and the
+   pieces of one face pair are decided again and again as the interpenetration cuts them.
+   The host keeps it for the face pairs met last, one a slot of a small table the ordered
+   pair hashes into (the newest kept), and charges every use what finding it charges
+   (charge_faces), so the counts are those of finding it again. faces_off (tests) finds
+   it every time. */
+#define FACE_SLOTS 4096u
+struct prio_faces {
+  int fa, fb;              /* the faces of the first and the second piece; fa < 0: empty */
+  struct depth g;
+  struct gpoint common[2];
+  int ncommon;
+  int line;                /* -1 not yet found, 0 none (G = 0 misses the square, or G is
+                              constant), 1 L~ below */
+  struct gline L;
+};
+
+/* The 1974 work of finding G and the common vertices of faces A and B: depth_of's four
+   products, common_points' product a vertex of each face. */
+static void charge_faces(const struct prio *pr, const struct mface *A, const struct mface *B)
+{
+  cost_mw_mul_n(pr->cost, 51, 34, 3);
+  cost_mw_mul(pr->cost, 86, 24);
+  cost_mw_mul_n(pr->cost, 34, 17,
+                (uint64_t)A->ring_start[A->nring] + (uint64_t)B->ring_start[B->nring]);
+}
+
+/* The face pair (fa, fb), charged: kept in pr->faces, or found into *own. */
+static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio_faces *own)
+{
+  const struct mface *A = &pr->map->f[fa], *B = &pr->map->f[fb];
+  charge_faces(pr, A, B);
+  struct prio_faces *e = own;
+  if (!pr->faces_off) {
+    if (!pr->faces && (pr->faces = malloc(FACE_SLOTS * sizeof *pr->faces)) != NULL)
+      for (unsigned k = 0; k < FACE_SLOTS; k++) pr->faces[k].fa = -1;
+    if (pr->faces) {
+      uint32_t h = ((uint32_t)fa * 0x9E3779B1u ^ (uint32_t)fb * 0x85EBCA77u) >> 20;
+      e = &pr->faces[h & (FACE_SLOTS - 1)];
+      if (e->fa == fa && e->fb == fb) {
+        pr->faces_kept++;
+        return e;
+      }
+    }
+  }
+  e->fa = fa;
+  e->fb = fb;
+  e->g = depth_of(pr, A, B);
+  e->ncommon = common_points(A, B, e->common);
+  e->line = -1;
+  return e;
+}
+
+/* L~ of the face pair (found the first time it is asked for): false when there is none. */
+static bool face_line(const struct prio *pr, struct prio_faces *e)
+{
+  if (e->line < 0) {
+    const struct mface *A = &pr->map->f[e->fa], *B = &pr->map->f[e->fb];
+    wide reach = e->ncommon > 0 ? reach2(A, B, e->common[0]) : 0;
+    e->line = !(e->g.k0 == 0 && e->g.k1 == 0) &&
+              depth_line(e->g, e->common, e->ncommon, reach, &e->L);
+  }
+  return e->line == 1;
+}
+
 /* Does a side of piece X lie on line l (either way round)? */
 static bool on_line_side(const struct piece *X, struct gline l)
 {
@@ -726,6 +786,8 @@ void prio_free(struct prio *pr)
 {
   free(pr->tag);
   pr->tag = NULL;
+  free(pr->faces);
+  pr->faces = NULL;
   for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
   free(pr->cut);
   pr->cut = NULL;
@@ -778,11 +840,10 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   pr->computed++;
   if (P->face == Q->face) return CODE_HIGHER;           /* never overlap: any order */
 
-  struct depth g = depth_of(pr, A, B);
-  struct gline L;
-  struct gpoint common[2];
-  int ncommon = common_points(A, B, common, pr->cost);
-  if (ncommon == 2) {
+  struct prio_faces own, *F = face_pair(pr, P->face, Q->face, &own);
+  const struct depth g = F->g;
+  const struct gpoint *common = F->common;
+  if (F->ncommon == 2) {
     /* Faces meeting along an edge or at a T-junction: the true intersection line runs
        through c0 c1 exactly. A piece that keeps to one side of the grid line E = c0' c1'
        holds the whole overlap of the pair on that side, so in the exact geometry the pair
@@ -819,8 +880,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
       return sg > 0 ? CODE_HIGHER : CODE_LOWER;
     }
   }
-  wide reach = ncommon > 0 ? reach2(A, B, common[0]) : 0;
-  if ((g.k0 == 0 && g.k1 == 0) || !depth_line(g, common, ncommon, reach, &L)) {
+  if (!face_line(pr, F)) {
     /* one face in front of the other wherever they can be */
     int s;
     if (g.k0 == 0 && g.k1 == 0) s = (g.K > 0) - (g.K < 0);
@@ -834,6 +894,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
     return s > 0 ? CODE_HIGHER : CODE_LOWER;
   }
 
+  const struct gline L = F->L;
   /* the halves in host scratch kept from pair to pair (no allocation a decision) */
   struct cpoly *pl = &pr->clip[0], *pr_ = &pr->clip[1], *ql = &pr->clip[2], *qr = &pr->clip[3];
   int result;

@@ -58,6 +58,10 @@ struct prio {
   int      meet_off;        /* tests: decide makes every overlap test, whatever stretch the
                                pair was met on (the same answers and charges) */
   uint64_t meet_known;      /* overlap tests a stretch answered (host statistic) */
+  struct prio_faces *faces; /* host: what decide found of the last face pairs met (priority.c,
+                               "Face pairs"), or NULL */
+  int      faces_off;       /* tests: decide finds it afresh for every pair */
+  uint64_t faces_kept;      /* pairs decided with it kept (host statistic) */
   uint64_t computed;        /* pairs whose priority was computed */
   int      splits;          /* interpenetrating pairs cut along their intersection */
   FILE    *trace;           /* teaching dump of each decision, or NULL */
