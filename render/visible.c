@@ -77,7 +77,12 @@ static int by_ylo(struct vis *v, int a, int b)
   return cmp_ylo(v->seg, a, b);
 }
 
-static int by_xl(struct vis *v, int i, int j)
+/* by_xl always inlined where it is named (the insertion sort of every line calls it some
+   ten thousand times); a copy stays for the sorts that take it as a pointer */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((always_inline))
+#endif
+static inline int by_xl(struct vis *v, int i, int j)
 {
   const struct vis_item *a = &v->act[i], *b = &v->act[j];
   if (a->on != b->on) return a->on ? -1 : 1;
@@ -128,7 +133,7 @@ static void sort_batch(struct vis *v, int *a, int n, int *tmp, vis_cmp cmp)
 
 /* A stable insertion sort of a[0..n): for the order kept from the last line, which moves
    only where two ends pass each other between the lines. */
-static void sort_kept(struct vis *v, int *a, int n, vis_cmp cmp)
+static inline void sort_kept(struct vis *v, int *a, int n, vis_cmp cmp)
 {
   for (int i = 1; i < n; i++) {
     int t = a[i], j = i - 1;
@@ -233,6 +238,7 @@ void vis_free(struct vis *v)
   free(v->byxr);
   free(v->set);
   free(v->seti);
+  free(v->setpos);
   free(v->span);
   free(v->span2);
   free(v->tmp);
@@ -556,6 +562,7 @@ static int room(struct vis *v, int n)
          grow((void **)&v->byxr, &v->byxrcap, n, sizeof *v->byxr) &&
          grow((void **)&v->set, &v->setcap, n, sizeof *v->set) &&
          grow((void **)&v->seti, &v->seticap, n, sizeof *v->seti) &&
+         grow((void **)&v->setpos, &v->setposcap, n, sizeof *v->setpos) &&
          grow((void **)&v->tmp, &v->tmpcap, n, sizeof *v->tmp) &&
          grow((void **)&v->tmp2, &v->tmp2cap, n, sizeof *v->tmp2) &&
          grow((void **)&v->tmp3, &v->tmp3cap, n, sizeof *v->tmp3);
@@ -688,6 +695,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
   *ir = after_x(v, v->byxr, v->nbyxr, x, true);
 
   /* the covering set */
+  for (int a = first; a < v->nact; a++) v->setpos[a] = -1;
   int k = 0, j = 0;
   for (int i = 0; i < v->nset; i++) {
     if (!s->p[v->set[i]].alive) continue;
@@ -708,6 +716,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
     }
   }
   v->nset = k;
+  for (int i = 0; i < k; i++) v->setpos[v->seti[i]] = i;
   return T74_OK;
 }
 
@@ -719,6 +728,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
   int non = count_on(v);
   int ia = 0, ir = 0, front = -1;
   v->nset = 0;
+  for (int a = 0; a < v->nact; a++) v->setpos[a] = -1;
   while (ia < non || ir < v->nbyxr) {
     struct grat x;
     if (ia < non && (ir >= v->nbyxr || geom_rat_cmp(XL(ia), XR(ir)) <= 0))
@@ -727,14 +737,13 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
       x = XR(ir);
     /* leave: spans ending at x */
     while (ir < v->nbyxr && geom_rat_cmp(XR(ir), x) == 0) {
-      int p = v->act[v->byxr[ir++]].piece;
-      for (int m = 0; m < v->nset; m++)
-        if (v->set[m] == p) {
-          v->nset--;
-          v->set[m] = v->set[v->nset];
-          v->seti[m] = v->seti[v->nset];
-          break;
-        }
+      int a = v->byxr[ir++], p = v->act[a].piece, m = v->setpos[a];
+      if (m >= 0 && m < v->nset && v->seti[m] == a) {   /* out of the set, the last in */
+        v->nset--;                                      /* its place */
+        v->set[m] = v->set[v->nset];
+        v->seti[m] = v->seti[v->nset];
+        v->setpos[v->seti[m]] = m;
+      }
       /* Only the front's own leaving calls for a new choice. A front kept (front_of
          returned it sure) has met every other piece of the set in a pair decided
          directly, and won each: not by transitivity through a third piece (issue 7,
@@ -749,6 +758,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     /* join: spans starting at x */
     int joined = v->nset;
     while (ia < non && geom_rat_cmp(XL(ia), x) == 0) {
+      v->setpos[v->byxl[ia]] = v->nset;
       v->seti[v->nset] = v->byxl[ia];
       v->set[v->nset++] = v->act[v->byxl[ia++]].piece;
       COST_ADD_N(v->cost, COST_MEM, 2);
