@@ -151,12 +151,17 @@ static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsign
    count by the high half of its product with it (one word by two). The host mixes the
    pair more thoroughly (slot_hash), which spreads the same probes better; the 1974 work
    charged is this. */
+static inline void charge_home_n(struct cost *c, uint64_t n)
+{
+  COST_ADD_N(c, COST_MEM, 3 * n);
+  COST_ADD_N(c, COST_SHIFT, 2 * n);
+  COST_ADD_N(c, COST_LOGIC, 2 * n);
+  cost_mw_mul_n(c, 16, 32, n);
+}
+
 static void charge_home(const struct prio *pr)
 {
-  COST_ADD_N(pr->cost, COST_MEM, 3);
-  COST_ADD_N(pr->cost, COST_SHIFT, 2);
-  COST_ADD_N(pr->cost, COST_LOGIC, 2);
-  cost_mw_mul(pr->cost, 16, 32);
+  charge_home_n(pr->cost, 1);
 }
 
 /* One probe of slot s for (i, j): it loads the slot's first word (empty, or code and i's
@@ -178,6 +183,34 @@ static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32
   return w[-2] == (uint16_t)(j >> 16);
 }
 
+/* The probe of (i, j) walked through the tags (pr->tag): the code found (CODE_UNKNOWN: not
+   held), the slot where the probe stopped (*slot: the pair's, or the empty one where it
+   belongs) and the words it compared, added to *loads; nothing charged. */
+static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
+                                uint64_t *slot, uint64_t *loads)
+{
+  const uint8_t *tag = pr->tag;
+  const uint8_t q = slot_tag(i);
+  uint64_t s = slot_hash(i, j, cap), l = 0;
+  unsigned code;
+  for (;; s = s + 1 == cap ? 0 : s + 1) {
+    const uint8_t t = tag[s];
+    if (!t) { l++; code = CODE_UNKNOWN; break; }       /* empty: where the pair belongs */
+    if (t != q) {
+      if (t & q & TAG_LOW) { l += 2; continue; }        /* i differs, both below 2^16 */
+      if ((t ^ q) & TAG_LOW) { l += 1; continue; }       /* one above 2^16, one below */
+    }
+    const uint16_t *top = core_high_top(pr->core);     /* the table must tell */
+    uint64_t pl;
+    int stop = slot_probe(top, s, i, j, &pl);
+    l += pl;
+    if (stop) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
+  }
+  *slot = s;
+  *loads += l;
+  return code;
+}
+
 /* The slot holding (i, j), or the empty slot where it belongs, and its code (*code:
    CODE_UNKNOWN for an empty slot); the words the probes compared are charged (and the
    home slot). Through the tags when there are (and tests have not turned them off), else
@@ -185,26 +218,14 @@ static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32
 static inline uint64_t slot_find(struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
                                  unsigned *code)
 {
-  uint64_t s = slot_hash(i, j, cap), loads = 0, l;
+  uint64_t s, loads = 0, l;
   charge_home(pr);
   if (pr->tag && !pr->tag_off) {
-    const uint8_t *tag = pr->tag;
-    const uint8_t q = slot_tag(i);
-    for (;; s = s + 1 == cap ? 0 : s + 1) {
-      const uint8_t t = tag[s];
-      if (!t) { loads++; *code = CODE_UNKNOWN; break; }  /* empty: where the pair belongs */
-      if (t != q) {
-        if (t & q & TAG_LOW) { loads += 2; continue; }   /* i differs, both below 2^16 */
-        if ((t ^ q) & TAG_LOW) { loads += 1; continue; }  /* one above 2^16, one below */
-      }
-      const uint16_t *top = core_high_top(pr->core);    /* the table must tell */
-      int stop = slot_probe(top, s, i, j, &l);
-      loads += l;
-      if (stop) { *code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
-    }
+    *code = tag_walk(pr, cap, i, j, &s, &loads);
     pr->tag_looks++;
   } else {
     const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
+    s = slot_hash(i, j, cap);
     while (!slot_probe(top, s, i, j, &l)) {
       loads += l;
       s = s + 1 == cap ? 0 : s + 1;
@@ -257,16 +278,18 @@ static uint32_t (*list_pairs(struct prio *pr, uint64_t newwords, uint64_t *count
       }
     }
   } else {
-    for (uint64_t s = 0; s < pr->hcap && n < held; s++) {
-      unsigned code = slot_code(pr, s);
-      COST_ADD_N(pr->cost, COST_MEM, 1);
+    const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
+    uint64_t s = 0;
+    for (; s < pr->hcap && n < held; s++) {             /* a load a slot (charged below) */
+      const uint16_t *w = top - s * SLOT_WORDS;
+      unsigned code = w[0] >> 14;
       if (code == CODE_UNKNOWN) continue;
-      uint32_t k = (uint32_t)(s * SLOT_WORDS);
-      list[n][0] = (uint32_t)(core_high_get(pr->core, k) & 0x3fff) << 16 | core_high_get(pr->core, k + 1);
-      list[n][1] = (uint32_t)core_high_get(pr->core, k + 2) << 16 | core_high_get(pr->core, k + 3);
+      list[n][0] = (uint32_t)(w[0] & 0x3fff) << 16 | w[-1];
+      list[n][1] = (uint32_t)w[-2] << 16 | w[-3];
       list[n][2] = code;
       n++;
     }
+    COST_ADD_N(pr->cost, COST_MEM, s);
   }
   COST_ADD_N(pr->cost, COST_MEM, n * SLOT_WORDS);       /* the list written */
   core_high_free(pr->core);
@@ -290,11 +313,22 @@ static int sparse_rebuild(struct prio *pr, uint64_t slots, struct t74_error *err
   pr->cover = 0;
   free(pr->tag);                                         /* NULL: probes read the table */
   pr->tag = slots <= SIZE_MAX ? calloc((size_t)slots, 1) : NULL;
+  /* each entry read from the list (4 words), its home slot and probe, its slot written;
+     through the tags the probes' words are counted and charged at once, as slot_find
+     would have charged each */
+  bool counted = pr->tag && !pr->tag_off;
+  uint64_t loads = 0;
   for (uint64_t k = 0; k < n; k++) {
-    COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);          /* an entry read from the list */
+    uint64_t at;
     unsigned held;
-    slot_put(pr, slot_find(pr, slots, list[k][0], list[k][1], &held), list[k][0], list[k][1],
-             list[k][2]);
+    if (counted) tag_walk(pr, slots, list[k][0], list[k][1], &at, &loads);
+    else at = slot_find(pr, slots, list[k][0], list[k][1], &held);
+    slot_put(pr, at, list[k][0], list[k][1], list[k][2]);
+  }
+  COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS * n + loads);
+  if (counted) {
+    charge_home_n(pr->cost, n);
+    pr->tag_looks += n;
   }
   free(list);
   pr->hused = n;
@@ -354,8 +388,15 @@ static inline unsigned code_get(struct prio *pr, uint32_t i, uint32_t j)
   return code;
 }
 
+/* A probe of a pair not held, made through the tags while the table stays as it is: the
+   empty slot where the pair belongs and the words the probe compared. */
+struct probe { uint64_t slot, loads; };
+
+/* Store the code of (i, j). `miss`: NULL, or the probe of (i, j) made since the table last
+   changed, which the store's own probe repeats (the same slot, the same words charged) as
+   long as the table is not rebuilt first. */
 static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
-                    struct t74_error *err)
+                    const struct probe *miss, struct t74_error *err)
 {
   COST_ADD_N(pr->cost, COST_MEM, 2);
   if (pr->store == PRIO_DENSE) {
@@ -365,6 +406,7 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
         w > PRIO_MIGRATE_FACTOR * SLOT_WORDS * sparse_slots_for(pr->hused + 1)) {
       if (sparse_rebuild(pr, sparse_slots_for(pr->hused + 1), err) != T74_OK) return err->status;
       pr->migrated = 1;
+      miss = NULL;
     } else {
       if (dense_cover(pr, n, err) != T74_OK) return err->status;
       core_high_set2(pr->core, (uint64_t)j * (j - 1) / 2 + i, code);
@@ -385,9 +427,16 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
       return T74_OK;
     }
     if (sparse_rebuild(pr, slots, err) != T74_OK) return err->status;
+    miss = NULL;
   }
   unsigned held;
-  slot_put(pr, slot_find(pr, pr->hcap, i, j, &held), i, j, code);
+  if (miss) {
+    charge_home(pr);
+    COST_ADD_N(pr->cost, COST_MEM, miss->loads);
+    pr->tag_looks++;
+    slot_put(pr, miss->slot, i, j, code);
+  } else
+    slot_put(pr, slot_find(pr, pr->hcap, i, j, &held), i, j, code);
   pr->hused++;
   return T74_OK;
 }
@@ -443,11 +492,7 @@ static struct depth depth_of(const struct prio *pr, const struct mface *A, const
   g.k1 = k[1];
   /* r' = (x - 256 X0, y - 256 Y0, 256 f) with f = -Z0 */
   g.K = -GRID_ONE * (k[0] * e[0] + k[1] * e[1]) + GRID_ONE * (-e[2]) * k[2];
-  cost_mw_mul(pr->cost, 51, 34);
-  cost_mw_mul(pr->cost, 51, 34);
-  cost_mw_mul(pr->cost, 51, 34);
-  cost_mw_mul(pr->cost, 86, 24);
-  return g;
+  return g;            /* charged by charge_faces */
 }
 
 /* sign of G at a homogeneous point (256-bit: 2^86 * 2^88) */
@@ -491,14 +536,12 @@ static bool on_plane(const int64_t pl[4], const int32_t v[3])
 
 /* Grid points of the vertices of A and B that lie on both planes: the projected
    intersection line passes exactly through them (a shared edge, a T-junction). */
-static int common_points(const struct mface *A, const struct mface *B, struct gpoint out[2],
-                         struct cost *cost)
+static int common_points(const struct mface *A, const struct mface *B, struct gpoint out[2])
 {
   int n = 0;
   const struct mface *F[2] = { A, B };
   for (int s = 0; s < 2; s++) {
-    const struct mface *f = F[s], *o = F[1 - s];
-    cost_mw_mul_n(cost, 34, 17, (uint64_t)f->ring_start[f->nring]);   /* one a vertex */
+    const struct mface *f = F[s], *o = F[1 - s];   /* a product a vertex: charge_faces */
     for (int k = 0; k < f->ring_start[f->nring]; k++) {
       if (!on_plane(o->plane, f->xyz[k])) continue;
       struct gpoint p = f->pt[k];
@@ -590,6 +633,72 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
   return true;
 }
 
+/* Face pairs. What decide finds of two faces alone (G, the vertices on both planes, the
+   reach from the first of them, L~) is the same for every pair of their pieces, and the
+   pieces of one face pair are decided again and again as the interpenetration cuts them.
+   The host keeps it for the face pairs met last, one a slot of a small table the ordered
+   pair hashes into (the newest kept), and charges every use what finding it charges
+   (charge_faces), so the counts are those of finding it again. faces_off (tests) finds
+   it every time. */
+#define FACE_SLOTS 4096u
+struct prio_faces {
+  int fa, fb;              /* the faces of the first and the second piece; fa < 0: empty */
+  struct depth g;
+  struct gpoint common[2];
+  int ncommon;
+  int line;                /* -1 not yet found, 0 none (G = 0 misses the square, or G is
+                              constant), 1 L~ below */
+  struct gline L;
+};
+
+/* The 1974 work of finding G and the common vertices of faces A and B: depth_of's four
+   products, common_points' product a vertex of each face. */
+static void charge_faces(const struct prio *pr, const struct mface *A, const struct mface *B)
+{
+  cost_mw_mul_n(pr->cost, 51, 34, 3);
+  cost_mw_mul(pr->cost, 86, 24);
+  cost_mw_mul_n(pr->cost, 34, 17,
+                (uint64_t)A->ring_start[A->nring] + (uint64_t)B->ring_start[B->nring]);
+}
+
+/* The face pair (fa, fb), charged: kept in pr->faces, or found into *own. */
+static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio_faces *own)
+{
+  const struct mface *A = &pr->map->f[fa], *B = &pr->map->f[fb];
+  charge_faces(pr, A, B);
+  struct prio_faces *e = own;
+  if (!pr->faces_off) {
+    if (!pr->faces && (pr->faces = malloc(FACE_SLOTS * sizeof *pr->faces)) != NULL)
+      for (unsigned k = 0; k < FACE_SLOTS; k++) pr->faces[k].fa = -1;
+    if (pr->faces) {
+      uint32_t h = ((uint32_t)fa * 0x9E3779B1u ^ (uint32_t)fb * 0x85EBCA77u) >> 20;
+      e = &pr->faces[h & (FACE_SLOTS - 1)];
+      if (e->fa == fa && e->fb == fb) {
+        pr->faces_kept++;
+        return e;
+      }
+    }
+  }
+  e->fa = fa;
+  e->fb = fb;
+  e->g = depth_of(pr, A, B);
+  e->ncommon = common_points(A, B, e->common);
+  e->line = -1;
+  return e;
+}
+
+/* L~ of the face pair (found the first time it is asked for): false when there is none. */
+static bool face_line(const struct prio *pr, struct prio_faces *e)
+{
+  if (e->line < 0) {
+    const struct mface *A = &pr->map->f[e->fa], *B = &pr->map->f[e->fb];
+    wide reach = e->ncommon > 0 ? reach2(A, B, e->common[0]) : 0;
+    e->line = !(e->g.k0 == 0 && e->g.k1 == 0) &&
+              depth_line(e->g, e->common, e->ncommon, reach, &e->L);
+  }
+  return e->line == 1;
+}
+
 /* Does a side of piece X lie on line l (either way round)? */
 static bool on_line_side(const struct piece *X, struct gline l)
 {
@@ -677,6 +786,8 @@ void prio_free(struct prio *pr)
 {
   free(pr->tag);
   pr->tag = NULL;
+  free(pr->faces);
+  pr->faces = NULL;
   for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
   free(pr->cut);
   pr->cut = NULL;
@@ -686,19 +797,53 @@ void prio_free(struct prio *pr)
   pr->cuthcap = 0;
 }
 
-/* Decide pieces i < j. Returns the code for (i, j), DECIDED_SPLIT, or PRIO_ERROR. */
-static int decide(struct prio *pr, int i, int j, struct t74_error *err)
+/* The stretch. When the two pieces of a pair both cover a stretch [x0, x1) of a line y
+   (x0 < x1, each within its exact span there), their interiors meet: a point z of the
+   open stretch lies strictly inside each piece's span, and a convex piece whose span at y
+   holds z strictly, y below its top, holds the points just above z in its interior. So
+   seginfo_overlap of the two is true (a side of one with every vertex of the other on
+   or outside it would leave no interior point of the other inside that side, yet z is
+   one), and so is that of a half of P cut along L with Q where the open stretch has
+   points strictly on that half's side of L (z taken there). Such a test's answer is
+   known: the host charges what it charges when true (a product a side of both) and does
+   not make it. *side gets which sides of L the open stretch reaches: bit 0 left (L > 0),
+   bit 1 right; L at x0 and x1 in 128 bits (|a num yd|, |b yn den|, |c den yd| < 2^121). */
+static int meet_sides(const struct prio_meet *at, struct gline L)
 {
+  int sides = 0;
+  const struct grat *x[2] = { &at->x0, &at->x1 };
+  for (int k = 0; k < 2; k++) {
+    wide v = (wide)L.a * x[k]->num * at->yd + (wide)L.b * at->yn * x[k]->den +
+             (wide)L.c * x[k]->den * at->yd;
+    sides |= v > 0 ? 1 : v < 0 ? 2 : 0;
+  }
+  return sides;
+}
+
+/* seginfo_overlap of the n1-sided first with the n2-sided second when known true: its
+   charge alone (the host statistic counted). */
+static bool overlap_known(struct prio *pr, int n1, int n2)
+{
+  cost_mw_mul_n(pr->cost, 88, 58, (uint64_t)n1 + (uint64_t)n2);
+  pr->meet_known++;
+  return true;
+}
+
+/* Decide pieces i < j, met on the stretch `at` (or NULL). Returns the code for (i, j),
+   DECIDED_SPLIT, or PRIO_ERROR. */
+static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
+                  struct t74_error *err)
+{
+  if (pr->meet_off) at = NULL;
   struct piece *P = &pr->seg->p[i], *Q = &pr->seg->p[j];
   const struct mface *A = &pr->map->f[P->face], *B = &pr->map->f[Q->face];
   pr->computed++;
   if (P->face == Q->face) return CODE_HIGHER;           /* never overlap: any order */
 
-  struct depth g = depth_of(pr, A, B);
-  struct gline L;
-  struct gpoint common[2];
-  int ncommon = common_points(A, B, common, pr->cost);
-  if (ncommon == 2) {
+  struct prio_faces own, *F = face_pair(pr, P->face, Q->face, &own);
+  const struct depth g = F->g;
+  const struct gpoint *common = F->common;
+  if (F->ncommon == 2) {
     /* Faces meeting along an edge or at a T-junction: the true intersection line runs
        through c0 c1 exactly. A piece that keeps to one side of the grid line E = c0' c1'
        holds the whole overlap of the pair on that side, so in the exact geometry the pair
@@ -735,8 +880,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
       return sg > 0 ? CODE_HIGHER : CODE_LOWER;
     }
   }
-  wide reach = ncommon > 0 ? reach2(A, B, common[0]) : 0;
-  if ((g.k0 == 0 && g.k1 == 0) || !depth_line(g, common, ncommon, reach, &L)) {
+  if (!face_line(pr, F)) {
     /* one face in front of the other wherever they can be */
     int s;
     if (g.k0 == 0 && g.k1 == 0) s = (g.K > 0) - (g.K < 0);
@@ -750,6 +894,7 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     return s > 0 ? CODE_HIGHER : CODE_LOWER;
   }
 
+  const struct gline L = F->L;
   /* the halves in host scratch kept from pair to pair (no allocation a decision) */
   struct cpoly *pl = &pr->clip[0], *pr_ = &pr->clip[1], *ql = &pr->clip[2], *qr = &pr->clip[3];
   int result;
@@ -763,12 +908,17 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
     cost_mw_mul_n(pr->cost, 88, 58, 2 * (uint64_t)P->n);
     hasl = side > 0;
     hasr = side < 0;
-    ovl = hasl && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
-    ovr = hasr && seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
+    bool ov = at ? overlap_known(pr, P->n, Q->n)
+                 : seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
+    ovl = hasl && ov;
+    ovr = hasr && ov;
   } else {
     seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, pr->cost);
-    ovl = hasl && seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost);
-    ovr = hasr && seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost);
+    int met = at ? meet_sides(at, L) : 0;
+    ovl = hasl && (met & 1 ? overlap_known(pr, pl->n, Q->n)
+                           : seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost));
+    ovr = hasr && (met & 2 ? overlap_known(pr, pr_->n, Q->n)
+                           : seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost));
   }
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
@@ -806,19 +956,32 @@ static int decide(struct prio *pr, int i, int j, struct t74_error *err)
   return result;
 }
 
-int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
+/* Decide pieces i < j (the pair not held) and store the code; `miss` as for code_set. The
+   order of p and q as prio_order gives it. */
+static int order_new(struct prio *pr, uint32_t i, uint32_t j, int p, const struct probe *miss,
+                     const struct prio_meet *at, struct t74_error *err)
+{
+  int d = decide(pr, (int)i, (int)j, at, err);
+  if (d == PRIO_ERROR) return PRIO_ERROR;
+  if (d == (int)DECIDED_SPLIT) return PRIO_SPLIT;
+  if (code_set(pr, i, j, (unsigned)d, miss, err) != T74_OK) return PRIO_ERROR;
+  return ((unsigned)d == CODE_HIGHER) == ((uint32_t)p == i) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+/* prio_order, the pair met on the stretch `at` (or NULL) */
+static int order_at(struct prio *pr, int p, int q, const struct prio_meet *at,
+                    struct t74_error *err)
 {
   uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
   unsigned code = code_get(pr, i, j);
-  if (code == CODE_UNKNOWN) {
-    int d = decide(pr, (int)i, (int)j, err);
-    if (d == PRIO_ERROR) return PRIO_ERROR;
-    if (d == (int)DECIDED_SPLIT) return PRIO_SPLIT;
-    code = (unsigned)d;
-    if (code_set(pr, i, j, code, err) != T74_OK) return PRIO_ERROR;
-  }
+  if (code == CODE_UNKNOWN) return order_new(pr, i, j, p, NULL, at, err);
   bool i_front = code == CODE_HIGHER;
   return (i_front == ((uint32_t)p == i)) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
+{
+  return order_at(pr, p, q, NULL, err);
 }
 
 static inline int known(struct prio *pr, int p, int q)
@@ -842,8 +1005,10 @@ static inline int parent(const struct prio *pr, int p, struct cost *cost)
   return pr->seg->p[p].parent;
 }
 
-int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
-                       struct cost *cost)
+/* known(b, c), else of an ancestor of b and c, else of b and an ancestor of c, else of the
+   parents: the first known, or 0. Each look charged as it is made. */
+static int known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                         struct cost *cost)
 {
   int r = known(pr, b, c);
   if (r) return r;
@@ -853,6 +1018,69 @@ int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_ma
     if ((r = known(pr, b, a))) return r;
   if (pb >= 0 && pc >= 0 && (r = known(pr, pb, pc))) return r;
   return 0;
+}
+
+/* The order of p and q as held in the sparse store (0: not held), looked at through the
+   tags: the look counted in *n and the words its probe compared added to *loads, for
+   charge_looks. */
+static inline int known_counted(const struct prio *pr, int p, int q, uint64_t *n,
+                                uint64_t *loads)
+{
+  uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
+  uint64_t s;
+  unsigned code = tag_walk(pr, pr->hcap, i, j, &s, loads);
+  ++*n;
+  if (code == CODE_UNKNOWN) return 0;
+  return (code == CODE_HIGHER) == ((uint32_t)p == i) ? PRIO_FIRST : PRIO_SECOND;
+}
+
+/* n looks at the sparse store whose probes compared `loads` words, charged at once: what
+   code_get and slot_find charge for each (the look, the home slot, the words), summed
+   (each counter is a sum of the same increments: emu/cost.h). */
+static void charge_looks(struct prio *pr, uint64_t n, uint64_t loads)
+{
+  COST_ADD_N(pr->cost, COST_MEM, n + loads);
+  charge_home_n(pr->cost, n);
+  pr->tag_looks += n;
+}
+
+int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                       struct cost *cost, const struct prio_meet *at, struct t74_error *err)
+{
+  bool lineage = pb >= 0 || pc >= 0;
+  if (pr->store != PRIO_SPARSE || !pr->tag || pr->tag_off) {
+    /* the long way: each look made and charged one by one */
+    int r = lineage ? known_lineage(pr, b, c, pb, pc, anc_max, cost) : 0;
+    return r ? r : order_at(pr, b, c, at, err);
+  }
+  /* Through the tags, the looks counted and charged at once. The table does not change
+     while they are made, so prio_order's look at (b, c) after the lineage is the first
+     one again (the same slot, the same words), and so is the store's probe when the
+     pair is decided and no rebuild comes first (code_set). */
+  uint32_t i = (uint32_t)(b < c ? b : c), j = (uint32_t)(b < c ? c : b);
+  uint64_t n = 1, loads = 0;
+  struct probe first;
+  unsigned code = tag_walk(pr, pr->hcap, i, j, &first.slot, &loads);
+  first.loads = loads;
+  int r = code == CODE_UNKNOWN ? 0
+          : (code == CODE_HIGHER) == ((uint32_t)b == i) ? PRIO_FIRST : PRIO_SECOND;
+  if (!r && lineage) {
+    for (int a = pb, k = 0; !r && a >= 0 && k < anc_max; k++) {
+      if ((r = known_counted(pr, a, c, &n, &loads))) break;
+      a = parent(pr, a, cost);
+    }
+    for (int a = pc, k = 0; !r && a >= 0 && k < anc_max; k++) {
+      if ((r = known_counted(pr, b, a, &n, &loads))) break;
+      a = parent(pr, a, cost);
+    }
+    if (!r && pb >= 0 && pc >= 0) r = known_counted(pr, pb, pc, &n, &loads);
+    if (!r) {                                   /* prio_order's own look */
+      n++;
+      loads += first.loads;
+    }
+  }
+  charge_looks(pr, n, loads);
+  return r ? r : order_new(pr, i, j, b, &first, at, err);
 }
 
 /* qsort order of listed pairs {i, j, code}: by j, then i */

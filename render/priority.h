@@ -28,6 +28,12 @@ enum prio_result {
 
 enum prio_store { PRIO_AUTO = 0, PRIO_DENSE = 1, PRIO_SPARSE = 2 };
 
+/* A stretch [x0, x1) (x0 < x1) of the line y = yn/yd that two pieces were both found to
+   cover, each within its exact span there (the Visible Surface Procedure in exact
+   arithmetic): their interiors then meet just above it, which answers some of decide's
+   overlap tests before they are made (priority.c, "The stretch"). */
+struct prio_meet { struct grat x0, x1; int64_t yn, yd; };
+
 /* One pair of faces found crossing, and the line L~ both were cut along (kept for the
    intersection lines of enhanced edges, paper 002 e4; host memory, one entry a pair). */
 struct prio_cut { int fa, fb; struct gline line; };
@@ -45,9 +51,17 @@ struct prio {
   int      migrated;        /* it was: the store began dense and became sparse */
   uint8_t *tag;             /* sparse: one byte a slot beside the table, host only
                                (priority.c, "The tags"), or NULL */
-  int      tag_off;         /* tests: every look probes the table itself (the same answers
-                               and charges, by the tags' argument in priority.c) */
+  int      tag_off;         /* tests: every look probes the table itself, one at a time,
+                               each charged as it is made (the same answers and charges:
+                               the tags' argument in priority.c, prio_order_lineage) */
   uint64_t tag_looks;       /* looks the tags answered (host statistic) */
+  int      meet_off;        /* tests: decide makes every overlap test, whatever stretch the
+                               pair was met on (the same answers and charges) */
+  uint64_t meet_known;      /* overlap tests a stretch answered (host statistic) */
+  struct prio_faces *faces; /* host: what decide found of the last face pairs met (priority.c,
+                               "Face pairs"), or NULL */
+  int      faces_off;       /* tests: decide finds it afresh for every pair */
+  uint64_t faces_kept;      /* pairs decided with it kept (host statistic) */
   uint64_t computed;        /* pairs whose priority was computed */
   int      splits;          /* interpenetrating pairs cut along their intersection */
   FILE    *trace;           /* teaching dump of each decision, or NULL */
@@ -82,13 +96,18 @@ int prio_order(struct prio *pr, int p, int q, struct t74_error *err);
    never decides (one look at the matrix). */
 int prio_known(struct prio *pr, int p, int q);
 
-/* prio_known of b and c, else of an ancestor of b (its parent, the parent's parent, ...:
-   seginfo's parent, at most anc_max of them) and c, else of b and an ancestor of c, else
-   of the parents pb and pc of b and c (both >= 0), in that order: the first known. Each
-   parent looked up is charged one load to `cost`. 0 when none is known. (The Visible
-   Surface Procedure's order_of: the looks in one place, for the host's speed.) */
-int prio_known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
-                       struct cost *cost);
+/* The Visible Surface Procedure's order of b and c (its order_of): when b or c was cut
+   from another piece (pb, pc: their parents, -1 for none), the first known of: b and c,
+   an ancestor of b (its parent, the parent's parent, ...: seginfo's parent, at most
+   anc_max of them) and c, b and an ancestor of c, the parents pb and pc; else, or when
+   none is known, prio_order of b and c. Each parent looked up is charged one load to
+   `cost`. The looks, decisions and charges are those of these calls made one by one
+   (which the sparse store's tags turned off makes, for tests: priority.c); the host
+   counts the looks and charges them at once, and looks once where they look at the same
+   pair again in a table that has not changed. `at`: NULL, or a stretch both pieces cover
+   (struct prio_meet), which spares the host overlap tests whose answer it gives. */
+int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
+                       struct cost *cost, const struct prio_meet *at, struct t74_error *err);
 
 /* Free the host-side list of cuts (the matrix itself lives in core). */
 void prio_free(struct prio *pr);

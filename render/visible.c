@@ -77,7 +77,12 @@ static int by_ylo(struct vis *v, int a, int b)
   return cmp_ylo(v->seg, a, b);
 }
 
-static int by_xl(struct vis *v, int i, int j)
+/* by_xl always inlined where it is named (the insertion sort of every line calls it some
+   ten thousand times); a copy stays for the sorts that take it as a pointer */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((always_inline))
+#endif
+static inline int by_xl(struct vis *v, int i, int j)
 {
   const struct vis_item *a = &v->act[i], *b = &v->act[j];
   if (a->on != b->on) return a->on ? -1 : 1;
@@ -128,7 +133,7 @@ static void sort_batch(struct vis *v, int *a, int n, int *tmp, vis_cmp cmp)
 
 /* A stable insertion sort of a[0..n): for the order kept from the last line, which moves
    only where two ends pass each other between the lines. */
-static void sort_kept(struct vis *v, int *a, int n, vis_cmp cmp)
+static inline void sort_kept(struct vis *v, int *a, int n, vis_cmp cmp)
 {
   for (int i = 1; i < n; i++) {
     int t = a[i], j = i - 1;
@@ -233,6 +238,7 @@ void vis_free(struct vis *v)
   free(v->byxr);
   free(v->set);
   free(v->seti);
+  free(v->setpos);
   free(v->span);
   free(v->span2);
   free(v->tmp);
@@ -405,8 +411,6 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   return T74_OK;
 }
 
-/* The stretch [x0, x1) of the line y = yn/yd whose front is looked for. */
-struct vis_stretch { struct grat x0, x1; int64_t yn, yd; };
 
 /* The piece p was cut from (priority.c), or -1. */
 static int parent_of(const struct vis *v, int p)
@@ -423,18 +427,21 @@ static int parent_of(const struct vis *v, int p)
    decided themselves, a decided pair of b (or an ancestor of b) with c (or an ancestor
    of c) gives their order over their overlap, exactly, as their own deciding would
    (they do not cross there: the ancestors did not). Looked at: b's ancestors against c,
-   b against c's ancestors, the two parents; else prio_order decides (and may cut). */
-static int order_of(struct vis *v, int b, int c, struct t74_error *err)
+   b against c's ancestors, the two parents; else prio_order decides (and may cut). Both
+   cover the stretch st, each within its span (the sweep's covering set): in exact
+   arithmetic that answers some of the deciding's overlap tests (priority.h, struct
+   prio_meet); under --arith hitac the spans are the 1974 program's rounded ones, and
+   every test is made. */
+static int order_of(struct vis *v, int b, int c, const struct prio_meet *st,
+                    struct t74_error *err)
 {
   int pb = parent_of(v, b), pc = parent_of(v, c);
-  if (pb >= 0 || pc >= 0) {
-    int r = prio_known_lineage(v->prio, b, c, pb, pc, ANC_MAX, v->cost);
-    if (r) return r;
-  }
-  return prio_order(v->prio, b, c, err);
+  return prio_order_lineage(v->prio, b, c, pb, pc, ANC_MAX, v->cost,
+                            v->arith == GEOM_EXACT ? st : NULL, err);
 }
 
-/* The front piece of the covering set; PRIO_SPLIT/PRIO_ERROR pass through as negative.
+/* The front piece of the covering set of the stretch st; PRIO_SPLIT/PRIO_ERROR pass
+   through as negative.
    A pair's priority holds over the pair's whole overlap only once the pair itself has
    been decided: deciding is also where crossing pieces are found and cut (priority.c).
    So the winner of the elimination below is then compared DIRECTLY with every other
@@ -448,7 +455,7 @@ static int order_of(struct vis *v, int b, int c, struct t74_error *err)
 static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn, int64_t yd);
 
 static int front_of(struct vis *v, int start_best, int from, int *best, bool *sure,
-                    const struct vis_stretch *st, struct t74_error *err)
+                    const struct prio_meet *st, struct t74_error *err)
 {
   int b = start_best;
   bool changed = start_best < 0;
@@ -457,7 +464,7 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
     int c = v->set[k];
     if (c == b) continue;
     if (b < 0) { b = c; continue; }
-    int r = order_of(v, b, c, err);
+    int r = order_of(v, b, c, st, err);
     if (r == PRIO_ERROR) return PRIO_ERROR;
     if (r == PRIO_SPLIT) return PRIO_SPLIT;
     if (r == PRIO_SECOND) { b = c; changed = true; }
@@ -478,7 +485,7 @@ static int front_of(struct vis *v, int start_best, int from, int *best, bool *su
     for (int k = 0; k < v->nset && !changed; k++) {
       int c = v->set[k];
       if (c == b) continue;
-      int r = order_of(v, b, c, err);
+      int r = order_of(v, b, c, st, err);
       if (r == PRIO_ERROR) return PRIO_ERROR;
       if (r == PRIO_SPLIT) return PRIO_SPLIT;
       if (r == PRIO_SECOND) { b = c; changed = true; }
@@ -555,6 +562,7 @@ static int room(struct vis *v, int n)
          grow((void **)&v->byxr, &v->byxrcap, n, sizeof *v->byxr) &&
          grow((void **)&v->set, &v->setcap, n, sizeof *v->set) &&
          grow((void **)&v->seti, &v->seticap, n, sizeof *v->seti) &&
+         grow((void **)&v->setpos, &v->setposcap, n, sizeof *v->setpos) &&
          grow((void **)&v->tmp, &v->tmpcap, n, sizeof *v->tmp) &&
          grow((void **)&v->tmp2, &v->tmp2cap, n, sizeof *v->tmp2) &&
          grow((void **)&v->tmp3, &v->tmp3cap, n, sizeof *v->tmp3);
@@ -687,6 +695,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
   *ir = after_x(v, v->byxr, v->nbyxr, x, true);
 
   /* the covering set */
+  for (int a = first; a < v->nact; a++) v->setpos[a] = -1;
   int k = 0, j = 0;
   for (int i = 0; i < v->nset; i++) {
     if (!s->p[v->set[i]].alive) continue;
@@ -707,6 +716,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
     }
   }
   v->nset = k;
+  for (int i = 0; i < k; i++) v->setpos[v->seti[i]] = i;
   return T74_OK;
 }
 
@@ -718,6 +728,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
   int non = count_on(v);
   int ia = 0, ir = 0, front = -1;
   v->nset = 0;
+  for (int a = 0; a < v->nact; a++) v->setpos[a] = -1;
   while (ia < non || ir < v->nbyxr) {
     struct grat x;
     if (ia < non && (ir >= v->nbyxr || geom_rat_cmp(XL(ia), XR(ir)) <= 0))
@@ -726,14 +737,13 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
       x = XR(ir);
     /* leave: spans ending at x */
     while (ir < v->nbyxr && geom_rat_cmp(XR(ir), x) == 0) {
-      int p = v->act[v->byxr[ir++]].piece;
-      for (int m = 0; m < v->nset; m++)
-        if (v->set[m] == p) {
-          v->nset--;
-          v->set[m] = v->set[v->nset];
-          v->seti[m] = v->seti[v->nset];
-          break;
-        }
+      int a = v->byxr[ir++], p = v->act[a].piece, m = v->setpos[a];
+      if (m >= 0 && m < v->nset && v->seti[m] == a) {   /* out of the set, the last in */
+        v->nset--;                                      /* its place */
+        v->set[m] = v->set[v->nset];
+        v->seti[m] = v->seti[v->nset];
+        v->setpos[v->seti[m]] = m;
+      }
       /* Only the front's own leaving calls for a new choice. A front kept (front_of
          returned it sure) has met every other piece of the set in a pair decided
          directly, and won each: not by transitivity through a third piece (issue 7,
@@ -748,6 +758,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     /* join: spans starting at x */
     int joined = v->nset;
     while (ia < non && geom_rat_cmp(XL(ia), x) == 0) {
+      v->setpos[v->byxl[ia]] = v->nset;
       v->seti[v->nset] = v->byxl[ia];
       v->set[v->nset++] = v->act[v->byxl[ia++]].piece;
       COST_ADD_N(v->cost, COST_MEM, 2);
@@ -757,7 +768,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
          a piece of the set has not left yet) */
       struct grat xn = ia < non && geom_rat_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
       bool sure;
-      struct vis_stretch st = { x, xn, yn, yd };
+      struct prio_meet st = { x, xn, yn, yd };
       int r = front >= 0 ? front_of(v, front, joined, &front, &sure, &st, err)
               : front_of(v, v->nset >= GUESS_MIN ? front_guess(v, x, xn, yn, yd) : -1, 0,
                          &front, &sure, &st, err);

@@ -60,6 +60,8 @@ struct vis {
                                             order of xr; kept from line to line */
   int   *set, nset, setcap;              /* pieces covering the current stretch */
   int   *seti, seticap;                  /* their items (act indices), in step with set */
+  int   *setpos, setposcap;              /* per act index: its place in set while it is
+                                            there (seti[setpos[a]] == a), else any value */
   struct vis_span *span; int nspan, spancap;
   int   *tmp, tmpcap, *tmp2, tmp2cap, *tmp3, tmp3cap;   /* scratch for sorts and merges */
   struct vis_item *act2; int act2cap;    /* scratch: act put in x order at a line's end */
