@@ -8,7 +8,7 @@
 ** render took. The context is created before the clock starts: like tube74's, the time
 ** is that of one frame, not of starting a GL driver.
 **
-** `refbench --warm K [--size grid|tube] SCENE` is the fair peer of `tube74 bench speed`
+** `refbench --warm K [--shade] [--size grid|tube] SCENE` is the fair peer of `tube74 bench speed`
 ** (issue 12): the scene is read and tessellated by GLU (odd winding, Newell normal, as
 ** tests/ref/osmesa_ref.c does) into one vertex array of triangles with a colour per
 ** vertex (the face number), the context is made and one warm-up frame drawn, all before
@@ -21,6 +21,12 @@
 ** `--turn AZ,EL` first (either form) turns an .obj/.off import as tube74's --turn does
 ** (bench speed's box scenes beyond what .s74 holds are .obj read with --turn 0,0); the
 ** warm frames read face numbers back in 24 bits (the colour holds 24).
+** `--warm K --shade` (issue 19) is the peer of the scenes whose `effects` ask smooth=:
+** each fragment computes a Phong grey (vertex normals interpolated, normalised, lit by the
+** scene's lights with tube74's law) and the frame reads the greys back with the ids. The
+** warm peer itself is tests/ref/warmpeer.c (its header says what the shaded mode
+** computes and where it differs from tube74's smoothing); setup now also includes the
+** scene's copy into the reference's form and, shaded, the shader's compilation.
 */
 #include <stdio.h>
 #include <stdlib.h>
