@@ -12,6 +12,10 @@
 **              before the clock; each timed frame is clear + glDrawArrays + glFinish + the
 **              face ids read back), with llvmpipe on one thread (LP_NUM_THREADS=1) and with
 **              softpipe, at tube74's point grid and at the tube's 400 x 300;
+**   shaded     for the scenes whose `effects` ask smooth= (tube74 then computes a Phong
+**              grey at every point), the points frame also against the peer's shaded warm
+**              frame (`--warm --shade`: per-fragment Phong with tube74's lighting law, the
+**              greys read back with the ids), llvmpipe on one thread at the point grid;
 **   process    the wall time a user waits for the PNG: `tube74 render SCENE -o PNG`
 **              against the peer's whole process (start, LLVM, parse, tessellation, context,
 **              one frame: `refbench SCENE`), and each one's peak memory (max RSS of the
@@ -53,8 +57,10 @@
 
 /* the figures of a run: tube74's frame, the peer's warm frames (llvmpipe at the grid and
    at 400 x 300, softpipe likewise), the two whole processes */
-enum { P_TUBE, P_LLVM, P_LLVM_T, P_SOFT, P_SOFT_T, P_TPROC, P_PPROC, P_PTS, P_PTSPROC, P_N };
-/* P_TUBE, P_TPROC: --engine 1974; P_PTS, P_PTSPROC: --engine points (issue 19) */
+enum { P_TUBE, P_LLVM, P_LLVM_T, P_SOFT, P_SOFT_T, P_TPROC, P_PPROC, P_PTS, P_PTSPROC, P_SHADE, P_N };
+/* P_TUBE, P_TPROC: --engine 1974; P_PTS, P_PTSPROC: --engine points (issue 19); P_SHADE:
+   the peer's Phong-shaded warm frame (refbench --warm --shade), llvmpipe at the grid, for
+   the scenes whose effects ask smooth= */
 #define SP_POINTS_FRAMES "15"          /* points-engine frames a run (each well under 0.1 s) */
 
 struct sp_scene {
@@ -63,6 +69,7 @@ struct sp_scene {
   int faces, pieces;
   int frames;                          /* tube74 --frames for this scene */
   bool obj;                            /* an .obj import: both programs get --turn 0,0 */
+  bool smooth;                         /* its `effects` line asks smooth=: the shaded peer too */
   double t[P_N][SP_MAX_RUNS];
   long rss[3];                         /* KB: tube74 process (1974, points), OSMesa process */
   bool failed[P_N];
@@ -244,6 +251,17 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
       } else {
         s->failed[slot[q]] = true;
       }
+      if (q == 0 && s->smooth) {         /* the shaded peer, beside the ids one */
+        char *a2s[] = { (char *)peer, (char *)"--warm", (char *)"9", (char *)"--shade", (char *)"--size",
+                        (char *)"grid", s->path, NULL };
+        if (spawn(a2s, envl, out, NULL, NULL) == 0) {
+          char *txt = slurp(out);
+          if (txt) s->t[P_SHADE][r] = atof(txt);
+          free(txt);
+        } else {
+          s->failed[P_SHADE] = true;
+        }
+      }
     }
   }
   bench_bar_step(bar, s->label);
@@ -273,6 +291,25 @@ static void measure(struct sp_scene *s, int r, const char *self, const char *pee
     }
   }
   bench_bar_step(bar, s->label);
+}
+
+/* Whether scene file path has an `effects` line asking smooth= (the scene reader is
+   tube74's; this only picks which scenes get the shaded peer). */
+static bool asks_smooth(const char *path)
+{
+  FILE *f = fopen(path, "r");
+  if (!f) return false;
+  char line[1024];
+  bool yes = false;
+  while (!yes && fgets(line, sizeof line, f)) {
+    const char *p = line + strspn(line, " \t");
+    if (!strncmp(p, "effects", 7) && (p[7] == ' ' || p[7] == '\t')) {
+      for (const char *q = strstr(p, "smooth="); q && !yes; q = strstr(q + 1, "smooth="))
+        yes = q[-1] == ' ' || q[-1] == '\t';
+    }
+  }
+  fclose(f);
+  return yes;
 }
 
 static void usage_fail(struct t74_error *err, const char *what)
@@ -330,6 +367,7 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     snprintf(s->path, sizeof s->path, "scenes/%s.s74", shipped[k]);
     if (access(s->path, R_OK) != 0) continue;
     snprintf(s->label, sizeof s->label, "%s", shipped[k]);
+    s->smooth = asks_smooth(s->path);
     ns++;
   }
   static const int boxes[] = { 1000, 3000, 10000, 30000, 100000 };
@@ -429,6 +467,23 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     fprintf(d, "%d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", s->kind, s->faces, m[P_TUBE], m[P_LLVM],
             m[P_SOFT], m[P_TPROC], m[P_PPROC], m[P_PTS], m[P_PTSPROC]);
   }
+  /* the scenes with smooth shading: tube74 computes a Phong grey at every point there, so
+     also against a peer that does (issue 19) */
+  fprintf(f, "\n## Scenes with smooth shading: the points frame against a shaded peer (ms, median "
+             "of %d runs)\n\n", runs);
+  fprintf(f, "| scene | points frame | llvmpipe ids | llvmpipe shaded | points / shaded |\n"
+             "|---|---:|---:|---:|---:|\n");
+  for (int k = 0; k < ns; k++) {
+    struct sp_scene *s = &sc[k];
+    if (!s->smooth) continue;
+    double a = med(s->t[P_PTS], runs), b = med(s->t[P_LLVM], runs), c = med(s->t[P_SHADE], runs);
+    char col[4][32];
+    fmt_ms(col[0], 32, a); fmt_ms(col[1], 32, b); fmt_ms(col[2], 32, c); fmt_ratio(col[3], 32, a, c);
+    fprintf(f, "| %s | %s | %s | %s | %s |\n", s->label, col[0], col[1], col[2], col[3]);
+  }
+  fprintf(f, "\nThe shaded peer (`refbench --warm --shade`, llvmpipe on one thread, at the point "
+             "grid): vertex normals interpolated, normalised and lit per fragment by the scene's "
+             "lights with tube74's law, face ids and greys read back a frame.\n");
   fprintf(f, "\n## Whole process, what a user waits for the PNG (ms wall, median of %d runs)\n\n", runs);
   fprintf(f, "| scene | tube74 1974 render -o | tube74 points render -o | OSMesa (start, parse, "
              "tessellate, context, 1 frame) | 1974 / OSMesa | points / OSMesa | 1974 max RSS MB | "

@@ -15,6 +15,10 @@
 ** The generators are checked for determinism, for validity (sg_validate), and the .s74
 ** writer's variants (shuffled, reversed, rotated) are read back by a small parser here
 ** and must render exactly like the original.
+** The speed bench's warm peer (warmpeer.h) is checked here too: its ids mode and its
+** Phong-shaded mode give the same ids point for point, and the shaded greys follow
+** tube74's lighting law worked out here by rays in doubles (within one grey), with
+** interpolated normals on a sphere-like mesh (not the flat grey).
 ** Runs without ./tube74.
 */
 #include <setjmp.h>
@@ -30,6 +34,7 @@
 
 #include "tests/ref/osmesa_ref.h"
 #include "tests/ref/scenegen.h"
+#include "tests/ref/warmpeer.h"
 
 /* Generated scenes per family and cell size in the ray-cast comparison. */
 #ifndef RT_SEEDS
@@ -552,6 +557,232 @@ static void test_generators(void **state)
                 SG_NFAMILIES * 40, faces, holes, verts);
 }
 
+/* --- the warm peer's shaded mode (tests/ref/warmpeer.h, issue 19) --------------------- */
+
+/* The greys of the shaded peer are float GL (varyings interpolated perspective-correct,
+   normalised, dotted in float) against the same law in doubles here: they may differ by
+   one grey where 207 sum lands within float error of a half. */
+#define SHADE_TOL 1
+
+/* The scene's unit normal of the triangle (a, b, c) (scene space, by its winding). */
+static void tri_normal(const ref_scene *s, const int *vi, double n[3])
+{
+  const ref_vertex *a = &s->v[vi[0]], *b = &s->v[vi[1]], *c = &s->v[vi[2]];
+  const double u[3] = { (double)(b->x - a->x), (double)(b->y - a->y), (double)(b->z - a->z) };
+  const double v[3] = { (double)(c->x - a->x), (double)(c->y - a->y), (double)(c->z - a->z) };
+  n[0] = u[1] * v[2] - u[2] * v[1];
+  n[1] = u[2] * v[0] - u[0] * v[2];
+  n[2] = u[0] * v[1] - u[1] * v[0];
+  const double m = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int d = 0; d < 3; d++) n[d] /= m;
+}
+
+/* What the shaded peer must show at point (i, j) of the w x h grid where triangle face k
+   is seen, worked out here in scene space: the ray from the eye through the point's
+   centre meets the face's plane at X; X's barycentric coordinates weight the corners'
+   normals vn (smooth: the mean of the unit normals of the triangles at each vertex; flat:
+   NULL, the face's normal); normalised, turned to the eye's side, Lambert over the lights
+   with the ambient floor of render/shade.h. */
+static int expected_grey(const ref_scene *s, int k, const double (*vn)[3], int nlight,
+                         const ref_light *light, int w, int h, int i, int j)
+{
+  const ref_face *f = &s->f[k];
+  const ref_vertex *V[3] = { &s->v[f->vi[0]], &s->v[f->vi[1]], &s->v[f->vi[2]] };
+  double fn[3];
+  tri_normal(s, f->vi, fn);
+  const double E[3] = { (double)s->x0, (double)s->y0, (double)s->z0 };
+  const double P[3] = { (double)s->xl + (i + 0.5) * (double)(s->xr - s->xl) / w,
+                        (double)s->yt - (j + 0.5) * (double)(s->yt - s->yb) / h, 0 };
+  const double A[3] = { (double)V[0]->x, (double)V[0]->y, (double)V[0]->z };
+  double num = 0, den = 0;
+  for (int d = 0; d < 3; d++) { num += fn[d] * (A[d] - E[d]); den += fn[d] * (P[d] - E[d]); }
+  double X[3];
+  for (int d = 0; d < 3; d++) X[d] = E[d] + num / den * (P[d] - E[d]);
+  /* barycentric coordinates: the sub-triangles' signed areas along the normal */
+  double l[3], n[3] = { 0, 0, 0 };
+  for (int c = 0; c < 3; c++) {
+    const ref_vertex *a = V[(c + 1) % 3], *b = V[(c + 2) % 3];
+    const double u[3] = { (double)a->x - X[0], (double)a->y - X[1], (double)a->z - X[2] };
+    const double v[3] = { (double)b->x - X[0], (double)b->y - X[1], (double)b->z - X[2] };
+    const double cr[3] = { u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0] };
+    l[c] = cr[0] * fn[0] + cr[1] * fn[1] + cr[2] * fn[2];
+  }
+  const double sum_l = l[0] + l[1] + l[2];
+  for (int c = 0; c < 3; c++)
+    for (int d = 0; d < 3; d++) n[d] += l[c] / sum_l * (vn ? vn[f->vi[c]][d] : fn[d]);
+  const double m = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  const double side = fn[0] * (E[0] - A[0]) + fn[1] * (E[1] - A[1]) + fn[2] * (E[2] - A[2]) > 0 ? 1 : -1;
+  double sum = 0;
+  for (int q = 0; q < nlight; q++) {
+    double L[3], lm = 0;
+    for (int d = 0; d < 3; d++) { L[d] = light[q].point ? light[q].v[d] - X[d] : light[q].v[d]; lm += L[d] * L[d]; }
+    double dot = 0;
+    for (int d = 0; d < 3; d++) dot += side * n[d] / m * L[d] / sqrt(lm);
+    if (dot > 0) sum += dot;
+  }
+  const double g = 48 + floor(207 * sum + 0.5);
+  return g > 255 ? 255 : (int)g;
+}
+
+/* Both modes of the peer on s: the ids must agree point for point; then every point whose
+   3 x 3 neighbourhood shows one face (GL's edge rule and the float rays may differ at
+   boundaries) must have the expected grey within SHADE_TOL. Returns the points compared;
+   *not_flat counts those whose grey is more than SHADE_TOL from the face's flat grey. */
+static long check_shaded(const ref_scene *s, const int *object, const double (*vn)[3],
+                         int nlight, const ref_light *light, long *not_flat)
+{
+  const int w = ref_grid_w(3), h = ref_grid_h(3);
+  char err[600] = "";
+  ref_peer_input in = { s, object, nlight, light, 0, w, h };
+  ref_peer *plain = ref_peer_new(&in, err, sizeof err);
+  if (!plain) fail_msg("plain peer: %s", err);
+  in.shade = 1;
+  ref_peer *shaded = ref_peer_new(&in, err, sizeof err);
+  if (!shaded) fail_msg("shaded peer: %s", err);
+  uint32_t *ids0 = malloc((size_t)w * (size_t)h * sizeof *ids0), *ids1 = malloc((size_t)w * (size_t)h * sizeof *ids1);
+  uint8_t *grey = malloc((size_t)w * (size_t)h);
+  assert_true(ids0 && ids1 && grey);
+  assert_int_equal(ref_peer_frame(plain, ids0, NULL), 0);
+  assert_int_equal(ref_peer_frame(shaded, ids1, grey), 0);
+  assert_memory_equal(ids0, ids1, (size_t)w * (size_t)h * sizeof *ids0);
+  long compared = 0;
+  *not_flat = 0;
+  for (int j = 1; j < h - 1; j++)
+    for (int i = 1; i < w - 1; i++) {
+      const uint32_t id = ids1[(size_t)j * (size_t)w + (size_t)i];
+      int uniform = id != 0;
+      for (int dj = -1; dj <= 1; dj++)
+        for (int di = -1; di <= 1; di++) uniform &= ids1[(size_t)(j + dj) * (size_t)w + (size_t)(i + di)] == id;
+      if (!uniform) continue;
+      int k = 0;
+      while (k < s->nf && s->f[k].id != id) k++;
+      assert_true(k < s->nf);
+      const int want = expected_grey(s, k, object && object[k] ? vn : NULL, nlight, light, w, h, i, j);
+      const int got = grey[(size_t)j * (size_t)w + (size_t)i];
+      if (abs(got - want) > SHADE_TOL)
+        fail_msg("point (%d, %d) face %u: grey %d, the law gives %d", i, j, id, got, want);
+      if (abs(got - expected_grey(s, k, NULL, nlight, light, w, h, i, j)) > SHADE_TOL) (*not_flat)++;
+      compared++;
+    }
+  free(ids0);
+  free(ids1);
+  free(grey);
+  ref_peer_free(plain);
+  ref_peer_free(shaded);
+  return compared;
+}
+
+/* A flat quad (no object: its own normal everywhere), tilted, under a parallel light (one
+   grey all over) and under a point light (the grey varies with the light's direction). */
+static void test_shaded_peer_quad(void **state)
+{
+  (void)state;
+  ref_scene s = {0};
+  view(&s, 0, 0, -1000, -200, -150, 200, 150);
+  const long q[4][3] = { { -150, -100, 0 }, { 150, -100, 200 }, { 150, 100, 200 }, { -150, 100, 0 } };
+  int vi[4];
+  for (int k = 0; k < 4; k++) vi[k] = sg_add_vertex(&s, (unsigned)k + 1, q[k][0], q[k][1], q[k][2]);
+  const int len = 4;
+  assert_true(sg_add_face(&s, 70000, -1, 1, &len, vi) >= 0);     /* an id above 16 bits */
+  const ref_light par = { 0, { -45, 60, -80 } }, pt = { 1, { 300, 200, -300 } };
+  long not_flat;
+  const long n1 = check_shaded(&s, NULL, NULL, 1, &par, &not_flat);
+  assert_true(n1 > 2000);
+  assert_int_equal(not_flat, 0);
+  /* the point light: against the flat law with the light's direction from the quad's
+     centre, most points differ */
+  const ref_light far = { 0, { 300 - 0, 200 - 0, -300 - 100 } };
+  const long n2 = check_shaded(&s, NULL, NULL, 1, &pt, &not_flat);
+  assert_true(n2 == n1);
+  long differ = 0;
+  {
+    const int w = ref_grid_w(3), h = ref_grid_h(3);
+    int lo = 255, hi = 0;
+    for (int j = 20; j < h - 20; j++)
+      for (int i = 20; i < w - 20; i++) {
+        const int g = expected_grey(&s, 0, NULL, 1, &pt, w, h, i, j);
+        lo = g < lo ? g : lo;
+        hi = g > hi ? g : hi;
+        differ += abs(g - expected_grey(&s, 0, NULL, 1, &far, w, h, i, j)) > SHADE_TOL;
+      }
+    assert_true(hi - lo >= 10);
+  }
+  assert_true(differ > 100);
+  print_message("shaded peer, quad: %ld points compared under a parallel light, %ld under a point light\n", n1, n2);
+  sg_free(&s);
+}
+
+/* A sphere-like mesh: the octahedron split once, its new vertices pushed out onto the
+   sphere (rounded to the integer grid), 32 triangles in one object. Smooth: the grey
+   varies inside a face and differs from the face's flat grey. */
+static void test_shaded_peer_sphere(void **state)
+{
+  (void)state;
+  ref_scene s = {0};
+  view(&s, 0, 0, -1000, -200, -150, 200, 150);
+  const double C[3] = { 10, -5, 600 }, R = 200;
+  double unitv[64][3];
+  int nu = 0;
+  static const int oct[8][3] = { { 4, 0, 2 }, { 4, 2, 1 }, { 4, 1, 3 }, { 4, 3, 0 },
+                                 { 5, 2, 0 }, { 5, 1, 2 }, { 5, 3, 1 }, { 5, 0, 3 } };
+  static const double axis[6][3] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 },
+                                     { 0, 0, -1 }, { 0, 0, 1 } };
+  for (int k = 0; k < 6; k++) memcpy(unitv[nu++], axis[k], sizeof axis[k]);
+  /* the index of the unit vector (mid of a and b, normalised), added once */
+  int face_vi[32][3], nfaces = 0;
+  for (int t = 0; t < 8; t++) {
+    int m[3];
+    for (int e = 0; e < 3; e++) {
+      const double *a = unitv[oct[t][e]], *b = unitv[oct[t][(e + 1) % 3]];
+      double v[3] = { a[0] + b[0], a[1] + b[1], a[2] + b[2] };
+      const double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      for (int d = 0; d < 3; d++) v[d] /= n;
+      int found = -1;
+      for (int u = 0; u < nu; u++)
+        if (fabs(unitv[u][0] - v[0]) + fabs(unitv[u][1] - v[1]) + fabs(unitv[u][2] - v[2]) < 1e-9) found = u;
+      if (found < 0) { memcpy(unitv[nu], v, sizeof v); found = nu++; }
+      m[e] = found;
+    }
+    const int a = oct[t][0], b = oct[t][1], c = oct[t][2];
+    const int sub[4][3] = { { a, m[0], m[2] }, { m[0], b, m[1] }, { m[2], m[1], c }, { m[0], m[1], m[2] } };
+    memcpy(face_vi[nfaces], sub[0], sizeof sub);
+    nfaces += 4;
+  }
+  assert_int_equal(nu, 18);
+  for (int u = 0; u < nu; u++)
+    assert_true(sg_add_vertex(&s, (unsigned)u + 1, lround(C[0] + R * unitv[u][0]), lround(C[1] + R * unitv[u][1]),
+                              lround(C[2] + R * unitv[u][2])) == u);
+  int object[32];
+  const int len = 3;
+  for (int k = 0; k < nfaces; k++) {
+    assert_true(sg_add_face(&s, (unsigned)k + 1, -1, 1, &len, face_vi[k]) >= 0);
+    object[k] = 1;
+  }
+  /* the vertex normals, worked out here: the mean of the triangles' unit normals */
+  double vn[18][3];
+  memset(vn, 0, sizeof vn);
+  for (int k = 0; k < nfaces; k++) {
+    double n[3];
+    tri_normal(&s, s.f[k].vi, n);
+    for (int c = 0; c < 3; c++)
+      for (int d = 0; d < 3; d++) vn[s.f[k].vi[c]][d] += n[d];
+  }
+  for (int u = 0; u < nu; u++) {
+    const double m = sqrt(vn[u][0] * vn[u][0] + vn[u][1] * vn[u][1] + vn[u][2] * vn[u][2]);
+    for (int d = 0; d < 3; d++) vn[u][d] /= m;
+  }
+  const ref_light light[2] = { { 0, { -45, 60, -80 } }, { 1, { -300, -200, 100 } } };
+  long not_flat;
+  const long n1 = check_shaded(&s, object, (const double (*)[3])vn, 1, light, &not_flat);
+  assert_true(n1 > 1500);
+  assert_true(not_flat > n1 / 4);          /* smooth, not flat shading */
+  long nf2;
+  const long n2 = check_shaded(&s, object, (const double (*)[3])vn, 2, light, &nf2);
+  assert_true(n2 == n1 && nf2 > n2 / 4);
+  print_message("shaded peer, sphere: %ld points compared, %ld of them not the flat grey\n", n1, not_flat);
+  sg_free(&s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -559,6 +790,7 @@ int main(void)
       cmocka_unit_test(test_plate_with_hole),   cmocka_unit_test(test_interpenetrating),
       cmocka_unit_test(test_id_encoding),       cmocka_unit_test(test_generators),
       cmocka_unit_test(test_generated_vs_raycast),
+      cmocka_unit_test(test_shaded_peer_quad),  cmocka_unit_test(test_shaded_peer_sphere),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

@@ -11,8 +11,9 @@
 #   - host-effects: what each effect costs a frame on this host (tools/bench_effects.sh),
 #     headed with the
 #     date, the machine and the commit it was measured on;
-#   - speed-frame, speed-process, speed-growth: the tables of `tube74 bench speed`
-#     (its speed.md; SPEED_ARGS, default --quick --runs 5), same heading;
+#   - speed-frame, speed-shaded, speed-process, speed-growth: the tables of `tube74 bench
+#     speed` (its speed.md; SPEED_ARGS, default --quick --runs 5; speed-shaded: the scenes
+#     with smooth shading against the shaded peer), same heading;
 #   - accuracy: the table of `tube74 bench accuracy` (its accuracy.md; ACC_RUNS, default 3).
 # DOCS_HOST=0 regenerates only the deterministic tables (seconds instead of minutes).
 set -eu
@@ -47,8 +48,9 @@ if [ "$HOST" = 1 ]; then
   # speed-*: the sections of bench speed's speed.md
   # shellcheck disable=SC2086
   ./tube74 bench speed ${SPEED_ARGS:---quick --runs 5} --out "$B/speed" >/dev/null
-  for part in frame process growth; do
-    case $part in frame) h="One frame";; process) h="Whole process";; growth) h="Growth";; esac
+  for part in frame shaded process growth; do
+    case $part in frame) h="One frame";; shaded) h="smooth shading";; process) h="Whole process";;
+      growth) h="Growth";; esac
     { heading " (tube74 bench speed ${SPEED_ARGS:---quick --runs 5})"
       awk -v h="$h" '/^#/ { on = index($0, h) > 0; next } on' "$B/speed/speed.md" | sed '/./,$!d'
     } >"$B/speed-$part.md"

@@ -8,7 +8,7 @@
 ** render took. The context is created before the clock starts: like tube74's, the time
 ** is that of one frame, not of starting a GL driver.
 **
-** `refbench --warm K [--size grid|tube] SCENE` is the fair peer of `tube74 bench speed`
+** `refbench --warm K [--shade] [--size grid|tube] SCENE` is the fair peer of `tube74 bench speed`
 ** (issue 12): the scene is read and tessellated by GLU (odd winding, Newell normal, as
 ** tests/ref/osmesa_ref.c does) into one vertex array of triangles with a colour per
 ** vertex (the face number), the context is made and one warm-up frame drawn, all before
@@ -21,20 +21,23 @@
 ** `--turn AZ,EL` first (either form) turns an .obj/.off import as tube74's --turn does
 ** (bench speed's box scenes beyond what .s74 holds are .obj read with --turn 0,0); the
 ** warm frames read face numbers back in 24 bits (the colour holds 24).
+** `--warm K --shade` (issue 19) is the peer of the scenes whose `effects` ask smooth=:
+** each fragment computes a Phong grey (vertex normals interpolated, normalised, lit by the
+** scene's lights with tube74's law) and the frame reads the greys back with the ids. The
+** warm peer itself is tests/ref/warmpeer.c (its header says what the shaded mode
+** computes and where it differs from tube74's smoothing); setup now also includes the
+** scene's copy into the reference's form and, shaded, the shader's compilation.
 */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include <GL/osmesa.h>
-#include <GL/gl.h>
-#include <GL/glu.h>
-
 #include "render/effects.h"
 #include "render/scene.h"
 #include "render/turn.h"
 #include "tests/ref/osmesa_ref.h"
+#include "tests/ref/warmpeer.h"
 
 static double now(void)
 {
@@ -43,71 +46,50 @@ static double now(void)
   return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-/* ---- the warm peer ------------------------------------------------------------------ */
-
-struct tri_array {
-  GLfloat *xyz;                 /* 3 per vertex, eye space */
-  GLubyte *rgb;                 /* 3 per vertex: the face number */
-  size_t n, cap;                /* vertices */
-  GLubyte col[3];               /* the face being tessellated */
-  GLdouble *extra[64];          /* combine vertices (blocks of 256, kept to the end) */
-  int nextra, used;
-  int failed;
-};
-
-static void GLAPIENTRY ta_vertex(void *v, void *data)
-{
-  struct tri_array *a = data;
-  const GLdouble *p = v;
-  if (a->n == a->cap) {
-    size_t cap = a->cap ? 2 * a->cap : 3 * 4096;
-    GLfloat *x = realloc(a->xyz, cap * 3 * sizeof *x);
-    if (x) a->xyz = x;
-    GLubyte *c = realloc(a->rgb, cap * 3);
-    if (c) a->rgb = c;
-    if (!x || !c) { a->failed = 1; return; }
-    a->cap = cap;
-  }
-  for (int k = 0; k < 3; k++) {
-    a->xyz[3 * a->n + (size_t)k] = (GLfloat)p[k];
-    a->rgb[3 * a->n + (size_t)k] = a->col[k];
-  }
-  a->n++;
-}
-
-static void GLAPIENTRY ta_begin(GLenum mode, void *data) { (void)mode; (void)data; }
-static void GLAPIENTRY ta_end(void *data) { (void)data; }
-/* an edge-flag callback makes GLU give plain GL_TRIANGLES */
-static void GLAPIENTRY ta_edge(GLboolean flag, void *data) { (void)flag; (void)data; }
-
-static void GLAPIENTRY ta_combine(GLdouble c[3], void *vd[4], GLfloat w[4], void **out, void *data)
-{
-  struct tri_array *a = data;
-  (void)vd;
-  (void)w;
-  if (a->nextra == 0 || a->used == 256) {
-    if (a->nextra == 64 || !(a->extra[a->nextra] = malloc(256 * 3 * sizeof(GLdouble)))) {
-      a->failed = 1;
-      *out = NULL;
-      return;
-    }
-    a->nextra++;
-    a->used = 0;
-  }
-  GLdouble *p = a->extra[a->nextra - 1] + 3 * a->used++;
-  p[0] = c[0]; p[1] = c[1]; p[2] = c[2];
-  *out = p;
-}
-
-static void GLAPIENTRY ta_error(GLenum e, void *data) { (void)e; ((struct tri_array *)data)->failed = 1; }
-
 static int cmp_d(const void *a, const void *b)
 {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
 }
 
-static int warm(const char *path, const struct scene_opts *so, int frames, int tube_size)
+/* ---- the warm peer ------------------------------------------------------------------ */
+
+/* The scene as the reference holds it: the same vertex order, ring lengths, ids. */
+static int to_ref(const struct scene *s, ref_scene *rs)
+{
+  memset(rs, 0, sizeof *rs);
+  rs->x0 = s->view[0]; rs->y0 = s->view[1]; rs->z0 = s->view[2];
+  rs->xl = s->window[0]; rs->yb = s->window[1]; rs->xr = s->window[2]; rs->yt = s->window[3];
+  rs->nv = s->nv;
+  rs->v = calloc((size_t)(s->nv ? s->nv : 1), sizeof *rs->v);
+  rs->nf = s->nf;
+  rs->f = calloc((size_t)(s->nf ? s->nf : 1), sizeof *rs->f);
+  if (!rs->v || !rs->f) return -1;
+  for (int k = 0; k < s->nv; k++) {
+    rs->v[k].id = s->v[k].id;
+    rs->v[k].x = s->v[k].x; rs->v[k].y = s->v[k].y; rs->v[k].z = s->v[k].z;
+  }
+  for (int k = 0; k < s->nf; k++) {
+    const struct scene_face *f = &s->f[k];
+    rs->f[k].id = f->id;
+    rs->f[k].grey = f->grey;
+    rs->f[k].nring = f->nring;
+    rs->f[k].ring_len = malloc((size_t)f->nring * sizeof(int));
+    if (!rs->f[k].ring_len) return -1;
+    for (int r = 0; r < f->nring; r++) rs->f[k].ring_len[r] = f->ring_start[r + 1] - f->ring_start[r];
+    rs->f[k].vi = f->vidx;                /* indices into the same vertex order */
+  }
+  return 0;
+}
+
+static void ref_free(ref_scene *rs)
+{
+  for (int k = 0; rs->f && k < rs->nf; k++) free(rs->f[k].ring_len);
+  free(rs->f);
+  free(rs->v);
+}
+
+static int warm(const char *path, const struct scene_opts *so, int frames, int tube_size, int shade)
 {
   double t0 = now();
   struct t74_error err = { T74_OK, "" };
@@ -117,115 +99,56 @@ static int warm(const char *path, const struct scene_opts *so, int frames, int t
   effects_default(&eff);
   if (s->effects) effects_parse(s->effects, &eff, s->file, s->effects_line, &err);
   int w = tube_size ? 400 : 400 / eff.halftone, h = tube_size ? 300 : 300 / eff.halftone;
-  const double x0 = s->view[0], y0 = s->view[1], z0 = s->view[2];
-  double dmin = 1, dmax = 1;
-  for (int k = 0; k < s->nv; k++) {
-    double d = (double)s->v[k].z - z0;
-    if (k == 0 || d < dmin) dmin = d;
-    if (k == 0 || d > dmax) dmax = d;
-  }
-  if (z0 >= 0 || dmin <= 0) { fprintf(stderr, "refbench: the eye must be in front of every vertex\n"); scene_free(s); return 2; }
 
-  /* GLU tessellation into one triangle array, before the clock */
-  struct tri_array ta;
-  memset(&ta, 0, sizeof ta);
-  GLUtesselator *tess = gluNewTess();
-  gluTessCallback(tess, GLU_TESS_BEGIN_DATA, (_GLUfuncptr)ta_begin);
-  gluTessCallback(tess, GLU_TESS_VERTEX_DATA, (_GLUfuncptr)ta_vertex);
-  gluTessCallback(tess, GLU_TESS_END_DATA, (_GLUfuncptr)ta_end);
-  gluTessCallback(tess, GLU_TESS_EDGE_FLAG_DATA, (_GLUfuncptr)ta_edge);
-  gluTessCallback(tess, GLU_TESS_COMBINE_DATA, (_GLUfuncptr)ta_combine);
-  gluTessCallback(tess, GLU_TESS_ERROR_DATA, (_GLUfuncptr)ta_error);
-  gluTessProperty(tess, GLU_TESS_WINDING_RULE, GLU_TESS_WINDING_ODD);
-  size_t cap = 0;
-  GLdouble *xyz = NULL;
-  for (int k = 0; k < s->nf && !ta.failed; k++) {
-    const struct scene_face *f = &s->f[k];
-    size_t total = (size_t)f->ring_start[f->nring];
-    if (total > cap) { free(xyz); cap = total; xyz = malloc(cap * 3 * sizeof *xyz); if (!xyz) { ta.failed = 1; break; } }
-    for (size_t q = 0; q < total; q++) {
-      const struct scene_vertex *v = &s->v[f->vidx[q]];
-      xyz[3 * q] = v->x - x0; xyz[3 * q + 1] = v->y - y0; xyz[3 * q + 2] = -(v->z - z0);
-    }
-    int n0 = f->ring_start[1] - f->ring_start[0];
-    double nn[3] = { 0, 0, 0 };
-    for (int q = 0; q < n0; q++) {
-      const GLdouble *a = &xyz[3 * q], *b = &xyz[3 * ((q + 1) % n0)];
-      nn[0] += (a[1] - b[1]) * (a[2] + b[2]);
-      nn[1] += (a[2] - b[2]) * (a[0] + b[0]);
-      nn[2] += (a[0] - b[0]) * (a[1] + b[1]);
-    }
-    if (nn[0] == 0 && nn[1] == 0 && nn[2] == 0) continue;
-    ta.col[0] = (GLubyte)(f->id & 0xff); ta.col[1] = (GLubyte)(f->id >> 8 & 0xff); ta.col[2] = (GLubyte)(f->id >> 16 & 0xff);
-    gluTessNormal(tess, nn[0], nn[1], nn[2]);
-    gluTessBeginPolygon(tess, &ta);
-    for (int r = 0; r < f->nring; r++) {
-      gluTessBeginContour(tess);
-      for (int q = f->ring_start[r]; q < f->ring_start[r + 1]; q++) gluTessVertex(tess, &xyz[3 * q], &xyz[3 * q]);
-      gluTessEndContour(tess);
-    }
-    gluTessEndPolygon(tess);
+  /* the scene into the peer: tessellated, context made, shader compiled, before the clock */
+  ref_scene rs;
+  int *object = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *object);
+  ref_light light[SCENE_LIGHT_MAX];
+  int rc = to_ref(s, &rs);
+  for (int k = 0; object && k < s->nf; k++) object[k] = s->f[k].object;
+  for (int k = 0; k < s->nlight; k++) {
+    light[k].point = s->light[k].point;
+    for (int c = 0; c < 3; c++) light[k].v[c] = s->light[k].v[c];
   }
-  gluDeleteTess(tess);
-  free(xyz);
-  for (int k = 0; k < ta.nextra; k++) free(ta.extra[k]);
-  const double plane = -z0, nearz = 0.9 * dmin, farz = 1.1 * dmax;
-  const double l = (s->window[0] - x0) * nearz / plane, r = (s->window[2] - x0) * nearz / plane;
-  const double b = (s->window[1] - y0) * nearz / plane, t = (s->window[3] - y0) * nearz / plane;
+  char msg[600] = "out of memory";
+  ref_peer_input in = { &rs, object, s->nlight, light, shade, w, h };
+  ref_peer *p = rc == 0 && object ? ref_peer_new(&in, msg, sizeof msg) : NULL;
+  ref_free(&rs);
+  free(object);
   scene_free(s);
-  if (ta.failed) { fprintf(stderr, "refbench: tessellation failed\n"); free(ta.xyz); free(ta.rgb); return 4; }
-
-  OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
-  GLubyte *buf = malloc((size_t)w * (size_t)h * 4);
   uint32_t *ids = malloc((size_t)w * (size_t)h * sizeof *ids);
+  uint8_t *grey = malloc((size_t)w * (size_t)h);
   double *ft = malloc((size_t)frames * sizeof *ft);
-  if (!ctx || !buf || !ids || !ft || !OSMesaMakeCurrent(ctx, buf, GL_UNSIGNED_BYTE, w, h)) {
-    fprintf(stderr, "refbench: no OSMesa context\n");
+  if (!p || !ids || !grey || !ft) {
+    fprintf(stderr, "refbench: %s\n", msg);
+    ref_peer_free(p);
+    free(ids); free(grey); free(ft);
     return 4;
   }
-  glViewport(0, 0, w, h);
-  glDisable(GL_DITHER);
-  glShadeModel(GL_FLAT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glClearColor(0, 0, 0, 0);
-  glMatrixMode(GL_PROJECTION);
-  glLoadIdentity();
-  glFrustum(l, r, b, t, nearz, farz);
-  glMatrixMode(GL_MODELVIEW);
-  glLoadIdentity();
-  glEnableClientState(GL_VERTEX_ARRAY);
-  glEnableClientState(GL_COLOR_ARRAY);
-  glVertexPointer(3, GL_FLOAT, 0, ta.xyz);
-  glColorPointer(3, GL_UNSIGNED_BYTE, 0, ta.rgb);
   unsigned long check = 0;
   double setup = 0;
-  for (int k = -1; k < frames; k++) {          /* frame -1: the warm-up */
+  int st = 0;
+  for (int k = -1; k < frames && st == 0; k++) {          /* frame -1: the warm-up */
     double f0 = now();
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)ta.n);
-    glFinish();
-    for (int j = 0; j < h; j++) {
-      const GLubyte *row = buf + (size_t)(h - 1 - j) * (size_t)w * 4;
-      for (int i = 0; i < w; i++) ids[(size_t)j * (size_t)w + (size_t)i] = (uint32_t)row[4 * i] | (uint32_t)row[4 * i + 1] << 8 | (uint32_t)row[4 * i + 2] << 16;
-    }
+    st = ref_peer_frame(p, ids, grey);
     if (k < 0) {
       setup = now() - t0;
       for (size_t q = 0; q < (size_t)w * (size_t)h; q++) check += ids[q] != 0;
     }
     else ft[k] = now() - f0;
   }
-  qsort(ft, (size_t)frames, sizeof *ft, cmp_d);
-  printf("%.9f %.6f %zu\n", ft[frames / 2], setup, ta.n / 3);
-  fprintf(stderr, "refbench: %lu of %d points covered\n", check, w * h);
+  if (st == 0) {
+    qsort(ft, (size_t)frames, sizeof *ft, cmp_d);
+    printf("%.9f %.6f %zu\n", ft[frames / 2], setup, ref_peer_triangles(p));
+    fprintf(stderr, "refbench: %lu of %d points covered%s\n", check, w * h, shade ? " (shaded)" : "");
+  } else {
+    fprintf(stderr, "refbench: GL error in a frame\n");
+  }
   free(ft);
   free(ids);
-  free(buf);
-  free(ta.xyz);
-  free(ta.rgb);
-  OSMesaMakeCurrent(NULL, NULL, 0, 0, 0);
-  OSMesaDestroyContext(ctx);
-  return glGetError() == GL_NO_ERROR ? 0 : 4;
+  free(grey);
+  ref_peer_free(p);
+  return st == 0 ? 0 : 4;
 }
 
 int main(int argc, char **argv)
@@ -243,12 +166,13 @@ int main(int argc, char **argv)
     argc -= 2;
   }
   if (argc >= 4 && !strcmp(argv[1], "--warm")) {
-    int frames = atoi(argv[2]), tube_size = 0, a = 3;
-    if (argc == 6 && !strcmp(argv[3], "--size")) { tube_size = !strcmp(argv[4], "tube"); a = 5; }
-    if (frames < 1 || a != argc - 1) { fprintf(stderr, "usage: refbench [--turn AZ,EL] --warm K [--size grid|tube] SCENE\n"); return 2; }
-    return warm(argv[a], &so, frames, tube_size);
+    int frames = atoi(argv[2]), tube_size = 0, shade = 0, a = 3;
+    if (a < argc - 1 && !strcmp(argv[a], "--shade")) { shade = 1; a++; }
+    if (a + 1 < argc - 1 && !strcmp(argv[a], "--size")) { tube_size = !strcmp(argv[a + 1], "tube"); a += 2; }
+    if (frames < 1 || a != argc - 1) { fprintf(stderr, "usage: refbench [--turn AZ,EL] --warm K [--shade] [--size grid|tube] SCENE\n"); return 2; }
+    return warm(argv[a], &so, frames, tube_size, shade);
   }
-  if (argc != 2) { fprintf(stderr, "usage: refbench [--turn AZ,EL] SCENE | --warm K [--size grid|tube] SCENE\n"); return 2; }
+  if (argc != 2) { fprintf(stderr, "usage: refbench [--turn AZ,EL] SCENE | --warm K [--shade] [--size grid|tube] SCENE\n"); return 2; }
   char msg[256];
   ref_renderer *rr = ref_open(msg, sizeof msg);
   if (!rr) { fprintf(stderr, "refbench: %s\n", msg); return 4; }
@@ -267,25 +191,12 @@ int main(int argc, char **argv)
   int cell = eff.halftone;
 
   ref_scene rs;
-  memset(&rs, 0, sizeof rs);
-  rs.x0 = s->view[0]; rs.y0 = s->view[1]; rs.z0 = s->view[2];
-  rs.xl = s->window[0]; rs.yb = s->window[1]; rs.xr = s->window[2]; rs.yt = s->window[3];
-  rs.nv = s->nv;
-  rs.v = calloc((size_t)(s->nv ? s->nv : 1), sizeof *rs.v);
-  rs.nf = s->nf;
-  rs.f = calloc((size_t)(s->nf ? s->nf : 1), sizeof *rs.f);
-  for (int k = 0; k < s->nv; k++) {
-    rs.v[k].id = s->v[k].id;
-    rs.v[k].x = s->v[k].x; rs.v[k].y = s->v[k].y; rs.v[k].z = s->v[k].z;
-  }
-  for (int k = 0; k < s->nf; k++) {
-    const struct scene_face *f = &s->f[k];
-    rs.f[k].id = f->id;
-    rs.f[k].grey = f->grey;
-    rs.f[k].nring = f->nring;
-    rs.f[k].ring_len = malloc((size_t)f->nring * sizeof(int));
-    for (int r = 0; r < f->nring; r++) rs.f[k].ring_len[r] = f->ring_start[r + 1] - f->ring_start[r];
-    rs.f[k].vi = f->vidx;                 /* indices into the same vertex order */
+  if (to_ref(s, &rs) != 0) {
+    fprintf(stderr, "refbench: out of memory\n");
+    ref_free(&rs);
+    scene_free(s);
+    ref_close(rr);
+    return 4;
   }
   int w = ref_grid_w(cell), h = ref_grid_h(cell);
   uint16_t *ids = malloc((size_t)w * (size_t)h * sizeof *ids);
@@ -294,9 +205,7 @@ int main(int argc, char **argv)
   if (st != 0) fprintf(stderr, "refbench: %s\n", msg);
   else printf("%.6f\n", t);
 
-  for (int k = 0; k < s->nf; k++) free(rs.f[k].ring_len);
-  free(rs.f);
-  free(rs.v);
+  ref_free(&rs);
   free(ids);
   scene_free(s);
   ref_close(rr);
