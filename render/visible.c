@@ -77,11 +77,9 @@ static int by_ylo(struct vis *v, int a, int b)
   return cmp_ylo(v->seg, a, b);
 }
 
-/* by_xl always inlined where it is named (the insertion sort of every line calls it some
-   ten thousand times); a copy stays for the sorts that take it as a pointer */
-#if defined(__GNUC__) || defined(__clang__)
-__attribute__((always_inline))
-#endif
+/* by_xl inline where sort_kept's call through the pointer becomes a direct one (the
+   insertion sort of every line calls it some ten thousand times); not always_inline: an
+   unoptimised or -O1 build cannot resolve that pointer, and must still build */
 static inline int by_xl(struct vis *v, int i, int j)
 {
   const struct vis_item *a = &v->act[i], *b = &v->act[j];
