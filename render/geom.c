@@ -170,12 +170,30 @@ int i256_sign(struct i256 a)
   return (a.w[0] | a.w[1] | a.w[2] | a.w[3]) != 0;
 }
 
+/* The bit length of |a|: the least n with |a| < 2^n (0 for 0). |a| of the most negative
+   wide is 2^127, length 128, as an unsigned magnitude. */
+static inline int bits(wide a)
+{
+  uwide u = a < 0 ? (uwide)0 - (uwide)a : (uwide)a;
+  uint64_t hi = (uint64_t)(u >> 64), lo = (uint64_t)u;
+  if (hi) return 128 - __builtin_clzll(hi);
+  return lo ? 64 - __builtin_clzll(lo) : 0;
+}
+
 int geom_cross_sign(wide a, wide b, wide c, wide d)
 {
-  const wide lim = (wide)1 << 62;
-  if (a > -lim && a < lim && b > -lim && b < lim && c > -lim && c < lim && d > -lim && d < lim) {
-    wide l = a * b, r = c * d;
+  if (bits(a) + bits(b) <= 127 && bits(c) + bits(d) <= 127) {
+    wide l = a * b, r = c * d;             /* |l|, |r| < 2^127: compared, not subtracted */
     return (l > r) - (l < r);
   }
   return i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d)));
+}
+
+int geom_dot3_sign(wide a0, wide b0, wide a1, wide b1, wide a2, wide b2)
+{
+  if (bits(a0) + bits(b0) <= 125 && bits(a1) + bits(b1) <= 125 && bits(a2) + bits(b2) <= 125) {
+    wide s = a0 * b0 + a1 * b1 + a2 * b2;   /* each below 2^125, the sum below 3 * 2^125 */
+    return (s > 0) - (s < 0);
+  }
+  return i256_sign(i256_add(i256_add(i256_mul(a0, b0), i256_mul(a1, b1)), i256_mul(a2, b2)));
 }

@@ -152,9 +152,15 @@ struct i256 i256_add(struct i256 a, struct i256 b);
 struct i256 i256_from(wide a);
 int i256_sign(struct i256 a);
 
-/* The sign of a*b - c*d, exactly: in 128 bits when every operand is below 2^62 in
-** magnitude (each product then below 2^124, the difference below 2^125: no overflow, so
-** the filter can never decide wrongly), else in 256 bits. -1, 0, 1. */
+/* The sign of a*b - c*d, exactly: in 128 bits when the magnitudes' bit lengths of a and
+** b add up to at most 127, and those of c and d too (each product is then below 2^127 in
+** magnitude and held exactly; the two are compared, never subtracted), else in 256
+** bits. -1, 0, 1. */
 int geom_cross_sign(wide a, wide b, wide c, wide d);
+
+/* The sign of a0*b0 + a1*b1 + a2*b2, exactly: in 128 bits when each product's operands'
+** bit lengths add up to at most 125 (each product below 2^125, the sum of three below
+** 2^127), else in 256 bits. -1, 0, 1. */
+int geom_dot3_sign(wide a0, wide b0, wide a1, wide b1, wide a2, wide b2);
 
 #endif

@@ -505,9 +505,7 @@ static int depth_sign(struct depth g, struct hpoint p)
     p.Y = p.Y / p.W / GRID_ONE * GRID_ONE;
     p.W = 1;
   }
-  struct i256 s = i256_add(i256_add(i256_mul(g.k0, p.X), i256_mul(g.k1, p.Y)),
-                           i256_mul(g.K, p.W));
-  return i256_sign(s);
+  return geom_dot3_sign(g.k0, p.X, g.k1, p.Y, g.K, p.W);
 }
 
 /* round(n / d) half up, d != 0 */
@@ -865,7 +863,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
         if (sg && side && sg != side) mixed = true;
         if (sg) side = sg;
         wide av = val < 0 ? -val : val;                 /* distance = av / (W |(a,b)|) */
-        if (i256_sign(i256_add(i256_mul(av, far.W), i256_mul(-farv, v.W))) > 0) {
+        if (geom_cross_sign(av, far.W, farv, v.W) > 0) {
           far = v;
           farv = av;
         }

@@ -328,8 +328,7 @@ static void dblock_store(struct vis *v, const struct vis_item *it)
 /* The lower of two heights. */
 static struct hpoint lower(struct hpoint p, struct hpoint q)
 {
-  struct i256 d = i256_add(i256_mul(p.Y, q.W), i256_mul(-q.Y, p.W));
-  return i256_sign(d) <= 0 ? p : q;
+  return geom_cross_sign(p.Y, q.W, q.Y, p.W) <= 0 ? p : q;
 }
 
 /* Open the D-block of piece p that holds the line y = yn/yd: its left side runs down

@@ -312,6 +312,53 @@ static void test_i256(void **state)
   }
 }
 
+/* A value of bit length n <= 127 (|v| < 2^n, at least 2^(n-1); 0 for n = 0): all ones, or
+   only the top bit, by the seed's low bit; negative by its next one. */
+static wide bitlen_value(unsigned n, uint64_t seed)
+{
+  if (n == 0) return 0;
+  uwide u = (seed & 1) ? ((uwide)1 << (n - 1)) : ((uwide)1 << n) - 1;
+  wide v = (wide)u;
+  return (seed & 2) ? -v : v;
+}
+
+/* geom_cross_sign and geom_dot3_sign (their 128-bit paths taken by bit lengths) against the
+   256-bit long way: each product's operands of bit lengths adding up to 118..135 (around
+   the borders: 126 for a product pair, 125 for three products), signs and forms at
+   random, a fifth of the pairs equal products; then the extremes. */
+static void test_cross_dot_sign(void **state)
+{
+  (void)state;
+  uint64_t s = 0x9E3779B97F4A7C15ull;
+  for (int k = 0; k < 200000; k++) {
+    wide v[6];
+    for (int m = 0; m < 6; m += 2) {
+      s = s * 6364136223846793005ull + 1442695040888963407ull;
+      unsigned la = (unsigned)(s >> 40) % 128, sum = 118 + (unsigned)(s >> 20) % 18;
+      unsigned lb = sum > la ? sum - la : 0;
+      if (lb > 127) lb = 127;
+      v[m] = bitlen_value(la, s >> 3);
+      v[m + 1] = bitlen_value(lb, s >> 9);
+    }
+    if (k % 5 == 0) { v[2] = v[1]; v[3] = v[0]; }           /* equal products: 0 */
+    wide a = v[0], b = v[1], c = v[2], d = v[3], e = v[4], f = v[5];
+    int ref = i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d)));
+    assert_int_equal(geom_cross_sign(a, b, c, d), ref);
+    int ref3 = i256_sign(i256_add(i256_add(i256_mul(a, b), i256_mul(-c, d)), i256_mul(e, f)));
+    assert_int_equal(geom_dot3_sign(a, b, -c, d, e, f), ref3);
+  }
+  /* the sum of three products each just below 2^125, all one sign: below 2^127 */
+  const wide m = ((wide)1 << 62) - 1, n = ((wide)1 << 63) - 1;
+  assert_int_equal(geom_dot3_sign(m, n, m, n, m, n), 1);
+  assert_int_equal(geom_dot3_sign(-m, n, m, -n, -m, n), -1);
+  assert_int_equal(geom_dot3_sign(m, n, -m, n, 0, 5), 0);
+  /* products just above the 128-bit range, differing by one */
+  const wide t = (wide)1 << 100;
+  assert_int_equal(geom_cross_sign(t + 1, t - 1, t, t), -1);
+  assert_int_equal(geom_cross_sign(t, t, t + 1, t - 1), 1);
+  assert_int_equal(geom_dot3_sign(t + 1, t - 1, -t, t, 1, 1), 0);
+}
+
 /* ---- seginfo --------------------------------------------------------------------------- */
 
 /* seginfo_span on a square: left side owned, right side not, bottom owned, top not. */
@@ -1513,6 +1560,7 @@ int main(void)
     cmocka_unit_test(test_geom_lines),
     cmocka_unit_test(test_geom_rationals),
     cmocka_unit_test(test_i256),
+    cmocka_unit_test(test_cross_dot_sign),
     cmocka_unit_test(test_span_tie_rule),
     cmocka_unit_test(test_clip),
     cmocka_unit_test(test_overlap),
