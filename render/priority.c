@@ -638,7 +638,7 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
    pair hashes into (the newest kept), and charges every use what finding it charges
    (charge_faces), so the counts are those of finding it again. faces_off (tests) finds
    it every time. */
-#define FACE_SLOTS 4096u
+#define FACE_SLOTS 32768u
 struct prio_faces {
   int fa, fb;              /* the faces of the first and the second piece; fa < 0: empty */
   struct depth g;
@@ -669,7 +669,7 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
     if (!pr->faces && (pr->faces = malloc(FACE_SLOTS * sizeof *pr->faces)) != NULL)
       for (unsigned k = 0; k < FACE_SLOTS; k++) pr->faces[k].fa = -1;
     if (pr->faces) {
-      uint32_t h = ((uint32_t)fa * 0x9E3779B1u ^ (uint32_t)fb * 0x85EBCA77u) >> 20;
+      uint32_t h = ((uint32_t)fa * 0x9E3779B1u ^ (uint32_t)fb * 0x85EBCA77u) >> 17;  /* 15 bits */
       e = &pr->faces[h & (FACE_SLOTS - 1)];
       if (e->fa == fa && e->fb == fb) {
         pr->faces_kept++;
