@@ -911,12 +911,22 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
     ovl = hasl && ov;
     ovr = hasr && ov;
   } else {
-    seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, pr->cost);
+    /* A half the stretch reaches on one side of L has an interior (the points just above
+       the stretch there, struct prio_meet): when only one is reached, only its count of
+       sides is asked for (the overlap test it is spared is charged by it), so it is
+       counted and not made, unless the pair is then cut (below: made again, its
+       charges already made). */
     int met = at ? meet_sides(at, L) : 0;
+    int known = met == 1 || met == 2 ? met : 0;
+    seginfo_clip_both_known(P, L, known, pl, &hasl, pr_, &hasr, pr->cost);
     ovl = hasl && (met & 1 ? overlap_known(pr, pl->n, Q->n)
                            : seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost));
     ovr = hasr && (met & 2 ? overlap_known(pr, pr_->n, Q->n)
                            : seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost));
+    if (known && ovl && ovr) {
+      struct cost uncounted = { { 0 } };
+      seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, &uncounted);
+    }
   }
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */

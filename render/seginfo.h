@@ -67,6 +67,14 @@ bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, stru
 void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left, bool *hasl,
                        struct cpoly *right, bool *hasr, struct cost *cost);
 
+/* seginfo_clip_both where the caller knows that the half on side `known` of h (1 the left,
+   2 the right; 0 neither) has an interior: that half is only counted, its number of sides
+   (out->n) and *has (true) what seginfo_clip_both gives, its sides and vertices not made;
+   the same charges. */
+void seginfo_clip_both_known(const struct piece *p, struct gline h, int known,
+                             struct cpoly *left, bool *hasl, struct cpoly *right, bool *hasr,
+                             struct cost *cost);
+
 /* Do the interiors of two convex polygons overlap? (exact separating-line test) */
 bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
                      int n2, const struct gline *l2, const struct hpoint *v2,

@@ -544,6 +544,23 @@ static void test_clip_both(void **state)
     assert_memory_equal(b.v, r.v, (size_t)b.n * sizeof *b.v);
     assert_memory_equal(&k1, &k2, sizeof k1);
     both += ha && hb;
+    /* a half known to have an interior only counted: the same count, answer, charges,
+       and the other half made as before */
+    for (int known = 1; known <= 2; known++) {
+      if (!(known == 1 ? ha : hb)) continue;
+      struct cost k3 = { { 0 } };
+      struct cpoly *made = known == 1 ? &r : &l;
+      made->n = -1;
+      seginfo_clip_both_known(p, h, known, &l, &hl, &r, &hr, &k3);
+      assert_int_equal(ha, hl);
+      assert_int_equal(hb, hr);
+      assert_int_equal(a.n, l.n);
+      assert_int_equal(b.n, r.n);
+      const struct cpoly *want = known == 1 ? &b : &a;
+      assert_memory_equal(want->line, made->line, (size_t)want->n * sizeof *want->line);
+      assert_memory_equal(want->v, made->v, (size_t)want->n * sizeof *want->v);
+      assert_memory_equal(&k1, &k3, sizeof k1);
+    }
   }
   assert_true(both > 300);                     /* lines that cut the piece in two */
   cpoly_free(&a);
