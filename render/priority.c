@@ -709,13 +709,17 @@ static bool on_line_side(const struct piece *X, struct gline l)
   return false;
 }
 
+#define ONE_SIDE_KEPT 64             /* pieces of up to so many sides keep one_side's signs */
+
 /* 1 when every vertex of X is on or left of l and one strictly left, -1 the same on the
-   right, and X has an interior (the test seginfo_clip ends with); else 0. */
-static int one_side(const struct piece *X, struct gline l)
+   right, and X has an interior (the test seginfo_clip ends with); else 0. side: NULL, or
+   room for X->n signs, each vertex's side of l (geom_side_h). */
+static int one_side(const struct piece *X, struct gline l, signed char *side)
 {
   bool pos = false, neg = false;
   for (int k = 0; k < X->n; k++) {
     int sg = geom_side_h(l, X->v[k]);
+    if (side) side[k] = (signed char)sg;
     pos |= sg > 0;
     neg |= sg < 0;
   }
@@ -897,7 +901,9 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   struct cpoly *pl = &pr->clip[0], *pr_ = &pr->clip[1], *ql = &pr->clip[2], *qr = &pr->clip[3];
   int result;
   bool hasl, hasr, ovl, ovr;
-  int side = one_side(P, L);
+  signed char sides[ONE_SIDE_KEPT];
+  signed char *sv = P->n <= ONE_SIDE_KEPT ? sides : NULL;   /* each vertex's side, for the clip */
+  int side = one_side(P, L, sv);
   if (side) {
     /* P on one side of L: the clip to that side is P itself (its sides are merged, its
        vertices kept: seginfo_add), the clip to the other has no interior. Host work
@@ -918,7 +924,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        charges already made). */
     int met = at ? meet_sides(at, L) : 0;
     int known = met == 1 || met == 2 ? met : 0;
-    seginfo_clip_both_known(P, L, known, pl, &hasl, pr_, &hasr, pr->cost);
+    seginfo_clip_both_known(P, L, sv, known, pl, &hasl, pr_, &hasr, pr->cost);
     ovl = hasl && (met & 1 ? overlap_known(pr, pl->n, Q->n)
                            : seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost));
     ovr = hasr && (met & 2 ? overlap_known(pr, pr_->n, Q->n)

@@ -266,12 +266,12 @@ static int clip_count(const struct piece *p, struct gline h, const signed char *
 void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left, bool *hasl,
                        struct cpoly *right, bool *hasr, struct cost *cost)
 {
-  seginfo_clip_both_known(p, h, 0, left, hasl, right, hasr, cost);
+  seginfo_clip_both_known(p, h, NULL, 0, left, hasl, right, hasr, cost);
 }
 
-void seginfo_clip_both_known(const struct piece *p, struct gline h, int known,
-                             struct cpoly *left, bool *hasl, struct cpoly *right, bool *hasr,
-                             struct cost *cost)
+void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed char *sides,
+                             int known, struct cpoly *left, bool *hasl, struct cpoly *right,
+                             bool *hasr, struct cost *cost)
 {
   struct gline rh = { -h.a, -h.b, -h.c };
   if (p->n > CLIP_SIDES_MAX) {
@@ -281,22 +281,22 @@ void seginfo_clip_both_known(const struct piece *p, struct gline h, int known,
   }
   signed char side[CLIP_SIDES_MAX], rside[CLIP_SIDES_MAX];
   for (int k = 0; k < p->n; k++) {
-    side[k] = (signed char)geom_side_h(h, p->v[k]);
+    side[k] = sides ? sides[k] : (signed char)geom_side_h(h, p->v[k]);
     rside[k] = (signed char)-side[k];      /* the reversed line: the negated sum, exactly */
   }
   struct cpoly *half[2] = { left, right };
   bool *has[2] = { hasl, hasr };
-  const signed char *sides[2] = { side, rside };
+  const signed char *sd[2] = { side, rside };
   const struct gline hh[2] = { h, rh };
   for (int s = 0; s < 2; s++) {
     if (known != s + 1) {
-      *has[s] = clip_sides(p, hh[s], sides[s], half[s], cost);
+      *has[s] = clip_sides(p, hh[s], sd[s], half[s], cost);
       continue;
     }
     /* known to have an interior: counted, charged as clip_sides charges */
     if (!cpoly_room(half[s], p->n + 2)) { *has[s] = false; continue; }
     cost_mw_mul_n(cost, 88, 58, (uint64_t)p->n);
-    half[s]->n = clip_count(p, hh[s], sides[s]);
+    half[s]->n = clip_count(p, hh[s], sd[s]);
     *has[s] = half[s]->n >= 3;
   }
 }

@@ -70,10 +70,11 @@ void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left
 /* seginfo_clip_both where the caller knows that the half on side `known` of h (1 the left,
    2 the right; 0 neither) has an interior: that half is only counted, its number of sides
    (out->n) and *has (true) what seginfo_clip_both gives, its sides and vertices not made;
-   the same charges. */
-void seginfo_clip_both_known(const struct piece *p, struct gline h, int known,
-                             struct cpoly *left, bool *hasl, struct cpoly *right, bool *hasr,
-                             struct cost *cost);
+   the same charges. sides: NULL, or the side of h of each of p's vertices as geom_side_h
+   gives it, found already (p->n entries). */
+void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed char *sides,
+                             int known, struct cpoly *left, bool *hasl, struct cpoly *right,
+                             bool *hasr, struct cost *cost);
 
 /* Do the interiors of two convex polygons overlap? (exact separating-line test) */
 bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,

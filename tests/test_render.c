@@ -551,7 +551,9 @@ static void test_clip_both(void **state)
       struct cost k3 = { { 0 } };
       struct cpoly *made = known == 1 ? &r : &l;
       made->n = -1;
-      seginfo_clip_both_known(p, h, known, &l, &hl, &r, &hr, &k3);
+      signed char sides[80];                  /* found here, or by the clip (NULL) */
+      for (int v = 0; v < p->n; v++) sides[v] = (signed char)geom_side_h(h, p->v[v]);
+      seginfo_clip_both_known(p, h, trial % 2 ? sides : NULL, known, &l, &hl, &r, &hr, &k3);
       assert_int_equal(ha, hl);
       assert_int_equal(hb, hr);
       assert_int_equal(a.n, l.n);
