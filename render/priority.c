@@ -430,9 +430,9 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
     miss = NULL;
   }
   unsigned held;
-  if (miss) {
-    charge_home(pr);
-    COST_ADD_N(pr->cost, COST_MEM, miss->loads);
+  if (miss) {              /* only prio_order_lineage has one: charged with its looks */
+    pr->pend_mem += miss->loads;
+    pr->pend_home++;
     pr->tag_looks++;
     slot_put(pr, miss->slot, i, j, code);
   } else
@@ -1053,9 +1053,16 @@ static inline int known_counted(const struct prio *pr, int p, int q, uint64_t *n
    (each counter is a sum of the same increments: emu/cost.h). */
 static void charge_looks(struct prio *pr, uint64_t n, uint64_t loads)
 {
-  COST_ADD_N(pr->cost, COST_MEM, n + loads);
-  charge_home_n(pr->cost, n);
+  pr->pend_mem += n + loads;                 /* charged by prio_charge_pending */
+  pr->pend_home += n;
   pr->tag_looks += n;
+}
+
+void prio_charge_pending(struct prio *pr)
+{
+  COST_ADD_N(pr->cost, COST_MEM, pr->pend_mem);
+  charge_home_n(pr->cost, pr->pend_home);
+  pr->pend_mem = pr->pend_home = 0;
 }
 
 int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,

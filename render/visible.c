@@ -97,13 +97,14 @@ static int by_xr(struct vis *v, int i, int j)
   return geom_rat_cmp(v->act[i].xr, v->act[j].xr);
 }
 
-/* The compares the orders counted, charged (before anything reads the counters: at the
-   end of vis_init and of each line). */
+/* The compares the orders counted, and the looks prio_order_lineage counted, charged
+   (before anything reads the counters: at the end of vis_init and of each line). */
 static void charge_compares(struct vis *v)
 {
   cost_mw_mul_n(v->cost, 88, 59, v->pend_ycmp);
   cost_mw_mul_n(v->cost, 75, 46, v->pend_xcmp);
   v->pend_ycmp = v->pend_xcmp = 0;
+  prio_charge_pending(v->prio);             /* and the Priority Matrix's looks */
 }
 
 /* Merge the sorted runs a[0..na) and b[0..nb) into out (stable: a first on ties). */
