@@ -36,9 +36,23 @@
 #include "render/visible.h"
 #include "render/rsort.h"
 
+#include <assert.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* geom_rat_cmp of two x of the sweep. Every x here is a span end on the line, or made
+   from them: geom_x_at's, whose denominator is |a| yd with |a| <= 2^29 (geom.h: a grid
+   line's) and yd < 2^34 (asserted by vis_spans; a scanline's is at most GRID_YDEN_MAX),
+   stepped from line to line by its numerator only, or under --arith hitac geom_h10_x's,
+   GEOM_H10_XONE. So each denominator fits 64 bits, unsigned, and each product is a
+   128-bit numerator by a 64-bit number: the same products, with the part of the
+   multiply that a denominator's high word would take left out (it is zero). */
+static inline int x_cmp(struct grat p, struct grat q)
+{
+  wide l = p.num * (wide)(uint64_t)q.den, r = q.num * (wide)(uint64_t)p.den;
+  return (l > r) - (l < r);
+}
 
 static int grow(void **p, int *cap, int need, size_t size)
 {
@@ -88,13 +102,13 @@ static inline int by_xl(struct vis *v, int i, int j)
   if (a->on != b->on) return a->on ? -1 : 1;
   if (!a->on) return 0;
   v->pend_xcmp++;
-  return geom_rat_cmp(a->xl, b->xl);
+  return x_cmp(a->xl, b->xl);
 }
 
 static int by_xr(struct vis *v, int i, int j)
 {
   v->pend_xcmp++;
-  return geom_rat_cmp(v->act[i].xr, v->act[j].xr);
+  return x_cmp(v->act[i].xr, v->act[j].xr);
 }
 
 /* The compares the orders counted, and the looks prio_order_lineage counted, charged
@@ -254,7 +268,7 @@ static int put_span(struct vis_span **sp, int *n, int *cap, struct grat x0, stru
 {
   if (*n > 0) {
     struct vis_span *last = &(*sp)[*n - 1];
-    if (last->piece == piece && geom_rat_cmp(last->x1, x0) == 0) {
+    if (last->piece == piece && x_cmp(last->x1, x0) == 0) {
       last->x1 = x1;
       return 1;
     }
@@ -406,7 +420,7 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   it->yd = yd;
   dblock_store(v, it);
   COST_ADD_N(v->cost, COST_MEM, DBLOCK_WORDS);
-  it->on = geom_rat_cmp(it->xl, it->xr) < 0;
+  it->on = x_cmp(it->xl, it->xr) < 0;
   cost_mw_mul(v->cost, 75, 46);
   return T74_OK;
 }
@@ -646,7 +660,7 @@ static int after_x(struct vis *v, const int *ord, int n, struct grat x, bool xr)
     int mid = (lo + hi) / 2;
     const struct vis_item *it = &v->act[ord[mid]];
     v->pend_xcmp++;
-    if (geom_rat_cmp(xr ? it->xr : it->xl, x) <= 0) lo = mid + 1; else hi = mid;
+    if (x_cmp(xr ? it->xr : it->xl, x) <= 0) lo = mid + 1; else hi = mid;
   }
   return lo;
 }
@@ -709,7 +723,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
     if (!it->on) continue;
     cost_mw_mul(v->cost, 75, 46);
     cost_mw_mul(v->cost, 75, 46);
-    if (geom_rat_cmp(it->xl, x) <= 0 && geom_rat_cmp(x, it->xr) < 0) {
+    if (x_cmp(it->xl, x) <= 0 && x_cmp(x, it->xr) < 0) {
       v->seti[k] = a;
       v->set[k++] = it->piece;
       COST_ADD_N(v->cost, COST_MEM, 2);
@@ -731,12 +745,12 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
   for (int a = 0; a < v->nact; a++) v->setpos[a] = -1;
   while (ia < non || ir < v->nbyxr) {
     struct grat x;
-    if (ia < non && (ir >= v->nbyxr || geom_rat_cmp(XL(ia), XR(ir)) <= 0))
+    if (ia < non && (ir >= v->nbyxr || x_cmp(XL(ia), XR(ir)) <= 0))
       x = XL(ia);
     else
       x = XR(ir);
     /* leave: spans ending at x */
-    while (ir < v->nbyxr && geom_rat_cmp(XR(ir), x) == 0) {
+    while (ir < v->nbyxr && x_cmp(XR(ir), x) == 0) {
       int a = v->byxr[ir++], p = v->act[a].piece, m = v->setpos[a];
       if (m >= 0 && m < v->nset && v->seti[m] == a) {   /* out of the set, the last in */
         v->nset--;                                      /* its place */
@@ -757,7 +771,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     }
     /* join: spans starting at x */
     int joined = v->nset;
-    while (ia < non && geom_rat_cmp(XL(ia), x) == 0) {
+    while (ia < non && x_cmp(XL(ia), x) == 0) {
       v->setpos[v->byxl[ia]] = v->nset;
       v->seti[v->nset] = v->byxl[ia];
       v->set[v->nset++] = v->act[v->byxl[ia++]].piece;
@@ -766,7 +780,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     while (v->nset > 0) {
       /* the stretch [x, xn) has a fixed covering set: find its front piece (ir < nbyxr:
          a piece of the set has not left yet) */
-      struct grat xn = ia < non && geom_rat_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
+      struct grat xn = ia < non && x_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
       bool sure;
       struct prio_meet st = { x, xn, yn, yd };
       int r = front >= 0 ? front_of(v, front, joined, &front, &sure, &st, err)
@@ -813,7 +827,7 @@ static int rename_spans(struct vis *v, struct t74_error *err)
       for (int i = 0; i < nc; i++) {
         const struct vis_item *it = &v->act[v->tmp[i]];
         if (s->p[it->piece].face != sp->face) continue;
-        if (c >= 0 && geom_rat_cmp(it->xl, sp->x0) > 0) break;
+        if (c >= 0 && x_cmp(it->xl, sp->x0) > 0) break;
         c = i;
       }
     if (c < 0) {
@@ -825,20 +839,20 @@ static int rename_spans(struct vis *v, struct t74_error *err)
       continue;
     }
     struct grat at = sp->x0;
-    while (geom_rat_cmp(at, sp->x1) < 0) {
+    while (x_cmp(at, sp->x1) < 0) {
       int nx = c + 1;                               /* the next half of the face */
       while (nx < nc && s->p[v->act[v->tmp[nx]].piece].face != sp->face) nx++;
       const struct vis_item *it = &v->act[v->tmp[c]];
       struct grat to = sp->x1;
-      if (nx < nc && geom_rat_cmp(v->act[v->tmp[nx]].xl, to) < 0) to = v->act[v->tmp[nx]].xl;
+      if (nx < nc && x_cmp(v->act[v->tmp[nx]].xl, to) < 0) to = v->act[v->tmp[nx]].xl;
       if (v->arith == GEOM_EXACT &&
-          (geom_rat_cmp(it->xl, at) > 0 || geom_rat_cmp(to, it->xr) > 0))
+          (x_cmp(it->xl, at) > 0 || x_cmp(to, it->xr) > 0))
         return t74_fail(err, T74_EINPUT, "internal: the halves of cut piece %d do not "
                         "cover its stretch", sp->piece);
-      if (geom_rat_cmp(at, to) < 0 &&
+      if (x_cmp(at, to) < 0 &&
           !put_span(&v->span2, &v->nspan2, &v->span2cap, at, to, it->piece, sp->face))
         return t74_fail(err, T74_EIO, "out of host memory");
-      if (geom_rat_cmp(to, at) > 0) at = to;
+      if (x_cmp(to, at) > 0) at = to;
       if (nx >= nc) break;
       c = nx;
     }
@@ -875,6 +889,7 @@ static int line_end(struct vis *v, struct t74_error *err)
 int vis_spans(struct vis *v, int64_t yn, int64_t yd, const struct vis_span **span,
               int *nspan, struct t74_error *err)
 {
+  assert(yd > 0 && yd < ((int64_t)1 << 34));   /* x_cmp: each denominator below 2^63 */
   v->yn = yn;
   v->yd = yd;
   v->lines++;
