@@ -180,8 +180,28 @@ static inline int bits(wide a)
   return lo ? 64 - __builtin_clzll(lo) : 0;
 }
 
+/* a*b as top * 2^64 + low (low in [0, 2^64)), exactly, for 0 <= b < 2^64: a = ah 2^64 +
+   al (ah in [-2^63, 2^63), al in [0, 2^64)), so a*b = ah b 2^64 + al b with |ah b| <
+   2^127, and top = ah b + (al b >> 64) is floor(a*b / 2^64), in [-2^127, 2^127): no
+   step overflows. */
+static inline void mul_u64(wide a, uint64_t b, wide *top, uint64_t *low)
+{
+  uwide lo = (uwide)(uint64_t)a * b;
+  *top = (wide)(int64_t)(a >> 64) * (wide)b + (wide)(lo >> 64);
+  *low = (uint64_t)lo;
+}
+
 int geom_cross_sign(wide a, wide b, wide c, wide d)
 {
+  if (b >= 0 && d >= 0 && !(b >> 64) && !(d >> 64)) {
+    /* in 192 bits: each product's high part and low word, compared in that order */
+    wide t1, t2;
+    uint64_t l1, l2;
+    mul_u64(a, (uint64_t)b, &t1, &l1);
+    mul_u64(c, (uint64_t)d, &t2, &l2);
+    if (t1 != t2) return t1 > t2 ? 1 : -1;
+    return (l1 > l2) - (l1 < l2);
+  }
   if (bits(a) + bits(b) <= 127 && bits(c) + bits(d) <= 127) {
     wide l = a * b, r = c * d;             /* |l|, |r| < 2^127: compared, not subtracted */
     return (l > r) - (l < r);

@@ -152,10 +152,11 @@ struct i256 i256_add(struct i256 a, struct i256 b);
 struct i256 i256_from(wide a);
 int i256_sign(struct i256 a);
 
-/* The sign of a*b - c*d, exactly: in 128 bits when the magnitudes' bit lengths of a and
-** b add up to at most 127, and those of c and d too (each product is then below 2^127 in
-** magnitude and held exactly; the two are compared, never subtracted), else in 256
-** bits. -1, 0, 1. */
+/* The sign of a*b - c*d, exactly: in 192 bits when b and d are in [0, 2^64) (a coordinate
+** by a homogeneous W, the common case); else in 128 bits when
+** the magnitudes' bit lengths of a and b add up to at most 127, and those of c and d too
+** (each product is then below 2^127 in magnitude and held exactly; the two are compared,
+** never subtracted); else in 256 bits. -1, 0, 1. */
 int geom_cross_sign(wide a, wide b, wide c, wide d);
 
 /* The sign of a0*b0 + a1*b1 + a2*b2, exactly: in 128 bits when each product's operands'

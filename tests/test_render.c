@@ -352,6 +352,25 @@ static void test_cross_dot_sign(void **state)
   assert_int_equal(geom_dot3_sign(m, n, m, n, m, n), 1);
   assert_int_equal(geom_dot3_sign(-m, n, m, -n, -m, n), -1);
   assert_int_equal(geom_dot3_sign(m, n, -m, n, 0, 5), 0);
+  /* the 192-bit path at its extremes: a, c of the largest magnitudes, b, d below 2^64 */
+  const wide wmax = (wide)(~(uwide)0 >> 1), wmin = -wmax - 1;
+  const wide u64max = (wide)~(uint64_t)0;
+  const wide ext[6] = { wmax, wmax - 1, wmin, wmin + 1, -1, 0 };
+  const wide ext2[4] = { u64max, u64max - 1, 1, 0 };
+  for (int p = 0; p < 6; p++)
+    for (int q = 0; q < 4; q++)
+      for (int r = 0; r < 6; r++)
+        for (int t = 0; t < 4; t++) {
+          wide a = ext[p], b = ext2[q], c = ext[r], d = ext2[t];
+          struct i256 ab = i256_mul(a, b), cd = i256_mul(c, d), ncd;
+          /* -(c*d) by two's complement (-c overflows for the most negative c) */
+          unsigned carry = 1;
+          for (int w = 0; w < 4; w++) {
+            ncd.w[w] = ~cd.w[w] + carry;
+            carry = carry && ncd.w[w] == 0;
+          }
+          assert_int_equal(geom_cross_sign(a, b, c, d), i256_sign(i256_add(ab, ncd)));
+        }
   /* products just above the 128-bit range, differing by one */
   const wide t = (wide)1 << 100;
   assert_int_equal(geom_cross_sign(t + 1, t - 1, t, t), -1);
