@@ -651,12 +651,10 @@ struct prio_faces {
 
 /* The 1974 work of finding G and the common vertices of faces A and B: depth_of's four
    products, common_points' product a vertex of each face. */
-static void charge_faces(const struct prio *pr, const struct mface *A, const struct mface *B)
+static void charge_faces(struct prio *pr, const struct mface *A, const struct mface *B)
 {
-  cost_mw_mul_n(pr->cost, 51, 34, 3);
-  cost_mw_mul(pr->cost, 86, 24);
-  cost_mw_mul_n(pr->cost, 34, 17,
-                (uint64_t)A->ring_start[A->nring] + (uint64_t)B->ring_start[B->nring]);
+  pr->pend_faces++;                          /* charged by prio_charge_pending */
+  pr->pend_fverts += (uint64_t)A->ring_start[A->nring] + (uint64_t)B->ring_start[B->nring];
 }
 
 /* The face pair (fa, fb), charged: kept in pr->faces, or found into *own. */
@@ -826,7 +824,7 @@ static int meet_sides(const struct prio_meet *at, struct gline L)
    charge alone (the host statistic counted). */
 static bool overlap_known(struct prio *pr, int n1, int n2)
 {
-  cost_mw_mul_n(pr->cost, 88, 58, (uint64_t)n1 + (uint64_t)n2);
+  pr->pend_sides += (uint64_t)n1 + (uint64_t)n2;
   pr->meet_known++;
   return true;
 }
@@ -909,7 +907,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        vertices kept: seginfo_add), the clip to the other has no interior. Host work
        spared, the 1974 work of both clips charged as seginfo_clip does (one product a
        vertex). */
-    cost_mw_mul_n(pr->cost, 88, 58, 2 * (uint64_t)P->n);
+    pr->pend_sides += 2 * (uint64_t)P->n;
     hasl = side > 0;
     hasr = side < 0;
     bool ov = at ? overlap_known(pr, P->n, Q->n)
@@ -995,7 +993,9 @@ static int order_at(struct prio *pr, int p, int q, const struct prio_meet *at,
 
 int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
 {
-  return order_at(pr, p, q, NULL, err);
+  int r = order_at(pr, p, q, NULL, err);
+  prio_charge_pending(pr);
+  return r;
 }
 
 static inline int known(struct prio *pr, int p, int q)
@@ -1062,7 +1062,13 @@ void prio_charge_pending(struct prio *pr)
 {
   COST_ADD_N(pr->cost, COST_MEM, pr->pend_mem);
   charge_home_n(pr->cost, pr->pend_home);
-  pr->pend_mem = pr->pend_home = 0;
+  /* the face pairs' finding (charge_faces): depth_of's four products, common_points'
+     product a vertex of each face */
+  cost_mw_mul_n(pr->cost, 51, 34, 3 * pr->pend_faces);
+  cost_mw_mul_n(pr->cost, 86, 24, pr->pend_faces);
+  cost_mw_mul_n(pr->cost, 34, 17, pr->pend_fverts);
+  cost_mw_mul_n(pr->cost, 88, 58, pr->pend_sides);   /* a vertex by a side, as seginfo's */
+  pr->pend_mem = pr->pend_home = pr->pend_faces = pr->pend_fverts = pr->pend_sides = 0;
 }
 
 int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
