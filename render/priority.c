@@ -695,12 +695,14 @@ static bool face_line(const struct prio *pr, struct prio_faces *e)
   return e->line == 1;
 }
 
-/* Does a side of piece X lie on line l (either way round)? */
+/* Does a side of piece X lie on line l (either way round)? A piece's sides and L~ are
+   lines through grid points or horizontal (geom.h: |a|, |b| <= 2^29), so the first
+   products are below 2^58 and compared in 64 bits. */
 static bool on_line_side(const struct piece *X, struct gline l)
 {
   for (int k = 0; k < X->n; k++) {
     struct gline m = X->line[k];
-    if ((wide)m.a * l.b == (wide)m.b * l.a && (wide)m.a * l.c == (wide)m.c * l.a &&
+    if (m.a * l.b == m.b * l.a && (wide)m.a * l.c == (wide)m.c * l.a &&
         (wide)m.b * l.c == (wide)m.c * l.b)
       return true;
   }
