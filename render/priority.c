@@ -814,9 +814,12 @@ static int meet_sides(const struct prio_meet *at, struct gline L)
 {
   int sides = 0;
   const struct grat *x[2] = { &at->x0, &at->x1 };
+  /* the same sum, grouped: a yd num + (b yn + c yd) den, with |a yd| < 2^63 (|a| <=
+     2^29, yd < 2^34: vis_spans) and den < 2^63 (the sweep's x_cmp); each part is one
+     of the three terms above or the sum of two, so the sum stays below 2^123 */
+  const wide ayd = (wide)(L.a * at->yd), bc = (wide)L.b * at->yn + (wide)L.c * at->yd;
   for (int k = 0; k < 2; k++) {
-    wide v = (wide)L.a * x[k]->num * at->yd + (wide)L.b * at->yn * x[k]->den +
-             (wide)L.c * x[k]->den * at->yd;
+    wide v = ayd * x[k]->num + bc * (wide)(uint64_t)x[k]->den;
     sides |= v > 0 ? 1 : v < 0 ? 2 : 0;
   }
   return sides;
