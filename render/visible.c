@@ -91,8 +91,8 @@ static int by_ylo(struct vis *v, int a, int b)
   return cmp_ylo(v->seg, a, b);
 }
 
-/* by_xl always inlined where it is named (the insertion sort of every line calls it some
-   ten thousand times); a copy stays for the sorts that take it as a pointer */
+/* by_xl always inlined where it is named; a copy stays for the sorts that take it as a
+   pointer (the insertion sort of every line, sort_kept, makes its compares itself) */
 #if defined(__GNUC__) || defined(__clang__)
 __attribute__((always_inline))
 #endif
@@ -146,18 +146,35 @@ static void sort_batch(struct vis *v, int *a, int n, int *tmp, vis_cmp cmp)
   rsort_merge(a, n, sizeof *a, tmp, ord_cmp, &o);
 }
 
-/* A stable insertion sort of a[0..n): for the order kept from the last line, which moves
-   only where two ends pass each other between the lines. */
-static inline void sort_kept(struct vis *v, int *a, int n, vis_cmp cmp)
+/* A stable insertion sort of a[0..n) by by_xl (xr false) or by_xr (true): for the order
+   kept from the last line, which moves only where two ends pass each other between the
+   lines. The item inserted is read once, and the compares are counted at the end: the
+   same compares, the same count, as cmp(v, a[j], t) > 0 would make. */
+static inline void sort_kept(struct vis *v, int *a, int n, bool xr)
 {
+  uint64_t cmps = 0;
   for (int i = 1; i < n; i++) {
     int t = a[i], j = i - 1;
-    while (j >= 0 && cmp(v, a[j], t) > 0) {
+    const struct vis_item *ti = &v->act[t];
+    const struct grat tx = xr ? ti->xr : ti->xl;
+    const bool ton = ti->on;
+    for (; j >= 0; j--) {
+      const struct vis_item *aj = &v->act[a[j]];
+      if (!xr) {                         /* by_xl: the pieces the line meets first */
+        if (aj->on != ton) {
+          if (aj->on) break;             /* -1 */
+          a[j + 1] = a[j];               /* 1 */
+          continue;
+        }
+        if (!ton) break;                 /* 0 */
+      }
+      cmps++;
+      if (x_cmp(xr ? aj->xr : aj->xl, tx) <= 0) break;
       a[j + 1] = a[j];
-      j--;
     }
     a[j + 1] = t;
   }
+  v->pend_xcmp += cmps;
 }
 
 /* Take item `it` out of the sorted ord[0..*n) (found by a binary search, then among
@@ -630,7 +647,7 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   /* 3. the order by xb: the pieces kept are in the last line's order (act is left so),
      the new ones are sorted apart and merged in */
   for (int a = 0; a < v->nact; a++) v->byxl[a] = a;
-  sort_kept(v, v->byxl, kept, by_xl);
+  sort_kept(v, v->byxl, kept, false);
   sort_batch(v, v->byxl + kept, v->nact - kept, v->tmp, by_xl);
   merge_runs(v, v->byxl, kept, v->byxl + kept, v->nact - kept, v->tmp, by_xl);
   memcpy(v->byxl, v->tmp, (size_t)v->nact * sizeof *v->byxl);
@@ -641,7 +658,7 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   m = 0;
   for (int i = 0; i < v->nbyxr; i++)
     if (v->act[v->byxr[i]].on) { v->tmp3[v->byxr[i]] = 1; v->byxr[m++] = v->byxr[i]; }
-  sort_kept(v, v->byxr, m, by_xr);
+  sort_kept(v, v->byxr, m, true);
   int nb = 0;
   for (int a = 0; a < v->nact; a++)
     if (v->act[a].on && !v->tmp3[a]) v->tmp[nb++] = a;
