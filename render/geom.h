@@ -81,6 +81,15 @@ static inline int geom_side_h(struct gline l, struct hpoint p)
   return (v > 0) - (v < 0);
 }
 
+/* geom_side_h at a point whose W fits 64 bits, as every meet of two lines through grid
+   points has (geom_meet: W = a1 b2 - a2 b1 <= 2^59; the pieces' vertices and their
+   clips'): the same sum, c W a 64 by 64-bit product. */
+static inline int geom_side_hw(struct gline l, struct hpoint p)
+{
+  wide v = l.a * p.X + l.b * p.Y + (wide)l.c * (wide)(uint64_t)p.W;
+  return (v > 0) - (v < 0);
+}
+
 /* Where two lines meet; false when they are parallel. Inline: every piece's vertices and
    every clip's new ones (issue 19). */
 static inline bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out)

@@ -718,7 +718,7 @@ static int one_side(const struct piece *X, struct gline l, signed char *side)
 {
   bool pos = false, neg = false;
   for (int k = 0; k < X->n; k++) {
-    int sg = geom_side_h(l, X->v[k]);
+    int sg = geom_side_hw(l, X->v[k]);
     if (side) side[k] = (signed char)sg;
     pos |= sg > 0;
     neg |= sg < 0;
@@ -726,7 +726,7 @@ static int one_side(const struct piece *X, struct gline l, signed char *side)
   if (pos == neg || X->n < 3) return 0;
   for (int k = 0; k < X->n; k++)
     for (int j = 0; j < X->n; j++)
-      if (geom_side_h(X->line[k], X->v[j]) > 0) return pos ? 1 : -1;
+      if (geom_side_hw(X->line[k], X->v[j]) > 0) return pos ? 1 : -1;
   return 0;
 }
 

@@ -173,7 +173,7 @@ static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
   if (n < 3) return false;
   for (int k = 0; k < n; k++)
     for (int j = 0; j < n; j++)
-      if (geom_side_h(l[k], v[j]) > 0) return true;
+      if (geom_side_hw(l[k], v[j]) > 0) return true;
   return false;
 }
 
@@ -187,11 +187,11 @@ static bool clip_sides(const struct piece *p, struct gline h, const signed char 
   out->n = 0;
   int n = p->n;
   if (!cpoly_room(out, n + 2)) return false;   /* a convex piece crosses a line twice at most */
-  int s0 = side ? side[0] : geom_side_h(h, p->v[0]), sk = s0;
+  int s0 = side ? side[0] : geom_side_hw(h, p->v[0]), sk = s0;
   cost_mw_mul_n(cost, 88, 58, (uint64_t)n);       /* a product a vertex */
   for (int k = 0; k < n; k++) {
     int nx = (k + 1) % n;
-    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_h(h, p->v[nx]);
+    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_hw(h, p->v[nx]);
     struct gline lk = p->line[k];
     struct hpoint x;
     if (sk > 0 || (sk == 0 && sn >= 0)) {
@@ -281,7 +281,7 @@ void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed
   }
   signed char side[CLIP_SIDES_MAX], rside[CLIP_SIDES_MAX];
   for (int k = 0; k < p->n; k++) {
-    side[k] = sides ? sides[k] : (signed char)geom_side_h(h, p->v[k]);
+    side[k] = sides ? sides[k] : (signed char)geom_side_hw(h, p->v[k]);
     rside[k] = (signed char)-side[k];      /* the reversed line: the negated sum, exactly */
   }
   struct cpoly *half[2] = { left, right };
@@ -308,7 +308,7 @@ bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
   /* one product charged for each side looked at (at once, when the answer is known) */
   for (int k = 0; k < n1; k++) {
     int j = 0;
-    while (j < n2 && geom_side_h(l1[k], v2[j]) <= 0) j++;
+    while (j < n2 && geom_side_hw(l1[k], v2[j]) <= 0) j++;
     if (j == n2) {                       /* side k of the first separates them */
       cost_mw_mul_n(cost, 88, 58, (uint64_t)k + 1);
       return false;
@@ -316,7 +316,7 @@ bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
   }
   for (int k = 0; k < n2; k++) {
     int j = 0;
-    while (j < n1 && geom_side_h(l2[k], v1[j]) <= 0) j++;
+    while (j < n1 && geom_side_hw(l2[k], v1[j]) <= 0) j++;
     if (j == n1) {
       cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)k + 1);
       return false;
