@@ -64,11 +64,6 @@ wide geom_rat_ceil(struct grat p)
   return q;
 }
 
-int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d)
-{
-  wide l = p.Y * d, r = (wide)n * p.W;
-  return (l > r) - (l < r);
-}
 
 /* ---- the 1974 arithmetic ------------------------------------------------------------- */
 

@@ -123,8 +123,14 @@ int geom_rat_cmp_frac(struct grat p, int64_t n, int64_t d);
 wide geom_rat_floor(struct grat p);
 wide geom_rat_ceil(struct grat p);
 
-/* Compare the y of a homogeneous point with n/d (d > 0): -1, 0, 1. */
-int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d);
+/* Compare the y of a homogeneous point with n/d (d > 0): -1, 0, 1. Inline, with n W a 64
+   by 64-bit product (W < 2^59, the format above): the sweep compares every active
+   piece's ends with each line (issue 19). */
+static inline int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d)
+{
+  wide l = p.Y * d, r = (wide)n * (wide)(uint64_t)p.W;
+  return (l > r) - (l < r);
+}
 
 /* ---- the 1974 arithmetic (--arith hitac) --------------------------------------------
 ** tube74 decides exactly by default. With --arith hitac the decisions are made as the
