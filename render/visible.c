@@ -462,8 +462,11 @@ static int parent_of(const struct vis *v, int p)
    cover the stretch st, each within its span (the sweep's covering set): in exact
    arithmetic that answers some of the deciding's overlap tests (priority.h, struct
    prio_meet); under --arith hitac the spans are the 1974 program's rounded ones, and
-   every test is made. */
-static int order_of(struct vis *v, int b, int c, const struct prio_meet *st,
+   every test is made. Always inlined into front_of, which asks it for every pair. */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((always_inline))
+#endif
+static inline int order_of(struct vis *v, int b, int c, const struct prio_meet *st,
                     struct t74_error *err)
 {
   int pb = parent_of(v, b), pc = parent_of(v, c);
