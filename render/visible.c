@@ -117,7 +117,9 @@ static void charge_compares(struct vis *v)
 {
   cost_mw_mul_n(v->cost, 88, 59, v->pend_ycmp);
   cost_mw_mul_n(v->cost, 75, 46, v->pend_xcmp);
-  v->pend_ycmp = v->pend_xcmp = 0;
+  cost_mw_add_n(v->cost, 75, v->pend_xadd);
+  cost_mw_mul_n(v->cost, 88, 17, v->pend_side);
+  v->pend_ycmp = v->pend_xcmp = v->pend_xadd = v->pend_side = 0;
   prio_charge_pending(v->prio);             /* and the Priority Matrix's looks */
 }
 
@@ -376,7 +378,7 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
     if (l->a == 0) continue;
     struct hpoint lo = l->a > 0 ? p->v[(k + 1) % p->n] : p->v[k];
     struct hpoint hi = l->a > 0 ? p->v[k] : p->v[(k + 1) % p->n];
-    cost_mw_mul(v->cost, 88, 17);
+    v->pend_side++;                      /* charged by charge_compares */
     if (geom_hy_cmp(lo, yn, yd) > 0 || geom_hy_cmp(hi, yn, yd) <= 0) continue;
     if (l->a > 0) kl = k; else kr = k;
   }
@@ -421,8 +423,7 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
     }
     it->xl.num += it->dxl;               /* xb += dxb, xe += dxe */
     it->xr.num += it->dxr;
-    cost_mw_add(v->cost, 75);
-    cost_mw_add(v->cost, 75);
+    v->pend_xadd += 2;                   /* charged by charge_compares */
   } else if (!same) {
     if (!dblock_open(v, it, yn, yd)) {
       it->open = false;
@@ -438,7 +439,7 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   dblock_store(v, it);
   COST_ADD_N(v->cost, COST_MEM, DBLOCK_WORDS);
   it->on = x_cmp(it->xl, it->xr) < 0;
-  cost_mw_mul(v->cost, 75, 46);
+  v->pend_xcmp++;                        /* an x compare (charge_compares) */
   return T74_OK;
 }
 
@@ -741,8 +742,7 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
   for (int a = first; a < v->nact; a++) {
     const struct vis_item *it = &v->act[a];
     if (!it->on) continue;
-    cost_mw_mul(v->cost, 75, 46);
-    cost_mw_mul(v->cost, 75, 46);
+    v->pend_xcmp += 2;                   /* two x compares (charge_compares) */
     if (x_cmp(it->xl, x) <= 0 && x_cmp(x, it->xr) < 0) {
       v->seti[k] = a;
       v->set[k++] = it->piece;
