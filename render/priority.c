@@ -916,7 +916,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
     hasl = side > 0;
     hasr = side < 0;
     bool ov = at ? overlap_known(pr, P->n, Q->n)
-                 : seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
+                 : seginfo_overlap_n(P->n, P->line, P->v, Q->n, Q->line, Q->v, &pr->pend_sides);
     ovl = hasl && ov;
     ovr = hasr && ov;
   } else {
@@ -927,11 +927,11 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        charges already made). */
     int met = at ? meet_sides(at, L) : 0;
     int known = met == 1 || met == 2 ? met : 0;
-    seginfo_clip_both_known(P, L, sv, known, pl, &hasl, pr_, &hasr, pr->cost);
+    seginfo_clip_both_known(P, L, sv, known, pl, &hasl, pr_, &hasr, &pr->pend_sides);
     ovl = hasl && (met & 1 ? overlap_known(pr, pl->n, Q->n)
-                           : seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost));
+                           : seginfo_overlap_n(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, &pr->pend_sides));
     ovr = hasr && (met & 2 ? overlap_known(pr, pr_->n, Q->n)
-                           : seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost));
+                           : seginfo_overlap_n(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, &pr->pend_sides));
     if (known && ovl && ovr) {
       struct cost uncounted = { { 0 } };
       seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, &uncounted);

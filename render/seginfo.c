@@ -182,13 +182,13 @@ static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
    and h, so it stays a meet of two grid lines. side[k] is the side of p's vertex k of h
    (geom_side_h), or side is NULL and it is found here. */
 static bool clip_sides(const struct piece *p, struct gline h, const signed char *side,
-                       struct cpoly *out, struct cost *cost)
+                       struct cpoly *out, uint64_t *prod)
 {
   out->n = 0;
   int n = p->n;
   if (!cpoly_room(out, n + 2)) return false;   /* a convex piece crosses a line twice at most */
   int s0 = side ? side[0] : geom_side_hw(h, p->v[0]), sk = s0;
-  cost_mw_mul_n(cost, 88, 58, (uint64_t)n);       /* a product a vertex */
+  *prod += (uint64_t)n;                          /* a product a vertex */
   for (int k = 0; k < n; k++) {
     int nx = (k + 1) % n;
     int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_hw(h, p->v[nx]);
@@ -223,9 +223,18 @@ static bool clip_sides(const struct piece *p, struct gline h, const signed char 
   return has_interior(out->n, out->line, out->v);
 }
 
+/* The products (88 x 58 bits) counted in prod, charged. */
+static void charge_products(struct cost *cost, uint64_t prod)
+{
+  cost_mw_mul_n(cost, 88, 58, prod);
+}
+
 bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
 {
-  return clip_sides(p, h, NULL, out, cost);
+  uint64_t prod = 0;
+  bool r = clip_sides(p, h, NULL, out, &prod);
+  charge_products(cost, prod);
+  return r;
 }
 
 #define CLIP_SIDES_MAX 64                  /* pieces with more sides: seginfo_clip twice */
@@ -266,17 +275,19 @@ static int clip_count(const struct piece *p, struct gline h, const signed char *
 void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left, bool *hasl,
                        struct cpoly *right, bool *hasr, struct cost *cost)
 {
-  seginfo_clip_both_known(p, h, NULL, 0, left, hasl, right, hasr, cost);
+  uint64_t prod = 0;
+  seginfo_clip_both_known(p, h, NULL, 0, left, hasl, right, hasr, &prod);
+  charge_products(cost, prod);
 }
 
 void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed char *sides,
                              int known, struct cpoly *left, bool *hasl, struct cpoly *right,
-                             bool *hasr, struct cost *cost)
+                             bool *hasr, uint64_t *prod)
 {
   struct gline rh = { -h.a, -h.b, -h.c };
   if (p->n > CLIP_SIDES_MAX) {
-    *hasl = seginfo_clip(p, h, left, cost);
-    *hasr = seginfo_clip(p, rh, right, cost);
+    *hasl = clip_sides(p, h, NULL, left, prod);
+    *hasr = clip_sides(p, rh, NULL, right, prod);
     return;
   }
   signed char side[CLIP_SIDES_MAX], rside[CLIP_SIDES_MAX];
@@ -290,27 +301,27 @@ void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed
   const struct gline hh[2] = { h, rh };
   for (int s = 0; s < 2; s++) {
     if (known != s + 1) {
-      *has[s] = clip_sides(p, hh[s], sd[s], half[s], cost);
+      *has[s] = clip_sides(p, hh[s], sd[s], half[s], prod);
       continue;
     }
     /* known to have an interior: counted, charged as clip_sides charges */
     if (!cpoly_room(half[s], p->n + 2)) { *has[s] = false; continue; }
-    cost_mw_mul_n(cost, 88, 58, (uint64_t)p->n);
+    *prod += (uint64_t)p->n;
     half[s]->n = clip_count(p, hh[s], sd[s]);
     *has[s] = half[s]->n >= 3;
   }
 }
 
-bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
+bool seginfo_overlap_n(int n1, const struct gline *l1, const struct hpoint *v1,
                      int n2, const struct gline *l2, const struct hpoint *v2,
-                     struct cost *cost)
+                     uint64_t *prod)
 {
   /* one product charged for each side looked at (at once, when the answer is known) */
   for (int k = 0; k < n1; k++) {
     int j = 0;
     while (j < n2 && geom_side_hw(l1[k], v2[j]) <= 0) j++;
     if (j == n2) {                       /* side k of the first separates them */
-      cost_mw_mul_n(cost, 88, 58, (uint64_t)k + 1);
+      *prod += (uint64_t)k + 1;
       return false;
     }
   }
@@ -318,12 +329,22 @@ bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
     int j = 0;
     while (j < n1 && geom_side_hw(l2[k], v1[j]) <= 0) j++;
     if (j == n1) {
-      cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)k + 1);
+      *prod += (uint64_t)n1 + (uint64_t)k + 1;
       return false;
     }
   }
-  cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)n2);
+  *prod += (uint64_t)n1 + (uint64_t)n2;
   return true;
+}
+
+bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
+                     int n2, const struct gline *l2, const struct hpoint *v2,
+                     struct cost *cost)
+{
+  uint64_t prod = 0;
+  bool r = seginfo_overlap_n(n1, l1, v1, n2, l2, v2, &prod);
+  charge_products(cost, prod);
+  return r;
 }
 
 bool seginfo_span(const struct piece *p, int64_t yn, int64_t yd, struct grat *xl,

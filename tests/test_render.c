@@ -181,7 +181,7 @@ static void test_geom_lines(void **state)
   assert_int_equal(geom_side(h, (struct gpoint){ -9, 4 }), -1);
   assert_int_equal(geom_side(hd, (struct gpoint){ -9, 4 }), 1);
   /* meet: x = 3 and y = 5 meet at (3, 5); parallel lines do not meet */
-  struct hpoint m;
+  struct hpoint m = { 0, 0, 1 };
   assert_true(geom_meet(up, h, &m));
   assert_true(h_is(m, 3, 5));
   assert_int_equal(geom_side_h(l, m), 1);
@@ -572,7 +572,9 @@ static void test_clip_both(void **state)
       made->n = -1;
       signed char sides[80];                  /* found here, or by the clip (NULL) */
       for (int v = 0; v < p->n; v++) sides[v] = (signed char)geom_side_h(h, p->v[v]);
-      seginfo_clip_both_known(p, h, trial % 2 ? sides : NULL, known, &l, &hl, &r, &hr, &k3);
+      uint64_t prod = 0;
+      seginfo_clip_both_known(p, h, trial % 2 ? sides : NULL, known, &l, &hl, &r, &hr, &prod);
+      cost_mw_mul_n(&k3, 88, 58, prod);
       assert_int_equal(ha, hl);
       assert_int_equal(hb, hr);
       assert_int_equal(a.n, l.n);
