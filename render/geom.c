@@ -64,11 +64,6 @@ wide geom_rat_ceil(struct grat p)
   return q;
 }
 
-int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d)
-{
-  wide l = p.Y * d, r = (wide)n * p.W;
-  return (l > r) - (l < r);
-}
 
 /* ---- the 1974 arithmetic ------------------------------------------------------------- */
 
@@ -170,12 +165,50 @@ int i256_sign(struct i256 a)
   return (a.w[0] | a.w[1] | a.w[2] | a.w[3]) != 0;
 }
 
+/* The bit length of |a|: the least n with |a| < 2^n (0 for 0). |a| of the most negative
+   wide is 2^127, length 128, as an unsigned magnitude. */
+static inline int bits(wide a)
+{
+  uwide u = a < 0 ? (uwide)0 - (uwide)a : (uwide)a;
+  uint64_t hi = (uint64_t)(u >> 64), lo = (uint64_t)u;
+  if (hi) return 128 - __builtin_clzll(hi);
+  return lo ? 64 - __builtin_clzll(lo) : 0;
+}
+
+/* a*b as top * 2^64 + low (low in [0, 2^64)), exactly, for 0 <= b < 2^64: a = ah 2^64 +
+   al (ah in [-2^63, 2^63), al in [0, 2^64)), so a*b = ah b 2^64 + al b with |ah b| <
+   2^127, and top = ah b + (al b >> 64) is floor(a*b / 2^64), in [-2^127, 2^127): no
+   step overflows. */
+static inline void mul_u64(wide a, uint64_t b, wide *top, uint64_t *low)
+{
+  uwide lo = (uwide)(uint64_t)a * b;
+  *top = (wide)(int64_t)(a >> 64) * (wide)b + (wide)(lo >> 64);
+  *low = (uint64_t)lo;
+}
+
 int geom_cross_sign(wide a, wide b, wide c, wide d)
 {
-  const wide lim = (wide)1 << 62;
-  if (a > -lim && a < lim && b > -lim && b < lim && c > -lim && c < lim && d > -lim && d < lim) {
-    wide l = a * b, r = c * d;
+  if (b >= 0 && d >= 0 && !(b >> 64) && !(d >> 64)) {
+    /* in 192 bits: each product's high part and low word, compared in that order */
+    wide t1, t2;
+    uint64_t l1, l2;
+    mul_u64(a, (uint64_t)b, &t1, &l1);
+    mul_u64(c, (uint64_t)d, &t2, &l2);
+    if (t1 != t2) return t1 > t2 ? 1 : -1;
+    return (l1 > l2) - (l1 < l2);
+  }
+  if (bits(a) + bits(b) <= 127 && bits(c) + bits(d) <= 127) {
+    wide l = a * b, r = c * d;             /* |l|, |r| < 2^127: compared, not subtracted */
     return (l > r) - (l < r);
   }
   return i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d)));
+}
+
+int geom_dot3_sign(wide a0, wide b0, wide a1, wide b1, wide a2, wide b2)
+{
+  if (bits(a0) + bits(b0) <= 125 && bits(a1) + bits(b1) <= 125 && bits(a2) + bits(b2) <= 125) {
+    wide s = a0 * b0 + a1 * b1 + a2 * b2;   /* each below 2^125, the sum below 3 * 2^125 */
+    return (s > 0) - (s < 0);
+  }
+  return i256_sign(i256_add(i256_add(i256_mul(a0, b0), i256_mul(a1, b1)), i256_mul(a2, b2)));
 }

@@ -81,6 +81,15 @@ static inline int geom_side_h(struct gline l, struct hpoint p)
   return (v > 0) - (v < 0);
 }
 
+/* geom_side_h at a point whose W fits 64 bits, as every meet of two lines through grid
+   points has (geom_meet: W = a1 b2 - a2 b1 <= 2^59; the pieces' vertices and their
+   clips'): the same sum, c W a 64 by 64-bit product. */
+static inline int geom_side_hw(struct gline l, struct hpoint p)
+{
+  wide v = l.a * p.X + l.b * p.Y + (wide)l.c * (wide)(uint64_t)p.W;
+  return (v > 0) - (v < 0);
+}
+
 /* Where two lines meet; false when they are parallel. Inline: every piece's vertices and
    every clip's new ones (issue 19). */
 static inline bool geom_meet(struct gline l1, struct gline l2, struct hpoint *out)
@@ -114,8 +123,14 @@ int geom_rat_cmp_frac(struct grat p, int64_t n, int64_t d);
 wide geom_rat_floor(struct grat p);
 wide geom_rat_ceil(struct grat p);
 
-/* Compare the y of a homogeneous point with n/d (d > 0): -1, 0, 1. */
-int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d);
+/* Compare the y of a homogeneous point with n/d (d > 0): -1, 0, 1. Inline, with n W a 64
+   by 64-bit product (W < 2^59, the format above): the sweep compares every active
+   piece's ends with each line (issue 19). */
+static inline int geom_hy_cmp(struct hpoint p, int64_t n, int64_t d)
+{
+  wide l = p.Y * d, r = (wide)n * (wide)(uint64_t)p.W;
+  return (l > r) - (l < r);
+}
 
 /* ---- the 1974 arithmetic (--arith hitac) --------------------------------------------
 ** tube74 decides exactly by default. With --arith hitac the decisions are made as the
@@ -152,9 +167,16 @@ struct i256 i256_add(struct i256 a, struct i256 b);
 struct i256 i256_from(wide a);
 int i256_sign(struct i256 a);
 
-/* The sign of a*b - c*d, exactly: in 128 bits when every operand is below 2^62 in
-** magnitude (each product then below 2^124, the difference below 2^125: no overflow, so
-** the filter can never decide wrongly), else in 256 bits. -1, 0, 1. */
+/* The sign of a*b - c*d, exactly: in 192 bits when b and d are in [0, 2^64) (a coordinate
+** by a homogeneous W, the common case); else in 128 bits when
+** the magnitudes' bit lengths of a and b add up to at most 127, and those of c and d too
+** (each product is then below 2^127 in magnitude and held exactly; the two are compared,
+** never subtracted); else in 256 bits. -1, 0, 1. */
 int geom_cross_sign(wide a, wide b, wide c, wide d);
+
+/* The sign of a0*b0 + a1*b1 + a2*b2, exactly: in 128 bits when each product's operands'
+** bit lengths add up to at most 125 (each product below 2^125, the sum of three below
+** 2^127), else in 256 bits. -1, 0, 1. */
+int geom_dot3_sign(wide a0, wide b0, wide a1, wide b1, wide a2, wide b2);
 
 #endif

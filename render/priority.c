@@ -430,9 +430,9 @@ static int code_set(struct prio *pr, uint32_t i, uint32_t j, unsigned code,
     miss = NULL;
   }
   unsigned held;
-  if (miss) {
-    charge_home(pr);
-    COST_ADD_N(pr->cost, COST_MEM, miss->loads);
+  if (miss) {              /* only prio_order_lineage has one: charged with its looks */
+    pr->pend_mem += miss->loads;
+    pr->pend_home++;
     pr->tag_looks++;
     slot_put(pr, miss->slot, i, j, code);
   } else
@@ -505,9 +505,7 @@ static int depth_sign(struct depth g, struct hpoint p)
     p.Y = p.Y / p.W / GRID_ONE * GRID_ONE;
     p.W = 1;
   }
-  struct i256 s = i256_add(i256_add(i256_mul(g.k0, p.X), i256_mul(g.k1, p.Y)),
-                           i256_mul(g.K, p.W));
-  return i256_sign(s);
+  return geom_dot3_sign(g.k0, p.X, g.k1, p.Y, g.K, p.W);
 }
 
 /* round(n / d) half up, d != 0 */
@@ -640,7 +638,7 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
    pair hashes into (the newest kept), and charges every use what finding it charges
    (charge_faces), so the counts are those of finding it again. faces_off (tests) finds
    it every time. */
-#define FACE_SLOTS 4096u
+#define FACE_SLOTS 32768u
 struct prio_faces {
   int fa, fb;              /* the faces of the first and the second piece; fa < 0: empty */
   struct depth g;
@@ -653,12 +651,10 @@ struct prio_faces {
 
 /* The 1974 work of finding G and the common vertices of faces A and B: depth_of's four
    products, common_points' product a vertex of each face. */
-static void charge_faces(const struct prio *pr, const struct mface *A, const struct mface *B)
+static void charge_faces(struct prio *pr, const struct mface *A, const struct mface *B)
 {
-  cost_mw_mul_n(pr->cost, 51, 34, 3);
-  cost_mw_mul(pr->cost, 86, 24);
-  cost_mw_mul_n(pr->cost, 34, 17,
-                (uint64_t)A->ring_start[A->nring] + (uint64_t)B->ring_start[B->nring]);
+  pr->pend_faces++;                          /* charged by prio_charge_pending */
+  pr->pend_fverts += (uint64_t)A->ring_start[A->nring] + (uint64_t)B->ring_start[B->nring];
 }
 
 /* The face pair (fa, fb), charged: kept in pr->faces, or found into *own. */
@@ -671,7 +667,7 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
     if (!pr->faces && (pr->faces = malloc(FACE_SLOTS * sizeof *pr->faces)) != NULL)
       for (unsigned k = 0; k < FACE_SLOTS; k++) pr->faces[k].fa = -1;
     if (pr->faces) {
-      uint32_t h = ((uint32_t)fa * 0x9E3779B1u ^ (uint32_t)fb * 0x85EBCA77u) >> 20;
+      uint32_t h = ((uint32_t)fa * 0x9E3779B1u ^ (uint32_t)fb * 0x85EBCA77u) >> 17;  /* 15 bits */
       e = &pr->faces[h & (FACE_SLOTS - 1)];
       if (e->fa == fa && e->fb == fb) {
         pr->faces_kept++;
@@ -699,32 +695,38 @@ static bool face_line(const struct prio *pr, struct prio_faces *e)
   return e->line == 1;
 }
 
-/* Does a side of piece X lie on line l (either way round)? */
+/* Does a side of piece X lie on line l (either way round)? A piece's sides and L~ are
+   lines through grid points or horizontal (geom.h: |a|, |b| <= 2^29), so the first
+   products are below 2^58 and compared in 64 bits. */
 static bool on_line_side(const struct piece *X, struct gline l)
 {
   for (int k = 0; k < X->n; k++) {
     struct gline m = X->line[k];
-    if ((wide)m.a * l.b == (wide)m.b * l.a && (wide)m.a * l.c == (wide)m.c * l.a &&
+    if (m.a * l.b == m.b * l.a && (wide)m.a * l.c == (wide)m.c * l.a &&
         (wide)m.b * l.c == (wide)m.c * l.b)
       return true;
   }
   return false;
 }
 
+#define ONE_SIDE_KEPT 64             /* pieces of up to so many sides keep one_side's signs */
+
 /* 1 when every vertex of X is on or left of l and one strictly left, -1 the same on the
-   right, and X has an interior (the test seginfo_clip ends with); else 0. */
-static int one_side(const struct piece *X, struct gline l)
+   right, and X has an interior (the test seginfo_clip ends with); else 0. side: NULL, or
+   room for X->n signs, each vertex's side of l (geom_side_h). */
+static int one_side(const struct piece *X, struct gline l, signed char *side)
 {
   bool pos = false, neg = false;
   for (int k = 0; k < X->n; k++) {
-    int sg = geom_side_h(l, X->v[k]);
+    int sg = geom_side_hw(l, X->v[k]);
+    if (side) side[k] = (signed char)sg;
     pos |= sg > 0;
     neg |= sg < 0;
   }
   if (pos == neg || X->n < 3) return 0;
   for (int k = 0; k < X->n; k++)
     for (int j = 0; j < X->n; j++)
-      if (geom_side_h(X->line[k], X->v[j]) > 0) return pos ? 1 : -1;
+      if (geom_side_hw(X->line[k], X->v[j]) > 0) return pos ? 1 : -1;
   return 0;
 }
 
@@ -812,9 +814,12 @@ static int meet_sides(const struct prio_meet *at, struct gline L)
 {
   int sides = 0;
   const struct grat *x[2] = { &at->x0, &at->x1 };
+  /* the same sum, grouped: a yd num + (b yn + c yd) den, with |a yd| < 2^63 (|a| <=
+     2^29, yd < 2^34: vis_spans) and den < 2^63 (the sweep's x_cmp); each part is one
+     of the three terms above or the sum of two, so the sum stays below 2^123 */
+  const wide ayd = (wide)(L.a * at->yd), bc = (wide)L.b * at->yn + (wide)L.c * at->yd;
   for (int k = 0; k < 2; k++) {
-    wide v = (wide)L.a * x[k]->num * at->yd + (wide)L.b * at->yn * x[k]->den +
-             (wide)L.c * x[k]->den * at->yd;
+    wide v = ayd * x[k]->num + bc * (wide)(uint64_t)x[k]->den;
     sides |= v > 0 ? 1 : v < 0 ? 2 : 0;
   }
   return sides;
@@ -824,7 +829,7 @@ static int meet_sides(const struct prio_meet *at, struct gline L)
    charge alone (the host statistic counted). */
 static bool overlap_known(struct prio *pr, int n1, int n2)
 {
-  cost_mw_mul_n(pr->cost, 88, 58, (uint64_t)n1 + (uint64_t)n2);
+  pr->pend_sides += (uint64_t)n1 + (uint64_t)n2;
   pr->meet_known++;
   return true;
 }
@@ -865,7 +870,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
         if (sg && side && sg != side) mixed = true;
         if (sg) side = sg;
         wide av = val < 0 ? -val : val;                 /* distance = av / (W |(a,b)|) */
-        if (i256_sign(i256_add(i256_mul(av, far.W), i256_mul(-farv, v.W))) > 0) {
+        if (geom_cross_sign(av, far.W, farv, v.W) > 0) {
           far = v;
           farv = av;
         }
@@ -899,26 +904,38 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   struct cpoly *pl = &pr->clip[0], *pr_ = &pr->clip[1], *ql = &pr->clip[2], *qr = &pr->clip[3];
   int result;
   bool hasl, hasr, ovl, ovr;
-  int side = one_side(P, L);
+  signed char sides[ONE_SIDE_KEPT];
+  signed char *sv = P->n <= ONE_SIDE_KEPT ? sides : NULL;   /* each vertex's side, for the clip */
+  int side = one_side(P, L, sv);
   if (side) {
     /* P on one side of L: the clip to that side is P itself (its sides are merged, its
        vertices kept: seginfo_add), the clip to the other has no interior. Host work
        spared, the 1974 work of both clips charged as seginfo_clip does (one product a
        vertex). */
-    cost_mw_mul_n(pr->cost, 88, 58, 2 * (uint64_t)P->n);
+    pr->pend_sides += 2 * (uint64_t)P->n;
     hasl = side > 0;
     hasr = side < 0;
     bool ov = at ? overlap_known(pr, P->n, Q->n)
-                 : seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, pr->cost);
+                 : seginfo_overlap_n(P->n, P->line, P->v, Q->n, Q->line, Q->v, &pr->pend_sides);
     ovl = hasl && ov;
     ovr = hasr && ov;
   } else {
-    seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, pr->cost);
+    /* A half the stretch reaches on one side of L has an interior (the points just above
+       the stretch there, struct prio_meet): when only one is reached, only its count of
+       sides is asked for (the overlap test it is spared is charged by it), so it is
+       counted and not made, unless the pair is then cut (below: made again, its
+       charges already made). */
     int met = at ? meet_sides(at, L) : 0;
+    int known = met == 1 || met == 2 ? met : 0;
+    seginfo_clip_both_known(P, L, sv, known, pl, &hasl, pr_, &hasr, &pr->pend_sides);
     ovl = hasl && (met & 1 ? overlap_known(pr, pl->n, Q->n)
-                           : seginfo_overlap(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, pr->cost));
+                           : seginfo_overlap_n(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, &pr->pend_sides));
     ovr = hasr && (met & 2 ? overlap_known(pr, pr_->n, Q->n)
-                           : seginfo_overlap(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, pr->cost));
+                           : seginfo_overlap_n(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, &pr->pend_sides));
+    if (known && ovl && ovr) {
+      struct cost uncounted = { { 0 } };
+      seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, &uncounted);
+    }
   }
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
@@ -981,7 +998,9 @@ static int order_at(struct prio *pr, int p, int q, const struct prio_meet *at,
 
 int prio_order(struct prio *pr, int p, int q, struct t74_error *err)
 {
-  return order_at(pr, p, q, NULL, err);
+  int r = order_at(pr, p, q, NULL, err);
+  prio_charge_pending(pr);
+  return r;
 }
 
 static inline int known(struct prio *pr, int p, int q)
@@ -1039,9 +1058,22 @@ static inline int known_counted(const struct prio *pr, int p, int q, uint64_t *n
    (each counter is a sum of the same increments: emu/cost.h). */
 static void charge_looks(struct prio *pr, uint64_t n, uint64_t loads)
 {
-  COST_ADD_N(pr->cost, COST_MEM, n + loads);
-  charge_home_n(pr->cost, n);
+  pr->pend_mem += n + loads;                 /* charged by prio_charge_pending */
+  pr->pend_home += n;
   pr->tag_looks += n;
+}
+
+void prio_charge_pending(struct prio *pr)
+{
+  COST_ADD_N(pr->cost, COST_MEM, pr->pend_mem);
+  charge_home_n(pr->cost, pr->pend_home);
+  /* the face pairs' finding (charge_faces): depth_of's four products, common_points'
+     product a vertex of each face */
+  cost_mw_mul_n(pr->cost, 51, 34, 3 * pr->pend_faces);
+  cost_mw_mul_n(pr->cost, 86, 24, pr->pend_faces);
+  cost_mw_mul_n(pr->cost, 34, 17, pr->pend_fverts);
+  cost_mw_mul_n(pr->cost, 88, 58, pr->pend_sides);   /* a vertex by a side, as seginfo's */
+  pr->pend_mem = pr->pend_home = pr->pend_faces = pr->pend_fverts = pr->pend_sides = 0;
 }
 
 int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,

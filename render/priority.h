@@ -55,6 +55,10 @@ struct prio {
                                each charged as it is made (the same answers and charges:
                                the tags' argument in priority.c, prio_order_lineage) */
   uint64_t tag_looks;       /* looks the tags answered (host statistic) */
+  uint64_t pend_mem, pend_home;  /* counted, not yet charged (prio_charge_pending): the
+                               looks' words loaded and home slots found, */
+  uint64_t pend_faces, pend_fverts;  /* the face pairs found (charge_faces) and their vertices, */
+  uint64_t pend_sides;      /* the overlap and clip products (88 x 58 bits) decide spares */
   int      meet_off;        /* tests: decide makes every overlap test, whatever stretch the
                                pair was met on (the same answers and charges) */
   uint64_t meet_known;      /* overlap tests a stretch answered (host statistic) */
@@ -106,6 +110,12 @@ int prio_known(struct prio *pr, int p, int q);
    counts the looks and charges them at once, and looks once where they look at the same
    pair again in a table that has not changed. `at`: NULL, or a stretch both pieces cover
    (struct prio_meet), which spares the host overlap tests whose answer it gives. */
+/* prio_order_lineage counts the looks it makes through the sparse store's tags, and
+   decide some of its products, and charges them here: the caller calls this before
+   anything reads pr->cost (each counter is a sum of the same increments, so when they
+   are added does not change it; prio_order calls it itself). */
+void prio_charge_pending(struct prio *pr);
+
 int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
                        struct cost *cost, const struct prio_meet *at, struct t74_error *err);
 

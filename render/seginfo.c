@@ -173,7 +173,7 @@ static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
   if (n < 3) return false;
   for (int k = 0; k < n; k++)
     for (int j = 0; j < n; j++)
-      if (geom_side_h(l[k], v[j]) > 0) return true;
+      if (geom_side_hw(l[k], v[j]) > 0) return true;
   return false;
 }
 
@@ -182,16 +182,16 @@ static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
    and h, so it stays a meet of two grid lines. side[k] is the side of p's vertex k of h
    (geom_side_h), or side is NULL and it is found here. */
 static bool clip_sides(const struct piece *p, struct gline h, const signed char *side,
-                       struct cpoly *out, struct cost *cost)
+                       struct cpoly *out, uint64_t *prod)
 {
   out->n = 0;
   int n = p->n;
   if (!cpoly_room(out, n + 2)) return false;   /* a convex piece crosses a line twice at most */
-  int s0 = side ? side[0] : geom_side_h(h, p->v[0]), sk = s0;
-  cost_mw_mul_n(cost, 88, 58, (uint64_t)n);       /* a product a vertex */
+  int s0 = side ? side[0] : geom_side_hw(h, p->v[0]), sk = s0;
+  *prod += (uint64_t)n;                          /* a product a vertex */
   for (int k = 0; k < n; k++) {
     int nx = (k + 1) % n;
-    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_h(h, p->v[nx]);
+    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_hw(h, p->v[nx]);
     struct gline lk = p->line[k];
     struct hpoint x;
     if (sk > 0 || (sk == 0 && sn >= 0)) {
@@ -223,54 +223,128 @@ static bool clip_sides(const struct piece *p, struct gline h, const signed char 
   return has_interior(out->n, out->line, out->v);
 }
 
+/* The products (88 x 58 bits) counted in prod, charged. */
+static void charge_products(struct cost *cost, uint64_t prod)
+{
+  cost_mw_mul_n(cost, 88, 58, prod);
+}
+
 bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
 {
-  return clip_sides(p, h, NULL, out, cost);
+  uint64_t prod = 0;
+  bool r = clip_sides(p, h, NULL, out, &prod);
+  charge_products(cost, prod);
+  return r;
 }
 
 #define CLIP_SIDES_MAX 64                  /* pieces with more sides: seginfo_clip twice */
 
+/* The number of sides clip_sides leaves (side[]: as for clip_sides), found from the sides'
+   lines alone: the same lines pushed in the same order, the same merges. A side that
+   clip_sides meets with h runs from a vertex strictly on one side of h to one strictly
+   on the other, so it is not parallel to h and the meet is made: it never ends the clip
+   early. Host only: nothing charged. */
+static int clip_count(const struct piece *p, struct gline h, const signed char *side)
+{
+  struct gline l[CLIP_SIDES_MAX + 2];
+  int n = p->n, m = 0, s0 = side[0], sk = s0;
+  for (int k = 0; k < n; k++) {
+    int sn = k + 1 == n ? s0 : side[k + 1];
+    if (sk > 0 || (sk == 0 && sn >= 0)) {
+      l[m++] = p->line[k];
+      if (sk > 0 && sn < 0) l[m++] = h;
+    } else if (sk == 0)
+      l[m++] = h;
+    else if (sn > 0)
+      l[m++] = p->line[k];
+    sk = sn;
+  }
+  for (int k = 0; m >= 3 && k < m; ) {
+    int nx = (k + 1) % m;
+    if (same_direction(l[k], l[nx])) {
+      memmove(&l[nx], &l[nx + 1], (size_t)(m - nx - 1) * sizeof *l);
+      m--;
+      if (nx < k) k--;
+      continue;
+    }
+    k++;
+  }
+  return m;
+}
+
 void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left, bool *hasl,
                        struct cpoly *right, bool *hasr, struct cost *cost)
 {
+  uint64_t prod = 0;
+  seginfo_clip_both_known(p, h, NULL, 0, left, hasl, right, hasr, &prod);
+  charge_products(cost, prod);
+}
+
+void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed char *sides,
+                             int known, struct cpoly *left, bool *hasl, struct cpoly *right,
+                             bool *hasr, uint64_t *prod)
+{
   struct gline rh = { -h.a, -h.b, -h.c };
   if (p->n > CLIP_SIDES_MAX) {
-    *hasl = seginfo_clip(p, h, left, cost);
-    *hasr = seginfo_clip(p, rh, right, cost);
+    *hasl = clip_sides(p, h, NULL, left, prod);
+    *hasr = clip_sides(p, rh, NULL, right, prod);
     return;
   }
   signed char side[CLIP_SIDES_MAX], rside[CLIP_SIDES_MAX];
   for (int k = 0; k < p->n; k++) {
-    side[k] = (signed char)geom_side_h(h, p->v[k]);
+    side[k] = sides ? sides[k] : (signed char)geom_side_hw(h, p->v[k]);
     rside[k] = (signed char)-side[k];      /* the reversed line: the negated sum, exactly */
   }
-  *hasl = clip_sides(p, h, side, left, cost);
-  *hasr = clip_sides(p, rh, rside, right, cost);
+  struct cpoly *half[2] = { left, right };
+  bool *has[2] = { hasl, hasr };
+  const signed char *sd[2] = { side, rside };
+  const struct gline hh[2] = { h, rh };
+  for (int s = 0; s < 2; s++) {
+    if (known != s + 1) {
+      *has[s] = clip_sides(p, hh[s], sd[s], half[s], prod);
+      continue;
+    }
+    /* known to have an interior: counted, charged as clip_sides charges */
+    if (!cpoly_room(half[s], p->n + 2)) { *has[s] = false; continue; }
+    *prod += (uint64_t)p->n;
+    half[s]->n = clip_count(p, hh[s], sd[s]);
+    *has[s] = half[s]->n >= 3;
+  }
+}
+
+bool seginfo_overlap_n(int n1, const struct gline *l1, const struct hpoint *v1,
+                     int n2, const struct gline *l2, const struct hpoint *v2,
+                     uint64_t *prod)
+{
+  /* one product charged for each side looked at (at once, when the answer is known) */
+  for (int k = 0; k < n1; k++) {
+    int j = 0;
+    while (j < n2 && geom_side_hw(l1[k], v2[j]) <= 0) j++;
+    if (j == n2) {                       /* side k of the first separates them */
+      *prod += (uint64_t)k + 1;
+      return false;
+    }
+  }
+  for (int k = 0; k < n2; k++) {
+    int j = 0;
+    while (j < n1 && geom_side_hw(l2[k], v1[j]) <= 0) j++;
+    if (j == n1) {
+      *prod += (uint64_t)n1 + (uint64_t)k + 1;
+      return false;
+    }
+  }
+  *prod += (uint64_t)n1 + (uint64_t)n2;
+  return true;
 }
 
 bool seginfo_overlap(int n1, const struct gline *l1, const struct hpoint *v1,
                      int n2, const struct gline *l2, const struct hpoint *v2,
                      struct cost *cost)
 {
-  /* one product charged for each side looked at (at once, when the answer is known) */
-  for (int k = 0; k < n1; k++) {
-    int j = 0;
-    while (j < n2 && geom_side_h(l1[k], v2[j]) <= 0) j++;
-    if (j == n2) {                       /* side k of the first separates them */
-      cost_mw_mul_n(cost, 88, 58, (uint64_t)k + 1);
-      return false;
-    }
-  }
-  for (int k = 0; k < n2; k++) {
-    int j = 0;
-    while (j < n1 && geom_side_h(l2[k], v1[j]) <= 0) j++;
-    if (j == n1) {
-      cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)k + 1);
-      return false;
-    }
-  }
-  cost_mw_mul_n(cost, 88, 58, (uint64_t)n1 + (uint64_t)n2);
-  return true;
+  uint64_t prod = 0;
+  bool r = seginfo_overlap_n(n1, l1, v1, n2, l2, v2, &prod);
+  charge_products(cost, prod);
+  return r;
 }
 
 bool seginfo_span(const struct piece *p, int64_t yn, int64_t yd, struct grat *xl,

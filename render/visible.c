@@ -36,9 +36,23 @@
 #include "render/visible.h"
 #include "render/rsort.h"
 
+#include <assert.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* geom_rat_cmp of two x of the sweep. Every x here is a span end on the line, or made
+   from them: geom_x_at's, whose denominator is |a| yd with |a| <= 2^29 (geom.h: a grid
+   line's) and yd < 2^34 (asserted by vis_spans; a scanline's is at most GRID_YDEN_MAX),
+   stepped from line to line by its numerator only, or under --arith hitac geom_h10_x's,
+   GEOM_H10_XONE. So each denominator fits 64 bits, unsigned, and each product is a
+   128-bit numerator by a 64-bit number: the same products, with the part of the
+   multiply that a denominator's high word would take left out (it is zero). */
+static inline int x_cmp(struct grat p, struct grat q)
+{
+  wide l = p.num * (wide)(uint64_t)q.den, r = q.num * (wide)(uint64_t)p.den;
+  return (l > r) - (l < r);
+}
 
 static int grow(void **p, int *cap, int need, size_t size)
 {
@@ -77,31 +91,34 @@ static int by_ylo(struct vis *v, int a, int b)
   return cmp_ylo(v->seg, a, b);
 }
 
-/* by_xl inline where sort_kept's call through the pointer becomes a direct one (the
-   insertion sort of every line calls it some ten thousand times); not always_inline: an
-   unoptimised or -O1 build cannot resolve that pointer, and must still build */
+/* by_xl inline (the insertion sort of every line, sort_kept, makes its compares itself);
+   not always_inline: a -O1 build (make asan) cannot inline it where it is passed as a
+   pointer, and must still build */
 static inline int by_xl(struct vis *v, int i, int j)
 {
   const struct vis_item *a = &v->act[i], *b = &v->act[j];
   if (a->on != b->on) return a->on ? -1 : 1;
   if (!a->on) return 0;
   v->pend_xcmp++;
-  return geom_rat_cmp(a->xl, b->xl);
+  return x_cmp(a->xl, b->xl);
 }
 
 static int by_xr(struct vis *v, int i, int j)
 {
   v->pend_xcmp++;
-  return geom_rat_cmp(v->act[i].xr, v->act[j].xr);
+  return x_cmp(v->act[i].xr, v->act[j].xr);
 }
 
-/* The compares the orders counted, charged (before anything reads the counters: at the
-   end of vis_init and of each line). */
+/* The compares the orders counted, and the looks prio_order_lineage counted, charged
+   (before anything reads the counters: at the end of vis_init and of each line). */
 static void charge_compares(struct vis *v)
 {
   cost_mw_mul_n(v->cost, 88, 59, v->pend_ycmp);
   cost_mw_mul_n(v->cost, 75, 46, v->pend_xcmp);
-  v->pend_ycmp = v->pend_xcmp = 0;
+  cost_mw_add_n(v->cost, 75, v->pend_xadd);
+  cost_mw_mul_n(v->cost, 88, 17, v->pend_side);
+  v->pend_ycmp = v->pend_xcmp = v->pend_xadd = v->pend_side = 0;
+  prio_charge_pending(v->prio);             /* and the Priority Matrix's looks */
 }
 
 /* Merge the sorted runs a[0..na) and b[0..nb) into out (stable: a first on ties). */
@@ -129,18 +146,35 @@ static void sort_batch(struct vis *v, int *a, int n, int *tmp, vis_cmp cmp)
   rsort_merge(a, n, sizeof *a, tmp, ord_cmp, &o);
 }
 
-/* A stable insertion sort of a[0..n): for the order kept from the last line, which moves
-   only where two ends pass each other between the lines. */
-static inline void sort_kept(struct vis *v, int *a, int n, vis_cmp cmp)
+/* A stable insertion sort of a[0..n) by by_xl (xr false) or by_xr (true): for the order
+   kept from the last line, which moves only where two ends pass each other between the
+   lines. The item inserted is read once, and the compares are counted at the end: the
+   same compares, the same count, as cmp(v, a[j], t) > 0 would make. */
+static inline void sort_kept(struct vis *v, int *a, int n, bool xr)
 {
+  uint64_t cmps = 0;
   for (int i = 1; i < n; i++) {
     int t = a[i], j = i - 1;
-    while (j >= 0 && cmp(v, a[j], t) > 0) {
+    const struct vis_item *ti = &v->act[t];
+    const struct grat tx = xr ? ti->xr : ti->xl;
+    const bool ton = ti->on;
+    for (; j >= 0; j--) {
+      const struct vis_item *aj = &v->act[a[j]];
+      if (!xr) {                         /* by_xl: the pieces the line meets first */
+        if (aj->on != ton) {
+          if (aj->on) break;             /* -1 */
+          a[j + 1] = a[j];               /* 1 */
+          continue;
+        }
+        if (!ton) break;                 /* 0 */
+      }
+      cmps++;
+      if (x_cmp(xr ? aj->xr : aj->xl, tx) <= 0) break;
       a[j + 1] = a[j];
-      j--;
     }
     a[j + 1] = t;
   }
+  v->pend_xcmp += cmps;
 }
 
 /* Take item `it` out of the sorted ord[0..*n) (found by a binary search, then among
@@ -251,7 +285,7 @@ static int put_span(struct vis_span **sp, int *n, int *cap, struct grat x0, stru
 {
   if (*n > 0) {
     struct vis_span *last = &(*sp)[*n - 1];
-    if (last->piece == piece && geom_rat_cmp(last->x1, x0) == 0) {
+    if (last->piece == piece && x_cmp(last->x1, x0) == 0) {
       last->x1 = x1;
       return 1;
     }
@@ -326,8 +360,7 @@ static void dblock_store(struct vis *v, const struct vis_item *it)
 /* The lower of two heights. */
 static struct hpoint lower(struct hpoint p, struct hpoint q)
 {
-  struct i256 d = i256_add(i256_mul(p.Y, q.W), i256_mul(-q.Y, p.W));
-  return i256_sign(d) <= 0 ? p : q;
+  return geom_cross_sign(p.Y, q.W, q.Y, p.W) <= 0 ? p : q;
 }
 
 /* Open the D-block of piece p that holds the line y = yn/yd: its left side runs down
@@ -343,7 +376,7 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
     if (l->a == 0) continue;
     struct hpoint lo = l->a > 0 ? p->v[(k + 1) % p->n] : p->v[k];
     struct hpoint hi = l->a > 0 ? p->v[k] : p->v[(k + 1) % p->n];
-    cost_mw_mul(v->cost, 88, 17);
+    v->pend_side++;                      /* charged by charge_compares */
     if (geom_hy_cmp(lo, yn, yd) > 0 || geom_hy_cmp(hi, yn, yd) <= 0) continue;
     if (l->a > 0) kl = k; else kr = k;
   }
@@ -388,8 +421,7 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
     }
     it->xl.num += it->dxl;               /* xb += dxb, xe += dxe */
     it->xr.num += it->dxr;
-    cost_mw_add(v->cost, 75);
-    cost_mw_add(v->cost, 75);
+    v->pend_xadd += 2;                   /* charged by charge_compares */
   } else if (!same) {
     if (!dblock_open(v, it, yn, yd)) {
       it->open = false;
@@ -404,8 +436,8 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
   it->yd = yd;
   dblock_store(v, it);
   COST_ADD_N(v->cost, COST_MEM, DBLOCK_WORDS);
-  it->on = geom_rat_cmp(it->xl, it->xr) < 0;
-  cost_mw_mul(v->cost, 75, 46);
+  it->on = x_cmp(it->xl, it->xr) < 0;
+  v->pend_xcmp++;                        /* an x compare (charge_compares) */
   return T74_OK;
 }
 
@@ -429,8 +461,11 @@ static int parent_of(const struct vis *v, int p)
    cover the stretch st, each within its span (the sweep's covering set): in exact
    arithmetic that answers some of the deciding's overlap tests (priority.h, struct
    prio_meet); under --arith hitac the spans are the 1974 program's rounded ones, and
-   every test is made. */
-static int order_of(struct vis *v, int b, int c, const struct prio_meet *st,
+   every test is made. Always inlined into front_of, which asks it for every pair. */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((always_inline))
+#endif
+static inline int order_of(struct vis *v, int b, int c, const struct prio_meet *st,
                     struct t74_error *err)
 {
   int pb = parent_of(v, b), pc = parent_of(v, c);
@@ -614,7 +649,7 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   /* 3. the order by xb: the pieces kept are in the last line's order (act is left so),
      the new ones are sorted apart and merged in */
   for (int a = 0; a < v->nact; a++) v->byxl[a] = a;
-  sort_kept(v, v->byxl, kept, by_xl);
+  sort_kept(v, v->byxl, kept, false);
   sort_batch(v, v->byxl + kept, v->nact - kept, v->tmp, by_xl);
   merge_runs(v, v->byxl, kept, v->byxl + kept, v->nact - kept, v->tmp, by_xl);
   memcpy(v->byxl, v->tmp, (size_t)v->nact * sizeof *v->byxl);
@@ -625,7 +660,7 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   m = 0;
   for (int i = 0; i < v->nbyxr; i++)
     if (v->act[v->byxr[i]].on) { v->tmp3[v->byxr[i]] = 1; v->byxr[m++] = v->byxr[i]; }
-  sort_kept(v, v->byxr, m, by_xr);
+  sort_kept(v, v->byxr, m, true);
   int nb = 0;
   for (int a = 0; a < v->nact; a++)
     if (v->act[a].on && !v->tmp3[a]) v->tmp[nb++] = a;
@@ -644,7 +679,7 @@ static int after_x(struct vis *v, const int *ord, int n, struct grat x, bool xr)
     int mid = (lo + hi) / 2;
     const struct vis_item *it = &v->act[ord[mid]];
     v->pend_xcmp++;
-    if (geom_rat_cmp(xr ? it->xr : it->xl, x) <= 0) lo = mid + 1; else hi = mid;
+    if (x_cmp(xr ? it->xr : it->xl, x) <= 0) lo = mid + 1; else hi = mid;
   }
   return lo;
 }
@@ -705,9 +740,8 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
   for (int a = first; a < v->nact; a++) {
     const struct vis_item *it = &v->act[a];
     if (!it->on) continue;
-    cost_mw_mul(v->cost, 75, 46);
-    cost_mw_mul(v->cost, 75, 46);
-    if (geom_rat_cmp(it->xl, x) <= 0 && geom_rat_cmp(x, it->xr) < 0) {
+    v->pend_xcmp += 2;                   /* two x compares (charge_compares) */
+    if (x_cmp(it->xl, x) <= 0 && x_cmp(x, it->xr) < 0) {
       v->seti[k] = a;
       v->set[k++] = it->piece;
       COST_ADD_N(v->cost, COST_MEM, 2);
@@ -729,12 +763,12 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
   for (int a = 0; a < v->nact; a++) v->setpos[a] = -1;
   while (ia < non || ir < v->nbyxr) {
     struct grat x;
-    if (ia < non && (ir >= v->nbyxr || geom_rat_cmp(XL(ia), XR(ir)) <= 0))
+    if (ia < non && (ir >= v->nbyxr || x_cmp(XL(ia), XR(ir)) <= 0))
       x = XL(ia);
     else
       x = XR(ir);
     /* leave: spans ending at x */
-    while (ir < v->nbyxr && geom_rat_cmp(XR(ir), x) == 0) {
+    while (ir < v->nbyxr && x_cmp(XR(ir), x) == 0) {
       int a = v->byxr[ir++], p = v->act[a].piece, m = v->setpos[a];
       if (m >= 0 && m < v->nset && v->seti[m] == a) {   /* out of the set, the last in */
         v->nset--;                                      /* its place */
@@ -755,7 +789,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     }
     /* join: spans starting at x */
     int joined = v->nset;
-    while (ia < non && geom_rat_cmp(XL(ia), x) == 0) {
+    while (ia < non && x_cmp(XL(ia), x) == 0) {
       v->setpos[v->byxl[ia]] = v->nset;
       v->seti[v->nset] = v->byxl[ia];
       v->set[v->nset++] = v->act[v->byxl[ia++]].piece;
@@ -764,7 +798,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     while (v->nset > 0) {
       /* the stretch [x, xn) has a fixed covering set: find its front piece (ir < nbyxr:
          a piece of the set has not left yet) */
-      struct grat xn = ia < non && geom_rat_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
+      struct grat xn = ia < non && x_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
       bool sure;
       struct prio_meet st = { x, xn, yn, yd };
       int r = front >= 0 ? front_of(v, front, joined, &front, &sure, &st, err)
@@ -811,7 +845,7 @@ static int rename_spans(struct vis *v, struct t74_error *err)
       for (int i = 0; i < nc; i++) {
         const struct vis_item *it = &v->act[v->tmp[i]];
         if (s->p[it->piece].face != sp->face) continue;
-        if (c >= 0 && geom_rat_cmp(it->xl, sp->x0) > 0) break;
+        if (c >= 0 && x_cmp(it->xl, sp->x0) > 0) break;
         c = i;
       }
     if (c < 0) {
@@ -823,20 +857,20 @@ static int rename_spans(struct vis *v, struct t74_error *err)
       continue;
     }
     struct grat at = sp->x0;
-    while (geom_rat_cmp(at, sp->x1) < 0) {
+    while (x_cmp(at, sp->x1) < 0) {
       int nx = c + 1;                               /* the next half of the face */
       while (nx < nc && s->p[v->act[v->tmp[nx]].piece].face != sp->face) nx++;
       const struct vis_item *it = &v->act[v->tmp[c]];
       struct grat to = sp->x1;
-      if (nx < nc && geom_rat_cmp(v->act[v->tmp[nx]].xl, to) < 0) to = v->act[v->tmp[nx]].xl;
+      if (nx < nc && x_cmp(v->act[v->tmp[nx]].xl, to) < 0) to = v->act[v->tmp[nx]].xl;
       if (v->arith == GEOM_EXACT &&
-          (geom_rat_cmp(it->xl, at) > 0 || geom_rat_cmp(to, it->xr) > 0))
+          (x_cmp(it->xl, at) > 0 || x_cmp(to, it->xr) > 0))
         return t74_fail(err, T74_EINPUT, "internal: the halves of cut piece %d do not "
                         "cover its stretch", sp->piece);
-      if (geom_rat_cmp(at, to) < 0 &&
+      if (x_cmp(at, to) < 0 &&
           !put_span(&v->span2, &v->nspan2, &v->span2cap, at, to, it->piece, sp->face))
         return t74_fail(err, T74_EIO, "out of host memory");
-      if (geom_rat_cmp(to, at) > 0) at = to;
+      if (x_cmp(to, at) > 0) at = to;
       if (nx >= nc) break;
       c = nx;
     }
@@ -873,6 +907,7 @@ static int line_end(struct vis *v, struct t74_error *err)
 int vis_spans(struct vis *v, int64_t yn, int64_t yd, const struct vis_span **span,
               int *nspan, struct t74_error *err)
 {
+  assert(yd > 0 && yd < ((int64_t)1 << 34));   /* x_cmp: each denominator below 2^63 */
   v->yn = yn;
   v->yd = yd;
   v->lines++;

@@ -82,6 +82,8 @@ struct vis {
                                             out (vis_init_without) */
   uint64_t pend_ycmp, pend_xcmp;         /* compares of lowest y and of x made and not yet
                                             charged (charged at the end of each line) */
+  uint64_t pend_xadd, pend_side;         /* the D-blocks' x steps (75-bit adds) and sides tried
+                                            (88 x 17-bit products), likewise */
 };
 
 int vis_init(struct vis *v, struct seginfo *seg, struct prio *prio, struct cost *cost,

@@ -181,7 +181,7 @@ static void test_geom_lines(void **state)
   assert_int_equal(geom_side(h, (struct gpoint){ -9, 4 }), -1);
   assert_int_equal(geom_side(hd, (struct gpoint){ -9, 4 }), 1);
   /* meet: x = 3 and y = 5 meet at (3, 5); parallel lines do not meet */
-  struct hpoint m;
+  struct hpoint m = { 0, 0, 1 };
   assert_true(geom_meet(up, h, &m));
   assert_true(h_is(m, 3, 5));
   assert_int_equal(geom_side_h(l, m), 1);
@@ -310,6 +310,72 @@ static void test_i256(void **state)
     assert_true(i256_is(r, f.w[0], f.w[1], f.w[2], f.w[3]));
     assert_int_equal(i256_sign(r), (ref > 0) - (ref < 0));
   }
+}
+
+/* A value of bit length n <= 127 (|v| < 2^n, at least 2^(n-1); 0 for n = 0): all ones, or
+   only the top bit, by the seed's low bit; negative by its next one. */
+static wide bitlen_value(unsigned n, uint64_t seed)
+{
+  if (n == 0) return 0;
+  uwide u = (seed & 1) ? ((uwide)1 << (n - 1)) : ((uwide)1 << n) - 1;
+  wide v = (wide)u;
+  return (seed & 2) ? -v : v;
+}
+
+/* geom_cross_sign and geom_dot3_sign (their 128-bit paths taken by bit lengths) against the
+   256-bit long way: each product's operands of bit lengths adding up to 118..135 (around
+   the borders: 126 for a product pair, 125 for three products), signs and forms at
+   random, a fifth of the pairs equal products; then the extremes. */
+static void test_cross_dot_sign(void **state)
+{
+  (void)state;
+  uint64_t s = 0x9E3779B97F4A7C15ull;
+  for (int k = 0; k < 200000; k++) {
+    wide v[6];
+    for (int m = 0; m < 6; m += 2) {
+      s = s * 6364136223846793005ull + 1442695040888963407ull;
+      unsigned la = (unsigned)(s >> 40) % 128, sum = 118 + (unsigned)(s >> 20) % 18;
+      unsigned lb = sum > la ? sum - la : 0;
+      if (lb > 127) lb = 127;
+      v[m] = bitlen_value(la, s >> 3);
+      v[m + 1] = bitlen_value(lb, s >> 9);
+    }
+    if (k % 5 == 0) { v[2] = v[1]; v[3] = v[0]; }           /* equal products: 0 */
+    wide a = v[0], b = v[1], c = v[2], d = v[3], e = v[4], f = v[5];
+    int ref = i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d)));
+    assert_int_equal(geom_cross_sign(a, b, c, d), ref);
+    int ref3 = i256_sign(i256_add(i256_add(i256_mul(a, b), i256_mul(-c, d)), i256_mul(e, f)));
+    assert_int_equal(geom_dot3_sign(a, b, -c, d, e, f), ref3);
+  }
+  /* the sum of three products each just below 2^125, all one sign: below 2^127 */
+  const wide m = ((wide)1 << 62) - 1, n = ((wide)1 << 63) - 1;
+  assert_int_equal(geom_dot3_sign(m, n, m, n, m, n), 1);
+  assert_int_equal(geom_dot3_sign(-m, n, m, -n, -m, n), -1);
+  assert_int_equal(geom_dot3_sign(m, n, -m, n, 0, 5), 0);
+  /* the 192-bit path at its extremes: a, c of the largest magnitudes, b, d below 2^64 */
+  const wide wmax = (wide)(~(uwide)0 >> 1), wmin = -wmax - 1;
+  const wide u64max = (wide)~(uint64_t)0;
+  const wide ext[6] = { wmax, wmax - 1, wmin, wmin + 1, -1, 0 };
+  const wide ext2[4] = { u64max, u64max - 1, 1, 0 };
+  for (int p = 0; p < 6; p++)
+    for (int q = 0; q < 4; q++)
+      for (int r = 0; r < 6; r++)
+        for (int t = 0; t < 4; t++) {
+          wide a = ext[p], b = ext2[q], c = ext[r], d = ext2[t];
+          struct i256 ab = i256_mul(a, b), cd = i256_mul(c, d), ncd;
+          /* -(c*d) by two's complement (-c overflows for the most negative c) */
+          unsigned carry = 1;
+          for (int w = 0; w < 4; w++) {
+            ncd.w[w] = ~cd.w[w] + carry;
+            carry = carry && ncd.w[w] == 0;
+          }
+          assert_int_equal(geom_cross_sign(a, b, c, d), i256_sign(i256_add(ab, ncd)));
+        }
+  /* products just above the 128-bit range, differing by one */
+  const wide t = (wide)1 << 100;
+  assert_int_equal(geom_cross_sign(t + 1, t - 1, t, t), -1);
+  assert_int_equal(geom_cross_sign(t, t, t + 1, t - 1), 1);
+  assert_int_equal(geom_dot3_sign(t + 1, t - 1, -t, t, 1, 1), 0);
 }
 
 /* ---- seginfo --------------------------------------------------------------------------- */
@@ -497,6 +563,27 @@ static void test_clip_both(void **state)
     assert_memory_equal(b.v, r.v, (size_t)b.n * sizeof *b.v);
     assert_memory_equal(&k1, &k2, sizeof k1);
     both += ha && hb;
+    /* a half known to have an interior only counted: the same count, answer, charges,
+       and the other half made as before */
+    for (int known = 1; known <= 2; known++) {
+      if (!(known == 1 ? ha : hb)) continue;
+      struct cost k3 = { { 0 } };
+      struct cpoly *made = known == 1 ? &r : &l;
+      made->n = -1;
+      signed char sides[80];                  /* found here, or by the clip (NULL) */
+      for (int v = 0; v < p->n; v++) sides[v] = (signed char)geom_side_h(h, p->v[v]);
+      uint64_t prod = 0;
+      seginfo_clip_both_known(p, h, trial % 2 ? sides : NULL, known, &l, &hl, &r, &hr, &prod);
+      cost_mw_mul_n(&k3, 88, 58, prod);
+      assert_int_equal(ha, hl);
+      assert_int_equal(hb, hr);
+      assert_int_equal(a.n, l.n);
+      assert_int_equal(b.n, r.n);
+      const struct cpoly *want = known == 1 ? &b : &a;
+      assert_memory_equal(want->line, made->line, (size_t)want->n * sizeof *want->line);
+      assert_memory_equal(want->v, made->v, (size_t)want->n * sizeof *want->v);
+      assert_memory_equal(&k1, &k3, sizeof k1);
+    }
   }
   assert_true(both > 300);                     /* lines that cut the piece in two */
   cpoly_free(&a);
@@ -1513,6 +1600,7 @@ int main(void)
     cmocka_unit_test(test_geom_lines),
     cmocka_unit_test(test_geom_rationals),
     cmocka_unit_test(test_i256),
+    cmocka_unit_test(test_cross_dot_sign),
     cmocka_unit_test(test_span_tie_rule),
     cmocka_unit_test(test_clip),
     cmocka_unit_test(test_overlap),
