@@ -64,6 +64,7 @@ struct prio {
   uint64_t meet_known;      /* overlap tests a stretch answered (host statistic) */
   struct prio_faces *faces; /* host: what decide found of the last face pairs met (priority.c,
                                "Face pairs"), or NULL */
+  unsigned faces_bits;      /* that table's size, 2^faces_bits slots */
   int      faces_off;       /* tests: decide finds it afresh for every pair */
   uint64_t faces_kept;      /* pairs decided with it kept (host statistic) */
   uint64_t computed;        /* pairs whose priority was computed */
