@@ -577,27 +577,6 @@ static void test_hard_families(void **state)
   assert_true(t.differ * 1000 < t.points);
 }
 
-static int from_sg(const ref_scene *r, struct xr_scene *s)
-{
-  memset(s, 0, sizeof *s);
-  s->eye[0] = (int32_t)r->x0; s->eye[1] = (int32_t)r->y0; s->eye[2] = (int32_t)r->z0;
-  s->win[0] = (int32_t)r->xl; s->win[1] = (int32_t)r->yb;
-  s->win[2] = (int32_t)r->xr; s->win[3] = (int32_t)r->yt;
-  for (int k = 0; k < r->nv; k++)
-    if (xr_vertex(s, (int32_t)r->v[k].x, (int32_t)r->v[k].y, (int32_t)r->v[k].z) < 0) return -1;
-  for (int k = 0; k < r->nf; k++) {
-    const ref_face *f = &r->f[k];
-    int fi = xr_face(s, f->id, f->ring_len[0], f->vi);
-    if (fi < 0) return -1;
-    s->f[fi].grey = f->grey;
-    int off = f->ring_len[0];
-    for (int g = 1; g < f->nring; g++) {
-      if (xr_hole(s, fi, f->ring_len[g], f->vi + off) < 0) return -1;
-      off += f->ring_len[g];
-    }
-  }
-  return 0;
-}
 
 static void test_scenegen_families(void **state)
 {
@@ -615,7 +594,7 @@ static void test_scenegen_families(void **state)
       char err[256];
       assert_int_equal(sg_generate((sg_family)fam, (uint64_t)seed, &r, err, sizeof err), 0);
       struct xr_scene s;
-      assert_int_equal(from_sg(&r, &s), 0);
+      assert_int_equal(xd_from_scenegen(&r, &s), 0);
       sg_free(&r);
       char name[64];
       snprintf(name, sizeof name, "%s-%d", sg_family_name((sg_family)fam), seed);

@@ -105,3 +105,25 @@ int xd_check_ids(struct xr_scene *s, int cell, int store, struct xd_result *res,
   if (keep) *keep = ids; else free(ids);
   return 0;
 }
+
+int xd_from_scenegen(const ref_scene *r, struct xr_scene *s)
+{
+  memset(s, 0, sizeof *s);
+  s->eye[0] = (int32_t)r->x0; s->eye[1] = (int32_t)r->y0; s->eye[2] = (int32_t)r->z0;
+  s->win[0] = (int32_t)r->xl; s->win[1] = (int32_t)r->yb;
+  s->win[2] = (int32_t)r->xr; s->win[3] = (int32_t)r->yt;
+  for (int k = 0; k < r->nv; k++)
+    if (xr_vertex(s, (int32_t)r->v[k].x, (int32_t)r->v[k].y, (int32_t)r->v[k].z) < 0) return -1;
+  for (int k = 0; k < r->nf; k++) {
+    const ref_face *f = &r->f[k];
+    int fi = xr_face(s, f->id, f->ring_len[0], f->vi);
+    if (fi < 0) return -1;
+    s->f[fi].grey = f->grey;
+    int off = f->ring_len[0];
+    for (int g = 1; g < f->nring; g++) {
+      if (xr_hole(s, fi, f->ring_len[g], f->vi + off) < 0) return -1;
+      off += f->ring_len[g];
+    }
+  }
+  return 0;
+}

@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include "tests/ref/exactref.h"
+#include "tests/ref/scenegen.h"
 
 struct xd_result {
   int status;                /* the renderer's status (0: rendered) */
@@ -37,5 +38,9 @@ int xd_check_ids(struct xr_scene *s, int cell, int store, struct xd_result *res,
 
 /* Write s as .s74 to path. 0 or -1. */
 int xd_save(struct xr_scene *s, const char *path);
+
+/* A scene of the cross-check's families (tests/ref/scenegen.h) as the reference takes it:
+   eye, window, vertices, faces with their greys and holes; 0, or -1 when out of memory. */
+int xd_from_scenegen(const ref_scene *r, struct xr_scene *s);
 
 #endif
