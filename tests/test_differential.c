@@ -56,13 +56,6 @@ static void judge(struct xr_scene *s, const char *fam, unsigned long long seed, 
   }
 }
 
-static int seeds(void)
-{
-  const char *e = getenv("T74_DIFF_SEEDS");
-  int n = e ? atoi(e) : 400;
-  return n > 0 ? n : 400;
-}
-
 static void report(const char *what, const struct tally *t)
 {
   print_message("%s: %ld scenes, %ld points checked, %ld in the tolerance band, %ld wrong, "
@@ -74,7 +67,7 @@ static void test_hard(void **state)
 {
   (void)state;
   struct tally t = { 0, 0, 0, 0, 0, 0 };
-  int n = seeds();
+  int n = xd_seeds();
   for (int fam = 0; fam < HG_NFAMILIES; fam++) {
     struct tally f = { 0, 0, 0, 0, 0, 0 };
     for (int seed = 1; seed <= n; seed++) {
@@ -103,7 +96,7 @@ static void test_scenegen(void **state)
 {
   (void)state;
   struct tally t = { 0, 0, 0, 0, 0, 0 };
-  int n = seeds() / 8 > 0 ? seeds() / 8 : 1;
+  int n = xd_seeds() / 8 > 0 ? xd_seeds() / 8 : 1;
   for (int fam = 0; fam < SG_NFAMILIES; fam++)
     for (int seed = 1; seed <= n; seed++) {
       ref_scene r;

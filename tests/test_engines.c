@@ -186,18 +186,10 @@ static long judge_scene(const struct scene *sc, int cell, const char *name, stru
 /* Write x to a temporary .s74 and load it as a user's file would be. */
 static long judge_xr(struct xr_scene *x, int cell, const char *name, struct tally *t)
 {
-  char path[] = "/tmp/tube74-engines-XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
-  assert_int_equal(xd_save(x, path), 0);
   struct scene *sc = NULL;
   struct t74_error err = { 0, "" };
-  struct scene_opts so;
-  memset(&so, 0, sizeof so);
-  so.input = "s74";
-  int st = scene_load(path, &so, &sc, &err);
-  unlink(path);
+  int st = xd_load(x, &sc, &err);
+  assert_true(st >= 0);
   if (st != T74_OK) { t->skipped++; return 0; }   /* the reader refused it: not a scene */
   long bad = judge_scene(sc, cell, name, t);
   scene_free(sc);
@@ -535,13 +527,6 @@ static void report(const char *what, const struct tally *t)
                 t->differ, t->points_tie, t->skipped);
 }
 
-static int seeds(void)
-{
-  const char *e = getenv("T74_DIFF_SEEDS");
-  int n = e ? atoi(e) : 400;
-  return n > 0 ? n : 400;
-}
-
 static void test_hard_families(void **state)
 {
   (void)state;
@@ -550,7 +535,7 @@ static void test_hard_families(void **state)
   struct fx_tally ft;
   memset(&ft, 0, sizeof ft);
   long bad = 0;
-  int n = seeds();
+  int n = xd_seeds();
   for (int fam = 0; fam < HG_NFAMILIES; fam++)
     for (int seed = 1; seed <= n; seed++) {
       struct xr_scene s;
@@ -586,7 +571,7 @@ static void test_scenegen_families(void **state)
   struct fx_tally ft;
   memset(&ft, 0, sizeof ft);
   long bad = 0;
-  int n = seeds() / 8 > 0 ? seeds() / 8 : 1;
+  int n = xd_seeds() / 8 > 0 ? xd_seeds() / 8 : 1;
   for (int fam = 0; fam < SG_NFAMILIES; fam++)
     for (int seed = 1; seed <= n; seed++) {
       ref_scene r;

@@ -104,17 +104,10 @@ done:
 static long judge_xr(struct xr_scene *x, int cell, const char *name, uint64_t seed,
                      struct tally *t)
 {
-  char path[] = "/tmp/tube74-coarse-XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
-  assert_int_equal(xd_save(x, path), 0);
   struct scene *sc = NULL;
   struct t74_error err = { 0, "" };
-  struct scene_opts so;
-  memset(&so, 0, sizeof so);
-  so.input = "s74";
-  int st = scene_load(path, &so, &sc, &err);
+  int st = xd_load(x, &sc, &err);
+  assert_true(st >= 0);
   long bad = 0;
   if (st == T74_OK) {
     bad = judge(sc, cell, name, seed, t);
@@ -126,15 +119,7 @@ static long judge_xr(struct xr_scene *x, int cell, const char *name, uint64_t se
     xd_save(x, keep);
     print_message("%s: %ld points differ (scene kept in %s)\n", name, bad, keep);
   }
-  unlink(path);
   return bad;
-}
-
-static int seeds(void)
-{
-  const char *e = getenv("T74_DIFF_SEEDS");
-  int n = e ? atoi(e) : 400;
-  return n > 0 ? n : 400;
 }
 
 static void report(const char *what, const struct tally *t)
@@ -151,7 +136,7 @@ static void test_hard_families(void **state)
   struct tally t;
   memset(&t, 0, sizeof t);
   long bad = 0;
-  int n = seeds();
+  int n = xd_seeds();
   for (int fam = 0; fam < HG_NFAMILIES; fam++)
     for (int seed = 1; seed <= n; seed++) {
       struct xr_scene s;
@@ -173,7 +158,7 @@ static void test_scenegen_families(void **state)
   struct tally t;
   memset(&t, 0, sizeof t);
   long bad = 0;
-  int n = seeds() / 2 > 0 ? seeds() / 2 : 1;
+  int n = xd_seeds() / 2 > 0 ? xd_seeds() / 2 : 1;
   for (int fam = 0; fam < SG_NFAMILIES; fam++)
     for (int seed = 1; seed <= n; seed++) {
       ref_scene r;
@@ -263,7 +248,7 @@ static void test_boxes_and_triangles(void **state)
   struct tally t;
   memset(&t, 0, sizeof t);
   long bad = 0;
-  int n = seeds() / 4 > 0 ? seeds() / 4 : 1;
+  int n = xd_seeds() / 4 > 0 ? xd_seeds() / 4 : 1;
   for (int seed = 1; seed <= n; seed++) {
     struct xr_scene s;
     char name[64];
@@ -342,19 +327,10 @@ static void test_layered(void **state)
                  xr_vertex(&s, -r, r, z) };
     assert_true(xr_face(&s, (unsigned)k + 1, 4, v) >= 0);
   }
-  char path[] = "/tmp/tube74-layered-XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
-  assert_int_equal(xd_save(&s, path), 0);
-  xr_scene_free(&s);
   struct scene *sc = NULL;
   struct t74_error err = { 0, "" };
-  struct scene_opts so;
-  memset(&so, 0, sizeof so);
-  so.input = "s74";
-  assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
-  unlink(path);
+  assert_int_equal(xd_load(&s, &sc, &err), T74_OK);
+  xr_scene_free(&s);
   struct vis_grid g = { 100, 75, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
   int32_t *a = calloc(100 * 75, sizeof *a), *b = calloc(100 * 75, sizeof *b);
   assert_non_null(a);
@@ -401,19 +377,10 @@ static void test_pattern_chain(void **state)
     assert_true(fi >= 0);
     s.f[fi].on = on[k];
   }
-  char path[] = "/tmp/tube74-chain-XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
-  assert_int_equal(xd_save(&s, path), 0);
-  xr_scene_free(&s);
   struct scene *sc = NULL;
   struct t74_error err = { 0, "" };
-  struct scene_opts so;
-  memset(&so, 0, sizeof so);
-  so.input = "s74";
-  assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
-  unlink(path);
+  assert_int_equal(xd_load(&s, &sc, &err), T74_OK);
+  xr_scene_free(&s);
   struct tally t;
   memset(&t, 0, sizeof t);
   long bad = 0;

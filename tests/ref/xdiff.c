@@ -40,22 +40,10 @@ int xd_check_ids(struct xr_scene *s, int cell, int store, struct xd_result *res,
 {
   memset(res, 0, sizeof *res);
   res->first_i = res->first_j = -1;
-  char path[] = "/tmp/tube74-xdiff-XXXXXX";
-  int fd = mkstemp(path);
-  if (fd < 0) { snprintf(res->msg, sizeof res->msg, "cannot make a temporary file"); return -1; }
-  close(fd);
-  if (xd_save(s, path) != 0) {
-    unlink(path);
-    snprintf(res->msg, sizeof res->msg, "cannot write %s", path);
-    return -1;
-  }
   struct scene *sc = NULL;
   struct t74_error err = { 0, "" };
-  struct scene_opts so;
-  memset(&so, 0, sizeof so);
-  so.input = "s74";
-  int st = scene_load(path, &so, &sc, &err);
-  unlink(path);
+  int st = xd_load(s, &sc, &err);
+  if (st < 0) { snprintf(res->msg, sizeof res->msg, "%s", err.msg); return -1; }
   if (st != T74_OK) {
     res->status = st;
     snprintf(res->msg, sizeof res->msg, "%s", err.msg);
@@ -126,4 +114,30 @@ int xd_from_scenegen(const ref_scene *r, struct xr_scene *s)
     }
   }
   return 0;
+}
+
+int xd_load(struct xr_scene *s, struct scene **out, struct t74_error *err)
+{
+  char path[] = "/tmp/tube74-xdiff-XXXXXX";
+  int fd = mkstemp(path);
+  if (fd < 0) { snprintf(err->msg, sizeof err->msg, "cannot make a temporary file"); return -1; }
+  close(fd);
+  if (xd_save(s, path) != 0) {
+    unlink(path);
+    snprintf(err->msg, sizeof err->msg, "cannot write %s", path);
+    return -1;
+  }
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  so.input = "s74";
+  int st = scene_load(path, &so, out, err);
+  unlink(path);
+  return st;
+}
+
+int xd_seeds(void)
+{
+  const char *e = getenv("T74_DIFF_SEEDS");
+  int n = e ? atoi(e) : 400;
+  return n > 0 ? n : 400;
 }

@@ -14,6 +14,8 @@
 #include <stdio.h>
 #include "tests/ref/exactref.h"
 #include "tests/ref/scenegen.h"
+#include "render/scene.h"
+#include "emu/status.h"
 
 struct xd_result {
   int status;                /* the renderer's status (0: rendered) */
@@ -42,5 +44,13 @@ int xd_save(struct xr_scene *s, const char *path);
 /* A scene of the cross-check's families (tests/ref/scenegen.h) as the reference takes it:
    eye, window, vertices, faces with their greys and holes; 0, or -1 when out of memory. */
 int xd_from_scenegen(const ref_scene *r, struct xr_scene *s);
+
+/* s written to a temporary .s74 and read back as a user's file would be (the file is gone
+   on return): scene_load's status, with *out and err as it leaves them; -1 (err says why)
+   when the temporary file could not be made or written. */
+int xd_load(struct xr_scene *s, struct scene **out, struct t74_error *err);
+
+/* Seeds a generated family runs: T74_DIFF_SEEDS, default 400. */
+int xd_seeds(void);
 
 #endif
