@@ -835,10 +835,10 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   /* The faces are drawn in the Mapper's order while their boxes cover the grid less than
      COARSE_DEPTH times over (there the tiles' tests and the order cost more than they
      save); the rest are kept, then drawn nearest first with the tiles (always all of
-     them when asked to shuffle, none when plain). The tiles' bounds are kept by every
+     them when asked to shuffle, none with no_tiles). The tiles' bounds are kept by every
      write, so they hold for the faces drawn either way ("Tiles", "Order"). */
   long area = 0;
-  const long limit = p->plain || ntx > 32 ? LONG_MAX    /* a band's tiles: bits of 32 */
+  const long limit = p->no_tiles || ntx > 32 ? LONG_MAX    /* a band's tiles: bits of 32 */
                     : p->shuffle ? 0 : COARSE_DEPTH * (long)g.W * g.H;
   int nd = 0;                                     /* faces kept */
   for (int k = 0; k < nf; k++) {

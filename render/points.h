@@ -53,7 +53,7 @@ struct points {
   int faces_culled;                 /* faces that cover no point centre */
   /* coarse coverage (points.c, "Tiles"): set by the caller before points_render; zero is
      the engine as it runs */
-  bool plain;                       /* true: no tiles, faces drawn in the Mapper's order
+  bool no_tiles;                    /* true: no tiles, faces drawn in the Mapper's order
                                        (the engine without coarse coverage, for tests) */
   uint64_t shuffle;                 /* not 0: tiles used whatever the scene, the faces
                                        drawn in an order shuffled by this seed instead of

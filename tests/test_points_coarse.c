@@ -37,13 +37,13 @@ struct tally {
 };
 
 /* One render of sc on grid g with the given knobs; the frame copied to out (W x H). */
-static int render_with(const struct scene *sc, const struct vis_grid *g, bool plain,
+static int render_with(const struct scene *sc, const struct vis_grid *g, bool no_tiles,
                        uint64_t shuffle, int32_t *out, int *culled, long *skipped,
                        long *visited)
 {
   struct points p;
   memset(&p, 0, sizeof p);
-  p.plain = plain;
+  p.no_tiles = no_tiles;
   p.shuffle = shuffle;
   struct t74_error err = { 0, "" };
   int st = points_render(&p, sc, g, &err);
