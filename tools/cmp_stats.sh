@@ -12,10 +12,16 @@
 # scenes/*.s74: scenes/cube.obj with --engine 1974, the boxes of `tube74 bench speed`
 # (tools/mkgrowth.py --obj: 1,000, 10,000, 100,000 faces) and its interpenetrating
 # triangles (tools/mktris.py: 160 .. 2,560).
+# CMP_POINTS=1 (issue 19, speed work on the points engine) runs instead the points engine on
+# every shipped scene, scenes/cube.obj, the bench's boxes (1,000, 10,000) and triangles
+# (160 .. 640), each at --frames 1 and --frames 3, five scenes under two other effect mixes,
+# comparing the exit status, --stats, the
+# PNG and the ids, grey and points dumps.
 # Usage: tools/cmp_stats.sh OLD_BINARY NEW_BINARY [WORKDIR]; exit 0 when all agree.
 set -u
 old=$1; new=$2; dir=${3:-build/cmp_stats}
 full=${CMP_FULL:-0}
+pts=${CMP_POINTS:-0}
 mkdir -p build/bench "$dir/old" "$dir/new"
 for n in 1000 10000; do
   [ -f build/bench/g$n.s74 ] || python3 tools/mkgrowth.py $n >build/bench/g$n.s74
@@ -64,6 +70,55 @@ run() {
   fi
   if [ -n "$what" ]; then echo "differs ($what ): $b $*"; bad=$((bad + 1)); fi
 }
+
+# one points-engine run of each binary: SCENE TAG EXTRA...
+run_points() {
+  g=$1; b=$2; shift 2
+  for side in old new; do
+    eval bin=\$$side
+    o="$dir/$side/$b"
+    rm -f "$o".json "$o".png "$o".ids "$o".grey "$o".points "$o".rc
+    "$bin" render "$g" --engine points --stats "$o.json" -o "$o.png" --dump ids="$o.ids" \
+      --dump grey="$o.grey" --dump points="$o.points" "$@" >/dev/null 2>&1
+    echo $? >"$o.rc"
+    sed -E 's/"(host_seconds|frame_seconds)": *[-0-9.eE+]+,? *//g' "$o.json" \
+      >"$o.cmp" 2>/dev/null || : >"$o.cmp"
+  done
+  count=$((count + 1))
+  what=""
+  cmp -s "$dir/old/$b.rc" "$dir/new/$b.rc" || what="$what status"
+  if [ "$(cat "$dir/old/$b.rc")" = 0 ] && [ ! -s "$dir/old/$b.cmp" ]; then what="$what no-stats"; fi
+  for e in cmp png ids grey points; do
+    if [ -f "$dir/old/$b.$e" ] || [ -f "$dir/new/$b.$e" ]; then
+      cmp -s "$dir/old/$b.$e" "$dir/new/$b.$e" || what="$what $e"
+    fi
+  done
+  if [ -n "$what" ]; then echo "differs ($what ): $b $*"; bad=$((bad + 1)); fi
+}
+
+if [ "$pts" = 1 ]; then
+  for n in 1000 10000; do
+    [ -f build/bench/boxes$n.obj ] || python3 tools/mkgrowth.py $n --obj >build/bench/boxes$n.obj
+  done
+  for n in 160 320 640; do
+    [ -f build/bench/tris$n.s74 ] || python3 tools/mktris.py $n >build/bench/tris$n.s74
+  done
+  for g in scenes/*.s74 scenes/cube.obj build/bench/boxes1000.obj build/bench/boxes10000.obj \
+           build/bench/tris160.s74 build/bench/tris320.s74 build/bench/tris640.s74; do
+    b=$(basename "$g")
+    run_points "$g" "$b.p1" --frames 1
+    run_points "$g" "$(basename "$g").p3" --frames 3
+  done
+  for g in scenes/fig5.s74 scenes/fig6-room.s74 scenes/lprism.s74 scenes/sphere.s74 \
+           scenes/street.s74; do
+    run_points "$g" "$(basename "$g").fxa" --frames 2 --effects "aa=super shadows=on"
+    run_points "$g" "$(basename "$g").fxb" --frames 2 \
+      --effects "halftone=4x4 smooth=gouraud contour=0.5 shadows=on"
+  done
+  echo "$count runs, $bad differ"
+  [ "$bad" -eq 0 ]
+  exit
+fi
 
 for g in scenes/*.s74 build/bench/g1000.s74 build/bench/g10000.s74; do
   b=$(basename "$g")
