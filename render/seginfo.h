@@ -24,14 +24,19 @@
 #include "render/pool.h"
 
 struct piece {
-  int    face;             /* index in mapped.f */
-  int    n;                /* number of sides, >= 3 */
   struct gline  *line;     /* n oriented lines, counter-clockwise */
   struct hpoint *v;        /* v[k]: where line[k-1] meets line[k] (start of side k) */
-  struct hpoint ylo, yhi;  /* its lowest and highest vertex */
-  bool   alive;            /* false once cut in two */
+  int    face;             /* index in mapped.f */
+  int    n;                /* number of sides, >= 3 */
   int    parent;           /* the piece it is a half of (cut by priority.c), else -1 */
+  int    lo, hi;           /* its lowest and highest vertex: v[lo], v[hi] (issue 19: an
+                              index, not a copy: 40 bytes a piece instead of 144) */
+  bool   alive;            /* false once cut in two */
 };
+
+/* Piece p's lowest and highest vertex (the first of equal y in p's order). */
+static inline struct hpoint piece_ylo(const struct piece *p) { return p->v[p->lo]; }
+static inline struct hpoint piece_yhi(const struct piece *p) { return p->v[p->hi]; }
 
 struct seginfo {
   int    n, cap;
