@@ -38,6 +38,8 @@ struct core_rec {
 
 struct core {
   uint32_t          size;         /* words of core */
+  uint32_t          cap;          /* words the host block w has room for, >= size (a core
+                                     renewed smaller keeps its block: core_renew) */
   uint16_t         *w;            /* the words */
   uint32_t          low_top;      /* first free word above the low region */
   uint32_t          high_len;     /* words of the high region (at the top) */
@@ -68,9 +70,24 @@ struct core *core_new(uint32_t words)
   c->w = calloc(words, sizeof *c->w);
   if (!c->w) { free(c); return NULL; }
   c->size = words;
+  c->cap = words;
   c->first_size = words;
   c->high_stat = -1;
   return c;
+}
+
+int core_renew(struct core *c, uint32_t words)
+{
+  if (words < 1 || words > (UINT32_C(1) << 31)) return -1;
+  if (words > c->cap) {
+    uint16_t *w = realloc(c->w, (size_t)words * sizeof *w);
+    if (!w) return -1;
+    c->w = w;
+    c->cap = words;
+  }
+  c->size = words;
+  core_reset(c);
+  return 0;
 }
 
 void core_reset(struct core *c)
@@ -109,8 +126,12 @@ static int grow_core(struct core *c, uint64_t need)
   uint64_t size = c->size;
   while (size < need) size *= 2;
   if (size > c->grow_max) size = c->grow_max;
-  uint16_t *w = realloc(c->w, (size_t)size * sizeof *w);
-  if (!w) return -1;
+  uint16_t *w = c->w;
+  if (size > c->cap) {                     /* else the block has room (core_renew) */
+    w = realloc(c->w, (size_t)size * sizeof *w);
+    if (!w) return -1;
+    c->cap = (uint32_t)size;
+  }
   uint32_t old = c->size, ns = (uint32_t)size;
   memmove(w + (ns - c->high_len), w + (old - c->high_len), (size_t)c->high_len * sizeof *w);
   memset(w + c->low_top, 0, (size_t)(ns - c->high_len - c->low_top) * sizeof *w);

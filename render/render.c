@@ -232,10 +232,9 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   r->tables = o->tables;
   r->faces_in = s->nf;
   r->keep = o->keep;
-  if (o->keep && o->keep->core && core_words(o->keep->core) == o->core_words) {
+  if (o->keep && o->keep->core && core_renew(o->keep->core, o->core_words) == 0) {
     r->core = o->keep->core;                 /* a core of the last frame, made as new */
     o->keep->core = NULL;
-    core_reset(r->core);
   } else
     r->core = core_new(o->core_words);
   if (!r->core) return t74_fail(err, T74_EIO, "out of host memory for %u words of core",
@@ -354,7 +353,7 @@ void render_free(struct render *r)
   }
   seginfo_free(&r->seg);
   mapper_free(&r->map);
-  if (r->keep && r->core && core_words(r->core) == core_first_words(r->core)) {
+  if (r->keep && r->core) {
     core_free(r->keep->core);
     r->keep->core = r->core;
   } else
