@@ -16,6 +16,7 @@
 */
 #include "render/render.h"
 
+#include <limits.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -265,6 +266,11 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
     /* the scan drives the Segment Generator (cut_upto, from vis_spans): the matrix's
        starting store is chosen from the pieces the scene is expected to be cut into */
     expect = pieces_estimate(&r->map);
+    /* the pieces' table from it, an eighth more for the cuts along intersection lines
+       (beyond that it doubles) */
+    uint64_t room = expect + expect / 8 + 64;
+    if (room < INT_MAX / 2 && !seginfo_reserve(&r->seg, (int)room))
+      return t74_fail(err, T74_EIO, "out of host memory");
   } else {
     st = cut_upto(r, 0, 0, err);
     if (st != T74_OK) return st;

@@ -79,15 +79,22 @@ static int merge_sides(struct gline *l, int n)
   return n;
 }
 
+bool seginfo_reserve(struct seginfo *t, int n)
+{
+  if (n <= t->cap) return true;
+  struct piece *np = realloc(t->p, (size_t)n * sizeof *np);
+  if (!np) return false;
+  t->p = np;
+  t->cap = n;
+  return true;
+}
+
 int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
                 struct t74_error *err)
 {
-  if (t->n == t->cap) {
-    int cap = t->cap ? 2 * t->cap : 64;
-    struct piece *np = realloc(t->p, (size_t)cap * sizeof *np);
-    if (!np) { t74_fail(err, T74_EIO, "out of host memory"); return -1; }
-    t->p = np;
-    t->cap = cap;
+  if (t->n == t->cap && !seginfo_reserve(t, t->cap ? 2 * t->cap : 64)) {
+    t74_fail(err, T74_EIO, "out of host memory");
+    return -1;
   }
   struct piece *p = &t->p[t->n];
   memset(p, 0, sizeof *p);

@@ -49,6 +49,11 @@ struct seginfo {
 void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost);
 void seginfo_free(struct seginfo *t);
 
+/* Room for n pieces in all, taken now (issue 19: the table sized from an estimate of the
+   pieces, not by doubling from 64, which leaves it up to twice as large as it needs and
+   its smaller copies freed behind it). false when the host is out of memory. */
+bool seginfo_reserve(struct seginfo *t, int n);
+
 /* Append a piece given by its lines (consecutive lines must meet). Returns the piece's
    number, or -1 with err set (T74_ECORE when its blocks do not fit the core). */
 int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
