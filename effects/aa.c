@@ -264,7 +264,8 @@ static int events(struct aa_ctx *c, double ya, double yb, struct evlist *e)
   for (int p = 0; p < s->n; p++) {
     const struct piece *pc = &s->p[p];
     if (!pc->alive) continue;
-    double lo = (double)pc->ylo.Y / (double)pc->ylo.W, hi = (double)pc->yhi.Y / (double)pc->yhi.W;
+    double lo = (double)piece_ylo(pc).Y / (double)piece_ylo(pc).W,
+           hi = (double)piece_yhi(pc).Y / (double)piece_yhi(pc).W;
     COST_ADD_N(c->cost, COST_MEM, 4);
     if (lo >= yb || hi <= ya) continue;
     for (int k = 0; k < pc->n; k++) {

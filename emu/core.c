@@ -30,14 +30,17 @@ struct core_stat {
   uint32_t peak;                  /* the most held at once */
 };
 
-struct core_rec {
-  uint32_t addr;                  /* first word */
+struct core_rec {                 /* its first word: the words of those below it (they
+                                     tile the low region: issue 19, 12 bytes a table was
+                                     6 MB at 100,000 boxes) */
   uint32_t words;                 /* length */
   int      stat;                  /* index into stats */
 };
 
 struct core {
   uint32_t          size;         /* words of core */
+  uint32_t          cap;          /* words the host block w has room for, >= size (a core
+                                     renewed smaller keeps its block: core_renew) */
   uint16_t         *w;            /* the words */
   uint32_t          low_top;      /* first free word above the low region */
   uint32_t          high_len;     /* words of the high region (at the top) */
@@ -68,9 +71,24 @@ struct core *core_new(uint32_t words)
   c->w = calloc(words, sizeof *c->w);
   if (!c->w) { free(c); return NULL; }
   c->size = words;
+  c->cap = words;
   c->first_size = words;
   c->high_stat = -1;
   return c;
+}
+
+int core_renew(struct core *c, uint32_t words)
+{
+  if (words < 1 || words > (UINT32_C(1) << 31)) return -1;
+  if (words > c->cap) {
+    uint16_t *w = realloc(c->w, (size_t)words * sizeof *w);
+    if (!w) return -1;
+    c->w = w;
+    c->cap = words;
+  }
+  c->size = words;
+  core_reset(c);
+  return 0;
 }
 
 void core_reset(struct core *c)
@@ -109,8 +127,12 @@ static int grow_core(struct core *c, uint64_t need)
   uint64_t size = c->size;
   while (size < need) size *= 2;
   if (size > c->grow_max) size = c->grow_max;
-  uint16_t *w = realloc(c->w, (size_t)size * sizeof *w);
-  if (!w) return -1;
+  uint16_t *w = c->w;
+  if (size > c->cap) {                     /* else the block has room (core_renew) */
+    w = realloc(c->w, (size_t)size * sizeof *w);
+    if (!w) return -1;
+    c->cap = (uint32_t)size;
+  }
   uint32_t old = c->size, ns = (uint32_t)size;
   memmove(w + (ns - c->high_len), w + (old - c->high_len), (size_t)c->high_len * sizeof *w);
   memset(w + c->low_top, 0, (size_t)(ns - c->high_len - c->low_top) * sizeof *w);
@@ -247,7 +269,7 @@ int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr
   }
   uint32_t a = c->low_top;
   memset(c->w + a, 0, (size_t)words * sizeof *c->w);
-  c->rec[c->nrec++] = (struct core_rec){ a, words, s };
+  c->rec[c->nrec++] = (struct core_rec){ words, s };
   c->low_top = a + words;
   stat_add(c, s, words);
   note_peak(c);
@@ -258,13 +280,16 @@ int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr
 void core_release(struct core *c, uint32_t mark)
 {
   if (mark >= c->low_top) return;
+  uint32_t top = c->low_top;                           /* the end of the last record */
   while (c->nrec > 0) {
     struct core_rec *r = &c->rec[c->nrec - 1];
-    if (r->addr >= mark) {                             /* wholly above: drop it */
+    uint32_t addr = top - r->words;
+    if (addr >= mark) {                                /* wholly above: drop it */
       c->stat[r->stat].cur -= r->words;
       c->nrec--;
+      top = addr;
     } else {                                           /* straddles the mark: shorten */
-      uint32_t keep = mark - r->addr;
+      uint32_t keep = mark - addr;
       if (keep < r->words) {
         c->stat[r->stat].cur -= r->words - keep;
         r->words = keep;
@@ -403,9 +428,12 @@ int core_layout_dump(const struct core *c, FILE *f)
   fprintf(f, "core: %" PRIu32 " words of 16 bits; in use %" PRIu32 ", peak %" PRIu32 "\n",
           c->size, core_used(c), c->peak);
   fprintf(f, "  %10s %8s %10s  %s\n", "address", "(hex)", "words", "table");
-  for (int i = 0; i < c->nrec; i++)
-    fprintf(f, "  %10" PRIu32 " %08" PRIX32 " %10" PRIu32 "  %s\n", c->rec[i].addr,
-            c->rec[i].addr, c->rec[i].words, c->stat[c->rec[i].stat].name);
+  uint32_t addr = 0;
+  for (int i = 0; i < c->nrec; i++) {
+    fprintf(f, "  %10" PRIu32 " %08" PRIX32 " %10" PRIu32 "  %s\n", addr, addr,
+            c->rec[i].words, c->stat[c->rec[i].stat].name);
+    addr += c->rec[i].words;
+  }
   uint32_t gap = c->size - c->low_top - c->high_len;
   fprintf(f, "  %10" PRIu32 " %08" PRIX32 " %10" PRIu32 "  (free)\n", c->low_top, c->low_top, gap);
   if (c->high_len > 0) {

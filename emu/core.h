@@ -77,6 +77,11 @@ uint32_t core_words(const struct core *c);     /* size */
    without touching fresh pages). What the words held is never seen: a table's words are
    zeroed when it is allocated, the high region's when it grows. */
 void core_reset(struct core *c);
+/* The core as core_new(words) makes it, as core_reset does, its host memory kept (issue
+   19: a core that grew in one frame of --frames serves the next, which starts small and
+   grows again, without a block freed and another taken). -1 (c unchanged) when words is
+   out of range or the host cannot allocate it. */
+int core_renew(struct core *c, uint32_t words);
 
 /* A core that grows instead of refusing (for study: an imported model drawn with the core
    it needs, and the words a scene needs found in one run): a table that does not fit

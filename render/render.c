@@ -16,6 +16,7 @@
 */
 #include "render/render.h"
 
+#include <limits.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -232,10 +233,9 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   r->tables = o->tables;
   r->faces_in = s->nf;
   r->keep = o->keep;
-  if (o->keep && o->keep->core && core_words(o->keep->core) == o->core_words) {
+  if (o->keep && o->keep->core && core_renew(o->keep->core, o->core_words) == 0) {
     r->core = o->keep->core;                 /* a core of the last frame, made as new */
     o->keep->core = NULL;
-    core_reset(r->core);
   } else
     r->core = core_new(o->core_words);
   if (!r->core) return t74_fail(err, T74_EIO, "out of host memory for %u words of core",
@@ -266,6 +266,11 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
     /* the scan drives the Segment Generator (cut_upto, from vis_spans): the matrix's
        starting store is chosen from the pieces the scene is expected to be cut into */
     expect = pieces_estimate(&r->map);
+    /* the pieces' table from it, an eighth more for the cuts along intersection lines
+       (beyond that it doubles) */
+    uint64_t room = expect + expect / 8 + 64;
+    if (room < INT_MAX / 2 && !seginfo_reserve(&r->seg, (int)room))
+      return t74_fail(err, T74_EIO, "out of host memory");
   } else {
     st = cut_upto(r, 0, 0, err);
     if (st != T74_OK) return st;
@@ -354,7 +359,7 @@ void render_free(struct render *r)
   }
   seginfo_free(&r->seg);
   mapper_free(&r->map);
-  if (r->keep && r->core && core_words(r->core) == core_first_words(r->core)) {
+  if (r->keep && r->core) {
     core_free(r->keep->core);
     r->keep->core = r->core;
   } else

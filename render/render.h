@@ -25,12 +25,12 @@ enum render_stage { RS_MAPPER, RS_SEGMENT, RS_VISIBLE, RS_NSTAGE };
 /* What one render of a scene keeps for the next renders of the same scene (--frames,
    issue 19): the T-junctions the Mapper found (mapper.h), so a later frame does not
    search again (its charges are added all the same: every figure is the first frame's),
-   and the host memory render_free is done with: the core model (core_reset: a core as
-   new) and the blocks of the faces and pieces, so a later frame works in memory already
+   and the host memory render_free is done with: the core model (core_renew: a core as
+   new, its block kept even when it grew) and the blocks of the faces and pieces, so a later frame works in memory already
    touched. Zeroed before the first render; render_keep_free when done. */
 struct render_keep {
   struct mapper_keep map;    /* the T-junctions, and the faces' blocks */
-  struct core *core;         /* a core of render_opts.core_words words, not in use, or NULL */
+  struct core *core;         /* a core not in use (renewed to render_opts.core_words words), or NULL */
   struct pool seg;           /* the pieces' blocks */
 };
 
@@ -91,7 +91,7 @@ int render_scan(struct render *r, const struct vis_grid *g, vis_point_fn point, 
 /* Pieces alive now (faces after all splits). */
 int render_pieces_alive(const struct render *r);
 
-/* Everything freed; the core to r's keep when there is one (and it never grew). */
+/* Everything freed; the core to r's keep when there is one. */
 void render_free(struct render *r);
 
 #endif

@@ -79,15 +79,22 @@ static int merge_sides(struct gline *l, int n)
   return n;
 }
 
+bool seginfo_reserve(struct seginfo *t, int n)
+{
+  if (n <= t->cap) return true;
+  struct piece *np = realloc(t->p, (size_t)n * sizeof *np);
+  if (!np) return false;
+  t->p = np;
+  t->cap = n;
+  return true;
+}
+
 int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
                 struct t74_error *err)
 {
-  if (t->n == t->cap) {
-    int cap = t->cap ? 2 * t->cap : 64;
-    struct piece *np = realloc(t->p, (size_t)cap * sizeof *np);
-    if (!np) { t74_fail(err, T74_EIO, "out of host memory"); return -1; }
-    t->p = np;
-    t->cap = cap;
+  if (t->n == t->cap && !seginfo_reserve(t, t->cap ? 2 * t->cap : 64)) {
+    t74_fail(err, T74_EIO, "out of host memory");
+    return -1;
   }
   struct piece *p = &t->p[t->n];
   memset(p, 0, sizeof *p);
@@ -117,10 +124,10 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
     }
   }
   cost_mw_mul_n(t->cost, 58, 29, 2 * (uint64_t)n);     /* two products a vertex */
-  p->ylo = p->yhi = p->v[0];
+  p->lo = p->hi = 0;
   for (int k = 1; k < n; k++) {
-    if (cmp_hy(p->v[k], p->ylo) < 0) p->ylo = p->v[k];
-    if (cmp_hy(p->v[k], p->yhi) > 0) p->yhi = p->v[k];
+    if (cmp_hy(p->v[k], p->v[p->lo]) < 0) p->lo = k;
+    if (cmp_hy(p->v[k], p->v[p->hi]) > 0) p->hi = k;
   }
   cost_mw_mul_n(t->cost, 88, 59, (uint64_t)n - 1);      /* a compare a vertex but the first */
 
@@ -130,8 +137,8 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
       core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK)
     return -1;
   core_write(t->core, b, (uint16_t)t->n);
-  core_write(t->core, b + 1, (uint16_t)(p->ylo.Y / p->ylo.W / GRID_ONE));
-  core_write(t->core, b + 2, (uint16_t)(p->yhi.Y / p->yhi.W / GRID_ONE));
+  core_write(t->core, b + 1, (uint16_t)(piece_ylo(p).Y / piece_ylo(p).W / GRID_ONE));
+  core_write(t->core, b + 2, (uint16_t)(piece_yhi(p).Y / piece_yhi(p).W / GRID_ONE));
   core_write(t->core, b + 3, (uint16_t)c);
   core_write(t->core, c, (uint16_t)n);
   for (int k = 0; k < n; k++) {             /* vertex number, then the side's edge share */

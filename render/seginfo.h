@@ -24,14 +24,19 @@
 #include "render/pool.h"
 
 struct piece {
-  int    face;             /* index in mapped.f */
-  int    n;                /* number of sides, >= 3 */
   struct gline  *line;     /* n oriented lines, counter-clockwise */
   struct hpoint *v;        /* v[k]: where line[k-1] meets line[k] (start of side k) */
-  struct hpoint ylo, yhi;  /* its lowest and highest vertex */
-  bool   alive;            /* false once cut in two */
+  int    face;             /* index in mapped.f */
+  int    n;                /* number of sides, >= 3 */
   int    parent;           /* the piece it is a half of (cut by priority.c), else -1 */
+  int    lo, hi;           /* its lowest and highest vertex: v[lo], v[hi] (issue 19: an
+                              index, not a copy: 40 bytes a piece instead of 144) */
+  bool   alive;            /* false once cut in two */
 };
+
+/* Piece p's lowest and highest vertex (the first of equal y in p's order). */
+static inline struct hpoint piece_ylo(const struct piece *p) { return p->v[p->lo]; }
+static inline struct hpoint piece_yhi(const struct piece *p) { return p->v[p->hi]; }
 
 struct seginfo {
   int    n, cap;
@@ -43,6 +48,11 @@ struct seginfo {
 
 void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost);
 void seginfo_free(struct seginfo *t);
+
+/* Room for n pieces in all, taken now (issue 19: the table sized from an estimate of the
+   pieces, not by doubling from 64, which leaves it up to twice as large as it needs and
+   its smaller copies freed behind it). false when the host is out of memory. */
+bool seginfo_reserve(struct seginfo *t, int n);
 
 /* Append a piece given by its lines (consecutive lines must meet). Returns the piece's
    number, or -1 with err set (T74_ECORE when its blocks do not fit the core). */

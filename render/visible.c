@@ -73,7 +73,7 @@ static int cmp_hy_frac(struct hpoint p, int64_t n, int64_t d)
 
 static int cmp_ylo(const struct seginfo *s, int a, int b)
 {
-  struct hpoint p = s->p[a].ylo, q = s->p[b].ylo;
+  struct hpoint p = piece_ylo(&s->p[a]), q = piece_ylo(&s->p[b]);
   int c = geom_cross_sign(p.Y, q.W, q.Y, p.W);     /* p.Y/p.W vs q.Y/q.W, exactly */
   return c ? c : (a > b) - (a < b);
 }
@@ -573,10 +573,10 @@ static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn
 static int activate(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
 {
   struct seginfo *s = v->seg;
-  while (v->next < v->norder && cmp_hy_frac(s->p[v->order[v->next]].ylo, yn, yd) <= 0) {
+  while (v->next < v->norder && cmp_hy_frac(piece_ylo(&s->p[v->order[v->next]]), yn, yd) <= 0) {
     int p = v->order[v->next++];
     cost_mw_mul(v->cost, 88, 17);
-    if (!s->p[p].alive || cmp_hy_frac(s->p[p].yhi, yn, yd) <= 0) continue;
+    if (!s->p[p].alive || cmp_hy_frac(piece_yhi(&s->p[p]), yn, yd) <= 0) continue;
     if (!grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
       return t74_fail(err, T74_EIO, "out of host memory");
     memset(&v->act[v->nact], 0, sizeof v->act[v->nact]);
@@ -625,7 +625,7 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   for (int a = 0; a < v->nact; a++) {
     const struct piece *p = &s->p[v->act[a].piece];
     COST_ADD_N(v->cost, COST_MEM, 2);
-    if (!p->alive || cmp_hy_frac(p->yhi, yn, yd) <= 0) {
+    if (!p->alive || cmp_hy_frac(piece_yhi(p), yn, yd) <= 0) {
       if (v->act[a].core) dblock_give(v, v->act[a].core);
       v->tmp[a] = -1;
       continue;

@@ -379,6 +379,92 @@ static void test_reset_as_new(void **state)
   core_free(c);
 }
 
+/* core_renew (issue 19: a core that grew in one frame serves the next): a core renewed
+   to any size cannot be told from core_new of that size, grows the same way to the same
+   sizes with every new table's words zero, and its high region keeps its words' numbering
+   across a growth that needs no new host block. */
+static void test_renew_as_new(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *fresh = core_new(100), *c = core_new(100);
+  uint32_t a, b;
+  core_set_growth(c, 4096);
+  assert_int_equal(core_alloc(c, "A", 700, &a, &err), T74_OK);        /* grows to 800 */
+  for (uint32_t k = 0; k < 700; k++) core_write(c, a + k, 0xBEEF);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 90, &err), T74_OK);
+  for (uint32_t k = 0; k < 90; k++) core_high_set(c, k, 0xF00D);
+  assert_int_equal(core_words(c), 800);
+  assert_int_equal(core_renew(c, 100), 0);
+  assert_int_equal(core_words(c), 100);
+  assert_int_equal(core_first_words(c), 100);
+  assert_int_equal(core_peak(c), 0);
+  assert_int_equal(core_tables(c, NULL, NULL, 0), 0);
+  char *x = layout_of(fresh), *y = layout_of(c);
+  assert_string_equal(x, y);
+  free(x);
+  free(y);
+  /* no growth unless asked: one word more than 100 is refused */
+  assert_int_equal(core_alloc(c, "B", 101, &b, &err), T74_ECORE);
+  /* asked on both: the same growth, addresses, zero words and high region */
+  core_set_growth(fresh, 4096);
+  core_set_growth(c, 4096);
+  assert_int_equal(core_high_grow(fresh, CORE_T_PRIORITY, 30, &err), T74_OK);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 30, &err), T74_OK);
+  for (uint32_t k = 0; k < 30; k++) {
+    assert_int_equal(core_high_get(c, k), 0);
+    core_high_set(fresh, k, (uint16_t)(k + 1));
+    core_high_set(c, k, (uint16_t)(k + 1));
+  }
+  assert_int_equal(core_alloc(fresh, "B", 300, &a, &err), T74_OK);    /* 100 -> 400 */
+  assert_int_equal(core_alloc(c, "B", 300, &b, &err), T74_OK);
+  assert_int_equal(a, b);
+  assert_int_equal(core_words(c), 400);
+  assert_int_equal(core_words(fresh), 400);
+  for (uint32_t k = 0; k < 300; k++) assert_int_equal(core_read(c, b + k), 0);
+  for (uint32_t k = 0; k < 30; k++) assert_int_equal(core_high_get(c, k), k + 1);
+  assert_int_equal(core_read(c, 399), 1);                  /* word 0 of it at the top */
+  x = layout_of(fresh);
+  y = layout_of(c);
+  assert_string_equal(x, y);
+  free(x);
+  free(y);
+  assert_int_equal(core_renew(c, 0), -1);                  /* out of range: unchanged */
+  assert_int_equal(core_words(c), 400);
+  core_free(fresh);
+  core_free(c);
+}
+
+/* The layout dump's addresses (each table's first word is the length of those below it):
+   after a release that cuts a table short, the tables above the mark are gone and the one
+   it cuts keeps its first words. */
+static void test_layout_after_release(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(100);
+  uint32_t a;
+  assert_int_equal(core_alloc(c, "A", 10, &a, &err), T74_OK);
+  assert_int_equal(core_alloc(c, "B", 20, &a, &err), T74_OK);
+  assert_int_equal(core_alloc(c, "C", 5, &a, &err), T74_OK);
+  core_release(c, 15);
+  assert_int_equal(core_alloc(c, "D", 7, &a, &err), T74_OK);
+  assert_int_equal(a, 15);
+  char *x = layout_of(c);
+  assert_non_null(strstr(x, "           0 00000000         10  A\n"
+                            "          10 0000000A          5  B\n"
+                            "          15 0000000F          7  D\n"
+                            "          22 00000016         78  (free)\n"));
+  assert_null(strstr(x, "  C\n"));
+  free(x);
+  core_release(c, 12);                                     /* D goes, B keeps 2 words */
+  x = layout_of(c);
+  assert_non_null(strstr(x, "          10 0000000A          2  B\n"
+                            "          12 0000000C         88  (free)\n"));
+  free(x);
+  core_free(c);
+}
+
 /* ---------------------------------------------------------------- cost model */
 
 static void test_cost_seconds_by_hand(void **state)
@@ -700,6 +786,8 @@ int main(void)
     cmocka_unit_test(test_peak_and_tables),
     cmocka_unit_test(test_injected_exhaustion),
     cmocka_unit_test(test_reset_as_new),
+    cmocka_unit_test(test_renew_as_new),
+    cmocka_unit_test(test_layout_after_release),
     cmocka_unit_test(test_cost_seconds_by_hand),
     cmocka_unit_test(test_params_set),
     cmocka_unit_test(test_params_table),
