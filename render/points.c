@@ -447,7 +447,7 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
    and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
-   ("Tiles"). */
+   ("Tiles"); NULL when no face of the frame asks them (none is drawn with their tests). */
 static inline __attribute__((always_inline)) void
 raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0, int32_t i1,
             double zl, double zh, double za, bool plus, struct points_tile *trow)
@@ -479,6 +479,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
       zb[i].hi = zh > 0 ? zh : 0;
       lo = zl > 0 ? zl : -HUGE_VAL;
     }
+    if (!trow) { zb[i].lo = lo; continue; }
     struct points_tile *T = trow + (i >> TILE_SHIFT);
     T->ninf += (lo == -HUGE_VAL) - (was == -HUGE_VAL);
     zb[i].lo = lo;
@@ -633,9 +634,11 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
 }
 
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
-   tile skipped when the tile's bound proves the face behind there ("Tiles"). */
+   tile skipped when the tile's bound proves the face behind there (coarse, "Tiles"). tiles:
+   the tiles' bounds are kept (some face of the frame is drawn coarse; always when this one
+   is). */
 static int face_draw(struct points *p, const struct grid *g, int k, const struct points_box *b,
-                     bool coarse, struct t74_error *err)
+                     bool coarse, bool tiles, struct t74_error *err)
 {
   const struct mface *f = &p->map.f[k];
   const int64_t jlo = b->jlo, jhi = b->jhi;
@@ -703,7 +706,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
         for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
           if (!(hid >> (t - tx0) & 1)) continue;
           int32_t ts = t << TILE_SHIFT, te = ts + TILE;
-          if (ts > a) {
+          if (ts > a) {                         /* (hid: the tiles are kept) */
             const double z0 = za * (double)a + zr;
             if (plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
             else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
@@ -713,7 +716,10 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
         if (a >= i1) continue;
       }
       const double z0 = za * (double)a + zr;
-      if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
+      if (!tiles) {
+        if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, NULL);
+        else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, NULL);
+      } else if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
       else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
     }
   }
@@ -836,22 +842,32 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
      COARSE_DEPTH times over (there the tiles' tests and the order cost more than they
      save); the rest are kept, then drawn nearest first with the tiles (always all of
      them when asked to shuffle, none with no_tiles). The tiles' bounds are kept by every
-     write, so they hold for the faces drawn either way ("Tiles", "Order"). */
+     write, so they hold for the faces drawn either way ("Tiles", "Order"); where no face
+     is left for the tiles (the boxes' whole area under the limit), none are kept. */
   long area = 0;
   const long limit = p->no_tiles || ntx > 32 ? LONG_MAX    /* a band's tiles: bits of 32 */
                     : p->shuffle ? 0 : COARSE_DEPTH * (long)g.W * g.H;
-  int nd = 0;                                     /* faces kept */
+  int nb = 0;                                     /* faces with a box */
   for (int k = 0; k < nf; k++) {
     if (p->skip[k]) continue;
-    struct points_box *b = &p->box[nd];
+    struct points_box *b = &p->box[nb];
     if (!face_box(p, &g, k, b)) { p->faces_culled++; continue; }
+    b->k = k;
+    nb++;
+    if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
+  }
+  const bool tiles = area >= limit;               /* a face is left for the tiles */
+  area = 0;
+  int nd = 0;                                     /* faces kept */
+  for (int d = 0; d < nb; d++) {
+    const struct points_box *b = &p->box[d];
     if (area < limit) {
       area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
-      if ((st = face_draw(p, &g, k, b, false, err)) != T74_OK) return st;
+      if ((st = face_draw(p, &g, b->k, b, false, tiles, err)) != T74_OK) return st;
       continue;
     }
-    b->k = k;
-    p->key[nd] = face_key(p, &g, k, b);
+    p->box[nd] = *b;                              /* nd <= d */
+    p->key[nd] = face_key(p, &g, b->k, b);
     p->order[nd] = nd;
     nd++;
   }
@@ -866,7 +882,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       if ((st = covers_middle(p, &g, k, b, &yes, err)) != T74_OK) return st;
       if (yes) continue;
     }
-    if ((st = face_draw(p, &g, k, b, true, err)) != T74_OK) return st;
+    if ((st = face_draw(p, &g, k, b, true, true, err)) != T74_OK) return st;
   }
   return T74_OK;
 }
