@@ -34,6 +34,17 @@
 ** number of c_k are <= i: the points [c_0, c_1), [c_2, c_3), ... Columns clamped to
 ** [0, W] keep that order, so the clamp changes nothing inside the window.
 **
+** Two crossings (issue 19).  A face of one ring along which y changes direction twice
+** (the signs of its edges' dy, horizontal edges left out, change twice around the ring:
+** every triangle that is not flat, every convex face) is an up chain (dy > 0) from its
+** lowest vertex to its highest and a down chain back, horizontal edges between. The edges
+** of a chain cross the rows y0 <= y_j < y1 of their ends, one after the other: each chain
+** crosses each row with ymin <= y_j < ymax, the rows of the face's box, exactly once. So
+** every row of the box has two crossings, one of each chain, and even-odd gives the one
+** span between them (the smaller column first) whatever the ring's winding; the crossings
+** are kept at two slots a row (up, down), with no count and no sort. (Such a ring may
+** cross itself; the rule is still even-odd on its two crossings.)
+**
 ** Depth.  With the centre in world units u = (Xc / 2W, Yc / 2H, -Z0) - eye-relative,
 ** P = 4WH n.u = a 2H Xc + b 2W Yc - c 4WH Z0' is an integer linear in (i, j):
 ** P = alpha i + beta j + gamma, alpha = 4H (XR - XL) a, beta = -4W (YT - YB) b.
@@ -131,6 +142,7 @@
 
 struct points_edge {
   int32_t jtop, jbot;       /* rows crossed: jtop .. jbot (j from the top), jtop <= jbot */
+  bool up;                  /* y grows along the edge in its ring's order */
   int64_t q;                /* floor(R / D) at row jbot */
   int64_t rem;              /* R - q D, 0 <= rem < D */
   int64_t D;
@@ -354,14 +366,19 @@ static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
   return floor_div64(q, 2);
 }
 
-/* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row. */
+/* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row.
+   *monotone: the face is one ring along which y changes direction twice (the signs of
+   the edges' dy, horizontal edges left out, change twice around it: every triangle that
+   is not flat, every convex ring; "Two crossings" at the top of the file). */
 static int face_edges(struct points *p, const struct grid *g, const struct mface *f,
-                      int64_t jlo, int64_t jhi, int *nedge, struct t74_error *err)
+                      int64_t jlo, int64_t jhi, int *nedge, bool *monotone,
+                      struct t74_error *err)
 {
   int n = f->ring_start[f->nring];
   if (!grow((void **)&p->edge, &p->edgecap, n, sizeof *p->edge))
     return t74_fail(err, T74_EIO, "out of host memory");
   int ne = 0;
+  int turns = 0, first = 0, last = 0;           /* dy's changes of sign, its first, last */
   const wide dyn_row = 2 * (wide)g->Dy;         /* yn grows by this a row up */
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
@@ -373,8 +390,13 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       int64_t qa = qb;
       qb = nk == lo ? qlo : row_q(g, b.y);
       if (a.y == b.y) continue;
+      const bool up = a.y < b.y;
+      const int sg = up ? 1 : -1;
+      turns += last && sg != last;
+      if (!first) first = sg;
+      last = sg;
       int64_t qbot = qa, qtop = qb;             /* of the lower end a, the upper end b */
-      if (a.y > b.y) { struct gpoint t = a; a = b; b = t; qbot = qb; qtop = qa; }
+      if (!up) { struct gpoint t = a; a = b; b = t; qbot = qb; qtop = qa; }
       int64_t jb = rows_at_or_above(qbot), jt = rows_below(qtop);
       if (jb > jhi) jb = jhi;
       if (jt < jlo) jt = jlo;
@@ -382,16 +404,19 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       struct points_edge *e = &p->edge[ne++];
       e->jtop = (int32_t)jt;
       e->jbot = (int32_t)jb;
+      e->up = up;
       int64_t dx = b.x - a.x, dy = b.y - a.y;
       e->D = g->S * dy * g->yd;
       wide yn = (wide)GRID_ONE * ((wide)g->yd * g->YT - (2 * (wide)jb + 1) * (g->YT - g->YB));
       wide R = (wide)g->xd * ((wide)a.x * dy * g->yd + (yn - (wide)a.y * g->yd) * dx) -
                (wide)GRID_ONE * g->xd * g->XL * dy * g->yd;
       floor_divmod(R, e->D, &e->q, &e->rem);
-      floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
+      if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
+      else e->dq = e->drem = 0;                 /* one row: never stepped */
     }
   }
   *nedge = ne;
+  *monotone = f->nring == 1 && turns + (first != last) == 2;
   return T74_OK;
 }
 
@@ -617,7 +642,8 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
 {
   const int64_t jm = (b->jlo + b->jhi) / 2;
   int ne;
-  int st = face_edges(p, g, &p->map.f[k], jm, jm, &ne, err);
+  bool monotone;
+  int st = face_edges(p, g, &p->map.f[k], jm, jm, &ne, &monotone, err);
   if (st != T74_OK) return st;
   if (!grow((void **)&p->cross, &p->crosscap, ne + 1, sizeof *p->cross))
     return t74_fail(err, T74_EIO, "out of host memory");
@@ -643,25 +669,43 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   const struct mface *f = &p->map.f[k];
   const int64_t jlo = b->jlo, jhi = b->jhi;
   int ne;
-  int st = face_edges(p, g, f, jlo, jhi, &ne, err);
+  bool two;                                     /* two crossings a row ("Two crossings") */
+  int st = face_edges(p, g, f, jlo, jhi, &ne, &two, err);
   if (st != T74_OK) return st;
   int nrow = (int)(jhi - jlo + 1);
   if (!grow((void **)&p->rowcount, &p->rowcap, nrow + 1, sizeof *p->rowcount))
     return t74_fail(err, T74_EIO, "out of host memory");
   int *rc = p->rowcount;
-  memset(rc, 0, (size_t)(nrow + 1) * sizeof *rc);
-  for (int e = 0; e < ne; e++)
-    for (int32_t j = p->edge[e].jtop; j <= p->edge[e].jbot; j++) rc[j - jlo + 1]++;
-  for (int r = 0; r < nrow; r++) rc[r + 1] += rc[r];
-  if (!grow((void **)&p->cross, &p->crosscap, rc[nrow] + 1, sizeof *p->cross))
+  if (two) {                                    /* row r: cross[2r] (up), cross[2r + 1] */
+    if (coarse) for (int r = 0; r < nrow; r++) rc[r] = 2 * r + 2;
+  } else {
+    memset(rc, 0, (size_t)(nrow + 1) * sizeof *rc);
+    for (int e = 0; e < ne; e++)
+      for (int32_t j = p->edge[e].jtop; j <= p->edge[e].jbot; j++) rc[j - jlo + 1]++;
+    for (int r = 0; r < nrow; r++) rc[r + 1] += rc[r];
+  }
+  if (!grow((void **)&p->cross, &p->crosscap, (two ? 2 * nrow : rc[nrow]) + 1, sizeof *p->cross))
     return t74_fail(err, T74_EIO, "out of host memory");
-  /* fill: rc[r] is the next free slot of row r (rc[r] ends as row r+1's start) */
+  /* fill: rc[r] is the next free slot of row r (rc[r] ends as row r+1's start); with two
+     a row, the up edges' crossings at even slots, the others' at odd */
   for (int e = 0; e < ne; e++) {
     struct points_edge *E = &p->edge[e];
     int64_t q = E->q, rem = E->rem;
+    const int32_t jtop = E->jtop;
+    if (two) {
+      int32_t *c = p->cross + 2 * (E->jbot - jlo) + !E->up;
+      for (int32_t j = E->jbot;; j--, c -= 2) {
+        *c = col_of(g, q, rem);
+        if (j == jtop) break;
+        q += E->dq;
+        rem += E->drem;
+        if (rem >= E->D) { rem -= E->D; q++; }
+      }
+      continue;
+    }
     for (int32_t j = E->jbot;; j--) {
       p->cross[rc[j - jlo]++] = col_of(g, q, rem);
-      if (j == E->jtop) break;
+      if (j == jtop) break;
       q += E->dq;
       rem += E->drem;
       if (rem >= E->D) { rem -= E->D; q++; }
@@ -675,6 +719,26 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   uint32_t hid = 0;                             /* the band's tiles where face k is behind */
   int tyat = -1;
   bool any = false;
+  if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
+    for (int r = 0; r < nrow; r++) {
+      int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
+      if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
+      if (i0 >= i1) continue;
+      any = true;
+      const int64_t j = jlo + r;
+      const double zr = zb * (double)j + zc, z0 = za * (double)i0 + zr;
+      if (!tiles) {
+        if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, NULL);
+        else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, NULL);
+        continue;
+      }
+      struct points_tile *trow = p->tile + (size_t)(j >> TILE_SHIFT) * (size_t)ntx;
+      if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, trow);
+      else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, trow);
+    }
+    if (!any) p->faces_culled++;
+    return T74_OK;
+  }
   int start = 0;
   for (int r = 0; r < nrow; r++) {
     int end = rc[r];                            /* row r: cross[start .. end) */
