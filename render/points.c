@@ -407,10 +407,16 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       e->up = up;
       int64_t dx = b.x - a.x, dy = b.y - a.y;
       e->D = g->S * dy * g->yd;
-      wide yn = (wide)GRID_ONE * ((wide)g->yd * g->YT - (2 * (wide)jb + 1) * (g->YT - g->YB));
-      wide R = (wide)g->xd * ((wide)a.x * dy * g->yd + (yn - (wide)a.y * g->yd) * dx) -
-               (wide)GRID_ONE * g->xd * g->XL * dy * g->yd;
-      floor_divmod(R, e->D, &e->q, &e->rem);
+      /* R = xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx): in 64 bits while no product
+         or sum overflows them (the builtins say so), else in 128 */
+      const int64_t yn = GRID_ONE * (g->yd * g->YT - (2 * jb + 1) * (g->YT - g->YB));
+      const int64_t u = a.x - GRID_ONE * g->XL, v = yn - a.y * g->yd, dyy = dy * g->yd;
+      int64_t t0, t1, t2, R64;
+      if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
+          !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(g->xd, t2, &R64))
+        floor_divmod(R64, e->D, &e->q, &e->rem);
+      else
+        floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->q, &e->rem);
       if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
       else e->dq = e->drem = 0;                 /* one row: never stepped */
     }
