@@ -1010,9 +1010,11 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     const struct scan_image *scan = p->scan;
     const size_t n = (size_t)W * (size_t)H;
     memcpy(p->face, pt->face, n * sizeof *p->face);
-    if (!scan)
-      for (size_t at = 0; at < n; at++) p->grey[at] = fgrey[pt->face[at] + 1];
-    else
+    if (!scan) {                            /* (the pointers held: a byte store aliases) */
+      const int *face = pt->face;
+      uint8_t *grey = p->grey;
+      for (size_t at = 0; at < n; at++) grey[at] = fgrey[face[at] + 1];
+    } else
       for (int j = 0; j < H; j++)
         for (int i = 0; i < W; i++) {
           const size_t at = (size_t)j * (size_t)W + (size_t)i;

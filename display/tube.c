@@ -368,6 +368,15 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   if (cell == 3) {                         /* runs of RUN3 cells, a row of them a lane */
     for (int c0 = 0; c0 < count; c0 += RUN3, base += 3 * RUN3) {
       const int n = count - c0 < RUN3 ? count - c0 : RUN3;
+      if (n == RUN3) {                      /* seven cells of no dot (a background) */
+        uint64_t w4;
+        uint32_t w2;
+        uint16_t w1;
+        memcpy(&w4, masks + c0, sizeof w4);
+        memcpy(&w2, masks + c0 + 4, sizeof w2);
+        memcpy(&w1, masks + c0 + 6, sizeof w1);
+        if (!(w4 | w2 | w1)) continue;
+      }
       uint64_t acc = 0;
       unsigned any = 0;
       for (int c = c0 + n - 1; c >= c0; c--) {

@@ -469,9 +469,11 @@ static void test_tube_write_cells(void **state)
 }
 
 /* Whole rows of 3x3 cells written where nothing is lit yet (a tube being drawn: the cells'
-   rows stored a word at a time), at the tube's corners and edges (the top row, the bottom
-   row, the last dot of a row), and again over them with a dot lit under one cell: the
-   same dots, count and order as tube_write_dots of each cell in turn. */
+   rows stored seven cells at a time), at the tube's corners and edges (the top row, the
+   bottom row, the last dot of a row; seven cells of no dot among them, and six before
+   one that has), and again over
+   them with a dot lit under one cell: the same dots, count and order as tube_write_dots
+   of each cell in turn. */
 static void test_tube_write_cells3_rows(void **state)
 {
   (void)state;
@@ -487,7 +489,8 @@ static void test_tube_write_cells3_rows(void **state)
       uint16_t masks[133];
       for (int c = 0; c < count; c++) {
         x = x * 1103515245u + 12345u;
-        masks[c] = (uint16_t)(c % 7 == 3 ? 0 : c % 5 == 1 ? 0x1ffu : (x >> 8) & 0x1ffu);
+        const int none = c % 7 == 3 || c / 7 == 2 || (c / 7 == 4 && c % 7 < 6);
+        masks[c] = (uint16_t)(none ? 0 : c % 5 == 1 ? 0x1ffu : 1u | ((x >> 8) & 0x1ffu));
       }
       if (pass) {                               /* a dot lit already under the last cell */
         const int dx = x0 + 3 * (count - 1) + 2, dy = y0 - 1;
