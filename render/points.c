@@ -26,7 +26,9 @@
 ** 2^61), with one division per edge for the start and one for the step. The quotients
 ** fit 64 bits: R / D = xd (x - GRID_ONE XL) / S at the crossing's x (|x| <= 2^28, S >=
 ** 2^8), |R / D| < 2^9 2^29 / 2^8 = 2^30; |dR| < 2^9 2^25 2^29 = 2^63. A division is
-** done in 64 bits when its dividend fits them, else in 128.
+** done in 64 bits when its dividend fits them, else in 128. R itself is worked out as
+** xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx) in 64 bits when no product or sum
+** overflows them (the compiler's overflow builtins tell), else in 128.
 **
 ** Even-odd.  On one row the crossings of a face (all rings; an even number, each ring
 ** giving an even number under the half-open rule) are sorted by their first columns c_k;
@@ -106,6 +108,8 @@
 ** until their boxes have covered the grid COARSE_DEPTH times over (below that the tests
 ** cost more than they save), the rest nearest first with them; every write keeps the
 ** bounds, so they hold however a face was drawn, and the frame is the same ("Order").
+** When the boxes of all the faces cover the grid fewer times than that, no face is drawn
+** with the tests and no bound is kept (nothing would read one).
 **
 ** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
 ** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
