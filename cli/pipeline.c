@@ -999,28 +999,33 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
 ** display's counts added once (issue 19). */
 static int points_emit(struct pipeline *p, const struct points *pt)
 {
-  const bool direct = p->tube_direct && !p->also && !p->timed;
-  struct face_out *fo = NULL;
-  if (!(p->hooks && p->hooks->watch) && (p->face || direct)) fo = face_outs(p);
+  const bool watched = p->hooks && p->hooks->watch;
   const int W = p->W, H = p->H, cc = p->cell * p->cell;
-  if (fo && p->face) {                      /* the effects' frame: emitted after fx_run */
+  uint8_t *fgrey;                           /* each face's grey, at its index + 1 */
+  if (p->face && !watched && (fgrey = malloc((size_t)p->map->nface + 1))) {
+    /* the effects' frame: the faces and their greys (the ids are run_effects', written
+       with the cells after fx_run) */
+    fgrey[0] = 0;
+    for (int f = 0; f < p->map->nface; f++) fgrey[f + 1] = (uint8_t)p->map->f[f].grey;
     const struct scan_image *scan = p->scan;
-    for (int j = H - 1; j >= 0; j--) {
-      const size_t at0 = (size_t)j * (size_t)W;
-      const int *face = pt->face + at0;
-      int *out = p->face + at0;
-      uint32_t *ids = p->ids + at0;
-      uint8_t *greys = p->grey + at0;
-      for (int i = 0; i < W; i++) {
-        int f = face[i];
-        out[i] = f;
-        ids[i] = fo[f + 1].id;
-        greys[i] = f < 0 && scan ? (uint8_t)scan_grey(scan, i, j) : fo[f + 1].grey;
-      }
-    }
-    free(fo);
+    const size_t n = (size_t)W * (size_t)H;
+    memcpy(p->face, pt->face, n * sizeof *p->face);
+    if (!scan) {                            /* (the pointers held: a byte store aliases) */
+      const int *face = pt->face;
+      uint8_t *grey = p->grey;
+      for (size_t at = 0; at < n; at++) grey[at] = fgrey[face[at] + 1];
+    } else
+      for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) {
+          const size_t at = (size_t)j * (size_t)W + (size_t)i;
+          const int f = pt->face[at];
+          p->grey[at] = f < 0 ? (uint8_t)scan_grey(scan, i, j) : fgrey[f + 1];
+        }
+    free(fgrey);
     return T74_OK;
   }
+  const bool direct = p->tube_direct && !p->also && !p->timed;
+  struct face_out *fo = !watched && !p->face && direct ? face_outs(p) : NULL;
   if (fo) {
     const bool scan = p->scan != NULL;
     struct row_cells rc;

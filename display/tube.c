@@ -25,8 +25,8 @@
 #define TUBE_DOTS (TUBE_W * TUBE_H)      /* 120,000 addressable dots */
 
 struct tube {
-  uint8_t  lit[(TUBE_DOTS + 7) / 8 + 1]; /* bit (y*TUBE_W + x): dot lit; a last byte spare
-                                            (a row of dots is read two bytes at a time) */
+  uint8_t  lit[(TUBE_DOTS + 7) / 8 + 8]; /* bit (y*TUBE_W + x): dot lit; 8 last bytes spare
+                                            (dots are read up to eight bytes at a time) */
   uint32_t order[TUBE_DOTS];             /* first-write order, y*TUBE_W + x each, then the
                                             writes not yet spelled out */
   int      done;                         /* order[0 .. done): dots */
@@ -272,6 +272,59 @@ static bool blank4(const uint8_t *lit, uint32_t base, int count, const uint16_t 
   return true;
 }
 
+/* A 3x3 cell's mask with its rows apart: row r (bits 3r .. 3r + 2) to bits 21r .. 21r + 2,
+** so that seven cells side by side are three lanes of 21 bits, a lane the cells' dots of
+** one row of the tube (`acc << 3 | LANES3(m)` from the last cell to the first). */
+#define LANES3(m) ((uint64_t)((m) & 7) | (uint64_t)((m) >> 3 & 7) << 21 | \
+                   (uint64_t)((m) >> 6 & 7) << 42)
+#define LANES3_8(m) LANES3(m), LANES3((m) + 1), LANES3((m) + 2), LANES3((m) + 3), \
+                    LANES3((m) + 4), LANES3((m) + 5), LANES3((m) + 6), LANES3((m) + 7)
+#define LANES3_64(m) LANES3_8(m), LANES3_8((m) + 8), LANES3_8((m) + 16), LANES3_8((m) + 24), \
+                     LANES3_8((m) + 32), LANES3_8((m) + 40), LANES3_8((m) + 48), \
+                     LANES3_8((m) + 56)
+static const uint64_t lanes3[512] = { LANES3_64(0), LANES3_64(64), LANES3_64(128),
+                                      LANES3_64(192), LANES3_64(256), LANES3_64(320),
+                                      LANES3_64(384), LANES3_64(448) };
+enum { LANE3 = 21, RUN3 = 7 };              /* a lane's bits, cells a run */
+
+/* The inverse: the cell at the bottom of lanes v, its mask. */
+static inline unsigned unlanes3(uint64_t v)
+{
+  return (unsigned)(v & 7) | (unsigned)(v >> LANE3 & 7) << 3 | (unsigned)(v >> 2 * LANE3 & 7) << 6;
+}
+
+/* n <= RUN3 3x3 cells abutting from dot base (on the tube), their masks within the cell
+** (as lanes, acc): as write_cell3 of each in turn. A row of the cells is one lane: 21 dots
+** from the same shift in a 32-bit word of lit[] (TUBE_W a multiple of 8: the same in each
+** row). */
+static inline __attribute__((always_inline)) void write_run3(uint8_t *lit, uint32_t **next,
+                                                             uint32_t base, uint64_t acc,
+                                                             const uint16_t *masks, int n)
+{
+  const uint32_t sh = base & 7;
+  uint64_t fresh = 0;
+  for (int r = 0; r < 3; r++) {
+    uint8_t *l = lit + ((base - (uint32_t)r * TUBE_W) >> 3);
+    uint32_t have;
+    memcpy(&have, l, sizeof have);
+    const uint32_t f = (uint32_t)(acc >> LANE3 * r) & ((1u << LANE3) - 1) & ~(have >> sh);
+    have |= f << sh;
+    memcpy(l, &have, sizeof have);
+    fresh |= (uint64_t)f << LANE3 * r;
+  }
+  uint32_t *o = *next;
+  if (fresh == acc) {                      /* every dot new (a tube being drawn) */
+    for (int c = 0; c < n; c++, base += 3)
+      if (masks[c]) *o++ = 1u << 30 | (uint32_t)masks[c] << 17 | base;
+  } else {
+    for (int c = 0; c < n; c++, base += 3, fresh >>= 3) {
+      const unsigned m = unlanes3(fresh);
+      if (m) *o++ = 1u << 30 | m << 17 | base;
+    }
+  }
+  *next = o;
+}
+
 int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *masks, int count)
 {
   if (count <= 0) return T74_OK;
@@ -312,7 +365,44 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
     t->nlog = (int)(next - (t->order + t->done));
     return T74_OK;
   }
-  for (int c = 0; c < count; c++, base += (uint32_t)cell) {
+  if (cell == 3) {                         /* runs of RUN3 cells, a row of them a lane */
+    for (int c0 = 0; c0 < count; c0 += RUN3, base += 3 * RUN3) {
+      const int n = count - c0 < RUN3 ? count - c0 : RUN3;
+      if (n == RUN3) {                      /* seven cells of no dot (a background) */
+        uint64_t w4;
+        uint32_t w2;
+        uint16_t w1;
+        memcpy(&w4, masks + c0, sizeof w4);
+        memcpy(&w2, masks + c0 + 4, sizeof w2);
+        memcpy(&w1, masks + c0 + 6, sizeof w1);
+        if (!(w4 | w2 | w1)) continue;
+      }
+      uint64_t acc = 0;
+      unsigned any = 0;
+      for (int c = c0 + n - 1; c >= c0; c--) {
+        any |= masks[c];
+        acc = acc << 3 | lanes3[masks[c] & 0x1ffu];
+      }
+      if (!(any & ~full)) {
+        if (acc) write_run3(lit, &next, base, acc, masks + c0, n);
+        continue;
+      }
+      for (int c = c0; c < c0 + n; c++) {   /* dots past a cell: one cell at a time */
+        const unsigned m = masks[c];
+        if (!(m & ~full)) {
+          if (m) write_cell3(lit, &next, base + 3 * (uint32_t)(c - c0), m);
+          continue;
+        }
+        t->nlog = (int)(next - (t->order + t->done));
+        int rc = tube_write_dots(t, x0 + c * 3, y0, 3, m);
+        if (rc != T74_OK) return rc;
+        next = t->order + t->done + t->nlog;
+      }
+    }
+    t->nlog = (int)(next - (t->order + t->done));
+    return T74_OK;
+  }
+  for (int c = 0; c < count; c++, base += 4) {       /* 4x4 cells */
     unsigned m = masks[c];
     if (!m) continue;
     if (m & ~full) {                        /* dots past the cell: one by one */
@@ -320,8 +410,7 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
       int rc = tube_write_dots(t, x0 + c * cell, y0, cell, m);
       if (rc != T74_OK) return rc;
       next = t->order + t->done + t->nlog;
-    } else if (cell == 3) write_cell3(lit, &next, base, m);
-    else if ((base & 7) == 0 && c + 1 < count && !(masks[c + 1] & ~full)) {
+    } else if ((base & 7) == 0 && c + 1 < count && !(masks[c + 1] & ~full)) {
       write_cell4_pair(lit, &next, base, m, masks[c + 1]);
       c++;
       base += 4;

@@ -56,21 +56,16 @@ static int64_t project(int64_t p, int64_t e, int64_t f, int64_t w)
   return floordiv(2 * num + w, 2 * w);
 }
 
+/* floor(sqrt(v)), exactly: the double's square root as the guess (within a step or two
+   for v < 2^104: |n|^2 |L|^2 below), then corrected in integers. */
 static uwide isqrt_u(uwide v)
 {
-  if (v == 0) return 0;
-  uwide x = v, y = (x + 1) / 2;
-  /* start from a power of two above sqrt(v) to keep Newton's steps few */
-  int bits = 0;
-  uwide t = v;
-  for (; t >> 8; t >>= 8) bits += 8;
-  for (; t; t >>= 1) bits++;
-  x = (uwide)1 << ((bits + 1) / 2);
-  for (;;) {
-    y = (x + v / x) / 2;
-    if (y >= x) return x;
-    x = y;
-  }
+  const uwide top = ((uwide)1 << 64) - 1;        /* floor(sqrt(v)) <= top for any v */
+  double d = sqrt((double)v);
+  uwide x = d >= 0x1p64 ? top : (uwide)d;
+  while (x * x > v) x--;                          /* x <= top: x * x does not wrap */
+  while (x < top && (x + 1) * (x + 1) <= v) x++;
+  return x;
 }
 
 /* Lambert's law with an ambient floor; n points away from the eye (plane(eye) < 0). */

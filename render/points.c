@@ -26,13 +26,26 @@
 ** 2^61), with one division per edge for the start and one for the step. The quotients
 ** fit 64 bits: R / D = xd (x - GRID_ONE XL) / S at the crossing's x (|x| <= 2^28, S >=
 ** 2^8), |R / D| < 2^9 2^29 / 2^8 = 2^30; |dR| < 2^9 2^25 2^29 = 2^63. A division is
-** done in 64 bits when its dividend fits them, else in 128.
+** done in 64 bits when its dividend fits them, else in 128. R itself is worked out as
+** xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx) in 64 bits when no product or sum
+** overflows them (the compiler's overflow builtins tell), else in 128.
 **
 ** Even-odd.  On one row the crossings of a face (all rings; an even number, each ring
 ** giving an even number under the half-open rule) are sorted by their first columns c_k;
 ** a point i is inside when an odd number of crossings lie left of it, i.e. when an odd
 ** number of c_k are <= i: the points [c_0, c_1), [c_2, c_3), ... Columns clamped to
 ** [0, W] keep that order, so the clamp changes nothing inside the window.
+**
+** Two crossings (issue 19).  A face of one ring along which y changes direction twice
+** (the signs of its edges' dy, horizontal edges left out, change twice around the ring:
+** every triangle that is not flat, every convex face) is an up chain (dy > 0) from its
+** lowest vertex to its highest and a down chain back, horizontal edges between. The edges
+** of a chain cross the rows y0 <= y_j < y1 of their ends, one after the other: each chain
+** crosses each row with ymin <= y_j < ymax, the rows of the face's box, exactly once. So
+** every row of the box has two crossings, one of each chain, and even-odd gives the one
+** span between them (the smaller column first) whatever the ring's winding; the crossings
+** are kept at two slots a row (up, down), with no count and no sort. (Such a ring may
+** cross itself; the rule is still even-odd on its two crossings.)
 **
 ** Depth.  With the centre in world units u = (Xc / 2W, Yc / 2H, -Z0) - eye-relative,
 ** P = 4WH n.u = a 2H Xc + b 2W Yc - c 4WH Z0' is an integer linear in (i, j):
@@ -95,6 +108,8 @@
 ** until their boxes have covered the grid COARSE_DEPTH times over (below that the tests
 ** cost more than they save), the rest nearest first with them; every write keeps the
 ** bounds, so they hold however a face was drawn, and the frame is the same ("Order").
+** When the boxes of all the faces cover the grid fewer times than that, no face is drawn
+** with the tests and no bound is kept (nothing would read one).
 **
 ** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
 ** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
@@ -131,6 +146,7 @@
 
 struct points_edge {
   int32_t jtop, jbot;       /* rows crossed: jtop .. jbot (j from the top), jtop <= jbot */
+  bool up;                  /* y grows along the edge in its ring's order */
   int64_t q;                /* floor(R / D) at row jbot */
   int64_t rem;              /* R - q D, 0 <= rem < D */
   int64_t D;
@@ -354,14 +370,19 @@ static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
   return floor_div64(q, 2);
 }
 
-/* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row. */
+/* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row.
+   *monotone: the face is one ring along which y changes direction twice (the signs of
+   the edges' dy, horizontal edges left out, change twice around it: every triangle that
+   is not flat, every convex ring; "Two crossings" at the top of the file). */
 static int face_edges(struct points *p, const struct grid *g, const struct mface *f,
-                      int64_t jlo, int64_t jhi, int *nedge, struct t74_error *err)
+                      int64_t jlo, int64_t jhi, int *nedge, bool *monotone,
+                      struct t74_error *err)
 {
   int n = f->ring_start[f->nring];
   if (!grow((void **)&p->edge, &p->edgecap, n, sizeof *p->edge))
     return t74_fail(err, T74_EIO, "out of host memory");
   int ne = 0;
+  int turns = 0, first = 0, last = 0;           /* dy's changes of sign, its first, last */
   const wide dyn_row = 2 * (wide)g->Dy;         /* yn grows by this a row up */
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
@@ -373,8 +394,13 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       int64_t qa = qb;
       qb = nk == lo ? qlo : row_q(g, b.y);
       if (a.y == b.y) continue;
+      const bool up = a.y < b.y;
+      const int sg = up ? 1 : -1;
+      turns += last && sg != last;
+      if (!first) first = sg;
+      last = sg;
       int64_t qbot = qa, qtop = qb;             /* of the lower end a, the upper end b */
-      if (a.y > b.y) { struct gpoint t = a; a = b; b = t; qbot = qb; qtop = qa; }
+      if (!up) { struct gpoint t = a; a = b; b = t; qbot = qb; qtop = qa; }
       int64_t jb = rows_at_or_above(qbot), jt = rows_below(qtop);
       if (jb > jhi) jb = jhi;
       if (jt < jlo) jt = jlo;
@@ -382,16 +408,25 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       struct points_edge *e = &p->edge[ne++];
       e->jtop = (int32_t)jt;
       e->jbot = (int32_t)jb;
+      e->up = up;
       int64_t dx = b.x - a.x, dy = b.y - a.y;
       e->D = g->S * dy * g->yd;
-      wide yn = (wide)GRID_ONE * ((wide)g->yd * g->YT - (2 * (wide)jb + 1) * (g->YT - g->YB));
-      wide R = (wide)g->xd * ((wide)a.x * dy * g->yd + (yn - (wide)a.y * g->yd) * dx) -
-               (wide)GRID_ONE * g->xd * g->XL * dy * g->yd;
-      floor_divmod(R, e->D, &e->q, &e->rem);
-      floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
+      /* R = xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx): in 64 bits while no product
+         or sum overflows them (the builtins say so), else in 128 */
+      const int64_t yn = GRID_ONE * (g->yd * g->YT - (2 * jb + 1) * (g->YT - g->YB));
+      const int64_t u = a.x - GRID_ONE * g->XL, v = yn - a.y * g->yd, dyy = dy * g->yd;
+      int64_t t0, t1, t2, R64;
+      if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
+          !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(g->xd, t2, &R64))
+        floor_divmod(R64, e->D, &e->q, &e->rem);
+      else
+        floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->q, &e->rem);
+      if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
+      else e->dq = e->drem = 0;                 /* one row: never stepped */
     }
   }
   *nedge = ne;
+  *monotone = f->nring == 1 && turns + (first != last) == 2;
   return T74_OK;
 }
 
@@ -447,7 +482,7 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
    and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
-   ("Tiles"). */
+   ("Tiles"); NULL when no face of the frame asks them (none is drawn with their tests). */
 static inline __attribute__((always_inline)) void
 raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0, int32_t i1,
             double zl, double zh, double za, bool plus, struct points_tile *trow)
@@ -479,6 +514,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
       zb[i].hi = zh > 0 ? zh : 0;
       lo = zl > 0 ? zl : -HUGE_VAL;
     }
+    if (!trow) { zb[i].lo = lo; continue; }
     struct points_tile *T = trow + (i >> TILE_SHIFT);
     T->ninf += (lo == -HUGE_VAL) - (was == -HUGE_VAL);
     zb[i].lo = lo;
@@ -616,7 +652,8 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
 {
   const int64_t jm = (b->jlo + b->jhi) / 2;
   int ne;
-  int st = face_edges(p, g, &p->map.f[k], jm, jm, &ne, err);
+  bool monotone;
+  int st = face_edges(p, g, &p->map.f[k], jm, jm, &ne, &monotone, err);
   if (st != T74_OK) return st;
   if (!grow((void **)&p->cross, &p->crosscap, ne + 1, sizeof *p->cross))
     return t74_fail(err, T74_EIO, "out of host memory");
@@ -633,32 +670,52 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
 }
 
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
-   tile skipped when the tile's bound proves the face behind there ("Tiles"). */
+   tile skipped when the tile's bound proves the face behind there (coarse, "Tiles"). tiles:
+   the tiles' bounds are kept (some face of the frame is drawn coarse; always when this one
+   is). */
 static int face_draw(struct points *p, const struct grid *g, int k, const struct points_box *b,
-                     bool coarse, struct t74_error *err)
+                     bool coarse, bool tiles, struct t74_error *err)
 {
   const struct mface *f = &p->map.f[k];
   const int64_t jlo = b->jlo, jhi = b->jhi;
   int ne;
-  int st = face_edges(p, g, f, jlo, jhi, &ne, err);
+  bool two;                                     /* two crossings a row ("Two crossings") */
+  int st = face_edges(p, g, f, jlo, jhi, &ne, &two, err);
   if (st != T74_OK) return st;
   int nrow = (int)(jhi - jlo + 1);
   if (!grow((void **)&p->rowcount, &p->rowcap, nrow + 1, sizeof *p->rowcount))
     return t74_fail(err, T74_EIO, "out of host memory");
   int *rc = p->rowcount;
-  memset(rc, 0, (size_t)(nrow + 1) * sizeof *rc);
-  for (int e = 0; e < ne; e++)
-    for (int32_t j = p->edge[e].jtop; j <= p->edge[e].jbot; j++) rc[j - jlo + 1]++;
-  for (int r = 0; r < nrow; r++) rc[r + 1] += rc[r];
-  if (!grow((void **)&p->cross, &p->crosscap, rc[nrow] + 1, sizeof *p->cross))
+  if (two) {                                    /* row r: cross[2r] (up), cross[2r + 1] */
+    if (coarse) for (int r = 0; r < nrow; r++) rc[r] = 2 * r + 2;
+  } else {
+    memset(rc, 0, (size_t)(nrow + 1) * sizeof *rc);
+    for (int e = 0; e < ne; e++)
+      for (int32_t j = p->edge[e].jtop; j <= p->edge[e].jbot; j++) rc[j - jlo + 1]++;
+    for (int r = 0; r < nrow; r++) rc[r + 1] += rc[r];
+  }
+  if (!grow((void **)&p->cross, &p->crosscap, (two ? 2 * nrow : rc[nrow]) + 1, sizeof *p->cross))
     return t74_fail(err, T74_EIO, "out of host memory");
-  /* fill: rc[r] is the next free slot of row r (rc[r] ends as row r+1's start) */
+  /* fill: rc[r] is the next free slot of row r (rc[r] ends as row r+1's start); with two
+     a row, the up edges' crossings at even slots, the others' at odd */
   for (int e = 0; e < ne; e++) {
     struct points_edge *E = &p->edge[e];
     int64_t q = E->q, rem = E->rem;
+    const int32_t jtop = E->jtop;
+    if (two) {
+      int32_t *c = p->cross + 2 * (E->jbot - jlo) + !E->up;
+      for (int32_t j = E->jbot;; j--, c -= 2) {
+        *c = col_of(g, q, rem);
+        if (j == jtop) break;
+        q += E->dq;
+        rem += E->drem;
+        if (rem >= E->D) { rem -= E->D; q++; }
+      }
+      continue;
+    }
     for (int32_t j = E->jbot;; j--) {
       p->cross[rc[j - jlo]++] = col_of(g, q, rem);
-      if (j == E->jtop) break;
+      if (j == jtop) break;
       q += E->dq;
       rem += E->drem;
       if (rem >= E->D) { rem -= E->D; q++; }
@@ -672,6 +729,26 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   uint32_t hid = 0;                             /* the band's tiles where face k is behind */
   int tyat = -1;
   bool any = false;
+  if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
+    for (int r = 0; r < nrow; r++) {
+      int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
+      if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
+      if (i0 >= i1) continue;
+      any = true;
+      const int64_t j = jlo + r;
+      const double zr = zb * (double)j + zc, z0 = za * (double)i0 + zr;
+      if (!tiles) {
+        if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, NULL);
+        else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, NULL);
+        continue;
+      }
+      struct points_tile *trow = p->tile + (size_t)(j >> TILE_SHIFT) * (size_t)ntx;
+      if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, trow);
+      else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, trow);
+    }
+    if (!any) p->faces_culled++;
+    return T74_OK;
+  }
   int start = 0;
   for (int r = 0; r < nrow; r++) {
     int end = rc[r];                            /* row r: cross[start .. end) */
@@ -703,7 +780,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
         for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
           if (!(hid >> (t - tx0) & 1)) continue;
           int32_t ts = t << TILE_SHIFT, te = ts + TILE;
-          if (ts > a) {
+          if (ts > a) {                         /* (hid: the tiles are kept) */
             const double z0 = za * (double)a + zr;
             if (plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
             else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
@@ -713,7 +790,10 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
         if (a >= i1) continue;
       }
       const double z0 = za * (double)a + zr;
-      if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
+      if (!tiles) {
+        if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, NULL);
+        else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, NULL);
+      } else if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
       else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
     }
   }
@@ -836,22 +916,32 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
      COARSE_DEPTH times over (there the tiles' tests and the order cost more than they
      save); the rest are kept, then drawn nearest first with the tiles (always all of
      them when asked to shuffle, none with no_tiles). The tiles' bounds are kept by every
-     write, so they hold for the faces drawn either way ("Tiles", "Order"). */
+     write, so they hold for the faces drawn either way ("Tiles", "Order"); where no face
+     is left for the tiles (the boxes' whole area under the limit), none are kept. */
   long area = 0;
   const long limit = p->no_tiles || ntx > 32 ? LONG_MAX    /* a band's tiles: bits of 32 */
                     : p->shuffle ? 0 : COARSE_DEPTH * (long)g.W * g.H;
-  int nd = 0;                                     /* faces kept */
+  int nb = 0;                                     /* faces with a box */
   for (int k = 0; k < nf; k++) {
     if (p->skip[k]) continue;
-    struct points_box *b = &p->box[nd];
+    struct points_box *b = &p->box[nb];
     if (!face_box(p, &g, k, b)) { p->faces_culled++; continue; }
+    b->k = k;
+    nb++;
+    if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
+  }
+  const bool tiles = area >= limit;               /* a face is left for the tiles */
+  area = 0;
+  int nd = 0;                                     /* faces kept */
+  for (int d = 0; d < nb; d++) {
+    const struct points_box *b = &p->box[d];
     if (area < limit) {
       area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
-      if ((st = face_draw(p, &g, k, b, false, err)) != T74_OK) return st;
+      if ((st = face_draw(p, &g, b->k, b, false, tiles, err)) != T74_OK) return st;
       continue;
     }
-    b->k = k;
-    p->key[nd] = face_key(p, &g, k, b);
+    p->box[nd] = *b;                              /* nd <= d */
+    p->key[nd] = face_key(p, &g, b->k, b);
     p->order[nd] = nd;
     nd++;
   }
@@ -866,7 +956,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       if ((st = covers_middle(p, &g, k, b, &yes, err)) != T74_OK) return st;
       if (yes) continue;
     }
-    if ((st = face_draw(p, &g, k, b, true, err)) != T74_OK) return st;
+    if ((st = face_draw(p, &g, k, b, true, true, err)) != T74_OK) return st;
   }
   return T74_OK;
 }

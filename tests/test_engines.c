@@ -563,6 +563,54 @@ static void test_hard_families(void **state)
 }
 
 
+/* Faces with vertices just in front of the eye's plane, projected some 2^27 grid units
+   away (|gcoord| <= 2^28): the first crossings of an edge between two of them overflow 64
+   bits, and the points engine works them out in 128 (render/points.c, face_edges). Judged as the shipped scenes
+   are, in both cells, seen from the front and turned about the eye (every edge's slope). */
+static void test_far_vertices(void **state)
+{
+  (void)state;
+  struct tally t;
+  memset(&t, 0, sizeof t);
+  long bad = 0;
+  static const int32_t far[][3] = { { -5000, -3000, -990 }, { 4000, 4500, -985 },
+                                    { 4800, -4700, -988 }, { -4200, 3900, -992 },
+                                    { -5000, -4900, -995 }, { 5000, 5000, -995 } };
+  static const int32_t near[][3] = { { 100, -50, 50 }, { 0, 120, 80 }, { -150, 100, 30 },
+                                     { 150, -100, 60 }, { -120, -110, 45 }, { 90, 130, 70 } };
+  for (int turn = 0; turn < 4; turn++) {
+    struct xr_scene x;
+    memset(&x, 0, sizeof x);
+    x.eye[2] = -1000;
+    x.win[0] = -200; x.win[1] = -150; x.win[2] = 200; x.win[3] = 150;
+    for (int k = 0; k < 6; k++) {             /* the far ones turned by turn quarters */
+      int32_t fx = far[k][0], fy = far[k][1];
+      for (int q = 0; q < turn; q++) { int32_t tx = fx; fx = -fy; fy = tx; }
+      assert_true(xr_vertex(&x, fx, fy, far[k][2]) >= 0);
+    }
+    for (int k = 0; k < 6; k++) assert_true(xr_vertex(&x, near[k][0], near[k][1], near[k][2]) >= 0);
+    for (int k = 0; k < 4; k++)               /* a square at z = 40 */
+      assert_true(xr_vertex(&x, k == 1 || k == 2 ? 100 : -100, k >= 2 ? 100 : -100, 40) >= 0);
+    /* two far vertices (an edge passing the window beside it, its crossings thousands of
+       columns away; or across it, from corner to corner of the plane's range, where the
+       products of a crossing inside the window overflow 64 bits) or one with near ones;
+       the square across them */
+    static const int tri[][3] = { { 0, 3, 6 }, { 1, 2, 9 }, { 2, 10, 11 }, { 3, 7, 10 },
+                                  { 4, 5, 6 } };
+    for (int k = 0; k < 5; k++) assert_true(xr_face(&x, (unsigned)k + 1, 3, tri[k]) >= 0);
+    static const int quad[4] = { 12, 13, 14, 15 };
+    assert_true(xr_face(&x, 6, 4, quad) >= 0);
+    char name[64];
+    snprintf(name, sizeof name, "far-vertices-%d", turn);
+    bad += judge_xr(&x, 3, name, &t) + judge_xr(&x, 4, name, &t);
+    xr_scene_free(&x);
+  }
+  report("far vertices", &t);
+  assert_int_equal(bad, 0);
+  assert_int_equal(t.scenes, 8);
+  assert_true(t.points - t.same < t.points / 100);  /* the faces meet: nearly all agree */
+}
+
 static void test_scenegen_families(void **state)
 {
   (void)state;
@@ -1011,6 +1059,7 @@ int main(void)
     cmocka_unit_test(test_regions_on_samples),
     cmocka_unit_test(test_scenegen_families),
     cmocka_unit_test(test_hard_families),
+    cmocka_unit_test(test_far_vertices),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -468,6 +468,47 @@ static void test_tube_write_cells(void **state)
   tube_free(b);
 }
 
+/* Whole rows of 3x3 cells written where nothing is lit yet (a tube being drawn: the cells'
+   rows stored seven cells at a time), at the tube's corners and edges (the top row, the
+   bottom row, the last dot of a row; seven cells of no dot among them, and six before
+   one that has), and again over
+   them with a dot lit under one cell: the same dots, count and order as tube_write_dots
+   of each cell in turn. */
+static void test_tube_write_cells3_rows(void **state)
+{
+  (void)state;
+  static const int at[][3] = { { 0, 299, 133 }, { 1, 299, 133 }, { 0, 2, 133 }, { 1, 2, 133 },
+                               { 397, 150, 1 }, { 394, 2, 2 }, { 200, 299, 66 }, { 5, 100, 20 } };
+  uint32_t x = 4242;
+  for (int pass = 0; pass < 2; pass++)
+    for (size_t k = 0; k < sizeof at / sizeof at[0]; k++) {
+      struct tube *a = tube_new(), *b = tube_new();
+      assert_non_null(a);
+      assert_non_null(b);
+      const int x0 = at[k][0], y0 = at[k][1], count = at[k][2];
+      uint16_t masks[133];
+      for (int c = 0; c < count; c++) {
+        x = x * 1103515245u + 12345u;
+        const int none = c % 7 == 3 || c / 7 == 2 || (c / 7 == 4 && c % 7 < 6);
+        masks[c] = (uint16_t)(none ? 0 : c % 5 == 1 ? 0x1ffu : 1u | ((x >> 8) & 0x1ffu));
+      }
+      if (pass) {                               /* a dot lit already under the last cell */
+        const int dx = x0 + 3 * (count - 1) + 2, dy = y0 - 1;
+        assert_int_equal(tube_write(a, dx, dy), T74_OK);
+        assert_int_equal(tube_write(b, dx, dy), T74_OK);
+      }
+      for (int c = 0; c < count; c++)
+        assert_int_equal(tube_write_dots(a, x0 + 3 * c, y0, 3, masks[c]), T74_OK);
+      assert_int_equal(tube_write_cells(b, x0, y0, 3, masks, count), T74_OK);
+      assert_true(tube_count(b) > 2 * count);
+      tubes_same_from(a, b, 0);
+      for (int yy = 0; yy < 300; yy++)
+        for (int xx = 0; xx < 400; xx++) assert_int_equal(tube_lit(a, xx, yy), tube_lit(b, xx, yy));
+      tube_free(a);
+      tube_free(b);
+    }
+}
+
 /* The same on a tube lit all but a few dots (order[] nearly full): 4x4 cells over the
    last unlit dots store exactly what tube_write would, and the tube ends full. */
 static void test_tube_write_dots_full(void **state)
@@ -1015,6 +1056,7 @@ int main(void)
     cmocka_unit_test_setup(test_tube_write_dots, test_setup),
     cmocka_unit_test_setup(test_tube_write_dots_full, test_setup),
     cmocka_unit_test_setup(test_tube_write_cells, test_setup),
+    cmocka_unit_test_setup(test_tube_write_cells3_rows, test_setup),
     cmocka_unit_test_setup(test_tee, test_setup),
     cmocka_unit_test_setup(test_pbm_bytes, test_setup),
     cmocka_unit_test_setup(test_points_bytes, test_setup),
