@@ -67,6 +67,26 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
   return T74_OK;
 }
 
+/* What the shading of every point shares, made once a frame: the lights, the eye and
+   each face's ray set-up (space_point). */
+static int shade_setup(struct fx_model *m, struct t74_error *err)
+{
+  const struct mapped *map = m->map;
+  m->count = m->eng->r != NULL;
+  shade_lights_init(&m->lights, m->s);
+  for (int c = 0; c < 3; c++) m->eye[c] = (double)map->eye[c];
+  const double *E = m->eye;
+  m->ray = malloc(((size_t)map->nface + 1) * sizeof *m->ray);
+  if (!m->ray) return t74_fail(err, T74_EIO, "out of host memory");
+  for (int f = 0; f < map->nface; f++) {
+    const int64_t *pl = map->f[f].plane;
+    double *r = m->ray[f];
+    for (int c = 0; c < 3; c++) r[c] = (double)pl[c];
+    r[3] = -((double)pl[0] * E[0] + (double)pl[1] * E[1] + (double)pl[2] * E[2] + (double)pl[3]);
+  }
+  return T74_OK;
+}
+
 int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct scene *s,
                    const struct effects *e, const uint8_t *bg,
                    struct fx_stats *st, struct cost *cost, struct t74_error *err)
@@ -116,7 +136,8 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
       m->shadow_first[f] = k;
     }
   }
-  return load_textures(m, st, cost, err);
+  if ((rc = load_textures(m, st, cost, err)) != T74_OK) return rc;
+  return fx_model_shades(m) ? shade_setup(m, err) : T74_OK;
 }
 
 void fx_model_free(struct fx_model *m)
@@ -133,6 +154,7 @@ void fx_model_free(struct fx_model *m)
   free(m->cut_skip);
   free(m->cut_obj);
   free(m->shadow_first);
+  free(m->ray);
   memset(m, 0, sizeof *m);
 }
 
@@ -147,14 +169,12 @@ bool fx_model_shades(const struct fx_model *m)
 
 /* The space point of face f seen through plane position (px, py, 0): the ray from the eye
    onto the face's exact plane (eq. (2)). */
-static void space_point(const struct mapped *map, int f, double px, double py, double X[3])
+static void space_point(const struct fx_model *m, int f, double px, double py, double X[3])
 {
-  const int64_t *pl = map->f[f].plane;
-  double E[3] = { (double)map->eye[0], (double)map->eye[1], (double)map->eye[2] };
+  const double *E = m->eye, *r = m->ray[f];
   double D[3] = { px - E[0], py - E[1], -E[2] };
-  double num = -((double)pl[0] * E[0] + (double)pl[1] * E[1] + (double)pl[2] * E[2] + (double)pl[3]);
-  double den = (double)pl[0] * D[0] + (double)pl[1] * D[1] + (double)pl[2] * D[2];
-  double t = den != 0 ? num / den : 1;
+  double den = r[0] * D[0] + r[1] * D[1] + r[2] * D[2];
+  double t = den != 0 ? r[3] / den : 1;
   for (int c = 0; c < 3; c++) X[c] = E[c] + t * D[c];
 }
 
@@ -170,14 +190,29 @@ static double reflectance(const struct fx_tex *t, const double X[3], struct cost
   if (x >= w) x = w - 1;
   if (y >= h) y = h - 1;
   if (y < 0) y = 0;
-  for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 16);
-  cost_mw_div(cost, 32, 16); cost_mw_div(cost, 32, 16);
-  COST_ADD_N(cost, COST_MEM, 2);
+  if (cost) {
+    for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 16);
+    cost_mw_div(cost, 32, 16); cost_mw_div(cost, 32, 16);
+    COST_ADD_N(cost, COST_MEM, 2);
+  }
   return pic_pixel(t->pic, x, y) / 255.0;
 }
 
-int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, double v,
-             int i, int j, struct cost *cost, int *region)
+/* The plane position of point coordinates (u, v) (fx_shade's px, py). */
+static double plane_x(const struct vis_grid *g, double u)
+{
+  return g->window[0] + u * (double)(g->window[2] - g->window[0]) / g->W;
+}
+
+static double plane_y(const struct vis_grid *g, double v)
+{
+  return g->window[3] - v * (double)(g->window[3] - g->window[1]) / g->H;
+}
+
+/* fx_shade at plane position (px, py) of point coordinates (u, v) (which only the
+   background's point (i, j) needs); cost NULL: not counted. */
+static int shade_at(const struct fx_model *m, int face, unsigned blocked, double px, double py,
+                    int i, int j, struct cost *cost, int *region)
 {
   if (region) *region = -1;
   if (face < 0) {
@@ -191,24 +226,33 @@ int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, dou
   const struct fx_tex *t = m->tex && m->tex[mf->sface].pic ? &m->tex[mf->sface] : NULL;
   int tri = m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE ? m->sm.tri_of_mface[face] : -1;
   bool lit = sf->grey < 0 && m->s->has_light;
-  COST_ADD_N(cost, COST_MEM, 2); COST_ADD_N(cost, COST_BRANCH, 2);
+  if (cost) { COST_ADD_N(cost, COST_MEM, 2); COST_ADD_N(cost, COST_BRANCH, 2); }
   if (!lit) blocked = 0;                     /* a face of its own grey is not lit */
   if (tri < 0 && !t && !blocked) return mf->grey;
-  const struct vis_grid *g = m->g;
-  double px = g->window[0] + u * (double)(g->window[2] - g->window[0]) / g->W;
-  double py = g->window[3] - v * (double)(g->window[3] - g->window[1]) / g->H;
   double X[3];
-  space_point(m->map, face, px, py, X);
-  for (int k = 0; k < 6; k++) cost_mw_mul(cost, 32, 16);
-  cost_mw_div(cost, 48, 32);
+  space_point(m, face, px, py, X);
+  if (cost) {
+    for (int k = 0; k < 6; k++) cost_mw_mul(cost, 32, 16);
+    cost_mw_div(cost, 48, 32);
+  }
   double refl = t ? reflectance(t, X, cost) : 1.0;
-  if (tri >= 0) return smooth_grey_at(&m->sm, m->map, m->s, m->e, tri, X, refl, blocked, cost, region);
+  if (tri >= 0)
+    return smooth_grey_at(&m->sm, m->map, m->s, m->e, tri, X, refl, blocked, &m->lights, cost,
+                          region);
   if (!lit) return (int)floor(mf->grey * refl + 0.5);
   double n[3] = { -(double)mf->plane[0], -(double)mf->plane[1], -(double)mf->plane[2] };
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int c = 0; c < 3; c++) n[c] /= len;
-  for (int k = 0; k < m->s->nlight; k++) { cost_mw_mul(cost, 16, 16); cost_mw_mul(cost, 16, 16); }
-  return shade_grey(m->s, n, X, refl, blocked);
+  if (cost)
+    for (int k = 0; k < m->s->nlight; k++) { cost_mw_mul(cost, 16, 16); cost_mw_mul(cost, 16, 16); }
+  return shade_grey_lit(&m->lights, n, X, refl, blocked);
+}
+
+int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, double v,
+             int i, int j, struct cost *cost, int *region)
+{
+  return shade_at(m, face, blocked, plane_x(m->g, u), plane_y(m->g, v), i, j,
+                  m->count ? cost : NULL, region);
 }
 
 /* ---- lines --------------------------------------------------------------------------- */
@@ -570,59 +614,58 @@ int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n,
 int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
               struct cost *cost, struct t74_error *err)
 {
-  size_t n = (size_t)f->W * (size_t)f->H;
-  unsigned *blocked = calloc(n ? n : 1, sizeof *blocked);
-  int *row = calloc((size_t)f->W + 1, sizeof *row);
-  if (!blocked || !row) {
-    free(blocked);
-    free(row);
-    return t74_fail(err, T74_EIO, "out of host memory");
+  /* a row at a time, bottom row first: its faces after the regions (the lights blocked
+     along it), then its greys; px[] and py[] the plane positions of the point centres */
+  const int W = f->W, H = f->H;
+  const bool regions = fx_model_regions(m);
+  unsigned *blocked = calloc((size_t)W + 1, sizeof *blocked);
+  int *row = malloc(((size_t)W + 1) * sizeof *row);
+  double *px = malloc(((size_t)W + (size_t)H + 1) * sizeof *px), *py = px + W;
+  struct fx_lines *L = NULL;
+  int rc = !blocked || !row || !px ? t74_fail(err, T74_EIO, "out of host memory") : T74_OK;
+  if (rc == T74_OK && regions) rc = fx_lines_open(&L, m, false, cost, err);
+  if (rc != T74_OK) {
+    free(blocked); free(row); free(px);
+    return rc;
   }
-  int rc = T74_OK;
+  for (int i = 0; i < W; i++) px[i] = plane_x(m->g, i + 0.5);
+  for (int j = 0; j < H; j++) py[j] = plane_y(m->g, j + 0.5);
+  struct cost *pc = m->count ? cost : NULL;
   long cut = 0, show_face = 0, show_none = 0, shadowed = 0;
-  if (fx_model_regions(m)) {
-    struct fx_lines *L;
-    if ((rc = fx_lines_open(&L, m, false, cost, err)) != T74_OK) {
-      free(blocked);
-      free(row);
-      return rc;
-    }
-    for (int j = f->H - 1; j >= 0 && rc == T74_OK; j--) {     /* bottom row first */
-      size_t at0 = (size_t)j * (size_t)f->W;
-      if ((rc = fx_lines_samples(L, 1, j, 0, f->W, row, blocked + at0, err)) != T74_OK) break;
-      int *fr = f->face + at0;
-      const unsigned *bl = blocked + at0;
-      for (int i = 0; i < f->W; i++) {
+  long pts = 0, flat = 0, band = 0, corner = 0;
+  const bool bg = m->bg != NULL;
+  for (int j = H - 1; j >= 0; j--) {
+    size_t at0 = (size_t)j * (size_t)W;
+    int *fr = f->face + at0;
+    if (regions) {
+      if ((rc = fx_lines_samples(L, 1, j, 0, W, row, blocked, err)) != T74_OK) break;
+      for (int i = 0; i < W; i++) {
         int face = row[i];
         if (face != fr[i]) {
           cut++;
           if (face >= 0) show_face++; else show_none++;
         }
         fr[i] = face;
-        shadowed += bl[i] != 0;
+        shadowed += blocked[i] != 0;
       }
-      COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)f->W);   /* 2 and 2 a point */
-      COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)f->W);
+      COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)W);   /* 2 and 2 a point */
+      COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
-    fx_lines_close(L);
-  }
-  free(row);
-  long pts = 0, flat = 0, band = 0, corner = 0;
-  const bool bg = m->bg != NULL;
-  for (int j = 0; j < f->H && rc == T74_OK; j++)
-    for (int i = 0; i < f->W; i++) {
-      size_t at = (size_t)j * (size_t)f->W + (size_t)i;
-      int region, face = f->face[at];
-      if (face < 0 && !bg) {                /* fx_shade's answer, without the call */
-        f->grey[at] = 0;
+    uint8_t *gr = f->grey + at0;
+    for (int i = 0; i < W; i++) {
+      int region, face = fr[i];
+      if (face < 0 && !bg) {                /* shade_at's answer, without the call */
+        gr[i] = 0;
         continue;
       }
-      f->grey[at] = (uint8_t)fx_shade(m, face, blocked[at], i + 0.5, j + 0.5, i, j, cost, &region);
+      gr[i] = (uint8_t)shade_at(m, face, blocked[i], px[i], py[j], i, j, pc, &region);
       if (region < 0) continue;
       pts++;
       if (region == 0) flat++; else if (region == 2) corner++; else band++;
     }
-  free(blocked);
+  }
+  fx_lines_close(L);
+  free(blocked); free(row); free(px);
   if (rc != T74_OK) return rc;
   if (m->e->contour_on && m->smooth) {
     fx_count(st, "contour_points_cut", (double)cut, true);

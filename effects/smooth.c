@@ -292,6 +292,9 @@ static void bary_setup(const struct scene *s, struct smooth_tri *tr)
     double q[3] = { (double)v->x, (double)v->y, (double)v->z };
     V[k][0] = q[u]; V[k][1] = q[w];
   }
+  static const int next[3][2] = { { 1, 2 }, { 2, 0 }, { 0, 1 } };   /* (k + 1, k + 2) % 3 */
+  for (int k = 0; k < 3; k++)
+    for (int c = 0; c < 2; c++) tr->bE[k][c] = V[next[k][1]][c] - V[next[k][0]][c];
   tr->bu = u;
   tr->bw = w;
   tr->btot = (V[1][0] - V[0][0]) * (V[2][1] - V[0][1]) - (V[2][0] - V[0][0]) * (V[1][1] - V[0][1]);
@@ -415,10 +418,9 @@ static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
 {
   const double (*V)[2] = tr->bV;
   double x = X[tr->bu], y = X[tr->bw], sum = 0, tot = tr->btot;
-  static const int next[3][2] = { { 1, 2 }, { 2, 0 }, { 0, 1 } };   /* (k + 1, k + 2) % 3 */
   for (int k = 0; k < 3; k++) {
-    const double *a = V[next[k][0]], *b = V[next[k][1]];
-    double ar = (b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1]);
+    const double *a = V[(k + 1) % 3], *d = tr->bE[k];   /* d: b - a, made once */
+    double ar = d[0] * (y - a[1]) - (x - a[0]) * d[1];
     l[k] = tot != 0 ? ar / tot : 1.0 / 3;
     if (!(l[k] > 0)) l[k] = 0;
     sum += l[k];
@@ -429,7 +431,8 @@ static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
 
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
-                   unsigned blocked, struct cost *cost, int *region_out)
+                   unsigned blocked, const struct shade_lights *lights, struct cost *cost,
+                   int *region_out)
 {
   const struct smooth_tri *tr = &m->tri[t];
   double l[3], nrm[3];
@@ -442,7 +445,7 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
       double nk[3] = { sgn * tr->cn[k][0], sgn * tr->cn[k][1], sgn * tr->cn[k][2] };
       const struct scene_vertex *v = &s->v[tr->v[k]];
       double at[3] = { v->x, v->y, v->z };
-      gi += l[k] * shade_grey(s, nk, at, refl, blocked);
+      gi += l[k] * shade_grey_lit(lights, nk, at, refl, blocked);
     }
     grey = (int)floor(gi + 0.5);
   } else {
@@ -458,10 +461,10 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
       if (region == 0) memcpy(nrm, tr->n, sizeof nrm);
       unit(nrm);
       for (int c = 0; c < 3; c++) nrm[c] *= sgn;
-      grey = shade_grey(s, nrm, X, refl, blocked);
+      grey = shade_grey_lit(lights, nrm, X, refl, blocked);
     }
   }
-  cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
+  if (cost) cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
   if (region_out) *region_out = region;
   return grey < 0 ? 0 : grey > 255 ? 255 : grey;
 }

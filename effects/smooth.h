@@ -35,6 +35,8 @@
 #include <stdbool.h>
 #include "effects/fx.h"
 
+struct shade_lights;
+
 /* One triangle patch of an object. Corner k is scene vertex v[k]; side k is the side
    opposite corner k (where the barycentric coordinate l[k] is 0). */
 struct smooth_tri {
@@ -53,6 +55,7 @@ struct smooth_tri {
   int    bu, bw;           /* barycentric coordinates are taken on these two axes (the
                               plane's dominant one left out) */
   double bV[3][2];         /* the corners on them */
+  double bE[3][2];         /* side k on them: corner (k + 2) % 3 less corner (k + 1) % 3 */
   double btot;             /* twice the signed area of the triangle so projected */
 };
 
@@ -100,11 +103,13 @@ int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *
    reflectance refl (a texture's, else 1) and the lights whose bits are set in blocked in
    shadow (render/shade.h); *region (may be NULL) gets the region of procedure (A) (0 the
    flat inner triangle, 1 an edge band, 2 a corner band; Gouraud and Phong: 1). Counted in
-   cost as the 16-bit program's sequence (smooth.c). The inner triangle with refl 1 and no
-   light blocked is exactly the face's flat grey. */
+   cost as the 16-bit program's sequence (smooth.c; cost NULL: not counted). The lights
+   are s's, made ready (render/shade.h). The inner triangle with refl 1 and no light
+   blocked is exactly the face's flat grey. */
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
-                   unsigned blocked, struct cost *cost, int *region);
+                   unsigned blocked, const struct shade_lights *lights, struct cost *cost,
+                   int *region);
 
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);

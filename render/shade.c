@@ -5,25 +5,54 @@
 
 #include <math.h>
 
-void shade_dir(const struct scene *s, int k, const double at[3], double l[3])
+/* Normalise l (shade_dir's last step). */
+static void unit_dir(double l[3])
 {
-  const struct scene_light *L = &s->light[k];
-  for (int c = 0; c < 3; c++) l[c] = L->point ? L->v[c] - at[c] : L->v[c];
   double n = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
   if (n > 0) for (int c = 0; c < 3; c++) l[c] /= n;
 }
 
-int shade_grey(const struct scene *s, const double n[3], const double at[3], double r,
-               unsigned blocked)
+void shade_dir(const struct scene *s, int k, const double at[3], double l[3])
+{
+  const struct scene_light *L = &s->light[k];
+  for (int c = 0; c < 3; c++) l[c] = L->point ? L->v[c] - at[c] : L->v[c];
+  unit_dir(l);
+}
+
+void shade_lights_init(struct shade_lights *L, const struct scene *s)
+{
+  L->n = s->nlight;
+  for (int k = 0; k < s->nlight; k++) {
+    L->point[k] = s->light[k].point;
+    for (int c = 0; c < 3; c++) L->v[k][c] = s->light[k].v[c];
+    if (!L->point[k]) unit_dir(L->v[k]);
+  }
+}
+
+int shade_grey_lit(const struct shade_lights *L, const double n[3], const double at[3],
+                   double r, unsigned blocked)
 {
   double sum = 0;
-  for (int k = 0; k < s->nlight; k++) {
+  for (int k = 0; k < L->n; k++) {
     if (blocked >> k & 1u) continue;
-    double l[3];
-    shade_dir(s, k, at, l);
+    const double *l = L->v[k];
+    double pl[3];
+    if (L->point[k]) {
+      for (int c = 0; c < 3; c++) pl[c] = l[c] - at[c];
+      unit_dir(pl);
+      l = pl;
+    }
     double d = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
     if (d > 0) sum += d;
   }
   double g = SHADE_AMBIENT + floor((255 - SHADE_AMBIENT) * r * sum + 0.5);
   return g > 255 ? 255 : (int)g;
+}
+
+int shade_grey(const struct scene *s, const double n[3], const double at[3], double r,
+               unsigned blocked)
+{
+  struct shade_lights L;
+  shade_lights_init(&L, s);
+  return shade_grey_lit(&L, n, at, r, blocked);
 }

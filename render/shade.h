@@ -33,4 +33,18 @@ void shade_dir(const struct scene *s, int k, const double at[3], double l[3]);
 int shade_grey(const struct scene *s, const double n[3], const double at[3], double r,
                unsigned blocked);
 
+/* The scene's lights made ready for shading many points (the effects' per-point work):
+   a parallel light's unit direction found once (shade_dir's, the same doubles), a point
+   light's position as doubles. */
+struct shade_lights {
+  int n;
+  bool point[SCENE_LIGHT_MAX];
+  double v[SCENE_LIGHT_MAX][3];     /* unit direction (parallel) or position (point) */
+};
+void shade_lights_init(struct shade_lights *L, const struct scene *s);
+
+/* shade_grey with the lights made ready: the same value, bit for bit. */
+int shade_grey_lit(const struct shade_lights *L, const double n[3], const double at[3],
+                   double r, unsigned blocked);
+
 #endif
