@@ -270,6 +270,7 @@ struct fx_lines {
   struct ev { struct grat x; int light, d; } *ev;
   int evcap;
   int *brow; int browcap;   /* samples: the row behind a cut object */
+  int *bnd; int bndcap;     /* samples: per event, the first sample at or right of it */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -316,7 +317,7 @@ void fx_lines_close(struct fx_lines *L)
   if (L->behind)
     for (int q = 0; q < L->m->ncut; q++) fx_see_close(L->behind[q]);
   free(L->behind);
-  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->brow);
+  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->brow); free(L->bnd);
   free(L);
 }
 
@@ -328,9 +329,10 @@ static struct grat rmin(struct grat p, struct grat q) { return geom_rat_cmp(p, q
 static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int k1, int64_t yn,
                      int64_t yd, int *nev, struct t74_error *err)
 {
+  const int64_t fy = yn / yd - (yn % yd != 0 && yn < 0);   /* floor(yn / yd), yd > 0 */
   for (int k = k0; k < k1; k++) {
     const struct fx_poly *p = &ps->p[k];
-    if ((wide)yn < (wide)p->ylo * yd || (wide)yn >= (wide)p->yhi * yd) continue;
+    if (fy < p->ylo || fy >= p->yhi) continue;   /* the line misses its box */
     int need = p->rs[p->nring];
     if (need > L->xcap) {
       struct grat *nx = realloc(L->x, (size_t)need * sizeof *nx);
@@ -362,6 +364,22 @@ static int ev_cmp(const void *pa, const void *pb)
   return geom_rat_cmp(a->x, b->x);
 }
 
+/* Sort ev[0..n) by x, stable: a line's few events in place, more by the C library's
+   qsort (its merge sort, stable too). */
+static void ev_sort(struct ev *ev, int n)
+{
+  if (n > 32) {
+    qsort(ev, (size_t)n, sizeof *ev, ev_cmp);
+    return;
+  }
+  for (int k = 1; k < n; k++) {
+    struct ev e = ev[k];
+    int h = k;
+    while (h > 0 && geom_rat_cmp(ev[h - 1].x, e.x) > 0) { ev[h] = ev[h - 1]; h--; }
+    ev[h] = e;
+  }
+}
+
 /* The stretches of cut object q's regions on the line, sorted, into L->ev[0..*nev) (they
    do not overlap: each region lies at its own corner). */
 static int cut_stretches(struct fx_lines *L, int q, int64_t yn, int64_t yd, int *nev,
@@ -374,7 +392,7 @@ static int cut_stretches(struct fx_lines *L, int q, int64_t yn, int64_t yd, int 
     if (m->cuts.p[k].owner == m->cut_obj[q]) { if (k0 < 0) k0 = k; k1 = k + 1; }
   if (k0 < 0) return T74_OK;
   int rc = stretches(L, &m->cuts, k0, k1, yn, yd, nev, err);
-  if (rc == T74_OK && *nev > 0) qsort(L->ev, (size_t)*nev, sizeof *L->ev, ev_cmp);
+  if (rc == T74_OK) ev_sort(L->ev, *nev);
   return rc;
 }
 
@@ -438,7 +456,7 @@ static int shadow_line(struct fx_lines *L, int64_t yn, int64_t yd, struct t74_er
     if (rc != T74_OK) return rc;
     if (!room(L, nb + 2 * nev + 1)) return t74_fail(err, T74_EIO, "out of host memory");
     if (nev == 0) { L->b[nb++] = sp; continue; }
-    qsort(L->ev, (size_t)nev, sizeof *L->ev, ev_cmp);
+    ev_sort(L->ev, nev);
     int cnt[SCENE_LIGHT_MAX] = { 0 };
     unsigned mask = 0;
     struct grat at = sp.x0;
@@ -519,17 +537,38 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   if (rc != T74_OK || nev == 0) return rc;
   const int32_t *win = m->g->window;
   bool behind = false;
-  /* samples left to right (xn rising): the stretch a sample may lie in is found by moving
-     on from the last one's (they are sorted and apart), not from the first */
+  /* samples left to right (xn rising): each event's first sample at or right of it found
+     once (bnd, by halving), then the stretch a sample may lie in by moving on from the
+     last one's (they are sorted and apart), in sample numbers */
   const bool rising = win[2] > win[0];
-  int h = 0;
+  const int np = nev / 2;
+  if (rising) {
+    if (nev > L->bndcap) {
+      int *nb = realloc(L->bnd, (size_t)nev * sizeof *nb);
+      if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+      L->bnd = nb;
+      L->bndcap = nev;
+    }
+    for (int h = 0; h < 2 * np; h++) {
+      int lo = 0, hi = n;
+      while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + mid) + 1) * ((int64_t)win[2] - win[0]));
+        if (geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0) hi = mid; else lo = mid + 1;
+      }
+      L->bnd[h] = lo;
+    }
+  }
+  int k = 0;
   for (int i = 0; i < n; i++) {
     if (face[i] < 0 || !skip[face[i]]) continue;
-    int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
     if (rising) {
-      while (h + 1 < nev && geom_rat_cmp_frac(L->ev[h + 1].x, xn, xd) <= 0) h += 2;
-      if (h + 1 >= nev || geom_rat_cmp_frac(L->ev[h].x, xn, xd) > 0) continue;
-    } else if (!in_stretches(L->ev, nev, xn, xd)) continue;
+      while (k < np && L->bnd[2 * k + 1] <= i) k++;
+      if (k >= np || L->bnd[2 * k] > i) continue;
+    } else {
+      int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
+      if (!in_stretches(L->ev, nev, xn, xd)) continue;
+    }
     if (!behind) {
       if (n > L->browcap) {
         int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
@@ -564,7 +603,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
       int rc = stretches(L, &m->shadows, m->shadow_first[f], m->shadow_first[f + 1], yn, yd,
                          &nev, err);
       if (rc != T74_OK) return rc;
-      if (nev > 0) qsort(L->ev, (size_t)nev, sizeof *L->ev, ev_cmp);
+      ev_sort(L->ev, nev);
     }
     int cnt[SCENE_LIGHT_MAX] = { 0 }, h = 0;
     for (; i < e; i++) {

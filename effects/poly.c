@@ -59,7 +59,10 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
                   struct cost *cost)
 {
   int nx = 0;
-  if ((wide)yn < (wide)p->ylo * yd || (wide)yn >= (wide)p->yhi * yd) return 0;
+  /* a grid point lies on or below the line, y yd <= yn, exactly when y <= floor(yn / yd)
+     (yd > 0): one divide a line instead of a wide product a vertex */
+  int64_t fy = yn / yd - (yn % yd != 0 && yn < 0);
+  if (fy < p->ylo || fy >= p->yhi) return 0;
   for (int r = 0; r < p->nring; r++) {
     int a = p->rs[r], n = p->rs[r + 1] - a;
     if (n <= 0) continue;
@@ -68,11 +71,11 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
        found once, for the edge it ends and the one it starts */
     struct gpoint p0 = p->pt[a];
     const struct gpoint first = p0;
-    bool c0 = (wide)p0.y * yd <= yn;
+    bool c0 = p0.y <= fy;
     const bool cfirst = c0;
     for (int v = 0; v < n; v++) {
       struct gpoint p1 = v + 1 < n ? p->pt[a + v + 1] : first;
-      bool c1 = v + 1 < n ? (wide)p1.y * yd <= yn : cfirst;
+      bool c1 = v + 1 < n ? p1.y <= fy : cfirst;
       if (c0 != c1) {
         if (nx == max) {
           COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);

@@ -35,7 +35,7 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
                   int owner, int light);
 void fx_polys_free(struct fx_polys *ps);
 
-/* The stretches of polygon p on the line y = yn/yd (yd <= GRID_YDEN_MAX): up to max
+/* The stretches of polygon p on the line y = yn/yd (0 < yd <= GRID_YDEN_MAX): up to max
    crossings in x (sorted) written, their count returned (even; -1 when more than max).
    Counted in cost. */
 int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,
