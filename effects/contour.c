@@ -55,6 +55,16 @@ double contour_cut_share(double cc)
   return (8 * cc * cc + 8 * cc + 1) / 35;
 }
 
+/* llround(x), the same integer (half away from zero), without the library call: the
+   part of x after its truncation is exact in a double. */
+static gcoord round_grid(double x)
+{
+  if (!(fabs(x) < 0x1p62)) return (gcoord)llround(x);
+  int64_t t = (int64_t)x;
+  double f = x - (double)t;
+  return (gcoord)(f >= 0.5 ? t + 1 : f <= -0.5 ? t - 1 : t);
+}
+
 void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
 {
   double d[5][2];
@@ -68,8 +78,8 @@ void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS +
     else {
       double o[2];
       contour_bezier(d, (double)m / CONTOUR_STEPS, o);
-      p.x = (gcoord)llround(o[0]);
-      p.y = (gcoord)llround(o[1]);
+      p.x = round_grid(o[0]);
+      p.y = round_grid(o[1]);
     }
     poly[1 + CONTOUR_STEPS - m] = p;
   }
@@ -115,9 +125,10 @@ static struct gpoint project(const struct mapped *map, const double x[3], struct
   const int64_t *e = map->eye;
   double f = (double)-e[2], w = x[2] - (double)e[2];
   struct gpoint p = {
-    (gcoord)llround((double)GRID_ONE * ((double)e[0] + f * (x[0] - (double)e[0]) / w)),
-    (gcoord)llround((double)GRID_ONE * ((double)e[1] + f * (x[1] - (double)e[1]) / w)) };
-  for (int k = 0; k < 2; k++) { cost_mw_mul(cost, 32, 32); cost_mw_div(cost, 64, 32); }
+    round_grid((double)GRID_ONE * ((double)e[0] + f * (x[0] - (double)e[0]) / w)),
+    round_grid((double)GRID_ONE * ((double)e[1] + f * (x[1] - (double)e[1]) / w)) };
+  if (cost)
+    for (int k = 0; k < 2; k++) { cost_mw_mul(cost, 32, 32); cost_mw_div(cost, 64, 32); }
   return p;
 }
 
@@ -172,7 +183,7 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
       int a = tr->v[k], b = tr->v[(k + 1) % 3];
       if (!ccw) { int x = a; a = b; b = x; }
       ce[n++] = (struct cedge){ tr->object, a, b, t, a < b ? a : b, a < b ? b : a };
-      COST_ADD_N(cost, COST_MEM, 3);
+      if (cost) COST_ADD_N(cost, COST_MEM, 3);
     }
   }
   /* contour sides: shared with no other front triangle of the object */
@@ -184,7 +195,7 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     if (j - k == 1) ce[nc++] = ce[k];
     k = j;
   }
-  COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
+  if (cost) COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
   qsort(ce, (size_t)nc, sizeof *ce, by_from);
   long convex = 0, concave = 0, junction = 0;
   uint32_t mark = core_mark(core), at = 0;
@@ -200,7 +211,7 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
       if (ce[q].b == out->a) { nin++; inc = q; }
       if (ce[q].a == out->a) nout++;
     }
-    COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)nc);
+    if (cost) COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)nc);
     if (nin != 1 || nout != 1) { junction++; continue; }
     const struct cedge *inw = &ce[inc];
     const struct smooth_tri *A = &m->tri[inw->tri], *B = &m->tri[out->tri];
@@ -219,20 +230,22 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     q[0] = project(map, x0, cost);
     q[2] = pb;
     q[4] = project(map, x4, cost);
-    q[1].x = (gcoord)llround((double)q[2].x + e->contour * (double)(q[0].x - q[2].x));
-    q[1].y = (gcoord)llround((double)q[2].y + e->contour * (double)(q[0].y - q[2].y));
-    q[3].x = (gcoord)llround((double)q[2].x + e->contour * (double)(q[4].x - q[2].x));
-    q[3].y = (gcoord)llround((double)q[2].y + e->contour * (double)(q[4].y - q[2].y));
+    q[1].x = round_grid((double)q[2].x + e->contour * (double)(q[0].x - q[2].x));
+    q[1].y = round_grid((double)q[2].y + e->contour * (double)(q[0].y - q[2].y));
+    q[3].x = round_grid((double)q[2].x + e->contour * (double)(q[4].x - q[2].x));
+    q[3].y = round_grid((double)q[2].y + e->contour * (double)(q[4].y - q[2].y));
     struct gpoint poly[CONTOUR_STEPS + 2];
     contour_region(q, poly);
-    COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
-    for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {
-      for (int h = 0; h < 4; h++) cost_mw_mul(cost, 32, 16);
-      COST_ADD_N(cost, COST_ADD, 4);
-    }
-    for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
-      core_put_int(core, at + 4 * (uint32_t)v, 2, poly[v].x);
-      core_put_int(core, at + 4 * (uint32_t)v + 2, 2, poly[v].y);
+    if (cost) {                   /* the 1974 engine's machine: counted, through core */
+      COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
+      for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {
+        for (int h = 0; h < 4; h++) cost_mw_mul(cost, 32, 16);
+        COST_ADD_N(cost, COST_ADD, 4);
+      }
+      for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
+        core_put_int(core, at + 4 * (uint32_t)v, 2, poly[v].x);
+        core_put_int(core, at + 4 * (uint32_t)v + 2, 2, poly[v].y);
+      }
     }
     /* the region joins the frame model (effects/model.h), which cuts it out of the
        object's stretches on every line asked for: procedure (D) (6) */

@@ -419,7 +419,7 @@ static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
   const double (*V)[2] = tr->bV;
   double x = X[tr->bu], y = X[tr->bw], sum = 0, tot = tr->btot;
   for (int k = 0; k < 3; k++) {
-    const double *a = V[(k + 1) % 3], *d = tr->bE[k];   /* d: b - a, made once */
+    const double *a = V[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* d: b - a, made once */
     double ar = d[0] * (y - a[1]) - (x - a[0]) * d[1];
     l[k] = tot != 0 ? ar / tot : 1.0 / 3;
     if (!(l[k] > 0)) l[k] = 0;
@@ -478,8 +478,8 @@ int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *
     rc = core_alloc(core, SMOOTH_TABLE_BANDS, (uint32_t)m->ntri * 4, &ab, err);
   if (rc != T74_OK) return rc;
   /* the tables themselves: Q1.14 vertex normals as the triangles meet them, the
-     triangle's face row and its insets in Q0.16 */
-  for (int t = 0; t < m->ntri; t++) {
+     triangle's face row and its insets in Q0.16 (not under the points engine, cost NULL) */
+  for (int t = 0; cost && t < m->ntri; t++) {
     const struct smooth_tri *tr = &m->tri[t];
     core_write(core, ab + 4 * (uint32_t)t, (uint16_t)(tr->mface + 1));
     for (int k = 0; k < 3; k++) {

@@ -95,7 +95,8 @@ int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double
 int smooth_lambert(const double n[3], const double l[3]);
 
 /* The patches' tables in core (vertex normals, bands): allocated for the effects' run
-   and counted (T74_ECORE when they do not fit). */
+   and counted (T74_ECORE when they do not fit); cost NULL (the points engine, which models
+   no machine): allocated only, not written nor counted. */
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,
                   struct t74_error *err);
 

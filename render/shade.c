@@ -4,6 +4,7 @@
 #include "render/shade.h"
 
 #include <math.h>
+#include <stdint.h>
 
 /* Normalise l (shade_dir's last step). */
 static void unit_dir(double l[3])
@@ -45,7 +46,9 @@ int shade_grey_lit(const struct shade_lights *L, const double n[3], const double
     double d = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
     if (d > 0) sum += d;
   }
-  double g = SHADE_AMBIENT + floor((255 - SHADE_AMBIENT) * r * sum + 0.5);
+  /* floor of a non-negative double below 2^62 is its truncation: no library call */
+  double f = (255 - SHADE_AMBIENT) * r * sum + 0.5;
+  double g = SHADE_AMBIENT + (f >= 0 && f < 0x1p62 ? (double)(int64_t)f : floor(f));
   return g > 255 ? 255 : (int)g;
 }
 
