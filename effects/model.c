@@ -210,23 +210,33 @@ static double plane_y(const struct vis_grid *g, double v)
   return g->window[3] - v * (double)(g->window[3] - g->window[1]) / g->H;
 }
 
-/* fx_shade at plane position (px, py) of point coordinates (u, v) (which only the
-   background's point (i, j) needs); cost NULL: not counted. */
-static int shade_at(const struct fx_model *m, int face, unsigned blocked, double px, double py,
-                    int i, int j, struct cost *cost, int *region)
+/* What the shading needs of a face, found once for a run of points on it. */
+struct face_shade {
+  const struct mface *mf;
+  const struct fx_tex *t;   /* its texture, or NULL */
+  int tri;                  /* its smoothing triangle, or -1 */
+  bool lit;                 /* shaded from the lights (no grey of its own) */
+};
+
+static void face_shade_of(const struct fx_model *m, int face, struct face_shade *fs)
+{
+  const struct mface *mf = &m->map->f[face];
+  fs->mf = mf;
+  fs->t = m->tex && m->tex[mf->sface].pic ? &m->tex[mf->sface] : NULL;
+  fs->tri = m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE ? m->sm.tri_of_mface[face] : -1;
+  fs->lit = m->s->f[mf->sface].grey < 0 && m->s->has_light;
+}
+
+/* fx_shade of face (fs: face_shade_of's) at plane position (px, py); cost NULL: not
+   counted. */
+static int shade_face_at(const struct fx_model *m, int face, const struct face_shade *fs,
+                         unsigned blocked, double px, double py, struct cost *cost, int *region)
 {
   if (region) *region = -1;
-  if (face < 0) {
-    if (!m->bg) return 0;
-    i = i < 0 ? 0 : i >= m->W ? m->W - 1 : i;
-    j = j < 0 ? 0 : j >= m->H ? m->H - 1 : j;
-    return m->bg[(size_t)j * (size_t)m->W + (size_t)i];
-  }
-  const struct mface *mf = &m->map->f[face];
-  const struct scene_face *sf = &m->s->f[mf->sface];
-  const struct fx_tex *t = m->tex && m->tex[mf->sface].pic ? &m->tex[mf->sface] : NULL;
-  int tri = m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE ? m->sm.tri_of_mface[face] : -1;
-  bool lit = sf->grey < 0 && m->s->has_light;
+  const struct mface *mf = fs->mf;
+  const struct fx_tex *t = fs->t;
+  const int tri = fs->tri;
+  const bool lit = fs->lit;
   if (cost) { COST_ADD_N(cost, COST_MEM, 2); COST_ADD_N(cost, COST_BRANCH, 2); }
   if (!lit) blocked = 0;                     /* a face of its own grey is not lit */
   if (tri < 0 && !t && !blocked) return mf->grey;
@@ -249,11 +259,26 @@ static int shade_at(const struct fx_model *m, int face, unsigned blocked, double
   return shade_grey_lit(&m->lights, n, X, refl, blocked);
 }
 
+/* The background's grey at point (i, j) (fx_shade of no face). */
+static int shade_none(const struct fx_model *m, int i, int j)
+{
+  if (!m->bg) return 0;
+  i = i < 0 ? 0 : i >= m->W ? m->W - 1 : i;
+  j = j < 0 ? 0 : j >= m->H ? m->H - 1 : j;
+  return m->bg[(size_t)j * (size_t)m->W + (size_t)i];
+}
+
 int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, double v,
              int i, int j, struct cost *cost, int *region)
 {
-  return shade_at(m, face, blocked, plane_x(m->g, u), plane_y(m->g, v), i, j,
-                  m->count ? cost : NULL, region);
+  if (face < 0) {
+    if (region) *region = -1;
+    return shade_none(m, i, j);
+  }
+  struct face_shade fs;
+  face_shade_of(m, face, &fs);
+  return shade_face_at(m, face, &fs, blocked, plane_x(m->g, u), plane_y(m->g, v),
+                       m->count ? cost : NULL, region);
 }
 
 /* ---- lines --------------------------------------------------------------------------- */
@@ -330,10 +355,10 @@ static struct grat rmin(struct grat p, struct grat q) { return geom_rat_cmp(p, q
 static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int k1, int64_t yn,
                      int64_t yd, int *nev, struct t74_error *err)
 {
-  const int64_t fy = yn / yd - (yn % yd != 0 && yn < 0);   /* floor(yn / yd), yd > 0 */
+  const int64_t fy = fx_line_row(yn, yd);
   for (int k = k0; k < k1; k++) {
     const struct fx_poly *p = &ps->p[k];
-    if (fy < p->ylo || fy >= p->yhi) continue;   /* the line misses its box */
+    if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
     int need = p->rs[p->nring];
     if (need > L->xcap) {
       struct grat *nx = realloc(L->x, (size_t)need * sizeof *nx);
@@ -530,6 +555,12 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
 {
   const struct fx_model *m = L->m;
   const uint8_t *skip = m->cut_skip[q];
+  /* a row outside every region's height range has nothing cut: no scan for the object */
+  const int64_t fy = fx_line_row(yn, yd);
+  bool near = false;
+  for (int k = 0; k < m->cuts.n && !near; k++)
+    near = m->cuts.p[k].owner == m->cut_obj[q] && fx_poly_on_row(&m->cuts.p[k], fy);
+  if (!near) return T74_OK;
   bool hit = false;
   for (int i = 0; i < n && !hit; i++) hit = face[i] >= 0 && skip[face[i]];
   if (!hit) return T74_OK;
@@ -692,13 +723,16 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
     uint8_t *gr = f->grey + at0;
+    int last = -1;                          /* the face fs holds */
+    struct face_shade fs;
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
-      if (face < 0 && !bg) {                /* shade_at's answer, without the call */
-        gr[i] = 0;
+      if (face < 0) {
+        gr[i] = (uint8_t)(bg ? shade_none(m, i, j) : 0);
         continue;
       }
-      gr[i] = (uint8_t)shade_at(m, face, blocked[i], px[i], py[j], i, j, pc, &region);
+      if (face != last) { face_shade_of(m, face, &fs); last = face; }
+      gr[i] = (uint8_t)shade_face_at(m, face, &fs, blocked[i], px[i], py[j], pc, &region);
       if (region < 0) continue;
       pts++;
       if (region == 0) flat++; else if (region == 2) corner++; else band++;

@@ -59,10 +59,8 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
                   struct cost *cost)
 {
   int nx = 0;
-  /* a grid point lies on or below the line, y yd <= yn, exactly when y <= floor(yn / yd)
-     (yd > 0): one divide a line instead of a wide product a vertex */
-  int64_t fy = yn / yd - (yn % yd != 0 && yn < 0);
-  if (fy < p->ylo || fy >= p->yhi) return 0;
+  const int64_t fy = fx_line_row(yn, yd);   /* a point on or below the line: y <= fy */
+  if (!fx_poly_on_row(p, fy)) return 0;
   for (int r = 0; r < p->nring; r++) {
     int a = p->rs[r], n = p->rs[r + 1] - a;
     if (n <= 0) continue;
