@@ -43,6 +43,7 @@
 #include "patterns/scanner.h"
 #include "render/effects.h"
 #include "effects/fx.h"
+#include "effects/smooth.h"
 #include "render/points.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -77,6 +78,7 @@ struct pipeline {
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
+  struct smooth_scene **fx_smooth;  /* the smoothing's scene part between frames */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -428,6 +430,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   int st = T74_OK;
   if (p->r) fx_engine_1974(&eng, p->r, g);
   else st = fx_engine_points(&eng, p->pts, g, p->fx_keep, err);
+  eng.smooth_keep = p->fx_smooth;
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
   if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
@@ -1137,6 +1140,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   double *frame_t = NULL;                   /* --frames: each frame's host seconds */
   struct render_keep keep;                  /* what a frame leaves for the next */
   struct core *fx_core = NULL;              /* the effects' core, kept for the next frame */
+  struct smooth_scene *fx_smooth = NULL;    /* the smoothing's scene part, likewise */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -1145,6 +1149,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   memset(&p, 0, sizeof p);
   p.first_dot = -1;
   p.fx_keep = &fx_core;
+  p.fx_smooth = &fx_smooth;
   int engine = JOB_ENGINE_1974;
   memset(&jo, 0, sizeof jo);
 
@@ -1328,6 +1333,7 @@ done:
   render_free(&r);
   render_keep_free(&keep);
   core_free(fx_core);
+  smooth_scene_free(fx_smooth);
   points_free(&pts);
   scene_free(own);
   return st;

@@ -98,7 +98,8 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
   m->W = g->W; m->H = g->H;
   int rc = T74_OK;
   if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) {
-    if ((rc = smooth_model_build(&m->sm, map, s, e, err)) != T74_OK) return rc;
+    if ((rc = smooth_model_build_kept(&m->sm, map, s, e, eng->smooth_keep, err)) != T74_OK)
+      return rc;
     m->smooth = true;
     if (m->sm.ntri == 0)
       fprintf(stderr, "%s:%d: warning: smooth=/contour=: no face is a triangle of an object "

@@ -164,11 +164,12 @@ static void cross_int(const struct scene *s, const int v[3], int64_t o[3])
 }
 
 /* Orient the triangles [from, to) of one object (tri[] already filled with vertices):
-   breadth first across shared edges; then outward by volume when closed, towards the
-   eye when open. */
-static int orient_object(struct smooth_model *m, const struct scene *s, const int64_t eye[3],
-                         int from, int to, struct t74_error *err)
+   breadth first across shared edges; then outward by volume when closed (*closed set).
+   An open surface is turned towards the eye afterwards, a frame at a time (face_eye). */
+static int orient_object(struct smooth_model *m, const struct scene *s, int from, int to,
+                         bool *closed_out, struct t74_error *err)
 {
+  *closed_out = false;
   if (to <= from) return T74_OK;
   size_t n = (size_t)(to - from), ne = 3 * n;
   struct edge_rec *e = malloc(ne * sizeof *e);
@@ -235,24 +236,8 @@ static int orient_object(struct smooth_model *m, const struct scene *s, const in
       v[1] = v[2]; v[2] = x;
       m->flips++;
     }
-  if (!closed) {
-    /* an open surface has no outside: its front is the side most of it turns to the
-       eye (the sum of o . (eye - v0) over its triangles, exact, positive) */
-    wide toward = 0;
-    for (size_t t = 0; t < n; t++) {
-      const int *v = m->tri[from + (int)t].v;
-      int64_t o3[3];
-      cross_int(s, v, o3);
-      const struct scene_vertex *v0 = &s->v[v[0]];
-      toward += (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
-                (wide)o3[2] * (eye[2] - v0->z);
-    }
-    if (toward < 0)
-      for (size_t t = 0; t < n; t++) {
-        int *v = m->tri[from + (int)t].v, x = v[1];
-        v[1] = v[2]; v[2] = x;
-      }
-  } else {
+  *closed_out = closed;
+  if (closed) {
     /* outward: the volume sum of det(v0, v1, v2) / 6 is positive */
     wide vol = 0;
     for (size_t t = 0; t < n; t++) {
@@ -267,6 +252,27 @@ static int orient_object(struct smooth_model *m, const struct scene *s, const in
   }
   free(e); free(flip); free(queue); free(first); free(bytri);
   return T74_OK;
+}
+
+/* An open surface has no outside: its front is the side most of it turns to the eye
+   (the sum of o . (eye - v0) over its triangles [from, to), exact, positive). */
+static void face_eye(struct smooth_model *m, const struct scene *s, const int64_t eye[3],
+                     int from, int to)
+{
+  wide toward = 0;
+  for (int t = from; t < to; t++) {
+    const int *v = m->tri[t].v;
+    int64_t o3[3];
+    cross_int(s, v, o3);
+    const struct scene_vertex *v0 = &s->v[v[0]];
+    toward += (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
+              (wide)o3[2] * (eye[2] - v0->z);
+  }
+  if (toward < 0)
+    for (int t = from; t < to; t++) {
+      int *v = m->tri[t].v, x = v[1];
+      v[1] = v[2]; v[2] = x;
+    }
 }
 
 static double mean_height(const struct smooth_model *m, int from, int to)
@@ -300,49 +306,118 @@ static void bary_setup(const struct scene *s, struct smooth_tri *tr)
   tr->btot = (V[1][0] - V[0][0]) * (V[2][1] - V[0][1]) - (V[2][0] - V[0][0]) * (V[1][1] - V[0][1]);
 }
 
+/* What of the model depends on the scene alone, kept between frames (smooth.h): the
+   triangles of each object, oriented consistently (closed objects outward). */
+struct smooth_scene {
+  const struct scene *s;    /* the scene it was made for */
+  int ntri;
+  struct smooth_tri *tri;   /* sface, object and v of each (the rest zero) */
+  int nobj;                 /* objects with a triangle */
+  struct smooth_part { int from, to; bool closed; } *obj;
+  int flips, conflicts;
+};
+
+void smooth_scene_free(struct smooth_scene *ss)
+{
+  if (!ss) return;
+  free(ss->tri);
+  free(ss->obj);
+  free(ss);
+}
+
+/* The scene's part of the model (smooth_scene) into *out. */
+static int scene_part(const struct scene *s, struct smooth_scene **out, struct t74_error *err)
+{
+  struct smooth_scene *ss = calloc(1, sizeof *ss);
+  struct smooth_model m;                    /* orient_object's view of the triangles */
+  memset(&m, 0, sizeof m);
+  if (ss) {
+    ss->s = s;
+    ss->tri = m.tri = malloc(((size_t)s->nf + 1) * sizeof *m.tri);
+    ss->obj = malloc(((size_t)s->nobj + 1) * sizeof *ss->obj);
+  }
+  if (!ss || !ss->tri || !ss->obj) {
+    smooth_scene_free(ss);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  for (int o = 0; o < s->nobj; o++) {
+    const struct scene_object *ob = &s->obj[o];
+    int from = m.ntri;
+    for (int q = 0; q < ob->nface; q++) {
+      int fi = ob->face[q];
+      const struct scene_face *sf = &s->f[fi];
+      if (sf->nring != 1 || sf->ring_start[1] != 3 || sf->grey >= 0 || !s->has_light) continue;
+      struct smooth_tri *tr = &m.tri[m.ntri++];
+      memset(tr, 0, sizeof *tr);
+      tr->sface = fi;
+      tr->object = ob->id;
+      for (int k = 0; k < 3; k++) tr->v[k] = sf->vidx[k];
+    }
+    int to = m.ntri;
+    if (to == from) continue;
+    struct smooth_part *pt = &ss->obj[ss->nobj++];
+    pt->from = from;
+    pt->to = to;
+    if (orient_object(&m, s, from, to, &pt->closed, err) != T74_OK) {
+      smooth_scene_free(ss);
+      return err->status;
+    }
+  }
+  ss->ntri = m.ntri;
+  ss->flips = m.flips;
+  ss->conflicts = m.conflicts;
+  *out = ss;
+  return T74_OK;
+}
+
 int smooth_model_build(struct smooth_model *m, const struct mapped *map,
                        const struct scene *s, const struct effects *e,
                        struct t74_error *err)
 {
+  return smooth_model_build_kept(m, map, s, e, NULL, err);
+}
+
+int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
+                            const struct scene *s, const struct effects *e,
+                            struct smooth_scene **keep, struct t74_error *err)
+{
   memset(m, 0, sizeof *m);
+  struct smooth_scene *ss = keep && *keep && (*keep)->s == s ? *keep : NULL;
+  if (!ss) {
+    int rc = scene_part(s, &ss, err);
+    if (rc != T74_OK) return rc;
+    if (keep) {
+      smooth_scene_free(*keep);
+      *keep = ss;
+    }
+  }
   int nm = map->nface;
   m->tri_of_mface = malloc(((size_t)nm + 1) * sizeof *m->tri_of_mface);
   int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
-  m->tri = malloc(((size_t)s->nf + 1) * sizeof *m->tri);
+  m->tri = malloc(((size_t)ss->ntri + 1) * sizeof *m->tri);
   double (*acc)[3] = calloc((size_t)s->nv + 1, sizeof *acc);
   int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
   int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
   if (!m->tri_of_mface || !mof || !m->tri || !acc || !seen || !row) {
     free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
+    if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
+  if (ss->ntri) memcpy(m->tri, ss->tri, (size_t)ss->ntri * sizeof *m->tri);
+  m->ntri = ss->ntri;
+  m->flips = ss->flips;
+  m->conflicts = ss->conflicts;
+  m->objects = ss->nobj;
   for (int k = 0; k < s->nf; k++) mof[k] = -1;
   for (int k = 0; k < nm; k++) { mof[map->f[k].sface] = k; m->tri_of_mface[k] = -1; }
   for (int k = 0; k < s->nv; k++) seen[k] = -1;
   const int64_t *eye = map->eye;
-  for (int o = 0; o < s->nobj; o++) {
-    const struct scene_object *ob = &s->obj[o];
-    int from = m->ntri;
-    for (int q = 0; q < ob->nface; q++) {
-      int fi = ob->face[q];
-      const struct scene_face *sf = &s->f[fi];
-      if (sf->nring != 1 || sf->ring_start[1] != 3 || sf->grey >= 0 || !s->has_light) continue;
-      struct smooth_tri *tr = &m->tri[m->ntri++];
-      memset(tr, 0, sizeof *tr);
-      tr->sface = fi;
-      tr->mface = mof[fi];
-      tr->object = ob->id;
-      for (int k = 0; k < 3; k++) tr->v[k] = sf->vidx[k];
-    }
-    int to = m->ntri;
-    if (to == from) continue;
-    m->objects++;
-    if (orient_object(m, s, eye, from, to, err) != T74_OK) {
-      free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
-      return err->status;
-    }
+  for (int o = 0; o < ss->nobj; o++) {
+    int from = ss->obj[o].from, to = ss->obj[o].to;
+    if (!ss->obj[o].closed) face_eye(m, s, eye, from, to);
     for (int t = from; t < to; t++) {
       struct smooth_tri *tr = &m->tri[t];
+      tr->mface = mof[tr->sface];
       int64_t o3[3];
       cross_int(s, tr->v, o3);
       for (int c = 0; c < 3; c++) tr->n[c] = (double)o3[c];
@@ -382,6 +457,7 @@ int smooth_model_build(struct smooth_model *m, const struct mapped *map,
     }
   }
   free(mof); free(acc); free(seen); free(row);
+  if (!keep) smooth_scene_free(ss);
   return T74_OK;
 }
 

@@ -77,6 +77,22 @@ int smooth_model_build(struct smooth_model *m, const struct mapped *map,
                        struct t74_error *err);
 void smooth_model_free(struct smooth_model *m);
 
+/* What of the model depends on the scene alone: each object's triangles, oriented
+   consistently across their shared edges (the edge sort and the search), a closed
+   object's turned outward. The rest depends on the view and is made every frame: an
+   open surface turned towards the eye, which triangles the Mapper kept and which face
+   the eye, normals, vertex normals, bands. */
+struct smooth_scene;
+
+/* smooth_model_build, with the scene's part kept in *keep (may be NULL: made and freed)
+   for the frames that follow: taken from there when it was made for s, else made and
+   left there (the one before freed). The caller frees *keep (smooth_scene_free) before
+   s goes. The model is the same either way. */
+int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
+                            const struct scene *s, const struct effects *e,
+                            struct smooth_scene **keep, struct t74_error *err);
+void smooth_scene_free(struct smooth_scene *ss);
+
 /* The band insets of one triangle for smooth= (fixed: width w in space units): t[k] is
    the barycentric coordinate of side k's inset line; scaled down so the three sum to at
    most 1 (then the flat inner triangle is a point). Whole smoothing gives t = 1/2
