@@ -91,17 +91,7 @@ struct cedge {
   int object;
   int a, b;                 /* scene vertices, directed with the triangle on the left */
   int tri;                  /* the front triangle */
-  int lo, hi;               /* undirected key */
 };
-
-static int by_key(const void *pa, const void *pb)
-{
-  const struct cedge *x = pa, *y = pb;
-  if (x->object != y->object) return x->object < y->object ? -1 : 1;
-  if (x->lo != y->lo) return x->lo < y->lo ? -1 : 1;
-  if (x->hi != y->hi) return x->hi < y->hi ? -1 : 1;
-  return 0;
-}
 
 static int by_from(const void *pa, const void *pb)
 {
@@ -168,33 +158,43 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
   int nfront = 0;
   for (int t = 0; t < m->ntri; t++) nfront += m->tri[t].front;
   struct cedge *ce = malloc(((size_t)nfront * 3 + 1) * sizeof *ce);
-  if (!ce) return t74_fail(err, T74_EIO, "out of host memory");
+  int *cnt = calloc((size_t)m->ngroup + 1, sizeof *cnt);
+  bool *use = malloc((size_t)m->ntri + 1);
+  bool *ccw = malloc((size_t)m->ntri + 1);
+  if (!ce || !cnt || !use || !ccw) {
+    free(ce); free(cnt); free(use); free(ccw);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  /* the front triangles' sides, each group of sides on the same two vertices counted */
   int n = 0;
   for (int t = 0; t < m->ntri; t++) {
     const struct smooth_tri *tr = &m->tri[t];
+    use[t] = false;
     if (!tr->front) continue;
     const struct mface *mf = &map->f[tr->mface];
     struct gpoint p[3];
     bool ok = true;
     for (int k = 0; k < 3; k++) ok = ok && mapped_point(s, mf, tr->v[k], &p[k]);
     if (!ok) continue;
-    bool ccw = geom_orient(p[0], p[1], p[2]) > 0;
+    use[t] = true;
+    ccw[t] = geom_orient(p[0], p[1], p[2]) > 0;
+    for (int k = 0; k < 3; k++) cnt[m->edge_group[3 * t + k]]++;
+    n += 3;
+    if (cost) COST_ADD_N(cost, COST_MEM, 9);
+  }
+  /* contour sides: shared with no other front triangle of the object (a group of one) */
+  int nc = 0;
+  for (int t = 0; t < m->ntri; t++) {
+    if (!use[t]) continue;
+    const struct smooth_tri *tr = &m->tri[t];
     for (int k = 0; k < 3; k++) {
+      if (cnt[m->edge_group[3 * t + k]] != 1) continue;
       int a = tr->v[k], b = tr->v[(k + 1) % 3];
-      if (!ccw) { int x = a; a = b; b = x; }
-      ce[n++] = (struct cedge){ tr->object, a, b, t, a < b ? a : b, a < b ? b : a };
-      if (cost) COST_ADD_N(cost, COST_MEM, 3);
+      if (!ccw[t]) { int x = a; a = b; b = x; }
+      ce[nc++] = (struct cedge){ tr->object, a, b, t };
     }
   }
-  /* contour sides: shared with no other front triangle of the object */
-  qsort(ce, (size_t)n, sizeof *ce, by_key);
-  int nc = 0;
-  for (int k = 0; k < n;) {
-    int j = k;
-    while (j < n && by_key(&ce[j], &ce[k]) == 0) j++;
-    if (j - k == 1) ce[nc++] = ce[k];
-    k = j;
-  }
+  free(cnt); free(use); free(ccw);
   if (cost) COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
   qsort(ce, (size_t)nc, sizeof *ce, by_from);
   long convex = 0, concave = 0, junction = 0;

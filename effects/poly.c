@@ -67,14 +67,14 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
     /* an edge crosses the line when its ends lie on either side, a point on the line
        counting as above it (half-open: each crossing counted once); each vertex's side
        found once, for the edge it ends and the one it starts */
-    struct gpoint p0 = p->pt[a];
-    const struct gpoint first = p0;
-    bool c0 = p0.y <= fy;
-    const bool cfirst = c0;
+    const struct gpoint *pt = p->pt + a;
+    bool c0 = pt[0].y <= fy;
     for (int v = 0; v < n; v++) {
-      struct gpoint p1 = v + 1 < n ? p->pt[a + v + 1] : first;
-      bool c1 = v + 1 < n ? p1.y <= fy : cfirst;
+      /* the edge from point v to the next, w (the last back to the first) */
+      const int w = v + 1 == n ? 0 : v + 1;
+      const bool c1 = pt[w].y <= fy;
       if (c0 != c1) {
+        struct gpoint p0 = pt[v], p1 = pt[w];
         if (nx == max) {
           COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);
           return -1;
@@ -85,7 +85,6 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
         while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }
         x[h] = xc;
       }
-      p0 = p1;
       c0 = c1;
     }
     COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)n); COST_ADD_N(cost, COST_BRANCH, n);  /* an edge's */

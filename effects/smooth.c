@@ -142,6 +142,7 @@ void smooth_model_free(struct smooth_model *m)
 {
   free(m->tri);
   free(m->tri_of_mface);
+  free(m->edge_group);
   memset(m, 0, sizeof *m);
 }
 
@@ -167,7 +168,7 @@ static void cross_int(const struct scene *s, const int v[3], int64_t o[3])
    breadth first across shared edges; then outward by volume when closed (*closed set).
    An open surface is turned towards the eye afterwards, a frame at a time (face_eye). */
 static int orient_object(struct smooth_model *m, const struct scene *s, int from, int to,
-                         bool *closed_out, struct t74_error *err)
+                         bool *closed_out, int *group, int *ngroup, struct t74_error *err)
 {
   *closed_out = false;
   if (to <= from) return T74_OK;
@@ -250,6 +251,20 @@ static int orient_object(struct smooth_model *m, const struct scene *s, int from
         v[1] = v[2]; v[2] = x;
       }
   }
+  /* the sides' groups (edge_groups in smooth.h), on the triangles as now oriented */
+  for (size_t k = 0; k < 3 * n; k++) group[k] = -1;
+  for (size_t k = 0; k < ne; k++) {
+    if (k == 0 || e[k].lo != e[k - 1].lo || e[k].hi != e[k - 1].hi) (*ngroup)++;
+    const int *v = m->tri[from + e[k].tri].v;
+    int *g = group + 3 * (size_t)e[k].tri;
+    for (int q = 0; q < 3; q++) {
+      int a = v[q], b = v[q == 2 ? 0 : q + 1];
+      if (g[q] < 0 && (a < b ? a : b) == e[k].lo && (a < b ? b : a) == e[k].hi) {
+        g[q] = *ngroup - 1;
+        break;
+      }
+    }
+  }
   free(e); free(flip); free(queue); free(first); free(bytri);
   return T74_OK;
 }
@@ -259,6 +274,8 @@ static int orient_object(struct smooth_model *m, const struct scene *s, int from
 static void face_eye(struct smooth_model *m, const struct scene *s, const int64_t eye[3],
                      int from, int to)
 {
+  /* turning a triangle (v1 and v2 swapped) makes its side 0 the old side 2 and side 2 the
+     old side 0 */
   wide toward = 0;
   for (int t = from; t < to; t++) {
     const int *v = m->tri[t].v;
@@ -272,6 +289,8 @@ static void face_eye(struct smooth_model *m, const struct scene *s, const int64_
     for (int t = from; t < to; t++) {
       int *v = m->tri[t].v, x = v[1];
       v[1] = v[2]; v[2] = x;
+      int *g = m->edge_group + 3 * t;
+      x = g[0]; g[0] = g[2]; g[2] = x;
     }
 }
 
@@ -315,6 +334,7 @@ struct smooth_scene {
   int nobj;                 /* objects with a triangle */
   struct smooth_part { int from, to; bool closed; } *obj;
   int flips, conflicts;
+  int *group, ngroup;       /* edge_group (smooth.h), on the triangles as oriented here */
 };
 
 void smooth_scene_free(struct smooth_scene *ss)
@@ -322,6 +342,7 @@ void smooth_scene_free(struct smooth_scene *ss)
   if (!ss) return;
   free(ss->tri);
   free(ss->obj);
+  free(ss->group);
   free(ss);
 }
 
@@ -335,8 +356,9 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
     ss->s = s;
     ss->tri = m.tri = malloc(((size_t)s->nf + 1) * sizeof *m.tri);
     ss->obj = malloc(((size_t)s->nobj + 1) * sizeof *ss->obj);
+    ss->group = malloc((3 * (size_t)s->nf + 1) * sizeof *ss->group);
   }
-  if (!ss || !ss->tri || !ss->obj) {
+  if (!ss || !ss->tri || !ss->obj || !ss->group) {
     smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
@@ -358,7 +380,8 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
     struct smooth_part *pt = &ss->obj[ss->nobj++];
     pt->from = from;
     pt->to = to;
-    if (orient_object(&m, s, from, to, &pt->closed, err) != T74_OK) {
+    if (orient_object(&m, s, from, to, &pt->closed, ss->group + 3 * (size_t)from, &ss->ngroup,
+                      err) != T74_OK) {
       smooth_scene_free(ss);
       return err->status;
     }
@@ -395,15 +418,20 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   m->tri_of_mface = malloc(((size_t)nm + 1) * sizeof *m->tri_of_mface);
   int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
   m->tri = malloc(((size_t)ss->ntri + 1) * sizeof *m->tri);
+  m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
   double (*acc)[3] = calloc((size_t)s->nv + 1, sizeof *acc);
   int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
   int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
-  if (!m->tri_of_mface || !mof || !m->tri || !acc || !seen || !row) {
+  if (!m->tri_of_mface || !mof || !m->tri || !m->edge_group || !acc || !seen || !row) {
     free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
     if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
-  if (ss->ntri) memcpy(m->tri, ss->tri, (size_t)ss->ntri * sizeof *m->tri);
+  if (ss->ntri) {
+    memcpy(m->tri, ss->tri, (size_t)ss->ntri * sizeof *m->tri);
+    memcpy(m->edge_group, ss->group, 3 * (size_t)ss->ntri * sizeof *m->edge_group);
+  }
+  m->ngroup = ss->ngroup;
   m->ntri = ss->ntri;
   m->flips = ss->flips;
   m->conflicts = ss->conflicts;

@@ -68,6 +68,10 @@ struct smooth_model {
   int conflicts;           /* edges two triangles could not be made to agree on
                               (a one-sided surface, or more than 2 faces on an edge) */
   int vertex_normals;      /* distinct (object, vertex) normals */
+  int *edge_group;         /* 3 ntri entries: side k of triangle t (from v[k] to
+                              v[(k + 1) % 3]) is in group edge_group[3 t + k], shared by
+                              the sides of the object's triangles on the same two vertices */
+  int ngroup;              /* groups, 0 .. ngroup - 1 */
 };
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.

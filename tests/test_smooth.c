@@ -549,6 +549,19 @@ static void same_model(const struct smooth_model *a, const struct smooth_model *
     assert_true(x->bu == y->bu && x->bw == y->bw);
   }
   assert_memory_equal(a->tri_of_mface, b->tri_of_mface, (size_t)nface * sizeof *a->tri_of_mface);
+  assert_int_equal(a->ngroup, b->ngroup);
+  if (a->ntri)
+    assert_memory_equal(a->edge_group, b->edge_group, 3 * (size_t)a->ntri * sizeof *a->edge_group);
+  /* each side's group is the side's two vertices: two sides share one exactly when they
+     join the same two vertices in the same object */
+  for (int p = 0; p < 3 * a->ntri; p++)
+    for (int q = p + 1; q < 3 * a->ntri; q++) {
+      const struct smooth_tri *x = &a->tri[p / 3], *y = &a->tri[q / 3];
+      int x0 = x->v[p % 3], x1 = x->v[(p % 3 + 1) % 3], y0 = y->v[q % 3], y1 = y->v[(q % 3 + 1) % 3];
+      bool same = x->object == y->object &&
+                  ((x0 == y0 && x1 == y1) || (x0 == y1 && x1 == y0));
+      assert_int_equal(same, a->edge_group[p] == a->edge_group[q]);
+    }
 }
 
 /* The model built with the scene's part kept from an earlier frame (issue 19): the same
