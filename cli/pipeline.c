@@ -422,9 +422,11 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
     for (int j = 0; j < p->H; j++)
       for (int i = 0; i < p->W; i++) bg[(size_t)j * (size_t)p->W + (size_t)i] = (uint8_t)scan_grey(p->scan, i, j);
   }
-  uint8_t *flat = malloc(n);
-  if (!flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
-  memcpy(flat, p->grey, n);
+  /* the greys before the effects: a background point no effect changed takes its level
+     off the disk (point_level), so only with a background */
+  uint8_t *flat = p->scan ? malloc(n) : NULL;
+  if (p->scan && !flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
+  if (flat) memcpy(flat, p->grey, n);
   struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL };
   struct fx_engine eng;                     /* the engine that drew the frame (effects/see.h) */
   int st = T74_OK;
@@ -443,7 +445,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       row_start(p, &rc, j);
       const size_t at0 = (size_t)j * (size_t)p->W;
       const int *face = p->face + at0;
-      const uint8_t *greys = p->grey + at0, *flats = flat + at0;
+      const uint8_t *greys = p->grey + at0, *flats = flat ? flat + at0 : NULL;
       uint32_t *ids = p->ids + at0;
       for (int i = 0; st == T74_OK && i < p->W; i++) {
         if (!p->scan) {                     /* no background: the greys' levels */
@@ -451,7 +453,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
           if (i == p->W) break;
         }
         ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
-        int level = point_level(p, i, j, face[i], greys[i], greys[i] == flats[i]);
+        int level = point_level(p, i, j, face[i], greys[i], flats && greys[i] == flats[i]);
         levels += (uint64_t)level;
         if (level >= 0 && level <= cc) rc.masks[i] = p->mask[level];
         else st = row_odd(p, &rc, i, level);
@@ -465,7 +467,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
         size_t at = (size_t)j * (size_t)p->W + (size_t)i;
         int face = p->face[at];
         p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
-        st = emit_point(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+        st = emit_point(p, i, j, face, p->grey[at], flat && p->grey[at] == flat[at]);
       }
   }
   free(flat);
