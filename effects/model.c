@@ -571,49 +571,46 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   const int32_t *win = m->g->window;
   bool behind = false;
   /* samples left to right (xn rising): each event's first sample at or right of it found
-     once (bnd, by halving), then the stretch a sample may lie in by moving on from the
-     last one's (they are sorted and apart), in sample numbers */
+     once (bnd, by halving); a sample lies in a stretch exactly when it lies in the stretch's
+     range of samples (the events are sorted, the ranges in order and apart). Else each
+     sample of the row is tested. */
   const bool rising = win[2] > win[0];
-  const int np = nev / 2;
-  if (rising) {
-    if (nev > L->bndcap) {
-      int *nb = realloc(L->bnd, (size_t)nev * sizeof *nb);
-      if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
-      L->bnd = nb;
-      L->bndcap = nev;
-    }
-    for (int h = 0; h < 2 * np; h++) {
-      int lo = 0, hi = n;
-      while (lo < hi) {
-        int mid = lo + (hi - lo) / 2;
-        int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + mid) + 1) * ((int64_t)win[2] - win[0]));
-        if (geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0) hi = mid; else lo = mid + 1;
-      }
-      L->bnd[h] = lo;
-    }
+  const int np = rising ? nev / 2 : 1;
+  if (2 * np > L->bndcap) {
+    int *nb = realloc(L->bnd, (size_t)(2 * np) * sizeof *nb);
+    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+    L->bnd = nb;
+    L->bndcap = 2 * np;
   }
-  int k = 0;
-  for (int i = 0; i < n; i++) {
-    if (face[i] < 0 || !skip[face[i]]) continue;
-    if (rising) {
-      while (k < np && L->bnd[2 * k + 1] <= i) k++;
-      if (k >= np || L->bnd[2 * k] > i) continue;
-    } else {
-      int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
-      if (!in_stretches(L->ev, nev, xn, xd)) continue;
+  if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
+  for (int h = 0; rising && h < 2 * np; h++) {
+    int lo = 0, hi = n;
+    while (lo < hi) {
+      int mid = lo + (hi - lo) / 2;
+      int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + mid) + 1) * ((int64_t)win[2] - win[0]));
+      if (geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0) hi = mid; else lo = mid + 1;
     }
-    if (!behind) {
-      if (n > L->browcap) {
-        int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
-        if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
-        L->brow = nb;
-        L->browcap = n;
-      }
-      if ((rc = fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err)) != T74_OK) return rc;
-      behind = true;
-    }
-    face[i] = L->brow[i];
+    L->bnd[h] = lo;
   }
+  for (int r = 0; r < np; r++)
+    for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
+      if (face[i] < 0 || !skip[face[i]]) continue;
+      if (!rising) {
+        int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
+        if (!in_stretches(L->ev, nev, xn, xd)) continue;
+      }
+      if (!behind) {
+        if (n > L->browcap) {
+          int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
+          if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+          L->brow = nb;
+          L->browcap = n;
+        }
+        if ((rc = fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err)) != T74_OK) return rc;
+        behind = true;
+      }
+      face[i] = L->brow[i];
+    }
   return T74_OK;
 }
 
