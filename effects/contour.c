@@ -19,13 +19,38 @@
 
 #define CONTOUR_TABLE "CONTOUR CURVES"
 
-void contour_bezier(const double q[5][2], double t, double out[2])
+/* The quartic Bernstein weights at t. */
+static void bernstein(double t, double b[5])
 {
   double u = 1 - t;
-  double b[5] = { u * u * u * u, 4 * u * u * u * t, 6 * u * u * t * t, 4 * u * t * t * t,
-                  t * t * t * t };
+  b[0] = u * u * u * u;
+  b[1] = 4 * u * u * u * t;
+  b[2] = 6 * u * u * t * t;
+  b[3] = 4 * u * t * t * t;
+  b[4] = t * t * t * t;
+}
+
+/* The curve's point with the weights b (contour_bezier's sum). */
+static void bezier_with(const double q[5][2], const double b[5], double out[2])
+{
   for (int c = 0; c < 2; c++)
     out[c] = b[0] * q[0][c] + b[1] * q[1][c] + b[2] * q[2][c] + b[3] * q[3][c] + b[4] * q[4][c];
+}
+
+void contour_bezier(const double q[5][2], double t, double out[2])
+{
+  double b[5];
+  bernstein(t, b);
+  bezier_with(q, b, out);
+}
+
+/* The weights at the curve polygon's points t = m / CONTOUR_STEPS, made once for a frame's
+   corners (the same doubles contour_bezier makes at each). */
+struct curve_weights { double b[CONTOUR_STEPS + 1][5]; };
+
+static void curve_weights(struct curve_weights *w)
+{
+  for (int m = 0; m <= CONTOUR_STEPS; m++) bernstein((double)m / CONTOUR_STEPS, w->b[m]);
 }
 
 void contour_bezier_d(const double q[5][2], double t, double out[2])
@@ -65,7 +90,9 @@ static gcoord round_grid(double x)
   return (gcoord)(f >= 0.5 ? t + 1 : f <= -0.5 ? t - 1 : t);
 }
 
-void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
+/* contour_region with the weights made. */
+static void region_with(const struct gpoint q[5], const struct curve_weights *w,
+                        struct gpoint poly[CONTOUR_STEPS + 2])
 {
   double d[5][2];
   for (int k = 0; k < 5; k++) { d[k][0] = (double)q[k].x; d[k][1] = (double)q[k].y; }
@@ -77,12 +104,19 @@ void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS +
     else if (m == 0) p = q[0];
     else {
       double o[2];
-      contour_bezier(d, (double)m / CONTOUR_STEPS, o);
+      bezier_with(d, w->b[m], o);
       p.x = round_grid(o[0]);
       p.y = round_grid(o[1]);
     }
     poly[1 + CONTOUR_STEPS - m] = p;
   }
+}
+
+void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
+{
+  struct curve_weights w;
+  curve_weights(&w);
+  region_with(q, &w, poly);
 }
 
 /* ---- the contour ------------------------------------------------------------------ */
@@ -198,6 +232,8 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
   if (cost) COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
   qsort(ce, (size_t)nc, sizeof *ce, by_from);
   long convex = 0, concave = 0, junction = 0;
+  struct curve_weights cw;
+  if (nc > 0) curve_weights(&cw);
   uint32_t mark = core_mark(core), at = 0;
   int rc = T74_OK;
   /* one corner's region polygon at a time: each corner is cut before the next is made */
@@ -235,7 +271,7 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     q[3].x = round_grid((double)q[2].x + e->contour * (double)(q[4].x - q[2].x));
     q[3].y = round_grid((double)q[2].y + e->contour * (double)(q[4].y - q[2].y));
     struct gpoint poly[CONTOUR_STEPS + 2];
-    contour_region(q, poly);
+    region_with(q, &cw, poly);
     if (cost) {                   /* the 1974 engine's machine: counted, through core */
       COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
       for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {
