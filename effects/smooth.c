@@ -330,7 +330,7 @@ static void bary_setup(const struct scene *s, struct smooth_tri *tr)
 struct smooth_scene {
   const struct scene *s;    /* the scene it was made for */
   int ntri;
-  struct smooth_tri *tri;   /* sface, object and v of each (the rest zero) */
+  struct smooth_patch { int sface, object, v[3]; } *tri;   /* each triangle's */
   int nobj;                 /* objects with a triangle */
   struct smooth_part { int from, to; bool closed; } *obj;
   int flips, conflicts;
@@ -354,11 +354,12 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
   memset(&m, 0, sizeof m);
   if (ss) {
     ss->s = s;
-    ss->tri = m.tri = malloc(((size_t)s->nf + 1) * sizeof *m.tri);
+    m.tri = malloc(((size_t)s->nf + 1) * sizeof *m.tri);
     ss->obj = malloc(((size_t)s->nobj + 1) * sizeof *ss->obj);
     ss->group = malloc((3 * (size_t)s->nf + 1) * sizeof *ss->group);
   }
-  if (!ss || !ss->tri || !ss->obj || !ss->group) {
+  if (!ss || !m.tri || !ss->obj || !ss->group) {
+    free(m.tri);
     smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
@@ -382,10 +383,21 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
     pt->to = to;
     if (orient_object(&m, s, from, to, &pt->closed, ss->group + 3 * (size_t)from, &ss->ngroup,
                       err) != T74_OK) {
+      free(m.tri);
       smooth_scene_free(ss);
       return err->status;
     }
   }
+  if (!(ss->tri = malloc(((size_t)m.ntri + 1) * sizeof *ss->tri))) {
+    free(m.tri);
+    smooth_scene_free(ss);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  for (int t = 0; t < m.ntri; t++) {
+    const struct smooth_tri *tr = &m.tri[t];
+    ss->tri[t] = (struct smooth_patch){ tr->sface, tr->object, { tr->v[0], tr->v[1], tr->v[2] } };
+  }
+  free(m.tri);
   ss->ntri = m.ntri;
   ss->flips = m.flips;
   ss->conflicts = m.conflicts;
@@ -427,10 +439,13 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
     if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
-  if (ss->ntri) {
-    memcpy(m->tri, ss->tri, (size_t)ss->ntri * sizeof *m->tri);
-    memcpy(m->edge_group, ss->group, 3 * (size_t)ss->ntri * sizeof *m->edge_group);
+  for (int t = 0; t < ss->ntri; t++) {      /* every other field is made below */
+    struct smooth_tri *tr = &m->tri[t];
+    tr->sface = ss->tri[t].sface;
+    tr->object = ss->tri[t].object;
+    memcpy(tr->v, ss->tri[t].v, sizeof tr->v);
   }
+  if (ss->ntri) memcpy(m->edge_group, ss->group, 3 * (size_t)ss->ntri * sizeof *m->edge_group);
   m->ngroup = ss->ngroup;
   m->ntri = ss->ntri;
   m->flips = ss->flips;
