@@ -30,26 +30,10 @@ void shade_lights_init(struct shade_lights *L, const struct scene *s)
   }
 }
 
-int shade_grey_lit(const struct shade_lights *L, const double n[3], const double at[3],
-                   double r, unsigned blocked)
+void shade_point_dir(const double v[3], const double at[3], double l[3])
 {
-  double sum = 0;
-  for (int k = 0; k < L->n; k++) {
-    if (blocked >> k & 1u) continue;
-    const double *l = L->v[k];
-    double pl[3];
-    if (L->point[k]) {
-      for (int c = 0; c < 3; c++) pl[c] = l[c] - at[c];
-      unit_dir(pl);
-      l = pl;
-    }
-    double d = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
-    if (d > 0) sum += d;
-  }
-  /* floor of a non-negative double below 2^62 is its truncation: no library call */
-  double f = (255 - SHADE_AMBIENT) * r * sum + 0.5;
-  double g = SHADE_AMBIENT + (f >= 0 && f < 0x1p62 ? (double)(int64_t)f : floor(f));
-  return g > 255 ? 255 : (int)g;
+  for (int c = 0; c < 3; c++) l[c] = v[c] - at[c];
+  unit_dir(l);
 }
 
 int shade_grey(const struct scene *s, const double n[3], const double at[3], double r,
