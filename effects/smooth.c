@@ -548,6 +548,22 @@ static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
   else l[0] = l[1] = l[2] = 1.0 / 3;
 }
 
+/* smooth_grey_at's steps under smooth=phong, from the barycentric coordinates l */
+static int grey_phong(const struct smooth_tri *tr, const double l[3], const double X[3],
+                      double refl, unsigned blocked, const struct shade_lights *lights,
+                      struct cost *cost)
+{
+  double nrm[3];
+  double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+  for (int c = 0; c < 3; c++)
+    nrm[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
+  unit(nrm);
+  for (int c = 0; c < 3; c++) nrm[c] *= sgn;
+  int grey = shade_grey_lit(lights, nrm, X, refl, blocked);
+  if (cost) cost_point(cost, false, 1);
+  return grey < 0 ? 0 : grey > 255 ? 255 : grey;
+}
+
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
                    unsigned blocked, const struct shade_lights *lights, struct cost *cost,
@@ -556,6 +572,10 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
   const struct smooth_tri *tr = &m->tri[t];
   double l[3], nrm[3];
   bary(tr, X, l);
+  if (e->smooth == EFFECTS_SMOOTH_PHONG) {
+    if (region_out) *region_out = 1;
+    return grey_phong(tr, l, X, refl, blocked, lights, cost);
+  }
   double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   int region = 1, grey;
   if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
