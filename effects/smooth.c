@@ -544,8 +544,9 @@ static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
     if (!(l[k] > 0)) l[k] = 0;
     sum += l[k];
   }
-  if (sum > 0) for (int k = 0; k < 3; k++) l[k] /= sum;
-  else l[0] = l[1] = l[2] = 1.0 / 3;
+  if (!(sum > 0)) l[0] = l[1] = l[2] = 1.0 / 3;
+  else if (sum != 1)                      /* x / 1 is x: the divides only when they change it */
+    for (int k = 0; k < 3; k++) l[k] /= sum;
 }
 
 /* smooth_grey_at's steps under smooth=phong, from the barycentric coordinates l */
