@@ -727,8 +727,12 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     struct face_shade fs;
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
-      if (face < 0) {
-        gr[i] = (uint8_t)(bg ? shade_none(m, i, j) : 0);
+      if (face < 0) {                       /* a run of points that see no face */
+        int e = i + 1;
+        while (e < W && fr[e] < 0) e++;
+        if (!bg) memset(gr + i, 0, (size_t)(e - i));
+        else for (int q = i; q < e; q++) gr[q] = (uint8_t)shade_none(m, q, j);
+        i = e - 1;
         continue;
       }
       if (face != last) { face_shade_of(m, face, &fs); last = face; }
