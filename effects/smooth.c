@@ -269,29 +269,12 @@ static int orient_object(struct smooth_model *m, const struct scene *s, int from
   return T74_OK;
 }
 
-/* An open surface has no outside: its front is the side most of it turns to the eye
-   (the sum of o . (eye - v0) over its triangles [from, to), exact, positive). */
-static void face_eye(struct smooth_model *m, const struct scene *s, const int64_t eye[3],
-                     int from, int to)
+/* o . (eye - v0) for a triangle with corner v0 and integer normal o, exact: positive when
+   its side o points to faces the eye. */
+static wide toward_eye(const struct scene *s, int v0, const int64_t o[3], const int64_t eye[3])
 {
-  /* turning a triangle (v1 and v2 swapped) makes its side 0 the old side 2 and side 2 the
-     old side 0 */
-  wide toward = 0;
-  for (int t = from; t < to; t++) {
-    const int *v = m->tri[t].v;
-    int64_t o3[3];
-    cross_int(s, v, o3);
-    const struct scene_vertex *v0 = &s->v[v[0]];
-    toward += (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
-              (wide)o3[2] * (eye[2] - v0->z);
-  }
-  if (toward < 0)
-    for (int t = from; t < to; t++) {
-      int *v = m->tri[t].v, x = v[1];
-      v[1] = v[2]; v[2] = x;
-      int *g = m->edge_group + 3 * t;
-      x = g[0]; g[0] = g[2]; g[2] = x;
-    }
+  const struct scene_vertex *p = &s->v[v0];
+  return (wide)o[0] * (eye[0] - p->x) + (wide)o[1] * (eye[1] - p->y) + (wide)o[2] * (eye[2] - p->z);
 }
 
 static double mean_height(const struct smooth_model *m, int from, int to)
@@ -325,12 +308,59 @@ static void bary_setup(const struct scene *s, struct smooth_tri *tr)
   tr->btot = (V[1][0] - V[0][0]) * (V[2][1] - V[0][1]) - (V[2][0] - V[0][0]) * (V[1][1] - V[0][1]);
 }
 
+/* A triangle's geometry from its corners as they are ordered: its integer normal o3, unit
+   normal, twice its area, the barycentric set-up and its sides' lengths. */
+static void tri_shape(const struct scene *s, struct smooth_tri *tr, int64_t o3[3])
+{
+  cross_int(s, tr->v, o3);
+  for (int c = 0; c < 3; c++) tr->n[c] = (double)o3[c];
+  tr->area2 = sqrt(tr->n[0] * tr->n[0] + tr->n[1] * tr->n[1] + tr->n[2] * tr->n[2]);
+  unit(tr->n);
+  bary_setup(s, tr);
+  for (int k = 0; k < 3; k++) {
+    const struct scene_vertex *a = &s->v[tr->v[(k + 1) % 3]], *b = &s->v[tr->v[(k + 2) % 3]];
+    double dx = b->x - a->x, dy = b->y - a->y, dz = b->z - a->z;
+    tr->len[k] = sqrt(dx * dx + dy * dy + dz * dz);
+  }
+}
+
+/* Triangle a turned (corners v1 and v2 swapped) into b: what tri_shape and the vertex
+   normals give for the turned corners, without working them out again. Every value is
+   a's or its negation, exactly: the normals' and the sides' differences change sign and
+   nothing else (0 - x: a zero stays +0, as the turned triangle's own arithmetic makes
+   it). Corner k of b is corner turn[k] of a; side k of b (opposite corner k) is a's side
+   turn[k]. */
+static void tri_turned(const struct smooth_tri *a, struct smooth_tri *b)
+{
+  static const int turn[3] = { 0, 2, 1 };
+  b->sface = a->sface;
+  b->object = a->object;
+  for (int k = 0; k < 3; k++) {
+    int q = turn[k];
+    b->v[k] = a->v[q];
+    b->n[k] = 0 - a->n[k];
+    b->len[k] = a->len[q];
+    for (int c = 0; c < 3; c++) b->cn[k][c] = 0 - a->cn[q][c];
+    for (int c = 0; c < 2; c++) {
+      b->bV[k][c] = a->bV[q][c];
+      b->bE[k][c] = 0 - a->bE[q][c];
+    }
+  }
+  b->area2 = a->area2;
+  b->bu = a->bu;
+  b->bw = a->bw;
+  b->btot = 0 - a->btot;
+}
+
 /* What of the model depends on the scene alone, kept between frames (smooth.h): the
    triangles of each object, oriented consistently (closed objects outward). */
 struct smooth_scene {
   const struct scene *s;    /* the scene it was made for */
   int ntri;
-  struct smooth_patch { int sface, object, v[3]; } *tri;   /* each triangle's */
+  struct smooth_tri *tri;   /* each triangle as oriented here: its corners and their
+                               geometry (normal, sides, barycentric set-up, vertex normals);
+                               mface, front, ni and t are the frame's */
+  int64_t (*o3)[3];         /* each one's integer normal (cross_int) */
   int nobj;                 /* objects with a triangle */
   struct smooth_part { int from, to; bool closed; } *obj;
   int flips, conflicts;
@@ -341,6 +371,7 @@ void smooth_scene_free(struct smooth_scene *ss)
 {
   if (!ss) return;
   free(ss->tri);
+  free(ss->o3);
   free(ss->obj);
   free(ss->group);
   free(ss);
@@ -388,16 +419,33 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
       return err->status;
     }
   }
-  if (!(ss->tri = malloc(((size_t)m.ntri + 1) * sizeof *ss->tri))) {
-    free(m.tri);
+  ss->tri = m.tri;
+  ss->o3 = malloc(((size_t)m.ntri + 1) * sizeof *ss->o3);
+  double (*acc)[3] = malloc(((size_t)s->nv + 1) * sizeof *acc);
+  if (!ss->o3 || !acc) {
+    free(acc);
     smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
-  for (int t = 0; t < m.ntri; t++) {
-    const struct smooth_tri *tr = &m.tri[t];
-    ss->tri[t] = (struct smooth_patch){ tr->sface, tr->object, { tr->v[0], tr->v[1], tr->v[2] } };
+  /* each triangle's geometry, and each object's vertex normals (the mean of the unit
+     normals of its triangles at the vertex) */
+  for (int o = 0; o < ss->nobj; o++) {
+    int from = ss->obj[o].from, to = ss->obj[o].to;
+    for (int t = from; t < to; t++)
+      for (int k = 0; k < 3; k++) acc[m.tri[t].v[k]][0] = acc[m.tri[t].v[k]][1] = acc[m.tri[t].v[k]][2] = 0;
+    for (int t = from; t < to; t++) {
+      struct smooth_tri *tr = &m.tri[t];
+      tri_shape(s, tr, ss->o3[t]);
+      for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 3; c++) acc[tr->v[k]][c] += tr->n[c];
+    }
+    for (int t = from; t < to; t++)
+      for (int k = 0; k < 3; k++) {
+        memcpy(m.tri[t].cn[k], acc[m.tri[t].v[k]], sizeof m.tri[t].cn[k]);
+        unit(m.tri[t].cn[k]);
+      }
   }
-  free(m.tri);
+  free(acc);
   ss->ntri = m.ntri;
   ss->flips = m.flips;
   ss->conflicts = m.conflicts;
@@ -431,19 +479,12 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
   m->tri = malloc(((size_t)ss->ntri + 1) * sizeof *m->tri);
   m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
-  double (*acc)[3] = calloc((size_t)s->nv + 1, sizeof *acc);
   int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
   int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
-  if (!m->tri_of_mface || !mof || !m->tri || !m->edge_group || !acc || !seen || !row) {
-    free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
+  if (!m->tri_of_mface || !mof || !m->tri || !m->edge_group || !seen || !row) {
+    free(mof); free(seen); free(row); smooth_model_free(m);
     if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
-  }
-  for (int t = 0; t < ss->ntri; t++) {      /* every other field is made below */
-    struct smooth_tri *tr = &m->tri[t];
-    tr->sface = ss->tri[t].sface;
-    tr->object = ss->tri[t].object;
-    memcpy(tr->v, ss->tri[t].v, sizeof tr->v);
   }
   if (ss->ntri) memcpy(m->edge_group, ss->group, 3 * (size_t)ss->ntri * sizeof *m->edge_group);
   m->ngroup = ss->ngroup;
@@ -457,49 +498,40 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   const int64_t *eye = map->eye;
   for (int o = 0; o < ss->nobj; o++) {
     int from = ss->obj[o].from, to = ss->obj[o].to;
-    if (!ss->obj[o].closed) face_eye(m, s, eye, from, to);
+    /* an open surface has no outside: its front is the side most of it turns to the eye
+       (the sum of o . (eye - v0) over its triangles, exact, positive) */
+    wide toward = 0;
+    for (int t = from; t < to && !ss->obj[o].closed; t++)
+      toward += toward_eye(s, ss->tri[t].v[0], ss->o3[t], eye);
+    const bool turned = toward < 0;
     for (int t = from; t < to; t++) {
       struct smooth_tri *tr = &m->tri[t];
-      tr->mface = mof[tr->sface];
-      int64_t o3[3];
-      cross_int(s, tr->v, o3);
-      for (int c = 0; c < 3; c++) tr->n[c] = (double)o3[c];
-      tr->area2 = sqrt(tr->n[0] * tr->n[0] + tr->n[1] * tr->n[1] + tr->n[2] * tr->n[2]);
-      unit(tr->n);
-      bary_setup(s, tr);
-      for (int k = 0; k < 3; k++) {
-        const struct scene_vertex *a = &s->v[tr->v[(k + 1) % 3]], *b = &s->v[tr->v[(k + 2) % 3]];
-        double dx = b->x - a->x, dy = b->y - a->y, dz = b->z - a->z;
-        tr->len[k] = sqrt(dx * dx + dy * dy + dz * dz);
+      if (turned) {
+        tri_turned(&ss->tri[t], tr);
+        int *g = m->edge_group + 3 * t, x = g[0];   /* side 0 is a's side 2 and back */
+        g[0] = g[2]; g[2] = x;
+      } else {
+        memcpy(tr, &ss->tri[t], sizeof *tr);
       }
-      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly */
-      const struct scene_vertex *v0 = &s->v[tr->v[0]];
-      wide d = (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
-               (wide)o3[2] * (eye[2] - v0->z);
-      tr->front = tr->mface >= 0 && d > 0;
+      tr->mface = mof[tr->sface];
+      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly (v0 stays) */
+      wide d = toward_eye(s, tr->v[0], ss->o3[t], eye);
+      tr->front = tr->mface >= 0 && (turned ? d < 0 : d > 0);
       if (tr->mface >= 0) m->tri_of_mface[tr->mface] = t;
       for (int k = 0; k < 3; k++) {
         int v = tr->v[k];
         if (seen[v] != o) {
           seen[v] = o;
-          acc[v][0] = acc[v][1] = acc[v][2] = 0;
           row[v] = m->vertex_normals++;
         }
         tr->ni[k] = row[v];
-        for (int c = 0; c < 3; c++) acc[v][c] += tr->n[c];
       }
     }
     double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(m, from, to) : 0;
-    for (int t = from; t < to; t++) {
-      struct smooth_tri *tr = &m->tri[t];
-      for (int k = 0; k < 3; k++) {
-        memcpy(tr->cn[k], acc[tr->v[k]], sizeof tr->cn[k]);
-        unit(tr->cn[k]);
-      }
-      smooth_insets(e->smooth, e->smooth_c, w, tr->len, tr->area2, tr->t);
-    }
+    for (int t = from; t < to; t++)
+      smooth_insets(e->smooth, e->smooth_c, w, m->tri[t].len, m->tri[t].area2, m->tri[t].t);
   }
-  free(mof); free(acc); free(seen); free(row);
+  free(mof); free(seen); free(row);
   if (!keep) smooth_scene_free(ss);
   return T74_OK;
 }

@@ -83,9 +83,11 @@ void smooth_model_free(struct smooth_model *m);
 
 /* What of the model depends on the scene alone: each object's triangles, oriented
    consistently across their shared edges (the edge sort and the search), a closed
-   object's turned outward. The rest depends on the view and is made every frame: an
-   open surface turned towards the eye, which triangles the Mapper kept and which face
-   the eye, normals, vertex normals, bands. */
+   object's turned outward, and their geometry so oriented (normals, sides, barycentric
+   set-up, vertex normals). The rest depends on the view and is made every frame: an open
+   surface turned towards the eye (its geometry carried over with the signs changed and
+   two corners swapped: the same doubles its own arithmetic gives), which triangles the
+   Mapper kept and which face the eye, the vertex normals' rows, bands. */
 struct smooth_scene;
 
 /* smooth_model_build, with the scene's part kept in *keep (may be NULL: made and freed)

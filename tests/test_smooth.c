@@ -624,6 +624,41 @@ static void test_kept_scene_part(void **state)
   lib_close(&L);
 }
 
+/* An open surface whose faces are given facing away is turned towards the eye a frame at
+   a time, its geometry carried over from the kept part (sign changes and corners
+   swapped): the model, bit for bit, of the same surface given facing the eye. */
+static void test_turned_is_given(void **state)
+{
+  (void)state;
+  char *globe = slurp("scenes/sphere.s74", NULL);
+  assert_non_null(globe);
+  FILE *f = fopen(tpath("away.s74"), "w");
+  assert_non_null(f);
+  int swapped = 0;
+  for (char *line = strtok(globe, "\n"); line; line = strtok(NULL, "\n")) {
+    int id, a, b, c;
+    if (sscanf(line, "face %d %d %d %d", &id, &a, &b, &c) == 4) {
+      fprintf(f, "face %d %d %d %d\n", id, a, c, b);
+      swapped++;
+    } else {
+      fprintf(f, "%s\n", line);
+    }
+  }
+  fclose(f);
+  free(globe);
+  assert_int_equal(swapped, 160);
+  struct lib given, away;
+  const char *effs[] = { "smooth=phong contour=1.0", "smooth=fixed:0.15", "smooth=prop:0.3" };
+  for (size_t k = 0; k < sizeof effs / sizeof *effs; k++) {
+    lib_open(&given, "scenes/sphere.s74", effs[k]);
+    lib_open(&away, tpath("away.s74"), effs[k]);
+    assert_int_equal(given.m.ntri, 160);
+    same_model(&away.m, &given.m, given.r.map.nface);
+    lib_close(&away);
+    lib_close(&given);
+  }
+}
+
 static void test_continuous_inside(void **state)
 {
   (void)state;
@@ -754,6 +789,7 @@ int main(void)
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
     cmocka_unit_test(test_kept_scene_part),
+    cmocka_unit_test(test_turned_is_given),
     cmocka_unit_test(test_continuous_inside),
     cmocka_unit_test(test_lambert_is_the_mappers),
     cmocka_unit_test(test_insets),
