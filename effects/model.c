@@ -72,7 +72,6 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
 static int shade_setup(struct fx_model *m, struct t74_error *err)
 {
   const struct mapped *map = m->map;
-  m->count = m->eng->r != NULL;
   shade_lights_init(&m->lights, m->s);
   for (int c = 0; c < 3; c++) m->eye[c] = (double)map->eye[c];
   const double *E = m->eye;
@@ -95,6 +94,7 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
   const struct mapped *map = eng->map;
   const struct vis_grid *g = eng->g;
   m->eng = eng; m->map = map; m->s = s; m->e = e; m->g = g; m->bg = bg;
+  m->count = eng->r != NULL;
   m->W = g->W; m->H = g->H;
   int rc = T74_OK;
   if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) {
@@ -689,7 +689,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   const bool regions = fx_model_regions(m);
   unsigned *blocked = calloc((size_t)W + 1, sizeof *blocked);
   int *row = malloc(((size_t)W + 1) * sizeof *row);
-  double *px = malloc(((size_t)W + (size_t)H + 1) * sizeof *px), *py = px + W;
+  double *px = malloc(((size_t)W + (size_t)H + 1) * sizeof *px);
   struct fx_lines *L = NULL;
   int rc = !blocked || !row || !px ? t74_fail(err, T74_EIO, "out of host memory") : T74_OK;
   if (rc == T74_OK && regions) rc = fx_lines_open(&L, m, false, cost, err);
@@ -697,6 +697,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     free(blocked); free(row); free(px);
     return rc;
   }
+  double *py = px + W;
   for (int i = 0; i < W; i++) px[i] = plane_x(m->g, i + 0.5);
   for (int j = 0; j < H; j++) py[j] = plane_y(m->g, j + 0.5);
   struct cost *pc = m->count ? cost : NULL;
