@@ -43,6 +43,7 @@
 #include "patterns/scanner.h"
 #include "render/effects.h"
 #include "effects/fx.h"
+#include "effects/smooth.h"
 #include "render/points.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -77,6 +78,7 @@ struct pipeline {
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
+  struct smooth_scene **fx_smooth;  /* the smoothing's scene part between frames */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -420,14 +422,17 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
     for (int j = 0; j < p->H; j++)
       for (int i = 0; i < p->W; i++) bg[(size_t)j * (size_t)p->W + (size_t)i] = (uint8_t)scan_grey(p->scan, i, j);
   }
-  uint8_t *flat = malloc(n);
-  if (!flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
-  memcpy(flat, p->grey, n);
+  /* the greys before the effects: a background point no effect changed takes its level
+     off the disk (point_level), so only with a background */
+  uint8_t *flat = p->scan ? malloc(n) : NULL;
+  if (p->scan && !flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
+  if (flat) memcpy(flat, p->grey, n);
   struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL };
   struct fx_engine eng;                     /* the engine that drew the frame (effects/see.h) */
   int st = T74_OK;
   if (p->r) fx_engine_1974(&eng, p->r, g);
   else st = fx_engine_points(&eng, p->pts, g, p->fx_keep, err);
+  eng.smooth_keep = p->fx_smooth;
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
   if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
@@ -440,7 +445,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       row_start(p, &rc, j);
       const size_t at0 = (size_t)j * (size_t)p->W;
       const int *face = p->face + at0;
-      const uint8_t *greys = p->grey + at0, *flats = flat + at0;
+      const uint8_t *greys = p->grey + at0, *flats = flat ? flat + at0 : NULL;
       uint32_t *ids = p->ids + at0;
       for (int i = 0; st == T74_OK && i < p->W; i++) {
         if (!p->scan) {                     /* no background: the greys' levels */
@@ -448,7 +453,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
           if (i == p->W) break;
         }
         ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
-        int level = point_level(p, i, j, face[i], greys[i], greys[i] == flats[i]);
+        int level = point_level(p, i, j, face[i], greys[i], flats && greys[i] == flats[i]);
         levels += (uint64_t)level;
         if (level >= 0 && level <= cc) rc.masks[i] = p->mask[level];
         else st = row_odd(p, &rc, i, level);
@@ -462,7 +467,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
         size_t at = (size_t)j * (size_t)p->W + (size_t)i;
         int face = p->face[at];
         p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
-        st = emit_point(p, i, j, face, p->grey[at], p->grey[at] == flat[at]);
+        st = emit_point(p, i, j, face, p->grey[at], flat && p->grey[at] == flat[at]);
       }
   }
   free(flat);
@@ -1142,6 +1147,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   double *frame_t = NULL;                   /* --frames: each frame's host seconds */
   struct render_keep keep;                  /* what a frame leaves for the next */
   struct core *fx_core = NULL;              /* the effects' core, kept for the next frame */
+  struct smooth_scene *fx_smooth = NULL;    /* the smoothing's scene part, likewise */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -1150,6 +1156,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   memset(&p, 0, sizeof p);
   p.first_dot = -1;
   p.fx_keep = &fx_core;
+  p.fx_smooth = &fx_smooth;
   int engine = JOB_ENGINE_1974;
   memset(&jo, 0, sizeof jo);
 
@@ -1333,6 +1340,7 @@ done:
   render_free(&r);
   render_keep_free(&keep);
   core_free(fx_core);
+  smooth_scene_free(fx_smooth);
   points_free(&pts);
   scene_free(own);
   return st;

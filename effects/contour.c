@@ -19,13 +19,38 @@
 
 #define CONTOUR_TABLE "CONTOUR CURVES"
 
-void contour_bezier(const double q[5][2], double t, double out[2])
+/* The quartic Bernstein weights at t. */
+static void bernstein(double t, double b[5])
 {
   double u = 1 - t;
-  double b[5] = { u * u * u * u, 4 * u * u * u * t, 6 * u * u * t * t, 4 * u * t * t * t,
-                  t * t * t * t };
+  b[0] = u * u * u * u;
+  b[1] = 4 * u * u * u * t;
+  b[2] = 6 * u * u * t * t;
+  b[3] = 4 * u * t * t * t;
+  b[4] = t * t * t * t;
+}
+
+/* The curve's point with the weights b (contour_bezier's sum). */
+static void bezier_with(const double q[5][2], const double b[5], double out[2])
+{
   for (int c = 0; c < 2; c++)
     out[c] = b[0] * q[0][c] + b[1] * q[1][c] + b[2] * q[2][c] + b[3] * q[3][c] + b[4] * q[4][c];
+}
+
+void contour_bezier(const double q[5][2], double t, double out[2])
+{
+  double b[5];
+  bernstein(t, b);
+  bezier_with(q, b, out);
+}
+
+/* The weights at the curve polygon's points t = m / CONTOUR_STEPS, made once for a frame's
+   corners (the same doubles contour_bezier makes at each). */
+struct curve_weights { double b[CONTOUR_STEPS + 1][5]; };
+
+static void curve_weights(struct curve_weights *w)
+{
+  for (int m = 0; m <= CONTOUR_STEPS; m++) bernstein((double)m / CONTOUR_STEPS, w->b[m]);
 }
 
 void contour_bezier_d(const double q[5][2], double t, double out[2])
@@ -55,7 +80,19 @@ double contour_cut_share(double cc)
   return (8 * cc * cc + 8 * cc + 1) / 35;
 }
 
-void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
+/* llround(x), the same integer (half away from zero), without the library call: the
+   part of x after its truncation is exact in a double. */
+static gcoord round_grid(double x)
+{
+  if (!(fabs(x) < 0x1p62)) return (gcoord)llround(x);
+  int64_t t = (int64_t)x;
+  double f = x - (double)t;
+  return (gcoord)(f >= 0.5 ? t + 1 : f <= -0.5 ? t - 1 : t);
+}
+
+/* contour_region with the weights made. */
+static void region_with(const struct gpoint q[5], const struct curve_weights *w,
+                        struct gpoint poly[CONTOUR_STEPS + 2])
 {
   double d[5][2];
   for (int k = 0; k < 5; k++) { d[k][0] = (double)q[k].x; d[k][1] = (double)q[k].y; }
@@ -67,12 +104,19 @@ void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS +
     else if (m == 0) p = q[0];
     else {
       double o[2];
-      contour_bezier(d, (double)m / CONTOUR_STEPS, o);
-      p.x = (gcoord)llround(o[0]);
-      p.y = (gcoord)llround(o[1]);
+      bezier_with(d, w->b[m], o);
+      p.x = round_grid(o[0]);
+      p.y = round_grid(o[1]);
     }
     poly[1 + CONTOUR_STEPS - m] = p;
   }
+}
+
+void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
+{
+  struct curve_weights w;
+  curve_weights(&w);
+  region_with(q, &w, poly);
 }
 
 /* ---- the contour ------------------------------------------------------------------ */
@@ -81,17 +125,7 @@ struct cedge {
   int object;
   int a, b;                 /* scene vertices, directed with the triangle on the left */
   int tri;                  /* the front triangle */
-  int lo, hi;               /* undirected key */
 };
-
-static int by_key(const void *pa, const void *pb)
-{
-  const struct cedge *x = pa, *y = pb;
-  if (x->object != y->object) return x->object < y->object ? -1 : 1;
-  if (x->lo != y->lo) return x->lo < y->lo ? -1 : 1;
-  if (x->hi != y->hi) return x->hi < y->hi ? -1 : 1;
-  return 0;
-}
 
 static int by_from(const void *pa, const void *pb)
 {
@@ -115,9 +149,10 @@ static struct gpoint project(const struct mapped *map, const double x[3], struct
   const int64_t *e = map->eye;
   double f = (double)-e[2], w = x[2] - (double)e[2];
   struct gpoint p = {
-    (gcoord)llround((double)GRID_ONE * ((double)e[0] + f * (x[0] - (double)e[0]) / w)),
-    (gcoord)llround((double)GRID_ONE * ((double)e[1] + f * (x[1] - (double)e[1]) / w)) };
-  for (int k = 0; k < 2; k++) { cost_mw_mul(cost, 32, 32); cost_mw_div(cost, 64, 32); }
+    round_grid((double)GRID_ONE * ((double)e[0] + f * (x[0] - (double)e[0]) / w)),
+    round_grid((double)GRID_ONE * ((double)e[1] + f * (x[1] - (double)e[1]) / w)) };
+  if (cost)
+    for (int k = 0; k < 2; k++) { cost_mw_mul(cost, 32, 32); cost_mw_div(cost, 64, 32); }
   return p;
 }
 
@@ -157,36 +192,48 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
   int nfront = 0;
   for (int t = 0; t < m->ntri; t++) nfront += m->tri[t].front;
   struct cedge *ce = malloc(((size_t)nfront * 3 + 1) * sizeof *ce);
-  if (!ce) return t74_fail(err, T74_EIO, "out of host memory");
+  int *cnt = calloc((size_t)m->ngroup + 1, sizeof *cnt);
+  bool *use = malloc((size_t)m->ntri + 1);
+  bool *ccw = malloc((size_t)m->ntri + 1);
+  if (!ce || !cnt || !use || !ccw) {
+    free(ce); free(cnt); free(use); free(ccw);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  /* the front triangles' sides, each group of sides on the same two vertices counted */
   int n = 0;
   for (int t = 0; t < m->ntri; t++) {
     const struct smooth_tri *tr = &m->tri[t];
+    use[t] = false;
     if (!tr->front) continue;
     const struct mface *mf = &map->f[tr->mface];
     struct gpoint p[3];
     bool ok = true;
     for (int k = 0; k < 3; k++) ok = ok && mapped_point(s, mf, tr->v[k], &p[k]);
     if (!ok) continue;
-    bool ccw = geom_orient(p[0], p[1], p[2]) > 0;
+    use[t] = true;
+    ccw[t] = geom_orient(p[0], p[1], p[2]) > 0;
+    for (int k = 0; k < 3; k++) cnt[m->edge_group[3 * t + k]]++;
+    n += 3;
+    if (cost) COST_ADD_N(cost, COST_MEM, 9);
+  }
+  /* contour sides: shared with no other front triangle of the object (a group of one) */
+  int nc = 0;
+  for (int t = 0; t < m->ntri; t++) {
+    if (!use[t]) continue;
+    const struct smooth_tri *tr = &m->tri[t];
     for (int k = 0; k < 3; k++) {
+      if (cnt[m->edge_group[3 * t + k]] != 1) continue;
       int a = tr->v[k], b = tr->v[(k + 1) % 3];
-      if (!ccw) { int x = a; a = b; b = x; }
-      ce[n++] = (struct cedge){ tr->object, a, b, t, a < b ? a : b, a < b ? b : a };
-      COST_ADD_N(cost, COST_MEM, 3);
+      if (!ccw[t]) { int x = a; a = b; b = x; }
+      ce[nc++] = (struct cedge){ tr->object, a, b, t };
     }
   }
-  /* contour sides: shared with no other front triangle of the object */
-  qsort(ce, (size_t)n, sizeof *ce, by_key);
-  int nc = 0;
-  for (int k = 0; k < n;) {
-    int j = k;
-    while (j < n && by_key(&ce[j], &ce[k]) == 0) j++;
-    if (j - k == 1) ce[nc++] = ce[k];
-    k = j;
-  }
-  COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
+  free(cnt); free(use); free(ccw);
+  if (cost) COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
   qsort(ce, (size_t)nc, sizeof *ce, by_from);
   long convex = 0, concave = 0, junction = 0;
+  struct curve_weights cw;
+  if (nc > 0) curve_weights(&cw);
   uint32_t mark = core_mark(core), at = 0;
   int rc = T74_OK;
   /* one corner's region polygon at a time: each corner is cut before the next is made */
@@ -200,7 +247,7 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
       if (ce[q].b == out->a) { nin++; inc = q; }
       if (ce[q].a == out->a) nout++;
     }
-    COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)nc);
+    if (cost) COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)nc);
     if (nin != 1 || nout != 1) { junction++; continue; }
     const struct cedge *inw = &ce[inc];
     const struct smooth_tri *A = &m->tri[inw->tri], *B = &m->tri[out->tri];
@@ -219,20 +266,22 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     q[0] = project(map, x0, cost);
     q[2] = pb;
     q[4] = project(map, x4, cost);
-    q[1].x = (gcoord)llround((double)q[2].x + e->contour * (double)(q[0].x - q[2].x));
-    q[1].y = (gcoord)llround((double)q[2].y + e->contour * (double)(q[0].y - q[2].y));
-    q[3].x = (gcoord)llround((double)q[2].x + e->contour * (double)(q[4].x - q[2].x));
-    q[3].y = (gcoord)llround((double)q[2].y + e->contour * (double)(q[4].y - q[2].y));
+    q[1].x = round_grid((double)q[2].x + e->contour * (double)(q[0].x - q[2].x));
+    q[1].y = round_grid((double)q[2].y + e->contour * (double)(q[0].y - q[2].y));
+    q[3].x = round_grid((double)q[2].x + e->contour * (double)(q[4].x - q[2].x));
+    q[3].y = round_grid((double)q[2].y + e->contour * (double)(q[4].y - q[2].y));
     struct gpoint poly[CONTOUR_STEPS + 2];
-    contour_region(q, poly);
-    COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
-    for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {
-      for (int h = 0; h < 4; h++) cost_mw_mul(cost, 32, 16);
-      COST_ADD_N(cost, COST_ADD, 4);
-    }
-    for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
-      core_put_int(core, at + 4 * (uint32_t)v, 2, poly[v].x);
-      core_put_int(core, at + 4 * (uint32_t)v + 2, 2, poly[v].y);
+    region_with(q, &cw, poly);
+    if (cost) {                   /* the 1974 engine's machine: counted, through core */
+      COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
+      for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {
+        for (int h = 0; h < 4; h++) cost_mw_mul(cost, 32, 16);
+        COST_ADD_N(cost, COST_ADD, 4);
+      }
+      for (int v = 0; v < CONTOUR_STEPS + 2; v++) {
+        core_put_int(core, at + 4 * (uint32_t)v, 2, poly[v].x);
+        core_put_int(core, at + 4 * (uint32_t)v + 2, 2, poly[v].y);
+      }
     }
     /* the region joins the frame model (effects/model.h), which cuts it out of the
        object's stretches on every line asked for: procedure (D) (6) */

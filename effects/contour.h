@@ -82,8 +82,9 @@ void contour_corners_free(struct contour_corners *cs);
 /* The regions the contour smoothing cuts away (see above), one polygon per convex corner
    (owner: the object), appended to cuts, and each corner appended to corners; m is the
    smoothing model of the scene, map the Mapper's faces. The corner's region polygon passes
-   through core (one at a time), counted in cost. The frame model (effects/model.h) cuts
-   them out of the object's stretches. */
+   through core (one at a time), counted in cost; cost NULL (the points engine, which
+   models no machine): nothing counted nor written to core, the table still allocated.
+   The frame model (effects/model.h) cuts them out of the object's stretches. */
 int contour_build(const struct mapped *map, struct core *core, const struct scene *s,
                   const struct effects *e, const struct smooth_model *m, struct fx_polys *cuts,
                   struct contour_corners *corners, struct fx_stats *st, struct cost *cost,

@@ -67,6 +67,25 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
   return T74_OK;
 }
 
+/* What the shading of every point shares, made once a frame: the lights, the eye and
+   each face's ray set-up (space_point). */
+static int shade_setup(struct fx_model *m, struct t74_error *err)
+{
+  const struct mapped *map = m->map;
+  shade_lights_init(&m->lights, m->s);
+  for (int c = 0; c < 3; c++) m->eye[c] = (double)map->eye[c];
+  const double *E = m->eye;
+  m->ray = malloc(((size_t)map->nface + 1) * sizeof *m->ray);
+  if (!m->ray) return t74_fail(err, T74_EIO, "out of host memory");
+  for (int f = 0; f < map->nface; f++) {
+    const int64_t *pl = map->f[f].plane;
+    double *r = m->ray[f];
+    for (int c = 0; c < 3; c++) r[c] = (double)pl[c];
+    r[3] = -((double)pl[0] * E[0] + (double)pl[1] * E[1] + (double)pl[2] * E[2] + (double)pl[3]);
+  }
+  return T74_OK;
+}
+
 int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct scene *s,
                    const struct effects *e, const uint8_t *bg,
                    struct fx_stats *st, struct cost *cost, struct t74_error *err)
@@ -75,20 +94,23 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
   const struct mapped *map = eng->map;
   const struct vis_grid *g = eng->g;
   m->eng = eng; m->map = map; m->s = s; m->e = e; m->g = g; m->bg = bg;
+  m->count = eng->r != NULL;
   m->W = g->W; m->H = g->H;
   int rc = T74_OK;
   if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) {
-    if ((rc = smooth_model_build(&m->sm, map, s, e, err)) != T74_OK) return rc;
+    if ((rc = smooth_model_build_kept(&m->sm, map, s, e, eng->smooth_keep, err)) != T74_OK)
+      return rc;
     m->smooth = true;
     if (m->sm.ntri == 0)
       fprintf(stderr, "%s:%d: warning: smooth=/contour=: no face is a triangle of an object "
               "shaded from `light`; the picture stays flat\n", s->file ? s->file : "scene",
               s->effects_line);
-    if ((rc = smooth_tables(eng->core, &m->sm, cost, err)) != T74_OK) return rc;
+    if ((rc = smooth_tables(eng->core, &m->sm, eng->r ? cost : NULL, err)) != T74_OK) return rc;
     smooth_count(&m->sm, st);
   }
   if (e->contour_on && m->smooth) {
-    rc = contour_build(map, eng->core, s, e, &m->sm, &m->cuts, &m->corners, st, cost, err);
+    rc = contour_build(map, eng->core, s, e, &m->sm, &m->cuts, &m->corners, st,
+                       eng->r ? cost : NULL, err);
     if (rc != T74_OK) return rc;
     for (int k = 0; k < m->cuts.n; k++) {
       int o = m->cuts.p[k].owner, seen = 0;
@@ -116,7 +138,8 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
       m->shadow_first[f] = k;
     }
   }
-  return load_textures(m, st, cost, err);
+  if ((rc = load_textures(m, st, cost, err)) != T74_OK) return rc;
+  return fx_model_shades(m) ? shade_setup(m, err) : T74_OK;
 }
 
 void fx_model_free(struct fx_model *m)
@@ -133,6 +156,7 @@ void fx_model_free(struct fx_model *m)
   free(m->cut_skip);
   free(m->cut_obj);
   free(m->shadow_first);
+  free(m->ray);
   memset(m, 0, sizeof *m);
 }
 
@@ -147,14 +171,12 @@ bool fx_model_shades(const struct fx_model *m)
 
 /* The space point of face f seen through plane position (px, py, 0): the ray from the eye
    onto the face's exact plane (eq. (2)). */
-static void space_point(const struct mapped *map, int f, double px, double py, double X[3])
+static void space_point(const struct fx_model *m, int f, double px, double py, double X[3])
 {
-  const int64_t *pl = map->f[f].plane;
-  double E[3] = { (double)map->eye[0], (double)map->eye[1], (double)map->eye[2] };
+  const double *E = m->eye, *r = m->ray[f];
   double D[3] = { px - E[0], py - E[1], -E[2] };
-  double num = -((double)pl[0] * E[0] + (double)pl[1] * E[1] + (double)pl[2] * E[2] + (double)pl[3]);
-  double den = (double)pl[0] * D[0] + (double)pl[1] * D[1] + (double)pl[2] * D[2];
-  double t = den != 0 ? num / den : 1;
+  double den = r[0] * D[0] + r[1] * D[1] + r[2] * D[2];
+  double t = den != 0 ? r[3] / den : 1;
   for (int c = 0; c < 3; c++) X[c] = E[c] + t * D[c];
 }
 
@@ -170,45 +192,94 @@ static double reflectance(const struct fx_tex *t, const double X[3], struct cost
   if (x >= w) x = w - 1;
   if (y >= h) y = h - 1;
   if (y < 0) y = 0;
-  for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 16);
-  cost_mw_div(cost, 32, 16); cost_mw_div(cost, 32, 16);
-  COST_ADD_N(cost, COST_MEM, 2);
+  if (cost) {
+    for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 16);
+    cost_mw_div(cost, 32, 16); cost_mw_div(cost, 32, 16);
+    COST_ADD_N(cost, COST_MEM, 2);
+  }
   return pic_pixel(t->pic, x, y) / 255.0;
+}
+
+/* The plane position of point coordinates (u, v) (fx_shade's px, py). */
+static double plane_x(const struct vis_grid *g, double u)
+{
+  return g->window[0] + u * (double)(g->window[2] - g->window[0]) / g->W;
+}
+
+static double plane_y(const struct vis_grid *g, double v)
+{
+  return g->window[3] - v * (double)(g->window[3] - g->window[1]) / g->H;
+}
+
+/* What the shading needs of a face, found once for a run of points on it. */
+struct face_shade {
+  const struct mface *mf;
+  const struct fx_tex *t;   /* its texture, or NULL */
+  int tri;                  /* its smoothing triangle, or -1 */
+  bool lit;                 /* shaded from the lights (no grey of its own) */
+};
+
+static void face_shade_of(const struct fx_model *m, int face, struct face_shade *fs)
+{
+  const struct mface *mf = &m->map->f[face];
+  fs->mf = mf;
+  fs->t = m->tex && m->tex[mf->sface].pic ? &m->tex[mf->sface] : NULL;
+  fs->tri = m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE ? m->sm.tri_of_mface[face] : -1;
+  fs->lit = m->s->f[mf->sface].grey < 0 && m->s->has_light;
+}
+
+/* fx_shade of face (fs: face_shade_of's) at plane position (px, py); cost NULL: not
+   counted. */
+static int shade_face_at(const struct fx_model *m, int face, const struct face_shade *fs,
+                         unsigned blocked, double px, double py, struct cost *cost, int *region)
+{
+  if (region) *region = -1;
+  const struct mface *mf = fs->mf;
+  const struct fx_tex *t = fs->t;
+  const int tri = fs->tri;
+  const bool lit = fs->lit;
+  if (cost) { COST_ADD_N(cost, COST_MEM, 2); COST_ADD_N(cost, COST_BRANCH, 2); }
+  if (!lit) blocked = 0;                     /* a face of its own grey is not lit */
+  if (tri < 0 && !t && !blocked) return mf->grey;
+  double X[3];
+  space_point(m, face, px, py, X);
+  if (cost) {
+    for (int k = 0; k < 6; k++) cost_mw_mul(cost, 32, 16);
+    cost_mw_div(cost, 48, 32);
+  }
+  double refl = t ? reflectance(t, X, cost) : 1.0;
+  if (tri >= 0)
+    return smooth_grey_at(&m->sm, m->map, m->s, m->e, tri, X, refl, blocked, &m->lights, cost,
+                          region);
+  if (!lit) return (int)floor(mf->grey * refl + 0.5);
+  double n[3] = { -(double)mf->plane[0], -(double)mf->plane[1], -(double)mf->plane[2] };
+  double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int c = 0; c < 3; c++) n[c] /= len;
+  if (cost)
+    for (int k = 0; k < m->s->nlight; k++) { cost_mw_mul(cost, 16, 16); cost_mw_mul(cost, 16, 16); }
+  return shade_grey_lit(&m->lights, n, X, refl, blocked);
+}
+
+/* The background's grey at point (i, j) (fx_shade of no face). */
+static int shade_none(const struct fx_model *m, int i, int j)
+{
+  if (!m->bg) return 0;
+  i = i < 0 ? 0 : i >= m->W ? m->W - 1 : i;
+  j = j < 0 ? 0 : j >= m->H ? m->H - 1 : j;
+  return m->bg[(size_t)j * (size_t)m->W + (size_t)i];
 }
 
 int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, double v,
              int i, int j, struct cost *cost, int *region)
 {
-  if (region) *region = -1;
   if (face < 0) {
-    if (!m->bg) return 0;
-    i = i < 0 ? 0 : i >= m->W ? m->W - 1 : i;
-    j = j < 0 ? 0 : j >= m->H ? m->H - 1 : j;
-    return m->bg[(size_t)j * (size_t)m->W + (size_t)i];
+    if (region) *region = -1;
+    return shade_none(m, i, j);
   }
-  const struct mface *mf = &m->map->f[face];
-  const struct scene_face *sf = &m->s->f[mf->sface];
-  const struct fx_tex *t = m->tex && m->tex[mf->sface].pic ? &m->tex[mf->sface] : NULL;
-  int tri = m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE ? m->sm.tri_of_mface[face] : -1;
-  bool lit = sf->grey < 0 && m->s->has_light;
-  COST_ADD_N(cost, COST_MEM, 2); COST_ADD_N(cost, COST_BRANCH, 2);
-  if (!lit) blocked = 0;                     /* a face of its own grey is not lit */
-  if (tri < 0 && !t && !blocked) return mf->grey;
-  const struct vis_grid *g = m->g;
-  double px = g->window[0] + u * (double)(g->window[2] - g->window[0]) / g->W;
-  double py = g->window[3] - v * (double)(g->window[3] - g->window[1]) / g->H;
-  double X[3];
-  space_point(m->map, face, px, py, X);
-  for (int k = 0; k < 6; k++) cost_mw_mul(cost, 32, 16);
-  cost_mw_div(cost, 48, 32);
-  double refl = t ? reflectance(t, X, cost) : 1.0;
-  if (tri >= 0) return smooth_grey_at(&m->sm, m->map, m->s, m->e, tri, X, refl, blocked, cost, region);
-  if (!lit) return (int)floor(mf->grey * refl + 0.5);
-  double n[3] = { -(double)mf->plane[0], -(double)mf->plane[1], -(double)mf->plane[2] };
-  double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  for (int c = 0; c < 3; c++) n[c] /= len;
-  for (int k = 0; k < m->s->nlight; k++) { cost_mw_mul(cost, 16, 16); cost_mw_mul(cost, 16, 16); }
-  return shade_grey(m->s, n, X, refl, blocked);
+  struct face_shade fs;
+  face_shade_of(m, face, &fs);
+  return shade_face_at(m, face, &fs, blocked, plane_x(m->g, u), plane_y(m->g, v),
+                       m->count ? cost : NULL, region);
 }
 
 /* ---- lines --------------------------------------------------------------------------- */
@@ -226,6 +297,7 @@ struct fx_lines {
   struct ev { struct grat x; int light, d; } *ev;
   int evcap;
   int *brow; int browcap;   /* samples: the row behind a cut object */
+  int *bnd; int bndcap;     /* samples: per event, the first sample at or right of it */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -272,7 +344,7 @@ void fx_lines_close(struct fx_lines *L)
   if (L->behind)
     for (int q = 0; q < L->m->ncut; q++) fx_see_close(L->behind[q]);
   free(L->behind);
-  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->brow);
+  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->brow); free(L->bnd);
   free(L);
 }
 
@@ -284,9 +356,10 @@ static struct grat rmin(struct grat p, struct grat q) { return geom_rat_cmp(p, q
 static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int k1, int64_t yn,
                      int64_t yd, int *nev, struct t74_error *err)
 {
+  const int64_t fy = fx_line_row(yn, yd);
   for (int k = k0; k < k1; k++) {
     const struct fx_poly *p = &ps->p[k];
-    if ((wide)yn < (wide)p->ylo * yd || (wide)yn >= (wide)p->yhi * yd) continue;
+    if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
     int need = p->rs[p->nring];
     if (need > L->xcap) {
       struct grat *nx = realloc(L->x, (size_t)need * sizeof *nx);
@@ -318,6 +391,22 @@ static int ev_cmp(const void *pa, const void *pb)
   return geom_rat_cmp(a->x, b->x);
 }
 
+/* Sort ev[0..n) by x, stable: a line's few events in place, more by the C library's
+   qsort (its merge sort, stable too). */
+static void ev_sort(struct ev *ev, int n)
+{
+  if (n > 32) {
+    qsort(ev, (size_t)n, sizeof *ev, ev_cmp);
+    return;
+  }
+  for (int k = 1; k < n; k++) {
+    struct ev e = ev[k];
+    int h = k;
+    while (h > 0 && geom_rat_cmp(ev[h - 1].x, e.x) > 0) { ev[h] = ev[h - 1]; h--; }
+    ev[h] = e;
+  }
+}
+
 /* The stretches of cut object q's regions on the line, sorted, into L->ev[0..*nev) (they
    do not overlap: each region lies at its own corner). */
 static int cut_stretches(struct fx_lines *L, int q, int64_t yn, int64_t yd, int *nev,
@@ -330,7 +419,7 @@ static int cut_stretches(struct fx_lines *L, int q, int64_t yn, int64_t yd, int 
     if (m->cuts.p[k].owner == m->cut_obj[q]) { if (k0 < 0) k0 = k; k1 = k + 1; }
   if (k0 < 0) return T74_OK;
   int rc = stretches(L, &m->cuts, k0, k1, yn, yd, nev, err);
-  if (rc == T74_OK && *nev > 0) qsort(L->ev, (size_t)*nev, sizeof *L->ev, ev_cmp);
+  if (rc == T74_OK) ev_sort(L->ev, *nev);
   return rc;
 }
 
@@ -394,7 +483,7 @@ static int shadow_line(struct fx_lines *L, int64_t yn, int64_t yd, struct t74_er
     if (rc != T74_OK) return rc;
     if (!room(L, nb + 2 * nev + 1)) return t74_fail(err, T74_EIO, "out of host memory");
     if (nev == 0) { L->b[nb++] = sp; continue; }
-    qsort(L->ev, (size_t)nev, sizeof *L->ev, ev_cmp);
+    ev_sort(L->ev, nev);
     int cnt[SCENE_LIGHT_MAX] = { 0 };
     unsigned mask = 0;
     struct grat at = sp.x0;
@@ -467,6 +556,12 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
 {
   const struct fx_model *m = L->m;
   const uint8_t *skip = m->cut_skip[q];
+  /* a row outside every region's height range has nothing cut: no scan for the object */
+  const int64_t fy = fx_line_row(yn, yd);
+  bool near = false;
+  for (int k = 0; k < m->cuts.n && !near; k++)
+    near = m->cuts.p[k].owner == m->cut_obj[q] && fx_poly_on_row(&m->cuts.p[k], fy);
+  if (!near) return T74_OK;
   bool hit = false;
   for (int i = 0; i < n && !hit; i++) hit = face[i] >= 0 && skip[face[i]];
   if (!hit) return T74_OK;
@@ -475,29 +570,47 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   if (rc != T74_OK || nev == 0) return rc;
   const int32_t *win = m->g->window;
   bool behind = false;
-  /* samples left to right (xn rising): the stretch a sample may lie in is found by moving
-     on from the last one's (they are sorted and apart), not from the first */
+  /* samples left to right (xn rising): each event's first sample at or right of it found
+     once (bnd, by halving); a sample lies in a stretch exactly when it lies in the stretch's
+     range of samples (the events are sorted, the ranges in order and apart). Else each
+     sample of the row is tested. */
   const bool rising = win[2] > win[0];
-  int h = 0;
-  for (int i = 0; i < n; i++) {
-    if (face[i] < 0 || !skip[face[i]]) continue;
-    int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
-    if (rising) {
-      while (h + 1 < nev && geom_rat_cmp_frac(L->ev[h + 1].x, xn, xd) <= 0) h += 2;
-      if (h + 1 >= nev || geom_rat_cmp_frac(L->ev[h].x, xn, xd) > 0) continue;
-    } else if (!in_stretches(L->ev, nev, xn, xd)) continue;
-    if (!behind) {
-      if (n > L->browcap) {
-        int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
-        if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
-        L->brow = nb;
-        L->browcap = n;
-      }
-      if ((rc = fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err)) != T74_OK) return rc;
-      behind = true;
-    }
-    face[i] = L->brow[i];
+  const int np = rising ? nev / 2 : 1;
+  if (2 * np > L->bndcap) {
+    int *nb = realloc(L->bnd, (size_t)(2 * np) * sizeof *nb);
+    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+    L->bnd = nb;
+    L->bndcap = 2 * np;
   }
+  if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
+  for (int h = 0; rising && h < 2 * np; h++) {
+    int lo = 0, hi = n;
+    while (lo < hi) {
+      int mid = lo + (hi - lo) / 2;
+      int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + mid) + 1) * ((int64_t)win[2] - win[0]));
+      if (geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0) hi = mid; else lo = mid + 1;
+    }
+    L->bnd[h] = lo;
+  }
+  for (int r = 0; r < np; r++)
+    for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
+      if (face[i] < 0 || !skip[face[i]]) continue;
+      if (!rising) {
+        int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
+        if (!in_stretches(L->ev, nev, xn, xd)) continue;
+      }
+      if (!behind) {
+        if (n > L->browcap) {
+          int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
+          if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+          L->brow = nb;
+          L->browcap = n;
+        }
+        if ((rc = fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err)) != T74_OK) return rc;
+        behind = true;
+      }
+      face[i] = L->brow[i];
+    }
   return T74_OK;
 }
 
@@ -520,7 +633,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
       int rc = stretches(L, &m->shadows, m->shadow_first[f], m->shadow_first[f + 1], yn, yd,
                          &nev, err);
       if (rc != T74_OK) return rc;
-      if (nev > 0) qsort(L->ev, (size_t)nev, sizeof *L->ev, ev_cmp);
+      ev_sort(L->ev, nev);
     }
     int cnt[SCENE_LIGHT_MAX] = { 0 }, h = 0;
     for (; i < e; i++) {
@@ -570,59 +683,68 @@ int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n,
 int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
               struct cost *cost, struct t74_error *err)
 {
-  size_t n = (size_t)f->W * (size_t)f->H;
-  unsigned *blocked = calloc(n ? n : 1, sizeof *blocked);
-  int *row = calloc((size_t)f->W + 1, sizeof *row);
-  if (!blocked || !row) {
-    free(blocked);
-    free(row);
-    return t74_fail(err, T74_EIO, "out of host memory");
+  /* a row at a time, bottom row first: its faces after the regions (the lights blocked
+     along it), then its greys; px[] and py[] the plane positions of the point centres */
+  const int W = f->W, H = f->H;
+  const bool regions = fx_model_regions(m);
+  unsigned *blocked = calloc((size_t)W + 1, sizeof *blocked);
+  int *row = malloc(((size_t)W + 1) * sizeof *row);
+  double *px = malloc(((size_t)W + (size_t)H + 1) * sizeof *px);
+  struct fx_lines *L = NULL;
+  int rc = !blocked || !row || !px ? t74_fail(err, T74_EIO, "out of host memory") : T74_OK;
+  if (rc == T74_OK && regions) rc = fx_lines_open(&L, m, false, cost, err);
+  if (rc != T74_OK) {
+    free(blocked); free(row); free(px);
+    return rc;
   }
-  int rc = T74_OK;
+  double *py = px + W;
+  for (int i = 0; i < W; i++) px[i] = plane_x(m->g, i + 0.5);
+  for (int j = 0; j < H; j++) py[j] = plane_y(m->g, j + 0.5);
+  struct cost *pc = m->count ? cost : NULL;
   long cut = 0, show_face = 0, show_none = 0, shadowed = 0;
-  if (fx_model_regions(m)) {
-    struct fx_lines *L;
-    if ((rc = fx_lines_open(&L, m, false, cost, err)) != T74_OK) {
-      free(blocked);
-      free(row);
-      return rc;
-    }
-    for (int j = f->H - 1; j >= 0 && rc == T74_OK; j--) {     /* bottom row first */
-      size_t at0 = (size_t)j * (size_t)f->W;
-      if ((rc = fx_lines_samples(L, 1, j, 0, f->W, row, blocked + at0, err)) != T74_OK) break;
-      int *fr = f->face + at0;
-      const unsigned *bl = blocked + at0;
-      for (int i = 0; i < f->W; i++) {
+  long pts = 0, flat = 0, band = 0, corner = 0;
+  const bool bg = m->bg != NULL;
+  for (int j = H - 1; j >= 0; j--) {
+    size_t at0 = (size_t)j * (size_t)W;
+    int *fr = f->face + at0;
+    if (regions) {
+      if ((rc = fx_lines_samples(L, 1, j, 0, W, row, blocked, err)) != T74_OK) break;
+      /* a row the regions left as it was, without shadows, has nothing to count */
+      bool same = !m->shadows.n && !memcmp(row, fr, (size_t)W * sizeof *row);
+      for (int i = 0; i < W && !same; i++) {
         int face = row[i];
         if (face != fr[i]) {
           cut++;
           if (face >= 0) show_face++; else show_none++;
         }
         fr[i] = face;
-        shadowed += bl[i] != 0;
+        shadowed += blocked[i] != 0;
       }
-      COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)f->W);   /* 2 and 2 a point */
-      COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)f->W);
+      COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)W);   /* 2 and 2 a point */
+      COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
-    fx_lines_close(L);
-  }
-  free(row);
-  long pts = 0, flat = 0, band = 0, corner = 0;
-  const bool bg = m->bg != NULL;
-  for (int j = 0; j < f->H && rc == T74_OK; j++)
-    for (int i = 0; i < f->W; i++) {
-      size_t at = (size_t)j * (size_t)f->W + (size_t)i;
-      int region, face = f->face[at];
-      if (face < 0 && !bg) {                /* fx_shade's answer, without the call */
-        f->grey[at] = 0;
+    uint8_t *gr = f->grey + at0;
+    int last = -1;                          /* the face fs holds */
+    struct face_shade fs;
+    for (int i = 0; i < W; i++) {
+      int region, face = fr[i];
+      if (face < 0) {                       /* a run of points that see no face */
+        int e = i + 1;
+        while (e < W && fr[e] < 0) e++;
+        if (!bg) memset(gr + i, 0, (size_t)(e - i));
+        else for (int q = i; q < e; q++) gr[q] = (uint8_t)shade_none(m, q, j);
+        i = e - 1;
         continue;
       }
-      f->grey[at] = (uint8_t)fx_shade(m, face, blocked[at], i + 0.5, j + 0.5, i, j, cost, &region);
+      if (face != last) { face_shade_of(m, face, &fs); last = face; }
+      gr[i] = (uint8_t)shade_face_at(m, face, &fs, blocked[i], px[i], py[j], pc, &region);
       if (region < 0) continue;
       pts++;
       if (region == 0) flat++; else if (region == 2) corner++; else band++;
     }
-  free(blocked);
+  }
+  fx_lines_close(L);
+  free(blocked); free(row); free(px);
   if (rc != T74_OK) return rc;
   if (m->e->contour_on && m->smooth) {
     fx_count(st, "contour_points_cut", (double)cut, true);

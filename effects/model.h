@@ -41,6 +41,7 @@
 #include "effects/fx.h"
 #include "effects/poly.h"
 #include "effects/smooth.h"
+#include "render/shade.h"
 
 struct pic;
 struct fx_tex;
@@ -64,6 +65,13 @@ struct fx_model {
   uint8_t **cut_skip;       /* per cut object: per mapped face, 1 = a face of the object */
   struct fx_polys shadows;  /* shadow polygons (owner: mapped face), sorted by owner */
   int *shadow_first;        /* per mapped face + 1: its shadows are [first[f], first[f+1]) */
+  /* made once a frame for the shading of every point (fx_shade), when the model shades */
+  bool count;               /* count the shading's work (the 1974 engine; the points
+                               engine models no machine and counts nothing) */
+  struct shade_lights lights;   /* the scene's lights made ready (render/shade.h) */
+  double eye[3];            /* the Mapper's eye */
+  double (*ray)[4];         /* per mapped face: its plane's a, b, c and the ray's numerator
+                               -(a, b, c, d) . (eye, 1) (eq. (2), as space_point takes them) */
 };
 
 /* Build the model the effects e call for over the frame engine eng drew on its grid eng->g

@@ -59,21 +59,22 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
                   struct cost *cost)
 {
   int nx = 0;
-  if ((wide)yn < (wide)p->ylo * yd || (wide)yn >= (wide)p->yhi * yd) return 0;
+  const int64_t fy = fx_line_row(yn, yd);   /* a point on or below the line: y <= fy */
+  if (!fx_poly_on_row(p, fy)) return 0;
   for (int r = 0; r < p->nring; r++) {
     int a = p->rs[r], n = p->rs[r + 1] - a;
     if (n <= 0) continue;
     /* an edge crosses the line when its ends lie on either side, a point on the line
        counting as above it (half-open: each crossing counted once); each vertex's side
        found once, for the edge it ends and the one it starts */
-    struct gpoint p0 = p->pt[a];
-    const struct gpoint first = p0;
-    bool c0 = (wide)p0.y * yd <= yn;
-    const bool cfirst = c0;
+    const struct gpoint *pt = p->pt + a;
+    bool c0 = pt[0].y <= fy;
     for (int v = 0; v < n; v++) {
-      struct gpoint p1 = v + 1 < n ? p->pt[a + v + 1] : first;
-      bool c1 = v + 1 < n ? (wide)p1.y * yd <= yn : cfirst;
+      /* the edge from point v to the next, w (the last back to the first) */
+      const int w = v + 1 == n ? 0 : v + 1;
+      const bool c1 = pt[w].y <= fy;
       if (c0 != c1) {
+        struct gpoint p0 = pt[v], p1 = pt[w];
         if (nx == max) {
           COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);
           return -1;
@@ -84,7 +85,6 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
         while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }
         x[h] = xc;
       }
-      p0 = p1;
       c0 = c1;
     }
     COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)n); COST_ADD_N(cost, COST_BRANCH, n);  /* an edge's */

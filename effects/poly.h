@@ -35,7 +35,21 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
                   int owner, int light);
 void fx_polys_free(struct fx_polys *ps);
 
-/* The stretches of polygon p on the line y = yn/yd (yd <= GRID_YDEN_MAX): up to max
+/* The grid row of the line y = yn/yd (yd > 0): floor(yn / yd). A grid point lies on or
+   below the line (y yd <= yn) exactly when y <= the row, and the line meets polygon p's
+   height range [ylo, yhi) exactly when fx_poly_on_row: one divide a line instead of a
+   wide product a vertex. */
+static inline int64_t fx_line_row(int64_t yn, int64_t yd)
+{
+  return yn / yd - (yn % yd != 0 && yn < 0);
+}
+
+static inline bool fx_poly_on_row(const struct fx_poly *p, int64_t row)
+{
+  return row >= p->ylo && row < p->yhi;
+}
+
+/* The stretches of polygon p on the line y = yn/yd (0 < yd <= GRID_YDEN_MAX): up to max
    crossings in x (sorted) written, their count returned (even; -1 when more than max).
    Counted in cost. */
 int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,

@@ -39,6 +39,7 @@
 
 struct render;
 struct points;
+struct smooth_scene;
 
 struct fx_engine {
   const struct mapped *map;         /* the Mapper's faces */
@@ -48,6 +49,8 @@ struct fx_engine {
   const struct points *pts;         /* the points engine (rendered), or NULL */
   bool own_core;                    /* core is the effects' own (points engine) */
   struct core **keep;               /* fx_engine_free leaves the core here, or NULL */
+  struct smooth_scene **smooth_keep;   /* the smoothing's scene part kept for the next
+                                       frame (effects/smooth.h), or NULL; set by the caller */
 };
 
 /* The 1974 engine r, scanned on grid g (both kept by the caller while e is used). */

@@ -142,6 +142,7 @@ void smooth_model_free(struct smooth_model *m)
 {
   free(m->tri);
   free(m->tri_of_mface);
+  free(m->edge_group);
   memset(m, 0, sizeof *m);
 }
 
@@ -164,11 +165,12 @@ static void cross_int(const struct scene *s, const int v[3], int64_t o[3])
 }
 
 /* Orient the triangles [from, to) of one object (tri[] already filled with vertices):
-   breadth first across shared edges; then outward by volume when closed, towards the
-   eye when open. */
-static int orient_object(struct smooth_model *m, const struct scene *s, const int64_t eye[3],
-                         int from, int to, struct t74_error *err)
+   breadth first across shared edges; then outward by volume when closed (*closed set).
+   An open surface is turned towards the eye afterwards, a frame at a time (face_eye). */
+static int orient_object(struct smooth_model *m, const struct scene *s, int from, int to,
+                         bool *closed_out, int *group, int *ngroup, struct t74_error *err)
 {
+  *closed_out = false;
   if (to <= from) return T74_OK;
   size_t n = (size_t)(to - from), ne = 3 * n;
   struct edge_rec *e = malloc(ne * sizeof *e);
@@ -235,24 +237,8 @@ static int orient_object(struct smooth_model *m, const struct scene *s, const in
       v[1] = v[2]; v[2] = x;
       m->flips++;
     }
-  if (!closed) {
-    /* an open surface has no outside: its front is the side most of it turns to the
-       eye (the sum of o . (eye - v0) over its triangles, exact, positive) */
-    wide toward = 0;
-    for (size_t t = 0; t < n; t++) {
-      const int *v = m->tri[from + (int)t].v;
-      int64_t o3[3];
-      cross_int(s, v, o3);
-      const struct scene_vertex *v0 = &s->v[v[0]];
-      toward += (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
-                (wide)o3[2] * (eye[2] - v0->z);
-    }
-    if (toward < 0)
-      for (size_t t = 0; t < n; t++) {
-        int *v = m->tri[from + (int)t].v, x = v[1];
-        v[1] = v[2]; v[2] = x;
-      }
-  } else {
+  *closed_out = closed;
+  if (closed) {
     /* outward: the volume sum of det(v0, v1, v2) / 6 is positive */
     wide vol = 0;
     for (size_t t = 0; t < n; t++) {
@@ -265,8 +251,30 @@ static int orient_object(struct smooth_model *m, const struct scene *s, const in
         v[1] = v[2]; v[2] = x;
       }
   }
+  /* the sides' groups (edge_groups in smooth.h), on the triangles as now oriented */
+  for (size_t k = 0; k < 3 * n; k++) group[k] = -1;
+  for (size_t k = 0; k < ne; k++) {
+    if (k == 0 || e[k].lo != e[k - 1].lo || e[k].hi != e[k - 1].hi) (*ngroup)++;
+    const int *v = m->tri[from + e[k].tri].v;
+    int *g = group + 3 * (size_t)e[k].tri;
+    for (int q = 0; q < 3; q++) {
+      int a = v[q], b = v[q == 2 ? 0 : q + 1];
+      if (g[q] < 0 && (a < b ? a : b) == e[k].lo && (a < b ? b : a) == e[k].hi) {
+        g[q] = *ngroup - 1;
+        break;
+      }
+    }
+  }
   free(e); free(flip); free(queue); free(first); free(bytri);
   return T74_OK;
+}
+
+/* o . (eye - v0) for a triangle with corner v0 and integer normal o, exact: positive when
+   its side o points to faces the eye. */
+static wide toward_eye(const struct scene *s, int v0, const int64_t o[3], const int64_t eye[3])
+{
+  const struct scene_vertex *p = &s->v[v0];
+  return (wide)o[0] * (eye[0] - p->x) + (wide)o[1] * (eye[1] - p->y) + (wide)o[2] * (eye[2] - p->z);
 }
 
 static double mean_height(const struct smooth_model *m, int from, int to)
@@ -292,93 +300,239 @@ static void bary_setup(const struct scene *s, struct smooth_tri *tr)
     double q[3] = { (double)v->x, (double)v->y, (double)v->z };
     V[k][0] = q[u]; V[k][1] = q[w];
   }
+  static const int next[3][2] = { { 1, 2 }, { 2, 0 }, { 0, 1 } };   /* (k + 1, k + 2) % 3 */
+  for (int k = 0; k < 3; k++)
+    for (int c = 0; c < 2; c++) tr->bE[k][c] = V[next[k][1]][c] - V[next[k][0]][c];
   tr->bu = u;
   tr->bw = w;
   tr->btot = (V[1][0] - V[0][0]) * (V[2][1] - V[0][1]) - (V[2][0] - V[0][0]) * (V[1][1] - V[0][1]);
+}
+
+/* A triangle's geometry from its corners as they are ordered: its integer normal o3, unit
+   normal, twice its area, the barycentric set-up and its sides' lengths. */
+static void tri_shape(const struct scene *s, struct smooth_tri *tr, int64_t o3[3])
+{
+  cross_int(s, tr->v, o3);
+  for (int c = 0; c < 3; c++) tr->n[c] = (double)o3[c];
+  tr->area2 = sqrt(tr->n[0] * tr->n[0] + tr->n[1] * tr->n[1] + tr->n[2] * tr->n[2]);
+  unit(tr->n);
+  bary_setup(s, tr);
+  for (int k = 0; k < 3; k++) {
+    const struct scene_vertex *a = &s->v[tr->v[(k + 1) % 3]], *b = &s->v[tr->v[(k + 2) % 3]];
+    double dx = b->x - a->x, dy = b->y - a->y, dz = b->z - a->z;
+    tr->len[k] = sqrt(dx * dx + dy * dy + dz * dz);
+  }
+}
+
+/* Triangle a turned (corners v1 and v2 swapped) into b: what tri_shape and the vertex
+   normals give for the turned corners, without working them out again. Every value is
+   a's or its negation, exactly: the normals' and the sides' differences change sign and
+   nothing else (0 - x: a zero stays +0, as the turned triangle's own arithmetic makes
+   it). Corner k of b is corner turn[k] of a; side k of b (opposite corner k) is a's side
+   turn[k]. */
+static void tri_turned(const struct smooth_tri *a, struct smooth_tri *b)
+{
+  static const int turn[3] = { 0, 2, 1 };
+  b->sface = a->sface;
+  b->object = a->object;
+  for (int k = 0; k < 3; k++) {
+    int q = turn[k];
+    b->v[k] = a->v[q];
+    b->n[k] = 0 - a->n[k];
+    b->len[k] = a->len[q];
+    for (int c = 0; c < 3; c++) b->cn[k][c] = 0 - a->cn[q][c];
+    for (int c = 0; c < 2; c++) {
+      b->bV[k][c] = a->bV[q][c];
+      b->bE[k][c] = 0 - a->bE[q][c];
+    }
+  }
+  b->area2 = a->area2;
+  b->bu = a->bu;
+  b->bw = a->bw;
+  b->btot = 0 - a->btot;
+}
+
+/* What of the model depends on the scene alone, kept between frames (smooth.h): the
+   triangles of each object, oriented consistently (closed objects outward). */
+struct smooth_scene {
+  const struct scene *s;    /* the scene it was made for */
+  int ntri;
+  struct smooth_tri *tri;   /* each triangle as oriented here: its corners and their
+                               geometry (normal, sides, barycentric set-up, vertex normals);
+                               mface, front, ni and t are the frame's */
+  int64_t (*o3)[3];         /* each one's integer normal (cross_int) */
+  int nobj;                 /* objects with a triangle */
+  struct smooth_part { int from, to; bool closed; } *obj;
+  int flips, conflicts;
+  int *group, ngroup;       /* edge_group (smooth.h), on the triangles as oriented here */
+};
+
+void smooth_scene_free(struct smooth_scene *ss)
+{
+  if (!ss) return;
+  free(ss->tri);
+  free(ss->o3);
+  free(ss->obj);
+  free(ss->group);
+  free(ss);
+}
+
+/* The scene's part of the model (smooth_scene) into *out. */
+static int scene_part(const struct scene *s, struct smooth_scene **out, struct t74_error *err)
+{
+  struct smooth_scene *ss = calloc(1, sizeof *ss);
+  struct smooth_model m;                    /* orient_object's view of the triangles */
+  memset(&m, 0, sizeof m);
+  if (ss) {
+    ss->s = s;
+    m.tri = malloc(((size_t)s->nf + 1) * sizeof *m.tri);
+    ss->obj = malloc(((size_t)s->nobj + 1) * sizeof *ss->obj);
+    ss->group = malloc((3 * (size_t)s->nf + 1) * sizeof *ss->group);
+  }
+  if (!ss || !m.tri || !ss->obj || !ss->group) {
+    free(m.tri);
+    smooth_scene_free(ss);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  for (int o = 0; o < s->nobj; o++) {
+    const struct scene_object *ob = &s->obj[o];
+    int from = m.ntri;
+    for (int q = 0; q < ob->nface; q++) {
+      int fi = ob->face[q];
+      const struct scene_face *sf = &s->f[fi];
+      if (sf->nring != 1 || sf->ring_start[1] != 3 || sf->grey >= 0 || !s->has_light) continue;
+      struct smooth_tri *tr = &m.tri[m.ntri++];
+      memset(tr, 0, sizeof *tr);
+      tr->sface = fi;
+      tr->object = ob->id;
+      for (int k = 0; k < 3; k++) tr->v[k] = sf->vidx[k];
+    }
+    int to = m.ntri;
+    if (to == from) continue;
+    struct smooth_part *pt = &ss->obj[ss->nobj++];
+    pt->from = from;
+    pt->to = to;
+    if (orient_object(&m, s, from, to, &pt->closed, ss->group + 3 * (size_t)from, &ss->ngroup,
+                      err) != T74_OK) {
+      free(m.tri);
+      smooth_scene_free(ss);
+      return err->status;
+    }
+  }
+  ss->tri = m.tri;
+  ss->o3 = malloc(((size_t)m.ntri + 1) * sizeof *ss->o3);
+  double (*acc)[3] = malloc(((size_t)s->nv + 1) * sizeof *acc);
+  if (!ss->o3 || !acc) {
+    free(acc);
+    smooth_scene_free(ss);
+    return t74_fail(err, T74_EIO, "out of host memory");
+  }
+  /* each triangle's geometry, and each object's vertex normals (the mean of the unit
+     normals of its triangles at the vertex) */
+  for (int o = 0; o < ss->nobj; o++) {
+    int from = ss->obj[o].from, to = ss->obj[o].to;
+    for (int t = from; t < to; t++)
+      for (int k = 0; k < 3; k++) acc[m.tri[t].v[k]][0] = acc[m.tri[t].v[k]][1] = acc[m.tri[t].v[k]][2] = 0;
+    for (int t = from; t < to; t++) {
+      struct smooth_tri *tr = &m.tri[t];
+      tri_shape(s, tr, ss->o3[t]);
+      for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 3; c++) acc[tr->v[k]][c] += tr->n[c];
+    }
+    for (int t = from; t < to; t++)
+      for (int k = 0; k < 3; k++) {
+        memcpy(m.tri[t].cn[k], acc[m.tri[t].v[k]], sizeof m.tri[t].cn[k]);
+        unit(m.tri[t].cn[k]);
+      }
+  }
+  free(acc);
+  ss->ntri = m.ntri;
+  ss->flips = m.flips;
+  ss->conflicts = m.conflicts;
+  *out = ss;
+  return T74_OK;
 }
 
 int smooth_model_build(struct smooth_model *m, const struct mapped *map,
                        const struct scene *s, const struct effects *e,
                        struct t74_error *err)
 {
+  return smooth_model_build_kept(m, map, s, e, NULL, err);
+}
+
+int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
+                            const struct scene *s, const struct effects *e,
+                            struct smooth_scene **keep, struct t74_error *err)
+{
   memset(m, 0, sizeof *m);
+  struct smooth_scene *ss = keep && *keep && (*keep)->s == s ? *keep : NULL;
+  if (!ss) {
+    int rc = scene_part(s, &ss, err);
+    if (rc != T74_OK) return rc;
+    if (keep) {
+      smooth_scene_free(*keep);
+      *keep = ss;
+    }
+  }
   int nm = map->nface;
   m->tri_of_mface = malloc(((size_t)nm + 1) * sizeof *m->tri_of_mface);
   int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
-  m->tri = malloc(((size_t)s->nf + 1) * sizeof *m->tri);
-  double (*acc)[3] = calloc((size_t)s->nv + 1, sizeof *acc);
+  m->tri = malloc(((size_t)ss->ntri + 1) * sizeof *m->tri);
+  m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
   int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
   int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
-  if (!m->tri_of_mface || !mof || !m->tri || !acc || !seen || !row) {
-    free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
+  if (!m->tri_of_mface || !mof || !m->tri || !m->edge_group || !seen || !row) {
+    free(mof); free(seen); free(row); smooth_model_free(m);
+    if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
+  if (ss->ntri) memcpy(m->edge_group, ss->group, 3 * (size_t)ss->ntri * sizeof *m->edge_group);
+  m->ngroup = ss->ngroup;
+  m->ntri = ss->ntri;
+  m->flips = ss->flips;
+  m->conflicts = ss->conflicts;
+  m->objects = ss->nobj;
   for (int k = 0; k < s->nf; k++) mof[k] = -1;
   for (int k = 0; k < nm; k++) { mof[map->f[k].sface] = k; m->tri_of_mface[k] = -1; }
   for (int k = 0; k < s->nv; k++) seen[k] = -1;
   const int64_t *eye = map->eye;
-  for (int o = 0; o < s->nobj; o++) {
-    const struct scene_object *ob = &s->obj[o];
-    int from = m->ntri;
-    for (int q = 0; q < ob->nface; q++) {
-      int fi = ob->face[q];
-      const struct scene_face *sf = &s->f[fi];
-      if (sf->nring != 1 || sf->ring_start[1] != 3 || sf->grey >= 0 || !s->has_light) continue;
-      struct smooth_tri *tr = &m->tri[m->ntri++];
-      memset(tr, 0, sizeof *tr);
-      tr->sface = fi;
-      tr->mface = mof[fi];
-      tr->object = ob->id;
-      for (int k = 0; k < 3; k++) tr->v[k] = sf->vidx[k];
-    }
-    int to = m->ntri;
-    if (to == from) continue;
-    m->objects++;
-    if (orient_object(m, s, eye, from, to, err) != T74_OK) {
-      free(mof); free(acc); free(seen); free(row); smooth_model_free(m);
-      return err->status;
-    }
+  for (int o = 0; o < ss->nobj; o++) {
+    int from = ss->obj[o].from, to = ss->obj[o].to;
+    /* an open surface has no outside: its front is the side most of it turns to the eye
+       (the sum of o . (eye - v0) over its triangles, exact, positive) */
+    wide toward = 0;
+    for (int t = from; t < to && !ss->obj[o].closed; t++)
+      toward += toward_eye(s, ss->tri[t].v[0], ss->o3[t], eye);
+    const bool turned = toward < 0;
     for (int t = from; t < to; t++) {
       struct smooth_tri *tr = &m->tri[t];
-      int64_t o3[3];
-      cross_int(s, tr->v, o3);
-      for (int c = 0; c < 3; c++) tr->n[c] = (double)o3[c];
-      tr->area2 = sqrt(tr->n[0] * tr->n[0] + tr->n[1] * tr->n[1] + tr->n[2] * tr->n[2]);
-      unit(tr->n);
-      bary_setup(s, tr);
-      for (int k = 0; k < 3; k++) {
-        const struct scene_vertex *a = &s->v[tr->v[(k + 1) % 3]], *b = &s->v[tr->v[(k + 2) % 3]];
-        double dx = b->x - a->x, dy = b->y - a->y, dz = b->z - a->z;
-        tr->len[k] = sqrt(dx * dx + dy * dy + dz * dz);
+      if (turned) {
+        tri_turned(&ss->tri[t], tr);
+        int *g = m->edge_group + 3 * t, x = g[0];   /* side 0 is a's side 2 and back */
+        g[0] = g[2]; g[2] = x;
+      } else {
+        memcpy(tr, &ss->tri[t], sizeof *tr);
       }
-      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly */
-      const struct scene_vertex *v0 = &s->v[tr->v[0]];
-      wide d = (wide)o3[0] * (eye[0] - v0->x) + (wide)o3[1] * (eye[1] - v0->y) +
-               (wide)o3[2] * (eye[2] - v0->z);
-      tr->front = tr->mface >= 0 && d > 0;
+      tr->mface = mof[tr->sface];
+      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly (v0 stays) */
+      wide d = toward_eye(s, tr->v[0], ss->o3[t], eye);
+      tr->front = tr->mface >= 0 && (turned ? d < 0 : d > 0);
       if (tr->mface >= 0) m->tri_of_mface[tr->mface] = t;
       for (int k = 0; k < 3; k++) {
         int v = tr->v[k];
         if (seen[v] != o) {
           seen[v] = o;
-          acc[v][0] = acc[v][1] = acc[v][2] = 0;
           row[v] = m->vertex_normals++;
         }
         tr->ni[k] = row[v];
-        for (int c = 0; c < 3; c++) acc[v][c] += tr->n[c];
       }
     }
     double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(m, from, to) : 0;
-    for (int t = from; t < to; t++) {
-      struct smooth_tri *tr = &m->tri[t];
-      for (int k = 0; k < 3; k++) {
-        memcpy(tr->cn[k], acc[tr->v[k]], sizeof tr->cn[k]);
-        unit(tr->cn[k]);
-      }
-      smooth_insets(e->smooth, e->smooth_c, w, tr->len, tr->area2, tr->t);
-    }
+    for (int t = from; t < to; t++)
+      smooth_insets(e->smooth, e->smooth_c, w, m->tri[t].len, m->tri[t].area2, m->tri[t].t);
   }
-  free(mof); free(acc); free(seen); free(row);
+  free(mof); free(seen); free(row);
+  if (!keep) smooth_scene_free(ss);
   return T74_OK;
 }
 
@@ -415,25 +569,46 @@ static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
 {
   const double (*V)[2] = tr->bV;
   double x = X[tr->bu], y = X[tr->bw], sum = 0, tot = tr->btot;
-  static const int next[3][2] = { { 1, 2 }, { 2, 0 }, { 0, 1 } };   /* (k + 1, k + 2) % 3 */
   for (int k = 0; k < 3; k++) {
-    const double *a = V[next[k][0]], *b = V[next[k][1]];
-    double ar = (b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1]);
+    const double *a = V[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* d: b - a, made once */
+    double ar = d[0] * (y - a[1]) - (x - a[0]) * d[1];
     l[k] = tot != 0 ? ar / tot : 1.0 / 3;
     if (!(l[k] > 0)) l[k] = 0;
     sum += l[k];
   }
-  if (sum > 0) for (int k = 0; k < 3; k++) l[k] /= sum;
-  else l[0] = l[1] = l[2] = 1.0 / 3;
+  if (!(sum > 0)) l[0] = l[1] = l[2] = 1.0 / 3;
+  else if (sum != 1)                      /* x / 1 is x: the divides only when they change it */
+    for (int k = 0; k < 3; k++) l[k] /= sum;
+}
+
+/* smooth_grey_at's steps under smooth=phong, from the barycentric coordinates l */
+static int grey_phong(const struct smooth_tri *tr, const double l[3], const double X[3],
+                      double refl, unsigned blocked, const struct shade_lights *lights,
+                      struct cost *cost)
+{
+  double nrm[3];
+  double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+  for (int c = 0; c < 3; c++)
+    nrm[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
+  unit(nrm);
+  for (int c = 0; c < 3; c++) nrm[c] *= sgn;
+  int grey = shade_grey_lit(lights, nrm, X, refl, blocked);
+  if (cost) cost_point(cost, false, 1);
+  return grey < 0 ? 0 : grey > 255 ? 255 : grey;
 }
 
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
-                   unsigned blocked, struct cost *cost, int *region_out)
+                   unsigned blocked, const struct shade_lights *lights, struct cost *cost,
+                   int *region_out)
 {
   const struct smooth_tri *tr = &m->tri[t];
   double l[3], nrm[3];
   bary(tr, X, l);
+  if (e->smooth == EFFECTS_SMOOTH_PHONG) {
+    if (region_out) *region_out = 1;
+    return grey_phong(tr, l, X, refl, blocked, lights, cost);
+  }
   double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   int region = 1, grey;
   if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
@@ -442,7 +617,7 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
       double nk[3] = { sgn * tr->cn[k][0], sgn * tr->cn[k][1], sgn * tr->cn[k][2] };
       const struct scene_vertex *v = &s->v[tr->v[k]];
       double at[3] = { v->x, v->y, v->z };
-      gi += l[k] * shade_grey(s, nk, at, refl, blocked);
+      gi += l[k] * shade_grey_lit(lights, nk, at, refl, blocked);
     }
     grey = (int)floor(gi + 0.5);
   } else {
@@ -458,10 +633,10 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
       if (region == 0) memcpy(nrm, tr->n, sizeof nrm);
       unit(nrm);
       for (int c = 0; c < 3; c++) nrm[c] *= sgn;
-      grey = shade_grey(s, nrm, X, refl, blocked);
+      grey = shade_grey_lit(lights, nrm, X, refl, blocked);
     }
   }
-  cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
+  if (cost) cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
   if (region_out) *region_out = region;
   return grey < 0 ? 0 : grey > 255 ? 255 : grey;
 }
@@ -475,8 +650,8 @@ int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *
     rc = core_alloc(core, SMOOTH_TABLE_BANDS, (uint32_t)m->ntri * 4, &ab, err);
   if (rc != T74_OK) return rc;
   /* the tables themselves: Q1.14 vertex normals as the triangles meet them, the
-     triangle's face row and its insets in Q0.16 */
-  for (int t = 0; t < m->ntri; t++) {
+     triangle's face row and its insets in Q0.16 (not under the points engine, cost NULL) */
+  for (int t = 0; cost && t < m->ntri; t++) {
     const struct smooth_tri *tr = &m->tri[t];
     core_write(core, ab + 4 * (uint32_t)t, (uint16_t)(tr->mface + 1));
     for (int k = 0; k < 3; k++) {

@@ -35,6 +35,8 @@
 #include <stdbool.h>
 #include "effects/fx.h"
 
+struct shade_lights;
+
 /* One triangle patch of an object. Corner k is scene vertex v[k]; side k is the side
    opposite corner k (where the barycentric coordinate l[k] is 0). */
 struct smooth_tri {
@@ -53,6 +55,7 @@ struct smooth_tri {
   int    bu, bw;           /* barycentric coordinates are taken on these two axes (the
                               plane's dominant one left out) */
   double bV[3][2];         /* the corners on them */
+  double bE[3][2];         /* side k on them: corner (k + 2) % 3 less corner (k + 1) % 3 */
   double btot;             /* twice the signed area of the triangle so projected */
 };
 
@@ -65,6 +68,10 @@ struct smooth_model {
   int conflicts;           /* edges two triangles could not be made to agree on
                               (a one-sided surface, or more than 2 faces on an edge) */
   int vertex_normals;      /* distinct (object, vertex) normals */
+  int *edge_group;         /* 3 ntri entries: side k of triangle t (from v[k] to
+                              v[(k + 1) % 3]) is in group edge_group[3 t + k], shared by
+                              the sides of the object's triangles on the same two vertices */
+  int ngroup;              /* groups, 0 .. ngroup - 1 */
 };
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.
@@ -73,6 +80,24 @@ int smooth_model_build(struct smooth_model *m, const struct mapped *map,
                        const struct scene *s, const struct effects *e,
                        struct t74_error *err);
 void smooth_model_free(struct smooth_model *m);
+
+/* What of the model depends on the scene alone: each object's triangles, oriented
+   consistently across their shared edges (the edge sort and the search), a closed
+   object's turned outward, and their geometry so oriented (normals, sides, barycentric
+   set-up, vertex normals). The rest depends on the view and is made every frame: an open
+   surface turned towards the eye (its geometry carried over with the signs changed and
+   two corners swapped: the same doubles its own arithmetic gives), which triangles the
+   Mapper kept and which face the eye, the vertex normals' rows, bands. */
+struct smooth_scene;
+
+/* smooth_model_build, with the scene's part kept in *keep (may be NULL: made and freed)
+   for the frames that follow: taken from there when it was made for s, else made and
+   left there (the one before freed). The caller frees *keep (smooth_scene_free) before
+   s goes. The model is the same either way. */
+int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
+                            const struct scene *s, const struct effects *e,
+                            struct smooth_scene **keep, struct t74_error *err);
+void smooth_scene_free(struct smooth_scene *ss);
 
 /* The band insets of one triangle for smooth= (fixed: width w in space units): t[k] is
    the barycentric coordinate of side k's inset line; scaled down so the three sum to at
@@ -92,7 +117,8 @@ int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double
 int smooth_lambert(const double n[3], const double l[3]);
 
 /* The patches' tables in core (vertex normals, bands): allocated for the effects' run
-   and counted (T74_ECORE when they do not fit). */
+   and counted (T74_ECORE when they do not fit); cost NULL (the points engine, which models
+   no machine): allocated only, not written nor counted. */
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,
                   struct t74_error *err);
 
@@ -100,11 +126,13 @@ int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *
    reflectance refl (a texture's, else 1) and the lights whose bits are set in blocked in
    shadow (render/shade.h); *region (may be NULL) gets the region of procedure (A) (0 the
    flat inner triangle, 1 an edge band, 2 a corner band; Gouraud and Phong: 1). Counted in
-   cost as the 16-bit program's sequence (smooth.c). The inner triangle with refl 1 and no
-   light blocked is exactly the face's flat grey. */
+   cost as the 16-bit program's sequence (smooth.c; cost NULL: not counted). The lights
+   are s's, made ready (render/shade.h). The inner triangle with refl 1 and no light
+   blocked is exactly the face's flat grey. */
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
-                   unsigned blocked, struct cost *cost, int *region);
+                   unsigned blocked, const struct shade_lights *lights, struct cost *cost,
+                   int *region);
 
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);

@@ -12,7 +12,9 @@
 ** face orientations is drawn as the consistently given one. And on the library: normals
 ** agree along every shared edge (no seams) and are continuous inside each triangle,
 ** Lambert per point is the Mapper's formula, and the Bezier of Def. 9 starts at Q0, ends
-** at Q4 with tangents along the contour sides, and cuts the closed-form area.
+** at Q4 with tangents along the contour sides, and cuts the closed-form area; and that the
+** model built with its scene part kept from an earlier frame is a fresh build's, bit for
+** bit, after another scene and after the eye moves round an open surface.
 */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -99,14 +101,15 @@ static const unsigned char *pgm(const char *b, size_t len, int *W, int *H, int *
   return (const unsigned char *)b + off + 1;
 }
 
-static void render(const char *scene, const char *effects, struct out *o)
+/* render with further options (extra: "" for none) */
+static void render_with(const char *scene, const char *effects, const char *extra, struct out *o)
 {
   char cmd[2048];
   snprintf(cmd, sizeof cmd,
-           "'%s' render '%s' %s%s%s --dump ids='%s' --dump grey='%s' --dump tube='%s' "
+           "'%s' render '%s' %s%s%s %s --dump ids='%s' --dump grey='%s' --dump tube='%s' "
            "--stats '%s' 2>'%s'",
            tube74, scene, effects ? "--effects '" : "", effects ? effects : "",
-           effects ? "'" : "", tpath("ids.pgm"), tpath("grey.pgm"), tpath("tube.pbm"),
+           effects ? "'" : "", extra, tpath("ids.pgm"), tpath("grey.pgm"), tpath("tube.pbm"),
            tpath("stats.json"), tpath("err.txt"));
   int rc = system(cmd);
   if (rc != 0) {
@@ -137,6 +140,11 @@ static void render(const char *scene, const char *effects, struct out *o)
   o->stats = slurp(tpath("stats.json"), NULL);
   assert_non_null(o->tube);
   assert_non_null(o->stats);
+}
+
+static void render(const char *scene, const char *effects, struct out *o)
+{
+  render_with(scene, effects, "", o);
 }
 
 static double stat(const struct out *o, const char *name)
@@ -521,6 +529,160 @@ static void test_no_seams(void **state)
     }
 }
 
+/* Two models the same, bit for bit (the kept scene part against a fresh build). */
+static void same_model(const struct smooth_model *a, const struct smooth_model *b, int nface)
+{
+  assert_int_equal(a->ntri, b->ntri);
+  assert_int_equal(a->objects, b->objects);
+  assert_int_equal(a->flips, b->flips);
+  assert_int_equal(a->conflicts, b->conflicts);
+  assert_int_equal(a->vertex_normals, b->vertex_normals);
+  for (int t = 0; t < a->ntri; t++) {
+    const struct smooth_tri *x = &a->tri[t], *y = &b->tri[t];
+    assert_int_equal(x->sface, y->sface);
+    assert_int_equal(x->mface, y->mface);
+    assert_int_equal(x->object, y->object);
+    assert_memory_equal(x->v, y->v, sizeof x->v);
+    assert_memory_equal(x->ni, y->ni, sizeof x->ni);
+    assert_int_equal(x->front, y->front);
+    assert_memory_equal(x->n, y->n, sizeof x->n);
+    assert_memory_equal(x->cn, y->cn, sizeof x->cn);
+    assert_memory_equal(x->t, y->t, sizeof x->t);
+    assert_memory_equal(x->len, y->len, sizeof x->len);
+    assert_memory_equal(x->bV, y->bV, sizeof x->bV);
+    assert_memory_equal(x->bE, y->bE, sizeof x->bE);
+    assert_true(x->area2 == y->area2 && x->btot == y->btot);
+    assert_true(x->bu == y->bu && x->bw == y->bw);
+  }
+  assert_memory_equal(a->tri_of_mface, b->tri_of_mface, (size_t)nface * sizeof *a->tri_of_mface);
+  assert_int_equal(a->ngroup, b->ngroup);
+  if (a->ntri)
+    assert_memory_equal(a->edge_group, b->edge_group, 3 * (size_t)a->ntri * sizeof *a->edge_group);
+  /* each side's group is the side's two vertices: two sides share one exactly when they
+     join the same two vertices in the same object */
+  for (int p = 0; p < 3 * a->ntri; p++)
+    for (int q = p + 1; q < 3 * a->ntri; q++) {
+      const struct smooth_tri *x = &a->tri[p / 3], *y = &a->tri[q / 3];
+      int x0 = x->v[p % 3], x1 = x->v[(p % 3 + 1) % 3], y0 = y->v[q % 3], y1 = y->v[(q % 3 + 1) % 3];
+      bool same = x->object == y->object &&
+                  ((x0 == y0 && x1 == y1) || (x0 == y1 && x1 == y0));
+      assert_int_equal(same, a->edge_group[p] == a->edge_group[q]);
+    }
+}
+
+/* The model built with the scene's part kept from an earlier frame (issue 19): the same
+   as a fresh build on a second frame, after another scene (remade), and after the eye
+   moves to the other side of an open surface (turned anew, the part only kept). */
+static void test_kept_scene_part(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0, "" };
+  struct smooth_scene *keep = NULL;
+  struct smooth_model k;
+  struct lib L;
+  lib_open(&L, "scenes/sphere.s74", "smooth=phong contour=1.0");
+  assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+  assert_non_null(keep);
+  same_model(&k, &L.m, L.r.map.nface);
+  smooth_model_free(&k);
+  struct smooth_scene *made = keep;
+  assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+  assert_ptr_equal(keep, made);                      /* taken, not made again */
+  same_model(&k, &L.m, L.r.map.nface);
+  smooth_model_free(&k);
+  /* another scene (the first still loaded: a part lives no longer than its scene): the
+     part is made for it, freeing the first's */
+  struct lib L2;
+  lib_open(&L2, "scenes/lprism.s74", "smooth=prop:0.15");
+  assert_int_equal(smooth_model_build_kept(&k, &L2.r.map, L2.s, &L2.e, &keep, &err), T74_OK);
+  assert_true(keep != made);
+  same_model(&k, &L2.m, L2.r.map.nface);
+  smooth_model_free(&k);
+  smooth_scene_free(keep);
+  keep = NULL;
+  lib_close(&L2);
+  lib_close(&L);
+  /* an open sheet in the plane x = 0 seen from either side */
+  write_text("sheet.s74", "view -600 0 -1000\nwindow -200 -150 200 150\nlight -45 60 -80\n"
+             "vertex 1 0 -50 100\nvertex 2 0 50 100\nvertex 3 0 50 300\nvertex 4 0 -50 300\n"
+             "face 1 1 2 3\nface 2 1 3 4\nobject 1 1 2\neffects smooth=phong\n");
+  lib_open(&L, tpath("sheet.s74"), "smooth=phong");
+  assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+  same_model(&k, &L.m, L.r.map.nface);
+  int v1[3];
+  memcpy(v1, L.m.tri[0].v, sizeof v1);
+  smooth_model_free(&k);
+  made = keep;
+  L.s->view[0] = 600;                                /* the other side */
+  smooth_model_free(&L.m);
+  render_free(&L.r);
+  struct render_opts o;
+  memset(&o, 0, sizeof o);
+  o.core_words = 1u << 20;
+  assert_int_equal(render_prepare(&L.r, L.s, &o, &err), T74_OK);
+  assert_int_equal(smooth_model_build(&L.m, &L.r.map, L.s, &L.e, &err), T74_OK);
+  assert_true(memcmp(v1, L.m.tri[0].v, sizeof v1) != 0);   /* turned the other way */
+  assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+  assert_ptr_equal(keep, made);
+  same_model(&k, &L.m, L.r.map.nface);
+  smooth_model_free(&k);
+  smooth_scene_free(keep);
+  lib_close(&L);
+}
+
+/* An open surface whose faces are given facing away is turned towards the eye a frame at
+   a time, its geometry carried over from the kept part (sign changes and corners
+   swapped): the model, bit for bit, of the same surface given facing the eye; and a
+   later frame of --frames draws the first's picture. */
+static void test_turned_is_given(void **state)
+{
+  (void)state;
+  char *globe = slurp("scenes/sphere.s74", NULL);
+  assert_non_null(globe);
+  FILE *f = fopen(tpath("away.s74"), "w");
+  assert_non_null(f);
+  int swapped = 0;
+  for (char *line = strtok(globe, "\n"); line; line = strtok(NULL, "\n")) {
+    int id, a, b, c;
+    if (sscanf(line, "face %d %d %d %d", &id, &a, &b, &c) == 4) {
+      fprintf(f, "face %d %d %d %d\n", id, a, c, b);
+      swapped++;
+    } else {
+      fprintf(f, "%s\n", line);
+    }
+  }
+  fclose(f);
+  free(globe);
+  assert_int_equal(swapped, 160);
+  /* through the program: a third frame (the scene's part kept from the first) draws the
+     picture a single frame draws, under both engines */
+  const char *engs[] = { "--engine points", "--engine 1974" };
+  for (size_t k = 0; k < 2; k++) {
+    char one[64], three[64];
+    snprintf(one, sizeof one, "%s --frames 1", engs[k]);
+    snprintf(three, sizeof three, "%s --frames 3", engs[k]);
+    struct out a, b;
+    render_with(tpath("away.s74"), NULL, one, &a);
+    render_with(tpath("away.s74"), NULL, three, &b);
+    size_t n = (size_t)a.W * (size_t)a.H;
+    assert_memory_equal(a.ids, b.ids, n * sizeof *a.ids);
+    assert_memory_equal(a.grey, b.grey, n);
+    assert_int_equal(a.tube_len, b.tube_len);
+    assert_memory_equal(a.tube, b.tube, a.tube_len);
+    out_free(&a); out_free(&b);
+  }
+  struct lib given, away;
+  const char *effs[] = { "smooth=phong contour=1.0", "smooth=fixed:0.15", "smooth=prop:0.3" };
+  for (size_t k = 0; k < sizeof effs / sizeof *effs; k++) {
+    lib_open(&given, "scenes/sphere.s74", effs[k]);
+    lib_open(&away, tpath("away.s74"), effs[k]);
+    assert_int_equal(given.m.ntri, 160);
+    same_model(&away.m, &given.m, given.r.map.nface);
+    lib_close(&away);
+    lib_close(&given);
+  }
+}
+
 static void test_continuous_inside(void **state)
 {
   (void)state;
@@ -650,6 +812,8 @@ int main(void)
     cmocka_unit_test(test_orientation),
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
+    cmocka_unit_test(test_kept_scene_part),
+    cmocka_unit_test(test_turned_is_given),
     cmocka_unit_test(test_continuous_inside),
     cmocka_unit_test(test_lambert_is_the_mappers),
     cmocka_unit_test(test_insets),
