@@ -17,11 +17,17 @@
 # (160 .. 640), each at --frames 1 and --frames 3, five scenes under two other effect mixes,
 # comparing the exit status, --stats, the
 # PNG and the ids, grey and points dumps.
+# CMP_FX=1 (issue 19, speed work on the effects) runs instead every shipped scene with the
+# 1974 engine under nine effect mixes, and lprism, the sphere and t1-d with every face's
+# vertices given in the other order (an open surface or a closed one turned from the eye)
+# under five smoothing mixes with both engines, each at --frames 2, comparing the exit
+# status, --stats, the PNG, the ids (and the grey dump where points runs).
 # Usage: tools/cmp_stats.sh OLD_BINARY NEW_BINARY [WORKDIR]; exit 0 when all agree.
 set -u
 old=$1; new=$2; dir=${3:-build/cmp_stats}
 full=${CMP_FULL:-0}
 pts=${CMP_POINTS:-0}
+fx=${CMP_FX:-0}
 mkdir -p build/bench "$dir/old" "$dir/new"
 for n in 1000 10000; do
   [ -f build/bench/g$n.s74 ] || python3 tools/mkgrowth.py $n >build/bench/g$n.s74
@@ -71,15 +77,26 @@ run() {
   if [ -n "$what" ]; then echo "differs ($what ): $b $*"; bad=$((bad + 1)); fi
 }
 
-# one points-engine run of each binary: SCENE TAG EXTRA...
+# one points-engine run of each binary (under CMP_FX, of the engine the extra arguments
+# name): SCENE TAG EXTRA...
 run_points() {
   g=$1; b=$2; shift 2
   for side in old new; do
     eval bin=\$$side
     o="$dir/$side/$b"
     rm -f "$o".json "$o".png "$o".ids "$o".grey "$o".points "$o".rc
-    "$bin" render "$g" --engine points --stats "$o.json" -o "$o.png" --dump ids="$o.ids" \
-      --dump grey="$o.grey" --dump points="$o.points" "$@" >/dev/null 2>&1
+    if [ "$fx" = 1 ]; then
+      # the engine is in the arguments; grey and points dumps only where points runs
+      case " $* " in
+        *" points "*) "$bin" render "$g" --stats "$o.json" -o "$o.png" --dump ids="$o.ids" \
+                        --dump grey="$o.grey" "$@" >/dev/null 2>&1 ;;
+        *) "$bin" render "$g" --stats "$o.json" -o "$o.png" --dump ids="$o.ids" "$@" \
+             >/dev/null 2>&1 ;;
+      esac
+    else
+      "$bin" render "$g" --engine points --stats "$o.json" -o "$o.png" --dump ids="$o.ids" \
+        --dump grey="$o.grey" --dump points="$o.points" "$@" >/dev/null 2>&1
+    fi
     echo $? >"$o.rc"
     sed -E 's/"(host_seconds|frame_seconds)": *[-0-9.eE+]+,? *//g' "$o.json" \
       >"$o.cmp" 2>/dev/null || : >"$o.cmp"
@@ -95,6 +112,41 @@ run_points() {
   done
   if [ -n "$what" ]; then echo "differs ($what ): $b $*"; bad=$((bad + 1)); fi
 }
+
+if [ "$fx" = 1 ]; then
+  # run_points's comparisons, with the engine given in the extra arguments
+  for g in scenes/*.s74; do
+    b=$(basename "$g"); k=0
+    for mix in "" "aa=multiscan" "aa=area" "aa=super" "aa=multiscan smooth=prop:0.15 contour=0.5" \
+               "aa=area smooth=gouraud shadows=on" "aa=super smooth=phong contour=1.0 shadows=on" \
+               "edges=on smooth=fixed:0.15 contour=0.5" "shadows=on aa=multiscan"; do
+      k=$((k + 1))
+      if [ -n "$mix" ]; then
+        run_points "$g" "$b.fx$k" --engine 1974 --core 268435456 --frames 2 --effects "$mix"
+      else
+        run_points "$g" "$b.fx$k" --engine 1974 --core 268435456 --frames 2
+      fi
+    done
+  done
+  mkdir -p "$dir/rev"
+  for g in scenes/lprism.s74 scenes/sphere.s74 scenes/t1-d.s74; do
+    b=$(basename "$g" .s74)
+    awk '$1 == "face" { printf "face %s", $2; for (i = NF; i > 2; i--) printf " %s", $i; print ""; next } { print }' \
+      "$g" >"$dir/rev/$b-rev.s74"
+    k=0
+    for mix in "halftone=3x3 smooth=phong contour=1.0" "halftone=3x3 smooth=prop:0.15 contour=0.5" \
+               "halftone=3x3 smooth=fixed:0.15" "halftone=4x4 smooth=gouraud contour=0.5 shadows=on" \
+               "smooth=fixed:0.5 aa=super"; do
+      k=$((k + 1))
+      for eng in 1974 points; do
+        run_points "$dir/rev/$b-rev.s74" "$b-rev.$eng.$k" --engine $eng --frames 2 --effects "$mix"
+      done
+    done
+  done
+  echo "$count runs, $bad differ"
+  [ "$bad" -eq 0 ]
+  exit
+fi
 
 if [ "$pts" = 1 ]; then
   for n in 1000 10000; do
