@@ -102,13 +102,13 @@ static int face_grey(const struct scene *s, const struct mface *m, const int64_t
   return shade_grey(s, n, c, 1.0, 0);
 }
 
+/* Twice the ring's signed area, exactly: |gcoord| <= GRID_LIMIT = 2^28 (the vertices were
+   checked), so each edge's cross product is below 2^57 in 64 bits; the sum is kept in 128. */
 static wide ring_area2(const struct gpoint *p, int n)
 {
   wide a = 0;
-  for (int k = 0; k < n; k++) {
-    const struct gpoint *u = &p[k], *v = &p[(k + 1) % n];
-    a += (wide)u->x * v->y - (wide)v->x * u->y;
-  }
+  for (int j = n - 1, k = 0; k < n; j = k++)
+    a += p[j].x * p[k].y - p[k].x * p[j].y;
   return a;
 }
 
