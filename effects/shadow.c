@@ -101,12 +101,12 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
     if (sr->grey >= 0 || !s->has_light) continue;
     /* R's box in space (outer ring), one unit wider; and on the grid */
     ld box[2][3];
-    for (int c = 0; c < 3; c++) box[0][c] = box[1][c] = mf->xyz[0][c];
+    for (int c = 0; c < 3; c++) box[0][c] = box[1][c] = mface_coord(map, mf, 0, c);
     gcoord gxlo = mf->pt[0].x, gxhi = gxlo, gylo = mf->pt[0].y, gyhi = gylo;
     for (int v = 1; v < mf->ring_start[1]; v++) {
       for (int c = 0; c < 3; c++) {
-        if (mf->xyz[v][c] < box[0][c]) box[0][c] = mf->xyz[v][c];
-        if (mf->xyz[v][c] > box[1][c]) box[1][c] = mf->xyz[v][c];
+        if (mface_coord(map, mf, v, c) < box[0][c]) box[0][c] = mface_coord(map, mf, v, c);
+        if (mface_coord(map, mf, v, c) > box[1][c]) box[1][c] = mface_coord(map, mf, v, c);
       }
       if (mf->pt[v].x < gxlo) gxlo = mf->pt[v].x;
       if (mf->pt[v].x > gxhi) gxhi = mf->pt[v].x;
@@ -114,7 +114,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
       if (mf->pt[v].y > gyhi) gyhi = mf->pt[v].y;
     }
     for (int c = 0; c < 3; c++) { box[0][c] -= 1; box[1][c] += 1; }
-    if (box[0][2] <= E[2]) box[0][2] = (E[2] + (ld)mf->xyz[0][2]) / 2;   /* stays before the eye */
+    if (box[0][2] <= E[2]) box[0][2] = (E[2] + (ld)mface_coord(map, mf, 0, 2)) / 2;   /* stays before the eye */
     bool any = false;
     for (int k = 0; k < s->nlight && st_ == T74_OK; k++) {
       const struct scene_light *L = &s->light[k];

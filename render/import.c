@@ -1373,6 +1373,12 @@ static int build(const struct mesh *m, const char *path, const struct scene_opts
       goto fail;
   free(buf);
   buf = NULL;
+  /* the faces' table to its size: it doubled as the faces came (100,000 boxes: 166,848
+     faces in room for 262,144, 5.3 MB unused for the whole run) */
+  if (s->nf > 0 && cap > s->nf) {     /* (realloc to 0 bytes may free) */
+    struct scene_face *fit = realloc(s->f, (size_t)s->nf * sizeof *fit);
+    if (fit) s->f = fit;                    /* else the larger table serves as well */
+  }
   if ((st = scene_check_camera(s, 0, 0, err))) goto fail;
   *out = s;
   return T74_OK;

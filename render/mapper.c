@@ -94,38 +94,40 @@ static int face_grey(const struct scene *s, const struct mface *m, const int64_t
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int k = 0; k < 3; k++) n[k] /= len;
   int nv = m->ring_start[1];
-  for (int v = 0; v < nv; v++)
-    for (int k = 0; k < 3; k++) c[k] += m->xyz[v][k];
+  for (int v = 0; v < nv; v++) {
+    const struct scene_vertex *p = &s->v[m->vix[v]];
+    c[0] += p->x; c[1] += p->y; c[2] += p->z;
+  }
   for (int k = 0; k < 3; k++) c[k] /= nv;
   return shade_grey(s, n, c, 1.0, 0);
 }
 
+/* Twice the ring's signed area, exactly: |gcoord| <= GRID_LIMIT = 2^28 (the vertices were
+   checked), so each edge's cross product is below 2^57 in 64 bits; the sum is kept in 128. */
 static wide ring_area2(const struct gpoint *p, int n)
 {
   wide a = 0;
-  for (int k = 0; k < n; k++) {
-    const struct gpoint *u = &p[k], *v = &p[(k + 1) % n];
-    a += (wide)u->x * v->y - (wide)v->x * u->y;
-  }
+  for (int j = n - 1, k = 0; k < n; j = k++)
+    a += p[j].x * p[k].y - p[k].x * p[j].y;
   return a;
 }
 
-static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t (*xyz)[3], int n)
+static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t *vix, int n)
 {
   for (int a = 0, b = n - 1; a < b; a++, b--) {
     struct gpoint tp = p[a]; p[a] = p[b]; p[b] = tp;
     uint32_t ti = id[a]; id[a] = id[b]; id[b] = ti;
-    for (int c = 0; c < 3; c++) { int32_t t = xyz[a][c]; xyz[a][c] = xyz[b][c]; xyz[b][c] = t; }
+    int32_t tv = vix[a]; vix[a] = vix[b]; vix[b] = tv;
   }
 }
 
-/* A face's ring_start, pt, vid, xyz: in the pool (mapper_run), or four allocations (the
+/* A face's ring_start, pt, vid, vix: in the pool (mapper_run), or four allocations (the
    triangles of a split face). */
 static void mface_arrays_free(struct mface *m)
 {
-  if (!m->pooled) { free(m->ring_start); free(m->pt); free(m->vid); free(m->xyz); }
+  if (!m->pooled) { free(m->ring_start); free(m->pt); free(m->vid); free(m->vix); }
   m->pooled = false;
-  m->ring_start = NULL; m->pt = NULL; m->vid = NULL; m->xyz = NULL;
+  m->ring_start = NULL; m->pt = NULL; m->vid = NULL; m->vix = NULL;
 }
 
 /* ---- T-junctions ---------------------------------------------------------------------
@@ -338,6 +340,9 @@ void mapper_keep_free(struct mapper_keep *k)
 {
   tj_forget(k);
   pool_free(&k->pool);
+  free(k->f);
+  k->f = NULL;
+  k->fcap = 0;
 }
 
 void mapper_keep_faces(struct mapped *m, struct mapper_keep *k)
@@ -346,6 +351,14 @@ void mapper_keep_faces(struct mapped *m, struct mapper_keep *k)
   pool_free(&k->pool);
   k->pool = m->pool;
   memset(&m->pool, 0, sizeof m->pool);
+  if (m->f) {                               /* the table, its split triangles' arrays freed */
+    for (int n = 0; n < m->nface; n++) mface_arrays_free(&m->f[n]);
+    free(k->f);
+    k->f = m->f;
+    k->fcap = m->cap;
+    m->f = NULL;
+    m->nface = m->cap = 0;
+  }
 }
 
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
@@ -366,9 +379,18 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   const int64_t f = -Z0;                    /* distance from the eye to the plane, > 0 */
   out->eye[0] = X0; out->eye[1] = Y0; out->eye[2] = Z0;
 
+  out->sv = s->v;
   struct gpoint *proj = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *proj);
-  out->f = calloc((size_t)(s->nf ? s->nf : 1), sizeof *out->f);
-  out->cap = s->nf ? s->nf : 1;
+  if (kt && kt->f && kt->fcap >= s->nf) {   /* the last run's table (issue 19: no calloc a
+                                               frame); each face kept is written whole */
+    out->f = kt->f;
+    out->cap = kt->fcap;
+    kt->f = NULL;
+    kt->fcap = 0;
+  } else {
+    out->f = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *out->f);
+    out->cap = s->nf ? s->nf : 1;
+  }
   if (!proj || !out->f) {
     free(proj);
     return t74_fail(err, T74_EIO, "out of host memory");
@@ -481,20 +503,20 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     int nv = rs[sf->nring] - rs[0];
     /* the face's arrays in one piece of the pool (100,000 faces: 400,000 fewer mallocs
        a frame), the widest elements first so each array stays aligned */
-    size_t bytes = (size_t)nv * (sizeof *m->pt + sizeof *m->xyz + sizeof *m->vid) +
+    size_t bytes = (size_t)nv * (sizeof *m->pt + sizeof *m->vid + sizeof *m->vix) +
                    (size_t)(sf->nring + 1) * sizeof *m->ring_start;
-    _Static_assert(_Alignof(struct gpoint) >= _Alignof(int32_t[3]) &&
-                   _Alignof(int32_t[3]) >= _Alignof(uint32_t) &&
-                   _Alignof(uint32_t) >= _Alignof(int), "mface block layout");
+    _Static_assert(_Alignof(struct gpoint) >= _Alignof(uint32_t) &&
+                   _Alignof(uint32_t) >= _Alignof(int32_t) &&
+                   _Alignof(int32_t) >= _Alignof(int), "mface block layout");
     m->pt = pool_alloc(&out->pool, bytes, _Alignof(struct gpoint));
     if (!m->pt) {
       t74_fail(err, T74_EIO, "out of host memory");
       goto fail_tj;
     }
     m->pooled = true;
-    m->xyz = (int32_t (*)[3])(m->pt + nv);
-    m->vid = (uint32_t *)(m->xyz + nv);
-    m->ring_start = (int *)(m->vid + nv);
+    m->vid = (uint32_t *)(m->pt + nv);
+    m->vix = (int32_t *)(m->vid + nv);
+    m->ring_start = (int *)(m->vix + nv);
     /* copy rings, dropping points that rounding made equal to their predecessor, and
        rings that rounding collapsed; orient outer CCW, holes CW */
     int nr = 0, np = 0;
@@ -507,7 +529,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
         const struct scene_vertex *sv = &s->v[rv[k]];
         m->pt[np] = p;
         m->vid[np] = sv->id;
-        m->xyz[np][0] = sv->x; m->xyz[np][1] = sv->y; m->xyz[np][2] = sv->z;
+        m->vix[np] = rv[k];
         np++;
       }
       while (np - start > 1 && m->pt[np - 1].x == m->pt[start].x &&
@@ -523,7 +545,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
         if (r == 0) keep = false;
         continue;
       }
-      if ((r == 0) != (area > 0)) ring_reverse(m->pt + start, m->vid + start, m->xyz + start, np - start);
+      if ((r == 0) != (area > 0)) ring_reverse(m->pt + start, m->vid + start, m->vix + start, np - start);
       m->ring_start[nr++] = start;
     }
     if (!keep) {
@@ -540,7 +562,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     m->sline = sf->line;
     memcpy(m->plane, pl, sizeof pl);
     m->deye = (int64_t)-pe;
-    m->grey = sf->grey >= 0 ? sf->grey : face_grey(s, m, pl);
+    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey : face_grey(s, m, pl));   /* 0..255 */
 
     if (!cost) { out->nface++; continue; }  /* the points engine: the row unwritten */
     gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;
@@ -563,6 +585,11 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   tj_free(&tj);
   free(proj);
   if (kt && !replay) {
+    if (kt->n > 0 && kt->n < kt->cap) {   /* kept for the whole run: to its size (it
+                                             doubled; 100,000 boxes: 4 MB for 2.3) */
+      int *fit = realloc(kt->ring, (size_t)kt->n * sizeof *fit);
+      if (fit) { kt->ring = fit; kt->cap = kt->n; }
+    }
     kt->s = s;
     kt->cost = tjc;
   }
@@ -803,7 +830,7 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
     free(q); free(left); free(tri);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
-  for (int i = 0; i < n; i++) { q[i][0] = f->xyz[i][u]; q[i][1] = f->xyz[i][v]; }
+  for (int i = 0; i < n; i++) { q[i][0] = mface_coord(m, f, i, u); q[i][1] = mface_coord(m, f, i, v); }
   bool simple = rings_simple((const int64_t (*)[2])q, f->ring_start, f->nring, cost);
   int nl = -1, nt = 0;
   for (int attempt = 0; simple && attempt < SPLIT_ATTEMPTS; attempt++) {
@@ -849,9 +876,9 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
     g.ring_start = malloc(2 * sizeof *g.ring_start);
     g.pt = malloc(3 * sizeof *g.pt);
     g.vid = malloc(3 * sizeof *g.vid);
-    g.xyz = malloc(3 * sizeof *g.xyz);
-    if (!g.ring_start || !g.pt || !g.vid || !g.xyz) {
-      free(g.ring_start); free(g.pt); free(g.vid); free(g.xyz);
+    g.vix = malloc(3 * sizeof *g.vix);
+    if (!g.ring_start || !g.pt || !g.vid || !g.vix) {
+      free(g.ring_start); free(g.pt); free(g.vid); free(g.vix);
       free(tri);
       return t74_fail(err, T74_EIO, "out of host memory");
     }
@@ -860,7 +887,7 @@ int mapper_split_face(struct mapped *m, int k, struct core *core, struct cost *c
     for (int c = 0; c < 3; c++) {
       g.pt[c] = base.pt[tri[t][c]];
       g.vid[c] = base.vid[tri[t][c]];
-      memcpy(g.xyz[c], base.xyz[tri[t][c]], sizeof g.xyz[c]);
+      g.vix[c] = base.vix[tri[t][c]];
     }
     COST_ADD_N(cost, COST_MEM, 12);
     if (t == 0) {

@@ -19,23 +19,24 @@
 #include "render/scene.h"
 #include "render/pool.h"
 
-struct mface {
+struct mface {               /* 96 bytes: the 32-bit fields first, then the 64-bit ones */
   uint32_t id;              /* input face number */
   uint32_t on;              /* `on F`: the number F of the face this pattern lies on, 0 none
                                (a coplanar tie goes to the pattern: render/priority.c) */
   int      sface;           /* index in scene.f */
-  int      grey;            /* 0..255: the face's uniform intensity (grey, or Lambert) */
-  int64_t  plane[4];        /* a, b, c, d of eq. (2), signed so that plane(eye) < 0 */
-  int64_t  deye;            /* |plane(eye)| > 0 */
-  int      nring;
-  int     *ring_start;      /* nring + 1 offsets into pt/vid */
-  struct gpoint *pt;        /* projected, on the grid; outer CCW, holes CW */
-  uint32_t *vid;            /* vertex ids */
-  int32_t (*xyz)[3];        /* the vertices in space (exact), for tests on both planes */
   int      sline;           /* source line of the face statement */
-  bool     pooled;          /* ring_start, pt, vid and xyz live in the mapped scene's pool
+  int      nring;
+  uint8_t  grey;            /* 0..255: the face's uniform intensity (grey, or Lambert) */
+  bool     pooled;          /* ring_start, pt, vid and vix live in the mapped scene's pool
                                (mapper_run's faces), freed by mapper_free; else each is
                                its own allocation (faces split into triangles) */
+  int64_t  plane[4];        /* a, b, c, d of eq. (2), signed so that plane(eye) < 0 */
+  int64_t  deye;            /* |plane(eye)| > 0 */
+  int     *ring_start;      /* nring + 1 offsets into pt/vid/vix */
+  struct gpoint *pt;        /* projected, on the grid; outer CCW, holes CW */
+  uint32_t *vid;            /* vertex ids */
+  int32_t  *vix;            /* the vertices' indices in scene.v: their places in space
+                               (exact), for tests on both planes (mface_coord) */
 };
 
 struct mapped {
@@ -46,9 +47,19 @@ struct mapped {
   int split;                /* faces split into triangles because rounding made them
                                not simple (mapper_split_face) */
   int64_t eye[3];           /* X0, Y0, Z0 (world units) */
+  const struct scene_vertex *sv;   /* the scene's vertices (what vix indexes): the scene
+                               outlives its mapped faces */
   struct pool pool;         /* host blocks holding pooled faces' arrays (issue 12: one
                                malloc a face fewer), freed by mapper_free */
 };
+
+/* Coordinate c (0 x, 1 y, 2 z) of point k of face f in space, exactly: its scene vertex
+   (the Mapper keeps no copy of it). */
+static inline int32_t mface_coord(const struct mapped *m, const struct mface *f, int k, int c)
+{
+  const struct scene_vertex *v = &m->sv[f->vix[k]];
+  return c == 0 ? v->x : c == 1 ? v->y : v->z;
+}
 
 /* The tie between coplanar faces (both engines' rule): is A in front of B? A pattern lying
    on the other face (`on F`; paper 000 §3.2: a pattern is in front of its face) is; else a
@@ -85,8 +96,8 @@ int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
 
 /* What mapper_run keeps from one run to the next of the same scene (issue 19, --frames):
    the T-junctions as it found them, each face's rings with the vertices lying on its
-   edges inserted, and the operations the search was charged; and the host blocks of the
-   last run's faces (mapper_keep_faces). Host memory only. */
+   edges inserted, and the operations the search was charged; and the host blocks and the
+   table of the last run's faces (mapper_keep_faces). Host memory only. */
 struct mapper_keep {
   const struct scene *s;    /* the scene the T-junctions are of; NULL: none found yet */
   int *ring;                /* scene ring g (face f's ring r is g = f's first + r):
@@ -96,6 +107,9 @@ struct mapper_keep {
   struct cost cost;         /* what the search charged (the 1974 program's x-slab scans
                                and exact tests) */
   struct pool pool;         /* blocks for the next run's faces */
+  struct mface *f;          /* the last run's table of faces, for the next run (NULL:
+                               none); every entry a run uses is written whole */
+  int fcap;                 /* entries f has room for */
 };
 
 /* mapper_run with what k keeps: when k holds the T-junctions of s, they are taken from it
@@ -105,7 +119,8 @@ struct mapper_keep {
 int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core,
                     struct cost *cost, struct mapper_keep *k, struct t74_error *err);
 
-/* Before mapper_free: m's blocks to k, for the next mapper_run_kept. */
+/* Before mapper_free: m's blocks and table of faces to k, for the next mapper_run_kept
+   (m is left without faces). */
 void mapper_keep_faces(struct mapped *m, struct mapper_keep *k);
 
 void mapper_keep_free(struct mapper_keep *k);

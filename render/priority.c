@@ -527,21 +527,22 @@ static bool round_in(wide n, wide d, wide lim)
 }
 
 /* plane(V) == 0 for a vertex in space, exactly (|terms| < 2^51) */
-static bool on_plane(const int64_t pl[4], const int32_t v[3])
+static bool on_plane(const int64_t pl[4], const struct scene_vertex *v)
 {
-  return pl[0] * v[0] + pl[1] * v[1] + pl[2] * v[2] + pl[3] == 0;
+  return pl[0] * v->x + pl[1] * v->y + pl[2] * v->z + pl[3] == 0;
 }
 
 /* Grid points of the vertices of A and B that lie on both planes: the projected
    intersection line passes exactly through them (a shared edge, a T-junction). */
-static int common_points(const struct mface *A, const struct mface *B, struct gpoint out[2])
+static int common_points(const struct mapped *m, const struct mface *A, const struct mface *B,
+                         struct gpoint out[2])
 {
   int n = 0;
   const struct mface *F[2] = { A, B };
   for (int s = 0; s < 2; s++) {
     const struct mface *f = F[s], *o = F[1 - s];   /* a product a vertex: charge_faces */
     for (int k = 0; k < f->ring_start[f->nring]; k++) {
-      if (!on_plane(o->plane, f->xyz[k])) continue;
+      if (!on_plane(o->plane, &m->sv[f->vix[k]])) continue;
       struct gpoint p = f->pt[k];
       if (n == 0 || (n == 1 && (p.x != out[0].x || p.y != out[0].y))) out[n++] = p;
       else if (n == 2) {               /* keep the two farthest apart */
@@ -687,7 +688,7 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
   e->fa = fa;
   e->fb = fb;
   e->g = depth_of(pr, A, B);
-  e->ncommon = common_points(A, B, e->common);
+  e->ncommon = common_points(pr->map, A, B, e->common);
   e->line = -1;
   return e;
 }

@@ -620,7 +620,7 @@ static int st_face(struct parse *p)
   s->nf++;                              /* from here scene_free owns the arrays */
   f->id = (uint16_t)id;
   f->line = p->r.line;
-  f->grey = (int)g;
+  f->grey = (int16_t)g;               /* 0..255, or -1 */
   f->on_id = (uint32_t)on;
   f->nring = nstar + 1;
   int n = 0, r = 0;

@@ -120,7 +120,10 @@ static void test_folded_by_rounding(void **state)
 
 /* ---- mapper_split_face on its own ---------------------------------------------------- */
 
-static struct mface mk_face(int nring, const int *rs, int n, const int (*xy)[2])
+/* The face's points in space are vertices of sv (the scene the mapped faces are of):
+   point k is sv[k]. */
+static struct mface mk_face(int nring, const int *rs, int n, const int (*xy)[2],
+                            struct scene_vertex *sv)
 {
   struct mface f;
   memset(&f, 0, sizeof f);
@@ -129,12 +132,14 @@ static struct mface mk_face(int nring, const int *rs, int n, const int (*xy)[2])
   f.ring_start = malloc((size_t)(nring + 1) * sizeof *f.ring_start);
   f.pt = malloc((size_t)n * sizeof *f.pt);
   f.vid = malloc((size_t)n * sizeof *f.vid);
-  f.xyz = malloc((size_t)n * sizeof *f.xyz);
+  f.vix = malloc((size_t)n * sizeof *f.vix);
   assert_non_null(f.ring_start); assert_non_null(f.pt); assert_non_null(f.vid);
-  assert_non_null(f.xyz);
+  assert_non_null(f.vix);
   for (int r = 0; r <= nring; r++) f.ring_start[r] = rs[r];
   for (int k = 0; k < n; k++) {
-    f.xyz[k][0] = xy[k][0]; f.xyz[k][1] = xy[k][1]; f.xyz[k][2] = 100;
+    sv[k].x = xy[k][0]; sv[k].y = xy[k][1]; sv[k].z = 100;
+    sv[k].id = (uint32_t)(k + 1);
+    f.vix[k] = k;
     f.pt[k].x = 256 * xy[k][0]; f.pt[k].y = 256 * xy[k][1];     /* as if seen head-on */
     f.vid[k] = (uint16_t)(k + 1);
   }
@@ -166,7 +171,10 @@ static void test_split_face(void **state)
   m.f = calloc(1, sizeof *m.f);
   assert_non_null(m.f);
   m.cap = 1;
-  m.f[0] = mk_face(2, rs, 8, sq);
+  struct scene_vertex sv[8];
+  memset(sv, 0, sizeof sv);
+  m.sv = sv;
+  m.f[0] = mk_face(2, rs, 8, sq, sv);
   m.nface = 1;
   int ntri = 0;
   assert_int_equal(mapper_split_face(&m, 0, core, &cost, &ntri, &err), T74_OK);
@@ -191,7 +199,8 @@ static void test_split_face(void **state)
   m.f = calloc(1, sizeof *m.f);
   assert_non_null(m.f);
   m.cap = 1;
-  m.f[0] = mk_face(1, rb, 4, bow);
+  m.sv = sv;
+  m.f[0] = mk_face(1, rb, 4, bow, sv);
   m.nface = 1;
   assert_int_equal(mapper_split_face(&m, 0, core, &cost, &ntri, &err), T74_EINPUT);
   assert_int_equal(m.nface, 1);

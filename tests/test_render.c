@@ -1337,13 +1337,18 @@ static void same_mapped(const struct mapped *x, const struct mapped *y)
   for (int f = 0; f < x->nface; f++) {
     const struct mface *a = &x->f[f], *b = &y->f[f];
     assert_int_equal(a->id, b->id);
+    assert_int_equal(a->on, b->on);
+    assert_int_equal(a->sface, b->sface);
+    assert_int_equal(a->sline, b->sline);
     assert_memory_equal(a->plane, b->plane, sizeof a->plane);
+    assert_true(a->deye == b->deye);
     assert_int_equal(a->nring, b->nring);
     assert_memory_equal(a->ring_start, b->ring_start, (size_t)(a->nring + 1) * sizeof *a->ring_start);
     int n = a->ring_start[a->nring];
     assert_memory_equal(a->pt, b->pt, (size_t)n * sizeof *a->pt);
     assert_memory_equal(a->vid, b->vid, (size_t)n * sizeof *a->vid);
-    assert_memory_equal(a->xyz, b->xyz, (size_t)n * sizeof *a->xyz);
+    assert_memory_equal(a->vix, b->vix, (size_t)n * sizeof *a->vix);
+    assert_int_equal(a->grey, b->grey);
   }
 }
 
@@ -1458,6 +1463,52 @@ static void test_points_keep_tjunctions(void **state)
     mapper_keep_free(&keep);
     scene_free(sc);
   }
+  free(tris);
+}
+
+/* Issue 19: the table of faces of one run serves the next (mapper_keep_faces), whatever
+   the scene: each run's faces are those of a fresh mapper_run, face for face, also where
+   the scene before had more faces, other rings and no face dropped (an edge-on face is
+   dropped here, and a face has a hole). */
+static void test_mapper_keep_table(void **state)
+{
+  (void)state;
+  static const char dropping[] =
+    "view 0 0 -1\nwindow -200 -150 200 150\n"
+    "vertex 6 0 0 0\nvertex 7 0 10 0\nvertex 8 0 10 10\nface 3 6 7 8\n"   /* edge-on */
+    "vertex 1 1 -1 511\nvertex 2 3 -3 511\nvertex 5 1000 1000 511\nface 1 1 5 2 grey 7\n"
+    "vertex 10 -100 -100 0\nvertex 11 -100 100 0\nvertex 12 100 100 0\nvertex 13 100 -100 0\n"
+    "vertex 14 -10 -10 0\nvertex 15 10 -10 0\nvertex 16 10 10 0\nvertex 17 -10 10 0\n"
+    "face 4 10 11 12 13 * 14 15 16 17\n";
+  char *tris = tris_scene(48, 7);
+  struct scene *sc[3] = { load_scene(tris), load_scene(dropping), load_scene(TJUNCTION) };
+  struct mapper_keep keep;
+  memset(&keep, 0, sizeof keep);
+  struct t74_error err = { 0, "" };
+  struct core *c0 = core_new(1u << 20), *c1 = core_new(1u << 20);
+  assert_non_null(c0);
+  assert_non_null(c1);
+  const struct mface *table = NULL;
+  for (int run = 0; run < 5; run++) {
+    const struct scene *s = sc[run % 3];
+    core_release(c0, 0);
+    core_release(c1, 0);
+    struct mapped fresh, kept;
+    assert_int_equal(mapper_run(s, &fresh, c0, NULL, &err), T74_OK);
+    assert_int_equal(mapper_run_kept(s, &kept, c1, NULL, &keep, &err), T74_OK);
+    if (run > 0) assert_ptr_equal(kept.f, table);     /* the last run's, not a new one */
+    same_mapped(&fresh, &kept);
+    if (run % 3 == 1) assert_int_equal(kept.dropped, 1);
+    table = kept.f;
+    mapper_keep_faces(&kept, &keep);
+    assert_null(kept.f);
+    mapper_free(&kept);
+    mapper_free(&fresh);
+  }
+  mapper_keep_free(&keep);
+  core_free(c0);
+  core_free(c1);
+  for (int k = 0; k < 3; k++) scene_free(sc[k]);
   free(tris);
 }
 
@@ -1625,6 +1676,7 @@ int main(void)
     cmocka_unit_test(test_keep_tjunctions),
     cmocka_unit_test(test_points_keep_tjunctions),
     cmocka_unit_test(test_mapper_uncounted),
+    cmocka_unit_test(test_mapper_keep_table),
     cmocka_unit_test(test_piece_parents),
     cmocka_unit_test(test_dblock_matches_definition),
   };
