@@ -393,17 +393,19 @@ static void emit_counts(struct pipeline *p, uint64_t n, uint64_t levels)
 
 /* The effects' points i .. of a row, without a background picture, whose greys' levels are
 ** 0 .. cc, up to the first other one: their ids, cells and levels as emit_point gives
-** them; its index, or n. (A loop of its own: few values live.) */
-static int greys_run(const struct mface *mf, const int *face, const uint8_t *greys, int i,
+** them; its index, or n. id_of: each face's id at its index + 1 (0: none); mask_of: each
+** grey's cell, where its level is 0 .. cc. (A loop of its own: few values live.) */
+static int greys_run(const uint32_t *id_of, const int *face, const uint8_t *greys, int i,
                      int n, const uint8_t *level_of, const uint16_t *mask_of, int cc,
                      uint32_t *ids, uint16_t *masks, uint64_t *levels)
 {
   uint64_t sum = 0;
   for (; i < n; i++) {
-    int level = level_of[greys[i]];
+    const unsigned g = greys[i];
+    const int level = level_of[g];
     if (level > cc) break;
-    ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
-    masks[i] = mask_of[level];
+    ids[i] = id_of[face[i] + 1];
+    masks[i] = mask_of[g];
     sum += (uint64_t)level;
   }
   *levels += sum;
@@ -441,6 +443,12 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
     const int cc = p->cell * p->cell;
     uint64_t levels = 0;
     const struct mface *mf = p->map->f;
+    uint16_t gmask[256];                    /* each grey's cell, where its level is 0 .. cc */
+    for (int v = 0; v < 256; v++) gmask[v] = p->level[v] <= cc ? p->mask[p->level[v]] : 0;
+    uint32_t *id_of = p->scan ? NULL : malloc(((size_t)p->map->nface + 1) * sizeof *id_of);
+    if (!p->scan && !id_of) st = t74_fail(err, T74_EIO, "out of host memory");
+    for (int k = 0; id_of && k < p->map->nface; k++) id_of[k + 1] = mf[k].id;
+    if (id_of) id_of[0] = 0;
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
       row_start(p, &rc, j);
       const size_t at0 = (size_t)j * (size_t)p->W;
@@ -449,7 +457,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       uint32_t *ids = p->ids + at0;
       for (int i = 0; st == T74_OK && i < p->W; i++) {
         if (!p->scan) {                     /* no background: the greys' levels */
-          i = greys_run(mf, face, greys, i, p->W, p->level, p->mask, cc, ids, rc.masks, &levels);
+          i = greys_run(id_of, face, greys, i, p->W, p->level, gmask, cc, ids, rc.masks, &levels);
           if (i == p->W) break;
         }
         ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
@@ -461,6 +469,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       if (st == T74_OK) st = row_end(p, &rc);
     }
     if (st == T74_OK) emit_counts(p, (uint64_t)p->W * (uint64_t)p->H, levels);
+    free(id_of);
   } else {
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
       for (int i = 0; st == T74_OK && i < p->W; i++) {

@@ -260,6 +260,25 @@ static int shade_face_at(const struct fx_model *m, int face, const struct face_s
   return shade_grey_lit(&m->lights, n, X, refl, blocked);
 }
 
+/* shade_face_at, uncounted, at two neighbouring points (px[0], py) and (px[1], py) of a
+   face smoothed by Phong's normals without a texture (fs: face_shade_of's): the same two
+   greys, their chains side by side (smooth_grey_phong_pair). */
+static void shade_phong_pair(const struct fx_model *m, int face, const struct face_shade *fs,
+                             const unsigned blocked[2], const double px[2], double py,
+                             uint8_t grey[2])
+{
+  double X[2][3];
+  unsigned b[2];
+  int g[2];
+  for (int p = 0; p < 2; p++) {
+    b[p] = fs->lit ? blocked[p] : 0;       /* a face of its own grey is not lit */
+    space_point(m, face, px[p], py, X[p]);
+  }
+  smooth_grey_phong_pair(&m->sm, fs->tri, (const double (*)[3])X, 1.0, b, &m->lights, g);
+  grey[0] = (uint8_t)g[0];
+  grey[1] = (uint8_t)g[1];
+}
+
 /* The background's grey at point (i, j) (fx_shade of no face). */
 static int shade_none(const struct fx_model *m, int i, int j)
 {
@@ -726,6 +745,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     uint8_t *gr = f->grey + at0;
     int last = -1;                          /* the face fs holds */
     struct face_shade fs;
+    bool pair = false;                      /* its points go two at a time */
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
       if (face < 0) {                       /* a run of points that see no face */
@@ -736,7 +756,18 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         i = e - 1;
         continue;
       }
-      if (face != last) { face_shade_of(m, face, &fs); last = face; }
+      if (face != last) {
+        face_shade_of(m, face, &fs);
+        last = face;
+        pair = !pc && fs.tri >= 0 && !fs.t && m->e->smooth == EFFECTS_SMOOTH_PHONG;
+      }
+      if (pair && i + 1 < W && fr[i + 1] == face) {   /* two points of it at once */
+        shade_phong_pair(m, face, &fs, blocked + i, px + i, py[j], gr + i);
+        pts += 2;
+        band += 2;
+        i++;
+        continue;
+      }
       gr[i] = (uint8_t)shade_face_at(m, face, &fs, blocked[i], px[i], py[j], pc, &region);
       if (region < 0) continue;
       pts++;

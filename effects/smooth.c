@@ -563,38 +563,53 @@ static void cost_point(struct cost *c, bool gouraud, int region)
   COST_ADD_N(c, COST_ADD, 4);
 }
 
-/* Barycentric coordinates of space point X (on the triangle's plane) in the triangle,
-   clamped into it. */
-static void bary(const struct smooth_tri *tr, const double X[3], double l[3])
+/* Barycentric coordinates of space points X[p] (on the triangle's plane), p < n <= 2, in
+   the triangle, clamped into it. Each point's are worked out alone, the same operations in
+   the same order for n 1 or 2: two points side by side only let their chains of divides
+   overlap in the processor. */
+static inline void bary_lanes(const struct smooth_tri *tr, int n, const double (*X)[3], double (*l)[3])
 {
   const double (*V)[2] = tr->bV;
-  double x = X[tr->bu], y = X[tr->bw], sum = 0, tot = tr->btot;
+  const double tot = tr->btot;
+  double x[2], y[2], sum[2] = { 0, 0 };
+  for (int p = 0; p < n; p++) { x[p] = X[p][tr->bu]; y[p] = X[p][tr->bw]; }
   for (int k = 0; k < 3; k++) {
     const double *a = V[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* d: b - a, made once */
-    double ar = d[0] * (y - a[1]) - (x - a[0]) * d[1];
-    l[k] = tot != 0 ? ar / tot : 1.0 / 3;
-    if (!(l[k] > 0)) l[k] = 0;
-    sum += l[k];
+    for (int p = 0; p < n; p++) {
+      double ar = d[0] * (y[p] - a[1]) - (x[p] - a[0]) * d[1];
+      l[p][k] = tot != 0 ? ar / tot : 1.0 / 3;
+      if (!(l[p][k] > 0)) l[p][k] = 0;
+      sum[p] += l[p][k];
+    }
   }
-  if (!(sum > 0)) l[0] = l[1] = l[2] = 1.0 / 3;
-  else if (sum != 1)                      /* x / 1 is x: the divides only when they change it */
-    for (int k = 0; k < 3; k++) l[k] /= sum;
+  for (int p = 0; p < n; p++) {
+    if (!(sum[p] > 0)) l[p][0] = l[p][1] = l[p][2] = 1.0 / 3;
+    else if (sum[p] != 1)                 /* x / 1 is x: the divides only when they change it */
+      for (int k = 0; k < 3; k++) l[p][k] /= sum[p];
+  }
 }
 
-/* smooth_grey_at's steps under smooth=phong, from the barycentric coordinates l */
-static int grey_phong(const struct smooth_tri *tr, const double l[3], const double X[3],
-                      double refl, unsigned blocked, const struct shade_lights *lights,
-                      struct cost *cost)
+/* smooth_grey_at's steps under smooth=phong for points p < n <= 2 of the triangle, from
+   their barycentric coordinates l[p] (each point's alone, as bary_lanes) */
+static inline void grey_phong_lanes(const struct smooth_tri *tr, int n, const double (*l)[3],
+                             const double (*X)[3], double refl, const unsigned *blocked,
+                             const struct shade_lights *lights, struct cost *cost, int *grey)
 {
-  double nrm[3];
-  double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+  double nrm[2][3], len[2];
+  const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   for (int c = 0; c < 3; c++)
-    nrm[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
-  unit(nrm);
-  for (int c = 0; c < 3; c++) nrm[c] *= sgn;
-  int grey = shade_grey_lit(lights, nrm, X, refl, blocked);
-  if (cost) cost_point(cost, false, 1);
-  return grey < 0 ? 0 : grey > 255 ? 255 : grey;
+    for (int p = 0; p < n; p++)
+      nrm[p][c] = l[p][0] * tr->cn[0][c] + l[p][1] * tr->cn[1][c] + l[p][2] * tr->cn[2][c];
+  for (int p = 0; p < n; p++)                /* unit() */
+    len[p] = sqrt(nrm[p][0] * nrm[p][0] + nrm[p][1] * nrm[p][1] + nrm[p][2] * nrm[p][2]);
+  for (int p = 0; p < n; p++)
+    if (len[p] > 0) for (int c = 0; c < 3; c++) nrm[p][c] /= len[p];
+  for (int p = 0; p < n; p++) {
+    for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
+    int g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
+    if (cost) cost_point(cost, false, 1);
+    grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
+  }
 }
 
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
@@ -603,11 +618,14 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
                    int *region_out)
 {
   const struct smooth_tri *tr = &m->tri[t];
-  double l[3], nrm[3];
-  bary(tr, X, l);
+  double lb[1][3], nrm[3], *l = lb[0];
+  bary_lanes(tr, 1, (const double (*)[3])X, lb);
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
     if (region_out) *region_out = 1;
-    return grey_phong(tr, l, X, refl, blocked, lights, cost);
+    int grey;
+    grey_phong_lanes(tr, 1, (const double (*)[3])lb, (const double (*)[3])X, refl, &blocked,
+                     lights, cost, &grey);
+    return grey;
   }
   double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   int region = 1, grey;
@@ -639,6 +657,16 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
   if (cost) cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
   if (region_out) *region_out = region;
   return grey < 0 ? 0 : grey > 255 ? 255 : grey;
+}
+
+void smooth_grey_phong_pair(const struct smooth_model *m, int t, const double X[2][3], double refl,
+                            const unsigned blocked[2], const struct shade_lights *lights,
+                            int grey[2])
+{
+  const struct smooth_tri *tr = &m->tri[t];
+  double l[2][3];
+  bary_lanes(tr, 2, X, l);
+  grey_phong_lanes(tr, 2, (const double (*)[3])l, X, refl, blocked, lights, NULL, grey);
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,

@@ -134,6 +134,13 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
                    unsigned blocked, const struct shade_lights *lights, struct cost *cost,
                    int *region);
 
+/* smooth_grey_at under smooth=phong, uncounted, at two points X[0] and X[1] of triangle t
+   (their lights blocked[0] and blocked[1]): the same two greys, bit for bit, worked out
+   side by side so that the processor overlaps their chains of divides (issue 19). */
+void smooth_grey_phong_pair(const struct smooth_model *m, int t, const double X[2][3], double refl,
+                            const unsigned blocked[2], const struct shade_lights *lights,
+                            int grey[2]);
+
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);
 

@@ -33,6 +33,7 @@
 #include "render/effects.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "render/shade.h"
 #include "effects/smooth.h"
 #include "tests/ref/testkit.h"
 
@@ -529,6 +530,55 @@ static void test_no_seams(void **state)
     }
 }
 
+/* Two points shaded side by side (smooth_grey_phong_pair, the points engine's path) give
+   the greys each gives alone (smooth_grey_at), bit for bit: points inside and outside
+   each triangle of the globe (the clamps), a texture's reflectance, one light blocked at
+   one of the two. */
+static void test_phong_pair_is_single(void **state)
+{
+  (void)state;
+  struct lib L;
+  lib_open(&L, "scenes/sphere.s74", "smooth=phong");
+  struct shade_lights lights;
+  shade_lights_init(&lights, L.s);
+  const double w[][3] = { { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, { 0.7, 0.2, 0.1 }, { 1, 0, 0 },
+                          { 0.5, 0.5, 0 }, { 1.2, -0.1, -0.1 }, { -0.3, 0.6, 0.7 },
+                          { 0.05, 0.9, 0.05 }, { 2, -1, 0 } };
+  const int nw = (int)(sizeof w / sizeof *w);
+  int differ = 0, greys[256] = { 0 };
+  for (int t = 0; t < L.m.ntri; t++) {
+    const struct smooth_tri *tr = &L.m.tri[t];
+    double P[3][3];
+    for (int k = 0; k < 3; k++) {
+      const struct scene_vertex *v = &L.s->v[tr->v[k]];
+      P[k][0] = v->x; P[k][1] = v->y; P[k][2] = v->z;
+    }
+    for (int a = 0; a < nw; a++) {
+      const int b = (a + 1 + t) % nw;
+      double X[2][3];
+      for (int c = 0; c < 3; c++) {
+        X[0][c] = w[a][0] * P[0][c] + w[a][1] * P[1][c] + w[a][2] * P[2][c];
+        X[1][c] = w[b][0] * P[0][c] + w[b][1] * P[1][c] + w[b][2] * P[2][c];
+      }
+      const double refl = a % 2 ? 1.0 : 0.6;
+      const unsigned blocked[2] = { 0, (unsigned)(t % 3 == 0) };
+      int pair[2], one[2];
+      smooth_grey_phong_pair(&L.m, t, X, refl, blocked, &lights, pair);
+      for (int p = 0; p < 2; p++) {
+        one[p] = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[p], refl, blocked[p], &lights,
+                                NULL, NULL);
+        differ += pair[p] != one[p];
+        greys[one[p] & 255] = 1;
+      }
+    }
+  }
+  assert_int_equal(differ, 0);
+  int distinct = 0;                       /* the greys vary: the test can tell lanes apart */
+  for (int g = 0; g < 256; g++) distinct += greys[g];
+  assert_true(distinct > 20);
+  lib_close(&L);
+}
+
 /* Two models the same, bit for bit (the kept scene part against a fresh build). */
 static void same_model(const struct smooth_model *a, const struct smooth_model *b, int nface)
 {
@@ -812,6 +862,7 @@ int main(void)
     cmocka_unit_test(test_orientation),
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
+    cmocka_unit_test(test_phong_pair_is_single),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
     cmocka_unit_test(test_continuous_inside),
