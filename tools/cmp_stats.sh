@@ -41,6 +41,29 @@ if [ "$full" = 1 ]; then
   done
 fi
 
+# after one side's run: its exit status, and its --stats without the host timings
+side_done() {
+  echo "$1" >"$2.rc"
+  sed -E 's/"(host_seconds|frame_seconds)": *[-0-9.eE+]+,? *//g' "$2.json" \
+    >"$2.cmp" 2>/dev/null || : >"$2.cmp"
+}
+
+# the two sides of run TAG compared: status, stats and the outputs EXT... either side wrote
+judge() {
+  b=$1; shift
+  count=$((count + 1))
+  what=""
+  cmp -s "$dir/old/$b.rc" "$dir/new/$b.rc" || what="$what status"
+  if [ "$(cat "$dir/old/$b.rc")" = 0 ] && [ ! -s "$dir/old/$b.cmp" ]; then what="$what no-stats"; fi
+  cmp -s "$dir/old/$b.cmp" "$dir/new/$b.cmp" || what="$what stats"
+  for e in "$@"; do
+    if [ -f "$dir/old/$b.$e" ] || [ -f "$dir/new/$b.$e" ]; then
+      cmp -s "$dir/old/$b.$e" "$dir/new/$b.$e" || what="$what $e"
+    fi
+  done
+  [ -z "$what" ] || { echo "differs ($what ): $b $judged"; bad=$((bad + 1)); }
+}
+
 # one run of each binary: SCENE TAG EXTRA...; the outputs compared are listed in $dir/*/TAG.*
 bad=0; count=0
 run() {
@@ -58,23 +81,10 @@ run() {
     else
       "$bin" render "$g" --stats "$o.json" -o "$o.png" "$@" >/dev/null 2>&1
     fi
-    echo $? >"$o.rc"
-    sed -E 's/"(host_seconds|frame_seconds)": *[-0-9.eE+]+,? *//g' "$o.json" \
-      >"$o.cmp" 2>/dev/null || : >"$o.cmp"
+    side_done $? "$o"
   done
-  count=$((count + 1))
-  what=""
-  cmp -s "$dir/old/$b.rc" "$dir/new/$b.rc" || what="$what status"
-  if [ "$(cat "$dir/old/$b.rc")" = 0 ] && [ ! -s "$dir/old/$b.cmp" ]; then what="$what no-stats"; fi
-  cmp -s "$dir/old/$b.cmp" "$dir/new/$b.cmp" || what="$what stats"
-  if [ "$full" = 1 ]; then
-    for e in png ids tables; do
-      if [ -f "$dir/old/$b.$e" ] || [ -f "$dir/new/$b.$e" ]; then
-        cmp -s "$dir/old/$b.$e" "$dir/new/$b.$e" || what="$what $e"
-      fi
-    done
-  fi
-  if [ -n "$what" ]; then echo "differs ($what ): $b $*"; bad=$((bad + 1)); fi
+  judged="$*"
+  if [ "$full" = 1 ]; then judge "$b" png ids tables; else judge "$b"; fi
 }
 
 # one points-engine run of each binary (under CMP_FX, of the engine the extra arguments
@@ -97,20 +107,10 @@ run_points() {
       "$bin" render "$g" --engine points --stats "$o.json" -o "$o.png" --dump ids="$o.ids" \
         --dump grey="$o.grey" --dump points="$o.points" "$@" >/dev/null 2>&1
     fi
-    echo $? >"$o.rc"
-    sed -E 's/"(host_seconds|frame_seconds)": *[-0-9.eE+]+,? *//g' "$o.json" \
-      >"$o.cmp" 2>/dev/null || : >"$o.cmp"
+    side_done $? "$o"
   done
-  count=$((count + 1))
-  what=""
-  cmp -s "$dir/old/$b.rc" "$dir/new/$b.rc" || what="$what status"
-  if [ "$(cat "$dir/old/$b.rc")" = 0 ] && [ ! -s "$dir/old/$b.cmp" ]; then what="$what no-stats"; fi
-  for e in cmp png ids grey points; do
-    if [ -f "$dir/old/$b.$e" ] || [ -f "$dir/new/$b.$e" ]; then
-      cmp -s "$dir/old/$b.$e" "$dir/new/$b.$e" || what="$what $e"
-    fi
-  done
-  if [ -n "$what" ]; then echo "differs ($what ): $b $*"; bad=$((bad + 1)); fi
+  judged="$*"
+  judge "$b" png ids grey points
 }
 
 if [ "$fx" = 1 ]; then
