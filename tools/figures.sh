@@ -79,7 +79,7 @@ effects)
       t=$(f hitac10_seconds); w=$(f core_words_used)
       [ "$e" = aa=none ] && echo "$t" >"$tmp/plain-$s"
       [ "$w" -gt "$most" ] && most=$w
-      awk -v t="$t" -v p="$(cat "$tmp/plain-$s")" 'BEGIN { printf " %.2f (%.2f) |", t, t / p }'
+      awk -v t="$t" -v p="$(cat "$tmp/plain-$s")" 'BEGIN { printf " %.3f (%.2f) |", t, t / p }'
     done
     printf ' %s | %s |\n' "$most" "$([ "$most" -le 16384 ] && echo yes || echo no)"
   done <<EOF
