@@ -95,6 +95,7 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
   const struct vis_grid *g = eng->g;
   m->eng = eng; m->map = map; m->s = s; m->e = e; m->g = g; m->bg = bg;
   m->count = eng->r != NULL;
+  struct cost *counted = m->count ? cost : NULL;   /* the machine's work: the 1974 engine's */
   m->W = g->W; m->H = g->H;
   int rc = T74_OK;
   if (e->smooth != EFFECTS_SMOOTH_NONE || e->contour_on) {
@@ -105,12 +106,11 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
       fprintf(stderr, "%s:%d: warning: smooth=/contour=: no face is a triangle of an object "
               "shaded from `light`; the picture stays flat\n", s->file ? s->file : "scene",
               s->effects_line);
-    if ((rc = smooth_tables(eng->core, &m->sm, eng->r ? cost : NULL, err)) != T74_OK) return rc;
+    if ((rc = smooth_tables(eng->core, &m->sm, counted, err)) != T74_OK) return rc;
     smooth_count(&m->sm, st);
   }
   if (e->contour_on && m->smooth) {
-    rc = contour_build(map, eng->core, s, e, &m->sm, &m->cuts, &m->corners, st,
-                       eng->r ? cost : NULL, err);
+    rc = contour_build(map, eng->core, s, e, &m->sm, &m->cuts, &m->corners, st, counted, err);
     if (rc != T74_OK) return rc;
     for (int k = 0; k < m->cuts.n; k++) {
       int o = m->cuts.p[k].owner, seen = 0;
