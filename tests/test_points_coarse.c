@@ -161,13 +161,8 @@ static void test_scenegen_families(void **state)
   int n = xd_seeds() / 2 > 0 ? xd_seeds() / 2 : 1;
   for (int fam = 0; fam < SG_NFAMILIES; fam++)
     for (int seed = 1; seed <= n; seed++) {
-      ref_scene r;
-      memset(&r, 0, sizeof r);
-      char err[256];
-      assert_int_equal(sg_generate((sg_family)fam, (uint64_t)seed, &r, err, sizeof err), 0);
       struct xr_scene s;
-      assert_int_equal(xd_from_scenegen(&r, &s), 0);
-      sg_free(&r);
+      assert_int_equal(xd_scenegen((sg_family)fam, (uint64_t)seed, &s), 0);
       char name[64];
       snprintf(name, sizeof name, "%s-%d", sg_family_name((sg_family)fam), seed);
       bad += judge_xr(&s, seed % 2 ? 3 : 4, name, (uint64_t)seed, &t);

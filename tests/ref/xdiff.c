@@ -94,9 +94,8 @@ int xd_check_ids(struct xr_scene *s, int cell, int store, struct xd_result *res,
   return 0;
 }
 
-int xd_from_scenegen(const ref_scene *r, struct xr_scene *s)
+static int from_scenegen(const ref_scene *r, struct xr_scene *s)
 {
-  memset(s, 0, sizeof *s);
   s->eye[0] = (int32_t)r->x0; s->eye[1] = (int32_t)r->y0; s->eye[2] = (int32_t)r->z0;
   s->win[0] = (int32_t)r->xl; s->win[1] = (int32_t)r->yb;
   s->win[2] = (int32_t)r->xr; s->win[3] = (int32_t)r->yt;
@@ -114,6 +113,18 @@ int xd_from_scenegen(const ref_scene *r, struct xr_scene *s)
     }
   }
   return 0;
+}
+
+int xd_scenegen(sg_family fam, uint64_t seed, struct xr_scene *s)
+{
+  memset(s, 0, sizeof *s);
+  ref_scene r;
+  memset(&r, 0, sizeof r);
+  char err[256];
+  if (sg_generate(fam, seed, &r, err, sizeof err) != 0) return -1;
+  int rc = from_scenegen(&r, s);
+  sg_free(&r);
+  return rc;
 }
 
 int xd_load(struct xr_scene *s, struct scene **out, struct t74_error *err)

@@ -41,9 +41,10 @@ int xd_check_ids(struct xr_scene *s, int cell, int store, struct xd_result *res,
 /* Write s as .s74 to path. 0 or -1. */
 int xd_save(struct xr_scene *s, const char *path);
 
-/* A scene of the cross-check's families (tests/ref/scenegen.h) as the reference takes it:
-   eye, window, vertices, faces with their greys and holes; 0, or -1 when out of memory. */
-int xd_from_scenegen(const ref_scene *r, struct xr_scene *s);
+/* Scene `seed` of the cross-check's family fam (tests/ref/scenegen.h) as the reference
+   takes it: eye, window, vertices, faces with their greys and holes; 0, or -1 when it
+   could not be generated or memory ran out. */
+int xd_scenegen(sg_family fam, uint64_t seed, struct xr_scene *s);
 
 /* s written to a temporary .s74 and read back as a user's file would be (the file is gone
    on return): scene_load's status, with *out and err as it leaves them; -1 (err says why)
