@@ -406,27 +406,34 @@ static void test_nothing_to_smooth_warns(void **state)
   out_free(&flat); out_free(&o);
 }
 
-static void test_orientation(void **state)
+/* Scene file src written to dst with the triangles whose id is a multiple of `every`
+   given the other way round (corners b and c swapped); how many were turned. */
+static int write_turned(const char *src, const char *dst, int every)
 {
-  (void)state;
-  /* row h's cube with every second triangle written the other way round */
-  char *cube = slurp("scenes/t1-h.s74", NULL);
-  assert_non_null(cube);
-  FILE *f = fopen(tpath("mixed.s74"), "w");
+  char *text = slurp(src, NULL);
+  assert_non_null(text);
+  FILE *f = fopen(dst, "w");
   assert_non_null(f);
-  int swapped = 0;
-  for (char *line = strtok(cube, "\n"); line; line = strtok(NULL, "\n")) {
+  int turned = 0;
+  for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
     int id, a, b, c;
-    if (sscanf(line, "face %d %d %d %d", &id, &a, &b, &c) == 4 && id % 2 == 0) {
+    if (sscanf(line, "face %d %d %d %d", &id, &a, &b, &c) == 4 && id % every == 0) {
       fprintf(f, "face %d %d %d %d\n", id, a, c, b);
-      swapped++;
+      turned++;
     } else {
       fprintf(f, "%s\n", line);
     }
   }
-  fclose(f);
-  free(cube);
-  assert_int_equal(swapped, 6);
+  assert_int_equal(fclose(f), 0);
+  free(text);
+  return turned;
+}
+
+static void test_orientation(void **state)
+{
+  (void)state;
+  /* row h's cube with every second triangle written the other way round */
+  assert_int_equal(write_turned("scenes/t1-h.s74", tpath("mixed.s74"), 2), 6);
   struct out given, mixed;
   render("scenes/t1-h.s74", NULL, &given);
   render(tpath("mixed.s74"), NULL, &mixed);
@@ -687,23 +694,7 @@ static void test_kept_scene_part(void **state)
 static void test_turned_is_given(void **state)
 {
   (void)state;
-  char *globe = slurp("scenes/sphere.s74", NULL);
-  assert_non_null(globe);
-  FILE *f = fopen(tpath("away.s74"), "w");
-  assert_non_null(f);
-  int swapped = 0;
-  for (char *line = strtok(globe, "\n"); line; line = strtok(NULL, "\n")) {
-    int id, a, b, c;
-    if (sscanf(line, "face %d %d %d %d", &id, &a, &b, &c) == 4) {
-      fprintf(f, "face %d %d %d %d\n", id, a, c, b);
-      swapped++;
-    } else {
-      fprintf(f, "%s\n", line);
-    }
-  }
-  fclose(f);
-  free(globe);
-  assert_int_equal(swapped, 160);
+  assert_int_equal(write_turned("scenes/sphere.s74", tpath("away.s74"), 1), 160);
   /* through the program: a third frame (the scene's part kept from the first) draws the
      picture a single frame draws, under both engines */
   const char *engs[] = { "--engine points", "--engine 1974" };
