@@ -260,23 +260,22 @@ static int shade_face_at(const struct fx_model *m, int face, const struct face_s
   return shade_grey_lit(&m->lights, n, X, refl, blocked);
 }
 
-/* shade_face_at, uncounted, at two neighbouring points (px[0], py) and (px[1], py) of a
-   face smoothed by Phong's normals without a texture (fs: face_shade_of's): the same two
-   greys, their chains side by side (smooth_grey_phong_pair). */
-static void shade_phong_pair(const struct fx_model *m, int face, const struct face_shade *fs,
-                             const unsigned blocked[2], const double px[2], double py,
-                             uint8_t grey[2])
+/* shade_face_at, uncounted, at n <= SMOOTH_RUN neighbouring points (px[p], py) of a face
+   smoothed by Phong's normals without a texture (fs: face_shade_of's): the same greys,
+   worked out together (smooth_grey_phong_run). */
+static void shade_phong_run(const struct fx_model *m, int face, const struct face_shade *fs,
+                            int n, const unsigned *blocked, const double *px, double py,
+                            uint8_t *grey)
 {
-  double X[2][3];
-  unsigned b[2];
-  int g[2];
-  for (int p = 0; p < 2; p++) {
+  double X[SMOOTH_RUN][3];
+  unsigned b[SMOOTH_RUN] = { 0 };
+  int g[SMOOTH_RUN];
+  for (int p = 0; p < n; p++) {
     b[p] = fs->lit ? blocked[p] : 0;       /* a face of its own grey is not lit */
     space_point(m, face, px[p], py, X[p]);
   }
-  smooth_grey_phong_pair(&m->sm, fs->tri, (const double (*)[3])X, 1.0, b, &m->lights, g);
-  grey[0] = (uint8_t)g[0];
-  grey[1] = (uint8_t)g[1];
+  smooth_grey_phong_run(&m->sm, fs->tri, n, (const double (*)[3])X, 1.0, b, &m->lights, g);
+  for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
 /* The background's grey at point (i, j) (fx_shade of no face). */
@@ -745,7 +744,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     uint8_t *gr = f->grey + at0;
     int last = -1;                          /* the face fs holds */
     struct face_shade fs;
-    bool pair = false;                      /* its points go two at a time */
+    bool run = false;                       /* its points go in runs (Phong's greys) */
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
       if (face < 0) {                       /* a run of points that see no face */
@@ -759,13 +758,15 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       if (face != last) {
         face_shade_of(m, face, &fs);
         last = face;
-        pair = !pc && fs.tri >= 0 && !fs.t && m->e->smooth == EFFECTS_SMOOTH_PHONG;
+        run = !pc && fs.tri >= 0 && !fs.t && m->e->smooth == EFFECTS_SMOOTH_PHONG;
       }
-      if (pair && i + 1 < W && fr[i + 1] == face) {   /* two points of it at once */
-        shade_phong_pair(m, face, &fs, blocked + i, px + i, py[j], gr + i);
-        pts += 2;
-        band += 2;
-        i++;
+      if (run) {                            /* up to SMOOTH_RUN points of it at once */
+        int e = i + 1;
+        while (e < W && e - i < SMOOTH_RUN && fr[e] == face) e++;
+        shade_phong_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
+        pts += e - i;
+        band += e - i;                      /* smooth_grey_at's region under Phong */
+        i = e - 1;
         continue;
       }
       gr[i] = (uint8_t)shade_face_at(m, face, &fs, blocked[i], px[i], py[j], pc, &region);

@@ -563,25 +563,36 @@ static void cost_point(struct cost *c, bool gouraud, int region)
   COST_ADD_N(c, COST_ADD, 4);
 }
 
-/* Barycentric coordinates of space points X[p] (on the triangle's plane), p < n <= 2, in
-   the triangle, clamped into it. Each point's are worked out alone, the same operations in
-   the same order for n 1 or 2: two points side by side only let their chains of divides
-   overlap in the processor. */
-static inline void bary_lanes(const struct smooth_tri *tr, int n, const double (*X)[3], double (*l)[3])
+/* The areas behind a triangle's barycentric coordinates at space points X[p] (on its
+   plane), p < n <= 2: ar[p][k] is twice the signed area of side k's triangle with the
+   point on the projection axes bu, bw, so that l[k] = ar[p][k] / btot. Each point's are
+   worked out alone, the same operations in the same order for n 1 or 2. */
+static inline void bary_areas(const struct smooth_tri *tr, int n, const double (*X)[3],
+                              double (*ar)[3])
 {
   const double (*V)[2] = tr->bV;
-  const double tot = tr->btot;
-  double x[2], y[2], sum[2] = { 0, 0 };
+  double x[2], y[2];
   for (int p = 0; p < n; p++) { x[p] = X[p][tr->bu]; y[p] = X[p][tr->bw]; }
   for (int k = 0; k < 3; k++) {
     const double *a = V[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* d: b - a, made once */
+    for (int p = 0; p < n; p++)
+      ar[p][k] = d[0] * (y[p] - a[1]) - (x[p] - a[0]) * d[1];
+  }
+}
+
+/* Barycentric coordinates from bary_areas' areas, clamped into the triangle: two points
+   side by side only let their chains of divides overlap in the processor. */
+static inline void bary_of_areas(const struct smooth_tri *tr, int n, const double (*ar)[3],
+                                 double (*l)[3])
+{
+  const double tot = tr->btot;
+  double sum[2] = { 0, 0 };
+  for (int k = 0; k < 3; k++)
     for (int p = 0; p < n; p++) {
-      double ar = d[0] * (y[p] - a[1]) - (x[p] - a[0]) * d[1];
-      l[p][k] = tot != 0 ? ar / tot : 1.0 / 3;
+      l[p][k] = tot != 0 ? ar[p][k] / tot : 1.0 / 3;
       if (!(l[p][k] > 0)) l[p][k] = 0;
       sum[p] += l[p][k];
     }
-  }
   for (int p = 0; p < n; p++) {
     if (!(sum[p] > 0)) l[p][0] = l[p][1] = l[p][2] = 1.0 / 3;
     else if (sum[p] != 1)                 /* x / 1 is x: the divides only when they change it */
@@ -589,11 +600,21 @@ static inline void bary_lanes(const struct smooth_tri *tr, int n, const double (
   }
 }
 
+/* Barycentric coordinates of space points X[p] (on the triangle's plane), p < n <= 2, in
+   the triangle, clamped into it. */
+static inline void bary_lanes(const struct smooth_tri *tr, int n, const double (*X)[3], double (*l)[3])
+{
+  double ar[2][3];
+  bary_areas(tr, n, X, ar);
+  bary_of_areas(tr, n, (const double (*)[3])ar, l);
+}
+
 /* smooth_grey_at's steps under smooth=phong for points p < n <= 2 of the triangle, from
-   their barycentric coordinates l[p] (each point's alone, as bary_lanes) */
+   their barycentric coordinates l[p] (each point's alone, as bary_lanes): the exact
+   chain, the one that defines a Phong grey */
 static inline void grey_phong_lanes(const struct smooth_tri *tr, int n, const double (*l)[3],
                              const double (*X)[3], double refl, const unsigned *blocked,
-                             const struct shade_lights *lights, struct cost *cost, int *grey)
+                             const struct shade_lights *lights, int *grey)
 {
   double nrm[2][3], len[2];
   const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
@@ -607,8 +628,117 @@ static inline void grey_phong_lanes(const struct smooth_tri *tr, int n, const do
   for (int p = 0; p < n; p++) {
     for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
     int g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
-    if (cost) cost_point(cost, false, 1);
     grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
+  }
+}
+
+/* The Phong grey's filter.
+**
+** The exact chain above spends up to nine divides and a square root on a point: each
+** barycentric coordinate divided by the triangle's area, by their sum, each component of
+** the normal by its length. The filter finds the same grey with one divide and one square
+** root, or says it cannot, and then the exact chain runs; the grey is the exact chain's,
+** bit for bit, either way.
+**
+** Both chains start from the same doubles ar_k (bary_areas). In real numbers, let
+** w_k = max(0, ar_k / tot) (tot = btot != 0), lam_k = w_k / sum w, N = sum lam_k cn_k,
+** U = N / |N| and D = sum over the lights not blocked of max(0, s U . l_j) (s = +-1, the
+** eye's side): the grey is A + floor(F) with F = (255 - A) r D + 1/2 (render/shade.h).
+** Scaling the w_k scales N and leaves U as it is, so the filter takes w_k = max(0, +-ar_k)
+** (the sign of tot: exact) and never divides by tot or by sum w; it normalises once, by
+** 1 / |N'| with N' = sum w_k cn_k.
+**
+** Error of the exact chain against F (u = 2^-53, |cn_k| <= 1 + 4u, |l_j| <= 1 + 4u, as
+** each is a unit vector rounded; r <= 1; at most SCENE_LIGHT_MAX = 16 lights): each
+** clamped coordinate is lam_k (1 + e), |e| <= 7u (a divide, a sum of three positive terms
+** and a second divide, or none when the sum is 1), provided none underflows to 0 or
+** overflows (the filter declines when a positive w_k is below |tot| 2^-1000 or above
+** |tot| 2^1000, or when all are 0: the exact chain's 1/3 each); so each normal component is off by at most
+** 11u sum lam_k = 11u, the vector by E = 11 sqrt(3) u < 20u, and its unit vector from U by
+** at most 2E / |N| + 5u (|a/|a| - b/|b|| <= 2 |a - b| / |b|, then the length's and the
+** divides' roundings). Each light's dot is then within 41u / |N| + 8u of s U . l_j, max(0,
+** .) does not widen that, a sum of 16 adds at most 17u, and F's two roundings 512u:
+** |F_exact - F| <= 207 * 16 * (41u / |N| + 25u) + 512u < 2^-35 (1 + 1/|N|). The filter's
+** own chain is nearer (no divides before the normal: its vector is off by 6u sum w, 6u
+** |N'| / |N|, its unit vector by 12u / |N| + 4u), so |F_filter - F_exact| < 2^-34 (1 +
+** 1/|N|). The filter takes delta = 2^-24 (1 + 2 sum w / |N'|) (2 sum w / |N'| >= 1/|N|
+** with room for its own roundings), declines when |N| may be below 2^-10 (the vertex
+** normals nearly cancel: the exact chain's own length test is then left to it) or r is
+** not in [0, 1], and gives A + floor(F_filter) only when F_filter - delta and F_filter +
+** delta have the same floor: then F_exact, within delta of F_filter, has it too. A point
+** is declined with odds of about 2 delta, a few in ten million. The filter works on a run
+** of points in steps (their normals, then their square roots and divides, then their
+** lights), so that the processor overlaps the points' square roots and divides instead
+** of waiting on each. test_smooth (test_phong_filter_is_exact) holds it to the exact
+** chain on a grid of points in and around every triangle of the globe under several
+** lights, and on points bisected onto the borders between two greys, where it must
+** decline (and does, at each). */
+static inline void phong_filter(const struct smooth_tri *tr, int n, const double (*ar)[3],
+                                const double (*X)[3], double refl, const unsigned *blocked,
+                                const struct shade_lights *L, int *grey, bool *ok)
+{
+  const double tot = tr->btot;
+  const double at = fabs(tot), lo = at * 0x1p-1000, hi = at * 0x1p1000;
+  const double sgn = tr->front ? 1 : -1;
+  double N[SMOOTH_RUN][3], inv[SMOOTH_RUN], sw[SMOOTH_RUN];
+  /* in steps over the n points, so that their square roots and divides overlap */
+  for (int p = 0; p < n; p++) {
+    double w[3], s = 0;
+    bool good = refl >= 0 && refl <= 1;
+    for (int k = 0; k < 3; k++) {
+      w[k] = tot > 0 ? ar[p][k] : -ar[p][k];
+      if (!(w[k] > 0)) w[k] = 0;
+      else good &= w[k] >= lo && w[k] <= hi;
+      s += w[k];
+    }
+    for (int c = 0; c < 3; c++)
+      N[p][c] = w[0] * tr->cn[0][c] + w[1] * tr->cn[1][c] + w[2] * tr->cn[2][c];
+    double nn = N[p][0] * N[p][0] + N[p][1] * N[p][1] + N[p][2] * N[p][2];
+    ok[p] = good && s > 0 && nn >= s * s * 0x1p-20;   /* |N| at least about 2^-10 */
+    inv[p] = ok[p] ? nn : 1;
+    sw[p] = s;
+  }
+  for (int p = 0; p < n; p++) inv[p] = sgn / sqrt(inv[p]);
+  for (int p = 0; p < n; p++) {
+    if (!ok[p]) continue;
+    double sum = 0;
+    for (int k = 0; k < L->n; k++) {
+      if (blocked[p] >> k & 1u) continue;
+      const double *l = L->v[k];
+      double pl[3];
+      if (L->point[k]) {
+        shade_point_dir(l, X[p], pl);
+        l = pl;
+      }
+      double d = (N[p][0] * l[0] + N[p][1] * l[1] + N[p][2] * l[2]) * inv[p];
+      sum += d > 0 ? d : 0;
+    }
+    const double f = (255 - SHADE_AMBIENT) * refl * sum + 0.5;
+    const double delta = 0x1p-24 * (1 + 2 * sw[p] * fabs(inv[p]));
+    const double f0 = f - delta, f1 = f + delta;
+    ok[p] = f0 >= 0 && f1 < 0x1p62 && (int64_t)f0 == (int64_t)f1;
+    const int g = SHADE_AMBIENT + (int)(f0 >= 0 && f0 < 0x1p62 ? (int64_t)f0 : 0);
+    grey[p] = g > 255 ? 255 : g;
+  }
+}
+
+/* The Phong grey at points p < n <= SMOOTH_RUN from their areas: the filter, and the
+   exact chain for a point it declines. */
+static inline void phong_lanes(const struct smooth_model *m, const struct smooth_tri *tr, int n,
+                               const double (*ar)[3], const double (*X)[3], double refl,
+                               const unsigned *blocked, const struct shade_lights *lights,
+                               int *grey)
+{
+  bool ok[SMOOTH_RUN];
+  if (!m->phong_exact) phong_filter(tr, n, ar, X, refl, blocked, lights, grey, ok);
+  for (int p = 0; p < n; p++) {
+    if (!m->phong_exact) {
+      if (ok[p]) continue;
+      if (m->phong_declines) ++*m->phong_declines;
+    }
+    double l[1][3];
+    bary_of_areas(tr, 1, &ar[p], l);
+    grey_phong_lanes(tr, 1, (const double (*)[3])l, &X[p], refl, &blocked[p], lights, &grey[p]);
   }
 }
 
@@ -618,15 +748,18 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
                    int *region_out)
 {
   const struct smooth_tri *tr = &m->tri[t];
-  double lb[1][3], nrm[3], *l = lb[0];
-  bary_lanes(tr, 1, (const double (*)[3])X, lb);
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-    if (region_out) *region_out = 1;
+    double ar[1][3];
     int grey;
-    grey_phong_lanes(tr, 1, (const double (*)[3])lb, (const double (*)[3])X, refl, &blocked,
-                     lights, cost, &grey);
+    bary_areas(tr, 1, (const double (*)[3])X, ar);
+    phong_lanes(m, tr, 1, (const double (*)[3])ar, (const double (*)[3])X, refl, &blocked,
+                lights, &grey);
+    if (cost) cost_point(cost, false, 1);
+    if (region_out) *region_out = 1;
     return grey;
   }
+  double lb[1][3], nrm[3], *l = lb[0];
+  bary_lanes(tr, 1, (const double (*)[3])X, lb);
   double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   int region = 1, grey;
   if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
@@ -639,12 +772,7 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
     }
     grey = (int)floor(gi + 0.5);
   } else {
-    if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-      for (int c = 0; c < 3; c++)
-        nrm[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
-    } else {
-      region = smooth_partial_normal(tr, l, nrm);
-    }
+    region = smooth_partial_normal(tr, l, nrm);
     if (region == 0 && refl == 1 && !blocked)
       grey = map->f[tr->mface].grey;     /* exactly the flat picture */
     else {
@@ -659,14 +787,14 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
   return grey < 0 ? 0 : grey > 255 ? 255 : grey;
 }
 
-void smooth_grey_phong_pair(const struct smooth_model *m, int t, const double X[2][3], double refl,
-                            const unsigned blocked[2], const struct shade_lights *lights,
-                            int grey[2])
+void smooth_grey_phong_run(const struct smooth_model *m, int t, int n, const double (*X)[3],
+                           double refl, const unsigned *blocked,
+                           const struct shade_lights *lights, int *grey)
 {
   const struct smooth_tri *tr = &m->tri[t];
-  double l[2][3];
-  bary_lanes(tr, 2, X, l);
-  grey_phong_lanes(tr, 2, (const double (*)[3])l, X, refl, blocked, lights, NULL, grey);
+  double ar[SMOOTH_RUN][3];
+  for (int p = 0; p < n; p++) bary_areas(tr, 1, &X[p], &ar[p]);
+  phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,

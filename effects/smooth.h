@@ -72,6 +72,11 @@ struct smooth_model {
                               v[(k + 1) % 3]) is in group edge_group[3 t + k], shared by
                               the sides of the object's triangles on the same two vertices */
   int ngroup;              /* groups, 0 .. ngroup - 1 */
+  /* Tests only (0 after a build): phong_exact gives every Phong grey by the exact chain,
+     without the filter that finds most of them with one divide (smooth.c, "The Phong
+     grey's filter"); phong_declines, when set, counts the points the filter left to it. */
+  bool phong_exact;
+  long *phong_declines;
 };
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.
@@ -134,12 +139,13 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
                    unsigned blocked, const struct shade_lights *lights, struct cost *cost,
                    int *region);
 
-/* smooth_grey_at under smooth=phong, uncounted, at two points X[0] and X[1] of triangle t
-   (their lights blocked[0] and blocked[1]): the same two greys, bit for bit, worked out
-   side by side so that the processor overlaps their chains of divides (issue 19). */
-void smooth_grey_phong_pair(const struct smooth_model *m, int t, const double X[2][3], double refl,
-                            const unsigned blocked[2], const struct shade_lights *lights,
-                            int grey[2]);
+/* smooth_grey_at under smooth=phong, uncounted, at n <= SMOOTH_RUN points X[p] of
+   triangle t (their lights blocked[p]): the same greys, bit for bit, worked out together
+   so that the processor overlaps their square roots and divides (issue 19). */
+#define SMOOTH_RUN 16
+void smooth_grey_phong_run(const struct smooth_model *m, int t, int n, const double (*X)[3],
+                           double refl, const unsigned *blocked,
+                           const struct shade_lights *lights, int *grey);
 
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);

@@ -537,11 +537,24 @@ static void test_no_seams(void **state)
     }
 }
 
-/* Two points shaded side by side (smooth_grey_phong_pair, the points engine's path) give
-   the greys each gives alone (smooth_grey_at), bit for bit: points inside and outside
-   each triangle of the globe (the clamps), a texture's reflectance, one light blocked at
-   one of the two. */
-static void test_phong_pair_is_single(void **state)
+/* A space point of triangle t at barycentric weights w (on its plane). */
+static void tri_point(const struct lib *L, int t, const double w[3], double X[3])
+{
+  const struct smooth_tri *tr = &L->m.tri[t];
+  for (int c = 0; c < 3; c++) {
+    X[c] = 0;
+    for (int k = 0; k < 3; k++) {
+      const struct scene_vertex *v = &L->s->v[tr->v[k]];
+      X[c] += w[k] * (c == 0 ? v->x : c == 1 ? v->y : v->z);
+    }
+  }
+}
+
+/* Points shaded in runs (smooth_grey_phong_run, the points engine's path) give the greys
+   each gives alone (smooth_grey_at), bit for bit: runs of 1 to SMOOTH_RUN points inside
+   and outside each triangle of the globe (the clamps), a texture's reflectance, one light
+   blocked at some of the points. */
+static void test_phong_run_is_single(void **state)
 {
   (void)state;
   struct lib L;
@@ -554,35 +567,124 @@ static void test_phong_pair_is_single(void **state)
   const int nw = (int)(sizeof w / sizeof *w);
   int differ = 0, greys[256] = { 0 };
   for (int t = 0; t < L.m.ntri; t++) {
-    const struct smooth_tri *tr = &L.m.tri[t];
-    double P[3][3];
-    for (int k = 0; k < 3; k++) {
-      const struct scene_vertex *v = &L.s->v[tr->v[k]];
-      P[k][0] = v->x; P[k][1] = v->y; P[k][2] = v->z;
+    const int n = 1 + t % SMOOTH_RUN;
+    double X[SMOOTH_RUN][3];
+    unsigned blocked[SMOOTH_RUN];
+    int run[SMOOTH_RUN];
+    for (int p = 0; p < n; p++) {
+      tri_point(&L, t, w[(p + t) % nw], X[p]);
+      blocked[p] = (unsigned)((t + p) % 3 == 0);
     }
-    for (int a = 0; a < nw; a++) {
-      const int b = (a + 1 + t) % nw;
-      double X[2][3];
-      for (int c = 0; c < 3; c++) {
-        X[0][c] = w[a][0] * P[0][c] + w[a][1] * P[1][c] + w[a][2] * P[2][c];
-        X[1][c] = w[b][0] * P[0][c] + w[b][1] * P[1][c] + w[b][2] * P[2][c];
-      }
-      const double refl = a % 2 ? 1.0 : 0.6;
-      const unsigned blocked[2] = { 0, (unsigned)(t % 3 == 0) };
-      int pair[2], one[2];
-      smooth_grey_phong_pair(&L.m, t, X, refl, blocked, &lights, pair);
-      for (int p = 0; p < 2; p++) {
-        one[p] = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[p], refl, blocked[p], &lights,
-                                NULL, NULL);
-        differ += pair[p] != one[p];
-        greys[one[p] & 255] = 1;
-      }
+    const double refl = t % 2 ? 1.0 : 0.6;
+    smooth_grey_phong_run(&L.m, t, n, (const double (*)[3])X, refl, blocked, &lights, run);
+    for (int p = 0; p < n; p++) {
+      int one = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[p], refl, blocked[p], &lights,
+                               NULL, NULL);
+      differ += run[p] != one;
+      greys[one & 255] = 1;
     }
   }
   assert_int_equal(differ, 0);
-  int distinct = 0;                       /* the greys vary: the test can tell lanes apart */
+  int distinct = 0;                       /* the greys vary: the test can tell points apart */
   for (int g = 0; g < 256; g++) distinct += greys[g];
   assert_true(distinct > 20);
+  lib_close(&L);
+}
+
+/* The Phong grey at X by the filter (and the exact chain where it declines) and by the
+   exact chain alone; counts the filter's declines in *declines. */
+static void phong_both(struct lib *L, int t, const double X[3], double refl, unsigned blocked,
+                       const struct shade_lights *lights, long *declines, int g[2])
+{
+  L->m.phong_declines = declines;
+  g[0] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, NULL);
+  L->m.phong_declines = NULL;
+  L->m.phong_exact = true;
+  g[1] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, NULL);
+  L->m.phong_exact = false;
+}
+
+/* The Phong grey's filter (smooth.c) gives the exact chain's grey, bit for bit: on a
+   grid of points in and around every triangle of the globe, under the scene's light and
+   under three lights (a parallel one, two point lights near the surface, one of them
+   blocked at some points), reflectances 1, 0.6 and 0; and on points found on the
+   borders between two greys, where the filter must decline and leave them to the exact
+   chain (it does: the count is checked). */
+static void test_phong_filter_is_exact(void **state)
+{
+  (void)state;
+  struct lib L;
+  lib_open(&L, "scenes/sphere.s74", "smooth=phong");
+  struct shade_lights set[2];
+  shade_lights_init(&set[0], L.s);
+  set[1] = set[0];
+  set[1].n = 3;
+  set[1].point[1] = set[1].point[2] = true;
+  const double p1[3] = { 150, 120, 400 }, p2[3] = { -200, -30, 350 };
+  memcpy(set[1].v[1], p1, sizeof p1);
+  memcpy(set[1].v[2], p2, sizeof p2);
+  const double refls[3] = { 1.0, 0.6, 0.0 };
+  long grid = 0, grid_declines = 0;
+  int differ = 0, greys[256] = { 0 };
+  for (int t = 0; t < L.m.ntri; t++)
+    for (int a = -2; a <= 14; a++)
+      for (int b = -2; a + b <= 14; b++) {
+        const double w[3] = { a / 12.0, b / 12.0, (12 - a - b) / 12.0 };
+        double X[3];
+        tri_point(&L, t, w, X);
+        for (int q = 0; q < 2; q++) {
+          const double refl = refls[(a + b + q) % 3];
+          const unsigned blocked = q && (a + t) % 4 == 0 ? 2u : 0u;
+          int g[2];
+          phong_both(&L, t, X, refl, blocked, &set[q], &grid_declines, g);
+          differ += g[0] != g[1];
+          greys[g[1] & 255] = 1;
+          grid++;
+        }
+      }
+  assert_int_equal(differ, 0);
+  int distinct = 0;
+  for (int g = 0; g < 256; g++) distinct += greys[g];
+  assert_true(distinct > 40);
+  assert_true(grid_declines * 1000 < grid);      /* the filter decides nearly every point */
+  /* borders: between a triangle's corner and its opposite side's middle the grey changes;
+     bisect (exact chain) down to neighbouring doubles of the parameter s */
+  long borders = 0, border_declines = 0;
+  for (int t = 0; t < L.m.ntri; t++) {
+    double A[3], B[3];
+    tri_point(&L, t, (const double[3]) { 0.9, 0.05, 0.05 }, A);
+    tri_point(&L, t, (const double[3]) { 0.05, 0.475, 0.475 }, B);
+    int ga[2], gb[2];
+    long ignore = 0;
+    phong_both(&L, t, A, 1.0, 0, &set[0], &ignore, ga);
+    phong_both(&L, t, B, 1.0, 0, &set[0], &ignore, gb);
+    if (ga[1] == gb[1]) continue;
+    double s0 = 0, s1 = 1;
+    for (int it = 0; it < 200; it++) {
+      double sm = 0.5 * (s0 + s1);
+      if (!(sm > s0 && sm < s1)) break;
+      double X[3];
+      for (int c = 0; c < 3; c++) X[c] = A[c] + sm * (B[c] - A[c]);
+      int g[2];
+      phong_both(&L, t, X, 1.0, 0, &set[0], &ignore, g);
+      if (g[1] == ga[1]) s0 = sm; else s1 = sm;
+    }
+    for (int side = 0; side < 2; side++) {
+      double X[3], sm = side ? s1 : s0;
+      for (int c = 0; c < 3; c++) X[c] = A[c] + sm * (B[c] - A[c]);
+      int g[2];
+      phong_both(&L, t, X, 1.0, 0, &set[0], &border_declines, g);
+      assert_int_equal(g[0], g[1]);
+      assert_int_equal(g[1] == ga[1], side == 0);
+    }
+    borders++;
+  }
+  /* the two points of each border lie within far less than the filter's bound of a
+     change of grey: it declines both */
+  print_message("Phong filter: %ld grid points, %ld declined; %ld borders, %ld points declined\n",
+                grid, grid_declines, borders, border_declines);
+  assert_true(borders > 50);
+  assert_int_equal(border_declines, 2 * borders);
   lib_close(&L);
 }
 
@@ -853,7 +955,8 @@ int main(void)
     cmocka_unit_test(test_orientation),
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
-    cmocka_unit_test(test_phong_pair_is_single),
+    cmocka_unit_test(test_phong_run_is_single),
+    cmocka_unit_test(test_phong_filter_is_exact),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
     cmocka_unit_test(test_continuous_inside),
