@@ -53,6 +53,10 @@
 
 #include "render/shade.h"
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #define SMOOTH_TABLE_NORMALS "SMOOTH VERTEX NORMALS"
 #define SMOOTH_TABLE_BANDS   "SMOOTH BAND TABLE"
 
@@ -679,16 +683,18 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 {
   const double tot = tr->btot;
   const double at = fabs(tot), lo = at * 0x1p-1000, hi = at * 0x1p1000;
-  const double sgn = tr->front ? 1 : -1;
+  const double sgn = tr->front ? 1 : -1, st = tot > 0 ? 1 : -1;
+  const bool usable = tot != 0 && refl >= 0 && refl <= 1;
   double N[SMOOTH_RUN][3], inv[SMOOTH_RUN], sw[SMOOTH_RUN];
-  /* in steps over the n points, so that their square roots and divides overlap */
+  /* in steps over the n points, so that their square roots and divides overlap; the
+     clamps and tests without branches (a point near a side goes either way) */
   for (int p = 0; p < n; p++) {
     double w[3], s = 0;
-    bool good = refl >= 0 && refl <= 1;
+    bool good = usable;
     for (int k = 0; k < 3; k++) {
-      w[k] = tot > 0 ? ar[p][k] : -ar[p][k];
-      if (!(w[k] > 0)) w[k] = 0;
-      else good &= w[k] >= lo && w[k] <= hi;
+      const double v = st * ar[p][k];       /* exact */
+      w[k] = v > 0 ? v : 0;
+      good &= (w[k] == 0) | ((w[k] >= lo) & (w[k] <= hi));
       s += w[k];
     }
     for (int c = 0; c < 3; c++)
@@ -698,7 +704,13 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
     inv[p] = ok[p] ? nn : 1;
     sw[p] = s;
   }
-  for (int p = 0; p < n; p++) inv[p] = sgn / sqrt(inv[p]);
+  int q = 0;
+#ifdef __SSE2__
+  /* two points an instruction: the same correctly rounded square roots and divides */
+  for (const __m128d sg = _mm_set1_pd(sgn); q + 2 <= n; q += 2)
+    _mm_storeu_pd(inv + q, _mm_div_pd(sg, _mm_sqrt_pd(_mm_loadu_pd(inv + q))));
+#endif
+  for (; q < n; q++) inv[q] = sgn / sqrt(inv[q]);
   for (int p = 0; p < n; p++) {
     if (!ok[p]) continue;
     double sum = 0;
