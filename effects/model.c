@@ -260,12 +260,12 @@ static int shade_face_at(const struct fx_model *m, int face, const struct face_s
   return shade_grey_lit(&m->lights, n, X, refl, blocked);
 }
 
-/* shade_face_at, uncounted, at n <= SMOOTH_RUN neighbouring points (px[p], py) of a face
-   smoothed by Phong's normals without a texture (fs: face_shade_of's): the same greys,
-   worked out together (smooth_grey_phong_run). */
-static void shade_phong_run(const struct fx_model *m, int face, const struct face_shade *fs,
-                            int n, const unsigned *blocked, const double *px, double py,
-                            uint8_t *grey)
+/* shade_face_at, uncounted, at n <= SMOOTH_RUN neighbouring points (px[p], py) of a
+   smoothed face without a texture (fs: face_shade_of's): the same greys and regions,
+   worked out together (smooth_grey_run). */
+static void shade_run(const struct fx_model *m, int face, const struct face_shade *fs, int n,
+                      const unsigned *blocked, const double *px, double py, uint8_t *grey,
+                      int *region)
 {
   double X[SMOOTH_RUN][3];
   unsigned b[SMOOTH_RUN] = { 0 };
@@ -274,7 +274,8 @@ static void shade_phong_run(const struct fx_model *m, int face, const struct fac
     b[p] = fs->lit ? blocked[p] : 0;       /* a face of its own grey is not lit */
     space_point(m, face, px[p], py, X[p]);
   }
-  smooth_grey_phong_run(&m->sm, fs->tri, n, (const double (*)[3])X, 1.0, b, &m->lights, g);
+  smooth_grey_run(&m->sm, m->map, m->s, m->e, fs->tri, n, (const double (*)[3])X, 1.0, b,
+                  &m->lights, g, region);
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
@@ -744,7 +745,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     uint8_t *gr = f->grey + at0;
     int last = -1;                          /* the face fs holds */
     struct face_shade fs;
-    bool run = false;                       /* its points go in runs (Phong's greys) */
+    bool run = false;                       /* its points go in runs (smoothed greys) */
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
       if (face < 0) {                       /* a run of points that see no face */
@@ -758,14 +759,15 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       if (face != last) {
         face_shade_of(m, face, &fs);
         last = face;
-        run = !pc && fs.tri >= 0 && !fs.t && m->e->smooth == EFFECTS_SMOOTH_PHONG;
+        run = !pc && fs.tri >= 0 && !fs.t;
       }
       if (run) {                            /* up to SMOOTH_RUN points of it at once */
-        int e = i + 1;
+        int e = i + 1, rg[SMOOTH_RUN];
         while (e < W && e - i < SMOOTH_RUN && fr[e] == face) e++;
-        shade_phong_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
+        shade_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i, rg);
+        for (int q = 0; q < e - i; q++)
+          if (rg[q] == 0) flat++; else if (rg[q] == 2) corner++; else band++;
         pts += e - i;
-        band += e - i;                      /* smooth_grey_at's region under Phong */
         i = e - 1;
         continue;
       }

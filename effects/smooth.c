@@ -584,13 +584,14 @@ static inline void bary_areas(const struct smooth_tri *tr, int n, const double (
   }
 }
 
-/* Barycentric coordinates from bary_areas' areas, clamped into the triangle: two points
-   side by side only let their chains of divides overlap in the processor. */
+/* Barycentric coordinates from bary_areas' areas, clamped into the triangle, for points
+   p < n <= SMOOTH_RUN: several points side by side only let their chains of divides
+   overlap in the processor. */
 static inline void bary_of_areas(const struct smooth_tri *tr, int n, const double (*ar)[3],
                                  double (*l)[3])
 {
   const double tot = tr->btot;
-  double sum[2] = { 0, 0 };
+  double sum[SMOOTH_RUN] = { 0 };
   for (int k = 0; k < 3; k++)
     for (int p = 0; p < n; p++) {
       l[p][k] = tot != 0 ? ar[p][k] / tot : 1.0 / 3;
@@ -799,14 +800,58 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
   return grey < 0 ? 0 : grey > 255 ? 255 : grey;
 }
 
-void smooth_grey_phong_run(const struct smooth_model *m, int t, int n, const double (*X)[3],
-                           double refl, const unsigned *blocked,
-                           const struct shade_lights *lights, int *grey)
+void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
+                     const struct effects *e, int t, int n, const double (*X)[3], double refl,
+                     const unsigned *blocked, const struct shade_lights *lights, int *grey,
+                     int *region)
 {
   const struct smooth_tri *tr = &m->tri[t];
   double ar[SMOOTH_RUN][3];
   for (int p = 0; p < n; p++) bary_areas(tr, 1, &X[p], &ar[p]);
-  phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
+  if (e->smooth == EFFECTS_SMOOTH_PHONG) {
+    phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
+    for (int p = 0; p < n; p++) region[p] = 1;
+    return;
+  }
+  /* smooth_grey_at's steps for each point, a step for all points at a time */
+  double l[SMOOTH_RUN][3];
+  bary_of_areas(tr, n, (const double (*)[3])ar, l);
+  const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+  if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
+    for (int p = 0; p < n; p++) {
+      double gi = 0;
+      for (int k = 0; k < 3; k++) {
+        double nk[3] = { sgn * tr->cn[k][0], sgn * tr->cn[k][1], sgn * tr->cn[k][2] };
+        const struct scene_vertex *v = &s->v[tr->v[k]];
+        double at[3] = { v->x, v->y, v->z };
+        gi += l[p][k] * shade_grey_lit(lights, nk, at, refl, blocked[p]);
+      }
+      const int g = (int)floor(gi + 0.5);
+      grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
+      region[p] = 1;
+    }
+    return;
+  }
+  double nrm[SMOOTH_RUN][3], len[SMOOTH_RUN];
+  bool flat[SMOOTH_RUN];
+  for (int p = 0; p < n; p++) {
+    region[p] = smooth_partial_normal(tr, l[p], nrm[p]);
+    flat[p] = region[p] == 0 && refl == 1 && !blocked[p];   /* exactly the flat picture */
+    if (region[p] == 0) memcpy(nrm[p], tr->n, sizeof nrm[p]);
+  }
+  for (int p = 0; p < n; p++)                /* unit(), in steps */
+    len[p] = sqrt(nrm[p][0] * nrm[p][0] + nrm[p][1] * nrm[p][1] + nrm[p][2] * nrm[p][2]);
+  for (int p = 0; p < n; p++)
+    if (!flat[p] && len[p] > 0) for (int c = 0; c < 3; c++) nrm[p][c] /= len[p];
+  for (int p = 0; p < n; p++) {
+    int g;
+    if (flat[p]) g = map->f[tr->mface].grey;
+    else {
+      for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
+      g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
+    }
+    grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
+  }
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,

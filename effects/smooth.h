@@ -139,13 +139,15 @@ int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const
                    unsigned blocked, const struct shade_lights *lights, struct cost *cost,
                    int *region);
 
-/* smooth_grey_at under smooth=phong, uncounted, at n <= SMOOTH_RUN points X[p] of
-   triangle t (their lights blocked[p]): the same greys, bit for bit, worked out together
-   so that the processor overlaps their square roots and divides (issue 19). */
+/* smooth_grey_at, uncounted, at n <= SMOOTH_RUN points X[p] of triangle t (their lights
+   blocked[p]), the greys in grey[p] and the regions in region[p]: the same greys, bit for
+   bit, worked out a step for all points at a time, so that the processor overlaps their
+   divides and square roots (issue 19). */
 #define SMOOTH_RUN 16
-void smooth_grey_phong_run(const struct smooth_model *m, int t, int n, const double (*X)[3],
-                           double refl, const unsigned *blocked,
-                           const struct shade_lights *lights, int *grey);
+void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
+                     const struct effects *e, int t, int n, const double (*X)[3], double refl,
+                     const unsigned *blocked, const struct shade_lights *lights, int *grey,
+                     int *region);
 
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);

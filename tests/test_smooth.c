@@ -550,45 +550,55 @@ static void tri_point(const struct lib *L, int t, const double w[3], double X[3]
   }
 }
 
-/* Points shaded in runs (smooth_grey_phong_run, the points engine's path) give the greys
-   each gives alone (smooth_grey_at), bit for bit: runs of 1 to SMOOTH_RUN points inside
-   and outside each triangle of the globe (the clamps), a texture's reflectance, one light
-   blocked at some of the points. */
-static void test_phong_run_is_single(void **state)
+/* Points shaded in runs (smooth_grey_run, the points engine's path) give the greys and
+   regions each gives alone (smooth_grey_at), bit for bit, under each smoothing: runs of 1
+   to SMOOTH_RUN points inside and outside each triangle of the globe (the clamps, the
+   bands and corners of the partial smoothing), a texture's reflectance, one light blocked
+   at some of the points. */
+static void test_run_is_single(void **state)
 {
   (void)state;
-  struct lib L;
-  lib_open(&L, "scenes/sphere.s74", "smooth=phong");
-  struct shade_lights lights;
-  shade_lights_init(&lights, L.s);
+  static const char *const kinds[] = { "smooth=phong", "smooth=gouraud", "smooth=fixed:0.15",
+                                       "smooth=prop:0.3" };
   const double w[][3] = { { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, { 0.7, 0.2, 0.1 }, { 1, 0, 0 },
                           { 0.5, 0.5, 0 }, { 1.2, -0.1, -0.1 }, { -0.3, 0.6, 0.7 },
-                          { 0.05, 0.9, 0.05 }, { 2, -1, 0 } };
+                          { 0.05, 0.9, 0.05 }, { 2, -1, 0 }, { 0.02, 0.49, 0.49 },
+                          { 0.9, 0.05, 0.05 }, { 0.1, 0.1, 0.8 } };
   const int nw = (int)(sizeof w / sizeof *w);
-  int differ = 0, greys[256] = { 0 };
-  for (int t = 0; t < L.m.ntri; t++) {
-    const int n = 1 + t % SMOOTH_RUN;
-    double X[SMOOTH_RUN][3];
-    unsigned blocked[SMOOTH_RUN];
-    int run[SMOOTH_RUN];
-    for (int p = 0; p < n; p++) {
-      tri_point(&L, t, w[(p + t) % nw], X[p]);
-      blocked[p] = (unsigned)((t + p) % 3 == 0);
+  for (size_t kind = 0; kind < sizeof kinds / sizeof *kinds; kind++) {
+    struct lib L;
+    lib_open(&L, "scenes/sphere.s74", kinds[kind]);
+    struct shade_lights lights;
+    shade_lights_init(&lights, L.s);
+    int differ = 0, greys[256] = { 0 }, regions[3] = { 0 };
+    for (int t = 0; t < L.m.ntri; t++) {
+      const int n = 1 + t % SMOOTH_RUN;
+      double X[SMOOTH_RUN][3];
+      unsigned blocked[SMOOTH_RUN];
+      int run[SMOOTH_RUN], rrun[SMOOTH_RUN];
+      for (int p = 0; p < n; p++) {
+        tri_point(&L, t, w[(p + t) % nw], X[p]);
+        blocked[p] = (unsigned)((t + p) % 3 == 0);
+      }
+      const double refl = t % 2 ? 1.0 : 0.6;
+      smooth_grey_run(&L.m, &L.r.map, L.s, &L.e, t, n, (const double (*)[3])X, refl, blocked,
+                      &lights, run, rrun);
+      for (int p = 0; p < n; p++) {
+        int region;
+        int one = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[p], refl, blocked[p], &lights,
+                                 NULL, &region);
+        differ += run[p] != one || rrun[p] != region;
+        greys[one & 255] = 1;
+        if (region >= 0 && region <= 2) regions[region]++;
+      }
     }
-    const double refl = t % 2 ? 1.0 : 0.6;
-    smooth_grey_phong_run(&L.m, t, n, (const double (*)[3])X, refl, blocked, &lights, run);
-    for (int p = 0; p < n; p++) {
-      int one = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[p], refl, blocked[p], &lights,
-                               NULL, NULL);
-      differ += run[p] != one;
-      greys[one & 255] = 1;
-    }
+    assert_int_equal(differ, 0);
+    int distinct = 0;                     /* the greys vary: the test can tell points apart */
+    for (int g = 0; g < 256; g++) distinct += greys[g];
+    assert_true(distinct > 20);
+    if (kind >= 2) assert_true(regions[0] > 0 && regions[1] > 0 && regions[2] > 0);
+    lib_close(&L);
   }
-  assert_int_equal(differ, 0);
-  int distinct = 0;                       /* the greys vary: the test can tell points apart */
-  for (int g = 0; g < 256; g++) distinct += greys[g];
-  assert_true(distinct > 20);
-  lib_close(&L);
 }
 
 /* The Phong grey at X by the filter (and the exact chain where it declines) and by the
@@ -955,7 +965,7 @@ int main(void)
     cmocka_unit_test(test_orientation),
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
-    cmocka_unit_test(test_phong_run_is_single),
+    cmocka_unit_test(test_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
