@@ -79,6 +79,7 @@ struct pipeline {
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
   struct smooth_scene **fx_smooth;  /* the smoothing's scene part between frames */
+  struct fx_textures **fx_tex;      /* the scene's textures between frames */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -435,6 +436,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   if (p->r) fx_engine_1974(&eng, p->r, g);
   else st = fx_engine_points(&eng, p->pts, g, p->fx_keep, err);
   eng.smooth_keep = p->fx_smooth;
+  eng.tex_keep = p->fx_tex;
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
   if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
@@ -1157,6 +1159,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   struct render_keep keep;                  /* what a frame leaves for the next */
   struct core *fx_core = NULL;              /* the effects' core, kept for the next frame */
   struct smooth_scene *fx_smooth = NULL;    /* the smoothing's scene part, likewise */
+  struct fx_textures *fx_tex = NULL;        /* the scene's textures, likewise */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -1166,6 +1169,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   p.first_dot = -1;
   p.fx_keep = &fx_core;
   p.fx_smooth = &fx_smooth;
+  p.fx_tex = &fx_tex;
   int engine = JOB_ENGINE_1974;
   memset(&jo, 0, sizeof jo);
 
@@ -1350,6 +1354,7 @@ done:
   render_keep_free(&keep);
   core_free(fx_core);
   smooth_scene_free(fx_smooth);
+  fx_textures_free(fx_tex);
   points_free(&pts);
   scene_free(own);
   return st;

@@ -31,10 +31,36 @@ static int by_owner(const void *pa, const void *pb)
   return (a->light > b->light) - (a->light < b->light);
 }
 
+/* A scene's textures kept between frames (effects/see.h, fx_engine's tex_keep): they
+   depend on the scene alone, so a later frame of the same scene takes them as they are
+   instead of reading the pictures again. */
+struct fx_textures {
+  const struct scene *s;
+  struct fx_tex *tex;
+  int ntex;
+};
+
+void fx_textures_free(struct fx_textures *t)
+{
+  if (!t) return;
+  for (int k = 0; t->tex && k < t->s->nf; k++) pic_free(t->tex[k].pic);
+  free(t->tex);
+  free(t);
+}
+
 static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *cost,
                          struct t74_error *err)
 {
   const struct scene *s = m->s;
+  struct fx_textures **keep = m->eng->tex_keep;
+  if (keep && *keep && (*keep)->s == s) {   /* read by an earlier frame: its charges */
+    m->tex = (*keep)->tex;
+    m->ntex = (*keep)->ntex;
+    m->tex_kept = true;
+    COST_ADD_N(cost, COST_MEM, 9 * (uint64_t)m->ntex);
+    if (m->ntex) fx_count(st, "texture_faces", m->ntex, true);
+    return T74_OK;
+  }
   for (int k = 0; k < s->nf; k++) {
     const struct scene_face *f = &s->f[k];
     if (!f->texture) continue;
@@ -64,6 +90,14 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
     COST_ADD_N(cost, COST_MEM, 9);
   }
   if (m->ntex) fx_count(st, "texture_faces", m->ntex, true);
+  if (keep && m->tex) {                     /* the caller keeps them for the next frame */
+    struct fx_textures *t = malloc(sizeof *t);
+    if (!t) return t74_fail(err, T74_EIO, "out of host memory");
+    fx_textures_free(*keep);
+    t->s = s; t->tex = m->tex; t->ntex = m->ntex;
+    *keep = t;
+    m->tex_kept = true;
+  }
   return T74_OK;
 }
 
@@ -145,7 +179,7 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
 void fx_model_free(struct fx_model *m)
 {
   if (m->smooth) smooth_model_free(&m->sm);
-  if (m->tex) {
+  if (m->tex && !m->tex_kept) {             /* else the caller's (tex_keep) */
     for (int k = 0; k < m->s->nf; k++) pic_free(m->tex[k].pic);
     free(m->tex);
   }

@@ -58,6 +58,7 @@ struct fx_model {
   struct smooth_model sm;
   struct fx_tex *tex;       /* per scene face: its texture, or NULL entries */
   int ntex;                 /* faces with a texture */
+  bool tex_kept;            /* tex belongs to the engine's tex_keep (effects/see.h) */
   struct fx_polys cuts;     /* contour cut regions (owner: object id) */
   struct contour_corners corners;   /* their corners, one a region, in the same order */
   int ncut;                 /* objects with a cut */

@@ -40,6 +40,7 @@
 struct render;
 struct points;
 struct smooth_scene;
+struct fx_textures;
 
 struct fx_engine {
   const struct mapped *map;         /* the Mapper's faces */
@@ -51,7 +52,13 @@ struct fx_engine {
   struct core **keep;               /* fx_engine_free leaves the core here, or NULL */
   struct smooth_scene **smooth_keep;   /* the smoothing's scene part kept for the next
                                        frame (effects/smooth.h), or NULL; set by the caller */
+  struct fx_textures **tex_keep;    /* the scene's textures kept for the next frame
+                                       (effects/model.h), or NULL; set by the caller */
 };
+
+/* A scene's textures as the effects read them (effects/model.c), kept by the caller of
+   many frames of one scene through tex_keep; fx_textures_free(NULL) does nothing. */
+void fx_textures_free(struct fx_textures *t);
 
 /* The 1974 engine r, scanned on grid g (both kept by the caller while e is used). */
 void fx_engine_1974(struct fx_engine *e, struct render *r, const struct vis_grid *g);
