@@ -45,25 +45,29 @@ static void image(const struct proj *q, const ld X[3], ld N[3], ld *w)
   }
 }
 
-/* The clipping functionals: 0 R's plane, 1 beyond the point light, 2..7 the box. */
+/* The clipping functionals: 0 R's plane, 1 beyond the point light, 2..7 the box (the one
+   component of image() that the side needs, by image's operations). */
 static ld h_at(const struct proj *q, const ld box[2][3], int k, const ld X[3])
 {
   if (k == 0) return plane_at(q, X);
   if (k == 1) return q->point ? q->pP - plane_at(q, X) : -1;
-  ld N[3], w;
-  image(q, X, N, &w);
-  int c = (k - 2) / 2;
-  return (k - 2) % 2 == 0 ? N[c] - box[1][c] * w : box[0][c] * w - N[c];
+  const int c = (k - 2) / 2;
+  const ld pX = plane_at(q, X);
+  const ld Nc = q->point ? q->P[c] * pX - X[c] * q->pP : q->P[c] * pX - X[c] * q->nL;
+  const ld w = q->point ? pX - q->pP : -q->nL;
+  return (k - 2) % 2 == 0 ? Nc - box[1][c] * w : box[0][c] * w - Nc;
 }
 
-/* Clip ring in[0..n) by h_k <= 0 into out; returns the count. */
+/* Clip ring in[0..n) by h_k <= 0 into out; returns the count. h: room for n values (each
+   vertex's h_k, found once). */
 static int clip(const struct proj *q, const ld box[2][3], int k, const ld (*in)[3], int n,
-                ld (*out)[3])
+                ld (*out)[3], ld *h)
 {
   int m = 0;
+  for (int i = 0; i < n; i++) h[i] = h_at(q, box, k, in[i]);
   for (int i = 0; i < n; i++) {
     const ld *a = in[i], *b = in[(i + 1) % n];
-    ld ha = h_at(q, box, k, a), hb = h_at(q, box, k, b);
+    ld ha = h[i], hb = h[(i + 1) % n];
     if (ha <= 0) { memcpy(out[m++], a, sizeof out[0]); }
     if ((ha < 0 && hb > 0) || (ha > 0 && hb < 0)) {
       ld t = ha / (ha - hb);
@@ -85,9 +89,10 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
   /* a ring clipped by 8 half-spaces gains at most one vertex per half-space */
   size_t cap = (size_t)maxv + 16;
   ld (*b0)[3] = malloc(cap * sizeof *b0), (*b1)[3] = malloc(cap * sizeof *b1);
+  ld *hv = malloc(cap * sizeof *hv);
   int *rs = malloc(((size_t)maxv + 2) * sizeof *rs);
-  if (!b0 || !b1 || !rs) {
-    free(b0); free(b1); free(rs);
+  if (!b0 || !b1 || !hv || !rs) {
+    free(b0); free(b1); free(hv); free(rs);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
   struct gpoint *poly = NULL;
@@ -120,6 +125,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
       const struct scene_light *L = &s->light[k];
       struct proj q;
       q.point = L->point;
+      q.pP = q.nL = 0;                       /* the one the light's kind uses is set below */
       for (int c = 0; c < 4; c++) q.pl[c] = (ld)mf->plane[c];
       for (int c = 0; c < 3; c++) q.P[c] = (ld)L->v[c];
       /* does the light reach R's seen side? exactly, in integers */
@@ -161,7 +167,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
           }
           ld (*in)[3] = b0, (*o)[3] = b1;
           for (int h = 0; h < 8 && n >= 3; h++) {
-            n = clip(&q, box, h, (const ld (*)[3])in, n, o);
+            n = clip(&q, box, h, (const ld (*)[3])in, n, o, hv);
             ld (*t)[3] = in; in = o; o = t;
             for (int v = 0; v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
           }
@@ -212,7 +218,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
     }
     receivers += any;
   }
-  free(b0); free(b1); free(rs); free(poly);
+  free(b0); free(b1); free(hv); free(rs); free(poly);
   if (st_ == T74_OK) {
     fx_count(st, "shadow_polygons", (double)(out->n - polys0), true);
     fx_count(st, "shadow_receivers", (double)receivers, true);
