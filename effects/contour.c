@@ -87,7 +87,8 @@ static gcoord round_grid(double x)
   if (!(fabs(x) < 0x1p62)) return (gcoord)llround(x);
   int64_t t = (int64_t)x;
   double f = x - (double)t;
-  return (gcoord)(f >= 0.5 ? t + 1 : f <= -0.5 ? t - 1 : t);
+  /* the two steps as 0 or 1, not branches: along a curve f's sign is anyone's guess */
+  return (gcoord)(t + (f >= 0.5) - (f <= -0.5));
 }
 
 /* contour_region with the weights made. */
