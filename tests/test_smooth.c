@@ -646,7 +646,33 @@ static void test_kept_scene_part(void **state)
   assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
   assert_ptr_equal(keep, made);                      /* taken, not made again */
   same_model(&k, &L.m, L.r.map.nface);
+  /* while k holds the kept triangles, another model gets its own: the same model, and
+     k's left as they were */
+  struct smooth_model k2;
+  assert_int_equal(smooth_model_build_kept(&k2, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+  assert_true(k2.tri != k.tri && k2.lent == NULL && k.lent == keep);
+  same_model(&k2, &L.m, L.r.map.nface);
+  smooth_model_free(&k2);
+  same_model(&k, &L.m, L.r.map.nface);
   smooth_model_free(&k);
+  /* another smooth= on the same scene and keep: the insets made again (each kind against
+     a fresh build), then back to the first */
+  const enum effects_smooth kinds[] = { EFFECTS_SMOOTH_FIXED, EFFECTS_SMOOTH_PROP,
+                                        EFFECTS_SMOOTH_PROP, EFFECTS_SMOOTH_PHONG };
+  const double cs[] = { 0.15, 0.3, 0.2, 0 };
+  const struct effects e0 = L.e;
+  for (size_t q = 0; q < sizeof kinds / sizeof *kinds; q++) {
+    struct smooth_model fresh;
+    L.e.smooth = kinds[q];
+    L.e.smooth_c = cs[q] ? cs[q] : e0.smooth_c;
+    assert_int_equal(smooth_model_build(&fresh, &L.r.map, L.s, &L.e, &err), T74_OK);
+    assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+    assert_ptr_equal(k.lent, keep);
+    same_model(&k, &fresh, L.r.map.nface);
+    smooth_model_free(&k);
+    smooth_model_free(&fresh);
+  }
+  L.e = e0;
   /* another scene (the first still loaded: a part lives no longer than its scene): the
      part is made for it, freeing the first's */
   struct lib L2;
@@ -681,6 +707,17 @@ static void test_kept_scene_part(void **state)
   assert_true(memcmp(v1, L.m.tri[0].v, sizeof v1) != 0);   /* turned the other way */
   assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
   assert_ptr_equal(keep, made);
+  same_model(&k, &L.m, L.r.map.nface);
+  smooth_model_free(&k);
+  /* and back to the first side: turned back in the kept triangles */
+  L.s->view[0] = -600;
+  smooth_model_free(&L.m);
+  render_free(&L.r);
+  assert_int_equal(render_prepare(&L.r, L.s, &o, &err), T74_OK);
+  assert_int_equal(smooth_model_build(&L.m, &L.r.map, L.s, &L.e, &err), T74_OK);
+  assert_memory_equal(v1, L.m.tri[0].v, sizeof v1);
+  assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+  assert_ptr_equal(k.lent, keep);
   same_model(&k, &L.m, L.r.map.nface);
   smooth_model_free(&k);
   smooth_scene_free(keep);
