@@ -750,6 +750,8 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       int region, face = fr[i];
       if (face < 0) {                       /* a run of points that see no face */
         int e = i + 1;
+        /* four at a time: the four are all -1 .. exactly when their AND is negative */
+        while (e + 4 <= W && (fr[e] & fr[e + 1] & fr[e + 2] & fr[e + 3]) < 0) e += 4;
         while (e < W && fr[e] < 0) e++;
         if (!bg) memset(gr + i, 0, (size_t)(e - i));
         else for (int q = i; q < e; q++) gr[q] = (uint8_t)shade_none(m, q, j);
