@@ -75,6 +75,8 @@ struct pipeline {
   uint32_t *ids;                    /* face number seen per point, 0 none (--dump ids) */
   uint8_t *grey;
   int *face;                        /* the effects stage's frame (NULL: no effects) */
+  bool grey_pending;                /* points_emit left grey to the effects (fx_frame's
+                                       face_grey) */
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
@@ -429,7 +431,18 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   uint8_t *flat = p->scan ? malloc(n) : NULL;
   if (p->scan && !flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
   if (flat) memcpy(flat, p->grey, n);
-  struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL };
+  struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL, NULL };
+  uint8_t *fgrey = NULL;                    /* each face's grey at its index + 1 */
+  if (p->grey_pending) {
+    p->grey_pending = false;
+    if (!(fgrey = malloc((size_t)p->map->nface + 1))) {
+      free(flat); free(bg);
+      return t74_fail(err, T74_EIO, "out of host memory");
+    }
+    fgrey[0] = 0;
+    for (int k = 0; k < p->map->nface; k++) fgrey[k + 1] = (uint8_t)p->map->f[k].grey;
+    f.face_grey = fgrey;
+  }
   struct fx_engine eng;                     /* the engine that drew the frame (effects/see.h) */
   int st = T74_OK;
   if (p->r) fx_engine_1974(&eng, p->r, g);
@@ -437,6 +450,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   eng.smooth_keep = p->fx_smooth;
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
+  free(fgrey);
   if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
     /* to the tube alone, untimed: emit_point's steps a row at a time (issue 19) */
     struct row_cells rc;
@@ -1016,25 +1030,28 @@ static int points_emit(struct pipeline *p, const struct points *pt)
   const bool watched = p->hooks && p->hooks->watch;
   const int W = p->W, H = p->H, cc = p->cell * p->cell;
   uint8_t *fgrey;                           /* each face's grey, at its index + 1 */
+  if (p->face && !watched && !p->scan) {
+    /* the effects' frame: the faces; their greys are left to the effects (fx_frame's
+       face_grey: the point frame writes every one; run_effects makes the table) and the
+       ids to run_effects, written with the cells after fx_run */
+    memcpy(p->face, pt->face, (size_t)W * (size_t)H * sizeof *p->face);
+    p->grey_pending = true;
+    return T74_OK;
+  }
   if (p->face && !watched && (fgrey = malloc((size_t)p->map->nface + 1))) {
-    /* the effects' frame: the faces and their greys (the ids are run_effects', written
-       with the cells after fx_run) */
+    /* the effects' frame over a background: the faces, and their greys or the
+       background's */
     fgrey[0] = 0;
     for (int f = 0; f < p->map->nface; f++) fgrey[f + 1] = (uint8_t)p->map->f[f].grey;
     const struct scan_image *scan = p->scan;
     const size_t n = (size_t)W * (size_t)H;
     memcpy(p->face, pt->face, n * sizeof *p->face);
-    if (!scan) {                            /* (the pointers held: a byte store aliases) */
-      const int *face = pt->face;
-      uint8_t *grey = p->grey;
-      for (size_t at = 0; at < n; at++) grey[at] = fgrey[face[at] + 1];
-    } else
-      for (int j = 0; j < H; j++)
-        for (int i = 0; i < W; i++) {
-          const size_t at = (size_t)j * (size_t)W + (size_t)i;
-          const int f = pt->face[at];
-          p->grey[at] = f < 0 ? (uint8_t)scan_grey(scan, i, j) : fgrey[f + 1];
-        }
+    for (int j = 0; j < H; j++)
+      for (int i = 0; i < W; i++) {
+        const size_t at = (size_t)j * (size_t)W + (size_t)i;
+        const int f = pt->face[at];
+        p->grey[at] = f < 0 ? (uint8_t)scan_grey(scan, i, j) : fgrey[f + 1];
+      }
     free(fgrey);
     return T74_OK;
   }

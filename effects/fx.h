@@ -54,6 +54,10 @@ struct fx_frame {
   const struct fx_model *model;   /* while fx_run runs: the frame model every effect reads
                                (effects/model.h); NULL: the Visible Surface Procedure's
                                stretches and the frame's greys as they are */
+  const uint8_t *face_grey; /* not NULL: grey is not written yet, each point's being its
+                               face's flat grey, face_grey[face + 1] (face_grey[0] for none:
+                               no background); fx_run writes it, or leaves it to the point
+                               frame, which writes every point's (effects/model.h) */
 };
 
 /* Room for every statistic the effects can name in one run: 44 names in all, every aa
