@@ -393,22 +393,25 @@ static void emit_counts(struct pipeline *p, uint64_t n, uint64_t levels)
   COST_ADD_N(&p->display, COST_IO, levels);
 }
 
+/* A grey's cell and level in one word (greys_run's table): the cell in the low 16 bits,
+** the level above; GREY_ODD where the level is not 0 .. cc. */
+#define GREY_ODD UINT32_MAX
+
 /* The effects' points i .. of a row, without a background picture, whose greys' levels are
 ** 0 .. cc, up to the first other one: their ids, cells and levels as emit_point gives
-** them; its index, or n. id_of: each face's id at its index + 1 (0: none); mask_of: each
-** grey's cell, where its level is 0 .. cc. (A loop of its own: few values live.) */
+** them; its index, or n. id_of: each face's id at its index + 1 (0: none); cell_of: each
+** grey's cell and level (GREY_ODD). (A loop of its own: few values live.) */
 static int greys_run(const uint32_t *id_of, const int *face, const uint8_t *greys, int i,
-                     int n, const uint8_t *level_of, const uint16_t *mask_of, int cc,
-                     uint32_t *ids, uint16_t *masks, uint64_t *levels)
+                     int n, const uint32_t *cell_of, uint32_t *ids, uint16_t *masks,
+                     uint64_t *levels)
 {
   uint64_t sum = 0;
   for (; i < n; i++) {
-    const unsigned g = greys[i];
-    const int level = level_of[g];
-    if (level > cc) break;
+    const uint32_t c = cell_of[greys[i]];
+    if (c == GREY_ODD) break;
     ids[i] = id_of[face[i] + 1];
-    masks[i] = mask_of[g];
-    sum += (uint64_t)level;
+    masks[i] = (uint16_t)c;
+    sum += c >> 16;
   }
   *levels += sum;
   return i;
@@ -457,8 +460,9 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
     const int cc = p->cell * p->cell;
     uint64_t levels = 0;
     const struct mface *mf = p->map->f;
-    uint16_t gmask[256];                    /* each grey's cell, where its level is 0 .. cc */
-    for (int v = 0; v < 256; v++) gmask[v] = p->level[v] <= cc ? p->mask[p->level[v]] : 0;
+    uint32_t gcell[256];                    /* each grey's cell and level (greys_run) */
+    for (int v = 0; v < 256; v++)
+      gcell[v] = p->level[v] <= cc ? (uint32_t)p->level[v] << 16 | p->mask[p->level[v]] : GREY_ODD;
     uint32_t *id_of = p->scan ? NULL : malloc(((size_t)p->map->nface + 1) * sizeof *id_of);
     if (!p->scan && !id_of) st = t74_fail(err, T74_EIO, "out of host memory");
     for (int k = 0; id_of && k < p->map->nface; k++) id_of[k + 1] = mf[k].id;
@@ -471,7 +475,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       uint32_t *ids = p->ids + at0;
       for (int i = 0; st == T74_OK && i < p->W; i++) {
         if (!p->scan) {                     /* no background: the greys' levels */
-          i = greys_run(id_of, face, greys, i, p->W, p->level, gmask, cc, ids, rc.masks, &levels);
+          i = greys_run(id_of, face, greys, i, p->W, gcell, ids, rc.masks, &levels);
           if (i == p->W) break;
         }
         ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
