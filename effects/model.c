@@ -567,6 +567,24 @@ static bool in_stretches(const struct ev *ev, int nev, int64_t xn, int64_t xd)
   return false;
 }
 
+/* The first of the n samples k0 .. k0 + n - 1 of a row whose x is at or right of x, or n,
+   on a window rising left to right: sample i lies at xn / xd, xn = GRID_ONE (xd XL +
+   (2 (k0 + i) + 1)(XR - XL)), rising with i. A guess in doubles, then settled by the exact
+   compares (the answer is the least i where x <= xn / xd, whatever the guess). */
+static int first_at_or_right(struct grat x, const int32_t *win, int64_t xd, int64_t k0, int n)
+{
+  const int64_t XL = win[0], S = (int64_t)win[2] - win[0];
+  const double t = ((double)x.num / (double)x.den * (double)xd / (double)GRID_ONE -
+                    (double)xd * (double)XL) / (double)S;   /* 2 (k0 + i) + 1 there */
+  const double gi = ceil((t - 1) / 2 - (double)k0);
+  int i = !(gi > 0) ? 0 : gi >= n ? n : (int)gi;
+  while (i > 0 && geom_rat_cmp_frac(x, GRID_ONE * (xd * XL + (2 * (k0 + i - 1) + 1) * S), xd) <= 0)
+    i--;
+  while (i < n && geom_rat_cmp_frac(x, GRID_ONE * (xd * XL + (2 * (k0 + i) + 1) * S), xd) > 0)
+    i++;
+  return i;
+}
+
 /* Cut object q's regions out of a row of samples: a sample showing one of the object's
    faces inside a region shows what the engine sees there without the object (cut_line's
    answer, sample by sample). */
@@ -590,9 +608,9 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   const int32_t *win = m->g->window;
   bool behind = false;
   /* samples left to right (xn rising): each event's first sample at or right of it found
-     once (bnd, by halving); a sample lies in a stretch exactly when it lies in the stretch's
-     range of samples (the events are sorted, the ranges in order and apart). Else each
-     sample of the row is tested. */
+     once (bnd, first_at_or_right); a sample lies in a stretch exactly when it lies in the
+     stretch's range of samples (the events are sorted, the ranges in order and apart).
+     Else each sample of the row is tested. */
   const bool rising = win[2] > win[0];
   const int np = rising ? nev / 2 : 1;
   if (2 * np > L->bndcap) {
@@ -602,15 +620,7 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     L->bndcap = 2 * np;
   }
   if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
-  for (int h = 0; rising && h < 2 * np; h++) {
-    int lo = 0, hi = n;
-    while (lo < hi) {
-      int mid = lo + (hi - lo) / 2;
-      int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + mid) + 1) * ((int64_t)win[2] - win[0]));
-      if (geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0) hi = mid; else lo = mid + 1;
-    }
-    L->bnd[h] = lo;
-  }
+  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(L->ev[h].x, win, xd, k0, n);
   for (int r = 0; r < np; r++)
     for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
       if (face[i] < 0 || !skip[face[i]]) continue;
