@@ -36,6 +36,7 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
   p->nring = 0;
   int at = 0;
   size_t b = 0;
+  gcoord xlo = INT64_MAX, xhi = INT64_MIN, ylo = INT64_MAX, yhi = INT64_MIN;   /* the box */
   for (int r = 0; r < nring; r++) {
     int n = rs[r + 1] - rs[r];
     if (n < 3) continue;
@@ -47,26 +48,20 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
     for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
       const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
       gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo;
-      for (int v = v0; v < v1; v++) {
+      for (int v = v0; v < v1; v++) {       /* (the box's x on the way) */
         lo = q[v].y < lo ? q[v].y : lo;
         hi = q[v].y > hi ? q[v].y : hi;
+        xlo = q[v].x < xlo ? q[v].x : xlo;
+        xhi = q[v].x > xhi ? q[v].x : xhi;
       }
       p->blk[b][0] = lo;
       p->blk[b][1] = hi;
+      ylo = lo < ylo ? lo : ylo;            /* the box's y: each point is in a block */
+      yhi = hi > yhi ? hi : yhi;
     }
     at += n;
   }
   p->rs[p->nring] = at;
-  /* the box: x over the points, y over the blocks (each point is in one) */
-  gcoord xlo = p->pt[0].x, xhi = xlo, ylo = p->blk[0][0], yhi = p->blk[0][1];
-  for (int k = 1; k < at; k++) {
-    xlo = p->pt[k].x < xlo ? p->pt[k].x : xlo;
-    xhi = p->pt[k].x > xhi ? p->pt[k].x : xhi;
-  }
-  for (size_t k = 1; k < nblk; k++) {
-    ylo = p->blk[k][0] < ylo ? p->blk[k][0] : ylo;
-    yhi = p->blk[k][1] > yhi ? p->blk[k][1] : yhi;
-  }
   p->xlo = xlo; p->xhi = xhi; p->ylo = ylo; p->yhi = yhi;
   p->owner = owner;
   p->light = light;

@@ -926,6 +926,23 @@ static void test_region_crossings(void **state)
   }
   const int zr[3] = { 0, 19, 45 };
   assert_true(fx_polys_add(&ps, 2, zr, z, 3, 0));
+  /* a ring of two points (dropped, far outside) before a region: not in the box */
+  struct gpoint dz[2 + CONTOUR_STEPS + 2] = { { -900 * U, 900 * U }, { 900 * U, -900 * U } };
+  contour_region(ctl[0], dz + 2);
+  const int dr[3] = { 0, 2, 2 + CONTOUR_STEPS + 2 };
+  assert_true(fx_polys_add(&ps, 2, dr, dz, 4, 0));
+  assert_int_equal(ps.p[4].nring, 1);
+  for (int k = 0; k < ps.n; k++) {                /* each box: its points' */
+    const struct fx_poly *p = &ps.p[k];
+    gcoord b[4] = { p->pt[0].x, p->pt[0].x, p->pt[0].y, p->pt[0].y };
+    for (int v = 1; v < p->rs[p->nring]; v++) {
+      b[0] = p->pt[v].x < b[0] ? p->pt[v].x : b[0];
+      b[1] = p->pt[v].x > b[1] ? p->pt[v].x : b[1];
+      b[2] = p->pt[v].y < b[2] ? p->pt[v].y : b[2];
+      b[3] = p->pt[v].y > b[3] ? p->pt[v].y : b[3];
+    }
+    assert_true(p->xlo == b[0] && p->xhi == b[1] && p->ylo == b[2] && p->yhi == b[3]);
+  }
   long rows = 0, crossings = 0;
   struct cost cost = { { 0 } };
   for (int k = 0; k < ps.n; k++) {
