@@ -174,10 +174,13 @@ bool fx_model_shades(const struct fx_model *m)
 static void space_point(const struct fx_model *m, int f, double px, double py, double X[3])
 {
   const double *E = m->eye, *r = m->ray[f];
-  double D[3] = { px - E[0], py - E[1], -E[2] };
+  const double E0 = E[0], E1 = E[1], E2 = E[2];   /* held: a store to X might be to E */
+  double D[3] = { px - E0, py - E1, -E2 };
   double den = r[0] * D[0] + r[1] * D[1] + r[2] * D[2];
   double t = den != 0 ? r[3] / den : 1;
-  for (int c = 0; c < 3; c++) X[c] = E[c] + t * D[c];
+  X[0] = E0 + t * D[0];
+  X[1] = E1 + t * D[1];
+  X[2] = E2 + t * D[2];
 }
 
 static double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
