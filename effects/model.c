@@ -570,20 +570,34 @@ static bool in_stretches(const struct ev *ev, int nev, int64_t xn, int64_t xd)
   return false;
 }
 
-/* The first of the n samples k0 .. k0 + n - 1 of a row whose x is at or right of x, or n,
-   on a window rising left to right: sample i lies at xn / xd, xn = GRID_ONE (xd XL +
-   (2 (k0 + i) + 1)(XR - XL)), rising with i. A guess in doubles, then settled by the exact
-   compares (the answer is the least i where x <= xn / xd, whatever the guess). */
-static int first_at_or_right(struct grat x, const int32_t *win, int64_t xd, int64_t k0, int n)
+/* Where the samples k0 .. k0 + n - 1 of a row lie, on a window rising left to right:
+   sample i at xn / xd, xn = GRID_ONE (xd XL + (2 (k0 + i) + 1) S), S = XR - XL, rising
+   with i; and for a guess in doubles, i = x ka - kb at x. */
+struct sample_row { int64_t XL, S, xd, k0; int n; double ka, kb; };
+
+static void sample_row(struct sample_row *r, const int32_t *win, int64_t xd, int64_t k0, int n)
 {
-  const int64_t XL = win[0], S = (int64_t)win[2] - win[0];
-  const double t = ((double)x.num / (double)x.den * (double)xd / (double)GRID_ONE -
-                    (double)xd * (double)XL) / (double)S;   /* 2 (k0 + i) + 1 there */
-  const double gi = ceil((t - 1) / 2 - (double)k0);
-  int i = !(gi > 0) ? 0 : gi >= n ? n : (int)gi;
-  while (i > 0 && geom_rat_cmp_frac(x, GRID_ONE * (xd * XL + (2 * (k0 + i - 1) + 1) * S), xd) <= 0)
+  r->XL = win[0];
+  r->S = (int64_t)win[2] - win[0];
+  r->xd = xd;
+  r->k0 = k0;
+  r->n = n;
+  r->ka = (double)xd / ((double)GRID_ONE * (double)r->S) / 2;
+  r->kb = ((double)xd * (double)r->XL / (double)r->S + 1) / 2 + (double)k0;
+}
+
+/* The first sample of the row whose x is at or right of x, or n: the guess, then settled
+   by the exact compares (the least i where x <= xn / xd, whatever the guess: usually two
+   compares). */
+static int first_at_or_right(struct grat x, const struct sample_row *r)
+{
+  const double gi = ceil((double)x.num / (double)x.den * r->ka - r->kb);
+  int i = !(gi > 0) ? 0 : gi >= r->n ? r->n : (int)gi;
+  while (i > 0 && geom_rat_cmp_frac(x, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i - 1) + 1) * r->S),
+                                    r->xd) <= 0)
     i--;
-  while (i < n && geom_rat_cmp_frac(x, GRID_ONE * (xd * XL + (2 * (k0 + i) + 1) * S), xd) > 0)
+  while (i < r->n && geom_rat_cmp_frac(x, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i) + 1) * r->S),
+                                       r->xd) > 0)
     i++;
   return i;
 }
@@ -623,7 +637,9 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     L->bndcap = 2 * np;
   }
   if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
-  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(L->ev[h].x, win, xd, k0, n);
+  struct sample_row sr;
+  if (rising) sample_row(&sr, win, xd, k0, n);
+  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(L->ev[h].x, &sr);
   for (int r = 0; r < np; r++)
     for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
       if (face[i] < 0 || !skip[face[i]]) continue;
