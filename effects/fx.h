@@ -48,7 +48,8 @@ struct fx_frame {
                                for none; an effect that changes what is seen (a contour
                                cut) updates it, and the ids dump follows */
   uint8_t *grey;            /* intensity 0..255 (perceptual, as pat_level takes it); on
-                               entry the flat face grey, or the background's */
+                               entry the flat face grey, or the background's (or not yet
+                               written: face_grey below) */
   const uint8_t *bg;        /* the background picture's intensity per point (NULL: none,
                                the background is black) */
   const struct fx_model *model;   /* while fx_run runs: the frame model every effect reads
