@@ -617,7 +617,11 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     near = m->cuts.p[k].owner == m->cut_obj[q] && fx_poly_on_row(&m->cuts.p[k], fy);
   if (!near) return T74_OK;
   bool hit = false;
-  for (int i = 0; i < n && !hit; i++) hit = face[i] >= 0 && skip[face[i]];
+  for (int i = 0; i < n && !hit; i++) {
+    /* none seen at four samples (their AND negative exactly when all four are -1) */
+    if (i + 4 <= n && (face[i] & face[i + 1] & face[i + 2] & face[i + 3]) < 0) { i += 3; continue; }
+    hit = face[i] >= 0 && skip[face[i]];
+  }
   if (!hit) return T74_OK;
   int nev;
   int rc = cut_stretches(L, q, yn, yd, &nev, err);
