@@ -75,6 +75,8 @@ struct pipeline {
   uint32_t *ids;                    /* face number seen per point, 0 none (--dump ids) */
   uint8_t *grey;
   int *face;                        /* the effects stage's frame (NULL: no effects) */
+  bool grey_pending;                /* points_emit left grey to the effects (fx_frame's
+                                       face_grey) */
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
@@ -392,22 +394,25 @@ static void emit_counts(struct pipeline *p, uint64_t n, uint64_t levels)
   COST_ADD_N(&p->display, COST_IO, levels);
 }
 
+/* A grey's cell and level in one word (greys_run's table): the cell in the low 16 bits,
+** the level above; GREY_ODD where the level is not 0 .. cc. */
+#define GREY_ODD UINT32_MAX
+
 /* The effects' points i .. of a row, without a background picture, whose greys' levels are
 ** 0 .. cc, up to the first other one: their ids, cells and levels as emit_point gives
-** them; its index, or n. id_of: each face's id at its index + 1 (0: none); mask_of: each
-** grey's cell, where its level is 0 .. cc. (A loop of its own: few values live.) */
+** them; its index, or n. id_of: each face's id at its index + 1 (0: none); cell_of: each
+** grey's cell and level (GREY_ODD). (A loop of its own: few values live.) */
 static int greys_run(const uint32_t *id_of, const int *face, const uint8_t *greys, int i,
-                     int n, const uint8_t *level_of, const uint16_t *mask_of, int cc,
-                     uint32_t *ids, uint16_t *masks, uint64_t *levels)
+                     int n, const uint32_t *cell_of, uint32_t *ids, uint16_t *masks,
+                     uint64_t *levels)
 {
   uint64_t sum = 0;
   for (; i < n; i++) {
-    const unsigned g = greys[i];
-    const int level = level_of[g];
-    if (level > cc) break;
+    const uint32_t c = cell_of[greys[i]];
+    if (c == GREY_ODD) break;
     ids[i] = id_of[face[i] + 1];
-    masks[i] = mask_of[g];
-    sum += (uint64_t)level;
+    masks[i] = (uint16_t)c;
+    sum += c >> 16;
   }
   *levels += sum;
   return i;
@@ -430,7 +435,18 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   uint8_t *flat = p->scan ? malloc(n) : NULL;
   if (p->scan && !flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
   if (flat) memcpy(flat, p->grey, n);
-  struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL };
+  struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL, NULL };
+  uint8_t *fgrey = NULL;                    /* each face's grey at its index + 1 */
+  if (p->grey_pending) {
+    p->grey_pending = false;
+    if (!(fgrey = malloc((size_t)p->map->nface + 1))) {
+      free(flat); free(bg);
+      return t74_fail(err, T74_EIO, "out of host memory");
+    }
+    fgrey[0] = 0;
+    for (int k = 0; k < p->map->nface; k++) fgrey[k + 1] = (uint8_t)p->map->f[k].grey;
+    f.face_grey = fgrey;
+  }
   struct fx_engine eng;                     /* the engine that drew the frame (effects/see.h) */
   int st = T74_OK;
   if (p->r) fx_engine_1974(&eng, p->r, g);
@@ -439,14 +455,16 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   eng.tex_keep = p->fx_tex;
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
+  free(fgrey);
   if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
     /* to the tube alone, untimed: emit_point's steps a row at a time (issue 19) */
     struct row_cells rc;
     const int cc = p->cell * p->cell;
     uint64_t levels = 0;
     const struct mface *mf = p->map->f;
-    uint16_t gmask[256];                    /* each grey's cell, where its level is 0 .. cc */
-    for (int v = 0; v < 256; v++) gmask[v] = p->level[v] <= cc ? p->mask[p->level[v]] : 0;
+    uint32_t gcell[256];                    /* each grey's cell and level (greys_run) */
+    for (int v = 0; v < 256; v++)
+      gcell[v] = p->level[v] <= cc ? (uint32_t)p->level[v] << 16 | p->mask[p->level[v]] : GREY_ODD;
     uint32_t *id_of = p->scan ? NULL : malloc(((size_t)p->map->nface + 1) * sizeof *id_of);
     if (!p->scan && !id_of) st = t74_fail(err, T74_EIO, "out of host memory");
     for (int k = 0; id_of && k < p->map->nface; k++) id_of[k + 1] = mf[k].id;
@@ -459,7 +477,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       uint32_t *ids = p->ids + at0;
       for (int i = 0; st == T74_OK && i < p->W; i++) {
         if (!p->scan) {                     /* no background: the greys' levels */
-          i = greys_run(id_of, face, greys, i, p->W, p->level, gmask, cc, ids, rc.masks, &levels);
+          i = greys_run(id_of, face, greys, i, p->W, gcell, ids, rc.masks, &levels);
           if (i == p->W) break;
         }
         ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
@@ -1018,25 +1036,28 @@ static int points_emit(struct pipeline *p, const struct points *pt)
   const bool watched = p->hooks && p->hooks->watch;
   const int W = p->W, H = p->H, cc = p->cell * p->cell;
   uint8_t *fgrey;                           /* each face's grey, at its index + 1 */
+  if (p->face && !watched && !p->scan) {
+    /* the effects' frame: the faces; their greys are left to the effects (fx_frame's
+       face_grey: the point frame writes every one; run_effects makes the table) and the
+       ids to run_effects, written with the cells after fx_run */
+    memcpy(p->face, pt->face, (size_t)W * (size_t)H * sizeof *p->face);
+    p->grey_pending = true;
+    return T74_OK;
+  }
   if (p->face && !watched && (fgrey = malloc((size_t)p->map->nface + 1))) {
-    /* the effects' frame: the faces and their greys (the ids are run_effects', written
-       with the cells after fx_run) */
+    /* the effects' frame over a background: the faces, and their greys or the
+       background's */
     fgrey[0] = 0;
     for (int f = 0; f < p->map->nface; f++) fgrey[f + 1] = (uint8_t)p->map->f[f].grey;
     const struct scan_image *scan = p->scan;
     const size_t n = (size_t)W * (size_t)H;
     memcpy(p->face, pt->face, n * sizeof *p->face);
-    if (!scan) {                            /* (the pointers held: a byte store aliases) */
-      const int *face = pt->face;
-      uint8_t *grey = p->grey;
-      for (size_t at = 0; at < n; at++) grey[at] = fgrey[face[at] + 1];
-    } else
-      for (int j = 0; j < H; j++)
-        for (int i = 0; i < W; i++) {
-          const size_t at = (size_t)j * (size_t)W + (size_t)i;
-          const int f = pt->face[at];
-          p->grey[at] = f < 0 ? (uint8_t)scan_grey(scan, i, j) : fgrey[f + 1];
-        }
+    for (int j = 0; j < H; j++)
+      for (int i = 0; i < W; i++) {
+        const size_t at = (size_t)j * (size_t)W + (size_t)i;
+        const int f = pt->face[at];
+        p->grey[at] = f < 0 ? (uint8_t)scan_grey(scan, i, j) : fgrey[f + 1];
+      }
     free(fgrey);
     return T74_OK;
   }

@@ -93,7 +93,7 @@ int aa_frame_render(const char *path, const char *effects, int cell, uint32_t co
      the anti-aliasing over it */
   struct fx_model m;
   bool built = st == T74_OK;
-  struct fx_frame fr = { f->W, f->H, f->cell, f->face, f->grey, bg, NULL };
+  struct fx_frame fr = { f->W, f->H, f->cell, f->face, f->grey, bg, NULL, NULL };
   struct fx_engine eng;
   fx_engine_1974(&eng, &r, &g);
   if (built && (st = fx_model_build(&m, &eng, s, &e, bg, &f->st, &f->fx, err)) == T74_OK &&

@@ -31,7 +31,8 @@ static void bernstein(double t, double b[5])
 }
 
 /* The curve's point with the weights b (contour_bezier's sum). */
-static void bezier_with(const double q[5][2], const double b[5], double out[2])
+static inline __attribute__((always_inline)) void
+bezier_with(const double q[5][2], const double b[5], double out[2])
 {
   for (int c = 0; c < 2; c++)
     out[c] = b[0] * q[0][c] + b[1] * q[1][c] + b[2] * q[2][c] + b[3] * q[3][c] + b[4] * q[4][c];
@@ -87,7 +88,8 @@ static gcoord round_grid(double x)
   if (!(fabs(x) < 0x1p62)) return (gcoord)llround(x);
   int64_t t = (int64_t)x;
   double f = x - (double)t;
-  return (gcoord)(f >= 0.5 ? t + 1 : f <= -0.5 ? t - 1 : t);
+  /* the two steps as 0 or 1, not branches: along a curve f's sign is anyone's guess */
+  return (gcoord)(t + (f >= 0.5) - (f <= -0.5));
 }
 
 /* contour_region with the weights made. */

@@ -41,8 +41,16 @@ int fx_run(const struct fx_engine *eng, const struct scene *s, const struct effe
   uint32_t mark = core_mark(eng->core);
   struct fx_model m;
   int rc = fx_model_build(&m, eng, s, e, f->bg, st, cost, err);
-  if (rc == T74_OK && (fx_model_shades(&m) || fx_model_regions(&m)))
-    rc = fx_points(&m, f, st, cost, err);
+  const bool points = rc == T74_OK && (fx_model_shades(&m) || fx_model_regions(&m));
+  if (rc == T74_OK && !points && f->face_grey) {   /* the flat greys, as the frame had them */
+    const size_t n = (size_t)f->W * (size_t)f->H;
+    const int *face = f->face;
+    uint8_t *grey = f->grey;
+    const uint8_t *fg = f->face_grey;
+    for (size_t at = 0; at < n; at++) grey[at] = fg[face[at] + 1];
+  }
+  f->face_grey = NULL;
+  if (points) rc = fx_points(&m, f, st, cost, err);   /* every point's grey written */
   f->model = &m;
   if (rc == T74_OK && e->aa != EFFECTS_AA_NONE) rc = aa_run(eng, e, f, st, cost, err);
   if (rc == T74_OK && e->edges)

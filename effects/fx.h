@@ -48,12 +48,17 @@ struct fx_frame {
                                for none; an effect that changes what is seen (a contour
                                cut) updates it, and the ids dump follows */
   uint8_t *grey;            /* intensity 0..255 (perceptual, as pat_level takes it); on
-                               entry the flat face grey, or the background's */
+                               entry the flat face grey, or the background's (or not yet
+                               written: face_grey below) */
   const uint8_t *bg;        /* the background picture's intensity per point (NULL: none,
                                the background is black) */
   const struct fx_model *model;   /* while fx_run runs: the frame model every effect reads
                                (effects/model.h); NULL: the Visible Surface Procedure's
                                stretches and the frame's greys as they are */
+  const uint8_t *face_grey; /* not NULL: grey is not written yet, each point's being its
+                               face's flat grey, face_grey[face + 1] (face_grey[0] for none:
+                               no background); fx_run writes it, or leaves it to the point
+                               frame, which writes every point's (effects/model.h) */
 };
 
 /* Room for every statistic the effects can name in one run: 44 names in all, every aa

@@ -208,10 +208,13 @@ bool fx_model_shades(const struct fx_model *m)
 static void space_point(const struct fx_model *m, int f, double px, double py, double X[3])
 {
   const double *E = m->eye, *r = m->ray[f];
-  double D[3] = { px - E[0], py - E[1], -E[2] };
+  const double E0 = E[0], E1 = E[1], E2 = E[2];   /* held: a store to X might be to E */
+  double D[3] = { px - E0, py - E1, -E2 };
   double den = r[0] * D[0] + r[1] * D[1] + r[2] * D[2];
   double t = den != 0 ? r[3] / den : 1;
-  for (int c = 0; c < 3; c++) X[c] = E[c] + t * D[c];
+  X[0] = E0 + t * D[0];
+  X[1] = E1 + t * D[1];
+  X[2] = E2 + t * D[2];
 }
 
 static double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
@@ -601,6 +604,38 @@ static bool in_stretches(const struct ev *ev, int nev, int64_t xn, int64_t xd)
   return false;
 }
 
+/* Where the samples k0 .. k0 + n - 1 of a row lie, on a window rising left to right:
+   sample i at xn / xd, xn = GRID_ONE (xd XL + (2 (k0 + i) + 1) S), S = XR - XL, rising
+   with i; and for a guess in doubles, i = x ka - kb at x. */
+struct sample_row { int64_t XL, S, xd, k0; int n; double ka, kb; };
+
+static void sample_row(struct sample_row *r, const int32_t *win, int64_t xd, int64_t k0, int n)
+{
+  r->XL = win[0];
+  r->S = (int64_t)win[2] - win[0];
+  r->xd = xd;
+  r->k0 = k0;
+  r->n = n;
+  r->ka = (double)xd / ((double)GRID_ONE * (double)r->S) / 2;
+  r->kb = ((double)xd * (double)r->XL / (double)r->S + 1) / 2 + (double)k0;
+}
+
+/* The first sample of the row whose x is at or right of x, or n: the guess, then settled
+   by the exact compares (the least i where x <= xn / xd, whatever the guess: usually two
+   compares). */
+static int first_at_or_right(struct grat x, const struct sample_row *r)
+{
+  const double gi = ceil((double)x.num / (double)x.den * r->ka - r->kb);
+  int i = !(gi > 0) ? 0 : gi >= r->n ? r->n : (int)gi;
+  while (i > 0 && geom_rat_cmp_frac(x, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i - 1) + 1) * r->S),
+                                    r->xd) <= 0)
+    i--;
+  while (i < r->n && geom_rat_cmp_frac(x, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i) + 1) * r->S),
+                                       r->xd) > 0)
+    i++;
+  return i;
+}
+
 /* Cut object q's regions out of a row of samples: a sample showing one of the object's
    faces inside a region shows what the engine sees there without the object (cut_line's
    answer, sample by sample). */
@@ -616,7 +651,11 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     near = m->cuts.p[k].owner == m->cut_obj[q] && fx_poly_on_row(&m->cuts.p[k], fy);
   if (!near) return T74_OK;
   bool hit = false;
-  for (int i = 0; i < n && !hit; i++) hit = face[i] >= 0 && skip[face[i]];
+  for (int i = 0; i < n && !hit; i++) {
+    /* none seen at four samples (their AND negative exactly when all four are -1) */
+    if (i + 4 <= n && (face[i] & face[i + 1] & face[i + 2] & face[i + 3]) < 0) { i += 3; continue; }
+    hit = face[i] >= 0 && skip[face[i]];
+  }
   if (!hit) return T74_OK;
   int nev;
   int rc = cut_stretches(L, q, yn, yd, &nev, err);
@@ -624,9 +663,9 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   const int32_t *win = m->g->window;
   bool behind = false;
   /* samples left to right (xn rising): each event's first sample at or right of it found
-     once (bnd, by halving); a sample lies in a stretch exactly when it lies in the stretch's
-     range of samples (the events are sorted, the ranges in order and apart). Else each
-     sample of the row is tested. */
+     once (bnd, first_at_or_right); a sample lies in a stretch exactly when it lies in the
+     stretch's range of samples (the events are sorted, the ranges in order and apart).
+     Else each sample of the row is tested. */
   const bool rising = win[2] > win[0];
   const int np = rising ? nev / 2 : 1;
   if (2 * np > L->bndcap) {
@@ -636,15 +675,9 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     L->bndcap = 2 * np;
   }
   if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
-  for (int h = 0; rising && h < 2 * np; h++) {
-    int lo = 0, hi = n;
-    while (lo < hi) {
-      int mid = lo + (hi - lo) / 2;
-      int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + mid) + 1) * ((int64_t)win[2] - win[0]));
-      if (geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0) hi = mid; else lo = mid + 1;
-    }
-    L->bnd[h] = lo;
-  }
+  struct sample_row sr;
+  if (rising) sample_row(&sr, win, xd, k0, n);
+  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(L->ev[h].x, &sr);
   for (int r = 0; r < np; r++)
     for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
       if (face[i] < 0 || !skip[face[i]]) continue;
@@ -784,6 +817,8 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       int region, face = fr[i];
       if (face < 0) {                       /* a run of points that see no face */
         int e = i + 1;
+        /* four at a time: the four are all -1 .. exactly when their AND is negative */
+        while (e + 4 <= W && (fr[e] & fr[e + 1] & fr[e + 2] & fr[e + 3]) < 0) e += 4;
         while (e < W && fr[e] < 0) e++;
         if (!bg) memset(gr + i, 0, (size_t)(e - i));
         else for (int q = i; q < e; q++) gr[q] = (uint8_t)shade_none(m, q, j);

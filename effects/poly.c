@@ -21,27 +21,48 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
     ps->cap = cap;
   }
   struct fx_poly *p = &ps->p[ps->n];
-  p->rs = malloc((size_t)(keep + 1) * sizeof *p->rs);
-  p->pt = malloc((size_t)npt * sizeof *p->pt);
-  if (!p->rs || !p->pt) { free(p->rs); free(p->pt); return false; }
+  /* one allocation: the points, then the blocks' y ranges, then the offsets */
+  size_t nblk = 0;
+  for (int r = 0; r < nring; r++) {
+    int n = rs[r + 1] - rs[r];
+    if (n >= 3) nblk += (size_t)(n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
+  }
+  char *mem = malloc((size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
+                     (size_t)(keep + 1) * sizeof *p->rs);
+  if (!mem) return false;
+  p->pt = (struct gpoint *)mem;
+  p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
+  p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
   p->nring = 0;
   int at = 0;
+  size_t b = 0;
+  gcoord xlo = INT64_MAX, xhi = INT64_MIN, ylo = INT64_MAX, yhi = INT64_MIN;   /* the box */
   for (int r = 0; r < nring; r++) {
     int n = rs[r + 1] - rs[r];
     if (n < 3) continue;
     p->rs[p->nring++] = at;
     memcpy(p->pt + at, pt + rs[r], (size_t)n * sizeof *pt);
+    /* block v0 .. v0 + FX_POLY_BLOCK - 1: the edges from those points, so its points are
+       those and the next (the ring's first after its last) */
+    const struct gpoint *q = p->pt + at;
+    for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
+      const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
+      gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo;
+      for (int v = v0; v < v1; v++) {       /* (the box's x on the way) */
+        lo = q[v].y < lo ? q[v].y : lo;
+        hi = q[v].y > hi ? q[v].y : hi;
+        xlo = q[v].x < xlo ? q[v].x : xlo;
+        xhi = q[v].x > xhi ? q[v].x : xhi;
+      }
+      p->blk[b][0] = lo;
+      p->blk[b][1] = hi;
+      ylo = lo < ylo ? lo : ylo;            /* the box's y: each point is in a block */
+      yhi = hi > yhi ? hi : yhi;
+    }
     at += n;
   }
   p->rs[p->nring] = at;
-  p->xlo = p->xhi = p->pt[0].x;
-  p->ylo = p->yhi = p->pt[0].y;
-  for (int k = 1; k < at; k++) {
-    if (p->pt[k].x < p->xlo) p->xlo = p->pt[k].x;
-    if (p->pt[k].x > p->xhi) p->xhi = p->pt[k].x;
-    if (p->pt[k].y < p->ylo) p->ylo = p->pt[k].y;
-    if (p->pt[k].y > p->yhi) p->yhi = p->pt[k].y;
-  }
+  p->xlo = xlo; p->xhi = xhi; p->ylo = ylo; p->yhi = yhi;
   p->owner = owner;
   p->light = light;
   ps->n++;
@@ -50,7 +71,7 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
 
 void fx_polys_free(struct fx_polys *ps)
 {
-  for (int k = 0; k < ps->n; k++) { free(ps->p[k].rs); free(ps->p[k].pt); }
+  for (int k = 0; k < ps->n; k++) free(ps->p[k].pt);   /* with rs and blk */
   free(ps->p);
   memset(ps, 0, sizeof *ps);
 }
@@ -61,6 +82,7 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
   int nx = 0;
   const int64_t fy = fx_line_row(yn, yd);   /* a point on or below the line: y <= fy */
   if (!fx_poly_on_row(p, fy)) return 0;
+  const gcoord (*blk)[2] = (const gcoord (*)[2])p->blk;   /* the ring's first block */
   for (int r = 0; r < p->nring; r++) {
     int a = p->rs[r], n = p->rs[r + 1] - a;
     if (n <= 0) continue;
@@ -70,6 +92,15 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
     const struct gpoint *pt = p->pt + a;
     bool c0 = pt[0].y <= fy;
     for (int v = 0; v < n; v++) {
+      /* a block of edges whose points all lie on one side (c0's, its first point's)
+         crosses nowhere: on to the next, c0 still its first point's */
+      if (v % FX_POLY_BLOCK == 0) {
+        const gcoord *bk = blk[v / FX_POLY_BLOCK];
+        if (bk[1] <= fy || bk[0] > fy) {
+          v += FX_POLY_BLOCK - 1;
+          continue;
+        }
+      }
       /* the edge from point v to the next, w (the last back to the first) */
       const int w = v + 1 == n ? 0 : v + 1;
       const bool c1 = pt[w].y <= fy;
@@ -88,6 +119,7 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
       c0 = c1;
     }
     COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)n); COST_ADD_N(cost, COST_BRANCH, n);  /* an edge's */
+    blk += (n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
   }
   return nx;
 }

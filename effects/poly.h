@@ -17,10 +17,17 @@
 #include "emu/cost.h"
 #include "render/geom.h"
 
+/* A ring's edges go FX_POLY_BLOCK at a time: a block whose points (its edges' ends) all
+   lie on one side of a line has no crossing with it, found from its lowest and highest y
+   without a look at each point. */
+#define FX_POLY_BLOCK 8
+
 struct fx_poly {
   int nring;
   int *rs;                  /* nring + 1 offsets into pt */
-  struct gpoint *pt;
+  struct gpoint *pt;        /* (one allocation with rs and the blocks) */
+  gcoord (*blk)[2];         /* per block of a ring's edges, ring by ring: its points'
+                               lowest and highest y */
   gcoord xlo, xhi, ylo, yhi;   /* bounding box */
   int owner;                /* the mapped face a shadow lies on; the object a cut belongs to */
   int light;                /* a shadow: the light it hides (index in scene.light) */

@@ -142,11 +142,16 @@ static int edge_cmp(const void *pa, const void *pb)
   return a->tri < b->tri ? -1 : a->tri > b->tri;
 }
 
+static void smooth_scene_return(struct smooth_scene *ss);
+
 void smooth_model_free(struct smooth_model *m)
 {
-  free(m->tri);
+  if (m->lent) smooth_scene_return(m->lent);
+  else {
+    free(m->tri);
+    free(m->edge_group);
+  }
   free(m->tri_of_mface);
-  free(m->edge_group);
   memset(m, 0, sizeof *m);
 }
 
@@ -369,11 +374,27 @@ struct smooth_scene {
   struct smooth_part { int from, to; bool closed; } *obj;
   int flips, conflicts;
   int *group, ngroup;       /* edge_group (smooth.h), on the triangles as oriented here */
+  /* the model's triangles and edge groups as the last frame turned them (lent to its
+     model): valid when view_made, for smooth= view_kind (view_c), each object turned
+     (view_turned[o]) as then, with view_normals vertex normals */
+  struct smooth_tri *view;
+  int *view_group;
+  bool *view_turned;
+  bool view_made, view_lent;
+  enum effects_smooth view_kind;
+  double view_c;
+  int view_normals;
 };
+
+/* The model's triangles given back to their kept part (smooth_model_free). */
+static void smooth_scene_return(struct smooth_scene *ss) { ss->view_lent = false; }
 
 void smooth_scene_free(struct smooth_scene *ss)
 {
   if (!ss) return;
+  free(ss->view);
+  free(ss->view_group);
+  free(ss->view_turned);
   free(ss->tri);
   free(ss->o3);
   free(ss->obj);
@@ -464,11 +485,51 @@ int smooth_model_build(struct smooth_model *m, const struct mapped *map,
   return smooth_model_build_kept(m, map, s, e, NULL, err);
 }
 
+/* The model's triangles (and edge groups) as the frame turns each object (turned[o]),
+   their vertex normals' rows and their insets for e's smooth=, into tri and group; the
+   count of vertex normals returned. seen, row: s->nv + 1 ints of scratch. */
+static int orient_view(const struct smooth_scene *ss, const struct scene *s,
+                       const struct effects *e, const bool *turned, struct smooth_tri *tri,
+                       int *group, int *seen, int *row)
+{
+  int normals = 0;
+  if (ss->ntri) memcpy(group, ss->group, 3 * (size_t)ss->ntri * sizeof *group);
+  for (int k = 0; k < s->nv; k++) seen[k] = -1;
+  for (int o = 0; o < ss->nobj; o++) {
+    int from = ss->obj[o].from, to = ss->obj[o].to;
+    for (int t = from; t < to; t++) {
+      struct smooth_tri *tr = &tri[t];
+      if (turned[o]) {
+        tri_turned(&ss->tri[t], tr);
+        int *g = group + 3 * t, x = g[0];   /* side 0 is a's side 2 and back */
+        g[0] = g[2]; g[2] = x;
+      } else {
+        memcpy(tr, &ss->tri[t], sizeof *tr);
+      }
+      for (int k = 0; k < 3; k++) {
+        int v = tr->v[k];
+        if (seen[v] != o) {
+          seen[v] = o;
+          row[v] = normals++;
+        }
+        tr->ni[k] = row[v];
+      }
+    }
+    struct smooth_model m = { .tri = tri };
+    double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(&m, from, to) : 0;
+    for (int t = from; t < to; t++)
+      smooth_insets(e->smooth, e->smooth_c, w, tri[t].len, tri[t].area2, tri[t].t);
+  }
+  return normals;
+}
+
 int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
                             const struct scene *s, const struct effects *e,
                             struct smooth_scene **keep, struct t74_error *err)
 {
   memset(m, 0, sizeof *m);
+  if (keep && *keep && (*keep)->s != s && (*keep)->view_lent)
+    keep = NULL;                            /* a live model holds it: made for this one alone */
   struct smooth_scene *ss = keep && *keep && (*keep)->s == s ? *keep : NULL;
   if (!ss) {
     int rc = scene_part(s, &ss, err);
@@ -478,64 +539,88 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
       *keep = ss;
     }
   }
+  /* the kept part's triangles serve this model unless another holds them */
+  const bool lend = keep && !ss->view_lent;
+  if (lend && !ss->view) {
+    ss->view = malloc(((size_t)ss->ntri + 1) * sizeof *ss->view);
+    ss->view_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *ss->view_group);
+    ss->view_turned = malloc(((size_t)ss->nobj + 1) * sizeof *ss->view_turned);
+    if (!ss->view || !ss->view_group || !ss->view_turned) {
+      free(ss->view); free(ss->view_group); free(ss->view_turned);
+      ss->view = NULL; ss->view_group = NULL; ss->view_turned = NULL;
+      return t74_fail(err, T74_EIO, "out of host memory");
+    }
+    ss->view_made = false;
+  }
   int nm = map->nface;
   m->tri_of_mface = malloc(((size_t)nm + 1) * sizeof *m->tri_of_mface);
   int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
-  m->tri = malloc(((size_t)ss->ntri + 1) * sizeof *m->tri);
-  m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
-  int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
-  int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
-  if (!m->tri_of_mface || !mof || !m->tri || !m->edge_group || !seen || !row) {
-    free(mof); free(seen); free(row); smooth_model_free(m);
+  bool *turned = malloc(((size_t)ss->nobj + 1) * sizeof *turned);
+  if (lend) {
+    m->tri = ss->view;
+    m->edge_group = ss->view_group;
+    m->lent = ss;
+    ss->view_lent = true;
+  } else {
+    m->tri = malloc(((size_t)ss->ntri + 1) * sizeof *m->tri);
+    m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
+  }
+  if (!m->tri_of_mface || !mof || !turned || !m->tri || !m->edge_group) {
+    free(mof); free(turned); smooth_model_free(m);
     if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
-  if (ss->ntri) memcpy(m->edge_group, ss->group, 3 * (size_t)ss->ntri * sizeof *m->edge_group);
   m->ngroup = ss->ngroup;
   m->ntri = ss->ntri;
   m->flips = ss->flips;
   m->conflicts = ss->conflicts;
   m->objects = ss->nobj;
+  const int64_t *eye = map->eye;
+  /* an open surface has no outside: its front is the side most of it turns to the eye
+     (the sum of o . (eye - v0) over its triangles, exact, positive) */
+  bool same = lend && ss->view_made && ss->view_kind == e->smooth && ss->view_c == e->smooth_c;
+  for (int o = 0; o < ss->nobj; o++) {
+    wide toward = 0;
+    for (int t = ss->obj[o].from; t < ss->obj[o].to && !ss->obj[o].closed; t++)
+      toward += toward_eye(s, ss->tri[t].v[0], ss->o3[t], eye);
+    turned[o] = toward < 0;
+    same = same && ss->view_turned[o] == turned[o];
+  }
+  if (same) {
+    m->vertex_normals = ss->view_normals;
+  } else {
+    int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
+    int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
+    if (!seen || !row) {
+      free(seen); free(row); free(mof); free(turned);
+      if (lend) ss->view_made = false;
+      smooth_model_free(m);
+      if (!keep) smooth_scene_free(ss);
+      return t74_fail(err, T74_EIO, "out of host memory");
+    }
+    m->vertex_normals = orient_view(ss, s, e, turned, m->tri, m->edge_group, seen, row);
+    free(seen); free(row);
+    if (lend) {
+      memcpy(ss->view_turned, turned, (size_t)ss->nobj * sizeof *turned);
+      ss->view_kind = e->smooth;
+      ss->view_c = e->smooth_c;
+      ss->view_normals = m->vertex_normals;
+      ss->view_made = true;
+    }
+  }
+  /* the view's fields: which face the Mapper kept, and whether it faces the eye */
   for (int k = 0; k < s->nf; k++) mof[k] = -1;
   for (int k = 0; k < nm; k++) { mof[map->f[k].sface] = k; m->tri_of_mface[k] = -1; }
-  for (int k = 0; k < s->nv; k++) seen[k] = -1;
-  const int64_t *eye = map->eye;
-  for (int o = 0; o < ss->nobj; o++) {
-    int from = ss->obj[o].from, to = ss->obj[o].to;
-    /* an open surface has no outside: its front is the side most of it turns to the eye
-       (the sum of o . (eye - v0) over its triangles, exact, positive) */
-    wide toward = 0;
-    for (int t = from; t < to && !ss->obj[o].closed; t++)
-      toward += toward_eye(s, ss->tri[t].v[0], ss->o3[t], eye);
-    const bool turned = toward < 0;
-    for (int t = from; t < to; t++) {
+  for (int o = 0; o < ss->nobj; o++)
+    for (int t = ss->obj[o].from; t < ss->obj[o].to; t++) {
       struct smooth_tri *tr = &m->tri[t];
-      if (turned) {
-        tri_turned(&ss->tri[t], tr);
-        int *g = m->edge_group + 3 * t, x = g[0];   /* side 0 is a's side 2 and back */
-        g[0] = g[2]; g[2] = x;
-      } else {
-        memcpy(tr, &ss->tri[t], sizeof *tr);
-      }
       tr->mface = mof[tr->sface];
       /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly (v0 stays) */
       wide d = toward_eye(s, tr->v[0], ss->o3[t], eye);
-      tr->front = tr->mface >= 0 && (turned ? d < 0 : d > 0);
+      tr->front = tr->mface >= 0 && (turned[o] ? d < 0 : d > 0);
       if (tr->mface >= 0) m->tri_of_mface[tr->mface] = t;
-      for (int k = 0; k < 3; k++) {
-        int v = tr->v[k];
-        if (seen[v] != o) {
-          seen[v] = o;
-          row[v] = m->vertex_normals++;
-        }
-        tr->ni[k] = row[v];
-      }
     }
-    double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(m, from, to) : 0;
-    for (int t = from; t < to; t++)
-      smooth_insets(e->smooth, e->smooth_c, w, m->tri[t].len, m->tri[t].area2, m->tri[t].t);
-  }
-  free(mof); free(seen); free(row);
+  free(mof); free(turned);
   if (!keep) smooth_scene_free(ss);
   return T74_OK;
 }

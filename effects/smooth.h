@@ -72,6 +72,8 @@ struct smooth_model {
                               v[(k + 1) % 3]) is in group edge_group[3 t + k], shared by
                               the sides of the object's triangles on the same two vertices */
   int ngroup;              /* groups, 0 .. ngroup - 1 */
+  struct smooth_scene *lent;   /* tri and edge_group are this kept part's (not freed with
+                                  the model), or NULL */
   /* Tests only (0 after a build): phong_exact gives every Phong grey by the exact chain,
      without the filter that finds most of them with one divide (smooth.c, "The Phong
      grey's filter"); phong_declines, when set, counts the points the filter left to it. */
@@ -98,7 +100,10 @@ struct smooth_scene;
 /* smooth_model_build, with the scene's part kept in *keep (may be NULL: made and freed)
    for the frames that follow: taken from there when it was made for s, else made and
    left there (the one before freed). The caller frees *keep (smooth_scene_free) before
-   s goes. The model is the same either way. */
+   s goes, and after the model. The model is the same either way; its triangles as this
+   frame orients them are kept there too, rewritten only where the frame changes them
+   (the view's fields every frame; the rest when an object turns the other way or smooth=
+   changes), while no other model holds them (else the model gets its own). */
 int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
                             const struct scene *s, const struct effects *e,
                             struct smooth_scene **keep, struct t74_error *err);

@@ -876,9 +876,6 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     p->H = vg->H;
   }
   memset(p->face, 0xff, n * sizeof *p->face);   /* -1: nothing seen */
-  for (int i = 0; i < vg->W; i++) p->z[i].hi = p->z[i].lo = -HUGE_VAL;
-  for (int j = 1; j < vg->H; j++)                 /* the other rows as the first */
-    memcpy(p->z + (size_t)j * (size_t)vg->W, p->z, (size_t)vg->W * sizeof *p->z);
   if (!grow((void **)&p->plane, &p->planecap, p->map.nface + 1, sizeof *p->plane))
     return t74_fail(err, T74_EIO, "out of host memory");
   struct grid g;
@@ -931,6 +928,20 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
   }
   const bool tiles = area >= limit;               /* a face is left for the tiles */
+  /* the depth bounds, nothing seen yet: over every row with the tiles (their bounds are
+     the least over whole tiles), else over the rows of the faces' boxes, the only rows
+     their spans visit (face_draw: the box's rows, spans only where no tile is kept) */
+  int zj0 = tiles ? 0 : g.H, zj1 = tiles ? g.H - 1 : -1;
+  for (int d = 0; !tiles && d < nb; d++) {
+    zj0 = p->box[d].jlo < zj0 ? p->box[d].jlo : zj0;
+    zj1 = p->box[d].jhi > zj1 ? p->box[d].jhi : zj1;
+  }
+  if (zj0 <= zj1) {
+    struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W;
+    for (int i = 0; i < g.W; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
+    for (int j = zj0 + 1; j <= zj1; j++)          /* the other rows as the first */
+      memcpy(p->z + (size_t)j * (size_t)g.W, z0, (size_t)g.W * sizeof *p->z);
+  }
   area = 0;
   int nd = 0;                                     /* faces kept */
   for (int d = 0; d < nb; d++) {

@@ -709,7 +709,7 @@ static void test_frame_intensities(void **state)
     assert_int_equal(render_scan(&r, &g, fr_point, &fc, &err), T74_OK);
     for (int j = 0; j < H4; j++)
       for (int i = 0; i < W4; i++) grey[j * W4 + i] = (uint8_t)(i < 50 ? 2 * i : 200);
-    struct fx_frame fr = { W4, H4, 4, face, grey, NULL, NULL };
+    struct fx_frame fr = { W4, H4, 4, face, grey, NULL, NULL, NULL };
     struct fx_stats st;
     memset(&st, 0, sizeof st);
     struct cost cost = { { 0 } };

@@ -99,7 +99,7 @@ static struct run *run_scene(const char *text, const char *fx, unsigned passes)
                                   u->s->window[3] } };
   assert_int_equal(render_scan(&u->r, &g, on_pt, u, &err), T74_OK);
   memcpy(u->flat, u->grey, sizeof u->grey);
-  struct fx_frame f = { GW, GH, 4, u->face, u->grey, NULL, NULL };
+  struct fx_frame f = { GW, GH, 4, u->face, u->grey, NULL, NULL, NULL };
   struct cost c = { { 0 } };
   st = edge_run(&u->r, u->s, &e, &g, &f, passes, &u->st, &c, &err);
   if (st) print_message("edge_run: %s\n", err.msg);

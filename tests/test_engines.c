@@ -420,7 +420,7 @@ static void judge_fx(const struct scene *s, int cell, const char *fx, const char
     assert_non_null(grey[k]);
     for (size_t at = 0; at < n; at++)
       grey[k][at] = (uint8_t)(d.face[k][at] >= 0 ? d.eng[k].map->f[d.face[k][at]].grey : 0);
-    struct fx_frame f = { d.W, d.H, e.halftone, d.face[k], grey[k], NULL, NULL };
+    struct fx_frame f = { d.W, d.H, e.halftone, d.face[k], grey[k], NULL, NULL, NULL };
     struct fx_stats st;
     memset(&st, 0, sizeof st);
     struct cost cost = { { 0 } };

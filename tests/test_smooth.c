@@ -758,7 +758,33 @@ static void test_kept_scene_part(void **state)
   assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
   assert_ptr_equal(keep, made);                      /* taken, not made again */
   same_model(&k, &L.m, L.r.map.nface);
+  /* while k holds the kept triangles, another model gets its own: the same model, and
+     k's left as they were */
+  struct smooth_model k2;
+  assert_int_equal(smooth_model_build_kept(&k2, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+  assert_true(k2.tri != k.tri && k2.lent == NULL && k.lent == keep);
+  same_model(&k2, &L.m, L.r.map.nface);
+  smooth_model_free(&k2);
+  same_model(&k, &L.m, L.r.map.nface);
   smooth_model_free(&k);
+  /* another smooth= on the same scene and keep: the insets made again (each kind against
+     a fresh build), then back to the first */
+  const enum effects_smooth kinds[] = { EFFECTS_SMOOTH_FIXED, EFFECTS_SMOOTH_PROP,
+                                        EFFECTS_SMOOTH_PROP, EFFECTS_SMOOTH_PHONG };
+  const double cs[] = { 0.15, 0.3, 0.2, 0 };
+  const struct effects e0 = L.e;
+  for (size_t q = 0; q < sizeof kinds / sizeof *kinds; q++) {
+    struct smooth_model fresh;
+    L.e.smooth = kinds[q];
+    L.e.smooth_c = cs[q] ? cs[q] : e0.smooth_c;
+    assert_int_equal(smooth_model_build(&fresh, &L.r.map, L.s, &L.e, &err), T74_OK);
+    assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+    assert_ptr_equal(k.lent, keep);
+    same_model(&k, &fresh, L.r.map.nface);
+    smooth_model_free(&k);
+    smooth_model_free(&fresh);
+  }
+  L.e = e0;
   /* another scene (the first still loaded: a part lives no longer than its scene): the
      part is made for it, freeing the first's */
   struct lib L2;
@@ -793,6 +819,17 @@ static void test_kept_scene_part(void **state)
   assert_true(memcmp(v1, L.m.tri[0].v, sizeof v1) != 0);   /* turned the other way */
   assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
   assert_ptr_equal(keep, made);
+  same_model(&k, &L.m, L.r.map.nface);
+  smooth_model_free(&k);
+  /* and back to the first side: turned back in the kept triangles */
+  L.s->view[0] = -600;
+  smooth_model_free(&L.m);
+  render_free(&L.r);
+  assert_int_equal(render_prepare(&L.r, L.s, &o, &err), T74_OK);
+  assert_int_equal(smooth_model_build(&L.m, &L.r.map, L.s, &L.e, &err), T74_OK);
+  assert_memory_equal(v1, L.m.tri[0].v, sizeof v1);
+  assert_int_equal(smooth_model_build_kept(&k, &L.r.map, L.s, &L.e, &keep, &err), T74_OK);
+  assert_ptr_equal(k.lent, keep);
   same_model(&k, &L.m, L.r.map.nface);
   smooth_model_free(&k);
   smooth_scene_free(keep);
@@ -950,6 +987,94 @@ static void test_bezier(void **state)
   assert_true(fabs(contour_cut_share(0.5) - 0.2) < 1e-15);
 }
 
+/* A polygon's crossings with a line, found edge by edge (fx_poly_cross's answer without
+   its blocks): the crossings sorted stably, their count, or -1 past max. */
+static int cross_ref(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max)
+{
+  const int64_t fy = fx_line_row(yn, yd);
+  int nx = 0;
+  for (int r = 0; r < p->nring; r++) {
+    const int a = p->rs[r], n = p->rs[r + 1] - a;
+    for (int v = 0; v < n; v++) {
+      const struct gpoint p0 = p->pt[a + v], p1 = p->pt[a + (v + 1) % n];
+      if ((p0.y <= fy) == (p1.y <= fy)) continue;
+      if (nx == max) return -1;
+      const struct grat xc = geom_x_at(geom_line(p0, p1), yn, yd);
+      int h = nx++;
+      while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }
+      x[h] = xc;
+    }
+  }
+  return nx;
+}
+
+/* fx_poly_cross passes a block of edges whose points lie on one side of the line (issue
+   19): the same crossings as edge by edge, on every row through contour regions and
+   rings of many points, points on the rows, horizontal edges, a last block short. */
+static void test_region_crossings(void **state)
+{
+  (void)state;
+  struct fx_polys ps = { 0 };
+  const gcoord U = GRID_ONE / 4;
+  const struct gpoint ctl[3][5] = {
+    { { 10 * U, 2 * U }, { 14 * U, 5 * U }, { 30 * U, 9 * U }, { 27 * U, 20 * U }, { 26 * U, 41 * U } },
+    { { 0, 0 }, { 3 * U, 0 }, { 9 * U, 0 }, { 9 * U, 4 * U }, { 9 * U, 12 * U } },
+    { { 5 * U, 30 * U }, { 6 * U, 12 * U }, { 7 * U, -7 * U }, { 20 * U, -2 * U }, { 40 * U, 3 * U } } };
+  for (int c = 0; c < 3; c++) {
+    struct gpoint poly[CONTOUR_STEPS + 2];
+    contour_region(ctl[c], poly);
+    const int rs[2] = { 0, CONTOUR_STEPS + 2 };
+    assert_true(fx_polys_add(&ps, 1, rs, poly, c, 0));
+  }
+  /* two rings of a zigzag (19 and 26 points, on whole rows and between), a hole */
+  struct gpoint z[45];
+  unsigned seed = 7;
+  for (int v = 0; v < 45; v++) {
+    seed = seed * 1103515245u + 12345u;
+    const int ring = v >= 19, k = ring ? v - 19 : v, n = ring ? 26 : 19;
+    const double t = 6.283185307179586 * k / n, rad = (ring ? 6 : 16) + (double)(seed >> 28);
+    z[v].x = (gcoord)(rad * cos(t) * (double)U);
+    z[v].y = seed & 0x100 ? (gcoord)llround(rad * sin(t)) * U : (gcoord)(rad * sin(t) * (double)U);
+  }
+  const int zr[3] = { 0, 19, 45 };
+  assert_true(fx_polys_add(&ps, 2, zr, z, 3, 0));
+  /* a ring of two points (dropped, far outside) before a region: not in the box */
+  struct gpoint dz[2 + CONTOUR_STEPS + 2] = { { -900 * U, 900 * U }, { 900 * U, -900 * U } };
+  contour_region(ctl[0], dz + 2);
+  const int dr[3] = { 0, 2, 2 + CONTOUR_STEPS + 2 };
+  assert_true(fx_polys_add(&ps, 2, dr, dz, 4, 0));
+  assert_int_equal(ps.p[4].nring, 1);
+  for (int k = 0; k < ps.n; k++) {                /* each box: its points' */
+    const struct fx_poly *p = &ps.p[k];
+    gcoord b[4] = { p->pt[0].x, p->pt[0].x, p->pt[0].y, p->pt[0].y };
+    for (int v = 1; v < p->rs[p->nring]; v++) {
+      b[0] = p->pt[v].x < b[0] ? p->pt[v].x : b[0];
+      b[1] = p->pt[v].x > b[1] ? p->pt[v].x : b[1];
+      b[2] = p->pt[v].y < b[2] ? p->pt[v].y : b[2];
+      b[3] = p->pt[v].y > b[3] ? p->pt[v].y : b[3];
+    }
+    assert_true(p->xlo == b[0] && p->xhi == b[1] && p->ylo == b[2] && p->yhi == b[3]);
+  }
+  long rows = 0, crossings = 0;
+  struct cost cost = { { 0 } };
+  for (int k = 0; k < ps.n; k++) {
+    const struct fx_poly *p = &ps.p[k];
+    for (int64_t yd = 1; yd <= 3; yd += 2)
+      for (int64_t yn = (p->ylo - 2) * yd; yn <= (p->yhi + 2) * yd; yn += U / 8 + 1) {
+        struct grat a[80], b[80];
+        const int na = fx_poly_cross(p, yn, yd, a, 80, &cost), nb = cross_ref(p, yn, yd, b, 80);
+        assert_int_equal(na, nb);
+        for (int h = 0; h < na; h++) assert_true(a[h].num == b[h].num && a[h].den == b[h].den);
+        assert_int_equal(fx_poly_cross(p, yn, yd, a, 1, &cost), cross_ref(p, yn, yd, b, 1));
+        rows++;
+        crossings += na;
+      }
+  }
+  print_message("%ld lines, %ld crossings\n", rows, crossings);
+  assert_true(rows > 1000 && crossings > 2 * rows / 3);
+  fx_polys_free(&ps);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -973,6 +1098,7 @@ int main(void)
     cmocka_unit_test(test_lambert_is_the_mappers),
     cmocka_unit_test(test_insets),
     cmocka_unit_test(test_bezier),
+    cmocka_unit_test(test_region_crossings),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }
