@@ -1466,6 +1466,43 @@ static void test_points_keep_tjunctions(void **state)
   free(tris);
 }
 
+/* Issue 19: one points scratch drawing a scene over the whole grid and then one of a
+   band across its middle, farther away, sees what a fresh scratch sees in the second (the
+   depth bounds are set anew over the rows the second scene's faces visit, not over the
+   whole grid: a row left out would still hold the first scene's nearer depths). */
+static void test_points_scratch_reuse(void **state)
+{
+  (void)state;
+  static const char FULL[] =
+    HDR "vertex 1 -400 -400 -50\nvertex 2 400 -400 -50\nvertex 3 400 400 -50\n"
+        "vertex 4 -400 400 -50\nface 1 1 2 3 4 grey 100\n";
+  static const char BAND[] =
+    HDR "vertex 1 -100 -20 100\nvertex 2 100 -20 100\nvertex 3 100 20 100\n"
+        "vertex 4 -100 20 100\nface 1 1 2 3 4 grey 200\n"
+        "vertex 5 -30 -60 150\nvertex 6 30 -60 150\nvertex 7 0 60 150\n"
+        "face 2 5 6 7 grey 50\n";
+  struct scene *full = load_scene(FULL), *band = load_scene(BAND);
+  struct vis_grid g = { GW, GH, { band->window[0], band->window[1], band->window[2], band->window[3] } };
+  struct t74_error err = { 0, "" };
+  struct points p0, p1;
+  memset(&p0, 0, sizeof p0);
+  memset(&p1, 0, sizeof p1);
+  assert_int_equal(points_render(&p0, band, &g, &err), T74_OK);
+  assert_int_equal(points_render(&p1, full, &g, &err), T74_OK);
+  long seen = 0;
+  for (int k = 0; k < GW * GH; k++) seen += p1.face[k] >= 0;
+  assert_int_equal(seen, GW * GH);            /* the first scene covers every point */
+  assert_int_equal(points_render(&p1, band, &g, &err), T74_OK);
+  long drawn = 0;
+  for (int k = 0; k < GW * GH; k++) drawn += p0.face[k] >= 0;
+  assert_true(drawn > 0 && drawn < GW * GH / 2);
+  same_points(&p0, &p1);
+  points_free(&p0);
+  points_free(&p1);
+  scene_free(full);
+  scene_free(band);
+}
+
 /* Issue 19: the table of faces of one run serves the next (mapper_keep_faces), whatever
    the scene: each run's faces are those of a fresh mapper_run, face for face, also where
    the scene before had more faces, other rings and no face dropped (an edge-on face is
@@ -1675,6 +1712,7 @@ int main(void)
     cmocka_unit_test(test_pool),
     cmocka_unit_test(test_keep_tjunctions),
     cmocka_unit_test(test_points_keep_tjunctions),
+    cmocka_unit_test(test_points_scratch_reuse),
     cmocka_unit_test(test_mapper_uncounted),
     cmocka_unit_test(test_mapper_keep_table),
     cmocka_unit_test(test_piece_parents),
