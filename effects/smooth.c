@@ -747,8 +747,10 @@ static inline void grey_phong_lanes(const struct smooth_tri *tr, int n, const do
 ** 11u sum lam_k = 11u, the vector by E = 11 sqrt(3) u < 20u, and its unit vector from U by
 ** at most 2E / |N| + 5u (|a/|a| - b/|b|| <= 2 |a - b| / |b|, then the length's and the
 ** divides' roundings). Each light's dot is then within 41u / |N| + 8u of s U . l_j, max(0,
-** .) does not widen that, a sum of 16 adds at most 17u, and F's two roundings 512u:
-** |F_exact - F| <= 207 * 16 * (41u / |N| + 25u) + 512u < 2^-35 (1 + 1/|N|). The filter's
+** .) does not widen that, a sum of 16 adds at most 17u a light, and F's two roundings
+** (207 r times the sum, then + 1/2; 207 r is the same double in both chains) at most
+** 2u |F| <= 2u 3,313: |F_exact - F| <= 207 * 16 * (41u / |N| + 25u) + 6,626u
+** < 2^-35 (1 + 1/|N|). The filter's
 ** own chain is nearer (no divides before the normal: its vector is off by 6u sum w, 6u
 ** |N'| / |N|, its unit vector by 12u / |N| + 4u), so |F_filter - F_exact| < 2^-34 (1 +
 ** 1/|N|). The filter takes delta = 2^-24 (1 + 2 sum w / |N'|) (2 sum w / |N'| >= 1/|N|
