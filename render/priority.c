@@ -661,6 +661,22 @@ static void charge_faces(struct prio *pr, const struct mface *A, const struct mf
   pr->pend_fverts += (uint64_t)A->ring_start[A->nring] + (uint64_t)B->ring_start[B->nring];
 }
 
+/* A hint that a host block will be read soon (issue 19: the frame of 2,560 interpenetrating
+   triangles waits on host blocks read at random: the face-pair table, the tags, the
+   slots); nothing where the compiler has no such builtin. */
+#if defined(__GNUC__) || defined(__clang__)
+#define PREFETCH(a) __builtin_prefetch(a)
+#else
+#define PREFETCH(a) ((void)(a))
+#endif
+
+/* The slot of pr->faces (made) that the face pair (fa, fb) is kept in. */
+static inline struct prio_faces *face_slot(const struct prio *pr, int fa, int fb)
+{
+  return &pr->faces[((uint32_t)fa * 0x9E3779B1u ^ (uint32_t)fb * 0x85EBCA77u) >>
+                    (32 - pr->faces_bits)];
+}
+
 /* The face pair (fa, fb), charged: kept in pr->faces, or found into *own. */
 static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio_faces *own)
 {
@@ -677,8 +693,7 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
       }
     }
     if (pr->faces) {
-      uint32_t h = ((uint32_t)fa * 0x9E3779B1u ^ (uint32_t)fb * 0x85EBCA77u) >> (32 - pr->faces_bits);
-      e = &pr->faces[h];
+      e = face_slot(pr, fa, fb);
       if (e->fa == fa && e->fb == fb) {
         pr->faces_kept++;
         return e;
@@ -1104,6 +1119,14 @@ int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_ma
   struct probe first;
   unsigned code = tag_walk(pr, pr->hcap, i, j, &first.slot, &loads);
   first.loads = loads;
+  if (code == CODE_UNKNOWN && pr->faces && !pr->faces_off) {
+    /* the pair may be decided next (unless its lineage tells): its faces' slot in the
+       face-pair table and the faces asked for while the lineage is walked */
+    int fa = pr->seg->p[i].face, fb = pr->seg->p[j].face;
+    PREFETCH(face_slot(pr, fa, fb));
+    PREFETCH(&pr->map->f[fa]);
+    PREFETCH(&pr->map->f[fb]);
+  }
   int r = code == CODE_UNKNOWN ? 0
           : (code == CODE_HIGHER) == ((uint32_t)b == i) ? PRIO_FIRST : PRIO_SECOND;
   if (!r && lineage) {
