@@ -643,7 +643,7 @@ static void test_phong_filter_is_exact(void **state)
         double X[3];
         tri_point(&L, t, w, X);
         for (int q = 0; q < 2; q++) {
-          const double refl = refls[(a + b + q) % 3];
+          const double refl = refls[(a + b + q + 6) % 3];   /* a + b >= -4 */
           const unsigned blocked = q && (a + t) % 4 == 0 ? 2u : 0u;
           int g[2];
           phong_both(&L, t, X, refl, blocked, &set[q], &grid_declines, g);
