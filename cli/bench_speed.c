@@ -523,8 +523,10 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
     char c[5][32];
     fmt_ms(c[0], 32, a); fmt_ms(c[1], 32, b); fmt_ratio(c[2], 32, a, b);
     fmt_ms(c[3], 32, pp); fmt_ratio(c[4], 32, pp, b);
-    fprintf(f, "| %s | %s | %s | %s | %s | %s | %.1f | %.1f | %.1f |\n", s->label, c[0], c[3], c[1],
-            c[2], c[4], s->rss[0] / 1024.0, s->rss[2] / 1024.0, s->rss[1] / 1024.0);
+    char prss[32] = "-";                    /* no points run: no memory either */
+    if (s->rss[2] > 0) snprintf(prss, sizeof prss, "%.1f", s->rss[2] / 1024.0);
+    fprintf(f, "| %s | %s | %s | %s | %s | %s | %.1f | %s | %.1f |\n", s->label, c[0], c[3], c[1],
+            c[2], c[4], s->rss[0] / 1024.0, prss, s->rss[1] / 1024.0);
   }
   /* the goals of issue 19: the street's whole process under 10 ms; every whole process at
      most half OSMesa's, up to 100,000 faces (each engine's worst scene) */
@@ -588,8 +590,11 @@ int bench_speed(int argc, char **argv, struct t74_error *err)
       fprintf(f, "- %s: tube74 failed on it%s%s\n", sc[k].label, sc[k].why[0] ? ": " : "", sc[k].why);
     }
   for (int k = 0; k < ns; k++)
-    if (sc[k].failed[P_PTS] && !sc[k].why[0])
+    if (sc[k].failed[P_PTS] && !sc[k].why[0]) {
+      if (!failed) fprintf(f, "\nNot measured:\n");
+      failed = true;
       fprintf(f, "- %s: not by --engine points (its effects need the 1974 engine)\n", sc[k].label);
+    }
   fclose(f);
   fclose(d);
   free(sc);
