@@ -1016,10 +1016,16 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
     }
     const struct face_out *o = &fo[f + 1];
     if (o->odd) break;
-    ids[i] = o->id;
-    greys[i] = o->grey;
-    masks[i] = o->mask;
-    sum += (uint64_t)o->level;
+    int e = i + 1;                          /* the run of points that see this face */
+    while (e < n && face[e] == f) e++;
+    const uint32_t id = o->id;
+    const uint8_t grey = o->grey;
+    const uint16_t mask = o->mask;
+    for (int q = i; q < e; q++) ids[q] = id;
+    memset(greys + i, grey, (size_t)(e - i));
+    for (int q = i; q < e; q++) masks[q] = mask;
+    sum += (uint64_t)o->level * (uint64_t)(e - i);
+    i = e - 1;
   }
   *levels += sum;
   return i;
