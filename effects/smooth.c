@@ -286,13 +286,13 @@ static wide toward_eye(const struct scene *s, int v0, const int64_t o[3], const 
   return (wide)o[0] * (eye[0] - p->x) + (wide)o[1] * (eye[1] - p->y) + (wide)o[2] * (eye[2] - p->z);
 }
 
-static double mean_height(const struct smooth_model *m, int from, int to)
+static double mean_height(const struct smooth_tri *tri, int from, int to)
 {
   double sum = 0;
   int cnt = 0;
   for (int t = from; t < to; t++)
     for (int k = 0; k < 3; k++)
-      if (m->tri[t].len[k] > 0) { sum += m->tri[t].area2 / m->tri[t].len[k]; cnt++; }
+      if (tri[t].len[k] > 0) { sum += tri[t].area2 / tri[t].len[k]; cnt++; }
   return cnt ? sum / cnt : 0;
 }
 
@@ -515,8 +515,7 @@ static int orient_view(const struct smooth_scene *ss, const struct scene *s,
         tr->ni[k] = row[v];
       }
     }
-    struct smooth_model m = { .tri = tri };
-    double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(&m, from, to) : 0;
+    double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(tri, from, to) : 0;
     for (int t = from; t < to; t++)
       smooth_insets(e->smooth, e->smooth_c, w, tri[t].len, tri[t].area2, tri[t].t);
   }
@@ -652,20 +651,15 @@ static void cost_point(struct cost *c, bool gouraud, int region)
   COST_ADD_N(c, COST_ADD, 4);
 }
 
-/* The areas behind a triangle's barycentric coordinates at space points X[p] (on its
-   plane), p < n <= 2: ar[p][k] is twice the signed area of side k's triangle with the
-   point on the projection axes bu, bw, so that l[k] = ar[p][k] / btot. Each point's are
-   worked out alone, the same operations in the same order for n 1 or 2. */
-static inline void bary_areas(const struct smooth_tri *tr, int n, const double (*X)[3],
-                              double (*ar)[3])
+/* The areas behind a triangle's barycentric coordinates at space point X (on its plane):
+   ar[k] is twice the signed area of side k's triangle with the point on the projection
+   axes bu, bw, so that l[k] = ar[k] / btot. */
+static inline void bary_areas(const struct smooth_tri *tr, const double X[3], double ar[3])
 {
-  const double (*V)[2] = tr->bV;
-  double x[2], y[2];
-  for (int p = 0; p < n; p++) { x[p] = X[p][tr->bu]; y[p] = X[p][tr->bw]; }
+  const double x = X[tr->bu], y = X[tr->bw];
   for (int k = 0; k < 3; k++) {
-    const double *a = V[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* d: b - a, made once */
-    for (int p = 0; p < n; p++)
-      ar[p][k] = d[0] * (y[p] - a[1]) - (x[p] - a[0]) * d[1];
+    const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* d: b - a, made once */
+    ar[k] = d[0] * (y - a[1]) - (x - a[0]) * d[1];
   }
 }
 
@@ -690,36 +684,21 @@ static inline void bary_of_areas(const struct smooth_tri *tr, int n, const doubl
   }
 }
 
-/* Barycentric coordinates of space points X[p] (on the triangle's plane), p < n <= 2, in
-   the triangle, clamped into it. */
-static inline void bary_lanes(const struct smooth_tri *tr, int n, const double (*X)[3], double (*l)[3])
+/* The Phong grey at space point X of the triangle from its areas ar (bary_areas): the
+   exact chain, the one that defines a Phong grey. */
+static void grey_phong_exact(const struct smooth_tri *tr, const double ar[3], const double X[3],
+                             double refl, unsigned blocked, const struct shade_lights *lights,
+                             int *grey)
 {
-  double ar[2][3];
-  bary_areas(tr, n, X, ar);
-  bary_of_areas(tr, n, (const double (*)[3])ar, l);
-}
-
-/* smooth_grey_at's steps under smooth=phong for points p < n <= 2 of the triangle, from
-   their barycentric coordinates l[p] (each point's alone, as bary_lanes): the exact
-   chain, the one that defines a Phong grey */
-static inline void grey_phong_lanes(const struct smooth_tri *tr, int n, const double (*l)[3],
-                             const double (*X)[3], double refl, const unsigned *blocked,
-                             const struct shade_lights *lights, int *grey)
-{
-  double nrm[2][3], len[2];
-  const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+  double l[1][3], nrm[3];
+  bary_of_areas(tr, 1, (const double (*)[3])ar, l);
   for (int c = 0; c < 3; c++)
-    for (int p = 0; p < n; p++)
-      nrm[p][c] = l[p][0] * tr->cn[0][c] + l[p][1] * tr->cn[1][c] + l[p][2] * tr->cn[2][c];
-  for (int p = 0; p < n; p++)                /* unit() */
-    len[p] = sqrt(nrm[p][0] * nrm[p][0] + nrm[p][1] * nrm[p][1] + nrm[p][2] * nrm[p][2]);
-  for (int p = 0; p < n; p++)
-    if (len[p] > 0) for (int c = 0; c < 3; c++) nrm[p][c] /= len[p];
-  for (int p = 0; p < n; p++) {
-    for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
-    int g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
-    grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
-  }
+    nrm[c] = l[0][0] * tr->cn[0][c] + l[0][1] * tr->cn[1][c] + l[0][2] * tr->cn[2][c];
+  unit(nrm);
+  const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+  for (int c = 0; c < 3; c++) nrm[c] *= sgn;
+  int g = shade_grey_lit(lights, nrm, X, refl, blocked);
+  *grey = g < 0 ? 0 : g > 255 ? 255 : g;
 }
 
 /* The Phong grey's filter.
@@ -836,55 +815,22 @@ static inline void phong_lanes(const struct smooth_model *m, const struct smooth
       if (ok[p]) continue;
       if (m->phong_declines) ++*m->phong_declines;
     }
-    double l[1][3];
-    bary_of_areas(tr, 1, &ar[p], l);
-    grey_phong_lanes(tr, 1, (const double (*)[3])l, &X[p], refl, &blocked[p], lights, &grey[p]);
+    grey_phong_exact(tr, ar[p], X[p], refl, blocked[p], lights, &grey[p]);
   }
 }
 
+/* a run of one point, counted */
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
                    unsigned blocked, const struct shade_lights *lights, struct cost *cost,
                    int *region_out)
 {
-  const struct smooth_tri *tr = &m->tri[t];
-  if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-    double ar[1][3];
-    int grey;
-    bary_areas(tr, 1, (const double (*)[3])X, ar);
-    phong_lanes(m, tr, 1, (const double (*)[3])ar, (const double (*)[3])X, refl, &blocked,
-                lights, &grey);
-    if (cost) cost_point(cost, false, 1);
-    if (region_out) *region_out = 1;
-    return grey;
-  }
-  double lb[1][3], nrm[3], *l = lb[0];
-  bary_lanes(tr, 1, (const double (*)[3])X, lb);
-  double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
-  int region = 1, grey;
-  if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
-    double gi = 0;
-    for (int k = 0; k < 3; k++) {
-      double nk[3] = { sgn * tr->cn[k][0], sgn * tr->cn[k][1], sgn * tr->cn[k][2] };
-      const struct scene_vertex *v = &s->v[tr->v[k]];
-      double at[3] = { v->x, v->y, v->z };
-      gi += l[k] * shade_grey_lit(lights, nk, at, refl, blocked);
-    }
-    grey = (int)floor(gi + 0.5);
-  } else {
-    region = smooth_partial_normal(tr, l, nrm);
-    if (region == 0 && refl == 1 && !blocked)
-      grey = map->f[tr->mface].grey;     /* exactly the flat picture */
-    else {
-      if (region == 0) memcpy(nrm, tr->n, sizeof nrm);
-      unit(nrm);
-      for (int c = 0; c < 3; c++) nrm[c] *= sgn;
-      grey = shade_grey_lit(lights, nrm, X, refl, blocked);
-    }
-  }
+  int grey, region;
+  smooth_grey_run(m, map, s, e, t, 1, (const double (*)[3])X, refl, &blocked, lights, &grey,
+                  &region);
   if (cost) cost_point(cost, e->smooth == EFFECTS_SMOOTH_GOURAUD, region);
   if (region_out) *region_out = region;
-  return grey < 0 ? 0 : grey > 255 ? 255 : grey;
+  return grey;
 }
 
 void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
@@ -894,13 +840,14 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
 {
   const struct smooth_tri *tr = &m->tri[t];
   double ar[SMOOTH_RUN][3];
-  for (int p = 0; p < n; p++) bary_areas(tr, 1, &X[p], &ar[p]);
+  for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
     phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
     for (int p = 0; p < n; p++) region[p] = 1;
     return;
   }
-  /* smooth_grey_at's steps for each point, a step for all points at a time */
+  /* each point's steps, one step for all the points at a time (a point's grey is the
+     one it has alone) */
   double l[SMOOTH_RUN][3];
   bary_of_areas(tr, n, (const double (*)[3])ar, l);
   const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
