@@ -32,29 +32,33 @@ static ld plane_at(const struct proj *q, const ld X[3])
   return q->pl[0] * X[0] + q->pl[1] * X[1] + q->pl[2] * X[2] + q->pl[3];
 }
 
-/* N(X) and w(X): the shadow of X on R's plane is N / w. */
+/* Component c of N(X) and w(X), with pX = plane_at(q, X): the shadow of X on R's plane
+   is N / w. */
+static ld image_n(const struct proj *q, const ld X[3], ld pX, int c)
+{
+  return q->P[c] * pX - X[c] * (q->point ? q->pP : q->nL);
+}
+
+static ld image_w(const struct proj *q, ld pX)
+{
+  return q->point ? pX - q->pP : -q->nL;
+}
+
 static void image(const struct proj *q, const ld X[3], ld N[3], ld *w)
 {
   ld pX = plane_at(q, X);
-  if (q->point) {
-    for (int c = 0; c < 3; c++) N[c] = q->P[c] * pX - X[c] * q->pP;
-    *w = pX - q->pP;
-  } else {
-    for (int c = 0; c < 3; c++) N[c] = q->P[c] * pX - X[c] * q->nL;
-    *w = -q->nL;
-  }
+  for (int c = 0; c < 3; c++) N[c] = image_n(q, X, pX, c);
+  *w = image_w(q, pX);
 }
 
-/* The clipping functionals: 0 R's plane, 1 beyond the point light, 2..7 the box (the one
-   component of image() that the side needs, by image's operations). */
+/* The clipping functionals: 0 R's plane, 1 beyond the point light, 2..7 the box (of the
+   image, the one component the side needs). */
 static ld h_at(const struct proj *q, const ld box[2][3], int k, const ld X[3])
 {
   if (k == 0) return plane_at(q, X);
   if (k == 1) return q->point ? q->pP - plane_at(q, X) : -1;
   const int c = (k - 2) / 2;
-  const ld pX = plane_at(q, X);
-  const ld Nc = q->point ? q->P[c] * pX - X[c] * q->pP : q->P[c] * pX - X[c] * q->nL;
-  const ld w = q->point ? pX - q->pP : -q->nL;
+  const ld pX = plane_at(q, X), Nc = image_n(q, X, pX, c), w = image_w(q, pX);
   return (k - 2) % 2 == 0 ? Nc - box[1][c] * w : box[0][c] * w - Nc;
 }
 
