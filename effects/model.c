@@ -40,11 +40,17 @@ struct fx_textures {
   int ntex;
 };
 
+/* A table of textures, one entry a scene face (NULL: none). */
+static void tex_free(struct fx_tex *tex, int nf)
+{
+  for (int k = 0; tex && k < nf; k++) pic_free(tex[k].pic);
+  free(tex);
+}
+
 void fx_textures_free(struct fx_textures *t)
 {
   if (!t) return;
-  for (int k = 0; t->tex && k < t->s->nf; k++) pic_free(t->tex[k].pic);
-  free(t->tex);
+  tex_free(t->tex, t->s->nf);
   free(t);
 }
 
@@ -179,10 +185,7 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
 void fx_model_free(struct fx_model *m)
 {
   if (m->smooth) smooth_model_free(&m->sm);
-  if (m->tex && !m->tex_kept) {             /* else the caller's (tex_keep) */
-    for (int k = 0; k < m->s->nf; k++) pic_free(m->tex[k].pic);
-    free(m->tex);
-  }
+  if (m->tex && !m->tex_kept) tex_free(m->tex, m->s->nf);   /* else the caller's (tex_keep) */
   fx_polys_free(&m->cuts);
   contour_corners_free(&m->corners);
   fx_polys_free(&m->shadows);

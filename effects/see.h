@@ -53,7 +53,7 @@ struct fx_engine {
   struct smooth_scene **smooth_keep;   /* the smoothing's scene part kept for the next
                                        frame (effects/smooth.h), or NULL; set by the caller */
   struct fx_textures **tex_keep;    /* the scene's textures kept for the next frame
-                                       (effects/model.h), or NULL; set by the caller */
+                                       (effects/model.c), or NULL; set by the caller */
 };
 
 /* A scene's textures as the effects read them (effects/model.c), kept by the caller of
