@@ -394,6 +394,17 @@ static void emit_counts(struct pipeline *p, uint64_t n, uint64_t levels)
   COST_ADD_N(&p->display, COST_IO, levels);
 }
 
+/* Each mapped face's flat grey at its index + 1, 0 at 0 (no face); NULL when the host has
+   no room. */
+static uint8_t *face_greys(const struct mapped *map)
+{
+  uint8_t *g = malloc((size_t)map->nface + 1);
+  if (!g) return NULL;
+  g[0] = 0;
+  for (int k = 0; k < map->nface; k++) g[k + 1] = (uint8_t)map->f[k].grey;
+  return g;
+}
+
 /* A grey's cell and level in one word (greys_run's table): the cell in the low 16 bits,
 ** the level above; GREY_ODD where the level is not 0 .. cc. */
 #define GREY_ODD UINT32_MAX
@@ -439,12 +450,10 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   uint8_t *fgrey = NULL;                    /* each face's grey at its index + 1 */
   if (p->grey_pending) {
     p->grey_pending = false;
-    if (!(fgrey = malloc((size_t)p->map->nface + 1))) {
+    if (!(fgrey = face_greys(p->map))) {
       free(flat); free(bg);
       return t74_fail(err, T74_EIO, "out of host memory");
     }
-    fgrey[0] = 0;
-    for (int k = 0; k < p->map->nface; k++) fgrey[k + 1] = (uint8_t)p->map->f[k].grey;
     f.face_grey = fgrey;
   }
   struct fx_engine eng;                     /* the engine that drew the frame (effects/see.h) */
@@ -1050,11 +1059,9 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     p->grey_pending = true;
     return T74_OK;
   }
-  if (p->face && !watched && (fgrey = malloc((size_t)p->map->nface + 1))) {
+  if (p->face && !watched && (fgrey = face_greys(p->map))) {
     /* the effects' frame over a background: the faces, and their greys or the
        background's */
-    fgrey[0] = 0;
-    for (int f = 0; f < p->map->nface; f++) fgrey[f + 1] = (uint8_t)p->map->f[f].grey;
     const struct scan_image *scan = p->scan;
     const size_t n = (size_t)W * (size_t)H;
     memcpy(p->face, pt->face, n * sizeof *p->face);
