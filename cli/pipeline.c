@@ -30,6 +30,10 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include "display/image.h"
 #include "display/sink.h"
 #include "display/tek.h"
@@ -1007,6 +1011,41 @@ struct row_bg {
   int cc;                           /* cell * cell */
 };
 
+/* The end of the run of points from i that see face f (face[i] == f): the first e > i
+** with face[e] != f, or n. */
+static inline int run_end(const int *face, int i, int n, int f)
+{
+  int e = i + 1;
+#ifdef __SSE2__
+  const __m128i fv = _mm_set1_epi32(f);
+  for (; e + 4 <= n; e += 4) {              /* four points a compare */
+    const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(face + e));
+    const unsigned same = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi32(x, fv));
+    if (same != 0xffffu) return e + __builtin_ctz(~same) / 4;
+  }
+#endif
+  while (e < n && face[e] == f) e++;
+  return e;
+}
+
+/* d[0 .. n) = id, and m[0 .. n) = mask */
+static inline void run_fill(uint32_t *d, uint16_t *m, int n, uint32_t id, uint16_t mask)
+{
+  int q = 0;
+#ifdef __SSE2__
+  const __m128i dv = _mm_set1_epi32((int)id), mv = _mm_set1_epi16((short)mask);
+  for (; q + 8 <= n; q += 8) {              /* eight points a pair of stores each */
+    _mm_storeu_si128((__m128i *)(void *)(d + q), dv);
+    _mm_storeu_si128((__m128i *)(void *)(d + q + 4), dv);
+    _mm_storeu_si128((__m128i *)(void *)(m + q), mv);
+  }
+#endif
+  for (; q < n; q++) {
+    d[q] = id;
+    m[q] = mask;
+  }
+}
+
 static int faces_run(const struct face_out *fo, const int *face, int i, int n,
                      const struct row_bg *bg, uint32_t *ids, uint8_t *greys, uint16_t *masks,
                      uint64_t *levels)
@@ -1025,14 +1064,9 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
     }
     const struct face_out *o = &fo[f + 1];
     if (o->odd) break;
-    int e = i + 1;                          /* the run of points that see this face */
-    while (e < n && face[e] == f) e++;
-    const uint32_t id = o->id;
-    const uint8_t grey = o->grey;
-    const uint16_t mask = o->mask;
-    for (int q = i; q < e; q++) ids[q] = id;
-    memset(greys + i, grey, (size_t)(e - i));
-    for (int q = i; q < e; q++) masks[q] = mask;
+    const int e = run_end(face, i, n, f);   /* the run of points that see this face */
+    run_fill(ids + i, masks + i, e - i, o->id, o->mask);
+    memset(greys + i, o->grey, (size_t)(e - i));
     sum += (uint64_t)o->level * (uint64_t)(e - i);
     i = e - 1;
   }

@@ -22,6 +22,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #define TUBE_DOTS (TUBE_W * TUBE_H)      /* 120,000 addressable dots */
 
 struct tube {
@@ -272,6 +276,49 @@ static bool blank4(const uint8_t *lit, uint32_t base, int count, const uint16_t 
   return true;
 }
 
+#ifdef __SSE2__
+/* Eight aligned 4x4 cells side by side on unlit rows, the first at a byte's start (base,
+** a multiple of 8), their masks within the cell: a 32-bit word of each of the 4 rows of
+** lit[] (cell 2k the low half of byte k, cell 2k + 1 the high), and a write for each cell
+** with a dot, left to right; as the blank run's pairs of cells give them. The new end of
+** the writes. */
+static inline uint32_t *write_blank8(uint8_t *lit, uint32_t *next, uint32_t base,
+                                     const uint16_t *masks)
+{
+  const __m128i m = _mm_loadu_si128((const __m128i *)(const void *)masks);
+  const __m128i zero = _mm_setzero_si128();
+  const unsigned none = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi16(m, zero));
+  if (none == 0xffffu) return next;        /* no dot: the rows stay unlit */
+  const __m128i nib = _mm_set1_epi16(0xf), byte = _mm_set1_epi32(0xff);
+  __m128i b[4];
+  for (int r = 0; r < 4; r++) {            /* row r: cell 2k's nibble | cell 2k + 1's << 4 */
+    __m128i t = _mm_and_si128(_mm_srli_epi16(m, 4 * r), nib);
+    b[r] = _mm_and_si128(_mm_or_si128(t, _mm_srli_epi32(t, 12)), byte);
+  }
+  __m128i rows = _mm_packus_epi16(_mm_packs_epi32(b[0], b[1]), _mm_packs_epi32(b[2], b[3]));
+  uint8_t *l = lit + (base >> 3);
+  for (int r = 0; r < 4; r++, rows = _mm_srli_si128(rows, 4)) {
+    const uint32_t w = (uint32_t)_mm_cvtsi128_si32(rows);
+    memcpy(l - r * ROW_BYTES, &w, sizeof w);
+  }
+  if (none) {                              /* a cell without a dot: one at a time */
+    for (int c = 0; c < 8; c++)
+      if (masks[c]) *next++ = 1u << 31 | (uint32_t)masks[c] << 15 | ((base >> 2) + (uint32_t)c);
+    return next;
+  }
+  /* every cell has dots: the eight writes, cell c's 1 << 31 | mask << 15 | base / 4 + c
+     (its fields apart: an add is an or) */
+  const __m128i tag = _mm_set1_epi32((int)(1u << 31 | base >> 2));
+  const __m128i lo = _mm_add_epi32(_mm_slli_epi32(_mm_unpacklo_epi16(m, zero), 15),
+                                   _mm_add_epi32(tag, _mm_setr_epi32(0, 1, 2, 3)));
+  const __m128i hi = _mm_add_epi32(_mm_slli_epi32(_mm_unpackhi_epi16(m, zero), 15),
+                                   _mm_add_epi32(tag, _mm_setr_epi32(4, 5, 6, 7)));
+  _mm_storeu_si128((__m128i *)(void *)next, lo);
+  _mm_storeu_si128((__m128i *)(void *)(next + 4), hi);
+  return next + 8;
+}
+#endif
+
 /* A 3x3 cell's mask with its rows apart: row r (bits 3r .. 3r + 2) to bits 21r .. 21r + 2,
 ** so that seven cells side by side are three lanes of 21 bits, a lane the cells' dots of
 ** one row of the tube (`acc << 3 | LANES3(m)` from the last cell to the first). */
@@ -346,6 +393,14 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
     /* nothing lit yet where the cells go (a tube being drawn): every dot is new, and a
        byte of lit[] is the row of two cells of this row, or of one and nothing */
     for (int c = 0; c < count; c++, base += 4) {
+#ifdef __SSE2__
+      if ((base & 7) == 0 && c + 8 <= count) {  /* eight cells: a word of each row */
+        next = write_blank8(lit, next, base, masks + c);
+        c += 7;
+        base += 28;
+        continue;
+      }
+#endif
       unsigned m = masks[c];
       if ((base & 7) == 0 && c + 1 < count) {   /* two cells: a byte of each row */
         unsigned mb = masks[c + 1];
