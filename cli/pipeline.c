@@ -1053,13 +1053,17 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
   uint64_t sum = 0;
   for (; i < n; i++) {
     int f = face[i];
-    if (f < 0 && bg) {
-      int level = bg->level[i];
-      if (level > bg->cc) break;
-      ids[i] = 0;
-      greys[i] = bg->grey[i];
-      masks[i] = bg->mask[level];
-      sum += (uint64_t)level;
+    if (f < 0 && bg) {                      /* a run of background points */
+      const int e = run_end(face, i, n, f);
+      int q = i;
+      for (; q < e && bg->level[q] <= bg->cc; q++) {
+        masks[q] = bg->mask[bg->level[q]];
+        sum += bg->level[q];
+      }
+      memset(ids + i, 0, (size_t)(q - i) * sizeof *ids);
+      memcpy(greys + i, bg->grey + i, (size_t)(q - i));
+      if (q < e) { i = q; break; }          /* a level past the cell */
+      i = e - 1;
       continue;
     }
     const struct face_out *o = &fo[f + 1];

@@ -17,6 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include "patterns/halftone.h"
 
 struct scan_image {
@@ -28,6 +32,8 @@ struct scan_image {
                                    grid row H-1-r (bottom row first) */
   uint8_t *grey;                /* W * H greys after scale conversion, row-major from the top
                                    (host-side, for --dump grey only: not on the disk) */
+  uint8_t *level;               /* W * H: the levels in words, unpacked, row-major from the
+                                   top (host-side: scan_row_background's row at a time) */
   int buffered;                 /* grid row in the one-row core buffer, -1 none */
   struct scan_disk disk;        /* display-time reads */
   struct scan_disk disk0;       /* the disk as it stood before the first display read */
@@ -156,6 +162,7 @@ void scan_free(struct scan_image *s)
   if (!s) return;
   free(s->words);
   free(s->grey);
+  free(s->level);
   free(s);
 }
 
@@ -221,6 +228,18 @@ int scan_photo(const struct pic *photo, int cell, const struct cost_params *prm,
       scan_disk_access(&in_disk, (uint32_t)(r * s->row_words), (uint32_t)s->row_words);
   }
   s->input_disk_seconds = in_disk.seconds;
+  s->level = malloc((size_t)s->W * (size_t)s->H);
+  if (!s->level) {
+    scan_free(s);
+    return t74_fail(err, T74_EIO, "scanner: out of host memory");
+  }
+  for (int j = 0; j < s->H; j++) {             /* each level as scan_level unpacks it */
+    const uint16_t *w = s->words + (size_t)(s->H - 1 - j) * (size_t)s->row_words;
+    for (int i = 0; i < s->W; i++)
+      s->level[(size_t)j * (size_t)s->W + (size_t)i] =
+        (uint8_t)((w[i / SCAN_WORD_LEVELS] >>
+                   (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xF);
+  }
   scan_disk_init(&s->disk, prm);
   s->disk0 = s->disk;
   *out = s;
@@ -252,22 +271,31 @@ int scan_level(struct scan_image *s, int i, int j, struct cost *c)
 void scan_row_background(struct scan_image *s, int j, const int *face, uint8_t *level,
                          uint8_t *grey, struct cost *c)
 {
-  const size_t r = (size_t)(s->H - 1 - j);
-  const uint16_t *words = s->words + r * (size_t)s->row_words;
-  const uint8_t *g = s->grey + (size_t)j * (size_t)s->W;
-  uint64_t n = 0;                          /* points unpacked here, not by scan_level */
-  for (int i = 0; i < s->W; i++) {
-    if (face[i] >= 0) continue;
-    grey[i] = g[i];
-    if (s->buffered != j) {                /* the first: the row read, by scan_level */
-      level[i] = (uint8_t)scan_level(s, i, j, c);
-      continue;
-    }
-    n++;
-    uint16_t w = words[i / SCAN_WORD_LEVELS];
-    level[i] = (uint8_t)((w >> (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xF);
+  const int W = s->W;
+  int first = -1, i = 0;                   /* the first background point */
+  uint64_t n = 0;                          /* background points */
+#ifdef __SSE2__
+  for (; i + 4 <= W; i += 4) {             /* four faces' signs a step */
+    const __m128i f = _mm_loadu_si128((const __m128i *)(const void *)(face + i));
+    const unsigned neg = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(f));
+    if (neg && first < 0) first = i + __builtin_ctz(neg);
+    n += 0x4332322132212110ull >> 4 * neg & 0xf;   /* neg's bits (no popcnt instruction
+                                                      assumed: one shift) */
   }
-  if (c && n > 1) {
+#endif
+  for (; i < W; i++)
+    if (face[i] < 0) {
+      if (first < 0) first = i;
+      n++;
+    }
+  if (!n) return;
+  if (s->buffered != j) {                  /* the first: the row read, by scan_level */
+    scan_level(s, first, j, c);
+    n--;
+  }
+  memcpy(level, s->level + (size_t)j * (size_t)W, (size_t)W);
+  memcpy(grey, s->grey + (size_t)j * (size_t)W, (size_t)W);
+  if (c && n > 1) {                        /* the others, unpacked here */
     COST_ADD_N(c, COST_MEM, n);
     COST_ADD_N(c, COST_SHIFT, n);
     COST_ADD_N(c, COST_LOGIC, n);

@@ -134,8 +134,9 @@ int scan_level(struct scan_image *s, int i, int j, struct cost *c);
 
 /* Row j's background points, those i of 0 .. W - 1 (W the grid's) with face[i] < 0, in
 ** rising i: level[i] and grey[i] as scan_level (the same row read, the same counts into c)
-** and scan_grey give them; the other entries are left as they are (issue 19: a row of the
-** points engine's frame at a time). j on the grid. */
+** and scan_grey give them; when the row has one, the other entries are the row's levels
+** and greys too, else all are left as they are (issue 19: a row of the points engine's
+** frame at a time). j on the grid. */
 void scan_row_background(struct scan_image *s, int j, const int *face, uint8_t *level,
                          uint8_t *grey, struct cost *c);
 
