@@ -282,6 +282,14 @@ static bool blank4(const uint8_t *lit, uint32_t base, int count, const uint16_t 
 ** lit[] (cell 2k the low half of byte k, cell 2k + 1 the high), and a write for each cell
 ** with a dot, left to right; as the blank run's pairs of cells give them. The new end of
 ** the writes. */
+/* Row r of eight 4x4 cells' masks m (8 lanes of 16 bits): byte k of the row, cell 2k's
+** nibble r | cell 2k + 1's << 4, in the low byte of 32-bit lane k. */
+static inline __m128i row8(__m128i m, int r)
+{
+  const __m128i t = _mm_and_si128(_mm_srli_epi16(m, 4 * r), _mm_set1_epi16(0xf));
+  return _mm_and_si128(_mm_or_si128(t, _mm_srli_epi32(t, 12)), _mm_set1_epi32(0xff));
+}
+
 static inline uint32_t *write_blank8(uint8_t *lit, uint32_t *next, uint32_t base,
                                      const uint16_t *masks)
 {
@@ -289,18 +297,17 @@ static inline uint32_t *write_blank8(uint8_t *lit, uint32_t *next, uint32_t base
   const __m128i zero = _mm_setzero_si128();
   const unsigned none = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi16(m, zero));
   if (none == 0xffffu) return next;        /* no dot: the rows stay unlit */
-  const __m128i nib = _mm_set1_epi16(0xf), byte = _mm_set1_epi32(0xff);
-  __m128i b[4];
-  for (int r = 0; r < 4; r++) {            /* row r: cell 2k's nibble | cell 2k + 1's << 4 */
-    __m128i t = _mm_and_si128(_mm_srli_epi16(m, 4 * r), nib);
-    b[r] = _mm_and_si128(_mm_or_si128(t, _mm_srli_epi32(t, 12)), byte);
-  }
-  __m128i rows = _mm_packus_epi16(_mm_packs_epi32(b[0], b[1]), _mm_packs_epi32(b[2], b[3]));
+  const __m128i rows = _mm_packus_epi16(_mm_packs_epi32(row8(m, 0), row8(m, 1)),
+                                        _mm_packs_epi32(row8(m, 2), row8(m, 3)));
   uint8_t *l = lit + (base >> 3);
-  for (int r = 0; r < 4; r++, rows = _mm_srli_si128(rows, 4)) {
-    const uint32_t w = (uint32_t)_mm_cvtsi128_si32(rows);
-    memcpy(l - r * ROW_BYTES, &w, sizeof w);
-  }
+  const uint32_t w0 = (uint32_t)_mm_cvtsi128_si32(rows),
+                 w1 = (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(rows, 4)),
+                 w2 = (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(rows, 8)),
+                 w3 = (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(rows, 12));
+  memcpy(l, &w0, sizeof w0);
+  memcpy(l - ROW_BYTES, &w1, sizeof w1);
+  memcpy(l - 2 * ROW_BYTES, &w2, sizeof w2);
+  memcpy(l - 3 * ROW_BYTES, &w3, sizeof w3);
   if (none) {                              /* a cell without a dot: one at a time */
     for (int c = 0; c < 8; c++)
       if (masks[c]) *next++ = 1u << 31 | (uint32_t)masks[c] << 15 | ((base >> 2) + (uint32_t)c);
