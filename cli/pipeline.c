@@ -1006,7 +1006,7 @@ static struct face_out *face_outs(const struct pipeline *p)
 ** picture's levels and greys of the row (bg, NULL: none); its index, or n. (A loop of its
 ** own: few values live, none spilled.) */
 struct row_bg {
-  const uint8_t *level, *grey;      /* scan_row_background's */
+  const uint8_t *level, *grey;      /* scan_row's */
   const uint16_t *mask;             /* p->mask */
   int cc;                           /* cell * cell */
 };
@@ -1126,7 +1126,7 @@ static int points_emit(struct pipeline *p, const struct points *pt)
       const int *face = pt->face + (size_t)j * (size_t)W;
       uint32_t *ids = p->ids + (size_t)j * (size_t)W;
       uint8_t *greys = p->grey + (size_t)j * (size_t)W;
-      if (scan) scan_row_background(p->scan, j, face, bg_level, bg_grey, &p->scanner);
+      if (scan) scan_row(p->scan, j, bg_level, bg_grey);   /* no 1974 time: uncounted */
       for (int i = 0; i < W && st == T74_OK; i++) {
         i = faces_run(fo, face, i, W, scan ? &bg : NULL, ids, greys, rc.masks, &levels);
         if (i == W) break;

@@ -17,9 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
 
 #include "patterns/halftone.h"
 
@@ -33,7 +30,7 @@ struct scan_image {
   uint8_t *grey;                /* W * H greys after scale conversion, row-major from the top
                                    (host-side, for --dump grey only: not on the disk) */
   uint8_t *level;               /* W * H: the levels in words, unpacked, row-major from the
-                                   top (host-side: scan_row_background's row at a time) */
+                                   top (host-side: scan_row's row at a time) */
   int buffered;                 /* grid row in the one-row core buffer, -1 none */
   struct scan_disk disk;        /* display-time reads */
   struct scan_disk disk0;       /* the disk as it stood before the first display read */
@@ -268,38 +265,10 @@ int scan_level(struct scan_image *s, int i, int j, struct cost *c)
   return (w >> (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xF;
 }
 
-void scan_row_background(struct scan_image *s, int j, const int *face, uint8_t *level,
-                         uint8_t *grey, struct cost *c)
+void scan_row(const struct scan_image *s, int j, uint8_t *level, uint8_t *grey)
 {
-  const int W = s->W;
-  int first = -1, i = 0;                   /* the first background point */
-  uint64_t n = 0;                          /* background points */
-#ifdef __SSE2__
-  for (; i + 4 <= W; i += 4) {             /* four faces' signs a step */
-    const __m128i f = _mm_loadu_si128((const __m128i *)(const void *)(face + i));
-    const unsigned neg = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(f));
-    if (neg && first < 0) first = i + __builtin_ctz(neg);
-    n += 0x4332322132212110ull >> 4 * neg & 0xf;   /* neg's bits (no popcnt instruction
-                                                      assumed: one shift) */
-  }
-#endif
-  for (; i < W; i++)
-    if (face[i] < 0) {
-      if (first < 0) first = i;
-      n++;
-    }
-  if (!n) return;
-  if (s->buffered != j) {                  /* the first: the row read, by scan_level */
-    scan_level(s, first, j, c);
-    n--;
-  }
-  memcpy(level, s->level + (size_t)j * (size_t)W, (size_t)W);
-  memcpy(grey, s->grey + (size_t)j * (size_t)W, (size_t)W);
-  if (c && n > 1) {                        /* the others, unpacked here */
-    COST_ADD_N(c, COST_MEM, n);
-    COST_ADD_N(c, COST_SHIFT, n);
-    COST_ADD_N(c, COST_LOGIC, n);
-  }
+  memcpy(level, s->level + (size_t)j * (size_t)s->W, (size_t)s->W);
+  memcpy(grey, s->grey + (size_t)j * (size_t)s->W, (size_t)s->W);
 }
 
 void scan_display_reset(struct scan_image *s)

@@ -132,13 +132,10 @@ void scan_free(struct scan_image *s);
 ** transfer instructions are counted into c (may be NULL). -1 for a point off the grid. */
 int scan_level(struct scan_image *s, int i, int j, struct cost *c);
 
-/* Row j's background points, those i of 0 .. W - 1 (W the grid's) with face[i] < 0, in
-** rising i: level[i] and grey[i] as scan_level (the same row read, the same counts into c)
-** and scan_grey give them; when the row has one, the other entries are the row's levels
-** and greys too, else all are left as they are (issue 19: a row of the points engine's
-** frame at a time). j on the grid. */
-void scan_row_background(struct scan_image *s, int j, const int *face, uint8_t *level,
-                         uint8_t *grey, struct cost *c);
+/* Row j's levels and greys, W each (W the grid's), as scan_level and scan_grey give them,
+** with no disk read and nothing counted: for the points engine, which has no 1974 time
+** (issue 19). j on the grid. */
+void scan_row(const struct scan_image *s, int j, uint8_t *level, uint8_t *grey);
 
 /* The display-time state back to just after scan_photo: no row in the buffer, the disk's
 ** heads not known, no display-time reads (for rendering the same picture again). */
