@@ -122,8 +122,18 @@ struct scr_chunk {
   max_align_t data[];
 };
 
+/* A block of the pool: its size class (64 << cls bytes) before it, the free list's link
+   while it is free. */
+union scr_block {
+  struct { union scr_block *next; int cls; } h;
+  max_align_t align;
+};
+
+#define SCR_CLASSES 48
+
 struct seg_scratch {
   struct scr_chunk *first, *cur;         /* cur: the chunk allocated from (NULL: none yet) */
+  union scr_block *free[SCR_CLASSES];    /* the pool: free blocks of each size class */
 };
 
 struct scr_mark {
@@ -176,6 +186,38 @@ static void *scr_zalloc(struct seg_scratch *s, size_t n)
   return p;
 }
 
+/* The rings of the working pieces come from a pool of blocks kept in the scratch, by size
+   class (a power of two): a piece's ring goes back to it when the piece is cut or done,
+   and the next ring of that size takes it, without the host allocator. */
+static void *pool_get(struct seg_scratch *s, size_t n)
+{
+  int k = 0;
+  while (((size_t)64 << k) < n) k++;
+  union scr_block *b = s->free[k];
+  if (b) s->free[k] = b->h.next;
+  else {
+    b = malloc(sizeof *b + ((size_t)64 << k));
+    if (!b) return NULL;
+    b->h.cls = k;
+  }
+  return b + 1;
+}
+
+static void *pool_zget(struct seg_scratch *s, size_t n)
+{
+  void *p = pool_get(s, n);
+  if (p) memset(p, 0, n);
+  return p;
+}
+
+static void pool_put(struct seg_scratch *s, void *p)
+{
+  if (!p) return;
+  union scr_block *b = (union scr_block *)p - 1;
+  b->h.next = s->free[b->h.cls];
+  s->free[b->h.cls] = b;
+}
+
 struct seg_scratch *seg_scratch_new(void)
 {
   return calloc(1, sizeof(struct seg_scratch));
@@ -185,6 +227,8 @@ static void scr_free_chunks(struct seg_scratch *s)
 {
   while (s->first) { struct scr_chunk *t = s->first->next; free(s->first); s->first = t; }
   s->cur = NULL;
+  for (int k = 0; k < SCR_CLASSES; k++)
+    while (s->free[k]) { union scr_block *t = s->free[k]->h.next; free(s->free[k]); s->free[k] = t; }
 }
 
 void seg_scratch_free(struct seg_scratch *s)
@@ -250,32 +294,38 @@ static int oom(struct seg_ctx *x)
                   (unsigned)x->in->face_id);
 }
 
-static void ring_free(struct xs_ring *r)
+static void ring_free(struct seg_scratch *scr, struct xs_ring *r)
 {
-  free(r->v);
-  free(r->s);
+  pool_put(scr, r->v);
+  pool_put(scr, r->s);
   r->v = NULL;
   r->s = NULL;
   r->n = 0;
 }
 
-static void wpiece_free(struct wpiece *p)
+static void wpiece_free(struct seg_scratch *scr, struct wpiece *p)
 {
-  for (int r = 0; r < p->nring; r++) ring_free(&p->ring[r]);
-  free(p->ring);
+  for (int r = 0; r < p->nring; r++) ring_free(scr, &p->ring[r]);
+  pool_put(scr, p->ring);
   p->ring = NULL;
   p->nring = 0;
 }
 
-static int cyc_push(struct cyc *c, const struct xs_vertex *v, const struct xs_side *s)
+static int cyc_push(struct seg_scratch *scr, struct cyc *c, const struct xs_vertex *v,
+                    const struct xs_side *s)
 {
   if (c->n == c->cap) {
     int cap = c->cap ? 2 * c->cap : 16;
-    struct xs_vertex *nv = realloc(c->v, (size_t)cap * sizeof *nv);
-    if (!nv) return -1;
+    struct xs_vertex *nv = pool_get(scr, (size_t)cap * sizeof *nv);
+    struct xs_side *ns = pool_get(scr, (size_t)cap * sizeof *ns);
+    if (!nv || !ns) { pool_put(scr, nv); pool_put(scr, ns); return -1; }
+    if (c->n) {
+      memcpy(nv, c->v, (size_t)c->n * sizeof *nv);
+      memcpy(ns, c->s, (size_t)c->n * sizeof *ns);
+    }
+    pool_put(scr, c->v);
+    pool_put(scr, c->s);
     c->v = nv;
-    struct xs_side *ns = realloc(c->s, (size_t)cap * sizeof *ns);
-    if (!ns) return -1;
     c->s = ns;
     c->cap = cap;
   }
@@ -285,10 +335,10 @@ static int cyc_push(struct cyc *c, const struct xs_vertex *v, const struct xs_si
   return 0;
 }
 
-static void cyc_free(struct cyc *c)
+static void cyc_free(struct seg_scratch *scr, struct cyc *c)
 {
-  free(c->v);
-  free(c->s);
+  pool_put(scr, c->v);
+  pool_put(scr, c->s);
   memset(c, 0, sizeof *c);
 }
 
@@ -456,13 +506,13 @@ static int first_piece(struct seg_ctx *x, struct wpiece *p)
   const struct seg_input *in = x->in;
   p->id = x->next_id++;
   p->nring = in->nring;
-  p->ring = calloc((size_t)in->nring, sizeof *p->ring);
+  p->ring = pool_zget(x->scr, (size_t)in->nring * sizeof *p->ring);
   if (!p->ring) return oom(x);
   for (int r = 0; r < in->nring; r++) {
     int n = in->ring_start[r + 1] - in->ring_start[r];
     struct xs_ring *g = &p->ring[r];
-    g->v = malloc((size_t)n * sizeof *g->v);
-    g->s = malloc((size_t)n * sizeof *g->s);
+    g->v = pool_get(x->scr, (size_t)n * sizeof *g->v);
+    g->s = pool_get(x->scr, (size_t)n * sizeof *g->s);
     if (!g->v || !g->s) return oom(x);
     input_ring(in, r, g);
   }
@@ -600,9 +650,10 @@ static uint32_t cross_num(const struct wpiece *P, uint32_t *const *mid, const st
   return mid[c->ring][c->side];
 }
 
-/* The point of crossing c as a ring vertex. */
+/* The point of crossing c as a ring vertex; its homogeneous point (the output's) only
+   when out. */
 static struct xs_vertex cross_point(const struct wpiece *P, uint32_t *const *mid,
-                                    const struct xsort_cross *c, gcoord y0)
+                                    const struct xsort_cross *c, gcoord y0, int out)
 {
   const struct xs_ring *g = &P->ring[c->ring];
   if (c->at == 1) return g->v[c->side];
@@ -614,7 +665,7 @@ static struct xs_vertex cross_point(const struct wpiece *P, uint32_t *const *mid
   v.src = -1;
   v.y = y0;
   v.x = c->x;
-  if (!geom_meet(g->s[c->side].line, geom_hline(y0, true), &v.p)) {
+  if (out && !geom_meet(g->s[c->side].line, geom_hline(y0, true), &v.p)) {
     /* never: a side crossing the line has one end strictly off it, so it is not
        horizontal; keep the exact point from x anyway */
     v.p.X = c->x.num; v.p.Y = (wide)y0 * c->x.den; v.p.W = c->x.den;
@@ -671,8 +722,8 @@ static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint32_t *const 
     int j = j0, steps = 0;
     do {
       seen[j] = 1;
-      struct xs_vertex pe = cross_point(P, mid, &h->x[j], c);
-      if (cyc_push(cy, &pe, &cutside)) { rc = oom(x); break; }
+      struct xs_vertex pe = cross_point(P, mid, &h->x[j], c, !x->check);
+      if (cyc_push(x->scr, cy, &pe, &cutside)) { rc = oom(x); break; }
       int e = h->pair[j];                            /* the partner: an entry */
       if (e < 0 || e >= m || !h->x[e].enter) {
         rc = t74_fail(x->err, T74_EINPUT, "face %u: cannot close a piece at y = %lld "
@@ -681,12 +732,12 @@ static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint32_t *const 
       }
       const struct xsort_cross *en = &h->x[e];
       const struct xs_ring *g = &P->ring[en->ring];
-      struct xs_vertex pn = cross_point(P, mid, en, c);
-      if (cyc_push(cy, &pn, &g->s[en->side])) { rc = oom(x); break; }
+      struct xs_vertex pn = cross_point(P, mid, en, c, !x->check);
+      if (cyc_push(x->scr, cy, &pn, &g->s[en->side])) { rc = oom(x); break; }
       count_mem(x->cost, 4);
       int k = (en->side + 1) % g->n;
       for (;;) {
-        if (cyc_push(cy, &g->v[k], &g->s[k])) { rc = oom(x); break; }
+        if (cyc_push(x->scr, cy, &g->v[k], &g->s[k])) { rc = oom(x); break; }
         count_mem(x->cost, 1);
         int k1 = (k + 1) % g->n;
         if (!xsort_in_half(g->v[k1].y, c, half)) break;
@@ -1479,7 +1530,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
       np.id = x->next_id++;
       int nr = 1;
       for (int r = 0; r < P->nring; r++) nr += hc[s].holes[r] == i;
-      np.ring = calloc((size_t)nr, sizeof *np.ring);
+      np.ring = pool_zget(x->scr, (size_t)nr * sizeof *np.ring);
       if (!np.ring) { rc = oom(x); break; }
       np.nring = nr;
       struct cyc *cy = &hc[s].cy[i];
@@ -1493,15 +1544,15 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
         memset(&P->ring[r], 0, sizeof P->ring[r]);
       }
       rc = q_push(x, &np);
-      if (rc) wpiece_free(&np);
+      if (rc) wpiece_free(x->scr, &np);
     }
   }
 
 done:
   for (int s = 0; s < 2; s++)
-    for (int i = 0; i < hc[s].ncy; i++) cyc_free(&hc[s].cy[i]);
+    for (int i = 0; i < hc[s].ncy; i++) cyc_free(x->scr, &hc[s].cy[i]);
   scr_release(x->scr, mark);
-  wpiece_free(P);
+  wpiece_free(x->scr, P);
   return rc;
 }
 
@@ -1594,12 +1645,12 @@ static void ctx_free(struct seg_ctx *x)
 {
   free(x->ids);
   while (x->qn) {
-    wpiece_free(&x->q[x->qhead]);
+    wpiece_free(x->scr, &x->q[x->qhead]);
     x->qhead = (x->qhead + 1) % x->qcap;
     x->qn--;
   }
   if (x->q != x->q0) free(x->q);
-  for (int i = 0; i < x->nfin; i++) ring_free(&x->fin[i]);
+  for (int i = 0; i < x->nfin; i++) ring_free(x->scr, &x->fin[i]);
   if (x->fin != x->fin0) free(x->fin);
 }
 
@@ -1647,7 +1698,7 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   struct seg_ctx xc;
   struct seg_ctx *x = &xc;
   ctx_init(x, in, NULL, core, cost, err);
-  struct t74_error quiet;
+  struct t74_error quiet = { 0, "" };
   x->err = &quiet;                      /* a refused face is left to seg_generate */
   if (check_input(x)) return T74_OK;
   x->err = err;
@@ -1704,20 +1755,20 @@ static int generate(struct seg_ctx *x, struct seg_result *out)
 
   struct wpiece P;
   memset(&P, 0, sizeof P);
-  if ((rc = first_piece(x, &P))) { wpiece_free(&P); goto fail; }
+  if ((rc = first_piece(x, &P))) { wpiece_free(x->scr, &P); goto fail; }
   if (trace) {
     int nconc;
     x->cost = NULL;                       /* the trace's own look is not the machine's work */
     rc = lowest_concave(x, &P, &(gcoord){0}, &nconc);
     x->cost = cost;
-    if (rc < 0) { wpiece_free(&P); rc = -rc; goto fail; }
+    if (rc < 0) { wpiece_free(x->scr, &P); rc = -rc; goto fail; }
     fprintf(trace, "face %u: %d ring%s, %d vertices, %d concave vertices\nYSORT  y:",
             (unsigned)in->face_id, in->nring, in->nring == 1 ? "" : "s", x->nvert, nconc);
     for (int i = 0; i < x->nvert; i++)
       fprintf(trace, " %lld (v%u)", (long long)x->ys[i].y, (unsigned)x->ys[i].vid);
     fputc('\n', trace);
   }
-  if ((rc = q_push(x, &P))) { wpiece_free(&P); goto fail; }
+  if ((rc = q_push(x, &P))) { wpiece_free(x->scr, &P); goto fail; }
 
   while (x->qn) {
     struct wpiece cur = x->q[x->qhead];
@@ -1726,21 +1777,21 @@ static int generate(struct seg_ctx *x, struct seg_result *out)
     gcoord c = 0;
     int nconc;
     int has = lowest_concave(x, &cur, &c, &nconc);
-    if (has < 0) { wpiece_free(&cur); rc = -has; goto fail; }
+    if (has < 0) { wpiece_free(x->scr, &cur); rc = -has; goto fail; }
     if (!has) {
       if (cur.nring != 1) {
-        wpiece_free(&cur);
+        wpiece_free(x->scr, &cur);
         rc = t74_fail(err, T74_EINPUT, "face %u: a piece with a hole has no concave vertex "
                       "(rings not simple?)", (unsigned)in->face_id);
         goto fail;
       }
       rc = fin_push(x, &cur.ring[0]);
-      wpiece_free(&cur);
+      wpiece_free(x->scr, &cur);
       if (rc) goto fail;
       continue;
     }
     if (x->ncut > 4 * x->nvert + 16) {
-      wpiece_free(&cur);
+      wpiece_free(x->scr, &cur);
       rc = t74_fail(err, T74_EINPUT, "face %u: too many cuts (boundary not simple?)",
                     (unsigned)in->face_id);
       goto fail;
@@ -1790,7 +1841,8 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
                  struct core *core, struct cost *cost, struct t74_error *err)
 {
   struct seg_ctx xc;
-  struct seg_scratch scr = { NULL, NULL };
+  struct seg_scratch scr;
+  memset(&scr, 0, sizeof scr);
   ctx_init(&xc, in, trace, core, cost, err);
   xc.scr = &scr;
   int rc = generate(&xc, out);
