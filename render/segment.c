@@ -113,8 +113,8 @@ _Static_assert(XS_ORIG == SEGV_ORIG && XS_CROSS == SEGV_CROSS, "vertex kinds agr
    done, a cut the same for its own tables, so the tables of one cut are gone before the
    next (memory stays what one cut needs, never the sum over the cuts). The chunks are
    kept for the next face (issue 19: seg_check's caller keeps one between frames). The
-   rings of the working pieces outlive their cut in queue order, not stack order: they
-   stay on the host's heap. */
+   rings of the working pieces (and the queue and the finished rings, past the first few)
+   outlive their cut in queue order, not stack order: they come from the pool below. */
 
 struct scr_chunk {
   struct scr_chunk *next;
@@ -525,10 +525,10 @@ static int q_push(struct seg_ctx *x, struct wpiece *p)
 {
   if (x->qn == x->qcap) {
     int cap = 2 * x->qcap;
-    struct wpiece *nq = malloc((size_t)cap * sizeof *nq);
+    struct wpiece *nq = pool_get(x->scr, (size_t)cap * sizeof *nq);
     if (!nq) return oom(x);
     for (int i = 0; i < x->qn; i++) nq[i] = x->q[(x->qhead + i) % x->qcap];
-    if (x->q != x->q0) free(x->q);
+    if (x->q != x->q0) pool_put(x->scr, x->q);
     x->q = nq;
     x->qhead = 0;
     x->qcap = cap;
@@ -543,10 +543,10 @@ static int fin_push(struct seg_ctx *x, struct xs_ring *r)
 {
   if (x->nfin == x->fincap) {
     int cap = 2 * x->fincap;
-    struct xs_ring *nf = x->fin == x->fin0 ? malloc((size_t)cap * sizeof *nf)
-                                           : realloc(x->fin, (size_t)cap * sizeof *nf);
+    struct xs_ring *nf = pool_get(x->scr, (size_t)cap * sizeof *nf);
     if (!nf) return oom(x);
-    if (x->fin == x->fin0) memcpy(nf, x->fin0, sizeof x->fin0);
+    memcpy(nf, x->fin, (size_t)x->nfin * sizeof *nf);
+    if (x->fin != x->fin0) pool_put(x->scr, x->fin);
     x->fin = nf;
     x->fincap = cap;
   }
@@ -1649,9 +1649,9 @@ static void ctx_free(struct seg_ctx *x)
     x->qhead = (x->qhead + 1) % x->qcap;
     x->qn--;
   }
-  if (x->q != x->q0) free(x->q);
+  if (x->q != x->q0) pool_put(x->scr, x->q);
   for (int i = 0; i < x->nfin; i++) ring_free(x->scr, &x->fin[i]);
-  if (x->fin != x->fin0) free(x->fin);
+  if (x->fin != x->fin0) pool_put(x->scr, x->fin);
 }
 
 static void ctx_init(struct seg_ctx *x, const struct seg_input *in, FILE *trace,
