@@ -245,8 +245,9 @@ static bool plain_convex(const struct mface *f)
 }
 
 /* Would the 1974 engine's Segment Generator take face k as it is? 1 yes, 0 it refuses it
-   (not simple on the grid), or a negative status. The check runs in a core of its own,
-   grown when a face's tables need more. */
+   (not simple on the grid), or a negative status. The check (seg_check: seg_generate's
+   decisions without its pieces) runs in a core of its own, grown when a face's tables
+   need more, with scratch kept between frames. */
 static int segment_takes(struct points *p, const struct mface *f, struct t74_error *err)
 {
   for (;;) {
@@ -254,14 +255,13 @@ static int segment_takes(struct points *p, const struct mface *f, struct t74_err
       p->segcore = core_new(1u << 16);
       if (!p->segcore) return -t74_fail(err, T74_EIO, "out of host memory");
     }
+    if (!p->segscr) {
+      p->segscr = seg_scratch_new();
+      if (!p->segscr) return -t74_fail(err, T74_EIO, "out of host memory");
+    }
     struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid, 1 };
-    struct seg_result res;
-    memset(&res, 0, sizeof res);
-    struct cost c;
-    memset(&c, 0, sizeof c);
     uint32_t mark = core_mark(p->segcore);
-    int st = seg_generate(&in, &res, NULL, p->segcore, &c, err);
-    seg_result_free(&res);
+    int st = seg_check(&in, p->segscr, p->segcore, err);
     core_release(p->segcore, mark);
     if (st == T74_OK) return 1;
     if (st == T74_EINPUT) { memset(err, 0, sizeof *err); return 0; }
@@ -977,6 +977,7 @@ void points_free(struct points *p)
   mapper_free(&p->map);
   core_free(p->core);
   core_free(p->segcore);
+  seg_scratch_free(p->segscr);
   free(p->face);
   free(p->z);
   free(p->plane);

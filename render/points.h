@@ -66,6 +66,7 @@ struct points {
   /* host scratch, kept from frame to frame (points_render reuses it) */
   struct core *core;                /* room for the Mapper's tables (never reported) */
   struct core *segcore;             /* room for the Segment Generator's simplicity check */
+  struct seg_scratch *segscr;       /* and its scratch tables (segment.h seg_check) */
   struct points_z *z;               /* W x H: bounds on the depth of the face seen (points.c) */
   struct points_plane *plane; int planecap;   /* each face's exact depth over the grid */
   struct points_edge *edge; int edgecap;

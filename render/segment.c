@@ -96,6 +96,7 @@
 */
 #include "render/segment.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -106,6 +107,136 @@ _Static_assert(XS_ORIG == SEGV_ORIG && XS_CROSS == SEGV_CROSS, "vertex kinds agr
 
 #define PBS_STAR 0xFFFFu                 /* '*' in PBS, and the piece separator in LWS/UPS */
 #define SEG_INLINE 4                     /* queue and finished rings held in the context */
+
+/* ---- scratch: what lives only while one face, or one cut of it, is made ---------------
+   A stack of bump-allocated chunks: a face marks it when it starts and releases it when
+   done, a cut the same for its own tables, so the tables of one cut are gone before the
+   next (memory stays what one cut needs, never the sum over the cuts). The chunks are
+   kept for the next face (issue 19: seg_check's caller keeps one between frames). The
+   rings of the working pieces (and the queue and the finished rings, past the first few)
+   outlive their cut in queue order, not stack order: they come from the pool below. */
+
+struct scr_chunk {
+  struct scr_chunk *next;
+  size_t cap, used;                      /* bytes of data[] */
+  max_align_t data[];
+};
+
+/* A block of the pool: its size class (64 << cls bytes) before it, the free list's link
+   while it is free. */
+union scr_block {
+  struct { union scr_block *next; int cls; } h;
+  max_align_t align;
+};
+
+#define SCR_CLASSES 48
+
+struct seg_scratch {
+  struct scr_chunk *first, *cur;         /* cur: the chunk allocated from (NULL: none yet) */
+  union scr_block *free[SCR_CLASSES];    /* the pool: free blocks of each size class */
+};
+
+struct scr_mark {
+  struct scr_chunk *c;
+  size_t used;
+};
+
+static struct scr_mark scr_mark(const struct seg_scratch *s)
+{
+  return (struct scr_mark){ s->cur, s->cur ? s->cur->used : 0 };
+}
+
+static void scr_release(struct seg_scratch *s, struct scr_mark m)
+{
+  s->cur = m.c;
+  if (m.c) m.c->used = m.used;
+}
+
+static void *scr_alloc(struct seg_scratch *s, size_t n)
+{
+  n = (n + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
+  struct scr_chunk *c = s->cur;
+  if (!c || c->cap - c->used < n) {
+    struct scr_chunk *next = c ? c->next : s->first;
+    if (!next || next->cap < n) {        /* the chunks after cur go: one big enough comes */
+      while (next) { struct scr_chunk *t = next->next; free(next); next = t; }
+      size_t cap = c && 2 * c->cap > n ? 2 * c->cap : n;
+      if (cap < 4096) cap = 4096;
+      next = malloc(offsetof(struct scr_chunk, data) + cap);
+      if (!next) {
+        if (c) c->next = NULL; else s->first = NULL;
+        return NULL;
+      }
+      next->next = NULL;
+      next->cap = cap;
+      if (c) c->next = next; else s->first = next;
+    }
+    next->used = 0;
+    s->cur = c = next;
+  }
+  void *p = (unsigned char *)c->data + c->used;
+  c->used += n;
+  return p;
+}
+
+static void *scr_zalloc(struct seg_scratch *s, size_t n)
+{
+  void *p = scr_alloc(s, n);
+  if (p) memset(p, 0, n);
+  return p;
+}
+
+/* The rings of the working pieces come from a pool of blocks kept in the scratch, by size
+   class (a power of two): a piece's ring goes back to it when the piece is cut or done,
+   and the next ring of that size takes it, without the host allocator. */
+static void *pool_get(struct seg_scratch *s, size_t n)
+{
+  int k = 0;
+  while (((size_t)64 << k) < n) k++;
+  union scr_block *b = s->free[k];
+  if (b) s->free[k] = b->h.next;
+  else {
+    b = malloc(sizeof *b + ((size_t)64 << k));
+    if (!b) return NULL;
+    b->h.cls = k;
+  }
+  return b + 1;
+}
+
+static void *pool_zget(struct seg_scratch *s, size_t n)
+{
+  void *p = pool_get(s, n);
+  if (p) memset(p, 0, n);
+  return p;
+}
+
+static void pool_put(struct seg_scratch *s, void *p)
+{
+  if (!p) return;
+  union scr_block *b = (union scr_block *)p - 1;
+  b->h.next = s->free[b->h.cls];
+  s->free[b->h.cls] = b;
+}
+
+struct seg_scratch *seg_scratch_new(void)
+{
+  return calloc(1, sizeof(struct seg_scratch));
+}
+
+static void scr_free_chunks(struct seg_scratch *s)
+{
+  while (s->first) { struct scr_chunk *t = s->first->next; free(s->first); s->first = t; }
+  s->cur = NULL;
+  for (int k = 0; k < SCR_CLASSES; k++)
+    while (s->free[k]) { union scr_block *t = s->free[k]->h.next; free(s->free[k]); s->free[k] = t; }
+}
+
+void seg_scratch_free(struct seg_scratch *s)
+{
+  if (!s) return;
+  scr_free_chunks(s);
+  free(s);
+}
 
 /* ---- working pieces ------------------------------------------------------------------ */
 
@@ -127,6 +258,9 @@ struct seg_ctx {
   struct core *core;
   struct cost *cost;
   struct t74_error *err;
+  struct seg_scratch *scr;               /* the face's and each cut's own tables */
+  int check;                             /* seg_check: decide only; nothing written to
+                                            core, no output pieces (cost, trace NULL) */
   int nvert;                             /* vertices of the face */
   uint32_t next_num;                     /* next crossing number */
   uint32_t numbered;                     /* crossing numbers given so far */
@@ -160,32 +294,38 @@ static int oom(struct seg_ctx *x)
                   (unsigned)x->in->face_id);
 }
 
-static void ring_free(struct xs_ring *r)
+static void ring_free(struct seg_scratch *scr, struct xs_ring *r)
 {
-  free(r->v);
-  free(r->s);
+  pool_put(scr, r->v);
+  pool_put(scr, r->s);
   r->v = NULL;
   r->s = NULL;
   r->n = 0;
 }
 
-static void wpiece_free(struct wpiece *p)
+static void wpiece_free(struct seg_scratch *scr, struct wpiece *p)
 {
-  for (int r = 0; r < p->nring; r++) ring_free(&p->ring[r]);
-  free(p->ring);
+  for (int r = 0; r < p->nring; r++) ring_free(scr, &p->ring[r]);
+  pool_put(scr, p->ring);
   p->ring = NULL;
   p->nring = 0;
 }
 
-static int cyc_push(struct cyc *c, const struct xs_vertex *v, const struct xs_side *s)
+static int cyc_push(struct seg_scratch *scr, struct cyc *c, const struct xs_vertex *v,
+                    const struct xs_side *s)
 {
   if (c->n == c->cap) {
     int cap = c->cap ? 2 * c->cap : 16;
-    struct xs_vertex *nv = realloc(c->v, (size_t)cap * sizeof *nv);
-    if (!nv) return -1;
+    struct xs_vertex *nv = pool_get(scr, (size_t)cap * sizeof *nv);
+    struct xs_side *ns = pool_get(scr, (size_t)cap * sizeof *ns);
+    if (!nv || !ns) { pool_put(scr, nv); pool_put(scr, ns); return -1; }
+    if (c->n) {
+      memcpy(nv, c->v, (size_t)c->n * sizeof *nv);
+      memcpy(ns, c->s, (size_t)c->n * sizeof *ns);
+    }
+    pool_put(scr, c->v);
+    pool_put(scr, c->s);
     c->v = nv;
-    struct xs_side *ns = realloc(c->s, (size_t)cap * sizeof *ns);
-    if (!ns) return -1;
     c->s = ns;
     c->cap = cap;
   }
@@ -195,10 +335,10 @@ static int cyc_push(struct cyc *c, const struct xs_vertex *v, const struct xs_si
   return 0;
 }
 
-static void cyc_free(struct cyc *c)
+static void cyc_free(struct seg_scratch *scr, struct cyc *c)
 {
-  free(c->v);
-  free(c->s);
+  pool_put(scr, c->v);
+  pool_put(scr, c->s);
   memset(c, 0, sizeof *c);
 }
 
@@ -366,13 +506,13 @@ static int first_piece(struct seg_ctx *x, struct wpiece *p)
   const struct seg_input *in = x->in;
   p->id = x->next_id++;
   p->nring = in->nring;
-  p->ring = calloc((size_t)in->nring, sizeof *p->ring);
+  p->ring = pool_zget(x->scr, (size_t)in->nring * sizeof *p->ring);
   if (!p->ring) return oom(x);
   for (int r = 0; r < in->nring; r++) {
     int n = in->ring_start[r + 1] - in->ring_start[r];
     struct xs_ring *g = &p->ring[r];
-    g->v = malloc((size_t)n * sizeof *g->v);
-    g->s = malloc((size_t)n * sizeof *g->s);
+    g->v = pool_get(x->scr, (size_t)n * sizeof *g->v);
+    g->s = pool_get(x->scr, (size_t)n * sizeof *g->s);
     if (!g->v || !g->s) return oom(x);
     input_ring(in, r, g);
   }
@@ -385,10 +525,10 @@ static int q_push(struct seg_ctx *x, struct wpiece *p)
 {
   if (x->qn == x->qcap) {
     int cap = 2 * x->qcap;
-    struct wpiece *nq = malloc((size_t)cap * sizeof *nq);
+    struct wpiece *nq = pool_get(x->scr, (size_t)cap * sizeof *nq);
     if (!nq) return oom(x);
     for (int i = 0; i < x->qn; i++) nq[i] = x->q[(x->qhead + i) % x->qcap];
-    if (x->q != x->q0) free(x->q);
+    if (x->q != x->q0) pool_put(x->scr, x->q);
     x->q = nq;
     x->qhead = 0;
     x->qcap = cap;
@@ -403,10 +543,10 @@ static int fin_push(struct seg_ctx *x, struct xs_ring *r)
 {
   if (x->nfin == x->fincap) {
     int cap = 2 * x->fincap;
-    struct xs_ring *nf = x->fin == x->fin0 ? malloc((size_t)cap * sizeof *nf)
-                                           : realloc(x->fin, (size_t)cap * sizeof *nf);
+    struct xs_ring *nf = pool_get(x->scr, (size_t)cap * sizeof *nf);
     if (!nf) return oom(x);
-    if (x->fin == x->fin0) memcpy(nf, x->fin0, sizeof x->fin0);
+    memcpy(nf, x->fin, (size_t)x->nfin * sizeof *nf);
+    if (x->fin != x->fin0) pool_put(x->scr, x->fin);
     x->fin = nf;
     x->fincap = cap;
   }
@@ -510,9 +650,10 @@ static uint32_t cross_num(const struct wpiece *P, uint32_t *const *mid, const st
   return mid[c->ring][c->side];
 }
 
-/* The point of crossing c as a ring vertex. */
+/* The point of crossing c as a ring vertex; its homogeneous point (the output's) only
+   when out. */
 static struct xs_vertex cross_point(const struct wpiece *P, uint32_t *const *mid,
-                                    const struct xsort_cross *c, gcoord y0)
+                                    const struct xsort_cross *c, gcoord y0, int out)
 {
   const struct xs_ring *g = &P->ring[c->ring];
   if (c->at == 1) return g->v[c->side];
@@ -524,7 +665,7 @@ static struct xs_vertex cross_point(const struct wpiece *P, uint32_t *const *mid
   v.src = -1;
   v.y = y0;
   v.x = c->x;
-  if (!geom_meet(g->s[c->side].line, geom_hline(y0, true), &v.p)) {
+  if (out && !geom_meet(g->s[c->side].line, geom_hline(y0, true), &v.p)) {
     /* never: a side crossing the line has one end strictly off it, so it is not
        horizontal; keep the exact point from x anyway */
     v.p.X = c->x.num; v.p.Y = (wide)y0 * c->x.den; v.p.W = c->x.den;
@@ -563,9 +704,9 @@ static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint32_t *const 
   int m = h->m;
   for (int j = 0; j < m; j++) idx[h->x[j].ring][h->x[j].side] = j;
 
-  char *seen = calloc((size_t)m + 1, 1);
-  h->cy = calloc((size_t)m / 2 + 1, sizeof *h->cy);
-  if (!seen || !h->cy) { free(seen); return oom(x); }
+  char *seen = scr_zalloc(x->scr, (size_t)m + 1);
+  h->cy = scr_zalloc(x->scr, ((size_t)m / 2 + 1) * sizeof *h->cy);
+  if (!seen || !h->cy) return oom(x);
   int total = 0;
   for (int r = 0; r < P->nring; r++) total += P->ring[r].n;
 
@@ -581,8 +722,8 @@ static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint32_t *const 
     int j = j0, steps = 0;
     do {
       seen[j] = 1;
-      struct xs_vertex pe = cross_point(P, mid, &h->x[j], c);
-      if (cyc_push(cy, &pe, &cutside)) { rc = oom(x); break; }
+      struct xs_vertex pe = cross_point(P, mid, &h->x[j], c, !x->check);
+      if (cyc_push(x->scr, cy, &pe, &cutside)) { rc = oom(x); break; }
       int e = h->pair[j];                            /* the partner: an entry */
       if (e < 0 || e >= m || !h->x[e].enter) {
         rc = t74_fail(x->err, T74_EINPUT, "face %u: cannot close a piece at y = %lld "
@@ -591,12 +732,12 @@ static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint32_t *const 
       }
       const struct xsort_cross *en = &h->x[e];
       const struct xs_ring *g = &P->ring[en->ring];
-      struct xs_vertex pn = cross_point(P, mid, en, c);
-      if (cyc_push(cy, &pn, &g->s[en->side])) { rc = oom(x); break; }
+      struct xs_vertex pn = cross_point(P, mid, en, c, !x->check);
+      if (cyc_push(x->scr, cy, &pn, &g->s[en->side])) { rc = oom(x); break; }
       count_mem(x->cost, 4);
       int k = (en->side + 1) % g->n;
       for (;;) {
-        if (cyc_push(cy, &g->v[k], &g->s[k])) { rc = oom(x); break; }
+        if (cyc_push(x->scr, cy, &g->v[k], &g->s[k])) { rc = oom(x); break; }
         count_mem(x->cost, 1);
         int k1 = (k + 1) % g->n;
         if (!xsort_in_half(g->v[k1].y, c, half)) break;
@@ -622,7 +763,6 @@ static int walk_half(struct seg_ctx *x, const struct wpiece *P, uint32_t *const 
       cy->s[cy->n - 1] = s0;
     }
   }
-  free(seen);
   return rc;
 }
 
@@ -855,14 +995,14 @@ static int type_crossings(const struct wpiece *P, uint32_t *const *mid, gcoord c
    crossing gets the other end of its interval. Returns 0, or -1 when the openings and
    closings do not alternate (the boundary is not simple). */
 static int rule_pairs(const struct tcross *tc, int ntc, struct halfcut *hc, int s,
-                      struct cost *cost)
+                      struct seg_scratch *scr, struct cost *cost)
 {
   struct halfcut *h = &hc[s];
   int m = h->m, rc = 0;
-  int *tix = malloc(((size_t)m + 1) * sizeof *tix);
-  int *seq = malloc(((size_t)m + 1) * sizeof *seq);
-  char *done = calloc((size_t)ntc + 1, 1);
-  if (!tix || !seq || !done) { free(tix); free(seq); free(done); return -2; }
+  int *tix = scr_alloc(scr, ((size_t)m + 1) * sizeof *tix);
+  int *seq = scr_alloc(scr, ((size_t)m + 1) * sizeof *seq);
+  char *done = scr_zalloc(scr, (size_t)ntc + 1);
+  if (!tix || !seq || !done) return -2;
   for (int j = 0; j < m; j++) tix[j] = -1;
   for (int t = 0; t < ntc; t++)
     for (int a = 0; a < 2; a++) if (tc[t].at[s][a] >= 0) tix[tc[t].at[s][a]] = t;
@@ -896,9 +1036,6 @@ static int rule_pairs(const struct tcross *tc, int ntc, struct halfcut *hc, int 
     if (i % 2) { h->pair[seq[i]] = seq[i - 1]; h->pair[seq[i - 1]] = seq[i]; }
   }
   if (rc == 0 && n != m) rc = -1;
-  free(tix);
-  free(seq);
-  free(done);
   return rc;
 }
 
@@ -1141,6 +1278,20 @@ static int next_used(struct seg_ctx *x)
   return x->idcur < x->nids && x->ids[x->idcur] == v;
 }
 
+/* The rows xsort_build makes for the line y = c (every side not wholly on one side of
+   it), without making them: seg_check takes XSORT's room in core, as seg_generate does,
+   and writes nothing into it. */
+static int xsort_count(const struct xs_ring *rings, int nring, gcoord c)
+{
+  int m = 0;
+  for (int r = 0; r < nring; r++)
+    for (int k = 0; k < rings[r].n; k++) {
+      gcoord y0 = rings[r].v[k].y, y1 = rings[r].v[(k + 1) % rings[r].n].y;
+      m += !((y0 < c && y1 < c) || (y0 > c && y1 > c));
+    }
+  return m;
+}
+
 /* Cut piece P at y = c; its pieces go to the queue. P is consumed. */
 static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
 {
@@ -1149,31 +1300,35 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
   for (int r = 0; r < P->nring; r++) total += P->ring[r].n;
   x->ncut++;
 
-  uint32_t **mid = calloc((size_t)P->nring, sizeof *mid);
-  int **idx = calloc((size_t)P->nring, sizeof *idx);
-  struct xsort_row *rows = malloc((size_t)(2 * total) * sizeof *rows);
+  struct scr_mark mark = scr_mark(x->scr);
+  uint32_t **mid = scr_zalloc(x->scr, (size_t)P->nring * sizeof *mid);
+  int **idx = scr_zalloc(x->scr, (size_t)P->nring * sizeof *idx);
+  struct xsort_row *rows = x->check ? NULL : scr_alloc(x->scr, (size_t)(2 * total) * sizeof *rows);
   struct halfcut hc[2];
   struct tcross *tc = NULL;
   memset(hc, 0, sizeof hc);
   for (int s = 0; s < 2; s++) {
-    hc[s].x = malloc((size_t)(2 * total) * sizeof *hc[s].x);
-    hc[s].holes = malloc((size_t)P->nring * sizeof *hc[s].holes);
+    hc[s].x = scr_alloc(x->scr, (size_t)(2 * total) * sizeof *hc[s].x);
+    hc[s].holes = scr_alloc(x->scr, (size_t)P->nring * sizeof *hc[s].holes);
   }
-  if (!mid || !idx || !rows || !hc[0].x || !hc[1].x || !hc[0].holes || !hc[1].holes) {
+  if (!mid || !idx || (!rows && !x->check) || !hc[0].x || !hc[1].x || !hc[0].holes ||
+      !hc[1].holes) {
     rc = oom(x);
     goto done;
   }
   for (int r = 0; r < P->nring; r++) {
-    mid[r] = calloc((size_t)P->ring[r].n, sizeof *mid[r]);
-    idx[r] = malloc((size_t)P->ring[r].n * sizeof *idx[r]);
+    mid[r] = scr_zalloc(x->scr, (size_t)P->ring[r].n * sizeof *mid[r]);
+    idx[r] = scr_alloc(x->scr, (size_t)P->ring[r].n * sizeof *idx[r]);
     if (!mid[r] || !idx[r]) { rc = oom(x); goto done; }
   }
 
-  /* XSORT for the line. */
-  int nx = xsort_build(P->ring, P->nring, c, rows, rows + total, x->cost);
+  /* XSORT for the line: seg_check only takes its room in core (its rows are written,
+     never read back). */
+  int nx = x->check ? xsort_count(P->ring, P->nring, c)
+                    : xsort_build(P->ring, P->nring, c, rows, rows + total, x->cost);
   uint32_t a;
   if ((rc = table(x, CORE_T_XSORT, (uint32_t)nx * XSORT_ROW_WORDS, &a))) goto done;
-  for (int i = 0; i < nx && x->core; i++) {
+  for (int i = 0; i < nx && x->core && !x->check; i++) {
     const struct xs_side *sd = &P->ring[rows[i].ring].s[rows[i].side];
     uint32_t w = a + (uint32_t)i * XSORT_ROW_WORDS;
     core_put_int(x->core, w, 4, (int64_t)rows[i].x.num);
@@ -1215,7 +1370,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
   }
   npbs += (uint32_t)P->nring - 1;
   if ((rc = table(x, CORE_T_PBS, npbs, &a))) goto done;
-  {
+  if (!x->check) {
     uint32_t w = a;
     for (int r = 0; r < P->nring; r++) {
       if (r) put_word(x, w++, PBS_STAR);
@@ -1232,7 +1387,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     hc[s].m = xsort_half(P->ring, P->nring, c, s, hc[s].x, hc[s].x + total, x->cost);
     if ((rc = check_alternate(x, c, s, &hc[s]))) goto done;
   }
-  tc = malloc((size_t)(hc[0].m + hc[1].m + 1) * sizeof *tc);
+  tc = scr_alloc(x->scr, (size_t)(hc[0].m + hc[1].m + 1) * sizeof *tc);
   if (!tc) { rc = oom(x); goto done; }
   int ntc = type_crossings(P, mid, c, hc, tc, x->cost);
   for (int t = 0; t < ntc; t++)
@@ -1243,10 +1398,10 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
       goto done;
     }
   for (int s = 0; s < 2; s++) {
-    hc[s].pair = malloc(((size_t)hc[s].m + 1) * sizeof *hc[s].pair);
+    hc[s].pair = scr_alloc(x->scr, ((size_t)hc[s].m + 1) * sizeof *hc[s].pair);
     if (!hc[s].pair) { rc = oom(x); goto done; }
     for (int j = 0; j < hc[s].m; j++) hc[s].pair[j] = -1;
-    int pr = rule_pairs(tc, ntc, hc, s, x->cost);
+    int pr = rule_pairs(tc, ntc, hc, s, x->scr, x->cost);
     if (pr == -2) { rc = oom(x); goto done; }
     if (pr < 0) {
       rc = t74_fail(x->err, T74_EINPUT, "face %u: the typed crossings at y = %lld match no "
@@ -1273,7 +1428,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     if ((rc = walk_half(x, P, mid, c, s, &hc[s], idx))) goto done;
   }
   if ((rc = table(x, CORE_T_IPL, (uint32_t)(hc[0].m + hc[1].m), &a))) goto done;
-  for (int s = 0, w = 0; s < 2; s++)
+  for (int s = 0, w = 0; s < 2 && !x->check; s++)
     for (int j = 0; j < hc[s].m; j++)
       put_word(x, a + (uint32_t)w++, cross_num(P, mid, &hc[s].x[j]));
 
@@ -1305,7 +1460,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
     }
     if ((rc = table(x, s == XS_BELOW ? CORE_T_LWS : CORE_T_UPS, words, &a))) goto done;
     uint32_t w = a;
-    for (int i = 0; i < hc[s].ncy; i++) {
+    for (int i = 0; i < hc[s].ncy && !x->check; i++) {
       for (int k = 0; k < hc[s].cy[i].n; k++) put_word(x, w++, hc[s].cy[i].v[k].num);
       for (int r = 0; r < P->nring; r++) {
         if (hc[s].holes[r] != i) continue;
@@ -1375,7 +1530,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
       np.id = x->next_id++;
       int nr = 1;
       for (int r = 0; r < P->nring; r++) nr += hc[s].holes[r] == i;
-      np.ring = calloc((size_t)nr, sizeof *np.ring);
+      np.ring = pool_zget(x->scr, (size_t)nr * sizeof *np.ring);
       if (!np.ring) { rc = oom(x); break; }
       np.nring = nr;
       struct cyc *cy = &hc[s].cy[i];
@@ -1389,25 +1544,15 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
         memset(&P->ring[r], 0, sizeof P->ring[r]);
       }
       rc = q_push(x, &np);
-      if (rc) wpiece_free(&np);
+      if (rc) wpiece_free(x->scr, &np);
     }
   }
 
 done:
-  free(tc);
-  for (int s = 0; s < 2; s++) {
-    for (int i = 0; i < hc[s].ncy; i++) cyc_free(&hc[s].cy[i]);
-    free(hc[s].cy);
-    free(hc[s].x);
-    free(hc[s].holes);
-    free(hc[s].pair);
-  }
-  if (mid) for (int r = 0; r < P->nring; r++) free(mid[r]);
-  if (idx) for (int r = 0; r < P->nring; r++) free(idx[r]);
-  free(mid);
-  free(idx);
-  free(rows);
-  wpiece_free(P);
+  for (int s = 0; s < 2; s++)
+    for (int i = 0; i < hc[s].ncy; i++) cyc_free(x->scr, &hc[s].cy[i]);
+  scr_release(x->scr, mark);
+  wpiece_free(x->scr, P);
   return rc;
 }
 
@@ -1500,21 +1645,20 @@ static void ctx_free(struct seg_ctx *x)
 {
   free(x->ids);
   while (x->qn) {
-    wpiece_free(&x->q[x->qhead]);
+    wpiece_free(x->scr, &x->q[x->qhead]);
     x->qhead = (x->qhead + 1) % x->qcap;
     x->qn--;
   }
-  if (x->q != x->q0) free(x->q);
-  for (int i = 0; i < x->nfin; i++) ring_free(&x->fin[i]);
-  if (x->fin != x->fin0) free(x->fin);
-  free(x->ys);
-  free(x->conc);
+  if (x->q != x->q0) pool_put(x->scr, x->q);
+  for (int i = 0; i < x->nfin; i++) ring_free(x->scr, &x->fin[i]);
+  if (x->fin != x->fin0) pool_put(x->scr, x->fin);
 }
 
 static void ctx_init(struct seg_ctx *x, const struct seg_input *in, FILE *trace,
                      struct core *core, struct cost *cost, struct t74_error *err)
 {
   memset(x, 0, sizeof *x);
+  x->scr = NULL;
   x->in = in;
   x->trace = trace;
   x->core = core;
@@ -1532,7 +1676,7 @@ static int ysort_table(struct seg_ctx *x, const struct ysort_row *ys)
 {
   uint32_t a;
   int rc = table(x, CORE_T_YSORT, (uint32_t)x->nvert * YSORT_ROW_WORDS, &a);
-  for (int i = 0; rc == T74_OK && i < x->nvert && x->core; i++) {
+  for (int i = 0; rc == T74_OK && i < x->nvert && x->core && !x->check; i++) {
     core_put_int(x->core, a + 3 * (uint32_t)i, 2, ys[i].y);
     core_write(x->core, a + 3 * (uint32_t)i + 2, (uint16_t)ys[i].vid);
   }
@@ -1554,7 +1698,7 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   struct seg_ctx xc;
   struct seg_ctx *x = &xc;
   ctx_init(x, in, NULL, core, cost, err);
-  struct t74_error quiet;
+  struct t74_error quiet = { 0, "" };
   x->err = &quiet;                      /* a refused face is left to seg_generate */
   if (check_input(x)) return T74_OK;
   x->err = err;
@@ -1582,15 +1726,17 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   return rc;
 }
 
-int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace,
-                 struct core *core, struct cost *cost, struct t74_error *err)
+/* seg_generate's work on the context x (x->check: seg_check's, out unused). */
+static int generate(struct seg_ctx *x, struct seg_result *out)
 {
-  struct seg_ctx xc;
-  struct seg_ctx *x = &xc;
-  ctx_init(x, in, trace, core, cost, err);
+  const struct seg_input *in = x->in;
+  FILE *trace = x->trace;
+  struct cost *cost = x->cost;
+  struct t74_error *err = x->err;
   int rc = check_input(x);
   if (rc) return rc;
-  uint32_t mark = core ? core_mark(core) : 0;
+  uint32_t mark = x->core ? core_mark(x->core) : 0;
+  struct scr_mark smark = scr_mark(x->scr);
 
   x->nvert = in->ring_start[in->nring];
   uint32_t maxid = 10;
@@ -1601,28 +1747,28 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
   if (x->next_num > x->num_end) wrap_numbers(x);
 
   /* YSORT */
-  x->ys = malloc((size_t)x->nvert * 2 * sizeof *x->ys);
-  x->conc = calloc((size_t)x->nvert, sizeof *x->conc);
+  x->ys = scr_alloc(x->scr, (size_t)x->nvert * 2 * sizeof *x->ys);
+  x->conc = scr_zalloc(x->scr, (size_t)x->nvert * sizeof *x->conc);
   if (!x->ys || !x->conc) { rc = oom(x); goto fail; }
   ysort_build(in->pt, in->vid, x->nvert, x->ys, x->ys + x->nvert, cost);
   if ((rc = ysort_table(x, x->ys))) goto fail;
 
   struct wpiece P;
   memset(&P, 0, sizeof P);
-  if ((rc = first_piece(x, &P))) { wpiece_free(&P); goto fail; }
+  if ((rc = first_piece(x, &P))) { wpiece_free(x->scr, &P); goto fail; }
   if (trace) {
     int nconc;
     x->cost = NULL;                       /* the trace's own look is not the machine's work */
     rc = lowest_concave(x, &P, &(gcoord){0}, &nconc);
     x->cost = cost;
-    if (rc < 0) { wpiece_free(&P); rc = -rc; goto fail; }
+    if (rc < 0) { wpiece_free(x->scr, &P); rc = -rc; goto fail; }
     fprintf(trace, "face %u: %d ring%s, %d vertices, %d concave vertices\nYSORT  y:",
             (unsigned)in->face_id, in->nring, in->nring == 1 ? "" : "s", x->nvert, nconc);
     for (int i = 0; i < x->nvert; i++)
       fprintf(trace, " %lld (v%u)", (long long)x->ys[i].y, (unsigned)x->ys[i].vid);
     fputc('\n', trace);
   }
-  if ((rc = q_push(x, &P))) { wpiece_free(&P); goto fail; }
+  if ((rc = q_push(x, &P))) { wpiece_free(x->scr, &P); goto fail; }
 
   while (x->qn) {
     struct wpiece cur = x->q[x->qhead];
@@ -1631,26 +1777,32 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
     gcoord c = 0;
     int nconc;
     int has = lowest_concave(x, &cur, &c, &nconc);
-    if (has < 0) { wpiece_free(&cur); rc = -has; goto fail; }
+    if (has < 0) { wpiece_free(x->scr, &cur); rc = -has; goto fail; }
     if (!has) {
       if (cur.nring != 1) {
-        wpiece_free(&cur);
+        wpiece_free(x->scr, &cur);
         rc = t74_fail(err, T74_EINPUT, "face %u: a piece with a hole has no concave vertex "
                       "(rings not simple?)", (unsigned)in->face_id);
         goto fail;
       }
       rc = fin_push(x, &cur.ring[0]);
-      wpiece_free(&cur);
+      wpiece_free(x->scr, &cur);
       if (rc) goto fail;
       continue;
     }
     if (x->ncut > 4 * x->nvert + 16) {
-      wpiece_free(&cur);
+      wpiece_free(x->scr, &cur);
       rc = t74_fail(err, T74_EINPUT, "face %u: too many cuts (boundary not simple?)",
                     (unsigned)in->face_id);
       goto fail;
     }
     if ((rc = cut_piece(x, &cur, c))) goto fail;
+  }
+
+  if (x->check) {                          /* the convex pieces, checked as they would be */
+    for (int i = 0; i < x->nfin; i++)
+      if ((rc = tidy_ring(x, &x->fin[i]))) goto fail;
+    goto done;
   }
 
   /* The convex pieces. */
@@ -1673,15 +1825,39 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
       fputc('\n', trace);
     }
   }
-  ctx_free(x);
-  if (core) core_release(core, mark);
   *out = res;
-  return T74_OK;
+  goto done;
 
 fail:
+  if (!rc) rc = T74_EINPUT;
+done:
   ctx_free(x);
-  if (core) core_release(core, mark);
-  return rc ? rc : T74_EINPUT;
+  scr_release(x->scr, smark);
+  if (x->core) core_release(x->core, mark);
+  return rc;
+}
+
+int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace,
+                 struct core *core, struct cost *cost, struct t74_error *err)
+{
+  struct seg_ctx xc;
+  struct seg_scratch scr;
+  memset(&scr, 0, sizeof scr);
+  ctx_init(&xc, in, trace, core, cost, err);
+  xc.scr = &scr;
+  int rc = generate(&xc, out);
+  scr_free_chunks(&scr);
+  return rc;
+}
+
+int seg_check(const struct seg_input *in, struct seg_scratch *scr, struct core *core,
+              struct t74_error *err)
+{
+  struct seg_ctx xc;
+  ctx_init(&xc, in, NULL, core, NULL, err);
+  xc.scr = scr;
+  xc.check = 1;
+  return generate(&xc, NULL);
 }
 
 void seg_result_free(struct seg_result *r)

@@ -60,6 +60,18 @@ int seg_generate(const struct seg_input *in, struct seg_result *out, FILE *trace
 
 void seg_result_free(struct seg_result *r);
 
+/* Would seg_generate take the face (issue 19)? T74_OK when it would, else the status and
+   message seg_generate gives: every decision it makes for taking or refusing the face,
+   in its order, the core's tables taken as it takes them (so T74_ECORE where it runs out
+   of core) but nothing written into them, nothing counted, no output pieces built. The
+   face's and each cut's own tables come from scr, a scratch kept between calls (nothing
+   of one call is seen by the next); seg_generate keeps one of its own for its call. */
+struct seg_scratch;
+struct seg_scratch *seg_scratch_new(void);     /* NULL: out of host memory */
+void seg_scratch_free(struct seg_scratch *s);
+int seg_check(const struct seg_input *in, struct seg_scratch *scr, struct core *core,
+              struct t74_error *err);
+
 /* seg_generate for the faces most scenes are made of (issue 19): no trace, one ring of
    at most SEG_CONVEX_MAX vertices, no concave vertex. Its one piece's lines go to line[]
    (room for SEG_CONVEX_MAX), *n of them; the operations charged, the core tables made

@@ -10,6 +10,7 @@
 ** Together: the pieces tile the face. Then each case checks its expected pieces, cut
 ** count or trace tables. Run from the repository root.
 */
+#include <dirent.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -23,11 +24,15 @@
 #include "emu/cost.h"
 #include "emu/status.h"
 #include "render/geom.h"
+#include "render/mapper.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "render/segment.h"
 #include "render/xsort.h"
 #include "render/ysort.h"
+#include "tests/ref/exactref.h"
+#include "tests/ref/hardgen.h"
+#include "tests/ref/xdiff.h"
 
 /* ---- building faces ----------------------------------------------------------------- */
 
@@ -1394,6 +1399,196 @@ static void test_rules_decide(void **state)
   free(f);
 }
 
+
+/* ---- seg_check against seg_generate (issue 19) ---------------------------------------- */
+
+struct agree {
+  int faces, took, refused;               /* on the large core */
+  int ecore;                              /* runs out of a small core */
+};
+
+/* seg_check on one face against seg_generate, each on a fresh core of its own, for a core
+   of every size in words[]: the same status, the same message when refused, the same peak
+   of core (the same tables taken, XSORT's rows counted without being made), and the check
+   leaves its core as it found it. One scratch serves every face (nothing of one face may
+   be seen by the next). */
+static void check_agrees(const struct seg_input *in, struct seg_scratch *scr, struct agree *a)
+{
+  static const uint32_t words[] = { 1u << 16, 48, 160 };
+  for (size_t w = 0; w < sizeof words / sizeof *words; w++) {
+    struct core *c1 = core_new(words[w]), *c2 = core_new(words[w]);
+    assert_non_null(c1);
+    assert_non_null(c2);
+    struct t74_error e1 = { 0, "" }, e2 = { 0, "" };
+    struct seg_result r;
+    memset(&r, 0, sizeof r);
+    struct cost k;
+    memset(&k, 0, sizeof k);
+    int s1 = seg_generate(in, &r, NULL, c1, &k, &e1);
+    int s2 = seg_check(in, scr, c2, &e2);
+    if (s1 != s2 || strcmp(e1.msg, e2.msg) || core_peak(c1) != core_peak(c2))
+      print_message("face %u (%d rings, %d points), core %u words: seg_generate %d \"%s\" "
+                    "peak %u; seg_check %d \"%s\" peak %u\n", (unsigned)in->face_id,
+                    in->nring, in->ring_start[in->nring], (unsigned)words[w], s1, e1.msg,
+                    (unsigned)core_peak(c1), s2, e2.msg, (unsigned)core_peak(c2));
+    assert_int_equal(s1, s2);
+    if (s1 != T74_OK) assert_string_equal(e1.msg, e2.msg);
+    assert_int_equal(core_peak(c1), core_peak(c2));
+    assert_int_equal(core_used(c2), 0);
+    if (w == 0) {
+      a->faces++;
+      a->took += s1 == T74_OK;
+      a->refused += s1 == T74_EINPUT;
+    }
+    a->ecore += s1 == T74_ECORE;
+    if (s1 == T74_OK) seg_result_free(&r);
+    core_free(c1);
+    core_free(c2);
+  }
+}
+
+/* Every face of a scene as the Mapper puts it on the plane grid. */
+static void check_scene_faces(const struct scene *sc, struct seg_scratch *scr, struct agree *a)
+{
+  struct core *core = core_new(1u << 22);
+  assert_non_null(core);
+  struct mapped m;
+  memset(&m, 0, sizeof m);
+  struct t74_error err = { 0, "" };
+  if (mapper_run(sc, &m, core, NULL, &err) == T74_OK)
+    for (int k = 0; k < m.nface; k++) {
+      const struct mface *f = &m.f[k];
+      struct seg_input in = { f->id, f->nring, f->ring_start, f->pt, f->vid, 1 };
+      check_agrees(&in, scr, a);
+    }
+  mapper_free(&m);
+  core_free(core);
+}
+
+/* A random ring of n grid points within +-R about (cx, cy): most cross themselves;
+   turned counter-clockwise (or clockwise when cw) when its area says otherwise. */
+static void random_ring(uint32_t *seed, int n, int R, long long cx, long long cy, int cw,
+                        long long *xy)
+{
+  long long a2 = 0;
+  for (int i = 0; i < n; i++) {
+    xy[2 * i] = cx + (long long)(lcg(seed) % (2 * (unsigned)R + 1)) - R;
+    xy[2 * i + 1] = cy + (long long)(lcg(seed) % (2 * (unsigned)R + 1)) - R;
+  }
+  for (int i = 0; i < n; i++) {
+    int j = (i + 1) % n;
+    a2 += xy[2 * i] * xy[2 * j + 1] - xy[2 * j] * xy[2 * i + 1];
+  }
+  if ((a2 < 0) != (cw != 0))
+    for (int i = 0; i < n / 2; i++)
+      for (int c = 0; c < 2; c++) {
+        long long t = xy[2 * i + c];
+        xy[2 * i + c] = xy[2 * (n - 1 - i) + c];
+        xy[2 * (n - 1 - i) + c] = t;
+      }
+}
+
+/* Issue 19: seg_check, what the points engine asks of every face that is not plainly
+   convex, decides as seg_generate does (check_agrees): every face of the shipped scenes
+   and of the hard generators' scenes (rounding folds some: refused), random star-shaped
+   rings with and without holes (simple, mostly concave: taken) and random rings, many
+   crossing themselves, some with holes crossing the outer ring (refused on every path:
+   not counter-clockwise, doubling back, crossings that do not alternate, no rule, ...). */
+static void test_check_agrees(void **state)
+{
+  (void)state;
+  struct seg_scratch *scr = seg_scratch_new();
+  assert_non_null(scr);
+  struct agree sh, hg, rnd;
+  memset(&sh, 0, sizeof sh);
+  memset(&hg, 0, sizeof hg);
+  memset(&rnd, 0, sizeof rnd);
+
+  DIR *d = opendir("scenes");
+  assert_non_null(d);
+  struct dirent *de;
+  int nscene = 0;
+  while ((de = readdir(d)) != NULL) {
+    size_t len = strlen(de->d_name);
+    if (len < 5 || strcmp(de->d_name + len - 4, ".s74")) continue;
+    char path[512];
+    snprintf(path, sizeof path, "scenes/%s", de->d_name);
+    struct scene_opts so;
+    memset(&so, 0, sizeof so);
+    so.quiet = true;
+    struct scene *sc = NULL;
+    struct t74_error err = { 0, "" };
+    assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
+    check_scene_faces(sc, scr, &sh);
+    scene_free(sc);
+    nscene++;
+  }
+  closedir(d);
+  print_message("shipped scenes: %d, faces %d: %d taken, %d refused; %d out of a small core\n",
+                nscene, sh.faces, sh.took, sh.refused, sh.ecore);
+  assert_true(nscene >= 20);
+  assert_true(sh.took > 500);
+
+  for (int fam = 0; fam < HG_NFAMILIES; fam++)
+    for (int seed = 1; seed <= 24; seed++) {
+      struct xr_scene x;
+      assert_int_equal(hg_generate(fam, (uint64_t)seed, &x), 0);
+      struct scene *sc = NULL;
+      struct t74_error err = { 0, "" };
+      int st = xd_load(&x, &sc, &err);
+      assert_true(st >= 0);
+      if (st == T74_OK) {
+        check_scene_faces(sc, scr, &hg);
+        scene_free(sc);
+      }
+      xr_scene_free(&x);
+    }
+  print_message("hard generators: faces %d: %d taken, %d refused; %d out of a small core\n",
+                hg.faces, hg.took, hg.refused, hg.ecore);
+  assert_true(hg.took > 500);
+  assert_true(hg.refused > 0);
+
+  uint32_t seed = 1974;
+  struct tface *f = tf_new(0);
+  for (int trial = 0; trial < 3000; trial++) {
+    memset(f, 0, sizeof *f);
+    f->id = (uint32_t)(2000 + trial);
+    long long xy[128];
+    int kind = trial % 4, n;
+    if (kind == 0) {                            /* a star: simple */
+      n = star_ring(&seed, 3 + (int)(lcg(&seed) % 8), 4 + (int)(lcg(&seed) % 24), 0, 0, 0, xy);
+      if (!n) continue;
+      tf_ring(f, n, xy);
+    } else if (kind == 1) {                     /* stars in a rectangle: holes */
+      tf_ring(f, 4, (const long long[]){ -20, -20, 20, -20, 20, 20, -20, 20 });
+      for (int h = 0; h < 4; h++) {
+        long long cx = h % 2 ? 10 : -10, cy = h / 2 ? 10 : -10;
+        if (lcg(&seed) % 4 == 0) cx += 4;       /* may reach another hole: crossing */
+        n = star_ring(&seed, 2 + (int)(lcg(&seed) % 9), 4 + (int)(lcg(&seed) % 10), cx, cy, 1, xy);
+        if (n) tf_ring(f, n, xy);
+      }
+    } else {                                    /* random rings: mostly not simple */
+      n = 4 + (int)(lcg(&seed) % 9);
+      random_ring(&seed, n, 3 + (int)(lcg(&seed) % 12), 0, 0, 0, xy);
+      tf_ring(f, n, xy);
+      if (kind == 3 && lcg(&seed) % 2) {         /* and a hole */
+        n = 3 + (int)(lcg(&seed) % 4);
+        random_ring(&seed, n, 2 + (int)(lcg(&seed) % 4), 0, 0, 1, xy);
+        tf_ring(f, n, xy);
+      }
+    }
+    struct seg_input in = { f->id, f->nring, f->rs, f->pt, f->vid, 1 };
+    check_agrees(&in, scr, &rnd);
+  }
+  free(f);
+  print_message("random rings: faces %d: %d taken, %d refused; %d out of a small core\n",
+                rnd.faces, rnd.took, rnd.refused, rnd.ecore);
+  assert_true(rnd.took > 500);
+  assert_true(rnd.refused > 500);
+  assert_true(sh.ecore + hg.ecore + rnd.ecore > 500);
+  seg_scratch_free(scr);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -1421,6 +1616,7 @@ int main(void)
     cmocka_unit_test(test_bad_input),
     cmocka_unit_test(test_random_stars),
     cmocka_unit_test(test_convex_fast),
+    cmocka_unit_test(test_check_agrees),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
