@@ -19,7 +19,7 @@ PREFIX  ?= /usr/local
 DESTDIR ?=
 BUILD   ?= build
 PROG    ?= tube74
-OPT     ?= -O2 -g
+OPT     ?= -O3 -g
 CFLAGS  ?= $(OPT)
 WARN    := -std=c11 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes
 CPPFLAGS += -D_POSIX_C_SOURCE=200809L -I.

@@ -108,8 +108,10 @@ int timing_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err)
   if (!strcmp(a, "--scale")) {
     if (!parse_double(v, 1, LOOK_SCALE_MAX, &d) || d != floor(d))
       st = t74_fail(err, T74_EINPUT, "tube74: --scale takes 1 .. %d: %s", LOOK_SCALE_MAX, v);
-    t->scale = (int)d;
-    t->scale_given = true;
+    else {
+      t->scale = (int)d;
+      t->scale_given = true;
+    }
   } else if (!strcmp(a, "--look")) {
     t->look_given = true;
     for (const char *p = v; st == T74_OK; ) {
@@ -123,8 +125,10 @@ int timing_opt(void *ctx, int argc, char **argv, int *k, struct t74_error *err)
     if (!parse_double(v, -1e7, 1e7, &d))
       st = t74_fail(err, T74_EINPUT, "tube74: --look-at takes seconds (negative: before the "
                     "picture is complete): %s", v);
-    t->look_at = d;
-    t->look_at_given = true;
+    else {
+      t->look_at = d;
+      t->look_at_given = true;
+    }
   } else if (!strcmp(a, "--beam")) {
     st = beam_params_set(&t->bp, v, err);
   } else {

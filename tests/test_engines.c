@@ -884,8 +884,9 @@ static int run(const char *args)
 {
   const char *bin = getenv("TUBE74");
   char cmd[2048];
-  snprintf(cmd, sizeof cmd, "%s %s >/dev/null%s", bin ? bin : "./tube74", args,
-           strstr(args, " 2>") ? "" : " 2>&1");
+  int n = snprintf(cmd, sizeof cmd, "%s %s >/dev/null%s", bin ? bin : "./tube74", args,
+                   strstr(args, " 2>") ? "" : " 2>&1");
+  assert_true(n > 0 && (size_t)n < sizeof cmd);
   int ws = system(cmd);
   return WIFEXITED(ws) ? WEXITSTATUS(ws) : 128;
 }

@@ -199,6 +199,7 @@ static bool exists(const char *path)
 
 static char *slurp(const char *path, size_t *len)
 {
+  if (len) *len = 0;
   FILE *f = fopen(path, "rb");
   if (!f) return NULL;
   size_t cap = 4096, n = 0;

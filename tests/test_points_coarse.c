@@ -68,8 +68,8 @@ static long judge(const struct scene *sc, int cell, const char *name, uint64_t s
   int32_t *want = calloc(n, sizeof *want), *got = calloc(n, sizeof *got);
   assert_non_null(want);
   assert_non_null(got);
-  int c0, c1;
-  long s0, v0, s1, v1;
+  int c0 = 0, c1 = 0;
+  long s0 = 0, v0 = 0, s1 = 0, v1 = 0;
   int st = render_with(sc, &g, true, 0, want, &c0, &s0, &v0);
   long bad = 0;
   if (st != T74_OK) {

@@ -234,7 +234,7 @@ static struct step *every_step(const char *page, int *n)
     char head[400], counter[64];
     int hk = 0, hn = 0, ck = 0, cn = 0, nlab, small, pale, over, dark;
     double fx, fy, fw, fh;
-    char *field[14];
+    char *field[14] = { 0 };
     int nf = 0;
     for (char *p = f; nf < 14; nf++) { field[nf] = p; p = strchr(p, '|'); if (!p) { nf++; break; } *p++ = 0; }
     assert_int_equal(nf, 14);

@@ -47,6 +47,7 @@ static int run(char *const argv[], const char *out)
 
 static uint8_t *slurp(const char *path, size_t *n)
 {
+  *n = 0;
   FILE *f = fopen(path, "rb");
   if (!f) return NULL;
   uint8_t *b = malloc(1 << 22);

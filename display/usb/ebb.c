@@ -104,14 +104,15 @@ static const struct param_row ebb_params[EB_NPARAMS] = {
   { "poll_ms",        "ms",     10,    1,  1000,  0, "pause between QM polls; inferred" },
 };
 
-#define EB_MAX_CMD   48         /* longest command: "SM,16777215,-99999999,-99999999\r" */
+#define EB_MAX_CMD   48         /* a command's text and its NUL (the longest is
+                                   "SM,16777215,-99999999,-99999999", 31 characters) */
 #define EB_STEP_RATE 25000.0    /* EBB: at most 25,000 steps/s */
 #define EB_MAX_SM    64         /* SM pieces of one ramped move */
 #define EB_QM_EVERY  24         /* ask QM once this many answered commands wait to be known
                                    as run (acknowledging late is safe, early is not) */
 
 struct eb_cmd {                 /* a command sent or waiting to be */
-  char text[EB_MAX_CMD];
+  char text[EB_MAX_CMD + 1];    /* the command and its "\r" */
   int queued;                   /* goes through the motion FIFO (EM, SP, SM) */
   double ms;                    /* its motion time */
   int first, n;                 /* the dots it draws, in pend[] */

@@ -65,9 +65,11 @@ DEV_UNUSED static int dev_run(char *const argv[], const char *out, const char *e
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-/* The whole file, NUL-terminated (*n its length without the NUL); NULL when unreadable. */
+/* The whole file, NUL-terminated (*n its length without the NUL); NULL (*n 0) when
+   unreadable. */
 DEV_UNUSED static unsigned char *dev_slurp(const char *path, size_t *n)
 {
+  if (n) *n = 0;
   FILE *f = fopen(path, "rb");
   if (!f) return NULL;
   size_t cap = 65536, len = 0;
