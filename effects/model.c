@@ -714,6 +714,12 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
     memset(blocked, 0, (size_t)n * sizeof *blocked);
     return T74_OK;
   }
+  /* samples left to right (xn rising): each event's first sample at or right of it
+     found once (first_at_or_right), the samples between two events given the mask
+     between them; else each sample compared with the events */
+  const bool rising = win[2] > win[0];
+  struct sample_row sr;
+  if (rising) sample_row(&sr, win, xd, k0, n);
   for (int i = 0; i < n;) {
     int f = face[i], e = i + 1;
     while (e < n && face[e] == f) e++;
@@ -724,13 +730,29 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
       if (rc != T74_OK) return rc;
       ev_sort(L->ev, nev);
     }
+    /* a sample's mask: the lights whose count, over the events at or left of it (in
+       order), is positive; kept as each event changes its light's count */
     int cnt[SCENE_LIGHT_MAX] = { 0 }, h = 0;
+    unsigned mask = 0;
+    if (rising) {
+      for (; h < nev; h++) {
+        const int b = first_at_or_right(L->ev[h].x, &sr);
+        if (b >= e) break;                  /* this event and the rest: right of the run */
+        for (; i < b; i++) blocked[i] = mask;
+        const int k = L->ev[h].light;
+        cnt[k] += L->ev[h].d;
+        mask = cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
+      }
+      for (; i < e; i++) blocked[i] = mask;
+      continue;
+    }
     for (; i < e; i++) {
       int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
-      for (; h < nev && geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0; h++)
-        cnt[L->ev[h].light] += L->ev[h].d;
-      unsigned mask = 0;
-      for (int k = 0; k < SCENE_LIGHT_MAX && h > 0; k++) if (cnt[k] > 0) mask |= 1u << k;
+      for (; h < nev && geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0; h++) {
+        const int k = L->ev[h].light;
+        cnt[k] += L->ev[h].d;
+        mask = cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
+      }
       blocked[i] = mask;
     }
   }
