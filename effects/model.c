@@ -319,6 +319,45 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
+/* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
+   smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
+   found once for the run (the same operations on the same values as each point's) and
+   the lit points' greys SHADE_RUN at a time (shade_grey_lit_run). */
+static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
+                           int n, const unsigned *blocked, const double *px, double py,
+                           uint8_t *grey)
+{
+  const struct mface *mf = fs->mf;
+  const struct fx_tex *t = fs->t;
+  double X[SHADE_RUN][3], refl[SHADE_RUN], nrm[3];
+  unsigned b[SHADE_RUN];
+  int at[SHADE_RUN], g[SHADE_RUN], nl = 0;
+  bool unit = false;
+  for (int p = 0; p < n || nl > 0; p++) {
+    if (p < n) {
+      const unsigned bp = fs->lit ? blocked[p] : 0;   /* a face of its own grey is not lit */
+      if (!t && !bp) { grey[p] = (uint8_t)mf->grey; continue; }
+      space_point(m, face, px[p], py, X[nl]);
+      const double r = t ? reflectance(t, X[nl], NULL) : 1.0;
+      if (!fs->lit) { grey[p] = (uint8_t)(int)floor(mf->grey * r + 0.5); continue; }
+      refl[nl] = r;
+      b[nl] = bp;
+      at[nl++] = p;
+      if (nl < SHADE_RUN) continue;
+    }
+    /* SHADE_RUN lit points, or the last few */
+    if (!unit) {                            /* shade_face_at's normal */
+      for (int c = 0; c < 3; c++) nrm[c] = -(double)mf->plane[c];
+      const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+      for (int c = 0; c < 3; c++) nrm[c] /= len;
+      unit = true;
+    }
+    shade_grey_lit_run(&m->lights, nrm, nl, (const double (*)[3])X, refl, b, g);
+    for (int q = 0; q < nl; q++) grey[at[q]] = (uint8_t)g[q];
+    nl = 0;
+  }
+}
+
 /* The background's grey at point (i, j) (fx_shade of no face). */
 static int shade_none(const struct fx_model *m, int i, int j)
 {
@@ -838,6 +877,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     int last = -1;                          /* the face fs holds */
     struct face_shade fs;
     bool run = false;                       /* its points go in runs (smoothed greys) */
+    bool plain = false;                     /* or in runs of a face not smoothed */
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
       if (face < 0) {                       /* a run of points that see no face */
@@ -854,6 +894,14 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         face_shade_of(m, face, &fs);
         last = face;
         run = !pc && fs.tri >= 0 && !fs.t;
+        plain = !pc && fs.tri < 0;
+      }
+      if (plain) {                          /* all its points here at once */
+        int e = i + 1;
+        while (e < W && fr[e] == face) e++;
+        shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
+        i = e - 1;
+        continue;
       }
       if (run) {                            /* up to SMOOTH_RUN points of it at once */
         int e = i + 1, rg[SMOOTH_RUN];
