@@ -62,16 +62,23 @@ static ld h_at(const struct proj *q, const ld box[2][3], int k, const ld X[3])
   return (k - 2) % 2 == 0 ? Nc - box[1][c] * w : box[0][c] * w - Nc;
 }
 
-/* Clip ring in[0..n) by h_k <= 0 into out; returns the count. h: room for n values (each
-   vertex's h_k, found once). */
+/* Clip ring in[0..n) by h_k <= 0 into out; returns the count, or -1 when the ring lies
+   wholly in the half-space (h_k <= 0 at every vertex: the clipped ring is in itself, out
+   not written). h: room for n values (each vertex's h_k, found once). */
 static int clip(const struct proj *q, const ld box[2][3], int k, const ld (*in)[3], int n,
                 ld (*out)[3], ld *h)
 {
   int m = 0;
-  for (int i = 0; i < n; i++) h[i] = h_at(q, box, k, in[i]);
+  bool inside = true;
   for (int i = 0; i < n; i++) {
-    const ld *a = in[i], *b = in[(i + 1) % n];
-    ld ha = h[i], hb = h[(i + 1) % n];
+    h[i] = h_at(q, box, k, in[i]);
+    inside &= h[i] <= 0;
+  }
+  if (inside) return -1;
+  for (int i = 0; i < n; i++) {
+    const int j = i + 1 == n ? 0 : i + 1;
+    const ld *a = in[i], *b = in[j];
+    ld ha = h[i], hb = h[j];
     if (ha <= 0) { memcpy(out[m++], a, sizeof out[0]); }
     if ((ha < 0 && hb > 0) || (ha > 0 && hb < 0)) {
       ld t = ha / (ha - hb);
@@ -171,8 +178,11 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
           }
           ld (*in)[3] = b0, (*o)[3] = b1;
           for (int h = 0; h < 8 && n >= 3; h++) {
-            n = clip(&q, box, h, (const ld (*)[3])in, n, o, hv);
-            ld (*t)[3] = in; in = o; o = t;
+            const int nc = clip(&q, box, h, (const ld (*)[3])in, n, o, hv);
+            if (nc >= 0) {                  /* else the ring as it is */
+              n = nc;
+              ld (*t)[3] = in; in = o; o = t;
+            }
             for (int v = 0; v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
           }
           if (n < 3) continue;
