@@ -392,7 +392,7 @@ struct fx_lines {
   int na, nb, cap;
   struct grat *x;           /* crossings */
   int xcap;
-  struct ev { struct grat x; int light, d; } *ev;
+  struct ev { struct grat x; int light, d; } *ev, *evt;   /* events, and ev_sort's room */
   int evcap;
   int *brow; int browcap;   /* samples: the row behind a cut object */
   int *bnd; int bndcap;     /* samples: per event, the first sample at or right of it */
@@ -442,7 +442,7 @@ void fx_lines_close(struct fx_lines *L)
   if (L->behind)
     for (int q = 0; q < L->m->ncut; q++) fx_see_close(L->behind[q]);
   free(L->behind);
-  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->brow); free(L->bnd);
+  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
   free(L);
 }
 
@@ -472,6 +472,9 @@ static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int 
       struct ev *ne = realloc(L->ev, (size_t)cap * sizeof *ne);
       if (!ne) return t74_fail(err, T74_EIO, "out of host memory");
       L->ev = ne;
+      if (!(ne = realloc(L->evt, (size_t)cap * sizeof *ne)))
+        return t74_fail(err, T74_EIO, "out of host memory");
+      L->evt = ne;
       L->evcap = cap;
     }
     for (int h = 0; h + 1 < nx; h += 2) {
@@ -483,18 +486,19 @@ static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int 
   return T74_OK;
 }
 
-static int ev_cmp(const void *pa, const void *pb)
-{
-  const struct ev *a = pa, *b = pb;
-  return geom_rat_cmp(a->x, b->x);
-}
-
-/* Sort ev[0..n) by x, stable: a line's few events in place, more by the C library's
-   qsort (its merge sort, stable too). */
-static void ev_sort(struct ev *ev, int n)
+/* Sort ev[0..n) by x, stable (events of one x keep their order): a few in place, more
+   by merging sorted halves through tmp (room for n). */
+static void ev_sort(struct ev *ev, struct ev *tmp, int n)
 {
   if (n > 32) {
-    qsort(ev, (size_t)n, sizeof *ev, ev_cmp);
+    const int h = n / 2;
+    ev_sort(ev, tmp, h);
+    ev_sort(ev + h, tmp, n - h);
+    if (geom_rat_cmp(ev[h - 1].x, ev[h].x) <= 0) return;   /* already in order */
+    int a = 0, b = h, k = 0;
+    while (a < h && b < n) tmp[k++] = geom_rat_cmp(ev[b].x, ev[a].x) < 0 ? ev[b++] : ev[a++];
+    while (a < h) tmp[k++] = ev[a++];
+    memcpy(ev, tmp, (size_t)k * sizeof *ev);   /* the rest of the right half is in place */
     return;
   }
   for (int k = 1; k < n; k++) {
@@ -517,7 +521,7 @@ static int cut_stretches(struct fx_lines *L, int q, int64_t yn, int64_t yd, int 
     if (m->cuts.p[k].owner == m->cut_obj[q]) { if (k0 < 0) k0 = k; k1 = k + 1; }
   if (k0 < 0) return T74_OK;
   int rc = stretches(L, &m->cuts, k0, k1, yn, yd, nev, err);
-  if (rc == T74_OK) ev_sort(L->ev, *nev);
+  if (rc == T74_OK) ev_sort(L->ev, L->evt, *nev);
   return rc;
 }
 
@@ -581,7 +585,7 @@ static int shadow_line(struct fx_lines *L, int64_t yn, int64_t yd, struct t74_er
     if (rc != T74_OK) return rc;
     if (!room(L, nb + 2 * nev + 1)) return t74_fail(err, T74_EIO, "out of host memory");
     if (nev == 0) { L->b[nb++] = sp; continue; }
-    ev_sort(L->ev, nev);
+    ev_sort(L->ev, L->evt, nev);
     int cnt[SCENE_LIGHT_MAX] = { 0 };
     unsigned mask = 0;
     struct grat at = sp.x0;
@@ -759,15 +763,31 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
   const bool rising = win[2] > win[0];
   struct sample_row sr;
   if (rising) sample_row(&sr, win, xd, k0, n);
+  /* a face's events on the line, sorted, are kept in L->ev for the row: a face seen again
+     further along (another face in between) takes them as they are; the last few faces
+     are remembered */
+  enum { RECENT = 8 };
+  struct { int f, at, n; } recent[RECENT];
+  int nrecent = 0, total = 0;
   for (int i = 0; i < n;) {
     int f = face[i], e = i + 1;
     while (e < n && face[e] == f) e++;
+    const struct ev *ev = NULL;
     int nev = 0;
-    if (f >= 0 && m->shadows.n) {
-      int rc = stretches(L, &m->shadows, m->shadow_first[f], m->shadow_first[f + 1], yn, yd,
-                         &nev, err);
-      if (rc != T74_OK) return rc;
-      ev_sort(L->ev, nev);
+    if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
+      int r = 0;
+      while (r < nrecent && r < RECENT && recent[r].f != f) r++;
+      if (r == nrecent || r == RECENT) {    /* not among them: found and kept */
+        const int at = total;
+        int rc = stretches(L, &m->shadows, m->shadow_first[f], m->shadow_first[f + 1], yn, yd,
+                           &total, err);
+        if (rc != T74_OK) return rc;
+        ev_sort(L->ev + at, L->evt, total - at);
+        r = nrecent++ % RECENT;
+        recent[r].f = f; recent[r].at = at; recent[r].n = total - at;
+      }
+      ev = L->ev + recent[r].at;
+      nev = recent[r].n;
     }
     /* a sample's mask: the lights whose count, over the events at or left of it (in
        order), is positive; kept as each event changes its light's count */
@@ -775,11 +795,11 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
     unsigned mask = 0;
     if (rising) {
       for (; h < nev; h++) {
-        const int b = first_at_or_right(L->ev[h].x, &sr);
+        const int b = first_at_or_right(ev[h].x, &sr);
         if (b >= e) break;                  /* this event and the rest: right of the run */
         for (; i < b; i++) blocked[i] = mask;
-        const int k = L->ev[h].light;
-        cnt[k] += L->ev[h].d;
+        const int k = ev[h].light;
+        cnt[k] += ev[h].d;
         mask = cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
       }
       for (; i < e; i++) blocked[i] = mask;
@@ -787,9 +807,9 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
     }
     for (; i < e; i++) {
       int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
-      for (; h < nev && geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0; h++) {
-        const int k = L->ev[h].light;
-        cnt[k] += L->ev[h].d;
+      for (; h < nev && geom_rat_cmp_frac(ev[h].x, xn, xd) <= 0; h++) {
+        const int k = ev[h].light;
+        cnt[k] += ev[h].d;
         mask = cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
       }
       blocked[i] = mask;
