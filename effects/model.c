@@ -208,7 +208,7 @@ bool fx_model_shades(const struct fx_model *m)
 
 /* The space point of face f seen through plane position (px, py, 0): the ray from the eye
    onto the face's exact plane (eq. (2)). */
-static void space_point(const struct fx_model *m, int f, double px, double py, double X[3])
+static inline void space_point(const struct fx_model *m, int f, double px, double py, double X[3])
 {
   const double *E = m->eye, *r = m->ray[f];
   const double E0 = E[0], E1 = E[1], E2 = E[2];   /* held: a store to X might be to E */
