@@ -879,8 +879,10 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     int *fr = f->face + at0;
     if (regions) {
       if ((rc = fx_lines_samples(L, 1, j, 0, W, row, blocked, err)) != T74_OK) break;
-      /* a row the regions left as it was, without shadows, has nothing to count */
-      bool same = !m->shadows.n && !memcmp(row, fr, (size_t)W * sizeof *row);
+      /* a row the regions left as it was has no cut to count (nor, without shadows,
+         anything) */
+      const bool same = !memcmp(row, fr, (size_t)W * sizeof *row);
+      for (int i = 0; i < W && same && m->shadows.n; i++) shadowed += blocked[i] != 0;
       for (int i = 0; i < W && !same; i++) {
         int face = row[i];
         if (face != fr[i]) {
