@@ -20,6 +20,7 @@ struct fx_tex {
   double o[3], U[3], T[3];
   int du, dv;               /* the coordinate plane the face is solved on */
   double det;
+  int w, h;                 /* the picture's size */
 };
 
 /* ---- building ---------------------------------------------------------------------- */
@@ -78,6 +79,8 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
     int rc = pic_load(f->texture, &t->pic, &e2);
     if (rc != T74_OK)
       return t74_fail_at(err, rc, s->file, f->texture_line, "texture: %s", e2.msg);
+    t->w = pic_width(t->pic);
+    t->h = pic_height(t->pic);
     int n = f->ring_start[1];
     const struct scene_vertex *a = &s->v[f->vidx[0]], *b = &s->v[f->vidx[1]], *c = &s->v[f->vidx[n - 1]];
     double A[3] = { a->x, a->y, a->z }, B[3] = { b->x, b->y, b->z }, C[3] = { c->x, c->y, c->z };
@@ -220,14 +223,14 @@ static inline void space_point(const struct fx_model *m, int f, double px, doubl
   X[2] = E2 + t * D[2];
 }
 
-static double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
+static inline double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
 {
   double du = X[t->du] - t->o[t->du], dv = X[t->dv] - t->o[t->dv];
   double a = (du * t->T[t->dv] - dv * t->T[t->du]) / t->det;
   double b = (t->U[t->du] * dv - t->U[t->dv] * du) / t->det;
   a -= floor(a);
   b -= floor(b);
-  int w = pic_width(t->pic), h = pic_height(t->pic);
+  const int w = t->w, h = t->h;
   int x = (int)(a * w), y = (int)((1 - b) * h);
   if (x >= w) x = w - 1;
   if (y >= h) y = h - 1;
