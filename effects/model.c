@@ -395,7 +395,8 @@ struct fx_lines {
   int na, nb, cap;
   struct grat *x;           /* crossings */
   int xcap;
-  struct ev { struct grat x; int light, d; } *ev, *evt;   /* events, and ev_sort's room */
+  struct ev { struct grat x; double k; int light, d; } *ev, *evt;   /* events (k: ev_key's),
+                                                                       and ev_sort's room */
   int evcap;
   int *brow; int browcap;   /* samples: the row behind a cut object */
   int *bnd; int bndcap;     /* samples: per event, the first sample at or right of it */
@@ -452,6 +453,24 @@ void fx_lines_close(struct fx_lines *L)
 static struct grat rmax(struct grat p, struct grat q) { return geom_rat_cmp(p, q) >= 0 ? p : q; }
 static struct grat rmin(struct grat p, struct grat q) { return geom_rat_cmp(p, q) <= 0 ? p : q; }
 
+/* An event's x in a double, k = fl(fl(num) / fl(den)): each of the three roundings is
+   within u = 2^-53 relatively (|num|, den < 2^127: no overflow; den >= 1, |x| >= 2^-127
+   unless 0: no underflow), so |k - x| <= ((1 + u)^2 / (1 - u) - 1) |x| < 2^-51 |x|, with k
+   of x's sign (0 exactly when x is). */
+static double ev_key(struct grat x) { return (double)x.num / (double)x.den; }
+
+/* The order of two events' x (-1, 0, 1): from their keys when these lie apart by more
+   than 2^-49 (|ka| + |kb|) as computed (the difference and the bound each within a few u
+   of their values, so then kb - ka > 2^-50 (|ka| + |kb|) >= the keys' two errors
+   together: the order is the keys'), else exactly (geom_rat_cmp). */
+static inline int ev_cmp(const struct ev *a, const struct ev *b)
+{
+  const double d = b->k - a->k, t = (fabs(a->k) + fabs(b->k)) * 0x1p-49;
+  if (d > t) return -1;
+  if (-d > t) return 1;
+  return geom_rat_cmp(a->x, b->x);
+}
+
 /* The crossings of every polygon in [k0, k1) of ps with the line, as stretches appended
    to L->ev (d = +1 at a start, -1 at an end; light from the polygon). */
 static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int k1, int64_t yn,
@@ -482,8 +501,8 @@ static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int 
     }
     for (int h = 0; h + 1 < nx; h += 2) {
       if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
-      L->ev[(*nev)++] = (struct ev){ L->x[h], p->light, +1 };
-      L->ev[(*nev)++] = (struct ev){ L->x[h + 1], p->light, -1 };
+      L->ev[(*nev)++] = (struct ev){ L->x[h], ev_key(L->x[h]), p->light, +1 };
+      L->ev[(*nev)++] = (struct ev){ L->x[h + 1], ev_key(L->x[h + 1]), p->light, -1 };
     }
   }
   return T74_OK;
@@ -497,9 +516,9 @@ static void ev_sort(struct ev *ev, struct ev *tmp, int n)
     const int h = n / 2;
     ev_sort(ev, tmp, h);
     ev_sort(ev + h, tmp, n - h);
-    if (geom_rat_cmp(ev[h - 1].x, ev[h].x) <= 0) return;   /* already in order */
+    if (ev_cmp(&ev[h - 1], &ev[h]) <= 0) return;   /* already in order */
     int a = 0, b = h, k = 0;
-    while (a < h && b < n) tmp[k++] = geom_rat_cmp(ev[b].x, ev[a].x) < 0 ? ev[b++] : ev[a++];
+    while (a < h && b < n) tmp[k++] = ev_cmp(&ev[b], &ev[a]) < 0 ? ev[b++] : ev[a++];
     while (a < h) tmp[k++] = ev[a++];
     memcpy(ev, tmp, (size_t)k * sizeof *ev);   /* the rest of the right half is in place */
     return;
@@ -507,7 +526,7 @@ static void ev_sort(struct ev *ev, struct ev *tmp, int n)
   for (int k = 1; k < n; k++) {
     struct ev e = ev[k];
     int h = k;
-    while (h > 0 && geom_rat_cmp(ev[h - 1].x, e.x) > 0) { ev[h] = ev[h - 1]; h--; }
+    while (h > 0 && ev_cmp(&ev[h - 1], &e) > 0) { ev[h] = ev[h - 1]; h--; }
     ev[h] = e;
   }
 }
@@ -669,12 +688,13 @@ static void sample_row(struct sample_row *r, const int32_t *win, int64_t xd, int
   r->kb = ((double)xd * (double)r->XL / (double)r->S + 1) / 2 + (double)k0;
 }
 
-/* The first sample of the row whose x is at or right of x, or n: the guess, then settled
-   by the exact compares (the least i where x <= xn / xd, whatever the guess: usually two
-   compares). */
-static int first_at_or_right(struct grat x, const struct sample_row *r)
+/* The first sample of the row whose x is at or right of event e's x, or n: the guess,
+   then settled by the exact compares (the least i where x <= xn / xd, whatever the
+   guess: usually two compares). */
+static int first_at_or_right(const struct ev *e, const struct sample_row *r)
 {
-  const double gi = ceil((double)x.num / (double)x.den * r->ka - r->kb);
+  const struct grat x = e->x;
+  const double gi = ceil(e->k * r->ka - r->kb);   /* (e->k: x in a double, ev_key) */
   int i = !(gi > 0) ? 0 : gi >= r->n ? r->n : (int)gi;
   while (i > 0 && geom_rat_cmp_frac(x, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i - 1) + 1) * r->S),
                                     r->xd) <= 0)
@@ -726,7 +746,7 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
   struct sample_row sr;
   if (rising) sample_row(&sr, win, xd, k0, n);
-  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(L->ev[h].x, &sr);
+  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(&L->ev[h], &sr);
   for (int r = 0; r < np; r++)
     for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
       if (face[i] < 0 || !skip[face[i]]) continue;
@@ -798,7 +818,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
     unsigned mask = 0;
     if (rising) {
       for (; h < nev; h++) {
-        const int b = first_at_or_right(ev[h].x, &sr);
+        const int b = first_at_or_right(&ev[h], &sr);
         if (b >= e) break;                  /* this event and the rest: right of the run */
         for (; i < b; i++) blocked[i] = mask;
         const int k = ev[h].light;
