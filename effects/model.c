@@ -453,22 +453,13 @@ void fx_lines_close(struct fx_lines *L)
 static struct grat rmax(struct grat p, struct grat q) { return geom_rat_cmp(p, q) >= 0 ? p : q; }
 static struct grat rmin(struct grat p, struct grat q) { return geom_rat_cmp(p, q) <= 0 ? p : q; }
 
-/* An event's x in a double, k = fl(fl(num) / fl(den)): each of the three roundings is
-   within u = 2^-53 relatively (|num|, den < 2^127: no overflow; den >= 1, |x| >= 2^-127
-   unless 0: no underflow), so |k - x| <= ((1 + u)^2 / (1 - u) - 1) |x| < 2^-51 |x|, with k
-   of x's sign (0 exactly when x is). */
-static double ev_key(struct grat x) { return (double)x.num / (double)x.den; }
+/* An event's x in a double (fx_x_key), and the order of two events' x from them
+   (fx_x_cmp: exact). */
+static inline double ev_key(struct grat x) { return fx_x_key(x); }
 
-/* The order of two events' x (-1, 0, 1): from their keys when these lie apart by more
-   than 2^-49 (|ka| + |kb|) as computed (the difference and the bound each within a few u
-   of their values, so then kb - ka > 2^-50 (|ka| + |kb|) >= the keys' two errors
-   together: the order is the keys'), else exactly (geom_rat_cmp). */
 static inline int ev_cmp(const struct ev *a, const struct ev *b)
 {
-  const double d = b->k - a->k, t = (fabs(a->k) + fabs(b->k)) * 0x1p-49;
-  if (d > t) return -1;
-  if (-d > t) return 1;
-  return geom_rat_cmp(a->x, b->x);
+  return fx_x_cmp(&a->x, a->k, &b->x, b->k);
 }
 
 /* The crossings of every polygon in [k0, k1) of ps with the line, as stretches appended
