@@ -20,6 +20,7 @@ struct fx_tex {
   double o[3], U[3], T[3];
   int du, dv;               /* the coordinate plane the face is solved on */
   double det;
+  int w, h;                 /* the picture's size */
 };
 
 /* ---- building ---------------------------------------------------------------------- */
@@ -78,6 +79,8 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
     int rc = pic_load(f->texture, &t->pic, &e2);
     if (rc != T74_OK)
       return t74_fail_at(err, rc, s->file, f->texture_line, "texture: %s", e2.msg);
+    t->w = pic_width(t->pic);
+    t->h = pic_height(t->pic);
     int n = f->ring_start[1];
     const struct scene_vertex *a = &s->v[f->vidx[0]], *b = &s->v[f->vidx[1]], *c = &s->v[f->vidx[n - 1]];
     double A[3] = { a->x, a->y, a->z }, B[3] = { b->x, b->y, b->z }, C[3] = { c->x, c->y, c->z };
@@ -208,7 +211,7 @@ bool fx_model_shades(const struct fx_model *m)
 
 /* The space point of face f seen through plane position (px, py, 0): the ray from the eye
    onto the face's exact plane (eq. (2)). */
-static void space_point(const struct fx_model *m, int f, double px, double py, double X[3])
+static inline void space_point(const struct fx_model *m, int f, double px, double py, double X[3])
 {
   const double *E = m->eye, *r = m->ray[f];
   const double E0 = E[0], E1 = E[1], E2 = E[2];   /* held: a store to X might be to E */
@@ -220,14 +223,14 @@ static void space_point(const struct fx_model *m, int f, double px, double py, d
   X[2] = E2 + t * D[2];
 }
 
-static double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
+static inline double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
 {
   double du = X[t->du] - t->o[t->du], dv = X[t->dv] - t->o[t->dv];
   double a = (du * t->T[t->dv] - dv * t->T[t->du]) / t->det;
   double b = (t->U[t->du] * dv - t->U[t->dv] * du) / t->det;
   a -= floor(a);
   b -= floor(b);
-  int w = pic_width(t->pic), h = pic_height(t->pic);
+  const int w = t->w, h = t->h;
   int x = (int)(a * w), y = (int)((1 - b) * h);
   if (x >= w) x = w - 1;
   if (y >= h) y = h - 1;
@@ -319,6 +322,45 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
+/* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
+   smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
+   found once for the run (the same operations on the same values as each point's) and
+   the lit points' greys SHADE_RUN at a time (shade_grey_lit_run). */
+static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
+                           int n, const unsigned *blocked, const double *px, double py,
+                           uint8_t *grey)
+{
+  const struct mface *mf = fs->mf;
+  const struct fx_tex *t = fs->t;
+  double X[SHADE_RUN][3], refl[SHADE_RUN], nrm[3];
+  unsigned b[SHADE_RUN];
+  int at[SHADE_RUN], g[SHADE_RUN], nl = 0;
+  bool unit = false;
+  for (int p = 0; p < n || nl > 0; p++) {
+    if (p < n) {
+      const unsigned bp = fs->lit ? blocked[p] : 0;   /* a face of its own grey is not lit */
+      if (!t && !bp) { grey[p] = (uint8_t)mf->grey; continue; }
+      space_point(m, face, px[p], py, X[nl]);
+      const double r = t ? reflectance(t, X[nl], NULL) : 1.0;
+      if (!fs->lit) { grey[p] = (uint8_t)(int)floor(mf->grey * r + 0.5); continue; }
+      refl[nl] = r;
+      b[nl] = bp;
+      at[nl++] = p;
+      if (nl < SHADE_RUN) continue;
+    }
+    /* SHADE_RUN lit points, or the last few */
+    if (!unit) {                            /* shade_face_at's normal */
+      for (int c = 0; c < 3; c++) nrm[c] = -(double)mf->plane[c];
+      const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+      for (int c = 0; c < 3; c++) nrm[c] /= len;
+      unit = true;
+    }
+    shade_grey_lit_run(&m->lights, nrm, nl, (const double (*)[3])X, refl, b, g);
+    for (int q = 0; q < nl; q++) grey[at[q]] = (uint8_t)g[q];
+    nl = 0;
+  }
+}
+
 /* The background's grey at point (i, j) (fx_shade of no face). */
 static int shade_none(const struct fx_model *m, int i, int j)
 {
@@ -353,7 +395,8 @@ struct fx_lines {
   int na, nb, cap;
   struct grat *x;           /* crossings */
   int xcap;
-  struct ev { struct grat x; int light, d; } *ev;
+  struct ev { struct grat x; double k; int light, d; } *ev, *evt;   /* events (k: ev_key's),
+                                                                       and ev_sort's room */
   int evcap;
   int *brow; int browcap;   /* samples: the row behind a cut object */
   int *bnd; int bndcap;     /* samples: per event, the first sample at or right of it */
@@ -403,12 +446,21 @@ void fx_lines_close(struct fx_lines *L)
   if (L->behind)
     for (int q = 0; q < L->m->ncut; q++) fx_see_close(L->behind[q]);
   free(L->behind);
-  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->brow); free(L->bnd);
+  free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
   free(L);
 }
 
 static struct grat rmax(struct grat p, struct grat q) { return geom_rat_cmp(p, q) >= 0 ? p : q; }
 static struct grat rmin(struct grat p, struct grat q) { return geom_rat_cmp(p, q) <= 0 ? p : q; }
+
+/* An event's x in a double (fx_x_key), and the order of two events' x from them
+   (fx_x_cmp: exact). */
+static inline double ev_key(struct grat x) { return fx_x_key(x); }
+
+static inline int ev_cmp(const struct ev *a, const struct ev *b)
+{
+  return fx_x_cmp(&a->x, a->k, &b->x, b->k);
+}
 
 /* The crossings of every polygon in [k0, k1) of ps with the line, as stretches appended
    to L->ev (d = +1 at a start, -1 at an end; light from the polygon). */
@@ -433,35 +485,39 @@ static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int 
       struct ev *ne = realloc(L->ev, (size_t)cap * sizeof *ne);
       if (!ne) return t74_fail(err, T74_EIO, "out of host memory");
       L->ev = ne;
+      if (!(ne = realloc(L->evt, (size_t)cap * sizeof *ne)))
+        return t74_fail(err, T74_EIO, "out of host memory");
+      L->evt = ne;
       L->evcap = cap;
     }
     for (int h = 0; h + 1 < nx; h += 2) {
       if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
-      L->ev[(*nev)++] = (struct ev){ L->x[h], p->light, +1 };
-      L->ev[(*nev)++] = (struct ev){ L->x[h + 1], p->light, -1 };
+      L->ev[(*nev)++] = (struct ev){ L->x[h], ev_key(L->x[h]), p->light, +1 };
+      L->ev[(*nev)++] = (struct ev){ L->x[h + 1], ev_key(L->x[h + 1]), p->light, -1 };
     }
   }
   return T74_OK;
 }
 
-static int ev_cmp(const void *pa, const void *pb)
-{
-  const struct ev *a = pa, *b = pb;
-  return geom_rat_cmp(a->x, b->x);
-}
-
-/* Sort ev[0..n) by x, stable: a line's few events in place, more by the C library's
-   qsort (its merge sort, stable too). */
-static void ev_sort(struct ev *ev, int n)
+/* Sort ev[0..n) by x, stable (events of one x keep their order): a few in place, more
+   by merging sorted halves through tmp (room for n). */
+static void ev_sort(struct ev *ev, struct ev *tmp, int n)
 {
   if (n > 32) {
-    qsort(ev, (size_t)n, sizeof *ev, ev_cmp);
+    const int h = n / 2;
+    ev_sort(ev, tmp, h);
+    ev_sort(ev + h, tmp, n - h);
+    if (ev_cmp(&ev[h - 1], &ev[h]) <= 0) return;   /* already in order */
+    int a = 0, b = h, k = 0;
+    while (a < h && b < n) tmp[k++] = ev_cmp(&ev[b], &ev[a]) < 0 ? ev[b++] : ev[a++];
+    while (a < h) tmp[k++] = ev[a++];
+    memcpy(ev, tmp, (size_t)k * sizeof *ev);   /* the rest of the right half is in place */
     return;
   }
   for (int k = 1; k < n; k++) {
     struct ev e = ev[k];
     int h = k;
-    while (h > 0 && geom_rat_cmp(ev[h - 1].x, e.x) > 0) { ev[h] = ev[h - 1]; h--; }
+    while (h > 0 && ev_cmp(&ev[h - 1], &e) > 0) { ev[h] = ev[h - 1]; h--; }
     ev[h] = e;
   }
 }
@@ -478,7 +534,7 @@ static int cut_stretches(struct fx_lines *L, int q, int64_t yn, int64_t yd, int 
     if (m->cuts.p[k].owner == m->cut_obj[q]) { if (k0 < 0) k0 = k; k1 = k + 1; }
   if (k0 < 0) return T74_OK;
   int rc = stretches(L, &m->cuts, k0, k1, yn, yd, nev, err);
-  if (rc == T74_OK) ev_sort(L->ev, *nev);
+  if (rc == T74_OK) ev_sort(L->ev, L->evt, *nev);
   return rc;
 }
 
@@ -542,7 +598,7 @@ static int shadow_line(struct fx_lines *L, int64_t yn, int64_t yd, struct t74_er
     if (rc != T74_OK) return rc;
     if (!room(L, nb + 2 * nev + 1)) return t74_fail(err, T74_EIO, "out of host memory");
     if (nev == 0) { L->b[nb++] = sp; continue; }
-    ev_sort(L->ev, nev);
+    ev_sort(L->ev, L->evt, nev);
     int cnt[SCENE_LIGHT_MAX] = { 0 };
     unsigned mask = 0;
     struct grat at = sp.x0;
@@ -623,12 +679,13 @@ static void sample_row(struct sample_row *r, const int32_t *win, int64_t xd, int
   r->kb = ((double)xd * (double)r->XL / (double)r->S + 1) / 2 + (double)k0;
 }
 
-/* The first sample of the row whose x is at or right of x, or n: the guess, then settled
-   by the exact compares (the least i where x <= xn / xd, whatever the guess: usually two
-   compares). */
-static int first_at_or_right(struct grat x, const struct sample_row *r)
+/* The first sample of the row whose x is at or right of event e's x, or n: the guess,
+   then settled by the exact compares (the least i where x <= xn / xd, whatever the
+   guess: usually two compares). */
+static int first_at_or_right(const struct ev *e, const struct sample_row *r)
 {
-  const double gi = ceil((double)x.num / (double)x.den * r->ka - r->kb);
+  const struct grat x = e->x;
+  const double gi = ceil(e->k * r->ka - r->kb);   /* (e->k: x in a double, ev_key) */
   int i = !(gi > 0) ? 0 : gi >= r->n ? r->n : (int)gi;
   while (i > 0 && geom_rat_cmp_frac(x, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i - 1) + 1) * r->S),
                                     r->xd) <= 0)
@@ -680,7 +737,7 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
   struct sample_row sr;
   if (rising) sample_row(&sr, win, xd, k0, n);
-  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(L->ev[h].x, &sr);
+  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(&L->ev[h], &sr);
   for (int r = 0; r < np; r++)
     for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
       if (face[i] < 0 || !skip[face[i]]) continue;
@@ -714,23 +771,61 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
     memset(blocked, 0, (size_t)n * sizeof *blocked);
     return T74_OK;
   }
+  /* samples left to right (xn rising): each event's first sample at or right of it
+     found once (first_at_or_right), the samples between two events given the mask
+     between them; else each sample compared with the events */
+  const bool rising = win[2] > win[0];
+  struct sample_row sr;
+  if (rising) sample_row(&sr, win, xd, k0, n);
+  /* a face's events on the line, sorted, are kept in L->ev for the row: a face seen again
+     further along (another face in between) takes them as they are; the last few faces
+     are remembered */
+  enum { RECENT = 8 };
+  struct { int f, at, n; } recent[RECENT];
+  int nrecent = 0, total = 0;
   for (int i = 0; i < n;) {
     int f = face[i], e = i + 1;
     while (e < n && face[e] == f) e++;
+    const struct ev *ev = NULL;
     int nev = 0;
-    if (f >= 0 && m->shadows.n) {
-      int rc = stretches(L, &m->shadows, m->shadow_first[f], m->shadow_first[f + 1], yn, yd,
-                         &nev, err);
-      if (rc != T74_OK) return rc;
-      ev_sort(L->ev, nev);
+    if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
+      int r = 0;
+      while (r < nrecent && r < RECENT && recent[r].f != f) r++;
+      if (r == nrecent || r == RECENT) {    /* not among them: found and kept */
+        const int at = total;
+        int rc = stretches(L, &m->shadows, m->shadow_first[f], m->shadow_first[f + 1], yn, yd,
+                           &total, err);
+        if (rc != T74_OK) return rc;
+        ev_sort(L->ev + at, L->evt, total - at);
+        r = nrecent++ % RECENT;
+        recent[r].f = f; recent[r].at = at; recent[r].n = total - at;
+      }
+      ev = L->ev + recent[r].at;
+      nev = recent[r].n;
     }
+    /* a sample's mask: the lights whose count, over the events at or left of it (in
+       order), is positive; kept as each event changes its light's count */
     int cnt[SCENE_LIGHT_MAX] = { 0 }, h = 0;
+    unsigned mask = 0;
+    if (rising) {
+      for (; h < nev; h++) {
+        const int b = first_at_or_right(&ev[h], &sr);
+        if (b >= e) break;                  /* this event and the rest: right of the run */
+        for (; i < b; i++) blocked[i] = mask;
+        const int k = ev[h].light;
+        cnt[k] += ev[h].d;
+        mask = cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
+      }
+      for (; i < e; i++) blocked[i] = mask;
+      continue;
+    }
     for (; i < e; i++) {
       int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
-      for (; h < nev && geom_rat_cmp_frac(L->ev[h].x, xn, xd) <= 0; h++)
-        cnt[L->ev[h].light] += L->ev[h].d;
-      unsigned mask = 0;
-      for (int k = 0; k < SCENE_LIGHT_MAX && h > 0; k++) if (cnt[k] > 0) mask |= 1u << k;
+      for (; h < nev && geom_rat_cmp_frac(ev[h].x, xn, xd) <= 0; h++) {
+        const int k = ev[h].light;
+        cnt[k] += ev[h].d;
+        mask = cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
+      }
       blocked[i] = mask;
     }
   }
@@ -798,8 +893,10 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     int *fr = f->face + at0;
     if (regions) {
       if ((rc = fx_lines_samples(L, 1, j, 0, W, row, blocked, err)) != T74_OK) break;
-      /* a row the regions left as it was, without shadows, has nothing to count */
-      bool same = !m->shadows.n && !memcmp(row, fr, (size_t)W * sizeof *row);
+      /* a row the regions left as it was has no cut to count (nor, without shadows,
+         anything) */
+      const bool same = !memcmp(row, fr, (size_t)W * sizeof *row);
+      for (int i = 0; i < W && same && m->shadows.n; i++) shadowed += blocked[i] != 0;
       for (int i = 0; i < W && !same; i++) {
         int face = row[i];
         if (face != fr[i]) {
@@ -816,6 +913,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     int last = -1;                          /* the face fs holds */
     struct face_shade fs;
     bool run = false;                       /* its points go in runs (smoothed greys) */
+    bool plain = false;                     /* or in runs of a face not smoothed */
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
       if (face < 0) {                       /* a run of points that see no face */
@@ -832,6 +930,14 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         face_shade_of(m, face, &fs);
         last = face;
         run = !pc && fs.tri >= 0 && !fs.t;
+        plain = !pc && fs.tri < 0;
+      }
+      if (plain) {                          /* all its points here at once */
+        int e = i + 1;
+        while (e < W && fr[e] == face) e++;
+        shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
+        i = e - 1;
+        continue;
       }
       if (run) {                            /* up to SMOOTH_RUN points of it at once */
         int e = i + 1, rg[SMOOTH_RUN];

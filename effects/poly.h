@@ -13,6 +13,7 @@
 #ifndef T74_POLY_H
 #define T74_POLY_H
 
+#include <math.h>
 #include <stdbool.h>
 #include "emu/cost.h"
 #include "render/geom.h"
@@ -54,6 +55,24 @@ static inline int64_t fx_line_row(int64_t yn, int64_t yd)
 static inline bool fx_poly_on_row(const struct fx_poly *p, int64_t row)
 {
   return row >= p->ylo && row < p->yhi;
+}
+
+/* A crossing's x in a double, k = fl(fl(num) / fl(den)): each of the three roundings is
+   within u = 2^-53 relatively (|num|, den < 2^127: no overflow; den >= 1, |x| >= 2^-127
+   unless 0: no underflow), so |k - x| <= ((1 + u)^2 / (1 - u) - 1) |x| < 2^-51 |x|, with k
+   of x's sign (0 exactly when x is). */
+static inline double fx_x_key(struct grat x) { return (double)x.num / (double)x.den; }
+
+/* The order of *a and *b (-1, 0, 1; ka, kb their fx_x_key): from the keys when they lie
+   apart by more than 2^-49 (|ka| + |kb|) as computed (the difference and the bound each
+   within a few u of their values, so then |kb - ka| > 2^-50 (|ka| + |kb|), more than the
+   keys' two errors together: the order is the keys'), else exactly (geom_rat_cmp). */
+static inline int fx_x_cmp(const struct grat *a, double ka, const struct grat *b, double kb)
+{
+  const double d = kb - ka, t = (fabs(ka) + fabs(kb)) * 0x1p-49;
+  if (d > t) return -1;
+  if (-d > t) return 1;
+  return geom_rat_cmp(*a, *b);
 }
 
 /* The stretches of polygon p on the line y = yn/yd (0 < yd <= GRID_YDEN_MAX): up to max

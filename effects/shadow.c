@@ -27,6 +27,16 @@ struct proj {
   ld nL;                    /* parallel light: n . L (< 0: the light reaches R's seen side) */
 };
 
+/* llroundl(x) (to nearest, halves away from zero), without the library call for
+   |x| <= GRID_LIMIT: x less its truncation is exact (|x| < 2^63, a 64-bit mantissa). */
+static gcoord round_grid(ld x)
+{
+  if (!(fabsl(x) <= (ld)GRID_LIMIT)) return (gcoord)llroundl(x);   /* (not a number) */
+  const int64_t t = (int64_t)x;
+  const ld f = x - (ld)t;
+  return t + (f >= 0.5L) - (f <= -0.5L);
+}
+
 static ld plane_at(const struct proj *q, const ld X[3])
 {
   return q->pl[0] * X[0] + q->pl[1] * X[1] + q->pl[2] * X[2] + q->pl[3];
@@ -44,38 +54,46 @@ static ld image_w(const struct proj *q, ld pX)
   return q->point ? pX - q->pP : -q->nL;
 }
 
-static void image(const struct proj *q, const ld X[3], ld N[3], ld *w)
+static void image(const struct proj *q, const ld X[3], ld pX, ld N[3], ld *w)
 {
-  ld pX = plane_at(q, X);
   for (int c = 0; c < 3; c++) N[c] = image_n(q, X, pX, c);
   *w = image_w(q, pX);
 }
 
-/* The clipping functionals: 0 R's plane, 1 beyond the point light, 2..7 the box (of the
-   image, the one component the side needs). */
-static ld h_at(const struct proj *q, const ld box[2][3], int k, const ld X[3])
+/* The clipping functionals at X, pX = plane_at(q, X): 0 R's plane, 1 beyond the point
+   light, 2..7 the box (of the image, the one component the side needs). */
+static ld h_at(const struct proj *q, const ld box[2][3], int k, const ld X[3], ld pX)
 {
-  if (k == 0) return plane_at(q, X);
-  if (k == 1) return q->point ? q->pP - plane_at(q, X) : -1;
+  if (k == 0) return pX;
+  if (k == 1) return q->point ? q->pP - pX : -1;
   const int c = (k - 2) / 2;
-  const ld pX = plane_at(q, X), Nc = image_n(q, X, pX, c), w = image_w(q, pX);
+  const ld Nc = image_n(q, X, pX, c), w = image_w(q, pX);
   return (k - 2) % 2 == 0 ? Nc - box[1][c] * w : box[0][c] * w - Nc;
 }
 
-/* Clip ring in[0..n) by h_k <= 0 into out; returns the count. h: room for n values (each
+/* Clip ring in[0..n) (pin: each vertex's plane_at) by h_k <= 0 into out (pout: theirs);
+   returns the count, or -1 when the ring lies wholly in the half-space (h_k <= 0 at every
+   vertex: the clipped ring is in itself, out not written). h: room for n values (each
    vertex's h_k, found once). */
-static int clip(const struct proj *q, const ld box[2][3], int k, const ld (*in)[3], int n,
-                ld (*out)[3], ld *h)
+static int clip(const struct proj *q, const ld box[2][3], int k, const ld (*in)[3],
+                const ld *pin, int n, ld (*out)[3], ld *pout, ld *h)
 {
   int m = 0;
-  for (int i = 0; i < n; i++) h[i] = h_at(q, box, k, in[i]);
+  bool inside = true;
   for (int i = 0; i < n; i++) {
-    const ld *a = in[i], *b = in[(i + 1) % n];
-    ld ha = h[i], hb = h[(i + 1) % n];
-    if (ha <= 0) { memcpy(out[m++], a, sizeof out[0]); }
+    h[i] = h_at(q, box, k, in[i], pin[i]);
+    inside &= h[i] <= 0;
+  }
+  if (inside) return -1;
+  for (int i = 0; i < n; i++) {
+    const int j = i + 1 == n ? 0 : i + 1;
+    const ld *a = in[i], *b = in[j];
+    ld ha = h[i], hb = h[j];
+    if (ha <= 0) { memcpy(out[m], a, sizeof out[0]); pout[m++] = pin[i]; }
     if ((ha < 0 && hb > 0) || (ha > 0 && hb < 0)) {
       ld t = ha / (ha - hb);
       for (int c = 0; c < 3; c++) out[m][c] = a[c] + t * (b[c] - a[c]);
+      pout[m] = plane_at(q, out[m]);
       m++;
     }
   }
@@ -93,7 +111,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
   /* a ring clipped by 8 half-spaces gains at most one vertex per half-space */
   size_t cap = (size_t)maxv + 16;
   ld (*b0)[3] = malloc(cap * sizeof *b0), (*b1)[3] = malloc(cap * sizeof *b1);
-  ld *hv = malloc(cap * sizeof *hv);
+  ld *hv = malloc(3 * cap * sizeof *hv), *p0 = hv ? hv + cap : NULL, *p1 = hv ? hv + 2 * cap : NULL;
   int *rs = malloc(((size_t)maxv + 2) * sizeof *rs);
   if (!b0 || !b1 || !hv || !rs) {
     free(b0); free(b1); free(hv); free(rs);
@@ -168,11 +186,17 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
           for (int v = 0; v < n; v++) {
             const struct scene_vertex *x = &s->v[fa->vidx[lo + v]];
             b0[v][0] = x->x; b0[v][1] = x->y; b0[v][2] = x->z;
+            p0[v] = plane_at(&q, b0[v]);
           }
-          ld (*in)[3] = b0, (*o)[3] = b1;
+          /* the ring and each vertex's plane_at, found once (the same value each use) */
+          ld (*in)[3] = b0, (*o)[3] = b1, *pin = p0, *po = p1;
           for (int h = 0; h < 8 && n >= 3; h++) {
-            n = clip(&q, box, h, (const ld (*)[3])in, n, o, hv);
-            ld (*t)[3] = in; in = o; o = t;
+            const int nc = clip(&q, box, h, (const ld (*)[3])in, pin, n, o, po, hv);
+            if (nc >= 0) {                  /* else the ring as it is */
+              n = nc;
+              ld (*t)[3] = in; in = o; o = t;
+              ld *tp = pin; pin = po; po = tp;
+            }
             for (int v = 0; v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
           }
           if (n < 3) continue;
@@ -187,7 +211,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
           int m = 0;
           for (int v = 0; v < n; v++) {
             ld N[3], w;
-            image(&q, in[v], N, &w);
+            image(&q, in[v], pin[v], N, &w);
             if (!(w > 0)) continue;
             ld Y[3] = { N[0] / w, N[1] / w, N[2] / w };
             ld f = -E[2], dz = Y[2] - E[2];
@@ -195,7 +219,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
             ld gx = (ld)GRID_ONE * (E[0] + f * (Y[0] - E[0]) / dz);
             ld gy = (ld)GRID_ONE * (E[1] + f * (Y[1] - E[1]) / dz);
             if (fabsl(gx) > (ld)GRID_LIMIT || fabsl(gy) > (ld)GRID_LIMIT) continue;
-            struct gpoint g = { (gcoord)llroundl(gx), (gcoord)llroundl(gy) };
+            struct gpoint g = { round_grid(gx), round_grid(gy) };
             if (m > 0 && poly[need + (size_t)m - 1].x == g.x && poly[need + (size_t)m - 1].y == g.y) continue;
             poly[need + (size_t)m++] = g;
             for (int c = 0; c < 4; c++) cost_mw_mul(cost, 32, 32);

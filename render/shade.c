@@ -6,6 +6,10 @@
 #include <math.h>
 #include <stdint.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 /* Normalise l (shade_dir's last step). */
 static void unit_dir(double l[3])
 {
@@ -42,4 +46,47 @@ int shade_grey(const struct scene *s, const double n[3], const double at[3], dou
   struct shade_lights L;
   shade_lights_init(&L, s);
   return shade_grey_lit(&L, n, at, r, blocked);
+}
+
+void shade_grey_lit_run(const struct shade_lights *L, const double n[3], int np,
+                        const double (*at)[3], const double *r, const unsigned *blocked,
+                        int *grey)
+{
+  double sum[SHADE_RUN];
+  for (int p = 0; p < np; p++) sum[p] = 0;
+  for (int k = 0; k < L->n; k++) {
+    const double *v = L->v[k];
+    if (!L->point[k]) {                     /* the same n.l at every point */
+      const double d = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+      if (d > 0)
+        for (int p = 0; p < np; p++) if (!(blocked[p] >> k & 1u)) sum[p] += d;
+      continue;
+    }
+    /* unit_dir's steps, a step for all the points at a time; a length that is not
+       positive divides nothing (x / 1 is x) */
+    double l[3][SHADE_RUN], len[SHADE_RUN];
+    for (int p = 0; p < np; p++) {
+      for (int c = 0; c < 3; c++) l[c][p] = v[c] - at[p][c];
+      len[p] = l[0][p] * l[0][p] + l[1][p] * l[1][p] + l[2][p] * l[2][p];
+    }
+    int q = 0;
+#ifdef __SSE2__
+    for (const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1); q + 2 <= np; q += 2) {
+      const __m128d s = _mm_sqrt_pd(_mm_loadu_pd(len + q));
+      const __m128d pos = _mm_cmpgt_pd(s, zero);
+      const __m128d div = _mm_or_pd(_mm_and_pd(pos, s), _mm_andnot_pd(pos, one));
+      for (int c = 0; c < 3; c++) _mm_storeu_pd(l[c] + q, _mm_div_pd(_mm_loadu_pd(l[c] + q), div));
+    }
+#endif
+    for (; q < np; q++) {
+      const double s = sqrt(len[q]);
+      if (s > 0) for (int c = 0; c < 3; c++) l[c][q] /= s;
+    }
+    for (int p = 0; p < np; p++) {
+      if (blocked[p] >> k & 1u) continue;
+      const double d = n[0] * l[0][p] + n[1] * l[1][p] + n[2] * l[2][p];
+      if (d > 0) sum[p] += d;
+    }
+  }
+  for (int p = 0; p < np; p++) grey[p] = shade_grey_of_sum(r[p], sum[p]);
 }

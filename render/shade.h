@@ -48,6 +48,15 @@ void shade_lights_init(struct shade_lights *L, const struct scene *s);
 /* The unit direction from at towards a point light at v (shade_dir's). */
 void shade_point_dir(const double v[3], const double at[3], double l[3]);
 
+/* The grey of reflectance r under the lights' sum of n.l (shade_grey_lit's last step). */
+static inline int shade_grey_of_sum(double r, double sum)
+{
+  /* floor of a non-negative double below 2^62 is its truncation: no library call */
+  double f = (255 - SHADE_AMBIENT) * r * sum + 0.5;
+  double g = SHADE_AMBIENT + (f >= 0 && f < 0x1p62 ? (double)(int64_t)f : floor(f));
+  return g > 255 ? 255 : (int)g;
+}
+
 /* shade_grey with the lights made ready: the same value, bit for bit. Inline: the effects
    call it at every shaded point. */
 static inline int shade_grey_lit(const struct shade_lights *L, const double n[3],
@@ -65,10 +74,18 @@ static inline int shade_grey_lit(const struct shade_lights *L, const double n[3]
     double d = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
     if (d > 0) sum += d;
   }
-  /* floor of a non-negative double below 2^62 is its truncation: no library call */
-  double f = (255 - SHADE_AMBIENT) * r * sum + 0.5;
-  double g = SHADE_AMBIENT + (f >= 0 && f < 0x1p62 ? (double)(int64_t)f : floor(f));
-  return g > 255 ? 255 : (int)g;
+  return shade_grey_of_sum(r, sum);
 }
+
+/* shade_grey_lit at np <= SHADE_RUN points at[p] that share the unit normal n (a flat
+   face's), with reflectance r[p] and the lights blocked[p]: the same greys, bit for bit
+   (each point's own operations on its own values, in its own order), found together: a
+   parallel light's n.l once for all of them, a point light's directions with two points'
+   square roots and divides an instruction (SSE2's are correctly rounded, as the scalar
+   ones are). */
+#define SHADE_RUN 16
+void shade_grey_lit_run(const struct shade_lights *L, const double n[3], int np,
+                        const double (*at)[3], const double *r, const unsigned *blocked,
+                        int *grey);
 
 #endif

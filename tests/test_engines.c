@@ -826,6 +826,123 @@ static void test_regions_on_samples(void **state)
   scene_free(sc);
 }
 
+/* The points engine's point frame (fx_points: its greys worked out a run of neighbouring
+   points of one face at a time: a smoothed face's, a flat face's with its normal found
+   once and its lights' directions two points an instruction) is fx_shade's point by
+   point, at every point: on the shipped scenes with point lights, shadows and textures,
+   and on some with smoothing, each with shadows. */
+static void test_points_frame_is_pointwise(void **state)
+{
+  (void)state;
+  static const char *const cases[][2] = {   /* the scene's own effects and more */
+    { "fig6-room", "" }, { "fig6-building", "" }, { "lprism", "shadows=on" },
+    { "t1-h", "shadows=on" }, { "t1-a", "shadows=on" }, { "edges-telephone", "shadows=on" } };
+  long points = 0, lit_runs = 0, textured = 0;
+  int greys[256] = { 0 };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char path[256];
+    snprintf(path, sizeof path, "scenes/%s.s74", cases[k][0]);
+    struct scene *sc = load_quiet(path);
+    struct t74_error err = { 0, "" };
+    struct effects e;
+    char fx[512];
+    snprintf(fx, sizeof fx, "%s %s", sc->effects ? sc->effects : "", cases[k][1]);
+    if (effects_parse(fx, &e, "test", 1, &err) != T74_OK) fail_msg("%s", err.msg);
+    struct duo d;
+    char msg[1024];
+    assert_int_equal(duo_open(&d, sc, e.halftone, msg, sizeof msg), T74_OK);
+    struct fx_stats st;
+    memset(&st, 0, sizeof st);
+    struct cost cost = { { 0 } };
+    struct fx_model m;
+    assert_int_equal(fx_model_build(&m, &d.eng[1], sc, &e, NULL, &st, &cost, &err), T74_OK);
+    assert_false(m.count);                  /* the points engine: greys in runs */
+    const size_t np = (size_t)d.W * (size_t)d.H;
+    struct fx_frame f;
+    memset(&f, 0, sizeof f);
+    f.W = d.W; f.H = d.H; f.cell = d.cell;
+    assert_non_null(f.face = malloc(np * sizeof *f.face));
+    assert_non_null(f.grey = calloc(np, 1));
+    memcpy(f.face, d.face[1], np * sizeof *f.face);
+    assert_int_equal(fx_points(&m, &f, &st, &cost, &err), T74_OK);
+    /* point by point: the faces and lights blocked after the regions, then fx_shade */
+    struct fx_lines *L = NULL;
+    int *row = malloc((size_t)d.W * sizeof *row);
+    unsigned *blocked = calloc((size_t)d.W, sizeof *blocked);
+    assert_true(row && blocked);
+    if (fx_model_regions(&m)) assert_int_equal(fx_lines_open(&L, &m, false, &cost, &err), T74_OK);
+    long bad = 0;
+    for (int j = d.H - 1; j >= 0; j--) {
+      if (L) assert_int_equal(fx_lines_samples(L, 1, j, 0, d.W, row, blocked, &err), T74_OK);
+      else memcpy(row, d.face[1] + (size_t)j * (size_t)d.W, (size_t)d.W * sizeof *row);
+      for (int i = 0; i < d.W; i++) {
+        const size_t at = (size_t)j * (size_t)d.W + (size_t)i;
+        assert_int_equal(f.face[at], row[i]);
+        int face = row[i];
+        int g = fx_shade(&m, face, blocked[i], i + 0.5, j + 0.5, i, j, NULL, NULL);
+        if (g != f.grey[at] && bad++ < 4)
+          print_message("%s [%s] point (%d, %d) face %d blocked %u: frame %d, fx_shade %d\n",
+                        cases[k][0], fx, i, j, face, blocked[i], f.grey[at], g);
+        points++;
+        greys[f.grey[at]] = 1;
+        if (face < 0) continue;
+        const struct mface *mf = &m.map->f[face];
+        const bool lit = sc->f[mf->sface].grey < 0 && sc->has_light;
+        const bool smoothed = m.smooth && e.smooth != EFFECTS_SMOOTH_NONE &&
+                              m.sm.tri_of_mface[face] >= 0;
+        lit_runs += lit && !smoothed && blocked[i] != 0;
+        textured += sc->f[mf->sface].texture != NULL;
+      }
+    }
+    assert_int_equal(bad, 0);
+    fx_lines_close(L);
+    free(row); free(blocked); free(f.face); free(f.grey);
+    fx_model_free(&m);
+    duo_close(&d);
+    scene_free(sc);
+  }
+  int distinct = 0;
+  for (int g = 0; g < 256; g++) distinct += greys[g];
+  print_message("points frame: %ld points, %ld lit flat points in shadow, %ld textured, "
+                "%d greys\n", points, lit_runs, textured, distinct);
+  assert_true(lit_runs > 1000 && textured > 1000 && distinct > 100);
+}
+
+/* fx_x_cmp (effects/poly.h: the order of two crossings from their doubles, exactly) is
+   geom_rat_cmp's on 2,000,000 pairs of rationals, their products within 2^126 as the
+   crossings' are: random ones, neighbours (numerators 1 or 2 apart), near multiples and
+   equal ones; the keys decide most, the exact compare the rest. */
+static void test_x_order(void **state)
+{
+  (void)state;
+  uint64_t x = 88172645463325252u;
+#define XRND() (x ^= x << 13, x ^= x >> 7, x ^= x << 17, x)
+  long bad = 0, keyed = 0, exact = 0;
+  for (long it = 0; it < 2000000; it++) {
+    const int bn = 1 + (int)(XRND() % 62), bd = 1 + (int)(XRND() % 44);
+    wide an = (wide)(XRND() & (((uint64_t)1 << bn) - 1)), ad = (wide)(XRND() % ((uint64_t)1 << bd));
+    wide bn2 = (wide)(XRND() & (((uint64_t)1 << bn) - 1));
+    if (XRND() & 1) an = -an;
+    if (XRND() & 1) bn2 = -bn2;
+    struct grat a = { an, ad > 0 ? ad : 1 }, b;
+    switch (XRND() % 4) {
+    case 0: b = (struct grat){ bn2, 1 + (wide)(XRND() % ((uint64_t)1 << bd)) }; break;
+    case 1: b = (struct grat){ a.num + (wide)(XRND() % 5) - 2, a.den }; break;
+    case 2: { const wide k = 1 + (wide)(XRND() % 1000);
+              b = (struct grat){ a.num * k + (wide)(XRND() % 3) - 1, a.den * k }; break; }
+    default: b = (struct grat){ a.num * 3, a.den * 3 }; break;
+    }
+    const double ka = fx_x_key(a), kb = fx_x_key(b);
+    bad += fx_x_cmp(&a, ka, &b, kb) != geom_rat_cmp(a, b);
+    const double d = kb - ka, t = (fabs(ka) + fabs(kb)) * 0x1p-49;
+    if (d > t || -d > t) keyed++; else exact++;
+  }
+#undef XRND
+  print_message("crossing order: %ld pairs by the keys, %ld exactly, %ld wrong\n", keyed, exact, bad);
+  assert_int_equal(bad, 0);
+  assert_true(keyed > 500000 && exact > 500000);
+}
+
 /* Every shipped scene whose effects the points engine runs, as it is and with more. */
 static void test_fx_shipped(void **state)
 {
@@ -1053,6 +1170,8 @@ int main(void)
     cmocka_unit_test(test_fuzz_corpus),
     cmocka_unit_test(test_fx_shipped),
     cmocka_unit_test(test_regions_on_samples),
+    cmocka_unit_test(test_points_frame_is_pointwise),
+    cmocka_unit_test(test_x_order),
     cmocka_unit_test(test_scenegen_families),
     cmocka_unit_test(test_hard_families),
     cmocka_unit_test(test_far_vertices),

@@ -601,6 +601,101 @@ static void test_run_is_single(void **state)
   }
 }
 
+/* A run of a flat face's points (shade_grey_lit_run: one normal, the point lights'
+   directions two points an instruction) gives each point shade_grey_lit's grey: at
+   points spread through space under parallel and point lights, with reflectances and
+   blocked lights varied, and at points bisected onto the borders between two greys
+   (neighbouring doubles of the parameter), where a result one unit in the last place
+   off would show as another grey. */
+static void test_flat_run_is_single(void **state)
+{
+  (void)state;
+  struct shade_lights L;
+  memset(&L, 0, sizeof L);
+  static const double lv[][4] = {           /* point?, position or direction */
+    { 0, 4, 3, -2 }, { 1, -300, 650, 1200 }, { 1, 900, 500, -200 }, { 0, -3, 2, -2 },
+    { 1, 40, -2000, 310 } };
+  L.n = (int)(sizeof lv / sizeof *lv);
+  for (int k = 0; k < L.n; k++) {
+    L.point[k] = lv[k][0] != 0;
+    for (int c = 0; c < 3; c++) L.v[k][c] = lv[k][c + 1];
+    if (!L.point[k]) {                      /* a parallel light's unit direction */
+      double n = sqrt(L.v[k][0] * L.v[k][0] + L.v[k][1] * L.v[k][1] + L.v[k][2] * L.v[k][2]);
+      for (int c = 0; c < 3; c++) L.v[k][c] /= n;
+    }
+  }
+  static const int planes[][3] = { { 0, 0, -1 }, { -3, 2, -5 }, { 7, -1, -4 }, { 1, 1, 1 },
+                                   { 0, -1, 0 }, { -20, 3, 11 } };
+  enum { NPT = 4096 };
+  double (*X)[3] = malloc(NPT * sizeof *X), *r = malloc(NPT * sizeof *r);
+  unsigned *b = malloc(NPT * sizeof *b);
+  assert_true(X && r && b);
+  uint64_t seed = 12345;
+  long differ = 0, borders = 0, runs = 0;
+  int greys[256] = { 0 };
+  for (size_t pl = 0; pl < sizeof planes / sizeof *planes; pl++) {
+    double n[3];
+    for (int c = 0; c < 3; c++) n[c] = -(double)planes[pl][c];
+    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int c = 0; c < 3; c++) n[c] /= len;
+    int np = 0, tries = 0;
+    while (np + 2 <= NPT && tries++ < 8 * NPT) {
+      double A[3], B[3];
+      for (int c = 0; c < 3; c++) {
+        seed = seed * 6364136223846793005u + 1442695040888963407u;
+        A[c] = (double)(seed >> 40) / (1 << 24) * 3000 - 1500;
+        seed = seed * 6364136223846793005u + 1442695040888963407u;
+        B[c] = (double)(seed >> 40) / (1 << 24) * 3000 - 1500;
+      }
+      seed = seed * 6364136223846793005u + 1442695040888963407u;
+      const bool border = np % 4 == 0 && tries < 4 * NPT;   /* a quarter in border pairs */
+      const unsigned bl = border ? 0 : (unsigned)(seed >> 33) & 31u;
+      const double rf = border || (seed >> 60) % 3 == 0 ? 1.0 : (double)((seed >> 50) & 255) / 255;
+      if (border) {
+        const int ga = shade_grey_lit(&L, n, A, 1.0, 0), gb = shade_grey_lit(&L, n, B, 1.0, 0);
+        if (ga == gb) continue;
+        double s0 = 0, s1 = 1;
+        for (int it = 0; it < 200; it++) {
+          const double sm = 0.5 * (s0 + s1);
+          if (!(sm > s0 && sm < s1)) break;
+          double M[3];
+          for (int c = 0; c < 3; c++) M[c] = A[c] + sm * (B[c] - A[c]);
+          if (shade_grey_lit(&L, n, M, 1.0, 0) == ga) s0 = sm; else s1 = sm;
+        }
+        for (int c = 0; c < 3; c++) {
+          X[np][c] = A[c] + s0 * (B[c] - A[c]);
+          X[np + 1][c] = A[c] + s1 * (B[c] - A[c]);
+        }
+        borders++;
+      } else {
+        memcpy(X[np], A, sizeof A);
+        memcpy(X[np + 1], B, sizeof B);
+      }
+      for (int q = 0; q < 2; q++) { r[np + q] = rf; b[np + q] = bl; }
+      np += 2;
+    }
+    /* runs of 1 .. SHADE_RUN points */
+    for (int p = 0, len_ = 1; p < np; p += len_, len_ = len_ % SHADE_RUN + 1) {
+      const int m = p + len_ <= np ? len_ : np - p;
+      int g[SHADE_RUN];
+      shade_grey_lit_run(&L, n, m, (const double (*)[3])(X + p), r + p, b + p, g);
+      for (int q = 0; q < m; q++) {
+        const int one = shade_grey_lit(&L, n, X[p + q], r[p + q], b[p + q]);
+        differ += g[q] != one;
+        greys[one & 255] = 1;
+      }
+      runs++;
+    }
+  }
+  free(X); free(r); free(b);
+  int distinct = 0;
+  for (int g = 0; g < 256; g++) distinct += greys[g];
+  print_message("flat runs: %ld runs, %ld borders, %d greys, %ld differ\n", runs, borders,
+                distinct, differ);
+  assert_int_equal(differ, 0);
+  assert_true(borders > 1000 && distinct > 100);
+}
+
 /* The Phong grey at X by the filter (and the exact chain where it declines) and by the
    exact chain alone; counts the filter's declines in *declines. */
 static void phong_both(struct lib *L, int t, const double X[3], double refl, unsigned blocked,
@@ -1091,6 +1186,7 @@ int main(void)
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
     cmocka_unit_test(test_run_is_single),
+    cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
