@@ -27,16 +27,6 @@ struct proj {
   ld nL;                    /* parallel light: n . L (< 0: the light reaches R's seen side) */
 };
 
-/* llroundl(x) (to nearest, halves away from zero), without the library call for
-   |x| <= GRID_LIMIT: x less its truncation is exact (|x| < 2^63, a 64-bit mantissa). */
-static gcoord round_grid(ld x)
-{
-  if (!(fabsl(x) <= (ld)GRID_LIMIT)) return (gcoord)llroundl(x);   /* (not a number) */
-  const int64_t t = (int64_t)x;
-  const ld f = x - (ld)t;
-  return t + (f >= 0.5L) - (f <= -0.5L);
-}
-
 static ld plane_at(const struct proj *q, const ld X[3])
 {
   return q->pl[0] * X[0] + q->pl[1] * X[1] + q->pl[2] * X[2] + q->pl[3];
@@ -219,7 +209,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
             ld gx = (ld)GRID_ONE * (E[0] + f * (Y[0] - E[0]) / dz);
             ld gy = (ld)GRID_ONE * (E[1] + f * (Y[1] - E[1]) / dz);
             if (fabsl(gx) > (ld)GRID_LIMIT || fabsl(gy) > (ld)GRID_LIMIT) continue;
-            struct gpoint g = { round_grid(gx), round_grid(gy) };
+            struct gpoint g = { (gcoord)llroundl(gx), (gcoord)llroundl(gy) };
             if (m > 0 && poly[need + (size_t)m - 1].x == g.x && poly[need + (size_t)m - 1].y == g.y) continue;
             poly[need + (size_t)m++] = g;
             for (int c = 0; c < 4; c++) cost_mw_mul(cost, 32, 32);
