@@ -17,7 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 #include "patterns/halftone.h"
 
 struct scan_image {
@@ -154,6 +153,14 @@ double scan_disk_access(struct scan_disk *d, uint32_t addr, uint32_t nwords)
 
 /* ---- the whole road -------------------------------------------------------------- */
 
+/* Point i's level in a row of packed words (SCAN_WORD_LEVELS a word, the first in the
+** high bits). */
+static inline unsigned level_of(const uint16_t *row, int i)
+{
+  return (unsigned)(row[i / SCAN_WORD_LEVELS] >>
+                    (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xFu;
+}
+
 void scan_free(struct scan_image *s)
 {
   if (!s) return;
@@ -233,9 +240,7 @@ int scan_photo(const struct pic *photo, int cell, const struct cost_params *prm,
   for (int j = 0; j < s->H; j++) {             /* each level as scan_level unpacks it */
     const uint16_t *w = s->words + (size_t)(s->H - 1 - j) * (size_t)s->row_words;
     for (int i = 0; i < s->W; i++)
-      s->level[(size_t)j * (size_t)s->W + (size_t)i] =
-        (uint8_t)((w[i / SCAN_WORD_LEVELS] >>
-                   (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xF);
+      s->level[(size_t)j * (size_t)s->W + (size_t)i] = (uint8_t)level_of(w, i);
   }
   scan_disk_init(&s->disk, prm);
   s->disk0 = s->disk;
@@ -256,13 +261,12 @@ int scan_level(struct scan_image *s, int i, int j, struct cost *c)
       COST_ADD_N(c, COST_MEM, s->row_words);
     }
   }
-  uint16_t w = s->words[r * (size_t)s->row_words + (size_t)(i / SCAN_WORD_LEVELS)];
   if (c) {                                      /* L word, shift the nibble down, N 0xF */
     COST_ADD_N(c, COST_MEM, 1);
     COST_ADD_N(c, COST_SHIFT, 1);
     COST_ADD_N(c, COST_LOGIC, 1);
   }
-  return (w >> (SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS))) & 0xF;
+  return (int)level_of(s->words + r * (size_t)s->row_words, i);
 }
 
 void scan_row(const struct scan_image *s, int j, uint8_t *level, uint8_t *grey)
