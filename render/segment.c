@@ -1278,20 +1278,6 @@ static int next_used(struct seg_ctx *x)
   return x->idcur < x->nids && x->ids[x->idcur] == v;
 }
 
-/* The rows xsort_build makes for the line y = c (every side not wholly on one side of
-   it), without making them: seg_check takes XSORT's room in core, as seg_generate does,
-   and writes nothing into it. */
-static int xsort_count(const struct xs_ring *rings, int nring, gcoord c)
-{
-  int m = 0;
-  for (int r = 0; r < nring; r++)
-    for (int k = 0; k < rings[r].n; k++) {
-      gcoord y0 = rings[r].v[k].y, y1 = rings[r].v[(k + 1) % rings[r].n].y;
-      m += !((y0 < c && y1 < c) || (y0 > c && y1 > c));
-    }
-  return m;
-}
-
 /* Cut piece P at y = c; its pieces go to the queue. P is consumed. */
 static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
 {
@@ -1324,7 +1310,7 @@ static int cut_piece(struct seg_ctx *x, struct wpiece *P, gcoord c)
 
   /* XSORT for the line: seg_check only takes its room in core (its rows are written,
      never read back). */
-  int nx = x->check ? xsort_count(P->ring, P->nring, c)
+  int nx = x->check ? xsort_rows(P->ring, P->nring, c)
                     : xsort_build(P->ring, P->nring, c, rows, rows + total, x->cost);
   uint32_t a;
   if ((rc = table(x, CORE_T_XSORT, (uint32_t)nx * XSORT_ROW_WORDS, &a))) goto done;

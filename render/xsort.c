@@ -20,6 +20,7 @@
 #include "render/xsort.h"
 #include "render/rsort.h"
 
+#include <stdbool.h>
 #include <string.h>
 
 /* Operation counts: a y compare is a 30-bit subtract; an x compare two 64 x 32-bit
@@ -80,6 +81,21 @@ static int row_cmp(const void *pa, const void *pb, void *ctx)
   return (a->side > b->side) - (a->side < b->side);
 }
 
+/* Does the side from a vertex at y0 to one at y1 meet y = c (a row of XSORT)? */
+static inline bool side_meets(gcoord y0, gcoord y1, gcoord c)
+{
+  return !((y0 < c && y1 < c) || (y0 > c && y1 > c));
+}
+
+int xsort_rows(const struct xs_ring *rings, int nring, gcoord c)
+{
+  int m = 0;
+  for (int r = 0; r < nring; r++)
+    for (int k = 0; k < rings[r].n; k++)
+      m += side_meets(rings[r].v[k].y, rings[r].v[(k + 1) % rings[r].n].y, c);
+  return m;
+}
+
 int xsort_build(const struct xs_ring *rings, int nring, gcoord c,
                 struct xsort_row *rows, struct xsort_row *scratch, struct cost *cost)
 {
@@ -91,6 +107,7 @@ int xsort_build(const struct xs_ring *rings, int nring, gcoord c,
       const struct xs_vertex *p = &g->v[k], *q = &g->v[k1];
       count_ycmp(cost);
       count_ycmp(cost);
+      if (!side_meets(p->y, q->y, c)) continue;   /* wholly above or below */
       int sp = (p->y > c) - (p->y < c), sq = (q->y > c) - (q->y < c);
       struct xsort_row row;
       memset(&row, 0, sizeof row);
@@ -105,11 +122,9 @@ int xsort_build(const struct xs_ring *rings, int nring, gcoord c,
         row.code = XS_ENDPOINT; row.x = p->x; row.touch = k; row.role = 1;
       } else if (sq == 0) {                   /* arrives at the vertex q on the line */
         row.code = XS_ENDPOINT; row.x = q->x; row.touch = k1; row.role = 0;
-      } else if (sp != sq) {                  /* through the middle */
+      } else {                                /* through the middle (sp != sq) */
         row.code = XS_MIDDLE; row.x = x_at_c(g->s[k].line, c, cost);
         row.touch = k; row.role = 1;
-      } else {
-        continue;
       }
       if (cost) COST_ADD_N(cost, COST_MEM, XSORT_ROW_WORDS);   /* the row is stored */
       rows[m++] = row;

@@ -91,6 +91,10 @@ struct xsort_row {
 int xsort_build(const struct xs_ring *rings, int nring, gcoord c,
                 struct xsort_row *rows, struct xsort_row *scratch, struct cost *cost);
 
+/* How many rows xsort_build makes for y = c, without making them or counting anything
+   (seg_check takes XSORT's room in core and writes nothing into it). */
+int xsort_rows(const struct xs_ring *rings, int nring, gcoord c);
+
 /* The name of a crossing code: "middle", "endpoint", "coincident". */
 const char *xsort_code_name(int code);
 
