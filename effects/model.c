@@ -273,6 +273,14 @@ static void face_shade_of(const struct fx_model *m, int face, struct face_shade 
 
 /* fx_shade of face (fs: face_shade_of's) at plane position (px, py); cost NULL: not
    counted. */
+/* A flat face's unit normal towards the eye's side, as it is lit. */
+static void face_normal(const struct mface *mf, double n[3])
+{
+  for (int c = 0; c < 3; c++) n[c] = -(double)mf->plane[c];
+  const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int c = 0; c < 3; c++) n[c] /= len;
+}
+
 static int shade_face_at(const struct fx_model *m, int face, const struct face_shade *fs,
                          unsigned blocked, double px, double py, struct cost *cost, int *region)
 {
@@ -295,9 +303,8 @@ static int shade_face_at(const struct fx_model *m, int face, const struct face_s
     return smooth_grey_at(&m->sm, m->map, m->s, m->e, tri, X, refl, blocked, &m->lights, cost,
                           region);
   if (!lit) return (int)floor(mf->grey * refl + 0.5);
-  double n[3] = { -(double)mf->plane[0], -(double)mf->plane[1], -(double)mf->plane[2] };
-  double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  for (int c = 0; c < 3; c++) n[c] /= len;
+  double n[3];
+  face_normal(mf, n);
   if (cost)
     for (int k = 0; k < m->s->nlight; k++) { cost_mw_mul(cost, 16, 16); cost_mw_mul(cost, 16, 16); }
   return shade_grey_lit(&m->lights, n, X, refl, blocked);
@@ -350,9 +357,7 @@ static void shade_flat_run(const struct fx_model *m, int face, const struct face
     }
     /* SHADE_RUN lit points, or the last few */
     if (!unit) {                            /* shade_face_at's normal */
-      for (int c = 0; c < 3; c++) nrm[c] = -(double)mf->plane[c];
-      const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-      for (int c = 0; c < 3; c++) nrm[c] /= len;
+      face_normal(mf, nrm);
       unit = true;
     }
     shade_grey_lit_run(&m->lights, nrm, nl, (const double (*)[3])X, refl, b, g);
@@ -679,6 +684,15 @@ static void sample_row(struct sample_row *r, const int32_t *win, int64_t xd, int
   r->kb = ((double)xd * (double)r->XL / (double)r->S + 1) / 2 + (double)k0;
 }
 
+/* Event e counted into its light's count cnt: the lights' mask after it (a light is in
+   it while its count is positive). */
+static inline unsigned ev_count(const struct ev *e, int *cnt, unsigned mask)
+{
+  const int k = e->light;
+  cnt[k] += e->d;
+  return cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
+}
+
 /* The first sample of the row whose x is at or right of event e's x, or n: the guess,
    then settled by the exact compares (the least i where x <= xn / xd, whatever the
    guess: usually two compares). */
@@ -812,9 +826,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
         const int b = first_at_or_right(&ev[h], &sr);
         if (b >= e) break;                  /* this event and the rest: right of the run */
         for (; i < b; i++) blocked[i] = mask;
-        const int k = ev[h].light;
-        cnt[k] += ev[h].d;
-        mask = cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
+        mask = ev_count(&ev[h], cnt, mask);
       }
       for (; i < e; i++) blocked[i] = mask;
       continue;
@@ -822,9 +834,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
     for (; i < e; i++) {
       int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
       for (; h < nev && geom_rat_cmp_frac(ev[h].x, xn, xd) <= 0; h++) {
-        const int k = ev[h].light;
-        cnt[k] += ev[h].d;
-        mask = cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
+        mask = ev_count(&ev[h], cnt, mask);
       }
       blocked[i] = mask;
     }
