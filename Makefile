@@ -47,13 +47,18 @@ REFSRC  := $(wildcard tests/ref/*.c)
 REFOBJ  := $(REFSRC:%.c=$(BUILD)/%.o)
 
 DEPS_STAMP := $(BUILD)/.deps-ok
+# the compiler and its flags as last used in $(BUILD): every object and program depends on
+# it, and it is rewritten only when they change (make OPT=-O1, CC=clang, ...), so a build
+# tree never mixes objects made with different flags
+FLAGS_STAMP := $(BUILD)/.flags
+FLAGS_LINE   = $(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(LDFLAGS)
 
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(LINKPKGS))
 TEST_CFLAGS = $(shell pkg-config --cflags $(TESTPKGS))
 TEST_LIBS   = $(shell pkg-config --libs $(TESTPKGS)) $(TESTNOPCLIBS)
 
-.PHONY: all run test asan bench docs fuzz deps clean install uninstall
+.PHONY: all run test asan bench docs fuzz deps clean install uninstall FORCE
 FUZZ_SECONDS ?= 120
 all: $(PROG)
 
@@ -63,7 +68,11 @@ $(DEPS_STAMP): tools/deps.sh
 
 deps: $(DEPS_STAMP)
 
-$(BUILD)/%.o: %.c | $(DEPS_STAMP)
+$(FLAGS_STAMP): FORCE
+	@mkdir -p $(BUILD)
+	@if [ "$$(cat $@ 2>/dev/null)" != '$(FLAGS_LINE)' ]; then printf '%s\n' '$(FLAGS_LINE)' > $@; fi
+
+$(BUILD)/%.o: %.c $(FLAGS_STAMP) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) -MMD -MP -c $< -o $@
 
@@ -71,21 +80,21 @@ $(BUILD)/gen/teach_page.c: cli/teach_page.html tools/text2c.sh
 	@mkdir -p $(dir $@)
 	sh tools/text2c.sh cli/teach_page.html teach_page > $@.tmp && mv $@.tmp $@
 
-$(BUILD)/gen/teach_page.o: $(BUILD)/gen/teach_page.c cli/teach_page.h
+$(BUILD)/gen/teach_page.o: $(BUILD)/gen/teach_page.c cli/teach_page.h $(FLAGS_STAMP)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) -include cli/teach_page.h -c $< -o $@
 
 $(LIB): $(LIBOBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(PROG): $(CLIOBJ) $(LIB)
+$(PROG): $(CLIOBJ) $(LIB) $(FLAGS_STAMP)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLIOBJ) $(LIB) $(PKG_LIBS) -lm
 
-$(BUILD)/tests/%: tests/%.c $(wildcard tests/usbmock/*.c) $(wildcard tests/devices/*.c) $(REFOBJ) $(LIB) | $(DEPS_STAMP)
+$(BUILD)/tests/%: tests/%.c $(wildcard tests/usbmock/*.c) $(wildcard tests/devices/*.c) $(REFOBJ) $(LIB) $(FLAGS_STAMP) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -o $@ $< $(REFOBJ) $(LIB) $(TEST_LIBS) $(PKG_LIBS) -lm
 
-$(BUILD)/tests/ref/%.o: tests/ref/%.c | $(DEPS_STAMP)
+$(BUILD)/tests/ref/%.o: tests/ref/%.c $(FLAGS_STAMP) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -MMD -MP -c $< -o $@
 
@@ -126,7 +135,7 @@ clean:
 .SECONDARY: $(REFOBJ)
 
 # the peer of make bench: OSMesa drawing the same scene (tools/refbench.c)
-$(BUILD)/bench/refbench: tools/refbench.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
+$(BUILD)/bench/refbench: tools/refbench.c $(REFOBJ) $(LIB) $(FLAGS_STAMP) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -o $@ $< $(REFOBJ) $(LIB) $(TEST_LIBS) $(PKG_LIBS) -lm
 
@@ -134,7 +143,7 @@ $(BUILD)/bench/refbench: tools/refbench.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
 # SOAK_SECONDS are up; failing scenes are saved as build/soak/fail-*.s74
 SOAK_SECONDS ?= 60
 .PHONY: soak
-$(BUILD)/tests/soak: tests/soak.c $(REFOBJ) $(LIB) | $(DEPS_STAMP)
+$(BUILD)/tests/soak: tests/soak.c $(REFOBJ) $(LIB) $(FLAGS_STAMP) | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(WARN) $(CFLAGS) $(PKG_CFLAGS) $(TEST_CFLAGS) -o $@ $< $(REFOBJ) $(LIB) $(TEST_LIBS) $(PKG_LIBS) -lm
 
