@@ -587,18 +587,6 @@ static double face_key(const struct points *p, const struct grid *g, int k,
   return best;
 }
 
-/* The proven bound zh_T > z of face b at every point of its box within columns i0 .. i1
-   and rows j0 .. j1 ("Tiles"). */
-static double box_zh(const struct points_box *b, int32_t i0, int32_t i1, int32_t j0, int32_t j1)
-{
-  if (i0 < b->ilo) i0 = b->ilo;
-  if (i1 > b->ihi - 1) i1 = b->ihi - 1;
-  if (j0 < b->jlo) j0 = b->jlo;
-  if (j1 > b->jhi) j1 = b->jhi;
-  const double z0 = b->za * (double)(b->arise ? i1 : i0) + (b->zb * (double)(b->brise ? j1 : j0) + b->zc);
-  return z0 + 2 * b->E;
-}
-
 /* Tile (tx, ty)'s bound made exact: the least lo of its points (all finite). */
 static void tile_least(struct points *p, const struct grid *g, struct points_tile *T, int tx,
                        int ty)
@@ -616,21 +604,40 @@ static void tile_least(struct points *p, const struct grid *g, struct points_til
 }
 
 /* The tiles of band ty (columns tx0 .. tx1 of it, a bit each from tx0) where face b is
-   proven behind the faces seen: zh_T below the tile's bound ("Tiles"). */
+   proven behind the faces seen: zh_T below the tile's bound ("Tiles"); *nhid: how many.
+   zh_T, the proven bound zh_T > z of face b at every point of its box within the tile, is
+   fl(z0 + 2E) with z0 = za i + (zb j + zc) at the corner of the tile's part of the box
+   where z is greatest; the row part zb j + zc is the band's, found once. */
 static uint32_t band_hidden(struct points *p, const struct grid *g, const struct points_box *b,
-                            int ty, int tx0, int tx1)
+                            int ty, int tx0, int tx1, int *nhid)
 {
   const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
   struct points_tile *trow = p->tile + (size_t)ty * (size_t)ntx;
+  int32_t j0 = ty << TILE_SHIFT, j1 = ((ty + 1) << TILE_SHIFT) - 1;
+  if (j0 < b->jlo) j0 = b->jlo;
+  if (j1 > b->jhi) j1 = b->jhi;
+  const double zr = b->zb * (double)(b->brise ? j1 : j0) + b->zc, E2 = 2 * b->E;
   uint32_t hid = 0;
+  int n = 0;
   for (int t = tx0; t <= tx1; t++) {
     struct points_tile *T = trow + t;
     if (T->ninf) continue;
-    const double h = box_zh(b, t << TILE_SHIFT, ((t + 1) << TILE_SHIFT) - 1, ty << TILE_SHIFT,
-                            ((ty + 1) << TILE_SHIFT) - 1);
+    int32_t ic;                                 /* the column of the greatest z */
+    if (b->arise) {
+      ic = ((t + 1) << TILE_SHIFT) - 1;
+      if (ic > b->ihi - 1) ic = b->ihi - 1;
+    } else {
+      ic = t << TILE_SHIFT;
+      if (ic < b->ilo) ic = b->ilo;
+    }
+    const double h = (b->za * (double)ic + zr) + E2;
     if (!(h < T->lo) && T->dirty) tile_least(p, g, T, t, ty);
-    if (h < T->lo) hid |= 1u << (t - tx0);
+    if (h < T->lo) {
+      hid |= 1u << (t - tx0);
+      n++;
+    }
   }
+  *nhid = n;
   return hid;
 }
 
@@ -639,10 +646,42 @@ static bool face_hidden(struct points *p, const struct grid *g, const struct poi
 {
   const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
   const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
+  int n;
   for (int ty = b->jlo >> TILE_SHIFT; ty <= b->jhi >> TILE_SHIFT; ty++)
-    if (band_hidden(p, g, b, ty, tx0, tx1) != all) return false;
+    if (band_hidden(p, g, b, ty, tx0, tx1, &n) != all) return false;
   p->tiles_skipped += (long)((b->jhi >> TILE_SHIFT) - (b->jlo >> TILE_SHIFT) + 1) * (tx1 - tx0 + 1);
   return true;
+}
+
+/* Face k (box b) over the columns i0 .. i1 - 1 of row j (zr = zb j + zc), the parts over
+   the tiles in hid (bits from tile tx0) left out: each part's bounds z0 -+ E at its first
+   point, z0 = za a + zr ("Float filter"). trow: row j's tiles, their bounds kept (NULL:
+   none kept; then hid is 0). */
+static inline __attribute__((always_inline)) void
+span_parts(struct points *p, const struct grid *g, int k, const struct points_box *b, int64_t j,
+           int32_t i0, int32_t i1, double zr, uint32_t hid, int tx0, struct points_tile *trow)
+{
+  const double za = b->za, E = b->E;
+  int32_t a = i0;                               /* the span's parts over tiles not hidden */
+  if (hid) {
+    for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
+      if (!(hid >> (t - tx0) & 1)) continue;
+      int32_t ts = t << TILE_SHIFT, te = ts + TILE;
+      if (ts > a) {                             /* (hid: the tiles are kept) */
+        const double z0 = za * (double)a + zr;
+        if (b->plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
+        else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
+      }
+      a = te < i1 ? te : i1;
+    }
+    if (a >= i1) return;
+  }
+  const double z0 = za * (double)a + zr;
+  if (!trow) {
+    if (b->plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, NULL);
+    else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, NULL);
+  } else if (b->plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
+  else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
 }
 
 /* Does face k (box b) cover a point centre of its box's middle row? (*yes; no says
@@ -686,9 +725,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   if (!grow((void **)&p->rowcount, &p->rowcap, nrow + 1, sizeof *p->rowcount))
     return t74_fail(err, T74_EIO, "out of host memory");
   int *rc = p->rowcount;
-  if (two) {                                    /* row r: cross[2r] (up), cross[2r + 1] */
-    if (coarse) for (int r = 0; r < nrow; r++) rc[r] = 2 * r + 2;
-  } else {
+  if (!two) {                                   /* (two: row r at cross[2r] (up), cross[2r + 1]) */
     memset(rc, 0, (size_t)(nrow + 1) * sizeof *rc);
     for (int e = 0; e < ne; e++)
       for (int32_t j = p->edge[e].jtop; j <= p->edge[e].jbot; j++) rc[j - jlo + 1]++;
@@ -721,48 +758,37 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       if (rem >= E->D) { rem -= E->D; q++; }
     }
   }
-  const double za = b->za, zb = b->zb, zc = b->zc, E = b->E;
-  const bool plus = b->plus;
+  const double zb = b->zb, zc = b->zc;
   const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
   const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
   const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
   uint32_t hid = 0;                             /* the band's tiles where face k is behind */
   int tyat = -1;
   bool any = false;
-  if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
-    for (int r = 0; r < nrow; r++) {
+  int start = 0;
+  for (int r = 0; r < nrow; r++) {
+    int64_t j = jlo + r;
+    const int ty = (int)(j >> TILE_SHIFT);
+    if (coarse && ty != tyat) {                 /* a new band of tiles */
+      int nhid;
+      hid = band_hidden(p, g, b, ty, tx0, tx1, &nhid);
+      p->tiles_skipped += nhid;
+      tyat = ty;
+    }
+    if (two) {                                  /* one span, often empty (slivers) */
+      if (hid == all && any) continue;          /* behind all along the band's rows */
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
       if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
       if (i0 >= i1) continue;
       any = true;
-      const int64_t j = jlo + r;
-      const double zr = zb * (double)j + zc, z0 = za * (double)i0 + zr;
-      if (!tiles) {
-        if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, NULL);
-        else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, NULL);
-        continue;
-      }
-      struct points_tile *trow = p->tile + (size_t)(j >> TILE_SHIFT) * (size_t)ntx;
-      if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, trow);
-      else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, trow);
+      const double zr = zb * (double)j + zc;
+      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, tiles ? p->tile + (size_t)ty * (size_t)ntx : NULL);
+      continue;
     }
-    if (!any) p->faces_culled++;
-    return T74_OK;
-  }
-  int start = 0;
-  for (int r = 0; r < nrow; r++) {
     int end = rc[r];                            /* row r: cross[start .. end) */
     int32_t *cs = p->cross + start;
     int m = end - start;
     start = end;
-    int64_t j = jlo + r;
-    const int ty = (int)(j >> TILE_SHIFT);
-    struct points_tile *trow = p->tile + (size_t)ty * (size_t)ntx;
-    if (coarse && ty != tyat) {                 /* a new band of tiles */
-      hid = band_hidden(p, g, b, ty, tx0, tx1);
-      p->tiles_skipped += __builtin_popcount(hid);
-      tyat = ty;
-    }
     if (hid == all && any) continue;            /* behind all along the band's rows */
     for (int x = 1; x < m; x++) {               /* insertion sort: rows hold few */
       int32_t v = cs[x];
@@ -775,26 +801,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      int32_t a = i0;                           /* the span's parts over tiles not hidden */
-      if (hid) {
-        for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
-          if (!(hid >> (t - tx0) & 1)) continue;
-          int32_t ts = t << TILE_SHIFT, te = ts + TILE;
-          if (ts > a) {                         /* (hid: the tiles are kept) */
-            const double z0 = za * (double)a + zr;
-            if (plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
-            else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
-          }
-          a = te < i1 ? te : i1;
-        }
-        if (a >= i1) continue;
-      }
-      const double z0 = za * (double)a + zr;
-      if (!tiles) {
-        if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, NULL);
-        else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, NULL);
-      } else if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
-      else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
+      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, tiles ? p->tile + (size_t)ty * (size_t)ntx : NULL);
     }
   }
   if (!any) p->faces_culled++;
