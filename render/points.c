@@ -101,7 +101,10 @@
 ** lo < z_o. So P_k <= 0 (never in front) or |D_o| P_k < |D_k| P_o strictly: the exact
 ** compare keeps o (no tie to break). Skipping those points leaves every face and bound as
 ** the point-by-point loop leaves them. Face k writes nowhere it is behind, so the tiles a
-** band's test finds hold for all of the band's rows while k is drawn. A face behind all
+** band's test finds hold for all of the band's rows while k is drawn. A band's test is
+** zh_T < the least lo of T's points (the bound at or below it, recounted when it is not
+** below zh_T and may be stale), so one made before k is drawn (face_hidden's, kept) gives
+** the answer face_draw's would: k's writes in the bands above touch other tiles. A face behind all
 ** over its box is not drawn; only whether it covers a centre is asked (faces_culled):
 ** its middle row's crossings, as face_draw finds them, say yes, or face_draw runs with
 ** every part skipped. The faces are drawn in the Mapper's order without the tiles' tests
@@ -641,14 +644,29 @@ static uint32_t band_hidden(struct points *p, const struct grid *g, const struct
   return hid;
 }
 
-/* Is face b proven behind at every tile of its box? */
-static bool face_hidden(struct points *p, const struct grid *g, const struct points_box *b)
+/* A band's answer from band_hidden, kept for face_draw: the tiles hidden and how many. */
+struct points_band {
+  uint32_t hid;
+  int n;
+};
+
+#define BANDS_KEPT 16                       /* bands of a box kept (the grid has at most 13) */
+
+/* Is face b proven behind at every tile of its box? The bands asked, from the box's first,
+   are kept in band[0 .. *nband) (at most BANDS_KEPT): the tiles a band's test finds
+   hold until face b writes in that band ("Tiles"), so face_draw takes them as they are. */
+static bool face_hidden(struct points *p, const struct grid *g, const struct points_box *b,
+                        struct points_band *band, int *nband)
 {
   const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
   const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
-  int n;
-  for (int ty = b->jlo >> TILE_SHIFT; ty <= b->jhi >> TILE_SHIFT; ty++)
-    if (band_hidden(p, g, b, ty, tx0, tx1, &n) != all) return false;
+  *nband = 0;
+  for (int ty = b->jlo >> TILE_SHIFT; ty <= b->jhi >> TILE_SHIFT; ty++) {
+    int n;
+    const uint32_t hid = band_hidden(p, g, b, ty, tx0, tx1, &n);
+    if (*nband < BANDS_KEPT) band[(*nband)++] = (struct points_band){ hid, n };
+    if (hid != all) return false;
+  }
   p->tiles_skipped += (long)((b->jhi >> TILE_SHIFT) - (b->jlo >> TILE_SHIFT) + 1) * (tx1 - tx0 + 1);
   return true;
 }
@@ -711,9 +729,10 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
    tile skipped when the tile's bound proves the face behind there (coarse, "Tiles"). tiles:
    the tiles' bounds are kept (some face of the frame is drawn coarse; always when this one
-   is). */
+   is). band[0 .. nband): the first bands' tests, made by face_hidden before k is drawn. */
 static int face_draw(struct points *p, const struct grid *g, int k, const struct points_box *b,
-                     bool coarse, bool tiles, struct t74_error *err)
+                     bool coarse, bool tiles, const struct points_band *band, int nband,
+                     struct t74_error *err)
 {
   const struct mface *f = &p->map.f[k];
   const int64_t jlo = b->jlo, jhi = b->jhi;
@@ -770,8 +789,14 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     int64_t j = jlo + r;
     const int ty = (int)(j >> TILE_SHIFT);
     if (coarse && ty != tyat) {                 /* a new band of tiles */
+      const int nb = ty - (b->jlo >> TILE_SHIFT);
       int nhid;
-      hid = band_hidden(p, g, b, ty, tx0, tx1, &nhid);
+      if (nb < nband) {                         /* face_hidden's answer */
+        hid = band[nb].hid;
+        nhid = band[nb].n;
+      } else {
+        hid = band_hidden(p, g, b, ty, tx0, tx1, &nhid);
+      }
       p->tiles_skipped += nhid;
       tyat = ty;
     }
@@ -955,7 +980,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     const struct points_box *b = &p->box[d];
     if (area < limit) {
       area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
-      if ((st = face_draw(p, &g, b->k, b, false, tiles, err)) != T74_OK) return st;
+      if ((st = face_draw(p, &g, b->k, b, false, tiles, NULL, 0, err)) != T74_OK) return st;
       continue;
     }
     p->box[nd] = *b;                              /* nd <= d */
@@ -967,14 +992,16 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   for (int d = 0; d < nd; d++) {
     const struct points_box *b = &p->box[p->order[d]];
     const int k = b->k;
-    if (b->jhi - b->jlo >= 2 && face_hidden(p, &g, b)) {
+    struct points_band band[BANDS_KEPT];
+    int nband = 0;
+    if (b->jhi - b->jlo >= 2 && face_hidden(p, &g, b, band, &nband)) {
       /* behind all over: its points are not visited; drawn only when it is not yet
          known to cover a point centre (faces_culled counts the ones that cover none) */
       bool yes = false;
       if ((st = covers_middle(p, &g, k, b, &yes, err)) != T74_OK) return st;
       if (yes) continue;
     }
-    if ((st = face_draw(p, &g, k, b, true, true, err)) != T74_OK) return st;
+    if ((st = face_draw(p, &g, k, b, true, true, band, nband, err)) != T74_OK) return st;
   }
   return T74_OK;
 }
