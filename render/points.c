@@ -22,8 +22,9 @@
 ** |dx|, |dy| < 2^29, |x0|, |y0| <= 2^28, |yn| < 2^33, yd < 2^8, xd < 2^9, S < 2^24:
 ** D < 2^61, |R| < 2^9 (2^65 + 2^37 2^29) + 2^69 < 2^77 — 128-bit. The first such i is
 ** floor(ceil(R / D) / 2). From one row to the next up, yn grows by 2 Dy, so R grows by a
-** constant dR = 2 xd Dy dx; R / D is stepped as quotient and remainder (remainder < D <
-** 2^61), with one division per edge for the start and one for the step. The quotients
+** constant dR = 2 xd Dy dx; c = ceil(R / D) is stepped with s = c D - R (0 <= s < D <
+** 2^61; s - drem > -2^61), with one division per edge for the start and one for the
+** step (dR = dq D + drem, 0 <= drem < D). The quotients
 ** fit 64 bits: R / D = xd (x - GRID_ONE XL) / S at the crossing's x (|x| <= 2^28, S >=
 ** 2^8), |R / D| < 2^9 2^29 / 2^8 = 2^30; |dR| < 2^9 2^25 2^29 = 2^63. A division is
 ** done in 64 bits when its dividend fits them, else in 128. R itself is worked out as
@@ -150,8 +151,8 @@
 struct points_edge {
   int32_t jtop, jbot;       /* rows crossed: jtop .. jbot (j from the top), jtop <= jbot */
   bool up;                  /* y grows along the edge in its ring's order */
-  int64_t q;                /* floor(R / D) at row jbot */
-  int64_t rem;              /* R - q D, 0 <= rem < D */
+  int64_t c;                /* ceil(R / D) at row jbot */
+  int64_t s;                /* c D - R, 0 <= s < D */
   int64_t D;
   int64_t dq;               /* floor(dR / D) for a row up */
   int64_t drem;             /* dR - dq D */
@@ -421,9 +422,13 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       int64_t t0, t1, t2, R64;
       if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
           !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(g->xd, t2, &R64))
-        floor_divmod(R64, e->D, &e->q, &e->rem);
+        floor_divmod(R64, e->D, &e->c, &e->s);
       else
-        floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->q, &e->rem);
+        floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->c, &e->s);
+      if (e->s) {                               /* from floor to ceiling */
+        e->c++;
+        e->s = e->D - e->s;
+      }
       if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
       else e->dq = e->drem = 0;                 /* one row: never stepped */
     }
@@ -433,12 +438,21 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   return T74_OK;
 }
 
-static inline int32_t col_of(const struct grid *g, int64_t q, int64_t rem)
+/* The column of a crossing from c = ceil(R / D): floor(c / 2) clamped to [0, W]. */
+static inline int32_t col_of(const struct grid *g, int64_t c)
 {
-  int64_t c = q + (rem != 0);                   /* ceil(R / D) */
   if (c <= 0) return 0;                         /* floor(c / 2) <= 0 */
-  c /= 2;
+  c >>= 1;
   return c > g->W ? g->W : (int32_t)c;
+}
+
+/* An edge's crossing a row up: R grows by dR = dq D + drem, so c grows by dq, and by one
+   more when s - drem < 0 (then s gains D). */
+static inline void edge_step(const struct points_edge *e, int64_t *c, int64_t *s)
+{
+  *c += e->dq;
+  *s -= e->drem;
+  if (*s < 0) { *s += e->D; (*c)++; }
 }
 
 /* The rule's answer for a pair it leaves undecided both ways (two faces of one number in
@@ -559,7 +573,8 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
               c * 4 * g->W * g->H * (-g->Ez);
   const double Dd = (double)f->deye;
   const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
-               Gd = (double)pl->gamma;
+               Gd = pl->gamma == (int64_t)pl->gamma ? (double)(int64_t)pl->gamma  /* same value */
+                                                      : (double)pl->gamma;
   b->za = Ad / Dd;
   b->zb = Bd / Dd;
   b->zc = Gd / Dd;
@@ -597,12 +612,19 @@ static void tile_least(struct points *p, const struct grid *g, struct points_til
   int i0 = tx << TILE_SHIFT, i1 = i0 + TILE, j0 = ty << TILE_SHIFT, j1 = j0 + TILE;
   if (i1 > g->W) i1 = g->W;
   if (j1 > g->H) j1 = g->H;
-  double m = HUGE_VAL;
+  /* two running minima, even and odd columns (the lo's are > 0 or -inf, no zeros and no
+     NaN: the least is the same in any order) */
+  double m0 = HUGE_VAL, m1 = HUGE_VAL;
   for (int j = j0; j < j1; j++) {
     const struct points_z *zb = p->z + (size_t)j * (size_t)g->W;
-    for (int i = i0; i < i1; i++) m = zb[i].lo < m ? zb[i].lo : m;
+    int i = i0;
+    for (; i + 1 < i1; i += 2) {
+      m0 = zb[i].lo < m0 ? zb[i].lo : m0;
+      m1 = zb[i + 1].lo < m1 ? zb[i + 1].lo : m1;
+    }
+    if (i < i1) m0 = zb[i].lo < m0 ? zb[i].lo : m0;
   }
-  T->lo = m;
+  T->lo = m1 < m0 ? m1 : m0;
   T->dirty = false;
 }
 
@@ -716,7 +738,7 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
     return t74_fail(err, T74_EIO, "out of host memory");
   int32_t *cs = p->cross;
   for (int e = 0; e < ne; e++) {                /* insertion sort */
-    int32_t v = col_of(g, p->edge[e].q, p->edge[e].rem);
+    int32_t v = col_of(g, p->edge[e].c);
     int y = e - 1;
     while (y >= 0 && cs[y] > v) { cs[y + 1] = cs[y]; y--; }
     cs[y + 1] = v;
@@ -756,25 +778,21 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
      a row, the up edges' crossings at even slots, the others' at odd */
   for (int e = 0; e < ne; e++) {
     struct points_edge *E = &p->edge[e];
-    int64_t q = E->q, rem = E->rem;
+    int64_t c = E->c, sc = E->s;
     const int32_t jtop = E->jtop;
     if (two) {
-      int32_t *c = p->cross + 2 * (E->jbot - jlo) + !E->up;
-      for (int32_t j = E->jbot;; j--, c -= 2) {
-        *c = col_of(g, q, rem);
+      int32_t *x = p->cross + 2 * (E->jbot - jlo) + !E->up;
+      for (int32_t j = E->jbot;; j--, x -= 2) {
+        *x = col_of(g, c);
         if (j == jtop) break;
-        q += E->dq;
-        rem += E->drem;
-        if (rem >= E->D) { rem -= E->D; q++; }
+        edge_step(E, &c, &sc);
       }
       continue;
     }
     for (int32_t j = E->jbot;; j--) {
-      p->cross[rc[j - jlo]++] = col_of(g, q, rem);
+      p->cross[rc[j - jlo]++] = col_of(g, c);
       if (j == jtop) break;
-      q += E->dq;
-      rem += E->drem;
-      if (rem >= E->D) { rem -= E->D; q++; }
+      edge_step(E, &c, &sc);
     }
   }
   const double zb = b->zb, zc = b->zc;
