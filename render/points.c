@@ -533,7 +533,8 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
     }
     if (!trow) { zb[i].lo = lo; continue; }
     struct points_tile *T = trow + (i >> TILE_SHIFT);
-    T->ninf += (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
+    const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
+    if (dn) T->ninf += dn;
     zb[i].lo = lo;
     if (lo < T->lo) T->lo = lo;
     else if (was <= T->lo) T->dirty = true;     /* the least may have risen */
