@@ -1020,6 +1020,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       if ((st = covers_middle(p, &g, k, b, &yes, err)) != T74_OK) return st;
       if (yes) continue;
     }
+    if (p->retest_bands) nband = 0;
     if ((st = face_draw(p, &g, k, b, true, true, band, nband, err)) != T74_OK) return st;
   }
   return T74_OK;
