@@ -447,12 +447,13 @@ static inline int32_t col_of(const struct grid *g, int64_t c)
 }
 
 /* An edge's crossing a row up: R grows by dR = dq D + drem, so c grows by dq, and by one
-   more when s - drem < 0 (then s gains D). */
+   more when s - drem < 0 (then s gains D): a carry the branch predictor cannot guess, so
+   taken without a branch. */
 static inline void edge_step(const struct points_edge *e, int64_t *c, int64_t *s)
 {
-  *c += e->dq;
-  *s -= e->drem;
-  if (*s < 0) { *s += e->D; (*c)++; }
+  const int64_t t = *s - e->drem, carry = -(int64_t)(t < 0);   /* -1 or 0, no branch */
+  *s = t + (e->D & carry);
+  *c += e->dq - carry;
 }
 
 /* The rule's answer for a pair it leaves undecided both ways (two faces of one number in
