@@ -534,11 +534,12 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
     }
     if (!trow) { zb[i].lo = lo; continue; }
     struct points_tile *T = trow + (i >> TILE_SHIFT);
-    const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
-    if (dn) T->ninf += dn;
+    T->ninf += (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
     zb[i].lo = lo;
-    if (lo < T->lo) T->lo = lo;
-    else if (was <= T->lo) T->dirty = true;     /* the least may have risen */
+    /* the bound lowered to lo, or marked when the least may have risen; no branch */
+    const double tl = T->lo;
+    T->lo = lo < tl ? lo : tl;
+    T->dirty |= !(lo < tl) & (was <= tl);
   }
 }
 /* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
