@@ -441,8 +441,7 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
 /* The column of a crossing from c = ceil(R / D): floor(c / 2) clamped to [0, W]. */
 static inline int32_t col_of(const struct grid *g, int64_t c)
 {
-  if (c <= 0) return 0;                         /* floor(c / 2) <= 0 */
-  c >>= 1;
+  c = c > 0 ? c >> 1 : 0;                       /* floor(c / 2) <= 0: 0 */
   return c > g->W ? g->W : (int32_t)c;
 }
 
