@@ -102,10 +102,11 @@
 ** lo < z_o. So P_k <= 0 (never in front) or |D_o| P_k < |D_k| P_o strictly: the exact
 ** compare keeps o (no tie to break). Skipping those points leaves every face and bound as
 ** the point-by-point loop leaves them. Face k writes nowhere it is behind, so the tiles a
-** band's test finds hold for all of the band's rows while k is drawn. A band's test is
-** zh_T < the least lo of T's points (the bound at or below it, recounted when it is not
-** below zh_T and may be stale), so one made before k is drawn (face_hidden's, kept) gives
-** the answer face_draw's would: k's writes in the bands above touch other tiles. A face behind all
+** band's test finds hold for all of the band's rows while k is drawn. A band's test asks
+** of each tile T: T.ninf = 0 and zh_T < the least lo of T's points (T.lo is at or below
+** that least, and is recounted when it is not below zh_T and may be stale), so a test made
+** before k is drawn (face_hidden's, kept) gives the answer face_draw's would: k's writes
+** in the bands above it touch other tiles. A face behind all
 ** over its box is not drawn; only whether it covers a centre is asked (faces_culled):
 ** its middle row's crossings, as face_draw finds them, say yes, or face_draw runs with
 ** every part skipped. The faces are drawn in the Mapper's order without the tiles' tests
@@ -808,6 +809,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   for (int r = 0; r < nrow; r++) {
     int64_t j = jlo + r;
     const int ty = (int)(j >> TILE_SHIFT);
+    struct points_tile *trow = tiles ? p->tile + (size_t)ty * (size_t)ntx : NULL;
     if (coarse && ty != tyat) {                 /* a new band of tiles */
       const int nb = ty - (b->jlo >> TILE_SHIFT);
       int nhid;
@@ -827,7 +829,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       if (i0 >= i1) continue;
       any = true;
       const double zr = zb * (double)j + zc;
-      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, tiles ? p->tile + (size_t)ty * (size_t)ntx : NULL);
+      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, trow);
       continue;
     }
     int end = rc[r];                            /* row r: cross[start .. end) */
@@ -846,7 +848,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, tiles ? p->tile + (size_t)ty * (size_t)ntx : NULL);
+      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, trow);
     }
   }
   if (!any) p->faces_culled++;
