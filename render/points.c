@@ -22,8 +22,9 @@
 ** |dx|, |dy| < 2^29, |x0|, |y0| <= 2^28, |yn| < 2^33, yd < 2^8, xd < 2^9, S < 2^24:
 ** D < 2^61, |R| < 2^9 (2^65 + 2^37 2^29) + 2^69 < 2^77 — 128-bit. The first such i is
 ** floor(ceil(R / D) / 2). From one row to the next up, yn grows by 2 Dy, so R grows by a
-** constant dR = 2 xd Dy dx; R / D is stepped as quotient and remainder (remainder < D <
-** 2^61), with one division per edge for the start and one for the step. The quotients
+** constant dR = 2 xd Dy dx; c = ceil(R / D) is stepped with s = c D - R (0 <= s < D <
+** 2^61; s - drem > -2^61), with one division per edge for the start and one for the
+** step (dR = dq D + drem, 0 <= drem < D). The quotients
 ** fit 64 bits: R / D = xd (x - GRID_ONE XL) / S at the crossing's x (|x| <= 2^28, S >=
 ** 2^8), |R / D| < 2^9 2^29 / 2^8 = 2^30; |dR| < 2^9 2^25 2^29 = 2^63. A division is
 ** done in 64 bits when its dividend fits them, else in 128. R itself is worked out as
@@ -101,7 +102,11 @@
 ** lo < z_o. So P_k <= 0 (never in front) or |D_o| P_k < |D_k| P_o strictly: the exact
 ** compare keeps o (no tie to break). Skipping those points leaves every face and bound as
 ** the point-by-point loop leaves them. Face k writes nowhere it is behind, so the tiles a
-** band's test finds hold for all of the band's rows while k is drawn. A face behind all
+** band's test finds hold for all of the band's rows while k is drawn. A band's test asks
+** of each tile T: T.ninf = 0 and zh_T < the least lo of T's points (T.lo is at or below
+** that least, and is recounted when it is not below zh_T and may be stale), so a test made
+** before k is drawn (face_hidden's, kept) gives the answer face_draw's would: k's writes
+** in the bands above it touch other tiles. A face behind all
 ** over its box is not drawn; only whether it covers a centre is asked (faces_culled):
 ** its middle row's crossings, as face_draw finds them, say yes, or face_draw runs with
 ** every part skipped. The faces are drawn in the Mapper's order without the tiles' tests
@@ -147,8 +152,8 @@
 struct points_edge {
   int32_t jtop, jbot;       /* rows crossed: jtop .. jbot (j from the top), jtop <= jbot */
   bool up;                  /* y grows along the edge in its ring's order */
-  int64_t q;                /* floor(R / D) at row jbot */
-  int64_t rem;              /* R - q D, 0 <= rem < D */
+  int64_t c;                /* ceil(R / D) at row jbot */
+  int64_t s;                /* c D - R, 0 <= s < D */
   int64_t D;
   int64_t dq;               /* floor(dR / D) for a row up */
   int64_t drem;             /* dR - dq D */
@@ -418,9 +423,13 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       int64_t t0, t1, t2, R64;
       if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
           !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(g->xd, t2, &R64))
-        floor_divmod(R64, e->D, &e->q, &e->rem);
+        floor_divmod(R64, e->D, &e->c, &e->s);
       else
-        floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->q, &e->rem);
+        floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->c, &e->s);
+      if (e->s) {                               /* from floor to ceiling */
+        e->c++;
+        e->s = e->D - e->s;
+      }
       if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
       else e->dq = e->drem = 0;                 /* one row: never stepped */
     }
@@ -430,12 +439,21 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   return T74_OK;
 }
 
-static inline int32_t col_of(const struct grid *g, int64_t q, int64_t rem)
+/* The column of a crossing from c = ceil(R / D): floor(c / 2) clamped to [0, W]. */
+static inline int32_t col_of(const struct grid *g, int64_t c)
 {
-  int64_t c = q + (rem != 0);                   /* ceil(R / D) */
-  if (c <= 0) return 0;                         /* floor(c / 2) <= 0 */
-  c /= 2;
+  c = c > 0 ? c >> 1 : 0;                       /* floor(c / 2) <= 0: 0 */
   return c > g->W ? g->W : (int32_t)c;
+}
+
+/* An edge's crossing a row up: R grows by dR = dq D + drem, so c grows by dq, and by one
+   more when s - drem < 0 (then s gains D): a carry the branch predictor cannot guess, so
+   taken without a branch. */
+static inline void edge_step(const struct points_edge *e, int64_t *c, int64_t *s)
+{
+  const int64_t t = *s - e->drem, carry = -(int64_t)(t < 0);   /* -1 or 0, no branch */
+  *s = t + (e->D & carry);
+  *c += e->dq - carry;
 }
 
 /* The rule's answer for a pair it leaves undecided both ways (two faces of one number in
@@ -516,10 +534,13 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
     }
     if (!trow) { zb[i].lo = lo; continue; }
     struct points_tile *T = trow + (i >> TILE_SHIFT);
-    T->ninf += (lo == -HUGE_VAL) - (was == -HUGE_VAL);
+    const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
+    if (dn) T->ninf += dn;                      /* (seldom once the tile is covered) */
     zb[i].lo = lo;
-    if (lo < T->lo) T->lo = lo;
-    else if (was <= T->lo) T->dirty = true;     /* the least may have risen */
+    /* the bound lowered to lo, or marked when the least may have risen; no branch */
+    const double tl = T->lo;
+    T->lo = lo < tl ? lo : tl;
+    T->dirty |= !(lo < tl) & (was <= tl);
   }
 }
 /* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
@@ -556,7 +577,8 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
               c * 4 * g->W * g->H * (-g->Ez);
   const double Dd = (double)f->deye;
   const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
-               Gd = (double)pl->gamma;
+               Gd = pl->gamma == (int64_t)pl->gamma ? (double)(int64_t)pl->gamma  /* same value */
+                                                      : (double)pl->gamma;
   b->za = Ad / Dd;
   b->zb = Bd / Dd;
   b->zc = Gd / Dd;
@@ -587,18 +609,6 @@ static double face_key(const struct points *p, const struct grid *g, int k,
   return best;
 }
 
-/* The proven bound zh_T > z of face b at every point of its box within columns i0 .. i1
-   and rows j0 .. j1 ("Tiles"). */
-static double box_zh(const struct points_box *b, int32_t i0, int32_t i1, int32_t j0, int32_t j1)
-{
-  if (i0 < b->ilo) i0 = b->ilo;
-  if (i1 > b->ihi - 1) i1 = b->ihi - 1;
-  if (j0 < b->jlo) j0 = b->jlo;
-  if (j1 > b->jhi) j1 = b->jhi;
-  const double z0 = b->za * (double)(b->arise ? i1 : i0) + (b->zb * (double)(b->brise ? j1 : j0) + b->zc);
-  return z0 + 2 * b->E;
-}
-
 /* Tile (tx, ty)'s bound made exact: the least lo of its points (all finite). */
 static void tile_least(struct points *p, const struct grid *g, struct points_tile *T, int tx,
                        int ty)
@@ -606,43 +616,116 @@ static void tile_least(struct points *p, const struct grid *g, struct points_til
   int i0 = tx << TILE_SHIFT, i1 = i0 + TILE, j0 = ty << TILE_SHIFT, j1 = j0 + TILE;
   if (i1 > g->W) i1 = g->W;
   if (j1 > g->H) j1 = g->H;
-  double m = HUGE_VAL;
+  /* two running minima, even and odd columns (the lo's are > 0 or -inf, no zeros and no
+     NaN: the least is the same in any order) */
+  double m0 = HUGE_VAL, m1 = HUGE_VAL;
   for (int j = j0; j < j1; j++) {
     const struct points_z *zb = p->z + (size_t)j * (size_t)g->W;
-    for (int i = i0; i < i1; i++) m = zb[i].lo < m ? zb[i].lo : m;
+    int i = i0;
+    for (; i + 1 < i1; i += 2) {
+      m0 = zb[i].lo < m0 ? zb[i].lo : m0;
+      m1 = zb[i + 1].lo < m1 ? zb[i + 1].lo : m1;
+    }
+    if (i < i1) m0 = zb[i].lo < m0 ? zb[i].lo : m0;
   }
-  T->lo = m;
+  T->lo = m1 < m0 ? m1 : m0;
   T->dirty = false;
 }
 
 /* The tiles of band ty (columns tx0 .. tx1 of it, a bit each from tx0) where face b is
-   proven behind the faces seen: zh_T below the tile's bound ("Tiles"). */
+   proven behind the faces seen: zh_T below the tile's bound ("Tiles"); *nhid: how many.
+   zh_T, the proven bound zh_T > z of face b at every point of its box within the tile, is
+   fl(z0 + 2E) with z0 = za i + (zb j + zc) at the corner of the tile's part of the box
+   where z is greatest; the row part zb j + zc is the band's, found once. */
 static uint32_t band_hidden(struct points *p, const struct grid *g, const struct points_box *b,
-                            int ty, int tx0, int tx1)
+                            int ty, int tx0, int tx1, int *nhid)
 {
   const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
   struct points_tile *trow = p->tile + (size_t)ty * (size_t)ntx;
+  int32_t j0 = ty << TILE_SHIFT, j1 = ((ty + 1) << TILE_SHIFT) - 1;
+  if (j0 < b->jlo) j0 = b->jlo;
+  if (j1 > b->jhi) j1 = b->jhi;
+  const double zr = b->zb * (double)(b->brise ? j1 : j0) + b->zc, E2 = 2 * b->E;
   uint32_t hid = 0;
+  int n = 0;
   for (int t = tx0; t <= tx1; t++) {
     struct points_tile *T = trow + t;
     if (T->ninf) continue;
-    const double h = box_zh(b, t << TILE_SHIFT, ((t + 1) << TILE_SHIFT) - 1, ty << TILE_SHIFT,
-                            ((ty + 1) << TILE_SHIFT) - 1);
+    int32_t ic;                                 /* the column of the greatest z */
+    if (b->arise) {
+      ic = ((t + 1) << TILE_SHIFT) - 1;
+      if (ic > b->ihi - 1) ic = b->ihi - 1;
+    } else {
+      ic = t << TILE_SHIFT;
+      if (ic < b->ilo) ic = b->ilo;
+    }
+    const double h = (b->za * (double)ic + zr) + E2;
     if (!(h < T->lo) && T->dirty) tile_least(p, g, T, t, ty);
-    if (h < T->lo) hid |= 1u << (t - tx0);
+    if (h < T->lo) {
+      hid |= 1u << (t - tx0);
+      n++;
+    }
   }
+  *nhid = n;
   return hid;
 }
 
-/* Is face b proven behind at every tile of its box? */
-static bool face_hidden(struct points *p, const struct grid *g, const struct points_box *b)
+/* A band's answer from band_hidden, kept for face_draw: the tiles hidden and how many. */
+struct points_band {
+  uint32_t hid;
+  int n;
+};
+
+#define BANDS_KEPT 16                       /* bands of a box kept (the grid has at most 13) */
+
+/* Is face b proven behind at every tile of its box? The bands asked, from the box's first,
+   are kept in band[0 .. *nband) (at most BANDS_KEPT): the tiles a band's test finds
+   hold until face b writes in that band ("Tiles"), so face_draw takes them as they are. */
+static bool face_hidden(struct points *p, const struct grid *g, const struct points_box *b,
+                        struct points_band *band, int *nband)
 {
   const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
   const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
-  for (int ty = b->jlo >> TILE_SHIFT; ty <= b->jhi >> TILE_SHIFT; ty++)
-    if (band_hidden(p, g, b, ty, tx0, tx1) != all) return false;
+  *nband = 0;
+  for (int ty = b->jlo >> TILE_SHIFT; ty <= b->jhi >> TILE_SHIFT; ty++) {
+    int n;
+    const uint32_t hid = band_hidden(p, g, b, ty, tx0, tx1, &n);
+    if (*nband < BANDS_KEPT) band[(*nband)++] = (struct points_band){ hid, n };
+    if (hid != all) return false;
+  }
   p->tiles_skipped += (long)((b->jhi >> TILE_SHIFT) - (b->jlo >> TILE_SHIFT) + 1) * (tx1 - tx0 + 1);
   return true;
+}
+
+/* Face k (box b) over the columns i0 .. i1 - 1 of row j (zr = zb j + zc), the parts over
+   the tiles in hid (bits from tile tx0) left out: each part's bounds z0 -+ E at its first
+   point, z0 = za a + zr ("Float filter"). trow: row j's tiles, their bounds kept (NULL:
+   none kept; then hid is 0). */
+static inline __attribute__((always_inline)) void
+span_parts(struct points *p, const struct grid *g, int k, const struct points_box *b, int64_t j,
+           int32_t i0, int32_t i1, double zr, uint32_t hid, int tx0, struct points_tile *trow)
+{
+  const double za = b->za, E = b->E;
+  int32_t a = i0;                               /* the span's parts over tiles not hidden */
+  if (hid) {
+    for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
+      if (!(hid >> (t - tx0) & 1)) continue;
+      int32_t ts = t << TILE_SHIFT, te = ts + TILE;
+      if (ts > a) {                             /* (hid: the tiles are kept) */
+        const double z0 = za * (double)a + zr;
+        if (b->plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
+        else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
+      }
+      a = te < i1 ? te : i1;
+    }
+    if (a >= i1) return;
+  }
+  const double z0 = za * (double)a + zr;
+  if (!trow) {
+    if (b->plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, NULL);
+    else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, NULL);
+  } else if (b->plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
+  else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
 }
 
 /* Does face k (box b) cover a point centre of its box's middle row? (*yes; no says
@@ -659,7 +742,7 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
     return t74_fail(err, T74_EIO, "out of host memory");
   int32_t *cs = p->cross;
   for (int e = 0; e < ne; e++) {                /* insertion sort */
-    int32_t v = col_of(g, p->edge[e].q, p->edge[e].rem);
+    int32_t v = col_of(g, p->edge[e].c);
     int y = e - 1;
     while (y >= 0 && cs[y] > v) { cs[y + 1] = cs[y]; y--; }
     cs[y + 1] = v;
@@ -672,9 +755,10 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
    tile skipped when the tile's bound proves the face behind there (coarse, "Tiles"). tiles:
    the tiles' bounds are kept (some face of the frame is drawn coarse; always when this one
-   is). */
+   is). band[0 .. nband): the first bands' tests, made by face_hidden before k is drawn. */
 static int face_draw(struct points *p, const struct grid *g, int k, const struct points_box *b,
-                     bool coarse, bool tiles, struct t74_error *err)
+                     bool coarse, bool tiles, const struct points_band *band, int nband,
+                     struct t74_error *err)
 {
   const struct mface *f = &p->map.f[k];
   const int64_t jlo = b->jlo, jhi = b->jhi;
@@ -686,9 +770,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   if (!grow((void **)&p->rowcount, &p->rowcap, nrow + 1, sizeof *p->rowcount))
     return t74_fail(err, T74_EIO, "out of host memory");
   int *rc = p->rowcount;
-  if (two) {                                    /* row r: cross[2r] (up), cross[2r + 1] */
-    if (coarse) for (int r = 0; r < nrow; r++) rc[r] = 2 * r + 2;
-  } else {
+  if (!two) {                                   /* (two: row r at cross[2r] (up), cross[2r + 1]) */
     memset(rc, 0, (size_t)(nrow + 1) * sizeof *rc);
     for (int e = 0; e < ne; e++)
       for (int32_t j = p->edge[e].jtop; j <= p->edge[e].jbot; j++) rc[j - jlo + 1]++;
@@ -700,29 +782,24 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
      a row, the up edges' crossings at even slots, the others' at odd */
   for (int e = 0; e < ne; e++) {
     struct points_edge *E = &p->edge[e];
-    int64_t q = E->q, rem = E->rem;
+    int64_t c = E->c, sc = E->s;
     const int32_t jtop = E->jtop;
     if (two) {
-      int32_t *c = p->cross + 2 * (E->jbot - jlo) + !E->up;
-      for (int32_t j = E->jbot;; j--, c -= 2) {
-        *c = col_of(g, q, rem);
+      int32_t *x = p->cross + 2 * (E->jbot - jlo) + !E->up;
+      for (int32_t j = E->jbot;; j--, x -= 2) {
+        *x = col_of(g, c);
         if (j == jtop) break;
-        q += E->dq;
-        rem += E->drem;
-        if (rem >= E->D) { rem -= E->D; q++; }
+        edge_step(E, &c, &sc);
       }
       continue;
     }
     for (int32_t j = E->jbot;; j--) {
-      p->cross[rc[j - jlo]++] = col_of(g, q, rem);
+      p->cross[rc[j - jlo]++] = col_of(g, c);
       if (j == jtop) break;
-      q += E->dq;
-      rem += E->drem;
-      if (rem >= E->D) { rem -= E->D; q++; }
+      edge_step(E, &c, &sc);
     }
   }
-  const double za = b->za, zb = b->zb, zc = b->zc, E = b->E;
-  const bool plus = b->plus;
+  const double zb = b->zb, zc = b->zc;
   const int ntx = (g->W + TILE - 1) >> TILE_SHIFT;
   const int tx0 = b->ilo >> TILE_SHIFT, tx1 = (b->ihi - 1) >> TILE_SHIFT;
   const uint32_t all = (uint32_t)((UINT64_C(1) << (tx1 - tx0 + 1)) - 1);
@@ -730,6 +807,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   int tyat = -1;
   bool any = false;
   if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
+    const double za = b->za, E = b->E;
     for (int r = 0; r < nrow; r++) {
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
       if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
@@ -738,31 +816,48 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       const int64_t j = jlo + r;
       const double zr = zb * (double)j + zc, z0 = za * (double)i0 + zr;
       if (!tiles) {
-        if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, NULL);
+        if (b->plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, NULL);
         else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, NULL);
         continue;
       }
       struct points_tile *trow = p->tile + (size_t)(j >> TILE_SHIFT) * (size_t)ntx;
-      if (plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, trow);
+      if (b->plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, trow);
       else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, trow);
     }
     if (!any) p->faces_culled++;
     return T74_OK;
   }
-  int start = 0;
+  int start = 0;                                /* coarse, or not two crossings a row */
   for (int r = 0; r < nrow; r++) {
+    int64_t j = jlo + r;
+    const int ty = (int)(j >> TILE_SHIFT);
+    struct points_tile *trow = tiles ? p->tile + (size_t)ty * (size_t)ntx : NULL;
+    if (coarse && ty != tyat) {                 /* a new band of tiles */
+      const int nb = ty - (b->jlo >> TILE_SHIFT);
+      int nhid;
+      if (nb < nband) {                         /* face_hidden's answer */
+        hid = band[nb].hid;
+        nhid = band[nb].n;
+      } else {
+        hid = band_hidden(p, g, b, ty, tx0, tx1, &nhid);
+      }
+      p->tiles_skipped += nhid;
+      tyat = ty;
+    }
+    if (two) {                                  /* one span, often empty (slivers) */
+      if (hid == all && any) continue;          /* behind all along the band's rows */
+      int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
+      if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
+      if (i0 >= i1) continue;
+      any = true;
+      const double zr = zb * (double)j + zc;
+      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, trow);
+      continue;
+    }
     int end = rc[r];                            /* row r: cross[start .. end) */
     int32_t *cs = p->cross + start;
     int m = end - start;
     start = end;
-    int64_t j = jlo + r;
-    const int ty = (int)(j >> TILE_SHIFT);
-    struct points_tile *trow = p->tile + (size_t)ty * (size_t)ntx;
-    if (coarse && ty != tyat) {                 /* a new band of tiles */
-      hid = band_hidden(p, g, b, ty, tx0, tx1);
-      p->tiles_skipped += __builtin_popcount(hid);
-      tyat = ty;
-    }
     if (hid == all && any) continue;            /* behind all along the band's rows */
     for (int x = 1; x < m; x++) {               /* insertion sort: rows hold few */
       int32_t v = cs[x];
@@ -775,26 +870,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      int32_t a = i0;                           /* the span's parts over tiles not hidden */
-      if (hid) {
-        for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
-          if (!(hid >> (t - tx0) & 1)) continue;
-          int32_t ts = t << TILE_SHIFT, te = ts + TILE;
-          if (ts > a) {                         /* (hid: the tiles are kept) */
-            const double z0 = za * (double)a + zr;
-            if (plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
-            else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
-          }
-          a = te < i1 ? te : i1;
-        }
-        if (a >= i1) continue;
-      }
-      const double z0 = za * (double)a + zr;
-      if (!tiles) {
-        if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, NULL);
-        else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, NULL);
-      } else if (plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
-      else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
+      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, trow);
     }
   }
   if (!any) p->faces_culled++;
@@ -948,7 +1024,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     const struct points_box *b = &p->box[d];
     if (area < limit) {
       area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
-      if ((st = face_draw(p, &g, b->k, b, false, tiles, err)) != T74_OK) return st;
+      if ((st = face_draw(p, &g, b->k, b, false, tiles, NULL, 0, err)) != T74_OK) return st;
       continue;
     }
     p->box[nd] = *b;                              /* nd <= d */
@@ -960,14 +1036,17 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   for (int d = 0; d < nd; d++) {
     const struct points_box *b = &p->box[p->order[d]];
     const int k = b->k;
-    if (b->jhi - b->jlo >= 2 && face_hidden(p, &g, b)) {
+    struct points_band band[BANDS_KEPT];
+    int nband = 0;
+    if (b->jhi - b->jlo >= 2 && face_hidden(p, &g, b, band, &nband)) {
       /* behind all over: its points are not visited; drawn only when it is not yet
          known to cover a point centre (faces_culled counts the ones that cover none) */
       bool yes = false;
       if ((st = covers_middle(p, &g, k, b, &yes, err)) != T74_OK) return st;
       if (yes) continue;
     }
-    if ((st = face_draw(p, &g, k, b, true, true, err)) != T74_OK) return st;
+    if (p->retest_bands) nband = 0;
+    if ((st = face_draw(p, &g, k, b, true, true, band, nband, err)) != T74_OK) return st;
   }
   return T74_OK;
 }

@@ -55,6 +55,9 @@ struct points {
      the engine as it runs */
   bool no_tiles;                    /* true: no tiles, faces drawn in the Mapper's order
                                        (the engine without coarse coverage, for tests) */
+  bool retest_bands;                /* true: a face drawn with the tiles has each band
+                                       tested where it is drawn, none of the tests made
+                                       before it is drawn taken (tests: the same work) */
   uint64_t shuffle;                 /* not 0: tiles used whatever the scene, the faces
                                        drawn in an order shuffled by this seed instead of
                                        nearest first (tests: the picture does not depend

@@ -11,7 +11,10 @@
 ** families (tests/ref/scenegen.c), boxes with heavy overlap and interpenetrations, a crowd
 ** of large crossing triangles, every shipped scene and cube.obj, in both cell sizes.
 ** A layered scene (parallel plates drawn back to front) shows the tiles at work: span
-** parts skipped, and fewer point visits than without them (counts, not times).
+** parts skipped, and fewer point visits than without them (counts, not times). The tests
+** of a face's first bands made before it is drawn and taken where it is drawn give the
+** frame and the work counts (tiles skipped, point visits) of testing each band there
+** (`retest_bands`), in the engine's order and a shuffled one.
 ** T74_DIFF_SEEDS (default 400) sets the seeds per hard family.
 */
 #include <dirent.h>
@@ -37,14 +40,15 @@ struct tally {
 };
 
 /* One render of sc on grid g with the given knobs; the frame copied to out (W x H). */
-static int render_with(const struct scene *sc, const struct vis_grid *g, bool no_tiles,
-                       uint64_t shuffle, int32_t *out, int *culled, long *skipped,
-                       long *visited)
+static int render_knobs(const struct scene *sc, const struct vis_grid *g, bool no_tiles,
+                        uint64_t shuffle, bool retest, int32_t *out, int *culled,
+                        long *skipped, long *visited)
 {
   struct points p;
   memset(&p, 0, sizeof p);
   p.no_tiles = no_tiles;
   p.shuffle = shuffle;
+  p.retest_bands = retest;
   struct t74_error err = { 0, "" };
   int st = points_render(&p, sc, g, &err);
   if (st == T74_OK) {
@@ -55,6 +59,13 @@ static int render_with(const struct scene *sc, const struct vis_grid *g, bool no
   }
   points_free(&p);
   return st;
+}
+
+static int render_with(const struct scene *sc, const struct vis_grid *g, bool no_tiles,
+                       uint64_t shuffle, int32_t *out, int *culled, long *skipped,
+                       long *visited)
+{
+  return render_knobs(sc, g, no_tiles, shuffle, false, out, culled, skipped, visited);
 }
 
 /* Scene sc in one cell size: plain, coarse and two shuffled orders give one frame.
@@ -88,6 +99,18 @@ static long judge(const struct scene *sc, int cell, const char *name, uint64_t s
     assert_int_equal(c1, c0);
     if (run == 0) t->visited += v1;
     if (run == 1) t->skipped += s1;
+    if (run < 2) {                              /* every band tested where it is drawn: */
+      int c2 = 0;                               /* the same frame and the same work */
+      long s2 = 0, v2 = 0;
+      int32_t *again = calloc(n, sizeof *again);
+      assert_non_null(again);
+      assert_int_equal(render_knobs(sc, &g, false, sh, true, again, &c2, &s2, &v2), T74_OK);
+      assert_memory_equal(again, got, n * sizeof *got);
+      assert_int_equal(c2, c1);
+      assert_int_equal(s2, s1);
+      assert_int_equal(v2, v1);
+      free(again);
+    }
     for (size_t k = 0; k < n; k++)
       if (got[k] != want[k] && bad++ < 4)
         print_message("%s cell %d order %d: point (%d, %d) face %d, without coarse "
