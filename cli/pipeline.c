@@ -1028,21 +1028,36 @@ static inline int run_end(const int *face, int i, int n, int f)
   return e;
 }
 
-/* d[0 .. n) = id, and m[0 .. n) = mask */
-static inline void run_fill(uint32_t *d, uint16_t *m, int n, uint32_t id, uint16_t mask)
+/* d[0 .. n) = id, m[0 .. n) = mask and g[0 .. n) = grey (n >= 1); room >= n: the points
+** to the row's end. Eight points a store (SSE2): a run of eight or more ends with eight
+** stores that overlap its last ones; a shorter run with room for eight is written eight
+** wide past its end, at points of the same row that later runs (or the odd cell's own
+** writes) write again before the row is stored; else a point at a time. */
+static inline void run_fill(uint32_t *d, uint16_t *m, uint8_t *g, int n, int room, uint32_t id,
+                            uint16_t mask, uint8_t grey)
 {
   int q = 0;
 #ifdef __SSE2__
   const __m128i dv = _mm_set1_epi32((int)id), mv = _mm_set1_epi16((short)mask);
-  for (; q + 8 <= n; q += 8) {              /* eight points a pair of stores each */
-    _mm_storeu_si128((__m128i *)(void *)(d + q), dv);
-    _mm_storeu_si128((__m128i *)(void *)(d + q + 4), dv);
-    _mm_storeu_si128((__m128i *)(void *)(m + q), mv);
+  const __m128i gv = _mm_set1_epi8((char)grey);
+  if (n < 8 && room >= 8) n = 8;
+  if (n >= 8) {
+    for (;; q += 8) {
+      if (q + 8 > n) q = n - 8;             /* the last eight: overlapping */
+      _mm_storeu_si128((__m128i *)(void *)(d + q), dv);
+      _mm_storeu_si128((__m128i *)(void *)(d + q + 4), dv);
+      _mm_storeu_si128((__m128i *)(void *)(m + q), mv);
+      _mm_storel_epi64((__m128i *)(void *)(g + q), gv);
+      if (q + 8 == n) return;
+    }
   }
+#else
+  (void)room;
 #endif
   for (; q < n; q++) {
     d[q] = id;
     m[q] = mask;
+    g[q] = grey;
   }
 }
 
@@ -1069,8 +1084,7 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
     const struct face_out *o = &fo[f + 1];
     if (o->odd) break;
     const int e = run_end(face, i, n, f);   /* the run of points that see this face */
-    run_fill(ids + i, masks + i, e - i, o->id, o->mask);
-    memset(greys + i, o->grey, (size_t)(e - i));
+    run_fill(ids + i, masks + i, greys + i, e - i, n - i, o->id, o->mask, o->grey);
     sum += (uint64_t)o->level * (uint64_t)(e - i);
     i = e - 1;
   }
