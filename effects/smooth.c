@@ -801,6 +801,62 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
   }
 }
 
+/* The inner triangle's filter.
+**
+** A point of the partial smoothing is in region 0 (the flat inner triangle) when every
+** clamped barycentric coordinate l_k of the exact chain (bary_of_areas) is at least the
+** inset t_k (smooth_partial_normal); there its normal is the face's, whatever l is. The
+** filter proves that from the areas ar_k (bary_areas, the same doubles) with three
+** multiplies and compares a coordinate, no divide, or declines and leaves the point to
+** the chain (which decides it the same way it always did).
+**
+** Let at = |tot| (tot = btot), w_k = +-ar_k (tot's sign: exact), W = w_0 + w_1 + w_2 in
+** real numbers, u = 2^-53, c = 1 + 2^-40, tc_k = max(fl(t_k c), 2^-898) (a triangle's
+** three, made once for the run). The filter declines unless 2^-100 <= at <= 2^100, S =
+** fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k = fl(tc_k S). Then
+** tc_k S >= 2^-999 (so R_k is a normal number, rounded within a relative u) and every
+** w_k >= R_k >= at 2^-900 > 0; W <= S / (1 - u)^2, so each a_k = ar_k / tot = w_k / at
+** lies in [2^-900, 2 + 8u] and no step of the chain below underflows or overflows. The
+** chain: l'_k = fl(ar_k / tot) = a_k (1 + d), |d| <= u, positive (no clamp); their sum
+** s' (two adds of positive terms) = (sum a)(1 + e), |e| < 3.01u; l_k = l'_k when s' is 1,
+** else fl(l'_k / s'): either way l_k >= (w_k / W)(1 - 5.03u) (a_k / sum a is w_k / W).
+** When t_k > 0: R_k >= tc_k S (1 - u) >= t_k c (1 - u)^2 S >= t_k c (1 - u)^4 W (S: two
+** roundings down at most), so w_k / W >= t_k (1 - u)^4 (1 + 2^-40) and l_k >= t_k (1 +
+** 2^-40 - 10u) > t_k; when t_k = 0, l_k > 0 = t_k. So no l_k is below its t_k: the
+** chain says region 0. The filter declines only points within a relative 2^-40 of the
+** inner triangle's border (none in practice), and those outside it. test_smooth (test_inner_filter_is_exact) holds it to the chain on a grid in
+** and around every triangle of the globe under several insets, and on points bisected
+** onto the inner triangle's border, where it must decline. */
+static inline __attribute__((always_inline))
+void inner_scan(int n, const double (*ar)[3], const double tc[3], double lo, double hi,
+                double st, bool *inner)
+{
+  for (int p = 0; p < n; p++) {
+    const double w0 = st * ar[p][0], w1 = st * ar[p][1], w2 = st * ar[p][2];
+    const double S = w0 + w1 + w2;
+    inner[p] = S >= lo && S <= hi && w0 >= tc[0] * S && w1 >= tc[1] * S && w2 >= tc[2] * S;
+  }
+}
+
+static inline void inner_filter(const struct smooth_model *m, const struct smooth_tri *tr,
+                                int n, const double (*ar)[3], bool *inner)
+{
+  const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at, c = 1 + 0x1p-40;
+  if (m->inner_exact || !(at >= 0x1p-100 && at <= 0x1p100)) {
+    for (int p = 0; p < n; p++) inner[p] = false;
+    return;
+  }
+  double tc[3];
+  for (int k = 0; k < 3; k++) {
+    const double v = tr->t[k] * c;
+    tc[k] = v > 0x1p-898 ? v : 0x1p-898;
+  }
+  if (tot > 0) inner_scan(n, ar, tc, lo, hi, 1, inner);   /* w_k: ar_k, or -ar_k (exact) */
+  else inner_scan(n, ar, tc, lo, hi, -1, inner);
+  if (m->inner_declines)
+    for (int p = 0; p < n; p++) *m->inner_declines += !inner[p];
+}
+
 /* The Phong grey at points p < n <= SMOOTH_RUN from their areas: the filter, and the
    exact chain for a point it declines. */
 static inline void phong_lanes(const struct smooth_model *m, const struct smooth_tri *tr, int n,
@@ -849,9 +905,9 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   /* each point's steps, one step for all the points at a time (a point's grey is the
      one it has alone) */
   double l[SMOOTH_RUN][3];
-  bary_of_areas(tr, n, (const double (*)[3])ar, l);
   const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
+    bary_of_areas(tr, n, (const double (*)[3])ar, l);
     for (int p = 0; p < n; p++) {
       double gi = 0;
       for (int k = 0; k < 3; k++) {
@@ -866,24 +922,39 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
     }
     return;
   }
-  double nrm[SMOOTH_RUN][3], len[SMOOTH_RUN];
-  bool flat[SMOOTH_RUN];
-  for (int p = 0; p < n; p++) {
-    region[p] = smooth_partial_normal(tr, l[p], nrm[p]);
-    flat[p] = region[p] == 0 && refl == 1 && !blocked[p];   /* exactly the flat picture */
-    if (region[p] == 0) memcpy(nrm[p], tr->n, sizeof nrm[p]);
-  }
-  for (int p = 0; p < n; p++)                /* unit(), in steps */
-    len[p] = sqrt(nrm[p][0] * nrm[p][0] + nrm[p][1] * nrm[p][1] + nrm[p][2] * nrm[p][2]);
+  /* the partial smoothing: the inner triangle's points the filter proves are in it
+     (region 0, the face's normal) without the coordinates; the others by the chain */
+  double nrm[SMOOTH_RUN][3], len[SMOOTH_RUN], lar[SMOOTH_RUN][3];
+  bool inner[SMOOTH_RUN];
+  int at[SMOOTH_RUN], nl = 0;
+  inner_filter(m, tr, n, (const double (*)[3])ar, inner);
   for (int p = 0; p < n; p++)
-    if (!flat[p] && len[p] > 0) for (int c = 0; c < 3; c++) nrm[p][c] /= len[p];
+    if (!inner[p]) { memcpy(lar[nl], ar[p], sizeof lar[nl]); at[nl++] = p; }
+  bary_of_areas(tr, nl, (const double (*)[3])lar, l);
+  for (int q = 0; q < nl; q++) region[at[q]] = smooth_partial_normal(tr, l[q], nrm[at[q]]);
+  const int fg = map->f[tr->mface].grey;
+  nl = 0;                                    /* the points lit here */
   for (int p = 0; p < n; p++) {
-    int g;
-    if (flat[p]) g = map->f[tr->mface].grey;
-    else {
-      for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
-      g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
+    if (inner[p]) region[p] = 0;
+    if (region[p] == 0) {
+      if (refl == 1 && !blocked[p]) {        /* exactly the flat picture */
+        grey[p] = fg;
+        continue;
+      }
+      memcpy(nrm[p], tr->n, sizeof nrm[p]);
     }
+    at[nl++] = p;
+  }
+  for (int q = 0; q < nl; q++) {             /* unit(), in steps */
+    const double *v = nrm[at[q]];
+    len[q] = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  for (int q = 0; q < nl; q++)
+    if (len[q] > 0) for (int c = 0; c < 3; c++) nrm[at[q]][c] /= len[q];
+  for (int q = 0; q < nl; q++) {
+    const int p = at[q];
+    for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
+    const int g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
     grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
   }
 }

@@ -79,6 +79,12 @@ struct smooth_model {
      grey's filter"); phong_declines, when set, counts the points the filter left to it. */
   bool phong_exact;
   long *phong_declines;
+  /* Tests only too: inner_exact gives every point of the partial smoothing its region by
+     the exact chain, without the filter that finds the inner triangle's points (smooth.c,
+     "The inner triangle's filter"); inner_declines, when set, counts the points the
+     filter left to the chain. */
+  bool inner_exact;
+  long *inner_declines;
 };
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.

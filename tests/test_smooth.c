@@ -793,6 +793,98 @@ static void test_phong_filter_is_exact(void **state)
   lib_close(&L);
 }
 
+/* The grey and region at X by the inner triangle's filter (and the chain where it
+   declines) and by the chain alone; counts the filter's declines in *declines. */
+static void inner_both(struct lib *L, int t, const double X[3], double refl, unsigned blocked,
+                       const struct shade_lights *lights, long *declines, int g[2], int r[2])
+{
+  L->m.inner_declines = declines;
+  g[0] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, &r[0]);
+  L->m.inner_declines = NULL;
+  L->m.inner_exact = true;
+  g[1] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, &r[1]);
+  L->m.inner_exact = false;
+}
+
+/* The inner triangle's filter (smooth.c) gives the chain's region and grey, bit for bit,
+   under partial smoothings of several insets (prop:0.4: insets scaled to sum 1, the inner
+   triangle a point): on a grid of points in and around every triangle of the globe, with
+   reflectances 1 and 0.6 and the light blocked at some points; and on points bisected onto
+   the inner triangle's border (between its centre and a side's middle), where the one
+   inside must be declined by the filter and left to the chain (it is: counted). */
+static void test_inner_filter_is_exact(void **state)
+{
+  (void)state;
+  static const char *const kinds[] = { "smooth=fixed:0.05", "smooth=fixed:0.15",
+                                       "smooth=prop:0.15", "smooth=prop:0.3",
+                                       "smooth=prop:0.4" };
+  long grid = 0, inner = 0, borders = 0, border_declines = 0;
+  int differ = 0;
+  for (size_t kind = 0; kind < sizeof kinds / sizeof *kinds; kind++) {
+    struct lib L;
+    lib_open(&L, "scenes/sphere.s74", kinds[kind]);
+    struct shade_lights lights;
+    shade_lights_init(&lights, L.s);
+    for (int t = 0; t < L.m.ntri; t++) {
+      for (int a = -2; a <= 26; a++)
+        for (int b = -2; a + b <= 26; b++) {
+          const double w[3] = { a / 24.0, b / 24.0, (24 - a - b) / 24.0 };
+          double X[3];
+          tri_point(&L, t, w, X);
+          const double refl = (a + b) % 3 ? 1.0 : 0.6;
+          const unsigned blocked = (a + t) % 5 == 0;
+          int g[2], r[2];
+          long ignore = 0;
+          inner_both(&L, t, X, refl, blocked, &lights, &ignore, g, r);
+          differ += g[0] != g[1] || r[0] != r[1];
+          inner += r[1] == 0;
+          grid++;
+        }
+      /* the border on the way from the centre to side k's middle, bisected (the chain) */
+      for (int k = 0; k < 3; k++) {
+        double A[3], B[3], wb[3] = { 0.5, 0.5, 0.5 };
+        wb[k] = 0;
+        tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, A);
+        tri_point(&L, t, wb, B);
+        int g[2], ra[2], rb[2];
+        long ignore = 0;
+        inner_both(&L, t, A, 1.0, 0, &lights, &ignore, g, ra);
+        inner_both(&L, t, B, 1.0, 0, &lights, &ignore, g, rb);
+        if (ra[1] != 0 || rb[1] == 0) continue;
+        double s0 = 0, s1 = 1;
+        for (int it = 0; it < 200; it++) {
+          const double sm = 0.5 * (s0 + s1);
+          if (!(sm > s0 && sm < s1)) break;
+          double X[3];
+          for (int c = 0; c < 3; c++) X[c] = A[c] + sm * (B[c] - A[c]);
+          int r[2];
+          inner_both(&L, t, X, 1.0, 0, &lights, &ignore, g, r);
+          if (r[1] == 0) s0 = sm; else s1 = sm;
+        }
+        for (int side = 0; side < 2; side++) {
+          double X[3], sm = side ? s1 : s0;
+          for (int c = 0; c < 3; c++) X[c] = A[c] + sm * (B[c] - A[c]);
+          int r[2];
+          long declines = 0;
+          inner_both(&L, t, X, 1.0, 0, &lights, &declines, g, r);
+          assert_int_equal(g[0], g[1]);
+          assert_int_equal(r[0], r[1]);
+          assert_int_equal(r[1] == 0, side == 0);
+          border_declines += side == 0 && declines == 1;
+        }
+        borders++;
+      }
+    }
+    lib_close(&L);
+  }
+  print_message("inner filter: %ld grid points (%ld inner), %ld borders, %ld declined\n",
+                grid, inner, borders, border_declines);
+  assert_int_equal(differ, 0);
+  assert_true(inner > 1000 && inner * 4 < grid);
+  assert_true(borders > 1000);
+  assert_int_equal(border_declines, borders);
+}
+
 /* Two models the same, bit for bit (the kept scene part against a fresh build). */
 static void same_model(const struct smooth_model *a, const struct smooth_model *b, int nface)
 {
@@ -1188,6 +1280,7 @@ int main(void)
     cmocka_unit_test(test_run_is_single),
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
+    cmocka_unit_test(test_inner_filter_is_exact),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
     cmocka_unit_test(test_continuous_inside),
