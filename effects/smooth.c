@@ -90,6 +90,24 @@ void smooth_insets(enum effects_smooth kind, double c, double w, const double le
   if (sum > 1) for (int k = 0; k < 3; k++) t[k] /= sum;
 }
 
+static const int next3[3] = { 1, 2, 0 }, prev3[3] = { 2, 0, 1 };
+
+/* The triangle's band ends (smooth_tri.ends) for its insets and vertex normals: the
+   products smooth_partial_normal takes for every point, made once. */
+static void band_ends(struct smooth_tri *tr)
+{
+  const double *t = tr->t;
+  for (int k = 0; k < 3; k++) {
+    const int a = next3[k], b = prev3[k];
+    for (int c = 0; c < 3; c++) {
+      tr->ends[k][0][c] = t[a] * tr->cn[a][c] + (1 - t[a]) * tr->cn[b][c];
+      tr->ends[k][1][c] = (1 - t[b]) * tr->cn[a][c] + t[b] * tr->cn[b][c];
+      tr->ends[3 + k][0][c] = (1 - t[a]) * tr->cn[k][c] + t[a] * tr->cn[a][c];
+      tr->ends[3 + k][1][c] = (1 - t[b]) * tr->cn[k][c] + t[b] * tr->cn[b][c];
+    }
+  }
+}
+
 int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double out[3])
 {
   const double *t = tr->t;
@@ -98,29 +116,24 @@ int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double
   for (int k = 0; k < 3; k++) { in[k] = l[k] < t[k]; nb += in[k]; }
   if (nb == 0) { memcpy(out, tr->n, sizeof tr->n); return 0; }
   if (nb == 1) {
-    int k = in[0] ? 0 : in[1] ? 1 : 2, a = (k + 1) % 3, b = (k + 2) % 3;
+    int k = in[0] ? 0 : in[1] ? 1 : 2, a = next3[k], b = prev3[k];
     double v = l[k] / t[k];
     double den = 1 - l[k] - t[a] - t[b];
     double s = den > 1e-12 ? (l[a] - t[a]) / den : 0.5;
     if (s < 0) s = 0;
     if (s > 1) s = 1;
-    for (int c = 0; c < 3; c++) {
-      double na = t[a] * tr->cn[a][c] + (1 - t[a]) * tr->cn[b][c];   /* l_a = t_a on side k */
-      double nbv = (1 - t[b]) * tr->cn[a][c] + t[b] * tr->cn[b][c];  /* l_b = t_b on side k */
-      out[c] = (1 - v) * ((1 - s) * na + s * nbv) + v * tr->n[c];
-    }
+    const double (*e)[3] = tr->ends[k];     /* at l_a = t_a and l_b = t_b on side k */
+    for (int c = 0; c < 3; c++)
+      out[c] = (1 - v) * ((1 - s) * e[0][c] + s * e[1][c]) + v * tr->n[c];
     return 1;
   }
   if (nb == 2) {
-    int cv = !in[0] ? 0 : !in[1] ? 1 : 2, a = (cv + 1) % 3, b = (cv + 2) % 3;
+    int cv = !in[0] ? 0 : !in[1] ? 1 : 2, a = next3[cv], b = prev3[cv];
     double u = l[a] / t[a], w = l[b] / t[b];
-    for (int c = 0; c < 3; c++) {
-      double n00 = tr->cn[cv][c];
-      double n10 = (1 - t[a]) * tr->cn[cv][c] + t[a] * tr->cn[a][c];
-      double n01 = (1 - t[b]) * tr->cn[cv][c] + t[b] * tr->cn[b][c];
-      out[c] = (1 - u) * (1 - w) * n00 + u * (1 - w) * n10 + (1 - u) * w * n01 +
-               u * w * tr->n[c];
-    }
+    const double (*e)[3] = tr->ends[3 + cv];
+    for (int c = 0; c < 3; c++)
+      out[c] = (1 - u) * (1 - w) * tr->cn[cv][c] + u * (1 - w) * e[0][c] +
+               (1 - u) * w * e[1][c] + u * w * tr->n[c];
     return 2;
   }
   /* every coordinate inside a band: only when the insets sum to 1 and the point is the
@@ -516,8 +529,10 @@ static int orient_view(const struct smooth_scene *ss, const struct scene *s,
       }
     }
     double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(tri, from, to) : 0;
-    for (int t = from; t < to; t++)
+    for (int t = from; t < to; t++) {
       smooth_insets(e->smooth, e->smooth_c, w, tri[t].len, tri[t].area2, tri[t].t);
+      band_ends(&tri[t]);
+    }
   }
   return normals;
 }

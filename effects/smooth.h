@@ -57,6 +57,10 @@ struct smooth_tri {
   double bV[3][2];         /* the corners on them */
   double bE[3][2];         /* side k on them: corner (k + 2) % 3 less corner (k + 1) % 3 */
   double btot;             /* twice the signed area of the triangle so projected */
+  double ends[6][2][3];    /* the normals at the ends of the bands' borders (procedure (A)
+                              (3)), made with the insets: side k's band at l_a = t_a and
+                              at l_b = t_b (a, b the corners after k) in ends[k], corner
+                              k's quadrilateral on its sides towards a and b in ends[3 + k] */
 };
 
 struct smooth_model {
