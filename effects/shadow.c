@@ -209,7 +209,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
             ld gx = (ld)GRID_ONE * (E[0] + f * (Y[0] - E[0]) / dz);
             ld gy = (ld)GRID_ONE * (E[1] + f * (Y[1] - E[1]) / dz);
             if (fabsl(gx) > (ld)GRID_LIMIT || fabsl(gy) > (ld)GRID_LIMIT) continue;
-            struct gpoint g = { (gcoord)llroundl(gx), (gcoord)llroundl(gy) };
+            struct gpoint g = { fx_round_ld(gx), fx_round_ld(gy) };
             if (m > 0 && poly[need + (size_t)m - 1].x == g.x && poly[need + (size_t)m - 1].y == g.y) continue;
             poly[need + (size_t)m++] = g;
             if (cost) {

@@ -885,6 +885,44 @@ static void test_inner_filter_is_exact(void **state)
   assert_int_equal(border_declines, borders);
 }
 
+/* fx_round_ld (effects/poly.h, the shadows' grid points) is llroundl: at integers and
+   halves and the long doubles next to them on both sides, positive and negative, from 0
+   to 2^61, at random long doubles, and past 2^62 (the library's way). */
+static void test_round_ld_is_llroundl(void **state)
+{
+  (void)state;
+  long checked = 0, differ = 0;
+  uint64_t seed = 99;
+  for (int e = 0; e <= 61; e++)
+    for (int j = -2; j <= 2; j++) {
+      const long double k = ldexpl(1, e) + j;
+      const long double d[] = { 0, 0.5L, 0.25L, 0.75L, nextafterl(0.5L, 0), nextafterl(0.5L, 1),
+                                nextafterl(1, 0) };
+      for (size_t q = 0; q < sizeof d / sizeof *d; q++)
+        for (int sg = -1; sg <= 1; sg += 2) {
+          const long double x[3] = { sg * (k + d[q]), nextafterl(sg * (k + d[q]), 0),
+                                     nextafterl(sg * (k + d[q]), sg * INFINITY) };
+          for (int m = 0; m < 3; m++) {
+            differ += fx_round_ld(x[m]) != (gcoord)llroundl(x[m]);
+            checked++;
+          }
+        }
+    }
+  for (int r = 0; r < 100000; r++) {
+    seed = seed * 6364136223846793005u + 1442695040888963407u;
+    const long double x = ldexpl((long double)(int64_t)seed, -(int)(seed >> 58) - 8);
+    differ += fx_round_ld(x) != (gcoord)llroundl(x);
+    checked++;
+  }
+  const long double big[] = { 0x1p62L, -0x1p62L, 0x1p62L + 3, -0x1.8p62L };
+  for (size_t q = 0; q < sizeof big / sizeof *big; q++) {
+    differ += fx_round_ld(big[q]) != (gcoord)llroundl(big[q]);
+    checked++;
+  }
+  print_message("fx_round_ld: %ld values, %ld differ\n", checked, differ);
+  assert_int_equal(differ, 0);
+}
+
 /* Two models the same, bit for bit (the kept scene part against a fresh build). */
 static void same_model(const struct smooth_model *a, const struct smooth_model *b, int nface)
 {
@@ -1281,6 +1319,7 @@ int main(void)
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
     cmocka_unit_test(test_inner_filter_is_exact),
+    cmocka_unit_test(test_round_ld_is_llroundl),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
     cmocka_unit_test(test_continuous_inside),
