@@ -853,23 +853,57 @@ void inner_scan(int n, const double (*ar)[3], const double tc[3], double lo, dou
   }
 }
 
+/* bary_areas at points X[p], p < n, into ar[p], and the filter's answer for each into
+   inner[p]: two points an instruction where the processor has SSE2 (the same correctly
+   rounded operations on the same values, and the same tests), the rest one by one. */
 static inline void inner_filter(const struct smooth_model *m, const struct smooth_tri *tr,
-                                int n, const double (*ar)[3], bool *inner)
+                                int n, const double (*X)[3], double (*ar)[3], bool *inner)
 {
   const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at, c = 1 + 0x1p-40;
-  if (m->inner_exact || !(at >= 0x1p-100 && at <= 0x1p100)) {
-    for (int p = 0; p < n; p++) inner[p] = false;
-    return;
-  }
+  const bool usable = !m->inner_exact && at >= 0x1p-100 && at <= 0x1p100;
   double tc[3];
   for (int k = 0; k < 3; k++) {
     const double v = tr->t[k] * c;
     tc[k] = v > 0x1p-898 ? v : 0x1p-898;
   }
-  if (tot > 0) inner_scan(n, ar, tc, lo, hi, 1, inner);   /* w_k: ar_k, or -ar_k (exact) */
-  else inner_scan(n, ar, tc, lo, hi, -1, inner);
-  if (m->inner_declines)
-    for (int p = 0; p < n; p++) *m->inner_declines += !inner[p];
+  int p = 0;
+#ifdef __SSE2__
+  if (usable) {
+    const int bu = tr->bu, bw = tr->bw;
+    __m128d a0[3], a1[3], d0[3], d1[3], tv[3];
+    for (int k = 0; k < 3; k++) {
+      const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
+      a0[k] = _mm_set1_pd(a[0]); a1[k] = _mm_set1_pd(a[1]);
+      d0[k] = _mm_set1_pd(d[0]); d1[k] = _mm_set1_pd(d[1]);
+      tv[k] = _mm_set1_pd(tc[k]);
+    }
+    const __m128d sv = _mm_set1_pd(tot > 0 ? 1 : -1), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
+    for (; p + 2 <= n; p += 2) {
+      const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
+      __m128d w[3];
+      for (int k = 0; k < 3; k++) {
+        const __m128d v = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
+                                     _mm_mul_pd(_mm_sub_pd(x, a0[k]), d1[k]));
+        _mm_storel_pd(&ar[p][k], v);
+        _mm_storeh_pd(&ar[p + 1][k], v);
+        w[k] = _mm_mul_pd(sv, v);
+      }
+      const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
+      __m128d ok = _mm_and_pd(_mm_cmpge_pd(S, lov), _mm_cmple_pd(S, hiv));
+      for (int k = 0; k < 3; k++) ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(tv[k], S)));
+      const int bits = _mm_movemask_pd(ok);
+      inner[p] = bits & 1;
+      inner[p + 1] = bits >> 1 & 1;
+    }
+  }
+#endif
+  const int p0 = p;
+  for (; p < n; p++) bary_areas(tr, X[p], ar[p]);
+  if (!usable) for (p = p0; p < n; p++) inner[p] = false;
+  else if (tot > 0) inner_scan(n - p0, ar + p0, tc, lo, hi, 1, inner + p0);   /* w_k: ar_k, */
+  else inner_scan(n - p0, ar + p0, tc, lo, hi, -1, inner + p0);              /* or -ar_k */
+  if (m->inner_declines && usable)
+    for (p = 0; p < n; p++) *m->inner_declines += !inner[p];
 }
 
 /* The Phong grey at points p < n <= SMOOTH_RUN from their areas: the filter, and the
@@ -911,7 +945,10 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
 {
   const struct smooth_tri *tr = &m->tri[t];
   double ar[SMOOTH_RUN][3];
-  for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+  bool inner[SMOOTH_RUN];
+  if (e->smooth == EFFECTS_SMOOTH_PHONG || e->smooth == EFFECTS_SMOOTH_GOURAUD)
+    for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+  else inner_filter(m, tr, n, X, (double (*)[3])ar, inner);   /* the partial smoothing's */
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
     phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
     for (int p = 0; p < n; p++) region[p] = 1;
@@ -940,9 +977,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   /* the partial smoothing: the inner triangle's points the filter proves are in it
      (region 0, the face's normal) without the coordinates; the others by the chain */
   double nrm[SMOOTH_RUN][3], len[SMOOTH_RUN], lar[SMOOTH_RUN][3];
-  bool inner[SMOOTH_RUN];
   int at[SMOOTH_RUN], nl = 0;
-  inner_filter(m, tr, n, (const double (*)[3])ar, inner);
   for (int p = 0; p < n; p++)
     if (!inner[p]) { memcpy(lar[nl], ar[p], sizeof lar[nl]); at[nl++] = p; }
   bary_of_areas(tr, nl, (const double (*)[3])lar, l);

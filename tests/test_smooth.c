@@ -793,25 +793,28 @@ static void test_phong_filter_is_exact(void **state)
   lib_close(&L);
 }
 
-/* The grey and region at X by the inner triangle's filter (and the chain where it
-   declines) and by the chain alone; counts the filter's declines in *declines. */
-static void inner_both(struct lib *L, int t, const double X[3], double refl, unsigned blocked,
-                       const struct shade_lights *lights, long *declines, int g[2], int r[2])
+/* The greys and regions at a run of n points X[p] by the inner triangle's filter (and the
+   chain where it declines) in g[0], r[0] and by the chain alone in g[1], r[1]; counts the
+   points the filter does not take in *declines. */
+static void inner_both(struct lib *L, int t, int n, const double (*X)[3], double refl,
+                       const unsigned *blocked, const struct shade_lights *lights,
+                       long *declines, int g[2][SMOOTH_RUN], int r[2][SMOOTH_RUN])
 {
   L->m.inner_declines = declines;
-  g[0] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, &r[0]);
+  smooth_grey_run(&L->m, &L->r.map, L->s, &L->e, t, n, X, refl, blocked, lights, g[0], r[0]);
   L->m.inner_declines = NULL;
   L->m.inner_exact = true;
-  g[1] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, &r[1]);
+  smooth_grey_run(&L->m, &L->r.map, L->s, &L->e, t, n, X, refl, blocked, lights, g[1], r[1]);
   L->m.inner_exact = false;
 }
 
 /* The inner triangle's filter (smooth.c) gives the chain's region and grey, bit for bit,
    under partial smoothings of several insets (prop:0.4: insets scaled to sum 1, the inner
-   triangle a point): on a grid of points in and around every triangle of the globe, with
-   reflectances 1 and 0.6 and the light blocked at some points; and on points bisected onto
-   the inner triangle's border (between its centre and a side's middle), where the one
-   inside must be declined by the filter and left to the chain (it is: counted). */
+   triangle a point), in runs of 1 to SMOOTH_RUN points (two a step, and one alone): on a
+   grid of points in and around every triangle of the globe, with reflectances 1 and 0.6
+   and the light blocked at some points; and on points bisected onto the inner triangle's
+   border (between its centre and a side's middle), where the one inside must be declined
+   by the filter and left to the chain (it is: counted), alone and in a run of the two. */
 static void test_inner_filter_is_exact(void **state)
 {
   (void)state;
@@ -826,51 +829,66 @@ static void test_inner_filter_is_exact(void **state)
     struct shade_lights lights;
     shade_lights_init(&lights, L.s);
     for (int t = 0; t < L.m.ntri; t++) {
-      for (int a = -2; a <= 26; a++)
+      for (int a = -2; a <= 26; a++) {
+        double X[SMOOTH_RUN][3];
+        unsigned blocked[SMOOTH_RUN];
+        const double refl = a % 3 ? 1.0 : 0.6;
+        int n = 0;
+        const int len = 1 + (a + t) % SMOOTH_RUN;
         for (int b = -2; a + b <= 26; b++) {
           const double w[3] = { a / 24.0, b / 24.0, (24 - a - b) / 24.0 };
-          double X[3];
-          tri_point(&L, t, w, X);
-          const double refl = (a + b) % 3 ? 1.0 : 0.6;
-          const unsigned blocked = (a + t) % 5 == 0;
-          int g[2], r[2];
+          tri_point(&L, t, w, X[n]);
+          blocked[n++] = (b + t) % 5 == 0;
+          if (n < len && a + b + 1 <= 26) continue;
+          int g[2][SMOOTH_RUN], r[2][SMOOTH_RUN];
           long ignore = 0;
-          inner_both(&L, t, X, refl, blocked, &lights, &ignore, g, r);
-          differ += g[0] != g[1] || r[0] != r[1];
-          inner += r[1] == 0;
-          grid++;
+          inner_both(&L, t, n, (const double (*)[3])X, refl, blocked, &lights, &ignore, g, r);
+          for (int q = 0; q < n; q++) {
+            differ += g[0][q] != g[1][q] || r[0][q] != r[1][q];
+            inner += r[1][q] == 0;
+            grid++;
+          }
+          n = 0;
         }
+      }
       /* the border on the way from the centre to side k's middle, bisected (the chain) */
       for (int k = 0; k < 3; k++) {
-        double A[3], B[3], wb[3] = { 0.5, 0.5, 0.5 };
+        double AB[2][3], wb[3] = { 0.5, 0.5, 0.5 };
+        const double *A = AB[0], *B = AB[1];
+        const unsigned none[2] = { 0, 0 };
         wb[k] = 0;
-        tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, A);
-        tri_point(&L, t, wb, B);
-        int g[2], ra[2], rb[2];
+        tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, AB[0]);
+        tri_point(&L, t, wb, AB[1]);
+        int g[2][SMOOTH_RUN], r[2][SMOOTH_RUN];
         long ignore = 0;
-        inner_both(&L, t, A, 1.0, 0, &lights, &ignore, g, ra);
-        inner_both(&L, t, B, 1.0, 0, &lights, &ignore, g, rb);
-        if (ra[1] != 0 || rb[1] == 0) continue;
+        inner_both(&L, t, 2, (const double (*)[3])AB, 1.0, none, &lights, &ignore, g, r);
+        if (r[1][0] != 0 || r[1][1] == 0) continue;
         double s0 = 0, s1 = 1;
         for (int it = 0; it < 200; it++) {
           const double sm = 0.5 * (s0 + s1);
           if (!(sm > s0 && sm < s1)) break;
-          double X[3];
-          for (int c = 0; c < 3; c++) X[c] = A[c] + sm * (B[c] - A[c]);
-          int r[2];
-          inner_both(&L, t, X, 1.0, 0, &lights, &ignore, g, r);
-          if (r[1] == 0) s0 = sm; else s1 = sm;
+          double X[1][3];
+          for (int c = 0; c < 3; c++) X[0][c] = A[c] + sm * (B[c] - A[c]);
+          inner_both(&L, t, 1, (const double (*)[3])X, 1.0, none, &lights, &ignore, g, r);
+          if (r[1][0] == 0) s0 = sm; else s1 = sm;
         }
-        for (int side = 0; side < 2; side++) {
-          double X[3], sm = side ? s1 : s0;
-          for (int c = 0; c < 3; c++) X[c] = A[c] + sm * (B[c] - A[c]);
-          int r[2];
+        double X[2][3];
+        for (int c = 0; c < 3; c++) {
+          X[0][c] = A[c] + s0 * (B[c] - A[c]);
+          X[1][c] = A[c] + s1 * (B[c] - A[c]);
+        }
+        for (int way = 0; way < 3; way++) {  /* each alone, then the two in a run */
+          const int n = way < 2 ? 1 : 2;
           long declines = 0;
-          inner_both(&L, t, X, 1.0, 0, &lights, &declines, g, r);
-          assert_int_equal(g[0], g[1]);
-          assert_int_equal(r[0], r[1]);
-          assert_int_equal(r[1] == 0, side == 0);
-          border_declines += side == 0 && declines == 1;
+          inner_both(&L, t, n, (const double (*)[3])(X + (way == 1)), 1.0, none, &lights,
+                     &declines, g, r);
+          for (int q = 0; q < n; q++) {
+            assert_int_equal(g[0][q], g[1][q]);
+            assert_int_equal(r[0][q], r[1][q]);
+            assert_int_equal(r[1][q] == 0, q == 0 && way != 1);
+          }
+          border_declines += way == 0 && declines == 1;
+          border_declines += way == 2 && declines == 2;   /* the outside one is not taken */
         }
         borders++;
       }
@@ -882,7 +900,7 @@ static void test_inner_filter_is_exact(void **state)
   assert_int_equal(differ, 0);
   assert_true(inner > 1000 && inner * 4 < grid);
   assert_true(borders > 1000);
-  assert_int_equal(border_declines, borders);
+  assert_int_equal(border_declines, 2 * borders);
 }
 
 /* fx_round_ld (effects/poly.h, the shadows' grid points) is llroundl: at integers and
