@@ -171,7 +171,7 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
     }
   }
   if (e->shadows && s->has_light) {
-    if ((rc = shadow_build(map, s, &m->shadows, st, cost, err)) != T74_OK) return rc;
+    if ((rc = shadow_build(map, s, &m->shadows, st, counted, err)) != T74_OK) return rc;
     if (m->shadows.n > 0)              /* none cast: p may be NULL, which qsort may not take */
       qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
     m->shadow_first = calloc((size_t)map->nface + 1, sizeof *m->shadow_first);
@@ -317,15 +317,12 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
                       const unsigned *blocked, const double *px, double py, uint8_t *grey,
                       int *region)
 {
+  static const unsigned none[SMOOTH_RUN];  /* a face of its own grey is not lit */
   double X[SMOOTH_RUN][3];
-  unsigned b[SMOOTH_RUN] = { 0 };
   int g[SMOOTH_RUN];
-  for (int p = 0; p < n; p++) {
-    b[p] = fs->lit ? blocked[p] : 0;       /* a face of its own grey is not lit */
-    space_point(m, face, px[p], py, X[p]);
-  }
-  smooth_grey_run(&m->sm, m->map, m->s, m->e, fs->tri, n, (const double (*)[3])X, 1.0, b,
-                  &m->lights, g, region);
+  for (int p = 0; p < n; p++) space_point(m, face, px[p], py, X[p]);
+  smooth_grey_run(&m->sm, m->map, m->s, m->e, fs->tri, n, (const double (*)[3])X, 1.0,
+                  fs->lit ? blocked : none, &m->lights, g, region);
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
@@ -897,6 +894,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   struct cost *pc = m->count ? cost : NULL;
   long cut = 0, show_face = 0, show_none = 0, shadowed = 0;
   long pts = 0, flat = 0, band = 0, corner = 0;
+  long runs[3] = { 0, 0, 0 };               /* shade_run's points by region */
   const bool bg = m->bg != NULL;
   for (int j = H - 1; j >= 0; j--) {
     size_t at0 = (size_t)j * (size_t)W;
@@ -953,8 +951,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         int e = i + 1, rg[SMOOTH_RUN];
         while (e < W && e - i < SMOOTH_RUN && fr[e] == face) e++;
         shade_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i, rg);
-        for (int q = 0; q < e - i; q++)
-          if (rg[q] == 0) flat++; else if (rg[q] == 2) corner++; else band++;
+        for (int q = 0; q < e - i; q++) runs[rg[q]]++;   /* 0, 1 or 2 there */
         pts += e - i;
         i = e - 1;
         continue;
@@ -968,6 +965,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   fx_lines_close(L);
   free(blocked); free(row); free(px);
   if (rc != T74_OK) return rc;
+  flat += runs[0]; band += runs[1]; corner += runs[2];
   if (m->e->contour_on && m->smooth) {
     fx_count(st, "contour_points_cut", (double)cut, true);
     fx_count(st, "contour_points_show_face", (double)show_face, true);

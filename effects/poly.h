@@ -36,6 +36,16 @@ struct fx_poly {
 
 struct fx_polys { struct fx_poly *p; int n, cap; };
 
+/* llroundl(x) as a grid coordinate: the same integer (half away from zero), without the
+   library call (the part of x after its truncation is exact in a long double). */
+static inline gcoord fx_round_ld(long double x)
+{
+  if (!(fabsl(x) < 0x1p62L)) return (gcoord)llroundl(x);
+  const int64_t t = (int64_t)x;
+  const long double f = x - (long double)t;
+  return (gcoord)(t + (f >= 0.5L) - (f <= -0.5L));
+}
+
 /* Append a polygon of nring rings (rs[0..nring], pt) — copied; the box is computed.
    false when out of host memory. Rings of fewer than 3 points are dropped (and a polygon
    left with none is not added). */

@@ -152,7 +152,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
         if (nl >= 0) continue;
         q.nL = (ld)mf->plane[0] * q.P[0] + (ld)mf->plane[1] * q.P[1] + (ld)mf->plane[2] * q.P[2];
       }
-      COST_ADD_N(cost, COST_MEM, 6);
+      if (cost) COST_ADD_N(cost, COST_MEM, 6);
       for (int a = 0; a < s->nf && st_ == T74_OK; a++) {
         if (a == mf->sface) continue;
         const struct scene_face *fa = &s->f[a];
@@ -166,7 +166,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
           if (pv < 0) near = true;
           if (pv != 0) off = true;
         }
-        for (int v = 0; v < nv; v++) cost_mw_mul(cost, 34, 16);
+        for (int v = 0; cost && v < nv; v++) cost_mw_mul(cost, 34, 16);
         if (!near || !off) continue;
         size_t need = 0;
         int nring = 0;
@@ -187,7 +187,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
               ld (*t)[3] = in; in = o; o = t;
               ld *tp = pin; pin = po; po = tp;
             }
-            for (int v = 0; v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
+            for (int v = 0; cost && v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
           }
           if (n < 3) continue;
           if (need + (size_t)n > polycap) {
@@ -209,11 +209,13 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct fx_poly
             ld gx = (ld)GRID_ONE * (E[0] + f * (Y[0] - E[0]) / dz);
             ld gy = (ld)GRID_ONE * (E[1] + f * (Y[1] - E[1]) / dz);
             if (fabsl(gx) > (ld)GRID_LIMIT || fabsl(gy) > (ld)GRID_LIMIT) continue;
-            struct gpoint g = { (gcoord)llroundl(gx), (gcoord)llroundl(gy) };
+            struct gpoint g = { fx_round_ld(gx), fx_round_ld(gy) };
             if (m > 0 && poly[need + (size_t)m - 1].x == g.x && poly[need + (size_t)m - 1].y == g.y) continue;
             poly[need + (size_t)m++] = g;
-            for (int c = 0; c < 4; c++) cost_mw_mul(cost, 32, 32);
-            cost_mw_div(cost, 64, 32); cost_mw_div(cost, 64, 32);
+            if (cost) {
+              for (int c = 0; c < 4; c++) cost_mw_mul(cost, 32, 32);
+              cost_mw_div(cost, 64, 32); cost_mw_div(cost, 64, 32);
+            }
           }
           if (m > 1 && poly[need].x == poly[need + (size_t)m - 1].x && poly[need].y == poly[need + (size_t)m - 1].y) m--;
           if (m < 3) continue;

@@ -24,7 +24,8 @@
 #include "effects/poly.h"
 
 /* The shadow polygons of scene s on its Mapper's faces map (owner: the mapped face,
-   light: the light), appended to out. Counted in cost; statistics shadow_polygons and
+   light: the light), appended to out. Counted in cost (NULL: not counted, the points
+   engine, which models no machine); statistics shadow_polygons and
    shadow_receivers into st. */
 int shadow_build(const struct mapped *map, const struct scene *s, struct fx_polys *out,
                  struct fx_stats *st, struct cost *cost, struct t74_error *err);

@@ -90,6 +90,24 @@ void smooth_insets(enum effects_smooth kind, double c, double w, const double le
   if (sum > 1) for (int k = 0; k < 3; k++) t[k] /= sum;
 }
 
+static const int next3[3] = { 1, 2, 0 }, prev3[3] = { 2, 0, 1 };
+
+/* The triangle's band ends (smooth_tri.ends) for its insets and vertex normals: the
+   products smooth_partial_normal takes for every point, made once. */
+static void band_ends(struct smooth_tri *tr)
+{
+  const double *t = tr->t;
+  for (int k = 0; k < 3; k++) {
+    const int a = next3[k], b = prev3[k];
+    for (int c = 0; c < 3; c++) {
+      tr->ends[k][0][c] = t[a] * tr->cn[a][c] + (1 - t[a]) * tr->cn[b][c];
+      tr->ends[k][1][c] = (1 - t[b]) * tr->cn[a][c] + t[b] * tr->cn[b][c];
+      tr->ends[3 + k][0][c] = (1 - t[a]) * tr->cn[k][c] + t[a] * tr->cn[a][c];
+      tr->ends[3 + k][1][c] = (1 - t[b]) * tr->cn[k][c] + t[b] * tr->cn[b][c];
+    }
+  }
+}
+
 int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double out[3])
 {
   const double *t = tr->t;
@@ -98,29 +116,24 @@ int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double
   for (int k = 0; k < 3; k++) { in[k] = l[k] < t[k]; nb += in[k]; }
   if (nb == 0) { memcpy(out, tr->n, sizeof tr->n); return 0; }
   if (nb == 1) {
-    int k = in[0] ? 0 : in[1] ? 1 : 2, a = (k + 1) % 3, b = (k + 2) % 3;
+    int k = in[0] ? 0 : in[1] ? 1 : 2, a = next3[k], b = prev3[k];
     double v = l[k] / t[k];
     double den = 1 - l[k] - t[a] - t[b];
     double s = den > 1e-12 ? (l[a] - t[a]) / den : 0.5;
     if (s < 0) s = 0;
     if (s > 1) s = 1;
-    for (int c = 0; c < 3; c++) {
-      double na = t[a] * tr->cn[a][c] + (1 - t[a]) * tr->cn[b][c];   /* l_a = t_a on side k */
-      double nbv = (1 - t[b]) * tr->cn[a][c] + t[b] * tr->cn[b][c];  /* l_b = t_b on side k */
-      out[c] = (1 - v) * ((1 - s) * na + s * nbv) + v * tr->n[c];
-    }
+    const double (*e)[3] = tr->ends[k];     /* at l_a = t_a and l_b = t_b on side k */
+    for (int c = 0; c < 3; c++)
+      out[c] = (1 - v) * ((1 - s) * e[0][c] + s * e[1][c]) + v * tr->n[c];
     return 1;
   }
   if (nb == 2) {
-    int cv = !in[0] ? 0 : !in[1] ? 1 : 2, a = (cv + 1) % 3, b = (cv + 2) % 3;
+    int cv = !in[0] ? 0 : !in[1] ? 1 : 2, a = next3[cv], b = prev3[cv];
     double u = l[a] / t[a], w = l[b] / t[b];
-    for (int c = 0; c < 3; c++) {
-      double n00 = tr->cn[cv][c];
-      double n10 = (1 - t[a]) * tr->cn[cv][c] + t[a] * tr->cn[a][c];
-      double n01 = (1 - t[b]) * tr->cn[cv][c] + t[b] * tr->cn[b][c];
-      out[c] = (1 - u) * (1 - w) * n00 + u * (1 - w) * n10 + (1 - u) * w * n01 +
-               u * w * tr->n[c];
-    }
+    const double (*e)[3] = tr->ends[3 + cv];
+    for (int c = 0; c < 3; c++)
+      out[c] = (1 - u) * (1 - w) * tr->cn[cv][c] + u * (1 - w) * e[0][c] +
+               (1 - u) * w * e[1][c] + u * w * tr->n[c];
     return 2;
   }
   /* every coordinate inside a band: only when the insets sum to 1 and the point is the
@@ -516,8 +529,10 @@ static int orient_view(const struct smooth_scene *ss, const struct scene *s,
       }
     }
     double w = e->smooth == EFFECTS_SMOOTH_FIXED ? e->smooth_c * mean_height(tri, from, to) : 0;
-    for (int t = from; t < to; t++)
+    for (int t = from; t < to; t++) {
       smooth_insets(e->smooth, e->smooth_c, w, tri[t].len, tri[t].area2, tri[t].t);
+      band_ends(&tri[t]);
+    }
   }
   return normals;
 }
@@ -801,6 +816,96 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
   }
 }
 
+/* The inner triangle's filter.
+**
+** A point of the partial smoothing is in region 0 (the flat inner triangle) when every
+** clamped barycentric coordinate l_k of the exact chain (bary_of_areas) is at least the
+** inset t_k (smooth_partial_normal); there its normal is the face's, whatever l is. The
+** filter proves that from the areas ar_k (bary_areas, the same doubles) with three
+** multiplies and compares a coordinate, no divide, or declines and leaves the point to
+** the chain (which decides it the same way it always did).
+**
+** Let at = |tot| (tot = btot), w_k = +-ar_k (tot's sign: exact), W = w_0 + w_1 + w_2 in
+** real numbers, u = 2^-53, c = 1 + 2^-40, tc_k = max(fl(t_k c), 2^-898) (a triangle's
+** three, made once for the run). The filter declines unless 2^-100 <= at <= 2^100, S =
+** fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k = fl(tc_k S). Then
+** tc_k S >= 2^-999 (so R_k is a normal number, rounded within a relative u) and every
+** w_k >= R_k >= at 2^-900 > 0; W <= S / (1 - u)^2, so each a_k = ar_k / tot = w_k / at
+** lies in [2^-900, 2 + 8u] and no step of the chain below underflows or overflows. The
+** chain: l'_k = fl(ar_k / tot) = a_k (1 + d), |d| <= u, positive (no clamp); their sum
+** s' (two adds of positive terms) = (sum a)(1 + e), |e| < 3.01u; l_k = l'_k when s' is 1,
+** else fl(l'_k / s'): either way l_k >= (w_k / W)(1 - 5.03u) (a_k / sum a is w_k / W).
+** When t_k > 0: R_k >= tc_k S (1 - u) >= t_k c (1 - u)^2 S >= t_k c (1 - u)^4 W (S: two
+** roundings down at most), so w_k / W >= t_k (1 - u)^4 (1 + 2^-40) and l_k >= t_k (1 +
+** 2^-40 - 10u) > t_k; when t_k = 0, l_k > 0 = t_k. So no l_k is below its t_k: the
+** chain says region 0. The filter declines only points within a relative 2^-40 of the
+** inner triangle's border (none in practice), and those outside it. test_smooth (test_inner_filter_is_exact) holds it to the chain on a grid in
+** and around every triangle of the globe under several insets, and on points bisected
+** onto the inner triangle's border, where it must decline. */
+static inline __attribute__((always_inline))
+void inner_scan(int n, const double (*ar)[3], const double tc[3], double lo, double hi,
+                double st, bool *inner)
+{
+  for (int p = 0; p < n; p++) {
+    const double w0 = st * ar[p][0], w1 = st * ar[p][1], w2 = st * ar[p][2];
+    const double S = w0 + w1 + w2;
+    inner[p] = S >= lo && S <= hi && w0 >= tc[0] * S && w1 >= tc[1] * S && w2 >= tc[2] * S;
+  }
+}
+
+/* bary_areas at points X[p], p < n, into ar[p], and the filter's answer for each into
+   inner[p]: two points an instruction where the processor has SSE2 (the same correctly
+   rounded operations on the same values, and the same tests), the rest one by one. */
+static inline void inner_filter(const struct smooth_model *m, const struct smooth_tri *tr,
+                                int n, const double (*X)[3], double (*ar)[3], bool *inner)
+{
+  const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at, c = 1 + 0x1p-40;
+  const bool usable = !m->inner_exact && at >= 0x1p-100 && at <= 0x1p100;
+  double tc[3];
+  for (int k = 0; k < 3; k++) {
+    const double v = tr->t[k] * c;
+    tc[k] = v > 0x1p-898 ? v : 0x1p-898;
+  }
+  int p = 0;
+#ifdef __SSE2__
+  if (usable) {
+    const int bu = tr->bu, bw = tr->bw;
+    __m128d a0[3], a1[3], d0[3], d1[3], tv[3];
+    for (int k = 0; k < 3; k++) {
+      const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
+      a0[k] = _mm_set1_pd(a[0]); a1[k] = _mm_set1_pd(a[1]);
+      d0[k] = _mm_set1_pd(d[0]); d1[k] = _mm_set1_pd(d[1]);
+      tv[k] = _mm_set1_pd(tc[k]);
+    }
+    const __m128d sv = _mm_set1_pd(tot > 0 ? 1 : -1), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
+    for (; p + 2 <= n; p += 2) {
+      const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
+      __m128d w[3];
+      for (int k = 0; k < 3; k++) {
+        const __m128d v = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
+                                     _mm_mul_pd(_mm_sub_pd(x, a0[k]), d1[k]));
+        _mm_storel_pd(&ar[p][k], v);
+        _mm_storeh_pd(&ar[p + 1][k], v);
+        w[k] = _mm_mul_pd(sv, v);
+      }
+      const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
+      __m128d ok = _mm_and_pd(_mm_cmpge_pd(S, lov), _mm_cmple_pd(S, hiv));
+      for (int k = 0; k < 3; k++) ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(tv[k], S)));
+      const int bits = _mm_movemask_pd(ok);
+      inner[p] = bits & 1;
+      inner[p + 1] = bits >> 1 & 1;
+    }
+  }
+#endif
+  const int p0 = p;
+  for (; p < n; p++) bary_areas(tr, X[p], ar[p]);
+  if (!usable) for (p = p0; p < n; p++) inner[p] = false;
+  else if (tot > 0) inner_scan(n - p0, ar + p0, tc, lo, hi, 1, inner + p0);   /* w_k: ar_k, */
+  else inner_scan(n - p0, ar + p0, tc, lo, hi, -1, inner + p0);              /* or -ar_k */
+  if (m->inner_declines && usable)
+    for (p = 0; p < n; p++) *m->inner_declines += !inner[p];
+}
+
 /* The Phong grey at points p < n <= SMOOTH_RUN from their areas: the filter, and the
    exact chain for a point it declines. */
 static inline void phong_lanes(const struct smooth_model *m, const struct smooth_tri *tr, int n,
@@ -840,7 +945,10 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
 {
   const struct smooth_tri *tr = &m->tri[t];
   double ar[SMOOTH_RUN][3];
-  for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+  bool inner[SMOOTH_RUN];
+  if (e->smooth == EFFECTS_SMOOTH_PHONG || e->smooth == EFFECTS_SMOOTH_GOURAUD)
+    for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+  else inner_filter(m, tr, n, X, (double (*)[3])ar, inner);   /* the partial smoothing's */
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
     phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
     for (int p = 0; p < n; p++) region[p] = 1;
@@ -849,9 +957,9 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   /* each point's steps, one step for all the points at a time (a point's grey is the
      one it has alone) */
   double l[SMOOTH_RUN][3];
-  bary_of_areas(tr, n, (const double (*)[3])ar, l);
   const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
+    bary_of_areas(tr, n, (const double (*)[3])ar, l);
     for (int p = 0; p < n; p++) {
       double gi = 0;
       for (int k = 0; k < 3; k++) {
@@ -866,24 +974,37 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
     }
     return;
   }
-  double nrm[SMOOTH_RUN][3], len[SMOOTH_RUN];
-  bool flat[SMOOTH_RUN];
-  for (int p = 0; p < n; p++) {
-    region[p] = smooth_partial_normal(tr, l[p], nrm[p]);
-    flat[p] = region[p] == 0 && refl == 1 && !blocked[p];   /* exactly the flat picture */
-    if (region[p] == 0) memcpy(nrm[p], tr->n, sizeof nrm[p]);
-  }
-  for (int p = 0; p < n; p++)                /* unit(), in steps */
-    len[p] = sqrt(nrm[p][0] * nrm[p][0] + nrm[p][1] * nrm[p][1] + nrm[p][2] * nrm[p][2]);
+  /* the partial smoothing: the inner triangle's points the filter proves are in it
+     (region 0, the face's normal) without the coordinates; the others by the chain */
+  double nrm[SMOOTH_RUN][3], len[SMOOTH_RUN], lar[SMOOTH_RUN][3];
+  int at[SMOOTH_RUN], nl = 0;
   for (int p = 0; p < n; p++)
-    if (!flat[p] && len[p] > 0) for (int c = 0; c < 3; c++) nrm[p][c] /= len[p];
+    if (!inner[p]) { memcpy(lar[nl], ar[p], sizeof lar[nl]); at[nl++] = p; }
+  bary_of_areas(tr, nl, (const double (*)[3])lar, l);
+  for (int q = 0; q < nl; q++) region[at[q]] = smooth_partial_normal(tr, l[q], nrm[at[q]]);
+  const int fg = map->f[tr->mface].grey;
+  nl = 0;                                    /* the points lit here */
   for (int p = 0; p < n; p++) {
-    int g;
-    if (flat[p]) g = map->f[tr->mface].grey;
-    else {
-      for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
-      g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
+    if (inner[p]) region[p] = 0;
+    if (region[p] == 0) {
+      if (refl == 1 && !blocked[p]) {        /* exactly the flat picture */
+        grey[p] = fg;
+        continue;
+      }
+      memcpy(nrm[p], tr->n, sizeof nrm[p]);
     }
+    at[nl++] = p;
+  }
+  for (int q = 0; q < nl; q++) {             /* unit(), in steps */
+    const double *v = nrm[at[q]];
+    len[q] = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  for (int q = 0; q < nl; q++)
+    if (len[q] > 0) for (int c = 0; c < 3; c++) nrm[at[q]][c] /= len[q];
+  for (int q = 0; q < nl; q++) {
+    const int p = at[q];
+    for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
+    const int g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
     grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
   }
 }

@@ -57,6 +57,10 @@ struct smooth_tri {
   double bV[3][2];         /* the corners on them */
   double bE[3][2];         /* side k on them: corner (k + 2) % 3 less corner (k + 1) % 3 */
   double btot;             /* twice the signed area of the triangle so projected */
+  double ends[6][2][3];    /* the normals at the ends of the bands' borders (procedure (A)
+                              (3)), made with the insets: side k's band at l_a = t_a and
+                              at l_b = t_b (a, b the corners after k) in ends[k], corner
+                              k's quadrilateral on its sides towards a and b in ends[3 + k] */
 };
 
 struct smooth_model {
@@ -79,6 +83,12 @@ struct smooth_model {
      grey's filter"); phong_declines, when set, counts the points the filter left to it. */
   bool phong_exact;
   long *phong_declines;
+  /* Tests only too: inner_exact gives every point of the partial smoothing its region by
+     the exact chain, without the filter that finds the inner triangle's points (smooth.c,
+     "The inner triangle's filter"); inner_declines, when set, counts the points the
+     filter left to the chain. */
+  bool inner_exact;
+  long *inner_declines;
 };
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.

@@ -793,6 +793,154 @@ static void test_phong_filter_is_exact(void **state)
   lib_close(&L);
 }
 
+/* The greys and regions at a run of n points X[p] by the inner triangle's filter (and the
+   chain where it declines) in g[0], r[0] and by the chain alone in g[1], r[1]; counts the
+   points the filter does not take in *declines. */
+static void inner_both(struct lib *L, int t, int n, const double (*X)[3], double refl,
+                       const unsigned *blocked, const struct shade_lights *lights,
+                       long *declines, int g[2][SMOOTH_RUN], int r[2][SMOOTH_RUN])
+{
+  L->m.inner_declines = declines;
+  smooth_grey_run(&L->m, &L->r.map, L->s, &L->e, t, n, X, refl, blocked, lights, g[0], r[0]);
+  L->m.inner_declines = NULL;
+  L->m.inner_exact = true;
+  smooth_grey_run(&L->m, &L->r.map, L->s, &L->e, t, n, X, refl, blocked, lights, g[1], r[1]);
+  L->m.inner_exact = false;
+}
+
+/* The inner triangle's filter (smooth.c) gives the chain's region and grey, bit for bit,
+   under partial smoothings of several insets (prop:0.4: insets scaled to sum 1, the inner
+   triangle a point), in runs of 1 to SMOOTH_RUN points (two a step, and one alone): on a
+   grid of points in and around every triangle of the globe, with reflectances 1 and 0.6
+   and the light blocked at some points; and on points bisected onto the inner triangle's
+   border (between its centre and a side's middle), where the one inside must be declined
+   by the filter and left to the chain (it is: counted), alone and in a run of the two. */
+static void test_inner_filter_is_exact(void **state)
+{
+  (void)state;
+  static const char *const kinds[] = { "smooth=fixed:0.05", "smooth=fixed:0.15",
+                                       "smooth=prop:0.15", "smooth=prop:0.3",
+                                       "smooth=prop:0.4" };
+  long grid = 0, inner = 0, borders = 0, border_declines = 0;
+  int differ = 0;
+  for (size_t kind = 0; kind < sizeof kinds / sizeof *kinds; kind++) {
+    struct lib L;
+    lib_open(&L, "scenes/sphere.s74", kinds[kind]);
+    struct shade_lights lights;
+    shade_lights_init(&lights, L.s);
+    for (int t = 0; t < L.m.ntri; t++) {
+      for (int a = -2; a <= 26; a++) {
+        double X[SMOOTH_RUN][3];
+        unsigned blocked[SMOOTH_RUN];
+        const double refl = a % 3 ? 1.0 : 0.6;
+        int n = 0;
+        const int len = 1 + (a + t) % SMOOTH_RUN;
+        for (int b = -2; a + b <= 26; b++) {
+          const double w[3] = { a / 24.0, b / 24.0, (24 - a - b) / 24.0 };
+          tri_point(&L, t, w, X[n]);
+          blocked[n++] = (b + t) % 5 == 0;
+          if (n < len && a + b + 1 <= 26) continue;
+          int g[2][SMOOTH_RUN], r[2][SMOOTH_RUN];
+          long ignore = 0;
+          inner_both(&L, t, n, (const double (*)[3])X, refl, blocked, &lights, &ignore, g, r);
+          for (int q = 0; q < n; q++) {
+            differ += g[0][q] != g[1][q] || r[0][q] != r[1][q];
+            inner += r[1][q] == 0;
+            grid++;
+          }
+          n = 0;
+        }
+      }
+      /* the border on the way from the centre to side k's middle, bisected (the chain) */
+      for (int k = 0; k < 3; k++) {
+        double AB[2][3], wb[3] = { 0.5, 0.5, 0.5 };
+        const double *A = AB[0], *B = AB[1];
+        const unsigned none[2] = { 0, 0 };
+        wb[k] = 0;
+        tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, AB[0]);
+        tri_point(&L, t, wb, AB[1]);
+        int g[2][SMOOTH_RUN], r[2][SMOOTH_RUN];
+        long ignore = 0;
+        inner_both(&L, t, 2, (const double (*)[3])AB, 1.0, none, &lights, &ignore, g, r);
+        if (r[1][0] != 0 || r[1][1] == 0) continue;
+        double s0 = 0, s1 = 1;
+        for (int it = 0; it < 200; it++) {
+          const double sm = 0.5 * (s0 + s1);
+          if (!(sm > s0 && sm < s1)) break;
+          double X[1][3];
+          for (int c = 0; c < 3; c++) X[0][c] = A[c] + sm * (B[c] - A[c]);
+          inner_both(&L, t, 1, (const double (*)[3])X, 1.0, none, &lights, &ignore, g, r);
+          if (r[1][0] == 0) s0 = sm; else s1 = sm;
+        }
+        double X[2][3];
+        for (int c = 0; c < 3; c++) {
+          X[0][c] = A[c] + s0 * (B[c] - A[c]);
+          X[1][c] = A[c] + s1 * (B[c] - A[c]);
+        }
+        for (int way = 0; way < 3; way++) {  /* each alone, then the two in a run */
+          const int n = way < 2 ? 1 : 2;
+          long declines = 0;
+          inner_both(&L, t, n, (const double (*)[3])(X + (way == 1)), 1.0, none, &lights,
+                     &declines, g, r);
+          for (int q = 0; q < n; q++) {
+            assert_int_equal(g[0][q], g[1][q]);
+            assert_int_equal(r[0][q], r[1][q]);
+            assert_int_equal(r[1][q] == 0, q == 0 && way != 1);
+          }
+          border_declines += way == 0 && declines == 1;
+          border_declines += way == 2 && declines == 2;   /* the outside one is not taken */
+        }
+        borders++;
+      }
+    }
+    lib_close(&L);
+  }
+  print_message("inner filter: %ld grid points (%ld inner), %ld borders, %ld declined\n",
+                grid, inner, borders, border_declines);
+  assert_int_equal(differ, 0);
+  assert_true(inner > 1000 && inner * 4 < grid);
+  assert_true(borders > 1000);
+  assert_int_equal(border_declines, 2 * borders);
+}
+
+/* fx_round_ld (effects/poly.h, the shadows' grid points) is llroundl: at integers and
+   halves and the long doubles next to them on both sides, positive and negative, from 0
+   to 2^61, at random long doubles, and past 2^62 (the library's way). */
+static void test_round_ld_is_llroundl(void **state)
+{
+  (void)state;
+  long checked = 0, differ = 0;
+  uint64_t seed = 99;
+  for (int e = 0; e <= 61; e++)
+    for (int j = -2; j <= 2; j++) {
+      const long double k = ldexpl(1, e) + j;
+      const long double d[] = { 0, 0.5L, 0.25L, 0.75L, nextafterl(0.5L, 0), nextafterl(0.5L, 1),
+                                nextafterl(1, 0) };
+      for (size_t q = 0; q < sizeof d / sizeof *d; q++)
+        for (int sg = -1; sg <= 1; sg += 2) {
+          const long double x[3] = { sg * (k + d[q]), nextafterl(sg * (k + d[q]), 0),
+                                     nextafterl(sg * (k + d[q]), sg * INFINITY) };
+          for (int m = 0; m < 3; m++) {
+            differ += fx_round_ld(x[m]) != (gcoord)llroundl(x[m]);
+            checked++;
+          }
+        }
+    }
+  for (int r = 0; r < 100000; r++) {
+    seed = seed * 6364136223846793005u + 1442695040888963407u;
+    const long double x = ldexpl((long double)(int64_t)seed, -(int)(seed >> 58) - 8);
+    differ += fx_round_ld(x) != (gcoord)llroundl(x);
+    checked++;
+  }
+  const long double big[] = { 0x1p62L, -0x1p62L, 0x1p62L + 3, -0x1.8p62L };
+  for (size_t q = 0; q < sizeof big / sizeof *big; q++) {
+    differ += fx_round_ld(big[q]) != (gcoord)llroundl(big[q]);
+    checked++;
+  }
+  print_message("fx_round_ld: %ld values, %ld differ\n", checked, differ);
+  assert_int_equal(differ, 0);
+}
+
 /* Two models the same, bit for bit (the kept scene part against a fresh build). */
 static void same_model(const struct smooth_model *a, const struct smooth_model *b, int nface)
 {
@@ -1188,6 +1336,8 @@ int main(void)
     cmocka_unit_test(test_run_is_single),
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
+    cmocka_unit_test(test_inner_filter_is_exact),
+    cmocka_unit_test(test_round_ld_is_llroundl),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
     cmocka_unit_test(test_continuous_inside),
