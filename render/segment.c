@@ -445,19 +445,18 @@ static int check_input(struct seg_ctx *x)
       return t74_fail(x->err, T74_EINPUT, "face %u: ring %d has %d vertices (at least 3)",
                       fid, r, n);
     wide area2 = 0;
-    for (int k = 0; k < n; k++) {
-      struct gpoint p = in->pt[lo + k], q = in->pt[lo + (k + 1) % n],
-                    s = in->pt[lo + (k + 2) % n];
+    for (int k = 0, k1 = 1, k2 = 2 % n; k < n; k++, k1 = k2, k2 = k2 + 1 < n ? k2 + 1 : 0) {
+      struct gpoint p = in->pt[lo + k], q = in->pt[lo + k1], s = in->pt[lo + k2];
       if (p.x > GRID_LIMIT || p.x < -GRID_LIMIT || p.y > GRID_LIMIT || p.y < -GRID_LIMIT)
         return t74_fail(x->err, T74_EINPUT, "face %u: vertex %u outside the plane grid",
                         fid, (unsigned)in->vid[lo + k]);
       if (p.x == q.x && p.y == q.y)
         return t74_fail(x->err, T74_EINPUT, "face %u: vertices %u and %u coincide", fid,
-                        (unsigned)in->vid[lo + k], (unsigned)in->vid[lo + (k + 1) % n]);
+                        (unsigned)in->vid[lo + k], (unsigned)in->vid[lo + k1]);
       if (!(q.x == s.x && q.y == s.y) && geom_orient(p, q, s) == 0 &&
           (wide)(q.x - p.x) * (s.x - q.x) + (wide)(q.y - p.y) * (s.y - q.y) < 0)
         return t74_fail(x->err, T74_EINPUT, "face %u: the boundary doubles back at vertex %u",
-                        fid, (unsigned)in->vid[lo + (k + 1) % n]);
+                        fid, (unsigned)in->vid[lo + k1]);
       area2 += (wide)p.x * q.y - (wide)q.x * p.y;
     }
     if (r == 0 && area2 <= 0)
@@ -492,7 +491,7 @@ static void input_ring(const struct seg_input *in, int r, struct xs_ring *g)
   int lo = in->ring_start[r], n = in->ring_start[r + 1] - lo;
   g->n = n;
   for (int k = 0; k < n; k++) {
-    int i = lo + k, j = lo + (k + 1) % n;
+    int i = lo + k, j = k + 1 < n ? i + 1 : lo;
     g->v[k] = orig_vertex(in, i);
     memset(&g->s[k], 0, sizeof g->s[k]);
     g->s[k].line = geom_line(in->pt[i], in->pt[j]);
@@ -1554,6 +1553,22 @@ static void ring_remove(struct xs_ring *g, int i)
 
 /* Drop zero-length sides and vertices between two sides on one line; check the ring is
    strictly convex and turns once. */
+/* Ring g, each side turning left into the next, goes round once: its sides' directions
+   (b, -a) in angular order wrap around once (else it is a star). */
+static int winds_once(struct seg_ctx *x, const struct xs_ring *g)
+{
+  int wraps = 0;
+  for (int k = 0, k1 = 1; k < g->n; k++, k1 = k1 + 1 < g->n ? k1 + 1 : 0) {
+    struct gline l1 = g->s[k].line, l2 = g->s[k1].line;
+    int h1 = -l1.a > 0 || (l1.a == 0 && l1.b > 0), h2 = -l2.a > 0 || (l2.a == 0 && l2.b > 0);
+    if (h1 == 0 && h2 == 1) wraps++;            /* from the lower half back to the upper */
+  }
+  if (wraps != 1)
+    return t74_fail(x->err, T74_EINPUT, "face %u: piece winds %d times (boundary not simple?)",
+                    (unsigned)x->in->face_id, wraps);
+  return T74_OK;
+}
+
 static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
 {
   unsigned fid = x->in->face_id;
@@ -1585,20 +1600,13 @@ static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
   if (g->n < 3)
     return t74_fail(x->err, T74_EINPUT, "face %u: a piece degenerated to %d sides "
                     "(boundary not simple?)", fid, g->n);
-  int wraps = 0;
   for (int k = 0; k < g->n; k++) {
     struct gline l1 = g->s[k].line, l2 = g->s[(k + 1) % g->n].line;
     if (turn(l1, l2) <= 0)
       return t74_fail(x->err, T74_EINPUT, "face %u: piece not convex at vertex %u "
                       "(boundary not simple?)", fid, (unsigned)g->v[(k + 1) % g->n].num);
-    /* Directions (b, -a) in angular order: count where the order wraps around. */
-    int h1 = -l1.a > 0 || (l1.a == 0 && l1.b > 0), h2 = -l2.a > 0 || (l2.a == 0 && l2.b > 0);
-    if (h1 == 0 && h2 == 1) wraps++;            /* from the lower half back to the upper */
   }
-  if (wraps != 1)
-    return t74_fail(x->err, T74_EINPUT, "face %u: piece winds %d times (boundary not simple?)",
-                    fid, wraps);
-  return T74_OK;
+  return winds_once(x, g);
 }
 
 /* tidy_ring, then the output piece. */
@@ -1684,7 +1692,9 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   struct seg_ctx xc;
   struct seg_ctx *x = &xc;
   ctx_init(x, in, NULL, core, cost, err);
-  struct t74_error quiet = { 0, "" };
+  struct t74_error quiet;               /* (its message not cleared whole: 1 kB a face) */
+  quiet.status = T74_OK;
+  quiet.msg[0] = '\0';
   x->err = &quiet;                      /* a refused face is left to seg_generate */
   if (check_input(x)) return T74_OK;
   x->err = err;
@@ -1692,8 +1702,12 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   struct xs_side sd[SEG_CONVEX_MAX];
   struct xs_ring g = { 0, v, sd };
   input_ring(in, 0, &g);
-  for (int k = 0; k < nv; k++)
-    if (turn(sd[(k + nv - 1) % nv].line, sd[k].line) < 0) return T74_OK;   /* concave */
+  bool strict = true;                   /* every vertex a strict left turn */
+  for (int k = 0, k0 = nv - 1; k < nv; k0 = k++) {
+    int t = turn(sd[k0].line, sd[k].line);
+    if (t < 0) return T74_OK;           /* concave */
+    strict &= t > 0;
+  }
 
   x->nvert = nv;
   uint32_t mark = core ? core_mark(core) : 0;
@@ -1702,7 +1716,16 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   int rc = ysort_table(x, ys);
   if (rc == T74_OK) {
     count_turns(cost, (uint64_t)nv);                   /* lowest_concave: none */
-    rc = tidy_ring(x, &g);
+    if (strict) {
+      /* tidy_ring as it goes on such a ring: no two vertices coincide (check_input), no
+         two sides run on one line (they turn), so one pass drops nothing, a compare and a
+         turn a vertex; and each turn is left */
+      count_xcmps(cost, (uint64_t)nv);
+      count_turns(cost, (uint64_t)nv);
+      rc = winds_once(x, &g);
+    } else {
+      rc = tidy_ring(x, &g);
+    }
   }
   if (rc == T74_OK) {
     for (int k = 0; k < g.n; k++) line[k] = g.s[k].line;
