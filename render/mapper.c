@@ -140,7 +140,8 @@ static void mface_arrays_free(struct mface *m)
 struct tjunc {
   const struct scene *s;
   const struct gpoint *proj;
-  int *byx;                      /* vertices used by faces, by projected x */
+  int *used_v;                   /* vertices used by faces, by index (their x order is
+                                    only counted: lb, ub) */
   int n;
   /* the host's index (issue 12): the same vertices bucketed by projected (x, y) on a
      gw x gh grid of cells 2^sx x 2^sy wide from (gx0, gy0) (shifts, not divisions:
@@ -152,21 +153,22 @@ struct tjunc {
   int gw, gh;
   int *cell_start, *cell_v;
   struct gpoint *cell_p;         /* proj[cell_v[k]], kept beside it (no indirection) */
-  int *lb, *ub;                  /* by vertex: the first index of byx with its x, and the
-                                    first with a larger x (the x-slab's ends) */
+  int *lb, *ub;                  /* by vertex: the first place in the x order (by
+                                    projected x, then index) with its x, and the first with
+                                    a larger x (the x-slab's ends) */
   bool whole_boxes;              /* every cell of an edge's box (mapper_keep.whole_boxes) */
 };
 
 
 static void tj_free(struct tjunc *t)
 {
-  free(t->byx);
+  free(t->used_v);
   free(t->cell_start);
   free(t->cell_v);
   free(t->lb);
   free(t->ub);
   free(t->cell_p);
-  t->byx = t->cell_start = t->cell_v = t->lb = t->ub = NULL;
+  t->used_v = t->cell_start = t->cell_v = t->lb = t->ub = NULL;
   t->cell_p = NULL;
 }
 
@@ -176,11 +178,11 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   t->s = s;
   t->proj = proj;
   char *used = calloc((size_t)(s->nv ? s->nv : 1), 1);
-  t->byx = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->byx);
-  if (!used || !t->byx) { free(used); free(t->byx); t->byx = NULL; return 0; }
+  t->used_v = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->used_v);
+  if (!used || !t->used_v) { free(used); free(t->used_v); t->used_v = NULL; return 0; }
   for (int f = 0; f < s->nf; f++)
     for (int k = 0; k < s->f[f].ring_start[s->f[f].nring]; k++) used[s->f[f].vidx[k]] = 1;
-  for (int v = 0; v < s->nv; v++) if (used[v]) t->byx[t->n++] = v;
+  for (int v = 0; v < s->nv; v++) if (used[v]) t->used_v[t->n++] = v;
   free(used);
   /* sorted once by projected x, then by index (a radix sort of (x, index) pairs,
      render/rsort.h: the same total order), with each vertex's slab bounds for the cost
@@ -189,9 +191,11 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   t->lb = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->lb);
   t->ub = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->ub);
   if (!key || !t->lb || !t->ub) { free(key); tj_free(t); return 0; }
-  for (int k = 0; k < t->n; k++) { key[k].key = proj[t->byx[k]].x; key[k].idx = t->byx[k]; }
+  for (int k = 0; k < t->n; k++) {
+    key[k].key = proj[t->used_v[k]].x;
+    key[k].idx = t->used_v[k];
+  }
   rsort_pairs(key, key + t->n, t->n);
-  for (int k = 0; k < t->n; k++) t->byx[k] = key[k].idx;
   for (int k = 0; k < t->n;) {               /* a run of equal x: [k, e) */
     int e = k;
     while (e < t->n && key[e].key == key[k].key) e++;
@@ -204,7 +208,7 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
      the cells) */
   gcoord x0 = 0, x1 = 0, y0 = 0, y1 = 0;
   for (int k = 0; k < t->n; k++) {
-    struct gpoint p = proj[t->byx[k]];
+    struct gpoint p = proj[t->used_v[k]];
     if (k == 0 || p.x < x0) x0 = p.x;
     if (k == 0 || p.x > x1) x1 = p.x;
     if (k == 0 || p.y < y0) y0 = p.y;
@@ -224,7 +228,7 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   t->cell_p = malloc((size_t)(t->n ? t->n : 1) * sizeof *t->cell_p);
   if (!t->cell_start || !t->cell_v || !t->cell_p) { tj_free(t); return 0; }
   for (int k = 0; k < t->n; k++) {
-    struct gpoint p = proj[t->byx[k]];
+    struct gpoint p = proj[t->used_v[k]];
     t->cell_start[(size_t)((p.y - y0) >> t->sy) * (size_t)t->gw + (size_t)((p.x - x0) >> t->sx) + 1]++;
   }
   for (size_t c = 0; c < ncell; c++) t->cell_start[c + 1] += t->cell_start[c];
@@ -232,10 +236,10 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   if (!fill) { tj_free(t); return 0; }
   memcpy(fill, t->cell_start, ncell * sizeof *fill);
   for (int k = 0; k < t->n; k++) {
-    struct gpoint p = proj[t->byx[k]];
+    struct gpoint p = proj[t->used_v[k]];
     size_t c = (size_t)((p.y - y0) >> t->sy) * (size_t)t->gw + (size_t)((p.x - x0) >> t->sx);
     t->cell_p[fill[c]] = p;
-    t->cell_v[fill[c]++] = t->byx[k];
+    t->cell_v[fill[c]++] = t->used_v[k];
   }
   free(fill);
   return 1;
@@ -262,9 +266,11 @@ static void tj_row_cells(const struct tjunc *t, struct gpoint pa, struct gpoint 
   if (r0 < pa.y) r0 = pa.y;
   if (r1 > pb.y) r1 = pb.y;
   int64_t dx = pb.x - pa.x, dy = pb.y - pa.y;         /* dy > 0 */
-  int64_t xa = pa.x + floordiv((r0 - pa.y) * dx, dy), xb = pa.x + floordiv((r1 - pa.y) * dx, dy);
+  int64_t xa = pa.x + floordiv((r0 - pa.y) * dx, dy);
+  int64_t xb = pa.x + floordiv((r1 - pa.y) * dx, dy);
   int64_t lo = (xa < xb ? xa : xb) - 1, hi = (xa < xb ? xb : xa) + 2;   /* floor+1, +1 */
-  gcoord c0 = lo < t->gx0 ? 0 : (lo - t->gx0) >> t->sx, c1 = hi < t->gx0 ? -1 : (hi - t->gx0) >> t->sx;
+  gcoord c0 = lo < t->gx0 ? 0 : (lo - t->gx0) >> t->sx;
+  gcoord c1 = hi < t->gx0 ? -1 : (hi - t->gx0) >> t->sx;
   if (c0 > *ca) *ca = c0;
   if (c1 < *cb) *cb = c1;
 }
@@ -347,8 +353,8 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
   e.y0 = pa.y < pb.y ? pa.y : pb.y; e.y1 = pa.y < pb.y ? pb.y : pa.y;
   e.dx = B->x - A->x; e.dy = B->y - A->y; e.dz = B->z - A->z;
   e.dd = e.dx * e.dx + e.dy * e.dy + e.dz * e.dz;
-  /* the slab [x0, x1] of byx: from the first vertex with a's or b's smaller x to the
-     last with the larger */
+  /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x to
+     the last with the larger */
   int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
   COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
   if (t->n == 0) return 1;

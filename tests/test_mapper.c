@@ -76,10 +76,12 @@ static char *fan_scene(int nfan, int nrand, uint32_t seed, int *inserted)
       put(&x, "vertex %d %d %d %d\n", ++v, ax + j * dx, ay + j * dy, az + j * dz);
     /* Q and the R's on either side of the line (the normal (-dy, dx) on the picture) */
     int s = rnd(20, 60);
-    put(&x, "vertex %d %d %d %d\n", ++v, ax + k * dx / 2 - dy * s / 8 - 1, ay + k * dy / 2 + dx * s / 8, az + k * dz / 2 + 7);
+    put(&x, "vertex %d %d %d %d\n", ++v, ax + k * dx / 2 - dy * s / 8 - 1,
+        ay + k * dy / 2 + dx * s / 8, az + k * dz / 2 + 7);
     put(&x, "face %d %d %d %d grey %d\n", ++f, p0, p0 + k, v, rnd(60, 255));
     for (int j = 0; j < k; j++) {
-      put(&x, "vertex %d %d %d %d\n", ++v, ax + j * dx + dy * 2 + 1, ay + j * dy - dx * 2, az + j * dz + 3);
+      put(&x, "vertex %d %d %d %d\n", ++v, ax + j * dx + dy * 2 + 1, ay + j * dy - dx * 2,
+          az + j * dz + 3);
       put(&x, "face %d %d %d %d grey %d\n", ++f, p0 + j, v, p0 + j + 1, rnd(60, 255));
     }
     *inserted += k - 1;
