@@ -1553,16 +1553,18 @@ static void ring_remove(struct xs_ring *g, int i)
 
 /* Drop zero-length sides and vertices between two sides on one line; check the ring is
    strictly convex and turns once. */
-/* Ring g, each side turning left into the next, goes round once: its sides' directions
-   (b, -a) in angular order wrap around once (else it is a star). */
-static int winds_once(struct seg_ctx *x, const struct xs_ring *g)
+/* A ring whose sides each turn left into the next goes round once when its sides'
+   directions (b, -a), in angular order, wrap around once (else it is a star): whether the
+   order wraps from side l1 to the next, l2; and the refusal of a ring that wrapped
+   `wraps` times. */
+static int wraps_from(struct gline l1, struct gline l2)
 {
-  int wraps = 0;
-  for (int k = 0, k1 = 1; k < g->n; k++, k1 = k1 + 1 < g->n ? k1 + 1 : 0) {
-    struct gline l1 = g->s[k].line, l2 = g->s[k1].line;
-    int h1 = -l1.a > 0 || (l1.a == 0 && l1.b > 0), h2 = -l2.a > 0 || (l2.a == 0 && l2.b > 0);
-    if (h1 == 0 && h2 == 1) wraps++;            /* from the lower half back to the upper */
-  }
+  int h1 = -l1.a > 0 || (l1.a == 0 && l1.b > 0), h2 = -l2.a > 0 || (l2.a == 0 && l2.b > 0);
+  return h1 == 0 && h2 == 1;                    /* from the lower half back to the upper */
+}
+
+static int winds_once(struct seg_ctx *x, int wraps)
+{
   if (wraps != 1)
     return t74_fail(x->err, T74_EINPUT, "face %u: piece winds %d times (boundary not simple?)",
                     (unsigned)x->in->face_id, wraps);
@@ -1600,13 +1602,15 @@ static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
   if (g->n < 3)
     return t74_fail(x->err, T74_EINPUT, "face %u: a piece degenerated to %d sides "
                     "(boundary not simple?)", fid, g->n);
+  int wraps = 0;
   for (int k = 0; k < g->n; k++) {
     struct gline l1 = g->s[k].line, l2 = g->s[(k + 1) % g->n].line;
     if (turn(l1, l2) <= 0)
       return t74_fail(x->err, T74_EINPUT, "face %u: piece not convex at vertex %u "
                       "(boundary not simple?)", fid, (unsigned)g->v[(k + 1) % g->n].num);
+    wraps += wraps_from(l1, l2);
   }
-  return winds_once(x, g);
+  return winds_once(x, wraps);
 }
 
 /* tidy_ring, then the output piece. */
@@ -1698,13 +1702,11 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   x->err = &quiet;                      /* a refused face is left to seg_generate */
   if (check_input(x)) return T74_OK;
   x->err = err;
-  struct xs_vertex v[SEG_CONVEX_MAX];
-  struct xs_side sd[SEG_CONVEX_MAX];
-  struct xs_ring g = { 0, v, sd };
-  input_ring(in, 0, &g);
+  struct gline ln[SEG_CONVEX_MAX];      /* side k: from vertex k to k + 1 */
+  for (int k = 0; k < nv; k++) ln[k] = geom_line(in->pt[k], in->pt[k + 1 < nv ? k + 1 : 0]);
   bool strict = true;                   /* every vertex a strict left turn */
   for (int k = 0, k0 = nv - 1; k < nv; k0 = k++) {
-    int t = turn(sd[k0].line, sd[k].line);
+    int t = turn(ln[k0], ln[k]);
     if (t < 0) return T74_OK;           /* concave */
     strict &= t > 0;
   }
@@ -1719,17 +1721,27 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
     if (strict) {
       /* tidy_ring as it goes on such a ring: no two vertices coincide (check_input), no
          two sides run on one line (they turn), so one pass drops nothing, a compare and a
-         turn a vertex; and each turn is left */
+         turn a vertex; and each turn is left. The piece's sides are the ring's. */
       count_xcmps(cost, (uint64_t)nv);
       count_turns(cost, (uint64_t)nv);
-      rc = winds_once(x, &g);
-    } else {
+      int wraps = 0;
+      for (int k = 0; k < nv; k++) wraps += wraps_from(ln[k], ln[k + 1 < nv ? k + 1 : 0]);
+      rc = winds_once(x, wraps);
+      if (rc == T74_OK) {
+        memcpy(line, ln, (size_t)nv * sizeof *line);
+        *n = nv;
+      }
+    } else {                            /* a vertex inside a side: tidy_ring drops it */
+      struct xs_vertex v[SEG_CONVEX_MAX];
+      struct xs_side sd[SEG_CONVEX_MAX];
+      struct xs_ring g = { 0, v, sd };
+      input_ring(in, 0, &g);
       rc = tidy_ring(x, &g);
+      if (rc == T74_OK) {
+        for (int k = 0; k < g.n; k++) line[k] = g.s[k].line;
+        *n = g.n;
+      }
     }
-  }
-  if (rc == T74_OK) {
-    for (int k = 0; k < g.n; k++) line[k] = g.s[k].line;
-    *n = g.n;
   }
   if (core) core_release(core, mark);
   return rc;
