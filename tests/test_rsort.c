@@ -22,14 +22,9 @@
 /* An element: its key first (as an int), then an identity, then padding to its size. */
 struct log { int n, cap; int (*pair)[2]; };
 
-static int by_key(const void *x, const void *y, void *ctx)
+/* The compare of the elements identified by ia and ib logged. */
+static void logged(struct log *l, int ia, int ib)
 {
-  struct log *l = ctx;
-  int a, b, ia, ib;
-  memcpy(&a, x, sizeof a);
-  memcpy(&b, y, sizeof b);
-  memcpy(&ia, (const char *)x + sizeof(int), sizeof ia);
-  memcpy(&ib, (const char *)y + sizeof(int), sizeof ib);
   if (l->n == l->cap) {
     l->cap = l->cap ? 2 * l->cap : 256;
     l->pair = realloc(l->pair, (size_t)l->cap * sizeof *l->pair);
@@ -38,26 +33,28 @@ static int by_key(const void *x, const void *y, void *ctx)
   l->pair[l->n][0] = ia;
   l->pair[l->n][1] = ib;
   l->n++;
+}
+
+static int by_key(const void *x, const void *y, void *ctx)
+{
+  int a, b, ia, ib;
+  memcpy(&a, x, sizeof a);
+  memcpy(&b, y, sizeof b);
+  memcpy(&ia, (const char *)x + sizeof(int), sizeof ia);
+  memcpy(&ib, (const char *)y + sizeof(int), sizeof ib);
+  logged(ctx, ia, ib);
   return (a > b) - (a < b);
 }
 
-/* 4-byte elements: the key alone; the identity is then the key's own (no stability seen
-   through it, but the compares are logged by position of equal keys). */
+/* 4-byte elements: the key alone, which then names the element in the log; compared
+   without its low 4 bits, so that equal keys abound. */
 static int by_int(const void *x, const void *y, void *ctx)
 {
-  struct log *l = ctx;
   int a, b;
   memcpy(&a, x, sizeof a);
   memcpy(&b, y, sizeof b);
-  if (l->n == l->cap) {
-    l->cap = l->cap ? 2 * l->cap : 256;
-    l->pair = realloc(l->pair, (size_t)l->cap * sizeof *l->pair);
-    assert_non_null(l->pair);
-  }
-  l->pair[l->n][0] = a;
-  l->pair[l->n][1] = b;
-  l->n++;
-  return (a >> 4) < (b >> 4) ? -1 : (a >> 4) > (b >> 4);   /* ties in the low 4 bits */
+  logged(ctx, a, b);
+  return (a >> 4) < (b >> 4) ? -1 : (a >> 4) > (b >> 4);
 }
 
 /* The long way: rsort_merge as it was first written. */
