@@ -320,24 +320,28 @@ static bool fast_decimal(const char *tok, double *out)
     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22
   };
   const char *p = tok;
-  bool neg = false, dot = false, any = false;
+  bool neg = false;
   if (*p == '+' || *p == '-') neg = *p++ == '-';
+  /* the digits before the point, then those after it, each run in a loop of its own;
+     zeros before the first other digit are not significant (those after the point still
+     count as places). m wraps (unsigned) only past 15 significant digits: refused. */
   uint64_t m = 0;
-  int digits = 0, frac = 0;
-  for (;; p++) {
-    if (*p >= '0' && *p <= '9') {
-      any = true;
-      if (dot) frac++;
-      if (m == 0 && *p == '0') continue;        /* a leading zero: not significant */
-      if (++digits > 15) return false;
-      m = m * 10 + (uint64_t)(*p - '0');
-    } else if (*p == '.' && !dot) {
-      dot = true;
-    } else {
-      break;
-    }
+  const char *d0 = p;
+  while (*p == '0') p++;
+  const char *s = p;
+  while ((unsigned)(*p - '0') < 10) m = m * 10 + (uint64_t)(*p++ - '0');
+  long digits = p - s, frac = 0;
+  bool any = p > d0;
+  if (*p == '.') {
+    const char *f0 = ++p;
+    if (m == 0) while (*p == '0') p++;
+    s = p;
+    while ((unsigned)(*p - '0') < 10) m = m * 10 + (uint64_t)(*p++ - '0');
+    digits += p - s;
+    frac = p - f0;
+    any = any || frac > 0;
   }
-  if (*p || !any || frac > 22) return false;
+  if (*p || !any || digits > 15 || frac > 22) return false;
   double v = (double)m;                         /* exact: m < 10^15 < 2^53 */
   if (frac) v /= pow10[frac];                   /* one rounding */
   *out = neg ? -v : v;
