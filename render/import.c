@@ -126,20 +126,13 @@ int import_next(struct import_reader *r, struct t74_error *err)
 {
   while (r->pos < r->len) {
     char *start = r->buf + r->pos, *last = r->buf + r->len;   /* *last is the NUL */
-    char *end = start;
-    while (!(byte_of(end) & BC_END)) end++;
-    bool nul = end < last && *end == '\0';   /* a NUL before the line's end */
-    /* the line ends at LF, CR LF or a lone CR (old Mac files): each counts one line */
-    r->pos = (size_t)(end - r->buf) + 1;
-    if (end < last && *end == '\r' && end + 1 < last && end[1] == '\n') r->pos++;
-    r->line = ++r->nlines;
-    if (nul) return t74_fail_at(err, T74_EINPUT, r->file, r->line, "NUL byte in the line");
-    *end = '\0';
+    /* the tokens and the line's end in one pass (issue 19): blanks (not CR, which ends
+       the line) between tokens; the scan stops at the line's end or a comment's `#` */
     r->ntok = 0;
     char *p = start;
     for (;;) {
-      while (byte_of(p) & BC_BLANK) p++;
-      if (byte_of(p) & BC_STOP) { *p = '\0'; break; }   /* the end, or a comment */
+      while (byte_of(p) == BC_BLANK) p++;
+      if (byte_of(p) & (BC_END | BC_STOP)) break;
       if (r->ntok == r->cap) {
         int ncap = r->cap ? r->cap * 2 : 16;   /* tokens < 2^30 (file size): no overflow */
         char **nt = realloc(r->tok, (size_t)ncap * sizeof *nt);
@@ -148,10 +141,23 @@ int import_next(struct import_reader *r, struct t74_error *err)
         r->cap = ncap;
       }
       r->tok[r->ntok++] = p;
-      while (!(byte_of(p) & (BC_BLANK | BC_STOP))) p++;
-      if (byte_of(p) & BC_STOP) { *p = '\0'; break; }
+      while (!(byte_of(p) & (BC_BLANK | BC_END | BC_STOP))) p++;
+      if (byte_of(p) != BC_BLANK) break;
       *p++ = '\0';
     }
+    char *end = p;                           /* the first LF, CR or NUL of the line */
+    while (!(byte_of(end) & BC_END)) end++;  /* (past a comment) */
+    bool nul = end < last && *end == '\0';   /* a NUL before the line's end */
+    /* the line ends at LF, CR LF or a lone CR (old Mac files): each counts one line */
+    r->pos = (size_t)(end - r->buf) + 1;
+    if (end < last && *end == '\r' && end + 1 < last && end[1] == '\n') r->pos++;
+    r->line = ++r->nlines;
+    if (nul) {
+      r->ntok = 0;
+      return t74_fail_at(err, T74_EINPUT, r->file, r->line, "NUL byte in the line");
+    }
+    *p = '\0';                               /* the last token's end */
+    *end = '\0';
     if (r->ntok > 0) return 1;
   }
   r->ntok = 0;
@@ -314,24 +320,28 @@ static bool fast_decimal(const char *tok, double *out)
     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22
   };
   const char *p = tok;
-  bool neg = false, dot = false, any = false;
+  bool neg = false;
   if (*p == '+' || *p == '-') neg = *p++ == '-';
+  /* the digits before the point, then those after it, each run in a loop of its own;
+     zeros before the first other digit are not significant (those after the point still
+     count as places). m wraps (unsigned) only past 15 significant digits: refused. */
   uint64_t m = 0;
-  int digits = 0, frac = 0;
-  for (;; p++) {
-    if (*p >= '0' && *p <= '9') {
-      any = true;
-      if (dot) frac++;
-      if (m == 0 && *p == '0') continue;        /* a leading zero: not significant */
-      if (++digits > 15) return false;
-      m = m * 10 + (uint64_t)(*p - '0');
-    } else if (*p == '.' && !dot) {
-      dot = true;
-    } else {
-      break;
-    }
+  const char *d0 = p;
+  while (*p == '0') p++;
+  const char *s = p;
+  while ((unsigned)(*p - '0') < 10) m = m * 10 + (uint64_t)(*p++ - '0');
+  long digits = p - s, frac = 0;
+  bool any = p > d0;
+  if (*p == '.') {
+    const char *f0 = ++p;
+    if (m == 0) while (*p == '0') p++;
+    s = p;
+    while ((unsigned)(*p - '0') < 10) m = m * 10 + (uint64_t)(*p++ - '0');
+    digits += p - s;
+    frac = p - f0;
+    any = any || frac > 0;
   }
-  if (*p || !any || frac > 22) return false;
+  if (*p || !any || digits > 15 || frac > 22) return false;
   double v = (double)m;                         /* exact: m < 10^15 < 2^53 */
   if (frac) v /= pow10[frac];                   /* one rounding */
   *out = neg ? -v : v;
@@ -764,11 +774,16 @@ static bool file_cross_pair(const void *ctx, int n, int i, int j)
   return o3 != 0 && o4 != 0 && o3 != o4;
 }
 
+/* The larger and smaller of two finite doubles (as fmax and fmin, to the sign of a zero,
+   which no compare below sees; no library call: a file face's quad test made four). */
+static double dmax(double a, double b) { return a > b ? a : b; }
+static double dmin(double a, double b) { return a < b ? a : b; }
+
 /* The boxes of segments a-b and c-d meet (closed): a proper crossing needs it. */
 static bool boxes_meet(const double *a, const double *b, const double *c, const double *d)
 {
-  return fmax(a[0], b[0]) >= fmin(c[0], d[0]) && fmax(c[0], d[0]) >= fmin(a[0], b[0]) &&
-         fmax(a[1], b[1]) >= fmin(c[1], d[1]) && fmax(c[1], d[1]) >= fmin(a[1], b[1]);
+  return dmax(a[0], b[0]) >= dmin(c[0], d[0]) && dmax(c[0], d[0]) >= dmin(a[0], b[0]) &&
+         dmax(a[1], b[1]) >= dmin(c[1], d[1]) && dmax(c[1], d[1]) >= dmin(a[1], b[1]);
 }
 
 static int file_crossing(const double (*p)[2], int n, int *ea, int *eb)

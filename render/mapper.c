@@ -140,7 +140,8 @@ static void mface_arrays_free(struct mface *m)
 struct tjunc {
   const struct scene *s;
   const struct gpoint *proj;
-  int *byx;                      /* vertices used by faces, by projected x */
+  int *used_v;                   /* vertices used by faces, by index (their x order is
+                                    only counted: lb, ub) */
   int n;
   /* the host's index (issue 12): the same vertices bucketed by projected (x, y) on a
      gw x gh grid of cells 2^sx x 2^sy wide from (gx0, gy0) (shifts, not divisions:
@@ -152,20 +153,22 @@ struct tjunc {
   int gw, gh;
   int *cell_start, *cell_v;
   struct gpoint *cell_p;         /* proj[cell_v[k]], kept beside it (no indirection) */
-  int *lb, *ub;                  /* by vertex: the first index of byx with its x, and the
-                                    first with a larger x (the x-slab's ends) */
+  int *lb, *ub;                  /* by vertex: the first place in the x order (by
+                                    projected x, then index) with its x, and the first with
+                                    a larger x (the x-slab's ends) */
+  bool whole_boxes;              /* every cell of an edge's box (mapper_keep.whole_boxes) */
 };
 
 
 static void tj_free(struct tjunc *t)
 {
-  free(t->byx);
+  free(t->used_v);
   free(t->cell_start);
   free(t->cell_v);
   free(t->lb);
   free(t->ub);
   free(t->cell_p);
-  t->byx = t->cell_start = t->cell_v = t->lb = t->ub = NULL;
+  t->used_v = t->cell_start = t->cell_v = t->lb = t->ub = NULL;
   t->cell_p = NULL;
 }
 
@@ -175,11 +178,11 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   t->s = s;
   t->proj = proj;
   char *used = calloc((size_t)(s->nv ? s->nv : 1), 1);
-  t->byx = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->byx);
-  if (!used || !t->byx) { free(used); free(t->byx); t->byx = NULL; return 0; }
+  t->used_v = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->used_v);
+  if (!used || !t->used_v) { free(used); free(t->used_v); t->used_v = NULL; return 0; }
   for (int f = 0; f < s->nf; f++)
     for (int k = 0; k < s->f[f].ring_start[s->f[f].nring]; k++) used[s->f[f].vidx[k]] = 1;
-  for (int v = 0; v < s->nv; v++) if (used[v]) t->byx[t->n++] = v;
+  for (int v = 0; v < s->nv; v++) if (used[v]) t->used_v[t->n++] = v;
   free(used);
   /* sorted once by projected x, then by index (a radix sort of (x, index) pairs,
      render/rsort.h: the same total order), with each vertex's slab bounds for the cost
@@ -188,9 +191,11 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   t->lb = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->lb);
   t->ub = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->ub);
   if (!key || !t->lb || !t->ub) { free(key); tj_free(t); return 0; }
-  for (int k = 0; k < t->n; k++) { key[k].key = proj[t->byx[k]].x; key[k].idx = t->byx[k]; }
+  for (int k = 0; k < t->n; k++) {
+    key[k].key = proj[t->used_v[k]].x;
+    key[k].idx = t->used_v[k];
+  }
   rsort_pairs(key, key + t->n, t->n);
-  for (int k = 0; k < t->n; k++) t->byx[k] = key[k].idx;
   for (int k = 0; k < t->n;) {               /* a run of equal x: [k, e) */
     int e = k;
     while (e < t->n && key[e].key == key[k].key) e++;
@@ -203,7 +208,7 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
      the cells) */
   gcoord x0 = 0, x1 = 0, y0 = 0, y1 = 0;
   for (int k = 0; k < t->n; k++) {
-    struct gpoint p = proj[t->byx[k]];
+    struct gpoint p = proj[t->used_v[k]];
     if (k == 0 || p.x < x0) x0 = p.x;
     if (k == 0 || p.x > x1) x1 = p.x;
     if (k == 0 || p.y < y0) y0 = p.y;
@@ -223,7 +228,7 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   t->cell_p = malloc((size_t)(t->n ? t->n : 1) * sizeof *t->cell_p);
   if (!t->cell_start || !t->cell_v || !t->cell_p) { tj_free(t); return 0; }
   for (int k = 0; k < t->n; k++) {
-    struct gpoint p = proj[t->byx[k]];
+    struct gpoint p = proj[t->used_v[k]];
     t->cell_start[(size_t)((p.y - y0) >> t->sy) * (size_t)t->gw + (size_t)((p.x - x0) >> t->sx) + 1]++;
   }
   for (size_t c = 0; c < ncell; c++) t->cell_start[c + 1] += t->cell_start[c];
@@ -231,74 +236,154 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   if (!fill) { tj_free(t); return 0; }
   memcpy(fill, t->cell_start, ncell * sizeof *fill);
   for (int k = 0; k < t->n; k++) {
-    struct gpoint p = proj[t->byx[k]];
+    struct gpoint p = proj[t->used_v[k]];
     size_t c = (size_t)((p.y - y0) >> t->sy) * (size_t)t->gw + (size_t)((p.x - x0) >> t->sx);
     t->cell_p[fill[c]] = p;
-    t->cell_v[fill[c]++] = t->byx[k];
+    t->cell_v[fill[c]++] = t->used_v[k];
   }
   free(fill);
   return 1;
+}
+
+/* Of cell row cy, the columns [*ca, *cb] (within the box's, which they narrow) that can
+   hold a vertex lying inside the segment a-b in space, for a slanted edge (pa.y != pb.y).
+   Such a vertex V projects exactly onto the segment between the exact projections A*, B*
+   of a and b (a perspective takes segments to segments): V* = t A* + (1 - t) B*. Each
+   grid point is its exact projection rounded, off by at most 1/2 in x and in y, so
+   Q = t pa + (1 - t) pb is within 1/2 of V* in each coordinate (the bound holds for A*,
+   B* and hence for their blend), and V's grid point pv within 1 of Q, a point of the
+   segment pa-pb: |pv.x - Q.x| <= 1, |pv.y - Q.y| <= 1. So with pv in the row's band
+   [r0, r1], Q.y lies in [r0 - 1, r1 + 1], where the segment's x lies between its values
+   at the band's ends (x is linear in y along it), floored below and taken one higher
+   above; pv.x is within 1 more. A superset of the cells, never fewer: every vertex in
+   them is still tested exactly, and which are found (and their order) does not depend on
+   the cells. The products: |dy| |dx| < 2^29 2^29. */
+static void tj_row_cells(const struct tjunc *t, struct gpoint pa, struct gpoint pb, gcoord cy,
+                         gcoord *ca, gcoord *cb)
+{
+  if (pa.y > pb.y) { struct gpoint q = pa; pa = pb; pb = q; }
+  gcoord r0 = t->gy0 + (cy << t->sy) - 1, r1 = t->gy0 + ((cy + 1) << t->sy);   /* +-1 */
+  if (r0 < pa.y) r0 = pa.y;
+  if (r1 > pb.y) r1 = pb.y;
+  int64_t dx = pb.x - pa.x, dy = pb.y - pa.y;         /* dy > 0 */
+  int64_t xa = pa.x + floordiv((r0 - pa.y) * dx, dy);
+  int64_t xb = pa.x + floordiv((r1 - pa.y) * dx, dy);
+  int64_t lo = (xa < xb ? xa : xb) - 1, hi = (xa < xb ? xb : xa) + 2;   /* floor+1, +1 */
+  gcoord c0 = lo < t->gx0 ? 0 : (lo - t->gx0) >> t->sx;
+  gcoord c1 = hi < t->gx0 ? -1 : (hi - t->gx0) >> t->sx;
+  if (c0 > *ca) *ca = c0;
+  if (c1 < *cb) *cb = c1;
+}
+
+/* One edge's search: a-b in space, its grid box, and where the vertices found go. */
+struct tj_seg {
+  int a, b;
+  const struct scene_vertex *A;
+  int64_t dx, dy, dz, dd;        /* b - a, |b - a|^2 */
+  gcoord x0, x1, y0, y1;         /* the box of a' and b' */
+  int **buf, *n, *cap;
+  int first;                     /* the edge's first entry of buf */
+};
+
+/* Vertex v (not a or b) tested exactly: when it lies strictly inside a-b in space, it is
+   inserted in order. 0 when out of host memory. */
+static int tj_take(const struct tjunc *t, int v, const struct tj_seg *e)
+{
+  const struct scene_vertex *V = &t->s->v[v], *A = e->A;
+  int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
+  if (e->dy * ez - e->dz * ey || e->dz * ex - e->dx * ez || e->dx * ey - e->dy * ex) return 1;
+  int64_t tt = ex * e->dx + ey * e->dy + ez * e->dz;
+  if (tt <= 0 || tt >= e->dd) return 1;
+  if (*e->n == *e->cap) {
+    int cp = *e->cap ? 2 * *e->cap : 64;
+    int *nb = realloc(*e->buf, (size_t)cp * sizeof *nb);
+    if (!nb) return 0;
+    *e->buf = nb;
+    *e->cap = cp;
+  }
+  /* insertion by the parameter along a-b, then the index (few vertices per edge) */
+  int *buf = *e->buf, j = (*e->n)++;
+  while (j > e->first) {
+    int w = buf[j - 1];
+    const struct scene_vertex *W = &t->s->v[w];
+    int64_t tw = (W->x - A->x) * e->dx + (W->y - A->y) * e->dy + (W->z - A->z) * e->dz;
+    if (tw < tt || (tw == tt && w < v)) break;
+    buf[j] = w;
+    j--;
+  }
+  buf[j] = v;
+  return 1;
+}
+
+/* The vertices of cells c0 .. c1 (of one row: their vertices are one run of cell_v)
+   inside e's box, each but a and b given to tj_take. Returns how many lay in the box (a
+   and b too), -1 when out of host memory. (Inlined: the loop of tj_edge, where most
+   vertices fail the box.) */
+static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t, size_t c0,
+                                                          size_t c1, const struct tj_seg *e)
+{
+  int inbox = 0;
+  for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
+    struct gpoint pv = t->cell_p[k];
+    if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
+    inbox++;
+    int v = t->cell_v[k];
+    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
+  }
+  return inbox;
 }
 
 /* Append to (*buf, *n) the vertices lying strictly inside the segment a-b in space,
    ordered from a to b (two at one point of space: by vertex index, as the x-ordered scan
    of the 1974 program meets them). Rounding is monotone, so such a vertex projects inside
    the grid box of a' and b': only those are tested, exactly. The 1974 program scans the
-   x-slab of the box (2 loads a vertex) and tests each vertex inside the box in space;
-   the host finds the same vertices through the cells that meet the box. */
+   x-slab of the box (2 loads a vertex) and tests each vertex inside the box in space (a
+   product of 17-bit operands); the host finds the same vertices through the cells that
+   meet the box, and of a slanted edge's box, in the rows between its first and last,
+   only through the cells its line can reach (tj_row_cells) and the first and last
+   column: the box's vertices in the other cells, which lie wholly inside it, are counted
+   from the cells' starts, not looked at. */
 static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
-                   struct cost *cost)
+                   struct cost *cost, uint64_t *tests)
 {
   const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
   struct gpoint pa = t->proj[a], pb = t->proj[b];
-  gcoord x0 = pa.x < pb.x ? pa.x : pb.x, x1 = pa.x < pb.x ? pb.x : pa.x;
-  gcoord y0 = pa.y < pb.y ? pa.y : pb.y, y1 = pa.y < pb.y ? pb.y : pa.y;
-  int64_t dx = B->x - A->x, dy = B->y - A->y, dz = B->z - A->z;
-  int64_t dd = dx * dx + dy * dy + dz * dz;
-  /* the slab [x0, x1] of byx: from the first vertex with a's or b's smaller x to the
-     last with the larger */
+  struct tj_seg e = { .a = a, .b = b, .A = A, .buf = buf, .n = n, .cap = cap, .first = *n };
+  e.x0 = pa.x < pb.x ? pa.x : pb.x; e.x1 = pa.x < pb.x ? pb.x : pa.x;
+  e.y0 = pa.y < pb.y ? pa.y : pb.y; e.y1 = pa.y < pb.y ? pb.y : pa.y;
+  e.dx = B->x - A->x; e.dy = B->y - A->y; e.dz = B->z - A->z;
+  e.dd = e.dx * e.dx + e.dy * e.dy + e.dz * e.dz;
+  /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x to
+     the last with the larger */
   int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
   COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
-  int first = *n;
   if (t->n == 0) return 1;
-  gcoord cx0 = x0 < t->gx0 ? 0 : (x0 - t->gx0) >> t->sx, cx1 = (x1 - t->gx0) >> t->sx;
-  gcoord cy0 = y0 < t->gy0 ? 0 : (y0 - t->gy0) >> t->sy, cy1 = (y1 - t->gy0) >> t->sy;
+  gcoord cx0 = e.x0 < t->gx0 ? 0 : (e.x0 - t->gx0) >> t->sx, cx1 = (e.x1 - t->gx0) >> t->sx;
+  gcoord cy0 = e.y0 < t->gy0 ? 0 : (e.y0 - t->gy0) >> t->sy, cy1 = (e.y1 - t->gy0) >> t->sy;
   if (cx1 >= t->gw) cx1 = t->gw - 1;
   if (cy1 >= t->gh) cy1 = t->gh - 1;
-  for (gcoord cy = cy0; cy <= cy1; cy++)
-    for (gcoord cx = cx0; cx <= cx1; cx++) {
-      size_t c = (size_t)cy * (size_t)t->gw + (size_t)cx;
-      for (int k = t->cell_start[c]; k < t->cell_start[c + 1]; k++) {
-        struct gpoint pv = t->cell_p[k];
-        if (pv.x < x0 || pv.x > x1 || pv.y < y0 || pv.y > y1) continue;
-        int v = t->cell_v[k];
-        if (v == a || v == b) continue;
-        const struct scene_vertex *V = &t->s->v[v];
-        int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
-        cost_mw_mul(cost, 17, 17);
-        if (dy * ez - dz * ey || dz * ex - dx * ez || dx * ey - dy * ex) continue;
-        int64_t tt = ex * dx + ey * dy + ez * dz;
-        if (tt <= 0 || tt >= dd) continue;
-        if (*n == *cap) {
-          int cp = *cap ? 2 * *cap : 64;
-          int *nb = realloc(*buf, (size_t)cp * sizeof *nb);
-          if (!nb) return 0;
-          *buf = nb;
-          *cap = cp;
-        }
-        /* insertion by the parameter along a-b, then the index (few vertices per edge) */
-        int j = (*n)++;
-        while (j > first) {
-          int w = (*buf)[j - 1];
-          const struct scene_vertex *W = &t->s->v[w];
-          int64_t tw = (W->x - A->x) * dx + (W->y - A->y) * dy + (W->z - A->z) * dz;
-          if (tw < tt || (tw == tt && w < v)) break;
-          (*buf)[j] = w;
-          j--;
-        }
-        (*buf)[j] = v;
-      }
+  bool thin = !t->whole_boxes && cy1 - cy0 >= 2 && cx1 - cx0 >= 2 && pa.y != pb.y;
+  int64_t inbox = 0;                        /* the box's vertices, a and b among them */
+  for (gcoord cy = cy0; cy <= cy1; cy++) {
+    size_t row = (size_t)cy * (size_t)t->gw;
+    int got;
+    if (!thin || cy == cy0 || cy == cy1) {  /* every cell */
+      if ((got = tj_cells(t, row + (size_t)cx0, row + (size_t)cx1, &e)) < 0) return 0;
+      inbox += got;
+      continue;
     }
+    /* a row between: the first and last column looked at, the others' vertices counted
+       (they lie in the box), and of those only the cells the line can reach looked at */
+    inbox += t->cell_start[row + (size_t)cx1] - t->cell_start[row + (size_t)cx0 + 1];
+    if ((got = tj_cells(t, row + (size_t)cx0, row + (size_t)cx0, &e)) < 0) return 0;
+    inbox += got;
+    if ((got = tj_cells(t, row + (size_t)cx1, row + (size_t)cx1, &e)) < 0) return 0;
+    inbox += got;
+    gcoord ca = cx0 + 1, cb = cx1 - 1;
+    tj_row_cells(t, pa, pb, cy, &ca, &cb);
+    if (ca <= cb && tj_cells(t, row + (size_t)ca, row + (size_t)cb, &e) < 0) return 0;
+  }
+  *tests += (uint64_t)(inbox - (a == b ? 1 : 2));   /* but a and b */
   return 1;
 }
 
@@ -438,6 +523,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   struct tjunc tj;
   memset(&tj, 0, sizeof tj);
   struct cost tjc = { { 0 } };
+  uint64_t tjtests = 0;                     /* the search's exact tests, charged at the end */
   int *ring = NULL, nring_v = 0, capring = 0;
   int **rbuf = &ring, *rn = &nring_v, *rcap = &capring;
   if (!replay) {
@@ -450,6 +536,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;
     }
     if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+    tj.whole_boxes = kt && kt->whole_boxes;
   }
   int g0 = 0;                               /* the scene's first ring of face fi */
 
@@ -490,7 +577,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
           }
           (*rbuf)[(*rn)++] = sf->vidx[k];
           int nx = k + 1 < e ? k + 1 : b;
-          if (!tj_edge(&tj, sf->vidx[k], sf->vidx[nx], rbuf, rn, rcap, &tjc)) {
+          if (!tj_edge(&tj, sf->vidx[k], sf->vidx[nx], rbuf, rn, rcap, &tjc, &tjtests)) {
             t74_fail(err, T74_EIO, "out of host memory");
             goto fail_tj;
           }
@@ -584,6 +671,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   free(ring);
   tj_free(&tj);
   free(proj);
+  cost_mw_mul_n(&tjc, 17, 17, tjtests);    /* each a product of 17-bit operands */
   if (kt && !replay) {
     if (kt->n > 0 && kt->n < kt->cap) {   /* kept for the whole run: to its size (it
                                              doubled; 100,000 boxes: 4 MB for 2.3) */

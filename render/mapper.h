@@ -110,6 +110,9 @@ struct mapper_keep {
   struct mface *f;          /* the last run's table of faces, for the next run (NULL:
                                none); every entry a run uses is written whole */
   int fcap;                 /* entries f has room for */
+  bool whole_boxes;         /* the search looks at every cell of an edge's box, not only
+                               those a slanted edge can reach (the long way, which tests
+                               compare with: the same vertices found, the same charges) */
 };
 
 /* mapper_run with what k keeps: when k holds the T-junctions of s, they are taken from it

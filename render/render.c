@@ -201,11 +201,9 @@ static uint64_t pieces_estimate(const struct mapped *m)
     n++;
     for (int r = 0; r < f->nring; r++) {
       int lo = f->ring_start[r], cnt = f->ring_start[r + 1] - lo;
-      for (int i = 0; i < cnt; i++) {
-        struct gpoint a = f->pt[lo + (i + cnt - 1) % cnt], b = f->pt[lo + i],
-                      c = f->pt[lo + (i + 1) % cnt];
-        if (geom_orient(a, b, c) < 0) n += 2;
-      }
+      const struct gpoint *p = f->pt + lo;
+      for (int i = 0, h = cnt - 1; i < cnt; h = i++)       /* (no divide a vertex) */
+        if (geom_orient(p[h], p[i], p[i + 1 < cnt ? i + 1 : 0]) < 0) n += 2;
     }
   }
   return n;

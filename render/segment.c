@@ -445,19 +445,18 @@ static int check_input(struct seg_ctx *x)
       return t74_fail(x->err, T74_EINPUT, "face %u: ring %d has %d vertices (at least 3)",
                       fid, r, n);
     wide area2 = 0;
-    for (int k = 0; k < n; k++) {
-      struct gpoint p = in->pt[lo + k], q = in->pt[lo + (k + 1) % n],
-                    s = in->pt[lo + (k + 2) % n];
+    for (int k = 0, k1 = 1, k2 = 2 % n; k < n; k++, k1 = k2, k2 = k2 + 1 < n ? k2 + 1 : 0) {
+      struct gpoint p = in->pt[lo + k], q = in->pt[lo + k1], s = in->pt[lo + k2];
       if (p.x > GRID_LIMIT || p.x < -GRID_LIMIT || p.y > GRID_LIMIT || p.y < -GRID_LIMIT)
         return t74_fail(x->err, T74_EINPUT, "face %u: vertex %u outside the plane grid",
                         fid, (unsigned)in->vid[lo + k]);
       if (p.x == q.x && p.y == q.y)
         return t74_fail(x->err, T74_EINPUT, "face %u: vertices %u and %u coincide", fid,
-                        (unsigned)in->vid[lo + k], (unsigned)in->vid[lo + (k + 1) % n]);
+                        (unsigned)in->vid[lo + k], (unsigned)in->vid[lo + k1]);
       if (!(q.x == s.x && q.y == s.y) && geom_orient(p, q, s) == 0 &&
           (wide)(q.x - p.x) * (s.x - q.x) + (wide)(q.y - p.y) * (s.y - q.y) < 0)
         return t74_fail(x->err, T74_EINPUT, "face %u: the boundary doubles back at vertex %u",
-                        fid, (unsigned)in->vid[lo + (k + 1) % n]);
+                        fid, (unsigned)in->vid[lo + k1]);
       area2 += (wide)p.x * q.y - (wide)q.x * p.y;
     }
     if (r == 0 && area2 <= 0)
@@ -492,7 +491,7 @@ static void input_ring(const struct seg_input *in, int r, struct xs_ring *g)
   int lo = in->ring_start[r], n = in->ring_start[r + 1] - lo;
   g->n = n;
   for (int k = 0; k < n; k++) {
-    int i = lo + k, j = lo + (k + 1) % n;
+    int i = lo + k, j = k + 1 < n ? i + 1 : lo;
     g->v[k] = orig_vertex(in, i);
     memset(&g->s[k], 0, sizeof g->s[k]);
     g->s[k].line = geom_line(in->pt[i], in->pt[j]);
@@ -1554,6 +1553,24 @@ static void ring_remove(struct xs_ring *g, int i)
 
 /* Drop zero-length sides and vertices between two sides on one line; check the ring is
    strictly convex and turns once. */
+/* A ring whose sides each turn left into the next goes round once when its sides'
+   directions (b, -a), in angular order, wrap around once (else it is a star): whether the
+   order wraps from side l1 to the next, l2; and the refusal of a ring that wrapped
+   `wraps` times. */
+static int wraps_from(struct gline l1, struct gline l2)
+{
+  int h1 = -l1.a > 0 || (l1.a == 0 && l1.b > 0), h2 = -l2.a > 0 || (l2.a == 0 && l2.b > 0);
+  return h1 == 0 && h2 == 1;                    /* from the lower half back to the upper */
+}
+
+static int winds_once(struct seg_ctx *x, int wraps)
+{
+  if (wraps != 1)
+    return t74_fail(x->err, T74_EINPUT, "face %u: piece winds %d times (boundary not simple?)",
+                    (unsigned)x->in->face_id, wraps);
+  return T74_OK;
+}
+
 static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
 {
   unsigned fid = x->in->face_id;
@@ -1591,14 +1608,9 @@ static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
     if (turn(l1, l2) <= 0)
       return t74_fail(x->err, T74_EINPUT, "face %u: piece not convex at vertex %u "
                       "(boundary not simple?)", fid, (unsigned)g->v[(k + 1) % g->n].num);
-    /* Directions (b, -a) in angular order: count where the order wraps around. */
-    int h1 = -l1.a > 0 || (l1.a == 0 && l1.b > 0), h2 = -l2.a > 0 || (l2.a == 0 && l2.b > 0);
-    if (h1 == 0 && h2 == 1) wraps++;            /* from the lower half back to the upper */
+    wraps += wraps_from(l1, l2);
   }
-  if (wraps != 1)
-    return t74_fail(x->err, T74_EINPUT, "face %u: piece winds %d times (boundary not simple?)",
-                    fid, wraps);
-  return T74_OK;
+  return winds_once(x, wraps);
 }
 
 /* tidy_ring, then the output piece. */
@@ -1684,16 +1696,20 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   struct seg_ctx xc;
   struct seg_ctx *x = &xc;
   ctx_init(x, in, NULL, core, cost, err);
-  struct t74_error quiet = { 0, "" };
+  struct t74_error quiet;               /* (its message not cleared whole: 1 kB a face) */
+  quiet.status = T74_OK;
+  quiet.msg[0] = '\0';
   x->err = &quiet;                      /* a refused face is left to seg_generate */
   if (check_input(x)) return T74_OK;
   x->err = err;
-  struct xs_vertex v[SEG_CONVEX_MAX];
-  struct xs_side sd[SEG_CONVEX_MAX];
-  struct xs_ring g = { 0, v, sd };
-  input_ring(in, 0, &g);
-  for (int k = 0; k < nv; k++)
-    if (turn(sd[(k + nv - 1) % nv].line, sd[k].line) < 0) return T74_OK;   /* concave */
+  struct gline ln[SEG_CONVEX_MAX];      /* side k: from vertex k to k + 1 */
+  for (int k = 0; k < nv; k++) ln[k] = geom_line(in->pt[k], in->pt[k + 1 < nv ? k + 1 : 0]);
+  bool strict = true;                   /* every vertex a strict left turn */
+  for (int k = 0, k0 = nv - 1; k < nv; k0 = k++) {
+    int t = turn(ln[k0], ln[k]);
+    if (t < 0) return T74_OK;           /* concave */
+    strict &= t > 0;
+  }
 
   x->nvert = nv;
   uint32_t mark = core ? core_mark(core) : 0;
@@ -1702,11 +1718,30 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   int rc = ysort_table(x, ys);
   if (rc == T74_OK) {
     count_turns(cost, (uint64_t)nv);                   /* lowest_concave: none */
-    rc = tidy_ring(x, &g);
-  }
-  if (rc == T74_OK) {
-    for (int k = 0; k < g.n; k++) line[k] = g.s[k].line;
-    *n = g.n;
+    if (strict) {
+      /* tidy_ring as it goes on such a ring: no two vertices coincide (check_input), no
+         two sides run on one line (they turn), so one pass drops nothing, a compare and a
+         turn a vertex; and each turn is left. The piece's sides are the ring's. */
+      count_xcmps(cost, (uint64_t)nv);
+      count_turns(cost, (uint64_t)nv);
+      int wraps = 0;
+      for (int k = 0; k < nv; k++) wraps += wraps_from(ln[k], ln[k + 1 < nv ? k + 1 : 0]);
+      rc = winds_once(x, wraps);
+      if (rc == T74_OK) {
+        memcpy(line, ln, (size_t)nv * sizeof *line);
+        *n = nv;
+      }
+    } else {                            /* a vertex inside a side: tidy_ring drops it */
+      struct xs_vertex v[SEG_CONVEX_MAX];
+      struct xs_side sd[SEG_CONVEX_MAX];
+      struct xs_ring g = { 0, v, sd };
+      input_ring(in, 0, &g);
+      rc = tidy_ring(x, &g);
+      if (rc == T74_OK) {
+        for (int k = 0; k < g.n; k++) line[k] = g.s[k].line;
+        *n = g.n;
+      }
+    }
   }
   if (core) core_release(core, mark);
   return rc;

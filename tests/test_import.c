@@ -934,6 +934,113 @@ static void text_reversals(void **state)
   free(r);
 }
 
+/* The line reader's long way: import_next as it was before the one-pass scan (issue 19),
+   the line's end found first, then its tokens split. */
+enum { RB_END = 1, RB_BLANK = 2, RB_STOP = 4 };
+static unsigned char ref_class(char c)
+{
+  switch (c) {
+  case '\0': return RB_END | RB_STOP;
+  case '\n': return RB_END;
+  case '\r': return RB_END | RB_BLANK;
+  case ' ': case '\t': case '\f': case '\v': return RB_BLANK;
+  case '#': return RB_STOP;
+  default: return 0;
+  }
+}
+
+static int ref_next(struct import_reader *r)
+{
+  while (r->pos < r->len) {
+    char *start = r->buf + r->pos, *last = r->buf + r->len;
+    char *end = start;
+    while (!(ref_class(*end) & RB_END)) end++;
+    bool nul = end < last && *end == '\0';
+    r->pos = (size_t)(end - r->buf) + 1;
+    if (end < last && *end == '\r' && end + 1 < last && end[1] == '\n') r->pos++;
+    r->line = ++r->nlines;
+    if (nul) return T74_EINPUT;
+    *end = '\0';
+    r->ntok = 0;
+    char *p = start;
+    for (;;) {
+      while (ref_class(*p) & RB_BLANK) p++;
+      if (ref_class(*p) & RB_STOP) { *p = '\0'; break; }
+      if (r->ntok == r->cap) {
+        r->cap = r->cap ? 2 * r->cap : 16;
+        r->tok = realloc(r->tok, (size_t)r->cap * sizeof *r->tok);
+        assert_non_null(r->tok);
+      }
+      r->tok[r->ntok++] = p;
+      while (!(ref_class(*p) & (RB_BLANK | RB_STOP))) p++;
+      if (ref_class(*p) & RB_STOP) { *p = '\0'; break; }
+      *p++ = '\0';
+    }
+    if (r->ntok > 0) return 1;
+  }
+  r->ntok = 0;
+  return 0;
+}
+
+/* A reader over text[0..len) as import_open makes one (NUL after the last byte). */
+static void reader_on(struct import_reader *r, const char *text, size_t len)
+{
+  memset(r, 0, sizeof *r);
+  r->file = "t.obj";
+  r->buf = malloc(len + 1);
+  assert_non_null(r->buf);
+  memcpy(r->buf, text, len);
+  r->buf[len] = '\0';
+  r->len = len;
+}
+
+/* import_next gives, line by line, the tokens, line numbers and refusals (a NUL in a
+   line) of the long way, on random text of blanks, line ends (LF, CR, CR LF), NULs,
+   comments and words, and on a few written out. */
+static void line_reader_as_long_way(void **state)
+{
+  (void)state;
+  static const char alpha[] = { ' ', '\t', '\r', '\n', '\0', '#', 'v', '1', '-', '\f', '\v', 'f' };
+  static const char *const fixed[] = { "", "\n", "v 1 2 3\r\n  f 1 2/5 -1 # c\rfo 4 5 6\nvt 1 2\n",
+                                       "#\n# a b\n  \t\n a#b c\n", "a\r\r\nb\n\rc", "x y\0z\nw" };
+  uint32_t seed = 7;
+  for (int trial = 0; trial < 3000; trial++) {
+    char text[160];
+    size_t len;
+    if (trial < 6) {
+      len = strlen(fixed[trial]) + (trial == 5 ? 4 : 0);
+      memcpy(text, fixed[trial], len);
+    } else {
+      len = (size_t)(trial % 150);
+      for (size_t k = 0; k < len; k++) {
+        seed = seed * 1103515245u + 12345u;
+        uint32_t u = (seed >> 8) % 40;
+        text[k] = u < sizeof alpha ? alpha[u] : (char)('a' + u % 5);   /* words mostly */
+      }
+    }
+    struct import_reader a, b;
+    reader_on(&a, text, len);
+    reader_on(&b, text, len);
+    for (;;) {
+      struct t74_error err = { 0, "" };
+      int sa = import_next(&a, &err), sb = ref_next(&b);
+      assert_int_equal(sa, sb);
+      assert_int_equal(a.nlines, b.nlines);
+      assert_true(a.pos == b.pos);
+      if (sa != 1) {
+        if (sa) assert_non_null(strstr(err.msg, "NUL byte in the line"));
+        break;
+      }
+      assert_int_equal(a.line, b.line);
+      assert_int_equal(a.ntok, b.ntok);
+      for (int k = 0; k < a.ntok; k++) assert_string_equal(a.tok[k], b.tok[k]);
+    }
+    import_close(&a);
+    free(b.buf);
+    free(b.tok);
+  }
+}
+
 #define CORPUS(name)                                                                      \
   static void corpus_##name(void **state)                                                 \
   {                                                                                       \
@@ -1034,6 +1141,7 @@ int main(void)
     cmocka_unit_test(order_independent),
     cmocka_unit_test(command_dump_ids_reversed),
     cmocka_unit_test(text_reversals),
+    cmocka_unit_test(line_reader_as_long_way),
     cmocka_unit_test(corpus_s74),
     cmocka_unit_test(corpus_obj),
     cmocka_unit_test(corpus_off),

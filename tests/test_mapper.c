@@ -1,0 +1,211 @@
+/*
+** test_mapper.c — tests of the Mapper's T-junction search (render/mapper.c, issue 19).
+**
+** The search looks, for each edge, at the vertices in the cells of a grid that meet the
+** edge's box on the plane grid; of a slanted edge's box only at the cells its line can
+** reach, the others' vertices counted for the 1974 charge without being looked at (the
+** short way). mapper_keep.whole_boxes makes it look at every cell of every box (the long
+** way). On scenes built with many vertices lying exactly on long slanted edges in space
+** (fans of triangles along the edge of a large one, in depth), and on random triangles,
+** both ways must find the very same vertices in the same order, map the same faces and
+** charge the same operations; and every vertex put on an edge must be found. Run from the
+** repository root.
+*/
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "emu/core.h"
+#include "emu/cost.h"
+#include "emu/status.h"
+#include "render/mapper.h"
+#include "render/scene.h"
+
+/* ---- scenes ------------------------------------------------------------------------- */
+
+struct text { char *t; size_t len, cap; };
+
+static void put(struct text *x, const char *fmt, ...)
+{
+  va_list ap;
+  for (;;) {
+    va_start(ap, fmt);
+    int n = vsnprintf(x->t + x->len, x->cap - x->len, fmt, ap);
+    va_end(ap);
+    assert_true(n >= 0);
+    if ((size_t)n < x->cap - x->len) { x->len += (size_t)n; return; }
+    x->cap = 2 * x->cap + (size_t)n + 64;
+    x->t = realloc(x->t, x->cap);
+    assert_non_null(x->t);
+  }
+}
+
+static uint32_t rnd_state;
+static int rnd(int lo, int hi)
+{
+  rnd_state = rnd_state * 1103515245u + 12345u;
+  return lo + (int)((rnd_state >> 8) % (uint32_t)(hi - lo + 1));
+}
+
+/* nfan fans: a large triangle (P0, Pk, Q) whose edge P0-Pk, slanted on the picture and in
+   depth, holds P1 .. Pk-1 (Pj = P0 + j d exactly), each the corner of small triangles
+   (Pj, Pj+1, Rj) on the other side; then nrand random triangles. *inserted: how many
+   vertices lie inside the large triangles' edges by construction. */
+static char *fan_scene(int nfan, int nrand, uint32_t seed, int *inserted)
+{
+  struct text x = { NULL, 0, 0 };
+  put(&x, "view 0 0 -3000\nwindow -200 -150 200 150\n");
+  rnd_state = seed;
+  int v = 0, f = 0;
+  *inserted = 0;
+  for (int q = 0; q < nfan; q++) {
+    int k = rnd(3, 12);
+    int dx = rnd(-9, 9) * 3 + 1, dy = rnd(-9, 9) * 2 + 1, dz = rnd(-40, 40);
+    int ax = rnd(-180, 180) - k * dx / 2, ay = rnd(-130, 130) - k * dy / 2;
+    int az = rnd(400, 2400) - k * dz / 2;
+    if (az < 200) az = 200;
+    if (az + k * dz < 200) dz = 0;
+    int p0 = v + 1;
+    for (int j = 0; j <= k; j++)
+      put(&x, "vertex %d %d %d %d\n", ++v, ax + j * dx, ay + j * dy, az + j * dz);
+    /* Q and the R's on either side of the line (the normal (-dy, dx) on the picture) */
+    int s = rnd(20, 60);
+    put(&x, "vertex %d %d %d %d\n", ++v, ax + k * dx / 2 - dy * s / 8 - 1,
+        ay + k * dy / 2 + dx * s / 8, az + k * dz / 2 + 7);
+    put(&x, "face %d %d %d %d grey %d\n", ++f, p0, p0 + k, v, rnd(60, 255));
+    for (int j = 0; j < k; j++) {
+      put(&x, "vertex %d %d %d %d\n", ++v, ax + j * dx + dy * 2 + 1, ay + j * dy - dx * 2,
+          az + j * dz + 3);
+      put(&x, "face %d %d %d %d grey %d\n", ++f, p0 + j, v, p0 + j + 1, rnd(60, 255));
+    }
+    *inserted += k - 1;
+  }
+  for (int q = 0; q < nrand; q++) {
+    int cx = rnd(-150, 150), cy = rnd(-110, 110), r = rnd(20, 120);
+    for (int j = 0; j < 3; j++)
+      put(&x, "vertex %d %d %d %d\n", ++v, cx + rnd(-r, r), cy + rnd(-r, r), rnd(300, 2500));
+    put(&x, "face %d %d %d %d grey %d\n", ++f, v - 2, v - 1, v, rnd(60, 255));
+  }
+  return x.t;
+}
+
+static struct scene *load_text(const char *text)
+{
+  char path[] = "/tmp/t74mapper.XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  FILE *fp = fdopen(fd, "w");
+  assert_non_null(fp);
+  fputs(text, fp);
+  fclose(fp);
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  struct scene *s = NULL;
+  struct t74_error err = { 0, "" };
+  int st = scene_load(path, &so, &s, &err);
+  unlink(path);
+  if (st) print_message("scene_load: %s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  return s;
+}
+
+/* ---- the two ways compared ------------------------------------------------------------ */
+
+struct run { struct mapped m; struct mapper_keep k; struct cost c; struct core *core; };
+
+static void map_way(const struct scene *s, bool whole, struct run *r)
+{
+  memset(r, 0, sizeof *r);
+  r->k.whole_boxes = whole;
+  r->core = core_new(1u << 22);
+  assert_non_null(r->core);
+  struct t74_error err = { 0, "" };
+  int st = mapper_run_kept(s, &r->m, r->core, &r->c, &r->k, &err);
+  if (st) print_message("mapper_run_kept: %s\n", err.msg);
+  assert_int_equal(st, T74_OK);
+  assert_true(r->k.s == s);
+}
+
+static void run_free(struct run *r)
+{
+  mapper_free(&r->m);
+  mapper_keep_free(&r->k);
+  core_free(r->core);
+}
+
+/* The short and the long way agree on s: the rings kept, the charges, the faces mapped.
+   Returns how many vertices were inserted into edges. */
+static int same_ways(const struct scene *s)
+{
+  struct run a, b;
+  map_way(s, false, &a);
+  map_way(s, true, &b);
+  assert_int_equal(a.k.n, b.k.n);
+  assert_memory_equal(a.k.ring, b.k.ring, (size_t)a.k.n * sizeof *a.k.ring);
+  int nrings = 0, given = 0;
+  for (int f = 0; f < s->nf; f++) {
+    nrings += s->f[f].nring;
+    given += s->f[f].ring_start[s->f[f].nring];
+  }
+  assert_memory_equal(a.k.start, b.k.start, ((size_t)nrings + 1) * sizeof *a.k.start);
+  assert_memory_equal(&a.k.cost, &b.k.cost, sizeof a.k.cost);
+  assert_memory_equal(&a.c, &b.c, sizeof a.c);
+  assert_int_equal(a.m.nface, b.m.nface);
+  assert_int_equal(a.m.dropped, b.m.dropped);
+  for (int f = 0; f < a.m.nface; f++) {
+    const struct mface *x = &a.m.f[f], *y = &b.m.f[f];
+    assert_int_equal(x->nring, y->nring);
+    int n = x->ring_start[x->nring];
+    assert_int_equal(n, y->ring_start[y->nring]);
+    assert_memory_equal(x->pt, y->pt, (size_t)n * sizeof *x->pt);
+    assert_memory_equal(x->vix, y->vix, (size_t)n * sizeof *x->vix);
+  }
+  int inserted = a.k.n - given;
+  run_free(&a);
+  run_free(&b);
+  return inserted;
+}
+
+/* Fans in depth: every vertex put on a large triangle's edge is found, both ways alike. */
+static void test_fans_both_ways(void **state)
+{
+  (void)state;
+  for (uint32_t seed = 1; seed <= 12; seed++) {
+    int inserted;
+    char *text = fan_scene(40 + 10 * (int)seed, 0, seed, &inserted);
+    struct scene *s = load_text(text);
+    int got = same_ways(s);
+    assert_true(got >= inserted);
+    scene_free(s);
+    free(text);
+  }
+}
+
+/* Fans among random triangles (the cells crowded, most vertices near no edge). */
+static void test_fans_among_triangles(void **state)
+{
+  (void)state;
+  for (uint32_t seed = 100; seed < 106; seed++) {
+    int inserted;
+    char *text = fan_scene(30, 400, seed, &inserted);
+    struct scene *s = load_text(text);
+    assert_true(same_ways(s) >= inserted);
+    scene_free(s);
+    free(text);
+  }
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_fans_both_ways),
+    cmocka_unit_test(test_fans_among_triangles),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
