@@ -108,7 +108,9 @@ static void band_ends(struct smooth_tri *tr)
   }
 }
 
-int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double out[3])
+/* smooth_partial_normal's body, inline for the shading pass's run of band points */
+static inline __attribute__((always_inline))
+int partial_normal(const struct smooth_tri *tr, const double l[3], double out[3])
 {
   const double *t = tr->t;
   bool in[3];
@@ -141,6 +143,11 @@ int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double
   for (int c = 0; c < 3; c++)
     out[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
   return 1;
+}
+
+int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double out[3])
+{
+  return partial_normal(tr, l, out);
 }
 
 /* ---- the model -------------------------------------------------------------------- */
@@ -981,7 +988,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   for (int p = 0; p < n; p++)
     if (!inner[p]) { memcpy(lar[nl], ar[p], sizeof lar[nl]); at[nl++] = p; }
   bary_of_areas(tr, nl, (const double (*)[3])lar, l);
-  for (int q = 0; q < nl; q++) region[at[q]] = smooth_partial_normal(tr, l[q], nrm[at[q]]);
+  for (int q = 0; q < nl; q++) region[at[q]] = partial_normal(tr, l[q], nrm[at[q]]);
   const int fg = map->f[tr->mface].grey;
   nl = 0;                                    /* the points lit here */
   for (int p = 0; p < n; p++) {
