@@ -692,12 +692,14 @@ static inline void bary_of_areas(const struct smooth_tri *tr, int n, const doubl
                                  double (*l)[3])
 {
   const double tot = tr->btot;
-  double sum[SMOOTH_RUN] = { 0 };
+  /* sum[p] starts at the first coordinate, not at 0 + it: the same double, as a clamped
+     coordinate is never -0 (and no array to clear a run) */
+  double sum[SMOOTH_RUN];
   for (int k = 0; k < 3; k++)
     for (int p = 0; p < n; p++) {
       l[p][k] = tot != 0 ? ar[p][k] / tot : 1.0 / 3;
       if (!(l[p][k] > 0)) l[p][k] = 0;
-      sum[p] += l[p][k];
+      sum[p] = k ? sum[p] + l[p][k] : l[p][k];
     }
   for (int p = 0; p < n; p++) {
     if (!(sum[p] > 0)) l[p][0] = l[p][1] = l[p][2] = 1.0 / 3;
