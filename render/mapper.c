@@ -249,15 +249,17 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
    hold a vertex lying inside the segment a-b in space, for a slanted edge (pa.y != pb.y).
    Such a vertex V projects exactly onto the segment between the exact projections A*, B*
    of a and b (a perspective takes segments to segments): V* = t A* + (1 - t) B*. Each
-   grid point is its exact projection rounded, off by at most 1/2 in x and in y, so
-   Q = t pa + (1 - t) pb is within 1/2 of V* in each coordinate (the bound holds for A*,
-   B* and hence for their blend), and V's grid point pv within 1 of Q, a point of the
-   segment pa-pb: |pv.x - Q.x| <= 1, |pv.y - Q.y| <= 1. So with pv in the row's band
-   [r0, r1], Q.y lies in [r0 - 1, r1 + 1], where the segment's x lies between its values
-   at the band's ends (x is linear in y along it), floored below and taken one higher
-   above; pv.x is within 1 more. A superset of the cells, never fewer: every vertex in
-   them is still tested exactly, and which are found (and their order) does not depend on
-   the cells. The products: |dy| |dx| < 2^29 2^29. */
+   grid point is its exact projection rounded half up, off by e in (-1/2, 1/2] in x and
+   in y, so Q = t pa + (1 - t) pb is off V* by such an e too (a blend of A*'s and B*'s),
+   and V's grid point pv off Q by less than 1: |pv.x - Q.x| < 1, |pv.y - Q.y| < 1, Q a
+   point of the segment pa-pb. So with pv in the row's band [r0, r1], Q.y lies in
+   [r0 - 1, r1 + 1], where the segment's x lies in [xlo, xhi], its values at the band's
+   ends (x is linear in y along it), and the integer pv.x in (xlo - 1, xhi + 1): from
+   floor(xlo) to floor(xhi) + 1 (the y margin and these x ends are tight: test_mapper's
+   one-unit cells fail with either y end a unit nearer or either x end). A superset of
+   the cells, never fewer: every vertex in them is still tested exactly, and which are
+   found (and their order) does not depend on the cells. The products: |dy| |dx| < 2^29
+   2^29. */
 static void tj_row_cells(const struct tjunc *t, struct gpoint pa, struct gpoint pb, gcoord cy,
                          gcoord *ca, gcoord *cb)
 {
@@ -268,7 +270,7 @@ static void tj_row_cells(const struct tjunc *t, struct gpoint pa, struct gpoint 
   int64_t dx = pb.x - pa.x, dy = pb.y - pa.y;         /* dy > 0 */
   int64_t xa = pa.x + floordiv((r0 - pa.y) * dx, dy);
   int64_t xb = pa.x + floordiv((r1 - pa.y) * dx, dy);
-  int64_t lo = (xa < xb ? xa : xb) - 1, hi = (xa < xb ? xb : xa) + 2;   /* floor+1, +1 */
+  int64_t lo = xa < xb ? xa : xb, hi = (xa < xb ? xb : xa) + 1;     /* (x - 1, x + 1) */
   gcoord c0 = lo < t->gx0 ? 0 : (lo - t->gx0) >> t->sx;
   gcoord c1 = hi < t->gx0 ? -1 : (hi - t->gx0) >> t->sx;
   if (c0 > *ca) *ca = c0;
