@@ -417,8 +417,10 @@ static void tj_forget(struct mapper_keep *k)
 {
   free(k->ring);
   free(k->start);
+  free(k->plane);
   k->s = NULL;
   k->ring = k->start = NULL;
+  k->plane = NULL;
   k->n = k->cap = 0;
   memset(&k->cost, 0, sizeof k->cost);
 }
@@ -534,7 +536,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       int nrings = 0;
       for (int fi = 0; fi < s->nf; fi++) nrings += s->f[fi].nring;
       kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
-      if (!kt->start) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+      kt->plane = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->plane);
+      if (!kt->start || !kt->plane) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
       rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;
     }
     if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
@@ -551,7 +554,13 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     int g = g0;
     g0 += sf->nring;
     int64_t pl[4];
-    if (!face_plane(s, sf, pl)) { out->dropped++; continue; }
+    if (replay) {
+      memcpy(pl, kt->plane[fi], sizeof pl);
+    } else {
+      if (!face_plane(s, sf, pl)) memset(pl, 0, sizeof pl);
+      if (kt) memcpy(kt->plane[fi], pl, sizeof pl);
+    }
+    if (!(pl[0] | pl[1] | pl[2])) { out->dropped++; continue; }   /* face_plane found none */
     if (cost) {
       cost_mw_mul(cost, 17, 17);
       COST_ADD_N(cost, COST_MEM, 9);
@@ -561,13 +570,12 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
 
     /* the rings with T-junction vertices inserted: ring r is rv[rs[r] .. rs[r+1]) */
-    int rs[sf->nring + 1];
-    if (replay) {
-      for (int r = 0; r <= sf->nring; r++) rs[r] = kt->start[g + r];
-    } else {
+    int rs_new[sf->nring + 1];
+    const int *rs = replay ? kt->start + g : rs_new;
+    if (!replay) {
       if (!kt) nring_v = 0;
       for (int r = 0; r < sf->nring; r++) {
-        rs[r] = *rn;
+        rs_new[r] = *rn;
         int b = sf->ring_start[r], e = sf->ring_start[r + 1];
         for (int k = b; k < e; k++) {
           if (*rn == *rcap) {
@@ -585,8 +593,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
           }
         }
       }
-      rs[sf->nring] = *rn;
-      if (kt) for (int r = 0; r <= sf->nring; r++) kt->start[g + r] = rs[r];
+      rs_new[sf->nring] = *rn;
+      if (kt) for (int r = 0; r <= sf->nring; r++) kt->start[g + r] = rs_new[r];
     }
     const int *rv = replay ? kt->ring : *rbuf;
     int nv = rs[sf->nring] - rs[0];

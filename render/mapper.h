@@ -106,6 +106,10 @@ struct mapper_keep {
   int  n, cap;              /* entries of ring, room */
   struct cost cost;         /* what the search charged (the 1974 program's x-slab scans
                                and exact tests) */
+  int64_t (*plane)[4];      /* scene face f's plane of eq. (2), as found from three of
+                               its vertices (all zero: none), kept with the T-junctions
+                               (it depends on the scene alone; its sign, on the eye, is
+                               taken every run) */
   struct pool pool;         /* blocks for the next run's faces */
   struct mface *f;          /* the last run's table of faces, for the next run (NULL:
                                none); every entry a run uses is written whole */
