@@ -486,7 +486,11 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   }
 
   uint32_t vt;
-  if (core_alloc(core, "VERTEX", (uint32_t)s->nv * VERTEX_ROW_WORDS, &vt, err) != T74_OK)
+  /* the rows reserved as the 1974 program holds them; under the points engine (cost
+     NULL) never written, so not zeroed either */
+  int (*reserve)(struct core *, const char *, uint32_t, uint32_t *, struct t74_error *) =
+      cost ? core_alloc : core_reserve;
+  if (reserve(core, "VERTEX", (uint32_t)s->nv * VERTEX_ROW_WORDS, &vt, err) != T74_OK)
     goto fail;
   for (int k = 0; k < s->nv; k++) {
     const struct scene_vertex *v = &s->v[k];
@@ -546,7 +550,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   int g0 = 0;                               /* the scene's first ring of face fi */
 
   uint32_t at;
-  if (core_alloc(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
+  if (reserve(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
     goto fail_tj;
   for (int fi = 0; fi < s->nf; fi++) {
     const struct scene_face *sf = &s->f[fi];
