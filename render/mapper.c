@@ -103,9 +103,16 @@ static int face_grey(const struct scene *s, const struct mface *m, const int64_t
 }
 
 /* Twice the ring's signed area, exactly: |gcoord| <= GRID_LIMIT = 2^28 (the vertices were
-   checked), so each edge's cross product is below 2^57 in 64 bits; the sum is kept in 128. */
+   checked), so each edge's cross product is below 2^57 in 64 bits; the sum is kept in 64
+   bits for a ring of fewer than 64 points, in 128 for a longer one. */
 static wide ring_area2(const struct gpoint *p, int n)
 {
+  if (n < 64) {              /* below 64 * 2^57 = 2^63: the same integer */
+    int64_t a = 0;
+    for (int j = n - 1, k = 0; k < n; j = k++)
+      a += p[j].x * p[k].y - p[k].x * p[j].y;
+    return a;
+  }
   wide a = 0;
   for (int j = n - 1, k = 0; k < n; j = k++)
     a += p[j].x * p[k].y - p[k].x * p[j].y;
