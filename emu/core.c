@@ -250,8 +250,8 @@ static int grant(struct core *c, const char *table, uint32_t words, const char *
   return T74_ECORE;
 }
 
-int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr,
-               struct t74_error *err)
+static int take(struct core *c, const char *table, uint32_t words, uint32_t *addr,
+                struct t74_error *err, bool zero)
 {
   int rc = grant(c, table, words, "take", err);
   if (rc != T74_OK) return rc;
@@ -268,13 +268,25 @@ int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr
     return T74_EIO;
   }
   uint32_t a = c->low_top;
-  memset(c->w + a, 0, (size_t)words * sizeof *c->w);
+  if (zero) memset(c->w + a, 0, (size_t)words * sizeof *c->w);
   c->rec[c->nrec++] = (struct core_rec){ words, s };
   c->low_top = a + words;
   stat_add(c, s, words);
   note_peak(c);
   if (addr) *addr = a;
   return T74_OK;
+}
+
+int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr,
+               struct t74_error *err)
+{
+  return take(c, table, words, addr, err, true);
+}
+
+int core_reserve(struct core *c, const char *table, uint32_t words, uint32_t *addr,
+                 struct t74_error *err)
+{
+  return take(c, table, words, addr, err, false);
 }
 
 void core_release(struct core *c, uint32_t mark)

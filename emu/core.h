@@ -99,6 +99,11 @@ uint32_t core_first_words(const struct core *c);   /* the size it was made with 
    (table T could not take K more words)", nothing allocated. */
 int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr,
                struct t74_error *err);
+/* core_alloc for a table nobody will read or write (the Mapper's rows under the points
+   engine): the same reservation, records, statistics and refusals, its words left as
+   they are, not zeroed (issue 19). */
+int core_reserve(struct core *c, const char *table, uint32_t words, uint32_t *addr,
+                 struct t74_error *err);
 uint32_t core_mark(const struct core *c);      /* current top of the low region */
 void core_release(struct core *c, uint32_t mark); /* free everything at or above mark */
 

@@ -103,9 +103,16 @@ static int face_grey(const struct scene *s, const struct mface *m, const int64_t
 }
 
 /* Twice the ring's signed area, exactly: |gcoord| <= GRID_LIMIT = 2^28 (the vertices were
-   checked), so each edge's cross product is below 2^57 in 64 bits; the sum is kept in 128. */
+   checked), so each edge's cross product is below 2^57 in 64 bits; the sum is kept in 64
+   bits for a ring of fewer than 64 points, in 128 for a longer one. */
 static wide ring_area2(const struct gpoint *p, int n)
 {
+  if (n < 64) {              /* below 64 * 2^57 = 2^63: the same integer */
+    int64_t a = 0;
+    for (int j = n - 1, k = 0; k < n; j = k++)
+      a += p[j].x * p[k].y - p[k].x * p[j].y;
+    return a;
+  }
   wide a = 0;
   for (int j = n - 1, k = 0; k < n; j = k++)
     a += p[j].x * p[k].y - p[k].x * p[j].y;
@@ -249,15 +256,17 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
    hold a vertex lying inside the segment a-b in space, for a slanted edge (pa.y != pb.y).
    Such a vertex V projects exactly onto the segment between the exact projections A*, B*
    of a and b (a perspective takes segments to segments): V* = t A* + (1 - t) B*. Each
-   grid point is its exact projection rounded, off by at most 1/2 in x and in y, so
-   Q = t pa + (1 - t) pb is within 1/2 of V* in each coordinate (the bound holds for A*,
-   B* and hence for their blend), and V's grid point pv within 1 of Q, a point of the
-   segment pa-pb: |pv.x - Q.x| <= 1, |pv.y - Q.y| <= 1. So with pv in the row's band
-   [r0, r1], Q.y lies in [r0 - 1, r1 + 1], where the segment's x lies between its values
-   at the band's ends (x is linear in y along it), floored below and taken one higher
-   above; pv.x is within 1 more. A superset of the cells, never fewer: every vertex in
-   them is still tested exactly, and which are found (and their order) does not depend on
-   the cells. The products: |dy| |dx| < 2^29 2^29. */
+   grid point is its exact projection rounded half up, off by e in (-1/2, 1/2] in x and
+   in y, so Q = t pa + (1 - t) pb is off V* by such an e too (a blend of A*'s and B*'s),
+   and V's grid point pv off Q by less than 1: |pv.x - Q.x| < 1, |pv.y - Q.y| < 1, Q a
+   point of the segment pa-pb. So with pv in the row's band [r0, r1], Q.y lies in
+   [r0 - 1, r1 + 1], where the segment's x lies in [xlo, xhi], its values at the band's
+   ends (x is linear in y along it), and the integer pv.x in (xlo - 1, xhi + 1): from
+   floor(xlo) to floor(xhi) + 1 (the y margin and these x ends are tight: test_mapper's
+   one-unit cells fail with either y end a unit nearer or either x end). A superset of
+   the cells, never fewer: every vertex in them is still tested exactly, and which are
+   found (and their order) does not depend on the cells. The products: |dy| |dx| < 2^29
+   2^29. */
 static void tj_row_cells(const struct tjunc *t, struct gpoint pa, struct gpoint pb, gcoord cy,
                          gcoord *ca, gcoord *cb)
 {
@@ -268,7 +277,7 @@ static void tj_row_cells(const struct tjunc *t, struct gpoint pa, struct gpoint 
   int64_t dx = pb.x - pa.x, dy = pb.y - pa.y;         /* dy > 0 */
   int64_t xa = pa.x + floordiv((r0 - pa.y) * dx, dy);
   int64_t xb = pa.x + floordiv((r1 - pa.y) * dx, dy);
-  int64_t lo = (xa < xb ? xa : xb) - 1, hi = (xa < xb ? xb : xa) + 2;   /* floor+1, +1 */
+  int64_t lo = xa < xb ? xa : xb, hi = (xa < xb ? xb : xa) + 1;     /* (x - 1, x + 1) */
   gcoord c0 = lo < t->gx0 ? 0 : (lo - t->gx0) >> t->sx;
   gcoord c1 = hi < t->gx0 ? -1 : (hi - t->gx0) >> t->sx;
   if (c0 > *ca) *ca = c0;
@@ -285,15 +294,12 @@ struct tj_seg {
   int first;                     /* the edge's first entry of buf */
 };
 
-/* Vertex v (not a or b) tested exactly: when it lies strictly inside a-b in space, it is
-   inserted in order. 0 when out of host memory. */
-static int tj_take(const struct tjunc *t, int v, const struct tj_seg *e)
+/* Vertex v, found at parameter tt strictly inside a-b (tj_take), inserted in order. 0
+   when out of host memory. (Out of line: few vertices get here.) */
+static __attribute__((noinline)) int tj_insert(const struct tjunc *t, int v, int64_t tt,
+                                               const struct tj_seg *e)
 {
-  const struct scene_vertex *V = &t->s->v[v], *A = e->A;
-  int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
-  if (e->dy * ez - e->dz * ey || e->dz * ex - e->dx * ez || e->dx * ey - e->dy * ex) return 1;
-  int64_t tt = ex * e->dx + ey * e->dy + ez * e->dz;
-  if (tt <= 0 || tt >= e->dd) return 1;
+  const struct scene_vertex *A = e->A;
   if (*e->n == *e->cap) {
     int cp = *e->cap ? 2 * *e->cap : 64;
     int *nb = realloc(*e->buf, (size_t)cp * sizeof *nb);
@@ -313,6 +319,20 @@ static int tj_take(const struct tjunc *t, int v, const struct tj_seg *e)
   }
   buf[j] = v;
   return 1;
+}
+
+/* Vertex v (not a or b) tested exactly: when it lies strictly inside a-b in space, it is
+   inserted in order. 0 when out of host memory. (Inlined in tj_cells' loop: at 30,000
+   boxes 139,000 calls a search.) */
+static inline __attribute__((always_inline)) int tj_take(const struct tjunc *t, int v,
+                                                         const struct tj_seg *e)
+{
+  const struct scene_vertex *V = &t->s->v[v], *A = e->A;
+  int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
+  if (e->dy * ez - e->dz * ey || e->dz * ex - e->dx * ez || e->dx * ey - e->dy * ex) return 1;
+  int64_t tt = ex * e->dx + ey * e->dy + ez * e->dz;
+  if (tt <= 0 || tt >= e->dd) return 1;
+  return tj_insert(t, v, tt, e);
 }
 
 /* The vertices of cells c0 .. c1 (of one row: their vertices are one run of cell_v)
@@ -415,8 +435,10 @@ static void tj_forget(struct mapper_keep *k)
 {
   free(k->ring);
   free(k->start);
+  free(k->plane);
   k->s = NULL;
   k->ring = k->start = NULL;
+  k->plane = NULL;
   k->n = k->cap = 0;
   memset(&k->cost, 0, sizeof k->cost);
 }
@@ -482,7 +504,11 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   }
 
   uint32_t vt;
-  if (core_alloc(core, "VERTEX", (uint32_t)s->nv * VERTEX_ROW_WORDS, &vt, err) != T74_OK)
+  /* the rows reserved as the 1974 program holds them; under the points engine (cost
+     NULL) never written, so not zeroed either */
+  int (*reserve)(struct core *, const char *, uint32_t, uint32_t *, struct t74_error *) =
+      cost ? core_alloc : core_reserve;
+  if (reserve(core, "VERTEX", (uint32_t)s->nv * VERTEX_ROW_WORDS, &vt, err) != T74_OK)
     goto fail;
   for (int k = 0; k < s->nv; k++) {
     const struct scene_vertex *v = &s->v[k];
@@ -532,7 +558,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       int nrings = 0;
       for (int fi = 0; fi < s->nf; fi++) nrings += s->f[fi].nring;
       kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
-      if (!kt->start) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+      kt->plane = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->plane);
+      if (!kt->start || !kt->plane) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
       rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;
     }
     if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
@@ -541,7 +568,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   int g0 = 0;                               /* the scene's first ring of face fi */
 
   uint32_t at;
-  if (core_alloc(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
+  if (reserve(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
     goto fail_tj;
   for (int fi = 0; fi < s->nf; fi++) {
     const struct scene_face *sf = &s->f[fi];
@@ -549,7 +576,13 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     int g = g0;
     g0 += sf->nring;
     int64_t pl[4];
-    if (!face_plane(s, sf, pl)) { out->dropped++; continue; }
+    if (replay) {
+      memcpy(pl, kt->plane[fi], sizeof pl);
+    } else {
+      if (!face_plane(s, sf, pl)) memset(pl, 0, sizeof pl);
+      if (kt) memcpy(kt->plane[fi], pl, sizeof pl);
+    }
+    if (!(pl[0] | pl[1] | pl[2])) { out->dropped++; continue; }   /* face_plane found none */
     if (cost) {
       cost_mw_mul(cost, 17, 17);
       COST_ADD_N(cost, COST_MEM, 9);
@@ -559,13 +592,12 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
 
     /* the rings with T-junction vertices inserted: ring r is rv[rs[r] .. rs[r+1]) */
-    int rs[sf->nring + 1];
-    if (replay) {
-      for (int r = 0; r <= sf->nring; r++) rs[r] = kt->start[g + r];
-    } else {
+    int rs_new[sf->nring + 1];
+    const int *rs = replay ? kt->start + g : rs_new;
+    if (!replay) {
       if (!kt) nring_v = 0;
       for (int r = 0; r < sf->nring; r++) {
-        rs[r] = *rn;
+        rs_new[r] = *rn;
         int b = sf->ring_start[r], e = sf->ring_start[r + 1];
         for (int k = b; k < e; k++) {
           if (*rn == *rcap) {
@@ -583,8 +615,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
           }
         }
       }
-      rs[sf->nring] = *rn;
-      if (kt) for (int r = 0; r <= sf->nring; r++) kt->start[g + r] = rs[r];
+      rs_new[sf->nring] = *rn;
+      if (kt) for (int r = 0; r <= sf->nring; r++) kt->start[g + r] = rs_new[r];
     }
     const int *rv = replay ? kt->ring : *rbuf;
     int nv = rs[sf->nring] - rs[0];

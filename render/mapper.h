@@ -88,9 +88,9 @@ static inline bool mface_tie_front(const struct mface *A, const struct mface *B)
 
 /* Map a checked scene. T74_EINPUT when a vertex projects outside the plane grid. The 1974
    program's operations are added to cost; cost NULL: not counted (the points engine
-   reports no 1974 figures), and the VERTEX and A-BLOCK rows are reserved in core but not
-   written (nothing under the points engine reads them: --dump core and tables need the
-   1974 program). */
+   reports no 1974 figures), and the VERTEX and A-BLOCK rows are reserved in core
+   (core_reserve: not zeroed) but not written (nothing under the points engine reads
+   them: --dump core and tables need the 1974 program). */
 int mapper_run(const struct scene *s, struct mapped *out, struct core *core,
                struct cost *cost, struct t74_error *err);
 
@@ -106,6 +106,10 @@ struct mapper_keep {
   int  n, cap;              /* entries of ring, room */
   struct cost cost;         /* what the search charged (the 1974 program's x-slab scans
                                and exact tests) */
+  int64_t (*plane)[4];      /* scene face f's plane of eq. (2), as found from three of
+                               its vertices (all zero: none), kept with the T-junctions
+                               (it depends on the scene alone; its sign, on the eye, is
+                               taken every run) */
   struct pool pool;         /* blocks for the next run's faces */
   struct mface *f;          /* the last run's table of faces, for the next run (NULL:
                                none); every entry a run uses is written whole */

@@ -13,39 +13,37 @@
 
 struct pool_block {
   struct pool_block *next;
-  size_t used, cap;                    /* bytes of data handed out, and there are */
+  size_t cap;                          /* bytes of data there are */
   max_align_t data[];
 };
 
 #define POOL_BLOCK_BYTES ((size_t)1 << 20)
 
-void *pool_alloc(struct pool *p, size_t bytes, size_t align)
+void *pool_alloc_block(struct pool *p, size_t bytes, size_t align)
 {
-  struct pool_block *b = p->used;
-  size_t at = b ? (b->used + align - 1) & ~(align - 1) : 0;
-  if (!b || at > b->cap || b->cap - at < bytes) {
-    struct pool_block **s = &p->spare;
-    while (*s && (*s)->cap < bytes) s = &(*s)->next;
-    struct pool_block *nb = *s;
-    if (nb) {
-      *s = nb->next;                   /* a spare block, used again */
-    } else {
-      size_t cap = bytes > POOL_BLOCK_BYTES ? bytes : POOL_BLOCK_BYTES;
-      if (cap > SIZE_MAX - sizeof *nb) return NULL;
-      nb = malloc(sizeof *nb + cap);
-      if (!nb) return NULL;
-      nb->cap = cap;
-    }
-    nb->next = b;
-    p->used = b = nb;
-    at = 0;
+  (void)align;                         /* a block's data: at max_align_t */
+  struct pool_block **s = &p->spare;
+  while (*s && (*s)->cap < bytes) s = &(*s)->next;
+  struct pool_block *nb = *s;
+  if (nb) {
+    *s = nb->next;                     /* a spare block, used again */
+  } else {
+    size_t cap = bytes > POOL_BLOCK_BYTES ? bytes : POOL_BLOCK_BYTES;
+    if (cap > SIZE_MAX - sizeof *nb) return NULL;
+    nb = malloc(sizeof *nb + cap);
+    if (!nb) return NULL;
+    nb->cap = cap;
   }
-  b->used = at + bytes;
-  return (char *)b->data + at;
+  nb->next = p->used;
+  p->used = nb;
+  p->at = (char *)nb->data + bytes;
+  p->end = (char *)nb->data + nb->cap;
+  return nb->data;
 }
 
 void pool_reset(struct pool *p)
 {
+  p->at = p->end = NULL;
   while (p->used) {
     struct pool_block *b = p->used;
     p->used = b->next;

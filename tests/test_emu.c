@@ -770,6 +770,88 @@ static void test_param_table(void **state)
   assert_true(d[0] == 10 && d[1] == 0);
 }
 
+/* core_reserve is core_alloc but for the zeroing: on two cores the same random sequence
+   of tables (some too large, refused), releases and a high region, one core taking every
+   other table by core_reserve, gives the same addresses, results, messages, use, peak,
+   tables and layout; the reserved words keep what was there, the allocated ones are 0. */
+static void test_reserve_as_alloc(void **state)
+{
+  (void)state;
+  struct core *c[2] = { core_new(4000), core_new(4000) };
+  assert_non_null(c[0]);
+  assert_non_null(c[1]);
+  const char *names[] = { "VERTEX", "A-BLOCK", "PBS", "X" };
+  uint32_t rnd = 12345;
+  for (int step = 0; step < 400; step++) {
+    rnd = rnd * 1103515245u + 12345u;
+    uint32_t r = rnd >> 8, words = 1 + r % 900;
+    const char *name = names[(r >> 12) % 4];
+    if (r % 7 == 0) {                         /* a release to a mark below the top */
+      uint32_t mark = core_mark(c[0]) / 2;
+      for (int k = 0; k < 2; k++) core_release(c[k], mark);
+      continue;
+    }
+    if (r % 11 == 0) {
+      for (int k = 0; k < 2; k++) core_high_free(c[k]);
+      continue;
+    }
+    if (r % 13 == 0) {
+      struct t74_error e0 = { 0 }, e1 = { 0 };
+      assert_int_equal(core_high_grow(c[0], CORE_T_PRIORITY, words / 4, &e0),
+                       core_high_grow(c[1], CORE_T_PRIORITY, words / 4, &e1));
+      continue;
+    }
+    uint32_t a[2] = { 0, 0 };
+    struct t74_error e[2] = { { 0 }, { 0 } };
+    int st0 = core_alloc(c[0], name, words, &a[0], &e[0]);
+    int st1 = step % 2 ? core_reserve(c[1], name, words, &a[1], &e[1])
+                       : core_alloc(c[1], name, words, &a[1], &e[1]);
+    assert_int_equal(st0, st1);
+    assert_string_equal(e[0].msg, e[1].msg);
+    assert_int_equal(core_used(c[0]), core_used(c[1]));
+    assert_int_equal(core_peak(c[0]), core_peak(c[1]));
+    if (st0 != T74_OK) continue;
+    assert_int_equal(a[0], a[1]);
+    for (uint32_t k = 0; k < words; k++) {
+      assert_int_equal(core_read(c[0], a[0] + k), 0);
+      if (step % 2 == 0) assert_int_equal(core_read(c[1], a[1] + k), 0);
+      core_write(c[0], a[0] + k, (uint16_t)(step + 1));   /* left for the next tables */
+      core_write(c[1], a[1] + k, (uint16_t)(step + 1));
+    }
+  }
+  const char *n0[8], *n1[8];
+  uint32_t p0[8], p1[8];
+  int nt = core_tables(c[0], n0, p0, 8);
+  assert_int_equal(nt, core_tables(c[1], n1, p1, 8));
+  for (int k = 0; k < nt && k < 8; k++) {
+    assert_string_equal(n0[k], n1[k]);
+    assert_int_equal(p0[k], p1[k]);
+  }
+  char *buf[2] = { NULL, NULL };
+  size_t len[2] = { 0, 0 };
+  for (int k = 0; k < 2; k++) {
+    FILE *f = open_memstream(&buf[k], &len[k]);
+    assert_int_equal(core_layout_dump(c[k], f), 0);
+    fclose(f);
+  }
+  assert_string_equal(buf[0], buf[1]);
+  free(buf[0]);
+  free(buf[1]);
+  /* a reserved table over words a released one wrote keeps them */
+  uint32_t a, b;
+  struct t74_error err = { 0 };
+  core_release(c[1], 0);
+  core_high_free(c[1]);
+  assert_int_equal(core_alloc(c[1], "A", 4, &a, &err), T74_OK);
+  core_write(c[1], a + 2, 77);
+  core_release(c[1], 0);
+  assert_int_equal(core_reserve(c[1], "B", 4, &b, &err), T74_OK);
+  assert_int_equal(b, a);
+  assert_int_equal(core_read(c[1], b + 2), 77);
+  core_free(c[0]);
+  core_free(c[1]);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -784,6 +866,7 @@ int main(void)
     cmocka_unit_test(test_multiword_int),
     cmocka_unit_test(test_multiword_wide),
     cmocka_unit_test(test_peak_and_tables),
+    cmocka_unit_test(test_reserve_as_alloc),
     cmocka_unit_test(test_injected_exhaustion),
     cmocka_unit_test(test_reset_as_new),
     cmocka_unit_test(test_renew_as_new),

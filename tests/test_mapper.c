@@ -201,11 +201,82 @@ static void test_fans_among_triangles(void **state)
   }
 }
 
+/* Fans seen from an eye one unit before the plane (view 0 0 -1), far off in depth: the
+   vertices crowd some hundred grid units, so the search's cells are one grid unit wide
+   and a T-junction vertex whose rounded point lies off the rounded segment a'-b' (by up
+   to a grid unit, each end and the vertex rounded their own way) often sits in a cell
+   the thin line itself does not reach: only tj_row_cells' margin keeps that cell. Edges
+   steep, shallow and in depth (strong perspective: the points along an edge unevenly
+   spaced); random triangles among them fill the cells. */
+static bool in_box(int x, int y, int z)
+{
+  return x >= -1200 && x <= 1200 && y >= -1200 && y <= 1200 && z >= 6000 && z <= 30000;
+}
+
+static char *margin_scene(int nfan, int nrand, uint32_t seed, int *inserted)
+{
+  struct text x = { NULL, 0, 0 };
+  put(&x, "view 0 0 -1\nwindow -1 -1 1 1\n");
+  rnd_state = seed;
+  int v = 0, f = 0;
+  *inserted = 0;
+  for (int q = 0; q < nfan; q++) {
+    int k, dx, dy, dz, ax, ay, az;
+    do {                                    /* an edge P0-Pk wholly in the box */
+      k = rnd(3, 24);
+      int steep = rnd(0, 3);                /* 0 steep, 1 shallow, 2 3 any slope */
+      dx = steep == 0 ? rnd(-8, 8) : rnd(-160, 160);
+      dy = steep == 1 ? rnd(-8, 8) : rnd(-160, 160);
+      dz = rnd(-900, 900);
+      ax = rnd(-1200, 1200); ay = rnd(-1200, 1200); az = rnd(6000, 30000);
+    } while ((dx == 0 && dy == 0) || (dx > -3 && dx < 3 && dy > -3 && dy < 3) ||
+             !in_box(ax + k * dx, ay + k * dy, az + k * dz));
+    int p0 = v + 1;
+    for (int j = 0; j <= k; j++)
+      put(&x, "vertex %d %d %d %d\n", ++v, ax + j * dx, ay + j * dy, az + j * dz);
+    /* Q and the R's on either side of the line (the normal (-dy, dx)); may leave the box */
+    put(&x, "vertex %d %d %d %d\n", ++v, ax + k * dx / 2 - dy * 3, ay + k * dy / 2 + dx * 3,
+        az + k * dz / 2 + 11);
+    put(&x, "face %d %d %d %d grey %d\n", ++f, p0, p0 + k, v, rnd(60, 255));
+    for (int j = 0; j < k; j++) {
+      put(&x, "vertex %d %d %d %d\n", ++v, ax + j * dx + dx / 2 + dy, ay + j * dy + dy / 2 - dx,
+          az + j * dz + dz / 2 + 5);
+      put(&x, "face %d %d %d %d grey %d\n", ++f, p0 + j, v, p0 + j + 1, rnd(60, 255));
+    }
+    *inserted += k - 1;
+  }
+  for (int q = 0; q < nrand; q++) {
+    int cx = rnd(-1100, 1100), cy = rnd(-1100, 1100), cz = rnd(7000, 29000);
+    for (int j = 0; j < 3; j++)
+      put(&x, "vertex %d %d %d %d\n", ++v, cx + rnd(-100, 100), cy + rnd(-100, 100),
+          cz + rnd(-900, 900));
+    put(&x, "face %d %d %d %d grey %d\n", ++f, v - 2, v - 1, v, rnd(60, 255));
+  }
+  return x.t;
+}
+
+/* The margin of tj_row_cells: a T-junction vertex's point off the thin line by up to a
+   grid unit, in one-unit cells: with either end of its y margin a unit nearer, or either
+   x end (floor(xlo), floor(xhi) + 1, tight), this fails. */
+static void test_margin_one_unit_cells(void **state)
+{
+  (void)state;
+  for (uint32_t seed = 200; seed < 230; seed++) {
+    int inserted;
+    char *text = margin_scene(150, 600, seed, &inserted);
+    struct scene *s = load_text(text);
+    assert_true(same_ways(s) >= inserted);
+    scene_free(s);
+    free(text);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_fans_both_ways),
     cmocka_unit_test(test_fans_among_triangles),
+    cmocka_unit_test(test_margin_one_unit_cells),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
