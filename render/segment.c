@@ -1551,8 +1551,6 @@ static void ring_remove(struct xs_ring *g, int i)
   g->n--;
 }
 
-/* Drop zero-length sides and vertices between two sides on one line; check the ring is
-   strictly convex and turns once. */
 /* A ring whose sides each turn left into the next goes round once when its sides'
    directions (b, -a), in angular order, wrap around once (else it is a star): whether the
    order wraps from side l1 to the next, l2; and the refusal of a ring that wrapped
@@ -1571,6 +1569,8 @@ static int winds_once(struct seg_ctx *x, int wraps)
   return T74_OK;
 }
 
+/* Drop zero-length sides and vertices between two sides on one line; check the ring is
+   strictly convex and turns once. */
 static int tidy_ring(struct seg_ctx *x, struct xs_ring *g)
 {
   unsigned fid = x->in->face_id;
