@@ -807,22 +807,14 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   int tyat = -1;
   bool any = false;
   if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
-    const double za = b->za, E = b->E;
     for (int r = 0; r < nrow; r++) {
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
       if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
       if (i0 >= i1) continue;
       any = true;
       const int64_t j = jlo + r;
-      const double zr = zb * (double)j + zc, z0 = za * (double)i0 + zr;
-      if (!tiles) {
-        if (b->plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, NULL);
-        else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, NULL);
-        continue;
-      }
-      struct points_tile *trow = p->tile + (size_t)(j >> TILE_SHIFT) * (size_t)ntx;
-      if (b->plus) raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, true, trow);
-      else raster_span(p, g, k, j, i0, i1, z0 - E, z0 + E, za, false, trow);
+      span_parts(p, g, k, b, j, i0, i1, zb * (double)j + zc, 0, tx0,   /* no tile skipped */
+                 tiles ? p->tile + (size_t)(j >> TILE_SHIFT) * (size_t)ntx : NULL);
     }
     if (!any) p->faces_culled++;
     return T74_OK;
