@@ -19,9 +19,8 @@ struct pool_block {
 
 #define POOL_BLOCK_BYTES ((size_t)1 << 20)
 
-void *pool_alloc_block(struct pool *p, size_t bytes, size_t align)
+void *pool_alloc_block(struct pool *p, size_t bytes)
 {
-  (void)align;                         /* a block's data: at max_align_t */
   struct pool_block **s = &p->spare;
   while (*s && (*s)->cap < bytes) s = &(*s)->next;
   struct pool_block *nb = *s;

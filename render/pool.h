@@ -22,8 +22,9 @@ struct pool {
                                           no block) */
 };                                     /* all zero: an empty pool */
 
-/* pool_alloc from a new block (a spare one, or one from the host). */
-void *pool_alloc_block(struct pool *p, size_t bytes, size_t align);
+/* pool_alloc from a new block (a spare one, or one from the host): its data start at
+   max_align_t, so at any alignment pool_alloc takes. */
+void *pool_alloc_block(struct pool *p, size_t bytes);
 
 /* `bytes` bytes at a multiple of `align` (a power of two, at most _Alignof(max_align_t));
    they live until pool_reset or pool_free. NULL when the host is out of memory. (Inline:
@@ -37,7 +38,7 @@ static inline void *pool_alloc(struct pool *p, size_t bytes, size_t align)
       return (char *)a;
     }
   }
-  return pool_alloc_block(p, bytes, align);
+  return pool_alloc_block(p, bytes);
 }
 
 /* Everything handed out is given back; the blocks are kept for later pool_alloc. */
