@@ -172,6 +172,16 @@ static int same_ways(const struct scene *s)
   return inserted;
 }
 
+/* A generated scene's text (taken): both ways alike, and at least the `inserted` vertices
+   the generator put on edges found. */
+static void check_text(char *text, int inserted)
+{
+  struct scene *s = load_text(text);
+  assert_true(same_ways(s) >= inserted);
+  scene_free(s);
+  free(text);
+}
+
 /* Fans in depth: every vertex put on a large triangle's edge is found, both ways alike. */
 static void test_fans_both_ways(void **state)
 {
@@ -179,11 +189,7 @@ static void test_fans_both_ways(void **state)
   for (uint32_t seed = 1; seed <= 12; seed++) {
     int inserted;
     char *text = fan_scene(40 + 10 * (int)seed, 0, seed, &inserted);
-    struct scene *s = load_text(text);
-    int got = same_ways(s);
-    assert_true(got >= inserted);
-    scene_free(s);
-    free(text);
+    check_text(text, inserted);
   }
 }
 
@@ -194,10 +200,7 @@ static void test_fans_among_triangles(void **state)
   for (uint32_t seed = 100; seed < 106; seed++) {
     int inserted;
     char *text = fan_scene(30, 400, seed, &inserted);
-    struct scene *s = load_text(text);
-    assert_true(same_ways(s) >= inserted);
-    scene_free(s);
-    free(text);
+    check_text(text, inserted);
   }
 }
 
@@ -264,10 +267,7 @@ static void test_margin_one_unit_cells(void **state)
   for (uint32_t seed = 200; seed < 230; seed++) {
     int inserted;
     char *text = margin_scene(150, 600, seed, &inserted);
-    struct scene *s = load_text(text);
-    assert_true(same_ways(s) >= inserted);
-    scene_free(s);
-    free(text);
+    check_text(text, inserted);
   }
 }
 
