@@ -171,7 +171,7 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
     }
   }
   if (e->shadows && s->has_light) {
-    if ((rc = shadow_build(map, s, &m->shadows, st, counted, err)) != T74_OK) return rc;
+    if ((rc = shadow_build(map, s, eng->shadow_keep, &m->shadows, st, counted, err)) != T74_OK) return rc;
     if (m->shadows.n > 0)              /* none cast: p may be NULL, which qsort may not take */
       qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
     m->shadow_first = calloc((size_t)map->nface + 1, sizeof *m->shadow_first);
