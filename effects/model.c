@@ -172,8 +172,14 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
   }
   if (e->shadows && s->has_light) {
     if ((rc = shadow_build(map, s, eng->shadow_keep, &m->shadows, st, counted, err)) != T74_OK) return rc;
-    if (m->shadows.n > 0)              /* none cast: p may be NULL, which qsort may not take */
-      qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
+    /* by owner and light: shadow_build gives them so (face by face, light by light), and
+       they are left as they come, ties in shadow_build's order (glibc's qsort, a merge
+       sort, leaves an ordered array as it is too; none cast: p may be NULL, which qsort
+       may not take) */
+    bool sorted = true;
+    for (int k = 1; k < m->shadows.n && sorted; k++)
+      sorted = by_owner(&m->shadows.p[k - 1], &m->shadows.p[k]) <= 0;
+    if (!sorted) qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
     m->shadow_first = calloc((size_t)map->nface + 1, sizeof *m->shadow_first);
     if (!m->shadow_first) return t74_fail(err, T74_EIO, "out of host memory");
     for (int f = 0, k = 0; f <= map->nface; f++) {
