@@ -47,6 +47,7 @@
 #include "patterns/scanner.h"
 #include "render/effects.h"
 #include "effects/fx.h"
+#include "effects/shadow.h"
 #include "effects/smooth.h"
 #include "render/points.h"
 #include "render/render.h"
@@ -86,6 +87,7 @@ struct pipeline {
   struct core **fx_keep;            /* the points engine's effects core between frames */
   struct smooth_scene **fx_smooth;  /* the smoothing's scene part between frames */
   struct fx_textures **fx_tex;      /* the scene's textures between frames */
+  struct shadow_keep **fx_shadow;   /* the shadows in space between frames */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -482,6 +484,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   else st = fx_engine_points(&eng, p->pts, g, p->fx_keep, err);
   eng.smooth_keep = p->fx_smooth;
   eng.tex_keep = p->fx_tex;
+  eng.shadow_keep = p->fx_shadow;
   if (st == T74_OK) st = fx_run(&eng, s, e, &f, fst, &p->fx, err);
   fx_engine_free(&eng);
   free(fgrey);
@@ -1262,6 +1265,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   struct core *fx_core = NULL;              /* the effects' core, kept for the next frame */
   struct smooth_scene *fx_smooth = NULL;    /* the smoothing's scene part, likewise */
   struct fx_textures *fx_tex = NULL;        /* the scene's textures, likewise */
+  struct shadow_keep *fx_shadow = NULL;     /* the shadows in space, likewise */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -1272,6 +1276,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   p.fx_keep = &fx_core;
   p.fx_smooth = &fx_smooth;
   p.fx_tex = &fx_tex;
+  p.fx_shadow = &fx_shadow;
   int engine = JOB_ENGINE_1974;
   memset(&jo, 0, sizeof jo);
 
@@ -1457,6 +1462,7 @@ done:
   core_free(fx_core);
   smooth_scene_free(fx_smooth);
   fx_textures_free(fx_tex);
+  shadow_keep_free(fx_shadow);
   points_free(&pts);
   scene_free(own);
   return st;

@@ -171,9 +171,15 @@ int fx_model_build(struct fx_model *m, const struct fx_engine *eng, const struct
     }
   }
   if (e->shadows && s->has_light) {
-    if ((rc = shadow_build(map, s, &m->shadows, st, counted, err)) != T74_OK) return rc;
-    if (m->shadows.n > 0)              /* none cast: p may be NULL, which qsort may not take */
-      qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
+    if ((rc = shadow_build(map, s, eng->shadow_keep, &m->shadows, st, counted, err)) != T74_OK) return rc;
+    /* by owner and light: shadow_build gives them so (face by face, light by light), and
+       they are left as they come, ties in shadow_build's order (glibc's qsort, a merge
+       sort, leaves an ordered array as it is too; none cast: p may be NULL, which qsort
+       may not take) */
+    bool sorted = true;
+    for (int k = 1; k < m->shadows.n && sorted; k++)
+      sorted = by_owner(&m->shadows.p[k - 1], &m->shadows.p[k]) <= 0;
+    if (!sorted) qsort(m->shadows.p, (size_t)m->shadows.n, sizeof *m->shadows.p, by_owner);
     m->shadow_first = calloc((size_t)map->nface + 1, sizeof *m->shadow_first);
     if (!m->shadow_first) return t74_fail(err, T74_EIO, "out of host memory");
     for (int f = 0, k = 0; f <= map->nface; f++) {
@@ -402,6 +408,13 @@ struct fx_lines {
   int evcap;
   int *brow; int browcap;   /* samples: the row behind a cut object */
   int *bnd; int bndcap;     /* samples: per event, the first sample at or right of it */
+  /* samples on a rising window (shadow_samples): the row's stretches of each face's shadows
+     as ranges of samples [b0, b1), found at the face's first run on the row (row: the
+     row's number, counted from 1, when found) */
+  struct brange { int b0, b1, light; } *rng;
+  int nrng, rngcap;
+  struct { long row; int at, n; } *fr;      /* per mapped face */
+  long row;
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -449,6 +462,7 @@ void fx_lines_close(struct fx_lines *L)
     for (int q = 0; q < L->m->ncut; q++) fx_see_close(L->behind[q]);
   free(L->behind);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
+  free(L->rng); free(L->fr);
   free(L);
 }
 
@@ -464,6 +478,19 @@ static inline int ev_cmp(const struct ev *a, const struct ev *b)
   return fx_x_cmp(&a->x, a->k, &b->x, b->k);
 }
 
+/* Room in L->x for polygon p's crossings with a line (one at most a point); false when
+   out of host memory. */
+static bool cross_room(struct fx_lines *L, const struct fx_poly *p)
+{
+  const int need = p->rs[p->nring];
+  if (need <= L->xcap) return true;
+  struct grat *nx = realloc(L->x, (size_t)need * sizeof *nx);
+  if (!nx) return false;
+  L->x = nx;
+  L->xcap = need;
+  return true;
+}
+
 /* The crossings of every polygon in [k0, k1) of ps with the line, as stretches appended
    to L->ev (d = +1 at a start, -1 at an end; light from the polygon). */
 static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int k1, int64_t yn,
@@ -473,13 +500,7 @@ static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int 
   for (int k = k0; k < k1; k++) {
     const struct fx_poly *p = &ps->p[k];
     if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
-    int need = p->rs[p->nring];
-    if (need > L->xcap) {
-      struct grat *nx = realloc(L->x, (size_t)need * sizeof *nx);
-      if (!nx) return t74_fail(err, T74_EIO, "out of host memory");
-      L->x = nx;
-      L->xcap = need;
-    }
+    if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
     int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->cost);
     if (*nev + nx > L->evcap) {
       int cap = L->evcap ? L->evcap : 64;
@@ -690,19 +711,34 @@ static inline unsigned ev_count(const struct ev *e, int *cnt, unsigned mask)
   return cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
 }
 
-/* The first sample of the row whose x is at or right of event e's x, or n: the guess,
-   then settled by the exact compares (the least i where x <= xn / xd, whatever the
-   guess: usually two compares). */
-static int first_at_or_right(const struct ev *e, const struct sample_row *r)
+/* The order of event e's x and a sample's xn / xd (-1, 0, 1), kx = fl(e->k xd): from
+   doubles when they lie apart, else exactly (geom_rat_cmp_frac). e->k is within 2^-51 |x|
+   of x (fx_x_key) and xd is exact in a double (2 K W), so kx is within (2^-51 + 2^-53 +
+   2^-104) |x xd| < 2^-50.5 |x xd| of x xd, and fl(xn) within 2^-53 |xn| of xn: when
+   fl(xn) - kx > 2^-49 (|kx| + |fl(xn)|) as computed (the difference and the bound each
+   within u of their values), xn - x xd > 0 (the two errors together are below
+   2^-50.4 (|kx| + |fl(xn)|)): x < xn / xd; likewise the other way. */
+static inline int ev_cmp_sample(const struct grat *x, double kx, int64_t xn, int64_t xd)
 {
-  const struct grat x = e->x;
-  const double gi = ceil(e->k * r->ka - r->kb);   /* (e->k: x in a double, ev_key) */
+  const double s = (double)xn, d = s - kx, t = (fabs(kx) + fabs(s)) * 0x1p-49;
+  if (d > t) return -1;
+  if (-d > t) return 1;
+  return geom_rat_cmp_frac(*x, xn, xd);
+}
+
+/* The first sample of the row whose x is at or right of x (k: x in a double, ev_key), or
+   n: the guess, then settled by the compares (the least i where x <= xn / xd, whatever
+   the guess: usually two compares, decided in doubles when they can be, ev_cmp_sample). */
+static int first_at_or_right(const struct grat *x, double k, const struct sample_row *r)
+{
+  const double gi = ceil(k * r->ka - r->kb);
+  const double kx = k * (double)r->xd;
   int i = !(gi > 0) ? 0 : gi >= r->n ? r->n : (int)gi;
-  while (i > 0 && geom_rat_cmp_frac(x, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i - 1) + 1) * r->S),
-                                    r->xd) <= 0)
+  while (i > 0 && ev_cmp_sample(x, kx, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i - 1) + 1) * r->S),
+                                r->xd) <= 0)
     i--;
-  while (i < r->n && geom_rat_cmp_frac(x, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i) + 1) * r->S),
-                                       r->xd) > 0)
+  while (i < r->n && ev_cmp_sample(x, kx, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i) + 1) * r->S),
+                                   r->xd) > 0)
     i++;
   return i;
 }
@@ -748,7 +784,7 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
   struct sample_row sr;
   if (rising) sample_row(&sr, win, xd, k0, n);
-  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(&L->ev[h], &sr);
+  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(&L->ev[h].x, L->ev[h].k, &sr);
   for (int r = 0; r < np; r++)
     for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
       if (face[i] < 0 || !skip[face[i]]) continue;
@@ -771,6 +807,77 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   return T74_OK;
 }
 
+/* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
+   row r (rising): a sample lies in a stretch [x0, x1) exactly when it is at or right of
+   x0 and not at or right of x1, so in [first_at_or_right(x0), first_at_or_right(x1)).
+   Appended to L->rng. */
+static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
+                       const struct sample_row *r, struct t74_error *err)
+{
+  const struct fx_model *m = L->m;
+  const int64_t fy = fx_line_row(yn, yd);
+  for (int k = m->shadow_first[f]; k < m->shadow_first[f + 1]; k++) {
+    const struct fx_poly *p = &m->shadows.p[k];
+    if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
+    if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
+    const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->cost);
+    for (int h = 0; h + 1 < nx; h += 2) {
+      if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
+      const int b0 = first_at_or_right(&L->x[h], ev_key(L->x[h]), r);
+      if (b0 == r->n) break;                /* this stretch and the rest: right of the row */
+      const int b1 = first_at_or_right(&L->x[h + 1], ev_key(L->x[h + 1]), r);
+      if (b0 == b1) continue;
+      if (L->nrng == L->rngcap) {
+        const int cap = L->rngcap ? 2 * L->rngcap : 64;
+        struct brange *nr = realloc(L->rng, (size_t)cap * sizeof *nr);
+        if (!nr) return t74_fail(err, T74_EIO, "out of host memory");
+        L->rng = nr;
+        L->rngcap = cap;
+      }
+      L->rng[L->nrng++] = (struct brange){ b0, b1, p->light };
+    }
+  }
+  return T74_OK;
+}
+
+/* shadow_samples on a rising window: a light is blocked at a sample when one of its
+   shadows' stretches on the face seen there holds the sample (the count of them at the
+   sample, starts at or left of it less ends at or left of it, is positive: shadow_line's
+   rule), so the mask at each sample is the OR of the lights of the face's ranges that
+   hold it. A face's ranges are found at its first run on the row and serve its others. */
+static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd, int64_t k0,
+                         int n, const int *face, unsigned *blocked, struct t74_error *err)
+{
+  const struct fx_model *m = L->m;
+  if (!L->fr && !(L->fr = calloc((size_t)m->map->nface + 1, sizeof *L->fr)))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  struct sample_row sr;
+  sample_row(&sr, m->g->window, xd, k0, n);
+  L->row++;                                 /* every face's ranges: none yet */
+  L->nrng = 0;
+  memset(blocked, 0, (size_t)n * sizeof *blocked);
+  for (int i = 0; i < n;) {
+    const int f = face[i];
+    int e = i + 1;
+    while (e < n && face[e] == f) e++;
+    if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
+      if (L->fr[f].row != L->row) {
+        const int at = L->nrng;
+        const int rc = face_ranges(L, f, yn, yd, &sr, err);
+        if (rc != T74_OK) return rc;
+        L->fr[f].row = L->row; L->fr[f].at = at; L->fr[f].n = L->nrng - at;
+      }
+      for (int k = L->fr[f].at; k < L->fr[f].at + L->fr[f].n; k++) {
+        const struct brange *b = &L->rng[k];
+        const unsigned bit = 1u << b->light;
+        for (int j = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e; j < hi; j++) blocked[j] |= bit;
+      }
+    }
+    i = e;
+  }
+  return T74_OK;
+}
+
 /* The lights blocked at each sample of a row: the shadows lying on the face seen there,
    counted up to the sample (shadow_line's answer, sample by sample). */
 static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd, int64_t k0,
@@ -782,12 +889,10 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
     memset(blocked, 0, (size_t)n * sizeof *blocked);
     return T74_OK;
   }
-  /* samples left to right (xn rising): each event's first sample at or right of it
-     found once (first_at_or_right), the samples between two events given the mask
-     between them; else each sample compared with the events */
-  const bool rising = win[2] > win[0];
-  struct sample_row sr;
-  if (rising) sample_row(&sr, win, xd, k0, n);
+  /* samples left to right (xn rising): each stretch of a face's shadows the range of
+     samples between its ends' first samples at or right of them (first_at_or_right),
+     found once a row (face_ranges); else each sample compared with the events */
+  if (win[2] > win[0]) return shadow_ranges(L, yn, yd, xd, k0, n, face, blocked, err);
   /* a face's events on the line, sorted, are kept in L->ev for the row: a face seen again
      further along (another face in between) takes them as they are; the last few faces
      are remembered */
@@ -818,16 +923,6 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
        order), is positive; kept as each event changes its light's count */
     int cnt[SCENE_LIGHT_MAX] = { 0 }, h = 0;
     unsigned mask = 0;
-    if (rising) {
-      for (; h < nev; h++) {
-        const int b = first_at_or_right(&ev[h], &sr);
-        if (b >= e) break;                  /* this event and the rest: right of the run */
-        for (; i < b; i++) blocked[i] = mask;
-        mask = ev_count(&ev[h], cnt, mask);
-      }
-      for (; i < e; i++) blocked[i] = mask;
-      continue;
-    }
     for (; i < e; i++) {
       int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
       for (; h < nev && geom_rat_cmp_frac(ev[h].x, xn, xd) <= 0; h++) {

@@ -110,7 +110,11 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
           COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);
           return -1;
         }
-        struct grat xc = geom_x_at(geom_line(p0, p1), yn, yd);
+        /* geom_x_at(geom_line(p0, p1), yn, yd): the same rational, without the two calls
+           (p0.y != p1.y: the ends lie on either side) */
+        const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
+        struct grat xc = { -((wide)lb * yn + (wide)lc * yd), (wide)la * yd };
+        if (xc.den < 0) { xc.den = -xc.den; xc.num = -xc.num; }
         cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46);
         int h = nx++;
         while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }

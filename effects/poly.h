@@ -71,7 +71,14 @@ static inline bool fx_poly_on_row(const struct fx_poly *p, int64_t row)
    within u = 2^-53 relatively (|num|, den < 2^127: no overflow; den >= 1, |x| >= 2^-127
    unless 0: no underflow), so |k - x| <= ((1 + u)^2 / (1 - u) - 1) |x| < 2^-51 |x|, with k
    of x's sign (0 exactly when x is). */
-static inline double fx_x_key(struct grat x) { return (double)x.num / (double)x.den; }
+static inline double fx_x_key(struct grat x)
+{
+  /* fl(v) of a wide v that fits in 64 bits taken from the 64-bit value: the same double
+     (each conversion rounds v to nearest), without the library's 128-bit conversion */
+  const double num = x.num == (int64_t)x.num ? (double)(int64_t)x.num : (double)x.num;
+  const double den = x.den == (int64_t)x.den ? (double)(int64_t)x.den : (double)x.den;
+  return num / den;
+}
 
 /* The order of *a and *b (-1, 0, 1; ka, kb their fx_x_key): from the keys when they lie
    apart by more than 2^-49 (|ka| + |kb|) as computed (the difference and the bound each

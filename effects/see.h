@@ -41,6 +41,7 @@ struct render;
 struct points;
 struct smooth_scene;
 struct fx_textures;
+struct shadow_keep;
 
 struct fx_engine {
   const struct mapped *map;         /* the Mapper's faces */
@@ -54,6 +55,8 @@ struct fx_engine {
                                        frame (effects/smooth.h), or NULL; set by the caller */
   struct fx_textures **tex_keep;    /* the scene's textures kept for the next frame
                                        (effects/model.c), or NULL; set by the caller */
+  struct shadow_keep **shadow_keep; /* the shadows in space kept for the next frame
+                                       (effects/shadow.h), or NULL; set by the caller */
 };
 
 /* A scene's textures as the effects read them (effects/model.c), kept by the caller of

@@ -90,158 +90,310 @@ static int clip(const struct proj *q, const ld box[2][3], int k, const ld (*in)[
   return m;
 }
 
-int shadow_build(const struct mapped *map, const struct scene *s, struct fx_polys *out,
-                 struct fx_stats *st, struct cost *cost, struct t74_error *err)
+/* Shadows in space: the rings a face R receives, cast by cast (one occluder A from one
+   light), each vertex the image Y = N / w (w > 0) of a clipped vertex of A on R's plane.
+   They depend on the scene, its lights and R's plane and box in space alone: the view's
+   part (onto the perspective plane, rounded onto the grid) is draw_casts'. Each array
+   grows by doubling; cast c's rings are ring[c.r0 .. c.r1), ring r's vertices
+   y[r ? yend[r - 1] : 0 .. yend[r]). */
+struct cast { int light, r0, r1; };
+struct casts {
+  struct cast *c;
+  int n, nring;
+  size_t cap, capring;
+  size_t *yend;
+  ld (*y)[3];
+  size_t ny, capy;
+};
+
+static bool grow(void **p, size_t *cap, size_t need, size_t size)
+{
+  if (need <= *cap) return true;
+  size_t nc = *cap ? 2 * *cap : 64;
+  while (nc < need) nc *= 2;
+  void *np = realloc(*p, nc * size);
+  if (!np) return false;
+  *p = np;
+  *cap = nc;
+  return true;
+}
+
+static void casts_free(struct casts *cs)
+{
+  free(cs->c); free(cs->yend); free(cs->y);
+  memset(cs, 0, sizeof *cs);
+}
+
+/* The scratch of the clipping: two rings and their plane_at values, and h values; room
+   for cap vertices each (a ring clipped by 8 half-spaces gains at most one vertex per
+   half-space). rs: room for a polygon's ring offsets, pt for its grid points. */
+struct work {
+  ld (*b0)[3], (*b1)[3];
+  ld *hv, *p0, *p1;
+  size_t cap;
+  int *rs;
+  struct gpoint *pt;
+  size_t ptcap;
+};
+
+/* R's box in space (outer ring), exactly, in integers: lo[c], hi[c]. */
+static void space_box(const struct mapped *map, const struct mface *mf, int32_t lo[3], int32_t hi[3])
+{
+  for (int c = 0; c < 3; c++) lo[c] = hi[c] = mface_coord(map, mf, 0, c);
+  for (int v = 1; v < mf->ring_start[1]; v++)
+    for (int c = 0; c < 3; c++) {
+      const int32_t x = mface_coord(map, mf, v, c);
+      if (x < lo[c]) lo[c] = x;
+      if (x > hi[c]) hi[c] = x;
+    }
+}
+
+/* The casts on face R (mf) of scene s, its box in space one unit wider (box), appended to
+   cs; false when out of host memory. Counted in cost (NULL: not counted). */
+static bool cast_face(const struct mface *mf, const struct scene *s, const ld box[2][3],
+                      struct work *wk, struct casts *cs, struct cost *cost)
+{
+  for (int k = 0; k < s->nlight; k++) {
+    const struct scene_light *L = &s->light[k];
+    struct proj q;
+    q.point = L->point;
+    q.pP = q.nL = 0;                       /* the one the light's kind uses is set below */
+    for (int c = 0; c < 4; c++) q.pl[c] = (ld)mf->plane[c];
+    for (int c = 0; c < 3; c++) q.P[c] = (ld)L->v[c];
+    /* does the light reach R's seen side? exactly, in integers */
+    if (L->point) {
+      wide pv = (wide)mf->plane[0] * L->v[0] + (wide)mf->plane[1] * L->v[1] +
+                (wide)mf->plane[2] * L->v[2] + mf->plane[3];
+      if (pv >= 0) continue;
+      q.pP = plane_at(&q, q.P);
+    } else {
+      wide nl = (wide)mf->plane[0] * L->v[0] + (wide)mf->plane[1] * L->v[1] +
+                (wide)mf->plane[2] * L->v[2];
+      if (nl >= 0) continue;
+      q.nL = (ld)mf->plane[0] * q.P[0] + (ld)mf->plane[1] * q.P[1] + (ld)mf->plane[2] * q.P[2];
+    }
+    if (cost) COST_ADD_N(cost, COST_MEM, 6);
+    for (int a = 0; a < s->nf; a++) {
+      if (a == mf->sface) continue;
+      const struct scene_face *fa = &s->f[a];
+      int nv = fa->ring_start[fa->nring];
+      /* coplanar with R, or wholly on R's far side: no shadow on R */
+      bool near = false, off = false;
+      for (int v = 0; v < nv; v++) {
+        const struct scene_vertex *x = &s->v[fa->vidx[v]];
+        wide pv = (wide)mf->plane[0] * x->x + (wide)mf->plane[1] * x->y +
+                  (wide)mf->plane[2] * x->z + mf->plane[3];
+        if (pv < 0) near = true;
+        if (pv != 0) off = true;
+      }
+      for (int v = 0; cost && v < nv; v++) cost_mw_mul(cost, 34, 16);
+      if (!near || !off) continue;
+      const int r0 = cs->nring;
+      for (int ring = 0; ring < fa->nring; ring++) {
+        int lo = fa->ring_start[ring], n = fa->ring_start[ring + 1] - lo;
+        for (int v = 0; v < n; v++) {
+          const struct scene_vertex *x = &s->v[fa->vidx[lo + v]];
+          wk->b0[v][0] = x->x; wk->b0[v][1] = x->y; wk->b0[v][2] = x->z;
+          wk->p0[v] = plane_at(&q, wk->b0[v]);
+        }
+        /* the ring and each vertex's plane_at, found once (the same value each use) */
+        ld (*in)[3] = wk->b0, (*o)[3] = wk->b1, *pin = wk->p0, *po = wk->p1;
+        for (int h = 0; h < 8 && n >= 3; h++) {
+          const int nc = clip(&q, box, h, (const ld (*)[3])in, pin, n, o, po, wk->hv);
+          if (nc >= 0) {                  /* else the ring as it is */
+            n = nc;
+            ld (*t)[3] = in; in = o; o = t;
+            ld *tp = pin; pin = po; po = tp;
+          }
+          for (int v = 0; cost && v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
+        }
+        if (n < 3) continue;
+        if (!grow((void **)&cs->y, &cs->capy, cs->ny + (size_t)n, sizeof *cs->y)) return false;
+        size_t m = cs->ny;
+        for (int v = 0; v < n; v++) {
+          ld N[3], w;
+          image(&q, in[v], pin[v], N, &w);
+          if (!(w > 0)) continue;
+          for (int c = 0; c < 3; c++) cs->y[m][c] = N[c] / w;
+          m++;
+        }
+        if (m - cs->ny < 3) continue;     /* fewer than 3 points on the grid, whatever the view */
+        if (!grow((void **)&cs->yend, &cs->capring, (size_t)cs->nring + 1, sizeof *cs->yend)) return false;
+        cs->ny = m;
+        cs->yend[cs->nring++] = m;
+      }
+      if (cs->nring == r0) continue;
+      if (!grow((void **)&cs->c, &cs->cap, (size_t)cs->n + 1, sizeof *cs->c)) return false;
+      cs->c[cs->n++] = (struct cast){ k, r0, cs->nring };
+    }
+  }
+  return true;
+}
+
+/* The view's part of casts [c0, c1) of cs on face R (map index; its box on the grid gb:
+   x lo, x hi, y lo, y hi), seen from E: each ring's vertices onto the perspective plane by
+   eq. (1), rounded onto the grid, repeats dropped; a polygon that misses gb is dropped, the
+   others go to out. *any: set when one is added. false when out of host memory. */
+static bool draw_casts(const struct casts *cs, int c0, int c1, const ld E[3], const gcoord gb[4],
+                       int R, struct work *wk, struct fx_polys *out, bool *any, struct cost *cost)
+{
+  for (int c = c0; c < c1; c++) {
+    size_t need = 0;
+    int nring = 0;
+    wk->rs[0] = 0;
+    for (int r = cs->c[c].r0; r < cs->c[c].r1; r++) {
+      const size_t y0 = r ? cs->yend[r - 1] : 0, n = cs->yend[r] - y0;
+      if (!grow((void **)&wk->pt, &wk->ptcap, need + n, sizeof *wk->pt)) return false;
+      struct gpoint *poly = wk->pt + need;
+      int m = 0;
+      for (size_t v = 0; v < n; v++) {
+        const ld *Y = cs->y[y0 + v];
+        ld f = -E[2], dz = Y[2] - E[2];
+        if (!(dz > 0)) continue;
+        ld gx = (ld)GRID_ONE * (E[0] + f * (Y[0] - E[0]) / dz);
+        ld gy = (ld)GRID_ONE * (E[1] + f * (Y[1] - E[1]) / dz);
+        if (fabsl(gx) > (ld)GRID_LIMIT || fabsl(gy) > (ld)GRID_LIMIT) continue;
+        struct gpoint g = { fx_round_ld(gx), fx_round_ld(gy) };
+        if (m > 0 && poly[m - 1].x == g.x && poly[m - 1].y == g.y) continue;
+        poly[m++] = g;
+        if (cost) {
+          for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 32);
+          cost_mw_div(cost, 64, 32); cost_mw_div(cost, 64, 32);
+        }
+      }
+      if (m > 1 && poly[0].x == poly[m - 1].x && poly[0].y == poly[m - 1].y) m--;
+      if (m < 3) continue;
+      need += (size_t)m;
+      wk->rs[++nring] = (int)need;
+    }
+    if (nring == 0) continue;
+    /* drop shadows that miss R's box on the grid */
+    const struct gpoint *poly = wk->pt;
+    gcoord sxlo = poly[0].x, sxhi = sxlo, sylo = poly[0].y, syhi = sylo;
+    for (size_t v = 1; v < need; v++) {
+      if (poly[v].x < sxlo) sxlo = poly[v].x;
+      if (poly[v].x > sxhi) sxhi = poly[v].x;
+      if (poly[v].y < sylo) sylo = poly[v].y;
+      if (poly[v].y > syhi) syhi = poly[v].y;
+    }
+    if (sxhi <= gb[0] || sxlo >= gb[1] || syhi <= gb[2] || sylo >= gb[3]) continue;
+    *any = true;
+    if (!fx_polys_add(out, nring, wk->rs, poly, R, cs->c[c].light)) return false;
+  }
+  return true;
+}
+
+/* A scene face's casts as kept: for its plane and box in space (the key), casts
+   [c0, c1) of the keep's. */
+struct kept_face {
+  bool set;
+  int64_t plane[4];
+  int32_t lo[3], hi[3];
+  int c0, c1;
+};
+
+struct shadow_keep {
+  const struct scene *s;
+  int nf;
+  struct kept_face *face;   /* one a scene face */
+  struct casts cs;
+};
+
+void shadow_keep_free(struct shadow_keep *k)
+{
+  if (!k) return;
+  casts_free(&k->cs);
+  free(k->face);
+  free(k);
+}
+
+/* The keep for scene s: *keep as it is when it is s's, else a new one (NULL when out of
+   host memory). */
+static struct shadow_keep *keep_for(struct shadow_keep **keep, const struct scene *s)
+{
+  if (*keep && (*keep)->s == s && (*keep)->nf == s->nf) return *keep;
+  shadow_keep_free(*keep);
+  *keep = calloc(1, sizeof **keep);
+  if (*keep && !((*keep)->face = calloc((size_t)s->nf + 1, sizeof *(*keep)->face))) {
+    free(*keep);
+    *keep = NULL;
+  }
+  if (*keep) { (*keep)->s = s; (*keep)->nf = s->nf; }
+  return *keep;
+}
+
+int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_keep **keep,
+                 struct fx_polys *out, struct fx_stats *st, struct cost *cost,
+                 struct t74_error *err)
 {
   int maxv = 3;
   for (int a = 0; a < s->nf; a++) {
     int n = s->f[a].ring_start[s->f[a].nring];
     if (n > maxv) maxv = n;
   }
-  /* a ring clipped by 8 half-spaces gains at most one vertex per half-space */
-  size_t cap = (size_t)maxv + 16;
-  ld (*b0)[3] = malloc(cap * sizeof *b0), (*b1)[3] = malloc(cap * sizeof *b1);
-  ld *hv = malloc(3 * cap * sizeof *hv), *p0 = hv ? hv + cap : NULL, *p1 = hv ? hv + 2 * cap : NULL;
-  int *rs = malloc(((size_t)maxv + 2) * sizeof *rs);
-  if (!b0 || !b1 || !hv || !rs) {
-    free(b0); free(b1); free(hv); free(rs);
-    return t74_fail(err, T74_EIO, "out of host memory");
-  }
-  struct gpoint *poly = NULL;
-  size_t polycap = 0;
+  struct work wk;
+  memset(&wk, 0, sizeof wk);
+  wk.cap = (size_t)maxv + 16;
+  wk.b0 = malloc(wk.cap * sizeof *wk.b0);
+  wk.b1 = malloc(wk.cap * sizeof *wk.b1);
+  wk.hv = malloc(3 * wk.cap * sizeof *wk.hv);
+  wk.p0 = wk.hv ? wk.hv + wk.cap : NULL;
+  wk.p1 = wk.hv ? wk.hv + 2 * wk.cap : NULL;
+  wk.rs = malloc(((size_t)maxv + 2) * sizeof *wk.rs);
+  struct shadow_keep *kp = keep && !cost && s->has_light ? keep_for(keep, s) : NULL;
+  struct casts scratch;
+  memset(&scratch, 0, sizeof scratch);
+  bool ok = wk.b0 && wk.b1 && wk.hv && wk.rs && (kp || !keep || cost || !s->has_light);
   long receivers = 0, polys0 = out->n;
   const ld E[3] = { (ld)map->eye[0], (ld)map->eye[1], (ld)map->eye[2] };
-  int st_ = T74_OK;
-  for (int R = 0; R < map->nface && st_ == T74_OK; R++) {
+  for (int R = 0; R < map->nface && ok; R++) {
     const struct mface *mf = &map->f[R];
     const struct scene_face *sr = &s->f[mf->sface];
     if (sr->grey >= 0 || !s->has_light) continue;
     /* R's box in space (outer ring), one unit wider; and on the grid */
+    int32_t lo[3], hi[3];
+    space_box(map, mf, lo, hi);
     ld box[2][3];
-    for (int c = 0; c < 3; c++) box[0][c] = box[1][c] = mface_coord(map, mf, 0, c);
-    gcoord gxlo = mf->pt[0].x, gxhi = gxlo, gylo = mf->pt[0].y, gyhi = gylo;
+    for (int c = 0; c < 3; c++) { box[0][c] = (ld)lo[c] - 1; box[1][c] = (ld)hi[c] + 1; }
+    gcoord gb[4] = { mf->pt[0].x, mf->pt[0].x, mf->pt[0].y, mf->pt[0].y };
     for (int v = 1; v < mf->ring_start[1]; v++) {
-      for (int c = 0; c < 3; c++) {
-        if (mface_coord(map, mf, v, c) < box[0][c]) box[0][c] = mface_coord(map, mf, v, c);
-        if (mface_coord(map, mf, v, c) > box[1][c]) box[1][c] = mface_coord(map, mf, v, c);
-      }
-      if (mf->pt[v].x < gxlo) gxlo = mf->pt[v].x;
-      if (mf->pt[v].x > gxhi) gxhi = mf->pt[v].x;
-      if (mf->pt[v].y < gylo) gylo = mf->pt[v].y;
-      if (mf->pt[v].y > gyhi) gyhi = mf->pt[v].y;
+      if (mf->pt[v].x < gb[0]) gb[0] = mf->pt[v].x;
+      if (mf->pt[v].x > gb[1]) gb[1] = mf->pt[v].x;
+      if (mf->pt[v].y < gb[2]) gb[2] = mf->pt[v].y;
+      if (mf->pt[v].y > gb[3]) gb[3] = mf->pt[v].y;
     }
-    for (int c = 0; c < 3; c++) { box[0][c] -= 1; box[1][c] += 1; }
-    if (box[0][2] <= E[2]) box[0][2] = (E[2] + (ld)mface_coord(map, mf, 0, 2)) / 2;   /* stays before the eye */
     bool any = false;
-    for (int k = 0; k < s->nlight && st_ == T74_OK; k++) {
-      const struct scene_light *L = &s->light[k];
-      struct proj q;
-      q.point = L->point;
-      q.pP = q.nL = 0;                       /* the one the light's kind uses is set below */
-      for (int c = 0; c < 4; c++) q.pl[c] = (ld)mf->plane[c];
-      for (int c = 0; c < 3; c++) q.P[c] = (ld)L->v[c];
-      /* does the light reach R's seen side? exactly, in integers */
-      if (L->point) {
-        wide pv = (wide)mf->plane[0] * L->v[0] + (wide)mf->plane[1] * L->v[1] +
-                  (wide)mf->plane[2] * L->v[2] + mf->plane[3];
-        if (pv >= 0) continue;
-        q.pP = plane_at(&q, q.P);
-      } else {
-        wide nl = (wide)mf->plane[0] * L->v[0] + (wide)mf->plane[1] * L->v[1] +
-                  (wide)mf->plane[2] * L->v[2];
-        if (nl >= 0) continue;
-        q.nL = (ld)mf->plane[0] * q.P[0] + (ld)mf->plane[1] * q.P[1] + (ld)mf->plane[2] * q.P[2];
+    if (box[0][2] <= E[2]) {                /* stays before the eye: the view's, a frame's */
+      box[0][2] = (E[2] + (ld)mface_coord(map, mf, 0, 2)) / 2;
+    } else if (kp) {                        /* the scene's: kept for the run */
+      struct kept_face *kf = &kp->face[mf->sface];
+      if (!kf->set) {
+        kf->c0 = kp->cs.n;
+        ok = cast_face(mf, s, (const ld (*)[3])box, &wk, &kp->cs, NULL);
+        kf->c1 = kp->cs.n;
+        memcpy(kf->plane, mf->plane, sizeof kf->plane);
+        memcpy(kf->lo, lo, sizeof lo);
+        memcpy(kf->hi, hi, sizeof hi);
+        kf->set = ok;
       }
-      if (cost) COST_ADD_N(cost, COST_MEM, 6);
-      for (int a = 0; a < s->nf && st_ == T74_OK; a++) {
-        if (a == mf->sface) continue;
-        const struct scene_face *fa = &s->f[a];
-        int nv = fa->ring_start[fa->nring];
-        /* coplanar with R, or wholly on R's far side: no shadow on R */
-        bool near = false, off = false;
-        for (int v = 0; v < nv; v++) {
-          const struct scene_vertex *x = &s->v[fa->vidx[v]];
-          wide pv = (wide)mf->plane[0] * x->x + (wide)mf->plane[1] * x->y +
-                    (wide)mf->plane[2] * x->z + mf->plane[3];
-          if (pv < 0) near = true;
-          if (pv != 0) off = true;
-        }
-        for (int v = 0; cost && v < nv; v++) cost_mw_mul(cost, 34, 16);
-        if (!near || !off) continue;
-        size_t need = 0;
-        int nring = 0;
-        rs[0] = 0;
-        for (int ring = 0; ring < fa->nring; ring++) {
-          int lo = fa->ring_start[ring], n = fa->ring_start[ring + 1] - lo;
-          for (int v = 0; v < n; v++) {
-            const struct scene_vertex *x = &s->v[fa->vidx[lo + v]];
-            b0[v][0] = x->x; b0[v][1] = x->y; b0[v][2] = x->z;
-            p0[v] = plane_at(&q, b0[v]);
-          }
-          /* the ring and each vertex's plane_at, found once (the same value each use) */
-          ld (*in)[3] = b0, (*o)[3] = b1, *pin = p0, *po = p1;
-          for (int h = 0; h < 8 && n >= 3; h++) {
-            const int nc = clip(&q, box, h, (const ld (*)[3])in, pin, n, o, po, hv);
-            if (nc >= 0) {                  /* else the ring as it is */
-              n = nc;
-              ld (*t)[3] = in; in = o; o = t;
-              ld *tp = pin; pin = po; po = tp;
-            }
-            for (int v = 0; cost && v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
-          }
-          if (n < 3) continue;
-          if (need + (size_t)n > polycap) {
-            size_t nc = polycap ? 2 * polycap : 64;
-            while (nc < need + (size_t)n) nc *= 2;
-            struct gpoint *np = realloc(poly, nc * sizeof *np);
-            if (!np) { st_ = t74_fail(err, T74_EIO, "out of host memory"); break; }
-            poly = np;
-            polycap = nc;
-          }
-          int m = 0;
-          for (int v = 0; v < n; v++) {
-            ld N[3], w;
-            image(&q, in[v], pin[v], N, &w);
-            if (!(w > 0)) continue;
-            ld Y[3] = { N[0] / w, N[1] / w, N[2] / w };
-            ld f = -E[2], dz = Y[2] - E[2];
-            if (!(dz > 0)) continue;
-            ld gx = (ld)GRID_ONE * (E[0] + f * (Y[0] - E[0]) / dz);
-            ld gy = (ld)GRID_ONE * (E[1] + f * (Y[1] - E[1]) / dz);
-            if (fabsl(gx) > (ld)GRID_LIMIT || fabsl(gy) > (ld)GRID_LIMIT) continue;
-            struct gpoint g = { fx_round_ld(gx), fx_round_ld(gy) };
-            if (m > 0 && poly[need + (size_t)m - 1].x == g.x && poly[need + (size_t)m - 1].y == g.y) continue;
-            poly[need + (size_t)m++] = g;
-            if (cost) {
-              for (int c = 0; c < 4; c++) cost_mw_mul(cost, 32, 32);
-              cost_mw_div(cost, 64, 32); cost_mw_div(cost, 64, 32);
-            }
-          }
-          if (m > 1 && poly[need].x == poly[need + (size_t)m - 1].x && poly[need].y == poly[need + (size_t)m - 1].y) m--;
-          if (m < 3) continue;
-          need += (size_t)m;
-          rs[++nring] = (int)need;
-        }
-        if (st_ != T74_OK || nring == 0) continue;
-        /* drop shadows that miss R's box on the grid */
-        gcoord sxlo = poly[0].x, sxhi = sxlo, sylo = poly[0].y, syhi = sylo;
-        for (size_t v = 1; v < need; v++) {
-          if (poly[v].x < sxlo) sxlo = poly[v].x;
-          if (poly[v].x > sxhi) sxhi = poly[v].x;
-          if (poly[v].y < sylo) sylo = poly[v].y;
-          if (poly[v].y > syhi) syhi = poly[v].y;
-        }
-        if (sxhi <= gxlo || sxlo >= gxhi || syhi <= gylo || sylo >= gyhi) continue;
-        if (!fx_polys_add(out, nring, rs, poly, R, k)) st_ = t74_fail(err, T74_EIO, "out of host memory");
-        any = true;
+      if (kf->set && !memcmp(kf->plane, mf->plane, sizeof kf->plane) &&
+          !memcmp(kf->lo, lo, sizeof lo) && !memcmp(kf->hi, hi, sizeof hi)) {
+        ok = draw_casts(&kp->cs, kf->c0, kf->c1, E, gb, R, &wk, out, &any, NULL);
+        receivers += any;
+        continue;
       }
     }
+    if (!ok) break;
+    scratch.n = scratch.nring = 0;
+    scratch.ny = 0;
+    ok = cast_face(mf, s, (const ld (*)[3])box, &wk, &scratch, cost) &&
+         draw_casts(&scratch, 0, scratch.n, E, gb, R, &wk, out, &any, cost);
     receivers += any;
   }
-  free(b0); free(b1); free(hv); free(rs); free(poly);
-  if (st_ == T74_OK) {
-    fx_count(st, "shadow_polygons", (double)(out->n - polys0), true);
-    fx_count(st, "shadow_receivers", (double)receivers, true);
-  }
-  return st_;
+  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs); free(wk.pt);
+  casts_free(&scratch);
+  if (!ok) return t74_fail(err, T74_EIO, "out of host memory");
+  fx_count(st, "shadow_polygons", (double)(out->n - polys0), true);
+  fx_count(st, "shadow_receivers", (double)receivers, true);
+  return T74_OK;
 }

@@ -26,8 +26,17 @@
 /* The shadow polygons of scene s on its Mapper's faces map (owner: the mapped face,
    light: the light), appended to out. Counted in cost (NULL: not counted, the points
    engine, which models no machine); statistics shadow_polygons and
-   shadow_receivers into st. */
-int shadow_build(const struct mapped *map, const struct scene *s, struct fx_polys *out,
-                 struct fx_stats *st, struct cost *cost, struct t74_error *err);
+   shadow_receivers into st.
+   keep (may be NULL; used only when cost is NULL): what depends on the scene and its
+   lights alone, kept from one frame of s to the next (issue 19, --frames): each face's
+   shadows in space, clipped once; a frame does only the view's part (onto the perspective
+   plane and the grid), with the same long double operations on the same values, so the
+   polygons are the same, in the same order. *keep is made on first use (or remade for
+   another scene); the caller frees it with shadow_keep_free. */
+struct shadow_keep;
+int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_keep **keep,
+                 struct fx_polys *out, struct fx_stats *st, struct cost *cost,
+                 struct t74_error *err);
+void shadow_keep_free(struct shadow_keep *k);    /* NULL: nothing */
 
 #endif
