@@ -704,6 +704,14 @@ static void faces_resize(struct prio *pr, unsigned bits)
   pr->faces_new = pr->faces_hit = 0;
 }
 
+/* The face-pair table's largest size: about eight slots a face. */
+static unsigned faces_most(const struct prio *pr)
+{
+  unsigned most = FACE_BITS_MIN;
+  while (most < FACE_BITS_MAX && (1u << most) < 8u * (unsigned)pr->map->nface) most++;
+  return most;
+}
+
 /* The face pair (fa, fb), charged: kept in pr->faces, or found into *own. */
 static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio_faces *own)
 {
@@ -711,11 +719,9 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
   charge_faces(pr, A, B);
   struct prio_faces *e = own;
   if (!pr->faces_off) {
-    unsigned most = FACE_BITS_MIN;         /* about eight slots a face */
-    while (most < FACE_BITS_MAX && (1u << most) < 8u * (unsigned)pr->map->nface) most++;
     if (!pr->faces) {
-      unsigned first = pr->faces_first_bits ? pr->faces_first_bits : FACE_BITS_FIRST;
-      faces_resize(pr, first < most ? first : most);
+      unsigned first = pr->faces_first_bits ? pr->faces_first_bits : FACE_BITS_FIRST, most;
+      faces_resize(pr, first < (most = faces_most(pr)) ? first : most);
     }
     if (pr->faces) {
       e = face_slot(pr, fa, fb);
@@ -725,6 +731,7 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
         return e;
       }
       if (++pr->faces_new >= (uint64_t)1 << pr->faces_bits) {   /* as many as its slots */
+        unsigned most = faces_most(pr);
         if (pr->faces_bits < most && pr->faces_hit * FACE_HIT_SHARE >= pr->faces_new) {
           unsigned to = pr->faces_bits + FACE_BITS_STEP;
           faces_resize(pr, to < most ? to : most);
