@@ -325,7 +325,8 @@ static wide bitlen_value(unsigned n, uint64_t seed)
 /* geom_cross_sign and geom_dot3_sign (their 128-bit paths taken by bit lengths) against the
    256-bit long way: each product's operands of bit lengths adding up to 118..135 (around
    the borders: 126 for a product pair, 125 for three products), signs and forms at
-   random, a fifth of the pairs equal products; then the extremes. */
+   random, a fifth of the pairs equal products, a fifth with one second factor (b = d);
+   then the extremes. */
 static void test_cross_dot_sign(void **state)
 {
   (void)state;
@@ -341,6 +342,8 @@ static void test_cross_dot_sign(void **state)
       v[m + 1] = bitlen_value(lb, s >> 9);
     }
     if (k % 5 == 0) { v[2] = v[1]; v[3] = v[0]; }           /* equal products: 0 */
+    if (k % 5 == 1) v[3] = v[1];                /* one second factor: a and c compared */
+    if (k % 25 == 6) v[2] = v[0];
     wide a = v[0], b = v[1], c = v[2], d = v[3], e = v[4], f = v[5];
     int ref = i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d)));
     assert_int_equal(geom_cross_sign(a, b, c, d), ref);
