@@ -167,7 +167,8 @@ struct i256 i256_add(struct i256 a, struct i256 b);
 struct i256 i256_from(wide a);
 int i256_sign(struct i256 a);
 
-/* The sign of a*b - c*d, exactly: in 192 bits when b and d are in [0, 2^64) (a coordinate
+/* The sign of a*b - c*d, exactly: by comparing a and c when b = d; in 192 bits when b and
+** d are in [0, 2^64) (a coordinate
 ** by a homogeneous W, the common case); else in 128 bits when
 ** the magnitudes' bit lengths of a and b add up to at most 127, and those of c and d too
 ** (each product is then below 2^127 in magnitude and held exactly; the two are compared,

@@ -407,6 +407,73 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
   return 1;
 }
 
+/* Edges met the other way (issue 19): most edges of a closed surface are the edges of
+   two faces, a-b of one and b-a of the other, and the search finds the same vertices for
+   both: those lying strictly inside the segment in space, with the same box, cells and
+   exact tests, so the same count of tests and the same x-slab charge (lb and ub are one
+   run's where a' and b' have one x). Of an edge searched, where its vertices went in the
+   kept rings and its tests are noted in a small table the unordered pair hashes into (the
+   newest kept); an edge found there is not searched again: its vertices are copied, in
+   the other order when it is met the other way, those at one point of space (equal
+   parameters along the edge) still by index (tj_insert's order both ways). The faces of
+   one box come one after another in a file, so the edge's other face follows within a
+   few edges. */
+#define TJ_MEMO_BITS 10u
+struct tj_memo {
+  int a, b;                      /* the edge as searched (a < 0: empty) */
+  int start, n;                  /* its vertices: ring[start .. start + n) */
+  uint64_t tests;                /* the exact tests it charged */
+};
+
+static bool same_point(const struct scene *s, int v, int w)
+{
+  return s->v[v].x == s->v[w].x && s->v[v].y == s->v[w].y && s->v[v].z == s->v[w].z;
+}
+
+/* tj_edge through the table memo (NULL: every edge searched, the long way). 0 when out of
+   host memory. */
+static int tj_edge_memo(const struct tjunc *t, struct tj_memo *memo, int a, int b, int **buf,
+                        int *n, int *cap, struct cost *cost, uint64_t *tests, int *replayed)
+{
+  if (!memo) return tj_edge(t, a, b, buf, n, cap, cost, tests);
+  uint32_t lo = (uint32_t)(a < b ? a : b), hi = (uint32_t)(a < b ? b : a);
+  struct tj_memo *m = &memo[(lo * 0x9E3779B1u ^ hi * 0x85EBCA77u) >> (32 - TJ_MEMO_BITS)];
+  bool same = m->a == a && m->b == b;
+  if (!same && !(m->a == b && m->b == a)) {
+    int first = *n;
+    uint64_t before = *tests;
+    if (!tj_edge(t, a, b, buf, n, cap, cost, tests)) return 0;
+    *m = (struct tj_memo){ a, b, first, *n - first, *tests - before };
+    return 1;
+  }
+  struct gpoint pa = t->proj[a], pb = t->proj[b];           /* tj_edge's charges */
+  int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
+  COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
+  *tests += m->tests;
+  (*replayed)++;
+  if (*n + m->n > *cap) {
+    int c = *cap ? *cap : 64;
+    while (c < *n + m->n) c *= 2;
+    int *nb = realloc(*buf, (size_t)c * sizeof *nb);
+    if (!nb) return 0;
+    *buf = nb;
+    *cap = c;
+  }
+  int *r = *buf;
+  if (same) {
+    memcpy(r + *n, r + m->start, (size_t)m->n * sizeof *r);
+    *n += m->n;
+    return 1;
+  }
+  for (int e = m->start + m->n; e > m->start;) {        /* from b's end: runs at one point */
+    int q = e - 1;
+    while (q > m->start && same_point(t->s, r[q - 1], r[e - 1])) q--;
+    for (int k = q; k < e; k++) r[(*n)++] = r[k];
+    e = q;
+  }
+  return 1;
+}
+
 /* eq. (2): the plane through three vertices of the outer ring that are not collinear. */
 static int face_plane(const struct scene *s, const struct scene_face *f, int64_t pl[4])
 {
@@ -552,6 +619,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   uint64_t tjtests = 0;                     /* the search's exact tests, charged at the end */
   int *ring = NULL, nring_v = 0, capring = 0;
   int **rbuf = &ring, *rn = &nring_v, *rcap = &capring;
+  struct tj_memo *memo = NULL;
+  int replayed = 0;                         /* edges taken from memo */
   if (!replay) {
     if (kt) {
       tj_forget(kt);
@@ -564,6 +633,9 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     }
     if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
     tj.whole_boxes = kt && kt->whole_boxes;
+    /* the edges met the other way: where the rings are kept (their places stay) */
+    if (kt && !kt->whole_boxes && (memo = malloc(sizeof *memo << TJ_MEMO_BITS)) != NULL)
+      for (size_t q = 0; q < (size_t)1 << TJ_MEMO_BITS; q++) memo[q].a = -1;
   }
   int g0 = 0;                               /* the scene's first ring of face fi */
 
@@ -609,7 +681,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
           }
           (*rbuf)[(*rn)++] = sf->vidx[k];
           int nx = k + 1 < e ? k + 1 : b;
-          if (!tj_edge(&tj, sf->vidx[k], sf->vidx[nx], rbuf, rn, rcap, &tjc, &tjtests)) {
+          if (!tj_edge_memo(&tj, memo, sf->vidx[k], sf->vidx[nx], rbuf, rn, rcap, &tjc,
+                            &tjtests, &replayed)) {
             t74_fail(err, T74_EIO, "out of host memory");
             goto fail_tj;
           }
@@ -701,6 +774,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     out->nface++;
   }
   free(ring);
+  free(memo);
   tj_free(&tj);
   free(proj);
   cost_mw_mul_n(&tjc, 17, 17, tjtests);    /* each a product of 17-bit operands */
@@ -712,12 +786,14 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     }
     kt->s = s;
     kt->cost = tjc;
+    kt->replayed = replayed;
   }
   if (cost) cost_merge(cost, replay ? &kt->cost : &tjc);
   return T74_OK;
 
 fail_tj:
   free(ring);
+  free(memo);
   tj_free(&tj);
   if (kt && !replay) tj_forget(kt);
 fail:

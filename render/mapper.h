@@ -115,8 +115,10 @@ struct mapper_keep {
                                none); every entry a run uses is written whole */
   int fcap;                 /* entries f has room for */
   bool whole_boxes;         /* the search looks at every cell of an edge's box, not only
-                               those a slanted edge can reach (the long way, which tests
+                               those a slanted edge can reach, and at every edge, also
+                               one met before the other way (the long way, which tests
                                compare with: the same vertices found, the same charges) */
+  int  replayed;            /* edges not searched: met before (host statistic) */
 };
 
 /* mapper_run with what k keeps: when k holds the T-junctions of s, they are taken from it

@@ -638,11 +638,22 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
    The host keeps it for the face pairs met last, one a slot of a small table the ordered
    pair hashes into (the newest kept), and charges every use what finding it charges
    (charge_faces), so the counts are those of finding it again. faces_off (tests) finds
-   it every time. The table has about eight slots a face, from 2^6 to 2^15 (2,560
+   it every time. The table may grow to about eight slots a face, from 2^6 to 2^15 (2,560
    interpenetrating triangles: 67,500 of a frame's 157,000 decisions find theirs kept
-   with 2^15 slots, 4.7 MB; the paper's scenes need a few kB). */
+   with 2^15 slots, 4.7 MB; the paper's scenes need a few kB). It starts at 2^10 slots
+   (147 kB) and grows eightfold only while the pairs kept are used: when as many pairs
+   as it has slots have been found since it last grew and at least one in
+   FACE_HIT_SHARE of them was found kept (the entries move to their slots in the larger
+   table). Boxes that do not pierce each other meet each face pair once (30,000 faces:
+   29,000 pairs, none found twice), and a 4.7 MB table written whole before the first
+   and then missed at every pair cost their whole process some 5% of its time; a frame of
+   the triangles still finds nearly all it found with the largest table from the
+   start. Which pairs are kept changes no answer and no charge, only host time. */
 #define FACE_BITS_MIN 6u
 #define FACE_BITS_MAX 15u
+#define FACE_BITS_FIRST 10u
+#define FACE_BITS_STEP 3u
+#define FACE_HIT_SHARE 16u
 struct prio_faces {
   int fa, fb;              /* the faces of the first and the second piece; fa < 0: empty */
   struct depth g;
@@ -677,6 +688,30 @@ static inline struct prio_faces *face_slot(const struct prio *pr, int fa, int fb
                     (32 - pr->faces_bits)];
 }
 
+/* The face-pair table made or grown to 2^bits slots, what it held moved there; as it was
+   when the host has no room. */
+static void faces_resize(struct prio *pr, unsigned bits)
+{
+  struct prio_faces *t = malloc(((size_t)1 << bits) * sizeof *t), *old = pr->faces;
+  if (!t) return;
+  for (size_t k = 0; k < (size_t)1 << bits; k++) t[k].fa = -1;
+  size_t nold = old ? (size_t)1 << pr->faces_bits : 0;
+  pr->faces = t;
+  pr->faces_bits = bits;
+  for (size_t k = 0; k < nold; k++)
+    if (old[k].fa >= 0) *face_slot(pr, old[k].fa, old[k].fb) = old[k];
+  free(old);
+  pr->faces_new = pr->faces_hit = 0;
+}
+
+/* The face-pair table's largest size: about eight slots a face. */
+static unsigned faces_most(const struct prio *pr)
+{
+  unsigned most = FACE_BITS_MIN;
+  while (most < FACE_BITS_MAX && (1u << most) < 8u * (unsigned)pr->map->nface) most++;
+  return most;
+}
+
 /* The face pair (fa, fb), charged: kept in pr->faces, or found into *own. */
 static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio_faces *own)
 {
@@ -685,18 +720,26 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
   struct prio_faces *e = own;
   if (!pr->faces_off) {
     if (!pr->faces) {
-      unsigned bits = FACE_BITS_MIN;
-      while (bits < FACE_BITS_MAX && (1u << bits) < 8u * (unsigned)pr->map->nface) bits++;
-      if ((pr->faces = malloc(((size_t)1 << bits) * sizeof *pr->faces)) != NULL) {
-        pr->faces_bits = bits;
-        for (size_t k = 0; k < (size_t)1 << bits; k++) pr->faces[k].fa = -1;
-      }
+      unsigned first = pr->faces_first_bits ? pr->faces_first_bits : FACE_BITS_FIRST, most;
+      faces_resize(pr, first < (most = faces_most(pr)) ? first : most);
     }
     if (pr->faces) {
       e = face_slot(pr, fa, fb);
       if (e->fa == fa && e->fb == fb) {
         pr->faces_kept++;
+        pr->faces_hit++;
         return e;
+      }
+      if (++pr->faces_new >= (uint64_t)1 << pr->faces_bits) {   /* as many as its slots */
+        unsigned most = faces_most(pr);
+        if (pr->faces_bits < most && pr->faces_hit * FACE_HIT_SHARE >= pr->faces_new) {
+          unsigned to = pr->faces_bits + FACE_BITS_STEP;
+          faces_resize(pr, to < most ? to : most);
+          pr->faces_grown++;
+          e = face_slot(pr, fa, fb);
+        } else {
+          pr->faces_new = pr->faces_hit = 0;
+        }
       }
     }
   }

@@ -65,8 +65,11 @@ struct prio {
   struct prio_faces *faces; /* host: what decide found of the last face pairs met (priority.c,
                                "Face pairs"), or NULL */
   unsigned faces_bits;      /* that table's size, 2^faces_bits slots */
+  unsigned faces_first_bits; /* tests: its first size (0: priority.c's FACE_BITS_FIRST) */
+  uint64_t faces_new, faces_hit;  /* pairs found and kept ones used since it last grew */
   int      faces_off;       /* tests: decide finds it afresh for every pair */
   uint64_t faces_kept;      /* pairs decided with it kept (host statistic) */
+  int      faces_grown;     /* times the table grew (host statistic) */
   uint64_t computed;        /* pairs whose priority was computed */
   int      splits;          /* interpenetrating pairs cut along their intersection */
   FILE    *trace;           /* teaching dump of each decision, or NULL */

@@ -435,6 +435,58 @@ static void test_renew_as_new(void **state)
   core_free(c);
 }
 
+/* A core of 64 MB or more is a host mapping of its own (emu/core.c, "the host block"),
+   given huge pages once a region reaches 2^16 words, the stretches in use collapsed into
+   them: its words behave as any core's. Tables written before that keep their words,
+   every new table's words are zero, and a core that grows into (or within) such a
+   mapping keeps its low tables and its high region. */
+static void test_core_large_block(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  const uint32_t big = UINT32_C(1) << 25;                   /* 64 MB of words */
+  struct core *c = core_new(big);
+  assert_non_null(c);
+  uint32_t a, b;
+  assert_int_equal(core_alloc(c, "A", 1000, &a, &err), T74_OK);
+  for (uint32_t k = 0; k < 1000; k++) core_write(c, a + k, (uint16_t)(k * 7 + 1));
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 1000, &err), T74_OK);
+  for (uint32_t k = 0; k < 1000; k++) core_high_set(c, k, (uint16_t)(k * 5 + 3));
+  assert_int_equal(core_alloc(c, "B", UINT32_C(1) << 16, &b, &err), T74_OK);   /* huge now */
+  for (uint32_t k = 0; k < 1000; k++) assert_int_equal(core_read(c, a + k), (uint16_t)(k * 7 + 1));
+  for (uint32_t k = 0; k < 1000; k++) assert_int_equal(core_high_get(c, k), (uint16_t)(k * 5 + 3));
+  for (uint32_t k = 0; k < UINT32_C(1) << 16; k++) assert_int_equal(core_read(c, b + k), 0);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 300000, &err), T74_OK);
+  for (uint32_t k = 1000; k < 300000; k++) assert_int_equal(core_high_get(c, k), 0);
+  for (uint32_t k = 0; k < 1000; k++) assert_int_equal(core_high_get(c, k), (uint16_t)(k * 5 + 3));
+  /* renewed larger: a new mapping, made as new */
+  assert_int_equal(core_renew(c, big * 2), 0);
+  assert_int_equal(core_words(c), big * 2);
+  assert_int_equal(core_alloc(c, "C", 200000, &a, &err), T74_OK);
+  for (uint32_t k = 0; k < 200000; k++) assert_int_equal(core_read(c, a + k), 0);
+  core_free(c);
+  /* a small core (from malloc) that grows into a mapping, and within mappings */
+  c = core_new(1024);
+  core_set_growth(c, big * 4);
+  assert_int_equal(core_alloc(c, "A", 900, &a, &err), T74_OK);
+  for (uint32_t k = 0; k < 900; k++) core_write(c, a + k, (uint16_t)(k + 11));
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 50, &err), T74_OK);
+  for (uint32_t k = 0; k < 50; k++) core_high_set(c, k, (uint16_t)(k + 101));
+  for (int round = 0; round < 2; round++) {
+    uint32_t words = round ? core_words(c) : big - 1000;
+    /* reserved, not zeroed by the table: the growth's words are zero */
+    assert_int_equal(core_reserve(c, "B", words, &b, &err), T74_OK);
+    assert_int_equal(core_words(c), round ? 2 * big : big);
+    for (uint32_t k = 0; k < 900; k++) assert_int_equal(core_read(c, a + k), (uint16_t)(k + 11));
+    for (uint32_t k = 0; k < 50; k++) assert_int_equal(core_high_get(c, k), (uint16_t)(k + 101));
+    for (uint32_t k = 0; k < words; k += k < 4096 ? 1 : 997)   /* (where the high region was) */
+      assert_int_equal(core_read(c, b + k), 0);
+    assert_int_equal(core_read(c, b + words - 1), 0);
+  }
+  assert_true(core_words(c) >= big);
+  core_free(c);
+}
+
 /* The layout dump's addresses (each table's first word is the length of those below it):
    after a release that cuts a table short, the tables above the mark are gone and the one
    it cuts keeps its first words. */
@@ -870,6 +922,7 @@ int main(void)
     cmocka_unit_test(test_injected_exhaustion),
     cmocka_unit_test(test_reset_as_new),
     cmocka_unit_test(test_renew_as_new),
+    cmocka_unit_test(test_core_large_block),
     cmocka_unit_test(test_layout_after_release),
     cmocka_unit_test(test_cost_seconds_by_hand),
     cmocka_unit_test(test_params_set),

@@ -55,9 +55,12 @@ static int rnd(int lo, int hi)
 
 /* nfan fans: a large triangle (P0, Pk, Q) whose edge P0-Pk, slanted on the picture and in
    depth, holds P1 .. Pk-1 (Pj = P0 + j d exactly), each the corner of small triangles
-   (Pj, Pj+1, Rj) on the other side; then nrand random triangles. *inserted: how many
-   vertices lie inside the large triangles' edges by construction. */
-static char *fan_scene(int nfan, int nrand, uint32_t seed, int *inserted)
+   (Pj, Pj+1, Rj) on the other side; then nrand random triangles. With `shared`, each fan
+   also has a triangle with the edge Pk-P0 (the other way) and one with P0-Pk (the same
+   way), and a second vertex at one of the Pj (another id at the same point, the corner of
+   a triangle of its own), so the edge's vertices include two at one point. *inserted: how
+   many vertices lie inside the large triangles' edges by construction. */
+static char *fan_scene(int nfan, int nrand, uint32_t seed, bool shared, int *inserted)
 {
   struct text x = { NULL, 0, 0 };
   put(&x, "view 0 0 -3000\nwindow -200 -150 200 150\n");
@@ -85,6 +88,20 @@ static char *fan_scene(int nfan, int nrand, uint32_t seed, int *inserted)
       put(&x, "face %d %d %d %d grey %d\n", ++f, p0 + j, v, p0 + j + 1, rnd(60, 255));
     }
     *inserted += k - 1;
+    if (shared) {
+      int j = rnd(1, k - 1), t = ++v;                   /* the second vertex at Pj */
+      put(&x, "vertex %d %d %d %d\n", t, ax + j * dx, ay + j * dy, az + j * dz);
+      put(&x, "vertex %d %d %d %d\n", ++v, ax + j * dx + dy * 3, ay + j * dy - dx * 3 + 2,
+          az + j * dz + 11);
+      put(&x, "face %d %d %d %d grey %d\n", ++f, t, v, p0 + k, rnd(60, 255));
+      put(&x, "vertex %d %d %d %d\n", ++v, ax + k * dx / 2 + dy * s / 8 + 1,
+          ay + k * dy / 2 - dx * s / 8, az + k * dz / 2 + 5);
+      put(&x, "face %d %d %d %d grey %d\n", ++f, p0 + k, p0, v, rnd(60, 255));
+      put(&x, "vertex %d %d %d %d\n", ++v, ax + k * dx / 2 - dy * s / 5 - 2,
+          ay + k * dy / 2 + dx * s / 5, az + k * dz / 2 + 13);
+      put(&x, "face %d %d %d %d grey %d\n", ++f, p0, p0 + k, v, rnd(60, 255));
+      *inserted += 2 * (k - 1) + 2 * 1;                 /* both triangles' edges: Pj twice */
+    }
   }
   for (int q = 0; q < nrand; q++) {
     int cx = rnd(-150, 150), cy = rnd(-110, 110), r = rnd(20, 120);
@@ -172,14 +189,21 @@ static int same_ways(const struct scene *s)
   return inserted;
 }
 
+/* The scene of a text (taken). */
+static struct scene *load_text_taken(char *text)
+{
+  struct scene *s = load_text(text);
+  free(text);
+  return s;
+}
+
 /* A generated scene's text (taken): both ways alike, and at least the `inserted` vertices
    the generator put on edges found. */
 static void check_text(char *text, int inserted)
 {
-  struct scene *s = load_text(text);
+  struct scene *s = load_text_taken(text);
   assert_true(same_ways(s) >= inserted);
   scene_free(s);
-  free(text);
 }
 
 /* Fans in depth: every vertex put on a large triangle's edge is found, both ways alike. */
@@ -188,8 +212,29 @@ static void test_fans_both_ways(void **state)
   (void)state;
   for (uint32_t seed = 1; seed <= 12; seed++) {
     int inserted;
-    char *text = fan_scene(40 + 10 * (int)seed, 0, seed, &inserted);
+    char *text = fan_scene(40 + 10 * (int)seed, 0, seed, false, &inserted);
     check_text(text, inserted);
+  }
+}
+
+/* An edge met again, the other way or the same way, is not searched again (render/mapper.c
+   tj_edge_memo): its vertices are copied, those at one point still by index; the long way
+   searches every edge. Both alike, every edge met again taken from the first. */
+static void test_edges_met_again(void **state)
+{
+  (void)state;
+  for (uint32_t seed = 200; seed < 208; seed++) {
+    int inserted;
+    struct scene *s = load_text_taken(fan_scene(25, seed % 2 ? 200 : 0, seed, true, &inserted));
+    struct run a;
+    map_way(s, false, &a);
+    assert_true(a.k.replayed >= 25);   /* two a fan (but where another edge took the slot) */
+    run_free(&a);
+    map_way(s, true, &a);
+    assert_int_equal(a.k.replayed, 0);
+    run_free(&a);
+    assert_true(same_ways(s) >= inserted);
+    scene_free(s);
   }
 }
 
@@ -199,7 +244,7 @@ static void test_fans_among_triangles(void **state)
   (void)state;
   for (uint32_t seed = 100; seed < 106; seed++) {
     int inserted;
-    char *text = fan_scene(30, 400, seed, &inserted);
+    char *text = fan_scene(30, 400, seed, false, &inserted);
     check_text(text, inserted);
   }
 }
@@ -276,6 +321,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_fans_both_ways),
     cmocka_unit_test(test_fans_among_triangles),
+    cmocka_unit_test(test_edges_met_again),
     cmocka_unit_test(test_margin_one_unit_cells),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

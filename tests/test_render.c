@@ -325,7 +325,8 @@ static wide bitlen_value(unsigned n, uint64_t seed)
 /* geom_cross_sign and geom_dot3_sign (their 128-bit paths taken by bit lengths) against the
    256-bit long way: each product's operands of bit lengths adding up to 118..135 (around
    the borders: 126 for a product pair, 125 for three products), signs and forms at
-   random, a fifth of the pairs equal products; then the extremes. */
+   random, a fifth of the pairs equal products, a fifth with one second factor (b = d);
+   then the extremes. */
 static void test_cross_dot_sign(void **state)
 {
   (void)state;
@@ -341,6 +342,8 @@ static void test_cross_dot_sign(void **state)
       v[m + 1] = bitlen_value(lb, s >> 9);
     }
     if (k % 5 == 0) { v[2] = v[1]; v[3] = v[0]; }           /* equal products: 0 */
+    if (k % 5 == 1) v[3] = v[1];                /* one second factor: a and c compared */
+    if (k % 25 == 6) v[2] = v[0];
     wide a = v[0], b = v[1], c = v[2], d = v[3], e = v[4], f = v[5];
     int ref = i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d)));
     assert_int_equal(geom_cross_sign(a, b, c, d), ref);
@@ -1246,21 +1249,23 @@ static void test_prio_tags_exact(void **state)
 /* Two host shortcuts of the deciding change nothing but host time: the stretch a pair is
    met on (priority.c, "The stretch"), which answers overlap tests, against every test
    made (meet_off); the face pairs kept (priority.c, "Face pairs") against each found
-   afresh (faces_off). Each way gives the same picture, pairs computed and cut, 1974
-   operations in every stage and core words, on triangles that pierce each other (both
-   stores: the triangle and the hashed pairs). */
+   afresh (faces_off), also with the table started at its smallest size, so that it grows
+   while the frame is decided (its entries moved). Each way gives the same picture, pairs
+   computed and cut, 1974 operations in every stage and core words, on triangles that
+   pierce each other (both stores: the triangle and the hashed pairs). */
 static void test_prio_shortcuts_exact(void **state)
 {
   (void)state;
   char *tris = tris_scene(48, 7);
   const int stores[2] = { PRIO_DENSE, PRIO_SPARSE };
-  for (int k = 0; k < 4; k++) {
+  for (int k = 0; k < 6; k++) {
     uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b);
     struct render r1, r2;
     struct scene *s1 = prepare(&r1, tris, stores[k % 2]);
     struct scene *s2 = prepare(&r2, tris, stores[k % 2]);
     if (k < 2) r2.prio.meet_off = 1;
     else r2.prio.faces_off = 1;
+    if (k >= 4) r1.prio.faces_first_bits = 6;
     scan_ids(&r1, a);
     scan_ids(&r2, b);
     if (k < 2) {
@@ -1269,6 +1274,7 @@ static void test_prio_shortcuts_exact(void **state)
     } else {
       assert_true(r1.prio.faces_kept > 0);
       assert_true(r2.prio.faces_kept == 0);
+      assert_true((r1.prio.faces_grown > 0) == (k >= 4));
     }
     assert_true(r1.prio.splits > 0);
     same_work(&r1, &r2, a, b);
