@@ -229,9 +229,11 @@ static int grow_core(struct core *c, uint64_t need)
   uint16_t *w = c->w;
   uint32_t old = c->size, ns = (uint32_t)size;
   memmove(w + (ns - c->high_len), w + (old - c->high_len), (size_t)c->high_len * sizeof *w);
-  if (fresh)          /* zero but where the high region was (ns >= 2 old: it moved clear) */
-    memset(w + (old - c->high_len), 0, (size_t)c->high_len * sizeof *w);
-  else
+  if (fresh) {        /* zero but where the high region was and is no longer (a size
+                         capped at grow_max may leave the two overlapping) */
+    const uint32_t from = old - c->high_len, to = old < ns - c->high_len ? old : ns - c->high_len;
+    if (to > from) memset(w + from, 0, (size_t)(to - from) * sizeof *w);
+  } else
     memset(w + c->low_top, 0, (size_t)(ns - c->high_len - c->low_top) * sizeof *w);
   c->w = w;
   c->size = ns;

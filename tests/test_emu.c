@@ -485,6 +485,18 @@ static void test_core_large_block(void **state)
   }
   assert_true(core_words(c) >= big);
   core_free(c);
+  /* a growth capped at grow_max into a new mapping, with a high region longer than the
+     growth: the old and new places of the high region overlap, and it is kept whole */
+  const uint32_t old = 3 * (big / 4), top = old + old / 2, hl = old / 2 + 4096;
+  c = core_new(old);
+  core_set_growth(c, top);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, hl, &err), T74_OK);
+  for (uint32_t k = 0; k < hl; k += 61) core_high_set(c, k, (uint16_t)(k % 65521 + 1));
+  assert_int_equal(core_reserve(c, "B", old - hl + 1, &b, &err), T74_OK);
+  assert_int_equal(core_words(c), top);
+  for (uint32_t k = 0; k < hl; k += 61) assert_int_equal(core_high_get(c, k), (uint16_t)(k % 65521 + 1));
+  for (uint32_t k = 0; k < old - hl + 1; k += 997) assert_int_equal(core_read(c, b + k), 0);
+  core_free(c);
 }
 
 /* The layout dump's addresses (each table's first word is the length of those below it):
