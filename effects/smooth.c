@@ -933,6 +933,62 @@ static inline void phong_lanes(const struct smooth_model *m, const struct smooth
   }
 }
 
+/* The greys of slots q < ns: the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
+   (unit()'s steps), turned to the eye's side (times sgn) and lit (shade_grey_lit) at point
+   slot_p[q] (X, blocked); g[q] unclamped. Under parallel lights two slots an instruction
+   where the processor has SSE2: each lane's operations are the scalar ones on its values
+   in their order (correctly rounded, as the scalar ones are; a lane's divides kept only
+   where its length is > 0, as unit() divides; a light blocked or a dot not > 0 adds +0,
+   which leaves the lane's sum, never below +0, as it is), and the grey from the sum is
+   shade_grey_of_sum's. */
+static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const int *slot_p,
+                             const double (*X)[3], double refl, const unsigned *blocked,
+                             const struct shade_lights *L, int *g)
+{
+  int q = 0;
+#ifdef __SSE2__
+  bool parallel = true;
+  for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
+  if (parallel) {
+    const __m128d zero = _mm_setzero_pd(), sg = _mm_set1_pd(sgn);
+    for (; q + 2 <= ns; q += 2) {
+      __m128d v[3];
+      for (int c = 0; c < 3; c++) v[c] = _mm_loadu_pd(nv[c] + q);
+      const __m128d ln = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], v[0]),
+                                                           _mm_mul_pd(v[1], v[1])),
+                                                _mm_mul_pd(v[2], v[2])));
+      const __m128d pos = _mm_cmpgt_pd(ln, zero);
+      for (int c = 0; c < 3; c++)
+        v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
+                                    _mm_andnot_pd(pos, v[c])), sg);
+      const unsigned b0 = blocked[slot_p[q]], b1 = blocked[slot_p[q + 1]];
+      __m128d sum = zero;
+      for (int k = 0; k < L->n; k++) {
+        const double *l = L->v[k];
+        const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_set1_pd(l[0])),
+                                                _mm_mul_pd(v[1], _mm_set1_pd(l[1]))),
+                                     _mm_mul_pd(v[2], _mm_set1_pd(l[2])));
+        __m128d m = _mm_cmpgt_pd(d, zero);
+        if ((b0 | b1) >> k & 1u)              /* the lanes whose light k is not blocked */
+          m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                            (b0 >> k & 1u) - 1ull)));
+        sum = _mm_add_pd(sum, _mm_and_pd(m, d));
+      }
+      double sm[2];
+      _mm_storeu_pd(sm, sum);
+      g[q] = shade_grey_of_sum(refl, sm[0]);
+      g[q + 1] = shade_grey_of_sum(refl, sm[1]);
+    }
+  }
+#endif
+  for (; q < ns; q++) {
+    double v[3] = { nv[0][q], nv[1][q], nv[2][q] };
+    unit(v);
+    for (int c = 0; c < 3; c++) v[c] *= sgn;
+    g[q] = shade_grey_lit(L, v, X[slot_p[q]], refl, blocked[slot_p[q]]);
+  }
+}
+
 /* a run of one point, counted */
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
@@ -985,37 +1041,42 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   }
   /* the partial smoothing: the inner triangle's points the filter proves are in it
      (region 0, the face's normal) without the coordinates; the others by the chain */
-  double nrm[SMOOTH_RUN][3], len[SMOOTH_RUN], lar[SMOOTH_RUN][3];
+  double lar[SMOOTH_RUN][3];
   int at[SMOOTH_RUN], nl = 0;
   for (int p = 0; p < n; p++)
     if (!inner[p]) { memcpy(lar[nl], ar[p], sizeof lar[nl]); at[nl++] = p; }
   bary_of_areas(tr, nl, (const double (*)[3])lar, l);
-  for (int q = 0; q < nl; q++) region[at[q]] = partial_normal(tr, l[q], nrm[at[q]]);
+  /* the lit points' normals in slots, a component an array (lit_slots): the band
+     points' in their order, then the inner triangle's that are lit */
+  double nv[3][SMOOTH_RUN];
+  int slot_p[SMOOTH_RUN], slot_of[SMOOTH_RUN], g[SMOOTH_RUN];
+  bool used[SMOOTH_RUN];
+  for (int q = 0; q < nl; q++) {
+    double out[3];
+    region[at[q]] = partial_normal(tr, l[q], out);
+    for (int c = 0; c < 3; c++) nv[c][q] = out[c];
+    slot_p[q] = at[q];
+    slot_of[at[q]] = q;
+    used[q] = true;
+  }
   const int fg = map->f[tr->mface].grey;
-  nl = 0;                                    /* the points lit here */
+  int ns = nl;
   for (int p = 0; p < n; p++) {
     if (inner[p]) region[p] = 0;
-    if (region[p] == 0) {
-      if (refl == 1 && !blocked[p]) {        /* exactly the flat picture */
-        grey[p] = fg;
-        continue;
-      }
-      memcpy(nrm[p], tr->n, sizeof nrm[p]);
+    if (region[p] != 0) continue;
+    if (refl == 1 && !blocked[p]) {          /* exactly the flat picture */
+      grey[p] = fg;
+      if (!inner[p]) used[slot_of[p]] = false;
+      continue;
     }
-    at[nl++] = p;
+    if (!inner[p]) continue;                 /* the chain's region 0: the face's normal */
+    for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
+    slot_p[ns] = p;
+    used[ns++] = true;
   }
-  for (int q = 0; q < nl; q++) {             /* unit(), in steps */
-    const double *v = nrm[at[q]];
-    len[q] = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  }
-  for (int q = 0; q < nl; q++)
-    if (len[q] > 0) for (int c = 0; c < 3; c++) nrm[at[q]][c] /= len[q];
-  for (int q = 0; q < nl; q++) {
-    const int p = at[q];
-    for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
-    const int g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
-    grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
-  }
+  lit_slots(tr->front ? 1 : -1, ns, nv, slot_p, X, refl, blocked, lights, g);
+  for (int q = 0; q < ns; q++)
+    if (used[q]) grey[slot_p[q]] = g[q] < 0 ? 0 : g[q] > 255 ? 255 : g[q];
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,

@@ -553,8 +553,8 @@ static void tri_point(const struct lib *L, int t, const double w[3], double X[3]
 /* Points shaded in runs (smooth_grey_run, the points engine's path) give the greys and
    regions each gives alone (smooth_grey_at), bit for bit, under each smoothing: runs of 1
    to SMOOTH_RUN points inside and outside each triangle of the globe (the clamps, the
-   bands and corners of the partial smoothing), a texture's reflectance, one light blocked
-   at some of the points. */
+   bands and corners of the partial smoothing), a texture's reflectance, under the scene's
+   light and under it with a second parallel light, each blocked at some of the points. */
 static void test_run_is_single(void **state)
 {
   (void)state;
@@ -571,14 +571,21 @@ static void test_run_is_single(void **state)
     struct shade_lights lights;
     shade_lights_init(&lights, L.s);
     int differ = 0, greys[256] = { 0 }, regions[3] = { 0 };
+    for (int two = 0; two < 2; two++)
     for (int t = 0; t < L.m.ntri; t++) {
+      if (two && lights.n == 1) {             /* a second light, from below on the left */
+        const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
+        memcpy(lights.v[1], v, sizeof v);
+        lights.point[1] = false;
+        lights.n = 2;
+      }
       const int n = 1 + t % SMOOTH_RUN;
       double X[SMOOTH_RUN][3];
       unsigned blocked[SMOOTH_RUN];
       int run[SMOOTH_RUN], rrun[SMOOTH_RUN];
       for (int p = 0; p < n; p++) {
         tri_point(&L, t, w[(p + t) % nw], X[p]);
-        blocked[p] = (unsigned)((t + p) % 3 == 0);
+        blocked[p] = (unsigned)((t + p) % 3 == 0) | (unsigned)((t + p) % 5 == 0) << 1;
       }
       const double refl = t % 2 ? 1.0 : 0.6;
       smooth_grey_run(&L.m, &L.r.map, L.s, &L.e, t, n, (const double (*)[3])X, refl, blocked,
