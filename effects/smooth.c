@@ -708,6 +708,40 @@ static inline void bary_of_areas(const struct smooth_tri *tr, int n, const doubl
   }
 }
 
+/* bary_of_areas at points q < n whose areas are given a component an array (a[k][q]),
+   the coordinates likewise (l[k][q]): two points an instruction where the processor has
+   SSE2, the same correctly rounded divides and adds on the same values in the same order
+   (the sum l_0 + l_1, then + l_2); max(x, 0) is x when x > 0, else +0 (a NaN too: MAXPD
+   gives its second operand), the scalar clamp's; l / sum is l itself where sum is 1, so
+   each lane divides whenever sum > 0, as the scalar code does when sum is not 1; the rest
+   one by one through bary_of_areas itself. */
+static inline void bary_pairs(const struct smooth_tri *tr, int n, const double (*a)[SMOOTH_RUN],
+                              double (*l)[SMOOTH_RUN])
+{
+  int q = 0;
+#ifdef __SSE2__
+  const double tot = tr->btot;
+  if (tot != 0) {
+    const __m128d tv = _mm_set1_pd(tot), zero = _mm_setzero_pd(), third = _mm_set1_pd(1.0 / 3);
+    for (; q + 2 <= n; q += 2) {
+      __m128d lk[3];
+      for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(_mm_loadu_pd(a[k] + q), tv), zero);
+      const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
+      const __m128d pos = _mm_cmpgt_pd(sum, zero);
+      for (int k = 0; k < 3; k++)
+        _mm_storeu_pd(l[k] + q, _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
+                                          _mm_andnot_pd(pos, third)));
+    }
+  }
+#endif
+  for (; q < n; q++) {
+    const double one[1][3] = { { a[0][q], a[1][q], a[2][q] } };
+    double lo[1][3];
+    bary_of_areas(tr, 1, one, lo);
+    for (int k = 0; k < 3; k++) l[k][q] = lo[0][k];
+  }
+}
+
 /* The Phong grey at space point X of the triangle from its areas ar (bary_areas): the
    exact chain, the one that defines a Phong grey. */
 static void grey_phong_exact(const struct smooth_tri *tr, const double ar[3], const double X[3],
@@ -1041,19 +1075,23 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   }
   /* the partial smoothing: the inner triangle's points the filter proves are in it
      (region 0, the face's normal) without the coordinates; the others by the chain */
-  double lar[SMOOTH_RUN][3];
+  double la[3][SMOOTH_RUN], lv[3][SMOOTH_RUN];   /* a component an array (bary_pairs) */
   int at[SMOOTH_RUN], nl = 0;
   for (int p = 0; p < n; p++)
-    if (!inner[p]) { memcpy(lar[nl], ar[p], sizeof lar[nl]); at[nl++] = p; }
-  bary_of_areas(tr, nl, (const double (*)[3])lar, l);
+    if (!inner[p]) {
+      for (int k = 0; k < 3; k++) la[k][nl] = ar[p][k];
+      at[nl++] = p;
+    }
+  bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])la, lv);
   /* the lit points' normals in slots, a component an array (lit_slots): the band
      points' in their order, then the inner triangle's that are lit */
   double nv[3][SMOOTH_RUN];
   int slot_p[SMOOTH_RUN], slot_of[SMOOTH_RUN], g[SMOOTH_RUN];
   bool used[SMOOTH_RUN];
   for (int q = 0; q < nl; q++) {
+    const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
     double out[3];
-    region[at[q]] = partial_normal(tr, l[q], out);
+    region[at[q]] = partial_normal(tr, lq, out);
     for (int c = 0; c < 3; c++) nv[c][q] = out[c];
     slot_p[q] = at[q];
     slot_of[at[q]] = q;
