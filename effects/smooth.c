@@ -1023,6 +1023,100 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
   }
 }
 
+/* phong_lanes at points p < n under parallel lights alone, two points an instruction
+   where the processor has SSE2, from their space points: bary_areas' areas (inner_filter's
+   operations), then phong_filter's steps, each lane's the scalar ones on its values in
+   their order (correctly rounded, as the scalar ones are; max(v, 0) is v when v > 0, else
+   +0, phong_filter's clamp; 0 + w_0 is kept; a light blocked or a dot not > 0 adds +0,
+   which leaves a sum never below +0 as it is; |inv| by clearing the sign bit); a lane's
+   last test and its grey as phong_filter makes them, and the exact chain where it
+   declines. The points done: pairs of them, none when the filter is off or cannot be
+   used for the triangle, or some light is a point light (phong_lanes does them). */
+static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr, int n,
+                              const double (*X)[3], double refl, const unsigned *blocked,
+                              const struct shade_lights *L, int *grey)
+{
+#ifdef __SSE2__
+  const double tot = tr->btot;
+  if (m->phong_exact || n < 2 || !(tot != 0 && refl >= 0 && refl <= 1)) return 0;
+  for (int k = 0; k < L->n; k++)
+    if (L->point[k]) return 0;
+  const double at = fabs(tot);
+  const __m128d lo = _mm_set1_pd(at * 0x1p-1000), hi = _mm_set1_pd(at * 0x1p1000);
+  const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1), st = _mm_set1_pd(tot > 0 ? 1 : -1);
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
+  const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
+  const __m128d eps = _mm_set1_pd(0x1p-24), two = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
+  const int bu = tr->bu, bw = tr->bw;
+  __m128d a0[3], a1[3], d0[3], d1[3], cn[3][3];
+  for (int k = 0; k < 3; k++) {
+    const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
+    a0[k] = _mm_set1_pd(a[0]); a1[k] = _mm_set1_pd(a[1]);
+    d0[k] = _mm_set1_pd(d[0]); d1[k] = _mm_set1_pd(d[1]);
+    for (int c = 0; c < 3; c++) cn[k][c] = _mm_set1_pd(tr->cn[k][c]);
+  }
+  int p = 0;
+  for (; p + 2 <= n; p += 2) {
+    const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
+    __m128d w[3], good = _mm_cmpeq_pd(zero, zero), s = zero;
+    for (int k = 0; k < 3; k++) {
+      const __m128d ar = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
+                                    _mm_mul_pd(_mm_sub_pd(x, a0[k]), d1[k]));
+      w[k] = _mm_max_pd(_mm_mul_pd(st, ar), zero);
+      good = _mm_and_pd(good, _mm_or_pd(_mm_cmpeq_pd(w[k], zero),
+                                        _mm_and_pd(_mm_cmpge_pd(w[k], lo),
+                                                   _mm_cmple_pd(w[k], hi))));
+      s = _mm_add_pd(s, w[k]);
+    }
+    __m128d N[3];
+    for (int c = 0; c < 3; c++)
+      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], cn[0][c]), _mm_mul_pd(w[1], cn[1][c])),
+                        _mm_mul_pd(w[2], cn[2][c]));
+    const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
+                                  _mm_mul_pd(N[2], N[2]));
+    const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
+                                  _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
+    const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(_mm_or_pd(_mm_and_pd(ok, nn),
+                                                             _mm_andnot_pd(ok, one))));
+    const unsigned b0 = blocked[p], b1 = blocked[p + 1];
+    __m128d sum = zero;
+    for (int k = 0; k < L->n; k++) {
+      const double *l = L->v[k];
+      const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], _mm_set1_pd(l[0])),
+                                                         _mm_mul_pd(N[1], _mm_set1_pd(l[1]))),
+                                              _mm_mul_pd(N[2], _mm_set1_pd(l[2]))), inv);
+      __m128d lit = _mm_cmpgt_pd(d, zero);
+      if ((b0 | b1) >> k & 1u)                /* the lanes whose light k is not blocked */
+        lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                              (b0 >> k & 1u) - 1ull)));
+      sum = _mm_add_pd(sum, _mm_and_pd(lit, d));
+    }
+    const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
+    const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(two, s),
+                                                                     _mm_andnot_pd(sign, inv))));
+    double f0[2], f1[2];
+    _mm_storeu_pd(f0, _mm_sub_pd(f, delta));
+    _mm_storeu_pd(f1, _mm_add_pd(f, delta));
+    const int okb = _mm_movemask_pd(ok);
+    for (int h = 0; h < 2; h++) {             /* phong_filter's last test and grey */
+      if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
+        const int g = SHADE_AMBIENT + (int)(int64_t)f0[h];
+        grey[p + h] = g > 255 ? 255 : g;
+        continue;
+      }
+      if (m->phong_declines) ++*m->phong_declines;
+      double ar[3];
+      bary_areas(tr, X[p + h], ar);
+      grey_phong_exact(tr, ar, X[p + h], refl, blocked[p + h], L, &grey[p + h]);
+    }
+  }
+  return p;
+#else
+  (void)m; (void)tr; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey;
+  return 0;
+#endif
+}
+
 /* a run of one point, counted */
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
@@ -1045,14 +1139,17 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const struct smooth_tri *tr = &m->tri[t];
   double ar[SMOOTH_RUN][3];
   bool inner[SMOOTH_RUN];
-  if (e->smooth == EFFECTS_SMOOTH_PHONG || e->smooth == EFFECTS_SMOOTH_GOURAUD)
-    for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
-  else inner_filter(m, tr, n, X, (double (*)[3])ar, inner);   /* the partial smoothing's */
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-    phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
+    const int p0 = phong_pairs(m, tr, n, X, refl, blocked, lights, grey);
+    for (int p = p0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+    phong_lanes(m, tr, n - p0, (const double (*)[3])ar + p0, X + p0, refl, blocked + p0,
+                lights, grey + p0);
     for (int p = 0; p < n; p++) region[p] = 1;
     return;
   }
+  if (e->smooth == EFFECTS_SMOOTH_GOURAUD)
+    for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+  else inner_filter(m, tr, n, X, (double (*)[3])ar, inner);   /* the partial smoothing's */
   /* each point's steps, one step for all the points at a time (a point's grey is the
      one it has alone) */
   double l[SMOOTH_RUN][3];

@@ -704,12 +704,28 @@ static void test_flat_run_is_single(void **state)
 }
 
 /* The Phong grey at X by the filter (and the exact chain where it declines) and by the
-   exact chain alone; counts the filter's declines in *declines. */
+   exact chain alone; counts the filter's declines in *declines. The filter's grey and
+   declines are also checked in a run of two points (both X). */
 static void phong_both(struct lib *L, int t, const double X[3], double refl, unsigned blocked,
                        const struct shade_lights *lights, long *declines, int g[2])
 {
-  L->m.phong_declines = declines;
+  long one = 0, two = 0;
+  L->m.phong_declines = &one;
   g[0] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, NULL);
+  /* the point twice in a run (two points an instruction, phong_pairs, under parallel
+     lights): the same grey each time, declined where it alone is */
+  L->m.phong_declines = &two;
+  double XX[2][3];
+  memcpy(XX[0], X, sizeof XX[0]);
+  memcpy(XX[1], X, sizeof XX[1]);
+  const unsigned bb[2] = { blocked, blocked };
+  int gg[2], rr[2];
+  smooth_grey_run(&L->m, &L->r.map, L->s, &L->e, t, 2, (const double (*)[3])XX, refl, bb,
+                  lights, gg, rr);
+  assert_int_equal(gg[0], g[0]);
+  assert_int_equal(gg[1], g[0]);
+  assert_int_equal(two, 2 * one);
+  *declines += one;
   L->m.phong_declines = NULL;
   L->m.phong_exact = true;
   g[1] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, NULL);
