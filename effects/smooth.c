@@ -1030,8 +1030,9 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
    +0, phong_filter's clamp; 0 + w_0 is kept; a light blocked or a dot not > 0 adds +0,
    which leaves a sum never below +0 as it is; |inv| by clearing the sign bit); a lane's
    last test and its grey as phong_filter makes them, and the exact chain where it
-   declines. The points done: pairs of them, none when the filter is off or cannot be
-   used for the triangle, or some light is a point light (phong_lanes does them). */
+   declines (an odd run's last point in both lanes of its pair). The points done: all n,
+   or none when the filter is off or cannot be used for the triangle, or some light is a
+   point light (phong_lanes does them). */
 static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr, int n,
                               const double (*X)[3], double refl, const unsigned *blocked,
                               const struct shade_lights *L, int *grey)
@@ -1055,9 +1056,9 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     d0[k] = _mm_set1_pd(d[0]); d1[k] = _mm_set1_pd(d[1]);
     for (int c = 0; c < 3; c++) cn[k][c] = _mm_set1_pd(tr->cn[k][c]);
   }
-  int p = 0;
-  for (; p + 2 <= n; p += 2) {
-    const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
+  for (int p = 0; p < n; p += 2) {
+    const int p1 = p + 1 < n ? p + 1 : p;   /* the last of an odd run: itself in both lanes */
+    const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
     __m128d w[3], good = _mm_cmpeq_pd(zero, zero), s = zero;
     for (int k = 0; k < 3; k++) {
       const __m128d ar = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
@@ -1078,7 +1079,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
                                   _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
     const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(_mm_or_pd(_mm_and_pd(ok, nn),
                                                              _mm_andnot_pd(ok, one))));
-    const unsigned b0 = blocked[p], b1 = blocked[p + 1];
+    const unsigned b0 = blocked[p], b1 = blocked[p1];
     __m128d sum = zero;
     for (int k = 0; k < L->n; k++) {
       const double *l = L->v[k];
@@ -1098,7 +1099,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     _mm_storeu_pd(f0, _mm_sub_pd(f, delta));
     _mm_storeu_pd(f1, _mm_add_pd(f, delta));
     const int okb = _mm_movemask_pd(ok);
-    for (int h = 0; h < 2; h++) {             /* phong_filter's last test and grey */
+    for (int h = 0; h <= p1 - p; h++) {       /* phong_filter's last test and grey */
       if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
         const int g = SHADE_AMBIENT + (int)(int64_t)f0[h];
         grey[p + h] = g > 255 ? 255 : g;
@@ -1110,7 +1111,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
       grey_phong_exact(tr, ar, X[p + h], refl, blocked[p + h], L, &grey[p + h]);
     }
   }
-  return p;
+  return n;
 #else
   (void)m; (void)tr; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey;
   return 0;
