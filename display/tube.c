@@ -368,6 +368,26 @@ static inline __attribute__((always_inline)) void write_run3(uint8_t *lit, uint3
   }
   uint32_t *o = *next;
   if (fresh == acc) {                      /* every dot new (a tube being drawn) */
+#ifdef __SSE2__
+    uint64_t w0, w1;                       /* cells 0-3 and 3-6 of seven */
+    const uint64_t ones = 0x0001000100010001u, highs = 0x8000800080008000u;
+    if (n == RUN3 && (memcpy(&w0, masks, sizeof w0), memcpy(&w1, masks + 3, sizeof w1),
+                      !((w0 - ones) & ~w0 & highs) && !((w1 - ones) & ~w1 & highs))) {
+      /* seven cells, none of no dot (the borrow test finds a 16-bit lane of 0 exactly
+         when there is one): their seven writes, the fourth stored twice (the same word);
+         a mask is within the cell, 9 bits, and base + 18 a dot, below 2^17 */
+      const __m128i z = _mm_setzero_si128();
+      const __m128i b0 = _mm_add_epi32(_mm_set1_epi32((int)(1u << 30 | base)),
+                                       _mm_setr_epi32(0, 3, 6, 9));
+      const __m128i b1 = _mm_add_epi32(b0, _mm_set1_epi32(9));
+      const __m128i m0 = _mm_unpacklo_epi16(_mm_loadl_epi64((const __m128i *)(const void *)masks), z);
+      const __m128i m1 = _mm_unpacklo_epi16(_mm_loadl_epi64((const __m128i *)(const void *)(masks + 3)), z);
+      _mm_storeu_si128((__m128i *)(void *)o, _mm_or_si128(_mm_slli_epi32(m0, 17), b0));
+      _mm_storeu_si128((__m128i *)(void *)(o + 3), _mm_or_si128(_mm_slli_epi32(m1, 17), b1));
+      *next = o + RUN3;
+      return;
+    }
+#endif
     for (int c = 0; c < n; c++, base += 3)
       if (masks[c]) *o++ = 1u << 30 | (uint32_t)masks[c] << 17 | base;
   } else {

@@ -17,6 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #define CONTOUR_TABLE "CONTOUR CURVES"
 
 /* The quartic Bernstein weights at t. */
@@ -100,17 +104,25 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
   for (int k = 0; k < 5; k++) { d[k][0] = (double)q[k].x; d[k][1] = (double)q[k].y; }
   poly[0] = q[2];
   /* Q4, the curve back towards Q0, then Q0: CONTOUR_STEPS + 1 points */
-  for (int m = CONTOUR_STEPS; m >= 0; m--) {
-    struct gpoint p;
-    if (m == CONTOUR_STEPS) p = q[4];
-    else if (m == 0) p = q[0];
-    else {
-      double o[2];
-      bezier_with(d, w->b[m], o);
-      p.x = round_grid(o[0]);
-      p.y = round_grid(o[1]);
-    }
-    poly[1 + CONTOUR_STEPS - m] = p;
+  poly[1] = q[4];
+  poly[1 + CONTOUR_STEPS] = q[0];
+#ifdef __SSE2__
+  /* a point's x and y an instruction: each lane bezier_with's products and sums on its
+     values in its order (correctly rounded, as the scalar ones are) */
+  __m128d dv[5];
+  for (int k = 0; k < 5; k++) dv[k] = _mm_loadu_pd(d[k]);
+#endif
+  for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
+    double o[2];
+#ifdef __SSE2__
+    const double *b = w->b[m];
+    __m128d v = _mm_mul_pd(_mm_set1_pd(b[0]), dv[0]);
+    for (int k = 1; k < 5; k++) v = _mm_add_pd(v, _mm_mul_pd(_mm_set1_pd(b[k]), dv[k]));
+    _mm_storeu_pd(o, v);
+#else
+    bezier_with(d, w->b[m], o);
+#endif
+    poly[1 + CONTOUR_STEPS - m] = (struct gpoint){ round_grid(o[0]), round_grid(o[1]) };
   }
 }
 

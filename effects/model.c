@@ -13,6 +13,10 @@
 #include "patterns/picture.h"
 #include "render/shade.h"
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 /* A texture: the picture and its frame on the face (V0 + a U + b T, a, b in [0, 1) over
    the picture; repeated beyond). */
 struct fx_tex {
@@ -229,6 +233,45 @@ static inline void space_point(const struct fx_model *m, int f, double px, doubl
   X[2] = E2 + t * D[2];
 }
 
+/* space_point at n points (px[p], py) of one row into X[p]: the same doubles, two points
+   an instruction where the processor has SSE2 (its adds, multiplies and divides are
+   correctly rounded, as the scalar ones are: each lane's operations are space_point's on
+   its values, in its order; r[1] D[1] and r[2] D[2], the same for every point of the row,
+   are each the one double space_point makes), the rest one by one. */
+static inline void space_points(const struct fx_model *m, int f, int n, const double *px,
+                                double py, double (*X)[3])
+{
+  int p = 0;
+#ifdef __SSE2__
+  const double *E = m->eye, *r = m->ray[f];
+  const double E0 = E[0], E1 = E[1], E2 = E[2];
+  const double D1 = py - E1, D2 = -E2, c1 = r[1] * D1, c2 = r[2] * D2;
+  const __m128d e0 = _mm_set1_pd(E0), r0 = _mm_set1_pd(r[0]), r3 = _mm_set1_pd(r[3]);
+  const __m128d c1v = _mm_set1_pd(c1), c2v = _mm_set1_pd(c2), one = _mm_set1_pd(1);
+  const __m128d e1 = _mm_set1_pd(E1), e2 = _mm_set1_pd(E2), d1 = _mm_set1_pd(D1);
+  const __m128d d2 = _mm_set1_pd(D2), zero = _mm_setzero_pd();
+  for (; p + 2 <= n; p += 2) {
+    const __m128d d0 = _mm_sub_pd(_mm_loadu_pd(px + p), e0);
+    const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r0, d0), c1v), c2v);
+    const __m128d nz = _mm_cmpneq_pd(den, zero);       /* den != 0 ? r[3] / den : 1 */
+    const __m128d t = _mm_or_pd(_mm_and_pd(nz, _mm_div_pd(r3, den)), _mm_andnot_pd(nz, one));
+    const __m128d x0 = _mm_add_pd(e0, _mm_mul_pd(t, d0));
+    const __m128d x1 = _mm_add_pd(e1, _mm_mul_pd(t, d1));
+    const __m128d x2 = _mm_add_pd(e2, _mm_mul_pd(t, d2));
+    _mm_storel_pd(&X[p][0], x0); _mm_storeh_pd(&X[p + 1][0], x0);
+    _mm_storel_pd(&X[p][1], x1); _mm_storeh_pd(&X[p + 1][1], x1);
+    _mm_storel_pd(&X[p][2], x2); _mm_storeh_pd(&X[p + 1][2], x2);
+  }
+#endif
+  for (; p < n; p++) space_point(m, f, px[p], py, X[p]);
+}
+
+void fx_space_points(const struct fx_model *m, int f, int n, const double *px, double py,
+                     double (*X)[3])
+{
+  space_points(m, f, n, px, py, X);
+}
+
 static inline double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
 {
   double du = X[t->du] - t->o[t->du], dv = X[t->dv] - t->o[t->dv];
@@ -326,7 +369,7 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
   static const unsigned none[SMOOTH_RUN];  /* a face of its own grey is not lit */
   double X[SMOOTH_RUN][3];
   int g[SMOOTH_RUN];
-  for (int p = 0; p < n; p++) space_point(m, face, px[p], py, X[p]);
+  space_points(m, face, n, px, py, X);
   smooth_grey_run(&m->sm, m->map, m->s, m->e, fs->tri, n, (const double (*)[3])X, 1.0,
                   fs->lit ? blocked : none, &m->lights, g, region);
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];

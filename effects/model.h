@@ -96,6 +96,13 @@ bool fx_model_shades(const struct fx_model *m);
 int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, double v,
              int i, int j, struct cost *cost, int *region);
 
+/* The space points of face f (index in map->f) at n plane positions (px[p], py) of one
+   row into X[p]: the ray from the eye onto the face's plane (eq. (2)), as fx_shade takes
+   it at each; the same doubles for any n (a run of a smoothed face's points takes them
+   two an instruction). */
+void fx_space_points(const struct fx_model *m, int f, int n, const double *px, double py,
+                     double (*X)[3]);
+
 /* One visible stretch of a line after the region effects. */
 struct fx_span {
   struct grat x0, x1;       /* [x0, x1), grid units */

@@ -708,6 +708,40 @@ static inline void bary_of_areas(const struct smooth_tri *tr, int n, const doubl
   }
 }
 
+/* bary_of_areas at points q < n whose areas are given a component an array (a[k][q]),
+   the coordinates likewise (l[k][q]): two points an instruction where the processor has
+   SSE2, the same correctly rounded divides and adds on the same values in the same order
+   (the sum l_0 + l_1, then + l_2); max(x, 0) is x when x > 0, else +0 (a NaN too: MAXPD
+   gives its second operand), the scalar clamp's; l / sum is l itself where sum is 1, so
+   each lane divides whenever sum > 0, as the scalar code does when sum is not 1; the rest
+   one by one through bary_of_areas itself. */
+static inline void bary_pairs(const struct smooth_tri *tr, int n, const double (*a)[SMOOTH_RUN],
+                              double (*l)[SMOOTH_RUN])
+{
+  int q = 0;
+#ifdef __SSE2__
+  const double tot = tr->btot;
+  if (tot != 0) {
+    const __m128d tv = _mm_set1_pd(tot), zero = _mm_setzero_pd(), third = _mm_set1_pd(1.0 / 3);
+    for (; q + 2 <= n; q += 2) {
+      __m128d lk[3];
+      for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(_mm_loadu_pd(a[k] + q), tv), zero);
+      const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
+      const __m128d pos = _mm_cmpgt_pd(sum, zero);
+      for (int k = 0; k < 3; k++)
+        _mm_storeu_pd(l[k] + q, _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
+                                          _mm_andnot_pd(pos, third)));
+    }
+  }
+#endif
+  for (; q < n; q++) {
+    const double one[1][3] = { { a[0][q], a[1][q], a[2][q] } };
+    double lo[1][3];
+    bary_of_areas(tr, 1, one, lo);
+    for (int k = 0; k < 3; k++) l[k][q] = lo[0][k];
+  }
+}
+
 /* The Phong grey at space point X of the triangle from its areas ar (bary_areas): the
    exact chain, the one that defines a Phong grey. */
 static void grey_phong_exact(const struct smooth_tri *tr, const double ar[3], const double X[3],
@@ -933,6 +967,157 @@ static inline void phong_lanes(const struct smooth_model *m, const struct smooth
   }
 }
 
+/* The greys of slots q < ns: the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
+   (unit()'s steps), turned to the eye's side (times sgn) and lit (shade_grey_lit) at point
+   slot_p[q] (X, blocked); g[q] unclamped. Under parallel lights two slots an instruction
+   where the processor has SSE2: each lane's operations are the scalar ones on its values
+   in their order (correctly rounded, as the scalar ones are; a lane's divides kept only
+   where its length is > 0, as unit() divides; a light blocked or a dot not > 0 adds +0,
+   which leaves the lane's sum, never below +0, as it is), and the grey from the sum is
+   shade_grey_of_sum's. */
+static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const int *slot_p,
+                             const double (*X)[3], double refl, const unsigned *blocked,
+                             const struct shade_lights *L, int *g)
+{
+  int q = 0;
+#ifdef __SSE2__
+  bool parallel = true;
+  for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
+  if (parallel) {
+    const __m128d zero = _mm_setzero_pd(), sg = _mm_set1_pd(sgn);
+    for (; q + 2 <= ns; q += 2) {
+      __m128d v[3];
+      for (int c = 0; c < 3; c++) v[c] = _mm_loadu_pd(nv[c] + q);
+      const __m128d ln = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], v[0]),
+                                                           _mm_mul_pd(v[1], v[1])),
+                                                _mm_mul_pd(v[2], v[2])));
+      const __m128d pos = _mm_cmpgt_pd(ln, zero);
+      for (int c = 0; c < 3; c++)
+        v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
+                                    _mm_andnot_pd(pos, v[c])), sg);
+      const unsigned b0 = blocked[slot_p[q]], b1 = blocked[slot_p[q + 1]];
+      __m128d sum = zero;
+      for (int k = 0; k < L->n; k++) {
+        const double *l = L->v[k];
+        const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_set1_pd(l[0])),
+                                                _mm_mul_pd(v[1], _mm_set1_pd(l[1]))),
+                                     _mm_mul_pd(v[2], _mm_set1_pd(l[2])));
+        __m128d m = _mm_cmpgt_pd(d, zero);
+        if ((b0 | b1) >> k & 1u)              /* the lanes whose light k is not blocked */
+          m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                            (b0 >> k & 1u) - 1ull)));
+        sum = _mm_add_pd(sum, _mm_and_pd(m, d));
+      }
+      double sm[2];
+      _mm_storeu_pd(sm, sum);
+      g[q] = shade_grey_of_sum(refl, sm[0]);
+      g[q + 1] = shade_grey_of_sum(refl, sm[1]);
+    }
+  }
+#endif
+  for (; q < ns; q++) {
+    double v[3] = { nv[0][q], nv[1][q], nv[2][q] };
+    unit(v);
+    for (int c = 0; c < 3; c++) v[c] *= sgn;
+    g[q] = shade_grey_lit(L, v, X[slot_p[q]], refl, blocked[slot_p[q]]);
+  }
+}
+
+/* phong_lanes at points p < n under parallel lights alone, two points an instruction
+   where the processor has SSE2, from their space points: bary_areas' areas (inner_filter's
+   operations), then phong_filter's steps, each lane's the scalar ones on its values in
+   their order (correctly rounded, as the scalar ones are; max(v, 0) is v when v > 0, else
+   +0, phong_filter's clamp; 0 + w_0 is kept; a light blocked or a dot not > 0 adds +0,
+   which leaves a sum never below +0 as it is; |inv| by clearing the sign bit); a lane's
+   last test and its grey as phong_filter makes them, and the exact chain where it
+   declines (an odd run's last point in both lanes of its pair). The points done: all n,
+   or none when the filter is off or cannot be used for the triangle, or some light is a
+   point light (phong_lanes does them). */
+static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr, int n,
+                              const double (*X)[3], double refl, const unsigned *blocked,
+                              const struct shade_lights *L, int *grey)
+{
+#ifdef __SSE2__
+  const double tot = tr->btot;
+  if (m->phong_exact || n < 2 || !(tot != 0 && refl >= 0 && refl <= 1)) return 0;
+  for (int k = 0; k < L->n; k++)
+    if (L->point[k]) return 0;
+  const double at = fabs(tot);
+  const __m128d lo = _mm_set1_pd(at * 0x1p-1000), hi = _mm_set1_pd(at * 0x1p1000);
+  const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1), st = _mm_set1_pd(tot > 0 ? 1 : -1);
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
+  const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
+  const __m128d eps = _mm_set1_pd(0x1p-24), two = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
+  const int bu = tr->bu, bw = tr->bw;
+  __m128d a0[3], a1[3], d0[3], d1[3], cn[3][3];
+  for (int k = 0; k < 3; k++) {
+    const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
+    a0[k] = _mm_set1_pd(a[0]); a1[k] = _mm_set1_pd(a[1]);
+    d0[k] = _mm_set1_pd(d[0]); d1[k] = _mm_set1_pd(d[1]);
+    for (int c = 0; c < 3; c++) cn[k][c] = _mm_set1_pd(tr->cn[k][c]);
+  }
+  for (int p = 0; p < n; p += 2) {
+    const int p1 = p + 1 < n ? p + 1 : p;   /* the last of an odd run: itself in both lanes */
+    const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
+    __m128d w[3], good = _mm_cmpeq_pd(zero, zero), s = zero;
+    for (int k = 0; k < 3; k++) {
+      const __m128d ar = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
+                                    _mm_mul_pd(_mm_sub_pd(x, a0[k]), d1[k]));
+      w[k] = _mm_max_pd(_mm_mul_pd(st, ar), zero);
+      good = _mm_and_pd(good, _mm_or_pd(_mm_cmpeq_pd(w[k], zero),
+                                        _mm_and_pd(_mm_cmpge_pd(w[k], lo),
+                                                   _mm_cmple_pd(w[k], hi))));
+      s = _mm_add_pd(s, w[k]);
+    }
+    __m128d N[3];
+    for (int c = 0; c < 3; c++)
+      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], cn[0][c]), _mm_mul_pd(w[1], cn[1][c])),
+                        _mm_mul_pd(w[2], cn[2][c]));
+    const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
+                                  _mm_mul_pd(N[2], N[2]));
+    const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
+                                  _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
+    const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(_mm_or_pd(_mm_and_pd(ok, nn),
+                                                             _mm_andnot_pd(ok, one))));
+    const unsigned b0 = blocked[p], b1 = blocked[p1];
+    __m128d sum = zero;
+    for (int k = 0; k < L->n; k++) {
+      const double *l = L->v[k];
+      const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], _mm_set1_pd(l[0])),
+                                                         _mm_mul_pd(N[1], _mm_set1_pd(l[1]))),
+                                              _mm_mul_pd(N[2], _mm_set1_pd(l[2]))), inv);
+      __m128d lit = _mm_cmpgt_pd(d, zero);
+      if ((b0 | b1) >> k & 1u)                /* the lanes whose light k is not blocked */
+        lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                              (b0 >> k & 1u) - 1ull)));
+      sum = _mm_add_pd(sum, _mm_and_pd(lit, d));
+    }
+    const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
+    const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(two, s),
+                                                                     _mm_andnot_pd(sign, inv))));
+    double f0[2], f1[2];
+    _mm_storeu_pd(f0, _mm_sub_pd(f, delta));
+    _mm_storeu_pd(f1, _mm_add_pd(f, delta));
+    const int okb = _mm_movemask_pd(ok);
+    for (int h = 0; h <= p1 - p; h++) {       /* phong_filter's last test and grey */
+      if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
+        const int g = SHADE_AMBIENT + (int)(int64_t)f0[h];
+        grey[p + h] = g > 255 ? 255 : g;
+        continue;
+      }
+      if (m->phong_declines) ++*m->phong_declines;
+      double ar[3];
+      bary_areas(tr, X[p + h], ar);
+      grey_phong_exact(tr, ar, X[p + h], refl, blocked[p + h], L, &grey[p + h]);
+    }
+  }
+  return n;
+#else
+  (void)m; (void)tr; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey;
+  return 0;
+#endif
+}
+
 /* a run of one point, counted */
 int smooth_grey_at(const struct smooth_model *m, const struct mapped *map, const struct scene *s,
                    const struct effects *e, int t, const double X[3], double refl,
@@ -955,14 +1140,17 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const struct smooth_tri *tr = &m->tri[t];
   double ar[SMOOTH_RUN][3];
   bool inner[SMOOTH_RUN];
-  if (e->smooth == EFFECTS_SMOOTH_PHONG || e->smooth == EFFECTS_SMOOTH_GOURAUD)
-    for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
-  else inner_filter(m, tr, n, X, (double (*)[3])ar, inner);   /* the partial smoothing's */
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-    phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
+    const int p0 = phong_pairs(m, tr, n, X, refl, blocked, lights, grey);
+    for (int p = p0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+    phong_lanes(m, tr, n - p0, (const double (*)[3])ar + p0, X + p0, refl, blocked + p0,
+                lights, grey + p0);
     for (int p = 0; p < n; p++) region[p] = 1;
     return;
   }
+  if (e->smooth == EFFECTS_SMOOTH_GOURAUD)
+    for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+  else inner_filter(m, tr, n, X, (double (*)[3])ar, inner);   /* the partial smoothing's */
   /* each point's steps, one step for all the points at a time (a point's grey is the
      one it has alone) */
   double l[SMOOTH_RUN][3];
@@ -985,37 +1173,46 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   }
   /* the partial smoothing: the inner triangle's points the filter proves are in it
      (region 0, the face's normal) without the coordinates; the others by the chain */
-  double nrm[SMOOTH_RUN][3], len[SMOOTH_RUN], lar[SMOOTH_RUN][3];
+  double la[3][SMOOTH_RUN], lv[3][SMOOTH_RUN];   /* a component an array (bary_pairs) */
   int at[SMOOTH_RUN], nl = 0;
   for (int p = 0; p < n; p++)
-    if (!inner[p]) { memcpy(lar[nl], ar[p], sizeof lar[nl]); at[nl++] = p; }
-  bary_of_areas(tr, nl, (const double (*)[3])lar, l);
-  for (int q = 0; q < nl; q++) region[at[q]] = partial_normal(tr, l[q], nrm[at[q]]);
+    if (!inner[p]) {
+      for (int k = 0; k < 3; k++) la[k][nl] = ar[p][k];
+      at[nl++] = p;
+    }
+  bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])la, lv);
+  /* the lit points' normals in slots, a component an array (lit_slots): the band
+     points' in their order, then the inner triangle's that are lit */
+  double nv[3][SMOOTH_RUN];
+  int slot_p[SMOOTH_RUN], slot_of[SMOOTH_RUN], g[SMOOTH_RUN];
+  bool used[SMOOTH_RUN];
+  for (int q = 0; q < nl; q++) {
+    const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
+    double out[3];
+    region[at[q]] = partial_normal(tr, lq, out);
+    for (int c = 0; c < 3; c++) nv[c][q] = out[c];
+    slot_p[q] = at[q];
+    slot_of[at[q]] = q;
+    used[q] = true;
+  }
   const int fg = map->f[tr->mface].grey;
-  nl = 0;                                    /* the points lit here */
+  int ns = nl;
   for (int p = 0; p < n; p++) {
     if (inner[p]) region[p] = 0;
-    if (region[p] == 0) {
-      if (refl == 1 && !blocked[p]) {        /* exactly the flat picture */
-        grey[p] = fg;
-        continue;
-      }
-      memcpy(nrm[p], tr->n, sizeof nrm[p]);
+    if (region[p] != 0) continue;
+    if (refl == 1 && !blocked[p]) {          /* exactly the flat picture */
+      grey[p] = fg;
+      if (!inner[p]) used[slot_of[p]] = false;
+      continue;
     }
-    at[nl++] = p;
+    if (!inner[p]) continue;                 /* the chain's region 0: the face's normal */
+    for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
+    slot_p[ns] = p;
+    used[ns++] = true;
   }
-  for (int q = 0; q < nl; q++) {             /* unit(), in steps */
-    const double *v = nrm[at[q]];
-    len[q] = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  }
-  for (int q = 0; q < nl; q++)
-    if (len[q] > 0) for (int c = 0; c < 3; c++) nrm[at[q]][c] /= len[q];
-  for (int q = 0; q < nl; q++) {
-    const int p = at[q];
-    for (int c = 0; c < 3; c++) nrm[p][c] *= sgn;
-    const int g = shade_grey_lit(lights, nrm[p], X[p], refl, blocked[p]);
-    grey[p] = g < 0 ? 0 : g > 255 ? 255 : g;
-  }
+  lit_slots(tr->front ? 1 : -1, ns, nv, slot_p, X, refl, blocked, lights, g);
+  for (int q = 0; q < ns; q++)
+    if (used[q]) grey[slot_p[q]] = g[q] < 0 ? 0 : g[q] > 255 ? 255 : g[q];
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,

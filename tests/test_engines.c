@@ -908,6 +908,64 @@ static void test_points_frame_is_pointwise(void **state)
   assert_true(lit_runs > 1000 && textured > 1000 && distinct > 100);
 }
 
+/* A row's space points two an instruction (fx_space_points, fx_points' runs of a smoothed
+   face) are the doubles of the one-point path (n = 1), bit for bit: every mapped face of
+   the smoothed scenes at every point centre of every row, and at positions between them,
+   from even and odd starts. */
+static void test_space_points_are_single(void **state)
+{
+  (void)state;
+  static const char *const names[] = { "t1-a", "t1-e", "lprism", "sphere", "fig6-room" };
+  long compared = 0, bad = 0;
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+    char path[256];
+    snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
+    struct scene *sc = load_quiet(path);
+    struct t74_error err = { 0, "" };
+    struct effects e;
+    if (effects_parse(sc->effects ? sc->effects : "", &e, "test", 1, &err) != T74_OK)
+      fail_msg("%s", err.msg);
+    struct duo d;
+    char msg[1024];
+    assert_int_equal(duo_open(&d, sc, e.halftone, msg, sizeof msg), T74_OK);
+    struct fx_stats st;
+    memset(&st, 0, sizeof st);
+    struct cost cost = { { 0 } };
+    struct fx_model m;
+    assert_int_equal(fx_model_build(&m, &d.eng[1], sc, &e, NULL, &st, &cost, &err), T74_OK);
+    assert_non_null(m.ray);
+    const int W = d.W, n = 2 * W;
+    double *px = malloc((size_t)n * sizeof *px), (*X)[3] = malloc((size_t)n * sizeof *X);
+    assert_true(px && X);
+    const int32_t *win = m.g->window;
+    for (int i = 0; i < n; i++)               /* centres, then halfway between them */
+      px[i] = win[0] + ((i % W) + (i < W ? 0.5 : 0.25)) * (double)(win[2] - win[0]) / W;
+    for (int f = 0; f < m.map->nface; f++)
+      for (int j = 0; j < d.H; j++) {
+        const double py = win[3] - (j + 0.5) * (double)(win[3] - win[1]) / d.H;
+        for (int s0 = 0; s0 < 2; s0++) {      /* pairs from an even start, then an odd one */
+          fx_space_points(&m, f, n - s0, px + s0, py, X + s0);
+          for (int i = s0; i < n; i++) {
+            double one[1][3];
+            fx_space_points(&m, f, 1, px + i, py, one);
+            compared++;
+            if (memcmp(one[0], X[i], sizeof one[0]) && bad++ < 4)
+              print_message("%s face %d row %d point %d: %.17g %.17g %.17g, alone %.17g "
+                            "%.17g %.17g\n", names[k], f, j, i, X[i][0], X[i][1], X[i][2],
+                            one[0][0], one[0][1], one[0][2]);
+          }
+        }
+      }
+    free(px); free(X);
+    fx_model_free(&m);
+    duo_close(&d);
+    scene_free(sc);
+  }
+  print_message("space points: %ld compared\n", compared);
+  assert_int_equal(bad, 0);
+  assert_true(compared > 1000000);
+}
+
 /* fx_x_cmp (effects/poly.h: the order of two crossings from their doubles, exactly) is
    geom_rat_cmp's on 2,000,000 pairs of rationals, their products within 2^126 as the
    crossings' are: random ones, neighbours (numerators 1 or 2 apart), near multiples and
@@ -1171,6 +1229,7 @@ int main(void)
     cmocka_unit_test(test_fx_shipped),
     cmocka_unit_test(test_regions_on_samples),
     cmocka_unit_test(test_points_frame_is_pointwise),
+    cmocka_unit_test(test_space_points_are_single),
     cmocka_unit_test(test_x_order),
     cmocka_unit_test(test_scenegen_families),
     cmocka_unit_test(test_hard_families),

@@ -553,8 +553,8 @@ static void tri_point(const struct lib *L, int t, const double w[3], double X[3]
 /* Points shaded in runs (smooth_grey_run, the points engine's path) give the greys and
    regions each gives alone (smooth_grey_at), bit for bit, under each smoothing: runs of 1
    to SMOOTH_RUN points inside and outside each triangle of the globe (the clamps, the
-   bands and corners of the partial smoothing), a texture's reflectance, one light blocked
-   at some of the points. */
+   bands and corners of the partial smoothing), a texture's reflectance, under the scene's
+   light and under it with a second parallel light, each blocked at some of the points. */
 static void test_run_is_single(void **state)
 {
   (void)state;
@@ -571,14 +571,21 @@ static void test_run_is_single(void **state)
     struct shade_lights lights;
     shade_lights_init(&lights, L.s);
     int differ = 0, greys[256] = { 0 }, regions[3] = { 0 };
+    for (int two = 0; two < 2; two++)
     for (int t = 0; t < L.m.ntri; t++) {
+      if (two && lights.n == 1) {             /* a second light, from below on the left */
+        const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
+        memcpy(lights.v[1], v, sizeof v);
+        lights.point[1] = false;
+        lights.n = 2;
+      }
       const int n = 1 + t % SMOOTH_RUN;
       double X[SMOOTH_RUN][3];
       unsigned blocked[SMOOTH_RUN];
       int run[SMOOTH_RUN], rrun[SMOOTH_RUN];
       for (int p = 0; p < n; p++) {
         tri_point(&L, t, w[(p + t) % nw], X[p]);
-        blocked[p] = (unsigned)((t + p) % 3 == 0);
+        blocked[p] = (unsigned)((t + p) % 3 == 0) | (unsigned)((t + p) % 5 == 0) << 1;
       }
       const double refl = t % 2 ? 1.0 : 0.6;
       smooth_grey_run(&L.m, &L.r.map, L.s, &L.e, t, n, (const double (*)[3])X, refl, blocked,
@@ -697,12 +704,28 @@ static void test_flat_run_is_single(void **state)
 }
 
 /* The Phong grey at X by the filter (and the exact chain where it declines) and by the
-   exact chain alone; counts the filter's declines in *declines. */
+   exact chain alone; counts the filter's declines in *declines. The filter's grey and
+   declines are also checked in a run of two points (both X). */
 static void phong_both(struct lib *L, int t, const double X[3], double refl, unsigned blocked,
                        const struct shade_lights *lights, long *declines, int g[2])
 {
-  L->m.phong_declines = declines;
+  long one = 0, two = 0;
+  L->m.phong_declines = &one;
   g[0] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, NULL);
+  /* the point twice in a run (two points an instruction, phong_pairs, under parallel
+     lights): the same grey each time, declined where it alone is */
+  L->m.phong_declines = &two;
+  double XX[2][3];
+  memcpy(XX[0], X, sizeof XX[0]);
+  memcpy(XX[1], X, sizeof XX[1]);
+  const unsigned bb[2] = { blocked, blocked };
+  int gg[2], rr[2];
+  smooth_grey_run(&L->m, &L->r.map, L->s, &L->e, t, 2, (const double (*)[3])XX, refl, bb,
+                  lights, gg, rr);
+  assert_int_equal(gg[0], g[0]);
+  assert_int_equal(gg[1], g[0]);
+  assert_int_equal(two, 2 * one);
+  *declines += one;
   L->m.phong_declines = NULL;
   L->m.phong_exact = true;
   g[1] = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, t, X, refl, blocked, lights, NULL, NULL);
@@ -1230,6 +1253,40 @@ static void test_bezier(void **state)
   assert_true(fabs(contour_cut_share(0.5) - 0.2) < 1e-15);
 }
 
+/* The curve polygon's points (contour_region: a point's x and y an instruction) are
+   contour_bezier's at t = m / CONTOUR_STEPS rounded half away from zero, bit for bit, for
+   5,000 random corners of control points up to 2^52 grid units (where a result one unit
+   in the last place off rounds to another integer). */
+static void test_region_is_bezier(void **state)
+{
+  (void)state;
+  uint64_t x = 0x9e3779b97f4a7c15u;
+  long differ = 0, points = 0;
+  for (int it = 0; it < 5000; it++) {
+    struct gpoint g[5], poly[CONTOUR_STEPS + 2];
+    double q[5][2];
+    const int bits = 8 + it % 45;
+    for (int k = 0; k < 5; k++) {
+      x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+      g[k].x = (gcoord)(x % (1ull << bits)) - (gcoord)(1ull << (bits - 1));
+      x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+      g[k].y = (gcoord)(x % (1ull << bits)) - (gcoord)(1ull << (bits - 1));
+      q[k][0] = (double)g[k].x;
+      q[k][1] = (double)g[k].y;
+    }
+    contour_region(g, poly);
+    for (int m = 1; m < CONTOUR_STEPS; m++) {
+      double o[2];
+      contour_bezier(q, (double)m / CONTOUR_STEPS, o);
+      const struct gpoint p = poly[1 + CONTOUR_STEPS - m];
+      differ += p.x != (gcoord)llround(o[0]) || p.y != (gcoord)llround(o[1]);
+      points++;
+    }
+  }
+  print_message("curve polygons: %ld points, %ld differ\n", points, differ);
+  assert_int_equal(differ, 0);
+}
+
 /* A polygon's crossings with a line, found edge by edge (fx_poly_cross's answer without
    its blocks): the crossings sorted stably, their count, or -1 past max. */
 static int cross_ref(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max)
@@ -1344,6 +1401,7 @@ int main(void)
     cmocka_unit_test(test_lambert_is_the_mappers),
     cmocka_unit_test(test_insets),
     cmocka_unit_test(test_bezier),
+    cmocka_unit_test(test_region_is_bezier),
     cmocka_unit_test(test_region_crossings),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
