@@ -645,26 +645,26 @@ static uint32_t band_hidden(struct points *p, const struct grid *g, const struct
   int32_t j0 = ty << TILE_SHIFT, j1 = ((ty + 1) << TILE_SHIFT) - 1;
   if (j0 < b->jlo) j0 = b->jlo;
   if (j1 > b->jhi) j1 = b->jhi;
-  const double zr = b->zb * (double)(b->brise ? j1 : j0) + b->zc, E2 = 2 * b->E;
+  const int32_t jc = j0 + ((j1 - j0) & -(int32_t)b->brise);  /* brise ? j1 : j0 */
+  const int32_t off = (TILE - 1) & -(int32_t)b->arise;        /* arise ? TILE - 1 : 0 */
+  const double zr = b->zb * (double)jc + b->zc, E2 = 2 * b->E;
   uint32_t hid = 0;
   int n = 0;
+  /* each tile's answer without a branch (which tiles are hidden does not follow a pattern
+     the predictor can learn); only a stale bound is asked for with one */
   for (int t = tx0; t <= tx1; t++) {
     struct points_tile *T = trow + t;
-    if (T->ninf) continue;
-    int32_t ic;                                 /* the column of the greatest z */
-    if (b->arise) {
-      ic = ((t + 1) << TILE_SHIFT) - 1;
-      if (ic > b->ihi - 1) ic = b->ihi - 1;
-    } else {
-      ic = t << TILE_SHIFT;
-      if (ic < b->ilo) ic = b->ilo;
-    }
+    /* the column of the greatest z: the tile's last (arise) or first, within the box
+       (the tile's last is >= ilo, its first <= ihi - 1: the other clamp does nothing) */
+    int32_t ic = (t << TILE_SHIFT) + off;
+    ic = ic < b->ihi - 1 ? ic : b->ihi - 1;
+    ic = ic > b->ilo ? ic : b->ilo;
     const double h = (b->za * (double)ic + zr) + E2;
-    if (!(h < T->lo) && T->dirty) tile_least(p, g, T, t, ty);
-    if (h < T->lo) {
-      hid |= 1u << (t - tx0);
-      n++;
-    }
+    const unsigned full = !T->ninf;
+    if (full & !(h < T->lo) & T->dirty) tile_least(p, g, T, t, ty);
+    const unsigned yes = full & (h < T->lo);
+    hid |= yes << (t - tx0);
+    n += (int)yes;
   }
   *nhid = n;
   return hid;
