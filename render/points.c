@@ -210,9 +210,9 @@ static inline void floor_divmod(wide n, int64_t d, int64_t *q, int64_t *r)
 {
   if (n == (int64_t)n) {
     int64_t n64 = (int64_t)n, q64 = n64 / d, r64 = n64 % d;
-    if (r64 < 0) { q64--; r64 += d; }
-    *q = q64;
-    *r = r64;
+    const int64_t neg = r64 >> 63;              /* -1 when r64 < 0 (no branch: a sign) */
+    *q = q64 + neg;
+    *r = r64 + (d & neg);
     return;
   }
   wide qw = n / d, rw = n % d;
@@ -399,13 +399,20 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       int64_t qa = qb;
       qb = nk == lo ? qlo : row_q(g, b.y);
       if (a.y == b.y) continue;
+      /* which way the edge goes, and its lower and upper ends, without branches (an
+         edge's way has no pattern the predictor learns) */
       const bool up = a.y < b.y;
-      const int sg = up ? 1 : -1;
-      turns += last && sg != last;
-      if (!first) first = sg;
+      const int sg = 2 * up - 1;
+      turns += last != 0 && sg != last;
+      first += sg & -(first == 0);
       last = sg;
-      int64_t qbot = qa, qtop = qb;             /* of the lower end a, the upper end b */
-      if (!up) { struct gpoint t = a; a = b; b = t; qbot = qb; qtop = qa; }
+      const int64_t dn = -(int64_t)!up;         /* all ones: a and b swapped */
+      const int64_t sx = (a.x ^ b.x) & dn, sy = (a.y ^ b.y) & dn, sq = (qa ^ qb) & dn;
+      a.x ^= sx;
+      b.x ^= sx;
+      a.y ^= sy;
+      b.y ^= sy;
+      const int64_t qbot = qa ^ sq, qtop = qb ^ sq;   /* of the lower end a, the upper b */
       int64_t jb = rows_at_or_above(qbot), jt = rows_below(qtop);
       if (jb > jhi) jb = jhi;
       if (jt < jlo) jt = jlo;
@@ -426,10 +433,9 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
         floor_divmod(R64, e->D, &e->c, &e->s);
       else
         floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->c, &e->s);
-      if (e->s) {                               /* from floor to ceiling */
-        e->c++;
-        e->s = e->D - e->s;
-      }
+      const int64_t nz = -(int64_t)(e->s != 0); /* from floor to ceiling, no branch */
+      e->c -= nz;
+      e->s = (e->D - e->s) & nz;
       if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
       else e->dq = e->drem = 0;                 /* one row: never stepped */
     }
