@@ -713,17 +713,23 @@ span_parts(struct points *p, const struct grid *g, int k, const struct points_bo
 {
   const double za = b->za, E = b->E;
   int32_t a = i0;                               /* the span's parts over tiles not hidden */
-  if (hid) {
-    for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
-      if (!(hid >> (t - tx0) & 1)) continue;
-      int32_t ts = t << TILE_SHIFT, te = ts + TILE;
+  /* the span's tiles t0 .. t1 that are hidden, a bit each from t0 (t1 - t0 <= tx1 - tx0
+     < 17), taken a run of neighbours at a time: within a run, a tile after the first
+     starts where the one before ends, so only the run's first can leave a part before it */
+  const int t0 = i0 >> TILE_SHIFT, t1 = (i1 - 1) >> TILE_SHIFT;
+  uint32_t m = (hid >> (t0 - tx0)) & ((2u << (t1 - t0)) - 1);
+  if (m) {
+    do {
+      const int rs = __builtin_ctz(m), re = rs + __builtin_ctz(~(m >> rs));   /* [rs, re) */
+      m &= ~((2u << (re - 1)) - 1);
+      int32_t ts = (t0 + rs) << TILE_SHIFT, te = (t0 + re) << TILE_SHIFT;
       if (ts > a) {                             /* (hid: the tiles are kept) */
         const double z0 = za * (double)a + zr;
         if (b->plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
         else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
       }
       a = te < i1 ? te : i1;
-    }
+    } while (m);
     if (a >= i1) return;
   }
   const double z0 = za * (double)a + zr;
@@ -815,7 +821,9 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
     for (int r = 0; r < nrow; r++) {
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
-      if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
+      const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
+      i0 = c0 < c1 ? c0 : c1;
+      i1 = c0 < c1 ? c1 : c0;
       if (i0 >= i1) continue;
       any = true;
       const int64_t j = jlo + r;
@@ -845,7 +853,9 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     if (two) {                                  /* one span, often empty (slivers) */
       if (hid == all && any) continue;          /* behind all along the band's rows */
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
-      if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
+      const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
+      i0 = c0 < c1 ? c0 : c1;
+      i1 = c0 < c1 ? c1 : c0;
       if (i0 >= i1) continue;
       any = true;
       const double zr = zb * (double)j + zc;
