@@ -541,7 +541,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
     if (!trow) { zb[i].lo = lo; continue; }
     struct points_tile *T = trow + (i >> TILE_SHIFT);
     const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
-    if (dn) T->ninf += dn;                      /* (seldom once the tile is covered) */
+    T->ninf += dn;                              /* (no branch: where it is not 0 is unguessable) */
     zb[i].lo = lo;
     /* the bound lowered to lo, or marked when the least may have risen; no branch */
     const double tl = T->lo;
