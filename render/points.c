@@ -210,9 +210,9 @@ static inline void floor_divmod(wide n, int64_t d, int64_t *q, int64_t *r)
 {
   if (n == (int64_t)n) {
     int64_t n64 = (int64_t)n, q64 = n64 / d, r64 = n64 % d;
-    if (r64 < 0) { q64--; r64 += d; }
-    *q = q64;
-    *r = r64;
+    const int64_t neg = r64 >> 63;              /* -1 when r64 < 0 (no branch: a sign) */
+    *q = q64 + neg;
+    *r = r64 + (d & neg);
     return;
   }
   wide qw = n / d, rw = n % d;
@@ -399,13 +399,20 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       int64_t qa = qb;
       qb = nk == lo ? qlo : row_q(g, b.y);
       if (a.y == b.y) continue;
+      /* which way the edge goes, and its lower and upper ends, without branches (an
+         edge's way has no pattern the predictor learns) */
       const bool up = a.y < b.y;
-      const int sg = up ? 1 : -1;
-      turns += last && sg != last;
-      if (!first) first = sg;
+      const int sg = 2 * up - 1;
+      turns += last != 0 && sg != last;
+      first += sg & -(first == 0);
       last = sg;
-      int64_t qbot = qa, qtop = qb;             /* of the lower end a, the upper end b */
-      if (!up) { struct gpoint t = a; a = b; b = t; qbot = qb; qtop = qa; }
+      const int64_t dn = -(int64_t)!up;         /* all ones: a and b swapped */
+      const int64_t sx = (a.x ^ b.x) & dn, sy = (a.y ^ b.y) & dn, sq = (qa ^ qb) & dn;
+      a.x ^= sx;
+      b.x ^= sx;
+      a.y ^= sy;
+      b.y ^= sy;
+      const int64_t qbot = qa ^ sq, qtop = qb ^ sq;   /* of the lower end a, the upper b */
       int64_t jb = rows_at_or_above(qbot), jt = rows_below(qtop);
       if (jb > jhi) jb = jhi;
       if (jt < jlo) jt = jlo;
@@ -426,10 +433,9 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
         floor_divmod(R64, e->D, &e->c, &e->s);
       else
         floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->c, &e->s);
-      if (e->s) {                               /* from floor to ceiling */
-        e->c++;
-        e->s = e->D - e->s;
-      }
+      const int64_t nz = -(int64_t)(e->s != 0); /* from floor to ceiling, no branch */
+      e->c -= nz;
+      e->s = (e->D - e->s) & nz;
       if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
       else e->dq = e->drem = 0;                 /* one row: never stepped */
     }
@@ -535,7 +541,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
     if (!trow) { zb[i].lo = lo; continue; }
     struct points_tile *T = trow + (i >> TILE_SHIFT);
     const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
-    if (dn) T->ninf += dn;                      /* (seldom once the tile is covered) */
+    T->ninf += dn;                              /* (no branch: where it is not 0 is unguessable) */
     zb[i].lo = lo;
     /* the bound lowered to lo, or marked when the least may have risen; no branch */
     const double tl = T->lo;
@@ -645,26 +651,26 @@ static uint32_t band_hidden(struct points *p, const struct grid *g, const struct
   int32_t j0 = ty << TILE_SHIFT, j1 = ((ty + 1) << TILE_SHIFT) - 1;
   if (j0 < b->jlo) j0 = b->jlo;
   if (j1 > b->jhi) j1 = b->jhi;
-  const double zr = b->zb * (double)(b->brise ? j1 : j0) + b->zc, E2 = 2 * b->E;
+  const int32_t jc = j0 + ((j1 - j0) & -(int32_t)b->brise);  /* brise ? j1 : j0 */
+  const int32_t off = (TILE - 1) & -(int32_t)b->arise;        /* arise ? TILE - 1 : 0 */
+  const double zr = b->zb * (double)jc + b->zc, E2 = 2 * b->E;
   uint32_t hid = 0;
   int n = 0;
+  /* each tile's answer without a branch (which tiles are hidden does not follow a pattern
+     the predictor can learn); only a stale bound is asked for with one */
   for (int t = tx0; t <= tx1; t++) {
     struct points_tile *T = trow + t;
-    if (T->ninf) continue;
-    int32_t ic;                                 /* the column of the greatest z */
-    if (b->arise) {
-      ic = ((t + 1) << TILE_SHIFT) - 1;
-      if (ic > b->ihi - 1) ic = b->ihi - 1;
-    } else {
-      ic = t << TILE_SHIFT;
-      if (ic < b->ilo) ic = b->ilo;
-    }
+    /* the column of the greatest z: the tile's last (arise) or first, within the box
+       (the tile's last is >= ilo, its first <= ihi - 1: the other clamp does nothing) */
+    int32_t ic = (t << TILE_SHIFT) + off;
+    ic = ic < b->ihi - 1 ? ic : b->ihi - 1;
+    ic = ic > b->ilo ? ic : b->ilo;
     const double h = (b->za * (double)ic + zr) + E2;
-    if (!(h < T->lo) && T->dirty) tile_least(p, g, T, t, ty);
-    if (h < T->lo) {
-      hid |= 1u << (t - tx0);
-      n++;
-    }
+    const unsigned full = !T->ninf;
+    if (full & !(h < T->lo) & T->dirty) tile_least(p, g, T, t, ty);
+    const unsigned yes = full & (h < T->lo);
+    hid |= yes << (t - tx0);
+    n += (int)yes;
   }
   *nhid = n;
   return hid;
@@ -707,17 +713,23 @@ span_parts(struct points *p, const struct grid *g, int k, const struct points_bo
 {
   const double za = b->za, E = b->E;
   int32_t a = i0;                               /* the span's parts over tiles not hidden */
-  if (hid) {
-    for (int t = i0 >> TILE_SHIFT; t <= (i1 - 1) >> TILE_SHIFT; t++) {
-      if (!(hid >> (t - tx0) & 1)) continue;
-      int32_t ts = t << TILE_SHIFT, te = ts + TILE;
+  /* the span's tiles t0 .. t1 that are hidden, a bit each from t0 (t1 - t0 <= tx1 - tx0
+     < 17), taken a run of neighbours at a time: within a run, a tile after the first
+     starts where the one before ends, so only the run's first can leave a part before it */
+  const int t0 = i0 >> TILE_SHIFT, t1 = (i1 - 1) >> TILE_SHIFT;
+  uint32_t m = (hid >> (t0 - tx0)) & ((2u << (t1 - t0)) - 1);
+  if (m) {
+    do {
+      const int rs = __builtin_ctz(m), re = rs + __builtin_ctz(~(m >> rs));   /* [rs, re) */
+      m &= ~((2u << (re - 1)) - 1);
+      int32_t ts = (t0 + rs) << TILE_SHIFT, te = (t0 + re) << TILE_SHIFT;
       if (ts > a) {                             /* (hid: the tiles are kept) */
         const double z0 = za * (double)a + zr;
         if (b->plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
         else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
       }
       a = te < i1 ? te : i1;
-    }
+    } while (m);
     if (a >= i1) return;
   }
   const double z0 = za * (double)a + zr;
@@ -809,7 +821,9 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
     for (int r = 0; r < nrow; r++) {
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
-      if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
+      const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
+      i0 = c0 < c1 ? c0 : c1;
+      i1 = c0 < c1 ? c1 : c0;
       if (i0 >= i1) continue;
       any = true;
       const int64_t j = jlo + r;
@@ -839,7 +853,9 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     if (two) {                                  /* one span, often empty (slivers) */
       if (hid == all && any) continue;          /* behind all along the band's rows */
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
-      if (i0 > i1) { int32_t t = i0; i0 = i1; i1 = t; }
+      const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
+      i0 = c0 < c1 ? c0 : c1;
+      i1 = c0 < c1 ? c1 : c0;
       if (i0 >= i1) continue;
       any = true;
       const double zr = zb * (double)j + zc;
