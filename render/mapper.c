@@ -40,12 +40,13 @@
 #define ABLOCK_ROW_WORDS 10
 #define DEFAULT_GREY     255    /* a face with neither `grey` nor `light` */
 
-/* floor(n / d) for d > 0 */
+/* floor(n / d) for d > 0: C's quotient rounds toward zero and its remainder takes n's
+   sign, so the quotient is one too high exactly when the remainder is negative; that
+   compare is subtracted, without a branch */
 static int64_t floordiv(int64_t n, int64_t d)
 {
-  int64_t q = n / d;
-  if (n % d != 0 && n < 0) q -= 1;
-  return q;
+  const int64_t q = n / d, r = n % d;
+  return q - (r < 0);
 }
 
 /* eq. (1) on the grid: round(GRID_ONE * (e + f*(p - e)/w)), half up; w > 0. */
