@@ -272,11 +272,9 @@ void fx_space_points(const struct fx_model *m, int f, int n, const double *px, d
   space_points(m, f, n, px, py, X);
 }
 
-static inline double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
+/* The picture's pixel at the face's coordinates (a, b) (reflectance's last step). */
+static inline int tex_pixel(const struct fx_tex *t, double a, double b)
 {
-  double du = X[t->du] - t->o[t->du], dv = X[t->dv] - t->o[t->dv];
-  double a = (du * t->T[t->dv] - dv * t->T[t->du]) / t->det;
-  double b = (t->U[t->du] * dv - t->U[t->dv] * du) / t->det;
   a -= floor(a);
   b -= floor(b);
   const int w = t->w, h = t->h;
@@ -284,12 +282,58 @@ static inline double reflectance(const struct fx_tex *t, const double X[3], stru
   if (x >= w) x = w - 1;
   if (y >= h) y = h - 1;
   if (y < 0) y = 0;
+  return pic_pixel(t->pic, x, y);
+}
+
+static inline double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
+{
+  double du = X[t->du] - t->o[t->du], dv = X[t->dv] - t->o[t->dv];
+  double a = (du * t->T[t->dv] - dv * t->T[t->du]) / t->det;
+  double b = (t->U[t->du] * dv - t->U[t->dv] * du) / t->det;
   if (cost) {
     for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 16);
     cost_mw_div(cost, 32, 16); cost_mw_div(cost, 32, 16);
     COST_ADD_N(cost, COST_MEM, 2);
   }
-  return pic_pixel(t->pic, x, y) / 255.0;
+  return tex_pixel(t, a, b) / 255.0;
+}
+
+/* k / 255.0 for the pixels k = -1 .. 255 (pic_pixel's answers), at index k + 1: the
+   doubles reflectance divides out (an initialiser is worked out at translation time as
+   at execution time, C11 F.8.2 and F.8.5: the same correctly rounded quotients). */
+#define UNIT1(k) (k) / 255.0
+#define UNIT4(k) UNIT1(k), UNIT1((k) + 1), UNIT1((k) + 2), UNIT1((k) + 3)
+#define UNIT16(k) UNIT4(k), UNIT4((k) + 4), UNIT4((k) + 8), UNIT4((k) + 12)
+#define UNIT64(k) UNIT16(k), UNIT16((k) + 16), UNIT16((k) + 32), UNIT16((k) + 48)
+static const double unit_pixel[257] = { UNIT1(-1), UNIT64(0), UNIT64(64), UNIT64(128), UNIT64(192) };
+
+/* reflectance, uncounted, at n <= SHADE_RUN points X[p] of a textured face into r[p]: the
+   same doubles, its two divides two points an instruction where the processor has SSE2
+   (correctly rounded, as the scalar ones are; each lane's operations are reflectance's on
+   its values, in its order) and the pixel's k / 255.0 from unit_pixel. */
+static void reflectances(const struct fx_tex *t, int n, const double (*X)[3], double *r)
+{
+  const int du = t->du, dv = t->dv;
+  double a[SHADE_RUN], b[SHADE_RUN];
+  int p = 0;
+#ifdef __SSE2__
+  const __m128d odu = _mm_set1_pd(t->o[du]), odv = _mm_set1_pd(t->o[dv]);
+  const __m128d Tdv = _mm_set1_pd(t->T[dv]), Tdu = _mm_set1_pd(t->T[du]);
+  const __m128d Udu = _mm_set1_pd(t->U[du]), Udv = _mm_set1_pd(t->U[dv]);
+  const __m128d det = _mm_set1_pd(t->det);
+  for (; p + 2 <= n; p += 2) {
+    const __m128d u = _mm_sub_pd(_mm_set_pd(X[p + 1][du], X[p][du]), odu);
+    const __m128d v = _mm_sub_pd(_mm_set_pd(X[p + 1][dv], X[p][dv]), odv);
+    _mm_storeu_pd(a + p, _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, Tdv), _mm_mul_pd(v, Tdu)), det));
+    _mm_storeu_pd(b + p, _mm_div_pd(_mm_sub_pd(_mm_mul_pd(Udu, v), _mm_mul_pd(Udv, u)), det));
+  }
+#endif
+  for (; p < n; p++) {
+    const double u = X[p][du] - t->o[du], v = X[p][dv] - t->o[dv];
+    a[p] = (u * t->T[dv] - v * t->T[du]) / t->det;
+    b[p] = (t->U[du] * v - t->U[dv] * u) / t->det;
+  }
+  for (p = 0; p < n; p++) r[p] = unit_pixel[tex_pixel(t, a[p], b[p]) + 1];
 }
 
 /* The plane position of point coordinates (u, v) (fx_shade's px, py). */
@@ -378,7 +422,8 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
    found once for the run (the same operations on the same values as each point's) and
-   the lit points' greys SHADE_RUN at a time (shade_grey_lit_run). */
+   the lit points' greys SHADE_RUN at a time (shade_grey_lit_run); a textured face's
+   space points and reflectances SHADE_RUN at a time (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
                            int n, const unsigned *blocked, const double *px, double py,
                            uint8_t *grey)
@@ -389,14 +434,30 @@ static void shade_flat_run(const struct fx_model *m, int face, const struct face
   unsigned b[SHADE_RUN];
   int at[SHADE_RUN], g[SHADE_RUN], nl = 0;
   bool unit = false;
+  if (t) {                                  /* every point's space point and reflectance */
+    for (int p = 0; p < n; p += SHADE_RUN) {
+      const int c = n - p < SHADE_RUN ? n - p : SHADE_RUN;
+      space_points(m, face, c, px + p, py, X);
+      reflectances(t, c, (const double (*)[3])X, refl);
+      if (!fs->lit) {
+        for (int q = 0; q < c; q++) grey[p + q] = (uint8_t)(int)floor(mf->grey * refl[q] + 0.5);
+        continue;
+      }
+      if (!unit) {                          /* shade_face_at's normal */
+        face_normal(mf, nrm);
+        unit = true;
+      }
+      shade_grey_lit_run(&m->lights, nrm, c, (const double (*)[3])X, refl, blocked + p, g);
+      for (int q = 0; q < c; q++) grey[p + q] = (uint8_t)g[q];
+    }
+    return;
+  }
   for (int p = 0; p < n || nl > 0; p++) {
     if (p < n) {
       const unsigned bp = fs->lit ? blocked[p] : 0;   /* a face of its own grey is not lit */
-      if (!t && !bp) { grey[p] = (uint8_t)mf->grey; continue; }
+      if (!bp) { grey[p] = (uint8_t)mf->grey; continue; }
       space_point(m, face, px[p], py, X[nl]);
-      const double r = t ? reflectance(t, X[nl], NULL) : 1.0;
-      if (!fs->lit) { grey[p] = (uint8_t)(int)floor(mf->grey * r + 0.5); continue; }
-      refl[nl] = r;
+      refl[nl] = 1.0;
       b[nl] = bp;
       at[nl++] = p;
       if (nl < SHADE_RUN) continue;
