@@ -217,6 +217,18 @@ bool fx_model_shades(const struct fx_model *m)
   return (m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE) || m->ntex > 0 || m->shadows.n > 0;
 }
 
+/* The end of the run of equal entries of a[0..n) that starts at i (0 <= i < n): the first
+   e > i with a[e] != a[i], or n; four entries a test (all four equal to a[i] exactly when
+   the OR of their XORs with it is zero). */
+static inline int run_end(const int *a, int i, int n)
+{
+  const int f = a[i];
+  int e = i + 1;
+  while (e + 4 <= n && !((a[e] ^ f) | (a[e + 1] ^ f) | (a[e + 2] ^ f) | (a[e + 3] ^ f))) e += 4;
+  while (e < n && a[e] == f) e++;
+  return e;
+}
+
 /* ---- shading ----------------------------------------------------------------------- */
 
 /* The space point of face f seen through plane position (px, py, 0): the ray from the eye
@@ -452,10 +464,22 @@ static void shade_flat_run(const struct fx_model *m, int face, const struct face
     }
     return;
   }
+  if (!fs->lit) {                           /* a face of its own grey is not lit */
+    memset(grey, (uint8_t)mf->grey, (size_t)n);
+    return;
+  }
   for (int p = 0; p < n || nl > 0; p++) {
     if (p < n) {
-      const unsigned bp = fs->lit ? blocked[p] : 0;   /* a face of its own grey is not lit */
-      if (!bp) { grey[p] = (uint8_t)mf->grey; continue; }
+      const unsigned bp = blocked[p];
+      if (!bp) {                            /* a stretch no light is blocked at: the face's */
+        int e = p + 1;                      /* grey (four a test: none when their OR is 0) */
+        while (e + 4 <= n && !(blocked[e] | blocked[e + 1] | blocked[e + 2] | blocked[e + 3]))
+          e += 4;
+        while (e < n && !blocked[e]) e++;
+        memset(grey + p, (uint8_t)mf->grey, (size_t)(e - p));
+        p = e - 1;
+        continue;
+      }
       space_point(m, face, px[p], py, X[nl]);
       refl[nl] = 1.0;
       b[nl] = bp;
@@ -605,7 +629,7 @@ static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int 
     const struct fx_poly *p = &ps->p[k];
     if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
     if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
-    int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->cost);
+    int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->m->count ? L->cost : NULL);
     if (*nev + nx > L->evcap) {
       int cap = L->evcap ? L->evcap : 64;
       while (cap < *nev + nx) cap *= 2;
@@ -924,7 +948,7 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
     const struct fx_poly *p = &m->shadows.p[k];
     if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
     if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
-    const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->cost);
+    const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->m->count ? L->cost : NULL);
     for (int h = 0; h + 1 < nx; h += 2) {
       if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
       const int b0 = first_at_or_right(&L->x[h], ev_key(L->x[h]), r);
@@ -962,8 +986,7 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   memset(blocked, 0, (size_t)n * sizeof *blocked);
   for (int i = 0; i < n;) {
     const int f = face[i];
-    int e = i + 1;
-    while (e < n && face[e] == f) e++;
+    const int e = run_end(face, i, n);
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
       if (L->fr[f].row != L->row) {
         const int at = L->nrng;
@@ -1004,8 +1027,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
   struct { int f, at, n; } recent[RECENT];
   int nrecent = 0, total = 0;
   for (int i = 0; i < n;) {
-    int f = face[i], e = i + 1;
-    while (e < n && face[e] == f) e++;
+    const int f = face[i], e = run_end(face, i, n);
     const struct ev *ev = NULL;
     int nev = 0;
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
@@ -1140,8 +1162,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         plain = !pc && fs.tri < 0;
       }
       if (plain) {                          /* all its points here at once */
-        int e = i + 1;
-        while (e < W && fr[e] == face) e++;
+        const int e = run_end(fr, i, W);
         shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
         i = e - 1;
         continue;
