@@ -218,12 +218,23 @@ bool fx_model_shades(const struct fx_model *m)
 }
 
 /* The end of the run of equal entries of a[0..n) that starts at i (0 <= i < n): the first
-   e > i with a[e] != a[i], or n; four entries a test (all four equal to a[i] exactly when
-   the OR of their XORs with it is zero). */
+   e > i with a[e] != a[i], or n; eight entries a test where the processor has SSE2 (two
+   compares of four), else four (all four equal to a[i] exactly when the OR of their XORs
+   with it is zero). */
 static inline int run_end(const int *a, int i, int n)
 {
   const int f = a[i];
   int e = i + 1;
+#ifdef __SSE2__
+  const __m128i fv = _mm_set1_epi32(f);
+  while (e + 8 <= n) {
+    const __m128i *q = (const __m128i *)(const void *)(a + e);
+    const __m128i q0 = _mm_cmpeq_epi32(_mm_loadu_si128(q), fv);
+    const __m128i q1 = _mm_cmpeq_epi32(_mm_loadu_si128(q + 1), fv);
+    if (_mm_movemask_epi8(_mm_and_si128(q0, q1)) != 0xffff) break;
+    e += 8;
+  }
+#endif
   while (e + 4 <= n && !((a[e] ^ f) | (a[e + 1] ^ f) | (a[e + 2] ^ f) | (a[e + 3] ^ f))) e += 4;
   while (e < n && a[e] == f) e++;
   return e;
