@@ -217,6 +217,29 @@ bool fx_model_shades(const struct fx_model *m)
   return (m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE) || m->ntex > 0 || m->shadows.n > 0;
 }
 
+/* The end of the run of equal entries of a[0..n) that starts at i (0 <= i < n): the first
+   e > i with a[e] != a[i], or n; eight entries a test where the processor has SSE2 (two
+   compares of four), else four (all four equal to a[i] exactly when the OR of their XORs
+   with it is zero). */
+static inline int run_end(const int *a, int i, int n)
+{
+  const int f = a[i];
+  int e = i + 1;
+#ifdef __SSE2__
+  const __m128i fv = _mm_set1_epi32(f);
+  while (e + 8 <= n) {
+    const __m128i *q = (const __m128i *)(const void *)(a + e);
+    const __m128i q0 = _mm_cmpeq_epi32(_mm_loadu_si128(q), fv);
+    const __m128i q1 = _mm_cmpeq_epi32(_mm_loadu_si128(q + 1), fv);
+    if (_mm_movemask_epi8(_mm_and_si128(q0, q1)) != 0xffff) break;
+    e += 8;
+  }
+#endif
+  while (e + 4 <= n && !((a[e] ^ f) | (a[e + 1] ^ f) | (a[e + 2] ^ f) | (a[e + 3] ^ f))) e += 4;
+  while (e < n && a[e] == f) e++;
+  return e;
+}
+
 /* ---- shading ----------------------------------------------------------------------- */
 
 /* The space point of face f seen through plane position (px, py, 0): the ray from the eye
@@ -272,11 +295,9 @@ void fx_space_points(const struct fx_model *m, int f, int n, const double *px, d
   space_points(m, f, n, px, py, X);
 }
 
-static inline double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
+/* The picture's pixel at the face's coordinates (a, b) (reflectance's last step). */
+static inline int tex_pixel(const struct fx_tex *t, double a, double b)
 {
-  double du = X[t->du] - t->o[t->du], dv = X[t->dv] - t->o[t->dv];
-  double a = (du * t->T[t->dv] - dv * t->T[t->du]) / t->det;
-  double b = (t->U[t->du] * dv - t->U[t->dv] * du) / t->det;
   a -= floor(a);
   b -= floor(b);
   const int w = t->w, h = t->h;
@@ -284,12 +305,58 @@ static inline double reflectance(const struct fx_tex *t, const double X[3], stru
   if (x >= w) x = w - 1;
   if (y >= h) y = h - 1;
   if (y < 0) y = 0;
+  return pic_pixel(t->pic, x, y);
+}
+
+static inline double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)
+{
+  double du = X[t->du] - t->o[t->du], dv = X[t->dv] - t->o[t->dv];
+  double a = (du * t->T[t->dv] - dv * t->T[t->du]) / t->det;
+  double b = (t->U[t->du] * dv - t->U[t->dv] * du) / t->det;
   if (cost) {
     for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 16);
     cost_mw_div(cost, 32, 16); cost_mw_div(cost, 32, 16);
     COST_ADD_N(cost, COST_MEM, 2);
   }
-  return pic_pixel(t->pic, x, y) / 255.0;
+  return tex_pixel(t, a, b) / 255.0;
+}
+
+/* k / 255.0 for the pixels k = -1 .. 255 (pic_pixel's answers), at index k + 1: the
+   doubles reflectance divides out (an initialiser is worked out at translation time as
+   at execution time, C11 F.8.2 and F.8.5: the same correctly rounded quotients). */
+#define UNIT1(k) (k) / 255.0
+#define UNIT4(k) UNIT1(k), UNIT1((k) + 1), UNIT1((k) + 2), UNIT1((k) + 3)
+#define UNIT16(k) UNIT4(k), UNIT4((k) + 4), UNIT4((k) + 8), UNIT4((k) + 12)
+#define UNIT64(k) UNIT16(k), UNIT16((k) + 16), UNIT16((k) + 32), UNIT16((k) + 48)
+static const double unit_pixel[257] = { UNIT1(-1), UNIT64(0), UNIT64(64), UNIT64(128), UNIT64(192) };
+
+/* reflectance, uncounted, at n <= SHADE_RUN points X[p] of a textured face into r[p]: the
+   same doubles, its two divides two points an instruction where the processor has SSE2
+   (correctly rounded, as the scalar ones are; each lane's operations are reflectance's on
+   its values, in its order) and the pixel's k / 255.0 from unit_pixel. */
+static void reflectances(const struct fx_tex *t, int n, const double (*X)[3], double *r)
+{
+  const int du = t->du, dv = t->dv;
+  double a[SHADE_RUN], b[SHADE_RUN];
+  int p = 0;
+#ifdef __SSE2__
+  const __m128d odu = _mm_set1_pd(t->o[du]), odv = _mm_set1_pd(t->o[dv]);
+  const __m128d Tdv = _mm_set1_pd(t->T[dv]), Tdu = _mm_set1_pd(t->T[du]);
+  const __m128d Udu = _mm_set1_pd(t->U[du]), Udv = _mm_set1_pd(t->U[dv]);
+  const __m128d det = _mm_set1_pd(t->det);
+  for (; p + 2 <= n; p += 2) {
+    const __m128d u = _mm_sub_pd(_mm_set_pd(X[p + 1][du], X[p][du]), odu);
+    const __m128d v = _mm_sub_pd(_mm_set_pd(X[p + 1][dv], X[p][dv]), odv);
+    _mm_storeu_pd(a + p, _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, Tdv), _mm_mul_pd(v, Tdu)), det));
+    _mm_storeu_pd(b + p, _mm_div_pd(_mm_sub_pd(_mm_mul_pd(Udu, v), _mm_mul_pd(Udv, u)), det));
+  }
+#endif
+  for (; p < n; p++) {
+    const double u = X[p][du] - t->o[du], v = X[p][dv] - t->o[dv];
+    a[p] = (u * t->T[dv] - v * t->T[du]) / t->det;
+    b[p] = (t->U[du] * v - t->U[dv] * u) / t->det;
+  }
+  for (p = 0; p < n; p++) r[p] = unit_pixel[tex_pixel(t, a[p], b[p]) + 1];
 }
 
 /* The plane position of point coordinates (u, v) (fx_shade's px, py). */
@@ -378,7 +445,8 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
    found once for the run (the same operations on the same values as each point's) and
-   the lit points' greys SHADE_RUN at a time (shade_grey_lit_run). */
+   the lit points' greys SHADE_RUN at a time (shade_grey_lit_run); a textured face's
+   space points and reflectances SHADE_RUN at a time (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
                            int n, const unsigned *blocked, const double *px, double py,
                            uint8_t *grey)
@@ -389,14 +457,42 @@ static void shade_flat_run(const struct fx_model *m, int face, const struct face
   unsigned b[SHADE_RUN];
   int at[SHADE_RUN], g[SHADE_RUN], nl = 0;
   bool unit = false;
+  if (t) {                                  /* every point's space point and reflectance */
+    for (int p = 0; p < n; p += SHADE_RUN) {
+      const int c = n - p < SHADE_RUN ? n - p : SHADE_RUN;
+      space_points(m, face, c, px + p, py, X);
+      reflectances(t, c, (const double (*)[3])X, refl);
+      if (!fs->lit) {
+        for (int q = 0; q < c; q++) grey[p + q] = (uint8_t)(int)floor(mf->grey * refl[q] + 0.5);
+        continue;
+      }
+      if (!unit) {                          /* shade_face_at's normal */
+        face_normal(mf, nrm);
+        unit = true;
+      }
+      shade_grey_lit_run(&m->lights, nrm, c, (const double (*)[3])X, refl, blocked + p, g);
+      for (int q = 0; q < c; q++) grey[p + q] = (uint8_t)g[q];
+    }
+    return;
+  }
+  if (!fs->lit) {                           /* a face of its own grey is not lit */
+    memset(grey, (uint8_t)mf->grey, (size_t)n);
+    return;
+  }
   for (int p = 0; p < n || nl > 0; p++) {
     if (p < n) {
-      const unsigned bp = fs->lit ? blocked[p] : 0;   /* a face of its own grey is not lit */
-      if (!t && !bp) { grey[p] = (uint8_t)mf->grey; continue; }
+      const unsigned bp = blocked[p];
+      if (!bp) {                            /* a stretch no light is blocked at: the face's */
+        int e = p + 1;                      /* grey (four a test: none when their OR is 0) */
+        while (e + 4 <= n && !(blocked[e] | blocked[e + 1] | blocked[e + 2] | blocked[e + 3]))
+          e += 4;
+        while (e < n && !blocked[e]) e++;
+        memset(grey + p, (uint8_t)mf->grey, (size_t)(e - p));
+        p = e - 1;
+        continue;
+      }
       space_point(m, face, px[p], py, X[nl]);
-      const double r = t ? reflectance(t, X[nl], NULL) : 1.0;
-      if (!fs->lit) { grey[p] = (uint8_t)(int)floor(mf->grey * r + 0.5); continue; }
-      refl[nl] = r;
+      refl[nl] = 1.0;
       b[nl] = bp;
       at[nl++] = p;
       if (nl < SHADE_RUN) continue;
@@ -544,7 +640,7 @@ static int stretches(struct fx_lines *L, const struct fx_polys *ps, int k0, int 
     const struct fx_poly *p = &ps->p[k];
     if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
     if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
-    int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->cost);
+    int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->m->count ? L->cost : NULL);
     if (*nev + nx > L->evcap) {
       int cap = L->evcap ? L->evcap : 64;
       while (cap < *nev + nx) cap *= 2;
@@ -863,7 +959,7 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
     const struct fx_poly *p = &m->shadows.p[k];
     if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
     if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
-    const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->cost);
+    const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->m->count ? L->cost : NULL);
     for (int h = 0; h + 1 < nx; h += 2) {
       if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
       const int b0 = first_at_or_right(&L->x[h], ev_key(L->x[h]), r);
@@ -901,8 +997,7 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   memset(blocked, 0, (size_t)n * sizeof *blocked);
   for (int i = 0; i < n;) {
     const int f = face[i];
-    int e = i + 1;
-    while (e < n && face[e] == f) e++;
+    const int e = run_end(face, i, n);
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
       if (L->fr[f].row != L->row) {
         const int at = L->nrng;
@@ -943,8 +1038,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
   struct { int f, at, n; } recent[RECENT];
   int nrecent = 0, total = 0;
   for (int i = 0; i < n;) {
-    int f = face[i], e = i + 1;
-    while (e < n && face[e] == f) e++;
+    const int f = face[i], e = run_end(face, i, n);
     const struct ev *ev = NULL;
     int nev = 0;
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
@@ -1079,8 +1173,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         plain = !pc && fs.tri < 0;
       }
       if (plain) {                          /* all its points here at once */
-        int e = i + 1;
-        while (e < W && fr[e] == face) e++;
+        const int e = run_end(fr, i, W);
         shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
         i = e - 1;
         continue;

@@ -107,7 +107,9 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
       if (c0 != c1) {
         struct gpoint p0 = pt[v], p1 = pt[w];
         if (nx == max) {
-          COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);
+          if (cost) {
+            COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);
+          }
           return -1;
         }
         /* geom_x_at(geom_line(p0, p1), yn, yd): the same rational, without the two calls
@@ -115,14 +117,17 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
         const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
         struct grat xc = { -((wide)lb * yn + (wide)lc * yd), (wide)la * yd };
         if (xc.den < 0) { xc.den = -xc.den; xc.num = -xc.num; }
-        cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46);
+        if (cost) { cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46); }
         int h = nx++;
         while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }
         x[h] = xc;
       }
       c0 = c1;
     }
-    COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)n); COST_ADD_N(cost, COST_BRANCH, n);  /* an edge's */
+    if (cost) {                             /* an edge's */
+      COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)n);
+      COST_ADD_N(cost, COST_BRANCH, n);
+    }
     blk += (n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
   }
   return nx;

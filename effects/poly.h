@@ -94,7 +94,7 @@ static inline int fx_x_cmp(const struct grat *a, double ka, const struct grat *b
 
 /* The stretches of polygon p on the line y = yn/yd (0 < yd <= GRID_YDEN_MAX): up to max
    crossings in x (sorted) written, their count returned (even; -1 when more than max).
-   Counted in cost. */
+   Counted in cost (NULL: not counted). */
 int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,
                   struct cost *cost);
 

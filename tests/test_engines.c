@@ -830,14 +830,17 @@ static void test_regions_on_samples(void **state)
    points of one face at a time: a smoothed face's, a flat face's with its normal found
    once and its lights' directions two points an instruction) is fx_shade's point by
    point, at every point: on the shipped scenes with point lights, shadows and textures,
-   and on some with smoothing, each with shadows. */
+   on some with smoothing, each with shadows, and on a textured face turned out of every
+   coordinate plane (tests/data/scene/tex-slant.s74: fig6-room's are in one, half of the
+   reflectance's terms zero). */
 static void test_points_frame_is_pointwise(void **state)
 {
   (void)state;
   static const char *const cases[][2] = {   /* the scene's own effects and more */
     { "fig6-room", "" }, { "fig6-building", "" }, { "lprism", "shadows=on" },
-    { "t1-h", "shadows=on" }, { "t1-a", "shadows=on" }, { "edges-telephone", "shadows=on" } };
-  long points = 0, lit_runs = 0, textured = 0;
+    { "t1-h", "shadows=on" }, { "t1-a", "shadows=on" }, { "edges-telephone", "shadows=on" },
+    { "../tests/data/scene/tex-slant", "" } };
+  long points = 0, lit_runs = 0, textured = 0, slant = 0;
   int greys[256] = { 0 };
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
     char path[256];
@@ -892,6 +895,7 @@ static void test_points_frame_is_pointwise(void **state)
                               m.sm.tri_of_mface[face] >= 0;
         lit_runs += lit && !smoothed && blocked[i] != 0;
         textured += sc->f[mf->sface].texture != NULL;
+        slant += sc->f[mf->sface].texture != NULL && blocked[i] != 0 && strstr(path, "slant");
       }
     }
     assert_int_equal(bad, 0);
@@ -903,9 +907,10 @@ static void test_points_frame_is_pointwise(void **state)
   }
   int distinct = 0;
   for (int g = 0; g < 256; g++) distinct += greys[g];
-  print_message("points frame: %ld points, %ld lit flat points in shadow, %ld textured, "
-                "%d greys\n", points, lit_runs, textured, distinct);
-  assert_true(lit_runs > 1000 && textured > 1000 && distinct > 100);
+  print_message("points frame: %ld points, %ld lit flat points in shadow, %ld textured "
+                "(%ld on the turned face in shadow), %d greys\n", points, lit_runs, textured,
+                slant, distinct);
+  assert_true(lit_runs > 1000 && textured > 1000 && slant > 20 && distinct > 100);
 }
 
 /* A row's space points two an instruction (fx_space_points, fx_points' runs of a smoothed
