@@ -210,7 +210,7 @@ static inline void floor_divmod(wide n, int64_t d, int64_t *q, int64_t *r)
 {
   if (n == (int64_t)n) {
     int64_t n64 = (int64_t)n, q64 = n64 / d, r64 = n64 % d;
-    const int64_t neg = r64 >> 63;              /* -1 when r64 < 0 (no branch: a sign) */
+    const int64_t neg = -(int64_t)(r64 < 0);    /* -1 when r64 < 0 (no branch: a compare) */
     *q = q64 + neg;
     *r = r64 + (d & neg);
     return;
