@@ -49,6 +49,7 @@
 #include "effects/fx.h"
 #include "effects/shadow.h"
 #include "effects/smooth.h"
+#include "render/face_run.h"
 #include "render/points.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -1030,23 +1031,6 @@ struct row_bg {
   int cc;                           /* cell * cell */
 };
 
-/* The end of the run of points from i that see face f (face[i] == f): the first e > i
-** with face[e] != f, or n. */
-static inline int run_end(const int *face, int i, int n, int f)
-{
-  int e = i + 1;
-#ifdef __SSE2__
-  const __m128i fv = _mm_set1_epi32(f);
-  for (; e + 4 <= n; e += 4) {              /* four points a compare */
-    const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(face + e));
-    const unsigned same = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi32(x, fv));
-    if (same != 0xffffu) return e + __builtin_ctz(~same) / 4;
-  }
-#endif
-  while (e < n && face[e] == f) e++;
-  return e;
-}
-
 /* d[0 .. n) = id, m[0 .. n) = mask and g[0 .. n) = grey (n >= 1); room >= n: the points
 ** to the row's end. Eight points a store (SSE2): a run of eight or more ends with eight
 ** stores that overlap its last ones; a shorter run with room for eight is written eight
@@ -1088,7 +1072,7 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
   for (; i < n; i++) {
     int f = face[i];
     if (f < 0 && bg) {                      /* a run of background points */
-      const int e = run_end(face, i, n, f);
+      const int e = face_run_end(face, i, n);
       int q = i;
       for (; q < e && bg->level[q] <= bg->cc; q++) {
         masks[q] = bg->mask[bg->level[q]];
@@ -1102,7 +1086,7 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
     }
     const struct face_out *o = &fo[f + 1];
     if (o->odd) break;
-    const int e = run_end(face, i, n, f);   /* the run of points that see this face */
+    const int e = face_run_end(face, i, n);   /* the run of points that see this face */
     run_fill(ids + i, masks + i, greys + i, e - i, n - i, o->id, o->mask, o->grey);
     sum += (uint64_t)o->level * (uint64_t)(e - i);
     i = e - 1;

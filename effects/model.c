@@ -11,6 +11,7 @@
 #include "effects/contour.h"
 #include "effects/shadow.h"
 #include "patterns/picture.h"
+#include "render/face_run.h"
 #include "render/shade.h"
 
 #ifdef __SSE2__
@@ -215,29 +216,6 @@ bool fx_model_regions(const struct fx_model *m) { return m->cuts.n > 0 || m->sha
 bool fx_model_shades(const struct fx_model *m)
 {
   return (m->smooth && m->e->smooth != EFFECTS_SMOOTH_NONE) || m->ntex > 0 || m->shadows.n > 0;
-}
-
-/* The end of the run of equal entries of a[0..n) that starts at i (0 <= i < n): the first
-   e > i with a[e] != a[i], or n; eight entries a test where the processor has SSE2 (two
-   compares of four), else four (all four equal to a[i] exactly when the OR of their XORs
-   with it is zero). */
-static inline int run_end(const int *a, int i, int n)
-{
-  const int f = a[i];
-  int e = i + 1;
-#ifdef __SSE2__
-  const __m128i fv = _mm_set1_epi32(f);
-  while (e + 8 <= n) {
-    const __m128i *q = (const __m128i *)(const void *)(a + e);
-    const __m128i q0 = _mm_cmpeq_epi32(_mm_loadu_si128(q), fv);
-    const __m128i q1 = _mm_cmpeq_epi32(_mm_loadu_si128(q + 1), fv);
-    if (_mm_movemask_epi8(_mm_and_si128(q0, q1)) != 0xffff) break;
-    e += 8;
-  }
-#endif
-  while (e + 4 <= n && !((a[e] ^ f) | (a[e + 1] ^ f) | (a[e + 2] ^ f) | (a[e + 3] ^ f))) e += 4;
-  while (e < n && a[e] == f) e++;
-  return e;
 }
 
 /* ---- shading ----------------------------------------------------------------------- */
@@ -997,7 +975,7 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   memset(blocked, 0, (size_t)n * sizeof *blocked);
   for (int i = 0; i < n;) {
     const int f = face[i];
-    const int e = run_end(face, i, n);
+    const int e = face_run_end(face, i, n);
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
       if (L->fr[f].row != L->row) {
         const int at = L->nrng;
@@ -1038,7 +1016,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
   struct { int f, at, n; } recent[RECENT];
   int nrecent = 0, total = 0;
   for (int i = 0; i < n;) {
-    const int f = face[i], e = run_end(face, i, n);
+    const int f = face[i], e = face_run_end(face, i, n);
     const struct ev *ev = NULL;
     int nev = 0;
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
@@ -1173,7 +1151,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         plain = !pc && fs.tri < 0;
       }
       if (plain) {                          /* all its points here at once */
-        const int e = run_end(fr, i, W);
+        const int e = face_run_end(fr, i, W);
         shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
         i = e - 1;
         continue;
