@@ -388,6 +388,13 @@ static inline uint8_t quotient(uint64_t n, uint64_t d, uint64_t mul)
   return (uint8_t)(q + ((q + 1) * d <= n));
 }
 
+/* A piece of a grid row: n points wholly inside pixel x (wl 0), or one point (n 1) reaching
+** into pixels x and x + 1 by wf and wl. */
+struct pic_piece {
+  int32_t x, n;
+  uint32_t wf, wl;
+};
+
 /* A picture's W x H grid made a grid row at a time, in increasing order; its picture is a
 ** struct pic, or (src) the grid of another sampler, whose rows it asks for in increasing
 ** order as it needs them: so a grid of a grid holds no more than a few rows. */
@@ -404,6 +411,11 @@ struct sampler {
   uint8_t *line;                /* pw: src's row `have`, when the picture is src's grid */
   uint32_t *pre;                /* pw + 1: sample_row's running sums (ax.wide), else NULL */
   int32_t have;                 /* the picture row in row[], -1 none */
+  /* narrow (pixels px, neither axis wide: sampler_row_narrow): the grid's columns, left to
+     right, in nseg pieces (see struct pic_piece) */
+  bool narrow;
+  int32_t nseg;
+  struct pic_piece *seg;
 };
 
 static void sampler_free(struct sampler *s)
@@ -414,6 +426,23 @@ static void sampler_free(struct sampler *s)
   free(s->acc);
   free(s->line);
   free(s->pre);
+  free(s->seg);
+}
+
+/* The pieces of a narrow sampler's columns (see struct sampler). */
+static int sampler_pieces(struct sampler *s)
+{
+  s->seg = malloc((size_t)(unsigned)s->W * sizeof *s->seg);
+  if (!s->seg) return -1;
+  for (int32_t i = 0; i < s->W; i++) {
+    struct pic_piece *p = s->nseg > 0 ? &s->seg[s->nseg - 1] : NULL;
+    if (p && s->ax.wlast[i] == 0 && p->wl == 0 && p->x == s->ax.first[i])
+      p->n++;
+    else
+      s->seg[s->nseg++] = (struct pic_piece){ s->ax.first[i], 1, s->ax.wfirst[i],
+                                              s->ax.wlast[i] };
+  }
+  return 0;
 }
 
 /* The W x H grid of a pw x ph picture (pixels px, or src's grid when px is NULL). */
@@ -437,7 +466,9 @@ static int sampler_init(struct sampler *s, const uint8_t *px, struct sampler *sr
   s->acc = ok ? malloc((size_t)W * sizeof *s->acc) : NULL;
   s->line = ok && !px ? malloc((size_t)pw) : NULL;
   s->pre = ok && s->ax.wide ? malloc(((size_t)pw + 1) * sizeof *s->pre) : NULL;
-  if (!s->row || !s->acc || (!px && !s->line) || (ok && s->ax.wide && !s->pre)) {
+  s->narrow = ok && px && !s->ax.wide && !s->ay.wide;
+  if (!s->row || !s->acc || (!px && !s->line) || (ok && s->ax.wide && !s->pre) ||
+      (s->narrow && sampler_pieces(s) != 0)) {
     sampler_free(s);
     memset(s, 0, sizeof *s);
     return -1;
@@ -449,11 +480,72 @@ static int sampler_init(struct sampler *s, const uint8_t *px, struct sampler *sr
 ** is the last of the one and the first of the other). */
 static void sampler_take(struct sampler *s, int32_t y);
 
+/* d[0 .. n-1] = v, n >= 1, stored one by one up to three (a run of the street's drum
+** lines: one to three points; a library call for each cost more than its stores); n. */
+static inline int32_t pic_fill(uint8_t *d, uint8_t v, int32_t n)
+{
+  d[0] = v;
+  if (n > 1) {
+    d[1] = v;
+    if (n > 2) {
+      d[2] = v;
+      if (n > 3) memset(d + 3, v, (size_t)(n - 3));
+    }
+  }
+  return n;
+}
+
+/* sampler_row of a grid over the pixels px whose points each reach into at most two
+** picture rows and two columns (neither axis wide: the drum's grid of the street's picture,
+** 587 x 555 over 200 x 150), straight from the pixels, with no row of sums held. The points
+** of a run (wholly inside one pixel x) have the same sum, x's values by the row weights
+** times pw, so one quotient serves the run; in a grid row wholly inside one picture row that
+** sum is v x pw x ph + floor(total / 2), whose quotient by total is v, the pixel's value.
+** Every sum is sampler_row's, the same products added (exact integers: the order does not
+** matter), taken with the same quotient. */
+static void sampler_row_narrow(const struct sampler *s, int j, uint8_t *dst)
+{
+  const uint64_t total = s->total, mul = s->mul, half = total / 2, pw = (uint64_t)s->pw;
+  const struct pic_piece *seg = s->seg;
+  const int32_t nseg = s->nseg;
+  const uint8_t *map = s->map;
+  const int32_t y0 = s->ay.first[j];
+  const uint8_t *l0 = s->px + y0 * s->pw;
+  const uint64_t w0 = s->ay.wfirst[j];
+  uint8_t *d = dst;
+  if (s->ay.last[j] == y0) {                    /* one picture row, weighed by its whole ph */
+    for (int32_t k = 0; k < nseg; k++) {
+      const int32_t x = seg[k].x, n = seg[k].n;
+      const uint32_t wl = seg[k].wl;
+      const uint8_t v = wl == 0 ? map[l0[x]]
+                        : map[quotient((l0[x] * seg[k].wf + l0[x + 1] * wl) * w0 + half, total,
+                                       mul)];
+      d += pic_fill(d, v, n);
+    }
+    return;
+  }
+  const uint8_t *l1 = l0 + s->pw;               /* rows y0 and y0 + 1 */
+  const uint64_t w1 = s->ay.wlast[j];
+  for (int32_t k = 0; k < nseg; k++) {
+    const int32_t x = seg[k].x, n = seg[k].n;
+    const uint32_t wf = seg[k].wf, wl = seg[k].wl;
+    const uint64_t sum = wl == 0 ? (l0[x] * w0 + l1[x] * w1) * pw + half
+                                 : (l0[x] * wf + l0[x + 1] * wl) * w0
+                                   + (l1[x] * wf + l1[x + 1] * wl) * w1 + half;
+    const uint8_t v = map[quotient(sum, total, mul)];
+    d += pic_fill(d, v, n);
+  }
+}
+
 /* Grid row j into dst[0 .. W-1]: down the picture rows under it, the sums pic_sample makes,
 ** exact integers (the order they are added in does not matter), at most 255 x pw x ph
 ** < 2^36; then floor((sum + total/2) / total) through the map. */
 static void sampler_row(struct sampler *s, int j, uint8_t *dst)
 {
+  if (s->narrow) {
+    sampler_row_narrow(s, j, dst);
+    return;
+  }
   const int W = s->W;
   const uint64_t total = s->total, mul = s->mul, half = total / 2;
   int32_t y0 = s->ay.first[j], y1 = s->ay.last[j];
