@@ -218,30 +218,30 @@ int scan_photo(const struct pic *photo, int cell, const struct cost_params *prm,
   if (revs < 1) revs = 1;
   s->drum_seconds = s->lines * revs * rev_s;
 
-  /* steps 4-6: levels, packing, one disk write per row */
-  for (int r = 0; r < s->H; r++) {
-    int j = s->H - 1 - r;                       /* disk row r holds grid row j */
-    for (int i = 0; i < s->W; i++) {
-      int g = s->grey[(size_t)j * (size_t)s->W + (size_t)i];
-      int code = scan_code_of_level(pat_level(cell, g));
-      uint16_t *w = &s->words[(size_t)r * (size_t)s->row_words + (size_t)(i / SCAN_WORD_LEVELS)];
-      int shift = SCAN_LEVEL_BITS * (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS);
-      *w = (uint16_t)(*w | (unsigned)code << shift);
-    }
-    s->last_write_seconds =
-      scan_disk_access(&in_disk, (uint32_t)(r * s->row_words), (uint32_t)s->row_words);
-  }
-  s->input_disk_seconds = in_disk.seconds;
+  /* steps 4-6: levels, packing, one disk write per row; each point's level also kept
+     unpacked, as scan_level unpacks it (a code of 4 bits: its nibble is the code) */
   s->level = malloc((size_t)s->W * (size_t)s->H);
   if (!s->level) {
     scan_free(s);
     return t74_fail(err, T74_EIO, "scanner: out of host memory");
   }
-  for (int j = 0; j < s->H; j++) {             /* each level as scan_level unpacks it */
-    const uint16_t *w = s->words + (size_t)(s->H - 1 - j) * (size_t)s->row_words;
-    for (int i = 0; i < s->W; i++)
-      s->level[(size_t)j * (size_t)s->W + (size_t)i] = (uint8_t)level_of(w, i);
+  uint8_t code_of[256];                         /* a grey's level, as stored */
+  for (int g = 0; g < 256; g++) code_of[g] = (uint8_t)scan_code_of_level(pat_level(cell, g));
+  for (int r = 0; r < s->H; r++) {
+    int j = s->H - 1 - r;                       /* disk row r holds grid row j */
+    const uint8_t *grey = s->grey + (size_t)j * (size_t)s->W;
+    uint8_t *level = s->level + (size_t)j * (size_t)s->W;
+    uint16_t *w = s->words + (size_t)r * (size_t)s->row_words;
+    for (int i = 0; i < s->W; i++) {
+      const unsigned code = code_of[grey[i]];
+      level[i] = (uint8_t)code;
+      w[i / SCAN_WORD_LEVELS] |= (uint16_t)(code << SCAN_LEVEL_BITS *
+                                            (SCAN_WORD_LEVELS - 1 - i % SCAN_WORD_LEVELS));
+    }
+    s->last_write_seconds =
+      scan_disk_access(&in_disk, (uint32_t)(r * s->row_words), (uint32_t)s->row_words);
   }
+  s->input_disk_seconds = in_disk.seconds;
   scan_disk_init(&s->disk, prm);
   s->disk0 = s->disk;
   *out = s;

@@ -235,7 +235,8 @@ static void test_disk_picture(void **state)
   pic_free(p);
 }
 
-/* scan_row gives every point of a row what scan_level and scan_grey give it, on a picture
+/* scan_row gives every point of a row what scan_level and scan_grey give it, and the
+   level its grey's level is stored as, on a picture
    of varied greys, both cells, every row, out of the display's order (rows again, the
    buffered row); and it reads nothing from the disk (the points engine has no 1974 time):
    no read, no disk time. */
@@ -267,6 +268,7 @@ static void test_row(void **state)
       for (int i = 0; i < W; i++) {
         assert_int_equal(level[i], scan_level(a, i, j, NULL));
         assert_int_equal(grey[i], scan_grey(a, i, j));
+        assert_int_equal(level[i], scan_code_of_level(pat_level(cell, grey[i])));
         varied += level[i] != level[0];
       }
       assert_int_equal(level[W], 200);       /* nothing past the row */
