@@ -371,7 +371,14 @@ static void sample_row(const uint8_t *line, int64_t npx, const struct pic_axis *
   }
   uint32_t sum = 0;
   pre[0] = 0;
-  for (int64_t x = 0; x < npx; x++) pre[x + 1] = sum += line[x];
+  int64_t x = 0;
+  for (; x + 4 <= npx; x += 4) {              /* four a step: a loop's count and test */
+    pre[x + 1] = sum += line[x];
+    pre[x + 2] = sum += line[x + 1];
+    pre[x + 3] = sum += line[x + 2];
+    pre[x + 4] = sum += line[x + 3];
+  }
+  for (; x < npx; x++) pre[x + 1] = sum += line[x];
   for (int i = 0; i < W; i++) {
     int32_t a = first[i], b = last[i], e = b > a + 1 ? b : a + 1;
     r[i] = line[a] * wfirst[i] + line[b] * wlast[i] + (pre[e] - pre[a + 1]) * m;
