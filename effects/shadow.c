@@ -103,7 +103,8 @@ struct casts {
   size_t cap, capring;
   size_t *yend;
   ld (*y)[3];
-  size_t ny, capy;
+  double (*yd)[3];          /* each y's nearest doubles (shadow_near) */
+  size_t ny, capy, capyd;
 };
 
 static bool grow(void **p, size_t *cap, size_t need, size_t size)
@@ -120,7 +121,7 @@ static bool grow(void **p, size_t *cap, size_t need, size_t size)
 
 static void casts_free(struct casts *cs)
 {
-  free(cs->c); free(cs->yend); free(cs->y);
+  free(cs->c); free(cs->yend); free(cs->y); free(cs->yd);
   memset(cs, 0, sizeof *cs);
 }
 
@@ -208,13 +209,16 @@ static bool cast_face(const struct mface *mf, const struct scene *s, const ld bo
           for (int v = 0; cost && v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
         }
         if (n < 3) continue;
-        if (!grow((void **)&cs->y, &cs->capy, cs->ny + (size_t)n, sizeof *cs->y)) return false;
+        if (!grow((void **)&cs->y, &cs->capy, cs->ny + (size_t)n, sizeof *cs->y) ||
+            !grow((void **)&cs->yd, &cs->capyd, cs->ny + (size_t)n, sizeof *cs->yd))
+          return false;
         size_t m = cs->ny;
         for (int v = 0; v < n; v++) {
           ld N[3], w;
           image(&q, in[v], pin[v], N, &w);
           if (!(w > 0)) continue;
           for (int c = 0; c < 3; c++) cs->y[m][c] = N[c] / w;
+          shadow_near(cs->y[m], cs->yd[m]);
           m++;
         }
         if (m - cs->ny < 3) continue;     /* fewer than 3 points on the grid, whatever the view */
@@ -230,12 +234,106 @@ static bool cast_face(const struct mface *mf, const struct scene *s, const ld bo
   return true;
 }
 
+void shadow_eye_set(struct shadow_eye *v, const int64_t E[3])
+{
+  v->near = true;
+  for (int c = 0; c < 3; c++) {
+    v->E[c] = (ld)E[c];
+    v->e[c] = (double)E[c];
+    v->near &= E[c] > -((int64_t)1 << 40) && E[c] < (int64_t)1 << 40;
+  }
+}
+
+bool shadow_grid_ld(const struct shadow_eye *v, const ld Y[3], struct gpoint *g)
+{
+  const ld *E = v->E;
+  ld f = -E[2], dz = Y[2] - E[2];
+  if (!(dz > 0)) return false;
+  ld gx = (ld)GRID_ONE * (E[0] + f * (Y[0] - E[0]) / dz);
+  ld gy = (ld)GRID_ONE * (E[1] + f * (Y[1] - E[1]) / dz);
+  if (fabsl(gx) > (ld)GRID_LIMIT || fabsl(gy) > (ld)GRID_LIMIT) return false;
+  g->x = fx_round_ld(gx);
+  g->y = fx_round_ld(gy);
+  return true;
+}
+
+void shadow_near(const ld Y[3], double yd[3])
+{
+  bool normal = true;
+  for (int c = 0; c < 3; c++)
+    normal &= Y[c] == 0 || (fabsl(Y[c]) >= 0x1p-1000L && fabsl(Y[c]) < 0x1p1000L);
+  for (int c = 0; c < 3; c++) yd[c] = normal ? (double)Y[c] : NAN;
+}
+
+/* The filter. u = 2^-53 (a double's rounding, |fl(x) - x| <= u |fl(x)| and <= u |x|),
+   u' = 2^-64 (a long double's), G = GRID_ONE (a power of two: products by it exact). Y
+   the long doubles, y = yd their nearest doubles: |y_c - Y_c| <= u |Y_c|, Y_c 0 or normal
+   (shadow_near), and E's components exact in doubles (|E| < 2^40). For a coordinate c
+   (x or y) let A = Y_c - E_c, D = Y_z - E_z, q = -E_z A / D (real numbers), and in doubles
+   a = fl(y_c - E_c), dz = fl(y_z - E_z), r = fl(1 / dz), q' = fl(fl(-E_z a) r),
+   s = fl(E_c + q'), gx' = G s.
+   - |a - A| <= u |a| + u |Y_c| <= ea (1 + 2u), ea = u (|a| + |y_c|); likewise
+     |dz - D| <= ed (1 + 2u), ed = u (|dz| + |y_z|). Accepted only when
+     fl(ed) < fl(dz 2^-20): then D > dz (1 - 2^-19) > 0, so the long way's dz (Y_z - E_z
+     rounded, of D's sign) is positive: the vertex is before the eye.
+   - |q' - q| <= |q' - (-E_z a / dz)| + |E_z| |a D - A dz| / (dz D)
+              <= 3.02 u |q'| + |E_z| (|a| |D - dz| + dz |a - A|) / (dz D)
+              <= 3.02 u |q'| + 1.0001 T, T = |E_z| (|a| ed + dz ea) r^2
+     (1 / (dz D) <= r^2 (1 + u)^2 / (1 - 2^-19)), and |s - (E_c + q')| <= u (|E_c| + |q'|):
+     |gx' - G (E_c + q)| <= G (1.0001 T + 4.02 u |q'| + u |E_c|).
+   - The long way, s1 = A (1 + a1), s2 = -E_z s1 (1 + a2), its dz = D (1 + a4),
+     s3 = s2 / dz (1 + a3) = q (1 + t), |t| <= 4.01 u', s4 = (E_c + s3)(1 + a5), gx = G s4:
+     |gx - G (E_c + q)| <= G u' (5.02 |q| + |E_c|) <= G 6 u' (|q'| + 1 + |E_c|) where
+     G |q - q'| < 1/2 (as below), and 6 u' < 0.003 u.
+   So |gx - gx'| <= G 1.0001 (T + 5 u (|q'| + |E_c| + 1)), and B, that times 1.01/1.0001
+   found in doubles (a dozen roundings, each within 1 + u: B is not below the bound). With
+   k an integer, fl(|gx' - k| + B) < 1/2 (a rounding cannot take a sum of 1/2 or more below
+   1/2) gives |gx - k| < 1/2: the long way rounds gx to k, whichever way it breaks ties,
+   and with |k| < 2^28, |gx| < GRID_LIMIT: the vertex is not dropped for its size either.
+   (gx' - k is exact when it is below 1/2: Sterbenz, or k = 0.) */
+static inline int grid_near(const struct shadow_eye *v, const double yd[3], struct gpoint *g)
+{
+  const double u = 0x1p-53, G = (double)GRID_ONE;
+  const double dz = yd[2] - v->e[2], ed = u * (fabs(dz) + fabs(yd[2]));
+  if (!v->near || !(ed < dz * 0x1p-20)) return -1;        /* also dz <= 0, and NaN */
+  const double r = 1 / dz, fz = -v->e[2], r2 = r * r;
+  int64_t k[2];
+  for (int c = 0; c < 2; c++) {
+    const double a = yd[c] - v->e[c], ea = u * (fabs(a) + fabs(yd[c]));
+    const double q = fz * a * r, gx = G * (v->e[c] + q);
+    const double B = 1.01 * G * (fabs(fz) * (fabs(a) * ed + dz * ea) * r2 +
+                                 5 * u * (fabs(q) + fabs(v->e[c]) + 1));
+    if (!(fabs(gx) < 0x1p28)) return -1;
+    k[c] = (int64_t)(gx >= 0 ? gx + 0.5 : gx - 0.5);
+    if (!(k[c] > -GRID_LIMIT && k[c] < GRID_LIMIT && fabs(gx - (double)k[c]) + B < 0.5))
+      return -1;
+  }
+  g->x = (gcoord)k[0];
+  g->y = (gcoord)k[1];
+  return 1;
+}
+
+int shadow_grid_near(const struct shadow_eye *v, const double yd[3], struct gpoint *g)
+{
+  return grid_near(v, yd, g);
+}
+
+/* shadow_grid_ld's answer, from the filter when it decides. */
+static inline bool grid_point(const struct shadow_eye *v, const ld Y[3], const double yd[3],
+                              struct gpoint *g)
+{
+  const int r = grid_near(v, yd, g);
+  return r >= 0 ? r : shadow_grid_ld(v, Y, g);
+}
+
 /* The view's part of casts [c0, c1) of cs on face R (map index; its box on the grid gb:
-   x lo, x hi, y lo, y hi), seen from E: each ring's vertices onto the perspective plane by
-   eq. (1), rounded onto the grid, repeats dropped; a polygon that misses gb is dropped, the
-   others go to out. *any: set when one is added. false when out of host memory. */
-static bool draw_casts(const struct casts *cs, int c0, int c1, const ld E[3], const gcoord gb[4],
-                       int R, struct work *wk, struct fx_polys *out, bool *any, struct cost *cost)
+   x lo, x hi, y lo, y hi), seen from the eye v: each ring's vertices onto the perspective
+   plane by eq. (1), rounded onto the grid, repeats dropped; a polygon that misses gb is
+   dropped, the others go to out. *any: set when one is added. false when out of host
+   memory. */
+static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shadow_eye *eye,
+                       const gcoord gb[4], int R, struct work *wk, struct fx_polys *out,
+                       bool *any, struct cost *cost)
 {
   for (int c = c0; c < c1; c++) {
     size_t need = 0;
@@ -247,15 +345,10 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const ld E[3], co
       struct gpoint *poly = wk->pt + need;
       int m = 0;
       for (size_t v = 0; v < n; v++) {
-        const ld *Y = cs->y[y0 + v];
-        ld f = -E[2], dz = Y[2] - E[2];
-        if (!(dz > 0)) continue;
-        ld gx = (ld)GRID_ONE * (E[0] + f * (Y[0] - E[0]) / dz);
-        ld gy = (ld)GRID_ONE * (E[1] + f * (Y[1] - E[1]) / dz);
-        if (fabsl(gx) > (ld)GRID_LIMIT || fabsl(gy) > (ld)GRID_LIMIT) continue;
-        struct gpoint g = { fx_round_ld(gx), fx_round_ld(gy) };
-        if (m > 0 && poly[m - 1].x == g.x && poly[m - 1].y == g.y) continue;
-        poly[m++] = g;
+        struct gpoint *g = &poly[m];       /* written in place: read back a word at a time */
+        if (!grid_point(eye, cs->y[y0 + v], cs->yd[y0 + v], g)) continue;
+        if (m > 0 && poly[m - 1].x == g->x && poly[m - 1].y == g->y) continue;
+        m++;
         if (cost) {
           for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 32);
           cost_mw_div(cost, 64, 32); cost_mw_div(cost, 64, 32);
@@ -345,7 +438,9 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
   memset(&scratch, 0, sizeof scratch);
   bool ok = wk.b0 && wk.b1 && wk.hv && wk.rs && (kp || !keep || cost || !s->has_light);
   long receivers = 0, polys0 = out->n;
-  const ld E[3] = { (ld)map->eye[0], (ld)map->eye[1], (ld)map->eye[2] };
+  struct shadow_eye eye;
+  shadow_eye_set(&eye, map->eye);
+  const ld *E = eye.E;
   for (int R = 0; R < map->nface && ok; R++) {
     const struct mface *mf = &map->f[R];
     const struct scene_face *sr = &s->f[mf->sface];
@@ -378,7 +473,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
       }
       if (kf->set && !memcmp(kf->plane, mf->plane, sizeof kf->plane) &&
           !memcmp(kf->lo, lo, sizeof lo) && !memcmp(kf->hi, hi, sizeof hi)) {
-        ok = draw_casts(&kp->cs, kf->c0, kf->c1, E, gb, R, &wk, out, &any, NULL);
+        ok = draw_casts(&kp->cs, kf->c0, kf->c1, &eye, gb, R, &wk, out, &any, NULL);
         receivers += any;
         continue;
       }
@@ -387,7 +482,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
     scratch.n = scratch.nring = 0;
     scratch.ny = 0;
     ok = cast_face(mf, s, (const ld (*)[3])box, &wk, &scratch, cost) &&
-         draw_casts(&scratch, 0, scratch.n, E, gb, R, &wk, out, &any, cost);
+         draw_casts(&scratch, 0, scratch.n, &eye, gb, R, &wk, out, &any, cost);
     receivers += any;
   }
   free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs); free(wk.pt);

@@ -39,4 +39,29 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
                  struct t74_error *err);
 void shadow_keep_free(struct shadow_keep *k);    /* NULL: nothing */
 
+/* A shadow vertex onto the grid, a frame's step for each kept vertex (exposed for
+   test_shadow). The eye E (world units) as the projection uses it: set once a frame. */
+struct shadow_eye {
+  long double E[3];
+  double e[3];              /* the same integers */
+  bool near;                /* |E[c]| < 2^40: e exact, the filter usable */
+};
+void shadow_eye_set(struct shadow_eye *v, const int64_t E[3]);
+
+/* Vertex Y in space (on the receiving face's plane) seen from the eye by eq. (1),
+   Y' = E + (-E_z) (Y - E) / (Y_z - E_z), in long double, times GRID_ONE and rounded half
+   away from zero onto the grid: true and *g, or false when Y is not before the eye or a
+   coordinate lies past GRID_LIMIT (the vertex dropped). */
+bool shadow_grid_ld(const struct shadow_eye *v, const long double Y[3], struct gpoint *g);
+
+/* Y's nearest doubles yd for shadow_grid_near (NaN, which it declines, where Y is not 0
+   and not a normal double's size, 2^-1000 <= |Y| < 2^1000). */
+void shadow_near(const long double Y[3], double yd[3]);
+
+/* shadow_grid_ld's answer from yd, in doubles, with a bound on how far its value and
+   shadow_grid_ld's lie apart (the proof is in shadow.c): 1 and *g (shadow_grid_ld's
+   point) when every grid point within the bound rounds to the same, -1 (undecided) when
+   not, or when the vertex might be dropped. */
+int shadow_grid_near(const struct shadow_eye *v, const double yd[3], struct gpoint *g);
+
 #endif

@@ -17,6 +17,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdbool.h>
 #include <string.h>
 
@@ -145,11 +146,88 @@ static void test_counted_keeps_nothing(void **state)
   scene_free(s);
 }
 
+/* A uniform long double in [lo, hi) (a 64-bit generator's step). */
+static long double uni(uint64_t *seed, long double lo, long double hi)
+{
+  *seed = *seed * 6364136223846793005u + 1442695040888963407u;
+  return lo + (hi - lo) * ldexpl((long double)(*seed >> 1), -63);
+}
+
+/* shadow_grid_near's filter (a kept shadow vertex onto the grid in doubles, with a bound)
+   decides only as shadow_grid_ld's long doubles do: over eyes near and far, vertices at
+   random (before, at and behind the eye, near it, past the grid's limit) and vertices
+   placed on a grid point's half and the long doubles around it (ties and their
+   neighbours, which it must leave to the long way). It decides nearly every vertex well
+   before the eye and leaves every tie; it fails when its bound is a tenth of what it is. */
+static void test_grid_near_is_long_way(void **state)
+{
+  (void)state;
+  uint64_t seed = 74;
+  long decided = 0, random = 0, ties = 0, tie_decided = 0, differ = 0, regular = 0,
+       regular_decided = 0;
+  const int64_t eyes[][3] = { { 0, 420, -1500 }, { 0, 0, -1 }, { 1200, -800, -40000 },
+                              { -3, 7, -200000 }, { 5, 5, 3000 } };
+  for (size_t e = 0; e < sizeof eyes / sizeof *eyes; e++) {
+    struct shadow_eye v;
+    shadow_eye_set(&v, eyes[e]);
+    assert_true(v.near);
+    const long double *E = v.E;
+    for (int i = 0; i < 200000; i++) {
+      long double Y[3];
+      const int kind = i % 4;
+      Y[0] = uni(&seed, -5000, 5000);
+      Y[1] = uni(&seed, -5000, 5000);
+      Y[2] = kind == 0 ? E[2] + uni(&seed, -10, 10)        /* around the eye */
+           : kind == 1 ? E[2] + ldexpl(1, -(int)(i % 60))   /* just before it */
+           : E[2] + uni(&seed, 1, 20000);
+      if (kind == 3) {                      /* x on a half (a tie) or next to one */
+        const long double dz = Y[2] - E[2], f = -E[2];
+        const long double k = floorl(uni(&seed, -3000, 3000)) + 0.5L;
+        Y[0] = E[0] + (k / GRID_ONE - E[0]) * dz / f;
+        for (int s = (int)(i % 7) - 3; s != 0; s += s > 0 ? -1 : 1)
+          Y[0] = nextafterl(Y[0], s > 0 ? INFINITY : -INFINITY);
+      }
+      double yd[3];
+      shadow_near(Y, yd);
+      struct gpoint a, b = { 0, 0 };
+      const bool lands = shadow_grid_ld(&v, Y, &a);
+      const int r = shadow_grid_near(&v, yd, &b);
+      if (kind == 3) {
+        const long double gx = GRID_ONE * (E[0] + -E[2] * (Y[0] - E[0]) / (Y[2] - E[2]));
+        const bool tie = fabsl(gx - floorl(gx) - 0.5L) < 0x1p-30L;
+        ties += tie;
+        tie_decided += tie && r >= 0;
+      } else {
+        random++;
+        regular += kind == 2 && lands;
+      }
+      if (r < 0) continue;
+      decided += kind != 3;
+      regular_decided += kind == 2;
+      differ += !lands || a.x != b.x || a.y != b.y;
+    }
+  }
+  print_message("grid filter: %ld random vertices, %ld decided (%ld of the %ld landing well "
+                "before the eye); %ld near ties, %ld decided; %ld differ\n", random, decided,
+                regular_decided, regular, ties, tie_decided, differ);
+  assert_int_equal(differ, 0);
+  assert_int_equal(tie_decided, 0);
+  assert_true(ties > 10000);
+  assert_true(regular_decided * 1000 > regular * 999);
+  /* not a normal double's size: left to the long way */
+  double yd[3];
+  shadow_near((const long double[3]){ 1, 0x1p-1010L, 3 }, yd);
+  assert_true(isnan(yd[0]) && isnan(yd[2]));
+  shadow_near((const long double[3]){ 1, 0, -3 }, yd);
+  assert_true(yd[0] == 1 && yd[1] == 0 && yd[2] == -3);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_kept_is_long_way),
     cmocka_unit_test(test_counted_keeps_nothing),
+    cmocka_unit_test(test_grid_near_is_long_way),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
