@@ -3,8 +3,36 @@
 */
 #include "effects/poly.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* A chunk of a list's memory: used of cap bytes taken, from data on. */
+struct fx_chunk {
+  struct fx_chunk *next;
+  size_t used, cap;
+  max_align_t data[];
+};
+
+enum { CHUNK_BYTES = 1 << 15 };
+
+/* size bytes (aligned as malloc's) from ps's chunks; NULL when out of host memory. */
+static void *take(struct fx_polys *ps, size_t size)
+{
+  size = (size + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
+  struct fx_chunk *c = ps->mem;
+  if (!c || c->cap - c->used < size) {
+    const size_t cap = size > CHUNK_BYTES ? size : CHUNK_BYTES;
+    if (!(c = malloc(sizeof *c + cap))) return NULL;
+    c->used = 0;
+    c->cap = cap;
+    c->next = ps->mem;
+    ps->mem = c;
+  }
+  void *at = (char *)c->data + c->used;
+  c->used += size;
+  return at;
+}
 
 bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
                   int owner, int light)
@@ -21,13 +49,13 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
     ps->cap = cap;
   }
   struct fx_poly *p = &ps->p[ps->n];
-  /* one allocation: the points, then the blocks' y ranges, then the offsets */
+  /* one piece of the list's memory: the points, then the blocks' y ranges, then the offsets */
   size_t nblk = 0;
   for (int r = 0; r < nring; r++) {
     int n = rs[r + 1] - rs[r];
     if (n >= 3) nblk += (size_t)(n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
   }
-  char *mem = malloc((size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
+  char *mem = take(ps, (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
                      (size_t)(keep + 1) * sizeof *p->rs);
   if (!mem) return false;
   p->pt = (struct gpoint *)mem;
@@ -71,7 +99,10 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
 
 void fx_polys_free(struct fx_polys *ps)
 {
-  for (int k = 0; k < ps->n; k++) free(ps->p[k].pt);   /* with rs and blk */
+  for (struct fx_chunk *c = ps->mem, *next; c; c = next) {
+    next = c->next;
+    free(c);
+  }
   free(ps->p);
   memset(ps, 0, sizeof *ps);
 }

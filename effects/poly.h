@@ -26,7 +26,7 @@
 struct fx_poly {
   int nring;
   int *rs;                  /* nring + 1 offsets into pt */
-  struct gpoint *pt;        /* (one allocation with rs and the blocks) */
+  struct gpoint *pt;        /* (one piece with rs and the blocks) */
   gcoord (*blk)[2];         /* per block of a ring's edges, ring by ring: its points'
                                lowest and highest y */
   gcoord xlo, xhi, ylo, yhi;   /* bounding box */
@@ -34,7 +34,10 @@ struct fx_poly {
   int light;                /* a shadow: the light it hides (index in scene.light) */
 };
 
-struct fx_polys { struct fx_poly *p; int n, cap; };
+/* The polygons; their points, blocks and offsets are taken from chunks of memory (mem,
+   a chain) that go when the list does: a frame's shadows are a few allocations, not one
+   a polygon. */
+struct fx_polys { struct fx_poly *p; int n, cap; struct fx_chunk *mem; };
 
 /* llroundl(x) as a grid coordinate: the same integer (half away from zero), without the
    library call (the part of x after its truncation is exact in a long double). */
