@@ -803,22 +803,6 @@ static bool in_stretches(const struct ev *ev, int nev, int64_t xn, int64_t xd)
   return false;
 }
 
-/* Where the samples k0 .. k0 + n - 1 of a row lie, on a window rising left to right:
-   sample i at xn / xd, xn = GRID_ONE (xd XL + (2 (k0 + i) + 1) S), S = XR - XL, rising
-   with i; and for a guess in doubles, i = x ka - kb at x. */
-struct sample_row { int64_t XL, S, xd, k0; int n; double ka, kb; };
-
-static void sample_row(struct sample_row *r, const int32_t *win, int64_t xd, int64_t k0, int n)
-{
-  r->XL = win[0];
-  r->S = (int64_t)win[2] - win[0];
-  r->xd = xd;
-  r->k0 = k0;
-  r->n = n;
-  r->ka = (double)xd / ((double)GRID_ONE * (double)r->S) / 2;
-  r->kb = ((double)xd * (double)r->XL / (double)r->S + 1) / 2 + (double)k0;
-}
-
 /* Event e counted into its light's count cnt: the lights' mask after it (a light is in
    it while its count is positive). */
 static inline unsigned ev_count(const struct ev *e, int *cnt, unsigned mask)
@@ -826,38 +810,6 @@ static inline unsigned ev_count(const struct ev *e, int *cnt, unsigned mask)
   const int k = e->light;
   cnt[k] += e->d;
   return cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
-}
-
-/* The order of event e's x and a sample's xn / xd (-1, 0, 1), kx = fl(e->k xd): from
-   doubles when they lie apart, else exactly (geom_rat_cmp_frac). e->k is within 2^-51 |x|
-   of x (fx_x_key) and xd is exact in a double (2 K W), so kx is within (2^-51 + 2^-53 +
-   2^-104) |x xd| < 2^-50.5 |x xd| of x xd, and fl(xn) within 2^-53 |xn| of xn: when
-   fl(xn) - kx > 2^-49 (|kx| + |fl(xn)|) as computed (the difference and the bound each
-   within u of their values), xn - x xd > 0 (the two errors together are below
-   2^-50.4 (|kx| + |fl(xn)|)): x < xn / xd; likewise the other way. */
-static inline int ev_cmp_sample(const struct grat *x, double kx, int64_t xn, int64_t xd)
-{
-  const double s = (double)xn, d = s - kx, t = (fabs(kx) + fabs(s)) * 0x1p-49;
-  if (d > t) return -1;
-  if (-d > t) return 1;
-  return geom_rat_cmp_frac(*x, xn, xd);
-}
-
-/* The first sample of the row whose x is at or right of x (k: x in a double, ev_key), or
-   n: the guess, then settled by the compares (the least i where x <= xn / xd, whatever
-   the guess: usually two compares, decided in doubles when they can be, ev_cmp_sample). */
-static int first_at_or_right(const struct grat *x, double k, const struct sample_row *r)
-{
-  const double gi = ceil(k * r->ka - r->kb);
-  const double kx = k * (double)r->xd;
-  int i = !(gi > 0) ? 0 : gi >= r->n ? r->n : (int)gi;
-  while (i > 0 && ev_cmp_sample(x, kx, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i - 1) + 1) * r->S),
-                                r->xd) <= 0)
-    i--;
-  while (i < r->n && ev_cmp_sample(x, kx, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i) + 1) * r->S),
-                                   r->xd) > 0)
-    i++;
-  return i;
 }
 
 /* Cut object q's regions out of a row of samples: a sample showing one of the object's
@@ -887,7 +839,7 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   const int32_t *win = m->g->window;
   bool behind = false;
   /* samples left to right (xn rising): each event's first sample at or right of it found
-     once (bnd, first_at_or_right); a sample lies in a stretch exactly when it lies in the
+     once (bnd, fx_first_at_or_right); a sample lies in a stretch exactly when it lies in the
      stretch's range of samples (the events are sorted, the ranges in order and apart).
      Else each sample of the row is tested. */
   const bool rising = win[2] > win[0];
@@ -899,9 +851,10 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     L->bndcap = 2 * np;
   }
   if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
-  struct sample_row sr;
-  if (rising) sample_row(&sr, win, xd, k0, n);
-  for (int h = 0; rising && h < 2 * np; h++) L->bnd[h] = first_at_or_right(&L->ev[h].x, L->ev[h].k, &sr);
+  struct fx_sample_row sr;
+  if (rising) fx_sample_row_set(&sr, win, xd, k0, n);
+  for (int h = 0; rising && h < 2 * np; h++)
+    L->bnd[h] = fx_first_at_or_right(&L->ev[h].x, L->ev[h].k, &sr);
   for (int r = 0; r < np; r++)
     for (int i = L->bnd[2 * r]; i < L->bnd[2 * r + 1]; i++) {
       if (face[i] < 0 || !skip[face[i]]) continue;
@@ -926,10 +879,10 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
 
 /* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
    row r (rising): a sample lies in a stretch [x0, x1) exactly when it is at or right of
-   x0 and not at or right of x1, so in [first_at_or_right(x0), first_at_or_right(x1)).
+   x0 and not at or right of x1, so in [fx_first_at_or_right(x0), fx_first_at_or_right(x1)).
    Appended to L->rng. */
 static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
-                       const struct sample_row *r, struct t74_error *err)
+                       const struct fx_sample_row *r, struct t74_error *err)
 {
   const struct fx_model *m = L->m;
   const int64_t fy = fx_line_row(yn, yd);
@@ -940,9 +893,9 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
     const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->m->count ? L->cost : NULL);
     for (int h = 0; h + 1 < nx; h += 2) {
       if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
-      const int b0 = first_at_or_right(&L->x[h], ev_key(L->x[h]), r);
+      const int b0 = fx_first_at_or_right(&L->x[h], ev_key(L->x[h]), r);
       if (b0 == r->n) break;                /* this stretch and the rest: right of the row */
-      const int b1 = first_at_or_right(&L->x[h + 1], ev_key(L->x[h + 1]), r);
+      const int b1 = fx_first_at_or_right(&L->x[h + 1], ev_key(L->x[h + 1]), r);
       if (b0 == b1) continue;
       if (L->nrng == L->rngcap) {
         const int cap = L->rngcap ? 2 * L->rngcap : 64;
@@ -968,8 +921,8 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   const struct fx_model *m = L->m;
   if (!L->fr && !(L->fr = calloc((size_t)m->map->nface + 1, sizeof *L->fr)))
     return t74_fail(err, T74_EIO, "out of host memory");
-  struct sample_row sr;
-  sample_row(&sr, m->g->window, xd, k0, n);
+  struct fx_sample_row sr;
+  fx_sample_row_set(&sr, m->g->window, xd, k0, n);
   L->row++;                                 /* every face's ranges: none yet */
   L->nrng = 0;
   memset(blocked, 0, (size_t)n * sizeof *blocked);
@@ -1006,7 +959,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
     return T74_OK;
   }
   /* samples left to right (xn rising): each stretch of a face's shadows the range of
-     samples between its ends' first samples at or right of them (first_at_or_right),
+     samples between its ends' first samples at or right of them (fx_first_at_or_right),
      found once a row (face_ranges); else each sample compared with the events */
   if (win[2] > win[0]) return shadow_ranges(L, yn, yd, xd, k0, n, face, blocked, err);
   /* a face's events on the line, sorted, are kept in L->ev for the row: a face seen again

@@ -95,6 +95,74 @@ static inline int fx_x_cmp(const struct grat *a, double ka, const struct grat *b
   return geom_rat_cmp(*a, *b);
 }
 
+/* ---- a row of samples (the points engine's rows, effects/model.c) ----
+   Where the samples k0 .. k0 + n - 1 of a row lie, on a window rising left to right:
+   sample i at xn / xd, xn = GRID_ONE (xd XL + (2 (k0 + i) + 1) S), S = XR - XL, rising
+   with i; and in doubles, i = x ka - kb at x, kb within kbe of its real value. */
+struct fx_sample_row { int64_t XL, S, xd, k0; int n; double ka, kb, kbe; };
+
+static inline void fx_sample_row_set(struct fx_sample_row *r, const int32_t *win, int64_t xd,
+                                     int64_t k0, int n)
+{
+  r->XL = win[0];
+  r->S = (int64_t)win[2] - win[0];
+  r->xd = xd;
+  r->k0 = k0;
+  r->n = n;
+  r->ka = (double)xd / ((double)GRID_ONE * (double)r->S) / 2;
+  const double b = (double)xd * (double)r->XL / (double)r->S;
+  r->kb = (b + 1) / 2 + (double)k0;
+  /* xd XL (exact in int64: rounded once to a double, or exact), / S, + 1, + k0: four
+     roundings, each within u = 2^-53 of its value, the values at most
+     |b| (1 + 2u) + 1 + |k0|: kbe twice that sum times 4u, found in doubles (a few more
+     roundings well within the factor 2) */
+  r->kbe = 0x1p-50 * (fabs(b) + 1 + fabs((double)k0) + fabs(r->kb));
+}
+
+/* The order of a crossing's x and a sample's xn / xd (-1, 0, 1), kx = fl(k xd) (k: x's
+   fx_x_key): from doubles when they lie apart, else exactly (geom_rat_cmp_frac). k is
+   within 2^-51 |x| of x (fx_x_key) and xd is exact in a double (2 K W), so kx is within (2^-51 + 2^-53 +
+   2^-104) |x xd| < 2^-50.5 |x xd| of x xd, and fl(xn) within 2^-53 |xn| of xn: when
+   fl(xn) - kx > 2^-49 (|kx| + |fl(xn)|) as computed (the difference and the bound each
+   within u of their values), xn - x xd > 0 (the two errors together are below
+   2^-50.4 (|kx| + |fl(xn)|)): x < xn / xd; likewise the other way. */
+static inline int fx_sample_cmp(const struct grat *x, double kx, int64_t xn, int64_t xd)
+{
+  const double s = (double)xn, d = s - kx, t = (fabs(kx) + fabs(s)) * 0x1p-49;
+  if (d > t) return -1;
+  if (-d > t) return 1;
+  return geom_rat_cmp_frac(*x, xn, xd);
+}
+
+/* The first sample of the row whose x is at or right of x (k: x in a double, fx_x_key), or
+   n: the least i in [0, n] where x <= xn / xd. With S > 0 that is x xd <= GRID_ONE (xd XL
+   + (2 (k0 + i) + 1) S), that is i >= T = x ka' - kb' (ka', kb': ka and kb as real
+   numbers), so i = ceil(T) put into [0, n]. The guess t = fl(fl(k ka) - kb): k within
+   2^-51 |x| of x (fx_x_key), ka within u of ka' (one divide; the product G S and the
+   halving exact), the product rounded, so fl(k ka) within (2^-51 + 2u + 4u^2) < 2^-49.9 of
+   its size of x ka'; kb within kbe of kb' (fx_sample_row_set); the difference rounded (u |t|):
+   |t - T| < bound = 2^-49 |fl(k ka)| + kbe + 2^-52 |t|, found in doubles (a few roundings
+   within the slack). When t lies further than that from both of the integers around it,
+   c - 1 < t <= c, T lies strictly between them too: ceil(T) = c. Else (T may be an integer,
+   x on a sample) the guess is settled by the compares (whatever the guess: usually two,
+   decided in doubles when they can be, fx_sample_cmp). */
+static inline int fx_first_at_or_right(const struct grat *x, double k,
+                                       const struct fx_sample_row *r)
+{
+  const double p = k * r->ka, t = p - r->kb, gi = ceil(t);
+  const double bound = 0x1p-49 * fabs(p) + r->kbe + 0x1p-52 * fabs(t);
+  int i = !(gi > 0) ? 0 : gi >= r->n ? r->n : (int)gi;
+  if (gi - t > bound && t - (gi - 1) > bound) return i;
+  const double kx = k * (double)r->xd;
+  while (i > 0 && fx_sample_cmp(x, kx, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i - 1) + 1) *
+                                                     r->S), r->xd) <= 0)
+    i--;
+  while (i < r->n && fx_sample_cmp(x, kx, GRID_ONE * (r->xd * r->XL + (2 * (r->k0 + i) + 1) *
+                                                        r->S), r->xd) > 0)
+    i++;
+  return i;
+}
+
 /* The stretches of polygon p on the line y = yn/yd (0 < yd <= GRID_YDEN_MAX): up to max
    crossings in x (sorted) written, their count returned (even; -1 when more than max).
    Counted in cost (NULL: not counted). */
