@@ -26,6 +26,7 @@ struct fx_tex {
   int du, dv;               /* the coordinate plane the face is solved on */
   double det;
   int w, h;                 /* the picture's size */
+  const uint8_t *px;        /* its pixels (pic_rows) */
 };
 
 /* ---- building ---------------------------------------------------------------------- */
@@ -86,6 +87,7 @@ static int load_textures(struct fx_model *m, struct fx_stats *st, struct cost *c
       return t74_fail_at(err, rc, s->file, f->texture_line, "texture: %s", e2.msg);
     t->w = pic_width(t->pic);
     t->h = pic_height(t->pic);
+    t->px = pic_rows(t->pic);
     int n = f->ring_start[1];
     const struct scene_vertex *a = &s->v[f->vidx[0]], *b = &s->v[f->vidx[1]], *c = &s->v[f->vidx[n - 1]];
     double A[3] = { a->x, a->y, a->z }, B[3] = { b->x, b->y, b->z }, C[3] = { c->x, c->y, c->z };
@@ -283,7 +285,9 @@ static inline int tex_pixel(const struct fx_tex *t, double a, double b)
   if (x >= w) x = w - 1;
   if (y >= h) y = h - 1;
   if (y < 0) y = 0;
-  return pic_pixel(t->pic, x, y);
+  /* pic_pixel's answer, without the call (y and x's top are in the picture by now) */
+  if (x < 0) return -1;
+  return t->px[(size_t)y * (size_t)w + (size_t)x];
 }
 
 static inline double reflectance(const struct fx_tex *t, const double X[3], struct cost *cost)

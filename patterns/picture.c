@@ -65,6 +65,8 @@ int pic_pixel(const struct pic *p, int x, int y)
   return p->px[(size_t)y * p->w + x];
 }
 
+const uint8_t *pic_rows(const struct pic *p) { return p->px; }
+
 /* ---- PGM (Netpbm P2 / P5) -------------------------------------------------------- */
 
 struct cursor {

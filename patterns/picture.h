@@ -53,6 +53,11 @@ int pic_height(const struct pic *p);
 /* Pixel (x, y), y = 0 at the top: 0..255, or -1 outside the picture. */
 int pic_pixel(const struct pic *p, int x, int y);
 
+/* The pixels row by row from the top, pic_width a row: pixel (x, y) at [y w + x], as
+   pic_pixel gives it inside the picture (for a caller that reads a pixel at each of many
+   points: no call each). Valid while p is. */
+const uint8_t *pic_rows(const struct pic *p);
+
 /* Grey 0..255 of point (i, j) of a W x H grid: the area-weighted mean of the pixels under
 ** the point's footprint, rounded to nearest (halves up), in exact integer arithmetic.
 ** -1 when W or H < 1 or (i, j) is outside the grid. */

@@ -859,6 +859,8 @@ static void test_pgm_loader(void **state)
   const int want2[6] = { 0, 255, 119, 136, 17, 255 };  /* round(v * 255 / 15) */
   for (int k = 0; k < 6; k++) assert_int_equal(pic_pixel(p, k % 3, k / 3), want2[k]);
   assert_int_equal(pic_pixel(p, 3, 0), -1);
+  /* the rows (pic_rows, the textures' way) hold pic_pixel's pixels, row by row */
+  for (int k = 0; k < 6; k++) assert_int_equal(pic_rows(p)[k], pic_pixel(p, k % 3, k / 3));
   pic_free(p);
 
   const char p5[] = "P5 2 2 255\n\x00\x80\xff\x07";
