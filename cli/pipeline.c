@@ -416,6 +416,49 @@ static uint8_t *face_greys(const struct mapped *map)
 ** the level above; GREY_ODD where the level is not 0 .. cc. */
 #define GREY_ODD UINT32_MAX
 
+/* The end of the run of points from i that see face[i] and have grey greys[i], taken
+** eight points a step: the first multiple of eight points past i where one of the next
+** eight differs, or i when one of the eight from i does (greys_run's points of one face
+** and one grey). */
+static inline int same_end(const int *face, const uint8_t *greys, int i, int n)
+{
+  int e = i;
+#ifdef __SSE2__
+  const __m128i fv = _mm_set1_epi32(face[i]), gv = _mm_set1_epi8((char)greys[i]);
+  for (; e + 8 <= n; e += 8) {
+    const __m128i f0 = _mm_loadu_si128((const __m128i *)(const void *)(face + e));
+    const __m128i f1 = _mm_loadu_si128((const __m128i *)(const void *)(face + e + 4));
+    const __m128i g = _mm_loadl_epi64((const __m128i *)(const void *)(greys + e));
+    const __m128i fs = _mm_and_si128(_mm_cmpeq_epi32(f0, fv), _mm_cmpeq_epi32(f1, fv));
+    if (((unsigned)_mm_movemask_epi8(fs) & ((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(g, gv)) |
+                                            0xff00u)) != 0xffffu)
+      break;
+  }
+#else
+  for (; e + 8 <= n; e += 8) {
+    bool same = true;
+    for (int q = e; q < e + 8; q++) same &= face[q] == face[i] && greys[q] == greys[i];
+    if (!same) break;
+  }
+#endif
+  return e;
+}
+
+/* ids[0 .. 8 k) = id, masks[0 .. 8 k) = mask (same_end's points) */
+static inline void fill8(uint32_t *ids, uint16_t *masks, int k, uint32_t id, uint16_t mask)
+{
+#ifdef __SSE2__
+  const __m128i iv = _mm_set1_epi32((int)id), mv = _mm_set1_epi16((short)mask);
+  for (int q = 0; q < 8 * k; q += 8) {
+    _mm_storeu_si128((__m128i *)(void *)(ids + q), iv);
+    _mm_storeu_si128((__m128i *)(void *)(ids + q + 4), iv);
+    _mm_storeu_si128((__m128i *)(void *)(masks + q), mv);
+  }
+#else
+  for (int q = 0; q < 8 * k; q++) { ids[q] = id; masks[q] = mask; }
+#endif
+}
+
 /* The effects' points i .. of a row, without a background picture, whose greys' levels are
 ** 0 .. cc, up to the first other one: their ids, cells and levels as emit_point gives
 ** them; its index, or n. id_of: each face's id at its index + 1 (0: none); cell_of: each
@@ -428,6 +471,15 @@ static int greys_run(const uint32_t *id_of, const int *face, const uint8_t *grey
   /* four points a step while none is odd: a cell's word is below 2^31 (its level at most
      PAT_CELL_MAX^2 above 16 bits), GREY_ODD has bit 31 set */
   for (; i + 4 <= n; i += 4) {
+    int e = same_end(face, greys, i, n);
+    if (e > i) {                            /* points of one face and one grey: one id, */
+      const uint32_t c = cell_of[greys[i]];  /* cell and level for them all */
+      if (c >> 31) break;                   /* the point itself below */
+      fill8(ids + i, masks + i, (e - i) / 8, id_of[face[i] + 1], (uint16_t)c);
+      sum += (uint64_t)(c >> 16) * (uint64_t)(e - i);
+      i = e - 4;                            /* (the step adds 4) */
+      continue;
+    }
     const uint32_t c0 = cell_of[greys[i]], c1 = cell_of[greys[i + 1]];
     const uint32_t c2 = cell_of[greys[i + 2]], c3 = cell_of[greys[i + 3]];
     if ((c0 | c1 | c2 | c3) >> 31) break;  /* the point itself below */
