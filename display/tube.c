@@ -458,6 +458,15 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
         memcpy(&w2, masks + c0 + 4, sizeof w2);
         memcpy(&w1, masks + c0 + 6, sizeof w1);
         if (!(w4 | w2 | w1)) continue;
+        uint64_t w3;                        /* cells 3 .. 6 */
+        memcpy(&w3, masks + c0 + 3, sizeof w3);
+        const unsigned m = masks[c0];
+        if (w4 == w3 && w4 == m * 0x0001000100010001u && !(m & ~full)) {
+          /* seven cells of one mask within the cell: the loop's lanes, each cell's bits
+             three above the last's within a lane of 21 (no two meet: a sum is their OR) */
+          write_run3(lit, &next, base, lanes3[m] * 01111111u, masks + c0, n);
+          continue;
+        }
       }
       uint64_t acc = 0;
       unsigned any = 0;

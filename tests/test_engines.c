@@ -1225,10 +1225,49 @@ static void test_cli(void **state)
   assert_int_equal(system(a), 0);
 }
 
+/* The effects' points to the tube alone a row at a time (cli/pipeline.c run_effects:
+   greys_run, its runs of one face and one grey, tube_write_cells) give what each point in
+   turn gives (emit_point: the path taken when another sink takes the dots too, here
+   tube74 tek's): the same picture, ids, greys and tube dots in their order,
+   under the points engine on smoothed, contoured, shadowed and textured scenes, at the
+   first frame and after one. */
+static void test_rows_are_pointwise(void **state)
+{
+  (void)state;
+  static const char *const cases[][2] = {
+    { "t1-a", "" }, { "t1-e", "" }, { "t1-j", "" }, { "sphere", "" }, { "lprism", "" },
+    { "lprism", "halftone=4x4 smooth=prop:0.15" }, { "fig6-room", "" }, { "crossing", "" },
+    { "t1-h", "halftone=3x3 smooth=fixed:0.05 shadows=on" } };
+  char dir[] = "/tmp/tube74-engines-rows-XXXXXX";
+  assert_non_null(mkdtemp(dir));
+  static const char *const kinds[] = { "png", "ids", "grey", "tube" };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++)
+    for (int frames = 1; frames <= 2; frames++) {
+      char fx[256] = "", a[4096], c[2048];
+      if (cases[k][1][0]) snprintf(fx, sizeof fx, "--effects '%s'", cases[k][1]);
+      for (int w = 0; w < 2; w++) {         /* w = 0: render; 1: tek */
+        snprintf(a, sizeof a, "%s scenes/%s.s74 --engine points --frames %d %s%s -o %s/%d.png "
+                 "--dump ids=%s/%d.ids --dump grey=%s/%d.grey --dump tube=%s/%d.tube",
+                 w ? "tek" : "render", cases[k][0], frames, fx, w ? " -o /dev/null" : "",
+                 dir, w, dir, w, dir, w, dir, w);
+        assert_int_equal(run(a), 0);
+      }
+      for (size_t q = 0; q < sizeof kinds / sizeof kinds[0]; q++) {
+        snprintf(c, sizeof c, "cmp -s %s/0.%s %s/1.%s", dir, kinds[q], dir, kinds[q]);
+        if (system(c) != 0) fail_msg("%s [%s] --frames %d: the %s differ", cases[k][0],
+                                     cases[k][1], frames, kinds[q]);
+      }
+    }
+  char a[600];
+  snprintf(a, sizeof a, "rm -rf %s", dir);
+  assert_int_equal(system(a), 0);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_cli),
+    cmocka_unit_test(test_rows_are_pointwise),
     cmocka_unit_test(test_shipped),
     cmocka_unit_test(test_fuzz_corpus),
     cmocka_unit_test(test_fx_shipped),

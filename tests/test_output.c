@@ -426,7 +426,8 @@ static void test_tube_write_dots(void **state)
 
 /* tube_write_cells stores exactly what tube_write_dots of each cell in turn would: rows of
    3x3 and 4x4 cells (aligned or not, partly off the tube, masks with bits beyond the
-   cell, empty masks) over dots already lit, the same status, dots, count and order. */
+   cell, empty masks, runs of one mask) over dots already lit, the same status, dots,
+   count and order. */
 static void test_tube_write_cells(void **state)
 {
   (void)state;
@@ -450,6 +451,8 @@ static void test_tube_write_cells(void **state)
       unsigned m = (x >> 8) & 0xffffu;
       masks[c] = (uint16_t)(c % 9 == 4 ? 0 : round % 13 == 0 ? m : m & ((1u << (cell * cell)) - 1u));
     }
+    if (round % 4 == 1)                     /* runs of ten cells of one mask */
+      for (int c = 0; c < count; c++) masks[c] = masks[c - c % 10];
     int want = T74_OK;
     for (int c = 0; c < count && want == T74_OK; c++)
       want = tube_write_dots(a, x0 + c * cell, y0, cell, masks[c]);
@@ -473,15 +476,16 @@ static void test_tube_write_cells(void **state)
    bottom row, the last dot of a row; seven cells of no dot among them, and six before
    one that has), and again over
    them with a dot lit under one cell, and with a dot in every cell (seven cells' writes
-   stored four at a time): the same dots, count and order as tube_write_dots of each cell
-   in turn. */
+   stored four at a time), and in runs of 17 cells of one mask (seven cells of one mask
+   taken at once), with and without a dot lit under one: the same dots, count and order
+   as tube_write_dots of each cell in turn. */
 static void test_tube_write_cells3_rows(void **state)
 {
   (void)state;
   static const int at[][3] = { { 0, 299, 133 }, { 1, 299, 133 }, { 0, 2, 133 }, { 1, 2, 133 },
                                { 397, 150, 1 }, { 394, 2, 2 }, { 200, 299, 66 }, { 5, 100, 20 } };
   uint32_t x = 4242;
-  for (int pass = 0; pass < 3; pass++)
+  for (int pass = 0; pass < 5; pass++)
     for (size_t k = 0; k < sizeof at / sizeof at[0]; k++) {
       struct tube *a = tube_new(), *b = tube_new();
       assert_non_null(a);
@@ -492,8 +496,9 @@ static void test_tube_write_cells3_rows(void **state)
         x = x * 1103515245u + 12345u;
         const int none = pass < 2 && (c % 7 == 3 || c / 7 == 2 || (c / 7 == 4 && c % 7 < 6));
         masks[c] = (uint16_t)(none ? 0 : c % 5 == 1 ? 0x1ffu : 1u | ((x >> 8) & 0x1ffu));
+        if (pass >= 3 && c % 17 != 0) masks[c] = masks[c - 1];   /* runs of one mask */
       }
-      if (pass == 1) {                          /* a dot lit already under the last cell */
+      if (pass % 3 == 1) {                      /* a dot lit already under the last cell */
         const int dx = x0 + 3 * (count - 1) + 2, dy = y0 - 1;
         assert_int_equal(tube_write(a, dx, dy), T74_OK);
         assert_int_equal(tube_write(b, dx, dy), T74_OK);
