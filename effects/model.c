@@ -1096,6 +1096,15 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       int region, face = fr[i];
       if (face < 0) {                       /* a run of points that see no face */
         int e = i + 1;
+#ifdef __SSE2__
+        /* eight at a time: the eight are all -1 .. exactly when their AND's four lanes
+           have the sign bit */
+        for (; e + 8 <= W; e += 8) {
+          const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(fr + e));
+          const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(fr + e + 4));
+          if (_mm_movemask_ps(_mm_castsi128_ps(_mm_and_si128(a, b))) != 0xf) break;
+        }
+#endif
         /* four at a time: the four are all -1 .. exactly when their AND is negative */
         while (e + 4 <= W && (fr[e] & fr[e + 1] & fr[e + 2] & fr[e + 3]) < 0) e += 4;
         while (e < W && fr[e] < 0) e++;

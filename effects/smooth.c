@@ -1172,43 +1172,44 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
     return;
   }
   /* the partial smoothing: the inner triangle's points the filter proves are in it
-     (region 0, the face's normal) without the coordinates; the others by the chain */
+     (region 0, the face's normal) without the coordinates, each given the flat picture's
+     grey here when it is exactly that (reflectance 1, no light blocked); the others by the
+     chain */
+  const int fg = map->f[tr->mface].grey;
   double la[3][SMOOTH_RUN], lv[3][SMOOTH_RUN];   /* a component an array (bary_pairs) */
-  int at[SMOOTH_RUN], nl = 0;
-  for (int p = 0; p < n; p++)
+  int at[SMOOTH_RUN], nl = 0, lit_in[SMOOTH_RUN], ni = 0;
+  for (int p = 0; p < n; p++) {
     if (!inner[p]) {
       for (int k = 0; k < 3; k++) la[k][nl] = ar[p][k];
       at[nl++] = p;
+      continue;
     }
+    region[p] = 0;
+    if (refl == 1 && !blocked[p]) grey[p] = fg;   /* exactly the flat picture */
+    else lit_in[ni++] = p;
+  }
   bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])la, lv);
   /* the lit points' normals in slots, a component an array (lit_slots): the band
-     points' in their order, then the inner triangle's that are lit */
+     points' in their order (the chain's region 0 among them given the flat picture's
+     grey as the inner triangle's are), then the inner triangle's that are lit */
   double nv[3][SMOOTH_RUN];
-  int slot_p[SMOOTH_RUN], slot_of[SMOOTH_RUN], g[SMOOTH_RUN];
+  int slot_p[SMOOTH_RUN], g[SMOOTH_RUN];
   bool used[SMOOTH_RUN];
   for (int q = 0; q < nl; q++) {
     const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
     double out[3];
-    region[at[q]] = partial_normal(tr, lq, out);
+    const int r = partial_normal(tr, lq, out);
+    region[at[q]] = r;
     for (int c = 0; c < 3; c++) nv[c][q] = out[c];
     slot_p[q] = at[q];
-    slot_of[at[q]] = q;
-    used[q] = true;
+    used[q] = !(r == 0 && refl == 1 && !blocked[at[q]]);
+    if (!used[q]) grey[at[q]] = fg;
   }
-  const int fg = map->f[tr->mface].grey;
   int ns = nl;
-  for (int p = 0; p < n; p++) {
-    if (inner[p]) region[p] = 0;
-    if (region[p] != 0) continue;
-    if (refl == 1 && !blocked[p]) {          /* exactly the flat picture */
-      grey[p] = fg;
-      if (!inner[p]) used[slot_of[p]] = false;
-      continue;
-    }
-    if (!inner[p]) continue;                 /* the chain's region 0: the face's normal */
+  for (int k = 0; k < ni; k++, ns++) {      /* the face's normal */
     for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
-    slot_p[ns] = p;
-    used[ns++] = true;
+    slot_p[ns] = lit_in[k];
+    used[ns] = true;
   }
   lit_slots(tr->front ? 1 : -1, ns, nv, slot_p, X, refl, blocked, lights, g);
   for (int q = 0; q < ns; q++)
