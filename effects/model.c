@@ -410,21 +410,18 @@ static int shade_face_at(const struct fx_model *m, int face, const struct face_s
 
 /* shade_face_at, uncounted, at n <= SMOOTH_RUN neighbouring points (px[p], py) of a
    smoothed face without a texture (fs: face_shade_of's): the same greys and regions,
-   worked out together (smooth_grey_run); runs[r] counts the points of region r. */
+   worked out together (smooth_grey_run). */
 static void shade_run(const struct fx_model *m, int face, const struct face_shade *fs, int n,
                       const unsigned *blocked, const double *px, double py, uint8_t *grey,
-                      long runs[3])
+                      int *region)
 {
   static const unsigned none[SMOOTH_RUN];  /* a face of its own grey is not lit */
   double X[SMOOTH_RUN][3];
-  int g[SMOOTH_RUN], region[SMOOTH_RUN];
+  int g[SMOOTH_RUN];
   space_points(m, face, n, px, py, X);
   smooth_grey_run(&m->sm, m->map, m->s, m->e, fs->tri, n, (const double (*)[3])X, 1.0,
                   fs->lit ? blocked : none, &m->lights, g, region);
-  for (int p = 0; p < n; p++) {
-    grey[p] = (uint8_t)g[p];
-    runs[region[p]]++;                      /* 0, 1 or 2 there */
-  }
+  for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
@@ -1126,9 +1123,10 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         continue;
       }
       if (run) {                            /* up to SMOOTH_RUN points of it at once */
-        int e = i + 1;
+        int e = i + 1, rg[SMOOTH_RUN];
         while (e < W && e - i < SMOOTH_RUN && fr[e] == face) e++;
-        shade_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i, runs);
+        shade_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i, rg);
+        for (int q = 0; q < e - i; q++) runs[rg[q]]++;   /* 0, 1 or 2 there */
         pts += e - i;
         i = e - 1;
         continue;
