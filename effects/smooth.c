@@ -1142,9 +1142,11 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   bool inner[SMOOTH_RUN];
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
     const int p0 = phong_pairs(m, tr, n, X, refl, blocked, lights, grey);
-    for (int p = p0; p < n; p++) bary_areas(tr, X[p], ar[p]);
-    phong_lanes(m, tr, n - p0, (const double (*)[3])ar + p0, X + p0, refl, blocked + p0,
-                lights, grey + p0);
+    if (p0 < n) {                            /* (phong_pairs did them all, or none) */
+      for (int p = p0; p < n; p++) bary_areas(tr, X[p], ar[p]);
+      phong_lanes(m, tr, n - p0, (const double (*)[3])ar + p0, X + p0, refl, blocked + p0,
+                  lights, grey + p0);
+    }
     for (int p = 0; p < n; p++) region[p] = 1;
     return;
   }
