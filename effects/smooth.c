@@ -1048,6 +1048,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
   const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
   const __m128d eps = _mm_set1_pd(0x1p-24), two = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
+  const __m128d two31 = _mm_set1_pd(0x1p31);
   const int bu = tr->bu, bw = tr->bw;
   __m128d a0[3], a1[3], d0[3], d1[3], cn[3][3];
   for (int k = 0; k < 3; k++) {
@@ -1095,10 +1096,27 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
     const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(two, s),
                                                                      _mm_andnot_pd(sign, inv))));
-    double f0[2], f1[2];
-    _mm_storeu_pd(f0, _mm_sub_pd(f, delta));
-    _mm_storeu_pd(f1, _mm_add_pd(f, delta));
+    const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
     const int okb = _mm_movemask_pd(ok);
+    /* the last test at once where both lanes pass it with f1 below 2^31: there (f0 >= 0,
+       f0 <= f1) each truncation to 32 bits is the one to 64 bits, and CVTTPD2DQ truncates */
+    const __m128i t0 = _mm_cvttpd_epi32(f0v);
+    const int fine = okb & _mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f0v, zero),
+                                                      _mm_cmplt_pd(f1v, two31))) &
+                     _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
+    const int lanes = p1 > p ? 3 : 1;
+    if ((fine & lanes) == lanes) {
+      const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t0);
+      grey[p] = g0 > 255 ? 255 : g0;
+      if (p1 > p) {
+        const int g1 = SHADE_AMBIENT + _mm_cvtsi128_si32(_mm_srli_si128(t0, 4));
+        grey[p1] = g1 > 255 ? 255 : g1;
+      }
+      continue;
+    }
+    double f0[2], f1[2];
+    _mm_storeu_pd(f0, f0v);
+    _mm_storeu_pd(f1, f1v);
     for (int h = 0; h <= p1 - p; h++) {       /* phong_filter's last test and grey */
       if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
         const int g = SHADE_AMBIENT + (int)(int64_t)f0[h];
