@@ -985,6 +985,8 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
   for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
   if (parallel) {
     const __m128d zero = _mm_setzero_pd(), sg = _mm_set1_pd(sgn);
+    const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
+    const __m128d two30 = _mm_set1_pd(0x1p30);
     for (; q + 2 <= ns; q += 2) {
       __m128d v[3];
       for (int c = 0; c < 3; c++) v[c] = _mm_loadu_pd(nv[c] + q);
@@ -1007,6 +1009,17 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
           m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
                                                             (b0 >> k & 1u) - 1ull)));
         sum = _mm_add_pd(sum, _mm_and_pd(m, d));
+      }
+      /* shade_grey_of_sum's f; where both lanes' are in [0, 2^30) its truncations to 64
+         bits are CVTTPD2DQ's to 32, and A + t is the double A + t's int (below 2^31) */
+      const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
+      if (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f, zero), _mm_cmplt_pd(f, two30))) == 3) {
+        const __m128i t = _mm_cvttpd_epi32(f);
+        const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t);
+        const int g1 = SHADE_AMBIENT + _mm_cvtsi128_si32(_mm_srli_si128(t, 4));
+        g[q] = g0 > 255 ? 255 : g0;
+        g[q + 1] = g1 > 255 ? 255 : g1;
+        continue;
       }
       double sm[2];
       _mm_storeu_pd(sm, sum);
@@ -1048,7 +1061,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
   const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
   const __m128d eps = _mm_set1_pd(0x1p-24), two = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
-  const __m128d two31 = _mm_set1_pd(0x1p31);
+  const __m128d two30 = _mm_set1_pd(0x1p30);
   const int bu = tr->bu, bw = tr->bw;
   __m128d a0[3], a1[3], d0[3], d1[3], cn[3][3];
   for (int k = 0; k < 3; k++) {
@@ -1098,11 +1111,12 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
                                                                      _mm_andnot_pd(sign, inv))));
     const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
     const int okb = _mm_movemask_pd(ok);
-    /* the last test at once where both lanes pass it with f1 below 2^31: there (f0 >= 0,
-       f0 <= f1) each truncation to 32 bits is the one to 64 bits, and CVTTPD2DQ truncates */
+    /* the last test at once where both lanes pass it with f1 below 2^30: there (f0 >= 0,
+       f0 <= f1) each truncation to 32 bits is the one to 64 bits (CVTTPD2DQ truncates),
+       and the grey's sum does not overflow */
     const __m128i t0 = _mm_cvttpd_epi32(f0v);
     const int fine = okb & _mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f0v, zero),
-                                                      _mm_cmplt_pd(f1v, two31))) &
+                                                      _mm_cmplt_pd(f1v, two30))) &
                      _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
     const int lanes = p1 > p ? 3 : 1;
     if ((fine & lanes) == lanes) {
