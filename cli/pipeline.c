@@ -471,7 +471,8 @@ static int greys_run(const uint32_t *id_of, const int *face, const uint8_t *grey
   /* four points a step while none is odd: a cell's word is below 2^31 (its level at most
      PAT_CELL_MAX^2 above 16 bits), GREY_ODD has bit 31 set */
   for (; i + 4 <= n; i += 4) {
-    int e = same_end(face, greys, i, n);
+    const int e = i + 8 <= n && face[i + 7] == face[i] && greys[i + 7] == greys[i] ?
+                  same_end(face, greys, i, n) : i;  /* (a cheap look first) */
     if (e > i) {                            /* points of one face and one grey: one id, */
       const uint32_t c = cell_of[greys[i]];  /* cell and level for them all */
       if (c >> 31) break;                   /* the point itself below */
