@@ -51,6 +51,9 @@
 
 #include <stdlib.h>
 #include <string.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #define CODE_UNKNOWN 0u     /* 00 */
 #define CODE_LOWER   2u     /* 10: piece i lower than piece j */
@@ -183,6 +186,17 @@ static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32
   return w[-2] == (uint16_t)(j >> 16);
 }
 
+#ifdef __SSE2__
+/* The bits set in a 16-bit mask (the baseline x86-64 build has no popcnt instruction). */
+static inline unsigned pop16(unsigned m)
+{
+  m = m - ((m >> 1) & 0x5555u);
+  m = (m & 0x3333u) + ((m >> 2) & 0x3333u);
+  m = (m + (m >> 4)) & 0x0f0fu;
+  return (m + (m >> 8)) & 0x1fu;
+}
+#endif
+
 /* The probe of (i, j) walked through the tags (pr->tag): the code found (CODE_UNKNOWN: not
    held), the slot where the probe stopped (*slot: the pair's, or the empty one where it
    belongs) and the words it compared, added to *loads; nothing charged. */
@@ -193,6 +207,36 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
   const uint8_t q = slot_tag(i);
   uint64_t s = slot_hash(i, j, cap), l = 0;
   unsigned code;
+#ifdef __SSE2__
+  /* Sixteen tags at a time while they lie before the table's end: the first slot that
+     stops the scalar walk below (an empty one, or one whose tag cannot tell: the same
+     tag, or, when i is above 2^16, a used tag without TAG_LOW) is found from masks, and
+     the slots before it are counted as the scalar walk counts them: when i is below
+     2^16 two loads a slot whose i is too and one a slot whose i is not (a used tag
+     without TAG_LOW: below -64 as a signed byte), when i is above 2^16 one a slot (each
+     of those has TAG_LOW). The same slots and words, without a branch a slot. */
+  const __m128i vq = _mm_set1_epi8((char)q), v64 = _mm_set1_epi8(-64);
+  const unsigned low = q & TAG_LOW ? 1u : 0u;             /* i below 2^16 */
+  while (s + 16 <= cap) {
+    const __m128i t = _mm_loadu_si128((const void *)(tag + s));
+    const unsigned z = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(t, _mm_setzero_si128()));
+    const unsigned e = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(t, vq));
+    const unsigned h = (unsigned)_mm_movemask_epi8(_mm_cmplt_epi8(t, v64));
+    const unsigned p = (unsigned)__builtin_ctz(z | e | (low ? 0u : h) | 0x10000u);
+    const unsigned hb = h & ((1u << p) - 1u);             /* none when i is above 2^16 */
+    l += (p << low) - (hb ? pop16(hb) : 0u);
+    s += p;
+    if (p == 16) continue;
+    if (z >> p & 1u) { l++; code = CODE_UNKNOWN; goto done; }  /* empty */
+    const uint16_t *top = core_high_top(pr->core);           /* the table must tell */
+    uint64_t pl;
+    int found = slot_probe(top, s, i, j, &pl);
+    l += pl;
+    if (found) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; goto done; }
+    s++;
+  }
+  if (s == cap) s = 0;
+#endif
   for (;; s = s + 1 == cap ? 0 : s + 1) {
     const uint8_t t = tag[s];
     if (!t) { l++; code = CODE_UNKNOWN; break; }       /* empty: where the pair belongs */
@@ -206,6 +250,7 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
     l += pl;
     if (stop) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
   }
+done:
   *slot = s;
   *loads += l;
   return code;
