@@ -239,7 +239,7 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
 #endif
   for (;; s = s + 1 == cap ? 0 : s + 1) {
     const uint8_t t = tag[s];
-    if (!t) { l++; code = CODE_UNKNOWN; break; }       /* empty: where the pair belongs */
+    if (!t) { l++; code = CODE_UNKNOWN; goto done; }   /* empty: where the pair belongs */
     if (t != q) {
       if (t & q & TAG_LOW) { l += 2; continue; }        /* i differs, both below 2^16 */
       if ((t ^ q) & TAG_LOW) { l += 1; continue; }       /* one above 2^16, one below */
@@ -248,7 +248,7 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
     uint64_t pl;
     int stop = slot_probe(top, s, i, j, &pl);
     l += pl;
-    if (stop) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; break; }
+    if (stop) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; goto done; }
   }
 done:
   *slot = s;
