@@ -186,17 +186,6 @@ static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32
   return w[-2] == (uint16_t)(j >> 16);
 }
 
-#ifdef __SSE2__
-/* The bits set in a 16-bit mask (the baseline x86-64 build has no popcnt instruction). */
-static inline unsigned pop16(unsigned m)
-{
-  m = m - ((m >> 1) & 0x5555u);
-  m = (m & 0x3333u) + ((m >> 2) & 0x3333u);
-  m = (m + (m >> 4)) & 0x0f0fu;
-  return (m + (m >> 8)) & 0x1fu;
-}
-#endif
-
 /* The probe of (i, j) walked through the tags (pr->tag): the code found (CODE_UNKNOWN: not
    held), the slot where the probe stopped (*slot: the pair's, or the empty one where it
    belongs) and the words it compared, added to *loads; nothing charged. */
@@ -208,13 +197,15 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
   uint64_t s = slot_hash(i, j, cap), l = 0;
   unsigned code;
 #ifdef __SSE2__
-  /* Sixteen tags at a time while they lie before the table's end: the first slot that
-     stops the scalar walk below (an empty one, or one whose tag cannot tell: the same
-     tag, or, when i is above 2^16, a used tag without TAG_LOW) is found from masks, and
-     the slots before it are counted as the scalar walk counts them: when i is below
-     2^16 two loads a slot whose i is too and one a slot whose i is not (a used tag
-     without TAG_LOW: below -64 as a signed byte), when i is above 2^16 one a slot (each
-     of those has TAG_LOW). The same slots and words, without a branch a slot. */
+  /* Sixteen tags at a time while they lie before the table's end. The first slot that
+     is empty, has the same tag or has a used tag without TAG_LOW (below -64 as a signed
+     byte: the slot's i is above 2^16) is found from three masks; each slot before it
+     has a tag with TAG_LOW and another than q, so the scalar walk below counts it two
+     loads when i is below 2^16 (both i below it, the first words agree) and one when i
+     is above (the first words differ). At that slot the walk goes on as the scalar one:
+     empty, it ends; a tag without TAG_LOW when q has it (one above 2^16, one below),
+     one load and the next slot; else the table tells. The same slots and words, without
+     a branch a slot. */
   const __m128i vq = _mm_set1_epi8((char)q), v64 = _mm_set1_epi8(-64);
   const unsigned low = q & TAG_LOW ? 1u : 0u;             /* i below 2^16 */
   while (s + 16 <= cap) {
@@ -222,12 +213,12 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
     const unsigned z = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(t, _mm_setzero_si128()));
     const unsigned e = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(t, vq));
     const unsigned h = (unsigned)_mm_movemask_epi8(_mm_cmplt_epi8(t, v64));
-    const unsigned p = (unsigned)__builtin_ctz(z | e | (low ? 0u : h) | 0x10000u);
-    const unsigned hb = h & ((1u << p) - 1u);             /* none when i is above 2^16 */
-    l += (p << low) - (hb ? pop16(hb) : 0u);
+    const unsigned p = (unsigned)__builtin_ctz(z | e | h | 0x10000u);
+    l += p << low;
     s += p;
     if (p == 16) continue;
     if (z >> p & 1u) { l++; code = CODE_UNKNOWN; goto done; }  /* empty */
+    if (low && !(e >> p & 1u)) { l++; s++; continue; }       /* its i above 2^16 */
     const uint16_t *top = core_high_top(pr->core);           /* the table must tell */
     uint64_t pl;
     int found = slot_probe(top, s, i, j, &pl);
