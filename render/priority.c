@@ -132,6 +132,7 @@ static unsigned slot_code(const struct prio *pr, uint64_t s)
    is written with its words (slot_put), and a rebuild starts both afresh. */
 #define TAG_USED 0x80u
 #define TAG_LOW  0x40u
+#define TAG_PAD  16u     /* empty tags beyond the table's end (tag_walk reads 16 at once) */
 
 static uint8_t slot_tag(uint32_t i)
 {
@@ -197,18 +198,19 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
   uint64_t s = slot_hash(i, j, cap), l = 0;
   unsigned code;
 #ifdef __SSE2__
-  /* Sixteen tags at a time while they lie before the table's end. The first slot that
-     is empty, has the same tag or has a used tag without TAG_LOW (below -64 as a signed
-     byte: the slot's i is above 2^16) is found from three masks; each slot before it
-     has a tag with TAG_LOW and another than q, so the scalar walk below counts it two
-     loads when i is below 2^16 (both i below it, the first words agree) and one when i
-     is above (the first words differ). At that slot the walk goes on as the scalar one:
-     empty, it ends; a tag without TAG_LOW when q has it (one above 2^16, one below),
-     one load and the next slot; else the table tells. The same slots and words, without
-     a branch a slot. */
-  const __m128i vq = _mm_set1_epi8((char)q), v64 = _mm_set1_epi8(-64);
+  /* Sixteen tags at a time (TAG_PAD empty tags lie beyond the table's end: reached, the
+     walk goes on from slot 0, as the scalar walk wraps). The first slot that is empty,
+     has the same tag or has a used tag without TAG_LOW (below -64 as a signed byte: the
+     slot's i is above 2^16) is found from three masks; each slot before it has a tag
+     with TAG_LOW and another than q, which the scalar walk counts two loads when i is
+     below 2^16 (both i below it: the first words agree) and one when i is above (the
+     first words differ). At that slot the walk goes on as the scalar one: empty, it
+     ends; a tag without TAG_LOW when q has it (one above 2^16, one below), one load and
+     the next slot; else the table tells. The same slots and words, without a branch a
+     slot. */
+  const __m128i vq = _mm_set1_epi32((int)(q * 0x01010101u)), v64 = _mm_set1_epi8(-64);
   const unsigned low = q & TAG_LOW ? 1u : 0u;             /* i below 2^16 */
-  while (s + 16 <= cap) {
+  for (;;) {
     const __m128i t = _mm_loadu_si128((const void *)(tag + s));
     const unsigned z = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(t, _mm_setzero_si128()));
     const unsigned e = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(t, vq));
@@ -217,7 +219,11 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
     l += p << low;
     s += p;
     if (p == 16) continue;
-    if (z >> p & 1u) { l++; code = CODE_UNKNOWN; goto done; }  /* empty */
+    if (z >> p & 1u) {                                      /* empty */
+      if (s < cap) { l++; code = CODE_UNKNOWN; goto done; }
+      s = 0;                                                /* the pad: wrap */
+      continue;
+    }
     if (low && !(e >> p & 1u)) { l++; s++; continue; }       /* its i above 2^16 */
     const uint16_t *top = core_high_top(pr->core);           /* the table must tell */
     uint64_t pl;
@@ -226,8 +232,7 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
     if (found) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; goto done; }
     s++;
   }
-  if (s == cap) s = 0;
-#endif
+#else
   for (;; s = s + 1 == cap ? 0 : s + 1) {
     const uint8_t t = tag[s];
     if (!t) { l++; code = CODE_UNKNOWN; goto done; }   /* empty: where the pair belongs */
@@ -241,6 +246,7 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
     l += pl;
     if (stop) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; goto done; }
   }
+#endif
 done:
   *slot = s;
   *loads += l;
@@ -348,7 +354,7 @@ static int sparse_rebuild(struct prio *pr, uint64_t slots, struct t74_error *err
   pr->hcap = slots;
   pr->cover = 0;
   free(pr->tag);                                         /* NULL: probes read the table */
-  pr->tag = slots <= SIZE_MAX ? calloc((size_t)slots, 1) : NULL;
+  pr->tag = slots <= SIZE_MAX - TAG_PAD ? calloc((size_t)slots + TAG_PAD, 1) : NULL;
   /* each entry read from the list (4 words), its home slot and probe, its slot written;
      through the tags the probes' words are counted and charged at once, as slot_find
      would have charged each */
