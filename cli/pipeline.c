@@ -1378,6 +1378,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   cost_params_get(&o->params, "program_words", &prog);
   struct render_opts ro = { o->core_words, (uint32_t)prog, o->store, tables, grow_max, &keep };
   const int nframes = o->frames > 1 ? o->frames : 1;
+  keep.map.once = nframes == 1;             /* no next frame: the Mapper keeps nothing for one */
   frame_t = calloc((size_t)nframes, sizeof *frame_t);
   if (!frame_t) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
   struct vis_grid g = { p.W, p.H, { s->window[0], s->window[1], s->window[2], s->window[3] } };

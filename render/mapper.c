@@ -627,10 +627,12 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       tj_forget(kt);
       int nrings = 0;
       for (int fi = 0; fi < s->nf; fi++) nrings += s->f[fi].nring;
-      kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
-      kt->plane = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->plane);
-      if (!kt->start || !kt->plane) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
-      rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;
+      if (!kt->once) {                      /* what a next run replays */
+        kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
+        kt->plane = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->plane);
+        if (!kt->start || !kt->plane) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+      }
+      rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;   /* the memo points into them */
     }
     if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
     tj.whole_boxes = kt && kt->whole_boxes;
@@ -653,7 +655,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       memcpy(pl, kt->plane[fi], sizeof pl);
     } else {
       if (!face_plane(s, sf, pl)) memset(pl, 0, sizeof pl);
-      if (kt) memcpy(kt->plane[fi], pl, sizeof pl);
+      if (kt && kt->plane) memcpy(kt->plane[fi], pl, sizeof pl);
     }
     if (!(pl[0] | pl[1] | pl[2])) { out->dropped++; continue; }   /* face_plane found none */
     if (cost) {
@@ -690,7 +692,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
         }
       }
       rs_new[sf->nring] = *rn;
-      if (kt) for (int r = 0; r <= sf->nring; r++) kt->start[g + r] = rs_new[r];
+      if (kt && kt->start) for (int r = 0; r <= sf->nring; r++) kt->start[g + r] = rs_new[r];
     }
     const int *rv = replay ? kt->ring : *rbuf;
     int nv = rs[sf->nring] - rs[0];
@@ -779,7 +781,12 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   tj_free(&tj);
   free(proj);
   cost_mw_mul_n(&tjc, 17, 17, tjtests);    /* each a product of 17-bit operands */
-  if (kt && !replay) {
+  if (kt && !replay && kt->once) {          /* no next run: nothing kept (the charges and
+                                               the host statistic stay readable) */
+    tj_forget(kt);
+    kt->cost = tjc;
+    kt->replayed = replayed;
+  } else if (kt && !replay) {
     if (kt->n > 0 && kt->n < kt->cap) {   /* kept for the whole run: to its size (it
                                              doubled; 100,000 boxes: 4 MB for 2.3) */
       int *fit = realloc(kt->ring, (size_t)kt->n * sizeof *fit);

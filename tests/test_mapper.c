@@ -238,6 +238,58 @@ static void test_edges_met_again(void **state)
   }
 }
 
+/* One frame (mapper_keep.once): the faces, the charges and the edges taken from the memo
+   are those of a run that keeps its rings for the next; nothing is left kept (the planes
+   never made, the rings freed), so a next run searches again and maps the same. */
+static void test_once_keeps_nothing(void **state)
+{
+  (void)state;
+  for (uint32_t seed = 300; seed < 306; seed++) {
+    int inserted;
+    struct scene *s = load_text_taken(fan_scene(30, seed % 2 ? 200 : 0, seed, true, &inserted));
+    struct run a, o;
+    map_way(s, false, &a);
+    memset(&o, 0, sizeof o);
+    o.k.once = true;
+    o.core = core_new(1u << 22);
+    assert_non_null(o.core);
+    for (int pass = 0; pass < 2; pass++) {          /* the second: after a run kept nothing */
+      struct t74_error err = { 0, "" };
+      mapper_free(&o.m);
+      memset(&o.c, 0, sizeof o.c);
+      core_free(o.core);
+      o.core = core_new(1u << 22);
+      assert_non_null(o.core);
+      assert_int_equal(mapper_run_kept(s, &o.m, o.core, &o.c, &o.k, &err), T74_OK);
+      assert_null(o.k.s);
+      assert_null(o.k.ring);
+      assert_null(o.k.start);
+      assert_null(o.k.plane);
+      assert_int_equal(o.k.replayed, a.k.replayed);
+      assert_memory_equal(&o.k.cost, &a.k.cost, sizeof a.k.cost);
+      assert_memory_equal(&o.c, &a.c, sizeof a.c);
+      assert_int_equal(o.m.nface, a.m.nface);
+      assert_int_equal(o.m.dropped, a.m.dropped);
+      for (int f = 0; f < a.m.nface; f++) {
+        const struct mface *x = &a.m.f[f], *y = &o.m.f[f];
+        assert_int_equal(x->nring, y->nring);
+        int n = x->ring_start[x->nring];
+        assert_int_equal(n, y->ring_start[y->nring]);
+        assert_memory_equal(x->ring_start, y->ring_start, ((size_t)x->nring + 1) * sizeof *x->ring_start);
+        assert_memory_equal(x->pt, y->pt, (size_t)n * sizeof *x->pt);
+        assert_memory_equal(x->vid, y->vid, (size_t)n * sizeof *x->vid);
+        assert_memory_equal(x->vix, y->vix, (size_t)n * sizeof *x->vix);
+        assert_memory_equal(x->plane, y->plane, sizeof x->plane);
+        assert_true(x->deye == y->deye && x->grey == y->grey && x->id == y->id);
+      }
+    }
+    assert_true(a.k.replayed >= 25);
+    run_free(&a);
+    run_free(&o);
+    scene_free(s);
+  }
+}
+
 /* Fans among random triangles (the cells crowded, most vertices near no edge). */
 static void test_fans_among_triangles(void **state)
 {
@@ -322,6 +374,7 @@ int main(void)
     cmocka_unit_test(test_fans_both_ways),
     cmocka_unit_test(test_fans_among_triangles),
     cmocka_unit_test(test_edges_met_again),
+    cmocka_unit_test(test_once_keeps_nothing),
     cmocka_unit_test(test_margin_one_unit_cells),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
