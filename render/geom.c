@@ -186,12 +186,8 @@ static inline void mul_u64(wide a, uint64_t b, wide *top, uint64_t *low)
   *low = (uint64_t)lo;
 }
 
-int geom_cross_sign(wide a, wide b, wide c, wide d)
+int geom_cross_sign_long(wide a, wide b, wide c, wide d)
 {
-  /* one factor on both sides (two points of one W, a third of the sweep's compares at
-     30,000 boxes): a*b - c*b = (a - c) b, whose sign is that of a - c times b's; a and c
-     are compared, not subtracted */
-  if (b == d) return ((a > c) - (a < c)) * ((b > 0) - (b < 0));
   if (b >= 0 && d >= 0 && !(b >> 64) && !(d >> 64)) {
     /* in 192 bits: each product's high part and low word, compared in that order */
     wide t1, t2;

@@ -374,6 +374,35 @@ static void test_cross_dot_sign(void **state)
           }
           assert_int_equal(geom_cross_sign(a, b, c, d), i256_sign(i256_add(ab, ncd)));
         }
+  /* the 64-bit path (geom.h: a, c in [-2^63, 2^63), b, d in [0, 2^63)) at its borders,
+     with values just outside it, and at random within it, against the long way */
+  const wide i64max = (wide)INT64_MAX, i64min = (wide)INT64_MIN;
+  const wide e64[9] = { i64max, i64max - 1, i64min, i64min + 1, i64max + 1, i64min - 1,
+                        -1, 0, 1 };
+  const wide f64[6] = { i64max, i64max - 1, i64max + 1, i64max + 2, 1, 0 };
+  for (int p = 0; p < 9; p++)
+    for (int q = 0; q < 6; q++)
+      for (int r = 0; r < 9; r++)
+        for (int u = 0; u < 6; u++) {
+          wide a = e64[p], b = f64[q], c = e64[r], d = f64[u];
+          assert_int_equal(geom_cross_sign(a, b, c, d),
+                           i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d))));
+          assert_int_equal(geom_cross_sign(a, b, c, d), geom_cross_sign_long(a, b, c, d));
+        }
+  for (int k = 0; k < 200000; k++) {
+    wide v[4];
+    for (int j = 0; j < 4; j++) {
+      s = s * 6364136223846793005ull + 1442695040888963407ull;
+      uint64_t r = s ^ (s >> 29);
+      v[j] = j % 2 ? (wide)(r >> (1 + (s >> 58) % 8))                /* [0, 2^63) */
+                   : (wide)((int64_t)r >> ((s >> 58) % 8));           /* [-2^63, 2^63) */
+    }
+    if (k % 4 == 0) v[2] = v[0] + (k % 8 ? 1 : -1) * (wide)(k % 3);   /* near products */
+    wide a = v[0], b = v[1], c = v[2], d = v[3];
+    if (c != (int64_t)c) c = a;
+    assert_int_equal(geom_cross_sign(a, b, c, d),
+                     i256_sign(i256_add(i256_mul(a, b), i256_mul(-c, d))));
+  }
   /* products just above the 128-bit range, differing by one */
   const wide t = (wide)1 << 100;
   assert_int_equal(geom_cross_sign(t + 1, t - 1, t, t), -1);
