@@ -156,6 +156,24 @@ static void run_free(struct run *r)
   core_free(r->core);
 }
 
+/* a and b map the same faces: their rings, points, vertices, planes, depths, greys, ids. */
+static void faces_equal(const struct mapped *a, const struct mapped *b)
+{
+  assert_int_equal(a->nface, b->nface);
+  for (int f = 0; f < a->nface; f++) {
+    const struct mface *x = &a->f[f], *y = &b->f[f];
+    assert_int_equal(x->nring, y->nring);
+    int n = x->ring_start[x->nring];
+    assert_int_equal(n, y->ring_start[y->nring]);
+    assert_memory_equal(x->ring_start, y->ring_start, ((size_t)x->nring + 1) * sizeof *x->ring_start);
+    assert_memory_equal(x->pt, y->pt, (size_t)n * sizeof *x->pt);
+    assert_memory_equal(x->vid, y->vid, (size_t)n * sizeof *x->vid);
+    assert_memory_equal(x->vix, y->vix, (size_t)n * sizeof *x->vix);
+    assert_memory_equal(x->plane, y->plane, sizeof x->plane);
+    assert_true(x->deye == y->deye && x->grey == y->grey && x->id == y->id);
+  }
+}
+
 /* The short and the long way agree on s: the rings kept, the charges, the faces mapped.
    Returns how many vertices were inserted into edges. */
 static int same_ways(const struct scene *s)
@@ -175,14 +193,7 @@ static int same_ways(const struct scene *s)
   assert_memory_equal(&a.c, &b.c, sizeof a.c);
   assert_int_equal(a.m.nface, b.m.nface);
   assert_int_equal(a.m.dropped, b.m.dropped);
-  for (int f = 0; f < a.m.nface; f++) {
-    const struct mface *x = &a.m.f[f], *y = &b.m.f[f];
-    assert_int_equal(x->nring, y->nring);
-    int n = x->ring_start[x->nring];
-    assert_int_equal(n, y->ring_start[y->nring]);
-    assert_memory_equal(x->pt, y->pt, (size_t)n * sizeof *x->pt);
-    assert_memory_equal(x->vix, y->vix, (size_t)n * sizeof *x->vix);
-  }
+  faces_equal(&a.m, &b.m);
   int inserted = a.k.n - given;
   run_free(&a);
   run_free(&b);
@@ -270,18 +281,7 @@ static void test_once_keeps_nothing(void **state)
       assert_memory_equal(&o.c, &a.c, sizeof a.c);
       assert_int_equal(o.m.nface, a.m.nface);
       assert_int_equal(o.m.dropped, a.m.dropped);
-      for (int f = 0; f < a.m.nface; f++) {
-        const struct mface *x = &a.m.f[f], *y = &o.m.f[f];
-        assert_int_equal(x->nring, y->nring);
-        int n = x->ring_start[x->nring];
-        assert_int_equal(n, y->ring_start[y->nring]);
-        assert_memory_equal(x->ring_start, y->ring_start, ((size_t)x->nring + 1) * sizeof *x->ring_start);
-        assert_memory_equal(x->pt, y->pt, (size_t)n * sizeof *x->pt);
-        assert_memory_equal(x->vid, y->vid, (size_t)n * sizeof *x->vid);
-        assert_memory_equal(x->vix, y->vix, (size_t)n * sizeof *x->vix);
-        assert_memory_equal(x->plane, y->plane, sizeof x->plane);
-        assert_true(x->deye == y->deye && x->grey == y->grey && x->id == y->id);
-      }
+      faces_equal(&a.m, &o.m);
     }
     assert_true(a.k.replayed >= 25);
     run_free(&a);
