@@ -698,6 +698,7 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
 #define FACE_HIT_SHARE 16u
 struct prio_faces {
   int fa, fb;              /* the faces of the first and the second piece; fa < 0: empty */
+  uint32_t gen;            /* the frame's stamp (pr->faces_gen) when filled: another, empty */
   struct depth g;
   struct gpoint common[2];
   int ncommon;
@@ -741,7 +742,8 @@ static void faces_resize(struct prio *pr, unsigned bits)
   pr->faces = t;
   pr->faces_bits = bits;
   for (size_t k = 0; k < nold; k++)
-    if (old[k].fa >= 0) *face_slot(pr, old[k].fa, old[k].fb) = old[k];
+    if (old[k].fa >= 0 && old[k].gen == pr->faces_gen)
+      *face_slot(pr, old[k].fa, old[k].fb) = old[k];
   free(old);
   pr->faces_new = pr->faces_hit = 0;
 }
@@ -767,7 +769,7 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
     }
     if (pr->faces) {
       e = face_slot(pr, fa, fb);
-      if (e->fa == fa && e->fb == fb) {
+      if (e->fa == fa && e->fb == fb && e->gen == pr->faces_gen) {
         pr->faces_kept++;
         pr->faces_hit++;
         return e;
@@ -787,6 +789,7 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
   }
   e->fa = fa;
   e->fb = fb;
+  e->gen = pr->faces_gen;
   e->g = depth_of(pr, A, B);
   e->ncommon = common_points(pr->map, A, B, e->common);
   e->line = -1;
@@ -892,6 +895,34 @@ static int note_cut(struct prio *pr, int fa, int fb, struct gline l, struct t74_
   pr->cut[pr->ncut].line = l;
   pr->ncut++;
   return T74_OK;
+}
+
+void prio_keep_take(struct prio *pr, struct prio_keep *k)
+{
+  if (!k->faces) return;
+  free(pr->faces);
+  pr->faces = k->faces;
+  pr->faces_bits = k->faces_bits;
+  pr->faces_gen = k->faces_gen + 1;    /* every slot stamped otherwise: empty */
+  if (pr->faces_gen == 0)              /* the stamp wrapped: empty them by hand */
+    for (size_t s = 0; s < (size_t)1 << pr->faces_bits; s++) pr->faces[s].fa = -1;
+  k->faces = NULL;
+}
+
+void prio_keep_give(struct prio *pr, struct prio_keep *k)
+{
+  if (!pr->faces) return;
+  free(k->faces);
+  k->faces = pr->faces;
+  k->faces_bits = pr->faces_bits;
+  k->faces_gen = pr->faces_gen;
+  pr->faces = NULL;
+}
+
+void prio_keep_free(struct prio_keep *k)
+{
+  free(k->faces);
+  k->faces = NULL;
 }
 
 void prio_free(struct prio *pr)

@@ -67,6 +67,8 @@ struct prio {
   unsigned faces_bits;      /* that table's size, 2^faces_bits slots */
   unsigned faces_first_bits; /* tests: its first size (0: priority.c's FACE_BITS_FIRST) */
   uint64_t faces_new, faces_hit;  /* pairs found and kept ones used since it last grew */
+  uint32_t faces_gen;       /* this frame's stamp: a slot stamped otherwise holds nothing (a
+                               table kept from the last frame, prio_keep_take) */
   int      faces_off;       /* tests: decide finds it afresh for every pair */
   uint64_t faces_kept;      /* pairs decided with it kept (host statistic) */
   int      faces_grown;     /* times the table grew (host statistic) */
@@ -122,6 +124,25 @@ void prio_charge_pending(struct prio *pr);
 
 int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_max,
                        struct cost *cost, const struct prio_meet *at, struct t74_error *err);
+
+/* What a render keeps of the face-pair table for the next frame of its scene
+   (render_keep): the block and its size only, with the stamp of the frame that filled it.
+   What the table held depends on the view, so the next frame's table holds nothing at
+   first all the same (a new stamp); it only starts as large as the last one grew, instead
+   of small. */
+struct prio_keep {
+  struct prio_faces *faces;
+  unsigned faces_bits;
+  uint32_t faces_gen;
+};
+
+/* After prio_init: the face-pair table kept in k (if any) becomes pr's, empty. */
+void prio_keep_take(struct prio *pr, struct prio_keep *k);
+
+/* Before prio_free: pr's face-pair table (if any) is given to k for the next frame. */
+void prio_keep_give(struct prio *pr, struct prio_keep *k);
+
+void prio_keep_free(struct prio_keep *k);
 
 /* Free the host-side list of cuts (the matrix itself lives in core). */
 void prio_free(struct prio *pr);

@@ -279,6 +279,7 @@ static int prepare(struct render *r, const struct scene *s, const struct render_
   st = prio_init(&r->prio, &r->seg, &r->map, r->core, &r->cost[RS_VISIBLE], o->store,
                   expect, err);
   if (st != T74_OK) return st;
+  if (o->keep) prio_keep_take(&r->prio, &o->keep->prio);
   r->prio.trace = o->tables;
   r->prio.arith = arith;
   st = vis_init(&r->vis, &r->seg, &r->prio, &r->cost[RS_VISIBLE], err);
@@ -338,6 +339,7 @@ void render_keep_free(struct render_keep *k)
   core_free(k->core);
   k->core = NULL;
   pool_free(&k->seg);
+  prio_keep_free(&k->prio);
 }
 
 void render_free(struct render *r)
@@ -347,6 +349,7 @@ void render_free(struct render *r)
   r->cut_order = NULL;
   r->cut_y = NULL;
   vis_free(&r->vis);
+  if (r->keep) prio_keep_give(&r->prio, &r->keep->prio);
   prio_free(&r->prio);
   if (r->keep) {                             /* the blocks, for the next frame */
     pool_reset(&r->seg.pool);

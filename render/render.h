@@ -26,12 +26,15 @@ enum render_stage { RS_MAPPER, RS_SEGMENT, RS_VISIBLE, RS_NSTAGE };
    issue 19): the T-junctions the Mapper found (mapper.h), so a later frame does not
    search again (its charges are added all the same: every figure is the first frame's),
    and the host memory render_free is done with: the core model (core_renew: a core as
-   new, its block kept even when it grew) and the blocks of the faces and pieces, so a later frame works in memory already
-   touched. Zeroed before the first render; render_keep_free when done. */
+   new, its block kept even when it grew), the blocks of the faces and pieces, so a later
+   frame works in memory already touched, and the face-pair table's block at the size it
+   grew to (priority.h: empty again each frame). Zeroed before the first render;
+   render_keep_free when done. */
 struct render_keep {
   struct mapper_keep map;    /* the T-junctions, and the faces' blocks */
   struct core *core;         /* a core not in use (renewed to render_opts.core_words words), or NULL */
   struct pool seg;           /* the pieces' blocks */
+  struct prio_keep prio;     /* the face-pair table's block (empty again each frame) */
 };
 
 void render_keep_free(struct render_keep *k);

@@ -1447,6 +1447,54 @@ static void test_keep_tjunctions(void **state)
   free(b);
 }
 
+/* Issue 19: the face-pair table's block is kept from frame to frame (render_keep), at the
+   size it grew to, but what it held is of the last frame's view: a next frame seen from
+   another eye finds its pairs afresh (its table starts empty), and its picture, pieces and
+   priority work are those of a render with nothing kept; the block is the one kept, and
+   a kept pair is used again within the frame. */
+static void test_keep_face_pairs(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(64, 11);
+  struct scene *sc = load_scene(tris);
+  uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b);
+  struct render_keep keep;
+  memset(&keep, 0, sizeof keep);
+  struct render r0, r1;
+  render_kept(&r1, sc, &keep, b);             /* the first view fills the table */
+  unsigned bits = r1.prio.faces_bits;
+  assert_true(r1.prio.faces_kept > 0);
+  render_free(&r1);
+  assert_non_null(keep.prio.faces);
+  assert_int_equal(keep.prio.faces_bits, bits);
+  for (int k = 0; k < 3; k++) {
+    sc->view[0] = 40 * (k + 1);               /* another eye */
+    sc->view[1] = -30 * (k + 1);
+    const struct prio_faces *block = keep.prio.faces;
+    render_kept(&r0, sc, NULL, a);            /* nothing kept */
+    memset(b, 0, GW * GH * sizeof *b);
+    render_kept(&r1, sc, &keep, b);           /* the last view's table kept */
+    assert_null(keep.prio.faces);
+    assert_true(r1.prio.faces == block);
+    assert_int_equal(r1.prio.faces_bits, bits);
+    assert_memory_equal(a, b, GW * GH * sizeof *a);
+    /* the Mapper's charges are its first search's, kept with the T-junctions (of the
+       first view here); the priorities' and the scan's are the frame's own */
+    assert_memory_equal(&r0.cost[RS_VISIBLE], &r1.cost[RS_VISIBLE], sizeof r0.cost[RS_VISIBLE]);
+    assert_int_equal(r0.seg.n, r1.seg.n);
+    assert_true(r1.prio.computed == r0.prio.computed);
+    assert_true(r1.prio.faces_kept > 0);
+    render_free(&r1);
+    render_free(&r0);
+  }
+  render_keep_free(&keep);
+  assert_null(keep.prio.faces);
+  scene_free(sc);
+  free(tris);
+  free(a);
+  free(b);
+}
+
 /* The points engine's frame: the mapped faces, the faces seen and the counts. */
 static void same_points(const struct points *x, const struct points *y)
 {
@@ -1746,6 +1794,7 @@ int main(void)
     cmocka_unit_test(test_clip_both),
     cmocka_unit_test(test_pool),
     cmocka_unit_test(test_keep_tjunctions),
+    cmocka_unit_test(test_keep_face_pairs),
     cmocka_unit_test(test_points_keep_tjunctions),
     cmocka_unit_test(test_points_scratch_reuse),
     cmocka_unit_test(test_mapper_uncounted),
