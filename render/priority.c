@@ -556,8 +556,9 @@ static wide round_div(wide n, wide d)
   if (d < 0) { n = -n; d = -d; }
   wide q = n / d, r = n % d;
   if (r < 0) { q -= 1; r += d; }
-  if (2 * r >= d) q += 1;
-  return q;
+  /* half up, 2r >= d: d - 1 - 2r < 0 (|terms| < 2^117), its sign bit added rather than
+     branched on (a coin toss) */
+  return q + (wide)((uwide)(d - 1 - 2 * r) >> 127);
 }
 
 /* round_div(n, d) = floor(n/d + 1/2) lies in [-lim, lim], decided without the divide

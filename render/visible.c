@@ -178,13 +178,17 @@ static inline void sort_kept(struct vis *v, int *a, int n, bool xr)
 }
 
 /* Take item `it` out of the sorted ord[0..*n) (found by a binary search, then among
-   equal keys). */
+   equal keys). The searches' steps choose the half by conditional moves, not a branch a
+   step: which half comes as a coin toss, and a mispredicted branch cost more than the
+   compare (issue 19); the same compares, in the same order, charged as before. */
 static void ord_remove(struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
 {
   int lo = 0, hi = *n;
   while (lo < hi) {
     int mid = (lo + hi) / 2;
-    if (cmp(v, ord[mid], it) < 0) lo = mid + 1; else hi = mid;
+    int before = cmp(v, ord[mid], it) < 0;
+    lo = before ? mid + 1 : lo;            /* conditional moves: no branch a step */
+    hi = before ? hi : mid;
   }
   while (lo < *n && ord[lo] != it) lo++;
   if (lo == *n) return;
@@ -198,7 +202,9 @@ static void ord_insert(struct vis *v, int *ord, int *n, int it, vis_cmp cmp)
   int lo = 0, hi = *n;
   while (lo < hi) {
     int mid = (lo + hi) / 2;
-    if (cmp(v, ord[mid], it) <= 0) lo = mid + 1; else hi = mid;
+    int before = cmp(v, ord[mid], it) <= 0;
+    lo = before ? mid + 1 : lo;
+    hi = before ? hi : mid;
   }
   memmove(&ord[lo + 1], &ord[lo], (size_t)(*n - lo) * sizeof *ord);
   ord[lo] = it;
