@@ -83,6 +83,8 @@ struct pipeline {
   int *face;                        /* the effects stage's frame (NULL: no effects) */
   bool grey_pending;                /* points_emit left grey to the effects (fx_frame's
                                        face_grey) */
+  int *face_drawn;                  /* not NULL: points_emit left the frame's faces in the
+                                       points engine's buffer, not copied to face */
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
@@ -522,7 +524,16 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   uint8_t *flat = p->scan ? malloc(n) : NULL;
   if (p->scan && !flat) { free(bg); return t74_fail(err, T74_EIO, "out of host memory"); }
   if (flat) memcpy(flat, p->grey, n);
-  struct fx_frame f = { p->W, p->H, p->cell, p->face, p->grey, bg, NULL, NULL };
+  int *face = p->face;                      /* the frame's faces */
+  if (p->face_drawn) {
+    /* the points engine's buffer, the faces as drawn, taken as the frame unless an
+       effect after fx_points asks the engine for a row as drawn (aa=super: fx_see_row
+       reads the buffer); fx_points itself asks for a row before it writes that row */
+    if (e->aa == EFFECTS_AA_NONE) face = p->face_drawn;
+    else memcpy(face, p->face_drawn, n * sizeof *face);
+    p->face_drawn = NULL;
+  }
+  struct fx_frame f = { p->W, p->H, p->cell, face, p->grey, bg, NULL, NULL };
   uint8_t *fgrey = NULL;                    /* each face's grey at its index + 1 */
   if (p->grey_pending) {
     p->grey_pending = false;
@@ -558,16 +569,16 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
       row_start(p, &rc, j);
       const size_t at0 = (size_t)j * (size_t)p->W;
-      const int *face = p->face + at0;
+      const int *fr = face + at0;
       const uint8_t *greys = p->grey + at0, *flats = flat ? flat + at0 : NULL;
       uint32_t *ids = p->ids + at0;
       for (int i = 0; st == T74_OK && i < p->W; i++) {
         if (!p->scan) {                     /* no background: the greys' levels */
-          i = greys_run(id_of, face, greys, i, p->W, gcell, ids, rc.masks, &levels);
+          i = greys_run(id_of, fr, greys, i, p->W, gcell, ids, rc.masks, &levels);
           if (i == p->W) break;
         }
-        ids[i] = face[i] >= 0 ? mf[face[i]].id : 0;
-        int level = point_level(p, i, j, face[i], greys[i], flats && greys[i] == flats[i]);
+        ids[i] = fr[i] >= 0 ? mf[fr[i]].id : 0;
+        int level = point_level(p, i, j, fr[i], greys[i], flats && greys[i] == flats[i]);
         levels += (uint64_t)level;
         if (level >= 0 && level <= cc) rc.masks[i] = p->mask[level];
         else st = row_odd(p, &rc, i, level);
@@ -580,9 +591,9 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
       for (int i = 0; st == T74_OK && i < p->W; i++) {
         size_t at = (size_t)j * (size_t)p->W + (size_t)i;
-        int face = p->face[at];
-        p->ids[at] = face >= 0 ? p->map->f[face].id : 0;
-        st = emit_point(p, i, j, face, p->grey[at], flat && p->grey[at] == flat[at]);
+        const int fa = face[at];
+        p->ids[at] = fa >= 0 ? p->map->f[fa].id : 0;
+        st = emit_point(p, i, j, fa, p->grey[at], flat && p->grey[at] == flat[at]);
       }
   }
   free(flat);
@@ -1160,10 +1171,11 @@ static int points_emit(struct pipeline *p, const struct points *pt)
   const int W = p->W, H = p->H, cc = p->cell * p->cell;
   uint8_t *fgrey;                           /* each face's grey, at its index + 1 */
   if (p->face && !watched && !p->scan) {
-    /* the effects' frame: the faces; their greys are left to the effects (fx_frame's
-       face_grey: the point frame writes every one; run_effects makes the table) and the
-       ids to run_effects, written with the cells after fx_run */
-    memcpy(p->face, pt->face, (size_t)W * (size_t)H * sizeof *p->face);
+    /* the effects' frame: the faces, left in pt's buffer (run_effects takes them from
+       there; points_render writes all of it again next frame); their greys are left to
+       the effects (fx_frame's face_grey: the point frame writes every one; run_effects
+       makes the table) and the ids to run_effects, written with the cells after fx_run */
+    p->face_drawn = pt->face;
     p->grey_pending = true;
     return T74_OK;
   }
@@ -1171,8 +1183,7 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     /* the effects' frame over a background: the faces, and their greys or the
        background's */
     const struct scan_image *scan = p->scan;
-    const size_t n = (size_t)W * (size_t)H;
-    memcpy(p->face, pt->face, n * sizeof *p->face);
+    p->face_drawn = pt->face;               /* as above */
     for (int j = 0; j < H; j++)
       for (int i = 0; i < W; i++) {
         const size_t at = (size_t)j * (size_t)W + (size_t)i;

@@ -900,6 +900,18 @@ static void test_points_frame_is_pointwise(void **state)
     }
     assert_int_equal(bad, 0);
     fx_lines_close(L);
+    /* the frame taken in place, the engine's own buffer as fx_points' faces (the
+       pipeline's points frame without aa: run_effects): the same faces and greys as on
+       the copy (fx_points asks the engine for a row before it writes that row) */
+    struct fx_frame fin = f;
+    assert_non_null(fin.grey = calloc(np, 1));
+    fin.face = d.p.face;
+    assert_int_equal(fx_points(&m, &fin, &st, &cost, &err), T74_OK);
+    long in_place = 0;
+    for (size_t at = 0; at < np; at++) in_place += fin.face[at] != f.face[at] || fin.grey[at] != f.grey[at];
+    if (in_place) print_message("%s [%s]: %ld points differ in place\n", cases[k][0], fx, in_place);
+    assert_int_equal(in_place, 0);
+    free(fin.grey);
     free(row); free(blocked); free(f.face); free(f.grey);
     fx_model_free(&m);
     duo_close(&d);
