@@ -1071,7 +1071,9 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       /* a row the regions left as it was has no cut to count (nor, without shadows,
          anything) */
       const bool same = !memcmp(row, fr, (size_t)W * sizeof *row);
-      for (int i = 0; i < W && same && m->shadows.n; i++) shadowed += blocked[i] != 0;
+      int nb = 0;                           /* the row's points in shadow (< W: an int,
+                                               counted four a vector instruction) */
+      for (int i = 0; i < W && same && m->shadows.n; i++) nb += blocked[i] != 0;
       for (int i = 0; i < W && !same; i++) {
         int face = row[i];
         if (face != fr[i]) {
@@ -1079,8 +1081,9 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
           if (face >= 0) show_face++; else show_none++;
         }
         fr[i] = face;
-        shadowed += blocked[i] != 0;
+        nb += blocked[i] != 0;
       }
+      shadowed += nb;
       COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)W);   /* 2 and 2 a point */
       COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
