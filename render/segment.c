@@ -1693,23 +1693,38 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   if (trace || in->nring != 1 || !in->ring_start || in->ring_start[0] != 0) return T74_OK;
   int nv = in->ring_start[1];
   if (nv < 3 || nv > SEG_CONVEX_MAX) return T74_OK;
-  struct seg_ctx xc;
-  struct seg_ctx *x = &xc;
-  ctx_init(x, in, NULL, core, cost, err);
-  struct t74_error quiet;               /* (its message not cleared whole: 1 kB a face) */
-  quiet.status = T74_OK;
-  quiet.msg[0] = '\0';
-  x->err = &quiet;                      /* a refused face is left to seg_generate */
-  if (check_input(x)) return T74_OK;
-  x->err = err;
+  /* A face check_input refuses is left to seg_generate, which refuses it. Its tests, made
+     here with the turns (issue 19: a face's vertices looked at once, not twice): a vertex
+     outside the grid, two consecutive ones at one point, and, for a ring that turns
+     left or straight at every vertex (another is declined as concave anyway), a
+     boundary doubling back and a ring not counter-clockwise. check_input's orientation
+     of vertices p, q, s is the turn from side p q to side q s (the same difference of
+     products: geom_line's a = -dy, b = dx), and its doubling back, where that is 0,
+     (q - p).(s - q) < 0, the two sides' a a' + b b'. */
+  const struct gpoint *pt = in->pt;
+  if (!pt || !in->vid) return T74_OK;
+  for (int k = 0; k < nv; k++) {
+    struct gpoint p = pt[k], q = pt[k + 1 < nv ? k + 1 : 0];
+    if (p.x > GRID_LIMIT || p.x < -GRID_LIMIT || p.y > GRID_LIMIT || p.y < -GRID_LIMIT ||
+        (p.x == q.x && p.y == q.y))
+      return T74_OK;
+  }
   struct gline ln[SEG_CONVEX_MAX];      /* side k: from vertex k to k + 1 */
-  for (int k = 0; k < nv; k++) ln[k] = geom_line(in->pt[k], in->pt[k + 1 < nv ? k + 1 : 0]);
+  for (int k = 0; k < nv; k++) ln[k] = geom_line(pt[k], pt[k + 1 < nv ? k + 1 : 0]);
   bool strict = true;                   /* every vertex a strict left turn */
+  wide area2 = 0;                       /* twice the ring's signed area */
   for (int k = 0, k0 = nv - 1; k < nv; k0 = k++) {
     int t = turn(ln[k0], ln[k]);
     if (t < 0) return T74_OK;           /* concave */
+    if (t == 0 && (wide)ln[k0].a * ln[k].a + (wide)ln[k0].b * ln[k].b < 0)
+      return T74_OK;                    /* doubling back */
     strict &= t > 0;
+    area2 += (wide)pt[k0].x * pt[k].y - (wide)pt[k].x * pt[k0].y;
   }
+  if (area2 <= 0) return T74_OK;        /* clockwise */
+  struct seg_ctx xc;
+  struct seg_ctx *x = &xc;
+  ctx_init(x, in, NULL, core, cost, err);
 
   x->nvert = nv;
   uint32_t mark = core ? core_mark(core) : 0;

@@ -1274,7 +1274,8 @@ static int convex_as_general(const struct tface *f)
    charges, core and refusals: random star-shaped rings (convex or not), convex rings with
    vertices on their sides (straight turns, T-junctions), rings with holes, too many
    vertices, and rings refused: clockwise, a pentagram (left turns only, winding twice), a
-   spike doubling back, two vertices at one point. */
+   spike doubling back (with a right turn after it, and with left turns only), two vertices
+   at one point. */
 static void test_convex_fast(void **state)
 {
   (void)state;
@@ -1333,13 +1334,15 @@ static void test_convex_fast(void **state)
   }
   assert_true(took > 100);
   assert_true(declined > 100);
-  static const long long bad[][14] = {
+  static const long long bad[][15] = {
     { 4, 0, 0, 0, 10, 10, 10, 10, 0 },                         /* clockwise */
     { 5, 0, 10, -6, -8, 10, 3, -10, 3, 6, -8 },                 /* pentagram */
     { 5, 0, 0, 10, 0, 20, 0, 10, 0, 10, 10 },                   /* a spike */
     { 4, 0, 0, 10, 0, 10, 0, 0, 10 },                           /* one point twice */
+    { 7, 0, 0, 20, 0, 10, 0, 10, -10, 30, -10, 30, 10, 0, 10 }, /* doubling back, its
+                                                                   other turns left */
   };
-  for (int b = 0; b < 4; b++) {
+  for (int b = 0; b < 5; b++) {
     struct tface *f = tf_new((uint16_t)(900 + b));
     tf_ring(f, (int)bad[b][0], &bad[b][1]);
     convex_as_general(f);
