@@ -67,7 +67,7 @@ static int merge_sides(struct gline *l, int n)
   while (changed && n >= 3) {
     changed = 0;
     for (int k = 0; k < n; k++) {
-      int nx = (k + 1) % n;
+      int nx = k + 1 < n ? k + 1 : 0;
       if (same_direction(l[k], l[nx])) {
         memmove(&l[nx], &l[nx + 1], (size_t)(n - nx - 1) * sizeof *l);
         n--;
@@ -77,6 +77,15 @@ static int merge_sides(struct gline *l, int n)
     }
   }
   return n;
+}
+
+/* Y / W / GRID_ONE, truncated: in 64 bits where Y fits them (W does: geom_meet), the
+   same quotients as in 128 (both truncate toward zero; W > 0), without a 128-bit
+   division (issue 19: two a piece). */
+static wide grid_y(struct hpoint v)
+{
+  if (v.Y == (int64_t)v.Y && v.W == (int64_t)v.W) return (int64_t)v.Y / (int64_t)v.W / GRID_ONE;
+  return v.Y / v.W / GRID_ONE;
 }
 
 bool seginfo_reserve(struct seginfo *t, int n)
@@ -117,8 +126,8 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   p->face = face;
   p->alive = true;
   p->parent = -1;
-  for (int k = 0; k < n; k++) {
-    if (!geom_meet(p->line[(k + n - 1) % n], p->line[k], &p->v[k])) {
+  for (int k = 0, k0 = n - 1; k < n; k0 = k++) {
+    if (!geom_meet(p->line[k0], p->line[k], &p->v[k])) {
       t74_fail(err, T74_EINPUT, "internal: sides of a piece of face %d do not meet", face);
       return -1;
     }
@@ -137,8 +146,8 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
       core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK)
     return -1;
   core_write(t->core, b, (uint16_t)t->n);
-  core_write(t->core, b + 1, (uint16_t)(piece_ylo(p).Y / piece_ylo(p).W / GRID_ONE));
-  core_write(t->core, b + 2, (uint16_t)(piece_yhi(p).Y / piece_yhi(p).W / GRID_ONE));
+  core_write(t->core, b + 1, (uint16_t)grid_y(piece_ylo(p)));
+  core_write(t->core, b + 2, (uint16_t)grid_y(piece_yhi(p)));
   core_write(t->core, b + 3, (uint16_t)c);
   core_write(t->core, c, (uint16_t)n);
   for (int k = 0; k < n; k++) {             /* vertex number, then the side's edge share */

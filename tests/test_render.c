@@ -456,6 +456,42 @@ static void test_span_tie_rule(void **state)
   core_free(core);
 }
 
+/* seginfo_add's B-BLOCK row: y-min and y-max of the piece, Y / W / GRID_ONE truncated in
+   128 bits (issue 19: in 64 where Y fits them): pieces near the grid's corners with
+   slanted sides (vertices whose Y needs more than 64 bits), small ones, below y = 0 and
+   off the world grid (where truncation and floor differ). */
+static void test_bblock_y(void **state)
+{
+  (void)state;
+  struct core *core = core_new(1u << 16);
+  struct cost cost = { { 0 } };
+  struct seginfo t;
+  seginfo_init(&t, core, &cost);
+  const gcoord L = GRID_LIMIT, G = GRID_ONE;
+  const gcoord tri[][6] = {
+    { -L, -L, L, -L + 3, L - 7, L },                   /* corners: Y beyond 64 bits */
+    { -L + 5, L - 1, -L, -L + 2, L, -L + 9 },
+    { 0, -3 * G - 5, 7 * G + 1, -G + 3, 2, 5 * G - 1 }, /* below 0, off the world grid */
+    { 1, 1, 9, 2, 4, 7 },                              /* small */
+    { 3, -G - 1, 5 * G, -2 * G + 7, 4, -1 },
+  };
+  bool wide_y = false, narrow_y = false;
+  for (int k = 0; k < 5; k++) {
+    uint32_t b = core_mark(core);
+    int i = add_piece(&t, 0, 3, tri[k]);
+    const struct piece *p = &t.p[i];
+    struct hpoint lo = piece_ylo(p), hi = piece_yhi(p);
+    for (int j = 0; j < 3; j++) {
+      if (p->v[j].Y != (int64_t)p->v[j].Y) wide_y = true; else narrow_y = true;
+    }
+    assert_int_equal(core_read(core, b + 1), (uint16_t)(lo.Y / lo.W / GRID_ONE));
+    assert_int_equal(core_read(core, b + 2), (uint16_t)(hi.Y / hi.W / GRID_ONE));
+  }
+  assert_true(wide_y && narrow_y);
+  seginfo_free(&t);
+  core_free(core);
+}
+
 /* seginfo_clip: a diagonal makes two triangles; a line along a side or through a vertex
    keeps all or nothing; a cut through two sides gives the right rectangle. */
 static void test_clip(void **state)
@@ -1772,6 +1808,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_geom_orient),
+    cmocka_unit_test(test_bblock_y),
     cmocka_unit_test(test_geom_lines),
     cmocka_unit_test(test_geom_rationals),
     cmocka_unit_test(test_i256),
