@@ -7,20 +7,6 @@
 
 #include <assert.h>
 
-wide geom_orient(struct gpoint p, struct gpoint q, struct gpoint r)
-{
-  return (wide)(q.x - p.x) * (r.y - p.y) - (wide)(q.y - p.y) * (r.x - p.x);
-}
-
-struct gline geom_line(struct gpoint p, struct gpoint q)
-{
-  struct gline l;
-  l.a = p.y - q.y;
-  l.b = q.x - p.x;
-  l.c = -(l.a * p.x + l.b * p.y);   /* |a*px| < 2^57: no overflow in 64 bits */
-  return l;
-}
-
 struct gline geom_hline(gcoord y0, bool up)
 {
   struct gline l = { 0, up ? 1 : -1, up ? -y0 : y0 };

@@ -58,11 +58,23 @@ struct i256   { uint64_t w[4]; };             /* two's complement, w[0] least si
 
 /* ---- orientation and lines ---------------------------------------------------------- */
 
-/* Twice the signed area of triangle (p, q, r): > 0 counter-clockwise, 0 collinear. */
-wide geom_orient(struct gpoint p, struct gpoint q, struct gpoint r);
+/* Twice the signed area of triangle (p, q, r): > 0 counter-clockwise, 0 collinear.
+   Inline, as geom_line: the Mapper's and the Segment Generator's every face and side
+   (issue 19). */
+static inline wide geom_orient(struct gpoint p, struct gpoint q, struct gpoint r)
+{
+  return (wide)(q.x - p.x) * (r.y - p.y) - (wide)(q.y - p.y) * (r.x - p.x);
+}
 
 /* The oriented line through p -> q (p != q). */
-struct gline geom_line(struct gpoint p, struct gpoint q);
+static inline struct gline geom_line(struct gpoint p, struct gpoint q)
+{
+  struct gline l;
+  l.a = p.y - q.y;
+  l.b = q.x - p.x;
+  l.c = -(l.a * p.x + l.b * p.y);   /* |a*px| < 2^57: no overflow in 64 bits */
+  return l;
+}
 
 /* The horizontal line y = y0 with its interior above (up=true) or below (up=false). */
 struct gline geom_hline(gcoord y0, bool up);
