@@ -24,6 +24,8 @@ struct fx_see {
   struct vis vis;                   /* the 1974 engine */
   bool vis_open;
   struct points_at at;              /* the points engine */
+  bool none;                        /* the points engine with every face taken away or left
+                                       out (p->skip): no face is seen anywhere */
 };
 
 void fx_engine_1974(struct fx_engine *e, struct render *r, const struct vis_grid *g)
@@ -109,6 +111,11 @@ int fx_see_open(struct fx_see **out, const struct fx_engine *e, const uint8_t *s
     s->vis_open = true;
     if (st != T74_OK) { fx_see_close(s); return st; }
   }
+  if (e->pts && skip) {             /* (a cut object alone in its scene: nothing behind it) */
+    const struct points *p = e->pts;
+    s->none = true;
+    for (int k = 0; k < p->map.nface && s->none; k++) s->none = p->skip[k] || skip[k];
+  }
   *out = s;
   return T74_OK;
 }
@@ -140,6 +147,13 @@ int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
     if (K == 1 && !s->skip && m >= 0 && m < g->H && k0 >= 0 && k0 + n <= g->W) {
       _Static_assert(sizeof *p->face == sizeof *face, "the engine's faces are ints");
       memcpy(face, p->face + m * g->W + k0, (size_t)n * sizeof *face);   /* the row as drawn */
+      return T74_OK;
+    }
+    /* no face left: points_at_row's answer, every sample -1, on a lattice it takes (its
+       own checks at K = 1 inside the frame; else it answers, or refuses, as it does) */
+    if (s->none && K == 1 && m >= 0 && m < g->H && k0 >= 0 && n >= 0 && k0 + n <= g->W &&
+        g->W >= 2 && g->H >= 2 && g->W <= 4096 && g->H <= 4096 && XL < XR && YB < YT) {
+      for (int i = 0; i < n; i++) face[i] = -1;
       return T74_OK;
     }
     return points_at_row(&s->at, p, g, K, m, k0, n, s->skip, face, err);

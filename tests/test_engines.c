@@ -983,6 +983,63 @@ static void test_space_points_are_single(void **state)
   assert_true(compared > 1000000);
 }
 
+/* The points engine's answer with faces taken away (fx_see_row over a skip list) is
+   points_at_row's at every centre and on a finer lattice: with every face taken away (a
+   cut object alone in its scene: fx_see_row's shortcut, every sample -1), with all but
+   one (the shortcut must not be taken: that face is seen), with none; on a scene of one
+   object (t1-e) and one of several (fig5). */
+static void test_see_row_without_faces(void **state)
+{
+  (void)state;
+  static const char *const names[] = { "t1-e", "fig5" };
+  long seen_one = 0, rows_none = 0;
+  for (size_t c = 0; c < sizeof names / sizeof names[0]; c++) {
+    char path[256];
+    snprintf(path, sizeof path, "scenes/%s.s74", names[c]);
+    struct scene *sc = load_quiet(path);
+    struct duo d;
+    char msg[1024];
+    assert_int_equal(duo_open(&d, sc, 3, msg, sizeof msg), T74_OK);
+    const int nf = d.p.map.nface;
+    uint8_t *skip = calloc((size_t)nf + 1, 1);
+    int *a = calloc((size_t)d.W * 2 + 4, sizeof *a), *b = calloc((size_t)d.W * 2 + 4, sizeof *b);
+    assert_true(skip && a && b);
+    struct points_at q;
+    memset(&q, 0, sizeof q);
+    struct t74_error err = { 0, "" };
+    for (int kind = 0; kind < 3; kind++) {
+      for (int k = 0; k < nf; k++) skip[k] = kind == 0 || (kind == 1 && k + 1 < nf);
+      struct fx_see *see;
+      assert_int_equal(fx_see_open(&see, &d.eng[1], skip, NULL, &err), T74_OK);
+      for (int K = 1; K <= 2; K++)
+        for (int64_t m = -K; m < (int64_t)K * (d.H + 1); m++) {
+          const int64_t k0s[] = { 0, 1, -K };
+          for (int h = 0; h < 3; h++) {
+            const int64_t k0 = k0s[h];
+            const int n = K * d.W - (int)k0 - (h == 1);
+            assert_int_equal(fx_see_row(see, K, m, k0, n, a, &err), T74_OK);
+            assert_int_equal(points_at_row(&q, &d.p, &d.g, K, m, k0, n, skip, b, &err), T74_OK);
+            bool none = true;
+            for (int i = 0; i < n; i++) {
+              assert_int_equal(a[i], b[i]);
+              none = none && a[i] < 0;
+              seen_one += kind == 1 && a[i] == nf - 1;
+            }
+            rows_none += kind == 0 && none;
+          }
+        }
+      fx_see_close(see);
+    }
+    points_at_free(&q);
+    free(skip); free(a); free(b);
+    duo_close(&d);
+    scene_free(sc);
+  }
+  print_message("faces taken away: %ld rows of none, %ld samples of the one face left\n",
+                rows_none, seen_one);
+  assert_true(rows_none > 0 && seen_one > 0);
+}
+
 /* fx_x_cmp (effects/poly.h: the order of two crossings from their doubles, exactly) is
    geom_rat_cmp's on 2,000,000 pairs of rationals, their products within 2^126 as the
    crossings' are: random ones, neighbours (numerators 1 or 2 apart), near multiples and
@@ -1286,6 +1343,7 @@ int main(void)
     cmocka_unit_test(test_regions_on_samples),
     cmocka_unit_test(test_points_frame_is_pointwise),
     cmocka_unit_test(test_space_points_are_single),
+    cmocka_unit_test(test_see_row_without_faces),
     cmocka_unit_test(test_x_order),
     cmocka_unit_test(test_scenegen_families),
     cmocka_unit_test(test_hard_families),
