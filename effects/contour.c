@@ -13,6 +13,7 @@
 */
 #include "effects/contour.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -252,18 +253,33 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
   int rc = T74_OK;
   /* one corner's region polygon at a time: each corner is cut before the next is made */
   if (nc > 0) rc = core_alloc(core, CONTOUR_TABLE, (CONTOUR_STEPS + 2) * 4, &at, err);
+  /* each side's count of sides ending where it begins (in its object) and the last of
+     them, and of sides beginning there: the sides sorted by (object, a), those beginning
+     at a vertex lie together, found by halving */
+  int *nin = malloc(((size_t)nc + 1) * sizeof *nin), *inc = malloc(((size_t)nc + 1) * sizeof *inc);
+  if (rc == T74_OK && (!nin || !inc)) rc = t74_fail(err, T74_EIO, "out of host memory");
+  for (int k = 0; rc == T74_OK && k < nc; k++) nin[k] = 0;
+  for (int q = 0; rc == T74_OK && q < nc; q++) {
+    const struct cedge key = { ce[q].object, ce[q].b, INT_MIN, 0 };
+    int lo = 0, hi = nc;                     /* the first side at or after key */
+    while (lo < hi) {
+      const int mid = lo + (hi - lo) / 2;
+      if (by_from(&ce[mid], &key) < 0) lo = mid + 1; else hi = mid;
+    }
+    for (; lo < nc && ce[lo].object == key.object && ce[lo].a == key.a; lo++) {
+      nin[lo]++;
+      inc[lo] = q;                           /* q rising: the last one */
+    }
+  }
   for (int k = 0; rc == T74_OK && k < nc; k++) {
     /* the incoming side of vertex ce[k].a: a side ending there, in the same object */
     const struct cedge *out = &ce[k];
-    int nin = 0, nout = 0, inc = -1;
-    for (int q = 0; q < nc; q++) {
-      if (ce[q].object != out->object) continue;
-      if (ce[q].b == out->a) { nin++; inc = q; }
-      if (ce[q].a == out->a) nout++;
-    }
+    int nout = 1;
+    for (int q = k - 1; q >= 0 && ce[q].object == out->object && ce[q].a == out->a; q--) nout++;
+    for (int q = k + 1; q < nc && ce[q].object == out->object && ce[q].a == out->a; q++) nout++;
     if (cost) COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)nc);
-    if (nin != 1 || nout != 1) { junction++; continue; }
-    const struct cedge *inw = &ce[inc];
+    if (nin[k] != 1 || nout != 1) { junction++; continue; }
+    const struct cedge *inw = &ce[inc[k]];
     const struct smooth_tri *A = &m->tri[inw->tri], *B = &m->tri[out->tri];
     struct gpoint pa, pb, pc;
     if (!mapped_point(s, &map->f[A->mface], inw->a, &pa) ||
@@ -312,6 +328,7 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     fx_count(st, "contour_corners_junction", (double)junction, true);
   }
   core_release(core, mark);
+  free(nin); free(inc);
   free(ce);
   return rc;
 }

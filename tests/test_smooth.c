@@ -342,6 +342,26 @@ static void test_cut_shows_what_is_behind(void **state)
   out_free(&flat); out_free(&row);
 }
 
+/* Two triangles of one object meeting at one vertex (a bow tie): two contour sides end
+   there and two begin, so both sides beginning there are junctions, not corners; the four
+   other vertices are convex corners (contour_build counts the sides ending at each). */
+static void test_contour_junction(void **state)
+{
+  (void)state;
+  write_text("bowtie.s74",
+             "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+             "vertex 1 -150 -100 0\nvertex 2 -10 -100 0\nvertex 3 0 0 0\n"
+             "vertex 4 150 10 0\nvertex 5 10 100 0\n"
+             "face 1 1 2 3\nface 2 3 4 5\nobject 1 1 2\n");
+  struct out row;
+  render(tpath("bowtie.s74"), "halftone=3x3 smooth=phong contour=1.0", &row);
+  assert_int_equal((int)stat(&row, "contour_sides"), 6);
+  assert_int_equal((int)stat(&row, "contour_corners_convex"), 4);
+  assert_int_equal((int)stat(&row, "contour_corners_concave"), 0);
+  assert_int_equal((int)stat(&row, "contour_corners_junction"), 2);
+  out_free(&row);
+}
+
 static void test_concave_vertex_kept(void **state)
 {
   (void)state;
@@ -1384,6 +1404,7 @@ int main(void)
     cmocka_unit_test(test_contour_none),
     cmocka_unit_test(test_cut_area_closed_form),
     cmocka_unit_test(test_cut_shows_what_is_behind),
+    cmocka_unit_test(test_contour_junction),
     cmocka_unit_test(test_concave_vertex_kept),
     cmocka_unit_test(test_lone_triangle_is_flat),
     cmocka_unit_test(test_nothing_to_smooth_warns),
