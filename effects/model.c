@@ -520,6 +520,8 @@ struct fx_lines {
   bool spans;               /* by the engine's stretches (else sample by sample) */
   struct fx_see *see;       /* the engine's answers */
   struct fx_see **behind;   /* per cut object: the same with the object's faces taken away */
+  struct cut_range { int k0, k1; int64_t ylo, yhi; } *cr;   /* per cut object: its regions,
+                              m->cuts.p[k0 .. k1), and the rows [ylo, yhi) they span */
   struct fx_span *a, *b;    /* the line's stretches, and scratch */
   int na, nb, cap;
   struct grat *x;           /* crossings */
@@ -566,6 +568,20 @@ int fx_lines_open(struct fx_lines **out, const struct fx_model *m, bool by_sampl
     if (!L->behind) rc = t74_fail(err, T74_EIO, "out of host memory");
     for (int q = 0; rc == T74_OK && q < m->ncut; q++)
       rc = fx_see_open(&L->behind[q], m->eng, m->cut_skip[q], cost, err);
+    L->cr = rc == T74_OK ? malloc((size_t)m->ncut * sizeof *L->cr) : NULL;
+    if (rc == T74_OK && !L->cr) rc = t74_fail(err, T74_EIO, "out of host memory");
+    for (int q = 0; rc == T74_OK && q < m->ncut; q++) {
+      struct cut_range *c = &L->cr[q];
+      *c = (struct cut_range){ -1, -1, INT64_MAX, INT64_MIN };
+      for (int k = 0; k < m->cuts.n; k++) {
+        const struct fx_poly *p = &m->cuts.p[k];
+        if (p->owner != m->cut_obj[q]) continue;
+        if (c->k0 < 0) c->k0 = k;
+        c->k1 = k + 1;
+        if (p->ylo < c->ylo) c->ylo = p->ylo;
+        if (p->yhi > c->yhi) c->yhi = p->yhi;
+      }
+    }
   }
   if (rc != T74_OK) { fx_lines_close(L); return rc; }
   L->spans = !by_samples && fx_see_has_spans(L->see);
@@ -582,6 +598,7 @@ void fx_lines_close(struct fx_lines *L)
   if (L->behind)
     for (int q = 0; q < L->m->ncut; q++) fx_see_close(L->behind[q]);
   free(L->behind);
+  free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
   free(L->rng); free(L->fr);
   free(L);
@@ -672,10 +689,8 @@ static int cut_stretches(struct fx_lines *L, int q, int64_t yn, int64_t yd, int 
                          struct t74_error *err)
 {
   const struct fx_model *m = L->m;
-  int k0 = -1, k1 = -1;
+  const int k0 = L->cr[q].k0, k1 = L->cr[q].k1;   /* (fx_lines_open's) */
   *nev = 0;
-  for (int k = 0; k < m->cuts.n; k++)
-    if (m->cuts.p[k].owner == m->cut_obj[q]) { if (k0 < 0) k0 = k; k1 = k + 1; }
   if (k0 < 0) return T74_OK;
   int rc = stretches(L, &m->cuts, k0, k1, yn, yd, nev, err);
   if (rc == T74_OK) ev_sort(L->ev, L->evt, *nev);
@@ -826,9 +841,11 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   const uint8_t *skip = m->cut_skip[q];
   /* a row outside every region's height range has nothing cut: no scan for the object */
   const int64_t fy = fx_line_row(yn, yd);
+  const struct cut_range *c = &L->cr[q];
   bool near = false;
-  for (int k = 0; k < m->cuts.n && !near; k++)
-    near = m->cuts.p[k].owner == m->cut_obj[q] && fx_poly_on_row(&m->cuts.p[k], fy);
+  if (fy >= c->ylo && fy < c->yhi)          /* (else no region's rows hold it) */
+    for (int k = c->k0; k < c->k1 && !near; k++)
+      near = m->cuts.p[k].owner == m->cut_obj[q] && fx_poly_on_row(&m->cuts.p[k], fy);
   if (!near) return T74_OK;
   bool hit = false;
   for (int i = 0; i < n && !hit; i++) {
