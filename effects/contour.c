@@ -88,13 +88,18 @@ double contour_cut_share(double cc)
 
 /* llround(x), the same integer (half away from zero), without the library call: the
    part of x after its truncation is exact in a double. */
-static gcoord round_grid(double x)
+static inline gcoord round_small(double x)   /* round_grid's for |x| < 2^62 */
 {
-  if (!(fabs(x) < 0x1p62)) return (gcoord)llround(x);
   int64_t t = (int64_t)x;
   double f = x - (double)t;
   /* the two steps as 0 or 1, not branches: along a curve f's sign is anyone's guess */
   return (gcoord)(t + (f >= 0.5) - (f <= -0.5));
+}
+
+static gcoord round_grid(double x)
+{
+  if (!(fabs(x) < 0x1p62)) return (gcoord)llround(x);
+  return round_small(x);
 }
 
 /* contour_region with the weights made. */
@@ -113,6 +118,12 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
   __m128d dv[5];
   for (int k = 0; k < 5; k++) dv[k] = _mm_loadu_pd(d[k]);
 #endif
+  /* each curve point's coordinates below 2^62 when Q0..Q4's are below 2^61: the weights
+     at m / 64 are exact (products of (64 - m) / 64 and m / 64, numerators below 2^27), in
+     [0, 1] and summing to 1, and the five products and four sums each round within u, so
+     |o| <= (1 + u)^5 max |d| < 2^62; round_grid's test then always passes: left out */
+  bool small = true;
+  for (int k = 0; k < 5; k++) small = small && fabs(d[k][0]) < 0x1p61 && fabs(d[k][1]) < 0x1p61;
   for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
     double o[2];
 #ifdef __SSE2__
@@ -123,7 +134,8 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
 #else
     bezier_with(d, w->b[m], o);
 #endif
-    poly[1 + CONTOUR_STEPS - m] = (struct gpoint){ round_grid(o[0]), round_grid(o[1]) };
+    poly[1 + CONTOUR_STEPS - m] = small ? (struct gpoint){ round_small(o[0]), round_small(o[1]) }
+                                        : (struct gpoint){ round_grid(o[0]), round_grid(o[1]) };
   }
 }
 

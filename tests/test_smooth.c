@@ -1275,22 +1275,27 @@ static void test_bezier(void **state)
 
 /* The curve polygon's points (contour_region: a point's x and y an instruction) are
    contour_bezier's at t = m / CONTOUR_STEPS rounded half away from zero, bit for bit, for
-   5,000 random corners of control points up to 2^52 grid units (where a result one unit
-   in the last place off rounds to another integer). */
+   5,600 random corners of control points up to 2^52 grid units (where a result one unit
+   in the last place off rounds to another integer) and beyond, up to 2^62 (control points
+   from 2^61 on: each point by round_grid's test, not without it), and on a corner whose
+   points at odd m lie halfway between two integers. */
 static void test_region_is_bezier(void **state)
 {
   (void)state;
   uint64_t x = 0x9e3779b97f4a7c15u;
   long differ = 0, points = 0;
-  for (int it = 0; it < 5000; it++) {
+  for (int it = 0; it < 5600; it++) {
     struct gpoint g[5], poly[CONTOUR_STEPS + 2];
     double q[5][2];
-    const int bits = 8 + it % 45;
+    const int bits = 8 + it % 56;
     for (int k = 0; k < 5; k++) {
       x ^= x << 13; x ^= x >> 7; x ^= x << 17;
       g[k].x = (gcoord)(x % (1ull << bits)) - (gcoord)(1ull << (bits - 1));
       x ^= x << 13; x ^= x >> 7; x ^= x << 17;
       g[k].y = (gcoord)(x % (1ull << bits)) - (gcoord)(1ull << (bits - 1));
+      /* the first corner: Q0 at (2^23, -2^23), the rest at 0, so that each point at an
+         odd 64 - m lies on a half, (64 - m)^4 / 2 and its negative: the ties */
+      if (it == 0) g[k] = k ? (struct gpoint){ 0, 0 } : (struct gpoint){ 1 << 23, -(1 << 23) };
       q[k][0] = (double)g[k].x;
       q[k][1] = (double)g[k].y;
     }
