@@ -149,10 +149,9 @@ int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
       memcpy(face, p->face + m * g->W + k0, (size_t)n * sizeof *face);   /* the row as drawn */
       return T74_OK;
     }
-    /* no face left: points_at_row's answer, every sample -1, on a lattice it takes (its
-       own checks at K = 1 inside the frame; else it answers, or refuses, as it does) */
-    if (s->none && K == 1 && m >= 0 && m < g->H && k0 >= 0 && n >= 0 && k0 + n <= g->W &&
-        g->W >= 2 && g->H >= 2 && g->W <= 4096 && g->H <= 4096 && XL < XR && YB < YT) {
+    /* no face left: points_at_row's answer, every sample -1, on a lattice it takes (else
+       it refuses, as it does) */
+    if (s->none && points_at_lattice_ok(g, K, m, k0, n)) {
       for (int i = 0; i < n; i++) face[i] = -1;
       return T74_OK;
     }

@@ -92,15 +92,22 @@ static bool front(wide Pk, const struct mface *fk, wide Po, const struct mface *
   return s > 0;
 }
 
+bool points_at_lattice_ok(const struct vis_grid *g, int K, int64_t m, int64_t k0, int n)
+{
+  const int64_t xd = 2 * (int64_t)K * g->W, yd = 2 * (int64_t)K * g->H;
+  return K >= 1 && K <= POINTS_AT_KMAX && g->W >= 2 && g->H >= 2 && xd <= 8192 &&
+         yd <= 8192 && n >= 0 && k0 >= -K && k0 + n <= (int64_t)K * (g->W + 1) && m >= -K &&
+         m < (int64_t)K * (g->H + 1) && g->window[0] < g->window[2] &&
+         g->window[1] < g->window[3];
+}
+
 int points_at_row(struct points_at *q, const struct points *p, const struct vis_grid *g, int K,
                   int64_t m, int64_t k0, int n, const uint8_t *skip, int *face,
                   struct t74_error *err)
 {
   const int64_t XL = g->window[0], YB = g->window[1], XR = g->window[2], YT = g->window[3];
   const int64_t xd = 2 * (int64_t)K * g->W, yd = 2 * (int64_t)K * g->H;
-  if (K < 1 || K > POINTS_AT_KMAX || g->W < 2 || g->H < 2 || xd > 8192 || yd > 8192 ||
-      n < 0 || k0 < -K || k0 + n > (int64_t)K * (g->W + 1) || m < -K ||
-      m >= (int64_t)K * (g->H + 1) || XL >= XR || YB >= YT)
+  if (!points_at_lattice_ok(g, K, m, k0, n))
     return t74_fail(err, T74_EIO, "points_at_row: sample lattice out of range");
   int st = extents(q, p, err);
   if (st != T74_OK) return st;

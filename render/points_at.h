@@ -52,6 +52,10 @@ int points_at_row(struct points_at *q, const struct points *p, const struct vis_
                   int64_t m, int64_t k0, int n, const uint8_t *skip, int *face,
                   struct t74_error *err);
 
+/* Whether points_at_row takes the lattice (K, row m, samples k0 .. k0 + n - 1) of grid g,
+   rather than refusing it as out of range. */
+bool points_at_lattice_ok(const struct vis_grid *g, int K, int64_t m, int64_t k0, int n);
+
 void points_at_free(struct points_at *q);
 
 #endif
