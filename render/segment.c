@@ -433,6 +433,12 @@ static void put_rat(FILE *f, struct grat x)
 
 /* ---- input check and the first piece -------------------------------------------------- */
 
+/* Whether p lies outside the plane grid (check_input refuses such a vertex). */
+static inline bool off_grid(struct gpoint p)
+{
+  return p.x > GRID_LIMIT || p.x < -GRID_LIMIT || p.y > GRID_LIMIT || p.y < -GRID_LIMIT;
+}
+
 static int check_input(struct seg_ctx *x)
 {
   const struct seg_input *in = x->in;
@@ -447,7 +453,7 @@ static int check_input(struct seg_ctx *x)
     wide area2 = 0;
     for (int k = 0, k1 = 1, k2 = 2 % n; k < n; k++, k1 = k2, k2 = k2 + 1 < n ? k2 + 1 : 0) {
       struct gpoint p = in->pt[lo + k], q = in->pt[lo + k1], s = in->pt[lo + k2];
-      if (p.x > GRID_LIMIT || p.x < -GRID_LIMIT || p.y > GRID_LIMIT || p.y < -GRID_LIMIT)
+      if (off_grid(p))
         return t74_fail(x->err, T74_EINPUT, "face %u: vertex %u outside the plane grid",
                         fid, (unsigned)in->vid[lo + k]);
       if (p.x == q.x && p.y == q.y)
@@ -1705,9 +1711,7 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   if (!pt || !in->vid) return T74_OK;
   for (int k = 0; k < nv; k++) {
     struct gpoint p = pt[k], q = pt[k + 1 < nv ? k + 1 : 0];
-    if (p.x > GRID_LIMIT || p.x < -GRID_LIMIT || p.y > GRID_LIMIT || p.y < -GRID_LIMIT ||
-        (p.x == q.x && p.y == q.y))
-      return T74_OK;
+    if (off_grid(p) || (p.x == q.x && p.y == q.y)) return T74_OK;
   }
   struct gline ln[SEG_CONVEX_MAX];      /* side k: from vertex k to k + 1 */
   for (int k = 0; k < nv; k++) ln[k] = geom_line(pt[k], pt[k + 1 < nv ? k + 1 : 0]);
