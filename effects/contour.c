@@ -268,9 +268,8 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
   /* each side's count of sides ending where it begins (in its object) and the last of
      them, and of sides beginning there: the sides sorted by (object, a), those beginning
      at a vertex lie together, found by halving */
-  int *nin = malloc(((size_t)nc + 1) * sizeof *nin), *inc = malloc(((size_t)nc + 1) * sizeof *inc);
+  int *nin = calloc((size_t)nc + 1, sizeof *nin), *inc = malloc(((size_t)nc + 1) * sizeof *inc);
   if (rc == T74_OK && (!nin || !inc)) rc = t74_fail(err, T74_EIO, "out of host memory");
-  for (int k = 0; rc == T74_OK && k < nc; k++) nin[k] = 0;
   for (int q = 0; rc == T74_OK && q < nc; q++) {
     const struct cedge key = { ce[q].object, ce[q].b, INT_MIN, 0 };
     int lo = 0, hi = nc;                     /* the first side at or after key */
