@@ -885,30 +885,57 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 ** inner triangle's border (none in practice), and those outside it. test_smooth (test_inner_filter_is_exact) holds it to the chain on a grid in
 ** and around every triangle of the globe under several insets, and on points bisected
 ** onto the inner triangle's border, where it must decline. */
-static inline __attribute__((always_inline))
-void inner_scan(int n, const double (*ar)[3], const double tc[3], double lo, double hi,
-                double st, bool *inner)
+/* The filter at one point from its areas ar (bary_areas): true when it proves the point
+   inner. st: tot's sign. */
+static inline bool inner_one(const double ar[3], const double tc[3], double lo, double hi,
+                             double st)
 {
-  for (int p = 0; p < n; p++) {
-    const double w0 = st * ar[p][0], w1 = st * ar[p][1], w2 = st * ar[p][2];
-    const double S = w0 + w1 + w2;
-    inner[p] = S >= lo && S <= hi && w0 >= tc[0] * S && w1 >= tc[1] * S && w2 >= tc[2] * S;
-  }
+  const double w0 = st * ar[0], w1 = st * ar[1], w2 = st * ar[2];
+  const double S = w0 + w1 + w2;
+  return S >= lo && S <= hi && w0 >= tc[0] * S && w1 >= tc[1] * S && w2 >= tc[2] * S;
 }
 
-/* bary_areas at points X[p], p < n, into ar[p], and the filter's answer for each into
-   inner[p]: two points an instruction where the processor has SSE2 (the same correctly
-   rounded operations on the same values, and the same tests), the rest one by one. */
-static inline void inner_filter(const struct smooth_model *m, const struct smooth_tri *tr,
-                                int n, const double (*X)[3], double (*ar)[3], bool *inner)
+/* The partial smoothing's points in a run, split by the inner triangle's filter: what the
+   partial smoothing's first step needs, without arrays in between. */
+struct split {
+  int nl;                   /* points left to the chain: */
+  int at[SMOOTH_RUN];       /*   their indices in the run */
+  double la[3][SMOOTH_RUN]; /*   their areas (bary_areas), a component an array (bary_pairs) */
+  int ni;                   /* points the filter proved inner whose grey is lit (not the
+                               flat picture's): */
+  int lit_in[SMOOTH_RUN];   /*   their indices */
+};
+
+/* Point p of the run proved inner (region 0, the face's normal): given the flat picture's
+   grey fg where that is exactly its grey (reflectance 1, no light blocked), else put aside
+   to be lit with the face's normal. */
+static inline void inner_point(struct split *sp, int p, bool flat, const unsigned *blocked,
+                               int fg, int *grey, int *region)
+{
+  region[p] = 0;
+  if (flat && !blocked[p]) grey[p] = fg;
+  else sp->lit_in[sp->ni++] = p;
+}
+
+/* bary_areas at points X[p], p < n, and the filter's answer for each: a point it proves
+   inner handled at once (inner_point), the others' areas and indices into sp for the
+   chain. Two points an instruction where the processor has SSE2 (the same correctly
+   rounded operations on the same values, and the same tests), the rest one by one.
+   flat: reflectance 1 (refl == 1). */
+static inline void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
+                               int n, const double (*X)[3], bool flat, const unsigned *blocked,
+                               int fg, int *grey, int *region, struct split *sp)
 {
   const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at, c = 1 + 0x1p-40;
   const bool usable = !m->inner_exact && at >= 0x1p-100 && at <= 0x1p100;
+  const double st = tot > 0 ? 1 : -1;
   double tc[3];
   for (int k = 0; k < 3; k++) {
     const double v = tr->t[k] * c;
     tc[k] = v > 0x1p-898 ? v : 0x1p-898;
   }
+  long declines = 0;
+  sp->nl = sp->ni = 0;
   int p = 0;
 #ifdef __SSE2__
   if (usable) {
@@ -920,33 +947,50 @@ static inline void inner_filter(const struct smooth_model *m, const struct smoot
       d0[k] = _mm_set1_pd(d[0]); d1[k] = _mm_set1_pd(d[1]);
       tv[k] = _mm_set1_pd(tc[k]);
     }
-    const __m128d sv = _mm_set1_pd(tot > 0 ? 1 : -1), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
+    const __m128d sv = _mm_set1_pd(st), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
-      __m128d w[3];
+      __m128d v[3], w[3];
       for (int k = 0; k < 3; k++) {
-        const __m128d v = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
-                                     _mm_mul_pd(_mm_sub_pd(x, a0[k]), d1[k]));
-        _mm_storel_pd(&ar[p][k], v);
-        _mm_storeh_pd(&ar[p + 1][k], v);
-        w[k] = _mm_mul_pd(sv, v);
+        v[k] = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
+                          _mm_mul_pd(_mm_sub_pd(x, a0[k]), d1[k]));
+        w[k] = _mm_mul_pd(sv, v[k]);
       }
       const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
       __m128d ok = _mm_and_pd(_mm_cmpge_pd(S, lov), _mm_cmple_pd(S, hiv));
       for (int k = 0; k < 3; k++) ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(tv[k], S)));
       const int bits = _mm_movemask_pd(ok);
-      inner[p] = bits & 1;
-      inner[p + 1] = bits >> 1 & 1;
+      if (bits == 3 && flat && !(blocked[p] | blocked[p + 1])) {   /* the common case */
+        region[p] = region[p + 1] = 0;
+        grey[p] = grey[p + 1] = fg;
+        continue;
+      }
+      for (int h = 0; h < 2; h++) {
+        if (bits >> h & 1) {
+          inner_point(sp, p + h, flat, blocked, fg, grey, region);
+          continue;
+        }
+        declines++;
+        for (int k = 0; k < 3; k++)
+          if (h) _mm_storeh_pd(&sp->la[k][sp->nl], v[k]);
+          else _mm_storel_pd(&sp->la[k][sp->nl], v[k]);
+        sp->at[sp->nl++] = p + h;
+      }
     }
   }
 #endif
-  const int p0 = p;
-  for (; p < n; p++) bary_areas(tr, X[p], ar[p]);
-  if (!usable) for (p = p0; p < n; p++) inner[p] = false;
-  else if (tot > 0) inner_scan(n - p0, ar + p0, tc, lo, hi, 1, inner + p0);   /* w_k: ar_k, */
-  else inner_scan(n - p0, ar + p0, tc, lo, hi, -1, inner + p0);              /* or -ar_k */
-  if (m->inner_declines && usable)
-    for (p = 0; p < n; p++) *m->inner_declines += !inner[p];
+  for (; p < n; p++) {
+    double ar[3];
+    bary_areas(tr, X[p], ar);
+    if (usable && inner_one(ar, tc, lo, hi, st)) {
+      inner_point(sp, p, flat, blocked, fg, grey, region);
+      continue;
+    }
+    declines += usable;
+    for (int k = 0; k < 3; k++) sp->la[k][sp->nl] = ar[k];
+    sp->at[sp->nl++] = p;
+  }
+  if (m->inner_declines) *m->inner_declines += declines;
 }
 
 /* The Phong grey at points p < n <= SMOOTH_RUN from their areas: the filter, and the
@@ -1171,7 +1215,6 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
 {
   const struct smooth_tri *tr = &m->tri[t];
   double ar[SMOOTH_RUN][3];
-  bool inner[SMOOTH_RUN];
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
     const int p0 = phong_pairs(m, tr, n, X, refl, blocked, lights, grey);
     if (p0 < n) {                            /* (phong_pairs did them all, or none) */
@@ -1182,14 +1225,10 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
     for (int p = 0; p < n; p++) region[p] = 1;
     return;
   }
-  if (e->smooth == EFFECTS_SMOOTH_GOURAUD)
-    for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
-  else inner_filter(m, tr, n, X, (double (*)[3])ar, inner);   /* the partial smoothing's */
-  /* each point's steps, one step for all the points at a time (a point's grey is the
-     one it has alone) */
   double l[SMOOTH_RUN][3];
   const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
   if (e->smooth == EFFECTS_SMOOTH_GOURAUD) {
+    for (int p = 0; p < n; p++) bary_areas(tr, X[p], ar[p]);
     bary_of_areas(tr, n, (const double (*)[3])ar, l);
     for (int p = 0; p < n; p++) {
       double gi = 0;
@@ -1207,22 +1246,16 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   }
   /* the partial smoothing: the inner triangle's points the filter proves are in it
      (region 0, the face's normal) without the coordinates, each given the flat picture's
-     grey here when it is exactly that (reflectance 1, no light blocked); the others by the
-     chain */
+     grey at once when it is exactly that (reflectance 1, no light blocked); the others by
+     the chain (each point's steps, one step for all the points at a time: a point's grey
+     is the one it has alone) */
   const int fg = map->f[tr->mface].grey;
-  double la[3][SMOOTH_RUN], lv[3][SMOOTH_RUN];   /* a component an array (bary_pairs) */
-  int at[SMOOTH_RUN], nl = 0, lit_in[SMOOTH_RUN], ni = 0;
-  for (int p = 0; p < n; p++) {
-    if (!inner[p]) {
-      for (int k = 0; k < 3; k++) la[k][nl] = ar[p][k];
-      at[nl++] = p;
-      continue;
-    }
-    region[p] = 0;
-    if (refl == 1 && !blocked[p]) grey[p] = fg;   /* exactly the flat picture */
-    else lit_in[ni++] = p;
-  }
-  bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])la, lv);
+  const bool flat = refl == 1;
+  struct split sp;
+  inner_split(m, tr, n, X, flat, blocked, fg, grey, region, &sp);
+  const int nl = sp.nl;
+  double lv[3][SMOOTH_RUN];
+  bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])sp.la, lv);
   /* the lit points' normals in slots, a component an array (lit_slots): the band
      points' in their order (the chain's region 0 among them given the flat picture's
      grey as the inner triangle's are), then the inner triangle's that are lit */
@@ -1232,20 +1265,21 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   for (int q = 0; q < nl; q++) {
     const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
     double out[3];
-    const int r = partial_normal(tr, lq, out);
-    region[at[q]] = r;
+    const int r = partial_normal(tr, lq, out), p = sp.at[q];
+    region[p] = r;
     for (int c = 0; c < 3; c++) nv[c][q] = out[c];
-    slot_p[q] = at[q];
-    used[q] = !(r == 0 && refl == 1 && !blocked[at[q]]);
-    if (!used[q]) grey[at[q]] = fg;
+    slot_p[q] = p;
+    used[q] = !(r == 0 && flat && !blocked[p]);
+    if (!used[q]) grey[p] = fg;
   }
   int ns = nl;
-  for (int k = 0; k < ni; k++, ns++) {      /* the face's normal */
+  for (int k = 0; k < sp.ni; k++, ns++) {   /* the face's normal */
     for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
-    slot_p[ns] = lit_in[k];
+    slot_p[ns] = sp.lit_in[k];
     used[ns] = true;
   }
-  lit_slots(tr->front ? 1 : -1, ns, nv, slot_p, X, refl, blocked, lights, g);
+  if (!ns) return;
+  lit_slots(sgn, ns, nv, slot_p, X, refl, blocked, lights, g);
   for (int q = 0; q < ns; q++)
     if (used[q]) grey[slot_p[q]] = g[q] < 0 ? 0 : g[q] > 255 ? 255 : g[q];
 }
