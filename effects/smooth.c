@@ -92,6 +92,33 @@ void smooth_insets(enum effects_smooth kind, double c, double w, const double le
 
 static const int next3[3] = { 1, 2, 0 }, prev3[3] = { 2, 0, 1 };
 
+/* The inner triangle's filter's scaled inset of t_k (smooth.c, "The inner triangle's
+   filter"): max(fl(t_k (1 + 2^-40)), 2^-898). */
+static double inner_tc(double tk)
+{
+  const double v = tk * (1 + 0x1p-40);
+  return v > 0x1p-898 ? v : 0x1p-898;
+}
+
+/* The shading pass's constants of a triangle (smooth_tri.xa ...), from its own fields:
+   copies, and inner_tc's values. */
+static void tri_lanes(struct smooth_tri *tr)
+{
+  for (int k = 0; k < 3; k++) {
+    const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
+    const double tc = inner_tc(tr->t[k]);
+    for (int h = 0; h < 2; h++) {
+      for (int c = 0; c < 2; c++) {
+        tr->xa[k][c][h] = a[c];
+        tr->xd[k][c][h] = d[c];
+      }
+      for (int c = 0; c < 3; c++) tr->xcn[k][c][h] = tr->cn[k][c];
+      tr->xtc[k][h] = tc;
+    }
+  }
+  tr->xst[0] = tr->xst[1] = tr->btot > 0 ? 1 : -1;
+}
+
 /* The triangle's band ends (smooth_tri.ends) for its insets and vertex normals: the
    products smooth_partial_normal takes for every point, made once. */
 static void band_ends(struct smooth_tri *tr)
@@ -106,6 +133,7 @@ static void band_ends(struct smooth_tri *tr)
       tr->ends[3 + k][1][c] = (1 - t[b]) * tr->cn[k][c] + t[b] * tr->cn[b][c];
     }
   }
+  tri_lanes(tr);
 }
 
 /* smooth_partial_normal's body, inline for the shading pass's run of band points */
@@ -926,39 +954,31 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
                                int n, const double (*X)[3], bool flat, const unsigned *blocked,
                                int fg, int *grey, int *region, struct split *sp)
 {
-  const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at, c = 1 + 0x1p-40;
+  const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at;
   const bool usable = !m->inner_exact && at >= 0x1p-100 && at <= 0x1p100;
-  const double st = tot > 0 ? 1 : -1;
-  double tc[3];
-  for (int k = 0; k < 3; k++) {
-    const double v = tr->t[k] * c;
-    tc[k] = v > 0x1p-898 ? v : 0x1p-898;
-  }
+  const double st = tr->xst[0];             /* tot's sign */
+  const double tc[3] = { tr->xtc[0][0], tr->xtc[1][0], tr->xtc[2][0] };   /* inner_tc's */
   long declines = 0;
   sp->nl = sp->ni = 0;
   int p = 0;
 #ifdef __SSE2__
   if (usable) {
     const int bu = tr->bu, bw = tr->bw;
-    __m128d a0[3], a1[3], d0[3], d1[3], tv[3];
-    for (int k = 0; k < 3; k++) {
-      const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
-      a0[k] = _mm_set1_pd(a[0]); a1[k] = _mm_set1_pd(a[1]);
-      d0[k] = _mm_set1_pd(d[0]); d1[k] = _mm_set1_pd(d[1]);
-      tv[k] = _mm_set1_pd(tc[k]);
-    }
-    const __m128d sv = _mm_set1_pd(st), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
+    const __m128d sv = _mm_load_pd(tr->xst), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
       __m128d v[3], w[3];
-      for (int k = 0; k < 3; k++) {
-        v[k] = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
-                          _mm_mul_pd(_mm_sub_pd(x, a0[k]), d1[k]));
+      for (int k = 0; k < 3; k++) {             /* bary_areas' */
+        v[k] = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xd[k][0]),
+                                     _mm_sub_pd(y, _mm_load_pd(tr->xa[k][1]))),
+                          _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(tr->xa[k][0])),
+                                     _mm_load_pd(tr->xd[k][1])));
         w[k] = _mm_mul_pd(sv, v[k]);
       }
       const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
       __m128d ok = _mm_and_pd(_mm_cmpge_pd(S, lov), _mm_cmple_pd(S, hiv));
-      for (int k = 0; k < 3; k++) ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(tv[k], S)));
+      for (int k = 0; k < 3; k++)
+        ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(_mm_load_pd(tr->xtc[k]), S)));
       const int bits = _mm_movemask_pd(ok);
       if (bits == 3 && flat && !(blocked[p] | blocked[p + 1])) {   /* the common case */
         region[p] = region[p + 1] = 0;
@@ -1101,26 +1121,21 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     if (L->point[k]) return 0;
   const double at = fabs(tot);
   const __m128d lo = _mm_set1_pd(at * 0x1p-1000), hi = _mm_set1_pd(at * 0x1p1000);
-  const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1), st = _mm_set1_pd(tot > 0 ? 1 : -1);
+  const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1), st = _mm_load_pd(tr->xst);
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
   const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
   const __m128d eps = _mm_set1_pd(0x1p-24), two = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
   const __m128d two30 = _mm_set1_pd(0x1p30);
   const int bu = tr->bu, bw = tr->bw;
-  __m128d a0[3], a1[3], d0[3], d1[3], cn[3][3];
-  for (int k = 0; k < 3; k++) {
-    const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
-    a0[k] = _mm_set1_pd(a[0]); a1[k] = _mm_set1_pd(a[1]);
-    d0[k] = _mm_set1_pd(d[0]); d1[k] = _mm_set1_pd(d[1]);
-    for (int c = 0; c < 3; c++) cn[k][c] = _mm_set1_pd(tr->cn[k][c]);
-  }
   for (int p = 0; p < n; p += 2) {
     const int p1 = p + 1 < n ? p + 1 : p;   /* the last of an odd run: itself in both lanes */
     const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
     __m128d w[3], good = _mm_cmpeq_pd(zero, zero), s = zero;
     for (int k = 0; k < 3; k++) {
-      const __m128d ar = _mm_sub_pd(_mm_mul_pd(d0[k], _mm_sub_pd(y, a1[k])),
-                                    _mm_mul_pd(_mm_sub_pd(x, a0[k]), d1[k]));
+      const __m128d ar = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xd[k][0]),
+                                               _mm_sub_pd(y, _mm_load_pd(tr->xa[k][1]))),
+                                    _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(tr->xa[k][0])),
+                                               _mm_load_pd(tr->xd[k][1])));   /* bary_areas' */
       w[k] = _mm_max_pd(_mm_mul_pd(st, ar), zero);
       good = _mm_and_pd(good, _mm_or_pd(_mm_cmpeq_pd(w[k], zero),
                                         _mm_and_pd(_mm_cmpge_pd(w[k], lo),
@@ -1129,8 +1144,9 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     }
     __m128d N[3];
     for (int c = 0; c < 3; c++)
-      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], cn[0][c]), _mm_mul_pd(w[1], cn[1][c])),
-                        _mm_mul_pd(w[2], cn[2][c]));
+      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], _mm_load_pd(tr->xcn[0][c])),
+                                   _mm_mul_pd(w[1], _mm_load_pd(tr->xcn[1][c]))),
+                        _mm_mul_pd(w[2], _mm_load_pd(tr->xcn[2][c])));
     const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
                                   _mm_mul_pd(N[2], N[2]));
     const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),

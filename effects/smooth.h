@@ -61,6 +61,16 @@ struct smooth_tri {
                               (3)), made with the insets: side k's band at l_a = t_a and
                               at l_b = t_b (a, b the corners after k) in ends[k], corner
                               k's quadrilateral on its sides towards a and b in ends[3 + k] */
+  /* The shading pass's constants, each the same double twice (two points an SSE2
+     instruction), made with the insets (smooth.c, tri_lanes): for side k, the corner its
+     barycentric area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] in xd[k] (u then w
+     axis), the vertex normals in xcn[k][c], the inner triangle's filter's scaled insets
+     in xtc[k]; tot's sign, the eye's side (front: 1, else -1). */
+  _Alignas(16) double xa[3][2][2];
+  _Alignas(16) double xd[3][2][2];
+  _Alignas(16) double xcn[3][3][2];
+  _Alignas(16) double xtc[3][2];
+  _Alignas(16) double xst[2];
 };
 
 struct smooth_model {
