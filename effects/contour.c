@@ -52,11 +52,17 @@ void contour_bezier(const double q[5][2], double t, double out[2])
 
 /* The weights at the curve polygon's points t = m / CONTOUR_STEPS, made once for a frame's
    corners (the same doubles contour_bezier makes at each). */
-struct curve_weights { double b[CONTOUR_STEPS + 1][5]; };
+struct curve_weights {
+  double b[CONTOUR_STEPS + 1][5];
+  _Alignas(16) double b2[CONTOUR_STEPS + 1][5][2];   /* each b twice: a lane for x, one for y */
+};
 
 static void curve_weights(struct curve_weights *w)
 {
-  for (int m = 0; m <= CONTOUR_STEPS; m++) bernstein((double)m / CONTOUR_STEPS, w->b[m]);
+  for (int m = 0; m <= CONTOUR_STEPS; m++) {
+    bernstein((double)m / CONTOUR_STEPS, w->b[m]);
+    for (int k = 0; k < 5; k++) w->b2[m][k][0] = w->b2[m][k][1] = w->b[m][k];
+  }
 }
 
 void contour_bezier_d(const double q[5][2], double t, double out[2])
@@ -127,9 +133,9 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
   for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
     double o[2];
 #ifdef __SSE2__
-    const double *b = w->b[m];
-    __m128d v = _mm_mul_pd(_mm_set1_pd(b[0]), dv[0]);
-    for (int k = 1; k < 5; k++) v = _mm_add_pd(v, _mm_mul_pd(_mm_set1_pd(b[k]), dv[k]));
+    const double (*b)[2] = w->b2[m];
+    __m128d v = _mm_mul_pd(_mm_load_pd(b[0]), dv[0]);
+    for (int k = 1; k < 5; k++) v = _mm_add_pd(v, _mm_mul_pd(_mm_load_pd(b[k]), dv[k]));
     _mm_storeu_pd(o, v);
 #else
     bezier_with(d, w->b[m], o);

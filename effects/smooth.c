@@ -1116,7 +1116,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
 {
 #ifdef __SSE2__
   const double tot = tr->btot;
-  if (m->phong_exact || n < 2 || !(tot != 0 && refl >= 0 && refl <= 1)) return 0;
+  if (m->phong_exact || !(tot != 0 && refl >= 0 && refl <= 1)) return 0;
   for (int k = 0; k < L->n; k++)
     if (L->point[k]) return 0;
   const double at = fabs(tot);
