@@ -1031,9 +1031,11 @@ static inline void phong_lanes(const struct smooth_model *m, const struct smooth
   }
 }
 
+static inline int clamp_grey(int g) { return g < 0 ? 0 : g > 255 ? 255 : g; }
+
 /* The greys of slots q < ns: the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
    (unit()'s steps), turned to the eye's side (times sgn) and lit (shade_grey_lit) at point
-   slot_p[q] (X, blocked); g[q] unclamped. Under parallel lights two slots an instruction
+   slot_p[q] (X, blocked), into grey[slot_p[q]] clamped to 0..255. Under parallel lights two slots an instruction
    where the processor has SSE2: each lane's operations are the scalar ones on its values
    in their order (correctly rounded, as the scalar ones are; a lane's divides kept only
    where its length is > 0, as unit() divides; a light blocked or a dot not > 0 adds +0,
@@ -1041,7 +1043,7 @@ static inline void phong_lanes(const struct smooth_model *m, const struct smooth
    shade_grey_of_sum's. */
 static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const int *slot_p,
                              const double (*X)[3], double refl, const unsigned *blocked,
-                             const struct shade_lights *L, int *g)
+                             const struct shade_lights *L, int *grey)
 {
   int q = 0;
 #ifdef __SSE2__
@@ -1081,14 +1083,14 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
         const __m128i t = _mm_cvttpd_epi32(f);
         const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t);
         const int g1 = SHADE_AMBIENT + _mm_cvtsi128_si32(_mm_srli_si128(t, 4));
-        g[q] = g0 > 255 ? 255 : g0;
-        g[q + 1] = g1 > 255 ? 255 : g1;
+        grey[slot_p[q]] = g0 > 255 ? 255 : g0;      /* (A + t >= A > 0) */
+        grey[slot_p[q + 1]] = g1 > 255 ? 255 : g1;
         continue;
       }
       double sm[2];
       _mm_storeu_pd(sm, sum);
-      g[q] = shade_grey_of_sum(refl, sm[0]);
-      g[q + 1] = shade_grey_of_sum(refl, sm[1]);
+      grey[slot_p[q]] = clamp_grey(shade_grey_of_sum(refl, sm[0]));
+      grey[slot_p[q + 1]] = clamp_grey(shade_grey_of_sum(refl, sm[1]));
     }
   }
 #endif
@@ -1096,7 +1098,7 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
     double v[3] = { nv[0][q], nv[1][q], nv[2][q] };
     unit(v);
     for (int c = 0; c < 3; c++) v[c] *= sgn;
-    g[q] = shade_grey_lit(L, v, X[slot_p[q]], refl, blocked[slot_p[q]]);
+    grey[slot_p[q]] = clamp_grey(shade_grey_lit(L, v, X[slot_p[q]], refl, blocked[slot_p[q]]));
   }
 }
 
@@ -1273,31 +1275,27 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   double lv[3][SMOOTH_RUN];
   bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])sp.la, lv);
   /* the lit points' normals in slots, a component an array (lit_slots): the band
-     points' in their order (the chain's region 0 among them given the flat picture's
-     grey as the inner triangle's are), then the inner triangle's that are lit */
+     points' in their order but for the chain's region 0 among them (given the flat
+     picture's grey where the inner triangle's are), then the inner triangle's that are lit */
   double nv[3][SMOOTH_RUN];
-  int slot_p[SMOOTH_RUN], g[SMOOTH_RUN];
-  bool used[SMOOTH_RUN];
+  int slot_p[SMOOTH_RUN], ns = 0;
   for (int q = 0; q < nl; q++) {
     const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
     double out[3];
     const int r = partial_normal(tr, lq, out), p = sp.at[q];
     region[p] = r;
-    for (int c = 0; c < 3; c++) nv[c][q] = out[c];
-    slot_p[q] = p;
-    used[q] = !(r == 0 && flat && !blocked[p]);
-    if (!used[q]) grey[p] = fg;
+    if (r == 0 && flat && !blocked[p]) {
+      grey[p] = fg;
+      continue;
+    }
+    for (int c = 0; c < 3; c++) nv[c][ns] = out[c];
+    slot_p[ns++] = p;
   }
-  int ns = nl;
   for (int k = 0; k < sp.ni; k++, ns++) {   /* the face's normal */
     for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
     slot_p[ns] = sp.lit_in[k];
-    used[ns] = true;
   }
-  if (!ns) return;
-  lit_slots(sgn, ns, nv, slot_p, X, refl, blocked, lights, g);
-  for (int q = 0; q < ns; q++)
-    if (used[q]) grey[slot_p[q]] = g[q] < 0 ? 0 : g[q] > 255 ? 255 : g[q];
+  if (ns) lit_slots(sgn, ns, nv, slot_p, X, refl, blocked, lights, grey);
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,
