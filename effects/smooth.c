@@ -114,6 +114,10 @@ static void tri_lanes(struct smooth_tri *tr)
       }
       for (int c = 0; c < 3; c++) tr->xcn[k][c][h] = tr->cn[k][c];
       tr->xtc[k][h] = tc;
+      tr->xt[k][h] = tr->t[k];
+      tr->xn[k][h] = tr->n[k];
+      for (int j = 0; j < 2; j++)
+        for (int c = 0; c < 3; c++) tr->xends[k][j][c][h] = tr->ends[k][j][c];
     }
   }
   tr->xst[0] = tr->xst[1] = tr->btot > 0 ? 1 : -1;
@@ -172,6 +176,49 @@ int partial_normal(const struct smooth_tri *tr, const double l[3], double out[3]
     out[c] = l[0] * tr->cn[0][c] + l[1] * tr->cn[1][c] + l[2] * tr->cn[2][c];
   return 1;
 }
+
+#ifdef __SSE2__
+/* partial_normal at band points q and q + 1 (coordinates lv[k][q]: bary_pairs') when both
+   are in the same edge band (one coordinate, the same one, below its inset: partial_normal's
+   nb == 1 with the same k), their normals into nv[c][ns] and nv[c][ns + 1]; false (nothing
+   written) when they are not. Two points an instruction: each lane partial_normal's
+   operations on its values in their order (correctly rounded, as the scalar ones are; the
+   compares the scalar ones; the divide by den made in both lanes and kept only where
+   den > 1e-12, else 0.5; the clamps of s as selections where s < 0 and where s > 1, as the
+   scalar ifs: -0 and a NaN stay as they are). */
+static inline bool edge_pair(const struct smooth_tri *tr, double (*lv)[SMOOTH_RUN], int q,
+                             double (*nv)[SMOOTH_RUN], int ns)
+{
+  __m128d l[3];
+  int in[3];
+  for (int k = 0; k < 3; k++) {
+    l[k] = _mm_loadu_pd(&lv[k][q]);
+    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(tr->xt[k])));
+  }
+  const int k = in[0] == 3 && !(in[1] | in[2]) ? 0 : in[1] == 3 && !(in[0] | in[2]) ? 1 :
+                in[2] == 3 && !(in[0] | in[1]) ? 2 : -1;
+  if (k < 0) return false;
+  const int a = next3[k], b = prev3[k];
+  const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
+  const __m128d tk = _mm_load_pd(tr->xt[k]), ta = _mm_load_pd(tr->xt[a]);
+  const __m128d v = _mm_div_pd(l[k], tk);
+  const __m128d den = _mm_sub_pd(_mm_sub_pd(_mm_sub_pd(one, l[k]), ta), _mm_load_pd(tr->xt[b]));
+  const __m128d big = _mm_cmpgt_pd(den, _mm_set1_pd(1e-12));
+  __m128d s = _mm_or_pd(_mm_and_pd(big, _mm_div_pd(_mm_sub_pd(l[a], ta), den)),
+                        _mm_andnot_pd(big, _mm_set1_pd(0.5)));
+  s = _mm_andnot_pd(_mm_cmplt_pd(s, zero), s);                 /* s < 0: +0 */
+  const __m128d over = _mm_cmpgt_pd(s, one);                    /* s > 1: 1 */
+  s = _mm_or_pd(_mm_and_pd(over, one), _mm_andnot_pd(over, s));
+  const __m128d omv = _mm_sub_pd(one, v), oms = _mm_sub_pd(one, s);
+  const double (*e)[3][2] = tr->xends[k];   /* at l_a = t_a and l_b = t_b on side k */
+  for (int c = 0; c < 3; c++)
+    _mm_storeu_pd(&nv[c][ns],
+                  _mm_add_pd(_mm_mul_pd(omv, _mm_add_pd(_mm_mul_pd(oms, _mm_load_pd(e[0][c])),
+                                                        _mm_mul_pd(s, _mm_load_pd(e[1][c])))),
+                             _mm_mul_pd(v, _mm_load_pd(tr->xn[c]))));
+  return true;
+}
+#endif
 
 int smooth_partial_normal(const struct smooth_tri *tr, const double l[3], double out[3])
 {
@@ -1280,6 +1327,16 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   double nv[3][SMOOTH_RUN];
   int slot_p[SMOOTH_RUN], ns = 0;
   for (int q = 0; q < nl; q++) {
+#ifdef __SSE2__
+    if (q + 1 < nl && edge_pair(tr, lv, q, nv, ns)) {   /* two points of one edge band */
+      for (int h = 0; h < 2; h++) {
+        region[sp.at[q + h]] = 1;
+        slot_p[ns++] = sp.at[q + h];
+      }
+      q++;
+      continue;
+    }
+#endif
     const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
     double out[3];
     const int r = partial_normal(tr, lq, out), p = sp.at[q];

@@ -65,12 +65,16 @@ struct smooth_tri {
      instruction), made with the insets (smooth.c, tri_lanes): for side k, the corner its
      barycentric area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] in xd[k] (u then w
      axis), the vertex normals in xcn[k][c], the inner triangle's filter's scaled insets
-     in xtc[k]; tot's sign, the eye's side (front: 1, else -1). */
+     in xtc[k]; tot's sign in xst; the insets t[k] in xt[k], the face normal's components
+     in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]. */
   _Alignas(16) double xa[3][2][2];
   _Alignas(16) double xd[3][2][2];
   _Alignas(16) double xcn[3][3][2];
   _Alignas(16) double xtc[3][2];
   _Alignas(16) double xst[2];
+  _Alignas(16) double xt[3][2];
+  _Alignas(16) double xn[3][2];
+  _Alignas(16) double xends[3][2][3][2];
 };
 
 struct smooth_model {

@@ -628,6 +628,114 @@ static void test_run_is_single(void **state)
   }
 }
 
+/* Runs of points along each side's band of each triangle of the globe (most of them two
+   by two in one edge band, which smooth_grey_run shades two points an instruction; the ends
+   of a run in the corner bands) give the greys and regions each gives alone
+   (smooth_grey_at), bit for bit: under partial smoothings of several insets (prop:0.4: the
+   insets scaled to sum 1), at several depths into the band, with reflectances 1 and 0.6,
+   under the scene's light and with a second one, blocked at some points. */
+static void test_edge_pairs_are_single(void **state)
+{
+  (void)state;
+  static const char *const kinds[] = { "smooth=fixed:0.05", "smooth=fixed:0.15",
+                                       "smooth=prop:0.15", "smooth=prop:0.4" };
+  const double depth[] = { 0.01, 0.3, 0.5, 0.77, 0.999 };
+  long band = 0, points = 0, borders = 0;
+  int differ = 0, greys[256] = { 0 };
+  for (size_t kind = 0; kind < sizeof kinds / sizeof *kinds; kind++) {
+    struct lib L;
+    lib_open(&L, "scenes/sphere.s74", kinds[kind]);
+    struct shade_lights lights;
+    shade_lights_init(&lights, L.s);
+    for (int two = 0; two < 2; two++) {
+      if (two && lights.n == 1) {             /* a second light, from below on the left */
+        const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
+        memcpy(lights.v[1], v, sizeof v);
+        lights.point[1] = false;
+        lights.n = 2;
+      }
+      for (int t = 0; t < L.m.ntri; t++)
+        for (int k = 0; k < 3; k++)
+          for (size_t d = 0; d < sizeof depth / sizeof *depth; d++) {
+            const double *ti = L.m.tri[t].t;
+            const int a = (k + 1) % 3, b = (k + 2) % 3;
+            const double lk = depth[d] * ti[k], rest = 1 - lk - ti[a] - ti[b];
+            double X[SMOOTH_RUN][3];
+            unsigned blocked[SMOOTH_RUN];
+            for (int p = 0; p < SMOOTH_RUN; p++) {
+              const double sp = -0.1 + 1.2 * p / (SMOOTH_RUN - 1);
+              double w[3];
+              w[k] = lk;
+              w[a] = ti[a] + sp * rest;
+              w[b] = 1 - lk - w[a];
+              tri_point(&L, t, w, X[p]);
+              blocked[p] = two && (t + p) % 7 == 0 ? 2u : 0u;
+            }
+            const double refl = (t + k) % 2 ? 1.0 : 0.6;
+            int run[SMOOTH_RUN], rrun[SMOOTH_RUN];
+            smooth_grey_run(&L.m, &L.r.map, L.s, &L.e, t, SMOOTH_RUN, (const double (*)[3])X,
+                            refl, blocked, &lights, run, rrun);
+            int single[SMOOTH_RUN], sregion[SMOOTH_RUN];
+            for (int p = 0; p < SMOOTH_RUN; p++) {
+              single[p] = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[p], refl, blocked[p],
+                                         &lights, NULL, &sregion[p]);
+              differ += run[p] != single[p] || rrun[p] != sregion[p];
+              greys[single[p] & 255] = 1;
+              band += sregion[p] == 1;
+              points++;
+            }
+            /* where two neighbours in the band differ in grey, the border between them
+               bisected to neighbouring parameters, and the two points shaded as a pair: a
+               normal one unit in the last place off would show as the other grey */
+            for (int p = 0; p + 1 < SMOOTH_RUN && d == 2 && !two; p++) {
+              if (single[p] == single[p + 1] || sregion[p] != 1 || sregion[p + 1] != 1 ||
+                  blocked[p] || blocked[p + 1])
+                continue;
+              double s0 = -0.1 + 1.2 * p / (SMOOTH_RUN - 1), s1 = -0.1 + 1.2 * (p + 1) / (SMOOTH_RUN - 1);
+              double B[2][3];
+              int gb[2], rb[2];
+              const unsigned none[2] = { 0, 0 };
+              for (int it = 0; it < 200; it++) {
+                const double sm = 0.5 * (s0 + s1);
+                if (!(sm > s0 && sm < s1)) break;
+                double w[3];
+                w[k] = lk;
+                w[a] = ti[a] + sm * rest;
+                w[b] = 1 - lk - w[a];
+                tri_point(&L, t, w, B[0]);
+                const int g = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, B[0], refl, 0,
+                                             &lights, NULL, NULL);
+                if (g == single[p]) s0 = sm; else s1 = sm;
+              }
+              for (int h = 0; h < 2; h++) {
+                double w[3];
+                w[k] = lk;
+                w[a] = ti[a] + (h ? s1 : s0) * rest;
+                w[b] = 1 - lk - w[a];
+                tri_point(&L, t, w, B[h]);
+              }
+              smooth_grey_run(&L.m, &L.r.map, L.s, &L.e, t, 2, (const double (*)[3])B, refl,
+                              none, &lights, gb, rb);
+              for (int h = 0; h < 2; h++) {
+                int region;
+                const int one = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, B[h], refl, 0,
+                                               &lights, NULL, &region);
+                differ += gb[h] != one || rb[h] != region;
+              }
+              borders += gb[0] != gb[1];
+            }
+          }
+    }
+    lib_close(&L);
+  }
+  print_message("%ld points, %ld in edge bands, %ld borders\n", points, band, borders);
+  assert_int_equal(differ, 0);
+  int distinct = 0;                       /* the greys vary: the test can tell points apart */
+  for (int g = 0; g < 256; g++) distinct += greys[g];
+  assert_true(distinct > 20);
+  assert_true(band > points / 2 && borders > 100);
+}
+
 /* A run of a flat face's points (shade_grey_lit_run: one normal, the point lights'
    directions two points an instruction) gives each point shade_grey_lit's grey: at
    points spread through space under parallel and point lights, with reflectances and
@@ -1417,6 +1525,7 @@ int main(void)
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
     cmocka_unit_test(test_run_is_single),
+    cmocka_unit_test(test_edge_pairs_are_single),
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
     cmocka_unit_test(test_inner_filter_is_exact),
