@@ -945,7 +945,7 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 **
 ** Let at = |tot| (tot = btot), w_k = +-ar_k (tot's sign: exact), W = w_0 + w_1 + w_2 in
 ** real numbers, u = 2^-53, c = 1 + 2^-40, tc_k = max(fl(t_k c), 2^-898) (a triangle's
-** three, made once for the run). The filter declines unless 2^-100 <= at <= 2^100, S =
+** three, made with its insets: inner_tc). The filter declines unless 2^-100 <= at <= 2^100, S =
 ** fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k = fl(tc_k S). Then
 ** tc_k S >= 2^-999 (so R_k is a normal number, rounded within a relative u) and every
 ** w_k >= R_k >= at 2^-900 > 0; W <= S / (1 - u)^2, so each a_k = ar_k / tot = w_k / at
