@@ -1150,15 +1150,19 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
 }
 
 /* phong_lanes at points p < n under parallel lights alone, two points an instruction
-   where the processor has SSE2, from their space points: bary_areas' areas (inner_filter's
+   where the processor has SSE2, from their space points: bary_areas' areas (inner_split's
    operations), then phong_filter's steps, each lane's the scalar ones on its values in
    their order (correctly rounded, as the scalar ones are; max(v, 0) is v when v > 0, else
    +0, phong_filter's clamp; 0 + w_0 is kept; a light blocked or a dot not > 0 adds +0,
    which leaves a sum never below +0 as it is; |inv| by clearing the sign bit); a lane's
    last test and its grey as phong_filter makes them, and the exact chain where it
-   declines (an odd run's last point in both lanes of its pair). The points done: all n,
-   or none when the filter is off or cannot be used for the triangle, or some light is a
-   point light (phong_lanes does them). */
+   declines (an odd run's last point in both lanes of its pair, a run of one point too).
+   Its range test on the w_k is narrower than phong_filter's: it passes only points that
+   phong_filter's passes (below), whose greys it then makes as phong_filter does; it
+   declines also a point on a side or outside (a w_k of 0), left to the exact chain like
+   every point declined. The points done: all n, or none when the filter is off or
+   cannot be used for the triangle, or some light is a point light (phong_lanes does
+   them). */
 static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr, int n,
                               const double (*X)[3], double refl, const unsigned *blocked,
                               const struct shade_lights *L, int *grey)
@@ -1179,18 +1183,20 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   for (int p = 0; p < n; p += 2) {
     const int p1 = p + 1 < n ? p + 1 : p;   /* the last of an odd run: itself in both lanes */
     const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
-    __m128d w[3], good = _mm_cmpeq_pd(zero, zero), s = zero;
+    __m128d w[3], s = zero;
     for (int k = 0; k < 3; k++) {
       const __m128d ar = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xd[k][0]),
                                                _mm_sub_pd(y, _mm_load_pd(tr->xa[k][1]))),
                                     _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(tr->xa[k][0])),
                                                _mm_load_pd(tr->xd[k][1])));   /* bary_areas' */
       w[k] = _mm_max_pd(_mm_mul_pd(st, ar), zero);
-      good = _mm_and_pd(good, _mm_or_pd(_mm_cmpeq_pd(w[k], zero),
-                                        _mm_and_pd(_mm_cmpge_pd(w[k], lo),
-                                                   _mm_cmple_pd(w[k], hi))));
       s = _mm_add_pd(s, w[k]);
     }
+    /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
+       and one whose sum is above hi), in four instructions: every w_k >= min >= lo, and
+       w_k <= s <= hi (s a sum of non-negative terms, each rounding monotone) */
+    const __m128d good = _mm_and_pd(_mm_cmpge_pd(_mm_min_pd(_mm_min_pd(w[0], w[1]), w[2]), lo),
+                                    _mm_cmple_pd(s, hi));
     __m128d N[3];
     for (int c = 0; c < 3; c++)
       N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], _mm_load_pd(tr->xcn[0][c])),
