@@ -121,6 +121,11 @@ static void tri_lanes(struct smooth_tri *tr)
     }
   }
   tr->xst[0] = tr->xst[1] = tr->btot > 0 ? 1 : -1;
+  for (int k = 0; k < 3; k++)
+    for (int c = 0; c < 2; c++)
+      for (int h = 0; h < 2; h++) tr->xsd[k][c][h] = tr->xst[h] * tr->xd[k][c][h];
+  tr->xlo[0] = tr->xlo[1] = fabs(tr->btot) * 0x1p-1000;
+  tr->xhi[0] = tr->xhi[1] = fabs(tr->btot) * 0x1p1000;
 }
 
 /* The triangle's band ends (smooth_tri.ends) for its insets and vertex normals: the
@@ -1172,9 +1177,8 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   if (m->phong_exact || !(tot != 0 && refl >= 0 && refl <= 1)) return 0;
   for (int k = 0; k < L->n; k++)
     if (L->point[k]) return 0;
-  const double at = fabs(tot);
-  const __m128d lo = _mm_set1_pd(at * 0x1p-1000), hi = _mm_set1_pd(at * 0x1p1000);
-  const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1), st = _mm_load_pd(tr->xst);
+  const __m128d lo = _mm_load_pd(tr->xlo), hi = _mm_load_pd(tr->xhi);
+  const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1);
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
   const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
   const __m128d eps = _mm_set1_pd(0x1p-24), two = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
@@ -1185,11 +1189,15 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
     __m128d w[3], s = zero;
     for (int k = 0; k < 3; k++) {
-      const __m128d ar = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xd[k][0]),
+      /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants: -(a - b) is
+         (-a) - (-b) and -(a b) is (-a) b, exactly, but for a 0 difference (+0 either way,
+         against -0), which the max with +0 makes +0 as it does -0 (MAXPD gives its second
+         operand when the two are equal) */
+      const __m128d ar = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xsd[k][0]),
                                                _mm_sub_pd(y, _mm_load_pd(tr->xa[k][1]))),
                                     _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(tr->xa[k][0])),
-                                               _mm_load_pd(tr->xd[k][1])));   /* bary_areas' */
-      w[k] = _mm_max_pd(_mm_mul_pd(st, ar), zero);
+                                               _mm_load_pd(tr->xsd[k][1])));
+      w[k] = _mm_max_pd(ar, zero);
       s = _mm_add_pd(s, w[k]);
     }
     /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,

@@ -66,7 +66,7 @@ struct smooth_tri {
      barycentric area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] in xd[k] (u then w
      axis), the vertex normals in xcn[k][c], the inner triangle's filter's scaled insets
      in xtc[k]; tot's sign in xst; the insets t[k] in xt[k], the face normal's components
-     in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]. */
+     in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]; */
   _Alignas(16) double xa[3][2][2];
   _Alignas(16) double xd[3][2][2];
   _Alignas(16) double xcn[3][3][2];
@@ -75,6 +75,8 @@ struct smooth_tri {
   _Alignas(16) double xt[3][2];
   _Alignas(16) double xn[3][2];
   _Alignas(16) double xends[3][2][3][2];
+  _Alignas(16) double xsd[3][2][2];    /* xd times tot's sign (exact) */
+  _Alignas(16) double xlo[2], xhi[2];  /* |tot| 2^-1000, |tot| 2^1000 (the Phong filter's) */
 };
 
 struct smooth_model {
