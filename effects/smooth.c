@@ -950,8 +950,9 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 **
 ** Let at = |tot| (tot = btot), w_k = +-ar_k (tot's sign: exact), W = w_0 + w_1 + w_2 in
 ** real numbers, u = 2^-53, c = 1 + 2^-40, tc_k = max(fl(t_k c), 2^-898) (a triangle's
-** three, made with its insets: inner_tc). The filter declines unless 2^-100 <= at <= 2^100, S =
-** fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k = fl(tc_k S). Then
+** three, made with its insets: inner_tc). The filter declines unless 2^-100 <= at <=
+** 2^100, S = fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k =
+** fl(tc_k S). Then
 ** tc_k S >= 2^-999 (so R_k is a normal number, rounded within a relative u) and every
 ** w_k >= R_k >= at 2^-900 > 0; W <= S / (1 - u)^2, so each a_k = ar_k / tot = w_k / at
 ** lies in [2^-900, 2 + 8u] and no step of the chain below underflows or overflows. The
@@ -1087,9 +1088,9 @@ static inline int clamp_grey(int g) { return g < 0 ? 0 : g > 255 ? 255 : g; }
 
 /* The greys of slots q < ns: the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
    (unit()'s steps), turned to the eye's side (times sgn) and lit (shade_grey_lit) at point
-   slot_p[q] (X, blocked), into grey[slot_p[q]] clamped to 0..255. Under parallel lights two slots an instruction
-   where the processor has SSE2: each lane's operations are the scalar ones on its values
-   in their order (correctly rounded, as the scalar ones are; a lane's divides kept only
+   slot_p[q] (X, blocked), into grey[slot_p[q]] clamped to 0..255. Under parallel lights
+   two slots an instruction where the processor has SSE2: each lane's operations are the
+   scalar ones on its values in their order (correctly rounded, as the scalar ones are; a lane's divides kept only
    where its length is > 0, as unit() divides; a light blocked or a dot not > 0 adds +0,
    which leaves the lane's sum, never below +0, as it is), and the grey from the sum is
    shade_grey_of_sum's. */

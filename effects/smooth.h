@@ -66,7 +66,7 @@ struct smooth_tri {
      barycentric area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] in xd[k] (u then w
      axis), the vertex normals in xcn[k][c], the inner triangle's filter's scaled insets
      in xtc[k]; tot's sign in xst; the insets t[k] in xt[k], the face normal's components
-     in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]; */
+     in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]; and: */
   _Alignas(16) double xa[3][2][2];
   _Alignas(16) double xd[3][2][2];
   _Alignas(16) double xcn[3][3][2];
