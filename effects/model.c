@@ -341,6 +341,95 @@ static void reflectances(const struct fx_tex *t, int n, const double (*X)[3], do
   for (p = 0; p < n; p++) r[p] = unit_pixel[tex_pixel(t, a[p], b[p]) + 1];
 }
 
+#ifdef __SSE2__
+/* floor(a) lane by lane where |a| < 2^30: the truncation (CVTTPD2DQ, exact in that
+   range), less 1 where it lies above a. (At a = -0 it gives +0 where floor gives -0: a
+   less either is a zero, which tex_pair's multiply and truncation make 0 alike.) */
+static inline __m128d floor_pair(__m128d a)
+{
+  const __m128d t = _mm_cvtepi32_pd(_mm_cvttpd_epi32(a));
+  return _mm_sub_pd(t, _mm_and_pd(_mm_cmpgt_pd(t, a), _mm_set1_pd(1)));
+}
+
+/* reflectance, uncounted, at two space points X (lane 0, lane 1) of a textured face: the
+   same doubles, lane by lane. a and b are reflectance's (each lane's operations its, in
+   its order, correctly rounded as the scalar ones are). Where every |a|, |b| < 2^30 (no
+   NaN) tex_pixel's steps two at a time: floor_pair is floor there, so a - floor(a) is in
+   [0, 1] (a at or above its floor, and rounding keeps a difference at or above 0; at most
+   1 as a - floor(a) < 1), x = (int)(a w) in [0, w] and y = (int)((1 - b) h) in [0, h]:
+   tex_pixel's tests y < 0 and x < 0 never hold, and the two tops are the two clamps
+   made four lanes at a time; the pixel's k / 255.0 from unit_pixel. Else tex_pixel lane
+   by lane. */
+static inline __m128d tex_pair(const struct fx_tex *t, const __m128d X[3])
+{
+  const int du = t->du, dv = t->dv;
+  const __m128d u = _mm_sub_pd(X[du], _mm_set1_pd(t->o[du]));
+  const __m128d v = _mm_sub_pd(X[dv], _mm_set1_pd(t->o[dv]));
+  const __m128d det = _mm_set1_pd(t->det);
+  __m128d a = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, _mm_set1_pd(t->T[dv])),
+                                    _mm_mul_pd(v, _mm_set1_pd(t->T[du]))), det);
+  __m128d b = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(_mm_set1_pd(t->U[du]), v),
+                                    _mm_mul_pd(_mm_set1_pd(t->U[dv]), u)), det);
+  const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)), lim = _mm_set1_pd(0x1p30);
+  if (_mm_movemask_pd(_mm_and_pd(_mm_cmplt_pd(_mm_and_pd(a, mag), lim),
+                                 _mm_cmplt_pd(_mm_and_pd(b, mag), lim))) != 3) {
+    double aa[2], bb[2];
+    _mm_storeu_pd(aa, a);
+    _mm_storeu_pd(bb, b);
+    return _mm_set_pd(unit_pixel[tex_pixel(t, aa[1], bb[1]) + 1],
+                      unit_pixel[tex_pixel(t, aa[0], bb[0]) + 1]);
+  }
+  a = _mm_sub_pd(a, floor_pair(a));
+  b = _mm_sub_pd(b, floor_pair(b));
+  const int w = t->w, h = t->h;
+  const __m128i x = _mm_cvttpd_epi32(_mm_mul_pd(a, _mm_set1_pd(w)));
+  const __m128i y = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), _mm_set1_pd(h)));
+  __m128i xy = _mm_unpacklo_epi64(x, y);    /* x0, x1, y0, y1 */
+  const __m128i top = _mm_set_epi32(h - 1, h - 1, w - 1, w - 1);
+  const __m128i over = _mm_cmpgt_epi32(xy, top);
+  xy = _mm_or_si128(_mm_and_si128(over, top), _mm_andnot_si128(over, xy));
+  const size_t x0 = (size_t)_mm_cvtsi128_si32(xy);
+  const size_t x1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 1));
+  const size_t y0 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 2));
+  const size_t y1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 3));
+  return _mm_set_pd(unit_pixel[t->px[y1 * (size_t)w + x1] + 1],
+                    unit_pixel[t->px[y0 * (size_t)w + x0] + 1]);
+}
+
+/* shade_face_at, uncounted, at the points p0 .. p1 - 1 of a row (px[p], py) on a lit face
+   that is not smoothed, t its texture or NULL (P: shade_pair_init's for the face's unit
+   normal, face_normal's), two points at a time: each lane's space point is space_point's
+   (space_points' lanes), its reflectance reflectance's (tex_pair) or 1, its grey
+   shade_grey_lit's (shade_pair_sum, shade_pair_greys). An odd last point goes in both
+   lanes. */
+static void flat_lit_pairs(const struct fx_model *m, int face, const struct fx_tex *t,
+                           const struct shade_pair *P, int p0, int p1, const unsigned *blocked,
+                           const double *px, double py, uint8_t *grey)
+{
+  const double *E = m->eye, *r = m->ray[face];
+  const double E0 = E[0], E1 = E[1], E2 = E[2];
+  const double D1 = py - E1, D2 = -E2, c1 = r[1] * D1, c2 = r[2] * D2;
+  const __m128d e0 = _mm_set1_pd(E0), r0 = _mm_set1_pd(r[0]), r3 = _mm_set1_pd(r[3]);
+  const __m128d c1v = _mm_set1_pd(c1), c2v = _mm_set1_pd(c2), one = _mm_set1_pd(1);
+  const __m128d e1 = _mm_set1_pd(E1), e2 = _mm_set1_pd(E2), d1 = _mm_set1_pd(D1);
+  const __m128d d2 = _mm_set1_pd(D2), zero = _mm_setzero_pd();
+  for (int p = p0; p < p1; p += 2) {
+    const int q = p + 1 < p1 ? p + 1 : p;
+    const __m128d d0 = _mm_sub_pd(_mm_set_pd(px[q], px[p]), e0);
+    const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r0, d0), c1v), c2v);
+    const __m128d nz = _mm_cmpneq_pd(den, zero);       /* den != 0 ? r[3] / den : 1 */
+    const __m128d tt = _mm_or_pd(_mm_and_pd(nz, _mm_div_pd(r3, den)), _mm_andnot_pd(nz, one));
+    const __m128d X[3] = { _mm_add_pd(e0, _mm_mul_pd(tt, d0)), _mm_add_pd(e1, _mm_mul_pd(tt, d1)),
+                           _mm_add_pd(e2, _mm_mul_pd(tt, d2)) };
+    const __m128d refl = t ? tex_pair(t, X) : one;
+    const unsigned g = shade_pair_greys(refl, shade_pair_sum(P, X[0], X[1], X[2], blocked[p],
+                                                             blocked[q]));
+    grey[p] = (uint8_t)g;
+    grey[q] = (uint8_t)(g >> 8);
+  }
+}
+#endif
+
 /* The plane position of point coordinates (u, v) (fx_shade's px, py). */
 static double plane_x(const struct vis_grid *g, double u)
 {
@@ -435,6 +524,40 @@ static void shade_flat_run(const struct fx_model *m, int face, const struct face
 {
   const struct mface *mf = fs->mf;
   const struct fx_tex *t = fs->t;
+#ifdef __SSE2__
+  if (fs->lit) {                            /* two points at a time (flat_lit_pairs) */
+    struct shade_pair P;
+    bool ready = false;
+    for (int p = 0; p < n;) {
+      int e = p + 1;
+      if (!t && !blocked[p]) {              /* a stretch no light is blocked at: the face's */
+        while (e + 4 <= n && !(blocked[e] | blocked[e + 1] | blocked[e + 2] | blocked[e + 3]))
+          e += 4;                           /* grey (four a test: none when their OR is 0) */
+        while (e < n && !blocked[e]) e++;
+        memset(grey + p, (uint8_t)mf->grey, (size_t)(e - p));
+        p = e;
+        continue;
+      }
+      if (t) e = n;                         /* a texture: every point */
+      else {                                /* (four a compare: none of them 0) */
+        while (e + 4 <= n &&
+               !_mm_movemask_epi8(_mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(blocked + e)),
+                                                  _mm_setzero_si128())))
+          e += 4;
+        while (e < n && blocked[e]) e++;
+      }
+      if (!ready) {                         /* shade_face_at's normal */
+        double nrm[3];
+        face_normal(mf, nrm);
+        shade_pair_init(&P, &m->lights, nrm);
+        ready = true;
+      }
+      flat_lit_pairs(m, face, t, &P, p, e, blocked, px, py, grey);
+      p = e;
+    }
+    return;
+  }
+#endif
   double X[SHADE_RUN][3], refl[SHADE_RUN], nrm[3];
   unsigned b[SHADE_RUN];
   int at[SHADE_RUN], g[SHADE_RUN], nl = 0;
@@ -912,8 +1035,9 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
     if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
     if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
     const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->m->count ? L->cost : NULL);
+    /* (an empty stretch, x[h] = x[h + 1] (they are sorted), has b0 = b1: skipped as one;
+       or b0 = n, as the stretches right of it) */
     for (int h = 0; h + 1 < nx; h += 2) {
-      if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
       const int b0 = fx_first_at_or_right(&L->x[h], ev_key(L->x[h]), r);
       if (b0 == r->n) break;                /* this stretch and the rest: right of the row */
       const int b1 = fx_first_at_or_right(&L->x[h + 1], ev_key(L->x[h + 1]), r);
@@ -1055,6 +1179,24 @@ int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n,
 
 /* ---- the point frame ------------------------------------------------------------------ */
 
+/* The number of b[0 .. n) that are not 0: four a compare where the processor has SSE2
+   (n - the count of zeros; n < 2^31). */
+static int count_set(const unsigned *b, int n)
+{
+  int i = 0, c = 0;
+#ifdef __SSE2__
+  const __m128i z = _mm_setzero_si128();
+  __m128i zeros = z;                        /* -1 a zero, lane by lane */
+  for (; i + 4 <= n; i += 4)
+    zeros = _mm_add_epi32(zeros, _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(b + i)), z));
+  zeros = _mm_add_epi32(zeros, _mm_shuffle_epi32(zeros, _MM_SHUFFLE(1, 0, 3, 2)));
+  zeros = _mm_add_epi32(zeros, _mm_shuffle_epi32(zeros, _MM_SHUFFLE(2, 3, 0, 1)));
+  c = i + _mm_cvtsi128_si32(zeros);
+#endif
+  for (; i < n; i++) c += b[i] != 0;
+  return c;
+}
+
 int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
               struct cost *cost, struct t74_error *err)
 {
@@ -1090,7 +1232,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       const bool same = !memcmp(row, fr, (size_t)W * sizeof *row);
       int nb = 0;                           /* the row's points in shadow (< W: an int,
                                                counted four a vector instruction) */
-      for (int i = 0; i < W && same && m->shadows.n; i++) nb += blocked[i] != 0;
+      if (same && m->shadows.n) nb = count_set(blocked, W);
       for (int i = 0; i < W && !same; i++) {
         int face = row[i];
         if (face != fr[i]) {
