@@ -661,6 +661,8 @@ struct fx_lines {
   int nrng, rngcap;
   struct { long row; int at, n; } *fr;      /* per mapped face */
   long row;
+  struct poly_step *ps;     /* per shadow polygon: its two stretch ends stepped from row to
+                               row (face_ranges), or NULL (none kept) */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -723,7 +725,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->behind);
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
-  free(L->rng); free(L->fr);
+  free(L->rng); free(L->fr); free(L->ps);
   free(L);
 }
 
@@ -1021,18 +1023,200 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   return T74_OK;
 }
 
+/* ---- a shadow's ends from row to row ----
+   On a rising row of samples (fx_sample_row: sample i at xn_i / xd, xn_i = G (xd XL +
+   (2 (k0 + i) + 1) S), S > 0, G = GRID_ONE) the first sample at or right of the crossing
+   x = N / D of an edge with the line y = yn / yd (N = -(lb yn + lc yd), D = la yd > 0
+   after a change of both signs; fx_poly_cross's rational) is the least i in [0, n] with
+   N xd <= D xn_i, that is with P <= Q i, P = N xd - D G (xd XL + (2 k0 + 1) S),
+   Q = 2 G S D > 0: ceil(P / Q) put into [0, n] (fx_first_at_or_right's answer, exactly).
+   P is affine in yn: the next line, yn + dyn, has P + dP, dP = -lb dyn xd. With
+   P = q Q + r, 0 <= r < Q, and dP = dq Q + dr, 0 <= dr < Q, the next P is
+   (q + dq) Q + (r + dr), r + dr < 2 Q: one subtraction of Q at most puts it back in
+   [0, Q). So a polygon whose line crosses two edges keeps their q, r from row to row
+   while the row lies in the same band between its vertices' heights (the same two edges
+   cross it) and the samples are the same (yd, xd, k0, n): each row's ends two additions.
+   Rows and lines outside the bounds that keep every product within 128 bits (step_bounds,
+   |yn| < 2^61) go the long way (fx_poly_cross), and the quotients are guessed in doubles
+   and then corrected exactly.
+   The samples a polygon covers on the line are those at or right of an odd number of
+   its crossings (the even-odd rule, a crossing at or left of a sample being one the
+   sample is at or right of: fx_first_at_or_right's index at most the sample's), so they
+   are [b0, b1) with b0 <= b1 the two crossings' indices, in whatever order the
+   crossings come. */
+struct edge_step { wide r, Q, dr; int64_t q, dq; int64_t lb; };
+struct poly_step {
+  bool set, stepping;       /* set: the two edges below hold the line yn / yd;
+                               stepping: dq, dr are for the step dyn */
+  int64_t yn, yd, xd, k0, dyn;
+  int n;
+  gcoord lo, hi;            /* the band of rows lo <= fy < hi with these two edges */
+  struct edge_step e[2];
+};
+
+/* A guess at a wide integer's value in a double (its two halves'; within a few units in
+   the last place). */
+static inline double wide_guess(wide a)
+{
+  return (double)(int64_t)(a >> 64) * 0x1p64 + (double)(uint64_t)a;
+}
+
+/* floor(a / b) and the rest (0 <= rest < b) into *q, *rest, for |a| < 2^125 and
+   0 < b < 2^88; false when the quotient is not within 2^36 (a guess in doubles, then
+   corrected exactly: the guess is within a unit or so of it; four corrections allowed). */
+static bool div_floor(wide a, wide b, int64_t *q, wide *rest)
+{
+  const double g = floor(wide_guess(a) / wide_guess(b));
+  if (!(fabs(g) < 0x1p36)) return false;
+  int64_t k = (int64_t)g;
+  wide r = a - (wide)k * b;                 /* |k b| <= 2^124, |a - k b| < 2^126 */
+  for (int t = 0; r < 0 && t < 4; t++) { k--; r += b; }
+  for (int t = 0; r >= b && t < 4; t++) { k++; r -= b; }
+  if (r < 0 || r >= b) return false;
+  *q = k;
+  *rest = r;
+  return true;
+}
+
+/* The index of edge e's crossing on its line (ceil(P / Q) in [0, n]). */
+static inline int edge_index(const struct edge_step *e, int n)
+{
+  const int64_t c = e->q + (e->r > 0);
+  return c <= 0 ? 0 : c >= n ? n : (int)c;
+}
+
+/* Whether a row of samples and a line stay within edge_start's bounds: 0 < yd <= 2^16,
+   |xd|, |k0| < 2^30, 0 < S < 2^32 (XL is a window's int32). */
+static inline bool step_bounds(int64_t yd, const struct fx_sample_row *r)
+{
+  return yd > 0 && yd <= GRID_YDEN_MAX && r->xd > 0 && r->xd < (int64_t)1 << 30 &&
+         r->k0 > -((int64_t)1 << 30) && r->k0 < (int64_t)1 << 30 && r->S > 0 &&
+         r->S < (int64_t)1 << 32;
+}
+
+/* The step of polygon p's edge from p0 to p1 on the line yn / yd for the samples r
+   (within step_bounds): its q, r, Q; false when the quotient is out of div_floor's
+   range. The sizes, with |p.x|, |p.y| <= 2^28 (geom.h): |la|, |lb| < 2^30, |lc| < 2^59,
+   |yn| < 2^63: |N| < 2^93 + 2^75 < 2^94, |N xd| < 2^124; D < 2^46, D G < 2^54,
+   |xd XL + (2 k0 + 1) S| < 2^61 + 2^63, their product < 2^118; |P| < 2^125, Q < 2^87:
+   no overflow in 128 bits. */
+static bool edge_start(struct edge_step *e, struct gpoint p0, struct gpoint p1, int64_t yn,
+                       int64_t yd, const struct fx_sample_row *r)
+{
+  const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
+  wide N = -((wide)lb * yn + (wide)lc * yd), D = (wide)la * yd;
+  e->lb = lb;                               /* N = -(lb yn + lc yd) */
+  if (D < 0) { D = -D; N = -N; e->lb = -lb; }   /* (then N = lb yn + lc yd) */
+  const wide Dg = D * GRID_ONE;
+  const wide P = N * r->xd - Dg * ((wide)r->xd * r->XL + (wide)(2 * r->k0 + 1) * r->S);
+  e->Q = Dg * (2 * r->S);
+  return div_floor(P, e->Q, &e->q, &e->r);
+}
+
+/* Edge e's step for a change dyn of the line's yn (|dyn| < 2^62, both lines' |yn| < 2^61;
+   samples' xd < 2^30: |lb dyn xd| < 2^122): dq, dr; false when the quotient is out of
+   div_floor's range. */
+static bool edge_step_set(struct edge_step *e, int64_t dyn, int64_t xd)
+{
+  return div_floor((wide)-e->lb * dyn * xd, e->Q, &e->dq, &e->dr);
+}
+
+/* Polygon p's two ends on the line yn / yd (row fy) from its step s, when s holds the
+   line before it (or this one) for the same samples: true and b[0], b[1]. */
+static bool poly_stepped(struct poly_step *s, int64_t yn, int64_t yd, int64_t fy,
+                         const struct fx_sample_row *r, int b[2])
+{
+  if (!s->set || s->yd != yd || s->xd != r->xd || s->k0 != r->k0 || s->n != r->n ||
+      fy < s->lo || fy >= s->hi || yn <= -((int64_t)1 << 61) || yn >= (int64_t)1 << 61)
+    return false;
+  const int64_t dyn = yn - s->yn;
+  if (dyn != 0) {
+    if (!s->stepping || s->dyn != dyn) {
+      if (!edge_step_set(&s->e[0], dyn, r->xd) || !edge_step_set(&s->e[1], dyn, r->xd)) {
+        s->set = false;
+        return false;
+      }
+      s->stepping = true;
+      s->dyn = dyn;
+    }
+    for (int c = 0; c < 2; c++) {
+      struct edge_step *e = &s->e[c];
+      e->q += e->dq;                        /* |q| < 2^36 + rows 2^36: no overflow */
+      e->r += e->dr;
+      if (e->r >= e->Q) { e->r -= e->Q; e->q++; }
+    }
+    s->yn = yn;
+  }
+  b[0] = edge_index(&s->e[0], s->n);
+  b[1] = edge_index(&s->e[1], s->n);
+  return true;
+}
+
+/* Polygon p's step made on the line yn / yd (row fy) when it is one ring of at most 32
+   points whose line crosses two edges: true and their b[0], b[1]. */
+static bool poly_step_start(struct poly_step *s, const struct fx_poly *p, int64_t yn,
+                            int64_t yd, int64_t fy, const struct fx_sample_row *r, int b[2])
+{
+  s->set = false;
+  const int n = p->rs[1] - p->rs[0];
+  if (p->nring != 1 || n < 3 || n > 32 || !step_bounds(yd, r) || yn <= -((int64_t)1 << 61) ||
+      yn >= (int64_t)1 << 61)
+    return false;
+  const struct gpoint *pt = p->pt + p->rs[0];
+  uint32_t below = 0;                       /* bit v: point v on or below the line */
+  gcoord lo = INT64_MIN, hi = INT64_MAX;    /* the band of rows with the same sides */
+  for (int v = 0; v < n; v++) {
+    const gcoord y = pt[v].y;
+    if (y <= fy) { below |= 1u << v; if (y > lo) lo = y; }
+    else if (y < hi) hi = y;
+  }
+  const uint32_t cross = below ^ (below >> 1 | (below & 1u) << (n - 1));   /* v to v + 1 */
+  const uint32_t rest = cross & (cross - 1);   /* two crossings: two bits set */
+  if (!cross || !rest || (rest & (rest - 1))) return false;
+  const int v0 = __builtin_ctz(cross), v1 = __builtin_ctz(rest);
+  if (!edge_start(&s->e[0], pt[v0], pt[v0 + 1 < n ? v0 + 1 : 0], yn, yd, r) ||
+      !edge_start(&s->e[1], pt[v1], pt[v1 + 1 < n ? v1 + 1 : 0], yn, yd, r))
+    return false;
+  s->set = true;
+  s->stepping = false;
+  s->yn = yn; s->yd = yd; s->xd = r->xd; s->k0 = r->k0; s->n = r->n;
+  s->lo = lo; s->hi = hi;
+  b[0] = edge_index(&s->e[0], s->n);
+  b[1] = edge_index(&s->e[1], s->n);
+  return true;
+}
+
 /* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
    row r (rising): a sample lies in a stretch [x0, x1) exactly when it is at or right of
    x0 and not at or right of x1, so in [fx_first_at_or_right(x0), fx_first_at_or_right(x1)).
-   Appended to L->rng. */
+   Appended to L->rng. A polygon of two crossings takes its ends from its step (above)
+   where it can. */
 static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
                        const struct fx_sample_row *r, struct t74_error *err)
 {
   const struct fx_model *m = L->m;
   const int64_t fy = fx_line_row(yn, yd);
+  if (!L->ps && !m->count && m->shadows.n <= 1 << 15 &&
+      (L->ps = malloc((size_t)m->shadows.n * sizeof *L->ps)) != NULL)   /* (NULL: the long way) */
+    for (int k = 0; k < m->shadows.n; k++) L->ps[k].set = false;
   for (int k = m->shadow_first[f]; k < m->shadow_first[f + 1]; k++) {
     const struct fx_poly *p = &m->shadows.p[k];
     if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
+    int b2[2];
+    if (L->ps && (poly_stepped(&L->ps[k], yn, yd, fy, r, b2) ||
+                  poly_step_start(&L->ps[k], p, yn, yd, fy, r, b2))) {
+      const int b0 = b2[0] < b2[1] ? b2[0] : b2[1], b1 = b2[0] < b2[1] ? b2[1] : b2[0];
+      if (b0 == b1) continue;
+      if (L->nrng == L->rngcap) {
+        const int cap = L->rngcap ? 2 * L->rngcap : 64;
+        struct brange *nr = realloc(L->rng, (size_t)cap * sizeof *nr);
+        if (!nr) return t74_fail(err, T74_EIO, "out of host memory");
+        L->rng = nr;
+        L->rngcap = cap;
+      }
+      L->rng[L->nrng++] = (struct brange){ b0, b1, p->light };
+      continue;
+    }
     if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
     const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->m->count ? L->cost : NULL);
     /* (an empty stretch, x[h] = x[h + 1] (they are sorted), has b0 = b1: skipped as one;
