@@ -515,9 +515,12 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
 
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
-   found once for the run (the same operations on the same values as each point's) and
-   the lit points' greys SHADE_RUN at a time (shade_grey_lit_run); a textured face's
-   space points and reflectances SHADE_RUN at a time (space_points, reflectances). */
+   found once for the run (the same operations on the same values as each point's). Where
+   the processor has SSE2 a lit face's points that need shading (all of a textured face's,
+   else those where a light is blocked) go two at a time from the space point to the grey
+   (flat_lit_pairs); else the lit points' greys SHADE_RUN at a time (shade_grey_lit_run).
+   A textured face that is not lit: its space points and reflectances SHADE_RUN at a time
+   (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
                            int n, const unsigned *blocked, const double *px, double py,
                            uint8_t *grey)
