@@ -341,6 +341,95 @@ static void reflectances(const struct fx_tex *t, int n, const double (*X)[3], do
   for (p = 0; p < n; p++) r[p] = unit_pixel[tex_pixel(t, a[p], b[p]) + 1];
 }
 
+#ifdef __SSE2__
+/* floor(a) lane by lane where |a| < 2^30: the truncation (CVTTPD2DQ, exact in that
+   range), less 1 where it lies above a. (At a = -0 it gives +0 where floor gives -0: a
+   less either is a zero, which tex_pair's multiply and truncation make 0 alike.) */
+static inline __m128d floor_pair(__m128d a)
+{
+  const __m128d t = _mm_cvtepi32_pd(_mm_cvttpd_epi32(a));
+  return _mm_sub_pd(t, _mm_and_pd(_mm_cmpgt_pd(t, a), _mm_set1_pd(1)));
+}
+
+/* reflectance, uncounted, at two space points X (lane 0, lane 1) of a textured face: the
+   same doubles, lane by lane. a and b are reflectance's (each lane's operations its, in
+   its order, correctly rounded as the scalar ones are). Where every |a|, |b| < 2^30 (no
+   NaN) tex_pixel's steps two at a time: floor_pair is floor there, so a - floor(a) is in
+   [0, 1] (a at or above its floor, and rounding keeps a difference at or above 0; at most
+   1 as a - floor(a) < 1), x = (int)(a w) in [0, w] and y = (int)((1 - b) h) in [0, h]:
+   tex_pixel's tests y < 0 and x < 0 never hold, and the two tops are the two clamps
+   made four lanes at a time; the pixel's k / 255.0 from unit_pixel. Else tex_pixel lane
+   by lane. */
+static inline __m128d tex_pair(const struct fx_tex *t, const __m128d X[3])
+{
+  const int du = t->du, dv = t->dv;
+  const __m128d u = _mm_sub_pd(X[du], _mm_set1_pd(t->o[du]));
+  const __m128d v = _mm_sub_pd(X[dv], _mm_set1_pd(t->o[dv]));
+  const __m128d det = _mm_set1_pd(t->det);
+  __m128d a = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, _mm_set1_pd(t->T[dv])),
+                                    _mm_mul_pd(v, _mm_set1_pd(t->T[du]))), det);
+  __m128d b = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(_mm_set1_pd(t->U[du]), v),
+                                    _mm_mul_pd(_mm_set1_pd(t->U[dv]), u)), det);
+  const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)), lim = _mm_set1_pd(0x1p30);
+  if (_mm_movemask_pd(_mm_and_pd(_mm_cmplt_pd(_mm_and_pd(a, mag), lim),
+                                 _mm_cmplt_pd(_mm_and_pd(b, mag), lim))) != 3) {
+    double aa[2], bb[2];
+    _mm_storeu_pd(aa, a);
+    _mm_storeu_pd(bb, b);
+    return _mm_set_pd(unit_pixel[tex_pixel(t, aa[1], bb[1]) + 1],
+                      unit_pixel[tex_pixel(t, aa[0], bb[0]) + 1]);
+  }
+  a = _mm_sub_pd(a, floor_pair(a));
+  b = _mm_sub_pd(b, floor_pair(b));
+  const int w = t->w, h = t->h;
+  const __m128i x = _mm_cvttpd_epi32(_mm_mul_pd(a, _mm_set1_pd(w)));
+  const __m128i y = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), _mm_set1_pd(h)));
+  __m128i xy = _mm_unpacklo_epi64(x, y);    /* x0, x1, y0, y1 */
+  const __m128i top = _mm_set_epi32(h - 1, h - 1, w - 1, w - 1);
+  const __m128i over = _mm_cmpgt_epi32(xy, top);
+  xy = _mm_or_si128(_mm_and_si128(over, top), _mm_andnot_si128(over, xy));
+  const size_t x0 = (size_t)_mm_cvtsi128_si32(xy);
+  const size_t x1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 1));
+  const size_t y0 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 2));
+  const size_t y1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 3));
+  return _mm_set_pd(unit_pixel[t->px[y1 * (size_t)w + x1] + 1],
+                    unit_pixel[t->px[y0 * (size_t)w + x0] + 1]);
+}
+
+/* shade_face_at, uncounted, at the points p0 .. p1 - 1 of a row (px[p], py) on a lit face
+   that is not smoothed, t its texture or NULL (P: shade_pair_init's for the face's unit
+   normal, face_normal's), two points at a time: each lane's space point is space_point's
+   (space_points' lanes), its reflectance reflectance's (tex_pair) or 1, its grey
+   shade_grey_lit's (shade_pair_sum, shade_pair_greys). An odd last point goes in both
+   lanes. */
+static void flat_lit_pairs(const struct fx_model *m, int face, const struct fx_tex *t,
+                           const struct shade_pair *P, int p0, int p1, const unsigned *blocked,
+                           const double *px, double py, uint8_t *grey)
+{
+  const double *E = m->eye, *r = m->ray[face];
+  const double E0 = E[0], E1 = E[1], E2 = E[2];
+  const double D1 = py - E1, D2 = -E2, c1 = r[1] * D1, c2 = r[2] * D2;
+  const __m128d e0 = _mm_set1_pd(E0), r0 = _mm_set1_pd(r[0]), r3 = _mm_set1_pd(r[3]);
+  const __m128d c1v = _mm_set1_pd(c1), c2v = _mm_set1_pd(c2), one = _mm_set1_pd(1);
+  const __m128d e1 = _mm_set1_pd(E1), e2 = _mm_set1_pd(E2), d1 = _mm_set1_pd(D1);
+  const __m128d d2 = _mm_set1_pd(D2), zero = _mm_setzero_pd();
+  for (int p = p0; p < p1; p += 2) {
+    const int q = p + 1 < p1 ? p + 1 : p;
+    const __m128d d0 = _mm_sub_pd(_mm_set_pd(px[q], px[p]), e0);
+    const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r0, d0), c1v), c2v);
+    const __m128d nz = _mm_cmpneq_pd(den, zero);       /* den != 0 ? r[3] / den : 1 */
+    const __m128d tt = _mm_or_pd(_mm_and_pd(nz, _mm_div_pd(r3, den)), _mm_andnot_pd(nz, one));
+    const __m128d X[3] = { _mm_add_pd(e0, _mm_mul_pd(tt, d0)), _mm_add_pd(e1, _mm_mul_pd(tt, d1)),
+                           _mm_add_pd(e2, _mm_mul_pd(tt, d2)) };
+    const __m128d refl = t ? tex_pair(t, X) : one;
+    const unsigned g = shade_pair_greys(refl, shade_pair_sum(P, X[0], X[1], X[2], blocked[p],
+                                                             blocked[q]));
+    grey[p] = (uint8_t)g;
+    grey[q] = (uint8_t)(g >> 8);
+  }
+}
+#endif
+
 /* The plane position of point coordinates (u, v) (fx_shade's px, py). */
 static double plane_x(const struct vis_grid *g, double u)
 {
@@ -426,15 +515,52 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
 
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
-   found once for the run (the same operations on the same values as each point's) and
-   the lit points' greys SHADE_RUN at a time (shade_grey_lit_run); a textured face's
-   space points and reflectances SHADE_RUN at a time (space_points, reflectances). */
+   found once for the run (the same operations on the same values as each point's). Where
+   the processor has SSE2 a lit face's points that need shading (all of a textured face's,
+   else those where a light is blocked) go two at a time from the space point to the grey
+   (flat_lit_pairs); else the lit points' greys SHADE_RUN at a time (shade_grey_lit_run).
+   A textured face that is not lit: its space points and reflectances SHADE_RUN at a time
+   (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
                            int n, const unsigned *blocked, const double *px, double py,
                            uint8_t *grey)
 {
   const struct mface *mf = fs->mf;
   const struct fx_tex *t = fs->t;
+#ifdef __SSE2__
+  if (fs->lit) {                            /* two points at a time (flat_lit_pairs) */
+    struct shade_pair P;
+    bool ready = false;
+    for (int p = 0; p < n;) {
+      int e = p + 1;
+      if (!t && !blocked[p]) {              /* a stretch no light is blocked at: the face's */
+        while (e + 4 <= n && !(blocked[e] | blocked[e + 1] | blocked[e + 2] | blocked[e + 3]))
+          e += 4;                           /* grey (four a test: none when their OR is 0) */
+        while (e < n && !blocked[e]) e++;
+        memset(grey + p, (uint8_t)mf->grey, (size_t)(e - p));
+        p = e;
+        continue;
+      }
+      if (t) e = n;                         /* a texture: every point */
+      else {                                /* (four a compare: none of them 0) */
+        while (e + 4 <= n &&
+               !_mm_movemask_epi8(_mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(blocked + e)),
+                                                  _mm_setzero_si128())))
+          e += 4;
+        while (e < n && blocked[e]) e++;
+      }
+      if (!ready) {                         /* shade_face_at's normal */
+        double nrm[3];
+        face_normal(mf, nrm);
+        shade_pair_init(&P, &m->lights, nrm);
+        ready = true;
+      }
+      flat_lit_pairs(m, face, t, &P, p, e, blocked, px, py, grey);
+      p = e;
+    }
+    return;
+  }
+#endif
   double X[SHADE_RUN][3], refl[SHADE_RUN], nrm[3];
   unsigned b[SHADE_RUN];
   int at[SHADE_RUN], g[SHADE_RUN], nl = 0;
@@ -538,6 +664,8 @@ struct fx_lines {
   int nrng, rngcap;
   struct { long row; int at, n; } *fr;      /* per mapped face */
   long row;
+  struct poly_step *ps;     /* per shadow polygon: its two stretch ends stepped from row to
+                               row (face_ranges), or NULL (none kept) */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -600,7 +728,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->behind);
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
-  free(L->rng); free(L->fr);
+  free(L->rng); free(L->fr); free(L->ps);
   free(L);
 }
 
@@ -898,22 +1026,205 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   return T74_OK;
 }
 
+/* ---- a shadow's ends from row to row ----
+   On a rising row of samples (fx_sample_row: sample i at xn_i / xd, xn_i = G (xd XL +
+   (2 (k0 + i) + 1) S), S > 0, G = GRID_ONE) the first sample at or right of the crossing
+   x = N / D of an edge with the line y = yn / yd (N = -(lb yn + lc yd), D = la yd > 0
+   after a change of both signs; fx_poly_cross's rational) is the least i in [0, n] with
+   N xd <= D xn_i, that is with P <= Q i, P = N xd - D G (xd XL + (2 k0 + 1) S),
+   Q = 2 G S D > 0: ceil(P / Q) put into [0, n] (fx_first_at_or_right's answer, exactly).
+   P is affine in yn: the next line, yn + dyn, has P + dP, dP = -lb dyn xd. With
+   P = q Q + r, 0 <= r < Q, and dP = dq Q + dr, 0 <= dr < Q, the next P is
+   (q + dq) Q + (r + dr), r + dr < 2 Q: one subtraction of Q at most puts it back in
+   [0, Q). So a polygon whose line crosses two edges keeps their q, r from row to row
+   while the row lies in the same band between its vertices' heights (the same two edges
+   cross it) and the samples are the same (yd, xd, k0, n): each row's ends two additions.
+   Rows and lines outside the bounds that keep every product within 128 bits (step_bounds,
+   |yn| < 2^61) go the long way (fx_poly_cross), and the quotients are guessed in doubles
+   and then corrected exactly.
+   The samples a polygon covers on the line are those at or right of an odd number of
+   its crossings (the even-odd rule, a crossing at or left of a sample being one the
+   sample is at or right of: fx_first_at_or_right's index at most the sample's), so they
+   are [b0, b1) with b0 <= b1 the two crossings' indices, in whatever order the
+   crossings come. */
+struct edge_step { wide r, Q, dr; int64_t q, dq; int64_t lb; };
+struct poly_step {
+  bool set, stepping;       /* set: the two edges below hold the line yn / yd;
+                               stepping: dq, dr are for the step dyn */
+  int64_t yn, yd, xd, k0, dyn;
+  int n;
+  gcoord lo, hi;            /* the band of rows lo <= fy < hi with these two edges */
+  struct edge_step e[2];
+};
+
+/* A guess at a wide integer's value in a double (its two halves'; within a few units in
+   the last place). */
+static inline double wide_guess(wide a)
+{
+  return (double)(int64_t)(a >> 64) * 0x1p64 + (double)(uint64_t)a;
+}
+
+/* floor(a / b) and the rest (0 <= rest < b) into *q, *rest, for |a| < 2^125 and
+   0 < b < 2^88; false when the quotient is not within 2^36 (a guess in doubles, then
+   corrected exactly: the guess is within a unit or so of it; four corrections allowed). */
+static bool div_floor(wide a, wide b, int64_t *q, wide *rest)
+{
+  const double g = floor(wide_guess(a) / wide_guess(b));
+  if (!(fabs(g) < 0x1p36)) return false;
+  int64_t k = (int64_t)g;
+  wide r = a - (wide)k * b;                 /* |k b| <= 2^124, |a - k b| < 2^126 */
+  for (int t = 0; r < 0 && t < 4; t++) { k--; r += b; }
+  for (int t = 0; r >= b && t < 4; t++) { k++; r -= b; }
+  if (r < 0 || r >= b) return false;
+  *q = k;
+  *rest = r;
+  return true;
+}
+
+/* The index of edge e's crossing on its line (ceil(P / Q) in [0, n]). */
+static inline int edge_index(const struct edge_step *e, int n)
+{
+  const int64_t c = e->q + (e->r > 0);
+  return c <= 0 ? 0 : c >= n ? n : (int)c;
+}
+
+/* Whether a row of samples and a line stay within edge_start's bounds: 0 < yd <= 2^16,
+   |xd|, |k0| < 2^30, 0 < S < 2^32 (XL is a window's int32). */
+static inline bool step_bounds(int64_t yd, const struct fx_sample_row *r)
+{
+  return yd > 0 && yd <= GRID_YDEN_MAX && r->xd > 0 && r->xd < (int64_t)1 << 30 &&
+         r->k0 > -((int64_t)1 << 30) && r->k0 < (int64_t)1 << 30 && r->S > 0 &&
+         r->S < (int64_t)1 << 32;
+}
+
+/* The step of polygon p's edge from p0 to p1 on the line yn / yd for the samples r
+   (within step_bounds): its q, r, Q; false when the quotient is out of div_floor's
+   range. The sizes, with |p.x|, |p.y| <= 2^28 (geom.h): |la|, |lb| < 2^30, |lc| < 2^59,
+   |yn| < 2^63: |N| < 2^93 + 2^75 < 2^94, |N xd| < 2^124; D < 2^46, D G < 2^54,
+   |xd XL + (2 k0 + 1) S| < 2^61 + 2^63, their product < 2^118; |P| < 2^125, Q < 2^87:
+   no overflow in 128 bits. */
+static bool edge_start(struct edge_step *e, struct gpoint p0, struct gpoint p1, int64_t yn,
+                       int64_t yd, const struct fx_sample_row *r)
+{
+  const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
+  wide N = -((wide)lb * yn + (wide)lc * yd), D = (wide)la * yd;
+  e->lb = lb;                               /* N = -(lb yn + lc yd) */
+  if (D < 0) { D = -D; N = -N; e->lb = -lb; }   /* (then N = lb yn + lc yd) */
+  const wide Dg = D * GRID_ONE;
+  const wide P = N * r->xd - Dg * ((wide)r->xd * r->XL + (wide)(2 * r->k0 + 1) * r->S);
+  e->Q = Dg * (2 * r->S);
+  return div_floor(P, e->Q, &e->q, &e->r);
+}
+
+/* Edge e's step for a change dyn of the line's yn (|dyn| < 2^62, both lines' |yn| < 2^61;
+   samples' xd < 2^30: |lb dyn xd| < 2^122): dq, dr; false when the quotient is out of
+   div_floor's range. */
+static bool edge_step_set(struct edge_step *e, int64_t dyn, int64_t xd)
+{
+  return div_floor((wide)-e->lb * dyn * xd, e->Q, &e->dq, &e->dr);
+}
+
+/* Polygon p's two ends on the line yn / yd (row fy) from its step s, when s holds the
+   line before it (or this one) for the same samples: true and b[0], b[1]. */
+static bool poly_stepped(struct poly_step *s, int64_t yn, int64_t yd, int64_t fy,
+                         const struct fx_sample_row *r, int b[2])
+{
+  if (!s->set || s->yd != yd || s->xd != r->xd || s->k0 != r->k0 || s->n != r->n ||
+      fy < s->lo || fy >= s->hi || yn <= -((int64_t)1 << 61) || yn >= (int64_t)1 << 61)
+    return false;
+  const int64_t dyn = yn - s->yn;
+  if (dyn != 0) {
+    if (!s->stepping || s->dyn != dyn) {
+      if (!edge_step_set(&s->e[0], dyn, r->xd) || !edge_step_set(&s->e[1], dyn, r->xd)) {
+        s->set = false;
+        return false;
+      }
+      s->stepping = true;
+      s->dyn = dyn;
+    }
+    for (int c = 0; c < 2; c++) {
+      struct edge_step *e = &s->e[c];
+      e->q += e->dq;                        /* |q| < 2^36 + rows 2^36: no overflow */
+      e->r += e->dr;
+      if (e->r >= e->Q) { e->r -= e->Q; e->q++; }
+    }
+    s->yn = yn;
+  }
+  b[0] = edge_index(&s->e[0], s->n);
+  b[1] = edge_index(&s->e[1], s->n);
+  return true;
+}
+
+/* Polygon p's step made on the line yn / yd (row fy) when it is one ring of at most 32
+   points whose line crosses two edges: true and their b[0], b[1]. */
+static bool poly_step_start(struct poly_step *s, const struct fx_poly *p, int64_t yn,
+                            int64_t yd, int64_t fy, const struct fx_sample_row *r, int b[2])
+{
+  s->set = false;
+  const int n = p->rs[1] - p->rs[0];
+  if (p->nring != 1 || n < 3 || n > 32 || !step_bounds(yd, r) || yn <= -((int64_t)1 << 61) ||
+      yn >= (int64_t)1 << 61)
+    return false;
+  const struct gpoint *pt = p->pt + p->rs[0];
+  uint32_t below = 0;                       /* bit v: point v on or below the line */
+  gcoord lo = INT64_MIN, hi = INT64_MAX;    /* the band of rows with the same sides */
+  for (int v = 0; v < n; v++) {
+    const gcoord y = pt[v].y;
+    if (y <= fy) { below |= 1u << v; if (y > lo) lo = y; }
+    else if (y < hi) hi = y;
+  }
+  const uint32_t cross = below ^ (below >> 1 | (below & 1u) << (n - 1));   /* v to v + 1 */
+  const uint32_t rest = cross & (cross - 1);   /* two crossings: two bits set */
+  if (!cross || !rest || (rest & (rest - 1))) return false;
+  const int v0 = __builtin_ctz(cross), v1 = __builtin_ctz(rest);
+  if (!edge_start(&s->e[0], pt[v0], pt[v0 + 1 < n ? v0 + 1 : 0], yn, yd, r) ||
+      !edge_start(&s->e[1], pt[v1], pt[v1 + 1 < n ? v1 + 1 : 0], yn, yd, r))
+    return false;
+  s->set = true;
+  s->stepping = false;
+  s->yn = yn; s->yd = yd; s->xd = r->xd; s->k0 = r->k0; s->n = r->n;
+  s->lo = lo; s->hi = hi;
+  b[0] = edge_index(&s->e[0], s->n);
+  b[1] = edge_index(&s->e[1], s->n);
+  return true;
+}
+
 /* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
    row r (rising): a sample lies in a stretch [x0, x1) exactly when it is at or right of
    x0 and not at or right of x1, so in [fx_first_at_or_right(x0), fx_first_at_or_right(x1)).
-   Appended to L->rng. */
+   Appended to L->rng. A polygon of two crossings takes its ends from its step (above)
+   where it can. */
 static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
                        const struct fx_sample_row *r, struct t74_error *err)
 {
   const struct fx_model *m = L->m;
   const int64_t fy = fx_line_row(yn, yd);
+  if (!L->ps && !m->count && m->shadows.n <= 1 << 15 &&
+      (L->ps = malloc((size_t)m->shadows.n * sizeof *L->ps)) != NULL)   /* (NULL: the long way) */
+    for (int k = 0; k < m->shadows.n; k++) L->ps[k].set = false;
   for (int k = m->shadow_first[f]; k < m->shadow_first[f + 1]; k++) {
     const struct fx_poly *p = &m->shadows.p[k];
     if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
+    int b2[2];
+    if (L->ps && (poly_stepped(&L->ps[k], yn, yd, fy, r, b2) ||
+                  poly_step_start(&L->ps[k], p, yn, yd, fy, r, b2))) {
+      const int b0 = b2[0] < b2[1] ? b2[0] : b2[1], b1 = b2[0] < b2[1] ? b2[1] : b2[0];
+      if (b0 == b1) continue;
+      if (L->nrng == L->rngcap) {
+        const int cap = L->rngcap ? 2 * L->rngcap : 64;
+        struct brange *nr = realloc(L->rng, (size_t)cap * sizeof *nr);
+        if (!nr) return t74_fail(err, T74_EIO, "out of host memory");
+        L->rng = nr;
+        L->rngcap = cap;
+      }
+      L->rng[L->nrng++] = (struct brange){ b0, b1, p->light };
+      continue;
+    }
     if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
     const int nx = fx_poly_cross(p, yn, yd, L->x, L->xcap, L->m->count ? L->cost : NULL);
+    /* (an empty stretch, x[h] = x[h + 1] (they are sorted), has b0 = b1: skipped as one;
+       or b0 = n, as the stretches right of it) */
     for (int h = 0; h + 1 < nx; h += 2) {
-      if (geom_rat_cmp(L->x[h], L->x[h + 1]) >= 0) continue;
       const int b0 = fx_first_at_or_right(&L->x[h], ev_key(L->x[h]), r);
       if (b0 == r->n) break;                /* this stretch and the rest: right of the row */
       const int b1 = fx_first_at_or_right(&L->x[h + 1], ev_key(L->x[h + 1]), r);
@@ -1055,6 +1366,24 @@ int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n,
 
 /* ---- the point frame ------------------------------------------------------------------ */
 
+/* The number of b[0 .. n) that are not 0: four a compare where the processor has SSE2
+   (n - the count of zeros; n < 2^31). */
+static int count_set(const unsigned *b, int n)
+{
+  int i = 0, c = 0;
+#ifdef __SSE2__
+  const __m128i z = _mm_setzero_si128();
+  __m128i zeros = z;                        /* -1 a zero, lane by lane */
+  for (; i + 4 <= n; i += 4)
+    zeros = _mm_add_epi32(zeros, _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(b + i)), z));
+  zeros = _mm_add_epi32(zeros, _mm_shuffle_epi32(zeros, _MM_SHUFFLE(1, 0, 3, 2)));
+  zeros = _mm_add_epi32(zeros, _mm_shuffle_epi32(zeros, _MM_SHUFFLE(2, 3, 0, 1)));
+  c = i + _mm_cvtsi128_si32(zeros);
+#endif
+  for (; i < n; i++) c += b[i] != 0;
+  return c;
+}
+
 int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
               struct cost *cost, struct t74_error *err)
 {
@@ -1090,7 +1419,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       const bool same = !memcmp(row, fr, (size_t)W * sizeof *row);
       int nb = 0;                           /* the row's points in shadow (< W: an int,
                                                counted four a vector instruction) */
-      for (int i = 0; i < W && same && m->shadows.n; i++) nb += blocked[i] != 0;
+      if (same && m->shadows.n) nb = count_set(blocked, W);
       for (int i = 0; i < W && !same; i++) {
         int face = row[i];
         if (face != fr[i]) {

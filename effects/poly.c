@@ -107,8 +107,26 @@ void fx_polys_free(struct fx_polys *ps)
   memset(ps, 0, sizeof *ps);
 }
 
-int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,
-                  struct cost *cost)
+/* The crossing of the edge p0 -> p1 (p0.y != p1.y: its ends on either side of the line)
+   with the line y = yn / yd put into x[0 .. nx) in order: nx + 1 returned. */
+static inline int cross_edge(struct gpoint p0, struct gpoint p1, int64_t yn, int64_t yd,
+                             struct grat *x, int nx, struct cost *cost)
+{
+  /* geom_x_at(geom_line(p0, p1), yn, yd): the same rational, without the two calls */
+  const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
+  struct grat xc = { -((wide)lb * yn + (wide)lc * yd), (wide)la * yd };
+  if (xc.den < 0) { xc.den = -xc.den; xc.num = -xc.num; }
+  if (cost) { cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46); }
+  int h = nx;
+  while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }
+  x[h] = xc;
+  return nx + 1;
+}
+
+/* fx_poly_cross, made twice: counted and not (the points engine's: none of the counts'
+   work in its loop). */
+static inline int poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x,
+                             int max, struct cost *cost)
 {
   int nx = 0;
   const int64_t fy = fx_line_row(yn, yd);   /* a point on or below the line: y <= fy */
@@ -122,44 +140,37 @@ int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *
        found once, for the edge it ends and the one it starts */
     const struct gpoint *pt = p->pt + a;
     bool c0 = pt[0].y <= fy;
-    for (int v = 0; v < n; v++) {
+    for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, blk++) {
       /* a block of edges whose points all lie on one side (c0's, its first point's)
          crosses nowhere: on to the next, c0 still its first point's */
-      if (v % FX_POLY_BLOCK == 0) {
-        const gcoord *bk = blk[v / FX_POLY_BLOCK];
-        if (bk[1] <= fy || bk[0] > fy) {
-          v += FX_POLY_BLOCK - 1;
-          continue;
-        }
-      }
-      /* the edge from point v to the next, w (the last back to the first) */
-      const int w = v + 1 == n ? 0 : v + 1;
-      const bool c1 = pt[w].y <= fy;
-      if (c0 != c1) {
-        struct gpoint p0 = pt[v], p1 = pt[w];
-        if (nx == max) {
-          if (cost) {
-            COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);
+      if ((*blk)[1] <= fy || (*blk)[0] > fy) continue;
+      /* the edges from points v0 .. v1 - 1 to the next (the last back to the first) */
+      const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
+      for (int v = v0; v < v1; v++) {
+        const int w = v + 1 < n ? v + 1 : 0;
+        const bool c1 = pt[w].y <= fy;
+        if (c0 != c1) {
+          if (nx == max) {
+            if (cost) {
+              COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)(v + 1)); COST_ADD_N(cost, COST_BRANCH, v + 1);
+            }
+            return -1;
           }
-          return -1;
+          nx = cross_edge(pt[v], pt[w], yn, yd, x, nx, cost);
         }
-        /* geom_x_at(geom_line(p0, p1), yn, yd): the same rational, without the two calls
-           (p0.y != p1.y: the ends lie on either side) */
-        const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
-        struct grat xc = { -((wide)lb * yn + (wide)lc * yd), (wide)la * yd };
-        if (xc.den < 0) { xc.den = -xc.den; xc.num = -xc.num; }
-        if (cost) { cost_mw_mul(cost, 58, 17); cost_mw_div(cost, 75, 46); }
-        int h = nx++;
-        while (h > 0 && geom_rat_cmp(x[h - 1], xc) > 0) { x[h] = x[h - 1]; h--; }
-        x[h] = xc;
+        c0 = c1;
       }
-      c0 = c1;
     }
     if (cost) {                             /* an edge's */
       COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)n);
       COST_ADD_N(cost, COST_BRANCH, n);
     }
-    blk += (n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
   }
   return nx;
+}
+
+int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,
+                  struct cost *cost)
+{
+  return cost ? poly_cross(p, yn, yd, x, max, cost) : poly_cross(p, yn, yd, x, max, NULL);
 }

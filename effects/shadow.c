@@ -17,6 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 typedef long double ld;
 
 struct proj {
@@ -297,6 +301,38 @@ static inline int grid_near(const struct shadow_eye *v, const double yd[3], stru
   const double dz = yd[2] - v->e[2], ed = u * (fabs(dz) + fabs(yd[2]));
   if (!v->near || !(ed < dz * 0x1p-20)) return -1;        /* also dz <= 0, and NaN */
   const double r = 1 / dz, fz = -v->e[2], r2 = r * r;
+#ifdef __SSE2__
+  /* x in lane 0, y in lane 1: each lane's operations the loop's below on its values, in
+     their order (correctly rounded, as the scalar ones are), the rounding half away from
+     zero a truncation (CVTTPD2DQ: |gx| < 2^28) of gx plus 0.5 of gx's sign (at gx = -0,
+     -0.5: 0 as the loop's 0.5) */
+  const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX));
+  const __m128d half = _mm_set1_pd(0.5), lim = _mm_set1_pd(0x1p28);
+  const __m128d Y = _mm_loadu_pd(yd), Ev = _mm_loadu_pd(v->e);
+  const __m128d a = _mm_sub_pd(Y, Ev), aa = _mm_and_pd(a, mag);
+  const __m128d ea = _mm_mul_pd(_mm_set1_pd(u), _mm_add_pd(aa, _mm_and_pd(Y, mag)));
+  const __m128d q = _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(fz), a), _mm_set1_pd(r));
+  const __m128d gx = _mm_mul_pd(_mm_set1_pd(G), _mm_add_pd(Ev, q));
+  const __m128d t1 = _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(fabs(fz)),
+                                           _mm_add_pd(_mm_mul_pd(aa, _mm_set1_pd(ed)),
+                                                      _mm_mul_pd(_mm_set1_pd(dz), ea))),
+                                _mm_set1_pd(r2));
+  const __m128d t2 = _mm_mul_pd(_mm_set1_pd(5 * u),
+                                _mm_add_pd(_mm_add_pd(_mm_and_pd(q, mag), _mm_and_pd(Ev, mag)),
+                                           _mm_set1_pd(1)));
+  const __m128d B = _mm_mul_pd(_mm_set1_pd(1.01 * G), _mm_add_pd(t1, t2));
+  if (_mm_movemask_pd(_mm_cmplt_pd(_mm_and_pd(gx, mag), lim)) != 3) return -1;
+  const __m128d sign = _mm_andnot_pd(mag, gx);
+  const __m128i k = _mm_cvttpd_epi32(_mm_add_pd(gx, _mm_or_pd(sign, half)));
+  const __m128d kd = _mm_cvtepi32_pd(k);
+  if (_mm_movemask_pd(_mm_and_pd(_mm_cmplt_pd(_mm_and_pd(kd, mag), lim),
+                                 _mm_cmplt_pd(_mm_add_pd(_mm_and_pd(_mm_sub_pd(gx, kd), mag), B),
+                                              half))) != 3)
+    return -1;
+  g->x = (gcoord)_mm_cvtsi128_si32(k);
+  g->y = (gcoord)_mm_cvtsi128_si32(_mm_shuffle_epi32(k, 1));
+  return 1;
+#else
   int64_t k[2];
   for (int c = 0; c < 2; c++) {
     const double a = yd[c] - v->e[c], ea = u * (fabs(a) + fabs(yd[c]));
@@ -311,6 +347,7 @@ static inline int grid_near(const struct shadow_eye *v, const double yd[3], stru
   g->x = (gcoord)k[0];
   g->y = (gcoord)k[1];
   return 1;
+#endif
 }
 
 int shadow_grid_near(const struct shadow_eye *v, const double yd[3], struct gpoint *g)

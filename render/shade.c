@@ -90,3 +90,23 @@ void shade_grey_lit_run(const struct shade_lights *L, const double n[3], int np,
   }
   for (int p = 0; p < np; p++) grey[p] = shade_grey_of_sum(r[p], sum[p]);
 }
+
+#ifdef __SSE2__
+void shade_pair_init(struct shade_pair *P, const struct shade_lights *L, const double n[3])
+{
+  P->n = L->n;
+  for (int c = 0; c < 3; c++) P->nv[c] = _mm_set1_pd(n[c]);
+  for (int k = 0; k < L->n; k++) {
+    const double *v = L->v[k];
+    struct shade_pair_light *l = &P->l[k];
+    l->point = L->point[k];
+    l->bit = _mm_set1_epi32((int)(1u << k));
+    if (L->point[k]) {
+      for (int c = 0; c < 3; c++) l->v[c] = _mm_set1_pd(v[c]);
+      continue;
+    }
+    const double d = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];   /* shade_grey_lit's */
+    l->v[0] = _mm_set1_pd(d > 0 ? d : 0);
+  }
+}
+#endif

@@ -88,4 +88,95 @@ void shade_grey_lit_run(const struct shade_lights *L, const double n[3], int np,
                         const double (*at)[3], const double *r, const unsigned *blocked,
                         int *grey);
 
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+
+/* ---- two points an instruction (SSE2) ----
+   A flat face's points shaded two at a time, each lane's operations shade_grey_lit's on
+   its own values in their order (SSE2's adds, multiplies, divides and square roots are
+   correctly rounded, as the scalar ones are): a point light's direction from the point
+   divided by its length where the length is > 0 (else divided by 1, which leaves it);
+   a light blocked at a lane, or a dot not > 0, adds +0 there, which leaves the lane's
+   sum as it is (it starts at +0 and only grows: never -0). */
+
+/* The lights made ready for the points of one flat face of unit normal n (shade_pair_sum),
+   in the scene's order: each value broadcast to both lanes. */
+struct shade_pair {
+  int n;
+  struct shade_pair_light {
+    __m128d v[3];                   /* a point light's position; a parallel light's n.l
+                                       where > 0, else +0, in v[0] */
+    __m128i bit;                    /* its bit in a blocked mask, in every lane */
+    bool point;
+  } l[SCENE_LIGHT_MAX];
+  __m128d nv[3];                    /* the normal */
+};
+void shade_pair_init(struct shade_pair *P, const struct shade_lights *L, const double n[3]);
+
+/* Light l's n.l where > 0, else +0, at space points (x, y, z) (nv: the normal). */
+static inline __m128d shade_pair_dot(const struct shade_pair_light *l, const __m128d nv[3],
+                                     __m128d x, __m128d y, __m128d z)
+{
+  if (!l->point) return l->v[0];
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d lx = _mm_sub_pd(l->v[0], x), ly = _mm_sub_pd(l->v[1], y);
+  const __m128d lz = _mm_sub_pd(l->v[2], z);
+  const __m128d s = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(lx, lx), _mm_mul_pd(ly, ly)),
+                                           _mm_mul_pd(lz, lz)));
+  const __m128d pos = _mm_cmpgt_pd(s, zero);
+  const __m128d div = _mm_or_pd(_mm_and_pd(pos, s), _mm_andnot_pd(pos, _mm_set1_pd(1)));
+  const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(nv[0], _mm_div_pd(lx, div)),
+                                          _mm_mul_pd(nv[1], _mm_div_pd(ly, div))),
+                               _mm_mul_pd(nv[2], _mm_div_pd(lz, div)));
+  return _mm_and_pd(_mm_cmpgt_pd(d, zero), d);
+}
+
+/* The lanes' sums of n.l over the lights not blocked at space points (x, y, z), lane 0's
+   lights blocked b0, lane 1's b1: shade_grey_lit's sum, lane by lane. */
+static inline __m128d shade_pair_sum(const struct shade_pair *P, __m128d x, __m128d y,
+                                     __m128d z, unsigned b0, unsigned b1)
+{
+  const struct shade_pair_light *l = P->l, *end = P->l + P->n;
+  __m128d sum = _mm_setzero_pd();
+  if (!(b0 | b1)) {                         /* none blocked */
+    for (; l < end; l++) sum = _mm_add_pd(sum, shade_pair_dot(l, P->nv, x, y, z));
+    return sum;
+  }
+  /* b0 in lane 0's two halves, b1 in lane 1's: a lane's light is not blocked where its
+     bit of them is 0, the whole lane's mask from the halves' compares */
+  const __m128i b = _mm_shuffle_epi32(_mm_unpacklo_epi32(_mm_cvtsi32_si128((int)b0),
+                                                         _mm_cvtsi32_si128((int)b1)),
+                                      _MM_SHUFFLE(1, 1, 0, 0));
+  for (; l < end; l++) {
+    const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(b, l->bit), _mm_setzero_si128());
+    sum = _mm_add_pd(sum, _mm_and_pd(_mm_castsi128_pd(lit), shade_pair_dot(l, P->nv, x, y, z)));
+  }
+  return sum;
+}
+
+/* The two lanes' greys of reflectance r under sums sum (shade_grey_of_sum's, lane by
+   lane): lane 0's in the low byte, lane 1's in the next. Where both lanes' f lie in
+   [0, 2^30) (no NaN) its truncation is CVTTPD2DQ's, f above 512 gives 255 as f does
+   (48 + 512 > 255), and the two saturating packs leave 48 + t when it is at most 255 and
+   make it 255 above it: the clamp. Else each lane by shade_grey_of_sum. */
+static inline unsigned shade_pair_greys(__m128d r, __m128d sum)
+{
+  const __m128d f = _mm_add_pd(_mm_mul_pd(_mm_mul_pd(_mm_set1_pd(255 - SHADE_AMBIENT), r), sum),
+                               _mm_set1_pd(0.5));
+  if (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f, _mm_setzero_pd()),
+                                 _mm_cmplt_pd(f, _mm_set1_pd(0x1p30)))) == 3) {
+    const __m128i t = _mm_add_epi32(_mm_cvttpd_epi32(_mm_min_pd(f, _mm_set1_pd(512))),
+                                    _mm_set1_epi32(SHADE_AMBIENT));
+    const __m128i b = _mm_packus_epi16(_mm_packs_epi32(t, t), _mm_setzero_si128());
+    return (unsigned)_mm_cvtsi128_si32(b) & 0xffffu;
+  }
+  double rr[2], ss[2];
+  _mm_storeu_pd(rr, r);
+  _mm_storeu_pd(ss, sum);
+  return (unsigned)(uint8_t)shade_grey_of_sum(rr[0], ss[0]) |
+         (unsigned)(uint8_t)shade_grey_of_sum(rr[1], ss[1]) << 8;
+}
+#endif
+
 #endif

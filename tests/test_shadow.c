@@ -21,7 +21,10 @@
 #include <stdbool.h>
 #include <string.h>
 
+#include "effects/model.h"
+#include "effects/see.h"
 #include "effects/shadow.h"
+#include "render/points.h"
 #include "render/render.h"
 #include "render/scene.h"
 
@@ -272,6 +275,147 @@ static void test_first_sample_is_exact(void **state)
   assert_int_equal(differ, 0);
 }
 
+
+/* A grid polygon through point centres (i, j) of grid g (lattice 1). */
+static void add_on_centres(struct fx_polys *ps, const struct vis_grid *g, const int (*ij)[2],
+                           int n, int owner, int light)
+{
+  struct gpoint pt[16];
+  const int64_t xd = 2 * (int64_t)g->W, yd = 2 * (int64_t)g->H;
+  for (int k = 0; k < n; k++) {
+    const int64_t xn = GRID_ONE * (xd * g->window[0] + (2 * (int64_t)ij[k][0] + 1) *
+                                                        ((int64_t)g->window[2] - g->window[0]));
+    const int64_t yn = GRID_ONE * (yd * g->window[3] - (2 * (int64_t)ij[k][1] + 1) *
+                                                        ((int64_t)g->window[3] - g->window[1]));
+    assert_int_equal(xn % xd, 0);
+    assert_int_equal(yn % yd, 0);
+    pt[k] = (struct gpoint){ xn / xd, yn / yd };
+  }
+  int rs[2] = { 0, n };
+  assert_true(fx_polys_add(ps, 1, rs, pt, owner, light));
+}
+
+/* The lights blocked at sample xn / xd of the line yn / yd on face f, from the model's
+   shadows by their exact crossings alone: a light whose polygon has an odd number of
+   crossings at or left of the sample. */
+static unsigned blocked_exactly(const struct fx_model *m, int f, int64_t yn, int64_t yd,
+                                int64_t xn, int64_t xd)
+{
+  unsigned b = 0;
+  if (f < 0) return 0;
+  for (int k = m->shadow_first[f]; k < m->shadow_first[f + 1]; k++) {
+    const struct fx_poly *p = &m->shadows.p[k];
+    struct grat x[64];
+    const int nx = fx_poly_cross(p, yn, yd, x, 64, NULL);
+    assert_true(nx >= 0);
+    int left = 0;
+    for (int h = 0; h < nx; h++) left += geom_rat_cmp_frac(x[h], xn, xd) <= 0;
+    if (left & 1) b |= 1u << p->light;
+  }
+  return b;
+}
+
+/* The points engine's lights blocked, sample by sample (fx_lines_samples: a polygon of two
+   crossings has its ends stepped from row to row, effects/model.c), are those of the
+   exact crossings: on fig6-room and fig6-building with their own shadows and with
+   polygons whose vertices lie on point centres and whose edges pass through centres
+   (slopes 0, 1/2, 4/5, 1, 3 and a ring of many points), the rows from the bottom up at 1,
+   2 and 3 samples a point, every third row (wrapping round: steps of other sizes and
+   back), and top down. Fails when a crossing exactly on a sample is taken as left of it. */
+static void test_stepped_ends_are_exact(void **state)
+{
+  (void)state;
+  static const char *const scenes[] = { "scenes/fig6-room.s74", "scenes/fig6-building.s74" };
+  long samples = 0, blocked = 0, on_centres = 0, differ = 0;
+  for (int sc = 0; sc < 2; sc++)
+    for (int own = 0; own < 2; own++) {
+      struct scene *s;
+      struct scene_opts so;
+      memset(&so, 0, sizeof so);
+      so.quiet = true;
+      struct t74_error err = { 0, "" };
+      assert_int_equal(scene_load(scenes[sc], &so, &s, &err), T74_OK);
+      struct effects e;
+      assert_int_equal(effects_parse("shadows=on", &e, "test", 1, &err), T74_OK);
+      const int W = 120, H = 90;             /* (centres on the plane grid: 1024 and 1600 apart) */
+      struct vis_grid g = { W, H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
+      struct points pts;
+      memset(&pts, 0, sizeof pts);
+      assert_int_equal(points_render(&pts, s, &g, &err), T74_OK);
+      struct fx_engine eng;
+      assert_int_equal(fx_engine_points(&eng, &pts, &g, NULL, &err), T74_OK);
+      struct fx_stats st;
+      memset(&st, 0, sizeof st);
+      struct cost cost = { { 0 } };
+      struct fx_model m;
+      assert_int_equal(fx_model_build(&m, &eng, s, &e, NULL, &st, &cost, &err), T74_OK);
+      assert_false(m.count);
+      assert_true(m.shadows.n > 0);
+      if (!own) {                           /* polygons on the centres, on every face */
+        static const int rect[4][2] = { { 20, 20 }, { 60, 20 }, { 60, 50 }, { 20, 50 } };
+        static const int diamond[4][2] = { { 10, 37 }, { 50, 5 }, { 90, 37 }, { 50, 69 } };
+        static const int slant[4][2] = { { 5, 60 }, { 45, 40 }, { 51, 58 }, { 15, 70 } };
+        static const int steep[3][2] = { { 70, 10 }, { 73, 19 }, { 64, 19 } };
+        static const int ring[12][2] = { { 30, 30 }, { 40, 28 }, { 50, 30 }, { 56, 36 },
+                                         { 58, 44 }, { 56, 52 }, { 50, 58 }, { 40, 60 },
+                                         { 30, 58 }, { 24, 52 }, { 22, 44 }, { 24, 36 } };
+        fx_polys_free(&m.shadows);
+        memset(&m.shadows, 0, sizeof m.shadows);
+        for (int f = 0; f < eng.map->nface; f++) {
+          m.shadow_first[f] = m.shadows.n;
+          add_on_centres(&m.shadows, &g, rect, 4, f, 0);
+          add_on_centres(&m.shadows, &g, diamond, 4, f, 1);
+          add_on_centres(&m.shadows, &g, slant, 4, f, 1);
+          add_on_centres(&m.shadows, &g, steep, 3, f, 0);
+          add_on_centres(&m.shadows, &g, ring, 12, f, 1);
+        }
+        m.shadow_first[eng.map->nface] = m.shadows.n;
+      }
+      for (int K = 1; K <= 3; K++)
+        for (int order = 0; order < 3; order++) {
+          struct fx_lines *L;
+          assert_int_equal(fx_lines_open(&L, &m, true, &cost, &err), T74_OK);
+          const int nk = K * (W + 2), k0 = -K, rows = K * (H + 2);
+          int *face = calloc((size_t)nk, sizeof *face);
+          unsigned *b = calloc((size_t)nk, sizeof *b);
+          assert_true(face && b);
+          const int64_t xd = 2 * (int64_t)K * W, yd = 2 * (int64_t)K * H;
+          for (int t = 0; t < rows; t++) {
+            /* 0: bottom up; 1: every third row up, round again from the bottom; 2: top down */
+            const int mr = order == 0 ? rows - 1 - K - t
+                         : order == 1 ? rows - 1 - K - (3 * t) % rows
+                         : t - K;
+            assert_int_equal(fx_lines_samples(L, K, mr, k0, nk, face, b, &err), T74_OK);
+            const int64_t yn = GRID_ONE * (yd * g.window[3] - (2 * (int64_t)mr + 1) *
+                                                              ((int64_t)g.window[3] - g.window[1]));
+            for (int i = 0; i < nk; i++) {
+              const int64_t xn = GRID_ONE * (xd * g.window[0] + (2 * (int64_t)(k0 + i) + 1) *
+                                                                ((int64_t)g.window[2] - g.window[0]));
+              const unsigned want = blocked_exactly(&m, face[i], yn, yd, xn, xd);
+              if (b[i] != want && differ++ < 4)
+                print_message("%s%s K=%d order %d sample (%d, %d) face %d: blocked %u, exactly %u\n",
+                              scenes[sc], own ? "" : " (on centres)", K, order, k0 + i, mr,
+                              face[i], b[i], want);
+              samples++;
+              blocked += want != 0;
+              on_centres += !own && want != 0;
+            }
+          }
+          free(face);
+          free(b);
+          fx_lines_close(L);
+        }
+      fx_model_free(&m);
+      fx_engine_free(&eng);
+      points_free(&pts);
+      scene_free(s);
+    }
+  print_message("stepped ends: %ld samples, %ld blocked (%ld by polygons on centres), %ld differ\n",
+                samples, blocked, on_centres, differ);
+  assert_int_equal(differ, 0);
+  assert_true(blocked > 10000 && on_centres > 1000);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -279,6 +423,7 @@ int main(void)
     cmocka_unit_test(test_counted_keeps_nothing),
     cmocka_unit_test(test_grid_near_is_long_way),
     cmocka_unit_test(test_first_sample_is_exact),
+    cmocka_unit_test(test_stepped_ends_are_exact),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
