@@ -952,6 +952,55 @@ static void test_phong_filter_is_exact(void **state)
   lib_close(&L);
 }
 
+/* The Phong filter's range test (smooth.c, phong_filter and phong_pairs): a point whose
+   clamped area w_k is positive but below |tot| 2^-1000 is declined and left to the exact
+   chain, under parallel lights (phong_pairs) and with a point light (phong_filter). Two
+   triangles share a side on the line x = 0 (their plane's first barycentric axis): a
+   point at x = +-e from the side's middle, inside, has that side's area of e's size (the
+   two corners' x are 0, so nothing of e is lost), the others of the triangle's: at
+   e = 2^-1010 far below the bound, at e = 2^-900 far above it. */
+static void test_phong_filter_range(void **state)
+{
+  (void)state;
+  write_text("pair.s74",
+             "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+             "vertex 1 0 0 0\nvertex 2 0 100 10\nvertex 3 100 50 20\nvertex 4 -100 50 0\n"
+             "face 1 1 2 3\nface 2 2 1 4\nobject 1 1 2\n");
+  struct lib L;
+  lib_open(&L, tpath("pair.s74"), "smooth=phong");
+  struct shade_lights set[2];
+  shade_lights_init(&set[0], L.s);
+  set[1] = set[0];
+  set[1].n = 2;
+  set[1].point[1] = true;
+  const double p1[3] = { 30, -40, -300 };
+  memcpy(set[1].v[1], p1, sizeof p1);
+  assert_int_equal(L.m.ntri, 2);
+  for (int t = 0; t < L.m.ntri; t++) {
+    const struct smooth_tri *tr = &L.m.tri[t];
+    assert_true(tr->bu == 0 && tr->bw == 1);
+    double w[3], side = 0;                  /* the side's middle; side: the third's x */
+    for (int k = 0; k < 3; k++) {
+      const int x = L.s->v[tr->v[k]].x;
+      w[k] = x ? 0 : 0.5;
+      side += x;
+    }
+    for (int q = 0; q < 2; q++)
+      for (int tiny = 0; tiny < 2; tiny++) {
+        double X[3];
+        tri_point(&L, t, w, X);
+        assert_true(X[0] == 0);
+        X[0] = (side > 0 ? 1 : -1) * (tiny ? 0x1p-1010 : 0x1p-900);
+        int g[2];
+        long declines = 0;
+        phong_both(&L, t, X, 1.0, 0, &set[q], &declines, g);
+        assert_int_equal(g[0], g[1]);
+        assert_int_equal(declines, tiny);
+      }
+  }
+  lib_close(&L);
+}
+
 /* The greys and regions at a run of n points X[p] by the inner triangle's filter (and the
    chain where it declines) in g[0], r[0] and by the chain alone in g[1], r[1]; counts the
    points the filter does not take in *declines. */
@@ -1536,6 +1585,7 @@ int main(void)
     cmocka_unit_test(test_edge_pairs_are_single),
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
+    cmocka_unit_test(test_phong_filter_range),
     cmocka_unit_test(test_inner_filter_is_exact),
     cmocka_unit_test(test_round_ld_is_llroundl),
     cmocka_unit_test(test_kept_scene_part),
