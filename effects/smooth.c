@@ -765,6 +765,18 @@ static inline void bary_areas(const struct smooth_tri *tr, const double X[3], do
   }
 }
 
+#ifdef __SSE2__
+/* bary_areas' ar[k] at two points, a point a lane (x, y: their coordinates on the axes bu,
+   bw), from side k's constants as smooth_tri keeps them twice: a = xa[k], d = xd[k] (or
+   xsd[k], d times tot's sign); bary_areas' operations in its order. */
+static inline __m128d area_lanes(const double (*a)[2], const double (*d)[2], __m128d x,
+                                 __m128d y)
+{
+  return _mm_sub_pd(_mm_mul_pd(_mm_load_pd(d[0]), _mm_sub_pd(y, _mm_load_pd(a[1]))),
+                    _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(a[0])), _mm_load_pd(d[1])));
+}
+#endif
+
 /* Barycentric coordinates from bary_areas' areas, clamped into the triangle, for points
    p < n <= SMOOTH_RUN: several points side by side only let their chains of divides
    overlap in the processor. */
@@ -1021,11 +1033,8 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
       __m128d v[3], w[3];
-      for (int k = 0; k < 3; k++) {             /* bary_areas' */
-        v[k] = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xd[k][0]),
-                                     _mm_sub_pd(y, _mm_load_pd(tr->xa[k][1]))),
-                          _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(tr->xa[k][0])),
-                                     _mm_load_pd(tr->xd[k][1])));
+      for (int k = 0; k < 3; k++) {
+        v[k] = area_lanes(tr->xa[k], tr->xd[k], x, y);
         w[k] = _mm_mul_pd(sv, v[k]);
       }
       const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
@@ -1190,19 +1199,16 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
     __m128d w[3], s = zero;
     for (int k = 0; k < 3; k++) {
-      /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants: -(a - b) is
-         (-a) - (-b) and -(a b) is (-a) b, exactly, but for a 0 difference (+0 either way,
-         against -0), which the max with +0 makes +0 as it does -0 (MAXPD gives its second
-         operand when the two are equal) */
-      const __m128d ar = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xsd[k][0]),
-                                               _mm_sub_pd(y, _mm_load_pd(tr->xa[k][1]))),
-                                    _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(tr->xa[k][0])),
-                                               _mm_load_pd(tr->xsd[k][1])));
-      w[k] = _mm_max_pd(ar, zero);
+      /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
+         the sign): where tot < 0, (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) -
+         (x - a_u) d_w) exactly (rounding to nearest is symmetric under negation), but where
+         that difference is 0: +0 here against -0 there, and the max with +0 makes either
+         +0 (MAXPD gives its second operand when the two are equal) */
+      w[k] = _mm_max_pd(area_lanes(tr->xa[k], tr->xsd[k], x, y), zero);
       s = _mm_add_pd(s, w[k]);
     }
     /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
-       and one whose sum is above hi), in four instructions: every w_k >= min >= lo, and
+       and one whose sum is above hi), in five instructions: every w_k >= min >= lo, and
        w_k <= s <= hi (s a sum of non-negative terms, each rounding monotone) */
     const __m128d good = _mm_and_pd(_mm_cmpge_pd(_mm_min_pd(_mm_min_pd(w[0], w[1]), w[2]), lo),
                                     _mm_cmple_pd(s, hi));
