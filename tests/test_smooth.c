@@ -570,6 +570,16 @@ static void tri_point(const struct lib *L, int t, const double w[3], double X[3]
   }
 }
 
+/* A second parallel light, from below on the left, added to the scene's one light. */
+static void second_light(struct shade_lights *lights)
+{
+  if (lights->n != 1) return;
+  const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
+  memcpy(lights->v[1], v, sizeof v);
+  lights->point[1] = false;
+  lights->n = 2;
+}
+
 /* Points shaded in runs (smooth_grey_run, the points engine's path) give the greys and
    regions each gives alone (smooth_grey_at), bit for bit, under each smoothing: runs of 1
    to SMOOTH_RUN points inside and outside each triangle of the globe (the clamps, the
@@ -593,12 +603,7 @@ static void test_run_is_single(void **state)
     int differ = 0, greys[256] = { 0 }, regions[3] = { 0 };
     for (int two = 0; two < 2; two++)
     for (int t = 0; t < L.m.ntri; t++) {
-      if (two && lights.n == 1) {             /* a second light, from below on the left */
-        const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
-        memcpy(lights.v[1], v, sizeof v);
-        lights.point[1] = false;
-        lights.n = 2;
-      }
+      if (two) second_light(&lights);
       const int n = 1 + t % SMOOTH_RUN;
       double X[SMOOTH_RUN][3];
       unsigned blocked[SMOOTH_RUN];
@@ -628,6 +633,19 @@ static void test_run_is_single(void **state)
   }
 }
 
+/* The space point of triangle t at l_k = lk (side k's band) and parameter sp along the
+   band: l_a = t_a + sp (1 - lk - t_a - t_b), l_b the rest (a, b the corners after k). */
+static void band_point(const struct lib *L, int t, int k, double lk, double sp, double X[3])
+{
+  const double *ti = L->m.tri[t].t;
+  const int a = (k + 1) % 3, b = (k + 2) % 3;
+  double w[3];
+  w[k] = lk;
+  w[a] = ti[a] + sp * (1 - lk - ti[a] - ti[b]);
+  w[b] = 1 - lk - w[a];
+  tri_point(L, t, w, X);
+}
+
 /* Runs of points along each side's band of each triangle of the globe (most of them two
    by two in one edge band, which smooth_grey_run shades two points an instruction; the ends
    of a run in the corner bands) give the greys and regions each gives alone
@@ -648,27 +666,15 @@ static void test_edge_pairs_are_single(void **state)
     struct shade_lights lights;
     shade_lights_init(&lights, L.s);
     for (int two = 0; two < 2; two++) {
-      if (two && lights.n == 1) {             /* a second light, from below on the left */
-        const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
-        memcpy(lights.v[1], v, sizeof v);
-        lights.point[1] = false;
-        lights.n = 2;
-      }
+      if (two) second_light(&lights);
       for (int t = 0; t < L.m.ntri; t++)
         for (int k = 0; k < 3; k++)
           for (size_t d = 0; d < sizeof depth / sizeof *depth; d++) {
-            const double *ti = L.m.tri[t].t;
-            const int a = (k + 1) % 3, b = (k + 2) % 3;
-            const double lk = depth[d] * ti[k], rest = 1 - lk - ti[a] - ti[b];
+            const double lk = depth[d] * L.m.tri[t].t[k];
             double X[SMOOTH_RUN][3];
             unsigned blocked[SMOOTH_RUN];
             for (int p = 0; p < SMOOTH_RUN; p++) {
-              const double sp = -0.1 + 1.2 * p / (SMOOTH_RUN - 1);
-              double w[3];
-              w[k] = lk;
-              w[a] = ti[a] + sp * rest;
-              w[b] = 1 - lk - w[a];
-              tri_point(&L, t, w, X[p]);
+              band_point(&L, t, k, lk, -0.1 + 1.2 * p / (SMOOTH_RUN - 1), X[p]);
               blocked[p] = two && (t + p) % 7 == 0 ? 2u : 0u;
             }
             const double refl = (t + k) % 2 ? 1.0 : 0.6;
@@ -691,29 +697,20 @@ static void test_edge_pairs_are_single(void **state)
               if (single[p] == single[p + 1] || sregion[p] != 1 || sregion[p + 1] != 1 ||
                   blocked[p] || blocked[p + 1])
                 continue;
-              double s0 = -0.1 + 1.2 * p / (SMOOTH_RUN - 1), s1 = -0.1 + 1.2 * (p + 1) / (SMOOTH_RUN - 1);
+              double s0 = -0.1 + 1.2 * p / (SMOOTH_RUN - 1);
+              double s1 = -0.1 + 1.2 * (p + 1) / (SMOOTH_RUN - 1);
               double B[2][3];
               int gb[2], rb[2];
               const unsigned none[2] = { 0, 0 };
               for (int it = 0; it < 200; it++) {
                 const double sm = 0.5 * (s0 + s1);
                 if (!(sm > s0 && sm < s1)) break;
-                double w[3];
-                w[k] = lk;
-                w[a] = ti[a] + sm * rest;
-                w[b] = 1 - lk - w[a];
-                tri_point(&L, t, w, B[0]);
+                band_point(&L, t, k, lk, sm, B[0]);
                 const int g = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, B[0], refl, 0,
                                              &lights, NULL, NULL);
                 if (g == single[p]) s0 = sm; else s1 = sm;
               }
-              for (int h = 0; h < 2; h++) {
-                double w[3];
-                w[k] = lk;
-                w[a] = ti[a] + (h ? s1 : s0) * rest;
-                w[b] = 1 - lk - w[a];
-                tri_point(&L, t, w, B[h]);
-              }
+              for (int h = 0; h < 2; h++) band_point(&L, t, k, lk, h ? s1 : s0, B[h]);
               smooth_grey_run(&L.m, &L.r.map, L.s, &L.e, t, 2, (const double (*)[3])B, refl,
                               none, &lights, gb, rb);
               for (int h = 0; h < 2; h++) {
