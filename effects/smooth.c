@@ -101,7 +101,8 @@ static double inner_tc(double tk)
 }
 
 /* The shading pass's constants of a triangle (smooth_tri.xa ...), from its own fields:
-   copies, and inner_tc's values. */
+   copies of them, inner_tc's values, tot's sign (and the sides' constants times it,
+   exactly) and the Phong filter's bounds |tot| 2^-1000 and |tot| 2^1000. */
 static void tri_lanes(struct smooth_tri *tr)
 {
   for (int k = 0; k < 3; k++) {
@@ -765,6 +766,18 @@ static inline void bary_areas(const struct smooth_tri *tr, const double X[3], do
   }
 }
 
+#ifdef __SSE2__
+/* bary_areas' ar[k] at two points, a point a lane (x, y: their coordinates on the axes bu,
+   bw), from side k's constants as smooth_tri keeps them twice: a = xa[k], d = xd[k] (or
+   xsd[k], d times tot's sign); bary_areas' operations in its order. */
+static inline __m128d area_lanes(const double (*a)[2], const double (*d)[2], __m128d x,
+                                 __m128d y)
+{
+  return _mm_sub_pd(_mm_mul_pd(_mm_load_pd(d[0]), _mm_sub_pd(y, _mm_load_pd(a[1]))),
+                    _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(a[0])), _mm_load_pd(d[1])));
+}
+#endif
+
 /* Barycentric coordinates from bary_areas' areas, clamped into the triangle, for points
    p < n <= SMOOTH_RUN: several points side by side only let their chains of divides
    overlap in the processor. */
@@ -950,22 +963,22 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 **
 ** Let at = |tot| (tot = btot), w_k = +-ar_k (tot's sign: exact), W = w_0 + w_1 + w_2 in
 ** real numbers, u = 2^-53, c = 1 + 2^-40, tc_k = max(fl(t_k c), 2^-898) (a triangle's
-** three, made with its insets: inner_tc). The filter declines unless 2^-100 <= at <=
-** 2^100, S = fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k =
-** fl(tc_k S). Then
+** three, made with its insets: inner_tc). The filter declines unless 2^-100 <= at <= 2^100,
+** S = fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k = fl(tc_k S). Then
 ** tc_k S >= 2^-999 (so R_k is a normal number, rounded within a relative u) and every
-** w_k >= R_k >= at 2^-900 > 0; W <= S / (1 - u)^2, so each a_k = ar_k / tot = w_k / at
-** lies in [2^-900, 2 + 8u] and no step of the chain below underflows or overflows. The
-** chain: l'_k = fl(ar_k / tot) = a_k (1 + d), |d| <= u, positive (no clamp); their sum
-** s' (two adds of positive terms) = (sum a)(1 + e), |e| < 3.01u; l_k = l'_k when s' is 1,
-** else fl(l'_k / s'): either way l_k >= (w_k / W)(1 - 5.03u) (a_k / sum a is w_k / W).
-** When t_k > 0: R_k >= tc_k S (1 - u) >= t_k c (1 - u)^2 S >= t_k c (1 - u)^4 W (S: two
+** w_k >= R_k >= at 2^-900 > 0; W <= S / (1 - u)^2, so each a_k = ar_k / tot = w_k / at lies
+** in [2^-900, 2 + 8u] and no step of the chain below underflows or overflows. The chain:
+** l'_k = fl(ar_k / tot) = a_k (1 + d), |d| <= u, positive (no clamp); their sum s' (two
+** adds of positive terms) = (sum a)(1 + e), |e| < 3.01u; l_k = l'_k when s' is 1, else
+** fl(l'_k / s'): either way l_k >= (w_k / W)(1 - 5.03u) (a_k / sum a is w_k / W). When
+** t_k > 0: R_k >= tc_k S (1 - u) >= t_k c (1 - u)^2 S >= t_k c (1 - u)^4 W (S: two
 ** roundings down at most), so w_k / W >= t_k (1 - u)^4 (1 + 2^-40) and l_k >= t_k (1 +
-** 2^-40 - 10u) > t_k; when t_k = 0, l_k > 0 = t_k. So no l_k is below its t_k: the
-** chain says region 0. The filter declines only points within a relative 2^-40 of the
-** inner triangle's border (none in practice), and those outside it. test_smooth (test_inner_filter_is_exact) holds it to the chain on a grid in
-** and around every triangle of the globe under several insets, and on points bisected
-** onto the inner triangle's border, where it must decline. */
+** 2^-40 - 10u) > t_k; when t_k = 0, l_k > 0 = t_k. So no l_k is below its t_k: the chain
+** says region 0. The filter declines only points within a relative 2^-40 of the inner
+** triangle's border (none in practice), and those outside it. test_smooth
+** (test_inner_filter_is_exact) holds it to the chain on a grid in and around every triangle
+** of the globe under several insets, and on points bisected onto the inner triangle's
+** border, where it must decline. */
 /* The filter at one point from its areas ar (bary_areas): true when it proves the point
    inner. st: tot's sign. */
 static inline bool inner_one(const double ar[3], const double tc[3], double lo, double hi,
@@ -1021,11 +1034,8 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
       __m128d v[3], w[3];
-      for (int k = 0; k < 3; k++) {             /* bary_areas' */
-        v[k] = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xd[k][0]),
-                                     _mm_sub_pd(y, _mm_load_pd(tr->xa[k][1]))),
-                          _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(tr->xa[k][0])),
-                                     _mm_load_pd(tr->xd[k][1])));
+      for (int k = 0; k < 3; k++) {
+        v[k] = area_lanes(tr->xa[k], tr->xd[k], x, y);
         w[k] = _mm_mul_pd(sv, v[k]);
       }
       const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
@@ -1090,10 +1100,10 @@ static inline int clamp_grey(int g) { return g < 0 ? 0 : g > 255 ? 255 : g; }
    (unit()'s steps), turned to the eye's side (times sgn) and lit (shade_grey_lit) at point
    slot_p[q] (X, blocked), into grey[slot_p[q]] clamped to 0..255. Under parallel lights
    two slots an instruction where the processor has SSE2: each lane's operations are the
-   scalar ones on its values in their order (correctly rounded, as the scalar ones are; a lane's divides kept only
-   where its length is > 0, as unit() divides; a light blocked or a dot not > 0 adds +0,
-   which leaves the lane's sum, never below +0, as it is), and the grey from the sum is
-   shade_grey_of_sum's. */
+   scalar ones on its values in their order (correctly rounded, as the scalar ones are; a
+   lane's divides kept only where its length is > 0, as unit() divides; a light blocked or
+   a dot not > 0 adds +0, which leaves the lane's sum, never below +0, as it is), and the
+   grey from the sum is shade_grey_of_sum's. */
 static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const int *slot_p,
                              const double (*X)[3], double refl, const unsigned *blocked,
                              const struct shade_lights *L, int *grey)
@@ -1190,19 +1200,16 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
     __m128d w[3], s = zero;
     for (int k = 0; k < 3; k++) {
-      /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants: -(a - b) is
-         (-a) - (-b) and -(a b) is (-a) b, exactly, but for a 0 difference (+0 either way,
-         against -0), which the max with +0 makes +0 as it does -0 (MAXPD gives its second
-         operand when the two are equal) */
-      const __m128d ar = _mm_sub_pd(_mm_mul_pd(_mm_load_pd(tr->xsd[k][0]),
-                                               _mm_sub_pd(y, _mm_load_pd(tr->xa[k][1]))),
-                                    _mm_mul_pd(_mm_sub_pd(x, _mm_load_pd(tr->xa[k][0])),
-                                               _mm_load_pd(tr->xsd[k][1])));
-      w[k] = _mm_max_pd(ar, zero);
+      /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
+         the sign): where tot < 0, (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) -
+         (x - a_u) d_w) exactly (rounding to nearest is symmetric under negation), but where
+         that difference is 0: +0 here against -0 there, and the max with +0 makes either
+         +0 (MAXPD gives its second operand when the two are equal) */
+      w[k] = _mm_max_pd(area_lanes(tr->xa[k], tr->xsd[k], x, y), zero);
       s = _mm_add_pd(s, w[k]);
     }
     /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
-       and one whose sum is above hi), in four instructions: every w_k >= min >= lo, and
+       and one whose sum is above hi), in five instructions: every w_k >= min >= lo, and
        w_k <= s <= hi (s a sum of non-negative terms, each rounding monotone) */
     const __m128d good = _mm_and_pd(_mm_cmpge_pd(_mm_min_pd(_mm_min_pd(w[0], w[1]), w[2]), lo),
                                     _mm_cmple_pd(s, hi));
@@ -1337,8 +1344,9 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   double lv[3][SMOOTH_RUN];
   bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])sp.la, lv);
   /* the lit points' normals in slots, a component an array (lit_slots): the band
-     points' in their order but for the chain's region 0 among them (given the flat
-     picture's grey where the inner triangle's are), then the inner triangle's that are lit */
+     points' in their order, but for those the chain puts in region 0 that take the flat
+     picture's grey (reflectance 1, no light blocked, as for the inner triangle's), then
+     the inner triangle's that are lit */
   double nv[3][SMOOTH_RUN];
   int slot_p[SMOOTH_RUN], ns = 0;
   for (int q = 0; q < nl; q++) {

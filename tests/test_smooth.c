@@ -570,6 +570,16 @@ static void tri_point(const struct lib *L, int t, const double w[3], double X[3]
   }
 }
 
+/* A second parallel light, from below on the left, added to the scene's one light. */
+static void second_light(struct shade_lights *lights)
+{
+  if (lights->n != 1) return;
+  const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
+  memcpy(lights->v[1], v, sizeof v);
+  lights->point[1] = false;
+  lights->n = 2;
+}
+
 /* Points shaded in runs (smooth_grey_run, the points engine's path) give the greys and
    regions each gives alone (smooth_grey_at), bit for bit, under each smoothing: runs of 1
    to SMOOTH_RUN points inside and outside each triangle of the globe (the clamps, the
@@ -593,12 +603,7 @@ static void test_run_is_single(void **state)
     int differ = 0, greys[256] = { 0 }, regions[3] = { 0 };
     for (int two = 0; two < 2; two++)
     for (int t = 0; t < L.m.ntri; t++) {
-      if (two && lights.n == 1) {             /* a second light, from below on the left */
-        const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
-        memcpy(lights.v[1], v, sizeof v);
-        lights.point[1] = false;
-        lights.n = 2;
-      }
+      if (two) second_light(&lights);
       const int n = 1 + t % SMOOTH_RUN;
       double X[SMOOTH_RUN][3];
       unsigned blocked[SMOOTH_RUN];
@@ -628,6 +633,19 @@ static void test_run_is_single(void **state)
   }
 }
 
+/* The space point of triangle t at l_k = lk (side k's band) and parameter sp along the
+   band: l_a = t_a + sp (1 - lk - t_a - t_b), l_b the rest (a, b the corners after k). */
+static void band_point(const struct lib *L, int t, int k, double lk, double sp, double X[3])
+{
+  const double *ti = L->m.tri[t].t;
+  const int a = (k + 1) % 3, b = (k + 2) % 3;
+  double w[3];
+  w[k] = lk;
+  w[a] = ti[a] + sp * (1 - lk - ti[a] - ti[b]);
+  w[b] = 1 - lk - w[a];
+  tri_point(L, t, w, X);
+}
+
 /* Runs of points along each side's band of each triangle of the globe (most of them two
    by two in one edge band, which smooth_grey_run shades two points an instruction; the ends
    of a run in the corner bands) give the greys and regions each gives alone
@@ -648,27 +666,15 @@ static void test_edge_pairs_are_single(void **state)
     struct shade_lights lights;
     shade_lights_init(&lights, L.s);
     for (int two = 0; two < 2; two++) {
-      if (two && lights.n == 1) {             /* a second light, from below on the left */
-        const double v[3] = { -0.48, -0.6, -0.64 };   /* |v| = 1 */
-        memcpy(lights.v[1], v, sizeof v);
-        lights.point[1] = false;
-        lights.n = 2;
-      }
+      if (two) second_light(&lights);
       for (int t = 0; t < L.m.ntri; t++)
         for (int k = 0; k < 3; k++)
           for (size_t d = 0; d < sizeof depth / sizeof *depth; d++) {
-            const double *ti = L.m.tri[t].t;
-            const int a = (k + 1) % 3, b = (k + 2) % 3;
-            const double lk = depth[d] * ti[k], rest = 1 - lk - ti[a] - ti[b];
+            const double lk = depth[d] * L.m.tri[t].t[k];
             double X[SMOOTH_RUN][3];
             unsigned blocked[SMOOTH_RUN];
             for (int p = 0; p < SMOOTH_RUN; p++) {
-              const double sp = -0.1 + 1.2 * p / (SMOOTH_RUN - 1);
-              double w[3];
-              w[k] = lk;
-              w[a] = ti[a] + sp * rest;
-              w[b] = 1 - lk - w[a];
-              tri_point(&L, t, w, X[p]);
+              band_point(&L, t, k, lk, -0.1 + 1.2 * p / (SMOOTH_RUN - 1), X[p]);
               blocked[p] = two && (t + p) % 7 == 0 ? 2u : 0u;
             }
             const double refl = (t + k) % 2 ? 1.0 : 0.6;
@@ -691,29 +697,20 @@ static void test_edge_pairs_are_single(void **state)
               if (single[p] == single[p + 1] || sregion[p] != 1 || sregion[p + 1] != 1 ||
                   blocked[p] || blocked[p + 1])
                 continue;
-              double s0 = -0.1 + 1.2 * p / (SMOOTH_RUN - 1), s1 = -0.1 + 1.2 * (p + 1) / (SMOOTH_RUN - 1);
+              double s0 = -0.1 + 1.2 * p / (SMOOTH_RUN - 1);
+              double s1 = -0.1 + 1.2 * (p + 1) / (SMOOTH_RUN - 1);
               double B[2][3];
               int gb[2], rb[2];
               const unsigned none[2] = { 0, 0 };
               for (int it = 0; it < 200; it++) {
                 const double sm = 0.5 * (s0 + s1);
                 if (!(sm > s0 && sm < s1)) break;
-                double w[3];
-                w[k] = lk;
-                w[a] = ti[a] + sm * rest;
-                w[b] = 1 - lk - w[a];
-                tri_point(&L, t, w, B[0]);
+                band_point(&L, t, k, lk, sm, B[0]);
                 const int g = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, B[0], refl, 0,
                                              &lights, NULL, NULL);
                 if (g == single[p]) s0 = sm; else s1 = sm;
               }
-              for (int h = 0; h < 2; h++) {
-                double w[3];
-                w[k] = lk;
-                w[a] = ti[a] + (h ? s1 : s0) * rest;
-                w[b] = 1 - lk - w[a];
-                tri_point(&L, t, w, B[h]);
-              }
+              for (int h = 0; h < 2; h++) band_point(&L, t, k, lk, h ? s1 : s0, B[h]);
               smooth_grey_run(&L.m, &L.r.map, L.s, &L.e, t, 2, (const double (*)[3])B, refl,
                               none, &lights, gb, rb);
               for (int h = 0; h < 2; h++) {
@@ -949,6 +946,55 @@ static void test_phong_filter_is_exact(void **state)
   print_message("Phong filter: %ld borders, %ld points declined\n", borders, border_declines);
   assert_true(borders > 50);
   assert_int_equal(border_declines, 2 * borders);
+  lib_close(&L);
+}
+
+/* The Phong filter's range test (smooth.c, phong_filter and phong_pairs): a point whose
+   clamped area w_k is positive but below |tot| 2^-1000 is declined and left to the exact
+   chain, under parallel lights (phong_pairs) and with a point light (phong_filter). Two
+   triangles share a side on the line x = 0 (their plane's first barycentric axis): a
+   point at x = +-e from the side's middle, inside, has that side's area of e's size (the
+   two corners' x are 0, so nothing of e is lost), the others of the triangle's: at
+   e = 2^-1010 far below the bound, at e = 2^-900 far above it. */
+static void test_phong_filter_range(void **state)
+{
+  (void)state;
+  write_text("pair.s74",
+             "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+             "vertex 1 0 0 0\nvertex 2 0 100 10\nvertex 3 100 50 20\nvertex 4 -100 50 0\n"
+             "face 1 1 2 3\nface 2 2 1 4\nobject 1 1 2\n");
+  struct lib L;
+  lib_open(&L, tpath("pair.s74"), "smooth=phong");
+  struct shade_lights set[2];
+  shade_lights_init(&set[0], L.s);
+  set[1] = set[0];
+  set[1].n = 2;
+  set[1].point[1] = true;
+  const double p1[3] = { 30, -40, -300 };
+  memcpy(set[1].v[1], p1, sizeof p1);
+  assert_int_equal(L.m.ntri, 2);
+  for (int t = 0; t < L.m.ntri; t++) {
+    const struct smooth_tri *tr = &L.m.tri[t];
+    assert_true(tr->bu == 0 && tr->bw == 1);
+    double w[3], side = 0;                  /* the side's middle; side: the third's x */
+    for (int k = 0; k < 3; k++) {
+      const int x = L.s->v[tr->v[k]].x;
+      w[k] = x ? 0 : 0.5;
+      side += x;
+    }
+    for (int q = 0; q < 2; q++)
+      for (int tiny = 0; tiny < 2; tiny++) {
+        double X[3];
+        tri_point(&L, t, w, X);
+        assert_true(X[0] == 0);
+        X[0] = (side > 0 ? 1 : -1) * (tiny ? 0x1p-1010 : 0x1p-900);
+        int g[2];
+        long declines = 0;
+        phong_both(&L, t, X, 1.0, 0, &set[q], &declines, g);
+        assert_int_equal(g[0], g[1]);
+        assert_int_equal(declines, tiny);
+      }
+  }
   lib_close(&L);
 }
 
@@ -1536,6 +1582,7 @@ int main(void)
     cmocka_unit_test(test_edge_pairs_are_single),
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
+    cmocka_unit_test(test_phong_filter_range),
     cmocka_unit_test(test_inner_filter_is_exact),
     cmocka_unit_test(test_round_ld_is_llroundl),
     cmocka_unit_test(test_kept_scene_part),
