@@ -149,6 +149,10 @@
 #include "render/geom.h"
 #include "render/segment.h"
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 struct points_edge {
   int32_t jtop, jbot;       /* rows crossed: jtop .. jbot (j from the top), jtop <= jbot */
   bool up;                  /* y grows along the edge in its ring's order */
@@ -168,7 +172,8 @@ struct points_plane {
    between lo and hi; hi >= 0 and lo > 0 (else -inf) once a face is seen, both -inf while
    none is (see the top of the file). */
 struct points_z {
-  double hi, lo;
+  double lo, hi;                /* in this order: a pair of doubles (zl, zh) is stored as one
+                                   (raster_span) */
 };
 
 /* A face's box of points (columns ilo .. ihi - 1, rows jlo .. jhi) and its depth z in
@@ -517,6 +522,33 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   struct points_z *zb = p->z + row;
   int co = -1;                                  /* a face in face k's plane met on the span */
   bool cofront = false;                         /* and the exact compare's answer against it */
+#ifdef __SSE2__
+  if (plus && !trow) {
+    /* the same steps with zl and zh as one pair of doubles v = (zl, zh), each lane
+       stepped by + za as above (the same roundings: the same values), stored as
+       (lo, hi) where face k is taken (plus: lo = zl, hi = zh) */
+    __m128d v = _mm_set_pd(zh, zl);
+    const __m128d dv = _mm_set1_pd(za);
+    struct points_z *z = zb + i0, *const zend = zb + i1;
+    int32_t *f = fb + i0;
+    for (; z != zend; z++, f++, v = _mm_add_pd(v, dv)) {
+      if (!_mm_comigt_sd(v, _mm_load_sd(&z->hi))) {   /* !(zl > hi) */
+        if (_mm_comilt_sd(_mm_unpackhi_pd(v, v), _mm_load_sd(&z->lo)))
+          continue;                             /* zh < lo: behind, certainly */
+        int o = *f;
+        bool front = cofront, same;
+        if (o != co) {
+          front = in_front_exact(p, k, o, (int64_t)(z - zb), j, &same);
+          if (same) { co = o; cofront = front; }
+        }
+        if (!front) continue;
+      }
+      *f = k;
+      _mm_storeu_pd(&z->lo, v);
+    }
+    return;
+  }
+#endif
   for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
     const double was = zb[i].lo;
     if (!(zl > zb[i].hi)) {
@@ -959,7 +991,6 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     p->W = vg->W;
     p->H = vg->H;
   }
-  memset(p->face, 0xff, n * sizeof *p->face);   /* -1: nothing seen */
   if (!grow((void **)&p->plane, &p->planecap, p->map.nface + 1, sizeof *p->plane))
     return t74_fail(err, T74_EIO, "out of host memory");
   struct grid g;
@@ -1026,6 +1057,11 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     for (int j = zj0 + 1; j <= zj1; j++)          /* the other rows as the first */
       memcpy(p->z + (size_t)j * (size_t)g.W, z0, (size_t)g.W * sizeof *p->z);
   }
+  /* the faces, nothing seen (-1): a row at a time (a row is at most 532 bytes, a fill
+     the C library does with vector stores; the whole buffer at once, 53 kB, it fills
+     with `rep stosb`, which valgrind counts as an instruction a byte) */
+  for (int j = 0; j < g.H; j++)
+    memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
   area = 0;
   int nd = 0;                                     /* faces kept */
   for (int d = 0; d < nb; d++) {
