@@ -444,6 +444,11 @@ static void greys_cells(const uint8_t *greys, int n, const uint16_t *mask_of, ui
 {
   int i = 0;
   for (; i + 4 <= n; i += 4) {
+#ifdef __GNUC__
+    /* (an empty asm: no vector form of the loop, which gcc would build of 16 scalar
+       lookups through the stack, half again as many instructions) */
+    __asm__("" : "+r"(i));
+#endif
     masks[i] = mask_of[greys[i]];
     masks[i + 1] = mask_of[greys[i + 1]];
     masks[i + 2] = mask_of[greys[i + 2]];
@@ -513,6 +518,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       odd |= gcell[v] == GREY_ODD;
     }
     p->ids_face = face;
+    p->greys_face = false;                  /* the effects wrote them */
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
       row_start(p, &rc, j);
       const size_t at0 = (size_t)j * (size_t)p->W;
@@ -1056,29 +1062,23 @@ struct row_bg {
   int cc;                           /* cell * cell */
 };
 
-/* d[0 .. n) = id, m[0 .. n) = mask and g[0 .. n) = grey (n >= 1; d NULL: no ids and no
-** greys); room >= n: the points to the row's end. Eight points a store (SSE2): a run of
-** eight or more ends with eight stores that overlap its last ones; a shorter run with
-** room for eight is written eight wide past its end, at points of the same row that later
-** runs (or the odd cell's own writes) write again before the row is stored; else a point
-** at a time. */
-static inline void run_fill(uint32_t *d, uint16_t *m, uint8_t *g, int n, int room, uint32_t id,
-                            uint16_t mask, uint8_t grey)
+/* m[0 .. n) = mask and (g not NULL) g[0 .. n) = grey (n >= 1); room >= n: the points to
+** the row's end. Eight points a store (SSE2): a run of eight or more ends with eight
+** stores that overlap its last ones; a shorter run with room for eight is written eight
+** wide past its end, at points of the same row that later runs (or the odd cell's own
+** writes) write again before the row is stored; else a point at a time. */
+static inline void run_fill(uint16_t *m, uint8_t *g, int n, int room, uint16_t mask,
+                            uint8_t grey)
 {
   int q = 0;
 #ifdef __SSE2__
-  const __m128i dv = _mm_set1_epi32((int)id), mv = _mm_set1_epi16((short)mask);
-  const __m128i gv = _mm_set1_epi8((char)grey);
+  const __m128i mv = _mm_set1_epi16((short)mask), gv = _mm_set1_epi8((char)grey);
   if (n < 8 && room >= 8) n = 8;
   if (n >= 8) {
     for (;; q += 8) {
       if (q + 8 > n) q = n - 8;             /* the last eight: overlapping */
       _mm_storeu_si128((__m128i *)(void *)(m + q), mv);
-      if (d) {
-        _mm_storeu_si128((__m128i *)(void *)(d + q), dv);
-        _mm_storeu_si128((__m128i *)(void *)(d + q + 4), dv);
-        _mm_storel_epi64((__m128i *)(void *)(g + q), gv);
-      }
+      if (g) _mm_storel_epi64((__m128i *)(void *)(g + q), gv);
       if (q + 8 == n) return;
     }
   }
@@ -1087,28 +1087,27 @@ static inline void run_fill(uint32_t *d, uint16_t *m, uint8_t *g, int n, int roo
 #endif
   for (; q < n; q++) {
     m[q] = mask;
-    if (d) {
-      d[q] = id;
-      g[q] = grey;
-    }
+    if (g) g[q] = grey;
   }
 }
 
 /* The points i .. of a row whose cells are of a level 0 .. cell * cell, up to the first
-** other one: their cells, and (ids not NULL) their ids and greys, from their faces'
-** entries, or from the background picture's levels and greys of the row (bg, NULL: none;
-** with bg, ids is not NULL); its index, or n. (A loop of its own: few values live, none
-** spilled.) */
+** other one: their cells, and (greys not NULL) their greys, from their faces' entries, or
+** from the background picture's levels and greys of the row (bg, NULL: none; with bg,
+** greys is not NULL; bg_ok: every level of the row's background is 0 .. cell * cell); its
+** index, or n. (A loop of its own: few values live, none spilled.) */
 static int faces_run(const struct face_out *fo, const int *face, int i, int n,
-                     const struct row_bg *bg, uint32_t *ids, uint8_t *greys, uint16_t *masks)
+                     const struct row_bg *bg, bool bg_ok, uint8_t *greys, uint16_t *masks)
 {
   for (; i < n; i++) {
     int f = face[i];
     if (f < 0 && bg) {                      /* a run of background points */
       const int e = face_run_end(face, i, n);
       int q = i;
-      for (; q < e && bg->level[q] <= bg->cc; q++) masks[q] = bg->mask[bg->level[q]];
-      memset(ids + i, 0, (size_t)(q - i) * sizeof *ids);
+      if (bg_ok)
+        for (; q < e; q++) masks[q] = bg->mask[bg->level[q]];
+      else
+        for (; q < e && bg->level[q] <= bg->cc; q++) masks[q] = bg->mask[bg->level[q]];
       memcpy(greys + i, bg->grey + i, (size_t)(q - i));
       if (q < e) { i = q; break; }          /* a level past the cell */
       i = e - 1;
@@ -1117,8 +1116,7 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
     const struct face_out *o = &fo[f + 1];
     if (o->odd) break;
     const int e = face_run_end(face, i, n);   /* the run of points that see this face */
-    if (ids) run_fill(ids + i, masks + i, greys + i, e - i, n - i, o->id, o->mask, o->grey);
-    else run_fill(NULL, masks + i, NULL, e - i, n - i, 0, o->mask, 0);
+    run_fill(masks + i, greys ? greys + i : NULL, e - i, n - i, o->mask, o->grey);
     i = e - 1;
   }
   return i;
@@ -1161,37 +1159,36 @@ static int points_emit(struct pipeline *p, const struct points *pt)
   const bool direct = p->tube_direct && !p->also && !p->timed;
   struct face_out *fo = !watched && !p->face && direct ? face_outs(p) : NULL;
   if (fo) {
-    /* without a background, the ids and greys are left in the frame's faces until a dump
-       asks (dumps_settle); no display counts are kept (only the 1974 engine's figures
-       report them) */
+    /* the ids are left in the frame's faces until a dump asks (dumps_settle), and without
+       a background the greys too; no display counts are kept (only the 1974 engine's
+       figures report them) */
     const bool scan = p->scan != NULL;
     struct row_cells rc;
     uint8_t bg_level[TUBE_W], bg_grey[TUBE_W];   /* a row's background points' */
     const struct row_bg bg = { bg_level, bg_grey, p->mask, cc };
     int st = T74_OK;
-    if (!scan) {
-      p->ids_face = pt->face;
-      p->greys_face = true;
-    }
+    p->ids_face = pt->face;
+    p->greys_face = !scan;
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
       row_start(p, &rc, j);
       const int *face = pt->face + (size_t)j * (size_t)W;
-      uint32_t *ids = scan ? p->ids + (size_t)j * (size_t)W : NULL;
       uint8_t *greys = scan ? p->grey + (size_t)j * (size_t)W : NULL;
-      if (scan) scan_row(p->scan, j, bg_level, bg_grey);   /* no 1974 time: uncounted */
+      bool bg_ok = false;                   /* every background level of the row in the cell */
+      if (scan) {
+        scan_row(p->scan, j, bg_level, bg_grey);   /* no 1974 time: uncounted */
+        uint8_t top = 0;
+        for (int i = 0; i < W; i++) top = bg_level[i] > top ? bg_level[i] : top;
+        bg_ok = top <= cc;
+      }
       for (int i = 0; i < W && st == T74_OK; i++) {
-        i = faces_run(fo, face, i, W, scan ? &bg : NULL, ids, greys, rc.masks);
+        i = faces_run(fo, face, i, W, scan ? &bg : NULL, bg_ok, greys, rc.masks);
         if (i == W) break;
         int f = face[i], level;             /* a cell of another level */
         if (f < 0 && scan) {                /* the background's, from the disk */
-          ids[i] = 0;
           greys[i] = bg_grey[i];
           level = bg_level[i];
         } else {
-          if (scan) {
-            ids[i] = fo[f + 1].id;
-            greys[i] = fo[f + 1].grey;
-          }
+          if (scan) greys[i] = fo[f + 1].grey;
           level = fo[f + 1].level;
         }
         st = row_odd(p, &rc, i, level);

@@ -141,6 +141,7 @@
 #include <limits.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -529,22 +530,24 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
        (lo, hi) where face k is taken (plus: lo = zl, hi = zh) */
     __m128d v = _mm_set_pd(zh, zl);
     const __m128d dv = _mm_set1_pd(za);
-    struct points_z *z = zb + i0, *const zend = zb + i1;
-    int32_t *f = fb + i0;
-    for (; z != zend; z++, f++, v = _mm_add_pd(v, dv)) {
-      if (!_mm_comigt_sd(v, _mm_load_sd(&z->hi))) {   /* !(zl > hi) */
-        if (_mm_comilt_sd(_mm_unpackhi_pd(v, v), _mm_load_sd(&z->lo)))
+    /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
+       i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
+    double *const zd = &zb[i1].lo;
+    char *const fe = (char *)(fb + i1);
+    for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
+      if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {   /* !(zl > hi) */
+        if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
           continue;                             /* zh < lo: behind, certainly */
-        int o = *f;
+        int o = *(int32_t *)(void *)(fe + 2 * q);
         bool front = cofront, same;
         if (o != co) {
-          front = in_front_exact(p, k, o, (int64_t)(z - zb), j, &same);
+          front = in_front_exact(p, k, o, i1 + q / 2, j, &same);
           if (same) { co = o; cofront = front; }
         }
         if (!front) continue;
       }
-      *f = k;
-      _mm_storeu_pd(&z->lo, v);
+      *(int32_t *)(void *)(fe + 2 * q) = k;
+      _mm_storeu_pd(zd + q, v);
     }
     return;
   }
