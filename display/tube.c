@@ -502,6 +502,9 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
     return T74_OK;
   }
   if (cell == 3) {                         /* runs of RUN3 cells, a row of them a lane */
+    /* plain: the rows unlit and every mask within the cell (a tube being drawn): a run's
+       lanes without the test of each mask */
+    const bool plain = above && masks_within(masks, count, full);
     for (int c0 = 0; c0 < count; c0 += RUN3, base += 3 * RUN3) {
       const int n = count - c0 < RUN3 ? count - c0 : RUN3;
       if (n == RUN3) {                      /* seven cells of no dot (a background) */
@@ -522,6 +525,14 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
           else write_run3(lit, &next, base, lanes3[m] * 01111111u, masks + c0, n);
           continue;
         }
+      }
+      if (plain && n == RUN3) {
+        const uint16_t *m = masks + c0;
+        const uint64_t acc = lanes3[m[0]] | lanes3[m[1]] << 3 | lanes3[m[2]] << 6 |
+                             lanes3[m[3]] << 9 | lanes3[m[4]] << 12 | lanes3[m[5]] << 15 |
+                             lanes3[m[6]] << 18;
+        next = write_new3(lit, next, base, acc, m, n);   /* (acc is not 0: a mask is not) */
+        continue;
       }
       uint64_t acc = 0;
       unsigned any = 0;

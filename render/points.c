@@ -509,6 +509,41 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
   return in_front(Pk, &p->map.f[k], Po, &p->map.f[o]);
 }
 
+#ifdef __SSE2__
+/* raster_span's steps for a face with zl > 0 over its box and no tiles kept, over row j's
+   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), each lane stepped
+   by + za as raster_span steps them (the same roundings: the same values), stored as
+   (lo, hi) where face k is taken (lo = zl, hi = zh). */
+static inline __attribute__((always_inline)) void
+raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
+             int32_t i0, int32_t i1, double zl, double zh, double za)
+{
+  int co = -1;                                  /* a face in face k's plane met on the span */
+  bool cofront = false;                         /* and the exact compare's answer against it */
+  __m128d v = _mm_set_pd(zh, zl);
+  const __m128d dv = _mm_set1_pd(za);
+  /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
+     i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
+  double *const zd = &zb[i1].lo;
+  char *const fe = (char *)(fb + i1);
+  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
+    if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {     /* !(zl > hi) */
+      if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
+        continue;                               /* zh < lo: behind, certainly */
+      int o = *(int32_t *)(void *)(fe + 2 * q);
+      bool front = cofront, same;
+      if (o != co) {
+        front = in_front_exact(p, k, o, i1 + q / 2, j, &same);
+        if (same) { co = o; cofront = front; }
+      }
+      if (!front) continue;
+    }
+    *(int32_t *)(void *)(fe + 2 * q) = k;
+    _mm_storeu_pd(zd + q, v);
+  }
+}
+#endif
+
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
    and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
@@ -525,30 +560,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   bool cofront = false;                         /* and the exact compare's answer against it */
 #ifdef __SSE2__
   if (plus && !trow) {
-    /* the same steps with zl and zh as one pair of doubles v = (zl, zh), each lane
-       stepped by + za as above (the same roundings: the same values), stored as
-       (lo, hi) where face k is taken (plus: lo = zl, hi = zh) */
-    __m128d v = _mm_set_pd(zh, zl);
-    const __m128d dv = _mm_set1_pd(za);
-    /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
-       i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
-    double *const zd = &zb[i1].lo;
-    char *const fe = (char *)(fb + i1);
-    for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
-      if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {   /* !(zl > hi) */
-        if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
-          continue;                             /* zh < lo: behind, certainly */
-        int o = *(int32_t *)(void *)(fe + 2 * q);
-        bool front = cofront, same;
-        if (o != co) {
-          front = in_front_exact(p, k, o, i1 + q / 2, j, &same);
-          if (same) { co = o; cofront = front; }
-        }
-        if (!front) continue;
-      }
-      *(int32_t *)(void *)(fe + 2 * q) = k;
-      _mm_storeu_pd(zd + q, v);
-    }
+    raster_plain(p, k, j, fb, zb, i0, i1, zl, zh, za);
     return;
   }
 #endif
@@ -853,6 +865,28 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   uint32_t hid = 0;                             /* the band's tiles where face k is behind */
   int tyat = -1;
   bool any = false;
+#ifdef __SSE2__
+  if (two && !coarse && !tiles && b->plus) {    /* span_parts' steps, no tile, zl > 0 */
+    const double za = b->za, E = b->E;
+    int32_t *fb = p->face + (size_t)jlo * (size_t)g->W;
+    struct points_z *zrow = p->z + (size_t)jlo * (size_t)g->W;
+    long visited = 0;
+    for (int r = 0; r < nrow; r++, fb += g->W, zrow += g->W) {
+      int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
+      const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
+      i0 = c0 < c1 ? c0 : c1;
+      i1 = c0 < c1 ? c1 : c0;
+      if (i0 >= i1) continue;
+      visited += i1 - i0;
+      const int64_t j = jlo + r;
+      const double z0 = za * (double)i0 + (zb * (double)j + zc);
+      raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za);
+    }
+    p->points_visited += visited;
+    if (!visited) p->faces_culled++;
+    return T74_OK;
+  }
+#endif
   if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
     for (int r = 0; r < nrow; r++) {
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
