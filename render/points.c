@@ -510,23 +510,15 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
 }
 
 #ifdef __SSE2__
-/* raster_span's steps for a face with zl > 0 over its box and no tiles kept, over row j's
-   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), each lane stepped
-   by + za as raster_span steps them (the same roundings: the same values), stored as
-   (lo, hi) where face k is taken (lo = zl, hi = zh). */
-static inline __attribute__((always_inline)) void
-raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
-             int32_t i0, int32_t i1, double zl, double zh, double za)
+/* raster_plain's points from q on (see there), the exact compare asked where the doubles
+   do not decide (out of line: the call's saved registers stay off the plain loop). */
+static __attribute__((noinline)) void
+raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe, int32_t i1,
+                  ptrdiff_t q, __m128d v, __m128d dv)
 {
   int co = -1;                                  /* a face in face k's plane met on the span */
   bool cofront = false;                         /* and the exact compare's answer against it */
-  __m128d v = _mm_set_pd(zh, zl);
-  const __m128d dv = _mm_set1_pd(za);
-  /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
-     i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
-  double *const zd = &zb[i1].lo;
-  char *const fe = (char *)(fb + i1);
-  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
+  for (; q != 0; q += 2, v = _mm_add_pd(v, dv)) {
     if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {     /* !(zl > hi) */
       if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
         continue;                               /* zh < lo: behind, certainly */
@@ -537,6 +529,31 @@ raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct point
         if (same) { co = o; cofront = front; }
       }
       if (!front) continue;
+    }
+    *(int32_t *)(void *)(fe + 2 * q) = k;
+    _mm_storeu_pd(zd + q, v);
+  }
+}
+
+/* raster_span's steps for a face with zl > 0 over its box and no tiles kept, over row j's
+   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), each lane stepped
+   by + za as raster_span steps them (the same roundings: the same values), stored as
+   (lo, hi) where face k is taken (lo = zl, hi = zh). Points where zl > hi (the face in
+   front, certainly) here; from the first other one on, raster_plain_rest. */
+static inline __attribute__((always_inline)) void
+raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
+             int32_t i0, int32_t i1, double zl, double zh, double za)
+{
+  __m128d v = _mm_set_pd(zh, zl);
+  const __m128d dv = _mm_set1_pd(za);
+  /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
+     i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
+  double *const zd = &zb[i1].lo;
+  char *const fe = (char *)(fb + i1);
+  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
+    if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {     /* !(zl > hi) */
+      raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv);
+      return;
     }
     *(int32_t *)(void *)(fe + 2 * q) = k;
     _mm_storeu_pd(zd + q, v);
