@@ -1100,16 +1100,22 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   /* the depth bounds, nothing seen yet: over every row with the tiles (their bounds are
      the least over whole tiles), else over the rows of the faces' boxes, the only rows
      their spans visit (face_draw: the box's rows, spans only where no tile is kept) */
+  /* (without the tiles, over the boxes' columns too: a span's columns lie in its face's
+     box, [ilo, ihi), as its crossings lie between the face's least and greatest x and the
+     first column at or right of an x does not fall as x grows) */
   int zj0 = tiles ? 0 : g.H, zj1 = tiles ? g.H - 1 : -1;
+  int zi0 = tiles ? 0 : g.W, zi1 = tiles ? g.W : 0;
   for (int d = 0; !tiles && d < nb; d++) {
     zj0 = p->box[d].jlo < zj0 ? p->box[d].jlo : zj0;
     zj1 = p->box[d].jhi > zj1 ? p->box[d].jhi : zj1;
+    zi0 = p->box[d].ilo < zi0 ? p->box[d].ilo : zi0;
+    zi1 = p->box[d].ihi > zi1 ? p->box[d].ihi : zi1;
   }
-  if (zj0 <= zj1) {
-    struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W;
-    for (int i = 0; i < g.W; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
+  if (zj0 <= zj1 && zi0 < zi1) {
+    struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
+    for (int i = 0; i < zi1 - zi0; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
     for (int j = zj0 + 1; j <= zj1; j++)          /* the other rows as the first */
-      memcpy(p->z + (size_t)j * (size_t)g.W, z0, (size_t)g.W * sizeof *p->z);
+      memcpy(p->z + (size_t)j * (size_t)g.W + (size_t)zi0, z0, (size_t)(zi1 - zi0) * sizeof *p->z);
   }
   /* the faces, nothing seen (-1): a row at a time (a row is at most 532 bytes, a fill
      the C library does with vector stores; the whole buffer at once, 53 kB, it fills
