@@ -184,6 +184,8 @@ struct points_box {
   int32_t ilo, ihi, jlo, jhi;
   double za, zb, zc, E;
   bool plus;                                /* zl > 0 at every point of the box */
+  bool inside;                              /* the box's columns not cut by the grid: every
+                                               crossing's column within [0, W] (face_draw) */
   bool arise, brise;                        /* alpha > 0, beta > 0 (exact): z grows with i, j */
 };
 
@@ -631,6 +633,7 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   if (jlo < 0) jlo = 0;
   if (jhi > g->H - 1) jhi = g->H - 1;
   int64_t ilo = col_first_at_or_right(g, xmin), ihi = col_first_at_or_right(g, xmax);
+  b->inside = ilo >= 0 && ihi <= g->W;
   if (ilo < 0) ilo = 0;
   if (ihi > g->W) ihi = g->W;
   if (jlo > jhi || ilo >= ihi) return false;
@@ -860,6 +863,19 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     struct points_edge *E = &p->edge[e];
     int64_t c = E->c, sc = E->s;
     const int32_t jtop = E->jtop;
+    if (two && b->inside) {
+      /* a crossing's x lies between the face's least and greatest x, and the first
+         column at or right of an x does not fall as x grows: its column, floor(c / 2),
+         is within the box's [ilo, ihi] before the grid cuts it, here within [0, W], so
+         col_of's clamps change nothing (and c >= 0) */
+      int32_t *x = p->cross + 2 * (E->jbot - jlo) + !E->up;
+      for (int32_t j = E->jbot;; j--, x -= 2) {
+        *x = (int32_t)(c >> 1);
+        if (j == jtop) break;
+        edge_step(E, &c, &sc);
+      }
+      continue;
+    }
     if (two) {
       int32_t *x = p->cross + 2 * (E->jbot - jlo) + !E->up;
       for (int32_t j = E->jbot;; j--, x -= 2) {
