@@ -443,6 +443,27 @@ static int greys_run(const uint8_t *greys, int i, int n, const uint32_t *cell_of
 static void greys_cells(const uint8_t *greys, int n, const uint16_t *mask_of, uint16_t *masks)
 {
   int i = 0;
+#ifdef __SSE2__
+  /* sixteen points of one grey (a background, a flat face): one cell for them all */
+  for (; i + 16 <= n; i += 16) {
+    const __m128i g = _mm_loadu_si128((const __m128i *)(const void *)(greys + i));
+    if ((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(g, _mm_set1_epi8((char)greys[i]))) == 0xffffu) {
+      const __m128i mv = _mm_set1_epi16((short)mask_of[greys[i]]);
+      _mm_storeu_si128((__m128i *)(void *)(masks + i), mv);
+      _mm_storeu_si128((__m128i *)(void *)(masks + i + 8), mv);
+      continue;
+    }
+    for (int q = i; q < i + 16; q += 4) {   /* else a point at a time, four a step */
+#ifdef __GNUC__
+      __asm__("" : "+r"(q));                /* (no vector form: see below) */
+#endif
+      masks[q] = mask_of[greys[q]];
+      masks[q + 1] = mask_of[greys[q + 1]];
+      masks[q + 2] = mask_of[greys[q + 2]];
+      masks[q + 3] = mask_of[greys[q + 3]];
+    }
+  }
+#endif
   for (; i + 4 <= n; i += 4) {
 #ifdef __GNUC__
     /* (an empty asm: no vector form of the loop, which gcc would build of 16 scalar
