@@ -359,6 +359,7 @@ struct grid {
   int W, H;
   int64_t XL, YB, XR, YT, xd, yd, S, Dy;
   wide Ex, Ey, Ez;
+  wide ga, gb, gc;              /* gamma = a ga + b gb + c gc for a plane (a, b, c) (face_box) */
   double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
 };
 
@@ -540,8 +541,9 @@ raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe
 /* raster_span's steps for a face with zl > 0 over its box and no tiles kept, over row j's
    faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), each lane stepped
    by + za as raster_span steps them (the same roundings: the same values), stored as
-   (lo, hi) where face k is taken (lo = zl, hi = zh). Points where zl > hi (the face in
-   front, certainly) here; from the first other one on, raster_plain_rest. */
+   (lo, hi) where face k is taken (lo = zl, hi = zh). Points decided by the doubles here
+   (zl > hi: in front; zh < lo: behind); from the first the exact compare must decide
+   on, raster_plain_rest. */
 static inline __attribute__((always_inline)) void
 raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
              int32_t i0, int32_t i1, double zl, double zh, double za)
@@ -553,7 +555,9 @@ raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct point
   double *const zd = &zb[i1].lo;
   char *const fe = (char *)(fb + i1);
   for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
-    if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {     /* !(zl > hi) */
+    if (__builtin_expect(!(_mm_cvtsd_f64(v) > zd[q + 1]), 0)) {   /* !(zl > hi) */
+      if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
+        continue;                               /* zh < lo: behind, certainly */
       raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv);
       return;
     }
@@ -645,9 +649,7 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   struct points_plane *pl = &p->plane[k];
   pl->alpha = a * ca;
   pl->beta = -bb * cb;
-  pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
-              bb * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
-              c * 4 * g->W * g->H * (-g->Ez);
+  pl->gamma = a * g->ga + bb * g->gb + c * g->gc;  /* the grid's factors found once (exact) */
   const double Dd = (double)f->deye;
   const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
                Gd = pl->gamma == (int64_t)pl->gamma ? (double)(int64_t)pl->gamma  /* same value */
@@ -1071,6 +1073,9 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.S = GRID_ONE * (g.XR - g.XL);
   g.Dy = GRID_ONE * (g.YT - g.YB);
   g.Ex = p->map.eye[0]; g.Ey = p->map.eye[1]; g.Ez = p->map.eye[2];
+  g.ga = 2 * (wide)g.H * (2 * g.W * (g.XL - g.Ex) + (g.XR - g.XL));
+  g.gb = 2 * (wide)g.W * (2 * g.H * (g.YT - g.Ey) - (g.YT - g.YB));
+  g.gc = 4 * (wide)g.W * g.H * (-g.Ez);
   g.ki = (double)g.xd / (2.0 * (double)GRID_ONE * (double)(g.XR - g.XL));
   g.kj = (double)g.yd / (2.0 * (double)GRID_ONE * (double)(g.YT - g.YB));
   g.i0 = -((double)g.xd * (double)g.XL / (double)(g.XR - g.XL) + 1) / 2;
