@@ -266,6 +266,10 @@ static bool masks_within(const uint16_t *masks, int count, unsigned full)
   __m128i mv = _mm_setzero_si128();         /* eight masks an OR */
   for (; c + 8 <= count; c += 8)
     mv = _mm_or_si128(mv, _mm_loadu_si128((const __m128i *)(const void *)(masks + c)));
+  if (c < count && count >= 8) {            /* the last eight, some again */
+    mv = _mm_or_si128(mv, _mm_loadu_si128((const __m128i *)(const void *)(masks + count - 8)));
+    c = count;
+  }
   mv = _mm_or_si128(mv, _mm_srli_si128(mv, 8));
   mv = _mm_or_si128(mv, _mm_srli_si128(mv, 4));
   mv = _mm_or_si128(mv, _mm_srli_si128(mv, 2));

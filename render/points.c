@@ -567,6 +567,59 @@ raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct point
 }
 #endif
 
+/* Face k's write at point i of row j (faces fb, bounds zb; trow: the row's tiles, or NULL)
+   where it is in front: the face, its bounds lo and hi, and the tile's bounds kept
+   ("Tiles"); was: the point's lo before. */
+static inline __attribute__((always_inline)) void
+raster_take(int k, int32_t i, int32_t *fb, struct points_z *zb, double zl, double zh,
+            double was, bool plus, struct points_tile *trow)
+{
+  fb[i] = k;
+  double lo;
+  if (plus) {
+    zb[i].hi = zh;
+    lo = zl;
+  } else {
+    zb[i].hi = zh > 0 ? zh : 0;
+    lo = zl > 0 ? zl : -HUGE_VAL;
+  }
+  if (!trow) { zb[i].lo = lo; return; }
+  struct points_tile *T = trow + (i >> TILE_SHIFT);
+  const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
+  T->ninf += dn;                                /* (no branch: where it is not 0 is unguessable) */
+  zb[i].lo = lo;
+  /* the bound lowered to lo, or marked when the least may have risen; no branch */
+  const double tl = T->lo;
+  T->lo = lo < tl ? lo : tl;
+  T->dirty |= !(lo < tl) & (was <= tl);
+}
+
+/* raster_span's points from i on (zl, zh their bounds at i), the exact compare asked where
+   the doubles do not decide (out of line: the call's saved registers stay off
+   raster_span's loop). */
+static __attribute__((noinline)) void
+raster_span_rest(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
+                 int32_t i, int32_t i1, double zl, double zh, double za, bool plus,
+                 struct points_tile *trow)
+{
+  int co = -1;                                  /* a face in face k's plane met on the span */
+  bool cofront = false;                         /* and the exact compare's answer against it */
+  for (; i < i1; i++, zl += za, zh += za) {
+    const double was = zb[i].lo;
+    if (!(zl > zb[i].hi)) {
+      if (zh < was) continue;                   /* behind, certainly */
+      int o = fb[i];
+      bool front = cofront, same;
+      if (o != co) {
+        front = in_front_exact(p, k, o, i, j, &same);
+        if (same) { co = o; cofront = front; }
+      }
+      if (!front) continue;
+    }
+    raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
+  }
+}
+
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
    and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
@@ -579,44 +632,22 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
   struct points_z *zb = p->z + row;
-  int co = -1;                                  /* a face in face k's plane met on the span */
-  bool cofront = false;                         /* and the exact compare's answer against it */
 #ifdef __SSE2__
   if (plus && !trow) {
     raster_plain(p, k, j, fb, zb, i0, i1, zl, zh, za);
     return;
   }
 #endif
+  /* the points the doubles decide (zl > hi: in front; zh < lo: behind) here; from the
+     first the exact compare must decide on, raster_span_rest */
   for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
     const double was = zb[i].lo;
-    if (!(zl > zb[i].hi)) {
+    if (__builtin_expect(!(zl > zb[i].hi), 0)) {
       if (zh < was) continue;                   /* behind, certainly */
-      int o = fb[i];
-      bool front = cofront, same;
-      if (o != co) {
-        front = in_front_exact(p, k, o, i, j, &same);
-        if (same) { co = o; cofront = front; }
-      }
-      if (!front) continue;
+      raster_span_rest(p, k, j, fb, zb, i, i1, zl, zh, za, plus, trow);
+      return;
     }
-    fb[i] = k;
-    double lo;
-    if (plus) {
-      zb[i].hi = zh;
-      lo = zl;
-    } else {
-      zb[i].hi = zh > 0 ? zh : 0;
-      lo = zl > 0 ? zl : -HUGE_VAL;
-    }
-    if (!trow) { zb[i].lo = lo; continue; }
-    struct points_tile *T = trow + (i >> TILE_SHIFT);
-    const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
-    T->ninf += dn;                              /* (no branch: where it is not 0 is unguessable) */
-    zb[i].lo = lo;
-    /* the bound lowered to lo, or marked when the least may have risen; no branch */
-    const double tl = T->lo;
-    T->lo = lo < tl ? lo : tl;
-    T->dirty |= !(lo < tl) & (was <= tl);
+    raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
   }
 }
 /* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
