@@ -85,6 +85,9 @@ struct pipeline {
                                        face_grey) */
   int *face_drawn;                  /* not NULL: points_emit left the frame's faces in the
                                        points engine's buffer, not copied to face */
+  const int *ids_face;              /* not NULL: the frame's faces (an index in map->f, or
+                                       -1), ids not yet written from them (dumps_settle) */
+  bool greys_face;                  /* and the greys neither (each the face's, 0 for none) */
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
@@ -395,14 +398,6 @@ static int row_end(struct pipeline *p, struct row_cells *rc)
                           rc->masks + rc->i0, p->W - rc->i0);
 }
 
-/* emit_point's counts of n points of these levels in all, added at once (untimed) */
-static void emit_counts(struct pipeline *p, uint64_t n, uint64_t levels)
-{
-  COST_ADD_N(&p->display, COST_MEM, 4 * n);
-  COST_ADD_N(&p->display, COST_SHIFT, (uint64_t)(p->cell * p->cell) * n);
-  COST_ADD_N(&p->display, COST_IO, levels);
-}
-
 /* Each mapped face's flat grey at its index + 1, 0 at 0 (no face); NULL when the host has
    no room. */
 static uint8_t *face_greys(const struct mapped *map)
@@ -414,97 +409,73 @@ static uint8_t *face_greys(const struct mapped *map)
   return g;
 }
 
-/* A grey's cell and level in one word (greys_run's table): the cell in the low 16 bits,
-** the level above; GREY_ODD where the level is not 0 .. cc. */
+/* A grey's cell (greys_run's table): the cell's pattern word in the low 16 bits; GREY_ODD
+** where the grey's level is not 0 .. cell * cell. */
 #define GREY_ODD UINT32_MAX
 
-/* The end of the run of points from i that see face[i] and have grey greys[i], taken
-** eight points a step: the first multiple of eight points past i where one of the next
-** eight differs, or i when one of the eight from i does (greys_run's points of one face
-** and one grey). */
-static inline int same_end(const int *face, const uint8_t *greys, int i, int n)
+/* The effects' points i .. of a row whose greys' levels are 0 .. cc, up to the first other
+** one: their cells as emit_point gives them; its index, or n. cell_of: each grey's cell
+** (GREY_ODD). Four points a step, no branch but the loop's and the odd grey's. */
+static int greys_run(const uint8_t *greys, int i, int n, const uint32_t *cell_of,
+                     uint16_t *masks)
 {
-  int e = i;
-#ifdef __SSE2__
-  const __m128i fv = _mm_set1_epi32(face[i]), gv = _mm_set1_epi8((char)greys[i]);
-  for (; e + 8 <= n; e += 8) {
-    const __m128i f0 = _mm_loadu_si128((const __m128i *)(const void *)(face + e));
-    const __m128i f1 = _mm_loadu_si128((const __m128i *)(const void *)(face + e + 4));
-    const __m128i g = _mm_loadl_epi64((const __m128i *)(const void *)(greys + e));
-    const __m128i fs = _mm_and_si128(_mm_cmpeq_epi32(f0, fv), _mm_cmpeq_epi32(f1, fv));
-    if (((unsigned)_mm_movemask_epi8(fs) & ((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(g, gv)) |
-                                            0xff00u)) != 0xffffu)
-      break;
-  }
-#else
-  for (; e + 8 <= n; e += 8) {
-    bool same = true;
-    for (int q = e; q < e + 8; q++) same &= face[q] == face[i] && greys[q] == greys[i];
-    if (!same) break;
-  }
-#endif
-  return e;
-}
-
-/* ids[0 .. 8 k) = id, masks[0 .. 8 k) = mask (same_end's points) */
-static inline void fill8(uint32_t *ids, uint16_t *masks, int k, uint32_t id, uint16_t mask)
-{
-#ifdef __SSE2__
-  const __m128i iv = _mm_set1_epi32((int)id), mv = _mm_set1_epi16((short)mask);
-  for (int q = 0; q < 8 * k; q += 8) {
-    _mm_storeu_si128((__m128i *)(void *)(ids + q), iv);
-    _mm_storeu_si128((__m128i *)(void *)(ids + q + 4), iv);
-    _mm_storeu_si128((__m128i *)(void *)(masks + q), mv);
-  }
-#else
-  for (int q = 0; q < 8 * k; q++) { ids[q] = id; masks[q] = mask; }
-#endif
-}
-
-/* The effects' points i .. of a row, without a background picture, whose greys' levels are
-** 0 .. cc, up to the first other one: their ids, cells and levels as emit_point gives
-** them; its index, or n. id_of: each face's id at its index + 1 (0: none); cell_of: each
-** grey's cell and level (GREY_ODD). (A loop of its own: few values live.) */
-static int greys_run(const uint32_t *id_of, const int *face, const uint8_t *greys, int i,
-                     int n, const uint32_t *cell_of, uint32_t *ids, uint16_t *masks,
-                     uint64_t *levels)
-{
-  uint64_t sum = 0;
-  /* four points a step while none is odd: a cell's word is below 2^31 (its level at most
-     PAT_CELL_MAX^2 above 16 bits), GREY_ODD has bit 31 set */
   for (; i + 4 <= n; i += 4) {
-    const int e = i + 8 <= n && face[i + 7] == face[i] && greys[i + 7] == greys[i] ?
-                  same_end(face, greys, i, n) : i;  /* (a cheap look first) */
-    if (e > i) {                            /* points of one face and one grey: one id, */
-      const uint32_t c = cell_of[greys[i]];  /* cell and level for them all */
-      if (c >> 31) break;                   /* the point itself below */
-      fill8(ids + i, masks + i, (e - i) / 8, id_of[face[i] + 1], (uint16_t)c);
-      sum += (uint64_t)(c >> 16) * (uint64_t)(e - i);
-      i = e - 4;                            /* (the step adds 4) */
-      continue;
-    }
     const uint32_t c0 = cell_of[greys[i]], c1 = cell_of[greys[i + 1]];
     const uint32_t c2 = cell_of[greys[i + 2]], c3 = cell_of[greys[i + 3]];
-    if ((c0 | c1 | c2 | c3) >> 31) break;  /* the point itself below */
-    ids[i] = id_of[face[i] + 1];
-    ids[i + 1] = id_of[face[i + 1] + 1];
-    ids[i + 2] = id_of[face[i + 2] + 1];
-    ids[i + 3] = id_of[face[i + 3] + 1];
+    if ((c0 & c1 & c2 & c3) == GREY_ODD || c0 == GREY_ODD || c1 == GREY_ODD ||
+        c2 == GREY_ODD || c3 == GREY_ODD)
+      break;                                /* the points one by one below */
     masks[i] = (uint16_t)c0;
     masks[i + 1] = (uint16_t)c1;
     masks[i + 2] = (uint16_t)c2;
     masks[i + 3] = (uint16_t)c3;
-    sum += (c0 >> 16) + (c1 >> 16) + (c2 >> 16) + (c3 >> 16);
   }
   for (; i < n; i++) {
     const uint32_t c = cell_of[greys[i]];
     if (c == GREY_ODD) break;
-    ids[i] = id_of[face[i] + 1];
     masks[i] = (uint16_t)c;
-    sum += c >> 16;
   }
-  *levels += sum;
   return i;
+}
+
+/* A row's cells from its greys, every grey's level 0 .. cc (no GREY_ODD in mask_of, a
+** grey's pattern word): as greys_run, with nothing to test. */
+static void greys_cells(const uint8_t *greys, int n, const uint16_t *mask_of, uint16_t *masks)
+{
+  int i = 0;
+#ifdef __SSE2__
+  /* sixteen points of one grey (a background, a flat face): one cell for them all */
+  for (; i + 16 <= n; i += 16) {
+    const __m128i g = _mm_loadu_si128((const __m128i *)(const void *)(greys + i));
+    if ((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(g, _mm_set1_epi8((char)greys[i]))) == 0xffffu) {
+      const __m128i mv = _mm_set1_epi16((short)mask_of[greys[i]]);
+      _mm_storeu_si128((__m128i *)(void *)(masks + i), mv);
+      _mm_storeu_si128((__m128i *)(void *)(masks + i + 8), mv);
+      continue;
+    }
+    for (int q = i; q < i + 16; q += 4) {   /* else a point at a time, four a step */
+#ifdef __GNUC__
+      __asm__("" : "+r"(q));                /* (no vector form: see below) */
+#endif
+      masks[q] = mask_of[greys[q]];
+      masks[q + 1] = mask_of[greys[q + 1]];
+      masks[q + 2] = mask_of[greys[q + 2]];
+      masks[q + 3] = mask_of[greys[q + 3]];
+    }
+  }
+#endif
+  for (; i + 4 <= n; i += 4) {
+#ifdef __GNUC__
+    /* (an empty asm: no vector form of the loop, which gcc would build of 16 scalar
+       lookups through the stack, half again as many instructions) */
+    __asm__("" : "+r"(i));
+#endif
+    masks[i] = mask_of[greys[i]];
+    masks[i + 1] = mask_of[greys[i + 1]];
+    masks[i + 2] = mask_of[greys[i + 2]];
+    masks[i + 3] = mask_of[greys[i + 3]];
+  }
+  for (; i < n; i++) masks[i] = mask_of[greys[i]];
 }
 
 /* The effects stage: run the effects over the scanned frame, then send its points to the
@@ -554,39 +525,42 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
   fx_engine_free(&eng);
   free(fgrey);
   if (st == T74_OK && p->tube_direct && !p->also && !p->timed) {
-    /* to the tube alone, untimed: emit_point's steps a row at a time (issue 19) */
+    /* to the tube alone, untimed (the points engine): emit_point's cells a row at a time
+       (issue 19); the ids are left in the frame's faces until a dump asks (dumps_settle),
+       and no display counts are kept (only the 1974 engine's figures report them) */
     struct row_cells rc;
     const int cc = p->cell * p->cell;
-    uint64_t levels = 0;
-    const struct mface *mf = p->map->f;
-    uint32_t gcell[256];                    /* each grey's cell and level (greys_run) */
-    for (int v = 0; v < 256; v++)
-      gcell[v] = p->level[v] <= cc ? (uint32_t)p->level[v] << 16 | p->mask[p->level[v]] : GREY_ODD;
-    uint32_t *id_of = p->scan ? NULL : malloc(((size_t)p->map->nface + 1) * sizeof *id_of);
-    if (!p->scan && !id_of) st = t74_fail(err, T74_EIO, "out of host memory");
-    for (int k = 0; id_of && k < p->map->nface; k++) id_of[k + 1] = mf[k].id;
-    if (id_of) id_of[0] = 0;
+    uint32_t gcell[256];                    /* each grey's cell (greys_run) */
+    uint16_t gmask[256];                    /* the same when none is odd (greys_cells) */
+    bool odd = false;
+    for (int v = 0; v < 256; v++) {
+      gcell[v] = p->level[v] <= cc ? p->mask[p->level[v]] : GREY_ODD;
+      gmask[v] = (uint16_t)gcell[v];
+      odd |= gcell[v] == GREY_ODD;
+    }
+    p->ids_face = face;
+    p->greys_face = false;                  /* the effects wrote them */
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
       row_start(p, &rc, j);
       const size_t at0 = (size_t)j * (size_t)p->W;
       const int *fr = face + at0;
       const uint8_t *greys = p->grey + at0, *flats = flat ? flat + at0 : NULL;
-      uint32_t *ids = p->ids + at0;
+      if (!p->scan && !odd) {               /* no background, no odd grey: every cell */
+        greys_cells(greys, p->W, gmask, rc.masks);
+        st = row_end(p, &rc);
+        continue;
+      }
       for (int i = 0; st == T74_OK && i < p->W; i++) {
         if (!p->scan) {                     /* no background: the greys' levels */
-          i = greys_run(id_of, fr, greys, i, p->W, gcell, ids, rc.masks, &levels);
+          i = greys_run(greys, i, p->W, gcell, rc.masks);
           if (i == p->W) break;
         }
-        ids[i] = fr[i] >= 0 ? mf[fr[i]].id : 0;
         int level = point_level(p, i, j, fr[i], greys[i], flats && greys[i] == flats[i]);
-        levels += (uint64_t)level;
         if (level >= 0 && level <= cc) rc.masks[i] = p->mask[level];
         else st = row_odd(p, &rc, i, level);
       }
       if (st == T74_OK) st = row_end(p, &rc);
     }
-    if (st == T74_OK) emit_counts(p, (uint64_t)p->W * (uint64_t)p->H, levels);
-    free(id_of);
   } else {
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--)
       for (int i = 0; st == T74_OK && i < p->W; i++) {
@@ -691,6 +665,23 @@ int job_engine_for(const struct job *o, const struct scene *s, const struct effe
   }
   if (why || o->machine_given || !job_is_import(o)) return JOB_ENGINE_1974;
   return JOB_ENGINE_POINTS;
+}
+
+/* The ids (and greys) the points engine's frame left in its faces (p->ids_face), written
+** out for the dumps: each point's face's id and grey, 0 and 0 where none is seen, as
+** on_point gives them. */
+static void dumps_settle(struct pipeline *p)
+{
+  const int *face = p->ids_face;
+  if (!face) return;
+  const size_t n = (size_t)p->W * (size_t)p->H;
+  for (size_t at = 0; at < n; at++) {
+    const int f = face[at];
+    p->ids[at] = f >= 0 ? p->map->f[f].id : 0;
+    if (p->greys_face) p->grey[at] = f >= 0 ? (uint8_t)p->map->f[f].grey : 0;
+  }
+  p->ids_face = NULL;
+  p->greys_face = false;
 }
 
 /* `--dump ids`: a 16-bit PGM (CONTRACT.md). A face number above 65535 (an import of more
@@ -1085,36 +1076,30 @@ static struct face_out *face_outs(const struct pipeline *p)
   return fo;
 }
 
-/* The points i .. of a row whose cells are of a level 0 .. cell * cell, up to the first
-** other one: their ids, greys and cells from their faces' entries, or from the background
-** picture's levels and greys of the row (bg, NULL: none); its index, or n. (A loop of its
-** own: few values live, none spilled.) */
+/* A row's background points: the levels and greys the disk gives them (faces_run). */
 struct row_bg {
   const uint8_t *level, *grey;      /* scan_row's */
   const uint16_t *mask;             /* p->mask */
   int cc;                           /* cell * cell */
 };
 
-/* d[0 .. n) = id, m[0 .. n) = mask and g[0 .. n) = grey (n >= 1); room >= n: the points
-** to the row's end. Eight points a store (SSE2): a run of eight or more ends with eight
+/* m[0 .. n) = mask and (g not NULL) g[0 .. n) = grey (n >= 1); room >= n: the points to
+** the row's end. Eight points a store (SSE2): a run of eight or more ends with eight
 ** stores that overlap its last ones; a shorter run with room for eight is written eight
 ** wide past its end, at points of the same row that later runs (or the odd cell's own
 ** writes) write again before the row is stored; else a point at a time. */
-static inline void run_fill(uint32_t *d, uint16_t *m, uint8_t *g, int n, int room, uint32_t id,
-                            uint16_t mask, uint8_t grey)
+static inline void run_fill(uint16_t *m, uint8_t *g, int n, int room, uint16_t mask,
+                            uint8_t grey)
 {
   int q = 0;
 #ifdef __SSE2__
-  const __m128i dv = _mm_set1_epi32((int)id), mv = _mm_set1_epi16((short)mask);
-  const __m128i gv = _mm_set1_epi8((char)grey);
+  const __m128i mv = _mm_set1_epi16((short)mask), gv = _mm_set1_epi8((char)grey);
   if (n < 8 && room >= 8) n = 8;
   if (n >= 8) {
     for (;; q += 8) {
       if (q + 8 > n) q = n - 8;             /* the last eight: overlapping */
-      _mm_storeu_si128((__m128i *)(void *)(d + q), dv);
-      _mm_storeu_si128((__m128i *)(void *)(d + q + 4), dv);
       _mm_storeu_si128((__m128i *)(void *)(m + q), mv);
-      _mm_storel_epi64((__m128i *)(void *)(g + q), gv);
+      if (g) _mm_storel_epi64((__m128i *)(void *)(g + q), gv);
       if (q + 8 == n) return;
     }
   }
@@ -1122,27 +1107,28 @@ static inline void run_fill(uint32_t *d, uint16_t *m, uint8_t *g, int n, int roo
   (void)room;
 #endif
   for (; q < n; q++) {
-    d[q] = id;
     m[q] = mask;
-    g[q] = grey;
+    if (g) g[q] = grey;
   }
 }
 
+/* The points i .. of a row whose cells are of a level 0 .. cell * cell, up to the first
+** other one: their cells, and (greys not NULL) their greys, from their faces' entries, or
+** from the background picture's levels and greys of the row (bg, NULL: none; with bg,
+** greys is not NULL; bg_ok: every level of the row's background is 0 .. cell * cell); its
+** index, or n. (A loop of its own: few values live, none spilled.) */
 static int faces_run(const struct face_out *fo, const int *face, int i, int n,
-                     const struct row_bg *bg, uint32_t *ids, uint8_t *greys, uint16_t *masks,
-                     uint64_t *levels)
+                     const struct row_bg *bg, bool bg_ok, uint8_t *greys, uint16_t *masks)
 {
-  uint64_t sum = 0;
   for (; i < n; i++) {
     int f = face[i];
     if (f < 0 && bg) {                      /* a run of background points */
       const int e = face_run_end(face, i, n);
       int q = i;
-      for (; q < e && bg->level[q] <= bg->cc; q++) {
-        masks[q] = bg->mask[bg->level[q]];
-        sum += bg->level[q];
-      }
-      memset(ids + i, 0, (size_t)(q - i) * sizeof *ids);
+      if (bg_ok)
+        for (; q < e; q++) masks[q] = bg->mask[bg->level[q]];
+      else
+        for (; q < e && bg->level[q] <= bg->cc; q++) masks[q] = bg->mask[bg->level[q]];
       memcpy(greys + i, bg->grey + i, (size_t)(q - i));
       if (q < e) { i = q; break; }          /* a level past the cell */
       i = e - 1;
@@ -1151,11 +1137,9 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
     const struct face_out *o = &fo[f + 1];
     if (o->odd) break;
     const int e = face_run_end(face, i, n);   /* the run of points that see this face */
-    run_fill(ids + i, masks + i, greys + i, e - i, n - i, o->id, o->mask, o->grey);
-    sum += (uint64_t)o->level * (uint64_t)(e - i);
+    run_fill(masks + i, greys ? greys + i : NULL, e - i, n - i, o->mask, o->grey);
     i = e - 1;
   }
-  *levels += sum;
   return i;
 }
 
@@ -1196,40 +1180,44 @@ static int points_emit(struct pipeline *p, const struct points *pt)
   const bool direct = p->tube_direct && !p->also && !p->timed;
   struct face_out *fo = !watched && !p->face && direct ? face_outs(p) : NULL;
   if (fo) {
+    /* the ids are left in the frame's faces until a dump asks (dumps_settle), and without
+       a background the greys too; no display counts are kept (only the 1974 engine's
+       figures report them) */
     const bool scan = p->scan != NULL;
     struct row_cells rc;
     uint8_t bg_level[TUBE_W], bg_grey[TUBE_W];   /* a row's background points' */
     const struct row_bg bg = { bg_level, bg_grey, p->mask, cc };
-    uint64_t levels = 0;
     int st = T74_OK;
+    p->ids_face = pt->face;
+    p->greys_face = !scan;
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
       row_start(p, &rc, j);
       const int *face = pt->face + (size_t)j * (size_t)W;
-      uint32_t *ids = p->ids + (size_t)j * (size_t)W;
-      uint8_t *greys = p->grey + (size_t)j * (size_t)W;
-      if (scan) scan_row(p->scan, j, bg_level, bg_grey);   /* no 1974 time: uncounted */
+      uint8_t *greys = scan ? p->grey + (size_t)j * (size_t)W : NULL;
+      bool bg_ok = false;                   /* every background level of the row in the cell */
+      if (scan) {
+        scan_row(p->scan, j, bg_level, bg_grey);   /* no 1974 time: uncounted */
+        uint8_t top = 0;
+        for (int i = 0; i < W; i++) top = bg_level[i] > top ? bg_level[i] : top;
+        bg_ok = top <= cc;
+      }
       for (int i = 0; i < W && st == T74_OK; i++) {
-        i = faces_run(fo, face, i, W, scan ? &bg : NULL, ids, greys, rc.masks, &levels);
+        i = faces_run(fo, face, i, W, scan ? &bg : NULL, bg_ok, greys, rc.masks);
         if (i == W) break;
         int f = face[i], level;             /* a cell of another level */
         if (f < 0 && scan) {                /* the background's, from the disk */
-          ids[i] = 0;
           greys[i] = bg_grey[i];
           level = bg_level[i];
         } else {
-          ids[i] = fo[f + 1].id;
-          greys[i] = fo[f + 1].grey;
+          if (scan) greys[i] = fo[f + 1].grey;
           level = fo[f + 1].level;
         }
-        levels += (uint64_t)level;
         st = row_odd(p, &rc, i, level);
       }
       if (st == T74_OK) st = row_end(p, &rc);
     }
     free(fo);
-    if (st != T74_OK) return st;
-    emit_counts(p, (uint64_t)W * (uint64_t)H, levels);
-    return T74_OK;
+    return st;
   }
   for (int j = H - 1; j >= 0; j--)
     for (int i = 0; i < W; i++) {
@@ -1443,6 +1431,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   if (st == T74_OK && p.face) st = run_effects(&p, s, &eff, &g, &fst, err);
   if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
   frame_t[0] = now_seconds() - f0;
+  dumps_settle(&p);                         /* the ids and greys of the frame, for dumps */
   qsort(frame_t, (size_t)nframes, sizeof *frame_t, cmp_double);
   const double frame_med = nframes % 2 ? frame_t[nframes / 2]
                                        : (frame_t[nframes / 2 - 1] + frame_t[nframes / 2]) / 2;

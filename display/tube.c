@@ -35,6 +35,7 @@ struct tube {
                                             writes not yet spelled out */
   int      done;                         /* order[0 .. done): dots */
   int      nlog;                         /* order[done .. done + nlog): writes */
+  uint32_t lit_end;                      /* every lit dot's y*TUBE_W + x is below it */
   struct t74_error err;                  /* first out-of-tube write, for tube_end */
 };
 
@@ -62,6 +63,7 @@ void tube_erase(struct tube *t)
 {
   memset(t->lit, 0, sizeof t->lit);
   t->done = t->nlog = 0;
+  t->lit_end = 0;
   t->err.status = T74_OK;
   t->err.msg[0] = '\0';
 }
@@ -132,7 +134,9 @@ int tube_write(struct tube *t, int x, int y)
   if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H)
     return t74_fail(&t->err, T74_EINPUT,
                     "tube: dot (%d, %d) is outside the %d x %d tube", x, y, TUBE_W, TUBE_H);
-  write_row(t, (uint32_t)y * TUBE_W + (uint32_t)x, 1);
+  const uint32_t d = (uint32_t)y * TUBE_W + (uint32_t)x;
+  if (d >= t->lit_end) t->lit_end = d + 1;
+  write_row(t, d, 1);
   return T74_OK;
 }
 
@@ -243,6 +247,7 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
     return T74_OK;
   }
   uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every dot is on the tube */
+  if (base + (uint32_t)cell > t->lit_end) t->lit_end = base + (uint32_t)cell;  /* its top row */
   if (cell == 3 || (cell == 4 && (x0 & 3) == 0)) {
     uint32_t *next = t->order + t->done + t->nlog;
     if (cell == 4) write_cell4(t->lit, &next, base, mask);
@@ -252,16 +257,37 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
   return T74_OK;
 }
 
-/* Are the 4 rows of lit[] under count aligned 4x4 cells from dot base (on the tube) all
-** unlit, and their masks all within the cell (full)? */
-static bool blank4(const uint8_t *lit, uint32_t base, int count, const uint16_t *masks,
-                   unsigned full)
+/* Are the masks of count cells all within the cell (full)? */
+static bool masks_within(const uint16_t *masks, int count, unsigned full)
 {
   unsigned any = 0;
-  for (int c = 0; c < count; c++) any |= masks[c];
-  if (any & ~full) return false;
-  const uint32_t b0 = base >> 3, b1 = (base + 4 * (uint32_t)count - 1) >> 3;
-  for (int r = 0; r < 4; r++) {
+  int c = 0;
+#ifdef __SSE2__
+  __m128i mv = _mm_setzero_si128();         /* eight masks an OR */
+  for (; c + 8 <= count; c += 8)
+    mv = _mm_or_si128(mv, _mm_loadu_si128((const __m128i *)(const void *)(masks + c)));
+  if (c < count && count >= 8) {            /* the last eight, some again */
+    mv = _mm_or_si128(mv, _mm_loadu_si128((const __m128i *)(const void *)(masks + count - 8)));
+    c = count;
+  }
+  mv = _mm_or_si128(mv, _mm_srli_si128(mv, 8));
+  mv = _mm_or_si128(mv, _mm_srli_si128(mv, 4));
+  mv = _mm_or_si128(mv, _mm_srli_si128(mv, 2));
+  any = (unsigned)_mm_cvtsi128_si32(mv) & 0xffffu;
+#endif
+  for (; c < count; c++) any |= masks[c];
+  return !(any & ~full);
+}
+
+/* Are the cell (3 or 4) rows of lit[] under count cells abutting from dot base (on the
+** tube) all unlit, and their masks all within the cell (full)? (The bytes that hold the
+** cells' dots are asked for, a few dots either side too: a no is only a loss of speed.) */
+static bool blank_cells(const uint8_t *lit, uint32_t base, int cell, int count,
+                        const uint16_t *masks, unsigned full)
+{
+  if (!masks_within(masks, count, full)) return false;
+  const uint32_t b0 = base >> 3, b1 = (base + (uint32_t)(cell * count) - 1) >> 3;
+  for (int r = 0; r < cell; r++) {
     const uint8_t *l = lit + b0 - (uint32_t)r * ROW_BYTES;
     uint32_t k = 0, n = b1 - b0 + 1;
     uint64_t v = 0;
@@ -347,6 +373,36 @@ static inline unsigned unlanes3(uint64_t v)
   return (unsigned)(v & 7) | (unsigned)(v >> LANE3 & 7) << 3 | (unsigned)(v >> 2 * LANE3 & 7) << 6;
 }
 
+/* The writes of n <= RUN3 3x3 cells abutting from dot base (on the tube), their masks
+** within the cell and every dot of them new: one for each cell with a dot, left to right,
+** from o; the new end of the writes. */
+static inline __attribute__((always_inline)) uint32_t *write_words3(uint32_t *o, uint32_t base,
+                                                                  const uint16_t *masks, int n)
+{
+#ifdef __SSE2__
+  uint64_t w0, w1;                         /* cells 0-3 and 3-6 of seven */
+  const uint64_t ones = 0x0001000100010001u, highs = 0x8000800080008000u;
+  if (n == RUN3 && (memcpy(&w0, masks, sizeof w0), memcpy(&w1, masks + 3, sizeof w1),
+                    !((w0 - ones) & ~w0 & highs) && !((w1 - ones) & ~w1 & highs))) {
+    /* seven cells, none of no dot (the borrow test finds a 16-bit lane of 0 exactly
+       when there is one): their seven writes, the fourth stored twice (the same word);
+       a mask is within the cell, 9 bits, and base + 18 a dot, below 2^17 */
+    const __m128i z = _mm_setzero_si128();
+    const __m128i b0 = _mm_add_epi32(_mm_set1_epi32((int)(1u << 30 | base)),
+                                     _mm_setr_epi32(0, 3, 6, 9));
+    const __m128i b1 = _mm_add_epi32(b0, _mm_set1_epi32(9));
+    const __m128i m0 = _mm_unpacklo_epi16(_mm_loadl_epi64((const __m128i *)(const void *)masks), z);
+    const __m128i m1 = _mm_unpacklo_epi16(_mm_loadl_epi64((const __m128i *)(const void *)(masks + 3)), z);
+    _mm_storeu_si128((__m128i *)(void *)o, _mm_or_si128(_mm_slli_epi32(m0, 17), b0));
+    _mm_storeu_si128((__m128i *)(void *)(o + 3), _mm_or_si128(_mm_slli_epi32(m1, 17), b1));
+    return o + RUN3;
+  }
+#endif
+  for (int c = 0; c < n; c++, base += 3)
+    if (masks[c]) *o++ = 1u << 30 | (uint32_t)masks[c] << 17 | base;
+  return o;
+}
+
 /* n <= RUN3 3x3 cells abutting from dot base (on the tube), their masks within the cell
 ** (as lanes, acc): as write_cell3 of each in turn. A row of the cells is one lane: 21 dots
 ** from the same shift in a 32-bit word of lit[] (TUBE_W a multiple of 8: the same in each
@@ -368,28 +424,8 @@ static inline __attribute__((always_inline)) void write_run3(uint8_t *lit, uint3
   }
   uint32_t *o = *next;
   if (fresh == acc) {                      /* every dot new (a tube being drawn) */
-#ifdef __SSE2__
-    uint64_t w0, w1;                       /* cells 0-3 and 3-6 of seven */
-    const uint64_t ones = 0x0001000100010001u, highs = 0x8000800080008000u;
-    if (n == RUN3 && (memcpy(&w0, masks, sizeof w0), memcpy(&w1, masks + 3, sizeof w1),
-                      !((w0 - ones) & ~w0 & highs) && !((w1 - ones) & ~w1 & highs))) {
-      /* seven cells, none of no dot (the borrow test finds a 16-bit lane of 0 exactly
-         when there is one): their seven writes, the fourth stored twice (the same word);
-         a mask is within the cell, 9 bits, and base + 18 a dot, below 2^17 */
-      const __m128i z = _mm_setzero_si128();
-      const __m128i b0 = _mm_add_epi32(_mm_set1_epi32((int)(1u << 30 | base)),
-                                       _mm_setr_epi32(0, 3, 6, 9));
-      const __m128i b1 = _mm_add_epi32(b0, _mm_set1_epi32(9));
-      const __m128i m0 = _mm_unpacklo_epi16(_mm_loadl_epi64((const __m128i *)(const void *)masks), z);
-      const __m128i m1 = _mm_unpacklo_epi16(_mm_loadl_epi64((const __m128i *)(const void *)(masks + 3)), z);
-      _mm_storeu_si128((__m128i *)(void *)o, _mm_or_si128(_mm_slli_epi32(m0, 17), b0));
-      _mm_storeu_si128((__m128i *)(void *)(o + 3), _mm_or_si128(_mm_slli_epi32(m1, 17), b1));
-      *next = o + RUN3;
-      return;
-    }
-#endif
-    for (int c = 0; c < n; c++, base += 3)
-      if (masks[c]) *o++ = 1u << 30 | (uint32_t)masks[c] << 17 | base;
+    *next = write_words3(o, base, masks, n);
+    return;
   } else {
     for (int c = 0; c < n; c++, base += 3, fresh >>= 3) {
       const unsigned m = unlanes3(fresh);
@@ -397,6 +433,23 @@ static inline __attribute__((always_inline)) void write_run3(uint8_t *lit, uint3
     }
   }
   *next = o;
+}
+
+/* write_run3 where the cells' dots are all unlit: every dot new (its fresh is acc), so
+** each row's lane is put into lit[] as it is; the new end of the writes. */
+static inline __attribute__((always_inline)) uint32_t *write_new3(uint8_t *lit, uint32_t *next,
+                                                                uint32_t base, uint64_t acc,
+                                                                const uint16_t *masks, int n)
+{
+  const uint32_t sh = base & 7;
+  for (int r = 0; r < 3; r++) {
+    uint8_t *l = lit + ((base - (uint32_t)r * TUBE_W) >> 3);
+    uint32_t have;
+    memcpy(&have, l, sizeof have);
+    have |= (uint32_t)(acc >> LANE3 * r & ((1u << LANE3) - 1)) << sh;
+    memcpy(l, &have, sizeof have);
+  }
+  return write_words3(next, base, masks, n);
 }
 
 int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *masks, int count)
@@ -413,10 +466,15 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   uint32_t base = (uint32_t)y0 * TUBE_W + (uint32_t)x0;   /* every cell is on the tube */
   const unsigned full = (1u << (cell * cell)) - 1;
   uint8_t *lit = t->lit;
+  /* the cells' rows are unlit when their lowest dot is at or past lit_end (a tube being
+     drawn bottom row first); after this call every lit dot is below the top row's end */
+  const bool above = base - (uint32_t)(cell - 1) * TUBE_W >= t->lit_end;
+  if (base + (uint32_t)(cell * count) > t->lit_end) t->lit_end = base + (uint32_t)(cell * count);
   /* the writes go to `next` (kept out of the tube while lit[] is written through bytes,
      which could alias it) */
   uint32_t *next = t->order + t->done + t->nlog;
-  if (cell == 4 && blank4(lit, base, count, masks, full)) {
+  if (cell == 4 && (above ? masks_within(masks, count, full)
+                          : blank_cells(lit, base, 4, count, masks, full))) {
     /* nothing lit yet where the cells go (a tube being drawn): every dot is new, and a
        byte of lit[] is the row of two cells of this row, or of one and nothing */
     for (int c = 0; c < count; c++, base += 4) {
@@ -448,6 +506,9 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
     return T74_OK;
   }
   if (cell == 3) {                         /* runs of RUN3 cells, a row of them a lane */
+    /* plain: the rows unlit and every mask within the cell (a tube being drawn): a run's
+       lanes without the test of each mask */
+    const bool plain = above && masks_within(masks, count, full);
     for (int c0 = 0; c0 < count; c0 += RUN3, base += 3 * RUN3) {
       const int n = count - c0 < RUN3 ? count - c0 : RUN3;
       if (n == RUN3) {                      /* seven cells of no dot (a background) */
@@ -464,9 +525,18 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
         if (w4 == w3 && w4 == m * 0x0001000100010001u && !(m & ~full)) {
           /* seven cells of one mask within the cell: the loop's lanes, each cell's bits
              three above the last's within a lane of 21 (no two meet: a sum is their OR) */
-          write_run3(lit, &next, base, lanes3[m] * 01111111u, masks + c0, n);
+          if (above) next = write_new3(lit, next, base, lanes3[m] * 01111111u, masks + c0, n);
+          else write_run3(lit, &next, base, lanes3[m] * 01111111u, masks + c0, n);
           continue;
         }
+      }
+      if (plain && n == RUN3) {
+        const uint16_t *m = masks + c0;
+        const uint64_t acc = lanes3[m[0]] | lanes3[m[1]] << 3 | lanes3[m[2]] << 6 |
+                             lanes3[m[3]] << 9 | lanes3[m[4]] << 12 | lanes3[m[5]] << 15 |
+                             lanes3[m[6]] << 18;
+        next = write_new3(lit, next, base, acc, m, n);   /* (acc is not 0: a mask is not) */
+        continue;
       }
       uint64_t acc = 0;
       unsigned any = 0;
@@ -475,7 +545,8 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
         acc = acc << 3 | lanes3[masks[c] & 0x1ffu];
       }
       if (!(any & ~full)) {
-        if (acc) write_run3(lit, &next, base, acc, masks + c0, n);
+        if (acc && above) next = write_new3(lit, next, base, acc, masks + c0, n);
+        else if (acc) write_run3(lit, &next, base, acc, masks + c0, n);
         continue;
       }
       for (int c = c0; c < c0 + n; c++) {   /* dots past a cell: one cell at a time */

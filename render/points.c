@@ -141,6 +141,7 @@
 #include <limits.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -148,6 +149,10 @@
 #include "emu/cost.h"
 #include "render/geom.h"
 #include "render/segment.h"
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 struct points_edge {
   int32_t jtop, jbot;       /* rows crossed: jtop .. jbot (j from the top), jtop <= jbot */
@@ -168,7 +173,8 @@ struct points_plane {
    between lo and hi; hi >= 0 and lo > 0 (else -inf) once a face is seen, both -inf while
    none is (see the top of the file). */
 struct points_z {
-  double hi, lo;
+  double lo, hi;                /* in this order: a pair of doubles (zl, zh) is stored as one
+                                   (raster_span) */
 };
 
 /* A face's box of points (columns ilo .. ihi - 1, rows jlo .. jhi) and its depth z in
@@ -178,6 +184,8 @@ struct points_box {
   int32_t ilo, ihi, jlo, jhi;
   double za, zb, zc, E;
   bool plus;                                /* zl > 0 at every point of the box */
+  bool inside;                              /* the box's columns not cut by the grid: every
+                                               crossing's column within [0, W] (face_draw) */
   bool arise, brise;                        /* alpha > 0, beta > 0 (exact): z grows with i, j */
 };
 
@@ -351,6 +359,7 @@ struct grid {
   int W, H;
   int64_t XL, YB, XR, YT, xd, yd, S, Dy;
   wide Ex, Ey, Ez;
+  wide ga, gb, gc;              /* gamma = a ga + b gb + c gc for a plane (a, b, c) (face_box) */
   double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
 };
 
@@ -503,6 +512,114 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
   return in_front(Pk, &p->map.f[k], Po, &p->map.f[o]);
 }
 
+#ifdef __SSE2__
+/* raster_plain's points from q on (see there), the exact compare asked where the doubles
+   do not decide (out of line: the call's saved registers stay off the plain loop). */
+static __attribute__((noinline)) void
+raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe, int32_t i1,
+                  ptrdiff_t q, __m128d v, __m128d dv)
+{
+  int co = -1;                                  /* a face in face k's plane met on the span */
+  bool cofront = false;                         /* and the exact compare's answer against it */
+  for (; q != 0; q += 2, v = _mm_add_pd(v, dv)) {
+    if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {     /* !(zl > hi) */
+      if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
+        continue;                               /* zh < lo: behind, certainly */
+      int o = *(int32_t *)(void *)(fe + 2 * q);
+      bool front = cofront, same;
+      if (o != co) {
+        front = in_front_exact(p, k, o, i1 + q / 2, j, &same);
+        if (same) { co = o; cofront = front; }
+      }
+      if (!front) continue;
+    }
+    *(int32_t *)(void *)(fe + 2 * q) = k;
+    _mm_storeu_pd(zd + q, v);
+  }
+}
+
+/* raster_span's steps for a face with zl > 0 over its box and no tiles kept, over row j's
+   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), each lane stepped
+   by + za as raster_span steps them (the same roundings: the same values), stored as
+   (lo, hi) where face k is taken (lo = zl, hi = zh). Points decided by the doubles here
+   (zl > hi: in front; zh < lo: behind); from the first the exact compare must decide
+   on, raster_plain_rest. */
+static inline __attribute__((always_inline)) void
+raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
+             int32_t i0, int32_t i1, double zl, double zh, double za)
+{
+  __m128d v = _mm_set_pd(zh, zl);
+  const __m128d dv = _mm_set1_pd(za);
+  /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
+     i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
+  double *const zd = &zb[i1].lo;
+  char *const fe = (char *)(fb + i1);
+  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
+    if (__builtin_expect(!(_mm_cvtsd_f64(v) > zd[q + 1]), 0)) {   /* !(zl > hi) */
+      if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
+        continue;                               /* zh < lo: behind, certainly */
+      raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv);
+      return;
+    }
+    *(int32_t *)(void *)(fe + 2 * q) = k;
+    _mm_storeu_pd(zd + q, v);
+  }
+}
+#endif
+
+/* Face k's write at point i of row j (faces fb, bounds zb; trow: the row's tiles, or NULL)
+   where it is in front: the face, its bounds lo and hi, and the tile's bounds kept
+   ("Tiles"); was: the point's lo before. */
+static inline __attribute__((always_inline)) void
+raster_take(int k, int32_t i, int32_t *fb, struct points_z *zb, double zl, double zh,
+            double was, bool plus, struct points_tile *trow)
+{
+  fb[i] = k;
+  double lo;
+  if (plus) {
+    zb[i].hi = zh;
+    lo = zl;
+  } else {
+    zb[i].hi = zh > 0 ? zh : 0;
+    lo = zl > 0 ? zl : -HUGE_VAL;
+  }
+  if (!trow) { zb[i].lo = lo; return; }
+  struct points_tile *T = trow + (i >> TILE_SHIFT);
+  const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
+  T->ninf += dn;                                /* (no branch: where it is not 0 is unguessable) */
+  zb[i].lo = lo;
+  /* the bound lowered to lo, or marked when the least may have risen; no branch */
+  const double tl = T->lo;
+  T->lo = lo < tl ? lo : tl;
+  T->dirty |= !(lo < tl) & (was <= tl);
+}
+
+/* raster_span's points from i on (zl, zh their bounds at i), the exact compare asked where
+   the doubles do not decide (out of line: the call's saved registers stay off
+   raster_span's loop). */
+static __attribute__((noinline)) void
+raster_span_rest(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
+                 int32_t i, int32_t i1, double zl, double zh, double za, bool plus,
+                 struct points_tile *trow)
+{
+  int co = -1;                                  /* a face in face k's plane met on the span */
+  bool cofront = false;                         /* and the exact compare's answer against it */
+  for (; i < i1; i++, zl += za, zh += za) {
+    const double was = zb[i].lo;
+    if (!(zl > zb[i].hi)) {
+      if (zh < was) continue;                   /* behind, certainly */
+      int o = fb[i];
+      bool front = cofront, same;
+      if (o != co) {
+        front = in_front_exact(p, k, o, i, j, &same);
+        if (same) { co = o; cofront = front; }
+      }
+      if (!front) continue;
+    }
+    raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
+  }
+}
+
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
    and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
@@ -515,38 +632,22 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
   struct points_z *zb = p->z + row;
-  int co = -1;                                  /* a face in face k's plane met on the span */
-  bool cofront = false;                         /* and the exact compare's answer against it */
+#ifdef __SSE2__
+  if (plus && !trow) {
+    raster_plain(p, k, j, fb, zb, i0, i1, zl, zh, za);
+    return;
+  }
+#endif
+  /* the points the doubles decide (zl > hi: in front; zh < lo: behind) here; from the
+     first the exact compare must decide on, raster_span_rest */
   for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
     const double was = zb[i].lo;
-    if (!(zl > zb[i].hi)) {
+    if (__builtin_expect(!(zl > zb[i].hi), 0)) {
       if (zh < was) continue;                   /* behind, certainly */
-      int o = fb[i];
-      bool front = cofront, same;
-      if (o != co) {
-        front = in_front_exact(p, k, o, i, j, &same);
-        if (same) { co = o; cofront = front; }
-      }
-      if (!front) continue;
+      raster_span_rest(p, k, j, fb, zb, i, i1, zl, zh, za, plus, trow);
+      return;
     }
-    fb[i] = k;
-    double lo;
-    if (plus) {
-      zb[i].hi = zh;
-      lo = zl;
-    } else {
-      zb[i].hi = zh > 0 ? zh : 0;
-      lo = zl > 0 ? zl : -HUGE_VAL;
-    }
-    if (!trow) { zb[i].lo = lo; continue; }
-    struct points_tile *T = trow + (i >> TILE_SHIFT);
-    const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
-    T->ninf += dn;                              /* (no branch: where it is not 0 is unguessable) */
-    zb[i].lo = lo;
-    /* the bound lowered to lo, or marked when the least may have risen; no branch */
-    const double tl = T->lo;
-    T->lo = lo < tl ? lo : tl;
-    T->dirty |= !(lo < tl) & (was <= tl);
+    raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
   }
 }
 /* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
@@ -567,6 +668,7 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   if (jlo < 0) jlo = 0;
   if (jhi > g->H - 1) jhi = g->H - 1;
   int64_t ilo = col_first_at_or_right(g, xmin), ihi = col_first_at_or_right(g, xmax);
+  b->inside = ilo >= 0 && ihi <= g->W;
   if (ilo < 0) ilo = 0;
   if (ihi > g->W) ihi = g->W;
   if (jlo > jhi || ilo >= ihi) return false;
@@ -578,9 +680,7 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   struct points_plane *pl = &p->plane[k];
   pl->alpha = a * ca;
   pl->beta = -bb * cb;
-  pl->gamma = a * 2 * g->H * (2 * g->W * (g->XL - g->Ex) + (g->XR - g->XL)) +
-              bb * 2 * g->W * (2 * g->H * (g->YT - g->Ey) - (g->YT - g->YB)) +
-              c * 4 * g->W * g->H * (-g->Ez);
+  pl->gamma = a * g->ga + bb * g->gb + c * g->gc;  /* the grid's factors found once (exact) */
   const double Dd = (double)f->deye;
   const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
                Gd = pl->gamma == (int64_t)pl->gamma ? (double)(int64_t)pl->gamma  /* same value */
@@ -796,6 +896,19 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     struct points_edge *E = &p->edge[e];
     int64_t c = E->c, sc = E->s;
     const int32_t jtop = E->jtop;
+    if (two && b->inside) {
+      /* a crossing's x lies between the face's least and greatest x, and the first
+         column at or right of an x does not fall as x grows: its column, floor(c / 2),
+         is within the box's [ilo, ihi] before the grid cuts it, here within [0, W], so
+         col_of's clamps change nothing (and c >= 0) */
+      int32_t *x = p->cross + 2 * (E->jbot - jlo) + !E->up;
+      for (int32_t j = E->jbot;; j--, x -= 2) {
+        *x = (int32_t)(c >> 1);
+        if (j == jtop) break;
+        edge_step(E, &c, &sc);
+      }
+      continue;
+    }
     if (two) {
       int32_t *x = p->cross + 2 * (E->jbot - jlo) + !E->up;
       for (int32_t j = E->jbot;; j--, x -= 2) {
@@ -818,6 +931,28 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   uint32_t hid = 0;                             /* the band's tiles where face k is behind */
   int tyat = -1;
   bool any = false;
+#ifdef __SSE2__
+  if (two && !coarse && !tiles && b->plus) {    /* span_parts' steps, no tile, zl > 0 */
+    const double za = b->za, E = b->E;
+    int32_t *fb = p->face + (size_t)jlo * (size_t)g->W;
+    struct points_z *zrow = p->z + (size_t)jlo * (size_t)g->W;
+    long visited = 0;
+    for (int r = 0; r < nrow; r++, fb += g->W, zrow += g->W) {
+      int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
+      const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
+      i0 = c0 < c1 ? c0 : c1;
+      i1 = c0 < c1 ? c1 : c0;
+      if (i0 >= i1) continue;
+      visited += i1 - i0;
+      const int64_t j = jlo + r;
+      const double z0 = za * (double)i0 + (zb * (double)j + zc);
+      raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za);
+    }
+    p->points_visited += visited;
+    if (!visited) p->faces_culled++;
+    return T74_OK;
+  }
+#endif
   if (two && !coarse) {                         /* a row: one span, often empty (slivers) */
     for (int r = 0; r < nrow; r++) {
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
@@ -959,7 +1094,6 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     p->W = vg->W;
     p->H = vg->H;
   }
-  memset(p->face, 0xff, n * sizeof *p->face);   /* -1: nothing seen */
   if (!grow((void **)&p->plane, &p->planecap, p->map.nface + 1, sizeof *p->plane))
     return t74_fail(err, T74_EIO, "out of host memory");
   struct grid g;
@@ -970,6 +1104,9 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.S = GRID_ONE * (g.XR - g.XL);
   g.Dy = GRID_ONE * (g.YT - g.YB);
   g.Ex = p->map.eye[0]; g.Ey = p->map.eye[1]; g.Ez = p->map.eye[2];
+  g.ga = 2 * (wide)g.H * (2 * g.W * (g.XL - g.Ex) + (g.XR - g.XL));
+  g.gb = 2 * (wide)g.W * (2 * g.H * (g.YT - g.Ey) - (g.YT - g.YB));
+  g.gc = 4 * (wide)g.W * g.H * (-g.Ez);
   g.ki = (double)g.xd / (2.0 * (double)GRID_ONE * (double)(g.XR - g.XL));
   g.kj = (double)g.yd / (2.0 * (double)GRID_ONE * (double)(g.YT - g.YB));
   g.i0 = -((double)g.xd * (double)g.XL / (double)(g.XR - g.XL) + 1) / 2;
@@ -1015,17 +1152,28 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   /* the depth bounds, nothing seen yet: over every row with the tiles (their bounds are
      the least over whole tiles), else over the rows of the faces' boxes, the only rows
      their spans visit (face_draw: the box's rows, spans only where no tile is kept) */
+  /* (without the tiles, over the boxes' columns too: a span's columns lie in its face's
+     box, [ilo, ihi), as its crossings lie between the face's least and greatest x and the
+     first column at or right of an x does not fall as x grows) */
   int zj0 = tiles ? 0 : g.H, zj1 = tiles ? g.H - 1 : -1;
+  int zi0 = tiles ? 0 : g.W, zi1 = tiles ? g.W : 0;
   for (int d = 0; !tiles && d < nb; d++) {
     zj0 = p->box[d].jlo < zj0 ? p->box[d].jlo : zj0;
     zj1 = p->box[d].jhi > zj1 ? p->box[d].jhi : zj1;
+    zi0 = p->box[d].ilo < zi0 ? p->box[d].ilo : zi0;
+    zi1 = p->box[d].ihi > zi1 ? p->box[d].ihi : zi1;
   }
-  if (zj0 <= zj1) {
-    struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W;
-    for (int i = 0; i < g.W; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
+  if (zj0 <= zj1 && zi0 < zi1) {
+    struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
+    for (int i = 0; i < zi1 - zi0; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
     for (int j = zj0 + 1; j <= zj1; j++)          /* the other rows as the first */
-      memcpy(p->z + (size_t)j * (size_t)g.W, z0, (size_t)g.W * sizeof *p->z);
+      memcpy(p->z + (size_t)j * (size_t)g.W + (size_t)zi0, z0, (size_t)(zi1 - zi0) * sizeof *p->z);
   }
+  /* the faces, nothing seen (-1): a row at a time (a row is at most 532 bytes, a fill
+     the C library does with vector stores; the whole buffer at once, 53 kB, it fills
+     with `rep stosb`, which valgrind counts as an instruction a byte) */
+  for (int j = 0; j < g.H; j++)
+    memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
   area = 0;
   int nd = 0;                                     /* faces kept */
   for (int d = 0; d < nb; d++) {

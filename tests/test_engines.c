@@ -1295,10 +1295,13 @@ static void test_cli(void **state)
 }
 
 /* The effects' points to the tube alone a row at a time (cli/pipeline.c run_effects:
-   greys_run, its runs of one face and one grey, tube_write_cells) give what each point in
-   turn gives (emit_point: the path taken when another sink takes the dots too, here
-   tube74 tek's): the same picture, ids, greys and tube dots in their order,
-   under the points engine on smoothed, contoured, shadowed and textured scenes, at the
+   greys_cells and greys_run, tube_write_cells), and the points engine's frame without
+   effects (points_emit: runs of one face; over a background picture, the street), give
+   what each point in turn gives (emit_point: the path taken when another sink takes the
+   dots too, here tube74 tek's): the same picture, ids, greys and tube dots in their order
+   (the row paths leave the ids, and without effects or a background the greys, to be
+   written from the frame's faces when a dump asks: dumps_settle), under the points engine
+   on smoothed, contoured, shadowed and textured scenes and scenes without effects, at the
    first frame and after one. */
 static void test_rows_are_pointwise(void **state)
 {
@@ -1306,7 +1309,8 @@ static void test_rows_are_pointwise(void **state)
   static const char *const cases[][2] = {
     { "t1-a", "" }, { "t1-e", "" }, { "t1-j", "" }, { "sphere", "" }, { "lprism", "" },
     { "lprism", "halftone=4x4 smooth=prop:0.15" }, { "fig6-room", "" }, { "crossing", "" },
-    { "t1-h", "halftone=3x3 smooth=fixed:0.05 shadows=on" } };
+    { "t1-h", "halftone=3x3 smooth=fixed:0.05 shadows=on" }, { "street", "" },
+    { "fig5", "" }, { "fig5", "halftone=3x3" } };
   char dir[] = "/tmp/tube74-engines-rows-XXXXXX";
   assert_non_null(mkdtemp(dir));
   static const char *const kinds[] = { "png", "ids", "grey", "tube" };

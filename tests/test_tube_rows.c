@@ -1,0 +1,147 @@
+/*
+** test_tube_rows.c — display/tube's rows of cells over a tube being drawn (issue 19).
+**
+** tube_write_cells takes a row of cells whose lowest dot is at or past the tube's bound on
+** its lit dots (lit_end, raised by every write) as a row over unlit dots: it puts the
+** cells' dots into lit[] without asking which are new. These tests draw tubes bottom row
+** first, as the pipeline does, with single dots, single cells and rows written between the
+** rows (just under a row, in it, just above it, at the tube's last dot), and check that
+** every tube keeps the dots, count and order of the same writes made a cell at a time
+** (tube_write_dots), and the same status. A bound not raised by one kind of write would
+** let a row take a lit dot as new: a dot twice in the order, a count too large.
+** A standalone cmocka program.
+*/
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include <cmocka.h>
+
+#include "display/tube.h"
+#include "emu/status.h"
+
+static void tubes_same(const struct tube *a, const struct tube *b)
+{
+  assert_int_equal(tube_count(a), tube_count(b));
+  for (int k = 0; k < tube_count(a); k++) {
+    int xa, ya, xb, yb;
+    assert_int_equal(tube_order(a, k, &xa, &ya), T74_OK);
+    assert_int_equal(tube_order(b, k, &xb, &yb), T74_OK);
+    assert_int_equal(xa, xb);
+    assert_int_equal(ya, yb);
+  }
+}
+
+static uint32_t next_rand(uint32_t *x)
+{
+  *x = *x * 1103515245u + 12345u;
+  return *x >> 8;
+}
+
+/* A row of count cells from (x0, y0) to both tubes: b as one tube_write_cells, a a cell
+   at a time; the same status. */
+static void row_both(struct tube *a, struct tube *b, int x0, int y0, int cell,
+                     const uint16_t *masks, int count)
+{
+  int want = T74_OK;
+  for (int c = 0; c < count && want == T74_OK; c++)
+    want = tube_write_dots(a, x0 + c * cell, y0, cell, masks[c]);
+  assert_int_equal(tube_write_cells(b, x0, y0, cell, masks, count), want);
+}
+
+/* Rows of 3x3 and 4x4 cells drawn bottom row first (the grid's rows), each full row or a
+   part of one; before some rows a dot (tube_write), a cell (tube_write_dots) or a short
+   row (tube_write_cells) written where the next row goes, just under it, or just over it;
+   masks with every dot, none, and some; the same tube as cell by cell, compared after
+   every row. */
+static void test_rows_bottom_first(void **state)
+{
+  (void)state;
+  uint32_t x = 1974;
+  for (int cell = 3; cell <= 4; cell++)
+    for (int pass = 0; pass < 12; pass++) {
+      struct tube *a = tube_new(), *b = tube_new();
+      assert_non_null(a);
+      assert_non_null(b);
+      const int W = cell == 3 ? 133 : 100, H = cell == 3 ? 100 : 75;
+      for (int j = H - 1; j >= 0; j--) {
+        const int y0 = (H - 1 - j) * cell + cell - 1;   /* row j's cells' top dot row */
+        uint16_t masks[133];
+        for (int c = 0; c < W; c++) {
+          const uint32_t r = next_rand(&x);
+          const unsigned full = (1u << (cell * cell)) - 1;
+          masks[c] = (uint16_t)((pass % 3 == 0 && c % 11 < 4) ? 0
+                                : (pass % 3 == 1) ? full : r & full);
+        }
+        /* something written before the row, now and then */
+        const uint32_t what = next_rand(&x) % 8;
+        const int wx = (int)(next_rand(&x) % (uint32_t)(W * cell));
+        const int wy = y0 - (int)(next_rand(&x) % (uint32_t)(cell + 2)) + 1;   /* under .. over */
+        if (wy >= 0 && wy < 300) {
+          if (what == 1) {
+            assert_int_equal(tube_write(a, wx, wy), T74_OK);
+            assert_int_equal(tube_write(b, wx, wy), T74_OK);
+          } else if (what == 2 && wx <= 400 - cell && wy >= cell - 1) {
+            const unsigned m = next_rand(&x) & ((1u << (cell * cell)) - 1);
+            assert_int_equal(tube_write_dots(a, wx, wy, cell, m), T74_OK);
+            assert_int_equal(tube_write_dots(b, wx, wy, cell, m), T74_OK);
+          } else if (what == 3 && wy >= cell - 1) {
+            const int x1 = cell * (wx / cell), n = (400 - x1) / cell < 5 ? (400 - x1) / cell : 5;
+            row_both(a, b, x1, wy, cell, masks, n);
+          }
+        }
+        if (pass >= 6) {                    /* a part of the row, from a cell not the first */
+          const int c0 = (int)(next_rand(&x) % (uint32_t)W);
+          row_both(a, b, c0 * cell, y0, cell, masks + c0, W - c0);
+        } else {
+          row_both(a, b, 0, y0, cell, masks, W);
+        }
+        assert_int_equal(tube_count(a), tube_count(b));
+      }
+      /* and the tube's last dot, lit before a row written over it */
+      assert_int_equal(tube_write(a, 399, 299), T74_OK);
+      assert_int_equal(tube_write(b, 399, 299), T74_OK);
+      uint16_t top[2] = { (uint16_t)((1u << (cell * cell)) - 1), 1 };
+      row_both(a, b, 400 - 2 * cell, 299, cell, top, 2);
+      tubes_same(a, b);
+      tube_free(a);
+      tube_free(b);
+    }
+}
+
+/* After tube_erase the bound starts again: rows drawn on an erased tube, bottom row
+   first, over what was lit before the erase, keep the dots and order of a new tube. */
+static void test_rows_after_erase(void **state)
+{
+  (void)state;
+  struct tube *a = tube_new(), *b = tube_new();
+  assert_non_null(a);
+  assert_non_null(b);
+  uint16_t masks[133];
+  for (int c = 0; c < 133; c++) masks[c] = (uint16_t)(c % 5 ? 0x1ffu : 0x0a5u);
+  for (int y0 = 2; y0 < 300; y0 += 3) row_both(a, b, 0, y0, 3, masks, 133);
+  tubes_same(a, b);
+  tube_erase(b);
+  struct tube *c = tube_new();
+  assert_non_null(c);
+  for (int y0 = 2; y0 < 300; y0 += 3) {
+    assert_int_equal(tube_write_cells(b, 0, y0, 3, masks, 133), T74_OK);
+    for (int k = 0; k < 133; k++) assert_int_equal(tube_write_dots(c, 3 * k, y0, 3, masks[k]), T74_OK);
+  }
+  tubes_same(b, c);
+  assert_int_equal(tube_count(b), tube_count(a));
+  tube_free(a);
+  tube_free(b);
+  tube_free(c);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_rows_bottom_first),
+    cmocka_unit_test(test_rows_after_erase),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
