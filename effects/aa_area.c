@@ -177,9 +177,11 @@ static int row_entries(struct area_run *ar, int j)
     double *q = ar->bb[ar->nbb];
     q[0] = q[2] = HUGE_VAL;
     q[1] = q[3] = -HUGE_VAL;
+    struct hpoint vb[PIECE_VBUF];
+    const struct hpoint *pv = piece_verts(pc, vb);
     for (int k = 0; k < pc->n; k++) {
-      double u = ((double)pc->v[k].X / (double)pc->v[k].W - c->xl) / c->pw;
-      double v = (c->yt - (double)pc->v[k].Y / (double)pc->v[k].W) / c->ph;
+      double u = ((double)pv[k].X / (double)pv[k].W - c->xl) / c->pw;
+      double v = (c->yt - (double)pv[k].Y / (double)pv[k].W) / c->ph;
       q[0] = fmin(q[0], u); q[1] = fmax(q[1], u); q[2] = fmin(q[2], v); q[3] = fmax(q[3], v);
     }
     COST_ADD_N(c->cost, COST_DIV, 2 * pc->n);
@@ -235,9 +237,11 @@ static bool vertex_inside(struct aa_ctx *c, int p, double a, double b, double vt
 {
   if (p < 0) return false;
   const struct piece *pc = &c->r->seg.p[p];
+  struct hpoint pvb[PIECE_VBUF];
+  const struct hpoint *pv = piece_verts(pc, pvb);
   for (int k = 0; k < pc->n; k++) {
-    double x = ((double)pc->v[k].X / (double)pc->v[k].W - c->xl) / c->pw;
-    double y = (c->yt - (double)pc->v[k].Y / (double)pc->v[k].W) / c->ph;
+    double x = ((double)pv[k].X / (double)pv[k].W - c->xl) / c->pw;
+    double y = (c->yt - (double)pv[k].Y / (double)pv[k].W) / c->ph;
     COST_ADD_N(c->cost, COST_ADD, 4);
     if (x > a && x < b && y > vt && y < vb) return true;
   }

@@ -42,7 +42,7 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
     struct seg_result res = { 0 };
     struct gline cl[SEG_CONVEX_MAX];       /* a convex face's one piece (seg_convex) */
     int cn = 0;
-    st = seg_convex(&in, cl, &cn, r->tables, r->core, cost, err);
+    st = seg_convex(&in, &r->seg.yname, cl, &cn, r->tables, r->core, cost, err);
     if (st == T74_OK && cn == 0) st = seg_generate(&in, &res, r->tables, r->core, cost, err);
     if (st == T74_EINPUT && r->arith == GEOM_HITAC) {
       /* --arith hitac: the 1974 coordinates folded the face; that program would have

@@ -27,10 +27,15 @@
 #define CBLOCK_HEAD_WORDS 1
 #define CBLOCK_SIDE_WORDS 4
 
+_Static_assert(sizeof(struct piece) == 48, "struct piece: 48 bytes");
+
 void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost)
 {
   memset(t, 0, sizeof *t);
   t->core = core;
+  t->bname.name = "B-BLOCK";
+  t->cname.name = "C-BLOCK";
+  t->yname.name = CORE_T_YSORT;
   t->cost = cost;
 }
 
@@ -107,15 +112,20 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   }
   struct piece *p = &t->p[t->n];
   memset(p, 0, sizeof *p);
-  /* its vertices, then its lines, in one piece of the pool (issue 19: no allocation a
-     piece; a piece is never freed before the others) */
+  /* its lines, and for a piece of more than PIECE_VBUF sides its vertices, in one piece
+     of the pool (issue 19: no allocation a piece; a piece is never freed before the
+     others) */
   _Static_assert(_Alignof(struct hpoint) >= _Alignof(struct gline), "piece block layout");
-  p->v = pool_alloc(&t->pool, (size_t)n * (sizeof *p->v + sizeof *p->line), _Alignof(struct hpoint));
-  if (!p->v) {
+  bool keep_v = n > PIECE_VBUF;
+  struct hpoint *v = keep_v ? pool_alloc(&t->pool, (size_t)n * (sizeof *v + sizeof *p->line),
+                                         _Alignof(struct hpoint))
+                            : NULL;
+  p->line = keep_v ? (struct gline *)(v + n)
+                   : pool_alloc(&t->pool, (size_t)n * sizeof *p->line, _Alignof(struct gline));
+  if (!p->line || (keep_v && !v)) {
     t74_fail(err, T74_EIO, "out of host memory");
     return -1;
   }
-  p->line = (struct gline *)(p->v + n);
   memcpy(p->line, line, (size_t)n * sizeof *line);
   n = merge_sides(p->line, n);
   if (n < 3) {
@@ -126,8 +136,10 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   p->face = face;
   p->alive = true;
   p->parent = -1;
+  struct hpoint vb[PIECE_VBUF];
+  v = n > PIECE_VBUF ? (struct hpoint *)(void *)p->line - n : vb;   /* within the block */
   for (int k = 0, k0 = n - 1; k < n; k0 = k++) {
-    if (!geom_meet(p->line[k0], p->line[k], &p->v[k])) {
+    if (!geom_meet(p->line[k0], p->line[k], &v[k])) {
       t74_fail(err, T74_EINPUT, "internal: sides of a piece of face %d do not meet", face);
       return -1;
     }
@@ -135,19 +147,23 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   cost_mw_mul_n(t->cost, 58, 29, 2 * (uint64_t)n);     /* two products a vertex */
   p->lo = p->hi = 0;
   for (int k = 1; k < n; k++) {
-    if (cmp_hy(p->v[k], p->v[p->lo]) < 0) p->lo = k;
-    if (cmp_hy(p->v[k], p->v[p->hi]) > 0) p->hi = k;
+    if (cmp_hy(v[k], v[p->lo]) < 0) p->lo = k;
+    if (cmp_hy(v[k], v[p->hi]) > 0) p->hi = k;
   }
   cost_mw_mul_n(t->cost, 88, 59, (uint64_t)n - 1);      /* a compare a vertex but the first */
+  p->ylo_yh = (int32_t)(v[p->lo].Y >> 64);               /* |Y| < 2^88: geom.h */
+  p->ylo_yl = (uint64_t)(uwide)v[p->lo].Y;
+  p->ylo_w = (int64_t)v[p->lo].W;                         /* W < 2^59: geom.h */
 
   /* B and C blocks in core: the piece's row, and its sides */
   uint32_t b, c;
-  if (core_alloc(t->core, "B-BLOCK", BBLOCK_ROW_WORDS, &b, err) != T74_OK ||
-      core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK)
+  if (core_alloc_named(t->core, &t->bname, BBLOCK_ROW_WORDS, &b, err) != T74_OK ||
+      core_alloc_named(t->core, &t->cname, CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c,
+                       err) != T74_OK)
     return -1;
   core_write(t->core, b, (uint16_t)t->n);
-  core_write(t->core, b + 1, (uint16_t)grid_y(piece_ylo(p)));
-  core_write(t->core, b + 2, (uint16_t)grid_y(piece_yhi(p)));
+  core_write(t->core, b + 1, (uint16_t)grid_y(v[p->lo]));
+  core_write(t->core, b + 2, (uint16_t)grid_y(v[p->hi]));
   core_write(t->core, b + 3, (uint16_t)c);
   core_write(t->core, c, (uint16_t)n);
   for (int k = 0; k < n; k++) {             /* vertex number, then the side's edge share */
@@ -197,27 +213,27 @@ static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
    Vertex k of the result starts side k; a new vertex is the meet of the side it lies on
    and h, so it stays a meet of two grid lines. side[k] is the side of p's vertex k of h
    (geom_side_h), or side is NULL and it is found here. */
-static bool clip_sides(const struct piece *p, struct gline h, const signed char *side,
-                       struct cpoly *out, uint64_t *prod)
+static bool clip_sides(const struct piece *p, const struct hpoint *pv, struct gline h,
+                       const signed char *side, struct cpoly *out, uint64_t *prod)
 {
   out->n = 0;
   int n = p->n;
   if (!cpoly_room(out, n + 2)) return false;   /* a convex piece crosses a line twice at most */
-  int s0 = side ? side[0] : geom_side_hw(h, p->v[0]), sk = s0;
+  int s0 = side ? side[0] : geom_side_hw(h, pv[0]), sk = s0;
   *prod += (uint64_t)n;                          /* a product a vertex */
   for (int k = 0; k < n; k++) {
     int nx = (k + 1) % n;
-    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_hw(h, p->v[nx]);
+    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_hw(h, pv[nx]);
     struct gline lk = p->line[k];
     struct hpoint x;
     if (sk > 0 || (sk == 0 && sn >= 0)) {
-      cpoly_push(out, lk, p->v[k]);
+      cpoly_push(out, lk, pv[k]);
       if (sk > 0 && sn < 0) {            /* leaves through h */
         if (!geom_meet(lk, h, &x)) return false;
         cpoly_push(out, h, x);
       }
     } else if (sk == 0) {                /* on h, and the side goes outside */
-      cpoly_push(out, h, p->v[k]);
+      cpoly_push(out, h, pv[k]);
     } else if (sn > 0) {                 /* enters through h */
       if (!geom_meet(lk, h, &x)) return false;
       cpoly_push(out, lk, x);
@@ -248,7 +264,8 @@ static void charge_products(struct cost *cost, uint64_t prod)
 bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
 {
   uint64_t prod = 0;
-  bool r = clip_sides(p, h, NULL, out, &prod);
+  struct hpoint vb[PIECE_VBUF];
+  bool r = clip_sides(p, piece_verts(p, vb), h, NULL, out, &prod);
   charge_products(cost, prod);
   return r;
 }
@@ -292,23 +309,25 @@ void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left
                        struct cpoly *right, bool *hasr, struct cost *cost)
 {
   uint64_t prod = 0;
-  seginfo_clip_both_known(p, h, NULL, 0, left, hasl, right, hasr, &prod);
+  seginfo_clip_both_known(p, NULL, h, NULL, 0, left, hasl, right, hasr, &prod);
   charge_products(cost, prod);
 }
 
-void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed char *sides,
-                             int known, struct cpoly *left, bool *hasl, struct cpoly *right,
-                             bool *hasr, uint64_t *prod)
+void seginfo_clip_both_known(const struct piece *p, const struct hpoint *pv, struct gline h,
+                             const signed char *sides, int known, struct cpoly *left, bool *hasl,
+                             struct cpoly *right, bool *hasr, uint64_t *prod)
 {
   struct gline rh = { -h.a, -h.b, -h.c };
+  struct hpoint vb[PIECE_VBUF];
+  if (!pv) pv = piece_verts(p, vb);
   if (p->n > CLIP_SIDES_MAX) {
-    *hasl = clip_sides(p, h, NULL, left, prod);
-    *hasr = clip_sides(p, rh, NULL, right, prod);
+    *hasl = clip_sides(p, pv, h, NULL, left, prod);
+    *hasr = clip_sides(p, pv, rh, NULL, right, prod);
     return;
   }
   signed char side[CLIP_SIDES_MAX], rside[CLIP_SIDES_MAX];
   for (int k = 0; k < p->n; k++) {
-    side[k] = sides ? sides[k] : (signed char)geom_side_hw(h, p->v[k]);
+    side[k] = sides ? sides[k] : (signed char)geom_side_hw(h, pv[k]);
     rside[k] = (signed char)-side[k];      /* the reversed line: the negated sum, exactly */
   }
   struct cpoly *half[2] = { left, right };
@@ -317,7 +336,7 @@ void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed
   const struct gline hh[2] = { h, rh };
   for (int s = 0; s < 2; s++) {
     if (known != s + 1) {
-      *has[s] = clip_sides(p, hh[s], sd[s], half[s], prod);
+      *has[s] = clip_sides(p, pv, hh[s], sd[s], half[s], prod);
       continue;
     }
     /* known to have an interior: counted, charged as clip_sides charges */

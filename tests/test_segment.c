@@ -1244,7 +1244,7 @@ static int convex_as_general(const struct tface *f)
   int s1 = seg_generate(&in, &r, NULL, c1, &k1, &e1);
   struct gline line[SEG_CONVEX_MAX];
   int n = -1;
-  int s2 = seg_convex(&in, line, &n, NULL, c2, &k2, &e2);
+  int s2 = seg_convex(&in, NULL, line, &n, NULL, c2, &k2, &e2);
   int took = !(s2 == T74_OK && n == 0);
   if (!took) {
     struct cost zero;
