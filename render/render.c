@@ -90,7 +90,7 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
       goto out;
     }
     r->concave_splits += res.ncut;
-    if (cn > 0 && seginfo_add(&r->seg, k, cn, cl, err) < 0) st = err->status;
+    if (cn > 0 && seginfo_add_face(&r->seg, k, cn, f->pt, cl, err) < 0) st = err->status;
     for (int p = 0; p < res.npiece && st == T74_OK; p++)
       if (seginfo_add(&r->seg, k, res.piece[p].n, res.piece[p].line, err) < 0) st = err->status;
     seg_result_free(&res);

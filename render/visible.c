@@ -376,14 +376,16 @@ static struct hpoint lower(struct hpoint p, struct hpoint q)
   return geom_cross_sign(p.Y, q.W, q.Y, p.W) <= 0 ? p : q;
 }
 
-/* The height of p's vertex k (piece_vy), made into vb[k] the first time (bit k of *made;
-   a piece whose vertices are not kept has at most PIECE_VBUF <= 64 sides). */
-static inline struct hpoint vy_at(const struct piece *p, struct hpoint *vb, uint64_t *made, int k)
+/* The height of p's vertex k (piece_vy; pl: its lines), made into vb[k] the first time
+   (bit k of *made; a piece whose vertices are not kept has at most PIECE_VBUF <= 64
+   sides). */
+static inline struct hpoint vy_at(const struct piece *p, const struct gline *pl,
+                                  struct hpoint *vb, uint64_t *made, int k)
 {
   if (p->n > PIECE_VBUF) return piece_kept(p)[k];
   if (!(*made >> k & 1)) {
     *made |= (uint64_t)1 << k;
-    vb[k] = piece_vy(p, k);
+    vb[k] = piece_vy_at(pl[k ? k - 1 : p->n - 1], pl[k]);
   }
   return vb[k];
 }
@@ -398,13 +400,15 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
   /* the heights of the vertices (piece_vy), each made once, as the sides reach them */
   struct hpoint vb[PIECE_VBUF];
   uint64_t made = 0;
+  struct gline lb[PIECE_VBUF];
+  const struct gline *pl = piece_lines(p, lb);
   int kl = -1, kr = -1;
   for (int k = 0; k < p->n && (kl < 0 || kr < 0); k++) {
-    const struct gline *l = &p->line[k];
+    const struct gline *l = &pl[k];
     if (l->a == 0) continue;
     int k1 = k + 1 < p->n ? k + 1 : 0;
-    struct hpoint lo = l->a > 0 ? vy_at(p, vb, &made, k1) : vy_at(p, vb, &made, k);
-    struct hpoint hi = l->a > 0 ? vy_at(p, vb, &made, k) : vy_at(p, vb, &made, k1);
+    struct hpoint lo = l->a > 0 ? vy_at(p, pl, vb, &made, k1) : vy_at(p, pl, vb, &made, k);
+    struct hpoint hi = l->a > 0 ? vy_at(p, pl, vb, &made, k) : vy_at(p, pl, vb, &made, k1);
     v->pend_side++;                      /* charged by charge_compares */
     if (geom_hy_cmp(lo, yn, yd) > 0 || geom_hy_cmp(hi, yn, yd) <= 0) continue;
     if (l->a > 0) kl = k; else kr = k;
@@ -412,11 +416,11 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
   if (kl < 0 || kr < 0) return false;
   it->kl = kl;
   it->kr = kr;
-  it->xl = geom_x_at(p->line[kl], yn, yd);
-  it->xr = geom_x_at(p->line[kr], yn, yd);
+  it->xl = geom_x_at(pl[kl], yn, yd);
+  it->xr = geom_x_at(pl[kr], yn, yd);
   /* geom_x_at: num = -(b yn + c yd), negated with the denominator when a < 0 */
-  it->sl = p->line[kl].a > 0 ? -(wide)p->line[kl].b : (wide)p->line[kl].b;
-  it->sr = p->line[kr].a > 0 ? -(wide)p->line[kr].b : (wide)p->line[kr].b;
+  it->sl = pl[kl].a > 0 ? -(wide)pl[kl].b : (wide)pl[kl].b;
+  it->sr = pl[kr].a > 0 ? -(wide)pl[kr].b : (wide)pl[kr].b;
   if (v->arith == GEOM_HITAC) {         /* --arith hitac: xb, xe as double words */
     it->hdl = it->xl.den;
     it->hdr = it->xr.den;
@@ -425,7 +429,8 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
   }
   it->dyn = 0;
   it->dxl = it->dxr = 0;
-  it->ymax = lower(vy_at(p, vb, &made, kl), vy_at(p, vb, &made, kr + 1 < p->n ? kr + 1 : 0));   /* its height alone read */
+  it->ymax = lower(vy_at(p, pl, vb, &made, kl),             /* (only its height is read) */
+                   vy_at(p, pl, vb, &made, kr + 1 < p->n ? kr + 1 : 0));
   cost_mw_mul(v->cost, 58, 17);
   cost_mw_mul(v->cost, 58, 17);
   it->open = true;

@@ -470,7 +470,7 @@ static void check_piece(const struct piece *p, int n, const gcoord *xy)
   assert_true((pv == buf) == (n <= PIECE_VBUF));
   for (int k = 0; k < n; k++) {
     struct hpoint m, v = piece_v(p, k);
-    assert_true(geom_meet(p->line[(k + n - 1) % n], p->line[k], &m));
+    assert_true(geom_meet(piece_line(p, (k + n - 1) % n), piece_line(p, k), &m));
     assert_memory_equal(&m, &v, sizeof m);
     assert_memory_equal(&m, &pv[k], sizeof m);
     if (xy) assert_true(h_is(v, xy[2 * k], xy[2 * k + 1]));
@@ -518,6 +518,61 @@ static void test_piece_vertices(void **state)
   check_piece(&t.p[i], 68, chord);
   seginfo_free(&t);
   core_free(core);
+}
+
+/* Issue 19: seginfo_add_face makes seginfo_add's piece (the same lines, vertices, lowest
+   and highest, core words and charges) without copying the lines where they are the
+   points' sides, and falls back to seginfo_add where they are not (lines from another
+   start, two sides on one line). */
+static void test_piece_on_face(void **state)
+{
+  (void)state;
+  const gcoord L = GRID_LIMIT;
+  const gcoord tri[] = { -L, -L, L, -L + 3, L - 7, L };
+  const gcoord quad[] = { 0, 0, 9, 1, 8, 7, -1, 5 };
+  const gcoord flat[] = { 0, 0, 4, 0, 8, 0, 8, 8, 0, 8 };      /* two sides on y = 0 */
+  const struct { const gcoord *xy; int n, shift; bool onface; } cs[] = {
+    { tri, 3, 0, true }, { quad, 4, 0, true }, { quad, 4, 1, false }, { flat, 5, 0, false },
+  };
+  for (size_t t = 0; t < sizeof cs / sizeof cs[0]; t++) {
+    struct core *core[2] = { core_new(1u << 16), core_new(1u << 16) };
+    struct cost cost[2] = { { { 0 } }, { { 0 } } };
+    struct seginfo si[2];
+    int n = cs[t].n;
+    struct gpoint pt[8];
+    struct gline l[8];
+    for (int k = 0; k < n; k++) pt[k] = (struct gpoint){ cs[t].xy[2 * k], cs[t].xy[2 * k + 1] };
+    for (int k = 0; k < n; k++) {
+      int j = (k + cs[t].shift) % n;
+      l[k] = geom_line(pt[j], pt[(j + 1) % n]);
+    }
+    struct t74_error err = { 0, "" };
+    for (int w = 0; w < 2; w++) {
+      seginfo_init(&si[w], core[w], &cost[w]);
+      int i = w ? seginfo_add_face(&si[w], 0, n, pt, l, &err) : seginfo_add(&si[w], 0, n, l, &err);
+      assert_int_equal(i, 0);
+    }
+    const struct piece *a = &si[0].p[0], *b = &si[1].p[0];
+    assert_int_equal(b->onface, cs[t].onface);
+    assert_int_equal(a->n, b->n);
+    assert_int_equal(a->lo, b->lo);
+    assert_int_equal(a->hi, b->hi);
+    assert_true(a->ylo_yl == b->ylo_yl && a->ylo_yh == b->ylo_yh && a->ylo_w == b->ylo_w);
+    for (int k = 0; k < a->n; k++) {
+      struct gline la = piece_line(a, k), lb = piece_line(b, k);
+      assert_memory_equal(&la, &lb, sizeof la);
+      struct hpoint va = piece_v(a, k), vb = piece_v(b, k);
+      assert_memory_equal(&va, &vb, sizeof va);
+    }
+    assert_memory_equal(&cost[0], &cost[1], sizeof cost[0]);
+    assert_int_equal(core_mark(core[0]), core_mark(core[1]));
+    for (uint32_t k = 0; k < core_mark(core[0]); k++)
+      assert_int_equal(core_read(core[0], k), core_read(core[1], k));
+    for (int w = 0; w < 2; w++) {
+      seginfo_free(&si[w]);
+      core_free(core[w]);
+    }
+  }
 }
 
 /* seginfo_add's B-BLOCK row: y-min and y-max of the piece, Y / W / GRID_ONE truncated in
@@ -706,7 +761,9 @@ static void test_clip_both(void **state)
       for (int v = 0; v < p->n; v++) sides[v] = (signed char)geom_side_h(h, piece_v(p, v));
       uint64_t prod = 0;
       struct hpoint pvb[PIECE_VBUF];         /* its vertices made here, or by the clip */
-      seginfo_clip_both_known(p, trial % 4 < 2 ? piece_verts(p, pvb) : NULL, h,
+      struct gline plb[PIECE_VBUF];
+      seginfo_clip_both_known(p, trial % 4 < 2 ? piece_lines(p, plb) : NULL,
+                              trial % 4 < 2 ? piece_verts(p, pvb) : NULL, h,
                               trial % 2 ? sides : NULL, known, &l, &hl, &r, &hr, &prod);
       cost_mw_mul_n(&k3, 88, 58, prod);
       assert_int_equal(ha, hl);
@@ -733,8 +790,10 @@ static bool ovl(const struct seginfo *t, int a, int b, struct cost *cost)
   const struct piece *p = &t->p[a], *q = &t->p[b];
   struct hpoint pb[PIECE_VBUF], qb[PIECE_VBUF];
   const struct hpoint *pv = piece_verts(p, pb), *qv = piece_verts(q, qb);
-  bool r1 = seginfo_overlap(p->n, p->line, pv, q->n, q->line, qv, cost);
-  bool r2 = seginfo_overlap(q->n, q->line, qv, p->n, p->line, pv, cost);
+  struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
+  const struct gline *pl = piece_lines(p, plb), *ql = piece_lines(q, qlb);
+  bool r1 = seginfo_overlap(p->n, pl, pv, q->n, ql, qv, cost);
+  bool r2 = seginfo_overlap(q->n, ql, qv, p->n, pl, pv, cost);
   assert_true(r1 == r2);                          /* symmetric */
   return r1;
 }
@@ -891,8 +950,9 @@ static void test_prio_crossing(void **state)
         if (r.seg.p[a].face == r.seg.p[b].face || a == b) continue;
         const struct piece *P = &r.seg.p[a], *Q = &r.seg.p[b];
         struct hpoint pb[PIECE_VBUF], qb[PIECE_VBUF];
-        if (!seginfo_overlap(P->n, P->line, piece_verts(P, pb), Q->n, Q->line, piece_verts(Q, qb),
-                             &r.cost[0]))
+        struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
+        if (!seginfo_overlap(P->n, piece_lines(P, plb), piece_verts(P, pb), Q->n,
+                             piece_lines(Q, qlb), piece_verts(Q, qb), &r.cost[0]))
           continue;
         double cx = (piece_cx(&r, a) + piece_cx(&r, b)) / 2;
         int want = cx < 50 ? 2 : 1;
@@ -909,8 +969,9 @@ static void test_prio_crossing(void **state)
         if (r.seg.p[a].face == r.seg.p[b].face) {
           const struct piece *P = &r.seg.p[a], *Q = &r.seg.p[b];
           struct hpoint pb[PIECE_VBUF], qb[PIECE_VBUF];
-          assert_false(seginfo_overlap(P->n, P->line, piece_verts(P, pb), Q->n, Q->line,
-                                       piece_verts(Q, qb), &r.cost[0]));
+          struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
+          assert_false(seginfo_overlap(P->n, piece_lines(P, plb), piece_verts(P, pb), Q->n,
+                                       piece_lines(Q, qlb), piece_verts(Q, qb), &r.cost[0]));
         }
     render_free(&r);
     scene_free(sc);
@@ -1828,7 +1889,7 @@ static void test_piece_parents(void **state)
     assert_false(P->alive);
     assert_int_equal(h->face, P->face);
     for (int v = 0; v < h->n; v++)
-      for (int l = 0; l < P->n; l++) assert_true(geom_side_h(P->line[l], piece_v(h, v)) >= 0);
+      for (int l = 0; l < P->n; l++) assert_true(geom_side_h(piece_line(P, l), piece_v(h, v)) >= 0);
   }
   free(a);
   render_free(&r);
@@ -1883,6 +1944,7 @@ int main(void)
     cmocka_unit_test(test_geom_orient),
     cmocka_unit_test(test_bblock_y),
     cmocka_unit_test(test_piece_vertices),
+    cmocka_unit_test(test_piece_on_face),
     cmocka_unit_test(test_geom_lines),
     cmocka_unit_test(test_geom_rationals),
     cmocka_unit_test(test_i256),
