@@ -504,6 +504,12 @@ void core_write(struct core *c, uint32_t addr, uint16_t w)
   c->w[addr] = w;
 }
 
+void core_write_n(struct core *c, uint32_t addr, const uint16_t *w, uint32_t n)
+{
+  assert((uint64_t)addr + n <= c->size);
+  if (n) memcpy(c->w + addr, w, (size_t)n * sizeof *w);
+}
+
 void core_put_int(struct core *c, uint32_t addr, int nwords, int64_t v)
 {
   assert(nwords >= 1 && nwords <= 4);

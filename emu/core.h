@@ -140,6 +140,9 @@ void core_high_set2(struct core *c, uint64_t i, unsigned v);
 /* ---- Words. */
 uint16_t core_read(const struct core *c, uint32_t addr);
 void core_write(struct core *c, uint32_t addr, uint16_t w);
+/* core_write of w[0..n) to addr .. addr + n - 1, in one call (issue 19: a table's rows
+   written at once, not a call a word). */
+void core_write_n(struct core *c, uint32_t addr, const uint16_t *w, uint32_t n);
 
 /* Multi-word integers, two's complement, most significant word first at addr.
    core_put_int stores the low 16*nwords bits of v (nwords 1..4); core_get_int

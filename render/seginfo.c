@@ -145,15 +145,29 @@ static int add_rest(struct seginfo *t, struct piece *p, int face, int n, const s
       core_alloc_named(t->core, &t->cname, CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c,
                        err) != T74_OK)
     return -1;
-  core_write(t->core, b, (uint16_t)t->n);
-  core_write(t->core, b + 1, (uint16_t)grid_y(v[lo]));
-  core_write(t->core, b + 2, (uint16_t)grid_y(v[hi]));
-  core_write(t->core, b + 3, (uint16_t)c);
-  core_write(t->core, c, (uint16_t)n);
-  for (int k = 0; k < n; k++) {             /* vertex number, then the side's edge share */
-    core_write(t->core, c + 1 + 4 * (uint32_t)k, (uint16_t)k);
-    core_write(t->core, c + 2 + 4 * (uint32_t)k, (uint16_t)pl[k].a);
-    core_write(t->core, c + 3 + 4 * (uint32_t)k, (uint16_t)pl[k].b);
+  /* written a block at once (issue 19); a C block's fourth word of a side stays 0, as
+     core_alloc made it */
+  const uint16_t brow[4] = { (uint16_t)t->n, (uint16_t)grid_y(v[lo]), (uint16_t)grid_y(v[hi]),
+                             (uint16_t)c };
+  core_write_n(t->core, b, brow, 4);
+  uint16_t cb[CBLOCK_HEAD_WORDS + CBLOCK_SIDE_WORDS * PIECE_VBUF];
+  if (n <= PIECE_VBUF) {
+    cb[0] = (uint16_t)n;
+    for (int k = 0; k < n; k++) {           /* vertex number, then the side's edge share */
+      uint16_t *w = cb + 1 + 4 * k;
+      w[0] = (uint16_t)k;
+      w[1] = (uint16_t)pl[k].a;
+      w[2] = (uint16_t)pl[k].b;
+      w[3] = 0;
+    }
+    core_write_n(t->core, c, cb, CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS);
+  } else {
+    core_write(t->core, c, (uint16_t)n);
+    for (int k = 0; k < n; k++) {
+      core_write(t->core, c + 1 + 4 * (uint32_t)k, (uint16_t)k);
+      core_write(t->core, c + 2 + 4 * (uint32_t)k, (uint16_t)pl[k].a);
+      core_write(t->core, c + 3 + 4 * (uint32_t)k, (uint16_t)pl[k].b);
+    }
   }
   COST_ADD_N(t->cost, COST_MEM, BBLOCK_ROW_WORDS + CBLOCK_HEAD_WORDS + (uint64_t)n * CBLOCK_SIDE_WORDS);
   return t->n++;

@@ -1683,9 +1683,19 @@ static int ysort_table(struct seg_ctx *x, const struct ysort_row *ys)
   uint32_t words = (uint32_t)x->nvert * YSORT_ROW_WORDS;
   int rc = x->ysort && x->core && words ? core_alloc_named(x->core, x->ysort, words, &a, x->err)
                                         : table(x, CORE_T_YSORT, words, &a);
-  for (int i = 0; rc == T74_OK && i < x->nvert && x->core && !x->check; i++) {
-    core_put_int(x->core, a + 3 * (uint32_t)i, 2, ys[i].y);
-    core_write(x->core, a + 3 * (uint32_t)i + 2, (uint16_t)ys[i].vid);
+  if (rc != T74_OK || !x->core || x->check) return rc;
+  /* the rows as core_put_int (y, two words, the high one first) and core_write (the
+     vertex) make them, SEG_CONVEX_MAX rows at a time in one write (issue 19) */
+  uint16_t w[3 * SEG_CONVEX_MAX];
+  for (int i0 = 0; i0 < x->nvert; i0 += SEG_CONVEX_MAX) {
+    int m = x->nvert - i0 < SEG_CONVEX_MAX ? x->nvert - i0 : SEG_CONVEX_MAX;
+    for (int i = 0; i < m; i++) {
+      uint64_t u = (uint64_t)(int64_t)ys[i0 + i].y;
+      w[3 * i] = (uint16_t)(u >> 16);
+      w[3 * i + 1] = (uint16_t)u;
+      w[3 * i + 2] = (uint16_t)ys[i0 + i].vid;
+    }
+    core_write_n(x->core, a + 3 * (uint32_t)i0, w, 3 * (uint32_t)m);
   }
   return rc;
 }

@@ -838,6 +838,23 @@ static void test_param_table(void **state)
    of tables (some too large, refused), releases and a high region, one core taking every
    other table by core_reserve, gives the same addresses, results, messages, use, peak,
    tables and layout; the reserved words keep what was there, the allocated ones are 0. */
+/* Issue 19: core_write_n is core_write a word at a time, to the core's last word. */
+static void test_write_n(void **state)
+{
+  (void)state;
+  struct core *c[2] = { core_new(64), core_new(64) };
+  uint16_t w[64];
+  for (int k = 0; k < 64; k++) w[k] = (uint16_t)(0x9E37u * (unsigned)(k + 1));
+  const uint32_t at[][2] = { { 0, 0 }, { 0, 5 }, { 7, 13 }, { 40, 24 }, { 63, 1 }, { 0, 64 } };
+  for (size_t t = 0; t < sizeof at / sizeof at[0]; t++) {
+    core_write_n(c[0], at[t][0], w + t, at[t][1]);
+    for (uint32_t k = 0; k < at[t][1]; k++) core_write(c[1], at[t][0] + k, w[t + k]);
+    for (uint32_t k = 0; k < 64; k++) assert_int_equal(core_read(c[0], k), core_read(c[1], k));
+  }
+  core_free(c[0]);
+  core_free(c[1]);
+}
+
 /* The two cores' tables and layouts are the same. */
 static void same_tables(struct core *a, struct core *b)
 {
@@ -1020,6 +1037,7 @@ int main(void)
     cmocka_unit_test(test_mw_n),
     cmocka_unit_test(test_instruction_format),
     cmocka_unit_test(test_alloc_named),
+    cmocka_unit_test(test_write_n),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -462,6 +462,27 @@ static void test_span_tie_rule(void **state)
    with Y beyond 64 bits, of 70 sides (kept, after the lines), of 65 sides merged to 4
    (its block made for kept vertices, none kept) and of 72 merged to 68 (kept where the
    68 begin). */
+/* Piece p's B and C blocks (its B row at b): the row (number i, y-min, y-max, the C
+   block's address) and the C block (n, then a side's vertex number, a and b, 0). */
+static void check_blocks(const struct core *core, uint32_t b, int i, const struct piece *p)
+{
+  struct hpoint lo = piece_ylo(p), hi = piece_yhi(p);
+  assert_int_equal(core_read(core, b), (uint16_t)i);
+  assert_int_equal(core_read(core, b + 1), (uint16_t)(lo.Y / lo.W / GRID_ONE));
+  assert_int_equal(core_read(core, b + 2), (uint16_t)(hi.Y / hi.W / GRID_ONE));
+  assert_int_equal(core_read(core, b + 4), 0);
+  assert_int_equal(core_read(core, b + 5), 0);
+  uint32_t c = core_read(core, b + 3);
+  assert_int_equal(core_read(core, c), (uint16_t)p->n);
+  for (int k = 0; k < p->n; k++) {
+    struct gline l = piece_line(p, k);
+    assert_int_equal(core_read(core, c + 1 + 4 * (uint32_t)k), (uint16_t)k);
+    assert_int_equal(core_read(core, c + 2 + 4 * (uint32_t)k), (uint16_t)l.a);
+    assert_int_equal(core_read(core, c + 3 + 4 * (uint32_t)k), (uint16_t)l.b);
+    assert_int_equal(core_read(core, c + 4 + 4 * (uint32_t)k), 0);
+  }
+}
+
 static void check_piece(const struct piece *p, int n, const gcoord *xy)
 {
   assert_int_equal(p->n, n);
@@ -500,16 +521,20 @@ static void test_piece_vertices(void **state)
   for (int k = 0; k < 3; k++) { i = add_piece(&t, 0, 3, tri[k]); check_piece(&t.p[i], 3, tri[k]); }
   gcoord par[2 * 80], sq[2 * 80], chord[2 * 80];
   for (int k = 0; k < 70; k++) { par[2 * k] = k - 30; par[2 * k + 1] = (gcoord)k * k - 900; }
+  uint32_t b = core_mark(core);
   i = add_piece(&t, 1, 70, par);
   check_piece(&t.p[i], 70, par);
+  check_blocks(core, b, i, &t.p[i]);
   int m = 0;                                   /* 63 points on the bottom side, 2 on top */
   for (int k = 0; k <= 62; k++) { sq[2 * m] = k; sq[2 * m + 1] = 0; m++; }
   sq[2 * m] = 62; sq[2 * m + 1] = 62; m++;
   sq[2 * m] = 0; sq[2 * m + 1] = 62; m++;
   assert_int_equal(m, 65);
   const gcoord corners[] = { 0, 0, 62, 0, 62, 62, 0, 62 };
+  b = core_mark(core);
   i = add_piece(&t, 2, m, sq);
   check_piece(&t.p[i], 4, corners);
+  check_blocks(core, b, i, &t.p[i]);
   m = 0;                                       /* a 68-gon, 4 more points on its chord */
   for (int k = 0; k < 68; k++) { chord[2 * m] = k; chord[2 * m + 1] = (gcoord)k * k; m++; }
   const int on[] = { 50, 30, 20, 10 };
