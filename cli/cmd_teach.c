@@ -159,7 +159,8 @@ static void snap_end(struct teach *t, const struct render *r)
     bput(b, "%s\n{\"n\":%d,\"face\":%d,\"alive\":%d,\"parent\":%d,\"v\":[", k ? "," : "", k + 1,
          p->face, p->alive ? 1 : 0, p->parent + 1);
     for (int i = 0; i < p->n; i++)
-      bput(b, "%s[%.6g,%.6g]", i ? "," : "", gx(p->v[i].X, p->v[i].W), gx(p->v[i].Y, p->v[i].W));
+      bput(b, "%s[%.6g,%.6g]", i ? "," : "", gx(piece_v(p, i).X, piece_v(p, i).W),
+           gx(piece_v(p, i).Y, piece_v(p, i).W));
     bput(b, "]}");
   }
   bput(b, "],\n");

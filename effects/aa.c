@@ -264,21 +264,25 @@ static int events(struct aa_ctx *c, double ya, double yb, struct evlist *e)
   for (int p = 0; p < s->n; p++) {
     const struct piece *pc = &s->p[p];
     if (!pc->alive) continue;
-    double lo = (double)piece_ylo(pc).Y / (double)piece_ylo(pc).W,
-           hi = (double)piece_yhi(pc).Y / (double)piece_yhi(pc).W;
+    struct hpoint vb[PIECE_VBUF];
+    struct gline lb[PIECE_VBUF];
+    const struct gline *pl = piece_lines(pc, lb);
+    const struct hpoint *pv = piece_verts_of(pc, pl, vb);
+    double lo = (double)pv[pc->lo].Y / (double)pv[pc->lo].W,
+           hi = (double)pv[pc->hi].Y / (double)pv[pc->hi].W;
     COST_ADD_N(c->cost, COST_MEM, 4);
     if (lo >= yb || hi <= ya) continue;
     for (int k = 0; k < pc->n; k++) {
-      double y0 = (double)pc->v[k].Y / (double)pc->v[k].W;
-      double y1 = (double)pc->v[(k + 1) % pc->n].Y / (double)pc->v[(k + 1) % pc->n].W;
+      double y0 = (double)pv[k].Y / (double)pv[k].W;
+      double y1 = (double)pv[(k + 1) % pc->n].Y / (double)pv[(k + 1) % pc->n].W;
       cost_mw_div(c->cost, 88, 59);
       if (y0 > ya && y0 < yb && !ev_push(e, y0)) return 0;
-      if (pc->line[k].a == 0) continue;
+      if (pl[k].a == 0) continue;
       double l = y0 < y1 ? y0 : y1, h = y0 < y1 ? y1 : y0;
       if (l >= yb || h <= ya) continue;
-      double x0 = (double)pc->v[k].X / (double)pc->v[k].W;
-      double x1 = (double)pc->v[(k + 1) % pc->n].X / (double)pc->v[(k + 1) % pc->n].W;
-      if (!ln_push(e, (struct xline){ pc->line[k].a, pc->line[k].b, pc->line[k].c, l, h,
+      double x0 = (double)pv[k].X / (double)pv[k].W;
+      double x1 = (double)pv[(k + 1) % pc->n].X / (double)pv[(k + 1) % pc->n].W;
+      if (!ln_push(e, (struct xline){ pl[k].a, pl[k].b, pl[k].c, l, h,
                                       x0 < x1 ? x0 : x1, x0 < x1 ? x1 : x0, p }))
         return 0;
     }

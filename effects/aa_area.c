@@ -129,7 +129,7 @@ static bool others_enter(struct area_run *ar, int X, int Y, double a, double b, 
     double ys[2] = { ar->c->yt - vb * ar->c->ph, ar->c->yt - vt * ar->c->ph };
     bool apart = false;
     for (int e = 0; e < pc->n && !apart; e++) {
-      const struct gline *l = &pc->line[e];
+      const struct gline side = piece_line(pc, e), *l = &side;
       bool in = false;
       for (int m = 0; m < 4 && !in; m++)
         in = (double)l->a * xs[m & 1] + (double)l->b * ys[m >> 1] + (double)l->c > 0;
@@ -177,9 +177,11 @@ static int row_entries(struct area_run *ar, int j)
     double *q = ar->bb[ar->nbb];
     q[0] = q[2] = HUGE_VAL;
     q[1] = q[3] = -HUGE_VAL;
+    struct hpoint vb[PIECE_VBUF];
+    const struct hpoint *pv = piece_verts(pc, vb);
     for (int k = 0; k < pc->n; k++) {
-      double u = ((double)pc->v[k].X / (double)pc->v[k].W - c->xl) / c->pw;
-      double v = (c->yt - (double)pc->v[k].Y / (double)pc->v[k].W) / c->ph;
+      double u = ((double)pv[k].X / (double)pv[k].W - c->xl) / c->pw;
+      double v = (c->yt - (double)pv[k].Y / (double)pv[k].W) / c->ph;
       q[0] = fmin(q[0], u); q[1] = fmax(q[1], u); q[2] = fmin(q[2], v); q[3] = fmax(q[3], v);
     }
     COST_ADD_N(c->cost, COST_DIV, 2 * pc->n);
@@ -221,7 +223,7 @@ static int side_at(struct aa_ctx *c, int p, bool left, struct grat x, int64_t yn
   const struct piece *pc = &c->r->seg.p[p];
   int found = -1;
   for (int k = 0; k < pc->n; k++) {
-    const struct gline *l = &pc->line[k];
+    const struct gline side = piece_line(pc, k), *l = &side;
     if (l->a == 0 || (l->a > 0) != left) continue;
     cost_mw_mul(c->cost, 58, 17);
     if (geom_rat_cmp(geom_x_at(*l, yn, yd), x) != 0) continue;
@@ -235,9 +237,11 @@ static bool vertex_inside(struct aa_ctx *c, int p, double a, double b, double vt
 {
   if (p < 0) return false;
   const struct piece *pc = &c->r->seg.p[p];
+  struct hpoint pvb[PIECE_VBUF];
+  const struct hpoint *pv = piece_verts(pc, pvb);
   for (int k = 0; k < pc->n; k++) {
-    double x = ((double)pc->v[k].X / (double)pc->v[k].W - c->xl) / c->pw;
-    double y = (c->yt - (double)pc->v[k].Y / (double)pc->v[k].W) / c->ph;
+    double x = ((double)pv[k].X / (double)pv[k].W - c->xl) / c->pw;
+    double y = (c->yt - (double)pv[k].Y / (double)pv[k].W) / c->ph;
     COST_ADD_N(c->cost, COST_ADD, 4);
     if (x > a && x < b && y > vt && y < vb) return true;
   }
@@ -265,7 +269,7 @@ static int side_across(struct aa_ctx *c, int p, bool above, double a, double b, 
   double xa = c->xl + a * c->pw, xb = c->xl + b * c->pw;
   double ylo = c->yt - vb * c->ph, yhi = c->yt - vt * c->ph, ym = (ylo + yhi) / 2;
   for (int k = 0; k < pc->n; k++) {
-    const struct gline *l = &pc->line[k];
+    const struct gline side = piece_line(pc, k), *l = &side;
     COST_ADD_N(c->cost, COST_MUL, 4);
     COST_ADD_N(c->cost, COST_ADD, 6);
     if (l->b == 0) continue;
@@ -340,7 +344,7 @@ static bool one_edge(struct area_run *ar, int i, double a, double b, int lt, int
     if (Y >= 0 && F[1].x0_exact) { side = side_at(c, Y, true, F[1].x0, Lf->yn, Lf->yd); owner = Y; }
     if (side < 0 && X >= 0 && F[0].x1_exact) { side = side_at(c, X, false, F[0].x1, Lf->yn, Lf->yd); owner = X; }
     if (side < 0) return false;
-    const struct gline L = c->r->seg.p[owner].line[side];
+    const struct gline L = piece_line(&c->r->seg.p[owner], side);
     /* where the side meets the other border, and whether that agrees */
     struct grat xo = geom_x_at(L, Lo->yn, Lo->yd);
     cost_mw_mul(c->cost, 58, 17);
@@ -353,7 +357,7 @@ static bool one_edge(struct area_run *ar, int i, double a, double b, int lt, int
       if (O[0].piece == Y && uo > a) return false;    /* ... or by the left */
     }
   }
-  const struct gline L = c->r->seg.p[owner].line[side];
+  const struct gline L = piece_line(&c->r->seg.p[owner], side);
   if (vertex_inside(c, X, a, b, vt, vb) || vertex_inside(c, Y, a, b, vt, vb)) return false;
   if (others_enter(ar, X, Y, a, b, vt, vb)) return false;
   if (!consistent(ar, L, owner, owner == X ? Y : X, a, b, lt, lb)) return false;

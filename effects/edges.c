@@ -589,7 +589,7 @@ static bool clip_piece(const struct piece *P, struct gline l, bool byx, struct i
   bool has_lo = false, has_hi = false;
   wide ln = 0, ld = 1, hn = 0, hd = 1;
   for (int k = 0; k < P->n; k++) {
-    struct gline h = P->line[k];
+    struct gline h = piece_line(P, k);
     wide al, be;
     cost_mw_mul(cost, 30, 30); cost_mw_mul(cost, 30, 60); cost_mw_add(cost, 90);
     if (byx) {       /* y = -(a x + c)/b */

@@ -60,6 +60,8 @@ struct core {
   const char       *hint_name[STAT_HINTS];
   int               hint_row[STAT_HINTS];
   int               hint_next;    /* the hint replaced next (round robin) */
+  uint64_t          gen;          /* rows as now since (core_reset: a new generation;
+                                     struct core_name) */
   uint32_t          grow_max;     /* core_set_growth: the core grows up to this many
                                      words instead of refusing (0: it never grows) */
   uint32_t          first_size;   /* the size it was made with */
@@ -196,6 +198,7 @@ void core_reset(struct core *c)
   c->peak = 0;
   c->nrec = 0;
   c->nstat = 0;
+  c->gen++;                                 /* every struct core_name looks again */
   memset(c->hint_name, 0, sizeof c->hint_name);
   memset(c->hint_row, 0, sizeof c->hint_row);
   c->hint_next = 0;
@@ -349,12 +352,18 @@ static int grant(struct core *c, const char *table, uint32_t words, const char *
   return T74_ECORE;
 }
 
-static int take(struct core *c, const char *table, uint32_t words, uint32_t *addr,
-                struct t74_error *err, bool zero)
+static int take(struct core *c, const char *table, struct core_name *t, uint32_t words,
+                uint32_t *addr, struct t74_error *err, bool zero)
 {
   int rc = grant(c, table, words, "take", err);
   if (rc != T74_OK) return rc;
-  int s = stat_row(c, table);
+  int s;
+  if (t && t->core == c && t->gen == c->gen) {
+    s = t->row;                                       /* found before, rows as then */
+  } else {
+    s = stat_row(c, table);
+    if (t && s >= 0) { t->core = c; t->gen = c->gen; t->row = s; }
+  }
   if (s >= 0 && c->nrec == c->caprec) {
     int cap = c->caprec ? 2 * c->caprec : 32;
     struct core_rec *r = realloc(c->rec, (size_t)cap * sizeof *r);
@@ -380,13 +389,19 @@ static int take(struct core *c, const char *table, uint32_t words, uint32_t *add
 int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr,
                struct t74_error *err)
 {
-  return take(c, table, words, addr, err, true);
+  return take(c, table, NULL, words, addr, err, true);
+}
+
+int core_alloc_named(struct core *c, struct core_name *t, uint32_t words, uint32_t *addr,
+                     struct t74_error *err)
+{
+  return take(c, t->name, t, words, addr, err, true);
 }
 
 int core_reserve(struct core *c, const char *table, uint32_t words, uint32_t *addr,
                  struct t74_error *err)
 {
-  return take(c, table, words, addr, err, false);
+  return take(c, table, NULL, words, addr, err, false);
 }
 
 void core_release(struct core *c, uint32_t mark)
@@ -487,6 +502,12 @@ void core_write(struct core *c, uint32_t addr, uint16_t w)
 {
   assert(addr < c->size);
   c->w[addr] = w;
+}
+
+void core_write_n(struct core *c, uint32_t addr, const uint16_t *w, uint32_t n)
+{
+  assert((uint64_t)addr + n <= c->size);
+  if (n) memcpy(c->w + addr, w, (size_t)n * sizeof *w);
 }
 
 void core_put_int(struct core *c, uint32_t addr, int nwords, int64_t v)

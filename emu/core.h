@@ -104,6 +104,19 @@ int core_alloc(struct core *c, const char *table, uint32_t words, uint32_t *addr
    they are, not zeroed (issue 19). */
 int core_reserve(struct core *c, const char *table, uint32_t words, uint32_t *addr,
                  struct t74_error *err);
+/* A table name as a caller keeps it for core_alloc_named: the name, and where the core
+   found its statistics row (issue 19: the name looked up once, not at each of 300,000
+   tables a frame at 100,000 boxes). Zero it and set name; the core fills the rest, and
+   looks the name up again after core_reset or when given another core. */
+struct core_name {
+  const char        *name;
+  const struct core *core;   /* the core it was found in, its generation, its row */
+  uint64_t           gen;
+  int                row;
+};
+/* core_alloc(c, t->name, words, addr, err): the same table, statistics and refusals. */
+int core_alloc_named(struct core *c, struct core_name *t, uint32_t words, uint32_t *addr,
+                     struct t74_error *err);
 uint32_t core_mark(const struct core *c);      /* current top of the low region */
 void core_release(struct core *c, uint32_t mark); /* free everything at or above mark */
 
@@ -127,6 +140,9 @@ void core_high_set2(struct core *c, uint64_t i, unsigned v);
 /* ---- Words. */
 uint16_t core_read(const struct core *c, uint32_t addr);
 void core_write(struct core *c, uint32_t addr, uint16_t w);
+/* core_write of w[0..n) to addr .. addr + n - 1, in one call (issue 19: a table's rows
+   written at once, not a call a word). */
+void core_write_n(struct core *c, uint32_t addr, const uint16_t *w, uint32_t n);
 
 /* Multi-word integers, two's complement, most significant word first at addr.
    core_put_int stores the low 16*nwords bits of v (nwords 1..4); core_get_int

@@ -600,14 +600,12 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       goto fail;
     }
     if (!cost) continue;                    /* the points engine: the rows unwritten */
-    uint32_t a = vt + (uint32_t)k * VERTEX_ROW_WORDS;
-    core_write(core, a, (uint16_t)v->id);   /* an import's id above 65535: its low word
-                                               (the 1974 layout; never read back) */
-    core_write(core, a + 1, (uint16_t)v->x);
-    core_write(core, a + 2, (uint16_t)v->y);
-    core_write(core, a + 3, (uint16_t)v->z);
-    core_write(core, a + 4, (uint16_t)(proj[k].x / GRID_ONE));
-    core_write(core, a + 5, (uint16_t)(proj[k].y / GRID_ONE));
+    /* the row in one write (issue 19); an import's id above 65535: its low word (the 1974
+       layout; never read back) */
+    const uint16_t row[VERTEX_ROW_WORDS] = {
+      (uint16_t)v->id, (uint16_t)v->x, (uint16_t)v->y, (uint16_t)v->z,
+      (uint16_t)(proj[k].x / GRID_ONE), (uint16_t)(proj[k].y / GRID_ONE) };
+    core_write_n(core, vt + (uint32_t)k * VERTEX_ROW_WORDS, row, VERTEX_ROW_WORDS);
   }
 
   /* The T-junctions: taken from kt when it holds this scene's (replay), else searched for
@@ -765,15 +763,16 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       if (m->pt[k].y < ymin) ymin = m->pt[k].y;
       if (m->pt[k].y > ymax) ymax = m->pt[k].y;
     }
-    uint32_t a = at + (uint32_t)out->nface * ABLOCK_ROW_WORDS;
-    core_write(core, a, (uint16_t)m->id);
-    core_write(core, a + 1, (uint16_t)m->grey);
-    core_write(core, a + 2, (uint16_t)(ymin / GRID_ONE));
-    core_write(core, a + 3, (uint16_t)(ymax / GRID_ONE));
     int64_t h[4];
     geom_h10_plane(pl, h);
-    for (int c = 0; c < 3; c++) core_write(core, a + 4 + (uint32_t)c, (uint16_t)h[c]);
-    core_put_int(core, a + 7, 2, h[3]);
+    /* the row's first 9 words in one write (issue 19): id, grey, y-min, y-max, a, b, c
+       one word each, d two words (the high one first, as core_put_int); the tenth stays
+       as core_alloc left it */
+    const uint16_t row[9] = {
+      (uint16_t)m->id, (uint16_t)m->grey, (uint16_t)(ymin / GRID_ONE),
+      (uint16_t)(ymax / GRID_ONE), (uint16_t)h[0], (uint16_t)h[1], (uint16_t)h[2],
+      (uint16_t)((uint64_t)h[3] >> 16), (uint16_t)(uint64_t)h[3] };
+    core_write_n(core, at + (uint32_t)out->nface * ABLOCK_ROW_WORDS, row, 9);
     out->nface++;
   }
   free(ring);

@@ -809,13 +809,13 @@ static bool face_line(const struct prio *pr, struct prio_faces *e)
   return e->line == 1;
 }
 
-/* Does a side of piece X lie on line l (either way round)? A piece's sides and L~ are
-   lines through grid points or horizontal (geom.h: |a|, |b| <= 2^29), so the first
-   products are below 2^58 and compared in 64 bits. */
-static bool on_line_side(const struct piece *X, struct gline l)
+/* Does a side of piece X (its lines xl) lie on line l (either way round)? A piece's
+   sides and L~ are lines through grid points or horizontal (geom.h: |a|, |b| <= 2^29),
+   so the first products are below 2^58 and compared in 64 bits. */
+static bool on_line_side(const struct piece *X, const struct gline *xl, struct gline l)
 {
   for (int k = 0; k < X->n; k++) {
-    struct gline m = X->line[k];
+    struct gline m = xl[k];
     if (m.a * l.b == m.b * l.a && (wide)m.a * l.c == (wide)m.c * l.a &&
         (wide)m.b * l.c == (wide)m.c * l.b)
       return true;
@@ -826,13 +826,15 @@ static bool on_line_side(const struct piece *X, struct gline l)
 #define ONE_SIDE_KEPT 64             /* pieces of up to so many sides keep one_side's signs */
 
 /* 1 when every vertex of X is on or left of l and one strictly left, -1 the same on the
-   right, and X has an interior (the test seginfo_clip ends with); else 0. side: NULL, or
-   room for X->n signs, each vertex's side of l (geom_side_h). */
-static int one_side(const struct piece *X, struct gline l, signed char *side)
+   right, and X has an interior (the test seginfo_clip ends with); else 0. xv: X's vertices
+   (piece_verts). side: NULL, or room for X->n signs, each vertex's side of l
+   (geom_side_h). */
+static int one_side(const struct piece *X, const struct gline *xl, const struct hpoint *xv,
+                    struct gline l, signed char *side)
 {
   bool pos = false, neg = false;
   for (int k = 0; k < X->n; k++) {
-    int sg = geom_side_hw(l, X->v[k]);
+    int sg = geom_side_hw(l, xv[k]);
     if (side) side[k] = (signed char)sg;
     pos |= sg > 0;
     neg |= sg < 0;
@@ -840,7 +842,7 @@ static int one_side(const struct piece *X, struct gline l, signed char *side)
   if (pos == neg || X->n < 3) return 0;
   for (int k = 0; k < X->n; k++)
     for (int j = 0; j < X->n; j++)
-      if (geom_side_hw(X->line[k], X->v[j]) > 0) return pos ? 1 : -1;
+      if (geom_side_hw(xl[k], xv[j]) > 0) return pos ? 1 : -1;
   return 0;
 }
 
@@ -933,6 +935,8 @@ void prio_free(struct prio *pr)
   free(pr->faces);
   pr->faces = NULL;
   for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
+  free(pr->vc);
+  pr->vc = NULL;
   free(pr->cut);
   pr->cut = NULL;
   pr->ncut = pr->cutcap = 0;
@@ -976,6 +980,53 @@ static bool overlap_known(struct prio *pr, int n1, int n2)
   return true;
 }
 
+/* ---- the vertex cache -------------------------------------------------------------
+   A piece's vertices are not kept (seginfo.h) but made where read: decide reads both
+   pieces' vertices, and the sweep decides a piece with one piece after another, so the
+   vertices of the pieces met last are kept here, in VC_SLOTS slots (the slot of piece i:
+   i mod VC_SLOTS), each one piece of up to VC_SIDES sides; a piece in no slot, or of more
+   sides, has them made again. Host memory only, at most VC_SLOTS slots (not a copy of
+   every piece's vertices: at 100,000 boxes most pieces are decided, and 48 bytes a
+   vertex were 19 MB); the values are geom_meet's whichever way, so nothing decided or
+   charged depends on it. Emptied at prio_init: nothing of one frame is seen by the
+   next. */
+#define VC_SLOTS 512
+#define VC_SIDES 8
+struct prio_vslot {
+  int piece;                          /* -1: empty */
+  struct hpoint v[VC_SIDES];
+  struct gline l[VC_SIDES];           /* and its lines: lp, its own or made into l */
+  const struct gline *lp;             /* (piece_lines) */
+};
+struct prio_vcache { struct prio_vslot s[VC_SLOTS]; };
+
+/* Piece i's vertices, and its lines in *lines: from the cache (made there when not in
+   it), or made into buf and lbuf (room for PIECE_VBUF) when it has more than VC_SIDES
+   sides, the cache cannot be had (out of host memory) or `other`, the piece whose
+   vertices the caller holds, has i's slot. */
+static const struct hpoint *vc_verts(struct prio *pr, int i, int other, struct hpoint *buf,
+                                     struct gline *lbuf, const struct gline **lines)
+{
+  const struct piece *p = &pr->seg->p[i];
+  if (p->n <= VC_SIDES && !pr->vc) {
+    pr->vc = malloc(sizeof *pr->vc);
+    if (pr->vc)
+      for (int k = 0; k < VC_SLOTS; k++) pr->vc->s[k].piece = -1;
+  }
+  struct prio_vslot *sl = pr->vc ? &pr->vc->s[(unsigned)i % VC_SLOTS] : NULL;
+  if (p->n > VC_SIDES || !sl || (other >= 0 && sl->piece == other)) {
+    *lines = piece_lines(p, lbuf);
+    return piece_verts_of(p, *lines, buf);
+  }
+  if (sl->piece != i) {
+    sl->piece = i;
+    sl->lp = piece_lines(p, sl->l);
+    (void)piece_verts_of(p, sl->lp, sl->v);
+  }
+  *lines = sl->lp;
+  return sl->v;
+}
+
 /* Decide pieces i < j, met on the stretch `at` (or NULL). Returns the code for (i, j),
    DECIDED_SPLIT, or PRIO_ERROR. */
 static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
@@ -986,6 +1037,12 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   const struct mface *A = &pr->map->f[P->face], *B = &pr->map->f[Q->face];
   pr->computed++;
   if (P->face == Q->face) return CODE_HIGHER;           /* never overlap: any order */
+  /* the two pieces' vertices (the vertex cache) */
+  struct hpoint pvb[PIECE_VBUF], qvb[PIECE_VBUF];
+  struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
+  const struct gline *pln, *qln;
+  const struct hpoint *pv = vc_verts(pr, i, -1, pvb, plb, &pln),
+                      *qv = vc_verts(pr, j, i, qvb, qlb, &qln);
 
   struct prio_faces own, *F = face_pair(pr, P->face, Q->face, &own);
   const struct depth g = F->g;
@@ -999,14 +1056,16 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        Both pieces cut by E means the faces cross along the edge: handled below. */
     struct gline E = geom_line(common[0], common[1]);
     const struct piece *PQ[2] = { P, Q };
+    const struct hpoint *PQv[2] = { pv, qv };
     for (int s2 = 0; s2 < 2; s2++) {
       const struct piece *X = PQ[s2];
+      const struct hpoint *xv = PQv[s2];
       int side = 0;
       bool mixed = false;
-      struct hpoint far = X->v[0];
+      struct hpoint far = xv[0];
       wide farv = 0;
       for (int k = 0; k < X->n && !mixed; k++) {
-        struct hpoint v = X->v[k];
+        struct hpoint v = xv[k];
         wide val = E.a * v.X + E.b * v.Y + E.c * v.W;   /* < 2^119: geom.h */
         int sg = (val > 0) - (val < 0);
         if (sg && side && sg != side) mixed = true;
@@ -1031,7 +1090,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
     /* one face in front of the other wherever they can be */
     int s;
     if (g.k0 == 0 && g.k1 == 0) s = (g.K > 0) - (g.K < 0);
-    else s = depth_sign(g, Q->v[0]);
+    else s = depth_sign(g, qv[0]);
     if (s == 0) s = mface_coplanar_front(A, B) ? 1 : -1;   /* coplanar: render/mapper.h */
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front%s\n",
@@ -1048,7 +1107,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   bool hasl, hasr, ovl, ovr;
   signed char sides[ONE_SIDE_KEPT];
   signed char *sv = P->n <= ONE_SIDE_KEPT ? sides : NULL;   /* each vertex's side, for the clip */
-  int side = one_side(P, L, sv);
+  int side = one_side(P, pln, pv, L, sv);
   if (side) {
     /* P on one side of L: the clip to that side is P itself (its sides are merged, its
        vertices kept: seginfo_add), the clip to the other has no interior. Host work
@@ -1058,7 +1117,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
     hasl = side > 0;
     hasr = side < 0;
     bool ov = at ? overlap_known(pr, P->n, Q->n)
-                 : seginfo_overlap_n(P->n, P->line, P->v, Q->n, Q->line, Q->v, &pr->pend_sides);
+                 : seginfo_overlap_n(P->n, pln, pv, Q->n, qln, qv, &pr->pend_sides);
     ovl = hasl && ov;
     ovr = hasr && ov;
   } else {
@@ -1069,20 +1128,24 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        charges already made). */
     int met = at ? meet_sides(at, L) : 0;
     int known = met == 1 || met == 2 ? met : 0;
-    seginfo_clip_both_known(P, L, sv, known, pl, &hasl, pr_, &hasr, &pr->pend_sides);
+    seginfo_clip_both_known(P, pln, pv, L, sv, known, pl, &hasl, pr_, &hasr, &pr->pend_sides);
     ovl = hasl && (met & 1 ? overlap_known(pr, pl->n, Q->n)
-                           : seginfo_overlap_n(pl->n, pl->line, pl->v, Q->n, Q->line, Q->v, &pr->pend_sides));
+                           : seginfo_overlap_n(pl->n, pl->line, pl->v, Q->n, qln, qv,
+                                               &pr->pend_sides));
     ovr = hasr && (met & 2 ? overlap_known(pr, pr_->n, Q->n)
-                           : seginfo_overlap_n(pr_->n, pr_->line, pr_->v, Q->n, Q->line, Q->v, &pr->pend_sides));
+                           : seginfo_overlap_n(pr_->n, pr_->line, pr_->v, Q->n, qln, qv,
+                                               &pr->pend_sides));
     if (known && ovl && ovr) {
-      struct cost uncounted = { { 0 } };
-      seginfo_clip_both(P, L, pl, &hasl, pr_, &hasr, &uncounted);
+      uint64_t uncounted = 0;             /* its charges made already (above) */
+      seginfo_clip_both_known(P, pln, pv, L, NULL, 0, pl, &hasl, pr_, &hasr, &uncounted);
     }
   }
   if (ovl && ovr) {
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
     bool qhl, qhr;
-    seginfo_clip_both(Q, L, ql, &qhl, qr, &qhr, pr->cost);
+    uint64_t qprod = 0;                   /* seginfo_clip_both, Q's vertices made already */
+    seginfo_clip_both_known(Q, qln, qv, L, NULL, 0, ql, &qhl, qr, &qhr, &qprod);
+    cost_mw_mul_n(pr->cost, 88, 58, qprod);
     int pf = P->face, qf = Q->face;
     if (add_half(pr, pf, pl, err) < 0 || add_half(pr, pf, pr_, err) < 0) return PRIO_ERROR;
     if (qhl && qhr && (add_half(pr, qf, ql, err) < 0 || add_half(pr, qf, qr, err) < 0))
@@ -1106,7 +1169,8 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        along this very line (by a third face in the same plane as one of these), the two
        faces still meet along it: the line is noted for enhanced edges (paper 002 e4),
        so which pairs happen to be decided first does not choose the lines drawn. */
-    if ((on_line_side(P, L) || on_line_side(Q, L)) && note_cut(pr, P->face, Q->face, L, err) != T74_OK)
+    if ((on_line_side(P, pln, L) || on_line_side(Q, qln, L)) &&
+        note_cut(pr, P->face, Q->face, L, err) != T74_OK)
       return PRIO_ERROR;
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front\n",

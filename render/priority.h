@@ -38,6 +38,7 @@ struct prio_meet { struct grat x0, x1; int64_t yn, yd; };
    intersection lines of enhanced edges, paper 002 e4; host memory, one entry a pair). */
 struct prio_cut { int fa, fb; struct gline line; };
 
+struct prio_vcache;
 struct prio {
   struct seginfo *seg;
   const struct mapped *map;
@@ -82,6 +83,8 @@ struct prio {
   int      arith;           /* GEOM_EXACT, or GEOM_HITAC: depth from the 1974 planes */
   struct cpoly clip[4];     /* host scratch of decide's clipped halves, kept from pair to
                                pair (freed by prio_free) */
+  struct prio_vcache *vc;   /* host: the vertices of the pieces decide met last (priority.c,
+                               "the vertex cache"), or NULL */
 };
 
 /* store: PRIO_AUTO starts with the paper's dense matrix when the triangle for the `expect`

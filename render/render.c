@@ -42,7 +42,7 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
     struct seg_result res = { 0 };
     struct gline cl[SEG_CONVEX_MAX];       /* a convex face's one piece (seg_convex) */
     int cn = 0;
-    st = seg_convex(&in, cl, &cn, r->tables, r->core, cost, err);
+    st = seg_convex(&in, &r->seg.yname, cl, &cn, r->tables, r->core, cost, err);
     if (st == T74_OK && cn == 0) st = seg_generate(&in, &res, r->tables, r->core, cost, err);
     if (st == T74_EINPUT && r->arith == GEOM_HITAC) {
       /* --arith hitac: the 1974 coordinates folded the face; that program would have
@@ -90,7 +90,7 @@ static int segment_face(struct render *r, const struct scene *s, int k, struct t
       goto out;
     }
     r->concave_splits += res.ncut;
-    if (cn > 0 && seginfo_add(&r->seg, k, cn, cl, err) < 0) st = err->status;
+    if (cn > 0 && seginfo_add_face(&r->seg, k, cn, f->pt, cl, err) < 0) st = err->status;
     for (int p = 0; p < res.npiece && st == T74_OK; p++)
       if (seginfo_add(&r->seg, k, res.piece[p].n, res.piece[p].line, err) < 0) st = err->status;
     seg_result_free(&res);

@@ -14,6 +14,7 @@
 */
 #include "render/seginfo.h"
 #include "render/pool.h"
+#include "render/segment.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -27,10 +28,15 @@
 #define CBLOCK_HEAD_WORDS 1
 #define CBLOCK_SIDE_WORDS 4
 
+_Static_assert(sizeof(struct piece) == 48, "struct piece: 48 bytes");
+
 void seginfo_init(struct seginfo *t, struct core *core, struct cost *cost)
 {
   memset(t, 0, sizeof *t);
   t->core = core;
+  t->bname.name = "B-BLOCK";
+  t->cname.name = "C-BLOCK";
+  t->yname.name = CORE_T_YSORT;
   t->cost = cost;
 }
 
@@ -98,26 +104,12 @@ bool seginfo_reserve(struct seginfo *t, int n)
   return true;
 }
 
-int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
-                struct t74_error *err)
+/* The rest of seginfo_add for piece p (t->p[t->n]) of n sides, merged, on lines pl (its
+   own or its face's): its vertices (into keep when it keeps them, else made here and
+   dropped), lowest and highest, B and C blocks, charges. */
+static int add_rest(struct seginfo *t, struct piece *p, int face, int n, const struct gline *pl,
+                    struct hpoint *keep, struct t74_error *err)
 {
-  if (t->n == t->cap && !seginfo_reserve(t, t->cap ? 2 * t->cap : 64)) {
-    t74_fail(err, T74_EIO, "out of host memory");
-    return -1;
-  }
-  struct piece *p = &t->p[t->n];
-  memset(p, 0, sizeof *p);
-  /* its vertices, then its lines, in one piece of the pool (issue 19: no allocation a
-     piece; a piece is never freed before the others) */
-  _Static_assert(_Alignof(struct hpoint) >= _Alignof(struct gline), "piece block layout");
-  p->v = pool_alloc(&t->pool, (size_t)n * (sizeof *p->v + sizeof *p->line), _Alignof(struct hpoint));
-  if (!p->v) {
-    t74_fail(err, T74_EIO, "out of host memory");
-    return -1;
-  }
-  p->line = (struct gline *)(p->v + n);
-  memcpy(p->line, line, (size_t)n * sizeof *line);
-  n = merge_sides(p->line, n);
   if (n < 3) {
     t74_fail(err, T74_EINPUT, "internal: a piece of face %d has fewer than 3 sides", face);
     return -1;
@@ -126,37 +118,126 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   p->face = face;
   p->alive = true;
   p->parent = -1;
+  struct hpoint vb[PIECE_VBUF];
+  struct hpoint *v = keep ? keep : vb;
   for (int k = 0, k0 = n - 1; k < n; k0 = k++) {
-    if (!geom_meet(p->line[k0], p->line[k], &p->v[k])) {
+    if (!geom_meet(pl[k0], pl[k], &v[k])) {
       t74_fail(err, T74_EINPUT, "internal: sides of a piece of face %d do not meet", face);
       return -1;
     }
   }
   cost_mw_mul_n(t->cost, 58, 29, 2 * (uint64_t)n);     /* two products a vertex */
-  p->lo = p->hi = 0;
+  int lo = 0, hi = 0;
   for (int k = 1; k < n; k++) {
-    if (cmp_hy(p->v[k], p->v[p->lo]) < 0) p->lo = k;
-    if (cmp_hy(p->v[k], p->v[p->hi]) > 0) p->hi = k;
+    if (cmp_hy(v[k], v[lo]) < 0) lo = k;
+    if (cmp_hy(v[k], v[hi]) > 0) hi = k;
   }
+  p->lo = lo;
+  p->hi = hi;
   cost_mw_mul_n(t->cost, 88, 59, (uint64_t)n - 1);      /* a compare a vertex but the first */
+  p->ylo_yh = (int32_t)(v[lo].Y >> 64);                  /* |Y| < 2^88: geom.h */
+  p->ylo_yl = (uint64_t)(uwide)v[lo].Y;
+  p->ylo_w = (int64_t)v[lo].W;                            /* W < 2^59: geom.h */
 
   /* B and C blocks in core: the piece's row, and its sides */
   uint32_t b, c;
-  if (core_alloc(t->core, "B-BLOCK", BBLOCK_ROW_WORDS, &b, err) != T74_OK ||
-      core_alloc(t->core, "C-BLOCK", CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c, err) != T74_OK)
+  if (core_alloc_named(t->core, &t->bname, BBLOCK_ROW_WORDS, &b, err) != T74_OK ||
+      core_alloc_named(t->core, &t->cname, CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS, &c,
+                       err) != T74_OK)
     return -1;
-  core_write(t->core, b, (uint16_t)t->n);
-  core_write(t->core, b + 1, (uint16_t)grid_y(piece_ylo(p)));
-  core_write(t->core, b + 2, (uint16_t)grid_y(piece_yhi(p)));
-  core_write(t->core, b + 3, (uint16_t)c);
-  core_write(t->core, c, (uint16_t)n);
-  for (int k = 0; k < n; k++) {             /* vertex number, then the side's edge share */
-    core_write(t->core, c + 1 + 4 * (uint32_t)k, (uint16_t)k);
-    core_write(t->core, c + 2 + 4 * (uint32_t)k, (uint16_t)p->line[k].a);
-    core_write(t->core, c + 3 + 4 * (uint32_t)k, (uint16_t)p->line[k].b);
+  /* written a block at once (issue 19); a C block's fourth word of a side stays 0, as
+     core_alloc made it */
+  const uint16_t brow[4] = { (uint16_t)t->n, (uint16_t)grid_y(v[lo]), (uint16_t)grid_y(v[hi]),
+                             (uint16_t)c };
+  core_write_n(t->core, b, brow, 4);
+  uint16_t cb[CBLOCK_HEAD_WORDS + CBLOCK_SIDE_WORDS * PIECE_VBUF];
+  if (n <= PIECE_VBUF) {
+    cb[0] = (uint16_t)n;
+    for (int k = 0; k < n; k++) {           /* vertex number, then the side's edge share */
+      uint16_t *w = cb + 1 + 4 * k;
+      w[0] = (uint16_t)k;
+      w[1] = (uint16_t)pl[k].a;
+      w[2] = (uint16_t)pl[k].b;
+      w[3] = 0;
+    }
+    core_write_n(t->core, c, cb, CBLOCK_HEAD_WORDS + (uint32_t)n * CBLOCK_SIDE_WORDS);
+  } else {
+    core_write(t->core, c, (uint16_t)n);
+    for (int k = 0; k < n; k++) {
+      core_write(t->core, c + 1 + 4 * (uint32_t)k, (uint16_t)k);
+      core_write(t->core, c + 2 + 4 * (uint32_t)k, (uint16_t)pl[k].a);
+      core_write(t->core, c + 3 + 4 * (uint32_t)k, (uint16_t)pl[k].b);
+    }
   }
   COST_ADD_N(t->cost, COST_MEM, BBLOCK_ROW_WORDS + CBLOCK_HEAD_WORDS + (uint64_t)n * CBLOCK_SIDE_WORDS);
   return t->n++;
+}
+
+int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
+                struct t74_error *err)
+{
+  if (n >= (1 << 29)) {                      /* struct piece's hi: 30 bits */
+    t74_fail(err, T74_EINPUT, "a piece of face %d has %d sides, more than %d", face, n,
+             (1 << 29) - 1);
+    return -1;
+  }
+  if (t->n == t->cap && !seginfo_reserve(t, t->cap ? 2 * t->cap : 64)) {
+    t74_fail(err, T74_EIO, "out of host memory");
+    return -1;
+  }
+  struct piece *p = &t->p[t->n];
+  memset(p, 0, sizeof *p);
+  /* its lines, and for a piece of more than PIECE_VBUF sides its vertices, in one piece
+     of the pool (issue 19: no allocation a piece; a piece is never freed before the
+     others) */
+  _Static_assert(_Alignof(struct hpoint) >= _Alignof(struct gline), "piece block layout");
+  bool keep_v = n > PIECE_VBUF;
+  struct hpoint *v = keep_v ? pool_alloc(&t->pool, (size_t)n * (sizeof *v + sizeof *p->ln),
+                                         _Alignof(struct hpoint))
+                            : NULL;
+  p->ln = keep_v ? (struct gline *)(v + n)
+                 : pool_alloc(&t->pool, (size_t)n * sizeof *p->ln, _Alignof(struct gline));
+  if (!p->ln || (keep_v && !v)) {
+    t74_fail(err, T74_EIO, "out of host memory");
+    return -1;
+  }
+  memcpy(p->ln, line, (size_t)n * sizeof *line);
+  n = merge_sides(p->ln, n);
+  /* the vertices of a piece that keeps them just before its lines, within the block */
+  return add_rest(t, p, face, n, p->ln, n > PIECE_VBUF ? (struct hpoint *)(void *)p->ln - n : NULL,
+                  err);
+}
+
+int seginfo_add_face(struct seginfo *t, int face, int n, const struct gpoint *pt,
+                     const struct gline *line, struct t74_error *err)
+{
+  if (n < 3 || n > SEG_CONVEX_MAX) return seginfo_add(t, face, n, line, err);
+  for (int k = 0; k < n; k++) {
+    if (pt[k].x < -GRID_LIMIT || pt[k].x > GRID_LIMIT || pt[k].y < -GRID_LIMIT ||
+        pt[k].y > GRID_LIMIT)
+      return seginfo_add(t, face, n, line, err);           /* off the grid (geom.h) */
+    struct gline l = geom_line(pt[k], pt[k + 1 < n ? k + 1 : 0]);
+    if (l.a != line[k].a || l.b != line[k].b || l.c != line[k].c)
+      return seginfo_add(t, face, n, line, err);
+  }
+  /* merge_sides would merge nothing: no two consecutive sides in one direction
+     (same_direction; the sides join grid points, so |a|, |b| <= 2^29 and the products
+     and the sum of two stay below 2^59, in 64 bits) */
+  for (int k = 0, k0 = n - 1; k < n; k0 = k++) {
+    const struct gline *p = &line[k0], *q = &line[k];
+    if (p->a * q->b == q->a * p->b && p->a * q->a + p->b * q->b > 0)
+      return seginfo_add(t, face, n, line, err);
+  }
+  const struct gline *l = line;
+  if (t->n == t->cap && !seginfo_reserve(t, t->cap ? 2 * t->cap : 64)) {
+    t74_fail(err, T74_EIO, "out of host memory");
+    return -1;
+  }
+  struct piece *p = &t->p[t->n];
+  memset(p, 0, sizeof *p);
+  p->pt = pt;
+  p->onface = true;
+  return add_rest(t, p, face, n, l, NULL, err);
 }
 
 /* Room for n entries in c. */
@@ -197,27 +278,27 @@ static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
    Vertex k of the result starts side k; a new vertex is the meet of the side it lies on
    and h, so it stays a meet of two grid lines. side[k] is the side of p's vertex k of h
    (geom_side_h), or side is NULL and it is found here. */
-static bool clip_sides(const struct piece *p, struct gline h, const signed char *side,
-                       struct cpoly *out, uint64_t *prod)
+static bool clip_sides(const struct piece *p, const struct gline *pl, const struct hpoint *pv,
+                       struct gline h, const signed char *side, struct cpoly *out, uint64_t *prod)
 {
   out->n = 0;
   int n = p->n;
   if (!cpoly_room(out, n + 2)) return false;   /* a convex piece crosses a line twice at most */
-  int s0 = side ? side[0] : geom_side_hw(h, p->v[0]), sk = s0;
+  int s0 = side ? side[0] : geom_side_hw(h, pv[0]), sk = s0;
   *prod += (uint64_t)n;                          /* a product a vertex */
   for (int k = 0; k < n; k++) {
     int nx = (k + 1) % n;
-    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_hw(h, p->v[nx]);
-    struct gline lk = p->line[k];
+    int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_hw(h, pv[nx]);
+    struct gline lk = pl[k];
     struct hpoint x;
     if (sk > 0 || (sk == 0 && sn >= 0)) {
-      cpoly_push(out, lk, p->v[k]);
+      cpoly_push(out, lk, pv[k]);
       if (sk > 0 && sn < 0) {            /* leaves through h */
         if (!geom_meet(lk, h, &x)) return false;
         cpoly_push(out, h, x);
       }
     } else if (sk == 0) {                /* on h, and the side goes outside */
-      cpoly_push(out, h, p->v[k]);
+      cpoly_push(out, h, pv[k]);
     } else if (sn > 0) {                 /* enters through h */
       if (!geom_meet(lk, h, &x)) return false;
       cpoly_push(out, lk, x);
@@ -248,7 +329,10 @@ static void charge_products(struct cost *cost, uint64_t prod)
 bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, struct cost *cost)
 {
   uint64_t prod = 0;
-  bool r = clip_sides(p, h, NULL, out, &prod);
+  struct gline lb[PIECE_VBUF];
+  struct hpoint vb[PIECE_VBUF];
+  const struct gline *pl = p->n > PIECE_VBUF ? p->ln : piece_lines(p, lb);
+  bool r = clip_sides(p, pl, piece_verts_of(p, pl, vb), h, NULL, out, &prod);
   charge_products(cost, prod);
   return r;
 }
@@ -260,19 +344,20 @@ bool seginfo_clip(const struct piece *p, struct gline h, struct cpoly *out, stru
    clip_sides meets with h runs from a vertex strictly on one side of h to one strictly
    on the other, so it is not parallel to h and the meet is made: it never ends the clip
    early. Host only: nothing charged. */
-static int clip_count(const struct piece *p, struct gline h, const signed char *side)
+static int clip_count(const struct piece *p, const struct gline *pl, struct gline h,
+                      const signed char *side)
 {
   struct gline l[CLIP_SIDES_MAX + 2];
   int n = p->n, m = 0, s0 = side[0], sk = s0;
   for (int k = 0; k < n; k++) {
     int sn = k + 1 == n ? s0 : side[k + 1];
     if (sk > 0 || (sk == 0 && sn >= 0)) {
-      l[m++] = p->line[k];
+      l[m++] = pl[k];
       if (sk > 0 && sn < 0) l[m++] = h;
     } else if (sk == 0)
       l[m++] = h;
     else if (sn > 0)
-      l[m++] = p->line[k];
+      l[m++] = pl[k];
     sk = sn;
   }
   for (int k = 0; m >= 3 && k < m; ) {
@@ -292,23 +377,28 @@ void seginfo_clip_both(const struct piece *p, struct gline h, struct cpoly *left
                        struct cpoly *right, bool *hasr, struct cost *cost)
 {
   uint64_t prod = 0;
-  seginfo_clip_both_known(p, h, NULL, 0, left, hasl, right, hasr, &prod);
+  seginfo_clip_both_known(p, NULL, NULL, h, NULL, 0, left, hasl, right, hasr, &prod);
   charge_products(cost, prod);
 }
 
-void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed char *sides,
+void seginfo_clip_both_known(const struct piece *p, const struct gline *pl,
+                             const struct hpoint *pv, struct gline h, const signed char *sides,
                              int known, struct cpoly *left, bool *hasl, struct cpoly *right,
                              bool *hasr, uint64_t *prod)
 {
   struct gline rh = { -h.a, -h.b, -h.c };
+  struct gline lb[PIECE_VBUF];
+  struct hpoint vb[PIECE_VBUF];
+  if (!pl) pl = p->n > PIECE_VBUF ? p->ln : piece_lines(p, lb);
+  if (!pv) pv = piece_verts_of(p, pl, vb);
   if (p->n > CLIP_SIDES_MAX) {
-    *hasl = clip_sides(p, h, NULL, left, prod);
-    *hasr = clip_sides(p, rh, NULL, right, prod);
+    *hasl = clip_sides(p, pl, pv, h, NULL, left, prod);
+    *hasr = clip_sides(p, pl, pv, rh, NULL, right, prod);
     return;
   }
   signed char side[CLIP_SIDES_MAX], rside[CLIP_SIDES_MAX];
   for (int k = 0; k < p->n; k++) {
-    side[k] = sides ? sides[k] : (signed char)geom_side_hw(h, p->v[k]);
+    side[k] = sides ? sides[k] : (signed char)geom_side_hw(h, pv[k]);
     rside[k] = (signed char)-side[k];      /* the reversed line: the negated sum, exactly */
   }
   struct cpoly *half[2] = { left, right };
@@ -317,13 +407,13 @@ void seginfo_clip_both_known(const struct piece *p, struct gline h, const signed
   const struct gline hh[2] = { h, rh };
   for (int s = 0; s < 2; s++) {
     if (known != s + 1) {
-      *has[s] = clip_sides(p, hh[s], sd[s], half[s], prod);
+      *has[s] = clip_sides(p, pl, pv, hh[s], sd[s], half[s], prod);
       continue;
     }
     /* known to have an interior: counted, charged as clip_sides charges */
     if (!cpoly_room(half[s], p->n + 2)) { *has[s] = false; continue; }
     *prod += (uint64_t)p->n;
-    half[s]->n = clip_count(p, hh[s], sd[s]);
+    half[s]->n = clip_count(p, pl, hh[s], sd[s]);
     *has[s] = half[s]->n >= 3;
   }
 }
@@ -368,7 +458,7 @@ bool seginfo_span(const struct piece *p, int64_t yn, int64_t yd, struct grat *xl
 {
   bool have_l = false, have_r = false;
   for (int k = 0; k < p->n; k++) {
-    struct gline l = p->line[k];
+    struct gline l = piece_line(p, k);
     if (l.a == 0) {
       /* horizontal side: a point on it belongs to the side of larger y (geom.h) */
       wide v = (wide)l.b * yn + (wide)l.c * yd;

@@ -254,6 +254,7 @@ struct cyc {                             /* a growable ring (a piece boundary be
 
 struct seg_ctx {
   const struct seg_input *in;
+  struct core_name *ysort;     /* seg_convex's: CORE_T_YSORT as its caller keeps it, or NULL */
   FILE *trace;
   struct core *core;
   struct cost *cost;
@@ -1678,11 +1679,23 @@ static void ctx_init(struct seg_ctx *x, const struct seg_input *in, FILE *trace,
 /* YSORT into core: the table of the face's ys[0..nvert) rows. */
 static int ysort_table(struct seg_ctx *x, const struct ysort_row *ys)
 {
-  uint32_t a;
-  int rc = table(x, CORE_T_YSORT, (uint32_t)x->nvert * YSORT_ROW_WORDS, &a);
-  for (int i = 0; rc == T74_OK && i < x->nvert && x->core && !x->check; i++) {
-    core_put_int(x->core, a + 3 * (uint32_t)i, 2, ys[i].y);
-    core_write(x->core, a + 3 * (uint32_t)i + 2, (uint16_t)ys[i].vid);
+  uint32_t a = 0;
+  uint32_t words = (uint32_t)x->nvert * YSORT_ROW_WORDS;
+  int rc = x->ysort && x->core && words ? core_alloc_named(x->core, x->ysort, words, &a, x->err)
+                                        : table(x, CORE_T_YSORT, words, &a);
+  if (rc != T74_OK || !x->core || x->check) return rc;
+  /* the rows as core_put_int (y, two words, the high one first) and core_write (the
+     vertex) make them, SEG_CONVEX_MAX rows at a time in one write (issue 19) */
+  uint16_t w[3 * SEG_CONVEX_MAX];
+  for (int i0 = 0; i0 < x->nvert; i0 += SEG_CONVEX_MAX) {
+    int m = x->nvert - i0 < SEG_CONVEX_MAX ? x->nvert - i0 : SEG_CONVEX_MAX;
+    for (int i = 0; i < m; i++) {
+      uint64_t u = (uint64_t)(int64_t)ys[i0 + i].y;
+      w[3 * i] = (uint16_t)(u >> 16);
+      w[3 * i + 1] = (uint16_t)u;
+      w[3 * i + 2] = (uint16_t)ys[i0 + i].vid;
+    }
+    core_write_n(x->core, a + 3 * (uint32_t)i0, w, 3 * (uint32_t)m);
   }
   return rc;
 }
@@ -1692,8 +1705,8 @@ static int ysort_table(struct seg_ctx *x, const struct ysort_row *ys)
    the turn at every vertex charged as the look for the lowest concave vertex is, the
    ring tidied and checked as a finished piece, the core released; without the queue, the
    working pieces and their host allocations. */
-int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *trace,
-               struct core *core, struct cost *cost, struct t74_error *err)
+int seg_convex(const struct seg_input *in, struct core_name *ysort, struct gline *line, int *n,
+               FILE *trace, struct core *core, struct cost *cost, struct t74_error *err)
 {
   *n = 0;
   if (trace || in->nring != 1 || !in->ring_start || in->ring_start[0] != 0) return T74_OK;
@@ -1729,6 +1742,7 @@ int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *tra
   struct seg_ctx xc;
   struct seg_ctx *x = &xc;
   ctx_init(x, in, NULL, core, cost, err);
+  x->ysort = ysort;
 
   x->nvert = nv;
   uint32_t mark = core ? core_mark(core) : 0;

@@ -76,9 +76,11 @@ int seg_check(const struct seg_input *in, struct seg_scratch *scr, struct core *
    at most SEG_CONVEX_MAX vertices, no concave vertex. Its one piece's lines go to line[]
    (room for SEG_CONVEX_MAX), *n of them; the operations charged, the core tables made
    and released and any refusal are seg_generate's, without its host allocations. For
-   any other face: T74_OK with *n = 0, nothing done, nothing charged (seg_generate's). */
+   any other face: T74_OK with *n = 0, nothing done, nothing charged (seg_generate's).
+   ysort: NULL, or the name CORE_T_YSORT as the caller keeps it for this core (struct
+   core_name: its statistics row found once for all faces, issue 19). */
 #define SEG_CONVEX_MAX 32
-int seg_convex(const struct seg_input *in, struct gline *line, int *n, FILE *trace,
-               struct core *core, struct cost *cost, struct t74_error *err);
+int seg_convex(const struct seg_input *in, struct core_name *ysort, struct gline *line, int *n,
+               FILE *trace, struct core *core, struct cost *cost, struct t74_error *err);
 
 #endif

@@ -71,10 +71,17 @@ static int cmp_hy_frac(struct hpoint p, int64_t n, int64_t d)
   return geom_hy_cmp(p, n, d);
 }
 
+/* cmp_hy_frac of piece p's lowest vertex, from its kept height. */
+static int ylo_cmp_frac(const struct piece *p, int64_t n, int64_t d)
+{
+  wide l = piece_ylo_y(p) * d, r = (wide)n * (wide)(uint64_t)p->ylo_w;
+  return (l > r) - (l < r);
+}
+
 static int cmp_ylo(const struct seginfo *s, int a, int b)
 {
-  struct hpoint p = piece_ylo(&s->p[a]), q = piece_ylo(&s->p[b]);
-  int c = geom_cross_sign(p.Y, q.W, q.Y, p.W);     /* p.Y/p.W vs q.Y/q.W, exactly */
+  const struct piece *p = &s->p[a], *q = &s->p[b];
+  int c = geom_cross_sign(piece_ylo_y(p), q->ylo_w, piece_ylo_y(q), p->ylo_w);   /* exactly */
   return c ? c : (a > b) - (a < b);
 }
 
@@ -369,6 +376,20 @@ static struct hpoint lower(struct hpoint p, struct hpoint q)
   return geom_cross_sign(p.Y, q.W, q.Y, p.W) <= 0 ? p : q;
 }
 
+/* The height of p's vertex k (piece_vy; pl: its lines), made into vb[k] the first time
+   (bit k of *made; a piece whose vertices are not kept has at most PIECE_VBUF <= 64
+   sides). */
+static inline struct hpoint vy_at(const struct piece *p, const struct gline *pl,
+                                  struct hpoint *vb, uint64_t *made, int k)
+{
+  if (p->n > PIECE_VBUF) return piece_kept(p)[k];
+  if (!(*made >> k & 1)) {
+    *made |= (uint64_t)1 << k;
+    vb[k] = piece_vy_at(pl[k ? k - 1 : p->n - 1], pl[k]);
+  }
+  return vb[k];
+}
+
 /* Open the D-block of piece p that holds the line y = yn/yd: its left side runs down
    (a > 0) from v[k] to v[k+1], its right side up (a < 0) from v[k] to v[k+1]; each is
    the one whose y-range [bottom, top) holds the line. False when none does: the line is
@@ -376,12 +397,18 @@ static struct hpoint lower(struct hpoint p, struct hpoint q)
 static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t yd)
 {
   const struct piece *p = &v->seg->p[it->piece];
+  /* the heights of the vertices (piece_vy), each made once, as the sides reach them */
+  struct hpoint vb[PIECE_VBUF];
+  uint64_t made = 0;
+  struct gline lb[PIECE_VBUF];
+  const struct gline *pl = piece_lines(p, lb);
   int kl = -1, kr = -1;
   for (int k = 0; k < p->n && (kl < 0 || kr < 0); k++) {
-    const struct gline *l = &p->line[k];
+    const struct gline *l = &pl[k];
     if (l->a == 0) continue;
-    struct hpoint lo = l->a > 0 ? p->v[(k + 1) % p->n] : p->v[k];
-    struct hpoint hi = l->a > 0 ? p->v[k] : p->v[(k + 1) % p->n];
+    int k1 = k + 1 < p->n ? k + 1 : 0;
+    struct hpoint lo = l->a > 0 ? vy_at(p, pl, vb, &made, k1) : vy_at(p, pl, vb, &made, k);
+    struct hpoint hi = l->a > 0 ? vy_at(p, pl, vb, &made, k) : vy_at(p, pl, vb, &made, k1);
     v->pend_side++;                      /* charged by charge_compares */
     if (geom_hy_cmp(lo, yn, yd) > 0 || geom_hy_cmp(hi, yn, yd) <= 0) continue;
     if (l->a > 0) kl = k; else kr = k;
@@ -389,11 +416,11 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
   if (kl < 0 || kr < 0) return false;
   it->kl = kl;
   it->kr = kr;
-  it->xl = geom_x_at(p->line[kl], yn, yd);
-  it->xr = geom_x_at(p->line[kr], yn, yd);
+  it->xl = geom_x_at(pl[kl], yn, yd);
+  it->xr = geom_x_at(pl[kr], yn, yd);
   /* geom_x_at: num = -(b yn + c yd), negated with the denominator when a < 0 */
-  it->sl = p->line[kl].a > 0 ? -(wide)p->line[kl].b : (wide)p->line[kl].b;
-  it->sr = p->line[kr].a > 0 ? -(wide)p->line[kr].b : (wide)p->line[kr].b;
+  it->sl = pl[kl].a > 0 ? -(wide)pl[kl].b : (wide)pl[kl].b;
+  it->sr = pl[kr].a > 0 ? -(wide)pl[kr].b : (wide)pl[kr].b;
   if (v->arith == GEOM_HITAC) {         /* --arith hitac: xb, xe as double words */
     it->hdl = it->xl.den;
     it->hdr = it->xr.den;
@@ -402,7 +429,8 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
   }
   it->dyn = 0;
   it->dxl = it->dxr = 0;
-  it->ymax = lower(p->v[kl], p->v[(kr + 1) % p->n]);
+  it->ymax = lower(vy_at(p, pl, vb, &made, kl),             /* (only its height is read) */
+                   vy_at(p, pl, vb, &made, kr + 1 < p->n ? kr + 1 : 0));
   cost_mw_mul(v->cost, 58, 17);
   cost_mw_mul(v->cost, 58, 17);
   it->open = true;
@@ -579,10 +607,10 @@ static int front_guess(struct vis *v, struct grat x0, struct grat x1, int64_t yn
 static int activate(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
 {
   struct seginfo *s = v->seg;
-  while (v->next < v->norder && cmp_hy_frac(piece_ylo(&s->p[v->order[v->next]]), yn, yd) <= 0) {
+  while (v->next < v->norder && ylo_cmp_frac(&s->p[v->order[v->next]], yn, yd) <= 0) {
     int p = v->order[v->next++];
     cost_mw_mul(v->cost, 88, 17);
-    if (!s->p[p].alive || cmp_hy_frac(piece_yhi(&s->p[p]), yn, yd) <= 0) continue;
+    if (!s->p[p].alive || cmp_hy_frac(piece_yhi_y(&s->p[p]), yn, yd) <= 0) continue;
     if (!grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
       return t74_fail(err, T74_EIO, "out of host memory");
     memset(&v->act[v->nact], 0, sizeof v->act[v->nact]);
@@ -631,7 +659,7 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   for (int a = 0; a < v->nact; a++) {
     const struct piece *p = &s->p[v->act[a].piece];
     COST_ADD_N(v->cost, COST_MEM, 2);
-    if (!p->alive || cmp_hy_frac(piece_yhi(p), yn, yd) <= 0) {
+    if (!p->alive || cmp_hy_frac(piece_yhi_y(p), yn, yd) <= 0) {
       if (v->act[a].core) dblock_give(v, v->act[a].core);
       v->tmp[a] = -1;
       continue;

@@ -838,6 +838,97 @@ static void test_param_table(void **state)
    of tables (some too large, refused), releases and a high region, one core taking every
    other table by core_reserve, gives the same addresses, results, messages, use, peak,
    tables and layout; the reserved words keep what was there, the allocated ones are 0. */
+/* Issue 19: core_write_n is core_write a word at a time, to the core's last word. */
+static void test_write_n(void **state)
+{
+  (void)state;
+  struct core *c[2] = { core_new(64), core_new(64) };
+  uint16_t w[64];
+  for (int k = 0; k < 64; k++) w[k] = (uint16_t)(0x9E37u * (unsigned)(k + 1));
+  const uint32_t at[][2] = { { 0, 0 }, { 0, 5 }, { 7, 13 }, { 40, 24 }, { 63, 1 }, { 0, 64 } };
+  for (size_t t = 0; t < sizeof at / sizeof at[0]; t++) {
+    core_write_n(c[0], at[t][0], w + t, at[t][1]);
+    for (uint32_t k = 0; k < at[t][1]; k++) core_write(c[1], at[t][0] + k, w[t + k]);
+    for (uint32_t k = 0; k < 64; k++) assert_int_equal(core_read(c[0], k), core_read(c[1], k));
+  }
+  core_free(c[0]);
+  core_free(c[1]);
+}
+
+/* The two cores' tables and layouts are the same. */
+static void same_tables(struct core *a, struct core *b)
+{
+  const char *n0[8], *n1[8];
+  uint32_t p0[8], p1[8];
+  int nt = core_tables(a, n0, p0, 8);
+  assert_int_equal(nt, core_tables(b, n1, p1, 8));
+  for (int k = 0; k < nt && k < 8; k++) {
+    assert_string_equal(n0[k], n1[k]);
+    assert_int_equal(p0[k], p1[k]);
+  }
+  char *buf[2] = { NULL, NULL };
+  size_t len[2] = { 0, 0 };
+  struct core *c[2] = { a, b };
+  for (int k = 0; k < 2; k++) {
+    FILE *f = open_memstream(&buf[k], &len[k]);
+    assert_int_equal(core_layout_dump(c[k], f), 0);
+    fclose(f);
+  }
+  assert_int_equal(len[0], len[1]);
+  assert_memory_equal(buf[0], buf[1], len[0]);
+  free(buf[0]);
+  free(buf[1]);
+}
+
+/* Issue 19: core_alloc_named is core_alloc: the same addresses, refusals, statistics and
+   layout, with the names' rows found once; after core_reset (the rows made again, in
+   another order) and on another core each handle finds its row again. */
+static void test_alloc_named(void **state)
+{
+  (void)state;
+  struct core *c[3] = { core_new(4000), core_new(4000), core_new(4000) };
+  for (int k = 0; k < 3; k++) assert_non_null(c[k]);
+  const char *names[] = { "VERTEX", "A-BLOCK", "PBS", "X" };
+  struct core_name h[4];
+  memset(h, 0, sizeof h);
+  for (int k = 0; k < 4; k++) h[k].name = names[k];
+  uint32_t rnd = 777;
+  for (int step = 0; step < 600; step++) {
+    rnd = rnd * 1103515245u + 12345u;
+    uint32_t r = rnd >> 8, words = 1 + r % 900;
+    int ni = (int)((r >> 12) % 4);
+    if (step % 97 == 96) {                    /* both made anew: rows in another order */
+      same_tables(c[0], c[1]);
+      for (int k = 0; k < 2; k++) core_reset(c[k]);
+      continue;
+    }
+    if (r % 7 == 0) {
+      uint32_t mark = core_mark(c[0]) / 2;
+      for (int k = 0; k < 2; k++) core_release(c[k], mark);
+      continue;
+    }
+    uint32_t a[3] = { 0, 0, 0 };
+    struct t74_error e[3] = { { 0 }, { 0 }, { 0 } };
+    int st0 = core_alloc(c[0], names[ni], words, &a[0], &e[0]);
+    int st1 = core_alloc_named(c[1], &h[ni], words, &a[1], &e[1]);
+    assert_int_equal(st0, st1);
+    assert_string_equal(e[0].msg, e[1].msg);
+    assert_int_equal(core_used(c[0]), core_used(c[1]));
+    if (st0 == T74_OK) assert_int_equal(a[0], a[1]);
+    if (step % 5 == 0) {                      /* the same handles on a third core */
+      core_release(c[2], 0);
+      assert_int_equal(core_alloc_named(c[2], &h[(ni + 1) % 4], 3, &a[2], &e[2]), T74_OK);
+      const char *n2[8];
+      uint32_t p2[8];
+      int nt = core_tables(c[2], n2, p2, 8), found = 0;
+      for (int k = 0; k < nt && k < 8; k++) found += strcmp(n2[k], names[(ni + 1) % 4]) == 0;
+      assert_int_equal(found, 1);
+    }
+  }
+  same_tables(c[0], c[1]);
+  for (int k = 0; k < 3; k++) core_free(c[k]);
+}
+
 static void test_reserve_as_alloc(void **state)
 {
   (void)state;
@@ -945,6 +1036,8 @@ int main(void)
     cmocka_unit_test(test_mw_1974_share),
     cmocka_unit_test(test_mw_n),
     cmocka_unit_test(test_instruction_format),
+    cmocka_unit_test(test_alloc_named),
+    cmocka_unit_test(test_write_n),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

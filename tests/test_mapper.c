@@ -132,6 +132,64 @@ static struct scene *load_text(const char *text)
   return s;
 }
 
+/* Issue 19: the VERTEX and A-BLOCK rows the Mapper writes (a row at once) hold, word for
+   word, a vertex's id, x, y, z and projection in whole units, and a face's id, grey,
+   y-min, y-max, the 1974 plane's a, b, c and d (two words, the high one first), the
+   tenth word 0. Vertices with coordinates below 0 and an id above 32767. */
+static void test_core_rows(void **state)
+{
+  (void)state;
+  struct scene *s = load_text("view 0 0 -500\n"
+                              "window -200 -150 200 150\n"
+                              "vertex 60001 -120 -80 40\n"
+                              "vertex 2 130 -70 60\n"
+                              "vertex 3 90 110 90\n"
+                              "vertex 4 -100 95 30\n"
+                              "face 1 60001 2 3 grey 200\n"
+                              "face 2 60001 3 4 grey 90\n");
+  struct core *core = core_new(1u << 16);
+  struct cost c;
+  memset(&c, 0, sizeof c);
+  struct mapped m;
+  struct t74_error err = { 0, "" };
+  assert_int_equal(mapper_run(s, &m, core, &c, &err), T74_OK);
+  assert_int_equal(m.nface, 2);
+  int nv = 4;
+  for (int f = 0; f < m.nface; f++)
+    for (int k = 0; k < m.f[f].ring_start[m.f[f].nring]; k++) {
+      int v = m.f[f].vix[k];
+      uint32_t a = 6 * (uint32_t)v;
+      const struct scene_vertex *sv = &s->v[v];
+      assert_int_equal(core_read(core, a), (uint16_t)sv->id);
+      assert_int_equal(core_read(core, a + 1), (uint16_t)sv->x);
+      assert_int_equal(core_read(core, a + 2), (uint16_t)sv->y);
+      assert_int_equal(core_read(core, a + 3), (uint16_t)sv->z);
+      assert_int_equal(core_read(core, a + 4), (uint16_t)(m.f[f].pt[k].x / GRID_ONE));
+      assert_int_equal(core_read(core, a + 5), (uint16_t)(m.f[f].pt[k].y / GRID_ONE));
+    }
+  for (int f = 0; f < m.nface; f++) {
+    const struct mface *mf = &m.f[f];
+    uint32_t a = 6 * (uint32_t)nv + 10 * (uint32_t)f;
+    gcoord lo = mf->pt[0].y, hi = mf->pt[0].y;
+    for (int k = 1; k < mf->ring_start[1]; k++) {
+      if (mf->pt[k].y < lo) lo = mf->pt[k].y;
+      if (mf->pt[k].y > hi) hi = mf->pt[k].y;
+    }
+    int64_t h[4];
+    geom_h10_plane(mf->plane, h);
+    assert_int_equal(core_read(core, a), (uint16_t)mf->id);
+    assert_int_equal(core_read(core, a + 1), (uint16_t)mf->grey);
+    assert_int_equal(core_read(core, a + 2), (uint16_t)(lo / GRID_ONE));
+    assert_int_equal(core_read(core, a + 3), (uint16_t)(hi / GRID_ONE));
+    for (int k = 0; k < 3; k++) assert_int_equal(core_read(core, a + 4 + (uint32_t)k), (uint16_t)h[k]);
+    assert_int_equal(core_get_int(core, a + 7, 2), (int64_t)(int32_t)(uint32_t)h[3]);
+    assert_int_equal(core_read(core, a + 9), 0);
+  }
+  mapper_free(&m);
+  core_free(core);
+  scene_free(s);
+}
+
 /* ---- the two ways compared ------------------------------------------------------------ */
 
 struct run { struct mapped m; struct mapper_keep k; struct cost c; struct core *core; };
@@ -371,6 +429,7 @@ static void test_margin_one_unit_cells(void **state)
 int main(void)
 {
   const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_core_rows),
     cmocka_unit_test(test_fans_both_ways),
     cmocka_unit_test(test_fans_among_triangles),
     cmocka_unit_test(test_edges_met_again),

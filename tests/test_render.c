@@ -456,6 +456,150 @@ static void test_span_tie_rule(void **state)
   core_free(core);
 }
 
+/* Issue 19: a piece keeps its lines, its lowest vertex's height, and its vertices only
+   when it has more than PIECE_VBUF sides; piece_v and piece_verts give every vertex as
+   geom_meet of its two lines, to the bit, and the kept height is that of piece_ylo. Pieces
+   with Y beyond 64 bits, of 70 sides (kept, after the lines), of 65 sides merged to 4
+   (its block made for kept vertices, none kept) and of 72 merged to 68 (kept where the
+   68 begin). */
+/* Piece p's B and C blocks (its B row at b): the row (number i, y-min, y-max, the C
+   block's address) and the C block (n, then a side's vertex number, a and b, 0). */
+static void check_blocks(const struct core *core, uint32_t b, int i, const struct piece *p)
+{
+  struct hpoint lo = piece_ylo(p), hi = piece_yhi(p);
+  assert_int_equal(core_read(core, b), (uint16_t)i);
+  assert_int_equal(core_read(core, b + 1), (uint16_t)(lo.Y / lo.W / GRID_ONE));
+  assert_int_equal(core_read(core, b + 2), (uint16_t)(hi.Y / hi.W / GRID_ONE));
+  assert_int_equal(core_read(core, b + 4), 0);
+  assert_int_equal(core_read(core, b + 5), 0);
+  uint32_t c = core_read(core, b + 3);
+  assert_int_equal(core_read(core, c), (uint16_t)p->n);
+  for (int k = 0; k < p->n; k++) {
+    struct gline l = piece_line(p, k);
+    assert_int_equal(core_read(core, c + 1 + 4 * (uint32_t)k), (uint16_t)k);
+    assert_int_equal(core_read(core, c + 2 + 4 * (uint32_t)k), (uint16_t)l.a);
+    assert_int_equal(core_read(core, c + 3 + 4 * (uint32_t)k), (uint16_t)l.b);
+    assert_int_equal(core_read(core, c + 4 + 4 * (uint32_t)k), 0);
+  }
+}
+
+static void check_piece(const struct piece *p, int n, const gcoord *xy)
+{
+  assert_int_equal(p->n, n);
+  struct hpoint buf[PIECE_VBUF];
+  const struct hpoint *pv = piece_verts(p, buf);
+  assert_true((pv == buf) == (n <= PIECE_VBUF));
+  for (int k = 0; k < n; k++) {
+    struct hpoint m, v = piece_v(p, k);
+    assert_true(geom_meet(piece_line(p, (k + n - 1) % n), piece_line(p, k), &m));
+    assert_memory_equal(&m, &v, sizeof m);
+    assert_memory_equal(&m, &pv[k], sizeof m);
+    if (xy) assert_true(h_is(v, xy[2 * k], xy[2 * k + 1]));
+    struct hpoint lo = piece_v(p, p->lo), hi = piece_v(p, p->hi);
+    assert_true(geom_cross_sign(lo.Y, v.W, v.Y, lo.W) <= 0);
+    assert_true(geom_cross_sign(hi.Y, v.W, v.Y, hi.W) >= 0);
+  }
+  struct hpoint lo = piece_ylo(p);
+  assert_true(piece_ylo_y(p) == lo.Y);
+  assert_true(p->ylo_w == lo.W);
+}
+
+static void test_piece_vertices(void **state)
+{
+  (void)state;
+  struct core *core = core_new(1u << 16);
+  struct cost cost = { { 0 } };
+  struct seginfo t;
+  seginfo_init(&t, core, &cost);
+  const gcoord L = GRID_LIMIT;
+  const gcoord tri[][6] = {
+    { -L, -L, L, -L + 3, L - 7, L },                   /* corners: Y beyond 64 bits */
+    { -L + 5, L - 1, -L, -L + 2, L, -L + 9 },
+    { 1, 1, 9, 2, 4, 7 },
+  };
+  int i;                                       /* (t.p moves as pieces are added) */
+  for (int k = 0; k < 3; k++) { i = add_piece(&t, 0, 3, tri[k]); check_piece(&t.p[i], 3, tri[k]); }
+  gcoord par[2 * 80], sq[2 * 80], chord[2 * 80];
+  for (int k = 0; k < 70; k++) { par[2 * k] = k - 30; par[2 * k + 1] = (gcoord)k * k - 900; }
+  uint32_t b = core_mark(core);
+  i = add_piece(&t, 1, 70, par);
+  check_piece(&t.p[i], 70, par);
+  check_blocks(core, b, i, &t.p[i]);
+  int m = 0;                                   /* 63 points on the bottom side, 2 on top */
+  for (int k = 0; k <= 62; k++) { sq[2 * m] = k; sq[2 * m + 1] = 0; m++; }
+  sq[2 * m] = 62; sq[2 * m + 1] = 62; m++;
+  sq[2 * m] = 0; sq[2 * m + 1] = 62; m++;
+  assert_int_equal(m, 65);
+  const gcoord corners[] = { 0, 0, 62, 0, 62, 62, 0, 62 };
+  b = core_mark(core);
+  i = add_piece(&t, 2, m, sq);
+  check_piece(&t.p[i], 4, corners);
+  check_blocks(core, b, i, &t.p[i]);
+  m = 0;                                       /* a 68-gon, 4 more points on its chord */
+  for (int k = 0; k < 68; k++) { chord[2 * m] = k; chord[2 * m + 1] = (gcoord)k * k; m++; }
+  const int on[] = { 50, 30, 20, 10 };
+  for (int k = 0; k < 4; k++) { chord[2 * m] = on[k]; chord[2 * m + 1] = 67 * on[k]; m++; }
+  i = add_piece(&t, 3, m, chord);
+  check_piece(&t.p[i], 68, chord);
+  seginfo_free(&t);
+  core_free(core);
+}
+
+/* Issue 19: seginfo_add_face makes seginfo_add's piece (the same lines, vertices, lowest
+   and highest, core words and charges) without copying the lines where they are the
+   points' sides, and falls back to seginfo_add where they are not (lines from another
+   start, two sides on one line). */
+static void test_piece_on_face(void **state)
+{
+  (void)state;
+  const gcoord L = GRID_LIMIT;
+  const gcoord tri[] = { -L, -L, L, -L + 3, L - 7, L };
+  const gcoord quad[] = { 0, 0, 9, 1, 8, 7, -1, 5 };
+  const gcoord flat[] = { 0, 0, 4, 0, 8, 0, 8, 8, 0, 8 };      /* two sides on y = 0 */
+  const struct { const gcoord *xy; int n, shift; bool onface; } cs[] = {
+    { tri, 3, 0, true }, { quad, 4, 0, true }, { quad, 4, 1, false }, { flat, 5, 0, false },
+  };
+  for (size_t t = 0; t < sizeof cs / sizeof cs[0]; t++) {
+    struct core *core[2] = { core_new(1u << 16), core_new(1u << 16) };
+    struct cost cost[2] = { { { 0 } }, { { 0 } } };
+    struct seginfo si[2];
+    int n = cs[t].n;
+    struct gpoint pt[8];
+    struct gline l[8];
+    for (int k = 0; k < n; k++) pt[k] = (struct gpoint){ cs[t].xy[2 * k], cs[t].xy[2 * k + 1] };
+    for (int k = 0; k < n; k++) {
+      int j = (k + cs[t].shift) % n;
+      l[k] = geom_line(pt[j], pt[(j + 1) % n]);
+    }
+    struct t74_error err = { 0, "" };
+    for (int w = 0; w < 2; w++) {
+      seginfo_init(&si[w], core[w], &cost[w]);
+      int i = w ? seginfo_add_face(&si[w], 0, n, pt, l, &err) : seginfo_add(&si[w], 0, n, l, &err);
+      assert_int_equal(i, 0);
+    }
+    const struct piece *a = &si[0].p[0], *b = &si[1].p[0];
+    assert_int_equal(b->onface, cs[t].onface);
+    assert_int_equal(a->n, b->n);
+    assert_int_equal(a->lo, b->lo);
+    assert_int_equal(a->hi, b->hi);
+    assert_true(a->ylo_yl == b->ylo_yl && a->ylo_yh == b->ylo_yh && a->ylo_w == b->ylo_w);
+    for (int k = 0; k < a->n; k++) {
+      struct gline la = piece_line(a, k), lb = piece_line(b, k);
+      assert_memory_equal(&la, &lb, sizeof la);
+      struct hpoint va = piece_v(a, k), vb = piece_v(b, k);
+      assert_memory_equal(&va, &vb, sizeof va);
+    }
+    assert_memory_equal(&cost[0], &cost[1], sizeof cost[0]);
+    assert_int_equal(core_mark(core[0]), core_mark(core[1]));
+    for (uint32_t k = 0; k < core_mark(core[0]); k++)
+      assert_int_equal(core_read(core[0], k), core_read(core[1], k));
+    for (int w = 0; w < 2; w++) {
+      seginfo_free(&si[w]);
+      core_free(core[w]);
+    }
+  }
+}
+
 /* seginfo_add's B-BLOCK row: y-min and y-max of the piece, Y / W / GRID_ONE truncated in
    128 bits (issue 19: in 64 where Y fits them): pieces near the grid's corners with
    slanted sides (vertices whose Y needs more than 64 bits), small ones, below y = 0 and
@@ -482,7 +626,7 @@ static void test_bblock_y(void **state)
     const struct piece *p = &t.p[i];
     struct hpoint lo = piece_ylo(p), hi = piece_yhi(p);
     for (int j = 0; j < 3; j++) {
-      if (p->v[j].Y != (int64_t)p->v[j].Y) wide_y = true; else narrow_y = true;
+      if (piece_v(p, j).Y != (int64_t)piece_v(p, j).Y) wide_y = true; else narrow_y = true;
     }
     assert_int_equal(core_read(core, b + 1), (uint16_t)(lo.Y / lo.W / GRID_ONE));
     assert_int_equal(core_read(core, b + 2), (uint16_t)(hi.Y / hi.W / GRID_ONE));
@@ -639,9 +783,13 @@ static void test_clip_both(void **state)
       struct cpoly *made = known == 1 ? &r : &l;
       made->n = -1;
       signed char sides[80];                  /* found here, or by the clip (NULL) */
-      for (int v = 0; v < p->n; v++) sides[v] = (signed char)geom_side_h(h, p->v[v]);
+      for (int v = 0; v < p->n; v++) sides[v] = (signed char)geom_side_h(h, piece_v(p, v));
       uint64_t prod = 0;
-      seginfo_clip_both_known(p, h, trial % 2 ? sides : NULL, known, &l, &hl, &r, &hr, &prod);
+      struct hpoint pvb[PIECE_VBUF];         /* its vertices made here, or by the clip */
+      struct gline plb[PIECE_VBUF];
+      seginfo_clip_both_known(p, trial % 4 < 2 ? piece_lines(p, plb) : NULL,
+                              trial % 4 < 2 ? piece_verts(p, pvb) : NULL, h,
+                              trial % 2 ? sides : NULL, known, &l, &hl, &r, &hr, &prod);
       cost_mw_mul_n(&k3, 88, 58, prod);
       assert_int_equal(ha, hl);
       assert_int_equal(hb, hr);
@@ -665,8 +813,12 @@ static void test_clip_both(void **state)
 static bool ovl(const struct seginfo *t, int a, int b, struct cost *cost)
 {
   const struct piece *p = &t->p[a], *q = &t->p[b];
-  bool r1 = seginfo_overlap(p->n, p->line, p->v, q->n, q->line, q->v, cost);
-  bool r2 = seginfo_overlap(q->n, q->line, q->v, p->n, p->line, p->v, cost);
+  struct hpoint pb[PIECE_VBUF], qb[PIECE_VBUF];
+  const struct hpoint *pv = piece_verts(p, pb), *qv = piece_verts(q, qb);
+  struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
+  const struct gline *pl = piece_lines(p, plb), *ql = piece_lines(q, qlb);
+  bool r1 = seginfo_overlap(p->n, pl, pv, q->n, ql, qv, cost);
+  bool r2 = seginfo_overlap(q->n, ql, qv, p->n, pl, pv, cost);
   assert_true(r1 == r2);                          /* symmetric */
   return r1;
 }
@@ -788,7 +940,7 @@ static double piece_cx(const struct render *r, int k)
 {
   const struct piece *p = &r->seg.p[k];
   double s = 0;
-  for (int v = 0; v < p->n; v++) s += (double)p->v[v].X / (double)p->v[v].W;
+  for (int v = 0; v < p->n; v++) s += (double)piece_v(p, v).X / (double)piece_v(p, v).W;
   return s / p->n / GRID_ONE;
 }
 
@@ -822,7 +974,11 @@ static void test_prio_crossing(void **state)
       for (int b = 2; b < 6; b++) {
         if (r.seg.p[a].face == r.seg.p[b].face || a == b) continue;
         const struct piece *P = &r.seg.p[a], *Q = &r.seg.p[b];
-        if (!seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, &r.cost[0])) continue;
+        struct hpoint pb[PIECE_VBUF], qb[PIECE_VBUF];
+        struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
+        if (!seginfo_overlap(P->n, piece_lines(P, plb), piece_verts(P, pb), Q->n,
+                             piece_lines(Q, qlb), piece_verts(Q, qb), &r.cost[0]))
+          continue;
         double cx = (piece_cx(&r, a) + piece_cx(&r, b)) / 2;
         int want = cx < 50 ? 2 : 1;
         assert_int_equal(front_id(&r, a, b), want);
@@ -837,7 +993,10 @@ static void test_prio_crossing(void **state)
       for (int b = a + 1; b < 6; b++)
         if (r.seg.p[a].face == r.seg.p[b].face) {
           const struct piece *P = &r.seg.p[a], *Q = &r.seg.p[b];
-          assert_false(seginfo_overlap(P->n, P->line, P->v, Q->n, Q->line, Q->v, &r.cost[0]));
+          struct hpoint pb[PIECE_VBUF], qb[PIECE_VBUF];
+          struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
+          assert_false(seginfo_overlap(P->n, piece_lines(P, plb), piece_verts(P, pb), Q->n,
+                                       piece_lines(Q, qlb), piece_verts(Q, qb), &r.cost[0]));
         }
     render_free(&r);
     scene_free(sc);
@@ -1755,7 +1914,7 @@ static void test_piece_parents(void **state)
     assert_false(P->alive);
     assert_int_equal(h->face, P->face);
     for (int v = 0; v < h->n; v++)
-      for (int l = 0; l < P->n; l++) assert_true(geom_side_h(P->line[l], h->v[v]) >= 0);
+      for (int l = 0; l < P->n; l++) assert_true(geom_side_h(piece_line(P, l), piece_v(h, v)) >= 0);
   }
   free(a);
   render_free(&r);
@@ -1809,6 +1968,8 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_geom_orient),
     cmocka_unit_test(test_bblock_y),
+    cmocka_unit_test(test_piece_vertices),
+    cmocka_unit_test(test_piece_on_face),
     cmocka_unit_test(test_geom_lines),
     cmocka_unit_test(test_geom_rationals),
     cmocka_unit_test(test_i256),
