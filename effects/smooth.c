@@ -100,33 +100,54 @@ static double inner_tc(double tk)
   return v > 0x1p-898 ? v : 0x1p-898;
 }
 
-/* The shading pass's constants of a triangle (smooth_tri.xa ...), from its own fields:
-   copies of them, inner_tc's values, tot's sign (and the sides' constants times it,
-   exactly) and the Phong filter's bounds |tot| 2^-1000 and |tot| 2^1000. */
-static void tri_lanes(struct smooth_tri *tr)
+/* A triangle's shading pass's constants, each the same double twice (two points an SSE2
+   instruction), made with its insets (tri_lanes): for side k, the corner its barycentric
+   area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] in xd[k] (u then w axis), the vertex
+   normals in xcn[k][c], the inner triangle's filter's scaled insets in xtc[k]; tot's sign
+   in xst; the insets t[k] in xt[k], the face normal's components in xn[c], side k's band
+   ends ends[k][j][c] in xends[k][j][c]; and the rest below. Kept apart from smooth_tri
+   (920 bytes a triangle): only the model's triangles have them, not the scene's part
+   kept between frames. */
+struct smooth_lanes {
+  _Alignas(16) double xa[3][2][2];
+  _Alignas(16) double xd[3][2][2];
+  _Alignas(16) double xcn[3][3][2];
+  _Alignas(16) double xtc[3][2];
+  _Alignas(16) double xst[2];
+  _Alignas(16) double xt[3][2];
+  _Alignas(16) double xn[3][2];
+  _Alignas(16) double xends[3][2][3][2];
+  _Alignas(16) double xsd[3][2][2];    /* xd times tot's sign (exact) */
+  _Alignas(16) double xlo[2], xhi[2];  /* |tot| 2^-1000, |tot| 2^1000 (the Phong filter's) */
+};
+
+/* The shading pass's constants of triangle tr (struct smooth_lanes) into *x, from its
+   fields: copies of them, inner_tc's values, tot's sign (and the sides' constants times
+   it, exactly) and the Phong filter's bounds |tot| 2^-1000 and |tot| 2^1000. */
+static void tri_lanes(const struct smooth_tri *tr, struct smooth_lanes *x)
 {
   for (int k = 0; k < 3; k++) {
     const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
     const double tc = inner_tc(tr->t[k]);
     for (int h = 0; h < 2; h++) {
       for (int c = 0; c < 2; c++) {
-        tr->xa[k][c][h] = a[c];
-        tr->xd[k][c][h] = d[c];
+        x->xa[k][c][h] = a[c];
+        x->xd[k][c][h] = d[c];
       }
-      for (int c = 0; c < 3; c++) tr->xcn[k][c][h] = tr->cn[k][c];
-      tr->xtc[k][h] = tc;
-      tr->xt[k][h] = tr->t[k];
-      tr->xn[k][h] = tr->n[k];
+      for (int c = 0; c < 3; c++) x->xcn[k][c][h] = tr->cn[k][c];
+      x->xtc[k][h] = tc;
+      x->xt[k][h] = tr->t[k];
+      x->xn[k][h] = tr->n[k];
       for (int j = 0; j < 2; j++)
-        for (int c = 0; c < 3; c++) tr->xends[k][j][c][h] = tr->ends[k][j][c];
+        for (int c = 0; c < 3; c++) x->xends[k][j][c][h] = tr->ends[k][j][c];
     }
   }
-  tr->xst[0] = tr->xst[1] = tr->btot > 0 ? 1 : -1;
+  x->xst[0] = x->xst[1] = tr->btot > 0 ? 1 : -1;
   for (int k = 0; k < 3; k++)
     for (int c = 0; c < 2; c++)
-      for (int h = 0; h < 2; h++) tr->xsd[k][c][h] = tr->xst[h] * tr->xd[k][c][h];
-  tr->xlo[0] = tr->xlo[1] = fabs(tr->btot) * 0x1p-1000;
-  tr->xhi[0] = tr->xhi[1] = fabs(tr->btot) * 0x1p1000;
+      for (int h = 0; h < 2; h++) x->xsd[k][c][h] = x->xst[h] * x->xd[k][c][h];
+  x->xlo[0] = x->xlo[1] = fabs(tr->btot) * 0x1p-1000;
+  x->xhi[0] = x->xhi[1] = fabs(tr->btot) * 0x1p1000;
 }
 
 /* The triangle's band ends (smooth_tri.ends) for its insets and vertex normals: the
@@ -143,7 +164,6 @@ static void band_ends(struct smooth_tri *tr)
       tr->ends[3 + k][1][c] = (1 - t[b]) * tr->cn[k][c] + t[b] * tr->cn[b][c];
     }
   }
-  tri_lanes(tr);
 }
 
 /* smooth_partial_normal's body, inline for the shading pass's run of band points */
@@ -192,23 +212,23 @@ int partial_normal(const struct smooth_tri *tr, const double l[3], double out[3]
    compares the scalar ones; the divide by den made in both lanes and kept only where
    den > 1e-12, else 0.5; the clamps of s as selections where s < 0 and where s > 1, as the
    scalar ifs: -0 and a NaN stay as they are). */
-static inline bool edge_pair(const struct smooth_tri *tr, double (*lv)[SMOOTH_RUN], int q,
+static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_RUN], int q,
                              double (*nv)[SMOOTH_RUN], int ns)
 {
   __m128d l[3];
   int in[3];
   for (int k = 0; k < 3; k++) {
     l[k] = _mm_loadu_pd(&lv[k][q]);
-    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(tr->xt[k])));
+    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
   }
   const int k = in[0] == 3 && !(in[1] | in[2]) ? 0 : in[1] == 3 && !(in[0] | in[2]) ? 1 :
                 in[2] == 3 && !(in[0] | in[1]) ? 2 : -1;
   if (k < 0) return false;
   const int a = next3[k], b = prev3[k];
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
-  const __m128d tk = _mm_load_pd(tr->xt[k]), ta = _mm_load_pd(tr->xt[a]);
+  const __m128d tk = _mm_load_pd(x->xt[k]), ta = _mm_load_pd(x->xt[a]);
   const __m128d v = _mm_div_pd(l[k], tk);
-  const __m128d den = _mm_sub_pd(_mm_sub_pd(_mm_sub_pd(one, l[k]), ta), _mm_load_pd(tr->xt[b]));
+  const __m128d den = _mm_sub_pd(_mm_sub_pd(_mm_sub_pd(one, l[k]), ta), _mm_load_pd(x->xt[b]));
   const __m128d big = _mm_cmpgt_pd(den, _mm_set1_pd(1e-12));
   __m128d s = _mm_or_pd(_mm_and_pd(big, _mm_div_pd(_mm_sub_pd(l[a], ta), den)),
                         _mm_andnot_pd(big, _mm_set1_pd(0.5)));
@@ -216,12 +236,12 @@ static inline bool edge_pair(const struct smooth_tri *tr, double (*lv)[SMOOTH_RU
   const __m128d over = _mm_cmpgt_pd(s, one);                    /* s > 1: 1 */
   s = _mm_or_pd(_mm_and_pd(over, one), _mm_andnot_pd(over, s));
   const __m128d omv = _mm_sub_pd(one, v), oms = _mm_sub_pd(one, s);
-  const double (*e)[3][2] = tr->xends[k];   /* at l_a = t_a and l_b = t_b on side k */
+  const double (*e)[3][2] = x->xends[k];   /* at l_a = t_a and l_b = t_b on side k */
   for (int c = 0; c < 3; c++)
     _mm_storeu_pd(&nv[c][ns],
                   _mm_add_pd(_mm_mul_pd(omv, _mm_add_pd(_mm_mul_pd(oms, _mm_load_pd(e[0][c])),
                                                         _mm_mul_pd(s, _mm_load_pd(e[1][c])))),
-                             _mm_mul_pd(v, _mm_load_pd(tr->xn[c]))));
+                             _mm_mul_pd(v, _mm_load_pd(x->xn[c]))));
   return true;
 }
 #endif
@@ -250,6 +270,7 @@ void smooth_model_free(struct smooth_model *m)
   if (m->lent) smooth_scene_return(m->lent);
   else {
     free(m->tri);
+    free(m->lanes);
     free(m->edge_group);
   }
   free(m->tri_of_mface);
@@ -479,6 +500,7 @@ struct smooth_scene {
      model): valid when view_made, for smooth= view_kind (view_c), each object turned
      (view_turned[o]) as then, with view_normals vertex normals */
   struct smooth_tri *view;
+  struct smooth_lanes *view_lanes;
   int *view_group;
   bool *view_turned;
   bool view_made, view_lent;
@@ -494,6 +516,7 @@ void smooth_scene_free(struct smooth_scene *ss)
 {
   if (!ss) return;
   free(ss->view);
+  free(ss->view_lanes);
   free(ss->view_group);
   free(ss->view_turned);
   free(ss->tri);
@@ -503,15 +526,27 @@ void smooth_scene_free(struct smooth_scene *ss)
   free(ss);
 }
 
+/* Face fi of s is a patch: a triangle (no holes) shaded from the light (no grey of its
+   own), when it is an object's. */
+static bool smoothed_face(const struct scene *s, int fi)
+{
+  const struct scene_face *sf = &s->f[fi];
+  return sf->nring == 1 && sf->ring_start[1] == 3 && sf->grey < 0 && s->has_light;
+}
+
 /* The scene's part of the model (smooth_scene) into *out. */
 static int scene_part(const struct scene *s, struct smooth_scene **out, struct t74_error *err)
 {
   struct smooth_scene *ss = calloc(1, sizeof *ss);
   struct smooth_model m;                    /* orient_object's view of the triangles */
   memset(&m, 0, sizeof m);
+  /* the triangles: an object's faces that are triangles, shaded from the light */
+  size_t ntri = 0;
+  for (int o = 0; o < s->nobj; o++)
+    for (int q = 0; q < s->obj[o].nface; q++) ntri += smoothed_face(s, s->obj[o].face[q]);
   if (ss) {
     ss->s = s;
-    m.tri = malloc(((size_t)s->nf + 1) * sizeof *m.tri);
+    m.tri = malloc((ntri + 1) * sizeof *m.tri);
     ss->obj = malloc(((size_t)s->nobj + 1) * sizeof *ss->obj);
     ss->group = malloc((3 * (size_t)s->nf + 1) * sizeof *ss->group);
   }
@@ -526,7 +561,7 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
     for (int q = 0; q < ob->nface; q++) {
       int fi = ob->face[q];
       const struct scene_face *sf = &s->f[fi];
-      if (sf->nring != 1 || sf->ring_start[1] != 3 || sf->grey >= 0 || !s->has_light) continue;
+      if (!smoothed_face(s, fi)) continue;
       struct smooth_tri *tr = &m.tri[m.ntri++];
       memset(tr, 0, sizeof *tr);
       tr->sface = fi;
@@ -587,11 +622,11 @@ int smooth_model_build(struct smooth_model *m, const struct mapped *map,
 }
 
 /* The model's triangles (and edge groups) as the frame turns each object (turned[o]),
-   their vertex normals' rows and their insets for e's smooth=, into tri and group; the
-   count of vertex normals returned. seen, row: s->nv + 1 ints of scratch. */
+   their vertex normals' rows and their insets for e's smooth=, into tri and group, and
+   their shading constants into lanes; the count of vertex normals returned. seen, row: s->nv + 1 ints of scratch. */
 static int orient_view(const struct smooth_scene *ss, const struct scene *s,
                        const struct effects *e, const bool *turned, struct smooth_tri *tri,
-                       int *group, int *seen, int *row)
+                       struct smooth_lanes *lanes, int *group, int *seen, int *row)
 {
   int normals = 0;
   if (ss->ntri) memcpy(group, ss->group, 3 * (size_t)ss->ntri * sizeof *group);
@@ -620,6 +655,7 @@ static int orient_view(const struct smooth_scene *ss, const struct scene *s,
     for (int t = from; t < to; t++) {
       smooth_insets(e->smooth, e->smooth_c, w, tri[t].len, tri[t].area2, tri[t].t);
       band_ends(&tri[t]);
+      tri_lanes(&tri[t], &lanes[t]);
     }
   }
   return normals;
@@ -645,11 +681,12 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   const bool lend = keep && !ss->view_lent;
   if (lend && !ss->view) {
     ss->view = malloc(((size_t)ss->ntri + 1) * sizeof *ss->view);
+    ss->view_lanes = malloc(((size_t)ss->ntri + 1) * sizeof *ss->view_lanes);
     ss->view_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *ss->view_group);
     ss->view_turned = malloc(((size_t)ss->nobj + 1) * sizeof *ss->view_turned);
-    if (!ss->view || !ss->view_group || !ss->view_turned) {
-      free(ss->view); free(ss->view_group); free(ss->view_turned);
-      ss->view = NULL; ss->view_group = NULL; ss->view_turned = NULL;
+    if (!ss->view || !ss->view_lanes || !ss->view_group || !ss->view_turned) {
+      free(ss->view); free(ss->view_lanes); free(ss->view_group); free(ss->view_turned);
+      ss->view = NULL; ss->view_lanes = NULL; ss->view_group = NULL; ss->view_turned = NULL;
       return t74_fail(err, T74_EIO, "out of host memory");
     }
     ss->view_made = false;
@@ -660,14 +697,16 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   bool *turned = malloc(((size_t)ss->nobj + 1) * sizeof *turned);
   if (lend) {
     m->tri = ss->view;
+    m->lanes = ss->view_lanes;
     m->edge_group = ss->view_group;
     m->lent = ss;
     ss->view_lent = true;
   } else {
     m->tri = malloc(((size_t)ss->ntri + 1) * sizeof *m->tri);
+    m->lanes = malloc(((size_t)ss->ntri + 1) * sizeof *m->lanes);
     m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
   }
-  if (!m->tri_of_mface || !mof || !turned || !m->tri || !m->edge_group) {
+  if (!m->tri_of_mface || !mof || !turned || !m->tri || !m->lanes || !m->edge_group) {
     free(mof); free(turned); smooth_model_free(m);
     if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
@@ -700,7 +739,7 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
       if (!keep) smooth_scene_free(ss);
       return t74_fail(err, T74_EIO, "out of host memory");
     }
-    m->vertex_normals = orient_view(ss, s, e, turned, m->tri, m->edge_group, seen, row);
+    m->vertex_normals = orient_view(ss, s, e, turned, m->tri, m->lanes, m->edge_group, seen, row);
     free(seen); free(row);
     if (lend) {
       memcpy(ss->view_turned, turned, (size_t)ss->nobj * sizeof *turned);
@@ -1017,31 +1056,31 @@ static inline void inner_point(struct split *sp, int p, bool flat, const unsigne
    rounded operations on the same values, and the same tests), the rest one by one.
    flat: reflectance 1 (refl == 1). */
 static inline void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
-                               int n, const double (*X)[3], bool flat, const unsigned *blocked,
+                               const struct smooth_lanes *lx, int n, const double (*X)[3], bool flat, const unsigned *blocked,
                                int fg, int *grey, int *region, struct split *sp)
 {
   const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at;
   const bool usable = !m->inner_exact && at >= 0x1p-100 && at <= 0x1p100;
-  const double st = tr->xst[0];             /* tot's sign */
-  const double tc[3] = { tr->xtc[0][0], tr->xtc[1][0], tr->xtc[2][0] };   /* inner_tc's */
+  const double st = lx->xst[0];             /* tot's sign */
+  const double tc[3] = { lx->xtc[0][0], lx->xtc[1][0], lx->xtc[2][0] };   /* inner_tc's */
   long declines = 0;
   sp->nl = sp->ni = 0;
   int p = 0;
 #ifdef __SSE2__
   if (usable) {
     const int bu = tr->bu, bw = tr->bw;
-    const __m128d sv = _mm_load_pd(tr->xst), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
+    const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
       __m128d v[3], w[3];
       for (int k = 0; k < 3; k++) {
-        v[k] = area_lanes(tr->xa[k], tr->xd[k], x, y);
+        v[k] = area_lanes(lx->xa[k], lx->xd[k], x, y);
         w[k] = _mm_mul_pd(sv, v[k]);
       }
       const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
       __m128d ok = _mm_and_pd(_mm_cmpge_pd(S, lov), _mm_cmple_pd(S, hiv));
       for (int k = 0; k < 3; k++)
-        ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(_mm_load_pd(tr->xtc[k]), S)));
+        ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(_mm_load_pd(lx->xtc[k]), S)));
       const int bits = _mm_movemask_pd(ok);
       if (bits == 3 && flat && !(blocked[p] | blocked[p + 1])) {   /* the common case */
         region[p] = region[p + 1] = 0;
@@ -1179,7 +1218,8 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
    every point declined. The points done: all n, or none when the filter is off or
    cannot be used for the triangle, or some light is a point light (phong_lanes does
    them). */
-static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr, int n,
+static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr,
+                              const struct smooth_lanes *lx, int n,
                               const double (*X)[3], double refl, const unsigned *blocked,
                               const struct shade_lights *L, int *grey)
 {
@@ -1188,7 +1228,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   if (m->phong_exact || !(tot != 0 && refl >= 0 && refl <= 1)) return 0;
   for (int k = 0; k < L->n; k++)
     if (L->point[k]) return 0;
-  const __m128d lo = _mm_load_pd(tr->xlo), hi = _mm_load_pd(tr->xhi);
+  const __m128d lo = _mm_load_pd(lx->xlo), hi = _mm_load_pd(lx->xhi);
   const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1);
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
   const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
@@ -1205,7 +1245,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
          (x - a_u) d_w) exactly (rounding to nearest is symmetric under negation), but where
          that difference is 0: +0 here against -0 there, and the max with +0 makes either
          +0 (MAXPD gives its second operand when the two are equal) */
-      w[k] = _mm_max_pd(area_lanes(tr->xa[k], tr->xsd[k], x, y), zero);
+      w[k] = _mm_max_pd(area_lanes(lx->xa[k], lx->xsd[k], x, y), zero);
       s = _mm_add_pd(s, w[k]);
     }
     /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
@@ -1215,9 +1255,9 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
                                     _mm_cmple_pd(s, hi));
     __m128d N[3];
     for (int c = 0; c < 3; c++)
-      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], _mm_load_pd(tr->xcn[0][c])),
-                                   _mm_mul_pd(w[1], _mm_load_pd(tr->xcn[1][c]))),
-                        _mm_mul_pd(w[2], _mm_load_pd(tr->xcn[2][c])));
+      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], _mm_load_pd(lx->xcn[0][c])),
+                                   _mm_mul_pd(w[1], _mm_load_pd(lx->xcn[1][c]))),
+                        _mm_mul_pd(w[2], _mm_load_pd(lx->xcn[2][c])));
     const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
                                   _mm_mul_pd(N[2], N[2]));
     const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
@@ -1276,7 +1316,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   }
   return n;
 #else
-  (void)m; (void)tr; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey;
+  (void)m; (void)tr; (void)lx; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey;
   return 0;
 #endif
 }
@@ -1301,9 +1341,10 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
                      int *region)
 {
   const struct smooth_tri *tr = &m->tri[t];
+  const struct smooth_lanes *lx = &m->lanes[t];
   double ar[SMOOTH_RUN][3];
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-    const int p0 = phong_pairs(m, tr, n, X, refl, blocked, lights, grey);
+    const int p0 = phong_pairs(m, tr, lx, n, X, refl, blocked, lights, grey);
     if (p0 < n) {                            /* (phong_pairs did them all, or none) */
       for (int p = p0; p < n; p++) bary_areas(tr, X[p], ar[p]);
       phong_lanes(m, tr, n - p0, (const double (*)[3])ar + p0, X + p0, refl, blocked + p0,
@@ -1339,7 +1380,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const int fg = map->f[tr->mface].grey;
   const bool flat = refl == 1;
   struct split sp;
-  inner_split(m, tr, n, X, flat, blocked, fg, grey, region, &sp);
+  inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp);
   const int nl = sp.nl;
   double lv[3][SMOOTH_RUN];
   bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])sp.la, lv);
@@ -1351,7 +1392,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   int slot_p[SMOOTH_RUN], ns = 0;
   for (int q = 0; q < nl; q++) {
 #ifdef __SSE2__
-    if (q + 1 < nl && edge_pair(tr, lv, q, nv, ns)) {   /* two points of one edge band */
+    if (q + 1 < nl && edge_pair(lx, lv, q, nv, ns)) {   /* two points of one edge band */
       for (int h = 0; h < 2; h++) {
         region[sp.at[q + h]] = 1;
         slot_p[ns++] = sp.at[q + h];
