@@ -455,13 +455,57 @@ static void tri_shape(const struct scene *s, struct smooth_tri *tr, int64_t o3[3
   }
 }
 
-/* Triangle a turned (corners v1 and v2 swapped) into b: what tri_shape and the vertex
+/* A triangle as the scene's part keeps it (smooth_scene): smooth_tri's fields that depend
+   on the scene alone (its corners, their geometry and vertex normals), not the frame's
+   (mface, front, ni, t, ends; 264 bytes, not 600). */
+struct smooth_kept {
+  int    sface, object, v[3];
+  double n[3], area2, len[3], cn[3][3];
+  int    bu, bw;
+  double bV[3][2], bE[3][2], btot;
+};
+
+/* Triangle a's fields that depend on the scene alone into k (smooth_kept). */
+static void tri_keep(const struct smooth_tri *a, struct smooth_kept *k)
+{
+  k->sface = a->sface;
+  k->object = a->object;
+  memcpy(k->v, a->v, sizeof k->v);
+  memcpy(k->n, a->n, sizeof k->n);
+  k->area2 = a->area2;
+  memcpy(k->len, a->len, sizeof k->len);
+  memcpy(k->cn, a->cn, sizeof k->cn);
+  k->bu = a->bu;
+  k->bw = a->bw;
+  memcpy(k->bV, a->bV, sizeof k->bV);
+  memcpy(k->bE, a->bE, sizeof k->bE);
+  k->btot = a->btot;
+}
+
+/* Kept triangle a as it is into b (the frame's fields are left to the frame). */
+static void tri_kept(const struct smooth_kept *a, struct smooth_tri *b)
+{
+  b->sface = a->sface;
+  b->object = a->object;
+  memcpy(b->v, a->v, sizeof b->v);
+  memcpy(b->n, a->n, sizeof b->n);
+  b->area2 = a->area2;
+  memcpy(b->len, a->len, sizeof b->len);
+  memcpy(b->cn, a->cn, sizeof b->cn);
+  b->bu = a->bu;
+  b->bw = a->bw;
+  memcpy(b->bV, a->bV, sizeof b->bV);
+  memcpy(b->bE, a->bE, sizeof b->bE);
+  b->btot = a->btot;
+}
+
+/* Kept triangle a turned (corners v1 and v2 swapped) into b: what tri_shape and the vertex
    normals give for the turned corners, without working them out again. Every value is
    a's or its negation, exactly: the normals' and the sides' differences change sign and
    nothing else (0 - x: a zero stays +0, as the turned triangle's own arithmetic makes
    it). Corner k of b is corner turn[k] of a; side k of b (opposite corner k) is a's side
    turn[k]. */
-static void tri_turned(const struct smooth_tri *a, struct smooth_tri *b)
+static void tri_turned(const struct smooth_kept *a, struct smooth_tri *b)
 {
   static const int turn[3] = { 0, 2, 1 };
   b->sface = a->sface;
@@ -488,9 +532,8 @@ static void tri_turned(const struct smooth_tri *a, struct smooth_tri *b)
 struct smooth_scene {
   const struct scene *s;    /* the scene it was made for */
   int ntri;
-  struct smooth_tri *tri;   /* each triangle as oriented here: its corners and their
-                               geometry (normal, sides, barycentric set-up, vertex normals);
-                               mface, front, ni and t are the frame's */
+  struct smooth_kept *tri;  /* each triangle as oriented here: its corners and their
+                               geometry (normal, sides, barycentric set-up, vertex normals) */
   int64_t (*o3)[3];         /* each one's integer normal (cross_int) */
   int nobj;                 /* objects with a triangle */
   struct smooth_part { int from, to; bool closed; } *obj;
@@ -580,11 +623,12 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
       return err->status;
     }
   }
-  ss->tri = m.tri;
+  ss->tri = malloc(((size_t)m.ntri + 1) * sizeof *ss->tri);
   ss->o3 = malloc(((size_t)m.ntri + 1) * sizeof *ss->o3);
   double (*acc)[3] = malloc(((size_t)s->nv + 1) * sizeof *acc);
-  if (!ss->o3 || !acc) {
+  if (!ss->tri || !ss->o3 || !acc) {
     free(acc);
+    free(m.tri);
     smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
@@ -607,6 +651,8 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
       }
   }
   free(acc);
+  for (int t = 0; t < m.ntri; t++) tri_keep(&m.tri[t], &ss->tri[t]);
+  free(m.tri);
   ss->ntri = m.ntri;
   ss->flips = m.flips;
   ss->conflicts = m.conflicts;
@@ -640,7 +686,7 @@ static int orient_view(const struct smooth_scene *ss, const struct scene *s,
         int *g = group + 3 * t, x = g[0];   /* side 0 is a's side 2 and back */
         g[0] = g[2]; g[2] = x;
       } else {
-        memcpy(tr, &ss->tri[t], sizeof *tr);
+        tri_kept(&ss->tri[t], tr);
       }
       for (int k = 0; k < 3; k++) {
         int v = tr->v[k];
