@@ -119,6 +119,8 @@ struct smooth_lanes {
   _Alignas(16) double xends[3][2][3][2];
   _Alignas(16) double xsd[3][2][2];    /* xd times tot's sign (exact) */
   _Alignas(16) double xlo[2], xhi[2];  /* |tot| 2^-1000, |tot| 2^1000 (the Phong filter's) */
+  _Alignas(16) double xilo[2], xihi[2];  /* |tot| / 2, 2 |tot| (the inner filter's) */
+  bool inner_ok;            /* 2^-100 <= |tot| <= 2^100: the inner filter may be used */
 };
 
 /* The shading pass's constants of triangle tr (struct smooth_lanes) into *x, from its
@@ -148,6 +150,10 @@ static void tri_lanes(const struct smooth_tri *tr, struct smooth_lanes *x)
       for (int h = 0; h < 2; h++) x->xsd[k][c][h] = x->xst[h] * x->xd[k][c][h];
   x->xlo[0] = x->xlo[1] = fabs(tr->btot) * 0x1p-1000;
   x->xhi[0] = x->xhi[1] = fabs(tr->btot) * 0x1p1000;
+  const double at = fabs(tr->btot);
+  x->xilo[0] = x->xilo[1] = 0.5 * at;
+  x->xihi[0] = x->xihi[1] = 2 * at;
+  x->inner_ok = at >= 0x1p-100 && at <= 0x1p100;
 }
 
 /* The triangle's band ends (smooth_tri.ends) for its insets and vertex normals: the
@@ -1049,7 +1055,8 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 ** Let at = |tot| (tot = btot), w_k = +-ar_k (tot's sign: exact), W = w_0 + w_1 + w_2 in
 ** real numbers, u = 2^-53, c = 1 + 2^-40, tc_k = max(fl(t_k c), 2^-898) (a triangle's
 ** three, made with its insets: inner_tc). The filter declines unless 2^-100 <= at <= 2^100,
-** S = fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k = fl(tc_k S). Then
+** S = fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] (at / 2 and 2 at are exact, and the
+** range test is made once a triangle: tri_lanes) and every w_k >= R_k = fl(tc_k S). Then
 ** tc_k S >= 2^-999 (so R_k is a normal number, rounded within a relative u) and every
 ** w_k >= R_k >= at 2^-900 > 0; W <= S / (1 - u)^2, so each a_k = ar_k / tot = w_k / at lies
 ** in [2^-900, 2 + 8u] and no step of the chain below underflows or overflows. The chain:
@@ -1065,13 +1072,14 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 ** of the globe under several insets, and on points bisected onto the inner triangle's
 ** border, where it must decline. */
 /* The filter at one point from its areas ar (bary_areas): true when it proves the point
-   inner. st: tot's sign. */
-static inline bool inner_one(const double ar[3], const double tc[3], double lo, double hi,
-                             double st)
+   inner. x: the triangle's constants (tot's sign, the bounds on S, the scaled insets). */
+static inline bool inner_one(const double ar[3], const struct smooth_lanes *x)
 {
+  const double st = x->xst[0];
   const double w0 = st * ar[0], w1 = st * ar[1], w2 = st * ar[2];
   const double S = w0 + w1 + w2;
-  return S >= lo && S <= hi && w0 >= tc[0] * S && w1 >= tc[1] * S && w2 >= tc[2] * S;
+  return S >= x->xilo[0] && S <= x->xihi[0] && w0 >= x->xtc[0][0] * S &&
+         w1 >= x->xtc[1][0] * S && w2 >= x->xtc[2][0] * S;
 }
 
 /* The partial smoothing's points in a run, split by the inner triangle's filter: what the
@@ -1105,17 +1113,14 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
                                const struct smooth_lanes *lx, int n, const double (*X)[3], bool flat, const unsigned *blocked,
                                int fg, int *grey, int *region, struct split *sp)
 {
-  const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at;
-  const bool usable = !m->inner_exact && at >= 0x1p-100 && at <= 0x1p100;
-  const double st = lx->xst[0];             /* tot's sign */
-  const double tc[3] = { lx->xtc[0][0], lx->xtc[1][0], lx->xtc[2][0] };   /* inner_tc's */
+  const bool usable = lx->inner_ok && !m->inner_exact;
   long declines = 0;
   sp->nl = sp->ni = 0;
   int p = 0;
 #ifdef __SSE2__
   if (usable) {
     const int bu = tr->bu, bw = tr->bw;
-    const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
+    const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_load_pd(lx->xilo), hiv = _mm_load_pd(lx->xihi);
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
       __m128d v[3], w[3];
@@ -1150,7 +1155,7 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
   for (; p < n; p++) {
     double ar[3];
     bary_areas(tr, X[p], ar);
-    if (usable && inner_one(ar, tc, lo, hi, st)) {
+    if (usable && inner_one(ar, lx)) {
       inner_point(sp, p, flat, blocked, fg, grey, region);
       continue;
     }
