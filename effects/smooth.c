@@ -1266,13 +1266,13 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
    Its range test on the w_k is narrower than phong_filter's: it passes only points that
    phong_filter's passes (below), whose greys it then makes as phong_filter does; it
    declines also a point on a side or outside (a w_k of 0), left to the exact chain like
-   every point declined. The points done: all n, or none when the filter is off or
-   cannot be used for the triangle, or some light is a point light (phong_lanes does
-   them). */
+   every point declined. The points done (their greys, and their regions, 1): all n, or
+   none when the filter is off or cannot be used for the triangle, or some light is a
+   point light (phong_lanes does them). */
 static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr,
                               const struct smooth_lanes *lx, int n,
                               const double (*X)[3], double refl, const unsigned *blocked,
-                              const struct shade_lights *L, int *grey)
+                              const struct shade_lights *L, int *grey, int *region)
 {
 #ifdef __SSE2__
   const double tot = tr->btot;
@@ -1288,6 +1288,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   const int bu = tr->bu, bw = tr->bw;
   for (int p = 0; p < n; p += 2) {
     const int p1 = p + 1 < n ? p + 1 : p;   /* the last of an odd run: itself in both lanes */
+    region[p] = region[p1] = 1;
     const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
     __m128d w[3], s = zero;
     for (int k = 0; k < 3; k++) {
@@ -1367,7 +1368,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   }
   return n;
 #else
-  (void)m; (void)tr; (void)lx; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey;
+  (void)m; (void)tr; (void)lx; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey; (void)region;
   return 0;
 #endif
 }
@@ -1395,13 +1396,12 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const struct smooth_lanes *lx = &m->lanes[t];
   double ar[SMOOTH_RUN][3];
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-    const int p0 = phong_pairs(m, tr, lx, n, X, refl, blocked, lights, grey);
-    if (p0 < n) {                            /* (phong_pairs did them all, or none) */
-      for (int p = p0; p < n; p++) bary_areas(tr, X[p], ar[p]);
-      phong_lanes(m, tr, n - p0, (const double (*)[3])ar + p0, X + p0, refl, blocked + p0,
-                  lights, grey + p0);
+    if (phong_pairs(m, tr, lx, n, X, refl, blocked, lights, grey, region) == n) return;
+    for (int p = 0; p < n; p++) {            /* (phong_pairs did them all, or none) */
+      bary_areas(tr, X[p], ar[p]);
+      region[p] = 1;
     }
-    for (int p = 0; p < n; p++) region[p] = 1;
+    phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
     return;
   }
   double l[SMOOTH_RUN][3];
