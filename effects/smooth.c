@@ -102,22 +102,21 @@ static double inner_tc(double tk)
 
 /* A triangle's shading pass's constants, each the same double twice (two points an SSE2
    instruction), made with its insets (tri_lanes): for side k, the corner its barycentric
-   area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] in xd[k] (u then w axis), the vertex
-   normals in xcn[k][c], the inner triangle's filter's scaled insets in xtc[k]; tot's sign
-   in xst; the insets t[k] in xt[k], the face normal's components in xn[c], side k's band
-   ends ends[k][j][c] in xends[k][j][c]; and the rest below. Kept apart from smooth_tri
-   (920 bytes a triangle): only the model's triangles have them, not the scene's part
-   kept between frames. */
+   area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] times tot's sign in xsd[k] (u then w
+   axis; exact), the vertex normals in xcn[k][c], the inner triangle's filter's scaled
+   insets in xtc[k]; tot's sign in xst; the insets t[k] in xt[k], the face normal's
+   components in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]; and the rest
+   below. Kept apart from smooth_tri (864 bytes a triangle): only the model's triangles
+   have them, not the scene's part kept between frames. */
 struct smooth_lanes {
   _Alignas(16) double xa[3][2][2];
-  _Alignas(16) double xd[3][2][2];
   _Alignas(16) double xcn[3][3][2];
   _Alignas(16) double xtc[3][2];
   _Alignas(16) double xst[2];
   _Alignas(16) double xt[3][2];
   _Alignas(16) double xn[3][2];
   _Alignas(16) double xends[3][2][3][2];
-  _Alignas(16) double xsd[3][2][2];    /* xd times tot's sign (exact) */
+  _Alignas(16) double xsd[3][2][2];
   _Alignas(16) double xlo[2], xhi[2];  /* |tot| 2^-1000, |tot| 2^1000 (the Phong filter's) */
   _Alignas(16) double xilo[2], xihi[2];  /* |tot| / 2, 2 |tot| (the inner filter's) */
   bool inner_ok;            /* 2^-100 <= |tot| <= 2^100: the inner filter may be used */
@@ -134,7 +133,7 @@ static void tri_lanes(const struct smooth_tri *tr, struct smooth_lanes *x)
     for (int h = 0; h < 2; h++) {
       for (int c = 0; c < 2; c++) {
         x->xa[k][c][h] = a[c];
-        x->xd[k][c][h] = d[c];
+        x->xsd[k][c][h] = (tr->btot > 0 ? 1 : -1) * d[c];
       }
       for (int c = 0; c < 3; c++) x->xcn[k][c][h] = tr->cn[k][c];
       x->xtc[k][h] = tc;
@@ -145,9 +144,6 @@ static void tri_lanes(const struct smooth_tri *tr, struct smooth_lanes *x)
     }
   }
   x->xst[0] = x->xst[1] = tr->btot > 0 ? 1 : -1;
-  for (int k = 0; k < 3; k++)
-    for (int c = 0; c < 2; c++)
-      for (int h = 0; h < 2; h++) x->xsd[k][c][h] = x->xst[h] * x->xd[k][c][h];
   x->xlo[0] = x->xlo[1] = fabs(tr->btot) * 0x1p-1000;
   x->xhi[0] = x->xhi[1] = fabs(tr->btot) * 0x1p1000;
   const double at = fabs(tr->btot);
@@ -859,8 +855,9 @@ static inline void bary_areas(const struct smooth_tri *tr, const double X[3], do
 
 #ifdef __SSE2__
 /* bary_areas' ar[k] at two points, a point a lane (x, y: their coordinates on the axes bu,
-   bw), from side k's constants as smooth_tri keeps them twice: a = xa[k], d = xd[k] (or
-   xsd[k], d times tot's sign); bary_areas' operations in its order. */
+   bw), from side k's constants as smooth_lanes keeps them twice: a = xa[k], d = xsd[k] (d
+   times tot's sign: the area times the sign but for the sign of a zero, phong_pairs and
+   inner_split); bary_areas' operations in its order. */
 static inline __m128d area_lanes(const double (*a)[2], const double (*d)[2], __m128d x,
                                  __m128d y)
 {
@@ -1123,11 +1120,16 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
     const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_load_pd(lx->xilo), hiv = _mm_load_pd(lx->xihi);
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
-      __m128d v[3], w[3];
-      for (int k = 0; k < 3; k++) {
-        v[k] = area_lanes(lx->xa[k], lx->xd[k], x, y);
-        w[k] = _mm_mul_pd(sv, v[k]);
-      }
+      /* w_k = +-ar_k (tot's sign) from the sides' constants times the sign (xsd), as in
+         phong_pairs: (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) - (x - a_u) d_w)
+         exactly (rounding to nearest is symmetric under negation), but where the area is a
+         zero: then w_k is a zero too, maybe of the other sign. No test below tells the
+         zeros apart (an S of 0 is below at / 2 > 0 either way, and w_k >= tc_k S compares
+         zeros as equal), and the areas given back to the chain (v_k = sign times w_k: ar_k,
+         or a zero where it is a zero) make the same coordinates: the chain's clamp (bary_pairs'
+         max with +0, bary_of_areas' test) makes +0 of a zero of either sign over tot. */
+      __m128d w[3];
+      for (int k = 0; k < 3; k++) w[k] = area_lanes(lx->xa[k], lx->xsd[k], x, y);
       const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
       __m128d ok = _mm_and_pd(_mm_cmpge_pd(S, lov), _mm_cmple_pd(S, hiv));
       for (int k = 0; k < 3; k++)
@@ -1138,6 +1140,8 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
         grey[p] = grey[p + 1] = fg;
         continue;
       }
+      __m128d v[3];
+      for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
       for (int h = 0; h < 2; h++) {
         if (bits >> h & 1) {
           inner_point(sp, p + h, flat, blocked, fg, grey, region);
