@@ -124,7 +124,8 @@ struct smooth_lanes {
 
 /* The shading pass's constants of triangle tr (struct smooth_lanes) into *x, from its
    fields: copies of them, inner_tc's values, tot's sign (and the sides' constants times
-   it, exactly) and the Phong filter's bounds |tot| 2^-1000 and |tot| 2^1000. */
+   it, exactly), the Phong filter's bounds |tot| 2^-1000 and |tot| 2^1000, and the inner
+   filter's: |tot| / 2, 2 |tot| and whether 2^-100 <= |tot| <= 2^100. */
 static void tri_lanes(const struct smooth_tri *tr, struct smooth_lanes *x)
 {
   for (int k = 0; k < 3; k++) {
