@@ -100,33 +100,57 @@ static double inner_tc(double tk)
   return v > 0x1p-898 ? v : 0x1p-898;
 }
 
-/* The shading pass's constants of a triangle (smooth_tri.xa ...), from its own fields:
-   copies of them, inner_tc's values, tot's sign (and the sides' constants times it,
-   exactly) and the Phong filter's bounds |tot| 2^-1000 and |tot| 2^1000. */
-static void tri_lanes(struct smooth_tri *tr)
+/* A triangle's shading pass's constants, each the same double twice (two points an SSE2
+   instruction), made with its insets (tri_lanes): for side k, the corner its barycentric
+   area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] times tot's sign in xsd[k] (u then w
+   axis; exact), the vertex normals in xcn[k][c], the inner triangle's filter's scaled
+   insets in xtc[k]; tot's sign in xst; the insets t[k] in xt[k], the face normal's
+   components in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]; and the rest
+   below. Kept apart from smooth_tri (864 bytes a triangle): only the model's triangles
+   have them, not the scene's part kept between frames. */
+struct smooth_lanes {
+  _Alignas(16) double xa[3][2][2];
+  _Alignas(16) double xcn[3][3][2];
+  _Alignas(16) double xtc[3][2];
+  _Alignas(16) double xst[2];
+  _Alignas(16) double xt[3][2];
+  _Alignas(16) double xn[3][2];
+  _Alignas(16) double xends[3][2][3][2];
+  _Alignas(16) double xsd[3][2][2];
+  _Alignas(16) double xlo[2], xhi[2];  /* |tot| 2^-1000, |tot| 2^1000 (the Phong filter's) */
+  _Alignas(16) double xilo[2], xihi[2];  /* |tot| / 2, 2 |tot| (the inner filter's) */
+  bool inner_ok;            /* 2^-100 <= |tot| <= 2^100: the inner filter may be used */
+};
+
+/* The shading pass's constants of triangle tr (struct smooth_lanes) into *x, from its
+   fields: copies of them, inner_tc's values, tot's sign (and the sides' constants times
+   it, exactly), the Phong filter's bounds |tot| 2^-1000 and |tot| 2^1000, and the inner
+   filter's: |tot| / 2, 2 |tot| and whether 2^-100 <= |tot| <= 2^100. */
+static void tri_lanes(const struct smooth_tri *tr, struct smooth_lanes *x)
 {
   for (int k = 0; k < 3; k++) {
     const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* as bary_areas */
     const double tc = inner_tc(tr->t[k]);
     for (int h = 0; h < 2; h++) {
       for (int c = 0; c < 2; c++) {
-        tr->xa[k][c][h] = a[c];
-        tr->xd[k][c][h] = d[c];
+        x->xa[k][c][h] = a[c];
+        x->xsd[k][c][h] = (tr->btot > 0 ? 1 : -1) * d[c];
       }
-      for (int c = 0; c < 3; c++) tr->xcn[k][c][h] = tr->cn[k][c];
-      tr->xtc[k][h] = tc;
-      tr->xt[k][h] = tr->t[k];
-      tr->xn[k][h] = tr->n[k];
+      for (int c = 0; c < 3; c++) x->xcn[k][c][h] = tr->cn[k][c];
+      x->xtc[k][h] = tc;
+      x->xt[k][h] = tr->t[k];
+      x->xn[k][h] = tr->n[k];
       for (int j = 0; j < 2; j++)
-        for (int c = 0; c < 3; c++) tr->xends[k][j][c][h] = tr->ends[k][j][c];
+        for (int c = 0; c < 3; c++) x->xends[k][j][c][h] = tr->ends[k][j][c];
     }
   }
-  tr->xst[0] = tr->xst[1] = tr->btot > 0 ? 1 : -1;
-  for (int k = 0; k < 3; k++)
-    for (int c = 0; c < 2; c++)
-      for (int h = 0; h < 2; h++) tr->xsd[k][c][h] = tr->xst[h] * tr->xd[k][c][h];
-  tr->xlo[0] = tr->xlo[1] = fabs(tr->btot) * 0x1p-1000;
-  tr->xhi[0] = tr->xhi[1] = fabs(tr->btot) * 0x1p1000;
+  x->xst[0] = x->xst[1] = tr->btot > 0 ? 1 : -1;
+  x->xlo[0] = x->xlo[1] = fabs(tr->btot) * 0x1p-1000;
+  x->xhi[0] = x->xhi[1] = fabs(tr->btot) * 0x1p1000;
+  const double at = fabs(tr->btot);
+  x->xilo[0] = x->xilo[1] = 0.5 * at;
+  x->xihi[0] = x->xihi[1] = 2 * at;
+  x->inner_ok = at >= 0x1p-100 && at <= 0x1p100;
 }
 
 /* The triangle's band ends (smooth_tri.ends) for its insets and vertex normals: the
@@ -143,7 +167,6 @@ static void band_ends(struct smooth_tri *tr)
       tr->ends[3 + k][1][c] = (1 - t[b]) * tr->cn[k][c] + t[b] * tr->cn[b][c];
     }
   }
-  tri_lanes(tr);
 }
 
 /* smooth_partial_normal's body, inline for the shading pass's run of band points */
@@ -192,23 +215,23 @@ int partial_normal(const struct smooth_tri *tr, const double l[3], double out[3]
    compares the scalar ones; the divide by den made in both lanes and kept only where
    den > 1e-12, else 0.5; the clamps of s as selections where s < 0 and where s > 1, as the
    scalar ifs: -0 and a NaN stay as they are). */
-static inline bool edge_pair(const struct smooth_tri *tr, double (*lv)[SMOOTH_RUN], int q,
+static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_RUN], int q,
                              double (*nv)[SMOOTH_RUN], int ns)
 {
   __m128d l[3];
   int in[3];
   for (int k = 0; k < 3; k++) {
     l[k] = _mm_loadu_pd(&lv[k][q]);
-    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(tr->xt[k])));
+    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
   }
   const int k = in[0] == 3 && !(in[1] | in[2]) ? 0 : in[1] == 3 && !(in[0] | in[2]) ? 1 :
                 in[2] == 3 && !(in[0] | in[1]) ? 2 : -1;
   if (k < 0) return false;
   const int a = next3[k], b = prev3[k];
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
-  const __m128d tk = _mm_load_pd(tr->xt[k]), ta = _mm_load_pd(tr->xt[a]);
+  const __m128d tk = _mm_load_pd(x->xt[k]), ta = _mm_load_pd(x->xt[a]);
   const __m128d v = _mm_div_pd(l[k], tk);
-  const __m128d den = _mm_sub_pd(_mm_sub_pd(_mm_sub_pd(one, l[k]), ta), _mm_load_pd(tr->xt[b]));
+  const __m128d den = _mm_sub_pd(_mm_sub_pd(_mm_sub_pd(one, l[k]), ta), _mm_load_pd(x->xt[b]));
   const __m128d big = _mm_cmpgt_pd(den, _mm_set1_pd(1e-12));
   __m128d s = _mm_or_pd(_mm_and_pd(big, _mm_div_pd(_mm_sub_pd(l[a], ta), den)),
                         _mm_andnot_pd(big, _mm_set1_pd(0.5)));
@@ -216,12 +239,12 @@ static inline bool edge_pair(const struct smooth_tri *tr, double (*lv)[SMOOTH_RU
   const __m128d over = _mm_cmpgt_pd(s, one);                    /* s > 1: 1 */
   s = _mm_or_pd(_mm_and_pd(over, one), _mm_andnot_pd(over, s));
   const __m128d omv = _mm_sub_pd(one, v), oms = _mm_sub_pd(one, s);
-  const double (*e)[3][2] = tr->xends[k];   /* at l_a = t_a and l_b = t_b on side k */
+  const double (*e)[3][2] = x->xends[k];   /* at l_a = t_a and l_b = t_b on side k */
   for (int c = 0; c < 3; c++)
     _mm_storeu_pd(&nv[c][ns],
                   _mm_add_pd(_mm_mul_pd(omv, _mm_add_pd(_mm_mul_pd(oms, _mm_load_pd(e[0][c])),
                                                         _mm_mul_pd(s, _mm_load_pd(e[1][c])))),
-                             _mm_mul_pd(v, _mm_load_pd(tr->xn[c]))));
+                             _mm_mul_pd(v, _mm_load_pd(x->xn[c]))));
   return true;
 }
 #endif
@@ -250,6 +273,7 @@ void smooth_model_free(struct smooth_model *m)
   if (m->lent) smooth_scene_return(m->lent);
   else {
     free(m->tri);
+    free(m->lanes);
     free(m->edge_group);
   }
   free(m->tri_of_mface);
@@ -434,13 +458,57 @@ static void tri_shape(const struct scene *s, struct smooth_tri *tr, int64_t o3[3
   }
 }
 
-/* Triangle a turned (corners v1 and v2 swapped) into b: what tri_shape and the vertex
+/* A triangle as the scene's part keeps it (smooth_scene): smooth_tri's fields that depend
+   on the scene alone (its corners, their geometry and vertex normals), not the frame's
+   (mface, front, ni, t, ends; 264 bytes, not 600). */
+struct smooth_kept {
+  int    sface, object, v[3];
+  double n[3], area2, len[3], cn[3][3];
+  int    bu, bw;
+  double bV[3][2], bE[3][2], btot;
+};
+
+/* Triangle a's fields that depend on the scene alone into k (smooth_kept). */
+static void tri_keep(const struct smooth_tri *a, struct smooth_kept *k)
+{
+  k->sface = a->sface;
+  k->object = a->object;
+  memcpy(k->v, a->v, sizeof k->v);
+  memcpy(k->n, a->n, sizeof k->n);
+  k->area2 = a->area2;
+  memcpy(k->len, a->len, sizeof k->len);
+  memcpy(k->cn, a->cn, sizeof k->cn);
+  k->bu = a->bu;
+  k->bw = a->bw;
+  memcpy(k->bV, a->bV, sizeof k->bV);
+  memcpy(k->bE, a->bE, sizeof k->bE);
+  k->btot = a->btot;
+}
+
+/* Kept triangle a as it is into b (the frame's fields are left to the frame). */
+static void tri_kept(const struct smooth_kept *a, struct smooth_tri *b)
+{
+  b->sface = a->sface;
+  b->object = a->object;
+  memcpy(b->v, a->v, sizeof b->v);
+  memcpy(b->n, a->n, sizeof b->n);
+  b->area2 = a->area2;
+  memcpy(b->len, a->len, sizeof b->len);
+  memcpy(b->cn, a->cn, sizeof b->cn);
+  b->bu = a->bu;
+  b->bw = a->bw;
+  memcpy(b->bV, a->bV, sizeof b->bV);
+  memcpy(b->bE, a->bE, sizeof b->bE);
+  b->btot = a->btot;
+}
+
+/* Kept triangle a turned (corners v1 and v2 swapped) into b: what tri_shape and the vertex
    normals give for the turned corners, without working them out again. Every value is
    a's or its negation, exactly: the normals' and the sides' differences change sign and
    nothing else (0 - x: a zero stays +0, as the turned triangle's own arithmetic makes
    it). Corner k of b is corner turn[k] of a; side k of b (opposite corner k) is a's side
    turn[k]. */
-static void tri_turned(const struct smooth_tri *a, struct smooth_tri *b)
+static void tri_turned(const struct smooth_kept *a, struct smooth_tri *b)
 {
   static const int turn[3] = { 0, 2, 1 };
   b->sface = a->sface;
@@ -467,9 +535,8 @@ static void tri_turned(const struct smooth_tri *a, struct smooth_tri *b)
 struct smooth_scene {
   const struct scene *s;    /* the scene it was made for */
   int ntri;
-  struct smooth_tri *tri;   /* each triangle as oriented here: its corners and their
-                               geometry (normal, sides, barycentric set-up, vertex normals);
-                               mface, front, ni and t are the frame's */
+  struct smooth_kept *tri;  /* each triangle as oriented here: its corners and their
+                               geometry (normal, sides, barycentric set-up, vertex normals) */
   int64_t (*o3)[3];         /* each one's integer normal (cross_int) */
   int nobj;                 /* objects with a triangle */
   struct smooth_part { int from, to; bool closed; } *obj;
@@ -479,6 +546,7 @@ struct smooth_scene {
      model): valid when view_made, for smooth= view_kind (view_c), each object turned
      (view_turned[o]) as then, with view_normals vertex normals */
   struct smooth_tri *view;
+  struct smooth_lanes *view_lanes;
   int *view_group;
   bool *view_turned;
   bool view_made, view_lent;
@@ -494,6 +562,7 @@ void smooth_scene_free(struct smooth_scene *ss)
 {
   if (!ss) return;
   free(ss->view);
+  free(ss->view_lanes);
   free(ss->view_group);
   free(ss->view_turned);
   free(ss->tri);
@@ -503,15 +572,27 @@ void smooth_scene_free(struct smooth_scene *ss)
   free(ss);
 }
 
+/* Face fi of s is a patch: a triangle (no holes) shaded from the light (no grey of its
+   own), when it is an object's. */
+static bool smoothed_face(const struct scene *s, int fi)
+{
+  const struct scene_face *sf = &s->f[fi];
+  return sf->nring == 1 && sf->ring_start[1] == 3 && sf->grey < 0 && s->has_light;
+}
+
 /* The scene's part of the model (smooth_scene) into *out. */
 static int scene_part(const struct scene *s, struct smooth_scene **out, struct t74_error *err)
 {
   struct smooth_scene *ss = calloc(1, sizeof *ss);
   struct smooth_model m;                    /* orient_object's view of the triangles */
   memset(&m, 0, sizeof m);
+  /* the triangles: an object's faces that are triangles, shaded from the light */
+  size_t ntri = 0;
+  for (int o = 0; o < s->nobj; o++)
+    for (int q = 0; q < s->obj[o].nface; q++) ntri += smoothed_face(s, s->obj[o].face[q]);
   if (ss) {
     ss->s = s;
-    m.tri = malloc(((size_t)s->nf + 1) * sizeof *m.tri);
+    m.tri = malloc((ntri + 1) * sizeof *m.tri);
     ss->obj = malloc(((size_t)s->nobj + 1) * sizeof *ss->obj);
     ss->group = malloc((3 * (size_t)s->nf + 1) * sizeof *ss->group);
   }
@@ -526,7 +607,7 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
     for (int q = 0; q < ob->nface; q++) {
       int fi = ob->face[q];
       const struct scene_face *sf = &s->f[fi];
-      if (sf->nring != 1 || sf->ring_start[1] != 3 || sf->grey >= 0 || !s->has_light) continue;
+      if (!smoothed_face(s, fi)) continue;
       struct smooth_tri *tr = &m.tri[m.ntri++];
       memset(tr, 0, sizeof *tr);
       tr->sface = fi;
@@ -545,11 +626,12 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
       return err->status;
     }
   }
-  ss->tri = m.tri;
+  ss->tri = malloc(((size_t)m.ntri + 1) * sizeof *ss->tri);
   ss->o3 = malloc(((size_t)m.ntri + 1) * sizeof *ss->o3);
   double (*acc)[3] = malloc(((size_t)s->nv + 1) * sizeof *acc);
-  if (!ss->o3 || !acc) {
+  if (!ss->tri || !ss->o3 || !acc) {
     free(acc);
+    free(m.tri);
     smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
@@ -572,6 +654,8 @@ static int scene_part(const struct scene *s, struct smooth_scene **out, struct t
       }
   }
   free(acc);
+  for (int t = 0; t < m.ntri; t++) tri_keep(&m.tri[t], &ss->tri[t]);
+  free(m.tri);
   ss->ntri = m.ntri;
   ss->flips = m.flips;
   ss->conflicts = m.conflicts;
@@ -587,11 +671,11 @@ int smooth_model_build(struct smooth_model *m, const struct mapped *map,
 }
 
 /* The model's triangles (and edge groups) as the frame turns each object (turned[o]),
-   their vertex normals' rows and their insets for e's smooth=, into tri and group; the
-   count of vertex normals returned. seen, row: s->nv + 1 ints of scratch. */
+   their vertex normals' rows and their insets for e's smooth=, into tri and group, and
+   their shading constants into lanes; the count of vertex normals returned. seen, row: s->nv + 1 ints of scratch. */
 static int orient_view(const struct smooth_scene *ss, const struct scene *s,
                        const struct effects *e, const bool *turned, struct smooth_tri *tri,
-                       int *group, int *seen, int *row)
+                       struct smooth_lanes *lanes, int *group, int *seen, int *row)
 {
   int normals = 0;
   if (ss->ntri) memcpy(group, ss->group, 3 * (size_t)ss->ntri * sizeof *group);
@@ -605,7 +689,7 @@ static int orient_view(const struct smooth_scene *ss, const struct scene *s,
         int *g = group + 3 * t, x = g[0];   /* side 0 is a's side 2 and back */
         g[0] = g[2]; g[2] = x;
       } else {
-        memcpy(tr, &ss->tri[t], sizeof *tr);
+        tri_kept(&ss->tri[t], tr);
       }
       for (int k = 0; k < 3; k++) {
         int v = tr->v[k];
@@ -620,6 +704,7 @@ static int orient_view(const struct smooth_scene *ss, const struct scene *s,
     for (int t = from; t < to; t++) {
       smooth_insets(e->smooth, e->smooth_c, w, tri[t].len, tri[t].area2, tri[t].t);
       band_ends(&tri[t]);
+      tri_lanes(&tri[t], &lanes[t]);
     }
   }
   return normals;
@@ -645,11 +730,12 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   const bool lend = keep && !ss->view_lent;
   if (lend && !ss->view) {
     ss->view = malloc(((size_t)ss->ntri + 1) * sizeof *ss->view);
+    ss->view_lanes = malloc(((size_t)ss->ntri + 1) * sizeof *ss->view_lanes);
     ss->view_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *ss->view_group);
     ss->view_turned = malloc(((size_t)ss->nobj + 1) * sizeof *ss->view_turned);
-    if (!ss->view || !ss->view_group || !ss->view_turned) {
-      free(ss->view); free(ss->view_group); free(ss->view_turned);
-      ss->view = NULL; ss->view_group = NULL; ss->view_turned = NULL;
+    if (!ss->view || !ss->view_lanes || !ss->view_group || !ss->view_turned) {
+      free(ss->view); free(ss->view_lanes); free(ss->view_group); free(ss->view_turned);
+      ss->view = NULL; ss->view_lanes = NULL; ss->view_group = NULL; ss->view_turned = NULL;
       return t74_fail(err, T74_EIO, "out of host memory");
     }
     ss->view_made = false;
@@ -660,14 +746,16 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   bool *turned = malloc(((size_t)ss->nobj + 1) * sizeof *turned);
   if (lend) {
     m->tri = ss->view;
+    m->lanes = ss->view_lanes;
     m->edge_group = ss->view_group;
     m->lent = ss;
     ss->view_lent = true;
   } else {
     m->tri = malloc(((size_t)ss->ntri + 1) * sizeof *m->tri);
+    m->lanes = malloc(((size_t)ss->ntri + 1) * sizeof *m->lanes);
     m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
   }
-  if (!m->tri_of_mface || !mof || !turned || !m->tri || !m->edge_group) {
+  if (!m->tri_of_mface || !mof || !turned || !m->tri || !m->lanes || !m->edge_group) {
     free(mof); free(turned); smooth_model_free(m);
     if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
@@ -700,7 +788,7 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
       if (!keep) smooth_scene_free(ss);
       return t74_fail(err, T74_EIO, "out of host memory");
     }
-    m->vertex_normals = orient_view(ss, s, e, turned, m->tri, m->edge_group, seen, row);
+    m->vertex_normals = orient_view(ss, s, e, turned, m->tri, m->lanes, m->edge_group, seen, row);
     free(seen); free(row);
     if (lend) {
       memcpy(ss->view_turned, turned, (size_t)ss->nobj * sizeof *turned);
@@ -768,8 +856,9 @@ static inline void bary_areas(const struct smooth_tri *tr, const double X[3], do
 
 #ifdef __SSE2__
 /* bary_areas' ar[k] at two points, a point a lane (x, y: their coordinates on the axes bu,
-   bw), from side k's constants as smooth_tri keeps them twice: a = xa[k], d = xd[k] (or
-   xsd[k], d times tot's sign); bary_areas' operations in its order. */
+   bw), from side k's constants as smooth_lanes keeps them twice: a = xa[k], d = xsd[k] (d
+   times tot's sign: the area times the sign but for the sign of a zero, phong_pairs and
+   inner_split); bary_areas' operations in its order. */
 static inline __m128d area_lanes(const double (*a)[2], const double (*d)[2], __m128d x,
                                  __m128d y)
 {
@@ -964,7 +1053,8 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 ** Let at = |tot| (tot = btot), w_k = +-ar_k (tot's sign: exact), W = w_0 + w_1 + w_2 in
 ** real numbers, u = 2^-53, c = 1 + 2^-40, tc_k = max(fl(t_k c), 2^-898) (a triangle's
 ** three, made with its insets: inner_tc). The filter declines unless 2^-100 <= at <= 2^100,
-** S = fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] and every w_k >= R_k = fl(tc_k S). Then
+** S = fl(fl(w_0 + w_1) + w_2) is in [at / 2, 2 at] (at / 2 and 2 at are exact, and the
+** range test is made once a triangle: tri_lanes) and every w_k >= R_k = fl(tc_k S). Then
 ** tc_k S >= 2^-999 (so R_k is a normal number, rounded within a relative u) and every
 ** w_k >= R_k >= at 2^-900 > 0; W <= S / (1 - u)^2, so each a_k = ar_k / tot = w_k / at lies
 ** in [2^-900, 2 + 8u] and no step of the chain below underflows or overflows. The chain:
@@ -980,13 +1070,14 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
 ** of the globe under several insets, and on points bisected onto the inner triangle's
 ** border, where it must decline. */
 /* The filter at one point from its areas ar (bary_areas): true when it proves the point
-   inner. st: tot's sign. */
-static inline bool inner_one(const double ar[3], const double tc[3], double lo, double hi,
-                             double st)
+   inner. x: the triangle's constants (tot's sign, the bounds on S, the scaled insets). */
+static inline bool inner_one(const double ar[3], const struct smooth_lanes *x)
 {
+  const double st = x->xst[0];
   const double w0 = st * ar[0], w1 = st * ar[1], w2 = st * ar[2];
   const double S = w0 + w1 + w2;
-  return S >= lo && S <= hi && w0 >= tc[0] * S && w1 >= tc[1] * S && w2 >= tc[2] * S;
+  return S >= x->xilo[0] && S <= x->xihi[0] && w0 >= x->xtc[0][0] * S &&
+         w1 >= x->xtc[1][0] * S && w2 >= x->xtc[2][0] * S;
 }
 
 /* The partial smoothing's points in a run, split by the inner triangle's filter: what the
@@ -1017,37 +1108,41 @@ static inline void inner_point(struct split *sp, int p, bool flat, const unsigne
    rounded operations on the same values, and the same tests), the rest one by one.
    flat: reflectance 1 (refl == 1). */
 static inline void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
-                               int n, const double (*X)[3], bool flat, const unsigned *blocked,
+                               const struct smooth_lanes *lx, int n, const double (*X)[3], bool flat, const unsigned *blocked,
                                int fg, int *grey, int *region, struct split *sp)
 {
-  const double tot = tr->btot, at = fabs(tot), lo = 0.5 * at, hi = 2 * at;
-  const bool usable = !m->inner_exact && at >= 0x1p-100 && at <= 0x1p100;
-  const double st = tr->xst[0];             /* tot's sign */
-  const double tc[3] = { tr->xtc[0][0], tr->xtc[1][0], tr->xtc[2][0] };   /* inner_tc's */
+  const bool usable = lx->inner_ok && !m->inner_exact;
   long declines = 0;
   sp->nl = sp->ni = 0;
   int p = 0;
 #ifdef __SSE2__
   if (usable) {
     const int bu = tr->bu, bw = tr->bw;
-    const __m128d sv = _mm_load_pd(tr->xst), lov = _mm_set1_pd(lo), hiv = _mm_set1_pd(hi);
+    const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_load_pd(lx->xilo), hiv = _mm_load_pd(lx->xihi);
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
-      __m128d v[3], w[3];
-      for (int k = 0; k < 3; k++) {
-        v[k] = area_lanes(tr->xa[k], tr->xd[k], x, y);
-        w[k] = _mm_mul_pd(sv, v[k]);
-      }
+      /* w_k = +-ar_k (tot's sign) from the sides' constants times the sign (xsd), as in
+         phong_pairs: (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) - (x - a_u) d_w)
+         exactly (rounding to nearest is symmetric under negation), but where the area is a
+         zero: then w_k is a zero too, maybe of the other sign. No test below tells the
+         zeros apart (an S of 0 is below at / 2 > 0 either way, and w_k >= tc_k S compares
+         zeros as equal), and the areas given back to the chain (v_k = sign times w_k: ar_k,
+         or a zero where it is a zero) make the same coordinates: the chain's clamp (bary_pairs'
+         max with +0, bary_of_areas' test) makes +0 of a zero of either sign over tot. */
+      __m128d w[3];
+      for (int k = 0; k < 3; k++) w[k] = area_lanes(lx->xa[k], lx->xsd[k], x, y);
       const __m128d S = _mm_add_pd(_mm_add_pd(w[0], w[1]), w[2]);
       __m128d ok = _mm_and_pd(_mm_cmpge_pd(S, lov), _mm_cmple_pd(S, hiv));
       for (int k = 0; k < 3; k++)
-        ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(_mm_load_pd(tr->xtc[k]), S)));
+        ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(_mm_load_pd(lx->xtc[k]), S)));
       const int bits = _mm_movemask_pd(ok);
       if (bits == 3 && flat && !(blocked[p] | blocked[p + 1])) {   /* the common case */
         region[p] = region[p + 1] = 0;
         grey[p] = grey[p + 1] = fg;
         continue;
       }
+      __m128d v[3];
+      for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
       for (int h = 0; h < 2; h++) {
         if (bits >> h & 1) {
           inner_point(sp, p + h, flat, blocked, fg, grey, region);
@@ -1065,7 +1160,7 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
   for (; p < n; p++) {
     double ar[3];
     bary_areas(tr, X[p], ar);
-    if (usable && inner_one(ar, tc, lo, hi, st)) {
+    if (usable && inner_one(ar, lx)) {
       inner_point(sp, p, flat, blocked, fg, grey, region);
       continue;
     }
@@ -1176,19 +1271,20 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
    Its range test on the w_k is narrower than phong_filter's: it passes only points that
    phong_filter's passes (below), whose greys it then makes as phong_filter does; it
    declines also a point on a side or outside (a w_k of 0), left to the exact chain like
-   every point declined. The points done: all n, or none when the filter is off or
-   cannot be used for the triangle, or some light is a point light (phong_lanes does
-   them). */
-static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr, int n,
+   every point declined. The points done (their greys, and their regions, 1): all n, or
+   none when the filter is off or cannot be used for the triangle, or some light is a
+   point light (phong_lanes does them). */
+static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr,
+                              const struct smooth_lanes *lx, int n,
                               const double (*X)[3], double refl, const unsigned *blocked,
-                              const struct shade_lights *L, int *grey)
+                              const struct shade_lights *L, int *grey, int *region)
 {
 #ifdef __SSE2__
   const double tot = tr->btot;
   if (m->phong_exact || !(tot != 0 && refl >= 0 && refl <= 1)) return 0;
   for (int k = 0; k < L->n; k++)
     if (L->point[k]) return 0;
-  const __m128d lo = _mm_load_pd(tr->xlo), hi = _mm_load_pd(tr->xhi);
+  const __m128d lo = _mm_load_pd(lx->xlo), hi = _mm_load_pd(lx->xhi);
   const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1);
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
   const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
@@ -1197,6 +1293,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   const int bu = tr->bu, bw = tr->bw;
   for (int p = 0; p < n; p += 2) {
     const int p1 = p + 1 < n ? p + 1 : p;   /* the last of an odd run: itself in both lanes */
+    region[p] = region[p1] = 1;
     const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
     __m128d w[3], s = zero;
     for (int k = 0; k < 3; k++) {
@@ -1205,7 +1302,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
          (x - a_u) d_w) exactly (rounding to nearest is symmetric under negation), but where
          that difference is 0: +0 here against -0 there, and the max with +0 makes either
          +0 (MAXPD gives its second operand when the two are equal) */
-      w[k] = _mm_max_pd(area_lanes(tr->xa[k], tr->xsd[k], x, y), zero);
+      w[k] = _mm_max_pd(area_lanes(lx->xa[k], lx->xsd[k], x, y), zero);
       s = _mm_add_pd(s, w[k]);
     }
     /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
@@ -1215,9 +1312,9 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
                                     _mm_cmple_pd(s, hi));
     __m128d N[3];
     for (int c = 0; c < 3; c++)
-      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], _mm_load_pd(tr->xcn[0][c])),
-                                   _mm_mul_pd(w[1], _mm_load_pd(tr->xcn[1][c]))),
-                        _mm_mul_pd(w[2], _mm_load_pd(tr->xcn[2][c])));
+      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], _mm_load_pd(lx->xcn[0][c])),
+                                   _mm_mul_pd(w[1], _mm_load_pd(lx->xcn[1][c]))),
+                        _mm_mul_pd(w[2], _mm_load_pd(lx->xcn[2][c])));
     const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
                                   _mm_mul_pd(N[2], N[2]));
     const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
@@ -1276,7 +1373,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   }
   return n;
 #else
-  (void)m; (void)tr; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey;
+  (void)m; (void)tr; (void)lx; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey; (void)region;
   return 0;
 #endif
 }
@@ -1301,15 +1398,15 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
                      int *region)
 {
   const struct smooth_tri *tr = &m->tri[t];
+  const struct smooth_lanes *lx = &m->lanes[t];
   double ar[SMOOTH_RUN][3];
   if (e->smooth == EFFECTS_SMOOTH_PHONG) {
-    const int p0 = phong_pairs(m, tr, n, X, refl, blocked, lights, grey);
-    if (p0 < n) {                            /* (phong_pairs did them all, or none) */
-      for (int p = p0; p < n; p++) bary_areas(tr, X[p], ar[p]);
-      phong_lanes(m, tr, n - p0, (const double (*)[3])ar + p0, X + p0, refl, blocked + p0,
-                  lights, grey + p0);
+    if (phong_pairs(m, tr, lx, n, X, refl, blocked, lights, grey, region) == n) return;
+    for (int p = 0; p < n; p++) {            /* (phong_pairs did them all, or none) */
+      bary_areas(tr, X[p], ar[p]);
+      region[p] = 1;
     }
-    for (int p = 0; p < n; p++) region[p] = 1;
+    phong_lanes(m, tr, n, (const double (*)[3])ar, X, refl, blocked, lights, grey);
     return;
   }
   double l[SMOOTH_RUN][3];
@@ -1339,7 +1436,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const int fg = map->f[tr->mface].grey;
   const bool flat = refl == 1;
   struct split sp;
-  inner_split(m, tr, n, X, flat, blocked, fg, grey, region, &sp);
+  inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp);
   const int nl = sp.nl;
   double lv[3][SMOOTH_RUN];
   bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])sp.la, lv);
@@ -1351,7 +1448,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   int slot_p[SMOOTH_RUN], ns = 0;
   for (int q = 0; q < nl; q++) {
 #ifdef __SSE2__
-    if (q + 1 < nl && edge_pair(tr, lv, q, nv, ns)) {   /* two points of one edge band */
+    if (q + 1 < nl && edge_pair(lx, lv, q, nv, ns)) {   /* two points of one edge band */
       for (int h = 0; h < 2; h++) {
         region[sp.at[q + h]] = 1;
         slot_p[ns++] = sp.at[q + h];

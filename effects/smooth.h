@@ -61,27 +61,16 @@ struct smooth_tri {
                               (3)), made with the insets: side k's band at l_a = t_a and
                               at l_b = t_b (a, b the corners after k) in ends[k], corner
                               k's quadrilateral on its sides towards a and b in ends[3 + k] */
-  /* The shading pass's constants, each the same double twice (two points an SSE2
-     instruction), made with the insets (smooth.c, tri_lanes): for side k, the corner its
-     barycentric area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] in xd[k] (u then w
-     axis), the vertex normals in xcn[k][c], the inner triangle's filter's scaled insets
-     in xtc[k]; tot's sign in xst; the insets t[k] in xt[k], the face normal's components
-     in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]; and: */
-  _Alignas(16) double xa[3][2][2];
-  _Alignas(16) double xd[3][2][2];
-  _Alignas(16) double xcn[3][3][2];
-  _Alignas(16) double xtc[3][2];
-  _Alignas(16) double xst[2];
-  _Alignas(16) double xt[3][2];
-  _Alignas(16) double xn[3][2];
-  _Alignas(16) double xends[3][2][3][2];
-  _Alignas(16) double xsd[3][2][2];    /* xd times tot's sign (exact) */
-  _Alignas(16) double xlo[2], xhi[2];  /* |tot| 2^-1000, |tot| 2^1000 (the Phong filter's) */
 };
+
+/* A triangle's shading constants, two lanes each (smooth.c): made with its insets, for the
+   model's triangles only (not the scene's part kept between frames). */
+struct smooth_lanes;
 
 struct smooth_model {
   int ntri;
   struct smooth_tri *tri;
+  struct smooth_lanes *lanes;  /* ntri entries: triangle t's shading constants in lanes[t] */
   int *tri_of_mface;       /* map->nface entries: triangle index, or -1 (flat) */
   int objects;             /* objects with at least one triangle */
   int flips;               /* triangles turned to agree with their object */
