@@ -1189,6 +1189,21 @@ static bool poly_step_start(struct poly_step *s, const struct fx_poly *p, int64_
   return true;
 }
 
+/* Range [b0, b1) of a row's samples in light's shadow appended to L->rng; false when out
+   of host memory. */
+static bool range_add(struct fx_lines *L, int b0, int b1, int light)
+{
+  if (L->nrng == L->rngcap) {
+    const int cap = L->rngcap ? 2 * L->rngcap : 64;
+    struct brange *nr = realloc(L->rng, (size_t)cap * sizeof *nr);
+    if (!nr) return false;
+    L->rng = nr;
+    L->rngcap = cap;
+  }
+  L->rng[L->nrng++] = (struct brange){ b0, b1, light };
+  return true;
+}
+
 /* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
    row r (rising): a sample lies in a stretch [x0, x1) exactly when it is at or right of
    x0 and not at or right of x1, so in [fx_first_at_or_right(x0), fx_first_at_or_right(x1)).
@@ -1210,14 +1225,7 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
                   poly_step_start(&L->ps[k], p, yn, yd, fy, r, b2))) {
       const int b0 = b2[0] < b2[1] ? b2[0] : b2[1], b1 = b2[0] < b2[1] ? b2[1] : b2[0];
       if (b0 == b1) continue;
-      if (L->nrng == L->rngcap) {
-        const int cap = L->rngcap ? 2 * L->rngcap : 64;
-        struct brange *nr = realloc(L->rng, (size_t)cap * sizeof *nr);
-        if (!nr) return t74_fail(err, T74_EIO, "out of host memory");
-        L->rng = nr;
-        L->rngcap = cap;
-      }
-      L->rng[L->nrng++] = (struct brange){ b0, b1, p->light };
+      if (!range_add(L, b0, b1, p->light)) return t74_fail(err, T74_EIO, "out of host memory");
       continue;
     }
     if (!cross_room(L, p)) return t74_fail(err, T74_EIO, "out of host memory");
@@ -1229,14 +1237,7 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
       if (b0 == r->n) break;                /* this stretch and the rest: right of the row */
       const int b1 = fx_first_at_or_right(&L->x[h + 1], ev_key(L->x[h + 1]), r);
       if (b0 == b1) continue;
-      if (L->nrng == L->rngcap) {
-        const int cap = L->rngcap ? 2 * L->rngcap : 64;
-        struct brange *nr = realloc(L->rng, (size_t)cap * sizeof *nr);
-        if (!nr) return t74_fail(err, T74_EIO, "out of host memory");
-        L->rng = nr;
-        L->rngcap = cap;
-      }
-      L->rng[L->nrng++] = (struct brange){ b0, b1, p->light };
+      if (!range_add(L, b0, b1, p->light)) return t74_fail(err, T74_EIO, "out of host memory");
     }
   }
   return T74_OK;
