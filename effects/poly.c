@@ -16,10 +16,17 @@ struct fx_chunk {
 
 enum { CHUNK_BYTES = 1 << 15 };
 
-/* size bytes (aligned as malloc's) from ps's chunks; NULL when out of host memory. */
+/* size rounded up to a whole number of max_align_t: what take takes for it. */
+static size_t piece(size_t size)
+{
+  return (size + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
+}
+
+/* size bytes (aligned as malloc's) from ps's chunks, the last piece of ps->mem; NULL when
+   out of host memory. */
 static void *take(struct fx_polys *ps, size_t size)
 {
-  size = (size + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
+  size = piece(size);
   struct fx_chunk *c = ps->mem;
   if (!c || c->cap - c->used < size) {
     const size_t cap = size > CHUNK_BYTES ? size : CHUNK_BYTES;
@@ -34,29 +41,38 @@ static void *take(struct fx_polys *ps, size_t size)
   return at;
 }
 
-bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
-                  int owner, int light)
+bool fx_polys_reserve(struct fx_polys *ps, int n)
+{
+  if (n <= ps->cap) return true;
+  struct fx_poly *np = realloc(ps->p, (size_t)n * sizeof *np);
+  if (!np) return false;
+  ps->p = np;
+  ps->cap = n;
+  return true;
+}
+
+/* fx_polys_add, and fx_polys_add_meeting with meet (NULL: none): the polygon is made in
+   place; when its box misses meet its memory is given back (it was the chunk's last
+   piece) and it is not counted. */
+static inline bool add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
+                       int owner, int light, const gcoord *meet, bool *added)
 {
   int keep = 0, npt = 0;
-  for (int r = 0; r < nring; r++)
-    if (rs[r + 1] - rs[r] >= 3) { keep++; npt += rs[r + 1] - rs[r]; }
-  if (!keep) return true;
-  if (ps->n == ps->cap) {
-    int cap = ps->cap ? 2 * ps->cap : 16;
-    struct fx_poly *np = realloc(ps->p, (size_t)cap * sizeof *np);
-    if (!np) return false;
-    ps->p = np;
-    ps->cap = cap;
-  }
-  struct fx_poly *p = &ps->p[ps->n];
-  /* one piece of the list's memory: the points, then the blocks' y ranges, then the offsets */
   size_t nblk = 0;
   for (int r = 0; r < nring; r++) {
-    int n = rs[r + 1] - rs[r];
-    if (n >= 3) nblk += (size_t)(n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
+    const int n = rs[r + 1] - rs[r];
+    if (n < 3) continue;
+    keep++;
+    npt += n;
+    nblk += (size_t)(n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
   }
-  char *mem = take(ps, (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
-                     (size_t)(keep + 1) * sizeof *p->rs);
+  if (!keep) return true;
+  if (ps->n == ps->cap && !fx_polys_reserve(ps, ps->cap ? 2 * ps->cap : 16)) return false;
+  struct fx_poly *p = &ps->p[ps->n];
+  /* one piece of the list's memory: the points, then the blocks' y ranges, then the offsets */
+  const size_t size = (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
+                      (size_t)(keep + 1) * sizeof *p->rs;
+  char *mem = take(ps, size);
   if (!mem) return false;
   p->pt = (struct gpoint *)mem;
   p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
@@ -66,21 +82,23 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
   size_t b = 0;
   gcoord xlo = INT64_MAX, xhi = INT64_MIN, ylo = INT64_MAX, yhi = INT64_MIN;   /* the box */
   for (int r = 0; r < nring; r++) {
-    int n = rs[r + 1] - rs[r];
+    const int n = rs[r + 1] - rs[r];
     if (n < 3) continue;
     p->rs[p->nring++] = at;
-    memcpy(p->pt + at, pt + rs[r], (size_t)n * sizeof *pt);
+    struct gpoint *q = p->pt + at;
+    const struct gpoint *from = pt + rs[r];
     /* block v0 .. v0 + FX_POLY_BLOCK - 1: the edges from those points, so its points are
-       those and the next (the ring's first after its last) */
-    const struct gpoint *q = p->pt + at;
+       those and the next (the ring's first after its last); the points copied on the way */
     for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
       const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
-      gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo;
+      gcoord lo = from[v1 == n ? 0 : v1].y, hi = lo;
       for (int v = v0; v < v1; v++) {       /* (the box's x on the way) */
-        lo = q[v].y < lo ? q[v].y : lo;
-        hi = q[v].y > hi ? q[v].y : hi;
-        xlo = q[v].x < xlo ? q[v].x : xlo;
-        xhi = q[v].x > xhi ? q[v].x : xhi;
+        const struct gpoint g = from[v];
+        q[v] = g;
+        lo = g.y < lo ? g.y : lo;
+        hi = g.y > hi ? g.y : hi;
+        xlo = g.x < xlo ? g.x : xlo;
+        xhi = g.x > xhi ? g.x : xhi;
       }
       p->blk[b][0] = lo;
       p->blk[b][1] = hi;
@@ -89,12 +107,30 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
     }
     at += n;
   }
+  if (meet && (xhi <= meet[0] || xlo >= meet[1] || yhi <= meet[2] || ylo >= meet[3])) {
+    ps->mem->used -= piece(size);           /* take's last piece */
+    return true;
+  }
   p->rs[p->nring] = at;
   p->xlo = xlo; p->xhi = xhi; p->ylo = ylo; p->yhi = yhi;
   p->owner = owner;
   p->light = light;
   ps->n++;
+  if (added) *added = true;
   return true;
+}
+
+bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
+                  int owner, int light)
+{
+  return add(ps, nring, rs, pt, owner, light, NULL, NULL);
+}
+
+bool fx_polys_add_meeting(struct fx_polys *ps, int nring, const int *rs,
+                          const struct gpoint *pt, int owner, int light, const gcoord meet[4],
+                          bool *added)
+{
+  return add(ps, nring, rs, pt, owner, light, meet, added);
 }
 
 void fx_polys_free(struct fx_polys *ps)

@@ -54,6 +54,14 @@ static inline gcoord fx_round_ld(long double x)
    left with none is not added). */
 bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
                   int owner, int light);
+/* fx_polys_add, the polygon added only when its box meets the open box meet (x lo, x hi,
+   y lo, y hi: its xhi > meet[0], xlo < meet[1], yhi > meet[2] and ylo < meet[3]); *added
+   set when it is. */
+bool fx_polys_add_meeting(struct fx_polys *ps, int nring, const int *rs,
+                          const struct gpoint *pt, int owner, int light, const gcoord meet[4],
+                          bool *added);
+/* Room for n polygons in all (none added): false when out of host memory. */
+bool fx_polys_reserve(struct fx_polys *ps, int n);
 void fx_polys_free(struct fx_polys *ps);
 
 /* The grid row of the line y = yn/yd (yd > 0): floor(yn / yd). A grid point lies on or
