@@ -22,9 +22,9 @@ static size_t piece(size_t size)
   return (size + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
 }
 
-/* size bytes (aligned as malloc's) from ps's chunks, the last piece of ps->mem; NULL when
-   out of host memory. */
-static void *take(struct fx_polys *ps, size_t size)
+/* Room for size bytes (aligned as malloc's) at the end of ps->mem, not yet taken; NULL
+   when out of host memory. */
+static void *room(struct fx_polys *ps, size_t size)
 {
   size = piece(size);
   struct fx_chunk *c = ps->mem;
@@ -36,9 +36,7 @@ static void *take(struct fx_polys *ps, size_t size)
     c->next = ps->mem;
     ps->mem = c;
   }
-  void *at = (char *)c->data + c->used;
-  c->used += size;
-  return at;
+  return (char *)c->data + c->used;
 }
 
 bool fx_polys_reserve(struct fx_polys *ps, int n)
@@ -51,86 +49,107 @@ bool fx_polys_reserve(struct fx_polys *ps, int n)
   return true;
 }
 
-/* fx_polys_add, and fx_polys_add_meeting with meet (NULL: none): the polygon is made in
-   place; when its box misses meet its memory is given back (it was the chunk's last
-   piece) and it is not counted. */
-static inline bool add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
-                       int owner, int light, const gcoord *meet, bool *added)
+/* The y ranges of ring q[0..n)'s blocks into blk (the box's x and y into box, xlo, xhi,
+   ylo, yhi, widened): block v0 .. v0 + FX_POLY_BLOCK - 1 holds the edges from those points,
+   so its points are those and the next (the ring's first after its last). The number of
+   blocks. */
+static inline size_t ring_blocks(const struct gpoint *q, int n, gcoord (*blk)[2],
+                                 gcoord box[4])
 {
-  int keep = 0, npt = 0;
-  size_t nblk = 0;
-  for (int r = 0; r < nring; r++) {
-    const int n = rs[r + 1] - rs[r];
-    if (n < 3) continue;
-    keep++;
-    npt += n;
-    nblk += (size_t)(n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
+  size_t b = 0;
+  for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
+    const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
+    gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo, xlo = box[0], xhi = box[1];
+    for (int v = v0; v < v1; v++) {         /* (the box's x on the way) */
+      lo = q[v].y < lo ? q[v].y : lo;
+      hi = q[v].y > hi ? q[v].y : hi;
+      xlo = q[v].x < xlo ? q[v].x : xlo;
+      xhi = q[v].x > xhi ? q[v].x : xhi;
+    }
+    blk[b][0] = lo;
+    blk[b][1] = hi;
+    box[0] = xlo;
+    box[1] = xhi;
+    box[2] = lo < box[2] ? lo : box[2];     /* the box's y: each point is in a block */
+    box[3] = hi > box[3] ? hi : box[3];
   }
-  if (!keep) return true;
-  if (ps->n == ps->cap && !fx_polys_reserve(ps, ps->cap ? 2 * ps->cap : 16)) return false;
+  return b;
+}
+
+/* The polygon ps->p[ps->n] made of the points at mem (the chunk's room: npt of them, in
+   nring rings rs[0..nring] of 3 points or more, rs[0] = 0), its blocks and offsets put
+   after them; added (its memory taken) when meet is NULL or its box meets meet's. */
+static inline bool close_at(struct fx_polys *ps, char *mem, int nring, const int *rs,
+                            int owner, int light, const gcoord *meet, bool *added)
+{
   struct fx_poly *p = &ps->p[ps->n];
-  /* one piece of the list's memory: the points, then the blocks' y ranges, then the offsets */
-  const size_t size = (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
-                      (size_t)(keep + 1) * sizeof *p->rs;
-  char *mem = take(ps, size);
-  if (!mem) return false;
+  const int npt = rs[nring];
   p->pt = (struct gpoint *)mem;
   p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
-  p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
-  p->nring = 0;
-  int at = 0;
-  size_t b = 0;
-  gcoord xlo = INT64_MAX, xhi = INT64_MIN, ylo = INT64_MAX, yhi = INT64_MIN;   /* the box */
-  for (int r = 0; r < nring; r++) {
-    const int n = rs[r + 1] - rs[r];
-    if (n < 3) continue;
-    p->rs[p->nring++] = at;
-    struct gpoint *q = p->pt + at;
-    const struct gpoint *from = pt + rs[r];
-    /* block v0 .. v0 + FX_POLY_BLOCK - 1: the edges from those points, so its points are
-       those and the next (the ring's first after its last); the points copied on the way */
-    for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
-      const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
-      gcoord lo = from[v1 == n ? 0 : v1].y, hi = lo;
-      for (int v = v0; v < v1; v++) {       /* (the box's x on the way) */
-        const struct gpoint g = from[v];
-        q[v] = g;
-        lo = g.y < lo ? g.y : lo;
-        hi = g.y > hi ? g.y : hi;
-        xlo = g.x < xlo ? g.x : xlo;
-        xhi = g.x > xhi ? g.x : xhi;
-      }
-      p->blk[b][0] = lo;
-      p->blk[b][1] = hi;
-      ylo = lo < ylo ? lo : ylo;            /* the box's y: each point is in a block */
-      yhi = hi > yhi ? hi : yhi;
-    }
-    at += n;
-  }
-  if (meet && (xhi <= meet[0] || xlo >= meet[1] || yhi <= meet[2] || ylo >= meet[3])) {
-    ps->mem->used -= piece(size);           /* take's last piece */
+  gcoord box[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };
+  size_t nblk = 0;
+  for (int r = 0; r < nring; r++)
+    nblk += ring_blocks(p->pt + rs[r], rs[r + 1] - rs[r], p->blk + nblk, box);
+  if (meet && (box[1] <= meet[0] || box[0] >= meet[1] || box[3] <= meet[2] ||
+               box[2] >= meet[3]))
     return true;
-  }
-  p->rs[p->nring] = at;
-  p->xlo = xlo; p->xhi = xhi; p->ylo = ylo; p->yhi = yhi;
+  p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
+  memcpy(p->rs, rs, ((size_t)nring + 1) * sizeof *rs);
+  p->nring = nring;
+  p->xlo = box[0]; p->xhi = box[1]; p->ylo = box[2]; p->yhi = box[3];
   p->owner = owner;
   p->light = light;
+  ps->mem->used += piece((size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
+                         ((size_t)nring + 1) * sizeof *p->rs);
   ps->n++;
   if (added) *added = true;
   return true;
 }
 
+/* The room fx_polys_room makes for npt points: theirs, a block's for each (a block holds
+   one point or more) and an offset for each and one more (a ring holds 3 or more). */
+static size_t room_bytes(int npt)
+{
+  return (size_t)npt * (sizeof(struct gpoint) + sizeof(gcoord[2]) + sizeof(int)) + sizeof(int);
+}
+
 bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
                   int owner, int light)
 {
-  return add(ps, nring, rs, pt, owner, light, NULL, NULL);
+  int keep = 0, npt = 0;
+  for (int r = 0; r < nring; r++)
+    if (rs[r + 1] - rs[r] >= 3) { keep++; npt += rs[r + 1] - rs[r]; }
+  if (!keep) return true;
+  if (ps->n == ps->cap && !fx_polys_reserve(ps, ps->cap ? 2 * ps->cap : 16)) return false;
+  char *mem = room(ps, room_bytes(npt));
+  if (!mem) return false;
+  /* the rings of 3 points or more, one after the other, and their offsets ks, put at the
+     room's end: close_at's blocks and offsets, 32 npt + 4 (keep + 1) bytes from mem on,
+     end before ks begins, 36 npt + 4 - 4 (keep + 1) bytes on, as 2 keep + 1 <= npt */
+  int *ks = (int *)(mem + room_bytes(npt)) - (keep + 1);
+  int at = 0;
+  ks[0] = 0;
+  for (int r = 0, k = 0; r < nring; r++) {
+    const int n = rs[r + 1] - rs[r];
+    if (n < 3) continue;
+    memcpy((struct gpoint *)mem + at, pt + rs[r], (size_t)n * sizeof *pt);
+    at += n;
+    ks[++k] = at;
+  }
+  return close_at(ps, mem, keep, ks, owner, light, NULL, NULL);
 }
 
-bool fx_polys_add_meeting(struct fx_polys *ps, int nring, const int *rs,
-                          const struct gpoint *pt, int owner, int light, const gcoord meet[4],
-                          bool *added)
+struct gpoint *fx_polys_room(struct fx_polys *ps, int npt)
 {
-  return add(ps, nring, rs, pt, owner, light, meet, added);
+  if (ps->n == ps->cap && !fx_polys_reserve(ps, ps->cap ? 2 * ps->cap : 16)) return NULL;
+  return room(ps, room_bytes(npt));
+}
+
+bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs, int owner, int light,
+                    const gcoord meet[4], bool *added)
+{
+  return close_at(ps, (char *)ps->mem->data + ps->mem->used, nring, rs, owner, light, meet,
+                  added);
 }
 
 void fx_polys_free(struct fx_polys *ps)

@@ -54,12 +54,16 @@ static inline gcoord fx_round_ld(long double x)
    left with none is not added). */
 bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
                   int owner, int light);
-/* fx_polys_add, the polygon added only when its box meets the open box meet (x lo, x hi,
-   y lo, y hi: its xhi > meet[0], xlo < meet[1], yhi > meet[2] and ylo < meet[3]); *added
-   set when it is. */
-bool fx_polys_add_meeting(struct fx_polys *ps, int nring, const int *rs,
-                          const struct gpoint *pt, int owner, int light, const gcoord meet[4],
-                          bool *added);
+/* A polygon made in place, without a copy: fx_polys_room gives room for up to npt points
+   (NULL when out of host memory), where the caller writes its rings, each of 3 points or
+   more, one after the other; fx_polys_close then makes the polygon of nring rings
+   rs[0..nring] (offsets into the room, rs[0] = 0), and adds it only when its box meets the
+   open box meet (x lo, x hi, y lo, y hi: its xhi > meet[0], xlo < meet[1], yhi > meet[2]
+   and ylo < meet[3]; NULL: always), setting *added (may be NULL) when it does. Nothing else
+   is done with ps in between. false when out of host memory. */
+struct gpoint *fx_polys_room(struct fx_polys *ps, int npt);
+bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs, int owner, int light,
+                    const gcoord meet[4], bool *added);
 /* Room for n polygons in all (none added): false when out of host memory. */
 bool fx_polys_reserve(struct fx_polys *ps, int n);
 void fx_polys_free(struct fx_polys *ps);

@@ -131,14 +131,12 @@ static void casts_free(struct casts *cs)
 
 /* The scratch of the clipping: two rings and their plane_at values, and h values; room
    for cap vertices each (a ring clipped by 8 half-spaces gains at most one vertex per
-   half-space). rs: room for a polygon's ring offsets, pt for its grid points. */
+   half-space). rs: room for a polygon's ring offsets. */
 struct work {
   ld (*b0)[3], (*b1)[3];
   ld *hv, *p0, *p1;
   size_t cap;
   int *rs;
-  struct gpoint *pt;
-  size_t ptcap;
 };
 
 /* R's box in space (outer ring), exactly, in integers: lo[c], hi[c]. */
@@ -444,10 +442,11 @@ static inline void spanned_set(struct spanned *sp, const struct shadow_eye *v,
   sp->ez = v->e[2];
 }
 
-static inline bool spanned_point(const struct spanned *sp, const double yd[3], struct gpoint *g)
+#ifdef __SSE2__
+/* spanned_point's point as x, y in the two 64-bit lanes of *g. */
+static inline bool spanned_lanes(const struct spanned *sp, const double yd[3], __m128i *g)
 {
   const double r = 1 / (yd[2] - sp->ez);
-#ifdef __SSE2__
   const __m128d a = _mm_sub_pd(_mm_loadu_pd(yd), sp->Ev);
   const __m128d q = _mm_mul_pd(_mm_mul_pd(sp->fz, a), _mm_set1_pd(r));
   const __m128d gx = _mm_mul_pd(sp->G, _mm_add_pd(sp->Ev, q));
@@ -459,9 +458,20 @@ static inline bool spanned_point(const struct spanned *sp, const double yd[3], s
                                     sp->half);
   if (_mm_movemask_pd(_mm_and_pd(in, near)) != 3) return false;
   /* k's two lanes widened to 64 bits (each with its sign's 32 bits above it): x, y */
-  _mm_storeu_si128((__m128i *)g, _mm_unpacklo_epi32(k, _mm_srai_epi32(k, 31)));
+  *g = _mm_unpacklo_epi32(k, _mm_srai_epi32(k, 31));
+  return true;
+}
+#endif
+
+static inline bool spanned_point(const struct spanned *sp, const double yd[3], struct gpoint *g)
+{
+#ifdef __SSE2__
+  __m128i k;
+  if (!spanned_lanes(sp, yd, &k)) return false;
+  _mm_storeu_si128((__m128i *)g, k);
   return true;
 #else
+  const double r = 1 / (yd[2] - sp->ez);
   const double G = (double)GRID_ONE;
   int64_t k[2];
   for (int c = 0; c < 2; c++) {
@@ -494,23 +504,38 @@ static inline bool grid_point(const struct shadow_eye *v, const ld Y[3], const d
 
 /* Ring r of cs onto the grid at poly (room for its vertices), seen from eye v: the
    points that land, a repeat of the one before dropped (the last and the first not
-   compared); their count. With b (a bound for its vertices, not counted): spanned_point
-   where it decides, else grid_point. */
+   compared); their count. With sp (spanned_set for a bound on its vertices; not
+   counted): spanned_point where it decides, else grid_point. */
 static int draw_ring(const struct casts *cs, int r, const struct shadow_eye *eye,
-                     const struct shadow_bound *b, struct gpoint *poly, struct cost *cost)
+                     const struct spanned *sp, struct gpoint *poly, struct cost *cost)
 {
   const size_t y0 = r ? cs->yend[r - 1] : 0, n = cs->yend[r] - y0;
   const ld (*y)[3] = (const ld (*)[3])cs->y + y0;
   const double (*yd)[3] = (const double (*)[3])cs->yd + y0;
   int m = 0;
-  if (b && !cost) {
-    struct spanned sp;
-    spanned_set(&sp, eye, b);
+  if (sp && !cost) {
+#ifdef __SSE2__
+    /* each point written at poly[m], kept (m + 1) unless it is the one before, prev (at
+       first none: no point has x = INT64_MIN) */
+    __m128i prev = _mm_set1_epi64x(INT64_MIN);
+    for (size_t v = 0; v < n; v++) {
+      __m128i g;
+      if (!spanned_lanes(sp, yd[v], &g)) {
+        struct gpoint p;
+        if (!grid_point(eye, y[v], yd[v], &p)) continue;
+        g = _mm_loadu_si128((const __m128i *)&p);
+      }
+      _mm_storeu_si128((__m128i *)&poly[m], g);
+      m += _mm_movemask_epi8(_mm_cmpeq_epi32(g, prev)) != 0xffff;
+      prev = g;
+    }
+#else
     for (size_t v = 0; v < n; v++) {
       struct gpoint *g = &poly[m];         /* written in place: read back a word at a time */
-      if (!spanned_point(&sp, yd[v], g) && !grid_point(eye, y[v], yd[v], g)) continue;
+      if (!spanned_point(sp, yd[v], g) && !grid_point(eye, y[v], yd[v], g)) continue;
       m += m == 0 || poly[m - 1].x != g->x || poly[m - 1].y != g->y;
     }
+#endif
     return m;
   }
   for (size_t v = 0; v < n; v++) {
@@ -536,25 +561,27 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shad
                        struct work *wk, struct fx_polys *out, bool *any, struct cost *cost)
 {
   struct shadow_bound bd;
-  const struct shadow_bound *b = shadow_bound_set(&bd, eye, sp) ? &bd : NULL;
+  struct spanned sd;
+  const bool bounded = shadow_bound_set(&bd, eye, sp);
+  if (bounded) spanned_set(&sd, eye, &bd);
   for (int c = c0; c < c1; c++) {
     size_t need = 0;
     int nring = 0;
     wk->rs[0] = 0;
     const int r0 = cs->c[c].r0, r1 = cs->c[c].r1;
     const size_t nv = cs->yend[r1 - 1] - (r0 ? cs->yend[r0 - 1] : 0);
-    if (!grow((void **)&wk->pt, &wk->ptcap, nv, sizeof *wk->pt)) return false;
+    struct gpoint *room = fx_polys_room(out, (int)nv);   /* the rings written in place */
+    if (!room) return false;
     for (int r = r0; r < r1; r++) {
-      struct gpoint *poly = wk->pt + need;
-      int m = draw_ring(cs, r, eye, b, poly, cost);
+      struct gpoint *poly = room + need;
+      int m = draw_ring(cs, r, eye, bounded ? &sd : NULL, poly, cost);
       if (m > 1 && poly[0].x == poly[m - 1].x && poly[0].y == poly[m - 1].y) m--;
       if (m < 3) continue;
       need += (size_t)m;
       wk->rs[++nring] = (int)need;
     }
     /* (a shadow that misses R's box on the grid is dropped) */
-    if (nring > 0 &&
-        !fx_polys_add_meeting(out, nring, wk->rs, wk->pt, R, cs->c[c].light, gb, any))
+    if (nring > 0 && !fx_polys_close(out, nring, wk->rs, R, cs->c[c].light, gb, any))
       return false;
   }
   return true;
@@ -684,7 +711,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
     ok = ok && draw_casts(&scratch, 0, scratch.n, &eye, &sp, gb, R, &wk, out, &any, cost);
     receivers += any;
   }
-  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs); free(wk.pt);
+  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs);
   casts_free(&scratch);
   if (!ok) return t74_fail(err, T74_EIO, "out of host memory");
   fx_count(st, "shadow_polygons", (double)(out->n - polys0), true);
