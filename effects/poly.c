@@ -7,26 +7,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A chunk of a list's memory: used of cap bytes taken, from data on. */
-struct fx_chunk {
-  struct fx_chunk *next;
-  size_t used, cap;
-  max_align_t data[];
-};
-
 enum { CHUNK_BYTES = 1 << 15 };
-
-/* size rounded up to a whole number of max_align_t: what take takes for it. */
-static size_t piece(size_t size)
-{
-  return (size + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
-}
 
 /* Room for size bytes (aligned as malloc's) at the end of ps->mem, not yet taken; NULL
    when out of host memory. */
 static void *room(struct fx_polys *ps, size_t size)
 {
-  size = piece(size);
+  size = fx_piece(size);
   struct fx_chunk *c = ps->mem;
   if (!c || c->cap - c->used < size) {
     const size_t cap = size > CHUNK_BYTES ? size : CHUNK_BYTES;
@@ -49,70 +36,6 @@ bool fx_polys_reserve(struct fx_polys *ps, int n)
   return true;
 }
 
-/* The y ranges of ring q[0..n)'s blocks into blk (the box's x and y into box, xlo, xhi,
-   ylo, yhi, widened): block v0 .. v0 + FX_POLY_BLOCK - 1 holds the edges from those points,
-   so its points are those and the next (the ring's first after its last). The number of
-   blocks. */
-static inline size_t ring_blocks(const struct gpoint *q, int n, gcoord (*blk)[2],
-                                 gcoord box[4])
-{
-  size_t b = 0;
-  for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
-    const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
-    gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo, xlo = box[0], xhi = box[1];
-    for (int v = v0; v < v1; v++) {         /* (the box's x on the way) */
-      lo = q[v].y < lo ? q[v].y : lo;
-      hi = q[v].y > hi ? q[v].y : hi;
-      xlo = q[v].x < xlo ? q[v].x : xlo;
-      xhi = q[v].x > xhi ? q[v].x : xhi;
-    }
-    blk[b][0] = lo;
-    blk[b][1] = hi;
-    box[0] = xlo;
-    box[1] = xhi;
-    box[2] = lo < box[2] ? lo : box[2];     /* the box's y: each point is in a block */
-    box[3] = hi > box[3] ? hi : box[3];
-  }
-  return b;
-}
-
-/* The polygon ps->p[ps->n] made of the points at mem (the chunk's room: npt of them, in
-   nring rings rs[0..nring] of 3 points or more, rs[0] = 0), its blocks and offsets put
-   after them; added (its memory taken) when meet is NULL or its box meets meet's. */
-static inline bool close_at(struct fx_polys *ps, char *mem, int nring, const int *rs,
-                            int owner, int light, const gcoord *meet, bool *added)
-{
-  struct fx_poly *p = &ps->p[ps->n];
-  const int npt = rs[nring];
-  p->pt = (struct gpoint *)mem;
-  p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
-  gcoord box[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };
-  size_t nblk = 0;
-  for (int r = 0; r < nring; r++)
-    nblk += ring_blocks(p->pt + rs[r], rs[r + 1] - rs[r], p->blk + nblk, box);
-  if (meet && (box[1] <= meet[0] || box[0] >= meet[1] || box[3] <= meet[2] ||
-               box[2] >= meet[3]))
-    return true;
-  p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
-  memcpy(p->rs, rs, ((size_t)nring + 1) * sizeof *rs);
-  p->nring = nring;
-  p->xlo = box[0]; p->xhi = box[1]; p->ylo = box[2]; p->yhi = box[3];
-  p->owner = owner;
-  p->light = light;
-  ps->mem->used += piece((size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
-                         ((size_t)nring + 1) * sizeof *p->rs);
-  ps->n++;
-  if (added) *added = true;
-  return true;
-}
-
-/* The room fx_polys_room makes for npt points: theirs, a block's for each (a block holds
-   one point or more) and an offset for each and one more (a ring holds 3 or more). */
-static size_t room_bytes(int npt)
-{
-  return (size_t)npt * (sizeof(struct gpoint) + sizeof(gcoord[2]) + sizeof(int)) + sizeof(int);
-}
-
 bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
                   int owner, int light)
 {
@@ -121,12 +44,12 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
     if (rs[r + 1] - rs[r] >= 3) { keep++; npt += rs[r + 1] - rs[r]; }
   if (!keep) return true;
   if (ps->n == ps->cap && !fx_polys_reserve(ps, ps->cap ? 2 * ps->cap : 16)) return false;
-  char *mem = room(ps, room_bytes(npt));
+  char *mem = room(ps, fx_room_bytes(npt));
   if (!mem) return false;
   /* the rings of 3 points or more, one after the other, and their offsets ks, put at the
      room's end: close_at's blocks and offsets, 32 npt + 4 (keep + 1) bytes from mem on,
      end before ks begins, 36 npt + 4 - 4 (keep + 1) bytes on, as 2 keep + 1 <= npt */
-  int *ks = (int *)(mem + room_bytes(npt)) - (keep + 1);
+  int *ks = (int *)(mem + fx_room_bytes(npt)) - (keep + 1);
   int at = 0;
   ks[0] = 0;
   for (int r = 0, k = 0; r < nring; r++) {
@@ -136,20 +59,13 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
     at += n;
     ks[++k] = at;
   }
-  return close_at(ps, mem, keep, ks, owner, light, NULL, NULL);
+  return fx_polys_close_at(ps, mem, keep, ks, owner, light, NULL, NULL);
 }
 
-struct gpoint *fx_polys_room(struct fx_polys *ps, int npt)
+struct gpoint *fx_polys_room_made(struct fx_polys *ps, int npt)
 {
   if (ps->n == ps->cap && !fx_polys_reserve(ps, ps->cap ? 2 * ps->cap : 16)) return NULL;
-  return room(ps, room_bytes(npt));
-}
-
-bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs, int owner, int light,
-                    const gcoord meet[4], bool *added)
-{
-  return close_at(ps, (char *)ps->mem->data + ps->mem->used, nring, rs, owner, light, meet,
-                  added);
+  return room(ps, fx_room_bytes(npt));
 }
 
 void fx_polys_free(struct fx_polys *ps)

@@ -15,6 +15,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include "emu/cost.h"
 #include "render/geom.h"
 
@@ -61,9 +62,9 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
    open box meet (x lo, x hi, y lo, y hi: its xhi > meet[0], xlo < meet[1], yhi > meet[2]
    and ylo < meet[3]; NULL: always), setting *added (may be NULL) when it does. Nothing else
    is done with ps in between. false when out of host memory. */
-struct gpoint *fx_polys_room(struct fx_polys *ps, int npt);
-bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs, int owner, int light,
-                    const gcoord meet[4], bool *added);
+static inline struct gpoint *fx_polys_room(struct fx_polys *ps, int npt);
+static inline bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs, int owner,
+                                  int light, const gcoord meet[4], bool *added);
 /* Room for n polygons in all (none added): false when out of host memory. */
 bool fx_polys_reserve(struct fx_polys *ps, int n);
 void fx_polys_free(struct fx_polys *ps);
@@ -180,5 +181,104 @@ static inline int fx_first_at_or_right(const struct grat *x, double k,
    Counted in cost (NULL: not counted). */
 int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,
                   struct cost *cost);
+
+
+/* ---- fx_polys_room and fx_polys_close, inline (a shadow's polygons, each frame) ---- */
+
+/* A chunk of a list's memory: used of cap bytes taken, from data on. */
+struct fx_chunk {
+  struct fx_chunk *next;
+  size_t used, cap;
+  max_align_t data[];
+};
+
+/* size rounded up to a whole number of max_align_t: what a piece of a chunk takes. */
+static inline size_t fx_piece(size_t size)
+{
+  return (size + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
+}
+
+/* The room fx_polys_room makes for npt points: theirs, a block's for each (a block holds
+   one point or more) and an offset for each and one more (a ring holds 3 or more). */
+static inline size_t fx_room_bytes(int npt)
+{
+  return (size_t)npt * (sizeof(struct gpoint) + sizeof(gcoord[2]) + sizeof(int)) + sizeof(int);
+}
+
+/* The y ranges of ring q[0..n)'s blocks into blk (the box's x and y into box, xlo, xhi,
+   ylo, yhi, widened): block v0 .. v0 + FX_POLY_BLOCK - 1 holds the edges from those points,
+   so its points are those and the next (the ring's first after its last). The number of
+   blocks. */
+static inline size_t fx_ring_blocks(const struct gpoint *q, int n, gcoord (*blk)[2],
+                                    gcoord box[4])
+{
+  size_t b = 0;
+  for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
+    const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
+    gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo, xlo = box[0], xhi = box[1];
+    for (int v = v0; v < v1; v++) {         /* (the box's x on the way) */
+      lo = q[v].y < lo ? q[v].y : lo;
+      hi = q[v].y > hi ? q[v].y : hi;
+      xlo = q[v].x < xlo ? q[v].x : xlo;
+      xhi = q[v].x > xhi ? q[v].x : xhi;
+    }
+    blk[b][0] = lo;
+    blk[b][1] = hi;
+    box[0] = xlo;
+    box[1] = xhi;
+    box[2] = lo < box[2] ? lo : box[2];     /* the box's y: each point is in a block */
+    box[3] = hi > box[3] ? hi : box[3];
+  }
+  return b;
+}
+
+/* The polygon ps->p[ps->n] made of the points at mem (the chunk's room: npt of them, in
+   nring rings rs[0..nring] of 3 points or more, rs[0] = 0), its blocks and offsets put
+   after them; added (its memory taken) when meet is NULL or its box meets meet's. */
+static inline bool fx_polys_close_at(struct fx_polys *ps, char *mem, int nring,
+                                     const int *rs, int owner, int light, const gcoord *meet,
+                                     bool *added)
+{
+  struct fx_poly *p = &ps->p[ps->n];
+  const int npt = rs[nring];
+  p->pt = (struct gpoint *)mem;
+  p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
+  gcoord box[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };
+  size_t nblk = 0;
+  for (int r = 0; r < nring; r++)
+    nblk += fx_ring_blocks(p->pt + rs[r], rs[r + 1] - rs[r], p->blk + nblk, box);
+  if (meet && (box[1] <= meet[0] || box[0] >= meet[1] || box[3] <= meet[2] ||
+               box[2] >= meet[3]))
+    return true;
+  p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
+  for (int r = 0; r <= nring; r++) p->rs[r] = rs[r];   /* (few: no call) */
+  p->nring = nring;
+  p->xlo = box[0]; p->xhi = box[1]; p->ylo = box[2]; p->yhi = box[3];
+  p->owner = owner;
+  p->light = light;
+  ps->mem->used += fx_piece((size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
+                            ((size_t)nring + 1) * sizeof *p->rs);
+  ps->n++;
+  if (added) *added = true;
+  return true;
+}
+
+/* fx_polys_room when the last chunk has no room or the list none for one more polygon. */
+struct gpoint *fx_polys_room_made(struct fx_polys *ps, int npt);
+
+static inline struct gpoint *fx_polys_room(struct fx_polys *ps, int npt)
+{
+  const struct fx_chunk *c = ps->mem;
+  if (ps->n < ps->cap && c && c->cap - c->used >= fx_piece(fx_room_bytes(npt)))
+    return (struct gpoint *)((char *)ps->mem->data + c->used);
+  return fx_polys_room_made(ps, npt);
+}
+
+static inline bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs, int owner,
+                                  int light, const gcoord meet[4], bool *added)
+{
+  return fx_polys_close_at(ps, (char *)ps->mem->data + ps->mem->used, nring, rs, owner, light,
+                           meet, added);
+}
 
 #endif
