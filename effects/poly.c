@@ -26,6 +26,14 @@ static void *room(struct fx_polys *ps, size_t size)
   return (char *)c->data + c->used;
 }
 
+/* size bytes from ps's chunks (room's, taken); NULL when out of host memory. */
+static void *take(struct fx_polys *ps, size_t size)
+{
+  void *at = room(ps, size);
+  if (at) ps->mem->used += fx_piece(size);
+  return at;
+}
+
 bool fx_polys_reserve(struct fx_polys *ps, int n)
 {
   if (n <= ps->cap) return true;
@@ -36,6 +44,8 @@ bool fx_polys_reserve(struct fx_polys *ps, int n)
   return true;
 }
 
+/* (The layout fx_polys_close_at makes, each ring copied and its blocks made in one go:
+   a contour's long rings take no second pass and no room for the worst case.) */
 bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
                   int owner, int light)
 {
@@ -43,23 +53,60 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
   for (int r = 0; r < nring; r++)
     if (rs[r + 1] - rs[r] >= 3) { keep++; npt += rs[r + 1] - rs[r]; }
   if (!keep) return true;
-  if (ps->n == ps->cap && !fx_polys_reserve(ps, ps->cap ? 2 * ps->cap : 16)) return false;
-  char *mem = room(ps, fx_room_bytes(npt));
-  if (!mem) return false;
-  /* the rings of 3 points or more, one after the other, and their offsets ks, put at the
-     room's end: close_at's blocks and offsets, 32 npt + 4 (keep + 1) bytes from mem on,
-     end before ks begins, 36 npt + 4 - 4 (keep + 1) bytes on, as 2 keep + 1 <= npt */
-  int *ks = (int *)(mem + fx_room_bytes(npt)) - (keep + 1);
-  int at = 0;
-  ks[0] = 0;
-  for (int r = 0, k = 0; r < nring; r++) {
-    const int n = rs[r + 1] - rs[r];
-    if (n < 3) continue;
-    memcpy((struct gpoint *)mem + at, pt + rs[r], (size_t)n * sizeof *pt);
-    at += n;
-    ks[++k] = at;
+  if (ps->n == ps->cap) {
+    int cap = ps->cap ? 2 * ps->cap : 16;
+    struct fx_poly *np = realloc(ps->p, (size_t)cap * sizeof *np);
+    if (!np) return false;
+    ps->p = np;
+    ps->cap = cap;
   }
-  return fx_polys_close_at(ps, mem, keep, ks, owner, light, NULL, NULL);
+  struct fx_poly *p = &ps->p[ps->n];
+  /* one piece of the list's memory: the points, then the blocks' y ranges, then the offsets */
+  size_t nblk = 0;
+  for (int r = 0; r < nring; r++) {
+    int n = rs[r + 1] - rs[r];
+    if (n >= 3) nblk += (size_t)(n + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK;
+  }
+  char *mem = take(ps, (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
+                     (size_t)(keep + 1) * sizeof *p->rs);
+  if (!mem) return false;
+  p->pt = (struct gpoint *)mem;
+  p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
+  p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
+  p->nring = 0;
+  int at = 0;
+  size_t b = 0;
+  gcoord xlo = INT64_MAX, xhi = INT64_MIN, ylo = INT64_MAX, yhi = INT64_MIN;   /* the box */
+  for (int r = 0; r < nring; r++) {
+    int n = rs[r + 1] - rs[r];
+    if (n < 3) continue;
+    p->rs[p->nring++] = at;
+    memcpy(p->pt + at, pt + rs[r], (size_t)n * sizeof *pt);
+    /* block v0 .. v0 + FX_POLY_BLOCK - 1: the edges from those points, so its points are
+       those and the next (the ring's first after its last) */
+    const struct gpoint *q = p->pt + at;
+    for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
+      const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
+      gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo;
+      for (int v = v0; v < v1; v++) {       /* (the box's x on the way) */
+        lo = q[v].y < lo ? q[v].y : lo;
+        hi = q[v].y > hi ? q[v].y : hi;
+        xlo = q[v].x < xlo ? q[v].x : xlo;
+        xhi = q[v].x > xhi ? q[v].x : xhi;
+      }
+      p->blk[b][0] = lo;
+      p->blk[b][1] = hi;
+      ylo = lo < ylo ? lo : ylo;            /* the box's y: each point is in a block */
+      yhi = hi > yhi ? hi : yhi;
+    }
+    at += n;
+  }
+  p->rs[p->nring] = at;
+  p->xlo = xlo; p->xhi = xhi; p->ylo = ylo; p->yhi = yhi;
+  p->owner = owner;
+  p->light = light;
+  ps->n++;
+  return true;
 }
 
 struct gpoint *fx_polys_room_made(struct fx_polys *ps, int npt)
