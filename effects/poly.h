@@ -182,7 +182,6 @@ static inline int fx_first_at_or_right(const struct grat *x, double k,
 int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,
                   struct cost *cost);
 
-
 /* ---- fx_polys_room and fx_polys_close, inline (a shadow's polygons, each frame) ---- */
 
 /* A chunk of a list's memory: used of cap bytes taken, from data on. */

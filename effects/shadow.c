@@ -378,13 +378,21 @@ void shadow_span_init(struct shadow_span *sp)
   sp->ok = true;
 }
 
+/* (Plain compares, no library calls: where a coordinate is NaN the span is not ok, and
+   what its extents hold then does not matter.) */
+static inline void span_add(struct shadow_span *sp, const double yd[3])
+{
+  const double x = fabs(yd[0]), y = fabs(yd[1]), z = yd[2];
+  sp->ok &= x == x && y == y && z == z;
+  sp->ax[0] = x > sp->ax[0] ? x : sp->ax[0];
+  sp->ax[1] = y > sp->ax[1] ? y : sp->ax[1];
+  sp->zlo = z < sp->zlo ? z : sp->zlo;
+  sp->zhi = z > sp->zhi ? z : sp->zhi;
+}
+
 void shadow_span_add(struct shadow_span *sp, const double yd[3])
 {
-  sp->ok &= !isnan(yd[0]) && !isnan(yd[1]) && !isnan(yd[2]);
-  sp->ax[0] = fmax(sp->ax[0], fabs(yd[0]));
-  sp->ax[1] = fmax(sp->ax[1], fabs(yd[1]));
-  sp->zlo = fmin(sp->zlo, yd[2]);
-  sp->zhi = fmax(sp->zhi, yd[2]);
+  span_add(sp, yd);
 }
 
 bool shadow_bound_set(struct shadow_bound *b, const struct shadow_eye *v,
@@ -618,7 +626,7 @@ void shadow_keep_free(struct shadow_keep *k)
 static void span_from(const struct casts *cs, size_t y0, struct shadow_span *sp)
 {
   shadow_span_init(sp);
-  for (size_t v = y0; v < cs->ny; v++) shadow_span_add(sp, cs->yd[v]);
+  for (size_t v = y0; v < cs->ny; v++) span_add(sp, cs->yd[v]);
 }
 
 static struct shadow_keep *keep_for(struct shadow_keep **keep, const struct scene *s)
@@ -707,7 +715,11 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
     scratch.ny = 0;
     struct shadow_span sp;
     ok = cast_face(mf, s, (const ld (*)[3])box, &wk, &scratch, cost);
-    span_from(&scratch, 0, &sp);
+    if (!cost) span_from(&scratch, 0, &sp);
+    else {                                  /* counted: each vertex by itself (draw_ring) */
+      shadow_span_init(&sp);
+      sp.ok = false;
+    }
     ok = ok && draw_casts(&scratch, 0, scratch.n, &eye, &sp, gb, R, &wk, out, &any, cost);
     receivers += any;
   }
