@@ -7,19 +7,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A chunk of a list's memory: used of cap bytes taken, from data on. */
-struct fx_chunk {
-  struct fx_chunk *next;
-  size_t used, cap;
-  max_align_t data[];
-};
-
 enum { CHUNK_BYTES = 1 << 15 };
 
-/* size bytes (aligned as malloc's) from ps's chunks; NULL when out of host memory. */
-static void *take(struct fx_polys *ps, size_t size)
+/* Room for size bytes (aligned as malloc's) at the end of ps->mem, not yet taken; NULL
+   when out of host memory. */
+static void *room(struct fx_polys *ps, size_t size)
 {
-  size = (size + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
+  size = fx_piece(size);
   struct fx_chunk *c = ps->mem;
   if (!c || c->cap - c->used < size) {
     const size_t cap = size > CHUNK_BYTES ? size : CHUNK_BYTES;
@@ -29,11 +23,29 @@ static void *take(struct fx_polys *ps, size_t size)
     c->next = ps->mem;
     ps->mem = c;
   }
-  void *at = (char *)c->data + c->used;
-  c->used += size;
+  return (char *)c->data + c->used;
+}
+
+/* size bytes from ps's chunks (room's, taken); NULL when out of host memory. */
+static void *take(struct fx_polys *ps, size_t size)
+{
+  void *at = room(ps, size);
+  if (at) ps->mem->used += fx_piece(size);
   return at;
 }
 
+bool fx_polys_reserve(struct fx_polys *ps, int n)
+{
+  if (n <= ps->cap) return true;
+  struct fx_poly *np = realloc(ps->p, (size_t)n * sizeof *np);
+  if (!np) return false;
+  ps->p = np;
+  ps->cap = n;
+  return true;
+}
+
+/* (The layout fx_polys_close_at makes, each ring copied and its blocks made in one go:
+   a contour's long rings take no second pass and no room for the worst case.) */
 bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
                   int owner, int light)
 {
@@ -95,6 +107,12 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
   p->light = light;
   ps->n++;
   return true;
+}
+
+struct gpoint *fx_polys_room_made(struct fx_polys *ps, int npt)
+{
+  if (ps->n == ps->cap && !fx_polys_reserve(ps, ps->cap ? 2 * ps->cap : 16)) return NULL;
+  return room(ps, fx_room_bytes(npt));
 }
 
 void fx_polys_free(struct fx_polys *ps)

@@ -15,6 +15,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include "emu/cost.h"
 #include "render/geom.h"
 
@@ -54,6 +55,18 @@ static inline gcoord fx_round_ld(long double x)
    left with none is not added). */
 bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gpoint *pt,
                   int owner, int light);
+/* A polygon made in place, without a copy: fx_polys_room gives room for up to npt points
+   (NULL when out of host memory), where the caller writes its rings, each of 3 points or
+   more, one after the other; fx_polys_close then makes the polygon of nring rings
+   rs[0..nring] (offsets into the room, rs[0] = 0), and adds it only when its box meets the
+   open box meet (x lo, x hi, y lo, y hi: its xhi > meet[0], xlo < meet[1], yhi > meet[2]
+   and ylo < meet[3]; NULL: always), setting *added (may be NULL) when it does. Nothing else
+   is done with ps in between. false when out of host memory. */
+static inline struct gpoint *fx_polys_room(struct fx_polys *ps, int npt);
+static inline bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs, int owner,
+                                  int light, const gcoord meet[4], bool *added);
+/* Room for n polygons in all (none added): false when out of host memory. */
+bool fx_polys_reserve(struct fx_polys *ps, int n);
 void fx_polys_free(struct fx_polys *ps);
 
 /* The grid row of the line y = yn/yd (yd > 0): floor(yn / yd). A grid point lies on or
@@ -168,5 +181,93 @@ static inline int fx_first_at_or_right(const struct grat *x, double k,
    Counted in cost (NULL: not counted). */
 int fx_poly_cross(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max,
                   struct cost *cost);
+
+/* ---- fx_polys_room and fx_polys_close, inline (a shadow's polygons, each frame) ---- */
+
+/* A chunk of a list's memory: used of cap bytes taken, from data on. */
+struct fx_chunk {
+  struct fx_chunk *next;
+  size_t used, cap;
+  max_align_t data[];
+};
+
+/* size rounded up to a whole number of max_align_t: what a piece of a chunk takes. */
+static inline size_t fx_piece(size_t size)
+{
+  return (size + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t);
+}
+
+/* The room fx_polys_room makes for npt points: theirs, a block's for each (a block holds
+   one point or more) and an offset for each and one more (a ring holds 3 or more). */
+static inline size_t fx_room_bytes(int npt)
+{
+  return (size_t)npt * (sizeof(struct gpoint) + sizeof(gcoord[2]) + sizeof(int)) + sizeof(int);
+}
+
+/* The polygon ps->p[ps->n] made of the points at mem (the chunk's room: npt of them, in
+   nring rings rs[0..nring] of 3 points or more, rs[0] = 0), its blocks and offsets put
+   after them; added (its memory taken) when meet is NULL or its box meets meet's. */
+static inline bool fx_polys_close_at(struct fx_polys *ps, char *mem, int nring,
+                                     const int *rs, int owner, int light, const gcoord *meet,
+                                     bool *added)
+{
+  struct fx_poly *p = &ps->p[ps->n];
+  const int npt = rs[nring];
+  p->pt = (struct gpoint *)mem;
+  p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
+  gcoord xlo = INT64_MAX, xhi = INT64_MIN, ylo = INT64_MAX, yhi = INT64_MIN;   /* the box */
+  size_t nblk = 0;
+  for (int r = 0; r < nring; r++) {
+    const struct gpoint *q = p->pt + rs[r];
+    const int n = rs[r + 1] - rs[r];
+    /* block v0 .. v0 + FX_POLY_BLOCK - 1: the edges from those points, so its points are
+       those and the next (the ring's first after its last) */
+    for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, nblk++) {
+      const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
+      gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo;
+      for (int v = v0; v < v1; v++) {       /* (the box's x on the way) */
+        lo = q[v].y < lo ? q[v].y : lo;
+        hi = q[v].y > hi ? q[v].y : hi;
+        xlo = q[v].x < xlo ? q[v].x : xlo;
+        xhi = q[v].x > xhi ? q[v].x : xhi;
+      }
+      p->blk[nblk][0] = lo;
+      p->blk[nblk][1] = hi;
+      ylo = lo < ylo ? lo : ylo;            /* the box's y: each point is in a block */
+      yhi = hi > yhi ? hi : yhi;
+    }
+  }
+  if (meet && (xhi <= meet[0] || xlo >= meet[1] || yhi <= meet[2] || ylo >= meet[3]))
+    return true;
+  p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
+  for (int r = 0; r <= nring; r++) p->rs[r] = rs[r];   /* (few: no call) */
+  p->nring = nring;
+  p->xlo = xlo; p->xhi = xhi; p->ylo = ylo; p->yhi = yhi;
+  p->owner = owner;
+  p->light = light;
+  ps->mem->used += fx_piece((size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk +
+                            ((size_t)nring + 1) * sizeof *p->rs);
+  ps->n++;
+  if (added) *added = true;
+  return true;
+}
+
+/* fx_polys_room when the last chunk has no room or the list none for one more polygon. */
+struct gpoint *fx_polys_room_made(struct fx_polys *ps, int npt);
+
+static inline struct gpoint *fx_polys_room(struct fx_polys *ps, int npt)
+{
+  const struct fx_chunk *c = ps->mem;
+  if (ps->n < ps->cap && c && c->cap - c->used >= fx_piece(fx_room_bytes(npt)))
+    return (struct gpoint *)((char *)ps->mem->data + c->used);
+  return fx_polys_room_made(ps, npt);
+}
+
+static inline bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs, int owner,
+                                  int light, const gcoord meet[4], bool *added)
+{
+  return fx_polys_close_at(ps, (char *)ps->mem->data + ps->mem->used, nring, rs, owner, light,
+                           meet, added);
+}
 
 #endif

@@ -131,14 +131,12 @@ static void casts_free(struct casts *cs)
 
 /* The scratch of the clipping: two rings and their plane_at values, and h values; room
    for cap vertices each (a ring clipped by 8 half-spaces gains at most one vertex per
-   half-space). rs: room for a polygon's ring offsets, pt for its grid points. */
+   half-space). rs: room for a polygon's ring offsets. */
 struct work {
   ld (*b0)[3], (*b1)[3];
   ld *hv, *p0, *p1;
   size_t cap;
   int *rs;
-  struct gpoint *pt;
-  size_t ptcap;
 };
 
 /* R's box in space (outer ring), exactly, in integers: lo[c], hi[c]. */
@@ -355,6 +353,155 @@ int shadow_grid_near(const struct shadow_eye *v, const double yd[3], struct gpoi
   return grid_near(v, yd, g);
 }
 
+/* The filter with one bound for many vertices. Every operation that makes grid_near's
+   bound B (in the lanes and in the loop alike: ed, r = fl(1 / dz), r2, |a|, ea, |q|,
+   t1, t2, B) is a rounded sum, product or quotient of values that are not negative, and
+   rounding to nearest is monotone: B does not decrease when an operand that is summed or
+   multiplied grows, or when dz, which it divides, shrinks. For a vertex yd within span sp
+   (|yd[c]| <= ax[c], zlo <= yd[2] <= zhi) and dzlo = fl(zlo - e_z) > 0:
+   dz = fl(yd_z - e_z) lies in [dzlo, dzhi], dzhi = fl(zhi - e_z), so |dz| = dz <= dzhi and
+   r <= rm = fl(1 / dzlo); |yd_z| <= zm = max(|zlo|, |zhi|), so ed <= edm =
+   fl(u fl(dzhi + zm)); |a| = fl(|yd_c - e_c|) <= am = fl(ax[c] + |e_c|) (|yd_c - e_c| <=
+   ax[c] + |e_c|); |q| = fl(fl(|e_z| |a|) r) <= fl(fl(|e_z| am) rm) (rounding is
+   symmetric). So shadow_bound_set's B[c], grid_near's own operations on those bounds in
+   the same order, is not below grid_near's B for any vertex of sp, and when
+   edm < fl(dzlo 2^-20), each vertex's ed < fl(dz 2^-20) too: grid_near's first test
+   passes at every vertex. spanned_point makes grid_near's gx and k by the same
+   operations; when fl(|gx - k| + B[c]) < 1/2 (and the tests on |gx| and |k|, the same),
+   fl(|gx - k| + grid_near's B) is not above it: grid_near accepts k too, and its proof
+   gives shadow_grid_ld's point. */
+void shadow_span_init(struct shadow_span *sp)
+{
+  sp->ax[0] = sp->ax[1] = 0;
+  sp->zlo = INFINITY;
+  sp->zhi = -INFINITY;
+  sp->ok = true;
+}
+
+/* (Plain compares, no library calls: where a coordinate is NaN the span is not ok, and
+   what its extents hold then does not matter.) */
+static inline void span_add(struct shadow_span *sp, const double yd[3])
+{
+  const double x = fabs(yd[0]), y = fabs(yd[1]), z = yd[2];
+  sp->ok &= x == x && y == y && z == z;
+  sp->ax[0] = x > sp->ax[0] ? x : sp->ax[0];
+  sp->ax[1] = y > sp->ax[1] ? y : sp->ax[1];
+  sp->zlo = z < sp->zlo ? z : sp->zlo;
+  sp->zhi = z > sp->zhi ? z : sp->zhi;
+}
+
+void shadow_span_add(struct shadow_span *sp, const double yd[3])
+{
+  span_add(sp, yd);
+}
+
+bool shadow_bound_set(struct shadow_bound *b, const struct shadow_eye *v,
+                      const struct shadow_span *sp)
+{
+  const double u = 0x1p-53, G = (double)GRID_ONE;
+  if (!v->near || !sp->ok || !(sp->zlo <= sp->zhi)) return false;
+  const double dzlo = sp->zlo - v->e[2], dzhi = sp->zhi - v->e[2];
+  const double zm = fmax(fabs(sp->zlo), fabs(sp->zhi)), edm = u * (dzhi + zm);
+  if (!(dzlo > 0) || !(edm < dzlo * 0x1p-20)) return false;
+  const double rm = 1 / dzlo, fz = fabs(v->e[2]), r2 = rm * rm;
+  for (int c = 0; c < 2; c++) {
+    const double am = sp->ax[c] + fabs(v->e[c]), ea = u * (am + sp->ax[c]);
+    const double q = fz * am * rm;
+    const double t1 = fz * (am * edm + dzhi * ea) * r2;
+    const double t2 = 5 * u * (q + fabs(v->e[c]) + 1);
+    b->B[c] = 1.01 * G * (t1 + t2);
+  }
+  return true;
+}
+
+/* grid_near's point and its accepting tests, with b's bound (see above), the constants
+   made once (spanned_set) for many vertices (spanned_point). The test on |gx| is
+   |gx| < 2^28 - 1, stricter than grid_near's |gx| < 2^28, and it makes grid_near's test
+   on k true (|k| <= |gx| + 1/2 < 2^28), so it is not made. */
+struct spanned {
+#ifdef __SSE2__
+  __m128d Ev, fz, G, B, mag, half, lim;
+#else
+  double e[2], fz, B[2];
+#endif
+  double ez;
+};
+
+static inline void spanned_set(struct spanned *sp, const struct shadow_eye *v,
+                               const struct shadow_bound *b)
+{
+  const double G = (double)GRID_ONE;
+#ifdef __SSE2__
+  sp->Ev = _mm_loadu_pd(v->e);
+  sp->fz = _mm_set1_pd(-v->e[2]);
+  sp->G = _mm_set1_pd(G);
+  sp->B = _mm_loadu_pd(b->B);
+  sp->mag = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX));
+  sp->half = _mm_set1_pd(0.5);
+  sp->lim = _mm_set1_pd(0x1p28 - 1);
+#else
+  (void)G;
+  sp->e[0] = v->e[0];
+  sp->e[1] = v->e[1];
+  sp->fz = -v->e[2];
+  sp->B[0] = b->B[0];
+  sp->B[1] = b->B[1];
+#endif
+  sp->ez = v->e[2];
+}
+
+#ifdef __SSE2__
+/* spanned_point's point as x, y in the two 64-bit lanes of *g. */
+static inline bool spanned_lanes(const struct spanned *sp, const double yd[3], __m128i *g)
+{
+  const double r = 1 / (yd[2] - sp->ez);
+  const __m128d a = _mm_sub_pd(_mm_loadu_pd(yd), sp->Ev);
+  const __m128d q = _mm_mul_pd(_mm_mul_pd(sp->fz, a), _mm_set1_pd(r));
+  const __m128d gx = _mm_mul_pd(sp->G, _mm_add_pd(sp->Ev, q));
+  const __m128d sign = _mm_andnot_pd(sp->mag, gx);
+  const __m128i k = _mm_cvttpd_epi32(_mm_add_pd(gx, _mm_or_pd(sign, sp->half)));
+  const __m128d kd = _mm_cvtepi32_pd(k);
+  const __m128d in = _mm_cmplt_pd(_mm_and_pd(gx, sp->mag), sp->lim);
+  const __m128d near = _mm_cmplt_pd(_mm_add_pd(_mm_and_pd(_mm_sub_pd(gx, kd), sp->mag), sp->B),
+                                    sp->half);
+  if (_mm_movemask_pd(_mm_and_pd(in, near)) != 3) return false;
+  /* k's two lanes widened to 64 bits (each with its sign's 32 bits above it): x, y */
+  *g = _mm_unpacklo_epi32(k, _mm_srai_epi32(k, 31));
+  return true;
+}
+#endif
+
+static inline bool spanned_point(const struct spanned *sp, const double yd[3], struct gpoint *g)
+{
+#ifdef __SSE2__
+  __m128i k;
+  if (!spanned_lanes(sp, yd, &k)) return false;
+  _mm_storeu_si128((__m128i *)g, k);
+  return true;
+#else
+  const double r = 1 / (yd[2] - sp->ez);
+  const double G = (double)GRID_ONE;
+  int64_t k[2];
+  for (int c = 0; c < 2; c++) {
+    const double a = yd[c] - sp->e[c], q = sp->fz * a * r, gx = G * (sp->e[c] + q);
+    if (!(fabs(gx) < 0x1p28 - 1)) return false;
+    k[c] = (int64_t)(gx >= 0 ? gx + 0.5 : gx - 0.5);
+    if (!(fabs(gx - (double)k[c]) + sp->B[c] < 0.5)) return false;
+  }
+  g->x = (gcoord)k[0];
+  g->y = (gcoord)k[1];
+  return true;
+#endif
+}
+
+int shadow_grid_spanned(const struct shadow_eye *v, const struct shadow_bound *b,
+                        const double yd[3], struct gpoint *g)
+{
+  struct spanned sp;
+  spanned_set(&sp, v, b);
+  return spanned_point(&sp, yd, g) ? 1 : -1;
+}
+
 /* shadow_grid_ld's answer, from the filter when it decides. */
 static inline bool grid_point(const struct shadow_eye *v, const ld Y[3], const double yd[3],
                               struct gpoint *g)
@@ -363,52 +510,87 @@ static inline bool grid_point(const struct shadow_eye *v, const ld Y[3], const d
   return r >= 0 ? r : shadow_grid_ld(v, Y, g);
 }
 
+/* Ring r of cs onto the grid at poly (room for its vertices), seen from eye v: the
+   points that land, a repeat of the one before dropped (the last and the first not
+   compared); their count. With sp (spanned_set for a bound on its vertices; not
+   counted): spanned_point where it decides, else grid_point. */
+static int draw_ring(const struct casts *cs, int r, const struct shadow_eye *eye,
+                     const struct spanned *sp, struct gpoint *poly, struct cost *cost)
+{
+  const size_t y0 = r ? cs->yend[r - 1] : 0, n = cs->yend[r] - y0;
+  const ld (*y)[3] = (const ld (*)[3])cs->y + y0;
+  const double (*yd)[3] = (const double (*)[3])cs->yd + y0;
+  int m = 0;
+  if (sp && !cost) {
+#ifdef __SSE2__
+    /* each point written at poly[m], kept (m + 1) unless it is the one before, prev (at
+       first none: no point has x = INT64_MIN) */
+    __m128i prev = _mm_set1_epi64x(INT64_MIN);
+    for (size_t v = 0; v < n; v++) {
+      __m128i g;
+      if (!spanned_lanes(sp, yd[v], &g)) {
+        struct gpoint p;
+        if (!grid_point(eye, y[v], yd[v], &p)) continue;
+        g = _mm_loadu_si128((const __m128i *)&p);
+      }
+      _mm_storeu_si128((__m128i *)&poly[m], g);
+      m += _mm_movemask_epi8(_mm_cmpeq_epi32(g, prev)) != 0xffff;
+      prev = g;
+    }
+#else
+    for (size_t v = 0; v < n; v++) {
+      struct gpoint *g = &poly[m];         /* written in place: read back a word at a time */
+      if (!spanned_point(sp, yd[v], g) && !grid_point(eye, y[v], yd[v], g)) continue;
+      m += m == 0 || poly[m - 1].x != g->x || poly[m - 1].y != g->y;
+    }
+#endif
+    return m;
+  }
+  for (size_t v = 0; v < n; v++) {
+    struct gpoint *g = &poly[m];
+    if (!grid_point(eye, y[v], yd[v], g)) continue;
+    if (m > 0 && poly[m - 1].x == g->x && poly[m - 1].y == g->y) continue;
+    m++;
+    if (cost) {
+      for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 32);
+      cost_mw_div(cost, 64, 32); cost_mw_div(cost, 64, 32);
+    }
+  }
+  return m;
+}
+
 /* The view's part of casts [c0, c1) of cs on face R (map index; its box on the grid gb:
-   x lo, x hi, y lo, y hi), seen from the eye v: each ring's vertices onto the perspective
+   x lo, x hi, y lo, y hi), seen from the eye v (sp: the span of their vertices): each ring's vertices onto the perspective
    plane by eq. (1), rounded onto the grid, repeats dropped; a polygon that misses gb is
    dropped, the others go to out. *any: set when one is added. false when out of host
    memory. */
 static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shadow_eye *eye,
-                       const gcoord gb[4], int R, struct work *wk, struct fx_polys *out,
-                       bool *any, struct cost *cost)
+                       const struct shadow_span *sp, const gcoord gb[4], int R,
+                       struct work *wk, struct fx_polys *out, bool *any, struct cost *cost)
 {
+  struct shadow_bound bd;
+  struct spanned sd;
+  const bool bounded = shadow_bound_set(&bd, eye, sp);
+  if (bounded) spanned_set(&sd, eye, &bd);
   for (int c = c0; c < c1; c++) {
     size_t need = 0;
     int nring = 0;
     wk->rs[0] = 0;
-    for (int r = cs->c[c].r0; r < cs->c[c].r1; r++) {
-      const size_t y0 = r ? cs->yend[r - 1] : 0, n = cs->yend[r] - y0;
-      if (!grow((void **)&wk->pt, &wk->ptcap, need + n, sizeof *wk->pt)) return false;
-      struct gpoint *poly = wk->pt + need;
-      int m = 0;
-      for (size_t v = 0; v < n; v++) {
-        struct gpoint *g = &poly[m];       /* written in place: read back a word at a time */
-        if (!grid_point(eye, cs->y[y0 + v], cs->yd[y0 + v], g)) continue;
-        if (m > 0 && poly[m - 1].x == g->x && poly[m - 1].y == g->y) continue;
-        m++;
-        if (cost) {
-          for (int k = 0; k < 4; k++) cost_mw_mul(cost, 32, 32);
-          cost_mw_div(cost, 64, 32); cost_mw_div(cost, 64, 32);
-        }
-      }
+    const int r0 = cs->c[c].r0, r1 = cs->c[c].r1;
+    const size_t nv = cs->yend[r1 - 1] - (r0 ? cs->yend[r0 - 1] : 0);
+    struct gpoint *room = fx_polys_room(out, (int)nv);   /* the rings written in place */
+    if (!room) return false;
+    for (int r = r0; r < r1; r++) {
+      struct gpoint *poly = room + need;
+      int m = draw_ring(cs, r, eye, bounded ? &sd : NULL, poly, cost);
       if (m > 1 && poly[0].x == poly[m - 1].x && poly[0].y == poly[m - 1].y) m--;
       if (m < 3) continue;
       need += (size_t)m;
       wk->rs[++nring] = (int)need;
     }
-    if (nring == 0) continue;
-    /* drop shadows that miss R's box on the grid */
-    const struct gpoint *poly = wk->pt;
-    gcoord sxlo = poly[0].x, sxhi = sxlo, sylo = poly[0].y, syhi = sylo;
-    for (size_t v = 1; v < need; v++) {
-      if (poly[v].x < sxlo) sxlo = poly[v].x;
-      if (poly[v].x > sxhi) sxhi = poly[v].x;
-      if (poly[v].y < sylo) sylo = poly[v].y;
-      if (poly[v].y > syhi) syhi = poly[v].y;
-    }
-    if (sxhi <= gb[0] || sxlo >= gb[1] || syhi <= gb[2] || sylo >= gb[3]) continue;
-    *any = true;
-    if (!fx_polys_add(out, nring, wk->rs, poly, R, cs->c[c].light)) return false;
+    /* (a shadow that misses R's box on the grid is dropped) */
+    if (nring > 0 && !fx_polys_close(out, nring, wk->rs, R, cs->c[c].light, gb, any))
+      return false;
   }
   return true;
 }
@@ -420,6 +602,7 @@ struct kept_face {
   int64_t plane[4];
   int32_t lo[3], hi[3];
   int c0, c1;
+  struct shadow_span sp;    /* of the casts' vertices */
 };
 
 struct shadow_keep {
@@ -439,6 +622,13 @@ void shadow_keep_free(struct shadow_keep *k)
 
 /* The keep for scene s: *keep as it is when it is s's, else a new one (NULL when out of
    host memory). */
+/* The span of cs's vertices from y0 on. */
+static void span_from(const struct casts *cs, size_t y0, struct shadow_span *sp)
+{
+  shadow_span_init(sp);
+  for (size_t v = y0; v < cs->ny; v++) span_add(sp, cs->yd[v]);
+}
+
 static struct shadow_keep *keep_for(struct shadow_keep **keep, const struct scene *s)
 {
   if (*keep && (*keep)->s == s && (*keep)->nf == s->nf) return *keep;
@@ -474,6 +664,9 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
   struct casts scratch;
   memset(&scratch, 0, sizeof scratch);
   bool ok = wk.b0 && wk.b1 && wk.hv && wk.rs && (kp || !keep || cost || !s->has_light);
+  /* room for as many polygons as the keep has casts (from the second frame on: each of
+     them at most one polygon, and few others), not grown step by step */
+  ok = ok && (!kp || fx_polys_reserve(out, out->n + kp->cs.n));
   long receivers = 0, polys0 = out->n;
   struct shadow_eye eye;
   shadow_eye_set(&eye, map->eye);
@@ -501,8 +694,10 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
       struct kept_face *kf = &kp->face[mf->sface];
       if (!kf->set) {
         kf->c0 = kp->cs.n;
+        const size_t y0 = kp->cs.ny;
         ok = cast_face(mf, s, (const ld (*)[3])box, &wk, &kp->cs, NULL);
         kf->c1 = kp->cs.n;
+        span_from(&kp->cs, y0, &kf->sp);
         memcpy(kf->plane, mf->plane, sizeof kf->plane);
         memcpy(kf->lo, lo, sizeof lo);
         memcpy(kf->hi, hi, sizeof hi);
@@ -510,7 +705,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
       }
       if (kf->set && !memcmp(kf->plane, mf->plane, sizeof kf->plane) &&
           !memcmp(kf->lo, lo, sizeof lo) && !memcmp(kf->hi, hi, sizeof hi)) {
-        ok = draw_casts(&kp->cs, kf->c0, kf->c1, &eye, gb, R, &wk, out, &any, NULL);
+        ok = draw_casts(&kp->cs, kf->c0, kf->c1, &eye, &kf->sp, gb, R, &wk, out, &any, NULL);
         receivers += any;
         continue;
       }
@@ -518,11 +713,17 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
     if (!ok) break;
     scratch.n = scratch.nring = 0;
     scratch.ny = 0;
-    ok = cast_face(mf, s, (const ld (*)[3])box, &wk, &scratch, cost) &&
-         draw_casts(&scratch, 0, scratch.n, &eye, gb, R, &wk, out, &any, cost);
+    struct shadow_span sp;
+    ok = cast_face(mf, s, (const ld (*)[3])box, &wk, &scratch, cost);
+    if (!cost) span_from(&scratch, 0, &sp);
+    else {                                  /* counted: each vertex by itself (draw_ring) */
+      shadow_span_init(&sp);
+      sp.ok = false;
+    }
+    ok = ok && draw_casts(&scratch, 0, scratch.n, &eye, &sp, gb, R, &wk, out, &any, cost);
     receivers += any;
   }
-  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs); free(wk.pt);
+  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs);
   casts_free(&scratch);
   if (!ok) return t74_fail(err, T74_EIO, "out of host memory");
   fx_count(st, "shadow_polygons", (double)(out->n - polys0), true);

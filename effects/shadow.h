@@ -64,4 +64,26 @@ void shadow_near(const long double Y[3], double yd[3]);
    not, or when the vertex might be dropped. */
 int shadow_grid_near(const struct shadow_eye *v, const double yd[3], struct gpoint *g);
 
+/* The extent of a set of vertices' nearest doubles yd (shadow_near), for a bound that
+   holds for all of them: ax[c] >= |yd[c]| (c = x, y), zlo <= yd[2] <= zhi; ok false when
+   one of them is NaN (then no bound is made). Start from shadow_span_init. */
+struct shadow_span { double ax[2], zlo, zhi; bool ok; };
+void shadow_span_init(struct shadow_span *sp);
+void shadow_span_add(struct shadow_span *sp, const double yd[3]);
+
+/* A frame's bound for the vertices within span sp seen from eye v, for
+   shadow_grid_spanned: B[c] not below shadow_grid_near's bound for coordinate c at any
+   of them (the proof is in shadow.c). false when there is none (v not near, sp not ok,
+   or a vertex in sp might lie at or behind the eye): then the caller takes
+   shadow_grid_near, vertex by vertex. */
+struct shadow_bound { double B[2]; };
+bool shadow_bound_set(struct shadow_bound *b, const struct shadow_eye *v,
+                      const struct shadow_span *sp);
+
+/* shadow_grid_near's answer for a vertex yd within the span b was made for, with b's
+   bound in place of its own: 1 and *g (shadow_grid_ld's point, and shadow_grid_near's)
+   when it decides, -1 when not (then shadow_grid_near may still decide). */
+int shadow_grid_spanned(const struct shadow_eye *v, const struct shadow_bound *b,
+                        const double yd[3], struct gpoint *g);
+
 #endif

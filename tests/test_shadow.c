@@ -71,19 +71,26 @@ static void assert_same(const struct fx_polys *a, const struct fx_polys *b,
   }
 }
 
-/* One frame seen from the scene's view: kept and long way the same; the polygons found
-   (-1: the view does not map s). */
+/* One frame seen from the scene's view: kept, long way and counted the same (the counted
+   one takes each vertex onto the grid by itself, shadow_grid_near or shadow_grid_ld; the
+   others by a receiver's bound, shadow_grid_spanned, where it decides); the polygons
+   found (-1: the view does not map s). */
 static int frame(const struct scene *s, struct shadow_keep **keep)
 {
-  struct fx_polys a, b;
-  struct fx_stats sa, sb;
+  struct fx_polys a, b, c;
+  struct fx_stats sa, sb, sc;
+  struct cost cost;
+  memset(&cost, 0, sizeof cost);
   if (!build(s, NULL, &a, &sa, NULL)) return -1;
   assert_true(build(s, keep, &b, &sb, NULL));
+  assert_true(build(s, NULL, &c, &sc, &cost));
   assert_non_null(*keep);
   assert_same(&a, &b, &sa, &sb);
+  assert_same(&a, &c, &sa, &sc);
   const int n = a.n;
   fx_polys_free(&a);
   fx_polys_free(&b);
+  fx_polys_free(&c);
   return n;
 }
 
@@ -223,6 +230,94 @@ static void test_grid_near_is_long_way(void **state)
   assert_true(isnan(yd[0]) && isnan(yd[2]));
   shadow_near((const long double[3]){ 1, 0, -3 }, yd);
   assert_true(yd[0] == 1 && yd[1] == 0 && yd[2] == -3);
+}
+
+/* shadow_grid_spanned (one bound for all the vertices of a span, shadow_bound_set)
+   decides only where shadow_grid_near decides, and as it does (so as shadow_grid_ld
+   does): over eyes near and far, spans of vertices in boxes of sizes from 1 to 20,000
+   units (as a receiver's shadows lie in its box), before the eye near it and far from it,
+   each with vertices on a grid point's half (ties) and the long doubles around them. It
+   decides nearly every vertex of a span well before the eye and no tie. No bound when a
+   vertex of the span lies at or behind the eye, or is NaN. Fails when the bound is a
+   thousandth of what it is, or when the span leaves out the z of its vertices. */
+static void test_spanned_is_near(void **state)
+{
+  (void)state;
+  uint64_t seed = 1974;
+  long n = 0, decided = 0, ties = 0, tie_decided = 0, differ = 0, spans = 0, bounded = 0;
+  long far = 0, far_decided = 0;            /* spans 1 unit or more before the eye */
+  const int64_t eyes[][3] = { { 0, 420, -1500 }, { -900, 1400, -5000 }, { 0, 0, -1 },
+                              { 1200, -800, -40000 }, { 5, 5, 3000 } };
+  enum { NV = 64 };
+  for (size_t e = 0; e < sizeof eyes / sizeof *eyes; e++) {
+    struct shadow_eye v;
+    shadow_eye_set(&v, eyes[e]);
+    const long double *E = v.E;
+    for (int t = 0; t < 3000; t++) {
+      long double Y[NV][3], lo[3], size = ldexpl(1, t % 15) * (1 + (t % 7));
+      for (int c = 0; c < 3; c++) lo[c] = uni(&seed, -5000, 5000);
+      lo[2] = E[2] + (t % 3 == 0 ? uni(&seed, 0.5L, 4) : uni(&seed, 1, 20000));
+      double yd[NV][3];
+      struct shadow_span sp;
+      shadow_span_init(&sp);
+      for (int i = 0; i < NV; i++) {
+        for (int c = 0; c < 3; c++) Y[i][c] = lo[c] + uni(&seed, 0, size);
+        if (i % 4 == 3) {                   /* x on a half (a tie) or next to one */
+          const long double dz = Y[i][2] - E[2], f = -E[2];
+          const long double k = floorl(GRID_ONE * (E[0] + f * (Y[i][0] - E[0]) / dz)) + 0.5L;
+          Y[i][0] = E[0] + (k / GRID_ONE - E[0]) * dz / f;
+          for (int s = i % 7 - 3; s != 0; s += s > 0 ? -1 : 1)
+            Y[i][0] = nextafterl(Y[i][0], s > 0 ? INFINITY : -INFINITY);
+        }
+        shadow_near(Y[i], yd[i]);
+        shadow_span_add(&sp, yd[i]);
+      }
+      spans++;
+      struct shadow_bound b;
+      if (!shadow_bound_set(&b, &v, &sp)) continue;
+      bounded++;
+      for (int i = 0; i < NV; i++) {
+        struct gpoint a, g = { 0, 0 }, h = { 0, 0 };
+        const bool lands = shadow_grid_ld(&v, Y[i], &a);
+        const int r = shadow_grid_spanned(&v, &b, yd[i], &g);
+        const int rn = shadow_grid_near(&v, yd[i], &h);
+        const long double gx = GRID_ONE * (E[0] + -E[2] * (Y[i][0] - E[0]) / (Y[i][2] - E[2]));
+        const bool tie = fabsl(gx - floorl(gx) - 0.5L) < 0x1p-30L;
+        n += !tie && rn >= 0;
+        far += !tie && rn >= 0 && t % 3 != 0;
+        ties += tie;
+        tie_decided += tie && r >= 0;
+        if (r < 0) continue;
+        decided += !tie;
+        far_decided += !tie && t % 3 != 0;
+        differ += rn < 0 || !lands || a.x != g.x || a.y != g.y || h.x != g.x || h.y != g.y;
+      }
+    }
+  }
+  print_message("spanned filter: %ld spans, %ld bounded; of the %ld vertices shadow_grid_near "
+                "decides %ld decided (%ld of the %ld of spans 1 unit or more before the eye); "
+                "%ld near ties, %ld decided; %ld differ\n", spans, bounded, n, decided,
+                far_decided, far, ties, tie_decided, differ);
+  assert_int_equal(differ, 0);
+  assert_int_equal(tie_decided, 0);
+  assert_true(ties > 10000);
+  assert_true(bounded * 2 > spans);
+  assert_true(decided * 10 > n * 9);
+  assert_true(far_decided * 1000 > far * 999);
+  /* a vertex at or behind the eye, or NaN: no bound */
+  struct shadow_eye v;
+  shadow_eye_set(&v, (const int64_t[3]){ 0, 0, -1000 });
+  struct shadow_span sp;
+  struct shadow_bound b;
+  shadow_span_init(&sp);
+  shadow_span_add(&sp, (const double[3]){ 10, 20, 30 });
+  assert_true(shadow_bound_set(&b, &v, &sp));
+  shadow_span_add(&sp, (const double[3]){ 10, 20, -1000 });
+  assert_false(shadow_bound_set(&b, &v, &sp));
+  shadow_span_init(&sp);
+  shadow_span_add(&sp, (const double[3]){ 10, 20, 30 });
+  shadow_span_add(&sp, (const double[3]){ NAN, NAN, NAN });
+  assert_false(shadow_bound_set(&b, &v, &sp));
 }
 
 /* fx_first_at_or_right (effects/poly.h: a shadow stretch's end as a sample of the row,
@@ -422,6 +517,7 @@ int main(void)
     cmocka_unit_test(test_kept_is_long_way),
     cmocka_unit_test(test_counted_keeps_nothing),
     cmocka_unit_test(test_grid_near_is_long_way),
+    cmocka_unit_test(test_spanned_is_near),
     cmocka_unit_test(test_first_sample_is_exact),
     cmocka_unit_test(test_stepped_ends_are_exact),
   };
