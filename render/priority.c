@@ -809,13 +809,33 @@ static bool face_line(const struct prio *pr, struct prio_faces *e)
   return e->line == 1;
 }
 
-/* Does a side of piece X (its lines xl) lie on line l (either way round)? A piece's
-   sides and L~ are lines through grid points or horizontal (geom.h: |a|, |b| <= 2^29),
-   so the first products are below 2^58 and compared in 64 bits. */
-static bool on_line_side(const struct piece *X, const struct gline *xl, struct gline l)
+/* Does a side of piece X (its lines xl, or NULL for piece_line) lie on line l (either
+   way round)? A piece's sides and L~ are lines through grid points or horizontal
+   (geom.h: |a|, |b| <= 2^29), so the first products are below 2^58 and compared in 64
+   bits. */
+static inline bool on_line_side(const struct piece *X, const struct gline *xl,
+                                struct gline l)
 {
+  if (!xl && X->onface) {
+    /* its lines not made: side k lies on l when pt[k] and pt[k + 1] do (they differ:
+       seginfo_add_face, so side k's line is not 0, and it is a multiple of l, as the test
+       below asks, exactly when both points are on l). l(pt) is first summed modulo 2^64
+       (not 0 there: not 0), then, where that is 0, exactly (|a x|, |b y| < 2^58 and
+       |c| < 2^63: geom.h) */
+    bool on0 = false, on = false;
+    for (int k = 0; k < X->n; k++) {
+      struct gpoint q = X->pt[k];
+      bool onk = (uint64_t)l.a * (uint64_t)q.x + (uint64_t)l.b * (uint64_t)q.y +
+                 (uint64_t)l.c == 0 &&
+                 (wide)l.a * q.x + (wide)l.b * q.y + l.c == 0;
+      if (k == 0) on0 = onk;
+      else if (on && onk) return true;
+      on = onk;
+    }
+    return on && on0;
+  }
   for (int k = 0; k < X->n; k++) {
-    struct gline m = xl[k];
+    struct gline m = xl ? xl[k] : piece_line(X, k);
     if (m.a * l.b == m.b * l.a && (wide)m.a * l.c == (wide)m.c * l.a &&
         (wide)m.b * l.c == (wide)m.c * l.b)
       return true;
@@ -843,6 +863,33 @@ static int one_side(const struct piece *X, const struct gline *xl, const struct 
   for (int k = 0; k < X->n; k++)
     for (int j = 0; j < X->n; j++)
       if (geom_side_hw(xl[k], xv[j]) > 0) return pos ? 1 : -1;
+  return 0;
+}
+
+/* one_side of piece X on its face's points (onface), from those points, its vertices not
+   made. Exact, the same result and signs: vertex k of such a piece is where the lines
+   through pt[k-1], pt[k] and through pt[k], pt[k+1] meet (never parallel:
+   seginfo_add_face), so geom_meet gives it as (W x, W y, W), W > 0 (Cramer's rule on
+   integers, exact), and a W x + b W y + c W = W (a x + b y + c): the same sign for every
+   line; and, W >= 1, each term no larger than the vertex's (geom.h's bounds hold).
+   Issue 19: a piece's vertices are made where read (seginfo.h), and most pairs on one
+   side of L~ read nothing else of them. */
+static int one_side_face(const struct piece *X, struct gline l, signed char *side)
+{
+  bool pos = false, neg = false;
+  for (int k = 0; k < X->n; k++) {
+    wide v = (wide)l.a * X->pt[k].x + (wide)l.b * X->pt[k].y + l.c;
+    int sg = (v > 0) - (v < 0);
+    if (side) side[k] = (signed char)sg;
+    pos |= sg > 0;
+    neg |= sg < 0;
+  }
+  if (pos == neg || X->n < 3) return 0;
+  for (int k = 0; k < X->n; k++) {
+    struct gline m = piece_line(X, k);
+    for (int j = 0; j < X->n; j++)
+      if ((wide)m.a * X->pt[j].x + (wide)m.b * X->pt[j].y + m.c > 0) return pos ? 1 : -1;
+  }
   return 0;
 }
 
@@ -1037,12 +1084,16 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   const struct mface *A = &pr->map->f[P->face], *B = &pr->map->f[Q->face];
   pr->computed++;
   if (P->face == Q->face) return CODE_HIGHER;           /* never overlap: any order */
-  /* the two pieces' vertices (the vertex cache) */
+  /* the two pieces' vertices (the vertex cache) and lines, made when first read (lazy:
+     most pairs on one side of L~ met on a stretch read neither piece's vertices) */
   struct hpoint pvb[PIECE_VBUF], qvb[PIECE_VBUF];
   struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
-  const struct gline *pln, *qln;
-  const struct hpoint *pv = vc_verts(pr, i, -1, pvb, plb, &pln),
-                      *qv = vc_verts(pr, j, i, qvb, qlb, &qln);
+  const struct gline *pln = NULL, *qln = NULL;
+  const struct hpoint *pv = NULL, *qv = NULL;
+#define P_VERTS() (pv ? pv : (pv = vc_verts(pr, i, qv ? j : -1, pvb, plb, &pln)))
+#define Q_VERTS() (qv ? qv : (qv = vc_verts(pr, j, pv ? i : -1, qvb, qlb, &qln)))
+#define P_LINES() (pln ? pln : (pln = piece_lines(P, plb)))
+#define Q_LINES() (qln ? qln : (qln = piece_lines(Q, qlb)))
 
   struct prio_faces own, *F = face_pair(pr, P->face, Q->face, &own);
   const struct depth g = F->g;
@@ -1056,6 +1107,8 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        Both pieces cut by E means the faces cross along the edge: handled below. */
     struct gline E = geom_line(common[0], common[1]);
     const struct piece *PQ[2] = { P, Q };
+    (void)P_VERTS();
+    (void)Q_VERTS();
     const struct hpoint *PQv[2] = { pv, qv };
     for (int s2 = 0; s2 < 2; s2++) {
       const struct piece *X = PQ[s2];
@@ -1090,7 +1143,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
     /* one face in front of the other wherever they can be */
     int s;
     if (g.k0 == 0 && g.k1 == 0) s = (g.K > 0) - (g.K < 0);
-    else s = depth_sign(g, qv[0]);
+    else s = depth_sign(g, Q_VERTS()[0]);
     if (s == 0) s = mface_coplanar_front(A, B) ? 1 : -1;   /* coplanar: render/mapper.h */
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front%s\n",
@@ -1107,7 +1160,8 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   bool hasl, hasr, ovl, ovr;
   signed char sides[ONE_SIDE_KEPT];
   signed char *sv = P->n <= ONE_SIDE_KEPT ? sides : NULL;   /* each vertex's side, for the clip */
-  int side = one_side(P, pln, pv, L, sv);
+  int side = P->onface && !pv ? one_side_face(P, L, sv)
+                               : (P_VERTS(), one_side(P, pln, pv, L, sv));
   if (side) {
     /* P on one side of L: the clip to that side is P itself (its sides are merged, its
        vertices kept: seginfo_add), the clip to the other has no interior. Host work
@@ -1117,7 +1171,8 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
     hasl = side > 0;
     hasr = side < 0;
     bool ov = at ? overlap_known(pr, P->n, Q->n)
-                 : seginfo_overlap_n(P->n, pln, pv, Q->n, qln, qv, &pr->pend_sides);
+                 : (P_VERTS(), Q_VERTS(),
+                    seginfo_overlap_n(P->n, pln, pv, Q->n, qln, qv, &pr->pend_sides));
     ovl = hasl && ov;
     ovr = hasr && ov;
   } else {
@@ -1128,13 +1183,14 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        charges already made). */
     int met = at ? meet_sides(at, L) : 0;
     int known = met == 1 || met == 2 ? met : 0;
+    (void)P_VERTS();
     seginfo_clip_both_known(P, pln, pv, L, sv, known, pl, &hasl, pr_, &hasr, &pr->pend_sides);
     ovl = hasl && (met & 1 ? overlap_known(pr, pl->n, Q->n)
-                           : seginfo_overlap_n(pl->n, pl->line, pl->v, Q->n, qln, qv,
-                                               &pr->pend_sides));
+                           : (Q_VERTS(), seginfo_overlap_n(pl->n, pl->line, pl->v, Q->n, qln,
+                                                           qv, &pr->pend_sides)));
     ovr = hasr && (met & 2 ? overlap_known(pr, pr_->n, Q->n)
-                           : seginfo_overlap_n(pr_->n, pr_->line, pr_->v, Q->n, qln, qv,
-                                               &pr->pend_sides));
+                           : (Q_VERTS(), seginfo_overlap_n(pr_->n, pr_->line, pr_->v, Q->n,
+                                                           qln, qv, &pr->pend_sides)));
     if (known && ovl && ovr) {
       uint64_t uncounted = 0;             /* its charges made already (above) */
       seginfo_clip_both_known(P, pln, pv, L, NULL, 0, pl, &hasl, pr_, &hasr, &uncounted);
@@ -1144,6 +1200,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
     /* Fig. 7 (a), eq. (5): A p' B p'' -> p' p'' A, p'' p' B, for both pieces */
     bool qhl, qhr;
     uint64_t qprod = 0;                   /* seginfo_clip_both, Q's vertices made already */
+    (void)Q_VERTS();
     seginfo_clip_both_known(Q, qln, qv, L, NULL, 0, ql, &qhl, qr, &qhr, &qprod);
     cost_mw_mul_n(pr->cost, 88, 58, qprod);
     int pf = P->face, qf = Q->face;
@@ -1169,7 +1226,8 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
        along this very line (by a third face in the same plane as one of these), the two
        faces still meet along it: the line is noted for enhanced edges (paper 002 e4),
        so which pairs happen to be decided first does not choose the lines drawn. */
-    if ((on_line_side(P, pln, L) || on_line_side(Q, qln, L)) &&
+    if ((on_line_side(P, P->onface ? pln : P_LINES(), L) ||
+         on_line_side(Q, Q->onface ? qln : Q_LINES(), L)) &&
         note_cut(pr, P->face, Q->face, L, err) != T74_OK)
       return PRIO_ERROR;
     if (pr->trace)
@@ -1177,6 +1235,10 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
               i + 1, (unsigned)A->id, j + 1, (unsigned)B->id, result == CODE_HIGHER ? "first" : "second");
   }
   return result;
+#undef P_VERTS
+#undef Q_VERTS
+#undef P_LINES
+#undef Q_LINES
 }
 
 /* Decide pieces i < j (the pair not held) and store the code; `miss` as for code_set. The
