@@ -238,16 +238,19 @@ static bool plain_convex(const struct mface *f)
   int n = f->ring_start[1];
   if (n == 3) return true;
   const struct gpoint *p = f->pt;
-  struct gpoint a = p[n - 1], b = p[0];
+  /* geom_orient(a, b, c) at each corner b as the cross product of the edges into and out
+     of it, (b - a) x (c - b): the same number as (b - a) x (c - a) (their difference is
+     (b - a) x (b - a) = 0), with each edge's differences made once; in 64 bits:
+     differences < 2^29, products < 2^58 */
+  int64_t ex = p[0].x - p[n - 1].x, ey = p[0].y - p[n - 1].y;     /* the edge into p[0] */
   int first = 0, prev = 0, changes = 0;
   for (int k = 0; k < n; k++) {
-    struct gpoint c = p[k + 1 < n ? k + 1 : 0];
-    /* geom_orient(a, b, c) in 64 bits: differences < 2^29, products < 2^58 */
-    if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= 0) return false;
-    int64_t dy = c.y - b.y;
-    int sg = (dy > 0) - (dy < 0);
-    a = b;
-    b = c;
+    const struct gpoint c = p[k + 1 < n ? k + 1 : 0];
+    const int64_t fx = c.x - p[k].x, fy = c.y - p[k].y;            /* the edge out of p[k] */
+    if (ex * fy - ey * fx <= 0) return false;
+    ex = fx;
+    ey = fy;
+    int sg = (fy > 0) - (fy < 0);
     if (!sg) continue;
     if (!first) first = sg;
     else if (sg != prev) changes++;
@@ -360,6 +363,8 @@ struct grid {
   int64_t XL, YB, XR, YT, xd, yd, S, Dy;
   wide Ex, Ey, Ez;
   wide ga, gb, gc;              /* gamma = a ga + b gb + c gc for a plane (a, b, c) (face_box) */
+  int64_t ga64, gb64, gc64;     /* the same, when g64: all three fit 64 bits */
+  bool g64;
   double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
 };
 
@@ -395,18 +400,25 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   int n = f->ring_start[f->nring];
   if (!grow((void **)&p->edge, &p->edgecap, n, sizeof *p->edge))
     return t74_fail(err, T74_EIO, "out of host memory");
+  /* the grid's numbers in locals: the edges' stores (int64_t, as the grid's) would make
+     the compiler load them again an edge */
+  const int64_t yd = g->yd, xd = g->xd, Dy = g->Dy, Syd = g->S * g->yd;   /* S yd < 2^32 */
+  const int64_t ytop = yd * (GRID_ONE * g->YT), xoff = GRID_ONE * g->XL;  /* row_q(y) =
+                                                   floor((ytop - yd y) / Dy); yn of row j:
+                                                   ytop - (2j + 1) Dy */
+  const int64_t dRx = 2 * xd * Dy;                    /* dR = dRx dx; 2 xd Dy < 2^34 */
+  struct points_edge *const edge = p->edge;
   int ne = 0;
   int turns = 0, first = 0, last = 0;           /* dy's changes of sign, its first, last */
-  const wide dyn_row = 2 * (wide)g->Dy;         /* yn grows by this a row up */
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
-    const int64_t qlo = row_q(g, f->pt[lo].y);  /* each vertex's row_q once */
+    const int64_t qlo = floor_div64(ytop - yd * f->pt[lo].y, Dy);  /* row_q, each vertex once */
     int64_t qb = qlo;
     for (int k = lo; k < hi; k++) {
       int nk = k + 1 < hi ? k + 1 : lo;
       struct gpoint a = f->pt[k], b = f->pt[nk];
       int64_t qa = qb;
-      qb = nk == lo ? qlo : row_q(g, b.y);
+      qb = nk == lo ? qlo : floor_div64(ytop - yd * b.y, Dy);
       if (a.y == b.y) continue;
       /* which way the edge goes, and its lower and upper ends, without branches (an
          edge's way has no pattern the predictor learns) */
@@ -426,27 +438,33 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       if (jb > jhi) jb = jhi;
       if (jt < jlo) jt = jlo;
       if (jt > jb) continue;
-      struct points_edge *e = &p->edge[ne++];
+      struct points_edge *e = &edge[ne++];
+      int64_t dx = b.x - a.x, dy = b.y - a.y;
+      const int64_t D = Syd * dy;
+      /* R = xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx): in 64 bits while no product
+         or sum overflows them (the builtins say so), else in 128 */
+      const int64_t yn = ytop - (2 * jb + 1) * Dy;
+      const int64_t u = a.x - xoff, v = yn - a.y * yd, dyy = dy * yd;
+      int64_t t0, t1, t2, R64, c, s;
+      if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
+          !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(xd, t2, &R64))
+        floor_divmod(R64, D, &c, &s);
+      else
+        floor_divmod((wide)xd * ((wide)dyy * u + (wide)v * dx), D, &c, &s);
+      const int64_t nz = -(int64_t)(s != 0);    /* from floor to ceiling, no branch */
       e->jtop = (int32_t)jt;
       e->jbot = (int32_t)jb;
       e->up = up;
-      int64_t dx = b.x - a.x, dy = b.y - a.y;
-      e->D = g->S * dy * g->yd;
-      /* R = xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx): in 64 bits while no product
-         or sum overflows them (the builtins say so), else in 128 */
-      const int64_t yn = GRID_ONE * (g->yd * g->YT - (2 * jb + 1) * (g->YT - g->YB));
-      const int64_t u = a.x - GRID_ONE * g->XL, v = yn - a.y * g->yd, dyy = dy * g->yd;
-      int64_t t0, t1, t2, R64;
-      if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
-          !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(g->xd, t2, &R64))
-        floor_divmod(R64, e->D, &e->c, &e->s);
-      else
-        floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->c, &e->s);
-      const int64_t nz = -(int64_t)(e->s != 0); /* from floor to ceiling, no branch */
-      e->c -= nz;
-      e->s = (e->D - e->s) & nz;
-      if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
-      else e->dq = e->drem = 0;                 /* one row: never stepped */
+      e->D = D;
+      e->c = c - nz;
+      e->s = (D - s) & nz;
+      if (jt < jb) {                            /* dR = dRx dx, |dR| < 2^63: 64 bits */
+        const int64_t dR = dRx * dx, q = dR / D, m = dR % D, neg = -(int64_t)(m < 0);
+        e->dq = q + neg;
+        e->drem = m + (D & neg);
+      } else {
+        e->dq = e->drem = 0;                    /* one row: never stepped */
+      }
     }
   }
   *nedge = ne;
@@ -680,7 +698,11 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   struct points_plane *pl = &p->plane[k];
   pl->alpha = a * ca;
   pl->beta = -bb * cb;
-  pl->gamma = a * g->ga + bb * g->gb + c * g->gc;  /* the grid's factors found once (exact) */
+  if (g->g64)                                      /* the grid's factors found once (exact) */
+    pl->gamma = (wide)f->plane[0] * g->ga64 + (wide)f->plane[1] * g->gb64 +
+                (wide)f->plane[2] * g->gc64;      /* 64 x 64 bits: a multiply each */
+  else
+    pl->gamma = a * g->ga + bb * g->gb + c * g->gc;
   const double Dd = (double)f->deye;
   const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
                Gd = pl->gamma == (int64_t)pl->gamma ? (double)(int64_t)pl->gamma  /* same value */
@@ -1107,6 +1129,10 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.ga = 2 * (wide)g.H * (2 * g.W * (g.XL - g.Ex) + (g.XR - g.XL));
   g.gb = 2 * (wide)g.W * (2 * g.H * (g.YT - g.Ey) - (g.YT - g.YB));
   g.gc = 4 * (wide)g.W * g.H * (-g.Ez);
+  g.g64 = g.ga == (int64_t)g.ga && g.gb == (int64_t)g.gb && g.gc == (int64_t)g.gc;
+  g.ga64 = (int64_t)g.ga;                         /* (used only when g64) */
+  g.gb64 = (int64_t)g.gb;
+  g.gc64 = (int64_t)g.gc;
   g.ki = (double)g.xd / (2.0 * (double)GRID_ONE * (double)(g.XR - g.XL));
   g.kj = (double)g.yd / (2.0 * (double)GRID_ONE * (double)(g.YT - g.YB));
   g.i0 = -((double)g.xd * (double)g.XL / (double)(g.XR - g.XL) + 1) / 2;
