@@ -205,11 +205,10 @@ struct points_tile {
 
 #define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
-static inline int64_t floor_div64(int64_t n, int64_t d)
+static inline int64_t floor_div64(int64_t n, int64_t d)      /* d > 0 */
 {
-  int64_t q = n / d;
-  if ((n % d) < 0) q--;
-  return q;
+  const int64_t q = n / d, r = n % d;
+  return q - (r < 0);                           /* (a compare, no branch) */
 }
 
 /* *q = floor(n / d), *r = n - *q d (0 <= *r < d), d > 0, for a quotient that fits 64
@@ -374,11 +373,17 @@ static inline int64_t row_q(const struct grid *g, int64_t y)
   return floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);
 }
 
-/* Rows with y_j >= y, from q = row_q(y): j <= floor((q - 1) / 2). */
-static inline int64_t rows_at_or_above(int64_t q) { return floor_div64(q - 1, 2); }
+/* floor(m / 2) as the exact quotient of the even number at or below m (m & 1 is m's
+   parity in two's complement, negative m too; no shift of a negative number, whose
+   result C leaves to the implementation): fewer instructions than floor_div64's. */
+static inline int64_t floor_half(int64_t m) { return (m - (m & 1)) / 2; }
 
-/* Rows with y_j < y (2j + 1 > q): j >= ceil(q / 2). */
-static inline int64_t rows_below(int64_t q) { return -floor_div64(-q, 2); }
+/* Rows with y_j >= y, from q = row_q(y): j <= floor((q - 1) / 2). */
+static inline int64_t rows_at_or_above(int64_t q) { return floor_half(q - 1); }
+
+/* Rows with y_j < y (2j + 1 > q): j >= ceil(q / 2), the exact quotient of the even number
+   at or above q. */
+static inline int64_t rows_below(int64_t q) { return (q + (q & 1)) / 2; }
 
 /* Columns i with x_i >= x (grid units, an integer): i >= col_first_at_or_right(x). */
 static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
@@ -386,7 +391,7 @@ static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
   /* (2i + 1) S >= xd (x - GRID_ONE XL) */
   int64_t R = g->xd * (x - GRID_ONE * g->XL);
   int64_t q = -floor_div64(-R, g->S);                               /* ceil */
-  return floor_div64(q, 2);
+  return floor_half(q);
 }
 
 /* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row.
