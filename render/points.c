@@ -228,33 +228,50 @@ static inline void floor_divmod(wide n, int64_t d, int64_t *q, int64_t *r)
   *r = (int64_t)rw;
 }
 
+/* plain_convex's step at a corner: the edge into it (*ex, *ey), the edge out (fx, fy).
+   geom_orient(a, b, c) at the corner b is the cross product (b - a) x (c - b) of the two
+   edges: the same number as (b - a) x (c - a) (their difference is (b - a) x (b - a) = 0),
+   each edge's differences made once; in 64 bits: differences < 2^29, products < 2^58.
+   False: the ring does not turn strictly left there. The out edge's dy sign, when not 0,
+   counted into *first (the first such sign), *prev (the last) and *changes. */
+static inline bool corner_left(int64_t *ex, int64_t *ey, int64_t fx, int64_t fy, int *first,
+                               int *prev, int *changes)
+{
+  if (*ex * fy - *ey * fx <= 0) return false;
+  *ex = fx;
+  *ey = fy;
+  const int sg = (fy > 0) - (fy < 0);
+  if (!sg) return true;
+  if (!*first) *first = sg;
+  else if (sg != *prev) (*changes)++;
+  *prev = sg;
+  return true;
+}
+
 /* A face the Segment Generator takes as it is without asking it: a triangle, or one
    outer ring that turns strictly left at every corner and winds once (the sign of dy
    changes exactly twice around it). */
-static bool plain_convex(const struct mface *f)
+static __attribute__((noinline)) bool convex_once(const struct gpoint *p, int n);
+
+static inline bool plain_convex(const struct mface *f)
 {
   if (f->nring != 1) return false;
-  int n = f->ring_start[1];
-  if (n == 3) return true;
-  const struct gpoint *p = f->pt;
-  /* geom_orient(a, b, c) at each corner b as the cross product of the edges into and out
-     of it, (b - a) x (c - b): the same number as (b - a) x (c - a) (their difference is
-     (b - a) x (b - a) = 0), with each edge's differences made once; in 64 bits:
-     differences < 2^29, products < 2^58 */
-  int64_t ex = p[0].x - p[n - 1].x, ey = p[0].y - p[n - 1].y;     /* the edge into p[0] */
+  const int n = f->ring_start[1];
+  return n == 3 || convex_once(f->pt, n);
+}
+
+/* plain_convex for a ring of n > 3 points: turns strictly left at every corner and winds
+   once (out of line: a triangle, the common face, needs none of it). */
+static __attribute__((noinline)) bool convex_once(const struct gpoint *p, int n)
+{
+  const int64_t lx = p[0].x - p[n - 1].x, ly = p[0].y - p[n - 1].y;  /* the edge into p[0] */
+  int64_t ex = lx, ey = ly;
   int first = 0, prev = 0, changes = 0;
-  for (int k = 0; k < n; k++) {
-    const struct gpoint c = p[k + 1 < n ? k + 1 : 0];
-    const int64_t fx = c.x - p[k].x, fy = c.y - p[k].y;            /* the edge out of p[k] */
-    if (ex * fy - ey * fx <= 0) return false;
-    ex = fx;
-    ey = fy;
-    int sg = (fy > 0) - (fy < 0);
-    if (!sg) continue;
-    if (!first) first = sg;
-    else if (sg != prev) changes++;
-    prev = sg;
-  }
+  for (int k = 0; k + 1 < n; k++)               /* the corners p[0] .. p[n - 2] */
+    if (!corner_left(&ex, &ey, p[k + 1].x - p[k].x, p[k + 1].y - p[k].y, &first, &prev,
+                     &changes))
+      return false;
+  if (!corner_left(&ex, &ey, lx, ly, &first, &prev, &changes)) return false;   /* p[n - 1] */
   if (prev != first) changes++;
   return changes == 2;
 }
