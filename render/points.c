@@ -205,11 +205,10 @@ struct points_tile {
 
 #define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
-static inline int64_t floor_div64(int64_t n, int64_t d)
+static inline int64_t floor_div64(int64_t n, int64_t d)      /* d > 0 */
 {
-  int64_t q = n / d;
-  if ((n % d) < 0) q--;
-  return q;
+  const int64_t q = n / d, r = n % d;
+  return q - (r < 0);                           /* (a compare, no branch) */
 }
 
 /* *q = floor(n / d), *r = n - *q d (0 <= *r < d), d > 0, for a quotient that fits 64
@@ -229,30 +228,50 @@ static inline void floor_divmod(wide n, int64_t d, int64_t *q, int64_t *r)
   *r = (int64_t)rw;
 }
 
+/* plain_convex's step at a corner: the edge into it (*ex, *ey), the edge out (fx, fy).
+   geom_orient(a, b, c) at the corner b is the cross product (b - a) x (c - b) of the two
+   edges: the same number as (b - a) x (c - a) (their difference is (b - a) x (b - a) = 0),
+   each edge's differences made once; in 64 bits: differences < 2^29, products < 2^58.
+   False: the ring does not turn strictly left there. The out edge's dy sign, when not 0,
+   counted into *first (the first such sign), *prev (the last) and *changes. */
+static inline bool corner_left(int64_t *ex, int64_t *ey, int64_t fx, int64_t fy, int *first,
+                               int *prev, int *changes)
+{
+  if (*ex * fy - *ey * fx <= 0) return false;
+  *ex = fx;
+  *ey = fy;
+  const int sg = (fy > 0) - (fy < 0);
+  if (!sg) return true;
+  if (!*first) *first = sg;
+  else if (sg != *prev) (*changes)++;
+  *prev = sg;
+  return true;
+}
+
 /* A face the Segment Generator takes as it is without asking it: a triangle, or one
    outer ring that turns strictly left at every corner and winds once (the sign of dy
    changes exactly twice around it). */
-static bool plain_convex(const struct mface *f)
+static __attribute__((noinline)) bool convex_once(const struct gpoint *p, int n);
+
+static inline bool plain_convex(const struct mface *f)
 {
   if (f->nring != 1) return false;
-  int n = f->ring_start[1];
-  if (n == 3) return true;
-  const struct gpoint *p = f->pt;
-  struct gpoint a = p[n - 1], b = p[0];
+  const int n = f->ring_start[1];
+  return n == 3 || convex_once(f->pt, n);
+}
+
+/* plain_convex for a ring of n > 3 points: turns strictly left at every corner and winds
+   once (out of line: a triangle, the common face, needs none of it). */
+static __attribute__((noinline)) bool convex_once(const struct gpoint *p, int n)
+{
+  const int64_t lx = p[0].x - p[n - 1].x, ly = p[0].y - p[n - 1].y;  /* the edge into p[0] */
+  int64_t ex = lx, ey = ly;
   int first = 0, prev = 0, changes = 0;
-  for (int k = 0; k < n; k++) {
-    struct gpoint c = p[k + 1 < n ? k + 1 : 0];
-    /* geom_orient(a, b, c) in 64 bits: differences < 2^29, products < 2^58 */
-    if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= 0) return false;
-    int64_t dy = c.y - b.y;
-    int sg = (dy > 0) - (dy < 0);
-    a = b;
-    b = c;
-    if (!sg) continue;
-    if (!first) first = sg;
-    else if (sg != prev) changes++;
-    prev = sg;
-  }
+  for (int k = 0; k + 1 < n; k++)               /* the corners p[0] .. p[n - 2] */
+    if (!corner_left(&ex, &ey, p[k + 1].x - p[k].x, p[k + 1].y - p[k].y, &first, &prev,
+                     &changes))
+      return false;
+  if (!corner_left(&ex, &ey, lx, ly, &first, &prev, &changes)) return false;   /* p[n - 1] */
   if (prev != first) changes++;
   return changes == 2;
 }
@@ -360,6 +379,8 @@ struct grid {
   int64_t XL, YB, XR, YT, xd, yd, S, Dy;
   wide Ex, Ey, Ez;
   wide ga, gb, gc;              /* gamma = a ga + b gb + c gc for a plane (a, b, c) (face_box) */
+  int64_t ga64, gb64, gc64;     /* the same, when g64: all three fit 64 bits */
+  bool g64;
   double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
 };
 
@@ -369,11 +390,17 @@ static inline int64_t row_q(const struct grid *g, int64_t y)
   return floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);
 }
 
-/* Rows with y_j >= y, from q = row_q(y): j <= floor((q - 1) / 2). */
-static inline int64_t rows_at_or_above(int64_t q) { return floor_div64(q - 1, 2); }
+/* floor(m / 2) as the exact quotient of the even number at or below m (m & 1 is m's
+   parity in two's complement, negative m too; no shift of a negative number, whose
+   result C leaves to the implementation): fewer instructions than floor_div64's. */
+static inline int64_t floor_half(int64_t m) { return (m - (m & 1)) / 2; }
 
-/* Rows with y_j < y (2j + 1 > q): j >= ceil(q / 2). */
-static inline int64_t rows_below(int64_t q) { return -floor_div64(-q, 2); }
+/* Rows with y_j >= y, from q = row_q(y): j <= floor((q - 1) / 2). */
+static inline int64_t rows_at_or_above(int64_t q) { return floor_half(q - 1); }
+
+/* Rows with y_j < y (2j + 1 > q): j >= ceil(q / 2), the exact quotient of the even number
+   at or above q. */
+static inline int64_t rows_below(int64_t q) { return (q + (q & 1)) / 2; }
 
 /* Columns i with x_i >= x (grid units, an integer): i >= col_first_at_or_right(x). */
 static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
@@ -381,7 +408,7 @@ static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
   /* (2i + 1) S >= xd (x - GRID_ONE XL) */
   int64_t R = g->xd * (x - GRID_ONE * g->XL);
   int64_t q = -floor_div64(-R, g->S);                               /* ceil */
-  return floor_div64(q, 2);
+  return floor_half(q);
 }
 
 /* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row.
@@ -395,18 +422,25 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   int n = f->ring_start[f->nring];
   if (!grow((void **)&p->edge, &p->edgecap, n, sizeof *p->edge))
     return t74_fail(err, T74_EIO, "out of host memory");
+  /* the grid's numbers in locals: the edges' stores (int64_t, as the grid's) would make
+     the compiler load them again an edge */
+  const int64_t yd = g->yd, xd = g->xd, Dy = g->Dy, Syd = g->S * g->yd;   /* S yd < 2^32 */
+  const int64_t ytop = yd * (GRID_ONE * g->YT), xoff = GRID_ONE * g->XL;  /* row_q(y) =
+                                                   floor((ytop - yd y) / Dy); yn of row j:
+                                                   ytop - (2j + 1) Dy */
+  const int64_t dRx = 2 * xd * Dy;                    /* dR = dRx dx; 2 xd Dy < 2^34 */
+  struct points_edge *const edge = p->edge;
   int ne = 0;
   int turns = 0, first = 0, last = 0;           /* dy's changes of sign, its first, last */
-  const wide dyn_row = 2 * (wide)g->Dy;         /* yn grows by this a row up */
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
-    const int64_t qlo = row_q(g, f->pt[lo].y);  /* each vertex's row_q once */
+    const int64_t qlo = floor_div64(ytop - yd * f->pt[lo].y, Dy);  /* row_q, each vertex once */
     int64_t qb = qlo;
     for (int k = lo; k < hi; k++) {
       int nk = k + 1 < hi ? k + 1 : lo;
       struct gpoint a = f->pt[k], b = f->pt[nk];
       int64_t qa = qb;
-      qb = nk == lo ? qlo : row_q(g, b.y);
+      qb = nk == lo ? qlo : floor_div64(ytop - yd * b.y, Dy);
       if (a.y == b.y) continue;
       /* which way the edge goes, and its lower and upper ends, without branches (an
          edge's way has no pattern the predictor learns) */
@@ -426,27 +460,33 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       if (jb > jhi) jb = jhi;
       if (jt < jlo) jt = jlo;
       if (jt > jb) continue;
-      struct points_edge *e = &p->edge[ne++];
+      struct points_edge *e = &edge[ne++];
+      int64_t dx = b.x - a.x, dy = b.y - a.y;
+      const int64_t D = Syd * dy;
+      /* R = xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx): in 64 bits while no product
+         or sum overflows them (the builtins say so), else in 128 */
+      const int64_t yn = ytop - (2 * jb + 1) * Dy;
+      const int64_t u = a.x - xoff, v = yn - a.y * yd, dyy = dy * yd;
+      int64_t t0, t1, t2, R64, c, s;
+      if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
+          !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(xd, t2, &R64))
+        floor_divmod(R64, D, &c, &s);
+      else
+        floor_divmod((wide)xd * ((wide)dyy * u + (wide)v * dx), D, &c, &s);
+      const int64_t nz = -(int64_t)(s != 0);    /* from floor to ceiling, no branch */
       e->jtop = (int32_t)jt;
       e->jbot = (int32_t)jb;
       e->up = up;
-      int64_t dx = b.x - a.x, dy = b.y - a.y;
-      e->D = g->S * dy * g->yd;
-      /* R = xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx): in 64 bits while no product
-         or sum overflows them (the builtins say so), else in 128 */
-      const int64_t yn = GRID_ONE * (g->yd * g->YT - (2 * jb + 1) * (g->YT - g->YB));
-      const int64_t u = a.x - GRID_ONE * g->XL, v = yn - a.y * g->yd, dyy = dy * g->yd;
-      int64_t t0, t1, t2, R64;
-      if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
-          !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(g->xd, t2, &R64))
-        floor_divmod(R64, e->D, &e->c, &e->s);
-      else
-        floor_divmod((wide)g->xd * ((wide)dyy * u + (wide)v * dx), e->D, &e->c, &e->s);
-      const int64_t nz = -(int64_t)(e->s != 0); /* from floor to ceiling, no branch */
-      e->c -= nz;
-      e->s = (e->D - e->s) & nz;
-      if (jt < jb) floor_divmod((wide)g->xd * dyn_row * dx, e->D, &e->dq, &e->drem);
-      else e->dq = e->drem = 0;                 /* one row: never stepped */
+      e->D = D;
+      e->c = c - nz;
+      e->s = (D - s) & nz;
+      if (jt < jb) {                            /* dR = dRx dx, |dR| < 2^63: 64 bits */
+        const int64_t dR = dRx * dx, q = dR / D, m = dR % D, neg = -(int64_t)(m < 0);
+        e->dq = q + neg;
+        e->drem = m + (D & neg);
+      } else {
+        e->dq = e->drem = 0;                    /* one row: never stepped */
+      }
     }
   }
   *nedge = ne;
@@ -680,7 +720,11 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   struct points_plane *pl = &p->plane[k];
   pl->alpha = a * ca;
   pl->beta = -bb * cb;
-  pl->gamma = a * g->ga + bb * g->gb + c * g->gc;  /* the grid's factors found once (exact) */
+  if (g->g64)                                      /* the grid's factors found once (exact) */
+    pl->gamma = (wide)f->plane[0] * g->ga64 + (wide)f->plane[1] * g->gb64 +
+                (wide)f->plane[2] * g->gc64;      /* 64 x 64 bits: a multiply each */
+  else
+    pl->gamma = a * g->ga + bb * g->gb + c * g->gc;
   const double Dd = (double)f->deye;
   const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
                Gd = pl->gamma == (int64_t)pl->gamma ? (double)(int64_t)pl->gamma  /* same value */
@@ -1107,6 +1151,10 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.ga = 2 * (wide)g.H * (2 * g.W * (g.XL - g.Ex) + (g.XR - g.XL));
   g.gb = 2 * (wide)g.W * (2 * g.H * (g.YT - g.Ey) - (g.YT - g.YB));
   g.gc = 4 * (wide)g.W * g.H * (-g.Ez);
+  g.g64 = g.ga == (int64_t)g.ga && g.gb == (int64_t)g.gb && g.gc == (int64_t)g.gc;
+  g.ga64 = (int64_t)g.ga;                         /* (used only when g64) */
+  g.gb64 = (int64_t)g.gb;
+  g.gc64 = (int64_t)g.gc;
   g.ki = (double)g.xd / (2.0 * (double)GRID_ONE * (double)(g.XR - g.XL));
   g.kj = (double)g.yd / (2.0 * (double)GRID_ONE * (double)(g.YT - g.YB));
   g.i0 = -((double)g.xd * (double)g.XL / (double)(g.XR - g.XL) + 1) / 2;
