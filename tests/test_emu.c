@@ -843,9 +843,10 @@ static void test_write_n(void **state)
 {
   (void)state;
   struct core *c[2] = { core_new(64), core_new(64) };
-  uint16_t w[64];
-  for (int k = 0; k < 64; k++) w[k] = (uint16_t)(0x9E37u * (unsigned)(k + 1));
   const uint32_t at[][2] = { { 0, 0 }, { 0, 5 }, { 7, 13 }, { 40, 24 }, { 63, 1 }, { 0, 64 } };
+  enum { NAT = sizeof at / sizeof at[0] };
+  uint16_t w[64 + NAT];                   /* case t reads w[t .. t + n) */
+  for (int k = 0; k < 64 + NAT; k++) w[k] = (uint16_t)(0x9E37u * (unsigned)(k + 1));
   for (size_t t = 0; t < sizeof at / sizeof at[0]; t++) {
     core_write_n(c[0], at[t][0], w + t, at[t][1]);
     for (uint32_t k = 0; k < at[t][1]; k++) core_write(c[1], at[t][0] + k, w[t + k]);
