@@ -401,17 +401,47 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
   struct hpoint vb[PIECE_VBUF];
   uint64_t made = 0;
   struct gline lb[PIECE_VBUF];
-  const struct gline *pl = piece_lines(p, lb);
+  const struct gline *pl;
   int kl = -1, kr = -1;
-  for (int k = 0; k < p->n && (kl < 0 || kr < 0); k++) {
-    const struct gline *l = &pl[k];
-    if (l->a == 0) continue;
-    int k1 = k + 1 < p->n ? k + 1 : 0;
-    struct hpoint lo = l->a > 0 ? vy_at(p, pl, vb, &made, k1) : vy_at(p, pl, vb, &made, k);
-    struct hpoint hi = l->a > 0 ? vy_at(p, pl, vb, &made, k) : vy_at(p, pl, vb, &made, k1);
-    v->pend_side++;                      /* charged by charge_compares */
-    if (geom_hy_cmp(lo, yn, yd) > 0 || geom_hy_cmp(hi, yn, yd) <= 0) continue;
-    if (l->a > 0) kl = k; else kr = k;
+  if (p->onface) {
+    /* A piece on its face's points (struct piece: onface): side k runs from pt[k] to
+       pt[k+1], so its line's a is pt[k].y - pt[k+1].y (geom_line), and vertex k, the meet
+       of sides k-1 and k, both through pt[k] and not parallel (seginfo_add_face), is
+       pt[k] exactly: piece_vy gives (0, W y, W), W > 0, and (0, y, 1) has the same height
+       Y/W. Everything below reads only that height (geom_hy_cmp, lower, dblock_store's
+       Y / W, exact as Y = W y): the same decisions and values, without the lines of the
+       sides passed over and the vertices' products (issue 19). */
+    const struct gpoint *pt = p->pt;
+    for (int k = 0; k < p->n && (kl < 0 || kr < 0); k++) {
+      int k1 = k + 1 < p->n ? k + 1 : 0;
+      int64_t a = pt[k].y - pt[k1].y;
+      if (a == 0) continue;
+      struct hpoint lo = { 0, a > 0 ? pt[k1].y : pt[k].y, 1 };
+      struct hpoint hi = { 0, a > 0 ? pt[k].y : pt[k1].y, 1 };
+      v->pend_side++;                    /* charged by charge_compares */
+      if (geom_hy_cmp(lo, yn, yd) > 0 || geom_hy_cmp(hi, yn, yd) <= 0) continue;
+      if (a > 0) kl = k; else kr = k;
+    }
+    if (kl < 0 || kr < 0) return false;
+    int kl1 = kl + 1 < p->n ? kl + 1 : 0, kr1 = kr + 1 < p->n ? kr + 1 : 0;
+    lb[kl] = geom_line(pt[kl], pt[kl1]);
+    lb[kr] = geom_line(pt[kr], pt[kr1]);
+    pl = lb;                             /* (only lb[kl] and lb[kr] are read below) */
+    vb[kl] = (struct hpoint){ 0, pt[kl].y, 1 };
+    vb[kr1] = (struct hpoint){ 0, pt[kr1].y, 1 };
+    made = (uint64_t)1 << kl | (uint64_t)1 << kr1;
+  } else {
+    pl = piece_lines(p, lb);
+    for (int k = 0; k < p->n && (kl < 0 || kr < 0); k++) {
+      const struct gline *l = &pl[k];
+      if (l->a == 0) continue;
+      int k1 = k + 1 < p->n ? k + 1 : 0;
+      struct hpoint lo = l->a > 0 ? vy_at(p, pl, vb, &made, k1) : vy_at(p, pl, vb, &made, k);
+      struct hpoint hi = l->a > 0 ? vy_at(p, pl, vb, &made, k) : vy_at(p, pl, vb, &made, k1);
+      v->pend_side++;                    /* charged by charge_compares */
+      if (geom_hy_cmp(lo, yn, yd) > 0 || geom_hy_cmp(hi, yn, yd) <= 0) continue;
+      if (l->a > 0) kl = k; else kr = k;
+    }
   }
   if (kl < 0 || kr < 0) return false;
   it->kl = kl;
@@ -610,11 +640,15 @@ static int activate(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err
   while (v->next < v->norder && ylo_cmp_frac(&s->p[v->order[v->next]], yn, yd) <= 0) {
     int p = v->order[v->next++];
     cost_mw_mul(v->cost, 88, 17);
-    if (!s->p[p].alive || cmp_hy_frac(piece_yhi_y(&s->p[p]), yn, yd) <= 0) continue;
+    if (!s->p[p].alive) continue;
+    struct hpoint yhi = piece_yhi_y(&s->p[p]);
+    if (cmp_hy_frac(yhi, yn, yd) <= 0) continue;
     if (!grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
       return t74_fail(err, T74_EIO, "out of host memory");
     memset(&v->act[v->nact], 0, sizeof v->act[v->nact]);
     v->act[v->nact].piece = p;
+    v->act[v->nact].yhi_y = yhi.Y;
+    v->act[v->nact].yhi_w = (int64_t)yhi.W;
     v->nact++;
   }
   return T74_OK;
@@ -659,7 +693,8 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   for (int a = 0; a < v->nact; a++) {
     const struct piece *p = &s->p[v->act[a].piece];
     COST_ADD_N(v->cost, COST_MEM, 2);
-    if (!p->alive || cmp_hy_frac(piece_yhi_y(p), yn, yd) <= 0) {
+    if (!p->alive || cmp_hy_frac((struct hpoint){ 0, v->act[a].yhi_y, v->act[a].yhi_w },
+                                 yn, yd) <= 0) {
       if (v->act[a].core) dblock_give(v, v->act[a].core);
       v->tmp[a] = -1;
       continue;

@@ -44,6 +44,8 @@ struct vis_item {
   wide   hdl, hdr;           /* --arith hitac: the exact denominators of xb, xe */
   int64_t yn, yd;            /* the last line, y = yn / yd */
   struct hpoint ymax;        /* where the D-block ends (the lower top of kl and kr) */
+  wide   yhi_y;              /* the height of the piece's highest vertex, Y / W (piece_yhi_y, */
+  int64_t yhi_w;             /* made once when it is activated, not on every line) */
   uint32_t core;             /* its row in the core's D-BLOCK table */
 };
 
