@@ -311,15 +311,17 @@ static int add_index(struct mesh *m, long i, const char *file, struct t74_error 
    point is m / 10^k with m < 10^15 < 2^53 and 10^k = 2^k 5^k, 5^22 < 2^53: both exact
    doubles, so one IEEE division gives the correctly rounded value, the double strtod gives
    (glibc rounds correctly; round to nearest, no excess precision: FLT_EVAL_METHOD 0).
-   Anything else (exponents, hex, inf, nan, more digits) is left to strtod: false. */
-static bool fast_decimal(const char *tok, double *out)
+   Anything else (exponents, hex, inf, nan, more digits) is left to strtod: false.
+   decimal_at reads such a number at *at and, when it takes it, sets *at past its last
+   byte (the caller decides whether the token ends there: fast_decimal, obj_fast). */
+static bool decimal_at(const char **at, double *out)
 {
 #if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
   static const double pow10[23] = {
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22
   };
-  const char *p = tok;
+  const char *p = *at;
   bool neg = false;
   if (*p == '+' || *p == '-') neg = *p++ == '-';
   /* the digits before the point, then those after it, each run in a loop of its own;
@@ -341,16 +343,27 @@ static bool fast_decimal(const char *tok, double *out)
     frac = p - f0;
     any = any || frac > 0;
   }
-  if (*p || !any || digits > 15 || frac > 22) return false;
+  if (!any || digits > 15 || frac > 22) return false;
   double v = (double)m;                         /* exact: m < 10^15 < 2^53 */
   if (frac) v /= pow10[frac];                   /* one rounding */
   *out = neg ? -v : v;
+  *at = p;
   return true;
 #else
-  (void)tok;
+  (void)at;
   (void)out;
   return false;
 #endif
+}
+
+/* The token whole as decimal_at reads it: the end it reaches must be the token's. */
+static bool fast_decimal(const char *tok, double *out)
+{
+  const char *p = tok;
+  double v;
+  if (!decimal_at(&p, &v) || *p) return false;
+  *out = v;
+  return true;
 }
 
 bool import_real(const char *tok, double *out)
@@ -460,11 +473,78 @@ bad:
                      import_show(tok, b, sizeof b));
 }
 
+/* ---- .obj: the common lines in one pass (issue 19) ----------------------------------
+   Most lines of a large .obj are `v X Y Z` and `f I J K ...` with single blanks and plain
+   numbers. obj_fast reads such a line straight from the buffer, without the tokens and
+   NULs import_next makes and without reading its bytes twice. It takes a line only when
+   it is sure the general path (import_next, then read_xyz or obj_ref) would accept it
+   and give the same values: it ends at LF; it starts with `v ` or `f ` at r->pos; tokens
+   are separated by blanks (' ') only; each coordinate is a plain decimal fast_decimal
+   takes whole (what the tokenizer would cut out: the accepted bytes, digits, signs and
+   `.`, never end a token, and the byte after is a blank or the LF) and in range; each
+   face reference is a plain positive index of at most 9 digits (so 1 .. 999,999,999,
+   inside obj_part's range), with at most 32 of them. Anything else (comments, tabs, CR,
+   other statements, w or colours, slashes, signs in indices, any doubt) returns 0 with
+   nothing read: the general path then reads the line and gives its value or its message.
+   On 1 the line is read: r->pos is past its LF, r->line / r->nlines count it, and the
+   vertex or face is added by the same add_vertex / begin_face / add_index calls (whose
+   own refusals, counts and out of memory, are the general path's). Returns 1, 0, or an
+   error status (> 1) from those calls. */
+enum { OBJ_FAST_REFS = 32 };
+
+static int obj_fast(struct import_reader *r, struct mesh *m, struct t74_error *err)
+{
+  const char *p = r->buf + r->pos;
+  if ((p[0] != 'v' && p[0] != 'f') || p[1] != ' ') return 0;
+  int st;
+  if (p[0] == 'v') {
+    double c[3];
+    p += 1;
+    for (int k = 0; k < 3; k++) {
+      while (*p == ' ') p++;
+      /* the token is the bytes decimal_at takes (digits, signs, `.`: none ends a token)
+         when a blank or the LF follows them */
+      if (!decimal_at(&p, &c[k]) || (*p != ' ' && *p != '\n') || !coord_in_range(c[k]))
+        return 0;
+    }
+    while (*p == ' ') p++;
+    if (*p != '\n') return 0;
+    r->pos = (size_t)(p - r->buf) + 1;
+    r->line = ++r->nlines;
+    return (st = add_vertex(m, c, r->line, r->file, err)) ? st : 1;
+  }
+  long ref[OBJ_FAST_REFS];
+  int n = 0;
+  p += 1;
+  for (;;) {
+    while (*p == ' ') p++;
+    if (*p == '\n') break;
+    if (n == OBJ_FAST_REFS) return 0;
+    const char *d = p;
+    long v = 0;
+    while ((unsigned)(*p - '0') < 10 && p - d < 10) v = v * 10 + (*p++ - '0');
+    if (p == d || p - d > 9 || v == 0 || (*p != ' ' && *p != '\n')) return 0;
+    ref[n++] = v;
+  }
+  if (n < 3) return 0;
+  r->pos = (size_t)(p - r->buf) + 1;
+  r->line = ++r->nlines;
+  if ((st = begin_face(m, r->line, r->file, err))) return st;
+  for (int k = 0; k < n; k++)
+    if ((st = add_index(m, ref[k] - 1, r->file, err))) return st;
+  return 1;
+}
+
 static int read_obj(struct import_reader *r, struct mesh *m, struct t74_error *err)
 {
   int st;
   char b[48];
-  while ((st = import_next(r, err)) == 1) {
+  for (;;) {
+    if (r->pos < r->len && (st = obj_fast(r, m, err)) != 0) {
+      if (st != 1) return st;
+      continue;
+    }
+    if ((st = import_next(r, err)) != 1) break;
     const char *k = r->tok[0];
     if (strcmp(k, "v") == 0) {
       if (r->ntok < 4 || r->ntok > 8)

@@ -1125,6 +1125,73 @@ static void obj_refs_in_place(void **state)
   scene_free(s);
 }
 
+/* The common `v` and `f` lines are read in one pass (obj_fast) when written with single
+   blanks; written with tabs the same lines go the general way (tokens, read_xyz,
+   obj_ref). Both must give the same scene, or the same refusal with the same line:
+   lines at the fast path's edges (runs of blanks and trailing ones, 15 and 16 significant
+   digits, leading zeros, signs, a bare point, 9- and 10-digit indices, 32 and 33
+   references, a last line without LF, comments, CR LF, slashes, negative indices) and
+   bad ones (index 0, too few references, an index past the vertices, a bad number). */
+static void obj_fast_as_general(void **state)
+{
+  struct fx *f = *state;
+  static const char *const good[] = {
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n",
+    "# c\nv  0.5   -0   +.25  \nv 1. 0 0\nv 0 1 0 \nf  1 2  3  \nf 1 2 3",
+    "v 0.123456789012345 0 0\nv 1.234567890123456 0 0\nv 0 1.0000000000000002 0\n"
+    "v 0 0 000000000000000000001\nf 000000001 2 3 4\nf 0000000001 2 3\n",
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\r\nf 1/1/1 2//2 3\nf -3 -2 -1\nf 1 2 3 # c\n",
+    "v 0 0 1e0\nv 1 0 0 1\nv 0 1 0\nv 0 0 0\nf 1 2 3\nf 2 3 4\n",
+  };
+  static const char *const bad[] = {
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 2\n",
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n",
+    "v 0 0 0\nv 1 0 0\nv 0 1 0.1.2\nf 1 2 3\n",
+    "v 0 0 0\nv 1 0 0\nv 0 1 0 0 0 0 0 0\nf 1 2 3\n",
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 1234567890\n",
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 -4\n",
+  };
+  for (int g = 0; g < 2; g++) {
+    int n = g == 0 ? (int)(sizeof good / sizeof *good) + 2 : (int)(sizeof bad / sizeof *bad);
+    for (int k = 0; k < n; k++) {
+      struct text t = { 0 };
+      if (g == 0 && k >= (int)(sizeof good / sizeof *good)) {
+        /* a face of 32 references (the fast path's most) and one of 33 (the general's) */
+        int refs = k == (int)(sizeof good / sizeof *good) ? 32 : 33;
+        for (int v = 0; v < refs; v++)
+          tprintf(&t, "v %d %d 0\n", (int)lround(1000 * cos(2 * PI * v / refs)),
+                  (int)lround(1000 * sin(2 * PI * v / refs)));
+        tprintf(&t, "f");
+        for (int v = 0; v < refs; v++) tprintf(&t, " %d", v + 1);
+        tprintf(&t, "\n");
+      } else {
+        tprintf(&t, "%s", g == 0 ? good[k] : bad[k]);
+      }
+      char *tab = malloc(t.n + 1);
+      assert_non_null(tab);
+      memcpy(tab, t.s, t.n + 1);
+      for (size_t q = 0; q < t.n; q++)
+        if (tab[q] == ' ') tab[q] = '\t';
+      struct scene *s[2] = { NULL, NULL };
+      struct t74_error err[2] = { { 0 }, { 0 } };
+      int st[2];
+      for (int w = 0; w < 2; w++) {
+        write_file(f, "fast.obj", w == 0 ? t.s : tab, t.n);
+        st[w] = scene_load(f->path, &on_axis, &s[w], &err[w]);
+      }
+      if (st[0] != st[1] || strcmp(err[0].msg, err[1].msg) != 0 || (g == 0) != (st[0] == 0))
+        fail_msg("%s text %d: %d \"%s\" with blanks, %d \"%s\" with tabs", g ? "bad" : "good",
+                 k, st[0], err[0].msg, st[1], err[1].msg);
+      if (st[0] == 0) same_scene(s[0], s[1]);
+      scene_free(s[0]);
+      scene_free(s[1]);
+      free(tab);
+      free(t.s);
+    }
+  }
+}
+
 int main(void)
 {
 #define LIST_BAD(name, kind, text, line, what) cmocka_unit_test(bad_##name),
@@ -1133,6 +1200,7 @@ int main(void)
     cmocka_unit_test(command_exit_2),
     cmocka_unit_test(real_tokens_as_strtod),
     cmocka_unit_test(obj_refs_in_place),
+    cmocka_unit_test(obj_fast_as_general),
     cmocka_unit_test(line_ends),
     cmocka_unit_test(concave_nonplanar_keeps_notch),
     cmocka_unit_test(straight_vertices_kept),
