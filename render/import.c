@@ -521,10 +521,10 @@ static int obj_fast(struct import_reader *r, struct mesh *m, struct t74_error *e
     if (*p == '\n') break;
     if (n == OBJ_FAST_REFS) return 0;
     const char *d = p;
-    long v = 0;
-    while ((unsigned)(*p - '0') < 10 && p - d < 10) v = v * 10 + (*p++ - '0');
+    uint64_t v = 0;           /* wraps (unsigned) only past 19 digits: refused below */
+    while ((unsigned)(*p - '0') < 10) v = v * 10 + (uint64_t)(*p++ - '0');
     if (p == d || p - d > 9 || v == 0 || (*p != ' ' && *p != '\n')) return 0;
-    ref[n++] = v;
+    ref[n++] = (long)v;
   }
   if (n < 3) return 0;
   r->pos = (size_t)(p - r->buf) + 1;
