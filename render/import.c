@@ -1349,6 +1349,21 @@ static int place_face(struct scene *s, int *cap, const struct mesh *m, int k, in
   return file_split(s, cap, m, k, fbuf, nfile, quiet, err);
 }
 
+double import_round(double x)
+{
+  /* below 2^52 in magnitude, t = trunc(x) by the conversion (exact: |x| < 2^63), and
+     x - t, the fraction, is exact (its bits are x's own below the point); so the
+     comparisons with 1/2 decide as lround does, halves away from zero. Larger, infinite
+     or NaN: lround itself. */
+  if (fabs(x) < 0x1p52) {
+    double t = (double)(long long)x, d = x - t;
+    if (d >= 0.5) return t + 1;
+    if (d <= -0.5) return t - 1;
+    return t;
+  }
+  return (double)lround(x);
+}
+
 static int32_t clamp_coord(double v)
 {
   if (!(v > SCENE_COORD_MIN)) return SCENE_COORD_MIN;   /* also catches NaN */
@@ -1439,9 +1454,9 @@ static int build(const struct mesh *m, const char *path, const struct scene_opts
     struct scene_vertex *sv = &s->v[v];
     sv->id = (uint32_t)(v + 1);
     sv->line = m->vline[v];
-    sv->x = clamp_coord((double)lround((m->xyz[3 * v] - cx) * scale));
-    sv->y = clamp_coord((double)lround((m->xyz[3 * v + 1] - cy) * scale));
-    sv->z = clamp_coord((double)lround((hi[2] - m->xyz[3 * v + 2]) * scale));
+    sv->x = clamp_coord(import_round((m->xyz[3 * v] - cx) * scale));
+    sv->y = clamp_coord(import_round((m->xyz[3 * v + 1] - cy) * scale));
+    sv->z = clamp_coord(import_round((hi[2] - m->xyz[3 * v + 2]) * scale));
     int32_t c[3] = { sv->x, sv->y, sv->z };
     for (int a = 0; a < 3; a++) {
       if (c[a] < blo[a]) blo[a] = c[a];

@@ -78,6 +78,10 @@ int import_int(const char *tok, long lo, long hi, long *out);
    decimals of up to 15 significant digits without strtod, giving the same double). */
 bool import_real(const char *tok, double *out);
 
+/* (double)lround(x), the grid's rounding (halves away from zero), without the libm call
+   where |x| < 2^52 (issue 19: lround was 2% of an import of 100,000 faces). */
+double import_round(double x);
+
 /* Import a .obj (kind "obj") or .off (kind "off") file onto the integer grid. */
 int import_load(const char *path, const char *kind, const struct scene_opts *opts,
                 struct scene **out, struct t74_error *err);

@@ -1192,6 +1192,32 @@ static void obj_fast_as_general(void **state)
   }
 }
 
+/* import_round is (double)lround bit for bit: halves (both signs), values beside them,
+   signed zeros, the 2^52 edge, and random values at several magnitudes. */
+static void round_as_lround(void **state)
+{
+  (void)state;
+  static const double fixed[] = {
+    0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994, -0.49999999999999994,
+    0.5000000000000001, -0.5000000000000001, 6399.5, -6399.5, 12800.5, 1e-300, -1e-300,
+    0x1p52 - 0.5, -(0x1p52 - 0.5), 0x1p52 - 1, 0x1p52, -0x1p52, 0x1p52 + 1, 1e18, -1e18,
+    4503599627370495.5, -4503599627370495.5, 0.3, -0.3, 0.7, -0.7,
+  };
+  for (size_t k = 0; k < sizeof fixed / sizeof *fixed; k++) {
+    double a = import_round(fixed[k]), b = (double)lround(fixed[k]);
+    if (memcmp(&a, &b, sizeof a) != 0) fail_msg("%a: %a, lround %a", fixed[k], a, b);
+  }
+  uint64_t x = 0x2545f4914f6cdd1du;
+  for (int k = 0; k < 1000000; k++) {
+    x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+    double v = ldexp((double)(x >> 11) / 9007199254740992.0, (int)(x % 60) - 4);
+    if (x & (1u << 5)) v = -v;
+    if ((x & 0xc0) == 0) v = floor(v) + 0.5;          /* a half */
+    double a = import_round(v), b = (double)lround(v);
+    if (memcmp(&a, &b, sizeof a) != 0) fail_msg("%a: %a, lround %a", v, a, b);
+  }
+}
+
 int main(void)
 {
 #define LIST_BAD(name, kind, text, line, what) cmocka_unit_test(bad_##name),
@@ -1201,6 +1227,7 @@ int main(void)
     cmocka_unit_test(real_tokens_as_strtod),
     cmocka_unit_test(obj_refs_in_place),
     cmocka_unit_test(obj_fast_as_general),
+    cmocka_unit_test(round_as_lround),
     cmocka_unit_test(line_ends),
     cmocka_unit_test(concave_nonplanar_keeps_notch),
     cmocka_unit_test(straight_vertices_kept),
