@@ -76,33 +76,17 @@ bool fx_polys_add(struct fx_polys *ps, int nring, const int *rs, const struct gp
   p->nring = 0;
   int at = 0;
   size_t b = 0;
-  gcoord xlo = INT64_MAX, xhi = INT64_MIN, ylo = INT64_MAX, yhi = INT64_MIN;   /* the box */
+  gcoord box[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };   /* xlo, xhi, ylo, yhi */
   for (int r = 0; r < nring; r++) {
     int n = rs[r + 1] - rs[r];
     if (n < 3) continue;
     p->rs[p->nring++] = at;
     memcpy(p->pt + at, pt + rs[r], (size_t)n * sizeof *pt);
-    /* block v0 .. v0 + FX_POLY_BLOCK - 1: the edges from those points, so its points are
-       those and the next (the ring's first after its last) */
-    const struct gpoint *q = p->pt + at;
-    for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, b++) {
-      const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
-      gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo;
-      for (int v = v0; v < v1; v++) {       /* (the box's x on the way) */
-        lo = q[v].y < lo ? q[v].y : lo;
-        hi = q[v].y > hi ? q[v].y : hi;
-        xlo = q[v].x < xlo ? q[v].x : xlo;
-        xhi = q[v].x > xhi ? q[v].x : xhi;
-      }
-      p->blk[b][0] = lo;
-      p->blk[b][1] = hi;
-      ylo = lo < ylo ? lo : ylo;            /* the box's y: each point is in a block */
-      yhi = hi > yhi ? hi : yhi;
-    }
+    b = fx_ring_blocks(p->pt + at, n, p->blk, b, box);
     at += n;
   }
   p->rs[p->nring] = at;
-  p->xlo = xlo; p->xhi = xhi; p->ylo = ylo; p->yhi = yhi;
+  p->xlo = box[0]; p->xhi = box[1]; p->ylo = box[2]; p->yhi = box[3];
   p->owner = owner;
   p->light = light;
   ps->n++;

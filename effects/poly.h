@@ -204,6 +204,32 @@ static inline size_t fx_room_bytes(int npt)
   return (size_t)npt * (sizeof(struct gpoint) + sizeof(gcoord[2]) + sizeof(int)) + sizeof(int);
 }
 
+/* A ring's blocks: the ring of n points q into blk[nblk ..] (block v0 .. v0 + FX_POLY_BLOCK
+   - 1 holds the edges from those points, so its points are those and the next, the ring's
+   first after its last: its y range), the box (xlo, xhi, ylo, yhi) widened over the ring.
+   Returns the blocks made so far. */
+static inline size_t fx_ring_blocks(const struct gpoint *q, int n, gcoord (*blk)[2],
+                                    size_t nblk, gcoord box[4])
+{
+  gcoord xlo = box[0], xhi = box[1], ylo = box[2], yhi = box[3];
+  for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, nblk++) {
+    const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
+    gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo;
+    for (int v = v0; v < v1; v++) {         /* (the box's x on the way) */
+      lo = q[v].y < lo ? q[v].y : lo;
+      hi = q[v].y > hi ? q[v].y : hi;
+      xlo = q[v].x < xlo ? q[v].x : xlo;
+      xhi = q[v].x > xhi ? q[v].x : xhi;
+    }
+    blk[nblk][0] = lo;
+    blk[nblk][1] = hi;
+    ylo = lo < ylo ? lo : ylo;              /* the box's y: each point is in a block */
+    yhi = hi > yhi ? hi : yhi;
+  }
+  box[0] = xlo; box[1] = xhi; box[2] = ylo; box[3] = yhi;
+  return nblk;
+}
+
 /* The polygon ps->p[ps->n] made of the points at mem (the chunk's room: npt of them, in
    nring rings rs[0..nring] of 3 points or more, rs[0] = 0), its blocks and offsets put
    after them; added (its memory taken) when meet is NULL or its box meets meet's. */
@@ -215,28 +241,11 @@ static inline bool fx_polys_close_at(struct fx_polys *ps, char *mem, int nring,
   const int npt = rs[nring];
   p->pt = (struct gpoint *)mem;
   p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
-  gcoord xlo = INT64_MAX, xhi = INT64_MIN, ylo = INT64_MAX, yhi = INT64_MIN;   /* the box */
+  gcoord box[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };
   size_t nblk = 0;
-  for (int r = 0; r < nring; r++) {
-    const struct gpoint *q = p->pt + rs[r];
-    const int n = rs[r + 1] - rs[r];
-    /* block v0 .. v0 + FX_POLY_BLOCK - 1: the edges from those points, so its points are
-       those and the next (the ring's first after its last) */
-    for (int v0 = 0; v0 < n; v0 += FX_POLY_BLOCK, nblk++) {
-      const int v1 = v0 + FX_POLY_BLOCK < n ? v0 + FX_POLY_BLOCK : n;
-      gcoord lo = q[v1 == n ? 0 : v1].y, hi = lo;
-      for (int v = v0; v < v1; v++) {       /* (the box's x on the way) */
-        lo = q[v].y < lo ? q[v].y : lo;
-        hi = q[v].y > hi ? q[v].y : hi;
-        xlo = q[v].x < xlo ? q[v].x : xlo;
-        xhi = q[v].x > xhi ? q[v].x : xhi;
-      }
-      p->blk[nblk][0] = lo;
-      p->blk[nblk][1] = hi;
-      ylo = lo < ylo ? lo : ylo;            /* the box's y: each point is in a block */
-      yhi = hi > yhi ? hi : yhi;
-    }
-  }
+  for (int r = 0; r < nring; r++)
+    nblk = fx_ring_blocks(p->pt + rs[r], rs[r + 1] - rs[r], p->blk, nblk, box);
+  const gcoord xlo = box[0], xhi = box[1], ylo = box[2], yhi = box[3];
   if (meet && (xhi <= meet[0] || xlo >= meet[1] || yhi <= meet[2] || ylo >= meet[3]))
     return true;
   p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
