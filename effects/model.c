@@ -236,6 +236,40 @@ static inline void space_point(const struct fx_model *m, int f, double px, doubl
   X[2] = E2 + t * D[2];
 }
 
+#ifdef __SSE2__
+/* A row's space_point in two lanes: its constants (space_lanes_init: the eye, face f's ray
+   r, D1 = py - E1, D2 = -E2 and the products r[1] D1, r[2] D2, each the one double
+   space_point makes for the row), then two points' space positions (space_lanes_at). */
+struct space_lanes {
+  __m128d e0, e1, e2, r0, r3, c1, c2, d1, d2;
+};
+
+static inline void space_lanes_init(const struct fx_model *m, int f, double py,
+                                    struct space_lanes *L)
+{
+  const double *E = m->eye, *r = m->ray[f];
+  const double E0 = E[0], E1 = E[1], E2 = E[2];
+  const double D1 = py - E1, D2 = -E2;
+  L->e0 = _mm_set1_pd(E0); L->e1 = _mm_set1_pd(E1); L->e2 = _mm_set1_pd(E2);
+  L->r0 = _mm_set1_pd(r[0]); L->r3 = _mm_set1_pd(r[3]);
+  L->c1 = _mm_set1_pd(r[1] * D1); L->c2 = _mm_set1_pd(r[2] * D2);
+  L->d1 = _mm_set1_pd(D1); L->d2 = _mm_set1_pd(D2);
+}
+
+/* The space positions X[0..2] (x, y, z lanes) of the row's points px2 (two x's). */
+static inline void space_lanes_at(const struct space_lanes *L, __m128d px2, __m128d X[3])
+{
+  const __m128d d0 = _mm_sub_pd(px2, L->e0);
+  const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(L->r0, d0), L->c1), L->c2);
+  const __m128d nz = _mm_cmpneq_pd(den, _mm_setzero_pd());   /* den != 0 ? r[3] / den : 1 */
+  const __m128d t = _mm_or_pd(_mm_and_pd(nz, _mm_div_pd(L->r3, den)),
+                              _mm_andnot_pd(nz, _mm_set1_pd(1)));
+  X[0] = _mm_add_pd(L->e0, _mm_mul_pd(t, d0));
+  X[1] = _mm_add_pd(L->e1, _mm_mul_pd(t, L->d1));
+  X[2] = _mm_add_pd(L->e2, _mm_mul_pd(t, L->d2));
+}
+#endif
+
 /* space_point at n points (px[p], py) of one row into X[p]: the same doubles, two points
    an instruction where the processor has SSE2 (its adds, multiplies and divides are
    correctly rounded, as the scalar ones are: each lane's operations are space_point's on
@@ -246,24 +280,14 @@ static inline void space_points(const struct fx_model *m, int f, int n, const do
 {
   int p = 0;
 #ifdef __SSE2__
-  const double *E = m->eye, *r = m->ray[f];
-  const double E0 = E[0], E1 = E[1], E2 = E[2];
-  const double D1 = py - E1, D2 = -E2, c1 = r[1] * D1, c2 = r[2] * D2;
-  const __m128d e0 = _mm_set1_pd(E0), r0 = _mm_set1_pd(r[0]), r3 = _mm_set1_pd(r[3]);
-  const __m128d c1v = _mm_set1_pd(c1), c2v = _mm_set1_pd(c2), one = _mm_set1_pd(1);
-  const __m128d e1 = _mm_set1_pd(E1), e2 = _mm_set1_pd(E2), d1 = _mm_set1_pd(D1);
-  const __m128d d2 = _mm_set1_pd(D2), zero = _mm_setzero_pd();
+  struct space_lanes L;
+  space_lanes_init(m, f, py, &L);
   for (; p + 2 <= n; p += 2) {
-    const __m128d d0 = _mm_sub_pd(_mm_loadu_pd(px + p), e0);
-    const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r0, d0), c1v), c2v);
-    const __m128d nz = _mm_cmpneq_pd(den, zero);       /* den != 0 ? r[3] / den : 1 */
-    const __m128d t = _mm_or_pd(_mm_and_pd(nz, _mm_div_pd(r3, den)), _mm_andnot_pd(nz, one));
-    const __m128d x0 = _mm_add_pd(e0, _mm_mul_pd(t, d0));
-    const __m128d x1 = _mm_add_pd(e1, _mm_mul_pd(t, d1));
-    const __m128d x2 = _mm_add_pd(e2, _mm_mul_pd(t, d2));
-    _mm_storel_pd(&X[p][0], x0); _mm_storeh_pd(&X[p + 1][0], x0);
-    _mm_storel_pd(&X[p][1], x1); _mm_storeh_pd(&X[p + 1][1], x1);
-    _mm_storel_pd(&X[p][2], x2); _mm_storeh_pd(&X[p + 1][2], x2);
+    __m128d x[3];
+    space_lanes_at(&L, _mm_loadu_pd(px + p), x);
+    _mm_storel_pd(&X[p][0], x[0]); _mm_storeh_pd(&X[p + 1][0], x[0]);
+    _mm_storel_pd(&X[p][1], x[1]); _mm_storeh_pd(&X[p + 1][1], x[1]);
+    _mm_storel_pd(&X[p][2], x[2]); _mm_storeh_pd(&X[p + 1][2], x[2]);
   }
 #endif
   for (; p < n; p++) space_point(m, f, px[p], py, X[p]);
@@ -406,21 +430,13 @@ static void flat_lit_pairs(const struct fx_model *m, int face, const struct fx_t
                            const struct shade_pair *P, int p0, int p1, const unsigned *blocked,
                            const double *px, double py, uint8_t *grey)
 {
-  const double *E = m->eye, *r = m->ray[face];
-  const double E0 = E[0], E1 = E[1], E2 = E[2];
-  const double D1 = py - E1, D2 = -E2, c1 = r[1] * D1, c2 = r[2] * D2;
-  const __m128d e0 = _mm_set1_pd(E0), r0 = _mm_set1_pd(r[0]), r3 = _mm_set1_pd(r[3]);
-  const __m128d c1v = _mm_set1_pd(c1), c2v = _mm_set1_pd(c2), one = _mm_set1_pd(1);
-  const __m128d e1 = _mm_set1_pd(E1), e2 = _mm_set1_pd(E2), d1 = _mm_set1_pd(D1);
-  const __m128d d2 = _mm_set1_pd(D2), zero = _mm_setzero_pd();
+  struct space_lanes L;
+  space_lanes_init(m, face, py, &L);
+  const __m128d one = _mm_set1_pd(1);
   for (int p = p0; p < p1; p += 2) {
     const int q = p + 1 < p1 ? p + 1 : p;
-    const __m128d d0 = _mm_sub_pd(_mm_set_pd(px[q], px[p]), e0);
-    const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r0, d0), c1v), c2v);
-    const __m128d nz = _mm_cmpneq_pd(den, zero);       /* den != 0 ? r[3] / den : 1 */
-    const __m128d tt = _mm_or_pd(_mm_and_pd(nz, _mm_div_pd(r3, den)), _mm_andnot_pd(nz, one));
-    const __m128d X[3] = { _mm_add_pd(e0, _mm_mul_pd(tt, d0)), _mm_add_pd(e1, _mm_mul_pd(tt, d1)),
-                           _mm_add_pd(e2, _mm_mul_pd(tt, d2)) };
+    __m128d X[3];
+    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
     const __m128d refl = t ? tex_pair(t, X) : one;
     const unsigned g = shade_pair_greys(refl, shade_pair_sum(P, X[0], X[1], X[2], blocked[p],
                                                              blocked[q]));
