@@ -1209,8 +1209,7 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
   for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
   if (parallel) {
     const __m128d zero = _mm_setzero_pd(), sg = _mm_set1_pd(sgn);
-    const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
-    const __m128d two30 = _mm_set1_pd(0x1p30);
+    const __m128d rv = _mm_set1_pd(refl);
     for (; q + 2 <= ns; q += 2) {
       __m128d v[3];
       for (int c = 0; c < 3; c++) v[c] = _mm_loadu_pd(nv[c] + q);
@@ -1234,15 +1233,10 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
                                                             (b0 >> k & 1u) - 1ull)));
         sum = _mm_add_pd(sum, _mm_and_pd(m, d));
       }
-      /* shade_grey_of_sum's f; where both lanes' are in [0, 2^30) its truncations to 64
-         bits are CVTTPD2DQ's to 32, and A + t is the double A + t's int (below 2^31) */
-      const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
-      if (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f, zero), _mm_cmplt_pd(f, two30))) == 3) {
-        const __m128i t = _mm_cvttpd_epi32(f);
-        const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t);
-        const int g1 = SHADE_AMBIENT + _mm_cvtsi128_si32(_mm_srli_si128(t, 4));
-        grey[slot_p[q]] = g0 > 255 ? 255 : g0;      /* (A + t >= A > 0) */
-        grey[slot_p[q + 1]] = g1 > 255 ? 255 : g1;
+      unsigned g;                             /* both lanes' greys at once where it can */
+      if (shade_pair_greys_fast(rv, sum, &g)) {
+        grey[slot_p[q]] = (int)(g & 0xffu);
+        grey[slot_p[q + 1]] = (int)(g >> 8);
         continue;
       }
       double sm[2];

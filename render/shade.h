@@ -156,21 +156,30 @@ static inline __m128d shade_pair_sum(const struct shade_pair *P, __m128d x, __m1
 }
 
 /* The two lanes' greys of reflectance r under sums sum (shade_grey_of_sum's, lane by
-   lane): lane 0's in the low byte, lane 1's in the next. Where both lanes' f lie in
-   [0, 2^30) (no NaN) its truncation is CVTTPD2DQ's, f above 512 gives 255 as f does
-   (48 + 512 > 255), and the two saturating packs leave 48 + t when it is at most 255 and
-   make it 255 above it: the clamp. Else each lane by shade_grey_of_sum. */
-static inline unsigned shade_pair_greys(__m128d r, __m128d sum)
+   lane) where both lanes' f lie in [0, 2^30) (no NaN): true, lane 0's grey in the low byte
+   of *g, lane 1's in the next. There its truncation is CVTTPD2DQ's, f above 512 gives 255
+   as f does (48 + 512 > 255), and the two saturating packs leave 48 + t when it is at most
+   255 and make it 255 above it: the clamp. Else false, *g not set. */
+static inline bool shade_pair_greys_fast(__m128d r, __m128d sum, unsigned *g)
 {
   const __m128d f = _mm_add_pd(_mm_mul_pd(_mm_mul_pd(_mm_set1_pd(255 - SHADE_AMBIENT), r), sum),
                                _mm_set1_pd(0.5));
   if (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f, _mm_setzero_pd()),
-                                 _mm_cmplt_pd(f, _mm_set1_pd(0x1p30)))) == 3) {
-    const __m128i t = _mm_add_epi32(_mm_cvttpd_epi32(_mm_min_pd(f, _mm_set1_pd(512))),
-                                    _mm_set1_epi32(SHADE_AMBIENT));
-    const __m128i b = _mm_packus_epi16(_mm_packs_epi32(t, t), _mm_setzero_si128());
-    return (unsigned)_mm_cvtsi128_si32(b) & 0xffffu;
-  }
+                                 _mm_cmplt_pd(f, _mm_set1_pd(0x1p30)))) != 3)
+    return false;
+  const __m128i t = _mm_add_epi32(_mm_cvttpd_epi32(_mm_min_pd(f, _mm_set1_pd(512))),
+                                  _mm_set1_epi32(SHADE_AMBIENT));
+  const __m128i b = _mm_packus_epi16(_mm_packs_epi32(t, t), _mm_setzero_si128());
+  *g = (unsigned)_mm_cvtsi128_si32(b) & 0xffffu;
+  return true;
+}
+
+/* The two lanes' greys (shade_grey_of_sum's, lane by lane, as bytes): lane 0's in the low
+   byte, lane 1's in the next; shade_pair_greys_fast's where it takes them. */
+static inline unsigned shade_pair_greys(__m128d r, __m128d sum)
+{
+  unsigned g;
+  if (shade_pair_greys_fast(r, sum, &g)) return g;
   double rr[2], ss[2];
   _mm_storeu_pd(rr, r);
   _mm_storeu_pd(ss, sum);
