@@ -529,6 +529,63 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
+/* Under smooth=phong where smooth_phong_rows says so: the points i, i + 1, .. of a row
+   (faces fr[], px[], blocked[]) while they are on smoothed faces without a texture, of one
+   triangle or several, at most SMOOTH_RUN_ROW of them, from the first (face fr[i], fs its
+   face_shade_of's: a smoothed face without a texture) on: their greys into gr[] as
+   shade_run gives them (regions 1, Phong's), shaded together (smooth_phong_row); returns
+   the end of the stretch. The space points two an instruction whatever their faces,
+   space_lanes_at's operations with each lane's own face's constants: each lane's are
+   space_point's on its values in its order (r[1] D1 and r[2] D2 lane by lane, the same
+   products space_lanes_init makes); a lone last point in both lanes. */
+#define SMOOTH_RUN_ROW (4 * SMOOTH_RUN)
+static int shade_phong_row(const struct fx_model *m, const int *fr, int i, int W,
+                           const struct face_shade *fs, const unsigned *blocked,
+                           const double *px, double py, uint8_t *gr)
+{
+  int tri[SMOOTH_RUN_ROW], fc[SMOOTH_RUN_ROW], e = i, face = fr[i], t = fs->tri;
+  while (e < W && e - i < SMOOTH_RUN_ROW) {
+    const int f = fr[e];
+    if (f != face) {                        /* a smoothed face without a texture, lit */
+      if (f < 0) break;
+      struct face_shade o;
+      face_shade_of(m, f, &o);
+      if (o.tri < 0 || o.t || !o.lit) break;
+      face = f;
+      t = o.tri;
+    }
+    fc[e - i] = face;
+    tri[e - i] = t;
+    e++;
+  }
+  const int n = e - i;
+  double X[SMOOTH_RUN_ROW][3];
+  int g[SMOOTH_RUN_ROW];
+#ifdef __SSE2__
+  struct space_lanes L;
+  space_lanes_init(m, fc[0], py, &L);        /* the row's constants; the faces' below */
+  const double D1 = py - m->eye[1], D2 = -m->eye[2];
+  for (int p = 0; p < n; p += 2) {
+    const int p1 = p + 1 < n ? p + 1 : p;
+    const double *ra = m->ray[fc[p]], *rb = m->ray[fc[p1]];
+    L.r0 = _mm_set_pd(rb[0], ra[0]);
+    L.r3 = _mm_set_pd(rb[3], ra[3]);
+    L.c1 = _mm_mul_pd(_mm_set_pd(rb[1], ra[1]), _mm_set1_pd(D1));
+    L.c2 = _mm_mul_pd(_mm_set_pd(rb[2], ra[2]), _mm_set1_pd(D2));
+    __m128d x[3];
+    space_lanes_at(&L, _mm_set_pd(px[p1], px[p]), x);
+    _mm_storel_pd(&X[p][0], x[0]); _mm_storeh_pd(&X[p1][0], x[0]);
+    _mm_storel_pd(&X[p][1], x[1]); _mm_storeh_pd(&X[p1][1], x[1]);
+    _mm_storel_pd(&X[p][2], x[2]); _mm_storeh_pd(&X[p1][2], x[2]);
+  }
+#else
+  for (int p = 0; p < n; p++) space_point(m, fc[p], px[p], py, X[p]);
+#endif
+  smooth_phong_row(&m->sm, n, tri, (const double (*)[3])X, blocked, &m->lights, g);
+  for (int p = 0; p < n; p++) gr[p] = (uint8_t)g[p];
+  return e;
+}
+
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
    found once for the run (the same operations on the same values as each point's). Where
@@ -1426,6 +1483,8 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   long pts = 0, flat = 0, band = 0, corner = 0;
   long runs[3] = { 0, 0, 0 };               /* shade_run's points by region */
   const bool bg = m->bg != NULL;
+  /* smoothed points a stretch of a row at a time (shade_phong_row), not a run a face */
+  const bool rows = m->smooth && smooth_phong_rows(&m->sm, m->e, &m->lights);
   for (int j = H - 1; j >= 0; j--) {
     size_t at0 = (size_t)j * (size_t)W;
     int *fr = f->face + at0;
@@ -1486,6 +1545,14 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         const int e = face_run_end(fr, i, W);
         shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
         i = e - 1;
+        continue;
+      }
+      if (run && rows) {                    /* a stretch of smoothed faces' points */
+        const int e = shade_phong_row(m, fr, i, W, &fs, blocked + i, px + i, py[j], gr + i);
+        runs[1] += e - i;                   /* Phong's region */
+        pts += e - i;
+        i = e - 1;
+        last = -1;                          /* fs is not fr[e - 1]'s, maybe */
         continue;
       }
       if (run) {                            /* up to SMOOTH_RUN points of it at once */

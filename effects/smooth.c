@@ -1254,6 +1254,121 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
   }
 }
 
+#ifdef __SSE2__
+/* Two doubles into lanes 0 and 1: one aligned load of a smooth_lanes pair when both lanes
+   take the same triangle's constants (same: a constant where phong_pair is inlined), else
+   lane 0 from a, lane 1 from b. */
+static inline __attribute__((always_inline)) __m128d lanes2(const double *a, const double *b,
+                                                             bool same)
+{
+  return same ? _mm_load_pd(a) : _mm_loadh_pd(_mm_load_sd(a), b);
+}
+
+/* phong_pairs' step at two points, Xa of triangle ta (constants xa) in lane 0 and Xb of
+   triangle tb (xb) in lane 1 (the same point twice for a lone one: two false, its grey
+   written once), each lane with its own triangle's constants (same: ta is tb); greys into
+   *ga and *gb. Each lane's operations are the ones phong_pairs makes for its point alone
+   (see there): the lanes never mix. Both triangles' btot is not 0, refl in [0, 1], the
+   lights parallel. */
+static inline __attribute__((always_inline))
+void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
+                const struct smooth_lanes *xa, const struct smooth_tri *tb,
+                const struct smooth_lanes *xb, bool same, const double *Xa, const double *Xb,
+                bool two, double refl, unsigned b0, unsigned b1, const struct shade_lights *L,
+                int *ga, int *gb)
+{
+  const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
+  const __m128d sg = _mm_set_pd(tb->front ? 1 : -1, ta->front ? 1 : -1);
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
+  const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
+  const __m128d eps = _mm_set1_pd(0x1p-24), twov = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
+  const __m128d two30 = _mm_set1_pd(0x1p30);
+  const __m128d x = _mm_set_pd(Xb[tb->bu], Xa[ta->bu]), y = _mm_set_pd(Xb[tb->bw], Xa[ta->bw]);
+  __m128d w[3], s = zero;
+  for (int k = 0; k < 3; k++) {
+    /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
+       the sign): where tot < 0, (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) -
+       (x - a_u) d_w) exactly (rounding to nearest is symmetric under negation), but where
+       that difference is 0: +0 here against -0 there, and the max with +0 makes either
+       +0 (MAXPD gives its second operand when the two are equal); area_lanes' operations */
+    const __m128d ar = _mm_sub_pd(
+        _mm_mul_pd(lanes2(xa->xsd[k][0], xb->xsd[k][0], same),
+                   _mm_sub_pd(y, lanes2(xa->xa[k][1], xb->xa[k][1], same))),
+        _mm_mul_pd(_mm_sub_pd(x, lanes2(xa->xa[k][0], xb->xa[k][0], same)),
+                   lanes2(xa->xsd[k][1], xb->xsd[k][1], same)));
+    w[k] = _mm_max_pd(ar, zero);
+    s = _mm_add_pd(s, w[k]);
+  }
+  /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
+     and one whose sum is above hi), in five instructions: every w_k >= min >= lo, and
+     w_k <= s <= hi (s a sum of non-negative terms, each rounding monotone) */
+  const __m128d good = _mm_and_pd(_mm_cmpge_pd(_mm_min_pd(_mm_min_pd(w[0], w[1]), w[2]), lo),
+                                  _mm_cmple_pd(s, hi));
+  __m128d N[3];
+  for (int c = 0; c < 3; c++)
+    N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], lanes2(xa->xcn[0][c], xb->xcn[0][c], same)),
+                                 _mm_mul_pd(w[1], lanes2(xa->xcn[1][c], xb->xcn[1][c], same))),
+                      _mm_mul_pd(w[2], lanes2(xa->xcn[2][c], xb->xcn[2][c], same)));
+  const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
+                                _mm_mul_pd(N[2], N[2]));
+  const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
+                                _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
+  const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(_mm_or_pd(_mm_and_pd(ok, nn),
+                                                           _mm_andnot_pd(ok, one))));
+  __m128d sum = zero;
+  for (int k = 0; k < L->n; k++) {
+    const double *l = L->v[k];
+    const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], _mm_set1_pd(l[0])),
+                                                       _mm_mul_pd(N[1], _mm_set1_pd(l[1]))),
+                                            _mm_mul_pd(N[2], _mm_set1_pd(l[2]))), inv);
+    __m128d lit = _mm_cmpgt_pd(d, zero);
+    if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
+      lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                            (b0 >> k & 1u) - 1ull)));
+    sum = _mm_add_pd(sum, _mm_and_pd(lit, d));
+  }
+  const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
+  const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(twov, s),
+                                                                   _mm_andnot_pd(sign, inv))));
+  const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
+  const int okb = _mm_movemask_pd(ok);
+  /* the last test at once where both lanes pass it with f1 below 2^30: there (f0 >= 0,
+     f0 <= f1) each truncation to 32 bits is the one to 64 bits (CVTTPD2DQ truncates),
+     and the grey's sum does not overflow */
+  const __m128i t0 = _mm_cvttpd_epi32(f0v);
+  const int fine = okb & _mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f0v, zero),
+                                                    _mm_cmplt_pd(f1v, two30))) &
+                   _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
+  const int lanes = two ? 3 : 1;
+  if ((fine & lanes) == lanes) {
+    const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t0);
+    *ga = g0 > 255 ? 255 : g0;
+    if (two) {
+      const int g1 = SHADE_AMBIENT + _mm_cvtsi128_si32(_mm_srli_si128(t0, 4));
+      *gb = g1 > 255 ? 255 : g1;
+    }
+    return;
+  }
+  double f0[2], f1[2];
+  _mm_storeu_pd(f0, f0v);
+  _mm_storeu_pd(f1, f1v);
+  for (int h = 0; h <= (int)two; h++) {       /* phong_filter's last test and grey */
+    int *g = h ? gb : ga;
+    if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
+      const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
+      *g = gv > 255 ? 255 : gv;
+      continue;
+    }
+    if (m->phong_declines) ++*m->phong_declines;
+    const struct smooth_tri *tr = h ? tb : ta;
+    const double *X = h ? Xb : Xa;
+    double ar[3];
+    bary_areas(tr, X, ar);
+    grey_phong_exact(tr, ar, X, refl, h ? b1 : b0, L, g);
+  }
+}
+#endif
+
 /* phong_lanes at points p < n under parallel lights alone, two points an instruction
    where the processor has SSE2, from their space points: bary_areas' areas (inner_split's
    operations), then phong_filter's steps, each lane's the scalar ones on its values in
@@ -1267,109 +1382,91 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
    declines also a point on a side or outside (a w_k of 0), left to the exact chain like
    every point declined. The points done (their greys, and their regions, 1): all n, or
    none when the filter is off or cannot be used for the triangle, or some light is a
-   point light (phong_lanes does them). */
+   point light (phong_lanes does them). The steps at a pair of points: phong_pair. */
 static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr,
                               const struct smooth_lanes *lx, int n,
                               const double (*X)[3], double refl, const unsigned *blocked,
                               const struct shade_lights *L, int *grey, int *region)
 {
 #ifdef __SSE2__
-  const double tot = tr->btot;
-  if (m->phong_exact || !(tot != 0 && refl >= 0 && refl <= 1)) return 0;
+  if (m->phong_exact || !(tr->btot != 0 && refl >= 0 && refl <= 1)) return 0;
   for (int k = 0; k < L->n; k++)
     if (L->point[k]) return 0;
-  const __m128d lo = _mm_load_pd(lx->xlo), hi = _mm_load_pd(lx->xhi);
-  const __m128d sg = _mm_set1_pd(tr->front ? 1 : -1);
-  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
-  const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
-  const __m128d eps = _mm_set1_pd(0x1p-24), two = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
-  const __m128d two30 = _mm_set1_pd(0x1p30);
-  const int bu = tr->bu, bw = tr->bw;
   for (int p = 0; p < n; p += 2) {
-    const int p1 = p + 1 < n ? p + 1 : p;   /* the last of an odd run: itself in both lanes */
+    const bool two = p + 1 < n;
+    const int p1 = two ? p + 1 : p;         /* the last of an odd run: itself in both lanes */
     region[p] = region[p1] = 1;
-    const __m128d x = _mm_set_pd(X[p1][bu], X[p][bu]), y = _mm_set_pd(X[p1][bw], X[p][bw]);
-    __m128d w[3], s = zero;
-    for (int k = 0; k < 3; k++) {
-      /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
-         the sign): where tot < 0, (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) -
-         (x - a_u) d_w) exactly (rounding to nearest is symmetric under negation), but where
-         that difference is 0: +0 here against -0 there, and the max with +0 makes either
-         +0 (MAXPD gives its second operand when the two are equal) */
-      w[k] = _mm_max_pd(area_lanes(lx->xa[k], lx->xsd[k], x, y), zero);
-      s = _mm_add_pd(s, w[k]);
-    }
-    /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
-       and one whose sum is above hi), in five instructions: every w_k >= min >= lo, and
-       w_k <= s <= hi (s a sum of non-negative terms, each rounding monotone) */
-    const __m128d good = _mm_and_pd(_mm_cmpge_pd(_mm_min_pd(_mm_min_pd(w[0], w[1]), w[2]), lo),
-                                    _mm_cmple_pd(s, hi));
-    __m128d N[3];
-    for (int c = 0; c < 3; c++)
-      N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], _mm_load_pd(lx->xcn[0][c])),
-                                   _mm_mul_pd(w[1], _mm_load_pd(lx->xcn[1][c]))),
-                        _mm_mul_pd(w[2], _mm_load_pd(lx->xcn[2][c])));
-    const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
-                                  _mm_mul_pd(N[2], N[2]));
-    const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
-                                  _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
-    const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(_mm_or_pd(_mm_and_pd(ok, nn),
-                                                             _mm_andnot_pd(ok, one))));
-    const unsigned b0 = blocked[p], b1 = blocked[p1];
-    __m128d sum = zero;
-    for (int k = 0; k < L->n; k++) {
-      const double *l = L->v[k];
-      const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], _mm_set1_pd(l[0])),
-                                                         _mm_mul_pd(N[1], _mm_set1_pd(l[1]))),
-                                              _mm_mul_pd(N[2], _mm_set1_pd(l[2]))), inv);
-      __m128d lit = _mm_cmpgt_pd(d, zero);
-      if ((b0 | b1) >> k & 1u)                /* the lanes whose light k is not blocked */
-        lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
-                                                              (b0 >> k & 1u) - 1ull)));
-      sum = _mm_add_pd(sum, _mm_and_pd(lit, d));
-    }
-    const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
-    const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(two, s),
-                                                                     _mm_andnot_pd(sign, inv))));
-    const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
-    const int okb = _mm_movemask_pd(ok);
-    /* the last test at once where both lanes pass it with f1 below 2^30: there (f0 >= 0,
-       f0 <= f1) each truncation to 32 bits is the one to 64 bits (CVTTPD2DQ truncates),
-       and the grey's sum does not overflow */
-    const __m128i t0 = _mm_cvttpd_epi32(f0v);
-    const int fine = okb & _mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f0v, zero),
-                                                      _mm_cmplt_pd(f1v, two30))) &
-                     _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
-    const int lanes = p1 > p ? 3 : 1;
-    if ((fine & lanes) == lanes) {
-      const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t0);
-      grey[p] = g0 > 255 ? 255 : g0;
-      if (p1 > p) {
-        const int g1 = SHADE_AMBIENT + _mm_cvtsi128_si32(_mm_srli_si128(t0, 4));
-        grey[p1] = g1 > 255 ? 255 : g1;
-      }
-      continue;
-    }
-    double f0[2], f1[2];
-    _mm_storeu_pd(f0, f0v);
-    _mm_storeu_pd(f1, f1v);
-    for (int h = 0; h <= p1 - p; h++) {       /* phong_filter's last test and grey */
-      if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
-        const int g = SHADE_AMBIENT + (int)(int64_t)f0[h];
-        grey[p + h] = g > 255 ? 255 : g;
-        continue;
-      }
-      if (m->phong_declines) ++*m->phong_declines;
-      double ar[3];
-      bary_areas(tr, X[p + h], ar);
-      grey_phong_exact(tr, ar, X[p + h], refl, blocked[p + h], L, &grey[p + h]);
-    }
+    phong_pair(m, tr, lx, tr, lx, true, X[p], X[p1], two, refl, blocked[p], blocked[p1], L,
+               &grey[p], &grey[p1]);
   }
   return n;
 #else
   (void)m; (void)tr; (void)lx; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey; (void)region;
   return 0;
 #endif
+}
+
+bool smooth_phong_rows(const struct smooth_model *m, const struct effects *e,
+                       const struct shade_lights *L)
+{
+#ifdef __SSE2__
+  if (e->smooth != EFFECTS_SMOOTH_PHONG || m->phong_exact) return false;
+  for (int k = 0; k < L->n; k++)
+    if (L->point[k]) return false;
+  return true;
+#else
+  (void)m; (void)e; (void)L;
+  return false;
+#endif
+}
+
+/* smooth_grey_run's Phong grey of one point X of triangle tr (reflectance 1) where
+   phong_pairs declines the triangle: its areas, then phong_lanes. */
+static void phong_alone(const struct smooth_model *m, const struct smooth_tri *tr,
+                        const double X[3], unsigned blocked, const struct shade_lights *L,
+                        int *grey)
+{
+  double ar[1][3];
+  bary_areas(tr, X, ar[0]);
+  phong_lanes(m, tr, 1, (const double (*)[3])ar, (const double (*)[3])X, 1.0, &blocked, L,
+              grey);
+}
+
+void smooth_phong_row(const struct smooth_model *m, int n, const int *tri,
+                      const double (*X)[3], const unsigned *blocked,
+                      const struct shade_lights *L, int *grey)
+{
+  int p = 0;
+#ifdef __SSE2__
+  /* a triangle's points two a step (phong_pairs' steps), and an odd one left over with
+     the next triangle's first (phong_pair, each lane its own triangle's constants); a
+     point of a triangle whose btot is 0 alone (smooth_grey_run's way) */
+  while (p < n) {
+    const int t = tri[p];
+    int q = p + 1;
+    while (q < n && tri[q] == t) q++;
+    const struct smooth_tri *tr = &m->tri[t];
+    if (tr->btot == 0) {
+      for (; p < q; p++) phong_alone(m, tr, X[p], blocked[p], L, &grey[p]);
+      continue;
+    }
+    const struct smooth_lanes *lx = &m->lanes[t];
+    for (; p + 2 <= q; p += 2)
+      phong_pair(m, tr, lx, tr, lx, true, X[p], X[p + 1], true, 1.0, blocked[p],
+                 blocked[p + 1], L, &grey[p], &grey[p + 1]);
+    if (p == q) continue;
+    if (q < n && m->tri[tri[q]].btot != 0) {   /* p = q - 1 and the next one, q */
+      phong_pair(m, tr, lx, &m->tri[tri[q]], &m->lanes[tri[q]], false, X[p], X[q], true, 1.0,
+                 blocked[p], blocked[q], L, &grey[p], &grey[q]);
+      p = q + 1;
+    } else {                                 /* alone: in both lanes */
+      phong_pair(m, tr, lx, tr, lx, true, X[p], X[p], false, 1.0, blocked[p], blocked[p], L,
+                 &grey[p], &grey[p]);
+      p = q;
+    }
+  }
+#endif
+  for (; p < n; p++) phong_alone(m, &m->tri[tri[p]], X[p], blocked[p], L, &grey[p]);
 }
 
 /* a run of one point, counted */

@@ -169,6 +169,20 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
                      const unsigned *blocked, const struct shade_lights *lights, int *grey,
                      int *region);
 
+/* Whether smooth_phong_row serves m under e and the lights L: smooth=phong, the lights all
+   parallel, the Phong filter on (not a test's phong_exact), the processor with SSE2. */
+bool smooth_phong_rows(const struct smooth_model *m, const struct effects *e,
+                       const struct shade_lights *L);
+
+/* smooth_grey_run at n points X[p] of any triangles tri[p] of m (reflectance 1, their
+   lights blocked[p], the greys in grey[p]; the regions are all 1), where smooth_phong_rows
+   says so: the same greys, bit for bit, two points an instruction whether or not they
+   are on one triangle, so that a row's points on a smoothed object go together without
+   a run's fixed cost at each triangle (issue 19). */
+void smooth_phong_row(const struct smooth_model *m, int n, const int *tri,
+                      const double (*X)[3], const unsigned *blocked,
+                      const struct shade_lights *L, int *grey);
+
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);
 
