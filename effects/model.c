@@ -534,55 +534,76 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
    triangle or several, at most SMOOTH_RUN_ROW of them, from the first (face fr[i], fs its
    face_shade_of's: a smoothed face without a texture) on: their greys into gr[] as
    shade_run gives them (regions 1, Phong's), shaded together (smooth_phong_row); returns
-   the end of the stretch. The space points two an instruction whatever their faces,
-   space_lanes_at's operations with each lane's own face's constants: each lane's are
-   space_point's on its values in its order (r[1] D1 and r[2] D2 lane by lane, the same
-   products space_lanes_init makes); a lone last point in both lanes. */
+   the end of the stretch. The space points two an instruction (space_lanes_at), a face's
+   two by two and an odd one left over with the next face's first: each lane's
+   operations are space_point's on its values in its order, with its own face's constants
+   (r[1] D1 and r[2] D2 lane by lane, the same products space_lanes_init makes); a lone
+   last point in both lanes. */
 #define SMOOTH_RUN_ROW (4 * SMOOTH_RUN)
 static int shade_phong_row(const struct fx_model *m, const int *fr, int i, int W,
                            const struct face_shade *fs, const unsigned *blocked,
                            const double *px, double py, uint8_t *gr)
 {
-  int tri[SMOOTH_RUN_ROW], fc[SMOOTH_RUN_ROW], e = i, face = fr[i], t = fs->tri;
-  while (e < W && e - i < SMOOTH_RUN_ROW) {
+  /* the faces one after another: face sf[k] (triangle tri[k]) at points at[k] .. at[k + 1] - 1
+     of the stretch */
+  int tri[SMOOTH_RUN_ROW], sf[SMOOTH_RUN_ROW], at[SMOOTH_RUN_ROW + 1], ns = 0;
+  int e = i + 1, face = fr[i];
+  sf[0] = face;
+  tri[0] = fs->tri;
+  at[0] = 0;
+  const int end = W - i < SMOOTH_RUN_ROW ? W : i + SMOOTH_RUN_ROW;
+  for (; e < end; e++) {
     const int f = fr[e];
-    if (f != face) {                        /* a smoothed face without a texture, lit */
-      if (f < 0) break;
-      struct face_shade o;
-      face_shade_of(m, f, &o);
-      if (o.tri < 0 || o.t || !o.lit) break;
-      face = f;
-      t = o.tri;
-    }
-    fc[e - i] = face;
-    tri[e - i] = t;
-    e++;
+    if (f == face) continue;
+    if (f < 0) break;                       /* a smoothed face without a texture, lit */
+    struct face_shade o;
+    face_shade_of(m, f, &o);
+    if (o.tri < 0 || o.t || !o.lit) break;
+    at[++ns] = e - i;
+    sf[ns] = face = f;
+    tri[ns] = o.tri;
   }
-  const int n = e - i;
+  at[++ns] = e - i;
   double X[SMOOTH_RUN_ROW][3];
   int g[SMOOTH_RUN_ROW];
 #ifdef __SSE2__
   struct space_lanes L;
-  space_lanes_init(m, fc[0], py, &L);        /* the row's constants; the faces' below */
-  const double D1 = py - m->eye[1], D2 = -m->eye[2];
-  for (int p = 0; p < n; p += 2) {
-    const int p1 = p + 1 < n ? p + 1 : p;
-    const double *ra = m->ray[fc[p]], *rb = m->ray[fc[p1]];
-    L.r0 = _mm_set_pd(rb[0], ra[0]);
-    L.r3 = _mm_set_pd(rb[3], ra[3]);
-    L.c1 = _mm_mul_pd(_mm_set_pd(rb[1], ra[1]), _mm_set1_pd(D1));
-    L.c2 = _mm_mul_pd(_mm_set_pd(rb[2], ra[2]), _mm_set1_pd(D2));
+  space_lanes_init(m, sf[0], py, &L);        /* the row's constants; the faces' below */
+  const __m128d d1 = _mm_set1_pd(py - m->eye[1]), d2 = _mm_set1_pd(-m->eye[2]);
+  int p = 0;
+  for (int k = 0; k < ns; k++) {
+    const int q = at[k + 1];
+    const double *r = m->ray[sf[k]];
+    L.r0 = _mm_set1_pd(r[0]);
+    L.r3 = _mm_set1_pd(r[3]);
+    L.c1 = _mm_mul_pd(_mm_set1_pd(r[1]), d1);
+    L.c2 = _mm_mul_pd(_mm_set1_pd(r[2]), d2);
     __m128d x[3];
+    for (; p + 2 <= q; p += 2) {
+      space_lanes_at(&L, _mm_loadu_pd(px + p), x);
+      _mm_storel_pd(&X[p][0], x[0]); _mm_storeh_pd(&X[p + 1][0], x[0]);
+      _mm_storel_pd(&X[p][1], x[1]); _mm_storeh_pd(&X[p + 1][1], x[1]);
+      _mm_storel_pd(&X[p][2], x[2]); _mm_storeh_pd(&X[p + 1][2], x[2]);
+    }
+    if (p == q) continue;
+    const int p1 = k + 1 < ns ? q : p;       /* with the next face's first, or alone */
+    const double *rb = m->ray[sf[k + 1 < ns ? k + 1 : k]];
+    L.r0 = _mm_set_pd(rb[0], r[0]);
+    L.r3 = _mm_set_pd(rb[3], r[3]);
+    L.c1 = _mm_mul_pd(_mm_set_pd(rb[1], r[1]), d1);
+    L.c2 = _mm_mul_pd(_mm_set_pd(rb[2], r[2]), d2);
     space_lanes_at(&L, _mm_set_pd(px[p1], px[p]), x);
     _mm_storel_pd(&X[p][0], x[0]); _mm_storeh_pd(&X[p1][0], x[0]);
     _mm_storel_pd(&X[p][1], x[1]); _mm_storeh_pd(&X[p1][1], x[1]);
     _mm_storel_pd(&X[p][2], x[2]); _mm_storeh_pd(&X[p1][2], x[2]);
+    p = p1 + 1;
   }
 #else
-  for (int p = 0; p < n; p++) space_point(m, fc[p], px[p], py, X[p]);
+  for (int k = 0; k < ns; k++)
+    for (int p = at[k]; p < at[k + 1]; p++) space_point(m, sf[k], px[p], py, X[p]);
 #endif
-  smooth_phong_row(&m->sm, n, tri, (const double (*)[3])X, blocked, &m->lights, g);
-  for (int p = 0; p < n; p++) gr[p] = (uint8_t)g[p];
+  smooth_phong_row(&m->sm, ns, tri, at, (const double (*)[3])X, blocked, &m->lights, g);
+  for (int h = 0; h < e - i; h++) gr[h] = (uint8_t)g[h];
   return e;
 }
 

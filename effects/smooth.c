@@ -1255,6 +1255,13 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const
 }
 
 #ifdef __SSE2__
+/* The parallel lights' directions of L for phong_pair, each component in both lanes. */
+static inline void phong_lights(const struct shade_lights *L, __m128d (*lv)[3])
+{
+  for (int k = 0; k < L->n; k++)
+    for (int c = 0; c < 3; c++) lv[k][c] = _mm_set1_pd(L->v[k][c]);
+}
+
 /* Two doubles into lanes 0 and 1: one aligned load of a smooth_lanes pair when both lanes
    take the same triangle's constants (same: a constant where phong_pair is inlined), else
    lane 0 from a, lane 1 from b. */
@@ -1269,13 +1276,13 @@ static inline __attribute__((always_inline)) __m128d lanes2(const double *a, con
    written once), each lane with its own triangle's constants (same: ta is tb); greys into
    *ga and *gb. Each lane's operations are the ones phong_pairs makes for its point alone
    (see there): the lanes never mix. Both triangles' btot is not 0, refl in [0, 1], the
-   lights parallel. */
+   lights parallel, lv their directions, each component in both lanes (phong_lights). */
 static inline __attribute__((always_inline))
 void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
                 const struct smooth_lanes *xa, const struct smooth_tri *tb,
                 const struct smooth_lanes *xb, bool same, const double *Xa, const double *Xb,
                 bool two, double refl, unsigned b0, unsigned b1, const struct shade_lights *L,
-                int *ga, int *gb)
+                const __m128d (*lv)[3], int *ga, int *gb)
 {
   const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
   const __m128d sg = _mm_set_pd(tb->front ? 1 : -1, ta->front ? 1 : -1);
@@ -1317,10 +1324,9 @@ void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
                                                            _mm_andnot_pd(ok, one))));
   __m128d sum = zero;
   for (int k = 0; k < L->n; k++) {
-    const double *l = L->v[k];
-    const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], _mm_set1_pd(l[0])),
-                                                       _mm_mul_pd(N[1], _mm_set1_pd(l[1]))),
-                                            _mm_mul_pd(N[2], _mm_set1_pd(l[2]))), inv);
+    const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], lv[k][0]),
+                                                       _mm_mul_pd(N[1], lv[k][1])),
+                                            _mm_mul_pd(N[2], lv[k][2])), inv);
     __m128d lit = _mm_cmpgt_pd(d, zero);
     if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
       lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
@@ -1392,12 +1398,14 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   if (m->phong_exact || !(tr->btot != 0 && refl >= 0 && refl <= 1)) return 0;
   for (int k = 0; k < L->n; k++)
     if (L->point[k]) return 0;
+  __m128d lv[SCENE_LIGHT_MAX][3];
+  phong_lights(L, lv);
   for (int p = 0; p < n; p += 2) {
     const bool two = p + 1 < n;
     const int p1 = two ? p + 1 : p;         /* the last of an odd run: itself in both lanes */
     region[p] = region[p1] = 1;
     phong_pair(m, tr, lx, tr, lx, true, X[p], X[p1], two, refl, blocked[p], blocked[p1], L,
-               &grey[p], &grey[p1]);
+               (const __m128d (*)[3])lv, &grey[p], &grey[p1]);
   }
   return n;
 #else
@@ -1432,41 +1440,43 @@ static void phong_alone(const struct smooth_model *m, const struct smooth_tri *t
               grey);
 }
 
-void smooth_phong_row(const struct smooth_model *m, int n, const int *tri,
+void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                       const double (*X)[3], const unsigned *blocked,
                       const struct shade_lights *L, int *grey)
 {
-  int p = 0;
+  int p = 0, k = 0;
 #ifdef __SSE2__
   /* a triangle's points two a step (phong_pairs' steps), and an odd one left over with
      the next triangle's first (phong_pair, each lane its own triangle's constants); a
      point of a triangle whose btot is 0 alone (smooth_grey_run's way) */
-  while (p < n) {
-    const int t = tri[p];
-    int q = p + 1;
-    while (q < n && tri[q] == t) q++;
-    const struct smooth_tri *tr = &m->tri[t];
+  __m128d lv[SCENE_LIGHT_MAX][3];
+  phong_lights(L, lv);
+  for (; k < nseg; k++) {
+    const int q = at[k + 1];
+    const struct smooth_tri *tr = &m->tri[tri[k]];
     if (tr->btot == 0) {
       for (; p < q; p++) phong_alone(m, tr, X[p], blocked[p], L, &grey[p]);
       continue;
     }
-    const struct smooth_lanes *lx = &m->lanes[t];
+    const struct smooth_lanes *lx = &m->lanes[tri[k]];
     for (; p + 2 <= q; p += 2)
       phong_pair(m, tr, lx, tr, lx, true, X[p], X[p + 1], true, 1.0, blocked[p],
-                 blocked[p + 1], L, &grey[p], &grey[p + 1]);
+                 blocked[p + 1], L, (const __m128d (*)[3])lv, &grey[p], &grey[p + 1]);
     if (p == q) continue;
-    if (q < n && m->tri[tri[q]].btot != 0) {   /* p = q - 1 and the next one, q */
-      phong_pair(m, tr, lx, &m->tri[tri[q]], &m->lanes[tri[q]], false, X[p], X[q], true, 1.0,
-                 blocked[p], blocked[q], L, &grey[p], &grey[q]);
+    const int tn = k + 1 < nseg ? tri[k + 1] : -1;
+    if (tn >= 0 && m->tri[tn].btot != 0) {     /* p = q - 1 and the next one, q */
+      phong_pair(m, tr, lx, &m->tri[tn], &m->lanes[tn], false, X[p], X[q], true, 1.0,
+                 blocked[p], blocked[q], L, (const __m128d (*)[3])lv, &grey[p], &grey[q]);
       p = q + 1;
-    } else {                                 /* alone: in both lanes */
+    } else {                                   /* alone: in both lanes */
       phong_pair(m, tr, lx, tr, lx, true, X[p], X[p], false, 1.0, blocked[p], blocked[p], L,
-                 &grey[p], &grey[p]);
+                 (const __m128d (*)[3])lv, &grey[p], &grey[p]);
       p = q;
     }
   }
 #endif
-  for (; p < n; p++) phong_alone(m, &m->tri[tri[p]], X[p], blocked[p], L, &grey[p]);
+  for (; k < nseg; k++)
+    for (; p < at[k + 1]; p++) phong_alone(m, &m->tri[tri[k]], X[p], blocked[p], L, &grey[p]);
 }
 
 /* a run of one point, counted */

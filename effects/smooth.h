@@ -174,12 +174,13 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
 bool smooth_phong_rows(const struct smooth_model *m, const struct effects *e,
                        const struct shade_lights *L);
 
-/* smooth_grey_run at n points X[p] of any triangles tri[p] of m (reflectance 1, their
-   lights blocked[p], the greys in grey[p]; the regions are all 1), where smooth_phong_rows
-   says so: the same greys, bit for bit, two points an instruction whether or not they
-   are on one triangle, so that a row's points on a smoothed object go together without
-   a run's fixed cost at each triangle (issue 19). */
-void smooth_phong_row(const struct smooth_model *m, int n, const int *tri,
+/* smooth_grey_run at the points X[p] of nseg triangles of m one after another: points
+   at[k] <= p < at[k + 1] of triangle tri[k] (reflectance 1, their lights blocked[p], the
+   greys in grey[p]; the regions are all 1), where smooth_phong_rows says so: the same
+   greys, bit for bit, two points an instruction whether or not they are on one triangle,
+   so that a row's points on a smoothed object go together without a run's fixed cost at
+   each triangle (issue 19). */
+void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                       const double (*X)[3], const unsigned *blocked,
                       const struct shade_lights *L, int *grey);
 
