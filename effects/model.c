@@ -529,29 +529,28 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
-/* Under smooth=phong where smooth_phong_rows says so: the points i, i + 1, .. of a row
-   (faces fr[], px[], blocked[]) while they are on smoothed faces without a texture, of one
-   triangle or several, at most SMOOTH_RUN_ROW of them, from the first (face fr[i], fs its
-   face_shade_of's: a smoothed face without a texture) on: their greys into gr[] as
-   shade_run gives them (regions 1, Phong's), shaded together (smooth_phong_row); returns
-   the end of the stretch. The space points two an instruction (space_lanes_at), a face's
+/* Where smooth_rows says so: the points i, i + 1, .. of a row (faces fr[], px[],
+   blocked[]) while they are on smoothed faces without a texture, of one triangle or
+   several, at most SMOOTH_ROW of them, from the first (face fr[i], fs its face_shade_of's:
+   a smoothed face without a texture) on: their greys into gr[] as shade_run gives them,
+   shaded together (smooth_row), their regions counted up in runs[]; returns the end of the
+   stretch. The space points two an instruction (space_lanes_at), a face's
    two by two and an odd one left over with the next face's first: each lane's
    operations are space_point's on its values in its order, with its own face's constants
    (r[1] D1 and r[2] D2 lane by lane, the same products space_lanes_init makes); a lone
    last point in both lanes. */
-#define SMOOTH_RUN_ROW (4 * SMOOTH_RUN)
-static int shade_phong_row(const struct fx_model *m, const int *fr, int i, int W,
-                           const struct face_shade *fs, const unsigned *blocked,
-                           const double *px, double py, uint8_t *gr)
+static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
+                     const struct face_shade *fs, const unsigned *blocked, const double *px,
+                     double py, uint8_t *gr, long runs[3])
 {
   /* the faces one after another: face sf[k] (triangle tri[k]) at points at[k] .. at[k + 1] - 1
      of the stretch */
-  int tri[SMOOTH_RUN_ROW], sf[SMOOTH_RUN_ROW], at[SMOOTH_RUN_ROW + 1], ns = 0;
+  int tri[SMOOTH_ROW], sf[SMOOTH_ROW], at[SMOOTH_ROW + 1], ns = 0;
   int e = i + 1, face = fr[i];
   sf[0] = face;
   tri[0] = fs->tri;
   at[0] = 0;
-  const int end = W - i < SMOOTH_RUN_ROW ? W : i + SMOOTH_RUN_ROW;
+  const int end = W - i < SMOOTH_ROW ? W : i + SMOOTH_ROW;
   for (; e < end; e++) {
     const int f = fr[e];
     if (f == face) continue;
@@ -564,8 +563,8 @@ static int shade_phong_row(const struct fx_model *m, const int *fr, int i, int W
     tri[ns] = o.tri;
   }
   at[++ns] = e - i;
-  double X[SMOOTH_RUN_ROW][3];
-  int g[SMOOTH_RUN_ROW];
+  double X[SMOOTH_ROW][3];
+  int g[SMOOTH_ROW];
 #ifdef __SSE2__
   struct space_lanes L;
   space_lanes_init(m, sf[0], py, &L);        /* the row's constants; the faces' below */
@@ -602,7 +601,8 @@ static int shade_phong_row(const struct fx_model *m, const int *fr, int i, int W
   for (int k = 0; k < ns; k++)
     for (int p = at[k]; p < at[k + 1]; p++) space_point(m, sf[k], px[p], py, X[p]);
 #endif
-  smooth_phong_row(&m->sm, ns, tri, at, (const double (*)[3])X, blocked, &m->lights, g);
+  smooth_row(&m->sm, m->map, m->e, ns, tri, at, (const double (*)[3])X, blocked, &m->lights,
+             g, runs);
   for (int h = 0; h < e - i; h++) gr[h] = (uint8_t)g[h];
   return e;
 }
@@ -1505,7 +1505,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   long runs[3] = { 0, 0, 0 };               /* shade_run's points by region */
   const bool bg = m->bg != NULL;
   /* smoothed points a stretch of a row at a time (shade_phong_row), not a run a face */
-  const bool rows = m->smooth && smooth_phong_rows(&m->sm, m->e, &m->lights);
+  const bool rows = m->smooth && smooth_rows(&m->sm, m->e, &m->lights);
   for (int j = H - 1; j >= 0; j--) {
     size_t at0 = (size_t)j * (size_t)W;
     int *fr = f->face + at0;
@@ -1569,8 +1569,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         continue;
       }
       if (run && rows) {                    /* a stretch of smoothed faces' points */
-        const int e = shade_phong_row(m, fr, i, W, &fs, blocked + i, px + i, py[j], gr + i);
-        runs[1] += e - i;                   /* Phong's region */
+        const int e = shade_row(m, fr, i, W, &fs, blocked + i, px + i, py[j], gr + i, runs);
         pts += e - i;
         i = e - 1;
         last = -1;                          /* fs is not fr[e - 1]'s, maybe */

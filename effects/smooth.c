@@ -215,8 +215,8 @@ int partial_normal(const struct smooth_tri *tr, const double l[3], double out[3]
    compares the scalar ones; the divide by den made in both lanes and kept only where
    den > 1e-12, else 0.5; the clamps of s as selections where s < 0 and where s > 1, as the
    scalar ifs: -0 and a NaN stay as they are). */
-static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_RUN], int q,
-                             double (*nv)[SMOOTH_RUN], int ns)
+static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW], int q,
+                             double (*nv)[SMOOTH_ROW], int ns)
 {
   __m128d l[3];
   int in[3];
@@ -897,8 +897,8 @@ static inline void bary_of_areas(const struct smooth_tri *tr, int n, const doubl
    gives its second operand), the scalar clamp's; l / sum is l itself where sum is 1, so
    each lane divides whenever sum > 0, as the scalar code does when sum is not 1; the rest
    one by one through bary_of_areas itself. */
-static inline void bary_pairs(const struct smooth_tri *tr, int n, const double (*a)[SMOOTH_RUN],
-                              double (*l)[SMOOTH_RUN])
+static inline void bary_pairs(const struct smooth_tri *tr, int n, const double (*a)[SMOOTH_ROW],
+                              double (*l)[SMOOTH_ROW])
 {
   int q = 0;
 #ifdef __SSE2__
@@ -1084,36 +1084,43 @@ static inline bool inner_one(const double ar[3], const struct smooth_lanes *x)
    partial smoothing's first step needs, without arrays in between. */
 struct split {
   int nl;                   /* points left to the chain: */
-  int at[SMOOTH_RUN];       /*   their indices in the run */
-  double la[3][SMOOTH_RUN]; /*   their areas (bary_areas), a component an array (bary_pairs) */
+  int at[SMOOTH_ROW];       /*   their indices in the run */
+  double la[3][SMOOTH_ROW]; /*   their areas (bary_areas), a component an array (bary_pairs) */
+  int tri[SMOOTH_ROW];      /*   their triangles */
+  double tot[SMOOTH_ROW];   /*   their triangles' btot */
   int ni;                   /* points the filter proved inner whose grey is lit (not the
                                flat picture's): */
-  int lit_in[SMOOTH_RUN];   /*   their indices */
+  int lit_in[SMOOTH_ROW];   /*   their indices */
+  int lit_tri[SMOOTH_ROW];  /*   their triangles */
 };
 
 /* Point p of the run proved inner (region 0, the face's normal): given the flat picture's
    grey fg where that is exactly its grey (reflectance 1, no light blocked), else put aside
-   to be lit with the face's normal. */
+   to be lit with the face's normal (as point base + p of triangle t). */
 static inline void inner_point(struct split *sp, int p, bool flat, const unsigned *blocked,
-                               int fg, int *grey, int *region)
+                               int fg, int *grey, int *region, int base, int t)
 {
   region[p] = 0;
   if (flat && !blocked[p]) grey[p] = fg;
-  else sp->lit_in[sp->ni++] = p;
+  else {
+    sp->lit_tri[sp->ni] = t;
+    sp->lit_in[sp->ni++] = base + p;
+  }
 }
 
 /* bary_areas at points X[p], p < n, and the filter's answer for each: a point it proves
    inner handled at once (inner_point), the others' areas and indices into sp for the
    chain. Two points an instruction where the processor has SSE2 (the same correctly
    rounded operations on the same values, and the same tests), the rest one by one.
-   flat: reflectance 1 (refl == 1). */
-static inline void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
+   flat: reflectance 1 (refl == 1). The points are triangle t's (tr, lx), put into sp
+   after those there as base + p. */
+static inline __attribute__((always_inline))
+void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
                                const struct smooth_lanes *lx, int n, const double (*X)[3], bool flat, const unsigned *blocked,
-                               int fg, int *grey, int *region, struct split *sp)
+                               int fg, int *grey, int *region, struct split *sp, int base, int t)
 {
   const bool usable = lx->inner_ok && !m->inner_exact;
   long declines = 0;
-  sp->nl = sp->ni = 0;
   int p = 0;
 #ifdef __SSE2__
   if (usable) {
@@ -1145,14 +1152,16 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
       for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
       for (int h = 0; h < 2; h++) {
         if (bits >> h & 1) {
-          inner_point(sp, p + h, flat, blocked, fg, grey, region);
+          inner_point(sp, p + h, flat, blocked, fg, grey, region, base, t);
           continue;
         }
         declines++;
         for (int k = 0; k < 3; k++)
           if (h) _mm_storeh_pd(&sp->la[k][sp->nl], v[k]);
           else _mm_storel_pd(&sp->la[k][sp->nl], v[k]);
-        sp->at[sp->nl++] = p + h;
+        sp->tri[sp->nl] = t;
+        sp->tot[sp->nl] = tr->btot;
+        sp->at[sp->nl++] = base + p + h;
       }
     }
   }
@@ -1161,12 +1170,14 @@ static inline void inner_split(const struct smooth_model *m, const struct smooth
     double ar[3];
     bary_areas(tr, X[p], ar);
     if (usable && inner_one(ar, lx)) {
-      inner_point(sp, p, flat, blocked, fg, grey, region);
+      inner_point(sp, p, flat, blocked, fg, grey, region, base, t);
       continue;
     }
     declines += usable;
     for (int k = 0; k < 3; k++) sp->la[k][sp->nl] = ar[k];
-    sp->at[sp->nl++] = p;
+    sp->tri[sp->nl] = t;
+    sp->tot[sp->nl] = tr->btot;
+    sp->at[sp->nl++] = base + p;
   }
   if (m->inner_declines) *m->inner_declines += declines;
 }
@@ -1199,7 +1210,7 @@ static inline int clamp_grey(int g) { return g < 0 ? 0 : g > 255 ? 255 : g; }
    lane's divides kept only where its length is > 0, as unit() divides; a light blocked or
    a dot not > 0 adds +0, which leaves the lane's sum, never below +0, as it is), and the
    grey from the sum is shade_grey_of_sum's. */
-static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_RUN], const int *slot_p,
+static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_ROW], const int *slot_p,
                              const double (*X)[3], double refl, const unsigned *blocked,
                              const struct shade_lights *L, int *grey)
 {
@@ -1414,20 +1425,6 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
 #endif
 }
 
-bool smooth_phong_rows(const struct smooth_model *m, const struct effects *e,
-                       const struct shade_lights *L)
-{
-#ifdef __SSE2__
-  if (e->smooth != EFFECTS_SMOOTH_PHONG || m->phong_exact) return false;
-  for (int k = 0; k < L->n; k++)
-    if (L->point[k]) return false;
-  return true;
-#else
-  (void)m; (void)e; (void)L;
-  return false;
-#endif
-}
-
 /* smooth_grey_run's Phong grey of one point X of triangle tr (reflectance 1) where
    phong_pairs declines the triangle: its areas, then phong_lanes. */
 static void phong_alone(const struct smooth_model *m, const struct smooth_tri *tr,
@@ -1440,7 +1437,8 @@ static void phong_alone(const struct smooth_model *m, const struct smooth_tri *t
               grey);
 }
 
-void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+/* smooth_row under smooth=phong (the regions left to the caller: all 1). */
+static void phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                       const double (*X)[3], const unsigned *blocked,
                       const struct shade_lights *L, int *grey)
 {
@@ -1537,16 +1535,17 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const int fg = map->f[tr->mface].grey;
   const bool flat = refl == 1;
   struct split sp;
-  inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp);
+  sp.nl = sp.ni = 0;
+  inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp, 0, t);
   const int nl = sp.nl;
-  double lv[3][SMOOTH_RUN];
-  bary_pairs(tr, nl, (const double (*)[SMOOTH_RUN])sp.la, lv);
+  double lv[3][SMOOTH_ROW];
+  bary_pairs(tr, nl, (const double (*)[SMOOTH_ROW])sp.la, lv);
   /* the lit points' normals in slots, a component an array (lit_slots): the band
      points' in their order, but for those the chain puts in region 0 that take the flat
      picture's grey (reflectance 1, no light blocked, as for the inner triangle's), then
      the inner triangle's that are lit */
-  double nv[3][SMOOTH_RUN];
-  int slot_p[SMOOTH_RUN], ns = 0;
+  double nv[3][SMOOTH_ROW];
+  int slot_p[SMOOTH_ROW], ns = 0;
   for (int q = 0; q < nl; q++) {
 #ifdef __SSE2__
     if (q + 1 < nl && edge_pair(lx, lv, q, nv, ns)) {   /* two points of one edge band */
@@ -1574,6 +1573,230 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
     slot_p[ns] = sp.lit_in[k];
   }
   if (ns) lit_slots(sgn, ns, nv, slot_p, X, refl, blocked, lights, grey);
+}
+
+/* ---- a row's stretch of points on several triangles (smooth_row) ------------------ */
+
+/* bary_of_areas at one point from its areas a, for a triangle whose btot is tot: the same
+   operations in the same order. */
+static inline void bary_one(double tot, const double a[3], double l[3])
+{
+  double sum = 0;
+  for (int k = 0; k < 3; k++) {
+    l[k] = tot != 0 ? a[k] / tot : 1.0 / 3;
+    if (!(l[k] > 0)) l[k] = 0;
+    sum = k ? sum + l[k] : l[k];
+  }
+  if (!(sum > 0)) l[0] = l[1] = l[2] = 1.0 / 3;
+  else if (sum != 1)
+    for (int k = 0; k < 3; k++) l[k] /= sum;
+}
+
+/* bary_pairs at points q < n of any triangles, point q's btot in tot[q]: two points an
+   instruction where the processor has SSE2 and neither tot is 0, each lane bary_pairs'
+   operations with its own point's tot (a lone last point in both lanes); the rest one by
+   one (bary_one). */
+static inline void bary_row(int n, const double *tot, const double (*a)[SMOOTH_ROW],
+                            double (*l)[SMOOTH_ROW])
+{
+  int q = 0;
+#ifdef __SSE2__
+  const __m128d zero = _mm_setzero_pd(), third = _mm_set1_pd(1.0 / 3);
+  for (; q < n; q += 2) {
+    const bool two = q + 1 < n;
+    if (tot[q] == 0 || (two && tot[q + 1] == 0)) {
+      for (int h = 0; h <= (int)two; h++) {
+        const double ar[3] = { a[0][q + h], a[1][q + h], a[2][q + h] };
+        double lo[3];
+        bary_one(tot[q + h], ar, lo);
+        for (int k = 0; k < 3; k++) l[k][q + h] = lo[k];
+      }
+      continue;
+    }
+    const __m128d tv = two ? _mm_loadu_pd(tot + q) : _mm_set1_pd(tot[q]);
+    __m128d lk[3];
+    for (int k = 0; k < 3; k++)
+      lk[k] = _mm_max_pd(_mm_div_pd(two ? _mm_loadu_pd(a[k] + q) : _mm_set1_pd(a[k][q]), tv),
+                         zero);
+    const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
+    const __m128d pos = _mm_cmpgt_pd(sum, zero);
+    for (int k = 0; k < 3; k++) {
+      const __m128d r = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
+                                  _mm_andnot_pd(pos, third));
+      if (two) _mm_storeu_pd(l[k] + q, r);
+      else _mm_storel_pd(l[k] + q, r);
+    }
+  }
+#endif
+  for (; q < n; q++) {
+    const double ar[3] = { a[0][q], a[1][q], a[2][q] };
+    double lo[3];
+    bary_one(tot[q], ar, lo);
+    for (int k = 0; k < 3; k++) l[k][q] = lo[k];
+  }
+}
+
+#ifdef __SSE2__
+/* lit_slots' step at two slots under parallel lights, reflectance 1: normals v (x, y, z
+   lanes), the eye's sides sg, the lights blocked b0 and b1; their greys into *g0, *g1. */
+static inline void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0,
+                            unsigned b1, const struct shade_lights *L, int *g0, int *g1)
+{
+  const __m128d zero = _mm_setzero_pd(), rv = _mm_set1_pd(1);
+  __m128d v[3] = { v0, v1, v2 };
+  const __m128d ln = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], v[0]),
+                                                       _mm_mul_pd(v[1], v[1])),
+                                            _mm_mul_pd(v[2], v[2])));
+  const __m128d pos = _mm_cmpgt_pd(ln, zero);
+  for (int c = 0; c < 3; c++)
+    v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
+                                _mm_andnot_pd(pos, v[c])), sg);
+  __m128d sum = zero;
+  for (int k = 0; k < L->n; k++) {
+    const double *l = L->v[k];
+    const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_set1_pd(l[0])),
+                                            _mm_mul_pd(v[1], _mm_set1_pd(l[1]))),
+                                 _mm_mul_pd(v[2], _mm_set1_pd(l[2])));
+    __m128d m = _mm_cmpgt_pd(d, zero);
+    if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
+      m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                        (b0 >> k & 1u) - 1ull)));
+    sum = _mm_add_pd(sum, _mm_and_pd(m, d));
+  }
+  unsigned g;                                 /* both lanes' greys at once where it can */
+  if (shade_pair_greys_fast(rv, sum, &g)) {
+    *g0 = (int)(g & 0xffu);
+    *g1 = (int)(g >> 8);
+    return;
+  }
+  double sm[2];
+  _mm_storeu_pd(sm, sum);
+  *g0 = clamp_grey(shade_grey_of_sum(1.0, sm[0]));
+  *g1 = clamp_grey(shade_grey_of_sum(1.0, sm[1]));
+}
+#endif
+
+/* lit_slots at reflectance 1 with each slot's own side: slot q's normal turned by sg[q].
+   Under parallel lights two slots an instruction where the processor has SSE2 (lit_pair:
+   lit_slots' operations, each lane on its own values; a lone last slot in both lanes). */
+static inline void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg,
+                           const int *slot_p, const double (*X)[3], const unsigned *blocked,
+                           const struct shade_lights *L, int *grey)
+{
+  int q = 0;
+#ifdef __SSE2__
+  bool parallel = true;
+  for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
+  if (parallel) {
+    for (; q + 2 <= ns; q += 2)
+      lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
+               _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L,
+               &grey[slot_p[q]], &grey[slot_p[q + 1]]);
+    if (q < ns) {
+      int dummy;
+      lit_pair(_mm_set1_pd(nv[0][q]), _mm_set1_pd(nv[1][q]), _mm_set1_pd(nv[2][q]),
+               _mm_set1_pd(sg[q]), blocked[slot_p[q]], blocked[slot_p[q]], L,
+               &grey[slot_p[q]], &dummy);
+      q++;
+    }
+  }
+#endif
+  for (; q < ns; q++) {
+    double v[3] = { nv[0][q], nv[1][q], nv[2][q] };
+    unit(v);
+    for (int c = 0; c < 3; c++) v[c] *= sg[q];
+    grey[slot_p[q]] = clamp_grey(shade_grey_lit(L, v, X[slot_p[q]], 1.0, blocked[slot_p[q]]));
+  }
+}
+
+/* smooth_row under smooth=fixed or prop: smooth_grey_run's partial smoothing, its steps
+   each over the whole stretch (reflectance 1: flat) and each point with its own
+   triangle's constants: the inner triangle's filter a triangle at a time (inner_split,
+   the chain's points gathered), the barycentric coordinates (bary_row), the normals (two
+   points of one triangle's edge band together: edge_pair), the lighting (lit_row). */
+static void partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
+                        const int *tri, const int *at, const double (*X)[3],
+                        const unsigned *blocked, const struct shade_lights *L, int *grey,
+                        int *region)
+{
+  struct split sp;
+  sp.nl = sp.ni = 0;
+  for (int k = 0; k < nseg; k++) {
+    const int t = tri[k], b = at[k];
+    const struct smooth_tri *tr = &m->tri[t];
+    inner_split(m, tr, &m->lanes[t], at[k + 1] - b, X + b, true, blocked + b,
+                map->f[tr->mface].grey, grey + b, region + b, &sp, b, t);
+  }
+  const int nl = sp.nl;
+  double lv[3][SMOOTH_ROW];
+  bary_row(nl, sp.tot, (const double (*)[SMOOTH_ROW])sp.la, lv);
+  /* the lit points' normals in slots (as smooth_grey_run's), each with its side */
+  double nv[3][SMOOTH_ROW], sg[SMOOTH_ROW];
+  int slot_p[SMOOTH_ROW], ns = 0;
+  for (int q = 0; q < nl; q++) {
+    const int t = sp.tri[q];
+    const struct smooth_tri *tr = &m->tri[t];
+    const double sgn = tr->front ? 1 : -1;   /* seen from inside: the eye's side */
+#ifdef __SSE2__
+    if (q + 1 < nl && sp.tri[q + 1] == t && edge_pair(&m->lanes[t], lv, q, nv, ns)) {
+      for (int h = 0; h < 2; h++) {           /* two points of one edge band */
+        region[sp.at[q + h]] = 1;
+        sg[ns] = sgn;
+        slot_p[ns++] = sp.at[q + h];
+      }
+      q++;
+      continue;
+    }
+#endif
+    const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
+    double out[3];
+    const int r = partial_normal(tr, lq, out), p = sp.at[q];
+    region[p] = r;
+    if (r == 0 && !blocked[p]) {
+      grey[p] = map->f[tr->mface].grey;
+      continue;
+    }
+    for (int c = 0; c < 3; c++) nv[c][ns] = out[c];
+    sg[ns] = sgn;
+    slot_p[ns++] = p;
+  }
+  for (int k = 0; k < sp.ni; k++, ns++) {   /* the face's normal */
+    const struct smooth_tri *tr = &m->tri[sp.lit_tri[k]];
+    for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
+    sg[ns] = tr->front ? 1 : -1;
+    slot_p[ns] = sp.lit_in[k];
+  }
+  if (ns) lit_row(ns, nv, sg, slot_p, X, blocked, L, grey);
+}
+
+bool smooth_rows(const struct smooth_model *m, const struct effects *e,
+                 const struct shade_lights *L)
+{
+#ifdef __SSE2__
+  if (e->smooth == EFFECTS_SMOOTH_FIXED || e->smooth == EFFECTS_SMOOTH_PROP) return true;
+  if (e->smooth != EFFECTS_SMOOTH_PHONG || m->phong_exact) return false;
+  for (int k = 0; k < L->n; k++)
+    if (L->point[k]) return false;
+  return true;
+#else
+  (void)m; (void)e; (void)L;
+  return false;
+#endif
+}
+
+void smooth_row(const struct smooth_model *m, const struct mapped *map,
+                const struct effects *e, int nseg, const int *tri, const int *at,
+                const double (*X)[3], const unsigned *blocked, const struct shade_lights *L,
+                int *grey, long regions[3])
+{
+  if (e->smooth == EFFECTS_SMOOTH_PHONG) {
+    phong_row(m, nseg, tri, at, X, blocked, L, grey);
+    regions[1] += at[nseg];
+    return;
+  }
+  int region[SMOOTH_ROW];
+  partial_row(m, map, nseg, tri, at, X, blocked, L, grey, region);
+  for (int p = 0; p < at[nseg]; p++) regions[region[p]]++;   /* 0, 1 or 2 there */
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,

@@ -169,20 +169,23 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
                      const unsigned *blocked, const struct shade_lights *lights, int *grey,
                      int *region);
 
-/* Whether smooth_phong_row serves m under e and the lights L: smooth=phong, the lights all
-   parallel, the Phong filter on (not a test's phong_exact), the processor with SSE2. */
-bool smooth_phong_rows(const struct smooth_model *m, const struct effects *e,
-                       const struct shade_lights *L);
+/* Whether smooth_row serves m under e and the lights L: smooth=phong with the lights all
+   parallel and the Phong filter on (not a test's phong_exact), or smooth=fixed or prop;
+   the processor with SSE2. */
+bool smooth_rows(const struct smooth_model *m, const struct effects *e,
+                 const struct shade_lights *L);
 
-/* smooth_grey_run at the points X[p] of nseg triangles of m one after another: points
-   at[k] <= p < at[k + 1] of triangle tri[k] (reflectance 1, their lights blocked[p], the
-   greys in grey[p]; the regions are all 1), where smooth_phong_rows says so: the same
-   greys, bit for bit, two points an instruction whether or not they are on one triangle,
-   so that a row's points on a smoothed object go together without a run's fixed cost at
-   each triangle (issue 19). */
-void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
-                      const double (*X)[3], const unsigned *blocked,
-                      const struct shade_lights *L, int *grey);
+/* smooth_grey_run at the points X[p] of nseg triangles of m one after another, at most
+   SMOOTH_ROW points: points at[k] <= p < at[k + 1] of triangle tri[k] (reflectance 1, their
+   lights blocked[p], the greys in grey[p]; regions[r] counts up the points of region r),
+   where smooth_rows says so: the same greys and regions, bit for bit, each step two points an instruction
+   whether or not they are on one triangle, so that a row's points on a smoothed object go
+   together without a run's fixed cost at each triangle (issue 19). */
+#define SMOOTH_ROW 64
+void smooth_row(const struct smooth_model *m, const struct mapped *map,
+                const struct effects *e, int nseg, const int *tri, const int *at,
+                const double (*X)[3], const unsigned *blocked, const struct shade_lights *L,
+                int *grey, long regions[3]);
 
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);
