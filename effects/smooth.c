@@ -1100,7 +1100,7 @@ struct split {
 static inline void inner_point(struct split *sp, int p, bool flat, const unsigned *blocked,
                                int fg, int *grey, int *region, int base, int t)
 {
-  region[p] = 0;
+  if (region) region[p] = 0;
   if (flat && !blocked[p]) grey[p] = fg;
   else {
     sp->lit_tri[sp->ni] = t;
@@ -1113,7 +1113,8 @@ static inline void inner_point(struct split *sp, int p, bool flat, const unsigne
    chain. Two points an instruction where the processor has SSE2 (the same correctly
    rounded operations on the same values, and the same tests), the rest one by one.
    flat: reflectance 1 (refl == 1). The points are triangle t's (tr, lx), put into sp
-   after those there as base + p. */
+   after those there as base + p. region NULL: the regions not written (the points proved
+   inner are the n less those put to the chain). */
 static inline __attribute__((always_inline))
 void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
                                const struct smooth_lanes *lx, int n, const double (*X)[3], bool flat, const unsigned *blocked,
@@ -1144,7 +1145,7 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
         ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(_mm_load_pd(lx->xtc[k]), S)));
       const int bits = _mm_movemask_pd(ok);
       if (bits == 3 && flat && !(blocked[p] | blocked[p + 1])) {   /* the common case */
-        region[p] = region[p + 1] = 0;
+        if (region) region[p] = region[p + 1] = 0;
         grey[p] = grey[p + 1] = fg;
         continue;
       }
@@ -1717,7 +1718,7 @@ static inline void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg,
 static void partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
                         const int *tri, const int *at, const double (*X)[3],
                         const unsigned *blocked, const struct shade_lights *L, int *grey,
-                        int *region)
+                        long regions[3])
 {
   struct split sp;
   sp.nl = sp.ni = 0;
@@ -1725,9 +1726,10 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
     const int t = tri[k], b = at[k];
     const struct smooth_tri *tr = &m->tri[t];
     inner_split(m, tr, &m->lanes[t], at[k + 1] - b, X + b, true, blocked + b,
-                map->f[tr->mface].grey, grey + b, region + b, &sp, b, t);
+                map->f[tr->mface].grey, grey + b, NULL, &sp, b, t);
   }
   const int nl = sp.nl;
+  regions[0] += at[nseg] - nl;              /* the points proved inner */
   double lv[3][SMOOTH_ROW];
   bary_row(nl, sp.tot, (const double (*)[SMOOTH_ROW])sp.la, lv);
   /* the lit points' normals in slots (as smooth_grey_run's), each with its side */
@@ -1740,10 +1742,10 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
 #ifdef __SSE2__
     if (q + 1 < nl && sp.tri[q + 1] == t && edge_pair(&m->lanes[t], lv, q, nv, ns)) {
       for (int h = 0; h < 2; h++) {           /* two points of one edge band */
-        region[sp.at[q + h]] = 1;
         sg[ns] = sgn;
         slot_p[ns++] = sp.at[q + h];
       }
+      regions[1] += 2;
       q++;
       continue;
     }
@@ -1751,7 +1753,7 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
     const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
     double out[3];
     const int r = partial_normal(tr, lq, out), p = sp.at[q];
-    region[p] = r;
+    regions[r]++;                             /* 0, 1 or 2 */
     if (r == 0 && !blocked[p]) {
       grey[p] = map->f[tr->mface].grey;
       continue;
@@ -1794,9 +1796,7 @@ void smooth_row(const struct smooth_model *m, const struct mapped *map,
     regions[1] += at[nseg];
     return;
   }
-  int region[SMOOTH_ROW];
-  partial_row(m, map, nseg, tri, at, X, blocked, L, grey, region);
-  for (int p = 0; p < at[nseg]; p++) regions[region[p]]++;   /* 0, 1 or 2 there */
+  partial_row(m, map, nseg, tri, at, X, blocked, L, grey, regions);
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,
