@@ -633,6 +633,95 @@ static void test_run_is_single(void **state)
   }
 }
 
+/* A row's stretch of points on several triangles (smooth_row, the points engine's path
+   where smooth_rows says so) gives the greys each gives alone (smooth_grey_at, reflectance
+   1) and the same count of points in each region, bit for bit: stretches of 1 to
+   SMOOTH_ROW points on one to a dozen triangles of the globe one after another (front and
+   back ones; runs of one point, odd and even runs), the points inside and outside each
+   triangle and in its bands and corners, under the phong and partial smoothings, under the
+   scene's light, with a second parallel light, and (the partial smoothing) with a point
+   light, each blocked at some points. */
+static void band_point(const struct lib *L, int t, int k, double lk, double sp, double X[3]);
+static void test_row_is_single(void **state)
+{
+  (void)state;
+  static const char *const kinds[] = { "smooth=phong", "smooth=fixed:0.15", "smooth=prop:0.3",
+                                       "smooth=prop:0.4", "smooth=fixed:0.05" };
+  const double w[][3] = { { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, { 0.7, 0.2, 0.1 }, { 1, 0, 0 },
+                          { 0.5, 0.5, 0 }, { 1.2, -0.1, -0.1 }, { -0.3, 0.6, 0.7 },
+                          { 0.05, 0.9, 0.05 }, { 0.02, 0.49, 0.49 }, { 0.9, 0.05, 0.05 } };
+  const int nw = (int)(sizeof w / sizeof *w);
+  for (size_t kind = 0; kind < sizeof kinds / sizeof *kinds; kind++) {
+    struct lib L;
+    lib_open(&L, "scenes/sphere.s74", kinds[kind]);
+    int differ = 0, rows = 0, greys[256] = { 0 }, back = 0;
+    long seen[3] = { 0, 0, 0 };
+    for (int light = 0; light < 3; light++) {
+      struct shade_lights lights;
+      shade_lights_init(&lights, L.s);
+      if (light) second_light(&lights);
+      if (light == 2) {                     /* the second one a point light, up and in front */
+        const double at[3] = { 100, 400, -300 };
+        memcpy(lights.v[1], at, sizeof at);
+        lights.point[1] = true;
+      }
+      if (!smooth_rows(&L.m, &L.e, &lights)) continue;
+      rows++;
+      for (int t0 = 0; t0 < L.m.ntri; t0++) {
+        double X[SMOOTH_ROW][3];
+        unsigned blocked[SMOOTH_ROW];
+        int tri[SMOOTH_ROW], at[SMOOTH_ROW + 1], nseg = 0, n = 0;
+        at[0] = 0;
+        /* triangles t0, t0 + 1, .. with 1 .. 7 points each */
+        for (int t = t0; t < L.m.ntri && nseg < 12; t++) {
+          const int len = 1 + (t * 5 + t0) % 7;
+          if (n + len > SMOOTH_ROW) break;
+          back += !L.m.tri[t].front;
+          for (int p = n; p < n + len; p++) {
+            if ((p + t) % 3 == 2) {             /* in a band, maybe a corner */
+              const double *ti = L.m.tri[t].t;
+              band_point(&L, t, p % 3, ti[p % 3] * ((p % 4) + 0.5) / 4, ((p * 7) % 13) / 12.0,
+                         X[p]);
+            } else {
+              tri_point(&L, t, w[(p + t) % nw], X[p]);
+            }
+            blocked[p] = light ? (unsigned)((t + p) % 3 == 0) | (unsigned)((t + p) % 5 == 0) << 1
+                               : (unsigned)((t + p) % 4 == 0);
+          }
+          n += len;
+          tri[nseg] = t;
+          at[++nseg] = n;
+        }
+        int g[SMOOTH_ROW];
+        long regions[3] = { 0, 0, 0 }, single[3] = { 0, 0, 0 };
+        smooth_row(&L.m, &L.r.map, &L.e, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
+                   g, regions);
+        for (int k = 0; k < nseg; k++)
+          for (int p = at[k]; p < at[k + 1]; p++) {
+            int region;
+            const int one = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, tri[k], X[p], 1.0,
+                                           blocked[p], &lights, NULL, &region);
+            differ += g[p] != one;
+            greys[one & 255] = 1;
+            single[region]++;
+          }
+        for (int r = 0; r < 3; r++) {
+          differ += regions[r] != single[r];
+          seen[r] += single[r];
+        }
+      }
+    }
+    assert_int_equal(differ, 0);
+    assert_true(rows >= 2);
+    assert_true(back > 0);
+    int distinct = 0;                     /* the greys vary: the test can tell points apart */
+    for (int gv = 0; gv < 256; gv++) distinct += greys[gv];
+    assert_true(distinct > 20);
+    if (kind >= 1) assert_true(seen[0] > 0 && seen[1] > 0 && seen[2] > 0);
+    lib_close(&L);
+  }
+}
+
 /* The space point of triangle t at l_k = lk (side k's band) and parameter sp along the
    band: l_a = t_a + sp (1 - lk - t_a - t_b), l_b the rest (a, b the corners after k). */
 static void band_point(const struct lib *L, int t, int k, double lk, double sp, double X[3])
@@ -1579,6 +1668,7 @@ int main(void)
     cmocka_unit_test(test_core_limit),
     cmocka_unit_test(test_no_seams),
     cmocka_unit_test(test_run_is_single),
+    cmocka_unit_test(test_row_is_single),
     cmocka_unit_test(test_edge_pairs_are_single),
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
