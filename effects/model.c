@@ -554,13 +554,13 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   for (; e < end; e++) {
     const int f = fr[e];
     if (f == face) continue;
-    if (f < 0) break;                       /* a smoothed face without a texture, lit */
-    struct face_shade o;
-    face_shade_of(m, f, &o);
-    if (o.tri < 0 || o.t || !o.lit) break;
+    /* a smoothed face without a texture (face_shade_of's tri >= 0 and t NULL): lit, as
+       only a face of no grey of its own under a light is smoothed (smooth.h) */
+    const int t = f < 0 ? -1 : m->sm.tri_of_mface[f];
+    if (t < 0 || (m->tex && m->tex[m->map->f[f].sface].pic)) break;
     at[++ns] = e - i;
     sf[ns] = face = f;
-    tri[ns] = o.tri;
+    tri[ns] = t;
   }
   at[++ns] = e - i;
   double X[SMOOTH_ROW][3];

@@ -1596,16 +1596,16 @@ static inline void bary_one(double tot, const double a[3], double l[3])
 /* bary_pairs at points q < n of any triangles, point q's btot in tot[q]: two points an
    instruction where the processor has SSE2 and neither tot is 0, each lane bary_pairs'
    operations with its own point's tot (a lone last point in both lanes); the rest one by
-   one (bary_one). */
-static inline void bary_row(int n, const double *tot, const double (*a)[SMOOTH_ROW],
-                            double (*l)[SMOOTH_ROW])
+   one (bary_one). nonzero: no tot[q] is 0 (not looked at again). */
+static inline void bary_row(int n, const double *tot, bool nonzero,
+                            const double (*a)[SMOOTH_ROW], double (*l)[SMOOTH_ROW])
 {
   int q = 0;
 #ifdef __SSE2__
   const __m128d zero = _mm_setzero_pd(), third = _mm_set1_pd(1.0 / 3);
   for (; q < n; q += 2) {
     const bool two = q + 1 < n;
-    if (tot[q] == 0 || (two && tot[q + 1] == 0)) {
+    if (!nonzero && (tot[q] == 0 || (two && tot[q + 1] == 0))) {
       for (int h = 0; h <= (int)two; h++) {
         const double ar[3] = { a[0][q + h], a[1][q + h], a[2][q + h] };
         double lo[3];
@@ -1722,16 +1722,18 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
 {
   struct split sp;
   sp.nl = sp.ni = 0;
+  bool nonzero = true;                      /* no triangle's btot is 0 */
   for (int k = 0; k < nseg; k++) {
     const int t = tri[k], b = at[k];
     const struct smooth_tri *tr = &m->tri[t];
+    nonzero &= tr->btot != 0;
     inner_split(m, tr, &m->lanes[t], at[k + 1] - b, X + b, true, blocked + b,
                 map->f[tr->mface].grey, grey + b, NULL, &sp, b, t);
   }
   const int nl = sp.nl;
   regions[0] += at[nseg] - nl;              /* the points proved inner */
   double lv[3][SMOOTH_ROW];
-  bary_row(nl, sp.tot, (const double (*)[SMOOTH_ROW])sp.la, lv);
+  bary_row(nl, sp.tot, nonzero, (const double (*)[SMOOTH_ROW])sp.la, lv);
   /* the lit points' normals in slots (as smooth_grey_run's), each with its side */
   double nv[3][SMOOTH_ROW], sg[SMOOTH_ROW];
   int slot_p[SMOOTH_ROW], ns = 0;
