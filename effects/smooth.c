@@ -105,8 +105,8 @@ static double inner_tc(double tk)
    area starts from (bV[(k + 1) % 3]) in xa[k], bE[k] times tot's sign in xsd[k] (u then w
    axis; exact), the vertex normals in xcn[k][c], the inner triangle's filter's scaled
    insets in xtc[k]; tot's sign in xst; the insets t[k] in xt[k], the face normal's
-   components in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c]; and the rest
-   below. Kept apart from smooth_tri (864 bytes a triangle): only the model's triangles
+   components in xn[c], side k's band ends ends[k][j][c] in xends[k][j][c], corner k's
+   ends[3 + k][j][c] in xcends[k][j][c]; and the rest below. Kept apart from smooth_tri (864 bytes a triangle): only the model's triangles
    have them, not the scene's part kept between frames. */
 struct smooth_lanes {
   _Alignas(16) double xa[3][2][2];
@@ -116,6 +116,7 @@ struct smooth_lanes {
   _Alignas(16) double xt[3][2];
   _Alignas(16) double xn[3][2];
   _Alignas(16) double xends[3][2][3][2];
+  _Alignas(16) double xcends[3][2][3][2];  /* corner k's band ends ends[3 + k][j][c] */
   _Alignas(16) double xsd[3][2][2];
   _Alignas(16) double xlo[2], xhi[2];  /* |tot| 2^-1000, |tot| 2^1000 (the Phong filter's) */
   _Alignas(16) double xilo[2], xihi[2];  /* |tot| / 2, 2 |tot| (the inner filter's) */
@@ -141,7 +142,10 @@ static void tri_lanes(const struct smooth_tri *tr, struct smooth_lanes *x)
       x->xt[k][h] = tr->t[k];
       x->xn[k][h] = tr->n[k];
       for (int j = 0; j < 2; j++)
-        for (int c = 0; c < 3; c++) x->xends[k][j][c][h] = tr->ends[k][j][c];
+        for (int c = 0; c < 3; c++) {
+          x->xends[k][j][c][h] = tr->ends[k][j][c];
+          x->xcends[k][j][c][h] = tr->ends[3 + k][j][c];
+        }
     }
   }
   x->xst[0] = x->xst[1] = tr->btot > 0 ? 1 : -1;
@@ -245,6 +249,44 @@ static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_R
                   _mm_add_pd(_mm_mul_pd(omv, _mm_add_pd(_mm_mul_pd(oms, _mm_load_pd(e[0][c])),
                                                         _mm_mul_pd(s, _mm_load_pd(e[1][c])))),
                              _mm_mul_pd(v, _mm_load_pd(x->xn[c]))));
+  return true;
+}
+#endif
+
+#ifdef __SSE2__
+/* partial_normal at band points q and q + 1 (as edge_pair) when both are in the same
+   corner band (two coordinates, the same two, below their insets: partial_normal's
+   nb == 2 with the same cv), their normals into nv[c][ns] and nv[c][ns + 1]; false
+   (nothing written) when they are not. Each lane partial_normal's operations on its
+   values in their order (correctly rounded, as the scalar ones are; the products and
+   sums as C groups them: ((1 - u)(1 - w)) cn + (u (1 - w)) e_0 + ((1 - u) w) e_1 + (u w) n,
+   added left to right). */
+static inline bool corner_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW], int q,
+                               double (*nv)[SMOOTH_ROW], int ns)
+{
+  __m128d l[3];
+  int in[3];
+  for (int k = 0; k < 3; k++) {
+    l[k] = _mm_loadu_pd(&lv[k][q]);
+    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
+  }
+  const int cv = !in[0] && in[1] == 3 && in[2] == 3 ? 0 : !in[1] && in[0] == 3 && in[2] == 3 ? 1 :
+                 !in[2] && in[0] == 3 && in[1] == 3 ? 2 : -1;
+  if (cv < 0) return false;
+  const int a = next3[cv], b = prev3[cv];
+  const __m128d one = _mm_set1_pd(1);
+  const __m128d u = _mm_div_pd(l[a], _mm_load_pd(x->xt[a]));
+  const __m128d w = _mm_div_pd(l[b], _mm_load_pd(x->xt[b]));
+  const __m128d omu = _mm_sub_pd(one, u), omw = _mm_sub_pd(one, w);
+  const __m128d c0 = _mm_mul_pd(omu, omw), c1 = _mm_mul_pd(u, omw), c2 = _mm_mul_pd(omu, w),
+                c3 = _mm_mul_pd(u, w);
+  const double (*e)[3][2] = x->xcends[cv];
+  for (int c = 0; c < 3; c++)
+    _mm_storeu_pd(&nv[c][ns],
+                  _mm_add_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(c0, _mm_load_pd(x->xcn[cv][c])),
+                                                   _mm_mul_pd(c1, _mm_load_pd(e[0][c]))),
+                                        _mm_mul_pd(c2, _mm_load_pd(e[1][c]))),
+                             _mm_mul_pd(c3, _mm_load_pd(x->xn[c]))));
   return true;
 }
 #endif
@@ -1742,14 +1784,18 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
     const struct smooth_tri *tr = &m->tri[t];
     const double sgn = tr->front ? 1 : -1;   /* seen from inside: the eye's side */
 #ifdef __SSE2__
-    if (q + 1 < nl && sp.tri[q + 1] == t && edge_pair(&m->lanes[t], lv, q, nv, ns)) {
-      for (int h = 0; h < 2; h++) {           /* two points of one edge band */
-        sg[ns] = sgn;
-        slot_p[ns++] = sp.at[q + h];
+    if (q + 1 < nl && sp.tri[q + 1] == t) {
+      const int r = edge_pair(&m->lanes[t], lv, q, nv, ns) ? 1 :
+                    corner_pair(&m->lanes[t], lv, q, nv, ns) ? 2 : 0;
+      if (r) {                                /* two points of one edge or corner band */
+        for (int h = 0; h < 2; h++) {
+          sg[ns] = sgn;
+          slot_p[ns++] = sp.at[q + h];
+        }
+        regions[r] += 2;
+        q++;
+        continue;
       }
-      regions[1] += 2;
-      q++;
-      continue;
     }
 #endif
     const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
