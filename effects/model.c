@@ -603,7 +603,16 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
 #endif
   smooth_row(&m->sm, m->map, m->e, ns, tri, at, (const double (*)[3])X, blocked, &m->lights,
              g, runs);
-  for (int h = 0; h < e - i; h++) gr[h] = (uint8_t)g[h];
+  int h = 0;
+#ifdef __SSE2__
+  for (; h + 8 <= e - i; h += 8) {            /* greys 0 .. 255: the packs keep them */
+    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(g + h));
+    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(g + h + 4));
+    _mm_storel_epi64((__m128i *)(void *)(gr + h),
+                     _mm_packus_epi16(_mm_packs_epi32(a, b), _mm_setzero_si128()));
+  }
+#endif
+  for (; h < e - i; h++) gr[h] = (uint8_t)g[h];
   return e;
 }
 

@@ -1330,13 +1330,14 @@ static inline __attribute__((always_inline)) __m128d lanes2(const double *a, con
    written once), each lane with its own triangle's constants (same: ta is tb); greys into
    *ga and *gb. Each lane's operations are the ones phong_pairs makes for its point alone
    (see there): the lanes never mix. Both triangles' btot is not 0, refl in [0, 1], the
-   lights parallel, lv their directions, each component in both lanes (phong_lights). */
+   lights parallel, lv their directions, each component in both lanes (phong_lights);
+   nlight is L->n (a constant where the caller can make it one). */
 static inline __attribute__((always_inline))
 void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
                 const struct smooth_lanes *xa, const struct smooth_tri *tb,
                 const struct smooth_lanes *xb, bool same, const double *Xa, const double *Xb,
                 bool two, double refl, unsigned b0, unsigned b1, const struct shade_lights *L,
-                const __m128d (*lv)[3], int *ga, int *gb)
+                const __m128d (*lv)[3], int nlight, int *ga, int *gb)
 {
   const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
   const __m128d sg = _mm_set_pd(tb->front ? 1 : -1, ta->front ? 1 : -1);
@@ -1377,7 +1378,7 @@ void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
   const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(_mm_or_pd(_mm_and_pd(ok, nn),
                                                            _mm_andnot_pd(ok, one))));
   __m128d sum = zero;
-  for (int k = 0; k < L->n; k++) {
+  for (int k = 0; k < nlight; k++) {
     const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], lv[k][0]),
                                                        _mm_mul_pd(N[1], lv[k][1])),
                                             _mm_mul_pd(N[2], lv[k][2])), inv);
@@ -1459,7 +1460,7 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     const int p1 = two ? p + 1 : p;         /* the last of an odd run: itself in both lanes */
     region[p] = region[p1] = 1;
     phong_pair(m, tr, lx, tr, lx, true, X[p], X[p1], two, refl, blocked[p], blocked[p1], L,
-               (const __m128d (*)[3])lv, &grey[p], &grey[p1]);
+               (const __m128d (*)[3])lv, L->n, &grey[p], &grey[p1]);
   }
   return n;
 #else
@@ -1480,19 +1481,19 @@ static void phong_alone(const struct smooth_model *m, const struct smooth_tri *t
               grey);
 }
 
-/* smooth_row under smooth=phong (the regions left to the caller: all 1). */
-static void phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
-                      const double (*X)[3], const unsigned *blocked,
-                      const struct shade_lights *L, int *grey)
-{
-  int p = 0, k = 0;
 #ifdef __SSE2__
-  /* a triangle's points two a step (phong_pairs' steps), and an odd one left over with
-     the next triangle's first (phong_pair, each lane its own triangle's constants); a
-     point of a triangle whose btot is 0 alone (smooth_grey_run's way) */
-  __m128d lv[SCENE_LIGHT_MAX][3];
-  phong_lights(L, lv);
-  for (; k < nseg; k++) {
+/* phong_row's pairs, under nlight = L->n parallel lights whose directions are lv: a
+   triangle's points two a step (phong_pairs' steps), and an odd one left over with the
+   next triangle's first (phong_pair, each lane its own triangle's constants); a point of
+   a triangle whose btot is 0 alone (smooth_grey_run's way). */
+static inline __attribute__((always_inline))
+void phong_row_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                      const double (*X)[3], const unsigned *blocked,
+                      const struct shade_lights *L, const __m128d (*lv)[3], int nlight,
+                      int *grey)
+{
+  int p = 0;
+  for (int k = 0; k < nseg; k++) {
     const int q = at[k + 1];
     const struct smooth_tri *tr = &m->tri[tri[k]];
     if (tr->btot == 0) {
@@ -1502,22 +1503,39 @@ static void phong_row(const struct smooth_model *m, int nseg, const int *tri, co
     const struct smooth_lanes *lx = &m->lanes[tri[k]];
     for (; p + 2 <= q; p += 2)
       phong_pair(m, tr, lx, tr, lx, true, X[p], X[p + 1], true, 1.0, blocked[p],
-                 blocked[p + 1], L, (const __m128d (*)[3])lv, &grey[p], &grey[p + 1]);
+                 blocked[p + 1], L, lv, nlight, &grey[p], &grey[p + 1]);
     if (p == q) continue;
     const int tn = k + 1 < nseg ? tri[k + 1] : -1;
     if (tn >= 0 && m->tri[tn].btot != 0) {     /* p = q - 1 and the next one, q */
       phong_pair(m, tr, lx, &m->tri[tn], &m->lanes[tn], false, X[p], X[q], true, 1.0,
-                 blocked[p], blocked[q], L, (const __m128d (*)[3])lv, &grey[p], &grey[q]);
+                 blocked[p], blocked[q], L, lv, nlight, &grey[p], &grey[q]);
       p = q + 1;
     } else {                                   /* alone: in both lanes */
       phong_pair(m, tr, lx, tr, lx, true, X[p], X[p], false, 1.0, blocked[p], blocked[p], L,
-                 (const __m128d (*)[3])lv, &grey[p], &grey[p]);
+                 lv, nlight, &grey[p], &grey[p]);
       p = q;
     }
   }
+}
 #endif
-  for (; k < nseg; k++)
+
+/* smooth_row under smooth=phong (the regions left to the caller: all 1): phong_row_lights,
+   made for one light apart (the scenes' usual case: its loop unrolled). */
+static void phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                      const double (*X)[3], const unsigned *blocked,
+                      const struct shade_lights *L, int *grey)
+{
+#ifdef __SSE2__
+  __m128d lv[SCENE_LIGHT_MAX][3];
+  phong_lights(L, lv);
+  if (L->n == 1)
+    phong_row_lights(m, nseg, tri, at, X, blocked, L, (const __m128d (*)[3])lv, 1, grey);
+  else
+    phong_row_lights(m, nseg, tri, at, X, blocked, L, (const __m128d (*)[3])lv, L->n, grey);
+#else
+  for (int k = 0, p = 0; k < nseg; k++)
     for (; p < at[k + 1]; p++) phong_alone(m, &m->tri[tri[k]], X[p], blocked[p], L, &grey[p]);
+#endif
 }
 
 /* a run of one point, counted */
@@ -1681,9 +1699,11 @@ static inline void bary_row(int n, const double *tot, bool nonzero,
 
 #ifdef __SSE2__
 /* lit_slots' step at two slots under parallel lights, reflectance 1: normals v (x, y, z
-   lanes), the eye's sides sg, the lights blocked b0 and b1; their greys into *g0, *g1. */
-static inline void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0,
-                            unsigned b1, const struct shade_lights *L, int *g0, int *g1)
+   lanes), the eye's sides sg, the lights blocked b0 and b1; their greys into *g0, *g1.
+   nlight is L->n (a constant where the caller can make it one). */
+static inline __attribute__((always_inline))
+void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsigned b1,
+              const struct shade_lights *L, int nlight, int *g0, int *g1)
 {
   const __m128d zero = _mm_setzero_pd(), rv = _mm_set1_pd(1);
   __m128d v[3] = { v0, v1, v2 };
@@ -1695,7 +1715,7 @@ static inline void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsi
     v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
                                 _mm_andnot_pd(pos, v[c])), sg);
   __m128d sum = zero;
-  for (int k = 0; k < L->n; k++) {
+  for (int k = 0; k < nlight; k++) {
     const double *l = L->v[k];
     const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_set1_pd(l[0])),
                                             _mm_mul_pd(v[1], _mm_set1_pd(l[1]))),
@@ -1731,14 +1751,20 @@ static inline void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg,
   bool parallel = true;
   for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
   if (parallel) {
+    const int nlight = L->n;
+    if (nlight == 1)                          /* the usual case: the light loop unrolled */
+      for (; q + 2 <= ns; q += 2)
+        lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
+                 _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L, 1,
+                 &grey[slot_p[q]], &grey[slot_p[q + 1]]);
     for (; q + 2 <= ns; q += 2)
       lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
-               _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L,
+               _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L, nlight,
                &grey[slot_p[q]], &grey[slot_p[q + 1]]);
     if (q < ns) {
       int dummy;
       lit_pair(_mm_set1_pd(nv[0][q]), _mm_set1_pd(nv[1][q]), _mm_set1_pd(nv[2][q]),
-               _mm_set1_pd(sg[q]), blocked[slot_p[q]], blocked[slot_p[q]], L,
+               _mm_set1_pd(sg[q]), blocked[slot_p[q]], blocked[slot_p[q]], L, nlight,
                &grey[slot_p[q]], &dummy);
       q++;
     }
