@@ -546,21 +546,21 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   /* the faces one after another: face sf[k] (triangle tri[k]) at points at[k] .. at[k + 1] - 1
      of the stretch */
   int tri[SMOOTH_ROW], sf[SMOOTH_ROW], at[SMOOTH_ROW + 1], ns = 0;
-  int e = i + 1, face = fr[i];
-  sf[0] = face;
+  sf[0] = fr[i];
   tri[0] = fs->tri;
   at[0] = 0;
   const int end = W - i < SMOOTH_ROW ? W : i + SMOOTH_ROW;
-  for (; e < end; e++) {
+  int e = face_run_end(fr, i, end);         /* each face's run found four points a compare */
+  while (e < end) {
     const int f = fr[e];
-    if (f == face) continue;
     /* a smoothed face without a texture (face_shade_of's tri >= 0 and t NULL): lit, as
        only a face of no grey of its own under a light is smoothed (smooth.h) */
     const int t = f < 0 ? -1 : m->sm.tri_of_mface[f];
     if (t < 0 || (m->tex && m->tex[m->map->f[f].sface].pic)) break;
     at[++ns] = e - i;
-    sf[ns] = face = f;
+    sf[ns] = f;
     tri[ns] = t;
+    e = face_run_end(fr, e, end);
   }
   at[++ns] = e - i;
   double X[SMOOTH_ROW][3];
