@@ -128,14 +128,32 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
      at m / 64 are exact (products of (64 - m) / 64 and m / 64, numerators below 2^27), in
      [0, 1] and summing to 1, and the five products and four sums each round within u, so
      |o| <= (1 + u)^5 max |d| < 2^62; round_grid's test then always passes: left out */
-  bool small = true;
-  for (int k = 0; k < 5; k++) small = small && fabs(d[k][0]) < 0x1p61 && fabs(d[k][1]) < 0x1p61;
+  bool small = true, tiny = true;
+  for (int k = 0; k < 5; k++) {
+    small = small && fabs(d[k][0]) < 0x1p61 && fabs(d[k][1]) < 0x1p61;
+    tiny = tiny && fabs(d[k][0]) < 0x1p30 && fabs(d[k][1]) < 0x1p30;
+  }
   for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
     double o[2];
 #ifdef __SSE2__
     const double (*b)[2] = w->b2[m];
     __m128d v = _mm_mul_pd(_mm_load_pd(b[0]), dv[0]);
     for (int k = 1; k < 5; k++) v = _mm_add_pd(v, _mm_mul_pd(_mm_load_pd(b[k]), dv[k]));
+    if (tiny) {
+      /* round_small on both coordinates at once: Q0..Q4 below 2^30 make |o| < 2^30 (1 + 6u)
+         < 2^31 (as above), where CVTTPD2DQ's truncation is (int64_t)'s; o - t is exact
+         in both; the steps at +-0.5 are round_small's compares, as masks (-1) taken off
+         and put on, and the rounded value (below 2^31 too) sign-extended to 64 bits */
+      const __m128i t = _mm_cvttpd_epi32(v);
+      const __m128d f = _mm_sub_pd(v, _mm_cvtepi32_pd(t));
+      const __m128i up = _mm_castpd_si128(_mm_cmpge_pd(f, _mm_set1_pd(0.5)));
+      const __m128i dn = _mm_castpd_si128(_mm_cmple_pd(f, _mm_set1_pd(-0.5)));
+      const __m128i r = _mm_add_epi32(t, _mm_shuffle_epi32(_mm_sub_epi32(dn, up),
+                                                           _MM_SHUFFLE(0, 0, 2, 0)));
+      _mm_storeu_si128((__m128i *)(void *)&poly[1 + CONTOUR_STEPS - m],
+                       _mm_unpacklo_epi32(r, _mm_srai_epi32(r, 31)));
+      continue;
+    }
     _mm_storeu_pd(o, v);
 #else
     bezier_with(d, w->b[m], o);
