@@ -1316,6 +1316,12 @@ static inline void phong_lights(const struct shade_lights *L, __m128d (*lv)[3])
     for (int c = 0; c < 3; c++) lv[k][c] = _mm_set1_pd(L->v[k][c]);
 }
 
+/* The eye's sides of triangles ta and tb (lanes 0 and 1): +1 where it is front, else -1. */
+static inline __m128d phong_side(const struct smooth_tri *ta, const struct smooth_tri *tb)
+{
+  return _mm_set_pd(tb->front ? 1 : -1, ta->front ? 1 : -1);
+}
+
 /* Two doubles into lanes 0 and 1: one aligned load of a smooth_lanes pair when both lanes
    take the same triangle's constants (same: a constant where phong_pair is inlined), else
    lane 0 from a, lane 1 from b. */
@@ -1331,16 +1337,16 @@ static inline __attribute__((always_inline)) __m128d lanes2(const double *a, con
    *ga and *gb. Each lane's operations are the ones phong_pairs makes for its point alone
    (see there): the lanes never mix. Both triangles' btot is not 0, refl in [0, 1], the
    lights parallel, lv their directions, each component in both lanes (phong_lights);
-   nlight is L->n (a constant where the caller can make it one). */
+   nlight is L->n (a constant where the caller can make it one); sg the eye's sides, +-1
+   by front (phong_side). */
 static inline __attribute__((always_inline))
 void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
                 const struct smooth_lanes *xa, const struct smooth_tri *tb,
                 const struct smooth_lanes *xb, bool same, const double *Xa, const double *Xb,
                 bool two, double refl, unsigned b0, unsigned b1, const struct shade_lights *L,
-                const __m128d (*lv)[3], int nlight, int *ga, int *gb)
+                const __m128d (*lv)[3], int nlight, __m128d sg, int *ga, int *gb)
 {
   const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
-  const __m128d sg = _mm_set_pd(tb->front ? 1 : -1, ta->front ? 1 : -1);
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
   const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
   const __m128d eps = _mm_set1_pd(0x1p-24), twov = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
@@ -1455,12 +1461,13 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
     if (L->point[k]) return 0;
   __m128d lv[SCENE_LIGHT_MAX][3];
   phong_lights(L, lv);
+  const __m128d sg = phong_side(tr, tr);
   for (int p = 0; p < n; p += 2) {
     const bool two = p + 1 < n;
     const int p1 = two ? p + 1 : p;         /* the last of an odd run: itself in both lanes */
     region[p] = region[p1] = 1;
     phong_pair(m, tr, lx, tr, lx, true, X[p], X[p1], two, refl, blocked[p], blocked[p1], L,
-               (const __m128d (*)[3])lv, L->n, &grey[p], &grey[p1]);
+               (const __m128d (*)[3])lv, L->n, sg, &grey[p], &grey[p1]);
   }
   return n;
 #else
@@ -1501,18 +1508,20 @@ void phong_row_lights(const struct smooth_model *m, int nseg, const int *tri, co
       continue;
     }
     const struct smooth_lanes *lx = &m->lanes[tri[k]];
+    const __m128d sg = phong_side(tr, tr);
     for (; p + 2 <= q; p += 2)
       phong_pair(m, tr, lx, tr, lx, true, X[p], X[p + 1], true, 1.0, blocked[p],
-                 blocked[p + 1], L, lv, nlight, &grey[p], &grey[p + 1]);
+                 blocked[p + 1], L, lv, nlight, sg, &grey[p], &grey[p + 1]);
     if (p == q) continue;
     const int tn = k + 1 < nseg ? tri[k + 1] : -1;
     if (tn >= 0 && m->tri[tn].btot != 0) {     /* p = q - 1 and the next one, q */
       phong_pair(m, tr, lx, &m->tri[tn], &m->lanes[tn], false, X[p], X[q], true, 1.0,
-                 blocked[p], blocked[q], L, lv, nlight, &grey[p], &grey[q]);
+                 blocked[p], blocked[q], L, lv, nlight, phong_side(tr, &m->tri[tn]), &grey[p],
+                 &grey[q]);
       p = q + 1;
     } else {                                   /* alone: in both lanes */
       phong_pair(m, tr, lx, tr, lx, true, X[p], X[p], false, 1.0, blocked[p], blocked[p], L,
-                 lv, nlight, &grey[p], &grey[p]);
+                 lv, nlight, sg, &grey[p], &grey[p]);
       p = q;
     }
   }
