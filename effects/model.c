@@ -1513,7 +1513,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   long pts = 0, flat = 0, band = 0, corner = 0;
   long runs[3] = { 0, 0, 0 };               /* shade_run's points by region */
   const bool bg = m->bg != NULL;
-  /* smoothed points a stretch of a row at a time (shade_phong_row), not a run a face */
+  /* smoothed points a stretch of a row at a time (shade_row), not a run a face */
   const bool rows = m->smooth && smooth_rows(&m->sm, m->e, &m->lights);
   for (int j = H - 1; j >= 0; j--) {
     size_t at0 = (size_t)j * (size_t)W;

@@ -1128,24 +1128,27 @@ struct split {
   int nl;                   /* points left to the chain: */
   int at[SMOOTH_ROW];       /*   their indices in the run */
   double la[3][SMOOTH_ROW]; /*   their areas (bary_areas), a component an array (bary_pairs) */
-  int tri[SMOOTH_ROW];      /*   their triangles */
-  double tot[SMOOTH_ROW];   /*   their triangles' btot */
+  int tri[SMOOTH_ROW];      /*   their triangles (a row's stretch: inner_split's row) */
+  double tot[SMOOTH_ROW];   /*   their triangles' btot (likewise) */
   int ni;                   /* points the filter proved inner whose grey is lit (not the
                                flat picture's): */
   int lit_in[SMOOTH_ROW];   /*   their indices */
-  int lit_tri[SMOOTH_ROW];  /*   their triangles */
+  int lit_tri[SMOOTH_ROW];  /*   their triangles (likewise) */
 };
 
 /* Point p of the run proved inner (region 0, the face's normal): given the flat picture's
    grey fg where that is exactly its grey (reflectance 1, no light blocked), else put aside
-   to be lit with the face's normal (as point base + p of triangle t). */
-static inline void inner_point(struct split *sp, int p, bool flat, const unsigned *blocked,
-                               int fg, int *grey, int *region, int base, int t)
+   to be lit with the face's normal (as point base + p of triangle t). row (a constant
+   where it is inlined): a row's stretch (smooth_row), whose regions are counted, not
+   written, and whose points are of several triangles (lit_tri); else a run's. */
+static inline __attribute__((always_inline))
+void inner_point(struct split *sp, int p, bool flat, const unsigned *blocked, int fg,
+                 int *grey, int *region, int base, int t, bool row)
 {
-  if (region) region[p] = 0;
+  if (!row) region[p] = 0;
   if (flat && !blocked[p]) grey[p] = fg;
   else {
-    sp->lit_tri[sp->ni] = t;
+    if (row) sp->lit_tri[sp->ni] = t;
     sp->lit_in[sp->ni++] = base + p;
   }
 }
@@ -1155,12 +1158,14 @@ static inline void inner_point(struct split *sp, int p, bool flat, const unsigne
    chain. Two points an instruction where the processor has SSE2 (the same correctly
    rounded operations on the same values, and the same tests), the rest one by one.
    flat: reflectance 1 (refl == 1). The points are triangle t's (tr, lx), put into sp
-   after those there as base + p. region NULL: the regions not written (the points proved
-   inner are the n less those put to the chain). */
+   after those there as base + p. row (a constant where it is inlined, as inner_point's):
+   the regions not written (the points proved inner are the n less those put to the
+   chain), and each chain point's triangle and btot put with it (sp->tri, sp->tot). */
 static inline __attribute__((always_inline))
 void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
                                const struct smooth_lanes *lx, int n, const double (*X)[3], bool flat, const unsigned *blocked,
-                               int fg, int *grey, int *region, struct split *sp, int base, int t)
+                               int fg, int *grey, int *region, struct split *sp, int base, int t,
+                               bool row)
 {
   const bool usable = lx->inner_ok && !m->inner_exact;
   long declines = 0;
@@ -1187,7 +1192,7 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
         ok = _mm_and_pd(ok, _mm_cmpge_pd(w[k], _mm_mul_pd(_mm_load_pd(lx->xtc[k]), S)));
       const int bits = _mm_movemask_pd(ok);
       if (bits == 3 && flat && !(blocked[p] | blocked[p + 1])) {   /* the common case */
-        if (region) region[p] = region[p + 1] = 0;
+        if (!row) region[p] = region[p + 1] = 0;
         grey[p] = grey[p + 1] = fg;
         continue;
       }
@@ -1195,15 +1200,17 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
       for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
       for (int h = 0; h < 2; h++) {
         if (bits >> h & 1) {
-          inner_point(sp, p + h, flat, blocked, fg, grey, region, base, t);
+          inner_point(sp, p + h, flat, blocked, fg, grey, region, base, t, row);
           continue;
         }
         declines++;
         for (int k = 0; k < 3; k++)
           if (h) _mm_storeh_pd(&sp->la[k][sp->nl], v[k]);
           else _mm_storel_pd(&sp->la[k][sp->nl], v[k]);
-        sp->tri[sp->nl] = t;
-        sp->tot[sp->nl] = tr->btot;
+        if (row) {
+          sp->tri[sp->nl] = t;
+          sp->tot[sp->nl] = tr->btot;
+        }
         sp->at[sp->nl++] = base + p + h;
       }
     }
@@ -1213,13 +1220,15 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
     double ar[3];
     bary_areas(tr, X[p], ar);
     if (usable && inner_one(ar, lx)) {
-      inner_point(sp, p, flat, blocked, fg, grey, region, base, t);
+      inner_point(sp, p, flat, blocked, fg, grey, region, base, t, row);
       continue;
     }
     declines += usable;
     for (int k = 0; k < 3; k++) sp->la[k][sp->nl] = ar[k];
-    sp->tri[sp->nl] = t;
-    sp->tot[sp->nl] = tr->btot;
+    if (row) {
+      sp->tri[sp->nl] = t;
+      sp->tot[sp->nl] = tr->btot;
+    }
     sp->at[sp->nl++] = base + p;
   }
   if (m->inner_declines) *m->inner_declines += declines;
@@ -1606,7 +1615,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const bool flat = refl == 1;
   struct split sp;
   sp.nl = sp.ni = 0;
-  inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp, 0, t);
+  inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp, 0, t, false);
   const int nl = sp.nl;
   double lv[3][SMOOTH_ROW];
   bary_pairs(tr, nl, (const double (*)[SMOOTH_ROW])sp.la, lv);
@@ -1805,7 +1814,7 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
     const struct smooth_tri *tr = &m->tri[t];
     nonzero &= tr->btot != 0;
     inner_split(m, tr, &m->lanes[t], at[k + 1] - b, X + b, true, blocked + b,
-                map->f[tr->mface].grey, grey + b, NULL, &sp, b, t);
+                map->f[tr->mface].grey, grey + b, NULL, &sp, b, t, true);
   }
   const int nl = sp.nl;
   regions[0] += at[nseg] - nl;              /* the points proved inner */
