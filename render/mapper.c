@@ -165,6 +165,10 @@ struct tjunc {
                                     projected x, then index) with its x, and the first with
                                     a larger x (the x-slab's ends) */
   bool whole_boxes;              /* every cell of an edge's box (mapper_keep.whole_boxes) */
+  bool counted;                  /* the 1974 charges wanted (the 1974 engine): the x-slab
+                                    (lb, ub) and the box's vertices counted; else (the
+                                    points engine) only the vertices found matter, and
+                                    lb, ub are not made */
 };
 
 
@@ -180,11 +184,13 @@ static void tj_free(struct tjunc *t)
   t->cell_p = NULL;
 }
 
-static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *proj)
+static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *proj,
+                   bool counted)
 {
   memset(t, 0, sizeof *t);
   t->s = s;
   t->proj = proj;
+  t->counted = counted;
   char *used = calloc((size_t)(s->nv ? s->nv : 1), 1);
   t->used_v = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->used_v);
   if (!used || !t->used_v) { free(used); free(t->used_v); t->used_v = NULL; return 0; }
@@ -194,23 +200,25 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   free(used);
   /* sorted once by projected x, then by index (a radix sort of (x, index) pairs,
      render/rsort.h: the same total order), with each vertex's slab bounds for the cost
-     count */
-  struct rs_pair *key = malloc((size_t)(t->n ? 2 * t->n : 1) * sizeof *key);
-  t->lb = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->lb);
-  t->ub = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->ub);
-  if (!key || !t->lb || !t->ub) { free(key); tj_free(t); return 0; }
-  for (int k = 0; k < t->n; k++) {
-    key[k].key = proj[t->used_v[k]].x;
-    key[k].idx = t->used_v[k];
+     count (not wanted under the points engine) */
+  if (counted) {
+    struct rs_pair *key = malloc((size_t)(t->n ? 2 * t->n : 1) * sizeof *key);
+    t->lb = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->lb);
+    t->ub = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->ub);
+    if (!key || !t->lb || !t->ub) { free(key); tj_free(t); return 0; }
+    for (int k = 0; k < t->n; k++) {
+      key[k].key = proj[t->used_v[k]].x;
+      key[k].idx = t->used_v[k];
+    }
+    rsort_pairs(key, key + t->n, t->n);
+    for (int k = 0; k < t->n;) {               /* a run of equal x: [k, e) */
+      int e = k;
+      while (e < t->n && key[e].key == key[k].key) e++;
+      for (int q = k; q < e; q++) { t->lb[key[q].idx] = k; t->ub[key[q].idx] = e; }
+      k = e;
+    }
+    free(key);
   }
-  rsort_pairs(key, key + t->n, t->n);
-  for (int k = 0; k < t->n;) {               /* a run of equal x: [k, e) */
-    int e = k;
-    while (e < t->n && key[e].key == key[k].key) e++;
-    for (int q = k; q < e; q++) { t->lb[key[q].idx] = k; t->ub[key[q].idx] = e; }
-    k = e;
-  }
-  free(key);
   /* the cells: about two a vertex (at 100,000 boxes the Mapper took some 8% less time
      than with two vertices a cell; the order of the vertices found does not depend on
      the cells) */
@@ -291,6 +299,9 @@ struct tj_seg {
   const struct scene_vertex *A;
   int64_t dx, dy, dz, dd;        /* b - a, |b - a|^2 */
   gcoord x0, x1, y0, y1;         /* the box of a' and b' */
+  struct gpoint pa;              /* a' */
+  int64_t px, py;                /* b' - a' */
+  uint64_t wband;                /* |px| + |py| (1 when a' = b'): tj_take's band */
   int **buf, *n, *cap;
   int first;                     /* the edge's first entry of buf */
 };
@@ -322,12 +333,25 @@ static __attribute__((noinline)) int tj_insert(const struct tjunc *t, int v, int
   return 1;
 }
 
-/* Vertex v (not a or b) tested exactly: when it lies strictly inside a-b in space, it is
-   inserted in order. 0 when out of host memory. (Inlined in tj_cells' loop: at 30,000
-   boxes 139,000 calls a search.) */
+/* Vertex v (not a or b), at grid point pv, tested exactly: when it lies strictly inside
+   a-b in space, it is inserted in order. 0 when out of host memory. (Inlined in tj_cells'
+   loop: at 30,000 boxes 139,000 calls a search.)
+   First, on the grid, a test that only rejects vertices that cannot lie on a-b (so it
+   changes nothing found; it spares most the scene's vertex and the three products in
+   space). As tj_row_cells says, such a vertex's point pv lies off some point Q of the
+   segment a'-b' by less than one unit in x and in y. With d = b' - a' = (px, py), Q on
+   the line: px (Q.y - a'.y) - py (Q.x - a'.x) = 0, so c = px (pv.y - a'.y) -
+   py (pv.x - a'.x) = px (pv.y - Q.y) - py (pv.x - Q.x), and |c| < |px| + |py| when d is
+   not zero (each difference below 1 in size, one of |px|, |py| at least 1). Rejected:
+   |c| >= wband = |px| + |py|, as the one unsigned compare c + wband - 1 > 2 (wband - 1).
+   When a' = b', c is 0 and wband is 1: nothing rejected. |px|, |py| and the differences
+   from a' are below 2^30 (|gcoord| <= 2^28), so |c| < 2^61. */
 static inline __attribute__((always_inline)) int tj_take(const struct tjunc *t, int v,
+                                                         struct gpoint pv,
                                                          const struct tj_seg *e)
 {
+  int64_t c = e->px * (pv.y - e->pa.y) - e->py * (pv.x - e->pa.x);
+  if ((uint64_t)c + (e->wband - 1) > 2 * (e->wband - 1)) return 1;
   const struct scene_vertex *V = &t->s->v[v], *A = e->A;
   int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
   if (e->dy * ez - e->dz * ey || e->dz * ex - e->dx * ez || e->dx * ey - e->dy * ex) return 1;
@@ -349,7 +373,7 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
     if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
     inbox++;
     int v = t->cell_v[k];
-    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
+    if (v != e->a && v != e->b && !tj_take(t, v, pv, e)) return -1;
   }
   return inbox;
 }
@@ -374,15 +398,38 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
   e.y0 = pa.y < pb.y ? pa.y : pb.y; e.y1 = pa.y < pb.y ? pb.y : pa.y;
   e.dx = B->x - A->x; e.dy = B->y - A->y; e.dz = B->z - A->z;
   e.dd = e.dx * e.dx + e.dy * e.dy + e.dz * e.dz;
-  /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x to
-     the last with the larger */
-  int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
-  COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
+  e.pa = pa;
+  e.px = pb.x - pa.x;
+  e.py = pb.y - pa.y;
+  e.wband = (uint64_t)(e.px < 0 ? -e.px : e.px) + (uint64_t)(e.py < 0 ? -e.py : e.py);
+  if (e.wband == 0) e.wband = 1;
+  if (t->counted) {
+    /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x
+       to the last with the larger */
+    int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
+    COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
+  }
   if (t->n == 0) return 1;
   gcoord cx0 = e.x0 < t->gx0 ? 0 : (e.x0 - t->gx0) >> t->sx, cx1 = (e.x1 - t->gx0) >> t->sx;
   gcoord cy0 = e.y0 < t->gy0 ? 0 : (e.y0 - t->gy0) >> t->sy, cy1 = (e.y1 - t->gy0) >> t->sy;
   if (cx1 >= t->gw) cx1 = t->gw - 1;
   if (cy1 >= t->gh) cy1 = t->gh - 1;
+  if (!t->counted) {
+    /* no count wanted (the points engine): of a slanted edge's box, in every row, first
+       and last too, only the cells its line can reach (tj_row_cells, whose argument holds
+       in any row of the box); of a level one (one row), the box's cells. The same
+       vertices are found as when every cell is looked at, in the same order: a vertex
+       outside those cells cannot lie on a-b, and tj_insert orders the vertices found by
+       their parameter along a-b and their index, whatever order the cells give them in. */
+    bool slanted = !t->whole_boxes && pa.y != pb.y && cx1 - cx0 >= 2;
+    for (gcoord cy = cy0; cy <= cy1; cy++) {
+      size_t row = (size_t)cy * (size_t)t->gw;
+      gcoord ca = cx0, cb = cx1;
+      if (slanted) tj_row_cells(t, pa, pb, cy, &ca, &cb);
+      if (ca <= cb && tj_cells(t, row + (size_t)ca, row + (size_t)cb, &e) < 0) return 0;
+    }
+    return 1;
+  }
   bool thin = !t->whole_boxes && cy1 - cy0 >= 2 && cx1 - cx0 >= 2 && pa.y != pb.y;
   int64_t inbox = 0;                        /* the box's vertices, a and b among them */
   for (gcoord cy = cy0; cy <= cy1; cy++) {
@@ -447,9 +494,11 @@ static int tj_edge_memo(const struct tjunc *t, struct tj_memo *memo, int a, int 
     *m = (struct tj_memo){ a, b, first, *n - first, *tests - before };
     return 1;
   }
-  struct gpoint pa = t->proj[a], pb = t->proj[b];           /* tj_edge's charges */
-  int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
-  COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
+  if (t->counted) {                                         /* tj_edge's charges */
+    struct gpoint pa = t->proj[a], pb = t->proj[b];
+    int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
+    COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
+  }
   *tests += m->tests;
   (*replayed)++;
   if (*n + m->n > *cap) {
@@ -611,7 +660,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   /* The T-junctions: taken from kt when it holds this scene's (replay), else searched for
      (tj), the rings built in the scratch ring[] or, to be kept, in kt's own array. The
      search's charges go to tjc, added to cost at the end either way. */
-  bool replay = kt && kt->s == s;
+  bool replay = kt && kt->s == s && (kt->counted || !cost);   /* charges to add: counted */
   struct tjunc tj;
   memset(&tj, 0, sizeof tj);
   struct cost tjc = { { 0 } };
@@ -632,7 +681,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       }
       rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;   /* the memo points into them */
     }
-    if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+    if (!tj_init(&tj, s, proj, cost != NULL)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
     tj.whole_boxes = kt && kt->whole_boxes;
     /* the edges met the other way: where the rings are kept (their places stay) */
     if (kt && !kt->whole_boxes && (memo = malloc(sizeof *memo << TJ_MEMO_BITS)) != NULL)
@@ -792,6 +841,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       if (fit) { kt->ring = fit; kt->cap = kt->n; }
     }
     kt->s = s;
+    kt->counted = cost != NULL;
     kt->cost = tjc;
     kt->replayed = replayed;
   }
