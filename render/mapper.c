@@ -275,11 +275,12 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
    one-unit cells fail with either y end a unit nearer or either x end). A superset of
    the cells, never fewer: every vertex in them is still tested exactly, and which are
    found (and their order) does not depend on the cells. The products: |dy| |dx| < 2^29
-   2^29. */
-static void tj_row_cells(const struct tjunc *t, struct gpoint pa, struct gpoint pb, gcoord cy,
-                         gcoord *ca, gcoord *cb)
+   2^29. pa is the end with the smaller y (the caller orders them). (Inlined: once a row.) */
+static inline __attribute__((always_inline)) void tj_row_cells(const struct tjunc *t,
+                                                               struct gpoint pa,
+                                                               struct gpoint pb, gcoord cy,
+                                                               gcoord *ca, gcoord *cb)
 {
-  if (pa.y > pb.y) { struct gpoint q = pa; pa = pb; pb = q; }
   gcoord r0 = t->gy0 + (cy << t->sy) - 1, r1 = t->gy0 + ((cy + 1) << t->sy);   /* +-1 */
   if (r0 < pa.y) r0 = pa.y;
   if (r1 > pb.y) r1 = pb.y;
@@ -333,25 +334,29 @@ static __attribute__((noinline)) int tj_insert(const struct tjunc *t, int v, int
   return 1;
 }
 
-/* Vertex v (not a or b), at grid point pv, tested exactly: when it lies strictly inside
-   a-b in space, it is inserted in order. 0 when out of host memory. (Inlined in tj_cells'
-   loop: at 30,000 boxes 139,000 calls a search.)
-   First, on the grid, a test that only rejects vertices that cannot lie on a-b (so it
-   changes nothing found; it spares most the scene's vertex and the three products in
-   space). As tj_row_cells says, such a vertex's point pv lies off some point Q of the
+/* tj_near: whether a vertex at grid point pv can lie on a-b, a test on the grid that only
+   rejects vertices that cannot (so it changes nothing found; it spares most of them the
+   scene's vertex and tj_take's three products in space). As tj_row_cells says, such a vertex's point pv lies off some point Q of the
    segment a'-b' by less than one unit in x and in y. With d = b' - a' = (px, py), Q on
    the line: px (Q.y - a'.y) - py (Q.x - a'.x) = 0, so c = px (pv.y - a'.y) -
    py (pv.x - a'.x) = px (pv.y - Q.y) - py (pv.x - Q.x), and |c| < |px| + |py| when d is
    not zero (each difference below 1 in size, one of |px|, |py| at least 1). Rejected:
    |c| >= wband = |px| + |py|, as the one unsigned compare c + wband - 1 > 2 (wband - 1).
    When a' = b', c is 0 and wband is 1: nothing rejected. |px|, |py| and the differences
-   from a' are below 2^30 (|gcoord| <= 2^28), so |c| < 2^61. */
-static inline __attribute__((always_inline)) int tj_take(const struct tjunc *t, int v,
-                                                         struct gpoint pv,
-                                                         const struct tj_seg *e)
+   from a' are below 2^30 (|gcoord| <= 2^28), so |c| < 2^61.
+   tj_take: vertex v (not a or b) tested exactly: when it lies strictly inside a-b in
+   space, it is inserted in order. 0 when out of host memory. (Both inlined in the cells'
+   loops: at 30,000 boxes 139,000 calls a search.) */
+static inline __attribute__((always_inline)) bool tj_near(struct gpoint pv,
+                                                          const struct tj_seg *e)
 {
   int64_t c = e->px * (pv.y - e->pa.y) - e->py * (pv.x - e->pa.x);
-  if ((uint64_t)c + (e->wband - 1) > 2 * (e->wband - 1)) return 1;
+  return (uint64_t)c + (e->wband - 1) <= 2 * (e->wband - 1);
+}
+
+static inline __attribute__((always_inline)) int tj_take(const struct tjunc *t, int v,
+                                                         const struct tj_seg *e)
+{
   const struct scene_vertex *V = &t->s->v[v], *A = e->A;
   int64_t ex = V->x - A->x, ey = V->y - A->y, ez = V->z - A->z;
   if (e->dy * ez - e->dz * ey || e->dz * ex - e->dx * ez || e->dx * ey - e->dy * ex) return 1;
@@ -373,9 +378,26 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
     if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
     inbox++;
     int v = t->cell_v[k];
-    if (v != e->a && v != e->b && !tj_take(t, v, pv, e)) return -1;
+    if (v != e->a && v != e->b && tj_near(pv, e) && !tj_take(t, v, e)) return -1;
   }
   return inbox;
+}
+
+/* As tj_cells, with no count (the points engine): a vertex far off the line is rejected
+   first (most in the cells a slanted edge's line reaches), then one outside the box. 0, or
+   -1 when out of host memory. */
+static inline __attribute__((always_inline)) int tj_cells_near(const struct tjunc *t,
+                                                               size_t c0, size_t c1,
+                                                               const struct tj_seg *e)
+{
+  for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
+    struct gpoint pv = t->cell_p[k];
+    if (!tj_near(pv, e)) continue;
+    if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
+    int v = t->cell_v[k];
+    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
+  }
+  return 0;
 }
 
 /* Append to (*buf, *n) the vertices lying strictly inside the segment a-b in space,
@@ -422,11 +444,12 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
        outside those cells cannot lie on a-b, and tj_insert orders the vertices found by
        their parameter along a-b and their index, whatever order the cells give them in. */
     bool slanted = !t->whole_boxes && pa.y != pb.y && cx1 - cx0 >= 2;
+    struct gpoint lo = pa.y < pb.y ? pa : pb, hi = pa.y < pb.y ? pb : pa;
     for (gcoord cy = cy0; cy <= cy1; cy++) {
       size_t row = (size_t)cy * (size_t)t->gw;
       gcoord ca = cx0, cb = cx1;
-      if (slanted) tj_row_cells(t, pa, pb, cy, &ca, &cb);
-      if (ca <= cb && tj_cells(t, row + (size_t)ca, row + (size_t)cb, &e) < 0) return 0;
+      if (slanted) tj_row_cells(t, lo, hi, cy, &ca, &cb);
+      if (ca <= cb && tj_cells_near(t, row + (size_t)ca, row + (size_t)cb, &e) < 0) return 0;
     }
     return 1;
   }
@@ -448,7 +471,7 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
     if ((got = tj_cells(t, row + (size_t)cx1, row + (size_t)cx1, &e)) < 0) return 0;
     inbox += got;
     gcoord ca = cx0 + 1, cb = cx1 - 1;
-    tj_row_cells(t, pa, pb, cy, &ca, &cb);
+    tj_row_cells(t, pa.y < pb.y ? pa : pb, pa.y < pb.y ? pb : pa, cy, &ca, &cb);
     if (ca <= cb && tj_cells(t, row + (size_t)ca, row + (size_t)cb, &e) < 0) return 0;
   }
   *tests += (uint64_t)(inbox - (a == b ? 1 : 2));   /* but a and b */
