@@ -300,9 +300,9 @@ struct tj_seg {
   const struct scene_vertex *A;
   int64_t dx, dy, dz, dd;        /* b - a, |b - a|^2 */
   gcoord x0, x1, y0, y1;         /* the box of a' and b' */
-  struct gpoint pa;              /* a' */
   int64_t px, py;                /* b' - a' */
-  uint64_t wband;                /* |px| + |py| (1 when a' = b'): tj_take's band */
+  int64_t c0;                    /* px a'.y - py a'.x - (wband - 1) (tj_near) */
+  uint64_t wlim;                 /* 2 (wband - 1), wband = |px| + |py| or 1 when a' = b' */
   int **buf, *n, *cap;
   int first;                     /* the edge's first entry of buf */
 };
@@ -336,22 +336,24 @@ static __attribute__((noinline)) int tj_insert(const struct tjunc *t, int v, int
 
 /* tj_near: whether a vertex at grid point pv can lie on a-b, a test on the grid that only
    rejects vertices that cannot (so it changes nothing found; it spares most of them the
-   scene's vertex and tj_take's three products in space). As tj_row_cells says, such a vertex's point pv lies off some point Q of the
-   segment a'-b' by less than one unit in x and in y. With d = b' - a' = (px, py), Q on
-   the line: px (Q.y - a'.y) - py (Q.x - a'.x) = 0, so c = px (pv.y - a'.y) -
-   py (pv.x - a'.x) = px (pv.y - Q.y) - py (pv.x - Q.x), and |c| < |px| + |py| when d is
-   not zero (each difference below 1 in size, one of |px|, |py| at least 1). Rejected:
-   |c| >= wband = |px| + |py|, as the one unsigned compare c + wband - 1 > 2 (wband - 1).
-   When a' = b', c is 0 and wband is 1: nothing rejected. |px|, |py| and the differences
-   from a' are below 2^30 (|gcoord| <= 2^28), so |c| < 2^61.
+   scene's vertex and tj_take's three products in space). As tj_row_cells says, such a
+   vertex's point pv lies off some point Q of the segment a'-b' by less than one unit in
+   x and in y. With d = b' - a' = (px, py), Q on the line: px (Q.y - a'.y) -
+   py (Q.x - a'.x) = 0, so c = px (pv.y - a'.y) - py (pv.x - a'.x) = px (pv.y - Q.y) -
+   py (pv.x - Q.x), and |c| < |px| + |py| when d is not zero (each difference below 1 in
+   size, one of |px|, |py| at least 1). Rejected: |c| >= wband = |px| + |py|, as the one
+   unsigned compare c + wband - 1 > 2 (wband - 1), c + wband - 1 taken as
+   px pv.y - py pv.x - c0 with c0 = px a'.y - py a'.x - (wband - 1) made once an edge.
+   When a' = b', c is 0 and wband is 1: nothing rejected. |px|, |py| <= 2^29 and |pv.x|,
+   |pv.y|, |a'.x|, |a'.y| <= 2^28 (|gcoord| <= 2^28), so each product is below 2^57 in
+   size, c0 below 2^59 and the sum below 2^60: no overflow.
    tj_take: vertex v (not a or b) tested exactly: when it lies strictly inside a-b in
    space, it is inserted in order. 0 when out of host memory. (Both inlined in the cells'
    loops: at 30,000 boxes 139,000 calls a search.) */
 static inline __attribute__((always_inline)) bool tj_near(struct gpoint pv,
                                                           const struct tj_seg *e)
 {
-  int64_t c = e->px * (pv.y - e->pa.y) - e->py * (pv.x - e->pa.x);
-  return (uint64_t)c + (e->wband - 1) <= 2 * (e->wband - 1);
+  return (uint64_t)(e->px * pv.y - e->py * pv.x - e->c0) <= e->wlim;
 }
 
 static inline __attribute__((always_inline)) int tj_take(const struct tjunc *t, int v,
@@ -378,7 +380,7 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
     if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
     inbox++;
     int v = t->cell_v[k];
-    if (v != e->a && v != e->b && tj_near(pv, e) && !tj_take(t, v, e)) return -1;
+    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
   }
   return inbox;
 }
@@ -393,11 +395,82 @@ static inline __attribute__((always_inline)) int tj_cells_near(const struct tjun
   for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
     struct gpoint pv = t->cell_p[k];
     if (!tj_near(pv, e)) continue;
-    if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
     int v = t->cell_v[k];
     if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
   }
   return 0;
+}
+
+/* tj_edge without a count (the points engine): only the vertices found matter. Of a
+   slanted edge's box with three columns or more, in every row, first and last too, only
+   the cells its line can reach (tj_row_cells' band, whose argument holds in any row of
+   the box); else the box's cells. In those cells a vertex is tested on the grid first
+   (tj_near), then in space (tj_take); no box test: tj_take rejects what lies beyond a or
+   b. The same vertices are found as when every cell of the box is looked at, in the same
+   order: a vertex outside those cells cannot lie on a-b, and tj_insert orders the
+   vertices found by their parameter along a-b and their index, whatever order the cells
+   give them in. 0 when out of host memory.
+   The band of row cy is tj_row_cells', from the line's x at r0 = max(B(cy) - 1, lo.y) and
+   r1 = min(B(cy + 1), hi.y), B(c) = gy0 + c 2^sy the first y of row c, lo and hi the ends
+   with the smaller and larger y. In the first row r0 = lo.y (lo lies in it: the x is
+   lo.x), in the last r1 = hi.y (the x is hi.x); between, B(cy) - 1 and B(cy + 1) lie in
+   [lo.y, hi.y] and step by 2^sy a row: each x, lo.x + floor((r - lo.y) dx / dy), is kept
+   as quotient and remainder and stepped by the quotient and remainder of 2^sy dx by dy,
+   exactly (as floordiv would give it). |dx| < 2^30, 2^sy <= 2^29 (the cells split the
+   vertices' range): the products stay below 2^59. */
+static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap)
+{
+  if (t->n == 0) return 1;
+  const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
+  struct gpoint pa = t->proj[a], pb = t->proj[b];
+  struct tj_seg es = { .a = a, .b = b, .A = A, .buf = buf, .n = n, .cap = cap, .first = *n }, *e = &es;
+  e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
+  e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
+  e->px = pb.x - pa.x;                      /* tj_near's line */
+  e->py = pb.y - pa.y;
+  int64_t wband = (e->px < 0 ? -e->px : e->px) + (e->py < 0 ? -e->py : e->py);
+  if (wband == 0) wband = 1;
+  e->c0 = e->px * pa.y - e->py * pa.x - (wband - 1);
+  e->wlim = 2 * (uint64_t)(wband - 1);
+  /* the box's cells (the grid holds a' and b': no clamping) */
+  gcoord cx0 = ((pa.x < pb.x ? pa.x : pb.x) - t->gx0) >> t->sx;
+  gcoord cx1 = ((pa.x < pb.x ? pb.x : pa.x) - t->gx0) >> t->sx;
+  gcoord cy0 = ((pa.y < pb.y ? pa.y : pb.y) - t->gy0) >> t->sy;
+  gcoord cy1 = ((pa.y < pb.y ? pb.y : pa.y) - t->gy0) >> t->sy;
+  size_t gw = (size_t)t->gw;
+  if (t->whole_boxes || pa.y == pb.y || cx1 - cx0 < 2) {
+    for (gcoord cy = cy0; cy <= cy1; cy++)
+      if (tj_cells_near(t, (size_t)cy * gw + (size_t)cx0, (size_t)cy * gw + (size_t)cx1, e) < 0)
+        return 0;
+    return 1;
+  }
+  struct gpoint lo = pa.y < pb.y ? pa : pb, hi = pa.y < pb.y ? pb : pa;
+  int64_t dx = hi.x - lo.x, dy = hi.y - lo.y;           /* dy > 0 */
+  int64_t step = dx * ((int64_t)1 << t->sy);
+  int64_t sq = floordiv(step, dy), sr = step - sq * dy;  /* 0 <= sr < dy */
+  gcoord b1 = t->gy0 + ((cy0 + 1) << t->sy);             /* B(cy0 + 1) */
+  int64_t qa = floordiv((b1 - 1 - lo.y) * dx, dy), ra = (b1 - 1 - lo.y) * dx - qa * dy;
+  int64_t qb = floordiv((b1 - lo.y) * dx, dy), rb = (b1 - lo.y) * dx - qb * dy;
+  for (gcoord cy = cy0; cy <= cy1; cy++) {
+    int64_t xa = lo.x, xb = hi.x;           /* the first row's r0, the last row's r1 */
+    if (cy > cy0) {                         /* r0 = B(cy) - 1 */
+      xa = lo.x + qa;
+      qa += sq; ra += sr;
+      if (ra >= dy) { ra -= dy; qa++; }
+    }
+    if (cy < cy1) {                         /* r1 = B(cy + 1) */
+      xb = lo.x + qb;
+      qb += sq; rb += sr;
+      if (rb >= dy) { rb -= dy; qb++; }
+    }
+    int64_t x0 = xa < xb ? xa : xb, x1 = (xa < xb ? xb : xa) + 1;   /* (x - 1, x + 1) */
+    gcoord ca = (x0 - t->gx0) >> t->sx, cb = (x1 - t->gx0) >> t->sx;  /* x0 >= the box's */
+    if (ca < cx0) ca = cx0;
+    if (cb > cx1) cb = cx1;
+    if (ca <= cb && tj_cells_near(t, (size_t)cy * gw + (size_t)ca, (size_t)cy * gw + (size_t)cb, e) < 0)
+      return 0;
+  }
+  return 1;
 }
 
 /* Append to (*buf, *n) the vertices lying strictly inside the segment a-b in space,
@@ -420,39 +493,15 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
   e.y0 = pa.y < pb.y ? pa.y : pb.y; e.y1 = pa.y < pb.y ? pb.y : pa.y;
   e.dx = B->x - A->x; e.dy = B->y - A->y; e.dz = B->z - A->z;
   e.dd = e.dx * e.dx + e.dy * e.dy + e.dz * e.dz;
-  e.pa = pa;
-  e.px = pb.x - pa.x;
-  e.py = pb.y - pa.y;
-  e.wband = (uint64_t)(e.px < 0 ? -e.px : e.px) + (uint64_t)(e.py < 0 ? -e.py : e.py);
-  if (e.wband == 0) e.wband = 1;
-  if (t->counted) {
-    /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x
-       to the last with the larger */
-    int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
-    COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
-  }
+  /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x to
+     the last with the larger */
+  int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
+  COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
   if (t->n == 0) return 1;
   gcoord cx0 = e.x0 < t->gx0 ? 0 : (e.x0 - t->gx0) >> t->sx, cx1 = (e.x1 - t->gx0) >> t->sx;
   gcoord cy0 = e.y0 < t->gy0 ? 0 : (e.y0 - t->gy0) >> t->sy, cy1 = (e.y1 - t->gy0) >> t->sy;
   if (cx1 >= t->gw) cx1 = t->gw - 1;
   if (cy1 >= t->gh) cy1 = t->gh - 1;
-  if (!t->counted) {
-    /* no count wanted (the points engine): of a slanted edge's box, in every row, first
-       and last too, only the cells its line can reach (tj_row_cells, whose argument holds
-       in any row of the box); of a level one (one row), the box's cells. The same
-       vertices are found as when every cell is looked at, in the same order: a vertex
-       outside those cells cannot lie on a-b, and tj_insert orders the vertices found by
-       their parameter along a-b and their index, whatever order the cells give them in. */
-    bool slanted = !t->whole_boxes && pa.y != pb.y && cx1 - cx0 >= 2;
-    struct gpoint lo = pa.y < pb.y ? pa : pb, hi = pa.y < pb.y ? pb : pa;
-    for (gcoord cy = cy0; cy <= cy1; cy++) {
-      size_t row = (size_t)cy * (size_t)t->gw;
-      gcoord ca = cx0, cb = cx1;
-      if (slanted) tj_row_cells(t, lo, hi, cy, &ca, &cb);
-      if (ca <= cb && tj_cells_near(t, row + (size_t)ca, row + (size_t)cb, &e) < 0) return 0;
-    }
-    return 1;
-  }
   bool thin = !t->whole_boxes && cy1 - cy0 >= 2 && cx1 - cx0 >= 2 && pa.y != pb.y;
   int64_t inbox = 0;                        /* the box's vertices, a and b among them */
   for (gcoord cy = cy0; cy <= cy1; cy++) {
@@ -501,19 +550,27 @@ static bool same_point(const struct scene *s, int v, int w)
   return s->v[v].x == s->v[w].x && s->v[v].y == s->v[w].y && s->v[v].z == s->v[w].z;
 }
 
+/* One edge searched: with the count (tj_edge) or without (tj_edge_near). */
+static inline int tj_search(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
+                            struct cost *cost, uint64_t *tests)
+{
+  return t->counted ? tj_edge(t, a, b, buf, n, cap, cost, tests)
+                    : tj_edge_near(t, a, b, buf, n, cap);
+}
+
 /* tj_edge through the table memo (NULL: every edge searched, the long way). 0 when out of
    host memory. */
 static int tj_edge_memo(const struct tjunc *t, struct tj_memo *memo, int a, int b, int **buf,
                         int *n, int *cap, struct cost *cost, uint64_t *tests, int *replayed)
 {
-  if (!memo) return tj_edge(t, a, b, buf, n, cap, cost, tests);
+  if (!memo) return tj_search(t, a, b, buf, n, cap, cost, tests);
   uint32_t lo = (uint32_t)(a < b ? a : b), hi = (uint32_t)(a < b ? b : a);
   struct tj_memo *m = &memo[(lo * 0x9E3779B1u ^ hi * 0x85EBCA77u) >> (32 - TJ_MEMO_BITS)];
   bool same = m->a == a && m->b == b;
   if (!same && !(m->a == b && m->b == a)) {
     int first = *n;
     uint64_t before = *tests;
-    if (!tj_edge(t, a, b, buf, n, cap, cost, tests)) return 0;
+    if (!tj_search(t, a, b, buf, n, cap, cost, tests)) return 0;
     *m = (struct tj_memo){ a, b, first, *n - first, *tests - before };
     return 1;
   }

@@ -479,7 +479,13 @@ static char *on_edge_scene(int ntri, bool near, uint32_t seed, int *inserted)
       while (m > 1 && (dx % m || dy % m || dz % m)) m /= 2;   /* ends placed on edges */
       if ((!dx && !dy && !dz) || m == 1) continue;            /* earlier: not all of 12 */
       if (k >= m) k = m - 1;
-      for (int i = 0; i < 3; i++) c[3 * q + j][i] = P[i] + k * (Q[i] - P[i]) / m;
+      int w[3], *o1 = c[3 * q + (j + 1) % 3], *o2 = c[3 * q + (j + 2) % 3];
+      for (int i = 0; i < 3; i++) w[i] = P[i] + k * (Q[i] - P[i]) / m;
+      int64_t u[3], r[3];                   /* a triangle still (not at a line) */
+      for (int i = 0; i < 3; i++) { u[i] = o1[i] - w[i]; r[i] = o2[i] - w[i]; }
+      if (u[1] * r[2] == u[2] * r[1] && u[2] * r[0] == u[0] * r[2] && u[0] * r[1] == u[1] * r[0])
+        continue;
+      memcpy(c[3 * q + j], w, sizeof w);
       (*inserted)++;
     }
     for (int j = 0; j < 3; j++)
