@@ -194,8 +194,11 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   char *used = calloc((size_t)(s->nv ? s->nv : 1), 1);
   t->used_v = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->used_v);
   if (!used || !t->used_v) { free(used); free(t->used_v); t->used_v = NULL; return 0; }
-  for (int f = 0; f < s->nf; f++)
-    for (int k = 0; k < s->f[f].ring_start[s->f[f].nring]; k++) used[s->f[f].vidx[k]] = 1;
+  for (int f = 0; f < s->nf; f++) {         /* (the face's count and array held: the
+                                               stores into used could alias them) */
+    const int *vi = s->f[f].vidx;
+    for (int k = 0, nk = s->f[f].ring_start[s->f[f].nring]; k < nk; k++) used[vi[k]] = 1;
+  }
   for (int v = 0; v < s->nv; v++) if (used[v]) t->used_v[t->n++] = v;
   free(used);
   /* sorted once by projected x, then by index (a radix sort of (x, index) pairs,
