@@ -426,7 +426,9 @@ static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, 
   if (t->n == 0) return 1;
   const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
   struct gpoint pa = t->proj[a], pb = t->proj[b];
-  struct tj_seg es = { .a = a, .b = b, .A = A, .buf = buf, .n = n, .cap = cap, .first = *n }, *e = &es;
+  struct tj_seg es, *e = &es;               /* the fields used here, set one by one (an
+                                               initializer would zero the box too) */
+  e->a = a; e->b = b; e->A = A; e->buf = buf; e->n = n; e->cap = cap; e->first = *n;
   e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
   e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
   e->px = pb.x - pa.x;                      /* tj_near's line */
