@@ -58,14 +58,16 @@ static int64_t project(int64_t p, int64_t e, int64_t f, int64_t w)
 }
 
 /* floor(sqrt(v)), exactly: the double's square root as the guess (within a step or two
-   for v < 2^104: |n|^2 |L|^2 below), then corrected in integers. */
-static uwide isqrt_u(uwide v)
+   for v < 2^104: |n|^2 |L|^2 below), then corrected in integers. The root is below 2^64,
+   so it is held in 64 bits (x * x in 128: it does not wrap); the double is made from v's
+   two halves (a guess: rounding only moves it). */
+static uint64_t isqrt_u(uwide v)
 {
-  const uwide top = ((uwide)1 << 64) - 1;        /* floor(sqrt(v)) <= top for any v */
-  double d = sqrt((double)v);
-  uwide x = d >= 0x1p64 ? top : (uwide)d;
-  while (x * x > v) x--;                          /* x <= top: x * x does not wrap */
-  while (x < top && (x + 1) * (x + 1) <= v) x++;
+  const uint64_t top = UINT64_MAX;               /* floor(sqrt(v)) <= top for any v */
+  double d = sqrt((double)(uint64_t)(v >> 64) * 0x1p64 + (double)(uint64_t)v);
+  uint64_t x = d >= 0x1p64 ? top : (uint64_t)d;
+  while ((uwide)x * x > v) x--;
+  while (x < top && (uwide)(x + 1) * (x + 1) <= v) x++;
   return x;
 }
 
@@ -78,9 +80,11 @@ static int lambert(const int64_t n[3], const int32_t light[3])
   uwide ll = (uwide)((wide)light[0] * light[0] + (wide)light[1] * light[1] +
                      (wide)light[2] * light[2]);
   /* |n|^2 < 2^70, |L|^2 < 2^32: the product fits, and so does its square root */
-  wide den = (wide)isqrt_u(nn * ll);
-  if (den <= 0) return DEFAULT_GREY;
-  wide g = SHADE_AMBIENT + ((255 - SHADE_AMBIENT) * dot + den / 2) / den;
+  uint64_t den = isqrt_u(nn * ll);
+  if (den == 0) return DEFAULT_GREY;
+  /* 0 < dot <= |n| |L| < 2^51 (Cauchy-Schwarz) and den <= |n| |L|: the rounded quotient
+     in 64 bits, (255 - SHADE_AMBIENT) dot + den / 2 < 2^59 + 2^50 (no 128-bit division) */
+  uint64_t g = SHADE_AMBIENT + ((uint64_t)(255 - SHADE_AMBIENT) * (uint64_t)dot + den / 2) / den;
   return g > 255 ? 255 : (int)g;
 }
 
