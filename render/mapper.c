@@ -392,9 +392,10 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
   return inbox;
 }
 
-/* As tj_cells, with no count (the points engine): a vertex far off the line is rejected
-   first (most in the cells a slanted edge's line reaches), then one outside the box. 0, or
-   -1 when out of host memory. */
+/* As tj_cells, with no count (the points engine): a vertex is tested on the grid first
+   (tj_near: most in the cells a slanted edge's line reaches lie off it), then in space
+   (tj_take, which also rejects one beyond a or b: no box test). 0, or -1 when out of host
+   memory. */
 static inline __attribute__((always_inline)) int tj_cells_near(const struct tjunc *t,
                                                                size_t c0, size_t c1,
                                                                const struct tj_seg *e)
@@ -476,8 +477,8 @@ static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, 
     gcoord ca = (x0 - t->gx0) >> t->sx, cb = (x1 - t->gx0) >> t->sx;  /* x0 >= the box's */
     if (ca < cx0) ca = cx0;
     if (cb > cx1) cb = cx1;
-    if (ca <= cb && tj_cells_near(t, (size_t)cy * gw + (size_t)ca, (size_t)cy * gw + (size_t)cb, e) < 0)
-      return 0;
+    size_t row = (size_t)cy * gw;
+    if (ca <= cb && tj_cells_near(t, row + (size_t)ca, row + (size_t)cb, e) < 0) return 0;
   }
   return 1;
 }
@@ -491,7 +492,8 @@ static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, 
    meet the box, and of a slanted edge's box, in the rows between its first and last,
    only through the cells its line can reach (tj_row_cells) and the first and last
    column: the box's vertices in the other cells, which lie wholly inside it, are counted
-   from the cells' starts, not looked at. */
+   from the cells' starts, not looked at. (The 1974 engine's search, which counts; the
+   points engine's, which does not, is tj_edge_near.) */
 static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
                    struct cost *cost, uint64_t *tests)
 {
@@ -567,8 +569,8 @@ static inline int tj_search(const struct tjunc *t, int a, int b, int **buf, int 
                     : tj_edge_near(t, a, b, buf, n, cap);
 }
 
-/* tj_edge through the table memo (NULL: every edge searched, the long way). 0 when out of
-   host memory. */
+/* tj_search through the table memo (NULL: every edge searched, the long way). 0 when out
+   of host memory. */
 static int tj_edge_memo(const struct tjunc *t, struct tj_memo *memo, int a, int b, int **buf,
                         int *n, int *cap, struct cost *cost, uint64_t *tests, int *replayed)
 {
@@ -749,7 +751,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   /* The T-junctions: taken from kt when it holds this scene's (replay), else searched for
      (tj), the rings built in the scratch ring[] or, to be kept, in kt's own array. The
      search's charges go to tjc, added to cost at the end either way. */
-  bool replay = kt && kt->s == s && (kt->counted || !cost);   /* charges to add: counted */
+  /* (a keep searched without a cost holds no charges: a run with one searches again) */
+  bool replay = kt && kt->s == s && (kt->counted || !cost);
   struct tjunc tj;
   memset(&tj, 0, sizeof tj);
   struct cost tjc = { { 0 } };
@@ -770,7 +773,10 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       }
       rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;   /* the memo points into them */
     }
-    if (!tj_init(&tj, s, proj, cost != NULL)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+    if (!tj_init(&tj, s, proj, cost != NULL)) {   /* no cost: no count (points engine) */
+      t74_fail(err, T74_EIO, "out of host memory");
+      goto fail_tj;
+    }
     tj.whole_boxes = kt && kt->whole_boxes;
     /* the edges met the other way: where the rings are kept (their places stay) */
     if (kt && !kt->whole_boxes && (memo = malloc(sizeof *memo << TJ_MEMO_BITS)) != NULL)
