@@ -58,14 +58,16 @@ static int64_t project(int64_t p, int64_t e, int64_t f, int64_t w)
 }
 
 /* floor(sqrt(v)), exactly: the double's square root as the guess (within a step or two
-   for v < 2^104: |n|^2 |L|^2 below), then corrected in integers. */
-static uwide isqrt_u(uwide v)
+   for v < 2^104: |n|^2 |L|^2 below), then corrected in integers. The root is below 2^64,
+   so it is held in 64 bits (x * x in 128: it does not wrap); the double is made from v's
+   two halves (a guess: rounding only moves it). */
+static uint64_t isqrt_u(uwide v)
 {
-  const uwide top = ((uwide)1 << 64) - 1;        /* floor(sqrt(v)) <= top for any v */
-  double d = sqrt((double)v);
-  uwide x = d >= 0x1p64 ? top : (uwide)d;
-  while (x * x > v) x--;                          /* x <= top: x * x does not wrap */
-  while (x < top && (x + 1) * (x + 1) <= v) x++;
+  const uint64_t top = UINT64_MAX;               /* floor(sqrt(v)) <= top for any v */
+  double d = sqrt((double)(uint64_t)(v >> 64) * 0x1p64 + (double)(uint64_t)v);
+  uint64_t x = d >= 0x1p64 ? top : (uint64_t)d;
+  while ((uwide)x * x > v) x--;
+  while (x < top && (uwide)(x + 1) * (x + 1) <= v) x++;
   return x;
 }
 
@@ -78,9 +80,11 @@ static int lambert(const int64_t n[3], const int32_t light[3])
   uwide ll = (uwide)((wide)light[0] * light[0] + (wide)light[1] * light[1] +
                      (wide)light[2] * light[2]);
   /* |n|^2 < 2^70, |L|^2 < 2^32: the product fits, and so does its square root */
-  wide den = (wide)isqrt_u(nn * ll);
-  if (den <= 0) return DEFAULT_GREY;
-  wide g = SHADE_AMBIENT + ((255 - SHADE_AMBIENT) * dot + den / 2) / den;
+  uint64_t den = isqrt_u(nn * ll);
+  if (den == 0) return DEFAULT_GREY;
+  /* 0 < dot <= |n| |L| < 2^51 (Cauchy-Schwarz) and den <= |n| |L|: the rounded quotient
+     in 64 bits, (255 - SHADE_AMBIENT) dot + den / 2 < 2^59 + 2^50 (no 128-bit division) */
+  uint64_t g = SHADE_AMBIENT + ((uint64_t)(255 - SHADE_AMBIENT) * (uint64_t)dot + den / 2) / den;
   return g > 255 ? 255 : (int)g;
 }
 
@@ -165,6 +169,10 @@ struct tjunc {
                                     projected x, then index) with its x, and the first with
                                     a larger x (the x-slab's ends) */
   bool whole_boxes;              /* every cell of an edge's box (mapper_keep.whole_boxes) */
+  bool counted;                  /* the 1974 charges wanted (the 1974 engine): the x-slab
+                                    (lb, ub) and the box's vertices counted; else (the
+                                    points engine) only the vertices found matter, and
+                                    lb, ub are not made */
 };
 
 
@@ -180,37 +188,44 @@ static void tj_free(struct tjunc *t)
   t->cell_p = NULL;
 }
 
-static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *proj)
+static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *proj,
+                   bool counted)
 {
   memset(t, 0, sizeof *t);
   t->s = s;
   t->proj = proj;
+  t->counted = counted;
   char *used = calloc((size_t)(s->nv ? s->nv : 1), 1);
   t->used_v = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->used_v);
   if (!used || !t->used_v) { free(used); free(t->used_v); t->used_v = NULL; return 0; }
-  for (int f = 0; f < s->nf; f++)
-    for (int k = 0; k < s->f[f].ring_start[s->f[f].nring]; k++) used[s->f[f].vidx[k]] = 1;
+  for (int f = 0; f < s->nf; f++) {         /* (the face's count and array held: the
+                                               stores into used could alias them) */
+    const int *vi = s->f[f].vidx;
+    for (int k = 0, nk = s->f[f].ring_start[s->f[f].nring]; k < nk; k++) used[vi[k]] = 1;
+  }
   for (int v = 0; v < s->nv; v++) if (used[v]) t->used_v[t->n++] = v;
   free(used);
   /* sorted once by projected x, then by index (a radix sort of (x, index) pairs,
      render/rsort.h: the same total order), with each vertex's slab bounds for the cost
-     count */
-  struct rs_pair *key = malloc((size_t)(t->n ? 2 * t->n : 1) * sizeof *key);
-  t->lb = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->lb);
-  t->ub = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->ub);
-  if (!key || !t->lb || !t->ub) { free(key); tj_free(t); return 0; }
-  for (int k = 0; k < t->n; k++) {
-    key[k].key = proj[t->used_v[k]].x;
-    key[k].idx = t->used_v[k];
+     count (not wanted under the points engine) */
+  if (counted) {
+    struct rs_pair *key = malloc((size_t)(t->n ? 2 * t->n : 1) * sizeof *key);
+    t->lb = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->lb);
+    t->ub = malloc((size_t)(s->nv ? s->nv : 1) * sizeof *t->ub);
+    if (!key || !t->lb || !t->ub) { free(key); tj_free(t); return 0; }
+    for (int k = 0; k < t->n; k++) {
+      key[k].key = proj[t->used_v[k]].x;
+      key[k].idx = t->used_v[k];
+    }
+    rsort_pairs(key, key + t->n, t->n);
+    for (int k = 0; k < t->n;) {               /* a run of equal x: [k, e) */
+      int e = k;
+      while (e < t->n && key[e].key == key[k].key) e++;
+      for (int q = k; q < e; q++) { t->lb[key[q].idx] = k; t->ub[key[q].idx] = e; }
+      k = e;
+    }
+    free(key);
   }
-  rsort_pairs(key, key + t->n, t->n);
-  for (int k = 0; k < t->n;) {               /* a run of equal x: [k, e) */
-    int e = k;
-    while (e < t->n && key[e].key == key[k].key) e++;
-    for (int q = k; q < e; q++) { t->lb[key[q].idx] = k; t->ub[key[q].idx] = e; }
-    k = e;
-  }
-  free(key);
   /* the cells: about two a vertex (at 100,000 boxes the Mapper took some 8% less time
      than with two vertices a cell; the order of the vertices found does not depend on
      the cells) */
@@ -267,11 +282,12 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
    one-unit cells fail with either y end a unit nearer or either x end). A superset of
    the cells, never fewer: every vertex in them is still tested exactly, and which are
    found (and their order) does not depend on the cells. The products: |dy| |dx| < 2^29
-   2^29. */
-static void tj_row_cells(const struct tjunc *t, struct gpoint pa, struct gpoint pb, gcoord cy,
-                         gcoord *ca, gcoord *cb)
+   2^29. pa is the end with the smaller y (the caller orders them). (Inlined: once a row.) */
+static inline __attribute__((always_inline)) void tj_row_cells(const struct tjunc *t,
+                                                               struct gpoint pa,
+                                                               struct gpoint pb, gcoord cy,
+                                                               gcoord *ca, gcoord *cb)
 {
-  if (pa.y > pb.y) { struct gpoint q = pa; pa = pb; pb = q; }
   gcoord r0 = t->gy0 + (cy << t->sy) - 1, r1 = t->gy0 + ((cy + 1) << t->sy);   /* +-1 */
   if (r0 < pa.y) r0 = pa.y;
   if (r1 > pb.y) r1 = pb.y;
@@ -291,6 +307,9 @@ struct tj_seg {
   const struct scene_vertex *A;
   int64_t dx, dy, dz, dd;        /* b - a, |b - a|^2 */
   gcoord x0, x1, y0, y1;         /* the box of a' and b' */
+  int64_t px, py;                /* b' - a' */
+  int64_t c0;                    /* px a'.y - py a'.x - (wband - 1) (tj_near) */
+  uint64_t wlim;                 /* 2 (wband - 1), wband = |px| + |py| or 1 when a' = b' */
   int **buf, *n, *cap;
   int first;                     /* the edge's first entry of buf */
 };
@@ -322,9 +341,28 @@ static __attribute__((noinline)) int tj_insert(const struct tjunc *t, int v, int
   return 1;
 }
 
-/* Vertex v (not a or b) tested exactly: when it lies strictly inside a-b in space, it is
-   inserted in order. 0 when out of host memory. (Inlined in tj_cells' loop: at 30,000
-   boxes 139,000 calls a search.) */
+/* tj_near: whether a vertex at grid point pv can lie on a-b, a test on the grid that only
+   rejects vertices that cannot (so it changes nothing found; it spares most of them the
+   scene's vertex and tj_take's three products in space). As tj_row_cells says, such a
+   vertex's point pv lies off some point Q of the segment a'-b' by less than one unit in
+   x and in y. With d = b' - a' = (px, py), Q on the line: px (Q.y - a'.y) -
+   py (Q.x - a'.x) = 0, so c = px (pv.y - a'.y) - py (pv.x - a'.x) = px (pv.y - Q.y) -
+   py (pv.x - Q.x), and |c| < |px| + |py| when d is not zero (each difference below 1 in
+   size, one of |px|, |py| at least 1). Rejected: |c| >= wband = |px| + |py|, as the one
+   unsigned compare c + wband - 1 > 2 (wband - 1), c + wband - 1 taken as
+   px pv.y - py pv.x - c0 with c0 = px a'.y - py a'.x - (wband - 1) made once an edge.
+   When a' = b', c is 0 and wband is 1: nothing rejected. |px|, |py| <= 2^29 and |pv.x|,
+   |pv.y|, |a'.x|, |a'.y| <= 2^28 (|gcoord| <= 2^28), so each product is below 2^57 in
+   size, c0 below 2^59 and the sum below 2^60: no overflow.
+   tj_take: vertex v (not a or b) tested exactly: when it lies strictly inside a-b in
+   space, it is inserted in order. 0 when out of host memory. (Both inlined in the cells'
+   loops: at 30,000 boxes 139,000 calls a search.) */
+static inline __attribute__((always_inline)) bool tj_near(struct gpoint pv,
+                                                          const struct tj_seg *e)
+{
+  return (uint64_t)(e->px * pv.y - e->py * pv.x - e->c0) <= e->wlim;
+}
+
 static inline __attribute__((always_inline)) int tj_take(const struct tjunc *t, int v,
                                                          const struct tj_seg *e)
 {
@@ -354,6 +392,97 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
   return inbox;
 }
 
+/* As tj_cells, with no count (the points engine): a vertex is tested on the grid first
+   (tj_near: most in the cells a slanted edge's line reaches lie off it), then in space
+   (tj_take, which also rejects one beyond a or b: no box test). 0, or -1 when out of host
+   memory. */
+static inline __attribute__((always_inline)) int tj_cells_near(const struct tjunc *t,
+                                                               size_t c0, size_t c1,
+                                                               const struct tj_seg *e)
+{
+  for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
+    struct gpoint pv = t->cell_p[k];
+    if (!tj_near(pv, e)) continue;
+    int v = t->cell_v[k];
+    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
+  }
+  return 0;
+}
+
+/* tj_edge without a count (the points engine): only the vertices found matter. Of a
+   slanted edge's box with three columns or more, in every row, first and last too, only
+   the cells its line can reach (tj_row_cells' band, whose argument holds in any row of
+   the box); else the box's cells. In those cells a vertex is tested on the grid first
+   (tj_near), then in space (tj_take); no box test: tj_take rejects what lies beyond a or
+   b. The same vertices are found as when every cell of the box is looked at, in the same
+   order: a vertex outside those cells cannot lie on a-b, and tj_insert orders the
+   vertices found by their parameter along a-b and their index, whatever order the cells
+   give them in. 0 when out of host memory.
+   The band of row cy is tj_row_cells', from the line's x at r0 = max(B(cy) - 1, lo.y) and
+   r1 = min(B(cy + 1), hi.y), B(c) = gy0 + c 2^sy the first y of row c, lo and hi the ends
+   with the smaller and larger y. In the first row r0 = lo.y (lo lies in it: the x is
+   lo.x), in the last r1 = hi.y (the x is hi.x); between, B(cy) - 1 and B(cy + 1) lie in
+   [lo.y, hi.y] and step by 2^sy a row: each x, lo.x + floor((r - lo.y) dx / dy), is kept
+   as quotient and remainder and stepped by the quotient and remainder of 2^sy dx by dy,
+   exactly (as floordiv would give it). |dx| < 2^30, 2^sy <= 2^29 (the cells split the
+   vertices' range): the products stay below 2^59. */
+static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap)
+{
+  if (t->n == 0) return 1;
+  const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
+  struct gpoint pa = t->proj[a], pb = t->proj[b];
+  struct tj_seg es, *e = &es;               /* the fields used here, set one by one (an
+                                               initializer would zero the box too) */
+  e->a = a; e->b = b; e->A = A; e->buf = buf; e->n = n; e->cap = cap; e->first = *n;
+  e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
+  e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
+  e->px = pb.x - pa.x;                      /* tj_near's line */
+  e->py = pb.y - pa.y;
+  int64_t wband = (e->px < 0 ? -e->px : e->px) + (e->py < 0 ? -e->py : e->py);
+  if (wband == 0) wband = 1;
+  e->c0 = e->px * pa.y - e->py * pa.x - (wband - 1);
+  e->wlim = 2 * (uint64_t)(wband - 1);
+  /* the box's cells (the grid holds a' and b': no clamping) */
+  gcoord cx0 = ((pa.x < pb.x ? pa.x : pb.x) - t->gx0) >> t->sx;
+  gcoord cx1 = ((pa.x < pb.x ? pb.x : pa.x) - t->gx0) >> t->sx;
+  gcoord cy0 = ((pa.y < pb.y ? pa.y : pb.y) - t->gy0) >> t->sy;
+  gcoord cy1 = ((pa.y < pb.y ? pb.y : pa.y) - t->gy0) >> t->sy;
+  size_t gw = (size_t)t->gw;
+  if (t->whole_boxes || pa.y == pb.y || cx1 - cx0 < 2) {
+    for (gcoord cy = cy0; cy <= cy1; cy++)
+      if (tj_cells_near(t, (size_t)cy * gw + (size_t)cx0, (size_t)cy * gw + (size_t)cx1, e) < 0)
+        return 0;
+    return 1;
+  }
+  struct gpoint lo = pa.y < pb.y ? pa : pb, hi = pa.y < pb.y ? pb : pa;
+  int64_t dx = hi.x - lo.x, dy = hi.y - lo.y;           /* dy > 0 */
+  int64_t step = dx * ((int64_t)1 << t->sy);
+  int64_t sq = floordiv(step, dy), sr = step - sq * dy;  /* 0 <= sr < dy */
+  gcoord b1 = t->gy0 + ((cy0 + 1) << t->sy);             /* B(cy0 + 1) */
+  int64_t qa = floordiv((b1 - 1 - lo.y) * dx, dy), ra = (b1 - 1 - lo.y) * dx - qa * dy;
+  int64_t qb = floordiv((b1 - lo.y) * dx, dy), rb = (b1 - lo.y) * dx - qb * dy;
+  for (gcoord cy = cy0; cy <= cy1; cy++) {
+    int64_t xa = lo.x, xb = hi.x;           /* the first row's r0, the last row's r1 */
+    if (cy > cy0) {                         /* r0 = B(cy) - 1 */
+      xa = lo.x + qa;
+      qa += sq; ra += sr;
+      if (ra >= dy) { ra -= dy; qa++; }
+    }
+    if (cy < cy1) {                         /* r1 = B(cy + 1) */
+      xb = lo.x + qb;
+      qb += sq; rb += sr;
+      if (rb >= dy) { rb -= dy; qb++; }
+    }
+    int64_t x0 = xa < xb ? xa : xb, x1 = (xa < xb ? xb : xa) + 1;   /* (x - 1, x + 1) */
+    gcoord ca = (x0 - t->gx0) >> t->sx, cb = (x1 - t->gx0) >> t->sx;  /* x0 >= the box's */
+    if (ca < cx0) ca = cx0;
+    if (cb > cx1) cb = cx1;
+    size_t row = (size_t)cy * gw;
+    if (ca <= cb && tj_cells_near(t, row + (size_t)ca, row + (size_t)cb, e) < 0) return 0;
+  }
+  return 1;
+}
+
 /* Append to (*buf, *n) the vertices lying strictly inside the segment a-b in space,
    ordered from a to b (two at one point of space: by vertex index, as the x-ordered scan
    of the 1974 program meets them). Rounding is monotone, so such a vertex projects inside
@@ -363,7 +492,8 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
    meet the box, and of a slanted edge's box, in the rows between its first and last,
    only through the cells its line can reach (tj_row_cells) and the first and last
    column: the box's vertices in the other cells, which lie wholly inside it, are counted
-   from the cells' starts, not looked at. */
+   from the cells' starts, not looked at. (The 1974 engine's search, which counts; the
+   points engine's, which does not, is tj_edge_near.) */
 static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
                    struct cost *cost, uint64_t *tests)
 {
@@ -401,7 +531,7 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
     if ((got = tj_cells(t, row + (size_t)cx1, row + (size_t)cx1, &e)) < 0) return 0;
     inbox += got;
     gcoord ca = cx0 + 1, cb = cx1 - 1;
-    tj_row_cells(t, pa, pb, cy, &ca, &cb);
+    tj_row_cells(t, pa.y < pb.y ? pa : pb, pa.y < pb.y ? pb : pa, cy, &ca, &cb);
     if (ca <= cb && tj_cells(t, row + (size_t)ca, row + (size_t)cb, &e) < 0) return 0;
   }
   *tests += (uint64_t)(inbox - (a == b ? 1 : 2));   /* but a and b */
@@ -431,25 +561,35 @@ static bool same_point(const struct scene *s, int v, int w)
   return s->v[v].x == s->v[w].x && s->v[v].y == s->v[w].y && s->v[v].z == s->v[w].z;
 }
 
-/* tj_edge through the table memo (NULL: every edge searched, the long way). 0 when out of
-   host memory. */
+/* One edge searched: with the count (tj_edge) or without (tj_edge_near). */
+static inline int tj_search(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
+                            struct cost *cost, uint64_t *tests)
+{
+  return t->counted ? tj_edge(t, a, b, buf, n, cap, cost, tests)
+                    : tj_edge_near(t, a, b, buf, n, cap);
+}
+
+/* tj_search through the table memo (NULL: every edge searched, the long way). 0 when out
+   of host memory. */
 static int tj_edge_memo(const struct tjunc *t, struct tj_memo *memo, int a, int b, int **buf,
                         int *n, int *cap, struct cost *cost, uint64_t *tests, int *replayed)
 {
-  if (!memo) return tj_edge(t, a, b, buf, n, cap, cost, tests);
+  if (!memo) return tj_search(t, a, b, buf, n, cap, cost, tests);
   uint32_t lo = (uint32_t)(a < b ? a : b), hi = (uint32_t)(a < b ? b : a);
   struct tj_memo *m = &memo[(lo * 0x9E3779B1u ^ hi * 0x85EBCA77u) >> (32 - TJ_MEMO_BITS)];
   bool same = m->a == a && m->b == b;
   if (!same && !(m->a == b && m->b == a)) {
     int first = *n;
     uint64_t before = *tests;
-    if (!tj_edge(t, a, b, buf, n, cap, cost, tests)) return 0;
+    if (!tj_search(t, a, b, buf, n, cap, cost, tests)) return 0;
     *m = (struct tj_memo){ a, b, first, *n - first, *tests - before };
     return 1;
   }
-  struct gpoint pa = t->proj[a], pb = t->proj[b];           /* tj_edge's charges */
-  int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
-  COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
+  if (t->counted) {                                         /* tj_edge's charges */
+    struct gpoint pa = t->proj[a], pb = t->proj[b];
+    int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
+    COST_ADD_N(cost, COST_MEM, 2 * (t->ub[hi_v] - t->lb[lo_v]));
+  }
   *tests += m->tests;
   (*replayed)++;
   if (*n + m->n > *cap) {
@@ -611,7 +751,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   /* The T-junctions: taken from kt when it holds this scene's (replay), else searched for
      (tj), the rings built in the scratch ring[] or, to be kept, in kt's own array. The
      search's charges go to tjc, added to cost at the end either way. */
-  bool replay = kt && kt->s == s;
+  /* (a keep searched without a cost holds no charges: a run with one searches again) */
+  bool replay = kt && kt->s == s && (kt->counted || !cost);
   struct tjunc tj;
   memset(&tj, 0, sizeof tj);
   struct cost tjc = { { 0 } };
@@ -632,7 +773,10 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       }
       rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;   /* the memo points into them */
     }
-    if (!tj_init(&tj, s, proj)) { t74_fail(err, T74_EIO, "out of host memory"); goto fail_tj; }
+    if (!tj_init(&tj, s, proj, cost != NULL)) {   /* no cost: no count (points engine) */
+      t74_fail(err, T74_EIO, "out of host memory");
+      goto fail_tj;
+    }
     tj.whole_boxes = kt && kt->whole_boxes;
     /* the edges met the other way: where the rings are kept (their places stay) */
     if (kt && !kt->whole_boxes && (memo = malloc(sizeof *memo << TJ_MEMO_BITS)) != NULL)
@@ -792,6 +936,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       if (fit) { kt->ring = fit; kt->cap = kt->n; }
     }
     kt->s = s;
+    kt->counted = cost != NULL;
     kt->cost = tjc;
     kt->replayed = replayed;
   }

@@ -105,7 +105,10 @@ struct mapper_keep {
   int *start;               /* one more than the scene's rings */
   int  n, cap;              /* entries of ring, room */
   struct cost cost;         /* what the search charged (the 1974 program's x-slab scans
-                               and exact tests) */
+                               and exact tests), when counted */
+  bool counted;             /* the search was run with a cost (the 1974 engine), so cost
+                               holds its charges; else (the points engine, cost NULL) they
+                               were not counted, and a run with a cost searches again */
   int64_t (*plane)[4];      /* scene face f's plane of eq. (2), as found from three of
                                its vertices (all zero: none), kept with the T-junctions
                                (it depends on the scene alone; its sign, on the eye, is
