@@ -375,49 +375,67 @@ static inline __m128d floor_pair(__m128d a)
   return _mm_sub_pd(t, _mm_and_pd(_mm_cmpgt_pd(t, a), _mm_set1_pd(1)));
 }
 
-/* reflectance, uncounted, at two space points X (lane 0, lane 1) of a textured face: the
-   same doubles, lane by lane. a and b are reflectance's (each lane's operations its, in
-   its order, correctly rounded as the scalar ones are). Where every |a|, |b| < 2^30 (no
-   NaN) tex_pixel's steps two at a time: floor_pair is floor there, so a - floor(a) is in
-   [0, 1] (a at or above its floor, and rounding keeps a difference at or above 0; at most
-   1 as a - floor(a) < 1), x = (int)(a w) in [0, w] and y = (int)((1 - b) h) in [0, h]:
-   tex_pixel's tests y < 0 and x < 0 never hold, and the two tops are the two clamps
-   made four lanes at a time; the pixel's k / 255.0 from unit_pixel. Else tex_pixel lane
-   by lane. */
-static inline __m128d tex_pair(const struct fx_tex *t, const __m128d X[3])
+/* tex_pair's values of texture t, made once for a run of its face's points: each double
+   broadcast to both lanes (the same doubles), the picture's tops as four lanes. */
+struct tex_lanes {
+  const struct fx_tex *t;
+  int du, dv, w;
+  const uint8_t *px;
+  __m128d odu, odv, Tdv, Tdu, Udu, Udv, det, wd, hd;
+  __m128i top;              /* w - 1, w - 1, h - 1, h - 1 (x0, x1, y0, y1's) */
+};
+
+static inline void tex_lanes_init(struct tex_lanes *T, const struct fx_tex *t)
 {
   const int du = t->du, dv = t->dv;
-  const __m128d u = _mm_sub_pd(X[du], _mm_set1_pd(t->o[du]));
-  const __m128d v = _mm_sub_pd(X[dv], _mm_set1_pd(t->o[dv]));
-  const __m128d det = _mm_set1_pd(t->det);
-  __m128d a = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, _mm_set1_pd(t->T[dv])),
-                                    _mm_mul_pd(v, _mm_set1_pd(t->T[du]))), det);
-  __m128d b = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(_mm_set1_pd(t->U[du]), v),
-                                    _mm_mul_pd(_mm_set1_pd(t->U[dv]), u)), det);
+  T->t = t;
+  T->du = du; T->dv = dv; T->w = t->w;
+  T->px = t->px;
+  T->odu = _mm_set1_pd(t->o[du]); T->odv = _mm_set1_pd(t->o[dv]);
+  T->Tdv = _mm_set1_pd(t->T[dv]); T->Tdu = _mm_set1_pd(t->T[du]);
+  T->Udu = _mm_set1_pd(t->U[du]); T->Udv = _mm_set1_pd(t->U[dv]);
+  T->det = _mm_set1_pd(t->det);
+  T->wd = _mm_set1_pd(t->w); T->hd = _mm_set1_pd(t->h);
+  T->top = _mm_set_epi32(t->h - 1, t->h - 1, t->w - 1, t->w - 1);
+}
+
+/* reflectance, uncounted, at two space points X (lane 0, lane 1) of a textured face (T:
+   tex_lanes_init's for its texture): the same doubles, lane by lane. a and b are
+   reflectance's (each lane's operations its, in its order, correctly rounded as the scalar
+   ones are). Where every |a|, |b| < 2^30 (no NaN) tex_pixel's steps two at a time:
+   floor_pair is floor there, so a - floor(a) is in [0, 1] (a at or above its floor, and
+   rounding keeps a difference at or above 0; at most 1 as a - floor(a) < 1),
+   x = (int)(a w) in [0, w] and y = (int)((1 - b) h) in [0, h]: tex_pixel's tests y < 0 and
+   x < 0 never hold, and the two tops are the two clamps made four lanes at a time; the
+   pixel's k / 255.0 from unit_pixel. Else tex_pixel lane by lane. */
+static inline __m128d tex_pair(const struct tex_lanes *T, const __m128d X[3])
+{
+  const __m128d u = _mm_sub_pd(X[T->du], T->odu);
+  const __m128d v = _mm_sub_pd(X[T->dv], T->odv);
+  __m128d a = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, T->Tdv), _mm_mul_pd(v, T->Tdu)), T->det);
+  __m128d b = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(T->Udu, v), _mm_mul_pd(T->Udv, u)), T->det);
   const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)), lim = _mm_set1_pd(0x1p30);
   if (_mm_movemask_pd(_mm_and_pd(_mm_cmplt_pd(_mm_and_pd(a, mag), lim),
                                  _mm_cmplt_pd(_mm_and_pd(b, mag), lim))) != 3) {
     double aa[2], bb[2];
     _mm_storeu_pd(aa, a);
     _mm_storeu_pd(bb, b);
-    return _mm_set_pd(unit_pixel[tex_pixel(t, aa[1], bb[1]) + 1],
-                      unit_pixel[tex_pixel(t, aa[0], bb[0]) + 1]);
+    return _mm_set_pd(unit_pixel[tex_pixel(T->t, aa[1], bb[1]) + 1],
+                      unit_pixel[tex_pixel(T->t, aa[0], bb[0]) + 1]);
   }
   a = _mm_sub_pd(a, floor_pair(a));
   b = _mm_sub_pd(b, floor_pair(b));
-  const int w = t->w, h = t->h;
-  const __m128i x = _mm_cvttpd_epi32(_mm_mul_pd(a, _mm_set1_pd(w)));
-  const __m128i y = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), _mm_set1_pd(h)));
+  const __m128i x = _mm_cvttpd_epi32(_mm_mul_pd(a, T->wd));
+  const __m128i y = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), T->hd));
   __m128i xy = _mm_unpacklo_epi64(x, y);    /* x0, x1, y0, y1 */
-  const __m128i top = _mm_set_epi32(h - 1, h - 1, w - 1, w - 1);
-  const __m128i over = _mm_cmpgt_epi32(xy, top);
-  xy = _mm_or_si128(_mm_and_si128(over, top), _mm_andnot_si128(over, xy));
+  const __m128i over = _mm_cmpgt_epi32(xy, T->top);
+  xy = _mm_or_si128(_mm_and_si128(over, T->top), _mm_andnot_si128(over, xy));
+  const size_t w = (size_t)T->w;
   const size_t x0 = (size_t)_mm_cvtsi128_si32(xy);
   const size_t x1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 1));
   const size_t y0 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 2));
   const size_t y1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 3));
-  return _mm_set_pd(unit_pixel[t->px[y1 * (size_t)w + x1] + 1],
-                    unit_pixel[t->px[y0 * (size_t)w + x0] + 1]);
+  return _mm_set_pd(unit_pixel[T->px[y1 * w + x1] + 1], unit_pixel[T->px[y0 * w + x0] + 1]);
 }
 
 /* shade_face_at, uncounted, at the points p0 .. p1 - 1 of a row (px[p], py) on a lit face
@@ -425,21 +443,50 @@ static inline __m128d tex_pair(const struct fx_tex *t, const __m128d X[3])
    normal, face_normal's), two points at a time: each lane's space point is space_point's
    (space_points' lanes), its reflectance reflectance's (tex_pair) or 1, its grey
    shade_grey_lit's (shade_pair_sum, shade_pair_greys). An odd last point goes in both
-   lanes. */
+   lanes.
+   Where both lanes have every point light blocked, shade_pair_sum's lanes do not depend
+   on the space points: a parallel light's term is its n.l (or +0 where blocked) and a
+   blocked light's term is the AND of an all-zero mask, +0, whatever its dot. So the sums
+   of one pair of masks are found once (at X = 0) and kept while the next pair's masks are
+   the same; without a texture such a pair needs no space point at all. */
 static void flat_lit_pairs(const struct fx_model *m, int face, const struct fx_tex *t,
                            const struct shade_pair *P, int p0, int p1, const unsigned *blocked,
                            const double *px, double py, uint8_t *grey)
 {
   struct space_lanes L;
   space_lanes_init(m, face, py, &L);
-  const __m128d one = _mm_set1_pd(1);
+  struct tex_lanes T;
+  if (t) tex_lanes_init(&T, t);
+  else memset(&T, 0, sizeof T);             /* (not read) */
+  const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
+  unsigned pm = 0;                          /* the point lights' bits */
+  for (int k = 0; k < P->n; k++) if (P->l[k].point) pm |= 1u << k;
+  unsigned c0 = 0, c1 = 0;                  /* the lanes' masks csum is the sums of, when have */
+  bool have = false;
+  __m128d csum = zero;
   for (int p = p0; p < p1; p += 2) {
     const int q = p + 1 < p1 ? p + 1 : p;
-    __m128d X[3];
-    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
-    const __m128d refl = t ? tex_pair(t, X) : one;
-    const unsigned g = shade_pair_greys(refl, shade_pair_sum(P, X[0], X[1], X[2], blocked[p],
-                                                             blocked[q]));
+    const unsigned b0 = blocked[p], b1 = blocked[q];
+    __m128d X[3], sum;
+    if ((b0 & b1 & pm) == pm) {             /* no point light at either lane */
+      if (!have || b0 != c0 || b1 != c1) {
+        csum = shade_pair_sum(P, zero, zero, zero, b0, b1);
+        c0 = b0; c1 = b1; have = true;
+      }
+      sum = csum;
+      if (!t) {
+        const unsigned g = shade_pair_greys(one, sum);
+        grey[p] = (uint8_t)g;
+        grey[q] = (uint8_t)(g >> 8);
+        continue;
+      }
+      space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
+    } else {
+      space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
+      sum = shade_pair_sum(P, X[0], X[1], X[2], b0, b1);
+    }
+    const __m128d refl = t ? tex_pair(&T, X) : one;
+    const unsigned g = shade_pair_greys(refl, sum);
     grey[p] = (uint8_t)g;
     grey[q] = (uint8_t)(g >> 8);
   }
