@@ -576,6 +576,25 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
+#ifdef __SSE2__
+/* The end of the stretch from e (e <= n) of points whose blocked[] is 0 (zero true) or not
+   0 (zero false): the first index at or after e where it is not so, or n. Four a compare:
+   a lane is all ones where its value is 0, and the first lane that is not as asked ends
+   the stretch (its byte in the mask, over 4). */
+static inline int blocked_end(const unsigned *blocked, int e, int n, bool zero)
+{
+  const __m128i z = _mm_setzero_si128();
+  const unsigned want = zero ? 0xffffu : 0;
+  for (; e + 4 <= n; e += 4) {
+    const unsigned is0 = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi32(
+        _mm_loadu_si128((const __m128i *)(const void *)(blocked + e)), z));
+    if (is0 != want) return e + __builtin_ctz(is0 ^ want) / 4;
+  }
+  while (e < n && (blocked[e] == 0) == zero) e++;
+  return e;
+}
+#endif
+
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
    found once for the run (the same operations on the same values as each point's). Where
@@ -597,21 +616,12 @@ static void shade_flat_run(const struct fx_model *m, int face, const struct face
     for (int p = 0; p < n;) {
       int e = p + 1;
       if (!t && !blocked[p]) {              /* a stretch no light is blocked at: the face's */
-        while (e + 4 <= n && !(blocked[e] | blocked[e + 1] | blocked[e + 2] | blocked[e + 3]))
-          e += 4;                           /* grey (four a test: none when their OR is 0) */
-        while (e < n && !blocked[e]) e++;
+        e = blocked_end(blocked, e, n, true);   /* grey */
         memset(grey + p, (uint8_t)mf->grey, (size_t)(e - p));
         p = e;
         continue;
       }
-      if (t) e = n;                         /* a texture: every point */
-      else {                                /* (four a compare: none of them 0) */
-        while (e + 4 <= n &&
-               !_mm_movemask_epi8(_mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(blocked + e)),
-                                                  _mm_setzero_si128())))
-          e += 4;
-        while (e < n && blocked[e]) e++;
-      }
+      e = t ? n : blocked_end(blocked, e, n, false);   /* a texture: every point */
       if (!ready) {                         /* shade_face_at's normal */
         double nrm[3];
         face_normal(mf, nrm);
@@ -1267,6 +1277,15 @@ static bool range_add(struct fx_lines *L, int b0, int b1, int light)
   return true;
 }
 
+/* The first of polygons p[k .. k1) whose box row fy meets (fx_poly_on_row), or k1: a loop of
+   its own over locals (inside face_ranges' loop the compiler kept its index in memory). */
+__attribute__((noinline))
+static int next_on_row(const struct fx_poly *p, int k, int k1, int64_t fy)
+{
+  while (k < k1 && !fx_poly_on_row(&p[k], fy)) k++;
+  return k;
+}
+
 /* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
    row r (rising): a sample lies in a stretch [x0, x1) exactly when it is at or right of
    x0 and not at or right of x1, so in [fx_first_at_or_right(x0), fx_first_at_or_right(x1)).
@@ -1280,9 +1299,11 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
   if (!L->ps && !m->count && m->shadows.n <= 1 << 15 &&
       (L->ps = malloc((size_t)m->shadows.n * sizeof *L->ps)) != NULL)   /* (NULL: the long way) */
     for (int k = 0; k < m->shadows.n; k++) L->ps[k].set = false;
-  for (int k = m->shadow_first[f]; k < m->shadow_first[f + 1]; k++) {
-    const struct fx_poly *p = &m->shadows.p[k];
-    if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
+  const struct fx_poly *const sp = m->shadows.p;
+  const int k1 = m->shadow_first[f + 1];
+  for (int k = next_on_row(sp, m->shadow_first[f], k1, fy); k < k1;
+       k = next_on_row(sp, k + 1, k1, fy)) {
+    const struct fx_poly *p = &sp[k];
     int b2[2];
     if (L->ps && (poly_stepped(&L->ps[k], yn, yd, fy, r, b2) ||
                   poly_step_start(&L->ps[k], p, yn, yd, fy, r, b2))) {
