@@ -1154,10 +1154,12 @@ static bool div_floor(wide a, wide b, int64_t *q, wide *rest)
   return true;
 }
 
-/* The index of edge e's crossing on its line (ceil(P / Q) in [0, n]). */
+/* The index of edge e's crossing on its line (ceil(P / Q) in [0, n]). The rest r is never
+   negative (div_floor's is in [0, Q), and a step puts it back there), so r > 0 is r != 0:
+   one test of its two halves instead of a signed 128-bit compare. */
 static inline int edge_index(const struct edge_step *e, int n)
 {
-  const int64_t c = e->q + (e->r > 0);
+  const int64_t c = e->q + ((uint64_t)e->r != 0 || (uint64_t)(e->r >> 64) != 0);
   return c <= 0 ? 0 : c >= n ? n : (int)c;
 }
 
