@@ -595,45 +595,106 @@ static inline int blocked_end(const unsigned *blocked, int e, int n, bool zero)
 }
 #endif
 
+/* grey[0 .. len) set to v (len >= 1): up to 16 by two stores that may overlap (of 8, 4 or
+   1 bytes, each byte of the stretch written v), longer by memset. */
+static inline void fill_grey(uint8_t *grey, uint8_t v, int len)
+{
+  if (len > 16) {
+    memset(grey, v, (size_t)len);
+    return;
+  }
+  const uint64_t w = v * UINT64_C(0x0101010101010101);
+  if (len >= 8) {
+    memcpy(grey, &w, 8);
+    memcpy(grey + len - 8, &w, 8);
+  } else if (len >= 4) {
+    memcpy(grey, &w, 4);
+    memcpy(grey + len - 4, &w, 4);
+  } else {
+    grey[0] = v;
+    grey[len / 2] = v;
+    grey[len - 1] = v;
+  }
+}
+
+#ifdef __SSE2__
+/* shade_flat_run's lit face from point p on, where p needs shading (a texture, or a light
+   blocked at p): the face's normal and its lights made ready (shade_pair_init), then the
+   points that need shading two at a time (flat_lit_pairs: all of a textured face's, else
+   the stretches where a light is blocked), the others the face's grey. Not inlined:
+   shade_flat_run's own path, a run no light is blocked at, stays small. */
+__attribute__((noinline))
+static void flat_lit_rest(const struct fx_model *m, int face, const struct face_shade *fs,
+                          int p, int n, const unsigned *blocked, const double *px, double py,
+                          uint8_t *grey)
+{
+  const struct mface *mf = fs->mf;
+  const struct fx_tex *t = fs->t;
+  struct shade_pair P;
+  double nrm[3];
+  face_normal(mf, nrm);                     /* shade_face_at's normal */
+  shade_pair_init(&P, &m->lights, nrm);
+  while (p < n) {
+    int e = p + 1;
+    if (!t && !blocked[p]) {                /* a stretch no light is blocked at: the face's */
+      e = blocked_end(blocked, e, n, true); /* grey */
+      fill_grey(grey + p, (uint8_t)mf->grey, e - p);
+      p = e;
+      continue;
+    }
+    e = t ? n : blocked_end(blocked, e, n, false);   /* a texture: every point */
+    flat_lit_pairs(m, face, t, &P, p, e, blocked, px, py, grey);
+    p = e;
+  }
+}
+#endif
+
+static void flat_run_rest(const struct fx_model *m, int face, const struct face_shade *fs,
+                          int n, const unsigned *blocked, const double *px, double py,
+                          uint8_t *grey);
+
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
    found once for the run (the same operations on the same values as each point's). Where
    the processor has SSE2 a lit face's points that need shading (all of a textured face's,
    else those where a light is blocked) go two at a time from the space point to the grey
-   (flat_lit_pairs); else the lit points' greys SHADE_RUN at a time (shade_grey_lit_run).
-   A textured face that is not lit: its space points and reflectances SHADE_RUN at a time
-   (space_points, reflectances). */
+   (flat_lit_rest, flat_lit_pairs), the stretches before the first of them the face's grey
+   here; else (flat_run_rest) the lit points' greys SHADE_RUN at a time
+   (shade_grey_lit_run), and a textured face that is not lit: its space points and
+   reflectances SHADE_RUN at a time (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
                            int n, const unsigned *blocked, const double *px, double py,
                            uint8_t *grey)
 {
-  const struct mface *mf = fs->mf;
-  const struct fx_tex *t = fs->t;
 #ifdef __SSE2__
-  if (fs->lit) {                            /* two points at a time (flat_lit_pairs) */
-    struct shade_pair P;
-    bool ready = false;
+  if (fs->lit) {
     for (int p = 0; p < n;) {
-      int e = p + 1;
-      if (!t && !blocked[p]) {              /* a stretch no light is blocked at: the face's */
-        e = blocked_end(blocked, e, n, true);   /* grey */
-        memset(grey + p, (uint8_t)mf->grey, (size_t)(e - p));
-        p = e;
-        continue;
+      if (fs->t || blocked[p]) {
+        flat_lit_rest(m, face, fs, p, n, blocked, px, py, grey);
+        return;
       }
-      e = t ? n : blocked_end(blocked, e, n, false);   /* a texture: every point */
-      if (!ready) {                         /* shade_face_at's normal */
-        double nrm[3];
-        face_normal(mf, nrm);
-        shade_pair_init(&P, &m->lights, nrm);
-        ready = true;
-      }
-      flat_lit_pairs(m, face, t, &P, p, e, blocked, px, py, grey);
+      const int e = blocked_end(blocked, p + 1, n, true);   /* no light blocked: the */
+      fill_grey(grey + p, (uint8_t)fs->mf->grey, e - p);     /* face's grey */
       p = e;
     }
     return;
   }
 #endif
+  if (!fs->t && !fs->lit) {                 /* a face of its own grey is not lit */
+    fill_grey(grey, (uint8_t)fs->mf->grey, n);
+    return;
+  }
+  flat_run_rest(m, face, fs, n, blocked, px, py, grey);
+}
+
+/* shade_flat_run's greys where flat_lit_rest does not make them (see there). */
+__attribute__((noinline))
+static void flat_run_rest(const struct fx_model *m, int face, const struct face_shade *fs,
+                          int n, const unsigned *blocked, const double *px, double py,
+                          uint8_t *grey)
+{
+  const struct mface *mf = fs->mf;
+  const struct fx_tex *t = fs->t;
   double X[SHADE_RUN][3], refl[SHADE_RUN], nrm[3];
   unsigned b[SHADE_RUN];
   int at[SHADE_RUN], g[SHADE_RUN], nl = 0;
