@@ -375,49 +375,67 @@ static inline __m128d floor_pair(__m128d a)
   return _mm_sub_pd(t, _mm_and_pd(_mm_cmpgt_pd(t, a), _mm_set1_pd(1)));
 }
 
-/* reflectance, uncounted, at two space points X (lane 0, lane 1) of a textured face: the
-   same doubles, lane by lane. a and b are reflectance's (each lane's operations its, in
-   its order, correctly rounded as the scalar ones are). Where every |a|, |b| < 2^30 (no
-   NaN) tex_pixel's steps two at a time: floor_pair is floor there, so a - floor(a) is in
-   [0, 1] (a at or above its floor, and rounding keeps a difference at or above 0; at most
-   1 as a - floor(a) < 1), x = (int)(a w) in [0, w] and y = (int)((1 - b) h) in [0, h]:
-   tex_pixel's tests y < 0 and x < 0 never hold, and the two tops are the two clamps
-   made four lanes at a time; the pixel's k / 255.0 from unit_pixel. Else tex_pixel lane
-   by lane. */
-static inline __m128d tex_pair(const struct fx_tex *t, const __m128d X[3])
+/* tex_pair's values of texture t, made once for a run of its face's points: each double
+   broadcast to both lanes (the same doubles), the picture's tops as four lanes. */
+struct tex_lanes {
+  const struct fx_tex *t;
+  int du, dv, w;
+  const uint8_t *px;
+  __m128d odu, odv, Tdv, Tdu, Udu, Udv, det, wd, hd;
+  __m128i top;              /* w - 1, w - 1, h - 1, h - 1 (x0, x1, y0, y1's) */
+};
+
+static inline void tex_lanes_init(struct tex_lanes *T, const struct fx_tex *t)
 {
   const int du = t->du, dv = t->dv;
-  const __m128d u = _mm_sub_pd(X[du], _mm_set1_pd(t->o[du]));
-  const __m128d v = _mm_sub_pd(X[dv], _mm_set1_pd(t->o[dv]));
-  const __m128d det = _mm_set1_pd(t->det);
-  __m128d a = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, _mm_set1_pd(t->T[dv])),
-                                    _mm_mul_pd(v, _mm_set1_pd(t->T[du]))), det);
-  __m128d b = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(_mm_set1_pd(t->U[du]), v),
-                                    _mm_mul_pd(_mm_set1_pd(t->U[dv]), u)), det);
+  T->t = t;
+  T->du = du; T->dv = dv; T->w = t->w;
+  T->px = t->px;
+  T->odu = _mm_set1_pd(t->o[du]); T->odv = _mm_set1_pd(t->o[dv]);
+  T->Tdv = _mm_set1_pd(t->T[dv]); T->Tdu = _mm_set1_pd(t->T[du]);
+  T->Udu = _mm_set1_pd(t->U[du]); T->Udv = _mm_set1_pd(t->U[dv]);
+  T->det = _mm_set1_pd(t->det);
+  T->wd = _mm_set1_pd(t->w); T->hd = _mm_set1_pd(t->h);
+  T->top = _mm_set_epi32(t->h - 1, t->h - 1, t->w - 1, t->w - 1);
+}
+
+/* reflectance, uncounted, at two space points X (lane 0, lane 1) of a textured face (T:
+   tex_lanes_init's for its texture): the same doubles, lane by lane. a and b are
+   reflectance's (each lane's operations its, in its order, correctly rounded as the scalar
+   ones are). Where every |a|, |b| < 2^30 (no NaN) tex_pixel's steps two at a time:
+   floor_pair is floor there, so a - floor(a) is in [0, 1] (a at or above its floor, and
+   rounding keeps a difference at or above 0; at most 1 as a - floor(a) < 1),
+   x = (int)(a w) in [0, w] and y = (int)((1 - b) h) in [0, h]: tex_pixel's tests y < 0 and
+   x < 0 never hold, and the two tops are the two clamps made four lanes at a time; the
+   pixel's k / 255.0 from unit_pixel. Else tex_pixel lane by lane. */
+static inline __m128d tex_pair(const struct tex_lanes *T, const __m128d X[3])
+{
+  const __m128d u = _mm_sub_pd(X[T->du], T->odu);
+  const __m128d v = _mm_sub_pd(X[T->dv], T->odv);
+  __m128d a = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, T->Tdv), _mm_mul_pd(v, T->Tdu)), T->det);
+  __m128d b = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(T->Udu, v), _mm_mul_pd(T->Udv, u)), T->det);
   const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)), lim = _mm_set1_pd(0x1p30);
   if (_mm_movemask_pd(_mm_and_pd(_mm_cmplt_pd(_mm_and_pd(a, mag), lim),
                                  _mm_cmplt_pd(_mm_and_pd(b, mag), lim))) != 3) {
     double aa[2], bb[2];
     _mm_storeu_pd(aa, a);
     _mm_storeu_pd(bb, b);
-    return _mm_set_pd(unit_pixel[tex_pixel(t, aa[1], bb[1]) + 1],
-                      unit_pixel[tex_pixel(t, aa[0], bb[0]) + 1]);
+    return _mm_set_pd(unit_pixel[tex_pixel(T->t, aa[1], bb[1]) + 1],
+                      unit_pixel[tex_pixel(T->t, aa[0], bb[0]) + 1]);
   }
   a = _mm_sub_pd(a, floor_pair(a));
   b = _mm_sub_pd(b, floor_pair(b));
-  const int w = t->w, h = t->h;
-  const __m128i x = _mm_cvttpd_epi32(_mm_mul_pd(a, _mm_set1_pd(w)));
-  const __m128i y = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), _mm_set1_pd(h)));
+  const __m128i x = _mm_cvttpd_epi32(_mm_mul_pd(a, T->wd));
+  const __m128i y = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), T->hd));
   __m128i xy = _mm_unpacklo_epi64(x, y);    /* x0, x1, y0, y1 */
-  const __m128i top = _mm_set_epi32(h - 1, h - 1, w - 1, w - 1);
-  const __m128i over = _mm_cmpgt_epi32(xy, top);
-  xy = _mm_or_si128(_mm_and_si128(over, top), _mm_andnot_si128(over, xy));
+  const __m128i over = _mm_cmpgt_epi32(xy, T->top);
+  xy = _mm_or_si128(_mm_and_si128(over, T->top), _mm_andnot_si128(over, xy));
+  const size_t w = (size_t)T->w;
   const size_t x0 = (size_t)_mm_cvtsi128_si32(xy);
   const size_t x1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 1));
   const size_t y0 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 2));
   const size_t y1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 3));
-  return _mm_set_pd(unit_pixel[t->px[y1 * (size_t)w + x1] + 1],
-                    unit_pixel[t->px[y0 * (size_t)w + x0] + 1]);
+  return _mm_set_pd(unit_pixel[T->px[y1 * w + x1] + 1], unit_pixel[T->px[y0 * w + x0] + 1]);
 }
 
 /* shade_face_at, uncounted, at the points p0 .. p1 - 1 of a row (px[p], py) on a lit face
@@ -425,21 +443,50 @@ static inline __m128d tex_pair(const struct fx_tex *t, const __m128d X[3])
    normal, face_normal's), two points at a time: each lane's space point is space_point's
    (space_points' lanes), its reflectance reflectance's (tex_pair) or 1, its grey
    shade_grey_lit's (shade_pair_sum, shade_pair_greys). An odd last point goes in both
-   lanes. */
+   lanes.
+   Where both lanes have every point light blocked, shade_pair_sum's lanes do not depend
+   on the space points: a parallel light's term is its n.l (or +0 where blocked) and a
+   blocked light's term is the AND of an all-zero mask, +0, whatever its dot. So the sums
+   of one pair of masks are found once (at X = 0) and kept while the next pair's masks are
+   the same; without a texture such a pair needs no space point at all. */
 static void flat_lit_pairs(const struct fx_model *m, int face, const struct fx_tex *t,
                            const struct shade_pair *P, int p0, int p1, const unsigned *blocked,
                            const double *px, double py, uint8_t *grey)
 {
   struct space_lanes L;
   space_lanes_init(m, face, py, &L);
-  const __m128d one = _mm_set1_pd(1);
+  struct tex_lanes T;
+  if (t) tex_lanes_init(&T, t);
+  else memset(&T, 0, sizeof T);             /* (not read) */
+  const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
+  unsigned pm = 0;                          /* the point lights' bits */
+  for (int k = 0; k < P->n; k++) if (P->l[k].point) pm |= 1u << k;
+  unsigned c0 = 0, c1 = 0;                  /* the lanes' masks csum is the sums of, when have */
+  bool have = false;
+  __m128d csum = zero;
   for (int p = p0; p < p1; p += 2) {
     const int q = p + 1 < p1 ? p + 1 : p;
-    __m128d X[3];
-    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
-    const __m128d refl = t ? tex_pair(t, X) : one;
-    const unsigned g = shade_pair_greys(refl, shade_pair_sum(P, X[0], X[1], X[2], blocked[p],
-                                                             blocked[q]));
+    const unsigned b0 = blocked[p], b1 = blocked[q];
+    __m128d X[3], sum;
+    if ((b0 & b1 & pm) == pm) {             /* no point light at either lane */
+      if (!have || b0 != c0 || b1 != c1) {
+        csum = shade_pair_sum(P, zero, zero, zero, b0, b1);
+        c0 = b0; c1 = b1; have = true;
+      }
+      sum = csum;
+      if (!t) {
+        const unsigned g = shade_pair_greys(one, sum);
+        grey[p] = (uint8_t)g;
+        grey[q] = (uint8_t)(g >> 8);
+        continue;
+      }
+      space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
+    } else {
+      space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
+      sum = shade_pair_sum(P, X[0], X[1], X[2], b0, b1);
+    }
+    const __m128d refl = t ? tex_pair(&T, X) : one;
+    const unsigned g = shade_pair_greys(refl, sum);
     grey[p] = (uint8_t)g;
     grey[q] = (uint8_t)(g >> 8);
   }
@@ -616,54 +663,125 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   return e;
 }
 
+#ifdef __SSE2__
+/* The end of the stretch from e (e <= n) of points whose blocked[] is 0 (zero true) or not
+   0 (zero false): the first index at or after e where it is not so, or n. Four a compare:
+   a lane is all ones where its value is 0, and the first lane that is not as asked ends
+   the stretch (its byte in the mask, over 4). */
+static inline int blocked_end(const unsigned *blocked, int e, int n, bool zero)
+{
+  const __m128i z = _mm_setzero_si128();
+  const unsigned want = zero ? 0xffffu : 0;
+  for (; e + 4 <= n; e += 4) {
+    const unsigned is0 = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi32(
+        _mm_loadu_si128((const __m128i *)(const void *)(blocked + e)), z));
+    if (is0 != want) return e + __builtin_ctz(is0 ^ want) / 4;
+  }
+  while (e < n && (blocked[e] == 0) == zero) e++;
+  return e;
+}
+#endif
+
+/* grey[0 .. len) set to v (len >= 1): up to 16 by two stores that may overlap (of 8, 4 or
+   1 bytes, each byte of the stretch written v), longer by memset. */
+static inline void fill_grey(uint8_t *grey, uint8_t v, int len)
+{
+  if (len > 16) {
+    memset(grey, v, (size_t)len);
+    return;
+  }
+  const uint64_t w = v * UINT64_C(0x0101010101010101);
+  if (len >= 8) {
+    memcpy(grey, &w, 8);
+    memcpy(grey + len - 8, &w, 8);
+  } else if (len >= 4) {
+    memcpy(grey, &w, 4);
+    memcpy(grey + len - 4, &w, 4);
+  } else {
+    grey[0] = v;
+    grey[len / 2] = v;
+    grey[len - 1] = v;
+  }
+}
+
+#ifdef __SSE2__
+/* shade_flat_run's lit face from point p on, where p needs shading (a texture, or a light
+   blocked at p): the face's normal and its lights made ready (shade_pair_init), then the
+   points that need shading two at a time (flat_lit_pairs: all of a textured face's, else
+   the stretches where a light is blocked), the others the face's grey. Not inlined:
+   shade_flat_run's own path, a run no light is blocked at, stays small. */
+__attribute__((noinline))
+static void flat_lit_rest(const struct fx_model *m, int face, const struct face_shade *fs,
+                          int p, int n, const unsigned *blocked, const double *px, double py,
+                          uint8_t *grey)
+{
+  const struct mface *mf = fs->mf;
+  const struct fx_tex *t = fs->t;
+  struct shade_pair P;
+  double nrm[3];
+  face_normal(mf, nrm);                     /* shade_face_at's normal */
+  shade_pair_init(&P, &m->lights, nrm);
+  while (p < n) {
+    int e = p + 1;
+    if (!t && !blocked[p]) {                /* a stretch no light is blocked at: the face's */
+      e = blocked_end(blocked, e, n, true); /* grey */
+      fill_grey(grey + p, (uint8_t)mf->grey, e - p);
+      p = e;
+      continue;
+    }
+    e = t ? n : blocked_end(blocked, e, n, false);   /* a texture: every point */
+    flat_lit_pairs(m, face, t, &P, p, e, blocked, px, py, grey);
+    p = e;
+  }
+}
+#endif
+
+static void flat_run_rest(const struct fx_model *m, int face, const struct face_shade *fs,
+                          int n, const unsigned *blocked, const double *px, double py,
+                          uint8_t *grey);
+
 /* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
    found once for the run (the same operations on the same values as each point's). Where
    the processor has SSE2 a lit face's points that need shading (all of a textured face's,
    else those where a light is blocked) go two at a time from the space point to the grey
-   (flat_lit_pairs); else the lit points' greys SHADE_RUN at a time (shade_grey_lit_run).
-   A textured face that is not lit: its space points and reflectances SHADE_RUN at a time
-   (space_points, reflectances). */
+   (flat_lit_rest, flat_lit_pairs), the stretches before the first of them the face's grey
+   here; else (flat_run_rest) the lit points' greys SHADE_RUN at a time
+   (shade_grey_lit_run), and a textured face that is not lit: its space points and
+   reflectances SHADE_RUN at a time (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
                            int n, const unsigned *blocked, const double *px, double py,
                            uint8_t *grey)
 {
-  const struct mface *mf = fs->mf;
-  const struct fx_tex *t = fs->t;
 #ifdef __SSE2__
-  if (fs->lit) {                            /* two points at a time (flat_lit_pairs) */
-    struct shade_pair P;
-    bool ready = false;
+  if (fs->lit) {
     for (int p = 0; p < n;) {
-      int e = p + 1;
-      if (!t && !blocked[p]) {              /* a stretch no light is blocked at: the face's */
-        while (e + 4 <= n && !(blocked[e] | blocked[e + 1] | blocked[e + 2] | blocked[e + 3]))
-          e += 4;                           /* grey (four a test: none when their OR is 0) */
-        while (e < n && !blocked[e]) e++;
-        memset(grey + p, (uint8_t)mf->grey, (size_t)(e - p));
-        p = e;
-        continue;
+      if (fs->t || blocked[p]) {
+        flat_lit_rest(m, face, fs, p, n, blocked, px, py, grey);
+        return;
       }
-      if (t) e = n;                         /* a texture: every point */
-      else {                                /* (four a compare: none of them 0) */
-        while (e + 4 <= n &&
-               !_mm_movemask_epi8(_mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(blocked + e)),
-                                                  _mm_setzero_si128())))
-          e += 4;
-        while (e < n && blocked[e]) e++;
-      }
-      if (!ready) {                         /* shade_face_at's normal */
-        double nrm[3];
-        face_normal(mf, nrm);
-        shade_pair_init(&P, &m->lights, nrm);
-        ready = true;
-      }
-      flat_lit_pairs(m, face, t, &P, p, e, blocked, px, py, grey);
+      const int e = blocked_end(blocked, p + 1, n, true);   /* no light blocked: the */
+      fill_grey(grey + p, (uint8_t)fs->mf->grey, e - p);     /* face's grey */
       p = e;
     }
     return;
   }
 #endif
+  if (!fs->t && !fs->lit) {                 /* a face of its own grey is not lit */
+    fill_grey(grey, (uint8_t)fs->mf->grey, n);
+    return;
+  }
+  flat_run_rest(m, face, fs, n, blocked, px, py, grey);
+}
+
+/* shade_flat_run's greys where flat_lit_rest does not make them (see there). */
+__attribute__((noinline))
+static void flat_run_rest(const struct fx_model *m, int face, const struct face_shade *fs,
+                          int n, const unsigned *blocked, const double *px, double py,
+                          uint8_t *grey)
+{
+  const struct mface *mf = fs->mf;
+  const struct fx_tex *t = fs->t;
   double X[SHADE_RUN][3], refl[SHADE_RUN], nrm[3];
   unsigned b[SHADE_RUN];
   int at[SHADE_RUN], g[SHADE_RUN], nl = 0;
@@ -1184,10 +1302,12 @@ static bool div_floor(wide a, wide b, int64_t *q, wide *rest)
   return true;
 }
 
-/* The index of edge e's crossing on its line (ceil(P / Q) in [0, n]). */
+/* The index of edge e's crossing on its line (ceil(P / Q) in [0, n]). The rest r is never
+   negative (div_floor's is in [0, Q), and a step puts it back there), so r > 0 is r != 0:
+   one test of its two halves instead of a signed 128-bit compare. */
 static inline int edge_index(const struct edge_step *e, int n)
 {
-  const int64_t c = e->q + (e->r > 0);
+  const int64_t c = e->q + ((uint64_t)e->r != 0 || (uint64_t)(e->r >> 64) != 0);
   return c <= 0 ? 0 : c >= n ? n : (int)c;
 }
 
@@ -1307,6 +1427,15 @@ static bool range_add(struct fx_lines *L, int b0, int b1, int light)
   return true;
 }
 
+/* The first of polygons p[k .. k1) whose box row fy meets (fx_poly_on_row), or k1: a loop of
+   its own over locals (inside face_ranges' loop the compiler kept its index in memory). */
+__attribute__((noinline))
+static int next_on_row(const struct fx_poly *p, int k, int k1, int64_t fy)
+{
+  while (k < k1 && !fx_poly_on_row(&p[k], fy)) k++;
+  return k;
+}
+
 /* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
    row r (rising): a sample lies in a stretch [x0, x1) exactly when it is at or right of
    x0 and not at or right of x1, so in [fx_first_at_or_right(x0), fx_first_at_or_right(x1)).
@@ -1320,9 +1449,11 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
   if (!L->ps && !m->count && m->shadows.n <= 1 << 15 &&
       (L->ps = malloc((size_t)m->shadows.n * sizeof *L->ps)) != NULL)   /* (NULL: the long way) */
     for (int k = 0; k < m->shadows.n; k++) L->ps[k].set = false;
-  for (int k = m->shadow_first[f]; k < m->shadow_first[f + 1]; k++) {
-    const struct fx_poly *p = &m->shadows.p[k];
-    if (!fx_poly_on_row(p, fy)) continue;   /* the line misses its box */
+  const struct fx_poly *const sp = m->shadows.p;
+  const int k1 = m->shadow_first[f + 1];
+  for (int k = next_on_row(sp, m->shadow_first[f], k1, fy); k < k1;
+       k = next_on_row(sp, k + 1, k1, fy)) {
+    const struct fx_poly *p = &sp[k];
     int b2[2];
     if (L->ps && (poly_stepped(&L->ps[k], yn, yd, fy, r, b2) ||
                   poly_step_start(&L->ps[k], p, yn, yd, fy, r, b2))) {

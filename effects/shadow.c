@@ -514,6 +514,7 @@ static inline bool grid_point(const struct shadow_eye *v, const ld Y[3], const d
    points that land, a repeat of the one before dropped (the last and the first not
    compared); their count. With sp (spanned_set for a bound on its vertices; not
    counted): spanned_point where it decides, else grid_point. */
+__attribute__((noinline))
 static int draw_ring(const struct casts *cs, int r, const struct shadow_eye *eye,
                      const struct spanned *sp, struct gpoint *poly, struct cost *cost)
 {
