@@ -23,14 +23,16 @@ struct t74_error {
   char msg[1024];   /* its message, complete (with FILE:LINE where there is one) */
 };
 
-/* Record an error unless one is already recorded; returns the status now held. */
+/* Record an error unless one is already recorded; returns the status now held. e may be
+   NULL (a caller that wants only the verdict): nothing is formatted or recorded, and
+   status is returned. */
 int t74_fail(struct t74_error *e, int status, const char *fmt, ...)
 #if defined(__GNUC__)
   __attribute__((format(printf, 3, 4)))
 #endif
   ;
 
-/* Record an error at a place in an input file: "FILE:LINE: message". */
+/* Record an error at a place in an input file: "FILE:LINE: message" (e NULL: as t74_fail). */
 int t74_fail_at(struct t74_error *e, int status, const char *file, int line,
                 const char *fmt, ...)
 #if defined(__GNUC__)

@@ -480,6 +480,9 @@ static void ok_check_face_direct(void **state)
   assert_int_equal(scene_check_face(&sc, &f, &err), SCENE_FACE_NONPLANAR);
   assert_string_equal(err.msg, "mem:5: face 9 is not planar: vertex 4 is off the plane of "
                                "vertices 1, 2, 3");
+  assert_int_equal(scene_check_face(&sc, &f, NULL), SCENE_FACE_NONPLANAR);
+  assert_int_equal(t74_fail(NULL, T74_EIO, "x"), T74_EIO);      /* nothing to record in */
+  assert_int_equal(t74_fail_at(NULL, T74_EINPUT, "f", 1, "x"), T74_EINPUT);
   v[3].z = 0;
   memset(&err, 0, sizeof err);
   assert_int_equal(scene_check_face(&sc, &f, &err), SCENE_FACE_OK);
@@ -519,6 +522,8 @@ static void quad_check_face(void **state)
     int d = scene_check_face(&sc, &f, &err);
     if (d != cases[c].want) fail_msg("quad %zu: defect %d, want %d", c, d, cases[c].want);
     assert_int_equal(err.status, d == SCENE_FACE_OK ? T74_OK : T74_EINPUT);
+    /* without a record (an import's verdict alone): the same verdict */
+    assert_int_equal(scene_check_face(&sc, &f, NULL), cases[c].want);
   }
 }
 
