@@ -217,6 +217,53 @@ static void command_exit_2(void **state)
   }
 }
 
+/* The warnings an import prints, gathered a buffer at a time: 300 faces rounded away (some
+   18 kB of warnings, more than one buffer), every line whole and in the file's order,
+   then the error of a face refused after them, last; exit 2, no output. */
+static void command_warnings_in_order(void **state)
+{
+  struct fx *f = *state;
+  if (access(tk_prog(), X_OK) != 0) skip();
+  size_t cap = 64 * 1024, n = 0;
+  char *t = malloc(cap);
+  assert_non_null(t);
+  n += (size_t)snprintf(t + n, cap - n, "v 0 0 0\nv 1000 1000 1000\n");
+  for (int k = 0; k < 300; k++)                 /* 1e-6 across: one grid point once rounded */
+    n += (size_t)snprintf(t + n, cap - n, "v %d 0 0\nv %d.000001 0 0\nv %d 0.000001 0\n",
+                          3 * k, 3 * k, 3 * k);
+  for (int k = 0; k < 300; k++)                 /* lines 903 .. 1202 */
+    n += (size_t)snprintf(t + n, cap - n, "f %d %d %d\n", 3 + 3 * k, 4 + 3 * k, 5 + 3 * k);
+  n += (size_t)snprintf(t + n, cap - n, "v 0 0 5\nv 10 10 5\nv 10 0 5\nv 0 10 5\n"
+                                        "f 903 904 905 906\n");     /* a bow-tie: line 1207 */
+  write_file(f, "warn.obj", t, n);
+  free(t);
+  char scene[300], out[300], errp[300], cmd[1200];
+  snprintf(scene, sizeof scene, "%s", f->path);
+  snprintf(out, sizeof out, "%s/warn.png", f->dir);
+  snprintf(errp, sizeof errp, "%s/warn.err", f->dir);
+  unlink(out);
+  snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' 2>'%s'", tk_prog(), scene, out, errp);
+  int rc = system(cmd);
+  assert_true(WIFEXITED(rc));
+  assert_int_equal(WEXITSTATUS(rc), 2);
+  assert_int_equal(access(out, F_OK), -1);
+  FILE *e = fopen(errp, "r");
+  assert_non_null(e);
+  char line[600], want[600];
+  for (int k = 0; k < 300; k++) {
+    assert_non_null(fgets(line, sizeof line, e));
+    snprintf(want, sizeof want, "%s:%d: warning: face %d degenerate after rounding; dropped\n",
+             scene, 903 + k, k + 1);
+    if (strcmp(line, want) != 0) fail_msg("warning %d: %s", k + 1, line);
+  }
+  assert_non_null(fgets(line, sizeof line, e));
+  snprintf(want, sizeof want, "%s:1207: face 301 is not simple in the file", scene);
+  if (strncmp(line, want, strlen(want)) != 0) fail_msg("error: %s", line);
+  assert_null(fgets(line, sizeof line, e));
+  fclose(e);
+  unlink(errp);
+}
+
 /* ---- line ends and the byte order mark --------------------------------------------------- */
 
 static void same_scene(const struct scene *a, const struct scene *b)
@@ -1224,6 +1271,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     BAD_IMPORTS(LIST_BAD)
     cmocka_unit_test(command_exit_2),
+    cmocka_unit_test(command_warnings_in_order),
     cmocka_unit_test(real_tokens_as_strtod),
     cmocka_unit_test(obj_refs_in_place),
     cmocka_unit_test(obj_fast_as_general),
