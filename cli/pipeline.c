@@ -94,6 +94,7 @@ struct pipeline {
   struct smooth_scene **fx_smooth;  /* the smoothing's scene part between frames */
   struct fx_textures **fx_tex;      /* the scene's textures between frames */
   struct shadow_keep **fx_shadow;   /* the shadows in space between frames */
+  const struct bg_cells *bgc;       /* the background's cells, kept for every frame, or NULL */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -1080,8 +1081,55 @@ static struct face_out *face_outs(const struct pipeline *p)
 struct row_bg {
   const uint8_t *level, *grey;      /* scan_row's */
   const uint16_t *mask;             /* p->mask */
+  const uint16_t *cells;            /* with bg_ok: each point's p->mask[level] */
   int cc;                           /* cell * cell */
 };
+
+/* The background picture's points as the points engine's frames show them, worked out
+** once for a job's frames (they depend on the scene alone: the picture, the cell and its
+** pattern): each row's levels and greys (scan_row), cells (p->mask of each level, 0 for a
+** level past the cell) and whether every level of the row is within the cell. */
+struct bg_cells {
+  uint8_t *level, *grey;            /* W x H, row j at j W */
+  uint16_t *cells;
+  bool *ok;                         /* H */
+};
+
+static void bg_cells_free(struct bg_cells *b)
+{
+  if (!b) return;
+  free(b->level);
+  free(b->grey);
+  free(b->cells);
+  free(b->ok);
+  free(b);
+}
+
+/* p's background's cells (p->scan, p->mask, p->W, p->H set); NULL when out of memory. */
+static struct bg_cells *bg_cells_new(const struct pipeline *p)
+{
+  const size_t n = (size_t)p->W * (size_t)p->H;
+  const int cc = p->cell * p->cell;
+  struct bg_cells *b = calloc(1, sizeof *b);
+  if (!b) return NULL;
+  b->level = malloc(n);
+  b->grey = malloc(n);
+  b->cells = malloc(n * sizeof *b->cells);
+  b->ok = malloc((size_t)p->H * sizeof *b->ok);
+  if (!b->level || !b->grey || !b->cells || !b->ok) { bg_cells_free(b); return NULL; }
+  for (int j = 0; j < p->H; j++) {
+    const size_t at = (size_t)j * (size_t)p->W;
+    scan_row(p->scan, j, b->level + at, b->grey + at);   /* no 1974 time: uncounted */
+    uint8_t top = 0;
+    for (int i = 0; i < p->W; i++) {
+      const uint8_t l = b->level[at + (size_t)i];
+      top = l > top ? l : top;
+      b->cells[at + (size_t)i] = l <= cc ? p->mask[l] : 0;
+    }
+    b->ok[j] = top <= cc;
+  }
+  return b;
+}
 
 /* m[0 .. n) = mask and (g not NULL) g[0 .. n) = grey (n >= 1); room >= n: the points to
 ** the row's end. Eight points a store (SSE2): a run of eight or more ends with eight
@@ -1125,7 +1173,10 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
     if (f < 0 && bg) {                      /* a run of background points */
       const int e = face_run_end(face, i, n);
       int q = i;
-      if (bg_ok)
+      if (bg_ok && bg->cells) {
+        memcpy(masks + i, bg->cells + i, (size_t)(e - i) * sizeof *masks);
+        q = e;
+      } else if (bg_ok)
         for (; q < e; q++) masks[q] = bg->mask[bg->level[q]];
       else
         for (; q < e && bg->level[q] <= bg->cc; q++) masks[q] = bg->mask[bg->level[q]];
@@ -1185,8 +1236,8 @@ static int points_emit(struct pipeline *p, const struct points *pt)
        figures report them) */
     const bool scan = p->scan != NULL;
     struct row_cells rc;
-    uint8_t bg_level[TUBE_W], bg_grey[TUBE_W];   /* a row's background points' */
-    const struct row_bg bg = { bg_level, bg_grey, p->mask, cc };
+    uint8_t row_level[TUBE_W], row_grey[TUBE_W];   /* a row's background points' (no bgc) */
+    struct row_bg bg = { row_level, row_grey, p->mask, NULL, cc };
     int st = T74_OK;
     p->ids_face = pt->face;
     p->greys_face = !scan;
@@ -1195,12 +1246,19 @@ static int points_emit(struct pipeline *p, const struct points *pt)
       const int *face = pt->face + (size_t)j * (size_t)W;
       uint8_t *greys = scan ? p->grey + (size_t)j * (size_t)W : NULL;
       bool bg_ok = false;                   /* every background level of the row in the cell */
-      if (scan) {
-        scan_row(p->scan, j, bg_level, bg_grey);   /* no 1974 time: uncounted */
+      if (scan && p->bgc) {                 /* the job's, worked out once */
+        const size_t at = (size_t)j * (size_t)W;
+        bg.level = p->bgc->level + at;
+        bg.grey = p->bgc->grey + at;
+        bg.cells = p->bgc->cells + at;
+        bg_ok = p->bgc->ok[j];
+      } else if (scan) {
+        scan_row(p->scan, j, row_level, row_grey);   /* no 1974 time: uncounted */
         uint8_t top = 0;
-        for (int i = 0; i < W; i++) top = bg_level[i] > top ? bg_level[i] : top;
+        for (int i = 0; i < W; i++) top = row_level[i] > top ? row_level[i] : top;
         bg_ok = top <= cc;
       }
+      const uint8_t *bg_level = bg.level, *bg_grey = bg.grey;
       for (int i = 0; i < W && st == T74_OK; i++) {
         i = faces_run(fo, face, i, W, scan ? &bg : NULL, bg_ok, greys, rc.masks);
         if (i == W) break;
@@ -1302,6 +1360,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   struct smooth_scene *fx_smooth = NULL;    /* the smoothing's scene part, likewise */
   struct fx_textures *fx_tex = NULL;        /* the scene's textures, likewise */
   struct shadow_keep *fx_shadow = NULL;     /* the shadows in space, likewise */
+  struct bg_cells *bgc = NULL;              /* the background's cells, likewise */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -1391,6 +1450,11 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   }
   p.params = &o->params;
   cost_class_states(p.params, p.states);
+  if (engine == JOB_ENGINE_POINTS && p.scan && !p.face) {
+    /* points_emit's cells of the background (the scene's alone), once for every frame */
+    if (!(bgc = bg_cells_new(&p))) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
+    p.bgc = bgc;
+  }
   if (nframes > 1) {
     /* --frames: the scene rendered K - 1 times more, each frame timed, before the frame
        whose outputs are written (so that one render is alive at a time, each taking what
@@ -1501,6 +1565,7 @@ done:
   smooth_scene_free(fx_smooth);
   fx_textures_free(fx_tex);
   shadow_keep_free(fx_shadow);
+  bg_cells_free(bgc);
   points_free(&pts);
   scene_free(own);
   return st;

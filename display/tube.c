@@ -378,19 +378,25 @@ static bool blank_cells(const uint8_t *lit, uint32_t base, int cell, int count)
 ** a multiple of 8), their masks within the cell: a 32-bit word of each of the 4 rows of
 ** lit[] (cell 2k the low half of byte k, cell 2k + 1 the high), stored as it is (the
 ** cells' dots are those 32 dots of each row, all unlit before). */
-/* Row r of eight 4x4 cells' masks m (8 lanes of 16 bits): byte k of the row, cell 2k's
-** nibble r | cell 2k + 1's << 4, in the low byte of 32-bit lane k. */
-static inline __m128i row8(__m128i m, int r)
-{
-  const __m128i t = _mm_and_si128(_mm_srli_epi16(m, 4 * r), _mm_set1_epi16(0xf));
-  return _mm_and_si128(_mm_or_si128(t, _mm_srli_epi32(t, 12)), _mm_set1_epi32(0xff));
-}
-
 static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *masks)
 {
+  /* 32-bit lane k holds cells 2k (x, low half) and 2k + 1 (y), a nibble a row:
+     x0 x1 x2 x3 y0 y1 y2 y3 from the lowest bits. The even rows' nibbles are the low
+     halves of its bytes (a: x0, x2, y0, y2), the odd rows' the high halves (b: x1, x3,
+     y1, y3); a | a >> 12 has x0 | y0 << 4 in byte 0 and x2 | y2 << 4 in byte 1: row 0's
+     and row 2's byte of the pair (c), likewise rows 1 and 3 (d). Those 16 bits of each
+     lane, sign-extended (so that the signed pack keeps them as they are), packed to 16
+     bits: c0 .. c3 d0 .. d3; their low bytes, then their high bytes, packed to bytes:
+     rows 0, 1, 2, 3, a 32-bit word each (pairs 0 .. 3 from its low byte). */
   const __m128i m = _mm_loadu_si128((const __m128i *)(const void *)masks);
-  const __m128i rows = _mm_packus_epi16(_mm_packs_epi32(row8(m, 0), row8(m, 1)),
-                                        _mm_packs_epi32(row8(m, 2), row8(m, 3)));
+  const __m128i low = _mm_set1_epi32(0x0f0f0f0f);
+  const __m128i a = _mm_and_si128(m, low), b = _mm_and_si128(_mm_srli_epi32(m, 4), low);
+  const __m128i c = _mm_or_si128(a, _mm_srli_epi32(a, 12));
+  const __m128i d = _mm_or_si128(b, _mm_srli_epi32(b, 12));
+  const __m128i cd = _mm_packs_epi32(_mm_srai_epi32(_mm_slli_epi32(c, 16), 16),
+                                     _mm_srai_epi32(_mm_slli_epi32(d, 16), 16));
+  const __m128i rows = _mm_packus_epi16(_mm_and_si128(cd, _mm_set1_epi16(0xff)),
+                                        _mm_srli_epi16(cd, 8));
   uint8_t *l = lit + (base >> 3);
   const uint32_t w0 = (uint32_t)_mm_cvtsi128_si32(rows),
                  w1 = (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(rows, 4)),
