@@ -377,8 +377,9 @@ static bool blank_cells(const uint8_t *lit, uint32_t base, int cell, int count)
 /* Eight aligned 4x4 cells side by side on unlit rows, the first at a byte's start (base,
 ** a multiple of 8), their masks within the cell: a 32-bit word of each of the 4 rows of
 ** lit[] (cell 2k the low half of byte k, cell 2k + 1 the high), stored as it is (the
-** cells' dots are those 32 dots of each row, all unlit before). */
-static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *masks)
+** cells' dots are those 32 dots of each row, all unlit before): rows8 makes the words
+** (row r in 32-bit lane r), write_blank8 stores them. */
+static inline __m128i rows8(const uint16_t *masks)
 {
   /* 32-bit lane k holds cells 2k (x, low half) and 2k + 1 (y), a nibble a row:
      x0 x1 x2 x3 y0 y1 y2 y3 from the lowest bits. The even rows' nibbles are the low
@@ -395,8 +396,12 @@ static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *mas
   const __m128i d = _mm_or_si128(b, _mm_srli_epi32(b, 12));
   const __m128i cd = _mm_packs_epi32(_mm_srai_epi32(_mm_slli_epi32(c, 16), 16),
                                      _mm_srai_epi32(_mm_slli_epi32(d, 16), 16));
-  const __m128i rows = _mm_packus_epi16(_mm_and_si128(cd, _mm_set1_epi16(0xff)),
-                                        _mm_srli_epi16(cd, 8));
+  return _mm_packus_epi16(_mm_and_si128(cd, _mm_set1_epi16(0xff)), _mm_srli_epi16(cd, 8));
+}
+
+static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *masks)
+{
+  const __m128i rows = rows8(masks);
   uint8_t *l = lit + (base >> 3);
   const uint32_t w0 = (uint32_t)_mm_cvtsi128_si32(rows),
                  w1 = (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(rows, 4)),
@@ -406,6 +411,19 @@ static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *mas
   memcpy(l - ROW_BYTES, &w1, sizeof w1);
   memcpy(l - 2 * ROW_BYTES, &w2, sizeof w2);
   memcpy(l - 3 * ROW_BYTES, &w3, sizeof w3);
+}
+
+/* write_blank8 of sixteen cells: the two eights' row words side by side, 64 bits a row,
+** stored from the vectors (no word taken out of them). */
+static inline void write_blank16(uint8_t *lit, uint32_t base, const uint16_t *masks)
+{
+  const __m128i a = rows8(masks), b = rows8(masks + 8);
+  const __m128i r01 = _mm_unpacklo_epi32(a, b), r23 = _mm_unpackhi_epi32(a, b);
+  uint8_t *l = lit + (base >> 3);
+  _mm_storel_epi64((__m128i *)(void *)l, r01);
+  _mm_storeh_pd((double *)(void *)(l - ROW_BYTES), _mm_castsi128_pd(r01));
+  _mm_storel_epi64((__m128i *)(void *)(l - 2 * ROW_BYTES), r23);
+  _mm_storeh_pd((double *)(void *)(l - 3 * ROW_BYTES), _mm_castsi128_pd(r23));
 }
 #endif
 
@@ -547,6 +565,12 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
     const uint32_t base0 = base;
     for (int c = 0; c < count; c++, base += 4) {
 #ifdef __SSE2__
+      if ((base & 7) == 0 && c + 16 <= count) { /* sixteen cells: 64 bits of each row */
+        write_blank16(lit, base, masks + c);
+        c += 15;
+        base += 60;
+        continue;
+      }
       if ((base & 7) == 0 && c + 8 <= count) {  /* eight cells: a word of each row */
         write_blank8(lit, base, masks + c);
         c += 7;
