@@ -539,6 +539,11 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       gmask[v] = (uint16_t)gcell[v];
       odd |= gcell[v] == GREY_ODD;
     }
+    /* 3x3 cells, no background, no odd grey: a row's cells stored from its greys at once
+       (tube_write_cells_keyed: each cell's dots looked up by its grey) */
+    struct tube_keys tk;
+    const bool keyed = p->cell == 3 && !p->scan && !odd;
+    if (keyed) tube_keys_init(&tk, p->cell, gmask);
     p->ids_face = face;
     p->greys_face = false;                  /* the effects wrote them */
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
@@ -546,6 +551,10 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       const size_t at0 = (size_t)j * (size_t)p->W;
       const int *fr = face + at0;
       const uint8_t *greys = p->grey + at0, *flats = flat ? flat + at0 : NULL;
+      if (keyed) {
+        st = tube_write_cells_keyed(p->tube_direct, rc.x0, rc.y0, &tk, greys, p->W);
+        continue;
+      }
       if (!p->scan && !odd) {               /* no background, no odd grey: every cell */
         greys_cells(greys, p->W, gmask, rc.masks);
         st = row_end(p, &rc);

@@ -684,6 +684,65 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   return T74_OK;
 }
 
+void tube_keys_init(struct tube_keys *tk, int cell, const uint16_t *mask_of)
+{
+  const unsigned full = cell >= 1 && cell <= 4 ? (1u << (cell * cell)) - 1 : 0;
+  unsigned any = 0;
+  for (int k = 0; k < 256; k++) {
+    tk->mask[k] = mask_of[k];
+    any |= mask_of[k];
+  }
+  if (cell == 3 && !(any & ~full))          /* (else not asked for) */
+    for (int k = 0; k < 256; k++) {
+      const uint64_t l = lanes3[mask_of[k]];
+      for (int c = 0; c < RUN3; c++) tk->lanes[c][k] = l << 3 * c;
+    }
+  tk->cell = cell;
+  tk->within = cell == 3 && !(any & ~full);
+}
+
+int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_keys *tk,
+                           const uint8_t *keys, int count)
+{
+  const uint32_t base0 = (uint32_t)y0 * TUBE_W + (uint32_t)x0;
+  if (count > 0 && tk->within && x0 >= 0 && x0 <= TUBE_W - 3 * count && y0 >= 2 &&
+      y0 < TUBE_H && base0 - 2 * TUBE_W >= t->lit_end) {
+    /* 3x3 cells on the tube over unlit rows (their lowest dot at or past lit_end), every
+       mask within the cell: tube_write_cells' run of them, each cell's lanes looked up
+       by its key at once */
+    if (base0 + (uint32_t)(3 * count) > t->lit_end) t->lit_end = base0 + (uint32_t)(3 * count);
+    const uint64_t (*L)[256] = tk->lanes;
+    uint64_t seen = 0;                     /* the OR of the lanes: not 0 when a cell has a dot */
+    uint32_t base = base0;
+    int c0 = 0;
+    for (; c0 + RUN3 <= count; c0 += RUN3, base += 3 * RUN3) {
+      const uint8_t *k = keys + c0;
+      const uint64_t acc = L[0][k[0]] | L[1][k[1]] | L[2][k[2]] | L[3][k[3]] | L[4][k[4]] |
+                           L[5][k[5]] | L[6][k[6]];
+      seen |= acc;
+      put_lanes3(t->lit, base, acc);
+    }
+    if (c0 < count) {
+      uint64_t acc = 0;
+      for (int c = c0; c < count; c++) acc |= L[c - c0][keys[c]];
+      seen |= acc;
+      put_lanes3(t->lit, base, acc);
+    }
+    if (seen) t->order[t->done + t->nlog++] = run_word(base0, 3, count);
+    return T74_OK;
+  }
+  uint16_t masks[TUBE_W];                   /* (count <= TUBE_W on the tube; else one by one) */
+  if (count > TUBE_W) {
+    for (int c = 0; c < count; c++) {
+      const int rc = tube_write_cells(t, x0 + c * tk->cell, y0, tk->cell, &tk->mask[keys[c]], 1);
+      if (rc != T74_OK) return rc;
+    }
+    return T74_OK;
+  }
+  for (int c = 0; c < count; c++) masks[c] = tk->mask[keys[c]];
+  return tube_write_cells(t, x0, y0, tk->cell, masks, count);
+}
+
 int tube_lit(const struct tube *t, int x, int y)
 {
   if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H) return 0;

@@ -224,6 +224,57 @@ static void test_erase_clears(void **state)
   tube_free(t);
 }
 
+/* tube_write_cells_keyed stores exactly what tube_write_cells of the keys' masks would:
+   rows of 3x3 cells drawn bottom row first (the fused run over unlit rows), parts of rows
+   (counts not a multiple of seven), rows over lit dots and partly off the tube, tables
+   with masks past the cell, 4x4 cells, keys of no dot; the same status, dots and order. */
+static void test_rows_keyed(void **state)
+{
+  (void)state;
+  uint32_t x = 1919;
+  for (int pass = 0; pass < 8; pass++) {
+    const int cell = pass == 7 ? 4 : 3;
+    const unsigned full = (1u << (cell * cell)) - 1;
+    uint16_t mask_of[256];
+    for (int k = 0; k < 256; k++)
+      mask_of[k] = (uint16_t)(k % 5 == 0 ? 0 : (pass == 6 && k == 77) ? 0x3ffu
+                              : next_rand(&x) & full);
+    struct tube_keys tk;
+    tube_keys_init(&tk, cell, mask_of);
+    struct tube *a = tube_new(), *b = tube_new();
+    assert_non_null(a);
+    assert_non_null(b);
+    const int W = cell == 3 ? 133 : 100, H = cell == 3 ? 100 : 75;
+    for (int j = H - 1; j >= 0; j--) {
+      const int y0 = (H - 1 - j) * cell + cell - 1;
+      uint8_t keys[140];
+      uint16_t masks[140];
+      const int n = pass % 3 == 1 ? 1 + (int)(next_rand(&x) % (uint32_t)W) : W;
+      const int x0 = cell * (W - n) * (pass % 2);
+      for (int c = 0; c < n; c++) {
+        keys[c] = (uint8_t)(pass == 2 && j % 4 == 0 ? 5u * (uint32_t)(c % 3) : next_rand(&x));
+        masks[c] = mask_of[keys[c]];
+      }
+      if (pass >= 4 && j % 3 == 0) {        /* a dot lit where the row goes */
+        const int wx = (int)(next_rand(&x) % 400), wy = y0 - (int)(next_rand(&x) % (uint32_t)cell);
+        assert_int_equal(tube_write(a, wx, wy), T74_OK);
+        assert_int_equal(tube_write(b, wx, wy), T74_OK);
+      }
+      assert_int_equal(tube_write_cells_keyed(b, x0, y0, &tk, keys, n),
+                       tube_write_cells(a, x0, y0, cell, masks, n));
+      assert_int_equal(tube_count(a), tube_count(b));
+    }
+    uint8_t keys[140];                      /* partly off the tube: the same first failure */
+    uint16_t masks[140];
+    for (int c = 0; c < 140; c++) masks[c] = mask_of[keys[c] = (uint8_t)(1 + c)];
+    assert_int_equal(tube_write_cells_keyed(b, 390, 299, &tk, keys, 140),
+                     tube_write_cells(a, 390, 299, cell, masks, 140));
+    tubes_same(a, b);
+    tube_free(a);
+    tube_free(b);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -231,6 +282,7 @@ int main(void)
     cmocka_unit_test(test_rows_after_erase),
     cmocka_unit_test(test_rows_then_gaps),
     cmocka_unit_test(test_erase_clears),
+    cmocka_unit_test(test_rows_keyed),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
