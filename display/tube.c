@@ -414,9 +414,14 @@ static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *mas
 }
 
 /* write_blank8 of sixteen cells: the two eights' row words side by side, 64 bits a row,
-** stored from the vectors (no word taken out of them). */
+** stored from the vectors (no word taken out of them); nothing when no cell has a dot
+** (the rows' 64 bits are the cells' dots, unlit: 0 already). */
 static inline void write_blank16(uint8_t *lit, uint32_t base, const uint16_t *masks)
 {
+  const __m128i ma = _mm_loadu_si128((const __m128i *)(const void *)masks);
+  const __m128i mb = _mm_loadu_si128((const __m128i *)(const void *)(masks + 8));
+  const __m128i none = _mm_cmpeq_epi16(_mm_or_si128(ma, mb), _mm_setzero_si128());
+  if (_mm_movemask_epi8(none) == 0xffff) return;
   const __m128i a = rows8(masks), b = rows8(masks + 8);
   const __m128i r01 = _mm_unpacklo_epi32(a, b), r23 = _mm_unpackhi_epi32(a, b);
   uint8_t *l = lit + (base >> 3);
