@@ -1205,22 +1205,23 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
   return i;
 }
 
-/* A row's cells from its faces, a point at a time (fo1: face_outs' entries from face 0, no
-** background, no face of an odd level): as faces_run gives them. Four points a step (an
-** empty asm: no vector form, which gcc would build of scalar lookups through the stack). */
-static void faces_cells(const int *face, int n, const struct face_out *fo1, uint16_t *masks)
+/* A row's cells from its faces, a point at a time (mask1: each face's cell from face 0, at
+** -1 none's; no background, no face of an odd level): as faces_run gives them. Four points
+** a step (an empty asm: no vector form, which gcc would build of scalar lookups through
+** the stack). */
+static void faces_cells(const int *face, int n, const uint16_t *mask1, uint16_t *masks)
 {
   int i = 0;
   for (; i + 4 <= n; i += 4) {
 #ifdef __GNUC__
     __asm__("" : "+r"(i));
 #endif
-    masks[i] = fo1[face[i]].mask;
-    masks[i + 1] = fo1[face[i + 1]].mask;
-    masks[i + 2] = fo1[face[i + 2]].mask;
-    masks[i + 3] = fo1[face[i + 3]].mask;
+    masks[i] = mask1[face[i]];
+    masks[i + 1] = mask1[face[i + 1]];
+    masks[i + 2] = mask1[face[i + 2]];
+    masks[i + 3] = mask1[face[i + 3]];
   }
-  for (; i < n; i++) masks[i] = fo1[face[i]].mask;
+  for (; i < n; i++) masks[i] = mask1[face[i]];
 }
 
 /* Runs of faces a row above which faces_cells, a point at a time, costs fewer instructions
@@ -1279,12 +1280,15 @@ static int points_emit(struct pipeline *p, const struct points *pt)
        every fourth row run by run, to count again */
     bool by_point = !scan;
     for (int f = 0; by_point && f <= p->map->nface; f++) by_point = !fo[f].odd;
+    uint16_t *fmask = by_point ? malloc(((size_t)p->map->nface + 1) * sizeof *fmask) : NULL;
+    by_point = fmask != NULL;               /* (no room: run by run) */
+    for (int f = 0; by_point && f <= p->map->nface; f++) fmask[f] = fo[f].mask;
     int nrun = 0;                           /* the last row taken run by run: its runs */
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
       row_start(p, &rc, j);
       const int *face = pt->face + (size_t)j * (size_t)W;
       if (by_point && nrun > RUNS_BY_POINT && (j & 3)) {
-        faces_cells(face, W, fo + 1, rc.masks);
+        faces_cells(face, W, fmask + 1, rc.masks);
         st = row_end(p, &rc);
         continue;
       }
@@ -1319,6 +1323,7 @@ static int points_emit(struct pipeline *p, const struct points *pt)
       }
       if (st == T74_OK) st = row_end(p, &rc);
     }
+    free(fmask);
     free(fo);
     return st;
   }
