@@ -87,7 +87,9 @@ struct pipeline {
                                        points engine's buffer, not copied to face */
   const int *ids_face;              /* not NULL: the frame's faces (an index in map->f, or
                                        -1), ids not yet written from them (dumps_settle) */
-  bool greys_face;                  /* and the greys neither (each the face's, 0 for none) */
+  bool greys_face;                  /* and the greys neither (each the face's; for none,
+                                       greys_bg's, or 0 without it) */
+  const uint8_t *greys_bg;          /* with greys_face: the background's greys, W x H, or NULL */
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
@@ -688,10 +690,12 @@ static void dumps_settle(struct pipeline *p)
   for (size_t at = 0; at < n; at++) {
     const int f = face[at];
     p->ids[at] = f >= 0 ? p->map->f[f].id : 0;
-    if (p->greys_face) p->grey[at] = f >= 0 ? (uint8_t)p->map->f[f].grey : 0;
+    if (p->greys_face)
+      p->grey[at] = f >= 0 ? (uint8_t)p->map->f[f].grey : p->greys_bg ? p->greys_bg[at] : 0;
   }
   p->ids_face = NULL;
   p->greys_face = false;
+  p->greys_bg = NULL;
 }
 
 /* `--dump ids`: a 16-bit PGM (CONTRACT.md). A face number above 65535 (an import of more
@@ -1171,9 +1175,9 @@ static inline void run_fill(uint16_t *m, uint8_t *g, int n, int room, uint16_t m
 
 /* The points i .. of a row whose cells are of a level 0 .. cell * cell, up to the first
 ** other one: their cells, and (greys not NULL) their greys, from their faces' entries, or
-** from the background picture's levels and greys of the row (bg, NULL: none; with bg,
-** greys is not NULL; bg_ok: every level of the row's background is 0 .. cell * cell); its
-** index, or n. (A loop of its own: few values live, none spilled.) */
+** from the background picture's levels and greys of the row (bg, NULL: none; bg_ok: every
+** level of the row's background is 0 .. cell * cell); its index, or n. (A loop of its own:
+** few values live, none spilled.) */
 static int faces_run(const struct face_out *fo, const int *face, int i, int n,
                      const struct row_bg *bg, bool bg_ok, uint8_t *greys, uint16_t *masks,
                      int *nrun)
@@ -1191,7 +1195,7 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
         for (; q < e; q++) masks[q] = bg->mask[bg->level[q]];
       else
         for (; q < e && bg->level[q] <= bg->cc; q++) masks[q] = bg->mask[bg->level[q]];
-      memcpy(greys + i, bg->grey + i, (size_t)(q - i));
+      if (greys) memcpy(greys + i, bg->grey + i, (size_t)(q - i));
       if (q < e) { i = q; break; }          /* a level past the cell */
       i = e - 1;
       continue;
@@ -1274,7 +1278,9 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     struct row_bg bg = { row_level, row_grey, p->mask, NULL, cc };
     int st = T74_OK;
     p->ids_face = pt->face;
-    p->greys_face = !scan;
+    /* the greys left to dumps_settle too where the background's are the job's (bgc) */
+    p->greys_face = !scan || p->bgc;
+    p->greys_bg = scan && p->bgc ? p->bgc->grey : NULL;
     /* no background and no face of an odd level: a row whose runs are short (as the row
        before, run by run, had more than RUNS_BY_POINT) is looked up a point at a time;
        every fourth row run by run, to count again */
@@ -1293,7 +1299,7 @@ static int points_emit(struct pipeline *p, const struct points *pt)
         continue;
       }
       nrun = 0;
-      uint8_t *greys = scan ? p->grey + (size_t)j * (size_t)W : NULL;
+      uint8_t *greys = scan && !p->bgc ? p->grey + (size_t)j * (size_t)W : NULL;
       bool bg_ok = false;                   /* every background level of the row in the cell */
       if (scan && p->bgc) {                 /* the job's, worked out once */
         const size_t at = (size_t)j * (size_t)W;
@@ -1313,10 +1319,10 @@ static int points_emit(struct pipeline *p, const struct points *pt)
         if (i == W) break;
         int f = face[i], level;             /* a cell of another level */
         if (f < 0 && scan) {                /* the background's, from the disk */
-          greys[i] = bg_grey[i];
+          if (greys) greys[i] = bg_grey[i];
           level = bg_level[i];
         } else {
-          if (scan) greys[i] = fo[f + 1].grey;
+          if (greys) greys[i] = fo[f + 1].grey;
           level = fo[f + 1].level;
         }
         st = row_odd(p, &rc, i, level);
