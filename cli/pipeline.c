@@ -1228,9 +1228,29 @@ static void faces_cells(const int *face, int n, const uint16_t *mask1, uint16_t 
   for (; i < n; i++) masks[i] = mask1[face[i]];
 }
 
+/* faces_cells over a background (no level of the row's past the cell): a point that sees
+** no face takes the background's cell (bgcells, the row's). */
+static void faces_cells_bg(const int *face, int n, const uint16_t *mask1,
+                           const uint16_t *bgcells, uint16_t *masks)
+{
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+#ifdef __GNUC__
+    __asm__("" : "+r"(i));
+#endif
+    for (int q = i; q < i + 4; q++) {
+      const int f = face[q];
+      const uint16_t m = mask1[f], b = bgcells[q];   /* (mask1[-1]: none's, read, unused) */
+      masks[q] = f < 0 ? b : m;
+    }
+  }
+  for (; i < n; i++) masks[i] = face[i] < 0 ? bgcells[i] : mask1[face[i]];
+}
+
 /* Runs of faces a row above which faces_cells, a point at a time, costs fewer instructions
 ** than faces_run's runs (speed only: both give the same cells). */
 #define RUNS_BY_POINT 3
+#define RUNS_BY_POINT_BG 10                 /* the same over a background (faces_cells_bg) */
 
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
 ** first, left to right), through the same per-point path; or into the effects stage's
@@ -1281,10 +1301,12 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     /* the greys left to dumps_settle too where the background's are the job's (bgc) */
     p->greys_face = !scan || p->bgc;
     p->greys_bg = scan && p->bgc ? p->bgc->grey : NULL;
-    /* no background and no face of an odd level: a row whose runs are short (as the row
-       before, run by run, had more than RUNS_BY_POINT) is looked up a point at a time;
-       every fourth row run by run, to count again */
-    bool by_point = !scan;
+    /* no face of an odd level, and no background or the job's background cells (bgc): a
+       row whose runs are short (as the row before, run by run, had more than
+       RUNS_BY_POINT, over a background RUNS_BY_POINT_BG and every level of the row's
+       background within the cell) is looked up a point at a time; every fourth row run
+       by run, to count again */
+    bool by_point = !scan || p->bgc;
     for (int f = 0; by_point && f <= p->map->nface; f++) by_point = !fo[f].odd;
     uint16_t *fmask = by_point ? malloc(((size_t)p->map->nface + 1) * sizeof *fmask) : NULL;
     by_point = fmask != NULL;               /* (no room: run by run) */
@@ -1293,8 +1315,12 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
       row_start(p, &rc, j);
       const int *face = pt->face + (size_t)j * (size_t)W;
-      if (by_point && nrun > RUNS_BY_POINT && (j & 3)) {
-        faces_cells(face, W, fmask + 1, rc.masks);
+      if (by_point && nrun > (scan ? RUNS_BY_POINT_BG : RUNS_BY_POINT) && (j & 3) &&
+          (!scan || p->bgc->ok[j])) {
+        if (scan)
+          faces_cells_bg(face, W, fmask + 1, p->bgc->cells + (size_t)j * (size_t)W, rc.masks);
+        else
+          faces_cells(face, W, fmask + 1, rc.masks);
         st = row_end(p, &rc);
         continue;
       }
