@@ -197,9 +197,10 @@ static void test_erase_clears(void **state)
     const int top = round % 2 ? 299 : 40 + 40 * round;   /* the highest row written */
     assert_int_equal(tube_write(t, 0, 0), T74_OK);
     assert_int_equal(tube_write(t, 399, top), T74_OK);
-    for (int k = 0; k < 50; k++)
-      assert_int_equal(tube_write(t, (int)(next_rand(&x) % 400), (int)(next_rand(&x) % (unsigned)(top + 1))),
-                       T74_OK);
+    for (int k = 0; k < 50; k++) {
+      const int wx = (int)(next_rand(&x) % 400), wy = (int)(next_rand(&x) % (unsigned)(top + 1));
+      assert_int_equal(tube_write(t, wx, wy), T74_OK);
+    }
     uint16_t masks[100];
     for (int c = 0; c < 100; c++) masks[c] = (uint16_t)next_rand(&x);
     assert_int_equal(tube_write_cells(t, 0, top, 4, masks, 100), T74_OK);
