@@ -1076,9 +1076,15 @@ struct face_out {
   uint8_t grey;
 };
 
-static struct face_out *face_outs(const struct pipeline *p)
+/* Each face's entry at its index + 1 (none's at 0); with them, when fmask is not NULL
+** and no face's level is odd, each one's mask in a table of its own, at the same places
+** (*fmask; else NULL, as when the host has no room: none is needed). NULL: no room. */
+static struct face_out *face_outs(const struct pipeline *p, uint16_t **fmask)
 {
-  struct face_out *fo = malloc(((size_t)p->map->nface + 1) * sizeof *fo);
+  const size_t n = (size_t)p->map->nface + 1;
+  struct face_out *fo = malloc(n * sizeof *fo);
+  uint16_t *fm = fmask && fo ? malloc(n * sizeof *fm) : NULL;
+  bool odd = false;
   for (int f = 0; fo && f <= p->map->nface; f++) {
     int grey = f ? p->map->f[f - 1].grey : 0;
     fo[f].id = f ? p->map->f[f - 1].id : 0;
@@ -1086,7 +1092,11 @@ static struct face_out *face_outs(const struct pipeline *p)
     fo[f].level = (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
     fo[f].odd = fo[f].level < 0 || fo[f].level > p->cell * p->cell;
     fo[f].mask = fo[f].odd ? 0 : p->mask[fo[f].level];
+    odd |= fo[f].odd;
+    if (fm) fm[f] = fo[f].mask;
   }
+  if (fm && odd) { free(fm); fm = NULL; }
+  if (fmask) *fmask = fm;
   return fo;
 }
 
@@ -1287,7 +1297,9 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     return T74_OK;
   }
   const bool direct = p->tube_direct && !p->also && !p->timed;
-  struct face_out *fo = !watched && !p->face && direct ? face_outs(p) : NULL;
+  uint16_t *fmask = NULL;                   /* (faces_cells: no background or the job's) */
+  struct face_out *fo = !watched && !p->face && direct
+                          ? face_outs(p, !p->scan || p->bgc ? &fmask : NULL) : NULL;
   if (fo) {
     /* the ids are left in the frame's faces until a dump asks (dumps_settle), and without
        a background the greys too; no display counts are kept (only the 1974 engine's
@@ -1306,11 +1318,7 @@ static int points_emit(struct pipeline *p, const struct points *pt)
        RUNS_BY_POINT, over a background RUNS_BY_POINT_BG and every level of the row's
        background within the cell) is looked up a point at a time; every fourth row run
        by run, to count again */
-    bool by_point = !scan || p->bgc;
-    for (int f = 0; by_point && f <= p->map->nface; f++) by_point = !fo[f].odd;
-    uint16_t *fmask = by_point ? malloc(((size_t)p->map->nface + 1) * sizeof *fmask) : NULL;
-    by_point = fmask != NULL;               /* (no room: run by run) */
-    for (int f = 0; by_point && f <= p->map->nface; f++) fmask[f] = fo[f].mask;
+    const bool by_point = fmask != NULL;    /* (no room: run by run) */
     int nrun = 0;                           /* the last row taken run by run: its runs */
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
       row_start(p, &rc, j);
