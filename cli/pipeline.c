@@ -87,13 +87,16 @@ struct pipeline {
                                        points engine's buffer, not copied to face */
   const int *ids_face;              /* not NULL: the frame's faces (an index in map->f, or
                                        -1), ids not yet written from them (dumps_settle) */
-  bool greys_face;                  /* and the greys neither (each the face's, 0 for none) */
+  bool greys_face;                  /* and the greys neither (each the face's; for none,
+                                       greys_bg's, or 0 without it) */
+  const uint8_t *greys_bg;          /* with greys_face: the background's greys, W x H, or NULL */
   struct cost display;              /* halftone + display stage */
   struct cost fx;                   /* the effects stage (effects/fx.h) */
   struct core **fx_keep;            /* the points engine's effects core between frames */
   struct smooth_scene **fx_smooth;  /* the smoothing's scene part between frames */
   struct fx_textures **fx_tex;      /* the scene's textures between frames */
   struct shadow_keep **fx_shadow;   /* the shadows in space between frames */
+  const struct bg_cells *bgc;       /* the background's cells, kept for every frame, or NULL */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -538,6 +541,11 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       gmask[v] = (uint16_t)gcell[v];
       odd |= gcell[v] == GREY_ODD;
     }
+    /* 3x3 cells, no background, no odd grey: a row's cells stored from its greys at once
+       (tube_write_cells_keyed: each cell's dots looked up by its grey) */
+    struct tube_keys tk;
+    const bool keyed = p->cell == 3 && !p->scan && !odd;
+    if (keyed) tube_keys_init(&tk, p->cell, gmask);
     p->ids_face = face;
     p->greys_face = false;                  /* the effects wrote them */
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
@@ -545,6 +553,10 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       const size_t at0 = (size_t)j * (size_t)p->W;
       const int *fr = face + at0;
       const uint8_t *greys = p->grey + at0, *flats = flat ? flat + at0 : NULL;
+      if (keyed) {
+        st = tube_write_cells_keyed(p->tube_direct, rc.x0, rc.y0, &tk, greys, p->W);
+        continue;
+      }
       if (!p->scan && !odd) {               /* no background, no odd grey: every cell */
         greys_cells(greys, p->W, gmask, rc.masks);
         st = row_end(p, &rc);
@@ -678,10 +690,12 @@ static void dumps_settle(struct pipeline *p)
   for (size_t at = 0; at < n; at++) {
     const int f = face[at];
     p->ids[at] = f >= 0 ? p->map->f[f].id : 0;
-    if (p->greys_face) p->grey[at] = f >= 0 ? (uint8_t)p->map->f[f].grey : 0;
+    if (p->greys_face)
+      p->grey[at] = f >= 0 ? (uint8_t)p->map->f[f].grey : p->greys_bg ? p->greys_bg[at] : 0;
   }
   p->ids_face = NULL;
   p->greys_face = false;
+  p->greys_bg = NULL;
 }
 
 /* `--dump ids`: a 16-bit PGM (CONTRACT.md). A face number above 65535 (an import of more
@@ -1062,9 +1076,15 @@ struct face_out {
   uint8_t grey;
 };
 
-static struct face_out *face_outs(const struct pipeline *p)
+/* Each face's entry at its index + 1 (none's at 0); with them, when fmask is not NULL
+** and no face's level is odd, each one's mask in a table of its own, at the same places
+** (*fmask; else NULL, as when the host has no room: none is needed). NULL: no room. */
+static struct face_out *face_outs(const struct pipeline *p, uint16_t **fmask)
 {
-  struct face_out *fo = malloc(((size_t)p->map->nface + 1) * sizeof *fo);
+  const size_t n = (size_t)p->map->nface + 1;
+  struct face_out *fo = malloc(n * sizeof *fo);
+  uint16_t *fm = fmask && fo ? malloc(n * sizeof *fm) : NULL;
+  bool odd = false;
   for (int f = 0; fo && f <= p->map->nface; f++) {
     int grey = f ? p->map->f[f - 1].grey : 0;
     fo[f].id = f ? p->map->f[f - 1].id : 0;
@@ -1072,7 +1092,11 @@ static struct face_out *face_outs(const struct pipeline *p)
     fo[f].level = (unsigned)grey < 256 ? p->level[grey] : pat_level(p->cell, grey);
     fo[f].odd = fo[f].level < 0 || fo[f].level > p->cell * p->cell;
     fo[f].mask = fo[f].odd ? 0 : p->mask[fo[f].level];
+    odd |= fo[f].odd;
+    if (fm) fm[f] = fo[f].mask;
   }
+  if (fm && odd) { free(fm); fm = NULL; }
+  if (fmask) *fmask = fm;
   return fo;
 }
 
@@ -1080,8 +1104,55 @@ static struct face_out *face_outs(const struct pipeline *p)
 struct row_bg {
   const uint8_t *level, *grey;      /* scan_row's */
   const uint16_t *mask;             /* p->mask */
+  const uint16_t *cells;            /* with bg_ok: each point's p->mask[level] */
   int cc;                           /* cell * cell */
 };
+
+/* The background picture's points as the points engine's frames show them, worked out
+** once for a job's frames (they depend on the scene alone: the picture, the cell and its
+** pattern): each row's levels and greys (scan_row), cells (p->mask of each level, 0 for a
+** level past the cell) and whether every level of the row is within the cell. */
+struct bg_cells {
+  uint8_t *level, *grey;            /* W x H, row j at j W */
+  uint16_t *cells;
+  bool *ok;                         /* H */
+};
+
+static void bg_cells_free(struct bg_cells *b)
+{
+  if (!b) return;
+  free(b->level);
+  free(b->grey);
+  free(b->cells);
+  free(b->ok);
+  free(b);
+}
+
+/* p's background's cells (p->scan, p->mask, p->W, p->H set); NULL when out of memory. */
+static struct bg_cells *bg_cells_new(const struct pipeline *p)
+{
+  const size_t n = (size_t)p->W * (size_t)p->H;
+  const int cc = p->cell * p->cell;
+  struct bg_cells *b = calloc(1, sizeof *b);
+  if (!b) return NULL;
+  b->level = malloc(n);
+  b->grey = malloc(n);
+  b->cells = malloc(n * sizeof *b->cells);
+  b->ok = malloc((size_t)p->H * sizeof *b->ok);
+  if (!b->level || !b->grey || !b->cells || !b->ok) { bg_cells_free(b); return NULL; }
+  for (int j = 0; j < p->H; j++) {
+    const size_t at = (size_t)j * (size_t)p->W;
+    scan_row(p->scan, j, b->level + at, b->grey + at);   /* no 1974 time: uncounted */
+    uint8_t top = 0;
+    for (int i = 0; i < p->W; i++) {
+      const uint8_t l = b->level[at + (size_t)i];
+      top = l > top ? l : top;
+      b->cells[at + (size_t)i] = l <= cc ? p->mask[l] : 0;
+    }
+    b->ok[j] = top <= cc;
+  }
+  return b;
+}
 
 /* m[0 .. n) = mask and (g not NULL) g[0 .. n) = grey (n >= 1); room >= n: the points to
 ** the row's end. Eight points a store (SSE2): a run of eight or more ends with eight
@@ -1114,22 +1185,27 @@ static inline void run_fill(uint16_t *m, uint8_t *g, int n, int room, uint16_t m
 
 /* The points i .. of a row whose cells are of a level 0 .. cell * cell, up to the first
 ** other one: their cells, and (greys not NULL) their greys, from their faces' entries, or
-** from the background picture's levels and greys of the row (bg, NULL: none; with bg,
-** greys is not NULL; bg_ok: every level of the row's background is 0 .. cell * cell); its
-** index, or n. (A loop of its own: few values live, none spilled.) */
+** from the background picture's levels and greys of the row (bg, NULL: none; bg_ok: every
+** level of the row's background is 0 .. cell * cell); its index, or n. (A loop of its own:
+** few values live, none spilled.) */
 static int faces_run(const struct face_out *fo, const int *face, int i, int n,
-                     const struct row_bg *bg, bool bg_ok, uint8_t *greys, uint16_t *masks)
+                     const struct row_bg *bg, bool bg_ok, uint8_t *greys, uint16_t *masks,
+                     int *nrun)
 {
   for (; i < n; i++) {
     int f = face[i];
+    ++*nrun;
     if (f < 0 && bg) {                      /* a run of background points */
       const int e = face_run_end(face, i, n);
       int q = i;
-      if (bg_ok)
+      if (bg_ok && bg->cells) {
+        memcpy(masks + i, bg->cells + i, (size_t)(e - i) * sizeof *masks);
+        q = e;
+      } else if (bg_ok)
         for (; q < e; q++) masks[q] = bg->mask[bg->level[q]];
       else
         for (; q < e && bg->level[q] <= bg->cc; q++) masks[q] = bg->mask[bg->level[q]];
-      memcpy(greys + i, bg->grey + i, (size_t)(q - i));
+      if (greys) memcpy(greys + i, bg->grey + i, (size_t)(q - i));
       if (q < e) { i = q; break; }          /* a level past the cell */
       i = e - 1;
       continue;
@@ -1142,6 +1218,49 @@ static int faces_run(const struct face_out *fo, const int *face, int i, int n,
   }
   return i;
 }
+
+/* A row's cells from its faces, a point at a time (mask1: each face's cell from face 0, at
+** -1 none's; no background, no face of an odd level): as faces_run gives them. Four points
+** a step (an empty asm: no vector form, which gcc would build of scalar lookups through
+** the stack). */
+static void faces_cells(const int *face, int n, const uint16_t *mask1, uint16_t *masks)
+{
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+#ifdef __GNUC__
+    __asm__("" : "+r"(i));
+#endif
+    masks[i] = mask1[face[i]];
+    masks[i + 1] = mask1[face[i + 1]];
+    masks[i + 2] = mask1[face[i + 2]];
+    masks[i + 3] = mask1[face[i + 3]];
+  }
+  for (; i < n; i++) masks[i] = mask1[face[i]];
+}
+
+/* faces_cells over a background (no level of the row's past the cell): a point that sees
+** no face takes the background's cell (bgcells, the row's). */
+static void faces_cells_bg(const int *face, int n, const uint16_t *mask1,
+                           const uint16_t *bgcells, uint16_t *masks)
+{
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+#ifdef __GNUC__
+    __asm__("" : "+r"(i));
+#endif
+    for (int q = i; q < i + 4; q++) {
+      const int f = face[q];
+      const uint16_t m = mask1[f], b = bgcells[q];   /* (mask1[-1]: none's, read, unused) */
+      masks[q] = f < 0 ? b : m;
+    }
+  }
+  for (; i < n; i++) masks[i] = face[i] < 0 ? bgcells[i] : mask1[face[i]];
+}
+
+/* Runs of faces a row above which faces_cells, a point at a time, costs fewer instructions
+** than faces_run's runs (speed only: both give the same cells). */
+#define RUNS_BY_POINT 3
+#define RUNS_BY_POINT_BG 10                 /* the same over a background (faces_cells_bg) */
 
 /* --engine points: the buffer's faces to the sinks in the 1974 program's order (bottom row
 ** first, left to right), through the same per-point path; or into the effects stage's
@@ -1178,44 +1297,73 @@ static int points_emit(struct pipeline *p, const struct points *pt)
     return T74_OK;
   }
   const bool direct = p->tube_direct && !p->also && !p->timed;
-  struct face_out *fo = !watched && !p->face && direct ? face_outs(p) : NULL;
+  uint16_t *fmask = NULL;                   /* (faces_cells: no background or the job's) */
+  struct face_out *fo = !watched && !p->face && direct
+                          ? face_outs(p, !p->scan || p->bgc ? &fmask : NULL) : NULL;
   if (fo) {
     /* the ids are left in the frame's faces until a dump asks (dumps_settle), and without
        a background the greys too; no display counts are kept (only the 1974 engine's
        figures report them) */
     const bool scan = p->scan != NULL;
     struct row_cells rc;
-    uint8_t bg_level[TUBE_W], bg_grey[TUBE_W];   /* a row's background points' */
-    const struct row_bg bg = { bg_level, bg_grey, p->mask, cc };
+    uint8_t row_level[TUBE_W], row_grey[TUBE_W];   /* a row's background points' (no bgc) */
+    struct row_bg bg = { row_level, row_grey, p->mask, NULL, cc };
     int st = T74_OK;
     p->ids_face = pt->face;
-    p->greys_face = !scan;
+    /* the greys left to dumps_settle too where the background's are the job's (bgc) */
+    p->greys_face = !scan || p->bgc;
+    p->greys_bg = scan && p->bgc ? p->bgc->grey : NULL;
+    /* no face of an odd level, and no background or the job's background cells (bgc): a
+       row whose runs are short (as the row before, run by run, had more than
+       RUNS_BY_POINT, over a background RUNS_BY_POINT_BG and every level of the row's
+       background within the cell) is looked up a point at a time; every fourth row run
+       by run, to count again */
+    const bool by_point = fmask != NULL;    /* (no room: run by run) */
+    int nrun = 0;                           /* the last row taken run by run: its runs */
     for (int j = H - 1; j >= 0 && st == T74_OK; j--) {
       row_start(p, &rc, j);
       const int *face = pt->face + (size_t)j * (size_t)W;
-      uint8_t *greys = scan ? p->grey + (size_t)j * (size_t)W : NULL;
+      if (by_point && nrun > (scan ? RUNS_BY_POINT_BG : RUNS_BY_POINT) && (j & 3) &&
+          (!scan || p->bgc->ok[j])) {
+        if (scan)
+          faces_cells_bg(face, W, fmask + 1, p->bgc->cells + (size_t)j * (size_t)W, rc.masks);
+        else
+          faces_cells(face, W, fmask + 1, rc.masks);
+        st = row_end(p, &rc);
+        continue;
+      }
+      nrun = 0;
+      uint8_t *greys = scan && !p->bgc ? p->grey + (size_t)j * (size_t)W : NULL;
       bool bg_ok = false;                   /* every background level of the row in the cell */
-      if (scan) {
-        scan_row(p->scan, j, bg_level, bg_grey);   /* no 1974 time: uncounted */
+      if (scan && p->bgc) {                 /* the job's, worked out once */
+        const size_t at = (size_t)j * (size_t)W;
+        bg.level = p->bgc->level + at;
+        bg.grey = p->bgc->grey + at;
+        bg.cells = p->bgc->cells + at;
+        bg_ok = p->bgc->ok[j];
+      } else if (scan) {
+        scan_row(p->scan, j, row_level, row_grey);   /* no 1974 time: uncounted */
         uint8_t top = 0;
-        for (int i = 0; i < W; i++) top = bg_level[i] > top ? bg_level[i] : top;
+        for (int i = 0; i < W; i++) top = row_level[i] > top ? row_level[i] : top;
         bg_ok = top <= cc;
       }
+      const uint8_t *bg_level = bg.level, *bg_grey = bg.grey;
       for (int i = 0; i < W && st == T74_OK; i++) {
-        i = faces_run(fo, face, i, W, scan ? &bg : NULL, bg_ok, greys, rc.masks);
+        i = faces_run(fo, face, i, W, scan ? &bg : NULL, bg_ok, greys, rc.masks, &nrun);
         if (i == W) break;
         int f = face[i], level;             /* a cell of another level */
         if (f < 0 && scan) {                /* the background's, from the disk */
-          greys[i] = bg_grey[i];
+          if (greys) greys[i] = bg_grey[i];
           level = bg_level[i];
         } else {
-          if (scan) greys[i] = fo[f + 1].grey;
+          if (greys) greys[i] = fo[f + 1].grey;
           level = fo[f + 1].level;
         }
         st = row_odd(p, &rc, i, level);
       }
       if (st == T74_OK) st = row_end(p, &rc);
     }
+    free(fmask);
     free(fo);
     return st;
   }
@@ -1302,6 +1450,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   struct smooth_scene *fx_smooth = NULL;    /* the smoothing's scene part, likewise */
   struct fx_textures *fx_tex = NULL;        /* the scene's textures, likewise */
   struct shadow_keep *fx_shadow = NULL;     /* the shadows in space, likewise */
+  struct bg_cells *bgc = NULL;              /* the background's cells, likewise */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -1391,6 +1540,11 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   }
   p.params = &o->params;
   cost_class_states(p.params, p.states);
+  if (engine == JOB_ENGINE_POINTS && p.scan && !p.face) {
+    /* points_emit's cells of the background (the scene's alone), once for every frame */
+    if (!(bgc = bg_cells_new(&p))) { st = t74_fail(err, T74_EIO, "out of host memory"); goto done; }
+    p.bgc = bgc;
+  }
   if (nframes > 1) {
     /* --frames: the scene rendered K - 1 times more, each frame timed, before the frame
        whose outputs are written (so that one render is alive at a time, each taking what
@@ -1501,6 +1655,7 @@ done:
   smooth_scene_free(fx_smooth);
   fx_textures_free(fx_tex);
   shadow_keep_free(fx_shadow);
+  bg_cells_free(bgc);
   points_free(&pts);
   scene_free(own);
   return st;

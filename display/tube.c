@@ -10,8 +10,9 @@
 ** order[] is written late (issue 19: a frame of --frames nobody reads the order of wrote
 ** every dot into it, half of a small scene's frame): order[0 .. done) holds dots, and
 ** after them order[done .. done + nlog) holds writes not yet spelled out, each one word
-** for one or more new dots (a dot; a row of up to 4 dots; an aligned 4x4 cell), spelled
-** out in place when the order is first read (settle).
+** for one or more new dots (a dot; a row of up to 4 dots; an aligned 4x4 cell; a 3x3 cell;
+** a row of cells written where no dot was lit), spelled out in place when the order is
+** first read (settle).
 ** Invariant: the set bits in lit[] are the dots of order[0 .. done) and the new dots of the
 ** nlog writes; spelled out, order[0 .. done) holds each lit dot exactly once.
 */
@@ -31,6 +32,7 @@
 struct tube {
   uint8_t  lit[(TUBE_DOTS + 7) / 8 + 8]; /* bit (y*TUBE_W + x): dot lit; 8 last bytes spare
                                             (dots are read up to eight bytes at a time) */
+  uint8_t  left[(TUBE_DOTS + 7) / 8 + 8];/* settle's scratch: the dots not yet spelled out */
   uint32_t order[TUBE_DOTS];             /* first-write order, y*TUBE_W + x each, then the
                                             writes not yet spelled out */
   int      done;                         /* order[0 .. done): dots */
@@ -42,33 +44,52 @@ struct tube {
 /* A write of order[], one word: bit 31 set, an aligned 4x4 cell: bits 0-14 its dot
 ** (x0, y0) over 4, bits 15-30 its new dots as tube_write_dots' mask; bits 31-30 01, a 3x3
 ** cell: bits 0-16 its dot (x0, y0), bits 17-25 its new dots as that mask; bits 31-30 00, a
-** row: bits 0-16 its first dot, bits 17-20 its new dots (bit b: that dot + b). */
+** row: bits 0-16 its first dot, bits 17-20 its new dots (bit b: that dot + b), not all 0;
+** bits 31-30 00 and 17-20 0, a run: count cells (bits 22-29, 1 .. 255) of 3x3 (bit 21
+** clear) or 4x4 (set) abutting left to right from dot (x0, y0) (bits 0-16), written where
+** none of their dots was lit, each cell's new dots its dots lit just after the write. A
+** run keeps no masks: settle finds them in lit[] (see there). */
 _Static_assert(TUBE_DOTS <= 1 << 17 && TUBE_DOTS / 4 <= 1 << 15, "a dot in a write's bits");
+_Static_assert(TUBE_W / 3 <= 255, "a row's cells in a run's count");
 _Static_assert(TUBE_W % 8 == 0, "a row of lit[] starts on a byte; an aligned 4x4 cell's "
                "rows are the low or high half of a byte each");
-
-struct tube *tube_new(void)
-{
-  struct tube *t = malloc(sizeof *t);
-  if (t) tube_erase(t);
-  return t;
-}
 
 void tube_free(struct tube *t)
 {
   free(t);
 }
 
+/* b[0 .. n) cleared, at most 2 kB a memset: the C library clears a larger block with
+** `rep stosb`, which valgrind counts as an instruction a byte (the project's measure is
+** callgrind's count; the work is the same either way). */
+static void clear_bytes(uint8_t *b, size_t n)
+{
+  for (size_t at = 0; at < n; at += 2048) memset(b + at, 0, n - at < 2048 ? n - at : 2048);
+}
+
+struct tube *tube_new(void)
+{
+  struct tube *t = malloc(sizeof *t);
+  if (!t) return NULL;
+  t->lit_end = UINT32_MAX;                 /* tube_erase clears all of lit[] (the spare bytes
+                                              too): nothing of it is known yet */
+  tube_erase(t);
+  return t;
+}
+
+/* Every lit dot is below lit_end: lit[] is 0 from byte lit_end / 8 + 1 on (a write stores
+** no bit but a lit dot's), so only the bytes before are cleared. */
 void tube_erase(struct tube *t)
 {
-  memset(t->lit, 0, sizeof t->lit);
+  size_t n = (size_t)(t->lit_end >> 3) + 1;
+  clear_bytes(t->lit, n < sizeof t->lit ? n : sizeof t->lit);
   t->done = t->nlog = 0;
   t->lit_end = 0;
   t->err.status = T74_OK;
   t->err.msg[0] = '\0';
 }
 
-/* A write's first dot, its new dots as a cell's mask, and that cell's width. */
+/* A write's first dot, its new dots as a cell's mask, and that cell's width (not a run). */
 static inline uint32_t write_of(uint32_t v, unsigned *m, unsigned *cell)
 {
   if (v >> 31) { *m = (v >> 15) & 0xffffu; *cell = 4; return (v & 0x7fffu) << 2; }
@@ -78,35 +99,86 @@ static inline uint32_t write_of(uint32_t v, unsigned *m, unsigned *cell)
   return v & 0x1ffffu;
 }
 
-/* The writes spelled out into dots, in place from the last: each write's dots take at
-** least its one word, so no write is overwritten before it is read. A tube is only read
-** through const pointers: what it stores does not change, and every tube is tube_new's
-** (never a const object). */
-/* the dots lit: those spelled out and the writes' new ones */
+/* Is write v a run (bits 31-30 and 17-20 clear)? Its cells' width and count. */
+static inline bool run_of(uint32_t v, unsigned *cell, unsigned *count)
+{
+  if (v & (3u << 30 | 15u << 17)) return false;
+  *cell = v >> 21 & 1 ? 4 : 3;
+  *count = v >> 22 & 0xffu;
+  return true;
+}
+
+/* The run's word: count (1 .. 255) cells of cell (3 or 4) from dot base. */
+static inline uint32_t run_word(uint32_t base, int cell, int count)
+{
+  return (uint32_t)count << 22 | (uint32_t)(cell == 4) << 21 | base;
+}
+
+/* The dots lit: the set bits of lit[] (the invariant at the top), those below lit_end. */
 static int count(const struct tube *t)
 {
-  int n = t->done;
-  unsigned m, cell;
-  for (int e = t->done; e < t->done + t->nlog; e++) {
-    write_of(t->order[e], &m, &cell);
-    n += __builtin_popcount(m);
+  const size_t nb = ((size_t)t->lit_end + 63) / 64 * 8;   /* whole words: lit[] has 8 spare
+                                                             bytes, all 0 past lit_end */
+  int n = 0;
+  for (size_t b = 0; b < nb; b += 8) {
+    uint64_t w;
+    memcpy(&w, t->lit + b, sizeof w);
+    n += __builtin_popcountll(w);
   }
   return n;
 }
 
+/* Dot d of left[] (settle's scratch): lit and not yet spelled out; and cleared. */
+static inline unsigned left_has(const uint8_t *left, uint32_t d)
+{
+  return left[d >> 3] >> (d & 7) & 1u;
+}
+
+static inline void left_clear(uint8_t *left, uint32_t d)
+{
+  left[d >> 3] &= (uint8_t)~(1u << (d & 7));
+}
+
+/* The writes spelled out into dots, in place from the last: each write's dots take at
+** least its one word, so no write is overwritten before it is read. A tube is only read
+** through const pointers: what it stores does not change, and every tube is tube_new's
+** (never a const object).
+** A run's cells' new dots are found in left[], a copy of lit[] from which each write's dots
+** are cleared as it is spelled out, the last write first: when the run is reached, the
+** dots of its cells in left[] are its own. (Its cells' dots were all unlit before it; the
+** dots lit after it are the new dots of the writes after it, each of one of them, and
+** cleared already; the dots of the writes before it are not among its cells'.) */
 static void settle(const struct tube *ct)
 {
   if (!ct->nlog) return;
   struct tube *t = (struct tube *)ct;
   uint32_t *o = t->order;
-  unsigned m, cell;
+  uint8_t *left = t->left;
+  const size_t nb = (size_t)(t->lit_end >> 3) + 1;    /* lit[] is 0 past it */
+  memcpy(left, t->lit, nb < sizeof t->lit ? nb : sizeof t->lit);
   const int n = count(t);
   int w = n;
   for (int e = t->done + t->nlog - 1; e >= t->done; e--) {
-    uint32_t d = write_of(o[e], &m, &cell);
+    const uint32_t v = o[e];
+    unsigned m, cell, cnt;
+    if (run_of(v, &cell, &cnt)) {
+      for (int c = (int)cnt - 1; c >= 0; c--) {   /* the last cell first */
+        const uint32_t d = (v & 0x1ffffu) + (uint32_t)c * cell;
+        for (int k = (int)(cell * cell) - 1; k >= 0; k--) {   /* its last dot first */
+          const uint32_t dk = d - ((unsigned)k / cell) * TUBE_W + (unsigned)k % cell;
+          if (!left_has(left, dk)) continue;
+          left_clear(left, dk);
+          o[--w] = dk;
+        }
+      }
+      continue;
+    }
+    uint32_t d = write_of(v, &m, &cell);
     for (; m; ) {                          /* the last dot first */
       unsigned k = 31u - (unsigned)__builtin_clz(m);
-      o[--w] = d - (k / cell) * TUBE_W + k % cell;
+      const uint32_t dk = d - (k / cell) * TUBE_W + k % cell;
+      left_clear(left, dk);
+      o[--w] = dk;
       m &= ~(1u << k);
     }
   }
@@ -257,8 +329,9 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask)
   return T74_OK;
 }
 
-/* Are the masks of count cells all within the cell (full)? */
-static bool masks_within(const uint16_t *masks, int count, unsigned full)
+/* The OR of count cells' masks (within the cell full when it has no bit past full; 0 when
+** no cell has a dot). */
+static unsigned masks_or(const uint16_t *masks, int count)
 {
   unsigned any = 0;
   int c = 0;
@@ -276,16 +349,14 @@ static bool masks_within(const uint16_t *masks, int count, unsigned full)
   any = (unsigned)_mm_cvtsi128_si32(mv) & 0xffffu;
 #endif
   for (; c < count; c++) any |= masks[c];
-  return !(any & ~full);
+  return any;
 }
 
 /* Are the cell (3 or 4) rows of lit[] under count cells abutting from dot base (on the
-** tube) all unlit, and their masks all within the cell (full)? (The bytes that hold the
-** cells' dots are asked for, a few dots either side too: a no is only a loss of speed.) */
-static bool blank_cells(const uint8_t *lit, uint32_t base, int cell, int count,
-                        const uint16_t *masks, unsigned full)
+** tube) all unlit? (The bytes that hold the cells' dots are asked for, a few dots either
+** side too: a no is only a loss of speed.) */
+static bool blank_cells(const uint8_t *lit, uint32_t base, int cell, int count)
 {
-  if (!masks_within(masks, count, full)) return false;
   const uint32_t b0 = base >> 3, b1 = (base + (uint32_t)(cell * count) - 1) >> 3;
   for (int r = 0; r < cell; r++) {
     const uint8_t *l = lit + b0 - (uint32_t)r * ROW_BYTES;
@@ -305,26 +376,32 @@ static bool blank_cells(const uint8_t *lit, uint32_t base, int cell, int count,
 #ifdef __SSE2__
 /* Eight aligned 4x4 cells side by side on unlit rows, the first at a byte's start (base,
 ** a multiple of 8), their masks within the cell: a 32-bit word of each of the 4 rows of
-** lit[] (cell 2k the low half of byte k, cell 2k + 1 the high), and a write for each cell
-** with a dot, left to right; as the blank run's pairs of cells give them. The new end of
-** the writes. */
-/* Row r of eight 4x4 cells' masks m (8 lanes of 16 bits): byte k of the row, cell 2k's
-** nibble r | cell 2k + 1's << 4, in the low byte of 32-bit lane k. */
-static inline __m128i row8(__m128i m, int r)
+** lit[] (cell 2k the low half of byte k, cell 2k + 1 the high), stored as it is (the
+** cells' dots are those 32 dots of each row, all unlit before): rows8 makes the words
+** (row r in 32-bit lane r), write_blank8 stores them. */
+static inline __m128i rows8(const uint16_t *masks)
 {
-  const __m128i t = _mm_and_si128(_mm_srli_epi16(m, 4 * r), _mm_set1_epi16(0xf));
-  return _mm_and_si128(_mm_or_si128(t, _mm_srli_epi32(t, 12)), _mm_set1_epi32(0xff));
+  /* 32-bit lane k holds cells 2k (x, low half) and 2k + 1 (y), a nibble a row:
+     x0 x1 x2 x3 y0 y1 y2 y3 from the lowest bits. The even rows' nibbles are the low
+     halves of its bytes (a: x0, x2, y0, y2), the odd rows' the high halves (b: x1, x3,
+     y1, y3); a | a >> 12 has x0 | y0 << 4 in byte 0 and x2 | y2 << 4 in byte 1: row 0's
+     and row 2's byte of the pair (c), likewise rows 1 and 3 (d). Those 16 bits of each
+     lane, sign-extended (so that the signed pack keeps them as they are), packed to 16
+     bits: c0 .. c3 d0 .. d3; their low bytes, then their high bytes, packed to bytes:
+     rows 0, 1, 2, 3, a 32-bit word each (pairs 0 .. 3 from its low byte). */
+  const __m128i m = _mm_loadu_si128((const __m128i *)(const void *)masks);
+  const __m128i low = _mm_set1_epi32(0x0f0f0f0f);
+  const __m128i a = _mm_and_si128(m, low), b = _mm_and_si128(_mm_srli_epi32(m, 4), low);
+  const __m128i c = _mm_or_si128(a, _mm_srli_epi32(a, 12));
+  const __m128i d = _mm_or_si128(b, _mm_srli_epi32(b, 12));
+  const __m128i cd = _mm_packs_epi32(_mm_srai_epi32(_mm_slli_epi32(c, 16), 16),
+                                     _mm_srai_epi32(_mm_slli_epi32(d, 16), 16));
+  return _mm_packus_epi16(_mm_and_si128(cd, _mm_set1_epi16(0xff)), _mm_srli_epi16(cd, 8));
 }
 
-static inline uint32_t *write_blank8(uint8_t *lit, uint32_t *next, uint32_t base,
-                                     const uint16_t *masks)
+static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *masks)
 {
-  const __m128i m = _mm_loadu_si128((const __m128i *)(const void *)masks);
-  const __m128i zero = _mm_setzero_si128();
-  const unsigned none = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi16(m, zero));
-  if (none == 0xffffu) return next;        /* no dot: the rows stay unlit */
-  const __m128i rows = _mm_packus_epi16(_mm_packs_epi32(row8(m, 0), row8(m, 1)),
-                                        _mm_packs_epi32(row8(m, 2), row8(m, 3)));
+  const __m128i rows = rows8(masks);
   uint8_t *l = lit + (base >> 3);
   const uint32_t w0 = (uint32_t)_mm_cvtsi128_si32(rows),
                  w1 = (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(rows, 4)),
@@ -334,21 +411,24 @@ static inline uint32_t *write_blank8(uint8_t *lit, uint32_t *next, uint32_t base
   memcpy(l - ROW_BYTES, &w1, sizeof w1);
   memcpy(l - 2 * ROW_BYTES, &w2, sizeof w2);
   memcpy(l - 3 * ROW_BYTES, &w3, sizeof w3);
-  if (none) {                              /* a cell without a dot: one at a time */
-    for (int c = 0; c < 8; c++)
-      if (masks[c]) *next++ = 1u << 31 | (uint32_t)masks[c] << 15 | ((base >> 2) + (uint32_t)c);
-    return next;
-  }
-  /* every cell has dots: the eight writes, cell c's 1 << 31 | mask << 15 | base / 4 + c
-     (its fields apart: an add is an or) */
-  const __m128i tag = _mm_set1_epi32((int)(1u << 31 | base >> 2));
-  const __m128i lo = _mm_add_epi32(_mm_slli_epi32(_mm_unpacklo_epi16(m, zero), 15),
-                                   _mm_add_epi32(tag, _mm_setr_epi32(0, 1, 2, 3)));
-  const __m128i hi = _mm_add_epi32(_mm_slli_epi32(_mm_unpackhi_epi16(m, zero), 15),
-                                   _mm_add_epi32(tag, _mm_setr_epi32(4, 5, 6, 7)));
-  _mm_storeu_si128((__m128i *)(void *)next, lo);
-  _mm_storeu_si128((__m128i *)(void *)(next + 4), hi);
-  return next + 8;
+}
+
+/* write_blank8 of sixteen cells: the two eights' row words side by side, 64 bits a row,
+** stored from the vectors (no word taken out of them); nothing when no cell has a dot
+** (the rows' 64 bits are the cells' dots, unlit: 0 already). */
+static inline void write_blank16(uint8_t *lit, uint32_t base, const uint16_t *masks)
+{
+  const __m128i ma = _mm_loadu_si128((const __m128i *)(const void *)masks);
+  const __m128i mb = _mm_loadu_si128((const __m128i *)(const void *)(masks + 8));
+  const __m128i none = _mm_cmpeq_epi16(_mm_or_si128(ma, mb), _mm_setzero_si128());
+  if (_mm_movemask_epi8(none) == 0xffff) return;
+  const __m128i a = rows8(masks), b = rows8(masks + 8);
+  const __m128i r01 = _mm_unpacklo_epi32(a, b), r23 = _mm_unpackhi_epi32(a, b);
+  uint8_t *l = lit + (base >> 3);
+  _mm_storel_epi64((__m128i *)(void *)l, r01);
+  _mm_storeh_pd((double *)(void *)(l - ROW_BYTES), _mm_castsi128_pd(r01));
+  _mm_storel_epi64((__m128i *)(void *)(l - 2 * ROW_BYTES), r23);
+  _mm_storeh_pd((double *)(void *)(l - 3 * ROW_BYTES), _mm_castsi128_pd(r23));
 }
 #endif
 
@@ -435,11 +515,10 @@ static inline __attribute__((always_inline)) void write_run3(uint8_t *lit, uint3
   *next = o;
 }
 
-/* write_run3 where the cells' dots are all unlit: every dot new (its fresh is acc), so
-** each row's lane is put into lit[] as it is; the new end of the writes. */
-static inline __attribute__((always_inline)) uint32_t *write_new3(uint8_t *lit, uint32_t *next,
-                                                                uint32_t base, uint64_t acc,
-                                                                const uint16_t *masks, int n)
+/* n <= RUN3 3x3 cells abutting from dot base (on the tube) as lanes acc, their dots all
+** unlit: each row's lane put into lit[] as it is (no write of order[]). */
+static inline __attribute__((always_inline)) void put_lanes3(uint8_t *lit, uint32_t base,
+                                                             uint64_t acc)
 {
   const uint32_t sh = base & 7;
   for (int r = 0; r < 3; r++) {
@@ -449,6 +528,15 @@ static inline __attribute__((always_inline)) uint32_t *write_new3(uint8_t *lit, 
     have |= (uint32_t)(acc >> LANE3 * r & ((1u << LANE3) - 1)) << sh;
     memcpy(l, &have, sizeof have);
   }
+}
+
+/* write_run3 where the cells' dots are all unlit: every dot new (its fresh is acc), so
+** each row's lane is put into lit[] as it is; the new end of the writes. */
+static inline __attribute__((always_inline)) uint32_t *write_new3(uint8_t *lit, uint32_t *next,
+                                                                uint32_t base, uint64_t acc,
+                                                                const uint16_t *masks, int n)
+{
+  put_lanes3(lit, base, acc);
   return write_words3(next, base, masks, n);
 }
 
@@ -473,14 +561,23 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   /* the writes go to `next` (kept out of the tube while lit[] is written through bytes,
      which could alias it) */
   uint32_t *next = t->order + t->done + t->nlog;
-  if (cell == 4 && (above ? masks_within(masks, count, full)
-                          : blank_cells(lit, base, 4, count, masks, full))) {
-    /* nothing lit yet where the cells go (a tube being drawn): every dot is new, and a
-       byte of lit[] is the row of two cells of this row, or of one and nothing */
+  /* cells over unlit dots (above, or blank_cells for 4x4), their masks within the cell:
+     every dot is new; their dots go into lit[] and one run write into order[] (settle
+     finds the cells' dots in lit[]), none when no cell has a dot */
+  const unsigned any = masks_or(masks, count);
+  if (!(any & ~full) && cell == 4 && (above || blank_cells(lit, base, 4, count))) {
+    /* a byte of lit[] is the row of two cells of this row, or of one and nothing */
+    const uint32_t base0 = base;
     for (int c = 0; c < count; c++, base += 4) {
 #ifdef __SSE2__
+      if ((base & 7) == 0 && c + 16 <= count) { /* sixteen cells: 64 bits of each row */
+        write_blank16(lit, base, masks + c);
+        c += 15;
+        base += 60;
+        continue;
+      }
       if ((base & 7) == 0 && c + 8 <= count) {  /* eight cells: a word of each row */
-        next = write_blank8(lit, next, base, masks + c);
+        write_blank8(lit, base, masks + c);
         c += 7;
         base += 28;
         continue;
@@ -489,26 +586,44 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
       unsigned m = masks[c];
       if ((base & 7) == 0 && c + 1 < count) {   /* two cells: a byte of each row */
         unsigned mb = masks[c + 1];
-        if (m | mb) {                       /* (else the bytes stay unlit) */
-          rows_put(lit + (base >> 3), spread4(m) | spread4(mb) << 4);
-          if (m) *next++ = 1u << 31 | m << 15 | base >> 2;
-          if (mb) *next++ = 1u << 31 | mb << 15 | (base + 4) >> 2;
-        }
+        if (m | mb) rows_put(lit + (base >> 3), spread4(m) | spread4(mb) << 4);
         c++;
         base += 4;
       } else if (m) {
         uint8_t *l = lit + (base >> 3);
         rows_put(l, rows_of(l) | spread4(m) << (base & 7));
-        *next++ = 1u << 31 | m << 15 | base >> 2;
       }
     }
-    t->nlog = (int)(next - (t->order + t->done));
+    if (any) { *next = run_word(base0, 4, count); t->nlog++; }
+    return T74_OK;
+  }
+  if (!(any & ~full) && cell == 3 && above) {
+    /* runs of RUN3 cells, a row of them a lane (put_lanes3) */
+    const uint32_t base0 = base;
+    for (int c0 = 0; c0 < count; c0 += RUN3, base += 3 * RUN3) {
+      const uint16_t *m = masks + c0;
+      uint64_t acc = 0;
+      if (count - c0 >= RUN3) {
+        uint64_t w4, w3;                    /* cells 0 .. 3 and 3 .. 6 */
+        memcpy(&w4, m, sizeof w4);
+        memcpy(&w3, m + 3, sizeof w3);
+        if (!(w4 | w3)) continue;           /* seven cells of no dot (a background) */
+        if (w4 == w3 && w4 == m[0] * 0x0001000100010001u)
+          /* seven cells of one mask: the loop's lanes, each cell's bits three above the
+             last's within a lane of 21 (no two meet: a sum is their OR) */
+          acc = lanes3[m[0]] * 01111111u;
+        else
+          acc = lanes3[m[0]] | lanes3[m[1]] << 3 | lanes3[m[2]] << 6 | lanes3[m[3]] << 9 |
+                lanes3[m[4]] << 12 | lanes3[m[5]] << 15 | lanes3[m[6]] << 18;
+      } else {
+        for (int c = count - 1; c >= c0; c--) acc = acc << 3 | lanes3[masks[c]];
+      }
+      put_lanes3(lit, base, acc);
+    }
+    if (any) { *next = run_word(base0, 3, count); t->nlog++; }
     return T74_OK;
   }
   if (cell == 3) {                         /* runs of RUN3 cells, a row of them a lane */
-    /* plain: the rows unlit and every mask within the cell (a tube being drawn): a run's
-       lanes without the test of each mask */
-    const bool plain = above && masks_within(masks, count, full);
     for (int c0 = 0; c0 < count; c0 += RUN3, base += 3 * RUN3) {
       const int n = count - c0 < RUN3 ? count - c0 : RUN3;
       if (n == RUN3) {                      /* seven cells of no dot (a background) */
@@ -530,21 +645,13 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
           continue;
         }
       }
-      if (plain && n == RUN3) {
-        const uint16_t *m = masks + c0;
-        const uint64_t acc = lanes3[m[0]] | lanes3[m[1]] << 3 | lanes3[m[2]] << 6 |
-                             lanes3[m[3]] << 9 | lanes3[m[4]] << 12 | lanes3[m[5]] << 15 |
-                             lanes3[m[6]] << 18;
-        next = write_new3(lit, next, base, acc, m, n);   /* (acc is not 0: a mask is not) */
-        continue;
-      }
       uint64_t acc = 0;
-      unsigned any = 0;
+      unsigned run_or = 0;
       for (int c = c0 + n - 1; c >= c0; c--) {
-        any |= masks[c];
+        run_or |= masks[c];
         acc = acc << 3 | lanes3[masks[c] & 0x1ffu];
       }
-      if (!(any & ~full)) {
+      if (!(run_or & ~full)) {
         if (acc && above) next = write_new3(lit, next, base, acc, masks + c0, n);
         else if (acc) write_run3(lit, &next, base, acc, masks + c0, n);
         continue;
@@ -580,6 +687,65 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   }
   t->nlog = (int)(next - (t->order + t->done));
   return T74_OK;
+}
+
+void tube_keys_init(struct tube_keys *tk, int cell, const uint16_t *mask_of)
+{
+  const unsigned full = cell >= 1 && cell <= 4 ? (1u << (cell * cell)) - 1 : 0;
+  unsigned any = 0;
+  for (int k = 0; k < 256; k++) {
+    tk->mask[k] = mask_of[k];
+    any |= mask_of[k];
+  }
+  if (cell == 3 && !(any & ~full))          /* (else not asked for) */
+    for (int k = 0; k < 256; k++) {
+      const uint64_t l = lanes3[mask_of[k]];
+      for (int c = 0; c < RUN3; c++) tk->lanes[c][k] = l << 3 * c;
+    }
+  tk->cell = cell;
+  tk->within = cell == 3 && !(any & ~full);
+}
+
+int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_keys *tk,
+                           const uint8_t *keys, int count)
+{
+  const uint32_t base0 = (uint32_t)y0 * TUBE_W + (uint32_t)x0;
+  if (count > 0 && tk->within && x0 >= 0 && x0 <= TUBE_W - 3 * count && y0 >= 2 &&
+      y0 < TUBE_H && base0 - 2 * TUBE_W >= t->lit_end) {
+    /* 3x3 cells on the tube over unlit rows (their lowest dot at or past lit_end), every
+       mask within the cell: tube_write_cells' run of them, each cell's lanes looked up
+       by its key at once */
+    if (base0 + (uint32_t)(3 * count) > t->lit_end) t->lit_end = base0 + (uint32_t)(3 * count);
+    const uint64_t (*L)[256] = tk->lanes;
+    uint64_t seen = 0;                     /* the OR of the lanes: not 0 when a cell has a dot */
+    uint32_t base = base0;
+    int c0 = 0;
+    for (; c0 + RUN3 <= count; c0 += RUN3, base += 3 * RUN3) {
+      const uint8_t *k = keys + c0;
+      const uint64_t acc = L[0][k[0]] | L[1][k[1]] | L[2][k[2]] | L[3][k[3]] | L[4][k[4]] |
+                           L[5][k[5]] | L[6][k[6]];
+      seen |= acc;
+      put_lanes3(t->lit, base, acc);
+    }
+    if (c0 < count) {
+      uint64_t acc = 0;
+      for (int c = c0; c < count; c++) acc |= L[c - c0][keys[c]];
+      seen |= acc;
+      put_lanes3(t->lit, base, acc);
+    }
+    if (seen) t->order[t->done + t->nlog++] = run_word(base0, 3, count);
+    return T74_OK;
+  }
+  uint16_t masks[TUBE_W];                   /* (count <= TUBE_W on the tube; else one by one) */
+  if (count > TUBE_W) {
+    for (int c = 0; c < count; c++) {
+      const int rc = tube_write_cells(t, x0 + c * tk->cell, y0, tk->cell, &tk->mask[keys[c]], 1);
+      if (rc != T74_OK) return rc;
+    }
+    return T74_OK;
+  }
+  for (int c = 0; c < count; c++) masks[c] = tk->mask[keys[c]];
+  return tube_write_cells(t, x0, y0, tk->cell, masks, count);
 }
 
 int tube_lit(const struct tube *t, int x, int y)

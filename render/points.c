@@ -85,7 +85,8 @@
 ** A face whose least z over its box (at a corner; its double computed as z0 is, within
 ** 11.01uM < E) is > 4E has zl > z - 2E > 0 at all its points: it stores zl and zh as they
 ** are. Two faces in one plane get mface_coplanar_front's answer at every point
-** (in_front_exact), so the exact compare is asked once a span for such a pair.
+** (in_front_exact), so the exact compare is asked once for such a pair while the
+** face is drawn (struct coplane).
 **
 ** Tiles (coarse coverage, issue 19).  The grid is cut into tiles of TILE x TILE points
 ** (the last ones cut by the grid). A tile T keeps ninf, the number of its points whose lo
@@ -552,15 +553,23 @@ static __attribute__((noinline)) bool in_front_exact(const struct points *p, int
   return in_front(Pk, &p->map.f[k], Po, &p->map.f[o]);
 }
 
+/* A face in face k's plane met while k is drawn (-1: none yet), and the exact compare's
+   answer against it: in_front_exact's *same, where that answer is the one at every point
+   (so kept from span to span and row to row of face k). */
+struct coplane {
+  int o;
+  bool front;
+};
+
 #ifdef __SSE2__
 /* raster_plain's points from q on (see there), the exact compare asked where the doubles
    do not decide (out of line: the call's saved registers stay off the plain loop). */
 static __attribute__((noinline)) void
 raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe, int32_t i1,
-                  ptrdiff_t q, __m128d v, __m128d dv)
+                  ptrdiff_t q, __m128d v, __m128d dv, struct coplane *cp)
 {
-  int co = -1;                                  /* a face in face k's plane met on the span */
-  bool cofront = false;                         /* and the exact compare's answer against it */
+  int co = cp->o;                               /* a face in face k's plane met so far */
+  bool cofront = cp->front;                     /* and the exact compare's answer against it */
   for (; q != 0; q += 2, v = _mm_add_pd(v, dv)) {
     if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {     /* !(zl > hi) */
       if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
@@ -576,6 +585,8 @@ raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe
     *(int32_t *)(void *)(fe + 2 * q) = k;
     _mm_storeu_pd(zd + q, v);
   }
+  cp->o = co;
+  cp->front = cofront;
 }
 
 /* raster_span's steps for a face with zl > 0 over its box and no tiles kept, over row j's
@@ -586,7 +597,7 @@ raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe
    on, raster_plain_rest. */
 static inline __attribute__((always_inline)) void
 raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
-             int32_t i0, int32_t i1, double zl, double zh, double za)
+             int32_t i0, int32_t i1, double zl, double zh, double za, struct coplane *cp)
 {
   __m128d v = _mm_set_pd(zh, zl);
   const __m128d dv = _mm_set1_pd(za);
@@ -598,7 +609,7 @@ raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct point
     if (__builtin_expect(!(_mm_cvtsd_f64(v) > zd[q + 1]), 0)) {   /* !(zl > hi) */
       if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
         continue;                               /* zh < lo: behind, certainly */
-      raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv);
+      raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv, cp);
       return;
     }
     *(int32_t *)(void *)(fe + 2 * q) = k;
@@ -640,10 +651,10 @@ raster_take(int k, int32_t i, int32_t *fb, struct points_z *zb, double zl, doubl
 static __attribute__((noinline)) void
 raster_span_rest(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
                  int32_t i, int32_t i1, double zl, double zh, double za, bool plus,
-                 struct points_tile *trow)
+                 struct points_tile *trow, struct coplane *cp)
 {
-  int co = -1;                                  /* a face in face k's plane met on the span */
-  bool cofront = false;                         /* and the exact compare's answer against it */
+  int co = cp->o;                               /* a face in face k's plane met so far */
+  bool cofront = cp->front;                     /* and the exact compare's answer against it */
   for (; i < i1; i++, zl += za, zh += za) {
     const double was = zb[i].lo;
     if (!(zl > zb[i].hi)) {
@@ -658,15 +669,19 @@ raster_span_rest(const struct points *p, int k, int64_t j, int32_t *fb, struct p
     }
     raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
   }
+  cp->o = co;
+  cp->front = cofront;
 }
 
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
    and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
-   ("Tiles"); NULL when no face of the frame asks them (none is drawn with their tests). */
+   ("Tiles"); NULL when no face of the frame asks them (none is drawn with their tests).
+   cp: face k's coplane, kept while it is drawn. */
 static inline __attribute__((always_inline)) void
 raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0, int32_t i1,
-            double zl, double zh, double za, bool plus, struct points_tile *trow)
+            double zl, double zh, double za, bool plus, struct points_tile *trow,
+            struct coplane *cp)
 {
   p->points_visited += i1 - i0;
   size_t row = (size_t)j * (size_t)g->W;
@@ -674,7 +689,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   struct points_z *zb = p->z + row;
 #ifdef __SSE2__
   if (plus && !trow) {
-    raster_plain(p, k, j, fb, zb, i0, i1, zl, zh, za);
+    raster_plain(p, k, j, fb, zb, i0, i1, zl, zh, za, cp);
     return;
   }
 #endif
@@ -684,7 +699,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
     const double was = zb[i].lo;
     if (__builtin_expect(!(zl > zb[i].hi), 0)) {
       if (zh < was) continue;                   /* behind, certainly */
-      raster_span_rest(p, k, j, fb, zb, i, i1, zl, zh, za, plus, trow);
+      raster_span_rest(p, k, j, fb, zb, i, i1, zl, zh, za, plus, trow, cp);
       return;
     }
     raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
@@ -853,7 +868,8 @@ static bool face_hidden(struct points *p, const struct grid *g, const struct poi
    none kept; then hid is 0). */
 static inline __attribute__((always_inline)) void
 span_parts(struct points *p, const struct grid *g, int k, const struct points_box *b, int64_t j,
-           int32_t i0, int32_t i1, double zr, uint32_t hid, int tx0, struct points_tile *trow)
+           int32_t i0, int32_t i1, double zr, uint32_t hid, int tx0, struct points_tile *trow,
+           struct coplane *cp)
 {
   const double za = b->za, E = b->E;
   int32_t a = i0;                               /* the span's parts over tiles not hidden */
@@ -869,8 +885,8 @@ span_parts(struct points *p, const struct grid *g, int k, const struct points_bo
       int32_t ts = (t0 + rs) << TILE_SHIFT, te = (t0 + re) << TILE_SHIFT;
       if (ts > a) {                             /* (hid: the tiles are kept) */
         const double z0 = za * (double)a + zr;
-        if (b->plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow);
-        else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow);
+        if (b->plus) raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, true, trow, cp);
+        else raster_span(p, g, k, j, a, ts, z0 - E, z0 + E, za, false, trow, cp);
       }
       a = te < i1 ? te : i1;
     } while (m);
@@ -878,10 +894,10 @@ span_parts(struct points *p, const struct grid *g, int k, const struct points_bo
   }
   const double z0 = za * (double)a + zr;
   if (!trow) {
-    if (b->plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, NULL);
-    else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, NULL);
-  } else if (b->plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow);
-  else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow);
+    if (b->plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, NULL, cp);
+    else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, NULL, cp);
+  } else if (b->plus) raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, true, trow, cp);
+  else raster_span(p, g, k, j, a, i1, z0 - E, z0 + E, za, false, trow, cp);
 }
 
 /* Does face k (box b) cover a point centre of its box's middle row? (*yes; no says
@@ -918,6 +934,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
 {
   const struct mface *f = &p->map.f[k];
   const int64_t jlo = b->jlo, jhi = b->jhi;
+  struct coplane cp = { -1, false };            /* (raster_plain_rest, raster_span_rest) */
   int ne;
   bool two;                                     /* two crossings a row ("Two crossings") */
   int st = face_edges(p, g, f, jlo, jhi, &ne, &two, err);
@@ -990,7 +1007,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       visited += i1 - i0;
       const int64_t j = jlo + r;
       const double z0 = za * (double)i0 + (zb * (double)j + zc);
-      raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za);
+      raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, &cp);
     }
     p->points_visited += visited;
     if (!visited) p->faces_culled++;
@@ -1007,7 +1024,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       any = true;
       const int64_t j = jlo + r;
       span_parts(p, g, k, b, j, i0, i1, zb * (double)j + zc, 0, tx0,   /* no tile skipped */
-                 tiles ? p->tile + (size_t)(j >> TILE_SHIFT) * (size_t)ntx : NULL);
+                 tiles ? p->tile + (size_t)(j >> TILE_SHIFT) * (size_t)ntx : NULL, &cp);
     }
     if (!any) p->faces_culled++;
     return T74_OK;
@@ -1038,7 +1055,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       if (i0 >= i1) continue;
       any = true;
       const double zr = zb * (double)j + zc;
-      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, trow);
+      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, trow, &cp);
       continue;
     }
     int end = rc[r];                            /* row r: cross[start .. end) */
@@ -1057,7 +1074,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       int32_t i0 = cs[x], i1 = cs[x + 1];
       if (i0 >= i1) continue;
       any = true;
-      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, trow);
+      span_parts(p, g, k, b, j, i0, i1, zr, hid, tx0, trow, &cp);
     }
   }
   if (!any) p->faces_culled++;

@@ -137,11 +137,153 @@ static void test_rows_after_erase(void **state)
   tube_free(c);
 }
 
+/* A row of cells written over unlit dots is one write that keeps no masks: its cells' new
+   dots are read back from lit[] when the order is spelled out, after the later writes'
+   own new dots are taken out. Here rows of 3x3 and 4x4 cells with gaps (cells of no dot,
+   cells with some dots) are written bottom row first, and after each row single dots,
+   cells and a short row are written into the gaps of the rows already drawn (new dots
+   inside an earlier row's cells, and some lit already); the order is read now and then
+   between writes (spelled out, then written on). The same dots, count and order as a
+   cell at a time. */
+static void test_rows_then_gaps(void **state)
+{
+  (void)state;
+  uint32_t x = 74;
+  for (int cell = 3; cell <= 4; cell++) {
+    struct tube *a = tube_new(), *b = tube_new();
+    assert_non_null(a);
+    assert_non_null(b);
+    const int W = cell == 3 ? 133 : 100, H = cell == 3 ? 100 : 75;
+    const unsigned full = (1u << (cell * cell)) - 1;
+    for (int j = H - 1; j >= 0; j--) {
+      const int y0 = (H - 1 - j) * cell + cell - 1;
+      uint16_t masks[133];
+      for (int c = 0; c < W; c++)
+        masks[c] = (uint16_t)(c % 3 == 0 ? 0 : next_rand(&x) & full);
+      row_both(a, b, 0, y0, cell, masks, W);
+      for (int k = 0; k < 6; k++) {         /* into the rows drawn: gaps and lit dots */
+        const int wx = (int)(next_rand(&x) % 400), wy = (int)(next_rand(&x) % (unsigned)(y0 + 1));
+        assert_int_equal(tube_write(a, wx, wy), T74_OK);
+        assert_int_equal(tube_write(b, wx, wy), T74_OK);
+      }
+      const int cx = cell * (int)(next_rand(&x) % (unsigned)(W - 4));
+      const int cy = y0 - cell * (int)(next_rand(&x) % (unsigned)(H - j));
+      const unsigned m = next_rand(&x) & full;
+      assert_int_equal(tube_write_dots(a, cx, cy, cell, m), T74_OK);
+      assert_int_equal(tube_write_dots(b, cx, cy, cell, m), T74_OK);
+      row_both(a, b, cx, cy, cell, masks + 1, 4);   /* over lit dots: not a run */
+      assert_int_equal(tube_count(a), tube_count(b));
+      if (j % 17 == 5) tubes_same(a, b);    /* spelled out, then written on */
+    }
+    tubes_same(a, b);
+    for (int y = 0; y < 300; y++)
+      for (int xx = 0; xx < 400; xx++) assert_int_equal(tube_lit(a, xx, y), tube_lit(b, xx, y));
+    tube_free(a);
+    tube_free(b);
+  }
+}
+
+/* tube_erase clears the dots below the tube's bound on its lit dots (lit_end), which every
+   write raises: dots lit anywhere, the tube's first and last ones too, by single dots,
+   cells and rows, are all unlit after it, in lit[] (tube_lit, the packed rows) and in the
+   count, and a tube drawn after it is a new tube's. */
+static void test_erase_clears(void **state)
+{
+  (void)state;
+  uint32_t x = 19;
+  struct tube *t = tube_new();
+  assert_non_null(t);
+  for (int round = 0; round < 6; round++) {
+    const int top = round % 2 ? 299 : 40 + 40 * round;   /* the highest row written */
+    assert_int_equal(tube_write(t, 0, 0), T74_OK);
+    assert_int_equal(tube_write(t, 399, top), T74_OK);
+    for (int k = 0; k < 50; k++) {
+      const int wx = (int)(next_rand(&x) % 400), wy = (int)(next_rand(&x) % (unsigned)(top + 1));
+      assert_int_equal(tube_write(t, wx, wy), T74_OK);
+    }
+    uint16_t masks[100];
+    for (int c = 0; c < 100; c++) masks[c] = (uint16_t)next_rand(&x);
+    assert_int_equal(tube_write_cells(t, 0, top, 4, masks, 100), T74_OK);
+    assert_int_equal(tube_write_dots(t, 396, top, 4, 0xffffu), T74_OK);
+    assert_true(tube_count(t) > 100);
+    tube_erase(t);
+    assert_int_equal(tube_count(t), 0);
+    for (int y = 0; y < 300; y++) {
+      uint8_t row[TUBE_ROW_BYTES];
+      tube_row_packed(t, y, row);
+      for (int k = 0; k < TUBE_ROW_BYTES; k++) assert_int_equal(row[k], 0);
+      for (int xx = 0; xx < 400; xx++) assert_int_equal(tube_lit(t, xx, y), 0);
+    }
+  }
+  struct tube *n = tube_new();               /* drawn after the erase: a new tube's */
+  assert_non_null(n);
+  uint16_t masks[133];
+  for (int c = 0; c < 133; c++) masks[c] = (uint16_t)(next_rand(&x) & 0x1ffu);
+  for (int y0 = 2; y0 < 300; y0 += 3) row_both(n, t, 0, y0, 3, masks, 133);
+  tubes_same(n, t);
+  tube_free(n);
+  tube_free(t);
+}
+
+/* tube_write_cells_keyed stores exactly what tube_write_cells of the keys' masks would:
+   rows of 3x3 cells drawn bottom row first (the fused run over unlit rows), parts of rows
+   (counts not a multiple of seven), rows over lit dots and partly off the tube, tables
+   with masks past the cell, 4x4 cells, keys of no dot; the same status, dots and order. */
+static void test_rows_keyed(void **state)
+{
+  (void)state;
+  uint32_t x = 1919;
+  for (int pass = 0; pass < 8; pass++) {
+    const int cell = pass == 7 ? 4 : 3;
+    const unsigned full = (1u << (cell * cell)) - 1;
+    uint16_t mask_of[256];
+    for (int k = 0; k < 256; k++)
+      mask_of[k] = (uint16_t)(k % 5 == 0 ? 0 : (pass == 6 && k == 77) ? 0x3ffu
+                              : next_rand(&x) & full);
+    struct tube_keys tk;
+    tube_keys_init(&tk, cell, mask_of);
+    struct tube *a = tube_new(), *b = tube_new();
+    assert_non_null(a);
+    assert_non_null(b);
+    const int W = cell == 3 ? 133 : 100, H = cell == 3 ? 100 : 75;
+    for (int j = H - 1; j >= 0; j--) {
+      const int y0 = (H - 1 - j) * cell + cell - 1;
+      uint8_t keys[140];
+      uint16_t masks[140];
+      const int n = pass % 3 == 1 ? 1 + (int)(next_rand(&x) % (uint32_t)W) : W;
+      const int x0 = cell * (W - n) * (pass % 2);
+      for (int c = 0; c < n; c++) {
+        keys[c] = (uint8_t)(pass == 2 && j % 4 == 0 ? 5u * (uint32_t)(c % 3) : next_rand(&x));
+        masks[c] = mask_of[keys[c]];
+      }
+      if (pass >= 4 && j % 3 == 0) {        /* a dot lit where the row goes */
+        const int wx = (int)(next_rand(&x) % 400), wy = y0 - (int)(next_rand(&x) % (uint32_t)cell);
+        assert_int_equal(tube_write(a, wx, wy), T74_OK);
+        assert_int_equal(tube_write(b, wx, wy), T74_OK);
+      }
+      assert_int_equal(tube_write_cells_keyed(b, x0, y0, &tk, keys, n),
+                       tube_write_cells(a, x0, y0, cell, masks, n));
+      assert_int_equal(tube_count(a), tube_count(b));
+    }
+    uint8_t keys[140];                      /* partly off the tube: the same first failure */
+    uint16_t masks[140];
+    for (int c = 0; c < 140; c++) masks[c] = mask_of[keys[c] = (uint8_t)(1 + c)];
+    assert_int_equal(tube_write_cells_keyed(b, 390, 299, &tk, keys, 140),
+                     tube_write_cells(a, 390, 299, cell, masks, 140));
+    tubes_same(a, b);
+    tube_free(a);
+    tube_free(b);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_rows_bottom_first),
     cmocka_unit_test(test_rows_after_erase),
+    cmocka_unit_test(test_rows_then_gaps),
+    cmocka_unit_test(test_erase_clears),
+    cmocka_unit_test(test_rows_keyed),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
