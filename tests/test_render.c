@@ -556,8 +556,13 @@ static void test_piece_on_face(void **state)
   const gcoord tri[] = { -L, -L, L, -L + 3, L - 7, L };
   const gcoord quad[] = { 0, 0, 9, 1, 8, 7, -1, 5 };
   const gcoord flat[] = { 0, 0, 4, 0, 8, 0, 8, 8, 0, 8 };      /* two sides on y = 0 */
+  /* lowest and highest y each held by two vertices: the first of them is lo (hi), as
+     seginfo_add's strict compares on Y / W choose (seginfo_add_face compares the points) */
+  const gcoord sq[] = { 8, 0, 8, 8, 0, 8, 0, 0 };
+  const gcoord sq2[] = { 0, 8, 0, 0, 8, 0, 8, 8 };
   const struct { const gcoord *xy; int n, shift; bool onface; } cs[] = {
     { tri, 3, 0, true }, { quad, 4, 0, true }, { quad, 4, 1, false }, { flat, 5, 0, false },
+    { sq, 4, 0, true }, { sq2, 4, 0, true },
   };
   for (size_t t = 0; t < sizeof cs / sizeof cs[0]; t++) {
     struct core *core[2] = { core_new(1u << 16), core_new(1u << 16) };
