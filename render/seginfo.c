@@ -126,12 +126,16 @@ static int add_rest(struct seginfo *t, struct piece *p, int face, int n, const s
   if (p->onface && !keep) {
     /* A piece that is its face (seginfo_add_face): side k runs from pt[k] to pt[k + 1],
        so where sides k - 1 and k meet, when they are not parallel, is pt[k] itself, and
-       Y / W there is pt[k].y exactly. The lowest and highest vertex are then found by
-       comparing the pt[k].y (the same strict compares, in the same order, as on Y / W:
-       the same lo and hi), and only those two vertices are made, by geom_meet as below
-       (the same values). Parallel sides are refused as below, tested on a and b alone
-       (W = a b' - a' b, |a|, |b| < 2^29: in 64 bits). Nothing decided or charged
-       changes; the host is spared n - 2 meets and 2 n - 2 compares of 147-bit products. */
+       its height Y / W there is pt[k].y exactly. The lowest and highest vertex are found
+       by comparing the pt[k].y (the same strict compares, in the same order, as on Y / W:
+       the same lo and hi), and their heights are kept as (y, 1), which is the same
+       height: what reads them (the kept lowest height, compared as a fraction by the
+       Visible Surface Procedure, and grid_y, a quotient truncated as a whole) reads only
+       that (as dblock_open does for such a piece). Parallel sides are refused as below,
+       tested on a and b alone (W = a b' - a' b, |a|, |b| < 2^29: in 64 bits). Nothing
+       decided or charged changes; the host is spared n meets and 2 n - 2 compares of
+       147-bit products, and the sweep's order by lowest height compares (y, 1) with
+       (y', 1) as two integers. */
     for (int k = 0, k0 = n - 1; k < n; k0 = k++)
       if (pl[k0].a * pl[k].b == pl[k].a * pl[k0].b) {
         t74_fail(err, T74_EINPUT, "internal: sides of a piece of face %d do not meet", face);
@@ -142,8 +146,8 @@ static int add_rest(struct seginfo *t, struct piece *p, int face, int n, const s
       if (p->pt[k].y < p->pt[lo].y) lo = k;
       if (p->pt[k].y > p->pt[hi].y) hi = k;
     }
-    (void)geom_meet(pl[lo ? lo - 1 : n - 1], pl[lo], &v[lo]);
-    (void)geom_meet(pl[hi ? hi - 1 : n - 1], pl[hi], &v[hi]);
+    v[lo] = (struct hpoint){ 0, p->pt[lo].y, 1 };
+    v[hi] = (struct hpoint){ 0, p->pt[hi].y, 1 };
     cost_mw_mul_n(t->cost, 58, 29, 2 * (uint64_t)n);     /* two products a vertex */
     return add_blocks(t, p, n, pl, v, lo, hi, err);
   }

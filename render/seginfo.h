@@ -33,8 +33,10 @@ struct piece {
                               no copy of the lines of most pieces, 10 MB at 100,000 boxes) */
   };
   uint64_t ylo_yl;         /* its lowest vertex's Y (the low 64 bits; the high ones in
-                              ylo_yh: |Y| < 2^88, geom.h) and W (< 2^59): the height the */
-  int64_t  ylo_w;          /* Visible Surface Procedure orders pieces by */
+                              ylo_yh: |Y| < 2^88, geom.h) and W (< 2^59): the height the
+                              Visible Surface Procedure orders pieces by, read only as the
+                              fraction Y / W (a piece `onface` keeps it as (y, 1), */
+  int64_t  ylo_w;          /* its lowest point's y over 1: seginfo.c add_rest) */
   int32_t  ylo_yh;
   int      face;           /* index in mapped.f */
   int      n;              /* number of sides, >= 3 */
@@ -117,7 +119,8 @@ static inline const struct hpoint *piece_verts(const struct piece *p, struct hpo
   return piece_verts_of(p, p->n > PIECE_VBUF ? NULL : piece_lines(p, lb), buf);
 }
 
-/* Piece p's lowest vertex's Y (piece_v(p, p->lo).Y); its W is p->ylo_w. */
+/* Piece p's lowest vertex's Y, over W = p->ylo_w (piece_v(p, p->lo)'s height Y / W;
+   for a piece `onface`, Y = its y and W = 1). */
 static inline wide piece_ylo_y(const struct piece *p)
 {
   return (wide)(((uwide)(uint64_t)(int64_t)p->ylo_yh << 64) | p->ylo_yl);
