@@ -838,16 +838,26 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
 #define XR(i) (v->act[v->byxr[i]].xr)
   int non = count_on(v);
   int ia = 0, ir = 0, front = -1;
+  /* This merge of the two orders is the host's (no 1974 work is counted in it), and some
+     of its compares have answers it holds: x_cmp(XL(ia), XR(ir)) made for the end of a
+     stretch is the next x's when ia and ir are still the same (cmp_ia, cmp_ir, cmp_lr;
+     cmp_ia = -1: none held; resume changes both orders and forgets it), and x against
+     the end it was taken from, or the other end when that compare was made, is known:
+     those are not made again. */
+  int cmp_ia = -1, cmp_ir = -1, cmp_lr = 0;
   v->nset = 0;
   for (int a = 0; a < v->nact; a++) v->setpos[a] = -1;
   while (ia < non || ir < v->nbyxr) {
     struct grat x;
-    if (ia < non && (ir >= v->nbyxr || x_cmp(XL(ia), XR(ir)) <= 0))
-      x = XL(ia);
-    else
-      x = XR(ir);
-    /* leave: spans ending at x */
-    while (ir < v->nbyxr && x_cmp(XR(ir), x) == 0) {
+    const bool both = ia < non && ir < v->nbyxr;
+    const int lr = !both ? 0 : ia == cmp_ia && ir == cmp_ir ? cmp_lr : x_cmp(XL(ia), XR(ir));
+    const bool from_l = ia < non && (ir >= v->nbyxr || lr <= 0);
+    x = from_l ? XL(ia) : XR(ir);
+    /* leave: spans ending at x. The first XR(ir) is x when x was taken from it or
+       lr == 0, and right of x when x = XL(ia) and lr < 0: 1 equal, -1 not, 0 ask. */
+    int first = !from_l ? 1 : !both ? 0 : lr == 0 ? 1 : -1;
+    while (ir < v->nbyxr && (first ? first > 0 : x_cmp(XR(ir), x) == 0)) {
+      first = 0;
       int a = v->byxr[ir++], p = v->act[a].piece, m = v->setpos[a];
       if (m >= 0 && m < v->nset && v->seti[m] == a) {   /* out of the set, the last in */
         v->nset--;                                      /* its place */
@@ -866,9 +876,12 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
       if (p == front) front = -1;
       COST_ADD_N(v->cost, COST_MEM, 2);
     }
-    /* join: spans starting at x */
+    /* join: spans starting at x. The first XL(ia) is x when x was taken from it, and
+       right of it when x = XR(ir) was taken because lr > 0. */
     int joined = v->nset;
-    while (ia < non && x_cmp(XL(ia), x) == 0) {
+    first = from_l ? 1 : both ? -1 : 0;
+    while (ia < non && (first ? first > 0 : x_cmp(XL(ia), x) == 0)) {
+      first = 0;
       v->setpos[v->byxl[ia]] = v->nset;
       v->seti[v->nset] = v->byxl[ia];
       v->set[v->nset++] = v->act[v->byxl[ia++]].piece;
@@ -877,13 +890,19 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
     while (v->nset > 0) {
       /* the stretch [x, xn) has a fixed covering set: find its front piece (ir < nbyxr:
          a piece of the set has not left yet) */
-      struct grat xn = ia < non && x_cmp(XL(ia), XR(ir)) < 0 ? XL(ia) : XR(ir);
+      if (ia < non) {
+        cmp_lr = x_cmp(XL(ia), XR(ir));
+        cmp_ia = ia;
+        cmp_ir = ir;
+      }
+      struct grat xn = ia < non && cmp_lr < 0 ? XL(ia) : XR(ir);
       bool sure;
       struct prio_meet st = { x, xn, yn, yd };
       int r = front >= 0 ? front_of(v, front, joined, &front, &sure, &st, err)
               : front_of(v, v->nset >= GUESS_MIN ? front_guess(v, x, xn, yn, yd) : -1, 0,
                          &front, &sure, &st, err);
       if (r == PRIO_SPLIT) {
+        cmp_ia = -1;                      /* the orders change */
         if (resume(v, x, yn, yd, &ia, &ir, &non, &joined, err) != T74_OK) return PRIO_ERROR;
         if (front >= 0 && !v->seg->p[front].alive) front = -1;
         continue;
