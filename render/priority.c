@@ -1047,6 +1047,22 @@ struct prio_vslot {
 };
 struct prio_vcache { struct prio_vslot s[VC_SLOTS]; };
 
+/* The vertices of a piece on its face's points (struct piece: onface), into buf: vertex k,
+   where sides k - 1 and k meet, is pt[k] (both sides run through it and are not
+   parallel: seginfo_add_face), made as (x, y, 1) rather than by geom_meet, which gives
+   (W x, W y, W), W > 0: the same point. decide reads vertices only through what a
+   positive W does not change: the sign of a line at them (geom_side_hw), the ratio of
+   such a value to W (the farthest from the common edge, geom_cross_sign), the depth
+   sign there (geom_dot3_sign, or X / W and Y / W under --arith hitac, exact quotients
+   here), and the clipped halves' vertices, read as those are (their sides alone make
+   the halves kept: add_half). So the same decisions, without the n meets (verts_off,
+   for tests: made by geom_meet). */
+static const struct hpoint *face_verts(const struct piece *p, struct hpoint *buf)
+{
+  for (int k = 0; k < p->n; k++) buf[k] = (struct hpoint){ p->pt[k].x, p->pt[k].y, 1 };
+  return buf;
+}
+
 /* Piece i's vertices, and its lines in *lines: from the cache (made there when not in
    it), or made into buf and lbuf (room for PIECE_VBUF) when it has more than VC_SIDES
    sides, the cache cannot be had (out of host memory) or `other`, the piece whose
@@ -1063,12 +1079,14 @@ static const struct hpoint *vc_verts(struct prio *pr, int i, int other, struct h
   struct prio_vslot *sl = pr->vc ? &pr->vc->s[(unsigned)i % VC_SLOTS] : NULL;
   if (p->n > VC_SIDES || !sl || (other >= 0 && sl->piece == other)) {
     *lines = piece_lines(p, lbuf);
-    return piece_verts_of(p, *lines, buf);
+    return p->onface && p->n <= PIECE_VBUF && !pr->verts_off ? face_verts(p, buf)
+                                                             : piece_verts_of(p, *lines, buf);
   }
   if (sl->piece != i) {
     sl->piece = i;
     sl->lp = piece_lines(p, sl->l);
-    (void)piece_verts_of(p, sl->lp, sl->v);
+    if (p->onface && !pr->verts_off) (void)face_verts(p, sl->v);
+    else (void)piece_verts_of(p, sl->lp, sl->v);
   }
   *lines = sl->lp;
   return sl->v;

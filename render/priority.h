@@ -85,6 +85,9 @@ struct prio {
                                pair (freed by prio_free) */
   struct prio_vcache *vc;   /* host: the vertices of the pieces decide met last (priority.c,
                                "the vertex cache"), or NULL */
+  int      verts_off;       /* tests: the vertices of a piece on its face's points made by
+                               geom_meet, not taken from the points (priority.c face_verts;
+                               the same answers and charges) */
 };
 
 /* store: PRIO_AUTO starts with the paper's dense matrix when the triangle for the `expect`

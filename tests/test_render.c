@@ -1477,6 +1477,50 @@ static void test_prio_tags_exact(void **state)
   scene_free(s2);
 }
 
+/* The vertices of pieces on their face's points taken from the points as (x, y, 1)
+   (priority.c face_verts) against those geom_meet makes, (W x, W y, W): the same
+   picture, pairs computed and cut, 1974 operations and core words, in both stores, on
+   triangles that pierce each other (such pieces decided, cut, and their halves decided)
+   and on two shipped scenes whose faces share edges (the pairs decided at the vertex
+   farthest from the common edge): the sphere and the street. */
+static void test_prio_face_verts_exact(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(48, 7);
+  const char *shipped[2] = { "scenes/sphere.s74", "scenes/street.s74" };
+  const int stores[2] = { PRIO_DENSE, PRIO_SPARSE };
+  for (int k = 0; k < 6; k++) {
+    uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b);
+    struct render r[2];
+    struct scene *sc[2];
+    for (int w = 0; w < 2; w++) {
+      if (k < 2) {
+        sc[w] = prepare(&r[w], tris, stores[k % 2]);
+      } else {
+        struct scene_opts so;
+        memset(&so, 0, sizeof so);
+        struct t74_error err = { 0, "" };
+        sc[w] = NULL;
+        assert_int_equal(scene_load(shipped[(k - 2) / 2], &so, &sc[w], &err), T74_OK);
+        prepare_scene(&r[w], sc[w], stores[k % 2], false, NULL);
+      }
+    }
+    r[1].prio.verts_off = 1;
+    scan_ids(&r[0], a);
+    scan_ids(&r[1], b);
+    if (k < 2) assert_true(r[0].prio.splits > 0);
+    assert_true(r[0].prio.computed > 0);
+    same_work(&r[0], &r[1], a, b);
+    free(a);
+    free(b);
+    for (int w = 0; w < 2; w++) {
+      render_free(&r[w]);
+      scene_free(sc[w]);
+    }
+  }
+  free(tris);
+}
+
 /* Two host shortcuts of the deciding change nothing but host time: the stretch a pair is
    met on (priority.c, "The stretch"), which answers overlap tests, against every test
    made (meet_off); the face pairs kept (priority.c, "Face pairs") against each found
@@ -1995,6 +2039,7 @@ int main(void)
     cmocka_unit_test(test_vis_spans_invariant),
     cmocka_unit_test(test_prio_known),
     cmocka_unit_test(test_prio_shortcuts_exact),
+    cmocka_unit_test(test_prio_face_verts_exact),
     cmocka_unit_test(test_prio_tags_exact),
     cmocka_unit_test(test_clip_both),
     cmocka_unit_test(test_pool),
