@@ -226,25 +226,20 @@ int seginfo_add(struct seginfo *t, int face, int n, const struct gline *line,
   }
   struct piece *p = &t->p[t->n];
   memset(p, 0, sizeof *p);
-  /* its lines, and for a piece of more than PIECE_VBUF sides its vertices, in one piece
-     of the pool (issue 19: no allocation a piece; a piece is never freed before the
-     others) */
+  /* its lines and its vertices, in one piece of the pool (issue 19: no allocation a
+     piece; a piece is never freed before the others) */
   _Static_assert(_Alignof(struct hpoint) >= _Alignof(struct gline), "piece block layout");
-  bool keep_v = n > PIECE_VBUF;
-  struct hpoint *v = keep_v ? pool_alloc(&t->pool, (size_t)n * (sizeof *v + sizeof *p->ln),
-                                         _Alignof(struct hpoint))
-                            : NULL;
-  p->ln = keep_v ? (struct gline *)(v + n)
-                 : pool_alloc(&t->pool, (size_t)n * sizeof *p->ln, _Alignof(struct gline));
-  if (!p->ln || (keep_v && !v)) {
+  struct hpoint *v = pool_alloc(&t->pool, (size_t)n * (sizeof *v + sizeof *p->ln),
+                                _Alignof(struct hpoint));
+  p->ln = v ? (struct gline *)(v + n) : NULL;
+  if (!p->ln) {
     t74_fail(err, T74_EIO, "out of host memory");
     return -1;
   }
   memcpy(p->ln, line, (size_t)n * sizeof *line);
   n = merge_sides(p->ln, n);
-  /* the vertices of a piece that keeps them just before its lines, within the block */
-  return add_rest(t, p, face, n, p->ln, n > PIECE_VBUF ? (struct hpoint *)(void *)p->ln - n : NULL,
-                  err);
+  /* its vertices just before its lines, within the block (piece_kept) */
+  return add_rest(t, p, face, n, p->ln, (struct hpoint *)(void *)p->ln - n, err);
 }
 
 int seginfo_add_face(struct seginfo *t, int face, int n, const struct gpoint *pt,

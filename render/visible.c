@@ -386,13 +386,13 @@ static struct hpoint lower(struct hpoint p, struct hpoint q)
   return geom_cross_sign(p.Y, q.W, q.Y, p.W) <= 0 ? p : q;
 }
 
-/* The height of p's vertex k (piece_vy; pl: its lines), made into vb[k] the first time
-   (bit k of *made; a piece whose vertices are not kept has at most PIECE_VBUF <= 64
-   sides). */
+/* The height of p's vertex k (piece_vy; pl: its lines): a piece's own kept vertex, or
+   made into vb[k] the first time (bit k of *made; a piece whose vertices are not kept,
+   one on its face's points, has at most PIECE_VBUF <= 64 sides). */
 static inline struct hpoint vy_at(const struct piece *p, const struct gline *pl,
                                   struct hpoint *vb, uint64_t *made, int k)
 {
-  if (p->n > PIECE_VBUF) return piece_kept(p)[k];
+  if (!p->onface) return piece_kept(p)[k];
   if (!(*made >> k & 1)) {
     *made |= (uint64_t)1 << k;
     vb[k] = piece_vy_at(pl[k ? k - 1 : p->n - 1], pl[k]);

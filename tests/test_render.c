@@ -456,12 +456,11 @@ static void test_span_tie_rule(void **state)
   core_free(core);
 }
 
-/* Issue 19: a piece keeps its lines, its lowest vertex's height, and its vertices only
-   when it has more than PIECE_VBUF sides; piece_v and piece_verts give every vertex as
-   geom_meet of its two lines, to the bit, and the kept height is that of piece_ylo. Pieces
-   with Y beyond 64 bits, of 70 sides (kept, after the lines), of 65 sides merged to 4
-   (its block made for kept vertices, none kept) and of 72 merged to 68 (kept where the
-   68 begin). */
+/* Issue 19: a piece of its own lines (seginfo_add) keeps its lines, its lowest vertex's
+   height and its vertices (before the lines); piece_v and piece_verts give every vertex
+   as geom_meet of its two lines, to the bit, and the kept height is that of piece_ylo.
+   Pieces with Y beyond 64 bits, of 70 sides, of 65 sides merged to 4 (kept where the 4
+   begin, in the block made for 65) and of 72 merged to 68. */
 /* Piece p's B and C blocks (its B row at b): the row (number i, y-min, y-max, the C
    block's address) and the C block (n, then a side's vertex number, a and b, 0). */
 static void check_blocks(const struct core *core, uint32_t b, int i, const struct piece *p)
@@ -488,7 +487,7 @@ static void check_piece(const struct piece *p, int n, const gcoord *xy)
   assert_int_equal(p->n, n);
   struct hpoint buf[PIECE_VBUF];
   const struct hpoint *pv = piece_verts(p, buf);
-  assert_true((pv == buf) == (n <= PIECE_VBUF));
+  assert_true((pv == buf) == p->onface);           /* kept unless on its face's points */
   for (int k = 0; k < n; k++) {
     struct hpoint m, v = piece_v(p, k);
     assert_true(geom_meet(piece_line(p, (k + n - 1) % n), piece_line(p, k), &m));
