@@ -982,8 +982,6 @@ void prio_free(struct prio *pr)
   free(pr->faces);
   pr->faces = NULL;
   for (int k = 0; k < 4; k++) cpoly_free(&pr->clip[k]);
-  free(pr->vc);
-  pr->vc = NULL;
   free(pr->cut);
   pr->cut = NULL;
   pr->ncut = pr->cutcap = 0;
@@ -1027,51 +1025,36 @@ static bool overlap_known(struct prio *pr, int n1, int n2)
   return true;
 }
 
-/* ---- the vertex cache -------------------------------------------------------------
-   A piece's vertices are not kept (seginfo.h) but made where read: decide reads both
-   pieces' vertices, and the sweep decides a piece with one piece after another, so the
-   vertices of the pieces met last are kept here, in VC_SLOTS slots (the slot of piece i:
-   i mod VC_SLOTS), each one piece of up to VC_SIDES sides; a piece in no slot, or of more
-   sides, has them made again. Host memory only, at most VC_SLOTS slots (not a copy of
-   every piece's vertices: at 100,000 boxes most pieces are decided, and 48 bytes a
-   vertex were 19 MB); the values are geom_meet's whichever way, so nothing decided or
-   charged depends on it. Emptied at prio_init: nothing of one frame is seen by the
-   next. */
-#define VC_SLOTS 512
-#define VC_SIDES 8
-struct prio_vslot {
-  int piece;                          /* -1: empty */
-  struct hpoint v[VC_SIDES];
-  struct gline l[VC_SIDES];           /* and its lines: lp, its own or made into l */
-  const struct gline *lp;             /* (piece_lines) */
-};
-struct prio_vcache { struct prio_vslot s[VC_SLOTS]; };
+/* ---- the pieces' vertices -----------------------------------------------------------
+   decide reads both pieces' vertices. A piece of its own lines (seginfo_add: a half of a
+   cut, or a piece of a face the Segment Generator cut) keeps them (seginfo.h piece_kept,
+   geom_meet's values); a piece on its face's points has them from the points. */
 
-/* Piece i's vertices, and its lines in *lines: from the cache (made there when not in
-   it), or made into buf and lbuf (room for PIECE_VBUF) when it has more than VC_SIDES
-   sides, the cache cannot be had (out of host memory) or `other`, the piece whose
-   vertices the caller holds, has i's slot. */
-static const struct hpoint *vc_verts(struct prio *pr, int i, int other, struct hpoint *buf,
-                                     struct gline *lbuf, const struct gline **lines)
+/* The vertices of a piece on its face's points (struct piece: onface), into buf: vertex k,
+   where sides k - 1 and k meet, is pt[k] (both sides run through it and are not
+   parallel: seginfo_add_face), made as (x, y, 1) rather than by geom_meet, which gives
+   (W x, W y, W), W > 0: the same point. decide reads vertices only through what a
+   positive W does not change: the sign of a line at them (geom_side_hw), the ratio of
+   such a value to W (the farthest from the common edge, geom_cross_sign), the depth
+   sign there (geom_dot3_sign, or X / W and Y / W under --arith hitac, exact quotients
+   here), and the clipped halves' vertices, read as those are (their sides alone make
+   the halves kept: add_half). So the same decisions, without the n meets (verts_off,
+   for tests: made by geom_meet). */
+static const struct hpoint *face_verts(const struct piece *p, struct hpoint *buf)
+{
+  for (int k = 0; k < p->n; k++) buf[k] = (struct hpoint){ p->pt[k].x, p->pt[k].y, 1 };
+  return buf;
+}
+
+/* Piece i's vertices, and its lines in *lines: its own (kept), or made into buf and lbuf
+   (room for PIECE_VBUF) for a piece on its face's points. */
+static const struct hpoint *piece_verts_lines(const struct prio *pr, int i, struct hpoint *buf,
+                                              struct gline *lbuf, const struct gline **lines)
 {
   const struct piece *p = &pr->seg->p[i];
-  if (p->n <= VC_SIDES && !pr->vc) {
-    pr->vc = malloc(sizeof *pr->vc);
-    if (pr->vc)
-      for (int k = 0; k < VC_SLOTS; k++) pr->vc->s[k].piece = -1;
-  }
-  struct prio_vslot *sl = pr->vc ? &pr->vc->s[(unsigned)i % VC_SLOTS] : NULL;
-  if (p->n > VC_SIDES || !sl || (other >= 0 && sl->piece == other)) {
-    *lines = piece_lines(p, lbuf);
-    return piece_verts_of(p, *lines, buf);
-  }
-  if (sl->piece != i) {
-    sl->piece = i;
-    sl->lp = piece_lines(p, sl->l);
-    (void)piece_verts_of(p, sl->lp, sl->v);
-  }
-  *lines = sl->lp;
-  return sl->v;
+  *lines = piece_lines(p, lbuf);
+  if (!p->onface) return piece_kept(p);
+  return pr->verts_off ? piece_verts_of(p, *lines, buf) : face_verts(p, buf);
 }
 
 /* Decide pieces i < j, met on the stretch `at` (or NULL). Returns the code for (i, j),
@@ -1084,14 +1067,14 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   const struct mface *A = &pr->map->f[P->face], *B = &pr->map->f[Q->face];
   pr->computed++;
   if (P->face == Q->face) return CODE_HIGHER;           /* never overlap: any order */
-  /* the two pieces' vertices (the vertex cache) and lines, made when first read (lazy:
+  /* the two pieces' vertices and lines, made when first read (lazy:
      most pairs on one side of L~ met on a stretch read neither piece's vertices) */
   struct hpoint pvb[PIECE_VBUF], qvb[PIECE_VBUF];
   struct gline plb[PIECE_VBUF], qlb[PIECE_VBUF];
   const struct gline *pln = NULL, *qln = NULL;
   const struct hpoint *pv = NULL, *qv = NULL;
-#define P_VERTS() (pv ? pv : (pv = vc_verts(pr, i, qv ? j : -1, pvb, plb, &pln)))
-#define Q_VERTS() (qv ? qv : (qv = vc_verts(pr, j, pv ? i : -1, qvb, qlb, &qln)))
+#define P_VERTS() (pv ? pv : (pv = piece_verts_lines(pr, i, pvb, plb, &pln)))
+#define Q_VERTS() (qv ? qv : (qv = piece_verts_lines(pr, j, qvb, qlb, &qln)))
 #define P_LINES() (pln ? pln : (pln = piece_lines(P, plb)))
 #define Q_LINES() (qln ? qln : (qln = piece_lines(Q, qlb)))
 
@@ -1373,14 +1356,20 @@ int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_ma
   int r = code == CODE_UNKNOWN ? 0
           : (code == CODE_HIGHER) == ((uint32_t)b == i) ? PRIO_FIRST : PRIO_SECOND;
   if (!r && lineage) {
+    /* each parent looked up is a load (parent), counted here and charged once */
+    const struct piece *sp = pr->seg->p;
+    uint64_t up = 0;
     for (int a = pb, k = 0; !r && a >= 0 && k < anc_max; k++) {
       if ((r = known_counted(pr, a, c, &n, &loads))) break;
-      a = parent(pr, a, cost);
+      a = sp[a].parent;
+      up++;
     }
     for (int a = pc, k = 0; !r && a >= 0 && k < anc_max; k++) {
       if ((r = known_counted(pr, b, a, &n, &loads))) break;
-      a = parent(pr, a, cost);
+      a = sp[a].parent;
+      up++;
     }
+    COST_ADD_N(cost, COST_MEM, up);
     if (!r && pb >= 0 && pc >= 0) r = known_counted(pr, pb, pc, &n, &loads);
     if (!r) {                                   /* prio_order's own look */
       n++;

@@ -38,7 +38,6 @@ struct prio_meet { struct grat x0, x1; int64_t yn, yd; };
    intersection lines of enhanced edges, paper 002 e4; host memory, one entry a pair). */
 struct prio_cut { int fa, fb; struct gline line; };
 
-struct prio_vcache;
 struct prio {
   struct seginfo *seg;
   const struct mapped *map;
@@ -83,8 +82,9 @@ struct prio {
   int      arith;           /* GEOM_EXACT, or GEOM_HITAC: depth from the 1974 planes */
   struct cpoly clip[4];     /* host scratch of decide's clipped halves, kept from pair to
                                pair (freed by prio_free) */
-  struct prio_vcache *vc;   /* host: the vertices of the pieces decide met last (priority.c,
-                               "the vertex cache"), or NULL */
+  int      verts_off;       /* tests: the vertices of a piece on its face's points made by
+                               geom_meet, not taken from the points (priority.c face_verts;
+                               the same answers and charges) */
 };
 
 /* store: PRIO_AUTO starts with the paper's dense matrix when the triangle for the `expect`

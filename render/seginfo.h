@@ -26,15 +26,17 @@
 
 struct piece {
   union {                  /* its n oriented lines, counter-clockwise (piece_line): */
-    struct gline *ln;      /* kept, the piece's own (a piece of more than PIECE_VBUF sides
-                              keeps its n vertices just before them: piece_kept), */
+    struct gline *ln;      /* kept, the piece's own (with its n vertices just before
+                              them: piece_kept), */
     const struct gpoint *pt;   /* or, `onface`, side k runs from pt[k] to pt[k + 1 mod n]:
                               a whole convex face's points in the Mapper's table (issue 19:
                               no copy of the lines of most pieces, 10 MB at 100,000 boxes) */
   };
   uint64_t ylo_yl;         /* its lowest vertex's Y (the low 64 bits; the high ones in
-                              ylo_yh: |Y| < 2^88, geom.h) and W (< 2^59): the height the */
-  int64_t  ylo_w;          /* Visible Surface Procedure orders pieces by */
+                              ylo_yh: |Y| < 2^88, geom.h) and W (< 2^59): the height the
+                              Visible Surface Procedure orders pieces by, read only as the
+                              fraction Y / W (a piece `onface` keeps it as (y, 1), */
+  int64_t  ylo_w;          /* its lowest point's y over 1: seginfo.c add_rest) */
   int32_t  ylo_yh;
   int      face;           /* index in mapped.f */
   int      n;              /* number of sides, >= 3 */
@@ -43,8 +45,8 @@ struct piece {
   signed int hi : 30;
   bool     alive : 1;      /* false once cut in two */
   bool     onface : 1;     /* its lines are its face's sides (pt), not kept (ln) */
-};                         /* 48 bytes, and 24 a side of its own lines (issue 19: a
-                              quadrilateral took 328 bytes before, 48 now on its face) */
+};                         /* 48 bytes, and 72 a side of its own lines and vertices (issue
+                              19: a quadrilateral took 328 bytes before, 48 now on its face) */
 
 /* Side k's line. */
 static inline struct gline piece_line(const struct piece *p, int k)
@@ -63,22 +65,24 @@ static inline const struct gline *piece_lines(const struct piece *p, struct glin
 }
 
 /* A piece's vertex k is where line[k-1] meets line[k] (geom_meet; the lines of a piece
-   always meet: seginfo_add). Issue 19: the vertices of a piece of up to PIECE_VBUF sides
-   are not kept but made again where they are read (48 bytes a vertex were 19 MB of the
-   29 MB of sides at 100,000 boxes, memory each run touches), always the same exact
-   values, as geom_meet gives them (the Priority Matrix keeps those of the pieces it met
-   last: priority.c). */
+   always meet: seginfo_add). A piece of its own lines (seginfo_add: the halves of a cut,
+   the pieces the Segment Generator cut a face into) keeps its vertices, as geom_meet
+   gives them, which seginfo_add makes anyway; a piece on its face's points (most pieces:
+   48 bytes a vertex were 19 MB of the 29 MB of sides at 100,000 boxes when every piece
+   kept them, issue 19) has them made again where they are read, always the same exact
+   values. PIECE_VBUF: the room a caller gives for the sides and vertices of a piece on
+   its face's points (SEG_CONVEX_MAX at most). */
 #define PIECE_VBUF 64
 
-/* The vertices a piece of more than PIECE_VBUF sides keeps, else NULL. */
+/* The vertices a piece of its own lines keeps, else (onface) NULL. */
 static inline const struct hpoint *piece_kept(const struct piece *p)
 {
-  return p->n > PIECE_VBUF ? (const struct hpoint *)(const void *)p->ln - p->n : NULL;
+  return p->onface ? NULL : (const struct hpoint *)(const void *)p->ln - p->n;
 }
 
 static inline struct hpoint piece_v(const struct piece *p, int k)
 {
-  if (p->n > PIECE_VBUF) return piece_kept(p)[k];
+  if (!p->onface) return piece_kept(p)[k];
   struct hpoint v;
   (void)geom_meet(piece_line(p, k ? k - 1 : p->n - 1), piece_line(p, k), &v);
   return v;
@@ -96,16 +100,17 @@ static inline struct hpoint piece_vy_at(struct gline l1, struct gline l2)
 }
 static inline struct hpoint piece_vy(const struct piece *p, int k)
 {
-  if (p->n > PIECE_VBUF) return piece_kept(p)[k];
+  if (!p->onface) return piece_kept(p)[k];
   return piece_vy_at(piece_line(p, k ? k - 1 : p->n - 1), piece_line(p, k));
 }
 
-/* All of p's vertices, v[k] = piece_v(p, k), from its lines pl (piece_lines): made into
-   buf (room for PIECE_VBUF), or the piece's own for a piece of more sides. */
+/* All of p's vertices, v[k] = piece_v(p, k): the piece's own (kept), or made into buf
+   (room for PIECE_VBUF) from its lines pl (piece_lines) for a piece on its face's
+   points. */
 static inline const struct hpoint *piece_verts_of(const struct piece *p, const struct gline *pl,
                                                   struct hpoint *buf)
 {
-  if (p->n > PIECE_VBUF) return piece_kept(p);
+  if (!p->onface) return piece_kept(p);
   for (int k = 0, k0 = p->n - 1; k < p->n; k0 = k++) (void)geom_meet(pl[k0], pl[k], &buf[k]);
   return buf;
 }
@@ -114,10 +119,11 @@ static inline const struct hpoint *piece_verts_of(const struct piece *p, const s
 static inline const struct hpoint *piece_verts(const struct piece *p, struct hpoint *buf)
 {
   struct gline lb[PIECE_VBUF];
-  return piece_verts_of(p, p->n > PIECE_VBUF ? NULL : piece_lines(p, lb), buf);
+  return piece_verts_of(p, p->onface ? piece_lines(p, lb) : NULL, buf);
 }
 
-/* Piece p's lowest vertex's Y (piece_v(p, p->lo).Y); its W is p->ylo_w. */
+/* Piece p's lowest vertex's Y, over W = p->ylo_w (piece_v(p, p->lo)'s height Y / W;
+   for a piece `onface`, Y = its y and W = 1). */
 static inline wide piece_ylo_y(const struct piece *p)
 {
   return (wide)(((uwide)(uint64_t)(int64_t)p->ylo_yh << 64) | p->ylo_yl);

@@ -456,12 +456,11 @@ static void test_span_tie_rule(void **state)
   core_free(core);
 }
 
-/* Issue 19: a piece keeps its lines, its lowest vertex's height, and its vertices only
-   when it has more than PIECE_VBUF sides; piece_v and piece_verts give every vertex as
-   geom_meet of its two lines, to the bit, and the kept height is that of piece_ylo. Pieces
-   with Y beyond 64 bits, of 70 sides (kept, after the lines), of 65 sides merged to 4
-   (its block made for kept vertices, none kept) and of 72 merged to 68 (kept where the
-   68 begin). */
+/* Issue 19: a piece of its own lines (seginfo_add) keeps its lines, its lowest vertex's
+   height and its vertices (before the lines); piece_v and piece_verts give every vertex
+   as geom_meet of its two lines, to the bit, and the kept height is that of piece_ylo.
+   Pieces with Y beyond 64 bits, of 70 sides, of 65 sides merged to 4 (kept where the 4
+   begin, in the block made for 65) and of 72 merged to 68. */
 /* Piece p's B and C blocks (its B row at b): the row (number i, y-min, y-max, the C
    block's address) and the C block (n, then a side's vertex number, a and b, 0). */
 static void check_blocks(const struct core *core, uint32_t b, int i, const struct piece *p)
@@ -488,7 +487,7 @@ static void check_piece(const struct piece *p, int n, const gcoord *xy)
   assert_int_equal(p->n, n);
   struct hpoint buf[PIECE_VBUF];
   const struct hpoint *pv = piece_verts(p, buf);
-  assert_true((pv == buf) == (n <= PIECE_VBUF));
+  assert_true((pv == buf) == p->onface);           /* kept unless on its face's points */
   for (int k = 0; k < n; k++) {
     struct hpoint m, v = piece_v(p, k);
     assert_true(geom_meet(piece_line(p, (k + n - 1) % n), piece_line(p, k), &m));
@@ -556,8 +555,13 @@ static void test_piece_on_face(void **state)
   const gcoord tri[] = { -L, -L, L, -L + 3, L - 7, L };
   const gcoord quad[] = { 0, 0, 9, 1, 8, 7, -1, 5 };
   const gcoord flat[] = { 0, 0, 4, 0, 8, 0, 8, 8, 0, 8 };      /* two sides on y = 0 */
+  /* lowest and highest y each held by two vertices: the first of them is lo (hi), as
+     seginfo_add's strict compares on Y / W choose (seginfo_add_face compares the points) */
+  const gcoord sq[] = { 8, 0, 8, 8, 0, 8, 0, 0 };
+  const gcoord sq2[] = { 0, 8, 0, 0, 8, 0, 8, 8 };
   const struct { const gcoord *xy; int n, shift; bool onface; } cs[] = {
     { tri, 3, 0, true }, { quad, 4, 0, true }, { quad, 4, 1, false }, { flat, 5, 0, false },
+    { sq, 4, 0, true }, { sq2, 4, 0, true },
   };
   for (size_t t = 0; t < sizeof cs / sizeof cs[0]; t++) {
     struct core *core[2] = { core_new(1u << 16), core_new(1u << 16) };
@@ -582,7 +586,9 @@ static void test_piece_on_face(void **state)
     assert_int_equal(a->n, b->n);
     assert_int_equal(a->lo, b->lo);
     assert_int_equal(a->hi, b->hi);
-    assert_true(a->ylo_yl == b->ylo_yl && a->ylo_yh == b->ylo_yh && a->ylo_w == b->ylo_w);
+    /* the same lowest height, Y / W (kept as (y, 1) on the face's points: seginfo.h) */
+    assert_int_equal(geom_cross_sign(piece_ylo_y(a), b->ylo_w, piece_ylo_y(b), a->ylo_w), 0);
+    assert_true(b->ylo_w == 1 || !b->onface);
     for (int k = 0; k < a->n; k++) {
       struct gline la = piece_line(a, k), lb = piece_line(b, k);
       assert_memory_equal(&la, &lb, sizeof la);
@@ -1470,6 +1476,50 @@ static void test_prio_tags_exact(void **state)
   scene_free(s2);
 }
 
+/* The vertices of pieces on their face's points taken from the points as (x, y, 1)
+   (priority.c face_verts) against those geom_meet makes, (W x, W y, W): the same
+   picture, pairs computed and cut, 1974 operations and core words, in both stores, on
+   triangles that pierce each other (such pieces decided, cut, and their halves decided)
+   and on two shipped scenes whose faces share edges (the pairs decided at the vertex
+   farthest from the common edge): the sphere and the street. */
+static void test_prio_face_verts_exact(void **state)
+{
+  (void)state;
+  char *tris = tris_scene(48, 7);
+  const char *shipped[2] = { "scenes/sphere.s74", "scenes/street.s74" };
+  const int stores[2] = { PRIO_DENSE, PRIO_SPARSE };
+  for (int k = 0; k < 6; k++) {
+    uint16_t *a = calloc(GW * GH, sizeof *a), *b = calloc(GW * GH, sizeof *b);
+    struct render r[2];
+    struct scene *sc[2];
+    for (int w = 0; w < 2; w++) {
+      if (k < 2) {
+        sc[w] = prepare(&r[w], tris, stores[k % 2]);
+      } else {
+        struct scene_opts so;
+        memset(&so, 0, sizeof so);
+        struct t74_error err = { 0, "" };
+        sc[w] = NULL;
+        assert_int_equal(scene_load(shipped[(k - 2) / 2], &so, &sc[w], &err), T74_OK);
+        prepare_scene(&r[w], sc[w], stores[k % 2], false, NULL);
+      }
+    }
+    r[1].prio.verts_off = 1;
+    scan_ids(&r[0], a);
+    scan_ids(&r[1], b);
+    if (k < 2) assert_true(r[0].prio.splits > 0);
+    assert_true(r[0].prio.computed > 0);
+    same_work(&r[0], &r[1], a, b);
+    free(a);
+    free(b);
+    for (int w = 0; w < 2; w++) {
+      render_free(&r[w]);
+      scene_free(sc[w]);
+    }
+  }
+  free(tris);
+}
+
 /* Two host shortcuts of the deciding change nothing but host time: the stretch a pair is
    met on (priority.c, "The stretch"), which answers overlap tests, against every test
    made (meet_off); the face pairs kept (priority.c, "Face pairs") against each found
@@ -1988,6 +2038,7 @@ int main(void)
     cmocka_unit_test(test_vis_spans_invariant),
     cmocka_unit_test(test_prio_known),
     cmocka_unit_test(test_prio_shortcuts_exact),
+    cmocka_unit_test(test_prio_face_verts_exact),
     cmocka_unit_test(test_prio_tags_exact),
     cmocka_unit_test(test_clip_both),
     cmocka_unit_test(test_pool),
