@@ -272,15 +272,13 @@ int band_lanes(const struct smooth_lanes *x, const __m128d *l, __m128d *n)
   int in[3];
   for (int k = 0; k < 3; k++) in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
   const int all = in[0] | in[1] << 2 | in[2] << 4;   /* each lane's below-inset bits */
-  switch (all) {
-  case 0x03: edge_lanes(x, l, 0, n); return 1;
-  case 0x0c: edge_lanes(x, l, 1, n); return 1;
-  case 0x30: edge_lanes(x, l, 2, n); return 1;
-  case 0x3c: corner_lanes(x, l, 0, n); return 2;
-  case 0x33: corner_lanes(x, l, 1, n); return 2;
-  case 0x0f: corner_lanes(x, l, 2, n); return 2;
-  default: return 0;
-  }
+  if (all == 0x03) { edge_lanes(x, l, 0, n); return 1; }
+  if (all == 0x0c) { edge_lanes(x, l, 1, n); return 1; }
+  if (all == 0x30) { edge_lanes(x, l, 2, n); return 1; }
+  if (all == 0x3c) { corner_lanes(x, l, 0, n); return 2; }
+  if (all == 0x33) { corner_lanes(x, l, 1, n); return 2; }
+  if (all == 0x0f) { corner_lanes(x, l, 2, n); return 2; }
+  return 0;
 }
 
 /* partial_normal at band points q and q + 1 (coordinates lv[k][q]: bary_pairs') when both
