@@ -211,26 +211,15 @@ int partial_normal(const struct smooth_tri *tr, const double l[3], double out[3]
 }
 
 #ifdef __SSE2__
-/* partial_normal at band points q and q + 1 (coordinates lv[k][q]: bary_pairs') when both
-   are in the same edge band (one coordinate, the same one, below its inset: partial_normal's
-   nb == 1 with the same k), their normals into nv[c][ns] and nv[c][ns + 1]; false (nothing
-   written) when they are not. Two points an instruction: each lane partial_normal's
-   operations on its values in their order (correctly rounded, as the scalar ones are; the
-   compares the scalar ones; the divide by den made in both lanes and kept only where
-   den > 1e-12, else 0.5; the clamps of s as selections where s < 0 and where s > 1, as the
-   scalar ifs: -0 and a NaN stay as they are). */
-static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW], int q,
-                             double (*nv)[SMOOTH_ROW], int ns)
+/* partial_normal's nb == 1 at two points of one edge band k (coordinates l[k], a point a
+   lane), their normals into n[c]. Each lane partial_normal's operations on its values in
+   their order (correctly rounded, as the scalar ones are; the compares the scalar ones;
+   the divide by den made in both lanes and kept only where den > 1e-12, else 0.5; the
+   clamps of s as selections where s < 0 and where s > 1, as the scalar ifs: -0 and a NaN
+   stay as they are). */
+static inline __attribute__((always_inline))
+void edge_lanes(const struct smooth_lanes *x, const __m128d *l, int k, __m128d *n)
 {
-  __m128d l[3];
-  int in[3];
-  for (int k = 0; k < 3; k++) {
-    l[k] = _mm_loadu_pd(&lv[k][q]);
-    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
-  }
-  const int k = in[0] == 3 && !(in[1] | in[2]) ? 0 : in[1] == 3 && !(in[0] | in[2]) ? 1 :
-                in[2] == 3 && !(in[0] | in[1]) ? 2 : -1;
-  if (k < 0) return false;
   const int a = next3[k], b = prev3[k];
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
   const __m128d tk = _mm_load_pd(x->xt[k]), ta = _mm_load_pd(x->xt[a]);
@@ -245,34 +234,18 @@ static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_R
   const __m128d omv = _mm_sub_pd(one, v), oms = _mm_sub_pd(one, s);
   const double (*e)[3][2] = x->xends[k];   /* at l_a = t_a and l_b = t_b on side k */
   for (int c = 0; c < 3; c++)
-    _mm_storeu_pd(&nv[c][ns],
-                  _mm_add_pd(_mm_mul_pd(omv, _mm_add_pd(_mm_mul_pd(oms, _mm_load_pd(e[0][c])),
-                                                        _mm_mul_pd(s, _mm_load_pd(e[1][c])))),
-                             _mm_mul_pd(v, _mm_load_pd(x->xn[c]))));
-  return true;
+    n[c] = _mm_add_pd(_mm_mul_pd(omv, _mm_add_pd(_mm_mul_pd(oms, _mm_load_pd(e[0][c])),
+                                                 _mm_mul_pd(s, _mm_load_pd(e[1][c])))),
+                      _mm_mul_pd(v, _mm_load_pd(x->xn[c])));
 }
-#endif
 
-#ifdef __SSE2__
-/* partial_normal at band points q and q + 1 (as edge_pair) when both are in the same
-   corner band (two coordinates, the same two, below their insets: partial_normal's
-   nb == 2 with the same cv), their normals into nv[c][ns] and nv[c][ns + 1]; false
-   (nothing written) when they are not. Each lane partial_normal's operations on its
-   values in their order (correctly rounded, as the scalar ones are; the products and
-   sums as C groups them: ((1 - u)(1 - w)) cn + (u (1 - w)) e_0 + ((1 - u) w) e_1 + (u w) n,
-   added left to right). */
-static inline bool corner_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW], int q,
-                               double (*nv)[SMOOTH_ROW], int ns)
+/* partial_normal's nb == 2 at two points of one corner band cv (as edge_lanes). Each lane
+   partial_normal's operations on its values in their order (correctly rounded, as the
+   scalar ones are; the products and sums as C groups them: ((1 - u)(1 - w)) cn +
+   (u (1 - w)) e_0 + ((1 - u) w) e_1 + (u w) n, added left to right). */
+static inline __attribute__((always_inline))
+void corner_lanes(const struct smooth_lanes *x, const __m128d *l, int cv, __m128d *n)
 {
-  __m128d l[3];
-  int in[3];
-  for (int k = 0; k < 3; k++) {
-    l[k] = _mm_loadu_pd(&lv[k][q]);
-    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
-  }
-  const int cv = !in[0] && in[1] == 3 && in[2] == 3 ? 0 : !in[1] && in[0] == 3 && in[2] == 3 ? 1 :
-                 !in[2] && in[0] == 3 && in[1] == 3 ? 2 : -1;
-  if (cv < 0) return false;
   const int a = next3[cv], b = prev3[cv];
   const __m128d one = _mm_set1_pd(1);
   const __m128d u = _mm_div_pd(l[a], _mm_load_pd(x->xt[a]));
@@ -282,12 +255,64 @@ static inline bool corner_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH
                 c3 = _mm_mul_pd(u, w);
   const double (*e)[3][2] = x->xcends[cv];
   for (int c = 0; c < 3; c++)
-    _mm_storeu_pd(&nv[c][ns],
-                  _mm_add_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(c0, _mm_load_pd(x->xcn[cv][c])),
-                                                   _mm_mul_pd(c1, _mm_load_pd(e[0][c]))),
-                                        _mm_mul_pd(c2, _mm_load_pd(e[1][c]))),
-                             _mm_mul_pd(c3, _mm_load_pd(x->xn[c]))));
+    n[c] = _mm_add_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(c0, _mm_load_pd(x->xcn[cv][c])),
+                                            _mm_mul_pd(c1, _mm_load_pd(e[0][c]))),
+                                 _mm_mul_pd(c2, _mm_load_pd(e[1][c]))),
+                      _mm_mul_pd(c3, _mm_load_pd(x->xn[c])));
+}
+
+/* partial_normal at two points of one triangle (coordinates l[k], a point a lane) when
+   both are in the same edge band (one coordinate, the same one, below its inset:
+   partial_normal's nb == 1 with the same k; returns 1) or the same corner band (two, the
+   same two: nb == 2 with the same cv; returns 2), their normals into n[c]; else 0 and
+   nothing written. The compares partial_normal's (l[k] < t[k]). */
+static inline __attribute__((always_inline))
+int band_lanes(const struct smooth_lanes *x, const __m128d *l, __m128d *n)
+{
+  int in[3];
+  for (int k = 0; k < 3; k++) in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
+  const int all = in[0] | in[1] << 2 | in[2] << 4;   /* each lane's below-inset bits */
+  if (all == 0x03) { edge_lanes(x, l, 0, n); return 1; }
+  if (all == 0x0c) { edge_lanes(x, l, 1, n); return 1; }
+  if (all == 0x30) { edge_lanes(x, l, 2, n); return 1; }
+  if (all == 0x3c) { corner_lanes(x, l, 0, n); return 2; }
+  if (all == 0x33) { corner_lanes(x, l, 1, n); return 2; }
+  if (all == 0x0f) { corner_lanes(x, l, 2, n); return 2; }
+  return 0;
+}
+
+/* partial_normal at band points q and q + 1 (coordinates lv[k][q]: bary_pairs') when both
+   are in the same edge band (edge_lanes), their normals into nv[c][ns] and nv[c][ns + 1];
+   false (nothing written) when they are not. */
+static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW], int q,
+                             double (*nv)[SMOOTH_ROW], int ns)
+{
+  __m128d l[3], n[3];
+  int in[3];
+  for (int k = 0; k < 3; k++) {
+    l[k] = _mm_loadu_pd(&lv[k][q]);
+    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
+  }
+  const int k = in[0] == 3 && !(in[1] | in[2]) ? 0 : in[1] == 3 && !(in[0] | in[2]) ? 1 :
+                in[2] == 3 && !(in[0] | in[1]) ? 2 : -1;
+  if (k < 0) return false;
+  edge_lanes(x, l, k, n);
+  for (int c = 0; c < 3; c++) _mm_storeu_pd(&nv[c][ns], n[c]);
   return true;
+}
+
+/* partial_normal at band points q and q + 1 (as edge_pair) when both are in the same
+   edge band (1) or the same corner band (2) (band_lanes), their normals into nv[c][ns]
+   and nv[c][ns + 1]; 0 (nothing written) when neither. */
+static inline int band_pair_normals(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW],
+                                    int q, double (*nv)[SMOOTH_ROW], int ns)
+{
+  __m128d l[3], n[3];
+  for (int k = 0; k < 3; k++) l[k] = _mm_loadu_pd(&lv[k][q]);
+  const int r = band_lanes(x, l, n);
+  if (r)
+    for (int c = 0; c < 3; c++) _mm_storeu_pd(&nv[c][ns], n[c]);
+  return r;
 }
 #endif
 
@@ -1134,7 +1159,46 @@ struct split {
                                flat picture's): */
   int lit_in[SMOOTH_ROW];   /*   their indices */
   int lit_tri[SMOOTH_ROW];  /*   their triangles (likewise) */
+  /* a row's stretch (inner_split's row) only: */
+  const struct shade_lights *L;   /* its lights, when all parallel (else NULL): then a pair
+                                     the filter declines goes on at once (band_fused) */
+  int fused[3];             /* points band_fused gave their greys, by region (1, 2) */
 };
+
+#ifdef __SSE2__
+static inline __attribute__((always_inline))
+void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsigned b1,
+              const struct shade_lights *L, int nlight, int *g0, int *g1);
+
+/* A pair of points of one triangle that the inner filter declined (lanes 0 and 1; their
+   areas times tot's sign, w, and those given back to the chain, v = st w), taken through
+   partial_row's steps at once, without the chain's arrays: their barycentric coordinates
+   (bary_row's operations on the same values: v / tot, both lanes one tot, never 0 where
+   the filter is used), their normals where both are in one edge band or one corner band
+   (band_lanes, as partial_row's band_pair_normals), lit (lit_pair, as lit_row, with the
+   triangle's side sgn and the lights L, all parallel) into g[0] and g[1], the regions
+   counted in sp->fused: the same greys, bit for bit. false (nothing written) when the two
+   are not in one band: then they go to the chain. */
+static inline __attribute__((always_inline))
+bool band_fused(const struct smooth_lanes *x, const __m128d *v, double tot, double sgn,
+                unsigned b0, unsigned b1, struct split *sp, int *g)
+{
+  const __m128d zero = _mm_setzero_pd(), third = _mm_set1_pd(1.0 / 3), tv = _mm_set1_pd(tot);
+  __m128d lk[3], l[3], n[3];
+  for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(v[k], tv), zero);
+  const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
+  const __m128d pos = _mm_cmpgt_pd(sum, zero);
+  for (int k = 0; k < 3; k++)
+    l[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)), _mm_andnot_pd(pos, third));
+  const int r = band_lanes(x, l, n);
+  if (!r) return false;
+  const __m128d sg = _mm_set1_pd(sgn);
+  if (sp->L->n == 1) lit_pair(n[0], n[1], n[2], sg, b0, b1, sp->L, 1, g, g + 1);
+  else lit_pair(n[0], n[1], n[2], sg, b0, b1, sp->L, sp->L->n, g, g + 1);
+  sp->fused[r] += 2;
+  return true;
+}
+#endif
 
 /* Point p of the run proved inner (region 0, the face's normal): given the flat picture's
    grey fg where that is exactly its grey (reflectance 1, no light blocked), else put aside
@@ -1198,6 +1262,12 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
       }
       __m128d v[3];
       for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
+      if (row && !bits && sp->L &&
+          band_fused(lx, v, tr->btot, tr->front ? 1 : -1, blocked[p], blocked[p + 1], sp,
+                     grey + p)) {
+        declines += 2;
+        continue;
+      }
       for (int h = 0; h < 2; h++) {
         if (bits >> h & 1) {
           inner_point(sp, p + h, flat, blocked, fg, grey, region, base, t, row);
@@ -1615,6 +1685,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const bool flat = refl == 1;
   struct split sp;
   sp.nl = sp.ni = 0;
+  sp.L = NULL;                              /* a run's pairs go to the chain */
   inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp, 0, t, false);
   const int nl = sp.nl;
   double lv[3][SMOOTH_ROW];
@@ -1808,6 +1879,10 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
 {
   struct split sp;
   sp.nl = sp.ni = 0;
+  sp.fused[1] = sp.fused[2] = 0;
+  bool parallel = true;
+  for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
+  sp.L = parallel ? L : NULL;
   bool nonzero = true;                      /* no triangle's btot is 0 */
   for (int k = 0; k < nseg; k++) {
     const int t = tri[k], b = at[k];
@@ -1817,7 +1892,9 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
                 map->f[tr->mface].grey, grey + b, NULL, &sp, b, t, true);
   }
   const int nl = sp.nl;
-  regions[0] += at[nseg] - nl;              /* the points proved inner */
+  regions[0] += at[nseg] - nl - sp.fused[1] - sp.fused[2];   /* the points proved inner */
+  regions[1] += sp.fused[1];
+  regions[2] += sp.fused[2];
   double lv[3][SMOOTH_ROW];
   bary_row(nl, sp.tot, nonzero, (const double (*)[SMOOTH_ROW])sp.la, lv);
   /* the lit points' normals in slots (as smooth_grey_run's), each with its side */
@@ -1829,8 +1906,7 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
     const double sgn = tr->front ? 1 : -1;   /* seen from inside: the eye's side */
 #ifdef __SSE2__
     if (q + 1 < nl && sp.tri[q + 1] == t) {
-      const int r = edge_pair(&m->lanes[t], lv, q, nv, ns) ? 1 :
-                    corner_pair(&m->lanes[t], lv, q, nv, ns) ? 2 : 0;
+      const int r = band_pair_normals(&m->lanes[t], lv, q, nv, ns);
       if (r) {                                /* two points of one edge or corner band */
         for (int h = 0; h < 2; h++) {
           sg[ns] = sgn;
@@ -1838,6 +1914,18 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
         }
         regions[r] += 2;
         q++;
+        continue;
+      }
+    }
+    {                                         /* one point of a band: in both lanes */
+      const __m128d l[3] = { _mm_set1_pd(lv[0][q]), _mm_set1_pd(lv[1][q]), _mm_set1_pd(lv[2][q]) };
+      __m128d n[3];
+      const int r = band_lanes(&m->lanes[t], l, n);
+      if (r) {
+        for (int c = 0; c < 3; c++) _mm_storel_pd(&nv[c][ns], n[c]);
+        sg[ns] = sgn;
+        slot_p[ns++] = sp.at[q];
+        regions[r]++;
         continue;
       }
     }

@@ -724,6 +724,96 @@ static void test_row_is_single(void **state)
 
 /* The space point of triangle t at l_k = lk (side k's band) and parameter sp along the
    band: l_a = t_a + sp (1 - lk - t_a - t_b), l_b the rest (a, b the corners after k). */
+/* A row's stretch whose points come two or more at a time from one edge band or one corner
+   band of a triangle (the pairs smooth_row takes from the inner filter straight to their
+   greys: band_fused), with inner points, points of another band and points outside
+   between them: the greys each gives alone (smooth_grey_at) and the same count of points
+   in each region, bit for bit, under the partial smoothings, one light and two (parallel),
+   a light blocked at some points. */
+static void test_row_band_pairs(void **state)
+{
+  (void)state;
+  static const char *const kinds[] = { "smooth=fixed:0.15", "smooth=prop:0.3", "smooth=prop:0.4",
+                                       "smooth=fixed:0.05" };
+  long pairs = 0;
+  for (size_t kind = 0; kind < sizeof kinds / sizeof *kinds; kind++) {
+    struct lib L;
+    lib_open(&L, "scenes/sphere.s74", kinds[kind]);
+    int differ = 0, greys[256] = { 0 };
+    long seen[3] = { 0, 0, 0 };
+    for (int light = 0; light < 2; light++) {
+      struct shade_lights lights;
+      shade_lights_init(&lights, L.s);
+      if (light) second_light(&lights);
+      assert_true(smooth_rows(&L.m, &L.e, &lights));
+      for (int t0 = 0; t0 < L.m.ntri; t0++) {
+        double X[SMOOTH_ROW][3];
+        unsigned blocked[SMOOTH_ROW];
+        int tri[SMOOTH_ROW], at[SMOOTH_ROW + 1], nseg = 0, n = 0, kinds_of[SMOOTH_ROW];
+        at[0] = 0;
+        for (int t = t0; t < L.m.ntri && nseg < 4; t++) {
+          const int len = 9 + (t * 7 + t0) % 11;
+          if (n + len > SMOOTH_ROW) break;
+          const double *ti = L.m.tri[t].t;
+          for (int p = n; p < n + len; p++) {
+            /* groups of two to four points of one kind: edge band k (0 .. 2), corner cv
+               (3 .. 5), the inner triangle (6), outside (7) */
+            const int g = (p / (2 + (t + p / 5) % 3) + t) % 8;
+            const double f = ((p * 7 + t) % 13 + 0.5) / 13.0, h = ((p * 5 + t) % 11 + 0.5) / 11.0;
+            if (g < 3) {
+              band_point(&L, t, g, ti[g] * f, h, X[p]);
+            } else if (g < 6) {
+              const int cv = g - 3, a = (cv + 1) % 3, b = (cv + 2) % 3;
+              double w[3];
+              w[a] = ti[a] * f;
+              w[b] = ti[b] * h;
+              w[cv] = 1 - w[a] - w[b];
+              tri_point(&L, t, w, X[p]);
+            } else if (g == 6) {
+              const double w[3] = { 1.0 / 3 + 0.01 * f, 1.0 / 3 - 0.01 * h, 1.0 / 3 };
+              tri_point(&L, t, w, X[p]);
+            } else {
+              const double w[3] = { 1.1 + 0.1 * f, -0.05 * h, -0.1 };
+              tri_point(&L, t, w, X[p]);
+            }
+            kinds_of[p] = g;
+            blocked[p] = (unsigned)((t + p) % 7 == 0) | (unsigned)(light && (t + p) % 5 == 0) << 1;
+            if (p > n && g < 6 && kinds_of[p - 1] == g) pairs++;
+          }
+          n += len;
+          tri[nseg] = t;
+          at[++nseg] = n;
+        }
+        int gr[SMOOTH_ROW];
+        long regions[3] = { 0, 0, 0 }, single[3] = { 0, 0, 0 };
+        smooth_row(&L.m, &L.r.map, &L.e, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
+                   gr, regions);
+        for (int k = 0; k < nseg; k++)
+          for (int p = at[k]; p < at[k + 1]; p++) {
+            int region;
+            const int one = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, tri[k], X[p], 1.0,
+                                           blocked[p], &lights, NULL, &region);
+            differ += gr[p] != one;
+            greys[one & 255] = 1;
+            single[region]++;
+          }
+        for (int r = 0; r < 3; r++) {
+          differ += regions[r] != single[r];
+          seen[r] += single[r];
+        }
+      }
+    }
+    assert_int_equal(differ, 0);
+    int distinct = 0;                     /* the greys vary: the test can tell points apart */
+    for (int gv = 0; gv < 256; gv++) distinct += greys[gv];
+    assert_true(distinct > 20);
+    /* prop:0.4's insets sum past 1: no inner triangle */
+    assert_true((kind == 2 || seen[0] > 0) && seen[1] > 0 && seen[2] > 0);
+    lib_close(&L);
+  }
+  assert_true(pairs > 1000);
+}
+
 static void band_point(const struct lib *L, int t, int k, double lk, double sp, double X[3])
 {
   const double *ti = L->m.tri[t].t;
@@ -1669,6 +1759,7 @@ int main(void)
     cmocka_unit_test(test_no_seams),
     cmocka_unit_test(test_run_is_single),
     cmocka_unit_test(test_row_is_single),
+    cmocka_unit_test(test_row_band_pairs),
     cmocka_unit_test(test_edge_pairs_are_single),
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
