@@ -840,9 +840,37 @@ static void add_product(double *e, int *n, double a, double b)
   grow(e, n, x);
 }
 
-/* sign of (b - a) x (c - a), exactly */
+/* Within the range a file's coordinates are read in (0, or magnitude 2^-400 .. 2^400),
+   with a little room for the turn (render/turn.h) to grow them. */
+static bool filter_coord(double x)
+{
+  double a = fabs(x);
+  return a == 0 || (a >= COORD_SMALL && a <= 2 * COORD_BIG);
+}
+
+/* sign of (b - a) x (c - a), exactly.
+   First a floating-point filter (Shewchuk, "Adaptive precision floating-point arithmetic
+   and fast robust geometric predicates", 1997, orient2d's first stage): with
+   l = fl(fl(a0 - c0) * fl(b1 - c1)), r = fl(fl(a1 - c1) * fl(b0 - c0)) and det = fl(l - r),
+   the exact (a - c) x (b - c), which is (b - a) x (c - a), has det's sign whenever
+   |det| > (3 + 16 eps) eps (|l| + |r|), eps = 2^-53; his proof asks only that nothing
+   underflows or overflows. It is taken only when the six coordinates are 0 or of
+   magnitude 2^-400 .. 2^401: then each difference is 0 exactly when its two terms are
+   equal, otherwise of magnitude 2^-452 or more (both terms are multiples of 2^-452) and
+   at most 2^402, so every nonzero product lies in 2^-904 .. 2^804, normal and finite.
+   In that range the expansion below is exact too (each product's error term is a normal
+   double: no underflow in fma), so both decide the same sign. Undecided (|det| within
+   the bound), or outside the range: the expansion, as before. A split quad's bow-tie
+   test at 100,000 boxes: 42,670 calls, about 750 instructions each by the expansion. */
 static int orient_d(const double a[2], const double b[2], const double c[2])
 {
+  if (filter_coord(a[0]) && filter_coord(a[1]) && filter_coord(b[0]) &&
+      filter_coord(b[1]) && filter_coord(c[0]) && filter_coord(c[1])) {
+    double l = (a[0] - c[0]) * (b[1] - c[1]), r = (a[1] - c[1]) * (b[0] - c[0]);
+    double det = l - r, bound = (3.0 + 16.0 * 0x1p-53) * 0x1p-53 * (fabs(l) + fabs(r));
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+  }
   double e[32];
   int n = 0;
   add_product(e, &n, b[0], c[1]);

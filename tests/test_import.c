@@ -141,6 +141,10 @@ static void tprintf(struct text *t, const char *fmt, ...)
   X(obj_bowtie_nonplanar, "obj",                                                           \
     "v 0 0 0\nv 3 0 0.01\nv 0 1 0.02\nv 1 1 0\nv 5 5 5\nf 5 1 2\nf 1 2 3 4\n", 7,        \
     "face 2 is not simple in the file: its edges 2-3 and 4-1")                            \
+  X(obj_bowtie_by_an_ulp, "obj", /* vertex 4 is above line 1-2 by less than the float      \
+    filter's bound: the expansion decides (orient_d) */                                    \
+    "v 0.1 0.3 0\nv 2.9 8.7 0\nv 1.9 0 0\nv 1.9 5.7 0\nf 1 2 3 4\n", 5,                   \
+    "face 1 is not simple in the file: its edges 1-2 and 3-4")                             \
   X(obj_bowtie_vertical, "obj", "v 0 0 0\nv 0 1 0\nv 0 0 1\nv 0 1 1\nf 1 2 3 4\n", 5,     \
     "face 1 is not simple in the file: its edges 2-3 and 4-1")                             \
   X(obj_bowtie_second, "obj",                                                              \
@@ -183,6 +187,24 @@ static void expect_refused(void **state, const char *name, const char *kind,
     expect_refused(state, #name, kind, t, sizeof t - 1, line, what);                     \
   }
 BAD_IMPORTS(DEFINE_BAD)
+
+/* Vertex 4 is below line 1-2 in binary (0.1 0.3, 2.9 8.7, 1.3 3.9 are not collinear as
+   doubles), by less than orient_d's float filter can tell: the face touches nothing in
+   the file and is kept. A filter that trusted the rounded determinant (its sign is the
+   wrong one here) would refuse it as a bow-tie. */
+static void no_bowtie_below_an_ulp(void **state)
+{
+  struct fx *f = *state;
+  static const char t[] = "v 0.1 0.3 0\nv 2.9 8.7 0\nv 1.3 0 0\nv 1.3 3.9 0\nf 1 2 3 4\n";
+  write_file(f, "below.obj", t, sizeof t - 1);
+  struct scene *s = NULL;
+  struct t74_error err = { 0 };
+  int st = scene_load(f->path, &on_axis, &s, &err);
+  if (st != T74_OK) fail_msg("status %d, message \"%s\"", st, err.msg);
+  assert_non_null(s);
+  assert_true(s->nf >= 1);
+  scene_free(s);
+}
 
 /* The command refuses such a file with exit 2, the message on stderr, no output. */
 static void command_exit_2(void **state)
@@ -1270,6 +1292,7 @@ int main(void)
 #define LIST_BAD(name, kind, text, line, what) cmocka_unit_test(bad_##name),
   const struct CMUnitTest tests[] = {
     BAD_IMPORTS(LIST_BAD)
+    cmocka_unit_test(no_bowtie_below_an_ulp),
     cmocka_unit_test(command_exit_2),
     cmocka_unit_test(command_warnings_in_order),
     cmocka_unit_test(real_tokens_as_strtod),
