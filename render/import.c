@@ -1102,9 +1102,32 @@ static bool bad_pair_2d(const void *ctx, int n, int i, int j)
   return pl_meet(a, b, c, d);
 }
 
+/* The closed boxes of segments a-b and c-d meet. */
+static bool pl_boxes_meet(struct pl_pt a, struct pl_pt b, struct pl_pt c, struct pl_pt d)
+{
+  return (a.u > b.u ? a.u : b.u) >= (c.u < d.u ? c.u : d.u) &&
+         (c.u > d.u ? c.u : d.u) >= (a.u < b.u ? a.u : b.u) &&
+         (a.v > b.v ? a.v : b.v) >= (c.v < d.v ? c.v : d.v) &&
+         (c.v > d.v ? c.v : d.v) >= (a.v < b.v ? a.v : b.v);
+}
+
 /* 1 when simple, 0 when not (*ea, *eb an offending pair), -1 when out of memory. */
 static int simple_2d(const struct pl_pt *p, int n, int *ea, int *eb)
 {
+  /* A quadrilateral (a split quad: 66,566 of 100,000 boxes' faces) without the sweep:
+     its four adjacent pairs share a point, so their boxes always meet and the sweep
+     tests each; the two others it tests where their boxes meet, as here. A pair the
+     test holds for has a point in common, so its boxes meet: whichever pair is found
+     (the caller reads only the verdict), the verdict is the sweep's. */
+  if (n == 4) {
+    static const int pair[6][2] = { { 0, 1 }, { 1, 2 }, { 2, 3 }, { 0, 3 }, { 0, 2 }, { 1, 3 } };
+    for (int q = 0; q < 6; q++) {
+      int i = pair[q][0], j = pair[q][1];
+      if (q >= 4 && !pl_boxes_meet(p[i], p[i + 1], p[j], p[(j + 1) % 4])) continue;
+      if (bad_pair_2d(p, 4, i, j)) { *ea = i; *eb = j; return 0; }
+    }
+    return 1;
+  }
   double sd[SMALL_FACE][2];
   double (*d)[2] = n <= SMALL_FACE ? sd : malloc((size_t)n * sizeof *d);
   if (!d) return -1;
