@@ -206,6 +206,54 @@ static void no_bowtie_below_an_ulp(void **state)
   scene_free(s);
 }
 
+/* A quad on a random plane (or flat, convex or not), rounded onto the grid: the import
+   keeps it whole exactly when scene_check_face passes the rounded quad, and warns (split
+   or dropped) exactly when it says not planar; the import tells most such quads without
+   scene_check_face (quad_off_plane), and this holds it to the same verdict. */
+static void quad_verdicts_as_scene_check(void **state)
+{
+  struct fx *f = *state;
+  struct scene_opts quiet = on_axis;
+  quiet.quiet = true;
+  uint32_t seed = 12345;
+  int seen[2] = { 0, 0 };
+  for (int t = 0; t < 400; t++) {
+    double q[4][3];
+    for (int k = 0; k < 4; k++) {
+      double x, y;
+      seed = seed * 1103515245u + 12345u; x = (double)(seed >> 8) / (1 << 24);
+      seed = seed * 1103515245u + 12345u; y = (double)(seed >> 8) / (1 << 24);
+      if (t % 4 == 0) { x = k == 1 || k == 2 ? 1 : 0; y = k >= 2 ? 1 : 0; x += y * 0.3 * (k & 1); }
+      q[k][0] = x;
+      q[k][1] = y;
+      q[k][2] = t % 3 == 0 ? 0.25 : 0.1 + 0.37 * x + 0.21 * y;   /* a plane, in decimals */
+    }
+    char text[512];
+    int len = snprintf(text, sizeof text,
+                       "v %.9f %.9f %.9f\nv %.9f %.9f %.9f\nv %.9f %.9f %.9f\nv %.9f %.9f %.9f\n"
+                       "v -1 -1 -1\nv 2 2 2\nf 1 2 3 4\n", q[0][0], q[0][1], q[0][2], q[1][0],
+                       q[1][1], q[1][2], q[2][0], q[2][1], q[2][2], q[3][0], q[3][1], q[3][2]);
+    write_file(f, "quad.obj", text, (size_t)len);
+    struct scene *sc = NULL;
+    struct t74_error err = { 0 };
+    if (scene_load(f->path, &quiet, &sc, &err) != T74_OK) continue;   /* a bow-tie */
+    int vi[4] = { 0, 1, 2, 3 }, rs[2] = { 0, 4 };
+    struct scene_face face = { .id = 1, .line = 7, .grey = -1, .nring = 1, .ring_start = rs,
+                               .vidx = vi };
+    int d = scene_check_face(sc, &face, NULL);
+    if (d == SCENE_FACE_OK) {
+      assert_int_equal(sc->nf, 1);
+      assert_int_equal(sc->warnings, 0);
+      seen[0]++;
+    } else if (d == SCENE_FACE_NONPLANAR) {
+      assert_true(sc->warnings >= 1);
+      seen[1]++;
+    }
+    scene_free(sc);
+  }
+  if (seen[0] < 20 || seen[1] < 20) fail_msg("kept %d, not planar %d: too few", seen[0], seen[1]);
+}
+
 /* The command refuses such a file with exit 2, the message on stderr, no output. */
 static void command_exit_2(void **state)
 {
@@ -1293,6 +1341,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     BAD_IMPORTS(LIST_BAD)
     cmocka_unit_test(no_bowtie_below_an_ulp),
+    cmocka_unit_test(quad_verdicts_as_scene_check),
     cmocka_unit_test(command_exit_2),
     cmocka_unit_test(command_warnings_in_order),
     cmocka_unit_test(real_tokens_as_strtod),
