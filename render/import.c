@@ -492,6 +492,43 @@ bad:
    error status (> 1) from those calls. */
 enum { OBJ_FAST_REFS = 32 };
 
+/* The run of decimal digits at p read 8 bytes at once, where 8 bytes remain before end
+   (a little-endian host): its length, 1 to 7, and its value in *val; -1 where the byte
+   loop must read it (no digit, a run of 8 or more, too near the end, another host).
+   A byte b is a digit when its high nibble is 3, and b + 6's too (b <= 0x39); a byte of
+   0xFA or more carries into the next one, which lies after a non-digit and is not read.
+   The digits, first one in the lowest byte, are moved to the top (zeros before them) and
+   combined in three steps: pairs, fours, the eight (each lane holds its sum: no carry).
+   A face of 100,000 boxes' file: 4 indices of about 6 digits, 9 instructions a digit in
+   the loop. */
+static int digits8(const char *p, const char *end, uint64_t *val)
+{
+#if defined(__GNUC__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  if (end - p < 8) return -1;
+  uint64_t w;
+  memcpy(&w, p, 8);
+  const uint64_t hi = 0xF0F0F0F0F0F0F0F0u, z = 0x3030303030303030u;
+  const uint64_t lo7 = 0x7F7F7F7F7F7F7F7Fu;
+  uint64_t nd = ((w & hi) ^ z) | (((w + 0x0606060606060606u) & hi) ^ z);  /* 0: a digit */
+  uint64_t top = (((nd & lo7) + lo7) | nd) & ~lo7;     /* the high bit of each non-digit */
+  if (top == 0) return -1;
+  int len = __builtin_ctzll(top) >> 3;
+  if (len == 0) return -1;
+  int sh = 8 * (8 - len);
+  uint64_t x = (w << sh) - (z << sh);
+  x = (x * 10 + (x >> 8)) & 0x00FF00FF00FF00FFu;
+  x = (x * 100 + (x >> 16)) & 0x0000FFFF0000FFFFu;
+  x = (x * 10000 + (x >> 32)) & 0xFFFFFFFFu;
+  *val = x;
+  return len;
+#else
+  (void)p;
+  (void)end;
+  (void)val;
+  return -1;
+#endif
+}
+
 static int obj_fast(struct import_reader *r, struct mesh *m, struct t74_error *err)
 {
   const char *p = r->buf + r->pos;
@@ -522,7 +559,9 @@ static int obj_fast(struct import_reader *r, struct mesh *m, struct t74_error *e
     if (n == OBJ_FAST_REFS) return 0;
     const char *d = p;
     uint64_t v = 0;           /* wraps (unsigned) only past 19 digits: refused below */
-    while ((unsigned)(*p - '0') < 10) v = v * 10 + (uint64_t)(*p++ - '0');
+    int len = digits8(p, r->buf + r->len, &v);
+    if (len > 0) p += len;
+    else while ((unsigned)(*p - '0') < 10) v = v * 10 + (uint64_t)(*p++ - '0');
     if (p == d || p - d > 9 || v == 0 || (*p != ' ' && *p != '\n')) return 0;
     ref[n++] = (long)v;
   }

@@ -1259,6 +1259,10 @@ static void obj_fast_as_general(void **state)
      "v 0 0 000000000000000000001\nf 000000001 2 3 4\nf 0000000001 2 3\n"),
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\r\nf 1/1/1 2//2 3\nf -3 -2 -1\nf 1 2 3 # c\n",
     "v 0 0 1e0\nv 1 0 0 1\nv 0 1 0\nv 0 0 0\nf 1 2 3\nf 2 3 4\n",
+    /* indices read 8 bytes at a time (digits8): leading zeros, runs of 1 to 7 digits
+       with 8 bytes after them, and one of 8 (the loop) */
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 0000001 02 0004 003\n"
+     "f 4 2 00000001 3\nf 5 0000004 2\n# eight bytes and more\n"),
   };
   static const char *const bad[] = {
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 2\n",
