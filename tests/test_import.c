@@ -141,6 +141,10 @@ static void tprintf(struct text *t, const char *fmt, ...)
   X(obj_bowtie_nonplanar, "obj",                                                           \
     "v 0 0 0\nv 3 0 0.01\nv 0 1 0.02\nv 1 1 0\nv 5 5 5\nf 5 1 2\nf 1 2 3 4\n", 7,        \
     "face 2 is not simple in the file: its edges 2-3 and 4-1")                            \
+  X(obj_bowtie_by_an_ulp, "obj", /* vertex 4 is above line 1-2 by less than the float      \
+    filter's bound: the expansion decides (orient_d) */                                    \
+    "v 0.1 0.3 0\nv 2.9 8.7 0\nv 1.9 0 0\nv 1.9 5.7 0\nf 1 2 3 4\n", 5,                   \
+    "face 1 is not simple in the file: its edges 1-2 and 3-4")                             \
   X(obj_bowtie_vertical, "obj", "v 0 0 0\nv 0 1 0\nv 0 0 1\nv 0 1 1\nf 1 2 3 4\n", 5,     \
     "face 1 is not simple in the file: its edges 2-3 and 4-1")                             \
   X(obj_bowtie_second, "obj",                                                              \
@@ -183,6 +187,72 @@ static void expect_refused(void **state, const char *name, const char *kind,
     expect_refused(state, #name, kind, t, sizeof t - 1, line, what);                     \
   }
 BAD_IMPORTS(DEFINE_BAD)
+
+/* Vertex 4 is below line 1-2 in binary (0.1 0.3, 2.9 8.7, 1.3 3.9 are not collinear as
+   doubles), by less than orient_d's float filter can tell: the face touches nothing in
+   the file and is kept. A filter that trusted the rounded determinant (its sign is the
+   wrong one here) would refuse it as a bow-tie. */
+static void no_bowtie_below_an_ulp(void **state)
+{
+  struct fx *f = *state;
+  static const char t[] = "v 0.1 0.3 0\nv 2.9 8.7 0\nv 1.3 0 0\nv 1.3 3.9 0\nf 1 2 3 4\n";
+  write_file(f, "below.obj", t, sizeof t - 1);
+  struct scene *s = NULL;
+  struct t74_error err = { 0 };
+  int st = scene_load(f->path, &on_axis, &s, &err);
+  if (st != T74_OK) fail_msg("status %d, message \"%s\"", st, err.msg);
+  assert_non_null(s);
+  assert_true(s->nf >= 1);
+  scene_free(s);
+}
+
+/* A quad on a random plane (or flat, convex or not), rounded onto the grid: the import
+   keeps it whole exactly when scene_check_face passes the rounded quad, and warns (split
+   or dropped) exactly when it says not planar; the import tells most such quads without
+   scene_check_face (quad_off_plane), and this holds it to the same verdict. */
+static void quad_verdicts_as_scene_check(void **state)
+{
+  struct fx *f = *state;
+  struct scene_opts quiet = on_axis;
+  quiet.quiet = true;
+  uint32_t seed = 12345;
+  int seen[2] = { 0, 0 };
+  for (int t = 0; t < 400; t++) {
+    double q[4][3];
+    for (int k = 0; k < 4; k++) {
+      double x, y;
+      seed = seed * 1103515245u + 12345u; x = (double)(seed >> 8) / (1 << 24);
+      seed = seed * 1103515245u + 12345u; y = (double)(seed >> 8) / (1 << 24);
+      if (t % 4 == 0) { x = k == 1 || k == 2 ? 1 : 0; y = k >= 2 ? 1 : 0; x += y * 0.3 * (k & 1); }
+      q[k][0] = x;
+      q[k][1] = y;
+      q[k][2] = t % 3 == 0 ? 0.25 : 0.1 + 0.37 * x + 0.21 * y;   /* a plane, in decimals */
+    }
+    char text[512];
+    int len = snprintf(text, sizeof text,
+                       "v %.9f %.9f %.9f\nv %.9f %.9f %.9f\nv %.9f %.9f %.9f\nv %.9f %.9f %.9f\n"
+                       "v -1 -1 -1\nv 2 2 2\nf 1 2 3 4\n", q[0][0], q[0][1], q[0][2], q[1][0],
+                       q[1][1], q[1][2], q[2][0], q[2][1], q[2][2], q[3][0], q[3][1], q[3][2]);
+    write_file(f, "quad.obj", text, (size_t)len);
+    struct scene *sc = NULL;
+    struct t74_error err = { 0 };
+    if (scene_load(f->path, &quiet, &sc, &err) != T74_OK) continue;   /* a bow-tie */
+    int vi[4] = { 0, 1, 2, 3 }, rs[2] = { 0, 4 };
+    struct scene_face face = { .id = 1, .line = 7, .grey = -1, .nring = 1, .ring_start = rs,
+                               .vidx = vi };
+    int d = scene_check_face(sc, &face, NULL);
+    if (d == SCENE_FACE_OK) {
+      assert_int_equal(sc->nf, 1);
+      assert_int_equal(sc->warnings, 0);
+      seen[0]++;
+    } else if (d == SCENE_FACE_NONPLANAR) {
+      assert_true(sc->warnings >= 1);
+      seen[1]++;
+    }
+    scene_free(sc);
+  }
+  if (seen[0] < 20 || seen[1] < 20) fail_msg("kept %d, not planar %d: too few", seen[0], seen[1]);
+}
 
 /* The command refuses such a file with exit 2, the message on stderr, no output. */
 static void command_exit_2(void **state)
@@ -1189,6 +1259,10 @@ static void obj_fast_as_general(void **state)
      "v 0 0 000000000000000000001\nf 000000001 2 3 4\nf 0000000001 2 3\n"),
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\r\nf 1/1/1 2//2 3\nf -3 -2 -1\nf 1 2 3 # c\n",
     "v 0 0 1e0\nv 1 0 0 1\nv 0 1 0\nv 0 0 0\nf 1 2 3\nf 2 3 4\n",
+    /* indices read 8 bytes at a time (digits8): leading zeros, runs of 1 to 7 digits
+       with 8 bytes after them, and one of 8 (the loop) */
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 0000001 02 0004 003\n"
+     "f 4 2 00000001 3\nf 5 0000004 2\n# eight bytes and more\n"),
   };
   static const char *const bad[] = {
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 2\n",
@@ -1270,6 +1344,8 @@ int main(void)
 #define LIST_BAD(name, kind, text, line, what) cmocka_unit_test(bad_##name),
   const struct CMUnitTest tests[] = {
     BAD_IMPORTS(LIST_BAD)
+    cmocka_unit_test(no_bowtie_below_an_ulp),
+    cmocka_unit_test(quad_verdicts_as_scene_check),
     cmocka_unit_test(command_exit_2),
     cmocka_unit_test(command_warnings_in_order),
     cmocka_unit_test(real_tokens_as_strtod),
