@@ -71,6 +71,7 @@ struct core {
   size_t            map_bytes;    /* w is a mapping of its own this long (block_new), or 0:
                                      from malloc */
   bool              huge;         /* that mapping has been given huge pages (block_huge) */
+  bool              lazy;         /* core_new_lazy's: never given huge pages */
 };
 
 /* ---- the host block ----------------------------------------------------------------------
@@ -115,6 +116,27 @@ static uint16_t *block_new(size_t words, size_t *bytes)
   return calloc(words, sizeof(uint16_t));
 }
 
+/* core_new_lazy's block: from LAZY_MAP_BYTES on, a mapping of its own on 4 kB pages,
+   zero until touched and never touched but where written (the points engine reserves
+   some 18 MB at 100,000 boxes and writes a few words; calloc took it from the heap, where
+   main.c keeps blocks below 32 MB, and cleared every byte); smaller, as block_new. */
+#define LAZY_MAP_BYTES ((size_t)1 << 20)
+static uint16_t *block_lazy(size_t words, size_t *bytes)
+{
+  *bytes = 0;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  size_t len = (words * sizeof(uint16_t) + 4095) & ~(size_t)4095;
+  if (len >= LAZY_MAP_BYTES) {
+    void *m = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (m != MAP_FAILED) {
+      *bytes = len;
+      return m;
+    }
+  }
+#endif
+  return block_new(words, bytes);
+}
+
 static void block_free(uint16_t *w, size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
@@ -155,7 +177,8 @@ static int block_grow(struct core *c, size_t words)
    given huge pages (see above), before the new words are touched. */
 static void block_huge(struct core *c, uint32_t low, uint32_t high)
 {
-  if (c->huge || !c->map_bytes || (low < CORE_HUGE_WORDS && high < CORE_HUGE_WORDS)) return;
+  if (c->huge || c->lazy || !c->map_bytes ||
+      (low < CORE_HUGE_WORDS && high < CORE_HUGE_WORDS)) return;
   c->huge = true;
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   char *a = (char *)c->w;
@@ -167,18 +190,29 @@ static void block_huge(struct core *c, uint32_t low, uint32_t high)
 #endif
 }
 
-struct core *core_new(uint32_t words)
+static struct core *core_make(uint32_t words, bool lazy)
 {
   if (words < 1 || words > (UINT32_C(1) << 31)) return NULL;
   struct core *c = calloc(1, sizeof *c);
   if (!c) return NULL;
-  c->w = block_new(words, &c->map_bytes);
+  c->lazy = lazy;
+  c->w = lazy ? block_lazy(words, &c->map_bytes) : block_new(words, &c->map_bytes);
   if (!c->w) { free(c); return NULL; }
   c->size = words;
   c->cap = words;
   c->first_size = words;
   c->high_stat = -1;
   return c;
+}
+
+struct core *core_new(uint32_t words)
+{
+  return core_make(words, false);
+}
+
+struct core *core_new_lazy(uint32_t words)
+{
+  return core_make(words, true);
 }
 
 int core_renew(struct core *c, uint32_t words)

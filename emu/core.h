@@ -70,6 +70,11 @@ struct core;                                   /* opaque */
 /* A core of `words` words (1 .. 2^31), all zero; NULL when words is out of range or the
    host cannot allocate it. */
 struct core *core_new(uint32_t words);
+/* core_new for a core mostly reserved and seldom written (the points engine's: the
+   Mapper's rows reserved, never written): the same core, its block's pages zero until
+   touched (a mapping of its own from 1 MB on, never given huge pages), so only the words
+   written cost the host memory. */
+struct core *core_new_lazy(uint32_t words);
 void core_free(struct core *c);
 uint32_t core_words(const struct core *c);     /* size */
 /* The core as core_new(core_words(c)) makes it: no tables, no statistics, no growth, no

@@ -328,7 +328,7 @@ static int map_faces(struct points *p, const struct scene *s, struct t74_error *
   for (int k = 0; k < s->nf; k++) words += 10 * (uint64_t)s->f[k].ring_start[s->f[k].nring];
   if (words > (UINT64_C(1) << 31)) words = UINT64_C(1) << 31;
   if (p->core && core_words(p->core) < words) { core_free(p->core); p->core = NULL; }
-  if (!p->core && !(p->core = core_new((uint32_t)words)))
+  if (!p->core && !(p->core = core_new_lazy((uint32_t)words)))
     return t74_fail(err, T74_EIO, "out of host memory");
   core_release(p->core, 0);
   int st = mapper_run_kept(s, &p->map, p->core, NULL, p->keep, err);   /* not counted */

@@ -499,6 +499,36 @@ static void test_core_large_block(void **state)
   core_free(c);
 }
 
+/* core_new_lazy: the same core as core_new: zero words, the same places, refusals and
+   growth, the words written kept. (What it saves, host memory never touched, is a
+   benchmark's figure: `tube74 bench speed`'s max RSS column, points engine.) */
+static void test_lazy_core(void **state)
+{
+  (void)state;
+  struct t74_error e0 = { 0 }, e1 = { 0 };
+  struct core *c[2] = { core_new(600000), core_new_lazy(600000) };   /* 1.2 MB: mapped */
+  assert_non_null(c[0]);
+  assert_non_null(c[1]);
+  uint32_t a[2], b[2];
+  for (int k = 0; k < 2; k++) {
+    assert_int_equal(core_alloc(c[k], "A", 3000, &a[k], k ? &e1 : &e0), T74_OK);
+    for (uint32_t q = 0; q < 3000; q++) assert_int_equal(core_read(c[k], a[k] + q), 0);
+    for (uint32_t q = 0; q < 3000; q += 7) core_write(c[k], a[k] + q, (uint16_t)(q + 1));
+    assert_int_equal(core_high_grow(c[k], CORE_T_PRIORITY, 1500, k ? &e1 : &e0), T74_OK);
+    assert_int_equal(core_reserve(c[k], "B", 596000, &b[k], k ? &e1 : &e0), T74_ECORE);
+    core_set_growth(c[k], UINT32_C(1) << 21);                 /* grown: kept */
+    assert_int_equal(core_reserve(c[k], "B", 1u << 20, &b[k], k ? &e1 : &e0), T74_OK);
+    for (uint32_t q = 0; q < 1500; q++) assert_int_equal(core_high_get(c[k], q), 0);
+  }
+  assert_int_equal(a[0], a[1]);
+  assert_int_equal(b[0], b[1]);
+  assert_int_equal(core_words(c[0]), core_words(c[1]));
+  for (uint32_t q = 0; q < 3000; q++)
+    assert_int_equal(core_read(c[0], a[0] + q), core_read(c[1], a[1] + q));
+  core_free(c[0]);
+  core_free(c[1]);
+}
+
 /* The layout dump's addresses (each table's first word is the length of those below it):
    after a release that cuts a table short, the tables above the mark are gone and the one
    it cuts keeps its first words. */
@@ -1027,6 +1057,7 @@ int main(void)
     cmocka_unit_test(test_reset_as_new),
     cmocka_unit_test(test_renew_as_new),
     cmocka_unit_test(test_core_large_block),
+    cmocka_unit_test(test_lazy_core),
     cmocka_unit_test(test_layout_after_release),
     cmocka_unit_test(test_cost_seconds_by_hand),
     cmocka_unit_test(test_params_set),
