@@ -14,11 +14,12 @@
 ** (|n| ~ 2^30), and the lattice points next to it lie 1/|n| off it. Triangle o has three of
 ** its lattice points; triangle k has one of them and two lattice points one step in x off
 ** it (v = x + N y + N^2 (z - Z0) = +1 and -1), so plane k crosses plane o along the line
-** through its on-plane vertex and the middle of the other two: x = 0. At 2000 units from the eye the two depths differ by about 2^-54 of
-** the depth a point away from that line, far below the filter's 2^-40 M: the exact
+** through its on-plane vertex and the middle of the other two: x = 0. At 2000 units from
+** the eye, a point (about 6 units there) away from that line, the two depths differ by
+** about 2^-45 6 / 2000, some 2^-53 of the depth, far below the filter's 2^-40 M: the exact
 ** compare decides the whole overlap, with k in front on one side of the line and o on the
 ** other. Kept from the first point for the whole draw (a break of struct coplane's rule)
-** the answer is wrong on one side: hundreds of points.
+** the answer is wrong on one side: thousands of points.
 **
 ** Every point of every scene, in both cell sizes and in four drawing orders (the engine's
 ** own, the Mapper's order without tiles, two shuffled), must agree with xr_judge (0, or 1
