@@ -21,6 +21,9 @@
 ** other. Kept from the first point for the whole draw (a break of struct coplane's rule)
 ** the answer is wrong on one side: thousands of points.
 **
+** A pattern coplanar with o, drawn before k, keeps its answer against o while it is drawn;
+** that answer must not reach k's draw (struct coplane is face k's, made anew for each face).
+**
 ** Every point of every scene, in both cell sizes and in four drawing orders (the engine's
 ** own, the Mapper's order without tiles, two shuffled), must agree with xr_judge (0, or 1
 ** on the crossing line itself: the reference's band there).
@@ -68,7 +71,8 @@ static long long plane_o(int32_t x, int32_t y, int32_t z)
    1: the same with the face numbers swapped (k drawn against o with the coplanar rule's
       other side of the numbers);
    2: scene 0 and a pattern p (face 3) in plane o over the quadrant x > 0, y > 0, so that
-      face k meets o and p (a pair of one plane, whose answer is kept) by turns. */
+      face k meets o and p by turns; p (and o with it, a pair of one plane whose answer
+      is kept while p is drawn) comes before k in the file. */
 static void build(struct xr_scene *s, int which)
 {
   memset(s, 0, sizeof *s);
@@ -82,11 +86,13 @@ static void build(struct xr_scene *s, int which)
   assert_true(plane_o(-N + 1, 1 - N, Z0 + 1) == 1 && plane_o(N - 1, -1, Z0) == -1);
   unsigned io = which == 1 ? 2 : 1, ik = which == 1 ? 1 : 2;
   tri(s, io, a, b, c, 80);
-  tri(s, ik, ka, kb, c, 200);
-  if (which == 2) {
+  if (which == 2) {                   /* before k in the file: drawn before it in the Mapper's
+                                         order, its answer against o kept while it is drawn
+                                         must not reach k's draw */
     int z = vtx(s, 0, 0, Z0);
     tri(s, 3, z, b, c, 140);
   }
+  tri(s, ik, ka, kb, c, 200);
 }
 
 /* The engine's ids of scene x in one cell size and one drawing order, judged point by
