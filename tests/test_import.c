@@ -254,6 +254,25 @@ static void quad_verdicts_as_scene_check(void **state)
   if (seen[0] < 20 || seen[1] < 20) fail_msg("kept %d, not planar %d: too few", seen[0], seen[1]);
 }
 
+/* `tube74 render` of f's file (f->path, *scene) refused: exit 2, no output written; its
+   stderr kept in errp (dir/stem.err) and opened for reading. */
+static FILE *render_refused(struct fx *f, const char *stem, char scene[300], char errp[300])
+{
+  char out[300], cmd[1200];
+  snprintf(scene, 300, "%s", f->path);
+  snprintf(out, sizeof out, "%s/%s.png", f->dir, stem);
+  snprintf(errp, 300, "%s/%s.err", f->dir, stem);
+  unlink(out);
+  snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' 2>'%s'", tk_prog(), scene, out, errp);
+  int rc = system(cmd);
+  assert_true(WIFEXITED(rc));
+  assert_int_equal(WEXITSTATUS(rc), 2);
+  assert_int_equal(access(out, F_OK), -1);
+  FILE *e = fopen(errp, "r");
+  assert_non_null(e);
+  return e;
+}
+
 /* The command refuses such a file with exit 2, the message on stderr, no output. */
 static void command_exit_2(void **state)
 {
@@ -265,18 +284,8 @@ static void command_exit_2(void **state)
   };
   for (size_t k = 0; k < sizeof texts / sizeof *texts; k++) {
     write_file(f, "cmd.obj", texts[k], strlen(texts[k]));
-    char scene[300], out[300], errp[300], cmd[1200];
-    snprintf(scene, sizeof scene, "%s", f->path);
-    snprintf(out, sizeof out, "%s/cmd.png", f->dir);
-    snprintf(errp, sizeof errp, "%s/cmd.err", f->dir);
-    unlink(out);
-    snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' 2>'%s'", tk_prog(), scene, out, errp);
-    int rc = system(cmd);
-    assert_true(WIFEXITED(rc));
-    assert_int_equal(WEXITSTATUS(rc), 2);
-    assert_int_equal(access(out, F_OK), -1);
-    FILE *e = fopen(errp, "r");
-    assert_non_null(e);
+    char scene[300], errp[300];
+    FILE *e = render_refused(f, "cmd", scene, errp);
     char line[600] = "";
     assert_non_null(fgets(line, sizeof line, e));
     fclose(e);
@@ -307,18 +316,8 @@ static void command_warnings_in_order(void **state)
                                         "f 903 904 905 906\n");     /* a bow-tie: line 1207 */
   write_file(f, "warn.obj", t, n);
   free(t);
-  char scene[300], out[300], errp[300], cmd[1200];
-  snprintf(scene, sizeof scene, "%s", f->path);
-  snprintf(out, sizeof out, "%s/warn.png", f->dir);
-  snprintf(errp, sizeof errp, "%s/warn.err", f->dir);
-  unlink(out);
-  snprintf(cmd, sizeof cmd, "'%s' render '%s' -o '%s' 2>'%s'", tk_prog(), scene, out, errp);
-  int rc = system(cmd);
-  assert_true(WIFEXITED(rc));
-  assert_int_equal(WEXITSTATUS(rc), 2);
-  assert_int_equal(access(out, F_OK), -1);
-  FILE *e = fopen(errp, "r");
-  assert_non_null(e);
+  char scene[300], errp[300];
+  FILE *e = render_refused(f, "warn", scene, errp);
   char line[600], want[600];
   for (int k = 0; k < 300; k++) {
     assert_non_null(fgets(line, sizeof line, e));

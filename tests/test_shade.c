@@ -35,6 +35,20 @@ static double uniform(uint64_t *s, double lo, double hi)
   return lo + (hi - lo) * (double)next(s) / 0x1p53;
 }
 
+/* v made a unit vector in place (the divisions shade_lights_init and face_normal make). */
+static void unit3(double v[3])
+{
+  const double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  for (int c = 0; c < 3; c++) v[c] /= len;
+}
+
+/* The unit normal turned away from plane p's coefficients (-p, made a unit vector). */
+static void plane_normal(const int p[3], double n[3])
+{
+  for (int c = 0; c < 3; c++) n[c] = -(double)p[c];
+  unit3(n);
+}
+
 /* The greys of points A (lane 0) and B (lane 1) by shade_pair_* and by shade_grey_lit;
    the number of lanes that differ. */
 static int pair_differs(const struct shade_lights *L, const struct shade_pair *P,
@@ -77,17 +91,11 @@ static void test_pairs_are_single(void **state)
     for (int k = 0; k < L.n; k++) {         /* shade_lights_init's unit directions */
       ready.point[k] = L.point[k];
       memcpy(ready.v[k], L.v[k], sizeof ready.v[k]);
-      if (!ready.point[k]) {
-        const double len = sqrt(L.v[k][0] * L.v[k][0] + L.v[k][1] * L.v[k][1] +
-                                L.v[k][2] * L.v[k][2]);
-        for (int c = 0; c < 3; c++) ready.v[k][c] /= len;
-      }
+      if (!ready.point[k]) unit3(ready.v[k]);
     }
     for (size_t pl = 0; pl < sizeof planes / sizeof *planes; pl++) {
       double n[3];
-      for (int c = 0; c < 3; c++) n[c] = -(double)planes[pl][c];
-      const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      for (int c = 0; c < 3; c++) n[c] /= len;
+      plane_normal(planes[pl], n);
       struct shade_pair P;
       shade_pair_init(&P, &ready, n);
       for (int it = 0; it < 600; it++) {
@@ -162,11 +170,8 @@ static void test_point_lights_blocked(void **state)
   for (int k = 0; k < 5; k++) {
     L.point[k] = lv[k][0] != 0;
     for (int c = 0; c < 3; c++) L.v[k][c] = lv[k][c + 1];
-    if (!L.point[k]) {
-      const double len = sqrt(L.v[k][0] * L.v[k][0] + L.v[k][1] * L.v[k][1] +
-                              L.v[k][2] * L.v[k][2]);
-      for (int c = 0; c < 3; c++) L.v[k][c] /= len;
-    } else pm |= 1u << k;
+    if (!L.point[k]) unit3(L.v[k]);
+    else pm |= 1u << k;
   }
   L.n = 5;
   uint64_t seed = 74;
@@ -175,9 +180,7 @@ static void test_point_lights_blocked(void **state)
   const __m128d zero = _mm_setzero_pd();
   for (size_t pl = 0; pl < sizeof planes / sizeof *planes; pl++) {
     double n[3];
-    for (int c = 0; c < 3; c++) n[c] = -(double)planes[pl][c];
-    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (int c = 0; c < 3; c++) n[c] /= len;
+    plane_normal(planes[pl], n);
     struct shade_pair P;
     shade_pair_init(&P, &L, n);
     for (int it = 0; it < 400; it++) {

@@ -276,6 +276,46 @@ static void test_rows_keyed(void **state)
   }
 }
 
+/* Rows of 4x4 cells written again over a row already written as a run (tube_write_cells
+   takes a row of 4x4 cells as a run wherever the bytes under it are unlit, blank_cells),
+   where that run's cells had no dot: a later run over an earlier run's empty cells, a run
+   over those of two earlier ones, and rows over lit dots between. settle spells a run's
+   dots from lit[] with the later writes' dots taken out, so each of the later runs' dots
+   must be taken out before an earlier run that covers the same cells is reached: the same
+   dots, count and order as cell by cell. */
+static void test_runs_over_runs(void **state)
+{
+  (void)state;
+  uint32_t x = 2024;
+  for (int trial = 0; trial < 200; trial++) {
+    struct tube *a = tube_new(), *b = tube_new();
+    assert_non_null(a);
+    assert_non_null(b);
+    const int y0 = 3 + (int)(next_rand(&x) % 290u);
+    for (int k = 0; k < 6; k++) {
+      /* a row of up to 100 cells from an even cell, its cells empty in blocks */
+      const int c0 = 2 * (int)(next_rand(&x) % 40u), n = 1 + (int)(next_rand(&x) % (uint32_t)(100 - c0));
+      const int z0 = (int)(next_rand(&x) % 100u), z1 = z0 + (int)(next_rand(&x) % 60u);
+      uint16_t masks[100];
+      for (int c = 0; c < n; c++) {
+        const int at = c0 + c;
+        masks[c] = (uint16_t)(at >= z0 && at < z1 && k < 5 ? 0 : next_rand(&x) & 0xffffu);
+        if (masks[c] && next_rand(&x) % 4u == 0) masks[c] = 0;
+      }
+      row_both(a, b, 4 * c0, y0, 4, masks, n);
+      if (k == 3 && trial % 3 == 0) {       /* a dot lit on the row: later rows over it */
+        const int wx = (int)(next_rand(&x) % 400u), wy = y0 - (int)(next_rand(&x) % 4u);
+        assert_int_equal(tube_write(a, wx, wy), T74_OK);
+        assert_int_equal(tube_write(b, wx, wy), T74_OK);
+      }
+      assert_int_equal(tube_count(a), tube_count(b));
+    }
+    tubes_same(a, b);
+    tube_free(a);
+    tube_free(b);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -284,6 +324,7 @@ int main(void)
     cmocka_unit_test(test_rows_then_gaps),
     cmocka_unit_test(test_erase_clears),
     cmocka_unit_test(test_rows_keyed),
+    cmocka_unit_test(test_runs_over_runs),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
