@@ -1320,16 +1320,65 @@ static inline bool step_bounds(int64_t yd, const struct fx_sample_row *r)
          r->S < (int64_t)1 << 32;
 }
 
+/* div_floor for a 64-bit a (0 < b < 2^63): floor(a / b) and the rest (0 <= rest < b) from
+   the processor's divide (C's quotient truncates toward 0 and its rest has a's sign: one
+   less and the rest plus b where the rest is negative); false when the quotient is not
+   within 2^36 (div_floor's range). Where both succeed they give the same q and rest (the
+   exact floor and rest); where either fails its caller takes the long way, whose answer
+   is the same. */
+static inline bool div_floor64(int64_t a, int64_t b, int64_t *q, wide *rest)
+{
+  int64_t k = a / b, r = a % b;
+  if (r < 0) { k--; r += b; }
+  if (k <= -((int64_t)1 << 36) || k >= (int64_t)1 << 36) return false;
+  *q = k;
+  *rest = r;
+  return true;
+}
+
+/* edge_start's N, D, P and Q in 64-bit integers, each product and sum checked for overflow
+   (the same exact values where none overflows): true and the step as edge_start makes it
+   (div_floor64), or false with *done false where one overflows (then edge_start's 128-bit
+   way). In the points frame's scenes every value fits: |P| ~ 2^49, Q ~ 2^42. */
+static inline bool edge_start64(struct edge_step *e, int64_t la, int64_t lb, int64_t lc,
+                                int64_t yn, int64_t yd, const struct fx_sample_row *r,
+                                bool *done)
+{
+  int64_t t0, t1, M, N, D, Dg, P, Q, c0, c1, c;
+  *done = false;
+  if (__builtin_mul_overflow(lb, yn, &t0) || __builtin_mul_overflow(lc, yd, &t1) ||
+      __builtin_add_overflow(t0, t1, &M) || __builtin_mul_overflow(la, yd, &D) ||
+      D == INT64_MIN || M == INT64_MIN)
+    return false;
+  int64_t elb = lb;                         /* M = lb yn + lc yd; edge_start's N = -M */
+  N = -M;
+  if (D < 0) { D = -D; N = M; elb = -lb; }
+  if (__builtin_mul_overflow(D, GRID_ONE, &Dg) || __builtin_mul_overflow(N, r->xd, &t0) ||
+      __builtin_mul_overflow(r->xd, r->XL, &c0) ||
+      __builtin_mul_overflow(2 * r->k0 + 1, r->S, &c1) || __builtin_add_overflow(c0, c1, &c) ||
+      __builtin_mul_overflow(Dg, c, &t1) || __builtin_sub_overflow(t0, t1, &P) ||
+      __builtin_mul_overflow(Dg, 2 * r->S, &Q) || Q <= 0)
+    return false;
+  *done = true;
+  e->lb = elb;
+  e->Q = Q;
+  return div_floor64(P, Q, &e->q, &e->r);
+}
+
 /* The step of polygon p's edge from p0 to p1 on the line yn / yd for the samples r
    (within step_bounds): its q, r, Q; false when the quotient is out of div_floor's
    range. The sizes, with |p.x|, |p.y| <= 2^28 (geom.h): |la|, |lb| < 2^30, |lc| < 2^59,
    |yn| < 2^63: |N| < 2^93 + 2^75 < 2^94, |N xd| < 2^124; D < 2^46, D G < 2^54,
    |xd XL + (2 k0 + 1) S| < 2^61 + 2^63, their product < 2^118; |P| < 2^125, Q < 2^87:
-   no overflow in 128 bits. */
+   no overflow in 128 bits. Where every value fits in 64 bits, found there
+   (edge_start64). */
 static bool edge_start(struct edge_step *e, struct gpoint p0, struct gpoint p1, int64_t yn,
                        int64_t yd, const struct fx_sample_row *r)
 {
   const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
+  bool done;
+  const bool ok = edge_start64(e, la, lb, lc, yn, yd, r, &done);
+  if (done) return ok;
   wide N = -((wide)lb * yn + (wide)lc * yd), D = (wide)la * yd;
   e->lb = lb;                               /* N = -(lb yn + lc yd) */
   if (D < 0) { D = -D; N = -N; e->lb = -lb; }   /* (then N = lb yn + lc yd) */
@@ -1341,9 +1390,13 @@ static bool edge_start(struct edge_step *e, struct gpoint p0, struct gpoint p1, 
 
 /* Edge e's step for a change dyn of the line's yn (|dyn| < 2^62, both lines' |yn| < 2^61;
    samples' xd < 2^30: |lb dyn xd| < 2^122): dq, dr; false when the quotient is out of
-   div_floor's range. */
+   div_floor's range. In 64 bits where -lb dyn xd and Q fit (div_floor64). */
 static bool edge_step_set(struct edge_step *e, int64_t dyn, int64_t xd)
 {
+  int64_t t, a;
+  if (e->Q <= INT64_MAX && !__builtin_mul_overflow(-e->lb, dyn, &t) &&
+      !__builtin_mul_overflow(t, xd, &a))
+    return div_floor64(a, (int64_t)e->Q, &e->dq, &e->dr);
   return div_floor((wide)-e->lb * dyn * xd, e->Q, &e->dq, &e->dr);
 }
 
