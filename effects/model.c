@@ -887,6 +887,8 @@ struct fx_lines {
   long row;
   struct poly_step *ps;     /* per shadow polygon: its two stretch ends stepped from row to
                                row (face_ranges), or NULL (none kept) */
+  int *rend, rendcap, rendn;   /* the last row's runs of one face (shadow_ranges): at each
+                               run's first sample its end; rendn samples, 0 when not found */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -949,7 +951,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->behind);
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
-  free(L->rng); free(L->fr); free(L->ps);
+  free(L->rng); free(L->fr); free(L->ps); free(L->rend);
   free(L);
 }
 
@@ -1545,10 +1547,17 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   fx_sample_row_set(&sr, m->g->window, xd, k0, n);
   L->row++;                                 /* every face's ranges: none yet */
   L->nrng = 0;
+  if (n > L->rendcap) {
+    int *nr = realloc(L->rend, (size_t)n * sizeof *nr);
+    if (!nr) return t74_fail(err, T74_EIO, "out of host memory");
+    L->rend = nr;
+    L->rendcap = n;
+  }
   memset(blocked, 0, (size_t)n * sizeof *blocked);
   for (int i = 0; i < n;) {
     const int f = face[i];
     const int e = face_run_end(face, i, n);
+    L->rend[i] = e;                         /* (the run's end, for fx_points' greys) */
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
       if (L->fr[f].row != L->row) {
         const int at = L->nrng;
@@ -1564,6 +1573,7 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
     }
     i = e;
   }
+  L->rendn = n;
   return T74_OK;
 }
 
@@ -1645,6 +1655,7 @@ int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n,
     }
     return T74_OK;
   }
+  L->rendn = 0;                             /* (shadow_ranges finds the row's runs) */
   if ((rc = fx_see_row(L->see, K, mrow, k0, n, face, err)) != T74_OK) return rc;
   for (int q = 0; q < L->m->ncut && rc == T74_OK; q++)
     rc = cut_samples(L, q, K, mrow, yn, yd, xd, k0, n, face, err);
@@ -1724,12 +1735,22 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
     uint8_t *gr = f->grey + at0;
+    /* the row's runs of one face as shadow_ranges found them (the faces fr holds now), or
+       NULL: each run's end is found here */
+    const int *rend = L && L->rendn == W ? L->rend : NULL;
     int last = -1;                          /* the face fs holds */
     struct face_shade fs;
     bool run = false;                       /* its points go in runs (smoothed greys) */
     bool plain = false;                     /* or in runs of a face not smoothed */
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
+      if (face < 0 && rend && (i == 0 || fr[i - 1] >= 0)) {   /* a run that sees no face, */
+        const int e = rend[i];              /* i its first point: its end from the table */
+        if (!bg) memset(gr + i, 0, (size_t)(e - i));
+        else for (int q = i; q < e; q++) gr[q] = (uint8_t)shade_none(m, q, j);
+        i = e - 1;
+        continue;
+      }
       if (face < 0) {                       /* a run of points that see no face */
         int e = i + 1;
 #ifdef __SSE2__
@@ -1756,7 +1777,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         plain = !pc && fs.tri < 0;
       }
       if (plain) {                          /* all its points here at once */
-        const int e = face_run_end(fr, i, W);
+        const int e = rend && (i == 0 || fr[i - 1] != face) ? rend[i] : face_run_end(fr, i, W);
         shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
         i = e - 1;
         continue;
