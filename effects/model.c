@@ -888,7 +888,8 @@ struct fx_lines {
   struct poly_step *ps;     /* per shadow polygon: its two stretch ends stepped from row to
                                row (face_ranges), or NULL (none kept) */
   int *rend, rendcap, rendn;   /* the last row's runs of one face (shadow_ranges): at each
-                               run's first sample its end; rendn samples, 0 when not found */
+                               run's first sample its end e, or -e where a light is blocked
+                               at a sample of the run; rendn samples, 0 when not found */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -1559,6 +1560,7 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
     const int e = face_run_end(face, i, n);
     L->rend[i] = e;                         /* (the run's end, for fx_points' greys) */
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
+      int any = 0;                          /* a range meets the run: a light blocked there */
       if (L->fr[f].row != L->row) {
         const int at = L->nrng;
         const int rc = face_ranges(L, f, yn, yd, &sr, err);
@@ -1568,8 +1570,11 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
       for (int k = L->fr[f].at; k < L->fr[f].at + L->fr[f].n; k++) {
         const struct brange *b = &L->rng[k];
         const unsigned bit = 1u << b->light;
-        for (int j = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e; j < hi; j++) blocked[j] |= bit;
+        const int j0 = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e;
+        any |= j0 < hi;
+        for (int j = j0; j < hi; j++) blocked[j] |= bit;
       }
+      if (any) L->rend[i] = -e;
     }
     i = e;
   }
@@ -1735,8 +1740,9 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
     uint8_t *gr = f->grey + at0;
-    /* the row's runs of one face as shadow_ranges found them (the faces fr holds now), or
-       NULL: each run's end is found here */
+    /* the row's runs of one face as shadow_ranges found them (the faces fr holds now): at a
+       run's first point its end, negated where a light is blocked in it; or NULL: each
+       run's end is found here */
     const int *rend = L && L->rendn == W ? L->rend : NULL;
     int last = -1;                          /* the face fs holds */
     struct face_shade fs;
@@ -1746,6 +1752,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       int region, face = fr[i];
       if (face < 0 && rend && (i == 0 || fr[i - 1] >= 0)) {   /* a run that sees no face, */
         const int e = rend[i];              /* i its first point: its end from the table */
+                                            /* (no light blocked where no face is seen) */
         if (!bg) memset(gr + i, 0, (size_t)(e - i));
         else for (int q = i; q < e; q++) gr[q] = (uint8_t)shade_none(m, q, j);
         i = e - 1;
@@ -1777,7 +1784,16 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         plain = !pc && fs.tri < 0;
       }
       if (plain) {                          /* all its points here at once */
-        const int e = rend && (i == 0 || fr[i - 1] != face) ? rend[i] : face_run_end(fr, i, W);
+        if (rend && (i == 0 || fr[i - 1] != face)) {   /* i its first point */
+          const int e = rend[i] < 0 ? -rend[i] : rend[i];
+          if (rend[i] > 0 && !fs.t)         /* no light blocked, no texture: the face's grey */
+            fill_grey(gr + i, (uint8_t)fs.mf->grey, e - i);   /* (shade_flat_run's, lit or not) */
+          else
+            shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
+          i = e - 1;
+          continue;
+        }
+        const int e = face_run_end(fr, i, W);
         shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
         i = e - 1;
         continue;
