@@ -736,6 +736,35 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
 }
 #endif
 
+#ifdef __SSE2__
+/* flat_lit_rest's greys for a run of n points of a lit textured face (fs) where no light is
+   blocked at any point (fx_points knows it from shadow_ranges): flat_lit_pairs' with every
+   mask 0, its operations on the same values (where there is no point light its sums at
+   X = 0 are those at any X: a parallel light's term is its n.l), without the masks. */
+__attribute__((noinline))
+static void flat_tex_clear(const struct fx_model *m, int face, const struct face_shade *fs,
+                           int n, const double *px, double py, uint8_t *grey)
+{
+  struct shade_pair P;
+  double nrm[3];
+  face_normal(fs->mf, nrm);                 /* shade_face_at's normal */
+  shade_pair_init(&P, &m->lights, nrm);
+  struct space_lanes L;
+  space_lanes_init(m, face, py, &L);
+  struct tex_lanes T;
+  tex_lanes_init(&T, fs->t);
+  for (int p = 0; p < n; p += 2) {
+    const int q = p + 1 < n ? p + 1 : p;
+    __m128d X[3];
+    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
+    const __m128d sum = shade_pair_sum(&P, X[0], X[1], X[2], 0, 0);
+    const unsigned g = shade_pair_greys(tex_pair(&T, X), sum);
+    grey[p] = (uint8_t)g;
+    grey[q] = (uint8_t)(g >> 8);
+  }
+}
+#endif
+
 static void flat_run_rest(const struct fx_model *m, int face, const struct face_shade *fs,
                           int n, const unsigned *blocked, const double *px, double py,
                           uint8_t *grey);
@@ -1788,6 +1817,10 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
           const int e = rend[i] < 0 ? -rend[i] : rend[i];
           if (rend[i] > 0 && !fs.t)         /* no light blocked, no texture: the face's grey */
             fill_grey(gr + i, (uint8_t)fs.mf->grey, e - i);   /* (shade_flat_run's, lit or not) */
+#ifdef __SSE2__
+          else if (rend[i] > 0 && fs.lit)   /* no light blocked, a texture */
+            flat_tex_clear(m, face, &fs, e - i, px + i, py[j], gr + i);
+#endif
           else
             shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
           i = e - 1;
