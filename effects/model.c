@@ -1371,7 +1371,8 @@ static inline bool div_floor64(int64_t a, int64_t b, int64_t *q, wide *rest)
 /* edge_start's N, D, P and Q in 64-bit integers, each product and sum checked for overflow
    (the same exact values where none overflows): true and the step as edge_start makes it
    (div_floor64), or false with *done false where one overflows (then edge_start's 128-bit
-   way). In the points frame's scenes every value fits: |P| ~ 2^49, Q ~ 2^42. */
+   way). On fig6-room and fig6-building every value fits (|P| < 2^50, Q < 2^44 there);
+   test_shadow's far polygons take the 128-bit way. */
 static inline bool edge_start64(struct edge_step *e, int64_t la, int64_t lb, int64_t lc,
                                 int64_t yn, int64_t yd, const struct fx_sample_row *r,
                                 bool *done)
