@@ -705,6 +705,36 @@ static inline void fill_grey(uint8_t *grey, uint8_t v, int len)
 }
 
 #ifdef __SSE2__
+/* flat_lit_pairs' greys for n points of a lit face without a texture where the same lights
+   b are blocked at each: its operations on the same values with both lanes' masks b, not
+   read from blocked[]. Where b holds every point light the sum does not depend on the
+   point (flat_lit_pairs' kept sums): one grey for all n, made once. */
+__attribute__((noinline))
+static void flat_lit_masked(const struct fx_model *m, int face, const struct shade_pair *P,
+                            unsigned b, int n, const double *px, double py, uint8_t *grey)
+{
+  const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
+  unsigned pm = 0;                          /* the point lights' bits */
+  for (int k = 0; k < P->n; k++) if (P->l[k].point) pm |= 1u << k;
+  if ((b & pm) == pm) {
+    const unsigned g = shade_pair_greys(one, shade_pair_sum(P, zero, zero, zero, b, b));
+    fill_grey(grey, (uint8_t)g, n);         /* (both lanes the same grey) */
+    return;
+  }
+  struct space_lanes L;
+  space_lanes_init(m, face, py, &L);
+  for (int p = 0; p < n; p += 2) {
+    const int q = p + 1 < n ? p + 1 : p;
+    __m128d X[3];
+    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
+    const unsigned g = shade_pair_greys(one, shade_pair_sum(P, X[0], X[1], X[2], b, b));
+    grey[p] = (uint8_t)g;
+    grey[q] = (uint8_t)(g >> 8);
+  }
+}
+#endif
+
+#ifdef __SSE2__
 /* shade_flat_run's lit face from point p on, where p needs shading (a texture, or a light
    blocked at p): the face's normal and its lights made ready (shade_pair_init), then the
    points that need shading two at a time (flat_lit_pairs: all of a textured face's, else
@@ -729,8 +759,13 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
       p = e;
       continue;
     }
-    e = t ? n : blocked_end(blocked, e, n, false);   /* a texture: every point */
-    flat_lit_pairs(m, face, t, &P, p, e, blocked, px, py, grey);
+    if (t) {                                /* a texture: every point */
+      flat_lit_pairs(m, face, t, &P, p, n, blocked, px, py, grey);
+      return;
+    }
+    const unsigned b = blocked[p];          /* a stretch of the same lights blocked */
+    while (e < n && blocked[e] == b) e++;
+    flat_lit_masked(m, face, &P, b, e - p, px + p, py, grey + p);
     p = e;
   }
 }
