@@ -737,8 +737,9 @@ static void flat_lit_masked(const struct fx_model *m, int face, const struct sha
 #ifdef __SSE2__
 /* shade_flat_run's lit face from point p on, where p needs shading (a texture, or a light
    blocked at p): the face's normal and its lights made ready (shade_pair_init), then the
-   points that need shading two at a time (flat_lit_pairs: all of a textured face's, else
-   the stretches where a light is blocked), the others the face's grey. Not inlined:
+   points that need shading two at a time (flat_lit_pairs: all of a textured face's;
+   flat_lit_masked: else the stretches where a light is blocked, a stretch of the same
+   lights at a time), the others the face's grey. Not inlined:
    shade_flat_run's own path, a run no light is blocked at, stays small. */
 __attribute__((noinline))
 static void flat_lit_rest(const struct fx_model *m, int face, const struct face_shade *fs,
@@ -809,8 +810,8 @@ static void flat_run_rest(const struct fx_model *m, int face, const struct face_
    found once for the run (the same operations on the same values as each point's). Where
    the processor has SSE2 a lit face's points that need shading (all of a textured face's,
    else those where a light is blocked) go two at a time from the space point to the grey
-   (flat_lit_rest, flat_lit_pairs), the stretches before the first of them the face's grey
-   here; else (flat_run_rest) the lit points' greys SHADE_RUN at a time
+   (flat_lit_rest; flat_lit_pairs, flat_lit_masked), the stretches before the first of them
+   the face's grey here; else (flat_run_rest) the lit points' greys SHADE_RUN at a time
    (shade_grey_lit_run), and a textured face that is not lit: its space points and
    reflectances SHADE_RUN at a time (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
