@@ -705,10 +705,41 @@ static inline void fill_grey(uint8_t *grey, uint8_t v, int len)
 }
 
 #ifdef __SSE2__
+/* flat_lit_pairs' greys for n points of a lit face without a texture where the same lights
+   b are blocked at each: its operations on the same values with both lanes' masks b, not
+   read from blocked[]. Where b holds every point light the sum does not depend on the
+   point (flat_lit_pairs' kept sums): one grey for all n, made once. */
+__attribute__((noinline))
+static void flat_lit_masked(const struct fx_model *m, int face, const struct shade_pair *P,
+                            unsigned b, int n, const double *px, double py, uint8_t *grey)
+{
+  const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
+  unsigned pm = 0;                          /* the point lights' bits */
+  for (int k = 0; k < P->n; k++) if (P->l[k].point) pm |= 1u << k;
+  if ((b & pm) == pm) {
+    const unsigned g = shade_pair_greys(one, shade_pair_sum(P, zero, zero, zero, b, b));
+    fill_grey(grey, (uint8_t)g, n);         /* (both lanes the same grey) */
+    return;
+  }
+  struct space_lanes L;
+  space_lanes_init(m, face, py, &L);
+  for (int p = 0; p < n; p += 2) {
+    const int q = p + 1 < n ? p + 1 : p;
+    __m128d X[3];
+    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
+    const unsigned g = shade_pair_greys(one, shade_pair_sum(P, X[0], X[1], X[2], b, b));
+    grey[p] = (uint8_t)g;
+    grey[q] = (uint8_t)(g >> 8);
+  }
+}
+#endif
+
+#ifdef __SSE2__
 /* shade_flat_run's lit face from point p on, where p needs shading (a texture, or a light
    blocked at p): the face's normal and its lights made ready (shade_pair_init), then the
-   points that need shading two at a time (flat_lit_pairs: all of a textured face's, else
-   the stretches where a light is blocked), the others the face's grey. Not inlined:
+   points that need shading two at a time (flat_lit_pairs: all of a textured face's;
+   flat_lit_masked: else the stretches where a light is blocked, a stretch of the same
+   lights at a time), the others the face's grey. Not inlined:
    shade_flat_run's own path, a run no light is blocked at, stays small. */
 __attribute__((noinline))
 static void flat_lit_rest(const struct fx_model *m, int face, const struct face_shade *fs,
@@ -729,9 +760,43 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
       p = e;
       continue;
     }
-    e = t ? n : blocked_end(blocked, e, n, false);   /* a texture: every point */
-    flat_lit_pairs(m, face, t, &P, p, e, blocked, px, py, grey);
+    if (t) {                                /* a texture: every point */
+      flat_lit_pairs(m, face, t, &P, p, n, blocked, px, py, grey);
+      return;
+    }
+    const unsigned b = blocked[p];          /* a stretch of the same lights blocked */
+    while (e < n && blocked[e] == b) e++;
+    flat_lit_masked(m, face, &P, b, e - p, px + p, py, grey + p);
     p = e;
+  }
+}
+#endif
+
+#ifdef __SSE2__
+/* flat_lit_rest's greys for a run of n points of a lit textured face (fs) where no light is
+   blocked at any point (fx_points knows it from shadow_ranges): flat_lit_pairs' with every
+   mask 0, its operations on the same values (where there is no point light its sums at
+   X = 0 are those at any X: a parallel light's term is its n.l), without the masks. */
+__attribute__((noinline))
+static void flat_tex_clear(const struct fx_model *m, int face, const struct face_shade *fs,
+                           int n, const double *px, double py, uint8_t *grey)
+{
+  struct shade_pair P;
+  double nrm[3];
+  face_normal(fs->mf, nrm);                 /* shade_face_at's normal */
+  shade_pair_init(&P, &m->lights, nrm);
+  struct space_lanes L;
+  space_lanes_init(m, face, py, &L);
+  struct tex_lanes T;
+  tex_lanes_init(&T, fs->t);
+  for (int p = 0; p < n; p += 2) {
+    const int q = p + 1 < n ? p + 1 : p;
+    __m128d X[3];
+    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
+    const __m128d sum = shade_pair_sum(&P, X[0], X[1], X[2], 0, 0);
+    const unsigned g = shade_pair_greys(tex_pair(&T, X), sum);
+    grey[p] = (uint8_t)g;
+    grey[q] = (uint8_t)(g >> 8);
   }
 }
 #endif
@@ -745,8 +810,8 @@ static void flat_run_rest(const struct fx_model *m, int face, const struct face_
    found once for the run (the same operations on the same values as each point's). Where
    the processor has SSE2 a lit face's points that need shading (all of a textured face's,
    else those where a light is blocked) go two at a time from the space point to the grey
-   (flat_lit_rest, flat_lit_pairs), the stretches before the first of them the face's grey
-   here; else (flat_run_rest) the lit points' greys SHADE_RUN at a time
+   (flat_lit_rest; flat_lit_pairs, flat_lit_masked), the stretches before the first of them
+   the face's grey here; else (flat_run_rest) the lit points' greys SHADE_RUN at a time
    (shade_grey_lit_run), and a textured face that is not lit: its space points and
    reflectances SHADE_RUN at a time (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
@@ -887,6 +952,9 @@ struct fx_lines {
   long row;
   struct poly_step *ps;     /* per shadow polygon: its two stretch ends stepped from row to
                                row (face_ranges), or NULL (none kept) */
+  int *rend, rendcap, rendn;   /* the last row's runs of one face (shadow_ranges): at each
+                               run's first sample its end e, or -e where a light is blocked
+                               at a sample of the run; rendn samples, 0 when not found */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -949,7 +1017,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->behind);
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
-  free(L->rng); free(L->fr); free(L->ps);
+  free(L->rng); free(L->fr); free(L->ps); free(L->rend);
   free(L);
 }
 
@@ -1320,16 +1388,66 @@ static inline bool step_bounds(int64_t yd, const struct fx_sample_row *r)
          r->S < (int64_t)1 << 32;
 }
 
+/* div_floor for a 64-bit a (0 < b < 2^63): floor(a / b) and the rest (0 <= rest < b) from
+   the processor's divide (C's quotient truncates toward 0 and its rest has a's sign: one
+   less and the rest plus b where the rest is negative); false when the quotient is not
+   within 2^36 (div_floor's range). Where both succeed they give the same q and rest (the
+   exact floor and rest); where either fails its caller takes the long way, whose answer
+   is the same. */
+static inline bool div_floor64(int64_t a, int64_t b, int64_t *q, wide *rest)
+{
+  int64_t k = a / b, r = a % b;
+  if (r < 0) { k--; r += b; }
+  if (k <= -((int64_t)1 << 36) || k >= (int64_t)1 << 36) return false;
+  *q = k;
+  *rest = r;
+  return true;
+}
+
+/* edge_start's N, D, P and Q in 64-bit integers, each product and sum checked for overflow
+   (the same exact values where none overflows): true and the step as edge_start makes it
+   (div_floor64), or false with *done false where one overflows (then edge_start's 128-bit
+   way). On fig6-room and fig6-building every value fits (|P| < 2^50, Q < 2^44 there);
+   test_shadow's far polygons take the 128-bit way. */
+static inline bool edge_start64(struct edge_step *e, int64_t la, int64_t lb, int64_t lc,
+                                int64_t yn, int64_t yd, const struct fx_sample_row *r,
+                                bool *done)
+{
+  int64_t t0, t1, M, N, D, Dg, P, Q, c0, c1, c;
+  *done = false;
+  if (__builtin_mul_overflow(lb, yn, &t0) || __builtin_mul_overflow(lc, yd, &t1) ||
+      __builtin_add_overflow(t0, t1, &M) || __builtin_mul_overflow(la, yd, &D) ||
+      D == INT64_MIN || M == INT64_MIN)
+    return false;
+  int64_t elb = lb;                         /* M = lb yn + lc yd; edge_start's N = -M */
+  N = -M;
+  if (D < 0) { D = -D; N = M; elb = -lb; }
+  if (__builtin_mul_overflow(D, GRID_ONE, &Dg) || __builtin_mul_overflow(N, r->xd, &t0) ||
+      __builtin_mul_overflow(r->xd, r->XL, &c0) ||
+      __builtin_mul_overflow(2 * r->k0 + 1, r->S, &c1) || __builtin_add_overflow(c0, c1, &c) ||
+      __builtin_mul_overflow(Dg, c, &t1) || __builtin_sub_overflow(t0, t1, &P) ||
+      __builtin_mul_overflow(Dg, 2 * r->S, &Q) || Q <= 0)
+    return false;
+  *done = true;
+  e->lb = elb;
+  e->Q = Q;
+  return div_floor64(P, Q, &e->q, &e->r);
+}
+
 /* The step of polygon p's edge from p0 to p1 on the line yn / yd for the samples r
    (within step_bounds): its q, r, Q; false when the quotient is out of div_floor's
    range. The sizes, with |p.x|, |p.y| <= 2^28 (geom.h): |la|, |lb| < 2^30, |lc| < 2^59,
    |yn| < 2^63: |N| < 2^93 + 2^75 < 2^94, |N xd| < 2^124; D < 2^46, D G < 2^54,
    |xd XL + (2 k0 + 1) S| < 2^61 + 2^63, their product < 2^118; |P| < 2^125, Q < 2^87:
-   no overflow in 128 bits. */
+   no overflow in 128 bits. Where every value fits in 64 bits, found there
+   (edge_start64). */
 static bool edge_start(struct edge_step *e, struct gpoint p0, struct gpoint p1, int64_t yn,
                        int64_t yd, const struct fx_sample_row *r)
 {
   const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
+  bool done;
+  const bool ok = edge_start64(e, la, lb, lc, yn, yd, r, &done);
+  if (done) return ok;
   wide N = -((wide)lb * yn + (wide)lc * yd), D = (wide)la * yd;
   e->lb = lb;                               /* N = -(lb yn + lc yd) */
   if (D < 0) { D = -D; N = -N; e->lb = -lb; }   /* (then N = lb yn + lc yd) */
@@ -1341,9 +1459,13 @@ static bool edge_start(struct edge_step *e, struct gpoint p0, struct gpoint p1, 
 
 /* Edge e's step for a change dyn of the line's yn (|dyn| < 2^62, both lines' |yn| < 2^61;
    samples' xd < 2^30: |lb dyn xd| < 2^122): dq, dr; false when the quotient is out of
-   div_floor's range. */
+   div_floor's range. In 64 bits where -lb dyn xd and Q fit (div_floor64). */
 static bool edge_step_set(struct edge_step *e, int64_t dyn, int64_t xd)
 {
+  int64_t t, a;
+  if (e->Q <= INT64_MAX && !__builtin_mul_overflow(-e->lb, dyn, &t) &&
+      !__builtin_mul_overflow(t, xd, &a))
+    return div_floor64(a, (int64_t)e->Q, &e->dq, &e->dr);
   return div_floor((wide)-e->lb * dyn * xd, e->Q, &e->dq, &e->dr);
 }
 
@@ -1492,11 +1614,19 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   fx_sample_row_set(&sr, m->g->window, xd, k0, n);
   L->row++;                                 /* every face's ranges: none yet */
   L->nrng = 0;
+  if (n > L->rendcap) {
+    int *nr = realloc(L->rend, (size_t)n * sizeof *nr);
+    if (!nr) return t74_fail(err, T74_EIO, "out of host memory");
+    L->rend = nr;
+    L->rendcap = n;
+  }
   memset(blocked, 0, (size_t)n * sizeof *blocked);
   for (int i = 0; i < n;) {
     const int f = face[i];
     const int e = face_run_end(face, i, n);
+    L->rend[i] = e;                         /* (the run's end, for fx_points' greys) */
     if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
+      int any = 0;                          /* a range meets the run: a light blocked there */
       if (L->fr[f].row != L->row) {
         const int at = L->nrng;
         const int rc = face_ranges(L, f, yn, yd, &sr, err);
@@ -1506,11 +1636,15 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
       for (int k = L->fr[f].at; k < L->fr[f].at + L->fr[f].n; k++) {
         const struct brange *b = &L->rng[k];
         const unsigned bit = 1u << b->light;
-        for (int j = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e; j < hi; j++) blocked[j] |= bit;
+        const int j0 = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e;
+        any |= j0 < hi;
+        for (int j = j0; j < hi; j++) blocked[j] |= bit;
       }
+      if (any) L->rend[i] = -e;
     }
     i = e;
   }
+  L->rendn = n;
   return T74_OK;
 }
 
@@ -1592,6 +1726,7 @@ int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n,
     }
     return T74_OK;
   }
+  L->rendn = 0;                             /* (shadow_ranges finds the row's runs) */
   if ((rc = fx_see_row(L->see, K, mrow, k0, n, face, err)) != T74_OK) return rc;
   for (int q = 0; q < L->m->ncut && rc == T74_OK; q++)
     rc = cut_samples(L, q, K, mrow, yn, yd, xd, k0, n, face, err);
@@ -1671,12 +1806,24 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
     uint8_t *gr = f->grey + at0;
+    /* the row's runs of one face as shadow_ranges found them (the faces fr holds now): at a
+       run's first point its end, negated where a light is blocked in it; or NULL: each
+       run's end is found here */
+    const int *rend = L && L->rendn == W ? L->rend : NULL;
     int last = -1;                          /* the face fs holds */
     struct face_shade fs;
     bool run = false;                       /* its points go in runs (smoothed greys) */
     bool plain = false;                     /* or in runs of a face not smoothed */
     for (int i = 0; i < W; i++) {
       int region, face = fr[i];
+      if (face < 0 && rend && (i == 0 || fr[i - 1] >= 0)) {   /* a run that sees no face, */
+        const int e = rend[i];              /* i its first point: its end from the table */
+                                            /* (no light blocked where no face is seen) */
+        if (!bg) memset(gr + i, 0, (size_t)(e - i));
+        else for (int q = i; q < e; q++) gr[q] = (uint8_t)shade_none(m, q, j);
+        i = e - 1;
+        continue;
+      }
       if (face < 0) {                       /* a run of points that see no face */
         int e = i + 1;
 #ifdef __SSE2__
@@ -1703,6 +1850,19 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         plain = !pc && fs.tri < 0;
       }
       if (plain) {                          /* all its points here at once */
+        if (rend && (i == 0 || fr[i - 1] != face)) {   /* i its first point */
+          const int e = rend[i] < 0 ? -rend[i] : rend[i];
+          if (rend[i] > 0 && !fs.t)         /* no light blocked, no texture: the face's grey */
+            fill_grey(gr + i, (uint8_t)fs.mf->grey, e - i);   /* (shade_flat_run's, lit or not) */
+#ifdef __SSE2__
+          else if (rend[i] > 0 && fs.lit)   /* no light blocked, a texture */
+            flat_tex_clear(m, face, &fs, e - i, px + i, py[j], gr + i);
+#endif
+          else
+            shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
+          i = e - 1;
+          continue;
+        }
         const int e = face_run_end(fr, i, W);
         shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
         i = e - 1;

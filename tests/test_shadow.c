@@ -416,14 +416,18 @@ static unsigned blocked_exactly(const struct fx_model *m, int f, int64_t yn, int
    polygons whose vertices lie on point centres and whose edges pass through centres
    (slopes 0, 1/2, 4/5, 1, 3 and a ring of many points), the rows from the bottom up at 1,
    2 and 3 samples a point, every third row (wrapping round: steps of other sizes and
-   back), and top down. Fails when a crossing exactly on a sample is taken as left of it. */
+   back), and top down. Fails when a crossing exactly on a sample is taken as left of it.
+   Also with polygons whose vertices lie far outside the window (2^26 .. 2^27 grid units
+   from its centre), one edge through it: their steps' products do not fit in 64 bits
+   (edge_start's 128-bit way), beside the others' 64-bit way; fails when an overflow there
+   is not seen. */
 static void test_stepped_ends_are_exact(void **state)
 {
   (void)state;
   static const char *const scenes[] = { "scenes/fig6-room.s74", "scenes/fig6-building.s74" };
-  long samples = 0, blocked = 0, on_centres = 0, differ = 0;
+  long samples = 0, blocked = 0, on_centres = 0, far = 0, differ = 0;
   for (int sc = 0; sc < 2; sc++)
-    for (int own = 0; own < 2; own++) {
+    for (int own = 0; own < 3; own++) {     /* 1: the scene's own; 0: on centres; 2: far */
       struct scene *s;
       struct scene_opts so;
       memset(&so, 0, sizeof so);
@@ -446,6 +450,29 @@ static void test_stepped_ends_are_exact(void **state)
       assert_int_equal(fx_model_build(&m, &eng, s, &e, NULL, &st, &cost, &err), T74_OK);
       assert_false(m.count);
       assert_true(m.shadows.n > 0);
+      if (own == 2) {                       /* far polygons, on every face */
+        const int64_t cx = GRID_ONE * ((int64_t)g.window[0] + g.window[2]) / 2;
+        const int64_t cy = GRID_ONE * ((int64_t)g.window[1] + g.window[3]) / 2;
+        const int64_t T = (int64_t)1 << 27, U = (int64_t)1 << 26;
+        /* a wedge whose edge from (-T, -U) to (T, U + 12345) crosses the window; a steeper
+           one (the other light); a triangle round the whole window */
+        const struct gpoint wedge[3] = { { cx - T, cy - U }, { cx + T, cy + U + 12345 },
+                                         { cx + T, cy - T } };
+        const struct gpoint steep[3] = { { cx - U - 777, cy - T }, { cx + U, cy + T },
+                                         { cx - T, cy + T } };
+        const struct gpoint whole[3] = { { cx - T, cy - T }, { cx + T, cy - U },
+                                         { cx, cy + T } };
+        const int rs[2] = { 0, 3 };
+        fx_polys_free(&m.shadows);
+        memset(&m.shadows, 0, sizeof m.shadows);
+        for (int f = 0; f < eng.map->nface; f++) {
+          m.shadow_first[f] = m.shadows.n;
+          assert_true(fx_polys_add(&m.shadows, 1, rs, wedge, f, 0));
+          assert_true(fx_polys_add(&m.shadows, 1, rs, steep, f, 1));
+          if (f % 2) assert_true(fx_polys_add(&m.shadows, 1, rs, whole, f, 1));
+        }
+        m.shadow_first[eng.map->nface] = m.shadows.n;
+      }
       if (!own) {                           /* polygons on the centres, on every face */
         static const int rect[4][2] = { { 20, 20 }, { 60, 20 }, { 60, 50 }, { 20, 50 } };
         static const int diamond[4][2] = { { 10, 37 }, { 50, 5 }, { 90, 37 }, { 50, 69 } };
@@ -489,11 +516,13 @@ static void test_stepped_ends_are_exact(void **state)
               const unsigned want = blocked_exactly(&m, face[i], yn, yd, xn, xd);
               if (b[i] != want && differ++ < 4)
                 print_message("%s%s K=%d order %d sample (%d, %d) face %d: blocked %u, exactly %u\n",
-                              scenes[sc], own ? "" : " (on centres)", K, order, k0 + i, mr,
+                              scenes[sc], own == 1 ? "" : own ? " (far)" : " (on centres)",
+                              K, order, k0 + i, mr,
                               face[i], b[i], want);
               samples++;
               blocked += want != 0;
               on_centres += !own && want != 0;
+              far += own == 2 && want != 0;
             }
           }
           free(face);
@@ -505,10 +534,10 @@ static void test_stepped_ends_are_exact(void **state)
       points_free(&pts);
       scene_free(s);
     }
-  print_message("stepped ends: %ld samples, %ld blocked (%ld by polygons on centres), %ld differ\n",
-                samples, blocked, on_centres, differ);
+  print_message("stepped ends: %ld samples, %ld blocked (%ld by polygons on centres, %ld by far "
+                "ones), %ld differ\n", samples, blocked, on_centres, far, differ);
   assert_int_equal(differ, 0);
-  assert_true(blocked > 10000 && on_centres > 1000);
+  assert_true(blocked > 10000 && on_centres > 1000 && far > 1000);
 }
 
 int main(void)
