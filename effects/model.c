@@ -805,8 +805,9 @@ static void flat_run_rest(const struct fx_model *m, int face, const struct face_
                           int n, const unsigned *blocked, const double *px, double py,
                           uint8_t *grey);
 
-/* shade_face_at, uncounted, at n neighbouring points (px[p], py) of a face that is not
-   smoothed (fs: face_shade_of's, fs->tri < 0): the same greys, the face's unit normal
+/* shade_face_at, uncounted, at n >= 1 neighbouring points (px[p], py) of a face that is not
+   smoothed (fs: face_shade_of's, fs->tri < 0; n >= 1: fill_grey writes its stretch's last
+   byte, grey[n - 1]): the same greys, the face's unit normal
    found once for the run (the same operations on the same values as each point's). Where
    the processor has SSE2 a lit face's points that need shading (all of a textured face's,
    else those where a light is blocked) go two at a time from the space point to the grey
