@@ -414,8 +414,10 @@ static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *mas
 }
 
 /* write_blank8 of sixteen cells: the two eights' row words side by side, 64 bits a row,
-** stored from the vectors (no word taken out of them); nothing when no cell has a dot
-** (the rows' 64 bits are the cells' dots, unlit: 0 already). */
+** stored from the vectors (no word taken out of them; a high half through
+** _mm_storel_epi64, whose store may be unaligned: _mm_storeh_pd's double may not, and the
+** row bytes are not 8-aligned); nothing when no cell has a dot (the rows' 64 bits are the
+** cells' dots, unlit: 0 already). */
 static inline void write_blank16(uint8_t *lit, uint32_t base, const uint16_t *masks)
 {
   const __m128i ma = _mm_loadu_si128((const __m128i *)(const void *)masks);
@@ -426,9 +428,9 @@ static inline void write_blank16(uint8_t *lit, uint32_t base, const uint16_t *ma
   const __m128i r01 = _mm_unpacklo_epi32(a, b), r23 = _mm_unpackhi_epi32(a, b);
   uint8_t *l = lit + (base >> 3);
   _mm_storel_epi64((__m128i *)(void *)l, r01);
-  _mm_storeh_pd((double *)(void *)(l - ROW_BYTES), _mm_castsi128_pd(r01));
+  _mm_storel_epi64((__m128i *)(void *)(l - ROW_BYTES), _mm_unpackhi_epi64(r01, r01));
   _mm_storel_epi64((__m128i *)(void *)(l - 2 * ROW_BYTES), r23);
-  _mm_storeh_pd((double *)(void *)(l - 3 * ROW_BYTES), _mm_castsi128_pd(r23));
+  _mm_storel_epi64((__m128i *)(void *)(l - 3 * ROW_BYTES), _mm_unpackhi_epi64(r23, r23));
 }
 #endif
 
