@@ -541,10 +541,10 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       gmask[v] = (uint16_t)gcell[v];
       odd |= gcell[v] == GREY_ODD;
     }
-    /* 3x3 cells, no background, no odd grey: a row's cells stored from its greys at once
-       (tube_write_cells_keyed: each cell's dots looked up by its grey) */
+    /* 3x3 or 4x4 cells, no background, no odd grey: a row's cells stored from its greys
+       at once (tube_write_cells_keyed: each cell's dots looked up by its grey) */
     struct tube_keys tk;
-    const bool keyed = p->cell == 3 && !p->scan && !odd;
+    const bool keyed = (p->cell == 3 || p->cell == 4) && !p->scan && !odd;
     if (keyed) tube_keys_init(&tk, p->cell, gmask);
     p->ids_face = face;
     p->greys_face = false;                  /* the effects wrote them */
