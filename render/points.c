@@ -1047,10 +1047,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       tyat = ty;
     }
     if (two) {                                  /* one span, often empty (slivers) */
-      if (hid == all && any) {                  /* behind all along the band's rows: on to */
-        r = (int)((((int64_t)ty + 1) << TILE_SHIFT) - 1 - jlo);   /* the next band's first */
-        continue;                               /* (two: no row's crossings to pass over) */
-      }
+      if (hid == all && any) continue;          /* behind all along the band's rows */
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
       const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
       i0 = c0 < c1 ? c0 : c1;
