@@ -97,6 +97,9 @@ struct pipeline {
   struct fx_textures **fx_tex;      /* the scene's textures between frames */
   struct shadow_keep **fx_shadow;   /* the shadows in space between frames */
   const struct bg_cells *bgc;       /* the background's cells, kept for every frame, or NULL */
+  struct tube_keys **tk_keep;       /* run_effects' table of a row's cells by grey (the job's
+                                       pattern alone: p->level, p->mask), made at its first
+                                       frame and kept for the others; NULL: made each frame */
   const struct job_hooks *hooks;
   const struct cost_params *params;
   double states[COST_NCLASS];       /* machine states of one operation of each class */
@@ -541,11 +544,18 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       gmask[v] = (uint16_t)gcell[v];
       odd |= gcell[v] == GREY_ODD;
     }
-    /* 3x3 cells, no background, no odd grey: a row's cells stored from its greys at once
-       (tube_write_cells_keyed: each cell's dots looked up by its grey) */
-    struct tube_keys tk;
-    const bool keyed = p->cell == 3 && !p->scan && !odd;
-    if (keyed) tube_keys_init(&tk, p->cell, gmask);
+    /* 3x3 or 4x4 cells, no background, no odd grey: a row's cells stored from its greys
+       at once (tube_write_cells_keyed: each cell's dots looked up by its grey) */
+    struct tube_keys tk_frame;
+    const struct tube_keys *tk = NULL;
+    const bool keyed = (p->cell == 3 || p->cell == 4) && !p->scan && !odd;
+    if (keyed && p->tk_keep && !*p->tk_keep && (*p->tk_keep = malloc(sizeof **p->tk_keep)))
+      tube_keys_init(*p->tk_keep, p->cell, gmask);
+    if (keyed && p->tk_keep && *p->tk_keep) tk = *p->tk_keep;
+    else if (keyed) {                       /* (not kept, or no room to keep it) */
+      tube_keys_init(&tk_frame, p->cell, gmask);
+      tk = &tk_frame;
+    }
     p->ids_face = face;
     p->greys_face = false;                  /* the effects wrote them */
     for (int j = p->H - 1; st == T74_OK && j >= 0; j--) {
@@ -554,7 +564,7 @@ static int run_effects(struct pipeline *p, const struct scene *s, const struct e
       const int *fr = face + at0;
       const uint8_t *greys = p->grey + at0, *flats = flat ? flat + at0 : NULL;
       if (keyed) {
-        st = tube_write_cells_keyed(p->tube_direct, rc.x0, rc.y0, &tk, greys, p->W);
+        st = tube_write_cells_keyed(p->tube_direct, rc.x0, rc.y0, tk, greys, p->W);
         continue;
       }
       if (!p->scan && !odd) {               /* no background, no odd grey: every cell */
@@ -1451,6 +1461,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   struct fx_textures *fx_tex = NULL;        /* the scene's textures, likewise */
   struct shadow_keep *fx_shadow = NULL;     /* the shadows in space, likewise */
   struct bg_cells *bgc = NULL;              /* the background's cells, likewise */
+  struct tube_keys *tkeys = NULL;           /* run_effects' cells by grey, likewise */
   int st;
   memset(&keep, 0, sizeof keep);
   memset(&r, 0, sizeof r);
@@ -1462,6 +1473,7 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
   p.fx_smooth = &fx_smooth;
   p.fx_tex = &fx_tex;
   p.fx_shadow = &fx_shadow;
+  p.tk_keep = &tkeys;
   int engine = JOB_ENGINE_1974;
   memset(&jo, 0, sizeof jo);
 
@@ -1656,6 +1668,7 @@ done:
   fx_textures_free(fx_tex);
   shadow_keep_free(fx_shadow);
   bg_cells_free(bgc);
+  free(tkeys);
   points_free(&pts);
   scene_free(own);
   return st;

@@ -379,7 +379,7 @@ static bool blank_cells(const uint8_t *lit, uint32_t base, int cell, int count)
 ** lit[] (cell 2k the low half of byte k, cell 2k + 1 the high), stored as it is (the
 ** cells' dots are those 32 dots of each row, all unlit before): rows8 makes the words
 ** (row r in 32-bit lane r), write_blank8 stores them. */
-static inline __m128i rows8(const uint16_t *masks)
+static inline __m128i rows8v(__m128i m)
 {
   /* 32-bit lane k holds cells 2k (x, low half) and 2k + 1 (y), a nibble a row:
      x0 x1 x2 x3 y0 y1 y2 y3 from the lowest bits. The even rows' nibbles are the low
@@ -389,7 +389,6 @@ static inline __m128i rows8(const uint16_t *masks)
      lane, sign-extended (so that the signed pack keeps them as they are), packed to 16
      bits: c0 .. c3 d0 .. d3; their low bytes, then their high bytes, packed to bytes:
      rows 0, 1, 2, 3, a 32-bit word each (pairs 0 .. 3 from its low byte). */
-  const __m128i m = _mm_loadu_si128((const __m128i *)(const void *)masks);
   const __m128i low = _mm_set1_epi32(0x0f0f0f0f);
   const __m128i a = _mm_and_si128(m, low), b = _mm_and_si128(_mm_srli_epi32(m, 4), low);
   const __m128i c = _mm_or_si128(a, _mm_srli_epi32(a, 12));
@@ -397,6 +396,12 @@ static inline __m128i rows8(const uint16_t *masks)
   const __m128i cd = _mm_packs_epi32(_mm_srai_epi32(_mm_slli_epi32(c, 16), 16),
                                      _mm_srai_epi32(_mm_slli_epi32(d, 16), 16));
   return _mm_packus_epi16(_mm_and_si128(cd, _mm_set1_epi16(0xff)), _mm_srli_epi16(cd, 8));
+}
+
+/* rows8v of the eight masks at masks */
+static inline __m128i rows8(const uint16_t *masks)
+{
+  return rows8v(_mm_loadu_si128((const __m128i *)(const void *)masks));
 }
 
 static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *masks)
@@ -418,19 +423,38 @@ static inline void write_blank8(uint8_t *lit, uint32_t base, const uint16_t *mas
 ** _mm_storel_epi64, whose store may be unaligned: _mm_storeh_pd's double may not, and the
 ** row bytes are not 8-aligned); nothing when no cell has a dot (the rows' 64 bits are the
 ** cells' dots, unlit: 0 already). */
-static inline void write_blank16(uint8_t *lit, uint32_t base, const uint16_t *masks)
+static inline void write_blank16v(uint8_t *lit, uint32_t base, __m128i ma, __m128i mb)
 {
-  const __m128i ma = _mm_loadu_si128((const __m128i *)(const void *)masks);
-  const __m128i mb = _mm_loadu_si128((const __m128i *)(const void *)(masks + 8));
-  const __m128i none = _mm_cmpeq_epi16(_mm_or_si128(ma, mb), _mm_setzero_si128());
-  if (_mm_movemask_epi8(none) == 0xffff) return;
-  const __m128i a = rows8(masks), b = rows8(masks + 8);
+  const __m128i a = rows8v(ma), b = rows8v(mb);
   const __m128i r01 = _mm_unpacklo_epi32(a, b), r23 = _mm_unpackhi_epi32(a, b);
   uint8_t *l = lit + (base >> 3);
   _mm_storel_epi64((__m128i *)(void *)l, r01);
   _mm_storel_epi64((__m128i *)(void *)(l - ROW_BYTES), _mm_unpackhi_epi64(r01, r01));
   _mm_storel_epi64((__m128i *)(void *)(l - 2 * ROW_BYTES), r23);
   _mm_storel_epi64((__m128i *)(void *)(l - 3 * ROW_BYTES), _mm_unpackhi_epi64(r23, r23));
+}
+
+static inline void write_blank16(uint8_t *lit, uint32_t base, const uint16_t *masks)
+{
+  const __m128i ma = _mm_loadu_si128((const __m128i *)(const void *)masks);
+  const __m128i mb = _mm_loadu_si128((const __m128i *)(const void *)(masks + 8));
+  const __m128i none = _mm_cmpeq_epi16(_mm_or_si128(ma, mb), _mm_setzero_si128());
+  if (_mm_movemask_epi8(none) == 0xffff) return;
+  write_blank16v(lit, base, ma, mb);
+}
+
+/* The masks of the eight keys at k (mask: the keys' table), as one vector: a 16-bit
+** insert a key from its table (no masks[] of the row stored and read back). */
+static inline __m128i masks8_keyed(const uint16_t *mask, const uint8_t *k)
+{
+  __m128i v = _mm_cvtsi32_si128(mask[k[0]]);
+  v = _mm_insert_epi16(v, mask[k[1]], 1);
+  v = _mm_insert_epi16(v, mask[k[2]], 2);
+  v = _mm_insert_epi16(v, mask[k[3]], 3);
+  v = _mm_insert_epi16(v, mask[k[4]], 4);
+  v = _mm_insert_epi16(v, mask[k[5]], 5);
+  v = _mm_insert_epi16(v, mask[k[6]], 6);
+  return _mm_insert_epi16(v, mask[k[7]], 7);
 }
 #endif
 
@@ -705,14 +729,60 @@ void tube_keys_init(struct tube_keys *tk, int cell, const uint16_t *mask_of)
       for (int c = 0; c < RUN3; c++) tk->lanes[c][k] = l << 3 * c;
     }
   tk->cell = cell;
-  tk->within = cell == 3 && !(any & ~full);
+  tk->within = (cell == 3 || cell == 4) && !(any & ~full);
 }
 
 int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_keys *tk,
                            const uint8_t *keys, int count)
 {
   const uint32_t base0 = (uint32_t)y0 * TUBE_W + (uint32_t)x0;
-  if (count > 0 && tk->within && x0 >= 0 && x0 <= TUBE_W - 3 * count && y0 >= 2 &&
+#ifdef __SSE2__
+  if (count > 0 && tk->cell == 4 && tk->within && x0 >= 0 && (x0 & 7) == 0 &&
+      x0 <= TUBE_W - 4 * count && y0 >= 3 && y0 < TUBE_H && base0 - 3 * TUBE_W >= t->lit_end) {
+    /* 4x4 cells on the tube from a byte's start over unlit rows (their lowest dot at or
+       past lit_end), every mask within the cell: tube_write_cells' cells over unlit
+       dots (the same bits of lit[], the same run write), sixteen cells' masks taken
+       from their keys straight into two vectors (one vector when the sixteen keys are
+       one: a background, a flat face) */
+    if (base0 + (uint32_t)(4 * count) > t->lit_end) t->lit_end = base0 + (uint32_t)(4 * count);
+    uint8_t *lit = t->lit;
+    const uint16_t *mask = tk->mask;
+    unsigned any = 0;                       /* the OR of the masks: not 0 when a cell has a dot */
+    uint32_t base = base0;
+    int c = 0;
+    for (; c + 16 <= count; c += 16, base += 64) {
+      const __m128i k16 = _mm_loadu_si128((const __m128i *)(const void *)(keys + c));
+      __m128i ma, mb;
+      if ((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(k16, _mm_set1_epi8((char)keys[c]))) ==
+          0xffffu) {
+        const unsigned m = mask[keys[c]];
+        if (!m) continue;                   /* sixteen cells of no dot: 0 already */
+        any |= m;
+        ma = mb = _mm_set1_epi16((short)m);
+      } else {
+        ma = masks8_keyed(mask, keys + c);
+        mb = masks8_keyed(mask, keys + c + 8);
+        __m128i o = _mm_or_si128(ma, mb);
+        o = _mm_or_si128(o, _mm_srli_si128(o, 8));
+        o = _mm_or_si128(o, _mm_srli_si128(o, 4));
+        o = _mm_or_si128(o, _mm_srli_si128(o, 2));
+        const unsigned m = (unsigned)_mm_cvtsi128_si32(o) & 0xffffu;
+        if (!m) continue;
+        any |= m;
+      }
+      write_blank16v(lit, base, ma, mb);
+    }
+    for (; c < count; c += 2, base += 8) {  /* two cells: a byte of each row (of one: its
+                                               low half, the high half's dots unlit) */
+      const unsigned m = mask[keys[c]], mb = c + 1 < count ? mask[keys[c + 1]] : 0;
+      any |= m | mb;
+      if (m | mb) rows_put(lit + (base >> 3), spread4(m) | spread4(mb) << 4);
+    }
+    if (any) t->order[t->done + t->nlog++] = run_word(base0, 4, count);
+    return T74_OK;
+  }
+#endif
+  if (count > 0 && tk->cell == 3 && tk->within && x0 >= 0 && x0 <= TUBE_W - 3 * count && y0 >= 2 &&
       y0 < TUBE_H && base0 - 2 * TUBE_W >= t->lit_end) {
     /* 3x3 cells on the tube over unlit rows (their lowest dot at or past lit_end), every
        mask within the cell: tube_write_cells' run of them, each cell's lanes looked up

@@ -45,17 +45,18 @@ int tube_write_dots(struct tube *t, int x0, int y0, int cell, unsigned mask);
 int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *masks,
                      int count);
 
-/* A row of 3x3 cells by key (a grey): the cells' masks of the 256 keys, and the same as
-** tube.c stores a row of cells, made once for many rows (tube_keys_init); the fields are
-** tube.c's. */
+/* A row of 3x3 or 4x4 cells by key (a grey): the cells' masks of the 256 keys, and for
+** 3x3 the same as tube.c stores a row of cells, made once for many rows (tube_keys_init);
+** the fields are tube.c's. */
 struct tube_keys {
   uint16_t mask[256];
-  uint64_t lanes[7][256];       /* of a cell c places on (0 .. 6) in a run of seven */
+  uint64_t lanes[7][256];       /* 3x3: of a cell c places on (0 .. 6) in a run of seven */
   int cell;
-  int within;                   /* every mask within the cell */
+  int within;                   /* cell 3 or 4, every mask within the cell */
 };
 
-/* tk for cells of cell x cell (any size; only 3 is faster) with mask_of[k] the mask of key k. */
+/* tk for cells of cell x cell (any size; only 3 and 4 are faster) with mask_of[k] the mask
+** of key k. */
 void tube_keys_init(struct tube_keys *tk, int cell, const uint16_t *mask_of);
 
 /* tube_write_cells(t, x0, y0, tk->cell, masks, count) with masks[c] = tk->mask[keys[c]]. */

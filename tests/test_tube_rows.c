@@ -316,6 +316,52 @@ static void test_runs_over_runs(void **state)
   }
 }
 
+/* tube_write_cells_keyed of 4x4 cells stores exactly what tube_write_cells of the keys'
+   masks would: rows drawn bottom row first (the fused path over unlit rows: sixteen cells
+   by vectors, the rest two by two), from a byte's start and not, whole rows and parts
+   (an odd count: a lone last cell), sixteen keys alike of a dot and of none, keys of no
+   dot, a dot lit where the next row goes (then the cells one by one); the same status,
+   dots and order. */
+static void test_rows_keyed4(void **state)
+{
+  (void)state;
+  uint32_t x = 2718;
+  for (int pass = 0; pass < 6; pass++) {
+    uint16_t mask_of[256];
+    for (int k = 0; k < 256; k++)
+      mask_of[k] = (uint16_t)(k % 7 == 0 ? 0 : k == 3 ? 0xffffu : next_rand(&x) & 0xffffu);
+    struct tube_keys tk;
+    tube_keys_init(&tk, 4, mask_of);
+    struct tube *a = tube_new(), *b = tube_new();
+    assert_non_null(a);
+    assert_non_null(b);
+    for (int j = 74; j >= 0; j--) {
+      const int y0 = (74 - j) * 4 + 3;
+      uint8_t keys[100];
+      uint16_t masks[100];
+      const int n = pass % 2 ? 1 + (int)(next_rand(&x) % 100u) : 100;
+      const int x0 = pass >= 2 ? 4 * (int)(next_rand(&x) % (uint32_t)(101 - n)) : 0;
+      for (int c = 0; c < n; c++) {
+        const uint32_t r = next_rand(&x);
+        /* runs of one key (sixteen alike, of a dot or of none), else keys at random */
+        keys[c] = (uint8_t)(j % 3 == 0 ? (c / 20 % 2 ? 7u : 3u) : j % 3 == 1 ? r % 6 : r);
+        masks[c] = mask_of[keys[c]];
+      }
+      if (pass >= 4 && j % 5 == 0) {        /* a dot lit where the row goes */
+        const int wx = (int)(next_rand(&x) % 400), wy = y0 - (int)(next_rand(&x) % 4u);
+        assert_int_equal(tube_write(a, wx, wy), T74_OK);
+        assert_int_equal(tube_write(b, wx, wy), T74_OK);
+      }
+      assert_int_equal(tube_write_cells_keyed(b, x0, y0, &tk, keys, n),
+                       tube_write_cells(a, x0, y0, 4, masks, n));
+      assert_int_equal(tube_count(a), tube_count(b));
+    }
+    tubes_same(a, b);
+    tube_free(a);
+    tube_free(b);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -325,6 +371,7 @@ int main(void)
     cmocka_unit_test(test_erase_clears),
     cmocka_unit_test(test_rows_keyed),
     cmocka_unit_test(test_runs_over_runs),
+    cmocka_unit_test(test_rows_keyed4),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
