@@ -1465,7 +1465,10 @@ void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
                                 _mm_mul_pd(N[2], N[2]));
   const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
                                 _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
-  const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(_mm_or_pd(_mm_and_pd(ok, nn),
+  const int okb = _mm_movemask_pd(ok);
+  /* sqrt of nn where ok, of 1 elsewhere: nn itself where both lanes pass */
+  const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(okb == 3 ? nn :
+                                                 _mm_or_pd(_mm_and_pd(ok, nn),
                                                            _mm_andnot_pd(ok, one))));
   __m128d sum = zero;
   for (int k = 0; k < nlight; k++) {
@@ -1476,13 +1479,13 @@ void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
     if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
       lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
                                                             (b0 >> k & 1u) - 1ull)));
-    sum = _mm_add_pd(sum, _mm_and_pd(lit, d));
+    /* the first light's term is the sum: +0 + x is x for x positive or +0 */
+    sum = k ? _mm_add_pd(sum, _mm_and_pd(lit, d)) : _mm_and_pd(lit, d);
   }
   const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
   const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(twov, s),
                                                                    _mm_andnot_pd(sign, inv))));
   const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
-  const int okb = _mm_movemask_pd(ok);
   /* the last test at once where both lanes pass it with f1 below 2^30: there (f0 >= 0,
      f0 <= f1) each truncation to 32 bits is the one to 64 bits (CVTTPD2DQ truncates),
      and the grey's sum does not overflow */
@@ -1821,7 +1824,8 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
     if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
       m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
                                                         (b0 >> k & 1u) - 1ull)));
-    sum = _mm_add_pd(sum, _mm_and_pd(m, d));
+    /* the first light's term is the sum: +0 + x is x for x positive or +0 */
+    sum = k ? _mm_add_pd(sum, _mm_and_pd(m, d)) : _mm_and_pd(m, d);
   }
   unsigned g;                                 /* both lanes' greys at once where it can */
   if (shade_pair_greys_fast(rv, sum, &g)) {
