@@ -1778,9 +1778,10 @@ static inline void bary_row(int n, const double *tot, bool nonzero,
                          zero);
     const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
     const __m128d pos = _mm_cmpgt_pd(sum, zero);
+    const bool both = _mm_movemask_pd(pos) == 3;   /* then the selection's value: lk / sum */
     for (int k = 0; k < 3; k++) {
-      const __m128d r = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
-                                  _mm_andnot_pd(pos, third));
+      const __m128d dq = _mm_div_pd(lk[k], sum);
+      const __m128d r = both ? dq : _mm_or_pd(_mm_and_pd(pos, dq), _mm_andnot_pd(pos, third));
       if (two) _mm_storeu_pd(l[k] + q, r);
       else _mm_storel_pd(l[k] + q, r);
     }
