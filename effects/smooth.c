@@ -228,9 +228,11 @@ void edge_lanes(const struct smooth_lanes *x, const __m128d *l, int k, __m128d *
   const __m128d big = _mm_cmpgt_pd(den, _mm_set1_pd(1e-12));
   __m128d s = _mm_or_pd(_mm_and_pd(big, _mm_div_pd(_mm_sub_pd(l[a], ta), den)),
                         _mm_andnot_pd(big, _mm_set1_pd(0.5)));
-  s = _mm_andnot_pd(_mm_cmplt_pd(s, zero), s);                 /* s < 0: +0 */
-  const __m128d over = _mm_cmpgt_pd(s, one);                    /* s > 1: 1 */
-  s = _mm_or_pd(_mm_and_pd(over, one), _mm_andnot_pd(over, s));
+  /* maxpd (a, b) is a > b ? a : b and minpd (a, b) a < b ? a : b, lane by lane (the
+     instructions' definition, which GCC and clang keep for the intrinsics): 0 > s ? +0 : s
+     is the scalar s < 0's +0, and keeps -0 and a NaN; 1 < s ? 1 : s is s > 1's 1 */
+  s = _mm_max_pd(zero, s);                                      /* s < 0: +0 */
+  s = _mm_min_pd(one, s);                                       /* s > 1: 1 */
   const __m128d omv = _mm_sub_pd(one, v), oms = _mm_sub_pd(one, s);
   const double (*e)[3][2] = x->xends[k];   /* at l_a = t_a and l_b = t_b on side k */
   for (int c = 0; c < 3; c++)
@@ -1188,8 +1190,11 @@ bool band_fused(const struct smooth_lanes *x, const __m128d *v, double tot, doub
   for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(v[k], tv), zero);
   const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
   const __m128d pos = _mm_cmpgt_pd(sum, zero);
-  for (int k = 0; k < 3; k++)
-    l[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)), _mm_andnot_pd(pos, third));
+  if (_mm_movemask_pd(pos) == 3)            /* both sums positive: the selection's value */
+    for (int k = 0; k < 3; k++) l[k] = _mm_div_pd(lk[k], sum);
+  else
+    for (int k = 0; k < 3; k++)
+      l[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)), _mm_andnot_pd(pos, third));
   const int r = band_lanes(x, l, n);
   if (!r) return false;
   const __m128d sg = _mm_set1_pd(sgn);
@@ -1460,7 +1465,10 @@ void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
                                 _mm_mul_pd(N[2], N[2]));
   const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
                                 _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
-  const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(_mm_or_pd(_mm_and_pd(ok, nn),
+  const int okb = _mm_movemask_pd(ok);
+  /* sqrt of nn where ok, of 1 elsewhere: nn itself where both lanes pass */
+  const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(okb == 3 ? nn :
+                                                 _mm_or_pd(_mm_and_pd(ok, nn),
                                                            _mm_andnot_pd(ok, one))));
   __m128d sum = zero;
   for (int k = 0; k < nlight; k++) {
@@ -1471,13 +1479,13 @@ void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
     if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
       lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
                                                             (b0 >> k & 1u) - 1ull)));
-    sum = _mm_add_pd(sum, _mm_and_pd(lit, d));
+    /* the first light's term is the sum: +0 + x is x for x positive or +0 */
+    sum = k ? _mm_add_pd(sum, _mm_and_pd(lit, d)) : _mm_and_pd(lit, d);
   }
   const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
   const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(twov, s),
                                                                    _mm_andnot_pd(sign, inv))));
   const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
-  const int okb = _mm_movemask_pd(ok);
   /* the last test at once where both lanes pass it with f1 below 2^30: there (f0 >= 0,
      f0 <= f1) each truncation to 32 bits is the one to 64 bits (CVTTPD2DQ truncates),
      and the grey's sum does not overflow */
@@ -1770,9 +1778,10 @@ static inline void bary_row(int n, const double *tot, bool nonzero,
                          zero);
     const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
     const __m128d pos = _mm_cmpgt_pd(sum, zero);
+    const bool both = _mm_movemask_pd(pos) == 3;   /* then the selection's value: lk / sum */
     for (int k = 0; k < 3; k++) {
-      const __m128d r = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
-                                  _mm_andnot_pd(pos, third));
+      const __m128d dq = _mm_div_pd(lk[k], sum);
+      const __m128d r = both ? dq : _mm_or_pd(_mm_and_pd(pos, dq), _mm_andnot_pd(pos, third));
       if (two) _mm_storeu_pd(l[k] + q, r);
       else _mm_storel_pd(l[k] + q, r);
     }
@@ -1800,9 +1809,12 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
                                                        _mm_mul_pd(v[1], v[1])),
                                             _mm_mul_pd(v[2], v[2])));
   const __m128d pos = _mm_cmpgt_pd(ln, zero);
-  for (int c = 0; c < 3; c++)
-    v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
-                                _mm_andnot_pd(pos, v[c])), sg);
+  if (_mm_movemask_pd(pos) == 3)            /* both lengths positive: the selection's value */
+    for (int c = 0; c < 3; c++) v[c] = _mm_mul_pd(_mm_div_pd(v[c], ln), sg);
+  else
+    for (int c = 0; c < 3; c++)
+      v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
+                                  _mm_andnot_pd(pos, v[c])), sg);
   __m128d sum = zero;
   for (int k = 0; k < nlight; k++) {
     const double *l = L->v[k];
@@ -1813,7 +1825,8 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
     if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
       m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
                                                         (b0 >> k & 1u) - 1ull)));
-    sum = _mm_add_pd(sum, _mm_and_pd(m, d));
+    /* the first light's term is the sum: +0 + x is x for x positive or +0 */
+    sum = k ? _mm_add_pd(sum, _mm_and_pd(m, d)) : _mm_and_pd(m, d);
   }
   unsigned g;                                 /* both lanes' greys at once where it can */
   if (shade_pair_greys_fast(rv, sum, &g)) {
@@ -2002,6 +2015,38 @@ int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *
     COST_ADD_N(cost, COST_MEM, 4 + 9);
   }
   return T74_OK;
+}
+
+int smooth_lanes_pair(const struct smooth_model *m, int t, const double l[2][3], double sgn,
+                      const struct shade_lights *L, double n[2][3], int g[2])
+{
+#ifdef __SSE2__
+  __m128d lv[3], nv[3];
+  for (int k = 0; k < 3; k++) lv[k] = _mm_set_pd(l[1][k], l[0][k]);
+  const int r = band_lanes(&m->lanes[t], lv, nv);
+  if (!r) return 0;
+  for (int c = 0; c < 3; c++) {
+    _mm_storel_pd(&n[0][c], nv[c]);
+    _mm_storeh_pd(&n[1][c], nv[c]);
+  }
+  lit_pair(nv[0], nv[1], nv[2], _mm_set1_pd(sgn), 0, 0, L, L->n, g, g + 1);
+  return r;
+#else
+  (void)m; (void)t; (void)l; (void)sgn; (void)L; (void)n; (void)g;
+  return 0;
+#endif
+}
+
+bool smooth_lit_pair(const double v[2][3], double sgn, const struct shade_lights *L, int g[2])
+{
+#ifdef __SSE2__
+  lit_pair(_mm_set_pd(v[1][0], v[0][0]), _mm_set_pd(v[1][1], v[0][1]),
+           _mm_set_pd(v[1][2], v[0][2]), _mm_set1_pd(sgn), 0, 0, L, L->n, g, g + 1);
+  return true;
+#else
+  (void)v; (void)sgn; (void)L; (void)g;
+  return false;
+#endif
 }
 
 void smooth_count(const struct smooth_model *m, struct fx_stats *st)

@@ -187,6 +187,20 @@ void smooth_row(const struct smooth_model *m, const struct mapped *map,
                 const double (*X)[3], const unsigned *blocked, const struct shade_lights *L,
                 int *grey, long regions[3]);
 
+/* For tests: the shading pass's two-lane steps on triangle t of m at two points given by
+   their barycentric coordinates l[h] (any values, as the steps take them): the region
+   band_lanes gives the pair (0 when the two are not in one edge band nor one corner band;
+   then nothing else written), the two normals into n[h] (as smooth_partial_normal's, not
+   normalised) and, under the lights L (all parallel, reflectance 1, none blocked, turned
+   by the side sgn), their greys into g[h]. The processor without SSE2: 0. */
+int smooth_lanes_pair(const struct smooth_model *m, int t, const double l[2][3], double sgn,
+                      const struct shade_lights *L, double n[2][3], int g[2]);
+
+/* For tests: the shading pass's lighting of two normals v[h] (not normalised) as a pair
+   (parallel lights L, reflectance 1, none blocked, turned by the side sgn), the greys into
+   g[h]; false (nothing written) without SSE2. */
+bool smooth_lit_pair(const double v[2][3], double sgn, const struct shade_lights *L, int g[2]);
+
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);
 

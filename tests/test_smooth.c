@@ -921,6 +921,147 @@ static void test_edge_pairs_are_single(void **state)
   assert_true(band > points / 2 && borders > 100);
 }
 
+/* Both doubles the same: bit for bit, or both NaN. */
+static bool same_double(double a, double b)
+{
+  return (isnan(a) && isnan(b)) || memcmp(&a, &b, sizeof a) == 0;
+}
+
+/* The grey of normal v (not normalised) as the scalar chain lights it: unit()'s steps,
+   turned by sgn, shade_grey_lit at reflectance 1, clamped. */
+static int scalar_lit(const double v[3], double sgn, const struct shade_lights *L)
+{
+  double u[3] = { v[0], v[1], v[2] };
+  const double len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  if (len > 0) for (int c = 0; c < 3; c++) u[c] /= len;
+  for (int c = 0; c < 3; c++) u[c] *= sgn;
+  const double at[3] = { 0, 0, 0 };
+  const int g = shade_grey_lit(L, u, at, 1.0, 0);
+  return g < 0 ? 0 : g > 255 ? 255 : g;
+}
+
+/* The shading pass's two-lane band steps (band_lanes: edge_lanes, corner_lanes; then
+   lit_pair) give smooth_partial_normal's normals bit for bit and the scalar chain's greys,
+   at coordinates made to reach every selection in them: in an edge band, the band
+   coordinate s from 0 up past 1 (l_a large: the clamp to 1), l_a a NaN (the clamp to 0
+   keeps a NaN, as the scalar if does), den at and below 1e-12 (then 0.5); in a corner
+   band, u and w inside and past 1. Fails when a clamp is dropped or its operands swapped
+   (maxpd and minpd are not symmetric in a NaN). And lit_pair at a normal too short to
+   square (its length 0: the normal is kept, not divided by 0) beside a unit one. */
+static void test_band_lanes_selections(void **state)
+{
+  (void)state;
+#ifdef __SSE2__
+  static const char *const kinds[] = { "smooth=prop:0.15", "smooth=prop:0.4",
+                                       "smooth=fixed:0.05" };
+  long pairs = 0, over = 0, nan = 0, tiny = 0;
+  int differ = 0;
+  for (size_t kind = 0; kind < sizeof kinds / sizeof *kinds; kind++) {
+    struct lib L;
+    lib_open(&L, "scenes/sphere.s74", kinds[kind]);
+    struct shade_lights lights;
+    shade_lights_init(&lights, L.s);
+    for (int two = 0; two < 2; two++) {
+      if (two) second_light(&lights);
+      for (int t = 0; t < L.m.ntri; t++) {
+        const struct smooth_tri *tr = &L.m.tri[t];
+        const double *ti = tr->t;
+        for (int k = 0; k < 3; k++) {
+          const int a = (k + 1) % 3, b = (k + 2) % 3;
+          /* candidate points, then taken two at a time */
+          double c[24][3];
+          int nc = 0;
+          for (int j = 0; j < 6; j++) {       /* edge band k: l_k < t_k, l_a, l_b >= t_a, t_b */
+            const double lk = ti[k] * (j + 0.5) / 6;
+            const double den = 1 - lk - ti[a] - ti[b];
+            const double sv[6] = { 0, 0.3, 1, 1.25, 2, 7 };  /* s = (l_a - t_a) / den */
+            c[nc][k] = lk;
+            c[nc][a] = ti[a] + sv[j] * (den > 0 ? den : 1);
+            c[nc][b] = ti[b] + 0.01 * j;
+            nc++;
+          }
+          c[nc][k] = 0.5 * ti[k]; c[nc][a] = NAN; c[nc][b] = ti[b]; nc++;
+          c[nc][k] = 0.25 * ti[k]; c[nc][a] = NAN; c[nc][b] = ti[b] + 0.1; nc++;
+          /* den = 1 - l_k - t_a - t_b at and near 0 (insets summing to 1) */
+          const double lk0 = 1 - ti[a] - ti[b];
+          if (lk0 < ti[k]) {
+            c[nc][k] = lk0; c[nc][a] = ti[a] + 0.1; c[nc][b] = ti[b]; nc++;
+            c[nc][k] = nextafter(lk0, 0); c[nc][a] = ti[a] + 0.1; c[nc][b] = ti[b]; nc++;
+          }
+          for (int j = 0; j < 6; j++) {       /* corner band k: l_a < t_a, l_b < t_b */
+            const double f[6] = { 0, 0.2, 0.5, 0.9, 0.99, 0.999999 };
+            c[nc][k] = ti[k] + 0.1;
+            c[nc][a] = f[j] * ti[a];
+            c[nc][b] = f[5 - j] * ti[b];
+            nc++;
+          }
+          for (int i = 0; i < nc; i++)
+            for (int j = 0; j < nc; j++) {
+              double l[2][3], n[2][3];
+              int g[2];
+              memcpy(l[0], c[i], sizeof l[0]);
+              memcpy(l[1], c[j], sizeof l[1]);
+              const double sgn = (t + i + j) % 2 ? 1 : -1;
+              const int r = smooth_lanes_pair(&L.m, t, (const double (*)[3])l, sgn, &lights,
+                                              n, g);
+              double o[2][3];
+              const int r0 = smooth_partial_normal(tr, l[0], o[0]);
+              const int r1 = smooth_partial_normal(tr, l[1], o[1]);
+              if (r == 0) {                    /* not one band: so said only when so */
+                const bool one = (r0 == r1 && r0 > 0 &&
+                                  (l[0][0] < ti[0]) == (l[1][0] < ti[0]) &&
+                                  (l[0][1] < ti[1]) == (l[1][1] < ti[1]) &&
+                                  (l[0][2] < ti[2]) == (l[1][2] < ti[2]));
+                differ += one;
+                continue;
+              }
+              pairs++;
+              differ += r != r0 || r != r1;
+              for (int h = 0; h < 2; h++) {
+                const double *lh = l[h], *oh = o[h];
+                for (int cc = 0; cc < 3; cc++) differ += !same_double(n[h][cc], oh[cc]);
+                differ += g[h] != scalar_lit(oh, sgn, &lights);
+                nan += isnan(lh[a]);
+                if (r0 == 1 && !isnan(lh[a]) && lh[k] < ti[k]) {
+                  const double den = 1 - lh[k] - ti[a] - ti[b];
+                  over += den > 1e-12 && (lh[a] - ti[a]) / den > 1;
+                }
+              }
+            }
+        }
+      }
+      /* lit_pair: a normal whose squares underflow (length 0) beside a unit one; the first
+         along the light's signs, so that divided by its length 0 it would light fully */
+      double vs[4][3] = { { 0 }, { -1e-200, 3e-170, 2e-300 }, { 0, 0, 0 }, { 0 } };
+      for (int cc = 0; cc < 3; cc++) {
+        vs[0][cc] = lights.v[0][cc] < 0 ? -1e-200 : 1e-200;
+        vs[3][cc] = lights.v[0][cc] < 0 ? -3e-165 : 3e-165;
+      }
+      for (int i = 0; i < 4; i++)
+        for (int h = 0; h < 2; h++)
+          for (int sg = -1; sg <= 1; sg += 2) {
+            double v[2][3];
+            for (int cc = 0; cc < 3; cc++) {
+              v[h][cc] = (sg > 0 ? 1 : -1) * vs[i][cc];
+              v[1 - h][cc] = lights.v[0][cc];
+            }
+            int g[2];
+            assert_true(smooth_lit_pair((const double (*)[3])v, sg, &lights, g));
+            for (int q = 0; q < 2; q++) differ += g[q] != scalar_lit(v[q], sg, &lights);
+            tiny++;
+          }
+    }
+    lib_close(&L);
+  }
+  print_message("%ld pairs, %ld with s past 1, %ld with a NaN l_a, %ld tiny normals\n",
+                pairs, over, nan, tiny);
+  assert_int_equal(differ, 0);
+  assert_true(pairs > 1000 && over > 100 && nan > 100);
+#else
+  (void)state;
+#endif
+}
+
 /* A run of a flat face's points (shade_grey_lit_run: one normal, the point lights'
    directions two points an instruction) gives each point shade_grey_lit's grey: at
    points spread through space under parallel and point lights, with reflectances and
@@ -1770,6 +1911,7 @@ int main(void)
     cmocka_unit_test(test_row_is_single),
     cmocka_unit_test(test_row_band_pairs),
     cmocka_unit_test(test_edge_pairs_are_single),
+    cmocka_unit_test(test_band_lanes_selections),
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
     cmocka_unit_test(test_phong_filter_range),
