@@ -176,9 +176,11 @@ bool smooth_rows(const struct smooth_model *m, const struct effects *e,
                  const struct shade_lights *L);
 
 /* smooth_grey_run at the points X[p] of nseg triangles of m one after another, at most
-   SMOOTH_ROW points: points at[k] <= p < at[k + 1] of triangle tri[k] (reflectance 1, their
-   lights blocked[p], the greys in grey[p]; regions[r] counts up the points of region r),
-   where smooth_rows says so: the same greys and regions, bit for bit, each step two points an instruction
+   SMOOTH_ROW points: points at[k] <= p < at[k + 1] of triangle tri[k], every run holding
+   at least one (at[k] < at[k + 1]: an odd last point of a run is paired with the next
+   run's first) (reflectance 1, their lights blocked[p], the greys in grey[p]; regions[r]
+   counts up the points of region r), where smooth_rows says so: the same greys and
+   regions, bit for bit, each step two points an instruction
    whether or not they are on one triangle, so that a row's points on a smoothed object go
    together without a run's fixed cost at each triangle (issue 19). */
 #define SMOOTH_ROW 64
