@@ -1170,7 +1170,7 @@ struct split {
 #ifdef __SSE2__
 static inline __attribute__((always_inline))
 void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsigned b1,
-              const struct shade_lights *L, int nlight, int *g0, int *g1);
+              const struct shade_lights *L, int nlight, double refl, int *g0, int *g1);
 
 /* A pair of points of one triangle that the inner filter declined (lanes 0 and 1; their
    areas times tot's sign, w, and those given back to the chain, v = st w), taken through
@@ -1198,8 +1198,8 @@ bool band_fused(const struct smooth_lanes *x, const __m128d *v, double tot, doub
   const int r = band_lanes(x, l, n);
   if (!r) return false;
   const __m128d sg = _mm_set1_pd(sgn);
-  if (sp->L->n == 1) lit_pair(n[0], n[1], n[2], sg, b0, b1, sp->L, 1, g, g + 1);
-  else lit_pair(n[0], n[1], n[2], sg, b0, b1, sp->L, sp->L->n, g, g + 1);
+  if (sp->L->n == 1) lit_pair(n[0], n[1], n[2], sg, b0, b1, sp->L, 1, 1.0, g, g + 1);
+  else lit_pair(n[0], n[1], n[2], sg, b0, b1, sp->L, sp->L->n, 1.0, g, g + 1);
   sp->fused[r] += 2;
   return true;
 }
@@ -1336,7 +1336,7 @@ static inline int clamp_grey(int g) { return g < 0 ? 0 : g > 255 ? 255 : g; }
    scalar ones on its values in their order (correctly rounded, as the scalar ones are; a
    lane's divides kept only where its length is > 0, as unit() divides; a light blocked or
    a dot not > 0 adds +0, which leaves the lane's sum, never below +0, as it is), and the
-   grey from the sum is shade_grey_of_sum's. */
+   grey from the sum is shade_grey_of_sum's (lit_pair, at reflectance refl). */
 static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_ROW], const int *slot_p,
                              const double (*X)[3], double refl, const unsigned *blocked,
                              const struct shade_lights *L, int *grey)
@@ -1346,42 +1346,11 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_ROW], const
   bool parallel = true;
   for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
   if (parallel) {
-    const __m128d zero = _mm_setzero_pd(), sg = _mm_set1_pd(sgn);
-    const __m128d rv = _mm_set1_pd(refl);
-    for (; q + 2 <= ns; q += 2) {
-      __m128d v[3];
-      for (int c = 0; c < 3; c++) v[c] = _mm_loadu_pd(nv[c] + q);
-      const __m128d ln = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], v[0]),
-                                                           _mm_mul_pd(v[1], v[1])),
-                                                _mm_mul_pd(v[2], v[2])));
-      const __m128d pos = _mm_cmpgt_pd(ln, zero);
-      for (int c = 0; c < 3; c++)
-        v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
-                                    _mm_andnot_pd(pos, v[c])), sg);
-      const unsigned b0 = blocked[slot_p[q]], b1 = blocked[slot_p[q + 1]];
-      __m128d sum = zero;
-      for (int k = 0; k < L->n; k++) {
-        const double *l = L->v[k];
-        const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_set1_pd(l[0])),
-                                                _mm_mul_pd(v[1], _mm_set1_pd(l[1]))),
-                                     _mm_mul_pd(v[2], _mm_set1_pd(l[2])));
-        __m128d m = _mm_cmpgt_pd(d, zero);
-        if ((b0 | b1) >> k & 1u)              /* the lanes whose light k is not blocked */
-          m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
-                                                            (b0 >> k & 1u) - 1ull)));
-        sum = _mm_add_pd(sum, _mm_and_pd(m, d));
-      }
-      unsigned g;                             /* both lanes' greys at once where it can */
-      if (shade_pair_greys_fast(rv, sum, &g)) {
-        grey[slot_p[q]] = (int)(g & 0xffu);
-        grey[slot_p[q + 1]] = (int)(g >> 8);
-        continue;
-      }
-      double sm[2];
-      _mm_storeu_pd(sm, sum);
-      grey[slot_p[q]] = clamp_grey(shade_grey_of_sum(refl, sm[0]));
-      grey[slot_p[q + 1]] = clamp_grey(shade_grey_of_sum(refl, sm[1]));
-    }
+    const __m128d sg = _mm_set1_pd(sgn);
+    for (; q + 2 <= ns; q += 2)
+      lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q), sg,
+               blocked[slot_p[q]], blocked[slot_p[q + 1]], L, L->n, refl, &grey[slot_p[q]],
+               &grey[slot_p[q + 1]]);
   }
 #endif
   for (; q < ns; q++) {
@@ -1796,14 +1765,14 @@ static inline void bary_row(int n, const double *tot, bool nonzero,
 }
 
 #ifdef __SSE2__
-/* lit_slots' step at two slots under parallel lights, reflectance 1: normals v (x, y, z
+/* lit_slots' step at two slots under parallel lights, reflectance refl: normals v (x, y, z
    lanes), the eye's sides sg, the lights blocked b0 and b1; their greys into *g0, *g1.
    nlight is L->n (a constant where the caller can make it one). */
 static inline __attribute__((always_inline))
 void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsigned b1,
-              const struct shade_lights *L, int nlight, int *g0, int *g1)
+              const struct shade_lights *L, int nlight, double refl, int *g0, int *g1)
 {
-  const __m128d zero = _mm_setzero_pd(), rv = _mm_set1_pd(1);
+  const __m128d zero = _mm_setzero_pd(), rv = _mm_set1_pd(refl);
   __m128d v[3] = { v0, v1, v2 };
   const __m128d ln = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], v[0]),
                                                        _mm_mul_pd(v[1], v[1])),
@@ -1836,8 +1805,8 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
   }
   double sm[2];
   _mm_storeu_pd(sm, sum);
-  *g0 = clamp_grey(shade_grey_of_sum(1.0, sm[0]));
-  *g1 = clamp_grey(shade_grey_of_sum(1.0, sm[1]));
+  *g0 = clamp_grey(shade_grey_of_sum(refl, sm[0]));
+  *g1 = clamp_grey(shade_grey_of_sum(refl, sm[1]));
 }
 #endif
 
@@ -1858,16 +1827,16 @@ static inline void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg,
       for (; q + 2 <= ns; q += 2)
         lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
                  _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L, 1,
-                 &grey[slot_p[q]], &grey[slot_p[q + 1]]);
+                 1.0, &grey[slot_p[q]], &grey[slot_p[q + 1]]);
     for (; q + 2 <= ns; q += 2)
       lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
                _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L, nlight,
-               &grey[slot_p[q]], &grey[slot_p[q + 1]]);
+               1.0, &grey[slot_p[q]], &grey[slot_p[q + 1]]);
     if (q < ns) {
       int dummy;
       lit_pair(_mm_set1_pd(nv[0][q]), _mm_set1_pd(nv[1][q]), _mm_set1_pd(nv[2][q]),
                _mm_set1_pd(sg[q]), blocked[slot_p[q]], blocked[slot_p[q]], L, nlight,
-               &grey[slot_p[q]], &dummy);
+               1.0, &grey[slot_p[q]], &dummy);
       q++;
     }
   }
@@ -2029,7 +1998,7 @@ int smooth_lanes_pair(const struct smooth_model *m, int t, const double l[2][3],
     _mm_storel_pd(&n[0][c], nv[c]);
     _mm_storeh_pd(&n[1][c], nv[c]);
   }
-  lit_pair(nv[0], nv[1], nv[2], _mm_set1_pd(sgn), 0, 0, L, L->n, g, g + 1);
+  lit_pair(nv[0], nv[1], nv[2], _mm_set1_pd(sgn), 0, 0, L, L->n, 1.0, g, g + 1);
   return r;
 #else
   (void)m; (void)t; (void)l; (void)sgn; (void)L; (void)n; (void)g;
@@ -2041,7 +2010,7 @@ bool smooth_lit_pair(const double v[2][3], double sgn, const struct shade_lights
 {
 #ifdef __SSE2__
   lit_pair(_mm_set_pd(v[1][0], v[0][0]), _mm_set_pd(v[1][1], v[0][1]),
-           _mm_set_pd(v[1][2], v[0][2]), _mm_set1_pd(sgn), 0, 0, L, L->n, g, g + 1);
+           _mm_set_pd(v[1][2], v[0][2]), _mm_set1_pd(sgn), 0, 0, L, L->n, 1.0, g, g + 1);
   return true;
 #else
   (void)v; (void)sgn; (void)L; (void)g;
