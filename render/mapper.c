@@ -392,19 +392,33 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
   return inbox;
 }
 
+/* The fields of e that tj_take and tj_insert use (A, b - a and its square), set when
+   tj_edge_near first needs them: most edges meet no vertex but a and b on the grid (at
+   100,000 boxes, tj_near passes some four vertices an edge, a and b among them), so most
+   never load the scene's vertices. (Out of line: few edges get here.) */
+static __attribute__((noinline)) void tj_seg_space(const struct tjunc *t, struct tj_seg *e)
+{
+  const struct scene_vertex *A = &t->s->v[e->a], *B = &t->s->v[e->b];
+  e->A = A;
+  e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
+  e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
+}
+
 /* As tj_cells, with no count (the points engine): a vertex is tested on the grid first
    (tj_near: most in the cells a slanted edge's line reaches lie off it), then in space
-   (tj_take, which also rejects one beyond a or b: no box test). 0, or -1 when out of host
-   memory. */
+   (tj_take, which also rejects one beyond a or b: no box test; e's space fields set
+   first, tj_seg_space, when the edge has none yet). 0, or -1 when out of host memory. */
 static inline __attribute__((always_inline)) int tj_cells_near(const struct tjunc *t,
                                                                size_t c0, size_t c1,
-                                                               const struct tj_seg *e)
+                                                               struct tj_seg *e)
 {
   for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
     struct gpoint pv = t->cell_p[k];
     if (!tj_near(pv, e)) continue;
     int v = t->cell_v[k];
-    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
+    if (v == e->a || v == e->b) continue;
+    if (!e->A) tj_seg_space(t, e);
+    if (!tj_take(t, v, e)) return -1;
   }
   return 0;
 }
@@ -429,13 +443,11 @@ static inline __attribute__((always_inline)) int tj_cells_near(const struct tjun
 static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap)
 {
   if (t->n == 0) return 1;
-  const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
   struct gpoint pa = t->proj[a], pb = t->proj[b];
   struct tj_seg es, *e = &es;               /* the fields used here, set one by one (an
-                                               initializer would zero the box too) */
-  e->a = a; e->b = b; e->A = A; e->buf = buf; e->n = n; e->cap = cap; e->first = *n;
-  e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
-  e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
+                                               initializer would zero the box too); those
+                                               in space when needed (A NULL: not yet) */
+  e->a = a; e->b = b; e->A = NULL; e->buf = buf; e->n = n; e->cap = cap; e->first = *n;
   e->px = pb.x - pa.x;                      /* tj_near's line */
   e->py = pb.y - pa.y;
   int64_t wband = (e->px < 0 ? -e->px : e->px) + (e->py < 0 ? -e->py : e->py);
