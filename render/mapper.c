@@ -71,14 +71,23 @@ static uint64_t isqrt_u(uwide v)
   return x;
 }
 
-/* Lambert's law with an ambient floor; n points away from the eye (plane(eye) < 0). */
-static int lambert(const int64_t n[3], const int32_t light[3])
+/* |L|^2 of a light direction, for lambert (made once a run: it depends on the light
+   alone) */
+static uwide light_ll(const int32_t light[3])
 {
-  wide dot = -((wide)n[0] * light[0] + (wide)n[1] * light[1] + (wide)n[2] * light[2]);
+  return (uwide)((wide)light[0] * light[0] + (wide)light[1] * light[1] +
+                 (wide)light[2] * light[2]);
+}
+
+/* Lambert's law with an ambient floor; n points away from the eye (plane(eye) < 0); ll is
+   light_ll(light). The dot product in 64 bits: |n_i| < 2^34 and |L_i| <= 2^15 (a light
+   is given in scene coordinates, SCENE_COORD_MIN .. MAX), so each product is below 2^49
+   in size and the sum below 2^51 (the same integer as in 128 bits). */
+static int lambert(const int64_t n[3], const int32_t light[3], uwide ll)
+{
+  int64_t dot = -(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]);
   if (dot <= 0) return SHADE_AMBIENT;
   uwide nn = (uwide)((wide)n[0] * n[0] + (wide)n[1] * n[1] + (wide)n[2] * n[2]);
-  uwide ll = (uwide)((wide)light[0] * light[0] + (wide)light[1] * light[1] +
-                     (wide)light[2] * light[2]);
   /* |n|^2 < 2^70, |L|^2 < 2^32: the product fits, and so does its square root */
   uint64_t den = isqrt_u(nn * ll);
   if (den == 0) return DEFAULT_GREY;
@@ -89,12 +98,13 @@ static int lambert(const int64_t n[3], const int32_t light[3])
 }
 
 /* The flat grey of a face shaded from the scene's lights: one parallel light by the exact
-   integer law above (the 1974 figures); several lights or point lights by shade_grey at
-   the mean of the face's outer vertices (render/shade.h). */
-static int face_grey(const struct scene *s, const struct mface *m, const int64_t pl[4])
+   integer law above (the 1974 figures; ll: light_ll of that light); several lights or
+   point lights by shade_grey at the mean of the face's outer vertices (render/shade.h). */
+static int face_grey(const struct scene *s, const struct mface *m, const int64_t pl[4],
+                     uwide ll)
 {
   if (!s->has_light) return DEFAULT_GREY;
-  if (s->nlight == 1 && !s->light[0].point) return lambert(pl, s->light[0].v);
+  if (s->nlight == 1 && !s->light[0].point) return lambert(pl, s->light[0].v, ll);
   double n[3] = { -(double)pl[0], -(double)pl[1], -(double)pl[2] }, c[3] = { 0, 0, 0 };
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int k = 0; k < 3; k++) n[k] /= len;
@@ -795,6 +805,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       for (size_t q = 0; q < (size_t)1 << TJ_MEMO_BITS; q++) memo[q].a = -1;
   }
   int g0 = 0;                               /* the scene's first ring of face fi */
+  const uwide ll = s->nlight > 0 ? light_ll(s->light[0].v) : 0;   /* face_grey's lambert */
 
   uint32_t at;
   if (reserve(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
@@ -911,7 +922,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     m->sline = sf->line;
     memcpy(m->plane, pl, sizeof pl);
     m->deye = (int64_t)-pe;
-    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey : face_grey(s, m, pl));   /* 0..255 */
+    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey : face_grey(s, m, pl, ll));   /* 0..255 */
 
     if (!cost) { out->nface++; continue; }  /* the points engine: the row unwritten */
     gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;
