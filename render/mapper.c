@@ -384,12 +384,25 @@ static inline __attribute__((always_inline)) int tj_take(const struct tjunc *t, 
   return tj_insert(t, v, tt, e);
 }
 
+/* The fields of e that tj_take and tj_insert use (A, b - a and its square), set when
+   tj_cells or tj_cells_near first needs them: most edges meet no vertex but a and b in
+   their box or on the grid (at 100,000 boxes, tj_near passes some four vertices an edge,
+   a and b among them), so most never load the scene's vertices. (Out of line: few edges
+   get here.) */
+static __attribute__((noinline)) void tj_seg_space(const struct tjunc *t, struct tj_seg *e)
+{
+  const struct scene_vertex *A = &t->s->v[e->a], *B = &t->s->v[e->b];
+  e->A = A;
+  e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
+  e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
+}
+
 /* The vertices of cells c0 .. c1 (of one row: their vertices are one run of cell_v)
    inside e's box, each but a and b given to tj_take. Returns how many lay in the box (a
    and b too), -1 when out of host memory. (Inlined: the loop of tj_edge, where most
    vertices fail the box.) */
 static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t, size_t c0,
-                                                          size_t c1, const struct tj_seg *e)
+                                                          size_t c1, struct tj_seg *e)
 {
   int inbox = 0;
   for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
@@ -397,21 +410,11 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
     if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
     inbox++;
     int v = t->cell_v[k];
-    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
+    if (v == e->a || v == e->b) continue;
+    if (!e->A) tj_seg_space(t, e);
+    if (!tj_take(t, v, e)) return -1;
   }
   return inbox;
-}
-
-/* The fields of e that tj_take and tj_insert use (A, b - a and its square), set when
-   tj_edge_near first needs them: most edges meet no vertex but a and b on the grid (at
-   100,000 boxes, tj_near passes some four vertices an edge, a and b among them), so most
-   never load the scene's vertices. (Out of line: few edges get here.) */
-static __attribute__((noinline)) void tj_seg_space(const struct tjunc *t, struct tj_seg *e)
-{
-  const struct scene_vertex *A = &t->s->v[e->a], *B = &t->s->v[e->b];
-  e->A = A;
-  e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
-  e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
 }
 
 /* As tj_cells, with no count (the points engine): a vertex is tested on the grid first
@@ -519,13 +522,11 @@ static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, 
 static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
                    struct cost *cost, uint64_t *tests)
 {
-  const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
   struct gpoint pa = t->proj[a], pb = t->proj[b];
-  struct tj_seg e = { .a = a, .b = b, .A = A, .buf = buf, .n = n, .cap = cap, .first = *n };
+  struct tj_seg e = { .a = a, .b = b, .A = NULL, .buf = buf, .n = n, .cap = cap,
+                      .first = *n };   /* A NULL: the fields in space not yet set */
   e.x0 = pa.x < pb.x ? pa.x : pb.x; e.x1 = pa.x < pb.x ? pb.x : pa.x;
   e.y0 = pa.y < pb.y ? pa.y : pb.y; e.y1 = pa.y < pb.y ? pb.y : pa.y;
-  e.dx = B->x - A->x; e.dy = B->y - A->y; e.dz = B->z - A->z;
-  e.dd = e.dx * e.dx + e.dy * e.dy + e.dz * e.dz;
   /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x to
      the last with the larger */
   int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
