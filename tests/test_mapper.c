@@ -531,6 +531,52 @@ static void test_uncounted_not_replayed(void **state)
   scene_free(s);
 }
 
+/* An edge steep in depth, a = (0, 0, 100) to b = (64, 32, 900) (|b - a|^2 = 800^2 + ...,
+   most of it in z), with a vertex of a small triangle at each eighth of it, P_k = a + k (b
+   - a) / 8, k = 1 .. 7: both searches (the 1974 engine's, counted, and the points
+   engine's) put all seven into the large face's ring, in order from a to b (or from b to
+   a, as the Mapper turned the ring), and keep the same rings. The fields in space of an
+   edge are set only when a vertex is to be tested (tj_seg_space): one wrong (|b - a|^2
+   without the z term, say) loses the P_k near b, or all. */
+static void test_steep_edge_all_found(void **state)
+{
+  (void)state;
+  char text[2048];
+  int at = snprintf(text, sizeof text,
+                    "view 0 0 -500\nwindow -200 -150 200 150\n"
+                    "vertex 1 0 0 100\nvertex 2 64 32 900\nvertex 3 -150 90 400\n"
+                    "face 1 1 2 3 grey 200\n");
+  for (int k = 1; k <= 7; k++)
+    at += snprintf(text + at, sizeof text - (size_t)at,
+                   "vertex %d %d %d %d\nvertex %d %d %d %d\nvertex %d %d %d %d\n"
+                   "face %d %d %d %d grey 100\n",
+                   10 * k, 8 * k, 4 * k, 100 + 100 * k,
+                   10 * k + 1, 8 * k + 30, 4 * k - 20, 100 + 100 * k,
+                   10 * k + 2, 8 * k + 25, 4 * k - 40, 110 + 100 * k,
+                   1 + k, 10 * k, 10 * k + 1, 10 * k + 2);
+  struct scene *s = load_text(text);
+  struct run r[2];
+  for (int counted = 0; counted < 2; counted++) {
+    map_run(s, false, counted, &r[counted]);
+    const struct mface *f = NULL;
+    for (int q = 0; q < r[counted].m.nface; q++)
+      if (r[counted].m.f[q].id == 1) f = &r[counted].m.f[q];
+    assert_non_null(f);
+    assert_int_equal(f->ring_start[f->nring], 10);
+    int ia = -1;                             /* where a is in the ring */
+    for (int q = 0; q < 10; q++) if (f->vid[q] == 1) ia = q;
+    assert_true(ia >= 0);
+    int dir = f->vid[(ia + 1) % 10] == 10 ? 1 : -1;   /* towards P_1 */
+    for (int k = 1; k <= 7; k++)
+      assert_int_equal(f->vid[(ia + 10 + dir * k) % 10], 10 * k);
+    assert_int_equal(f->vid[(ia + 10 + dir * 8) % 10], 2);
+  }
+  same_rings(s, &r[0], &r[1]);
+  run_free(&r[0]);
+  run_free(&r[1]);
+  scene_free(s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -542,6 +588,7 @@ int main(void)
     cmocka_unit_test(test_margin_one_unit_cells),
     cmocka_unit_test(test_on_edges_all_ways),
     cmocka_unit_test(test_uncounted_not_replayed),
+    cmocka_unit_test(test_steep_edge_all_found),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
