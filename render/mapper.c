@@ -122,6 +122,14 @@ static int face_grey(const struct scene *s, const struct mface *m, const int64_t
    bits for a ring of fewer than 64 points, in 128 for a longer one. */
 static wide ring_area2(const struct gpoint *p, int n)
 {
+  /* a triangle or a quadrilateral, the common rings: the same integer as the sum below,
+     as one cross product of differences, (p1 - p0) x (p2 - p0) or of the diagonals
+     (p2 - p0) x (p3 - p1) (each below 2^29 in size: the products below 2^58, their
+     difference below 2^59) */
+  if (n == 3)
+    return (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+  if (n == 4)
+    return (p[2].x - p[0].x) * (p[3].y - p[1].y) - (p[2].y - p[0].y) * (p[3].x - p[1].x);
   if (n < 64) {              /* below 64 * 2^57 = 2^63: the same integer */
     int64_t a = 0;
     for (int j = n - 1, k = 0; k < n; j = k++)

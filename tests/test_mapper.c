@@ -577,6 +577,57 @@ static void test_steep_edge_all_found(void **state)
   scene_free(s);
 }
 
+/* Faces of 3, 4 and 5 corners (ring_area2's triangle, quadrilateral and general sums),
+   planar, convex, given clockwise or counter-clockwise: every one mapped (none covers no
+   point), its ring counter-clockwise on the grid (twice its area, summed here in 128
+   bits, above 0), the same points as given in one order or the other. A sign wrong in
+   either short form turns those rings the wrong way. */
+static void test_rings_turned_ccw(void **state)
+{
+  (void)state;
+  struct text x = { NULL, 0, 0 };
+  put(&x, "view 0 0 -500\nwindow -200 -150 200 150\n");
+  rnd_state = 1974;
+  int v = 0, nf = 0;
+  for (int q = 0; q < 60; q++) {
+    int n = 3 + q % 3, cx = rnd(-120, 120), cy = rnd(-90, 90), r = rnd(8, 40);
+    bool cw = rnd(0, 1);
+    /* corners on a circle of radius r at angles a quarter turn apart (n = 4) or so,
+       jittered by at most r / 8: convex */
+    static const int ux[5][5] = { { 0 }, { 0 }, { 0 }, { 8, -4, -4 }, { 8, 0, -8, 0 } };
+    static const int uy[5][5] = { { 0 }, { 0 }, { 0 }, { 0, 7, -7 }, { 0, 8, 0, -8 } };
+    static const int px[5] = { 8, 2, -6, -6, 2 }, py[5] = { 0, 8, 5, -5, -8 };
+    for (int k = 0; k < n; k++) {
+      int kk = cw ? n - 1 - k : k;
+      int dx = n == 5 ? px[kk] : ux[n][kk], dy = n == 5 ? py[kk] : uy[n][kk];
+      int X = cx + dx * r / 8 + rnd(-r / 16, r / 16), Y = cy + dy * r / 8 + rnd(-r / 16, r / 16);
+      put(&x, "vertex %d %d %d %d\n", ++v, X, Y, 600 + q * 10);
+    }
+    put(&x, "face %d", ++nf);
+    for (int k = n - 1; k >= 0; k--) put(&x, " %d", v - k);
+    put(&x, " grey 150\n");
+  }
+  struct scene *s = load_text_taken(x.t);
+  for (int counted = 0; counted < 2; counted++) {
+    struct run r;
+    map_run(s, false, counted, &r);
+    assert_int_equal(r.m.nface, nf);
+    assert_int_equal(r.m.dropped, 0);
+    for (int f = 0; f < r.m.nface; f++) {
+      const struct mface *m = &r.m.f[f];
+      assert_int_equal(m->nring, 1);
+      int n = m->ring_start[1];
+      assert_int_equal(n, 3 + (int)(m->id - 1) % 3);
+      wide a = 0;
+      for (int j = n - 1, k = 0; k < n; j = k++)
+        a += (wide)m->pt[j].x * m->pt[k].y - (wide)m->pt[k].x * m->pt[j].y;
+      assert_true(a > 0);
+    }
+    run_free(&r);
+  }
+  scene_free(s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -589,6 +640,7 @@ int main(void)
     cmocka_unit_test(test_on_edges_all_ways),
     cmocka_unit_test(test_uncounted_not_replayed),
     cmocka_unit_test(test_steep_edge_all_found),
+    cmocka_unit_test(test_rings_turned_ccw),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
