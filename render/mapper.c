@@ -71,14 +71,23 @@ static uint64_t isqrt_u(uwide v)
   return x;
 }
 
-/* Lambert's law with an ambient floor; n points away from the eye (plane(eye) < 0). */
-static int lambert(const int64_t n[3], const int32_t light[3])
+/* |L|^2 of a light direction, for lambert (made once a run: it depends on the light
+   alone) */
+static uwide light_ll(const int32_t light[3])
 {
-  wide dot = -((wide)n[0] * light[0] + (wide)n[1] * light[1] + (wide)n[2] * light[2]);
+  return (uwide)((wide)light[0] * light[0] + (wide)light[1] * light[1] +
+                 (wide)light[2] * light[2]);
+}
+
+/* Lambert's law with an ambient floor; n points away from the eye (plane(eye) < 0); ll is
+   light_ll(light). The dot product in 64 bits: |n_i| < 2^34 and |L_i| <= 2^15 (a light
+   is given in scene coordinates, SCENE_COORD_MIN .. MAX), so each product is below 2^49
+   in size and the sum below 2^51 (the same integer as in 128 bits). */
+static int lambert(const int64_t n[3], const int32_t light[3], uwide ll)
+{
+  int64_t dot = -(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]);
   if (dot <= 0) return SHADE_AMBIENT;
   uwide nn = (uwide)((wide)n[0] * n[0] + (wide)n[1] * n[1] + (wide)n[2] * n[2]);
-  uwide ll = (uwide)((wide)light[0] * light[0] + (wide)light[1] * light[1] +
-                     (wide)light[2] * light[2]);
   /* |n|^2 < 2^70, |L|^2 < 2^32: the product fits, and so does its square root */
   uint64_t den = isqrt_u(nn * ll);
   if (den == 0) return DEFAULT_GREY;
@@ -89,12 +98,13 @@ static int lambert(const int64_t n[3], const int32_t light[3])
 }
 
 /* The flat grey of a face shaded from the scene's lights: one parallel light by the exact
-   integer law above (the 1974 figures); several lights or point lights by shade_grey at
-   the mean of the face's outer vertices (render/shade.h). */
-static int face_grey(const struct scene *s, const struct mface *m, const int64_t pl[4])
+   integer law above (the 1974 figures; ll: light_ll of that light); several lights or
+   point lights by shade_grey at the mean of the face's outer vertices (render/shade.h). */
+static int face_grey(const struct scene *s, const struct mface *m, const int64_t pl[4],
+                     uwide ll)
 {
   if (!s->has_light) return DEFAULT_GREY;
-  if (s->nlight == 1 && !s->light[0].point) return lambert(pl, s->light[0].v);
+  if (s->nlight == 1 && !s->light[0].point) return lambert(pl, s->light[0].v, ll);
   double n[3] = { -(double)pl[0], -(double)pl[1], -(double)pl[2] }, c[3] = { 0, 0, 0 };
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int k = 0; k < 3; k++) n[k] /= len;
@@ -112,6 +122,14 @@ static int face_grey(const struct scene *s, const struct mface *m, const int64_t
    bits for a ring of fewer than 64 points, in 128 for a longer one. */
 static wide ring_area2(const struct gpoint *p, int n)
 {
+  /* a triangle or a quadrilateral, the common rings: the same integer as the sum below,
+     as one cross product of differences, (p1 - p0) x (p2 - p0) or of the diagonals
+     (p2 - p0) x (p3 - p1) (each below 2^29 in size: the products below 2^58, their
+     difference below 2^59) */
+  if (n == 3)
+    return (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+  if (n == 4)
+    return (p[2].x - p[0].x) * (p[3].y - p[1].y) - (p[2].y - p[0].y) * (p[3].x - p[1].x);
   if (n < 64) {              /* below 64 * 2^57 = 2^63: the same integer */
     int64_t a = 0;
     for (int j = n - 1, k = 0; k < n; j = k++)
@@ -203,7 +221,17 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
     const int *vi = s->f[f].vidx;
     for (int k = 0, nk = s->f[f].ring_start[s->f[f].nring]; k < nk; k++) used[vi[k]] = 1;
   }
-  for (int v = 0; v < s->nv; v++) if (used[v]) t->used_v[t->n++] = v;
+  /* the used vertices in index order, and the box of their points (for the cells below) */
+  gcoord x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  for (int v = 0; v < s->nv; v++) {
+    if (!used[v]) continue;
+    struct gpoint p = proj[v];
+    if (t->n == 0 || p.x < x0) x0 = p.x;
+    if (t->n == 0 || p.x > x1) x1 = p.x;
+    if (t->n == 0 || p.y < y0) y0 = p.y;
+    if (t->n == 0 || p.y > y1) y1 = p.y;
+    t->used_v[t->n++] = v;
+  }
   free(used);
   /* sorted once by projected x, then by index (a radix sort of (x, index) pairs,
      render/rsort.h: the same total order), with each vertex's slab bounds for the cost
@@ -229,14 +257,6 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   /* the cells: about two a vertex (at 100,000 boxes the Mapper took some 8% less time
      than with two vertices a cell; the order of the vertices found does not depend on
      the cells) */
-  gcoord x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-  for (int k = 0; k < t->n; k++) {
-    struct gpoint p = proj[t->used_v[k]];
-    if (k == 0 || p.x < x0) x0 = p.x;
-    if (k == 0 || p.x > x1) x1 = p.x;
-    if (k == 0 || p.y < y0) y0 = p.y;
-    if (k == 0 || p.y > y1) y1 = p.y;
-  }
   int side = 1;
   while ((int64_t)side * side < 2 * (int64_t)t->n && side < 4096) side++;
   t->gx0 = x0;
@@ -374,12 +394,25 @@ static inline __attribute__((always_inline)) int tj_take(const struct tjunc *t, 
   return tj_insert(t, v, tt, e);
 }
 
+/* The fields of e that tj_take and tj_insert use (A, b - a and its square), set when
+   tj_cells or tj_cells_near first needs them: most edges meet no vertex but a and b in
+   their box or on the grid (at 100,000 boxes, tj_near passes some four vertices an edge,
+   a and b among them), so most never load the scene's vertices. (Out of line: few edges
+   get here.) */
+static __attribute__((noinline)) void tj_seg_space(const struct tjunc *t, struct tj_seg *e)
+{
+  const struct scene_vertex *A = &t->s->v[e->a], *B = &t->s->v[e->b];
+  e->A = A;
+  e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
+  e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
+}
+
 /* The vertices of cells c0 .. c1 (of one row: their vertices are one run of cell_v)
    inside e's box, each but a and b given to tj_take. Returns how many lay in the box (a
    and b too), -1 when out of host memory. (Inlined: the loop of tj_edge, where most
    vertices fail the box.) */
 static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t, size_t c0,
-                                                          size_t c1, const struct tj_seg *e)
+                                                          size_t c1, struct tj_seg *e)
 {
   int inbox = 0;
   for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
@@ -387,24 +420,28 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
     if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
     inbox++;
     int v = t->cell_v[k];
-    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
+    if (v == e->a || v == e->b) continue;
+    if (!e->A) tj_seg_space(t, e);
+    if (!tj_take(t, v, e)) return -1;
   }
   return inbox;
 }
 
 /* As tj_cells, with no count (the points engine): a vertex is tested on the grid first
    (tj_near: most in the cells a slanted edge's line reaches lie off it), then in space
-   (tj_take, which also rejects one beyond a or b: no box test). 0, or -1 when out of host
-   memory. */
+   (tj_take, which also rejects one beyond a or b: no box test; e's space fields set
+   first, tj_seg_space, when the edge has none yet). 0, or -1 when out of host memory. */
 static inline __attribute__((always_inline)) int tj_cells_near(const struct tjunc *t,
                                                                size_t c0, size_t c1,
-                                                               const struct tj_seg *e)
+                                                               struct tj_seg *e)
 {
   for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
     struct gpoint pv = t->cell_p[k];
     if (!tj_near(pv, e)) continue;
     int v = t->cell_v[k];
-    if (v != e->a && v != e->b && !tj_take(t, v, e)) return -1;
+    if (v == e->a || v == e->b) continue;
+    if (!e->A) tj_seg_space(t, e);
+    if (!tj_take(t, v, e)) return -1;
   }
   return 0;
 }
@@ -429,13 +466,11 @@ static inline __attribute__((always_inline)) int tj_cells_near(const struct tjun
 static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap)
 {
   if (t->n == 0) return 1;
-  const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
   struct gpoint pa = t->proj[a], pb = t->proj[b];
   struct tj_seg es, *e = &es;               /* the fields used here, set one by one (an
-                                               initializer would zero the box too) */
-  e->a = a; e->b = b; e->A = A; e->buf = buf; e->n = n; e->cap = cap; e->first = *n;
-  e->dx = B->x - A->x; e->dy = B->y - A->y; e->dz = B->z - A->z;
-  e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
+                                               initializer would zero the box too); those
+                                               in space when needed (A NULL: not yet) */
+  e->a = a; e->b = b; e->A = NULL; e->buf = buf; e->n = n; e->cap = cap; e->first = *n;
   e->px = pb.x - pa.x;                      /* tj_near's line */
   e->py = pb.y - pa.y;
   int64_t wband = (e->px < 0 ? -e->px : e->px) + (e->py < 0 ? -e->py : e->py);
@@ -497,13 +532,11 @@ static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, 
 static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
                    struct cost *cost, uint64_t *tests)
 {
-  const struct scene_vertex *A = &t->s->v[a], *B = &t->s->v[b];
   struct gpoint pa = t->proj[a], pb = t->proj[b];
-  struct tj_seg e = { .a = a, .b = b, .A = A, .buf = buf, .n = n, .cap = cap, .first = *n };
+  struct tj_seg e = { .a = a, .b = b, .A = NULL, .buf = buf, .n = n, .cap = cap,
+                      .first = *n };   /* A NULL: the fields in space not yet set */
   e.x0 = pa.x < pb.x ? pa.x : pb.x; e.x1 = pa.x < pb.x ? pb.x : pa.x;
   e.y0 = pa.y < pb.y ? pa.y : pb.y; e.y1 = pa.y < pb.y ? pb.y : pa.y;
-  e.dx = B->x - A->x; e.dy = B->y - A->y; e.dz = B->z - A->z;
-  e.dd = e.dx * e.dx + e.dy * e.dy + e.dz * e.dz;
   /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x to
      the last with the larger */
   int lo_v = pa.x < pb.x ? a : b, hi_v = pa.x < pb.x ? b : a;
@@ -783,6 +816,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       for (size_t q = 0; q < (size_t)1 << TJ_MEMO_BITS; q++) memo[q].a = -1;
   }
   int g0 = 0;                               /* the scene's first ring of face fi */
+  const uwide ll = s->nlight > 0 ? light_ll(s->light[0].v) : 0;   /* face_grey's lambert */
 
   uint32_t at;
   if (reserve(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
@@ -899,7 +933,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     m->sline = sf->line;
     memcpy(m->plane, pl, sizeof pl);
     m->deye = (int64_t)-pe;
-    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey : face_grey(s, m, pl));   /* 0..255 */
+    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey : face_grey(s, m, pl, ll));   /* 0..255 */
 
     if (!cost) { out->nface++; continue; }  /* the points engine: the row unwritten */
     gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;

@@ -531,6 +531,103 @@ static void test_uncounted_not_replayed(void **state)
   scene_free(s);
 }
 
+/* An edge steep in depth, a = (0, 0, 100) to b = (64, 32, 900) (|b - a|^2 = 800^2 + ...,
+   most of it in z), with a vertex of a small triangle at each eighth of it, P_k = a + k (b
+   - a) / 8, k = 1 .. 7: both searches (the 1974 engine's, counted, and the points
+   engine's) put all seven into the large face's ring, in order from a to b (or from b to
+   a, as the Mapper turned the ring), and keep the same rings. The fields in space of an
+   edge are set only when a vertex is to be tested (tj_seg_space): one wrong (|b - a|^2
+   without the z term, say) loses the P_k near b, or all. */
+static void test_steep_edge_all_found(void **state)
+{
+  (void)state;
+  char text[2048];
+  int at = snprintf(text, sizeof text,
+                    "view 0 0 -500\nwindow -200 -150 200 150\n"
+                    "vertex 1 0 0 100\nvertex 2 64 32 900\nvertex 3 -150 90 400\n"
+                    "face 1 1 2 3 grey 200\n");
+  for (int k = 1; k <= 7; k++)
+    at += snprintf(text + at, sizeof text - (size_t)at,
+                   "vertex %d %d %d %d\nvertex %d %d %d %d\nvertex %d %d %d %d\n"
+                   "face %d %d %d %d grey 100\n",
+                   10 * k, 8 * k, 4 * k, 100 + 100 * k,
+                   10 * k + 1, 8 * k + 30, 4 * k - 20, 100 + 100 * k,
+                   10 * k + 2, 8 * k + 25, 4 * k - 40, 110 + 100 * k,
+                   1 + k, 10 * k, 10 * k + 1, 10 * k + 2);
+  struct scene *s = load_text(text);
+  struct run r[2];
+  for (int counted = 0; counted < 2; counted++) {
+    map_run(s, false, counted, &r[counted]);
+    const struct mface *f = NULL;
+    for (int q = 0; q < r[counted].m.nface; q++)
+      if (r[counted].m.f[q].id == 1) f = &r[counted].m.f[q];
+    assert_non_null(f);
+    assert_int_equal(f->ring_start[f->nring], 10);
+    int ia = -1;                             /* where a is in the ring */
+    for (int q = 0; q < 10; q++) if (f->vid[q] == 1) ia = q;
+    assert_true(ia >= 0);
+    int dir = f->vid[(ia + 1) % 10] == 10 ? 1 : -1;   /* towards P_1 */
+    for (int k = 1; k <= 7; k++)
+      assert_int_equal(f->vid[(ia + 10 + dir * k) % 10], 10 * k);
+    assert_int_equal(f->vid[(ia + 10 + dir * 8) % 10], 2);
+  }
+  same_rings(s, &r[0], &r[1]);
+  run_free(&r[0]);
+  run_free(&r[1]);
+  scene_free(s);
+}
+
+/* Faces of 3, 4 and 5 corners (ring_area2's triangle, quadrilateral and general sums),
+   planar, convex, given clockwise or counter-clockwise: every one mapped (none covers no
+   point), its ring counter-clockwise on the grid (twice its area, summed here in 128
+   bits, above 0), the same points as given in one order or the other. A sign wrong in
+   either short form turns those rings the wrong way. */
+static void test_rings_turned_ccw(void **state)
+{
+  (void)state;
+  struct text x = { NULL, 0, 0 };
+  put(&x, "view 0 0 -500\nwindow -200 -150 200 150\n");
+  rnd_state = 1974;
+  int v = 0, nf = 0;
+  for (int q = 0; q < 60; q++) {
+    int n = 3 + q % 3, cx = rnd(-120, 120), cy = rnd(-90, 90), r = rnd(8, 40);
+    bool cw = rnd(0, 1);
+    /* corners on a circle of radius r at angles a quarter turn apart (n = 4) or so,
+       jittered by at most r / 8: convex */
+    static const int ux[5][5] = { { 0 }, { 0 }, { 0 }, { 8, -4, -4 }, { 8, 0, -8, 0 } };
+    static const int uy[5][5] = { { 0 }, { 0 }, { 0 }, { 0, 7, -7 }, { 0, 8, 0, -8 } };
+    static const int px[5] = { 8, 2, -6, -6, 2 }, py[5] = { 0, 8, 5, -5, -8 };
+    for (int k = 0; k < n; k++) {
+      int kk = cw ? n - 1 - k : k;
+      int dx = n == 5 ? px[kk] : ux[n][kk], dy = n == 5 ? py[kk] : uy[n][kk];
+      int X = cx + dx * r / 8 + rnd(-r / 16, r / 16), Y = cy + dy * r / 8 + rnd(-r / 16, r / 16);
+      put(&x, "vertex %d %d %d %d\n", ++v, X, Y, 600 + q * 10);
+    }
+    put(&x, "face %d", ++nf);
+    for (int k = n - 1; k >= 0; k--) put(&x, " %d", v - k);
+    put(&x, " grey 150\n");
+  }
+  struct scene *s = load_text_taken(x.t);
+  for (int counted = 0; counted < 2; counted++) {
+    struct run r;
+    map_run(s, false, counted, &r);
+    assert_int_equal(r.m.nface, nf);
+    assert_int_equal(r.m.dropped, 0);
+    for (int f = 0; f < r.m.nface; f++) {
+      const struct mface *m = &r.m.f[f];
+      assert_int_equal(m->nring, 1);
+      int n = m->ring_start[1];
+      assert_int_equal(n, 3 + (int)(m->id - 1) % 3);
+      wide a = 0;
+      for (int j = n - 1, k = 0; k < n; j = k++)
+        a += (wide)m->pt[j].x * m->pt[k].y - (wide)m->pt[k].x * m->pt[j].y;
+      assert_true(a > 0);
+    }
+    run_free(&r);
+  }
+  scene_free(s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -542,6 +639,8 @@ int main(void)
     cmocka_unit_test(test_margin_one_unit_cells),
     cmocka_unit_test(test_on_edges_all_ways),
     cmocka_unit_test(test_uncounted_not_replayed),
+    cmocka_unit_test(test_steep_edge_all_found),
+    cmocka_unit_test(test_rings_turned_ccw),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
