@@ -537,39 +537,27 @@ struct smooth_kept {
   double bV[3][2], bE[3][2], btot;
 };
 
-/* Triangle a's fields that depend on the scene alone into k (smooth_kept). */
-static void tri_keep(const struct smooth_tri *a, struct smooth_kept *k)
+/* struct smooth_kept's fields, which smooth_tri has too (the same names and types): one
+   list for the two copies below. */
+#define KEPT_FIELDS(F) F(sface) F(object) F(v) F(n) F(area2) F(len) F(cn) F(bu) F(bw) \
+                       F(bV) F(bE) F(btot)
+#define KEPT_COPY(f)                                                                  \
+  _Static_assert(sizeof to->f == sizeof from->f, "smooth_kept and smooth_tri: " #f);   \
+  memcpy(&to->f, &from->f, sizeof to->f);
+
+/* Triangle from's fields that depend on the scene alone into to (smooth_kept). */
+static void tri_keep(const struct smooth_tri *from, struct smooth_kept *to)
 {
-  k->sface = a->sface;
-  k->object = a->object;
-  memcpy(k->v, a->v, sizeof k->v);
-  memcpy(k->n, a->n, sizeof k->n);
-  k->area2 = a->area2;
-  memcpy(k->len, a->len, sizeof k->len);
-  memcpy(k->cn, a->cn, sizeof k->cn);
-  k->bu = a->bu;
-  k->bw = a->bw;
-  memcpy(k->bV, a->bV, sizeof k->bV);
-  memcpy(k->bE, a->bE, sizeof k->bE);
-  k->btot = a->btot;
+  KEPT_FIELDS(KEPT_COPY)
 }
 
-/* Kept triangle a as it is into b (the frame's fields are left to the frame). */
-static void tri_kept(const struct smooth_kept *a, struct smooth_tri *b)
+/* Kept triangle from as it is into to (the frame's fields are left to the frame). */
+static void tri_kept(const struct smooth_kept *from, struct smooth_tri *to)
 {
-  b->sface = a->sface;
-  b->object = a->object;
-  memcpy(b->v, a->v, sizeof b->v);
-  memcpy(b->n, a->n, sizeof b->n);
-  b->area2 = a->area2;
-  memcpy(b->len, a->len, sizeof b->len);
-  memcpy(b->cn, a->cn, sizeof b->cn);
-  b->bu = a->bu;
-  b->bw = a->bw;
-  memcpy(b->bV, a->bV, sizeof b->bV);
-  memcpy(b->bE, a->bE, sizeof b->bE);
-  b->btot = a->btot;
+  KEPT_FIELDS(KEPT_COPY)
 }
+#undef KEPT_COPY
+#undef KEPT_FIELDS
 
 /* Kept triangle a turned (corners v1 and v2 swapped) into b: what tri_shape and the vertex
    normals give for the turned corners, without working them out again. Every value is
