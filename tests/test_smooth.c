@@ -633,6 +633,46 @@ static void test_run_is_single(void **state)
   }
 }
 
+/* smooth_row over a stretch (nseg triangles tri[k], points at[k] .. at[k + 1] - 1 of X
+   and blocked) against smooth_grey_at point by point: returns how many points' greys
+   differ plus how many regions' counts differ (and, declines non-NULL, 1 when the Phong
+   filter declines another count of points in the row than one at a time, whose count is
+   added to *declines); the greys met are marked in greys[], each region's points added
+   to seen[]. */
+static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
+                         const double (*X)[3], const unsigned *blocked,
+                         const struct shade_lights *lights, int greys[256], long seen[3],
+                         long *declines)
+{
+  int g[SMOOTH_ROW], differ = 0;
+  long regions[3] = { 0, 0, 0 }, single[3] = { 0, 0, 0 }, dec_row = 0, dec_one = 0;
+  if (declines) L->m.phong_declines = &dec_row;
+  smooth_row(&L->m, &L->r.map, &L->e, nseg, tri, at, X, blocked, lights, g, regions);
+  if (declines) L->m.phong_declines = &dec_one;
+  for (int k = 0; k < nseg; k++)
+    for (int p = at[k]; p < at[k + 1]; p++) {
+      int region;
+      const int one = smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, tri[k], X[p], 1.0,
+                                     blocked[p], lights, NULL, &region);
+      differ += g[p] != one;
+      greys[one & 255] = 1;
+      single[region]++;
+    }
+  L->m.phong_declines = NULL;
+  for (int r = 0; r < 3; r++) {
+    differ += regions[r] != single[r];
+    seen[r] += single[r];
+  }
+  if (declines) {
+    /* the filter declines the same points in the row as one at a time (a lane of a pair
+       across two triangles with the other triangle's constants would still get its grey,
+       from the exact chain, but be declined) */
+    differ += dec_row != dec_one;
+    *declines += dec_one;
+  }
+  return differ;
+}
+
 /* A row's stretch of points on several triangles (smooth_row, the points engine's path
    where smooth_rows says so) gives the greys each gives alone (smooth_grey_at, reflectance
    1) and the same count of points in each region, bit for bit: stretches of 1 to
@@ -692,31 +732,8 @@ static void test_row_is_single(void **state)
           tri[nseg] = t;
           at[++nseg] = n;
         }
-        int g[SMOOTH_ROW];
-        long regions[3] = { 0, 0, 0 }, single[3] = { 0, 0, 0 }, dec_row = 0, dec_one = 0;
-        L.m.phong_declines = &dec_row;
-        smooth_row(&L.m, &L.r.map, &L.e, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
-                   g, regions);
-        L.m.phong_declines = &dec_one;
-        for (int k = 0; k < nseg; k++)
-          for (int p = at[k]; p < at[k + 1]; p++) {
-            int region;
-            const int one = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, tri[k], X[p], 1.0,
-                                           blocked[p], &lights, NULL, &region);
-            differ += g[p] != one;
-            greys[one & 255] = 1;
-            single[region]++;
-          }
-        L.m.phong_declines = NULL;
-        for (int r = 0; r < 3; r++) {
-          differ += regions[r] != single[r];
-          seen[r] += single[r];
-        }
-        /* the filter declines the same points in the row as one at a time (a lane of a
-           pair across two triangles with the other triangle's constants would still get
-           its grey, from the exact chain, but be declined) */
-        differ += dec_row != dec_one;
-        declines += dec_one;
+        differ += row_vs_single(&L, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
+                                greys, seen, &declines);
       }
     }
     assert_int_equal(differ, 0);
@@ -731,8 +748,6 @@ static void test_row_is_single(void **state)
   }
 }
 
-/* The space point of triangle t at l_k = lk (side k's band) and parameter sp along the
-   band: l_a = t_a + sp (1 - lk - t_a - t_b), l_b the rest (a, b the corners after k). */
 /* A row's stretch whose points come two or more at a time from one edge band or one corner
    band of a triangle (the pairs smooth_row takes from the inner filter straight to their
    greys: band_fused), with inner points, points of another band and points outside
@@ -793,23 +808,8 @@ static void test_row_band_pairs(void **state)
           tri[nseg] = t;
           at[++nseg] = n;
         }
-        int gr[SMOOTH_ROW];
-        long regions[3] = { 0, 0, 0 }, single[3] = { 0, 0, 0 };
-        smooth_row(&L.m, &L.r.map, &L.e, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
-                   gr, regions);
-        for (int k = 0; k < nseg; k++)
-          for (int p = at[k]; p < at[k + 1]; p++) {
-            int region;
-            const int one = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, tri[k], X[p], 1.0,
-                                           blocked[p], &lights, NULL, &region);
-            differ += gr[p] != one;
-            greys[one & 255] = 1;
-            single[region]++;
-          }
-        for (int r = 0; r < 3; r++) {
-          differ += regions[r] != single[r];
-          seen[r] += single[r];
-        }
+        differ += row_vs_single(&L, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
+                                greys, seen, NULL);
       }
     }
     assert_int_equal(differ, 0);
@@ -823,6 +823,8 @@ static void test_row_band_pairs(void **state)
   assert_true(pairs > 1000);
 }
 
+/* The space point of triangle t at l_k = lk (side k's band) and parameter sp along the
+   band: l_a = t_a + sp (1 - lk - t_a - t_b), l_b the rest (a, b the corners after k). */
 static void band_point(const struct lib *L, int t, int k, double lk, double sp, double X[3])
 {
   const double *ti = L->m.tri[t].t;
