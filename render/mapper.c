@@ -407,6 +407,17 @@ static __attribute__((noinline)) void tj_seg_space(const struct tjunc *t, struct
   e->dd = e->dx * e->dx + e->dy * e->dy + e->dz * e->dz;
 }
 
+/* The vertex of cell entry k, but a and b, tested in space (tj_take; e's fields in space
+   set first, tj_seg_space, when the edge has none yet): 0 when out of host memory. */
+static inline __attribute__((always_inline)) int tj_try(const struct tjunc *t, int k,
+                                                        struct tj_seg *e)
+{
+  int v = t->cell_v[k];
+  if (v == e->a || v == e->b) return 1;
+  if (!e->A) tj_seg_space(t, e);
+  return tj_take(t, v, e);
+}
+
 /* The vertices of cells c0 .. c1 (of one row: their vertices are one run of cell_v)
    inside e's box, each but a and b given to tj_take. Returns how many lay in the box (a
    and b too), -1 when out of host memory. (Inlined: the loop of tj_edge, where most
@@ -419,10 +430,7 @@ static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t,
     struct gpoint pv = t->cell_p[k];
     if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
     inbox++;
-    int v = t->cell_v[k];
-    if (v == e->a || v == e->b) continue;
-    if (!e->A) tj_seg_space(t, e);
-    if (!tj_take(t, v, e)) return -1;
+    if (!tj_try(t, k, e)) return -1;
   }
   return inbox;
 }
@@ -438,10 +446,7 @@ static inline __attribute__((always_inline)) int tj_cells_near(const struct tjun
   for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
     struct gpoint pv = t->cell_p[k];
     if (!tj_near(pv, e)) continue;
-    int v = t->cell_v[k];
-    if (v == e->a || v == e->b) continue;
-    if (!e->A) tj_seg_space(t, e);
-    if (!tj_take(t, v, e)) return -1;
+    if (!tj_try(t, k, e)) return -1;
   }
   return 0;
 }
