@@ -444,6 +444,25 @@ static int greys_run(const uint8_t *greys, int i, int n, const uint32_t *cell_of
   return i;
 }
 
+/* masks[0 .. n) the cells of greys[0 .. n) by mask_of, a point at a time, four a step (an
+** empty asm: no vector form of the loop, which gcc would build of 16 scalar lookups
+** through the stack, half again as many instructions). */
+static inline void greys_lookup(const uint8_t *greys, int n, const uint16_t *mask_of,
+                                uint16_t *masks)
+{
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+#ifdef __GNUC__
+    __asm__("" : "+r"(i));
+#endif
+    masks[i] = mask_of[greys[i]];
+    masks[i + 1] = mask_of[greys[i + 1]];
+    masks[i + 2] = mask_of[greys[i + 2]];
+    masks[i + 3] = mask_of[greys[i + 3]];
+  }
+  for (; i < n; i++) masks[i] = mask_of[greys[i]];
+}
+
 /* A row's cells from its greys, every grey's level 0 .. cc (no GREY_ODD in mask_of, a
 ** grey's pattern word): as greys_run, with nothing to test. */
 static void greys_cells(const uint8_t *greys, int n, const uint16_t *mask_of, uint16_t *masks)
@@ -459,29 +478,10 @@ static void greys_cells(const uint8_t *greys, int n, const uint16_t *mask_of, ui
       _mm_storeu_si128((__m128i *)(void *)(masks + i + 8), mv);
       continue;
     }
-    for (int q = i; q < i + 16; q += 4) {   /* else a point at a time, four a step */
-#ifdef __GNUC__
-      __asm__("" : "+r"(q));                /* (no vector form: see below) */
-#endif
-      masks[q] = mask_of[greys[q]];
-      masks[q + 1] = mask_of[greys[q + 1]];
-      masks[q + 2] = mask_of[greys[q + 2]];
-      masks[q + 3] = mask_of[greys[q + 3]];
-    }
+    greys_lookup(greys + i, 16, mask_of, masks + i);   /* else a point at a time */
   }
 #endif
-  for (; i + 4 <= n; i += 4) {
-#ifdef __GNUC__
-    /* (an empty asm: no vector form of the loop, which gcc would build of 16 scalar
-       lookups through the stack, half again as many instructions) */
-    __asm__("" : "+r"(i));
-#endif
-    masks[i] = mask_of[greys[i]];
-    masks[i + 1] = mask_of[greys[i + 1]];
-    masks[i + 2] = mask_of[greys[i + 2]];
-    masks[i + 3] = mask_of[greys[i + 3]];
-  }
-  for (; i < n; i++) masks[i] = mask_of[greys[i]];
+  greys_lookup(greys + i, n - i, mask_of, masks + i);
 }
 
 /* The effects stage: run the effects over the scanned frame, then send its points to the
