@@ -438,6 +438,14 @@ static inline __m128d tex_pair(const struct tex_lanes *T, const __m128d X[3])
   return _mm_set_pd(unit_pixel[T->px[y1 * w + x1] + 1], unit_pixel[T->px[y0 * w + x0] + 1]);
 }
 
+/* The blocked-mask bits of P's point lights (flat_lit_pairs, flat_lit_masked). */
+static inline unsigned point_bits(const struct shade_pair *P)
+{
+  unsigned pm = 0;
+  for (int k = 0; k < P->n; k++) if (P->l[k].point) pm |= 1u << k;
+  return pm;
+}
+
 /* shade_face_at, uncounted, at the points p0 .. p1 - 1 of a row (px[p], py) on a lit face
    that is not smoothed, t its texture or NULL (P: shade_pair_init's for the face's unit
    normal, face_normal's), two points at a time: each lane's space point is space_point's
@@ -459,8 +467,7 @@ static void flat_lit_pairs(const struct fx_model *m, int face, const struct fx_t
   if (t) tex_lanes_init(&T, t);
   else memset(&T, 0, sizeof T);             /* (not read) */
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
-  unsigned pm = 0;                          /* the point lights' bits */
-  for (int k = 0; k < P->n; k++) if (P->l[k].point) pm |= 1u << k;
+  const unsigned pm = point_bits(P);        /* the point lights' bits */
   unsigned c0 = 0, c1 = 0;                  /* the lanes' masks csum is the sums of, when have */
   bool have = false;
   __m128d csum = zero;
@@ -714,8 +721,7 @@ static void flat_lit_masked(const struct fx_model *m, int face, const struct sha
                             unsigned b, int n, const double *px, double py, uint8_t *grey)
 {
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
-  unsigned pm = 0;                          /* the point lights' bits */
-  for (int k = 0; k < P->n; k++) if (P->l[k].point) pm |= 1u << k;
+  const unsigned pm = point_bits(P);        /* the point lights' bits */
   if ((b & pm) == pm) {
     const unsigned g = shade_pair_greys(one, shade_pair_sum(P, zero, zero, zero, b, b));
     fill_grey(grey, (uint8_t)g, n);         /* (both lanes the same grey) */
