@@ -284,28 +284,8 @@ int band_lanes(const struct smooth_lanes *x, const __m128d *l, __m128d *n)
 }
 
 /* partial_normal at band points q and q + 1 (coordinates lv[k][q]: bary_pairs') when both
-   are in the same edge band (edge_lanes), their normals into nv[c][ns] and nv[c][ns + 1];
-   false (nothing written) when they are not. */
-static inline bool edge_pair(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW], int q,
-                             double (*nv)[SMOOTH_ROW], int ns)
-{
-  __m128d l[3], n[3];
-  int in[3];
-  for (int k = 0; k < 3; k++) {
-    l[k] = _mm_loadu_pd(&lv[k][q]);
-    in[k] = _mm_movemask_pd(_mm_cmplt_pd(l[k], _mm_load_pd(x->xt[k])));
-  }
-  const int k = in[0] == 3 && !(in[1] | in[2]) ? 0 : in[1] == 3 && !(in[0] | in[2]) ? 1 :
-                in[2] == 3 && !(in[0] | in[1]) ? 2 : -1;
-  if (k < 0) return false;
-  edge_lanes(x, l, k, n);
-  for (int c = 0; c < 3; c++) _mm_storeu_pd(&nv[c][ns], n[c]);
-  return true;
-}
-
-/* partial_normal at band points q and q + 1 (as edge_pair) when both are in the same
-   edge band (1) or the same corner band (2) (band_lanes), their normals into nv[c][ns]
-   and nv[c][ns + 1]; 0 (nothing written) when neither. */
+   are in the same edge band (1) or the same corner band (2) (band_lanes), their normals
+   into nv[c][ns] and nv[c][ns + 1]; 0 (nothing written) when neither. */
 static inline int band_pair_normals(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW],
                                     int q, double (*nv)[SMOOTH_ROW], int ns)
 {
@@ -1663,9 +1643,10 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   int slot_p[SMOOTH_ROW], ns = 0;
   for (int q = 0; q < nl; q++) {
 #ifdef __SSE2__
-    if (q + 1 < nl && edge_pair(lx, lv, q, nv, ns)) {   /* two points of one edge band */
+    int r2;                                 /* two points of one edge or corner band */
+    if (q + 1 < nl && (r2 = band_pair_normals(lx, lv, q, nv, ns)) != 0) {
       for (int h = 0; h < 2; h++) {
-        region[sp.at[q + h]] = 1;
+        region[sp.at[q + h]] = r2;
         slot_p[ns++] = sp.at[q + h];
       }
       q++;
@@ -1841,7 +1822,8 @@ static inline void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg,
    each over the whole stretch (reflectance 1: flat) and each point with its own
    triangle's constants: the inner triangle's filter a triangle at a time (inner_split,
    the chain's points gathered), the barycentric coordinates (bary_row), the normals (two
-   points of one triangle's edge band together: edge_pair), the lighting (lit_row). */
+   points of one triangle's edge or corner band together: band_pair_normals), the
+   lighting (lit_row). */
 static void partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
                         const int *tri, const int *at, const double (*X)[3],
                         const unsigned *blocked, const struct shade_lights *L, int *grey,

@@ -837,8 +837,8 @@ static void band_point(const struct lib *L, int t, int k, double lk, double sp, 
 }
 
 /* Runs of points along each side's band of each triangle of the globe (most of them two
-   by two in one edge band, which smooth_grey_run shades two points an instruction; the ends
-   of a run in the corner bands) give the greys and regions each gives alone
+   by two in one edge band, which smooth_grey_run shades two points an instruction, as it
+   does two of one corner band; the ends of a run in the corner bands) give the greys and regions each gives alone
    (smooth_grey_at), bit for bit: under partial smoothings of several insets (prop:0.4: the
    insets scaled to sum 1), at several depths into the band, with reflectances 1 and 0.6,
    under the scene's light and with a second one, blocked at some points. */
