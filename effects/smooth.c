@@ -286,8 +286,9 @@ int band_lanes(const struct smooth_lanes *x, const __m128d *l, __m128d *n)
 /* partial_normal at band points q and q + 1 (coordinates lv[k][q]: bary_pairs') when both
    are in the same edge band (1) or the same corner band (2) (band_lanes), their normals
    into nv[c][ns] and nv[c][ns + 1]; 0 (nothing written) when neither. */
-static inline int band_pair_normals(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW],
-                                    int q, double (*nv)[SMOOTH_ROW], int ns)
+static inline __attribute__((always_inline))
+int band_pair_normals(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW], int q,
+                      double (*nv)[SMOOTH_ROW], int ns)
 {
   __m128d l[3], n[3];
   for (int k = 0; k < 3; k++) l[k] = _mm_loadu_pd(&lv[k][q]);
@@ -1297,36 +1298,19 @@ static inline void phong_lanes(const struct smooth_model *m, const struct smooth
 
 static inline int clamp_grey(int g) { return g < 0 ? 0 : g > 255 ? 255 : g; }
 
-/* The greys of slots q < ns: the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
-   (unit()'s steps), turned to the eye's side (times sgn) and lit (shade_grey_lit) at point
-   slot_p[q] (X, blocked), into grey[slot_p[q]] clamped to 0..255. Under parallel lights
-   two slots an instruction where the processor has SSE2: each lane's operations are the
-   scalar ones on its values in their order (correctly rounded, as the scalar ones are; a
-   lane's divides kept only where its length is > 0, as unit() divides; a light blocked or
-   a dot not > 0 adds +0, which leaves the lane's sum, never below +0, as it is), and the
-   grey from the sum is shade_grey_of_sum's (lit_pair, at reflectance refl). */
+static inline __attribute__((always_inline))
+void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg, double refl,
+             const int *slot_p, const double (*X)[3], const unsigned *blocked,
+             const struct shade_lights *L, int *grey);
+
+/* lit_row with one side sgn for every slot (a run's: one triangle). */
 static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_ROW], const int *slot_p,
                              const double (*X)[3], double refl, const unsigned *blocked,
                              const struct shade_lights *L, int *grey)
 {
-  int q = 0;
-#ifdef __SSE2__
-  bool parallel = true;
-  for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
-  if (parallel) {
-    const __m128d sg = _mm_set1_pd(sgn);
-    for (; q + 2 <= ns; q += 2)
-      lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q), sg,
-               blocked[slot_p[q]], blocked[slot_p[q + 1]], L, L->n, refl, &grey[slot_p[q]],
-               &grey[slot_p[q + 1]]);
-  }
-#endif
-  for (; q < ns; q++) {
-    double v[3] = { nv[0][q], nv[1][q], nv[2][q] };
-    unit(v);
-    for (int c = 0; c < 3; c++) v[c] *= sgn;
-    grey[slot_p[q]] = clamp_grey(shade_grey_lit(L, v, X[slot_p[q]], refl, blocked[slot_p[q]]));
-  }
+  double sg[SMOOTH_ROW];
+  for (int q = 0; q < ns; q++) sg[q] = sgn;
+  lit_row(ns, nv, sg, refl, slot_p, X, blocked, L, grey);
 }
 
 #ifdef __SSE2__
@@ -1779,12 +1763,16 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
 }
 #endif
 
-/* lit_slots at reflectance 1 with each slot's own side: slot q's normal turned by sg[q].
-   Under parallel lights two slots an instruction where the processor has SSE2 (lit_pair:
-   lit_slots' operations, each lane on its own values; a lone last slot in both lanes). */
-static inline void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg,
-                           const int *slot_p, const double (*X)[3], const unsigned *blocked,
-                           const struct shade_lights *L, int *grey)
+/* The greys of slots q < ns: the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
+   (unit()'s steps), turned to its eye's side (times sg[q]) and lit (shade_grey_lit, at
+   reflectance refl) at point slot_p[q] (X, blocked), into grey[slot_p[q]] clamped to
+   0..255. Under parallel lights two slots an instruction where the processor has SSE2
+   (lit_pair: each lane's operations the scalar ones on its values in their order,
+   correctly rounded as the scalar ones are; a lone last slot in both lanes). */
+static inline __attribute__((always_inline))
+void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg, double refl,
+             const int *slot_p, const double (*X)[3], const unsigned *blocked,
+             const struct shade_lights *L, int *grey)
 {
   int q = 0;
 #ifdef __SSE2__
@@ -1796,16 +1784,16 @@ static inline void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg,
       for (; q + 2 <= ns; q += 2)
         lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
                  _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L, 1,
-                 1.0, &grey[slot_p[q]], &grey[slot_p[q + 1]]);
+                 refl, &grey[slot_p[q]], &grey[slot_p[q + 1]]);
     for (; q + 2 <= ns; q += 2)
       lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
                _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L, nlight,
-               1.0, &grey[slot_p[q]], &grey[slot_p[q + 1]]);
+               refl, &grey[slot_p[q]], &grey[slot_p[q + 1]]);
     if (q < ns) {
       int dummy;
       lit_pair(_mm_set1_pd(nv[0][q]), _mm_set1_pd(nv[1][q]), _mm_set1_pd(nv[2][q]),
                _mm_set1_pd(sg[q]), blocked[slot_p[q]], blocked[slot_p[q]], L, nlight,
-               1.0, &grey[slot_p[q]], &dummy);
+               refl, &grey[slot_p[q]], &dummy);
       q++;
     }
   }
@@ -1814,7 +1802,7 @@ static inline void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg,
     double v[3] = { nv[0][q], nv[1][q], nv[2][q] };
     unit(v);
     for (int c = 0; c < 3; c++) v[c] *= sg[q];
-    grey[slot_p[q]] = clamp_grey(shade_grey_lit(L, v, X[slot_p[q]], 1.0, blocked[slot_p[q]]));
+    grey[slot_p[q]] = clamp_grey(shade_grey_lit(L, v, X[slot_p[q]], refl, blocked[slot_p[q]]));
   }
 }
 
@@ -1900,7 +1888,7 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
     sg[ns] = tr->front ? 1 : -1;
     slot_p[ns] = sp.lit_in[k];
   }
-  if (ns) lit_row(ns, nv, sg, slot_p, X, blocked, L, grey);
+  if (ns) lit_row(ns, nv, sg, 1.0, slot_p, X, blocked, L, grey);
 }
 
 bool smooth_rows(const struct smooth_model *m, const struct effects *e,
