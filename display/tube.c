@@ -30,6 +30,7 @@
 #define TUBE_DOTS (TUBE_W * TUBE_H)      /* 120,000 addressable dots */
 
 struct tube {
+  _Alignas(8)                            /* (whole 64-bit words are stored: put_row3) */
   uint8_t  lit[(TUBE_DOTS + 7) / 8 + 8]; /* bit (y*TUBE_W + x): dot lit; 8 last bytes spare
                                             (dots are read up to eight bytes at a time) */
   uint8_t  left[(TUBE_DOTS + 7) / 8 + 8];/* settle's scratch: the dots not yet spelled out */
@@ -51,6 +52,8 @@ struct tube {
 ** run keeps no masks: settle finds them in lit[] (see there). */
 _Static_assert(TUBE_DOTS <= 1 << 17 && TUBE_DOTS / 4 <= 1 << 15, "a dot in a write's bits");
 _Static_assert(TUBE_W / 3 <= 255, "a row's cells in a run's count");
+_Static_assert(((TUBE_DOTS + 7) / 8 + 8) % 8 == 0 && (TUBE_DOTS + 63) / 64 * 8 <= (TUBE_DOTS + 7) / 8 + 8,
+               "lit[] is whole 64-bit words, the last dot's word within it (put_row3)");
 _Static_assert(TUBE_W % 8 == 0, "a row of lit[] starts on a byte; an aligned 4x4 cell's "
                "rows are the low or high half of a byte each");
 
@@ -556,6 +559,61 @@ static inline __attribute__((always_inline)) void put_lanes3(uint8_t *lit, uint3
   }
 }
 
+/* Whole groups of three runs (21 cells, 63 dots a row) for put_rows3: a row of cells on
+** the tube is at most TUBE_W / 3 cells, GROUPS3 groups. */
+enum { GROUP3 = 3 * RUN3, GROUPS3 = (TUBE_W / 3 + GROUP3 - 1) / GROUP3 };
+
+/* Row r (0: the top row of the cells, 2: the bottom) of ngroups groups of 3x3 cells, the
+** runs' lanes at acc (3 * ngroups of them; a run of no cell is 0), from dot s to the
+** row's end e (s < e), lit[]'s dots from s on all unlit. The row's bits go into
+** lit[] as whole aligned 64-bit words (lit[] is 8-aligned and a whole number of words
+** long; bit d of word k is dot 64k + d, the host little-endian as everywhere in this file),
+** each built in a register: only the first word is read (for the dots below s, which
+** it keeps), so no load reads bytes that a store before it wrote in part (a 32-bit
+** read-modify-write of each run's lane, overlapping the last run's store, failed to take
+** the stored bytes forward at every run: issue 19). A group is 63 dots from pos of word
+** p: the group's bits fill word p from pos on (its first 64 - pos bits) and the next word
+** below pos - 1, so the position falls by one a group and each group but one in 64 ends
+** a word, stored whole. The dots past the row's end in its last word are stored 0: they
+** are unlit (past s), and the rows above, which may have dots there, are stored after. */
+static inline __attribute__((always_inline)) void put_row3(uint8_t *lit, uint32_t s,
+                                                           uint32_t e, const uint64_t *acc,
+                                                           int ngroups, int r)
+{
+  const uint64_t lane = (1u << LANE3) - 1;
+  uint8_t *p = lit + (s >> 6 << 3);
+  unsigned pos = s & 63;
+  uint64_t w;
+  memcpy(&w, p, sizeof w);                 /* the dots below s kept (those from s on: 0) */
+  for (int g = 0; g < ngroups; g++, acc += 3) {
+    const uint64_t v = (acc[0] >> LANE3 * r & lane) | (acc[1] >> LANE3 * r & lane) << LANE3 |
+                       (acc[2] >> LANE3 * r & lane) << 2 * LANE3;
+    const uint64_t lo = w | v << pos, hi = v >> 1 >> (63 - pos);   /* (v >> (64 - pos)) */
+    memcpy(p, &lo, sizeof lo);             /* word p: whole when pos > 0 */
+    const bool next = pos != 0;            /* pos + 63 >= 64: the group ends word p */
+    p += next ? 8 : 0;
+    w = next ? hi : lo;
+    pos = (pos + 63) & 63;
+  }
+  if ((size_t)(p - lit) <= (size_t)((e - 1) >> 6 << 3)) memcpy(p, &w, sizeof w);  /* the last
+                                              word, when the row has a dot in it */
+}
+
+/* count 3x3 cells abutting from dot base (on the tube) as the lanes of their runs at acc
+** (RUN3 cells a run, a run of no cell 0 up to a whole number of groups), their dots all
+** unlit: each row's lanes put into lit[] as they are (no write of order[]), a row after
+** another from the bottom, so that a row's first word, read, has the bits of the row
+** below it if they share it. */
+static inline __attribute__((always_inline)) void put_rows3(uint8_t *lit, uint32_t base,
+                                                            const uint64_t *acc, int count)
+{
+  const int ngroups = (count + GROUP3 - 1) / GROUP3;
+  for (int r = 2; r >= 0; r--) {
+    const uint32_t s = base - (uint32_t)r * TUBE_W;
+    put_row3(lit, s, s + 3 * (uint32_t)count, acc, ngroups, r);
+  }
+}
+
 /* write_run3 where the cells' dots are all unlit: every dot new (its fresh is acc), so
 ** each row's lane is put into lit[] as it is; the new end of the writes. */
 static inline __attribute__((always_inline)) uint32_t *write_new3(uint8_t *lit, uint32_t *next,
@@ -624,11 +682,14 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
     return T74_OK;
   }
   if (!(any & ~full) && cell == 3 && above) {
-    /* runs of RUN3 cells, a row of them a lane (put_lanes3) */
-    const uint32_t base0 = base;
-    for (int c0 = 0; c0 < count; c0 += RUN3, base += 3 * RUN3) {
+    /* runs of RUN3 cells, a row of them a lane, the rows stored a word at a time
+       (put_rows3); nothing when no cell has a dot */
+    if (!any) return T74_OK;
+    uint64_t acc[3 * GROUPS3];              /* the runs' lanes, then 0 to a whole group */
+    int n = 0;
+    for (int c0 = 0; c0 < count; c0 += RUN3, n++) {
       const uint16_t *m = masks + c0;
-      uint64_t acc = 0;
+      acc[n] = 0;
       if (count - c0 >= RUN3) {
         uint64_t w4, w3;                    /* cells 0 .. 3 and 3 .. 6 */
         memcpy(&w4, m, sizeof w4);
@@ -637,16 +698,18 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
         if (w4 == w3 && w4 == m[0] * 0x0001000100010001u)
           /* seven cells of one mask: the loop's lanes, each cell's bits three above the
              last's within a lane of 21 (no two meet: a sum is their OR) */
-          acc = lanes3[m[0]] * 01111111u;
+          acc[n] = lanes3[m[0]] * 01111111u;
         else
-          acc = lanes3[m[0]] | lanes3[m[1]] << 3 | lanes3[m[2]] << 6 | lanes3[m[3]] << 9 |
-                lanes3[m[4]] << 12 | lanes3[m[5]] << 15 | lanes3[m[6]] << 18;
+          acc[n] = lanes3[m[0]] | lanes3[m[1]] << 3 | lanes3[m[2]] << 6 | lanes3[m[3]] << 9 |
+                   lanes3[m[4]] << 12 | lanes3[m[5]] << 15 | lanes3[m[6]] << 18;
       } else {
-        for (int c = count - 1; c >= c0; c--) acc = acc << 3 | lanes3[masks[c]];
+        for (int c = count - 1; c >= c0; c--) acc[n] = acc[n] << 3 | lanes3[masks[c]];
       }
-      put_lanes3(lit, base, acc);
     }
-    if (any) { *next = run_word(base0, 3, count); t->nlog++; }
+    for (; n % 3; n++) acc[n] = 0;
+    put_rows3(lit, base, acc, count);
+    *next = run_word(base, 3, count);
+    t->nlog++;
     return T74_OK;
   }
   if (cell == 3) {                         /* runs of RUN3 cells, a row of them a lane */
@@ -790,22 +853,23 @@ int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_key
     if (base0 + (uint32_t)(3 * count) > t->lit_end) t->lit_end = base0 + (uint32_t)(3 * count);
     const uint64_t (*L)[256] = tk->lanes;
     uint64_t seen = 0;                     /* the OR of the lanes: not 0 when a cell has a dot */
-    uint32_t base = base0;
-    int c0 = 0;
-    for (; c0 + RUN3 <= count; c0 += RUN3, base += 3 * RUN3) {
+    uint64_t acc[3 * GROUPS3];             /* the runs' lanes, then 0 to a whole group */
+    int n = 0, c0 = 0;
+    for (; c0 + RUN3 <= count; c0 += RUN3) {
       const uint8_t *k = keys + c0;
-      const uint64_t acc = L[0][k[0]] | L[1][k[1]] | L[2][k[2]] | L[3][k[3]] | L[4][k[4]] |
-                           L[5][k[5]] | L[6][k[6]];
-      seen |= acc;
-      put_lanes3(t->lit, base, acc);
+      acc[n] = L[0][k[0]] | L[1][k[1]] | L[2][k[2]] | L[3][k[3]] | L[4][k[4]] | L[5][k[5]] |
+               L[6][k[6]];
+      seen |= acc[n++];
     }
     if (c0 < count) {
-      uint64_t acc = 0;
-      for (int c = c0; c < count; c++) acc |= L[c - c0][keys[c]];
-      seen |= acc;
-      put_lanes3(t->lit, base, acc);
+      acc[n] = 0;
+      for (int c = c0; c < count; c++) acc[n] |= L[c - c0][keys[c]];
+      seen |= acc[n++];
     }
-    if (seen) t->order[t->done + t->nlog++] = run_word(base0, 3, count);
+    if (!seen) return T74_OK;              /* no dot: nothing to store */
+    for (; n % 3; n++) acc[n] = 0;
+    put_rows3(t->lit, base0, acc, count);
+    t->order[t->done + t->nlog++] = run_word(base0, 3, count);
     return T74_OK;
   }
   uint16_t masks[TUBE_W];                   /* (count <= TUBE_W on the tube; else one by one) */

@@ -34,6 +34,22 @@ static void tubes_same(const struct tube *a, const struct tube *b)
   }
 }
 
+/* tubes_same with one assert for the order (the first dot where it differs, -1 if none):
+   for tubes of many dots */
+static void orders_same(const struct tube *a, const struct tube *b)
+{
+  const int n = tube_count(a);
+  assert_int_equal(n, tube_count(b));
+  int differ = -1;
+  for (int k = 0; k < n && differ < 0; k++) {
+    int xa, ya, xb, yb;
+    if (tube_order(a, k, &xa, &ya) != T74_OK || tube_order(b, k, &xb, &yb) != T74_OK ||
+        xa != xb || ya != yb)
+      differ = k;
+  }
+  assert_int_equal(differ, -1);
+}
+
 static uint32_t next_rand(uint32_t *x)
 {
   *x = *x * 1103515245u + 12345u;
@@ -362,6 +378,76 @@ static void test_rows_keyed4(void **state)
   }
 }
 
+/* The 3x3 rows over unlit rows (tube_write_cells_keyed's and tube_write_cells' run) store
+   each row of the cells as whole aligned 64-bit words of lit[], reading only the row's
+   first word: the dots below the row's first dot in that word are kept, the words after
+   it are stored whole. Here rows of 3x3 cells are drawn bottom row first, each three
+   ways: a cell at a time (tube_write_dots, a), by keys (b) and by masks (c). The rows
+   start anywhere in a word (x0 0 .. 399, rows 3 or 4 apart), most end at the tube's
+   right edge (x0 = 400 - 3 * count: the bottom row's last word is the next row's first
+   when the next row starts within it, and a row's first word may hold the last dots of
+   the row written before), some on the tube's last row (y0 299: its last dot is the
+   last of lit[]); before many rows dots are lit just left of the row in its bottom row
+   (in its first word); some rows have no dot or every dot. A word stored over dots it
+   should have kept loses them: the packed rows, the count and the order would differ. */
+static void test_rows_keyed_words(void **state)
+{
+  (void)state;
+  uint32_t x = 4019;
+  uint16_t mask_of[256];
+  for (int k = 0; k < 256; k++)
+    mask_of[k] = (uint16_t)(k % 9 == 0 ? 0 : k == 1 ? 0x1ffu : next_rand(&x) & 0x1ffu);
+  struct tube_keys tk;
+  tube_keys_init(&tk, 3, mask_of);
+  for (int pass = 0; pass < 48; pass++) {
+    struct tube *a = tube_new(), *b = tube_new(), *c = tube_new();
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_non_null(c);
+    /* every 3 rows from y0 2 to the tube's last row, or 3 or 4 apart, or the last row alone */
+    const int y1 = pass % 6 == 5 ? 299 : 2 + (pass % 3 == 2 ? (int)(next_rand(&x) % 3u) : 0);
+    for (int y0 = y1; y0 < 300; y0 += pass % 3 == 2 ? 3 + (int)(next_rand(&x) % 2u) : 3) {
+      const uint32_t how = next_rand(&x) % 8u;
+      const int n = how == 7 ? 133 : 1 + (int)(next_rand(&x) % 133u);
+      const int x0 = how < 5 ? 400 - 3 * n : (int)(next_rand(&x) % (uint32_t)(401 - 3 * n));
+      if (next_rand(&x) % 3u) {             /* dots lit just left of the row, bottom row */
+        const int k1 = (int)(next_rand(&x) % 12u);
+        for (int k = 1; k <= k1 && k <= x0; k++)
+          if (next_rand(&x) % 3u) {
+            assert_int_equal(tube_write(a, x0 - k, y0 - 2), T74_OK);
+            assert_int_equal(tube_write(b, x0 - k, y0 - 2), T74_OK);
+            assert_int_equal(tube_write(c, x0 - k, y0 - 2), T74_OK);
+          }
+      }
+      uint8_t keys[133];
+      uint16_t masks[133];
+      const uint32_t fill = next_rand(&x) % 6u;     /* 0: no dot, 1: every dot, else any */
+      for (int k = 0; k < n; k++) {
+        keys[k] = (uint8_t)(fill == 0 ? 9u * (next_rand(&x) % 4u) : fill == 1 ? 1u : next_rand(&x));
+        masks[k] = mask_of[keys[k]];
+        assert_int_equal(tube_write_dots(a, x0 + 3 * k, y0, 3, masks[k]), T74_OK);
+      }
+      assert_int_equal(tube_write_cells_keyed(b, x0, y0, &tk, keys, n), T74_OK);
+      assert_int_equal(tube_write_cells(c, x0, y0, 3, masks, n), T74_OK);
+      assert_int_equal(tube_count(b), tube_count(a));
+      assert_int_equal(tube_count(c), tube_count(a));
+    }
+    for (int y = 0; y < 300; y++) {
+      uint8_t ra[TUBE_ROW_BYTES], rb[TUBE_ROW_BYTES], rc[TUBE_ROW_BYTES];
+      tube_row_packed(a, y, ra);
+      tube_row_packed(b, y, rb);
+      tube_row_packed(c, y, rc);
+      assert_memory_equal(rb, ra, TUBE_ROW_BYTES);
+      assert_memory_equal(rc, ra, TUBE_ROW_BYTES);
+    }
+    orders_same(a, b);
+    orders_same(a, c);
+    tube_free(a);
+    tube_free(b);
+    tube_free(c);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -372,6 +458,7 @@ int main(void)
     cmocka_unit_test(test_rows_keyed),
     cmocka_unit_test(test_runs_over_runs),
     cmocka_unit_test(test_rows_keyed4),
+    cmocka_unit_test(test_rows_keyed_words),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
