@@ -586,9 +586,14 @@ static inline __attribute__((always_inline)) void put_row3(uint8_t *lit, uint32_
   uint64_t w;
   memcpy(&w, p, sizeof w);                 /* the dots below s kept (those from s on: 0) */
   for (int g = 0; g < ngroups; g++, acc += 3) {
-    const uint64_t v = (acc[0] >> LANE3 * r & lane) | (acc[1] >> LANE3 * r & lane) << LANE3 |
-                       (acc[2] >> LANE3 * r & lane) << 2 * LANE3;
-    const uint64_t lo = w | v << pos, hi = v >> 1 >> (63 - pos);   /* (v >> (64 - pos)) */
+    /* lane r of each run, the three side by side (r a constant: each lane moved once; a
+       run's lanes are below bit 63, so lane 2 needs no mask) */
+    const uint64_t v =
+      r == 0 ? (acc[0] & lane) | (acc[1] & lane) << LANE3 | (acc[2] & lane) << 2 * LANE3
+      : r == 1 ? (acc[0] >> LANE3 & lane) | (acc[1] & lane << LANE3) |
+                 (acc[2] & lane << LANE3) << LANE3
+      : acc[0] >> 2 * LANE3 | (acc[1] >> LANE3 & lane << LANE3) | (acc[2] & lane << 2 * LANE3);
+    const uint64_t lo = w | v << pos, hi = v >> 1 >> (pos ^ 63);   /* (v >> (64 - pos)) */
     memcpy(p, &lo, sizeof lo);             /* word p: whole when pos > 0 */
     const bool next = pos != 0;            /* pos + 63 >= 64: the group ends word p */
     p += next ? 8 : 0;
@@ -608,10 +613,10 @@ static inline __attribute__((always_inline)) void put_rows3(uint8_t *lit, uint32
                                                             const uint64_t *acc, int count)
 {
   const int ngroups = (count + GROUP3 - 1) / GROUP3;
-  for (int r = 2; r >= 0; r--) {
-    const uint32_t s = base - (uint32_t)r * TUBE_W;
-    put_row3(lit, s, s + 3 * (uint32_t)count, acc, ngroups, r);
-  }
+  const uint32_t s = base - 2 * TUBE_W, e = s + 3 * (uint32_t)count;
+  put_row3(lit, s, e, acc, ngroups, 2);    /* (r a constant in each: its shifts too) */
+  put_row3(lit, s + TUBE_W, e + TUBE_W, acc, ngroups, 1);
+  put_row3(lit, s + 2 * TUBE_W, e + 2 * TUBE_W, acc, ngroups, 0);
 }
 
 /* write_run3 where the cells' dots are all unlit: every dot new (its fresh is acc), so
