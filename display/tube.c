@@ -862,8 +862,17 @@ int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_key
     int n = 0, c0 = 0;
     for (; c0 + RUN3 <= count; c0 += RUN3) {
       const uint8_t *k = keys + c0;
-      acc[n] = L[0][k[0]] | L[1][k[1]] | L[2][k[2]] | L[3][k[3]] | L[4][k[4]] | L[5][k[5]] |
-               L[6][k[6]];
+      uint32_t k4, k3;                      /* keys 0 .. 3 and 3 .. 6 */
+      memcpy(&k4, k, sizeof k4);
+      memcpy(&k3, k + 3, sizeof k3);
+      if (k4 == k3 && k4 == k[0] * 0x01010101u)
+        /* seven cells of one key (a background, a flat face): the loop's lanes, each
+           cell's bits three above the last's within a lane of 21 (no two meet: a sum is
+           their OR) */
+        acc[n] = L[0][k[0]] * 01111111u;
+      else
+        acc[n] = L[0][k[0]] | L[1][k[1]] | L[2][k[2]] | L[3][k[3]] | L[4][k[4]] | L[5][k[5]] |
+                 L[6][k[6]];
       seen |= acc[n++];
     }
     if (c0 < count) {

@@ -388,7 +388,8 @@ static void test_rows_keyed4(void **state)
    when the next row starts within it, and a row's first word may hold the last dots of
    the row written before), some on the tube's last row (y0 299: its last dot is the
    last of lit[]); before many rows dots are lit just left of the row in its bottom row
-   (in its first word); some rows have no dot or every dot. A word stored over dots it
+   (in its first word); some rows have no dot, every dot, one key or runs of one key (seven
+   cells of one key are taken at once). A word stored over dots it
    should have kept loses them: the packed rows, the count and the order would differ. */
 static void test_rows_keyed_words(void **state)
 {
@@ -421,9 +422,12 @@ static void test_rows_keyed_words(void **state)
       }
       uint8_t keys[133];
       uint16_t masks[133];
-      const uint32_t fill = next_rand(&x) % 6u;     /* 0: no dot, 1: every dot, else any */
+      /* 0: no dot, 1: every dot, 2: one key, 3: runs of one key, else any */
+      const uint32_t fill = next_rand(&x) % 7u, one = next_rand(&x) % 256u;
       for (int k = 0; k < n; k++) {
-        keys[k] = (uint8_t)(fill == 0 ? 9u * (next_rand(&x) % 4u) : fill == 1 ? 1u : next_rand(&x));
+        keys[k] = (uint8_t)(fill == 0 ? 9u * (next_rand(&x) % 4u) : fill == 1 ? 1u
+                            : fill == 2 ? one : fill == 3 ? one + (uint32_t)k / 9u
+                            : next_rand(&x));
         masks[k] = mask_of[keys[k]];
         assert_int_equal(tube_write_dots(a, x0 + 3 * k, y0, 3, masks[k]), T74_OK);
       }
