@@ -749,8 +749,8 @@ static void test_row_is_single(void **state)
 }
 
 /* A row's stretch whose points come two or more at a time from one edge band or one corner
-   band of a triangle (the pairs smooth_row takes from the inner filter straight to their
-   greys: band_fused), with inner points, points of another band and points outside
+   band of a triangle (the pairs whose coordinates smooth_row makes as the inner filter
+   declines them: inner_split's row), with inner points, points of another band and points outside
    between them: the greys each gives alone (smooth_grey_at) and the same count of points
    in each region, bit for bit, under the partial smoothings, one light and two (parallel),
    a light blocked at some points. */
