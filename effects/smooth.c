@@ -283,15 +283,24 @@ int band_lanes(const struct smooth_lanes *x, const __m128d *l, __m128d *n)
   return 0;
 }
 
-/* partial_normal at band points q and q + 1 (coordinates lv[k][q]: bary_pairs') when both
-   are in the same edge band (1) or the same corner band (2) (band_lanes), their normals
-   into nv[c][ns] and nv[c][ns + 1]; 0 (nothing written) when neither. */
+/* Lane 0 from a, lane 1 from b, by two 8-byte loads: each is forwarded whole from a store
+   of 8 or 16 bytes still on its way to the cache, where a 16-byte load over two stores
+   would wait for both to reach it. */
+static inline __attribute__((always_inline)) __m128d pick2(const double *a, const double *b)
+{
+  return _mm_loadh_pd(_mm_load_sd(a), b);
+}
+
+/* partial_normal at band points q and q + 1 (coordinates lv[k][q]: bary_pairs' or
+   inner_split's row's, stored one by one: pick2) when both are in the same edge band (1)
+   or the same corner band (2) (band_lanes), their normals into nv[c][ns] and nv[c][ns +
+   1]; 0 (nothing written) when neither. */
 static inline __attribute__((always_inline))
 int band_pair_normals(const struct smooth_lanes *x, double (*lv)[SMOOTH_ROW], int q,
                       double (*nv)[SMOOTH_ROW], int ns)
 {
   __m128d l[3], n[3];
-  for (int k = 0; k < 3; k++) l[k] = _mm_loadu_pd(&lv[k][q]);
+  for (int k = 0; k < 3; k++) l[k] = pick2(&lv[k][q], &lv[k][q + 1]);
   const int r = band_lanes(x, l, n);
   if (r)
     for (int c = 0; c < 3; c++) _mm_storeu_pd(&nv[c][ns], n[c]);
@@ -1123,56 +1132,30 @@ static inline bool inner_one(const double ar[3], const struct smooth_lanes *x)
 struct split {
   int nl;                   /* points left to the chain: */
   int at[SMOOTH_ROW];       /*   their indices in the run */
-  double la[3][SMOOTH_ROW]; /*   their areas (bary_areas), a component an array (bary_pairs) */
-  int tri[SMOOTH_ROW];      /*   their triangles (a row's stretch: inner_split's row) */
-  double tot[SMOOTH_ROW];   /*   their triangles' btot (likewise) */
+  double la[3][SMOOTH_ROW]; /*   a component an array: their areas (bary_areas; a run's, for
+                                 bary_pairs), or their barycentric coordinates (a row's
+                                 stretch: inner_split's row) */
+  int tri[SMOOTH_ROW];      /*   their triangles (a row's stretch) */
   int ni;                   /* points the filter proved inner whose grey is lit (not the
                                flat picture's): */
   int lit_in[SMOOTH_ROW];   /*   their indices */
   int lit_tri[SMOOTH_ROW];  /*   their triangles (likewise) */
-  /* a row's stretch (inner_split's row) only: */
-  const struct shade_lights *L;   /* its lights, when all parallel (else NULL): then a pair
-                                     the filter declines goes on at once (band_fused) */
-  int fused[3];             /* points band_fused gave their greys, by region (1, 2) */
 };
 
-#ifdef __SSE2__
-static inline __attribute__((always_inline))
-void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsigned b1,
-              const struct shade_lights *L, int nlight, double refl, int *g0, int *g1);
-
-/* A pair of points of one triangle that the inner filter declined (lanes 0 and 1; their
-   areas times tot's sign, w, and those given back to the chain, v = st w), taken through
-   partial_row's steps at once, without the chain's arrays: their barycentric coordinates
-   (bary_row's operations on the same values: v / tot, both lanes one tot, never 0 where
-   the filter is used), their normals where both are in one edge band or one corner band
-   (band_lanes, as partial_row's band_pair_normals), lit (lit_pair, as lit_row, with the
-   triangle's side sgn and the lights L, all parallel) into g[0] and g[1], the regions
-   counted in sp->fused: the same greys, bit for bit. false (nothing written) when the two
-   are not in one band: then they go to the chain. */
-static inline __attribute__((always_inline))
-bool band_fused(const struct smooth_lanes *x, const __m128d *v, double tot, double sgn,
-                unsigned b0, unsigned b1, struct split *sp, int *g)
+/* bary_of_areas at one point from its areas a, for a triangle whose btot is tot: the same
+   operations in the same order. */
+static inline void bary_one(double tot, const double a[3], double l[3])
 {
-  const __m128d zero = _mm_setzero_pd(), third = _mm_set1_pd(1.0 / 3), tv = _mm_set1_pd(tot);
-  __m128d lk[3], l[3], n[3];
-  for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(v[k], tv), zero);
-  const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
-  const __m128d pos = _mm_cmpgt_pd(sum, zero);
-  if (_mm_movemask_pd(pos) == 3)            /* both sums positive: the selection's value */
-    for (int k = 0; k < 3; k++) l[k] = _mm_div_pd(lk[k], sum);
-  else
-    for (int k = 0; k < 3; k++)
-      l[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)), _mm_andnot_pd(pos, third));
-  const int r = band_lanes(x, l, n);
-  if (!r) return false;
-  const __m128d sg = _mm_set1_pd(sgn);
-  if (sp->L->n == 1) lit_pair(n[0], n[1], n[2], sg, b0, b1, sp->L, 1, 1.0, g, g + 1);
-  else lit_pair(n[0], n[1], n[2], sg, b0, b1, sp->L, sp->L->n, 1.0, g, g + 1);
-  sp->fused[r] += 2;
-  return true;
+  double sum = 0;
+  for (int k = 0; k < 3; k++) {
+    l[k] = tot != 0 ? a[k] / tot : 1.0 / 3;
+    if (!(l[k] > 0)) l[k] = 0;
+    sum = k ? sum + l[k] : l[k];
+  }
+  if (!(sum > 0)) l[0] = l[1] = l[2] = 1.0 / 3;
+  else if (sum != 1)
+    for (int k = 0; k < 3; k++) l[k] /= sum;
 }
-#endif
 
 /* Point p of the run proved inner (region 0, the face's normal): given the flat picture's
    grey fg where that is exactly its grey (reflectance 1, no light blocked), else put aside
@@ -1198,7 +1181,10 @@ void inner_point(struct split *sp, int p, bool flat, const unsigned *blocked, in
    flat: reflectance 1 (refl == 1). The points are triangle t's (tr, lx), put into sp
    after those there as base + p. row (a constant where it is inlined, as inner_point's):
    the regions not written (the points proved inner are the n less those put to the
-   chain), and each chain point's triangle and btot put with it (sp->tri, sp->tot). */
+   chain), each chain point's triangle put with it (sp->tri), and its barycentric
+   coordinates in place of its areas, made at once (bary_one's operations on the same
+   values: see below), so that their divides overlap the filter's work on the points after
+   it; nothing waits on them before partial_row's next step. */
 static inline __attribute__((always_inline))
 void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
                                const struct smooth_lanes *lx, int n, const double (*X)[3], bool flat, const unsigned *blocked,
@@ -1212,6 +1198,7 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
   if (usable) {
     const int bu = tr->bu, bw = tr->bw;
     const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_load_pd(lx->xilo), hiv = _mm_load_pd(lx->xihi);
+    const __m128d tv = _mm_set1_pd(tr->btot);
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
       /* w_k = +-ar_k (tot's sign) from the sides' constants times the sign (xsd), as in
@@ -1236,11 +1223,21 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
       }
       __m128d v[3];
       for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
-      if (row && !bits && sp->L &&
-          band_fused(lx, v, tr->btot, tr->front ? 1 : -1, blocked[p], blocked[p + 1], sp,
-                     grey + p)) {
-        declines += 2;
-        continue;
+      if (row) {
+        /* the coordinates, each lane bary_one's operations with tot (not 0: |tot| >=
+           2^-100 where the filter is used) on v_k (which make the same coordinates as
+           ar_k, above): l'_k = max(v_k / tot, +0) (+0 where the quotient is not > 0, a
+           NaN too: MAXPD gives its second operand), their sum (l'_0 + l'_1) + l'_2, and
+           l'_k / sum where sum > 0 (l' / 1 is l' itself, so the divide where bary_one
+           skips it gives the same), else 1/3: selections, no branch */
+        const __m128d zero = _mm_setzero_pd();
+        __m128d lk[3];
+        for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(v[k], tv), zero);
+        const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
+        const __m128d pos = _mm_cmpgt_pd(sum, zero);
+        for (int k = 0; k < 3; k++)
+          v[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
+                           _mm_andnot_pd(pos, _mm_set1_pd(1.0 / 3)));
       }
       for (int h = 0; h < 2; h++) {
         if (bits >> h & 1) {
@@ -1251,10 +1248,7 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
         for (int k = 0; k < 3; k++)
           if (h) _mm_storeh_pd(&sp->la[k][sp->nl], v[k]);
           else _mm_storel_pd(&sp->la[k][sp->nl], v[k]);
-        if (row) {
-          sp->tri[sp->nl] = t;
-          sp->tot[sp->nl] = tr->btot;
-        }
+        if (row) sp->tri[sp->nl] = t;
         sp->at[sp->nl++] = base + p + h;
       }
     }
@@ -1268,11 +1262,13 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
       continue;
     }
     declines += usable;
-    for (int k = 0; k < 3; k++) sp->la[k][sp->nl] = ar[k];
     if (row) {
+      double l[3];
+      bary_one(tr->btot, ar, l);
+      for (int k = 0; k < 3; k++) sp->la[k][sp->nl] = l[k];
       sp->tri[sp->nl] = t;
-      sp->tot[sp->nl] = tr->btot;
-    }
+    } else
+      for (int k = 0; k < 3; k++) sp->la[k][sp->nl] = ar[k];
     sp->at[sp->nl++] = base + p;
   }
   if (m->inner_declines) *m->inner_declines += declines;
@@ -1614,7 +1610,6 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const bool flat = refl == 1;
   struct split sp;
   sp.nl = sp.ni = 0;
-  sp.L = NULL;                              /* a run's pairs go to the chain */
   inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp, 0, t, false);
   const int nl = sp.nl;
   double lv[3][SMOOTH_ROW];
@@ -1656,66 +1651,6 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
 }
 
 /* ---- a row's stretch of points on several triangles (smooth_row) ------------------ */
-
-/* bary_of_areas at one point from its areas a, for a triangle whose btot is tot: the same
-   operations in the same order. */
-static inline void bary_one(double tot, const double a[3], double l[3])
-{
-  double sum = 0;
-  for (int k = 0; k < 3; k++) {
-    l[k] = tot != 0 ? a[k] / tot : 1.0 / 3;
-    if (!(l[k] > 0)) l[k] = 0;
-    sum = k ? sum + l[k] : l[k];
-  }
-  if (!(sum > 0)) l[0] = l[1] = l[2] = 1.0 / 3;
-  else if (sum != 1)
-    for (int k = 0; k < 3; k++) l[k] /= sum;
-}
-
-/* bary_pairs at points q < n of any triangles, point q's btot in tot[q]: two points an
-   instruction where the processor has SSE2 and neither tot is 0, each lane bary_pairs'
-   operations with its own point's tot (a lone last point in both lanes); the rest one by
-   one (bary_one). nonzero: no tot[q] is 0 (not looked at again). */
-static inline void bary_row(int n, const double *tot, bool nonzero,
-                            const double (*a)[SMOOTH_ROW], double (*l)[SMOOTH_ROW])
-{
-  int q = 0;
-#ifdef __SSE2__
-  const __m128d zero = _mm_setzero_pd(), third = _mm_set1_pd(1.0 / 3);
-  for (; q < n; q += 2) {
-    const bool two = q + 1 < n;
-    if (!nonzero && (tot[q] == 0 || (two && tot[q + 1] == 0))) {
-      for (int h = 0; h <= (int)two; h++) {
-        const double ar[3] = { a[0][q + h], a[1][q + h], a[2][q + h] };
-        double lo[3];
-        bary_one(tot[q + h], ar, lo);
-        for (int k = 0; k < 3; k++) l[k][q + h] = lo[k];
-      }
-      continue;
-    }
-    const __m128d tv = two ? _mm_loadu_pd(tot + q) : _mm_set1_pd(tot[q]);
-    __m128d lk[3];
-    for (int k = 0; k < 3; k++)
-      lk[k] = _mm_max_pd(_mm_div_pd(two ? _mm_loadu_pd(a[k] + q) : _mm_set1_pd(a[k][q]), tv),
-                         zero);
-    const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
-    const __m128d pos = _mm_cmpgt_pd(sum, zero);
-    const bool both = _mm_movemask_pd(pos) == 3;   /* then the selection's value: lk / sum */
-    for (int k = 0; k < 3; k++) {
-      const __m128d dq = _mm_div_pd(lk[k], sum);
-      const __m128d r = both ? dq : _mm_or_pd(_mm_and_pd(pos, dq), _mm_andnot_pd(pos, third));
-      if (two) _mm_storeu_pd(l[k] + q, r);
-      else _mm_storel_pd(l[k] + q, r);
-    }
-  }
-#endif
-  for (; q < n; q++) {
-    const double ar[3] = { a[0][q], a[1][q], a[2][q] };
-    double lo[3];
-    bary_one(tot[q], ar, lo);
-    for (int k = 0; k < 3; k++) l[k][q] = lo[k];
-  }
-}
 
 #ifdef __SSE2__
 /* lit_slots' step at two slots under parallel lights, reflectance refl: normals v (x, y, z
@@ -1780,15 +1715,18 @@ void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg, double refl,
   for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
   if (parallel) {
     const int nlight = L->n;
+    /* (pick2: the slots were just written, a pair or one at a time) */
     if (nlight == 1)                          /* the usual case: the light loop unrolled */
       for (; q + 2 <= ns; q += 2)
-        lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
-                 _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L, 1,
-                 refl, &grey[slot_p[q]], &grey[slot_p[q + 1]]);
+        lit_pair(pick2(nv[0] + q, nv[0] + q + 1), pick2(nv[1] + q, nv[1] + q + 1),
+                 pick2(nv[2] + q, nv[2] + q + 1), pick2(sg + q, sg + q + 1),
+                 blocked[slot_p[q]], blocked[slot_p[q + 1]], L, 1, refl, &grey[slot_p[q]],
+                 &grey[slot_p[q + 1]]);
     for (; q + 2 <= ns; q += 2)
-      lit_pair(_mm_loadu_pd(nv[0] + q), _mm_loadu_pd(nv[1] + q), _mm_loadu_pd(nv[2] + q),
-               _mm_loadu_pd(sg + q), blocked[slot_p[q]], blocked[slot_p[q + 1]], L, nlight,
-               refl, &grey[slot_p[q]], &grey[slot_p[q + 1]]);
+      lit_pair(pick2(nv[0] + q, nv[0] + q + 1), pick2(nv[1] + q, nv[1] + q + 1),
+               pick2(nv[2] + q, nv[2] + q + 1), pick2(sg + q, sg + q + 1),
+               blocked[slot_p[q]], blocked[slot_p[q + 1]], L, nlight, refl, &grey[slot_p[q]],
+               &grey[slot_p[q + 1]]);
     if (q < ns) {
       int dummy;
       lit_pair(_mm_set1_pd(nv[0][q]), _mm_set1_pd(nv[1][q]), _mm_set1_pd(nv[2][q]),
@@ -1809,9 +1747,11 @@ void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg, double refl,
 /* smooth_row under smooth=fixed or prop: smooth_grey_run's partial smoothing, its steps
    each over the whole stretch (reflectance 1: flat) and each point with its own
    triangle's constants: the inner triangle's filter a triangle at a time (inner_split,
-   the chain's points gathered), the barycentric coordinates (bary_row), the normals (two
+   the chain's points gathered with their barycentric coordinates, whose divides the
+   processor overlaps with the filter's work on the points after them), the normals (two
    points of one triangle's edge or corner band together: band_pair_normals), the
-   lighting (lit_row). */
+   lighting (lit_row). No step waits on a divide to choose its next branch before the
+   normals. */
 static void partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
                         const int *tri, const int *at, const double (*X)[3],
                         const unsigned *blocked, const struct shade_lights *L, int *grey,
@@ -1819,24 +1759,15 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
 {
   struct split sp;
   sp.nl = sp.ni = 0;
-  sp.fused[1] = sp.fused[2] = 0;
-  bool parallel = true;
-  for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
-  sp.L = parallel ? L : NULL;
-  bool nonzero = true;                      /* no triangle's btot is 0 */
   for (int k = 0; k < nseg; k++) {
     const int t = tri[k], b = at[k];
     const struct smooth_tri *tr = &m->tri[t];
-    nonzero &= tr->btot != 0;
     inner_split(m, tr, &m->lanes[t], at[k + 1] - b, X + b, true, blocked + b,
                 map->f[tr->mface].grey, grey + b, NULL, &sp, b, t, true);
   }
   const int nl = sp.nl;
-  regions[0] += at[nseg] - nl - sp.fused[1] - sp.fused[2];   /* the points proved inner */
-  regions[1] += sp.fused[1];
-  regions[2] += sp.fused[2];
-  double lv[3][SMOOTH_ROW];
-  bary_row(nl, sp.tot, nonzero, (const double (*)[SMOOTH_ROW])sp.la, lv);
+  regions[0] += at[nseg] - nl;              /* the points proved inner */
+  double (*lv)[SMOOTH_ROW] = sp.la;          /* the coordinates (inner_split's row) */
   /* the lit points' normals in slots (as smooth_grey_run's), each with its side */
   double nv[3][SMOOTH_ROW], sg[SMOOTH_ROW];
   int slot_p[SMOOTH_ROW], ns = 0;

@@ -749,11 +749,12 @@ static void test_row_is_single(void **state)
 }
 
 /* A row's stretch whose points come two or more at a time from one edge band or one corner
-   band of a triangle (the pairs smooth_row takes from the inner filter straight to their
-   greys: band_fused), with inner points, points of another band and points outside
+   band of a triangle (the pairs whose coordinates smooth_row makes as the inner filter
+   declines them: inner_split's row), with inner points, points of another band and points outside
    between them: the greys each gives alone (smooth_grey_at) and the same count of points
    in each region, bit for bit, under the partial smoothings, one light and two (parallel),
-   a light blocked at some points. */
+   a light blocked at some points; under one light also with the inner filter off
+   (inner_exact: every point's coordinates made alone). */
 static void test_row_band_pairs(void **state)
 {
   (void)state;
@@ -764,7 +765,7 @@ static void test_row_band_pairs(void **state)
     struct lib L;
     lib_open(&L, "scenes/sphere.s74", kinds[kind]);
     int differ = 0, greys[256] = { 0 };
-    long seen[3] = { 0, 0, 0 };
+    long seen[3] = { 0, 0, 0 }, exact_points = 0;
     for (int light = 0; light < 2; light++) {
       struct shade_lights lights;
       shade_lights_init(&lights, L.s);
@@ -810,9 +811,20 @@ static void test_row_band_pairs(void **state)
         }
         differ += row_vs_single(&L, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
                                 greys, seen, NULL);
+        if (!light) {
+          /* the same stretch with every point left to the chain (inner_exact): the row's
+             coordinates then made one point at a time (inner_split's row, bary_one) */
+          long seen_exact[3] = { 0, 0, 0 };
+          L.m.inner_exact = true;
+          differ += row_vs_single(&L, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
+                                  greys, seen_exact, NULL);
+          L.m.inner_exact = false;
+          exact_points += seen_exact[0] + seen_exact[1] + seen_exact[2];
+        }
       }
     }
     assert_int_equal(differ, 0);
+    assert_true(exact_points > 1000);
     int distinct = 0;                     /* the greys vary: the test can tell points apart */
     for (int gv = 0; gv < 256; gv++) distinct += greys[gv];
     assert_true(distinct > 20);
