@@ -366,13 +366,18 @@ static void reflectances(const struct fx_tex *t, int n, const double (*X)[3], do
 }
 
 #ifdef __SSE2__
-/* floor(a) lane by lane where |a| < 2^30: the truncation (CVTTPD2DQ, exact in that
-   range), less 1 where it lies above a. (At a = -0 it gives +0 where floor gives -0: a
-   less either is a zero, which tex_pair's multiply and truncation make 0 alike.) */
+/* floor(a) lane by lane where |a| < 2^30, as the truncation less 1 where it lies above a
+   would give it (and so at a = -0 +0, where floor gives -0: a less either is a zero, which
+   tex_pair's multiply and truncation make 0 alike), in five operations: r = (a + M) - M
+   with M = 1.5 2^52 is a rounded to the nearest integer (a + M lies in [2^52, 2^53), where
+   the doubles are the integers: the add rounds it to the one nearest a + M, ties to even,
+   as the program never leaves round to nearest; taking M off again is exact; a zero r is
+   +0), which is within 1/2 of a; so floor(a) is r where r is at or below a, else r - 1. */
 static inline __m128d floor_pair(__m128d a)
 {
-  const __m128d t = _mm_cvtepi32_pd(_mm_cvttpd_epi32(a));
-  return _mm_sub_pd(t, _mm_and_pd(_mm_cmpgt_pd(t, a), _mm_set1_pd(1)));
+  const __m128d M = _mm_set1_pd(0x1.8p52);
+  const __m128d r = _mm_sub_pd(_mm_add_pd(a, M), M);
+  return _mm_sub_pd(r, _mm_and_pd(_mm_cmpgt_pd(r, a), _mm_set1_pd(1)));
 }
 
 /* tex_pair's values of texture t, made once for a run of its face's points: each double
@@ -382,7 +387,7 @@ struct tex_lanes {
   int du, dv, w;
   const uint8_t *px;
   __m128d odu, odv, Tdv, Tdu, Udu, Udv, det, wd, hd;
-  __m128i top;              /* w - 1, w - 1, h - 1, h - 1 (x0, x1, y0, y1's) */
+  __m128d wtop, htop;       /* w - 1, h - 1 */
   __m128i wv;               /* w in the low 32 bits of each 64-bit half */
 };
 
@@ -397,7 +402,7 @@ static inline void tex_lanes_init(struct tex_lanes *T, const struct fx_tex *t)
   T->Udu = _mm_set1_pd(t->U[du]); T->Udv = _mm_set1_pd(t->U[dv]);
   T->det = _mm_set1_pd(t->det);
   T->wd = _mm_set1_pd(t->w); T->hd = _mm_set1_pd(t->h);
-  T->top = _mm_set_epi32(t->h - 1, t->h - 1, t->w - 1, t->w - 1);
+  T->wtop = _mm_set1_pd(t->w - 1); T->htop = _mm_set1_pd(t->h - 1);
   T->wv = _mm_set_epi32(0, t->w, 0, t->w);
 }
 
@@ -408,8 +413,8 @@ static inline void tex_lanes_init(struct tex_lanes *T, const struct fx_tex *t)
    floor_pair is floor there, so a - floor(a) is in [0, 1] (a at or above its floor, and
    rounding keeps a difference at or above 0; at most 1 as a - floor(a) < 1),
    x = (int)(a w) in [0, w] and y = (int)((1 - b) h) in [0, h]: tex_pixel's tests y < 0 and
-   x < 0 never hold, and the two tops are the two clamps made four lanes at a time; the
-   pixel's k / 255.0 from unit_pixel. Else tex_pixel lane by lane. */
+   x < 0 never hold, and the two tops are taken before the truncations; the pixel's
+   k / 255.0 from unit_pixel. Else tex_pixel lane by lane. */
 static inline __m128d tex_pair(const struct tex_lanes *T, const __m128d X[3])
 {
   const __m128d u = _mm_sub_pd(X[T->du], T->odu);
@@ -427,11 +432,12 @@ static inline __m128d tex_pair(const struct tex_lanes *T, const __m128d X[3])
   }
   a = _mm_sub_pd(a, floor_pair(a));
   b = _mm_sub_pd(b, floor_pair(b));
-  const __m128i x = _mm_cvttpd_epi32(_mm_mul_pd(a, T->wd));
-  const __m128i y = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), T->hd));
-  __m128i xy = _mm_unpacklo_epi64(x, y);    /* x0, x1, y0, y1 */
-  const __m128i over = _mm_cmpgt_epi32(xy, T->top);
-  xy = _mm_or_si128(_mm_and_si128(over, T->top), _mm_andnot_si128(over, xy));
+  /* the tops before the truncations: a w and (1 - b) h are at or above 0, where the
+     truncation of min(v, top) is min(truncation of v, top) (top an integer) */
+  const __m128i x = _mm_cvttpd_epi32(_mm_min_pd(_mm_mul_pd(a, T->wd), T->wtop));
+  const __m128i y = _mm_cvttpd_epi32(_mm_min_pd(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), T->hd),
+                                                T->htop));
+  const __m128i xy = _mm_unpacklo_epi64(x, y);   /* x0, x1, y0, y1 */
   /* the pixels' indices y w + x, both lanes' at once: x and y in [0, 2^31), so y w (below
      2^62) is the unsigned 32 by 32 bit product, and the sum the 64-bit one */
   const __m128i yw = _mm_mul_epu32(_mm_shuffle_epi32(xy, _MM_SHUFFLE(3, 3, 2, 2)), T->wv);
@@ -464,27 +470,23 @@ static inline unsigned point_bits(const struct shade_pair *P)
    where blocked is NULL.
    The work goes in stages over up to LIT_PAIRS pairs at a time: every pair's space point,
    then every pair's reflectance, then light by light (the scene's order) every pair's term
-   added to its sum, then every pair's grey. A stage's pairs do not wait on each other, so
-   their divides and square roots follow one another in the divider, where pair after pair
-   from space point to grey would be one chain of them that the processor overlaps with the
-   next pair's for a few instructions only. Each lane's operations are those of a pair
-   alone, on the same values, in the same order: its sum starts at +0 and adds the lights'
-   terms in the scene's order. A light blocked at both lanes of a pair adds +0 there in
-   shade_pair_sum (the AND of an all-zero mask), which leaves the sum as it is (a sum is +0
-   or positive: each term is +0 or a positive n.l, never -0 or NaN), so its term is not
-   made: with blocked NULL such a light is passed over for the whole run; with blocked[] a
-   point light's terms are made at the pairs where it is not blocked at both lanes only (a
-   list of them, made without a branch a pair). Where a lane's light is not blocked the
-   mask is all ones and the AND gives the term as shade_pair_sum's sum of unblocked lights
-   adds it. */
+   added to its sum, then every pair's grey. One pair from space point to grey is a long
+   chain (a divide, a square root and divides on it, the texture's divides, its pixel's
+   two loads, the grey); a stage's pairs do not wait on each other, so the processor has
+   many of them under way at once (perf on fig6-room: the flat_ functions' share of the
+   frame 51% -> 44%). Each lane's operations are those of a pair alone, on the same
+   values, in the same order: its sum starts at +0 and adds the lights' terms in the
+   scene's order. A light blocked at both lanes of a pair adds +0 there in shade_pair_sum
+   (the AND of an all-zero mask), which leaves the sum as it is (a sum is +0 or positive:
+   each term is +0 or a positive n.l, never -0 or NaN), so its term is not made: with
+   blocked NULL such a light is passed over for the whole run; with blocked[] a point
+   light's terms are made at the pairs where it is not blocked at both lanes only (a list
+   of them, made without a branch a pair). Where a lane's light is not blocked the mask is
+   all ones and the AND gives the term as shade_pair_sum's sum of unblocked lights adds
+   it. (Without blocked[] where the kept sums of the one-pair loop were used, at pairs
+   with every point light blocked at both lanes, the sums come out the same: a parallel
+   light's term does not depend on the point.) */
 enum { LIT_PAIRS = 16 };
-
-/* Pair k's space point X[k] from its lanes' plane x's xs (flat_lit_pairs' first stage). */
-static inline __attribute__((always_inline))
-void lit_pair_at(const struct space_lanes *L, __m128d xs, __m128d X[3])
-{
-  space_lanes_at(L, xs, X);
-}
 
 static inline __attribute__((always_inline))
 void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair *P,
@@ -504,8 +506,8 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
     __m128i bm[LIT_PAIRS];                  /* blocked[]: lane 0's mask twice, lane 1's twice */
     unsigned both[LIT_PAIRS];               /* blocked[]: the lights blocked at both lanes */
     for (int k = 0; k < nf; k++)            /* the space points */
-      lit_pair_at(&L, _mm_loadu_pd(pxc + 2 * k), X[k]);
-    if (nf < np) lit_pair_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
+      space_lanes_at(&L, _mm_loadu_pd(pxc + 2 * k), X[k]);
+    if (nf < np) space_lanes_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
     if (T)                                  /* the reflectances */
       for (int k = 0; k < np; k++) refl[k] = tex_pair(T, X[k]);
     for (int k = 0; k < np; k++) sum[k] = zero;
@@ -548,7 +550,8 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
                                                shade_pair_dot(l, P->nv, X[k][0], X[k][1], X[k][2])));
       }
     }
-    for (int k = 0; k < nf; k++) {          /* the greys: a pair's two bytes in one store */
+    for (int k = 0; k < nf; k++) {          /* the greys: a pair's two bytes in one store
+                                               (lane 0's the low byte: x86 is little-endian) */
       const uint16_t g = (uint16_t)shade_pair_greys(T ? refl[k] : one, sum[k]);
       memcpy(gc + 2 * k, &g, 2);
     }
