@@ -366,13 +366,18 @@ static void reflectances(const struct fx_tex *t, int n, const double (*X)[3], do
 }
 
 #ifdef __SSE2__
-/* floor(a) lane by lane where |a| < 2^30: the truncation (CVTTPD2DQ, exact in that
-   range), less 1 where it lies above a. (At a = -0 it gives +0 where floor gives -0: a
-   less either is a zero, which tex_pair's multiply and truncation make 0 alike.) */
+/* floor(a) lane by lane where |a| < 2^30, as the truncation less 1 where it lies above a
+   would give it (and so at a = -0 +0, where floor gives -0: a less either is a zero, which
+   tex_pair's multiply and truncation make 0 alike), in five operations: r = (a + M) - M
+   with M = 1.5 2^52 is a rounded to the nearest integer (a + M lies in [2^52, 2^53), where
+   the doubles are the integers: the add rounds it to the one nearest a + M, ties to even,
+   as the program never leaves round to nearest; taking M off again is exact; a zero r is
+   +0), which is within 1/2 of a; so floor(a) is r where r is at or below a, else r - 1. */
 static inline __m128d floor_pair(__m128d a)
 {
-  const __m128d t = _mm_cvtepi32_pd(_mm_cvttpd_epi32(a));
-  return _mm_sub_pd(t, _mm_and_pd(_mm_cmpgt_pd(t, a), _mm_set1_pd(1)));
+  const __m128d M = _mm_set1_pd(0x1.8p52);
+  const __m128d r = _mm_sub_pd(_mm_add_pd(a, M), M);
+  return _mm_sub_pd(r, _mm_and_pd(_mm_cmpgt_pd(r, a), _mm_set1_pd(1)));
 }
 
 /* tex_pair's values of texture t, made once for a run of its face's points: each double
@@ -382,7 +387,8 @@ struct tex_lanes {
   int du, dv, w;
   const uint8_t *px;
   __m128d odu, odv, Tdv, Tdu, Udu, Udv, det, wd, hd;
-  __m128i top;              /* w - 1, w - 1, h - 1, h - 1 (x0, x1, y0, y1's) */
+  __m128d wtop, htop;       /* w - 1, h - 1 */
+  __m128i wv;               /* w in the low 32 bits of each 64-bit half */
 };
 
 static inline void tex_lanes_init(struct tex_lanes *T, const struct fx_tex *t)
@@ -396,7 +402,8 @@ static inline void tex_lanes_init(struct tex_lanes *T, const struct fx_tex *t)
   T->Udu = _mm_set1_pd(t->U[du]); T->Udv = _mm_set1_pd(t->U[dv]);
   T->det = _mm_set1_pd(t->det);
   T->wd = _mm_set1_pd(t->w); T->hd = _mm_set1_pd(t->h);
-  T->top = _mm_set_epi32(t->h - 1, t->h - 1, t->w - 1, t->w - 1);
+  T->wtop = _mm_set1_pd(t->w - 1); T->htop = _mm_set1_pd(t->h - 1);
+  T->wv = _mm_set_epi32(0, t->w, 0, t->w);
 }
 
 /* reflectance, uncounted, at two space points X (lane 0, lane 1) of a textured face (T:
@@ -406,8 +413,8 @@ static inline void tex_lanes_init(struct tex_lanes *T, const struct fx_tex *t)
    floor_pair is floor there, so a - floor(a) is in [0, 1] (a at or above its floor, and
    rounding keeps a difference at or above 0; at most 1 as a - floor(a) < 1),
    x = (int)(a w) in [0, w] and y = (int)((1 - b) h) in [0, h]: tex_pixel's tests y < 0 and
-   x < 0 never hold, and the two tops are the two clamps made four lanes at a time; the
-   pixel's k / 255.0 from unit_pixel. Else tex_pixel lane by lane. */
+   x < 0 never hold, and the two tops are taken before the truncations; the pixel's
+   k / 255.0 from unit_pixel. Else tex_pixel lane by lane. */
 static inline __m128d tex_pair(const struct tex_lanes *T, const __m128d X[3])
 {
   const __m128d u = _mm_sub_pd(X[T->du], T->odu);
@@ -425,17 +432,25 @@ static inline __m128d tex_pair(const struct tex_lanes *T, const __m128d X[3])
   }
   a = _mm_sub_pd(a, floor_pair(a));
   b = _mm_sub_pd(b, floor_pair(b));
-  const __m128i x = _mm_cvttpd_epi32(_mm_mul_pd(a, T->wd));
-  const __m128i y = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), T->hd));
-  __m128i xy = _mm_unpacklo_epi64(x, y);    /* x0, x1, y0, y1 */
-  const __m128i over = _mm_cmpgt_epi32(xy, T->top);
-  xy = _mm_or_si128(_mm_and_si128(over, T->top), _mm_andnot_si128(over, xy));
-  const size_t w = (size_t)T->w;
-  const size_t x0 = (size_t)_mm_cvtsi128_si32(xy);
-  const size_t x1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 1));
-  const size_t y0 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 2));
-  const size_t y1 = (size_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(xy, 3));
-  return _mm_set_pd(unit_pixel[T->px[y1 * w + x1] + 1], unit_pixel[T->px[y0 * w + x0] + 1]);
+  /* the tops before the truncations: a w and (1 - b) h are at or above 0, where the
+     truncation of min(v, top) is min(truncation of v, top) (top an integer) */
+  const __m128i x = _mm_cvttpd_epi32(_mm_min_pd(_mm_mul_pd(a, T->wd), T->wtop));
+  const __m128i y = _mm_cvttpd_epi32(_mm_min_pd(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), b), T->hd),
+                                                T->htop));
+  const __m128i xy = _mm_unpacklo_epi64(x, y);   /* x0, x1, y0, y1 */
+  /* the pixels' indices y w + x, both lanes' at once: x and y in [0, 2^31), so y w (below
+     2^62) is the unsigned 32 by 32 bit product, and the sum the 64-bit one */
+  const __m128i yw = _mm_mul_epu32(_mm_shuffle_epi32(xy, _MM_SHUFFLE(3, 3, 2, 2)), T->wv);
+  const __m128i at = _mm_add_epi64(yw, _mm_unpacklo_epi32(xy, _mm_setzero_si128()));
+#if defined(__x86_64__)
+  const size_t i0 = (size_t)_mm_cvtsi128_si64(at);
+  const size_t i1 = (size_t)_mm_cvtsi128_si64(_mm_unpackhi_epi64(at, at));
+#else                                       /* (no 64-bit moves from a vector) */
+  uint64_t a64[2];
+  _mm_storeu_si128((__m128i *)(void *)a64, at);
+  const size_t i0 = (size_t)a64[0], i1 = (size_t)a64[1];
+#endif
+  return _mm_set_pd(unit_pixel[T->px[i1] + 1], unit_pixel[T->px[i0] + 1]);
 }
 
 /* The blocked-mask bits of P's point lights (flat_lit_pairs, flat_lit_masked). */
@@ -446,56 +461,101 @@ static inline unsigned point_bits(const struct shade_pair *P)
   return pm;
 }
 
-/* shade_face_at, uncounted, at the points p0 .. p1 - 1 of a row (px[p], py) on a lit face
-   that is not smoothed, t its texture or NULL (P: shade_pair_init's for the face's unit
-   normal, face_normal's), two points at a time: each lane's space point is space_point's
-   (space_points' lanes), its reflectance reflectance's (tex_pair) or 1, its grey
-   shade_grey_lit's (shade_pair_sum, shade_pair_greys). An odd last point goes in both
-   lanes.
-   Where both lanes have every point light blocked, shade_pair_sum's lanes do not depend
-   on the space points: a parallel light's term is its n.l (or +0 where blocked) and a
-   blocked light's term is the AND of an all-zero mask, +0, whatever its dot. So the sums
-   of one pair of masks are found once (at X = 0) and kept while the next pair's masks are
-   the same; without a texture such a pair needs no space point at all. */
-static void flat_lit_pairs(const struct fx_model *m, int face, const struct fx_tex *t,
-                           const struct shade_pair *P, int p0, int p1, const unsigned *blocked,
-                           const double *px, double py, uint8_t *grey)
+/* shade_face_at, uncounted, at the n points px[0 .. n) of a row (py) on a lit face that is
+   not smoothed, T its texture's tex_lanes or NULL (P: shade_pair_init's for the face's unit
+   normal, face_normal's), two points a pair of lanes: points p and p + 1 (an odd last point
+   in both lanes); each lane's space point is space_point's (space_lanes_at), its
+   reflectance reflectance's (tex_pair) or 1, its grey shade_grey_lit's (shade_pair_greys of
+   shade_pair_sum's sums). The lights blocked at point p are blocked[p], or b at every point
+   where blocked is NULL.
+   The work goes in stages over up to LIT_PAIRS pairs at a time: every pair's space point,
+   then every pair's reflectance, then light by light (the scene's order) every pair's term
+   added to its sum, then every pair's grey. One pair from space point to grey is a long
+   chain (a divide, a square root and divides on it, the texture's divides, its pixel's
+   two loads, the grey); a stage's pairs do not wait on each other, so the processor has
+   many of them under way at once (perf on fig6-room: the flat_ functions' share of the
+   frame 51% -> 44%). Each lane's operations are those of a pair alone, on the same
+   values, in the same order: its sum starts at +0 and adds the lights' terms in the
+   scene's order. A light blocked at both lanes of a pair adds +0 there in shade_pair_sum
+   (the AND of an all-zero mask), which leaves the sum as it is (a sum is +0 or positive:
+   each term is +0 or a positive n.l, never -0 or NaN), so its term is not made: with
+   blocked NULL such a light is passed over for the whole run; with blocked[] a point
+   light's terms are made at the pairs where it is not blocked at both lanes only (a list
+   of them, made without a branch a pair). Where a lane's light is not blocked the mask is
+   all ones and the AND gives the term as shade_pair_sum's sum of unblocked lights adds
+   it. (Without blocked[] where the kept sums of the one-pair loop were used, at pairs
+   with every point light blocked at both lanes, the sums come out the same: a parallel
+   light's term does not depend on the point.) */
+enum { LIT_PAIRS = 16 };
+
+static inline __attribute__((always_inline))
+void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair *P,
+                    const struct tex_lanes *T, int n, const unsigned *blocked, unsigned b,
+                    const double *px, double py, uint8_t *grey)
 {
   struct space_lanes L;
   space_lanes_init(m, face, py, &L);
-  struct tex_lanes T;
-  if (t) tex_lanes_init(&T, t);
-  else memset(&T, 0, sizeof T);             /* (not read) */
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
-  const unsigned pm = point_bits(P);        /* the point lights' bits */
-  unsigned c0 = 0, c1 = 0;                  /* the lanes' masks csum is the sums of, when have */
-  bool have = false;
-  __m128d csum = zero;
-  for (int p = p0; p < p1; p += 2) {
-    const int q = p + 1 < p1 ? p + 1 : p;
-    const unsigned b0 = blocked[p], b1 = blocked[q];
-    __m128d X[3], sum;
-    if ((b0 & b1 & pm) == pm) {             /* no point light at either lane */
-      if (!have || b0 != c0 || b1 != c1) {
-        csum = shade_pair_sum(P, zero, zero, zero, b0, b1);
-        c0 = b0; c1 = b1; have = true;
+  for (int p0 = 0; p0 < n; p0 += 2 * LIT_PAIRS) {
+    const int c = n - p0 < 2 * LIT_PAIRS ? n - p0 : 2 * LIT_PAIRS;
+    const int nf = c / 2, np = (c + 1) / 2;   /* pairs of two points; with an odd last one */
+    const double *pxc = px + p0;
+    const unsigned *bc = blocked ? blocked + p0 : NULL;
+    uint8_t *gc = grey + p0;
+    __m128d X[LIT_PAIRS][3], sum[LIT_PAIRS], refl[LIT_PAIRS];
+    __m128i bm[LIT_PAIRS];                  /* blocked[]: lane 0's mask twice, lane 1's twice */
+    unsigned both[LIT_PAIRS];               /* blocked[]: the lights blocked at both lanes */
+    for (int k = 0; k < nf; k++)            /* the space points */
+      space_lanes_at(&L, _mm_loadu_pd(pxc + 2 * k), X[k]);
+    if (nf < np) space_lanes_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
+    if (T)                                  /* the reflectances */
+      for (int k = 0; k < np; k++) refl[k] = tex_pair(T, X[k]);
+    for (int k = 0; k < np; k++) sum[k] = zero;
+    if (bc) {
+      for (int k = 0; k < np; k++) {
+        const unsigned b0 = bc[2 * k], b1 = bc[2 * k + 1 < c ? 2 * k + 1 : 2 * k];
+        bm[k] = _mm_shuffle_epi32(_mm_unpacklo_epi32(_mm_cvtsi32_si128((int)b0),
+                                                     _mm_cvtsi32_si128((int)b1)),
+                                  _MM_SHUFFLE(1, 1, 0, 0));
+        both[k] = b0 & b1;
       }
-      sum = csum;
-      if (!t) {
-        const unsigned g = shade_pair_greys(one, sum);
-        grey[p] = (uint8_t)g;
-        grey[q] = (uint8_t)(g >> 8);
+    }
+    for (const struct shade_pair_light *l = P->l, *end = P->l + P->n; l < end; l++) {
+      const unsigned bit = 1u << (l - P->l);
+      if (!bc) {                            /* b at every point */
+        if (b & bit) continue;              /* +0 at every lane */
+        if (!l->point)
+          for (int k = 0; k < np; k++) sum[k] = _mm_add_pd(sum[k], l->v[0]);
+        else
+          for (int k = 0; k < np; k++)
+            sum[k] = _mm_add_pd(sum[k], shade_pair_dot(l, P->nv, X[k][0], X[k][1], X[k][2]));
         continue;
       }
-      space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
-    } else {
-      space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
-      sum = shade_pair_sum(P, X[0], X[1], X[2], b0, b1);
+      if (!l->point) {
+        for (int k = 0; k < np; k++) {
+          const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
+          sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit), l->v[0]));
+        }
+        continue;
+      }
+      int at[LIT_PAIRS], na = 0;            /* the pairs where it is not blocked at both */
+      for (int k = 0; k < np; k++) {
+        at[na] = k;
+        na += !(both[k] & bit);
+      }
+      for (int h = 0; h < na; h++) {
+        const int k = at[h];
+        const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
+        sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit),
+                                               shade_pair_dot(l, P->nv, X[k][0], X[k][1], X[k][2])));
+      }
     }
-    const __m128d refl = t ? tex_pair(&T, X) : one;
-    const unsigned g = shade_pair_greys(refl, sum);
-    grey[p] = (uint8_t)g;
-    grey[q] = (uint8_t)(g >> 8);
+    for (int k = 0; k < nf; k++) {          /* the greys: a pair's two bytes in one store
+                                               (lane 0's the low byte: x86 is little-endian) */
+      const uint16_t g = (uint16_t)shade_pair_greys(T ? refl[k] : one, sum[k]);
+      memcpy(gc + 2 * k, &g, 2);
+    }
+    if (nf < np) gc[2 * nf] = (uint8_t)shade_pair_greys(T ? refl[nf] : one, sum[nf]);
   }
 }
 #endif
@@ -727,16 +787,7 @@ static void flat_lit_masked(const struct fx_model *m, int face, const struct sha
     fill_grey(grey, (uint8_t)g, n);         /* (both lanes the same grey) */
     return;
   }
-  struct space_lanes L;
-  space_lanes_init(m, face, py, &L);
-  for (int p = 0; p < n; p += 2) {
-    const int q = p + 1 < n ? p + 1 : p;
-    __m128d X[3];
-    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
-    const unsigned g = shade_pair_greys(one, shade_pair_sum(P, X[0], X[1], X[2], b, b));
-    grey[p] = (uint8_t)g;
-    grey[q] = (uint8_t)(g >> 8);
-  }
+  flat_lit_pairs(m, face, P, NULL, n, NULL, b, px, py, grey);
 }
 #endif
 
@@ -767,7 +818,9 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
       continue;
     }
     if (t) {                                /* a texture: every point */
-      flat_lit_pairs(m, face, t, &P, p, n, blocked, px, py, grey);
+      struct tex_lanes T;
+      tex_lanes_init(&T, t);
+      flat_lit_pairs(m, face, &P, &T, n - p, blocked + p, 0, px + p, py, grey + p);
       return;
     }
     const unsigned b = blocked[p];          /* a stretch of the same lights blocked */
@@ -791,19 +844,9 @@ static void flat_tex_clear(const struct fx_model *m, int face, const struct face
   double nrm[3];
   face_normal(fs->mf, nrm);                 /* shade_face_at's normal */
   shade_pair_init(&P, &m->lights, nrm);
-  struct space_lanes L;
-  space_lanes_init(m, face, py, &L);
   struct tex_lanes T;
   tex_lanes_init(&T, fs->t);
-  for (int p = 0; p < n; p += 2) {
-    const int q = p + 1 < n ? p + 1 : p;
-    __m128d X[3];
-    space_lanes_at(&L, _mm_set_pd(px[q], px[p]), X);
-    const __m128d sum = shade_pair_sum(&P, X[0], X[1], X[2], 0, 0);
-    const unsigned g = shade_pair_greys(tex_pair(&T, X), sum);
-    grey[p] = (uint8_t)g;
-    grey[q] = (uint8_t)(g >> 8);
-  }
+  flat_lit_pairs(m, face, &P, &T, n, NULL, 0, px, py, grey);
 }
 #endif
 
