@@ -186,11 +186,24 @@ static int by_from(const void *pa, const void *pb)
   return x->b < y->b ? -1 : x->b > y->b;
 }
 
-/* The projected grid point of scene vertex v in the mapped face mf. */
+/* The projected grid point of scene vertex v in the mapped face mf. A triangle's (the
+   smoothed objects' faces): its three points compared and the first match kept by
+   selects (the last one made is the first), as which point matches is anyone's guess and
+   a loop left there mispredicted about once a call (issue 19). */
 static bool mapped_point(const struct scene *s, const struct mface *mf, int v, struct gpoint *out)
 {
+  const uint32_t id = s->v[v].id;
+  if (mf->ring_start[1] == 3) {
+    const uint32_t *vid = mf->vid;
+    int at = vid[2] == id ? 2 : 3;
+    at = vid[1] == id ? 1 : at;
+    at = vid[0] == id ? 0 : at;
+    if (at == 3) return false;
+    *out = mf->pt[at];
+    return true;
+  }
   for (int k = 0; k < mf->ring_start[1]; k++)
-    if (mf->vid[k] == s->v[v].id) { *out = mf->pt[k]; return true; }
+    if (mf->vid[k] == id) { *out = mf->pt[k]; return true; }
   return false;
 }
 
