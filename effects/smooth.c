@@ -1497,7 +1497,7 @@ static void phong_alone(const struct smooth_model *m, const struct smooth_tri *t
 }
 
 #ifdef __SSE2__
-/* A row's steps (phong_row_lights), kept between its three passes: step j's points pa[j]
+/* A row's steps (phong_row_lights), kept between its two passes: step j's points pa[j]
    (lane 0, triangle a[j]) and pb[j] (lane 1, triangle b[j]; pa[j] again for a lone point,
    two[j] false), the normals' sums n[c][j], the areas' sums s[j], the operand of the
    square root r[j] (nn where ok, else 1), the eye's sides sg[j] and okb[j], ok's
