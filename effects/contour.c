@@ -133,17 +133,24 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
     small = small && fabs(d[k][0]) < 0x1p61 && fabs(d[k][1]) < 0x1p61;
     tiny = tiny && fabs(d[k][0]) < 0x1p30 && fabs(d[k][1]) < 0x1p30;
   }
-  for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
-    double o[2];
 #ifdef __SSE2__
-    const double (*b)[2] = w->b2[m];
-    __m128d v = _mm_mul_pd(_mm_load_pd(b[0]), dv[0]);
-    for (int k = 1; k < 5; k++) v = _mm_add_pd(v, _mm_mul_pd(_mm_load_pd(b[k]), dv[k]));
-    if (tiny) {
+  if (tiny) {
+    /* in two passes, the sums then their roundings: in one, each step's chain (five
+       products, four sums, two conversions, a compare) left the processor few steps in
+       flight (issue 19) */
+    _Alignas(16) double ov[CONTOUR_STEPS][2];
+    for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
+      const double (*b)[2] = w->b2[m];
+      __m128d v = _mm_mul_pd(_mm_load_pd(b[0]), dv[0]);
+      for (int k = 1; k < 5; k++) v = _mm_add_pd(v, _mm_mul_pd(_mm_load_pd(b[k]), dv[k]));
+      _mm_store_pd(ov[m], v);
+    }
+    for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
       /* round_small on both coordinates at once: Q0..Q4 below 2^30 make |o| < 2^30 (1 + 6u)
          < 2^31 (as above), where CVTTPD2DQ's truncation is (int64_t)'s; o - t is exact
          in both; the steps at +-0.5 are round_small's compares, as masks (-1) taken off
          and put on, and the rounded value (below 2^31 too) sign-extended to 64 bits */
+      const __m128d v = _mm_load_pd(ov[m]);
       const __m128i t = _mm_cvttpd_epi32(v);
       const __m128d f = _mm_sub_pd(v, _mm_cvtepi32_pd(t));
       const __m128i up = _mm_castpd_si128(_mm_cmpge_pd(f, _mm_set1_pd(0.5)));
@@ -152,8 +159,16 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
                                                            _MM_SHUFFLE(0, 0, 2, 0)));
       _mm_storeu_si128((__m128i *)(void *)&poly[1 + CONTOUR_STEPS - m],
                        _mm_unpacklo_epi32(r, _mm_srai_epi32(r, 31)));
-      continue;
     }
+    return;
+  }
+#endif
+  for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
+    double o[2];
+#ifdef __SSE2__
+    const double (*b)[2] = w->b2[m];
+    __m128d v = _mm_mul_pd(_mm_load_pd(b[0]), dv[0]);
+    for (int k = 1; k < 5; k++) v = _mm_add_pd(v, _mm_mul_pd(_mm_load_pd(b[k]), dv[k]));
     _mm_storeu_pd(o, v);
 #else
     bezier_with(d, w->b[m], o);
@@ -186,11 +201,24 @@ static int by_from(const void *pa, const void *pb)
   return x->b < y->b ? -1 : x->b > y->b;
 }
 
-/* The projected grid point of scene vertex v in the mapped face mf. */
+/* The projected grid point of scene vertex v in the mapped face mf. A triangle's (the
+   smoothed objects' faces): its three points compared and the first match kept by
+   selects (the last one made is the first), as which point matches is anyone's guess and
+   a loop left there mispredicted about once a call (issue 19). */
 static bool mapped_point(const struct scene *s, const struct mface *mf, int v, struct gpoint *out)
 {
+  const uint32_t id = s->v[v].id;
+  if (mf->ring_start[1] == 3) {
+    const uint32_t *vid = mf->vid;
+    int at = vid[2] == id ? 2 : 3;
+    at = vid[1] == id ? 1 : at;
+    at = vid[0] == id ? 0 : at;
+    if (at == 3) return false;
+    *out = mf->pt[at];
+    return true;
+  }
   for (int k = 0; k < mf->ring_start[1]; k++)
-    if (mf->vid[k] == s->v[v].id) { *out = mf->pt[k]; return true; }
+    if (mf->vid[k] == id) { *out = mf->pt[k]; return true; }
   return false;
 }
 

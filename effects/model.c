@@ -663,20 +663,39 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   sf[0] = fr[i];
   tri[0] = fs->tri;
   at[0] = 0;
-  const int end = W - i < SMOOTH_ROW ? W : i + SMOOTH_ROW;
-  int e = face_run_end(fr, i, end);         /* each face's run found four points a compare */
-  while (e < end) {
-    const int f = fr[e];
+  const int len = W - i < SMOOTH_ROW ? W - i : SMOOTH_ROW;
+  /* the runs' ends: the points q (0 < q < len) where fr[i + q] != fr[i + q - 1], as bits
+     of cut, made four points a compare (independent of one another), then taken in order;
+     found run after run (face_run_end from the last run's end) each run waited on its
+     last one's loads and compares (issue 19) */
+  uint64_t cut = 0;
+  {
+    int q = 1;
+#ifdef __SSE2__
+    for (; q + 4 <= len; q += 4) {
+      const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q));
+      const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q - 1));
+      cut |= (uint64_t)(~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(x, y))) & 15) << q;
+    }
+#endif
+    for (; q < len; q++) cut |= (uint64_t)(fr[i + q] != fr[i + q - 1]) << q;
+  }
+  int e = len;                              /* the stretch's end, from i */
+  for (; cut; cut &= cut - 1) {
+    const int c = __builtin_ctzll(cut), f = fr[i + c];
     /* a smoothed face without a texture (face_shade_of's tri >= 0 and t NULL): lit, as
        only a face of no grey of its own under a light is smoothed (smooth.h) */
     const int t = f < 0 ? -1 : m->sm.tri_of_mface[f];
-    if (t < 0 || (m->tex && m->tex[m->map->f[f].sface].pic)) break;
-    at[++ns] = e - i;
+    if (t < 0 || (m->tex && m->tex[m->map->f[f].sface].pic)) {
+      e = c;
+      break;
+    }
+    at[++ns] = c;
     sf[ns] = f;
     tri[ns] = t;
-    e = face_run_end(fr, e, end);
   }
-  at[++ns] = e - i;
+  at[++ns] = e;
+  e += i;
   double X[SMOOTH_ROW][3];
   int g[SMOOTH_ROW];
 #ifdef __SSE2__

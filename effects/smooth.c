@@ -1493,17 +1493,147 @@ static void phong_alone(const struct smooth_model *m, const struct smooth_tri *t
 }
 
 #ifdef __SSE2__
+/* A row's steps (phong_row_lights), kept between its two passes: step j's points pa[j]
+   (lane 0, triangle a[j]) and pb[j] (lane 1, triangle b[j]; pa[j] again for a lone point,
+   two[j] false), the normals' sums n[c][j], the areas' sums s[j], the operand of the
+   square root r[j] (nn where ok, else 1), the eye's sides sg[j] and okb[j], ok's
+   lanes. */
+#define PHONG_STEPS SMOOTH_ROW
+struct phong_steps {
+  _Alignas(16) double n[3][PHONG_STEPS][2];
+  _Alignas(16) double s[PHONG_STEPS][2];
+  _Alignas(16) double r[PHONG_STEPS][2];
+  _Alignas(16) double sg[PHONG_STEPS][2];
+  int pa[PHONG_STEPS], pb[PHONG_STEPS], a[PHONG_STEPS], b[PHONG_STEPS], okb[PHONG_STEPS];
+  bool two[PHONG_STEPS];
+};
+
+/* phong_pair's operations up to the square root's operand at the points Xa (lane 0,
+   triangle ta, constants xa) and Xb (lane 1, tb, xb) (same: ta is tb), the very ones in
+   their order, into step j of *S (N into n, s, the operand into r, sg, ok's lanes). */
+static inline __attribute__((always_inline))
+void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
+                const struct smooth_tri *tb, const struct smooth_lanes *xb, bool same,
+                const double *Xa, const double *Xb, __m128d sg, struct phong_steps *S, int j)
+{
+  const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
+  const __m128d x = _mm_set_pd(Xb[tb->bu], Xa[ta->bu]), y = _mm_set_pd(Xb[tb->bw], Xa[ta->bw]);
+  __m128d w[3], s = zero;
+  for (int k = 0; k < 3; k++) {               /* as phong_pair (see there) */
+    const __m128d ar = _mm_sub_pd(
+        _mm_mul_pd(lanes2(xa->xsd[k][0], xb->xsd[k][0], same),
+                   _mm_sub_pd(y, lanes2(xa->xa[k][1], xb->xa[k][1], same))),
+        _mm_mul_pd(_mm_sub_pd(x, lanes2(xa->xa[k][0], xb->xa[k][0], same)),
+                   lanes2(xa->xsd[k][1], xb->xsd[k][1], same)));
+    w[k] = _mm_max_pd(ar, zero);
+    s = _mm_add_pd(s, w[k]);
+  }
+  const __m128d good = _mm_and_pd(_mm_cmpge_pd(_mm_min_pd(_mm_min_pd(w[0], w[1]), w[2]), lo),
+                                  _mm_cmple_pd(s, hi));
+  __m128d N[3];
+  for (int c = 0; c < 3; c++) {
+    N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], lanes2(xa->xcn[0][c], xb->xcn[0][c], same)),
+                                 _mm_mul_pd(w[1], lanes2(xa->xcn[1][c], xb->xcn[1][c], same))),
+                      _mm_mul_pd(w[2], lanes2(xa->xcn[2][c], xb->xcn[2][c], same)));
+    _mm_store_pd(S->n[c][j], N[c]);
+  }
+  const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
+                                _mm_mul_pd(N[2], N[2]));
+  const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
+                                _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
+  _mm_store_pd(S->s[j], s);
+  /* nn where ok, 1 elsewhere (by masks: the same values as phong_pair's) */
+  _mm_store_pd(S->r[j], _mm_or_pd(_mm_and_pd(ok, nn), _mm_andnot_pd(ok, one)));
+  _mm_store_pd(S->sg[j], sg);
+  S->okb[j] = _mm_movemask_pd(ok);
+}
+
+/* phong_pair's operations from the square root on at step j of *S, the very ones in their
+   order: inv, the greys, phong_pair's last test and the exact chain where it declines. */
+static inline __attribute__((always_inline))
+void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j,
+                const double (*X)[3], const unsigned *blocked, const struct shade_lights *L,
+                const __m128d (*lv)[3], int nlight, int *grey)
+{
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1);
+  const __m128d half = _mm_set1_pd(0.5), fr = _mm_set1_pd((255 - SHADE_AMBIENT) * 1.0);
+  const __m128d eps = _mm_set1_pd(0x1p-24), twov = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
+  const __m128d two30 = _mm_set1_pd(0x1p30);
+  const int pa = S->pa[j], pb = S->pb[j];
+  const unsigned b0 = blocked[pa], b1 = blocked[pb];
+  const __m128d N0 = _mm_load_pd(S->n[0][j]), N1 = _mm_load_pd(S->n[1][j]);
+  const __m128d N2 = _mm_load_pd(S->n[2][j]);
+  const __m128d inv = _mm_div_pd(_mm_load_pd(S->sg[j]), _mm_sqrt_pd(_mm_load_pd(S->r[j])));
+  const __m128d s = _mm_load_pd(S->s[j]);
+  __m128d sum = zero;
+  for (int k = 0; k < nlight; k++) {
+    const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N0, lv[k][0]),
+                                                       _mm_mul_pd(N1, lv[k][1])),
+                                            _mm_mul_pd(N2, lv[k][2])), inv);
+    __m128d lit = _mm_cmpgt_pd(d, zero);
+    if ((b0 | b1) >> k & 1u)
+      lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                            (b0 >> k & 1u) - 1ull)));
+    sum = k ? _mm_add_pd(sum, _mm_and_pd(lit, d)) : _mm_and_pd(lit, d);
+  }
+  const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
+  const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(twov, s),
+                                                                   _mm_andnot_pd(sign, inv))));
+  const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
+  const __m128i t0 = _mm_cvttpd_epi32(f0v);
+  const int okb = S->okb[j];
+  const int fine = okb & _mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f0v, zero),
+                                                    _mm_cmplt_pd(f1v, two30))) &
+                   _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
+  const bool two = S->two[j];
+  const int lanes = two ? 3 : 1;
+  if ((fine & lanes) == lanes) {
+    const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t0);
+    grey[pa] = g0 > 255 ? 255 : g0;
+    if (two) {
+      const int g1 = SHADE_AMBIENT + _mm_cvtsi128_si32(_mm_srli_si128(t0, 4));
+      grey[pb] = g1 > 255 ? 255 : g1;
+    }
+    return;
+  }
+  double f0[2], f1[2];
+  _mm_storeu_pd(f0, f0v);
+  _mm_storeu_pd(f1, f1v);
+  for (int h = 0; h <= (int)two; h++) {       /* phong_filter's last test and grey */
+    int *g = &grey[h ? pb : pa];
+    if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
+      const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
+      *g = gv > 255 ? 255 : gv;
+      continue;
+    }
+    if (m->phong_declines) ++*m->phong_declines;
+    const struct smooth_tri *tr = &m->tri[h ? S->b[j] : S->a[j]];
+    const double *Xp = X[h ? pb : pa];
+    double ar[3];
+    bary_areas(tr, Xp, ar);
+    grey_phong_exact(tr, ar, Xp, 1.0, h ? b1 : b0, L, g);
+  }
+}
+
 /* phong_row's pairs, under nlight = L->n parallel lights whose directions are lv: a
    triangle's points two a step (phong_pairs' steps), and an odd one left over with the
-   next triangle's first (phong_pair, each lane its own triangle's constants); a point of
-   a triangle whose btot is 0 alone (smooth_grey_run's way). */
+   next triangle's first (each lane its own triangle's constants); a point of a triangle
+   whose btot is 0 alone (smooth_grey_run's way). Each step is phong_pair's operations on
+   its lanes, in two passes over the row's steps: up to the square root's operand
+   (phong_head) for every step, then the rest (phong_tail) for every step. Done step after
+   step in one pass, a step's chain from its loads through its square root and divide to
+   its grey is some 150 cycles long and the processor kept only two or three steps in
+   flight, waiting on the chains (issue 19); a pass's chain is about half as long, and the
+   square roots and divides of the second pass are fed with no wait on the areas. */
 static inline __attribute__((always_inline))
 void phong_row_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                       const double (*X)[3], const unsigned *blocked,
                       const struct shade_lights *L, const __m128d (*lv)[3], int nlight,
                       int *grey)
 {
-  int p = 0;
+  struct phong_steps S;
+  int p = 0, j = 0;
   for (int k = 0; k < nseg; k++) {
     const int q = at[k + 1];
     const struct smooth_tri *tr = &m->tri[tri[k]];
@@ -1513,22 +1643,25 @@ void phong_row_lights(const struct smooth_model *m, int nseg, const int *tri, co
     }
     const struct smooth_lanes *lx = &m->lanes[tri[k]];
     const __m128d sg = phong_side(tr, tr);
-    for (; p + 2 <= q; p += 2)
-      phong_pair(m, tr, lx, tr, lx, true, X[p], X[p + 1], true, 1.0, blocked[p],
-                 blocked[p + 1], L, lv, nlight, sg, &grey[p], &grey[p + 1]);
+    for (; p + 2 <= q; p += 2, j++) {
+      S.pa[j] = p; S.pb[j] = p + 1; S.a[j] = S.b[j] = tri[k]; S.two[j] = true;
+      phong_head(tr, lx, tr, lx, true, X[p], X[p + 1], sg, &S, j);
+    }
     if (p == q) continue;
     const int tn = k + 1 < nseg ? tri[k + 1] : -1;
+    S.pa[j] = p; S.a[j] = tri[k];
     if (tn >= 0 && m->tri[tn].btot != 0) {     /* p = q - 1 and the next one, q */
-      phong_pair(m, tr, lx, &m->tri[tn], &m->lanes[tn], false, X[p], X[q], true, 1.0,
-                 blocked[p], blocked[q], L, lv, nlight, phong_side(tr, &m->tri[tn]), &grey[p],
-                 &grey[q]);
+      S.pb[j] = q; S.b[j] = tn; S.two[j] = true;
+      phong_head(tr, lx, &m->tri[tn], &m->lanes[tn], false, X[p], X[q],
+                 phong_side(tr, &m->tri[tn]), &S, j++);
       p = q + 1;
     } else {                                   /* alone: in both lanes */
-      phong_pair(m, tr, lx, tr, lx, true, X[p], X[p], false, 1.0, blocked[p], blocked[p], L,
-                 lv, nlight, sg, &grey[p], &grey[p]);
+      S.pb[j] = p; S.b[j] = tri[k]; S.two[j] = false;
+      phong_head(tr, lx, tr, lx, true, X[p], X[p], sg, &S, j++);
       p = q;
     }
   }
+  for (int i = 0; i < j; i++) phong_tail(m, &S, i, X, blocked, L, lv, nlight, grey);
 }
 #endif
 
