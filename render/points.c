@@ -589,34 +589,116 @@ raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe
   cp->front = cofront;
 }
 
-/* raster_span's steps for a face with zl > 0 over its box and no tiles kept, over row j's
-   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), each lane stepped
-   by + za as raster_span steps them (the same roundings: the same values), stored as
-   (lo, hi) where face k is taken (lo = zl, hi = zh). Points decided by the doubles here
-   (zl > hi: in front; zh < lo: behind); from the first the exact compare must decide
-   on, raster_plain_rest. */
+/* raster_plain's point q with bounds v = (zl, zh) (see there): false when handed on to
+   raster_plain_rest (the exact compare asked there), which then does the rest of the span. */
+static inline __attribute__((always_inline)) bool
+plain_point(const struct points *p, int k, int64_t j, double *zd, char *fe, int32_t i1,
+            ptrdiff_t q, __m128d v, __m128d dv, struct coplane *cp)
+{
+  if (__builtin_expect(!(_mm_cvtsd_f64(v) > zd[q + 1]), 0)) {   /* !(zl > hi) */
+    if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
+      return true;                              /* zh < lo: behind, certainly */
+    raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv, cp);
+    return false;
+  }
+  *(int32_t *)(void *)(fe + 2 * q) = k;
+  _mm_storeu_pd(zd + q, v);
+  return true;
+}
+
+/* raster_span's work for a face with zl > 0 over its box and no tiles kept, over row j's
+   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), stored as (lo, hi)
+   where face k is taken (lo = zl, hi = zh). Points decided by the doubles here (zl > hi: in
+   front; zh < lo: behind); from the first the exact compare must decide on,
+   raster_plain_rest. The bounds go in two chains ("Float filter", two chains): the even
+   points' from v, the odd points' from v + za, each stepped by 2 za a pair of points (an
+   addition's latency a pair, not a point). */
 static inline __attribute__((always_inline)) void
 raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
              int32_t i0, int32_t i1, double zl, double zh, double za, struct coplane *cp)
 {
   __m128d v = _mm_set_pd(zh, zl);
-  const __m128d dv = _mm_set1_pd(za);
+  const __m128d dv = _mm_set1_pd(za), dv2 = _mm_add_pd(dv, dv);   /* 2 za: exact */
+  __m128d w = _mm_add_pd(v, dv);
   /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
      i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
   double *const zd = &zb[i1].lo;
   char *const fe = (char *)(fb + i1);
-  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
-    if (__builtin_expect(!(_mm_cvtsd_f64(v) > zd[q + 1]), 0)) {   /* !(zl > hi) */
-      if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
-        continue;                               /* zh < lo: behind, certainly */
-      raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv, cp);
-      return;
-    }
-    *(int32_t *)(void *)(fe + 2 * q) = k;
-    _mm_storeu_pd(zd + q, v);
+  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0;
+       q += 4, v = _mm_add_pd(v, dv2), w = _mm_add_pd(w, dv2)) {
+    if (!plain_point(p, k, j, zd, fe, i1, q, v, dv, cp)) return;
+    if (q + 2 == 0) return;
+    if (!plain_point(p, k, j, zd, fe, i1, q + 2, w, dv, cp)) return;
   }
 }
 #endif
+
+/* Row j's columns [i0, i1) made to hold a face and bounds where no tile is kept
+   ("Clearing"): those of them outside the row's ready columns set to nothing seen (face -1,
+   bounds -inf), the ready columns grown to take them in. True: the row had no ready
+   column, so nothing is seen anywhere on it; then [i0, i1) become its ready columns
+   untouched, for the caller to write as raster_fresh does. */
+static inline bool row_ready(struct points *p, const struct grid *g, int64_t j, int32_t i0,
+                             int32_t i1)
+{
+  int32_t *r = p->ready + 2 * j;
+  const int32_t a = r[0], e = r[1];
+  if (a >= e) {
+    r[0] = i0;
+    r[1] = i1;
+    return true;
+  }
+  const size_t row = (size_t)j * (size_t)g->W;
+  if (i0 < a) {
+    for (int32_t i = i0; i < a; i++) {
+      p->face[row + (size_t)i] = -1;
+      p->z[row + (size_t)i].lo = p->z[row + (size_t)i].hi = -HUGE_VAL;
+    }
+    r[0] = i0;
+  }
+  if (i1 > e) {
+    for (int32_t i = e; i < i1; i++) {
+      p->face[row + (size_t)i] = -1;
+      p->z[row + (size_t)i].lo = p->z[row + (size_t)i].hi = -HUGE_VAL;
+    }
+    r[1] = i1;
+  }
+  return false;
+}
+
+/* Face k over columns i0 .. i1 - 1 of row j (faces fb, bounds zb) where nothing is seen
+   yet (row_ready's true): taken at every point, as the compare takes it there (zl is a
+   finite double, > hi = -inf), with the bounds raster_take stores, zl and zh stepped by
+   + za as raster_span and raster_plain step them (the same values); nothing read. */
+static inline __attribute__((always_inline)) void
+raster_fresh(int k, int32_t *fb, struct points_z *zb, int32_t i0, int32_t i1, double zl,
+             double zh, double za, bool plus)
+{
+#ifdef __SSE2__
+  if (plus) {                                   /* in raster_plain's two chains */
+    __m128d v = _mm_set_pd(zh, zl);
+    const __m128d dv = _mm_set1_pd(za), dv2 = _mm_add_pd(dv, dv);
+    __m128d w = _mm_add_pd(v, dv);
+    int32_t i = i0;
+    for (; i + 1 < i1; i += 2, v = _mm_add_pd(v, dv2), w = _mm_add_pd(w, dv2)) {
+      fb[i] = k;
+      fb[i + 1] = k;
+      _mm_storeu_pd(&zb[i].lo, v);
+      _mm_storeu_pd(&zb[i + 1].lo, w);
+    }
+    if (i < i1) {
+      fb[i] = k;
+      _mm_storeu_pd(&zb[i].lo, v);
+    }
+    return;
+  }
+#endif
+  for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+    fb[i] = k;
+    zb[i].hi = plus || zh > 0 ? zh : 0;
+    zb[i].lo = plus || zl > 0 ? zl : -HUGE_VAL;
+  }
+}
 
 /* Face k's write at point i of row j (faces fb, bounds zb; trow: the row's tiles, or NULL)
    where it is in front: the face, its bounds lo and hi, and the tile's bounds kept
@@ -687,6 +769,10 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
   struct points_z *zb = p->z + row;
+  if (!trow && row_ready(p, g, j, i0, i1)) {     /* nothing seen on the row yet */
+    raster_fresh(k, fb, zb, i0, i1, zl, zh, za, plus);
+    return;
+  }
 #ifdef __SSE2__
   if (plus && !trow) {
     raster_plain(p, k, j, fb, zb, i0, i1, zl, zh, za, cp);
@@ -1007,7 +1093,10 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       visited += i1 - i0;
       const int64_t j = jlo + r;
       const double z0 = za * (double)i0 + (zb * (double)j + zc);
-      raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, &cp);
+      if (row_ready(p, g, j, i0, i1))           /* nothing seen on the row yet */
+        raster_fresh(k, fb, zrow, i0, i1, z0 - E, z0 + E, za, true);
+      else
+        raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, &cp);
     }
     p->points_visited += visited;
     if (!visited) p->faces_culled++;
@@ -1214,31 +1303,25 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
   }
   const bool tiles = area >= limit;               /* a face is left for the tiles */
-  /* the depth bounds, nothing seen yet: over every row with the tiles (their bounds are
-     the least over whole tiles), else over the rows of the faces' boxes, the only rows
-     their spans visit (face_draw: the box's rows, spans only where no tile is kept) */
-  /* (without the tiles, over the boxes' columns too: a span's columns lie in its face's
-     box, [ilo, ihi), as its crossings lie between the face's least and greatest x and the
-     first column at or right of an x does not fall as x grows) */
-  int zj0 = tiles ? 0 : g.H, zj1 = tiles ? g.H - 1 : -1;
-  int zi0 = tiles ? 0 : g.W, zi1 = tiles ? g.W : 0;
-  for (int d = 0; !tiles && d < nb; d++) {
-    zj0 = p->box[d].jlo < zj0 ? p->box[d].jlo : zj0;
-    zj1 = p->box[d].jhi > zj1 ? p->box[d].jhi : zj1;
-    zi0 = p->box[d].ilo < zi0 ? p->box[d].ilo : zi0;
-    zi1 = p->box[d].ihi > zi1 ? p->box[d].ihi : zi1;
+  /* nothing seen yet. With the tiles, over the whole grid (their bounds are the least over
+     whole tiles, and face_hidden may ask any); without them, no row has a ready column:
+     each span makes its columns ready as it comes (row_ready, "Clearing") and the faces of
+     the columns no span made ready are set to -1 at the end. The faces a row at a time (a
+     row is at most 532 bytes, a fill the C library does with vector stores; the whole
+     buffer at once, 53 kB, it fills with `rep stosb`, which valgrind counts as an
+     instruction a byte) */
+  if (tiles) {
+    struct points_z *z0 = p->z;
+    for (int i = 0; i < g.W; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
+    for (int j = 1; j < g.H; j++)                 /* the other rows as the first */
+      memcpy(p->z + (size_t)j * (size_t)g.W, z0, (size_t)g.W * sizeof *p->z);
+    for (int j = 0; j < g.H; j++)
+      memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
+  } else {
+    if (!grow((void **)&p->ready, &p->readycap, 2 * g.H + 1, sizeof *p->ready))
+      return t74_fail(err, T74_EIO, "out of host memory");
+    memset(p->ready, 0, (size_t)(2 * g.H) * sizeof *p->ready);
   }
-  if (zj0 <= zj1 && zi0 < zi1) {
-    struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
-    for (int i = 0; i < zi1 - zi0; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
-    for (int j = zj0 + 1; j <= zj1; j++)          /* the other rows as the first */
-      memcpy(p->z + (size_t)j * (size_t)g.W + (size_t)zi0, z0, (size_t)(zi1 - zi0) * sizeof *p->z);
-  }
-  /* the faces, nothing seen (-1): a row at a time (a row is at most 532 bytes, a fill
-     the C library does with vector stores; the whole buffer at once, 53 kB, it fills
-     with `rep stosb`, which valgrind counts as an instruction a byte) */
-  for (int j = 0; j < g.H; j++)
-    memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
   area = 0;
   int nd = 0;                                     /* faces kept */
   for (int d = 0; d < nb; d++) {
@@ -1269,6 +1352,13 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (p->retest_bands) nband = 0;
     if ((st = face_draw(p, &g, k, b, true, true, band, nband, err)) != T74_OK) return st;
   }
+  for (int j = 0; !tiles && j < g.H; j++) {      /* the columns no span made ready: no face */
+    int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
+    if (a >= e) a = e = g.W;                      /* none: the whole row */
+    int32_t *fr = p->face + (size_t)j * (size_t)g.W;
+    memset(fr, 0xff, (size_t)a * sizeof *fr);
+    memset(fr + e, 0xff, (size_t)(g.W - e) * sizeof *fr);
+  }
   return T74_OK;
 }
 
@@ -1290,5 +1380,6 @@ void points_free(struct points *p)
   free(p->key);
   free(p->bucket);
   free(p->tile);
+  free(p->ready);
   memset(p, 0, sizeof *p);
 }
