@@ -72,6 +72,13 @@
 ** times in z0 and once a step: i times, i < W); the roundings, two in zr, two in z0, one
 ** in zl (zh), one a step (fewer than W steps), (W + 4) 2uM. In all below (2W + 12) uM,
 ** which is < 2^-42 M < E for W < 2^9 (W <= 133). So zl < z < zh at every centre.
+** Two chains: raster_plain and raster_fresh (where no tile is kept) step the even points
+** of a span from (zl, zh) and the odd ones from (zl, zh) + za, each by 2 za (exact: a
+** doubling), so that a point does not wait on the addition of the point before; the t-th
+** point of the span (t < W) then meets za's error t times, as above, and at most t
+** roundings of a step, fewer than above: the same bound holds. (With the tiles, the bounds
+** stored feed the tiles' bounds and so which parts are skipped, a figure of --stats: there
+** the steps stay one chain.)
 ** The buffer keeps at each point, for the face o seen there, hi = max(zh, 0) and lo = zl
 ** when zl > 0, else -inf (both -inf where no face is yet): z_o < hi, 0 <= hi, and lo is
 ** finite only when z_o > lo > 0, i.e. P_o > 0. Face k at the point:
@@ -116,6 +123,14 @@
 ** bounds, so they hold however a face was drawn, and the frame is the same ("Order").
 ** When the boxes of all the faces cover the grid fewer times than that, no face is drawn
 ** with the tests and no bound is kept (nothing would read one).
+**
+** Clearing.  Where no tile is kept, nothing reads a point's face or bounds but the spans
+** of later faces over it. So a row's buffer is not cleared for the frame: the row keeps
+** its ready columns [a, b) (p->ready), where the face and bounds are a face's or
+** nothing's (-1, -inf); a span reaching past them first clears the columns between
+** (row_ready), and a span on a row with none writes its face and bounds without reading,
+** as the compare would take it at every point (zl, a finite double, > -inf). At the end
+** the faces outside each row's ready columns are set to -1.
 **
 ** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
 ** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
@@ -633,6 +648,24 @@ raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct point
 }
 #endif
 
+/* Points i0 .. i1 - 1 of a row (faces fb, bounds zb) set to nothing seen: face -1, bounds
+   -inf (a pair of doubles a store where the processor has SSE2). */
+static void points_none(int32_t *fb, struct points_z *zb, int32_t i0, int32_t i1)
+{
+#ifdef __SSE2__
+  const __m128d none = _mm_set1_pd(-HUGE_VAL);
+  for (int32_t i = i0; i < i1; i++) {
+    fb[i] = -1;
+    _mm_storeu_pd(&zb[i].lo, none);
+  }
+#else
+  for (int32_t i = i0; i < i1; i++) {
+    fb[i] = -1;
+    zb[i].lo = zb[i].hi = -HUGE_VAL;
+  }
+#endif
+}
+
 /* Row j's columns [i0, i1) made to hold a face and bounds where no tile is kept
    ("Clearing"): those of them outside the row's ready columns set to nothing seen (face -1,
    bounds -inf), the ready columns grown to take them in. True: the row had no ready
@@ -650,17 +683,11 @@ static inline bool row_ready(struct points *p, const struct grid *g, int64_t j, 
   }
   const size_t row = (size_t)j * (size_t)g->W;
   if (i0 < a) {
-    for (int32_t i = i0; i < a; i++) {
-      p->face[row + (size_t)i] = -1;
-      p->z[row + (size_t)i].lo = p->z[row + (size_t)i].hi = -HUGE_VAL;
-    }
+    points_none(p->face + row, p->z + row, i0, a);
     r[0] = i0;
   }
   if (i1 > e) {
-    for (int32_t i = e; i < i1; i++) {
-      p->face[row + (size_t)i] = -1;
-      p->z[row + (size_t)i].lo = p->z[row + (size_t)i].hi = -HUGE_VAL;
-    }
+    points_none(p->face + row, p->z + row, e, i1);
     r[1] = i1;
   }
   return false;
@@ -791,6 +818,20 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
     raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
   }
 }
+/* *d = v as two 64-bit stores, from the two registers a 128-bit product leaves (gcc,
+   given `*d = v`, kept the product on the stack a half at a time and copied it out with one
+   16-byte load: a load no store forwards to, which waits until both halves are written). */
+static inline void wide_put(wide *d, wide v)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  const uint64_t lo = (uint64_t)v, hi = (uint64_t)((unsigned __int128)v >> 64);
+  memcpy((char *)d, &lo, sizeof lo);
+  memcpy((char *)d + sizeof lo, &hi, sizeof hi);
+#else
+  *d = v;
+#endif
+}
+
 /* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
    false: the box holds no point centre (the face is culled). */
 static bool face_box(struct points *p, const struct grid *g, int k, struct points_box *b)
@@ -819,23 +860,26 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   const wide a = f->plane[0], bb = f->plane[1], c = f->plane[2];
   const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
   struct points_plane *pl = &p->plane[k];
-  pl->alpha = a * ca;
-  pl->beta = -bb * cb;
+  const wide alpha = a * ca, beta = -bb * cb;
+  wide_put(&pl->alpha, alpha);
+  wide_put(&pl->beta, beta);
+  wide gamma;
   if (g->g64)                                      /* the grid's factors found once (exact) */
-    pl->gamma = (wide)f->plane[0] * g->ga64 + (wide)f->plane[1] * g->gb64 +
-                (wide)f->plane[2] * g->gc64;      /* 64 x 64 bits: a multiply each */
+    gamma = (wide)f->plane[0] * g->ga64 + (wide)f->plane[1] * g->gb64 +
+            (wide)f->plane[2] * g->gc64;          /* 64 x 64 bits: a multiply each */
   else
-    pl->gamma = a * g->ga + bb * g->gb + c * g->gc;
+    gamma = a * g->ga + bb * g->gb + c * g->gc;
+  wide_put(&pl->gamma, gamma);
   const double Dd = (double)f->deye;
   const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
-               Gd = pl->gamma == (int64_t)pl->gamma ? (double)(int64_t)pl->gamma  /* same value */
-                                                      : (double)pl->gamma;
+               Gd = gamma == (int64_t)gamma ? (double)(int64_t)gamma  /* same value */
+                                            : (double)gamma;
   b->za = Ad / Dd;
   b->zb = Bd / Dd;
   b->zc = Gd / Dd;
   b->E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
-  b->arise = pl->alpha > 0;
-  b->brise = pl->beta > 0;
+  b->arise = alpha > 0;
+  b->brise = beta > 0;
   /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
      error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
   const double zmin = b->za * (double)(b->arise ? ilo : ihi - 1) +
