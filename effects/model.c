@@ -1818,6 +1818,42 @@ static int count_set(const unsigned *b, int n)
   return c;
 }
 
+/* The faces row[0 .. n) after the regions put over fr[0 .. n) (the engine's), the points
+   where they differ counted: *cut, of which *show_face now see a face and *show_none none.
+   Four points a vector instruction where the processor has SSE2, without a branch a point
+   (where the faces differ follows no pattern a predictor learns). */
+static void cut_row(const int *row, int *fr, int n, long *cut, long *show_face, long *show_none)
+{
+  int i = 0, c = 0, none = 0;               /* (< n: ints) */
+#ifdef __SSE2__
+  const __m128i ones = _mm_set1_epi32(-1);
+  __m128i vc = _mm_setzero_si128(), vn = vc;   /* lane by lane: -1 a point counted */
+  for (; i + 4 <= n; i += 4) {
+    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(row + i));
+    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(fr + i));
+    const __m128i ne = _mm_andnot_si128(_mm_cmpeq_epi32(a, b), ones);
+    vc = _mm_add_epi32(vc, ne);
+    vn = _mm_add_epi32(vn, _mm_and_si128(ne, _mm_srai_epi32(a, 31)));   /* and a < 0 */
+    _mm_storeu_si128((__m128i *)(void *)(fr + i), a);
+  }
+  vc = _mm_add_epi32(vc, _mm_shuffle_epi32(vc, _MM_SHUFFLE(1, 0, 3, 2)));
+  vc = _mm_add_epi32(vc, _mm_shuffle_epi32(vc, _MM_SHUFFLE(2, 3, 0, 1)));
+  vn = _mm_add_epi32(vn, _mm_shuffle_epi32(vn, _MM_SHUFFLE(1, 0, 3, 2)));
+  vn = _mm_add_epi32(vn, _mm_shuffle_epi32(vn, _MM_SHUFFLE(2, 3, 0, 1)));
+  c = -_mm_cvtsi128_si32(vc);
+  none = -_mm_cvtsi128_si32(vn);
+#endif
+  for (; i < n; i++) {
+    const int face = row[i];
+    c += face != fr[i];
+    none += face != fr[i] && face < 0;
+    fr[i] = face;
+  }
+  *cut += c;
+  *show_none += none;
+  *show_face += c - none;
+}
+
 int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
               struct cost *cost, struct t74_error *err)
 {
@@ -1852,20 +1888,11 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       if ((rc = fx_lines_samples(L, 1, j, 0, W, row, blocked, err)) != T74_OK) break;
       /* a row the regions left as it was has no cut to count (nor, without shadows,
          anything) */
-      const bool same = !memcmp(row, fr, (size_t)W * sizeof *row);
-      int nb = 0;                           /* the row's points in shadow (< W: an int,
-                                               counted four a vector instruction) */
-      if (same && m->shadows.n) nb = count_set(blocked, W);
-      for (int i = 0; i < W && !same; i++) {
-        int face = row[i];
-        if (face != fr[i]) {
-          cut++;
-          if (face >= 0) show_face++; else show_none++;
-        }
-        fr[i] = face;
-        nb += blocked[i] != 0;
-      }
-      shadowed += nb;
+      if (memcmp(row, fr, (size_t)W * sizeof *row))
+        cut_row(row, fr, W, &cut, &show_face, &show_none);
+      /* the row's points in shadow (< W: an int, counted four a vector instruction; none
+         without shadows, where shadow_samples leaves every mask 0) */
+      if (m->shadows.n) shadowed += count_set(blocked, W);
       COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)W);   /* 2 and 2 a point */
       COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
