@@ -666,6 +666,18 @@ static void points_none(int32_t *fb, struct points_z *zb, int32_t i0, int32_t i1
 #endif
 }
 
+/* Faces from .. to - 1 set to -1 (none seen): four a store where the processor has SSE2,
+   in line (the C library's memset takes a call, and for a few kB `rep stosb`, which
+   valgrind counts as an instruction a byte). */
+static void faces_none(int32_t *from, int32_t *to)
+{
+#ifdef __SSE2__
+  const __m128i none = _mm_set1_epi32(-1);
+  for (; from + 4 <= to; from += 4) _mm_storeu_si128((__m128i *)(void *)from, none);
+#endif
+  for (; from < to; from++) *from = -1;
+}
+
 /* Row j's columns [i0, i1) made to hold a face and bounds where no tile is kept
    ("Clearing"): those of them outside the row's ready columns set to nothing seen (face -1,
    bounds -inf), the ready columns grown to take them in. True: the row had no ready
@@ -1054,6 +1066,17 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
   return T74_OK;
 }
 
+/* The faces fb and bounds zb of a row's span between the columns x[0] and x[1] (either
+   first) asked of the memory ahead of their writes: they are seldom in the first-level
+   cache, as the stages after the points engine go through much more memory from frame
+   to frame, and a write that misses waits for its line. */
+static inline void span_prefetch(const int32_t *fb, const struct points_z *zb, const int32_t *x)
+{
+  const int32_t a = x[0] < x[1] ? x[0] : x[1], e = x[0] < x[1] ? x[1] : x[0];
+  for (int32_t i = a; i < e; i += 4) __builtin_prefetch(zb + i, 1);   /* 4 a line */
+  for (int32_t i = a; i < e; i += 16) __builtin_prefetch(fb + i, 1);  /* 16 a line */
+}
+
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
    tile skipped when the tile's bound proves the face behind there (coarse, "Tiles"). tiles:
    the tiles' bounds are kept (some face of the frame is drawn coarse; always when this one
@@ -1128,6 +1151,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     int32_t *fb = p->face + (size_t)jlo * (size_t)g->W;
     struct points_z *zrow = p->z + (size_t)jlo * (size_t)g->W;
     long visited = 0;
+    span_prefetch(fb, zrow, p->cross);
     for (int r = 0; r < nrow; r++, fb += g->W, zrow += g->W) {
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
       const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
@@ -1136,6 +1160,8 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       if (i0 >= i1) continue;
       visited += i1 - i0;
       const int64_t j = jlo + r;
+      if (r + 1 < nrow)                         /* the next row's span asked for ahead */
+        span_prefetch(fb + g->W, zrow + g->W, p->cross + 2 * r + 2);
       const double z0 = za * (double)i0 + (zb * (double)j + zc);
       if (row_ready(p, g, j, i0, i1))           /* nothing seen on the row yet */
         raster_fresh(k, fb, zrow, i0, i1, z0 - E, z0 + E, za, true);
@@ -1396,12 +1422,18 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (p->retest_bands) nband = 0;
     if ((st = face_draw(p, &g, k, b, true, true, band, nband, err)) != T74_OK) return st;
   }
-  for (int j = 0; !tiles && j < g.H; j++) {      /* the columns no span made ready: no face */
-    int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
-    if (a >= e) a = e = g.W;                      /* none: the whole row */
-    int32_t *fr = p->face + (size_t)j * (size_t)g.W;
-    memset(fr, 0xff, (size_t)a * sizeof *fr);
-    memset(fr + e, 0xff, (size_t)(g.W - e) * sizeof *fr);
+  if (!tiles) {                                   /* the columns no span made ready: no face */
+    /* from one row's last ready column to the next ready row's first, one fill (the rows
+       lie one after the other in the buffer) */
+    int32_t *from = p->face;
+    for (int j = 0; j < g.H; j++) {
+      const int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
+      if (a >= e) continue;                       /* none: the whole row is filled */
+      int32_t *fr = p->face + (size_t)j * (size_t)g.W;
+      faces_none(from, fr + a);
+      from = fr + e;
+    }
+    faces_none(from, p->face + n);
   }
   return T74_OK;
 }
