@@ -221,10 +221,43 @@ struct points_tile {
 
 #define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
-static inline int64_t floor_div64(int64_t n, int64_t d)      /* d > 0 */
+/* Division by a number d fixed for a frame (the grid's Dy and S), by a multiply: for
+   0 <= a < 2^62, floor(a / d) = floor(a m / 2^k) with k = max(64, 62 + l), l = ceil(log2 d)
+   (2^(l - 1) < d <= 2^l), m = ceil(2^k / d). Proof: m d = 2^k + e with 0 <= e < d, so
+   a m / 2^k = a / d + a e / (d 2^k), and the second term is below 2^62 / 2^k <= 2^-l <=
+   1 / d; a / d = q + r / d with r <= d - 1, so a m / 2^k < q + 1 and its floor is q. For
+   2 <= d < 2^40, m < 2^k / d + 1 <= 2^63 + 1 (k = 62 + l: 2^k / d < 2^(62 + l) / 2^(l - 1);
+   k = 64 > 62 + l: d >= 2) fits 64 bits, and a m < 2^125. A 64-bit divide's latency is
+   what this saves: a multiply and a shift instead. */
+struct divconst {
+  int64_t d;
+  uint64_t m;
+  int k;                        /* k - 64 (in [0, 38]) */
+};
+
+static struct divconst divconst_make(int64_t d)              /* 2 <= d < 2^40 */
 {
-  const int64_t q = n / d, r = n % d;
-  return q - (r < 0);                           /* (a compare, no branch) */
+  int l = 0;
+  while (((int64_t)1 << l) < d) l++;
+  const int k = 62 + l > 64 ? 62 + l : 64;
+  const unsigned __int128 one = 1;
+  return (struct divconst){ d, (uint64_t)(((one << k) + (unsigned __int128)d - 1) /
+                                          (unsigned __int128)d), k - 64 };
+}
+
+/* floor(n / c->d): for n < 0, -ceil(-n / d) = -floor((d - 1 - n) / d); by the multiply
+   while the dividend is below 2^62 (always on the grid: |n| < 2^38), else the divide. */
+static inline int64_t floor_div_const(int64_t n, const struct divconst *c)
+{
+  const int64_t neg = -(int64_t)(n < 0);
+  const uint64_t a = (uint64_t)(n ^ neg) + ((uint64_t)c->d & (uint64_t)neg);   /* n, or
+                                                      ~n + d = d - 1 - n */
+  if (__builtin_expect(a >= (uint64_t)1 << 62, 0)) {
+    const int64_t q = n / c->d, r = n % c->d;
+    return q - (r < 0);
+  }
+  const uint64_t q = (uint64_t)(((unsigned __int128)a * c->m) >> 64) >> c->k;
+  return ((int64_t)q ^ neg) - neg;              /* q, or -q */
 }
 
 /* *q = floor(n / d), *r = n - *q d (0 <= *r < d), d > 0, for a quotient that fits 64
@@ -398,17 +431,18 @@ struct grid {
   int64_t ga64, gb64, gc64;     /* the same, when g64: all three fit 64 bits */
   bool g64;
   double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
+  struct divconst dDy, dS;      /* division by Dy, by S (both in [2, 2^24]) */
 };
 
 /* Row j (from the top) has y_j >= y exactly when 2j + 1 <= row_q(y). */
 static inline int64_t row_q(const struct grid *g, int64_t y)
 {
-  return floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);
+  return floor_div_const(g->yd * (GRID_ONE * g->YT - y), &g->dDy);
 }
 
 /* floor(m / 2) as the exact quotient of the even number at or below m (m & 1 is m's
    parity in two's complement, negative m too; no shift of a negative number, whose
-   result C leaves to the implementation): fewer instructions than floor_div64's. */
+   result C leaves to the implementation): no divide. */
 static inline int64_t floor_half(int64_t m) { return (m - (m & 1)) / 2; }
 
 /* Rows with y_j >= y, from q = row_q(y): j <= floor((q - 1) / 2). */
@@ -423,7 +457,7 @@ static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
 {
   /* (2i + 1) S >= xd (x - GRID_ONE XL) */
   int64_t R = g->xd * (x - GRID_ONE * g->XL);
-  int64_t q = -floor_div64(-R, g->S);                               /* ceil */
+  int64_t q = -floor_div_const(-R, &g->dS);                         /* ceil */
   return floor_half(q);
 }
 
@@ -441,6 +475,7 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   /* the grid's numbers in locals: the edges' stores (int64_t, as the grid's) would make
      the compiler load them again an edge */
   const int64_t yd = g->yd, xd = g->xd, Dy = g->Dy, Syd = g->S * g->yd;   /* S yd < 2^32 */
+  const struct divconst dDy = g->dDy;
   const int64_t ytop = yd * (GRID_ONE * g->YT), xoff = GRID_ONE * g->XL;  /* row_q(y) =
                                                    floor((ytop - yd y) / Dy); yn of row j:
                                                    ytop - (2j + 1) Dy */
@@ -450,13 +485,14 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   int turns = 0, first = 0, last = 0;           /* dy's changes of sign, its first, last */
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
-    const int64_t qlo = floor_div64(ytop - yd * f->pt[lo].y, Dy);  /* row_q, each vertex once */
+    const int64_t qlo = floor_div_const(ytop - yd * f->pt[lo].y, &dDy);   /* row_q, each
+                                                                              vertex once */
     int64_t qb = qlo;
     for (int k = lo; k < hi; k++) {
       int nk = k + 1 < hi ? k + 1 : lo;
       struct gpoint a = f->pt[k], b = f->pt[nk];
       int64_t qa = qb;
-      qb = nk == lo ? qlo : floor_div64(ytop - yd * b.y, Dy);
+      qb = nk == lo ? qlo : floor_div_const(ytop - yd * b.y, &dDy);
       if (a.y == b.y) continue;
       /* which way the edge goes, and its lower and upper ends, without branches (an
          edge's way has no pattern the predictor learns) */
@@ -1335,6 +1371,8 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.kj = (double)g.yd / (2.0 * (double)GRID_ONE * (double)(g.YT - g.YB));
   g.i0 = -((double)g.xd * (double)g.XL / (double)(g.XR - g.XL) + 1) / 2;
   g.j0 = ((double)g.yd * (double)g.YT / (double)(g.YT - g.YB) - 1) / 2;
+  g.dDy = divconst_make(g.Dy);                    /* (Dy, S >= GRID_ONE: >= 2) */
+  g.dS = divconst_make(g.S);
   p->faces_culled = 0;
   p->tiles_skipped = 0;
   p->points_visited = 0;
