@@ -1864,11 +1864,18 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   unsigned *blocked = calloc((size_t)W + 1, sizeof *blocked);
   int *row = malloc(((size_t)W + 1) * sizeof *row);
   double *px = malloc(((size_t)W + (size_t)H + 1) * sizeof *px);
+  /* each face's face_shade_of, found at its first run of the frame and kept (known): a
+     run then reads it from one table, not through the face, its scene face and its
+     texture one load after another */
+  const size_t nface = (size_t)m->map->nface + 1;
+  struct face_shade *shades = malloc(nface * sizeof *shades);
+  uint8_t *known = calloc(nface, 1);
   struct fx_lines *L = NULL;
-  int rc = !blocked || !row || !px ? t74_fail(err, T74_EIO, "out of host memory") : T74_OK;
+  int rc = !blocked || !row || !px || !shades || !known
+             ? t74_fail(err, T74_EIO, "out of host memory") : T74_OK;
   if (rc == T74_OK && regions) rc = fx_lines_open(&L, m, false, cost, err);
   if (rc != T74_OK) {
-    free(blocked); free(row); free(px);
+    free(blocked); free(row); free(px); free(shades); free(known);
     return rc;
   }
   double *py = px + W;
@@ -1935,7 +1942,11 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         continue;
       }
       if (face != last) {
-        face_shade_of(m, face, &fs);
+        if (!known[face]) {
+          face_shade_of(m, face, &shades[face]);
+          known[face] = 1;
+        }
+        fs = shades[face];
         last = face;
         run = !pc && fs.tri >= 0 && !fs.t;
         plain = !pc && fs.tri < 0;
@@ -1982,7 +1993,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     }
   }
   fx_lines_close(L);
-  free(blocked); free(row); free(px);
+  free(blocked); free(row); free(px); free(shades); free(known);
   if (rc != T74_OK) return rc;
   flat += runs[0]; band += runs[1]; corner += runs[2];
   if (m->e->contour_on && m->smooth) {
