@@ -716,9 +716,10 @@ static void faces_none(int32_t *from, int32_t *to)
 
 /* Row j's columns [i0, i1) made to hold a face and bounds where no tile is kept
    ("Clearing"): those of them outside the row's ready columns set to nothing seen (face -1,
-   bounds -inf), the ready columns grown to take them in. True: the row had no ready
-   column, so nothing is seen anywhere on it; then [i0, i1) become its ready columns
-   untouched, for the caller to write as raster_fresh does. */
+   bounds -inf), the ready columns grown to take them in. True: nothing is seen at any of
+   [i0, i1) (the row had no ready column, or [i0, i1) lies beside its ready columns, which
+   then take in it and the columns between, those cleared): [i0, i1) is left untouched,
+   for the caller to write as raster_fresh does. */
 static inline bool row_ready(struct points *p, const struct grid *g, int64_t j, int32_t i0,
                              int32_t i1)
 {
@@ -730,6 +731,16 @@ static inline bool row_ready(struct points *p, const struct grid *g, int64_t j, 
     return true;
   }
   const size_t row = (size_t)j * (size_t)g->W;
+  if (i1 <= a) {                                /* left of them: the gap between cleared */
+    points_none(p->face + row, p->z + row, i1, a);
+    r[0] = i0;
+    return true;
+  }
+  if (i0 >= e) {                                /* right of them */
+    points_none(p->face + row, p->z + row, e, i0);
+    r[1] = i1;
+    return true;
+  }
   if (i0 < a) {
     points_none(p->face + row, p->z + row, i0, a);
     r[0] = i0;
