@@ -127,10 +127,11 @@
 ** Clearing.  Where no tile is kept, nothing reads a point's face or bounds but the spans
 ** of later faces over it. So a row's buffer is not cleared for the frame: the row keeps
 ** its ready columns [a, b) (p->ready), where the face and bounds are a face's or
-** nothing's (-1, -inf); a span reaching past them first clears the columns between
-** (row_ready), and a span on a row with none writes its face and bounds without reading,
-** as the compare would take it at every point (zl, a finite double, > -inf). At the end
-** the faces outside each row's ready columns are set to -1.
+** nothing's (-1, -inf), a run that grows as spans come (row_ready). A span over them
+** first clears its columns outside them; a span on a row with none, or beside them (the
+** columns between then cleared), sees nothing anywhere and writes its face and bounds
+** without reading, as the compare would take them at every point (zl, a finite double,
+** > -inf = hi). At the end the faces outside each row's ready columns are set to -1.
 **
 ** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
 ** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
