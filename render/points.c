@@ -125,7 +125,9 @@
 ** with the tests and no bound is kept (nothing would read one).
 **
 ** Clearing.  Where no tile is kept, nothing reads a point's face or bounds but the spans
-** of later faces over it. So a row's buffer is not cleared for the frame: the row keeps
+** of later faces over it. So where the faces' boxes are LAZY_BOX points or more a face
+** (smaller faces lose more to a test a span than the clearing costs), a row's buffer is
+** not cleared for the frame (lazy): the row keeps
 ** its ready columns [a, b) (p->ready), where the face and bounds are a face's or
 ** nothing's (-1, -inf), a run that grows as spans come (row_ready). A span over them
 ** first clears its columns outside them; a span on a row with none, or beside them (the
@@ -219,6 +221,8 @@ struct points_tile {
 #define TILE (1 << TILE_SHIFT)
 #define BUCKETS_MAX 4096                    /* nearest-first order: buckets of depth */
 #define COARSE_DEPTH 3                      /* tiles where boxes cover the grid as often */
+#define LAZY_BOX 64                         /* rows made ready span by span ("Clearing")
+                                               where the boxes are this many points a face */
 
 #define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
@@ -433,6 +437,7 @@ struct grid {
   bool g64;
   double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
   struct divconst dDy, dS;      /* division by Dy, by S (both in [2, 2^24]) */
+  bool lazy;                    /* rows made ready span by span ("Clearing") */
 };
 
 /* Row j (from the top) has y_j >= y exactly when 2j + 1 <= row_q(y). */
@@ -881,7 +886,7 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
   struct points_z *zb = p->z + row;
-  if (!trow && row_ready(p, g, j, i0, i1)) {     /* nothing seen on the row yet */
+  if (!trow && g->lazy && row_ready(p, g, j, i0, i1)) {   /* nothing seen there yet */
     raster_fresh(k, fb, zb, i0, i1, zl, zh, za, plus);
     return;
   }
@@ -1235,7 +1240,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       if (r + 1 < nrow)                         /* the next row's span asked for ahead */
         span_prefetch(fb + g->W, zrow + g->W, p->cross + 2 * r + 2);
       const double z0 = za * (double)i0 + (zb * (double)j + zc);
-      if (row_ready(p, g, j, i0, i1))           /* nothing seen on the row yet */
+      if (g->lazy && row_ready(p, g, j, i0, i1))   /* nothing seen there yet */
         raster_fresh(k, fb, zrow, i0, i1, z0 - E, z0 + E, za, true);
       else
         raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, &cp);
@@ -1448,23 +1453,42 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   }
   const bool tiles = area >= limit;               /* a face is left for the tiles */
   /* nothing seen yet. With the tiles, over the whole grid (their bounds are the least over
-     whole tiles, and face_hidden may ask any); without them, no row has a ready column:
-     each span makes its columns ready as it comes (row_ready, "Clearing") and the faces of
-     the columns no span made ready are set to -1 at the end. The faces a row at a time (a
+     whole tiles, and face_hidden may ask any); lazy, no row has a ready column: each span
+     makes its columns ready as it comes (row_ready, "Clearing") and the faces of the
+     columns no span made ready are set to -1 at the end. The faces a row at a time (a
      row is at most 532 bytes, a fill the C library does with vector stores; the whole
      buffer at once, 53 kB, it fills with `rep stosb`, which valgrind counts as an
      instruction a byte) */
-  if (tiles) {
-    struct points_z *z0 = p->z;
-    for (int i = 0; i < g.W; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
-    for (int j = 1; j < g.H; j++)                 /* the other rows as the first */
-      memcpy(p->z + (size_t)j * (size_t)g.W, z0, (size_t)g.W * sizeof *p->z);
-    for (int j = 0; j < g.H; j++)
-      memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
-  } else {
+  /* (lazy only where the faces' boxes are LAZY_BOX points or more on the whole: a span's
+     test of its row's ready columns is a branch no predictor guesses, which costs more
+     than the clearing it saves where faces are small, as on the sphere and boxes1000) */
+  g.lazy = !tiles && area >= LAZY_BOX * (long)nb;
+  if (g.lazy) {
     if (!grow((void **)&p->ready, &p->readycap, 2 * g.H + 1, sizeof *p->ready))
       return t74_fail(err, T74_EIO, "out of host memory");
     memset(p->ready, 0, (size_t)(2 * g.H) * sizeof *p->ready);
+  } else {
+    /* the depth bounds over every row with the tiles, else over the rows and columns of
+       the faces' boxes, the only ones their spans visit (a span's columns lie in its
+       face's box, [ilo, ihi), as its crossings lie between the face's least and greatest
+       x and the first column at or right of an x does not fall as x grows) */
+    int zj0 = tiles ? 0 : g.H, zj1 = tiles ? g.H - 1 : -1;
+    int zi0 = tiles ? 0 : g.W, zi1 = tiles ? g.W : 0;
+    for (int d = 0; !tiles && d < nb; d++) {
+      zj0 = p->box[d].jlo < zj0 ? p->box[d].jlo : zj0;
+      zj1 = p->box[d].jhi > zj1 ? p->box[d].jhi : zj1;
+      zi0 = p->box[d].ilo < zi0 ? p->box[d].ilo : zi0;
+      zi1 = p->box[d].ihi > zi1 ? p->box[d].ihi : zi1;
+    }
+    if (zj0 <= zj1 && zi0 < zi1) {
+      struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
+      for (int i = 0; i < zi1 - zi0; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
+      for (int j = zj0 + 1; j <= zj1; j++)        /* the other rows as the first */
+        memcpy(p->z + (size_t)j * (size_t)g.W + (size_t)zi0, z0,
+               (size_t)(zi1 - zi0) * sizeof *p->z);
+    }
+    for (int j = 0; j < g.H; j++)
+      memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
   }
   area = 0;
   int nd = 0;                                     /* faces kept */
@@ -1499,7 +1523,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   /* the columns no span made ready: no face (a fill at most a row long, which the C
      library does with vector stores; a longer one it does with `rep stosb`, which valgrind
      counts as an instruction a byte) */
-  for (int j = 0; !tiles && j < g.H; j++) {
+  for (int j = 0; g.lazy && j < g.H; j++) {
     int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
     if (a >= e) a = e = g.W;                      /* none: the whole row */
     int32_t *fr = p->face + (size_t)j * (size_t)g.W;
