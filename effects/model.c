@@ -1024,6 +1024,10 @@ struct fx_lines {
   int *rend, rendcap, rendn;   /* the last row's runs of one face (shadow_ranges): at each
                                run's first sample its end e, or -e where a light is blocked
                                at a sample of the run; rendn samples, 0 when not found */
+  uint64_t *runbit; int runbitcap;   /* shadow_ranges: a row's run ends (run_bits) */
+  struct fx_sample_row sr;  /* shadow_ranges' row of samples, kept while its xd, k0 and n
+                               are asked again (srn: its n, or -1 when none kept) */
+  int srn;
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -1071,6 +1075,7 @@ int fx_lines_open(struct fx_lines **out, const struct fx_model *m, bool by_sampl
   }
   if (rc != T74_OK) { fx_lines_close(L); return rc; }
   L->spans = !by_samples && fx_see_has_spans(L->see);
+  L->srn = -1;
   *out = L;
   return T74_OK;
 }
@@ -1086,7 +1091,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->behind);
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
-  free(L->rng); free(L->fr); free(L->ps); free(L->rend);
+  free(L->rng); free(L->fr); free(L->ps); free(L->rend); free(L->runbit);
   free(L);
 }
 
@@ -1557,10 +1562,13 @@ static bool poly_stepped(struct poly_step *s, int64_t yn, int64_t yd, int64_t fy
       s->dyn = dyn;
     }
     for (int c = 0; c < 2; c++) {
+      /* r + dr in [0, 2Q): over Q (t >= 0) the rest is t and q gains one more; a carry
+         the predictor cannot guess, so taken without a branch (neg: -1 where t < 0) */
       struct edge_step *e = &s->e[c];
-      e->q += e->dq;                        /* |q| < 2^36 + rows 2^36: no overflow */
-      e->r += e->dr;
-      if (e->r >= e->Q) { e->r -= e->Q; e->q++; }
+      const wide t = e->r + e->dr - e->Q;   /* in [-Q, Q) */
+      const int64_t neg = -(int64_t)(t < 0);
+      e->r = t + (e->Q & (wide)neg);
+      e->q += e->dq + 1 + neg;              /* |q| < 2^36 + rows 2^36: no overflow */
     }
     s->yn = yn;
   }
@@ -1628,15 +1636,15 @@ static int next_on_row(const struct fx_poly *p, int k, int k1, int64_t fy)
 }
 
 /* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
-   row r (rising): a sample lies in a stretch [x0, x1) exactly when it is at or right of
+   row r (rising; fy: the line's row, fx_line_row): a sample lies in a stretch [x0, x1)
+   exactly when it is at or right of
    x0 and not at or right of x1, so in [fx_first_at_or_right(x0), fx_first_at_or_right(x1)).
    Appended to L->rng. A polygon of two crossings takes its ends from its step (above)
    where it can. */
-static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
+static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd, int64_t fy,
                        const struct fx_sample_row *r, struct t74_error *err)
 {
   const struct fx_model *m = L->m;
-  const int64_t fy = fx_line_row(yn, yd);
   if (!L->ps && !m->count && m->shadows.n <= 1 << 15 &&
       (L->ps = malloc((size_t)m->shadows.n * sizeof *L->ps)) != NULL)   /* (NULL: the long way) */
     for (int k = 0; k < m->shadows.n; k++) L->ps[k].set = false;
@@ -1668,6 +1676,39 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd,
   return T74_OK;
 }
 
+/* The ends of the runs of one face along face[0 .. n), as bits: bit i of bit[i / 64] set
+   when a run ends after sample i (face[i + 1] != face[i], or i = n - 1). Four samples a
+   compare where the processor has SSE2; one pass over the row, where finding each run's
+   end on its own (face_run_end) ends each search with a branch no predictor can guess. */
+static void run_bits(const int *face, int n, uint64_t *bit)
+{
+  int i = 0;
+  for (int w = 0; w < (n + 63) / 64; w++) {
+    uint64_t acc = 0;                       /* (in a register: no store and reload a step) */
+    const int end = 64 * w + 64 < n ? 64 * w + 64 : n;
+#ifdef __SSE2__
+    /* samples i .. i + 3 against i + 1 .. i + 4, the latter shifted in from the loads of
+       i .. i + 3 and i + 4 .. i + 7: every load at a multiple of four samples from the row's
+       start (the row was just copied in: a load across two of the copy's stores would wait
+       for both to be written) */
+    if (i + 4 <= end && i + 8 <= n) {
+      __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(face + i));
+      for (; i + 4 <= end && i + 8 <= n; i += 4) {
+        const __m128i nx = _mm_loadu_si128((const __m128i *)(const void *)(face + i + 4));
+        const __m128i b = _mm_or_si128(_mm_srli_si128(a, 4), _mm_slli_si128(nx, 12));
+        const unsigned same =
+          (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, b)));
+        acc |= (uint64_t)(~same & 0xfu) << (i & 63);   /* (i a multiple of 4) */
+        a = nx;
+      }
+    }
+#endif
+    for (; i < end; i++)
+      acc |= (uint64_t)(i + 1 == n || face[i + 1] != face[i]) << (i & 63);
+    bit[w] = acc;
+  }
+}
+
 /* shadow_samples on a rising window: a light is blocked at a sample when one of its
    shadows' stretches on the face seen there holds the sample (the count of them at the
    sample, starts at or left of it less ends at or left of it, is positive: shadow_line's
@@ -1679,8 +1720,14 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   const struct fx_model *m = L->m;
   if (!L->fr && !(L->fr = calloc((size_t)m->map->nface + 1, sizeof *L->fr)))
     return t74_fail(err, T74_EIO, "out of host memory");
-  struct fx_sample_row sr;
-  fx_sample_row_set(&sr, m->g->window, xd, k0, n);
+  /* the row of samples: the same for every row of one frame (fx_points'), so made once
+     (its divides) while xd, k0 and n stay */
+  if (L->srn != n || L->sr.xd != xd || L->sr.k0 != k0) {
+    fx_sample_row_set(&L->sr, m->g->window, xd, k0, n);
+    L->srn = n;
+  }
+  const struct fx_sample_row *const sr = &L->sr;
+  const int64_t fy = fx_line_row(yn, yd);
   L->row++;                                 /* every face's ranges: none yet */
   L->nrng = 0;
   if (n > L->rendcap) {
@@ -1689,30 +1736,40 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
     L->rend = nr;
     L->rendcap = n;
   }
-  memset(blocked, 0, (size_t)n * sizeof *blocked);
-  for (int i = 0; i < n;) {
-    const int f = face[i];
-    const int e = face_run_end(face, i, n);
-    L->rend[i] = e;                         /* (the run's end, for fx_points' greys) */
-    if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
-      int any = 0;                          /* a range meets the run: a light blocked there */
-      if (L->fr[f].row != L->row) {
-        const int at = L->nrng;
-        const int rc = face_ranges(L, f, yn, yd, &sr, err);
-        if (rc != T74_OK) return rc;
-        L->fr[f].row = L->row; L->fr[f].at = at; L->fr[f].n = L->nrng - at;
-      }
-      for (int k = L->fr[f].at; k < L->fr[f].at + L->fr[f].n; k++) {
-        const struct brange *b = &L->rng[k];
-        const unsigned bit = 1u << b->light;
-        const int j0 = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e;
-        any |= j0 < hi;
-        for (int j = j0; j < hi; j++) blocked[j] |= bit;
-      }
-      if (any) L->rend[i] = -e;
-    }
-    i = e;
+  const int nw = (n + 63) / 64;
+  if (nw > L->runbitcap) {
+    uint64_t *nb = realloc(L->runbit, (size_t)nw * sizeof *nb);
+    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+    L->runbit = nb;
+    L->runbitcap = nw;
   }
+  run_bits(face, n, L->runbit);
+  memset(blocked, 0, (size_t)n * sizeof *blocked);
+  int i = 0;
+  for (int w = 0; w < nw; w++)
+    for (uint64_t mb = L->runbit[w]; mb; mb &= mb - 1) {
+      const int e = 64 * w + __builtin_ctzll(mb) + 1;   /* the run [i, e) */
+      const int f = face[i];
+      L->rend[i] = e;                       /* (the run's end, for fx_points' greys) */
+      if (f >= 0 && m->shadow_first[f] < m->shadow_first[f + 1]) {
+        int any = 0;                        /* a range meets the run: a light blocked there */
+        if (L->fr[f].row != L->row) {
+          const int at = L->nrng;
+          const int rc = face_ranges(L, f, yn, yd, fy, sr, err);
+          if (rc != T74_OK) return rc;
+          L->fr[f].row = L->row; L->fr[f].at = at; L->fr[f].n = L->nrng - at;
+        }
+        for (int k = L->fr[f].at; k < L->fr[f].at + L->fr[f].n; k++) {
+          const struct brange *b = &L->rng[k];
+          const unsigned bit = 1u << b->light;
+          const int j0 = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e;
+          any |= j0 < hi;
+          for (int j = j0; j < hi; j++) blocked[j] |= bit;
+        }
+        if (any) L->rend[i] = -e;
+      }
+      i = e;
+    }
   L->rendn = n;
   return T74_OK;
 }
@@ -1823,6 +1880,42 @@ static int count_set(const unsigned *b, int n)
   return c;
 }
 
+/* The faces row[0 .. n) after the regions put over fr[0 .. n) (the engine's), the points
+   where they differ counted: *cut, of which *show_face now see a face and *show_none none.
+   Four points a vector instruction where the processor has SSE2, without a branch a point
+   (where the faces differ follows no pattern a predictor learns). */
+static void cut_row(const int *row, int *fr, int n, long *cut, long *show_face, long *show_none)
+{
+  int i = 0, c = 0, none = 0;               /* (< n: ints) */
+#ifdef __SSE2__
+  const __m128i ones = _mm_set1_epi32(-1);
+  __m128i vc = _mm_setzero_si128(), vn = vc;   /* lane by lane: -1 a point counted */
+  for (; i + 4 <= n; i += 4) {
+    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(row + i));
+    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(fr + i));
+    const __m128i ne = _mm_andnot_si128(_mm_cmpeq_epi32(a, b), ones);
+    vc = _mm_add_epi32(vc, ne);
+    vn = _mm_add_epi32(vn, _mm_and_si128(ne, _mm_srai_epi32(a, 31)));   /* and a < 0 */
+    _mm_storeu_si128((__m128i *)(void *)(fr + i), a);
+  }
+  vc = _mm_add_epi32(vc, _mm_shuffle_epi32(vc, _MM_SHUFFLE(1, 0, 3, 2)));
+  vc = _mm_add_epi32(vc, _mm_shuffle_epi32(vc, _MM_SHUFFLE(2, 3, 0, 1)));
+  vn = _mm_add_epi32(vn, _mm_shuffle_epi32(vn, _MM_SHUFFLE(1, 0, 3, 2)));
+  vn = _mm_add_epi32(vn, _mm_shuffle_epi32(vn, _MM_SHUFFLE(2, 3, 0, 1)));
+  c = -_mm_cvtsi128_si32(vc);
+  none = -_mm_cvtsi128_si32(vn);
+#endif
+  for (; i < n; i++) {
+    const int face = row[i];
+    c += face != fr[i];
+    none += face != fr[i] && face < 0;
+    fr[i] = face;
+  }
+  *cut += c;
+  *show_none += none;
+  *show_face += c - none;
+}
+
 int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
               struct cost *cost, struct t74_error *err)
 {
@@ -1833,11 +1926,18 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   unsigned *blocked = calloc((size_t)W + 1, sizeof *blocked);
   int *row = malloc(((size_t)W + 1) * sizeof *row);
   double *px = malloc(((size_t)W + (size_t)H + 1) * sizeof *px);
+  /* each face's face_shade_of, found at its first run of the frame and kept (known): a
+     run then reads it from one table, not through the face, its scene face and its
+     texture one load after another */
+  const size_t nface = (size_t)m->map->nface + 1;
+  struct face_shade *shades = malloc(nface * sizeof *shades);
+  uint8_t *known = calloc(nface, 1);
   struct fx_lines *L = NULL;
-  int rc = !blocked || !row || !px ? t74_fail(err, T74_EIO, "out of host memory") : T74_OK;
+  int rc = !blocked || !row || !px || !shades || !known
+             ? t74_fail(err, T74_EIO, "out of host memory") : T74_OK;
   if (rc == T74_OK && regions) rc = fx_lines_open(&L, m, false, cost, err);
   if (rc != T74_OK) {
-    free(blocked); free(row); free(px);
+    free(blocked); free(row); free(px); free(shades); free(known);
     return rc;
   }
   double *py = px + W;
@@ -1857,20 +1957,11 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       if ((rc = fx_lines_samples(L, 1, j, 0, W, row, blocked, err)) != T74_OK) break;
       /* a row the regions left as it was has no cut to count (nor, without shadows,
          anything) */
-      const bool same = !memcmp(row, fr, (size_t)W * sizeof *row);
-      int nb = 0;                           /* the row's points in shadow (< W: an int,
-                                               counted four a vector instruction) */
-      if (same && m->shadows.n) nb = count_set(blocked, W);
-      for (int i = 0; i < W && !same; i++) {
-        int face = row[i];
-        if (face != fr[i]) {
-          cut++;
-          if (face >= 0) show_face++; else show_none++;
-        }
-        fr[i] = face;
-        nb += blocked[i] != 0;
-      }
-      shadowed += nb;
+      if (memcmp(row, fr, (size_t)W * sizeof *row))
+        cut_row(row, fr, W, &cut, &show_face, &show_none);
+      /* the row's points in shadow (< W: an int, counted four a vector instruction; none
+         without shadows, where shadow_samples leaves every mask 0) */
+      if (m->shadows.n) shadowed += count_set(blocked, W);
       COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)W);   /* 2 and 2 a point */
       COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
@@ -1913,7 +2004,11 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         continue;
       }
       if (face != last) {
-        face_shade_of(m, face, &fs);
+        if (!known[face]) {
+          face_shade_of(m, face, &shades[face]);
+          known[face] = 1;
+        }
+        fs = shades[face];
         last = face;
         run = !pc && fs.tri >= 0 && !fs.t;
         plain = !pc && fs.tri < 0;
@@ -1960,7 +2055,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     }
   }
   fx_lines_close(L);
-  free(blocked); free(row); free(px);
+  free(blocked); free(row); free(px); free(shades); free(known);
   if (rc != T74_OK) return rc;
   flat += runs[0]; band += runs[1]; corner += runs[2];
   if (m->e->contour_on && m->smooth) {

@@ -72,6 +72,13 @@
 ** times in z0 and once a step: i times, i < W); the roundings, two in zr, two in z0, one
 ** in zl (zh), one a step (fewer than W steps), (W + 4) 2uM. In all below (2W + 12) uM,
 ** which is < 2^-42 M < E for W < 2^9 (W <= 133). So zl < z < zh at every centre.
+** Two chains: raster_plain and raster_fresh (where no tile is kept) step the even points
+** of a span from (zl, zh) and the odd ones from (zl, zh) + za, each by 2 za (exact: a
+** doubling), so that a point does not wait on the addition of the point before; the t-th
+** point of the span (t < W) then meets za's error t times, as above, and at most t
+** roundings of a step, fewer than above: the same bound holds. (With the tiles, the bounds
+** stored feed the tiles' bounds and so which parts are skipped, a figure of --stats: there
+** the steps stay one chain.)
 ** The buffer keeps at each point, for the face o seen there, hi = max(zh, 0) and lo = zl
 ** when zl > 0, else -inf (both -inf where no face is yet): z_o < hi, 0 <= hi, and lo is
 ** finite only when z_o > lo > 0, i.e. P_o > 0. Face k at the point:
@@ -116,6 +123,17 @@
 ** bounds, so they hold however a face was drawn, and the frame is the same ("Order").
 ** When the boxes of all the faces cover the grid fewer times than that, no face is drawn
 ** with the tests and no bound is kept (nothing would read one).
+**
+** Clearing.  Where no tile is kept, nothing reads a point's face or bounds but the spans
+** of later faces over it. So where the faces' boxes are LAZY_BOX points or more a face
+** (smaller faces lose more to a test a span than the clearing costs), a row's buffer is
+** not cleared for the frame (lazy): the row keeps
+** its ready columns [a, b) (p->ready), where the face and bounds are a face's or
+** nothing's (-1, -inf), a run that grows as spans come (row_ready). A span over them
+** first clears its columns outside them; a span on a row with none, or beside them (the
+** columns between then cleared), sees nothing anywhere and writes its face and bounds
+** without reading, as the compare would take them at every point (zl, a finite double,
+** > -inf = hi). At the end the faces outside each row's ready columns are set to -1.
 **
 ** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
 ** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
@@ -203,13 +221,48 @@ struct points_tile {
 #define TILE (1 << TILE_SHIFT)
 #define BUCKETS_MAX 4096                    /* nearest-first order: buckets of depth */
 #define COARSE_DEPTH 3                      /* tiles where boxes cover the grid as often */
+#define LAZY_BOX 64                         /* rows made ready span by span ("Clearing")
+                                               where the boxes are this many points a face */
 
 #define Z_MARGIN 0x1p-40                    /* E = Z_MARGIN M (the filter's bound) */
 
-static inline int64_t floor_div64(int64_t n, int64_t d)      /* d > 0 */
+/* Division by a number d fixed for a frame (the grid's Dy and S), by a multiply: for
+   0 <= a < 2^62, floor(a / d) = floor(a m / 2^k) with k = max(64, 62 + l), l = ceil(log2 d)
+   (2^(l - 1) < d <= 2^l), m = ceil(2^k / d). Proof: m d = 2^k + e with 0 <= e < d, so
+   a m / 2^k = a / d + a e / (d 2^k), and the second term is below 2^62 / 2^k <= 2^-l <=
+   1 / d; a / d = q + r / d with r <= d - 1, so a m / 2^k < q + 1 and its floor is q. For
+   2 <= d < 2^40, m < 2^k / d + 1 <= 2^63 + 1 (k = 62 + l: 2^k / d < 2^(62 + l) / 2^(l - 1);
+   k = 64 > 62 + l: d >= 2) fits 64 bits, and a m < 2^125. A 64-bit divide's latency is
+   what this saves: a multiply and a shift instead. */
+struct divconst {
+  int64_t d;
+  uint64_t m;
+  int k;                        /* k - 64 (in [0, 38]) */
+};
+
+static struct divconst divconst_make(int64_t d)              /* 2 <= d < 2^40 */
 {
-  const int64_t q = n / d, r = n % d;
-  return q - (r < 0);                           /* (a compare, no branch) */
+  int l = 0;
+  while (((int64_t)1 << l) < d) l++;
+  const int k = 62 + l > 64 ? 62 + l : 64;
+  const unsigned __int128 one = 1;
+  return (struct divconst){ d, (uint64_t)(((one << k) + (unsigned __int128)d - 1) /
+                                          (unsigned __int128)d), k - 64 };
+}
+
+/* floor(n / c->d): for n < 0, -ceil(-n / d) = -floor((d - 1 - n) / d); by the multiply
+   while the dividend is below 2^62 (always on the grid: |n| < 2^38), else the divide. */
+static inline int64_t floor_div_const(int64_t n, const struct divconst *c)
+{
+  const int64_t neg = -(int64_t)(n < 0);
+  const uint64_t a = (uint64_t)(n ^ neg) + ((uint64_t)c->d & (uint64_t)neg);   /* n, or
+                                                      ~n + d = d - 1 - n */
+  if (__builtin_expect(a >= (uint64_t)1 << 62, 0)) {
+    const int64_t q = n / c->d, r = n % c->d;
+    return q - (r < 0);
+  }
+  const uint64_t q = (uint64_t)(((unsigned __int128)a * c->m) >> 64) >> c->k;
+  return ((int64_t)q ^ neg) - neg;              /* q, or -q */
 }
 
 /* *q = floor(n / d), *r = n - *q d (0 <= *r < d), d > 0, for a quotient that fits 64
@@ -383,17 +436,19 @@ struct grid {
   int64_t ga64, gb64, gc64;     /* the same, when g64: all three fit 64 bits */
   bool g64;
   double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
+  struct divconst dDy, dS;      /* division by Dy, by S (both in [2, 2^24]) */
+  bool lazy;                    /* rows made ready span by span ("Clearing") */
 };
 
 /* Row j (from the top) has y_j >= y exactly when 2j + 1 <= row_q(y). */
 static inline int64_t row_q(const struct grid *g, int64_t y)
 {
-  return floor_div64(g->yd * (GRID_ONE * g->YT - y), g->Dy);
+  return floor_div_const(g->yd * (GRID_ONE * g->YT - y), &g->dDy);
 }
 
 /* floor(m / 2) as the exact quotient of the even number at or below m (m & 1 is m's
    parity in two's complement, negative m too; no shift of a negative number, whose
-   result C leaves to the implementation): fewer instructions than floor_div64's. */
+   result C leaves to the implementation): no divide. */
 static inline int64_t floor_half(int64_t m) { return (m - (m & 1)) / 2; }
 
 /* Rows with y_j >= y, from q = row_q(y): j <= floor((q - 1) / 2). */
@@ -408,7 +463,7 @@ static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
 {
   /* (2i + 1) S >= xd (x - GRID_ONE XL) */
   int64_t R = g->xd * (x - GRID_ONE * g->XL);
-  int64_t q = -floor_div64(-R, g->S);                               /* ceil */
+  int64_t q = -floor_div_const(-R, &g->dS);                         /* ceil */
   return floor_half(q);
 }
 
@@ -426,6 +481,7 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   /* the grid's numbers in locals: the edges' stores (int64_t, as the grid's) would make
      the compiler load them again an edge */
   const int64_t yd = g->yd, xd = g->xd, Dy = g->Dy, Syd = g->S * g->yd;   /* S yd < 2^32 */
+  const struct divconst dDy = g->dDy;
   const int64_t ytop = yd * (GRID_ONE * g->YT), xoff = GRID_ONE * g->XL;  /* row_q(y) =
                                                    floor((ytop - yd y) / Dy); yn of row j:
                                                    ytop - (2j + 1) Dy */
@@ -435,13 +491,14 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   int turns = 0, first = 0, last = 0;           /* dy's changes of sign, its first, last */
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
-    const int64_t qlo = floor_div64(ytop - yd * f->pt[lo].y, Dy);  /* row_q, each vertex once */
+    const int64_t qlo = floor_div_const(ytop - yd * f->pt[lo].y, &dDy);   /* row_q, each
+                                                                              vertex once */
     int64_t qb = qlo;
     for (int k = lo; k < hi; k++) {
       int nk = k + 1 < hi ? k + 1 : lo;
       struct gpoint a = f->pt[k], b = f->pt[nk];
       int64_t qa = qb;
-      qb = nk == lo ? qlo : floor_div64(ytop - yd * b.y, Dy);
+      qb = nk == lo ? qlo : floor_div_const(ytop - yd * b.y, &dDy);
       if (a.y == b.y) continue;
       /* which way the edge goes, and its lower and upper ends, without branches (an
          edge's way has no pattern the predictor learns) */
@@ -589,34 +646,139 @@ raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe
   cp->front = cofront;
 }
 
-/* raster_span's steps for a face with zl > 0 over its box and no tiles kept, over row j's
-   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), each lane stepped
-   by + za as raster_span steps them (the same roundings: the same values), stored as
-   (lo, hi) where face k is taken (lo = zl, hi = zh). Points decided by the doubles here
-   (zl > hi: in front; zh < lo: behind); from the first the exact compare must decide
-   on, raster_plain_rest. */
+/* raster_plain's point q with bounds v = (zl, zh) (see there): false when handed on to
+   raster_plain_rest (the exact compare asked there), which then does the rest of the span. */
+static inline __attribute__((always_inline)) bool
+plain_point(const struct points *p, int k, int64_t j, double *zd, char *fe, int32_t i1,
+            ptrdiff_t q, __m128d v, __m128d dv, struct coplane *cp)
+{
+  if (__builtin_expect(!(_mm_cvtsd_f64(v) > zd[q + 1]), 0)) {   /* !(zl > hi) */
+    if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
+      return true;                              /* zh < lo: behind, certainly */
+    raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv, cp);
+    return false;
+  }
+  *(int32_t *)(void *)(fe + 2 * q) = k;
+  _mm_storeu_pd(zd + q, v);
+  return true;
+}
+
+/* raster_span's work for a face with zl > 0 over its box and no tiles kept, over row j's
+   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), stored as (lo, hi)
+   where face k is taken (lo = zl, hi = zh). Points decided by the doubles here (zl > hi: in
+   front; zh < lo: behind); from the first the exact compare must decide on,
+   raster_plain_rest. The bounds go in two chains ("Float filter", two chains): the even
+   points' from v, the odd points' from v + za, each stepped by 2 za a pair of points (an
+   addition's latency a pair, not a point). */
 static inline __attribute__((always_inline)) void
 raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
              int32_t i0, int32_t i1, double zl, double zh, double za, struct coplane *cp)
 {
   __m128d v = _mm_set_pd(zh, zl);
-  const __m128d dv = _mm_set1_pd(za);
+  const __m128d dv = _mm_set1_pd(za), dv2 = _mm_add_pd(dv, dv);   /* 2 za: exact */
+  __m128d w = _mm_add_pd(v, dv);
   /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
      i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
   double *const zd = &zb[i1].lo;
   char *const fe = (char *)(fb + i1);
-  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0; q += 2, v = _mm_add_pd(v, dv)) {
-    if (__builtin_expect(!(_mm_cvtsd_f64(v) > zd[q + 1]), 0)) {   /* !(zl > hi) */
-      if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
-        continue;                               /* zh < lo: behind, certainly */
-      raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv, cp);
-      return;
-    }
-    *(int32_t *)(void *)(fe + 2 * q) = k;
-    _mm_storeu_pd(zd + q, v);
+  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0;
+       q += 4, v = _mm_add_pd(v, dv2), w = _mm_add_pd(w, dv2)) {
+    if (!plain_point(p, k, j, zd, fe, i1, q, v, dv, cp)) return;
+    if (q + 2 == 0) return;
+    if (!plain_point(p, k, j, zd, fe, i1, q + 2, w, dv, cp)) return;
   }
 }
 #endif
+
+/* Points i0 .. i1 - 1 of a row (faces fb, bounds zb) set to nothing seen: face -1, bounds
+   -inf (a pair of doubles a store where the processor has SSE2). */
+static void points_none(int32_t *fb, struct points_z *zb, int32_t i0, int32_t i1)
+{
+#ifdef __SSE2__
+  const __m128d none = _mm_set1_pd(-HUGE_VAL);
+  for (int32_t i = i0; i < i1; i++) {
+    fb[i] = -1;
+    _mm_storeu_pd(&zb[i].lo, none);
+  }
+#else
+  for (int32_t i = i0; i < i1; i++) {
+    fb[i] = -1;
+    zb[i].lo = zb[i].hi = -HUGE_VAL;
+  }
+#endif
+}
+
+/* Row j's columns [i0, i1) made to hold a face and bounds where no tile is kept
+   ("Clearing"): those of them outside the row's ready columns set to nothing seen (face -1,
+   bounds -inf), the ready columns grown to take them in. True: nothing is seen at any of
+   [i0, i1) (the row had no ready column, or [i0, i1) lies beside its ready columns, which
+   then take in it and the columns between, those cleared): [i0, i1) is left untouched,
+   for the caller to write as raster_fresh does. */
+static inline bool row_ready(struct points *p, const struct grid *g, int64_t j, int32_t i0,
+                             int32_t i1)
+{
+  int32_t *r = p->ready + 2 * j;
+  const int32_t a = r[0], e = r[1];
+  if (a >= e) {
+    r[0] = i0;
+    r[1] = i1;
+    return true;
+  }
+  const size_t row = (size_t)j * (size_t)g->W;
+  if (i1 <= a) {                                /* left of them: the gap between cleared */
+    points_none(p->face + row, p->z + row, i1, a);
+    r[0] = i0;
+    return true;
+  }
+  if (i0 >= e) {                                /* right of them */
+    points_none(p->face + row, p->z + row, e, i0);
+    r[1] = i1;
+    return true;
+  }
+  if (i0 < a) {
+    points_none(p->face + row, p->z + row, i0, a);
+    r[0] = i0;
+  }
+  if (i1 > e) {
+    points_none(p->face + row, p->z + row, e, i1);
+    r[1] = i1;
+  }
+  return false;
+}
+
+/* Face k over columns i0 .. i1 - 1 of row j (faces fb, bounds zb) where nothing is seen
+   yet (row_ready's true): taken at every point, as the compare takes it there (zl is a
+   finite double, > hi = -inf), with the bounds raster_take stores, zl and zh stepped by
+   + za as raster_span and raster_plain step them (the same values); nothing read. */
+static inline __attribute__((always_inline)) void
+raster_fresh(int k, int32_t *fb, struct points_z *zb, int32_t i0, int32_t i1, double zl,
+             double zh, double za, bool plus)
+{
+#ifdef __SSE2__
+  if (plus) {                                   /* in raster_plain's two chains */
+    __m128d v = _mm_set_pd(zh, zl);
+    const __m128d dv = _mm_set1_pd(za), dv2 = _mm_add_pd(dv, dv);
+    __m128d w = _mm_add_pd(v, dv);
+    int32_t i = i0;
+    for (; i + 1 < i1; i += 2, v = _mm_add_pd(v, dv2), w = _mm_add_pd(w, dv2)) {
+      fb[i] = k;
+      fb[i + 1] = k;
+      _mm_storeu_pd(&zb[i].lo, v);
+      _mm_storeu_pd(&zb[i + 1].lo, w);
+    }
+    if (i < i1) {
+      fb[i] = k;
+      _mm_storeu_pd(&zb[i].lo, v);
+    }
+    return;
+  }
+#endif
+  for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+    fb[i] = k;
+    zb[i].hi = plus || zh > 0 ? zh : 0;
+    zb[i].lo = plus || zl > 0 ? zl : -HUGE_VAL;
+  }
+}
 
 /* Face k's write at point i of row j (faces fb, bounds zb; trow: the row's tiles, or NULL)
    where it is in front: the face, its bounds lo and hi, and the tile's bounds kept
@@ -673,6 +835,43 @@ raster_span_rest(const struct points *p, int k, int64_t j, int32_t *fb, struct p
   cp->front = cofront;
 }
 
+/* raster_span's loop: the points the doubles decide (zl > hi: in front; zh < lo: behind)
+   here; from the first the exact compare must decide on, raster_span_rest. */
+static inline __attribute__((always_inline)) void
+raster_loop(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
+            int32_t i0, int32_t i1, double zl, double zh, double za, bool plus,
+            struct points_tile *trow, struct coplane *cp)
+{
+  for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+    const double was = zb[i].lo;
+    if (__builtin_expect(!(zl > zb[i].hi), 0)) {
+      if (zh < was) continue;                   /* behind, certainly */
+      raster_span_rest(p, k, j, fb, zb, i, i1, zl, zh, za, plus, trow, cp);
+      return;
+    }
+    raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
+  }
+}
+
+/* raster_loop with the tiles kept, for zl > 0 over the box and not: out of line and on a
+   64-byte boundary, so that where the loop lies does not move with the code around it
+   (its speed on tris160 changed by a quarter with a 16-byte shift). */
+static __attribute__((noinline, aligned(64))) void
+raster_tiles_plus(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
+                  int32_t i0, int32_t i1, double zl, double zh, double za,
+                  struct points_tile *trow, struct coplane *cp)
+{
+  raster_loop(p, k, j, fb, zb, i0, i1, zl, zh, za, true, trow, cp);
+}
+
+static __attribute__((noinline, aligned(64))) void
+raster_tiles_any(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
+                 int32_t i0, int32_t i1, double zl, double zh, double za,
+                 struct points_tile *trow, struct coplane *cp)
+{
+  raster_loop(p, k, j, fb, zb, i0, i1, zl, zh, za, false, trow, cp);
+}
+
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
    and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
@@ -687,24 +886,37 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
   struct points_z *zb = p->z + row;
+  if (!trow && g->lazy && row_ready(p, g, j, i0, i1)) {   /* nothing seen there yet */
+    raster_fresh(k, fb, zb, i0, i1, zl, zh, za, plus);
+    return;
+  }
 #ifdef __SSE2__
   if (plus && !trow) {
     raster_plain(p, k, j, fb, zb, i0, i1, zl, zh, za, cp);
     return;
   }
 #endif
-  /* the points the doubles decide (zl > hi: in front; zh < lo: behind) here; from the
-     first the exact compare must decide on, raster_span_rest */
-  for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
-    const double was = zb[i].lo;
-    if (__builtin_expect(!(zl > zb[i].hi), 0)) {
-      if (zh < was) continue;                   /* behind, certainly */
-      raster_span_rest(p, k, j, fb, zb, i, i1, zl, zh, za, plus, trow, cp);
-      return;
-    }
-    raster_take(k, i, fb, zb, zl, zh, was, plus, trow);
+  if (trow) {
+    if (plus) raster_tiles_plus(p, k, j, fb, zb, i0, i1, zl, zh, za, trow, cp);
+    else raster_tiles_any(p, k, j, fb, zb, i0, i1, zl, zh, za, trow, cp);
+    return;
   }
+  raster_loop(p, k, j, fb, zb, i0, i1, zl, zh, za, plus, NULL, cp);
 }
+/* *d = v as two 64-bit stores, from the two registers a 128-bit product leaves (gcc,
+   given `*d = v`, kept the product on the stack a half at a time and copied it out with one
+   16-byte load: a load no store forwards to, which waits until both halves are written). */
+static inline void wide_put(wide *d, wide v)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  const uint64_t lo = (uint64_t)v, hi = (uint64_t)((unsigned __int128)v >> 64);
+  memcpy((char *)d, &lo, sizeof lo);
+  memcpy((char *)d + sizeof lo, &hi, sizeof hi);
+#else
+  *d = v;
+#endif
+}
+
 /* Face k's box of points and depth in doubles, its plane's exact P kept in p->plane[k];
    false: the box holds no point centre (the face is culled). */
 static bool face_box(struct points *p, const struct grid *g, int k, struct points_box *b)
@@ -733,23 +945,26 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   const wide a = f->plane[0], bb = f->plane[1], c = f->plane[2];
   const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
   struct points_plane *pl = &p->plane[k];
-  pl->alpha = a * ca;
-  pl->beta = -bb * cb;
+  const wide alpha = a * ca, beta = -bb * cb;
+  wide_put(&pl->alpha, alpha);
+  wide_put(&pl->beta, beta);
+  wide gamma;
   if (g->g64)                                      /* the grid's factors found once (exact) */
-    pl->gamma = (wide)f->plane[0] * g->ga64 + (wide)f->plane[1] * g->gb64 +
-                (wide)f->plane[2] * g->gc64;      /* 64 x 64 bits: a multiply each */
+    gamma = (wide)f->plane[0] * g->ga64 + (wide)f->plane[1] * g->gb64 +
+            (wide)f->plane[2] * g->gc64;          /* 64 x 64 bits: a multiply each */
   else
-    pl->gamma = a * g->ga + bb * g->gb + c * g->gc;
+    gamma = a * g->ga + bb * g->gb + c * g->gc;
+  wide_put(&pl->gamma, gamma);
   const double Dd = (double)f->deye;
   const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
-               Gd = pl->gamma == (int64_t)pl->gamma ? (double)(int64_t)pl->gamma  /* same value */
-                                                      : (double)pl->gamma;
+               Gd = gamma == (int64_t)gamma ? (double)(int64_t)gamma  /* same value */
+                                            : (double)gamma;
   b->za = Ad / Dd;
   b->zb = Bd / Dd;
   b->zc = Gd / Dd;
   b->E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
-  b->arise = pl->alpha > 0;
-  b->brise = pl->beta > 0;
+  b->arise = alpha > 0;
+  b->brise = beta > 0;
   /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
      error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
   const double zmin = b->za * (double)(b->arise ? ilo : ihi - 1) +
@@ -924,6 +1139,21 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
   return T74_OK;
 }
 
+/* The faces fb and bounds zb of a row's span between the columns x[0] and x[1] (either
+   first) asked of the memory ahead of their writes: they are seldom in the first-level
+   cache, as the stages after the points engine go through much more memory from frame
+   to frame, and a write that misses waits for its line. Not for a span of fewer than
+   PREFETCH_MIN points: there the asking costs more than it saves (street, whose faces
+   are small, was 2.5% slower with it; fig6-room, whose faces are large, 3% faster). */
+#define PREFETCH_MIN 16
+static inline void span_prefetch(const int32_t *fb, const struct points_z *zb, const int32_t *x)
+{
+  const int32_t a = x[0] < x[1] ? x[0] : x[1], e = x[0] < x[1] ? x[1] : x[0];
+  if (e - a < PREFETCH_MIN) return;
+  for (int32_t i = a; i < e; i += 4) __builtin_prefetch(zb + i, 1);   /* 4 a line */
+  for (int32_t i = a; i < e; i += 16) __builtin_prefetch(fb + i, 1);  /* 16 a line */
+}
+
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
    tile skipped when the tile's bound proves the face behind there (coarse, "Tiles"). tiles:
    the tiles' bounds are kept (some face of the frame is drawn coarse; always when this one
@@ -998,6 +1228,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
     int32_t *fb = p->face + (size_t)jlo * (size_t)g->W;
     struct points_z *zrow = p->z + (size_t)jlo * (size_t)g->W;
     long visited = 0;
+    span_prefetch(fb, zrow, p->cross);
     for (int r = 0; r < nrow; r++, fb += g->W, zrow += g->W) {
       int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
       const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
@@ -1006,8 +1237,13 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       if (i0 >= i1) continue;
       visited += i1 - i0;
       const int64_t j = jlo + r;
+      if (r + 1 < nrow)                         /* the next row's span asked for ahead */
+        span_prefetch(fb + g->W, zrow + g->W, p->cross + 2 * r + 2);
       const double z0 = za * (double)i0 + (zb * (double)j + zc);
-      raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, &cp);
+      if (g->lazy && row_ready(p, g, j, i0, i1))   /* nothing seen there yet */
+        raster_fresh(k, fb, zrow, i0, i1, z0 - E, z0 + E, za, true);
+      else
+        raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, &cp);
     }
     p->points_visited += visited;
     if (!visited) p->faces_culled++;
@@ -1176,6 +1412,8 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.kj = (double)g.yd / (2.0 * (double)GRID_ONE * (double)(g.YT - g.YB));
   g.i0 = -((double)g.xd * (double)g.XL / (double)(g.XR - g.XL) + 1) / 2;
   g.j0 = ((double)g.yd * (double)g.YT / (double)(g.YT - g.YB) - 1) / 2;
+  g.dDy = divconst_make(g.Dy);                    /* (Dy, S >= GRID_ONE: >= 2) */
+  g.dS = divconst_make(g.S);
   p->faces_culled = 0;
   p->tiles_skipped = 0;
   p->points_visited = 0;
@@ -1214,31 +1452,44 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
   }
   const bool tiles = area >= limit;               /* a face is left for the tiles */
-  /* the depth bounds, nothing seen yet: over every row with the tiles (their bounds are
-     the least over whole tiles), else over the rows of the faces' boxes, the only rows
-     their spans visit (face_draw: the box's rows, spans only where no tile is kept) */
-  /* (without the tiles, over the boxes' columns too: a span's columns lie in its face's
-     box, [ilo, ihi), as its crossings lie between the face's least and greatest x and the
-     first column at or right of an x does not fall as x grows) */
-  int zj0 = tiles ? 0 : g.H, zj1 = tiles ? g.H - 1 : -1;
-  int zi0 = tiles ? 0 : g.W, zi1 = tiles ? g.W : 0;
-  for (int d = 0; !tiles && d < nb; d++) {
-    zj0 = p->box[d].jlo < zj0 ? p->box[d].jlo : zj0;
-    zj1 = p->box[d].jhi > zj1 ? p->box[d].jhi : zj1;
-    zi0 = p->box[d].ilo < zi0 ? p->box[d].ilo : zi0;
-    zi1 = p->box[d].ihi > zi1 ? p->box[d].ihi : zi1;
+  /* nothing seen yet. With the tiles, over the whole grid (their bounds are the least over
+     whole tiles, and face_hidden may ask any); lazy, no row has a ready column: each span
+     makes its columns ready as it comes (row_ready, "Clearing") and the faces of the
+     columns no span made ready are set to -1 at the end. The faces a row at a time (a
+     row is at most 532 bytes, a fill the C library does with vector stores; the whole
+     buffer at once, 53 kB, it fills with `rep stosb`, which valgrind counts as an
+     instruction a byte) */
+  /* (lazy only where the faces' boxes are LAZY_BOX points or more on the whole: a span's
+     test of its row's ready columns is a branch no predictor guesses, which costs more
+     than the clearing it saves where faces are small, as on the sphere and boxes1000) */
+  g.lazy = !tiles && area >= LAZY_BOX * (long)nb;
+  if (g.lazy) {
+    if (!grow((void **)&p->ready, &p->readycap, 2 * g.H + 1, sizeof *p->ready))
+      return t74_fail(err, T74_EIO, "out of host memory");
+    memset(p->ready, 0, (size_t)(2 * g.H) * sizeof *p->ready);
+  } else {
+    /* the depth bounds over every row with the tiles, else over the rows and columns of
+       the faces' boxes, the only ones their spans visit (a span's columns lie in its
+       face's box, [ilo, ihi), as its crossings lie between the face's least and greatest
+       x and the first column at or right of an x does not fall as x grows) */
+    int zj0 = tiles ? 0 : g.H, zj1 = tiles ? g.H - 1 : -1;
+    int zi0 = tiles ? 0 : g.W, zi1 = tiles ? g.W : 0;
+    for (int d = 0; !tiles && d < nb; d++) {
+      zj0 = p->box[d].jlo < zj0 ? p->box[d].jlo : zj0;
+      zj1 = p->box[d].jhi > zj1 ? p->box[d].jhi : zj1;
+      zi0 = p->box[d].ilo < zi0 ? p->box[d].ilo : zi0;
+      zi1 = p->box[d].ihi > zi1 ? p->box[d].ihi : zi1;
+    }
+    if (zj0 <= zj1 && zi0 < zi1) {
+      struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
+      for (int i = 0; i < zi1 - zi0; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
+      for (int j = zj0 + 1; j <= zj1; j++)        /* the other rows as the first */
+        memcpy(p->z + (size_t)j * (size_t)g.W + (size_t)zi0, z0,
+               (size_t)(zi1 - zi0) * sizeof *p->z);
+    }
+    for (int j = 0; j < g.H; j++)
+      memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
   }
-  if (zj0 <= zj1 && zi0 < zi1) {
-    struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
-    for (int i = 0; i < zi1 - zi0; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
-    for (int j = zj0 + 1; j <= zj1; j++)          /* the other rows as the first */
-      memcpy(p->z + (size_t)j * (size_t)g.W + (size_t)zi0, z0, (size_t)(zi1 - zi0) * sizeof *p->z);
-  }
-  /* the faces, nothing seen (-1): a row at a time (a row is at most 532 bytes, a fill
-     the C library does with vector stores; the whole buffer at once, 53 kB, it fills
-     with `rep stosb`, which valgrind counts as an instruction a byte) */
-  for (int j = 0; j < g.H; j++)
-    memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
   area = 0;
   int nd = 0;                                     /* faces kept */
   for (int d = 0; d < nb; d++) {
@@ -1269,6 +1520,16 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (p->retest_bands) nband = 0;
     if ((st = face_draw(p, &g, k, b, true, true, band, nband, err)) != T74_OK) return st;
   }
+  /* the columns no span made ready: no face (a fill at most a row long, which the C
+     library does with vector stores; a longer one it does with `rep stosb`, which valgrind
+     counts as an instruction a byte) */
+  for (int j = 0; g.lazy && j < g.H; j++) {
+    int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
+    if (a >= e) a = e = g.W;                      /* none: the whole row */
+    int32_t *fr = p->face + (size_t)j * (size_t)g.W;
+    if (a > 0) memset(fr, 0xff, (size_t)a * sizeof *fr);
+    if (e < g.W) memset(fr + e, 0xff, (size_t)(g.W - e) * sizeof *fr);
+  }
   return T74_OK;
 }
 
@@ -1290,5 +1551,6 @@ void points_free(struct points *p)
   free(p->key);
   free(p->bucket);
   free(p->tile);
+  free(p->ready);
   memset(p, 0, sizeof *p);
 }

@@ -82,6 +82,9 @@ struct points {
   double *key; int keycap;                    /* and their nearest depths (the order's key) */
   int *bucket; int bucketcap;
   struct points_tile *tile; int tilecap;      /* the tiles' depth bounds */
+  int32_t *ready; int readycap;               /* per row, its ready columns this frame where
+                                                 rows are made ready span by span (points.c,
+                                                 "Clearing") */
   /* set by the caller: the Mapper's T-junctions (each face's rings) and face blocks kept
      from call to call of one scene (--frames, issue 19); NULL: searched for at every call */
   struct mapper_keep *keep;

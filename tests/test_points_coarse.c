@@ -14,7 +14,8 @@
 ** parts skipped, and fewer point visits than without them (counts, not times). The tests
 ** of a face's first bands made before it is drawn and taken where it is drawn give the
 ** frame and the work counts (tiles skipped, point visits) of testing each band there
-** (`retest_bands`), in the engine's order and a shuffled one.
+** (`retest_bands`), in the engine's order and a shuffled one. One struct points kept from
+** render to render across scenes, with tiles and without, gives each a fresh one's frame.
 ** T74_DIFF_SEEDS (default 400) sets the seeds per hard family.
 */
 #include <dirent.h>
@@ -408,9 +409,75 @@ static void test_pattern_chain(void **state)
   scene_free(sc);
 }
 
+/* One struct points kept from render to render, as `--frames` keeps it, across scenes that
+   differ in what they cover, with tiles and without: each frame (faces, culled, visits,
+   tiles skipped) is a fresh struct's. Where no tile is kept the buffer is not cleared for
+   the frame (points.c, "Clearing"): what an earlier frame left in the columns a frame's
+   spans do not make ready must never be read nor shown. */
+static void test_reused(void **state)
+{
+  (void)state;
+  const char *const files[] = { "scenes/fig6-building.s74", "scenes/crossing.s74",
+                                "scenes/street.s74", "scenes/sphere.s74", "scenes/t1-a.s74",
+                                "scenes/lprism.s74", "scenes/cube.obj" };
+  enum { NFILE = sizeof files / sizeof *files, NGEN = 4, NS = NFILE + NGEN };
+  struct scene *sc[NS];
+  for (int k = 0; k < NFILE; k++) {
+    struct t74_error err = { 0, "" };
+    struct scene_opts so;
+    memset(&so, 0, sizeof so);
+    so.quiet = true;
+    assert_int_equal(scene_load(files[k], &so, &sc[k], &err), T74_OK);
+  }
+  for (int k = 0; k < NGEN; k++) {              /* boxes (tiles kept) and triangles */
+    struct xr_scene x;
+    if (k % 2) triangles(&x, (uint64_t)k + 5, 30 + 40 * k);
+    else boxes(&x, (uint64_t)k + 5, 60 + 90 * k);
+    struct t74_error err = { 0, "" };
+    assert_int_equal(xd_load(&x, &sc[NFILE + k], &err), T74_OK);
+    xr_scene_free(&x);
+  }
+  struct points kept;
+  memset(&kept, 0, sizeof kept);
+  int32_t *want = calloc(100 * 75, sizeof *want);
+  assert_non_null(want);
+  long frames = 0, tiled = 0;
+  uint64_t x = 12345;
+  for (int round = 0; round < 4 * NS; round++) {
+    const int k = round < NS ? round : (int)(next(&x) % NS);   /* each once, then at random */
+    const bool no_tiles = round % 3 == 2;
+    const struct scene *s = sc[k];
+    struct vis_grid g = { 100, 75, { s->window[0], s->window[1], s->window[2], s->window[3] } };
+    int c0 = 0;
+    long s0 = 0, v0 = 0;
+    assert_int_equal(render_with(s, &g, no_tiles, 0, want, &c0, &s0, &v0), T74_OK);
+    kept.no_tiles = no_tiles;
+    struct t74_error err = { 0, "" };
+    assert_int_equal(points_render(&kept, s, &g, &err), T74_OK);
+    if (memcmp(kept.face, want, 100 * 75 * sizeof *want))
+      for (int q = 0, shown = 0; q < 100 * 75 && shown < 4; q++)
+        if (kept.face[q] != want[q] && ++shown)
+          print_message("scene %d (round %d): point (%d, %d) face %d, fresh %d\n", k, round,
+                        q % 100, q / 100, kept.face[q], want[q]);
+    assert_memory_equal(kept.face, want, 100 * 75 * sizeof *want);
+    assert_int_equal(kept.faces_culled, c0);
+    assert_int_equal(kept.points_visited, v0);
+    assert_int_equal(kept.tiles_skipped, s0);
+    frames++;
+    tiled += s0 > 0;
+  }
+  print_message("reused: %ld frames, each a fresh render's (%ld with tiles skipped)\n",
+                frames, tiled);
+  assert_true(tiled > 0);
+  points_free(&kept);
+  free(want);
+  for (int k = 0; k < NS; k++) scene_free(sc[k]);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_reused),
     cmocka_unit_test(test_layered),
     cmocka_unit_test(test_pattern_chain),
     cmocka_unit_test(test_shipped),
