@@ -1310,7 +1310,7 @@ static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_ROW], const
 }
 
 #ifdef __SSE2__
-/* The parallel lights' directions of L for phong_pair, each component in both lanes. */
+/* The parallel lights' directions of L for phong_tail, each component in both lanes. */
 static inline void phong_lights(const struct shade_lights *L, __m128d (*lv)[3])
 {
   for (int k = 0; k < L->n; k++)
@@ -1324,7 +1324,7 @@ static inline __m128d phong_side(const struct smooth_tri *ta, const struct smoot
 }
 
 /* Two doubles into lanes 0 and 1: one aligned load of a smooth_lanes pair when both lanes
-   take the same triangle's constants (same: a constant where phong_pair is inlined), else
+   take the same triangle's constants (same: a constant where phong_head is inlined), else
    lane 0 from a, lane 1 from b. */
 static inline __attribute__((always_inline)) __m128d lanes2(const double *a, const double *b,
                                                              bool same)
@@ -1332,153 +1332,7 @@ static inline __attribute__((always_inline)) __m128d lanes2(const double *a, con
   return same ? _mm_load_pd(a) : _mm_loadh_pd(_mm_load_sd(a), b);
 }
 
-/* phong_pairs' step at two points, Xa of triangle ta (constants xa) in lane 0 and Xb of
-   triangle tb (xb) in lane 1 (the same point twice for a lone one: two false, its grey
-   written once), each lane with its own triangle's constants (same: ta is tb); greys into
-   *ga and *gb. Each lane's operations are the ones phong_pairs makes for its point alone
-   (see there): the lanes never mix. Both triangles' btot is not 0, refl in [0, 1], the
-   lights parallel, lv their directions, each component in both lanes (phong_lights);
-   nlight is L->n (a constant where the caller can make it one); sg the eye's sides, +-1
-   by front (phong_side). */
-static inline __attribute__((always_inline))
-void phong_pair(const struct smooth_model *m, const struct smooth_tri *ta,
-                const struct smooth_lanes *xa, const struct smooth_tri *tb,
-                const struct smooth_lanes *xb, bool same, const double *Xa, const double *Xb,
-                bool two, double refl, unsigned b0, unsigned b1, const struct shade_lights *L,
-                const __m128d (*lv)[3], int nlight, __m128d sg, int *ga, int *gb)
-{
-  const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
-  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
-  const __m128d fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl), half = _mm_set1_pd(0.5);
-  const __m128d eps = _mm_set1_pd(0x1p-24), twov = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
-  const __m128d two30 = _mm_set1_pd(0x1p30);
-  const __m128d x = _mm_set_pd(Xb[tb->bu], Xa[ta->bu]), y = _mm_set_pd(Xb[tb->bw], Xa[ta->bw]);
-  __m128d w[3], s = zero;
-  for (int k = 0; k < 3; k++) {
-    /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
-       the sign): where tot < 0, (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) -
-       (x - a_u) d_w) exactly (rounding to nearest is symmetric under negation), but where
-       that difference is 0: +0 here against -0 there, and the max with +0 makes either
-       +0 (MAXPD gives its second operand when the two are equal); area_lanes' operations */
-    const __m128d ar = _mm_sub_pd(
-        _mm_mul_pd(lanes2(xa->xsd[k][0], xb->xsd[k][0], same),
-                   _mm_sub_pd(y, lanes2(xa->xa[k][1], xb->xa[k][1], same))),
-        _mm_mul_pd(_mm_sub_pd(x, lanes2(xa->xa[k][0], xb->xa[k][0], same)),
-                   lanes2(xa->xsd[k][1], xb->xsd[k][1], same)));
-    w[k] = _mm_max_pd(ar, zero);
-    s = _mm_add_pd(s, w[k]);
-  }
-  /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
-     and one whose sum is above hi), in five instructions: every w_k >= min >= lo, and
-     w_k <= s <= hi (s a sum of non-negative terms, each rounding monotone) */
-  const __m128d good = _mm_and_pd(_mm_cmpge_pd(_mm_min_pd(_mm_min_pd(w[0], w[1]), w[2]), lo),
-                                  _mm_cmple_pd(s, hi));
-  __m128d N[3];
-  for (int c = 0; c < 3; c++)
-    N[c] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(w[0], lanes2(xa->xcn[0][c], xb->xcn[0][c], same)),
-                                 _mm_mul_pd(w[1], lanes2(xa->xcn[1][c], xb->xcn[1][c], same))),
-                      _mm_mul_pd(w[2], lanes2(xa->xcn[2][c], xb->xcn[2][c], same)));
-  const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
-                                _mm_mul_pd(N[2], N[2]));
-  const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
-                                _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
-  const int okb = _mm_movemask_pd(ok);
-  /* sqrt of nn where ok, of 1 elsewhere: nn itself where both lanes pass */
-  const __m128d inv = _mm_div_pd(sg, _mm_sqrt_pd(okb == 3 ? nn :
-                                                 _mm_or_pd(_mm_and_pd(ok, nn),
-                                                           _mm_andnot_pd(ok, one))));
-  __m128d sum = zero;
-  for (int k = 0; k < nlight; k++) {
-    const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], lv[k][0]),
-                                                       _mm_mul_pd(N[1], lv[k][1])),
-                                            _mm_mul_pd(N[2], lv[k][2])), inv);
-    __m128d lit = _mm_cmpgt_pd(d, zero);
-    if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
-      lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
-                                                            (b0 >> k & 1u) - 1ull)));
-    /* the first light's term is the sum: +0 + x is x for x positive or +0 */
-    sum = k ? _mm_add_pd(sum, _mm_and_pd(lit, d)) : _mm_and_pd(lit, d);
-  }
-  const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
-  const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(twov, s),
-                                                                   _mm_andnot_pd(sign, inv))));
-  const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
-  /* the last test at once where both lanes pass it with f1 below 2^30: there (f0 >= 0,
-     f0 <= f1) each truncation to 32 bits is the one to 64 bits (CVTTPD2DQ truncates),
-     and the grey's sum does not overflow */
-  const __m128i t0 = _mm_cvttpd_epi32(f0v);
-  const int fine = okb & _mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f0v, zero),
-                                                    _mm_cmplt_pd(f1v, two30))) &
-                   _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
-  const int lanes = two ? 3 : 1;
-  if ((fine & lanes) == lanes) {
-    const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t0);
-    *ga = g0 > 255 ? 255 : g0;
-    if (two) {
-      const int g1 = SHADE_AMBIENT + _mm_cvtsi128_si32(_mm_srli_si128(t0, 4));
-      *gb = g1 > 255 ? 255 : g1;
-    }
-    return;
-  }
-  double f0[2], f1[2];
-  _mm_storeu_pd(f0, f0v);
-  _mm_storeu_pd(f1, f1v);
-  for (int h = 0; h <= (int)two; h++) {       /* phong_filter's last test and grey */
-    int *g = h ? gb : ga;
-    if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
-      const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
-      *g = gv > 255 ? 255 : gv;
-      continue;
-    }
-    if (m->phong_declines) ++*m->phong_declines;
-    const struct smooth_tri *tr = h ? tb : ta;
-    const double *X = h ? Xb : Xa;
-    double ar[3];
-    bary_areas(tr, X, ar);
-    grey_phong_exact(tr, ar, X, refl, h ? b1 : b0, L, g);
-  }
-}
 #endif
-
-/* phong_lanes at points p < n under parallel lights alone, two points an instruction
-   where the processor has SSE2, from their space points: bary_areas' areas (inner_split's
-   operations), then phong_filter's steps, each lane's the scalar ones on its values in
-   their order (correctly rounded, as the scalar ones are; max(v, 0) is v when v > 0, else
-   +0, phong_filter's clamp; 0 + w_0 is kept; a light blocked or a dot not > 0 adds +0,
-   which leaves a sum never below +0 as it is; |inv| by clearing the sign bit); a lane's
-   last test and its grey as phong_filter makes them, and the exact chain where it
-   declines (an odd run's last point in both lanes of its pair, a run of one point too).
-   Its range test on the w_k is narrower than phong_filter's: it passes only points that
-   phong_filter's passes (below), whose greys it then makes as phong_filter does; it
-   declines also a point on a side or outside (a w_k of 0), left to the exact chain like
-   every point declined. The points done (their greys, and their regions, 1): all n, or
-   none when the filter is off or cannot be used for the triangle, or some light is a
-   point light (phong_lanes does them). The steps at a pair of points: phong_pair. */
-static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr,
-                              const struct smooth_lanes *lx, int n,
-                              const double (*X)[3], double refl, const unsigned *blocked,
-                              const struct shade_lights *L, int *grey, int *region)
-{
-#ifdef __SSE2__
-  if (m->phong_exact || !(tr->btot != 0 && refl >= 0 && refl <= 1)) return 0;
-  for (int k = 0; k < L->n; k++)
-    if (L->point[k]) return 0;
-  __m128d lv[SCENE_LIGHT_MAX][3];
-  phong_lights(L, lv);
-  const __m128d sg = phong_side(tr, tr);
-  for (int p = 0; p < n; p += 2) {
-    const bool two = p + 1 < n;
-    const int p1 = two ? p + 1 : p;         /* the last of an odd run: itself in both lanes */
-    region[p] = region[p1] = 1;
-    phong_pair(m, tr, lx, tr, lx, true, X[p], X[p1], two, refl, blocked[p], blocked[p1], L,
-               (const __m128d (*)[3])lv, L->n, sg, &grey[p], &grey[p1]);
-  }
-  return n;
-#else
-  (void)m; (void)tr; (void)lx; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey; (void)region;
-  return 0;
-#endif
-}
 
 /* smooth_grey_run's Phong grey of one point X of triangle tr (reflectance 1) where
    phong_pairs declines the triangle: its areas, then phong_lanes. */
@@ -1507,10 +1361,15 @@ struct phong_steps {
   int pa[PHONG_STEPS], pb[PHONG_STEPS], a[PHONG_STEPS], b[PHONG_STEPS], okb[PHONG_STEPS];
   bool two[PHONG_STEPS];
 };
+_Static_assert((SMOOTH_RUN + 1) / 2 <= PHONG_STEPS, "a run's steps fit in struct phong_steps");
 
-/* phong_pair's operations up to the square root's operand at the points Xa (lane 0,
-   triangle ta, constants xa) and Xb (lane 1, tb, xb) (same: ta is tb), the very ones in
-   their order, into step j of *S (N into n, s, the operand into r, sg, ok's lanes). */
+/* The first half of a step of phong_pairs and phong_row_lights at two points: Xa of
+   triangle ta (constants xa) in lane 0 and Xb of triangle tb (xb) in lane 1 (the same
+   point twice for a lone one; same: ta is tb), each lane with its own triangle's
+   constants; the operations up to the square root's operand, into step j of *S (N into
+   n, s, the operand into r, sg, ok's lanes). Each lane's operations are phong_filter's
+   for its point alone, in their order (see phong_lanes): the lanes never mix. Both
+   triangles' btot is not 0; sg the eye's sides, +-1 by front (phong_side). */
 static inline __attribute__((always_inline))
 void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
                 const struct smooth_tri *tb, const struct smooth_lanes *xb, bool same,
@@ -1520,7 +1379,12 @@ void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
   const __m128d x = _mm_set_pd(Xb[tb->bu], Xa[ta->bu]), y = _mm_set_pd(Xb[tb->bw], Xa[ta->bw]);
   __m128d w[3], s = zero;
-  for (int k = 0; k < 3; k++) {               /* as phong_pair (see there) */
+  for (int k = 0; k < 3; k++) {
+    /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
+       the sign): where tot < 0, (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) -
+       (x - a_u) d_w) exactly (rounding to nearest is symmetric under negation), but where
+       that difference is 0: +0 here against -0 there, and the max with +0 makes either
+       +0 (MAXPD gives its second operand when the two are equal); area_lanes' operations */
     const __m128d ar = _mm_sub_pd(
         _mm_mul_pd(lanes2(xa->xsd[k][0], xb->xsd[k][0], same),
                    _mm_sub_pd(y, lanes2(xa->xa[k][1], xb->xa[k][1], same))),
@@ -1529,6 +1393,9 @@ void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
     w[k] = _mm_max_pd(ar, zero);
     s = _mm_add_pd(s, w[k]);
   }
+  /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
+     and one whose sum is above hi), in five instructions: every w_k >= min >= lo, and
+     w_k <= s <= hi (s a sum of non-negative terms, each rounding monotone) */
   const __m128d good = _mm_and_pd(_mm_cmpge_pd(_mm_min_pd(_mm_min_pd(w[0], w[1]), w[2]), lo),
                                   _mm_cmple_pd(s, hi));
   __m128d N[3];
@@ -1543,21 +1410,25 @@ void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
   const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
                                 _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
   _mm_store_pd(S->s[j], s);
-  /* nn where ok, 1 elsewhere (by masks: the same values as phong_pair's) */
+  /* sqrt of nn where ok, of 1 elsewhere (by masks) */
   _mm_store_pd(S->r[j], _mm_or_pd(_mm_and_pd(ok, nn), _mm_andnot_pd(ok, one)));
   _mm_store_pd(S->sg[j], sg);
   S->okb[j] = _mm_movemask_pd(ok);
 }
 
-/* phong_pair's operations from the square root on at step j of *S, the very ones in their
-   order: inv, the greys, phong_pair's last test and the exact chain where it declines. */
+/* The second half of step j of *S (phong_head made the first): from the square root on,
+   phong_filter's operations in their order: inv, each parallel light's term (a light
+   blocked or a dot not > 0 adds +0), the grey under reflectance refl in [0, 1] by
+   phong_filter's last test, and the exact chain where that declines (counted in
+   phong_declines). nlight is L->n (a constant where the caller can make it one), lv the
+   lights' directions in both lanes (phong_lights). */
 static inline __attribute__((always_inline))
 void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j,
-                const double (*X)[3], const unsigned *blocked, const struct shade_lights *L,
-                const __m128d (*lv)[3], int nlight, int *grey)
+                const double (*X)[3], double refl, const unsigned *blocked,
+                const struct shade_lights *L, const __m128d (*lv)[3], int nlight, int *grey)
 {
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1);
-  const __m128d half = _mm_set1_pd(0.5), fr = _mm_set1_pd((255 - SHADE_AMBIENT) * 1.0);
+  const __m128d half = _mm_set1_pd(0.5), fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl);
   const __m128d eps = _mm_set1_pd(0x1p-24), twov = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
   const __m128d two30 = _mm_set1_pd(0x1p30);
   const int pa = S->pa[j], pb = S->pb[j];
@@ -1612,14 +1483,14 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
     const double *Xp = X[h ? pb : pa];
     double ar[3];
     bary_areas(tr, Xp, ar);
-    grey_phong_exact(tr, ar, Xp, 1.0, h ? b1 : b0, L, g);
+    grey_phong_exact(tr, ar, Xp, refl, h ? b1 : b0, L, g);
   }
 }
 
 /* phong_row's pairs, under nlight = L->n parallel lights whose directions are lv: a
    triangle's points two a step (phong_pairs' steps), and an odd one left over with the
    next triangle's first (each lane its own triangle's constants); a point of a triangle
-   whose btot is 0 alone (smooth_grey_run's way). Each step is phong_pair's operations on
+   whose btot is 0 alone (smooth_grey_run's way). Each step is phong_filter's operations on
    its lanes, in two passes over the row's steps: up to the square root's operand
    (phong_head) for every step, then the rest (phong_tail) for every step. Done step after
    step in one pass, a step's chain from its loads through its square root and divide to
@@ -1661,9 +1532,55 @@ void phong_row_lights(const struct smooth_model *m, int nseg, const int *tri, co
       p = q;
     }
   }
-  for (int i = 0; i < j; i++) phong_tail(m, &S, i, X, blocked, L, lv, nlight, grey);
+  for (int i = 0; i < j; i++) phong_tail(m, &S, i, X, 1.0, blocked, L, lv, nlight, grey);
 }
 #endif
+
+/* phong_lanes at points p < n under parallel lights alone, two points an instruction
+   where the processor has SSE2, from their space points: bary_areas' areas (inner_split's
+   operations), then phong_filter's steps, each lane's the scalar ones on its values in
+   their order (correctly rounded, as the scalar ones are; max(v, 0) is v when v > 0, else
+   +0, phong_filter's clamp; 0 + w_0 is kept; a light blocked or a dot not > 0 adds +0,
+   which leaves a sum never below +0 as it is; |inv| by clearing the sign bit); a lane's
+   last test and its grey as phong_filter makes them, and the exact chain where it
+   declines (an odd run's last point in both lanes of its pair, a run of one point too).
+   Its range test on the w_k is narrower than phong_filter's: it passes only points that
+   phong_filter's passes (below), whose greys it then makes as phong_filter does; it
+   declines also a point on a side or outside (a w_k of 0), left to the exact chain like
+   every point declined. The points done (their greys, and their regions, 1): all n, or
+   none when the filter is off or cannot be used for the triangle, or some light is a
+   point light (phong_lanes does them). The steps at a pair of points: phong_head, then
+   phong_tail (phong_row_lights' two passes). */
+static inline int phong_pairs(const struct smooth_model *m, const struct smooth_tri *tr,
+                              const struct smooth_lanes *lx, int n,
+                              const double (*X)[3], double refl, const unsigned *blocked,
+                              const struct shade_lights *L, int *grey, int *region)
+{
+#ifdef __SSE2__
+  if (m->phong_exact || !(tr->btot != 0 && refl >= 0 && refl <= 1)) return 0;
+  for (int k = 0; k < L->n; k++)
+    if (L->point[k]) return 0;
+  __m128d lv[SCENE_LIGHT_MAX][3];
+  phong_lights(L, lv);
+  const __m128d sg = phong_side(tr, tr);
+  const int t = (int)(tr - m->tri);
+  struct phong_steps S;
+  int j = 0;
+  for (int p = 0; p < n; p += 2, j++) {
+    const bool two = p + 1 < n;
+    const int p1 = two ? p + 1 : p;         /* the last of an odd run: itself in both lanes */
+    region[p] = region[p1] = 1;
+    S.pa[j] = p; S.pb[j] = p1; S.a[j] = S.b[j] = t; S.two[j] = two;
+    phong_head(tr, lx, tr, lx, true, X[p], X[p1], sg, &S, j);
+  }
+  for (int i = 0; i < j; i++)
+    phong_tail(m, &S, i, X, refl, blocked, L, (const __m128d (*)[3])lv, L->n, grey);
+  return n;
+#else
+  (void)m; (void)tr; (void)lx; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey; (void)region;
+  return 0;
+#endif
+}
 
 /* smooth_row under smooth=phong (the regions left to the caller: all 1): phong_row_lights,
    made for one light apart (the scenes' usual case: its loop unrolled). */
