@@ -288,38 +288,23 @@ static int tj_init(struct tjunc *t, const struct scene *s, const struct gpoint *
   return 1;
 }
 
-/* Of cell row cy, the columns [*ca, *cb] (within the box's, which they narrow) that can
-   hold a vertex lying inside the segment a-b in space, for a slanted edge (pa.y != pb.y).
+/* The band of cell row cy: the columns that can hold a vertex lying inside the segment
+   a-b in space, for a slanted edge (pa.y != pb.y).
    Such a vertex V projects exactly onto the segment between the exact projections A*, B*
    of a and b (a perspective takes segments to segments): V* = t A* + (1 - t) B*. Each
    grid point is its exact projection rounded half up, off by e in (-1/2, 1/2] in x and
    in y, so Q = t pa + (1 - t) pb is off V* by such an e too (a blend of A*'s and B*'s),
    and V's grid point pv off Q by less than 1: |pv.x - Q.x| < 1, |pv.y - Q.y| < 1, Q a
-   point of the segment pa-pb. So with pv in the row's band [r0, r1], Q.y lies in
-   [r0 - 1, r1 + 1], where the segment's x lies in [xlo, xhi], its values at the band's
-   ends (x is linear in y along it), and the integer pv.x in (xlo - 1, xhi + 1): from
-   floor(xlo) to floor(xhi) + 1 (the y margin and these x ends are tight: test_mapper's
-   one-unit cells fail with either y end a unit nearer or either x end). A superset of
-   the cells, never fewer: every vertex in them is still tested exactly, and which are
-   found (and their order) does not depend on the cells. The products: |dy| |dx| < 2^29
-   2^29. pa is the end with the smaller y (the caller orders them). (Inlined: once a row.) */
-static inline __attribute__((always_inline)) void tj_row_cells(const struct tjunc *t,
-                                                               struct gpoint pa,
-                                                               struct gpoint pb, gcoord cy,
-                                                               gcoord *ca, gcoord *cb)
-{
-  gcoord r0 = t->gy0 + (cy << t->sy) - 1, r1 = t->gy0 + ((cy + 1) << t->sy);   /* +-1 */
-  if (r0 < pa.y) r0 = pa.y;
-  if (r1 > pb.y) r1 = pb.y;
-  int64_t dx = pb.x - pa.x, dy = pb.y - pa.y;         /* dy > 0 */
-  int64_t xa = pa.x + floordiv((r0 - pa.y) * dx, dy);
-  int64_t xb = pa.x + floordiv((r1 - pa.y) * dx, dy);
-  int64_t lo = xa < xb ? xa : xb, hi = (xa < xb ? xb : xa) + 1;     /* (x - 1, x + 1) */
-  gcoord c0 = lo < t->gx0 ? 0 : (lo - t->gx0) >> t->sx;
-  gcoord c1 = hi < t->gx0 ? -1 : (hi - t->gx0) >> t->sx;
-  if (c0 > *ca) *ca = c0;
-  if (c1 < *cb) *cb = c1;
-}
+   point of the segment pa-pb. So with pv in the row's band [r0, r1] (r0 = max(B(cy) - 1,
+   lo.y), r1 = min(B(cy + 1), hi.y), B(c) = gy0 + c 2^sy the first y of row c, lo and hi
+   the ends with the smaller and larger y), Q.y lies in [r0 - 1, r1 + 1], where the
+   segment's x lies in [xlo, xhi], its values at the band's ends (x is linear in y along
+   it), and the integer pv.x in (xlo - 1, xhi + 1): from floor(xlo) to floor(xhi) + 1
+   (the y margin and these x ends are tight: test_mapper's one-unit cells fail with either
+   y end a unit nearer or either x end). A superset of the cells, never fewer: every
+   vertex in them is still tested exactly, and which are found (and their order) does not
+   depend on the cells. tj_edge and tj_edge_near both step the x ends from row to row
+   (floor((r - lo.y) dx / dy) kept as quotient and remainder), with no divide a row. */
 
 /* One edge's search: a-b in space, its grid box, and where the vertices found go. */
 struct tj_seg {
@@ -363,9 +348,9 @@ static __attribute__((noinline)) int tj_insert(const struct tjunc *t, int v, int
 
 /* tj_near: whether a vertex at grid point pv can lie on a-b, a test on the grid that only
    rejects vertices that cannot (so it changes nothing found; it spares most of them the
-   scene's vertex and tj_take's three products in space). As tj_row_cells says, such a
-   vertex's point pv lies off some point Q of the segment a'-b' by less than one unit in
-   x and in y. With d = b' - a' = (px, py), Q on the line: px (Q.y - a'.y) -
+   scene's vertex and tj_take's three products in space). As the band's comment above
+   says, such a vertex's point pv lies off some point Q of the segment a'-b' by less than
+   one unit in x and in y. With d = b' - a' = (px, py), Q on the line: px (Q.y - a'.y) -
    py (Q.x - a'.x) = 0, so c = px (pv.y - a'.y) - py (pv.x - a'.x) = px (pv.y - Q.y) -
    py (pv.x - Q.x), and |c| < |px| + |py| when d is not zero (each difference below 1 in
    size, one of |px|, |py| at least 1). Rejected: |c| >= wband = |px| + |py|, as the one
@@ -421,16 +406,26 @@ static inline __attribute__((always_inline)) int tj_try(const struct tjunc *t, i
 /* The vertices of cells c0 .. c1 (of one row: their vertices are one run of cell_v)
    inside e's box, each but a and b given to tj_take. Returns how many lay in the box (a
    and b too), -1 when out of host memory. (Inlined: the loop of tj_edge, where most
-   vertices fail the box.) */
+   vertices fail the box. The box test is made without a branch, its outcome added to
+   the count: which vertices lie in the box follows no pattern a branch predictor learns,
+   while a vertex in the box other than a and b, the one branch taken, is rare.) */
 static inline __attribute__((always_inline)) int tj_cells(const struct tjunc *t, size_t c0,
                                                           size_t c1, struct tj_seg *e)
 {
+  const struct gpoint *cp = t->cell_p;
+  const int *cv = t->cell_v;
+  const gcoord x0 = e->x0, x1 = e->x1, y0 = e->y0, y1 = e->y1;
+  const int a = e->a, b = e->b;
   int inbox = 0;
   for (int k = t->cell_start[c0], end = t->cell_start[c1 + 1]; k < end; k++) {
-    struct gpoint pv = t->cell_p[k];
-    if (pv.x < e->x0 || pv.x > e->x1 || pv.y < e->y0 || pv.y > e->y1) continue;
-    inbox++;
-    if (!tj_try(t, k, e)) return -1;
+    struct gpoint pv = cp[k];
+    int v = cv[k];
+    int in = (pv.x >= x0) & (pv.x <= x1) & (pv.y >= y0) & (pv.y <= y1);
+    inbox += in;
+    if (in & (v != a) & (v != b)) {
+      if (!e->A) tj_seg_space(t, e);
+      if (!tj_take(t, v, e)) return -1;
+    }
   }
   return inbox;
 }
@@ -453,14 +448,14 @@ static inline __attribute__((always_inline)) int tj_cells_near(const struct tjun
 
 /* tj_edge without a count (the points engine): only the vertices found matter. Of a
    slanted edge's box with three columns or more, in every row, first and last too, only
-   the cells its line can reach (tj_row_cells' band, whose argument holds in any row of
+   the cells its line can reach (the band above, whose argument holds in any row of
    the box); else the box's cells. In those cells a vertex is tested on the grid first
    (tj_near), then in space (tj_take); no box test: tj_take rejects what lies beyond a or
    b. The same vertices are found as when every cell of the box is looked at, in the same
    order: a vertex outside those cells cannot lie on a-b, and tj_insert orders the
    vertices found by their parameter along a-b and their index, whatever order the cells
    give them in. 0 when out of host memory.
-   The band of row cy is tj_row_cells', from the line's x at r0 = max(B(cy) - 1, lo.y) and
+   The band of row cy is from the line's x at r0 = max(B(cy) - 1, lo.y) and
    r1 = min(B(cy + 1), hi.y), B(c) = gy0 + c 2^sy the first y of row c, lo and hi the ends
    with the smaller and larger y. In the first row r0 = lo.y (lo lies in it: the x is
    lo.x), in the last r1 = hi.y (the x is hi.x); between, B(cy) - 1 and B(cy + 1) lie in
@@ -530,16 +525,25 @@ static int tj_edge_near(const struct tjunc *t, int a, int b, int **buf, int *n, 
    x-slab of the box (2 loads a vertex) and tests each vertex inside the box in space (a
    product of 17-bit operands); the host finds the same vertices through the cells that
    meet the box, and of a slanted edge's box, in the rows between its first and last,
-   only through the cells its line can reach (tj_row_cells) and the first and last
+   only through the cells its line can reach (the band above) and the first and last
    column: the box's vertices in the other cells, which lie wholly inside it, are counted
    from the cells' starts, not looked at. (The 1974 engine's search, which counts; the
-   points engine's, which does not, is tj_edge_near.) */
+   points engine's, which does not, is tj_edge_near.)
+   A row between the first and last, cy0 < cy < cy1, has r0 = B(cy) - 1 and r1 = B(cy + 1)
+   (lo lies in row cy0, hi in row cy1: B(cy0 + 1) - 1 >= lo.y, B(cy1) <= hi.y): each x
+   end, lo.x + floor((r - lo.y) dx / dy), is kept as quotient and remainder and stepped by
+   the quotient and remainder of 2^sy dx by dy, exactly (as floordiv would give it), as
+   tj_edge_near does. |dx| < 2^30, r - lo.y <= 2^(sy + 1) <= 2^30: the products stay
+   below 2^60. */
 static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *cap,
                    struct cost *cost, uint64_t *tests)
 {
   struct gpoint pa = t->proj[a], pb = t->proj[b];
-  struct tj_seg e = { .a = a, .b = b, .A = NULL, .buf = buf, .n = n, .cap = cap,
-                      .first = *n };   /* A NULL: the fields in space not yet set */
+  struct tj_seg e;              /* the fields used here, set one by one (an initializer
+                                   would zero the whole struct: a string store, slow to
+                                   start, on every edge); those in space when needed (A
+                                   NULL: not yet); tj_near's unused */
+  e.a = a; e.b = b; e.A = NULL; e.buf = buf; e.n = n; e.cap = cap; e.first = *n;
   e.x0 = pa.x < pb.x ? pa.x : pb.x; e.x1 = pa.x < pb.x ? pb.x : pa.x;
   e.y0 = pa.y < pb.y ? pa.y : pb.y; e.y1 = pa.y < pb.y ? pb.y : pa.y;
   /* the slab [x0, x1] of the x order: from the first vertex with a's or b's smaller x to
@@ -551,27 +555,53 @@ static int tj_edge(const struct tjunc *t, int a, int b, int **buf, int *n, int *
   gcoord cy0 = e.y0 < t->gy0 ? 0 : (e.y0 - t->gy0) >> t->sy, cy1 = (e.y1 - t->gy0) >> t->sy;
   if (cx1 >= t->gw) cx1 = t->gw - 1;
   if (cy1 >= t->gh) cy1 = t->gh - 1;
-  bool thin = !t->whole_boxes && cy1 - cy0 >= 2 && cx1 - cx0 >= 2 && pa.y != pb.y;
+  size_t gw = (size_t)t->gw;
   int64_t inbox = 0;                        /* the box's vertices, a and b among them */
-  for (gcoord cy = cy0; cy <= cy1; cy++) {
-    size_t row = (size_t)cy * (size_t)t->gw;
-    int got;
-    if (!thin || cy == cy0 || cy == cy1) {  /* every cell */
+  int got;
+  if (t->whole_boxes || cy1 - cy0 < 2 || cx1 - cx0 < 2 || pa.y == pb.y) {
+    for (gcoord cy = cy0; cy <= cy1; cy++) {         /* every cell */
+      size_t row = (size_t)cy * gw;
       if ((got = tj_cells(t, row + (size_t)cx0, row + (size_t)cx1, &e)) < 0) return 0;
       inbox += got;
-      continue;
     }
+    *tests += (uint64_t)(inbox - (a == b ? 1 : 2));   /* but a and b */
+    return 1;
+  }
+  /* the first row: every cell */
+  size_t first = (size_t)cy0 * gw, last = (size_t)cy1 * gw;
+  if ((got = tj_cells(t, first + (size_t)cx0, first + (size_t)cx1, &e)) < 0) return 0;
+  inbox += got;
+  struct gpoint lo = pa.y < pb.y ? pa : pb, hi = pa.y < pb.y ? pb : pa;
+  int64_t dx = hi.x - lo.x, dy = hi.y - lo.y;           /* dy > 0 */
+  int64_t step = dx * ((int64_t)1 << t->sy);
+  int64_t sq = floordiv(step, dy), sr = step - sq * dy;  /* 0 <= sr < dy */
+  int64_t ya = t->gy0 + ((cy0 + 1) << t->sy) - 1 - lo.y;  /* B(cy0 + 1) - 1 - lo.y */
+  int64_t yb = ya + 1 + ((int64_t)1 << t->sy);           /* B(cy0 + 2) - lo.y */
+  int64_t qa = floordiv(ya * dx, dy), ra = ya * dx - qa * dy;
+  int64_t qb = floordiv(yb * dx, dy), rb = yb * dx - qb * dy;
+  for (gcoord cy = cy0 + 1; cy < cy1; cy++) {
     /* a row between: the first and last column looked at, the others' vertices counted
        (they lie in the box), and of those only the cells the line can reach looked at */
+    size_t row = (size_t)cy * gw;
     inbox += t->cell_start[row + (size_t)cx1] - t->cell_start[row + (size_t)cx0 + 1];
     if ((got = tj_cells(t, row + (size_t)cx0, row + (size_t)cx0, &e)) < 0) return 0;
     inbox += got;
     if ((got = tj_cells(t, row + (size_t)cx1, row + (size_t)cx1, &e)) < 0) return 0;
     inbox += got;
-    gcoord ca = cx0 + 1, cb = cx1 - 1;
-    tj_row_cells(t, pa.y < pb.y ? pa : pb, pa.y < pb.y ? pb : pa, cy, &ca, &cb);
+    int64_t xa = lo.x + qa, xb = lo.x + qb;
+    qa += sq; ra += sr;
+    if (ra >= dy) { ra -= dy; qa++; }
+    qb += sq; rb += sr;
+    if (rb >= dy) { rb -= dy; qb++; }
+    int64_t x0 = xa < xb ? xa : xb, x1 = (xa < xb ? xb : xa) + 1;   /* (x - 1, x + 1) */
+    gcoord ca = (x0 - t->gx0) >> t->sx, cb = (x1 - t->gx0) >> t->sx;  /* x0 >= the box's */
+    if (ca < cx0 + 1) ca = cx0 + 1;
+    if (cb > cx1 - 1) cb = cx1 - 1;
     if (ca <= cb && tj_cells(t, row + (size_t)ca, row + (size_t)cb, &e) < 0) return 0;
   }
+  /* the last row: every cell */
+  if ((got = tj_cells(t, last + (size_t)cx0, last + (size_t)cx1, &e)) < 0) return 0;
+  inbox += got;
   *tests += (uint64_t)(inbox - (a == b ? 1 : 2));   /* but a and b */
   return 1;
 }

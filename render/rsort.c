@@ -4,9 +4,10 @@
 ** and the Visible Surface Procedure; no 1974 work is counted here (callers charge their
 ** own compares).
 **
-** This file contains a least significant digit radix sort: one histogram pass over the
-** eight key bytes (the sign bit flipped, so signed keys sort as unsigned), then one
-** stable scatter pass for each byte in which the keys differ. Stable, so pairs of equal
+** This file contains a least significant digit radix sort: the keys taken less the
+** least (so signed keys sort as unsigned, and only the bytes of the keys' range count),
+** one histogram pass over those bytes, then one stable scatter pass for each byte in
+** which the keys differ. Stable, so pairs of equal
 ** key keep the (ascending) order of their indices.
 */
 #include "render/rsort.h"
@@ -16,21 +17,33 @@
 void rsort_pairs(struct rs_pair *a, struct rs_pair *tmp, int n)
 {
   if (n < 2) return;
-  static const uint64_t flip = (uint64_t)1 << 63;
+  /* the keys taken less the least, as unsigned (key - lo, exact modulo 2^64 and below
+     2^64 for any two int64 keys): the same order as the keys', and only the bytes of
+     hi - lo can differ, where the sign bit flipped kept all eight for keys of both signs
+     (grid coordinates about 0: eight scatter passes instead of three or four) */
+  int64_t lo = a[0].key, hi = a[0].key;
+  for (int i = 1; i < n; i++) {
+    if (a[i].key < lo) lo = a[i].key;
+    if (a[i].key > hi) hi = a[i].key;
+  }
+  const uint64_t base = (uint64_t)lo, range = (uint64_t)hi - base;
+  int nb = 0;
+  while (nb < 8 && range >> (8 * nb)) nb++;
+  if (nb == 0) return;                       /* every key alike: already in index order */
   uint32_t count[8][256];
-  memset(count, 0, sizeof count);
+  memset(count, 0, (size_t)nb * sizeof count[0]);
   for (int i = 0; i < n; i++) {
-    uint64_t u = (uint64_t)a[i].key ^ flip;
-    for (int b = 0; b < 8; b++) count[b][(u >> (8 * b)) & 0xff]++;
+    uint64_t u = (uint64_t)a[i].key - base;
+    for (int b = 0; b < nb; b++) count[b][(u >> (8 * b)) & 0xff]++;
   }
   struct rs_pair *src = a, *dst = tmp;
-  for (int b = 0; b < 8; b++) {
-    uint32_t first = (uint32_t)(((uint64_t)src[0].key ^ flip) >> (8 * b)) & 0xff;
+  for (int b = 0; b < nb; b++) {
+    uint32_t first = (uint32_t)(((uint64_t)src[0].key - base) >> (8 * b)) & 0xff;
     if (count[b][first] == (uint32_t)n) continue;      /* every key has this byte */
     uint32_t at[256], sum = 0;
     for (int d = 0; d < 256; d++) { at[d] = sum; sum += count[b][d]; }
     for (int i = 0; i < n; i++) {
-      uint32_t d = (uint32_t)(((uint64_t)src[i].key ^ flip) >> (8 * b)) & 0xff;
+      uint32_t d = (uint32_t)(((uint64_t)src[i].key - base) >> (8 * b)) & 0xff;
       dst[at[d]++] = src[i];
     }
     struct rs_pair *t = src; src = dst; dst = t;

@@ -15,8 +15,9 @@
 ** Both sorted with qsort of (key, index) pairs before (issue 12: 8% of a 100,000-face
 ** render went to qsort's merge sort and its comparison calls). A least significant digit
 ** radix sort on the keys' bytes gives the same total order, exactly: it is stable, and the
-** pairs arrive in ascending index, so equal keys stay in index order. Bytes in which all
-** keys agree are skipped (grid coordinates use 4 of the 8).
+** pairs arrive in ascending index, so equal keys stay in index order. The keys are taken
+** less the least: only the bytes of their range are passed over (grid coordinates of both
+** signs: 3 or 4 of the 8), and of those, bytes in which all keys agree are skipped.
 */
 #ifndef T74_RSORT_H
 #define T74_RSORT_H

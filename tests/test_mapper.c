@@ -390,9 +390,9 @@ static void test_fans_among_triangles(void **state)
    vertices crowd some hundred grid units, so the search's cells are one grid unit wide
    and a T-junction vertex whose rounded point lies off the rounded segment a'-b' (by up
    to a grid unit, each end and the vertex rounded their own way) often sits in a cell
-   the thin line itself does not reach: only tj_row_cells' margin keeps that cell. Edges
-   steep, shallow and in depth (strong perspective: the points along an edge unevenly
-   spaced); random triangles among them fill the cells. */
+   the thin line itself does not reach: only the band's margin (mapper.c) keeps that
+   cell. Edges steep, shallow and in depth (strong perspective: the points along an edge
+   unevenly spaced); random triangles among them fill the cells. */
 static bool in_box(int x, int y, int z)
 {
   return x >= -1200 && x <= 1200 && y >= -1200 && y <= 1200 && z >= 6000 && z <= 30000;
@@ -440,7 +440,7 @@ static char *margin_scene(int nfan, int nrand, uint32_t seed, int *inserted)
   return x.t;
 }
 
-/* The margin of tj_row_cells: a T-junction vertex's point off the thin line by up to a
+/* The band's margin (mapper.c): a T-junction vertex's point off the thin line by up to a
    grid unit, in one-unit cells: with either end of its y margin a unit nearer, or either
    x end (floor(xlo), floor(xhi) + 1, tight), this fails. */
 static void test_margin_one_unit_cells(void **state)
