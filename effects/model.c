@@ -995,10 +995,10 @@ int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, dou
 
 /* ---- lines --------------------------------------------------------------------------- */
 
-/* A chain of a cut polygon's ring (cut_chains): m edges, from points cpt[at .. at + m]
-   (ring order) whose y never falls (up) or never rises; [ylo, yhi) the rows whose line it
+/* A chain of a cut polygon's ring (cut_chains): m edges, from points pt[0 .. m] (ring
+   order) whose y never falls (up) or never rises; [ylo, yhi) the rows whose line it
    crosses (then at one edge, j: the last one found). */
-struct cut_chain { int at, m, j; bool up; gcoord ylo, yhi; };
+struct cut_chain { const struct gpoint *pt; int m, j; bool up; gcoord ylo, yhi; };
 
 struct fx_lines {
   const struct fx_model *m;
@@ -1021,7 +1021,7 @@ struct fx_lines {
                                hold, a bit each */
   struct cut_chain *cc;     /* cut_bits: the cut polygons' rings in chains (cut_chains) */
   int *ccf;                 /* per cut polygon its first chain (cuts.n + 1 of them) */
-  struct gpoint *cpt;       /* the chains' points */
+  struct gpoint *cpt;       /* the points of the chains that hold a ring's last edge */
   /* samples on a rising window (shadow_samples): the row's stretches of each face's shadows
      as ranges of samples [b0, b1), found at the face's first run on the row (row: the
      row's number, counted from 1, when found) */
@@ -1362,14 +1362,14 @@ static inline bool cut_index(struct gpoint p0, struct gpoint p1, int64_t yn, int
   /* cross_edge's line (poly.c): la, lb, lc within 64 bits on the grid (geom.h) */
   const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
   int64_t t0, t1, M, D, P, Q;
-  if (__builtin_mul_overflow(lb, yn, &t0) | __builtin_mul_overflow(lc, yd, &t1) |
-      __builtin_add_overflow(t0, t1, &M) | __builtin_mul_overflow(la, yd, &D))
+  if ((int)__builtin_mul_overflow(lb, yn, &t0) | (int)__builtin_mul_overflow(lc, yd, &t1) |
+      (int)__builtin_add_overflow(t0, t1, &M) | (int)__builtin_mul_overflow(la, yd, &D))
     return false;
   if (M == INT64_MIN || D == INT64_MIN) return false;
   const int64_t N = D < 0 ? M : -M;         /* N = -M, both signs changed where D < 0 */
   D = D < 0 ? -D : D;
-  if (__builtin_mul_overflow(N, xd, &t0) | __builtin_mul_overflow(D, Gc, &t1) |
-      __builtin_sub_overflow(t0, t1, &P) | __builtin_mul_overflow(D, Q1, &Q))
+  if ((int)__builtin_mul_overflow(N, xd, &t0) | (int)__builtin_mul_overflow(D, Gc, &t1) |
+      (int)__builtin_sub_overflow(t0, t1, &P) | (int)__builtin_mul_overflow(D, Q1, &Q))
     return false;
   /* ceil(P / Q), Q > 0: C's quotient truncates toward 0, the ceiling for P <= 0 and the
      floor for P > 0, one less than the ceiling there when the rest is not 0 */
@@ -1388,17 +1388,24 @@ static inline bool cut_index(struct gpoint p0, struct gpoint p1, int64_t yn, int
    when y_0 <= fy < y_m; likewise y_j+1 <= fy < y_j in a chain whose y never rises, there
    when y_m <= fy < y_0. So a ring's crossing edges are its chains' one each, where the
    line lies in the chain's range, and a chain's is found from the last one it found,
-   a step for each point the line passes (rows asked in order: a few points a row). */
+   a step for each point the line passes (rows asked in order: a few points a row). A
+   chain's points are the polygon's own, but for the chain holding the ring's last edge
+   (from its last point back to its first), whose points are copied into L->cpt with the
+   first one after them. */
 static int cut_chains(struct fx_lines *L, struct t74_error *err)
 {
   const struct fx_polys *ps = &L->m->cuts;
-  size_t ne = 0;                            /* edges: a chain has one or more */
-  for (int k = 0; k < ps->n; k++) ne += (size_t)ps->p[k].rs[ps->p[k].nring];
+  size_t ne = 0, nr = 0;                    /* edges (a chain has one or more), rings */
+  for (int k = 0; k < ps->n; k++) {
+    ne += (size_t)ps->p[k].rs[ps->p[k].nring];
+    nr += (size_t)ps->p[k].nring;
+  }
   L->cc = malloc((ne + 1) * sizeof *L->cc);
   L->ccf = malloc(((size_t)ps->n + 1) * sizeof *L->ccf);
-  L->cpt = malloc((2 * ne + 1) * sizeof *L->cpt);   /* each chain's points: its edges + 1 */
+  L->cpt = malloc((ne + nr + 1) * sizeof *L->cpt);   /* a ring's points and its first again */
   if (!L->cc || !L->ccf || !L->cpt) return t74_fail(err, T74_EIO, "out of host memory");
-  int nc = 0, npt = 0;
+  int nc = 0;
+  size_t ncpt = 0;
   for (int k = 0; k < ps->n; k++) {
     const struct fx_poly *p = &ps->p[k];
     L->ccf[k] = nc;
@@ -1406,24 +1413,35 @@ static int cut_chains(struct fx_lines *L, struct t74_error *err)
       const int np = p->rs[r + 1] - p->rs[r];
       const struct gpoint *pt = p->pt + p->rs[r];
       for (int v = 0; v < np;) {            /* a chain from point v */
-        struct cut_chain *c = &L->cc[nc++];
         int dir = 0, e = v;
-        c->at = npt;
-        L->cpt[npt++] = pt[v];
-        for (; e < np; e++) {               /* its edges e -> e + 1 */
-          const gcoord y0 = pt[e].y, y1 = pt[e + 1 < np ? e + 1 : 0].y;
-          const int d = (y1 > y0) - (y1 < y0);
-          if (d && dir && d != dir) break;
-          if (d) dir = d;
-          L->cpt[npt++] = pt[e + 1 < np ? e + 1 : 0];
+        for (; e + 1 < np; e++) {           /* its edges e -> e + 1 (in place) */
+          const int d = (pt[e + 1].y > pt[e].y) - (pt[e + 1].y < pt[e].y);
+          if (d && d == -dir) break;
+          dir = d ? d : dir;
         }
-        c->m = e - v;
-        c->j = 0;
+        bool last = false;                  /* the ring's last edge, back to its first point */
+        if (e + 1 == np) {
+          const int d = (pt[0].y > pt[e].y) - (pt[0].y < pt[e].y);
+          last = !(d && d == -dir);
+          dir = last && d ? d : dir;
+        }
+        struct cut_chain *c = &L->cc[nc++];
+        c->m = e - v + last;
+        if (last) {                         /* its points copied, the first one after them */
+          struct gpoint *q = L->cpt + ncpt;
+          memcpy(q, pt + v, (size_t)(np - v) * sizeof *q);
+          q[np - v] = pt[0];
+          ncpt += (size_t)(np - v) + 1;
+          c->pt = q;
+        } else {
+          c->pt = pt + v;
+        }
         c->up = dir >= 0;
-        const gcoord ya = L->cpt[c->at].y, yb = L->cpt[c->at + c->m].y;
+        c->j = c->up ? 0 : c->m - 1;        /* (rows asked bottom up: each chain's lowest) */
+        const gcoord ya = c->pt[0].y, yb = c->pt[c->m].y;
         c->ylo = c->up ? ya : yb;
         c->yhi = c->up ? yb : ya;
-        v = e;
+        v = last ? np : e;
       }
     }
   }
@@ -1445,9 +1463,9 @@ static int cut_bits(struct fx_lines *L, int q, int64_t yn, int64_t yd, int64_t f
   *made = false;
   int64_t t0, t1, c, Gc, Q1;
   if (xd <= 0 || yd <= 0 || k0 <= -((int64_t)1 << 40) || k0 >= (int64_t)1 << 40 ||
-      (__builtin_mul_overflow(xd, (int64_t)win[0], &t0) |
-       __builtin_mul_overflow(2 * k0 + 1, S, &t1) | __builtin_add_overflow(t0, t1, &c) |
-       __builtin_mul_overflow(GRID_ONE, c, &Gc) | __builtin_mul_overflow(2 * GRID_ONE, S, &Q1)))
+      ((int)__builtin_mul_overflow(xd, (int64_t)win[0], &t0) |
+       (int)__builtin_mul_overflow(2 * k0 + 1, S, &t1) | (int)__builtin_add_overflow(t0, t1, &c) |
+       (int)__builtin_mul_overflow(GRID_ONE, c, &Gc) | (int)__builtin_mul_overflow(2 * GRID_ONE, S, &Q1)))
     return T74_OK;
   const int nw = (n + 63) / 64;
   if (nw > L->cutbitcap) {
@@ -1468,7 +1486,7 @@ static int cut_bits(struct fx_lines *L, int q, int64_t yn, int64_t yd, int64_t f
     for (int h = L->ccf[k]; h < L->ccf[k + 1]; h++) {
       struct cut_chain *ch = &L->cc[h];
       if (fy < ch->ylo || fy >= ch->yhi) continue;   /* the line misses the chain */
-      const struct gpoint *pt = L->cpt + ch->at;
+      const struct gpoint *pt = ch->pt;
       int j = ch->j;
       if (ch->up) {                          /* y_j <= fy < y_j+1 */
         while (pt[j + 1].y <= fy) j++;
