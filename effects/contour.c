@@ -50,20 +50,33 @@ void contour_bezier(const double q[5][2], double t, double out[2])
   bezier_with(q, b, out);
 }
 
-/* The weights at the curve polygon's points t = m / CONTOUR_STEPS, made once for a frame's
-   corners (the same doubles contour_bezier makes at each). */
+/* The weights at the curve polygon's points t = m / CONTOUR_STEPS, the same doubles
+   bernstein makes at each: t = m / 64 and u = 1 - t = (64 - m) / 64 are exact, and every
+   product of a weight, taken left to right as bernstein takes them (4 u u u t: 4 u, then
+   times u, u, t), is an integer below 6 * 64^4 < 2^27 over a power of two: exact. So each
+   weight is exactly C(4, k) (64 - m)^(4 - k) m^k / 2^24, which the constant expressions
+   below give exactly too (an integer below 2^53, divided by a power of two). A table:
+   nothing made a frame. */
+_Static_assert(CONTOUR_STEPS == 64, "the weights' table is made for 64 steps");
+#define CW_(c, a, b) ((double)((c) * (a) * (b)) / 16777216.0)
+#define CW_U(m) (64 - (m))
+#define CW_W(m, k)                                                                 \
+  ((k) == 0 ? CW_(1, CW_U(m) * CW_U(m), CW_U(m) * CW_U(m)) :                   \
+   (k) == 1 ? CW_(4, CW_U(m) * CW_U(m), CW_U(m) * (m)) :                       \
+   (k) == 2 ? CW_(6, CW_U(m) * CW_U(m), (m) * (m)) :                           \
+   (k) == 3 ? CW_(4, CW_U(m) * (m), (m) * (m)) : CW_(1, (m) * (m), (m) * (m)))
+#define CW_B(m) { CW_W(m, 0), CW_W(m, 1), CW_W(m, 2), CW_W(m, 3), CW_W(m, 4) }
+#define CW_B2(m) { { CW_W(m, 0), CW_W(m, 0) }, { CW_W(m, 1), CW_W(m, 1) },         \
+                   { CW_W(m, 2), CW_W(m, 2) }, { CW_W(m, 3), CW_W(m, 3) },         \
+                   { CW_W(m, 4), CW_W(m, 4) } }
+#define CW_8(F, m) F(m), F(m + 1), F(m + 2), F(m + 3), F(m + 4), F(m + 5), F(m + 6), F(m + 7)
+#define CW_65(F) CW_8(F, 0), CW_8(F, 8), CW_8(F, 16), CW_8(F, 24), CW_8(F, 32), CW_8(F, 40), \
+                 CW_8(F, 48), CW_8(F, 56), F(64)
 struct curve_weights {
   double b[CONTOUR_STEPS + 1][5];
   _Alignas(16) double b2[CONTOUR_STEPS + 1][5][2];   /* each b twice: a lane for x, one for y */
 };
-
-static void curve_weights(struct curve_weights *w)
-{
-  for (int m = 0; m <= CONTOUR_STEPS; m++) {
-    bernstein((double)m / CONTOUR_STEPS, w->b[m]);
-    for (int k = 0; k < 5; k++) w->b2[m][k][0] = w->b2[m][k][1] = w->b[m][k];
-  }
-}
+static const struct curve_weights curve_table = { { CW_65(CW_B) }, { CW_65(CW_B2) } };
 
 void contour_bezier_d(const double q[5][2], double t, double out[2])
 {
@@ -180,9 +193,7 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
 
 void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
 {
-  struct curve_weights w;
-  curve_weights(&w);
-  region_with(q, &w, poly);
+  region_with(q, &curve_table, poly);
 }
 
 /* ---- the contour ------------------------------------------------------------------ */
@@ -311,8 +322,6 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
   if (cost) COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
   qsort(ce, (size_t)nc, sizeof *ce, by_from);
   long convex = 0, concave = 0, junction = 0;
-  struct curve_weights cw;
-  if (nc > 0) curve_weights(&cw);
   uint32_t mark = core_mark(core), at = 0;
   int rc = T74_OK;
   /* one corner's region polygon at a time: each corner is cut before the next is made */
@@ -363,8 +372,10 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     q[1].y = round_grid((double)q[2].y + e->contour * (double)(q[0].y - q[2].y));
     q[3].x = round_grid((double)q[2].x + e->contour * (double)(q[4].x - q[2].x));
     q[3].y = round_grid((double)q[2].y + e->contour * (double)(q[4].y - q[2].y));
-    struct gpoint poly[CONTOUR_STEPS + 2];
-    region_with(q, &cw, poly);
+    /* the region's polygon made where the list keeps it (fx_polys_room: no copy) */
+    struct gpoint *poly = fx_polys_room(cuts, CONTOUR_STEPS + 2);
+    if (!poly) { rc = t74_fail(err, T74_EIO, "out of host memory"); break; }
+    region_with(q, &curve_table, poly);
     if (cost) {                   /* the 1974 engine's machine: counted, through core */
       COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
       for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {
@@ -381,7 +392,7 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     int rs[2] = { 0, CONTOUR_STEPS + 2 };
     struct contour_corner cn = { out->object, inw->a, out->a, out->b, A->mface, B->mface,
                                 { q[0], q[1], q[2], q[3], q[4] } };
-    if (!fx_polys_add(cuts, 1, rs, poly, out->object, 0) || !corner_add(corners, &cn))
+    if (!fx_polys_close(cuts, 1, rs, out->object, 0, NULL, NULL) || !corner_add(corners, &cn))
       rc = t74_fail(err, T74_EIO, "out of host memory");
   }
   if (rc == T74_OK) {

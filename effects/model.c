@@ -995,6 +995,11 @@ int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, dou
 
 /* ---- lines --------------------------------------------------------------------------- */
 
+/* A chain of a cut polygon's ring (cut_chains): m edges, from points pt[0 .. m] (ring
+   order) whose y never falls (up) or never rises; [ylo, yhi) the rows whose line it
+   crosses (then at one edge, j: the last one found). */
+struct cut_chain { const struct gpoint *pt; int m, j; bool up; gcoord ylo, yhi; };
+
 struct fx_lines {
   const struct fx_model *m;
   struct cost *cost;
@@ -1012,6 +1017,11 @@ struct fx_lines {
   int evcap;
   int *brow; int browcap;   /* samples: the row behind a cut object */
   int *bnd; int bndcap;     /* samples: per event, the first sample at or right of it */
+  uint64_t *cutbit; int cutbitcap;   /* cut_bits: a row's samples a cut object's regions
+                               hold, a bit each */
+  struct cut_chain *cc;     /* cut_bits: the cut polygons' rings in chains (cut_chains) */
+  int *ccf;                 /* per cut polygon its first chain (cuts.n + 1 of them) */
+  struct gpoint *cpt;       /* the points of the chains that hold a ring's last edge */
   /* samples on a rising window (shadow_samples): the row's stretches of each face's shadows
      as ranges of samples [b0, b1), found at the face's first run on the row (row: the
      row's number, counted from 1, when found) */
@@ -1091,6 +1101,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->behind);
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
+  free(L->cutbit); free(L->cc); free(L->ccf); free(L->cpt);
   free(L->rng); free(L->fr); free(L->ps); free(L->rend); free(L->runbit);
   free(L);
 }
@@ -1322,6 +1333,202 @@ static inline unsigned ev_count(const struct ev *e, int *cnt, unsigned mask)
   return cnt[k] > 0 ? mask | 1u << k : mask & ~(1u << k);
 }
 
+/* ---- a cut object's regions on a rising row of samples, in integers ----
+   On a rising row (fx_sample_row: sample i at xn_i / xd, xn_i = G (c + 2 S i),
+   c = xd XL + (2 k0 + 1) S, S > 0, G = GRID_ONE) the first sample at or right of an edge's
+   crossing x = N / D with the line y = yn / yd (fx_poly_cross's rational: N = -(lb yn +
+   lc yd), D = la yd, both signs changed where D < 0, so D > 0) is the least i in [0, n]
+   with N xd <= D xn_i (xd > 0), that is with P <= Q i, P = N xd - D G c, Q = 2 G S D > 0:
+   ceil(P / Q) put into [0, n], fx_first_at_or_right's index exactly. Here every product
+   and sum is taken in 64 bits with a check for overflow, so each value is exact where
+   none overflows (then the row goes the long way, cut_stretches): one divide a crossing,
+   no rational made, compared or sorted.
+   Which samples the regions hold: cut_samples' long way pairs the sorted ends of the
+   polygons' stretches, [b_0, b_1), [b_2, b_3), ..., b_h the events' indices, in x's order
+   and so not falling. A sample i lies in one of those ranges exactly when an odd number
+   of the b_h are at or left of it (i in [b_2r, b_2r+1) is 2r + 1 of them). The b_h are
+   the indices of every crossing of every polygon on the line but for pairs of equal
+   crossings (fx_poly_cross's empty stretches, x_h = x_h+1, left out by stretches), which
+   have equal indices and change no count's parity. So a sample is cut exactly when the
+   count of crossings, of all the polygons, whose index is at or left of it is odd: each
+   crossing's index flips a bit (cut_bits), and a prefix XOR along the row gives the
+   parity at each sample. */
+
+/* The index (above) of the crossing of edge p0 -> p1 (p0.y != p1.y: its ends on either side
+   of the line) into *at; false when a value leaves 64 bits. Gc = G c and Q1 = 2 G S. */
+static inline bool cut_index(struct gpoint p0, struct gpoint p1, int64_t yn, int64_t yd,
+                             int64_t xd, int64_t Gc, int64_t Q1, int n, int *at)
+{
+  /* cross_edge's line (poly.c): la, lb, lc within 64 bits on the grid (geom.h) */
+  const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
+  int64_t t0, t1, M, D, P, Q;
+  if ((int)__builtin_mul_overflow(lb, yn, &t0) | (int)__builtin_mul_overflow(lc, yd, &t1) |
+      (int)__builtin_add_overflow(t0, t1, &M) | (int)__builtin_mul_overflow(la, yd, &D))
+    return false;
+  if (M == INT64_MIN || D == INT64_MIN) return false;
+  const int64_t N = D < 0 ? M : -M;         /* N = -M, both signs changed where D < 0 */
+  D = D < 0 ? -D : D;
+  if ((int)__builtin_mul_overflow(N, xd, &t0) | (int)__builtin_mul_overflow(D, Gc, &t1) |
+      (int)__builtin_sub_overflow(t0, t1, &P) | (int)__builtin_mul_overflow(D, Q1, &Q))
+    return false;
+  /* ceil(P / Q), Q > 0: C's quotient truncates toward 0, the ceiling for P <= 0 and the
+     floor for P > 0, one less than the ceiling there when the rest is not 0 */
+  const int64_t i = P / Q + (P % Q > 0);
+  *at = i <= 0 ? 0 : i >= n ? n : (int)i;
+  return true;
+}
+
+/* The cut polygons' rings as chains into L->cc, L->ccf and L->cpt, made once a frame (L's):
+   each ring cut, from its first point on, where an edge's y rises after one that falls or
+   falls after one that rises (edges of one y go with the chain they meet), so each
+   chain's y never falls or never rises. An edge crosses a line (its ends on either side,
+   a point on the line counting as above it: y <= fy the other side from y > fy) exactly
+   when in a chain of points y_0 <= .. <= y_m it is the edge j with y_j <= fy < y_j+1 (the
+   edges before it have both ends at or below y_j, those after it both above y_j+1), there
+   when y_0 <= fy < y_m; likewise y_j+1 <= fy < y_j in a chain whose y never rises, there
+   when y_m <= fy < y_0. So a ring's crossing edges are its chains' one each, where the
+   line lies in the chain's range, and a chain's is found from the last one it found,
+   a step for each point the line passes (rows asked in order: a few points a row). A
+   chain's points are the polygon's own, but for the chain holding the ring's last edge
+   (from its last point back to its first), whose points are copied into L->cpt with the
+   first one after them. */
+static int cut_chains(struct fx_lines *L, struct t74_error *err)
+{
+  const struct fx_polys *ps = &L->m->cuts;
+  size_t ne = 0, nr = 0;                    /* edges (a chain has one or more), rings */
+  for (int k = 0; k < ps->n; k++) {
+    ne += (size_t)ps->p[k].rs[ps->p[k].nring];
+    nr += (size_t)ps->p[k].nring;
+  }
+  L->cc = malloc((ne + 1) * sizeof *L->cc);
+  L->ccf = malloc(((size_t)ps->n + 1) * sizeof *L->ccf);
+  L->cpt = malloc((ne + nr + 1) * sizeof *L->cpt);   /* a ring's points and its first again */
+  if (!L->cc || !L->ccf || !L->cpt) return t74_fail(err, T74_EIO, "out of host memory");
+  int nc = 0;
+  size_t ncpt = 0;
+  for (int k = 0; k < ps->n; k++) {
+    const struct fx_poly *p = &ps->p[k];
+    L->ccf[k] = nc;
+    for (int r = 0; r < p->nring; r++) {
+      const int np = p->rs[r + 1] - p->rs[r];
+      const struct gpoint *pt = p->pt + p->rs[r];
+      for (int v = 0; v < np;) {            /* a chain from point v */
+        int dir = 0, e = v;
+        for (; e + 1 < np; e++) {           /* its edges e -> e + 1 (in place) */
+          const int d = (pt[e + 1].y > pt[e].y) - (pt[e + 1].y < pt[e].y);
+          if (d && d == -dir) break;
+          dir = d ? d : dir;
+        }
+        bool last = false;                  /* the ring's last edge, back to its first point */
+        if (e + 1 == np) {
+          const int d = (pt[0].y > pt[e].y) - (pt[0].y < pt[e].y);
+          last = !(d && d == -dir);
+          dir = last && d ? d : dir;
+        }
+        struct cut_chain *c = &L->cc[nc++];
+        c->m = e - v + last;
+        if (last) {                         /* its points copied, the first one after them */
+          struct gpoint *q = L->cpt + ncpt;
+          memcpy(q, pt + v, (size_t)(np - v) * sizeof *q);
+          q[np - v] = pt[0];
+          ncpt += (size_t)(np - v) + 1;
+          c->pt = q;
+        } else {
+          c->pt = pt + v;
+        }
+        c->up = dir >= 0;
+        c->j = c->up ? 0 : c->m - 1;        /* (rows asked bottom up: each chain's lowest) */
+        const gcoord ya = c->pt[0].y, yb = c->pt[c->m].y;
+        c->ylo = c->up ? ya : yb;
+        c->yhi = c->up ? yb : ya;
+        v = last ? np : e;
+      }
+    }
+  }
+  L->ccf[ps->n] = nc;
+  return T74_OK;
+}
+
+/* The samples k0 .. k0 + n - 1 of a rising row that cut object q's regions hold on the
+   line yn / yd (row fy), as bits L->cutbit[0 .. (n + 63) / 64) (above); *made false when
+   a value leaves 64 bits (the long way then). Every polygon of the object's range in
+   cuts whose box the row meets, its crossing edges found from its chains (cut_chains:
+   the edges fx_poly_cross finds, in another order, which the bits do not see). */
+static int cut_bits(struct fx_lines *L, int q, int64_t yn, int64_t yd, int64_t fy, int64_t xd,
+                    int64_t k0, int n, bool *made, struct t74_error *err)
+{
+  const struct fx_model *m = L->m;
+  const int32_t *win = m->g->window;
+  const int64_t S = (int64_t)win[2] - win[0];
+  *made = false;
+  int64_t t0, t1, c, Gc, Q1;
+  if (xd <= 0 || yd <= 0 || k0 <= -((int64_t)1 << 40) || k0 >= (int64_t)1 << 40 ||
+      ((int)__builtin_mul_overflow(xd, (int64_t)win[0], &t0) |
+       (int)__builtin_mul_overflow(2 * k0 + 1, S, &t1) | (int)__builtin_add_overflow(t0, t1, &c) |
+       (int)__builtin_mul_overflow(GRID_ONE, c, &Gc) | (int)__builtin_mul_overflow(2 * GRID_ONE, S, &Q1)))
+    return T74_OK;
+  const int nw = (n + 63) / 64;
+  if (nw > L->cutbitcap) {
+    uint64_t *nb = realloc(L->cutbit, (size_t)nw * sizeof *nb);
+    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+    L->cutbit = nb;
+    L->cutbitcap = nw;
+  }
+  if (!L->cc) {
+    const int rc = cut_chains(L, err);
+    if (rc != T74_OK) return rc;
+  }
+  uint64_t *bit = L->cutbit;
+  memset(bit, 0, (size_t)nw * sizeof *bit);
+  const struct fx_poly *const cp = m->cuts.p;
+  for (int k = L->cr[q].k0; k < L->cr[q].k1; k++) {
+    if (!fx_poly_on_row(&cp[k], fy)) continue;   /* the line misses its box */
+    for (int h = L->ccf[k]; h < L->ccf[k + 1]; h++) {
+      struct cut_chain *ch = &L->cc[h];
+      if (fy < ch->ylo || fy >= ch->yhi) continue;   /* the line misses the chain */
+      const struct gpoint *pt = ch->pt;
+      int j = ch->j;
+      if (ch->up) {                          /* y_j <= fy < y_j+1 */
+        while (pt[j + 1].y <= fy) j++;
+        while (pt[j].y > fy) j--;
+      } else {                              /* y_j+1 <= fy < y_j */
+        while (pt[j + 1].y > fy) j++;
+        while (pt[j].y <= fy) j--;
+      }
+      ch->j = j;
+      int i;
+      if (!cut_index(pt[j], pt[j + 1], yn, yd, xd, Gc, Q1, n, &i)) return T74_OK;
+      if (i < n) bit[i >> 6] ^= (uint64_t)1 << (i & 63);
+    }
+  }
+  /* the prefix XOR: bit i the parity of the flips at or left of i (within a word by
+     doubling steps, then the words' carry: the last bit of the word before) */
+  uint64_t carry = 0;
+  for (int w = 0; w < nw; w++) {
+    uint64_t x = bit[w];
+    x ^= x << 1; x ^= x << 2; x ^= x << 4; x ^= x << 8; x ^= x << 16; x ^= x << 32;
+    x ^= carry;
+    carry = (uint64_t)0 - (x >> 63);
+    bit[w] = x;
+  }
+  if (n & 63) bit[nw - 1] &= ((uint64_t)1 << (n & 63)) - 1;   /* (samples n .. : none) */
+  *made = true;
+  return T74_OK;
+}
+
+/* The row behind cut object q into L->brow (fx_see_row's, at the row's samples). */
+static int behind_row(struct fx_lines *L, int q, int K, int64_t mrow, int64_t k0, int n,
+                      struct t74_error *err)
+{
+  if (n > L->browcap) {
+    int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
+    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
+    L->brow = nb;
+    L->browcap = n;
+  }
+  return fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err);
+}
+
 /* Cut object q's regions out of a row of samples: a sample showing one of the object's
    faces inside a region shows what the engine sees there without the object (cut_line's
    answer, sample by sample). */
@@ -1338,6 +1545,28 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     for (int k = c->k0; k < c->k1 && !near; k++)
       near = m->cuts.p[k].owner == m->cut_obj[q] && fx_poly_on_row(&m->cuts.p[k], fy);
   if (!near) return T74_OK;
+  const int32_t *win = m->g->window;
+  const bool rising = win[2] > win[0];
+  int rc;
+  if (rising && !m->count) {
+    /* (no scan for the object's faces first: the bits are few steps, and their samples
+       are the only ones looked at; the 1974 engine's machine counts fx_poly_cross's work:
+       its way) */
+    bool made;
+    if ((rc = cut_bits(L, q, yn, yd, fy, xd, k0, n, &made, err)) != T74_OK) return rc;
+    if (made) {                             /* the held samples showing the object's faces */
+      bool behind = false;
+      for (int w = 0; w < (n + 63) / 64; w++)
+        for (uint64_t b = L->cutbit[w]; b; b &= b - 1) {
+          const int i = 64 * w + __builtin_ctzll(b);
+          if (face[i] < 0 || !skip[face[i]]) continue;
+          if (!behind && (rc = behind_row(L, q, K, mrow, k0, n, err)) != T74_OK) return rc;
+          behind = true;
+          face[i] = L->brow[i];
+        }
+      return T74_OK;
+    }
+  }
   bool hit = false;
   for (int i = 0; i < n && !hit; i++) {
     /* none seen at four samples (their AND negative exactly when all four are -1) */
@@ -1346,15 +1575,13 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
   }
   if (!hit) return T74_OK;
   int nev;
-  int rc = cut_stretches(L, q, yn, yd, &nev, err);
+  rc = cut_stretches(L, q, yn, yd, &nev, err);
   if (rc != T74_OK || nev == 0) return rc;
-  const int32_t *win = m->g->window;
   bool behind = false;
   /* samples left to right (xn rising): each event's first sample at or right of it found
      once (bnd, fx_first_at_or_right); a sample lies in a stretch exactly when it lies in the
      stretch's range of samples (the events are sorted, the ranges in order and apart).
      Else each sample of the row is tested. */
-  const bool rising = win[2] > win[0];
   const int np = rising ? nev / 2 : 1;
   if (2 * np > L->bndcap) {
     int *nb = realloc(L->bnd, (size_t)(2 * np) * sizeof *nb);
@@ -1374,16 +1601,8 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
         int64_t xn = GRID_ONE * (xd * win[0] + (2 * (k0 + i) + 1) * ((int64_t)win[2] - win[0]));
         if (!in_stretches(L->ev, nev, xn, xd)) continue;
       }
-      if (!behind) {
-        if (n > L->browcap) {
-          int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
-          if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
-          L->brow = nb;
-          L->browcap = n;
-        }
-        if ((rc = fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err)) != T74_OK) return rc;
-        behind = true;
-      }
+      if (!behind && (rc = behind_row(L, q, K, mrow, k0, n, err)) != T74_OK) return rc;
+      behind = true;
       face[i] = L->brow[i];
     }
   return T74_OK;

@@ -826,6 +826,147 @@ static void test_regions_on_samples(void **state)
   scene_free(sc);
 }
 
+/* A sample's place in the cut polygons ps[0 .. n): the count of the crossings, of every
+   ring's every edge with the line y = yn / yd (its ends on either side, a point on the
+   line counting as above it), at or left of xn / xd, as exact rationals: odd when cut. */
+static bool cut_by_count(const struct fx_poly *ps, int n, int64_t yn, int64_t yd, int64_t xn,
+                         int64_t xd)
+{
+  const int64_t fy = yn / yd - (yn % yd != 0 && yn < 0);
+  int count = 0;
+  for (int k = 0; k < n; k++)
+    for (int r = 0; r < ps[k].nring; r++) {
+      const int a = ps[k].rs[r], np = ps[k].rs[r + 1] - a;
+      for (int v = 0; v < np; v++) {
+        const struct gpoint p0 = ps[k].pt[a + v], p1 = ps[k].pt[a + (v + 1) % np];
+        if ((p0.y <= fy) == (p1.y <= fy)) continue;
+        count += geom_rat_cmp_frac(geom_x_at(geom_line(p0, p1), yn, yd), xn, xd) <= 0;
+      }
+    }
+  return count % 2;
+}
+
+/* A polygon of rings given as point centres (i + di, j + dj) each moved by (dx, dy) grid
+   units. */
+static void add_rings(struct fx_polys *ps, const struct vis_grid *g, int nring, const int *rs,
+                      const int (*ijd)[4], int di, int dj, int owner)
+{
+  struct gpoint pt[64];
+  assert_true(rs[nring] <= 64);
+  for (int k = 0; k < rs[nring]; k++) {
+    pt[k] = centre_pt(g, ijd[k][0] + di, ijd[k][1] + dj);
+    pt[k].x += ijd[k][2];
+    pt[k].y += ijd[k][3];
+  }
+  assert_true(fx_polys_add(ps, nring, rs, pt, owner, 0));
+}
+
+/* The points engine's contour cuts at the samples (cut_samples' way on a rising row: each
+   crossing's first sample at or right of it in 64-bit integers, the rings walked in chains
+   whose y never falls or never rises, a bit flipped a crossing) against the count of
+   crossings at or left of each sample in exact rationals, with polygons made to be hard:
+   vertices on the samples and a grid unit off them, edges along a row's line, chains of
+   every length (a zigzag, a disc), two polygons overlapping (where both hold a sample the count is
+   even: not cut, as the sorted stretches' pairs have it), a ring inside another, polygons
+   past both ends of the row; rows asked from the bottom up, then in a scrambled order
+   (each chain's last edge found again from anywhere). */
+static void test_cuts_on_points(void **state)
+{
+  (void)state;
+  struct scene *sc = load_quiet("scenes/lprism.s74");
+  struct t74_error err = { 0, "" };
+  struct effects e;
+  assert_int_equal(effects_parse("halftone=4x4 smooth=phong contour=0.5", &e, "test", 1, &err),
+                   T74_OK);
+  struct duo d;
+  char msg[1024];
+  assert_int_equal(duo_open(&d, sc, 4, msg, sizeof msg), T74_OK);
+  struct fx_stats st;
+  memset(&st, 0, sizeof st);
+  struct cost cost = { { 0 } };
+  struct fx_model m;
+  assert_int_equal(fx_model_build(&m, &d.eng[1], sc, &e, NULL, &st, &cost, &err), T74_OK);
+  assert_true(m.ncut == 1 && m.cuts.n > 0);
+  const int o = m.cut_obj[0];
+  static const int zz[24][4] = {   /* a zigzag: up and down along the top, a flat bottom */
+    { 10, 30, 0, 0 }, { 12, 34, 1, 0 }, { 14, 31, 0, -1 }, { 16, 36, 0, 1 }, { 18, 30, -1, 0 },
+    { 20, 33, 0, 0 }, { 21, 33, 0, 0 }, { 22, 29, 1, 1 }, { 24, 37, 0, 0 }, { 26, 32, 2, -2 },
+    { 28, 32, 0, 0 }, { 30, 38, 0, 1 }, { 31, 20, 0, 0 }, { 29, 22, 0, 0 }, { 27, 18, 1, 0 },
+    { 25, 23, 0, -1 }, { 23, 17, 0, 0 }, { 21, 17, 0, 0 }, { 19, 21, -1, 1 }, { 17, 16, 0, 0 },
+    { 15, 24, 0, 0 }, { 13, 19, 0, 1 }, { 11, 25, 0, 0 }, { 9, 22, 0, -1 } };
+  static const int sq1[4][4] = { { 40, 10, 0, 0 }, { 60, 10, 0, 0 }, { 60, 30, 0, 0 },
+                                 { 40, 30, 0, 0 } };
+  static const int sq2[4][4] = { { 50, 20, 0, 1 }, { 70, 20, 1, 0 }, { 70, 40, 0, 0 },
+                                 { 50, 40, -1, 0 } };
+  static const int hole[8][4] = { { 5, 40, 0, 0 }, { 35, 40, 0, 0 }, { 35, 70, 0, 0 },
+                                  { 5, 70, 0, 0 }, { 12, 48, 0, 0 }, { 12, 62, 1, 0 },
+                                  { 28, 62, 0, 0 }, { 28, 48, 0, -1 } };
+  static const int wide_[4][4] = { { -6, 2, 0, 0 }, { 110, 5, 0, 0 }, { 109, 8, 0, 1 },
+                                   { -4, 7, 0, 0 } };
+  static const int disc[23][4] = {   /* long chains, each point on a row's line, each with
+                                        an edge along one */
+    { 92, 50, 0, 0 }, { 91, 46, 0, 0 }, { 88, 46, 0, 0 }, { 90, 43, 1, 0 }, { 87, 40, 0, 0 },
+    { 84, 39, 0, 0 }, { 80, 38, 0, 0 }, { 76, 39, 0, 0 }, { 73, 40, -1, 0 }, { 70, 43, 0, 0 },
+    { 69, 46, 0, 0 }, { 72, 46, 0, 0 }, { 68, 50, 0, 0 }, { 69, 54, 0, 0 }, { 70, 57, 0, 0 },
+    { 73, 60, 1, 0 }, { 76, 61, 0, 0 }, { 80, 62, 0, 0 }, { 84, 61, 0, 0 }, { 87, 60, -1, 0 },
+    { 90, 57, 0, 0 }, { 88, 57, 0, 0 }, { 91, 54, 0, 0 } };
+  const int r1[2] = { 0, 24 }, r4[2] = { 0, 4 }, r8[3] = { 0, 4, 8 }, r23[2] = { 0, 23 };
+  /* (the object's faces are seen at about i 33 .. 66, j 24 .. 52) */
+  add_rings(&m.cuts, &d.g, 1, r1, zz, 25, 8, o);
+  add_rings(&m.cuts, &d.g, 1, r4, sq1, 0, 15, o);
+  add_rings(&m.cuts, &d.g, 1, r4, sq2, -10, 12, o);
+  add_rings(&m.cuts, &d.g, 2, r8, hole, 28, -12, o);
+  add_rings(&m.cuts, &d.g, 1, r4, wide_, 0, 28, o);
+  add_rings(&m.cuts, &d.g, 1, r23, disc, -25, -12, o);
+  long cut = 0, kept = 0;
+  for (int K = 1; K <= 2; K++)
+    for (int pass = 0; pass < 2; pass++) {
+      struct fx_lines *L;
+      assert_int_equal(fx_lines_open(&L, &m, false, &cost, &err), T74_OK);
+      assert_false(fx_lines_have_spans(L));
+      struct fx_see *plain, *behind;
+      assert_int_equal(fx_see_open(&plain, &d.eng[1], NULL, &cost, &err), T74_OK);
+      assert_int_equal(fx_see_open(&behind, &d.eng[1], m.cut_skip[0], &cost, &err), T74_OK);
+      const int nk = K * (d.W + 2), k0 = -K, nrow = K * (d.H + 2);
+      int *fa = calloc((size_t)nk, sizeof *fa), *fp = calloc((size_t)nk, sizeof *fp);
+      int *fb = calloc((size_t)nk, sizeof *fb);
+      unsigned *ba = calloc((size_t)nk, sizeof *ba);
+      assert_true(fa && fp && fb && ba);
+      for (int t = 0; t < nrow; t++) {
+        /* pass 0: the bottom row first; pass 1: rows 97 apart round the range */
+        const int mr = (pass == 0 ? nrow - 1 - t : (int)((97L * t) % nrow)) - K;
+        assert_int_equal(fx_lines_samples(L, K, mr, k0, nk, fa, ba, &err), T74_OK);
+        assert_int_equal(fx_see_row(plain, K, mr, k0, nk, fp, &err), T74_OK);
+        assert_int_equal(fx_see_row(behind, K, mr, k0, nk, fb, &err), T74_OK);
+        const int64_t xd = 2 * (int64_t)K * d.W, yd = 2 * (int64_t)K * d.H;
+        const int32_t *w = d.g.window;
+        const int64_t yn = GRID_ONE * (yd * w[3] - (2 * (int64_t)mr + 1) * (w[3] - w[1]));
+        for (int i = 0; i < nk; i++) {
+          const int64_t xn = GRID_ONE * (xd * w[0] + (2 * (int64_t)(k0 + i) + 1) * (w[2] - w[0]));
+          const bool in = cut_by_count(m.cuts.p, m.cuts.n, yn, yd, xn, xd);
+          const bool obj = fp[i] >= 0 && m.cut_skip[0][fp[i]];
+          const int want = in && obj ? fb[i] : fp[i];
+          if (fa[i] != want)
+            print_message("K=%d row %d sample %d: cut %d, want %d (plain %d, in %d)\n", K, mr,
+                          k0 + i, fa[i], want, fp[i], in);
+          assert_int_equal(fa[i], want);
+          cut += in && obj;
+          kept += !in && obj;
+        }
+      }
+      free(fa); free(fp); free(fb); free(ba);
+      fx_see_close(plain);
+      fx_see_close(behind);
+      fx_lines_close(L);
+    }
+  print_message("cuts on the points engine's samples: %ld cut, %ld of the object's kept\n", cut,
+                kept);
+  assert_true(cut > 1000 && kept > 1000);
+  fx_model_free(&m);
+  duo_close(&d);
+  scene_free(sc);
+}
+
 /* The points engine's point frame (fx_points: its greys worked out a run of neighbouring
    points of one face at a time: a smoothed face's, a flat face's with its normal found
    once and its lights' directions two points an instruction) is fx_shade's point by
@@ -1345,6 +1486,7 @@ int main(void)
     cmocka_unit_test(test_fuzz_corpus),
     cmocka_unit_test(test_fx_shipped),
     cmocka_unit_test(test_regions_on_samples),
+    cmocka_unit_test(test_cuts_on_points),
     cmocka_unit_test(test_points_frame_is_pointwise),
     cmocka_unit_test(test_space_points_are_single),
     cmocka_unit_test(test_see_row_without_faces),
