@@ -53,26 +53,6 @@ static inline int x_cmp(struct grat p, struct grat q)
   return (l > r) - (l < r);
 }
 
-/* x_cmp of two x held as a numerator and a denominator (below 2^64, as above). */
-static inline int xk_cmp(wide pn, uint64_t pd, wide qn, uint64_t qd)
-{
-  wide l = pn * (wide)qd, r = qn * (wide)pd;
-  return (l > r) - (l < r);
-}
-
-/* The sort keys of act[a] (struct vis_key), copied from it: once a line for every item
-   after its span is made (line_begin), and for the halves a resume takes in. */
-static inline void key_set(struct vis *v, int a)
-{
-  const struct vis_item *it = &v->act[a];
-  struct vis_key *k = &v->key[a];
-  k->ln = it->xl.num;
-  k->rn = it->xr.num;
-  k->ld = (uint64_t)it->xl.den;
-  k->rd = (uint64_t)it->xr.den;
-  k->on = it->on;
-}
-
 static int grow(void **p, int *cap, int need, size_t size)
 {
   if (need <= *cap) return 1;
@@ -122,18 +102,17 @@ static inline int by_ylo(struct vis *v, int a, int b)
    pointer, and must still build */
 static inline int by_xl(struct vis *v, int i, int j)
 {
-  const struct vis_key *a = &v->key[i], *b = &v->key[j];
+  const struct vis_item *a = &v->act[i], *b = &v->act[j];
   if (a->on != b->on) return a->on ? -1 : 1;
   if (!a->on) return 0;
   v->pend_xcmp++;
-  return xk_cmp(a->ln, a->ld, b->ln, b->ld);
+  return x_cmp(a->xl, b->xl);
 }
 
 static inline int by_xr(struct vis *v, int i, int j)
 {
-  const struct vis_key *a = &v->key[i], *b = &v->key[j];
   v->pend_xcmp++;
-  return xk_cmp(a->rn, a->rd, b->rn, b->rd);
+  return x_cmp(v->act[i].xr, v->act[j].xr);
 }
 
 /* The compares the orders counted, and the looks prio_order_lineage counted, charged
@@ -193,12 +172,11 @@ static inline void sort_kept(struct vis *v, int *a, int n, bool xr)
   uint64_t cmps = 0;
   for (int i = 1; i < n; i++) {
     int t = a[i], j = i - 1;
-    const struct vis_key *ti = &v->key[t];
-    const wide tn = xr ? ti->rn : ti->ln;
-    const uint64_t td = xr ? ti->rd : ti->ld;
-    const uint64_t ton = ti->on;
+    const struct vis_item *ti = &v->act[t];
+    const struct grat tx = xr ? ti->xr : ti->xl;
+    const bool ton = ti->on;
     for (; j >= 0; j--) {
-      const struct vis_key *aj = &v->key[a[j]];
+      const struct vis_item *aj = &v->act[a[j]];
       if (!xr) {                         /* by_xl: the pieces the line meets first */
         if (aj->on != ton) {
           if (aj->on) break;             /* -1 */
@@ -208,7 +186,7 @@ static inline void sort_kept(struct vis *v, int *a, int n, bool xr)
         if (!ton) break;                 /* 0 */
       }
       cmps++;
-      if (xk_cmp(xr ? aj->rn : aj->ln, xr ? aj->rd : aj->ld, tn, td) <= 0) break;
+      if (x_cmp(xr ? aj->xr : aj->xl, tx) <= 0) break;
       a[j + 1] = a[j];
     }
     a[j + 1] = t;
@@ -321,7 +299,6 @@ void vis_free(struct vis *v)
   free(v->tmp);
   free(v->tmp2);
   free(v->tmp3);
-  free(v->key);
   memset(v, 0, sizeof *v);
 }
 
@@ -699,15 +676,14 @@ static int room(struct vis *v, int n)
          grow((void **)&v->setpos, &v->setposcap, n, sizeof *v->setpos) &&
          grow((void **)&v->tmp, &v->tmpcap, n, sizeof *v->tmp) &&
          grow((void **)&v->tmp2, &v->tmp2cap, n, sizeof *v->tmp2) &&
-         grow((void **)&v->tmp3, &v->tmp3cap, n, sizeof *v->tmp3) &&
-         grow((void **)&v->key, &v->keycap, n, sizeof *v->key);
+         grow((void **)&v->tmp3, &v->tmp3cap, n, sizeof *v->tmp3);
 }
 
 /* Items on the line at the head of byxl (the pieces the line meets come first). */
 static int count_on(const struct vis *v)
 {
   int non = 0;
-  while (non < v->nbyxl && v->key[v->byxl[non]].on) non++;
+  while (non < v->nbyxl && v->act[v->byxl[non]].on) non++;
   return non;
 }
 
@@ -734,8 +710,7 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
       continue;
     }
     v->tmp[a] = k;
-    if (k != a) v->act[k] = v->act[a];   /* (288 bytes: not onto itself) */
-    k++;
+    v->act[k++] = v->act[a];
   }
   int m = 0;
   for (int i = 0; i < v->nbyxr; i++)
@@ -749,7 +724,6 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   for (int a = 0; a < v->nact; a++)
     if (dblock_span(v, &v->act[a], yn, yd, err) != T74_OK) return err->status;
   if (!room(v, v->nact)) return t74_fail(err, T74_EIO, "out of host memory");
-  for (int a = 0; a < v->nact; a++) key_set(v, a);
 
   /* 3. the order by xb: the pieces kept are in the last line's order (act is left so),
      the new ones are sorted apart and merged in */
@@ -782,12 +756,9 @@ static int after_x(struct vis *v, const int *ord, int n, struct grat x, bool xr)
   int lo = 0, hi = n;
   while (lo < hi) {
     int mid = (lo + hi) / 2;
-    const struct vis_key *k = &v->key[ord[mid]];
+    const struct vis_item *it = &v->act[ord[mid]];
     v->pend_xcmp++;
-    if (xk_cmp(xr ? k->rn : k->ln, xr ? k->rd : k->ld, x.num, (uint64_t)x.den) <= 0)
-      lo = mid + 1;
-    else
-      hi = mid;
+    if (x_cmp(xr ? it->xr : it->xl, x) <= 0) lo = mid + 1; else hi = mid;
   }
   return lo;
 }
@@ -818,7 +789,6 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
   for (int a = first; a < v->nact; a++)
     if (dblock_span(v, &v->act[a], yn, yd, err) != T74_OK) return err->status;
   if (!room(v, v->nact)) return t74_fail(err, T74_EIO, "out of host memory");
-  for (int a = first; a < v->nact; a++) key_set(v, a);
 
   /* both x orders: the dead out (they are pieces of the set: the pair just decided),
      the halves in, each by a binary search */
@@ -861,15 +831,11 @@ static int resume(struct vis *v, struct grat x, int64_t yn, int64_t yd, int *ia,
   return T74_OK;
 }
 
-/* xb and xe of an item, from its keys */
-static inline struct grat key_xl(const struct vis_key *k) { return (struct grat){ k->ln, k->ld }; }
-static inline struct grat key_xr(const struct vis_key *k) { return (struct grat){ k->rn, k->rd }; }
-
 /* The sweep over the span ends of the line; PRIO_FIRST when done. */
 static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
 {
-#define XL(i) key_xl(&v->key[v->byxl[i]])
-#define XR(i) key_xr(&v->key[v->byxr[i]])
+#define XL(i) (v->act[v->byxl[i]].xl)
+#define XR(i) (v->act[v->byxr[i]].xr)
   int non = count_on(v);
   int ia = 0, ir = 0, front = -1;
   /* This merge of the two orders is the host's (no 1974 work is counted in it), and some

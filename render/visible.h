@@ -49,15 +49,6 @@ struct vis_item {
   uint32_t core;             /* its row in the core's D-BLOCK table */
 };
 
-/* The keys the x orders compare, for each active item (in step with act during a line):
-   xb and xe as numerator and denominator (each denominator below 2^64: visible.c, x_cmp)
-   and whether the line meets the piece, 64 bytes an item beside act's larger items. */
-struct vis_key {
-  wide     ln, rn;           /* xb.num, xe.num */
-  uint64_t ld, rd;           /* xb.den, xe.den */
-  uint64_t on;               /* the item's on */
-};
-
 struct vis {
   struct seginfo *seg;
   struct prio    *prio;
@@ -75,7 +66,6 @@ struct vis {
                                             there (seti[setpos[a]] == a), else any value */
   struct vis_span *span; int nspan, spancap;
   int   *tmp, tmpcap, *tmp2, tmp2cap, *tmp3, tmp3cap;   /* scratch for sorts and merges */
-  struct vis_key *key; int keycap;       /* act's sort keys (struct vis_key) */
   struct vis_item *act2; int act2cap;    /* scratch: act put in x order at a line's end */
   struct vis_span *span2; int nspan2, span2cap;   /* scratch: spans given to cut halves */
   int   born;                            /* seg->n when the current line's sweep began */
