@@ -299,11 +299,15 @@ static inline void cpoly_push(struct cpoly *c, struct gline l, struct hpoint v)
   c->n++;
 }
 
+/* Some vertex strictly left of some side. Side k's own ends, vertices k and k + 1, lie on
+   its line, so each side's vertices are tried from k + 2 on (every vertex is still tried:
+   the answer is the same in any order; nothing is charged here), and the first side
+   finds the vertex of a piece with an interior at once. */
 static bool has_interior(int n, const struct gline *l, const struct hpoint *v)
 {
   if (n < 3) return false;
   for (int k = 0; k < n; k++)
-    for (int j = 0; j < n; j++)
+    for (int i = 0, j = k + 2 < n ? k + 2 : k + 2 - n; i < n; i++, j = j + 1 < n ? j + 1 : 0)
       if (geom_side_hw(l[k], v[j]) > 0) return true;
   return false;
 }
@@ -321,7 +325,7 @@ static bool clip_sides(const struct piece *p, const struct gline *pl, const stru
   int s0 = side ? side[0] : geom_side_hw(h, pv[0]), sk = s0;
   *prod += (uint64_t)n;                          /* a product a vertex */
   for (int k = 0; k < n; k++) {
-    int nx = (k + 1) % n;
+    int nx = k + 1 < n ? k + 1 : 0;        /* (k + 1) % n, without a divide */
     int sn = nx == 0 ? s0 : side ? side[nx] : geom_side_hw(h, pv[nx]);
     struct gline lk = pl[k];
     struct hpoint x;
@@ -341,7 +345,7 @@ static bool clip_sides(const struct piece *p, const struct gline *pl, const stru
   }
   /* merge consecutive sides that lie on one line (keep the first vertex) */
   for (int k = 0; out->n >= 3 && k < out->n; ) {
-    int nx = (k + 1) % out->n;
+    int nx = k + 1 < out->n ? k + 1 : 0;   /* (k + 1) % out->n, without a divide */
     if (same_direction(out->line[k], out->line[nx])) {
       memmove(&out->line[nx], &out->line[nx + 1], (size_t)(out->n - nx - 1) * sizeof *out->line);
       memmove(&out->v[nx], &out->v[nx + 1], (size_t)(out->n - nx - 1) * sizeof *out->v);
@@ -395,7 +399,7 @@ static int clip_count(const struct piece *p, const struct gline *pl, struct glin
     sk = sn;
   }
   for (int k = 0; m >= 3 && k < m; ) {
-    int nx = (k + 1) % m;
+    int nx = k + 1 < m ? k + 1 : 0;        /* (k + 1) % m, without a divide */
     if (same_direction(l[k], l[nx])) {
       memmove(&l[nx], &l[nx + 1], (size_t)(m - nx - 1) * sizeof *l);
       m--;

@@ -369,14 +369,25 @@ static int64_t fix16(wide n, wide d)
   return (int64_t)(m / d);
 }
 
+/* The D-block's words that stay while it does: fix16 of dxb and dxe (each denominator is
+   fixed within the D-block, and the increments change only with the line step) and y-max
+   in whole grid units; made where those change (dblock_open, a new step in dblock_span),
+   not with every line's store. */
+static void dblock_fixed(struct vis_item *it)
+{
+  it->fdxl = fix16(it->dxl, it->xl.den);
+  it->fdxr = fix16(it->dxr, it->xr.den);
+  it->fymax = (uint16_t)(it->ymax.Y / it->ymax.W / GRID_ONE);
+}
+
 static void dblock_store(struct vis *v, const struct vis_item *it)
 {
   struct core *c = v->seg->core;
   core_put_int(c, it->core, 2, fix16(it->xl.num, it->xl.den));
   core_put_int(c, it->core + 2, 2, fix16(it->xr.num, it->xr.den));
-  core_put_int(c, it->core + 4, 2, fix16(it->dxl, it->xl.den));
-  core_put_int(c, it->core + 6, 2, fix16(it->dxr, it->xr.den));
-  core_write(c, it->core + 8, (uint16_t)(it->ymax.Y / it->ymax.W / GRID_ONE));
+  core_put_int(c, it->core + 4, 2, it->fdxl);
+  core_put_int(c, it->core + 6, 2, it->fdxr);
+  core_write(c, it->core + 8, it->fymax);
   core_write(c, it->core + 9, 0);
 }
 
@@ -473,6 +484,7 @@ static bool dblock_open(struct vis *v, struct vis_item *it, int64_t yn, int64_t 
                    vy_at(p, pl, vb, &made, kr + 1 < p->n ? kr + 1 : 0));
   cost_mw_mul(v->cost, 58, 17);
   cost_mw_mul(v->cost, 58, 17);
+  dblock_fixed(it);
   it->open = true;
   return true;
 }
@@ -490,6 +502,8 @@ static int dblock_span(struct vis *v, struct vis_item *it, int64_t yn, int64_t y
       it->dxl = v->arith == GEOM_HITAC ? geom_h10_dx(it->sl, dyn, it->hdl) : it->sl * dyn;
       it->dxr = v->arith == GEOM_HITAC ? geom_h10_dx(it->sr, dyn, it->hdr) : it->sr * dyn;
       it->dyn = dyn;
+      it->fdxl = fix16(it->dxl, it->xl.den);   /* (dblock_fixed's, y-max unchanged) */
+      it->fdxr = fix16(it->dxr, it->xr.den);
       cost_mw_mul(v->cost, 29, 44);
       cost_mw_mul(v->cost, 29, 44);
     }

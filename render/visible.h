@@ -47,6 +47,8 @@ struct vis_item {
   wide   yhi_y;              /* the height of the piece's highest vertex, Y / W (piece_yhi_y, */
   int64_t yhi_w;             /* made once when it is activated, not on every line) */
   uint32_t core;             /* its row in the core's D-BLOCK table */
+  int64_t fdxl, fdxr;        /* that row's dxb, dxe, and y-max (visible.c, dblock_fixed) */
+  uint16_t fymax;
 };
 
 struct vis {

@@ -2013,6 +2013,56 @@ static void test_dblock_matches_definition(void **state)
   }
 }
 
+/* Each active piece's row in the core's D-BLOCK table holds, after every line, its xb, xe,
+   dxb, dxe (16.16, truncated) and y-max as worked from the item itself: dxb, dxe and y-max
+   are kept in the item between the lines where they change (visible.c, dblock_fixed), and
+   the irregular steps below change the increments within a D-block (a row left with the
+   last step's dxb fails). */
+static const char SLANTED[] =
+  HDR "vertex 1 -120 -100 0\nvertex 2 130 -90 0\nvertex 3 10 140 0\nface 1 1 2 3 grey 100\n"
+      "vertex 4 -150 50 50\nvertex 5 100 -130 50\nvertex 6 160 120 50\n"
+      "face 2 4 5 6 grey 200\n";
+
+static void test_dblock_rows_match_items(void **state)
+{
+  (void)state;
+  const char *scenes[] = { SLANTED, MIXED, CYCLIC };
+  for (int s = 0; s < 3; s++) {
+    struct render r;
+    struct scene *sc = prepare(&r, scenes[s], PRIO_AUTO);
+    int checked = 0, steps = 0;
+    int64_t y12 = -150 * 12;
+    for (int step = 0; y12 <= 150 * 12; step++) {
+      int64_t yn = G(y12), yd = 12;
+      if (step % 7 == 3) { yn = G(3 * y12 + 1); yd = 36; }
+      const struct vis_span *sp;
+      int ns;
+      struct t74_error err = { 0, "" };
+      assert_int_equal(vis_spans(&r.vis, yn, yd, &sp, &ns, &err), T74_OK);
+      const struct core *c = r.vis.seg->core;
+      for (int a = 0; a < r.vis.nact; a++) {
+        const struct vis_item *it = &r.vis.act[a];
+        if (!it->on || !it->core || !r.seg.p[it->piece].alive) continue;
+        wide f[4] = { it->xl.num * GEOM_H10_XONE / it->xl.den,
+                      it->xr.num * GEOM_H10_XONE / it->xr.den,
+                      it->dxl * GEOM_H10_XONE / it->xl.den,
+                      it->dxr * GEOM_H10_XONE / it->xr.den };
+        for (int w = 0; w < 4; w++)
+          assert_int_equal((uint32_t)core_get_int(c, it->core + 2 * (uint32_t)w, 2),
+                           (uint32_t)(int64_t)f[w]);
+        assert_int_equal(core_read(c, it->core + 8),
+                         (uint16_t)(it->ymax.Y / it->ymax.W / GRID_ONE));
+        checked++;
+        if (it->dxl != 0 && it->dxr != 0) steps++;
+      }
+      y12 += step % 5 == 4 ? 5 : 7;
+    }
+    if (s == 0) assert_true(checked > 100 && steps > 50);   /* (the others: upright sides) */
+    render_free(&r);
+    scene_free(sc);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -2036,6 +2086,7 @@ int main(void)
     cmocka_unit_test(test_prio_auto_migrates),
     cmocka_unit_test(test_vis_spans),
     cmocka_unit_test(test_vis_spans_invariant),
+    cmocka_unit_test(test_dblock_rows_match_items),
     cmocka_unit_test(test_prio_known),
     cmocka_unit_test(test_prio_shortcuts_exact),
     cmocka_unit_test(test_prio_face_verts_exact),
