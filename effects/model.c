@@ -1009,7 +1009,7 @@ struct fx_lines {
   struct cut_range { int k0, k1; int64_t ylo, yhi; } *cr;   /* per cut object: its regions,
                               m->cuts.p[k0 .. k1), and the rows [ylo, yhi) they span */
   struct fx_span *a, *b;    /* the line's stretches, and scratch */
-  int na, nb, cap;
+  int na, cap;              /* na: a's stretches; cap: a's and b's room */
   struct grat *x;           /* crossings */
   int xcap;
   struct ev { struct grat x; double k; int light, d; } *ev, *evt;   /* events (k: ev_key's),
