@@ -1325,11 +1325,11 @@ static inline __m128d phong_side(const struct smooth_tri *ta, const struct smoot
 
 /* Two doubles into lanes 0 and 1: one aligned load of a smooth_lanes pair when both lanes
    take the same triangle's constants (same: a constant where phong_head is inlined), else
-   lane 0 from a, lane 1 from b. */
+   lane 0 from a, lane 1 from b (pick2). */
 static inline __attribute__((always_inline)) __m128d lanes2(const double *a, const double *b,
                                                              bool same)
 {
-  return same ? _mm_load_pd(a) : _mm_loadh_pd(_mm_load_sd(a), b);
+  return same ? _mm_load_pd(a) : pick2(a, b);
 }
 
 #endif
