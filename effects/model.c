@@ -496,6 +496,8 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
   struct space_lanes L;
   space_lanes_init(m, face, py, &L);
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
+  const int ax = P->axis;                   /* a face square to an axis: */
+  const __m128d nax = P->nv[ax >= 0 ? ax : 0];   /* shade_pair_dot_axis */
   for (int p0 = 0; p0 < n; p0 += 2 * LIT_PAIRS) {
     const int c = n - p0 < 2 * LIT_PAIRS ? n - p0 : 2 * LIT_PAIRS;
     const int nf = c / 2, np = (c + 1) / 2;   /* pairs of two points; with an odd last one */
@@ -526,6 +528,9 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
         if (b & bit) continue;              /* +0 at every lane */
         if (!l->point)
           for (int k = 0; k < np; k++) sum[k] = _mm_add_pd(sum[k], l->v[0]);
+        else if (ax >= 0)
+          for (int k = 0; k < np; k++)
+            sum[k] = _mm_add_pd(sum[k], shade_pair_dot_axis(l, nax, ax, X[k]));
         else
           for (int k = 0; k < np; k++)
             sum[k] = _mm_add_pd(sum[k], shade_pair_dot(l, P->nv, X[k][0], X[k][1], X[k][2]));
@@ -543,12 +548,20 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
         at[na] = k;
         na += !(both[k] & bit);
       }
-      for (int h = 0; h < na; h++) {
-        const int k = at[h];
-        const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
-        sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit),
-                                               shade_pair_dot(l, P->nv, X[k][0], X[k][1], X[k][2])));
-      }
+      if (ax >= 0)
+        for (int h = 0; h < na; h++) {
+          const int k = at[h];
+          const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
+          sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit),
+                                                 shade_pair_dot_axis(l, nax, ax, X[k])));
+        }
+      else
+        for (int h = 0; h < na; h++) {
+          const int k = at[h];
+          const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
+          sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit),
+                                                 shade_pair_dot(l, P->nv, X[k][0], X[k][1], X[k][2])));
+        }
     }
     for (int k = 0; k < nf; k++) {          /* the greys: a pair's two bytes in one store
                                                (lane 0's the low byte: x86 is little-endian) */

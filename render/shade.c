@@ -96,6 +96,8 @@ void shade_pair_init(struct shade_pair *P, const struct shade_lights *L, const d
 {
   P->n = L->n;
   for (int c = 0; c < 3; c++) P->nv[c] = _mm_set1_pd(n[c]);
+  const int nz = (n[0] != 0) + (n[1] != 0) + (n[2] != 0);
+  P->axis = nz != 1 ? -1 : n[0] != 0 ? 0 : n[1] != 0 ? 1 : 2;
   for (int k = 0; k < L->n; k++) {
     const double *v = L->v[k];
     struct shade_pair_light *l = &P->l[k];

@@ -111,6 +111,8 @@ struct shade_pair {
     bool point;
   } l[SCENE_LIGHT_MAX];
   __m128d nv[3];                    /* the normal */
+  int axis;                         /* the one coordinate where the normal is not 0 (the
+                                       other two are), or -1 (shade_pair_dot_axis) */
 };
 void shade_pair_init(struct shade_pair *P, const struct shade_lights *L, const double n[3]);
 
@@ -129,6 +131,38 @@ static inline __m128d shade_pair_dot(const struct shade_pair_light *l, const __m
   const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(nv[0], _mm_div_pd(lx, div)),
                                           _mm_mul_pd(nv[1], _mm_div_pd(ly, div))),
                                _mm_mul_pd(nv[2], _mm_div_pd(lz, div)));
+  return _mm_and_pd(_mm_cmpgt_pd(d, zero), d);
+}
+
+/* shade_pair_dot of point light l where the normal is 0 in every coordinate but c (P's
+   axis; nc: the normal's coordinate c), space points (x, y, z): the same doubles, with one
+   divide and one multiply where shade_pair_dot has three of each. Its d is
+   (n0 q0 + n1 q1) + n2 q2 with q the direction l / div; here it is nc qc alone, qc made as
+   there (the same subtraction, the same divisor where s is not NaN). Lane by lane:
+   - s > 0 and finite: every l is finite (an infinite or NaN one makes s infinite or NaN)
+     and every q is finite (|q| = |l| / s, s at least about |l| or the other squares' root
+     where l's square underflows: far below any overflow), so each dropped term 0 q is a
+     zero; a zero added to the kept term x leaves x when x is not a zero, and where x is a
+     zero (or NaN) so is the whole sum (or NaN), not > 0: +0 both ways.
+   - s a zero: div is 1, each q is its finite l, the same as above.
+   - s infinite: each finite l gives q a zero, an infinite l gives NaN; a NaN term anywhere
+     makes shade_pair_dot's d NaN, so +0; here qc is a zero or NaN: +0 too (and where no l
+     is infinite every term is a zero: +0 both ways).
+   - s NaN (some l NaN): shade_pair_dot divides by 1 and the NaN q makes its d NaN, +0;
+     here the divisor is s itself (the compare "not equal to 0" holds for a NaN as for an
+     s > 0), so qc is NaN and the answer +0.
+   The compare and the AND are shade_pair_dot's. */
+static inline __m128d shade_pair_dot_axis(const struct shade_pair_light *l, __m128d nc, int c,
+                                          const __m128d X[3])
+{
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d lx = _mm_sub_pd(l->v[0], X[0]), ly = _mm_sub_pd(l->v[1], X[1]);
+  const __m128d lz = _mm_sub_pd(l->v[2], X[2]);
+  const __m128d s = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(lx, lx), _mm_mul_pd(ly, ly)),
+                                           _mm_mul_pd(lz, lz)));
+  const __m128d keep = _mm_cmpneq_pd(s, zero);
+  const __m128d div = _mm_or_pd(_mm_and_pd(keep, s), _mm_andnot_pd(keep, _mm_set1_pd(1)));
+  const __m128d d = _mm_mul_pd(nc, _mm_div_pd(_mm_sub_pd(l->v[c], X[c]), div));
   return _mm_and_pd(_mm_cmpgt_pd(d, zero), d);
 }
 
