@@ -512,7 +512,17 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
     if (nf < np) space_lanes_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
     if (T)                                  /* the reflectances */
       for (int k = 0; k < np; k++) refl[k] = tex_pair(T, X[k]);
-    for (int k = 0; k < np; k++) sum[k] = zero;
+    /* every sum starts at +0 and adds the lights' terms in the scene's order: without
+       blocked[] the leading parallel lights' terms are the same at every pair (their
+       n.l), so their sum is made once and each pair's sum starts from it (the same
+       doubles: the same adds in the same order); the start set for every one of the
+       LIT_PAIRS sums (a loop of a fixed count, no exit to mispredict) */
+    const struct shade_pair_light *l = P->l, *const end = P->l + P->n;
+    __m128d start = zero;
+    if (!bc)
+      for (; l < end && !l->point; l++)
+        if (!(b & 1u << (l - P->l))) start = _mm_add_pd(start, l->v[0]);
+    for (int k = 0; k < LIT_PAIRS; k++) sum[k] = start;
     if (bc) {
       for (int k = 0; k < np; k++) {
         const unsigned b0 = bc[2 * k], b1 = bc[2 * k + 1 < c ? 2 * k + 1 : 2 * k];
@@ -522,7 +532,7 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
         both[k] = b0 & b1;
       }
     }
-    for (const struct shade_pair_light *l = P->l, *end = P->l + P->n; l < end; l++) {
+    for (; l < end; l++) {
       const unsigned bit = 1u << (l - P->l);
       if (!bc) {                            /* b at every point */
         if (b & bit) continue;              /* +0 at every lane */
