@@ -1723,18 +1723,23 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
                                                        _mm_mul_pd(v[1], v[1])),
                                             _mm_mul_pd(v[2], v[2])));
   const __m128d pos = _mm_cmpgt_pd(ln, zero);
+  /* the unit vector u (v / ln where ln > 0, else v), not yet turned to its side: the
+     scalar steps multiply it by sg (+-1) and then by the light, (u_c sg) l_c; here sg
+     goes to the light, u_c (l_c sg), off the chain of the square root and the divides.
+     The same double: both products are u_c l_c or its negation, exactly (a product's
+     sign is the exclusive or of its operands', its magnitude |u_c| |l_c| correctly
+     rounded, and times +-1 is exact), zeros and their signs included */
   if (_mm_movemask_pd(pos) == 3)            /* both lengths positive: the selection's value */
-    for (int c = 0; c < 3; c++) v[c] = _mm_mul_pd(_mm_div_pd(v[c], ln), sg);
+    for (int c = 0; c < 3; c++) v[c] = _mm_div_pd(v[c], ln);
   else
     for (int c = 0; c < 3; c++)
-      v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
-                                  _mm_andnot_pd(pos, v[c])), sg);
+      v[c] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)), _mm_andnot_pd(pos, v[c]));
   __m128d sum = zero;
   for (int k = 0; k < nlight; k++) {
     const double *l = L->v[k];
-    const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_set1_pd(l[0])),
-                                            _mm_mul_pd(v[1], _mm_set1_pd(l[1]))),
-                                 _mm_mul_pd(v[2], _mm_set1_pd(l[2])));
+    const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_mul_pd(_mm_set1_pd(l[0]), sg)),
+                                            _mm_mul_pd(v[1], _mm_mul_pd(_mm_set1_pd(l[1]), sg))),
+                                 _mm_mul_pd(v[2], _mm_mul_pd(_mm_set1_pd(l[2]), sg)));
     __m128d m = _mm_cmpgt_pd(d, zero);
     if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
       m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
