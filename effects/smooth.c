@@ -1240,9 +1240,12 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
         for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(w[k], atv), zero);
         const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
         const __m128d pos = _mm_cmpgt_pd(sum, zero);
-        for (int k = 0; k < 3; k++)
-          v[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
-                           _mm_andnot_pd(pos, _mm_set1_pd(1.0 / 3)));
+        if (_mm_movemask_pd(pos) == 3)      /* both sums positive: the selection's value */
+          for (int k = 0; k < 3; k++) v[k] = _mm_div_pd(lk[k], sum);
+        else
+          for (int k = 0; k < 3; k++)
+            v[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
+                             _mm_andnot_pd(pos, _mm_set1_pd(1.0 / 3)));
       } else {
         for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
       }
