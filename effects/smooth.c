@@ -1198,7 +1198,7 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
   if (usable) {
     const int bu = tr->bu, bw = tr->bw;
     const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_load_pd(lx->xilo), hiv = _mm_load_pd(lx->xihi);
-    const __m128d tv = _mm_set1_pd(tr->btot);
+    const __m128d atv = _mm_set1_pd(fabs(tr->btot));
     for (; p + 2 <= n; p += 2) {
       const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
       /* w_k = +-ar_k (tot's sign) from the sides' constants times the sign (xsd), as in
@@ -1222,22 +1222,32 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
         continue;
       }
       __m128d v[3];
-      for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
       if (row) {
         /* the coordinates, each lane bary_one's operations with tot (not 0: |tot| >=
-           2^-100 where the filter is used) on v_k (which make the same coordinates as
-           ar_k, above): l'_k = max(v_k / tot, +0) (+0 where the quotient is not > 0, a
-           NaN too: MAXPD gives its second operand), their sum (l'_0 + l'_1) + l'_2, and
-           l'_k / sum where sum > 0 (l' / 1 is l' itself, so the divide where bary_one
-           skips it gives the same), else 1/3: selections, no branch */
+           2^-100 where the filter is used) on v_k = s w_k (s = +-1, tot's sign: the areas
+           given back to the chain, which make the same coordinates as ar_k, above):
+           l'_k = max(v_k / tot, +0) (+0 where the quotient is not > 0, a NaN too: MAXPD
+           gives its second operand), their sum (l'_0 + l'_1) + l'_2, and l'_k / sum where
+           sum > 0 (l' / 1 is l' itself, so the divide where bary_one skips it gives the
+           same), else 1/3: selections, no branch. v_k / tot is (s w_k) / (s |tot|), and a
+           quotient (IEEE 754: its magnitude |a| / |b| correctly rounded, its sign the
+           exclusive or of theirs) is the same double when both operands are negated:
+           w_k / |tot|, bit for bit, zeros included (a NaN is a NaN either way, and the
+           max makes +0 of it); so the divides take w_k itself, without the multiplies by
+           s in front of them on the chain */
         const __m128d zero = _mm_setzero_pd();
         __m128d lk[3];
-        for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(v[k], tv), zero);
+        for (int k = 0; k < 3; k++) lk[k] = _mm_max_pd(_mm_div_pd(w[k], atv), zero);
         const __m128d sum = _mm_add_pd(_mm_add_pd(lk[0], lk[1]), lk[2]);
         const __m128d pos = _mm_cmpgt_pd(sum, zero);
-        for (int k = 0; k < 3; k++)
-          v[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
-                           _mm_andnot_pd(pos, _mm_set1_pd(1.0 / 3)));
+        if (_mm_movemask_pd(pos) == 3)      /* both sums positive: the selection's value */
+          for (int k = 0; k < 3; k++) v[k] = _mm_div_pd(lk[k], sum);
+        else
+          for (int k = 0; k < 3; k++)
+            v[k] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(lk[k], sum)),
+                             _mm_andnot_pd(pos, _mm_set1_pd(1.0 / 3)));
+      } else {
+        for (int k = 0; k < 3; k++) v[k] = _mm_mul_pd(sv, w[k]);
       }
       for (int h = 0; h < 2; h++) {
         if (bits >> h & 1) {
@@ -1716,18 +1726,23 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
                                                        _mm_mul_pd(v[1], v[1])),
                                             _mm_mul_pd(v[2], v[2])));
   const __m128d pos = _mm_cmpgt_pd(ln, zero);
+  /* the unit vector u (v / ln where ln > 0, else v), not yet turned to its side: the
+     scalar steps multiply it by sg (+-1) and then by the light, (u_c sg) l_c; here sg
+     goes to the light, u_c (l_c sg), off the chain of the square root and the divides.
+     The same double: both products are u_c l_c or its negation, exactly (a product's
+     sign is the exclusive or of its operands', its magnitude |u_c| |l_c| correctly
+     rounded, and times +-1 is exact), zeros and their signs included */
   if (_mm_movemask_pd(pos) == 3)            /* both lengths positive: the selection's value */
-    for (int c = 0; c < 3; c++) v[c] = _mm_mul_pd(_mm_div_pd(v[c], ln), sg);
+    for (int c = 0; c < 3; c++) v[c] = _mm_div_pd(v[c], ln);
   else
     for (int c = 0; c < 3; c++)
-      v[c] = _mm_mul_pd(_mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)),
-                                  _mm_andnot_pd(pos, v[c])), sg);
+      v[c] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)), _mm_andnot_pd(pos, v[c]));
   __m128d sum = zero;
   for (int k = 0; k < nlight; k++) {
     const double *l = L->v[k];
-    const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_set1_pd(l[0])),
-                                            _mm_mul_pd(v[1], _mm_set1_pd(l[1]))),
-                                 _mm_mul_pd(v[2], _mm_set1_pd(l[2])));
+    const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_mul_pd(_mm_set1_pd(l[0]), sg)),
+                                            _mm_mul_pd(v[1], _mm_mul_pd(_mm_set1_pd(l[1]), sg))),
+                                 _mm_mul_pd(v[2], _mm_mul_pd(_mm_set1_pd(l[2]), sg)));
     __m128d m = _mm_cmpgt_pd(d, zero);
     if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
       m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
