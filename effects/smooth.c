@@ -1485,12 +1485,29 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
   const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
   const __m128i t0 = _mm_cvttpd_epi32(f0v);
   const int okb = S->okb[j];
-  const int fine = okb & _mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f0v, zero),
-                                                    _mm_cmplt_pd(f1v, two30))) &
+  /* phong_filter's f0 >= 0 && f1 < 2^62 && (int64_t)f0 == (int64_t)f1, lane by lane, as
+     f1 < 2^30 and the two truncations to 32 bits equal: f is 1/2 or above, or NaN (the sum
+     is +0 or above or NaN, 207 refl >= 0), so where f0 < 0 (delta > 1/2) f1 >= 1 and,
+     below 2^30, truncates to 1 or more while f0 truncates to 0 or below (or to INT_MIN,
+     CVTTPD2DQ's answer out of range): never equal; f0 >= 0 needs no test of its own. A NaN
+     fails f1 < 2^30. */
+  const int fine = okb & _mm_movemask_pd(_mm_cmplt_pd(f1v, two30)) &
                    _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
   const bool two = S->two[j] != 0;
   const int lanes = two ? 3 : 1;
   if ((fine & lanes) == lanes) {
+    if (nlight == 1 && two) {
+      /* both greys in one store (pb is pa + 1), without the clamp: under one light, with
+         reflectance refl <= 1, no grey is above 255. Its sum is max(0, d), d the dot of
+         two vectors whose lengths' product inv makes at most 1 but for a few roundings
+         (the light's direction a unit vector rounded; inv 1 / |N| with the rounding of
+         nn, its square root and the divide), so d < 1 + 2^-40, f = (255 - SHADE_AMBIENT)
+         refl d + 1/2 < 256 - SHADE_AMBIENT, and a lane's truncation of f0 = f - delta
+         (f0 >= 0 where fine) is at most 255 - SHADE_AMBIENT */
+      _mm_storel_epi64((__m128i *)(void *)&grey[pa],
+                       _mm_add_epi32(t0, _mm_set1_epi32(SHADE_AMBIENT)));
+      return;
+    }
     const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t0);
     grey[pa] = g0 > 255 ? 255 : g0;
     if (two) {
