@@ -264,7 +264,8 @@ static inline int by_from(const void *pa, const void *pb)
    smoothed objects' faces): its three points compared and the first match kept by
    selects (the last one made is the first), as which point matches is anyone's guess and
    a loop left there mispredicted about once a call (issue 19). */
-static bool mapped_point(const struct scene *s, const struct mface *mf, int v, struct gpoint *out)
+static inline bool mapped_point(const struct scene *s, const struct mface *mf, int v,
+                                struct gpoint *out)
 {
   const uint32_t id = s->v[v].id;
   if (mf->ring_start[1] == 3) {

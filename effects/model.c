@@ -713,6 +713,13 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
       const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q - 1));
       cut |= (uint64_t)(~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(x, y))) & 15) << q;
     }
+    if (q < len && len >= 5) {              /* the last 1 .. 3: the last four, again */
+      q = len - 4;                          /* (a point's bit the same, made twice) */
+      const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q));
+      const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q - 1));
+      cut |= (uint64_t)(~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(x, y))) & 15) << q;
+      q = len;
+    }
 #endif
     for (; q < len; q++) cut |= (uint64_t)(fr[i + q] != fr[i + q - 1]) << q;
   }

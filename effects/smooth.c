@@ -791,6 +791,8 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   m->tri_of_mface = malloc(((size_t)nm + 1) * sizeof *m->tri_of_mface);
   int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
   bool *turned = malloc(((size_t)ss->nobj + 1) * sizeof *turned);
+  /* each triangle's toward_eye, made once: an open surface's sum and every front test */
+  wide *dt = malloc(((size_t)ss->ntri + 1) * sizeof *dt);
   if (lend) {
     m->tri = ss->view;
     m->lanes = ss->view_lanes;
@@ -802,8 +804,8 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
     m->lanes = malloc(((size_t)ss->ntri + 1) * sizeof *m->lanes);
     m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
   }
-  if (!m->tri_of_mface || !mof || !turned || !m->tri || !m->lanes || !m->edge_group) {
-    free(mof); free(turned); smooth_model_free(m);
+  if (!m->tri_of_mface || !mof || !turned || !dt || !m->tri || !m->lanes || !m->edge_group) {
+    free(mof); free(turned); free(dt); smooth_model_free(m);
     if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
@@ -816,10 +818,11 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   /* an open surface has no outside: its front is the side most of it turns to the eye
      (the sum of o . (eye - v0) over its triangles, exact, positive) */
   bool same = lend && ss->view_made && ss->view_kind == e->smooth && ss->view_c == e->smooth_c;
+  for (int t = 0; t < ss->ntri; t++) dt[t] = toward_eye(s, ss->tri[t].v[0], ss->o3[t], eye);
   for (int o = 0; o < ss->nobj; o++) {
     wide toward = 0;
     for (int t = ss->obj[o].from; t < ss->obj[o].to && !ss->obj[o].closed; t++)
-      toward += toward_eye(s, ss->tri[t].v[0], ss->o3[t], eye);
+      toward += dt[t];
     turned[o] = toward < 0;
     same = same && ss->view_turned[o] == turned[o];
   }
@@ -829,7 +832,7 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
     int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
     int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
     if (!seen || !row) {
-      free(seen); free(row); free(mof); free(turned);
+      free(seen); free(row); free(mof); free(turned); free(dt);
       if (lend) ss->view_made = false;
       smooth_model_free(m);
       if (!keep) smooth_scene_free(ss);
@@ -852,12 +855,13 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
     for (int t = ss->obj[o].from; t < ss->obj[o].to; t++) {
       struct smooth_tri *tr = &m->tri[t];
       tr->mface = mof[tr->sface];
-      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly (v0 stays) */
-      wide d = toward_eye(s, tr->v[0], ss->o3[t], eye);
+      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly (v0 stays: the
+         kept triangle's v[0] is tr's, dt[t]) */
+      const wide d = dt[t];
       tr->front = tr->mface >= 0 && (turned[o] ? d < 0 : d > 0);
       if (tr->mface >= 0) m->tri_of_mface[tr->mface] = t;
     }
-  free(mof); free(turned);
+  free(mof); free(turned); free(dt);
   if (!keep) smooth_scene_free(ss);
   return T74_OK;
 }
@@ -1365,7 +1369,7 @@ static void phong_alone(const struct smooth_model *m, const struct smooth_tri *t
 /* A row's steps (phong_row_lights), kept between its two passes: step j's points pa[j]
    (lane 0) and pa[j] + two[j] (lane 1: the next point, or pa[j] again for a lone point,
    two[j] 0), the normals' sums n[c][j], the areas' sums s[j], the operand of the
-   square root r[j] (nn where ok, else 1), the eye's sides sg[j] and okb[j], ok's
+   square root r[j] (nn), the eye's sides sg[j] and okb[j], ok's
    lanes. A point's triangle is not kept: only a point the filter declines needs it, and
    it is found there (phong_tri_at). */
 #define PHONG_STEPS SMOOTH_ROW
@@ -1401,7 +1405,7 @@ void phong_head(const struct smooth_lanes *xa, const struct smooth_lanes *xb, bo
                 __m128d x, __m128d y, __m128d sg, struct phong_steps *S, int j)
 {
   const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
-  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
+  const __m128d zero = _mm_setzero_pd(), scale = _mm_set1_pd(0x1p-20);
   __m128d w[3], s = zero;
   for (int k = 0; k < 3; k++) {
     /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
@@ -1436,8 +1440,9 @@ void phong_head(const struct smooth_lanes *xa, const struct smooth_lanes *xb, bo
   const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
                                 _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
   _mm_store_pd(S->s[j], s);
-  /* sqrt of nn where ok, of 1 elsewhere (by masks) */
-  _mm_store_pd(S->r[j], _mm_or_pd(_mm_and_pd(ok, nn), _mm_andnot_pd(ok, one)));
+  /* the square root's operand nn: where not ok (okb) the lane is declined whatever its
+     square root, divide and grey come to (0, an infinity or a NaN among them) */
+  _mm_store_pd(S->r[j], nn);
   _mm_store_pd(S->sg[j], sg);
   S->okb[j] = _mm_movemask_pd(ok);
 }
