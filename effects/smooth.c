@@ -1394,9 +1394,9 @@ _Static_assert((SMOOTH_RUN + 1) / 2 <= PHONG_STEPS, "a run's steps fit in struct
 /* The first half of a step of phong_pairs and phong_row_lights at two points: Xa of
    triangle ta (constants xa) in lane 0 and Xb of triangle tb (xb) in lane 1 (the same
    point twice for a lone one; same: ta is tb), each lane with its own triangle's
-   constants, x and y their coordinates on their triangles' axes bu and bw (Xa[ta->bu] in
-   lane 0 of x, Xb[tb->bu] in lane 1; y likewise on bw: phong_xy); the operations up to
-   the square root's operand, into step j of *S (N into
+   constants, given by their coordinates on their triangles' axes bu and bw (x: Xa[ta->bu]
+   in lane 0, Xb[tb->bu] in lane 1; y likewise on bw), all the step needs of them; the
+   operations up to the square root's operand, into step j of *S (N into
    n, s, the operand into r, sg, ok's lanes). Each lane's operations are phong_filter's
    for its point alone, in their order (see phong_lanes): the lanes never mix. Both
    triangles' btot is not 0; sg the eye's sides, +-1 by front (phong_side). */
