@@ -121,16 +121,94 @@ static gcoord round_grid(double x)
   return round_small(x);
 }
 
+/* The curve's points when Q0..Q4 are within 2^29 of the origin: exactly, in integers.
+**
+** The sum bezier_with makes at m / 64 is then exact, so its rounding is that of an
+** integer over 2^24: each weight is n_k / 2^24 with n_k = C(4, k) (64 - m)^(4 - k) m^k an
+** integer, 0 <= n_k < 2^24 for 1 <= m <= 63, the n_k summing to 64^4 = 2^24; each product
+** n_k d_k / 2^24 (d_k an integer, |d_k| < 2^29) has a numerator below 2^53 in magnitude,
+** and so has each partial sum (at most sum n_k |d_k| < 2^24 2^29): every product and sum
+** is exact, and the double is P(m) / 2^24, P(m) = sum n_k d_k, an integer with |P| < 2^53.
+** round_small rounds it half away from zero, which is floor((P + 2^23 - [P < 0]) / 2^24)
+** (P >= 0: floor(P / 2^24 + 1/2); P < 0: -floor((-P + 2^23) / 2^24) = ceil((P - 2^23) /
+** 2^24)). P, a polynomial of degree 4 in i = 64 - m with integer coefficients, is stepped
+** from i = 1 to 63 by its forward differences (four adds a point; at i <= 68 the sum of
+** the |n_k| is (i + |64 - i|)^4 < 2^25, so each value |P| < 2^54 and each difference,
+** a sum of at most 16 values, < 2^58: no overflow), begun from P at i = 1 .. 5. The
+** floor by a logical shift of P + 2^23 - [P < 0] + 2^54 (>= 2^54 - 2^53 > 0, below 2^64),
+** less 2^30 after it. Four adds, the rounding and a store a point, against bezier_with's
+** five products and four sums and round_small's steps on doubles (issue 19). */
+#define CURVE_EXACT ((gcoord)1 << 29)
+
+static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
+{
+  static const int64_t binom[5] = { 1, 4, 6, 4, 1 };
+  int64_t v[5][2];                          /* P at i = 1 .. 5, x and y, then differences */
+  for (int i = 1; i <= 5; i++) {
+    int64_t sx = 0, sy = 0;
+    for (int k = 0; k < 5; k++) {
+      int64_t n = binom[k];
+      for (int h = 0; h < 4 - k; h++) n *= i;
+      for (int h = 0; h < k; h++) n *= 64 - i;
+      sx += n * q[k].x;
+      sy += n * q[k].y;
+    }
+    v[i - 1][0] = sx;
+    v[i - 1][1] = sy;
+  }
+  for (int j = 1; j < 5; j++)
+    for (int l = 4; l >= j; l--)
+      for (int c = 0; c < 2; c++) v[l][c] -= v[l - 1][c];
+#ifdef __SSE2__
+  /* x and y a lane each (64-bit adds and a logical shift: SSE2's) */
+  __m128i d0 = _mm_set_epi64x(v[0][1], v[0][0]), d1 = _mm_set_epi64x(v[1][1], v[1][0]);
+  __m128i d2 = _mm_set_epi64x(v[2][1], v[2][0]), d3 = _mm_set_epi64x(v[3][1], v[3][0]);
+  const __m128i d4 = _mm_set_epi64x(v[4][1], v[4][0]);
+  const __m128i bias = _mm_set1_epi64x(((int64_t)1 << 23) + ((int64_t)1 << 54));
+  const __m128i off = _mm_set1_epi64x((int64_t)1 << 30);
+  for (int i = 1; i < CONTOUR_STEPS; i++) {
+    /* [P < 0] as -1 in a lane: the sign of its high half, spread over the lane */
+    const __m128i neg = _mm_shuffle_epi32(_mm_srai_epi32(d0, 31), _MM_SHUFFLE(3, 3, 1, 1));
+    const __m128i r = _mm_sub_epi64(
+        _mm_srli_epi64(_mm_add_epi64(_mm_add_epi64(d0, bias), neg), 24), off);
+    _mm_storeu_si128((__m128i *)(void *)&poly[1 + i], r);
+    d0 = _mm_add_epi64(d0, d1);
+    d1 = _mm_add_epi64(d1, d2);
+    d2 = _mm_add_epi64(d2, d3);
+    d3 = _mm_add_epi64(d3, d4);
+  }
+#else
+  for (int i = 1; i < CONTOUR_STEPS; i++) {
+    gcoord r[2];
+    for (int c = 0; c < 2; c++) {
+      const uint64_t u = (uint64_t)v[0][c] + (((uint64_t)1 << 23) + ((uint64_t)1 << 54)) -
+                         (v[0][c] < 0);
+      r[c] = (gcoord)(u >> 24) - ((gcoord)1 << 30);
+      for (int l = 0; l < 4; l++) v[l][c] += v[l + 1][c];
+    }
+    poly[1 + i] = (struct gpoint){ r[0], r[1] };
+  }
+#endif
+}
+
 /* contour_region with the weights made. */
 static void region_with(const struct gpoint q[5], const struct curve_weights *w,
                         struct gpoint poly[CONTOUR_STEPS + 2])
 {
-  double d[5][2];
-  for (int k = 0; k < 5; k++) { d[k][0] = (double)q[k].x; d[k][1] = (double)q[k].y; }
   poly[0] = q[2];
   /* Q4, the curve back towards Q0, then Q0: CONTOUR_STEPS + 1 points */
   poly[1] = q[4];
   poly[1 + CONTOUR_STEPS] = q[0];
+  bool exact = true;
+  for (int k = 0; k < 5; k++)
+    exact = exact && q[k].x > -CURVE_EXACT && q[k].x < CURVE_EXACT &&
+            q[k].y > -CURVE_EXACT && q[k].y < CURVE_EXACT;
+  if (exact) {
+    region_exact(q, poly);
+    return;
+  }
+  double d[5][2];
+  for (int k = 0; k < 5; k++) { d[k][0] = (double)q[k].x; d[k][1] = (double)q[k].y; }
 #ifdef __SSE2__
   /* a point's x and y an instruction: each lane bezier_with's products and sums on its
      values in its order (correctly rounded, as the scalar ones are) */
@@ -141,41 +219,9 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
      at m / 64 are exact (products of (64 - m) / 64 and m / 64, numerators below 2^27), in
      [0, 1] and summing to 1, and the five products and four sums each round within u, so
      |o| <= (1 + u)^5 max |d| < 2^62; round_grid's test then always passes: left out */
-  bool small = true, tiny = true;
-  for (int k = 0; k < 5; k++) {
+  bool small = true;
+  for (int k = 0; k < 5; k++)
     small = small && fabs(d[k][0]) < 0x1p61 && fabs(d[k][1]) < 0x1p61;
-    tiny = tiny && fabs(d[k][0]) < 0x1p30 && fabs(d[k][1]) < 0x1p30;
-  }
-#ifdef __SSE2__
-  if (tiny) {
-    /* in two passes, the sums then their roundings: in one, each step's chain (five
-       products, four sums, two conversions, a compare) left the processor few steps in
-       flight (issue 19) */
-    _Alignas(16) double ov[CONTOUR_STEPS][2];
-    for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
-      const double (*b)[2] = w->b2[m];
-      __m128d v = _mm_mul_pd(_mm_load_pd(b[0]), dv[0]);
-      for (int k = 1; k < 5; k++) v = _mm_add_pd(v, _mm_mul_pd(_mm_load_pd(b[k]), dv[k]));
-      _mm_store_pd(ov[m], v);
-    }
-    for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
-      /* round_small on both coordinates at once: Q0..Q4 below 2^30 make |o| < 2^30 (1 + 6u)
-         < 2^31 (as above), where CVTTPD2DQ's truncation is (int64_t)'s; o - t is exact
-         in both; the steps at +-0.5 are round_small's compares, as masks (-1) taken off
-         and put on, and the rounded value (below 2^31 too) sign-extended to 64 bits */
-      const __m128d v = _mm_load_pd(ov[m]);
-      const __m128i t = _mm_cvttpd_epi32(v);
-      const __m128d f = _mm_sub_pd(v, _mm_cvtepi32_pd(t));
-      const __m128i up = _mm_castpd_si128(_mm_cmpge_pd(f, _mm_set1_pd(0.5)));
-      const __m128i dn = _mm_castpd_si128(_mm_cmple_pd(f, _mm_set1_pd(-0.5)));
-      const __m128i r = _mm_add_epi32(t, _mm_shuffle_epi32(_mm_sub_epi32(dn, up),
-                                                           _MM_SHUFFLE(0, 0, 2, 0)));
-      _mm_storeu_si128((__m128i *)(void *)&poly[1 + CONTOUR_STEPS - m],
-                       _mm_unpacklo_epi32(r, _mm_srai_epi32(r, 31)));
-    }
-    return;
-  }
-#endif
   for (int m = CONTOUR_STEPS - 1; m >= 1; m--) {
     double o[2];
 #ifdef __SSE2__
@@ -204,7 +250,9 @@ struct cedge {
   int tri;                  /* the front triangle */
 };
 
-static int by_from(const void *pa, const void *pb)
+enum { CONTOUR_INSERT = 64 };   /* contour sides sorted by insertion, at most */
+
+static inline int by_from(const void *pa, const void *pb)
 {
   const struct cedge *x = pa, *y = pb;
   if (x->object != y->object) return x->object < y->object ? -1 : 1;
@@ -216,7 +264,8 @@ static int by_from(const void *pa, const void *pb)
    smoothed objects' faces): its three points compared and the first match kept by
    selects (the last one made is the first), as which point matches is anyone's guess and
    a loop left there mispredicted about once a call (issue 19). */
-static bool mapped_point(const struct scene *s, const struct mface *mf, int v, struct gpoint *out)
+static inline bool mapped_point(const struct scene *s, const struct mface *mf, int v,
+                                struct gpoint *out)
 {
   const uint32_t id = s->v[v].id;
   if (mf->ring_start[1] == 3) {
@@ -320,7 +369,20 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
   }
   free(cnt); free(use); free(ccw);
   if (cost) COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
-  qsort(ce, (size_t)nc, sizeof *ce, by_from);
+  /* sorted by (object, a, b): a few dozen sides a frame by insertion, without qsort's
+     call a compare; many by qsort. Any sort gives the same order but among equal keys,
+     two sides of an object on the same two vertices in the same direction, and their
+     order changes nothing: each begins where another does (nout 2) and ends where
+     another does (so no side after it has nin 1), a junction, never a corner's side */
+  if (nc <= CONTOUR_INSERT)
+    for (int k = 1; k < nc; k++) {
+      const struct cedge x = ce[k];
+      int h = k;
+      for (; h > 0 && by_from(&ce[h - 1], &x) > 0; h--) ce[h] = ce[h - 1];
+      ce[h] = x;
+    }
+  else
+    qsort(ce, (size_t)nc, sizeof *ce, by_from);
   long convex = 0, concave = 0, junction = 0;
   uint32_t mark = core_mark(core), at = 0;
   int rc = T74_OK;

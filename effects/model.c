@@ -666,6 +666,39 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
   for (int p = 0; p < n; p++) grey[p] = (uint8_t)g[p];
 }
 
+/* shade_row's greys g[0 .. n) (each 0 .. 255) into gr[] as bytes. */
+static inline void shade_row_greys(const int *g, int n, uint8_t *gr)
+{
+  int h = 0;
+#ifdef __SSE2__
+  for (; h + 8 <= n; h += 8) {              /* greys 0 .. 255: the packs keep them */
+    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(g + h));
+    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(g + h + 4));
+    _mm_storel_epi64((__m128i *)(void *)(gr + h),
+                     _mm_packus_epi16(_mm_packs_epi32(a, b), _mm_setzero_si128()));
+  }
+#endif
+  for (; h < n; h++) gr[h] = (uint8_t)g[h];
+}
+
+#ifdef __SSE2__
+/* shade_row's space points p .. q - 1 (q - p even) of one face (L its constants) two an
+   instruction, space_lanes_at's, of which only the coordinates on the face's triangle's
+   axes u and w (constants where inlined: the third is not made) are kept, into xu[] and
+   xw[] (smooth_phong_row's). */
+static inline __attribute__((always_inline))
+void uv_pairs(const struct space_lanes *L, const double *px, int p, int q, int u, int w,
+              double *xu, double *xw)
+{
+  for (; p < q; p += 2) {
+    __m128d x[3];
+    space_lanes_at(L, _mm_loadu_pd(px + p), x);
+    _mm_storeu_pd(xu + p, x[u]);
+    _mm_storeu_pd(xw + p, x[w]);
+  }
+}
+#endif
+
 /* Where smooth_rows says so: the points i, i + 1, .. of a row (faces fr[], px[],
    blocked[]) while they are on smoothed faces without a texture, of one triangle or
    several, at most SMOOTH_ROW of them, from the first (face fr[i], fs its face_shade_of's:
@@ -675,7 +708,10 @@ static void shade_run(const struct fx_model *m, int face, const struct face_shad
    two by two and an odd one left over with the next face's first: each lane's
    operations are space_point's on its values in its order, with its own face's constants
    (r[1] D1 and r[2] D2 lane by lane, the same products space_lanes_init makes); a lone
-   last point in both lanes. */
+   last point in both lanes. Under smooth=phong only the two coordinates of each point on its
+   triangle's axes (smooth_tri's bu, bw) are kept, in two arrays (smooth_phong_row's
+   greys depend on nothing else of it): two stores a pair of points, not six, and two
+   loads there, not four and two shuffles. */
 static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
                      const struct face_shade *fs, const unsigned *blocked, const double *px,
                      double py, uint8_t *gr, long runs[3])
@@ -700,6 +736,13 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
       const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q - 1));
       cut |= (uint64_t)(~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(x, y))) & 15) << q;
     }
+    if (q < len && len >= 5) {              /* the last 1 .. 3: the last four, again */
+      q = len - 4;                          /* (a point's bit the same, made twice) */
+      const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q));
+      const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q - 1));
+      cut |= (uint64_t)(~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(x, y))) & 15) << q;
+      q = len;
+    }
 #endif
     for (; q < len; q++) cut |= (uint64_t)(fr[i + q] != fr[i + q - 1]) << q;
   }
@@ -722,6 +765,46 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   double X[SMOOTH_ROW][3];
   int g[SMOOTH_ROW];
 #ifdef __SSE2__
+  if (m->e->smooth == EFFECTS_SMOOTH_PHONG) {
+    _Alignas(16) double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
+    struct space_lanes L;
+    space_lanes_init(m, sf[0], py, &L);
+    const __m128d d1 = _mm_set1_pd(py - m->eye[1]), d2 = _mm_set1_pd(-m->eye[2]);
+    int p = 0;
+    for (int k = 0; k < ns; k++) {
+      const int q = at[k + 1];
+      const double *r = m->ray[sf[k]];
+      const struct smooth_tri *ta = &m->sm.tri[tri[k]];
+      L.r0 = _mm_set1_pd(r[0]);
+      L.r3 = _mm_set1_pd(r[3]);
+      L.c1 = _mm_mul_pd(_mm_set1_pd(r[1]), d1);
+      L.c2 = _mm_mul_pd(_mm_set1_pd(r[2]), d2);
+      const int qe = p + ((q - p) & ~1);    /* the pairs; (bu, bw) is (ax + 1, ax + 2) mod 3 */
+      switch (3 - ta->bu - ta->bw) {
+      case 0: uv_pairs(&L, px, p, qe, 1, 2, xu, xw); break;
+      case 1: uv_pairs(&L, px, p, qe, 2, 0, xu, xw); break;
+      default: uv_pairs(&L, px, p, qe, 0, 1, xu, xw); break;
+      }
+      p = qe;
+      if (p == q) continue;
+      const int p1 = k + 1 < ns ? q : p;     /* with the next face's first, or alone */
+      const double *rb = m->ray[sf[k + 1 < ns ? k + 1 : k]];
+      const struct smooth_tri *tb = &m->sm.tri[tri[k + 1 < ns ? k + 1 : k]];
+      L.r0 = _mm_set_pd(rb[0], r[0]);
+      L.r3 = _mm_set_pd(rb[3], r[3]);
+      L.c1 = _mm_mul_pd(_mm_set_pd(rb[1], r[1]), d1);
+      L.c2 = _mm_mul_pd(_mm_set_pd(rb[2], r[2]), d2);
+      __m128d x[3];
+      space_lanes_at(&L, _mm_set_pd(px[p1], px[p]), x);
+      _mm_storel_pd(&xu[p], x[ta->bu]); _mm_storel_pd(&xw[p], x[ta->bw]);
+      _mm_storeh_pd(&xu[p1], x[tb->bu]); _mm_storeh_pd(&xw[p1], x[tb->bw]);
+      p = p1 + 1;
+    }
+    smooth_phong_row(&m->sm, ns, tri, at, xu, xw, blocked, &m->lights, g);
+    runs[1] += at[ns];                      /* smooth_row's regions under smooth=phong */
+    shade_row_greys(g, e - i, gr);
+    return e;
+  }
   struct space_lanes L;
   space_lanes_init(m, sf[0], py, &L);        /* the row's constants; the faces' below */
   const __m128d d1 = _mm_set1_pd(py - m->eye[1]), d2 = _mm_set1_pd(-m->eye[2]);
@@ -759,16 +842,7 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
 #endif
   smooth_row(&m->sm, m->map, m->e, ns, tri, at, (const double (*)[3])X, blocked, &m->lights,
              g, runs);
-  int h = 0;
-#ifdef __SSE2__
-  for (; h + 8 <= e - i; h += 8) {            /* greys 0 .. 255: the packs keep them */
-    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(g + h));
-    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(g + h + 4));
-    _mm_storel_epi64((__m128i *)(void *)(gr + h),
-                     _mm_packus_epi16(_mm_packs_epi32(a, b), _mm_setzero_si128()));
-  }
-#endif
-  for (; h < e - i; h++) gr[h] = (uint8_t)g[h];
+  shade_row_greys(g, e - i, gr);
   return e;
 }
 

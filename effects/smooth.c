@@ -791,6 +791,8 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   m->tri_of_mface = malloc(((size_t)nm + 1) * sizeof *m->tri_of_mface);
   int *mof = malloc(((size_t)s->nf + 1) * sizeof *mof);
   bool *turned = malloc(((size_t)ss->nobj + 1) * sizeof *turned);
+  /* each triangle's toward_eye, made once: an open surface's sum and every front test */
+  wide *dt = malloc(((size_t)ss->ntri + 1) * sizeof *dt);
   if (lend) {
     m->tri = ss->view;
     m->lanes = ss->view_lanes;
@@ -802,8 +804,8 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
     m->lanes = malloc(((size_t)ss->ntri + 1) * sizeof *m->lanes);
     m->edge_group = malloc((3 * (size_t)ss->ntri + 1) * sizeof *m->edge_group);
   }
-  if (!m->tri_of_mface || !mof || !turned || !m->tri || !m->lanes || !m->edge_group) {
-    free(mof); free(turned); smooth_model_free(m);
+  if (!m->tri_of_mface || !mof || !turned || !dt || !m->tri || !m->lanes || !m->edge_group) {
+    free(mof); free(turned); free(dt); smooth_model_free(m);
     if (!keep) smooth_scene_free(ss);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
@@ -816,10 +818,11 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
   /* an open surface has no outside: its front is the side most of it turns to the eye
      (the sum of o . (eye - v0) over its triangles, exact, positive) */
   bool same = lend && ss->view_made && ss->view_kind == e->smooth && ss->view_c == e->smooth_c;
+  for (int t = 0; t < ss->ntri; t++) dt[t] = toward_eye(s, ss->tri[t].v[0], ss->o3[t], eye);
   for (int o = 0; o < ss->nobj; o++) {
     wide toward = 0;
     for (int t = ss->obj[o].from; t < ss->obj[o].to && !ss->obj[o].closed; t++)
-      toward += toward_eye(s, ss->tri[t].v[0], ss->o3[t], eye);
+      toward += dt[t];
     turned[o] = toward < 0;
     same = same && ss->view_turned[o] == turned[o];
   }
@@ -829,7 +832,7 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
     int *seen = malloc(((size_t)s->nv + 1) * sizeof *seen);
     int *row = malloc(((size_t)s->nv + 1) * sizeof *row);
     if (!seen || !row) {
-      free(seen); free(row); free(mof); free(turned);
+      free(seen); free(row); free(mof); free(turned); free(dt);
       if (lend) ss->view_made = false;
       smooth_model_free(m);
       if (!keep) smooth_scene_free(ss);
@@ -852,12 +855,13 @@ int smooth_model_build_kept(struct smooth_model *m, const struct mapped *map,
     for (int t = ss->obj[o].from; t < ss->obj[o].to; t++) {
       struct smooth_tri *tr = &m->tri[t];
       tr->mface = mof[tr->sface];
-      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly (v0 stays) */
-      wide d = toward_eye(s, tr->v[0], ss->o3[t], eye);
+      /* front: the outward side faces the eye, o . (eye - v0) > 0, exactly (v0 stays: the
+         kept triangle's v[0] is tr's, dt[t]) */
+      const wide d = dt[t];
       tr->front = tr->mface >= 0 && (turned[o] ? d < 0 : d > 0);
       if (tr->mface >= 0) m->tri_of_mface[tr->mface] = t;
     }
-  free(mof); free(turned);
+  free(mof); free(turned); free(dt);
   if (!keep) smooth_scene_free(ss);
   return T74_OK;
 }
@@ -1344,6 +1348,21 @@ static inline __attribute__((always_inline)) __m128d lanes2(const double *a, con
 
 #endif
 
+/* Point p's space point where phong_tri_at's triangle tr needs it (bary_areas, and
+   grey_phong_exact under parallel lights, which reads only its coordinates on tr's axes bu
+   and bw): X[p] itself, or (X NULL: smooth_phong_row's points) xu[p] and xw[p] put on those
+   axes in *buf, the third coordinate 0. */
+static inline const double *phong_point(const double (*X)[3], const double *xu,
+                                        const double *xw, const struct smooth_tri *tr, int p,
+                                        double buf[3])
+{
+  if (X) return X[p];
+  buf[0] = buf[1] = buf[2] = 0;
+  buf[tr->bu] = xu[p];
+  buf[tr->bw] = xw[p];
+  return buf;
+}
+
 /* smooth_grey_run's Phong grey of one point X of triangle tr (reflectance 1) where
    phong_pairs declines the triangle: its areas, then phong_lanes. */
 static void phong_alone(const struct smooth_model *m, const struct smooth_tri *tr,
@@ -1358,36 +1377,45 @@ static void phong_alone(const struct smooth_model *m, const struct smooth_tri *t
 
 #ifdef __SSE2__
 /* A row's steps (phong_row_lights), kept between its two passes: step j's points pa[j]
-   (lane 0, triangle a[j]) and pb[j] (lane 1, triangle b[j]; pa[j] again for a lone point,
-   two[j] false), the normals' sums n[c][j], the areas' sums s[j], the operand of the
-   square root r[j] (nn where ok, else 1), the eye's sides sg[j] and okb[j], ok's
-   lanes. */
+   (lane 0) and pa[j] + two[j] (lane 1: the next point, or pa[j] again for a lone point,
+   two[j] 0), the normals' sums n[c][j], the areas' sums s[j], the operand of the
+   square root r[j] (nn), the eye's sides sg[j] and okb[j], ok's
+   lanes. A point's triangle is not kept: only a point the filter declines needs it, and
+   it is found there (phong_tri_at). */
 #define PHONG_STEPS SMOOTH_ROW
 struct phong_steps {
   _Alignas(16) double n[3][PHONG_STEPS][2];
   _Alignas(16) double s[PHONG_STEPS][2];
   _Alignas(16) double r[PHONG_STEPS][2];
   _Alignas(16) double sg[PHONG_STEPS][2];
-  int pa[PHONG_STEPS], pb[PHONG_STEPS], a[PHONG_STEPS], b[PHONG_STEPS], okb[PHONG_STEPS];
-  bool two[PHONG_STEPS];
+  int pa[PHONG_STEPS], two[PHONG_STEPS], okb[PHONG_STEPS];
 };
+
+/* The triangle of point p of a stretch of nseg runs (point at[k] <= p < at[k + 1] is
+   triangle tri[k]'s). */
+static inline int phong_tri_at(int nseg, const int *tri, const int *at, int p)
+{
+  int k = 0;
+  while (k + 1 < nseg && at[k + 1] <= p) k++;
+  return tri[k];
+}
 _Static_assert((SMOOTH_RUN + 1) / 2 <= PHONG_STEPS, "a run's steps fit in struct phong_steps");
 
 /* The first half of a step of phong_pairs and phong_row_lights at two points: Xa of
    triangle ta (constants xa) in lane 0 and Xb of triangle tb (xb) in lane 1 (the same
    point twice for a lone one; same: ta is tb), each lane with its own triangle's
-   constants; the operations up to the square root's operand, into step j of *S (N into
+   constants, given by their coordinates on their triangles' axes bu and bw (x: Xa[ta->bu]
+   in lane 0, Xb[tb->bu] in lane 1; y likewise on bw), all the step needs of them; the
+   operations up to the square root's operand, into step j of *S (N into
    n, s, the operand into r, sg, ok's lanes). Each lane's operations are phong_filter's
    for its point alone, in their order (see phong_lanes): the lanes never mix. Both
    triangles' btot is not 0; sg the eye's sides, +-1 by front (phong_side). */
 static inline __attribute__((always_inline))
-void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
-                const struct smooth_tri *tb, const struct smooth_lanes *xb, bool same,
-                const double *Xa, const double *Xb, __m128d sg, struct phong_steps *S, int j)
+void phong_head(const struct smooth_lanes *xa, const struct smooth_lanes *xb, bool same,
+                __m128d x, __m128d y, __m128d sg, struct phong_steps *S, int j)
 {
   const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
-  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1), scale = _mm_set1_pd(0x1p-20);
-  const __m128d x = _mm_set_pd(Xb[tb->bu], Xa[ta->bu]), y = _mm_set_pd(Xb[tb->bw], Xa[ta->bw]);
+  const __m128d zero = _mm_setzero_pd(), scale = _mm_set1_pd(0x1p-20);
   __m128d w[3], s = zero;
   for (int k = 0; k < 3; k++) {
     /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
@@ -1401,7 +1429,9 @@ void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
         _mm_mul_pd(_mm_sub_pd(x, lanes2(xa->xa[k][0], xb->xa[k][0], same)),
                    lanes2(xa->xsd[k][1], xb->xsd[k][1], same)));
     w[k] = _mm_max_pd(ar, zero);
-    s = _mm_add_pd(s, w[k]);
+    /* phong_filter's s = 0 + w_0 is w_0 itself: w_0 is +0 or above (MAXPD with +0 never
+       gives -0 nor a NaN), and +0 + w_0 is w_0 then */
+    s = k ? _mm_add_pd(s, w[k]) : w[k];
   }
   /* a narrower test than phong_filter's (it declines more: a point with a w_k of 0 too,
      and one whose sum is above hi), in five instructions: every w_k >= min >= lo, and
@@ -1420,8 +1450,9 @@ void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
   const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
                                 _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
   _mm_store_pd(S->s[j], s);
-  /* sqrt of nn where ok, of 1 elsewhere (by masks) */
-  _mm_store_pd(S->r[j], _mm_or_pd(_mm_and_pd(ok, nn), _mm_andnot_pd(ok, one)));
+  /* the square root's operand nn: where not ok (okb) the lane is declined whatever its
+     square root, divide and grey come to (0, an infinity or a NaN among them) */
+  _mm_store_pd(S->r[j], nn);
   _mm_store_pd(S->sg[j], sg);
   S->okb[j] = _mm_movemask_pd(ok);
 }
@@ -1430,19 +1461,24 @@ void phong_head(const struct smooth_tri *ta, const struct smooth_lanes *xa,
    phong_filter's operations in their order: inv, each parallel light's term (a light
    blocked or a dot not > 0 adds +0), the grey under reflectance refl in [0, 1] by
    phong_filter's last test, and the exact chain where that declines (counted in
-   phong_declines). nlight is L->n (a constant where the caller can make it one), lv the
-   lights' directions in both lanes (phong_lights). */
+   phong_declines; the point's triangle from the stretch's runs nseg, tri, at: see
+   phong_tri_at; its space point from X, or xu and xw: phong_point). nlight is L->n (a
+   constant where the caller can make it one), lv the
+   lights' directions in both lanes (phong_lights). shadow false (a constant where the
+   caller makes it one): every blocked[] of the steps' points is 0, and is not read. */
 static inline __attribute__((always_inline))
 void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j,
-                const double (*X)[3], double refl, const unsigned *blocked,
-                const struct shade_lights *L, const __m128d (*lv)[3], int nlight, int *grey)
+                const double (*X)[3], const double *xu, const double *xw, double refl,
+                const unsigned *blocked, bool shadow,
+                const struct shade_lights *L, const __m128d (*lv)[3], int nlight,
+                int nseg, const int *tri, const int *at, int *grey)
 {
   const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1);
   const __m128d half = _mm_set1_pd(0.5), fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl);
   const __m128d eps = _mm_set1_pd(0x1p-24), twov = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
   const __m128d two30 = _mm_set1_pd(0x1p30);
-  const int pa = S->pa[j], pb = S->pb[j];
-  const unsigned b0 = blocked[pa], b1 = blocked[pb];
+  const int pa = S->pa[j], pb = pa + S->two[j];
+  const unsigned b0 = shadow ? blocked[pa] : 0, b1 = shadow ? blocked[pb] : 0;
   const __m128d N0 = _mm_load_pd(S->n[0][j]), N1 = _mm_load_pd(S->n[1][j]);
   const __m128d N2 = _mm_load_pd(S->n[2][j]);
   const __m128d inv = _mm_div_pd(_mm_load_pd(S->sg[j]), _mm_sqrt_pd(_mm_load_pd(S->r[j])));
@@ -1453,7 +1489,7 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
                                                        _mm_mul_pd(N1, lv[k][1])),
                                             _mm_mul_pd(N2, lv[k][2])), inv);
     __m128d lit = _mm_cmpgt_pd(d, zero);
-    if ((b0 | b1) >> k & 1u)
+    if (shadow && ((b0 | b1) >> k & 1u))
       lit = _mm_and_pd(lit, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
                                                             (b0 >> k & 1u) - 1ull)));
     sum = k ? _mm_add_pd(sum, _mm_and_pd(lit, d)) : _mm_and_pd(lit, d);
@@ -1464,12 +1500,29 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
   const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
   const __m128i t0 = _mm_cvttpd_epi32(f0v);
   const int okb = S->okb[j];
-  const int fine = okb & _mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f0v, zero),
-                                                    _mm_cmplt_pd(f1v, two30))) &
+  /* phong_filter's f0 >= 0 && f1 < 2^62 && (int64_t)f0 == (int64_t)f1, lane by lane, as
+     f1 < 2^30 and the two truncations to 32 bits equal: f is 1/2 or above, or NaN (the sum
+     is +0 or above or NaN, 207 refl >= 0), so where f0 < 0 (delta > 1/2) f1 >= 1 and,
+     below 2^30, truncates to 1 or more while f0 truncates to 0 or below (or to INT_MIN,
+     CVTTPD2DQ's answer out of range): never equal; f0 >= 0 needs no test of its own. A NaN
+     fails f1 < 2^30. */
+  const int fine = okb & _mm_movemask_pd(_mm_cmplt_pd(f1v, two30)) &
                    _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
-  const bool two = S->two[j];
+  const bool two = S->two[j] != 0;
   const int lanes = two ? 3 : 1;
   if ((fine & lanes) == lanes) {
+    if (nlight == 1 && two) {
+      /* both greys in one store (pb is pa + 1), without the clamp: under one light, with
+         reflectance refl <= 1, no grey is above 255. Its sum is max(0, d), d the dot of
+         two vectors whose lengths' product inv makes at most 1 but for a few roundings
+         (the light's direction a unit vector rounded; inv 1 / |N| with the rounding of
+         nn, its square root and the divide), so d < 1 + 2^-40, f = (255 - SHADE_AMBIENT)
+         refl d + 1/2 < 256 - SHADE_AMBIENT, and a lane's truncation of f0 = f - delta
+         (f0 >= 0 where fine) is at most 255 - SHADE_AMBIENT */
+      _mm_storel_epi64((__m128i *)(void *)&grey[pa],
+                       _mm_add_epi32(t0, _mm_set1_epi32(SHADE_AMBIENT)));
+      return;
+    }
     const int g0 = SHADE_AMBIENT + _mm_cvtsi128_si32(t0);
     grey[pa] = g0 > 255 ? 255 : g0;
     if (two) {
@@ -1489,9 +1542,9 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
       continue;
     }
     if (m->phong_declines) ++*m->phong_declines;
-    const struct smooth_tri *tr = &m->tri[h ? S->b[j] : S->a[j]];
-    const double *Xp = X[h ? pb : pa];
-    double ar[3];
+    const struct smooth_tri *tr = &m->tri[phong_tri_at(nseg, tri, at, h ? pb : pa)];
+    double buf[3], ar[3];
+    const double *Xp = phong_point(X, xu, xw, tr, h ? pb : pa, buf);
     bary_areas(tr, Xp, ar);
     grey_phong_exact(tr, ar, Xp, refl, h ? b1 : b0, L, g);
   }
@@ -1509,7 +1562,8 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
    square roots and divides of the second pass are fed with no wait on the areas. */
 static inline __attribute__((always_inline))
 void phong_row_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
-                      const double (*X)[3], const unsigned *blocked,
+                      const double (*X)[3], const double *xu, const double *xw,
+                      const unsigned *blocked, bool shadow,
                       const struct shade_lights *L, const __m128d (*lv)[3], int nlight,
                       int *grey)
 {
@@ -1519,30 +1573,42 @@ void phong_row_lights(const struct smooth_model *m, int nseg, const int *tri, co
     const int q = at[k + 1];
     const struct smooth_tri *tr = &m->tri[tri[k]];
     if (tr->btot == 0) {
-      for (; p < q; p++) phong_alone(m, tr, X[p], blocked[p], L, &grey[p]);
+      for (; p < q; p++) {
+        double buf[3];
+        phong_alone(m, tr, phong_point(X, xu, xw, tr, p, buf), blocked[p], L, &grey[p]);
+      }
       continue;
     }
     const struct smooth_lanes *lx = &m->lanes[tri[k]];
     const __m128d sg = phong_side(tr, tr);
     for (; p + 2 <= q; p += 2, j++) {
-      S.pa[j] = p; S.pb[j] = p + 1; S.a[j] = S.b[j] = tri[k]; S.two[j] = true;
-      phong_head(tr, lx, tr, lx, true, X[p], X[p + 1], sg, &S, j);
+      S.pa[j] = p; S.two[j] = 1;
+      if (X)
+        phong_head(lx, lx, true, _mm_set_pd(X[p + 1][tr->bu], X[p][tr->bu]),
+                   _mm_set_pd(X[p + 1][tr->bw], X[p][tr->bw]), sg, &S, j);
+      else
+        phong_head(lx, lx, true, _mm_loadu_pd(xu + p), _mm_loadu_pd(xw + p), sg, &S, j);
     }
     if (p == q) continue;
     const int tn = k + 1 < nseg ? tri[k + 1] : -1;
-    S.pa[j] = p; S.a[j] = tri[k];
+    S.pa[j] = p;
     if (tn >= 0 && m->tri[tn].btot != 0) {     /* p = q - 1 and the next one, q */
-      S.pb[j] = q; S.b[j] = tn; S.two[j] = true;
-      phong_head(tr, lx, &m->tri[tn], &m->lanes[tn], false, X[p], X[q],
-                 phong_side(tr, &m->tri[tn]), &S, j++);
+      S.two[j] = 1;
+      const struct smooth_tri *tb = &m->tri[tn];
+      phong_head(lx, &m->lanes[tn], false,
+                 X ? _mm_set_pd(X[q][tb->bu], X[p][tr->bu]) : _mm_set_pd(xu[q], xu[p]),
+                 X ? _mm_set_pd(X[q][tb->bw], X[p][tr->bw]) : _mm_set_pd(xw[q], xw[p]),
+                 phong_side(tr, tb), &S, j++);
       p = q + 1;
     } else {                                   /* alone: in both lanes */
-      S.pb[j] = p; S.b[j] = tri[k]; S.two[j] = false;
-      phong_head(tr, lx, tr, lx, true, X[p], X[p], sg, &S, j++);
+      S.two[j] = 0;
+      phong_head(lx, lx, true, _mm_set1_pd(X ? X[p][tr->bu] : xu[p]),
+                 _mm_set1_pd(X ? X[p][tr->bw] : xw[p]), sg, &S, j++);
       p = q;
     }
   }
-  for (int i = 0; i < j; i++) phong_tail(m, &S, i, X, 1.0, blocked, L, lv, nlight, grey);
+  for (int i = 0; i < j; i++)
+    phong_tail(m, &S, i, X, xu, xw, 1.0, blocked, shadow, L, lv, nlight, nseg, tri, at, grey);
 }
 #endif
 
@@ -1573,18 +1639,20 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
   __m128d lv[SCENE_LIGHT_MAX][3];
   phong_lights(L, lv);
   const __m128d sg = phong_side(tr, tr);
-  const int t = (int)(tr - m->tri);
+  const int t = (int)(tr - m->tri), ats[2] = { 0, n };
   struct phong_steps S;
   int j = 0;
   for (int p = 0; p < n; p += 2, j++) {
     const bool two = p + 1 < n;
     const int p1 = two ? p + 1 : p;         /* the last of an odd run: itself in both lanes */
     region[p] = region[p1] = 1;
-    S.pa[j] = p; S.pb[j] = p1; S.a[j] = S.b[j] = t; S.two[j] = two;
-    phong_head(tr, lx, tr, lx, true, X[p], X[p1], sg, &S, j);
+    S.pa[j] = p; S.two[j] = two;
+    phong_head(lx, lx, true, _mm_set_pd(X[p1][tr->bu], X[p][tr->bu]),
+               _mm_set_pd(X[p1][tr->bw], X[p][tr->bw]), sg, &S, j);
   }
   for (int i = 0; i < j; i++)
-    phong_tail(m, &S, i, X, refl, blocked, L, (const __m128d (*)[3])lv, L->n, grey);
+    phong_tail(m, &S, i, X, NULL, NULL, refl, blocked, true, L, (const __m128d (*)[3])lv, L->n,
+               1, &t, ats, grey);
   return n;
 #else
   (void)m; (void)tr; (void)lx; (void)n; (void)X; (void)refl; (void)blocked; (void)L; (void)grey; (void)region;
@@ -1593,22 +1661,57 @@ static inline int phong_pairs(const struct smooth_model *m, const struct smooth_
 }
 
 /* smooth_row under smooth=phong (the regions left to the caller: all 1): phong_row_lights,
-   made for one light apart (the scenes' usual case: its loop unrolled). */
-static void phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
-                      const double (*X)[3], const unsigned *blocked,
-                      const struct shade_lights *L, int *grey)
+   made for one light apart (the scenes' usual case: its loop unrolled), and for a stretch
+   where no light is blocked at any point apart (no shadows: blocked[] not read a step).
+   The points' space points X, or (X NULL) their coordinates on their triangles' axes in
+   xu and xw (smooth_phong_row). */
+static inline __attribute__((always_inline))
+void phong_rows(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                const double (*X)[3], const double *xu, const double *xw,
+                const unsigned *blocked, const struct shade_lights *L, int *grey)
 {
 #ifdef __SSE2__
   __m128d lv[SCENE_LIGHT_MAX][3];
   phong_lights(L, lv);
-  if (L->n == 1)
-    phong_row_lights(m, nseg, tri, at, X, blocked, L, (const __m128d (*)[3])lv, 1, grey);
+  /* whether a light is blocked at any point of the stretch (four points an OR) */
+  const int n = at[nseg];
+  __m128i any = _mm_setzero_si128();
+  int p = 0;
+  for (; p + 4 <= n; p += 4)
+    any = _mm_or_si128(any, _mm_loadu_si128((const __m128i *)(const void *)(blocked + p)));
+  unsigned bl = 0;
+  for (; p < n; p++) bl |= blocked[p];
+  const bool shadow =
+      bl || _mm_movemask_epi8(_mm_cmpeq_epi32(any, _mm_setzero_si128())) != 0xffff;
+  const __m128d (*lc)[3] = (const __m128d (*)[3])lv;
+  if (L->n == 1 && !shadow)
+    phong_row_lights(m, nseg, tri, at, X, xu, xw, blocked, false, L, lc, 1, grey);
+  else if (L->n == 1)
+    phong_row_lights(m, nseg, tri, at, X, xu, xw, blocked, true, L, lc, 1, grey);
   else
-    phong_row_lights(m, nseg, tri, at, X, blocked, L, (const __m128d (*)[3])lv, L->n, grey);
+    phong_row_lights(m, nseg, tri, at, X, xu, xw, blocked, true, L, lc, L->n, grey);
 #else
   for (int k = 0, p = 0; k < nseg; k++)
-    for (; p < at[k + 1]; p++) phong_alone(m, &m->tri[tri[k]], X[p], blocked[p], L, &grey[p]);
+    for (; p < at[k + 1]; p++) {
+      double buf[3];
+      const struct smooth_tri *tr = &m->tri[tri[k]];
+      phong_alone(m, tr, phong_point(X, xu, xw, tr, p, buf), blocked[p], L, &grey[p]);
+    }
 #endif
+}
+
+static void phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                      const double (*X)[3], const unsigned *blocked,
+                      const struct shade_lights *L, int *grey)
+{
+  phong_rows(m, nseg, tri, at, X, NULL, NULL, blocked, L, grey);
+}
+
+void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                      const double *xu, const double *xw, const unsigned *blocked,
+                      const struct shade_lights *L, int *grey)
+{
+  phong_rows(m, nseg, tri, at, NULL, xu, xw, blocked, L, grey);
 }
 
 /* a run of one point, counted */

@@ -189,6 +189,15 @@ void smooth_row(const struct smooth_model *m, const struct mapped *map,
                 const double (*X)[3], const unsigned *blocked, const struct shade_lights *L,
                 int *grey, long regions[3]);
 
+/* smooth_row's greys under smooth=phong (where smooth_rows says so: the lights all
+   parallel), its regions left to the caller (all 1), from each point's space point given
+   by its two coordinates on its triangle's axes bu and bw only (xu[p] = X[p][bu], xw[p] =
+   X[p][bw]: all that the greys depend on under parallel lights): the same greys, bit for
+   bit, two points' coordinates a load. */
+void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                      const double *xu, const double *xw, const unsigned *blocked,
+                      const struct shade_lights *L, int *grey);
+
 /* For tests: the shading pass's two-lane steps on triangle t of m at two points given by
    their barycentric coordinates l[h] (any values, as the steps take them): the region
    band_lanes gives the pair (0 when the two are not in one edge band nor one corner band;

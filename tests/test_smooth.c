@@ -638,7 +638,10 @@ static void test_run_is_single(void **state)
    differ plus how many regions' counts differ (and, declines non-NULL, 1 when the Phong
    filter declines another count of points in the row than one at a time, whose count is
    added to *declines); the greys met are marked in greys[], each region's points added
-   to seen[]. */
+   to seen[]. Under smooth=phong with the lights all parallel, smooth_phong_row too, from
+   the points' coordinates on their triangles' axes alone (the third coordinate of each
+   space point left out): each grey that differs from smooth_grey_at's, and (declines
+   non-NULL) another count of declines than smooth_row's, counted too. */
 static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
                          const double (*X)[3], const unsigned *blocked,
                          const struct shade_lights *lights, int greys[256], long seen[3],
@@ -658,6 +661,26 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
       greys[one & 255] = 1;
       single[region]++;
     }
+  bool parallel = true;
+  for (int k = 0; k < lights->n; k++) parallel = parallel && !lights->point[k];
+  if (L->e.smooth == EFFECTS_SMOOTH_PHONG && parallel && smooth_rows(&L->m, &L->e, lights)) {
+    double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
+    int gu[SMOOTH_ROW];
+    long dec_uv = 0;
+    for (int k = 0; k < nseg; k++)
+      for (int p = at[k]; p < at[k + 1]; p++) {
+        xu[p] = X[p][L->m.tri[tri[k]].bu];
+        xw[p] = X[p][L->m.tri[tri[k]].bw];
+      }
+    if (declines) L->m.phong_declines = &dec_uv;
+    smooth_phong_row(&L->m, nseg, tri, at, xu, xw, blocked, lights, gu);
+    L->m.phong_declines = NULL;
+    for (int k = 0; k < nseg; k++)
+      for (int p = at[k]; p < at[k + 1]; p++)
+        differ += gu[p] != smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, tri[k], X[p], 1.0,
+                                          blocked[p], lights, NULL, NULL);
+    if (declines) differ += dec_uv != dec_row;   /* the same points declined */
+  }
   L->m.phong_declines = NULL;
   for (int r = 0; r < 3; r++) {
     differ += regions[r] != single[r];
@@ -680,7 +703,8 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
    back ones; runs of one point, odd and even runs), the points inside and outside each
    triangle and in its bands and corners, under the phong and partial smoothings, under the
    scene's light, with a second parallel light, and (the partial smoothing) with a point
-   light, each blocked at some points. */
+   light, each blocked at some points, and under the scene's light blocked nowhere; under
+   smooth=phong and parallel lights smooth_phong_row too (row_vs_single). */
 static void band_point(const struct lib *L, int t, int k, double lk, double sp, double X[3]);
 static void test_row_is_single(void **state)
 {
@@ -696,10 +720,10 @@ static void test_row_is_single(void **state)
     lib_open(&L, "scenes/sphere.s74", kinds[kind]);
     int differ = 0, rows = 0, greys[256] = { 0 }, back = 0;
     long seen[3] = { 0, 0, 0 }, declines = 0;
-    for (int light = 0; light < 3; light++) {
+    for (int light = 0; light < 4; light++) {
       struct shade_lights lights;
       shade_lights_init(&lights, L.s);
-      if (light) second_light(&lights);
+      if (light == 1 || light == 2) second_light(&lights);
       if (light == 2) {                     /* the second one a point light, up and in front */
         const double at[3] = { 100, 400, -300 };
         memcpy(lights.v[1], at, sizeof at);
@@ -725,8 +749,9 @@ static void test_row_is_single(void **state)
             } else {
               tri_point(&L, t, w[(p + t) % nw], X[p]);
             }
-            blocked[p] = light ? (unsigned)((t + p) % 3 == 0) | (unsigned)((t + p) % 5 == 0) << 1
-                               : (unsigned)((t + p) % 4 == 0);
+            blocked[p] = light == 3 ? 0     /* no light blocked in the stretch (no shadows) */
+                         : light ? (unsigned)((t + p) % 3 == 0) | (unsigned)((t + p) % 5 == 0) << 1
+                                 : (unsigned)((t + p) % 4 == 0);
           }
           n += len;
           tri[nseg] = t;
@@ -1782,14 +1807,17 @@ static void test_bezier(void **state)
    contour_bezier's at t = m / CONTOUR_STEPS rounded half away from zero, bit for bit, for
    5,600 random corners of control points up to 2^52 grid units (where a result one unit
    in the last place off rounds to another integer) and beyond, up to 2^62 (control points
-   from 2^61 on: each point by round_grid's test, not without it), and on a corner whose
-   points at odd m lie halfway between two integers. */
+   from 2^61 on: each point by round_grid's test, not without it), on a corner whose
+   points at odd m lie halfway between two integers, and on 2,000 corners whose coordinates
+   are drawn from +-(2^29 - 1), +-2^29, 0 and small values: the largest the curve's integer
+   path (region_exact, below 2^29) takes and the smallest it leaves to the doubles. */
 static void test_region_is_bezier(void **state)
 {
   (void)state;
   uint64_t x = 0x9e3779b97f4a7c15u;
   long differ = 0, points = 0;
-  for (int it = 0; it < 5600; it++) {
+  static const gcoord edge[8] = { (1 << 29) - 1, -(1 << 29) + 1, 1 << 29, -(1 << 29), 0, 1, -1, 3 };
+  for (int it = 0; it < 7600; it++) {
     struct gpoint g[5], poly[CONTOUR_STEPS + 2];
     double q[5][2];
     const int bits = 8 + it % 56;
@@ -1798,6 +1826,10 @@ static void test_region_is_bezier(void **state)
       g[k].x = (gcoord)(x % (1ull << bits)) - (gcoord)(1ull << (bits - 1));
       x ^= x << 13; x ^= x >> 7; x ^= x << 17;
       g[k].y = (gcoord)(x % (1ull << bits)) - (gcoord)(1ull << (bits - 1));
+      if (it >= 5600) {                     /* the integer path's bounds */
+        g[k].x = edge[(x >> 3) % (it % 2 ? 8 : 2)];
+        g[k].y = edge[(x >> 7) % (it % 2 ? 8 : 2)];
+      }
       /* the first corner: Q0 at (2^23, -2^23), the rest at 0, so that each point at an
          odd 64 - m lies on a half, (64 - m)^4 / 2 and its negative: the ties */
       if (it == 0) g[k] = k ? (struct gpoint){ 0, 0 } : (struct gpoint){ 1 << 23, -(1 << 23) };
