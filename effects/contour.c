@@ -257,7 +257,8 @@ static inline int by_from(const void *pa, const void *pb)
   const struct cedge *x = pa, *y = pb;
   if (x->object != y->object) return x->object < y->object ? -1 : 1;
   if (x->a != y->a) return x->a < y->a ? -1 : 1;
-  return x->b < y->b ? -1 : x->b > y->b;
+  if (x->b != y->b) return x->b < y->b ? -1 : 1;
+  return x->tri < y->tri ? -1 : x->tri > y->tri;
 }
 
 /* The projected grid point of scene vertex v in the mapped face mf. A triangle's (the
@@ -369,11 +370,10 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
   }
   free(cnt); free(use); free(ccw);
   if (cost) COST_ADD_N(cost, COST_ADD, (uint64_t)n * 4);
-  /* sorted by (object, a, b): a few dozen sides a frame by insertion, without qsort's
-     call a compare; many by qsort. Any sort gives the same order but among equal keys,
-     two sides of an object on the same two vertices in the same direction, and their
-     order changes nothing: each begins where another does (nout 2) and ends where
-     another does (so no side after it has nin 1), a junction, never a corner's side */
+  /* sorted by (object, a, b), then by triangle (a total order: the sides were listed by
+     triangle, so ties keep the order they were listed in, as a stable sort keeps them,
+     whichever sort runs and whatever the C library's qsort does with equal keys): a few
+     dozen sides a frame by insertion, without qsort's call a compare; many by qsort */
   if (nc <= CONTOUR_INSERT)
     for (int k = 1; k < nc; k++) {
       const struct cedge x = ce[k];
