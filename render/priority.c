@@ -141,11 +141,12 @@ static uint8_t slot_tag(uint32_t i)
 
 static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsigned code)
 {
+  /* words k .. k + 3 of the high region, at core addresses size - 1 - k down to
+     size - 4 - k: written in one call, from the lowest address up */
   uint32_t k = (uint32_t)(s * SLOT_WORDS);
-  core_high_set(pr->core, k, (uint16_t)(code << 14 | i >> 16));
-  core_high_set(pr->core, k + 1, (uint16_t)i);
-  core_high_set(pr->core, k + 2, (uint16_t)(j >> 16));
-  core_high_set(pr->core, k + 3, (uint16_t)j);
+  const uint16_t w[SLOT_WORDS] = { (uint16_t)j, (uint16_t)(j >> 16), (uint16_t)i,
+                                   (uint16_t)(code << 14 | i >> 16) };
+  core_write_n(pr->core, core_words(pr->core) - SLOT_WORDS - k, w, SLOT_WORDS);
   if (pr->tag) pr->tag[s] = slot_tag(i);
   COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);
 }
