@@ -195,16 +195,8 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
                                 uint64_t *slot, uint64_t *loads)
 {
   const uint8_t *tag = pr->tag;
-  uint64_t s = slot_hash(i, j, cap), l = 0;
-  if (!tag[s]) {
-    /* the home slot empty (a third to two thirds of looks, by the load): the probe loads
-       its first word and stops there, as either walk below would find; answered before
-       the pair's tag and the walk's masks are made */
-    *slot = s;
-    ++*loads;
-    return CODE_UNKNOWN;
-  }
   const uint8_t q = slot_tag(i);
+  uint64_t s = slot_hash(i, j, cap), l = 0;
   unsigned code;
 #ifdef __SSE2__
   /* Sixteen tags at a time (TAG_PAD empty tags lie beyond the table's end: reached, the
