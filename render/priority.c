@@ -141,11 +141,12 @@ static uint8_t slot_tag(uint32_t i)
 
 static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsigned code)
 {
+  /* words k .. k + 3 of the high region, at core addresses size - 1 - k down to
+     size - 4 - k: written in one call, from the lowest address up */
   uint32_t k = (uint32_t)(s * SLOT_WORDS);
-  core_high_set(pr->core, k, (uint16_t)(code << 14 | i >> 16));
-  core_high_set(pr->core, k + 1, (uint16_t)i);
-  core_high_set(pr->core, k + 2, (uint16_t)(j >> 16));
-  core_high_set(pr->core, k + 3, (uint16_t)j);
+  const uint16_t w[SLOT_WORDS] = { (uint16_t)j, (uint16_t)(j >> 16), (uint16_t)i,
+                                   (uint16_t)(code << 14 | i >> 16) };
+  core_write_n(pr->core, core_words(pr->core) - SLOT_WORDS - k, w, SLOT_WORDS);
   if (pr->tag) pr->tag[s] = slot_tag(i);
   COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);
 }
@@ -508,6 +509,26 @@ int prio_init(struct prio *pr, struct seginfo *seg, const struct mapped *map,
   return sparse_rebuild(pr, sparse_slots_for(0), err);
 }
 
+/* Sixteen bytes stored at once: a 128-bit number, or two 64-bit ones side by side. What
+   face_pair and face_line store is read back soon after (decide, depth_line) by loads
+   the compiler makes 16 bytes wide; stored as two 8-byte halves, such a load waited for
+   both stores to reach the cache instead of taking their data (a store-forwarding
+   stall: about a sixth of decide's samples at 640 interpenetrating triangles). */
+static inline void store16(void *dst, uint64_t lo, uint64_t hi)
+{
+#ifdef __SSE2__
+  _mm_storeu_si128((__m128i *)dst, _mm_set_epi64x((long long)hi, (long long)lo));
+#else
+  memcpy(dst, &lo, 8);
+  memcpy((char *)dst + 8, &hi, 8);
+#endif
+}
+
+static inline void store_wide(wide *dst, wide v)
+{
+  store16(dst, (uint64_t)(uwide)v, (uint64_t)((uwide)v >> 64));
+}
+
 /* ---- depth ------------------------------------------------------------------------- */
 
 struct depth { wide k0, k1, K; int h10; };  /* G(x, y) = k0 x + k1 y + K on the grid;
@@ -538,16 +559,16 @@ static struct depth depth_of(const struct prio *pr, const struct mface *A, const
 }
 
 /* sign of G at a homogeneous point (256-bit: 2^86 * 2^88) */
-static int depth_sign(struct depth g, struct hpoint p)
+static int depth_sign(const struct depth *g, struct hpoint p)
 {
-  if (g.h10) {
+  if (g->h10) {
     /* --arith hitac: the 1974 program compares depths at a point whose coordinates it
        holds in one word each, whole world units (truncated) */
     p.X = p.X / p.W / GRID_ONE * GRID_ONE;
     p.Y = p.Y / p.W / GRID_ONE * GRID_ONE;
     p.W = 1;
   }
-  return geom_dot3_sign(g.k0, p.X, g.k1, p.Y, g.K, p.W);
+  return geom_dot3_sign(g->k0, p.X, g->k1, p.Y, g->K, p.W);
 }
 
 /* round(n / d) half up, d != 0 */
@@ -627,7 +648,7 @@ static wide reach2(const struct mface *A, const struct mface *B, struct gpoint p
    - else the two points where G = 0 leaves the square (within 0.5 units).
    Returns false when G = 0 misses the square. */
 #define COMMON_REACH 4
-static bool depth_line(struct depth g, const struct gpoint *common, int ncommon, wide reach,
+static bool depth_line(const struct depth *g, const struct gpoint *common, int ncommon, wide reach,
                        struct gline *out)
 {
   const wide lim = GRID_LIMIT;
@@ -639,20 +660,20 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
   }
   for (int k = 0; k < ncommon; k++) pt[n++] = common[k];
   if (ncommon < 2) {
-    if (g.k1 != 0) {            /* sides x = -lim and x = +lim */
+    if (g->k1 != 0) {            /* sides x = -lim and x = +lim */
       for (int s = -1; s <= 1; s += 2) {
-        wide num = -(g.k0 * (s * lim) + g.K);
-        if (!round_in(num, g.k1, lim)) continue;
+        wide num = -(g->k0 * (s * lim) + g->K);
+        if (!round_in(num, g->k1, lim)) continue;
         pt[n].x = (gcoord)(s * lim);
-        pt[n].y = (gcoord)round_div(num, g.k1);
+        pt[n].y = (gcoord)round_div(num, g->k1);
         n++;
       }
     }
-    if (g.k0 != 0) {            /* sides y = -lim and y = +lim */
+    if (g->k0 != 0) {            /* sides y = -lim and y = +lim */
       for (int s = -1; s <= 1; s += 2) {
-        wide num = -(g.k1 * (s * lim) + g.K);
-        if (!round_in(num, g.k0, lim)) continue;
-        pt[n].x = (gcoord)round_div(num, g.k0);
+        wide num = -(g->k1 * (s * lim) + g->K);
+        if (!round_in(num, g->k0, lim)) continue;
+        pt[n].x = (gcoord)round_div(num, g->k0);
         pt[n].y = (gcoord)(s * lim);
         n++;
       }
@@ -670,8 +691,9 @@ static bool depth_line(struct depth g, const struct gpoint *common, int ncommon,
   if (bi < 0) return false;
   struct gline l = geom_line(pt[bi], pt[bj]);
   /* the normal (a, b) must point where G grows: |a|,|b| < 2^29, |k| < 2^86 */
-  if ((wide)l.a * g.k0 + (wide)l.b * g.k1 < 0) l = geom_line(pt[bj], pt[bi]);
-  *out = l;
+  if ((wide)l.a * g->k0 + (wide)l.b * g->k1 < 0) l = geom_line(pt[bj], pt[bi]);
+  store16(&out->a, (uint64_t)l.a, (uint64_t)l.b);   /* a and b side by side (geom.h) */
+  out->c = l.c;
   return true;
 }
 
@@ -791,9 +813,13 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
   e->fa = fa;
   e->fb = fb;
   e->gen = pr->faces_gen;
-  e->g = depth_of(pr, A, B);
+  const struct depth g = depth_of(pr, A, B);
+  store_wide(&e->g.k0, g.k0);
+  store_wide(&e->g.k1, g.k1);
+  store_wide(&e->g.K, g.K);
+  e->g.h10 = g.h10;
   e->ncommon = common_points(pr->map, A, B, e->common);
-  e->line = -1;
+  e->line = g.k0 == 0 && g.k1 == 0 ? 0 : -1;   /* G constant: no L~ (face_line) */
   return e;
 }
 
@@ -803,8 +829,8 @@ static bool face_line(const struct prio *pr, struct prio_faces *e)
   if (e->line < 0) {
     const struct mface *A = &pr->map->f[e->fa], *B = &pr->map->f[e->fb];
     wide reach = e->ncommon > 0 ? reach2(A, B, e->common[0]) : 0;
-    e->line = !(e->g.k0 == 0 && e->g.k1 == 0) &&
-              depth_line(e->g, e->common, e->ncommon, reach, &e->L);
+    /* G is not constant here: face_pair set line to 0 for a constant G */
+    e->line = depth_line(&e->g, e->common, e->ncommon, reach, &e->L);
   }
   return e->line == 1;
 }
@@ -1079,7 +1105,7 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
 #define Q_LINES() (qln ? qln : (qln = piece_lines(Q, qlb)))
 
   struct prio_faces own, *F = face_pair(pr, P->face, Q->face, &own);
-  const struct depth g = F->g;
+  const struct depth *g = &F->g;
   const struct gpoint *common = F->common;
   if (F->ncommon == 2) {
     /* Faces meeting along an edge or at a T-junction: the true intersection line runs
@@ -1125,13 +1151,13 @@ static int decide(struct prio *pr, int i, int j, const struct prio_meet *at,
   if (!face_line(pr, F)) {
     /* one face in front of the other wherever they can be */
     int s;
-    if (g.k0 == 0 && g.k1 == 0) s = (g.K > 0) - (g.K < 0);
+    if (g->k0 == 0 && g->k1 == 0) s = (g->K > 0) - (g->K < 0);
     else s = depth_sign(g, Q_VERTS()[0]);
     if (s == 0) s = mface_coplanar_front(A, B) ? 1 : -1;   /* coplanar: render/mapper.h */
     if (pr->trace)
       fprintf(pr->trace, "PRIORITY pieces %d (face %u) and %d (face %u): %s in front%s\n",
               i + 1, (unsigned)A->id, j + 1, (unsigned)B->id, s > 0 ? "first" : "second",
-              g.k0 == 0 && g.k1 == 0 && g.K == 0 ? (A->on || B->on ? " (coplanar: the pattern)"
+              g->k0 == 0 && g->k1 == 0 && g->K == 0 ? (A->on || B->on ? " (coplanar: the pattern)"
                                                                   : " (coplanar: larger face number)") : "");
     return s > 0 ? CODE_HIGHER : CODE_LOWER;
   }

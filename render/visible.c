@@ -302,27 +302,30 @@ void vis_free(struct vis *v)
   memset(v, 0, sizeof *v);
 }
 
-/* Append [x0, x1) of piece to a list of stretches, joined to the last when it goes on. */
-static int put_span(struct vis_span **sp, int *n, int *cap, struct grat x0, struct grat x1,
-                    int piece, int face)
+/* Append [*x0, *x1) of piece to a list of stretches, joined to the last when it goes on.
+   The ends by address: passed by value, the sweep's were copied to the stack in 8-byte
+   stores and read back at once in 16-byte loads, which waited for the stores (a
+   store-forwarding stall, issue 19). */
+static int put_span(struct vis_span **sp, int *n, int *cap, const struct grat *x0,
+                    const struct grat *x1, int piece, int face)
 {
   if (*n > 0) {
     struct vis_span *last = &(*sp)[*n - 1];
-    if (last->piece == piece && x_cmp(last->x1, x0) == 0) {
-      last->x1 = x1;
+    if (last->piece == piece && x_cmp(last->x1, *x0) == 0) {
+      last->x1 = *x1;
       return 1;
     }
   }
   if (!grow((void **)sp, cap, *n + 1, sizeof **sp)) return 0;
   struct vis_span *s = &(*sp)[(*n)++];
-  s->x0 = x0;
-  s->x1 = x1;
+  s->x0 = *x0;
+  s->x1 = *x1;
   s->piece = piece;
   s->face = face;
   return 1;
 }
 
-static int push_span(struct vis *v, struct grat x0, struct grat x1, int piece)
+static int push_span(struct vis *v, const struct grat *x0, const struct grat *x1, int piece)
 {
   return put_span(&v->span, &v->nspan, &v->spancap, x0, x1, piece, v->seg->p[piece].face);
 }
@@ -922,7 +925,7 @@ static int sweep(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err)
         continue;
       }
       if (r != PRIO_FIRST) return r;
-      if (!push_span(v, x, xn, front))
+      if (!push_span(v, &st.x0, &st.x1, front))
         return t74_fail(err, T74_EIO, "out of host memory"), PRIO_ERROR;
       if (!sure) front = -1;
       break;
@@ -964,7 +967,7 @@ static int rename_spans(struct vis *v, struct t74_error *err)
       if (!s->p[sp->piece].alive && v->arith == GEOM_EXACT)
         return t74_fail(err, T74_EINPUT, "internal: cut piece %d has no half on the line",
                         sp->piece);
-      if (!put_span(&v->span2, &v->nspan2, &v->span2cap, sp->x0, sp->x1, sp->piece, sp->face))
+      if (!put_span(&v->span2, &v->nspan2, &v->span2cap, &sp->x0, &sp->x1, sp->piece, sp->face))
         return t74_fail(err, T74_EIO, "out of host memory");
       continue;
     }
@@ -980,7 +983,7 @@ static int rename_spans(struct vis *v, struct t74_error *err)
         return t74_fail(err, T74_EINPUT, "internal: the halves of cut piece %d do not "
                         "cover its stretch", sp->piece);
       if (x_cmp(at, to) < 0 &&
-          !put_span(&v->span2, &v->nspan2, &v->span2cap, at, to, it->piece, sp->face))
+          !put_span(&v->span2, &v->nspan2, &v->span2cap, &at, &to, it->piece, sp->face))
         return t74_fail(err, T74_EIO, "out of host memory");
       if (x_cmp(to, at) > 0) at = to;
       if (nx >= nc) break;
