@@ -1446,10 +1446,10 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     free(p->face);
     free(p->z);
     free(p->zhi);
+    p->z = NULL;                                  /* (made when a frame needs it, below) */
+    p->zhi = NULL;
     p->face = malloc((n ? n : 1) * sizeof *p->face);
-    p->z = malloc((n ? n : 1) * sizeof *p->z);
-    p->zhi = malloc((n ? n : 1) * sizeof *p->zhi);
-    if (!p->face || !p->z || !p->zhi) return t74_fail(err, T74_EIO, "out of host memory");
+    if (!p->face) return t74_fail(err, T74_EIO, "out of host memory");
     p->W = vg->W;
     p->H = vg->H;
   }
@@ -1517,6 +1517,10 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
   }
   const bool tiles = area >= limit;               /* a face is left for the tiles */
+  if (tiles && !p->z && !(p->z = malloc((n ? n : 1) * sizeof *p->z)))   /* (lo, hi) */
+    return t74_fail(err, T74_EIO, "out of host memory");
+  if (!tiles && !p->zhi && !(p->zhi = malloc((n ? n : 1) * sizeof *p->zhi)))   /* hi alone */
+    return t74_fail(err, T74_EIO, "out of host memory");
   /* nothing seen yet. With the tiles, over the whole grid (their bounds are the least over
      whole tiles, and face_hidden may ask any); lazy, no row has a ready column: each span
      makes its columns ready as it comes (row_ready, "Clearing") and the faces of the
