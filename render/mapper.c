@@ -79,17 +79,24 @@ static uwide light_ll(const int32_t light[3])
                  (wide)light[2] * light[2]);
 }
 
-/* Lambert's law with an ambient floor; n points away from the eye (plane(eye) < 0); ll is
-   light_ll(light). The dot product in 64 bits: |n_i| < 2^34 and |L_i| <= 2^15 (a light
-   is given in scene coordinates, SCENE_COORD_MIN .. MAX), so each product is below 2^49
-   in size and the sum below 2^51 (the same integer as in 128 bits). */
-static int lambert(const int64_t n[3], const int32_t light[3], uwide ll)
+/* Lambert's law's denominator floor(|n| |L|) = isqrt(|n|^2 |L|^2), ll = light_ll(light):
+   of the plane's normal (either sign) and the light alone, so kept with the planes from
+   run to run (struct mapper_keep's den). */
+static uint64_t lambert_den(const int64_t n[3], uwide ll)
+{
+  uwide nn = (uwide)((wide)n[0] * n[0] + (wide)n[1] * n[1] + (wide)n[2] * n[2]);
+  /* |n|^2 < 2^70, |L|^2 < 2^32: the product fits, and so does its square root */
+  return isqrt_u(nn * ll);
+}
+
+/* Lambert's law with an ambient floor; n points away from the eye (plane(eye) < 0); den is
+   lambert_den(n, light_ll(light)). The dot product in 64 bits: |n_i| < 2^34 and |L_i| <=
+   2^15 (a light is given in scene coordinates, SCENE_COORD_MIN .. MAX), so each product
+   is below 2^49 in size and the sum below 2^51 (the same integer as in 128 bits). */
+static int lambert(const int64_t n[3], const int32_t light[3], uint64_t den)
 {
   int64_t dot = -(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]);
   if (dot <= 0) return SHADE_AMBIENT;
-  uwide nn = (uwide)((wide)n[0] * n[0] + (wide)n[1] * n[1] + (wide)n[2] * n[2]);
-  /* |n|^2 < 2^70, |L|^2 < 2^32: the product fits, and so does its square root */
-  uint64_t den = isqrt_u(nn * ll);
   if (den == 0) return DEFAULT_GREY;
   /* 0 < dot <= |n| |L| < 2^51 (Cauchy-Schwarz) and den <= |n| |L|: the rounded quotient
      in 64 bits, (255 - SHADE_AMBIENT) dot + den / 2 < 2^59 + 2^50 (no 128-bit division) */
@@ -98,13 +105,15 @@ static int lambert(const int64_t n[3], const int32_t light[3], uwide ll)
 }
 
 /* The flat grey of a face shaded from the scene's lights: one parallel light by the exact
-   integer law above (the 1974 figures; ll: light_ll of that light); several lights or
-   point lights by shade_grey at the mean of the face's outer vertices (render/shade.h). */
+   integer law above (the 1974 figures; ll: light_ll of that light; den: its lambert_den
+   kept, or NULL); several lights or point lights by shade_grey at the mean of the face's
+   outer vertices (render/shade.h). */
 static int face_grey(const struct scene *s, const struct mface *m, const int64_t pl[4],
-                     uwide ll)
+                     uwide ll, const uint64_t *den)
 {
   if (!s->has_light) return DEFAULT_GREY;
-  if (s->nlight == 1 && !s->light[0].point) return lambert(pl, s->light[0].v, ll);
+  if (s->nlight == 1 && !s->light[0].point)
+    return lambert(pl, s->light[0].v, den ? *den : lambert_den(pl, ll));
   double n[3] = { -(double)pl[0], -(double)pl[1], -(double)pl[2] }, c[3] = { 0, 0, 0 };
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int k = 0; k < 3; k++) n[k] /= len;
@@ -712,9 +721,11 @@ static void tj_forget(struct mapper_keep *k)
   free(k->ring);
   free(k->start);
   free(k->plane);
+  free(k->den);
   k->s = NULL;
   k->ring = k->start = NULL;
   k->plane = NULL;
+  k->den = NULL;
   k->n = k->cap = 0;
   memset(&k->cost, 0, sizeof k->cost);
 }
@@ -837,7 +848,11 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       if (!kt->once) {                      /* what a next run replays */
         kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
         kt->plane = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->plane);
-        if (!kt->start || !kt->plane) { t74_fail(err, T74_EIO, "out of host memory"); goto fail; }
+        kt->den = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->den);
+        if (!kt->start || !kt->plane || !kt->den) {
+          t74_fail(err, T74_EIO, "out of host memory");
+          goto fail;
+        }
       }
       rbuf = &kt->ring; rn = &kt->n; rcap = &kt->cap;   /* the memo points into them */
     }
@@ -852,6 +867,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   }
   int g0 = 0;                               /* the scene's first ring of face fi */
   const uwide ll = s->nlight > 0 ? light_ll(s->light[0].v) : 0;   /* face_grey's lambert */
+  const bool lamb = s->has_light && s->nlight == 1 && !s->light[0].point;   /* (its case) */
 
   uint32_t at;
   if (reserve(core, "A-BLOCK", (uint32_t)s->nf * ABLOCK_ROW_WORDS, &at, err) != T74_OK)
@@ -867,6 +883,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     } else {
       if (!face_plane(s, sf, pl)) memset(pl, 0, sizeof pl);
       if (kt && kt->plane) memcpy(kt->plane[fi], pl, sizeof pl);
+      if (kt && kt->den) kt->den[fi] = lamb ? lambert_den(pl, ll) : 0;
     }
     if (!(pl[0] | pl[1] | pl[2])) { out->dropped++; continue; }   /* face_plane found none */
     if (cost) {
@@ -968,7 +985,9 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     m->sline = sf->line;
     memcpy(m->plane, pl, sizeof pl);
     m->deye = (int64_t)-pe;
-    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey : face_grey(s, m, pl, ll));   /* 0..255 */
+    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey
+                                      : face_grey(s, m, pl, ll, kt && kt->den ? &kt->den[fi]
+                                                                              : NULL));
 
     if (!cost) { out->nface++; continue; }  /* the points engine: the row unwritten */
     gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;

@@ -76,12 +76,14 @@
 ** of a span from (zl, zh) and the odd ones from (zl, zh) + za, each by 2 za (exact: a
 ** doubling), so that a point does not wait on the addition of the point before; the t-th
 ** point of the span (t < W) then meets za's error t times, as above, and at most t
-** roundings of a step, fewer than above: the same bound holds. (With the tiles, the bounds
-** stored feed the tiles' bounds and so which parts are skipped, a figure of --stats: there
-** the steps stay one chain.)
-** The buffer keeps at each point, for the face o seen there, hi = max(zh, 0) and lo = zl
-** when zl > 0, else -inf (both -inf where no face is yet): z_o < hi, 0 <= hi, and lo is
-** finite only when z_o > lo > 0, i.e. P_o > 0. Face k at the point:
+** roundings of a step, fewer than above: the same bound holds (also when a span goes on
+** in one chain from one of its points, raster_hi_rest: a point then met at most one
+** rounding and one za a step from there). (With the tiles, the bounds stored feed the
+** tiles' bounds and so which parts are skipped, a figure of --stats: there the steps stay
+** one chain.)
+** With the tiles the buffer keeps at each point, for the face o seen there, hi =
+** max(zh, 0) and lo = zl when zl > 0, else -inf (both -inf where no face is yet): z_o <
+** hi, 0 <= hi, and lo is finite only when z_o > lo > 0, i.e. P_o > 0. Face k at the point:
 **   zl > hi: z_k > zl > hi >= max(z_o, 0), so P_k > 0 and either P_o <= 0 or
 **     |D_o| P_k > |D_k| P_o: the exact compare puts k in front (with no face yet, any
 **     zl > -inf: k is taken, as before);
@@ -89,6 +91,16 @@
 **   else the exact compare from the two faces' exact alpha, beta, gamma: only where the
 **     two depths are within about 2^-38 M of each other (the line where the faces meet,
 **     coplanar faces) or a P may be <= 0.
+** One bound.  Where no tile is kept (nothing asks a point's lo but the face drawn over
+** it), the buffer keeps hi alone (p->zhi: 8 bytes a point, not 16: half the memory the
+** spans write and the first clearing fills), and a lower bound is made from it when the
+** doubles do not take face k: lo' = fl(hi - m_o), m_o = fl(3 E_o) of the face o seen
+** there (p->m3). When lo' > 0, hi = zh (hi >= m_o > 0: not the clamp), and zh < z_o +
+** E_o + 2^-42 M_o (above) with 2^-42 M_o < E_o / 3 (E_o = 2^-40 M'_o, M'_o > (1 - 8u)
+** M_o): z_o > hi - 4 E_o / 3; while lo' <= hi - 3 E_o (1 - u) + 2u 2M_o (hi < 2M_o, one
+** rounding each) < hi - 4 E_o / 3. So z_o > lo' > 0 (P_o > 0), and zh < lo' puts k
+** behind, as zh < lo does above; lo' <= 0 decides nothing (then the exact compare). No
+** face yet: hi = -inf, any zl > hi (p->m3[0] = 0 for the face -1 makes lo' -inf).
 ** A face whose least z over its box (at a corner; its double computed as z0 is, within
 ** 11.01uM < E) is > 4E has zl > z - 2E > 0 at all its points: it stores zl and zh as they
 ** are. Two faces in one plane get mface_coplanar_front's answer at every point
@@ -128,7 +140,7 @@
 ** of later faces over it. So where the faces' boxes are LAZY_BOX points or more a face
 ** (smaller faces lose more to a test a span than the clearing costs), a row's buffer is
 ** not cleared for the frame (lazy): the row keeps
-** its ready columns [a, b) (p->ready), where the face and bounds are a face's or
+** its ready columns [a, b) (p->ready), where the face and hi are a face's or
 ** nothing's (-1, -inf), a run that grows as spans come (row_ready). A span over them
 ** first clears its columns outside them; a span on a row with none, or beside them (the
 ** columns between then cleared), sees nothing anywhere and writes its face and bounds
@@ -188,12 +200,11 @@ struct points_plane {
   wide alpha, beta, gamma;
 };
 
-/* What a point's buffer knows of the face seen there in doubles: z = P / D lies strictly
-   between lo and hi; hi >= 0 and lo > 0 (else -inf) once a face is seen, both -inf while
-   none is (see the top of the file). */
+/* What a point's buffer knows of the face seen there in doubles where tiles are kept:
+   z = P / D lies strictly between lo and hi; hi >= 0 and lo > 0 (else -inf) once a face
+   is seen, both -inf while none is (see the top of the file). */
 struct points_z {
-  double lo, hi;                /* in this order: a pair of doubles (zl, zh) is stored as one
-                                   (raster_span) */
+  double lo, hi;
 };
 
 /* A face's box of points (columns ilo .. ihi - 1, rows jlo .. jhi) and its depth z in
@@ -618,99 +629,135 @@ struct coplane {
   bool front;
 };
 
-#ifdef __SSE2__
-/* raster_plain's points from q on (see there), the exact compare asked where the doubles
-   do not decide (out of line: the call's saved registers stay off the plain loop). */
+/* The least of the depth of the face o seen at a point whose hi is h (see "One bound" at
+   the top of the file): z_o > lo_of(h, m_o) when that is > 0, m_o = p->m3[o + 1]. */
+static inline double lo_of(double h, double m)
+{
+  return h - m;
+}
+
+/* Is face k (bounds zl, zh at point i of a row: faces fb, bounds hb) decided at the point
+   where the doubles do not take it (!(zl > hb[i])), and in front there? Behind for certain
+   when zh < lo_of(hb[i], m_o) and that is > 0 ("One bound"); else the exact compare, the
+   answer against a face in k's plane kept in *co, *cofront (in_front_exact's *same). */
+static inline __attribute__((always_inline)) bool
+point_front(const struct points *p, int k, int64_t j, const int32_t *fb, const double *hb,
+            int32_t i, double zh, int *co, bool *cofront)
+{
+  const int o = fb[i];
+  if (o == *co) return *cofront;                /* (first: no load of the margin) */
+  const double lo = lo_of(hb[i], p->m3[o + 1]);
+  if (zh < lo && lo > 0) return false;          /* behind, certainly */
+  bool same;
+  const bool front = in_front_exact(p, k, o, i, j, &same);
+  if (same) { *co = o; *cofront = front; }
+  return front;
+}
+
+/* Where no tile is kept: face k over columns i0 .. i1 - 1 of row j (faces fb, bounds hb),
+   from point i on, bounds zl, zh at i stepped by + za (one chain), the exact compare asked
+   where the doubles do not decide (out of line: the call's saved registers stay off
+   raster_hi's loop). plus: zl > 0 over the box (hi = zh, else max(zh, 0)). */
 static __attribute__((noinline)) void
-raster_plain_rest(const struct points *p, int k, int64_t j, double *zd, char *fe, int32_t i1,
-                  ptrdiff_t q, __m128d v, __m128d dv, struct coplane *cp)
+raster_hi_rest(const struct points *p, int k, int64_t j, int32_t *fb, double *hb, int32_t i,
+               int32_t i1, double zl, double zh, double za, bool plus, struct coplane *cp)
 {
   int co = cp->o;                               /* a face in face k's plane met so far */
   bool cofront = cp->front;                     /* and the exact compare's answer against it */
-  for (; q != 0; q += 2, v = _mm_add_pd(v, dv)) {
-    if (!(_mm_cvtsd_f64(v) > zd[q + 1])) {     /* !(zl > hi) */
-      if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
-        continue;                               /* zh < lo: behind, certainly */
-      int o = *(int32_t *)(void *)(fe + 2 * q);
-      bool front = cofront, same;
-      if (o != co) {
-        front = in_front_exact(p, k, o, i1 + q / 2, j, &same);
-        if (same) { co = o; cofront = front; }
-      }
-      if (!front) continue;
-    }
-    *(int32_t *)(void *)(fe + 2 * q) = k;
-    _mm_storeu_pd(zd + q, v);
+  for (; i < i1; i++, zl += za, zh += za) {
+    if (!(zl > hb[i]) && !point_front(p, k, j, fb, hb, i, zh, &co, &cofront)) continue;
+    fb[i] = k;
+    hb[i] = plus || zh > 0 ? zh : 0;
   }
   cp->o = co;
   cp->front = cofront;
 }
 
-/* raster_plain's point q with bounds v = (zl, zh) (see there): false when handed on to
-   raster_plain_rest (the exact compare asked there), which then does the rest of the span. */
-static inline __attribute__((always_inline)) bool
-plain_point(const struct points *p, int k, int64_t j, double *zd, char *fe, int32_t i1,
-            ptrdiff_t q, __m128d v, __m128d dv, struct coplane *cp)
-{
-  if (__builtin_expect(!(_mm_cvtsd_f64(v) > zd[q + 1]), 0)) {   /* !(zl > hi) */
-    if (_mm_cvtsd_f64(_mm_unpackhi_pd(v, v)) < zd[q])
-      return true;                              /* zh < lo: behind, certainly */
-    raster_plain_rest(p, k, j, zd, fe, i1, q, v, dv, cp);
-    return false;
-  }
-  *(int32_t *)(void *)(fe + 2 * q) = k;
-  _mm_storeu_pd(zd + q, v);
-  return true;
-}
-
-/* raster_span's work for a face with zl > 0 over its box and no tiles kept, over row j's
-   faces fb and bounds zb: zl and zh as one pair of doubles v = (zl, zh), stored as (lo, hi)
-   where face k is taken (lo = zl, hi = zh). Points decided by the doubles here (zl > hi: in
-   front; zh < lo: behind); from the first the exact compare must decide on,
-   raster_plain_rest. The bounds go in two chains ("Float filter", two chains): the even
-   points' from v, the odd points' from v + za, each stepped by 2 za a pair of points (an
-   addition's latency a pair, not a point). */
+/* raster_hi_rest's points where the doubles decide (zl > hi: in front; behind for
+   certain, "One bound"), from the first the exact compare must decide on handed to it. */
 static inline __attribute__((always_inline)) void
-raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
-             int32_t i0, int32_t i1, double zl, double zh, double za, struct coplane *cp)
+raster_hi(const struct points *p, int k, int64_t j, int32_t *fb, double *hb, int32_t i0,
+          int32_t i1, double zl, double zh, double za, bool plus, struct coplane *cp)
 {
-  __m128d v = _mm_set_pd(zh, zl);
+  for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+    if (__builtin_expect(!(zl > hb[i]), 0)) {
+      const double lo = lo_of(hb[i], p->m3[fb[i] + 1]);
+      if (zh < lo && lo > 0) continue;          /* behind, certainly */
+      raster_hi_rest(p, k, j, fb, hb, i, i1, zl, zh, za, plus, cp);
+      return;
+    }
+    fb[i] = k;
+    hb[i] = plus || zh > 0 ? zh : 0;
+  }
+}
+
+#ifdef __SSE2__
+/* raster_hi for a face with zl > 0 over its box, two points a step: V = (zl, zl + za) the
+   lower bounds of points i and i + 1, H = (zh, zh + za) the upper, each lane stepped by
+   2 za (exact: a doubling) so that a point does not wait on the addition of the point
+   before ("Float filter", two chains); both points taken at once where both lower bounds
+   are above the points' hi (one compare of two lanes), or where each is in front or
+   behind for certain; from the first pair where one is neither, raster_hi_rest, in one
+   chain from the pair's first point (its t-th point from the span's start met at most t
+   additions, za's error t times: the bound holds, "Float filter"). */
+static inline __attribute__((always_inline)) void
+raster_plain(const struct points *p, int k, int64_t j, int32_t *fb, double *hb, int32_t i0,
+             int32_t i1, double zl, double zh, double za, struct coplane *cp)
+{
   const __m128d dv = _mm_set1_pd(za), dv2 = _mm_add_pd(dv, dv);   /* 2 za: exact */
-  __m128d w = _mm_add_pd(v, dv);
-  /* one index for both buffers, from -2 (i1 - i0) up to 0 by 2: point i at q = 2 (i -
-     i1) is the doubles zd[q] (lo), zd[q + 1] (hi) and the face q / 2 past fe, 2q bytes */
-  double *const zd = &zb[i1].lo;
-  char *const fe = (char *)(fb + i1);
-  for (ptrdiff_t q = -2 * (ptrdiff_t)(i1 - i0); q != 0;
-       q += 4, v = _mm_add_pd(v, dv2), w = _mm_add_pd(w, dv2)) {
-    if (!plain_point(p, k, j, zd, fe, i1, q, v, dv, cp)) return;
-    if (q + 2 == 0) return;
-    if (!plain_point(p, k, j, zd, fe, i1, q + 2, w, dv, cp)) return;
+  __m128d V = _mm_add_pd(_mm_set1_pd(zl), _mm_set_pd(za, 0));   /* (zl, zl + za) */
+  __m128d H = _mm_add_pd(_mm_set1_pd(zh), _mm_set_pd(za, 0));
+  const __m128i kk = _mm_set1_epi32(k);
+  const double *const m3 = p->m3 + 1;
+  int32_t i = i0;
+  for (; i + 1 < i1; i += 2, V = _mm_add_pd(V, dv2), H = _mm_add_pd(H, dv2)) {
+    const __m128d h = _mm_loadu_pd(hb + i);
+    const int f = _mm_movemask_pd(_mm_cmpgt_pd(V, h));   /* in front: zl > hi */
+    if (__builtin_expect(f != 3, 0)) {
+      /* behind for certain: zh < lo_of(hi, m_o) (> 0 then, as zh > zl > 0), where the
+         face seen is one (-1: m3[-1], 0, with hi -inf; such a lane is in front) */
+      const __m128d lo = _mm_sub_pd(h, _mm_set_pd(m3[fb[i + 1]], m3[fb[i]]));
+      const int b = _mm_movemask_pd(_mm_cmplt_pd(H, lo));
+      if ((f | b) != 3) {                       /* the exact compare, at one of the two */
+        raster_hi_rest(p, k, j, fb, hb, i, i1, _mm_cvtsd_f64(V), _mm_cvtsd_f64(H), za, true,
+                       cp);
+        return;
+      }
+      if (f) {                                  /* one in front, the other behind */
+        const int l = f >> 1;
+        fb[i + l] = k;
+        hb[i + l] = _mm_cvtsd_f64(l ? _mm_unpackhi_pd(H, H) : H);
+      }
+      continue;
+    }
+    _mm_storel_epi64((__m128i *)(void *)(fb + i), kk);
+    _mm_storeu_pd(hb + i, H);
+  }
+  if (i < i1) {                                 /* the last point: lane 0 */
+    if (!(_mm_cvtsd_f64(V) > hb[i])) {
+      raster_hi_rest(p, k, j, fb, hb, i, i1, _mm_cvtsd_f64(V), _mm_cvtsd_f64(H), za, true,
+                     cp);
+      return;
+    }
+    fb[i] = k;
+    hb[i] = _mm_cvtsd_f64(H);
   }
 }
 #endif
 
-/* Points i0 .. i1 - 1 of a row (faces fb, bounds zb) set to nothing seen: face -1, bounds
-   -inf (a pair of doubles a store where the processor has SSE2). */
-static void points_none(int32_t *fb, struct points_z *zb, int32_t i0, int32_t i1)
+/* Points i0 .. i1 - 1 of a row where no tile is kept (faces fb, bounds hb) set to nothing
+   seen: face -1, hi -inf. */
+static void points_none(int32_t *fb, double *hb, int32_t i0, int32_t i1)
 {
-#ifdef __SSE2__
-  const __m128d none = _mm_set1_pd(-HUGE_VAL);
   for (int32_t i = i0; i < i1; i++) {
     fb[i] = -1;
-    _mm_storeu_pd(&zb[i].lo, none);
+    hb[i] = -HUGE_VAL;
   }
-#else
-  for (int32_t i = i0; i < i1; i++) {
-    fb[i] = -1;
-    zb[i].lo = zb[i].hi = -HUGE_VAL;
-  }
-#endif
 }
 
 /* Row j's columns [i0, i1) made to hold a face and bounds where no tile is kept
    ("Clearing"): those of them outside the row's ready columns set to nothing seen (face -1,
-   bounds -inf), the ready columns grown to take them in. True: nothing is seen at any of
+   hi -inf), the ready columns grown to take them in. True: nothing is seen at any of
    [i0, i1) (the row had no ready column, or [i0, i1) lies beside its ready columns, which
    then take in it and the columns between, those cleared): [i0, i1) is left untouched,
    for the caller to write as raster_fresh does. */
@@ -726,63 +773,60 @@ static inline bool row_ready(struct points *p, const struct grid *g, int64_t j, 
   }
   const size_t row = (size_t)j * (size_t)g->W;
   if (i1 <= a) {                                /* left of them: the gap between cleared */
-    points_none(p->face + row, p->z + row, i1, a);
+    points_none(p->face + row, p->zhi + row, i1, a);
     r[0] = i0;
     return true;
   }
   if (i0 >= e) {                                /* right of them */
-    points_none(p->face + row, p->z + row, e, i0);
+    points_none(p->face + row, p->zhi + row, e, i0);
     r[1] = i1;
     return true;
   }
   if (i0 < a) {
-    points_none(p->face + row, p->z + row, i0, a);
+    points_none(p->face + row, p->zhi + row, i0, a);
     r[0] = i0;
   }
   if (i1 > e) {
-    points_none(p->face + row, p->z + row, e, i1);
+    points_none(p->face + row, p->zhi + row, e, i1);
     r[1] = i1;
   }
   return false;
 }
 
-/* Face k over columns i0 .. i1 - 1 of row j (faces fb, bounds zb) where nothing is seen
+/* Face k over columns i0 .. i1 - 1 of row j (faces fb, bounds hb) where nothing is seen
    yet (row_ready's true): taken at every point, as the compare takes it there (zl is a
-   finite double, > hi = -inf), with the bounds raster_take stores, zl and zh stepped by
-   + za as raster_span and raster_plain step them (the same values); nothing read. */
+   finite double, > hi = -inf), with the hi raster_hi and raster_plain store (zh stepped
+   by + za as they step it: the same values); nothing read. */
 static inline __attribute__((always_inline)) void
-raster_fresh(int k, int32_t *fb, struct points_z *zb, int32_t i0, int32_t i1, double zl,
-             double zh, double za, bool plus)
+raster_fresh(int k, int32_t *fb, double *hb, int32_t i0, int32_t i1, double zh, double za,
+             bool plus)
 {
 #ifdef __SSE2__
   if (plus) {                                   /* in raster_plain's two chains */
-    __m128d v = _mm_set_pd(zh, zl);
-    const __m128d dv = _mm_set1_pd(za), dv2 = _mm_add_pd(dv, dv);
-    __m128d w = _mm_add_pd(v, dv);
+    const __m128d dv2 = _mm_set1_pd(za + za);
+    __m128d H = _mm_add_pd(_mm_set1_pd(zh), _mm_set_pd(za, 0));
+    const __m128i kk = _mm_set1_epi32(k);
     int32_t i = i0;
-    for (; i + 1 < i1; i += 2, v = _mm_add_pd(v, dv2), w = _mm_add_pd(w, dv2)) {
-      fb[i] = k;
-      fb[i + 1] = k;
-      _mm_storeu_pd(&zb[i].lo, v);
-      _mm_storeu_pd(&zb[i + 1].lo, w);
+    for (; i + 1 < i1; i += 2, H = _mm_add_pd(H, dv2)) {
+      _mm_storel_epi64((__m128i *)(void *)(fb + i), kk);
+      _mm_storeu_pd(hb + i, H);
     }
     if (i < i1) {
       fb[i] = k;
-      _mm_storeu_pd(&zb[i].lo, v);
+      hb[i] = _mm_cvtsd_f64(H);
     }
     return;
   }
 #endif
-  for (int32_t i = i0; i < i1; i++, zl += za, zh += za) {
+  for (int32_t i = i0; i < i1; i++, zh += za) {
     fb[i] = k;
-    zb[i].hi = plus || zh > 0 ? zh : 0;
-    zb[i].lo = plus || zl > 0 ? zl : -HUGE_VAL;
+    hb[i] = plus || zh > 0 ? zh : 0;
   }
 }
 
-/* Face k's write at point i of row j (faces fb, bounds zb; trow: the row's tiles, or NULL)
-   where it is in front: the face, its bounds lo and hi, and the tile's bounds kept
-   ("Tiles"); was: the point's lo before. */
+/* Face k's write at point i of row j (faces fb, bounds lb, hb; trow: the row's tiles) where
+   it is in front, with the tiles kept: the face, its bounds lo and hi, and the tile's
+   bounds kept ("Tiles"); was: the point's lo before. */
 static inline __attribute__((always_inline)) void
 raster_take(int k, int32_t i, int32_t *fb, struct points_z *zb, double zl, double zh,
             double was, bool plus, struct points_tile *trow)
@@ -796,7 +840,7 @@ raster_take(int k, int32_t i, int32_t *fb, struct points_z *zb, double zl, doubl
     zb[i].hi = zh > 0 ? zh : 0;
     lo = zl > 0 ? zl : -HUGE_VAL;
   }
-  if (!trow) { zb[i].lo = lo; return; }
+  if (!trow) { zb[i].lo = lo; return; }        /* (never: kept for the loop's place, below) */
   struct points_tile *T = trow + (i >> TILE_SHIFT);
   const int dn = (!plus && lo == -HUGE_VAL) - (was == -HUGE_VAL);   /* plus: lo = zl > 0 */
   T->ninf += dn;                                /* (no branch: where it is not 0 is unguessable) */
@@ -807,9 +851,9 @@ raster_take(int k, int32_t i, int32_t *fb, struct points_z *zb, double zl, doubl
   T->dirty |= !(lo < tl) & (was <= tl);
 }
 
-/* raster_span's points from i on (zl, zh their bounds at i), the exact compare asked where
-   the doubles do not decide (out of line: the call's saved registers stay off
-   raster_span's loop). */
+/* raster_span's points from i on with the tiles kept (zl, zh their bounds at i), the exact
+   compare asked where the doubles do not decide (out of line: the call's saved registers
+   stay off raster_loop's loop). */
 static __attribute__((noinline)) void
 raster_span_rest(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
                  int32_t i, int32_t i1, double zl, double zh, double za, bool plus,
@@ -835,8 +879,9 @@ raster_span_rest(const struct points *p, int k, int64_t j, int32_t *fb, struct p
   cp->front = cofront;
 }
 
-/* raster_span's loop: the points the doubles decide (zl > hi: in front; zh < lo: behind)
-   here; from the first the exact compare must decide on, raster_span_rest. */
+/* raster_span's loop with the tiles kept: the points the doubles decide (zl > hi: in
+   front; zh < lo: behind) here; from the first the exact compare must decide on,
+   raster_span_rest. */
 static inline __attribute__((always_inline)) void
 raster_loop(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
             int32_t i0, int32_t i1, double zl, double zh, double za, bool plus,
@@ -855,7 +900,9 @@ raster_loop(const struct points *p, int k, int64_t j, int32_t *fb, struct points
 
 /* raster_loop with the tiles kept, for zl > 0 over the box and not: out of line and on a
    64-byte boundary, so that where the loop lies does not move with the code around it
-   (its speed on tris160 changed by a quarter with a 16-byte shift). */
+   (its speed on tris160 changed by a quarter with a 16-byte shift; raster_take's test of
+   trow, never NULL here, keeps the loop 8 bytes on: without it, tris160's points engine
+   took a fifth longer). */
 static __attribute__((noinline, aligned(64))) void
 raster_tiles_plus(const struct points *p, int k, int64_t j, int32_t *fb, struct points_z *zb,
                   int32_t i0, int32_t i1, double zl, double zh, double za,
@@ -875,8 +922,8 @@ raster_tiles_any(const struct points *p, int k, int64_t j, int32_t *fb, struct p
 /* Face k over the columns i0 .. i1 - 1 of row j: zl, zh its bounds at i0, stepped by za
    (see the top of the file). `plus`: zl > 0 at every point of the face's box (so are zh
    and max(zh, 0)), as the caller proved. trow: row j's tiles, whose bounds are kept
-   ("Tiles"); NULL when no face of the frame asks them (none is drawn with their tests).
-   cp: face k's coplane, kept while it is drawn. */
+   ("Tiles"); NULL when no face of the frame asks them (none is drawn with their tests):
+   then only hi is kept ("One bound"). cp: face k's coplane, kept while it is drawn. */
 static inline __attribute__((always_inline)) void
 raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0, int32_t i1,
             double zl, double zh, double za, bool plus, struct points_tile *trow,
@@ -885,23 +932,23 @@ raster_span(struct points *p, const struct grid *g, int k, int64_t j, int32_t i0
   p->points_visited += i1 - i0;
   size_t row = (size_t)j * (size_t)g->W;
   int32_t *fb = p->face + row;
-  struct points_z *zb = p->z + row;
-  if (!trow && g->lazy && row_ready(p, g, j, i0, i1)) {   /* nothing seen there yet */
-    raster_fresh(k, fb, zb, i0, i1, zl, zh, za, plus);
+  if (trow) {
+    if (plus) raster_tiles_plus(p, k, j, fb, p->z + row, i0, i1, zl, zh, za, trow, cp);
+    else raster_tiles_any(p, k, j, fb, p->z + row, i0, i1, zl, zh, za, trow, cp);
+    return;
+  }
+  double *hb = p->zhi + row;
+  if (g->lazy && row_ready(p, g, j, i0, i1)) {  /* nothing seen there yet */
+    raster_fresh(k, fb, hb, i0, i1, zh, za, plus);
     return;
   }
 #ifdef __SSE2__
-  if (plus && !trow) {
-    raster_plain(p, k, j, fb, zb, i0, i1, zl, zh, za, cp);
+  if (plus) {
+    raster_plain(p, k, j, fb, hb, i0, i1, zl, zh, za, cp);
     return;
   }
 #endif
-  if (trow) {
-    if (plus) raster_tiles_plus(p, k, j, fb, zb, i0, i1, zl, zh, za, trow, cp);
-    else raster_tiles_any(p, k, j, fb, zb, i0, i1, zl, zh, za, trow, cp);
-    return;
-  }
-  raster_loop(p, k, j, fb, zb, i0, i1, zl, zh, za, plus, NULL, cp);
+  raster_hi(p, k, j, fb, hb, i0, i1, zl, zh, za, plus, cp);
 }
 /* *d = v as two 64-bit stores, from the two registers a 128-bit product leaves (gcc,
    given `*d = v`, kept the product on the stack a half at a time and copied it out with one
@@ -970,6 +1017,7 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   const double zmin = b->za * (double)(b->arise ? ilo : ihi - 1) +
                       (b->zb * (double)(b->brise ? jlo : jhi) + b->zc);
   b->plus = zmin > 4 * b->E;
+  p->m3[k + 1] = 3 * b->E;                        /* "One bound" */
   return true;
 }
 
@@ -1146,13 +1194,47 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
    PREFETCH_MIN points: there the asking costs more than it saves (street, whose faces
    are small, was 2.5% slower with it; fig6-room, whose faces are large, 3% faster). */
 #define PREFETCH_MIN 16
-static inline void span_prefetch(const int32_t *fb, const struct points_z *zb, const int32_t *x)
+static inline void span_prefetch(const int32_t *fb, const double *hb, const int32_t *x)
 {
   const int32_t a = x[0] < x[1] ? x[0] : x[1], e = x[0] < x[1] ? x[1] : x[0];
   if (e - a < PREFETCH_MIN) return;
-  for (int32_t i = a; i < e; i += 4) __builtin_prefetch(zb + i, 1);   /* 4 a line */
+  for (int32_t i = a; i < e; i += 8) __builtin_prefetch(hb + i, 1);   /* 8 a line */
   for (int32_t i = a; i < e; i += 16) __builtin_prefetch(fb + i, 1);  /* 16 a line */
 }
+
+#ifdef __SSE2__
+/* face_draw's rows of face k (box b, rows jlo .. jlo + nrow - 1, two crossings a row at
+   p->cross) where no tile is kept and zl > 0 over the box: span_parts' steps without its
+   tests (out of line: the paths with the tiles keep their own registers). */
+static __attribute__((noinline)) void draw_plain(struct points *p, const struct grid *g, int k,
+                                                 const struct points_box *b, int64_t jlo,
+                                                 int nrow, struct coplane *cp)
+{
+  const double za = b->za, zb = b->zb, zc = b->zc, E = b->E;
+  int32_t *fb = p->face + (size_t)jlo * (size_t)g->W;
+  double *zrow = p->zhi + (size_t)jlo * (size_t)g->W;
+  long visited = 0;
+  span_prefetch(fb, zrow, p->cross);
+  for (int r = 0; r < nrow; r++, fb += g->W, zrow += g->W) {
+    int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
+    const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
+    i0 = c0 < c1 ? c0 : c1;
+    i1 = c0 < c1 ? c1 : c0;
+    if (i0 >= i1) continue;
+    visited += i1 - i0;
+    const int64_t j = jlo + r;
+    if (r + 1 < nrow)                           /* the next row's span asked for ahead */
+      span_prefetch(fb + g->W, zrow + g->W, p->cross + 2 * r + 2);
+    const double z0 = za * (double)i0 + (zb * (double)j + zc);
+    if (g->lazy && row_ready(p, g, j, i0, i1))  /* nothing seen there yet */
+      raster_fresh(k, fb, zrow, i0, i1, z0 + E, za, true);
+    else
+      raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, cp);
+  }
+  p->points_visited += visited;
+  if (!visited) p->faces_culled++;
+}
+#endif
 
 /* Face k, its box b, into the buffer: by exact scanline crossings, each span's part over a
    tile skipped when the tile's bound proves the face behind there (coarse, "Tiles"). tiles:
@@ -1224,29 +1306,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   bool any = false;
 #ifdef __SSE2__
   if (two && !coarse && !tiles && b->plus) {    /* span_parts' steps, no tile, zl > 0 */
-    const double za = b->za, E = b->E;
-    int32_t *fb = p->face + (size_t)jlo * (size_t)g->W;
-    struct points_z *zrow = p->z + (size_t)jlo * (size_t)g->W;
-    long visited = 0;
-    span_prefetch(fb, zrow, p->cross);
-    for (int r = 0; r < nrow; r++, fb += g->W, zrow += g->W) {
-      int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
-      const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
-      i0 = c0 < c1 ? c0 : c1;
-      i1 = c0 < c1 ? c1 : c0;
-      if (i0 >= i1) continue;
-      visited += i1 - i0;
-      const int64_t j = jlo + r;
-      if (r + 1 < nrow)                         /* the next row's span asked for ahead */
-        span_prefetch(fb + g->W, zrow + g->W, p->cross + 2 * r + 2);
-      const double z0 = za * (double)i0 + (zb * (double)j + zc);
-      if (g->lazy && row_ready(p, g, j, i0, i1))   /* nothing seen there yet */
-        raster_fresh(k, fb, zrow, i0, i1, z0 - E, z0 + E, za, true);
-      else
-        raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, &cp);
-    }
-    p->points_visited += visited;
-    if (!visited) p->faces_culled++;
+    draw_plain(p, g, k, b, jlo, nrow, &cp);
     return T74_OK;
   }
 #endif
@@ -1385,9 +1445,11 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   if (!p->face || p->W != vg->W || p->H != vg->H) {
     free(p->face);
     free(p->z);
+    free(p->zhi);
+    p->z = NULL;                                  /* (made when a frame needs it, below) */
+    p->zhi = NULL;
     p->face = malloc((n ? n : 1) * sizeof *p->face);
-    p->z = malloc((n ? n : 1) * sizeof *p->z);
-    if (!p->face || !p->z) return t74_fail(err, T74_EIO, "out of host memory");
+    if (!p->face) return t74_fail(err, T74_EIO, "out of host memory");
     p->W = vg->W;
     p->H = vg->H;
   }
@@ -1418,6 +1480,9 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   p->tiles_skipped = 0;
   p->points_visited = 0;
   int nf = p->map.nface;
+  if (!grow((void **)&p->m3, &p->m3cap, nf + 1, sizeof *p->m3))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  p->m3[0] = 0;                                   /* (no face: hi -inf, "One bound") */
   if (!grow((void **)&p->box, &p->boxcap, nf + 1, sizeof *p->box) ||
       !grow((void **)&p->order, &p->ordercap, nf + 1, sizeof *p->order) ||
       !grow((void **)&p->key, &p->keycap, nf + 1, sizeof *p->key))
@@ -1452,6 +1517,10 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
   }
   const bool tiles = area >= limit;               /* a face is left for the tiles */
+  if (tiles && !p->z && !(p->z = malloc((n ? n : 1) * sizeof *p->z)))   /* (lo, hi) */
+    return t74_fail(err, T74_EIO, "out of host memory");
+  if (!tiles && !p->zhi && !(p->zhi = malloc((n ? n : 1) * sizeof *p->zhi)))   /* hi alone */
+    return t74_fail(err, T74_EIO, "out of host memory");
   /* nothing seen yet. With the tiles, over the whole grid (their bounds are the least over
      whole tiles, and face_hidden may ask any); lazy, no row has a ready column: each span
      makes its columns ready as it comes (row_ready, "Clearing") and the faces of the
@@ -1468,10 +1537,11 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       return t74_fail(err, T74_EIO, "out of host memory");
     memset(p->ready, 0, (size_t)(2 * g.H) * sizeof *p->ready);
   } else {
-    /* the depth bounds over every row with the tiles, else over the rows and columns of
-       the faces' boxes, the only ones their spans visit (a span's columns lie in its
-       face's box, [ilo, ihi), as its crossings lie between the face's least and greatest
-       x and the first column at or right of an x does not fall as x grows) */
+    /* the depth bounds over every row with the tiles (lo and hi), else (hi only, "One
+       bound") over the rows and columns of the faces' boxes, the only ones their spans
+       visit (a span's columns lie in its face's box, [ilo, ihi), as its crossings lie
+       between the face's least and greatest x and the first column at or right of an x
+       does not fall as x grows) */
     int zj0 = tiles ? 0 : g.H, zj1 = tiles ? g.H - 1 : -1;
     int zi0 = tiles ? 0 : g.W, zi1 = tiles ? g.W : 0;
     for (int d = 0; !tiles && d < nb; d++) {
@@ -1480,12 +1550,16 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       zi0 = p->box[d].ilo < zi0 ? p->box[d].ilo : zi0;
       zi1 = p->box[d].ihi > zi1 ? p->box[d].ihi : zi1;
     }
-    if (zj0 <= zj1 && zi0 < zi1) {
-      struct points_z *z0 = p->z + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
-      for (int i = 0; i < zi1 - zi0; i++) z0[i].hi = z0[i].lo = -HUGE_VAL;
+    if (tiles) {
+      for (int i = 0; i < g.W; i++) p->z[i].hi = p->z[i].lo = -HUGE_VAL;
+      for (int j = 1; j < g.H; j++)               /* the other rows as the first */
+        memcpy(p->z + (size_t)j * (size_t)g.W, p->z, (size_t)g.W * sizeof *p->z);
+    } else if (zj0 <= zj1 && zi0 < zi1) {
+      double *z0 = p->zhi + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
+      for (int i = 0; i < zi1 - zi0; i++) z0[i] = -HUGE_VAL;
       for (int j = zj0 + 1; j <= zj1; j++)        /* the other rows as the first */
-        memcpy(p->z + (size_t)j * (size_t)g.W + (size_t)zi0, z0,
-               (size_t)(zi1 - zi0) * sizeof *p->z);
+        memcpy(p->zhi + (size_t)j * (size_t)g.W + (size_t)zi0, z0,
+               (size_t)(zi1 - zi0) * sizeof *p->zhi);
     }
     for (int j = 0; j < g.H; j++)
       memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
@@ -1541,6 +1615,8 @@ void points_free(struct points *p)
   seg_scratch_free(p->segscr);
   free(p->face);
   free(p->z);
+  free(p->zhi);
+  free(p->m3);
   free(p->plane);
   free(p->edge);
   free(p->cross);
@@ -1554,3 +1630,4 @@ void points_free(struct points *p)
   free(p->ready);
   memset(p, 0, sizeof *p);
 }
+

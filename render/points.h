@@ -70,7 +70,10 @@ struct points {
   struct core *core;                /* room for the Mapper's tables (never reported) */
   struct core *segcore;             /* room for the Segment Generator's simplicity check */
   struct seg_scratch *segscr;       /* and its scratch tables (segment.h seg_check) */
-  struct points_z *z;               /* W x H: bounds on the depth of the face seen (points.c) */
+  struct points_z *z;               /* W x H: bounds on the depth of the face seen where
+                                       tiles are kept (points.c) */
+  double *zhi;                      /* W x H: the upper bound alone where none are */
+  double *m3; int m3cap;            /* each face's margin (points.c, "One bound") */
   struct points_plane *plane; int planecap;   /* each face's exact depth over the grid */
   struct points_edge *edge; int edgecap;
   int32_t *cross; int crosscap;     /* column thresholds of one face, row by row */

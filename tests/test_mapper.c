@@ -628,6 +628,69 @@ static void test_rings_turned_ccw(void **state)
   scene_free(s);
 }
 
+/* The Lambert denominators kept with the planes (struct mapper_keep's den): a scene lit by
+   one parallel light, of triangles with no grey of their own (their greys by Lambert's
+   law), some turned from the light, some edge-on to it, mapped with a keep three times
+   (the search, then two replays), counted and not, and on a keep that held another
+   scene's: every run maps the faces a run without a keep maps, greys too. */
+static void test_kept_greys(void **state)
+{
+  (void)state;
+  for (int lights = 1; lights <= 2; lights++) {
+    struct text x = { NULL, 0, 0 };
+    put(&x, "view 0 0 -500\nwindow -200 -150 200 150\nlight -45 60 -80\n");
+    if (lights == 2) put(&x, "light 30 -20 -90\n");     /* (shade_grey's case) */
+    rnd_state = 2026 + (uint32_t)lights;
+    int v = 0;
+    for (int q = 0; q < 80; q++) {
+      const int cx = rnd(-150, 150), cy = rnd(-110, 110), z = rnd(100, 900);
+      static const int ox[3] = { -25, 25, 0 }, oy[3] = { -20, -20, 25 };
+      for (int k = 0; k < 3; k++)
+        put(&x, "vertex %d %d %d %d\n", ++v, cx + ox[k] + rnd(-5, 5), cy + oy[k] + rnd(-5, 5),
+            z + (q % 4 == 3 ? 0 : rnd(-60, 60)));
+      put(&x, "face %d %d %d %d\n", q + 1, v - 2, v - 1, v);
+    }
+    struct scene *s = load_text_taken(x.t), *other = load_text_taken(strdup(
+        "view 0 0 -500\nwindow -200 -150 200 150\nlight 1 2 -3\n"
+        "vertex 1 -50 -50 100\nvertex 2 50 -50 120\nvertex 3 0 50 140\nface 1 1 2 3\n"));
+    struct core *core = core_new(1u << 22);
+    assert_non_null(core);
+    struct t74_error err = { 0, "" };
+    struct mapped want;
+    assert_int_equal(mapper_run(s, &want, core, NULL, &err), T74_OK);
+    int lit = 0;
+    for (int f = 0; f < want.nface; f++) lit += want.f[f].grey != want.f[0].grey;
+    assert_true(lit > 0);                       /* greys that differ: the law at work */
+    for (int counted = 0; counted < 2; counted++)
+      for (int first_other = 0; first_other < 2; first_other++) {
+        struct mapper_keep k;
+        memset(&k, 0, sizeof k);
+        struct cost c;
+        memset(&c, 0, sizeof c);
+        if (first_other) {
+          struct mapped o;
+          assert_int_equal(mapper_run_kept(other, &o, core, counted ? &c : NULL, &k, &err),
+                           T74_OK);
+          mapper_keep_faces(&o, &k);
+          mapper_free(&o);
+        }
+        for (int run = 0; run < 3; run++) {
+          struct mapped m;
+          assert_int_equal(mapper_run_kept(s, &m, core, counted ? &c : NULL, &k, &err),
+                           T74_OK);
+          faces_equal(&m, &want);
+          mapper_keep_faces(&m, &k);
+          mapper_free(&m);
+        }
+        mapper_keep_free(&k);
+      }
+    mapper_free(&want);
+    core_free(core);
+    scene_free(other);
+    scene_free(s);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -641,6 +704,7 @@ int main(void)
     cmocka_unit_test(test_uncounted_not_replayed),
     cmocka_unit_test(test_steep_edge_all_found),
     cmocka_unit_test(test_rings_turned_ccw),
+    cmocka_unit_test(test_kept_greys),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
