@@ -1413,11 +1413,19 @@ static int cut_chains(struct fx_lines *L, struct t74_error *err)
       const int np = p->rs[r + 1] - p->rs[r];
       const struct gpoint *pt = p->pt + p->rs[r];
       for (int v = 0; v < np;) {            /* a chain from point v */
+        /* its edges e -> e + 1 (in place): those of one y, then the first whose y rises
+           or falls (its direction, dir), then every one whose y does not go the other
+           way (one compare an edge, where finding each edge's direction and comparing it
+           with dir took several) */
         int dir = 0, e = v;
-        for (; e + 1 < np; e++) {           /* its edges e -> e + 1 (in place) */
-          const int d = (pt[e + 1].y > pt[e].y) - (pt[e + 1].y < pt[e].y);
-          if (d && d == -dir) break;
-          dir = d ? d : dir;
+        while (e + 1 < np && pt[e + 1].y == pt[e].y) e++;
+        if (e + 1 < np) {
+          dir = pt[e + 1].y > pt[e].y ? 1 : -1;
+          e++;
+          if (dir > 0)
+            while (e + 1 < np && pt[e + 1].y >= pt[e].y) e++;
+          else
+            while (e + 1 < np && pt[e + 1].y <= pt[e].y) e++;
         }
         bool last = false;                  /* the ring's last edge, back to its first point */
         if (e + 1 == np) {
