@@ -137,8 +137,6 @@ struct work {
   ld *hv, *p0, *p1;
   size_t cap;
   int *rs;
-  struct gpoint *g;         /* draw_casts: a face's cast vertices on the grid (gcap) */
-  size_t gcap;
 };
 
 /* R's box in space (outer ring), exactly, in integers: lo[c], hi[c]. */
@@ -369,9 +367,10 @@ int shadow_grid_near(const struct shadow_eye *v, const double yd[3], struct gpoi
    the same order, is not below grid_near's B for any vertex of sp, and when
    edm < fl(dzlo 2^-20), each vertex's ed < fl(dz 2^-20) too: grid_near's first test
    passes at every vertex. spanned_point makes grid_near's gx and k by the same
-   operations; when fl(|gx - k| + B[c]) < 1/2 (and the tests on |gx| and |k|, the same),
-   fl(|gx - k| + grid_near's B) is not above it: grid_near accepts k too, and its proof
-   gives shadow_grid_ld's point. */
+   operations (with SSE2 k is the integer nearest gx instead: see spanned_lanes);
+   when fl(|gx - k| + B[c]) < 1/2 (and the tests on |gx| and |k|, the same),
+   fl(|gx - k| + grid_near's B) is not above it: grid_near's test passes with that k too,
+   and its proof (for any integer k) gives shadow_grid_ld's point. */
 void shadow_span_init(struct shadow_span *sp)
 {
   sp->ax[0] = sp->ax[1] = 0;
@@ -464,7 +463,7 @@ static inline void spanned_set(struct spanned *sp, const struct shadow_eye *v,
    Where the test on |gx| fails (also NaN) t is not looked at. Three operations for the
    rounding to an integer and back and the widening to 64 bits, where spanned_point's
    truncation (CVTTPD2DQ and CVTDQ2PD, two each on this processor, and four for the sign
-   and the widening) takes nine: this loop's throughput is its operations' (grid_points). */
+   and the widening) takes nine, in draw_ring's loop of about thirty a vertex. */
 static inline bool spanned_lanes(const struct spanned *sp, const double yd[3], __m128i *g)
 {
   const __m128d C = _mm_set1_pd(0x1.8p52);
@@ -521,16 +520,43 @@ static inline bool grid_point(const struct shadow_eye *v, const ld Y[3], const d
   return r >= 0 ? r : shadow_grid_ld(v, Y, g);
 }
 
-/* Ring r of cs onto the grid at poly (room for its vertices), seen from eye v, each vertex
-   by itself (grid_point) and counted in cost: the points that land, a repeat of the one
-   before dropped (the last and the first not compared); their count. */
+/* Ring r of cs onto the grid at poly (room for its vertices), seen from eye v: the
+   points that land, a repeat of the one before dropped (the last and the first not
+   compared); their count. With sp (spanned_set for a bound on its vertices; not
+   counted): spanned_point where it decides, else grid_point. */
+__attribute__((noinline))
 static int draw_ring(const struct casts *cs, int r, const struct shadow_eye *eye,
-                     struct gpoint *poly, struct cost *cost)
+                     const struct spanned *sp, struct gpoint *poly, struct cost *cost)
 {
   const size_t y0 = r ? cs->yend[r - 1] : 0, n = cs->yend[r] - y0;
   const ld (*y)[3] = (const ld (*)[3])cs->y + y0;
   const double (*yd)[3] = (const double (*)[3])cs->yd + y0;
   int m = 0;
+  if (sp && !cost) {
+#ifdef __SSE2__
+    /* each point written at poly[m], kept (m + 1) unless it is the one before, prev (at
+       first none: no point has x = INT64_MIN) */
+    __m128i prev = _mm_set1_epi64x(INT64_MIN);
+    for (size_t v = 0; v < n; v++) {
+      __m128i g;
+      if (!spanned_lanes(sp, yd[v], &g)) {
+        struct gpoint p;
+        if (!grid_point(eye, y[v], yd[v], &p)) continue;
+        g = _mm_loadu_si128((const __m128i *)&p);
+      }
+      _mm_storeu_si128((__m128i *)&poly[m], g);
+      m += _mm_movemask_epi8(_mm_cmpeq_epi32(g, prev)) != 0xffff;
+      prev = g;
+    }
+#else
+    for (size_t v = 0; v < n; v++) {
+      struct gpoint *g = &poly[m];         /* written in place: read back a word at a time */
+      if (!spanned_point(sp, yd[v], g) && !grid_point(eye, y[v], yd[v], g)) continue;
+      m += m == 0 || poly[m - 1].x != g->x || poly[m - 1].y != g->y;
+    }
+#endif
+    return m;
+  }
   for (size_t v = 0; v < n; v++) {
     struct gpoint *g = &poly[m];
     if (!grid_point(eye, y[v], yd[v], g)) continue;
@@ -544,63 +570,11 @@ static int draw_ring(const struct casts *cs, int r, const struct shadow_eye *eye
   return m;
 }
 
-/* Vertices yd[0 .. n) (y: their long doubles) onto the grid into g[0 .. n), seen from eye
-   v, with sp (spanned_set for a bound on them; or NULL) where it decides, else grid_point
-   (draw_ring's point, not counted); a vertex
-   that does not land gets x = INT64_MIN (no grid point has it: |x| < 2^28 there). One pass
-   over every vertex of a face's casts: each vertex's chain of operations (a divide, then
-   a dozen dependent ones) overlaps the next vertices', where ring by ring (draw_ring) the
-   short rings and the ring's count of points (m) left each chain waiting. */
-static void grid_points(const struct shadow_eye *eye, const struct spanned *sp,
-                        const ld (*y)[3], const double (*yd)[3], size_t n, struct gpoint *g)
-{
-  for (size_t v = 0; v < n; v++) {
-#ifdef __SSE2__
-    __m128i k;
-    if (sp && spanned_lanes(sp, yd[v], &k)) {
-      _mm_storeu_si128((__m128i *)&g[v], k);
-      continue;
-    }
-#else
-    if (sp && spanned_point(sp, yd[v], &g[v])) continue;
-#endif
-    if (!grid_point(eye, y[v], yd[v], &g[v])) g[v].x = INT64_MIN;
-  }
-}
-
-/* draw_ring's answer from grid_points' g[0 .. n) (the ring's vertices): the points that
-   land, a repeat of the one before dropped (the last and the first not compared), at
-   poly; their count. */
-static int ring_points(const struct gpoint *g, size_t n, struct gpoint *poly)
-{
-  int m = 0;
-#ifdef __SSE2__
-  /* as draw_ring's lanes: each point written at poly[m], kept unless it is prev */
-  __m128i prev = _mm_set1_epi64x(INT64_MIN);
-  for (size_t v = 0; v < n; v++) {
-    if (g[v].x == INT64_MIN) continue;
-    const __m128i p = _mm_loadu_si128((const __m128i *)&g[v]);
-    _mm_storeu_si128((__m128i *)&poly[m], p);
-    m += _mm_movemask_epi8(_mm_cmpeq_epi32(p, prev)) != 0xffff;
-    prev = p;
-  }
-#else
-  for (size_t v = 0; v < n; v++) {
-    if (g[v].x == INT64_MIN) continue;
-    if (m > 0 && poly[m - 1].x == g[v].x && poly[m - 1].y == g[v].y) continue;
-    poly[m++] = g[v];
-  }
-#endif
-  return m;
-}
-
 /* The view's part of casts [c0, c1) of cs on face R (map index; its box on the grid gb:
    x lo, x hi, y lo, y hi), seen from the eye v (sp: the span of their vertices): each ring's vertices onto the perspective
    plane by eq. (1), rounded onto the grid, repeats dropped; a polygon that misses gb is
    dropped, the others go to out. *any: set when one is added. false when out of host
-   memory. Not counted, the vertices of all the casts go onto the grid first, in one pass
-   (grid_points), then ring by ring into the polygons (ring_points): draw_ring's points
-   in draw_ring's order; counted, ring by ring (draw_ring). */
+   memory. */
 static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shadow_eye *eye,
                        const struct shadow_span *sp, const gcoord gb[4], int R,
                        struct work *wk, struct fx_polys *out, bool *any, struct cost *cost)
@@ -609,16 +583,6 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shad
   struct spanned sd;
   const bool bounded = shadow_bound_set(&bd, eye, sp);
   if (bounded) spanned_set(&sd, eye, &bd);
-  const bool batch = !cost && c0 < c1;
-  size_t yb = 0;                            /* batch: g[0] is vertex yb's */
-  if (batch) {
-    const int r0 = cs->c[c0].r0, r1 = cs->c[c1 - 1].r1;   /* (the casts' rings follow on) */
-    yb = r0 ? cs->yend[r0 - 1] : 0;
-    const size_t nv = cs->yend[r1 - 1] - yb;
-    if (!grow((void **)&wk->g, &wk->gcap, nv, sizeof *wk->g)) return false;
-    grid_points(eye, bounded ? &sd : NULL, (const ld (*)[3])cs->y + yb, (const double (*)[3])cs->yd + yb, nv,
-                wk->g);
-  }
   for (int c = c0; c < c1; c++) {
     size_t need = 0;
     int nring = 0;
@@ -629,13 +593,7 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shad
     if (!room) return false;
     for (int r = r0; r < r1; r++) {
       struct gpoint *poly = room + need;
-      int m;
-      if (batch) {
-        const size_t y0 = r ? cs->yend[r - 1] : 0;
-        m = ring_points(wk->g + (y0 - yb), cs->yend[r] - y0, poly);
-      } else {
-        m = draw_ring(cs, r, eye, poly, cost);
-      }
+      int m = draw_ring(cs, r, eye, bounded ? &sd : NULL, poly, cost);
       if (m > 1 && poly[0].x == poly[m - 1].x && poly[0].y == poly[m - 1].y) m--;
       if (m < 3) continue;
       need += (size_t)m;
@@ -776,7 +734,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
     ok = ok && draw_casts(&scratch, 0, scratch.n, &eye, &sp, gb, R, &wk, out, &any, cost);
     receivers += any;
   }
-  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs); free(wk.g);
+  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs);
   casts_free(&scratch);
   if (!ok) return t74_fail(err, T74_EIO, "out of host memory");
   fx_count(st, "shadow_polygons", (double)(out->n - polys0), true);
