@@ -367,9 +367,10 @@ int shadow_grid_near(const struct shadow_eye *v, const double yd[3], struct gpoi
    the same order, is not below grid_near's B for any vertex of sp, and when
    edm < fl(dzlo 2^-20), each vertex's ed < fl(dz 2^-20) too: grid_near's first test
    passes at every vertex. spanned_point makes grid_near's gx and k by the same
-   operations; when fl(|gx - k| + B[c]) < 1/2 (and the tests on |gx| and |k|, the same),
-   fl(|gx - k| + grid_near's B) is not above it: grid_near accepts k too, and its proof
-   gives shadow_grid_ld's point. */
+   operations (with SSE2 k is the integer nearest gx instead: see spanned_lanes);
+   when fl(|gx - k| + B[c]) < 1/2 (and the tests on |gx| and |k|, the same),
+   fl(|gx - k| + grid_near's B) is not above it: grid_near's test passes with that k too,
+   and its proof (for any integer k) gives shadow_grid_ld's point. */
 void shadow_span_init(struct shadow_span *sp)
 {
   sp->ax[0] = sp->ax[1] = 0;
@@ -451,22 +452,31 @@ static inline void spanned_set(struct spanned *sp, const struct shadow_eye *v,
 }
 
 #ifdef __SSE2__
-/* spanned_point's point as x, y in the two 64-bit lanes of *g. */
+/* spanned_point's point as x, y in the two 64-bit lanes of *g, by the same tests with
+   another integer k: the nearest to gx (ties to even), from t = fl(gx + C), C = 1.5 2^52.
+   Where |gx| < 2^28 the exact sum lies in [2^52, 2^53), where the doubles are the
+   integers, so t = C + k exactly, kd = t - C = k exactly (a difference of two doubles of
+   one binade that is itself a double), and t's bits less C's, as 64-bit integers, are k
+   (the doubles of one binade follow one another as their bits do). grid_near's proof
+   holds for any integer k: where fl(|gx - k| + B) < 1/2 and |gx| < 2^28 - 1 the long way
+   (shadow_grid_ld) rounds onto k, so where both are accepted this k is spanned_point's.
+   Where the test on |gx| fails (also NaN) t is not looked at. Three operations for the
+   rounding to an integer and back and the widening to 64 bits, where spanned_point's
+   truncation (CVTTPD2DQ and CVTDQ2PD, two each on this processor, and four for the sign
+   and the widening) takes nine, in draw_ring's loop of about thirty a vertex. */
 static inline bool spanned_lanes(const struct spanned *sp, const double yd[3], __m128i *g)
 {
+  const __m128d C = _mm_set1_pd(0x1.8p52);
   const double r = 1 / (yd[2] - sp->ez);
   const __m128d a = _mm_sub_pd(_mm_loadu_pd(yd), sp->Ev);
   const __m128d q = _mm_mul_pd(_mm_mul_pd(sp->fz, a), _mm_set1_pd(r));
   const __m128d gx = _mm_mul_pd(sp->G, _mm_add_pd(sp->Ev, q));
-  const __m128d sign = _mm_andnot_pd(sp->mag, gx);
-  const __m128i k = _mm_cvttpd_epi32(_mm_add_pd(gx, _mm_or_pd(sign, sp->half)));
-  const __m128d kd = _mm_cvtepi32_pd(k);
+  const __m128d t = _mm_add_pd(gx, C), kd = _mm_sub_pd(t, C);
   const __m128d in = _mm_cmplt_pd(_mm_and_pd(gx, sp->mag), sp->lim);
   const __m128d near = _mm_cmplt_pd(_mm_add_pd(_mm_and_pd(_mm_sub_pd(gx, kd), sp->mag), sp->B),
                                     sp->half);
   if (_mm_movemask_pd(_mm_and_pd(in, near)) != 3) return false;
-  /* k's two lanes widened to 64 bits (each with its sign's 32 bits above it): x, y */
-  *g = _mm_unpacklo_epi32(k, _mm_srai_epi32(k, 31));
+  *g = _mm_sub_epi64(_mm_castpd_si128(t), _mm_castpd_si128(C));
   return true;
 }
 #endif

@@ -420,14 +420,17 @@ static unsigned blocked_exactly(const struct fx_model *m, int f, int64_t yn, int
    Also with polygons whose vertices lie far outside the window (2^26 .. 2^27 grid units
    from its centre), one edge through it: their steps' products do not fit in 64 bits
    (edge_start's 128-bit way), beside the others' 64-bit way; fails when an overflow there
-   is not seen. */
+   is not seen. And with a rectangle alone on each face, its bottom edge along a row of
+   centres: that row, the lowest of the face's polygons, holds a stretch (fails when
+   face_ranges takes a face's rows to begin above its polygons' least ylo). */
 static void test_stepped_ends_are_exact(void **state)
 {
   (void)state;
   static const char *const scenes[] = { "scenes/fig6-room.s74", "scenes/fig6-building.s74" };
   long samples = 0, blocked = 0, on_centres = 0, far = 0, differ = 0;
   for (int sc = 0; sc < 2; sc++)
-    for (int own = 0; own < 3; own++) {     /* 1: the scene's own; 0: on centres; 2: far */
+    for (int own = 0; own < 4; own++) {     /* 1: the scene's own; 0: on centres; 2: far;
+                                               3: a rectangle alone on centres */
       struct scene *s;
       struct scene_opts so;
       memset(&so, 0, sizeof so);
@@ -493,6 +496,16 @@ static void test_stepped_ends_are_exact(void **state)
         }
         m.shadow_first[eng.map->nface] = m.shadows.n;
       }
+      if (own == 3) {                       /* each face's lowest row a stretch's */
+        static const int rect[4][2] = { { 20, 20 }, { 60, 20 }, { 60, 50 }, { 20, 50 } };
+        fx_polys_free(&m.shadows);
+        memset(&m.shadows, 0, sizeof m.shadows);
+        for (int f = 0; f < eng.map->nface; f++) {
+          m.shadow_first[f] = m.shadows.n;
+          add_on_centres(&m.shadows, &g, rect, 4, f, f % 2);
+        }
+        m.shadow_first[eng.map->nface] = m.shadows.n;
+      }
       for (int K = 1; K <= 3; K++)
         for (int order = 0; order < 3; order++) {
           struct fx_lines *L;
@@ -516,12 +529,12 @@ static void test_stepped_ends_are_exact(void **state)
               const unsigned want = blocked_exactly(&m, face[i], yn, yd, xn, xd);
               if (b[i] != want && differ++ < 4)
                 print_message("%s%s K=%d order %d sample (%d, %d) face %d: blocked %u, exactly %u\n",
-                              scenes[sc], own == 1 ? "" : own ? " (far)" : " (on centres)",
+                              scenes[sc], own == 1 ? "" : own == 2 ? " (far)" : " (on centres)",
                               K, order, k0 + i, mr,
                               face[i], b[i], want);
               samples++;
               blocked += want != 0;
-              on_centres += !own && want != 0;
+              on_centres += (!own || own == 3) && want != 0;
               far += own == 2 && want != 0;
             }
           }
