@@ -685,7 +685,7 @@ static inline void shade_row_greys(const int *g, int n, uint8_t *gr)
 /* shade_row's space points p .. q - 1 (q - p even) of one face (L its constants) two an
    instruction, space_lanes_at's, of which only the coordinates on the face's triangle's
    axes u and w (constants where inlined: the third is not made) are kept, into xu[] and
-   xw[] (smooth_phong_row's). */
+   xw[] (smooth_phong_row's and smooth_partial_row's). */
 static inline __attribute__((always_inline))
 void uv_pairs(const struct space_lanes *L, const double *px, int p, int q, int u, int w,
               double *xu, double *xw)
@@ -708,13 +708,14 @@ void uv_pairs(const struct space_lanes *L, const double *px, int p, int q, int u
    two by two and an odd one left over with the next face's first: each lane's
    operations are space_point's on its values in its order, with its own face's constants
    (r[1] D1 and r[2] D2 lane by lane, the same products space_lanes_init makes); a lone
-   last point in both lanes. Under smooth=phong only the two coordinates of each point on its
-   triangle's axes (smooth_tri's bu, bw) are kept, in two arrays (smooth_phong_row's
-   greys depend on nothing else of it): two stores a pair of points, not six, and two
-   loads there, not four and two shuffles. */
+   last point in both lanes. Where the lights are all parallel (uv; smooth=phong is served
+   only so) only the two coordinates of each point on its triangle's axes (smooth_tri's bu,
+   bw) are kept, in two arrays (smooth_phong_row's and smooth_partial_row's greys and
+   regions depend on nothing else of it): two stores a pair of points, not six; and, under
+   smooth=phong, two loads there, not four and two shuffles. */
 static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
                      const struct face_shade *fs, const unsigned *blocked, const double *px,
-                     double py, uint8_t *gr, long runs[3])
+                     double py, uint8_t *gr, long runs[3], bool uv)
 {
   /* the faces one after another: face sf[k] (triangle tri[k]) at points at[k] .. at[k + 1] - 1
      of the stretch */
@@ -765,7 +766,7 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   double X[SMOOTH_ROW][3];
   int g[SMOOTH_ROW];
 #ifdef __SSE2__
-  if (m->e->smooth == EFFECTS_SMOOTH_PHONG) {
+  if (uv) {
     _Alignas(16) double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
     struct space_lanes L;
     space_lanes_init(m, sf[0], py, &L);
@@ -800,8 +801,12 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
       _mm_storeh_pd(&xu[p1], x[tb->bu]); _mm_storeh_pd(&xw[p1], x[tb->bw]);
       p = p1 + 1;
     }
-    smooth_phong_row(&m->sm, ns, tri, at, xu, xw, blocked, &m->lights, g);
-    runs[1] += at[ns];                      /* smooth_row's regions under smooth=phong */
+    if (m->e->smooth == EFFECTS_SMOOTH_PHONG) {
+      smooth_phong_row(&m->sm, ns, tri, at, xu, xw, blocked, &m->lights, g);
+      runs[1] += at[ns];                    /* smooth_row's regions under smooth=phong */
+    } else {
+      smooth_partial_row(&m->sm, m->map, ns, tri, at, xu, xw, blocked, &m->lights, g, runs);
+    }
     shade_row_greys(g, e - i, gr);
     return e;
   }
@@ -837,6 +842,7 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
     p = p1 + 1;
   }
 #else
+  (void)uv;                                 /* (smooth_rows serves nothing without SSE2) */
   for (int k = 0; k < ns; k++)
     for (int p = at[k]; p < at[k + 1]; p++) space_point(m, sf[k], px[p], py, X[p]);
 #endif
@@ -2313,6 +2319,9 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   const bool bg = m->bg != NULL;
   /* smoothed points a stretch of a row at a time (shade_row), not a run a face */
   const bool rows = m->smooth && smooth_rows(&m->sm, m->e, &m->lights);
+  /* and from two coordinates a point where the lights are all parallel (shade_row) */
+  bool uv = rows;
+  for (int k = 0; k < m->lights.n; k++) uv = uv && !m->lights.point[k];
   for (int j = H - 1; j >= 0; j--) {
     size_t at0 = (size_t)j * (size_t)W;
     int *fr = f->face + at0;
@@ -2396,7 +2405,8 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         continue;
       }
       if (run && rows) {                    /* a stretch of smoothed faces' points */
-        const int e = shade_row(m, fr, i, W, &fs, blocked + i, px + i, py[j], gr + i, runs);
+        const int e = shade_row(m, fr, i, W, &fs, blocked + i, px + i, py[j], gr + i, runs,
+                                  uv);
         pts += e - i;
         i = e - 1;
         last = -1;                          /* fs is not fr[e - 1]'s, maybe */

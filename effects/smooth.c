@@ -895,14 +895,19 @@ static void cost_point(struct cost *c, bool gouraud, int region)
 
 /* The areas behind a triangle's barycentric coordinates at space point X (on its plane):
    ar[k] is twice the signed area of side k's triangle with the point on the projection
-   axes bu, bw, so that l[k] = ar[k] / btot. */
-static inline void bary_areas(const struct smooth_tri *tr, const double X[3], double ar[3])
+   axes bu, bw, so that l[k] = ar[k] / btot. They read only the point's coordinates on those
+   two axes, x = X[bu] and y = X[bw] (bary_areas_uw takes them alone). */
+static inline void bary_areas_uw(const struct smooth_tri *tr, double x, double y, double ar[3])
 {
-  const double x = X[tr->bu], y = X[tr->bw];
   for (int k = 0; k < 3; k++) {
     const double *a = tr->bV[k == 2 ? 0 : k + 1], *d = tr->bE[k];   /* d: b - a, made once */
     ar[k] = d[0] * (y - a[1]) - (x - a[0]) * d[1];
   }
+}
+
+static inline void bary_areas(const struct smooth_tri *tr, const double X[3], double ar[3])
+{
+  bary_areas_uw(tr, X[tr->bu], X[tr->bw], ar);
 }
 
 #ifdef __SSE2__
@@ -1178,9 +1183,10 @@ void inner_point(struct split *sp, int p, bool flat, const unsigned *blocked, in
   }
 }
 
-/* bary_areas at points X[p], p < n, and the filter's answer for each: a point it proves
-   inner handled at once (inner_point), the others' areas and indices into sp for the
-   chain. Two points an instruction where the processor has SSE2 (the same correctly
+/* bary_areas at points X[p], p < n (X NULL: at the points whose coordinates on tr's axes
+   bu and bw are xu[p] and xw[p], all bary_areas reads), and the filter's answer for each:
+   a point it proves inner handled at once (inner_point), the others' areas and indices
+   into sp for the chain. Two points an instruction where the processor has SSE2 (the same correctly
    rounded operations on the same values, and the same tests), the rest one by one.
    flat: reflectance 1 (refl == 1). The points are triangle t's (tr, lx), put into sp
    after those there as base + p. row (a constant where it is inlined, as inner_point's):
@@ -1191,7 +1197,8 @@ void inner_point(struct split *sp, int p, bool flat, const unsigned *blocked, in
    it; nothing waits on them before partial_row's next step. */
 static inline __attribute__((always_inline))
 void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
-                               const struct smooth_lanes *lx, int n, const double (*X)[3], bool flat, const unsigned *blocked,
+                               const struct smooth_lanes *lx, int n, const double (*X)[3],
+                               const double *xu, const double *xw, bool flat, const unsigned *blocked,
                                int fg, int *grey, int *region, struct split *sp, int base, int t,
                                bool row)
 {
@@ -1204,7 +1211,10 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
     const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_load_pd(lx->xilo), hiv = _mm_load_pd(lx->xihi);
     const __m128d atv = _mm_set1_pd(fabs(tr->btot));
     for (; p + 2 <= n; p += 2) {
-      const __m128d x = _mm_set_pd(X[p + 1][bu], X[p][bu]), y = _mm_set_pd(X[p + 1][bw], X[p][bw]);
+      /* (xu, xw: pick2's two 8-byte loads, each within one store of shade_row's, which
+         pairs the points otherwise across a triangle's end) */
+      const __m128d x = X ? _mm_set_pd(X[p + 1][bu], X[p][bu]) : pick2(xu + p, xu + p + 1);
+      const __m128d y = X ? _mm_set_pd(X[p + 1][bw], X[p][bw]) : pick2(xw + p, xw + p + 1);
       /* w_k = +-ar_k (tot's sign) from the sides' constants times the sign (xsd), as in
          phong_pairs: (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) - (x - a_u) d_w)
          exactly (rounding to nearest is symmetric under negation), but where the area is a
@@ -1270,7 +1280,8 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
 #endif
   for (; p < n; p++) {
     double ar[3];
-    bary_areas(tr, X[p], ar);
+    if (X) bary_areas(tr, X[p], ar);
+    else bary_areas_uw(tr, xu[p], xw[p], ar);
     if (usable && inner_one(ar, lx)) {
       inner_point(sp, p, flat, blocked, fg, grey, region, base, t, row);
       continue;
@@ -1773,7 +1784,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
   const bool flat = refl == 1;
   struct split sp;
   sp.nl = sp.ni = 0;
-  inner_split(m, tr, lx, n, X, flat, blocked, fg, grey, region, &sp, 0, t, false);
+  inner_split(m, tr, lx, n, X, NULL, NULL, flat, blocked, fg, grey, region, &sp, 0, t, false);
   const int nl = sp.nl;
   double lv[3][SMOOTH_ROW];
   bary_pairs(tr, nl, (const double (*)[SMOOTH_ROW])sp.la, lv);
@@ -1919,18 +1930,20 @@ void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg, double refl,
    processor overlaps with the filter's work on the points after them), the normals (two
    points of one triangle's edge or corner band together: band_pair_normals), the
    lighting (lit_row). No step waits on a divide to choose its next branch before the
-   normals. */
+   normals. The points are given by their coordinates on their triangles' axes bu and bw,
+   xu[p] and xw[p]: all that the steps read of them but the lighting under a point light,
+   which takes the space points X (NULL when the lights are all parallel). */
 static void partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
-                        const int *tri, const int *at, const double (*X)[3],
-                        const unsigned *blocked, const struct shade_lights *L, int *grey,
-                        long regions[3])
+                        const int *tri, const int *at, const double *xu, const double *xw,
+                        const double (*X)[3], const unsigned *blocked,
+                        const struct shade_lights *L, int *grey, long regions[3])
 {
   struct split sp;
   sp.nl = sp.ni = 0;
   for (int k = 0; k < nseg; k++) {
     const int t = tri[k], b = at[k];
     const struct smooth_tri *tr = &m->tri[t];
-    inner_split(m, tr, &m->lanes[t], at[k + 1] - b, X + b, true, blocked + b,
+    inner_split(m, tr, &m->lanes[t], at[k + 1] - b, NULL, xu + b, xw + b, true, blocked + b,
                 map->f[tr->mface].grey, grey + b, NULL, &sp, b, t, true);
   }
   const int nl = sp.nl;
@@ -2015,7 +2028,23 @@ void smooth_row(const struct smooth_model *m, const struct mapped *map,
     regions[1] += at[nseg];
     return;
   }
-  partial_row(m, map, nseg, tri, at, X, blocked, L, grey, regions);
+  double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
+  for (int k = 0; k < nseg; k++) {
+    const struct smooth_tri *tr = &m->tri[tri[k]];
+    for (int p = at[k]; p < at[k + 1]; p++) {
+      xu[p] = X[p][tr->bu];
+      xw[p] = X[p][tr->bw];
+    }
+  }
+  partial_row(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
+}
+
+void smooth_partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
+                        const int *tri, const int *at, const double *xu, const double *xw,
+                        const unsigned *blocked, const struct shade_lights *L, int *grey,
+                        long regions[3])
+{
+  partial_row(m, map, nseg, tri, at, xu, xw, NULL, blocked, L, grey, regions);
 }
 
 int smooth_tables(struct core *core, const struct smooth_model *m, struct cost *cost,

@@ -198,6 +198,16 @@ void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, co
                       const double *xu, const double *xw, const unsigned *blocked,
                       const struct shade_lights *L, int *grey);
 
+/* smooth_row's greys and regions under smooth=fixed or prop (where smooth_rows says so)
+   with the lights all parallel, from each point's space point given by its two
+   coordinates on its triangle's axes bu and bw only (xu[p] = X[p][bu], xw[p] = X[p][bw]:
+   all that the regions and greys depend on under parallel lights): the same greys and
+   regions, bit for bit. */
+void smooth_partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
+                        const int *tri, const int *at, const double *xu, const double *xw,
+                        const unsigned *blocked, const struct shade_lights *L, int *grey,
+                        long regions[3]);
+
 /* For tests: the shading pass's two-lane steps on triangle t of m at two points given by
    their barycentric coordinates l[h] (any values, as the steps take them): the region
    band_lanes gives the pair (0 when the two are not in one edge band nor one corner band;

@@ -641,7 +641,10 @@ static void test_run_is_single(void **state)
    to seen[]. Under smooth=phong with the lights all parallel, smooth_phong_row too, from
    the points' coordinates on their triangles' axes alone (the third coordinate of each
    space point left out): each grey that differs from smooth_grey_at's, and (declines
-   non-NULL) another count of declines than smooth_row's, counted too. */
+   non-NULL) another count of declines than smooth_row's, counted too. Under smooth=fixed
+   or prop with the lights all parallel, smooth_partial_row likewise: each grey that
+   differs, each region's count that differs from smooth_row's, and another count of the
+   points the inner filter leaves to the chain (inner_declines) than smooth_row's. */
 static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
                          const double (*X)[3], const unsigned *blocked,
                          const struct shade_lights *lights, int greys[256], long seen[3],
@@ -663,6 +666,26 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
     }
   bool parallel = true;
   for (int k = 0; k < lights->n; k++) parallel = parallel && !lights->point[k];
+  if (L->e.smooth != EFFECTS_SMOOTH_PHONG && parallel && smooth_rows(&L->m, &L->e, lights)) {
+    double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
+    int gu[SMOOTH_ROW];
+    long ru[3] = { 0, 0, 0 }, rx[3] = { 0, 0, 0 }, dec_x = 0, dec_u = 0;
+    for (int k = 0; k < nseg; k++)
+      for (int p = at[k]; p < at[k + 1]; p++) {
+        xu[p] = X[p][L->m.tri[tri[k]].bu];
+        xw[p] = X[p][L->m.tri[tri[k]].bw];
+      }
+    L->m.inner_declines = &dec_x;
+    smooth_row(&L->m, &L->r.map, &L->e, nseg, tri, at, X, blocked, lights, gu, rx);
+    L->m.inner_declines = &dec_u;
+    smooth_partial_row(&L->m, &L->r.map, nseg, tri, at, xu, xw, blocked, lights, gu, ru);
+    L->m.inner_declines = NULL;
+    for (int k = 0; k < nseg; k++)
+      for (int p = at[k]; p < at[k + 1]; p++)
+        differ += gu[p] != g[p];
+    for (int r = 0; r < 3; r++) differ += ru[r] != regions[r];
+    differ += dec_u != dec_x;
+  }
   if (L->e.smooth == EFFECTS_SMOOTH_PHONG && parallel && smooth_rows(&L->m, &L->e, lights)) {
     double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
     int gu[SMOOTH_ROW];
@@ -704,7 +727,8 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
    triangle and in its bands and corners, under the phong and partial smoothings, under the
    scene's light, with a second parallel light, and (the partial smoothing) with a point
    light, each blocked at some points, and under the scene's light blocked nowhere; under
-   smooth=phong and parallel lights smooth_phong_row too (row_vs_single). */
+   parallel lights smooth_phong_row (smooth=phong) and smooth_partial_row (the partial
+   smoothings) too, from two coordinates a point (row_vs_single). */
 static void band_point(const struct lib *L, int t, int k, double lk, double sp, double X[3]);
 static void test_row_is_single(void **state)
 {
