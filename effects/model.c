@@ -697,6 +697,47 @@ void uv_pairs(const struct space_lanes *L, const double *px, int p, int q, int u
     _mm_storeu_pd(xw + p, x[w]);
   }
 }
+
+/* shade_row's space points p .. q - 1 (q - p even) of face f (triangle ta), L's face
+   constants set to f's first (space_lanes_init's: r[1] D1, r[2] D2 the same products),
+   two by two (uv_pairs, ta's axes constants there). */
+static inline __attribute__((always_inline))
+void uv_face(const struct fx_model *m, struct space_lanes *L, __m128d d1, __m128d d2, int f,
+             const struct smooth_tri *ta, const double *px, int p, int q, double *xu,
+             double *xw)
+{
+  const double *r = m->ray[f];
+  L->r0 = _mm_set1_pd(r[0]);
+  L->r3 = _mm_set1_pd(r[3]);
+  L->c1 = _mm_mul_pd(_mm_set1_pd(r[1]), d1);
+  L->c2 = _mm_mul_pd(_mm_set1_pd(r[2]), d2);
+  switch (3 - ta->bu - ta->bw) {            /* (bu, bw) is (ax + 1, ax + 2) mod 3 */
+  case 0: uv_pairs(L, px, p, q, 1, 2, xu, xw); break;
+  case 1: uv_pairs(L, px, p, q, 2, 0, xu, xw); break;
+  default: uv_pairs(L, px, p, q, 0, 1, xu, xw); break;
+  }
+}
+
+/* shade_row's space points pa of face fa (triangle ta) and pb of face fb (tb) in one
+   step, each lane with its own face's constants (L's row constants; its face constants
+   set here: r[1] D1 and r[2] D2 lane by lane, the same products space_lanes_init makes),
+   each lane's operations space_point's on its values; each point's coordinates on its
+   triangle's axes into xu[] and xw[] (pb may be pa: a point alone, in both lanes). */
+static inline __attribute__((always_inline))
+void uv_two(const struct fx_model *m, struct space_lanes *L, __m128d d1, __m128d d2, int fa,
+            int fb, const struct smooth_tri *ta, const struct smooth_tri *tb, const double *px,
+            int pa, int pb, double *xu, double *xw)
+{
+  const double *r = m->ray[fa], *rb = m->ray[fb];
+  L->r0 = _mm_set_pd(rb[0], r[0]);
+  L->r3 = _mm_set_pd(rb[3], r[3]);
+  L->c1 = _mm_mul_pd(_mm_set_pd(rb[1], r[1]), d1);
+  L->c2 = _mm_mul_pd(_mm_set_pd(rb[2], r[2]), d2);
+  __m128d x[3];
+  space_lanes_at(L, _mm_set_pd(px[pb], px[pa]), x);
+  _mm_storel_pd(&xu[pa], x[ta->bu]); _mm_storel_pd(&xw[pa], x[ta->bw]);
+  _mm_storeh_pd(&xu[pb], x[tb->bu]); _mm_storeh_pd(&xw[pb], x[tb->bw]);
+}
 #endif
 
 /* Where smooth_rows says so: the points i, i + 1, .. of a row (faces fr[], px[],
@@ -705,7 +746,8 @@ void uv_pairs(const struct space_lanes *L, const double *px, int p, int q, int u
    a smoothed face without a texture) on: their greys into gr[] as shade_run gives them,
    shaded together (smooth_row), their regions counted up in runs[]; returns the end of the
    stretch. The space points two an instruction (space_lanes_at), a face's
-   two by two and an odd one left over with the next face's first: each lane's
+   two by two and an odd one left over with the next face's first (smooth=phong) or with
+   the next face's left over (the partial smoothing; see uv below): each lane's
    operations are space_point's on its values in its order, with its own face's constants
    (r[1] D1 and r[2] D2 lane by lane, the same products space_lanes_init makes); a lone
    last point in both lanes. Where the lights are all parallel (uv; smooth=phong is served
@@ -771,37 +813,40 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
     struct space_lanes L;
     space_lanes_init(m, sf[0], py, &L);
     const __m128d d1 = _mm_set1_pd(py - m->eye[1]), d2 = _mm_set1_pd(-m->eye[2]);
+    /* smooth=phong: a face's odd last point with the next face's first (phong_row_lights
+       pairs them so); the partial smoothing: each face's pairs from its first point (as
+       inner_split reads them, 16 bytes a load: each the very 16 bytes stored), its odd
+       last point left over (left[]: its face's index k) and put with the next one left
+       over after the faces */
+    const bool phong = m->e->smooth == EFFECTS_SMOOTH_PHONG;
     int p = 0;
-    for (int k = 0; k < ns; k++) {
-      const int q = at[k + 1];
-      const double *r = m->ray[sf[k]];
-      const struct smooth_tri *ta = &m->sm.tri[tri[k]];
-      L.r0 = _mm_set1_pd(r[0]);
-      L.r3 = _mm_set1_pd(r[3]);
-      L.c1 = _mm_mul_pd(_mm_set1_pd(r[1]), d1);
-      L.c2 = _mm_mul_pd(_mm_set1_pd(r[2]), d2);
-      const int qe = p + ((q - p) & ~1);    /* the pairs; (bu, bw) is (ax + 1, ax + 2) mod 3 */
-      switch (3 - ta->bu - ta->bw) {
-      case 0: uv_pairs(&L, px, p, qe, 1, 2, xu, xw); break;
-      case 1: uv_pairs(&L, px, p, qe, 2, 0, xu, xw); break;
-      default: uv_pairs(&L, px, p, qe, 0, 1, xu, xw); break;
+    if (phong) {
+      for (int k = 0; k < ns; k++) {
+        const int q = at[k + 1], qe = p + ((q - p) & ~1);
+        const struct smooth_tri *ta = &m->sm.tri[tri[k]];
+        uv_face(m, &L, d1, d2, sf[k], ta, px, p, qe, xu, xw);
+        p = qe;
+        if (p == q) continue;
+        const int kb = k + 1 < ns ? k + 1 : k;  /* with the next face's first, or alone */
+        const int p1 = k + 1 < ns ? q : p;
+        uv_two(m, &L, d1, d2, sf[k], sf[kb], ta, &m->sm.tri[tri[kb]], px, p, p1, xu, xw);
+        p = p1 + 1;
       }
-      p = qe;
-      if (p == q) continue;
-      const int p1 = k + 1 < ns ? q : p;     /* with the next face's first, or alone */
-      const double *rb = m->ray[sf[k + 1 < ns ? k + 1 : k]];
-      const struct smooth_tri *tb = &m->sm.tri[tri[k + 1 < ns ? k + 1 : k]];
-      L.r0 = _mm_set_pd(rb[0], r[0]);
-      L.r3 = _mm_set_pd(rb[3], r[3]);
-      L.c1 = _mm_mul_pd(_mm_set_pd(rb[1], r[1]), d1);
-      L.c2 = _mm_mul_pd(_mm_set_pd(rb[2], r[2]), d2);
-      __m128d x[3];
-      space_lanes_at(&L, _mm_set_pd(px[p1], px[p]), x);
-      _mm_storel_pd(&xu[p], x[ta->bu]); _mm_storel_pd(&xw[p], x[ta->bw]);
-      _mm_storeh_pd(&xu[p1], x[tb->bu]); _mm_storeh_pd(&xw[p1], x[tb->bw]);
-      p = p1 + 1;
+    } else {
+      int left[SMOOTH_ROW], nleft = 0;
+      for (int k = 0; k < ns; k++) {
+        const int q = at[k + 1], qe = p + ((q - p) & ~1);
+        uv_face(m, &L, d1, d2, sf[k], &m->sm.tri[tri[k]], px, p, qe, xu, xw);
+        if (qe < q) left[nleft++] = k;
+        p = q;
+      }
+      for (int j = 0; j < nleft; j += 2) {  /* the left-over points, two a step */
+        const int ka = left[j], kb = left[j + 1 < nleft ? j + 1 : j];   /* a last one alone */
+        uv_two(m, &L, d1, d2, sf[ka], sf[kb], &m->sm.tri[tri[ka]], &m->sm.tri[tri[kb]], px,
+               at[ka + 1] - 1, at[kb + 1] - 1, xu, xw);
+      }
     }
-    if (m->e->smooth == EFFECTS_SMOOTH_PHONG) {
+    if (phong) {
       smooth_phong_row(&m->sm, ns, tri, at, xu, xw, blocked, &m->lights, g);
       runs[1] += at[ns];                    /* smooth_row's regions under smooth=phong */
     } else {

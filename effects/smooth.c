@@ -1211,10 +1211,9 @@ void inner_split(const struct smooth_model *m, const struct smooth_tri *tr,
     const __m128d sv = _mm_load_pd(lx->xst), lov = _mm_load_pd(lx->xilo), hiv = _mm_load_pd(lx->xihi);
     const __m128d atv = _mm_set1_pd(fabs(tr->btot));
     for (; p + 2 <= n; p += 2) {
-      /* (xu, xw: pick2's two 8-byte loads, each within one store of shade_row's, which
-         pairs the points otherwise across a triangle's end) */
-      const __m128d x = X ? _mm_set_pd(X[p + 1][bu], X[p][bu]) : pick2(xu + p, xu + p + 1);
-      const __m128d y = X ? _mm_set_pd(X[p + 1][bw], X[p][bw]) : pick2(xw + p, xw + p + 1);
+      /* (xu, xw: 16 bytes a load, as smooth_partial_row's callers store them) */
+      const __m128d x = X ? _mm_set_pd(X[p + 1][bu], X[p][bu]) : _mm_loadu_pd(xu + p);
+      const __m128d y = X ? _mm_set_pd(X[p + 1][bw], X[p][bw]) : _mm_loadu_pd(xw + p);
       /* w_k = +-ar_k (tot's sign) from the sides' constants times the sign (xsd), as in
          phong_pairs: (-d_u) (y - a_w) - (x - a_u) (-d_w) is -(d_u (y - a_w) - (x - a_u) d_w)
          exactly (rounding to nearest is symmetric under negation), but where the area is a
@@ -2029,9 +2028,16 @@ void smooth_row(const struct smooth_model *m, const struct mapped *map,
     return;
   }
   double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
-  for (int k = 0; k < nseg; k++) {
-    const struct smooth_tri *tr = &m->tri[tri[k]];
-    for (int p = at[k]; p < at[k + 1]; p++) {
+  for (int k = 0; k < nseg; k++) {          /* (a triangle's pairs stored as partial_row */
+    const struct smooth_tri *tr = &m->tri[tri[k]];   /* reads them: smooth_partial_row) */
+    int p = at[k];
+#ifdef __SSE2__
+    for (; p + 2 <= at[k + 1]; p += 2) {
+      _mm_storeu_pd(xu + p, _mm_set_pd(X[p + 1][tr->bu], X[p][tr->bu]));
+      _mm_storeu_pd(xw + p, _mm_set_pd(X[p + 1][tr->bw], X[p][tr->bw]));
+    }
+#endif
+    for (; p < at[k + 1]; p++) {
       xu[p] = X[p][tr->bu];
       xw[p] = X[p][tr->bw];
     }

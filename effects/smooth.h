@@ -202,7 +202,9 @@ void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, co
    with the lights all parallel, from each point's space point given by its two
    coordinates on its triangle's axes bu and bw only (xu[p] = X[p][bu], xw[p] = X[p][bw]:
    all that the regions and greys depend on under parallel lights): the same greys and
-   regions, bit for bit. */
+   regions, bit for bit. A triangle's points are read two a 16-byte load from its first
+   on, at[k] + 2j and the next (its odd last point alone): stored likewise (16 bytes a
+   store, 8 for that last point), each load is forwarded whole from its store. */
 void smooth_partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
                         const int *tri, const int *at, const double *xu, const double *xw,
                         const unsigned *blocked, const struct shade_lights *L, int *grey,
