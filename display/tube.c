@@ -445,20 +445,6 @@ static inline void write_blank16(uint8_t *lit, uint32_t base, const uint16_t *ma
   if (_mm_movemask_epi8(none) == 0xffff) return;
   write_blank16v(lit, base, ma, mb);
 }
-
-/* The masks of the eight keys at k (mask: the keys' table), as one vector: a 16-bit
-** insert a key from its table (no masks[] of the row stored and read back). */
-static inline __m128i masks8_keyed(const uint16_t *mask, const uint8_t *k)
-{
-  __m128i v = _mm_cvtsi32_si128(mask[k[0]]);
-  v = _mm_insert_epi16(v, mask[k[1]], 1);
-  v = _mm_insert_epi16(v, mask[k[2]], 2);
-  v = _mm_insert_epi16(v, mask[k[3]], 3);
-  v = _mm_insert_epi16(v, mask[k[4]], 4);
-  v = _mm_insert_epi16(v, mask[k[5]], 5);
-  v = _mm_insert_epi16(v, mask[k[6]], 6);
-  return _mm_insert_epi16(v, mask[k[7]], 7);
-}
 #endif
 
 /* A 3x3 cell's mask with its rows apart: row r (bits 3r .. 3r + 2) to bits 21r .. 21r + 2,
@@ -783,6 +769,15 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
   return T74_OK;
 }
 
+/* A 4x4 cell's mask with its rows apart: row r (bits 4r .. 4r + 3) to bits 16r .. 16r + 3,
+** so that four cells side by side (cell c's shifted up 4c) are four lanes of 16 bits, a lane
+** the cells' dots of one row of the tube, the leftmost in the lowest bits, as lit[] has them. */
+static inline uint64_t lanes4(unsigned m)
+{
+  return (uint64_t)(m & 15) | (uint64_t)(m >> 4 & 15) << 16 | (uint64_t)(m >> 8 & 15) << 32 |
+         (uint64_t)(m >> 12 & 15) << 48;
+}
+
 void tube_keys_init(struct tube_keys *tk, int cell, const uint16_t *mask_of)
 {
   const unsigned full = cell >= 1 && cell <= 4 ? (1u << (cell * cell)) - 1 : 0;
@@ -795,6 +790,11 @@ void tube_keys_init(struct tube_keys *tk, int cell, const uint16_t *mask_of)
     for (int k = 0; k < 256; k++) {
       const uint64_t l = lanes3[mask_of[k]];
       for (int c = 0; c < RUN3; c++) tk->lanes[c][k] = l << 3 * c;
+    }
+  if (cell == 4 && !(any & ~full))
+    for (int k = 0; k < 256; k++) {
+      const uint64_t l = lanes4(mask_of[k]);
+      for (int c = 0; c < 4; c++) tk->lanes[c][k] = l << 4 * c;
     }
   tk->cell = cell;
   tk->within = (cell == 3 || cell == 4) && !(any & ~full);
@@ -809,36 +809,48 @@ int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_key
       x0 <= TUBE_W - 4 * count && y0 >= 3 && y0 < TUBE_H && base0 - 3 * TUBE_W >= t->lit_end) {
     /* 4x4 cells on the tube from a byte's start over unlit rows (their lowest dot at or
        past lit_end), every mask within the cell: tube_write_cells' cells over unlit
-       dots (the same bits of lit[], the same run write), sixteen cells' masks taken
-       from their keys straight into two vectors (one vector when the sixteen keys are
-       one: a background, a flat face) */
+       dots (the same bits of lit[], the same run write). Sixteen cells: four words of
+       four cells' lanes (lanes4: a lane a row, looked up by key, each cell's at its
+       place), their 16-bit lanes turned about in two vectors to the four rows' 64 bits
+       (four unpacks, where the masks' 16 inserts and their spreading were all shuffles);
+       one word for all four when the sixteen keys are one (a background, a flat face) */
     if (base0 + (uint32_t)(4 * count) > t->lit_end) t->lit_end = base0 + (uint32_t)(4 * count);
     uint8_t *lit = t->lit;
     const uint16_t *mask = tk->mask;
-    unsigned any = 0;                       /* the OR of the masks: not 0 when a cell has a dot */
+    const uint64_t (*L)[256] = tk->lanes;
+    uint64_t any = 0;                       /* not 0 when a cell has a dot */
     uint32_t base = base0;
     int c = 0;
     for (; c + 16 <= count; c += 16, base += 64) {
-      const __m128i k16 = _mm_loadu_si128((const __m128i *)(const void *)(keys + c));
-      __m128i ma, mb;
-      if ((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(k16, _mm_set1_epi8((char)keys[c]))) ==
+      const uint8_t *k = keys + c;
+      const __m128i k16 = _mm_loadu_si128((const __m128i *)(const void *)k);
+      uint64_t w0, w1, w2, w3;              /* cells 0 .. 3, 4 .. 7, 8 .. 11, 12 .. 15 */
+      if ((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(k16, _mm_set1_epi8((char)k[0]))) ==
           0xffffu) {
-        const unsigned m = mask[keys[c]];
-        if (!m) continue;                   /* sixteen cells of no dot: 0 already */
-        any |= m;
-        ma = mb = _mm_set1_epi16((short)m);
+        /* four cells of one mask: each cell's nibbles four above the last's within a
+           lane of 16 (no two meet: a sum is their OR) */
+        w0 = w1 = w2 = w3 = L[0][k[0]] * 0x1111u;
+        if (!w0) continue;                  /* sixteen cells of no dot: 0 already */
       } else {
-        ma = masks8_keyed(mask, keys + c);
-        mb = masks8_keyed(mask, keys + c + 8);
-        __m128i o = _mm_or_si128(ma, mb);
-        o = _mm_or_si128(o, _mm_srli_si128(o, 8));
-        o = _mm_or_si128(o, _mm_srli_si128(o, 4));
-        o = _mm_or_si128(o, _mm_srli_si128(o, 2));
-        const unsigned m = (unsigned)_mm_cvtsi128_si32(o) & 0xffffu;
-        if (!m) continue;
-        any |= m;
+        w0 = L[0][k[0]] | L[1][k[1]] | L[2][k[2]] | L[3][k[3]];
+        w1 = L[0][k[4]] | L[1][k[5]] | L[2][k[6]] | L[3][k[7]];
+        w2 = L[0][k[8]] | L[1][k[9]] | L[2][k[10]] | L[3][k[11]];
+        w3 = L[0][k[12]] | L[1][k[13]] | L[2][k[14]] | L[3][k[15]];
+        if (!(w0 | w1 | w2 | w3)) continue;
       }
-      write_blank16v(lit, base, ma, mb);
+      /* a = (w0, w1), b = (w2, w3) as 16-bit lanes (row r of word i: element 4i + r);
+         interleaved twice, row r's lanes of w0 .. w3 come side by side: rows 0 and 1 in
+         u0, rows 2 and 3 in u1 */
+      const __m128i a = _mm_set_epi64x((long long)w1, (long long)w0),
+                    b = _mm_set_epi64x((long long)w3, (long long)w2);
+      const __m128i t0 = _mm_unpacklo_epi16(a, b), t1 = _mm_unpackhi_epi16(a, b);
+      const __m128i u0 = _mm_unpacklo_epi16(t0, t1), u1 = _mm_unpackhi_epi16(t0, t1);
+      uint8_t *l = lit + (base >> 3);
+      _mm_storel_epi64((__m128i *)(void *)l, u0);
+      _mm_storeh_pd((double *)(void *)(l - ROW_BYTES), _mm_castsi128_pd(u0));
+      _mm_storel_epi64((__m128i *)(void *)(l - 2 * ROW_BYTES), u1);
+      _mm_storeh_pd((double *)(void *)(l - 3 * ROW_BYTES), _mm_castsi128_pd(u1));
+      any = 1;
     }
     for (; c < count; c += 2, base += 8) {  /* two cells: a byte of each row (of one: its
                                                low half, the high half's dots unlit) */

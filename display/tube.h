@@ -46,11 +46,12 @@ int tube_write_cells(struct tube *t, int x0, int y0, int cell, const uint16_t *m
                      int count);
 
 /* A row of 3x3 or 4x4 cells by key (a grey): the cells' masks of the 256 keys, and for
-** 3x3 the same as tube.c stores a row of cells, made once for many rows (tube_keys_init);
-** the fields are tube.c's. */
+** 3x3 and 4x4 the same as tube.c stores a row of cells, made once for many rows
+** (tube_keys_init); the fields are tube.c's. */
 struct tube_keys {
   uint16_t mask[256];
-  uint64_t lanes[7][256];       /* 3x3: of a cell c places on (0 .. 6) in a run of seven */
+  uint64_t lanes[7][256];       /* 3x3: of a cell c places on (0 .. 6) in a run of seven;
+                                   4x4: lanes[0 .. 3], of a cell c places on in four */
   int cell;
   int within;                   /* cell 3 or 4, every mask within the cell */
 };
