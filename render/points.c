@@ -297,12 +297,16 @@ static inline void floor_divmod(wide n, int64_t d, int64_t *q, int64_t *r)
    geom_orient(a, b, c) at the corner b is the cross product (b - a) x (c - b) of the two
    edges: the same number as (b - a) x (c - a) (their difference is (b - a) x (b - a) = 0),
    each edge's differences made once; in 64 bits: differences < 2^29, products < 2^58.
-   False: the ring does not turn strictly left there. The out edge's dy sign, when not 0,
-   counted into *first (the first such sign), *prev (the last) and *changes. */
+   False: the ring turns right there, or goes straight on and does not go on forward (the
+   dot product of the edges <= 0: it doubles back, or an edge has no length). The out
+   edge's dy sign, when not 0, counted into *first (the first such sign), *prev (the last)
+   and *changes. */
 static inline bool corner_left(int64_t *ex, int64_t *ey, int64_t fx, int64_t fy, int *first,
                                int *prev, int *changes)
 {
-  if (*ex * fy - *ey * fx <= 0) return false;
+  const int64_t cross = *ex * fy - *ey * fx;
+  if (cross < 0) return false;
+  if (cross == 0 && *ex * fx + *ey * fy <= 0) return false;
   *ex = fx;
   *ey = fy;
   const int sg = (fy > 0) - (fy < 0);
@@ -314,8 +318,27 @@ static inline bool corner_left(int64_t *ex, int64_t *ey, int64_t fx, int64_t fy,
 }
 
 /* A face the Segment Generator takes as it is without asking it: a triangle, or one
-   outer ring that turns strictly left at every corner and winds once (the sign of dy
-   changes exactly twice around it). */
+   outer ring that turns left or goes straight on forward at every corner (no corner to
+   the right) and winds once (the sign of dy changes exactly twice around it).
+
+   Such a ring with corners where it goes straight on (a vertex inside a side: a
+   T-junction's) is what seg_check takes, decision by decision (generate, segment.c; the
+   Mapper's rings are on the grid, the outer one counter-clockwise, render/mapper.h).
+   The edges' directions turn left, never right, and, dy changing sign twice, go round
+   exactly once (each sign change is a pass of the direction through the horizontal, twice
+   a turn): the ring is a convex polygon's boundary gone round once counter-clockwise, its
+   vertices distinct points. So check_input passes it (no two consecutive vertices at one
+   point and no doubling back: both are a straight corner whose dot product is not
+   positive; twice its area > 0); lowest_concave finds no concave vertex (its turn of two
+   sides' lines, a = -dy, b = dx, is this cross product: never negative), so the ring is
+   one finished piece; tidy_ring drops each vertex inside a side (the two sides, on one
+   line through the vertex and of one direction, are same_line) and no other (no two
+   vertices coincide), leaving the corners where the ring turns, each a strict left turn
+   between the same lines as before (a side's line is proportional to its parts', by a
+   positive factor: the same turns and half-planes), at least three of them, whose sides'
+   directions wrap round once (winds_once). Only the tables' room in core and the host's
+   memory can stop seg_check there: segment_takes grows the core; out of memory is an
+   error, not a refusal. */
 static __attribute__((noinline)) bool convex_once(const struct gpoint *p, int n);
 
 static inline bool plain_convex(const struct mface *f)
@@ -325,8 +348,9 @@ static inline bool plain_convex(const struct mface *f)
   return n == 3 || convex_once(f->pt, n);
 }
 
-/* plain_convex for a ring of n > 3 points: turns strictly left at every corner and winds
-   once (out of line: a triangle, the common face, needs none of it). */
+/* plain_convex for a ring of n > 3 points: turns left or goes straight on forward at
+   every corner and winds once (out of line: a triangle, the common face, needs none of
+   it). */
 static __attribute__((noinline)) bool convex_once(const struct gpoint *p, int n)
 {
   const int64_t lx = p[0].x - p[n - 1].x, ly = p[0].y - p[n - 1].y;  /* the edge into p[0] */
