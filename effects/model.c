@@ -2481,11 +2481,20 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         continue;
       }
       if (face != last) {
+        /* (at the face's first run fs made and kept field by field, not read back: a
+           struct copy just after face_shade_of's stores reads them in wider loads (the
+           two pointers in one of 16 bytes), which wait for the stores to be written, not
+           forwarded) */
         if (!known[face]) {
-          face_shade_of(m, face, &shades[face]);
+          face_shade_of(m, face, &fs);
+          shades[face].mf = fs.mf;
+          shades[face].t = fs.t;
+          shades[face].tri = fs.tri;
+          shades[face].lit = fs.lit;
           known[face] = 1;
+        } else {
+          fs = shades[face];
         }
-        fs = shades[face];
         last = face;
         run = !pc && fs.tri >= 0 && !fs.t;
         plain = !pc && fs.tri < 0;
