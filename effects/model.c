@@ -1124,13 +1124,13 @@ struct fx_lines {
      row's number, counted from 1, when found) */
   struct brange { int b0, b1, light; } *rng;
   int nrng, rngcap;
-  struct { long row; int at, n; bool ext; gcoord ylo, yhi; int nxt, nact; gcoord lastfy; } *fr;
+  struct { long row; int at, n; bool ext; gcoord ylo, yhi; int nxt, nact; gcoord lastfy, minhi; } *fr;
                             /* per mapped face: its ranges on the row (row, at, n;
                                shadow_ranges) and its shadow polygons' rows, ylo <= fy < yhi
                                for any (ext: found); face_ranges' polygons in order of ylo
                                (pord, from its shadow_first on), the first nxt of them added
                                to the row's row lastfy, and of those the nact that it meets
-                               (pact, from shadow_first on) */
+                               (pact, from shadow_first on), the least yhi of which minhi */
   struct pylo { gcoord ylo; int k; } *pord;   /* (a face's slice sorted by ylo, then k) */
   int *pact;
   long row;
@@ -2072,6 +2072,7 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd, int64_
     L->fr[f].ext = true;
     L->fr[f].nxt = L->fr[f].nact = 0;
     L->fr[f].lastfy = INT64_MIN;
+    L->fr[f].minhi = INT64_MAX;
   }
   if (fy < L->fr[f].ylo || fy >= L->fr[f].yhi) return T74_OK;
   if (!L->ps && !m->count && m->shadows.n <= 1 << 15 &&
@@ -2087,20 +2088,33 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd, int64_
      above fy, and the next ones of ylo at most fy; else found again from the first */
   const struct pylo *o = L->pord + k0;
   int *act = L->pact + k0;
-  if (fy < L->fr[f].lastfy) L->fr[f].nxt = L->fr[f].nact = 0;
+  if (fy < L->fr[f].lastfy) {
+    L->fr[f].nxt = L->fr[f].nact = 0;
+    L->fr[f].minhi = INT64_MAX;
+  }
   L->fr[f].lastfy = fy;
-  int na = 0;
-  for (int h = 0; h < L->fr[f].nact; h++) {
-    act[na] = act[h];
-    na += sp[act[h]].yhi > fy;
+  int na = L->fr[f].nact;
+  gcoord minhi = L->fr[f].minhi;
+  if (fy >= minhi) {                        /* (else none of them ends below the row) */
+    na = 0;
+    minhi = INT64_MAX;
+    for (int h = 0; h < L->fr[f].nact; h++) {
+      const gcoord yh = sp[act[h]].yhi;
+      act[na] = act[h];
+      na += yh > fy;
+      minhi = yh > fy && yh < minhi ? yh : minhi;
+    }
   }
   int nt = L->fr[f].nxt;
   for (; nt < k1 - k0 && o[nt].ylo <= fy; nt++) {
+    const gcoord yh = sp[o[nt].k].yhi;
     act[na] = o[nt].k;
-    na += sp[o[nt].k].yhi > fy;
+    na += yh > fy;
+    minhi = yh > fy && yh < minhi ? yh : minhi;
   }
   L->fr[f].nxt = nt;
   L->fr[f].nact = na;
+  L->fr[f].minhi = minhi;
   for (int a = 0; a < na; a++) {
     const int k = act[a];
     const struct fx_poly *p = &sp[k];
