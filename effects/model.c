@@ -1124,15 +1124,9 @@ struct fx_lines {
      row's number, counted from 1, when found) */
   struct brange { int b0, b1, light; } *rng;
   int nrng, rngcap;
-  struct { long row; int at, n; bool ext; gcoord ylo, yhi; int nxt, nact; gcoord lastfy, minhi; } *fr;
-                            /* per mapped face: its ranges on the row (row, at, n;
-                               shadow_ranges) and its shadow polygons' rows, ylo <= fy < yhi
-                               for any (ext: found); face_ranges' polygons in order of ylo
-                               (pord, from its shadow_first on), the first nxt of them added
-                               to the row's row lastfy, and of those the nact that it meets
-                               (pact, from shadow_first on), the least yhi of which minhi */
-  struct pylo { gcoord ylo; int k; } *pord;   /* (a face's slice sorted by ylo, then k) */
-  int *pact;
+  struct { long row; int at, n; bool ext; gcoord ylo, yhi; } *fr;   /* per mapped face: its
+                               ranges on the row (row, at, n; shadow_ranges) and its shadow
+                               polygons' rows, ylo <= fy < yhi for any (ext: found) */
   long row;
   struct poly_step *ps;     /* per shadow polygon: its two stretch ends stepped from row to
                                row (face_ranges), or NULL (none kept) */
@@ -1211,7 +1205,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
   free(L->cutbit); free(L->cc); free(L->ccf); free(L->cpt);
-  free(L->rng); free(L->fr); free(L->ps); free(L->psw); free(L->pord); free(L->pact); free(L->rend); free(L->runbit);
+  free(L->rng); free(L->fr); free(L->ps); free(L->psw); free(L->rend); free(L->runbit);
   free(L);
 }
 
@@ -2027,12 +2021,13 @@ static bool range_add(struct fx_lines *L, int b0, int b1, int light)
   return true;
 }
 
-/* Two polygons' (ylo, k) in order: by ylo, then by k (a total order). */
-static int by_ylo(const void *a, const void *b)
+/* The first of polygons p[k .. k1) whose box row fy meets (fx_poly_on_row), or k1: a loop of
+   its own over locals (inside face_ranges' loop the compiler kept its index in memory). */
+__attribute__((noinline))
+static int next_on_row(const struct fx_poly *p, int k, int k1, int64_t fy)
 {
-  const struct pylo *p = a, *q = b;
-  if (p->ylo != q->ylo) return p->ylo < q->ylo ? -1 : 1;
-  return (p->k > q->k) - (p->k < q->k);
+  while (k < k1 && !fx_poly_on_row(&p[k], fy)) k++;
+  return k;
 }
 
 /* The stretches of face f's shadows on the line y = yn / yd as ranges of the samples of
@@ -2048,31 +2043,16 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd, int64_
 {
   const struct fx_model *m = L->m;
   const struct fx_poly *const sp = m->shadows.p;
-  const int k0 = m->shadow_first[f], k1 = m->shadow_first[f + 1];
-  if (!L->pord && (!(L->pord = malloc((size_t)m->shadows.n * sizeof *L->pord)) ||
-                   !(L->pact = malloc((size_t)m->shadows.n * sizeof *L->pact))))
-    return t74_fail(err, T74_EIO, "out of host memory");
+  const int k1 = m->shadow_first[f + 1];
   if (!L->fr[f].ext) {
     gcoord lo = INT64_MAX, hi = INT64_MIN;
-    struct pylo *o = L->pord + k0;
-    for (int k = k0; k < k1; k++) {
+    for (int k = m->shadow_first[f]; k < k1; k++) {
       lo = sp[k].ylo < lo ? sp[k].ylo : lo;
       hi = sp[k].yhi > hi ? sp[k].yhi : hi;
-      /* in order of ylo: by insertion (k rising: ties keep it), or qsort for many (its
-         merge sort's allocation and calls cost more than the insertion's moves for a few
-         hundred: fig6-building's ground has 64) */
-      int h = k - k0;
-      if (k1 - k0 <= 256)
-        for (; h > 0 && o[h - 1].ylo > sp[k].ylo; h--) o[h] = o[h - 1];
-      o[h] = (struct pylo){ sp[k].ylo, k };
     }
-    if (k1 - k0 > 256) qsort(o, (size_t)(k1 - k0), sizeof *o, by_ylo);
     L->fr[f].ylo = lo;
     L->fr[f].yhi = hi;
     L->fr[f].ext = true;
-    L->fr[f].nxt = L->fr[f].nact = 0;
-    L->fr[f].lastfy = INT64_MIN;
-    L->fr[f].minhi = INT64_MAX;
   }
   if (fy < L->fr[f].ylo || fy >= L->fr[f].yhi) return T74_OK;
   if (!L->ps && !m->count && m->shadows.n <= 1 << 15 &&
@@ -2083,40 +2063,8 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd, int64_
     }
     for (int k = 0; L->ps && k < m->shadows.n; k++) L->ps[k].set = false;
   }
-  /* the polygons the row meets (fx_poly_on_row: ylo <= fy < yhi), kept from the face's row
-     before when rows come in order (fy not falling): those added before whose yhi is still
-     above fy, and the next ones of ylo at most fy; else found again from the first */
-  const struct pylo *o = L->pord + k0;
-  int *act = L->pact + k0;
-  if (fy < L->fr[f].lastfy) {
-    L->fr[f].nxt = L->fr[f].nact = 0;
-    L->fr[f].minhi = INT64_MAX;
-  }
-  L->fr[f].lastfy = fy;
-  int na = L->fr[f].nact;
-  gcoord minhi = L->fr[f].minhi;
-  if (fy >= minhi) {                        /* (else none of them ends below the row) */
-    na = 0;
-    minhi = INT64_MAX;
-    for (int h = 0; h < L->fr[f].nact; h++) {
-      const gcoord yh = sp[act[h]].yhi;
-      act[na] = act[h];
-      na += yh > fy;
-      minhi = yh > fy && yh < minhi ? yh : minhi;
-    }
-  }
-  int nt = L->fr[f].nxt;
-  for (; nt < k1 - k0 && o[nt].ylo <= fy; nt++) {
-    const gcoord yh = sp[o[nt].k].yhi;
-    act[na] = o[nt].k;
-    na += yh > fy;
-    minhi = yh > fy && yh < minhi ? yh : minhi;
-  }
-  L->fr[f].nxt = nt;
-  L->fr[f].nact = na;
-  L->fr[f].minhi = minhi;
-  for (int a = 0; a < na; a++) {
-    const int k = act[a];
+  for (int k = next_on_row(sp, m->shadow_first[f], k1, fy); k < k1;
+       k = next_on_row(sp, k + 1, k1, fy)) {
     const struct fx_poly *p = &sp[k];
     int b2[2];
     if (L->ps && (poly_stepped(&L->ps[k], &L->psw[2 * k], L->sgen, yn, fy, r, b2) ||

@@ -424,9 +424,7 @@ static unsigned blocked_exactly(const struct fx_model *m, int f, int64_t yn, int
    centres: that row, the lowest of the face's polygons, holds a stretch (fails when
    face_ranges takes a face's rows to begin above its polygons' least ylo). Where the row
    passes a vertex and one edge is still crossed, that edge is moved on from the row
-   before (fails when it is kept where it was); the rows that fall (orders 1 and 2) make
-   face_ranges find a face's polygons on the row again from the first (fails when it
-   keeps those it found for a higher row). */
+   before (fails when it is kept where it was). */
 static void test_stepped_ends_are_exact(void **state)
 {
   (void)state;
