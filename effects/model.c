@@ -1181,6 +1181,7 @@ struct fx_lines {
   long row;
   struct poly_step *ps;     /* per shadow polygon: its two stretch ends stepped from row to
                                row (face_ranges), or NULL (none kept) */
+  struct edge_wide *psw;    /* per shadow polygon two: its steps' edges' 128-bit values */
   int *rend, rendcap, rendn;   /* the last row's runs of one face (shadow_ranges): at each
                                run's first sample its end e, or -e where a light is blocked
                                at a sample of the run; rendn samples, 0 when not found */
@@ -1188,6 +1189,9 @@ struct fx_lines {
   struct fx_sample_row sr;  /* shadow_ranges' row of samples, kept while its xd, k0 and n
                                are asked again (srn: its n, or -1 when none kept) */
   int srn;
+  int64_t sryd;             /* the yd of the last line shadow_ranges was asked */
+  unsigned sgen;            /* counts the changes of sr or sryd: a step made for one (sgen
+                               then) holds for the rows of samples asked until the next */
 };
 
 static bool room(struct fx_lines *L, int n)
@@ -1252,7 +1256,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
   free(L->cutbit); free(L->cc); free(L->ccf); free(L->cpt);
-  free(L->rng); free(L->fr); free(L->ps); free(L->rend); free(L->runbit);
+  free(L->rng); free(L->fr); free(L->ps); free(L->psw); free(L->rend); free(L->runbit);
   free(L);
 }
 
@@ -1779,20 +1783,33 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
    [0, Q). So a polygon whose line crosses two edges keeps their q, r from row to row
    while the row lies in the same band between its vertices' heights (the same two edges
    cross it) and the samples are the same (yd, xd, k0, n): each row's ends two additions.
+   An edge's q, r hold for its own line whatever the band: where the row passes a vertex
+   and one of the two edges is still crossed, that edge is stepped on and only the new
+   one started (fig6-building: about a third of the restarts).
    Rows and lines outside the bounds that keep every product within 128 bits (step_bounds,
    |yn| < 2^61) go the long way (fx_poly_cross), and the quotients are guessed in doubles
    and then corrected exactly.
+   An edge whose Q is below 2^62 keeps r, Q and dr in 64-bit integers (r + dr < 2 Q < 2^63:
+   the step's sum does not overflow), the others in 128 bits (edge_wide, beside the steps:
+   test_shadow's far polygons); the same values either way.
    The samples a polygon covers on the line are those at or right of an odd number of
    its crossings (the even-odd rule, a crossing at or left of a sample being one the
    sample is at or right of: fx_first_at_or_right's index at most the sample's), so they
    are [b0, b1) with b0 <= b1 the two crossings' indices, in whatever order the
    crossings come. */
-struct edge_step { wide r, Q, dr; int64_t q, dq; int64_t lb; };
+struct edge_step {
+  int64_t q, dq;            /* P's floor quotient by Q, and dP's (for dyn) */
+  int64_t r, Q, dr;         /* the rests and Q, where !wide (else in edge_wide) */
+  int64_t lb;               /* the edge's lb, its sign changed with N's */
+  int64_t dyn;              /* the step dq, dr are for (0: none) */
+  int v;                    /* the edge: from the ring's point v to the next */
+  bool wide;
+};
+struct edge_wide { wide r, Q, dr; };
 struct poly_step {
-  bool set, stepping;       /* set: the two edges below hold the line yn / yd;
-                               stepping: dq, dr are for the step dyn */
-  int64_t yn, yd, xd, k0, dyn;
-  int n;
+  bool set;                 /* the two edges below hold the line yn for the samples of gen */
+  unsigned gen;             /* fx_lines' sgen when made: its yd and row of samples */
+  int64_t yn;
   gcoord lo, hi;            /* the band of rows lo <= fy < hi with these two edges */
   struct edge_step e[2];
 };
@@ -1821,12 +1838,13 @@ static bool div_floor(wide a, wide b, int64_t *q, wide *rest)
   return true;
 }
 
-/* The index of edge e's crossing on its line (ceil(P / Q) in [0, n]). The rest r is never
-   negative (div_floor's is in [0, Q), and a step puts it back there), so r > 0 is r != 0:
-   one test of its two halves instead of a signed 128-bit compare. */
-static inline int edge_index(const struct edge_step *e, int n)
+/* The index of edge e's crossing on its line (ceil(P / Q) in [0, n]; w: its 128-bit values
+   where e is wide). The rest r is never negative (div_floor's is in [0, Q), and a step
+   puts it back there), so r > 0 is r != 0. */
+static inline int edge_index(const struct edge_step *e, const struct edge_wide *w, int n)
 {
-  const int64_t c = e->q + ((uint64_t)e->r != 0 || (uint64_t)(e->r >> 64) != 0);
+  const bool rest = !e->wide ? e->r != 0 : ((uint64_t)w->r != 0 || (uint64_t)(w->r >> 64) != 0);
+  const int64_t c = e->q + rest;
   return c <= 0 ? 0 : c >= n ? n : (int)c;
 }
 
@@ -1845,7 +1863,7 @@ static inline bool step_bounds(int64_t yd, const struct fx_sample_row *r)
    within 2^36 (div_floor's range). Where both succeed they give the same q and rest (the
    exact floor and rest); where either fails its caller takes the long way, whose answer
    is the same. */
-static inline bool div_floor64(int64_t a, int64_t b, int64_t *q, wide *rest)
+static inline bool div_floor64(int64_t a, int64_t b, int64_t *q, int64_t *rest)
 {
   int64_t k = a / b, r = a % b;
   if (r < 0) { k--; r += b; }
@@ -1857,9 +1875,9 @@ static inline bool div_floor64(int64_t a, int64_t b, int64_t *q, wide *rest)
 
 /* edge_start's N, D, P and Q in 64-bit integers, each product and sum checked for overflow
    (the same exact values where none overflows): true and the step as edge_start makes it
-   (div_floor64), or false with *done false where one overflows (then edge_start's 128-bit
-   way). On fig6-room and fig6-building every value fits (|P| < 2^50, Q < 2^44 there);
-   test_shadow's far polygons take the 128-bit way. */
+   (div_floor64), or false with *done false where one overflows or Q is 2^62 or more (then
+   edge_start's 128-bit way). On fig6-room and fig6-building every value fits (|P| < 2^50,
+   Q < 2^44 there); test_shadow's far polygons take the 128-bit way. */
 static inline bool edge_start64(struct edge_step *e, int64_t la, int64_t lb, int64_t lc,
                                 int64_t yn, int64_t yd, const struct fx_sample_row *r,
                                 bool *done)
@@ -1877,26 +1895,29 @@ static inline bool edge_start64(struct edge_step *e, int64_t la, int64_t lb, int
       __builtin_mul_overflow(r->xd, r->XL, &c0) ||
       __builtin_mul_overflow(2 * r->k0 + 1, r->S, &c1) || __builtin_add_overflow(c0, c1, &c) ||
       __builtin_mul_overflow(Dg, c, &t1) || __builtin_sub_overflow(t0, t1, &P) ||
-      __builtin_mul_overflow(Dg, 2 * r->S, &Q) || Q <= 0)
+      __builtin_mul_overflow(Dg, 2 * r->S, &Q) || Q <= 0 || Q >= (int64_t)1 << 62)
     return false;
   *done = true;
   e->lb = elb;
   e->Q = Q;
+  e->wide = false;
   return div_floor64(P, Q, &e->q, &e->r);
 }
 
-/* The step of polygon p's edge from p0 to p1 on the line yn / yd for the samples r
-   (within step_bounds): its q, r, Q; false when the quotient is out of div_floor's
-   range. The sizes, with |p.x|, |p.y| <= 2^28 (geom.h): |la|, |lb| < 2^30, |lc| < 2^59,
-   |yn| < 2^63: |N| < 2^93 + 2^75 < 2^94, |N xd| < 2^124; D < 2^46, D G < 2^54,
+/* The step of the edge from p0 to p1 on the line yn / yd for the samples r (within
+   step_bounds): its q, r, Q (in *w where they take 128 bits: e->wide); false when the
+   quotient is out of div_floor's range. The sizes, with
+   |p.x|, |p.y| <= 2^28 (geom.h): |la|, |lb| < 2^30, |lc| < 2^59, |yn| < 2^63:
+   |N| < 2^93 + 2^75 < 2^94, |N xd| < 2^124; D < 2^46, D G < 2^54,
    |xd XL + (2 k0 + 1) S| < 2^61 + 2^63, their product < 2^118; |P| < 2^125, Q < 2^87:
    no overflow in 128 bits. Where every value fits in 64 bits, found there
    (edge_start64). */
-static bool edge_start(struct edge_step *e, struct gpoint p0, struct gpoint p1, int64_t yn,
-                       int64_t yd, const struct fx_sample_row *r)
+static bool edge_start(struct edge_step *e, struct edge_wide *w, struct gpoint p0,
+                       struct gpoint p1, int64_t yn, int64_t yd, const struct fx_sample_row *r)
 {
   const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
   bool done;
+  e->dyn = 0;
   const bool ok = edge_start64(e, la, lb, lc, yn, yd, r, &done);
   if (done) return ok;
   wide N = -((wide)lb * yn + (wide)lc * yd), D = (wide)la * yd;
@@ -1904,61 +1925,96 @@ static bool edge_start(struct edge_step *e, struct gpoint p0, struct gpoint p1, 
   if (D < 0) { D = -D; N = -N; e->lb = -lb; }   /* (then N = lb yn + lc yd) */
   const wide Dg = D * GRID_ONE;
   const wide P = N * r->xd - Dg * ((wide)r->xd * r->XL + (wide)(2 * r->k0 + 1) * r->S);
-  e->Q = Dg * (2 * r->S);
-  return div_floor(P, e->Q, &e->q, &e->r);
+  e->wide = true;
+  w->Q = Dg * (2 * r->S);
+  return div_floor(P, w->Q, &e->q, &w->r);
 }
 
 /* Edge e's step for a change dyn of the line's yn (|dyn| < 2^62, both lines' |yn| < 2^61;
-   samples' xd < 2^30: |lb dyn xd| < 2^122): dq, dr; false when the quotient is out of
-   div_floor's range. In 64 bits where -lb dyn xd and Q fit (div_floor64). */
-static bool edge_step_set(struct edge_step *e, int64_t dyn, int64_t xd)
+   samples' xd < 2^30: |lb dyn xd| < 2^122): dq, dr (in *w where e is wide); false when the
+   quotient is out of div_floor's range. In 64 bits where -lb dyn xd and Q fit
+   (div_floor64). */
+static bool edge_step_set(struct edge_step *e, struct edge_wide *w, int64_t dyn, int64_t xd)
 {
   int64_t t, a;
-  if (e->Q <= INT64_MAX && !__builtin_mul_overflow(-e->lb, dyn, &t) &&
-      !__builtin_mul_overflow(t, xd, &a))
-    return div_floor64(a, (int64_t)e->Q, &e->dq, &e->dr);
-  return div_floor((wide)-e->lb * dyn * xd, e->Q, &e->dq, &e->dr);
+  const bool fits = !__builtin_mul_overflow(-e->lb, dyn, &t) && !__builtin_mul_overflow(t, xd, &a);
+  e->dyn = dyn;
+  if (!e->wide) {
+    if (fits) return div_floor64(a, e->Q, &e->dq, &e->dr);
+    wide dr;                                /* in [0, Q): 64 bits */
+    if (!div_floor((wide)-e->lb * dyn * xd, e->Q, &e->dq, &dr)) return false;
+    e->dr = (int64_t)dr;
+    return true;
+  }
+  if (w->Q <= INT64_MAX && fits) {
+    int64_t dr;
+    if (!div_floor64(a, (int64_t)w->Q, &e->dq, &dr)) return false;
+    w->dr = dr;
+    return true;
+  }
+  return div_floor((wide)-e->lb * dyn * xd, w->Q, &e->dq, &w->dr);
+}
+
+/* Edge e (w: its 128-bit values where wide) moved from its line to the next, dyn further,
+   with its step for dyn (edge_step_set): r + dr in [0, 2Q): over Q (t >= 0) the rest is t
+   and q gains one more; a carry the predictor cannot guess, so taken without a branch
+   (neg: -1 where t < 0). |q| < 2^36 + rows 2^36: no overflow. */
+static inline void edge_advance(struct edge_step *e, struct edge_wide *w)
+{
+  if (!e->wide) {
+    const int64_t t = e->r + e->dr - e->Q;  /* in [-Q, Q) */
+    const int64_t neg = -(int64_t)(t < 0);
+    e->r = t + (e->Q & neg);
+    e->q += e->dq + 1 + neg;
+    return;
+  }
+  const wide t = w->r + w->dr - w->Q;
+  const int64_t neg = -(int64_t)(t < 0);
+  w->r = t + (w->Q & (wide)neg);
+  e->q += e->dq + 1 + neg;
+}
+
+/* Edge e of a step on line yn0 moved to the line yn (both within 2^61 of 0): its step for
+   yn - yn0 made where it is not the one kept. false when out of div_floor's range. */
+static inline bool edge_move(struct edge_step *e, struct edge_wide *w, int64_t yn0, int64_t yn,
+                             int64_t xd)
+{
+  const int64_t dyn = yn - yn0;
+  if (dyn == 0) return true;
+  if (e->dyn != dyn && !edge_step_set(e, w, dyn, xd)) return false;
+  edge_advance(e, w);
+  return true;
 }
 
 /* Polygon p's two ends on the line yn / yd (row fy) from its step s, when s holds the
-   line before it (or this one) for the same samples: true and b[0], b[1]. */
-static bool poly_stepped(struct poly_step *s, int64_t yn, int64_t yd, int64_t fy,
-                         const struct fx_sample_row *r, int b[2])
+   line before it (or this one) for the same samples (gen: the caller's count of its yd
+   and row of samples r): true and b[0], b[1]. w: the step's two edge_wide. */
+static inline bool poly_stepped(struct poly_step *s, struct edge_wide *w, unsigned gen,
+                                int64_t yn, int64_t fy, const struct fx_sample_row *r, int b[2])
 {
-  if (!s->set || s->yd != yd || s->xd != r->xd || s->k0 != r->k0 || s->n != r->n ||
-      fy < s->lo || fy >= s->hi || yn <= -((int64_t)1 << 61) || yn >= (int64_t)1 << 61)
+  if (!s->set || s->gen != gen || fy < s->lo || fy >= s->hi || yn <= -((int64_t)1 << 61) ||
+      yn >= (int64_t)1 << 61)
     return false;
-  const int64_t dyn = yn - s->yn;
-  if (dyn != 0) {
-    if (!s->stepping || s->dyn != dyn) {
-      if (!edge_step_set(&s->e[0], dyn, r->xd) || !edge_step_set(&s->e[1], dyn, r->xd)) {
-        s->set = false;
-        return false;
-      }
-      s->stepping = true;
-      s->dyn = dyn;
-    }
-    for (int c = 0; c < 2; c++) {
-      /* r + dr in [0, 2Q): over Q (t >= 0) the rest is t and q gains one more; a carry
-         the predictor cannot guess, so taken without a branch (neg: -1 where t < 0) */
-      struct edge_step *e = &s->e[c];
-      const wide t = e->r + e->dr - e->Q;   /* in [-Q, Q) */
-      const int64_t neg = -(int64_t)(t < 0);
-      e->r = t + (e->Q & (wide)neg);
-      e->q += e->dq + 1 + neg;              /* |q| < 2^36 + rows 2^36: no overflow */
-    }
-    s->yn = yn;
+  if (!edge_move(&s->e[0], w, s->yn, yn, r->xd) ||
+      !edge_move(&s->e[1], w + 1, s->yn, yn, r->xd)) {
+    s->set = false;
+    return false;
   }
-  b[0] = edge_index(&s->e[0], s->n);
-  b[1] = edge_index(&s->e[1], s->n);
+  s->yn = yn;
+  b[0] = edge_index(&s->e[0], w, r->n);
+  b[1] = edge_index(&s->e[1], w + 1, r->n);
   return true;
 }
 
 /* Polygon p's step made on the line yn / yd (row fy) when it is one ring of at most 32
-   points whose line crosses two edges: true and their b[0], b[1]. */
-static bool poly_step_start(struct poly_step *s, const struct fx_poly *p, int64_t yn,
-                            int64_t yd, int64_t fy, const struct fx_sample_row *r, int b[2])
+   points whose line crosses two edges: true and their b[0], b[1]. An edge of s's last
+   line (for the same samples, gen) that the line still crosses is moved to it
+   (edge_move), the other started (edge_start). w: as poly_stepped's. */
+static bool poly_step_start(struct poly_step *s, struct edge_wide *w, unsigned gen,
+                            const struct fx_poly *p, int64_t yn, int64_t yd, int64_t fy,
+                            const struct fx_sample_row *r, int b[2])
 {
+  const bool was = s->set && s->gen == gen;
   s->set = false;
   const int n = p->rs[1] - p->rs[0];
   if (p->nring != 1 || n < 3 || n > 32 || !step_bounds(yd, r) || yn <= -((int64_t)1 << 61) ||
@@ -1976,15 +2032,28 @@ static bool poly_step_start(struct poly_step *s, const struct fx_poly *p, int64_
   const uint32_t rest = cross & (cross - 1);   /* two crossings: two bits set */
   if (!cross || !rest || (rest & (rest - 1))) return false;
   const int v0 = __builtin_ctz(cross), v1 = __builtin_ctz(rest);
-  if (!edge_start(&s->e[0], pt[v0], pt[v0 + 1 < n ? v0 + 1 : 0], yn, yd, r) ||
-      !edge_start(&s->e[1], pt[v1], pt[v1 + 1 < n ? v1 + 1 : 0], yn, yd, r))
-    return false;
+  /* each edge of the last line still crossed kept in its place, the new ones in the
+     others */
+  bool keep[2] = { false, false };
+  for (int c = 0; was && c < 2; c++) keep[c] = s->e[c].v == v0 || s->e[c].v == v1;
+  int nv[2] = { v0, v1 };
+  if (keep[0] != keep[1]) nv[keep[0] ? 1 : 0] = s->e[keep[0] ? 0 : 1].v == v0 ? v1 : v0;
+  for (int c = 0; c < 2; c++) {
+    struct edge_wide *wc = w + c;
+    if (keep[c]) {
+      if (!edge_move(&s->e[c], wc, s->yn, yn, r->xd)) return false;
+      continue;
+    }
+    const int v = nv[c];
+    if (!edge_start(&s->e[c], wc, pt[v], pt[v + 1 < n ? v + 1 : 0], yn, yd, r)) return false;
+    s->e[c].v = v;
+  }
   s->set = true;
-  s->stepping = false;
-  s->yn = yn; s->yd = yd; s->xd = r->xd; s->k0 = r->k0; s->n = r->n;
+  s->gen = gen;
+  s->yn = yn;
   s->lo = lo; s->hi = hi;
-  b[0] = edge_index(&s->e[0], s->n);
-  b[1] = edge_index(&s->e[1], s->n);
+  b[0] = edge_index(&s->e[0], w, r->n);
+  b[1] = edge_index(&s->e[1], w + 1, r->n);
   return true;
 }
 
@@ -2038,14 +2107,19 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd, int64_
   }
   if (fy < L->fr[f].ylo || fy >= L->fr[f].yhi) return T74_OK;
   if (!L->ps && !m->count && m->shadows.n <= 1 << 15 &&
-      (L->ps = malloc((size_t)m->shadows.n * sizeof *L->ps)) != NULL)   /* (NULL: the long way) */
-    for (int k = 0; k < m->shadows.n; k++) L->ps[k].set = false;
+      (L->ps = malloc((size_t)m->shadows.n * sizeof *L->ps)) != NULL) {   /* (NULL: the long way) */
+    if (!(L->psw = malloc(2 * (size_t)m->shadows.n * sizeof *L->psw))) {
+      free(L->ps);
+      L->ps = NULL;
+    }
+    for (int k = 0; L->ps && k < m->shadows.n; k++) L->ps[k].set = false;
+  }
   for (int k = next_on_row(sp, m->shadow_first[f], k1, fy); k < k1;
        k = next_on_row(sp, k + 1, k1, fy)) {
     const struct fx_poly *p = &sp[k];
     int b2[2];
-    if (L->ps && (poly_stepped(&L->ps[k], yn, yd, fy, r, b2) ||
-                  poly_step_start(&L->ps[k], p, yn, yd, fy, r, b2))) {
+    if (L->ps && (poly_stepped(&L->ps[k], &L->psw[2 * k], L->sgen, yn, fy, r, b2) ||
+                  poly_step_start(&L->ps[k], &L->psw[2 * k], L->sgen, p, yn, yd, fy, r, b2))) {
       const int b0 = b2[0] < b2[1] ? b2[0] : b2[1], b1 = b2[0] < b2[1] ? b2[1] : b2[0];
       if (b0 == b1) continue;
       if (!range_add(L, b0, b1, p->light)) return t74_fail(err, T74_EIO, "out of host memory");
@@ -2136,9 +2210,11 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
     return t74_fail(err, T74_EIO, "out of host memory");
   /* the row of samples: the same for every row of one frame (fx_points'), so made once
      (its divides) while xd, k0 and n stay */
-  if (L->srn != n || L->sr.xd != xd || L->sr.k0 != k0) {
+  if (L->srn != n || L->sr.xd != xd || L->sr.k0 != k0 || L->sryd != yd) {
     fx_sample_row_set(&L->sr, m->g->window, xd, k0, n);
     L->srn = n;
+    L->sryd = yd;
+    L->sgen++;                              /* (the polygons' steps made before: not for it) */
   }
   const struct fx_sample_row *const sr = &L->sr;
   const int64_t fy = fx_line_row(yn, yd);
@@ -2421,11 +2497,20 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
         continue;
       }
       if (face != last) {
+        /* (at the face's first run fs made and kept field by field, not read back: a
+           struct copy just after face_shade_of's stores reads them in wider loads (the
+           two pointers in one of 16 bytes), which wait for the stores to be written, not
+           forwarded) */
         if (!known[face]) {
-          face_shade_of(m, face, &shades[face]);
+          face_shade_of(m, face, &fs);
+          shades[face].mf = fs.mf;
+          shades[face].t = fs.t;
+          shades[face].tri = fs.tri;
+          shades[face].lit = fs.lit;
           known[face] = 1;
+        } else {
+          fs = shades[face];
         }
-        fs = shades[face];
         last = face;
         run = !pc && fs.tri >= 0 && !fs.t;
         plain = !pc && fs.tri < 0;

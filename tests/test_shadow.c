@@ -422,7 +422,9 @@ static unsigned blocked_exactly(const struct fx_model *m, int f, int64_t yn, int
    (edge_start's 128-bit way), beside the others' 64-bit way; fails when an overflow there
    is not seen. And with a rectangle alone on each face, its bottom edge along a row of
    centres: that row, the lowest of the face's polygons, holds a stretch (fails when
-   face_ranges takes a face's rows to begin above its polygons' least ylo). */
+   face_ranges takes a face's rows to begin above its polygons' least ylo). Where the row
+   passes a vertex and one edge is still crossed, that edge is moved on from the row
+   before (fails when it is kept where it was). */
 static void test_stepped_ends_are_exact(void **state)
 {
   (void)state;
