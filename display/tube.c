@@ -846,10 +846,12 @@ int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_key
       const __m128i t0 = _mm_unpacklo_epi16(a, b), t1 = _mm_unpackhi_epi16(a, b);
       const __m128i u0 = _mm_unpacklo_epi16(t0, t1), u1 = _mm_unpackhi_epi16(t0, t1);
       uint8_t *l = lit + (base >> 3);
+      /* the high halves through _mm_storel_epi64 too (a row's bytes are not 8-aligned:
+         _mm_storeh_pd's double store may not be unaligned, as write_blank16v says) */
       _mm_storel_epi64((__m128i *)(void *)l, u0);
-      _mm_storeh_pd((double *)(void *)(l - ROW_BYTES), _mm_castsi128_pd(u0));
+      _mm_storel_epi64((__m128i *)(void *)(l - ROW_BYTES), _mm_unpackhi_epi64(u0, u0));
       _mm_storel_epi64((__m128i *)(void *)(l - 2 * ROW_BYTES), u1);
-      _mm_storeh_pd((double *)(void *)(l - 3 * ROW_BYTES), _mm_castsi128_pd(u1));
+      _mm_storel_epi64((__m128i *)(void *)(l - 3 * ROW_BYTES), _mm_unpackhi_epi64(u1, u1));
       any = 1;
     }
     for (; c < count; c += 2, base += 8) {  /* two cells: a byte of each row (of one: its
