@@ -1936,7 +1936,7 @@ static bool edge_start(struct edge_step *e, struct edge_wide *w, struct gpoint p
    (div_floor64). */
 static bool edge_step_set(struct edge_step *e, struct edge_wide *w, int64_t dyn, int64_t xd)
 {
-  int64_t t, a;
+  int64_t t, a = 0;               /* a is read only where fits; 0 for gcc -O1's warning */
   const bool fits = !__builtin_mul_overflow(-e->lb, dyn, &t) && !__builtin_mul_overflow(t, xd, &a);
   e->dyn = dyn;
   if (!e->wide) {
