@@ -256,6 +256,19 @@ static inline void space_lanes_init(const struct fx_model *m, int f, double py,
   L->d1 = _mm_set1_pd(D1); L->d2 = _mm_set1_pd(D2);
 }
 
+/* L's face constants for two faces of its row, lane 0 face fa's and lane 1 face fb's (fb
+   may be fa): r[0], r[3], and r[1] D1 and r[2] D2 as the products space_lanes_init makes,
+   lane by lane. */
+static inline void space_lanes_faces(const struct fx_model *m, int fa, int fb,
+                                     struct space_lanes *L)
+{
+  const double *r = m->ray[fa], *rb = m->ray[fb];
+  L->r0 = _mm_set_pd(rb[0], r[0]);
+  L->r3 = _mm_set_pd(rb[3], r[3]);
+  L->c1 = _mm_mul_pd(_mm_set_pd(rb[1], r[1]), L->d1);
+  L->c2 = _mm_mul_pd(_mm_set_pd(rb[2], r[2]), L->d2);
+}
+
 /* The space positions X[0..2] (x, y, z lanes) of the row's points px2 (two x's). */
 static inline void space_lanes_at(const struct space_lanes *L, __m128d px2, __m128d X[3])
 {
@@ -699,18 +712,13 @@ void uv_pairs(const struct space_lanes *L, const double *px, int p, int q, int u
 }
 
 /* shade_row's space points p .. q - 1 (q - p even) of face f (triangle ta), L's face
-   constants set to f's first (space_lanes_init's: r[1] D1, r[2] D2 the same products),
-   two by two (uv_pairs, ta's axes constants there). */
+   constants set to f's first (space_lanes_faces), two by two (uv_pairs, ta's axes
+   constants there). */
 static inline __attribute__((always_inline))
-void uv_face(const struct fx_model *m, struct space_lanes *L, __m128d d1, __m128d d2, int f,
-             const struct smooth_tri *ta, const double *px, int p, int q, double *xu,
-             double *xw)
+void uv_face(const struct fx_model *m, struct space_lanes *L, int f, const struct smooth_tri *ta,
+             const double *px, int p, int q, double *xu, double *xw)
 {
-  const double *r = m->ray[f];
-  L->r0 = _mm_set1_pd(r[0]);
-  L->r3 = _mm_set1_pd(r[3]);
-  L->c1 = _mm_mul_pd(_mm_set1_pd(r[1]), d1);
-  L->c2 = _mm_mul_pd(_mm_set1_pd(r[2]), d2);
+  space_lanes_faces(m, f, f, L);
   switch (3 - ta->bu - ta->bw) {            /* (bu, bw) is (ax + 1, ax + 2) mod 3 */
   case 0: uv_pairs(L, px, p, q, 1, 2, xu, xw); break;
   case 1: uv_pairs(L, px, p, q, 2, 0, xu, xw); break;
@@ -720,19 +728,15 @@ void uv_face(const struct fx_model *m, struct space_lanes *L, __m128d d1, __m128
 
 /* shade_row's space points pa of face fa (triangle ta) and pb of face fb (tb) in one
    step, each lane with its own face's constants (L's row constants; its face constants
-   set here: r[1] D1 and r[2] D2 lane by lane, the same products space_lanes_init makes),
-   each lane's operations space_point's on its values; each point's coordinates on its
-   triangle's axes into xu[] and xw[] (pb may be pa: a point alone, in both lanes). */
+   set here, space_lanes_faces), each lane's operations space_point's on its values; each
+   point's coordinates on its triangle's axes into xu[] and xw[] (pb may be pa: a point
+   alone, in both lanes). */
 static inline __attribute__((always_inline))
-void uv_two(const struct fx_model *m, struct space_lanes *L, __m128d d1, __m128d d2, int fa,
-            int fb, const struct smooth_tri *ta, const struct smooth_tri *tb, const double *px,
-            int pa, int pb, double *xu, double *xw)
+void uv_two(const struct fx_model *m, struct space_lanes *L, int fa, int fb,
+            const struct smooth_tri *ta, const struct smooth_tri *tb, const double *px, int pa,
+            int pb, double *xu, double *xw)
 {
-  const double *r = m->ray[fa], *rb = m->ray[fb];
-  L->r0 = _mm_set_pd(rb[0], r[0]);
-  L->r3 = _mm_set_pd(rb[3], r[3]);
-  L->c1 = _mm_mul_pd(_mm_set_pd(rb[1], r[1]), d1);
-  L->c2 = _mm_mul_pd(_mm_set_pd(rb[2], r[2]), d2);
+  space_lanes_faces(m, fa, fb, L);
   __m128d x[3];
   space_lanes_at(L, _mm_set_pd(px[pb], px[pa]), x);
   _mm_storel_pd(&xu[pa], x[ta->bu]); _mm_storel_pd(&xw[pa], x[ta->bw]);
@@ -812,7 +816,6 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
     _Alignas(16) double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
     struct space_lanes L;
     space_lanes_init(m, sf[0], py, &L);
-    const __m128d d1 = _mm_set1_pd(py - m->eye[1]), d2 = _mm_set1_pd(-m->eye[2]);
     /* smooth=phong: a face's odd last point with the next face's first (phong_row_lights
        pairs them so); the partial smoothing: each face's pairs from its first point (as
        inner_split reads them, 16 bytes a load: each the very 16 bytes stored), its odd
@@ -824,32 +827,29 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
       for (int k = 0; k < ns; k++) {
         const int q = at[k + 1], qe = p + ((q - p) & ~1);
         const struct smooth_tri *ta = &m->sm.tri[tri[k]];
-        uv_face(m, &L, d1, d2, sf[k], ta, px, p, qe, xu, xw);
+        uv_face(m, &L, sf[k], ta, px, p, qe, xu, xw);
         p = qe;
         if (p == q) continue;
         const int kb = k + 1 < ns ? k + 1 : k;  /* with the next face's first, or alone */
         const int p1 = k + 1 < ns ? q : p;
-        uv_two(m, &L, d1, d2, sf[k], sf[kb], ta, &m->sm.tri[tri[kb]], px, p, p1, xu, xw);
+        uv_two(m, &L, sf[k], sf[kb], ta, &m->sm.tri[tri[kb]], px, p, p1, xu, xw);
         p = p1 + 1;
       }
+      smooth_phong_row(&m->sm, ns, tri, at, xu, xw, blocked, &m->lights, g);
+      runs[1] += at[ns];                    /* smooth_row's regions under smooth=phong */
     } else {
       int left[SMOOTH_ROW], nleft = 0;
       for (int k = 0; k < ns; k++) {
         const int q = at[k + 1], qe = p + ((q - p) & ~1);
-        uv_face(m, &L, d1, d2, sf[k], &m->sm.tri[tri[k]], px, p, qe, xu, xw);
+        uv_face(m, &L, sf[k], &m->sm.tri[tri[k]], px, p, qe, xu, xw);
         if (qe < q) left[nleft++] = k;
         p = q;
       }
       for (int j = 0; j < nleft; j += 2) {  /* the left-over points, two a step */
         const int ka = left[j], kb = left[j + 1 < nleft ? j + 1 : j];   /* a last one alone */
-        uv_two(m, &L, d1, d2, sf[ka], sf[kb], &m->sm.tri[tri[ka]], &m->sm.tri[tri[kb]], px,
+        uv_two(m, &L, sf[ka], sf[kb], &m->sm.tri[tri[ka]], &m->sm.tri[tri[kb]], px,
                at[ka + 1] - 1, at[kb + 1] - 1, xu, xw);
       }
-    }
-    if (phong) {
-      smooth_phong_row(&m->sm, ns, tri, at, xu, xw, blocked, &m->lights, g);
-      runs[1] += at[ns];                    /* smooth_row's regions under smooth=phong */
-    } else {
       smooth_partial_row(&m->sm, m->map, ns, tri, at, xu, xw, blocked, &m->lights, g, runs);
     }
     shade_row_greys(g, e - i, gr);
@@ -857,15 +857,10 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   }
   struct space_lanes L;
   space_lanes_init(m, sf[0], py, &L);        /* the row's constants; the faces' below */
-  const __m128d d1 = _mm_set1_pd(py - m->eye[1]), d2 = _mm_set1_pd(-m->eye[2]);
   int p = 0;
   for (int k = 0; k < ns; k++) {
     const int q = at[k + 1];
-    const double *r = m->ray[sf[k]];
-    L.r0 = _mm_set1_pd(r[0]);
-    L.r3 = _mm_set1_pd(r[3]);
-    L.c1 = _mm_mul_pd(_mm_set1_pd(r[1]), d1);
-    L.c2 = _mm_mul_pd(_mm_set1_pd(r[2]), d2);
+    space_lanes_faces(m, sf[k], sf[k], &L);
     __m128d x[3];
     for (; p + 2 <= q; p += 2) {
       space_lanes_at(&L, _mm_loadu_pd(px + p), x);
@@ -875,11 +870,7 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
     }
     if (p == q) continue;
     const int p1 = k + 1 < ns ? q : p;       /* with the next face's first, or alone */
-    const double *rb = m->ray[sf[k + 1 < ns ? k + 1 : k]];
-    L.r0 = _mm_set_pd(rb[0], r[0]);
-    L.r3 = _mm_set_pd(rb[3], r[3]);
-    L.c1 = _mm_mul_pd(_mm_set_pd(rb[1], r[1]), d1);
-    L.c2 = _mm_mul_pd(_mm_set_pd(rb[2], r[2]), d2);
+    space_lanes_faces(m, sf[k], sf[k + 1 < ns ? k + 1 : k], &L);
     space_lanes_at(&L, _mm_set_pd(px[p1], px[p]), x);
     _mm_storel_pd(&X[p][0], x[0]); _mm_storeh_pd(&X[p1][0], x[0]);
     _mm_storel_pd(&X[p][1], x[1]); _mm_storeh_pd(&X[p1][1], x[1]);
