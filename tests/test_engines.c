@@ -267,6 +267,20 @@ static int duo_open(struct duo *d, const struct scene *s, int cell, char *msg, s
   return st;
 }
 
+/* Scene s in both engines at cell (d, duo_open's), and the effects model e makes on engine
+   eng's frame (m), its figures into *st (cleared first) and its charges into *cost. */
+static void model_open(struct duo *d, struct fx_model *m, const struct scene *s,
+                       const struct effects *e, int cell, int eng, struct fx_stats *st,
+                       struct cost *cost)
+{
+  char msg[1024];
+  if (duo_open(d, s, cell, msg, sizeof msg) != T74_OK) fail_msg("%s", msg);
+  memset(st, 0, sizeof *st);
+  struct t74_error err = { 0, "" };
+  if (fx_model_build(m, &d->eng[eng], s, e, NULL, st, cost, &err) != T74_OK)
+    fail_msg("%s", err.msg);
+}
+
 static unsigned id_of(const struct fx_engine *e, int face) { return face < 0 ? 0u : e->map->f[face].id; }
 
 struct fx_tally {
@@ -766,13 +780,10 @@ static void test_regions_on_samples(void **state)
   assert_int_equal(effects_parse("halftone=4x4 smooth=phong contour=0.5 shadows=on", &e, "test", 1,
                                  &err), T74_OK);
   struct duo d;
-  char msg[1024];
-  assert_int_equal(duo_open(&d, sc, 4, msg, sizeof msg), T74_OK);
-  struct fx_stats st;
-  memset(&st, 0, sizeof st);
-  struct cost cost = { { 0 } };
   struct fx_model m;
-  assert_int_equal(fx_model_build(&m, &d.eng[0], sc, &e, NULL, &st, &cost, &err), T74_OK);
+  struct fx_stats st;
+  struct cost cost = { { 0 } };
+  model_open(&d, &m, sc, &e, 4, 0, &st, &cost);
   assert_true(m.ncut == 1 && m.shadows.n > 0);
   static const int rect[4][2] = { { 20, 20 }, { 60, 20 }, { 60, 50 }, { 20, 50 } };
   static const int diamond[4][2] = { { 10, 37 }, { 50, 5 }, { 90, 37 }, { 50, 69 } };
@@ -879,13 +890,10 @@ static void test_cuts_on_points(void **state)
   assert_int_equal(effects_parse("halftone=4x4 smooth=phong contour=0.5", &e, "test", 1, &err),
                    T74_OK);
   struct duo d;
-  char msg[1024];
-  assert_int_equal(duo_open(&d, sc, 4, msg, sizeof msg), T74_OK);
-  struct fx_stats st;
-  memset(&st, 0, sizeof st);
-  struct cost cost = { { 0 } };
   struct fx_model m;
-  assert_int_equal(fx_model_build(&m, &d.eng[1], sc, &e, NULL, &st, &cost, &err), T74_OK);
+  struct fx_stats st;
+  struct cost cost = { { 0 } };
+  model_open(&d, &m, sc, &e, 4, 1, &st, &cost);
   assert_true(m.ncut == 1 && m.cuts.n > 0);
   const int o = m.cut_obj[0];
   static const int zz[24][4] = {   /* a zigzag: up and down along the top, a flat bottom */
@@ -993,13 +1001,10 @@ static void test_points_frame_is_pointwise(void **state)
     snprintf(fx, sizeof fx, "%s %s", sc->effects ? sc->effects : "", cases[k][1]);
     if (effects_parse(fx, &e, "test", 1, &err) != T74_OK) fail_msg("%s", err.msg);
     struct duo d;
-    char msg[1024];
-    assert_int_equal(duo_open(&d, sc, e.halftone, msg, sizeof msg), T74_OK);
-    struct fx_stats st;
-    memset(&st, 0, sizeof st);
-    struct cost cost = { { 0 } };
     struct fx_model m;
-    assert_int_equal(fx_model_build(&m, &d.eng[1], sc, &e, NULL, &st, &cost, &err), T74_OK);
+    struct fx_stats st;
+    struct cost cost = { { 0 } };
+    model_open(&d, &m, sc, &e, e.halftone, 1, &st, &cost);
     assert_false(m.count);                  /* the points engine: greys in runs */
     const size_t np = (size_t)d.W * (size_t)d.H;
     struct fx_frame f;
@@ -1084,13 +1089,10 @@ static void test_space_points_are_single(void **state)
     if (effects_parse(sc->effects ? sc->effects : "", &e, "test", 1, &err) != T74_OK)
       fail_msg("%s", err.msg);
     struct duo d;
-    char msg[1024];
-    assert_int_equal(duo_open(&d, sc, e.halftone, msg, sizeof msg), T74_OK);
-    struct fx_stats st;
-    memset(&st, 0, sizeof st);
-    struct cost cost = { { 0 } };
     struct fx_model m;
-    assert_int_equal(fx_model_build(&m, &d.eng[1], sc, &e, NULL, &st, &cost, &err), T74_OK);
+    struct fx_stats st;
+    struct cost cost = { { 0 } };
+    model_open(&d, &m, sc, &e, e.halftone, 1, &st, &cost);
     assert_non_null(m.ray);
     const int W = d.W, n = 2 * W;
     double *px = malloc((size_t)n * sizeof *px), (*X)[3] = malloc((size_t)n * sizeof *X);
