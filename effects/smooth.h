@@ -88,6 +88,9 @@ struct smooth_model {
      grey's filter"); phong_declines, when set, counts the points the filter left to it. */
   bool phong_exact;
   long *phong_declines;
+  /* Tests only too: phong_sse2 makes smooth_phong_row take its SSE2 way (two points a
+     step) where the processor has AVX (four). */
+  bool phong_sse2;
   /* Tests only too: inner_exact gives every point of the partial smoothing its region by
      the exact chain, without the filter that finds the inner triangle's points (smooth.c,
      "The inner triangle's filter"); inner_declines, when set, counts the points the

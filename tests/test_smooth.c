@@ -695,14 +695,21 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
         xu[p] = X[p][L->m.tri[tri[k]].bu];
         xw[p] = X[p][L->m.tri[tri[k]].bw];
       }
-    if (declines) L->m.phong_declines = &dec_uv;
-    smooth_phong_row(&L->m, nseg, tri, at, xu, xw, blocked, lights, gu);
-    L->m.phong_declines = NULL;
-    for (int k = 0; k < nseg; k++)
-      for (int p = at[k]; p < at[k + 1]; p++)
-        differ += gu[p] != smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, tri[k], X[p], 1.0,
-                                          blocked[p], lights, NULL, NULL);
-    if (declines) differ += dec_uv != dec_row;   /* the same points declined */
+    /* both of its ways: four points a step (AVX, where the processor has it) and two
+       (SSE2, phong_sse2) */
+    for (int way = 0; way < 2; way++) {
+      dec_uv = 0;
+      L->m.phong_sse2 = way == 1;
+      if (declines) L->m.phong_declines = &dec_uv;
+      smooth_phong_row(&L->m, nseg, tri, at, xu, xw, blocked, lights, gu);
+      L->m.phong_declines = NULL;
+      L->m.phong_sse2 = false;
+      for (int k = 0; k < nseg; k++)
+        for (int p = at[k]; p < at[k + 1]; p++)
+          differ += gu[p] != smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, tri[k], X[p], 1.0,
+                                            blocked[p], lights, NULL, NULL);
+      if (declines) differ += dec_uv != dec_row;   /* the same points declined */
+    }
   }
   L->m.phong_declines = NULL;
   for (int r = 0; r < 3; r++) {
