@@ -1720,30 +1720,34 @@ void phong_rows(const struct smooth_model *m, int nseg, const int *tri, const in
 #ifdef PHONG_AVX
 /* smooth_phong_row four points an instruction (AVX's 256-bit registers), chosen at run
    time where the processor has AVX (__builtin_cpu_supports, which asks the processor and
-   whether the system saves the 256-bit registers): phong_row_lights' two passes with
-   steps of up to four points of one triangle (a run's points four a step from its
-   first; the last step's lanes past the run's end hold its last point again, the same
-   values as that lane). Each lane's operations are phong_head's and phong_tail's for its
+   whether the system saves the 256-bit registers): phong_row_lights' two passes, the
+   first with steps of up to four points of one triangle (a run's points four a step from
+   its first; the last step's lanes past the run's end hold its last point again), the
+   second four points a step in the row's order (phong_row4_lights). Each lane's
+   operations are phong_head's and phong_tail's for its
    point, in their order, each the same IEEE operation on the same doubles as the SSE2
    path's (VEX-encoded, 256 bits wide; no fused multiply-add: AVX alone, and the build's
    -ffp-contract=off), and a compare by the predicate of the SSE2 one (GE_OS, LE_OS,
    GT_OS, LT_OS: false for a NaN, as CMPPD's GE, LE, GT and LT): the same greys and the
    same points declined, bit for bit, as phong_rows (test_smooth test_row_is_single runs
-   the rows both ways, m->phong_sse2). A triangle whose btot is 0 takes phong_rows' way
-   (phong_alone). Where it pays: the SSE2 rows' time went to their arithmetic (about 77
-   vector operations a step of two points, the divider not the limit) and to the steps
-   across two runs (some 25 shuffles each, a run holding 3.4 points on average on the
-   sphere); four lanes a step take a run's points with about half the operations. */
+   the rows both ways, m->phong_sse2). Where it pays: the SSE2 rows' time went to their
+   arithmetic (about 77 vector operations a step of two points) and to the steps across
+   two runs (some 25 shuffles each, a run holding 3.4 points on average on the sphere);
+   four lanes a step take a run's points with about half the operations, and the second
+   pass's square roots and divides, four a step, are not spent on spare lanes. */
 #define PHONG_AVX_ATTR __attribute__((target("avx")))
-struct phong_step4 {
-  _Alignas(32) double n[3][4];              /* the normal's sums N */
-  _Alignas(32) double s[4];                 /* the areas' sums */
-  _Alignas(32) double r[4];                 /* the square root's operand nn */
-  _Alignas(32) double sg[4];                /* the eye's side, +-1 */
-};
-struct phong_steps4 {
-  struct phong_step4 st[SMOOTH_ROW];
-  int pa[SMOOTH_ROW], cnt[SMOOTH_ROW], okb[SMOOTH_ROW], tri[SMOOTH_ROW];
+/* A row's points between phong_row4_lights' two passes, point p's values at [p]: the
+   normal's sums N, the areas' sums s, the square root's operand nn (r), the eye's side
+   (+-1), phong_head's ok (all bits set or none) and the triangle; 4 spare places past
+   the row's last point. */
+#define PHONG_PTS (SMOOTH_ROW + 4)
+struct phong_pts4 {
+  _Alignas(32) double n[3][PHONG_PTS];
+  _Alignas(32) double s[PHONG_PTS];
+  _Alignas(32) double r[PHONG_PTS];
+  _Alignas(32) double sg[PHONG_PTS];
+  _Alignas(32) double ok[PHONG_PTS];
+  int tri[PHONG_PTS];
 };
 
 /* A pair's double (struct smooth_lanes: the same double twice) in all four lanes */
@@ -1752,11 +1756,11 @@ static inline __attribute__((always_inline)) PHONG_AVX_ATTR __m256d lanes4(const
   return _mm256_broadcast_sd(a);
 }
 
-/* phong_head at four points of triangle x (lanes 0 .. 3: coordinates x, y on its axes bu,
-   bw) into step *T: the same operations, lane by lane. */
+/* phong_head at four points p .. p + 3 of triangle x (lanes 0 .. 3: coordinates x, y on
+   its axes bu, bw) into *P at [p] .. [p + 3]: the same operations, lane by lane. */
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
-int phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d sg,
-                struct phong_step4 *T)
+void phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d sg,
+                 struct phong_pts4 *P, int p)
 {
   const __m256d zero = _mm256_setzero_pd(), scale = _mm256_set1_pd(0x1p-20);
   __m256d w[3], s = zero;
@@ -1775,7 +1779,7 @@ int phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d sg
     N[c] = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(w[0], lanes4(x->xcn[0][c])),
                                        _mm256_mul_pd(w[1], lanes4(x->xcn[1][c]))),
                          _mm256_mul_pd(w[2], lanes4(x->xcn[2][c])));
-    _mm256_store_pd(T->n[c], N[c]);
+    _mm256_storeu_pd(P->n[c] + p, N[c]);
   }
   const __m256d nn = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N[0], N[0]),
                                                  _mm256_mul_pd(N[1], N[1])),
@@ -1783,36 +1787,34 @@ int phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d sg
   const __m256d ok = _mm256_and_pd(
       _mm256_and_pd(good, _mm256_cmp_pd(s, zero, _CMP_GT_OS)),
       _mm256_cmp_pd(nn, _mm256_mul_pd(_mm256_mul_pd(s, s), scale), _CMP_GE_OS));
-  _mm256_store_pd(T->s, s);
-  _mm256_store_pd(T->r, nn);
-  _mm256_store_pd(T->sg, sg);
-  return _mm256_movemask_pd(ok);
+  _mm256_storeu_pd(P->s + p, s);
+  _mm256_storeu_pd(P->r + p, nn);
+  _mm256_storeu_pd(P->sg + p, sg);
+  _mm256_storeu_pd(P->ok + p, ok);
 }
 
-/* phong_tail at step j of *S (cnt[j] points from pa[j], the lanes past them copies of
-   the last): the same operations lane by lane, the same last test, greys and declines
-   (the exact chain, counted in phong_declines); the greys to grey[p], p < n, under one
-   light four in one store where pa + 4 <= n (lanes past the step's points then write
-   the next steps' points, each written over by its own step, taken later). */
+/* phong_tail at points q .. q + cnt - 1 of *P (cnt 1 .. 4; the lanes past them hold
+   other values, never stored nor counted): the same operations lane by lane, the same
+   last test, greys and declines (the exact chain, counted in phong_declines); the greys
+   to grey[q + h], under one light four in one store. */
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
-void phong_tail4(const struct smooth_model *m, const struct phong_steps4 *S, int j,
+void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q, int cnt,
                  const double *xu, const double *xw, const unsigned *blocked, bool shadow,
-                 const struct shade_lights *L, const __m256d (*lv)[3], int nlight, int n,
+                 const struct shade_lights *L, const __m256d (*lv)[3], int nlight,
                  int *grey)
 {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1);
   const __m256d half = _mm256_set1_pd(0.5), fr = _mm256_set1_pd((255 - SHADE_AMBIENT) * 1.0);
   const __m256d eps = _mm256_set1_pd(0x1p-24), twov = _mm256_set1_pd(2);
   const __m256d sign = _mm256_set1_pd(-0.0), two30 = _mm256_set1_pd(0x1p30);
-  const struct phong_step4 *T = &S->st[j];
-  const int pa = S->pa[j], cnt = S->cnt[j];
   unsigned b[4] = { 0, 0, 0, 0 }, bor = 0;
   if (shadow)
-    for (int h = 0; h < 4; h++) bor |= b[h] = blocked[pa + (h < cnt ? h : cnt - 1)];
-  const __m256d N0 = _mm256_load_pd(T->n[0]), N1 = _mm256_load_pd(T->n[1]);
-  const __m256d N2 = _mm256_load_pd(T->n[2]);
-  const __m256d inv = _mm256_div_pd(_mm256_load_pd(T->sg), _mm256_sqrt_pd(_mm256_load_pd(T->r)));
-  const __m256d s = _mm256_load_pd(T->s);
+    for (int h = 0; h < cnt; h++) bor |= b[h] = blocked[q + h];
+  const __m256d N0 = _mm256_load_pd(P->n[0] + q), N1 = _mm256_load_pd(P->n[1] + q);
+  const __m256d N2 = _mm256_load_pd(P->n[2] + q);
+  const __m256d inv = _mm256_div_pd(_mm256_load_pd(P->sg + q),
+                                    _mm256_sqrt_pd(_mm256_load_pd(P->r + q)));
+  const __m256d s = _mm256_load_pd(P->s + q);
   __m256d sum = zero;
   for (int k = 0; k < nlight; k++) {
     const __m256d d = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, lv[k][0]),
@@ -1833,33 +1835,34 @@ void phong_tail4(const struct smooth_model *m, const struct phong_steps4 *S, int
   const __m256d f0v = _mm256_sub_pd(f, delta), f1v = _mm256_add_pd(f, delta);
   const __m128i t0 = _mm256_cvttpd_epi32(f0v);
   /* phong_tail's test, lane by lane */
-  const int fine = S->okb[j] & _mm256_movemask_pd(_mm256_cmp_pd(f1v, two30, _CMP_LT_OS)) &
+  const int okb = _mm256_movemask_pd(_mm256_load_pd(P->ok + q)), lanes = (1 << cnt) - 1;
+  const int fine = okb & _mm256_movemask_pd(_mm256_cmp_pd(f1v, two30, _CMP_LT_OS)) &
                    _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm256_cvttpd_epi32(f1v))));
-  if (fine == 15) {
-    if (nlight == 1 && pa + 4 <= n) {       /* no clamp under one light: phong_tail */
-      _mm_storeu_si128((__m128i *)(void *)&grey[pa],
+  if ((fine & lanes) == lanes) {
+    if (nlight == 1 && cnt == 4) {          /* no clamp under one light: phong_tail */
+      _mm_storeu_si128((__m128i *)(void *)&grey[q],
                        _mm_add_epi32(t0, _mm_set1_epi32(SHADE_AMBIENT)));
       return;
     }
     _Alignas(16) int g[4];
     _mm_store_si128((__m128i *)(void *)g, _mm_add_epi32(t0, _mm_set1_epi32(SHADE_AMBIENT)));
-    for (int h = 0; h < cnt; h++) grey[pa + h] = g[h] > 255 ? 255 : g[h];
+    for (int h = 0; h < cnt; h++) grey[q + h] = g[h] > 255 ? 255 : g[h];
     return;
   }
   _Alignas(32) double f0[4], f1[4];
   _mm256_store_pd(f0, f0v);
   _mm256_store_pd(f1, f1v);
   for (int h = 0; h < cnt; h++) {          /* phong_filter's last test and grey */
-    int *g = &grey[pa + h];
-    if ((S->okb[j] >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
+    int *g = &grey[q + h];
+    if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
       const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
       *g = gv > 255 ? 255 : gv;
       continue;
     }
     if (m->phong_declines) ++*m->phong_declines;
-    const struct smooth_tri *tr = &m->tri[S->tri[j]];
+    const struct smooth_tri *tr = &m->tri[P->tri[q + h]];
     double buf[3], ar[3];
-    const double *Xp = phong_point(NULL, xu, xw, tr, pa + h, buf);
+    const double *Xp = phong_point(NULL, xu, xw, tr, q + h, buf);
     bary_areas(tr, Xp, ar);
     grey_phong_exact(tr, ar, Xp, 1.0, b[h], L, g);
   }
@@ -1875,41 +1878,58 @@ __m256d step4(const double *v, int p, int c)
   return _mm256_set_pd(d, d, b, a);
 }
 
-/* phong_row_lights four points a step (phong_rows4) */
+/* phong_row_lights four points a step (phong_rows4): the first pass a run's points four
+   a step from its first, with its triangle's constants (the last step's lanes past the
+   run write their values at the next run's first points, which its first step then
+   writes over, or past the row's last point); the second pass the row's points four a
+   step whatever their triangles (it needs none of a triangle's constants), so that no
+   lane of its square roots and divides is spare but in the last step. A point of a
+   triangle whose btot is 0 is declined (its ok 0), and so takes the exact chain with
+   its areas (bary_areas), counted, as phong_alone takes it in phong_rows (whose filter
+   declines a triangle whose btot is 0). */
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
 void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                        const double *xu, const double *xw, const unsigned *blocked,
                        bool shadow, const struct shade_lights *L, const __m256d (*lv)[3],
                        int nlight, int *grey)
 {
-  struct phong_steps4 S;
-  int j = 0;
+  struct phong_pts4 P;
+  const int n = at[nseg];
+  const __m256d pad = _mm256_set1_pd(1);    /* values of no use, in lanes not ok */
   for (int k = 0; k < nseg; k++) {
     const struct smooth_tri *tr = &m->tri[tri[k]];
     const int q = at[k + 1];
-    if (tr->btot == 0) {
-      for (int p = at[k]; p < q; p++) {
-        double buf[3];
-        phong_alone(m, tr, phong_point(NULL, xu, xw, tr, p, buf), blocked[p], L, &grey[p]);
+    const __m128i t = _mm_set1_epi32(tri[k]);
+    if (tr->btot == 0) {                    /* declined: the exact chain, as phong_alone */
+      for (int p = at[k]; p < q; p += 4) {
+        _mm_storeu_si128((__m128i *)(void *)(P.tri + p), t);
+        for (int c = 0; c < 3; c++) _mm256_storeu_pd(P.n[c] + p, pad);
+        _mm256_storeu_pd(P.s + p, pad);
+        _mm256_storeu_pd(P.r + p, pad);
+        _mm256_storeu_pd(P.sg + p, pad);
+        _mm256_storeu_pd(P.ok + p, _mm256_setzero_pd());
       }
       continue;
     }
     const struct smooth_lanes *lx = &m->lanes[tri[k]];
     const __m256d sg = _mm256_set1_pd(tr->front ? 1 : -1);
-    for (int p = at[k]; p < q; p += 4, j++) {
+    for (int p = at[k]; p < q; p += 4) {
       const int c = q - p;
       /* lx's constants read at each step from their addresses in lx (memory operands),
          not their 22 addresses made and kept on the stack once a run */
       __asm__("" : "+r"(lx));
-      S.pa[j] = p;
-      S.cnt[j] = c < 4 ? c : 4;
-      S.tri[j] = tri[k];
-      S.okb[j] = phong_head4(lx, step4(xu, p, c), step4(xw, p, c), sg, &S.st[j]);
+      _mm_storeu_si128((__m128i *)(void *)(P.tri + p), t);
+      phong_head4(lx, step4(xu, p, c), step4(xw, p, c), sg, &P, p);
     }
   }
-  const int n = at[nseg];
-  for (int i = 0; i < j; i++)
-    phong_tail4(m, &S, i, xu, xw, blocked, shadow, L, lv, nlight, n, grey);
+  for (int c = 0; c < 3; c++)               /* past the last point: set (no lane of a */
+    _mm256_storeu_pd(P.n[c] + n, pad);      /* step reads memory never written) */
+  _mm256_storeu_pd(P.s + n, pad);
+  _mm256_storeu_pd(P.r + n, pad);
+  _mm256_storeu_pd(P.sg + n, pad);
+  _mm256_storeu_pd(P.ok + n, _mm256_setzero_pd());
+  for (int q = 0; q < n; q += 4)
+    phong_tail4(m, &P, q, n - q < 4 ? n - q : 4, xu, xw, blocked, shadow, L, lv, nlight, grey);
 }
 
 /* phong_rows for smooth_phong_row, four points a step (AVX) */
