@@ -487,7 +487,8 @@ static inline unsigned point_bits(const struct shade_pair *P)
      zero where it is.
    So den is the same double at every point of the row where it is not a zero, and a zero
    at every point where it is (only its sign may differ), where t is 1: t = den != 0 ?
-   r[3] / den : 1 is the same double at every point, row_lanes_t's (den made at D0 = +0).
+   r[3] / den : 1 is the same double at every point, row_lanes_init's (den made at D0 =
+   +0).
    The space point's X[1] = E1 + t D1 and X[2] = E2 + t D2 are then the same at every
    point of the row too, and only X[0] = E0 + t D0 changes: space_lanes_at's operations
    on the same values, in its order. */
@@ -580,6 +581,8 @@ static inline void row_tex_init(const struct tex_lanes *T, const struct row_lane
                                 struct row_tex *Q)
 {
   Q->ok = false;
+  Q->vTdu = _mm_setzero_pd();               /* (read only where ok) */
+  Q->yw = _mm_setzero_si128();
   if (T->du != 0 || T->t->U[T->dv] != 0) return;
   const __m128d v = _mm_sub_pd(T->dv == 1 ? R->x1 : R->x2, T->odv);
   const __m128d u0 = _mm_setzero_pd();
@@ -649,7 +652,8 @@ static inline __m128d row_tex_pair(const struct tex_lanes *T, const struct row_t
    pair's X[0] alone is made (space_lanes_at's steps for it), X[1] and X[2] are the row's;
    a point light's term on a face square to the y or z axis is row_dot_axis's, the row's
    parts of it made once a light a stage; a texture's pixels row_tex_pair's where
-   row_tex_init holds, else tex_pair's on the space points. */
+   row_tex_init holds (then made in the first point light's loop, as said there), else
+   tex_pair's on the space points. */
 enum { LIT_PAIRS = 16 };
 
 static inline __attribute__((always_inline))
@@ -664,6 +668,8 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
   struct row_lanes R;                       /* rowt: t the row's (row_lanes_init) */
   struct row_tex Q;
   Q.ok = false;
+  Q.vTdu = _mm_setzero_pd();                /* (read only where ok) */
+  Q.yw = _mm_setzero_si128();
   if (rowt) {
     R = F->R;
     if (T) row_tex_init(T, &R, &Q);
@@ -687,10 +693,15 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
         space_lanes_at(&L, _mm_loadu_pd(pxc + 2 * k), X[k]);
       if (nf < np) space_lanes_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
     }
-    if (T) {                                /* the reflectances */
-      if (rowt && Q.ok)
-        for (int k = 0; k < np; k++) refl[k] = row_tex_pair(T, &Q, &R, X[k][0]);
-      else if (rowt)
+    /* the reflectances; where the row's t is fixed, the picture's row the row's and the
+       face square to the y or z axis (fuse), in the loop of the first point light whose
+       terms are made (below), else after the lights: the texture's divide and the
+       light's square root and divide in one loop, so that the divider and the other
+       units work at once */
+    const bool fuse = T && rowt && Q.ok && ax > 0;
+    bool texed = false;                     /* fuse: refl[] made */
+    if (T && !fuse) {
+      if (rowt)
         for (int k = 0; k < np; k++) {
           const __m128d Xk[3] = { X[k][0], R.x1, R.x2 };
           refl[k] = tex_pair(T, Xk);
@@ -727,7 +738,15 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
         else if (rowt && ax > 0) {
           struct row_light K;
           row_light_init(l, &R, ax, &K);
-          for (int k = 0; k < np; k++) sum[k] = _mm_add_pd(sum[k], row_dot_axis(&K, nax, X[k][0]));
+          if (fuse && !texed) {
+            for (int k = 0; k < np; k++) {
+              refl[k] = row_tex_pair(T, &Q, &R, X[k][0]);
+              sum[k] = _mm_add_pd(sum[k], row_dot_axis(&K, nax, X[k][0]));
+            }
+            texed = true;
+          } else {
+            for (int k = 0; k < np; k++) sum[k] = _mm_add_pd(sum[k], row_dot_axis(&K, nax, X[k][0]));
+          }
         } else if (rowt)
           for (int k = 0; k < np; k++)
             sum[k] = _mm_add_pd(sum[k], shade_pair_dot(l, P->nv, X[k][0], R.x1, R.x2));
@@ -751,7 +770,19 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
         at[na] = k;
         na += !(both[k] & bit);
       }
-      if (rowt && ax > 0) {
+      if (rowt && ax > 0 && fuse && !texed) {
+        /* every pair's: at a pair where it is blocked at both lanes the mask's AND
+           makes its term +0, which leaves the sum */
+        struct row_light K;
+        row_light_init(l, &R, ax, &K);
+        for (int k = 0; k < np; k++) {
+          refl[k] = row_tex_pair(T, &Q, &R, X[k][0]);
+          const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
+          sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit),
+                                                 row_dot_axis(&K, nax, X[k][0])));
+        }
+        texed = true;
+      } else if (rowt && ax > 0) {
         struct row_light K;
         row_light_init(l, &R, ax, &K);
         for (int h = 0; h < na; h++) {
@@ -782,6 +813,8 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
                                                  shade_pair_dot(l, P->nv, X[k][0], X[k][1], X[k][2])));
         }
     }
+    if (fuse && !texed)                     /* no point light's terms made */
+      for (int k = 0; k < np; k++) refl[k] = row_tex_pair(T, &Q, &R, X[k][0]);
     for (int k = 0; k < nf; k++) {          /* the greys: a pair's two bytes in one store
                                                (lane 0's the low byte: x86 is little-endian) */
       const uint16_t g = (uint16_t)shade_pair_greys(T ? refl[k] : one, sum[k]);

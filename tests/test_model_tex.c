@@ -160,17 +160,21 @@ static void test_tex_repeat_pointwise(void **state)
   assert_true(t.both > 500 && t.one > 20 && distinct > 40);
 }
 
-/* Faces square to an axis (tests/data/scene/tex-axis.s74): a row's one t, the picture's
-   row made once where its frame's U is along x, the point lights' terms from the row's
-   y and z, in shadow and out of it: fx_points' greys against fx_shade's at every point. */
+/* Faces square to an axis (tests/data/scene/tex-axis.s74, and tex-axis-sun.s74: the same
+   faces without point lights): a row's one t, the picture's row made once where its
+   frame's U is along x, the pixels in the first point light's loop or after the lights,
+   the point lights' terms from the row's y and z, in shadow and out of it: fx_points'
+   greys against fx_shade's at every point. */
 static void test_tex_axis_pointwise(void **state)
 {
   (void)state;
   struct tally t;
   memset(&t, 0, sizeof t);
   static const int grids[][2] = { { 100, 75 }, { 400, 300 }, { 333, 217 } };
-  for (size_t k = 0; k < sizeof grids / sizeof grids[0]; k++)
+  for (size_t k = 0; k < sizeof grids / sizeof grids[0]; k++) {
     frame_is_pointwise("tests/data/scene/tex-axis.s74", grids[k][0], grids[k][1], &t);
+    frame_is_pointwise("tests/data/scene/tex-axis-sun.s74", grids[k][0], grids[k][1], &t);
+  }
   int distinct = 0;
   for (int g = 0; g < 256; g++) distinct += t.greys[g];
   print_message("tex-axis: %ld points, %ld textured (%ld in shadow, %ld off the picture's "
