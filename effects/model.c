@@ -474,6 +474,154 @@ static inline unsigned point_bits(const struct shade_pair *P)
   return pm;
 }
 
+/* A row of face f where space_point's t is the same at every point: where the face's ray
+   has r[0] = 0 (its plane has no x term: a face square to the y or the z axis, or slanted
+   about the x axis only). space_point's den is (r[0] D0 + r[1] D1) + r[2] D2 with D0 =
+   px - E0 the only term that changes along the row. px is finite (plane_x's: the window's
+   whole numbers and a point's u in [0, W]) and so is E0 (the Mapper's eye, whole numbers),
+   so D0 is finite and r[0] D0 is a zero (+0 or -0). Then, with c1 = r[1] D1 and c2 =
+   r[2] D2 (space_lanes_init's):
+   - c1 not a zero: z + c1 is c1 for either zero z (also where c1 is infinite or NaN: a NaN
+     operand is passed on as it is), so den = c1 + c2 at every point;
+   - c1 a zero: z + c1 is a zero, and a zero plus c2 is c2 where c2 is not a zero, and a
+     zero where it is.
+   So den is the same double at every point of the row where it is not a zero, and a zero
+   at every point where it is (only its sign may differ), where t is 1: t = den != 0 ?
+   r[3] / den : 1 is the same double at every point, row_lanes_init's (den made at D0 =
+   +0).
+   The space point's X[1] = E1 + t D1 and X[2] = E2 + t D2 are then the same at every
+   point of the row too, and only X[0] = E0 + t D0 changes: space_lanes_at's operations
+   on the same values, in its order. */
+struct row_lanes {
+  __m128d t, x1, x2;        /* t, X[1], X[2]: the row's, in both lanes */
+};
+
+static inline bool row_t_fixed(const struct fx_model *m, int face)
+{
+  return m->ray[face][0] == 0;
+}
+
+static inline void row_lanes_init(const struct space_lanes *L, struct row_lanes *R)
+{
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(L->r0, zero), L->c1), L->c2);
+  const __m128d nz = _mm_cmpneq_pd(den, zero);
+  R->t = _mm_or_pd(_mm_and_pd(nz, _mm_div_pd(L->r3, den)), _mm_andnot_pd(nz, _mm_set1_pd(1)));
+  R->x1 = _mm_add_pd(L->e1, _mm_mul_pd(R->t, L->d1));
+  R->x2 = _mm_add_pd(L->e2, _mm_mul_pd(R->t, L->d2));
+}
+
+/* A row of a flat face made ready for flat_lit_pairs, once for all its calls on the row:
+   space_lanes_init's lanes, and where the row's t is fixed (row_t_fixed), row_lanes_init's. */
+struct flat_row {
+  struct space_lanes L;
+  struct row_lanes R;
+  bool rowt;
+};
+
+static inline void flat_row_init(const struct fx_model *m, int face, double py, struct flat_row *F)
+{
+  space_lanes_init(m, face, py, &F->L);
+  F->rowt = row_t_fixed(m, face);
+  if (F->rowt) row_lanes_init(&F->L, &F->R);
+}
+
+/* shade_pair_dot_axis of point light l on such a row (R: row_lanes_init's; the face's
+   axis c is 1 or 2, nc its normal's coordinate) at the two points whose X[0] is x0: the
+   same operations on the same values in the same order, the row's terms made once (K:
+   row_light_init's): ly = l1 - X[1] and lz = l2 - X[2], their squares, and lc - X[c],
+   which is ly or lz. */
+struct row_light {
+  __m128d l0, yy, zz, num;  /* l's x; ly ly, lz lz; lc - X[c] */
+};
+
+static inline void row_light_init(const struct shade_pair_light *l, const struct row_lanes *R,
+                                  int c, struct row_light *K)
+{
+  const __m128d ly = _mm_sub_pd(l->v[1], R->x1), lz = _mm_sub_pd(l->v[2], R->x2);
+  K->l0 = l->v[0];
+  K->yy = _mm_mul_pd(ly, ly);
+  K->zz = _mm_mul_pd(lz, lz);
+  K->num = c == 1 ? ly : lz;
+}
+
+static inline __m128d row_dot_axis(const struct row_light *K, __m128d nc, __m128d x0)
+{
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d lx = _mm_sub_pd(K->l0, x0);
+  const __m128d s = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(lx, lx), K->yy), K->zz));
+  const __m128d keep = _mm_cmpneq_pd(s, zero);
+  const __m128d div = _mm_or_pd(_mm_and_pd(keep, s), _mm_andnot_pd(keep, _mm_set1_pd(1)));
+  const __m128d d = _mm_mul_pd(nc, _mm_div_pd(K->num, div));
+  return _mm_and_pd(_mm_cmpgt_pd(d, zero), d);
+}
+
+/* tex_pair on such a row where the texture is solved on x and one of y, z (du = 0: only
+   u = X[0] - o[0] changes along the row; v = X[dv] - o[dv] is the row's) and its frame's U
+   has no dv term (U[dv] = 0: a picture's rows along the x axis), made once for the row
+   (row_tex_init; ok false where this does not hold or the row's b is off |b| < 2^30).
+   tex_pair's a = (u T[dv] - v T[du]) / det, v T[du] the row's product; its b = (U[du] v -
+   U[dv] u) / det: where a lane's a is finite, so is its u (an infinite u makes u T[dv]
+   infinite or NaN: NaN where T[dv] is 0; and so a infinite or NaN; a NaN u makes a NaN),
+   so U[dv] u is a zero and U[du] v less it is U[du] v where that is not a zero, a zero
+   where it is: b is the row's b0 (made at u = +0) or a zero where b0 is a zero. The
+   picture's row y = (int)((1 - (b - floor b)) h), topped at h - 1, comes from b alone,
+   and is the same for +0 and -0 (b - floor(b) is +0 for +0 and -0 for -0 by floor_pair's
+   steps, 1 less either is 1): the row's y w is made once (tex_pair's steps on b0). The
+   fast path is taken where both lanes' |a| < 2^30 (then a is finite: the above holds) and
+   the row's |b0| < 2^30, tex_pair's condition; else tex_pair itself, on the space point
+   as space_lanes_at makes it. */
+struct row_tex {
+  bool ok;
+  __m128d vTdu;             /* v T[du] */
+  __m128i yw;               /* the pixels' row start y w, in each 64-bit half */
+};
+
+static inline void row_tex_init(const struct tex_lanes *T, const struct row_lanes *R,
+                                struct row_tex *Q)
+{
+  Q->ok = false;
+  Q->vTdu = _mm_setzero_pd();               /* (read only where ok) */
+  Q->yw = _mm_setzero_si128();
+  if (T->du != 0 || T->t->U[T->dv] != 0) return;
+  const __m128d v = _mm_sub_pd(T->dv == 1 ? R->x1 : R->x2, T->odv);
+  const __m128d u0 = _mm_setzero_pd();
+  const __m128d b = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(T->Udu, v), _mm_mul_pd(T->Udv, u0)), T->det);
+  const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)), lim = _mm_set1_pd(0x1p30);
+  if (!(_mm_movemask_pd(_mm_cmplt_pd(_mm_and_pd(b, mag), lim)) & 1)) return;
+  const __m128d f = _mm_sub_pd(b, floor_pair(b));
+  const __m128i y = _mm_cvttpd_epi32(_mm_min_pd(_mm_mul_pd(_mm_sub_pd(_mm_set1_pd(1), f), T->hd),
+                                                T->htop));
+  Q->yw = _mm_mul_epu32(_mm_shuffle_epi32(y, _MM_SHUFFLE(0, 0, 0, 0)), T->wv);
+  Q->vTdu = _mm_mul_pd(v, T->Tdu);
+  Q->ok = true;
+}
+
+static inline __m128d row_tex_pair(const struct tex_lanes *T, const struct row_tex *Q,
+                                   const struct row_lanes *R, __m128d x0)
+{
+  const __m128d u = _mm_sub_pd(x0, T->odu);
+  __m128d a = _mm_div_pd(_mm_sub_pd(_mm_mul_pd(u, T->Tdv), Q->vTdu), T->det);
+  const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)), lim = _mm_set1_pd(0x1p30);
+  if (_mm_movemask_pd(_mm_cmplt_pd(_mm_and_pd(a, mag), lim)) != 3) {
+    const __m128d X[3] = { x0, R->x1, R->x2 };
+    return tex_pair(T, X);
+  }
+  a = _mm_sub_pd(a, floor_pair(a));
+  const __m128i x = _mm_cvttpd_epi32(_mm_min_pd(_mm_mul_pd(a, T->wd), T->wtop));
+  /* y w + x, both lanes: x in [0, 2^31) */
+  const __m128i at = _mm_add_epi64(Q->yw, _mm_unpacklo_epi32(x, _mm_setzero_si128()));
+#if defined(__x86_64__)
+  const size_t i0 = (size_t)_mm_cvtsi128_si64(at);
+  const size_t i1 = (size_t)_mm_cvtsi128_si64(_mm_unpackhi_epi64(at, at));
+#else
+  uint64_t a64[2];
+  _mm_storeu_si128((__m128i *)(void *)a64, at);
+  const size_t i0 = (size_t)a64[0], i1 = (size_t)a64[1];
+#endif
+  return _mm_set_pd(unit_pixel[T->px[i1] + 1], unit_pixel[T->px[i0] + 1]);
+}
+
 /* shade_face_at, uncounted, at the n points px[0 .. n) of a row (py) on a lit face that is
    not smoothed, T its texture's tex_lanes or NULL (P: shade_pair_init's for the face's unit
    normal, face_normal's), two points a pair of lanes: points p and p + 1 (an odd last point
@@ -498,19 +646,34 @@ static inline unsigned point_bits(const struct shade_pair *P)
    all ones and the AND gives the term as shade_pair_sum's sum of unblocked lights adds
    it. (Without blocked[] where the kept sums of the one-pair loop were used, at pairs
    with every point light blocked at both lanes, the sums come out the same: a parallel
-   light's term does not depend on the point.) */
+   light's term does not depend on the point.)
+   F is the row's (flat_row_init). With rowt (F->rowt, a constant where it is inlined, so
+   that each way is its own code) the row's t is fixed (row_lanes_init's proof): each
+   pair's X[0] alone is made (space_lanes_at's steps for it), X[1] and X[2] are the row's;
+   a point light's term on a face square to the y or z axis is row_dot_axis's, the row's
+   parts of it made once a light a stage; a texture's pixels row_tex_pair's where
+   row_tex_init holds (then made in the first point light's loop, as said there), else
+   tex_pair's on the space points. */
 enum { LIT_PAIRS = 16 };
 
 static inline __attribute__((always_inline))
-void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair *P,
+void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
                     const struct tex_lanes *T, int n, const unsigned *blocked, unsigned b,
-                    const double *px, double py, uint8_t *grey)
+                    const double *px, uint8_t *grey, bool rowt)
 {
-  struct space_lanes L;
-  space_lanes_init(m, face, py, &L);
+  const struct space_lanes L = F->L;
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
   const int ax = P->axis;                   /* a face square to an axis: */
   const __m128d nax = P->nv[ax >= 0 ? ax : 0];   /* shade_pair_dot_axis */
+  struct row_lanes R;                       /* rowt: t the row's (row_lanes_init) */
+  struct row_tex Q;
+  Q.ok = false;
+  Q.vTdu = _mm_setzero_pd();                /* (read only where ok) */
+  Q.yw = _mm_setzero_si128();
+  if (rowt) {
+    R = F->R;
+    if (T) row_tex_init(T, &R, &Q);
+  }
   for (int p0 = 0; p0 < n; p0 += 2 * LIT_PAIRS) {
     const int c = n - p0 < 2 * LIT_PAIRS ? n - p0 : 2 * LIT_PAIRS;
     const int nf = c / 2, np = (c + 1) / 2;   /* pairs of two points; with an odd last one */
@@ -520,11 +683,32 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
     __m128d X[LIT_PAIRS][3], sum[LIT_PAIRS], refl[LIT_PAIRS];
     __m128i bm[LIT_PAIRS];                  /* blocked[]: lane 0's mask twice, lane 1's twice */
     unsigned both[LIT_PAIRS];               /* blocked[]: the lights blocked at both lanes */
-    for (int k = 0; k < nf; k++)            /* the space points */
-      space_lanes_at(&L, _mm_loadu_pd(pxc + 2 * k), X[k]);
-    if (nf < np) space_lanes_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
-    if (T)                                  /* the reflectances */
-      for (int k = 0; k < np; k++) refl[k] = tex_pair(T, X[k]);
+    if (rowt) {                             /* the space points: X[0] alone changes */
+      for (int k = 0; k < nf; k++)
+        X[k][0] = _mm_add_pd(L.e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_loadu_pd(pxc + 2 * k), L.e0)));
+      if (nf < np)
+        X[nf][0] = _mm_add_pd(L.e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_set1_pd(pxc[2 * nf]), L.e0)));
+    } else {
+      for (int k = 0; k < nf; k++)
+        space_lanes_at(&L, _mm_loadu_pd(pxc + 2 * k), X[k]);
+      if (nf < np) space_lanes_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
+    }
+    /* the reflectances; where the row's t is fixed, the picture's row the row's and the
+       face square to the y or z axis (fuse), in the loop of the first point light whose
+       terms are made (below), else after the lights: the texture's divide and the
+       light's square root and divide in one loop, so that the divider and the other
+       units work at once */
+    const bool fuse = T && rowt && Q.ok && ax > 0;
+    bool texed = false;                     /* fuse: refl[] made */
+    if (T && !fuse) {
+      if (rowt)
+        for (int k = 0; k < np; k++) {
+          const __m128d Xk[3] = { X[k][0], R.x1, R.x2 };
+          refl[k] = tex_pair(T, Xk);
+        }
+      else
+        for (int k = 0; k < np; k++) refl[k] = tex_pair(T, X[k]);
+    }
     /* every sum starts at +0 and adds the lights' terms in the scene's order: without
        blocked[] the leading parallel lights' terms are the same at every pair (their
        n.l), so their sum is made once and each pair's sum starts from it (the same
@@ -551,6 +735,21 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
         if (b & bit) continue;              /* +0 at every lane */
         if (!l->point)
           for (int k = 0; k < np; k++) sum[k] = _mm_add_pd(sum[k], l->v[0]);
+        else if (rowt && ax > 0) {
+          struct row_light K;
+          row_light_init(l, &R, ax, &K);
+          if (fuse && !texed) {
+            for (int k = 0; k < np; k++) {
+              refl[k] = row_tex_pair(T, &Q, &R, X[k][0]);
+              sum[k] = _mm_add_pd(sum[k], row_dot_axis(&K, nax, X[k][0]));
+            }
+            texed = true;
+          } else {
+            for (int k = 0; k < np; k++) sum[k] = _mm_add_pd(sum[k], row_dot_axis(&K, nax, X[k][0]));
+          }
+        } else if (rowt)
+          for (int k = 0; k < np; k++)
+            sum[k] = _mm_add_pd(sum[k], shade_pair_dot(l, P->nv, X[k][0], R.x1, R.x2));
         else if (ax >= 0)
           for (int k = 0; k < np; k++)
             sum[k] = _mm_add_pd(sum[k], shade_pair_dot_axis(l, nax, ax, X[k]));
@@ -571,7 +770,35 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
         at[na] = k;
         na += !(both[k] & bit);
       }
-      if (ax >= 0)
+      if (rowt && ax > 0 && fuse && !texed) {
+        /* every pair's: at a pair where it is blocked at both lanes the mask's AND
+           makes its term +0, which leaves the sum */
+        struct row_light K;
+        row_light_init(l, &R, ax, &K);
+        for (int k = 0; k < np; k++) {
+          refl[k] = row_tex_pair(T, &Q, &R, X[k][0]);
+          const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
+          sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit),
+                                                 row_dot_axis(&K, nax, X[k][0])));
+        }
+        texed = true;
+      } else if (rowt && ax > 0) {
+        struct row_light K;
+        row_light_init(l, &R, ax, &K);
+        for (int h = 0; h < na; h++) {
+          const int k = at[h];
+          const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
+          sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit),
+                                                 row_dot_axis(&K, nax, X[k][0])));
+        }
+      } else if (rowt)
+        for (int h = 0; h < na; h++) {
+          const int k = at[h];
+          const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
+          sum[k] = _mm_add_pd(sum[k], _mm_and_pd(_mm_castsi128_pd(lit),
+                                                 shade_pair_dot(l, P->nv, X[k][0], R.x1, R.x2)));
+        }
+      else if (ax >= 0)
         for (int h = 0; h < na; h++) {
           const int k = at[h];
           const __m128i lit = _mm_cmpeq_epi32(_mm_and_si128(bm[k], l->bit), _mm_setzero_si128());
@@ -586,6 +813,8 @@ void flat_lit_pairs(const struct fx_model *m, int face, const struct shade_pair 
                                                  shade_pair_dot(l, P->nv, X[k][0], X[k][1], X[k][2])));
         }
     }
+    if (fuse && !texed)                     /* no point light's terms made */
+      for (int k = 0; k < np; k++) refl[k] = row_tex_pair(T, &Q, &R, X[k][0]);
     for (int k = 0; k < nf; k++) {          /* the greys: a pair's two bytes in one store
                                                (lane 0's the low byte: x86 is little-endian) */
       const uint16_t g = (uint16_t)shade_pair_greys(T ? refl[k] : one, sum[k]);
@@ -929,6 +1158,42 @@ static inline void fill_grey(uint8_t *grey, uint8_t v, int len)
   }
 }
 
+/* face_normal's unit normal, the same doubles, without its square root and divides where
+   the face is square to an axis: two of its plane's a, b, c are 0 and the third, p, has
+   |p| <= 2^26. There face_normal's n is -(double)0 = -0 at the two and -(double)p (exact:
+   |p| < 2^53) at the third; its sum of squares is p^2 (each of the two squares is +0, and
+   +0 + +0 + p^2 is p^2 whatever the order), exact (|p^2| <= 2^52: the double holds it), so
+   its square root is |p| exactly; -0 / |p| is -0, and -p / |p| is -1 where p > 0, 1 where
+   p < 0, exactly. Else face_normal itself. */
+static inline void flat_normal(const struct mface *mf, double n[3])
+{
+  const int64_t *pl = mf->plane, lim = INT64_C(1) << 26;
+  const int c = pl[1] == 0 && pl[2] == 0 ? 0 : pl[0] == 0 && pl[2] == 0 ? 1 :
+                pl[0] == 0 && pl[1] == 0 ? 2 : -1;
+  if (c < 0 || pl[c] == 0 || pl[c] > lim || pl[c] < -lim) {
+    face_normal(mf, n);
+    return;
+  }
+  n[0] = n[1] = n[2] = -0.0;
+  n[c] = pl[c] > 0 ? -1.0 : 1.0;
+}
+
+#ifdef __SSE2__
+/* The end of the stretch of points from e on (e < n) whose blocked mask is b: the first
+   point at or after e where blocked[] is not b, or n; four compares an instruction. */
+static inline int same_end(const unsigned *blocked, int e, int n, unsigned b)
+{
+  const __m128i bv = _mm_set1_epi32((int)b);
+  for (; e + 4 <= n; e += 4) {
+    const __m128i v = _mm_loadu_si128((const __m128i *)(const void *)(blocked + e));
+    const unsigned eq = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(v, bv)));
+    if (eq != 0xf) return e + __builtin_ctz(~eq);
+  }
+  while (e < n && blocked[e] == b) e++;
+  return e;
+}
+#endif
+
 #ifdef __SSE2__
 /* flat_lit_pairs' greys for n points of a lit face without a texture where the same lights
    b are blocked at each: its operations on the same values with both lanes' masks b, not
@@ -936,7 +1201,8 @@ static inline void fill_grey(uint8_t *grey, uint8_t v, int len)
    point (flat_lit_pairs' kept sums): one grey for all n, made once. */
 __attribute__((noinline))
 static void flat_lit_masked(const struct fx_model *m, int face, const struct shade_pair *P,
-                            unsigned b, int n, const double *px, double py, uint8_t *grey)
+                            unsigned b, int n, const double *px, double py,
+                            struct flat_row *F, bool *ready, uint8_t *grey)
 {
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
   const unsigned pm = point_bits(P);        /* the point lights' bits */
@@ -945,7 +1211,14 @@ static void flat_lit_masked(const struct fx_model *m, int face, const struct sha
     fill_grey(grey, (uint8_t)g, n);         /* (both lanes the same grey) */
     return;
   }
-  flat_lit_pairs(m, face, P, NULL, n, NULL, b, px, py, grey);
+  if (!*ready) {                            /* the row's lanes, once for its stretches */
+    flat_row_init(m, face, py, F);
+    *ready = true;
+  }
+  if (F->rowt)
+    flat_lit_pairs(F, P, NULL, n, NULL, b, px, grey, true);
+  else
+    flat_lit_pairs(F, P, NULL, n, NULL, b, px, grey, false);
 }
 #endif
 
@@ -964,8 +1237,10 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
   const struct mface *mf = fs->mf;
   const struct fx_tex *t = fs->t;
   struct shade_pair P;
+  struct flat_row F;
+  bool ready = false;                       /* F made */
   double nrm[3];
-  face_normal(mf, nrm);                     /* shade_face_at's normal */
+  flat_normal(mf, nrm);                     /* shade_face_at's normal */
   shade_pair_init(&P, &m->lights, nrm);
   while (p < n) {
     int e = p + 1;
@@ -978,12 +1253,16 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
     if (t) {                                /* a texture: every point */
       struct tex_lanes T;
       tex_lanes_init(&T, t);
-      flat_lit_pairs(m, face, &P, &T, n - p, blocked + p, 0, px + p, py, grey + p);
+      flat_row_init(m, face, py, &F);
+      if (F.rowt)
+        flat_lit_pairs(&F, &P, &T, n - p, blocked + p, 0, px + p, grey + p, true);
+      else
+        flat_lit_pairs(&F, &P, &T, n - p, blocked + p, 0, px + p, grey + p, false);
       return;
     }
     const unsigned b = blocked[p];          /* a stretch of the same lights blocked */
-    while (e < n && blocked[e] == b) e++;
-    flat_lit_masked(m, face, &P, b, e - p, px + p, py, grey + p);
+    e = same_end(blocked, e, n, b);
+    flat_lit_masked(m, face, &P, b, e - p, px + p, py, &F, &ready, grey + p);
     p = e;
   }
 }
@@ -1000,11 +1279,16 @@ static void flat_tex_clear(const struct fx_model *m, int face, const struct face
 {
   struct shade_pair P;
   double nrm[3];
-  face_normal(fs->mf, nrm);                 /* shade_face_at's normal */
+  flat_normal(fs->mf, nrm);                 /* shade_face_at's normal */
   shade_pair_init(&P, &m->lights, nrm);
   struct tex_lanes T;
   tex_lanes_init(&T, fs->t);
-  flat_lit_pairs(m, face, &P, &T, n, NULL, 0, px, py, grey);
+  struct flat_row F;
+  flat_row_init(m, face, py, &F);
+  if (F.rowt)
+    flat_lit_pairs(&F, &P, &T, n, NULL, 0, px, grey, true);
+  else
+    flat_lit_pairs(&F, &P, &T, n, NULL, 0, px, grey, false);
 }
 #endif
 

@@ -33,6 +33,11 @@
 
 struct tally {
   long points, textured, shadowed, both, one, outside, differ;
+  /* on faces whose ray has no x term (one t a row): textured points where the picture's
+     row is the row's (solved on x and y or z, its frame's U along x), other textured
+     points, untextured points with a light blocked but a point light not; textured points
+     elsewhere */
+  long row_tex_fixed, row_tex, row_masked, tex_other;
   int greys[256];
 };
 
@@ -94,7 +99,19 @@ static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
       t->greys[f.grey[at]] = 1;
       if (face < 0) continue;
       const struct scene_face *sf = &sc->f[m.map->f[face].sface];
-      if (!sf->texture) continue;
+      const bool rowt = m.ray[face][0] == 0;
+      if (!sf->texture) {
+        t->row_masked += rowt && blocked[i] != 0 && (blocked[i] & pm) != pm && sf->grey < 0;
+        continue;
+      }
+      if (rowt) {
+        const struct scene_vertex *a = &sc->v[sf->vidx[0]], *b = &sc->v[sf->vidx[1]];
+        const bool on_z = m.map->f[face].plane[1] == 0;   /* solved on x and y */
+        if (on_z && b->y == a->y) t->row_tex_fixed++;
+        else t->row_tex++;
+      } else {
+        t->tex_other++;
+      }
       t->textured++;
       t->shadowed += blocked[i] != 0;
       /* a neighbour in the same pair of lanes, or not: both ways with a point light
@@ -143,10 +160,39 @@ static void test_tex_repeat_pointwise(void **state)
   assert_true(t.both > 500 && t.one > 20 && distinct > 40);
 }
 
+/* Faces square to an axis (tests/data/scene/tex-axis.s74, and tex-axis-sun.s74: the same
+   faces without point lights): a row's one t, the picture's row made once where its
+   frame's U is along x, the pixels in the first point light's loop or after the lights,
+   the point lights' terms from the row's y and z, in shadow and out of it: fx_points'
+   greys against fx_shade's at every point. */
+static void test_tex_axis_pointwise(void **state)
+{
+  (void)state;
+  struct tally t;
+  memset(&t, 0, sizeof t);
+  static const int grids[][2] = { { 100, 75 }, { 400, 300 }, { 333, 217 } };
+  for (size_t k = 0; k < sizeof grids / sizeof grids[0]; k++) {
+    frame_is_pointwise("tests/data/scene/tex-axis.s74", grids[k][0], grids[k][1], &t);
+    frame_is_pointwise("tests/data/scene/tex-axis-sun.s74", grids[k][0], grids[k][1], &t);
+  }
+  int distinct = 0;
+  for (int g = 0; g < 256; g++) distinct += t.greys[g];
+  print_message("tex-axis: %ld points, %ld textured (%ld in shadow, %ld off the picture's "
+                "frame); one t a row: %ld with the picture's row fixed, %ld other textured, "
+                "%ld untextured with a point light lit and a light blocked; %ld textured "
+                "elsewhere; %d greys, %ld differ\n", t.points, t.textured, t.shadowed,
+                t.outside, t.row_tex_fixed, t.row_tex, t.row_masked, t.tex_other, distinct,
+                t.differ);
+  assert_int_equal(t.differ, 0);
+  assert_true(t.row_tex_fixed > 20000 && t.row_tex > 5000 && t.row_masked > 400);
+  assert_true(t.tex_other > 1000 && t.shadowed > 1000 && t.outside > 5000 && distinct > 40);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_tex_repeat_pointwise),
+    cmocka_unit_test(test_tex_axis_pointwise),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
