@@ -1458,6 +1458,54 @@ static int draw_order(struct points *p, const struct scene *s, int n, struct t74
   return T74_OK;
 }
 
+/* f[0 .. n) set to no face (-1), 16 bytes a store. Not by memset: most fills are shorter
+   than a row, where a call costs about as much as the stores; gcc turns a memset (or this
+   loop, without the empty asm) whose length it can bound into `rep stos`, slow to start,
+   and a longer one the C library fills with `rep stosb` (valgrind counts either as an
+   instruction a word or a byte). */
+static void faces_none(int32_t *f, size_t n)
+{
+#ifdef __SSE2__
+  if (n >= 4) {                                 /* the last four by one store, which may
+                                                   overlap the ones before */
+    const __m128i none = _mm_set1_epi32(-1);
+    for (size_t i = 0; i + 8 <= n; i += 8) {
+#ifdef __GNUC__
+      __asm__("" : "+r"(i));
+#endif
+      _mm_storeu_si128((__m128i *)(void *)(f + i), none);
+      _mm_storeu_si128((__m128i *)(void *)(f + i + 4), none);
+    }
+    if (n & 4) _mm_storeu_si128((__m128i *)(void *)(f + (n & ~(size_t)7)), none);
+    _mm_storeu_si128((__m128i *)(void *)(f + n - 4), none);
+    return;
+  }
+  if (n > 0) f[0] = -1;                         /* (not a loop: gcc makes one a memset) */
+  if (n > 1) f[1] = -1;
+  if (n > 2) f[2] = -1;
+#else
+  for (size_t i = 0; i < n; i++) f[i] = -1;
+#endif
+}
+
+/* h[0 .. n) set to -inf (nothing seen), 16 bytes a store, as faces_none does (memcpy of
+   a row cleared first took as long again, each row read as well as written). */
+static void bounds_none(double *h, size_t n)
+{
+  size_t i = 0;
+#ifdef __SSE2__
+  const __m128d none = _mm_set1_pd(-HUGE_VAL);
+  for (; i + 4 <= n; i += 4) {
+#ifdef __GNUC__
+    __asm__("" : "+r"(i));
+#endif
+    _mm_storeu_pd(h + i, none);
+    _mm_storeu_pd(h + i + 2, none);
+  }
+#endif
+  for (; i < n; i++) h[i] = -HUGE_VAL;
+}
+
 int points_render(struct points *p, const struct scene *s, const struct vis_grid *vg,
                   struct t74_error *err)
 {
@@ -1548,10 +1596,8 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   /* nothing seen yet. With the tiles, over the whole grid (their bounds are the least over
      whole tiles, and face_hidden may ask any); lazy, no row has a ready column: each span
      makes its columns ready as it comes (row_ready, "Clearing") and the faces of the
-     columns no span made ready are set to -1 at the end. The faces a row at a time (a
-     row is at most 532 bytes, a fill the C library does with vector stores; the whole
-     buffer at once, 53 kB, it fills with `rep stosb`, which valgrind counts as an
-     instruction a byte) */
+     columns no span made ready are set to -1 at the end (faces_none, bounds_none: why
+     not memset) */
   /* (lazy only where the faces' boxes are LAZY_BOX points or more on the whole: a span's
      test of its row's ready columns is a branch no predictor guesses, which costs more
      than the clearing it saves where faces are small, as on the sphere and boxes1000) */
@@ -1579,14 +1625,10 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       for (int j = 1; j < g.H; j++)               /* the other rows as the first */
         memcpy(p->z + (size_t)j * (size_t)g.W, p->z, (size_t)g.W * sizeof *p->z);
     } else if (zj0 <= zj1 && zi0 < zi1) {
-      double *z0 = p->zhi + (size_t)zj0 * (size_t)g.W + (size_t)zi0;
-      for (int i = 0; i < zi1 - zi0; i++) z0[i] = -HUGE_VAL;
-      for (int j = zj0 + 1; j <= zj1; j++)        /* the other rows as the first */
-        memcpy(p->zhi + (size_t)j * (size_t)g.W + (size_t)zi0, z0,
-               (size_t)(zi1 - zi0) * sizeof *p->zhi);
+      for (int j = zj0; j <= zj1; j++)
+        bounds_none(p->zhi + (size_t)j * (size_t)g.W + (size_t)zi0, (size_t)(zi1 - zi0));
     }
-    for (int j = 0; j < g.H; j++)
-      memset(p->face + (size_t)j * (size_t)g.W, 0xff, (size_t)g.W * sizeof *p->face);
+    faces_none(p->face, n);
   }
   area = 0;
   int nd = 0;                                     /* faces kept */
@@ -1618,15 +1660,20 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (p->retest_bands) nband = 0;
     if ((st = face_draw(p, &g, k, b, true, true, band, nband, err)) != T74_OK) return st;
   }
-  /* the columns no span made ready: no face (a fill at most a row long, which the C
-     library does with vector stores; a longer one it does with `rep stosb`, which valgrind
-     counts as an instruction a byte) */
-  for (int j = 0; g.lazy && j < g.H; j++) {
-    int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
-    if (a >= e) a = e = g.W;                      /* none: the whole row */
-    int32_t *fr = p->face + (size_t)j * (size_t)g.W;
-    if (a > 0) memset(fr, 0xff, (size_t)a * sizeof *fr);
-    if (e < g.W) memset(fr + e, 0xff, (size_t)(g.W - e) * sizeof *fr);
+  /* the columns no span made ready: no face. Row j's columns right of its ready ones and
+     row j + 1's left of them lie side by side in the buffer, so each stretch between two
+     rows' ready columns is one fill (a row with none is wholly in the stretch): about one
+     fill a row, not two */
+  if (g.lazy) {
+    size_t from = 0;                              /* the stretch's start */
+    for (int j = 0; j < g.H; j++) {
+      const int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
+      if (a >= e) continue;                       /* none: the whole row */
+      const size_t row = (size_t)j * (size_t)g.W;
+      faces_none(p->face + from, row + (size_t)a - from);
+      from = row + (size_t)e;
+    }
+    faces_none(p->face + from, n - from);
   }
   return T74_OK;
 }
