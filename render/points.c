@@ -1235,12 +1235,17 @@ static __attribute__((noinline)) void draw_plain(struct points *p, const struct 
                                                  int nrow, struct coplane *cp)
 {
   const double za = b->za, zb = b->zb, zc = b->zc, E = b->E;
-  int32_t *fb = p->face + (size_t)jlo * (size_t)g->W;
-  double *zrow = p->zhi + (size_t)jlo * (size_t)g->W;
+  const size_t W = (size_t)g->W;
+  const bool lazy = g->lazy;                    /* (kept in registers: the calls and the
+                                                   stores below would have them read again) */
+  const int32_t *const cross = p->cross;
+  int32_t *fb = p->face + (size_t)jlo * W;
+  double *zrow = p->zhi + (size_t)jlo * W;
   long visited = 0;
-  span_prefetch(fb, zrow, p->cross);
-  for (int r = 0; r < nrow; r++, fb += g->W, zrow += g->W) {
-    int32_t i0 = p->cross[2 * r], i1 = p->cross[2 * r + 1];
+  span_prefetch(fb, zrow, cross);
+  double dj = (double)jlo;                      /* j as a double: + 1 a row is exact */
+  for (int r = 0; r < nrow; r++, fb += W, zrow += W, dj += 1) {
+    int32_t i0 = cross[2 * r], i1 = cross[2 * r + 1];
     const int32_t c0 = i0, c1 = i1;             /* the smaller first (no branch) */
     i0 = c0 < c1 ? c0 : c1;
     i1 = c0 < c1 ? c1 : c0;
@@ -1248,9 +1253,9 @@ static __attribute__((noinline)) void draw_plain(struct points *p, const struct 
     visited += i1 - i0;
     const int64_t j = jlo + r;
     if (r + 1 < nrow)                           /* the next row's span asked for ahead */
-      span_prefetch(fb + g->W, zrow + g->W, p->cross + 2 * r + 2);
-    const double z0 = za * (double)i0 + (zb * (double)j + zc);
-    if (g->lazy && row_ready(p, g, j, i0, i1))  /* nothing seen there yet */
+      span_prefetch(fb + W, zrow + W, cross + 2 * r + 2);
+    const double z0 = za * (double)i0 + (zb * dj + zc);
+    if (lazy && row_ready(p, g, j, i0, i1))     /* nothing seen there yet */
       raster_fresh(k, fb, zrow, i0, i1, z0 + E, za, true);
     else
       raster_plain(p, k, j, fb, zrow, i0, i1, z0 - E, z0 + E, za, cp);
