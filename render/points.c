@@ -1463,11 +1463,14 @@ static int draw_order(struct points *p, const struct scene *s, int n, struct t74
   return T74_OK;
 }
 
-/* f[0 .. n) set to no face (-1), 16 bytes a store. Not by memset: most fills are shorter
-   than a row, where a call costs about as much as the stores; gcc turns a memset (or this
-   loop, without the empty asm) whose length it can bound into `rep stos`, slow to start,
-   and a longer one the C library fills with `rep stosb` (valgrind counts either as an
-   instruction a word or a byte). */
+/* f[0 .. n) set to no face (-1), 16 bytes a store. Not by memset: the fills are
+   many and mostly shorter than a row (the lazy frame's, about one a row), where the
+   call's own work is a good part of the cost; gcc turns a memset (or this loop, without
+   the empty asm) whose length it can bound into `rep stos`, slow to start, and the C
+   library fills a block over 2 kB with `rep stosb` (valgrind counts either as an
+   instruction a word or a byte). Measured against the memsets and memcpys it replaced
+   (perf's samples, round 37): the points frame's clearing about 1% of the frame less on
+   lprism, the sphere and t1-e. */
 static void faces_none(int32_t *f, size_t n)
 {
 #ifdef __SSE2__
@@ -1493,8 +1496,8 @@ static void faces_none(int32_t *f, size_t n)
 #endif
 }
 
-/* h[0 .. n) set to -inf (nothing seen), 16 bytes a store, as faces_none does (memcpy of
-   a row cleared first took as long again, each row read as well as written). */
+/* h[0 .. n) set to -inf (nothing seen), 16 bytes a store, as faces_none does (not a
+   memcpy of a row cleared first, which reads each row as well as writing it). */
 static void bounds_none(double *h, size_t n)
 {
   size_t i = 0;
