@@ -800,6 +800,15 @@ void tube_keys_init(struct tube_keys *tk, int cell, const uint16_t *mask_of)
   tk->within = (cell == 3 || cell == 4) && !(any & ~full);
 }
 
+#ifdef __SSE2__
+/* Are the sixteen keys at k all k0's byte (k0: that byte in every lane)? */
+static inline bool keys16_are(const uint8_t *k, __m128i k0)
+{
+  const __m128i v = _mm_loadu_si128((const __m128i *)(const void *)k);
+  return _mm_movemask_epi8(_mm_cmpeq_epi8(v, k0)) == 0xffff;
+}
+#endif
+
 int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_keys *tk,
                            const uint8_t *keys, int count)
 {
@@ -871,6 +880,17 @@ int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_key
        by its key at once */
     if (base0 + (uint32_t)(3 * count) > t->lit_end) t->lit_end = base0 + (uint32_t)(3 * count);
     const uint64_t (*L)[256] = tk->lanes;
+#ifdef __SSE2__
+    if (count >= 16 && !L[0][keys[0]]) {
+      /* a row of one key whose cell has no dot (a blank row: the background's grey): every
+         lane 0, nothing to store, as the loop below finds run by run. Sixteen keys a
+         compare, the last sixteen (which may overlap the ones before) last */
+      const __m128i k0 = _mm_set1_epi8((char)keys[0]);
+      int c = 0;
+      while (c + 16 <= count && keys16_are(keys + c, k0)) c += 16;
+      if (c + 16 > count && keys16_are(keys + count - 16, k0)) return T74_OK;
+    }
+#endif
     uint64_t seen = 0;                     /* the OR of the lanes: not 0 when a cell has a dot */
     uint64_t acc[3 * GROUPS3];             /* the runs' lanes, then 0 to a whole group */
     int n = 0, c0 = 0;

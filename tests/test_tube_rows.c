@@ -452,6 +452,61 @@ static void test_rows_keyed_words(void **state)
   }
 }
 
+/* Rows of 3x3 cells by keys over unlit rows whose keys are all one key of no dot but at
+   most one (tube_write_cells_keyed takes a row of one key of no dot as blank: nothing
+   stored, sixteen keys a compare, the last sixteen possibly overlapping): the other key
+   at every place of rows of 1 to 133 cells (the first, at and around multiples of
+   sixteen, in the last sixteen), and rows of no other; each row also a cell at a time
+   (tube_write_dots). A row taken as blank when one key has dots loses that key's dots:
+   the count, the packed rows and the order would differ. */
+static void test_rows_keyed_blank(void **state)
+{
+  (void)state;
+  uint16_t mask_of[256];
+  for (int k = 0; k < 256; k++)                 /* (within the cell: 1 .. 0x1ff) */
+    mask_of[k] = (uint16_t)(k == 0 || k == 200 ? 0 : 1 + (37 * k) % 511);
+  struct tube_keys tk;
+  tube_keys_init(&tk, 3, mask_of);
+  const int counts[] = { 1, 15, 16, 17, 31, 32, 33, 47, 100, 112, 128, 132, 133 };
+  for (int ci = 0; ci < (int)(sizeof counts / sizeof *counts); ci++) {
+    const int n = counts[ci];
+    for (int blank = 0; blank < 256; blank += 200) {  /* keys 0 and 200: no dot */
+      struct tube *a = tube_new(), *b = tube_new();
+      assert_non_null(a);
+      assert_non_null(b);
+      int y0 = 2;
+      for (int at = -1; at < n; at++, y0 += 3) {      /* -1: no other key */
+        if (y0 >= 300) {                              /* (a fresh pair of tubes) */
+          tube_free(a);
+          tube_free(b);
+          a = tube_new();
+          b = tube_new();
+          assert_non_null(a);
+          assert_non_null(b);
+          y0 = 2;
+        }
+        const int x0 = 400 - 3 * n - (3 * n + 3 <= 400 ? at & 3 : 0);   /* (on the tube) */
+        uint8_t keys[133];
+        for (int k = 0; k < n; k++) {
+          keys[k] = (uint8_t)(k == at ? 1 + (at % 199) : blank);
+          assert_int_equal(tube_write_dots(a, x0 + 3 * k, y0, 3, mask_of[keys[k]]), T74_OK);
+        }
+        assert_int_equal(tube_write_cells_keyed(b, x0, y0, &tk, keys, n), T74_OK);
+        assert_int_equal(tube_count(b), tube_count(a));
+      }
+      for (int y = 0; y < 300; y++) {
+        uint8_t ra[TUBE_ROW_BYTES], rb[TUBE_ROW_BYTES];
+        tube_row_packed(a, y, ra);
+        tube_row_packed(b, y, rb);
+        assert_memory_equal(rb, ra, TUBE_ROW_BYTES);
+      }
+      orders_same(a, b);
+      tube_free(a);
+      tube_free(b);
+    }
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -463,6 +518,7 @@ int main(void)
     cmocka_unit_test(test_runs_over_runs),
     cmocka_unit_test(test_rows_keyed4),
     cmocka_unit_test(test_rows_keyed_words),
+    cmocka_unit_test(test_rows_keyed_blank),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
