@@ -2418,14 +2418,50 @@ static int face_ranges(struct fx_lines *L, int f, int64_t yn, int64_t yd, int64_
 /* The ends of the runs of one face along face[0 .. n), as bits: bit i of bit[i / 64] set
    when a run ends after sample i (face[i + 1] != face[i], or i = n - 1). Four samples a
    compare where the processor has SSE2; one pass over the row, where finding each run's
-   end on its own (face_run_end) ends each search with a branch no predictor can guess. */
-static void run_bits(const int *face, int n, uint64_t *bit)
+   end on its own (face_run_end) ends each search with a branch no predictor can guess.
+   settled: face was not just stored (fx_see_row_drawn's row), so its samples i + 1 .. i + 4
+   are loaded as they lie (one load, where the shifted form below takes two shifts and an
+   OR, all three on the processor's one shuffle port). */
+static void run_bits(const int *face, int n, bool settled, uint64_t *bit)
 {
   int i = 0;
   for (int w = 0; w < (n + 63) / 64; w++) {
     uint64_t acc = 0;                       /* (in a register: no store and reload a step) */
     const int end = 64 * w + 64 < n ? 64 * w + 64 : n;
 #ifdef __SSE2__
+    /* sixteen at a time: samples i .. i + 15 against i + 1 .. i + 16 (i + 17 <= n), their
+       lanes packed to bytes in order (as below) */
+    for (; settled && i + 16 <= end && i + 17 <= n; i += 16) {
+      const int *const a = face + i;
+      const __m128i e0 = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)a),
+                                         _mm_loadu_si128((const __m128i *)(const void *)(a + 1)));
+      const __m128i e1 = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(a + 4)),
+                                         _mm_loadu_si128((const __m128i *)(const void *)(a + 5)));
+      const __m128i e2 = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(a + 8)),
+                                         _mm_loadu_si128((const __m128i *)(const void *)(a + 9)));
+      const __m128i e3 =
+        _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(a + 12)),
+                        _mm_loadu_si128((const __m128i *)(const void *)(a + 13)));
+      const unsigned same = (unsigned)_mm_movemask_epi8(
+        _mm_packs_epi16(_mm_packs_epi32(e0, e1), _mm_packs_epi32(e2, e3)));
+      acc |= (uint64_t)(~same & 0xffffu) << (i & 63);
+    }
+    /* then four at a time, and at the row's end samples n - 5 .. n - 2 against n - 4 ..
+       n - 1 where they lie in this word (those found already found again, the same) and
+       the last sample, which ends its run */
+    for (; settled && i + 4 <= end && i + 5 <= n; i += 4) {
+      const unsigned same = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(
+        _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(face + i)),
+                        _mm_loadu_si128((const __m128i *)(const void *)(face + i + 1)))));
+      acc |= (uint64_t)(~same & 0xfu) << (i & 63);   /* (i a multiple of 4) */
+    }
+    if (settled && i < end && end == n && n - 5 >= 64 * w) {
+      const unsigned same = (unsigned)_mm_movemask_ps(_mm_castsi128_ps(
+        _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(face + n - 5)),
+                        _mm_loadu_si128((const __m128i *)(const void *)(face + n - 4)))));
+      acc |= (uint64_t)(~same & 0xfu) << ((n - 5) & 63) | (uint64_t)1 << ((n - 1) & 63);
+      i = n;
+    }
     /* samples i .. i + 3 against i + 1 .. i + 4, the latter shifted in from the loads of
        i .. i + 3 and i + 4 .. i + 7: every load at a multiple of four samples from the row's
        start (the row was just copied in: a load across two of the copy's stores would wait
@@ -2478,7 +2514,8 @@ static void run_bits(const int *face, int n, uint64_t *bit)
    rule), so the mask at each sample is the OR of the lights of the face's ranges that
    hold it. A face's ranges are found at its first run on the row and serve its others. */
 static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd, int64_t k0,
-                         int n, const int *face, unsigned *blocked, struct t74_error *err)
+                         int n, const int *face, const int *runs, unsigned *blocked,
+                         struct t74_error *err)
 {
   const struct fx_model *m = L->m;
   if (!L->fr && !(L->fr = calloc((size_t)m->map->nface + 1, sizeof *L->fr)))
@@ -2508,7 +2545,7 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
     L->runbit = nb;
     L->runbitcap = nw;
   }
-  run_bits(face, n, L->runbit);
+  run_bits(runs, n, runs != face, L->runbit);
   memset(blocked, 0, (size_t)n * sizeof *blocked);
   int i = 0;
   for (int w = 0; w < nw; w++)
@@ -2540,9 +2577,12 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
 }
 
 /* The lights blocked at each sample of a row: the shadows lying on the face seen there,
-   counted up to the sample (shadow_line's answer, sample by sample). */
+   counted up to the sample (shadow_line's answer, sample by sample). runs: the same faces
+   as face, which shadow_ranges reads to find the row's runs (fx_lines_samples passes the
+   engine's row where face is its copy, fx_see_row_drawn). */
 static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd, int64_t k0,
-                          int n, const int *face, unsigned *blocked, struct t74_error *err)
+                          int n, const int *face, const int *runs, unsigned *blocked,
+                          struct t74_error *err)
 {
   const struct fx_model *m = L->m;
   const int32_t *win = m->g->window;
@@ -2553,7 +2593,7 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
   /* samples left to right (xn rising): each stretch of a face's shadows the range of
      samples between its ends' first samples at or right of them (fx_first_at_or_right),
      found once a row (face_ranges); else each sample compared with the events */
-  if (win[2] > win[0]) return shadow_ranges(L, yn, yd, xd, k0, n, face, blocked, err);
+  if (win[2] > win[0]) return shadow_ranges(L, yn, yd, xd, k0, n, face, runs, blocked, err);
   /* a face's events on the line, sorted, are kept in L->ev for the row: a face seen again
      further along (another face in between) takes them as they are; the last few faces
      are remembered */
@@ -2618,10 +2658,15 @@ int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n,
     return T74_OK;
   }
   L->rendn = 0;                             /* (shadow_ranges finds the row's runs) */
-  if ((rc = fx_see_row(L->see, K, mrow, k0, n, face, err)) != T74_OK) return rc;
+  const int *drawn;                         /* the engine's row face copies, or NULL */
+  if ((rc = fx_see_row_drawn(L->see, K, mrow, k0, n, face, &drawn, err)) != T74_OK) return rc;
   for (int q = 0; q < L->m->ncut && rc == T74_OK; q++)
     rc = cut_samples(L, q, K, mrow, yn, yd, xd, k0, n, face, err);
-  if (rc == T74_OK) rc = shadow_samples(L, yn, yd, xd, k0, n, face, blocked, err);
+  /* the row's runs read from the engine's row where face is its copy and no cut changed
+     it: the copy's stores may still be on their way when run_bits loads them sixteen
+     bytes at a time, and such a load waits for them (the same values either way) */
+  const int *runs = drawn && !L->m->ncut ? drawn : face;
+  if (rc == T74_OK) rc = shadow_samples(L, yn, yd, xd, k0, n, face, runs, blocked, err);
   return rc;
 }
 

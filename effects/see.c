@@ -140,13 +140,22 @@ int fx_see_spans(struct fx_see *s, int64_t yn, int64_t yd, const struct vis_span
 int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
                struct t74_error *err)
 {
+  const int *drawn;
+  return fx_see_row_drawn(s, K, m, k0, n, face, &drawn, err);
+}
+
+int fx_see_row_drawn(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
+                     const int **drawn, struct t74_error *err)
+{
   const struct vis_grid *g = s->e->g;
   const int64_t XL = g->window[0], YB = g->window[1], XR = g->window[2], YT = g->window[3];
+  *drawn = NULL;
   if (s->e->pts) {
     const struct points *p = s->e->pts;
     if (K == 1 && !s->skip && m >= 0 && m < g->H && k0 >= 0 && k0 + n <= g->W) {
       _Static_assert(sizeof *p->face == sizeof *face, "the engine's faces are ints");
-      memcpy(face, p->face + m * g->W + k0, (size_t)n * sizeof *face);   /* the row as drawn */
+      *drawn = p->face + m * g->W + k0;
+      memcpy(face, *drawn, (size_t)n * sizeof *face);   /* the row as drawn */
       return T74_OK;
     }
     /* no face left: points_at_row's answer, every sample -1, on a lattice it takes (else

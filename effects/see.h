@@ -106,4 +106,11 @@ int fx_see_spans(struct fx_see *s, int64_t yn, int64_t yd, const struct vis_span
 int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
                struct t74_error *err);
 
+/* fx_see_row, and into *drawn the engine's row that face is a copy of (the points
+   engine's frame, at the centres, with no face taken away), or NULL where the row was
+   found another way. A reader of the row may read the same faces there, long written,
+   where a load of the copy's stores, still on their way, waits for them. */
+int fx_see_row_drawn(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
+                     const int **drawn, struct t74_error *err);
+
 #endif

@@ -555,6 +555,107 @@ static void test_stepped_ends_are_exact(void **state)
   assert_true(blocked > 10000 && on_centres > 1000 && far > 1000);
 }
 
+/* The points engine's lights blocked on the rows of its own frame (fx_lines_samples at
+   K = 1 over the whole row, k0 = 0, n = W: the row the engine drew, whose runs of faces
+   shadow_ranges finds on the engine's row with loads of samples i + 1 .. as they lie,
+   fx_see_row_drawn), sample by sample, against the exact count (blocked_exactly), and the
+   same rows with one sample more on the left (k0 = -1: not the drawn row, the runs found
+   on the copy), on grids whose widths end the row at each place in its last word of 64
+   samples and in its last four (64 .. 133). With the scenes' own shadows (fig6-room,
+   fig6-building) and with a rectangle round the window on every face, of light f % 2
+   (those two, the sphere's 160 faces and t1-e's 24: runs of one sample, where a face
+   between two runs of another takes their light when its run's ends are not seen). Fails
+   when a run's end is missed or the row's last samples are not read. (A run's end found
+   where there is none splits a run of one face in two: the same masks.) */
+static void test_drawn_rows_are_exact(void **state)
+{
+  (void)state;
+  static const char *const scenes[] = { "scenes/fig6-room.s74", "scenes/fig6-building.s74",
+                                         "scenes/sphere.s74", "scenes/t1-e.s74" };
+  static const int widths[] = { 64, 65, 66, 67, 68, 69, 70, 71, 72, 80, 84, 85, 100, 101,
+                                117, 127, 128, 129, 130, 131, 132, 133 };
+  long samples = 0, blocked = 0, differ = 0;
+  for (int sc = 0; sc < 4; sc++)
+    for (int own = sc < 2; own >= 0; own--)   /* 1: the scene's own; 0: rectangles */
+      for (size_t wi = 0; wi < sizeof widths / sizeof *widths; wi++) {
+        struct scene *s;
+        struct scene_opts so;
+        memset(&so, 0, sizeof so);
+        so.quiet = true;
+        struct t74_error err = { 0, "" };
+        assert_int_equal(scene_load(scenes[sc], &so, &s, &err), T74_OK);
+        struct effects e;
+        assert_int_equal(effects_parse("shadows=on", &e, "test", 1, &err), T74_OK);
+        const int W = widths[wi], H = 3 * W / 4;
+        struct vis_grid g = { W, H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
+        struct points pts;
+        memset(&pts, 0, sizeof pts);
+        assert_int_equal(points_render(&pts, s, &g, &err), T74_OK);
+        struct fx_engine eng;
+        assert_int_equal(fx_engine_points(&eng, &pts, &g, NULL, &err), T74_OK);
+        struct fx_stats st;
+        memset(&st, 0, sizeof st);
+        struct cost cost = { { 0 } };
+        struct fx_model m;
+        assert_int_equal(fx_model_build(&m, &eng, s, &e, NULL, &st, &cost, &err), T74_OK);
+        assert_true(m.shadow_first != NULL && m.ncut == 0);
+        if (!own) {
+          const int64_t G = GRID_ONE;
+          const struct gpoint rect[4] = {
+            { G * (g.window[0] - 1), G * (g.window[1] - 1) },
+            { G * (g.window[2] + 1), G * (g.window[1] - 1) },
+            { G * (g.window[2] + 1), G * (g.window[3] + 1) },
+            { G * (g.window[0] - 1), G * (g.window[3] + 1) } };
+          const int rs[2] = { 0, 4 };
+          fx_polys_free(&m.shadows);
+          memset(&m.shadows, 0, sizeof m.shadows);
+          for (int f = 0; f < eng.map->nface; f++) {
+            m.shadow_first[f] = m.shadows.n;
+            assert_true(fx_polys_add(&m.shadows, 1, rs, rect, f, f % 2));
+          }
+          m.shadow_first[eng.map->nface] = m.shadows.n;
+        }
+        assert_true(m.shadows.n > 0);
+        for (int left = 0; left < 2; left++) {   /* 0: the drawn row; 1: one sample more */
+          struct fx_lines *L;
+          assert_int_equal(fx_lines_open(&L, &m, true, &cost, &err), T74_OK);
+          const int k0 = -left, nk = W + left;
+          int *face = calloc((size_t)nk, sizeof *face);
+          unsigned *b = calloc((size_t)nk, sizeof *b);
+          assert_true(face && b);
+          const int64_t xd = 2 * (int64_t)W, yd = 2 * (int64_t)H;
+          for (int mr = H - 1; mr >= 0; mr--) {   /* (bottom up, as fx_points) */
+            assert_int_equal(fx_lines_samples(L, 1, mr, k0, nk, face, b, &err), T74_OK);
+            const int64_t SY = (int64_t)g.window[3] - g.window[1];
+            const int64_t SX = (int64_t)g.window[2] - g.window[0];
+            const int64_t yn = GRID_ONE * (yd * g.window[3] - (2 * (int64_t)mr + 1) * SY);
+            for (int i = 0; i < nk; i++) {
+              const int64_t xn = GRID_ONE * (xd * g.window[0] + (2 * (int64_t)(k0 + i) + 1) * SX);
+              const unsigned want = blocked_exactly(&m, face[i], yn, yd, xn, xd);
+              const bool bad = b[i] != want ||
+                               (k0 + i >= 0 && face[i] != pts.face[(size_t)mr * W + k0 + i]);
+              if (bad && differ++ < 4)
+                print_message("%s%s W=%d k0=%d sample (%d, %d) face %d: blocked %u, exactly "
+                              "%u\n", scenes[sc], own ? "" : " (rectangles)", W, k0, k0 + i,
+                              mr, face[i], b[i], want);
+              samples++;
+              blocked += want != 0;
+            }
+          }
+          free(face);
+          free(b);
+          fx_lines_close(L);
+        }
+        fx_model_free(&m);
+        fx_engine_free(&eng);
+        points_free(&pts);
+        scene_free(s);
+      }
+  print_message("drawn rows: %ld samples, %ld blocked, %ld differ\n", samples, blocked, differ);
+  assert_int_equal(differ, 0);
+  assert_true(blocked > 100000);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -564,6 +665,7 @@ int main(void)
     cmocka_unit_test(test_spanned_is_near),
     cmocka_unit_test(test_first_sample_is_exact),
     cmocka_unit_test(test_stepped_ends_are_exact),
+    cmocka_unit_test(test_drawn_rows_are_exact),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
