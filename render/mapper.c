@@ -1010,7 +1010,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   free(ring);
   free(memo);
   tj_free(&tj);
-  free(proj);
+  if (cost) free(proj);
+  else out->proj = proj;                    /* (the points engine's vertices) */
   cost_mw_mul_n(&tjc, 17, 17, tjtests);    /* each a product of 17-bit operands */
   if (kt && !replay && kt->once) {          /* no next run: nothing kept (the charges and
                                                the host statistic stay readable) */
@@ -1362,5 +1363,7 @@ void mapper_free(struct mapped *m)
     m->f = NULL;
     m->nface = 0;
   }
+  free(m->proj);
+  m->proj = NULL;
   pool_free(&m->pool);
 }

@@ -49,6 +49,10 @@ struct mapped {
   int64_t eye[3];           /* X0, Y0, Z0 (world units) */
   const struct scene_vertex *sv;   /* the scene's vertices (what vix indexes): the scene
                                outlives its mapped faces */
+  struct gpoint *proj;      /* each scene vertex projected onto the plane grid (pt[k] is
+                               proj[vix[k]]): kept by a run without a cost (the points
+                               engine, which works out each vertex's row and column once
+                               a frame), else NULL; freed by mapper_free */
   struct pool pool;         /* host blocks holding pooled faces' arrays (issue 12: one
                                malloc a face fewer), freed by mapper_free */
 };
