@@ -543,12 +543,14 @@ static int vertex_rows(struct points *p, const struct scene *s, const struct gri
 
 /* Edge a -> b of a ring (qa, qb: its ends' row_q, as vertex_rows keeps them) into *e,
    stepped from its bottom row; 1 when it crosses a row of jlo..jhi (kept), else 0. Every
-   edge goes through the same steps, a horizontal one or one that crosses no row of the box
-   too, and is kept or not at the end (the caller's count grows by the answer): which edges
-   cross a row is known only at the end of the chain from the vertices' rows, and a branch
-   on it that the predictor guesses wrong would throw away the next edges' work begun
-   meanwhile. A horizontal edge divides by D = 1 instead of 0; an edge not kept leaves *e
-   written, the caller's next slot. */
+   edge goes through the same steps up to its crossing, a horizontal one or one that
+   crosses no row of the box too, and is kept or not at the end (the caller's count grows
+   by the answer): which edges cross a row is known only at the end of the chain from the
+   vertices' rows, and a branch on it that the predictor guesses wrong would throw away the
+   next edges' work begun meanwhile. A horizontal edge divides by D = 1 instead of 0; an
+   edge not kept leaves *e written, the caller's next slot. The step a row up is made only
+   for an edge of more than one row (a branch: its divide a row cost more than the
+   branch's misses, measured on the sphere). */
 static inline __attribute__((always_inline)) int
 edge_make(const struct grid *g, struct gpoint a, struct gpoint b, int64_t qa, int64_t qb,
           int64_t jlo, int64_t jhi, struct points_edge *e)
