@@ -80,8 +80,8 @@ static uwide light_ll(const int32_t light[3])
 }
 
 /* Lambert's law's denominator floor(|n| |L|) = isqrt(|n|^2 |L|^2), ll = light_ll(light):
-   of the plane's normal (either sign) and the light alone, so kept with the planes from
-   run to run (struct mapper_keep's den). */
+   of the plane's normal (either sign) and the light alone (the greys of both signs are
+   kept with the planes from run to run: struct mapper_keep's lgrey). */
 static uint64_t lambert_den(const int64_t n[3], uwide ll)
 {
   uwide nn = (uwide)((wide)n[0] * n[0] + (wide)n[1] * n[1] + (wide)n[2] * n[2]);
@@ -105,15 +105,14 @@ static int lambert(const int64_t n[3], const int32_t light[3], uint64_t den)
 }
 
 /* The flat grey of a face shaded from the scene's lights: one parallel light by the exact
-   integer law above (the 1974 figures; ll: light_ll of that light; den: its lambert_den
-   kept, or NULL); several lights or point lights by shade_grey at the mean of the face's
-   outer vertices (render/shade.h). */
+   integer law above (the 1974 figures; ll: light_ll of that light); several lights or
+   point lights by shade_grey at the mean of the face's outer vertices (render/shade.h). */
 static int face_grey(const struct scene *s, const struct mface *m, const int64_t pl[4],
-                     uwide ll, const uint64_t *den)
+                     uwide ll)
 {
   if (!s->has_light) return DEFAULT_GREY;
   if (s->nlight == 1 && !s->light[0].point)
-    return lambert(pl, s->light[0].v, den ? *den : lambert_den(pl, ll));
+    return lambert(pl, s->light[0].v, lambert_den(pl, ll));
   double n[3] = { -(double)pl[0], -(double)pl[1], -(double)pl[2] }, c[3] = { 0, 0, 0 };
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int k = 0; k < 3; k++) n[k] /= len;
@@ -721,11 +720,11 @@ static void tj_forget(struct mapper_keep *k)
   free(k->ring);
   free(k->start);
   free(k->plane);
-  free(k->den);
+  free(k->lgrey);
   k->s = NULL;
   k->ring = k->start = NULL;
   k->plane = NULL;
-  k->den = NULL;
+  k->lgrey = NULL;
   k->n = k->cap = 0;
   memset(&k->cost, 0, sizeof k->cost);
 }
@@ -848,8 +847,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       if (!kt->once) {                      /* what a next run replays */
         kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
         kt->plane = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->plane);
-        kt->den = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->den);
-        if (!kt->start || !kt->plane || !kt->den) {
+        kt->lgrey = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->lgrey);
+        if (!kt->start || !kt->plane || !kt->lgrey) {
           t74_fail(err, T74_EIO, "out of host memory");
           goto fail;
         }
@@ -883,7 +882,12 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     } else {
       if (!face_plane(s, sf, pl)) memset(pl, 0, sizeof pl);
       if (kt && kt->plane) memcpy(kt->plane[fi], pl, sizeof pl);
-      if (kt && kt->den) kt->den[fi] = lamb ? lambert_den(pl, ll) : 0;
+      if (kt && kt->lgrey && lamb) {        /* the grey of either sign of the plane */
+        const uint64_t den = lambert_den(pl, ll);
+        const int64_t turned[3] = { -pl[0], -pl[1], -pl[2] };
+        kt->lgrey[fi][0] = (uint8_t)lambert(pl, s->light[0].v, den);
+        kt->lgrey[fi][1] = (uint8_t)lambert(turned, s->light[0].v, den);
+      }
     }
     if (!(pl[0] | pl[1] | pl[2])) { out->dropped++; continue; }   /* face_plane found none */
     if (cost) {
@@ -892,7 +896,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     }
     wide pe = (wide)pl[0] * X0 + (wide)pl[1] * Y0 + (wide)pl[2] * Z0 + pl[3];
     if (pe == 0) { out->dropped++; continue; }     /* edge-on: the plane holds the eye */
-    if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
+    const bool turn = pe > 0;                /* (lgrey's second) */
+    if (turn) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
 
     /* the rings with T-junction vertices inserted: ring r is rv[rs[r] .. rs[r+1]) */
     int rs_new[sf->nring + 1];
@@ -985,9 +990,9 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     m->sline = sf->line;
     memcpy(m->plane, pl, sizeof pl);
     m->deye = (int64_t)-pe;
-    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey
-                                      : face_grey(s, m, pl, ll, kt && kt->den ? &kt->den[fi]
-                                                                              : NULL));
+    m->grey = (uint8_t)(sf->grey >= 0              ? sf->grey
+                        : lamb && kt && kt->lgrey ? kt->lgrey[fi][turn]   /* (kept) */
+                                                  : face_grey(s, m, pl, ll));
 
     if (!cost) { out->nface++; continue; }  /* the points engine: the row unwritten */
     gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;
