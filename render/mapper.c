@@ -150,6 +150,25 @@ static wide ring_area2(const struct gpoint *p, int n)
   return a;
 }
 
+/* ring_reverse of a ring of three points where rev, else nothing, without a branch: the
+   first and last points swapped (the middle one stays), by masks (all ones where rev). */
+static inline void swap3(struct gpoint *p, uint32_t *id, int32_t *vix, bool rev)
+{
+  const uint64_t m = -(uint64_t)rev;
+  const uint32_t m32 = (uint32_t)m;
+  const uint64_t x = ((uint64_t)p[0].x ^ (uint64_t)p[2].x) & m,
+                 y = ((uint64_t)p[0].y ^ (uint64_t)p[2].y) & m;
+  p[0].x = (gcoord)((uint64_t)p[0].x ^ x);
+  p[2].x = (gcoord)((uint64_t)p[2].x ^ x);
+  p[0].y = (gcoord)((uint64_t)p[0].y ^ y);
+  p[2].y = (gcoord)((uint64_t)p[2].y ^ y);
+  const uint32_t i = (id[0] ^ id[2]) & m32, v = ((uint32_t)vix[0] ^ (uint32_t)vix[2]) & m32;
+  id[0] ^= i;
+  id[2] ^= i;
+  vix[0] = (int32_t)((uint32_t)vix[0] ^ v);
+  vix[2] = (int32_t)((uint32_t)vix[2] ^ v);
+}
+
 static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t *vix, int n)
 {
   for (int a = 0, b = n - 1; a < b; a++, b--) {
@@ -896,8 +915,14 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     }
     wide pe = (wide)pl[0] * X0 + (wide)pl[1] * Y0 + (wide)pl[2] * Z0 + pl[3];
     if (pe == 0) { out->dropped++; continue; }     /* edge-on: the plane holds the eye */
+    /* the plane turned to face away from the eye where pe > 0, without a branch (the
+       side the eye is on has no pattern the predictor learns among crossing triangles):
+       (v ^ t) - t is v for t = 0 and -v for t = -1 (all ones), in two's complement;
+       |pl[k]| < 2^63 and |pe| < 2^127, so -v fits */
     const bool turn = pe > 0;                /* (lgrey's second) */
-    if (turn) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
+    const int64_t t64 = -(int64_t)turn;
+    for (int k = 0; k < 4; k++) pl[k] = (int64_t)(((uint64_t)pl[k] ^ (uint64_t)t64) - (uint64_t)t64);
+    pe = (wide)(((uwide)pe ^ (uwide)(wide)t64) - (uwide)(wide)t64);
 
     /* the rings with T-junction vertices inserted: ring r is rv[rs[r] .. rs[r+1]) */
     int rs_new[sf->nring + 1];
@@ -973,7 +998,14 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
         if (r == 0) keep = false;
         continue;
       }
-      if ((r == 0) != (area > 0)) ring_reverse(m->pt + start, m->vid + start, m->vix + start, np - start);
+      const bool rev = (r == 0) != (area > 0);
+      if (np - start == 3) {              /* a triangle: its first and last swapped where it
+                                             turns the wrong way, by selects (which way a
+                                             crossing triangle turns is anyone's guess) */
+        swap3(m->pt + start, m->vid + start, m->vix + start, rev);
+      } else if (rev) {
+        ring_reverse(m->pt + start, m->vid + start, m->vix + start, np - start);
+      }
       m->ring_start[nr++] = start;
     }
     if (!keep) {
