@@ -1124,7 +1124,8 @@ static double face_key(const struct points *p, const struct grid *g, int k,
   for (int v = 0; v < f->ring_start[f->nring]; v++) {
     const double z = b->za * (g->i0 + g->ki * (double)f->pt[v].x) +
                      (b->zb * (g->j0 - g->kj * (double)f->pt[v].y) + b->zc);
-    if (z > best) best = z;
+    best = z > best ? z : best;                 /* (a select: which vertex is nearest
+                                                   is anyone's guess; no NaN here) */
   }
   return best;
 }
