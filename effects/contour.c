@@ -264,22 +264,25 @@ static inline int by_from(const void *pa, const void *pb)
 /* The projected grid point of scene vertex v in the mapped face mf. A triangle's (the
    smoothed objects' faces): its three points compared and the first match kept by
    selects (the last one made is the first), as which point matches is anyone's guess and
-   a loop left there mispredicted about once a call (issue 19). */
+   a loop left there mispredicted about once a call (issue 19). The points are matched by
+   their places in the scene's vertices (vix) rather than by their ids (vid = the id of
+   vertex vix, and no two of the scene's vertices have one id: the scene reader refuses
+   it), the same points without a load of v's id first. */
 static inline bool mapped_point(const struct scene *s, const struct mface *mf, int v,
                                 struct gpoint *out)
 {
-  const uint32_t id = s->v[v].id;
+  (void)s;
   if (mf->ring_start[1] == 3) {
-    const uint32_t *vid = mf->vid;
-    int at = vid[2] == id ? 2 : 3;
-    at = vid[1] == id ? 1 : at;
-    at = vid[0] == id ? 0 : at;
+    const int32_t *vix = mf->vix;
+    int at = vix[2] == v ? 2 : 3;
+    at = vix[1] == v ? 1 : at;
+    at = vix[0] == v ? 0 : at;
     if (at == 3) return false;
     *out = mf->pt[at];
     return true;
   }
   for (int k = 0; k < mf->ring_start[1]; k++)
-    if (mf->vid[k] == id) { *out = mf->pt[k]; return true; }
+    if (mf->vix[k] == v) { *out = mf->pt[k]; return true; }
   return false;
 }
 

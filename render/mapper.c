@@ -80,8 +80,8 @@ static uwide light_ll(const int32_t light[3])
 }
 
 /* Lambert's law's denominator floor(|n| |L|) = isqrt(|n|^2 |L|^2), ll = light_ll(light):
-   of the plane's normal (either sign) and the light alone, so kept with the planes from
-   run to run (struct mapper_keep's den). */
+   of the plane's normal (either sign) and the light alone (the greys of both signs are
+   kept with the planes from run to run: struct mapper_keep's lgrey). */
 static uint64_t lambert_den(const int64_t n[3], uwide ll)
 {
   uwide nn = (uwide)((wide)n[0] * n[0] + (wide)n[1] * n[1] + (wide)n[2] * n[2]);
@@ -105,15 +105,14 @@ static int lambert(const int64_t n[3], const int32_t light[3], uint64_t den)
 }
 
 /* The flat grey of a face shaded from the scene's lights: one parallel light by the exact
-   integer law above (the 1974 figures; ll: light_ll of that light; den: its lambert_den
-   kept, or NULL); several lights or point lights by shade_grey at the mean of the face's
-   outer vertices (render/shade.h). */
+   integer law above (the 1974 figures; ll: light_ll of that light); several lights or
+   point lights by shade_grey at the mean of the face's outer vertices (render/shade.h). */
 static int face_grey(const struct scene *s, const struct mface *m, const int64_t pl[4],
-                     uwide ll, const uint64_t *den)
+                     uwide ll)
 {
   if (!s->has_light) return DEFAULT_GREY;
   if (s->nlight == 1 && !s->light[0].point)
-    return lambert(pl, s->light[0].v, den ? *den : lambert_den(pl, ll));
+    return lambert(pl, s->light[0].v, lambert_den(pl, ll));
   double n[3] = { -(double)pl[0], -(double)pl[1], -(double)pl[2] }, c[3] = { 0, 0, 0 };
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   for (int k = 0; k < 3; k++) n[k] /= len;
@@ -149,6 +148,25 @@ static wide ring_area2(const struct gpoint *p, int n)
   for (int j = n - 1, k = 0; k < n; j = k++)
     a += p[j].x * p[k].y - p[k].x * p[j].y;
   return a;
+}
+
+/* ring_reverse of a ring of three points where rev, else nothing, without a branch: the
+   first and last points swapped (the middle one stays), by masks (all ones where rev). */
+static inline void swap3(struct gpoint *p, uint32_t *id, int32_t *vix, bool rev)
+{
+  const uint64_t m = -(uint64_t)rev;
+  const uint32_t m32 = (uint32_t)m;
+  const uint64_t x = ((uint64_t)p[0].x ^ (uint64_t)p[2].x) & m,
+                 y = ((uint64_t)p[0].y ^ (uint64_t)p[2].y) & m;
+  p[0].x = (gcoord)((uint64_t)p[0].x ^ x);
+  p[2].x = (gcoord)((uint64_t)p[2].x ^ x);
+  p[0].y = (gcoord)((uint64_t)p[0].y ^ y);
+  p[2].y = (gcoord)((uint64_t)p[2].y ^ y);
+  const uint32_t i = (id[0] ^ id[2]) & m32, v = ((uint32_t)vix[0] ^ (uint32_t)vix[2]) & m32;
+  id[0] ^= i;
+  id[2] ^= i;
+  vix[0] = (int32_t)((uint32_t)vix[0] ^ v);
+  vix[2] = (int32_t)((uint32_t)vix[2] ^ v);
 }
 
 static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t *vix, int n)
@@ -721,11 +739,11 @@ static void tj_forget(struct mapper_keep *k)
   free(k->ring);
   free(k->start);
   free(k->plane);
-  free(k->den);
+  free(k->lgrey);
   k->s = NULL;
   k->ring = k->start = NULL;
   k->plane = NULL;
-  k->den = NULL;
+  k->lgrey = NULL;
   k->n = k->cap = 0;
   memset(&k->cost, 0, sizeof k->cost);
 }
@@ -848,8 +866,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
       if (!kt->once) {                      /* what a next run replays */
         kt->start = malloc(((size_t)nrings + 1) * sizeof *kt->start);
         kt->plane = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->plane);
-        kt->den = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->den);
-        if (!kt->start || !kt->plane || !kt->den) {
+        kt->lgrey = malloc((size_t)(s->nf ? s->nf : 1) * sizeof *kt->lgrey);
+        if (!kt->start || !kt->plane || !kt->lgrey) {
           t74_fail(err, T74_EIO, "out of host memory");
           goto fail;
         }
@@ -883,7 +901,12 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     } else {
       if (!face_plane(s, sf, pl)) memset(pl, 0, sizeof pl);
       if (kt && kt->plane) memcpy(kt->plane[fi], pl, sizeof pl);
-      if (kt && kt->den) kt->den[fi] = lamb ? lambert_den(pl, ll) : 0;
+      if (kt && kt->lgrey && lamb) {        /* the grey of either sign of the plane */
+        const uint64_t den = lambert_den(pl, ll);
+        const int64_t turned[3] = { -pl[0], -pl[1], -pl[2] };
+        kt->lgrey[fi][0] = (uint8_t)lambert(pl, s->light[0].v, den);
+        kt->lgrey[fi][1] = (uint8_t)lambert(turned, s->light[0].v, den);
+      }
     }
     if (!(pl[0] | pl[1] | pl[2])) { out->dropped++; continue; }   /* face_plane found none */
     if (cost) {
@@ -892,7 +915,14 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     }
     wide pe = (wide)pl[0] * X0 + (wide)pl[1] * Y0 + (wide)pl[2] * Z0 + pl[3];
     if (pe == 0) { out->dropped++; continue; }     /* edge-on: the plane holds the eye */
-    if (pe > 0) { for (int k = 0; k < 4; k++) pl[k] = -pl[k]; pe = -pe; }
+    /* the plane turned to face away from the eye where pe > 0, without a branch (the
+       side the eye is on has no pattern the predictor learns among crossing triangles):
+       (v ^ t) - t is v for t = 0 and -v for t = -1 (all ones), in two's complement;
+       |pl[k]| < 2^63 and |pe| < 2^127, so -v fits */
+    const bool turn = pe > 0;                /* (lgrey's second) */
+    const int64_t t64 = -(int64_t)turn;
+    for (int k = 0; k < 4; k++) pl[k] = (int64_t)(((uint64_t)pl[k] ^ (uint64_t)t64) - (uint64_t)t64);
+    pe = (wide)(((uwide)pe ^ (uwide)(wide)t64) - (uwide)(wide)t64);
 
     /* the rings with T-junction vertices inserted: ring r is rv[rs[r] .. rs[r+1]) */
     int rs_new[sf->nring + 1];
@@ -968,7 +998,14 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
         if (r == 0) keep = false;
         continue;
       }
-      if ((r == 0) != (area > 0)) ring_reverse(m->pt + start, m->vid + start, m->vix + start, np - start);
+      const bool rev = (r == 0) != (area > 0);
+      if (np - start == 3) {              /* a triangle: its first and last swapped where it
+                                             turns the wrong way, by selects (which way a
+                                             crossing triangle turns is anyone's guess) */
+        swap3(m->pt + start, m->vid + start, m->vix + start, rev);
+      } else if (rev) {
+        ring_reverse(m->pt + start, m->vid + start, m->vix + start, np - start);
+      }
       m->ring_start[nr++] = start;
     }
     if (!keep) {
@@ -985,9 +1022,9 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     m->sline = sf->line;
     memcpy(m->plane, pl, sizeof pl);
     m->deye = (int64_t)-pe;
-    m->grey = (uint8_t)(sf->grey >= 0 ? sf->grey
-                                      : face_grey(s, m, pl, ll, kt && kt->den ? &kt->den[fi]
-                                                                              : NULL));
+    m->grey = (uint8_t)(sf->grey >= 0              ? sf->grey
+                        : lamb && kt && kt->lgrey ? kt->lgrey[fi][turn]   /* (kept) */
+                                                  : face_grey(s, m, pl, ll));
 
     if (!cost) { out->nface++; continue; }  /* the points engine: the row unwritten */
     gcoord ymin = m->pt[0].y, ymax = m->pt[0].y;
@@ -1010,7 +1047,8 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
   free(ring);
   free(memo);
   tj_free(&tj);
-  free(proj);
+  if (cost) free(proj);
+  else out->proj = proj;                    /* (the points engine's vertices) */
   cost_mw_mul_n(&tjc, 17, 17, tjtests);    /* each a product of 17-bit operands */
   if (kt && !replay && kt->once) {          /* no next run: nothing kept (the charges and
                                                the host statistic stay readable) */
@@ -1362,5 +1400,7 @@ void mapper_free(struct mapped *m)
     m->f = NULL;
     m->nface = 0;
   }
+  free(m->proj);
+  m->proj = NULL;
   pool_free(&m->pool);
 }

@@ -49,6 +49,10 @@ struct mapped {
   int64_t eye[3];           /* X0, Y0, Z0 (world units) */
   const struct scene_vertex *sv;   /* the scene's vertices (what vix indexes): the scene
                                outlives its mapped faces */
+  struct gpoint *proj;      /* each scene vertex projected onto the plane grid (pt[k] is
+                               proj[vix[k]]): kept by a run without a cost (the points
+                               engine, which works out each vertex's row and column once
+                               a frame), else NULL; freed by mapper_free */
   struct pool pool;         /* host blocks holding pooled faces' arrays (issue 12: one
                                malloc a face fewer), freed by mapper_free */
 };
@@ -113,9 +117,11 @@ struct mapper_keep {
                                its vertices (all zero: none), kept with the T-junctions
                                (it depends on the scene alone; its sign, on the eye, is
                                taken every run) */
-  uint64_t *den;            /* scene face f's Lambert denominator, floor(|n| |L|) of its
-                               plane and the scene's one parallel light (0: none), kept
-                               with the planes (the scene alone) */
+  uint8_t (*lgrey)[2];      /* scene face f's grey by Lambert's law under the scene's one
+                               parallel light, of its plane as kept ([0]) and turned
+                               ([1]: the plane's sign taken from the eye, the one a run
+                               uses); kept with the planes (the scene alone: a replay
+                               makes neither the denominator's root nor the divide) */
   struct pool pool;         /* blocks for the next run's faces */
   struct mface *f;          /* the last run's table of faces, for the next run (NULL:
                                none); every entry a run uses is written whole */

@@ -473,6 +473,10 @@ struct grid {
   double i0, ki, j0, kj;        /* a grid point (x, y) is at (i0 + ki x, j0 - kj y) in points */
   struct divconst dDy, dS;      /* division by Dy, by S (both in [2, 2^24]) */
   bool lazy;                    /* rows made ready span by span ("Clearing") */
+  /* face_edges' numbers: ytop = yd GRID_ONE YT (row_q(y) = floor((ytop - yd y) / Dy); yn
+     of row j: ytop - (2j + 1) Dy), xoff = GRID_ONE XL, Syd = S yd (< 2^32), dRx = 2 xd Dy
+     (dR = dRx dx; < 2^34) */
+  int64_t ytop, xoff, Syd, dRx;
 };
 
 /* Row j (from the top) has y_j >= y exactly when 2j + 1 <= row_q(y). */
@@ -502,10 +506,106 @@ static inline int64_t col_first_at_or_right(const struct grid *g, int64_t x)
   return floor_half(q);
 }
 
+/* Vertices.  Each scene vertex's row_q (of its y) and first column at or right (of its
+   x) made once a frame from the Mapper's projection (map.proj, pt[k] = proj[vix[k]]), not
+   again for each face the vertex is on (face_box, face_edges). They are kept clamped, row_q
+   to [-2, 2H + 2] and the column to [-1, W + 1], in 32 bits; every use decides as the
+   numbers themselves (both maps rise or fall together, so the clamped least and greatest
+   are the least and greatest clamped):
+   - face_box: jlo = max(rows_below(q), 0) of the least q; jhi = min(rows_at_or_above(q),
+     H - 1) of the greatest. For q > 2H + 2 rows_below(q) >= H + 1, as of 2H + 2: the face is
+     culled either way (jlo > H - 1 >= jhi); for q < -2 it is <= -1, as of -2: jlo = 0.
+     rows_at_or_above(q) >= H for q > 2H + 2 and of 2H + 2 (H): jhi = H - 1; <= -2 for q < -2
+     and of -2 (-2): culled either way (jhi < 0 <= jlo). Columns: ilo >= 0 and ihi <= W
+     (inside) as the clamped ones are, and clamped to [0, W] alike.
+   - face_edges: jb = min(rows_at_or_above(q), jhi), jt = max(rows_below(q), jlo), with
+     0 <= jlo <= jhi <= H - 1, an edge kept when jt <= jb. Beyond the clamps as above: jb =
+     jhi or < 0 (then jt >= 0 > jb), jt = jlo or > H (then jt > jhi >= jb), the same for the
+     number and the clamped one; an edge kept has the same jb and jt. */
+static int vertex_rows(struct points *p, const struct scene *s, const struct grid *g,
+                       struct t74_error *err)
+{
+  const int nv = s->nv;
+  if (!grow((void **)&p->vrc, &p->vrccap, 2 * nv + 2, sizeof *p->vrc))
+    return t74_fail(err, T74_EIO, "out of host memory");
+  const struct gpoint *const proj = p->map.proj;
+  int32_t *const vrc = p->vrc;
+  const int64_t qhi = 2 * (int64_t)g->H + 2, chi = (int64_t)g->W + 1;
+  for (int v = 0; v < nv; v++) {
+    int64_t q = row_q(g, proj[v].y), c = col_first_at_or_right(g, proj[v].x);
+    q = q < -2 ? -2 : q > qhi ? qhi : q;
+    c = c < -1 ? -1 : c > chi ? chi : c;
+    vrc[2 * v] = (int32_t)q;
+    vrc[2 * v + 1] = (int32_t)c;
+  }
+  return T74_OK;
+}
+
+/* Edge a -> b of a ring (qa, qb: its ends' row_q, as vertex_rows keeps them) into *e,
+   stepped from its bottom row; 1 when it crosses a row of jlo..jhi (kept), else 0. Every
+   edge goes through the same steps up to its crossing, a horizontal one or one that
+   crosses no row of the box too, and is kept or not at the end (the caller's count grows
+   by the answer): which edges cross a row is known only at the end of the chain from the
+   vertices' rows, and a branch on it that the predictor guesses wrong would throw away the
+   next edges' work begun meanwhile. A horizontal edge divides by D = 1 instead of 0; an
+   edge not kept leaves *e written, the caller's next slot. The step a row up is made only
+   for an edge of more than one row (a branch: its divide a row cost more than the
+   branch's misses, measured on the sphere). */
+static inline __attribute__((always_inline)) int
+edge_make(const struct grid *g, struct gpoint a, struct gpoint b, int64_t qa, int64_t qb,
+          int64_t jlo, int64_t jhi, struct points_edge *e)
+{
+  /* its lower and upper ends, without branches (an edge's way has no pattern the
+     predictor learns) */
+  const bool up = a.y < b.y, flat = a.y == b.y;
+  const int64_t dn = -(int64_t)!up;             /* all ones: a and b swapped */
+  const int64_t sx = (a.x ^ b.x) & dn, sy = (a.y ^ b.y) & dn, sq = (qa ^ qb) & dn;
+  a.x ^= sx;
+  b.x ^= sx;
+  a.y ^= sy;
+  b.y ^= sy;
+  const int64_t qbot = qa ^ sq, qtop = qb ^ sq; /* of the lower end a, the upper b */
+  int64_t jb = rows_at_or_above(qbot), jt = rows_below(qtop);
+  jb = jb > jhi ? jhi : jb;
+  jt = jt < jlo ? jlo : jt;
+  const int64_t dx = b.x - a.x, dy = b.y - a.y;
+  const int64_t D = (g->Syd * dy) | (int64_t)flat;   /* > 0 (flat: 1) */
+  /* R = xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx): in 64 bits while no product
+     or sum overflows them (the builtins say so), else in 128 */
+  const int64_t yd = g->yd, xd = g->xd;
+  const int64_t yn = g->ytop - (2 * jb + 1) * g->Dy;
+  const int64_t u = a.x - g->xoff, v = yn - a.y * yd, dyy = dy * yd;
+  int64_t t0, t1, t2, R64, c, s;
+  if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
+      !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(xd, t2, &R64))
+    floor_divmod(R64, D, &c, &s);
+  else
+    floor_divmod((wide)xd * ((wide)dyy * u + (wide)v * dx), D, &c, &s);
+  const int64_t nz = -(int64_t)(s != 0);        /* from floor to ceiling, no branch */
+  e->jtop = (int32_t)jt;
+  e->jbot = (int32_t)jb;
+  e->up = up;
+  e->D = D;
+  e->c = c - nz;
+  e->s = (D - s) & nz;
+  if (jt < jb) {                                /* dR = dRx dx, |dR| < 2^63: 64 bits */
+    const int64_t dR = g->dRx * dx, q = dR / D, m = dR % D, neg = -(int64_t)(m < 0);
+    e->dq = q + neg;
+    e->drem = m + (D & neg);
+  } else {
+    e->dq = e->drem = 0;                        /* one row or none: never stepped */
+  }
+  return !flat && jt <= jb;                     /* (flat: jt > jb already) */
+}
+
 /* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row.
    *monotone: the face is one ring along which y changes direction twice (the signs of
    the edges' dy, horizontal edges left out, change twice around it: every triangle that
-   is not flat, every convex ring; "Two crossings" at the top of the file). */
+   is not flat, every convex ring; "Two crossings" at the top of the file). A triangle:
+   its three edges in the ring's order, as the loop below takes them, and monotone unless
+   its three y are equal (then no sign at all): else the signs, 0 for a horizontal edge,
+   sum to 0 (the dy do), so both signs are there, and around three edges with one or none
+   left out they change exactly twice. */
 static int face_edges(struct points *p, const struct grid *g, const struct mface *f,
                       int64_t jlo, int64_t jhi, int *nedge, bool *monotone,
                       struct t74_error *err)
@@ -513,73 +613,35 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
   int n = f->ring_start[f->nring];
   if (!grow((void **)&p->edge, &p->edgecap, n, sizeof *p->edge))
     return t74_fail(err, T74_EIO, "out of host memory");
-  /* the grid's numbers in locals: the edges' stores (int64_t, as the grid's) would make
-     the compiler load them again an edge */
-  const int64_t yd = g->yd, xd = g->xd, Dy = g->Dy, Syd = g->S * g->yd;   /* S yd < 2^32 */
-  const struct divconst dDy = g->dDy;
-  const int64_t ytop = yd * (GRID_ONE * g->YT), xoff = GRID_ONE * g->XL;  /* row_q(y) =
-                                                   floor((ytop - yd y) / Dy); yn of row j:
-                                                   ytop - (2j + 1) Dy */
-  const int64_t dRx = 2 * xd * Dy;                    /* dR = dRx dx; 2 xd Dy < 2^34 */
   struct points_edge *const edge = p->edge;
+  const int32_t *const vrc = p->vrc, *const vix = f->vix;
+  if (n == 3 && f->nring == 1) {
+    const struct gpoint p0 = f->pt[0], p1 = f->pt[1], p2 = f->pt[2];
+    const int64_t q0 = vrc[2 * vix[0]], q1 = vrc[2 * vix[1]], q2 = vrc[2 * vix[2]];
+    int ne = edge_make(g, p0, p1, q0, q1, jlo, jhi, &edge[0]);
+    ne += edge_make(g, p1, p2, q1, q2, jlo, jhi, &edge[ne]);
+    ne += edge_make(g, p2, p0, q2, q0, jlo, jhi, &edge[ne]);
+    *nedge = ne;
+    *monotone = !(p0.y == p1.y && p1.y == p2.y);
+    return T74_OK;
+  }
   int ne = 0;
   int turns = 0, first = 0, last = 0;           /* dy's changes of sign, its first, last */
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
-    const int64_t qlo = floor_div_const(ytop - yd * f->pt[lo].y, &dDy);   /* row_q, each
-                                                                              vertex once */
+    const int64_t qlo = vrc[2 * vix[lo]];
     int64_t qb = qlo;
     for (int k = lo; k < hi; k++) {
       int nk = k + 1 < hi ? k + 1 : lo;
-      struct gpoint a = f->pt[k], b = f->pt[nk];
-      int64_t qa = qb;
-      qb = nk == lo ? qlo : floor_div_const(ytop - yd * b.y, &dDy);
-      if (a.y == b.y) continue;
-      /* which way the edge goes, and its lower and upper ends, without branches (an
-         edge's way has no pattern the predictor learns) */
-      const bool up = a.y < b.y;
-      const int sg = 2 * up - 1;
-      turns += last != 0 && sg != last;
+      const struct gpoint a = f->pt[k], b = f->pt[nk];
+      const int64_t qa = qb;
+      qb = vrc[2 * vix[nk]];
+      /* the sign of dy (1 up, -1 down, 0 horizontal: the count left as it was) */
+      const int sg = (int)(a.y < b.y) - (int)(a.y > b.y);
+      turns += last != 0 && sg != 0 && sg != last;
       first += sg & -(first == 0);
-      last = sg;
-      const int64_t dn = -(int64_t)!up;         /* all ones: a and b swapped */
-      const int64_t sx = (a.x ^ b.x) & dn, sy = (a.y ^ b.y) & dn, sq = (qa ^ qb) & dn;
-      a.x ^= sx;
-      b.x ^= sx;
-      a.y ^= sy;
-      b.y ^= sy;
-      const int64_t qbot = qa ^ sq, qtop = qb ^ sq;   /* of the lower end a, the upper b */
-      int64_t jb = rows_at_or_above(qbot), jt = rows_below(qtop);
-      if (jb > jhi) jb = jhi;
-      if (jt < jlo) jt = jlo;
-      if (jt > jb) continue;
-      struct points_edge *e = &edge[ne++];
-      int64_t dx = b.x - a.x, dy = b.y - a.y;
-      const int64_t D = Syd * dy;
-      /* R = xd (dy yd (x0 - GRID_ONE XL) + (yn - y0 yd) dx): in 64 bits while no product
-         or sum overflows them (the builtins say so), else in 128 */
-      const int64_t yn = ytop - (2 * jb + 1) * Dy;
-      const int64_t u = a.x - xoff, v = yn - a.y * yd, dyy = dy * yd;
-      int64_t t0, t1, t2, R64, c, s;
-      if (!__builtin_mul_overflow(dyy, u, &t0) && !__builtin_mul_overflow(v, dx, &t1) &&
-          !__builtin_add_overflow(t0, t1, &t2) && !__builtin_mul_overflow(xd, t2, &R64))
-        floor_divmod(R64, D, &c, &s);
-      else
-        floor_divmod((wide)xd * ((wide)dyy * u + (wide)v * dx), D, &c, &s);
-      const int64_t nz = -(int64_t)(s != 0);    /* from floor to ceiling, no branch */
-      e->jtop = (int32_t)jt;
-      e->jbot = (int32_t)jb;
-      e->up = up;
-      e->D = D;
-      e->c = c - nz;
-      e->s = (D - s) & nz;
-      if (jt < jb) {                            /* dR = dRx dx, |dR| < 2^63: 64 bits */
-        const int64_t dR = dRx * dx, q = dR / D, m = dR % D, neg = -(int64_t)(m < 0);
-        e->dq = q + neg;
-        e->drem = m + (D & neg);
-      } else {
-        e->dq = e->drem = 0;                    /* one row: never stepped */
-      }
+      last = sg != 0 ? sg : last;
+      ne += edge_make(g, a, b, qa, qb, jlo, jhi, &edge[ne]);
     }
   }
   *nedge = ne;
@@ -994,18 +1056,24 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
 {
   const struct mface *f = &p->map.f[k];
   int n = f->ring_start[f->nring];
-  gcoord xmin = f->pt[0].x, xmax = xmin, ymin = f->pt[0].y, ymax = ymin;
+  /* the vertices' rows and columns ("Vertices"): row_q falls and the first column at or
+     right rises as y and x grow, so row_q(ymax) is the least of the vertices' row_q and
+     row_q(ymin) the greatest, the column of xmin the least and of xmax the greatest (of
+     the clamped numbers: the clamped least and greatest) */
+  const int32_t *const vrc = p->vrc;
+  const int32_t *const vix = f->vix;
+  int32_t qmin = vrc[2 * vix[0]], qmax = qmin, cmin = vrc[2 * vix[0] + 1], cmax = cmin;
   for (int v = 1; v < n; v++) {
-    const struct gpoint q = f->pt[v];
-    if (q.x < xmin) xmin = q.x;
-    if (q.x > xmax) xmax = q.x;
-    if (q.y < ymin) ymin = q.y;
-    if (q.y > ymax) ymax = q.y;
+    const int32_t q = vrc[2 * vix[v]], c = vrc[2 * vix[v] + 1];
+    qmin = q < qmin ? q : qmin;
+    qmax = q > qmax ? q : qmax;
+    cmin = c < cmin ? c : cmin;
+    cmax = c > cmax ? c : cmax;
   }
-  int64_t jlo = rows_below(row_q(g, ymax)), jhi = rows_at_or_above(row_q(g, ymin));
+  int64_t jlo = rows_below(qmin), jhi = rows_at_or_above(qmax);
   if (jlo < 0) jlo = 0;
   if (jhi > g->H - 1) jhi = g->H - 1;
-  int64_t ilo = col_first_at_or_right(g, xmin), ihi = col_first_at_or_right(g, xmax);
+  int64_t ilo = cmin, ihi = cmax;
   b->inside = ilo >= 0 && ihi <= g->W;
   if (ilo < 0) ilo = 0;
   if (ihi > g->W) ihi = g->W;
@@ -1056,7 +1124,8 @@ static double face_key(const struct points *p, const struct grid *g, int k,
   for (int v = 0; v < f->ring_start[f->nring]; v++) {
     const double z = b->za * (g->i0 + g->ki * (double)f->pt[v].x) +
                      (b->zb * (g->j0 - g->kj * (double)f->pt[v].y) + b->zc);
-    if (z > best) best = z;
+    best = z > best ? z : best;                 /* (a select: which vertex is nearest
+                                                   is anyone's guess; no NaN here) */
   }
   return best;
 }
@@ -1556,6 +1625,11 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.j0 = ((double)g.yd * (double)g.YT / (double)(g.YT - g.YB) - 1) / 2;
   g.dDy = divconst_make(g.Dy);                    /* (Dy, S >= GRID_ONE: >= 2) */
   g.dS = divconst_make(g.S);
+  g.ytop = g.yd * (GRID_ONE * g.YT);
+  g.xoff = GRID_ONE * g.XL;
+  g.Syd = g.S * g.yd;
+  g.dRx = 2 * g.xd * g.Dy;
+  if ((st = vertex_rows(p, s, &g, err)) != T74_OK) return st;
   p->faces_culled = 0;
   p->tiles_skipped = 0;
   p->points_visited = 0;
@@ -1698,6 +1772,7 @@ void points_free(struct points *p)
   free(p->m3);
   free(p->plane);
   free(p->edge);
+  free(p->vrc);
   free(p->cross);
   free(p->rowcount);
   free(p->skip);

@@ -76,6 +76,8 @@ struct points {
   double *m3; int m3cap;            /* each face's margin (points.c, "One bound") */
   struct points_plane *plane; int planecap;   /* each face's exact depth over the grid */
   struct points_edge *edge; int edgecap;
+  int32_t *vrc; int vrccap;         /* each scene vertex's row and column numbers this
+                                       frame, clamped (points.c, "Vertices") */
   int32_t *cross; int crosscap;     /* column thresholds of one face, row by row */
   int *rowcount; int rowcap;
   uint8_t *skip; int skipcap;       /* faces left out (folded, no triangle covers a point) */

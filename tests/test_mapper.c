@@ -628,9 +628,11 @@ static void test_rings_turned_ccw(void **state)
   scene_free(s);
 }
 
-/* The Lambert denominators kept with the planes (struct mapper_keep's den): a scene lit by
-   one parallel light, of triangles with no grey of their own (their greys by Lambert's
-   law), some turned from the light, some edge-on to it, mapped with a keep three times
+/* The Lambert greys kept with the planes (struct mapper_keep's lgrey, one for each sign the
+   eye may give the plane): a scene lit by one parallel light, of triangles with no grey of
+   their own (their greys by Lambert's law), every other one listed the other way round (so
+   that both of a plane's signs are taken), some turned from the light, some edge-on to it,
+   mapped with a keep three times
    (the search, then two replays), counted and not, and on a keep that held another
    scene's: every run maps the faces a run without a keep maps, greys too. */
 static void test_kept_greys(void **state)
@@ -648,7 +650,10 @@ static void test_kept_greys(void **state)
       for (int k = 0; k < 3; k++)
         put(&x, "vertex %d %d %d %d\n", ++v, cx + ox[k] + rnd(-5, 5), cy + oy[k] + rnd(-5, 5),
             z + (q % 4 == 3 ? 0 : rnd(-60, 60)));
-      put(&x, "face %d %d %d %d\n", q + 1, v - 2, v - 1, v);
+      if (q % 2)                                /* the other way round: its plane turned */
+        put(&x, "face %d %d %d %d\n", q + 1, v, v - 1, v - 2);
+      else
+        put(&x, "face %d %d %d %d\n", q + 1, v - 2, v - 1, v);
     }
     struct scene *s = load_text_taken(x.t), *other = load_text_taken(strdup(
         "view 0 0 -500\nwindow -200 -150 200 150\nlight 1 2 -3\n"
