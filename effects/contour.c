@@ -140,7 +140,22 @@ static gcoord round_grid(double x)
 ** five products and four sums and round_small's steps on doubles (issue 19). */
 #define CURVE_EXACT ((gcoord)1 << 29)
 
-static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
+/* The region polygon's blocks: one ring of CONTOUR_STEPS + 2 points, FX_POLY_BLOCK a block. */
+enum { REGION_BLOCKS = (CONTOUR_STEPS + 2 + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK };
+_Static_assert(FX_POLY_BLOCK == 8 && CONTOUR_STEPS == 64 && REGION_BLOCKS == 9,
+               "region_exact's blocks are laid out for 66 points, 8 a block");
+
+/* Made without SSE2, or with coordinates outside CURVE_EXACT: the blocks and box
+   fx_polys_close would make (fx_ring_blocks over the one ring). */
+static void region_blocks(const struct gpoint poly[CONTOUR_STEPS + 2], gcoord (*blk)[2],
+                          gcoord box[4])
+{
+  box[0] = INT64_MAX; box[1] = INT64_MIN; box[2] = INT64_MAX; box[3] = INT64_MIN;
+  fx_ring_blocks(poly, CONTOUR_STEPS + 2, blk, 0, box);
+}
+
+static bool region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
+                         gcoord (*blk)[2], gcoord box[4])
 {
   static const int64_t binom[5] = { 1, 4, 6, 4, 1 };
   int64_t v[5][2];                          /* P at i = 1 .. 5, x and y, then differences */
@@ -166,17 +181,64 @@ static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_ST
   const __m128i d4 = _mm_set_epi64x(v[4][1], v[4][0]);
   const __m128i bias = _mm_set1_epi64x(((int64_t)1 << 23) + ((int64_t)1 << 54));
   const __m128i off = _mm_set1_epi64x((int64_t)1 << 30);
-  for (int i = 1; i < CONTOUR_STEPS; i++) {
-    /* [P < 0] as -1 in a lane: the sign of its high half, spread over the lane */
-    const __m128i neg = _mm_shuffle_epi32(_mm_srai_epi32(d0, 31), _MM_SHUFFLE(3, 3, 1, 1));
-    const __m128i r = _mm_sub_epi64(
-        _mm_srli_epi64(_mm_add_epi64(_mm_add_epi64(d0, bias), neg), 24), off);
-    _mm_storeu_si128((__m128i *)(void *)&poly[1 + i], r);
-    d0 = _mm_add_epi64(d0, d1);
-    d1 = _mm_add_epi64(d1, d2);
-    d2 = _mm_add_epi64(d2, d3);
-    d3 = _mm_add_epi64(d3, d4);
+  /* The blocks and box (fx_ring_blocks') made on the way, in doubles: every point here is
+     within 2^29 of the origin (Q0..Q4 are, and each curve point is the rounding of a
+     convex combination of them: its integer within 2^29 too), so s = r + 2^30 lies in
+     [0, 2^31), and the double with s's bits ORed into those of 2^52 is 2^52 + s exactly
+     (s < 2^52: a mantissa's bits). That map is increasing in r, so MINPD and MAXPD of
+     the doubles (x, y a lane; positive normal numbers, no NaN) pick the points that the
+     integer compares pick, and r comes back as the double's bits less those of 2^52 + 2^30.
+     Two instructions a point for the four extremes, where fx_ring_blocks' compares and
+     selects make four chains of eight (issue 19: about a quarter of contour_build). */
+  const __m128i expo = _mm_set1_epi64x((int64_t)0x4330000000000000);
+  const __m128i back = _mm_set1_epi64x((int64_t)0x4330000000000000 + ((int64_t)1 << 30));
+#define REGION_KEY(p) _mm_castsi128_pd(_mm_or_si128(                                    \
+    _mm_add_epi64(_mm_loadu_si128((const __m128i *)(const void *)(p)), off), expo))
+  const __m128d k0 = REGION_KEY(&poly[0]), k1 = REGION_KEY(&poly[1]);
+  __m128d lo = _mm_min_pd(k0, k1), hi = _mm_max_pd(k0, k1);
+  __m128d bl[REGION_BLOCKS], bh[REGION_BLOCKS];
+  int i = 1;                                   /* the curve's point i is poly[1 + i] */
+  for (int b = 0; b < REGION_BLOCKS - 1; b++)
+    for (;; i++) {                             /* poly[8 b + 2 ..] up to poly[8 b + 8] */
+      /* [P < 0] as -1 in a lane: the sign of its high half, spread over the lane */
+      const __m128i neg = _mm_shuffle_epi32(_mm_srai_epi32(d0, 31), _MM_SHUFFLE(3, 3, 1, 1));
+      const __m128i sh = _mm_srli_epi64(_mm_add_epi64(_mm_add_epi64(d0, bias), neg), 24);
+      const __m128i r = _mm_sub_epi64(sh, off);
+      _mm_storeu_si128((__m128i *)(void *)&poly[1 + i], r);
+      const __m128d k = _mm_castsi128_pd(_mm_or_si128(sh, expo));   /* sh = r + 2^30 */
+      d0 = _mm_add_epi64(d0, d1);
+      d1 = _mm_add_epi64(d1, d2);
+      d2 = _mm_add_epi64(d2, d3);
+      d3 = _mm_add_epi64(d3, d4);
+      if (i == 8 * b + 7) {                    /* poly[8 b + 8]: block b's last, b + 1's first */
+        bl[b] = _mm_min_pd(lo, k);
+        bh[b] = _mm_max_pd(hi, k);
+        lo = hi = k;
+        i++;
+        break;
+      }
+      lo = _mm_min_pd(lo, k);
+      hi = _mm_max_pd(hi, k);
+    }
+  {                                            /* poly[64], poly[65] (Q0), then poly[0] */
+    const __m128d k65 = REGION_KEY(&poly[CONTOUR_STEPS + 1]);
+    bl[REGION_BLOCKS - 1] = _mm_min_pd(_mm_min_pd(lo, k65), k0);
+    bh[REGION_BLOCKS - 1] = _mm_max_pd(_mm_max_pd(hi, k65), k0);
   }
+#undef REGION_KEY
+  __m128d blo = bl[0], bhi = bh[0];
+  for (int b = 0; b < REGION_BLOCKS; b++) {
+    const __m128i l = _mm_sub_epi64(_mm_castpd_si128(bl[b]), back);
+    const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bh[b]), back);
+    _mm_storeu_si128((__m128i *)(void *)blk[b], _mm_unpackhi_epi64(l, h));   /* y lo, y hi */
+    blo = _mm_min_pd(blo, bl[b]);
+    bhi = _mm_max_pd(bhi, bh[b]);
+  }
+  const __m128i l = _mm_sub_epi64(_mm_castpd_si128(blo), back);
+  const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bhi), back);
+  _mm_storeu_si128((__m128i *)(void *)&box[0], _mm_unpacklo_epi64(l, h));    /* x lo, x hi */
+  _mm_storeu_si128((__m128i *)(void *)&box[2], _mm_unpackhi_epi64(l, h));    /* y lo, y hi */
+  return true;
 #else
   for (int i = 1; i < CONTOUR_STEPS; i++) {
     gcoord r[2];
@@ -188,12 +250,15 @@ static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_ST
     }
     poly[1 + i] = (struct gpoint){ r[0], r[1] };
   }
+  region_blocks(poly, blk, box);
+  return true;
 #endif
 }
 
-/* contour_region with the weights made. */
+/* contour_region with the weights made, and the polygon's blocks and box (REGION_BLOCKS
+   into blk: fx_ring_blocks' over the one ring). */
 static void region_with(const struct gpoint q[5], const struct curve_weights *w,
-                        struct gpoint poly[CONTOUR_STEPS + 2])
+                        struct gpoint poly[CONTOUR_STEPS + 2], gcoord (*blk)[2], gcoord box[4])
 {
   poly[0] = q[2];
   /* Q4, the curve back towards Q0, then Q0: CONTOUR_STEPS + 1 points */
@@ -204,7 +269,7 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
     exact = exact && q[k].x > -CURVE_EXACT && q[k].x < CURVE_EXACT &&
             q[k].y > -CURVE_EXACT && q[k].y < CURVE_EXACT;
   if (exact) {
-    region_exact(q, poly);
+    region_exact(q, poly, blk, box);
     return;
   }
   double d[5][2];
@@ -235,11 +300,20 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
     poly[1 + CONTOUR_STEPS - m] = small ? (struct gpoint){ round_small(o[0]), round_small(o[1]) }
                                         : (struct gpoint){ round_grid(o[0]), round_grid(o[1]) };
   }
+  region_blocks(poly, blk, box);
 }
 
 void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
 {
-  region_with(q, &curve_table, poly);
+  gcoord blk[REGION_BLOCKS][2], box[4];
+  region_with(q, &curve_table, poly, blk, box);
+}
+
+int contour_region_blocked(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
+                           gcoord (*blk)[2], gcoord box[4])
+{
+  region_with(q, &curve_table, poly, blk, box);
+  return REGION_BLOCKS;
 }
 
 /* ---- the contour ------------------------------------------------------------------ */
@@ -440,7 +514,8 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     /* the region's polygon made where the list keeps it (fx_polys_room: no copy) */
     struct gpoint *poly = fx_polys_room(cuts, CONTOUR_STEPS + 2);
     if (!poly) { rc = t74_fail(err, T74_EIO, "out of host memory"); break; }
-    region_with(q, &curve_table, poly);
+    gcoord box[4];
+    region_with(q, &curve_table, poly, fx_polys_blocks_at(poly, CONTOUR_STEPS + 2), box);
     if (cost) {                   /* the 1974 engine's machine: counted, through core */
       COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
       for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {
@@ -457,7 +532,8 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     int rs[2] = { 0, CONTOUR_STEPS + 2 };
     struct contour_corner cn = { out->object, inw->a, out->a, out->b, A->mface, B->mface,
                                 { q[0], q[1], q[2], q[3], q[4] } };
-    if (!fx_polys_close(cuts, 1, rs, out->object, 0, NULL, NULL) || !corner_add(corners, &cn))
+    if (!fx_polys_close_made(cuts, 1, rs, out->object, 0, NULL, NULL, REGION_BLOCKS, box) ||
+        !corner_add(corners, &cn))
       rc = t74_fail(err, T74_EIO, "out of host memory");
   }
   if (rc == T74_OK) {

@@ -60,6 +60,11 @@ double contour_cut_share(double cc);
 /* The region cut away at a corner, as the polygon Q2, Q4, the curve back to Q0, on the
    grid: writes CONTOUR_STEPS + 2 points into poly (Q0..Q4 as grid points). */
 void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2]);
+/* contour_region, and the blocks and box fx_polys_close would make of the polygon (the
+   one ring's fx_ring_blocks: the count returned, (CONTOUR_STEPS + 2) / FX_POLY_BLOCK
+   rounded up, into blk; box xlo, xhi, ylo, yhi), made on the way. */
+int contour_region_blocked(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
+                           gcoord (*blk)[2], gcoord box[4]);
 
 /* One convex corner the contour smoothing rounds, as the enhanced edges (effects/edges.h)
    need it to draw the outline along the curve: the object; the contour's scene vertices

@@ -230,24 +230,28 @@ static inline size_t fx_ring_blocks(const struct gpoint *q, int n, gcoord (*blk)
   return nblk;
 }
 
+/* Where fx_polys_close puts the blocks of a polygon of npt points made at pt (the room
+   fx_polys_room gave): right after the points. */
+static inline gcoord (*fx_polys_blocks_at(struct gpoint *pt, int npt))[2]
+{
+  return (gcoord (*)[2])(void *)(pt + npt);
+}
+
 /* The polygon ps->p[ps->n] made of the points at mem (the chunk's room: npt of them, in
-   nring rings rs[0..nring] of 3 points or more, rs[0] = 0), its blocks and offsets put
-   after them; added (its memory taken) when meet is NULL or its box meets meet's. */
-static inline bool fx_polys_close_at(struct fx_polys *ps, char *mem, int nring,
-                                     const int *rs, int owner, int light, const gcoord *meet,
-                                     bool *added)
+   nring rings rs[0..nring] of 3 points or more, rs[0] = 0), its nblk blocks already at
+   fx_polys_blocks_at and box (xlo, xhi, ylo, yhi) its points' box, its offsets put after
+   the blocks; added (its memory taken) when meet is NULL or its box meets meet's. */
+static inline bool fx_polys_close_boxed(struct fx_polys *ps, char *mem, int nring,
+                                        const int *rs, int owner, int light, const gcoord *meet,
+                                        bool *added, size_t nblk, const gcoord box[4])
 {
   struct fx_poly *p = &ps->p[ps->n];
   const int npt = rs[nring];
-  p->pt = (struct gpoint *)mem;
-  p->blk = (gcoord (*)[2])(mem + (size_t)npt * sizeof *p->pt);
-  gcoord box[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };
-  size_t nblk = 0;
-  for (int r = 0; r < nring; r++)
-    nblk = fx_ring_blocks(p->pt + rs[r], rs[r + 1] - rs[r], p->blk, nblk, box);
   const gcoord xlo = box[0], xhi = box[1], ylo = box[2], yhi = box[3];
   if (meet && (xhi <= meet[0] || xlo >= meet[1] || yhi <= meet[2] || ylo >= meet[3]))
     return true;
+  p->pt = (struct gpoint *)(void *)mem;
+  p->blk = fx_polys_blocks_at(p->pt, npt);
   p->rs = (int *)(mem + (size_t)npt * sizeof *p->pt + nblk * sizeof *p->blk);
   for (int r = 0; r <= nring; r++) p->rs[r] = rs[r];   /* (few: no call) */
   p->nring = nring;
@@ -259,6 +263,20 @@ static inline bool fx_polys_close_at(struct fx_polys *ps, char *mem, int nring,
   ps->n++;
   if (added) *added = true;
   return true;
+}
+
+/* fx_polys_close_boxed with the blocks and box made here (fx_ring_blocks, ring by ring). */
+static inline bool fx_polys_close_at(struct fx_polys *ps, char *mem, int nring,
+                                     const int *rs, int owner, int light, const gcoord *meet,
+                                     bool *added)
+{
+  struct gpoint *pt = (struct gpoint *)(void *)mem;
+  gcoord (*blk)[2] = fx_polys_blocks_at(pt, rs[nring]);
+  gcoord box[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };
+  size_t nblk = 0;
+  for (int r = 0; r < nring; r++)
+    nblk = fx_ring_blocks(pt + rs[r], rs[r + 1] - rs[r], blk, nblk, box);
+  return fx_polys_close_boxed(ps, mem, nring, rs, owner, light, meet, added, nblk, box);
 }
 
 /* fx_polys_room when the last chunk has no room or the list none for one more polygon. */
@@ -277,6 +295,16 @@ static inline bool fx_polys_close(struct fx_polys *ps, int nring, const int *rs,
 {
   return fx_polys_close_at(ps, (char *)ps->mem->data + ps->mem->used, nring, rs, owner, light,
                            meet, added);
+}
+
+/* fx_polys_close when the caller has made the polygon's blocks where fx_polys_blocks_at
+   says (nblk of them, as fx_ring_blocks makes them ring by ring) and its box. */
+static inline bool fx_polys_close_made(struct fx_polys *ps, int nring, const int *rs, int owner,
+                                       int light, const gcoord meet[4], bool *added, size_t nblk,
+                                       const gcoord box[4])
+{
+  return fx_polys_close_boxed(ps, (char *)ps->mem->data + ps->mem->used, nring, rs, owner,
+                              light, meet, added, nblk, box);
 }
 
 #endif

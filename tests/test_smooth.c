@@ -1880,6 +1880,55 @@ static void test_region_is_bezier(void **state)
   assert_int_equal(differ, 0);
 }
 
+/* The region polygon's blocks and box made on the way (contour_region_blocked: on the
+   integer path, in doubles a lane for x and one for y) are fx_ring_blocks' over the
+   polygon contour_region makes, block by block, and the polygon the same: 6,000 random
+   corners of control points from 2^4 to 2^62 grid units (either path), and 2,000 from
+   +-(2^29 - 1), +-2^29, 0 and small values (the integer path's bounds, where a point
+   within 2^29 of the origin is the largest the doubles' bits carry); the extremes fall on
+   Q0, Q2, Q4 (poly[65], poly[0], poly[1]) and on the curve, and on the block ends each
+   block shares with the next. Fails if a block misses its last point (poly[8 b + 8], or
+   poly[0] for the last), a lane's min or max, or a point's conversion. */
+static void test_region_blocks(void **state)
+{
+  (void)state;
+  uint64_t x = 0x2545f4914f6cdd1du;
+  long differ = 0, exact = 0;
+  static const gcoord edge[8] = { (1 << 29) - 1, -(1 << 29) + 1, 1 << 29, -(1 << 29), 0, 1, -1, 3 };
+  enum { NB = (CONTOUR_STEPS + 2 + FX_POLY_BLOCK - 1) / FX_POLY_BLOCK };
+  for (int it = 0; it < 8000; it++) {
+    struct gpoint g[5], poly[CONTOUR_STEPS + 2], ref[CONTOUR_STEPS + 2];
+    const int bits = 5 + it % 58;
+    bool small = true;
+    for (int k = 0; k < 5; k++) {
+      x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+      g[k].x = (gcoord)(x % (1ull << bits)) - (gcoord)(1ull << (bits - 1));
+      x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+      g[k].y = (gcoord)(x % (1ull << bits)) - (gcoord)(1ull << (bits - 1));
+      if (it >= 6000) {
+        g[k].x = edge[(x >> 3) % (it % 2 ? 8 : 4)];
+        g[k].y = edge[(x >> 9) % (it % 2 ? 8 : 4)];
+      }
+      small = small && llabs(g[k].x) < (1 << 29) && llabs(g[k].y) < (1 << 29);
+    }
+    exact += small;
+    gcoord blk[NB + 1][2], box[4], rblk[NB][2];
+    gcoord rbox[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };
+    blk[NB][0] = blk[NB][1] = 12345;          /* nothing written past the blocks */
+    const int nb = contour_region_blocked(g, poly, blk, box);
+    contour_region(g, ref);
+    const size_t rnb = fx_ring_blocks(ref, CONTOUR_STEPS + 2, rblk, 0, rbox);
+    bool bad = nb != NB || rnb != NB || memcmp(poly, ref, sizeof poly) != 0 ||
+               memcmp(box, rbox, sizeof box) != 0 || blk[NB][0] != 12345 || blk[NB][1] != 12345;
+    for (int b = 0; b < NB && !bad; b++) bad = blk[b][0] != rblk[b][0] || blk[b][1] != rblk[b][1];
+    differ += bad;
+  }
+  print_message("region blocks: %ld corners (%ld on the integer path), %ld differ\n", 8000L,
+                exact, differ);
+  assert_true(exact > 2500);
+  assert_int_equal(differ, 0);
+}
+
 /* A polygon's crossings with a line, found edge by edge (fx_poly_cross's answer without
    its blocks): the crossings sorted stably, their count, or -1 past max. */
 static int cross_ref(const struct fx_poly *p, int64_t yn, int64_t yd, struct grat *x, int max)
@@ -2001,6 +2050,7 @@ int main(void)
     cmocka_unit_test(test_insets),
     cmocka_unit_test(test_bezier),
     cmocka_unit_test(test_region_is_bezier),
+    cmocka_unit_test(test_region_blocks),
     cmocka_unit_test(test_region_crossings),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
