@@ -157,23 +157,30 @@ static void region_blocks(const struct gpoint poly[CONTOUR_STEPS + 2], gcoord (*
 static bool region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
                          gcoord (*blk)[2], gcoord box[4])
 {
-  static const int64_t binom[5] = { 1, 4, 6, 4, 1 };
-  int64_t v[5][2];                          /* P at i = 1 .. 5, x and y, then differences */
-  for (int i = 1; i <= 5; i++) {
-    int64_t sx = 0, sy = 0;
-    for (int k = 0; k < 5; k++) {
-      int64_t n = binom[k];
-      for (int h = 0; h < 4 - k; h++) n *= i;
-      for (int h = 0; h < k; h++) n *= 64 - i;
-      sx += n * q[k].x;
-      sy += n * q[k].y;
-    }
-    v[i - 1][0] = sx;
-    v[i - 1][1] = sy;
+  /* P at i = 1 and its differences there, found from Q1 - Q0 .. Q4 - Q0: the n_k sum to
+     2^24 at every i, so P = 2^24 Q0 + sum over k = 1 .. 4 of n_k (Qk - Q0), and the
+     differences of the constant 2^24 Q0 are 0: the l-th difference of P at i = 1 is the sum
+     of the l-th differences of the n_k there (dn[l][k - 1], below) times Qk - Q0. The same
+     integers as P at i = 1 .. 5 differenced (no overflow: |Qk - Q0| < 2^30 and |dn| < 2^24,
+     each sum below 2^57), with 40 multiplies a corner where that took 50 and the
+     differences' 20 subtracts; the constants are n_k(i) = C(4, k) i^(4 - k) (64 - i)^k
+     at i = 1 .. 5 differenced (test_region_is_bezier checks the points they give). */
+  static const int64_t dn[5][4] = {
+    { 252, 23814, 1000188, 15752961 },       /* n_1 .. n_4 at i = 1 */
+    { 1732, 68442, 906436, -976625 },        /* their first differences there */
+    { 2872, 40236, -89288, 46130 },
+    { 1296, -4248, 4368, -1476 },
+    { -96, 144, -96, 24 },                   /* the fourth: 24 C(4, k) (-1)^k */
+  };
+  int64_t v[5][2];                          /* P at i = 1, then its differences; x and y */
+  const int64_t ex[4] = { q[1].x - q[0].x, q[2].x - q[0].x, q[3].x - q[0].x, q[4].x - q[0].x };
+  const int64_t ey[4] = { q[1].y - q[0].y, q[2].y - q[0].y, q[3].y - q[0].y, q[4].y - q[0].y };
+  for (int l = 0; l < 5; l++) {
+    v[l][0] = dn[l][0] * ex[0] + dn[l][1] * ex[1] + dn[l][2] * ex[2] + dn[l][3] * ex[3];
+    v[l][1] = dn[l][0] * ey[0] + dn[l][1] * ey[1] + dn[l][2] * ey[2] + dn[l][3] * ey[3];
   }
-  for (int j = 1; j < 5; j++)
-    for (int l = 4; l >= j; l--)
-      for (int c = 0; c < 2; c++) v[l][c] -= v[l - 1][c];
+  v[0][0] += q[0].x * ((int64_t)1 << 24);
+  v[0][1] += q[0].y * ((int64_t)1 << 24);
 #ifdef __SSE2__
   /* x and y a lane each (64-bit adds and a logical shift: SSE2's) */
   __m128i d0 = _mm_set_epi64x(v[0][1], v[0][0]), d1 = _mm_set_epi64x(v[1][1], v[1][0]);
