@@ -154,7 +154,7 @@ static void region_blocks(const struct gpoint poly[CONTOUR_STEPS + 2], gcoord (*
   fx_ring_blocks(poly, CONTOUR_STEPS + 2, blk, 0, box);
 }
 
-static bool region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
+static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
                          gcoord (*blk)[2], gcoord box[4])
 {
   /* P at i = 1 and its differences there, found from Q1 - Q0 .. Q4 - Q0: the n_k sum to
@@ -245,7 +245,6 @@ static bool region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_ST
   const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bhi), back);
   _mm_storeu_si128((__m128i *)(void *)&box[0], _mm_unpacklo_epi64(l, h));    /* x lo, x hi */
   _mm_storeu_si128((__m128i *)(void *)&box[2], _mm_unpackhi_epi64(l, h));    /* y lo, y hi */
-  return true;
 #else
   for (int i = 1; i < CONTOUR_STEPS; i++) {
     gcoord r[2];
@@ -258,7 +257,6 @@ static bool region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_ST
     poly[1 + i] = (struct gpoint){ r[0], r[1] };
   }
   region_blocks(poly, blk, box);
-  return true;
 #endif
 }
 
