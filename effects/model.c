@@ -1223,25 +1223,88 @@ static void flat_lit_masked(const struct fx_model *m, int face, const struct sha
 #endif
 
 #ifdef __SSE2__
+/* What flat_lit_rest and flat_tex_clear make of a lit face that does not depend on the
+   row: its lights made ready for its unit normal (shade_pair_init of flat_normal's), and
+   its texture's tex_lanes (where it has one). Made the same way at each call before
+   (about 135 calls a frame on fig6-room, many on the same face), so made once a face a
+   frame (flat_face_of) and read from there: the same doubles. */
+struct flat_face {
+  struct shade_pair P;
+  struct tex_lanes T;       /* (set where the face has a texture) */
+};
+
+static void flat_face_init(const struct fx_model *m, const struct face_shade *fs,
+                           struct flat_face *ff)
+{
+  double nrm[3];
+  flat_normal(fs->mf, nrm);                 /* shade_face_at's normal */
+  shade_pair_init(&ff->P, &m->lights, nrm);
+  if (fs->t) tex_lanes_init(&ff->T, fs->t);
+}
+
+/* fx_points' flat_face of each face it has made one for this frame: at[face] its place in
+   kept plus 1, 0 none yet. At most FLAT_KEEP are kept (a flat_face holds up to
+   SCENE_LIGHT_MAX lights' lanes, over a kilobyte); beyond them a face's is made again at
+   each call, in one spare (spare), as before. at and kept are made at the first call and
+   kept grows as faces come, so that a frame without lit flat faces holds none; where an
+   allocation fails the spare is used (the same doubles). */
+enum { FLAT_KEEP = 512 };
+
+struct flat_cache {
+  size_t nface;             /* the map's faces, + 1 */
+  int *at;                  /* nface entries, or NULL: none kept */
+  bool tried;               /* at's allocation made (or failed) */
+  struct flat_face *kept;
+  int n, cap;
+  struct flat_face spare;
+};
+
+static const struct flat_face *flat_face_of(const struct fx_model *m, int face,
+                                            const struct face_shade *fs, struct flat_cache *C)
+{
+  if (C->at && C->at[face]) return &C->kept[C->at[face] - 1];
+  if (!C->tried) {
+    C->tried = true;
+    C->at = calloc(C->nface, sizeof *C->at);
+  }
+  if (C->at && C->n == C->cap && C->cap < FLAT_KEEP) {
+    const int cap = C->cap ? 2 * C->cap : 16;
+    struct flat_face *k = realloc(C->kept, (size_t)cap * sizeof *k);
+    if (k) {
+      C->kept = k;
+      C->cap = cap;
+    }
+  }
+  if (!C->at || C->n == C->cap) {           /* not kept: the spare's, made again */
+    flat_face_init(m, fs, &C->spare);
+    return &C->spare;
+  }
+  struct flat_face *ff = &C->kept[C->n++];
+  flat_face_init(m, fs, ff);
+  C->at[face] = C->n;
+  return ff;
+}
+#endif
+
+#ifdef __SSE2__
 /* shade_flat_run's lit face from point p on, where p needs shading (a texture, or a light
    blocked at p): the face's normal and its lights made ready (shade_pair_init), then the
    points that need shading two at a time (flat_lit_pairs: all of a textured face's;
    flat_lit_masked: else the stretches where a light is blocked, a stretch of the same
    lights at a time), the others the face's grey. Not inlined:
-   shade_flat_run's own path, a run no light is blocked at, stays small. */
+   shade_flat_run's own path, a run no light is blocked at, stays small. The face's
+   lights and texture lanes are C's (flat_face_of). */
 __attribute__((noinline))
 static void flat_lit_rest(const struct fx_model *m, int face, const struct face_shade *fs,
                           int p, int n, const unsigned *blocked, const double *px, double py,
-                          uint8_t *grey)
+                          uint8_t *grey, struct flat_cache *C)
 {
   const struct mface *mf = fs->mf;
   const struct fx_tex *t = fs->t;
-  struct shade_pair P;
+  const struct flat_face *ff = flat_face_of(m, face, fs, C);
+  const struct shade_pair *P = &ff->P;
   struct flat_row F;
   bool ready = false;                       /* F made */
-  double nrm[3];
-  flat_normal(mf, nrm);                     /* shade_face_at's normal */
-  shade_pair_init(&P, &m->lights, nrm);
   while (p < n) {
     int e = p + 1;
     if (!t && !blocked[p]) {                /* a stretch no light is blocked at: the face's */
@@ -1251,18 +1314,16 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
       continue;
     }
     if (t) {                                /* a texture: every point */
-      struct tex_lanes T;
-      tex_lanes_init(&T, t);
       flat_row_init(m, face, py, &F);
       if (F.rowt)
-        flat_lit_pairs(&F, &P, &T, n - p, blocked + p, 0, px + p, grey + p, true);
+        flat_lit_pairs(&F, P, &ff->T, n - p, blocked + p, 0, px + p, grey + p, true);
       else
-        flat_lit_pairs(&F, &P, &T, n - p, blocked + p, 0, px + p, grey + p, false);
+        flat_lit_pairs(&F, P, &ff->T, n - p, blocked + p, 0, px + p, grey + p, false);
       return;
     }
     const unsigned b = blocked[p];          /* a stretch of the same lights blocked */
     e = same_end(blocked, e, n, b);
-    flat_lit_masked(m, face, &P, b, e - p, px + p, py, &F, &ready, grey + p);
+    flat_lit_masked(m, face, P, b, e - p, px + p, py, &F, &ready, grey + p);
     p = e;
   }
 }
@@ -1272,29 +1333,32 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
 /* flat_lit_rest's greys for a run of n points of a lit textured face (fs) where no light is
    blocked at any point (fx_points knows it from shadow_ranges): flat_lit_pairs' with every
    mask 0, its operations on the same values (where there is no point light its sums at
-   X = 0 are those at any X: a parallel light's term is its n.l), without the masks. */
+   X = 0 are those at any X: a parallel light's term is its n.l), without the masks. The
+   face's lights and texture lanes are C's (flat_face_of). */
 __attribute__((noinline))
 static void flat_tex_clear(const struct fx_model *m, int face, const struct face_shade *fs,
-                           int n, const double *px, double py, uint8_t *grey)
+                           int n, const double *px, double py, uint8_t *grey,
+                           struct flat_cache *C)
 {
-  struct shade_pair P;
-  double nrm[3];
-  flat_normal(fs->mf, nrm);                 /* shade_face_at's normal */
-  shade_pair_init(&P, &m->lights, nrm);
-  struct tex_lanes T;
-  tex_lanes_init(&T, fs->t);
+  const struct flat_face *ff = flat_face_of(m, face, fs, C);
   struct flat_row F;
   flat_row_init(m, face, py, &F);
   if (F.rowt)
-    flat_lit_pairs(&F, &P, &T, n, NULL, 0, px, grey, true);
+    flat_lit_pairs(&F, &ff->P, &ff->T, n, NULL, 0, px, grey, true);
   else
-    flat_lit_pairs(&F, &P, &T, n, NULL, 0, px, grey, false);
+    flat_lit_pairs(&F, &ff->P, &ff->T, n, NULL, 0, px, grey, false);
 }
 #endif
 
 static void flat_run_rest(const struct fx_model *m, int face, const struct face_shade *fs,
                           int n, const unsigned *blocked, const double *px, double py,
                           uint8_t *grey);
+
+#ifndef __SSE2__
+struct flat_cache {         /* (flat_lit_rest's, which is SSE2's) */
+  size_t nface;
+};
+#endif
 
 /* shade_face_at, uncounted, at n >= 1 neighbouring points (px[p], py) of a face that is not
    smoothed (fs: face_shade_of's, fs->tri < 0; n >= 1: fill_grey writes its stretch's last
@@ -1308,13 +1372,13 @@ static void flat_run_rest(const struct fx_model *m, int face, const struct face_
    reflectances SHADE_RUN at a time (space_points, reflectances). */
 static void shade_flat_run(const struct fx_model *m, int face, const struct face_shade *fs,
                            int n, const unsigned *blocked, const double *px, double py,
-                           uint8_t *grey)
+                           uint8_t *grey, struct flat_cache *C)
 {
 #ifdef __SSE2__
   if (fs->lit) {
     for (int p = 0; p < n;) {
       if (fs->t || blocked[p]) {
-        flat_lit_rest(m, face, fs, p, n, blocked, px, py, grey);
+        flat_lit_rest(m, face, fs, p, n, blocked, px, py, grey, C);
         return;
       }
       const int e = blocked_end(blocked, p + 1, n, true);   /* no light blocked: the */
@@ -2742,6 +2806,9 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   const size_t nface = (size_t)m->map->nface + 1;
   struct face_shade *shades = malloc(nface * sizeof *shades);
   uint8_t *known = calloc(nface, 1);
+  struct flat_cache flats;                  /* the lit flat faces' flat_face (flat_face_of) */
+  memset(&flats, 0, sizeof flats);
+  flats.nface = nface;
   struct fx_lines *L = NULL;
   int rc = !blocked || !row || !px || !shades || !known
              ? t74_fail(err, T74_EIO, "out of host memory") : T74_OK;
@@ -2842,15 +2909,15 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
             fill_grey(gr + i, (uint8_t)fs.mf->grey, e - i);   /* (shade_flat_run's, lit or not) */
 #ifdef __SSE2__
           else if (rend[i] > 0 && fs.lit)   /* no light blocked, a texture */
-            flat_tex_clear(m, face, &fs, e - i, px + i, py[j], gr + i);
+            flat_tex_clear(m, face, &fs, e - i, px + i, py[j], gr + i, &flats);
 #endif
           else
-            shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
+            shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i, &flats);
           i = e - 1;
           continue;
         }
         const int e = face_run_end(fr, i, W);
-        shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i);
+        shade_flat_run(m, face, &fs, e - i, blocked + i, px + i, py[j], gr + i, &flats);
         i = e - 1;
         continue;
       }
@@ -2879,6 +2946,9 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   }
   fx_lines_close(L);
   free(blocked); free(row); free(px); free(shades); free(known);
+#ifdef __SSE2__
+  free(flats.at); free(flats.kept);
+#endif
   if (rc != T74_OK) return rc;
   flat += runs[0]; band += runs[1]; corner += runs[2];
   if (m->e->contour_on && m->smooth) {
