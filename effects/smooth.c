@@ -1035,11 +1035,29 @@ static void grey_phong_exact(const struct smooth_tri *tr, const double ar[3], co
 ** < 2^-35 (1 + 1/|N|). The filter's
 ** own chain is nearer (no divides before the normal: its vector is off by 6u sum w, 6u
 ** |N'| / |N|, its unit vector by 12u / |N| + 4u), so |F_filter - F_exact| < 2^-34 (1 +
-** 1/|N|). The filter takes delta = 2^-24 (1 + 2 sum w / |N'|) (2 sum w / |N'| >= 1/|N|
-** with room for its own roundings), declines when |N| may be below 2^-10 (the vertex
-** normals nearly cancel: the exact chain's own length test is then left to it) or r is
-** not in [0, 1], and gives A + floor(F_filter) only when F_filter - delta and F_filter +
-** delta have the same floor: then F_exact, within delta of F_filter, has it too. A point
+** 1/|N|). The filter declines when r is not in [0, 1], when the computed sum s of the
+** w_k is below 2^-500 (so that fl(fl(s s) 2^-20) >= 2^-1020 is a normal number, rounded
+** within a relative u), or when nn = fl(|N'|^2) < fl(fl(s s) 2^-20): the vertex normals
+** nearly cancel, and the exact chain's own length test is then left to it. Where it
+** passes, |N| >= 2^-10 (1 - 2^-39): nn is within a relative 6u of the square of the
+** computed N' (three products and two sums of non-negative terms, 4u; a product that
+** falls below 2^-1022 is off by at most 2^-1075 absolutely, three of them under 2^-53 of
+** nn >= 2^-1020), and fl(fl(s s) 2^-20) >= s^2 2^-20 (1 - 2u), so the computed N' has
+** length at least s 2^-10 (1 - 4u); s >= (sum w)(1 - 2u) (two roundings of positive
+** terms); the computed N' is within 12u sum w of the real one (each component's 6u sum
+** w, 11u for the vector, plus at most 3 2^-1075 a component from products below 2^-1022,
+** less than 2^-570 sum w as sum w > 2^-501); so |N| = |N'| / sum w >= 2^-10 (1 - 6u) -
+** 12u >= 2^-10 (1 - 2^-39). Then 1/|N| < 2^10 (1 + 2^-38) and |F_filter - F_exact| <
+** 2^-34 (1 + 2^10 (1 + 2^-38)) < 2^-24 (1 + 2^-9): the filter takes the margin delta =
+** 2^-23, the same for every point, and gives A + floor(F_filter) only when fl(F_filter
+** - delta) and fl(F_filter + delta) truncate to the same integer. F_filter is below 2^12 (at most 16 lights, r <= 1: F <= 207 16
+** (1 + 2^-40) + 1/2 < 3,313), so each of the two sums is within 2^-42 of F_filter -+
+** delta (a rounding to nearest never crosses an integer, which is a double); both lie in
+** [k, k + 1) for the one integer k, so [F_filter - delta + 2^-42, F_filter + delta -
+** 2^-42], which holds F_exact (2^-24 (1 + 2^-9) < 2^-23 - 2^-42), lies in [k, k + 1)
+** too: F_exact's floor is k, and the grey A + k is the exact chain's. (The margin was 2^-24 (1 + 2 sum
+** w / |N'|) before, a point's own: above 2^-23 at every point, as sum w >= |N'| (1 -
+** 8u), so the constant 2^-23 declines no more points, and needs no multiplies.) A point
 ** is declined with odds of about 2 delta, a few in ten million. The filter works on a run
 ** of points in steps (their normals, then their square roots and divides, then their
 ** lights), so that the processor overlaps the points' square roots and divides instead
@@ -1055,7 +1073,7 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
   const double at = fabs(tot), lo = at * 0x1p-1000, hi = at * 0x1p1000;
   const double sgn = tr->front ? 1 : -1, st = tot > 0 ? 1 : -1;
   const bool usable = tot != 0 && refl >= 0 && refl <= 1;
-  double N[SMOOTH_RUN][3], inv[SMOOTH_RUN], sw[SMOOTH_RUN];
+  double N[SMOOTH_RUN][3], inv[SMOOTH_RUN];
   /* in steps over the n points, so that their square roots and divides overlap; the
      clamps and tests without branches (a point near a side goes either way) */
   for (int p = 0; p < n; p++) {
@@ -1070,9 +1088,9 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
     for (int c = 0; c < 3; c++)
       N[p][c] = w[0] * tr->cn[0][c] + w[1] * tr->cn[1][c] + w[2] * tr->cn[2][c];
     double nn = N[p][0] * N[p][0] + N[p][1] * N[p][1] + N[p][2] * N[p][2];
-    ok[p] = good && s > 0 && nn >= s * s * 0x1p-20;   /* |N| at least about 2^-10 */
+    /* |N| at least about 2^-10; s >= 2^-500 keeps s * s * 2^-20 a normal number */
+    ok[p] = good && s >= 0x1p-500 && nn >= s * s * 0x1p-20;
     inv[p] = ok[p] ? nn : 1;
-    sw[p] = s;
   }
   int q = 0;
 #ifdef __SSE2__
@@ -1096,8 +1114,7 @@ static inline void phong_filter(const struct smooth_tri *tr, int n, const double
       sum += d > 0 ? d : 0;
     }
     const double f = (255 - SHADE_AMBIENT) * refl * sum + 0.5;
-    const double delta = 0x1p-24 * (1 + 2 * sw[p] * fabs(inv[p]));
-    const double f0 = f - delta, f1 = f + delta;
+    const double f0 = f - 0x1p-23, f1 = f + 0x1p-23;
     ok[p] = f0 >= 0 && f1 < 0x1p62 && (int64_t)f0 == (int64_t)f1;
     const int g = SHADE_AMBIENT + (int)(f0 >= 0 && f0 < 0x1p62 ? (int64_t)f0 : 0);
     grey[p] = g > 255 ? 255 : g;
@@ -1395,14 +1412,13 @@ static void phong_alone(const struct smooth_model *m, const struct smooth_tri *t
 #ifdef __SSE2__
 /* A row's steps (phong_row_lights), kept between its two passes: step j's points pa[j]
    (lane 0) and pa[j] + two[j] (lane 1: the next point, or pa[j] again for a lone point,
-   two[j] 0), the normals' sums n[c][j], the areas' sums s[j], the operand of the
-   square root r[j] (nn), the eye's sides sg[j] and okb[j], ok's
-   lanes. A point's triangle is not kept: only a point the filter declines needs it, and
+   two[j] 0), the normals' sums n[c][j], the operand of the square root r[j] (nn), the
+   eye's sides sg[j] and okb[j], ok's lanes (the areas' sums are not kept: the filter's
+   margin is a constant). A point's triangle is not kept: only a point the filter declines needs it, and
    it is found there (phong_tri_at). */
 #define PHONG_STEPS SMOOTH_ROW
 struct phong_steps {
   _Alignas(16) double n[3][PHONG_STEPS][2];
-  _Alignas(16) double s[PHONG_STEPS][2];
   _Alignas(16) double r[PHONG_STEPS][2];
   _Alignas(16) double sg[PHONG_STEPS][2];
   int pa[PHONG_STEPS], two[PHONG_STEPS], okb[PHONG_STEPS];
@@ -1424,7 +1440,7 @@ _Static_assert((SMOOTH_RUN + 1) / 2 <= PHONG_STEPS, "a run's steps fit in struct
    constants, given by their coordinates on their triangles' axes bu and bw (x: Xa[ta->bu]
    in lane 0, Xb[tb->bu] in lane 1; y likewise on bw), all the step needs of them; the
    operations up to the square root's operand, into step j of *S (N into
-   n, s, the operand into r, sg, ok's lanes). Each lane's operations are phong_filter's
+   n, the operand into r, sg, ok's lanes). Each lane's operations are phong_filter's
    for its point alone, in their order (see phong_lanes): the lanes never mix. Both
    triangles' btot is not 0; sg the eye's sides, +-1 by front (phong_side). */
 static inline __attribute__((always_inline))
@@ -1433,6 +1449,7 @@ void phong_head(const struct smooth_lanes *xa, const struct smooth_lanes *xb, bo
 {
   const __m128d lo = lanes2(xa->xlo, xb->xlo, same), hi = lanes2(xa->xhi, xb->xhi, same);
   const __m128d zero = _mm_setzero_pd(), scale = _mm_set1_pd(0x1p-20);
+  const __m128d tiny = _mm_set1_pd(0x1p-500);
   __m128d w[3], s = zero;
   for (int k = 0; k < 3; k++) {
     /* max(+-ar_k, 0) (tot's sign) with the sign in the sides' constants (xsd: d times
@@ -1464,9 +1481,8 @@ void phong_head(const struct smooth_lanes *xa, const struct smooth_lanes *xb, bo
   }
   const __m128d nn = _mm_add_pd(_mm_add_pd(_mm_mul_pd(N[0], N[0]), _mm_mul_pd(N[1], N[1])),
                                 _mm_mul_pd(N[2], N[2]));
-  const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpgt_pd(s, zero)),
+  const __m128d ok = _mm_and_pd(_mm_and_pd(good, _mm_cmpge_pd(s, tiny)),
                                 _mm_cmpge_pd(nn, _mm_mul_pd(_mm_mul_pd(s, s), scale)));
-  _mm_store_pd(S->s[j], s);
   /* the square root's operand nn: where not ok (okb) the lane is declined whatever its
      square root, divide and grey come to (0, an infinity or a NaN among them) */
   _mm_store_pd(S->r[j], nn);
@@ -1490,16 +1506,14 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
                 const struct shade_lights *L, const __m128d (*lv)[3], int nlight,
                 int nseg, const int *tri, const int *at, int *grey)
 {
-  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1);
+  const __m128d zero = _mm_setzero_pd();
   const __m128d half = _mm_set1_pd(0.5), fr = _mm_set1_pd((255 - SHADE_AMBIENT) * refl);
-  const __m128d eps = _mm_set1_pd(0x1p-24), twov = _mm_set1_pd(2), sign = _mm_set1_pd(-0.0);
-  const __m128d two30 = _mm_set1_pd(0x1p30);
+  const __m128d delta = _mm_set1_pd(0x1p-23), two30 = _mm_set1_pd(0x1p30);
   const int pa = S->pa[j], pb = pa + S->two[j];
   const unsigned b0 = shadow ? blocked[pa] : 0, b1 = shadow ? blocked[pb] : 0;
   const __m128d N0 = _mm_load_pd(S->n[0][j]), N1 = _mm_load_pd(S->n[1][j]);
   const __m128d N2 = _mm_load_pd(S->n[2][j]);
   const __m128d inv = _mm_div_pd(_mm_load_pd(S->sg[j]), _mm_sqrt_pd(_mm_load_pd(S->r[j])));
-  const __m128d s = _mm_load_pd(S->s[j]);
   __m128d sum = zero;
   for (int k = 0; k < nlight; k++) {
     const __m128d d = _mm_mul_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(N0, lv[k][0]),
@@ -1512,17 +1526,14 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
     sum = k ? _mm_add_pd(sum, _mm_and_pd(lit, d)) : _mm_and_pd(lit, d);
   }
   const __m128d f = _mm_add_pd(_mm_mul_pd(fr, sum), half);
-  const __m128d delta = _mm_mul_pd(eps, _mm_add_pd(one, _mm_mul_pd(_mm_mul_pd(twov, s),
-                                                                   _mm_andnot_pd(sign, inv))));
   const __m128d f0v = _mm_sub_pd(f, delta), f1v = _mm_add_pd(f, delta);
   const __m128i t0 = _mm_cvttpd_epi32(f0v);
   const int okb = S->okb[j];
   /* phong_filter's f0 >= 0 && f1 < 2^62 && (int64_t)f0 == (int64_t)f1, lane by lane, as
      f1 < 2^30 and the two truncations to 32 bits equal: f is 1/2 or above, or NaN (the sum
-     is +0 or above or NaN, 207 refl >= 0), so where f0 < 0 (delta > 1/2) f1 >= 1 and,
-     below 2^30, truncates to 1 or more while f0 truncates to 0 or below (or to INT_MIN,
-     CVTTPD2DQ's answer out of range): never equal; f0 >= 0 needs no test of its own. A NaN
-     fails f1 < 2^30. */
+     is +0 or above or NaN, 207 refl >= 0), so f0 = fl(f - 2^-23) is above 0 or NaN, and
+     f0 >= 0 needs no test of its own; where f1 < 2^30, f0 < 2^30 too and both truncate
+     in range. A NaN fails f1 < 2^30. */
   const int fine = okb & _mm_movemask_pd(_mm_cmplt_pd(f1v, two30)) &
                    _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm_cvttpd_epi32(f1v))));
   const bool two = S->two[j] != 0;
@@ -1737,13 +1748,12 @@ void phong_rows(const struct smooth_model *m, int nseg, const int *tri, const in
    pass's square roots and divides, four a step, are not spent on spare lanes. */
 #define PHONG_AVX_ATTR __attribute__((target("avx")))
 /* A row's points between phong_row4_lights' two passes, point p's values at [p]: the
-   normal's sums N, the areas' sums s, the square root's operand nn (r), the eye's side
+   normal's sums N, the square root's operand nn (r), the eye's side
    (+-1), phong_head's ok (all bits set or none) and the triangle; 4 spare places past
    the row's last point. */
 #define PHONG_PTS (SMOOTH_ROW + 4)
 struct phong_pts4 {
   _Alignas(32) double n[3][PHONG_PTS];
-  _Alignas(32) double s[PHONG_PTS];
   _Alignas(32) double r[PHONG_PTS];
   _Alignas(32) double sg[PHONG_PTS];
   _Alignas(32) double ok[PHONG_PTS];
@@ -1763,6 +1773,7 @@ void phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d s
                  struct phong_pts4 *P, int p)
 {
   const __m256d zero = _mm256_setzero_pd(), scale = _mm256_set1_pd(0x1p-20);
+  const __m256d tiny = _mm256_set1_pd(0x1p-500);
   __m256d w[3], s = zero;
   for (int k = 0; k < 3; k++) {
     const __m256d ar = _mm256_sub_pd(
@@ -1785,9 +1796,8 @@ void phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d s
                                                  _mm256_mul_pd(N[1], N[1])),
                                    _mm256_mul_pd(N[2], N[2]));
   const __m256d ok = _mm256_and_pd(
-      _mm256_and_pd(good, _mm256_cmp_pd(s, zero, _CMP_GT_OS)),
+      _mm256_and_pd(good, _mm256_cmp_pd(s, tiny, _CMP_GE_OS)),
       _mm256_cmp_pd(nn, _mm256_mul_pd(_mm256_mul_pd(s, s), scale), _CMP_GE_OS));
-  _mm256_storeu_pd(P->s + p, s);
   _mm256_storeu_pd(P->r + p, nn);
   _mm256_storeu_pd(P->sg + p, sg);
   _mm256_storeu_pd(P->ok + p, ok);
@@ -1803,10 +1813,9 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
                  const struct shade_lights *L, const __m256d (*lv)[3], int nlight,
                  int *grey)
 {
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1);
+  const __m256d zero = _mm256_setzero_pd();
   const __m256d half = _mm256_set1_pd(0.5), fr = _mm256_set1_pd((255 - SHADE_AMBIENT) * 1.0);
-  const __m256d eps = _mm256_set1_pd(0x1p-24), twov = _mm256_set1_pd(2);
-  const __m256d sign = _mm256_set1_pd(-0.0), two30 = _mm256_set1_pd(0x1p30);
+  const __m256d delta = _mm256_set1_pd(0x1p-23), two30 = _mm256_set1_pd(0x1p30);
   unsigned b[4] = { 0, 0, 0, 0 }, bor = 0;
   if (shadow)
     for (int h = 0; h < cnt; h++) bor |= b[h] = blocked[q + h];
@@ -1814,7 +1823,6 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
   const __m256d N2 = _mm256_load_pd(P->n[2] + q);
   const __m256d inv = _mm256_div_pd(_mm256_load_pd(P->sg + q),
                                     _mm256_sqrt_pd(_mm256_load_pd(P->r + q)));
-  const __m256d s = _mm256_load_pd(P->s + q);
   __m256d sum = zero;
   for (int k = 0; k < nlight; k++) {
     const __m256d d = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, lv[k][0]),
@@ -1830,8 +1838,6 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
     sum = k ? _mm256_add_pd(sum, _mm256_and_pd(lit, d)) : _mm256_and_pd(lit, d);
   }
   const __m256d f = _mm256_add_pd(_mm256_mul_pd(fr, sum), half);
-  const __m256d delta = _mm256_mul_pd(
-      eps, _mm256_add_pd(one, _mm256_mul_pd(_mm256_mul_pd(twov, s), _mm256_andnot_pd(sign, inv))));
   const __m256d f0v = _mm256_sub_pd(f, delta), f1v = _mm256_add_pd(f, delta);
   const __m128i t0 = _mm256_cvttpd_epi32(f0v);
   /* phong_tail's test, lane by lane */
@@ -1904,7 +1910,6 @@ void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, c
       for (int p = at[k]; p < q; p += 4) {
         _mm_storeu_si128((__m128i *)(void *)(P.tri + p), t);
         for (int c = 0; c < 3; c++) _mm256_storeu_pd(P.n[c] + p, pad);
-        _mm256_storeu_pd(P.s + p, pad);
         _mm256_storeu_pd(P.r + p, pad);
         _mm256_storeu_pd(P.sg + p, pad);
         _mm256_storeu_pd(P.ok + p, _mm256_setzero_pd());
@@ -1924,7 +1929,6 @@ void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, c
   }
   for (int c = 0; c < 3; c++)               /* past the last point: set (no lane of a */
     _mm256_storeu_pd(P.n[c] + n, pad);      /* step reads memory never written) */
-  _mm256_storeu_pd(P.s + n, pad);
   _mm256_storeu_pd(P.r + n, pad);
   _mm256_storeu_pd(P.sg + n, pad);
   _mm256_storeu_pd(P.ok + n, _mm256_setzero_pd());

@@ -1397,6 +1397,59 @@ static void test_phong_filter_range(void **state)
   lib_close(&L);
 }
 
+/* The Phong filter's lower bound on the sum s of the clamped areas (smooth.c,
+   phong_filter): a point whose s is below 2^-500 is declined (its length test's s * s *
+   2^-20 would no longer be a normal number, and the filter's constant margin rests on that
+   test). The scene's coordinates are integers, so each triangle of test_phong_filter_range's
+   pair is scaled on its axes bu, bw by a power of two c (its corners, sides and btot: the
+   areas scale by c^2 exactly); its centre's s is then |btot| c^2 (10,000: 2^13.3): with c =
+   2^-260 about 2^-507, declined; with c = 2^-255 about 2^-497, taken. Under a point light
+   (phong_filter, which reads the triangle's constants as scaled); the grey is the exact
+   chain's either way. Fails if the bound is s > 0 (the point at 2^-507 taken). */
+static void test_phong_filter_tiny_sum(void **state)
+{
+  (void)state;
+  write_text("pair2.s74",
+             "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+             "vertex 1 0 0 0\nvertex 2 0 100 10\nvertex 3 100 50 20\nvertex 4 -100 50 0\n"
+             "face 1 1 2 3\nface 2 2 1 4\nobject 1 1 2\n");
+  struct lib L;
+  lib_open(&L, tpath("pair2.s74"), "smooth=phong");
+  struct shade_lights set;
+  shade_lights_init(&set, L.s);
+  set.n = 2;
+  set.point[1] = true;
+  const double p1[3] = { 30, -40, -300 };
+  memcpy(set.v[1], p1, sizeof p1);
+  assert_int_equal(L.m.ntri, 2);
+  for (int t = 0; t < L.m.ntri; t++) {
+    struct smooth_tri *tr = &L.m.tri[t];
+    const struct smooth_tri keep = *tr;
+    assert_true(fabs(tr->btot) == 10000);
+    for (int tiny = 0; tiny < 2; tiny++) {
+      const double c = tiny ? 0x1p-260 : 0x1p-255;
+      *tr = keep;
+      for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 2; a++) {
+          tr->bV[k][a] *= c;
+          tr->bE[k][a] *= c;
+        }
+      tr->btot *= c * c;
+      double X[3];
+      tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, X);
+      X[tr->bu] *= c;
+      X[tr->bw] *= c;
+      int g[2];
+      long declines = 0;
+      phong_both(&L, t, X, 1.0, 0, &set, &declines, g);
+      assert_int_equal(g[0], g[1]);
+      assert_int_equal(declines, tiny);
+    }
+    *tr = keep;
+  }
+  lib_close(&L);
+}
+
 /* The greys and regions at a run of n points X[p] by the inner triangle's filter (and the
    chain where it declines) in g[0], r[0] and by the chain alone in g[1], r[1]; counts the
    points the filter does not take in *declines. */
@@ -2041,6 +2094,7 @@ int main(void)
     cmocka_unit_test(test_flat_run_is_single),
     cmocka_unit_test(test_phong_filter_is_exact),
     cmocka_unit_test(test_phong_filter_range),
+    cmocka_unit_test(test_phong_filter_tiny_sum),
     cmocka_unit_test(test_inner_filter_is_exact),
     cmocka_unit_test(test_round_ld_is_llroundl),
     cmocka_unit_test(test_kept_scene_part),
