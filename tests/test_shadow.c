@@ -410,6 +410,45 @@ static unsigned blocked_exactly(const struct fx_model *m, int f, int64_t yn, int
   return b;
 }
 
+/* What the two tests below set up for a scene under shadows=on on a W x H grid: the scene,
+   the points engine's frame and the effects model on it (the engine and the model keep
+   pointers to the grid and the effects, so they live together here). */
+struct shadow_rig {
+  struct scene *s;
+  struct effects e;
+  struct vis_grid g;
+  struct points pts;
+  struct fx_engine eng;
+  struct fx_stats st;
+  struct cost cost;
+  struct fx_model m;
+};
+
+static void rig_open(struct shadow_rig *r, const char *path, int W, int H)
+{
+  memset(r, 0, sizeof *r);
+  struct scene_opts so;
+  memset(&so, 0, sizeof so);
+  so.quiet = true;
+  struct t74_error err = { 0, "" };
+  assert_int_equal(scene_load(path, &so, &r->s, &err), T74_OK);
+  assert_int_equal(effects_parse("shadows=on", &r->e, "test", 1, &err), T74_OK);
+  r->g = (struct vis_grid){ W, H, { r->s->window[0], r->s->window[1], r->s->window[2],
+                                    r->s->window[3] } };
+  assert_int_equal(points_render(&r->pts, r->s, &r->g, &err), T74_OK);
+  assert_int_equal(fx_engine_points(&r->eng, &r->pts, &r->g, NULL, &err), T74_OK);
+  assert_int_equal(fx_model_build(&r->m, &r->eng, r->s, &r->e, NULL, &r->st, &r->cost, &err),
+                   T74_OK);
+}
+
+static void rig_close(struct shadow_rig *r)
+{
+  fx_model_free(&r->m);
+  fx_engine_free(&r->eng);
+  points_free(&r->pts);
+  scene_free(r->s);
+}
+
 /* The points engine's lights blocked, sample by sample (fx_lines_samples: a polygon of two
    crossings has its ends stepped from row to row, effects/model.c), are those of the
    exact crossings: on fig6-room and fig6-building with their own shadows and with
@@ -433,31 +472,15 @@ static void test_stepped_ends_are_exact(void **state)
   for (int sc = 0; sc < 2; sc++)
     for (int own = 0; own < 4; own++) {     /* 1: the scene's own; 0: on centres; 2: far;
                                                3: a rectangle alone on centres */
-      struct scene *s;
-      struct scene_opts so;
-      memset(&so, 0, sizeof so);
-      so.quiet = true;
-      struct t74_error err = { 0, "" };
-      assert_int_equal(scene_load(scenes[sc], &so, &s, &err), T74_OK);
-      struct effects e;
-      assert_int_equal(effects_parse("shadows=on", &e, "test", 1, &err), T74_OK);
       const int W = 120, H = 90;             /* (centres on the plane grid: 1024 and 1600 apart) */
-      struct vis_grid g = { W, H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
-      struct points pts;
-      memset(&pts, 0, sizeof pts);
-      assert_int_equal(points_render(&pts, s, &g, &err), T74_OK);
-      struct fx_engine eng;
-      assert_int_equal(fx_engine_points(&eng, &pts, &g, NULL, &err), T74_OK);
-      struct fx_stats st;
-      memset(&st, 0, sizeof st);
-      struct cost cost = { { 0 } };
-      struct fx_model m;
-      assert_int_equal(fx_model_build(&m, &eng, s, &e, NULL, &st, &cost, &err), T74_OK);
-      assert_false(m.count);
-      assert_true(m.shadows.n > 0);
+      struct shadow_rig R;
+      rig_open(&R, scenes[sc], W, H);
+      struct t74_error err = { 0, "" };
+      assert_false(R.m.count);
+      assert_true(R.m.shadows.n > 0);
       if (own == 2) {                       /* far polygons, on every face */
-        const int64_t cx = GRID_ONE * ((int64_t)g.window[0] + g.window[2]) / 2;
-        const int64_t cy = GRID_ONE * ((int64_t)g.window[1] + g.window[3]) / 2;
+        const int64_t cx = GRID_ONE * ((int64_t)R.g.window[0] + R.g.window[2]) / 2;
+        const int64_t cy = GRID_ONE * ((int64_t)R.g.window[1] + R.g.window[3]) / 2;
         const int64_t T = (int64_t)1 << 27, U = (int64_t)1 << 26;
         /* a wedge whose edge from (-T, -U) to (T, U + 12345) crosses the window; a steeper
            one (the other light); a triangle round the whole window */
@@ -468,15 +491,15 @@ static void test_stepped_ends_are_exact(void **state)
         const struct gpoint whole[3] = { { cx - T, cy - T }, { cx + T, cy - U },
                                          { cx, cy + T } };
         const int rs[2] = { 0, 3 };
-        fx_polys_free(&m.shadows);
-        memset(&m.shadows, 0, sizeof m.shadows);
-        for (int f = 0; f < eng.map->nface; f++) {
-          m.shadow_first[f] = m.shadows.n;
-          assert_true(fx_polys_add(&m.shadows, 1, rs, wedge, f, 0));
-          assert_true(fx_polys_add(&m.shadows, 1, rs, steep, f, 1));
-          if (f % 2) assert_true(fx_polys_add(&m.shadows, 1, rs, whole, f, 1));
+        fx_polys_free(&R.m.shadows);
+        memset(&R.m.shadows, 0, sizeof R.m.shadows);
+        for (int f = 0; f < R.eng.map->nface; f++) {
+          R.m.shadow_first[f] = R.m.shadows.n;
+          assert_true(fx_polys_add(&R.m.shadows, 1, rs, wedge, f, 0));
+          assert_true(fx_polys_add(&R.m.shadows, 1, rs, steep, f, 1));
+          if (f % 2) assert_true(fx_polys_add(&R.m.shadows, 1, rs, whole, f, 1));
         }
-        m.shadow_first[eng.map->nface] = m.shadows.n;
+        R.m.shadow_first[R.eng.map->nface] = R.m.shadows.n;
       }
       if (!own) {                           /* polygons on the centres, on every face */
         static const int rect[4][2] = { { 20, 20 }, { 60, 20 }, { 60, 50 }, { 20, 50 } };
@@ -486,32 +509,32 @@ static void test_stepped_ends_are_exact(void **state)
         static const int ring[12][2] = { { 30, 30 }, { 40, 28 }, { 50, 30 }, { 56, 36 },
                                          { 58, 44 }, { 56, 52 }, { 50, 58 }, { 40, 60 },
                                          { 30, 58 }, { 24, 52 }, { 22, 44 }, { 24, 36 } };
-        fx_polys_free(&m.shadows);
-        memset(&m.shadows, 0, sizeof m.shadows);
-        for (int f = 0; f < eng.map->nface; f++) {
-          m.shadow_first[f] = m.shadows.n;
-          add_on_centres(&m.shadows, &g, rect, 4, f, 0);
-          add_on_centres(&m.shadows, &g, diamond, 4, f, 1);
-          add_on_centres(&m.shadows, &g, slant, 4, f, 1);
-          add_on_centres(&m.shadows, &g, steep, 3, f, 0);
-          add_on_centres(&m.shadows, &g, ring, 12, f, 1);
+        fx_polys_free(&R.m.shadows);
+        memset(&R.m.shadows, 0, sizeof R.m.shadows);
+        for (int f = 0; f < R.eng.map->nface; f++) {
+          R.m.shadow_first[f] = R.m.shadows.n;
+          add_on_centres(&R.m.shadows, &R.g, rect, 4, f, 0);
+          add_on_centres(&R.m.shadows, &R.g, diamond, 4, f, 1);
+          add_on_centres(&R.m.shadows, &R.g, slant, 4, f, 1);
+          add_on_centres(&R.m.shadows, &R.g, steep, 3, f, 0);
+          add_on_centres(&R.m.shadows, &R.g, ring, 12, f, 1);
         }
-        m.shadow_first[eng.map->nface] = m.shadows.n;
+        R.m.shadow_first[R.eng.map->nface] = R.m.shadows.n;
       }
       if (own == 3) {                       /* each face's lowest row a stretch's */
         static const int rect[4][2] = { { 20, 20 }, { 60, 20 }, { 60, 50 }, { 20, 50 } };
-        fx_polys_free(&m.shadows);
-        memset(&m.shadows, 0, sizeof m.shadows);
-        for (int f = 0; f < eng.map->nface; f++) {
-          m.shadow_first[f] = m.shadows.n;
-          add_on_centres(&m.shadows, &g, rect, 4, f, f % 2);
+        fx_polys_free(&R.m.shadows);
+        memset(&R.m.shadows, 0, sizeof R.m.shadows);
+        for (int f = 0; f < R.eng.map->nface; f++) {
+          R.m.shadow_first[f] = R.m.shadows.n;
+          add_on_centres(&R.m.shadows, &R.g, rect, 4, f, f % 2);
         }
-        m.shadow_first[eng.map->nface] = m.shadows.n;
+        R.m.shadow_first[R.eng.map->nface] = R.m.shadows.n;
       }
       for (int K = 1; K <= 3; K++)
         for (int order = 0; order < 3; order++) {
           struct fx_lines *L;
-          assert_int_equal(fx_lines_open(&L, &m, true, &cost, &err), T74_OK);
+          assert_int_equal(fx_lines_open(&L, &R.m, true, &R.cost, &err), T74_OK);
           const int nk = K * (W + 2), k0 = -K, rows = K * (H + 2);
           int *face = calloc((size_t)nk, sizeof *face);
           unsigned *b = calloc((size_t)nk, sizeof *b);
@@ -523,12 +546,12 @@ static void test_stepped_ends_are_exact(void **state)
                          : order == 1 ? rows - 1 - K - (3 * t) % rows
                          : t - K;
             assert_int_equal(fx_lines_samples(L, K, mr, k0, nk, face, b, &err), T74_OK);
-            const int64_t yn = GRID_ONE * (yd * g.window[3] - (2 * (int64_t)mr + 1) *
-                                                              ((int64_t)g.window[3] - g.window[1]));
+            const int64_t yn = GRID_ONE * (yd * R.g.window[3] - (2 * (int64_t)mr + 1) *
+                                                              ((int64_t)R.g.window[3] - R.g.window[1]));
             for (int i = 0; i < nk; i++) {
-              const int64_t xn = GRID_ONE * (xd * g.window[0] + (2 * (int64_t)(k0 + i) + 1) *
-                                                                ((int64_t)g.window[2] - g.window[0]));
-              const unsigned want = blocked_exactly(&m, face[i], yn, yd, xn, xd);
+              const int64_t xn = GRID_ONE * (xd * R.g.window[0] + (2 * (int64_t)(k0 + i) + 1) *
+                                                                ((int64_t)R.g.window[2] - R.g.window[0]));
+              const unsigned want = blocked_exactly(&R.m, face[i], yn, yd, xn, xd);
               if (b[i] != want && differ++ < 4)
                 print_message("%s%s K=%d order %d sample (%d, %d) face %d: blocked %u, exactly %u\n",
                               scenes[sc], own == 1 ? "" : own == 2 ? " (far)" : " (on centres)",
@@ -544,10 +567,7 @@ static void test_stepped_ends_are_exact(void **state)
           free(b);
           fx_lines_close(L);
         }
-      fx_model_free(&m);
-      fx_engine_free(&eng);
-      points_free(&pts);
-      scene_free(s);
+      rig_close(&R);
     }
   print_message("stepped ends: %ld samples, %ld blocked (%ld by polygons on centres, %ld by far "
                 "ones), %ld differ\n", samples, blocked, on_centres, far, differ);
@@ -578,47 +598,31 @@ static void test_drawn_rows_are_exact(void **state)
   for (int sc = 0; sc < 4; sc++)
     for (int own = sc < 2; own >= 0; own--)   /* 1: the scene's own; 0: rectangles */
       for (size_t wi = 0; wi < sizeof widths / sizeof *widths; wi++) {
-        struct scene *s;
-        struct scene_opts so;
-        memset(&so, 0, sizeof so);
-        so.quiet = true;
-        struct t74_error err = { 0, "" };
-        assert_int_equal(scene_load(scenes[sc], &so, &s, &err), T74_OK);
-        struct effects e;
-        assert_int_equal(effects_parse("shadows=on", &e, "test", 1, &err), T74_OK);
         const int W = widths[wi], H = 3 * W / 4;
-        struct vis_grid g = { W, H, { s->window[0], s->window[1], s->window[2], s->window[3] } };
-        struct points pts;
-        memset(&pts, 0, sizeof pts);
-        assert_int_equal(points_render(&pts, s, &g, &err), T74_OK);
-        struct fx_engine eng;
-        assert_int_equal(fx_engine_points(&eng, &pts, &g, NULL, &err), T74_OK);
-        struct fx_stats st;
-        memset(&st, 0, sizeof st);
-        struct cost cost = { { 0 } };
-        struct fx_model m;
-        assert_int_equal(fx_model_build(&m, &eng, s, &e, NULL, &st, &cost, &err), T74_OK);
-        assert_true(m.shadow_first != NULL && m.ncut == 0);
+        struct shadow_rig R;
+        rig_open(&R, scenes[sc], W, H);
+        struct t74_error err = { 0, "" };
+        assert_true(R.m.shadow_first != NULL && R.m.ncut == 0);
         if (!own) {
           const int64_t G = GRID_ONE;
           const struct gpoint rect[4] = {
-            { G * (g.window[0] - 1), G * (g.window[1] - 1) },
-            { G * (g.window[2] + 1), G * (g.window[1] - 1) },
-            { G * (g.window[2] + 1), G * (g.window[3] + 1) },
-            { G * (g.window[0] - 1), G * (g.window[3] + 1) } };
+            { G * (R.g.window[0] - 1), G * (R.g.window[1] - 1) },
+            { G * (R.g.window[2] + 1), G * (R.g.window[1] - 1) },
+            { G * (R.g.window[2] + 1), G * (R.g.window[3] + 1) },
+            { G * (R.g.window[0] - 1), G * (R.g.window[3] + 1) } };
           const int rs[2] = { 0, 4 };
-          fx_polys_free(&m.shadows);
-          memset(&m.shadows, 0, sizeof m.shadows);
-          for (int f = 0; f < eng.map->nface; f++) {
-            m.shadow_first[f] = m.shadows.n;
-            assert_true(fx_polys_add(&m.shadows, 1, rs, rect, f, f % 2));
+          fx_polys_free(&R.m.shadows);
+          memset(&R.m.shadows, 0, sizeof R.m.shadows);
+          for (int f = 0; f < R.eng.map->nface; f++) {
+            R.m.shadow_first[f] = R.m.shadows.n;
+            assert_true(fx_polys_add(&R.m.shadows, 1, rs, rect, f, f % 2));
           }
-          m.shadow_first[eng.map->nface] = m.shadows.n;
+          R.m.shadow_first[R.eng.map->nface] = R.m.shadows.n;
         }
-        assert_true(m.shadows.n > 0);
+        assert_true(R.m.shadows.n > 0);
         for (int left = 0; left < 2; left++) {   /* 0: the drawn row; 1: one sample more */
           struct fx_lines *L;
-          assert_int_equal(fx_lines_open(&L, &m, true, &cost, &err), T74_OK);
+          assert_int_equal(fx_lines_open(&L, &R.m, true, &R.cost, &err), T74_OK);
           const int k0 = -left, nk = W + left;
           int *face = calloc((size_t)nk, sizeof *face);
           unsigned *b = calloc((size_t)nk, sizeof *b);
@@ -626,14 +630,14 @@ static void test_drawn_rows_are_exact(void **state)
           const int64_t xd = 2 * (int64_t)W, yd = 2 * (int64_t)H;
           for (int mr = H - 1; mr >= 0; mr--) {   /* (bottom up, as fx_points) */
             assert_int_equal(fx_lines_samples(L, 1, mr, k0, nk, face, b, &err), T74_OK);
-            const int64_t SY = (int64_t)g.window[3] - g.window[1];
-            const int64_t SX = (int64_t)g.window[2] - g.window[0];
-            const int64_t yn = GRID_ONE * (yd * g.window[3] - (2 * (int64_t)mr + 1) * SY);
+            const int64_t SY = (int64_t)R.g.window[3] - R.g.window[1];
+            const int64_t SX = (int64_t)R.g.window[2] - R.g.window[0];
+            const int64_t yn = GRID_ONE * (yd * R.g.window[3] - (2 * (int64_t)mr + 1) * SY);
             for (int i = 0; i < nk; i++) {
-              const int64_t xn = GRID_ONE * (xd * g.window[0] + (2 * (int64_t)(k0 + i) + 1) * SX);
-              const unsigned want = blocked_exactly(&m, face[i], yn, yd, xn, xd);
+              const int64_t xn = GRID_ONE * (xd * R.g.window[0] + (2 * (int64_t)(k0 + i) + 1) * SX);
+              const unsigned want = blocked_exactly(&R.m, face[i], yn, yd, xn, xd);
               const bool bad = b[i] != want ||
-                               (k0 + i >= 0 && face[i] != pts.face[(size_t)mr * W + k0 + i]);
+                               (k0 + i >= 0 && face[i] != R.pts.face[(size_t)mr * W + k0 + i]);
               if (bad && differ++ < 4)
                 print_message("%s%s W=%d k0=%d sample (%d, %d) face %d: blocked %u, exactly "
                               "%u\n", scenes[sc], own ? "" : " (rectangles)", W, k0, k0 + i,
@@ -646,10 +650,7 @@ static void test_drawn_rows_are_exact(void **state)
           free(b);
           fx_lines_close(L);
         }
-        fx_model_free(&m);
-        fx_engine_free(&eng);
-        points_free(&pts);
-        scene_free(s);
+        rig_close(&R);
       }
   print_message("drawn rows: %ld samples, %ld blocked, %ld differ\n", samples, blocked, differ);
   assert_int_equal(differ, 0);
