@@ -1117,25 +1117,6 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   return e;
 }
 
-#ifdef __SSE2__
-/* The end of the stretch from e (e <= n) of points whose blocked[] is 0 (zero true) or not
-   0 (zero false): the first index at or after e where it is not so, or n. Four a compare:
-   a lane is all ones where its value is 0, and the first lane that is not as asked ends
-   the stretch (its byte in the mask, over 4). */
-static inline int blocked_end(const unsigned *blocked, int e, int n, bool zero)
-{
-  const __m128i z = _mm_setzero_si128();
-  const unsigned want = zero ? 0xffffu : 0;
-  for (; e + 4 <= n; e += 4) {
-    const unsigned is0 = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi32(
-        _mm_loadu_si128((const __m128i *)(const void *)(blocked + e)), z));
-    if (is0 != want) return e + __builtin_ctz(is0 ^ want) / 4;
-  }
-  while (e < n && (blocked[e] == 0) == zero) e++;
-  return e;
-}
-#endif
-
 /* grey[0 .. len) set to v (len >= 1): up to 16 by two stores that may overlap (of 8, 4 or
    1 bytes, each byte of the stretch written v), longer by memset. */
 static inline void fill_grey(uint8_t *grey, uint8_t v, int len)
@@ -1158,29 +1139,10 @@ static inline void fill_grey(uint8_t *grey, uint8_t v, int len)
   }
 }
 
-/* face_normal's unit normal, the same doubles, without its square root and divides where
-   the face is square to an axis: two of its plane's a, b, c are 0 and the third, p, has
-   |p| <= 2^26. There face_normal's n is -(double)0 = -0 at the two and -(double)p (exact:
-   |p| < 2^53) at the third; its sum of squares is p^2 (each of the two squares is +0, and
-   +0 + +0 + p^2 is p^2 whatever the order), exact (|p^2| <= 2^52: the double holds it), so
-   its square root is |p| exactly; -0 / |p| is -0, and -p / |p| is -1 where p > 0, 1 where
-   p < 0, exactly. Else face_normal itself. */
-static inline void flat_normal(const struct mface *mf, double n[3])
-{
-  const int64_t *pl = mf->plane, lim = INT64_C(1) << 26;
-  const int c = pl[1] == 0 && pl[2] == 0 ? 0 : pl[0] == 0 && pl[2] == 0 ? 1 :
-                pl[0] == 0 && pl[1] == 0 ? 2 : -1;
-  if (c < 0 || pl[c] == 0 || pl[c] > lim || pl[c] < -lim) {
-    face_normal(mf, n);
-    return;
-  }
-  n[0] = n[1] = n[2] = -0.0;
-  n[c] = pl[c] > 0 ? -1.0 : 1.0;
-}
-
 #ifdef __SSE2__
-/* The end of the stretch of points from e on (e < n) whose blocked mask is b: the first
-   point at or after e where blocked[] is not b, or n; four compares an instruction. */
+/* The end of the stretch of points from e on (e <= n) whose blocked mask is b (0: no light
+   blocked): the first point at or after e where blocked[] is not b, or n; four compares an
+   instruction. */
 static inline int same_end(const unsigned *blocked, int e, int n, unsigned b)
 {
   const __m128i bv = _mm_set1_epi32((int)b);
@@ -1224,7 +1186,7 @@ static void flat_lit_masked(const struct fx_model *m, int face, const struct sha
 
 #ifdef __SSE2__
 /* What flat_lit_rest and flat_tex_clear make of a lit face that does not depend on the
-   row: its lights made ready for its unit normal (shade_pair_init of flat_normal's), and
+   row: its lights made ready for its unit normal (shade_pair_init of face_normal's), and
    its texture's tex_lanes (where it has one). Made the same way at each call before
    (about 135 calls a frame on fig6-room, many on the same face), so made once a face a
    frame (flat_face_of) and read from there: the same doubles. */
@@ -1237,7 +1199,7 @@ static void flat_face_init(const struct fx_model *m, const struct face_shade *fs
                            struct flat_face *ff)
 {
   double nrm[3];
-  flat_normal(fs->mf, nrm);                 /* shade_face_at's normal */
+  face_normal(fs->mf, nrm);                 /* shade_face_at's normal */
   shade_pair_init(&ff->P, &m->lights, nrm);
   if (fs->t) tex_lanes_init(&ff->T, fs->t);
 }
@@ -1308,7 +1270,7 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
   while (p < n) {
     int e = p + 1;
     if (!t && !blocked[p]) {                /* a stretch no light is blocked at: the face's */
-      e = blocked_end(blocked, e, n, true); /* grey */
+      e = same_end(blocked, e, n, 0);       /* grey */
       fill_grey(grey + p, (uint8_t)mf->grey, e - p);
       p = e;
       continue;
@@ -1381,7 +1343,7 @@ static void shade_flat_run(const struct fx_model *m, int face, const struct face
         flat_lit_rest(m, face, fs, p, n, blocked, px, py, grey, C);
         return;
       }
-      const int e = blocked_end(blocked, p + 1, n, true);   /* no light blocked: the */
+      const int e = same_end(blocked, p + 1, n, 0);          /* no light blocked: the */
       fill_grey(grey + p, (uint8_t)fs->mf->grey, e - p);     /* face's grey */
       p = e;
     }
