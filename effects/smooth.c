@@ -1343,18 +1343,19 @@ static inline void phong_lanes(const struct smooth_model *m, const struct smooth
 static inline int clamp_grey(int g) { return g < 0 ? 0 : g > 255 ? 255 : g; }
 
 static inline __attribute__((always_inline))
-void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg, double refl,
-             const int *slot_p, const double (*X)[3], const unsigned *blocked,
+void lit_row(const struct smooth_model *m, int ns, double (*nv)[SMOOTH_ROW], const double *sg,
+             double refl, const int *slot_p, const double (*X)[3], const unsigned *blocked,
              const struct shade_lights *L, int *grey);
 
 /* lit_row with one side sgn for every slot (a run's: one triangle). */
-static inline void lit_slots(double sgn, int ns, double (*nv)[SMOOTH_ROW], const int *slot_p,
-                             const double (*X)[3], double refl, const unsigned *blocked,
-                             const struct shade_lights *L, int *grey)
+static inline void lit_slots(const struct smooth_model *m, double sgn, int ns,
+                             double (*nv)[SMOOTH_ROW], const int *slot_p, const double (*X)[3],
+                             double refl, const unsigned *blocked, const struct shade_lights *L,
+                             int *grey)
 {
   double sg[SMOOTH_ROW];
   for (int q = 0; q < ns; q++) sg[q] = sgn;
-  lit_row(ns, nv, sg, refl, slot_p, X, blocked, L, grey);
+  lit_row(m, ns, nv, sg, refl, slot_p, X, blocked, L, grey);
 }
 
 #ifdef __SSE2__
@@ -2074,7 +2075,7 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
     for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
     slot_p[ns] = sp.lit_in[k];
   }
-  if (ns) lit_slots(sgn, ns, nv, slot_p, X, refl, blocked, lights, grey);
+  if (ns) lit_slots(m, sgn, ns, nv, slot_p, X, refl, blocked, lights, grey);
 }
 
 /* ---- a row's stretch of points on several triangles (smooth_row) ------------------ */
@@ -2130,43 +2131,151 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
 }
 #endif
 
+/* The lit pairs' filter.
+**
+** lit_pair's chain makes each normal v a unit vector, u_c = fl(v_c / l) with l =
+** fl(sqrt(fl(v.v))) (three divides after the square root, each waiting on it), then each
+** light's d = fl(fl(u_0 m_0 + u_1 m_1) + u_2 m_2) with m_c = fl(l_c sg) = +-l_c (exact),
+** the sum s of the terms max(d, 0) of the lights not blocked (d > 0 taken, else +0) in the
+** lights' order, and the grey from f = fl(fl(c s) + 0.5), c = fl(207 refl)
+** (shade_pair_greys_fast, where f is in [0, 2^30)). The filter finds the same grey with one
+** divide: the same l, e = fl(fl(v_0 m_0 + v_1 m_1) + v_2 m_2) a light (made beside the
+** square root, not after it), S' the sum of the terms max(e, 0) of the lights not blocked,
+** D = fl(S' / l) and f' = fl(fl(c D) + 0.5); it gives 48 + floor(f') (clamped to 255, as
+** the chain's) when 2^-400 <= l <= 2^400, f' - 2^-29 >= 0, f' + 2^-29 < 2^10 and the two
+** have one floor, else it declines and the chain runs.
+**
+** Proof that f is within 2^-30 of f' then (so in [f' - 2^-29, f' + 2^-29] with room for
+** those two roundings, each below 2^-43 at f' < 2^10: f has that floor too, rounding
+** being monotonic, and f is in [0, 2^30): the chain's grey is 48 + floor(f)). u = 2^-53.
+** In real numbers let w_c = v_c / l and A_k = sum_c |w_c m_kc| for light k. Where l >=
+** 2^-400, fl(v.v) >= 2^-801 and its squares' underflows (below 2^-1074 each) are far
+** below u of it, so |v| <= l (1 + 3u) and every |w_c| <= 1 + 3u: A_k <= (1 + 3u) Lam_k,
+** Lam_k = sum_c |l_kc|. A rounding is x (1 + a) + b with |a| <= u and |b| <= 2^-1075 (b
+** only where the result is subnormal; sums of doubles are exact there). The chain: u_c =
+** w_c (1 + a) + b, its products and two adds, so |d - sum_c w_c m_c| <= 4.01u A_k +
+** 2^-1070 (|m_c| <= 2^16: below). The filter: |e / l - sum_c w_c m_c| <= 3.01u A_k +
+** 2^-1071 / l <= 3.01u A_k + 2^-670. Then max(., 0) moves neither apart (|max(x, 0) -
+** max(y, 0)| <= |x - y|; max(e, 0) / l = max(e / l, 0), l > 0), and with T the sum of
+** max(sum_c w_c m_kc, 0) over the lights not blocked, the at most 16 terms' at most 15 adds
+** (of terms >= 0) and D's divide: |s - T| <= (4.01 + 15.2) u A + 2^-1066 and |D - T| <=
+** (3.01 + 15.2 + 1.01) u A + 2^-666, A = sum_k A_k <= (1 + 3u) Lam, Lam = sum_k Lam_k:
+** |s - D| <= 38.5u Lam + 2^-665. f and f' are c s and c D each rounded twice, within 2.01u
+** |f| < 2^-42 (f' < 2^10 and f near it): |f - f'| <= c (38.5u Lam + 2^-665) + 2^-41. lit_row
+** takes the filter only where c Lam <= 2^16 (one test a row; refl 1 and one unit light:
+** c Lam <= 207 sqrt 3): then |f - f'| <= 2^16 38.5 2^-53 + 2^-41 + 2^-640 < 2^-31.7 +
+** 2^-41 < 2^-30. (c Lam <= 2^16 also keeps every |m_c| and c below 2^16, and no step
+** overflows where l <= 2^400: |v_c m_c| <= 2^417.) test_smooth (test_lit_filter_is_exact)
+** holds the filter to the chain on normals in and around every band of the globe and on
+** normals bisected onto the borders between two greys, where it must decline. */
+#ifdef __SSE2__
+/* The filter at two slots (lit_pair's arguments; refl's c = fl(207 refl) in cv): true and
+   their greys into *g0, *g1; false (nothing written) when it declines. */
+static inline __attribute__((always_inline))
+bool lit_pair_filter(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsigned b1,
+                     const struct shade_lights *L, int nlight, __m128d cv, int *g0, int *g1)
+{
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d ln = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v0, v0), _mm_mul_pd(v1, v1)),
+                                            _mm_mul_pd(v2, v2)));
+  __m128d sum = zero;
+  for (int k = 0; k < nlight; k++) {
+    const double *l = L->v[k];
+    const __m128d e = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v0, _mm_mul_pd(_mm_set1_pd(l[0]), sg)),
+                                            _mm_mul_pd(v1, _mm_mul_pd(_mm_set1_pd(l[1]), sg))),
+                                 _mm_mul_pd(v2, _mm_mul_pd(_mm_set1_pd(l[2]), sg)));
+    __m128d m = _mm_cmpgt_pd(e, zero);
+    if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
+      m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                        (b0 >> k & 1u) - 1ull)));
+    sum = k ? _mm_add_pd(sum, _mm_and_pd(m, e)) : _mm_and_pd(m, e);
+  }
+  const __m128d f = _mm_add_pd(_mm_mul_pd(cv, _mm_div_pd(sum, ln)), _mm_set1_pd(0.5));
+  const __m128d dl = _mm_set1_pd(0x1p-29);
+  const __m128d f0 = _mm_sub_pd(f, dl), f1 = _mm_add_pd(f, dl);
+  const __m128d ok = _mm_and_pd(_mm_and_pd(_mm_cmpge_pd(ln, _mm_set1_pd(0x1p-400)),
+                                           _mm_cmple_pd(ln, _mm_set1_pd(0x1p400))),
+                                _mm_and_pd(_mm_cmpge_pd(f0, zero),
+                                           _mm_cmplt_pd(f1, _mm_set1_pd(0x1p10))));
+  const __m128i t0 = _mm_cvttpd_epi32(f0), t1 = _mm_cvttpd_epi32(f1);
+  if (_mm_movemask_pd(ok) != 3 || (_mm_movemask_epi8(_mm_cmpeq_epi32(t0, t1)) & 0xff) != 0xff)
+    return false;
+  /* 48 + t, clamped to 255 (t >= 0): shade_pair_greys_fast's packs */
+  const __m128i t = _mm_add_epi32(t0, _mm_set1_epi32(SHADE_AMBIENT));
+  const unsigned g = (unsigned)_mm_cvtsi128_si32(
+      _mm_packus_epi16(_mm_packs_epi32(t, t), _mm_setzero_si128()));
+  *g0 = (int)(g & 0xffu);
+  *g1 = (int)(g >> 8 & 0xffu);
+  return true;
+}
+
+/* lit_pair through the filter where lit_row takes it (filt), else (or where it declines)
+   lit_pair itself. */
+static inline __attribute__((always_inline))
+void lit_pair_as(bool filt, __m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0,
+                 unsigned b1, const struct shade_lights *L, int nlight, double refl, __m128d cv,
+                 int *g0, int *g1, long *declines)
+{
+  if (filt) {
+    if (lit_pair_filter(v0, v1, v2, sg, b0, b1, L, nlight, cv, g0, g1)) return;
+    ++*declines;
+  }
+  lit_pair(v0, v1, v2, sg, b0, b1, L, nlight, refl, g0, g1);
+}
+#endif
+
 /* The greys of slots q < ns: the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
    (unit()'s steps), turned to its eye's side (times sg[q]) and lit (shade_grey_lit, at
    reflectance refl) at point slot_p[q] (X, blocked), into grey[slot_p[q]] clamped to
    0..255. Under parallel lights two slots an instruction where the processor has SSE2
    (lit_pair: each lane's operations the scalar ones on its values in their order,
-   correctly rounded as the scalar ones are; a lone last slot in both lanes). */
+   correctly rounded as the scalar ones are; a lone last slot in both lanes), through the
+   lit pairs' filter (lit_pair_filter: one divide a pair, not three) where fl(207 refl) and
+   the lights' sum of |l_c| are at most 2^8 each (and not m's lit_exact). */
 static inline __attribute__((always_inline))
-void lit_row(int ns, double (*nv)[SMOOTH_ROW], const double *sg, double refl,
-             const int *slot_p, const double (*X)[3], const unsigned *blocked,
+void lit_row(const struct smooth_model *m, int ns, double (*nv)[SMOOTH_ROW], const double *sg,
+             double refl, const int *slot_p, const double (*X)[3], const unsigned *blocked,
              const struct shade_lights *L, int *grey)
 {
   int q = 0;
 #ifdef __SSE2__
   bool parallel = true;
-  for (int k = 0; k < L->n; k++) parallel &= !L->point[k];
+  double lam = 0;
+  for (int k = 0; k < L->n; k++) {
+    parallel &= !L->point[k];
+    lam += fabs(L->v[k][0]) + fabs(L->v[k][1]) + fabs(L->v[k][2]);
+  }
   if (parallel) {
     const int nlight = L->n;
+    const double c = (255 - SHADE_AMBIENT) * refl;
+    /* (the sum of |l_c| rounded: at most 47 roundings up of a relative 2^-53 below the
+       proof's Lam's bound, far inside 2^8's room) */
+    const bool filt = !m->lit_exact && c >= 0 && c <= 0x1p8 && lam <= 0x1p8;
+    const __m128d cv = _mm_set1_pd(c);
+    long declines = 0;
     /* (pick2: the slots were just written, a pair or one at a time) */
     if (nlight == 1)                          /* the usual case: the light loop unrolled */
       for (; q + 2 <= ns; q += 2)
-        lit_pair(pick2(nv[0] + q, nv[0] + q + 1), pick2(nv[1] + q, nv[1] + q + 1),
-                 pick2(nv[2] + q, nv[2] + q + 1), pick2(sg + q, sg + q + 1),
-                 blocked[slot_p[q]], blocked[slot_p[q + 1]], L, 1, refl, &grey[slot_p[q]],
-                 &grey[slot_p[q + 1]]);
+        lit_pair_as(filt, pick2(nv[0] + q, nv[0] + q + 1), pick2(nv[1] + q, nv[1] + q + 1),
+                    pick2(nv[2] + q, nv[2] + q + 1), pick2(sg + q, sg + q + 1),
+                    blocked[slot_p[q]], blocked[slot_p[q + 1]], L, 1, refl, cv,
+                    &grey[slot_p[q]], &grey[slot_p[q + 1]], &declines);
     for (; q + 2 <= ns; q += 2)
-      lit_pair(pick2(nv[0] + q, nv[0] + q + 1), pick2(nv[1] + q, nv[1] + q + 1),
-               pick2(nv[2] + q, nv[2] + q + 1), pick2(sg + q, sg + q + 1),
-               blocked[slot_p[q]], blocked[slot_p[q + 1]], L, nlight, refl, &grey[slot_p[q]],
-               &grey[slot_p[q + 1]]);
+      lit_pair_as(filt, pick2(nv[0] + q, nv[0] + q + 1), pick2(nv[1] + q, nv[1] + q + 1),
+                  pick2(nv[2] + q, nv[2] + q + 1), pick2(sg + q, sg + q + 1),
+                  blocked[slot_p[q]], blocked[slot_p[q + 1]], L, nlight, refl, cv,
+                  &grey[slot_p[q]], &grey[slot_p[q + 1]], &declines);
     if (q < ns) {
       int dummy;
-      lit_pair(_mm_set1_pd(nv[0][q]), _mm_set1_pd(nv[1][q]), _mm_set1_pd(nv[2][q]),
-               _mm_set1_pd(sg[q]), blocked[slot_p[q]], blocked[slot_p[q]], L, nlight,
-               refl, &grey[slot_p[q]], &dummy);
+      lit_pair_as(filt, _mm_set1_pd(nv[0][q]), _mm_set1_pd(nv[1][q]), _mm_set1_pd(nv[2][q]),
+                  _mm_set1_pd(sg[q]), blocked[slot_p[q]], blocked[slot_p[q]], L, nlight,
+                  refl, cv, &grey[slot_p[q]], &dummy, &declines);
       q++;
     }
+    if (m->lit_declines) *m->lit_declines += declines;
   }
+#else
+  (void)m;
 #endif
   for (; q < ns; q++) {
     double v[3] = { nv[0][q], nv[1][q], nv[2][q] };
@@ -2253,7 +2362,7 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
     sg[ns] = tr->front ? 1 : -1;
     slot_p[ns] = sp.lit_in[k];
   }
-  if (ns) lit_row(ns, nv, sg, 1.0, slot_p, X, blocked, L, grey);
+  if (ns) lit_row(m, ns, nv, sg, 1.0, slot_p, X, blocked, L, grey);
 }
 
 bool smooth_rows(const struct smooth_model *m, const struct effects *e,

@@ -97,6 +97,11 @@ struct smooth_model {
      filter left to the chain. */
   bool inner_exact;
   long *inner_declines;
+  /* Tests only too: lit_exact lights every point of the partial smoothing by the exact
+     chain, without the filter that finds most greys with one divide a pair (smooth.c,
+     "The lit pairs' filter"); lit_declines, when set, counts the pairs it left to it. */
+  bool lit_exact;
+  long *lit_declines;
 };
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.

@@ -1560,6 +1560,138 @@ static void test_inner_filter_is_exact(void **state)
   assert_int_equal(border_declines, 2 * borders);
 }
 
+/* smooth_grey_run's greys and regions at n points of triangle t with the lit pairs' filter
+   (g[0], r[0]; the pairs it declines added to *declines) and by the exact chain (lit_exact:
+   g[1], r[1]). */
+static void lit_both(struct lib *L, int t, int n, const double (*X)[3], double refl,
+                     const unsigned *blocked, const struct shade_lights *lights,
+                     long *declines, int g[2][SMOOTH_RUN], int r[2][SMOOTH_RUN])
+{
+  L->m.lit_declines = declines;
+  smooth_grey_run(&L->m, &L->r.map, L->s, &L->e, t, n, X, refl, blocked, lights, g[0], r[0]);
+  L->m.lit_declines = NULL;
+  L->m.lit_exact = true;
+  smooth_grey_run(&L->m, &L->r.map, L->s, &L->e, t, n, X, refl, blocked, lights, g[1], r[1]);
+  L->m.lit_exact = false;
+}
+
+/* The point of triangle t at coordinates a + s (b - a) (a, b: barycentric). */
+static void lit_seg_point(const struct lib *L, int t, const double a[3], const double b[3],
+                          double s, double X[3])
+{
+  const double w[3] = { a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
+                        a[2] + s * (b[2] - a[2]) };
+  tri_point(L, t, w, X);
+}
+
+/* The lit pairs' filter (smooth.c) gives the chain's grey, bit for bit, under partial
+   smoothings of several insets on the globe and the t1 objects: on a grid of points in
+   and around every triangle (the bands, the corners and the inner triangle lit), with
+   reflectances 1 and 0.6, one light and two, some blocked, in runs of 1 to SMOOTH_RUN
+   points (pairs and a lone last one); and on points bisected onto the borders between two
+   of the chain's greys (along a band's side, across it, and from a vertex to the inner
+   triangle's corner), where the filter must decline each (it does: counted), as its
+   margin requires. */
+static void test_lit_filter_is_exact(void **state)
+{
+  (void)state;
+  static const struct { const char *scene, *fx; } cases[] = {
+    { "scenes/sphere.s74", "smooth=fixed:0.05" }, { "scenes/sphere.s74", "smooth=fixed:0.15" },
+    { "scenes/sphere.s74", "smooth=prop:0.15" },  { "scenes/sphere.s74", "smooth=prop:0.4" },
+    { "scenes/t1-a.s74", "smooth=fixed:0.05" },   { "scenes/t1-e.s74", "smooth=prop:0.15" },
+    { "scenes/t1-j.s74", "smooth=prop:0.15" },
+  };
+  long grid = 0, band = 0, grid_declines = 0, borders = 0, border_declines = 0;
+  int differ = 0;
+  for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+    struct lib L;
+    lib_open(&L, cases[c].scene, cases[c].fx);
+    struct shade_lights lights;
+    shade_lights_init(&lights, L.s);
+    for (int two = 0; two < 2; two++) {
+      if (two) second_light(&lights);
+      for (int t = 0; t < L.m.ntri; t++)
+        for (int a = -1; a <= 25; a++) {
+          double X[SMOOTH_RUN][3];
+          unsigned blocked[SMOOTH_RUN];
+          const double refl = a % 3 ? 1.0 : 0.6;
+          int n = 0;
+          const int len = 1 + (a + t) % SMOOTH_RUN;
+          for (int b = -1; a + b <= 25; b++) {
+            const double w[3] = { a / 24.0, b / 24.0, (24 - a - b) / 24.0 };
+            tri_point(&L, t, w, X[n]);
+            blocked[n++] = (unsigned)((b + t) % 7 == 0) | (unsigned)((a + b) % 5 == 0) << 1;
+            if (n < len && a + b + 1 <= 25) continue;
+            int g[2][SMOOTH_RUN], r[2][SMOOTH_RUN];
+            lit_both(&L, t, n, (const double (*)[3])X, refl, blocked, &lights, &grid_declines,
+                     g, r);
+            for (int q = 0; q < n; q++) {
+              differ += g[0][q] != g[1][q] || r[0][q] != r[1][q];
+              band += r[1][q] != 0;
+              grid++;
+            }
+            n = 0;
+          }
+        }
+    }
+    shade_lights_init(&lights, L.s);         /* the scene's light alone */
+    const unsigned none[1] = { 0 };
+    for (int t = 0; t < L.m.ntri; t++) {
+      const double *ti = L.m.tri[t].t;
+      for (int k = 0; k < 3; k++) {
+        const int ka = (k + 1) % 3, kb = (k + 2) % 3;
+        double seg[3][2][3];
+        /* along side k's band, across it, and from vertex k to the inner corner */
+        seg[0][0][k] = seg[0][1][k] = 0.4 * ti[k];
+        seg[0][0][ka] = 0.95 - 0.4 * ti[k]; seg[0][0][kb] = 0.05;
+        seg[0][1][ka] = 0.05; seg[0][1][kb] = 0.95 - 0.4 * ti[k];
+        seg[1][0][k] = 0; seg[1][1][k] = ti[k];
+        seg[1][0][ka] = seg[1][1][ka] = 0.5 * (1 - 0.5 * ti[k]);
+        seg[1][0][kb] = 1 - seg[1][0][ka]; seg[1][1][kb] = 1 - ti[k] - seg[1][1][ka];
+        seg[2][0][k] = 1; seg[2][0][ka] = seg[2][0][kb] = 0;
+        seg[2][1][k] = 1 - ti[ka] - ti[kb]; seg[2][1][ka] = ti[ka]; seg[2][1][kb] = ti[kb];
+        for (int j = 0; j < 3; j++) {
+          const double *A = seg[j][0], *B = seg[j][1];
+          double X[1][3];
+          int g[2][SMOOTH_RUN], r[2][SMOOTH_RUN];
+          long ignore = 0;
+          lit_seg_point(&L, t, A, B, 0, X[0]);
+          lit_both(&L, t, 1, (const double (*)[3])X, 1.0, none, &lights, &ignore, g, r);
+          const int g0 = g[1][0];
+          lit_seg_point(&L, t, A, B, 1, X[0]);
+          lit_both(&L, t, 1, (const double (*)[3])X, 1.0, none, &lights, &ignore, g, r);
+          if (g[1][0] == g0) continue;
+          double s0 = 0, s1 = 1;              /* the chain's grey g0 at s0, another at s1 */
+          for (int it = 0; it < 200; it++) {
+            const double sm = 0.5 * (s0 + s1);
+            if (!(sm > s0 && sm < s1)) break;
+            lit_seg_point(&L, t, A, B, sm, X[0]);
+            lit_both(&L, t, 1, (const double (*)[3])X, 1.0, none, &lights, &ignore, g, r);
+            if (g[1][0] == g0) s0 = sm; else s1 = sm;
+          }
+          for (int h = 0; h < 2; h++) {       /* each side of the border: declined */
+            long declines = 0;
+            lit_seg_point(&L, t, A, B, h ? s1 : s0, X[0]);
+            lit_both(&L, t, 1, (const double (*)[3])X, 1.0, none, &lights, &declines, g, r);
+            differ += g[0][0] != g[1][0] || r[0][0] != r[1][0];
+            border_declines += declines == 1;
+          }
+          borders++;
+        }
+      }
+    }
+    lib_close(&L);
+  }
+  print_message("lit filter: %ld grid points (%ld lit in bands), %ld pairs declined; %ld "
+                "borders, %ld of their points declined\n",
+                grid, band, grid_declines, borders, border_declines);
+  assert_int_equal(differ, 0);
+  assert_true(band > 10000 && band * 8 < grid * 7);
+  assert_true(grid_declines * 1000 < grid);
+  assert_true(borders > 1000);
+  assert_int_equal(border_declines, 2 * borders);
+}
+
 /* fx_round_ld (effects/poly.h, the shadows' grid points) is llroundl: at integers and
    halves and the long doubles next to them on both sides, positive and negative, from 0
    to 2^61, at random long doubles, and past 2^62 (the library's way). */
@@ -2096,6 +2228,7 @@ int main(void)
     cmocka_unit_test(test_phong_filter_range),
     cmocka_unit_test(test_phong_filter_tiny_sum),
     cmocka_unit_test(test_inner_filter_is_exact),
+    cmocka_unit_test(test_lit_filter_is_exact),
     cmocka_unit_test(test_round_ld_is_llroundl),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
