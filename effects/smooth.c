@@ -2151,10 +2151,11 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
 ** In real numbers let w_c = v_c / l and A_k = sum_c |w_c m_kc| for light k. Where l >=
 ** 2^-400, fl(v.v) >= 2^-801 and its squares' underflows (below 2^-1074 each) are far
 ** below u of it, so |v| <= l (1 + 3u) and every |w_c| <= 1 + 3u: A_k <= (1 + 3u) Lam_k,
-** Lam_k = sum_c |l_kc|. A rounding is x (1 + a) + b with |a| <= u and |b| <= 2^-1075 (b
-** only where the result is subnormal; sums of doubles are exact there). The chain: u_c =
+** Lam_k = sum_c |l_kc| (|m_kc| = |l_kc|). A rounding is x (1 + a) + b with |a| <= u and
+** |b| <= 2^-1075 (b only where the result is subnormal; sums of doubles are exact there).
+** The chain: u_c =
 ** w_c (1 + a) + b, its products and two adds, so |d - sum_c w_c m_c| <= 4.01u A_k +
-** 2^-1070 (|m_c| <= 2^16: below). The filter: |e / l - sum_c w_c m_c| <= 3.01u A_k +
+** 2^-1070 (|m_c| <= 2^8: below). The filter: |e / l - sum_c w_c m_c| <= 3.01u A_k +
 ** 2^-1071 / l <= 3.01u A_k + 2^-670. Then max(., 0) moves neither apart (|max(x, 0) -
 ** max(y, 0)| <= |x - y|; max(e, 0) / l = max(e / l, 0), l > 0), and with T the sum of
 ** max(sum_c w_c m_kc, 0) over the lights not blocked, the at most 16 terms' at most 15 adds
@@ -2162,12 +2163,14 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
 ** (3.01 + 15.2 + 1.01) u A + 2^-666, A = sum_k A_k <= (1 + 3u) Lam, Lam = sum_k Lam_k:
 ** |s - D| <= 38.5u Lam + 2^-665. f and f' are c s and c D each rounded twice, within 2.01u
 ** |f| < 2^-42 (f' < 2^10 and f near it): |f - f'| <= c (38.5u Lam + 2^-665) + 2^-41. lit_row
-** takes the filter only where c Lam <= 2^16 (one test a row; refl 1 and one unit light:
-** c Lam <= 207 sqrt 3): then |f - f'| <= 2^16 38.5 2^-53 + 2^-41 + 2^-640 < 2^-31.7 +
-** 2^-41 < 2^-30. (c Lam <= 2^16 also keeps every |m_c| and c below 2^16, and no step
-** overflows where l <= 2^400: |v_c m_c| <= 2^417.) test_smooth (test_lit_filter_is_exact)
-** holds the filter to the chain on normals in and around every band of the globe and on
-** normals bisected onto the borders between two greys, where it must decline. */
+** takes the filter only where c and Lam are each at most 2^8 (one test a row; refl 1 and
+** one unit light: c = 207, Lam <= sqrt 3): then c Lam <= 2^16 and |f - f'| <= 2^16 38.5
+** 2^-53 + 2^-41 + 2^-640 < 2^-31.7 + 2^-41 < 2^-30. (Every |m_c| is then at most 2^8, and
+** no step overflows where l <= 2^400: |v_c m_c| <= 2^410.) test_smooth
+** (test_lit_filter_is_exact) holds the filter to the chain on a grid of points in and
+** around every triangle of the globe and of the t1 objects (their band normals, and the
+** face's where lit) and on points bisected onto the borders between two of the chain's
+** greys, where it must decline. */
 #ifdef __SSE2__
 /* The filter at two slots (lit_pair's arguments; refl's c = fl(207 refl) in cv): true and
    their greys into *g0, *g1; false (nothing written) when it declines. */
