@@ -2718,14 +2718,31 @@ static int count_set(const unsigned *b, int n)
 
 /* The faces row[0 .. n) after the regions put over fr[0 .. n) (the engine's), the points
    where they differ counted: *cut, of which *show_face now see a face and *show_none none.
-   Four points a vector instruction where the processor has SSE2, without a branch a point
-   (where the faces differ follows no pattern a predictor learns). */
+   Where the processor has SSE2, sixteen points a step are compared with one branch (a row
+   the regions left as it was, the usual case, is read once and not written); a step where
+   they differ is counted and copied four points a vector instruction, without a branch a
+   point (where the faces differ follows no pattern a predictor learns). */
 static void cut_row(const int *row, int *fr, int n, long *cut, long *show_face, long *show_none)
 {
   int i = 0, c = 0, none = 0;               /* (< n: ints) */
 #ifdef __SSE2__
   const __m128i ones = _mm_set1_epi32(-1);
   __m128i vc = _mm_setzero_si128(), vn = vc;   /* lane by lane: -1 a point counted */
+  for (; i + 16 <= n; i += 16) {
+    __m128i a[4], eq[4];
+    for (int h = 0; h < 4; h++) {
+      a[h] = _mm_loadu_si128((const __m128i *)(const void *)(row + i + 4 * h));
+      eq[h] = _mm_cmpeq_epi32(a[h], _mm_loadu_si128((const __m128i *)(const void *)(fr + i + 4 * h)));
+    }
+    const __m128i all = _mm_and_si128(_mm_and_si128(eq[0], eq[1]), _mm_and_si128(eq[2], eq[3]));
+    if (_mm_movemask_epi8(all) == 0xffff) continue;   /* the sixteen the same */
+    for (int h = 0; h < 4; h++) {
+      const __m128i ne = _mm_andnot_si128(eq[h], ones);
+      vc = _mm_add_epi32(vc, ne);
+      vn = _mm_add_epi32(vn, _mm_and_si128(ne, _mm_srai_epi32(a[h], 31)));   /* and a < 0 */
+      _mm_storeu_si128((__m128i *)(void *)(fr + i + 4 * h), a[h]);
+    }
+  }
   for (; i + 4 <= n; i += 4) {
     const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(row + i));
     const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(fr + i));
@@ -2797,10 +2814,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
     int *fr = f->face + at0;
     if (regions) {
       if ((rc = fx_lines_samples(L, 1, j, 0, W, row, blocked, err)) != T74_OK) break;
-      /* a row the regions left as it was has no cut to count (nor, without shadows,
-         anything) */
-      if (memcmp(row, fr, (size_t)W * sizeof *row))
-        cut_row(row, fr, W, &cut, &show_face, &show_none);
+      cut_row(row, fr, W, &cut, &show_face, &show_none);
       /* the row's points in shadow (< W: an int, counted four a vector instruction; none
          without shadows, where shadow_samples leaves every mask 0) */
       if (m->shadows.n) shadowed += count_set(blocked, W);
