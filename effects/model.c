@@ -2769,6 +2769,20 @@ static void cut_row(const int *row, int *fr, int n, long *cut, long *show_face, 
   *show_face += c - none;
 }
 
+#ifdef __SSE2__
+/* The signs of the ints a[0 .. 16), bit k set where a[k] < 0 (packs with signed
+   saturation keep each int's sign as an int16's, then as a byte's). */
+static inline unsigned signs16(const int *a)
+{
+  const __m128i a0 = _mm_loadu_si128((const __m128i *)(const void *)a);
+  const __m128i a1 = _mm_loadu_si128((const __m128i *)(const void *)(a + 4));
+  const __m128i a2 = _mm_loadu_si128((const __m128i *)(const void *)(a + 8));
+  const __m128i a3 = _mm_loadu_si128((const __m128i *)(const void *)(a + 12));
+  return (unsigned)_mm_movemask_epi8(_mm_packs_epi16(_mm_packs_epi32(a0, a1),
+                                                     _mm_packs_epi32(a2, a3)));
+}
+#endif
+
 int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
               struct cost *cost, struct t74_error *err)
 {
@@ -2846,16 +2860,19 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       if (face < 0) {                       /* a run of points that see no face */
         int e = i + 1;
 #ifdef __SSE2__
-        /* eight at a time: the eight are all -1 .. exactly when their AND's four lanes
-           have the sign bit */
-        for (; e + 8 <= W; e += 8) {
-          const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(fr + e));
-          const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(fr + e + 4));
-          if (_mm_movemask_ps(_mm_castsi128_ps(_mm_and_si128(a, b))) != 0xf) break;
-        }
+        /* sixteen at a time, the signs of points e .. e + 15 as the bits of neg (signs16),
+           the run's end at its lowest clear bit (~neg's lowest set bit: its bits 16 .. 31
+           are set); where fewer than sixteen are left, the row's last sixteen, their bits
+           below e taken as set (points of the run, or left of i): their lowest clear bit,
+           or bit 16 (the row's end) */
+        unsigned neg = 0xffffu;
+        for (; e + 16 <= W; e += 16)
+          if ((neg = signs16(fr + e)) != 0xffffu) break;
+        if (neg != 0xffffu)
+          e += __builtin_ctz(~neg);
+        else if (W >= 16 && e < W)
+          e = W - 16 + __builtin_ctz(~(signs16(fr + W - 16) | ((1u << (e - (W - 16))) - 1)));
 #endif
-        /* four at a time: the four are all -1 .. exactly when their AND is negative */
-        while (e + 4 <= W && (fr[e] & fr[e + 1] & fr[e + 2] & fr[e + 3]) < 0) e += 4;
         while (e < W && fr[e] < 0) e++;
         if (!bg) memset(gr + i, 0, (size_t)(e - i));
         else for (int q = i; q < e; q++) gr[q] = (uint8_t)shade_none(m, q, j);
