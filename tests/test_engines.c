@@ -1071,6 +1071,72 @@ static void test_points_frame_is_pointwise(void **state)
   assert_true(lit_runs > 1000 && textured > 1000 && slant > 20 && distinct > 100);
 }
 
+/* fx_points' runs of points that see no face, whose ends it finds sixteen points a step
+   (the row's last sixteen loaded again where fewer are left): the engine's faces taken
+   away in runs of every length from 1 to 40, at the end of rows (0 to 18 points), and at
+   every third point of some rows, then each point's grey against fx_shade's. Scenes
+   without regions, where fx_points takes the faces as given: smoothed faces (t1-a) and
+   plain ones (the street). */
+static void test_points_frame_runs_of_none(void **state)
+{
+  (void)state;
+  static const char *const names[] = { "t1-a", "street" };
+  long points = 0, none = 0, shaded = 0;
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+    char path[256];
+    snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
+    struct scene *sc = load_quiet(path);
+    struct t74_error err = { 0, "" };
+    struct effects e;
+    if (effects_parse(sc->effects ? sc->effects : "", &e, "test", 1, &err) != T74_OK)
+      fail_msg("%s", err.msg);
+    struct duo d;
+    struct fx_model m;
+    struct fx_stats st;
+    struct cost cost = { { 0 } };
+    model_open(&d, &m, sc, &e, e.halftone, 1, &st, &cost);
+    assert_false(m.count);
+    assert_false(fx_model_regions(&m));
+    const size_t np = (size_t)d.W * (size_t)d.H;
+    struct fx_frame f;
+    memset(&f, 0, sizeof f);
+    f.W = d.W; f.H = d.H; f.cell = d.cell;
+    assert_non_null(f.face = malloc(np * sizeof *f.face));
+    assert_non_null(f.grey = calloc(np, 1));
+    memcpy(f.face, d.face[1], np * sizeof *f.face);
+    for (int j = 0; j < d.H; j++) {
+      int *fr = f.face + (size_t)j * (size_t)d.W;
+      const int len = 1 + j % 40, a = (j * 37) % d.W, tail = j % 19;
+      for (int i = a; i < a + len && i < d.W; i++) fr[i] = -1;
+      for (int i = d.W - tail; i < d.W; i++) fr[i] = -1;
+      if (j % 5 == 0)
+        for (int i = j % 3; i < d.W; i += 3) fr[i] = -1;
+    }
+    assert_int_equal(fx_points(&m, &f, &st, &cost, &err), T74_OK);
+    long bad = 0;
+    for (int j = 0; j < d.H; j++)
+      for (int i = 0; i < d.W; i++) {
+        const size_t at = (size_t)j * (size_t)d.W + (size_t)i;
+        const int face = f.face[at];
+        const int g = fx_shade(&m, face, 0, i + 0.5, j + 0.5, i, j, NULL, NULL);
+        if (g != f.grey[at] && bad++ < 4)
+          print_message("%s point (%d, %d) face %d: frame %d, fx_shade %d\n", names[k], i, j,
+                        face, f.grey[at], g);
+        points++;
+        none += face < 0;
+        shaded += face >= 0 && g != 0;
+      }
+    assert_int_equal(bad, 0);
+    free(f.face); free(f.grey);
+    fx_model_free(&m);
+    duo_close(&d);
+    scene_free(sc);
+  }
+  print_message("runs of none: %ld points, %ld see no face, %ld a face's grey other than 0\n",
+                points, none, shaded);
+  assert_true(none > 2000 && shaded > 4000);
+}
+
 /* A row's space points two an instruction (fx_space_points, fx_points' runs of a smoothed
    face) are the doubles of the one-point path (n = 1), bit for bit: every mapped face of
    the smoothed scenes at every point centre of every row, and at positions between them,
@@ -1490,6 +1556,7 @@ int main(void)
     cmocka_unit_test(test_regions_on_samples),
     cmocka_unit_test(test_cuts_on_points),
     cmocka_unit_test(test_points_frame_is_pointwise),
+    cmocka_unit_test(test_points_frame_runs_of_none),
     cmocka_unit_test(test_space_points_are_single),
     cmocka_unit_test(test_see_row_without_faces),
     cmocka_unit_test(test_x_order),
