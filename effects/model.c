@@ -2034,14 +2034,17 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     bool made;
     if ((rc = cut_bits(L, q, yn, yd, fy, xd, k0, n, &made, err)) != T74_OK) return rc;
     if (made) {                             /* the held samples showing the object's faces */
-      bool behind = false;
+      /* nothing behind the object (fx_see_row_none: the row behind all -1): -1 without
+         the row; else the row behind made at the first sample that needs it */
+      const bool none = fx_see_row_none(L->behind[q], K, mrow, k0, n);
+      bool behind = none;
       for (int w = 0; w < (n + 63) / 64; w++)
         for (uint64_t b = L->cutbit[w]; b; b &= b - 1) {
           const int i = 64 * w + __builtin_ctzll(b);
           if (face[i] < 0 || !skip[face[i]]) continue;
           if (!behind && (rc = behind_row(L, q, K, mrow, k0, n, err)) != T74_OK) return rc;
           behind = true;
-          face[i] = L->brow[i];
+          face[i] = none ? -1 : L->brow[i];
         }
       return T74_OK;
     }
