@@ -1942,7 +1942,13 @@ static int cut_bits(struct fx_lines *L, int q, int64_t yn, int64_t yd, int64_t f
     if (rc != T74_OK) return rc;
   }
   uint64_t *bit = L->cutbit;
-  memset(bit, 0, (size_t)nw * sizeof *bit);
+  /* a row of up to 256 samples (four words) keeps its bits in registers (b[0 .. 3]: the
+     flips by masks, no branch) and stores each word once, after its prefix; else they are
+     flipped in L->cutbit. (In memory a row's flips of one word followed one another
+     through its loads and stores, and the prefix waited for the last.) */
+  const bool small = nw <= 4;
+  uint64_t b[4] = { 0, 0, 0, 0 };
+  if (!small) memset(bit, 0, (size_t)nw * sizeof *bit);
   const struct fx_poly *const cp = m->cuts.p;
   for (int k = L->cr[q].k0; k < L->cr[q].k1; k++) {
     if (!fx_poly_on_row(&cp[k], fy)) continue;   /* the line misses its box */
@@ -1961,14 +1967,24 @@ static int cut_bits(struct fx_lines *L, int q, int64_t yn, int64_t yd, int64_t f
       ch->j = j;
       int i;
       if (!cut_index(pt[j], pt[j + 1], yn, yd, xd, Gc, Q1, n, &i)) return T74_OK;
-      if (i < n) bit[i >> 6] ^= (uint64_t)1 << (i & 63);
+      if (i >= n) continue;
+      const uint64_t flip = (uint64_t)1 << (i & 63);
+      if (small) {
+        const int w = i >> 6;
+        b[0] ^= w == 0 ? flip : 0;
+        b[1] ^= w == 1 ? flip : 0;
+        b[2] ^= w == 2 ? flip : 0;
+        b[3] ^= w == 3 ? flip : 0;
+      } else {
+        bit[i >> 6] ^= flip;
+      }
     }
   }
   /* the prefix XOR: bit i the parity of the flips at or left of i (within a word by
      doubling steps, then the words' carry: the last bit of the word before) */
   uint64_t carry = 0;
   for (int w = 0; w < nw; w++) {
-    uint64_t x = bit[w];
+    uint64_t x = small ? b[w] : bit[w];
     x ^= x << 1; x ^= x << 2; x ^= x << 4; x ^= x << 8; x ^= x << 16; x ^= x << 32;
     x ^= carry;
     carry = (uint64_t)0 - (x >> 63);
@@ -2018,14 +2034,17 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
     bool made;
     if ((rc = cut_bits(L, q, yn, yd, fy, xd, k0, n, &made, err)) != T74_OK) return rc;
     if (made) {                             /* the held samples showing the object's faces */
-      bool behind = false;
+      /* nothing behind the object (fx_see_row_none: the row behind all -1): -1 without
+         the row; else the row behind made at the first sample that needs it */
+      const bool none = fx_see_row_none(L->behind[q], K, mrow, k0, n);
+      bool behind = none;
       for (int w = 0; w < (n + 63) / 64; w++)
         for (uint64_t b = L->cutbit[w]; b; b &= b - 1) {
           const int i = 64 * w + __builtin_ctzll(b);
           if (face[i] < 0 || !skip[face[i]]) continue;
           if (!behind && (rc = behind_row(L, q, K, mrow, k0, n, err)) != T74_OK) return rc;
           behind = true;
-          face[i] = L->brow[i];
+          face[i] = none ? -1 : L->brow[i];
         }
       return T74_OK;
     }

@@ -144,6 +144,13 @@ int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
   return fx_see_row_drawn(s, K, m, k0, n, face, &drawn, err);
 }
 
+bool fx_see_row_none(const struct fx_see *s, int K, int64_t m, int64_t k0, int n)
+{
+  /* (fx_see_row_drawn's second answer: s->none is set only with a skip, so its first,
+     the drawn row, is not taken) */
+  return s->e->pts && s->none && s->skip && points_at_lattice_ok(s->e->g, K, m, k0, n);
+}
+
 int fx_see_row_drawn(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
                      const int **drawn, struct t74_error *err)
 {

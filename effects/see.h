@@ -113,4 +113,9 @@ int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
 int fx_see_row_drawn(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
                      const int **drawn, struct t74_error *err);
 
+/* True when fx_see_row would answer -1 at every sample of that row without looking (the
+   points engine with every face taken away or left out, on a lattice it takes): a reader
+   may then take -1 without the row. False says nothing. */
+bool fx_see_row_none(const struct fx_see *s, int K, int64_t m, int64_t k0, int n);
+
 #endif

@@ -137,6 +137,8 @@ struct work {
   ld *hv, *p0, *p1;
   size_t cap;
   int *rs;
+  struct gpoint *g;         /* draw_casts: its casts' vertices on the grid (grid_all) */
+  size_t gcap;
 };
 
 /* R's box in space (outer ring), exactly, in integers: lo[c], hi[c]. */
@@ -570,6 +572,49 @@ static int draw_ring(const struct casts *cs, int r, const struct shadow_eye *eye
   return m;
 }
 
+#ifdef __SSE2__
+/* Vertices y0 .. y1 - 1 of cs onto the grid at g[0 ..] (sp: spanned_set for a bound on
+   them), each as draw_ring takes it: spanned_lanes where it decides, else grid_point; a
+   vertex that does not land has x = INT64_MIN (no grid point has: |x| < 2^28). One loop
+   over every vertex of a face's casts: each vertex's chain (a divide, then some twelve
+   dependent operations) overlaps the next ones', where draw_ring's loop over a ring of
+   three to five ended before the next ring's began (a mispredicted exit a ring). */
+static void grid_all(const struct casts *cs, size_t y0, size_t y1, const struct shadow_eye *eye,
+                     const struct spanned *sp, struct gpoint *g)
+{
+  const ld (*y)[3] = (const ld (*)[3])cs->y;
+  const double (*yd)[3] = (const double (*)[3])cs->yd;
+  for (size_t v = y0; v < y1; v++) {
+    __m128i k;
+    if (!spanned_lanes(sp, yd[v], &k)) {
+      struct gpoint p;
+      if (!grid_point(eye, y[v], yd[v], &p)) p.x = INT64_MIN;
+      k = _mm_loadu_si128((const __m128i *)&p);
+    }
+    _mm_storeu_si128((__m128i *)&g[v - y0], k);
+  }
+}
+
+/* Ring r of cs from its vertices on the grid, g (grid_all's, from the ring's first) to
+   poly: draw_ring's points (those that land, a repeat of the one before dropped, the last
+   and the first not compared); their count. */
+static inline int ring_from(const struct casts *cs, int r, const struct gpoint *g,
+                            struct gpoint *poly)
+{
+  const size_t n = cs->yend[r] - (r ? cs->yend[r - 1] : 0);
+  __m128i prev = _mm_set1_epi64x(INT64_MIN);   /* (none at first: no point has that x) */
+  int m = 0;
+  for (size_t v = 0; v < n; v++) {
+    if (g[v].x == INT64_MIN) continue;       /* (it did not land) */
+    const __m128i k = _mm_loadu_si128((const __m128i *)&g[v]);
+    _mm_storeu_si128((__m128i *)&poly[m], k);
+    m += _mm_movemask_epi8(_mm_cmpeq_epi32(k, prev)) != 0xffff;
+    prev = k;
+  }
+  return m;
+}
+#endif
+
 /* The view's part of casts [c0, c1) of cs on face R (map index; its box on the grid gb:
    x lo, x hi, y lo, y hi), seen from the eye v (sp: the span of their vertices): each ring's vertices onto the perspective
    plane by eq. (1), rounded onto the grid, repeats dropped; a polygon that misses gb is
@@ -583,6 +628,18 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shad
   struct spanned sd;
   const bool bounded = shadow_bound_set(&bd, eye, sp);
   if (bounded) spanned_set(&sd, eye, &bd);
+#ifdef __SSE2__
+  /* every vertex of the casts onto the grid first (grid_all), then their rings */
+  const bool flat = bounded && !cost && c0 < c1;
+  size_t gy0 = 0;                           /* the first vertex's index in cs */
+  if (flat) {
+    const int r0 = cs->c[c0].r0, r1 = cs->c[c1 - 1].r1;
+    gy0 = r0 ? cs->yend[r0 - 1] : 0;
+    const size_t gy1 = cs->yend[r1 - 1];
+    if (!grow((void **)&wk->g, &wk->gcap, gy1 - gy0 + 1, sizeof *wk->g)) return false;
+    grid_all(cs, gy0, gy1, eye, &sd, wk->g);
+  }
+#endif
   for (int c = c0; c < c1; c++) {
     size_t need = 0;
     int nring = 0;
@@ -593,7 +650,12 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shad
     if (!room) return false;
     for (int r = r0; r < r1; r++) {
       struct gpoint *poly = room + need;
+#ifdef __SSE2__
+      int m = flat ? ring_from(cs, r, wk->g + ((r ? cs->yend[r - 1] : 0) - gy0), poly)
+                   : draw_ring(cs, r, eye, bounded ? &sd : NULL, poly, cost);
+#else
       int m = draw_ring(cs, r, eye, bounded ? &sd : NULL, poly, cost);
+#endif
       if (m > 1 && poly[0].x == poly[m - 1].x && poly[0].y == poly[m - 1].y) m--;
       if (m < 3) continue;
       need += (size_t)m;
@@ -734,7 +796,7 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
     ok = ok && draw_casts(&scratch, 0, scratch.n, &eye, &sp, gb, R, &wk, out, &any, cost);
     receivers += any;
   }
-  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs);
+  free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs); free(wk.g);
   casts_free(&scratch);
   if (!ok) return t74_fail(err, T74_EIO, "out of host memory");
   fx_count(st, "shadow_polygons", (double)(out->n - polys0), true);

@@ -880,7 +880,9 @@ static void add_rings(struct fx_polys *ps, const struct vis_grid *g, int nring, 
    every length (a zigzag, a disc), two polygons overlapping (where both hold a sample the count is
    even: not cut, as the sorted stretches' pairs have it), a ring inside another, polygons
    past both ends of the row; rows asked from the bottom up, then in a scrambled order
-   (each chain's last edge found again from anywhere). */
+   (each chain's last edge found again from anywhere); rows of 102, 204 and 306 samples
+   (K = 1, 2, 3: cut_bits keeps up to 256 in registers and flips longer rows' bits in
+   memory). */
 static void test_cuts_on_points(void **state)
 {
   (void)state;
@@ -927,7 +929,7 @@ static void test_cuts_on_points(void **state)
   add_rings(&m.cuts, &d.g, 1, r4, wide_, 0, 28, o);
   add_rings(&m.cuts, &d.g, 1, r23, disc, -25, -12, o);
   long cut = 0, kept = 0;
-  for (int K = 1; K <= 2; K++)
+  for (int K = 1; K <= 3; K++)
     for (int pass = 0; pass < 2; pass++) {
       struct fx_lines *L;
       assert_int_equal(fx_lines_open(&L, &m, false, &cost, &err), T74_OK);
