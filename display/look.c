@@ -40,6 +40,7 @@
 #include "display/look.h"
 
 #include "display/image.h"
+#include "emu/grow.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -156,18 +157,6 @@ void look_clear(struct look *l)
   l->nev = l->nstored = l->nerase = 0;
 }
 
-/* Grow *buf (elements of size sz) to hold one more than n; 0 on success. */
-static int grow(void **buf, size_t *cap, size_t n, size_t sz)
-{
-  if (n < *cap) return 0;
-  size_t nc = *cap ? *cap * 2 : 4096;
-  void *nb = realloc(*buf, nc * sz);
-  if (!nb) return -1;
-  *buf = nb;
-  *cap = nc;
-  return 0;
-}
-
 static int add_ev(struct look *l, int x, int y, double t, int kind)
 {
   if (x < 0 || x >= TUBE_W || y < 0 || y >= TUBE_H) return T74_EINPUT;
@@ -179,9 +168,9 @@ static int add_ev(struct look *l, int x, int y, double t, int kind)
     double te = l->erase[l->nerase - 1], tend = te + l->p.v[LP_ERASE_S];
     if (t >= te && t < tend) t = tend;
   }
-  if (grow((void **)&l->ev, &l->cap, l->nev, sizeof *l->ev)) return T74_EIO;
+  if (!t74_grow((void **)&l->ev, &l->cap, l->nev + 1, sizeof *l->ev)) return T74_EIO;
   if (kind == EV_STORED) {
-    if (grow((void **)&l->stored_ix, &l->scap, l->nstored, sizeof *l->stored_ix)) return T74_EIO;
+    if (!t74_grow((void **)&l->stored_ix, &l->scap, l->nstored + 1, sizeof *l->stored_ix)) return T74_EIO;
     l->stored_ix[l->nstored++] = l->nev;
   }
   struct look_ev *e = &l->ev[l->nev++];
@@ -201,7 +190,7 @@ int look_writethrough(struct look *l, int x, int y, double t)
 
 int look_erase(struct look *l, double t)
 {
-  if (grow((void **)&l->erase, &l->ecap, l->nerase, sizeof *l->erase)) return T74_EIO;
+  if (!t74_grow((void **)&l->erase, &l->ecap, l->nerase + 1, sizeof *l->erase)) return T74_EIO;
   l->erase[l->nerase++] = t;
   return T74_OK;
 }

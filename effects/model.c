@@ -10,6 +10,7 @@
 
 #include "effects/contour.h"
 #include "effects/shadow.h"
+#include "emu/grow.h"
 #include "patterns/picture.h"
 #include "render/face_run.h"
 #include "render/shade.h"
@@ -1464,9 +1465,9 @@ struct fx_lines {
   struct ev { struct grat x; double k; int light, d; } *ev, *evt;   /* events (k: ev_key's),
                                                                        and ev_sort's room */
   int evcap;
-  int *brow; int browcap;   /* samples: the row behind a cut object */
-  int *bnd; int bndcap;     /* samples: per event, the first sample at or right of it */
-  uint64_t *cutbit; int cutbitcap;   /* cut_bits: a row's samples a cut object's regions
+  int *brow; size_t browcap;   /* samples: the row behind a cut object */
+  int *bnd; size_t bndcap;     /* samples: per event, the first sample at or right of it */
+  uint64_t *cutbit; size_t cutbitcap;   /* cut_bits: a row's samples a cut object's regions
                                hold, a bit each */
   struct cut_chain *cc;     /* cut_bits: the cut polygons' rings in chains (cut_chains) */
   int *ccf;                 /* per cut polygon its first chain (cuts.n + 1 of them) */
@@ -1475,7 +1476,8 @@ struct fx_lines {
      as ranges of samples [b0, b1), found at the face's first run on the row (row: the
      row's number, counted from 1, when found) */
   struct brange { int b0, b1, light; } *rng;
-  int nrng, rngcap;
+  int nrng;
+  size_t rngcap;
   struct { long row; int at, n; bool ext; gcoord ylo, yhi; } *fr;   /* per mapped face: its
                                ranges on the row (row, at, n; shadow_ranges) and its shadow
                                polygons' rows, ylo <= fy < yhi for any (ext: found) */
@@ -1483,10 +1485,11 @@ struct fx_lines {
   struct poly_step *ps;     /* per shadow polygon: its two stretch ends stepped from row to
                                row (face_ranges), or NULL (none kept) */
   struct edge_wide *psw;    /* per shadow polygon two: its steps' edges' 128-bit values */
-  int *rend, rendcap, rendn;   /* the last row's runs of one face (shadow_ranges): at each
+  int *rend, rendn;         /* the last row's runs of one face (shadow_ranges): at each
                                run's first sample its end e, or -e where a light is blocked
                                at a sample of the run; rendn samples, 0 when not found */
-  uint64_t *runbit; int runbitcap;   /* shadow_ranges: a row's run ends (run_bits) */
+  size_t rendcap;
+  uint64_t *runbit; size_t runbitcap;   /* shadow_ranges: a row's run ends (run_bits) */
   struct fx_sample_row sr;  /* shadow_ranges' row of samples, kept while its xd, k0 and n
                                are asked again (srn: its n, or -1 when none kept) */
   int srn;
@@ -1931,12 +1934,8 @@ static int cut_bits(struct fx_lines *L, int q, int64_t yn, int64_t yd, int64_t f
        (int)__builtin_mul_overflow(GRID_ONE, c, &Gc) | (int)__builtin_mul_overflow(2 * GRID_ONE, S, &Q1)))
     return T74_OK;
   const int nw = (n + 63) / 64;
-  if (nw > L->cutbitcap) {
-    uint64_t *nb = realloc(L->cutbit, (size_t)nw * sizeof *nb);
-    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
-    L->cutbit = nb;
-    L->cutbitcap = nw;
-  }
+  if (!t74_grow((void **)&L->cutbit, &L->cutbitcap, (size_t)nw, sizeof *L->cutbit))
+    return t74_fail(err, T74_EIO, "out of host memory");
   if (!L->cc) {
     const int rc = cut_chains(L, err);
     if (rc != T74_OK) return rc;
@@ -1999,12 +1998,8 @@ static int cut_bits(struct fx_lines *L, int q, int64_t yn, int64_t yd, int64_t f
 static int behind_row(struct fx_lines *L, int q, int K, int64_t mrow, int64_t k0, int n,
                       struct t74_error *err)
 {
-  if (n > L->browcap) {
-    int *nb = realloc(L->brow, (size_t)n * sizeof *nb);
-    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
-    L->brow = nb;
-    L->browcap = n;
-  }
+  if (!t74_grow((void **)&L->brow, &L->browcap, (size_t)n, sizeof *L->brow))
+    return t74_fail(err, T74_EIO, "out of host memory");
   return fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err);
 }
 
@@ -2065,12 +2060,8 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
      stretch's range of samples (the events are sorted, the ranges in order and apart).
      Else each sample of the row is tested. */
   const int np = rising ? nev / 2 : 1;
-  if (2 * np > L->bndcap) {
-    int *nb = realloc(L->bnd, (size_t)(2 * np) * sizeof *nb);
-    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
-    L->bnd = nb;
-    L->bndcap = 2 * np;
-  }
+  if (!t74_grow((void **)&L->bnd, &L->bndcap, 2 * (size_t)np, sizeof *L->bnd))
+    return t74_fail(err, T74_EIO, "out of host memory");
   if (!rising) { L->bnd[0] = 0; L->bnd[1] = n; }
   struct fx_sample_row sr;
   if (rising) fx_sample_row_set(&sr, win, xd, k0, n);
@@ -2381,13 +2372,7 @@ static bool poly_step_start(struct poly_step *s, struct edge_wide *w, unsigned g
    of host memory. */
 static bool range_add(struct fx_lines *L, int b0, int b1, int light)
 {
-  if (L->nrng == L->rngcap) {
-    const int cap = L->rngcap ? 2 * L->rngcap : 64;
-    struct brange *nr = realloc(L->rng, (size_t)cap * sizeof *nr);
-    if (!nr) return false;
-    L->rng = nr;
-    L->rngcap = cap;
-  }
+  if (!t74_grow((void **)&L->rng, &L->rngcap, (size_t)L->nrng + 1, sizeof *L->rng)) return false;
   L->rng[L->nrng++] = (struct brange){ b0, b1, light };
   return true;
 }
@@ -2577,19 +2562,10 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   const int64_t fy = fx_line_row(yn, yd);
   L->row++;                                 /* every face's ranges: none yet */
   L->nrng = 0;
-  if (n > L->rendcap) {
-    int *nr = realloc(L->rend, (size_t)n * sizeof *nr);
-    if (!nr) return t74_fail(err, T74_EIO, "out of host memory");
-    L->rend = nr;
-    L->rendcap = n;
-  }
   const int nw = (n + 63) / 64;
-  if (nw > L->runbitcap) {
-    uint64_t *nb = realloc(L->runbit, (size_t)nw * sizeof *nb);
-    if (!nb) return t74_fail(err, T74_EIO, "out of host memory");
-    L->runbit = nb;
-    L->runbitcap = nw;
-  }
+  if (!t74_grow((void **)&L->rend, &L->rendcap, (size_t)n, sizeof *L->rend) ||
+      !t74_grow((void **)&L->runbit, &L->runbitcap, (size_t)nw, sizeof *L->runbit))
+    return t74_fail(err, T74_EIO, "out of host memory");
   run_bits(runs, n, runs != face, L->runbit);
   memset(blocked, 0, (size_t)n * sizeof *blocked);
   int i = 0;

@@ -12,6 +12,7 @@
 ** and rounded once onto the grid.
 */
 #include "effects/shadow.h"
+#include "emu/grow.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -111,17 +112,6 @@ struct casts {
   size_t ny, capy, capyd;
 };
 
-static bool grow(void **p, size_t *cap, size_t need, size_t size)
-{
-  if (need <= *cap) return true;
-  size_t nc = *cap ? 2 * *cap : 64;
-  while (nc < need) nc *= 2;
-  void *np = realloc(*p, nc * size);
-  if (!np) return false;
-  *p = np;
-  *cap = nc;
-  return true;
-}
 
 static void casts_free(struct casts *cs)
 {
@@ -213,8 +203,8 @@ static bool cast_face(const struct mface *mf, const struct scene *s, const ld bo
           for (int v = 0; cost && v < n; v++) { cost_mw_mul(cost, 32, 32); cost_mw_mul(cost, 32, 32); }
         }
         if (n < 3) continue;
-        if (!grow((void **)&cs->y, &cs->capy, cs->ny + (size_t)n, sizeof *cs->y) ||
-            !grow((void **)&cs->yd, &cs->capyd, cs->ny + (size_t)n, sizeof *cs->yd))
+        if (!t74_grow((void **)&cs->y, &cs->capy, cs->ny + (size_t)n, sizeof *cs->y) ||
+            !t74_grow((void **)&cs->yd, &cs->capyd, cs->ny + (size_t)n, sizeof *cs->yd))
           return false;
         size_t m = cs->ny;
         for (int v = 0; v < n; v++) {
@@ -226,12 +216,12 @@ static bool cast_face(const struct mface *mf, const struct scene *s, const ld bo
           m++;
         }
         if (m - cs->ny < 3) continue;     /* fewer than 3 points on the grid, whatever the view */
-        if (!grow((void **)&cs->yend, &cs->capring, (size_t)cs->nring + 1, sizeof *cs->yend)) return false;
+        if (!t74_grow((void **)&cs->yend, &cs->capring, (size_t)cs->nring + 1, sizeof *cs->yend)) return false;
         cs->ny = m;
         cs->yend[cs->nring++] = m;
       }
       if (cs->nring == r0) continue;
-      if (!grow((void **)&cs->c, &cs->cap, (size_t)cs->n + 1, sizeof *cs->c)) return false;
+      if (!t74_grow((void **)&cs->c, &cs->cap, (size_t)cs->n + 1, sizeof *cs->c)) return false;
       cs->c[cs->n++] = (struct cast){ k, r0, cs->nring };
     }
   }
@@ -636,7 +626,7 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shad
     const int r0 = cs->c[c0].r0, r1 = cs->c[c1 - 1].r1;
     gy0 = r0 ? cs->yend[r0 - 1] : 0;
     const size_t gy1 = cs->yend[r1 - 1];
-    if (!grow((void **)&wk->g, &wk->gcap, gy1 - gy0 + 1, sizeof *wk->g)) return false;
+    if (!t74_grow((void **)&wk->g, &wk->gcap, gy1 - gy0 + 1, sizeof *wk->g)) return false;
     grid_all(cs, gy0, gy1, eye, &sd, wk->g);
   }
 #endif

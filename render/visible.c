@@ -34,6 +34,7 @@
 ** alive piece owns it under the tie rule of geom.h.
 */
 #include "render/visible.h"
+#include "emu/grow.h"
 
 #include <assert.h>
 #include <stdint.h>
@@ -51,18 +52,6 @@ static inline int x_cmp(struct grat p, struct grat q)
 {
   wide l = p.num * (wide)(uint64_t)q.den, r = q.num * (wide)(uint64_t)p.den;
   return (l > r) - (l < r);
-}
-
-static int grow(void **p, int *cap, int need, size_t size)
-{
-  if (need <= *cap) return 1;
-  int c = *cap ? *cap : 64;
-  while (c < need) c *= 2;
-  void *n = realloc(*p, (size_t)c * size);
-  if (!n) return 0;
-  *p = n;
-  *cap = c;
-  return 1;
 }
 
 static int cmp_hy_frac(struct hpoint p, int64_t n, int64_t d)
@@ -237,9 +226,9 @@ static int take_new_pieces(struct vis *v)
   struct seginfo *s = v->seg;
   int room = s->n - v->seen;
   if (room <= 0) return 1;
-  if (!grow((void **)&v->order, &v->ordcap, s->n, sizeof *v->order) ||
-      !grow((void **)&v->tmp, &v->tmpcap, room, sizeof *v->tmp) ||
-      !grow((void **)&v->tmp2, &v->tmp2cap, room, sizeof *v->tmp2))
+  if (!t74_grow((void **)&v->order, &v->ordcap, s->n, sizeof *v->order) ||
+      !t74_grow((void **)&v->tmp, &v->tmpcap, room, sizeof *v->tmp) ||
+      !t74_grow((void **)&v->tmp2, &v->tmp2cap, room, sizeof *v->tmp2))
     return 0;
   int k = 0;
   for (; v->seen < s->n; v->seen++)
@@ -306,7 +295,7 @@ void vis_free(struct vis *v)
    The ends by address: passed by value, the sweep's were copied to the stack in 8-byte
    stores and read back at once in 16-byte loads, which waited for the stores (a
    store-forwarding stall, issue 19). */
-static int put_span(struct vis_span **sp, int *n, int *cap, const struct grat *x0,
+static int put_span(struct vis_span **sp, int *n, size_t *cap, const struct grat *x0,
                     const struct grat *x1, int piece, int face)
 {
   if (*n > 0) {
@@ -316,7 +305,7 @@ static int put_span(struct vis_span **sp, int *n, int *cap, const struct grat *x
       return 1;
     }
   }
-  if (!grow((void **)sp, cap, *n + 1, sizeof **sp)) return 0;
+  if (!t74_grow((void **)sp, cap, *n + 1, sizeof **sp)) return 0;
   struct vis_span *s = &(*sp)[(*n)++];
   s->x0 = *x0;
   s->x1 = *x1;
@@ -348,7 +337,7 @@ static int dblock_take(struct vis *v, uint32_t *addr, struct t74_error *err)
     uint32_t a;
     if (core_alloc(v->seg->core, "D-BLOCK", DBLOCK_WORDS * DBLOCK_CHUNK, &a, err) != T74_OK)
       return err->status;
-    if (!grow((void **)&v->dfree, &v->dfreecap, DBLOCK_CHUNK, sizeof *v->dfree))
+    if (!t74_grow((void **)&v->dfree, &v->dfreecap, DBLOCK_CHUNK, sizeof *v->dfree))
       return t74_fail(err, T74_EIO, "out of host memory");
     for (int k = DBLOCK_CHUNK - 1; k >= 0; k--) v->dfree[v->ndfree++] = a + (uint32_t)k * DBLOCK_WORDS;
   }
@@ -359,7 +348,7 @@ static int dblock_take(struct vis *v, uint32_t *addr, struct t74_error *err)
 static void dblock_give(struct vis *v, uint32_t addr)
 {
   /* the free list never outgrows the rows taken: room was made when they were */
-  if (grow((void **)&v->dfree, &v->dfreecap, v->ndfree + 1, sizeof *v->dfree))
+  if (t74_grow((void **)&v->dfree, &v->dfreecap, v->ndfree + 1, sizeof *v->dfree))
     v->dfree[v->ndfree++] = addr;
 }
 
@@ -670,7 +659,7 @@ static int activate(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err
     if (!s->p[p].alive) continue;
     struct hpoint yhi = piece_yhi_y(&s->p[p]);
     if (cmp_hy_frac(yhi, yn, yd) <= 0) continue;
-    if (!grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
+    if (!t74_grow((void **)&v->act, &v->actcap, v->nact + 1, sizeof *v->act))
       return t74_fail(err, T74_EIO, "out of host memory");
     memset(&v->act[v->nact], 0, sizeof v->act[v->nact]);
     v->act[v->nact].piece = p;
@@ -686,14 +675,14 @@ static int activate(struct vis *v, int64_t yn, int64_t yd, struct t74_error *err
 static int room(struct vis *v, int n)
 {
   n++;
-  return grow((void **)&v->byxl, &v->byxlcap, n, sizeof *v->byxl) &&
-         grow((void **)&v->byxr, &v->byxrcap, n, sizeof *v->byxr) &&
-         grow((void **)&v->set, &v->setcap, n, sizeof *v->set) &&
-         grow((void **)&v->seti, &v->seticap, n, sizeof *v->seti) &&
-         grow((void **)&v->setpos, &v->setposcap, n, sizeof *v->setpos) &&
-         grow((void **)&v->tmp, &v->tmpcap, n, sizeof *v->tmp) &&
-         grow((void **)&v->tmp2, &v->tmp2cap, n, sizeof *v->tmp2) &&
-         grow((void **)&v->tmp3, &v->tmp3cap, n, sizeof *v->tmp3);
+  return t74_grow((void **)&v->byxl, &v->byxlcap, n, sizeof *v->byxl) &&
+         t74_grow((void **)&v->byxr, &v->byxrcap, n, sizeof *v->byxr) &&
+         t74_grow((void **)&v->set, &v->setcap, n, sizeof *v->set) &&
+         t74_grow((void **)&v->seti, &v->seticap, n, sizeof *v->seti) &&
+         t74_grow((void **)&v->setpos, &v->setposcap, n, sizeof *v->setpos) &&
+         t74_grow((void **)&v->tmp, &v->tmpcap, n, sizeof *v->tmp) &&
+         t74_grow((void **)&v->tmp2, &v->tmp2cap, n, sizeof *v->tmp2) &&
+         t74_grow((void **)&v->tmp3, &v->tmp3cap, n, sizeof *v->tmp3);
 }
 
 /* Items on the line at the head of byxl (the pieces the line meets come first). */
@@ -991,7 +980,7 @@ static int rename_spans(struct vis *v, struct t74_error *err)
     }
   }
   struct vis_span *t = v->span; v->span = v->span2; v->span2 = t;
-  int cp = v->spancap; v->spancap = v->span2cap; v->span2cap = cp;
+  size_t cp = v->spancap; v->spancap = v->span2cap; v->span2cap = cp;
   v->nspan = v->nspan2;
   return T74_OK;
 }
@@ -1002,7 +991,7 @@ static int line_end(struct vis *v, struct t74_error *err)
 {
   const struct seginfo *s = v->seg;
   if (s->n > v->born && rename_spans(v, err) != T74_OK) return err->status;
-  if (!grow((void **)&v->act2, &v->act2cap, v->nbyxl + 1, sizeof *v->act2))
+  if (!t74_grow((void **)&v->act2, &v->act2cap, v->nbyxl + 1, sizeof *v->act2))
     return t74_fail(err, T74_EIO, "out of host memory");
   for (int a = 0; a < v->nact; a++) {
     v->tmp[a] = -1;
@@ -1014,7 +1003,7 @@ static int line_end(struct vis *v, struct t74_error *err)
   }
   for (int i = 0; i < v->nbyxr; i++) v->byxr[i] = v->tmp[v->byxr[i]];
   struct vis_item *t = v->act; v->act = v->act2; v->act2 = t;
-  int c = v->actcap; v->actcap = v->act2cap; v->act2cap = c;
+  size_t c = v->actcap; v->actcap = v->act2cap; v->act2cap = c;
   v->nact = v->nbyxl;
   return T74_OK;
 }

@@ -9,6 +9,7 @@
 #ifndef T74_VISIBLE_H
 #define T74_VISIBLE_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include "emu/cost.h"
 #include "emu/status.h"
@@ -55,27 +56,30 @@ struct vis {
   struct seginfo *seg;
   struct prio    *prio;
   struct cost    *cost;
-  int   *order, norder, next, ordcap;   /* pieces by lowest y; order[next..] not yet met */
-  struct vis_item *act; int nact, actcap;   /* active pieces; between lines in order of xl,
+  int   *order, norder, next;           /* pieces by lowest y; order[next..] not yet met */
+  struct vis_item *act; int nact;   /* active pieces; between lines in order of xl,
                                                pieces the line meets first */
-  int   *byxl, nbyxl, byxlcap;           /* during a line: act indices in order of xl, pieces
+  int   *byxl, nbyxl;                    /* during a line: act indices in order of xl, pieces
                                             the line meets first (the dead left out) */
-  int   *byxr, nbyxr, byxrcap;           /* act indices of the pieces the line meets, in
+  int   *byxr, nbyxr;                    /* act indices of the pieces the line meets, in
                                             order of xr; kept from line to line */
-  int   *set, nset, setcap;              /* pieces covering the current stretch */
-  int   *seti, seticap;                  /* their items (act indices), in step with set */
-  int   *setpos, setposcap;              /* per act index: its place in set while it is
+  int   *set, nset;                      /* pieces covering the current stretch */
+  int   *seti;                           /* their items (act indices), in step with set */
+  int   *setpos;                         /* per act index: its place in set while it is
                                             there (seti[setpos[a]] == a), else any value */
-  struct vis_span *span; int nspan, spancap;
-  int   *tmp, tmpcap, *tmp2, tmp2cap, *tmp3, tmp3cap;   /* scratch for sorts and merges */
-  struct vis_item *act2; int act2cap;    /* scratch: act put in x order at a line's end */
-  struct vis_span *span2; int nspan2, span2cap;   /* scratch: spans given to cut halves */
+  struct vis_span *span; int nspan;
+  int   *tmp, *tmp2, *tmp3;              /* scratch for sorts and merges */
+  struct vis_item *act2;                 /* scratch: act put in x order at a line's end */
+  struct vis_span *span2; int nspan2;    /* scratch: spans given to cut halves */
   int   born;                            /* seg->n when the current line's sweep began */
   uint64_t resumes;                      /* splits met in a sweep, which went on from there */
   int   seen;                            /* pieces in seg already placed in order */
   int64_t yn, yd;                        /* the last line asked for */
   uint64_t lines;                        /* lines scanned */
-  uint32_t *dfree; int ndfree, dfreecap; /* free D-block rows in core */
+  uint32_t *dfree; int ndfree;           /* free D-block rows in core */
+  /* the arrays' room in elements (t74_grow: emu/grow.h) */
+  size_t ordcap, actcap, byxlcap, byxrcap, setcap, seticap, setposcap, spancap, tmpcap,
+         tmp2cap, tmp3cap, act2cap, span2cap, dfreecap;
   /* optional: called before each line y = yn/yd is worked, to add the pieces of the faces
      the line has reached (render.c: the Segment Generator driven by the scan) */
   int (*feed)(void *ctx, int64_t yn, int64_t yd, struct t74_error *err);

@@ -22,6 +22,7 @@
 #include <string.h>
 
 #include "emu/core.h"
+#include "emu/grow.h"
 #include "emu/cost.h"
 #include "emu/param.h"
 #include "emu/hitac10.h"
@@ -1038,10 +1039,40 @@ static void test_reserve_as_alloc(void **state)
   core_free(c[1]);
 }
 
+/* t74_grow: room from 64, doubled until it holds what is asked, the contents kept; a
+   size whose bytes overflow a size_t refused with the array as it was. */
+static void test_grow(void **state)
+{
+  (void)state;
+  int *a = NULL;
+  size_t cap = 0;
+  assert_true(t74_grow((void **)&a, &cap, 0, sizeof *a));     /* nothing asked: nothing made */
+  assert_null(a);
+  assert_int_equal(cap, 0);
+  assert_true(t74_grow((void **)&a, &cap, 1, sizeof *a));
+  assert_int_equal(cap, 64);
+  for (int k = 0; k < 64; k++) a[k] = 3 * k + 1;
+  int *before = a;
+  assert_true(t74_grow((void **)&a, &cap, 64, sizeof *a));    /* held already: untouched */
+  assert_ptr_equal(a, before);
+  assert_int_equal(cap, 64);
+  assert_true(t74_grow((void **)&a, &cap, 300, sizeof *a));
+  assert_int_equal(cap, 512);                                /* 64 doubled to hold 300 */
+  for (int k = 0; k < 64; k++) assert_int_equal(a[k], 3 * k + 1);
+  a[299] = 7;                                                /* (ASan: the room is there) */
+  int *kept = a;
+  assert_false(t74_grow((void **)&a, &cap, SIZE_MAX / 2, sizeof *a));
+  assert_ptr_equal(a, kept);
+  assert_int_equal(cap, 512);
+  assert_int_equal(a[299], 7);
+  free(a);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_param_table),
+    cmocka_unit_test(test_grow),
     cmocka_unit_test(test_new_bounds),
     cmocka_unit_test(test_alloc_release_stack),
     cmocka_unit_test(test_fill_exactly),
