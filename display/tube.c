@@ -916,7 +916,18 @@ int tube_write_cells_keyed(struct tube *t, int x0, int y0, const struct tube_key
     }
     if (!seen) return T74_OK;              /* no dot: nothing to store */
     for (; n % 3; n++) acc[n] = 0;
-    put_rows3(t->lit, base0, acc, count);
+    /* only the groups (GROUP3 cells, 63 dots a row) from the first with a dot to the last
+       with one (seen: there is one) put into lit[]: the dots of the groups before and
+       after them are unlit before and after the write, 0 in lit[] already (storing them
+       was half of the t1 scenes' groups). put_rows3 then starts at the first such group's
+       dot, reading the word that holds it as it reads the row's first (the dots below it
+       kept), and stops at the last group's end; the run's word is the whole row's, as
+       settle finds its cells' dots in lit[]. */
+    int g0 = 0, g1 = n / 3;
+    while (!(acc[3 * g0] | acc[3 * g0 + 1] | acc[3 * g0 + 2])) g0++;
+    while (!(acc[3 * g1 - 3] | acc[3 * g1 - 2] | acc[3 * g1 - 1])) g1--;
+    const int c1 = GROUP3 * g1 < count ? GROUP3 * g1 : count;
+    put_rows3(t->lit, base0 + 3 * GROUP3 * (uint32_t)g0, acc + 3 * g0, c1 - GROUP3 * g0);
     t->order[t->done + t->nlog++] = run_word(base0, 3, count);
     return T74_OK;
   }

@@ -13,6 +13,7 @@
 */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -507,6 +508,83 @@ static void test_rows_keyed_blank(void **state)
   }
 }
 
+/* The 3x3 rows over unlit rows store only the groups of 21 cells (63 dots a row) from the
+   first with a dot to the last with one: the groups before and after hold unlit dots, 0
+   in lit[] already. Here rows of 1 to 133 cells by keys over unlit rows (bottom row
+   first, 3 rows apart, from any column or ending at the right edge) whose cells have no
+   dot (keys of no dot) but in some groups: one cell with a dot at the first or last place
+   of a group, whole groups of dots, two groups with blank groups between, the row's last
+   group (cut short by the count) alone, no group; dots lit just left of the row in its
+   bottom row; each row also a cell at a time (tube_write_dots, a) and by masks
+   (tube_write_cells, c). A group with a dot left out, or the groups stored from the wrong
+   place, loses dots or lights others: the count, the packed rows and the order differ. */
+static void test_rows_keyed_groups(void **state)
+{
+  (void)state;
+  uint32_t x = 5077;
+  uint16_t mask_of[256];
+  for (int k = 0; k < 256; k++)
+    mask_of[k] = (uint16_t)(k % 4 == 0 ? 0 : 1 + next_rand(&x) % 511u);
+  struct tube_keys tk;
+  tube_keys_init(&tk, 3, mask_of);
+  long rows = 0, dots = 0;
+  for (int pass = 0; pass < 24; pass++) {
+    struct tube *a = tube_new(), *b = tube_new(), *c = tube_new();
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_non_null(c);
+    for (int y0 = 2 + pass % 3; y0 < 300; y0 += 3) {
+      const int n = pass % 4 == 0 ? 133 : 1 + (int)(next_rand(&x) % 133u);
+      const int x0 = pass % 2 ? 400 - 3 * n : (int)(next_rand(&x) % (uint32_t)(401 - 3 * n));
+      if (next_rand(&x) % 2u && x0 > 0) {   /* a dot lit just left of the row, bottom row */
+        assert_int_equal(tube_write(a, x0 - 1, y0 - 2), T74_OK);
+        assert_int_equal(tube_write(b, x0 - 1, y0 - 2), T74_OK);
+        assert_int_equal(tube_write(c, x0 - 1, y0 - 2), T74_OK);
+      }
+      const int ng = (n + 20) / 21;
+      const uint32_t how = next_rand(&x) % 6u;
+      const int g = (int)(next_rand(&x) % (uint32_t)ng), h = (int)(next_rand(&x) % (uint32_t)ng);
+      uint8_t keys[133];
+      uint16_t masks[133];
+      for (int k = 0; k < n; k++) {
+        const int gk = k / 21, at = k % 21, last = k == n - 1 || at == 20;
+        const bool dot =
+          how == 0 ? gk == g && at == 0                 /* a group's first cell */
+          : how == 1 ? gk == g && last                  /* its last */
+          : how == 2 ? gk == g                          /* a whole group */
+          : how == 3 ? (gk == g || gk == h) && next_rand(&x) % 3u == 0   /* two groups */
+          : how == 4 ? gk == ng - 1 && last             /* the row's last cell */
+          : false;                                      /* no dot */
+        keys[k] = (uint8_t)(dot ? 1u + 4u * (next_rand(&x) % 63u) + next_rand(&x) % 3u
+                                : 4u * (next_rand(&x) % 64u));
+        masks[k] = mask_of[keys[k]];
+        assert_int_equal(tube_write_dots(a, x0 + 3 * k, y0, 3, masks[k]), T74_OK);
+      }
+      assert_int_equal(tube_write_cells_keyed(b, x0, y0, &tk, keys, n), T74_OK);
+      assert_int_equal(tube_write_cells(c, x0, y0, 3, masks, n), T74_OK);
+      assert_int_equal(tube_count(b), tube_count(a));
+      assert_int_equal(tube_count(c), tube_count(a));
+      rows++;
+    }
+    for (int y = 0; y < 300; y++) {
+      uint8_t ra[TUBE_ROW_BYTES], rb[TUBE_ROW_BYTES], rc[TUBE_ROW_BYTES];
+      tube_row_packed(a, y, ra);
+      tube_row_packed(b, y, rb);
+      tube_row_packed(c, y, rc);
+      assert_memory_equal(rb, ra, TUBE_ROW_BYTES);
+      assert_memory_equal(rc, ra, TUBE_ROW_BYTES);
+    }
+    orders_same(a, b);
+    orders_same(a, c);
+    dots += tube_count(a);
+    tube_free(a);
+    tube_free(b);
+    tube_free(c);
+  }
+  print_message("rows keyed by groups: %ld rows, %ld dots\n", rows, dots);
+  assert_true(dots > 1000);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -519,6 +597,7 @@ int main(void)
     cmocka_unit_test(test_rows_keyed4),
     cmocka_unit_test(test_rows_keyed_words),
     cmocka_unit_test(test_rows_keyed_blank),
+    cmocka_unit_test(test_rows_keyed_groups),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
