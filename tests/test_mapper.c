@@ -696,6 +696,96 @@ static void test_kept_greys(void **state)
   }
 }
 
+/* Faces of three corners (mapper_run_kept takes such a ring without its ring loop when
+   its three grid points are apart and not on one line): random triangles each in a cell
+   of its own (no T-junctions), some near, some so far from the eye that rounding puts two
+   corners on one grid point or all three on one line (a few grid units across, or less
+   than one). Every run, counted or not, the
+   first and a replay, maps exactly the triangles whose three grid points (mapper_point)
+   are apart and turn, in the scene's order, each ring the three corners in the scene's
+   order where they turn left on the grid and end for end where they turn right, with
+   their ids and scene vertices. */
+static void test_triangle_rings(void **state)
+{
+  (void)state;
+  struct text x = { NULL, 0, 0 };
+  put(&x, "view 0 0 -10\nwindow -200 -150 200 150\n");
+  rnd_state = 3838;
+  int v = 0;
+  const int nt = 400;
+  for (int q = 0; q < nt; q++) {
+    const int far = q % 3;                      /* near, a few grid units, under one */
+    const int cx = -190 + (q % 20) * 19, cy = -140 + (q / 20) * 14, r = far == 2 ? 4 : 6;
+    const int z = far == 2 ? rnd(25000, 32000) : far ? rnd(1500, 4000) : rnd(10, 300);
+    int P[3][3];
+    long long n[3] = { 0, 0, 0 };
+    while (!(n[0] | n[1] | n[2])) {             /* three corners not on one line in space */
+      for (int k = 0; k < 3; k++) {
+        P[k][0] = cx + rnd(-r, r);
+        P[k][1] = cy + rnd(-r, r);
+        P[k][2] = z + rnd(-r, r);
+      }
+      const long long u[3] = { P[1][0] - P[0][0], P[1][1] - P[0][1], P[1][2] - P[0][2] },
+                      t[3] = { P[2][0] - P[0][0], P[2][1] - P[0][1], P[2][2] - P[0][2] };
+      n[0] = u[1] * t[2] - u[2] * t[1];
+      n[1] = u[2] * t[0] - u[0] * t[2];
+      n[2] = u[0] * t[1] - u[1] * t[0];
+    }
+    for (int k = 0; k < 3; k++) put(&x, "vertex %d %d %d %d\n", ++v, P[k][0], P[k][1], P[k][2]);
+    put(&x, "face %d %d %d %d grey 120\n", q + 1, v - 2, v - 1, v);
+  }
+  struct scene *s = load_text_taken(x.t);
+  int kept = 0, apart = 0, turned = 0;          /* (how many of each kind the scene has) */
+  for (int counted = 0; counted < 2; counted++) {
+    struct run r;
+    map_run(s, false, counted, &r);
+    for (int again = 0; again < 2; again++) {
+      int f = 0;
+      for (int q = 0; q < s->nf; q++) {
+        const int *w = s->f[q].vidx;
+        const struct gpoint a = mapper_point(s, w[0]), b = mapper_point(s, w[1]),
+                            c = mapper_point(s, w[2]);
+        const bool same = (a.x == b.x && a.y == b.y) || (b.x == c.x && b.y == c.y) ||
+                          (c.x == a.x && c.y == a.y);
+        const wide turn = (wide)(b.x - a.x) * (c.y - a.y) - (wide)(b.y - a.y) * (c.x - a.x);
+        if (!counted && !again) {
+          apart += !same && turn == 0;
+          turned += !same && turn < 0;
+        }
+        if (same || turn == 0) {                /* dropped */
+          assert_true(f == r.m.nface || r.m.f[f].sface != q);
+          continue;
+        }
+        assert_true(f < r.m.nface);
+        const struct mface *m = &r.m.f[f++];
+        assert_int_equal(m->sface, q);
+        assert_int_equal(m->nring, 1);
+        assert_int_equal(m->ring_start[0], 0);
+        assert_int_equal(m->ring_start[1], 3);
+        const int o[3] = { turn > 0 ? 0 : 2, 1, turn > 0 ? 2 : 0 };
+        for (int k = 0; k < 3; k++) {
+          const struct gpoint p = mapper_point(s, w[o[k]]);
+          assert_int_equal(m->vix[k], w[o[k]]);
+          assert_int_equal(m->vid[k], s->v[w[o[k]]].id);
+          assert_true(m->pt[k].x == p.x && m->pt[k].y == p.y);
+        }
+      }
+      assert_int_equal(f, r.m.nface);
+      kept = f;
+      /* a replay from the keep */
+      struct t74_error err = { 0, "" };
+      mapper_keep_faces(&r.m, &r.k);
+      mapper_free(&r.m);
+      assert_int_equal(mapper_run_kept(s, &r.m, r.core, counted ? &r.c : NULL, &r.k, &err),
+                       T74_OK);
+    }
+    run_free(&r);
+  }
+  assert_true(kept > nt / 4 && kept < nt);      /* some dropped, many kept */
+  assert_true(apart > 0 && turned > 0);         /* on a line though apart; turned right */
+  scene_free(s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -710,6 +800,7 @@ int main(void)
     cmocka_unit_test(test_steep_edge_all_found),
     cmocka_unit_test(test_rings_turned_ccw),
     cmocka_unit_test(test_kept_greys),
+    cmocka_unit_test(test_triangle_rings),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
