@@ -178,6 +178,74 @@ static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t *vix, int n)
   }
 }
 
+/* A face's one ring of three scene vertices r[0 .. 3) (a triangle, the common face) into
+   pt, vid, vix as mapper_run_kept's ring loop puts it, without the loop's steps, where its
+   three grid points are apart and not on one line, i.e. where the cross product below is
+   not 0 (two points at one make it 0): the loop then keeps all three in order, its twice
+   area is this cross product (ring_area2's for three points, in 64 bits), and it is swapped
+   end for end (swap3) where that is negative; the loop's charges with a cost. False
+   (nothing charged): the loop's to do (it drops a point or the face). */
+static inline bool ring_three(const struct scene *s, const struct gpoint *proj, const int *r,
+                              struct gpoint *pt, uint32_t *vid, int32_t *vix, struct cost *cost)
+{
+  const int v0 = r[0], v1 = r[1], v2 = r[2];
+  const struct gpoint p0 = proj[v0], p1 = proj[v1], p2 = proj[v2];
+  const int64_t area = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
+  if (area == 0) return false;                  /* (so too where two are one point) */
+  const bool rev = area < 0;
+  const int w0 = rev ? v2 : v0, w2 = rev ? v0 : v2;
+  pt[0] = rev ? p2 : p0;
+  pt[1] = p1;
+  pt[2] = rev ? p0 : p2;
+  vid[0] = s->v[w0].id;
+  vid[1] = s->v[v1].id;
+  vid[2] = s->v[w2].id;
+  vix[0] = w0;
+  vix[1] = v1;
+  vix[2] = w2;
+  if (cost) {
+    COST_ADD_N(cost, COST_MEM, 2 * 3);
+    cost_mw_mul(cost, 29, 29);
+  }
+  return true;
+}
+
+/* ring_three for a ring of four scene vertices r[0 .. 4) (a quadrilateral): where no two
+   consecutive grid points (the last and the first too) are one point, the loop keeps all
+   four in order (two points apart in the ring may be one: the loop drops only a point
+   equal to the one before it), its twice area is ring_area2's for four points (the
+   diagonals' cross product), and it is reversed (ring_reverse) where that is negative;
+   where the area is 0 the loop drops the face. False (nothing charged): the loop's. */
+static inline bool ring_four(const struct scene *s, const struct gpoint *proj, const int *r,
+                             struct gpoint *pt, uint32_t *vid, int32_t *vix, struct cost *cost)
+{
+  const struct gpoint p0 = proj[r[0]], p1 = proj[r[1]], p2 = proj[r[2]], p3 = proj[r[3]];
+  const int64_t area = (p2.x - p0.x) * (p3.y - p1.y) - (p2.y - p0.y) * (p3.x - p1.x);
+  const bool same = (p0.x == p1.x && p0.y == p1.y) || (p1.x == p2.x && p1.y == p2.y) ||
+                    (p2.x == p3.x && p2.y == p3.y) || (p3.x == p0.x && p3.y == p0.y);
+  if (same || area == 0) return false;
+  const bool rev = area < 0;
+  const int w0 = rev ? r[3] : r[0], w1 = rev ? r[2] : r[1], w2 = rev ? r[1] : r[2],
+            w3 = rev ? r[0] : r[3];
+  pt[0] = rev ? p3 : p0;
+  pt[1] = rev ? p2 : p1;
+  pt[2] = rev ? p1 : p2;
+  pt[3] = rev ? p0 : p3;
+  vid[0] = s->v[w0].id;
+  vid[1] = s->v[w1].id;
+  vid[2] = s->v[w2].id;
+  vid[3] = s->v[w3].id;
+  vix[0] = w0;
+  vix[1] = w1;
+  vix[2] = w2;
+  vix[3] = w3;
+  if (cost) {
+    COST_ADD_N(cost, COST_MEM, 2 * 4);
+    cost_mw_mul(cost, 29, 29);
+  }
+  return true;
+}
+
 /* A face's ring_start, pt, vid, vix: in the pool (mapper_run), or four allocations (the
    triangles of a split face). */
 static void mface_arrays_free(struct mface *m)
@@ -974,39 +1042,47 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
        rings that rounding collapsed; orient outer CCW, holes CW */
     int nr = 0, np = 0;
     bool keep = true;
-    for (int r = 0; r < sf->nring && keep; r++) {
-      int start = np;
-      for (int k = rs[r]; k < rs[r + 1]; k++) {
-        struct gpoint p = proj[rv[k]];
-        if (np > start && p.x == m->pt[np - 1].x && p.y == m->pt[np - 1].y) continue;
-        const struct scene_vertex *sv = &s->v[rv[k]];
-        m->pt[np] = p;
-        m->vid[np] = sv->id;
-        m->vix[np] = rv[k];
-        np++;
+    if (sf->nring == 1 &&
+        (nv == 3 ? ring_three(s, proj, rv + rs[0], m->pt, m->vid, m->vix, cost)
+                 : nv == 4 && ring_four(s, proj, rv + rs[0], m->pt, m->vid, m->vix, cost))) {
+      m->ring_start[0] = 0;
+      nr = 1;
+      np = nv;
+    } else {                                    /* any other: point by point */
+      for (int r = 0; r < sf->nring && keep; r++) {
+        int start = np;
+        for (int k = rs[r]; k < rs[r + 1]; k++) {
+          struct gpoint p = proj[rv[k]];
+          if (np > start && p.x == m->pt[np - 1].x && p.y == m->pt[np - 1].y) continue;
+          const struct scene_vertex *sv = &s->v[rv[k]];
+          m->pt[np] = p;
+          m->vid[np] = sv->id;
+          m->vix[np] = rv[k];
+          np++;
+        }
+        while (np - start > 1 && m->pt[np - 1].x == m->pt[start].x &&
+               m->pt[np - 1].y == m->pt[start].y)
+          np--;
+        wide area = np - start >= 3 ? ring_area2(m->pt + start, np - start) : 0;
+        if (cost) {
+          COST_ADD_N(cost, COST_MEM, 2 * (np - start));
+          cost_mw_mul(cost, 29, 29);
+        }
+        if (area == 0) {                    /* covers no point of the plane */
+          np = start;
+          if (r == 0) keep = false;
+          continue;
+        }
+        const bool rev = (r == 0) != (area > 0);
+        if (np - start == 3) {              /* a triangle: its first and last swapped where it
+                                               turns the wrong way, by selects (which way a
+                                               crossing triangle turns is anyone's guess) */
+          swap3(m->pt + start, m->vid + start, m->vix + start, rev);
+        } else if (rev) {
+          ring_reverse(m->pt + start, m->vid + start, m->vix + start, np - start);
+        }
+        m->ring_start[nr++] = start;
       }
-      while (np - start > 1 && m->pt[np - 1].x == m->pt[start].x &&
-             m->pt[np - 1].y == m->pt[start].y)
-        np--;
-      wide area = np - start >= 3 ? ring_area2(m->pt + start, np - start) : 0;
-      if (cost) {
-        COST_ADD_N(cost, COST_MEM, 2 * (np - start));
-        cost_mw_mul(cost, 29, 29);
-      }
-      if (area == 0) {                    /* covers no point of the plane */
-        np = start;
-        if (r == 0) keep = false;
-        continue;
-      }
-      const bool rev = (r == 0) != (area > 0);
-      if (np - start == 3) {              /* a triangle: its first and last swapped where it
-                                             turns the wrong way, by selects (which way a
-                                             crossing triangle turns is anyone's guess) */
-        swap3(m->pt + start, m->vid + start, m->vix + start, rev);
-      } else if (rev) {
-        ring_reverse(m->pt + start, m->vid + start, m->vix + start, np - start);
-      }
-      m->ring_start[nr++] = start;
     }
     if (!keep) {
       mface_arrays_free(m);

@@ -696,6 +696,122 @@ static void test_kept_greys(void **state)
   }
 }
 
+/* Faces of three and four corners (mapper_run_kept takes such a ring without its ring
+   loop, ring_three and ring_four, when no two consecutive grid points are one and the
+   ring's area is not 0): random triangles and convex quadrilaterals (flat in z), each in a
+   cell of its own (no T-junctions), some near, some so far from the eye that rounding puts
+   corners on one grid point or on one line (a few grid units across, or less than one).
+   Every run, counted or not, the first and a replay, maps exactly the faces whose
+   consecutive grid points (mapper_point) are apart and whose area is not 0, in the
+   scene's order, each ring its corners in the scene's order where it turns left on the
+   grid and reversed where it turns right, with their ids and scene vertices; a face with
+   two consecutive corners on one point is the loop's, which keeps fewer points (or none). */
+static void test_small_rings(void **state)
+{
+  (void)state;
+  struct text x = { NULL, 0, 0 };
+  put(&x, "view 0 0 -10\nwindow -200 -150 200 150\n");
+  rnd_state = 3838;
+  int v = 0;
+  const int nt = 600;
+  for (int q = 0; q < nt; q++) {
+    const int n = 3 + q % 2, far = q / 2 % 3;   /* near, a few grid units, under one */
+    const int cx = -190 + (q % 25) * 15, cy = -140 + (q / 25) * 11, r = far == 2 ? 4 : 5;
+    const int z = far == 2 ? rnd(25000, 32000) : far ? rnd(1500, 4000) : rnd(10, 300);
+    int P[4][3];
+    if (n == 4) {                               /* convex, in the plane of z */
+      static const int sx[4] = { -1, 1, 1, -1 }, sy[4] = { -1, -1, 1, 1 };
+      const bool cw = rnd(0, 1);
+      for (int k = 0; k < 4; k++) {
+        const int kk = cw ? 3 - k : k;
+        P[k][0] = cx + sx[kk] * r + rnd(-1, 1);
+        P[k][1] = cy + sy[kk] * r + rnd(-1, 1);
+        P[k][2] = z;
+      }
+    } else {
+      long long c[3] = { 0, 0, 0 };
+      while (!(c[0] | c[1] | c[2])) {           /* three corners not on one line in space */
+        for (int k = 0; k < 3; k++) {
+          P[k][0] = cx + rnd(-r, r);
+          P[k][1] = cy + rnd(-r, r);
+          P[k][2] = z + rnd(-r, r);
+        }
+        const long long u[3] = { P[1][0] - P[0][0], P[1][1] - P[0][1], P[1][2] - P[0][2] },
+                        t[3] = { P[2][0] - P[0][0], P[2][1] - P[0][1], P[2][2] - P[0][2] };
+        c[0] = u[1] * t[2] - u[2] * t[1];
+        c[1] = u[2] * t[0] - u[0] * t[2];
+        c[2] = u[0] * t[1] - u[1] * t[0];
+      }
+    }
+    for (int k = 0; k < n; k++) put(&x, "vertex %d %d %d %d\n", ++v, P[k][0], P[k][1], P[k][2]);
+    put(&x, "face %d", q + 1);
+    for (int k = n - 1; k >= 0; k--) put(&x, " %d", v - k);
+    put(&x, " grey 120\n");
+  }
+  struct scene *s = load_text_taken(x.t);
+  int kept[5] = { 0 }, flat[5] = { 0 }, turned[5] = { 0 };   /* by corners, of the scene */
+  for (int counted = 0; counted < 2; counted++) {
+    struct run r;
+    map_run(s, false, counted, &r);
+    for (int again = 0; again < 2; again++) {
+      int f = 0;
+      for (int q = 0; q < s->nf; q++) {
+        const int *w = s->f[q].vidx, n = s->f[q].ring_start[1];
+        struct gpoint p[4];
+        bool apart = true;
+        for (int k = 0; k < n; k++) p[k] = mapper_point(s, w[k]);
+        for (int k = 0; k < n; k++) {
+          const struct gpoint a = p[k], b = p[(k + 1) % n];
+          apart = apart && !(a.x == b.x && a.y == b.y);
+        }
+        if (!apart) {                           /* the loop's: a point dropped, or the face */
+          if (f < r.m.nface && r.m.f[f].sface == q) {
+            assert_true(r.m.f[f].ring_start[1] < n);
+            f++;
+          }
+          continue;
+        }
+        const wide area = n == 3 ? (wide)(p[1].x - p[0].x) * (p[2].y - p[0].y) -
+                                       (wide)(p[1].y - p[0].y) * (p[2].x - p[0].x)
+                                 : (wide)(p[2].x - p[0].x) * (p[3].y - p[1].y) -
+                                       (wide)(p[2].y - p[0].y) * (p[3].x - p[1].x);
+        if (!counted && !again) {
+          kept[n] += area != 0;
+          flat[n] += area == 0;
+          turned[n] += area < 0;
+        }
+        if (area == 0) {                        /* dropped */
+          assert_true(f == r.m.nface || r.m.f[f].sface != q);
+          continue;
+        }
+        assert_true(f < r.m.nface);
+        const struct mface *m = &r.m.f[f++];
+        assert_int_equal(m->sface, q);
+        assert_int_equal(m->nring, 1);
+        assert_int_equal(m->ring_start[0], 0);
+        assert_int_equal(m->ring_start[1], n);
+        for (int k = 0; k < n; k++) {
+          const int o = area > 0 ? k : n - 1 - k;
+          assert_int_equal(m->vix[k], w[o]);
+          assert_int_equal(m->vid[k], s->v[w[o]].id);
+          assert_true(m->pt[k].x == p[o].x && m->pt[k].y == p[o].y);
+        }
+      }
+      assert_int_equal(f, r.m.nface);
+      /* a replay from the keep */
+      struct t74_error err = { 0, "" };
+      mapper_keep_faces(&r.m, &r.k);
+      mapper_free(&r.m);
+      assert_int_equal(mapper_run_kept(s, &r.m, r.core, counted ? &r.c : NULL, &r.k, &err),
+                       T74_OK);
+    }
+    run_free(&r);
+  }
+  for (int n = 3; n <= 4; n++)                  /* every kind there */
+    assert_true(kept[n] > 0 && flat[n] > 0 && turned[n] > 0 && turned[n] < kept[n]);
+  scene_free(s);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -710,6 +826,7 @@ int main(void)
     cmocka_unit_test(test_steep_edge_all_found),
     cmocka_unit_test(test_rings_turned_ccw),
     cmocka_unit_test(test_kept_greys),
+    cmocka_unit_test(test_small_rings),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
