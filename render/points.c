@@ -178,6 +178,7 @@
 
 #include "emu/core.h"
 #include "emu/cost.h"
+#include "emu/grow.h"
 #include "render/geom.h"
 #include "render/segment.h"
 
@@ -395,18 +396,6 @@ static int segment_takes(struct points *p, const struct mface *f, struct t74_err
   }
 }
 
-static bool grow(void **buf, int *cap, int need, size_t size)
-{
-  if (need <= *cap) return true;
-  int c = *cap ? *cap : 64;
-  while (c < need) c *= 2;
-  void *nb = realloc(*buf, (size_t)c * size);
-  if (!nb) return false;
-  *buf = nb;
-  *cap = c;
-  return true;
-}
-
 /* The Mapper, then the faces folded by rounding split as the 1974 engine splits them. */
 static int map_faces(struct points *p, const struct scene *s, struct t74_error *err)
 {
@@ -425,7 +414,8 @@ static int map_faces(struct points *p, const struct scene *s, struct t74_error *
   if (st != T74_OK) return st;
   p->faces_split = 0;
   int n0 = p->map.nface;
-  int *left = NULL, nleft = 0, capleft = 0;
+  int *left = NULL, nleft = 0;
+  size_t capleft = 0;
   for (int k = 0; k < n0; k++) {
     if (plain_convex(&p->map.f[k])) continue;
     int takes = segment_takes(p, &p->map.f[k], err);
@@ -445,14 +435,14 @@ static int map_faces(struct points *p, const struct scene *s, struct t74_error *
     if (st != T74_OK) { free(left); return st; }
     p->faces_split++;
     if (ntri == 0) {
-      if (!grow((void **)&left, &capleft, nleft + 1, sizeof *left)) {
+      if (!t74_grow((void **)&left, &capleft, nleft + 1, sizeof *left)) {
         free(left);
         return t74_fail(err, T74_EIO, "out of host memory");
       }
       left[nleft++] = k;
     }
   }
-  if (!grow((void **)&p->skip, &p->skipcap, p->map.nface + 1, 1)) {
+  if (!t74_grow((void **)&p->skip, &p->skipcap, p->map.nface + 1, 1)) {
     free(left);
     return t74_fail(err, T74_EIO, "out of host memory");
   }
@@ -526,7 +516,7 @@ static int vertex_rows(struct points *p, const struct scene *s, const struct gri
                        struct t74_error *err)
 {
   const int nv = s->nv;
-  if (!grow((void **)&p->vrc, &p->vrccap, 2 * nv + 2, sizeof *p->vrc))
+  if (!t74_grow((void **)&p->vrc, &p->vrccap, 2 * nv + 2, sizeof *p->vrc))
     return t74_fail(err, T74_EIO, "out of host memory");
   const struct gpoint *const proj = p->map.proj;
   int32_t *const vrc = p->vrc;
@@ -611,7 +601,7 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
                       struct t74_error *err)
 {
   int n = f->ring_start[f->nring];
-  if (!grow((void **)&p->edge, &p->edgecap, n, sizeof *p->edge))
+  if (!t74_grow((void **)&p->edge, &p->edgecap, n, sizeof *p->edge))
     return t74_fail(err, T74_EIO, "out of host memory");
   struct points_edge *const edge = p->edge;
   const int32_t *const vrc = p->vrc, *const vix = f->vix;
@@ -1278,7 +1268,7 @@ static int covers_middle(struct points *p, const struct grid *g, int k, const st
   bool monotone;
   int st = face_edges(p, g, &p->map.f[k], jm, jm, &ne, &monotone, err);
   if (st != T74_OK) return st;
-  if (!grow((void **)&p->cross, &p->crosscap, ne + 1, sizeof *p->cross))
+  if (!t74_grow((void **)&p->cross, &p->crosscap, ne + 1, sizeof *p->cross))
     return t74_fail(err, T74_EIO, "out of host memory");
   int32_t *cs = p->cross;
   for (int e = 0; e < ne; e++) {                /* insertion sort */
@@ -1362,7 +1352,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
   int st = face_edges(p, g, f, jlo, jhi, &ne, &two, err);
   if (st != T74_OK) return st;
   int nrow = (int)(jhi - jlo + 1);
-  if (!grow((void **)&p->rowcount, &p->rowcap, nrow + 1, sizeof *p->rowcount))
+  if (!t74_grow((void **)&p->rowcount, &p->rowcap, nrow + 1, sizeof *p->rowcount))
     return t74_fail(err, T74_EIO, "out of host memory");
   int *rc = p->rowcount;
   if (!two) {                                   /* (two: row r at cross[2r] (up), cross[2r + 1]) */
@@ -1371,7 +1361,7 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
       for (int32_t j = p->edge[e].jtop; j <= p->edge[e].jbot; j++) rc[j - jlo + 1]++;
     for (int r = 0; r < nrow; r++) rc[r + 1] += rc[r];
   }
-  if (!grow((void **)&p->cross, &p->crosscap, (two ? 2 * nrow : rc[nrow]) + 1, sizeof *p->cross))
+  if (!t74_grow((void **)&p->cross, &p->crosscap, (two ? 2 * nrow : rc[nrow]) + 1, sizeof *p->cross))
     return t74_fail(err, T74_EIO, "out of host memory");
   /* fill: rc[r] is the next free slot of row r (rc[r] ends as row r+1's start); with two
      a row, the up edges' crossings at even slots, the others' at odd */
@@ -1528,7 +1518,7 @@ static int draw_order(struct points *p, const struct scene *s, int n, struct t74
   if (!(kmax > kmin)) return T74_OK;
   int nb = n < BUCKETS_MAX ? n : BUCKETS_MAX;
   const double scale = (nb - 1) / (kmax - kmin);
-  if (!grow((void **)&p->bucket, &p->bucketcap, nb + 1 + n, sizeof *p->bucket))
+  if (!t74_grow((void **)&p->bucket, &p->bucketcap, nb + 1 + n, sizeof *p->bucket))
     return t74_fail(err, T74_EIO, "out of host memory");
   int *cnt = p->bucket, *out = p->bucket + nb + 1;
   memset(cnt, 0, (size_t)(nb + 1) * sizeof *cnt);
@@ -1614,7 +1604,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     p->W = vg->W;
     p->H = vg->H;
   }
-  if (!grow((void **)&p->plane, &p->planecap, p->map.nface + 1, sizeof *p->plane))
+  if (!t74_grow((void **)&p->plane, &p->planecap, p->map.nface + 1, sizeof *p->plane))
     return t74_fail(err, T74_EIO, "out of host memory");
   struct grid g;
   g.W = vg->W; g.H = vg->H;
@@ -1646,15 +1636,15 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   p->tiles_skipped = 0;
   p->points_visited = 0;
   int nf = p->map.nface;
-  if (!grow((void **)&p->m3, &p->m3cap, nf + 1, sizeof *p->m3))
+  if (!t74_grow((void **)&p->m3, &p->m3cap, nf + 1, sizeof *p->m3))
     return t74_fail(err, T74_EIO, "out of host memory");
   p->m3[0] = 0;                                   /* (no face: hi -inf, "One bound") */
-  if (!grow((void **)&p->box, &p->boxcap, nf + 1, sizeof *p->box) ||
-      !grow((void **)&p->order, &p->ordercap, nf + 1, sizeof *p->order) ||
-      !grow((void **)&p->key, &p->keycap, nf + 1, sizeof *p->key))
+  if (!t74_grow((void **)&p->box, &p->boxcap, nf + 1, sizeof *p->box) ||
+      !t74_grow((void **)&p->order, &p->ordercap, nf + 1, sizeof *p->order) ||
+      !t74_grow((void **)&p->key, &p->keycap, nf + 1, sizeof *p->key))
     return t74_fail(err, T74_EIO, "out of host memory");
   const int ntx = (g.W + TILE - 1) >> TILE_SHIFT, nty = (g.H + TILE - 1) >> TILE_SHIFT;
-  if (!grow((void **)&p->tile, &p->tilecap, ntx * nty + 1, sizeof *p->tile))
+  if (!t74_grow((void **)&p->tile, &p->tilecap, ntx * nty + 1, sizeof *p->tile))
     return t74_fail(err, T74_EIO, "out of host memory");
   for (int ty = 0; ty < nty; ty++)
     for (int tx = 0; tx < ntx; tx++) {
@@ -1697,7 +1687,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
      than the clearing it saves where faces are small, as on the sphere and boxes1000) */
   g.lazy = !tiles && area >= LAZY_BOX * (long)nb;
   if (g.lazy) {
-    if (!grow((void **)&p->ready, &p->readycap, 2 * g.H + 1, sizeof *p->ready))
+    if (!t74_grow((void **)&p->ready, &p->readycap, 2 * g.H + 1, sizeof *p->ready))
       return t74_fail(err, T74_EIO, "out of host memory");
     memset(p->ready, 0, (size_t)(2 * g.H) * sizeof *p->ready);
   } else {

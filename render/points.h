@@ -32,6 +32,7 @@
 #define T74_POINTS_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include "emu/status.h"
 #include "render/mapper.h"
@@ -73,21 +74,21 @@ struct points {
   struct points_z *z;               /* W x H: bounds on the depth of the face seen where
                                        tiles are kept (points.c) */
   double *zhi;                      /* W x H: the upper bound alone where none are */
-  double *m3; int m3cap;            /* each face's margin (points.c, "One bound") */
-  struct points_plane *plane; int planecap;   /* each face's exact depth over the grid */
-  struct points_edge *edge; int edgecap;
-  int32_t *vrc; int vrccap;         /* each scene vertex's row and column numbers this
+  double *m3; size_t m3cap;         /* each face's margin (points.c, "One bound") */
+  struct points_plane *plane; size_t planecap; /* each face's exact depth over the grid */
+  struct points_edge *edge; size_t edgecap;
+  int32_t *vrc; size_t vrccap;      /* each scene vertex's row and column numbers this
                                        frame, clamped (points.c, "Vertices") */
-  int32_t *cross; int crosscap;     /* column thresholds of one face, row by row */
-  int *rowcount; int rowcap;
-  uint8_t *skip; int skipcap;       /* faces left out (folded, no triangle covers a point) */
-  struct points_box *box; int boxcap;         /* the faces kept to draw nearest first: box,
+  int32_t *cross; size_t crosscap;  /* column thresholds of one face, row by row */
+  int *rowcount; size_t rowcap;
+  uint8_t *skip; size_t skipcap;    /* faces left out (folded, no triangle covers a point) */
+  struct points_box *box; size_t boxcap;      /* the faces kept to draw nearest first: box,
                                                  depth in doubles */
-  int *order; int ordercap;                   /* their drawing order (indices in box) */
-  double *key; int keycap;                    /* and their nearest depths (the order's key) */
-  int *bucket; int bucketcap;
-  struct points_tile *tile; int tilecap;      /* the tiles' depth bounds */
-  int32_t *ready; int readycap;               /* per row, its ready columns this frame where
+  int *order; size_t ordercap;                /* their drawing order (indices in box) */
+  double *key; size_t keycap;                 /* and their nearest depths (the order's key) */
+  int *bucket; size_t bucketcap;
+  struct points_tile *tile; size_t tilecap;   /* the tiles' depth bounds */
+  int32_t *ready; size_t readycap;            /* per row, its ready columns this frame where
                                                  rows are made ready span by span (points.c,
                                                  "Clearing") */
   /* set by the caller: the Mapper's T-junctions (each face's rings) and face blocks kept
