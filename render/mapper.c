@@ -178,6 +178,22 @@ static void ring_reverse(struct gpoint *p, uint32_t *id, int32_t *vix, int n)
   }
 }
 
+/* ring_three's and ring_four's ends: the n kept scene vertices w[0 .. n) in ring order into
+   vid (their ids) and vix (their indices), and with a cost what the ring loop charges for
+   a ring of n points it keeps (2 n words, one product). */
+static inline void ring_ids(const struct scene *s, const int *w, int n, uint32_t *vid,
+                            int32_t *vix, struct cost *cost)
+{
+  for (int k = 0; k < n; k++) {
+    vid[k] = s->v[w[k]].id;
+    vix[k] = w[k];
+  }
+  if (cost) {
+    COST_ADD_N(cost, COST_MEM, 2 * (uint64_t)n);
+    cost_mw_mul(cost, 29, 29);
+  }
+}
+
 /* A face's one ring of three scene vertices r[0 .. 3) (a triangle, the common face) into
    pt, vid, vix as mapper_run_kept's ring loop puts it, without the loop's steps, where its
    three grid points are apart and not on one line, i.e. where the cross product below is
@@ -197,16 +213,8 @@ static inline bool ring_three(const struct scene *s, const struct gpoint *proj, 
   pt[0] = rev ? p2 : p0;
   pt[1] = p1;
   pt[2] = rev ? p0 : p2;
-  vid[0] = s->v[w0].id;
-  vid[1] = s->v[v1].id;
-  vid[2] = s->v[w2].id;
-  vix[0] = w0;
-  vix[1] = v1;
-  vix[2] = w2;
-  if (cost) {
-    COST_ADD_N(cost, COST_MEM, 2 * 3);
-    cost_mw_mul(cost, 29, 29);
-  }
+  const int w[3] = { w0, v1, w2 };
+  ring_ids(s, w, 3, vid, vix, cost);
   return true;
 }
 
@@ -231,18 +239,8 @@ static inline bool ring_four(const struct scene *s, const struct gpoint *proj, c
   pt[1] = rev ? p2 : p1;
   pt[2] = rev ? p1 : p2;
   pt[3] = rev ? p0 : p3;
-  vid[0] = s->v[w0].id;
-  vid[1] = s->v[w1].id;
-  vid[2] = s->v[w2].id;
-  vid[3] = s->v[w3].id;
-  vix[0] = w0;
-  vix[1] = w1;
-  vix[2] = w2;
-  vix[3] = w3;
-  if (cost) {
-    COST_ADD_N(cost, COST_MEM, 2 * 4);
-    cost_mw_mul(cost, 29, 29);
-  }
+  const int w[4] = { w0, w1, w2, w3 };
+  ring_ids(s, w, 4, vid, vix, cost);
   return true;
 }
 

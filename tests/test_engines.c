@@ -281,6 +281,29 @@ static void model_open(struct duo *d, struct fx_model *m, const struct scene *s,
     fail_msg("%s", err.msg);
 }
 
+/* A frame for fx_points on d's grid: the points engine's faces (d->face[1]), greys 0. */
+static void frame_of_points(struct fx_frame *f, const struct duo *d)
+{
+  const size_t np = (size_t)d->W * (size_t)d->H;
+  memset(f, 0, sizeof *f);
+  f->W = d->W; f->H = d->H; f->cell = d->cell;
+  assert_non_null(f->face = malloc(np * sizeof *f->face));
+  assert_non_null(f->grey = calloc(np, 1));
+  memcpy(f->face, d->face[1], np * sizeof *f->face);
+}
+
+/* Shipped scene scenes/NAME.s74, loaded quietly, and its own effects into *e. */
+static struct scene *shipped_with_effects(const char *name, struct effects *e)
+{
+  char path[256];
+  snprintf(path, sizeof path, "scenes/%s.s74", name);
+  struct scene *sc = load_quiet(path);
+  struct t74_error err = { 0, "" };
+  if (effects_parse(sc->effects ? sc->effects : "", e, "test", 1, &err) != T74_OK)
+    fail_msg("%s", err.msg);
+  return sc;
+}
+
 static unsigned id_of(const struct fx_engine *e, int face) { return face < 0 ? 0u : e->map->f[face].id; }
 
 struct fx_tally {
@@ -1008,13 +1031,8 @@ static void test_points_frame_is_pointwise(void **state)
     struct cost cost = { { 0 } };
     model_open(&d, &m, sc, &e, e.halftone, 1, &st, &cost);
     assert_false(m.count);                  /* the points engine: greys in runs */
-    const size_t np = (size_t)d.W * (size_t)d.H;
     struct fx_frame f;
-    memset(&f, 0, sizeof f);
-    f.W = d.W; f.H = d.H; f.cell = d.cell;
-    assert_non_null(f.face = malloc(np * sizeof *f.face));
-    assert_non_null(f.grey = calloc(np, 1));
-    memcpy(f.face, d.face[1], np * sizeof *f.face);
+    frame_of_points(&f, &d);
     assert_int_equal(fx_points(&m, &f, &st, &cost, &err), T74_OK);
     /* point by point: the faces and lights blocked after the regions, then fx_shade */
     struct fx_lines *L = NULL;
@@ -1051,6 +1069,7 @@ static void test_points_frame_is_pointwise(void **state)
     /* the frame taken in place, the engine's own buffer as fx_points' faces (the
        pipeline's points frame without aa: run_effects): the same faces and greys as on
        the copy (fx_points asks the engine for a row before it writes that row) */
+    const size_t np = (size_t)d.W * (size_t)d.H;
     struct fx_frame fin = f;
     assert_non_null(fin.grey = calloc(np, 1));
     fin.face = d.p.face;
@@ -1085,13 +1104,9 @@ static void test_points_frame_runs_of_none(void **state)
   static const char *const names[] = { "t1-a", "street" };
   long points = 0, none = 0, shaded = 0;
   for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
-    char path[256];
-    snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
-    struct scene *sc = load_quiet(path);
-    struct t74_error err = { 0, "" };
     struct effects e;
-    if (effects_parse(sc->effects ? sc->effects : "", &e, "test", 1, &err) != T74_OK)
-      fail_msg("%s", err.msg);
+    struct scene *sc = shipped_with_effects(names[k], &e);
+    struct t74_error err = { 0, "" };
     struct duo d;
     struct fx_model m;
     struct fx_stats st;
@@ -1099,13 +1114,8 @@ static void test_points_frame_runs_of_none(void **state)
     model_open(&d, &m, sc, &e, e.halftone, 1, &st, &cost);
     assert_false(m.count);
     assert_false(fx_model_regions(&m));
-    const size_t np = (size_t)d.W * (size_t)d.H;
     struct fx_frame f;
-    memset(&f, 0, sizeof f);
-    f.W = d.W; f.H = d.H; f.cell = d.cell;
-    assert_non_null(f.face = malloc(np * sizeof *f.face));
-    assert_non_null(f.grey = calloc(np, 1));
-    memcpy(f.face, d.face[1], np * sizeof *f.face);
+    frame_of_points(&f, &d);
     for (int j = 0; j < d.H; j++) {
       int *fr = f.face + (size_t)j * (size_t)d.W;
       const int len = 1 + j % 40, a = (j * 37) % d.W, tail = j % 19;
@@ -1149,13 +1159,8 @@ static void test_space_points_are_single(void **state)
   static const char *const names[] = { "t1-a", "t1-e", "lprism", "sphere", "fig6-room" };
   long compared = 0, bad = 0;
   for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
-    char path[256];
-    snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
-    struct scene *sc = load_quiet(path);
-    struct t74_error err = { 0, "" };
     struct effects e;
-    if (effects_parse(sc->effects ? sc->effects : "", &e, "test", 1, &err) != T74_OK)
-      fail_msg("%s", err.msg);
+    struct scene *sc = shipped_with_effects(names[k], &e);
     struct duo d;
     struct fx_model m;
     struct fx_stats st;

@@ -51,6 +51,39 @@ static void orders_same(const struct tube *a, const struct tube *b)
   assert_int_equal(differ, -1);
 }
 
+/* A row of n 3x3 cells from (x0, y0), keys[0 .. n) (n <= 133) under tk (made from mask_of),
+   to three tubes: a a cell at a time by its mask, b as one keyed row, c as one row of
+   masks; the same number of dots lit in each. */
+static void write_three(struct tube *a, struct tube *b, struct tube *c, int x0, int y0,
+                        const struct tube_keys *tk, const uint8_t *keys,
+                        const uint16_t *mask_of, int n)
+{
+  uint16_t masks[133];
+  for (int k = 0; k < n; k++) {
+    masks[k] = mask_of[keys[k]];
+    assert_int_equal(tube_write_dots(a, x0 + 3 * k, y0, 3, masks[k]), T74_OK);
+  }
+  assert_int_equal(tube_write_cells_keyed(b, x0, y0, tk, keys, n), T74_OK);
+  assert_int_equal(tube_write_cells(c, x0, y0, 3, masks, n), T74_OK);
+  assert_int_equal(tube_count(b), tube_count(a));
+  assert_int_equal(tube_count(c), tube_count(a));
+}
+
+/* b and c hold a's dots, row by row, in a's order */
+static void three_same(const struct tube *a, const struct tube *b, const struct tube *c)
+{
+  for (int y = 0; y < 300; y++) {
+    uint8_t ra[TUBE_ROW_BYTES], rb[TUBE_ROW_BYTES], rc[TUBE_ROW_BYTES];
+    tube_row_packed(a, y, ra);
+    tube_row_packed(b, y, rb);
+    tube_row_packed(c, y, rc);
+    assert_memory_equal(rb, ra, TUBE_ROW_BYTES);
+    assert_memory_equal(rc, ra, TUBE_ROW_BYTES);
+  }
+  orders_same(a, b);
+  orders_same(a, c);
+}
+
 static uint32_t next_rand(uint32_t *x)
 {
   *x = *x * 1103515245u + 12345u;
@@ -422,31 +455,16 @@ static void test_rows_keyed_words(void **state)
           }
       }
       uint8_t keys[133];
-      uint16_t masks[133];
       /* 0: no dot, 1: every dot, 2: one key, 3: runs of one key, else any */
       const uint32_t fill = next_rand(&x) % 7u, one = next_rand(&x) % 256u;
       for (int k = 0; k < n; k++) {
         keys[k] = (uint8_t)(fill == 0 ? 9u * (next_rand(&x) % 4u) : fill == 1 ? 1u
                             : fill == 2 ? one : fill == 3 ? one + (uint32_t)k / 9u
                             : next_rand(&x));
-        masks[k] = mask_of[keys[k]];
-        assert_int_equal(tube_write_dots(a, x0 + 3 * k, y0, 3, masks[k]), T74_OK);
       }
-      assert_int_equal(tube_write_cells_keyed(b, x0, y0, &tk, keys, n), T74_OK);
-      assert_int_equal(tube_write_cells(c, x0, y0, 3, masks, n), T74_OK);
-      assert_int_equal(tube_count(b), tube_count(a));
-      assert_int_equal(tube_count(c), tube_count(a));
+      write_three(a, b, c, x0, y0, &tk, keys, mask_of, n);
     }
-    for (int y = 0; y < 300; y++) {
-      uint8_t ra[TUBE_ROW_BYTES], rb[TUBE_ROW_BYTES], rc[TUBE_ROW_BYTES];
-      tube_row_packed(a, y, ra);
-      tube_row_packed(b, y, rb);
-      tube_row_packed(c, y, rc);
-      assert_memory_equal(rb, ra, TUBE_ROW_BYTES);
-      assert_memory_equal(rc, ra, TUBE_ROW_BYTES);
-    }
-    orders_same(a, b);
-    orders_same(a, c);
+    three_same(a, b, c);
     tube_free(a);
     tube_free(b);
     tube_free(c);
@@ -545,7 +563,6 @@ static void test_rows_keyed_groups(void **state)
       const uint32_t how = next_rand(&x) % 6u;
       const int g = (int)(next_rand(&x) % (uint32_t)ng), h = (int)(next_rand(&x) % (uint32_t)ng);
       uint8_t keys[133];
-      uint16_t masks[133];
       for (int k = 0; k < n; k++) {
         const int gk = k / 21, at = k % 21, last = k == n - 1 || at == 20;
         const bool dot =
@@ -557,25 +574,11 @@ static void test_rows_keyed_groups(void **state)
           : false;                                      /* no dot */
         keys[k] = (uint8_t)(dot ? 1u + 4u * (next_rand(&x) % 63u) + next_rand(&x) % 3u
                                 : 4u * (next_rand(&x) % 64u));
-        masks[k] = mask_of[keys[k]];
-        assert_int_equal(tube_write_dots(a, x0 + 3 * k, y0, 3, masks[k]), T74_OK);
       }
-      assert_int_equal(tube_write_cells_keyed(b, x0, y0, &tk, keys, n), T74_OK);
-      assert_int_equal(tube_write_cells(c, x0, y0, 3, masks, n), T74_OK);
-      assert_int_equal(tube_count(b), tube_count(a));
-      assert_int_equal(tube_count(c), tube_count(a));
+      write_three(a, b, c, x0, y0, &tk, keys, mask_of, n);
       rows++;
     }
-    for (int y = 0; y < 300; y++) {
-      uint8_t ra[TUBE_ROW_BYTES], rb[TUBE_ROW_BYTES], rc[TUBE_ROW_BYTES];
-      tube_row_packed(a, y, ra);
-      tube_row_packed(b, y, rb);
-      tube_row_packed(c, y, rc);
-      assert_memory_equal(rb, ra, TUBE_ROW_BYTES);
-      assert_memory_equal(rc, ra, TUBE_ROW_BYTES);
-    }
-    orders_same(a, b);
-    orders_same(a, c);
+    three_same(a, b, c);
     dots += tube_count(a);
     tube_free(a);
     tube_free(b);
