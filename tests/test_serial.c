@@ -95,13 +95,25 @@ static void *line_thread(void *arg)
   struct line *l = arg;
   for (;;) {
     struct pollfd p = { l->master, POLLIN, 0 };
+    const double t_poll = now_s();              /* a poll that times out saw the line empty
+                                                   from here on */
     int r = poll(&p, 1, 2);
     pthread_mutex_lock(&l->lock);
     int stop = l->stop;
     double t = now_s();
     if (r > 0 && (p.revents & POLLIN)) {
-      unsigned char b[256];
+      /* everything the line holds now, in one batch: a pty hands it over in reads of up
+         to its buffer's size, and a batch cut into several reads would give the later
+         reads none of the time the bytes took to come (the bucket below) */
+      unsigned char b[16384];
       ssize_t n = read(l->master, b, sizeof b);
+      while (n > 0 && (size_t)n < sizeof b) {
+        struct pollfd more = { l->master, POLLIN, 0 };
+        if (poll(&more, 1, 0) <= 0 || !(more.revents & POLLIN)) break;
+        const ssize_t k = read(l->master, b + n, sizeof b - (size_t)n);
+        if (k <= 0) break;
+        n += k;
+      }
       t = now_s();                              /* every byte read had arrived by now */
       if (n > 0 && !l->checked) {               /* the host has set the line up by now */
         struct termios tt;
@@ -115,7 +127,8 @@ static void *line_thread(void *arg)
            it is taken as spread over it (the line empties the bucket as the bytes come),
            so a paced host is never judged by this thread's lateness. An unpaced host
            still fills it: bytes come faster than the line empties it, read after read
-           (test_4014_unpaced_too_fast). An idle line banks nothing. */
+           (test_4014_unpaced_too_fast). The time since the last read or the last poll
+           that found the line empty, whichever is later (below). */
         double level = l->level + (double)n - (t - l->t_level) * l->baud / 10.0;
         if (level < 0) level = 0;
         if (level > SLACK) l->too_fast += (int)(level - SLACK < (double)n ? level - SLACK : (double)n);
@@ -125,6 +138,16 @@ static void *line_thread(void *arg)
       }
       for (ssize_t k = 0; k < n; k++)
         if (!l->garbled) l->on_byte(l, b[k], t);
+    }
+    if (r == 0) {
+      /* the line seen empty since t_poll: the bucket drains to there, and the next batch
+         is given only the time since (an idle line banks nothing: a burst after a pause
+         is not excused by the pause) */
+      if (t_poll > l->t_level) {
+        double level = l->level - (t_poll - l->t_level) * l->baud / 10.0;
+        l->level = level < 0 ? 0 : level;
+        l->t_level = t_poll;
+      }
     }
     if (l->tick) l->tick(l, t);
     pthread_mutex_unlock(&l->lock);
