@@ -1161,7 +1161,16 @@ static inline int same_end(const unsigned *blocked, int e, int n, unsigned b)
 /* flat_lit_pairs' greys for n points of a lit face without a texture where the same lights
    b are blocked at each: its operations on the same values with both lanes' masks b, not
    read from blocked[]. Where b holds every point light the sum does not depend on the
-   point (flat_lit_pairs' kept sums): one grey for all n, made once. */
+   point (flat_lit_pairs' kept sums): one grey for all n, made once.
+   A point light's term here (row_dot_axis) takes one square root and one divide a pair.
+   A filter in the manner of smooth.c's lit_pair_filter does not pay here (round 38, perf
+   under load, three runs each way): with the square root and the divide left out
+   altogether (wrong greys; the most any filter could save) this function's share of
+   fig6-room's frame fell only from about 11.1% to 10.0% and of fig6-building's from 5.3%
+   to 4.8%, and with them made from RSQRTPS and two Newton steps (what a filter without
+   the square root needs before its check) it did not fall at all. On fig6-room a call
+   has 16 points on average (91 calls, 1,493 points a frame), so the row's set-up
+   (flat_row_init) and each call's own steps weigh as much as the pairs' divider work. */
 __attribute__((noinline))
 static void flat_lit_masked(const struct fx_model *m, int face, const struct shade_pair *P,
                             unsigned b, int n, const double *px, double py,
