@@ -112,7 +112,6 @@ struct casts {
   size_t ny, capy, capyd;
 };
 
-
 static void casts_free(struct casts *cs)
 {
   free(cs->c); free(cs->yend); free(cs->y); free(cs->yd);
@@ -455,7 +454,7 @@ static inline void spanned_set(struct spanned *sp, const struct shadow_eye *v,
    Where the test on |gx| fails (also NaN) t is not looked at. Three operations for the
    rounding to an integer and back and the widening to 64 bits, where spanned_point's
    truncation (CVTTPD2DQ and CVTDQ2PD, two each on this processor, and four for the sign
-   and the widening) takes nine, in draw_ring's loop of about thirty a vertex. */
+   and the widening) takes nine, in a loop of about thirty a vertex (grid_all's). */
 static inline bool spanned_lanes(const struct spanned *sp, const double yd[3], __m128i *g)
 {
   const __m128d C = _mm_set1_pd(0x1.8p52);
@@ -515,7 +514,8 @@ static inline bool grid_point(const struct shadow_eye *v, const ld Y[3], const d
 /* Ring r of cs onto the grid at poly (room for its vertices), seen from eye v: the
    points that land, a repeat of the one before dropped (the last and the first not
    compared); their count. With sp (spanned_set for a bound on its vertices; not
-   counted): spanned_point where it decides, else grid_point. */
+   counted): spanned_point where it decides, else grid_point; where the processor has
+   SSE2, draw_casts takes that case through grid_all and ring_from, and sp is not read. */
 __attribute__((noinline))
 static int draw_ring(const struct casts *cs, int r, const struct shadow_eye *eye,
                      const struct spanned *sp, struct gpoint *poly, struct cost *cost)
@@ -524,31 +524,18 @@ static int draw_ring(const struct casts *cs, int r, const struct shadow_eye *eye
   const ld (*y)[3] = (const ld (*)[3])cs->y + y0;
   const double (*yd)[3] = (const double (*)[3])cs->yd + y0;
   int m = 0;
+#ifndef __SSE2__
   if (sp && !cost) {
-#ifdef __SSE2__
-    /* each point written at poly[m], kept (m + 1) unless it is the one before, prev (at
-       first none: no point has x = INT64_MIN) */
-    __m128i prev = _mm_set1_epi64x(INT64_MIN);
-    for (size_t v = 0; v < n; v++) {
-      __m128i g;
-      if (!spanned_lanes(sp, yd[v], &g)) {
-        struct gpoint p;
-        if (!grid_point(eye, y[v], yd[v], &p)) continue;
-        g = _mm_loadu_si128((const __m128i *)&p);
-      }
-      _mm_storeu_si128((__m128i *)&poly[m], g);
-      m += _mm_movemask_epi8(_mm_cmpeq_epi32(g, prev)) != 0xffff;
-      prev = g;
-    }
-#else
     for (size_t v = 0; v < n; v++) {
       struct gpoint *g = &poly[m];         /* written in place: read back a word at a time */
       if (!spanned_point(sp, yd[v], g) && !grid_point(eye, y[v], yd[v], g)) continue;
       m += m == 0 || poly[m - 1].x != g->x || poly[m - 1].y != g->y;
     }
-#endif
     return m;
   }
+#else
+  (void)sp;
+#endif
   for (size_t v = 0; v < n; v++) {
     struct gpoint *g = &poly[m];
     if (!grid_point(eye, y[v], yd[v], g)) continue;

@@ -2081,7 +2081,41 @@ void smooth_grey_run(const struct smooth_model *m, const struct mapped *map, con
 /* ---- a row's stretch of points on several triangles (smooth_row) ------------------ */
 
 #ifdef __SSE2__
-/* lit_slots' step at two slots under parallel lights, reflectance refl: normals v (x, y, z
+/* The lengths of two normals (x, y, z lanes): fl(sqrt(fl(fl(x x + y y) + z z))). */
+static inline __attribute__((always_inline))
+__m128d pair_length(__m128d v0, __m128d v1, __m128d v2)
+{
+  return _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v0, v0), _mm_mul_pd(v1, v1)),
+                                _mm_mul_pd(v2, v2)));
+}
+
+/* The lights' sum at two normals v (x, y, z lanes) on their eye's sides sg (+-1): each
+   parallel light k's fl(fl(v_0 (l_0 sg) + v_1 (l_1 sg)) + v_2 (l_2 sg)), taken where it is
+   positive and light k is not blocked in the lane (b0, b1: lane 0's and lane 1's blocked
+   lights), added in the lights' order. lit_pair's on the unit normals, lit_pair_filter's
+   on the normals as they are. */
+static inline __attribute__((always_inline))
+__m128d lights_sum(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsigned b1,
+                   const struct shade_lights *L, int nlight)
+{
+  const __m128d zero = _mm_setzero_pd();
+  __m128d sum = zero;
+  for (int k = 0; k < nlight; k++) {
+    const double *l = L->v[k];
+    const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v0, _mm_mul_pd(_mm_set1_pd(l[0]), sg)),
+                                            _mm_mul_pd(v1, _mm_mul_pd(_mm_set1_pd(l[1]), sg))),
+                                 _mm_mul_pd(v2, _mm_mul_pd(_mm_set1_pd(l[2]), sg)));
+    __m128d m = _mm_cmpgt_pd(d, zero);
+    if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
+      m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
+                                                        (b0 >> k & 1u) - 1ull)));
+    /* the first light's term is the sum: +0 + x is x for x positive or +0 */
+    sum = k ? _mm_add_pd(sum, _mm_and_pd(m, d)) : _mm_and_pd(m, d);
+  }
+  return sum;
+}
+
+/* lit_row's step at two slots under parallel lights, reflectance refl: normals v (x, y, z
    lanes), the eye's sides sg, the lights blocked b0 and b1; their greys into *g0, *g1.
    nlight is L->n (a constant where the caller can make it one). */
 static inline __attribute__((always_inline))
@@ -2090,9 +2124,7 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
 {
   const __m128d zero = _mm_setzero_pd(), rv = _mm_set1_pd(refl);
   __m128d v[3] = { v0, v1, v2 };
-  const __m128d ln = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], v[0]),
-                                                       _mm_mul_pd(v[1], v[1])),
-                                            _mm_mul_pd(v[2], v[2])));
+  const __m128d ln = pair_length(v0, v1, v2);
   const __m128d pos = _mm_cmpgt_pd(ln, zero);
   /* the unit vector u (v / ln where ln > 0, else v), not yet turned to its side: the
      scalar steps multiply it by sg (+-1) and then by the light, (u_c sg) l_c; here sg
@@ -2105,19 +2137,7 @@ void lit_pair(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0, unsig
   else
     for (int c = 0; c < 3; c++)
       v[c] = _mm_or_pd(_mm_and_pd(pos, _mm_div_pd(v[c], ln)), _mm_andnot_pd(pos, v[c]));
-  __m128d sum = zero;
-  for (int k = 0; k < nlight; k++) {
-    const double *l = L->v[k];
-    const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v[0], _mm_mul_pd(_mm_set1_pd(l[0]), sg)),
-                                            _mm_mul_pd(v[1], _mm_mul_pd(_mm_set1_pd(l[1]), sg))),
-                                 _mm_mul_pd(v[2], _mm_mul_pd(_mm_set1_pd(l[2]), sg)));
-    __m128d m = _mm_cmpgt_pd(d, zero);
-    if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
-      m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
-                                                        (b0 >> k & 1u) - 1ull)));
-    /* the first light's term is the sum: +0 + x is x for x positive or +0 */
-    sum = k ? _mm_add_pd(sum, _mm_and_pd(m, d)) : _mm_and_pd(m, d);
-  }
+  const __m128d sum = lights_sum(v[0], v[1], v[2], sg, b0, b1, L, nlight);
   unsigned g;                                 /* both lanes' greys at once where it can */
   if (shade_pair_greys_fast(rv, sum, &g)) {
     *g0 = (int)(g & 0xffu);
@@ -2179,20 +2199,8 @@ bool lit_pair_filter(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0
                      const struct shade_lights *L, int nlight, __m128d cv, int *g0, int *g1)
 {
   const __m128d zero = _mm_setzero_pd();
-  const __m128d ln = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(v0, v0), _mm_mul_pd(v1, v1)),
-                                            _mm_mul_pd(v2, v2)));
-  __m128d sum = zero;
-  for (int k = 0; k < nlight; k++) {
-    const double *l = L->v[k];
-    const __m128d e = _mm_add_pd(_mm_add_pd(_mm_mul_pd(v0, _mm_mul_pd(_mm_set1_pd(l[0]), sg)),
-                                            _mm_mul_pd(v1, _mm_mul_pd(_mm_set1_pd(l[1]), sg))),
-                                 _mm_mul_pd(v2, _mm_mul_pd(_mm_set1_pd(l[2]), sg)));
-    __m128d m = _mm_cmpgt_pd(e, zero);
-    if ((b0 | b1) >> k & 1u)                  /* the lanes whose light k is not blocked */
-      m = _mm_and_pd(m, _mm_castsi128_pd(_mm_set_epi64x((b1 >> k & 1u) - 1ull,
-                                                        (b0 >> k & 1u) - 1ull)));
-    sum = k ? _mm_add_pd(sum, _mm_and_pd(m, e)) : _mm_and_pd(m, e);
-  }
+  const __m128d ln = pair_length(v0, v1, v2);
+  const __m128d sum = lights_sum(v0, v1, v2, sg, b0, b1, L, nlight);   /* S', on v as it is */
   const __m128d f = _mm_add_pd(_mm_mul_pd(cv, _mm_div_pd(sum, ln)), _mm_set1_pd(0.5));
   const __m128d dl = _mm_set1_pd(0x1p-29);
   const __m128d f0 = _mm_sub_pd(f, dl), f1 = _mm_add_pd(f, dl);
@@ -2203,12 +2211,9 @@ bool lit_pair_filter(__m128d v0, __m128d v1, __m128d v2, __m128d sg, unsigned b0
   const __m128i t0 = _mm_cvttpd_epi32(f0), t1 = _mm_cvttpd_epi32(f1);
   if (_mm_movemask_pd(ok) != 3 || (_mm_movemask_epi8(_mm_cmpeq_epi32(t0, t1)) & 0xff) != 0xff)
     return false;
-  /* 48 + t, clamped to 255 (t >= 0): shade_pair_greys_fast's packs */
-  const __m128i t = _mm_add_epi32(t0, _mm_set1_epi32(SHADE_AMBIENT));
-  const unsigned g = (unsigned)_mm_cvtsi128_si32(
-      _mm_packus_epi16(_mm_packs_epi32(t, t), _mm_setzero_si128()));
+  const unsigned g = shade_pair_pack(t0);   /* (0 <= t0 < 2^10) */
   *g0 = (int)(g & 0xffu);
-  *g1 = (int)(g >> 8 & 0xffu);
+  *g1 = (int)(g >> 8);
   return true;
 }
 

@@ -189,6 +189,16 @@ static inline __m128d shade_pair_sum(const struct shade_pair *P, __m128d x, __m1
   return sum;
 }
 
+/* The greys SHADE_AMBIENT + t of the two low lanes of t (ints in [0, 2^15 - 49)) as two
+   bytes, lane 0's low: the two saturating packs leave each at most 255 as it is and make
+   it 255 above (the clamp). */
+static inline unsigned shade_pair_pack(__m128i t)
+{
+  const __m128i a = _mm_add_epi32(t, _mm_set1_epi32(SHADE_AMBIENT));
+  const __m128i b = _mm_packus_epi16(_mm_packs_epi32(a, a), _mm_setzero_si128());
+  return (unsigned)_mm_cvtsi128_si32(b) & 0xffffu;
+}
+
 /* The two lanes' greys of reflectance r under sums sum (shade_grey_of_sum's, lane by
    lane) where both lanes' f lie in [0, 2^30) (no NaN): true, lane 0's grey in the low byte
    of *g, lane 1's in the next. There its truncation is CVTTPD2DQ's, f above 512 gives 255
@@ -201,10 +211,7 @@ static inline bool shade_pair_greys_fast(__m128d r, __m128d sum, unsigned *g)
   if (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(f, _mm_setzero_pd()),
                                  _mm_cmplt_pd(f, _mm_set1_pd(0x1p30)))) != 3)
     return false;
-  const __m128i t = _mm_add_epi32(_mm_cvttpd_epi32(_mm_min_pd(f, _mm_set1_pd(512))),
-                                  _mm_set1_epi32(SHADE_AMBIENT));
-  const __m128i b = _mm_packus_epi16(_mm_packs_epi32(t, t), _mm_setzero_si128());
-  *g = (unsigned)_mm_cvtsi128_si32(b) & 0xffffu;
+  *g = shade_pair_pack(_mm_cvttpd_epi32(_mm_min_pd(f, _mm_set1_pd(512))));
   return true;
 }
 
