@@ -365,6 +365,37 @@ static inline bool mapped_point(const struct scene *s, const struct mface *mf, i
   return false;
 }
 
+/* Whether a front triangle's three scene vertices v[0 .. 3) all lie on the mapped face mf
+   (*ok) and turn counter-clockwise on the grid in that order (*ccw: geom_orient of their
+   mapped points > 0), as mapped_point and geom_orient find them. Where mf's outer ring is
+   a triangle (the smoothed objects' faces) without its points: the Mapper keeps an outer
+   ring counter-clockwise with an area that is not 0 (mface.pt: its geom_orient > 0), so
+   three points taken from it at places a0, a1, a2 turn counter-clockwise exactly when
+   (a0, a1, a2) is a rotation of (0, 1, 2); taken another way round they turn clockwise,
+   and with a place twice two of them are one point (geom_orient 0). */
+static inline void tri_on_face(const struct scene *s, const struct mface *mf, const int v[3],
+                               bool *ok, bool *ccw)
+{
+  if (mf->ring_start[1] == 3) {
+    const int32_t *vix = mf->vix;
+    int at[3];
+    for (int k = 0; k < 3; k++) {             /* mapped_point's places, by selects */
+      int a = vix[2] == v[k] ? 2 : 3;
+      a = vix[1] == v[k] ? 1 : a;
+      at[k] = vix[0] == v[k] ? 0 : a;
+    }
+    *ok = at[0] != 3 && at[1] != 3 && at[2] != 3;
+    const int r1 = at[0] == 2 ? 0 : at[0] + 1, r2 = r1 == 2 ? 0 : r1 + 1;
+    *ccw = at[1] == r1 && at[2] == r2;
+    return;
+  }
+  struct gpoint p[3];
+  bool found = true;
+  for (int k = 0; k < 3; k++) found = found && mapped_point(s, mf, v[k], &p[k]);
+  *ok = found;
+  *ccw = found && geom_orient(p[0], p[1], p[2]) > 0;
+}
+
 /* Eq. (1) for a point in space, rounded onto the grid. */
 static struct gpoint project(const struct mapped *map, const double x[3], struct cost *cost)
 {
@@ -427,13 +458,11 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     const struct smooth_tri *tr = &m->tri[t];
     use[t] = false;
     if (!tr->front) continue;
-    const struct mface *mf = &map->f[tr->mface];
-    struct gpoint p[3];
-    bool ok = true;
-    for (int k = 0; k < 3; k++) ok = ok && mapped_point(s, mf, tr->v[k], &p[k]);
+    bool ok, turn;
+    tri_on_face(s, &map->f[tr->mface], tr->v, &ok, &turn);
     if (!ok) continue;
     use[t] = true;
-    ccw[t] = geom_orient(p[0], p[1], p[2]) > 0;
+    ccw[t] = turn;
     for (int k = 0; k < 3; k++) cnt[m->edge_group[3 * t + k]]++;
     n += 3;
     if (cost) COST_ADD_N(cost, COST_MEM, 9);

@@ -467,6 +467,10 @@ struct grid {
      of row j: ytop - (2j + 1) Dy), xoff = GRID_ONE XL, Syd = S yd (< 2^32), dRx = 2 xd Dy
      (dR = dRx dx; < 2^34) */
   int64_t ytop, xoff, Syd, dRx;
+  /* face_box's numbers: alpha = a ca, beta = -b cb (ca = 4 H (XR - XL), cb = 4 W (YT - YB),
+     both < 2^26), and ca, cb, W, H as doubles (exact: integers below 2^53) */
+  int64_t ca, cb;
+  double cad, cbd, Wd, Hd;
 };
 
 /* Row j (from the top) has y_j >= y exactly when 2j + 1 <= row_q(y). */
@@ -1057,7 +1061,7 @@ static inline void wide_put(wide *d, wide v)
 static bool face_box(struct points *p, const struct grid *g, int k, struct points_box *b)
 {
   const struct mface *f = &p->map.f[k];
-  int n = f->ring_start[f->nring];
+  const int n = f->ring_start[f->nring];
   /* the vertices' rows and columns ("Vertices"): row_q falls and the first column at or
      right rises as y and x grow, so row_q(ymax) is the least of the vertices' row_q and
      row_q(ymin) the greatest, the column of xmin the least and of xmax the greatest (of
@@ -1065,7 +1069,19 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   const int32_t *const vrc = p->vrc;
   const int32_t *const vix = f->vix;
   int32_t qmin = vrc[2 * vix[0]], qmax = qmin, cmin = vrc[2 * vix[0] + 1], cmax = cmin;
-  for (int v = 1; v < n; v++) {
+  int v = 1;
+  if (n == 3) {                                 /* a triangle (the common face): no loop */
+    const int32_t q1 = vrc[2 * vix[1]], c1 = vrc[2 * vix[1] + 1];
+    const int32_t q2 = vrc[2 * vix[2]], c2 = vrc[2 * vix[2] + 1];
+    const int32_t ql = q1 < q2 ? q1 : q2, qh = q1 < q2 ? q2 : q1;
+    const int32_t cl = c1 < c2 ? c1 : c2, ch = c1 < c2 ? c2 : c1;
+    qmin = ql < qmin ? ql : qmin;
+    qmax = qh > qmax ? qh : qmax;
+    cmin = cl < cmin ? cl : cmin;
+    cmax = ch > cmax ? ch : cmax;
+    v = 3;                                      /* (the loop below: none left) */
+  }
+  for (; v < n; v++) {
     const int32_t q = vrc[2 * vix[v]], c = vrc[2 * vix[v] + 1];
     qmin = q < qmin ? q : qmin;
     qmax = q > qmax ? q : qmax;
@@ -1084,9 +1100,11 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
   /* depth: P = alpha i + beta j + gamma exactly (kept for the exact compare), z = P / D
      in doubles with its error bound E (the filter, see the top of the file) */
   const wide a = f->plane[0], bb = f->plane[1], c = f->plane[2];
-  const int64_t ca = 4 * g->H * (g->XR - g->XL), cb = 4 * g->W * (g->YT - g->YB);  /* < 2^26 */
+  const int64_t ca = g->ca, cb = g->cb;
   struct points_plane *pl = &p->plane[k];
-  const wide alpha = a * ca, beta = -bb * cb;
+  /* each one 64 x 64-bit product (-cb fits 64 bits): the same integers as a ca and
+     -(bb cb), without a 128-bit negate and a 128 x 128-bit multiply */
+  const wide alpha = (wide)f->plane[0] * ca, beta = (wide)f->plane[1] * -cb;
   wide_put(&pl->alpha, alpha);
   wide_put(&pl->beta, beta);
   wide gamma;
@@ -1097,19 +1115,22 @@ static bool face_box(struct points *p, const struct grid *g, int k, struct point
     gamma = a * g->ga + bb * g->gb + c * g->gc;
   wide_put(&pl->gamma, gamma);
   const double Dd = (double)f->deye;
-  const double Ad = (double)f->plane[0] * (double)ca, Bd = -(double)f->plane[1] * (double)cb,
+  const double Ad = (double)f->plane[0] * g->cad, Bd = -(double)f->plane[1] * g->cbd,
                Gd = gamma == (int64_t)gamma ? (double)(int64_t)gamma  /* same value */
                                             : (double)gamma;
   b->za = Ad / Dd;
   b->zb = Bd / Dd;
   b->zc = Gd / Dd;
-  b->E = Z_MARGIN * ((fabs(Ad) * g->W + fabs(Bd) * g->H + fabs(Gd)) / Dd);
+  b->E = Z_MARGIN * ((fabs(Ad) * g->Wd + fabs(Bd) * g->Hd + fabs(Gd)) / Dd);
   b->arise = alpha > 0;
   b->brise = beta > 0;
   /* z > 2E over the box: z is least at a corner, where its double (computed as z0 is,
      error < 11uM < E) is > 4E; so zl > z - 2E > 0 at every point */
-  const double zmin = b->za * (double)(b->arise ? ilo : ihi - 1) +
-                      (b->zb * (double)(b->brise ? jlo : jhi) + b->zc);
+  /* (the corner's column and row by masks, not branches: the signs of alpha and beta
+     follow no pattern from face to face that the predictor learns, as round the globe) */
+  const int64_t ma = -(int64_t)b->arise, mb = -(int64_t)b->brise;
+  const int64_t ic = (ihi - 1) ^ ((ilo ^ (ihi - 1)) & ma), jc = jhi ^ ((jlo ^ jhi) & mb);
+  const double zmin = b->za * (double)ic + (b->zb * (double)jc + b->zc);
   b->plus = zmin > 4 * b->E;
   p->m3[k + 1] = 3 * b->E;                        /* "One bound" */
   return true;
@@ -1631,6 +1652,12 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   g.xoff = GRID_ONE * g.XL;
   g.Syd = g.S * g.yd;
   g.dRx = 2 * g.xd * g.Dy;
+  g.ca = 4 * (int64_t)g.H * (g.XR - g.XL);
+  g.cb = 4 * (int64_t)g.W * (g.YT - g.YB);
+  g.cad = (double)g.ca;
+  g.cbd = (double)g.cb;
+  g.Wd = (double)g.W;
+  g.Hd = (double)g.H;
   if ((st = vertex_rows(p, s, &g, err)) != T74_OK) return st;
   p->faces_culled = 0;
   p->tiles_skipped = 0;
@@ -1646,14 +1673,6 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   const int ntx = (g.W + TILE - 1) >> TILE_SHIFT, nty = (g.H + TILE - 1) >> TILE_SHIFT;
   if (!t74_grow((void **)&p->tile, &p->tilecap, ntx * nty + 1, sizeof *p->tile))
     return t74_fail(err, T74_EIO, "out of host memory");
-  for (int ty = 0; ty < nty; ty++)
-    for (int tx = 0; tx < ntx; tx++) {
-      int w = g.W - (tx << TILE_SHIFT), h = g.H - (ty << TILE_SHIFT);
-      struct points_tile *T = &p->tile[ty * ntx + tx];
-      T->lo = -HUGE_VAL;
-      T->ninf = (w < TILE ? w : TILE) * (h < TILE ? h : TILE);
-      T->dirty = true;
-    }
   /* The faces are drawn in the Mapper's order while their boxes cover the grid less than
      COARSE_DEPTH times over (there the tiles' tests and the order cost more than they
      save); the rest are kept, then drawn nearest first with the tiles (always all of
@@ -1673,6 +1692,15 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
   }
   const bool tiles = area >= limit;               /* a face is left for the tiles */
+  for (int ty = 0; tiles && ty < nty; ty++)       /* (read only with the tiles: face_draw
+                                                     is given none without them) */
+    for (int tx = 0; tx < ntx; tx++) {
+      int w = g.W - (tx << TILE_SHIFT), h = g.H - (ty << TILE_SHIFT);
+      struct points_tile *T = &p->tile[ty * ntx + tx];
+      T->lo = -HUGE_VAL;
+      T->ninf = (w < TILE ? w : TILE) * (h < TILE ? h : TILE);
+      T->dirty = true;
+    }
   if (tiles && !p->z && !(p->z = malloc((n ? n : 1) * sizeof *p->z)))   /* (lo, hi) */
     return t74_fail(err, T74_EIO, "out of host memory");
   if (!tiles && !p->zhi && !(p->zhi = malloc((n ? n : 1) * sizeof *p->zhi)))   /* hi alone */
