@@ -987,12 +987,15 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
        |pl[k]| < 2^63 and |pe| < 2^127, so -v fits */
     const bool turn = pe > 0;                /* (lgrey's second) */
     const int64_t t64 = -(int64_t)turn;
-    /* into the face's own row at once, each a 64-bit store: a copy of pl made later (a
-       16-byte load of two 8-byte stores) could not be forwarded from the stores and waited
-       for them to reach the cache (about 18% of this function's samples on the sphere) */
+    /* into the face's own row at once (no copy of pl later: a 16-byte load of two
+       8-byte stores, which cannot be forwarded from them) */
     for (int k = 0; k < 4; k++)
       m->plane[k] = (int64_t)(((uint64_t)pl[k] ^ (uint64_t)t64) - (uint64_t)t64);
-    pe = (wide)(((uwide)pe ^ (uwide)(wide)t64) - (uwide)(wide)t64);
+    /* deye = |pe|: the low 64 bits of pe turned as the plane is and negated, made from
+       pe's low 64 bits alone (in two's complement the low bits of an xor, a difference or
+       a negation depend on the operands' low bits only); the same number as the 128-bit
+       turn and the truncation of its negation */
+    const int64_t deye = (int64_t)(((uint64_t)pe ^ (uint64_t)~t64) - (uint64_t)~t64);
 
     /* the rings with T-junction vertices inserted: ring r is rv[rs[r] .. rs[r+1]) */
     int rs_new[sf->nring + 1];
@@ -1098,7 +1101,7 @@ int mapper_run_kept(const struct scene *s, struct mapped *out, struct core *core
     m->on = sf->on_id;
     m->sface = fi;
     m->sline = sf->line;
-    m->deye = (int64_t)-pe;
+    m->deye = deye;
     m->grey = (uint8_t)(sf->grey >= 0              ? sf->grey
                         : lamb && kt && kt->lgrey ? kt->lgrey[fi][turn]   /* (kept) */
                                                   : face_grey(s, m, m->plane, ll));

@@ -1683,13 +1683,19 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
   const long limit = p->no_tiles || ntx > 32 ? LONG_MAX    /* a band's tiles: bits of 32 */
                     : p->shuffle ? 0 : COARSE_DEPTH * (long)g.W * g.H;
   int nb = 0;                                     /* faces with a box */
+  int nfirst = 0;                                 /* of them the first nfirst: drawn in the
+                                                     Mapper's order (the area before each
+                                                     under the limit; area only grows) */
   for (int k = 0; k < nf; k++) {
     if (p->skip[k]) continue;
     struct points_box *b = &p->box[nb];
     if (!face_box(p, &g, k, b)) { p->faces_culled++; continue; }
     b->k = k;
     nb++;
-    if (area < limit) area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
+    if (area < limit) {
+      area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
+      nfirst++;
+    }
   }
   const bool tiles = area >= limit;               /* a face is left for the tiles */
   for (int ty = 0; tiles && ty < nty; ty++)       /* (read only with the tiles: face_draw
@@ -1742,15 +1748,13 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     }
     faces_none(p->face, n);
   }
-  area = 0;
-  int nd = 0;                                     /* faces kept */
-  for (int d = 0; d < nb; d++) {
+  for (int d = 0; d < nfirst; d++) {
     const struct points_box *b = &p->box[d];
-    if (area < limit) {
-      area += (long)(b->ihi - b->ilo) * (b->jhi - b->jlo + 1);
-      if ((st = face_draw(p, &g, b->k, b, false, tiles, NULL, 0, err)) != T74_OK) return st;
-      continue;
-    }
+    if ((st = face_draw(p, &g, b->k, b, false, tiles, NULL, 0, err)) != T74_OK) return st;
+  }
+  int nd = 0;                                     /* faces kept */
+  for (int d = nfirst; d < nb; d++) {
+    const struct points_box *b = &p->box[d];
     p->box[nd] = *b;                              /* nd <= d */
     p->key[nd] = face_key(p, &g, b->k, b);
     p->order[nd] = nd;
