@@ -619,8 +619,31 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
     *monotone = !(p0.y == p1.y && p1.y == p2.y);
     return T74_OK;
   }
-  int ne = 0;
   int turns = 0, first = 0, last = 0;           /* dy's changes of sign, its first, last */
+  if (n == 4 && f->nring == 1) {                /* a quadrilateral (the street's, the boxes'):
+                                                   the loop below without its steps */
+    const struct gpoint p0 = f->pt[0], p1 = f->pt[1], p2 = f->pt[2], p3 = f->pt[3];
+    const int64_t q0 = vrc[2 * vix[0]], q1 = vrc[2 * vix[1]], q2 = vrc[2 * vix[2]],
+                  q3 = vrc[2 * vix[3]];
+    int ne = edge_make(g, p0, p1, q0, q1, jlo, jhi, &edge[0]);
+    ne += edge_make(g, p1, p2, q1, q2, jlo, jhi, &edge[ne]);
+    ne += edge_make(g, p2, p3, q2, q3, jlo, jhi, &edge[ne]);
+    ne += edge_make(g, p3, p0, q3, q0, jlo, jhi, &edge[ne]);
+    const int sgs[4] = { (int)(p0.y < p1.y) - (int)(p0.y > p1.y),
+                         (int)(p1.y < p2.y) - (int)(p1.y > p2.y),
+                         (int)(p2.y < p3.y) - (int)(p2.y > p3.y),
+                         (int)(p3.y < p0.y) - (int)(p3.y > p0.y) };
+    for (int k = 0; k < 4; k++) {               /* the loop's count, sign by sign */
+      const int sg = sgs[k];
+      turns += last != 0 && sg != 0 && sg != last;
+      first += sg & -(first == 0);
+      last = sg != 0 ? sg : last;
+    }
+    *nedge = ne;
+    *monotone = turns + (first != last) == 2;
+    return T74_OK;
+  }
+  int ne = 0;
   for (int r = 0; r < f->nring; r++) {
     int lo = f->ring_start[r], hi = f->ring_start[r + 1];
     const int64_t qlo = vrc[2 * vix[lo]];
