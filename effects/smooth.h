@@ -102,6 +102,10 @@ struct smooth_model {
      "The lit pairs' filter"); lit_declines, when set, counts the pairs it left to it. */
   bool lit_exact;
   long *lit_declines;
+  /* Tests only too: partial_sse2 makes smooth_row and smooth_partial_row take the partial
+     smoothing's rows in SSE2's encoding where the processor has AVX (VEX's: smooth.c,
+     partial_row). */
+  bool partial_sse2;
 };
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.

@@ -642,7 +642,8 @@ static void test_run_is_single(void **state)
    the points' coordinates on their triangles' axes alone (the third coordinate of each
    space point left out): each grey that differs from smooth_grey_at's, and (declines
    non-NULL) another count of declines than smooth_row's, counted too. Under smooth=fixed
-   or prop with the lights all parallel, smooth_partial_row likewise: each grey that
+   or prop with the lights all parallel, smooth_partial_row likewise (in both its builds,
+   AVX's encoding where the processor has it and SSE2's: partial_sse2): each grey that
    differs, each region's count that differs from smooth_row's, and another count of the
    points the inner filter leaves to the chain (inner_declines) than smooth_row's. */
 static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
@@ -677,14 +678,24 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
       }
     L->m.inner_declines = &dec_x;
     smooth_row(&L->m, &L->r.map, &L->e, nseg, tri, at, X, blocked, lights, gu, rx);
-    L->m.inner_declines = &dec_u;
-    smooth_partial_row(&L->m, &L->r.map, nseg, tri, at, xu, xw, blocked, lights, gu, ru);
     L->m.inner_declines = NULL;
-    for (int k = 0; k < nseg; k++)
-      for (int p = at[k]; p < at[k + 1]; p++)
-        differ += gu[p] != g[p];
-    for (int r = 0; r < 3; r++) differ += ru[r] != regions[r];
-    differ += dec_u != dec_x;
+    /* both of its builds: AVX's encoding (where the processor has it) and SSE2's
+       (partial_sse2) */
+    for (int way = 0; way < 2; way++) {
+      for (int r = 0; r < 3; r++) ru[r] = 0;
+      dec_u = 0;
+      for (int p = 0; p < at[nseg]; p++) gu[p] = -1;
+      L->m.partial_sse2 = way == 1;
+      L->m.inner_declines = &dec_u;
+      smooth_partial_row(&L->m, &L->r.map, nseg, tri, at, xu, xw, blocked, lights, gu, ru);
+      L->m.inner_declines = NULL;
+      L->m.partial_sse2 = false;
+      for (int k = 0; k < nseg; k++)
+        for (int p = at[k]; p < at[k + 1]; p++)
+          differ += gu[p] != g[p];
+      for (int r = 0; r < 3; r++) differ += ru[r] != regions[r];
+      differ += dec_u != dec_x;
+    }
   }
   if (L->e.smooth == EFFECTS_SMOOTH_PHONG && parallel && smooth_rows(&L->m, &L->e, lights)) {
     double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
