@@ -1479,6 +1479,9 @@ struct fx_lines {
   uint64_t *cutbit; size_t cutbitcap;   /* cut_bits: a row's samples a cut object's regions
                                hold, a bit each */
   struct cut_chain *cc;     /* cut_bits: the cut polygons' rings in chains (cut_chains) */
+  bool track;               /* cut_samples notes each sample it writes (cut_note): */
+  uint64_t *touch; size_t touchcap;   /* a bit a sample written on the row, */
+  int *orig; size_t origcap;          /* and its face before the first write */
   int *ccf;                 /* per cut polygon its first chain (cuts.n + 1 of them) */
   struct gpoint *cpt;       /* the points of the chains that hold a ring's last edge */
   /* samples on a rising window (shadow_samples): the row's stretches of each face's shadows
@@ -1499,6 +1502,8 @@ struct fx_lines {
                                at a sample of the run; rendn samples, 0 when not found */
   size_t rendcap;
   uint64_t *runbit; size_t runbitcap;   /* shadow_ranges: a row's run ends (run_bits) */
+  int nblk;                 /* the last row's samples with a light blocked (shadow_ranges),
+                               or -1 when not counted */
   struct fx_sample_row sr;  /* shadow_ranges' row of samples, kept while its xd, k0 and n
                                are asked again (srn: its n, or -1 when none kept) */
   int srn;
@@ -1553,6 +1558,7 @@ int fx_lines_open(struct fx_lines **out, const struct fx_model *m, bool by_sampl
   if (rc != T74_OK) { fx_lines_close(L); return rc; }
   L->spans = !by_samples && fx_see_has_spans(L->see);
   L->srn = -1;
+  L->nblk = -1;
   *out = L;
   return T74_OK;
 }
@@ -1568,7 +1574,7 @@ void fx_lines_close(struct fx_lines *L)
   free(L->behind);
   free(L->cr);
   free(L->a); free(L->b); free(L->x); free(L->ev); free(L->evt); free(L->brow); free(L->bnd);
-  free(L->cutbit); free(L->cc); free(L->ccf); free(L->cpt);
+  free(L->cutbit); free(L->cc); free(L->ccf); free(L->cpt); free(L->touch); free(L->orig);
   free(L->rng); free(L->fr); free(L->ps); free(L->psw); free(L->rend); free(L->runbit);
   free(L);
 }
@@ -2012,6 +2018,19 @@ static int behind_row(struct fx_lines *L, int q, int K, int64_t mrow, int64_t k0
   return fx_see_row(L->behind[q], K, mrow, k0, n, L->brow, err);
 }
 
+/* Sample i of face about to be written by cut_samples: where L->track, its bit set in
+   L->touch and its face before the row's first write kept in L->orig (fx_points then
+   counts the cut from those samples alone). */
+static inline void cut_note(struct fx_lines *L, const int *face, int i)
+{
+  if (!L->track) return;
+  const uint64_t b = (uint64_t)1 << (i & 63);
+  if (!(L->touch[i >> 6] & b)) {
+    L->touch[i >> 6] |= b;
+    L->orig[i] = face[i];
+  }
+}
+
 /* Cut object q's regions out of a row of samples: a sample showing one of the object's
    faces inside a region shows what the engine sees there without the object (cut_line's
    answer, sample by sample). */
@@ -2048,6 +2067,7 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
           if (face[i] < 0 || !skip[face[i]]) continue;
           if (!behind && (rc = behind_row(L, q, K, mrow, k0, n, err)) != T74_OK) return rc;
           behind = true;
+          cut_note(L, face, i);
           face[i] = none ? -1 : L->brow[i];
         }
       return T74_OK;
@@ -2085,6 +2105,7 @@ static int cut_samples(struct fx_lines *L, int q, int K, int64_t mrow, int64_t y
       }
       if (!behind && (rc = behind_row(L, q, K, mrow, k0, n, err)) != T74_OK) return rc;
       behind = true;
+      cut_note(L, face, i);
       face[i] = L->brow[i];
     }
   return T74_OK;
@@ -2553,8 +2574,8 @@ static void run_bits(const int *face, int n, bool settled, uint64_t *bit)
    rule), so the mask at each sample is the OR of the lights of the face's ranges that
    hold it. A face's ranges are found at its first run on the row and serve its others. */
 static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd, int64_t k0,
-                         int n, const int *face, const int *runs, unsigned *blocked,
-                         struct t74_error *err)
+                         int n, const int *face, const int *runs, bool settled,
+                         unsigned *blocked, struct t74_error *err)
 {
   const struct fx_model *m = L->m;
   if (!L->fr && !(L->fr = calloc((size_t)m->map->nface + 1, sizeof *L->fr)))
@@ -2575,9 +2596,9 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
   if (!t74_grow((void **)&L->rend, &L->rendcap, (size_t)n, sizeof *L->rend) ||
       !t74_grow((void **)&L->runbit, &L->runbitcap, (size_t)nw, sizeof *L->runbit))
     return t74_fail(err, T74_EIO, "out of host memory");
-  run_bits(runs, n, runs != face, L->runbit);
+  run_bits(runs, n, settled, L->runbit);
   memset(blocked, 0, (size_t)n * sizeof *blocked);
-  int i = 0;
+  int i = 0, nblk = 0;
   for (int w = 0; w < nw; w++)
     for (uint64_t mb = L->runbit[w]; mb; mb &= mb - 1) {
       const int e = 64 * w + __builtin_ctzll(mb) + 1;   /* the run [i, e) */
@@ -2596,23 +2617,28 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
           const unsigned bit = 1u << b->light;
           const int j0 = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e;
           any |= j0 < hi;
-          for (int j = j0; j < hi; j++) blocked[j] |= bit;
+          for (int j = j0; j < hi; j++) {   /* (a sample counted at its first light) */
+            nblk += blocked[j] == 0;
+            blocked[j] |= bit;
+          }
         }
         if (any) L->rend[i] = -e;
       }
       i = e;
     }
   L->rendn = n;
+  L->nblk = nblk;
   return T74_OK;
 }
 
 /* The lights blocked at each sample of a row: the shadows lying on the face seen there,
    counted up to the sample (shadow_line's answer, sample by sample). runs: the same faces
    as face, which shadow_ranges reads to find the row's runs (fx_lines_samples passes the
-   engine's row where face is its copy, fx_see_row_drawn). */
+   engine's row where face is its copy, fx_see_row_drawn); settled: runs was not just
+   stored (run_bits). */
 static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd, int64_t k0,
-                          int n, const int *face, const int *runs, unsigned *blocked,
-                          struct t74_error *err)
+                          int n, const int *face, const int *runs, bool settled,
+                          unsigned *blocked, struct t74_error *err)
 {
   const struct fx_model *m = L->m;
   const int32_t *win = m->g->window;
@@ -2623,7 +2649,8 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
   /* samples left to right (xn rising): each stretch of a face's shadows the range of
      samples between its ends' first samples at or right of them (fx_first_at_or_right),
      found once a row (face_ranges); else each sample compared with the events */
-  if (win[2] > win[0]) return shadow_ranges(L, yn, yd, xd, k0, n, face, runs, blocked, err);
+  if (win[2] > win[0])
+    return shadow_ranges(L, yn, yd, xd, k0, n, face, runs, settled, blocked, err);
   /* a face's events on the line, sorted, are kept in L->ev for the row: a face seen again
      further along (another face in between) takes them as they are; the last few faces
      are remembered */
@@ -2664,14 +2691,17 @@ static int shadow_samples(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd
   return T74_OK;
 }
 
-int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n, int *face,
-                     unsigned *blocked, struct t74_error *err)
+/* fx_lines_samples; placed: face is the engine's row as drawn itself (fx_see_drawn_row's
+   buffer, not a copy), so it is not copied, and the cuts write it in place. */
+static int lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n, int *face,
+                         unsigned *blocked, bool placed, struct t74_error *err)
 {
   const int32_t *win = L->m->g->window;
   const int64_t XL = win[0], YB = win[1], XR = win[2], YT = win[3];
   const int64_t xd = 2 * (int64_t)K * L->m->W, yd = 2 * (int64_t)K * L->m->H;
   const int64_t yn = GRID_ONE * (yd * YT - (2 * mrow + 1) * (YT - YB));
   int rc;
+  L->nblk = -1;                             /* (shadow_ranges counts the samples in shadow) */
   if (L->spans) {
     /* the stretches of the row's line after the regions, each sample placed in its own */
     const struct fx_span *sp;
@@ -2688,16 +2718,25 @@ int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n,
     return T74_OK;
   }
   L->rendn = 0;                             /* (shadow_ranges finds the row's runs) */
-  const int *drawn;                         /* the engine's row face copies, or NULL */
-  if ((rc = fx_see_row_drawn(L->see, K, mrow, k0, n, face, &drawn, err)) != T74_OK) return rc;
+  const int *drawn = face;                  /* the engine's row face copies, or NULL */
+  if (!placed && (rc = fx_see_row_drawn(L->see, K, mrow, k0, n, face, &drawn, err)) != T74_OK)
+    return rc;
   for (int q = 0; q < L->m->ncut && rc == T74_OK; q++)
     rc = cut_samples(L, q, K, mrow, yn, yd, xd, k0, n, face, err);
   /* the row's runs read from the engine's row where face is its copy and no cut changed
      it: the copy's stores may still be on their way when run_bits loads them sixteen
-     bytes at a time, and such a load waits for them (the same values either way) */
+     bytes at a time, and such a load waits for them (the same values either way); in
+     place, the row was not just stored where no cut wrote it */
   const int *runs = drawn && !L->m->ncut ? drawn : face;
-  if (rc == T74_OK) rc = shadow_samples(L, yn, yd, xd, k0, n, face, runs, blocked, err);
+  const bool settled = placed ? !L->m->ncut : runs != face;
+  if (rc == T74_OK) rc = shadow_samples(L, yn, yd, xd, k0, n, face, runs, settled, blocked, err);
   return rc;
+}
+
+int fx_lines_samples(struct fx_lines *L, int K, int64_t mrow, int64_t k0, int n, int *face,
+                     unsigned *blocked, struct t74_error *err)
+{
+  return lines_samples(L, K, mrow, k0, n, face, blocked, false, err);
 }
 
 /* ---- the point frame ------------------------------------------------------------------ */
@@ -2830,15 +2869,40 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   for (int j = H - 1; j >= 0; j--) {
     size_t at0 = (size_t)j * (size_t)W;
     int *fr = f->face + at0;
-    if (regions) {
+    if (regions && fx_see_drawn_row(L->see, 1, j, 0, W) == fr) {
+      /* fr is the engine's row itself (the frame's faces are its buffer): the cuts
+         written into it in place, each sample they write noted (cut_note), and the cut
+         counted at those samples alone (the others are as drawn); no row copied into
+         row, compared with fr and copied back (the compare waited on the copy's stores) */
+      const int nw = (W + 63) / 64;
+      if (m->ncut) {
+        if (!t74_grow((void **)&L->touch, &L->touchcap, (size_t)nw, sizeof *L->touch) ||
+            !t74_grow((void **)&L->orig, &L->origcap, (size_t)W, sizeof *L->orig)) {
+          rc = t74_fail(err, T74_EIO, "out of host memory");
+          break;
+        }
+        memset(L->touch, 0, (size_t)nw * sizeof *L->touch);
+        L->track = true;
+      }
+      rc = lines_samples(L, 1, j, 0, W, fr, blocked, true, err);
+      L->track = false;
+      if (rc != T74_OK) break;
+      for (int w = 0; m->ncut && w < nw; w++)
+        for (uint64_t b = L->touch[w]; b; b &= b - 1) {
+          const int i = 64 * w + __builtin_ctzll(b);
+          const bool changed = fr[i] != L->orig[i];
+          cut += changed;
+          show_none += changed && fr[i] < 0;
+          show_face += changed && fr[i] >= 0;
+        }
+      COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)W);   /* 2 and 2 a point */
+      COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
+    } else if (regions) {
       if ((rc = fx_lines_samples(L, 1, j, 0, W, row, blocked, err)) != T74_OK) break;
       /* a row the regions left as it was has no cut to count (nor, without shadows,
          anything): memcmp tells so faster than cut_row's steps */
       if (memcmp(row, fr, (size_t)W * sizeof *row))
         cut_row(row, fr, W, &cut, &show_face, &show_none);
-      /* the row's points in shadow (< W: an int, counted four a vector instruction; none
-         without shadows, where shadow_samples leaves every mask 0) */
-      if (m->shadows.n) shadowed += count_set(blocked, W);
       COST_ADD_N(cost, COST_ADD, 2 * (uint64_t)W);   /* 2 and 2 a point */
       COST_ADD_N(cost, COST_BRANCH, 2 * (uint64_t)W);
     }
@@ -2943,6 +3007,10 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       pts++;
       if (region == 0) flat++; else if (region == 2) corner++; else band++;
     }
+    /* the row's points in shadow: shadow_ranges' count as it set the masks, else (< W: an
+       int) counted four a vector instruction; none without shadows, where shadow_samples
+       leaves every mask 0 */
+    if (regions && m->shadows.n) shadowed += L->nblk >= 0 ? L->nblk : count_set(blocked, W);
   }
   fx_lines_close(L);
   free(blocked); free(row); free(px); free(shades); free(known);

@@ -151,6 +151,15 @@ bool fx_see_row_none(const struct fx_see *s, int K, int64_t m, int64_t k0, int n
   return s->e->pts && s->none && s->skip && points_at_lattice_ok(s->e->g, K, m, k0, n);
 }
 
+const int *fx_see_drawn_row(const struct fx_see *s, int K, int64_t m, int64_t k0, int n)
+{
+  const struct vis_grid *g = s->e->g;
+  if (!s->e->pts || K != 1 || s->skip || m < 0 || m >= g->H || k0 < 0 || k0 + n > g->W)
+    return NULL;
+  _Static_assert(sizeof *s->e->pts->face == sizeof(int), "the engine's faces are ints");
+  return s->e->pts->face + m * g->W + k0;
+}
+
 int fx_see_row_drawn(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
                      const int **drawn, struct t74_error *err)
 {
@@ -159,9 +168,7 @@ int fx_see_row_drawn(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int 
   *drawn = NULL;
   if (s->e->pts) {
     const struct points *p = s->e->pts;
-    if (K == 1 && !s->skip && m >= 0 && m < g->H && k0 >= 0 && k0 + n <= g->W) {
-      _Static_assert(sizeof *p->face == sizeof *face, "the engine's faces are ints");
-      *drawn = p->face + m * g->W + k0;
+    if ((*drawn = fx_see_drawn_row(s, K, m, k0, n)) != NULL) {
       memcpy(face, *drawn, (size_t)n * sizeof *face);   /* the row as drawn */
       return T74_OK;
     }

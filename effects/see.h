@@ -113,6 +113,12 @@ int fx_see_row(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
 int fx_see_row_drawn(struct fx_see *s, int K, int64_t m, int64_t k0, int n, int *face,
                      const int **drawn, struct t74_error *err);
 
+/* The engine's row that fx_see_row_drawn would copy into face and give as *drawn (the
+   points engine's frame, at the centres, with no face taken away), without copying it;
+   NULL where fx_see_row_drawn would find the row another way. A reader that holds those
+   faces already (the same buffer) may then work on them in place. */
+const int *fx_see_drawn_row(const struct fx_see *s, int K, int64_t m, int64_t k0, int n);
+
 /* True when fx_see_row would answer -1 at every sample of that row without looking (the
    points engine with every face taken away or left out, on a lattice it takes): a reader
    may then take -1 without the row. False says nothing. */

@@ -1000,20 +1000,34 @@ static void test_cuts_on_points(void **state)
   scene_free(sc);
 }
 
+/* The value of counter name in st (0 where it has none). */
+static double count_of(const struct fx_stats *st, const char *name)
+{
+  for (int k = 0; k < st->n; k++)
+    if (!strcmp(st->name[k], name)) return st->value[k];
+  return 0;
+}
+
 /* The points engine's point frame (fx_points: its greys worked out a run of neighbouring
    points of one face at a time: a smoothed face's, a flat face's with its normal found
    once and its lights' directions two points an instruction) is fx_shade's point by
    point, at every point: on the shipped scenes with point lights, shadows and textures,
    on some with smoothing, each with shadows, and on a textured face turned out of every
    coordinate plane (tests/data/scene/tex-slant.s74: fig6-room's are in one, half of the
-   reflectance's terms zero). */
+   reflectance's terms zero). And the frame taken in place (the engine's buffer as its
+   faces, where fx_points writes the cuts into the row itself and counts them from the
+   samples the cuts wrote) has the same faces, greys and counts as the frame on a copy. */
 static void test_points_frame_is_pointwise(void **state)
 {
   (void)state;
   static const char *const cases[][2] = {   /* the scene's own effects and more */
     { "fig6-room", "" }, { "fig6-building", "" }, { "lprism", "shadows=on" },
     { "t1-h", "shadows=on" }, { "t1-a", "shadows=on" }, { "edges-telephone", "shadows=on" },
-    { "../tests/data/scene/tex-slant", "" } };
+    { "t1-g", "" }, { "../tests/data/scene/tex-slant", "" } };
+  static const char *const counts[] = { "contour_points_cut", "contour_points_show_face",
+                                        "contour_points_show_background", "shadow_points" };
+  enum { NCOUNT = sizeof counts / sizeof counts[0] };
+  double counted[NCOUNT] = { 0 };           /* over the cases, on the copy */
   long points = 0, lit_runs = 0, textured = 0, slant = 0;
   int greys[256] = { 0 };
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -1033,17 +1047,21 @@ static void test_points_frame_is_pointwise(void **state)
     assert_false(m.count);                  /* the points engine: greys in runs */
     struct fx_frame f;
     frame_of_points(&f, &d);
+    double c0[NCOUNT], c1[NCOUNT];
+    for (int c = 0; c < NCOUNT; c++) c0[c] = count_of(&st, counts[c]);
     assert_int_equal(fx_points(&m, &f, &st, &cost, &err), T74_OK);
+    for (int c = 0; c < NCOUNT; c++) c1[c] = count_of(&st, counts[c]);
     /* point by point: the faces and lights blocked after the regions, then fx_shade */
     struct fx_lines *L = NULL;
     int *row = malloc((size_t)d.W * sizeof *row);
     unsigned *blocked = calloc((size_t)d.W, sizeof *blocked);
     assert_true(row && blocked);
     if (fx_model_regions(&m)) assert_int_equal(fx_lines_open(&L, &m, false, &cost, &err), T74_OK);
-    long bad = 0;
+    long bad = 0, shadowed = 0;
     for (int j = d.H - 1; j >= 0; j--) {
       if (L) assert_int_equal(fx_lines_samples(L, 1, j, 0, d.W, row, blocked, &err), T74_OK);
       else memcpy(row, d.face[1] + (size_t)j * (size_t)d.W, (size_t)d.W * sizeof *row);
+      for (int i = 0; L && i < d.W; i++) shadowed += blocked[i] != 0;
       for (int i = 0; i < d.W; i++) {
         const size_t at = (size_t)j * (size_t)d.W + (size_t)i;
         assert_int_equal(f.face[at], row[i]);
@@ -1065,6 +1083,8 @@ static void test_points_frame_is_pointwise(void **state)
       }
     }
     assert_int_equal(bad, 0);
+    /* fx_points' count of the points in shadow (shadow_ranges', as it sets the masks) */
+    if (e.shadows) assert_int_equal((long)(c1[3] - c0[3]), shadowed);
     fx_lines_close(L);
     /* the frame taken in place, the engine's own buffer as fx_points' faces (the
        pipeline's points frame without aa: run_effects): the same faces and greys as on
@@ -1078,6 +1098,14 @@ static void test_points_frame_is_pointwise(void **state)
     for (size_t at = 0; at < np; at++) in_place += fin.face[at] != f.face[at] || fin.grey[at] != f.grey[at];
     if (in_place) print_message("%s [%s]: %ld points differ in place\n", cases[k][0], fx, in_place);
     assert_int_equal(in_place, 0);
+    for (int c = 0; c < NCOUNT; c++) {
+      const double on_copy = c1[c] - c0[c], placed = count_of(&st, counts[c]) - c1[c];
+      if (placed != on_copy)
+        print_message("%s [%s]: %s %.0f in place, %.0f on a copy\n", cases[k][0], fx,
+                      counts[c], placed, on_copy);
+      assert_true(placed == on_copy);
+      counted[c] += on_copy;
+    }
     free(fin.grey);
     free(row); free(blocked); free(f.face); free(f.grey);
     fx_model_free(&m);
@@ -1087,9 +1115,11 @@ static void test_points_frame_is_pointwise(void **state)
   int distinct = 0;
   for (int g = 0; g < 256; g++) distinct += greys[g];
   print_message("points frame: %ld points, %ld lit flat points in shadow, %ld textured "
-                "(%ld on the turned face in shadow), %d greys\n", points, lit_runs, textured,
-                slant, distinct);
+                "(%ld on the turned face in shadow), %d greys; cut %.0f (to a face %.0f, to "
+                "none %.0f), in shadow %.0f\n", points, lit_runs, textured, slant, distinct,
+                counted[0], counted[1], counted[2], counted[3]);
   assert_true(lit_runs > 1000 && textured > 1000 && slant > 20 && distinct > 100);
+  assert_true(counted[0] > 100 && counted[2] > 100 && counted[3] > 1000);
 }
 
 /* fx_points' runs of points that see no face, whose ends it finds sixteen points a step
