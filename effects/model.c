@@ -692,7 +692,7 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
                     const struct tex_lanes *T, int n, const unsigned *blocked, unsigned b,
                     const double *px, uint8_t *grey, bool rowt)
 {
-  const struct space_lanes L = F->L;
+  const struct space_lanes *const L = &F->L;
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
   const int ax = P->axis;                   /* a face square to an axis: */
   const __m128d nax = P->nv[ax >= 0 ? ax : 0];   /* shade_pair_dot_axis */
@@ -716,13 +716,13 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
     unsigned both[LIT_PAIRS];               /* blocked[]: the lights blocked at both lanes */
     if (rowt) {                             /* the space points: X[0] alone changes */
       for (int k = 0; k < nf; k++)
-        X[k][0] = _mm_add_pd(L.e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_loadu_pd(pxc + 2 * k), L.e0)));
+        X[k][0] = _mm_add_pd(L->e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_loadu_pd(pxc + 2 * k), L->e0)));
       if (nf < np)
-        X[nf][0] = _mm_add_pd(L.e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_set1_pd(pxc[2 * nf]), L.e0)));
+        X[nf][0] = _mm_add_pd(L->e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_set1_pd(pxc[2 * nf]), L->e0)));
     } else {
       for (int k = 0; k < nf; k++)
-        space_lanes_at(&L, _mm_loadu_pd(pxc + 2 * k), X[k]);
-      if (nf < np) space_lanes_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
+        space_lanes_at(L, _mm_loadu_pd(pxc + 2 * k), X[k]);
+      if (nf < np) space_lanes_at(L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
     }
     /* the reflectances; where the row's t is fixed, the picture's row the row's and the
        face square to the y or z axis (fuse), in the loop of the first point light whose
@@ -746,10 +746,11 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
        doubles: the same adds in the same order); the start set for every one of the
        LIT_PAIRS sums (a loop of a fixed count, no exit to mispredict) */
     const struct shade_pair_light *l = P->l, *const end = P->l + P->n;
+    unsigned bit = 1;                       /* l's bit in a blocked mask, 1 << (l - P->l) */
     __m128d start = zero;
     if (!bc)
-      for (; l < end && !l->point; l++)
-        if (!(b & 1u << (l - P->l))) start = _mm_add_pd(start, l->v[0]);
+      for (; l < end && !l->point; l++, bit <<= 1)
+        if (!(b & bit)) start = _mm_add_pd(start, l->v[0]);
     for (int k = 0; k < LIT_PAIRS; k++) sum[k] = start;
     if (bc) {
       for (int k = 0; k < np; k++) {
@@ -760,8 +761,7 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
         both[k] = b0 & b1;
       }
     }
-    for (; l < end; l++) {
-      const unsigned bit = 1u << (l - P->l);
+    for (; l < end; l++, bit <<= 1) {
       if (!bc) {                            /* b at every point */
         if (b & bit) continue;              /* +0 at every lane */
         if (!l->point)
