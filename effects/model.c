@@ -655,6 +655,36 @@ static inline __m128d row_tex_pair(const struct tex_lanes *T, const struct row_t
    parts of it made once a light a stage; a texture's pixels row_tex_pair's where
    row_tex_init holds (then made in the first point light's loop, as said there), else
    tex_pair's on the space points. */
+/* shade_pair_greys of four pairs at once: pair q's reflectances r[q] (r NULL: 1 in every
+   lane) and sums sum[q], its two greys to g[2q] (lane 0's) and g[2q + 1], where every
+   lane's f lies in [0, 2^30) (shade_pair_greys_fast's condition, the AND of the four
+   pairs' tests): true, the eight greys in one 8-byte store. Each lane's f and its
+   truncation t are shade_pair_greys_fast's operations on the same values, without its top
+   of 512: with f in [0, 2^30), 48 + t lies in [48, 2^30 + 48), below 2^31, and the two
+   saturating packs of shade_pair_pack (the four pairs' t side by side, two pairs a
+   register, element by element as there) give min(48 + t, 255) whether t was topped at
+   512 or not (48 + 512 > 255): each byte is the one shade_pair_greys gives. Else false
+   and nothing stored (the caller takes the pairs one at a time). */
+static inline bool greys_quad(const __m128d *r, const __m128d *sum, uint8_t *g)
+{
+  const __m128d k = _mm_set1_pd(255 - SHADE_AMBIENT), half = _mm_set1_pd(0.5);
+  const __m128d zero = _mm_setzero_pd(), lim = _mm_set1_pd(0x1p30);
+  __m128d f[4], ok = _mm_castsi128_pd(_mm_set1_epi32(-1));
+  for (int q = 0; q < 4; q++) {
+    f[q] = _mm_add_pd(_mm_mul_pd(_mm_mul_pd(k, r ? r[q] : _mm_set1_pd(1)), sum[q]), half);
+    ok = _mm_and_pd(ok, _mm_and_pd(_mm_cmpge_pd(f[q], zero), _mm_cmplt_pd(f[q], lim)));
+  }
+  if (_mm_movemask_pd(ok) != 3) return false;
+  const __m128i t01 = _mm_unpacklo_epi64(_mm_cvttpd_epi32(f[0]), _mm_cvttpd_epi32(f[1]));
+  const __m128i t23 = _mm_unpacklo_epi64(_mm_cvttpd_epi32(f[2]), _mm_cvttpd_epi32(f[3]));
+  const __m128i amb = _mm_set1_epi32(SHADE_AMBIENT);
+  const __m128i b = _mm_packus_epi16(_mm_packs_epi32(_mm_add_epi32(t01, amb),
+                                                     _mm_add_epi32(t23, amb)),
+                                     _mm_setzero_si128());
+  _mm_storel_epi64((__m128i *)(void *)g, b);
+  return true;
+}
+
 enum { LIT_PAIRS = 16 };
 
 static inline __attribute__((always_inline))
@@ -662,7 +692,7 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
                     const struct tex_lanes *T, int n, const unsigned *blocked, unsigned b,
                     const double *px, uint8_t *grey, bool rowt)
 {
-  const struct space_lanes L = F->L;
+  const struct space_lanes *const L = &F->L;
   const __m128d one = _mm_set1_pd(1), zero = _mm_setzero_pd();
   const int ax = P->axis;                   /* a face square to an axis: */
   const __m128d nax = P->nv[ax >= 0 ? ax : 0];   /* shade_pair_dot_axis */
@@ -686,13 +716,13 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
     unsigned both[LIT_PAIRS];               /* blocked[]: the lights blocked at both lanes */
     if (rowt) {                             /* the space points: X[0] alone changes */
       for (int k = 0; k < nf; k++)
-        X[k][0] = _mm_add_pd(L.e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_loadu_pd(pxc + 2 * k), L.e0)));
+        X[k][0] = _mm_add_pd(L->e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_loadu_pd(pxc + 2 * k), L->e0)));
       if (nf < np)
-        X[nf][0] = _mm_add_pd(L.e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_set1_pd(pxc[2 * nf]), L.e0)));
+        X[nf][0] = _mm_add_pd(L->e0, _mm_mul_pd(R.t, _mm_sub_pd(_mm_set1_pd(pxc[2 * nf]), L->e0)));
     } else {
       for (int k = 0; k < nf; k++)
-        space_lanes_at(&L, _mm_loadu_pd(pxc + 2 * k), X[k]);
-      if (nf < np) space_lanes_at(&L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
+        space_lanes_at(L, _mm_loadu_pd(pxc + 2 * k), X[k]);
+      if (nf < np) space_lanes_at(L, _mm_set1_pd(pxc[2 * nf]), X[nf]);
     }
     /* the reflectances; where the row's t is fixed, the picture's row the row's and the
        face square to the y or z axis (fuse), in the loop of the first point light whose
@@ -716,10 +746,11 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
        doubles: the same adds in the same order); the start set for every one of the
        LIT_PAIRS sums (a loop of a fixed count, no exit to mispredict) */
     const struct shade_pair_light *l = P->l, *const end = P->l + P->n;
+    unsigned bit = 1;                       /* l's bit in a blocked mask, 1 << (l - P->l) */
     __m128d start = zero;
     if (!bc)
-      for (; l < end && !l->point; l++)
-        if (!(b & 1u << (l - P->l))) start = _mm_add_pd(start, l->v[0]);
+      for (; l < end && !l->point; l++, bit <<= 1)
+        if (!(b & bit)) start = _mm_add_pd(start, l->v[0]);
     for (int k = 0; k < LIT_PAIRS; k++) sum[k] = start;
     if (bc) {
       for (int k = 0; k < np; k++) {
@@ -730,8 +761,7 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
         both[k] = b0 & b1;
       }
     }
-    for (; l < end; l++) {
-      const unsigned bit = 1u << (l - P->l);
+    for (; l < end; l++, bit <<= 1) {
       if (!bc) {                            /* b at every point */
         if (b & bit) continue;              /* +0 at every lane */
         if (!l->point)
@@ -816,8 +846,11 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
     }
     if (fuse && !texed)                     /* no point light's terms made */
       for (int k = 0; k < np; k++) refl[k] = row_tex_pair(T, &Q, &R, X[k][0]);
-    for (int k = 0; k < nf; k++) {          /* the greys: a pair's two bytes in one store
-                                               (lane 0's the low byte: x86 is little-endian) */
+    int k = 0;                              /* the greys: four pairs' eight bytes in one */
+    for (; k + 4 <= nf; k += 4)             /* store (greys_quad), else pair by pair */
+      if (!greys_quad(T ? refl + k : NULL, sum + k, gc + 2 * k)) break;
+    for (; k < nf; k++) {                   /* a pair's two bytes in one store (lane 0's */
+                                            /* the low byte: x86 is little-endian) */
       const uint16_t g = (uint16_t)shade_pair_greys(T ? refl[k] : one, sum[k]);
       memcpy(gc + 2 * k, &g, 2);
     }

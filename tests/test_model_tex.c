@@ -188,11 +188,34 @@ static void test_tex_axis_pointwise(void **state)
   assert_true(t.tex_other > 1000 && t.shadowed > 1000 && t.outside > 5000 && distinct > 40);
 }
 
+/* scenes/fig6-room.s74: a textured wall and a floor in a table's shadow under a parallel
+   and a point light, every point of a lit face's run past the first blocked one shaded in
+   stages whose greys go four pairs a store (greys_quad), with clamped greys (255) among
+   them: fx_points' greys against fx_shade's at every point. */
+static void test_fig6_room_pointwise(void **state)
+{
+  (void)state;
+  struct tally t;
+  memset(&t, 0, sizeof t);
+  static const int grids[][2] = { { 320, 240 }, { 333, 217 }, { 101, 77 } };
+  for (size_t k = 0; k < sizeof grids / sizeof grids[0]; k++)
+    frame_is_pointwise("scenes/fig6-room.s74", grids[k][0], grids[k][1], &t);
+  int distinct = 0;
+  for (int g = 0; g < 256; g++) distinct += t.greys[g];
+  print_message("fig6-room: %ld points, %ld textured (%ld in shadow), %ld untextured with a "
+                "point light lit and a light blocked; %d greys (255: %d), %ld differ\n",
+                t.points, t.textured, t.shadowed, t.row_masked, distinct, t.greys[255],
+                t.differ);
+  assert_int_equal(t.differ, 0);
+  assert_true(t.textured > 10000 && t.row_masked > 1000 && distinct > 40 && t.greys[255]);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_tex_repeat_pointwise),
     cmocka_unit_test(test_tex_axis_pointwise),
+    cmocka_unit_test(test_fig6_room_pointwise),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
