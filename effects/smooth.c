@@ -1746,7 +1746,27 @@ void phong_rows(const struct smooth_model *m, int nseg, const int *tri, const in
    arithmetic (about 77 vector operations a step of two points) and to the steps across
    two runs (some 25 shuffles each, a run holding 3.4 points on average on the sphere);
    four lanes a step take a run's points with about half the operations, and the second
-   pass's square roots and divides, four a step, are not spent on spare lanes. */
+   pass's square roots and divides, four a step, are not spent on spare lanes.
+   What does not pay here (round 39, perf's sampling clock under load, phong_rows4's
+   samples in runs of 10,000 frames, three or four runs each way). A frame of t1-g has
+   105 rows, 4,097 points in 288 runs (14 a run) and 1,126 first-pass steps; the sphere's
+   56 rows, 2,343 points in 695 runs (3.4 a run: 187 of one point, 134 of two) and 907
+   steps; the filter declines none, under one light blocked nowhere. The first pass takes
+   about half of the function's samples, the second the rest. Leaving the square root and
+   the divide out altogether (a float reciprocal square root in their place: wrong greys,
+   the most any other normalisation could save) took 16% of the function's samples on
+   t1-g and 10% on the sphere; so the function is held by its vector operations (about 52
+   a first-pass step, 30 a second-pass step besides the square root and divide) more than
+   by the divider. Tried, each exact (the same greys on t1-g, t1-h, t1-i, lprism and the
+   sphere) and not faster: the grey decided without the square root and divide, by
+   comparing (207 max(0, s N'.l))^2 with (k -+ (1/2 - 2^-23))^2 nn for a candidate k made
+   by RSQRTPS's reciprocal square root and a Newton step (+10% on t1-g, +7% on the sphere:
+   the conversions and products cost more than the divider's wait); the constants folded
+   into the products as AVX-512VL broadcasts (level); the second pass eight points a step
+   on AVX-512's registers (the function's share of t1-g 28.4 -> 31.8%, of the sphere 16.1
+   -> 17.2%); the second pass over the first pass's own steps, so that each load reads
+   one store (29.9% against 28.2% of t1-g); full loads of xu and xw for a run's last step
+   (level; 0.2 to 0.5% fewer instructions a frame). */
 #define PHONG_AVX_ATTR __attribute__((target("avx")))
 /* A row's points between phong_row4_lights' two passes, point p's values at [p]: the
    normal's sums N, the square root's operand nn (r), the eye's side
