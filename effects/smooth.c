@@ -1757,11 +1757,12 @@ void phong_rows(const struct smooth_model *m, int nseg, const int *tri, const in
    the most any other normalisation could save) took 16% of the function's samples on
    t1-g and 10% on the sphere; so the function is held by its vector operations (then
    about 52 a first-pass step, 30 a second-pass step besides the square root and divide)
-   more than by the divider (what paid: phong_row4_lights). Tried, each exact (the same greys on t1-g, t1-h, t1-i, lprism and the
-   sphere) and not faster: the grey decided without the square root and divide, by
-   comparing (207 max(0, s N'.l))^2 with (k -+ (1/2 - 2^-23))^2 nn for a candidate k made
-   by RSQRTPS's reciprocal square root and a Newton step (+10% on t1-g, +7% on the sphere:
-   the conversions and products cost more than the divider's wait); the constants folded
+   more than by the divider (what paid: see phong_row4_lights). Tried, each exact (the
+   same greys on t1-g, t1-h, t1-i, lprism and the sphere) and not faster: the grey
+   decided without the square root and divide, by comparing (207 max(0, s N'.l))^2 with
+   (k -+ (1/2 - 2^-23))^2 nn for a candidate k made by RSQRTPS's reciprocal square root
+   and a Newton step (+10% on t1-g, +7% on the sphere: the conversions and products cost
+   more than the divider's wait; branch r39-phong5-squares); the constants folded
    into the products as AVX-512VL broadcasts (level); the second pass eight points a step
    on AVX-512's registers (the function's share of t1-g 28.4 -> 31.8%, of the sphere 16.1
    -> 17.2%); the second pass over the first pass's own steps, so that each load reads
@@ -1924,10 +1925,11 @@ __m256d step4(const double *v, int p, int c)
    step. The first pass is bound by its vector operations (about 52 a step); the second
    waits on the divider (a square root and a divide a step, 16% of the function's samples
    on t1-g, round 39) with ports to spare: so phong_head's tests (9 operations) and nn (5)
-   are made in the second pass, each on the same doubles as before, which takes about 5%
-   of the function's samples on t1-g and the sphere. A point of a triangle whose btot is 0
-   is declined (its least w_k kept as 0, below |tot| 2^-1000 = 2^-1000 with |tot| kept as
-   1), and so takes the exact chain with its areas (bary_areas), counted, as phong_alone
+   are made in the second pass, each on the same doubles as before (phong_rows4's share
+   of the frame's samples, medians of four runs each way: t1-g 28.5 -> 27.0%, the sphere
+   16.5 -> 15.9%, lprism 20.0 -> 18.2%). A point of a triangle whose btot is 0 is
+   declined (its least w_k kept as 0, below |tot| 2^-1000 = 2^-1000 with |tot| kept as 1),
+   and so takes the exact chain with its areas (bary_areas), counted, as phong_alone
    takes it in phong_rows (whose filter declines a triangle whose btot is 0). */
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
 void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
