@@ -1926,11 +1926,12 @@ __m256d step4(const double *v, int p, int c)
    waits on the divider (a square root and a divide a step, 16% of the function's samples
    on t1-g, round 39) with ports to spare: so phong_head's tests (9 operations) and nn (5)
    are made in the second pass, each on the same doubles as before (phong_rows4's share
-   of the frame's samples, medians of four runs each way: t1-g 28.5 -> 27.0%, the sphere
-   16.5 -> 15.9%, lprism 20.0 -> 18.2%). A point of a triangle whose btot is 0 is
-   declined (its least w_k kept as 0, below |tot| 2^-1000 = 2^-1000 with |tot| kept as 1),
-   and so takes the exact chain with its areas (bary_areas), counted, as phong_alone
-   takes it in phong_rows (whose filter declines a triangle whose btot is 0). */
+   of the frame's samples, medians of 4 to 14 runs each way under load: t1-g 29.0 ->
+   27.3%, t1-h 28.2 -> 26.6%, t1-i 29.9 -> 28.6%, the sphere 16.9 -> 16.2%, lprism 19.8
+   -> 18.9%; about 0.5% more instructions a frame). A point of a triangle whose btot is
+   0 is declined (its least w_k kept as 0, below |tot| 2^-1000 = 2^-1000 with |tot| kept
+   as 1), and so takes the exact chain with its areas (bary_areas), counted, as
+   phong_alone takes it in phong_rows (whose filter declines a triangle whose btot is 0). */
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
 void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                        const double *xu, const double *xw, const unsigned *blocked,
