@@ -1746,18 +1746,41 @@ void phong_rows(const struct smooth_model *m, int nseg, const int *tri, const in
    arithmetic (about 77 vector operations a step of two points) and to the steps across
    two runs (some 25 shuffles each, a run holding 3.4 points on average on the sphere);
    four lanes a step take a run's points with about half the operations, and the second
-   pass's square roots and divides, four a step, are not spent on spare lanes. */
+   pass's square roots and divides, four a step, are not spent on spare lanes.
+   What does not pay here (round 39, perf's sampling clock under load, phong_rows4's
+   samples in runs of 10,000 frames, three or four runs each way). A frame of t1-g has
+   105 rows, 4,097 points in 288 runs (14 a run) and 1,126 first-pass steps; the sphere's
+   56 rows, 2,343 points in 695 runs (3.4 a run: 187 of one point, 134 of two) and 907
+   steps; the filter declines none, under one light blocked nowhere. The first pass took
+   about half of the function's samples, the second the rest. Leaving the square root and
+   the divide out altogether (a float reciprocal square root in their place: wrong greys,
+   the most any other normalisation could save) took 16% of the function's samples on
+   t1-g and 10% on the sphere; so the function is held by its vector operations (then
+   about 52 a first-pass step, 30 a second-pass step besides the square root and divide)
+   more than by the divider (what paid: see phong_row4_lights). Tried, each exact (the
+   same greys on t1-g, t1-h, t1-i, lprism and the sphere) and not faster: the grey
+   decided without the square root and divide, by comparing (207 max(0, s N'.l))^2 with
+   (k -+ (1/2 - 2^-23))^2 nn for a candidate k made by RSQRTPS's reciprocal square root
+   and a Newton step (+10% on t1-g, +7% on the sphere: the conversions and products cost
+   more than the divider's wait; branch r39-phong5-squares); the constants folded
+   into the products as AVX-512VL broadcasts (level); the second pass eight points a step
+   on AVX-512's registers (the function's share of t1-g 28.4 -> 31.8%, of the sphere 16.1
+   -> 17.2%); the second pass over the first pass's own steps, so that each load reads
+   one store (29.9% against 28.2% of t1-g); full loads of xu and xw for a run's last step
+   (level; 0.2 to 0.5% fewer instructions a frame). */
 #define PHONG_AVX_ATTR __attribute__((target("avx")))
 /* A row's points between phong_row4_lights' two passes, point p's values at [p]: the
-   normal's sums N, the square root's operand nn (r), the eye's side
-   (+-1), phong_head's ok (all bits set or none) and the triangle; 4 spare places past
-   the row's last point. */
+   normal's sums N, the eye's side (+-1), the least of the clamped areas w_k (mn), their
+   sum s, the triangle's |tot| and the triangle; 4 spare places past the row's last
+   point. phong_head's tests on them (its ok) and its square root's operand nn (from N)
+   are made in the second pass (phong_tail4), not the first: see phong_row4_lights. */
 #define PHONG_PTS (SMOOTH_ROW + 4)
 struct phong_pts4 {
   _Alignas(32) double n[3][PHONG_PTS];
-  _Alignas(32) double r[PHONG_PTS];
   _Alignas(32) double sg[PHONG_PTS];
-  _Alignas(32) double ok[PHONG_PTS];
+  _Alignas(32) double mn[PHONG_PTS];
+  _Alignas(32) double s[PHONG_PTS];
+  _Alignas(32) double tot[PHONG_PTS];
   int tri[PHONG_PTS];
 };
 
@@ -1768,13 +1791,14 @@ static inline __attribute__((always_inline)) PHONG_AVX_ATTR __m256d lanes4(const
 }
 
 /* phong_head at four points p .. p + 3 of triangle x (lanes 0 .. 3: coordinates x, y on
-   its axes bu, bw) into *P at [p] .. [p + 3]: the same operations, lane by lane. */
+   its axes bu, bw; at: the triangle's |tot|) into *P at [p] .. [p + 3]: the same
+   operations, lane by lane, up to N, the sum s and the least w_k; the rest of phong_head
+   (its tests and nn) is phong_tail4's. */
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
 void phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d sg,
-                 struct phong_pts4 *P, int p)
+                 __m256d at, struct phong_pts4 *P, int p)
 {
-  const __m256d zero = _mm256_setzero_pd(), scale = _mm256_set1_pd(0x1p-20);
-  const __m256d tiny = _mm256_set1_pd(0x1p-500);
+  const __m256d zero = _mm256_setzero_pd();
   __m256d w[3], s = zero;
   for (int k = 0; k < 3; k++) {
     const __m256d ar = _mm256_sub_pd(
@@ -1783,9 +1807,7 @@ void phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d s
     w[k] = _mm256_max_pd(ar, zero);         /* MAXPD's: the second operand where equal */
     s = k ? _mm256_add_pd(s, w[k]) : w[k];
   }
-  const __m256d good = _mm256_and_pd(
-      _mm256_cmp_pd(_mm256_min_pd(_mm256_min_pd(w[0], w[1]), w[2]), lanes4(x->xlo), _CMP_GE_OS),
-      _mm256_cmp_pd(s, lanes4(x->xhi), _CMP_LE_OS));
+  const __m256d mn = _mm256_min_pd(_mm256_min_pd(w[0], w[1]), w[2]);
   __m256d N[3];
   for (int c = 0; c < 3; c++) {
     N[c] = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(w[0], lanes4(x->xcn[0][c])),
@@ -1793,21 +1815,18 @@ void phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d s
                          _mm256_mul_pd(w[2], lanes4(x->xcn[2][c])));
     _mm256_storeu_pd(P->n[c] + p, N[c]);
   }
-  const __m256d nn = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N[0], N[0]),
-                                                 _mm256_mul_pd(N[1], N[1])),
-                                   _mm256_mul_pd(N[2], N[2]));
-  const __m256d ok = _mm256_and_pd(
-      _mm256_and_pd(good, _mm256_cmp_pd(s, tiny, _CMP_GE_OS)),
-      _mm256_cmp_pd(nn, _mm256_mul_pd(_mm256_mul_pd(s, s), scale), _CMP_GE_OS));
-  _mm256_storeu_pd(P->r + p, nn);
   _mm256_storeu_pd(P->sg + p, sg);
-  _mm256_storeu_pd(P->ok + p, ok);
+  _mm256_storeu_pd(P->mn + p, mn);
+  _mm256_storeu_pd(P->s + p, s);
+  _mm256_storeu_pd(P->tot + p, at);
 }
 
-/* phong_tail at points q .. q + cnt - 1 of *P (cnt 1 .. 4; the lanes past them hold
-   other values, never stored nor counted): the same operations lane by lane, the same
-   last test, greys and declines (the exact chain, counted in phong_declines); the greys
-   to grey[q + h], under one light four in one store. */
+/* The end of phong_head and phong_tail at points q .. q + cnt - 1 of *P (cnt 1 .. 4; the
+   lanes past them hold other values, never stored nor counted): the same operations lane
+   by lane (phong_head's nn from N, and its tests: the least w_k >= |tot| 2^-1000 and s <=
+   |tot| 2^1000, the very products tri_lanes makes for xlo and xhi, s >= 2^-500 and nn >=
+   s s 2^-20), the same last test, greys and declines (the exact chain, counted in
+   phong_declines); the greys to grey[q + h], under one light four in one store. */
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
 void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q, int cnt,
                  const double *xu, const double *xw, const unsigned *blocked, bool shadow,
@@ -1822,8 +1841,20 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
     for (int h = 0; h < cnt; h++) bor |= b[h] = blocked[q + h];
   const __m256d N0 = _mm256_load_pd(P->n[0] + q), N1 = _mm256_load_pd(P->n[1] + q);
   const __m256d N2 = _mm256_load_pd(P->n[2] + q);
-  const __m256d inv = _mm256_div_pd(_mm256_load_pd(P->sg + q),
-                                    _mm256_sqrt_pd(_mm256_load_pd(P->r + q)));
+  const __m256d nn = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, N0), _mm256_mul_pd(N1, N1)),
+                                   _mm256_mul_pd(N2, N2));
+  const __m256d sv = _mm256_load_pd(P->s + q);
+  const __m256d at = _mm256_load_pd(P->tot + q);
+  const __m256d inv = _mm256_div_pd(_mm256_load_pd(P->sg + q), _mm256_sqrt_pd(nn));
+  const __m256d okv = _mm256_and_pd(
+      _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(_mm256_load_pd(P->mn + q),
+                                                _mm256_mul_pd(at, _mm256_set1_pd(0x1p-1000)),
+                                                _CMP_GE_OS),
+                                  _mm256_cmp_pd(sv, _mm256_mul_pd(at, _mm256_set1_pd(0x1p1000)),
+                                                _CMP_LE_OS)),
+                    _mm256_cmp_pd(sv, _mm256_set1_pd(0x1p-500), _CMP_GE_OS)),
+      _mm256_cmp_pd(nn, _mm256_mul_pd(_mm256_mul_pd(sv, sv), _mm256_set1_pd(0x1p-20)),
+                    _CMP_GE_OS));
   __m256d sum = zero;
   for (int k = 0; k < nlight; k++) {
     const __m256d d = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, lv[k][0]),
@@ -1842,7 +1873,7 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
   const __m256d f0v = _mm256_sub_pd(f, delta), f1v = _mm256_add_pd(f, delta);
   const __m128i t0 = _mm256_cvttpd_epi32(f0v);
   /* phong_tail's test, lane by lane */
-  const int okb = _mm256_movemask_pd(_mm256_load_pd(P->ok + q)), lanes = (1 << cnt) - 1;
+  const int okb = _mm256_movemask_pd(okv), lanes = (1 << cnt) - 1;
   const int fine = okb & _mm256_movemask_pd(_mm256_cmp_pd(f1v, two30, _CMP_LT_OS)) &
                    _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(t0, _mm256_cvttpd_epi32(f1v))));
   if ((fine & lanes) == lanes) {
@@ -1889,11 +1920,18 @@ __m256d step4(const double *v, int p, int c)
    a step from its first, with its triangle's constants (the last step's lanes past the
    run write their values at the next run's first points, which its first step then
    writes over, or past the row's last point); the second pass the row's points four a
-   step whatever their triangles (it needs none of a triangle's constants), so that no
-   lane of its square roots and divides is spare but in the last step. A point of a
-   triangle whose btot is 0 is declined (its ok 0), and so takes the exact chain with
-   its areas (bary_areas), counted, as phong_alone takes it in phong_rows (whose filter
-   declines a triangle whose btot is 0). */
+   step whatever their triangles (it needs none of a triangle's constants but |tot|, kept
+   a point), so that no lane of its square roots and divides is spare but in the last
+   step. The first pass is bound by its vector operations (about 52 a step); the second
+   waits on the divider (a square root and a divide a step, 16% of the function's samples
+   on t1-g, round 39) with ports to spare: so phong_head's tests (9 operations) and nn (5)
+   are made in the second pass, each on the same doubles as before (phong_rows4's share
+   of the frame's samples, medians of 4 to 14 runs each way under load: t1-g 29.0 ->
+   27.3%, t1-h 28.2 -> 26.6%, t1-i 29.9 -> 28.6%, the sphere 16.9 -> 16.2%, lprism 19.8
+   -> 18.9%; about 0.5% more instructions a frame). A point of a triangle whose btot is
+   0 is declined (its least w_k kept as 0, below |tot| 2^-1000 = 2^-1000 with |tot| kept
+   as 1), and so takes the exact chain with its areas (bary_areas), counted, as
+   phong_alone takes it in phong_rows (whose filter declines a triangle whose btot is 0). */
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
 void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                        const double *xu, const double *xw, const unsigned *blocked,
@@ -1911,28 +1949,31 @@ void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, c
       for (int p = at[k]; p < q; p += 4) {
         _mm_storeu_si128((__m128i *)(void *)(P.tri + p), t);
         for (int c = 0; c < 3; c++) _mm256_storeu_pd(P.n[c] + p, pad);
-        _mm256_storeu_pd(P.r + p, pad);
         _mm256_storeu_pd(P.sg + p, pad);
-        _mm256_storeu_pd(P.ok + p, _mm256_setzero_pd());
+        _mm256_storeu_pd(P.mn + p, _mm256_setzero_pd());   /* 0 < |tot| 2^-1000 */
+        _mm256_storeu_pd(P.s + p, pad);
+        _mm256_storeu_pd(P.tot + p, pad);
       }
       continue;
     }
     const struct smooth_lanes *lx = &m->lanes[tri[k]];
     const __m256d sg = _mm256_set1_pd(tr->front ? 1 : -1);
+    const __m256d av = _mm256_set1_pd(fabs(tr->btot));
     for (int p = at[k]; p < q; p += 4) {
       const int c = q - p;
       /* lx's constants read at each step from their addresses in lx (memory operands),
          not their 22 addresses made and kept on the stack once a run */
       __asm__("" : "+r"(lx));
       _mm_storeu_si128((__m128i *)(void *)(P.tri + p), t);
-      phong_head4(lx, step4(xu, p, c), step4(xw, p, c), sg, &P, p);
+      phong_head4(lx, step4(xu, p, c), step4(xw, p, c), sg, av, &P, p);
     }
   }
   for (int c = 0; c < 3; c++)               /* past the last point: set (no lane of a */
     _mm256_storeu_pd(P.n[c] + n, pad);      /* step reads memory never written) */
-  _mm256_storeu_pd(P.r + n, pad);
   _mm256_storeu_pd(P.sg + n, pad);
-  _mm256_storeu_pd(P.ok + n, _mm256_setzero_pd());
+  _mm256_storeu_pd(P.mn + n, _mm256_setzero_pd());
+  _mm256_storeu_pd(P.s + n, pad);
+  _mm256_storeu_pd(P.tot + n, pad);
   for (int q = 0; q < n; q += 4)
     phong_tail4(m, &P, q, n - q < 4 ? n - q : 4, xu, xw, blocked, shadow, L, lv, nlight, grey);
 }

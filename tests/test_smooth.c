@@ -1361,7 +1361,8 @@ static void test_phong_filter_is_exact(void **state)
 
 /* The Phong filter's range test (smooth.c, phong_filter and phong_pairs): a point whose
    clamped area w_k is positive but below |tot| 2^-1000 is declined and left to the exact
-   chain, under parallel lights (phong_pairs) and with a point light (phong_filter). Two
+   chain, under parallel lights (phong_pairs, and the rows: smooth_phong_row both ways)
+   and with a point light (phong_filter). Two
    triangles share a side on the line x = 0 (their plane's first barycentric axis): a
    point at x = +-e from the side's middle, inside, has that side's area of e's size (the
    two corners' x are 0, so nothing of e is lost), the others of the triangle's: at
@@ -1403,6 +1404,27 @@ static void test_phong_filter_range(void **state)
         phong_both(&L, t, X, 1.0, 0, &set[q], &declines, g);
         assert_int_equal(g[0], g[1]);
         assert_int_equal(declines, tiny);
+        if (q)
+          continue;
+        /* the point as a row of one (smooth_phong_row, the lights parallel), both of its
+           ways (four points a step where the processor has AVX, and SSE2's): the same
+           grey, declined alike (the four-point way makes the range test in its second
+           pass) */
+        assert_true(smooth_rows(&L.m, &L.e, &set[0]));
+        for (int way = 0; way < 2; way++) {
+          const int tri1[1] = { t }, at1[2] = { 0, 1 };
+          const double xu[1] = { X[tr->bu] }, xw[1] = { X[tr->bw] };
+          const unsigned none[1] = { 0 };
+          int gr[1];
+          long row_declines = 0;
+          L.m.phong_sse2 = way == 1;
+          L.m.phong_declines = &row_declines;
+          smooth_phong_row(&L.m, 1, tri1, at1, xu, xw, none, &set[0], gr);
+          L.m.phong_declines = NULL;
+          L.m.phong_sse2 = false;
+          assert_int_equal(gr[0], g[1]);
+          assert_int_equal(row_declines, tiny);
+        }
       }
   }
   lib_close(&L);
