@@ -1647,7 +1647,12 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     if (!p->face) return t74_fail(err, T74_EIO, "out of host memory");
     p->W = vg->W;
     p->H = vg->H;
+    p->ready_kept = false;                        /* (a new buffer: nothing in it known) */
   }
+  /* the last frame's ready columns, if known (cleared here: a frame that does not end
+     whole, as on an error, leaves what it wrote unknown) */
+  const bool kept = p->ready_kept;
+  p->ready_kept = false;
   if (!t74_grow((void **)&p->plane, &p->planecap, p->map.nface + 1, sizeof *p->plane))
     return t74_fail(err, T74_EIO, "out of host memory");
   struct grid g;
@@ -1744,7 +1749,7 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
      than the clearing it saves where faces are small, as on the sphere and boxes1000) */
   g.lazy = !tiles && area >= LAZY_BOX * (long)nb;
   if (g.lazy) {
-    if (!t74_grow((void **)&p->ready, &p->readycap, 2 * g.H + 1, sizeof *p->ready))
+    if (!t74_grow((void **)&p->ready, &p->readycap, 4 * (size_t)g.H + 1, sizeof *p->ready))
       return t74_fail(err, T74_EIO, "out of host memory");
     memset(p->ready, 0, (size_t)(2 * g.H) * sizeof *p->ready);
   } else {
@@ -1803,7 +1808,27 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
      row j + 1's left of them lie side by side in the buffer, so each stretch between two
      rows' ready columns is one fill (a row with none is wholly in the stretch): about one
      fill a row, not two */
-  if (g.lazy) {
+  if (g.lazy && kept) {
+    /* the last frame was lazy too, on this buffer, and left -1 outside its ready columns
+       (was): the columns it made ready that this frame did not are the only ones to set
+       to -1 (its others are this frame's ready ones, written this frame, or -1 already).
+       The effects write the frame's faces in this buffer only where it shows a face
+       (fx_points' cuts: a point showing a cut face shows what lies behind it, or none),
+       so in ready columns, and -1 stays -1. */
+    const int32_t *was = p->ready + 2 * (size_t)g.H;
+    for (int j = 0; j < g.H; j++) {
+      const int32_t wa = was[2 * j], we = was[2 * j + 1];
+      if (wa >= we) continue;                     /* the row all -1 already */
+      const int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
+      int32_t *const fb = p->face + (size_t)j * (size_t)g.W;
+      if (a >= e) {                               /* none ready now: all it made ready */
+        faces_none(fb + wa, (size_t)(we - wa));
+        continue;
+      }
+      if (wa < a) faces_none(fb + wa, (size_t)((we < a ? we : a) - wa));
+      if (we > e) faces_none(fb + (wa > e ? wa : e), (size_t)(we - (wa > e ? wa : e)));
+    }
+  } else if (g.lazy) {
     size_t from = 0;                              /* the stretch's start */
     for (int j = 0; j < g.H; j++) {
       const int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
@@ -1813,6 +1838,12 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       from = row + (size_t)e;
     }
     faces_none(p->face + from, n - from);
+  }
+  if (g.lazy) {                                   /* this frame's ready columns kept for the
+                                                     next (nothing else: it does a frame's
+                                                     work, the fills above only spared) */
+    memcpy(p->ready + 2 * (size_t)g.H, p->ready, 2 * (size_t)g.H * sizeof *p->ready);
+    p->ready_kept = true;
   }
   return T74_OK;
 }

@@ -90,7 +90,11 @@ struct points {
   struct points_tile *tile; size_t tilecap;   /* the tiles' depth bounds */
   int32_t *ready; size_t readycap;            /* per row, its ready columns this frame where
                                                  rows are made ready span by span (points.c,
-                                                 "Clearing") */
+                                                 "Clearing"); with ready_kept, the last
+                                                 frame's after them (rows H .. 2H - 1) */
+  bool ready_kept;                              /* the last frame was made ready span by span,
+                                                 ended whole, and face is -1 outside its ready
+                                                 columns (points.c, "Clearing") */
   /* set by the caller: the Mapper's T-junctions (each face's rings) and face blocks kept
      from call to call of one scene (--frames, issue 19); NULL: searched for at every call */
   struct mapper_keep *keep;
