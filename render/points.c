@@ -146,6 +146,12 @@
 ** columns between then cleared), sees nothing anywhere and writes its face and bounds
 ** without reading, as the compare would take them at every point (zl, a finite double,
 ** > -inf = hi). At the end the faces outside each row's ready columns are set to -1.
+** The buffer's own contents are kept from frame to frame (nothing of the view): after a
+** frame without tiles the faces are -1 outside its ready columns (a frame that clears
+** over the faces' boxes counts the boxes' columns on their rows as ready), which are kept
+** (p->ready_kept), so the next such frame sets to -1 only the columns the last one made
+** ready and it does not (and, clearing over the boxes, those). The effects write into the
+** buffer only where it shows a face (fx_points' cuts), so only in ready columns.
 **
 ** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
 ** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
@@ -1611,6 +1617,22 @@ static void faces_none(int32_t *f, size_t n)
 #endif
 }
 
+/* Row fb where a frame's ready columns were [wa, we) (none where wa >= we) and the row
+   -1 outside them: the columns of [wa, we) outside [a, e) set to -1, and with both all of
+   [a, e) as well (none where a >= e). */
+static inline void faces_span_none(int32_t *fb, int32_t wa, int32_t we, int32_t a,
+                                   int32_t e, bool both)
+{
+  if (both && a < e) faces_none(fb + a, (size_t)(e - a));
+  if (wa >= we) return;                         /* the row all -1 already */
+  if (a >= e) {                                 /* none now: all of [wa, we) */
+    faces_none(fb + wa, (size_t)(we - wa));
+    return;
+  }
+  if (wa < a) faces_none(fb + wa, (size_t)((we < a ? we : a) - wa));
+  if (we > e) faces_none(fb + (wa > e ? wa : e), (size_t)(we - (wa > e ? wa : e)));
+}
+
 /* h[0 .. n) set to -inf (nothing seen), 16 bytes a store, as faces_none does (not a
    memcpy of a row cleared first, which reads each row as well as writing it). */
 static void bounds_none(double *h, size_t n)
@@ -1774,7 +1796,26 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       for (int j = zj0; j <= zj1; j++)
         bounds_none(p->zhi + (size_t)j * (size_t)g.W + (size_t)zi0, (size_t)(zi1 - zi0));
     }
-    faces_none(p->face, n);
+    if (tiles) faces_none(p->face, n);
+    else {
+      /* the spans write faces only in the faces' boxes' rows and columns (above), so only
+         there; with the last frame's ready columns known (kept, as a lazy frame leaves
+         them), only those and this frame's box are set to -1, the other points -1
+         already. This frame's box is kept as its ready columns, a row's the same [zi0,
+         zi1) on the box's rows, none elsewhere. */
+      if (!t74_grow((void **)&p->ready, &p->readycap, 4 * (size_t)g.H + 1, sizeof *p->ready))
+        return t74_fail(err, T74_EIO, "out of host memory");
+      if (!(zj0 <= zj1 && zi0 < zi1)) { zj0 = 0; zj1 = -1; zi0 = zi1 = 0; }   /* no box */
+      int32_t *was = p->ready + 2 * (size_t)g.H;
+      if (!kept) faces_none(p->face, n);
+      for (int j = 0; j < g.H; j++) {
+        const int32_t a = j >= zj0 && j <= zj1 ? zi0 : 0, e = j >= zj0 && j <= zj1 ? zi1 : 0;
+        if (kept) faces_span_none(p->face + (size_t)j * (size_t)g.W, was[2 * j], was[2 * j + 1],
+                                  a, e, true);
+        was[2 * j] = a;
+        was[2 * j + 1] = e;
+      }
+    }
   }
   for (int d = 0; d < nfirst; d++) {
     const struct points_box *b = &p->box[d];
@@ -1816,18 +1857,9 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
        (fx_points' cuts: a point showing a cut face shows what lies behind it, or none),
        so in ready columns, and -1 stays -1. */
     const int32_t *was = p->ready + 2 * (size_t)g.H;
-    for (int j = 0; j < g.H; j++) {
-      const int32_t wa = was[2 * j], we = was[2 * j + 1];
-      if (wa >= we) continue;                     /* the row all -1 already */
-      const int32_t a = p->ready[2 * j], e = p->ready[2 * j + 1];
-      int32_t *const fb = p->face + (size_t)j * (size_t)g.W;
-      if (a >= e) {                               /* none ready now: all it made ready */
-        faces_none(fb + wa, (size_t)(we - wa));
-        continue;
-      }
-      if (wa < a) faces_none(fb + wa, (size_t)((we < a ? we : a) - wa));
-      if (we > e) faces_none(fb + (wa > e ? wa : e), (size_t)(we - (wa > e ? wa : e)));
-    }
+    for (int j = 0; j < g.H; j++)
+      faces_span_none(p->face + (size_t)j * (size_t)g.W, was[2 * j], was[2 * j + 1],
+                      p->ready[2 * j], p->ready[2 * j + 1], false);
   } else if (g.lazy) {
     size_t from = 0;                              /* the stretch's start */
     for (int j = 0; j < g.H; j++) {
@@ -1839,12 +1871,12 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
     }
     faces_none(p->face + from, n - from);
   }
-  if (g.lazy) {                                   /* this frame's ready columns kept for the
+  if (g.lazy)                                     /* this frame's ready columns kept for the
                                                      next (nothing else: it does a frame's
-                                                     work, the fills above only spared) */
+                                                     work, the fills only spared) */
     memcpy(p->ready + 2 * (size_t)g.H, p->ready, 2 * (size_t)g.H * sizeof *p->ready);
-    p->ready_kept = true;
-  }
+  p->ready_kept = !tiles;                         /* (with the tiles a span may write any
+                                                     point) */
   return T74_OK;
 }
 

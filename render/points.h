@@ -92,9 +92,11 @@ struct points {
                                                  rows are made ready span by span (points.c,
                                                  "Clearing"); with ready_kept, the last
                                                  frame's after them (rows H .. 2H - 1) */
-  bool ready_kept;                              /* the last frame was made ready span by span,
-                                                 ended whole, and face is -1 outside its ready
-                                                 columns (points.c, "Clearing") */
+  bool ready_kept;                              /* the last frame kept no tiles and ended
+                                                 whole: face is -1 outside its ready columns,
+                                                 kept in rows H .. 2H - 1 (a frame cleared
+                                                 over the faces' boxes keeps the boxes'
+                                                 columns on their rows; points.c, "Clearing") */
   /* set by the caller: the Mapper's T-junctions (each face's rings) and face blocks kept
      from call to call of one scene (--frames, issue 19); NULL: searched for at every call */
   struct mapper_keep *keep;

@@ -474,10 +474,67 @@ static void test_reused(void **state)
   for (int k = 0; k < NS; k++) scene_free(sc[k]);
 }
 
+/* One struct points kept from render to render over scenes of one to three squares at
+   random places and sizes (a column to half the grid wide: some frames made ready span by
+   span, some cleared over the faces' boxes), each frame a fresh struct's. A frame sets -1
+   only where the last frame may have drawn and this one does not (points.c, "Clearing"):
+   a square's box drawn to its edges, then none there, finds a column or row left over. */
+static void test_reused_squares(void **state)
+{
+  (void)state;
+  enum { W = 100, H = 75 };
+  struct points kept;
+  memset(&kept, 0, sizeof kept);
+  int32_t *want = calloc(W * H, sizeof *want);
+  assert_non_null(want);
+  uint64_t x = 777;
+  long lazy = 0, boxed = 0;
+  for (int round = 0; round < 400; round++) {
+    struct xr_scene sq;
+    memset(&sq, 0, sizeof sq);
+    sq.eye[0] = 0; sq.eye[1] = 0; sq.eye[2] = -1000;
+    sq.win[0] = -200; sq.win[1] = -150; sq.win[2] = 200; sq.win[3] = 150;
+    const int nsq = 1 + (int)(next(&x) % 3);
+    long area = 0;
+    for (int k = 0; k < nsq; k++) {
+      const int32_t r = 2 + (int32_t)(next(&x) % (round % 2 ? 12 : 90));
+      const int32_t cx = (int32_t)(next(&x) % 400) - 200, cy = (int32_t)(next(&x) % 300) - 150;
+      const int32_t z = 200 + 100 * k;
+      int v[4] = { xr_vertex(&sq, cx - r, cy - r, z), xr_vertex(&sq, cx + r, cy - r, z),
+                   xr_vertex(&sq, cx + r, cy + r, z), xr_vertex(&sq, cx - r, cy + r, z) };
+      assert_true(xr_face(&sq, (unsigned)k + 1, 4, v) >= 0);
+      area += (long)r * r;
+    }
+    struct scene *sc = NULL;
+    struct t74_error err = { 0, "" };
+    assert_int_equal(xd_load(&sq, &sc, &err), T74_OK);
+    xr_scene_free(&sq);
+    struct vis_grid g = { W, H, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
+    int c0 = 0;
+    long s0 = 0, v0 = 0;
+    assert_int_equal(render_with(sc, &g, false, 0, want, &c0, &s0, &v0), T74_OK);
+    assert_int_equal(points_render(&kept, sc, &g, &err), T74_OK);
+    if (memcmp(kept.face, want, W * H * sizeof *want))
+      for (int q = 0, shown = 0; q < W * H && shown < 4; q++)
+        if (kept.face[q] != want[q] && ++shown)
+          print_message("round %d: point (%d, %d) face %d, fresh %d\n", round, q % W, q / W,
+                        kept.face[q], want[q]);
+    assert_memory_equal(kept.face, want, W * H * sizeof *want);
+    assert_int_equal(kept.points_visited, v0);
+    lazy += area / nsq >= 400;                  /* (a rough split, for the message) */
+    boxed += area / nsq < 400;
+    scene_free(sc);
+  }
+  print_message("reused squares: 400 frames (about %ld large, %ld small)\n", lazy, boxed);
+  points_free(&kept);
+  free(want);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_reused),
+    cmocka_unit_test(test_reused_squares),
     cmocka_unit_test(test_layered),
     cmocka_unit_test(test_pattern_chain),
     cmocka_unit_test(test_shipped),
