@@ -1730,9 +1730,16 @@ void phong_rows(const struct smooth_model *m, int nseg, const int *tri, const in
 }
 
 #ifdef PHONG_AVX
+/* Whether the rows built twice take their AVX build: where the processor has AVX
+   (__builtin_cpu_supports, which asks the processor and whether the system saves the
+   256-bit registers) and m's rows_sse2 (tests only) is not set. */
+static inline bool rows_avx(const struct smooth_model *m)
+{
+  return !m->rows_sse2 && __builtin_cpu_supports("avx");
+}
+
 /* smooth_phong_row four points an instruction (AVX's 256-bit registers), chosen at run
-   time where the processor has AVX (__builtin_cpu_supports, which asks the processor and
-   whether the system saves the 256-bit registers): phong_row_lights' two passes, the
+   time where the processor has AVX (rows_avx): phong_row_lights' two passes, the
    first with steps of up to four points of one triangle (a run's points four a step from
    its first; the last step's lanes past the run's end hold its last point again), the
    second four points a step in the row's order (phong_row4_lights). Each lane's
@@ -1742,7 +1749,7 @@ void phong_rows(const struct smooth_model *m, int nseg, const int *tri, const in
    -ffp-contract=off), and a compare by the predicate of the SSE2 one (GE_OS, LE_OS,
    GT_OS, LT_OS: false for a NaN, as CMPPD's GE, LE, GT and LT): the same greys and the
    same points declined, bit for bit, as phong_rows (test_smooth test_row_is_single runs
-   the rows both ways, m->phong_sse2). Where it pays: the SSE2 rows' time went to their
+   the rows both ways, m->rows_sse2). Where it pays: the SSE2 rows' time went to their
    arithmetic (about 77 vector operations a step of two points) and to the steps across
    two runs (some 25 shuffles each, a run holding 3.4 points on average on the sphere);
    four lanes a step take a run's points with about half the operations, and the second
@@ -2012,7 +2019,7 @@ void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, co
                       const struct shade_lights *L, int *grey)
 {
 #ifdef PHONG_AVX
-  if (!m->phong_sse2 && __builtin_cpu_supports("avx")) {
+  if (rows_avx(m)) {
     phong_rows4(m, nseg, tri, at, xu, xw, blocked, L, grey);
     return;
   }
@@ -2416,8 +2423,7 @@ void partial_rows(const struct smooth_model *m, const struct mapped *map, int ns
 }
 
 /* partial_rows built twice: for SSE2 (the build's target) and with AVX's encoding (VEX,
-   chosen at run time where the processor has AVX and m's partial_sse2 is not set: the
-   test as smooth_phong_row's). The AVX build is the same C, the same 128-bit operations
+   chosen at run time by rows_avx, as smooth_phong_row's rows are). The AVX build is the same C, the same 128-bit operations
    in the same order on the same doubles, each IEEE operation the same whatever its
    encoding (no fused multiply-add: AVX alone, and the build's -ffp-contract=off; no
    reassociation: no -ffast-math), so the same greys and regions bit for bit (test_smooth
@@ -2451,7 +2457,7 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
                         const struct shade_lights *L, int *grey, long regions[3])
 {
 #ifdef PHONG_AVX
-  if (!m->partial_sse2 && __builtin_cpu_supports("avx")) {
+  if (rows_avx(m)) {
     partial_row_avx(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
     return;
   }

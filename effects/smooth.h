@@ -88,9 +88,11 @@ struct smooth_model {
      grey's filter"); phong_declines, when set, counts the points the filter left to it. */
   bool phong_exact;
   long *phong_declines;
-  /* Tests only too: phong_sse2 makes smooth_phong_row take its SSE2 way (two points a
-     step) where the processor has AVX (four). */
-  bool phong_sse2;
+  /* Tests only too: rows_sse2 makes the rows built twice take their SSE2 build where the
+     processor has AVX: smooth_phong_row two points a step (not four), smooth_row and
+     smooth_partial_row the partial smoothing's rows in SSE2's encoding (not VEX's:
+     smooth.c, rows_avx). */
+  bool rows_sse2;
   /* Tests only too: inner_exact gives every point of the partial smoothing its region by
      the exact chain, without the filter that finds the inner triangle's points (smooth.c,
      "The inner triangle's filter"); inner_declines, when set, counts the points the
@@ -102,10 +104,6 @@ struct smooth_model {
      "The lit pairs' filter"); lit_declines, when set, counts the pairs it left to it. */
   bool lit_exact;
   long *lit_declines;
-  /* Tests only too: partial_sse2 makes smooth_row and smooth_partial_row take the partial
-     smoothing's rows in SSE2's encoding where the processor has AVX (VEX's: smooth.c,
-     partial_row). */
-  bool partial_sse2;
 };
 
 /* Build the model: triangles, orientation, vertex normals, band insets for e's smooth=.

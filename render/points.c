@@ -598,6 +598,21 @@ edge_make(const struct grid *g, struct gpoint a, struct gpoint b, int64_t qa, in
   return !flat && jt <= jb;                     /* (flat: jt > jb already) */
 }
 
+/* The sign of dy from a to b: 1 up, -1 down, 0 horizontal. */
+static inline int dy_sign(struct gpoint a, struct gpoint b)
+{
+  return (int)(a.y < b.y) - (int)(a.y > b.y);
+}
+
+/* One edge's sign sg in face_edges' count of dy's changes of sign around a ring: *turns
+   the changes so far, *first the first sign not 0, *last the last (a 0 leaves them). */
+static inline void dy_turn(int sg, int *turns, int *first, int *last)
+{
+  *turns += *last != 0 && sg != 0 && sg != *last;
+  *first += sg & -(*first == 0);
+  *last = sg != 0 ? sg : *last;
+}
+
 /* Face k's edges with their rows inside jlo..jhi, each stepped from its bottom row.
    *monotone: the face is one ring along which y changes direction twice (the signs of
    the edges' dy, horizontal edges left out, change twice around it: every triangle that
@@ -635,16 +650,10 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
     ne += edge_make(g, p1, p2, q1, q2, jlo, jhi, &edge[ne]);
     ne += edge_make(g, p2, p3, q2, q3, jlo, jhi, &edge[ne]);
     ne += edge_make(g, p3, p0, q3, q0, jlo, jhi, &edge[ne]);
-    const int sgs[4] = { (int)(p0.y < p1.y) - (int)(p0.y > p1.y),
-                         (int)(p1.y < p2.y) - (int)(p1.y > p2.y),
-                         (int)(p2.y < p3.y) - (int)(p2.y > p3.y),
-                         (int)(p3.y < p0.y) - (int)(p3.y > p0.y) };
-    for (int k = 0; k < 4; k++) {               /* the loop's count, sign by sign */
-      const int sg = sgs[k];
-      turns += last != 0 && sg != 0 && sg != last;
-      first += sg & -(first == 0);
-      last = sg != 0 ? sg : last;
-    }
+    dy_turn(dy_sign(p0, p1), &turns, &first, &last);   /* the loop's count */
+    dy_turn(dy_sign(p1, p2), &turns, &first, &last);
+    dy_turn(dy_sign(p2, p3), &turns, &first, &last);
+    dy_turn(dy_sign(p3, p0), &turns, &first, &last);
     *nedge = ne;
     *monotone = turns + (first != last) == 2;
     return T74_OK;
@@ -659,11 +668,7 @@ static int face_edges(struct points *p, const struct grid *g, const struct mface
       const struct gpoint a = f->pt[k], b = f->pt[nk];
       const int64_t qa = qb;
       qb = vrc[2 * vix[nk]];
-      /* the sign of dy (1 up, -1 down, 0 horizontal: the count left as it was) */
-      const int sg = (int)(a.y < b.y) - (int)(a.y > b.y);
-      turns += last != 0 && sg != 0 && sg != last;
-      first += sg & -(first == 0);
-      last = sg != 0 ? sg : last;
+      dy_turn(dy_sign(a, b), &turns, &first, &last);
       ne += edge_make(g, a, b, qa, qb, jlo, jhi, &edge[ne]);
     }
   }
@@ -1770,9 +1775,11 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
      test of its row's ready columns is a branch no predictor guesses, which costs more
      than the clearing it saves where faces are small, as on the sphere and boxes1000) */
   g.lazy = !tiles && area >= LAZY_BOX * (long)nb;
+  /* without the tiles: this frame's ready columns, then the last frame's (ready_kept) */
+  if (!tiles &&
+      !t74_grow((void **)&p->ready, &p->readycap, 4 * (size_t)g.H + 1, sizeof *p->ready))
+    return t74_fail(err, T74_EIO, "out of host memory");
   if (g.lazy) {
-    if (!t74_grow((void **)&p->ready, &p->readycap, 4 * (size_t)g.H + 1, sizeof *p->ready))
-      return t74_fail(err, T74_EIO, "out of host memory");
     memset(p->ready, 0, (size_t)(2 * g.H) * sizeof *p->ready);
   } else {
     /* the depth bounds over every row with the tiles (lo and hi), else (hi only, "One
@@ -1803,8 +1810,6 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
          them), only those and this frame's box are set to -1, the other points -1
          already. This frame's box is kept as its ready columns, a row's the same [zi0,
          zi1) on the box's rows, none elsewhere. */
-      if (!t74_grow((void **)&p->ready, &p->readycap, 4 * (size_t)g.H + 1, sizeof *p->ready))
-        return t74_fail(err, T74_EIO, "out of host memory");
       if (!(zj0 <= zj1 && zi0 < zi1)) { zj0 = 0; zj1 = -1; zi0 = zi1 = 0; }   /* no box */
       int32_t *was = p->ready + 2 * (size_t)g.H;
       if (!kept) faces_none(p->face, n);

@@ -643,7 +643,7 @@ static void test_run_is_single(void **state)
    space point left out): each grey that differs from smooth_grey_at's, and (declines
    non-NULL) another count of declines than smooth_row's, counted too. Under smooth=fixed
    or prop with the lights all parallel, smooth_partial_row likewise (in both its builds,
-   AVX's encoding where the processor has it and SSE2's: partial_sse2): each grey that
+   AVX's encoding where the processor has it and SSE2's: rows_sse2): each grey that
    differs, each region's count that differs from smooth_row's, and another count of the
    points the inner filter leaves to the chain (inner_declines) than smooth_row's. */
 static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
@@ -680,16 +680,16 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
     smooth_row(&L->m, &L->r.map, &L->e, nseg, tri, at, X, blocked, lights, gu, rx);
     L->m.inner_declines = NULL;
     /* both of its builds: AVX's encoding (where the processor has it) and SSE2's
-       (partial_sse2) */
+       (rows_sse2) */
     for (int way = 0; way < 2; way++) {
       for (int r = 0; r < 3; r++) ru[r] = 0;
       dec_u = 0;
       for (int p = 0; p < at[nseg]; p++) gu[p] = -1;
-      L->m.partial_sse2 = way == 1;
+      L->m.rows_sse2 = way == 1;
       L->m.inner_declines = &dec_u;
       smooth_partial_row(&L->m, &L->r.map, nseg, tri, at, xu, xw, blocked, lights, gu, ru);
       L->m.inner_declines = NULL;
-      L->m.partial_sse2 = false;
+      L->m.rows_sse2 = false;
       for (int k = 0; k < nseg; k++)
         for (int p = at[k]; p < at[k + 1]; p++)
           differ += gu[p] != g[p];
@@ -707,14 +707,14 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
         xw[p] = X[p][L->m.tri[tri[k]].bw];
       }
     /* both of its ways: four points a step (AVX, where the processor has it) and two
-       (SSE2, phong_sse2) */
+       (SSE2, rows_sse2) */
     for (int way = 0; way < 2; way++) {
       dec_uv = 0;
-      L->m.phong_sse2 = way == 1;
+      L->m.rows_sse2 = way == 1;
       if (declines) L->m.phong_declines = &dec_uv;
       smooth_phong_row(&L->m, nseg, tri, at, xu, xw, blocked, lights, gu);
       L->m.phong_declines = NULL;
-      L->m.phong_sse2 = false;
+      L->m.rows_sse2 = false;
       for (int k = 0; k < nseg; k++)
         for (int p = at[k]; p < at[k + 1]; p++)
           differ += gu[p] != smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, tri[k], X[p], 1.0,
@@ -1417,11 +1417,11 @@ static void test_phong_filter_range(void **state)
           const unsigned none[1] = { 0 };
           int gr[1];
           long row_declines = 0;
-          L.m.phong_sse2 = way == 1;
+          L.m.rows_sse2 = way == 1;
           L.m.phong_declines = &row_declines;
           smooth_phong_row(&L.m, 1, tri1, at1, xu, xw, none, &set[0], gr);
           L.m.phong_declines = NULL;
-          L.m.phong_sse2 = false;
+          L.m.rows_sse2 = false;
           assert_int_equal(gr[0], g[1]);
           assert_int_equal(row_declines, tiny);
         }
