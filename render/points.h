@@ -77,6 +77,10 @@ struct points {
   double *m3; size_t m3cap;         /* each face's margin (points.c, "One bound") */
   struct points_plane *plane; size_t planecap; /* each face's exact depth over the grid */
   struct points_edge *edge; size_t edgecap;
+  const struct scene *words_s;      /* the scene whose core size words_n is (map_faces:
+                                       taken again while p->keep holds that scene's rings,
+                                       as the Mapper replays them) */
+  uint64_t words_n;
   int32_t *vrc; size_t vrccap;      /* each scene vertex's row and column numbers this
                                        frame, clamped (points.c, "Vertices") */
   int32_t *cross; size_t crosscap;  /* column thresholds of one face, row by row */

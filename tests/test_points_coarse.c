@@ -530,11 +530,65 @@ static void test_reused_squares(void **state)
   free(want);
 }
 
+/* The core's size kept from call to call while the keep holds the scene's rings
+   (map_faces: a sum over the scene's faces, taken again only for a scene the keep does not
+   hold). A small scene twice with a keep, the keep freed (as when a run moves on to
+   another scene), then a large scene in the very same struct scene (its contents moved
+   there: the address alone cannot tell the scenes apart) with the keep: each frame a fresh
+   struct's. Fails when the small scene's sum is taken for the large one (its Mapper's
+   tables do not fit the core: an error), or when a kept sum is never taken again. */
+static void test_core_words_kept(void **state)
+{
+  (void)state;
+  struct xr_scene xs, xl;
+  boxes(&xs, 3, 1);                             /* 6 faces */
+  boxes(&xl, 4, 300);                           /* 1,800 faces: tables beyond the small core */
+  struct scene *a = NULL, *b = NULL;
+  struct t74_error err = { 0, "" };
+  assert_int_equal(xd_load(&xs, &a, &err), T74_OK);
+  assert_int_equal(xd_load(&xl, &b, &err), T74_OK);
+  xr_scene_free(&xs);
+  xr_scene_free(&xl);
+  struct mapper_keep keep;
+  memset(&keep, 0, sizeof keep);
+  struct points kept;
+  memset(&kept, 0, sizeof kept);
+  kept.keep = &keep;
+  int32_t *want = calloc(100 * 75, sizeof *want);
+  assert_non_null(want);
+  for (int round = 0; round < 5; round++) {
+    if (round == 2) {                           /* the keep freed, the large scene in a's place */
+      mapper_keep_free(&keep);
+      const struct scene t = *a;
+      *a = *b;
+      *b = t;
+    }
+    struct vis_grid g = { 100, 75, { a->window[0], a->window[1], a->window[2], a->window[3] } };
+    int c0 = 0;
+    long s0 = 0, v0 = 0;
+    assert_int_equal(render_with(a, &g, false, 0, want, &c0, &s0, &v0), T74_OK);
+    const int st = points_render(&kept, a, &g, &err);
+    if (st != T74_OK) print_message("round %d: %s\n", round, err.msg);
+    assert_int_equal(st, T74_OK);
+    assert_true(keep.s == a);                    /* (the Mapper holds a's rings now) */
+    assert_memory_equal(kept.face, want, 100 * 75 * sizeof *want);
+    assert_int_equal(kept.faces_culled, c0);
+    assert_int_equal(kept.points_visited, v0);
+  }
+  assert_true(a->nf > 1000 && b->nf < 10);
+  points_free(&kept);
+  mapper_keep_free(&keep);
+  free(want);
+  scene_free(a);
+  scene_free(b);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_reused),
     cmocka_unit_test(test_reused_squares),
+    cmocka_unit_test(test_core_words_kept),
     cmocka_unit_test(test_layered),
     cmocka_unit_test(test_pattern_chain),
     cmocka_unit_test(test_shipped),
