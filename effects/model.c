@@ -1100,6 +1100,24 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   {
     int q = 1;
 #ifdef __SSE2__
+    if (len >= 17) {
+      /* sixteen points a step: the four compares' masks packed to bytes (packs with
+         signed saturation keep -1 and 0), one movemask; the last 1 .. 15 the stretch's
+         last sixteen again (a point's bit the same, made twice) */
+      for (;;) {
+        const int *a = fr + i + q;
+        __m128i eq[4];
+        for (int h = 0; h < 4; h++)
+          eq[h] = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(a + 4 * h)),
+                                  _mm_loadu_si128((const __m128i *)(const void *)(a + 4 * h - 1)));
+        const unsigned same = (unsigned)_mm_movemask_epi8(
+          _mm_packs_epi16(_mm_packs_epi32(eq[0], eq[1]), _mm_packs_epi32(eq[2], eq[3])));
+        cut |= (uint64_t)(~same & 0xffffu) << q;
+        if (q + 16 == len) break;
+        q = q + 32 <= len ? q + 16 : len - 16;
+      }
+      q = len;
+    }
     for (; q + 4 <= len; q += 4) {
       const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q));
       const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q - 1));
