@@ -3,6 +3,7 @@
 */
 #include "effects/model.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -958,14 +959,51 @@ static inline void shade_row_greys(const int *g, int n, uint8_t *gr)
 }
 
 #ifdef __SSE2__
+/* Whether space_lanes_at's den (L's constants one face's in both lanes) is not 0 at any
+   point of a row from plane position a to b (a <= b): true where den is > 0 at both a and
+   b, or < 0 at both. Proof: each step from px to den (D0 = px - E0, r[0] D0, + c1, + c2) is one
+   correctly rounded operation of one variable operand and a constant; where it gives no
+   NaN it is monotone in that operand (rounding is monotone: non-decreasing, or
+   non-increasing for the product where r[0] < 0), and so is the chain of them. The row's
+   px[] are plane_x's, non-decreasing in the point's column (u (W_R - W_L) / W, W_R > W_L and
+   W > 0, plus W_L), so a point's px lies in [a, b]. At a and at b the chain gives no NaN
+   (its den is > 0 or < 0, not NaN); at a point between, either some step gives a NaN, and
+   then den is NaN (NaN is passed on), not 0; or none does, and then each step's value lies
+   between its values at a and at b, den too: > 0 or < 0, not 0. Where den is not 0,
+   space_lanes_at's select gives r[3] / den (and a NaN den makes that quotient NaN, both
+   ways). */
+static inline bool den_not_zero(const struct space_lanes *L, double a, double b)
+{
+  const __m128d d0 = _mm_sub_pd(_mm_set_pd(b, a), L->e0);
+  const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(L->r0, d0), L->c1), L->c2);
+  /* (the rounded product of the two is > 0 only where the exact one is: rounding is
+     monotone and keeps 0; so both are > 0 or both < 0, neither a NaN) */
+  return _mm_comigt_sd(_mm_mul_sd(den, _mm_unpackhi_pd(den, den)), _mm_setzero_pd());
+}
+
 /* shade_row's space points p .. q - 1 (q - p even) of one face (L its constants) two an
    instruction, space_lanes_at's, of which only the coordinates on the face's triangle's
    axes u and w (constants where inlined: the third is not made) are kept, into xu[] and
-   xw[] (smooth_phong_row's and smooth_partial_row's). */
+   xw[] (smooth_phong_row's and smooth_partial_row's). Where den_not_zero holds from the
+   first point to the last (a face's run of two pairs or more: fx_points' px[] are
+   non-decreasing), t is r[3] / den without space_lanes_at's select of 1 where den is 0
+   (its value at every point there; four instructions and two copies a pair fewer on a
+   loop the divider holds: issue 19, round 40). */
 static inline __attribute__((always_inline))
 void uv_pairs(const struct space_lanes *L, const double *px, int p, int q, int u, int w,
               double *xu, double *xw)
 {
+  if (q - p >= 4 && den_not_zero(L, px[p], px[q - 1])) {
+    for (; p < q; p += 2) {                 /* den not 0: t = r[3] / den, no select */
+      const __m128d d0 = _mm_sub_pd(_mm_loadu_pd(px + p), L->e0);
+      const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(L->r0, d0), L->c1), L->c2);
+      const __m128d t = _mm_div_pd(L->r3, den);
+      const __m128d d[3] = { d0, L->d1, L->d2 }, e[3] = { L->e0, L->e1, L->e2 };
+      _mm_storeu_pd(xu + p, _mm_add_pd(e[u], _mm_mul_pd(t, d[u])));
+      _mm_storeu_pd(xw + p, _mm_add_pd(e[w], _mm_mul_pd(t, d[w])));
+    }
+    return;
+  }
   for (; p < q; p += 2) {
     __m128d x[3];
     space_lanes_at(L, _mm_loadu_pd(px + p), x);
@@ -1007,6 +1045,27 @@ void uv_two(const struct fx_model *m, struct space_lanes *L, int fa, int fb,
 }
 #endif
 
+void fx_space_uv(const struct fx_model *m, int f, int n, const double *px, double py, int u,
+                 double *xu, double *xw)
+{
+#ifdef __SSE2__
+  struct space_lanes L;
+  space_lanes_init(m, f, py, &L);
+  switch (u) {                              /* uv_face's three ways */
+  case 1: uv_pairs(&L, px, 0, n, 1, 2, xu, xw); break;
+  case 2: uv_pairs(&L, px, 0, n, 2, 0, xu, xw); break;
+  default: uv_pairs(&L, px, 0, n, 0, 1, xu, xw); break;
+  }
+#else
+  for (int p = 0; p < n; p++) {
+    double X[3];
+    space_point(m, f, px[p], py, X);
+    xu[p] = X[u];
+    xw[p] = X[(u + 1) % 3];
+  }
+#endif
+}
+
 /* Where smooth_rows says so: the points i, i + 1, .. of a row (faces fr[], px[],
    blocked[]) while they are on smoothed faces without a texture, of one triangle or
    several, at most SMOOTH_ROW of them, from the first (face fr[i], fs its face_shade_of's:
@@ -1041,6 +1100,24 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
   {
     int q = 1;
 #ifdef __SSE2__
+    if (len >= 17) {
+      /* sixteen points a step: the four compares' masks packed to bytes (packs with
+         signed saturation keep -1 and 0), one movemask; the last 1 .. 15 the stretch's
+         last sixteen again (a point's bit the same, made twice) */
+      for (;;) {
+        const int *a = fr + i + q;
+        __m128i eq[4];
+        for (int h = 0; h < 4; h++)
+          eq[h] = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)(const void *)(a + 4 * h)),
+                                  _mm_loadu_si128((const __m128i *)(const void *)(a + 4 * h - 1)));
+        const unsigned same = (unsigned)_mm_movemask_epi8(
+          _mm_packs_epi16(_mm_packs_epi32(eq[0], eq[1]), _mm_packs_epi32(eq[2], eq[3])));
+        cut |= (uint64_t)(~same & 0xffffu) << q;
+        if (q + 16 == len) break;
+        q = q + 32 <= len ? q + 16 : len - 16;
+      }
+      q = len;
+    }
     for (; q + 4 <= len; q += 4) {
       const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q));
       const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(fr + i + q - 1));

@@ -103,6 +103,13 @@ int fx_shade(const struct fx_model *m, int face, unsigned blocked, double u, dou
 void fx_space_points(const struct fx_model *m, int f, int n, const double *px, double py,
                      double (*X)[3]);
 
+/* fx_space_points' coordinates u and (u + 1) % 3 (u 0, 1 or 2) of each point into xu[p] and
+   xw[p], as fx_points takes them for a run of a smoothed face's points (two an instruction,
+   only the two coordinates made): n even, px[] non-decreasing (as a row's point centres
+   are). The same doubles as fx_space_points'. */
+void fx_space_uv(const struct fx_model *m, int f, int n, const double *px, double py, int u,
+                 double *xu, double *xw);
+
 /* One visible stretch of a line after the region effects. */
 struct fx_span {
   struct grat x0, x1;       /* [x0, x1), grid units */
