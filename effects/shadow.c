@@ -625,6 +625,34 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shad
     const size_t nv = cs->yend[r1 - 1] - (r0 ? cs->yend[r0 - 1] : 0);
     struct gpoint *room = fx_polys_room(out, (int)nv);   /* the rings written in place */
     if (!room) return false;
+#ifdef __SSE2__
+    if (flat && r1 - r0 == 1 && nv <= FX_POLY_BLOCK) {
+      /* one ring of at most FX_POLY_BLOCK points (every cast of fig6-building, 157 a
+         frame, and of fig6-room, 50): its box made here in one loop over its points, and
+         its one block, whose points are all the ring's, from the box's y range:
+         fx_ring_blocks' values (the block's lo and hi over its points and the ring's first
+         again, one of them; the box from INT64_MAX and INT64_MIN over the same points),
+         without fx_polys_close's loops over rings and blocks (about 120 of the some 540
+         instructions a cast took; test_kept_is_long_way checks every box and block) */
+      int m = ring_from(cs, r0, wk->g + ((r0 ? cs->yend[r0 - 1] : 0) - gy0), room);
+      if (m > 1 && room[0].x == room[m - 1].x && room[0].y == room[m - 1].y) m--;
+      if (m < 3) continue;
+      gcoord box[4] = { room[0].x, room[0].x, room[0].y, room[0].y };
+      for (int v = 1; v < m; v++) {
+        const gcoord x = room[v].x, y = room[v].y;
+        box[0] = x < box[0] ? x : box[0];
+        box[1] = x > box[1] ? x : box[1];
+        box[2] = y < box[2] ? y : box[2];
+        box[3] = y > box[3] ? y : box[3];
+      }
+      gcoord (*blk)[2] = fx_polys_blocks_at(room, m);
+      blk[0][0] = box[2];
+      blk[0][1] = box[3];
+      wk->rs[1] = m;
+      if (!fx_polys_close_made(out, 1, wk->rs, R, cs->c[c].light, gb, any, 1, box)) return false;
+      continue;
+    }
+#endif
     for (int r = r0; r < r1; r++) {
       struct gpoint *poly = room + need;
 #ifdef __SSE2__

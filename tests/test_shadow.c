@@ -52,6 +52,24 @@ static bool build(const struct scene *s, struct shadow_keep **keep, struct fx_po
   return true;
 }
 
+/* Each polygon's box and blocks as fx_ring_blocks makes them from its points, ring by ring
+   (draw_casts makes a ring of at most FX_POLY_BLOCK points' box and block in a loop of its
+   own: the same values). */
+static void assert_blocks(const struct fx_polys *a)
+{
+  for (int k = 0; k < a->n; k++) {
+    const struct fx_poly *p = &a->p[k];
+    gcoord blk[64][2], box[4] = { INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN };
+    size_t nblk = 0;
+    for (int r = 0; r < p->nring; r++) {
+      assert_true(nblk + (size_t)(p->rs[r + 1] - p->rs[r]) / FX_POLY_BLOCK + 1 <= 64);
+      nblk = fx_ring_blocks(p->pt + p->rs[r], p->rs[r + 1] - p->rs[r], blk, nblk, box);
+    }
+    assert_true(p->xlo == box[0] && p->xhi == box[1] && p->ylo == box[2] && p->yhi == box[3]);
+    assert_memory_equal(p->blk, blk, nblk * sizeof *blk);
+  }
+}
+
 static void assert_same(const struct fx_polys *a, const struct fx_polys *b,
                         const struct fx_stats *sa, const struct fx_stats *sb)
 {
@@ -63,7 +81,10 @@ static void assert_same(const struct fx_polys *a, const struct fx_polys *b,
     assert_int_equal(p->nring, q->nring);
     assert_memory_equal(p->rs, q->rs, ((size_t)p->nring + 1) * sizeof *p->rs);
     assert_memory_equal(p->pt, q->pt, (size_t)p->rs[p->nring] * sizeof *p->pt);
+    assert_true(p->xlo == q->xlo && p->xhi == q->xhi && p->ylo == q->ylo && p->yhi == q->yhi);
   }
+  assert_blocks(a);
+  assert_blocks(b);
   assert_int_equal(sa->n, sb->n);
   for (int k = 0; k < sa->n; k++) {
     assert_string_equal(sa->name[k], sb->name[k]);
