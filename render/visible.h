@@ -52,6 +52,13 @@ struct vis_item {
   uint16_t fymax;
 };
 
+/* An active item's xb and xe in doubles (visible.c, x_key), and whether the line meets
+   it: the sweep's orders compare these first, the exact ends only where they lie close. */
+struct vis_key {
+  double l, r;
+  int    on;
+};
+
 struct vis {
   struct seginfo *seg;
   struct prio    *prio;
@@ -59,6 +66,7 @@ struct vis {
   int   *order, norder, next;           /* pieces by lowest y; order[next..] not yet met */
   struct vis_item *act; int nact;   /* active pieces; between lines in order of xl,
                                                pieces the line meets first */
+  struct vis_key *key;                   /* per act index, made with its span on this line */
   int   *byxl, nbyxl;                    /* during a line: act indices in order of xl, pieces
                                             the line meets first (the dead left out) */
   int   *byxr, nbyxr;                    /* act indices of the pieces the line meets, in
@@ -79,7 +87,7 @@ struct vis {
   uint32_t *dfree; int ndfree;           /* free D-block rows in core */
   /* the arrays' room in elements (t74_grow: emu/grow.h) */
   size_t ordcap, actcap, byxlcap, byxrcap, setcap, seticap, setposcap, spancap, tmpcap,
-         tmp2cap, tmp3cap, act2cap, span2cap, dfreecap;
+         tmp2cap, tmp3cap, act2cap, span2cap, dfreecap, keycap;
   /* optional: called before each line y = yn/yd is worked, to add the pieces of the faces
      the line has reached (render.c: the Segment Generator driven by the scan) */
   int (*feed)(void *ctx, int64_t yn, int64_t yd, struct t74_error *err);
