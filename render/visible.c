@@ -293,7 +293,6 @@ void vis_free(struct vis *v)
   free(v->dfree);
   free(v->order);
   free(v->act);
-  free(v->act2);
   free(v->key);
   free(v->byxl);
   free(v->byxr);
@@ -725,12 +724,14 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
   v->born = s->n;
 
   /* 1. retire dead and finished pieces (tmp: where each item moves, -1 gone), activate
-     those that begin at or below the line */
+     those that begin at or below the line. The dead are the pieces cut on the last line
+     (they left both orders there, in resume); they are dropped here, uncharged, as the
+     last line's end once dropped them (line_end); the rest are looked at and charged. */
   if (!room(v, v->nact)) return t74_fail(err, T74_EIO, "out of host memory");
   int k = 0;
   for (int a = 0; a < v->nact; a++) {
     const struct piece *p = &s->p[v->act[a].piece];
-    COST_ADD_N(v->cost, COST_MEM, 2);
+    if (p->alive) COST_ADD_N(v->cost, COST_MEM, 2);
     if (!p->alive || cmp_hy_frac((struct hpoint){ 0, v->act[a].yhi_y, v->act[a].yhi_w },
                                  yn, yd) <= 0) {
       if (v->act[a].core) dblock_give(v, v->act[a].core);
@@ -738,12 +739,17 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
       continue;
     }
     v->tmp[a] = k;
-    v->act[k++] = v->act[a];
+    if (k != a) v->act[k] = v->act[a];
+    k++;
   }
   int m = 0;
   for (int i = 0; i < v->nbyxr; i++)
     if (v->tmp[v->byxr[i]] >= 0) v->byxr[m++] = v->tmp[v->byxr[i]];
   v->nbyxr = m;
+  m = 0;                                   /* byxl likewise: the kept, in the last line's */
+  for (int i = 0; i < v->nbyxl; i++)       /* order (each item is in byxl once) */
+    if (v->tmp[v->byxl[i]] >= 0) v->byxl[m++] = v->tmp[v->byxl[i]];
+  assert(m == k);
   v->nact = k;
   int kept = k;
   if (activate(v, yn, yd, err) != T74_OK) return err->status;
@@ -755,9 +761,9 @@ static int line_begin(struct vis *v, int64_t yn, int64_t yd, struct t74_error *e
     if (dblock_span(v, a, yn, yd, err) != T74_OK) return err->status;
   if (!room(v, v->nact)) return t74_fail(err, T74_EIO, "out of host memory");
 
-  /* 3. the order by xb: the pieces kept are in the last line's order (act is left so),
-     the new ones are sorted apart and merged in */
-  for (int a = 0; a < v->nact; a++) v->byxl[a] = a;
+  /* 3. the order by xb: the pieces kept are in the last line's order (byxl[0..kept), as
+     step 1 left it), the new ones are sorted apart and merged in */
+  for (int a = kept; a < v->nact; a++) v->byxl[a] = a;
   sort_kept(v, v->byxl, kept, false);
   sort_batch(v, v->byxl + kept, v->nact - kept, v->tmp, by_xl);
   merge_runs(v, v->byxl, kept, v->byxl + kept, v->nact - kept, v->tmp, by_xl);
@@ -1021,26 +1027,15 @@ static int rename_spans(struct vis *v, struct t74_error *err)
   return T74_OK;
 }
 
-/* After the sweep: the dead leave act, and act is put in order of xb (the next line's
-   insertion sort starts from it); byxr follows the items. */
+/* After the sweep: stretches of cut pieces to their halves. The items stay where they
+   are in act (the dead among them until the next line's step 1), and both x orders are
+   kept as indices: the next line's insertion sorts start from them. (act was once put in
+   order of xb here, 288 bytes an item moved every line: the same orders, the same
+   compares.) */
 static int line_end(struct vis *v, struct t74_error *err)
 {
   const struct seginfo *s = v->seg;
   if (s->n > v->born && rename_spans(v, err) != T74_OK) return err->status;
-  if (!t74_grow((void **)&v->act2, &v->act2cap, v->nbyxl + 1, sizeof *v->act2))
-    return t74_fail(err, T74_EIO, "out of host memory");
-  for (int a = 0; a < v->nact; a++) {
-    v->tmp[a] = -1;
-    if (!s->p[v->act[a].piece].alive && v->act[a].core) dblock_give(v, v->act[a].core);
-  }
-  for (int i = 0; i < v->nbyxl; i++) {
-    v->act2[i] = v->act[v->byxl[i]];
-    v->tmp[v->byxl[i]] = i;
-  }
-  for (int i = 0; i < v->nbyxr; i++) v->byxr[i] = v->tmp[v->byxr[i]];
-  struct vis_item *t = v->act; v->act = v->act2; v->act2 = t;
-  size_t c = v->actcap; v->actcap = v->act2cap; v->act2cap = c;
-  v->nact = v->nbyxl;
   return T74_OK;
 }
 
