@@ -52,15 +52,24 @@ struct vis_item {
   uint16_t fymax;
 };
 
+/* An active item's xb and xe in doubles (visible.c, x_key), and whether the line meets
+   it: the sweep's orders compare these first, the exact ends only where they lie close. */
+struct vis_key {
+  double l, r;
+  int    on;
+};
+
 struct vis {
   struct seginfo *seg;
   struct prio    *prio;
   struct cost    *cost;
   int   *order, norder, next;           /* pieces by lowest y; order[next..] not yet met */
-  struct vis_item *act; int nact;   /* active pieces; between lines in order of xl,
-                                               pieces the line meets first */
-  int   *byxl, nbyxl;                    /* during a line: act indices in order of xl, pieces
-                                            the line meets first (the dead left out) */
+  struct vis_item *act; int nact;   /* active pieces, in no order of their own (byxl,
+                                       byxr); between lines also the pieces cut on the
+                                       last line, dead, until the next line's start */
+  struct vis_key *key;                   /* per act index, made with its span on this line */
+  int   *byxl, nbyxl;                    /* act indices in order of xl, pieces the line meets
+                                            first (the dead left out); kept from line to line */
   int   *byxr, nbyxr;                    /* act indices of the pieces the line meets, in
                                             order of xr; kept from line to line */
   int   *set, nset;                      /* pieces covering the current stretch */
@@ -69,7 +78,6 @@ struct vis {
                                             there (seti[setpos[a]] == a), else any value */
   struct vis_span *span; int nspan;
   int   *tmp, *tmp2, *tmp3;              /* scratch for sorts and merges */
-  struct vis_item *act2;                 /* scratch: act put in x order at a line's end */
   struct vis_span *span2; int nspan2;    /* scratch: spans given to cut halves */
   int   born;                            /* seg->n when the current line's sweep began */
   uint64_t resumes;                      /* splits met in a sweep, which went on from there */
@@ -79,7 +87,7 @@ struct vis {
   uint32_t *dfree; int ndfree;           /* free D-block rows in core */
   /* the arrays' room in elements (t74_grow: emu/grow.h) */
   size_t ordcap, actcap, byxlcap, byxrcap, setcap, seticap, setposcap, spancap, tmpcap,
-         tmp2cap, tmp3cap, act2cap, span2cap, dfreecap;
+         tmp2cap, tmp3cap, span2cap, dfreecap, keycap;
   /* optional: called before each line y = yn/yd is worked, to add the pieces of the faces
      the line has reached (render.c: the Segment Generator driven by the scan) */
   int (*feed)(void *ctx, int64_t yn, int64_t yd, struct t74_error *err);

@@ -30,6 +30,7 @@
 #include "render/scene.h"
 #include "render/seginfo.h"
 #include "render/visible.h"
+#include "render/vis_x.h"
 
 #define G(v) ((gcoord)(v) * GRID_ONE)          /* world units -> plane grid */
 
@@ -1354,6 +1355,47 @@ static void check_spans(struct render *r, int64_t yn, int64_t yd, int nw,
 
 /* vis_spans on a hand-made configuration: exact ends, disjoint and ordered, gaps where
    nothing is, bottom edges owned and top edges not. */
+/* The sweep's x compares from doubles (render/vis_x.h): kx_cmp, and band_cmp against
+   key_band's band, answer x_cmp's on 2,000,000 pairs of rationals of the sweep's kind
+   (denominators below 2^63, products below 2^121): random ones, neighbours (numerators
+   1 or 2 apart), near multiples (with a wider band, w = 0 or 2^-60 |kq|, some go wrong)
+   and equal ones; the keys decide most, the exact compare the rest. */
+static void test_vis_x_keys(void **state)
+{
+  (void)state;
+  uint64_t x = 88172645463325252u;
+#define XRND() (x ^= x << 13, x ^= x >> 7, x ^= x << 17, x)
+  long bad = 0, keyed = 0, exact = 0;
+  for (long it = 0; it < 2000000; it++) {
+    const int bn = 1 + (int)(XRND() % 62), bd0 = 1 + (int)(XRND() % 52);
+    const int bd = bn + bd0 > 100 ? 100 - bn : bd0;   /* products below 2^121 */
+    wide an = (wide)(XRND() & (((uint64_t)1 << bn) - 1));
+    wide ad = (wide)(XRND() % ((uint64_t)1 << bd));
+    wide bn2 = (wide)(XRND() & (((uint64_t)1 << bn) - 1));
+    if (XRND() & 1) an = -an;
+    if (XRND() & 1) bn2 = -bn2;
+    struct grat a = { an, ad > 0 ? ad : 1 }, b;
+    switch (XRND() % 4) {
+    case 0: b = (struct grat){ bn2, 1 + (wide)(XRND() % ((uint64_t)1 << bd)) }; break;
+    case 1: b = (struct grat){ a.num + (wide)(XRND() % 5) - 2, a.den }; break;
+    case 2: { const wide k = 1 + (wide)(XRND() % 1000);
+              b = (struct grat){ a.num * k + (wide)(XRND() % 3) - 1, a.den * k }; break; }
+    default: b = (struct grat){ a.num * 3, a.den * 3 }; break;
+    }
+    const int want = geom_rat_cmp(a, b);
+    const double ka = x_key(a), kb = x_key(b);
+    double lo, hi;
+    key_band(kb, &lo, &hi);
+    bad += kx_cmp(ka, kb, &a, &b) != want;
+    bad += band_cmp(ka, lo, hi, &a, &b) != want;
+    if (ka < lo || ka > hi) keyed++; else exact++;
+  }
+#undef XRND
+  print_message("sweep x order: %ld pairs by the keys, %ld exactly, %ld wrong\n", keyed, exact, bad);
+  assert_int_equal(bad, 0);
+  assert_true(keyed > 500000 && exact > 300000);
+}
+
 static void test_vis_spans(void **state)
 {
   (void)state;
@@ -2084,6 +2126,7 @@ int main(void)
     cmocka_unit_test(test_prio_computed_once),
     cmocka_unit_test(test_prio_dense_sparse),
     cmocka_unit_test(test_prio_auto_migrates),
+    cmocka_unit_test(test_vis_x_keys),
     cmocka_unit_test(test_vis_spans),
     cmocka_unit_test(test_vis_spans_invariant),
     cmocka_unit_test(test_dblock_rows_match_items),
