@@ -93,6 +93,10 @@ struct smooth_model {
      smooth_partial_row the partial smoothing's rows in SSE2's encoding (not VEX's:
      smooth.c, rows_avx). */
   bool rows_sse2;
+  /* Tests only too: phong_sqrt makes the AVX rows of smooth_phong_row take the square root
+     and divide where the processor has AVX-512VL (not its reciprocal square root's short
+     chain: smooth.c, rows_r14). */
+  bool phong_sqrt;
   /* Tests only too: inner_exact gives every point of the partial smoothing its region by
      the exact chain, without the filter that finds the inner triangle's points (smooth.c,
      "The inner triangle's filter"); inner_declines, when set, counts the points the
