@@ -2681,6 +2681,8 @@ bool smooth_lit_pair(const double v[2][3], double sgn, const struct shade_lights
 #endif
 }
 
+void smooth_lanes_remake(struct smooth_model *m, int t) { tri_lanes(&m->tri[t], &m->lanes[t]); }
+
 void smooth_count(const struct smooth_model *m, struct fx_stats *st)
 {
   fx_count(st, "smooth_triangles", m->ntri, true);

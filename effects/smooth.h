@@ -238,6 +238,10 @@ int smooth_lanes_pair(const struct smooth_model *m, int t, const double l[2][3],
    g[h]; false (nothing written) without SSE2. */
 bool smooth_lit_pair(const double v[2][3], double sgn, const struct shade_lights *L, int g[2]);
 
+/* For tests: triangle t's constants of the rows (m->lanes[t]) made again from m->tri[t],
+   after a test changed the triangle's corners, sides or btot. */
+void smooth_lanes_remake(struct smooth_model *m, int t);
+
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);
 

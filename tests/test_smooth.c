@@ -1566,6 +1566,71 @@ static void test_phong_filter_tiny_sum(void **state)
   lib_close(&L);
 }
 
+/* test_phong_filter_tiny_sum's scaled triangles through the rows (smooth_phong_row, under
+   the scene's parallel light), whose constants are the triangle's lanes (made again from
+   the scaled triangle: smooth_lanes_remake): a step of four points at the triangle's
+   centre, its coordinates on the axes bu, bw scaled by c, in each of the rows' ways (the
+   short chain where the processor has AVX-512VL, the square root and divide: phong_sqrt,
+   SSE2's: rows_sse2). Each takes the four at c = 2^-255 (s about 2^-497) and declines
+   them at c = 2^-260 (s about 2^-507: the AVX rows' test s >= 2^-500 in their second
+   pass), every grey the exact chain's. Fails if the rows' bound is s > 0. */
+static void test_phong_rows_tiny_sum(void **state)
+{
+  (void)state;
+  write_text("pair3.s74",
+             "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+             "vertex 1 0 0 0\nvertex 2 0 100 10\nvertex 3 100 50 20\nvertex 4 -100 50 0\n"
+             "face 1 1 2 3\nface 2 2 1 4\nobject 1 1 2\n");
+  struct lib L;
+  lib_open(&L, tpath("pair3.s74"), "smooth=phong");
+  struct shade_lights one;
+  shade_lights_init(&one, L.s);
+  assert_true(smooth_rows(&L.m, &L.e, &one));
+  assert_int_equal(L.m.ntri, 2);
+  for (int t = 0; t < L.m.ntri; t++) {
+    struct smooth_tri *tr = &L.m.tri[t];
+    const struct smooth_tri keep = *tr;
+    for (int tiny = 0; tiny < 2; tiny++) {
+      const double c = tiny ? 0x1p-260 : 0x1p-255;
+      *tr = keep;
+      for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 2; a++) {
+          tr->bV[k][a] *= c;
+          tr->bE[k][a] *= c;
+        }
+      tr->btot *= c * c;
+      smooth_lanes_remake(&L.m, t);
+      double X[3];
+      tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, X);
+      X[tr->bu] *= c;
+      X[tr->bw] *= c;
+      int g[2];
+      long ignore = 0;
+      phong_both(&L, t, X, 1.0, 0, &one, &ignore, g);
+      assert_int_equal(g[0], g[1]);
+      const double xu[4] = { X[tr->bu], X[tr->bu], X[tr->bu], X[tr->bu] };
+      const double xw[4] = { X[tr->bw], X[tr->bw], X[tr->bw], X[tr->bw] };
+      const int tri1[1] = { t }, at1[2] = { 0, 4 };
+      const unsigned none[4] = { 0, 0, 0, 0 };
+      for (int way = 0; way < 3; way++) {
+        int gr[4];
+        long dec = 0;
+        L.m.phong_sqrt = way == 1;
+        L.m.rows_sse2 = way == 2;
+        L.m.phong_declines = &dec;
+        smooth_phong_row(&L.m, 1, tri1, at1, xu, xw, none, &one, gr);
+        L.m.phong_declines = NULL;
+        L.m.phong_sqrt = L.m.rows_sse2 = false;
+        for (int p = 0; p < 4; p++) assert_int_equal(gr[p], g[1]);
+        assert_int_equal(dec, 4 * tiny);
+      }
+    }
+    *tr = keep;
+    smooth_lanes_remake(&L.m, t);
+  }
+  lib_close(&L);
+}
+
 /* The greys and regions at a run of n points X[p] by the inner triangle's filter (and the
    chain where it declines) in g[0], r[0] and by the chain alone in g[1], r[1]; counts the
    points the filter does not take in *declines. */
@@ -2344,6 +2409,7 @@ int main(void)
     cmocka_unit_test(test_phong_filter_range),
     cmocka_unit_test(test_phong_filter_tiny_sum),
     cmocka_unit_test(test_phong_rows_borders),
+    cmocka_unit_test(test_phong_rows_tiny_sum),
     cmocka_unit_test(test_inner_filter_is_exact),
     cmocka_unit_test(test_lit_filter_is_exact),
     cmocka_unit_test(test_round_ld_is_llroundl),
