@@ -1828,6 +1828,62 @@ void phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d s
   _mm256_storeu_pd(P->tot + p, at);
 }
 
+/* The AVX-512 rows' short chain (phong_tail4 with r14, where rows_r14 says so).
+**
+** The AVX rows' second pass is held less by the divider than by the length of each step's
+** chain from the normal's sums to the test of the grey (nn, square root, divide, each
+** light's product and compare, 207 r, + 1/2, -+ delta, the conversions: some 80 cycles),
+** whose later operations wait in the scheduler and keep it from taking the next steps
+** (round 40, perf: leaving out the divider alone, a reciprocal square root with a Newton
+** step in the same place in the chain, changed nothing). The short chain reorders it:
+** each light's term S_k = max(0, sg fl(N'.l_k)) (the sum as before; sg = +-1, exact) and
+** their sum S, A = fl(207 S), off the chain; on it, y0 = VRSQRT14PD(nn), c = fl(1.5 -
+** fl(fl(nn / 2) fl(y0 y0))) (one Newton step) and F' = fl(fl(fl(A y0) c) + 1/2): about
+** 55 cycles from the loads.
+**
+** Bound on |F' - F_exact| where the filter's tests pass (phong_filter: nn is a normal
+** number >= 2^-1020 and |N| >= 2^-10 (1 - 2^-39)); u = 2^-53, e0 = y0 sqrt(nn) - 1 with
+** |e0| < 2^-14 (the instruction's documented bound). In real numbers y0 (3/2 - nn y0^2 /
+** 2) sqrt(nn) = 1 - 3 e0^2 / 2 - e0^3 / 2, within 1.5001 2^-28 of 1; nn / 2 is exact (a
+** normal number halved); fl(y0 y0) and the product by nn / 2 add a relative 2u to a term
+** within 2^-12 of 1/2, and the difference from 1.5 (in [1 - 2^-12, 1 + 2^-12]) a
+** rounding of at most u: c is within 2.001u of its real value (about 1). nn is within a
+** relative 4u of |N'|^2 (phong_filter), so 1 / sqrt(nn) within 2.001u of 1 / |N'|. So
+** fl(fl(A y0) c) = A (1 + eps) / |N'| with |eps| <= 1.5001 2^-28 + 7u < 2^-27.41. Each
+** fl(N'.l_k) is within 3.001u |N'| |l_k| of N'.l_k and |l_k| <= 1 + 4u, max(0, .) does
+** not widen that, S's at most 15 adds of non-negative terms a relative 15.001u, 207 S
+** one more u; so with T = sum_k max(0, sg N'.l_k / |N'|) <= 16 (1 + 4u) (the real
+** unit vector of the computed N' against each light), |fl(fl(A y0) c) - 207 T| <= 207
+** (16 (3.002u) + 16.001 (17.002u + 2^-27.41)) < 2^-15.69, and the + 1/2 a rounding of at
+** most 2^-41 (F' < 2^12). 207 T + 1/2 is the real F of phong_filter's unit vector before
+** its own roundings, which that proof puts within 12u / |N| + 4u of the true U a light:
+** |207 T + 1/2 - F| <= 207 16 (12u 2^10 (1 + 2^-38) + 4u) (1 + 4u) < 2^-27.6, and
+** |F_exact - F| < 2^-35 (1 + 1 / |N|) < 2^-24.9 (phong_filter). So |F' - F_exact| <
+** 2^-15.69 + 2^-41 + 2^-27.6 + 2^-24.9 < 2^-15.68, and the margin delta = 2^-15 leaves
+** more than 2^-17 for fl(F' -+ delta) (each within 2^-41 of F' -+ delta: a rounding to
+** nearest never crosses an integer): where both truncate to the one integer k, F_exact
+** lies in [k, k + 1) and the grey A + k is the exact chain's (phong_filter's argument
+** with 2^-15 for 2^-23). Where nn is +inf (or NaN), y0 is +0 (NaN), c and F' NaN, and
+** the lane is declined (F' -+ delta < 2^30 fails). A point is declined with odds of
+** about 2^-14 (under one light about 2 2^-15 of the greys' borders), a few a frame at
+** most; its grey is the exact chain's. test_smooth test_phong_rows_borders holds the
+** rows both ways (phong_sqrt) to the exact chain on points bisected onto the borders
+** between two greys, where the short chain must decline, and fails with the margin cut
+** to 2^-30. Measured (round 40, perf's sampling clock, phong_rows4's share of the
+** frame's samples, medians of 4 runs in turn, 6,000 frames each, under load): t1-g 29.0
+** -> 27.1%, the sphere 16.9 -> 14.7%, lprism 19.0 -> 17.5%. */
+/* AVX-512VL's VRSQRT14PD: an approximation of 1 / sqrt(x) in each lane, within a relative
+   2^-14 of it (Intel's manual) for x a positive normal number; +0 for +inf, NaN for NaN.
+   Written as an instruction (EVEX-encoded, on ymm0 .. ymm15) so that the function around
+   it needs no AVX-512 target of its own; run only where rows_r14 says the processor has
+   it. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR __m256d rsqrt14(__m256d x)
+{
+  __m256d y;
+  __asm__("vrsqrt14pd %1, %0" : "=x"(y) : "x"(x));
+  return y;
+}
+
 /* The end of phong_head and phong_tail at points q .. q + cnt - 1 of *P (cnt 1 .. 4; the
    lanes past them hold other values, never stored nor counted): the same operations lane
    by lane (phong_head's nn from N, and its tests: the least w_k >= |tot| 2^-1000 and s <=
@@ -1837,12 +1893,12 @@ void phong_head4(const struct smooth_lanes *x, __m256d px, __m256d py, __m256d s
 static inline __attribute__((always_inline)) PHONG_AVX_ATTR
 void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q, int cnt,
                  const double *xu, const double *xw, const unsigned *blocked, bool shadow,
-                 const struct shade_lights *L, const __m256d (*lv)[3], int nlight,
+                 const struct shade_lights *L, const __m256d (*lv)[3], int nlight, bool r14,
                  int *grey)
 {
   const __m256d zero = _mm256_setzero_pd();
   const __m256d half = _mm256_set1_pd(0.5), fr = _mm256_set1_pd((255 - SHADE_AMBIENT) * 1.0);
-  const __m256d delta = _mm256_set1_pd(0x1p-23), two30 = _mm256_set1_pd(0x1p30);
+  const __m256d two30 = _mm256_set1_pd(0x1p30);
   unsigned b[4] = { 0, 0, 0, 0 }, bor = 0;
   if (shadow)
     for (int h = 0; h < cnt; h++) bor |= b[h] = blocked[q + h];
@@ -1852,7 +1908,6 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
                                    _mm256_mul_pd(N2, N2));
   const __m256d sv = _mm256_load_pd(P->s + q);
   const __m256d at = _mm256_load_pd(P->tot + q);
-  const __m256d inv = _mm256_div_pd(_mm256_load_pd(P->sg + q), _mm256_sqrt_pd(nn));
   const __m256d okv = _mm256_and_pd(
       _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(_mm256_load_pd(P->mn + q),
                                                 _mm256_mul_pd(at, _mm256_set1_pd(0x1p-1000)),
@@ -1862,21 +1917,47 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
                     _mm256_cmp_pd(sv, _mm256_set1_pd(0x1p-500), _CMP_GE_OS)),
       _mm256_cmp_pd(nn, _mm256_mul_pd(_mm256_mul_pd(sv, sv), _mm256_set1_pd(0x1p-20)),
                     _CMP_GE_OS));
-  __m256d sum = zero;
-  for (int k = 0; k < nlight; k++) {
-    const __m256d d = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, lv[k][0]),
-                                                                _mm256_mul_pd(N1, lv[k][1])),
-                                                  _mm256_mul_pd(N2, lv[k][2])), inv);
-    __m256d lit = _mm256_cmp_pd(d, zero, _CMP_GT_OS);
-    if (shadow && (bor >> k & 1u))
-      lit = _mm256_and_pd(lit, _mm256_castsi256_pd(_mm256_set_epi64x(
-                                   (long long)((b[3] >> k & 1u) - 1ull),
-                                   (long long)((b[2] >> k & 1u) - 1ull),
-                                   (long long)((b[1] >> k & 1u) - 1ull),
-                                   (long long)((b[0] >> k & 1u) - 1ull))));
-    sum = k ? _mm256_add_pd(sum, _mm256_and_pd(lit, d)) : _mm256_and_pd(lit, d);
+  __m256d sum = zero, f, delta;
+  if (r14) {                                /* "The AVX-512 rows' short chain" (above) */
+    const __m256d sg = _mm256_load_pd(P->sg + q);
+    const __m256d y0 = rsqrt14(nn);
+    const __m256d c = _mm256_sub_pd(_mm256_set1_pd(1.5),
+                                    _mm256_mul_pd(_mm256_mul_pd(nn, _mm256_set1_pd(0.5)),
+                                                  _mm256_mul_pd(y0, y0)));
+    for (int k = 0; k < nlight; k++) {
+      __m256d d = _mm256_max_pd(
+          _mm256_mul_pd(sg, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, lv[k][0]),
+                                                        _mm256_mul_pd(N1, lv[k][1])),
+                                          _mm256_mul_pd(N2, lv[k][2]))),
+          zero);
+      if (shadow && (bor >> k & 1u))
+        d = _mm256_and_pd(d, _mm256_castsi256_pd(_mm256_set_epi64x(
+                                 (long long)((b[3] >> k & 1u) - 1ull),
+                                 (long long)((b[2] >> k & 1u) - 1ull),
+                                 (long long)((b[1] >> k & 1u) - 1ull),
+                                 (long long)((b[0] >> k & 1u) - 1ull))));
+      sum = k ? _mm256_add_pd(sum, d) : d;
+    }
+    f = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(fr, sum), y0), c), half);
+    delta = _mm256_set1_pd(0x1p-15);
+  } else {
+    const __m256d inv = _mm256_div_pd(_mm256_load_pd(P->sg + q), _mm256_sqrt_pd(nn));
+    for (int k = 0; k < nlight; k++) {
+      const __m256d d = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, lv[k][0]),
+                                                                  _mm256_mul_pd(N1, lv[k][1])),
+                                                    _mm256_mul_pd(N2, lv[k][2])), inv);
+      __m256d lit = _mm256_cmp_pd(d, zero, _CMP_GT_OS);
+      if (shadow && (bor >> k & 1u))
+        lit = _mm256_and_pd(lit, _mm256_castsi256_pd(_mm256_set_epi64x(
+                                     (long long)((b[3] >> k & 1u) - 1ull),
+                                     (long long)((b[2] >> k & 1u) - 1ull),
+                                     (long long)((b[1] >> k & 1u) - 1ull),
+                                     (long long)((b[0] >> k & 1u) - 1ull))));
+      sum = k ? _mm256_add_pd(sum, _mm256_and_pd(lit, d)) : _mm256_and_pd(lit, d);
+    }
+    f = _mm256_add_pd(_mm256_mul_pd(fr, sum), half);
+    delta = _mm256_set1_pd(0x1p-23);
   }
-  const __m256d f = _mm256_add_pd(_mm256_mul_pd(fr, sum), half);
   const __m256d f0v = _mm256_sub_pd(f, delta), f1v = _mm256_add_pd(f, delta);
   const __m128i t0 = _mm256_cvttpd_epi32(f0v);
   /* phong_tail's test, lane by lane */
@@ -1943,7 +2024,7 @@ static inline __attribute__((always_inline)) PHONG_AVX_ATTR
 void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                        const double *xu, const double *xw, const unsigned *blocked,
                        bool shadow, const struct shade_lights *L, const __m256d (*lv)[3],
-                       int nlight, int *grey)
+                       int nlight, bool r14, int *grey)
 {
   struct phong_pts4 P;
   const int n = at[nseg];
@@ -1982,14 +2063,16 @@ void phong_row4_lights(const struct smooth_model *m, int nseg, const int *tri, c
   _mm256_storeu_pd(P.s + n, pad);
   _mm256_storeu_pd(P.tot + n, pad);
   for (int q = 0; q < n; q += 4)
-    phong_tail4(m, &P, q, n - q < 4 ? n - q : 4, xu, xw, blocked, shadow, L, lv, nlight, grey);
+    phong_tail4(m, &P, q, n - q < 4 ? n - q : 4, xu, xw, blocked, shadow, L, lv, nlight, r14,
+                grey);
 }
 
-/* phong_rows for smooth_phong_row, four points a step (AVX) */
-static PHONG_AVX_ATTR void phong_rows4(const struct smooth_model *m, int nseg, const int *tri,
-                                       const int *at, const double *xu, const double *xw,
-                                       const unsigned *blocked, const struct shade_lights *L,
-                                       int *grey)
+/* phong_rows for smooth_phong_row, four points a step (AVX); r14: the second pass's
+   short chain (AVX-512's VRSQRT14PD) */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void phong_rows4_as(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                    const double *xu, const double *xw, const unsigned *blocked,
+                    const struct shade_lights *L, bool r14, int *grey)
 {
   __m256d lv[SCENE_LIGHT_MAX][3];
   for (int k = 0; k < L->n; k++)
@@ -1999,11 +2082,35 @@ static PHONG_AVX_ATTR void phong_rows4(const struct smooth_model *m, int nseg, c
   for (int p = 0; p < n; p++) bl |= blocked[p];
   const __m256d (*lc)[3] = (const __m256d (*)[3])lv;
   if (L->n == 1 && !bl)
-    phong_row4_lights(m, nseg, tri, at, xu, xw, blocked, false, L, lc, 1, grey);
+    phong_row4_lights(m, nseg, tri, at, xu, xw, blocked, false, L, lc, 1, r14, grey);
   else if (L->n == 1)
-    phong_row4_lights(m, nseg, tri, at, xu, xw, blocked, true, L, lc, 1, grey);
+    phong_row4_lights(m, nseg, tri, at, xu, xw, blocked, true, L, lc, 1, r14, grey);
   else
-    phong_row4_lights(m, nseg, tri, at, xu, xw, blocked, true, L, lc, L->n, grey);
+    phong_row4_lights(m, nseg, tri, at, xu, xw, blocked, true, L, lc, L->n, r14, grey);
+}
+
+static PHONG_AVX_ATTR void phong_rows4(const struct smooth_model *m, int nseg, const int *tri,
+                                       const int *at, const double *xu, const double *xw,
+                                       const unsigned *blocked, const struct shade_lights *L,
+                                       int *grey)
+{
+  phong_rows4_as(m, nseg, tri, at, xu, xw, blocked, L, false, grey);
+}
+
+static PHONG_AVX_ATTR void phong_rows4_r14(const struct smooth_model *m, int nseg,
+                                           const int *tri, const int *at, const double *xu,
+                                           const double *xw, const unsigned *blocked,
+                                           const struct shade_lights *L, int *grey)
+{
+  phong_rows4_as(m, nseg, tri, at, xu, xw, blocked, L, true, grey);
+}
+
+/* Whether the AVX rows take the short chain: where the processor has AVX-512VL (and the
+   system saves its registers: __builtin_cpu_supports) and m's phong_sqrt (tests only) is
+   not set. */
+static inline bool rows_r14(const struct smooth_model *m)
+{
+  return !m->phong_sqrt && __builtin_cpu_supports("avx512vl");
 }
 #endif
 
@@ -2020,7 +2127,8 @@ void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, co
 {
 #ifdef PHONG_AVX
   if (rows_avx(m)) {
-    phong_rows4(m, nseg, tri, at, xu, xw, blocked, L, grey);
+    if (rows_r14(m)) phong_rows4_r14(m, nseg, tri, at, xu, xw, blocked, L, grey);
+    else phong_rows4(m, nseg, tri, at, xu, xw, blocked, L, grey);
     return;
   }
 #endif
@@ -2572,6 +2680,8 @@ bool smooth_lit_pair(const double v[2][3], double sgn, const struct shade_lights
   return false;
 #endif
 }
+
+void smooth_lanes_remake(struct smooth_model *m, int t) { tri_lanes(&m->tri[t], &m->lanes[t]); }
 
 void smooth_count(const struct smooth_model *m, struct fx_stats *st)
 {

@@ -93,6 +93,10 @@ struct smooth_model {
      smooth_partial_row the partial smoothing's rows in SSE2's encoding (not VEX's:
      smooth.c, rows_avx). */
   bool rows_sse2;
+  /* Tests only too: phong_sqrt makes the AVX rows of smooth_phong_row take the square root
+     and divide where the processor has AVX-512VL (not its reciprocal square root's short
+     chain: smooth.c, rows_r14). */
+  bool phong_sqrt;
   /* Tests only too: inner_exact gives every point of the partial smoothing its region by
      the exact chain, without the filter that finds the inner triangle's points (smooth.c,
      "The inner triangle's filter"); inner_declines, when set, counts the points the
@@ -233,6 +237,10 @@ int smooth_lanes_pair(const struct smooth_model *m, int t, const double l[2][3],
    (parallel lights L, reflectance 1, none blocked, turned by the side sgn), the greys into
    g[h]; false (nothing written) without SSE2. */
 bool smooth_lit_pair(const double v[2][3], double sgn, const struct shade_lights *L, int g[2]);
+
+/* For tests: triangle t's constants of the rows (m->lanes[t]) made again from m->tri[t],
+   after a test changed the triangle's corners, sides or btot. */
+void smooth_lanes_remake(struct smooth_model *m, int t);
 
 /* The model's statistics into st (smooth_triangles, ...). */
 void smooth_count(const struct smooth_model *m, struct fx_stats *st);

@@ -706,20 +706,23 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
         xu[p] = X[p][L->m.tri[tri[k]].bu];
         xw[p] = X[p][L->m.tri[tri[k]].bw];
       }
-    /* both of its ways: four points a step (AVX, where the processor has it) and two
-       (SSE2, rows_sse2) */
-    for (int way = 0; way < 2; way++) {
+    /* each of its ways: four points a step (AVX, where the processor has it) with
+       AVX-512's short chain (where it has AVX-512VL) or with the square root and divide
+       (phong_sqrt), and two (SSE2, rows_sse2) */
+    for (int way = 0; way < 3; way++) {
       dec_uv = 0;
-      L->m.rows_sse2 = way == 1;
+      L->m.phong_sqrt = way == 1;
+      L->m.rows_sse2 = way == 2;
       if (declines) L->m.phong_declines = &dec_uv;
       smooth_phong_row(&L->m, nseg, tri, at, xu, xw, blocked, lights, gu);
       L->m.phong_declines = NULL;
-      L->m.rows_sse2 = false;
+      L->m.phong_sqrt = L->m.rows_sse2 = false;
       for (int k = 0; k < nseg; k++)
         for (int p = at[k]; p < at[k + 1]; p++)
           differ += gu[p] != smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, tri[k], X[p], 1.0,
                                             blocked[p], lights, NULL, NULL);
-      if (declines) differ += dec_uv != dec_row;   /* the same points declined */
+      /* the same points declined (the short chain's wider margin: at least those) */
+      if (declines) differ += way ? dec_uv != dec_row : dec_uv < dec_row;
     }
   }
   L->m.phong_declines = NULL;
@@ -1359,6 +1362,86 @@ static void test_phong_filter_is_exact(void **state)
   lib_close(&L);
 }
 
+/* The Phong rows (smooth_phong_row) on points found on the borders between two greys, as
+   test_phong_filter_is_exact finds them (bisected by the exact chain down to neighbouring
+   doubles of the parameter), each border's two points in a row with the two ends they
+   were bisected between (a step of four points; the third coordinate left out), in each
+   of the rows' ways: AVX-512's short chain where the processor has AVX-512VL, the AVX
+   rows' square root and divide (phong_sqrt), SSE2's two points a step (rows_sse2). Every
+   grey is the exact chain's, and every way declines both points of each border (they lie
+   far within any of the filters' margins of a change of grey). Fails with the short
+   chain's margin (smooth.c, phong_tail4) cut from 2^-15 to 2^-30. */
+static void test_phong_rows_borders(void **state)
+{
+  (void)state;
+  struct lib L;
+  lib_open(&L, "scenes/sphere.s74", "smooth=phong");
+  struct shade_lights one;
+  shade_lights_init(&one, L.s);
+  assert_true(smooth_rows(&L.m, &L.e, &one));
+  long borders = 0, declines[3] = { 0, 0, 0 };
+  int differ = 0;
+  for (int t = 0; t < L.m.ntri; t++) {
+    const struct smooth_tri *tr = &L.m.tri[t];
+    double A[3], B[3];
+    tri_point(&L, t, (const double[3]) { 0.9, 0.05, 0.05 }, A);
+    tri_point(&L, t, (const double[3]) { 0.05, 0.475, 0.475 }, B);
+    int ga[2], gb[2];
+    long ignore = 0;
+    phong_both(&L, t, A, 1.0, 0, &one, &ignore, ga);
+    phong_both(&L, t, B, 1.0, 0, &one, &ignore, gb);
+    if (ga[1] == gb[1]) continue;
+    double s0 = 0, s1 = 1;
+    for (int it = 0; it < 200; it++) {
+      const double sm = 0.5 * (s0 + s1);
+      if (!(sm > s0 && sm < s1)) break;
+      double X[3];
+      for (int c = 0; c < 3; c++) X[c] = A[c] + sm * (B[c] - A[c]);
+      int g[2];
+      phong_both(&L, t, X, 1.0, 0, &one, &ignore, g);
+      if (g[1] == ga[1]) s0 = sm; else s1 = sm;
+    }
+    double X[4][3];                         /* A, the border's two points, B */
+    for (int c = 0; c < 3; c++) {
+      X[0][c] = A[c];
+      X[1][c] = A[c] + s0 * (B[c] - A[c]);
+      X[2][c] = A[c] + s1 * (B[c] - A[c]);
+      X[3][c] = B[c];
+    }
+    int exact[4];
+    double xu[4], xw[4];
+    for (int p = 0; p < 4; p++) {
+      int g[2];
+      phong_both(&L, t, X[p], 1.0, 0, &one, &ignore, g);
+      exact[p] = g[1];
+      xu[p] = X[p][tr->bu];
+      xw[p] = X[p][tr->bw];
+    }
+    assert_true(exact[1] == ga[1] && exact[2] != ga[1]);
+    borders++;
+    const int tri1[1] = { t }, at1[2] = { 0, 4 };
+    const unsigned none[4] = { 0, 0, 0, 0 };
+    for (int way = 0; way < 3; way++) {
+      int gr[4];
+      long dec = 0;
+      L.m.phong_sqrt = way == 1;
+      L.m.rows_sse2 = way == 2;
+      L.m.phong_declines = &dec;
+      smooth_phong_row(&L.m, 1, tri1, at1, xu, xw, none, &one, gr);
+      L.m.phong_declines = NULL;
+      L.m.phong_sqrt = L.m.rows_sse2 = false;
+      for (int p = 0; p < 4; p++) differ += gr[p] != exact[p];
+      declines[way] += dec;
+    }
+  }
+  print_message("Phong rows: %ld borders, declined %ld / %ld / %ld (short chain, AVX, SSE2)\n",
+                borders, declines[0], declines[1], declines[2]);
+  assert_int_equal(differ, 0);
+  assert_true(borders > 50);
+  for (int way = 0; way < 3; way++) assert_true(declines[way] >= 2 * borders);
+  lib_close(&L);
+}
+
 /* The Phong filter's range test (smooth.c, phong_filter and phong_pairs): a point whose
    clamped area w_k is positive but below |tot| 2^-1000 is declined and left to the exact
    chain, under parallel lights (phong_pairs, and the rows: smooth_phong_row both ways)
@@ -1479,6 +1562,71 @@ static void test_phong_filter_tiny_sum(void **state)
       assert_int_equal(declines, tiny);
     }
     *tr = keep;
+  }
+  lib_close(&L);
+}
+
+/* test_phong_filter_tiny_sum's scaled triangles through the rows (smooth_phong_row, under
+   the scene's parallel light), whose constants are the triangle's lanes (made again from
+   the scaled triangle: smooth_lanes_remake): a step of four points at the triangle's
+   centre, its coordinates on the axes bu, bw scaled by c, in each of the rows' ways (the
+   short chain where the processor has AVX-512VL, the square root and divide: phong_sqrt,
+   SSE2's: rows_sse2). Each takes the four at c = 2^-255 (s about 2^-497) and declines
+   them at c = 2^-260 (s about 2^-507: the AVX rows' test s >= 2^-500 in their second
+   pass), every grey the exact chain's. Fails if the rows' bound is s > 0. */
+static void test_phong_rows_tiny_sum(void **state)
+{
+  (void)state;
+  write_text("pair3.s74",
+             "view 0 0 -1000\nwindow -200 -150 200 150\nlight -40 50 -80\n"
+             "vertex 1 0 0 0\nvertex 2 0 100 10\nvertex 3 100 50 20\nvertex 4 -100 50 0\n"
+             "face 1 1 2 3\nface 2 2 1 4\nobject 1 1 2\n");
+  struct lib L;
+  lib_open(&L, tpath("pair3.s74"), "smooth=phong");
+  struct shade_lights one;
+  shade_lights_init(&one, L.s);
+  assert_true(smooth_rows(&L.m, &L.e, &one));
+  assert_int_equal(L.m.ntri, 2);
+  for (int t = 0; t < L.m.ntri; t++) {
+    struct smooth_tri *tr = &L.m.tri[t];
+    const struct smooth_tri keep = *tr;
+    for (int tiny = 0; tiny < 2; tiny++) {
+      const double c = tiny ? 0x1p-260 : 0x1p-255;
+      *tr = keep;
+      for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 2; a++) {
+          tr->bV[k][a] *= c;
+          tr->bE[k][a] *= c;
+        }
+      tr->btot *= c * c;
+      smooth_lanes_remake(&L.m, t);
+      double X[3];
+      tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, X);
+      X[tr->bu] *= c;
+      X[tr->bw] *= c;
+      int g[2];
+      long ignore = 0;
+      phong_both(&L, t, X, 1.0, 0, &one, &ignore, g);
+      assert_int_equal(g[0], g[1]);
+      const double xu[4] = { X[tr->bu], X[tr->bu], X[tr->bu], X[tr->bu] };
+      const double xw[4] = { X[tr->bw], X[tr->bw], X[tr->bw], X[tr->bw] };
+      const int tri1[1] = { t }, at1[2] = { 0, 4 };
+      const unsigned none[4] = { 0, 0, 0, 0 };
+      for (int way = 0; way < 3; way++) {
+        int gr[4];
+        long dec = 0;
+        L.m.phong_sqrt = way == 1;
+        L.m.rows_sse2 = way == 2;
+        L.m.phong_declines = &dec;
+        smooth_phong_row(&L.m, 1, tri1, at1, xu, xw, none, &one, gr);
+        L.m.phong_declines = NULL;
+        L.m.phong_sqrt = L.m.rows_sse2 = false;
+        for (int p = 0; p < 4; p++) assert_int_equal(gr[p], g[1]);
+        assert_int_equal(dec, 4 * tiny);
+      }
+    }
+    *tr = keep;
+    smooth_lanes_remake(&L.m, t);
   }
   lib_close(&L);
 }
@@ -2260,6 +2408,8 @@ int main(void)
     cmocka_unit_test(test_phong_filter_is_exact),
     cmocka_unit_test(test_phong_filter_range),
     cmocka_unit_test(test_phong_filter_tiny_sum),
+    cmocka_unit_test(test_phong_rows_borders),
+    cmocka_unit_test(test_phong_rows_tiny_sum),
     cmocka_unit_test(test_inner_filter_is_exact),
     cmocka_unit_test(test_lit_filter_is_exact),
     cmocka_unit_test(test_round_ld_is_llroundl),
