@@ -154,7 +154,8 @@
 ** buffer only where it shows a face (fx_points' cuts), so only in ready columns.
 **
 ** Order.  The faces kept are drawn nearest first (buckets of their nearest vertex's z in
-** doubles; speed only), which gives the frame of the Mapper's order when "in front" is a
+** doubles; speed only; a lazy frame's faces, with no tile kept, farthest first instead:
+** paint_order), which gives the frame of the Mapper's order when "in front" is a
 ** strict total order on the faces covering each centre. It is, as the exact compare
 ** decides it (the float filter and the coplanar cache answer as it does): faces with
 ** P > 0 before those with P <= 0; among P > 0 by z = P / |D| (real numbers), equal z by
@@ -703,6 +704,51 @@ static inline void edge_step(const struct points_edge *e, int64_t *c, int64_t *s
   const int64_t t = *s - e->drem, carry = -(int64_t)(t < 0);   /* -1 or 0, no branch */
   *s = t + (e->D & carry);
   *c += e->dq - carry;
+}
+
+/* Edge e's crossings' columns of its rows jbot .. jtop (c, s: at jbot) into x[0], x[-2],
+   ... (a row up, two slots down: face_draw's two crossings a row), col_of's, or with
+   inside floor(c / 2) as it is (face_draw says when that is the same). In two chains,
+   rows jbot, jbot - 2, ... and jbot - 1, jbot - 3, ..., each stepped two rows at a time:
+   one chain's steps wait on each other (s's subtract, sign, mask and add: about 4 cycles
+   a row, 95% of face_draw's samples on t1-a), two chains' do not. Two rows up, R grows by
+   2 dR = (2 dq) D + 2 drem with 0 <= 2 drem < 2D (drem < D < 2^61: no overflow), so
+   dq2 = 2 dq + 1, drem2 = 2 drem - D where 2 drem >= D, else 2 dq and 2 drem, and
+   0 <= drem2 < D: edge_step's carry with (dq2, drem2) gives c = ceil(R / D) and s = c D -
+   R two rows up exactly as two of its steps do. The last step of a chain may go a row
+   past jtop (written nowhere; |dq| < 2^31 as |R / D| < 2^30 along the edge: no
+   overflow). */
+static inline __attribute__((always_inline)) void
+edge_rows(const struct grid *g, const struct points_edge *e, int64_t c, int64_t s, int32_t *x,
+          bool inside)
+{
+  int32_t j = e->jbot;
+  const int32_t jtop = e->jtop;
+  if (j - jtop < 3) {                           /* up to three rows: one chain (the second's
+                                                   set-up would cost more than it saves) */
+    for (;; j--, x -= 2) {
+      *x = inside ? (int32_t)(c >> 1) : col_of(g, c);
+      if (j == jtop) return;
+      edge_step(e, &c, &s);
+    }
+  }
+  int64_t c1 = c, s1 = s;                       /* the second chain: a row up */
+  edge_step(e, &c1, &s1);
+  const int64_t D = e->D, r2 = 2 * e->drem, ge = -(int64_t)(r2 >= D);
+  const struct points_edge two = { .D = D, .dq = 2 * e->dq - ge, .drem = r2 - (D & ge) };
+  for (;;) {
+    x[0] = inside ? (int32_t)(c >> 1) : col_of(g, c);
+    x[-2] = inside ? (int32_t)(c1 >> 1) : col_of(g, c1);
+    j -= 2;
+    x -= 4;
+    if (j < jtop) return;
+    edge_step(&two, &c, &s);
+    if (j == jtop) {
+      x[0] = inside ? (int32_t)(c >> 1) : col_of(g, c);
+      return;
+    }
+    edge_step(&two, &c1, &s1);
+  }
 }
 
 /* The rule's answer for a pair it leaves undecided both ways (two faces of one number in
@@ -1440,21 +1486,11 @@ static int face_draw(struct points *p, const struct grid *g, int k, const struct
          column at or right of an x does not fall as x grows: its column, floor(c / 2),
          is within the box's [ilo, ihi] before the grid cuts it, here within [0, W], so
          col_of's clamps change nothing (and c >= 0) */
-      int32_t *x = p->cross + 2 * (E->jbot - jlo) + !E->up;
-      for (int32_t j = E->jbot;; j--, x -= 2) {
-        *x = (int32_t)(c >> 1);
-        if (j == jtop) break;
-        edge_step(E, &c, &sc);
-      }
+      edge_rows(g, E, c, sc, p->cross + 2 * (E->jbot - jlo) + !E->up, true);
       continue;
     }
     if (two) {
-      int32_t *x = p->cross + 2 * (E->jbot - jlo) + !E->up;
-      for (int32_t j = E->jbot;; j--, x -= 2) {
-        *x = col_of(g, c);
-        if (j == jtop) break;
-        edge_step(E, &c, &sc);
-      }
+      edge_rows(g, E, c, sc, p->cross + 2 * (E->jbot - jlo) + !E->up, false);
       continue;
     }
     for (int32_t j = E->jbot;; j--) {
@@ -1597,6 +1633,47 @@ static int draw_order(struct points *p, const struct scene *s, int n, struct t74
   for (int bk = 0; bk < nb; bk++) cnt[bk + 1] += cnt[bk];
   for (int k = 0; k < n; k++) out[cnt[(int)p->key[k]]++] = o[k];
   memcpy(o, out, (size_t)n * sizeof *o);
+  return T74_OK;
+}
+
+/* p->box[0 .. n) put in a farthest-first order (a painter's), for a lazy frame without
+   tiles, whose faces are all drawn in the order of p->box ("Order": any order gives the
+   same frame; which one is a matter of speed only; not with no_tiles, whose frame is the
+   Mapper's order's, which tests hold the engine's to). Where a face comes after the faces it
+   hides, each of its points is taken by raster_plain's first test (zl > hi), two points a
+   compare; where it comes first, each point it hides of a later face is behind, known only
+   after a second test that loads the face seen there and its margin, and the exact compare
+   is asked more often where two faces meet. Measured on t1-g (12 faces, drawn as the
+   Mapper gives them): 2,142 points a frame behind, 69 exact compares; in this order none,
+   the frame's instructions -3.9%. The key is z at the box's centre in doubles (cheap;
+   no bound is needed of it), ordered by draw_order's buckets (a key's sign turned: its
+   nearest first is this farthest first), the boxes then moved into that order. */
+static int paint_order(struct points *p, const struct scene *s, int n, struct t74_error *err)
+{
+  if (n < 2 || p->shuffle) return T74_OK;
+  for (int d = 0; d < n; d++) {
+    const struct points_box *b = &p->box[d];
+    p->key[d] = -(b->za * (0.5 * (double)(b->ilo + b->ihi)) +
+                  (b->zb * (0.5 * (double)(b->jlo + b->jhi)) + b->zc));
+    p->order[d] = d;
+  }
+  int st = draw_order(p, s, n, err);
+  if (st != T74_OK) return st;
+  /* box d := the box at order[d], cycle by cycle; order[] marked done as -1 - its value */
+  int *o = p->order;
+  for (int d = 0; d < n; d++) {
+    if (o[d] < 0 || o[d] == d) continue;
+    const struct points_box first = p->box[d];
+    int at = d;
+    while (o[at] != d) {
+      const int from = o[at];
+      p->box[at] = p->box[from];
+      o[at] = -1 - from;
+      at = from;
+    }
+    p->box[at] = first;
+    o[at] = -1 - d;
+  }
   return T74_OK;
 }
 
@@ -1833,6 +1910,8 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       }
     }
   }
+  if (g.lazy && !p->no_tiles && (st = paint_order(p, s, nfirst, err)) != T74_OK)
+    return st;                                    /* (lazy: no tiles, nfirst is all) */
   for (int d = 0; d < nfirst; d++) {
     const struct points_box *b = &p->box[d];
     if ((st = face_draw(p, &g, b->k, b, false, tiles, NULL, 0, err)) != T74_OK) return st;
