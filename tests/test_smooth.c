@@ -646,6 +646,23 @@ static void test_run_is_single(void **state)
    AVX's encoding where the processor has it and SSE2's: rows_sse2): each grey that
    differs, each region's count that differs from smooth_row's, and another count of the
    points the inner filter leaves to the chain (inner_declines) than smooth_row's. */
+/* smooth_phong_row on m by one of the ways its rows are built: 0, four points a step (AVX,
+   where the processor has it) with AVX-512's short chain (where it has AVX-512VL); 1, the
+   same with the square root and divide (phong_sqrt); 2, two points a step (SSE2,
+   rows_sse2). The points it declines are counted into *dec where dec is not NULL. */
+static void phong_row_way(struct smooth_model *m, int way, int nseg, const int *tri,
+                          const int *at, const double *xu, const double *xw,
+                          const unsigned *blocked, const struct shade_lights *lights, int *grey,
+                          long *dec)
+{
+  m->phong_sqrt = way == 1;
+  m->rows_sse2 = way == 2;
+  m->phong_declines = dec;
+  smooth_phong_row(m, nseg, tri, at, xu, xw, blocked, lights, grey);
+  m->phong_declines = NULL;
+  m->phong_sqrt = m->rows_sse2 = false;
+}
+
 static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
                          const double (*X)[3], const unsigned *blocked,
                          const struct shade_lights *lights, int greys[256], long seen[3],
@@ -711,12 +728,8 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
        (phong_sqrt), and two (SSE2, rows_sse2) */
     for (int way = 0; way < 3; way++) {
       dec_uv = 0;
-      L->m.phong_sqrt = way == 1;
-      L->m.rows_sse2 = way == 2;
-      if (declines) L->m.phong_declines = &dec_uv;
-      smooth_phong_row(&L->m, nseg, tri, at, xu, xw, blocked, lights, gu);
-      L->m.phong_declines = NULL;
-      L->m.phong_sqrt = L->m.rows_sse2 = false;
+      phong_row_way(&L->m, way, nseg, tri, at, xu, xw, blocked, lights, gu,
+                    declines ? &dec_uv : NULL);
       for (int k = 0; k < nseg; k++)
         for (int p = at[k]; p < at[k + 1]; p++)
           differ += gu[p] != smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, tri[k], X[p], 1.0,
@@ -1424,12 +1437,7 @@ static void test_phong_rows_borders(void **state)
     for (int way = 0; way < 3; way++) {
       int gr[4];
       long dec = 0;
-      L.m.phong_sqrt = way == 1;
-      L.m.rows_sse2 = way == 2;
-      L.m.phong_declines = &dec;
-      smooth_phong_row(&L.m, 1, tri1, at1, xu, xw, none, &one, gr);
-      L.m.phong_declines = NULL;
-      L.m.phong_sqrt = L.m.rows_sse2 = false;
+      phong_row_way(&L.m, way, 1, tri1, at1, xu, xw, none, &one, gr, &dec);
       for (int p = 0; p < 4; p++) differ += gr[p] != exact[p];
       declines[way] += dec;
     }
@@ -1500,11 +1508,8 @@ static void test_phong_filter_range(void **state)
           const unsigned none[1] = { 0 };
           int gr[1];
           long row_declines = 0;
-          L.m.rows_sse2 = way == 1;
-          L.m.phong_declines = &row_declines;
-          smooth_phong_row(&L.m, 1, tri1, at1, xu, xw, none, &set[0], gr);
-          L.m.phong_declines = NULL;
-          L.m.rows_sse2 = false;
+          phong_row_way(&L.m, way ? 2 : 0, 1, tri1, at1, xu, xw, none, &set[0], gr,
+                        &row_declines);
           assert_int_equal(gr[0], g[1]);
           assert_int_equal(row_declines, tiny);
         }
@@ -1615,12 +1620,7 @@ static void test_phong_rows_tiny_sum(void **state)
       for (int way = 0; way < 3; way++) {
         int gr[4];
         long dec = 0;
-        L.m.phong_sqrt = way == 1;
-        L.m.rows_sse2 = way == 2;
-        L.m.phong_declines = &dec;
-        smooth_phong_row(&L.m, 1, tri1, at1, xu, xw, none, &one, gr);
-        L.m.phong_declines = NULL;
-        L.m.phong_sqrt = L.m.rows_sse2 = false;
+        phong_row_way(&L.m, way, 1, tri1, at1, xu, xw, none, &one, gr, &dec);
         for (int p = 0; p < 4; p++) assert_int_equal(gr[p], g[1]);
         assert_int_equal(dec, 4 * tiny);
       }
