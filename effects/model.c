@@ -1692,9 +1692,9 @@ void fx_lines_close(struct fx_lines *L)
 static struct grat rmax(struct grat p, struct grat q) { return geom_rat_cmp(p, q) >= 0 ? p : q; }
 static struct grat rmin(struct grat p, struct grat q) { return geom_rat_cmp(p, q) <= 0 ? p : q; }
 
-/* An event's x in a double (fx_x_key), and the order of two events' x from them
+/* An event's x in a double (geom_rat_key), and the order of two events' x from them
    (fx_x_cmp: exact). */
-static inline double ev_key(struct grat x) { return fx_x_key(x); }
+static inline double ev_key(struct grat x) { return geom_rat_key(x); }
 
 static inline int ev_cmp(const struct ev *a, const struct ev *b)
 {

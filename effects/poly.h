@@ -83,29 +83,12 @@ static inline bool fx_poly_on_row(const struct fx_poly *p, int64_t row)
   return row >= p->ylo && row < p->yhi;
 }
 
-/* A crossing's x in a double, k = fl(fl(num) / fl(den)): each of the three roundings is
-   within u = 2^-53 relatively (|num|, den < 2^127: no overflow; den >= 1, |x| >= 2^-127
-   unless 0: no underflow), so |k - x| <= ((1 + u)^2 / (1 - u) - 1) |x| < 2^-51 |x|, with k
-   of x's sign (0 exactly when x is). */
-static inline double fx_x_key(struct grat x)
-{
-  /* fl(v) of a wide v that fits in 64 bits taken from the 64-bit value: the same double
-     (each conversion rounds v to nearest), without the library's 128-bit conversion */
-  const double num = x.num == (int64_t)x.num ? (double)(int64_t)x.num : (double)x.num;
-  const double den = x.den == (int64_t)x.den ? (double)(int64_t)x.den : (double)x.den;
-  return num / den;
-}
-
-/* The order of *a and *b (-1, 0, 1; ka, kb their fx_x_key): from the keys when they lie
-   apart by more than 2^-49 (|ka| + |kb|) as computed (the difference and the bound each
-   within a few u of their values, so then |kb - ka| > 2^-50 (|ka| + |kb|), more than the
-   keys' two errors together: the order is the keys'), else exactly (geom_rat_cmp). */
+/* The order of *a and *b (-1, 0, 1; ka, kb their geom_rat_key): from the keys where they
+   tell it (geom_key_order), else exactly (geom_rat_cmp). */
 static inline int fx_x_cmp(const struct grat *a, double ka, const struct grat *b, double kb)
 {
-  const double d = kb - ka, t = (fabs(ka) + fabs(kb)) * 0x1p-49;
-  if (d > t) return -1;
-  if (-d > t) return 1;
-  return geom_rat_cmp(*a, *b);
+  const int o = geom_key_order(ka, kb);
+  return o ? o : geom_rat_cmp(*a, *b);
 }
 
 /* ---- a row of samples (the points engine's rows, effects/model.c) ----
@@ -133,9 +116,10 @@ static inline void fx_sample_row_set(struct fx_sample_row *r, const int32_t *win
 }
 
 /* The order of a crossing's x and a sample's xn / xd (-1, 0, 1), kx = fl(k xd) (k: x's
-   fx_x_key): from doubles when they lie apart, else exactly (geom_rat_cmp_frac). k is
-   within 2^-51 |x| of x (fx_x_key) and xd is exact in a double (2 K W), so kx is within (2^-51 + 2^-53 +
-   2^-104) |x xd| < 2^-50.5 |x xd| of x xd, and fl(xn) within 2^-53 |xn| of xn: when
+   geom_rat_key): from doubles when they lie apart, else exactly (geom_rat_cmp_frac). k is
+   within 2^-51 |x| of x (geom_rat_key) and xd is exact in a double (2 K W), so kx is
+   within (2^-51 + 2^-53 + 2^-104) |x xd| < 2^-50.5 |x xd| of x xd, and fl(xn) within
+   2^-53 |xn| of xn: when
    fl(xn) - kx > 2^-49 (|kx| + |fl(xn)|) as computed (the difference and the bound each
    within u of their values), xn - x xd > 0 (the two errors together are below
    2^-50.4 (|kx| + |fl(xn)|)): x < xn / xd; likewise the other way. */
@@ -147,11 +131,11 @@ static inline int fx_sample_cmp(const struct grat *x, double kx, int64_t xn, int
   return geom_rat_cmp_frac(*x, xn, xd);
 }
 
-/* The first sample of the row whose x is at or right of x (k: x in a double, fx_x_key), or
+/* The first sample of the row whose x is at or right of x (k: x in a double, geom_rat_key), or
    n: the least i in [0, n] where x <= xn / xd. With S > 0 that is x xd <= GRID_ONE (xd XL
    + (2 (k0 + i) + 1) S), that is i >= T = x ka' - kb' (ka', kb': ka and kb as real
    numbers), so i = ceil(T) put into [0, n]. The guess t = fl(fl(k ka) - kb): k within
-   2^-51 |x| of x (fx_x_key), ka within u of ka' (one divide; the product G S and the
+   2^-51 |x| of x (geom_rat_key), ka within u of ka' (one divide; the product G S and the
    halving exact), the product rounded, so fl(k ka) within (2^-51 + 2u + 4u^2) < 2^-49.9 of
    its size of x ka'; kb within kbe of kb' (fx_sample_row_set); the difference rounded (u |t|):
    |t - T| < bound = 2^-49 |fl(k ka)| + kbe + 2^-52 |t|, found in doubles (a few roundings

@@ -1884,6 +1884,26 @@ static inline __attribute__((always_inline)) PHONG_AVX_ATTR __m256d rsqrt14(__m2
   return y;
 }
 
+/* Four points' N . l, fl(fl(fl(N0 l0) + fl(N1 l1)) + fl(N2 l2)) lane by lane. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR __m256d dot4(__m256d N0, __m256d N1,
+                                                                        __m256d N2,
+                                                                        const __m256d l[3])
+{
+  return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, l[0]), _mm256_mul_pd(N1, l[1])),
+                       _mm256_mul_pd(N2, l[2]));
+}
+
+/* The lanes of four points whose light k is not blocked (b[h]'s bit k clear): all ones
+   there, zero where it is blocked. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR __m256d unblocked4(const unsigned b[4],
+                                                                              int k)
+{
+  return _mm256_castsi256_pd(_mm256_set_epi64x((long long)((b[3] >> k & 1u) - 1ull),
+                                               (long long)((b[2] >> k & 1u) - 1ull),
+                                               (long long)((b[1] >> k & 1u) - 1ull),
+                                               (long long)((b[0] >> k & 1u) - 1ull)));
+}
+
 /* The end of phong_head and phong_tail at points q .. q + cnt - 1 of *P (cnt 1 .. 4; the
    lanes past them hold other values, never stored nor counted): the same operations lane
    by lane (phong_head's nn from N, and its tests: the least w_k >= |tot| 2^-1000 and s <=
@@ -1925,17 +1945,9 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
                                     _mm256_mul_pd(_mm256_mul_pd(nn, _mm256_set1_pd(0.5)),
                                                   _mm256_mul_pd(y0, y0)));
     for (int k = 0; k < nlight; k++) {
-      __m256d d = _mm256_max_pd(
-          _mm256_mul_pd(sg, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, lv[k][0]),
-                                                        _mm256_mul_pd(N1, lv[k][1])),
-                                          _mm256_mul_pd(N2, lv[k][2]))),
-          zero);
+      __m256d d = _mm256_max_pd(_mm256_mul_pd(sg, dot4(N0, N1, N2, lv[k])), zero);
       if (shadow && (bor >> k & 1u))
-        d = _mm256_and_pd(d, _mm256_castsi256_pd(_mm256_set_epi64x(
-                                 (long long)((b[3] >> k & 1u) - 1ull),
-                                 (long long)((b[2] >> k & 1u) - 1ull),
-                                 (long long)((b[1] >> k & 1u) - 1ull),
-                                 (long long)((b[0] >> k & 1u) - 1ull))));
+        d = _mm256_and_pd(d, unblocked4(b, k));
       sum = k ? _mm256_add_pd(sum, d) : d;
     }
     f = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(fr, sum), y0), c), half);
@@ -1943,16 +1955,10 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
   } else {
     const __m256d inv = _mm256_div_pd(_mm256_load_pd(P->sg + q), _mm256_sqrt_pd(nn));
     for (int k = 0; k < nlight; k++) {
-      const __m256d d = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(N0, lv[k][0]),
-                                                                  _mm256_mul_pd(N1, lv[k][1])),
-                                                    _mm256_mul_pd(N2, lv[k][2])), inv);
+      const __m256d d = _mm256_mul_pd(dot4(N0, N1, N2, lv[k]), inv);
       __m256d lit = _mm256_cmp_pd(d, zero, _CMP_GT_OS);
       if (shadow && (bor >> k & 1u))
-        lit = _mm256_and_pd(lit, _mm256_castsi256_pd(_mm256_set_epi64x(
-                                     (long long)((b[3] >> k & 1u) - 1ull),
-                                     (long long)((b[2] >> k & 1u) - 1ull),
-                                     (long long)((b[1] >> k & 1u) - 1ull),
-                                     (long long)((b[0] >> k & 1u) - 1ull))));
+        lit = _mm256_and_pd(lit, unblocked4(b, k));
       sum = k ? _mm256_add_pd(sum, _mm256_and_pd(lit, d)) : _mm256_and_pd(lit, d);
     }
     f = _mm256_add_pd(_mm256_mul_pd(fr, sum), half);

@@ -33,6 +33,7 @@
 #ifndef T74_GEOM_H
 #define T74_GEOM_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -126,6 +127,36 @@ static inline int geom_rat_cmp(struct grat p, struct grat q)
 {
   wide l = p.num * q.den, r = q.num * p.den;
   return (l > r) - (l < r);
+}
+
+/* A rational in a double, the key by which the sweeps order their x (issue 19: the
+   Visible Surface Procedure's span ends, render/vis_x.h; the effects' crossings,
+   effects/poly.h): k = fl(fl(num) / fl(den)). Each of the three roundings is within
+   u = 2^-53 relatively (|num|, den < 2^127: no overflow; den >= 1 and |x| >= 2^-127 unless
+   0: no underflow), so |k - x| <= ((1 + u)^2 / (1 - u) - 1) |x| < 2^-51 |x|, and k has x's
+   sign (0 exactly when x is). A wide that fits 64 bits is converted from its 64-bit value:
+   the same double (each conversion rounds to nearest), without the library's 128-bit
+   conversion. */
+static inline double geom_rat_key(struct grat x)
+{
+  const double num = x.num == (int64_t)x.num ? (double)(int64_t)x.num : (double)x.num;
+  const double den = x.den == (int64_t)x.den ? (double)(int64_t)x.den : (double)x.den;
+  return num / den;
+}
+
+/* The order of two rationals p and q from their keys kp and kq (geom_rat_key) where the keys
+   tell it: 1 when p > q, -1 when p < q, exactly; 0 when they lie within about 2^-49 of each
+   other (equal rationals, or nearly), and the rationals themselves must be compared.
+   d = fl(kp - kq) and t = fl(|kp| + |kq|) 2^-49 are each within u relatively of kp - kq
+   and 2^-49 (|kp| + |kq|) (one rounding each; the scaling is exact), so d > t means
+   kp - kq > 2^-50 (|kp| + |kq|), more than the two keys' errors together (< 2^-51 |p| +
+   2^-51 |q| < 2^-50.9 (|kp| + |kq|)): p > q. Likewise -d > t: p < q. */
+static inline int geom_key_order(double kp, double kq)
+{
+  const double d = kp - kq, t = (fabs(kp) + fabs(kq)) * 0x1p-49;
+  if (d > t) return 1;
+  if (-d > t) return -1;
+  return 0;
 }
 
 /* Compare a rational with n/d (d > 0). */

@@ -534,8 +534,8 @@ static int dblock_span(struct vis *v, int a, int64_t yn, int64_t yd, struct t74_
   dblock_store(v, it);
   COST_ADD_N(v->cost, COST_MEM, DBLOCK_WORDS);
   struct vis_key *k = &v->key[a];
-  k->l = x_key(it->xl);
-  k->r = x_key(it->xr);
+  k->l = geom_rat_key(it->xl);
+  k->r = geom_rat_key(it->xr);
   it->on = kx_cmp(k->l, k->r, &it->xl, &it->xr) < 0;
   k->on = it->on;
   v->pend_xcmp++;                        /* an x compare (charge_compares) */

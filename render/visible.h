@@ -52,7 +52,7 @@ struct vis_item {
   uint16_t fymax;
 };
 
-/* An active item's xb and xe in doubles (visible.c, x_key), and whether the line meets
+/* An active item's xb and xe in doubles (visible.c, geom_rat_key), and whether the line meets
    it: the sweep's orders compare these first, the exact ends only where they lie close. */
 struct vis_key {
   double l, r;

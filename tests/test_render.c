@@ -1383,7 +1383,7 @@ static void test_vis_x_keys(void **state)
     default: b = (struct grat){ a.num * 3, a.den * 3 }; break;
     }
     const int want = geom_rat_cmp(a, b);
-    const double ka = x_key(a), kb = x_key(b);
+    const double ka = geom_rat_key(a), kb = geom_rat_key(b);
     double lo, hi;
     key_band(kb, &lo, &hi);
     bad += kx_cmp(ka, kb, &a, &b) != want;

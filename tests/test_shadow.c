@@ -382,7 +382,7 @@ static void test_first_sample_is_exact(void **state)
         const int64_t m = GRID_ONE * (xd * XL + (2 * (k0 + mid) + 1) * ((int64_t)win[2] - XL));
         if (geom_rat_cmp_frac(x, m, xd) <= 0) hi = mid; else lo = mid + 1;
       }
-      differ += fx_first_at_or_right(&x, fx_x_key(x), &r) != lo;
+      differ += fx_first_at_or_right(&x, geom_rat_key(x), &r) != lo;
       checked++;
     }
   }
