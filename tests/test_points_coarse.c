@@ -197,18 +197,8 @@ static void test_scenegen_families(void **state)
   assert_true(t.scenes >= SG_NFAMILIES);
 }
 
-static uint64_t next(uint64_t *x)
-{
-  uint64_t z = (*x += UINT64_C(0x9e3779b97f4a7c15));
-  z = (z ^ (z >> 30)) * UINT64_C(0xbf58476d1ce4e5b9);
-  z = (z ^ (z >> 27)) * UINT64_C(0x94d049bb133111eb);
-  return z ^ (z >> 31);
-}
-
-static int32_t rnd(uint64_t *x, int32_t lo, int32_t hi)
-{
-  return lo + (int32_t)(next(x) % (uint64_t)(hi - lo + 1));
-}
+/* A whole number in lo .. hi from the generators' random stream (scenegen.h's splitmix64). */
+static int32_t rnd(sg_rng *x, int32_t lo, int32_t hi) { return (int32_t)sg_range(x, lo, hi); }
 
 /* An axis-aligned box as six faces, numbered from *id. */
 static void add_box(struct xr_scene *s, const int32_t lo[3], const int32_t hi[3], unsigned *id)
@@ -233,7 +223,7 @@ static void boxes(struct xr_scene *s, uint64_t seed, int nbox)
   memset(s, 0, sizeof *s);
   s->eye[0] = 0; s->eye[1] = 0; s->eye[2] = -1000;
   s->win[0] = -200; s->win[1] = -150; s->win[2] = 200; s->win[3] = 150;
-  uint64_t x = seed;
+  sg_rng x = { seed };
   unsigned id = 1;
   for (int b = 0; b < nbox; b++) {
     int32_t lo[3], hi[3];
@@ -250,7 +240,7 @@ static void triangles(struct xr_scene *s, uint64_t seed, int ntri)
   memset(s, 0, sizeof *s);
   s->eye[0] = 0; s->eye[1] = 0; s->eye[2] = -1000;
   s->win[0] = -200; s->win[1] = -150; s->win[2] = 200; s->win[3] = 150;
-  uint64_t x = seed;
+  sg_rng x = { seed };
   for (int k = 0; k < ntri; k++) {
     int v[3];
     for (int c = 0; c < 3; c++) {
@@ -442,9 +432,9 @@ static void test_reused(void **state)
   int32_t *want = calloc(100 * 75, sizeof *want);
   assert_non_null(want);
   long frames = 0, tiled = 0;
-  uint64_t x = 12345;
+  sg_rng x = { 12345 };
   for (int round = 0; round < 4 * NS; round++) {
-    const int k = round < NS ? round : (int)(next(&x) % NS);   /* each once, then at random */
+    const int k = round < NS ? round : (int)(sg_next(&x) % NS);   /* each once, then at random */
     const bool no_tiles = round % 3 == 2;
     const struct scene *s = sc[k];
     struct vis_grid g = { 100, 75, { s->window[0], s->window[1], s->window[2], s->window[3] } };
@@ -487,18 +477,18 @@ static void test_reused_squares(void **state)
   memset(&kept, 0, sizeof kept);
   int32_t *want = calloc(W * H, sizeof *want);
   assert_non_null(want);
-  uint64_t x = 777;
+  sg_rng x = { 777 };
   long lazy = 0, boxed = 0;
   for (int round = 0; round < 400; round++) {
     struct xr_scene sq;
     memset(&sq, 0, sizeof sq);
     sq.eye[0] = 0; sq.eye[1] = 0; sq.eye[2] = -1000;
     sq.win[0] = -200; sq.win[1] = -150; sq.win[2] = 200; sq.win[3] = 150;
-    const int nsq = 1 + (int)(next(&x) % 3);
+    const int nsq = 1 + (int)(sg_next(&x) % 3);
     long area = 0;
     for (int k = 0; k < nsq; k++) {
-      const int32_t r = 2 + (int32_t)(next(&x) % (round % 2 ? 12 : 90));
-      const int32_t cx = (int32_t)(next(&x) % 400) - 200, cy = (int32_t)(next(&x) % 300) - 150;
+      const int32_t r = 2 + (int32_t)(sg_next(&x) % (round % 2 ? 12 : 90));
+      const int32_t cx = (int32_t)(sg_next(&x) % 400) - 200, cy = (int32_t)(sg_next(&x) % 300) - 150;
       const int32_t z = 200 + 100 * k;
       int v[4] = { xr_vertex(&sq, cx - r, cy - r, z), xr_vertex(&sq, cx + r, cy - r, z),
                    xr_vertex(&sq, cx + r, cy + r, z), xr_vertex(&sq, cx - r, cy + r, z) };

@@ -24,20 +24,11 @@
 #include "render/points.h"
 #include "render/scene.h"
 #include "tests/ref/exactref.h"
+#include "tests/ref/scenegen.h"
 #include "tests/ref/xdiff.h"
 
-static uint64_t next(uint64_t *x)
-{
-  uint64_t z = (*x += UINT64_C(0x9e3779b97f4a7c15));
-  z = (z ^ (z >> 30)) * UINT64_C(0xbf58476d1ce4e5b9);
-  z = (z ^ (z >> 27)) * UINT64_C(0x94d049bb133111eb);
-  return z ^ (z >> 31);
-}
-
-static int32_t rnd(uint64_t *x, int32_t lo, int32_t hi)
-{
-  return lo + (int32_t)(next(x) % (uint64_t)(hi - lo + 1));
-}
+/* A whole number in lo .. hi from the generators' random stream (scenegen.h's splitmix64). */
+static int32_t rnd(sg_rng *x, int32_t lo, int32_t hi) { return (int32_t)sg_range(x, lo, hi); }
 
 /* Six triangles of seed `seed`, eye (0, 0, -1000), window -200 .. 200 x -150 .. 150:
    triangle t in the plane z = 100 t + a tilt of up to 20 across it, none meeting another
@@ -48,7 +39,7 @@ static void build(struct xr_scene *s, uint64_t seed)
   memset(s, 0, sizeof *s);
   s->eye[0] = 0, s->eye[1] = 0, s->eye[2] = -1000;
   s->win[0] = -200, s->win[1] = -150, s->win[2] = 200, s->win[3] = 150;
-  uint64_t x = seed;
+  sg_rng x = { seed };
   for (int t = 0; t < 6; t++) {
     int vi[3];
     for (int k = 0; k < 3; k++) {
