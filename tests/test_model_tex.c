@@ -1,6 +1,7 @@
 /*
 ** test_model_tex.c — cmocka tests of the points engine's lit flat faces (effects/model.c:
-** flat_lit_pairs and the textures' tex_pair), against fx_shade point by point.
+** flat_lit_pairs and the textures' tex_pair), against fx_shade point by point, and of a
+** smoothed run's space points against the one-point path.
 **
 ** fx_points shades a lit face that is not smoothed two points a pair of lanes and in
 ** stages (space points, reflectances, the lights light by light, greys), a light blocked
@@ -11,6 +12,16 @@
 ** face), three lights (two of them point lights) and a card casting their shadows, so that
 ** a pair has a point light blocked at both lanes, at one, or at none; the grids are wide
 ** enough that a run of a face's points goes through more than one stage's batch.
+**
+** And the space points fx_points takes for a run of a smoothed face's points (uv_pairs,
+** through fx_space_uv): a face's run of two pairs or more is taken without space_point's
+** select of t = 1 where the ray's denominator den is 0, where den is > 0 at the run's first
+** and last points or < 0 at both (den_not_zero; the proof beside it needs the run's plane
+** positions in order). Each point's two coordinates must be the one-point path's
+** (fx_space_points with n = 1) bit for bit: on the shipped smoothed scenes' faces along
+** every row, and on a face built by hand whose den is exactly 0 at a point of the run, at
+** its ends and next to them (there the one-point path's t is 1, a quotient by 0 would give
+** infinities).
 */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -41,45 +52,68 @@ struct tally {
   int greys[256];
 };
 
-/* fx_points against fx_shade on scene path, its own effects, a W x H grid. */
-static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
+/* A shipped scene's points frame at a W x H grid and its effects' model, as the points
+   engine makes them (the scene read quietly, its own effects). */
+struct rig {
+  struct scene *sc;
+  struct effects e;
+  struct vis_grid g;
+  struct points p;
+  struct fx_engine eng;
+  struct fx_stats st;
+  struct cost cost;
+  struct fx_model m;
+};
+
+static void rig_open(struct rig *r, const char *path, int W, int H)
 {
-  struct scene *sc = NULL;
+  memset(r, 0, sizeof *r);
   struct t74_error err = { 0, "" };
   struct scene_opts so;
   memset(&so, 0, sizeof so);
   so.quiet = true;
-  assert_int_equal(scene_load(path, &so, &sc, &err), T74_OK);
-  struct effects e;
-  if (effects_parse(sc->effects ? sc->effects : "", &e, "test", 1, &err) != T74_OK)
+  assert_int_equal(scene_load(path, &so, &r->sc, &err), T74_OK);
+  const struct scene *sc = r->sc;
+  if (effects_parse(sc->effects ? sc->effects : "", &r->e, "test", 1, &err) != T74_OK)
     fail_msg("%s", err.msg);
-  struct vis_grid g = { W, H, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
-  struct points p;
-  memset(&p, 0, sizeof p);
-  assert_int_equal(points_render(&p, sc, &g, &err), T74_OK);
-  struct fx_engine eng;
-  assert_int_equal(fx_engine_points(&eng, &p, &g, NULL, &err), T74_OK);
-  struct fx_stats st;
-  memset(&st, 0, sizeof st);
-  struct cost cost = { { 0 } };
-  struct fx_model m;
-  assert_int_equal(fx_model_build(&m, &eng, sc, &e, NULL, &st, &cost, &err), T74_OK);
-  assert_false(m.count);                    /* the points engine: greys in runs */
+  r->g = (struct vis_grid){ W, H, { sc->window[0], sc->window[1], sc->window[2], sc->window[3] } };
+  assert_int_equal(points_render(&r->p, sc, &r->g, &err), T74_OK);
+  assert_int_equal(fx_engine_points(&r->eng, &r->p, &r->g, NULL, &err), T74_OK);
+  assert_int_equal(fx_model_build(&r->m, &r->eng, sc, &r->e, NULL, &r->st, &r->cost, &err),
+                   T74_OK);
+}
+
+static void rig_close(struct rig *r)
+{
+  fx_model_free(&r->m);
+  fx_engine_free(&r->eng);
+  points_free(&r->p);
+  scene_free(r->sc);
+}
+
+/* fx_points against fx_shade on scene path, its own effects, a W x H grid. */
+static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
+{
+  struct rig r;
+  rig_open(&r, path, W, H);
+  const struct scene *sc = r.sc;
+  struct t74_error err = { 0, "" };
+  assert_false(r.m.count);                  /* the points engine: greys in runs */
   const size_t np = (size_t)W * (size_t)H;
   struct fx_frame f;
   memset(&f, 0, sizeof f);
   f.W = W; f.H = H; f.cell = 1;
   assert_non_null(f.face = malloc(np * sizeof *f.face));
   assert_non_null(f.grey = calloc(np, 1));
-  memcpy(f.face, p.face, np * sizeof *f.face);
-  assert_int_equal(fx_points(&m, &f, &st, &cost, &err), T74_OK);
+  memcpy(f.face, r.p.face, np * sizeof *f.face);
+  assert_int_equal(fx_points(&r.m, &f, &r.st, &r.cost, &err), T74_OK);
   struct fx_lines *L = NULL;
   int *row = malloc((size_t)W * sizeof *row);
   unsigned *blocked = calloc((size_t)W, sizeof *blocked);
   double *px = malloc((size_t)W * sizeof *px), (*X)[3] = malloc((size_t)W * sizeof *X);
   assert_true(row && blocked && px && X);
-  assert_true(fx_model_regions(&m));
-  assert_int_equal(fx_lines_open(&L, &m, false, &cost, &err), T74_OK);
+  assert_true(fx_model_regions(&r.m));
+  assert_int_equal(fx_lines_open(&L, &r.m, false, &r.cost, &err), T74_OK);
   unsigned pm = 0;                          /* the point lights' bits */
   for (int k = 0; k < sc->nlight; k++) if (sc->light[k].point) pm |= 1u << k;
   for (int j = H - 1; j >= 0; j--) {
@@ -91,22 +125,22 @@ static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
       const size_t at = (size_t)j * (size_t)W + (size_t)i;
       assert_int_equal(f.face[at], row[i]);
       const int face = row[i];
-      const int gs = fx_shade(&m, face, blocked[i], i + 0.5, j + 0.5, i, j, NULL, NULL);
+      const int gs = fx_shade(&r.m, face, blocked[i], i + 0.5, j + 0.5, i, j, NULL, NULL);
       if (gs != f.grey[at] && t->differ++ < 4)
         print_message("%s %dx%d point (%d, %d) face %d blocked %u: frame %d, fx_shade %d\n",
                       path, W, H, i, j, face, blocked[i], f.grey[at], gs);
       t->points++;
       t->greys[f.grey[at]] = 1;
       if (face < 0) continue;
-      const struct scene_face *sf = &sc->f[m.map->f[face].sface];
-      const bool rowt = m.ray[face][0] == 0;
+      const struct scene_face *sf = &sc->f[r.m.map->f[face].sface];
+      const bool rowt = r.m.ray[face][0] == 0;
       if (!sf->texture) {
         t->row_masked += rowt && blocked[i] != 0 && (blocked[i] & pm) != pm && sf->grey < 0;
         continue;
       }
       if (rowt) {
         const struct scene_vertex *a = &sc->v[sf->vidx[0]], *b = &sc->v[sf->vidx[1]];
-        const bool on_z = m.map->f[face].plane[1] == 0;   /* solved on x and y */
+        const bool on_z = r.m.map->f[face].plane[1] == 0;   /* solved on x and y */
         if (on_z && b->y == a->y) t->row_tex_fixed++;
         else t->row_tex++;
       } else {
@@ -123,7 +157,7 @@ static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
       }
       /* the picture's coordinates off [0, 1) here: the face's frame solved as
          reflectance does it (effects/model.c), from the point's space point */
-      fx_space_points(&m, face, 1, &px[i], py, &X[i]);
+      fx_space_points(&r.m, face, 1, &px[i], py, &X[i]);
       const struct scene_vertex *a = &sc->v[sf->vidx[0]], *b = &sc->v[sf->vidx[1]];
       const struct scene_vertex *c = &sc->v[sf->vidx[sf->ring_start[1] - 1]];
       const double U[2] = { b->x - a->x, b->y - a->y }, T[2] = { c->x - a->x, c->y - a->y };
@@ -135,10 +169,7 @@ static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
   fx_lines_close(L);
   free(row); free(blocked); free(px); free(X);
   free(f.face); free(f.grey);
-  fx_model_free(&m);
-  fx_engine_free(&eng);
-  points_free(&p);
-  scene_free(sc);
+  rig_close(&r);
 }
 
 static void test_tex_repeat_pointwise(void **state)
@@ -210,12 +241,123 @@ static void test_fig6_room_pointwise(void **state)
   assert_true(t.textured > 10000 && t.row_masked > 1000 && distinct > 40 && t.greys[255]);
 }
 
+/* fx_space_uv over px[0 .. n) of face f, each of the three axis pairs, against the
+   one-point path; returns the points that differ (the first few printed). */
+static long uv_against_single(const struct fx_model *m, int f, int n, const double *px,
+                              double py, const char *what)
+{
+  double xu[512], xw[512];
+  long bad = 0;
+  assert_true(n % 2 == 0 && n <= 512);
+  for (int u = 0; u < 3; u++) {
+    fx_space_uv(m, f, n, px, py, u, xu, xw);
+    for (int p = 0; p < n; p++) {
+      double one[1][3];
+      fx_space_points(m, f, 1, px + p, py, one);
+      if (!memcmp(&xu[p], &one[0][u], sizeof xu[p]) &&
+          !memcmp(&xw[p], &one[0][(u + 1) % 3], sizeof xw[p]))
+        continue;
+      if (bad++ < 4)
+        print_message("%s face %d py %.17g px %.17g axis %d: %.17g %.17g, alone %.17g %.17g\n",
+                      what, f, py, px[p], u, xu[p], xw[p], one[0][u], one[0][(u + 1) % 3]);
+    }
+  }
+  return bad;
+}
+
+/* Every mapped face of the smoothed shipped scenes along every row of two grids, the
+   point centres in order: the face's runs as the points engine sees them (each from its
+   first point, an even count) and the whole row (the face's plane beyond its edges). */
+static void test_uv_runs_are_single(void **state)
+{
+  (void)state;
+  static const char *const names[] = { "t1-a", "t1-g", "lprism", "sphere" };
+  static const int grids[][2] = { { 133, 100 }, { 200, 150 } };
+  long runs = 0, long_runs = 0, rows = 0, bad = 0;
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
+    for (size_t gi = 0; gi < sizeof grids / sizeof grids[0]; gi++) {
+      char path[64];
+      snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
+      const int W = grids[gi][0], H = grids[gi][1];
+      struct rig r;
+      rig_open(&r, path, W, H);
+      const struct scene *sc = r.sc;
+      const struct fx_model *m = &r.m;
+      double px[512];
+      assert_true(W <= 512);
+      for (int i = 0; i < W; i++)             /* plane_x's: non-decreasing */
+        px[i] = sc->window[0] + (i + 0.5) * (double)(sc->window[2] - sc->window[0]) / W;
+      for (int j = 0; j < H; j++) {
+        const double py = sc->window[3] - (j + 0.5) * (double)(sc->window[3] - sc->window[1]) / H;
+        const int *row = r.p.face + (size_t)j * (size_t)W;
+        for (int i = 0; i < W;) {             /* the row's runs of one face */
+          int e2 = i + 1;
+          while (e2 < W && row[e2] == row[i]) e2++;
+          const int n = (e2 - i) & ~1;
+          if (row[i] >= 0 && n) {
+            bad += uv_against_single(m, row[i], n, px + i, py, names[k]);
+            runs++;
+            long_runs += n >= 4;
+          }
+          i = e2;
+        }
+        for (int f = 0; f < m->map->nface; f++, rows++)
+          bad += uv_against_single(m, f, W & ~1, px, py, names[k]);
+      }
+      rig_close(&r);
+    }
+  print_message("uv runs: %ld runs (%ld of two pairs or more), %ld whole rows; %ld differ\n",
+                runs, long_runs, rows, bad);
+  assert_int_equal(bad, 0);
+  assert_true(long_runs > 2500 && rows > 50000);
+}
+
+/* A face built by hand (whole-number ray and eye, so that den = 3 px - 2 py + 4930 is
+   exact at whole-number and half plane positions): den exactly 0 at px = z = (2 py -
+   4930) / 3 on the rows where that is a whole number. Runs of 2 to 12 points in order,
+   from every start around z: z inside the run, at its first or last point, just outside
+   it; and runs on one side of z (den of one sign: no select). Where den is 0 the one-point
+   path's t is 1 and its space point E + D; the two pairs' loop without the select would
+   divide by 0. */
+static void test_uv_den_zero(void **state)
+{
+  (void)state;
+  struct fx_model m;
+  memset(&m, 0, sizeof m);
+  double ray[1][4] = { { 3, -2, 5, 7000 } };
+  m.ray = ray;
+  m.eye[0] = 10; m.eye[1] = -20; m.eye[2] = -1000;
+  long runs = 0, zero_inside = 0, zero_end = 0, one_sign = 0, bad = 0;
+  for (int py = -60; py <= 60; py++) {
+    if ((2 * py - 4930) % 3) continue;
+    const double z = (2 * py - 4930) / 3;
+    for (int n = 2; n <= 12; n += 2)
+      for (int s = -n - 2; s <= 2; s++)
+        for (int step = 1; step <= 2; step++) {   /* whole numbers, then halves */
+          double px[12];
+          for (int q = 0; q < n; q++) px[q] = z + (s + q) / (double)step;
+          bad += uv_against_single(&m, 0, n, px, py, "by hand");
+          runs++;
+          const double a = px[0], b = px[n - 1];
+          zero_inside += a < z && z < b && n >= 4;
+          zero_end += (a == z || b == z) && n >= 4;
+          one_sign += (b < z || a > z) && n >= 4;
+        }
+  }
+  print_message("den 0: %ld runs, %ld with it inside, %ld at an end, %ld of one sign; "
+                "%ld differ\n", runs, zero_inside, zero_end, one_sign, bad);
+  assert_int_equal(bad, 0);
+  assert_true(zero_inside > 500 && zero_end > 200 && one_sign > 500);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_tex_repeat_pointwise),
     cmocka_unit_test(test_tex_axis_pointwise),
     cmocka_unit_test(test_fig6_room_pointwise),
+    cmocka_unit_test(test_uv_runs_are_single),
+    cmocka_unit_test(test_uv_den_zero),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
