@@ -646,6 +646,19 @@ static void test_run_is_single(void **state)
    AVX's encoding where the processor has it and SSE2's: rows_sse2): each grey that
    differs, each region's count that differs from smooth_row's, and another count of the
    points the inner filter leaves to the chain (inner_declines) than smooth_row's. */
+/* *keep into *tr with bV and bE scaled by c and btot by c^2: the tiny-sum tests' triangle,
+   whose areas' sums fall below the filters' floors. */
+static void tri_scaled(struct smooth_tri *tr, const struct smooth_tri *keep, double c)
+{
+  *tr = *keep;
+  for (int k = 0; k < 3; k++)
+    for (int a = 0; a < 2; a++) {
+      tr->bV[k][a] *= c;
+      tr->bE[k][a] *= c;
+    }
+  tr->btot *= c * c;
+}
+
 /* smooth_phong_row on m by one of the ways its rows are built: 0, four points a step (AVX,
    where the processor has it) with AVX-512's short chain (where it has AVX-512VL); 1, the
    same with the square root and divide (phong_sqrt); 2, two points a step (SSE2,
@@ -1549,13 +1562,7 @@ static void test_phong_filter_tiny_sum(void **state)
     assert_true(fabs(tr->btot) == 10000);
     for (int tiny = 0; tiny < 2; tiny++) {
       const double c = tiny ? 0x1p-260 : 0x1p-255;
-      *tr = keep;
-      for (int k = 0; k < 3; k++)
-        for (int a = 0; a < 2; a++) {
-          tr->bV[k][a] *= c;
-          tr->bE[k][a] *= c;
-        }
-      tr->btot *= c * c;
+      tri_scaled(tr, &keep, c);
       double X[3];
       tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, X);
       X[tr->bu] *= c;
@@ -1597,13 +1604,7 @@ static void test_phong_rows_tiny_sum(void **state)
     const struct smooth_tri keep = *tr;
     for (int tiny = 0; tiny < 2; tiny++) {
       const double c = tiny ? 0x1p-260 : 0x1p-255;
-      *tr = keep;
-      for (int k = 0; k < 3; k++)
-        for (int a = 0; a < 2; a++) {
-          tr->bV[k][a] *= c;
-          tr->bE[k][a] *= c;
-        }
-      tr->btot *= c * c;
+      tri_scaled(tr, &keep, c);
       smooth_lanes_remake(&L.m, t);
       double X[3];
       tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, X);
