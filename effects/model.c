@@ -271,11 +271,18 @@ static inline void space_lanes_faces(const struct fx_model *m, int fa, int fb,
   L->c2 = _mm_mul_pd(_mm_set_pd(rb[2], r[2]), L->d2);
 }
 
+/* The ray's denominator at two points, d0 their plane positions less E0: r[0] d0 + r[1] D1
+   + r[2] D2, space_point's operations in its order. */
+static inline __m128d space_lanes_den(const struct space_lanes *L, __m128d d0)
+{
+  return _mm_add_pd(_mm_add_pd(_mm_mul_pd(L->r0, d0), L->c1), L->c2);
+}
+
 /* The space positions X[0..2] (x, y, z lanes) of the row's points px2 (two x's). */
 static inline void space_lanes_at(const struct space_lanes *L, __m128d px2, __m128d X[3])
 {
   const __m128d d0 = _mm_sub_pd(px2, L->e0);
-  const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(L->r0, d0), L->c1), L->c2);
+  const __m128d den = space_lanes_den(L, d0);
   const __m128d nz = _mm_cmpneq_pd(den, _mm_setzero_pd());   /* den != 0 ? r[3] / den : 1 */
   const __m128d t = _mm_or_pd(_mm_and_pd(nz, _mm_div_pd(L->r3, den)),
                               _mm_andnot_pd(nz, _mm_set1_pd(1)));
@@ -975,7 +982,7 @@ static inline void shade_row_greys(const int *g, int n, uint8_t *gr)
 static inline bool den_not_zero(const struct space_lanes *L, double a, double b)
 {
   const __m128d d0 = _mm_sub_pd(_mm_set_pd(b, a), L->e0);
-  const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(L->r0, d0), L->c1), L->c2);
+  const __m128d den = space_lanes_den(L, d0);
   /* (the rounded product of the two is > 0 only where the exact one is: rounding is
      monotone and keeps 0; so both are > 0 or both < 0, neither a NaN) */
   return _mm_comigt_sd(_mm_mul_sd(den, _mm_unpackhi_pd(den, den)), _mm_setzero_pd());
@@ -996,7 +1003,7 @@ void uv_pairs(const struct space_lanes *L, const double *px, int p, int q, int u
   if (q - p >= 4 && den_not_zero(L, px[p], px[q - 1])) {
     for (; p < q; p += 2) {                 /* den not 0: t = r[3] / den, no select */
       const __m128d d0 = _mm_sub_pd(_mm_loadu_pd(px + p), L->e0);
-      const __m128d den = _mm_add_pd(_mm_add_pd(_mm_mul_pd(L->r0, d0), L->c1), L->c2);
+      const __m128d den = space_lanes_den(L, d0);
       const __m128d t = _mm_div_pd(L->r3, den);
       const __m128d d[3] = { d0, L->d1, L->d2 }, e[3] = { L->e0, L->e1, L->e2 };
       _mm_storeu_pd(xu + p, _mm_add_pd(e[u], _mm_mul_pd(t, d[u])));

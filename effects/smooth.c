@@ -2537,14 +2537,14 @@ void partial_rows(const struct smooth_model *m, const struct mapped *map, int ns
 }
 
 /* partial_rows built twice: for SSE2 (the build's target) and with AVX's encoding (VEX,
-   chosen at run time by rows_avx, as smooth_phong_row's rows are). The AVX build is the same C, the same 128-bit operations
-   in the same order on the same doubles, each IEEE operation the same whatever its
-   encoding (no fused multiply-add: AVX alone, and the build's -ffp-contract=off; no
-   reassociation: no -ffast-math), so the same greys and regions bit for bit (test_smooth
-   test_row_is_single and test_row_band_pairs run the rows both ways). What it saves is
-   instructions: VEX's three operands take no register copies, its operands from memory
-   need no alignment, and a pair's constant is one load (VMOVDDUP), not two; partial_row's
-   instructions about -15% on t1-e (a frame about 1,179 k -> 1,094 k). */
+   chosen at run time by rows_avx, as smooth_phong_row's rows are). The AVX build is the same
+   C, the same 128-bit operations in the same order on the same doubles, each IEEE operation
+   the same whatever its encoding (no fused multiply-add: AVX alone, and the build's
+   -ffp-contract=off; no reassociation: no -ffast-math), so the same greys and regions bit for
+   bit (test_smooth test_row_is_single and test_row_band_pairs run the rows both ways). What
+   it saves is instructions: VEX's three operands take no register copies, its operands from
+   memory need no alignment, and a pair's constant is one load (VMOVDDUP), not two;
+   partial_row's instructions about -15% on t1-e (a frame about 1,179 k -> 1,094 k). */
 static void partial_row_sse2(const struct smooth_model *m, const struct mapped *map, int nseg,
                              const int *tri, const int *at, const double *xu, const double *xw,
                              const double (*X)[3], const unsigned *blocked,

@@ -1636,9 +1636,9 @@ static int draw_order(struct points *p, const struct scene *s, int n, struct t74
   return T74_OK;
 }
 
-/* p->box[0 .. n) put in a farthest-first order (a painter's), for a lazy frame without
-   tiles, whose faces are all drawn in the order of p->box ("Order": any order gives the
-   same frame; which one is a matter of speed only; not with no_tiles, whose frame is the
+/* p->order[0 .. n): the faces of p->box[0 .. n) farthest first (a painter's order), the
+   order in which a lazy frame without tiles draws them ("Order": any order gives the same
+   frame; which one is a matter of speed only; not with no_tiles, whose frame is the
    Mapper's order's, which tests hold the engine's to). Where a face comes after the faces it
    hides, each of its points is taken by raster_plain's first test (zl > hi), two points a
    compare; where it comes first, each point it hides of a later face is behind, known only
@@ -1647,34 +1647,16 @@ static int draw_order(struct points *p, const struct scene *s, int n, struct t74
    Mapper gives them): 2,142 points a frame behind, 69 exact compares; in this order none,
    the frame's instructions -3.9%. The key is z at the box's centre in doubles (cheap;
    no bound is needed of it), ordered by draw_order's buckets (a key's sign turned: its
-   nearest first is this farthest first), the boxes then moved into that order. */
+   nearest first is this farthest first). With p->shuffle (tests) the Mapper's order. */
 static int paint_order(struct points *p, const struct scene *s, int n, struct t74_error *err)
 {
-  if (n < 2 || p->shuffle) return T74_OK;
   for (int d = 0; d < n; d++) {
     const struct points_box *b = &p->box[d];
     p->key[d] = -(b->za * (0.5 * (double)(b->ilo + b->ihi)) +
                   (b->zb * (0.5 * (double)(b->jlo + b->jhi)) + b->zc));
     p->order[d] = d;
   }
-  int st = draw_order(p, s, n, err);
-  if (st != T74_OK) return st;
-  /* box d := the box at order[d], cycle by cycle; order[] marked done as -1 - its value */
-  int *o = p->order;
-  for (int d = 0; d < n; d++) {
-    if (o[d] < 0 || o[d] == d) continue;
-    const struct points_box first = p->box[d];
-    int at = d;
-    while (o[at] != d) {
-      const int from = o[at];
-      p->box[at] = p->box[from];
-      o[at] = -1 - from;
-      at = from;
-    }
-    p->box[at] = first;
-    o[at] = -1 - d;
-  }
-  return T74_OK;
+  return p->shuffle ? T74_OK : draw_order(p, s, n, err);
 }
 
 /* f[0 .. n) set to no face (-1), 16 bytes a store. Not by memset: the fills are
@@ -1910,10 +1892,14 @@ int points_render(struct points *p, const struct scene *s, const struct vis_grid
       }
     }
   }
-  if (g.lazy && !p->no_tiles && (st = paint_order(p, s, nfirst, err)) != T74_OK)
-    return st;                                    /* (lazy: no tiles, nfirst is all) */
+  const int *paint = NULL;                        /* the first nfirst's order, if not
+                                                     the Mapper's */
+  if (g.lazy && !p->no_tiles) {                   /* (lazy: no tiles, nfirst is all) */
+    if ((st = paint_order(p, s, nfirst, err)) != T74_OK) return st;
+    paint = p->order;
+  }
   for (int d = 0; d < nfirst; d++) {
-    const struct points_box *b = &p->box[d];
+    const struct points_box *b = &p->box[paint ? paint[d] : d];
     if ((st = face_draw(p, &g, b->k, b, false, tiles, NULL, 0, err)) != T74_OK) return st;
   }
   int nd = 0;                                     /* faces kept */

@@ -165,10 +165,9 @@ static inline void sort_kept(struct vis *v, int *a, int n, bool xr)
         if (!ton) break;                 /* 0 */
       }
       cmps++;
-      const double k = xr ? aj->r : aj->l;
-      if (k < lo) break;                 /* (band_cmp, its answers -1 and 1 first) */
-      if (k <= hi && (xr ? x_cmp(v->act[a[j]].xr, v->act[t].xr)
-                         : x_cmp(v->act[a[j]].xl, v->act[t].xl)) <= 0) break;
+      const struct vis_item *ij = &v->act[a[j]], *it = &v->act[t];
+      if (band_cmp(xr ? aj->r : aj->l, lo, hi, xr ? &ij->xr : &ij->xl,
+                   xr ? &it->xr : &it->xl) <= 0) break;
       a[j + 1] = a[j];
     }
     a[j + 1] = t;

@@ -570,6 +570,25 @@ static void tri_point(const struct lib *L, int t, const double w[3], double X[3]
   }
 }
 
+/* The tiny-sum tests' triangle: L's triangle t made *keep with bV and bE scaled by c and
+   btot by c^2 (its areas' sums below the filters' floors), and its centre as the rows take
+   it (X on the triangle's axes bu and bw scaled by c) into X. */
+static void tri_tiny(struct lib *L, int t, const struct smooth_tri *keep, double c, double X[3])
+{
+  struct smooth_tri *tr = &L->m.tri[t];
+  *tr = *keep;
+  for (int k = 0; k < 3; k++)
+    for (int a = 0; a < 2; a++) {
+      tr->bV[k][a] *= c;
+      tr->bE[k][a] *= c;
+    }
+  tr->btot *= c * c;
+  tri_point(L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, X);
+  X[tr->bu] *= c;
+  X[tr->bw] *= c;
+}
+
+
 /* A second parallel light, from below on the left, added to the scene's one light. */
 static void second_light(struct shade_lights *lights)
 {
@@ -646,18 +665,6 @@ static void test_run_is_single(void **state)
    AVX's encoding where the processor has it and SSE2's: rows_sse2): each grey that
    differs, each region's count that differs from smooth_row's, and another count of the
    points the inner filter leaves to the chain (inner_declines) than smooth_row's. */
-/* *keep into *tr with bV and bE scaled by c and btot by c^2: the tiny-sum tests' triangle,
-   whose areas' sums fall below the filters' floors. */
-static void tri_scaled(struct smooth_tri *tr, const struct smooth_tri *keep, double c)
-{
-  *tr = *keep;
-  for (int k = 0; k < 3; k++)
-    for (int a = 0; a < 2; a++) {
-      tr->bV[k][a] *= c;
-      tr->bE[k][a] *= c;
-    }
-  tr->btot *= c * c;
-}
 
 /* smooth_phong_row on m by one of the ways its rows are built: 0, four points a step (AVX,
    where the processor has it) with AVX-512's short chain (where it has AVX-512VL); 1, the
@@ -1562,11 +1569,8 @@ static void test_phong_filter_tiny_sum(void **state)
     assert_true(fabs(tr->btot) == 10000);
     for (int tiny = 0; tiny < 2; tiny++) {
       const double c = tiny ? 0x1p-260 : 0x1p-255;
-      tri_scaled(tr, &keep, c);
       double X[3];
-      tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, X);
-      X[tr->bu] *= c;
-      X[tr->bw] *= c;
+      tri_tiny(&L, t, &keep, c, X);
       int g[2];
       long declines = 0;
       phong_both(&L, t, X, 1.0, 0, &set, &declines, g);
@@ -1604,12 +1608,9 @@ static void test_phong_rows_tiny_sum(void **state)
     const struct smooth_tri keep = *tr;
     for (int tiny = 0; tiny < 2; tiny++) {
       const double c = tiny ? 0x1p-260 : 0x1p-255;
-      tri_scaled(tr, &keep, c);
-      smooth_lanes_remake(&L.m, t);
       double X[3];
-      tri_point(&L, t, (const double[3]) { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, X);
-      X[tr->bu] *= c;
-      X[tr->bw] *= c;
+      tri_tiny(&L, t, &keep, c, X);
+      smooth_lanes_remake(&L.m, t);
       int g[2];
       long ignore = 0;
       phong_both(&L, t, X, 1.0, 0, &one, &ignore, g);
