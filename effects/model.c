@@ -880,7 +880,10 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
    stretches under a fixed mask, 999 textured points with no light blocked, 730 textured
    with blocked[]), and each pair of SSE2 lanes waits on a square root and a divide (two
    with a texture); this host's divider takes a 512-bit square root or divide about as
-   often as a 128-bit one, so eight points go through it in the time of two.
+   often as a 128-bit one (independent chains: DIVPD 1.3 ns an instruction, VDIVPD zmm
+   1.7; SQRTPD 2.9, VSQRTPD zmm 2.4), so eight points go through it in the time of two
+   (round 41: the flat functions' share of fig6-room 38% -> 27%, its whole process's CPU
+   time 0.85 to 0.88 of before).
    Each lane's operations are flat_lit_pairs' for its point on the same doubles in the
    same order, each the same IEEE operation (EVEX-encoded; no fused multiply-add: the
    build's -ffp-contract=off), a compare by the predicate of the SSE2 one (CMPPD's LT, GT
@@ -977,6 +980,9 @@ static FLAT512_ATTR void flat_rowt8(const struct flat_row *F, const struct shade
         _mm512_set1_pd(_mm_cvtsd_f64(T->wtop))));
       const __m512i at = _mm512_maskz_add_epi64(km, _mm512_set1_epi64(_mm_cvtsi128_si64(Q->yw)),
                                                 _mm512_cvtepu32_epi64(x));
+      /* (lane by lane: two gathers in their place, the pixel as a byte of a 32-bit
+         gather and its k / 255.0 from unit_pixel, were slower on fig6-room, 1.03 to 1.04
+         of this in turn) */
       _Alignas(64) int64_t ix[8];
       _Alignas(64) double rv[8];
       _mm512_store_si512((void *)ix, at);
@@ -2922,6 +2928,8 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
           const unsigned bit = 1u << b->light;
           const int j0 = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e;
           any |= j0 < hi;
+          /* (four samples an SSE2 instruction here, the zero masks counted from a compare,
+             was slower: fig6-room 1.03 to 1.05, fig6-building 1.02 of this, in turn) */
           for (int j = j0; j < hi; j++) {   /* (a sample counted at its first light) */
             nblk += blocked[j] == 0;
             blocked[j] |= bit;
