@@ -19,6 +19,10 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
+#if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define FLAT_AVX512 1             /* flat_rowt8 built, taken where the processor has it */
+#endif
 
 /* A texture: the picture and its frame on the face (V0 + a U + b T, a, b in [0, 1) over
    the picture; repeated beyond). */
@@ -867,6 +871,184 @@ void flat_lit_pairs(const struct flat_row *F, const struct shade_pair *P,
 }
 #endif
 
+#ifdef FLAT_AVX512
+/* flat_lit_pairs where the row's t is fixed (rowt) and the face is square to the y or the
+   z axis (P->axis 1 or 2), its texture T (or NULL) with its picture's row the row's
+   (row_tex_init's Q->ok), eight points an instruction in AVX-512's registers, chosen at
+   run time where the processor has AVX-512F and VL (flat_wide). Why: on fig6-room every
+   point the flat lit functions shade comes this way (1,277 points a frame of untextured
+   stretches under a fixed mask, 999 textured points with no light blocked, 730 textured
+   with blocked[]), and each pair of SSE2 lanes waits on a square root and a divide (two
+   with a texture); this host's divider takes a 512-bit square root or divide about as
+   often as a 128-bit one (independent chains: DIVPD 1.3 ns an instruction, VDIVPD zmm
+   1.7; SQRTPD 2.9, VSQRTPD zmm 2.4), so eight points go through it in the time of two
+   (round 41: the flat functions' share of fig6-room 38% -> 27%, its whole process's CPU
+   time 0.85 to 0.88 of before).
+   Each lane's operations are flat_lit_pairs' for its point on the same doubles in the
+   same order, each the same IEEE operation (EVEX-encoded; no fused multiply-add: the
+   build's -ffp-contract=off), a compare by the predicate of the SSE2 one (CMPPD's LT, GT
+   and GE are LT_OS, GT_OS and GE_OS, its NEQ is NEQ_UQ), a select as a blend or a zeroing
+   move in place of an AND/ANDN/OR of a compare's mask (the same double chosen):
+   - X[0] = E0 + t (px - E0), the row's t (rowt); X[1], X[2] are the row's;
+   - the texture (row_tex_pair): u = X[0] - o[du], a = (u T[dv] - v T[du]) / det, where
+     every lane's |a| < 2^30 its floor as floor_pair makes it, x = (int)min(a w, w - 1),
+     the pixel at y w + x (Q's y w), its k / 255.0 from unit_pixel (loaded lane by lane);
+     where a lane's |a| is not below 2^30 the step's points go to flat_lit_pairs itself
+     (flat_rowt_pairs: each point's grey depends on its own px and mask alone);
+   - the lights in the scene's order from a sum of +0: a parallel light's n.l (P's), a
+     point light's row_dot_axis (row_light_init's row terms, the same doubles), added
+     where the light is not blocked at the lane (blocked[p], or b at every point: a light
+     in b is passed over, as there). flat_lit_pairs adds +0 (an AND with an all-zero mask)
+     where a light is blocked at a lane, or passes a light blocked at both lanes of a
+     pair over; here the lane's sum is kept (a masked add), the same double: a sum is +0
+     or positive (each term is +0 or a positive n.l, never -0 or NaN), and x + (+0) is x
+     for every such x;
+   - the grey: f = (207 r) s + 0.5 (r 1 without a texture: 207 1 is 207, as there), where
+     every lane's f lies in [0, 2^30) shade_pair_greys_fast's truncation of min(f, 512)
+     and min(48 + t, 255) (the packs' clamp: 48 + t lies in [48, 560]); else
+     shade_grey_of_sum lane by lane (what shade_pair_greys gives both ways).
+   A step's lanes past the run's end read px +0 and mask 0 and take the picture's first
+   pixel; their greys are not stored. test_model_tex's pointwise tests run fx_points both
+   ways (fx_model's flat_sse2) against fx_shade at every point. */
+#define FLAT512_ATTR __attribute__((target("avx512f,avx512vl")))
+
+__attribute__((noinline))
+static void flat_rowt_pairs(const struct flat_row *F, const struct shade_pair *P,
+                            const struct tex_lanes *T, int n, const unsigned *blocked,
+                            unsigned b, const double *px, uint8_t *grey)
+{
+  flat_lit_pairs(F, P, T, n, blocked, b, px, grey, true);
+}
+
+static FLAT512_ATTR void flat_rowt8(const struct flat_row *F, const struct shade_pair *P,
+                                    const struct tex_lanes *T, const struct row_tex *Q, int n,
+                                    const unsigned *blocked, unsigned b, const double *px,
+                                    uint8_t *grey)
+{
+  const int ax = P->axis;                   /* 1 or 2 */
+  const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1);
+  const __m512d e0 = _mm512_set1_pd(_mm_cvtsd_f64(F->L.e0));
+  const __m512d tr = _mm512_set1_pd(_mm_cvtsd_f64(F->R.t));
+  const __m512d nc = _mm512_set1_pd(_mm_cvtsd_f64(P->nv[ax]));
+  /* the lights whose terms are made, in the scene's order: a point light's row terms
+     (row_light_init's), a parallel light's n.l */
+  double l0[SCENE_LIGHT_MAX], yy[SCENE_LIGHT_MAX], zz[SCENE_LIGHT_MAX], num[SCENE_LIGHT_MAX];
+  unsigned bits[SCENE_LIGHT_MAX];
+  bool point[SCENE_LIGHT_MAX];
+  int nl = 0;
+  for (int k = 0; k < P->n; k++) {
+    const struct shade_pair_light *l = &P->l[k];
+    if (!blocked && (b >> k & 1u)) continue;
+    bits[nl] = 1u << k;
+    point[nl] = l->point;
+    if (l->point) {
+      struct row_light K;
+      row_light_init(l, &F->R, ax, &K);
+      l0[nl] = _mm_cvtsd_f64(K.l0);
+      yy[nl] = _mm_cvtsd_f64(K.yy);
+      zz[nl] = _mm_cvtsd_f64(K.zz);
+      num[nl] = _mm_cvtsd_f64(K.num);
+    } else {
+      l0[nl] = _mm_cvtsd_f64(l->v[0]);
+      yy[nl] = zz[nl] = num[nl] = 0;
+    }
+    nl++;
+  }
+  const __m512d k207 = _mm512_set1_pd(255 - SHADE_AMBIENT), half = _mm512_set1_pd(0.5);
+  const __m512d lim = _mm512_set1_pd(0x1p30), top = _mm512_set1_pd(512);
+  for (int p = 0; p < n; p += 8) {
+    const int c = n - p < 8 ? n - p : 8;
+    const __mmask8 km = (__mmask8)((1u << c) - 1);
+    const __m512d x0 = _mm512_add_pd(e0, _mm512_mul_pd(tr, _mm512_sub_pd(
+                                       _mm512_maskz_loadu_pd(km, px + p), e0)));
+    __m512d refl = one;
+    if (T) {
+      const __m512d u = _mm512_sub_pd(x0, _mm512_set1_pd(_mm_cvtsd_f64(T->odu)));
+      __m512d a = _mm512_div_pd(_mm512_sub_pd(_mm512_mul_pd(u, _mm512_set1_pd(_mm_cvtsd_f64(T->Tdv))),
+                                              _mm512_set1_pd(_mm_cvtsd_f64(Q->vTdu))),
+                                _mm512_set1_pd(_mm_cvtsd_f64(T->det)));
+      if (_mm512_mask_cmp_pd_mask(km, _mm512_abs_pd(a), lim, _CMP_LT_OS) != km) {
+        flat_rowt_pairs(F, P, T, c, blocked ? blocked + p : NULL, b, px + p, grey + p);
+        continue;
+      }
+      const __m512d M = _mm512_set1_pd(0x1.8p52);  /* floor_pair's steps */
+      const __m512d r = _mm512_sub_pd(_mm512_add_pd(a, M), M);
+      a = _mm512_sub_pd(a, _mm512_sub_pd(r, _mm512_maskz_mov_pd(
+                                           _mm512_cmp_pd_mask(r, a, _CMP_GT_OS), one)));
+      const __m256i x = _mm512_cvttpd_epi32(_mm512_min_pd(
+        _mm512_mul_pd(a, _mm512_set1_pd(_mm_cvtsd_f64(T->wd))),
+        _mm512_set1_pd(_mm_cvtsd_f64(T->wtop))));
+      const __m512i at = _mm512_maskz_add_epi64(km, _mm512_set1_epi64(_mm_cvtsi128_si64(Q->yw)),
+                                                _mm512_cvtepu32_epi64(x));
+      /* (lane by lane: two gathers in their place, the pixel as a byte of a 32-bit
+         gather and its k / 255.0 from unit_pixel, were slower on fig6-room, 1.03 to 1.04
+         of this in turn) */
+      _Alignas(64) int64_t ix[8];
+      _Alignas(64) double rv[8];
+      _mm512_store_si512((void *)ix, at);
+      for (int h = 0; h < 8; h++) rv[h] = unit_pixel[T->px[ix[h]] + 1];
+      refl = _mm512_load_pd(rv);
+    }
+    const __m256i bm = blocked ? _mm256_maskz_loadu_epi32(km, blocked + p) : _mm256_setzero_si256();
+    __m512d sum = zero;
+    for (int h = 0; h < nl; h++) {
+      const __mmask8 lit = _mm256_testn_epi32_mask(bm, _mm256_set1_epi32((int)bits[h]));
+      __m512d term;
+      if (!point[h]) {
+        term = _mm512_set1_pd(l0[h]);
+      } else {
+        const __m512d lx = _mm512_sub_pd(_mm512_set1_pd(l0[h]), x0);
+        const __m512d s = _mm512_sqrt_pd(_mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(lx, lx),
+                                                                     _mm512_set1_pd(yy[h])),
+                                                       _mm512_set1_pd(zz[h])));
+        const __m512d div = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(s, zero, _CMP_NEQ_UQ), one, s);
+        const __m512d d = _mm512_mul_pd(nc, _mm512_div_pd(_mm512_set1_pd(num[h]), div));
+        term = _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(d, zero, _CMP_GT_OS), d);
+      }
+      sum = _mm512_mask_add_pd(sum, lit, sum, term);
+    }
+    const __m512d f = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(k207, refl), sum), half);
+    const __mmask8 fine = _mm512_mask_cmp_pd_mask(_mm512_mask_cmp_pd_mask(km, f, zero, _CMP_GE_OS),
+                                                  f, lim, _CMP_LT_OS);
+    if (fine == km) {
+      const __m256i t = _mm512_cvttpd_epi32(_mm512_min_pd(f, top));
+      _mm256_mask_cvtepi32_storeu_epi8(grey + p, km,
+                                       _mm256_min_epi32(_mm256_add_epi32(t, _mm256_set1_epi32(SHADE_AMBIENT)),
+                                                        _mm256_set1_epi32(255)));
+    } else {
+      _Alignas(64) double rr[8], ss[8];
+      _mm512_store_pd(rr, refl);
+      _mm512_store_pd(ss, sum);
+      for (int h = 0; h < c; h++) grey[p + h] = (uint8_t)shade_grey_of_sum(rr[h], ss[h]);
+    }
+  }
+}
+
+/* Whether a flat lit row takes flat_rowt8: where the processor has AVX-512F and VL (and
+   the system saves their registers: __builtin_cpu_supports) and m's flat_sse2 (tests
+   only) is not set. */
+static inline bool flat_wide(const struct fx_model *m)
+{
+  return !m->flat_sse2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+}
+
+/* A textured face's n points of a row (F: flat_row_init's) by flat_rowt8 where it takes
+   them (the row's t fixed, the face square to the y or z axis, the picture's row the
+   row's: row_tex_init's Q made as flat_lit_pairs makes it): true, the greys made; else
+   false, nothing done. */
+static inline bool flat_tex_wide(const struct fx_model *m, const struct shade_pair *P,
+                                 const struct tex_lanes *T, const struct flat_row *F, int n,
+                                 const unsigned *blocked, const double *px, uint8_t *grey)
+{
+  if (!F->rowt || P->axis <= 0 || !flat_wide(m)) return false;
+  struct row_tex Q;
+  row_tex_init(T, &F->R, &Q);
+  if (!Q.ok) return false;
+  flat_rowt8(F, P, T, &Q, n, blocked, 0, px, grey);
+  return true;
+}
+#endif
+
 /* The plane position of point coordinates (u, v) (fx_shade's px, py). */
 static double plane_x(const struct vis_grid *g, double u)
 {
@@ -1304,6 +1486,12 @@ static void flat_lit_masked(const struct fx_model *m, int face, const struct sha
     flat_row_init(m, face, py, F);
     *ready = true;
   }
+#ifdef FLAT_AVX512
+  if (F->rowt && P->axis > 0 && flat_wide(m)) {
+    flat_rowt8(F, P, NULL, NULL, n, NULL, b, px, grey);
+    return;
+  }
+#endif
   if (F->rowt)
     flat_lit_pairs(F, P, NULL, n, NULL, b, px, grey, true);
   else
@@ -1404,6 +1592,9 @@ static void flat_lit_rest(const struct fx_model *m, int face, const struct face_
     }
     if (t) {                                /* a texture: every point */
       flat_row_init(m, face, py, &F);
+#ifdef FLAT_AVX512
+      if (flat_tex_wide(m, P, &ff->T, &F, n - p, blocked + p, px + p, grey + p)) return;
+#endif
       if (F.rowt)
         flat_lit_pairs(&F, P, &ff->T, n - p, blocked + p, 0, px + p, grey + p, true);
       else
@@ -1432,6 +1623,9 @@ static void flat_tex_clear(const struct fx_model *m, int face, const struct face
   const struct flat_face *ff = flat_face_of(m, face, fs, C);
   struct flat_row F;
   flat_row_init(m, face, py, &F);
+#ifdef FLAT_AVX512
+  if (flat_tex_wide(m, &ff->P, &ff->T, &F, n, NULL, px, grey)) return;
+#endif
   if (F.rowt)
     flat_lit_pairs(&F, &ff->P, &ff->T, n, NULL, 0, px, grey, true);
   else
@@ -2734,6 +2928,8 @@ static int shadow_ranges(struct fx_lines *L, int64_t yn, int64_t yd, int64_t xd,
           const unsigned bit = 1u << b->light;
           const int j0 = b->b0 > i ? b->b0 : i, hi = b->b1 < e ? b->b1 : e;
           any |= j0 < hi;
+          /* (four samples an SSE2 instruction here, the zero masks counted from a compare,
+             was slower: fig6-room 1.03 to 1.05, fig6-building 1.02 of this, in turn) */
           for (int j = j0; j < hi; j++) {   /* (a sample counted at its first light) */
             nblk += blocked[j] == 0;
             blocked[j] |= bit;

@@ -73,6 +73,9 @@ struct fx_model {
   double eye[3];            /* the Mapper's eye */
   double (*ray)[4];         /* per mapped face: its plane's a, b, c and the ray's numerator
                                -(a, b, c, d) . (eye, 1) (eq. (2), as space_point takes them) */
+  /* Tests only: flat_sse2 makes the flat lit rows take their SSE2 code (flat_lit_pairs)
+     where the processor has AVX-512 (effects/model.c, flat_rowt8). */
+  bool flat_sse2;
 };
 
 /* Build the model the effects e call for over the frame engine eng drew on its grid eng->g

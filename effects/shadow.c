@@ -21,6 +21,10 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
+#if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define CASTS_AVX512 1            /* grid_all4 built, taken where the processor has it */
+#endif
 
 typedef long double ld;
 
@@ -572,6 +576,69 @@ static void grid_all(const struct casts *cs, size_t y0, size_t y1, const struct 
   }
 }
 
+#ifdef CASTS_AVX512
+/* grid_all four vertices an instruction in AVX-512's registers (lanes x, y of vertex v,
+   then of v + 1, ..), chosen at run time where the processor has AVX-512F (casts_wide).
+   Each lane's operations are spanned_lanes' for its coordinate on the same doubles in the
+   same order, each the same IEEE operation (EVEX-encoded; no fused multiply-add: the
+   build's -ffp-contract=off): r = 1 / (Y_z - E_z) (made in both lanes of its vertex, the
+   same quotient twice), q = (fz a) r, gx = G (E + q), t = gx + C, kd = t - C, the tests
+   |gx| < 2^28 - 1 and |gx - kd| + B < 1/2 by CMPPD's predicate (LT_OS), |x| as the AND
+   with INT64_MAX's bits (what _mm512_abs_pd makes), and t's bits less C's as 64-bit
+   integers. A vertex whose two lanes pass both tests takes that point (spanned_lanes'
+   answer), another grid_point's as grid_all takes it; the last 0 .. 3 vertices grid_all's
+   own way. Why: a vertex's chain (a divide, then some twelve dependent operations, some
+   thirty instructions a vertex) is about the whole of grid_all, and grid_all about
+   two thirds of draw_casts (fig6-building: 157 casts a frame); four vertices share one
+   divide and one chain here. test_shadow's test_kept_is_long_way builds each frame this
+   way and with SSE2's (shadow_keep_sse2) against the counted long way. */
+static __attribute__((target("avx512f"))) void
+grid_all4(const struct casts *cs, size_t y0, size_t y1, const struct shadow_eye *eye,
+          const struct spanned *sp, struct gpoint *g)
+{
+  const ld (*y)[3] = (const ld (*)[3])cs->y;
+  const double (*yd)[3] = (const double (*)[3])cs->yd;
+  double e2[2], b2[2];
+  _mm_storeu_pd(e2, sp->Ev);
+  _mm_storeu_pd(b2, sp->B);
+  const __m512d E = _mm512_setr_pd(e2[0], e2[1], e2[0], e2[1], e2[0], e2[1], e2[0], e2[1]);
+  const __m512d B = _mm512_setr_pd(b2[0], b2[1], b2[0], b2[1], b2[0], b2[1], b2[0], b2[1]);
+  const __m512d fz = _mm512_set1_pd(_mm_cvtsd_f64(sp->fz)), G = _mm512_set1_pd(_mm_cvtsd_f64(sp->G));
+  const __m512d ez = _mm512_set1_pd(sp->ez), one = _mm512_set1_pd(1);
+  const __m512d C = _mm512_set1_pd(0x1.8p52), half = _mm512_set1_pd(0.5);
+  const __m512d lim = _mm512_set1_pd(0x1p28 - 1);
+  /* from the twelve doubles of four vertices (eight, then four): their x, y pairs and
+     each one's z twice */
+  const __m512i ixy = _mm512_setr_epi64(0, 1, 3, 4, 6, 7, 9, 10);
+  const __m512i iz = _mm512_setr_epi64(2, 2, 5, 5, 8, 8, 11, 11);
+  size_t v = y0;
+  for (; v + 4 <= y1; v += 4) {
+    const double *const a = yd[v];
+    const __m512d lo = _mm512_loadu_pd(a);
+    const __m512d hi = _mm512_castpd256_pd512(_mm256_loadu_pd(a + 8));
+    const __m512d xy = _mm512_permutex2var_pd(lo, ixy, hi);
+    const __m512d z = _mm512_permutex2var_pd(lo, iz, hi);
+    const __m512d r = _mm512_div_pd(one, _mm512_sub_pd(z, ez));
+    const __m512d q = _mm512_mul_pd(_mm512_mul_pd(fz, _mm512_sub_pd(xy, E)), r);
+    const __m512d gx = _mm512_mul_pd(G, _mm512_add_pd(E, q));
+    const __m512d t = _mm512_add_pd(gx, C), kd = _mm512_sub_pd(t, C);
+    const __mmask8 in = _mm512_cmp_pd_mask(_mm512_abs_pd(gx), lim, _CMP_LT_OS);
+    const __mmask8 ok = _mm512_mask_cmp_pd_mask(
+      in, _mm512_add_pd(_mm512_abs_pd(_mm512_sub_pd(gx, kd)), B), half, _CMP_LT_OS);
+    _mm512_storeu_si512((void *)&g[v - y0],
+                        _mm512_sub_epi64(_mm512_castpd_si512(t), _mm512_castpd_si512(C)));
+    if (ok != 0xff)
+      for (int h = 0; h < 4; h++) {
+        if ((ok >> 2 * h & 3) == 3) continue;
+        struct gpoint p;
+        if (!grid_point(eye, y[v + h], yd[v + h], &p)) p.x = INT64_MIN;
+        g[v - y0 + h] = p;
+      }
+  }
+  if (v < y1) grid_all(cs, v, y1, eye, sp, g + (v - y0));
+}
+#endif
+
 /* Ring r of cs from its vertices on the grid, g (grid_all's, from the ring's first) to
    poly: draw_ring's points (those that land, a repeat of the one before dropped, the last
    and the first not compared); their count. */
@@ -599,7 +666,8 @@ static inline int ring_from(const struct casts *cs, int r, const struct gpoint *
    memory. */
 static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shadow_eye *eye,
                        const struct shadow_span *sp, const gcoord gb[4], int R,
-                       struct work *wk, struct fx_polys *out, bool *any, struct cost *cost)
+                       struct work *wk, struct fx_polys *out, bool *any, struct cost *cost,
+                       bool wide4)
 {
   struct shadow_bound bd;
   struct spanned sd;
@@ -614,7 +682,11 @@ static bool draw_casts(const struct casts *cs, int c0, int c1, const struct shad
     gy0 = r0 ? cs->yend[r0 - 1] : 0;
     const size_t gy1 = cs->yend[r1 - 1];
     if (!t74_grow((void **)&wk->g, &wk->gcap, gy1 - gy0 + 1, sizeof *wk->g)) return false;
-    grid_all(cs, gy0, gy1, eye, &sd, wk->g);
+#ifdef CASTS_AVX512
+    if (wide4) grid_all4(cs, gy0, gy1, eye, &sd, wk->g);
+    else
+#endif
+      grid_all(cs, gy0, gy1, eye, &sd, wk->g);
   }
 #endif
   for (int c = c0; c < c1; c++) {
@@ -688,7 +760,13 @@ struct shadow_keep {
   int nf;
   struct kept_face *face;   /* one a scene face */
   struct casts cs;
+  bool sse2;                /* tests only: grid_all, not grid_all4 (shadow_keep_sse2) */
 };
+
+void shadow_keep_sse2(struct shadow_keep *k, bool on)
+{
+  if (k) k->sse2 = on;
+}
 
 void shadow_keep_free(struct shadow_keep *k)
 {
@@ -748,6 +826,13 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
   long receivers = 0, polys0 = out->n;
   struct shadow_eye eye;
   shadow_eye_set(&eye, map->eye);
+  /* grid_all4 where the processor has AVX-512F (and the system saves its registers:
+     __builtin_cpu_supports), unless the keep says SSE2's (tests only) */
+#ifdef CASTS_AVX512
+  const bool wide4 = __builtin_cpu_supports("avx512f") && !(kp && kp->sse2);
+#else
+  const bool wide4 = false;
+#endif
   const ld *E = eye.E;
   for (int R = 0; R < map->nface && ok; R++) {
     const struct mface *mf = &map->f[R];
@@ -783,7 +868,8 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
       }
       if (kf->set && !memcmp(kf->plane, mf->plane, sizeof kf->plane) &&
           !memcmp(kf->lo, lo, sizeof lo) && !memcmp(kf->hi, hi, sizeof hi)) {
-        ok = draw_casts(&kp->cs, kf->c0, kf->c1, &eye, &kf->sp, gb, R, &wk, out, &any, NULL);
+        ok = draw_casts(&kp->cs, kf->c0, kf->c1, &eye, &kf->sp, gb, R, &wk, out, &any, NULL,
+                        wide4);
         receivers += any;
         continue;
       }
@@ -798,7 +884,8 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
       shadow_span_init(&sp);
       sp.ok = false;
     }
-    ok = ok && draw_casts(&scratch, 0, scratch.n, &eye, &sp, gb, R, &wk, out, &any, cost);
+    ok = ok && draw_casts(&scratch, 0, scratch.n, &eye, &sp, gb, R, &wk, out, &any, cost,
+                          wide4);
     receivers += any;
   }
   free(wk.b0); free(wk.b1); free(wk.hv); free(wk.rs); free(wk.g);

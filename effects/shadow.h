@@ -38,6 +38,9 @@ int shadow_build(const struct mapped *map, const struct scene *s, struct shadow_
                  struct fx_polys *out, struct fx_stats *st, struct cost *cost,
                  struct t74_error *err);
 void shadow_keep_free(struct shadow_keep *k);    /* NULL: nothing */
+/* Tests only: the keep's frames take each face's shadow vertices onto the grid with SSE2's
+   code (on) where the processor has AVX-512 (effects/shadow.c, grid_all4); NULL: nothing. */
+void shadow_keep_sse2(struct shadow_keep *k, bool on);
 
 /* A shadow vertex onto the grid, a frame's step for each kept vertex (exposed for
    test_shadow). The eye E (world units) as the projection uses it: set once a frame. */

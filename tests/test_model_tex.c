@@ -12,6 +12,10 @@
 ** face), three lights (two of them point lights) and a card casting their shadows, so that
 ** a pair has a point light blocked at both lanes, at one, or at none; the grids are wide
 ** enough that a run of a face's points goes through more than one stage's batch.
+** Each frame is made twice: with the flat lit rows' SSE2 code (fx_model's flat_sse2) and
+** as the processor takes them (eight points an instruction in AVX-512's registers where it
+** has them: flat_rowt8, on rows whose t is fixed on faces square to the y or z axis); both
+** must give fx_shade's grey at every point.
 **
 ** And the space points fx_points takes for a run of a smoothed face's points (uv_pairs,
 ** through fx_space_uv): a face's run of two pairs or more is taken without space_point's
@@ -106,6 +110,16 @@ static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
   assert_non_null(f.face = malloc(np * sizeof *f.face));
   assert_non_null(f.grey = calloc(np, 1));
   memcpy(f.face, r.p.face, np * sizeof *f.face);
+  /* the frame with the flat lit rows' SSE2 code (flat_sse2) first, then as the processor
+     takes them (AVX-512's flat_rowt8 where it has it): each grey fx_shade's both ways */
+  uint8_t *sse2 = malloc(np);
+  assert_non_null(sse2);
+  r.m.flat_sse2 = true;
+  assert_int_equal(fx_points(&r.m, &f, &r.st, &r.cost, &err), T74_OK);
+  memcpy(sse2, f.grey, np);
+  memcpy(f.face, r.p.face, np * sizeof *f.face);
+  memset(f.grey, 0, np);
+  r.m.flat_sse2 = false;
   assert_int_equal(fx_points(&r.m, &f, &r.st, &r.cost, &err), T74_OK);
   struct fx_lines *L = NULL;
   int *row = malloc((size_t)W * sizeof *row);
@@ -126,9 +140,10 @@ static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
       assert_int_equal(f.face[at], row[i]);
       const int face = row[i];
       const int gs = fx_shade(&r.m, face, blocked[i], i + 0.5, j + 0.5, i, j, NULL, NULL);
-      if (gs != f.grey[at] && t->differ++ < 4)
-        print_message("%s %dx%d point (%d, %d) face %d blocked %u: frame %d, fx_shade %d\n",
-                      path, W, H, i, j, face, blocked[i], f.grey[at], gs);
+      if ((gs != f.grey[at] || gs != sse2[at]) && t->differ++ < 4)
+        print_message("%s %dx%d point (%d, %d) face %d blocked %u: frame %d (SSE2 %d), "
+                      "fx_shade %d\n", path, W, H, i, j, face, blocked[i], f.grey[at],
+                      sse2[at], gs);
       t->points++;
       t->greys[f.grey[at]] = 1;
       if (face < 0) continue;
@@ -168,7 +183,7 @@ static void frame_is_pointwise(const char *path, int W, int H, struct tally *t)
   }
   fx_lines_close(L);
   free(row); free(blocked); free(px); free(X);
-  free(f.face); free(f.grey);
+  free(f.face); free(f.grey); free(sse2);
   rig_close(&r);
 }
 
