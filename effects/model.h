@@ -73,6 +73,10 @@ struct fx_model {
   double eye[3];            /* the Mapper's eye */
   double (*ray)[4];         /* per mapped face: its plane's a, b, c and the ray's numerator
                                -(a, b, c, d) . (eye, 1) (eq. (2), as space_point takes them) */
+  /* Tests only (false after a build): uv_sse2 makes a row's smoothed space points (and
+     fx_space_uv) take their SSE2 way, two an instruction, where the processor has AVX-512F
+     (not eight: model.c, uv_avx512). */
+  bool uv_sse2;
 };
 
 /* Build the model the effects e call for over the frame engine eng drew on its grid eng->g
