@@ -1074,7 +1074,15 @@ void uv_two(const struct fx_model *m, struct space_lanes *L, int fa, int fb,
    way's loop is held by its divides (issue 19, round 40: about 6.5 cycles a pair of
    points, the divider's throughput 4), and here a VDIVPD of eight lanes takes about what a
    DIVPD of two does (a Zen 5 machine: 1.27 against 1.13 ns an instruction with eight
-   chains in flight). */
+   chains in flight). What is left of it waits on a stretch's first divide (perf: most of
+   uv_row512's samples on the product after VDIVPD; t1-g has one stretch a row or two).
+   Tried, the same greys, and not faster (median frames in turn, round 41): the whole
+   stretch eight points a step whatever faces they are on, each lane's constants by
+   VPERMT2PD from tables of the stretch's faces and its axes by masks (t1-g 1.036, t1-e
+   1.017); each face's three coordinates made and two picked by masks, no branch on the
+   axes (t1-g 1.027, the sphere 1.019); the stretch's first eight points made as its first
+   face's before its runs are found, so that the divide's wait overlaps the search (level:
+   fx_points' and the space points' samples t1-g 16.7 -> 16.6%, the sphere 13.1 -> 13.5%). */
 #define UV512_ATTR __attribute__((target("avx512f")))
 
 /* The constants of a row (eye E, D1 = py - E1, D2 = -E2) in eight lanes. */
@@ -1201,7 +1209,9 @@ void fx_space_uv(const struct fx_model *m, int f, int n, const double *px, doubl
    only so) only the two coordinates of each point on its triangle's axes (smooth_tri's bu,
    bw) are kept, in two arrays (smooth_phong_row's and smooth_partial_row's greys and
    regions depend on nothing else of it): two stores a pair of points, not six; and, under
-   smooth=phong, two loads there, not four and two shuffles. */
+   smooth=phong, two loads there, not four and two shuffles. There, where the processor
+   has AVX-512F (uv512: uv_avx512), eight points an instruction, a face at a time
+   (uv_row512): the same doubles. */
 static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
                      const struct face_shade *fs, const unsigned *blocked, const double *px,
                      double py, uint8_t *gr, long runs[3], bool uv, bool uv512)
