@@ -21,6 +21,12 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
+/* region_exact on AVX-512 where the processor has it (a run-time test, region_avx512) */
+#if defined(__SSE2__) && (defined(__x86_64__) || defined(__i386__)) && \
+    (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define REGION_AVX512 1
+#endif
 
 #define CONTOUR_TABLE "CONTOUR CURVES"
 
@@ -260,10 +266,124 @@ static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_ST
 #endif
 }
 
+#ifdef REGION_AVX512
+/* region_exact four curve points a step (AVX-512F's 512-bit registers, x and y of four
+   points: eight 64-bit lanes; AVX-512DQ's VPMULLQ for the start), chosen at run time where
+   the processor has both (region_avx512). The same integers: lane l of a step holds the
+   point i = 4 s + l (poly[1 + i]), P(i) and its differences of step 4, each found as
+   region_exact finds P at i = 1 and its differences of step 1 there: P(i) = 2^24 Q0 + sum
+   over k = 1 .. 4 of n_k(i) (Qk - Q0), and each difference of step 4 the sum of the n_k's
+   differences of step 4 at i (dn4: n_k(i) = C(4, k) i^(4 - k) (64 - i)^k at i = 0 .. 19
+   differenced, l = 0 .. 3) times Qk - Q0; a step then adds each difference to the one
+   below it (P is a polynomial of degree 4 in i: the fourth difference is constant). Every
+   value is an exact integer in 64 bits: |Qk - Q0| < 2^30, the n_k's differences of step 4
+   are below 2^25 (an o-th difference of values within [0, 2^24] is within 2^o 2^24), each
+   sum of four products below 2^57; P(i) is within 2^24 (2^29 + 1) of 0 and a difference of
+   order o of it within 2^o 2^54. So P(i) is region_exact's, and each point's rounding the
+   same operations (the sign spread by VPSRAQ, not the shuffle of the high half's). Point
+   i = 0 (poly[1], Q4 itself) is not stored; i = 1 .. 63 are poly[2 .. 64]. The blocks' and
+   the box's extremes are taken from the same doubles (region_exact's keys) over the same
+   points, so the same; a block b's points are poly[8 b .. 8 b + 8]: steps 2 b and 2 b + 1
+   (poly[8 b + 1 .. 8 b + 8]) and the last lane of step 2 b - 1 (poly[0] for block 0); the
+   last block poly[64] (step 15's last lane), poly[65] and poly[0]. A step of four points is
+   about as many instructions as a point was (issue 19, round 41). */
+#define REGION512_ATTR __attribute__((target("avx512f,avx512dq")))
+static REGION512_ATTR void region_exact512(const struct gpoint q[5],
+                                           struct gpoint poly[CONTOUR_STEPS + 2],
+                                           gcoord (*blk)[2], gcoord box[4])
+{
+  /* dn4[o][k - 1][l]: the o-th difference of step 4 of n_k at i = l */
+  static const int64_t dn4[5][4][4] = {
+    { { 0, 252, 1984, 6588 }, { 0, 23814, 92256, 200934 },
+      { 0, 1000188, 1906624, 2723772 }, { 16777216, 15752961, 14776336, 13845841 } },
+    { { 15360, 29248, 48128, 71616 }, { 345600, 498336, 634368, 754272 },
+      { 3456000, 3107392, 2776064, 2461632 }, { -3817216, -3635600, -3459840, -3289840 } },
+    { { 83968, 101632, 117760, 132352 }, { 513024, 449664, 388608, 329856 },
+      { -1292288, -1225472, -1160192, -1096448 }, { 691712, 668864, 646400, 624320 } },
+    { { 61440, 55296, 49152, 43008 }, { -239616, -230400, -221184, -211968 },
+      { 258048, 251904, 245760, 239616 }, { -89088, -87552, -86016, -84480 } },
+    { { -24576, -24576, -24576, -24576 }, { 36864, 36864, 36864, 36864 },
+      { -24576, -24576, -24576, -24576 }, { 6144, 6144, 6144, 6144 } },
+  };
+  __m512i e[4];                             /* (Qk - Q0) in each point's lanes: x, y */
+  for (int k = 0; k < 4; k++)
+    e[k] = _mm512_broadcast_i64x2(_mm_set_epi64x(q[k + 1].y - q[0].y, q[k + 1].x - q[0].x));
+  __m512i d[5];
+  for (int o = 0; o < 5; o++) {
+    __m512i v = _mm512_setzero_si512();
+    for (int k = 0; k < 4; k++) {
+      const int64_t *c = dn4[o][k];
+      const __m512i ck = _mm512_set_epi64(c[3], c[3], c[2], c[2], c[1], c[1], c[0], c[0]);
+      v = _mm512_add_epi64(v, _mm512_mullo_epi64(ck, e[k]));
+    }
+    d[o] = v;
+  }
+  d[0] = _mm512_add_epi64(d[0], _mm512_broadcast_i64x2(_mm_set_epi64x(
+                                  q[0].y * ((int64_t)1 << 24), q[0].x * ((int64_t)1 << 24))));
+  const __m512i bias = _mm512_set1_epi64(((int64_t)1 << 23) + ((int64_t)1 << 54));
+  const __m512i off = _mm512_set1_epi64((int64_t)1 << 30);
+  const __m512i expo = _mm512_set1_epi64((int64_t)0x4330000000000000);
+  const __m128i off2 = _mm_set1_epi64x((int64_t)1 << 30), expo2 = _mm_set1_epi64x((int64_t)0x4330000000000000);
+#define REGION_KEY(p) _mm_castsi128_pd(_mm_or_si128(                                    \
+    _mm_add_epi64(_mm_loadu_si128((const __m128i *)(const void *)(p)), off2), expo2))
+  const __m128d k0 = REGION_KEY(&poly[0]), k65 = REGION_KEY(&poly[CONTOUR_STEPS + 1]);
+#undef REGION_KEY
+  __m128d bl[REGION_BLOCKS], bh[REGION_BLOCKS];
+  __m128d before = k0;                      /* the point before the block: poly[8 b] */
+  for (int b = 0; b < REGION_BLOCKS - 1; b++) {
+    __m512d k[2];
+    for (int h = 0; h < 2; h++) {           /* steps 2 b + h: points i = 8 b + 4 h .. + 3 */
+      const __m512i neg = _mm512_srai_epi64(d[0], 63);
+      const __m512i sh = _mm512_srli_epi64(_mm512_add_epi64(_mm512_add_epi64(d[0], bias), neg), 24);
+      const __m512i r = _mm512_sub_epi64(sh, off);
+      /* (i = 0, poly[1]: Q4, not stored) */
+      _mm512_mask_storeu_epi64(&poly[1 + 8 * b + 4 * h], (__mmask8)(b || h ? 0xff : 0xfc), r);
+      k[h] = _mm512_castsi512_pd(_mm512_or_si512(sh, expo));
+      d[0] = _mm512_add_epi64(d[0], d[1]);
+      d[1] = _mm512_add_epi64(d[1], d[2]);
+      d[2] = _mm512_add_epi64(d[2], d[3]);
+      d[3] = _mm512_add_epi64(d[3], d[4]);
+    }
+    const __m512d lo8 = _mm512_min_pd(k[0], k[1]), hi8 = _mm512_max_pd(k[0], k[1]);
+    const __m256d lo4 = _mm256_min_pd(_mm512_castpd512_pd256(lo8), _mm512_extractf64x4_pd(lo8, 1));
+    const __m256d hi4 = _mm256_max_pd(_mm512_castpd512_pd256(hi8), _mm512_extractf64x4_pd(hi8, 1));
+    const __m128d lo2 = _mm_min_pd(_mm256_castpd256_pd128(lo4), _mm256_extractf128_pd(lo4, 1));
+    const __m128d hi2 = _mm_max_pd(_mm256_castpd256_pd128(hi4), _mm256_extractf128_pd(hi4, 1));
+    bl[b] = _mm_min_pd(lo2, before);
+    bh[b] = _mm_max_pd(hi2, before);
+    before = _mm512_extractf64x2_pd(k[1], 3);   /* poly[8 b + 8] */
+  }
+  bl[REGION_BLOCKS - 1] = _mm_min_pd(_mm_min_pd(before, k65), k0);
+  bh[REGION_BLOCKS - 1] = _mm_max_pd(_mm_max_pd(before, k65), k0);
+  const __m128i back = _mm_set1_epi64x((int64_t)0x4330000000000000 + ((int64_t)1 << 30));
+  __m128d blo = bl[0], bhi = bh[0];
+  for (int b = 0; b < REGION_BLOCKS; b++) {
+    const __m128i l = _mm_sub_epi64(_mm_castpd_si128(bl[b]), back);
+    const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bh[b]), back);
+    _mm_storeu_si128((__m128i *)(void *)blk[b], _mm_unpackhi_epi64(l, h));   /* y lo, y hi */
+    blo = _mm_min_pd(blo, bl[b]);
+    bhi = _mm_max_pd(bhi, bh[b]);
+  }
+  const __m128i l = _mm_sub_epi64(_mm_castpd_si128(blo), back);
+  const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bhi), back);
+  _mm_storeu_si128((__m128i *)(void *)&box[0], _mm_unpacklo_epi64(l, h));    /* x lo, x hi */
+  _mm_storeu_si128((__m128i *)(void *)&box[2], _mm_unpackhi_epi64(l, h));    /* y lo, y hi */
+}
+
+/* Whether region_with takes region_exact512: where the processor has AVX-512F and DQ (and
+   the system saves the registers: __builtin_cpu_supports) and sse2 (tests only:
+   contour_region_sse2) is not asked. */
+static inline bool region_avx512(bool sse2)
+{
+  return !sse2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+}
+#endif
+
 /* contour_region with the weights made, and the polygon's blocks and box (REGION_BLOCKS
    into blk: fx_ring_blocks' over the one ring). */
 static void region_with(const struct gpoint q[5], const struct curve_weights *w,
-                        struct gpoint poly[CONTOUR_STEPS + 2], gcoord (*blk)[2], gcoord box[4])
+                        struct gpoint poly[CONTOUR_STEPS + 2], gcoord (*blk)[2], gcoord box[4],
+                        bool sse2)
 {
   poly[0] = q[2];
   /* Q4, the curve back towards Q0, then Q0: CONTOUR_STEPS + 1 points */
@@ -274,6 +394,14 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
     exact = exact && q[k].x > -CURVE_EXACT && q[k].x < CURVE_EXACT &&
             q[k].y > -CURVE_EXACT && q[k].y < CURVE_EXACT;
   if (exact) {
+#ifdef REGION_AVX512
+    if (region_avx512(sse2)) {
+      region_exact512(q, poly, blk, box);
+      return;
+    }
+#else
+    (void)sse2;
+#endif
     region_exact(q, poly, blk, box);
     return;
   }
@@ -311,13 +439,20 @@ static void region_with(const struct gpoint q[5], const struct curve_weights *w,
 void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2])
 {
   gcoord blk[REGION_BLOCKS][2], box[4];
-  region_with(q, &curve_table, poly, blk, box);
+  region_with(q, &curve_table, poly, blk, box, false);
 }
 
 int contour_region_blocked(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
                            gcoord (*blk)[2], gcoord box[4])
 {
-  region_with(q, &curve_table, poly, blk, box);
+  region_with(q, &curve_table, poly, blk, box, false);
+  return REGION_BLOCKS;
+}
+
+int contour_region_sse2(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
+                        gcoord (*blk)[2], gcoord box[4])
+{
+  region_with(q, &curve_table, poly, blk, box, true);
   return REGION_BLOCKS;
 }
 
@@ -549,7 +684,7 @@ int contour_build(const struct mapped *map, struct core *core, const struct scen
     struct gpoint *poly = fx_polys_room(cuts, CONTOUR_STEPS + 2);
     if (!poly) { rc = t74_fail(err, T74_EIO, "out of host memory"); break; }
     gcoord box[4];
-    region_with(q, &curve_table, poly, fx_polys_blocks_at(poly, CONTOUR_STEPS + 2), box);
+    region_with(q, &curve_table, poly, fx_polys_blocks_at(poly, CONTOUR_STEPS + 2), box, false);
     if (cost) {                   /* the 1974 engine's machine: counted, through core */
       COST_ADD_N(cost, COST_MEM, 4 * (CONTOUR_STEPS + 2));
       for (int c = 0; c < 2 * (CONTOUR_STEPS + 1); c++) {

@@ -65,6 +65,10 @@ void contour_region(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS +
    rounded up, into blk; box xlo, xhi, ylo, yhi), made on the way. */
 int contour_region_blocked(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
                            gcoord (*blk)[2], gcoord box[4]);
+/* Tests only: contour_region_blocked the way the build's target takes it (SSE2's, or
+   without), where the processor has AVX-512 (contour.c, region_exact512). */
+int contour_region_sse2(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
+                        gcoord (*blk)[2], gcoord box[4]);
 
 /* One convex corner the contour smoothing rounds, as the enhanced edges (effects/edges.h)
    need it to draw the outline along the curve: the object; the contour's scene vertices

@@ -19,8 +19,14 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
-#if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+/* a row's smoothed space points eight an instruction where the processor has AVX-512 (a
+   run-time test, uv_avx512; the build itself assumes SSE2 at most) */
+#if defined(__SSE2__) && (defined(__x86_64__) || defined(__i386__)) && \
+    (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
+#define UV_AVX512 1
+#endif
+#if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define FLAT_AVX512 1             /* flat_rowt8 built, taken where the processor has it */
 #endif
 
@@ -1234,9 +1240,124 @@ void uv_two(const struct fx_model *m, struct space_lanes *L, int fa, int fb,
 }
 #endif
 
+#ifdef UV_AVX512
+/* shade_row's space points eight an instruction (AVX-512's registers), chosen at run time
+   where the processor has AVX-512F (uv_avx512): each face's run of points from its first,
+   eight a step, the last step's lanes past the run's end masked off (not loaded, divided
+   or stored). Each lane's operations are space_lanes_at's (space_point's) on its point,
+   in their order, each the same IEEE operation on the same doubles (EVEX-encoded, 512 bits
+   wide; no fused multiply-add: the build's -ffp-contract=off), r[1] D1 and r[2] D2 the one
+   double space_lanes_init makes; the select of t = 1 where den is 0 (C's den != 0 is
+   _CMP_NEQ_UQ, true for a NaN, as CMPNEQPD's) made by the divide's mask: lanes where den
+   is 0 keep 1 and are not divided. So the same two coordinates bit for bit, whatever
+   faces share a step in the SSE2 way (a lane's value is its point's alone); no pairing of
+   a face's odd last point with the next face's, no den_not_zero. Where it pays: the SSE2
+   way's loop is held by its divides (issue 19, round 40: about 6.5 cycles a pair of
+   points, the divider's throughput 4), and here a VDIVPD of eight lanes takes about what a
+   DIVPD of two does (a Zen 5 machine: 1.27 against 1.13 ns an instruction with eight
+   chains in flight). What is left of it waits on a stretch's first divide (perf: most of
+   uv_row512's samples on the product after VDIVPD; t1-g has one stretch a row or two).
+   Tried, the same greys, and not faster (median frames in turn, round 41): the whole
+   stretch eight points a step whatever faces they are on, each lane's constants by
+   VPERMT2PD from tables of the stretch's faces and its axes by masks (t1-g 1.036, t1-e
+   1.017); each face's three coordinates made and two picked by masks, no branch on the
+   axes (t1-g 1.027, the sphere 1.019); the stretch's first eight points made as its first
+   face's before its runs are found, so that the divide's wait overlaps the search (level:
+   fx_points' and the space points' samples t1-g 16.7 -> 16.6%, the sphere 13.1 -> 13.5%). */
+#define UV512_ATTR __attribute__((target("avx512f")))
+
+/* The constants of a row (eye E, D1 = py - E1, D2 = -E2) in eight lanes. */
+struct uv512_row {
+  __m512d e0, e1, e2, d1, d2;
+  double D1, D2;
+};
+
+/* Points p .. q - 1 of the row (px[]) on the face of ray r: their coordinates u and
+   (u + 1) % 3 (u a constant where inlined) into xu[] and xw[]. */
+static inline __attribute__((always_inline)) UV512_ATTR
+void uv_run512(const struct uv512_row *R, const double *r, int u, const double *px, int p, int q,
+               double *xu, double *xw)
+{
+  const __m512d r0 = _mm512_set1_pd(r[0]), r3 = _mm512_set1_pd(r[3]);
+  const __m512d c1 = _mm512_set1_pd(r[1] * R->D1), c2 = _mm512_set1_pd(r[2] * R->D2);
+  const __m512d one = _mm512_set1_pd(1), zero = _mm512_setzero_pd();
+  for (; p < q; p += 8) {
+    const __mmask8 in = q - p >= 8 ? (__mmask8)0xff : (__mmask8)((1u << (q - p)) - 1);
+    const __m512d d0 = _mm512_sub_pd(_mm512_maskz_loadu_pd(in, px + p), R->e0);
+    const __m512d den = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(r0, d0), c1), c2);
+    const __mmask8 nz = _mm512_mask_cmp_pd_mask(in, den, zero, _CMP_NEQ_UQ);
+    const __m512d t = _mm512_mask_div_pd(one, nz, r3, den);   /* den != 0 ? r[3] / den : 1 */
+    const __m512d x0 = u != 1 ? _mm512_add_pd(R->e0, _mm512_mul_pd(t, d0)) : zero;
+    const __m512d x1 = u != 2 ? _mm512_add_pd(R->e1, _mm512_mul_pd(t, R->d1)) : zero;
+    const __m512d x2 = u != 0 ? _mm512_add_pd(R->e2, _mm512_mul_pd(t, R->d2)) : zero;
+    _mm512_mask_storeu_pd(xu + p, in, u == 0 ? x0 : u == 1 ? x1 : x2);
+    _mm512_mask_storeu_pd(xw + p, in, u == 0 ? x1 : u == 1 ? x2 : x0);
+  }
+}
+
+static inline __attribute__((always_inline)) UV512_ATTR
+void uv_row512_init(const struct fx_model *m, double py, struct uv512_row *R)
+{
+  const double *E = m->eye;
+  const double E0 = E[0], E1 = E[1], E2 = E[2];
+  R->D1 = py - E1;
+  R->D2 = -E2;
+  R->e0 = _mm512_set1_pd(E0); R->e1 = _mm512_set1_pd(E1); R->e2 = _mm512_set1_pd(E2);
+  R->d1 = _mm512_set1_pd(R->D1); R->d2 = _mm512_set1_pd(R->D2);
+}
+
+/* Points p .. q - 1 of face f: uv_run512 on its axes u, (u + 1) % 3. */
+static inline __attribute__((always_inline)) UV512_ATTR
+void uv_face512(const struct fx_model *m, const struct uv512_row *R, int f, int u,
+                const double *px, int p, int q, double *xu, double *xw)
+{
+  const double *r = m->ray[f];
+  switch (u) {
+  case 1: uv_run512(R, r, 1, px, p, q, xu, xw); break;
+  case 2: uv_run512(R, r, 2, px, p, q, xu, xw); break;
+  default: uv_run512(R, r, 0, px, p, q, xu, xw); break;
+  }
+}
+
+/* shade_row's coordinates of its stretch (faces sf[k], triangles tri[k], at points at[k] ..
+   at[k + 1] - 1) on each point's triangle's axes bu, bw (bw = (bu + 1) % 3: uv_face). */
+static UV512_ATTR void uv_row512(const struct fx_model *m, double py, int ns, const int *sf,
+                                 const int *tri, const int *at, const double *px, double *xu,
+                                 double *xw)
+{
+  struct uv512_row R;
+  uv_row512_init(m, py, &R);
+  for (int k = 0; k < ns; k++)
+    uv_face512(m, &R, sf[k], m->sm.tri[tri[k]].bu, px, at[k], at[k + 1], xu, xw);
+}
+
+/* fx_space_uv's way on AVX-512 (any n). */
+static UV512_ATTR void space_uv512(const struct fx_model *m, int f, int n, const double *px,
+                                   double py, int u, double *xu, double *xw)
+{
+  struct uv512_row R;
+  uv_row512_init(m, py, &R);
+  uv_face512(m, &R, f, u, px, 0, n, xu, xw);
+}
+
+/* Whether shade_row's space points take uv_row512: where the processor has AVX-512F (and
+   the system saves its registers: __builtin_cpu_supports) and m's uv_sse2 (tests only) is
+   not set. */
+static inline bool uv_avx512(const struct fx_model *m)
+{
+  return !m->uv_sse2 && __builtin_cpu_supports("avx512f");
+}
+#endif
+
 void fx_space_uv(const struct fx_model *m, int f, int n, const double *px, double py, int u,
                  double *xu, double *xw)
 {
+#ifdef UV_AVX512
+  if (uv_avx512(m)) {
+    space_uv512(m, f, n, px, py, u, xu, xw);
+    return;
+  }
+#endif
 #ifdef __SSE2__
   struct space_lanes L;
   space_lanes_init(m, f, py, &L);
@@ -1269,10 +1390,12 @@ void fx_space_uv(const struct fx_model *m, int f, int n, const double *px, doubl
    only so) only the two coordinates of each point on its triangle's axes (smooth_tri's bu,
    bw) are kept, in two arrays (smooth_phong_row's and smooth_partial_row's greys and
    regions depend on nothing else of it): two stores a pair of points, not six; and, under
-   smooth=phong, two loads there, not four and two shuffles. */
+   smooth=phong, two loads there, not four and two shuffles. There, where the processor
+   has AVX-512F (uv512: uv_avx512), eight points an instruction, a face at a time
+   (uv_row512): the same doubles. */
 static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
                      const struct face_shade *fs, const unsigned *blocked, const double *px,
-                     double py, uint8_t *gr, long runs[3], bool uv)
+                     double py, uint8_t *gr, long runs[3], bool uv, bool uv512)
 {
   /* the faces one after another: face sf[k] (triangle tri[k]) at points at[k] .. at[k + 1] - 1
      of the stretch */
@@ -1343,42 +1466,54 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
 #ifdef __SSE2__
   if (uv) {
     _Alignas(16) double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
-    struct space_lanes L;
-    space_lanes_init(m, sf[0], py, &L);
-    /* smooth=phong: a face's odd last point with the next face's first (phong_row_lights
-       pairs them so); the partial smoothing: each face's pairs from its first point (as
-       inner_split reads them, 16 bytes a load: each the very 16 bytes stored), its odd
-       last point left over (left[]: its face's index k) and put with the next one left
-       over after the faces */
     const bool phong = m->e->smooth == EFFECTS_SMOOTH_PHONG;
-    int p = 0;
-    if (phong) {
-      for (int k = 0; k < ns; k++) {
-        const int q = at[k + 1], qe = p + ((q - p) & ~1);
-        const struct smooth_tri *ta = &m->sm.tri[tri[k]];
-        uv_face(m, &L, sf[k], ta, px, p, qe, xu, xw);
-        p = qe;
-        if (p == q) continue;
-        const int kb = k + 1 < ns ? k + 1 : k;  /* with the next face's first, or alone */
-        const int p1 = k + 1 < ns ? q : p;
-        uv_two(m, &L, sf[k], sf[kb], ta, &m->sm.tri[tri[kb]], px, p, p1, xu, xw);
-        p = p1 + 1;
+#ifdef UV_AVX512
+    if (uv512)
+      uv_row512(m, py, ns, sf, tri, at, px, xu, xw);
+    else
+#else
+    (void)uv512;
+#endif
+    {
+      struct space_lanes L;
+      space_lanes_init(m, sf[0], py, &L);
+      /* smooth=phong: a face's odd last point with the next face's first (phong_row_lights
+         pairs them so); the partial smoothing: each face's pairs from its first point (as
+         inner_split reads them, 16 bytes a load: each the very 16 bytes stored), its odd
+         last point left over (left[]: its face's index k) and put with the next one left
+         over after the faces */
+      int p = 0;
+      if (phong) {
+        for (int k = 0; k < ns; k++) {
+          const int q = at[k + 1], qe = p + ((q - p) & ~1);
+          const struct smooth_tri *ta = &m->sm.tri[tri[k]];
+          uv_face(m, &L, sf[k], ta, px, p, qe, xu, xw);
+          p = qe;
+          if (p == q) continue;
+          const int kb = k + 1 < ns ? k + 1 : k;  /* with the next face's first, or alone */
+          const int p1 = k + 1 < ns ? q : p;
+          uv_two(m, &L, sf[k], sf[kb], ta, &m->sm.tri[tri[kb]], px, p, p1, xu, xw);
+          p = p1 + 1;
+        }
+      } else {
+        int left[SMOOTH_ROW], nleft = 0;
+        for (int k = 0; k < ns; k++) {
+          const int q = at[k + 1], qe = p + ((q - p) & ~1);
+          uv_face(m, &L, sf[k], &m->sm.tri[tri[k]], px, p, qe, xu, xw);
+          if (qe < q) left[nleft++] = k;
+          p = q;
+        }
+        for (int j = 0; j < nleft; j += 2) {  /* the left-over points, two a step */
+          const int ka = left[j], kb = left[j + 1 < nleft ? j + 1 : j];   /* a last one alone */
+          uv_two(m, &L, sf[ka], sf[kb], &m->sm.tri[tri[ka]], &m->sm.tri[tri[kb]], px,
+                 at[ka + 1] - 1, at[kb + 1] - 1, xu, xw);
+        }
       }
+    }
+    if (phong) {
       smooth_phong_row(&m->sm, ns, tri, at, xu, xw, blocked, &m->lights, g);
       runs[1] += at[ns];                    /* smooth_row's regions under smooth=phong */
     } else {
-      int left[SMOOTH_ROW], nleft = 0;
-      for (int k = 0; k < ns; k++) {
-        const int q = at[k + 1], qe = p + ((q - p) & ~1);
-        uv_face(m, &L, sf[k], &m->sm.tri[tri[k]], px, p, qe, xu, xw);
-        if (qe < q) left[nleft++] = k;
-        p = q;
-      }
-      for (int j = 0; j < nleft; j += 2) {  /* the left-over points, two a step */
-        const int ka = left[j], kb = left[j + 1 < nleft ? j + 1 : j];   /* a last one alone */
-        uv_two(m, &L, sf[ka], sf[kb], &m->sm.tri[tri[ka]], &m->sm.tri[tri[kb]], px,
-               at[ka + 1] - 1, at[kb + 1] - 1, xu, xw);
-      }
       smooth_partial_row(&m->sm, m->map, ns, tri, at, xu, xw, blocked, &m->lights, g, runs);
     }
     shade_row_greys(g, e - i, gr);
@@ -1407,7 +1542,7 @@ static int shade_row(const struct fx_model *m, const int *fr, int i, int W,
     p = p1 + 1;
   }
 #else
-  (void)uv;                                 /* (smooth_rows serves nothing without SSE2) */
+  (void)uv; (void)uv512;                    /* (smooth_rows serves nothing without SSE2) */
   for (int k = 0; k < ns; k++)
     for (int p = at[k]; p < at[k + 1]; p++) space_point(m, sf[k], px[p], py, X[p]);
 #endif
@@ -3184,6 +3319,11 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
   /* and from two coordinates a point where the lights are all parallel (shade_row) */
   bool uv = rows;
   for (int k = 0; k < m->lights.n; k++) uv = uv && !m->lights.point[k];
+#ifdef UV_AVX512
+  const bool uv512 = uv && uv_avx512(m);   /* its space points eight an instruction */
+#else
+  const bool uv512 = false;
+#endif
   for (int j = H - 1; j >= 0; j--) {
     size_t at0 = (size_t)j * (size_t)W;
     int *fr = f->face + at0;
@@ -3305,7 +3445,7 @@ int fx_points(const struct fx_model *m, struct fx_frame *f, struct fx_stats *st,
       }
       if (run && rows) {                    /* a stretch of smoothed faces' points */
         const int e = shade_row(m, fr, i, W, &fs, blocked + i, px + i, py[j], gr + i, runs,
-                                  uv);
+                                  uv, uv512);
         pts += e - i;
         i = e - 1;
         last = -1;                          /* fs is not fr[e - 1]'s, maybe */

@@ -76,6 +76,10 @@ struct fx_model {
   /* Tests only: flat_sse2 makes the flat lit rows take their SSE2 code (flat_lit_pairs)
      where the processor has AVX-512 (effects/model.c, flat_rowt8). */
   bool flat_sse2;
+  /* Tests only (false after a build): uv_sse2 makes a row's smoothed space points (and
+     fx_space_uv) take their SSE2 way, two an instruction, where the processor has AVX-512F
+     (not eight: model.c, uv_avx512). */
+  bool uv_sse2;
 };
 
 /* Build the model the effects e call for over the frame engine eng drew on its grid eng->g

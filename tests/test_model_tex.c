@@ -25,7 +25,9 @@
 ** (fx_space_points with n = 1) bit for bit: on the shipped smoothed scenes' faces along
 ** every row, and on a face built by hand whose den is exactly 0 at a point of the run, at
 ** its ends and next to them (there the one-point path's t is 1, a quotient by 0 would give
-** infinities).
+** infinities). Both ways where the processor has AVX-512F: eight points an instruction
+** (model.c, uv_row512) and SSE2's two (the model's uv_sse2); and fx_points' smoothed rows
+** both ways, greys byte for byte.
 */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -256,16 +258,21 @@ static void test_fig6_room_pointwise(void **state)
   assert_true(t.textured > 10000 && t.row_masked > 1000 && distinct > 40 && t.greys[255]);
 }
 
-/* fx_space_uv over px[0 .. n) of face f, each of the three axis pairs, against the
-   one-point path; returns the points that differ (the first few printed). */
+/* fx_space_uv over px[0 .. n) of face f, each of the three axis pairs, both ways (eight
+   points an instruction where the processor has AVX-512F, and SSE2's two: uv_sse2),
+   against the one-point path; returns the points that differ (the first few printed). */
 static long uv_against_single(const struct fx_model *m, int f, int n, const double *px,
                               double py, const char *what)
 {
   double xu[512], xw[512];
   long bad = 0;
   assert_true(n % 2 == 0 && n <= 512);
+  struct fx_model *mw = (struct fx_model *)m;   /* (its uv_sse2 set for each way, then reset) */
+  for (int way = 0; way < 2; way++)
   for (int u = 0; u < 3; u++) {
+    mw->uv_sse2 = way == 1;
     fx_space_uv(m, f, n, px, py, u, xu, xw);
+    mw->uv_sse2 = false;
     for (int p = 0; p < n; p++) {
       double one[1][3];
       fx_space_points(m, f, 1, px + p, py, one);
@@ -273,8 +280,9 @@ static long uv_against_single(const struct fx_model *m, int f, int n, const doub
           !memcmp(&xw[p], &one[0][(u + 1) % 3], sizeof xw[p]))
         continue;
       if (bad++ < 4)
-        print_message("%s face %d py %.17g px %.17g axis %d: %.17g %.17g, alone %.17g %.17g\n",
-                      what, f, py, px[p], u, xu[p], xw[p], one[0][u], one[0][(u + 1) % 3]);
+        print_message("%s face %d py %.17g px %.17g axis %d (%s): %.17g %.17g, alone %.17g "
+                      "%.17g\n", what, f, py, px[p], u, way ? "SSE2" : "AVX-512 where there",
+                      xu[p], xw[p], one[0][u], one[0][(u + 1) % 3]);
     }
   }
   return bad;
@@ -365,6 +373,73 @@ static void test_uv_den_zero(void **state)
   assert_true(zero_inside > 500 && zero_end > 200 && one_sign > 500);
 }
 
+/* fx_points' smoothed rows both ways: their space points eight an instruction where the
+   processor has AVX-512F (uv_row512: each face's run from its first point, a step's lanes
+   past the run's end masked off) and SSE2's two (uv_sse2: a face's odd last point with the
+   next face's first under smooth=phong, the odd points left over paired under the partial
+   smoothing). The same greys, byte for byte, on the smoothed shipped scenes (smooth=phong,
+   prop: and fixed:, with their contours) on grids whose rows hold stretches of many
+   faces, short runs and long ones; and the same as fx_shade's at every point (t1-g, the
+   sphere and t1-e on one grid). */
+static void test_uv_rows_both_ways(void **state)
+{
+  (void)state;
+  static const char *const names[] = { "t1-g", "sphere", "t1-e", "t1-j", "t1-a", "lprism" };
+  static const int grids[][2] = { { 133, 100 }, { 200, 150 }, { 97, 61 }, { 311, 203 } };
+  long points = 0, smoothed = 0, differ = 0, pointwise = 0;
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
+    for (size_t gi = 0; gi < sizeof grids / sizeof grids[0]; gi++) {
+      char path[64];
+      snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
+      const int W = grids[gi][0], H = grids[gi][1];
+      struct rig r;
+      rig_open(&r, path, W, H);
+      struct t74_error err = { 0, "" };
+      const size_t np = (size_t)W * (size_t)H;
+      uint8_t *grey[2];
+      int *faces[2];
+      for (int way = 0; way < 2; way++) {
+        struct fx_frame f;
+        memset(&f, 0, sizeof f);
+        f.W = W; f.H = H; f.cell = 1;
+        assert_non_null(f.face = malloc(np * sizeof *f.face));
+        assert_non_null(f.grey = calloc(np, 1));
+        memcpy(f.face, r.p.face, np * sizeof *f.face);
+        r.m.uv_sse2 = way == 1;
+        assert_int_equal(fx_points(&r.m, &f, &r.st, &r.cost, &err), T74_OK);
+        r.m.uv_sse2 = false;
+        grey[way] = f.grey;
+        faces[way] = f.face;
+      }
+      for (size_t at = 0; at < np; at++) {
+        const int face = faces[0][at];
+        assert_int_equal(face, faces[1][at]);
+        points++;
+        smoothed += face >= 0 && r.m.sm.tri_of_mface[face] >= 0;
+        if (grey[0][at] != grey[1][at] && differ++ < 4)
+          print_message("%s %dx%d point %zu face %d: %d eight a step, %d two\n", path, W, H,
+                        at, face, grey[0][at], grey[1][at]);
+      }
+      for (int way = 0; way < 2; way++) { free(grey[way]); free(faces[way]); }
+      rig_close(&r);
+    }
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+    if (k >= 3) continue;                   /* (phong and prop: with contours, t1-g, the sphere, t1-e) */
+    struct tally t;
+    memset(&t, 0, sizeof t);
+    char path[64];
+    snprintf(path, sizeof path, "scenes/%s.s74", names[k]);
+    frame_is_pointwise(path, 97, 61, &t);
+    pointwise += t.differ;
+  }
+  print_message("smoothed rows: %ld points (%ld smoothed), %ld differ between the ways, %ld "
+                "from fx_shade (AVX-512F here: %s)\n", points, smoothed, differ, pointwise,
+                __builtin_cpu_supports("avx512f") ? "yes" : "no");
+  assert_int_equal(differ, 0);
+  assert_int_equal(pointwise, 0);
+  assert_true(smoothed > 100000);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -373,6 +448,7 @@ int main(void)
     cmocka_unit_test(test_fig6_room_pointwise),
     cmocka_unit_test(test_uv_runs_are_single),
     cmocka_unit_test(test_uv_den_zero),
+    cmocka_unit_test(test_uv_rows_both_ways),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

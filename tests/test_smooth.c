@@ -2256,7 +2256,9 @@ static void test_region_is_bezier(void **state)
    within 2^29 of the origin is the largest the doubles' bits carry); the extremes fall on
    Q0, Q2, Q4 (poly[65], poly[0], poly[1]) and on the curve, and on the block ends each
    block shares with the next. Fails if a block misses its last point (poly[8 b + 8], or
-   poly[0] for the last), a lane's min or max, or a point's conversion. */
+   poly[0] for the last), a lane's min or max, or a point's conversion. Both ways where the
+   processor has AVX-512 (four points a step, region_exact512; and contour_region_sse2):
+   the same polygon, blocks and box byte for byte. */
 static void test_region_blocks(void **state)
 {
   (void)state;
@@ -2289,6 +2291,14 @@ static void test_region_blocks(void **state)
     bool bad = nb != NB || rnb != NB || memcmp(poly, ref, sizeof poly) != 0 ||
                memcmp(box, rbox, sizeof box) != 0 || blk[NB][0] != 12345 || blk[NB][1] != 12345;
     for (int b = 0; b < NB && !bad; b++) bad = blk[b][0] != rblk[b][0] || blk[b][1] != rblk[b][1];
+    /* and the build's own way (where the processor has AVX-512, the one above is
+       region_exact512's on the integer path): the same polygon, blocks and box */
+    struct gpoint p2[CONTOUR_STEPS + 2];
+    gcoord blk2[NB + 1][2], box2[4];
+    blk2[NB][0] = blk2[NB][1] = 12345;
+    const int nb2 = contour_region_sse2(g, p2, blk2, box2);
+    bad = bad || nb2 != NB || memcmp(p2, poly, sizeof p2) != 0 || memcmp(blk2, blk, sizeof blk2) != 0 ||
+          memcmp(box2, box, sizeof box2) != 0;
     differ += bad;
   }
   print_message("region blocks: %ld corners (%ld on the integer path), %ld differ\n", 8000L,
