@@ -2571,7 +2571,13 @@ void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
     const __m256d lov = _mm256_broadcast_sd(lx->xilo), hiv = _mm256_broadcast_sd(lx->xihi);
     const __m256d atv = _mm256_set1_pd(fabs(tr->btot)), zero = _mm256_setzero_pd();
     for (; p + 4 <= n; p += 4) {
-      const __m256d x = _mm256_loadu_pd(xu + p), y = _mm256_loadu_pd(xw + p);
+      /* (two 16-byte loads each: smooth_partial_row's callers store xu and xw 16 bytes a
+         store from the triangle's first point, and a load is forwarded only from one
+         store) */
+      const __m256d x = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(xu + p)),
+                                             _mm_loadu_pd(xu + p + 2), 1);
+      const __m256d y = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(xw + p)),
+                                             _mm_loadu_pd(xw + p + 2), 1);
       __m256d w[3];
       for (int k = 0; k < 3; k++)             /* area_lanes' operations */
         w[k] = _mm256_sub_pd(
