@@ -2663,68 +2663,194 @@ void partial_split(const struct smooth_model *m, const struct mapped *map, int n
   regions[0] += at[nseg] - sp->nl;          /* the points proved inner */
 }
 
-/* partial_rows' second step: the normals of the points left to the chain in sp (their
-   regions counted, the inner ones not lit given the face's grey) and of the points put
-   aside to be lit with the face's normal, into the slots S; returns how many. */
+/* partial_normals' step at point q of sp (its lv: sp's coordinates): two points of one
+   triangle's edge or corner band (band_pair_normals), else one point (band_lanes, or
+   partial_normal's chain where it is in neither: the inner triangle, or every coordinate
+   below its inset), their normals into the slots S from *ns on (the inner ones not lit
+   given the face's grey), their regions counted; returns the point after them. */
 static inline __attribute__((always_inline))
-int partial_normals(const struct smooth_model *m, const struct mapped *map,
-                    const struct split *sp, const unsigned *blocked, int *grey,
-                    long regions[3], struct slots *S)
+int normals_step(const struct smooth_model *m, const struct mapped *map, struct split *sp,
+                 int q, const unsigned *blocked, int *grey, long regions[3], struct slots *S,
+                 int *ns)
 {
   const int nl = sp->nl;
-  double (*lv)[SMOOTH_ROW] = (double (*)[SMOOTH_ROW])sp->la;   /* (inner_split's row) */
-  double (*nv)[SMOOTH_ROW] = S->nv, *sg = S->sg;
-  int *slot_p = S->slot_p, ns = 0;
-  for (int q = 0; q < nl; q++) {
-    const int t = sp->tri[q];
-    const struct smooth_tri *tr = &m->tri[t];
-    const double sgn = tr->front ? 1 : -1;   /* seen from inside: the eye's side */
+  double (*lv)[SMOOTH_ROW] = sp->la;
+  double (*nv)[SMOOTH_ROW] = S->nv;
+  const int t = sp->tri[q];
+  const struct smooth_tri *tr = &m->tri[t];
+  const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
 #ifdef __SSE2__
-    if (q + 1 < nl && sp->tri[q + 1] == t) {
-      const int r = band_pair_normals(&m->lanes[t], lv, q, nv, ns);
-      if (r) {                                /* two points of one edge or corner band */
-        for (int h = 0; h < 2; h++) {
-          sg[ns] = sgn;
-          slot_p[ns++] = sp->at[q + h];
-        }
-        regions[r] += 2;
-        q++;
-        continue;
+  if (q + 1 < nl && sp->tri[q + 1] == t) {
+    const int r = band_pair_normals(&m->lanes[t], lv, q, nv, *ns);
+    if (r) {                                  /* two points of one edge or corner band */
+      for (int h = 0; h < 2; h++) {
+        S->sg[*ns] = sgn;
+        S->slot_p[(*ns)++] = sp->at[q + h];
       }
+      regions[r] += 2;
+      return q + 2;
     }
-    {                                         /* one point of a band: in both lanes */
-      const __m128d l[3] = { _mm_set1_pd(lv[0][q]), _mm_set1_pd(lv[1][q]), _mm_set1_pd(lv[2][q]) };
-      __m128d n[3];
-      const int r = band_lanes(&m->lanes[t], l, n);
-      if (r) {
-        for (int c = 0; c < 3; c++) _mm_storel_pd(&nv[c][ns], n[c]);
-        sg[ns] = sgn;
-        slot_p[ns++] = sp->at[q];
-        regions[r]++;
-        continue;
-      }
-    }
-#endif
-    const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
-    double out[3];
-    const int r = partial_normal(tr, lq, out), p = sp->at[q];
-    regions[r]++;                             /* 0, 1 or 2 */
-    if (r == 0 && !blocked[p]) {
-      grey[p] = map->f[tr->mface].grey;
-      continue;
-    }
-    for (int c = 0; c < 3; c++) nv[c][ns] = out[c];
-    sg[ns] = sgn;
-    slot_p[ns++] = p;
   }
-  for (int k = 0; k < sp->ni; k++, ns++) {  /* the face's normal */
+  {                                           /* one point of a band: in both lanes */
+    const __m128d l[3] = { _mm_set1_pd(lv[0][q]), _mm_set1_pd(lv[1][q]), _mm_set1_pd(lv[2][q]) };
+    __m128d n[3];
+    const int r = band_lanes(&m->lanes[t], l, n);
+    if (r) {
+      for (int c = 0; c < 3; c++) _mm_storel_pd(&nv[c][*ns], n[c]);
+      S->sg[*ns] = sgn;
+      S->slot_p[(*ns)++] = sp->at[q];
+      regions[r]++;
+      return q + 1;
+    }
+  }
+#endif
+  const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
+  double out[3];
+  const int r = partial_normal(tr, lq, out), p = sp->at[q];
+  regions[r]++;                               /* 0, 1 or 2 */
+  if (r == 0 && !blocked[p]) {
+    grey[p] = map->f[tr->mface].grey;
+    return q + 1;
+  }
+  for (int c = 0; c < 3; c++) nv[c][*ns] = out[c];
+  S->sg[*ns] = sgn;
+  S->slot_p[(*ns)++] = p;
+  return q + 1;
+}
+
+/* The points put aside to be lit with the face's normal (sp's lit_in) into the slots S
+   from ns on; returns the slots' count. */
+static inline __attribute__((always_inline))
+int face_slots(const struct smooth_model *m, const struct split *sp, struct slots *S, int ns)
+{
+  for (int k = 0; k < sp->ni; k++, ns++) {
     const struct smooth_tri *tr = &m->tri[sp->lit_tri[k]];
-    for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
-    sg[ns] = tr->front ? 1 : -1;
-    slot_p[ns] = sp->lit_in[k];
+    for (int c = 0; c < 3; c++) S->nv[c][ns] = tr->n[c];
+    S->sg[ns] = tr->front ? 1 : -1;
+    S->slot_p[ns] = sp->lit_in[k];
   }
   return ns;
 }
+
+/* partial_rows' second step: the normals of the points left to the chain in sp (their
+   regions counted, the inner ones not lit given the face's grey: normals_step) and of the
+   points put aside to be lit with the face's normal (face_slots), into the slots S;
+   returns how many. */
+static inline __attribute__((always_inline))
+int partial_normals(const struct smooth_model *m, const struct mapped *map, struct split *sp,
+                    const unsigned *blocked, int *grey, long regions[3], struct slots *S)
+{
+  int ns = 0;
+  for (int q = 0; q < sp->nl;) q = normals_step(m, map, sp, q, blocked, grey, regions, S, &ns);
+  return face_slots(m, sp, S, ns);
+}
+
+#ifdef PHONG_AVX
+/* edge_lanes at four points (lanes 0 .. 3) of one edge band k: each lane edge_lanes'
+   operations (and so partial_normal's) on its values in their order, VEX-encoded, 256
+   bits wide (the compare GT_OS: CMPPD's GT; VMAXPD and VMINPD as MAXPD and MINPD, the
+   same operand order). */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void edge_lanes4(const struct smooth_lanes *x, const __m256d *l, int k, __m256d *n)
+{
+  const int a = next3[k], b = prev3[k];
+  const __m256d one = _mm256_set1_pd(1), zero = _mm256_setzero_pd();
+  const __m256d tk = _mm256_broadcast_sd(x->xt[k]), ta = _mm256_broadcast_sd(x->xt[a]);
+  const __m256d v = _mm256_div_pd(l[k], tk);
+  const __m256d den = _mm256_sub_pd(_mm256_sub_pd(_mm256_sub_pd(one, l[k]), ta),
+                                    _mm256_broadcast_sd(x->xt[b]));
+  const __m256d big = _mm256_cmp_pd(den, _mm256_set1_pd(1e-12), _CMP_GT_OS);
+  __m256d s = _mm256_blendv_pd(_mm256_set1_pd(0.5),
+                               _mm256_div_pd(_mm256_sub_pd(l[a], ta), den), big);
+  s = _mm256_max_pd(zero, s);                                   /* s < 0: +0 */
+  s = _mm256_min_pd(one, s);                                    /* s > 1: 1 */
+  const __m256d omv = _mm256_sub_pd(one, v), oms = _mm256_sub_pd(one, s);
+  const double (*e)[3][2] = x->xends[k];
+  for (int c = 0; c < 3; c++)
+    n[c] = _mm256_add_pd(
+        _mm256_mul_pd(omv, _mm256_add_pd(_mm256_mul_pd(oms, _mm256_broadcast_sd(e[0][c])),
+                                         _mm256_mul_pd(s, _mm256_broadcast_sd(e[1][c])))),
+        _mm256_mul_pd(v, _mm256_broadcast_sd(x->xn[c])));
+}
+
+/* corner_lanes at four points of one corner band cv (as edge_lanes4). */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void corner_lanes4(const struct smooth_lanes *x, const __m256d *l, int cv, __m256d *n)
+{
+  const int a = next3[cv], b = prev3[cv];
+  const __m256d one = _mm256_set1_pd(1);
+  const __m256d u = _mm256_div_pd(l[a], _mm256_broadcast_sd(x->xt[a]));
+  const __m256d w = _mm256_div_pd(l[b], _mm256_broadcast_sd(x->xt[b]));
+  const __m256d omu = _mm256_sub_pd(one, u), omw = _mm256_sub_pd(one, w);
+  const __m256d c0 = _mm256_mul_pd(omu, omw), c1 = _mm256_mul_pd(u, omw),
+                c2 = _mm256_mul_pd(omu, w), c3 = _mm256_mul_pd(u, w);
+  const double (*e)[3][2] = x->xcends[cv];
+  for (int c = 0; c < 3; c++)
+    n[c] = _mm256_add_pd(
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c0, _mm256_broadcast_sd(x->xcn[cv][c])),
+                                    _mm256_mul_pd(c1, _mm256_broadcast_sd(e[0][c]))),
+                      _mm256_mul_pd(c2, _mm256_broadcast_sd(e[1][c]))),
+        _mm256_mul_pd(c3, _mm256_broadcast_sd(x->xn[c])));
+}
+
+/* band_lanes at four points q .. q + 3 of sp, all of triangle t: when the four are in the
+   same edge band (1) or the same corner band (2) (partial_normal's compares l[k] < t[k],
+   lane by lane), their normals into the slots S from *ns on and their region returned;
+   else 0, nothing written. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+int band_quad(const struct smooth_model *m, struct split *sp, int q, int t, struct slots *S,
+              int *ns)
+{
+  const struct smooth_lanes *x = &m->lanes[t];
+  __m256d l[3], n[3];
+  int in[3];
+  for (int k = 0; k < 3; k++) {
+    l[k] = _mm256_loadu_pd(sp->la[k] + q);
+    in[k] = _mm256_movemask_pd(_mm256_cmp_pd(l[k], _mm256_broadcast_sd(x->xt[k]), _CMP_LT_OS));
+  }
+  const int all = in[0] | in[1] << 4 | in[2] << 8;   /* each lane's below-inset bits */
+  int r;
+  switch (all) {
+  case 0x00f: edge_lanes4(x, l, 0, n); r = 1; break;
+  case 0x0f0: edge_lanes4(x, l, 1, n); r = 1; break;
+  case 0xf00: edge_lanes4(x, l, 2, n); r = 1; break;
+  case 0xff0: corner_lanes4(x, l, 0, n); r = 2; break;
+  case 0xf0f: corner_lanes4(x, l, 1, n); r = 2; break;
+  case 0x0ff: corner_lanes4(x, l, 2, n); r = 2; break;
+  default: return 0;
+  }
+  const double sgn = m->tri[t].front ? 1 : -1;
+  for (int c = 0; c < 3; c++) _mm256_storeu_pd(S->nv[c] + *ns, n[c]);
+  for (int h = 0; h < 4; h++) {
+    S->sg[*ns] = sgn;
+    S->slot_p[(*ns)++] = sp->at[q + h];
+  }
+  return r;
+}
+
+/* partial_normals in the AVX build: four points of one triangle's edge or corner band a
+   step where they are (band_quad), else normals_step; the same slots in the same order,
+   the same normals (each lane's operations partial_normal's) and regions. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+int partial_normals4(const struct smooth_model *m, const struct mapped *map, struct split *sp,
+                     const unsigned *blocked, int *grey, long regions[3], struct slots *S)
+{
+  int ns = 0;
+  for (int q = 0; q < sp->nl;) {
+    const int t = sp->tri[q];
+    if (q + 4 <= sp->nl && sp->tri[q + 1] == t && sp->tri[q + 2] == t && sp->tri[q + 3] == t) {
+      const int r = band_quad(m, sp, q, t, S, &ns);
+      if (r) {
+        regions[r] += 4;
+        q += 4;
+        continue;
+      }
+    }
+    q = normals_step(m, map, sp, q, blocked, grey, regions, S, &ns);
+  }
+  return face_slots(m, sp, S, ns);
+}
+#endif
 
 /* partial_rows built twice: for SSE2 (the build's target) and for AVX (VEX, chosen at run
    time by rows_avx, as smooth_phong_row's rows are). The AVX build is the same C but for
@@ -2768,7 +2894,7 @@ static PHONG_AVX_ATTR void partial_row_avx(const struct smooth_model *m,
                  map->f[tr->mface].grey, grey + b, &sp, b, t);
   }
   regions[0] += at[nseg] - sp.nl;           /* the points proved inner */
-  const int ns = partial_normals(m, map, &sp, blocked, grey, regions, &S);
+  const int ns = partial_normals4(m, map, &sp, blocked, grey, regions, &S);
   const int q = lit_quads(m, ns, S.nv, S.sg, S.slot_p, blocked, L, grey);
   if (q < ns) lit_row(m, q, ns, S.nv, S.sg, 1.0, S.slot_p, X, blocked, L, grey);
 }
