@@ -2565,19 +2565,27 @@ void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
                   const unsigned *blocked, int fg, int *grey, struct split *sp, int base,
                   int t)
 {
-  int p = 0;
   if (lx->inner_ok && !m->inner_exact) {
     long declines = 0;
+    int p = 0;
     const __m256d lov = _mm256_broadcast_sd(lx->xilo), hiv = _mm256_broadcast_sd(lx->xihi);
     const __m256d atv = _mm256_set1_pd(fabs(tr->btot)), zero = _mm256_setzero_pd();
-    for (; p + 4 <= n; p += 4) {
-      /* (two 16-byte loads each: smooth_partial_row's callers store xu and xw 16 bytes a
-         store from the triangle's first point, and a load is forwarded only from one
-         store) */
-      const __m256d x = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(xu + p)),
-                                             _mm_loadu_pd(xu + p + 2), 1);
-      const __m256d y = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(xw + p)),
-                                             _mm_loadu_pd(xw + p + 2), 1);
+    for (; p < n; p += 4) {
+      const int cnt = n - p < 4 ? n - p : 4;  /* the step's points: lanes 0 .. cnt - 1 */
+      __m256d x, y;
+      if (cnt == 4) {
+        /* (two 16-byte loads each: smooth_partial_row's callers store xu and xw 16 bytes
+           a store from the triangle's first point, and a load is forwarded only from one
+           store) */
+        x = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(xu + p)),
+                                 _mm_loadu_pd(xu + p + 2), 1);
+        y = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(xw + p)),
+                                 _mm_loadu_pd(xw + p + 2), 1);
+      } else {                                /* the lanes past them: the last point again */
+        const int i1 = cnt > 1, i2 = cnt > 2 ? 2 : i1;
+        x = _mm256_set_pd(xu[p + i2], xu[p + i2], xu[p + i1], xu[p]);
+        y = _mm256_set_pd(xw[p + i2], xw[p + i2], xw[p + i1], xw[p]);
+      }
       __m256d w[3];
       for (int k = 0; k < 3; k++)             /* area_lanes' operations */
         w[k] = _mm256_sub_pd(
@@ -2592,7 +2600,8 @@ void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
         ok = _mm256_and_pd(ok, _mm256_cmp_pd(w[k], _mm256_mul_pd(_mm256_broadcast_sd(lx->xtc[k]),
                                                                  S), _CMP_GE_OS));
       const int bits = _mm256_movemask_pd(ok);
-      if (bits == 15 && !(blocked[p] | blocked[p + 1] | blocked[p + 2] | blocked[p + 3])) {
+      if (cnt == 4 && bits == 15 &&
+          !(blocked[p] | blocked[p + 1] | blocked[p + 2] | blocked[p + 3])) {
         grey[p] = grey[p + 1] = grey[p + 2] = grey[p + 3] = fg;
         continue;
       }
@@ -2606,9 +2615,22 @@ void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
       else
         for (int k = 0; k < 3; k++)
           v[k] = _mm256_blendv_pd(_mm256_set1_pd(1.0 / 3), _mm256_div_pd(lk[k], sum), pos);
+      if ((bits & ((1 << cnt) - 1)) == 0 && sp->nl + 4 <= SMOOTH_ROW) {
+        /* every point of the step to the chain (the usual case): four lanes a store, the
+           lanes past the step's points (held by no slot, written over by the next) inside
+           sp's arrays */
+        const int nl = sp->nl;
+        for (int k = 0; k < 3; k++) _mm256_storeu_pd(sp->la[k] + nl, v[k]);
+        _mm_storeu_si128((__m128i *)(sp->tri + nl), _mm_set1_epi32(t));
+        _mm_storeu_si128((__m128i *)(sp->at + nl),
+                         _mm_add_epi32(_mm_set1_epi32(base + p), _mm_set_epi32(3, 2, 1, 0)));
+        sp->nl = nl + cnt;
+        declines += cnt;
+        continue;
+      }
       double vs[3][4];
       for (int k = 0; k < 3; k++) _mm256_storeu_pd(vs[k], v[k]);
-      for (int h = 0; h < 4; h++) {
+      for (int h = 0; h < cnt; h++) {
         if (bits >> h & 1) {
           inner_point(sp, p + h, true, blocked, fg, grey, NULL, base, t, true);
           continue;
@@ -2620,9 +2642,9 @@ void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
       }
     }
     if (m->inner_declines) *m->inner_declines += declines;
+    return;
   }
-  inner_split(m, tr, lx, n - p, NULL, xu + p, xw + p, true, blocked + p, fg, grey + p, NULL, sp,
-              base + p, t, true);
+  inner_split(m, tr, lx, n, NULL, xu, xw, true, blocked, fg, grey, NULL, sp, base, t, true);
 }
 #endif
 
