@@ -2646,6 +2646,21 @@ void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
   }
   inner_split(m, tr, lx, n, NULL, xu, xw, true, blocked, fg, grey, NULL, sp, base, t, true);
 }
+/* partial_split in the AVX build: inner_split4 a triangle at a time. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void partial_split4(const struct smooth_model *m, const struct mapped *map, int nseg,
+                    const int *tri, const int *at, const double *xu, const double *xw,
+                    const unsigned *blocked, int *grey, long regions[3], struct split *sp)
+{
+  sp->nl = sp->ni = 0;
+  for (int k = 0; k < nseg; k++) {
+    const int t = tri[k], b = at[k];
+    const struct smooth_tri *tr = &m->tri[t];
+    inner_split4(m, tr, &m->lanes[t], at[k + 1] - b, xu + b, xw + b, blocked + b,
+                 map->f[tr->mface].grey, grey + b, sp, b, t);
+  }
+  regions[0] += at[nseg] - sp->nl;          /* the points proved inner */
+}
 #endif
 
 /* smooth_row under smooth=fixed or prop: smooth_grey_run's partial smoothing, its steps
@@ -2908,14 +2923,7 @@ static PHONG_AVX_ATTR void partial_row_avx(const struct smooth_model *m,
 {
   struct split sp;
   struct slots S;
-  sp.nl = sp.ni = 0;
-  for (int k = 0; k < nseg; k++) {
-    const int t = tri[k], b = at[k];
-    const struct smooth_tri *tr = &m->tri[t];
-    inner_split4(m, tr, &m->lanes[t], at[k + 1] - b, xu + b, xw + b, blocked + b,
-                 map->f[tr->mface].grey, grey + b, &sp, b, t);
-  }
-  regions[0] += at[nseg] - sp.nl;           /* the points proved inner */
+  partial_split4(m, map, nseg, tri, at, xu, xw, blocked, grey, regions, &sp);
   const int ns = partial_normals4(m, map, &sp, blocked, grey, regions, &S);
   const int q = lit_quads(m, ns, S.nv, S.sg, S.slot_p, blocked, L, grey);
   if (q < ns) lit_row(m, q, ns, S.nv, S.sg, 1.0, S.slot_p, X, blocked, L, grey);
