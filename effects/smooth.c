@@ -2570,6 +2570,16 @@ void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
     int p = 0;
     const __m256d lov = _mm256_broadcast_sd(lx->xilo), hiv = _mm256_broadcast_sd(lx->xihi);
     const __m256d atv = _mm256_set1_pd(fabs(tr->btot)), zero = _mm256_setzero_pd();
+    /* the triangle's constants in four lanes, once a stretch (those the registers cannot
+       hold are kept on the stack, each step's operations reading them from there) */
+    __m256d a0[3], a1[3], d0[3], d1[3], tc[3];
+    for (int k = 0; k < 3; k++) {
+      a0[k] = _mm256_broadcast_sd(&lx->xa[k][0][0]);
+      a1[k] = _mm256_broadcast_sd(&lx->xa[k][1][0]);
+      d0[k] = _mm256_broadcast_sd(&lx->xsd[k][0][0]);
+      d1[k] = _mm256_broadcast_sd(&lx->xsd[k][1][0]);
+      tc[k] = _mm256_broadcast_sd(lx->xtc[k]);
+    }
     for (; p < n; p += 4) {
       const int cnt = n - p < 4 ? n - p : 4;  /* the step's points: lanes 0 .. cnt - 1 */
       __m256d x, y;
@@ -2588,17 +2598,13 @@ void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
       }
       __m256d w[3];
       for (int k = 0; k < 3; k++)             /* area_lanes' operations */
-        w[k] = _mm256_sub_pd(
-            _mm256_mul_pd(_mm256_broadcast_sd(&lx->xsd[k][0][0]),
-                          _mm256_sub_pd(y, _mm256_broadcast_sd(&lx->xa[k][1][0]))),
-            _mm256_mul_pd(_mm256_sub_pd(x, _mm256_broadcast_sd(&lx->xa[k][0][0])),
-                          _mm256_broadcast_sd(&lx->xsd[k][1][0])));
+        w[k] = _mm256_sub_pd(_mm256_mul_pd(d0[k], _mm256_sub_pd(y, a1[k])),
+                             _mm256_mul_pd(_mm256_sub_pd(x, a0[k]), d1[k]));
       const __m256d S = _mm256_add_pd(_mm256_add_pd(w[0], w[1]), w[2]);
       __m256d ok = _mm256_and_pd(_mm256_cmp_pd(S, lov, _CMP_GE_OS),
                                  _mm256_cmp_pd(S, hiv, _CMP_LE_OS));
       for (int k = 0; k < 3; k++)
-        ok = _mm256_and_pd(ok, _mm256_cmp_pd(w[k], _mm256_mul_pd(_mm256_broadcast_sd(lx->xtc[k]),
-                                                                 S), _CMP_GE_OS));
+        ok = _mm256_and_pd(ok, _mm256_cmp_pd(w[k], _mm256_mul_pd(tc[k], S), _CMP_GE_OS));
       const int bits = _mm256_movemask_pd(ok);
       if (cnt == 4 && bits == 15 &&
           !(blocked[p] | blocked[p + 1] | blocked[p + 2] | blocked[p + 3])) {
