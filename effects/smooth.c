@@ -2906,7 +2906,14 @@ int partial_normals4(const struct smooth_model *m, const struct mapped *map, str
    test_row_is_single and test_row_band_pairs run the rows both ways). Round 39: VEX's
    three operands take no register copies, its operands from memory need no alignment,
    and a pair's constant is one load (VMOVDDUP), not two; partial_row's instructions about
-   -15% on t1-e (a frame about 1,179 k -> 1,094 k). */
+   -15% on t1-e (a frame about 1,179 k -> 1,094 k). Round 41, four lanes a step in the
+   filter, the band normals and the lighting: partial_row_avx's instructions on t1-e -15%
+   (2,488 k -> 2,118 k over 5 frames; the frame 1,047 -> 973 k), t1-a level; the whole
+   process's least CPU time over 15 runs in turn about -9 to -14% on t1-c, t1-d, t1-e,
+   t1-j, -4% on t1-a. Its first step is held by the divider (six divides a step of four,
+   VDIVPD's throughput per instruction the same at 128, 256 and 512 bits on this Zen 5);
+   tried and level: the second three divides left out where every lane's sum is 1 (44%
+   of t1-e's steps, 77% of the lanes: the branch mispredicts about as often). */
 static void partial_row_sse2(const struct smooth_model *m, const struct mapped *map, int nseg,
                              const int *tri, const int *at, const double *xu, const double *xw,
                              const double (*X)[3], const unsigned *blocked,
