@@ -1343,9 +1343,9 @@ static inline void phong_lanes(const struct smooth_model *m, const struct smooth
 static inline int clamp_grey(int g) { return g < 0 ? 0 : g > 255 ? 255 : g; }
 
 static inline __attribute__((always_inline))
-void lit_row(const struct smooth_model *m, int ns, double (*nv)[SMOOTH_ROW], const double *sg,
-             double refl, const int *slot_p, const double (*X)[3], const unsigned *blocked,
-             const struct shade_lights *L, int *grey);
+void lit_row(const struct smooth_model *m, int q, int ns, double (*nv)[SMOOTH_ROW],
+             const double *sg, double refl, const int *slot_p, const double (*X)[3],
+             const unsigned *blocked, const struct shade_lights *L, int *grey);
 
 /* lit_row with one side sgn for every slot (a run's: one triangle). */
 static inline void lit_slots(const struct smooth_model *m, double sgn, int ns,
@@ -1355,7 +1355,7 @@ static inline void lit_slots(const struct smooth_model *m, double sgn, int ns,
 {
   double sg[SMOOTH_ROW];
   for (int q = 0; q < ns; q++) sg[q] = sgn;
-  lit_row(m, ns, nv, sg, refl, slot_p, X, blocked, L, grey);
+  lit_row(m, 0, ns, nv, sg, refl, slot_p, X, blocked, L, grey);
 }
 
 #ifdef __SSE2__
@@ -2394,7 +2394,7 @@ void lit_pair_as(bool filt, __m128d v0, __m128d v1, __m128d v2, __m128d sg, unsi
 }
 #endif
 
-/* The greys of slots q < ns: the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
+/* The greys of slots q .. ns - 1 (q: the first, 0 but after lit_quads): the normal (nv[0][q], nv[1][q], nv[2][q]) made a unit vector
    (unit()'s steps), turned to its eye's side (times sg[q]) and lit (shade_grey_lit, at
    reflectance refl) at point slot_p[q] (X, blocked), into grey[slot_p[q]] clamped to
    0..255. Under parallel lights two slots an instruction where the processor has SSE2
@@ -2403,11 +2403,10 @@ void lit_pair_as(bool filt, __m128d v0, __m128d v1, __m128d v2, __m128d sg, unsi
    lit pairs' filter (lit_pair_filter: one divide a pair, not three) where fl(207 refl) and
    the lights' sum of |l_c| are at most 2^8 each (and not m's lit_exact). */
 static inline __attribute__((always_inline))
-void lit_row(const struct smooth_model *m, int ns, double (*nv)[SMOOTH_ROW], const double *sg,
-             double refl, const int *slot_p, const double (*X)[3], const unsigned *blocked,
-             const struct shade_lights *L, int *grey)
+void lit_row(const struct smooth_model *m, int q, int ns, double (*nv)[SMOOTH_ROW],
+             const double *sg, double refl, const int *slot_p, const double (*X)[3],
+             const unsigned *blocked, const struct shade_lights *L, int *grey)
 {
-  int q = 0;
 #ifdef __SSE2__
   bool parallel = true;
   double lam = 0;
@@ -2455,6 +2454,221 @@ void lit_row(const struct smooth_model *m, int ns, double (*nv)[SMOOTH_ROW], con
   }
 }
 
+#ifdef PHONG_AVX
+/* lit_pair_filter at four slots q .. q + 3 (lanes 0 .. 3: normals nv[c][q + h], sides
+   sg[q + h], the lights blocked b[h]; c = fl(207 refl) in cv): each lane's operations
+   lit_pair_filter's on its values in their order (VEX-encoded, 256 bits wide, the same
+   IEEE operations: no fused multiply-add, the build's -ffp-contract=off; the compares by
+   the predicates of SSE2's CMPPD: GT_OS, GE_OS, LE_OS, LT_OS, false for a NaN as theirs),
+   so where it takes all four lanes each lane's grey is the pair filter's, and that the
+   chain's (the lit pairs' filter's proof). True and the greys into g[h] when every lane
+   passes the filter's tests; false (nothing written) when any lane declines. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+bool lit_quad_filter(double (*nv)[SMOOTH_ROW], const double *sg, int q, const unsigned b[4],
+                     const struct shade_lights *L, int nlight, __m256d cv, int g[4])
+{
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d v0 = _mm256_loadu_pd(nv[0] + q), v1 = _mm256_loadu_pd(nv[1] + q),
+                v2 = _mm256_loadu_pd(nv[2] + q), sgv = _mm256_loadu_pd(sg + q);
+  const __m256d ln = _mm256_sqrt_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(v0, v0),
+                                                                _mm256_mul_pd(v1, v1)),
+                                                  _mm256_mul_pd(v2, v2)));
+  __m256d sum = zero;                         /* lights_sum's, lane by lane */
+  for (int k = 0; k < nlight; k++) {
+    const double *l = L->v[k];
+    const __m256d d =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(v0, _mm256_mul_pd(_mm256_set1_pd(l[0]), sgv)),
+                                    _mm256_mul_pd(v1, _mm256_mul_pd(_mm256_set1_pd(l[1]), sgv))),
+                      _mm256_mul_pd(v2, _mm256_mul_pd(_mm256_set1_pd(l[2]), sgv)));
+    __m256d mk = _mm256_cmp_pd(d, zero, _CMP_GT_OS);
+    if ((b[0] | b[1] | b[2] | b[3]) >> k & 1u) mk = _mm256_and_pd(mk, unblocked4(b, k));
+    sum = k ? _mm256_add_pd(sum, _mm256_and_pd(mk, d)) : _mm256_and_pd(mk, d);
+  }
+  const __m256d f = _mm256_add_pd(_mm256_mul_pd(cv, _mm256_div_pd(sum, ln)),
+                                  _mm256_set1_pd(0.5));
+  const __m256d dl = _mm256_set1_pd(0x1p-29);
+  const __m256d f0 = _mm256_sub_pd(f, dl), f1 = _mm256_add_pd(f, dl);
+  const __m256d ok =
+      _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(ln, _mm256_set1_pd(0x1p-400), _CMP_GE_OS),
+                                  _mm256_cmp_pd(ln, _mm256_set1_pd(0x1p400), _CMP_LE_OS)),
+                    _mm256_and_pd(_mm256_cmp_pd(f0, zero, _CMP_GE_OS),
+                                  _mm256_cmp_pd(f1, _mm256_set1_pd(0x1p10), _CMP_LT_OS)));
+  const __m128i t0 = _mm256_cvttpd_epi32(f0), t1 = _mm256_cvttpd_epi32(f1);
+  if (_mm256_movemask_pd(ok) != 15 || _mm_movemask_epi8(_mm_cmpeq_epi32(t0, t1)) != 0xffff)
+    return false;
+  /* (0 <= t0 < 2^10: 48 + t0 packed to bytes by the two saturating packs, as
+     shade_pair_pack's, four lanes) */
+  const __m128i a = _mm_add_epi32(t0, _mm_set1_epi32(SHADE_AMBIENT));
+  const unsigned gb = (unsigned)_mm_cvtsi128_si32(
+      _mm_packus_epi16(_mm_packs_epi32(a, a), _mm_setzero_si128()));
+  for (int h = 0; h < 4; h++) g[h] = (int)(gb >> 8 * h & 0xffu);
+  return true;
+}
+
+/* lit_row's slots four a step (lit_quad_filter) from slot 0 where lit_row would take the
+   lit pairs' filter (under parallel lights, fl(207 refl) and the lights' sum of |l_c| at
+   most 2^8 each, not m's lit_exact); a step any of whose lanes the filter declines is
+   made as lit_row makes it, its two pairs each by lit_pair_as (so the same greys, and
+   the same declines counted: lit_row's pairs are these). Returns the first slot left to
+   lit_row (a multiple of 4; 0 where the filter is not taken). */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+int lit_quads(const struct smooth_model *m, int ns, double (*nv)[SMOOTH_ROW], const double *sg,
+              const int *slot_p, const unsigned *blocked, const struct shade_lights *L,
+              int *grey)
+{
+  double lam = 0;
+  for (int k = 0; k < L->n; k++) {
+    if (L->point[k]) return 0;
+    lam += fabs(L->v[k][0]) + fabs(L->v[k][1]) + fabs(L->v[k][2]);
+  }
+  const double c = 255 - SHADE_AMBIENT;      /* refl 1 */
+  if (m->lit_exact || !(lam <= 0x1p8)) return 0;
+  const __m256d cv = _mm256_set1_pd(c);
+  const __m128d cv2 = _mm_set1_pd(c);
+  const int nlight = L->n;
+  long declines = 0;
+  int q = 0;
+  for (; q + 4 <= ns; q += 4) {
+    const int p0 = slot_p[q], p1 = slot_p[q + 1], p2 = slot_p[q + 2], p3 = slot_p[q + 3];
+    const unsigned b[4] = { blocked[p0], blocked[p1], blocked[p2], blocked[p3] };
+    int g[4];
+    if (nlight == 1 ? lit_quad_filter(nv, sg, q, b, L, 1, cv, g)
+                    : lit_quad_filter(nv, sg, q, b, L, nlight, cv, g)) {
+      grey[p0] = g[0];
+      grey[p1] = g[1];
+      grey[p2] = g[2];
+      grey[p3] = g[3];
+      continue;
+    }
+    for (int h = 0; h < 4; h += 2)
+      lit_pair_as(true, pick2(nv[0] + q + h, nv[0] + q + h + 1),
+                  pick2(nv[1] + q + h, nv[1] + q + h + 1), pick2(nv[2] + q + h, nv[2] + q + h + 1),
+                  pick2(sg + q + h, sg + q + h + 1), b[h], b[h + 1], L, nlight, 1.0, cv2,
+                  &grey[slot_p[q + h]], &grey[slot_p[q + h + 1]], &declines);
+  }
+  if (m->lit_declines) *m->lit_declines += declines;
+  return q;
+}
+
+/* inner_split for a row's stretch of triangle t's points (row, flat: partial_rows' call)
+   four points a step (AVX's 256-bit registers), the rest (n mod 4) by inner_split itself.
+   Each lane's operations inner_split's pair step's on its point, in their order (the
+   same IEEE operations, VEX-encoded: no fused multiply-add, -ffp-contract=off; the
+   compares by CMPPD's predicates GE_OS, LE_OS, GT_OS, false for a NaN as SSE2's; MAXPD's
+   operand order kept, so +0 for a NaN or a zero quotient as there), the same tests, and
+   the points put into sp in their order (those proved inner by inner_point, the others'
+   coordinates, triangles and indices): the same split, bit for bit, and the same
+   declines counted. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void inner_split4(const struct smooth_model *m, const struct smooth_tri *tr,
+                  const struct smooth_lanes *lx, int n, const double *xu, const double *xw,
+                  const unsigned *blocked, int fg, int *grey, struct split *sp, int base,
+                  int t)
+{
+  if (lx->inner_ok && !m->inner_exact) {
+    long declines = 0;
+    int p = 0;
+    const __m256d lov = _mm256_broadcast_sd(lx->xilo), hiv = _mm256_broadcast_sd(lx->xihi);
+    const __m256d atv = _mm256_set1_pd(fabs(tr->btot)), zero = _mm256_setzero_pd();
+    /* the triangle's constants in four lanes, once a stretch (those the registers cannot
+       hold are kept on the stack, each step's operations reading them from there) */
+    __m256d a0[3], a1[3], d0[3], d1[3], tc[3];
+    for (int k = 0; k < 3; k++) {
+      a0[k] = _mm256_broadcast_sd(&lx->xa[k][0][0]);
+      a1[k] = _mm256_broadcast_sd(&lx->xa[k][1][0]);
+      d0[k] = _mm256_broadcast_sd(&lx->xsd[k][0][0]);
+      d1[k] = _mm256_broadcast_sd(&lx->xsd[k][1][0]);
+      tc[k] = _mm256_broadcast_sd(lx->xtc[k]);
+    }
+    for (; p < n; p += 4) {
+      const int cnt = n - p < 4 ? n - p : 4;  /* the step's points: lanes 0 .. cnt - 1 */
+      __m256d x, y;
+      if (cnt == 4) {
+        /* (two 16-byte loads each: smooth_partial_row's callers store xu and xw 16 bytes
+           a store from the triangle's first point, and a load is forwarded only from one
+           store) */
+        x = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(xu + p)),
+                                 _mm_loadu_pd(xu + p + 2), 1);
+        y = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(xw + p)),
+                                 _mm_loadu_pd(xw + p + 2), 1);
+      } else {                                /* the lanes past them: the last point again */
+        const int i1 = cnt > 1, i2 = cnt > 2 ? 2 : i1;
+        x = _mm256_set_pd(xu[p + i2], xu[p + i2], xu[p + i1], xu[p]);
+        y = _mm256_set_pd(xw[p + i2], xw[p + i2], xw[p + i1], xw[p]);
+      }
+      __m256d w[3];
+      for (int k = 0; k < 3; k++)             /* area_lanes' operations */
+        w[k] = _mm256_sub_pd(_mm256_mul_pd(d0[k], _mm256_sub_pd(y, a1[k])),
+                             _mm256_mul_pd(_mm256_sub_pd(x, a0[k]), d1[k]));
+      const __m256d S = _mm256_add_pd(_mm256_add_pd(w[0], w[1]), w[2]);
+      __m256d ok = _mm256_and_pd(_mm256_cmp_pd(S, lov, _CMP_GE_OS),
+                                 _mm256_cmp_pd(S, hiv, _CMP_LE_OS));
+      for (int k = 0; k < 3; k++)
+        ok = _mm256_and_pd(ok, _mm256_cmp_pd(w[k], _mm256_mul_pd(tc[k], S), _CMP_GE_OS));
+      const int bits = _mm256_movemask_pd(ok);
+      if (cnt == 4 && bits == 15 &&
+          !(blocked[p] | blocked[p + 1] | blocked[p + 2] | blocked[p + 3])) {
+        grey[p] = grey[p + 1] = grey[p + 2] = grey[p + 3] = fg;
+        continue;
+      }
+      /* the coordinates (inner_split's row step, lane by lane) */
+      __m256d lk[3], v[3];
+      for (int k = 0; k < 3; k++) lk[k] = _mm256_max_pd(_mm256_div_pd(w[k], atv), zero);
+      const __m256d sum = _mm256_add_pd(_mm256_add_pd(lk[0], lk[1]), lk[2]);
+      const __m256d pos = _mm256_cmp_pd(sum, zero, _CMP_GT_OS);
+      if (_mm256_movemask_pd(pos) == 15)
+        for (int k = 0; k < 3; k++) v[k] = _mm256_div_pd(lk[k], sum);
+      else
+        for (int k = 0; k < 3; k++)
+          v[k] = _mm256_blendv_pd(_mm256_set1_pd(1.0 / 3), _mm256_div_pd(lk[k], sum), pos);
+      if ((bits & ((1 << cnt) - 1)) == 0 && sp->nl + 4 <= SMOOTH_ROW) {
+        /* every point of the step to the chain (the usual case): four lanes a store, the
+           lanes past the step's points (held by no slot, written over by the next) inside
+           sp's arrays */
+        const int nl = sp->nl;
+        for (int k = 0; k < 3; k++) _mm256_storeu_pd(sp->la[k] + nl, v[k]);
+        _mm_storeu_si128((__m128i *)(sp->tri + nl), _mm_set1_epi32(t));
+        _mm_storeu_si128((__m128i *)(sp->at + nl),
+                         _mm_add_epi32(_mm_set1_epi32(base + p), _mm_set_epi32(3, 2, 1, 0)));
+        sp->nl = nl + cnt;
+        declines += cnt;
+        continue;
+      }
+      double vs[3][4];
+      for (int k = 0; k < 3; k++) _mm256_storeu_pd(vs[k], v[k]);
+      for (int h = 0; h < cnt; h++) {
+        if (bits >> h & 1) {
+          inner_point(sp, p + h, true, blocked, fg, grey, NULL, base, t, true);
+          continue;
+        }
+        declines++;
+        for (int k = 0; k < 3; k++) sp->la[k][sp->nl] = vs[k][h];
+        sp->tri[sp->nl] = t;
+        sp->at[sp->nl++] = base + p + h;
+      }
+    }
+    if (m->inner_declines) *m->inner_declines += declines;
+    return;
+  }
+  inner_split(m, tr, lx, n, NULL, xu, xw, true, blocked, fg, grey, NULL, sp, base, t, true);
+}
+/* partial_split in the AVX build: inner_split4 a triangle at a time. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void partial_split4(const struct smooth_model *m, const struct mapped *map, int nseg,
+                    const int *tri, const int *at, const double *xu, const double *xw,
+                    const unsigned *blocked, int *grey, long regions[3], struct split *sp)
+{
+  sp->nl = sp->ni = 0;
+  for (int k = 0; k < nseg; k++) {
+    const int t = tri[k], b = at[k];
+    const struct smooth_tri *tr = &m->tri[t];
+    inner_split4(m, tr, &m->lanes[t], at[k + 1] - b, xu + b, xw + b, blocked + b,
+                 map->f[tr->mface].grey, grey + b, sp, b, t);
+  }
+  regions[0] += at[nseg] - sp->nl;          /* the points proved inner */
+}
+#endif
+
 /* smooth_row under smooth=fixed or prop: smooth_grey_run's partial smoothing, its steps
    each over the whole stretch (reflectance 1: flat) and each point with its own
    triangle's constants: the inner triangle's filter a triangle at a time (inner_split,
@@ -2464,93 +2678,252 @@ void lit_row(const struct smooth_model *m, int ns, double (*nv)[SMOOTH_ROW], con
    lighting (lit_row). No step waits on a divide to choose its next branch before the
    normals. The points are given by their coordinates on their triangles' axes bu and bw,
    xu[p] and xw[p]: all that the steps read of them but the lighting under a point light,
-   which takes the space points X (NULL when the lights are all parallel). */
+   which takes the space points X (NULL when the lights are all parallel). Built twice
+   (partial_row_sse2, partial_row_avx): the steps are partial_split or partial_split4,
+   partial_normals, then lit_row (after lit_quads in the AVX build). */
+
+/* The lit points' normals in slots (as smooth_grey_run's), each with its eye's side and
+   its point. */
+struct slots {
+  double nv[3][SMOOTH_ROW], sg[SMOOTH_ROW];
+  int slot_p[SMOOTH_ROW];
+};
+
+/* partial_rows' first step: the inner triangle's filter a triangle at a time (inner_split)
+   into sp, the points proved inner counted in regions[0]. */
 static inline __attribute__((always_inline))
-void partial_rows(const struct smooth_model *m, const struct mapped *map, int nseg,
-                  const int *tri, const int *at, const double *xu, const double *xw,
-                  const double (*X)[3], const unsigned *blocked, const struct shade_lights *L,
-                  int *grey, long regions[3])
+void partial_split(const struct smooth_model *m, const struct mapped *map, int nseg,
+                   const int *tri, const int *at, const double *xu, const double *xw,
+                   const unsigned *blocked, int *grey, long regions[3], struct split *sp)
 {
-  struct split sp;
-  sp.nl = sp.ni = 0;
+  sp->nl = sp->ni = 0;
   for (int k = 0; k < nseg; k++) {
     const int t = tri[k], b = at[k];
     const struct smooth_tri *tr = &m->tri[t];
     inner_split(m, tr, &m->lanes[t], at[k + 1] - b, NULL, xu + b, xw + b, true, blocked + b,
-                map->f[tr->mface].grey, grey + b, NULL, &sp, b, t, true);
+                map->f[tr->mface].grey, grey + b, NULL, sp, b, t, true);
   }
-  const int nl = sp.nl;
-  regions[0] += at[nseg] - nl;              /* the points proved inner */
-  double (*lv)[SMOOTH_ROW] = sp.la;          /* the coordinates (inner_split's row) */
-  /* the lit points' normals in slots (as smooth_grey_run's), each with its side */
-  double nv[3][SMOOTH_ROW], sg[SMOOTH_ROW];
-  int slot_p[SMOOTH_ROW], ns = 0;
-  for (int q = 0; q < nl; q++) {
-    const int t = sp.tri[q];
-    const struct smooth_tri *tr = &m->tri[t];
-    const double sgn = tr->front ? 1 : -1;   /* seen from inside: the eye's side */
-#ifdef __SSE2__
-    if (q + 1 < nl && sp.tri[q + 1] == t) {
-      const int r = band_pair_normals(&m->lanes[t], lv, q, nv, ns);
-      if (r) {                                /* two points of one edge or corner band */
-        for (int h = 0; h < 2; h++) {
-          sg[ns] = sgn;
-          slot_p[ns++] = sp.at[q + h];
-        }
-        regions[r] += 2;
-        q++;
-        continue;
-      }
-    }
-    {                                         /* one point of a band: in both lanes */
-      const __m128d l[3] = { _mm_set1_pd(lv[0][q]), _mm_set1_pd(lv[1][q]), _mm_set1_pd(lv[2][q]) };
-      __m128d n[3];
-      const int r = band_lanes(&m->lanes[t], l, n);
-      if (r) {
-        for (int c = 0; c < 3; c++) _mm_storel_pd(&nv[c][ns], n[c]);
-        sg[ns] = sgn;
-        slot_p[ns++] = sp.at[q];
-        regions[r]++;
-        continue;
-      }
-    }
-#endif
-    const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
-    double out[3];
-    const int r = partial_normal(tr, lq, out), p = sp.at[q];
-    regions[r]++;                             /* 0, 1 or 2 */
-    if (r == 0 && !blocked[p]) {
-      grey[p] = map->f[tr->mface].grey;
-      continue;
-    }
-    for (int c = 0; c < 3; c++) nv[c][ns] = out[c];
-    sg[ns] = sgn;
-    slot_p[ns++] = p;
-  }
-  for (int k = 0; k < sp.ni; k++, ns++) {   /* the face's normal */
-    const struct smooth_tri *tr = &m->tri[sp.lit_tri[k]];
-    for (int c = 0; c < 3; c++) nv[c][ns] = tr->n[c];
-    sg[ns] = tr->front ? 1 : -1;
-    slot_p[ns] = sp.lit_in[k];
-  }
-  if (ns) lit_row(m, ns, nv, sg, 1.0, slot_p, X, blocked, L, grey);
+  regions[0] += at[nseg] - sp->nl;          /* the points proved inner */
 }
 
-/* partial_rows built twice: for SSE2 (the build's target) and with AVX's encoding (VEX,
-   chosen at run time by rows_avx, as smooth_phong_row's rows are). The AVX build is the same
-   C, the same 128-bit operations in the same order on the same doubles, each IEEE operation
-   the same whatever its encoding (no fused multiply-add: AVX alone, and the build's
-   -ffp-contract=off; no reassociation: no -ffast-math), so the same greys and regions bit for
-   bit (test_smooth test_row_is_single and test_row_band_pairs run the rows both ways). What
-   it saves is instructions: VEX's three operands take no register copies, its operands from
-   memory need no alignment, and a pair's constant is one load (VMOVDDUP), not two;
-   partial_row's instructions about -15% on t1-e (a frame about 1,179 k -> 1,094 k). */
+/* partial_normals' step at point q of sp (its lv: sp's coordinates): two points of one
+   triangle's edge or corner band (band_pair_normals), else one point (band_lanes, or
+   partial_normal's chain where it is in neither: the inner triangle, or every coordinate
+   below its inset), their normals into the slots S from *ns on (the inner ones not lit
+   given the face's grey), their regions counted; returns the point after them. */
+static inline __attribute__((always_inline))
+int normals_step(const struct smooth_model *m, const struct mapped *map, struct split *sp,
+                 int q, const unsigned *blocked, int *grey, long regions[3], struct slots *S,
+                 int *ns)
+{
+  const int nl = sp->nl;
+  double (*lv)[SMOOTH_ROW] = sp->la;
+  double (*nv)[SMOOTH_ROW] = S->nv;
+  const int t = sp->tri[q];
+  const struct smooth_tri *tr = &m->tri[t];
+  const double sgn = tr->front ? 1 : -1;     /* seen from inside: the eye's side */
+#ifdef __SSE2__
+  if (q + 1 < nl && sp->tri[q + 1] == t) {
+    const int r = band_pair_normals(&m->lanes[t], lv, q, nv, *ns);
+    if (r) {                                  /* two points of one edge or corner band */
+      for (int h = 0; h < 2; h++) {
+        S->sg[*ns] = sgn;
+        S->slot_p[(*ns)++] = sp->at[q + h];
+      }
+      regions[r] += 2;
+      return q + 2;
+    }
+  }
+  {                                           /* one point of a band: in both lanes */
+    const __m128d l[3] = { _mm_set1_pd(lv[0][q]), _mm_set1_pd(lv[1][q]), _mm_set1_pd(lv[2][q]) };
+    __m128d n[3];
+    const int r = band_lanes(&m->lanes[t], l, n);
+    if (r) {
+      for (int c = 0; c < 3; c++) _mm_storel_pd(&nv[c][*ns], n[c]);
+      S->sg[*ns] = sgn;
+      S->slot_p[(*ns)++] = sp->at[q];
+      regions[r]++;
+      return q + 1;
+    }
+  }
+#endif
+  const double lq[3] = { lv[0][q], lv[1][q], lv[2][q] };
+  double out[3];
+  const int r = partial_normal(tr, lq, out), p = sp->at[q];
+  regions[r]++;                               /* 0, 1 or 2 */
+  if (r == 0 && !blocked[p]) {
+    grey[p] = map->f[tr->mface].grey;
+    return q + 1;
+  }
+  for (int c = 0; c < 3; c++) nv[c][*ns] = out[c];
+  S->sg[*ns] = sgn;
+  S->slot_p[(*ns)++] = p;
+  return q + 1;
+}
+
+/* The points put aside to be lit with the face's normal (sp's lit_in) into the slots S
+   from ns on; returns the slots' count. */
+static inline __attribute__((always_inline))
+int face_slots(const struct smooth_model *m, const struct split *sp, struct slots *S, int ns)
+{
+  for (int k = 0; k < sp->ni; k++, ns++) {
+    const struct smooth_tri *tr = &m->tri[sp->lit_tri[k]];
+    for (int c = 0; c < 3; c++) S->nv[c][ns] = tr->n[c];
+    S->sg[ns] = tr->front ? 1 : -1;
+    S->slot_p[ns] = sp->lit_in[k];
+  }
+  return ns;
+}
+
+/* partial_rows' second step: the normals of the points left to the chain in sp (their
+   regions counted, the inner ones not lit given the face's grey: normals_step) and of the
+   points put aside to be lit with the face's normal (face_slots), into the slots S;
+   returns how many. */
+static inline __attribute__((always_inline))
+int partial_normals(const struct smooth_model *m, const struct mapped *map, struct split *sp,
+                    const unsigned *blocked, int *grey, long regions[3], struct slots *S)
+{
+  int ns = 0;
+  for (int q = 0; q < sp->nl;) q = normals_step(m, map, sp, q, blocked, grey, regions, S, &ns);
+  return face_slots(m, sp, S, ns);
+}
+
+#ifdef PHONG_AVX
+/* edge_lanes at four points (lanes 0 .. 3) of one edge band k: each lane edge_lanes'
+   operations (and so partial_normal's) on its values in their order, VEX-encoded, 256
+   bits wide (the compare GT_OS: CMPPD's GT; VMAXPD and VMINPD as MAXPD and MINPD, the
+   same operand order). */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void edge_lanes4(const struct smooth_lanes *x, const __m256d *l, int k, __m256d *n)
+{
+  const int a = next3[k], b = prev3[k];
+  const __m256d one = _mm256_set1_pd(1), zero = _mm256_setzero_pd();
+  const __m256d tk = _mm256_broadcast_sd(x->xt[k]), ta = _mm256_broadcast_sd(x->xt[a]);
+  const __m256d v = _mm256_div_pd(l[k], tk);
+  const __m256d den = _mm256_sub_pd(_mm256_sub_pd(_mm256_sub_pd(one, l[k]), ta),
+                                    _mm256_broadcast_sd(x->xt[b]));
+  const __m256d big = _mm256_cmp_pd(den, _mm256_set1_pd(1e-12), _CMP_GT_OS);
+  __m256d s = _mm256_blendv_pd(_mm256_set1_pd(0.5),
+                               _mm256_div_pd(_mm256_sub_pd(l[a], ta), den), big);
+  s = _mm256_max_pd(zero, s);                                   /* s < 0: +0 */
+  s = _mm256_min_pd(one, s);                                    /* s > 1: 1 */
+  const __m256d omv = _mm256_sub_pd(one, v), oms = _mm256_sub_pd(one, s);
+  const double (*e)[3][2] = x->xends[k];
+  for (int c = 0; c < 3; c++)
+    n[c] = _mm256_add_pd(
+        _mm256_mul_pd(omv, _mm256_add_pd(_mm256_mul_pd(oms, _mm256_broadcast_sd(e[0][c])),
+                                         _mm256_mul_pd(s, _mm256_broadcast_sd(e[1][c])))),
+        _mm256_mul_pd(v, _mm256_broadcast_sd(x->xn[c])));
+}
+
+/* corner_lanes at four points of one corner band cv (as edge_lanes4). */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void corner_lanes4(const struct smooth_lanes *x, const __m256d *l, int cv, __m256d *n)
+{
+  const int a = next3[cv], b = prev3[cv];
+  const __m256d one = _mm256_set1_pd(1);
+  const __m256d u = _mm256_div_pd(l[a], _mm256_broadcast_sd(x->xt[a]));
+  const __m256d w = _mm256_div_pd(l[b], _mm256_broadcast_sd(x->xt[b]));
+  const __m256d omu = _mm256_sub_pd(one, u), omw = _mm256_sub_pd(one, w);
+  const __m256d c0 = _mm256_mul_pd(omu, omw), c1 = _mm256_mul_pd(u, omw),
+                c2 = _mm256_mul_pd(omu, w), c3 = _mm256_mul_pd(u, w);
+  const double (*e)[3][2] = x->xcends[cv];
+  for (int c = 0; c < 3; c++)
+    n[c] = _mm256_add_pd(
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(c0, _mm256_broadcast_sd(x->xcn[cv][c])),
+                                    _mm256_mul_pd(c1, _mm256_broadcast_sd(e[0][c]))),
+                      _mm256_mul_pd(c2, _mm256_broadcast_sd(e[1][c]))),
+        _mm256_mul_pd(c3, _mm256_broadcast_sd(x->xn[c])));
+}
+
+/* band_lanes at four points q .. q + 3 of sp, all of triangle t: when the four are in the
+   same edge band (1) or the same corner band (2) (partial_normal's compares l[k] < t[k],
+   lane by lane), their normals into the slots S from *ns on and their region returned;
+   else 0, nothing written. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+int band_quad(const struct smooth_model *m, struct split *sp, int q, int t, struct slots *S,
+              int *ns)
+{
+  const struct smooth_lanes *x = &m->lanes[t];
+  __m256d l[3], n[3];
+  int in[3];
+  for (int k = 0; k < 3; k++) {
+    l[k] = _mm256_loadu_pd(sp->la[k] + q);
+    in[k] = _mm256_movemask_pd(_mm256_cmp_pd(l[k], _mm256_broadcast_sd(x->xt[k]), _CMP_LT_OS));
+  }
+  const int all = in[0] | in[1] << 4 | in[2] << 8;   /* each lane's below-inset bits */
+  int r;
+  switch (all) {
+  case 0x00f: edge_lanes4(x, l, 0, n); r = 1; break;
+  case 0x0f0: edge_lanes4(x, l, 1, n); r = 1; break;
+  case 0xf00: edge_lanes4(x, l, 2, n); r = 1; break;
+  case 0xff0: corner_lanes4(x, l, 0, n); r = 2; break;
+  case 0xf0f: corner_lanes4(x, l, 1, n); r = 2; break;
+  case 0x0ff: corner_lanes4(x, l, 2, n); r = 2; break;
+  default: return 0;
+  }
+  const double sgn = m->tri[t].front ? 1 : -1;
+  for (int c = 0; c < 3; c++) _mm256_storeu_pd(S->nv[c] + *ns, n[c]);
+  for (int h = 0; h < 4; h++) {
+    S->sg[*ns] = sgn;
+    S->slot_p[(*ns)++] = sp->at[q + h];
+  }
+  return r;
+}
+
+/* partial_normals in the AVX build: four points of one triangle's edge or corner band a
+   step where they are (band_quad), else normals_step; the same slots in the same order,
+   the same normals (each lane's operations partial_normal's) and regions. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+int partial_normals4(const struct smooth_model *m, const struct mapped *map, struct split *sp,
+                     const unsigned *blocked, int *grey, long regions[3], struct slots *S)
+{
+  int ns = 0;
+  for (int q = 0; q < sp->nl;) {
+    const int t = sp->tri[q];
+    if (q + 4 <= sp->nl && sp->tri[q + 1] == t && sp->tri[q + 2] == t && sp->tri[q + 3] == t) {
+      const int r = band_quad(m, sp, q, t, S, &ns);
+      if (r) {
+        regions[r] += 4;
+        q += 4;
+        continue;
+      }
+    }
+    q = normals_step(m, map, sp, q, blocked, grey, regions, S, &ns);
+  }
+  return face_slots(m, sp, S, ns);
+}
+#endif
+
+/* partial_rows built twice: for SSE2 (the build's target) and for AVX (VEX, chosen at run
+   time by rows_avx, as smooth_phong_row's rows are). The AVX build is the same C but for
+   the filter's step (partial_split4: inner_split4, four points a step) and the lighting's
+   (lit_quads, four slots a step, before lit_row), 256-bit operations whose lanes each
+   make the SSE2 build's operations on the same doubles in the same order; the rest the
+   same 128-bit operations; each IEEE operation the same whatever its encoding (no fused
+   multiply-add: AVX alone, and the build's -ffp-contract=off; no reassociation: no
+   -ffast-math), so the same greys and regions bit for bit (test_smooth
+   test_row_is_single and test_row_band_pairs run the rows both ways). Round 39: VEX's
+   three operands take no register copies, its operands from memory need no alignment,
+   and a pair's constant is one load (VMOVDDUP), not two; partial_row's instructions about
+   -15% on t1-e (a frame about 1,179 k -> 1,094 k). Round 41, four lanes a step in the
+   filter, the band normals and the lighting: partial_row_avx's instructions on t1-e -15%
+   (2,488 k -> 2,118 k over 5 frames; the frame 1,047 -> 973 k), t1-a level; the whole
+   process's least CPU time over 15 runs in turn about -9 to -14% on t1-c, t1-d, t1-e,
+   t1-j, -4% on t1-a. Its first step is held by the divider (six divides a step of four,
+   VDIVPD's throughput per instruction the same at 128, 256 and 512 bits on this Zen 5);
+   tried and level: the second three divides left out where every lane's sum is 1 (44%
+   of t1-e's steps, 77% of the lanes: the branch mispredicts about as often). */
 static void partial_row_sse2(const struct smooth_model *m, const struct mapped *map, int nseg,
                              const int *tri, const int *at, const double *xu, const double *xw,
                              const double (*X)[3], const unsigned *blocked,
                              const struct shade_lights *L, int *grey, long regions[3])
 {
-  partial_rows(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
+  struct split sp;
+  struct slots S;
+  partial_split(m, map, nseg, tri, at, xu, xw, blocked, grey, regions, &sp);
+  const int ns = partial_normals(m, map, &sp, blocked, grey, regions, &S);
+  if (ns) lit_row(m, 0, ns, S.nv, S.sg, 1.0, S.slot_p, X, blocked, L, grey);
 }
 
 #ifdef PHONG_AVX
@@ -2561,7 +2934,12 @@ static PHONG_AVX_ATTR void partial_row_avx(const struct smooth_model *m,
                                            const struct shade_lights *L, int *grey,
                                            long regions[3])
 {
-  partial_rows(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
+  struct split sp;
+  struct slots S;
+  partial_split4(m, map, nseg, tri, at, xu, xw, blocked, grey, regions, &sp);
+  const int ns = partial_normals4(m, map, &sp, blocked, grey, regions, &S);
+  const int q = lit_quads(m, ns, S.nv, S.sg, S.slot_p, blocked, L, grey);
+  if (q < ns) lit_row(m, q, ns, S.nv, S.sg, 1.0, S.slot_p, X, blocked, L, grey);
 }
 #endif
 

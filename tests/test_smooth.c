@@ -663,8 +663,10 @@ static void test_run_is_single(void **state)
    non-NULL) another count of declines than smooth_row's, counted too. Under smooth=fixed
    or prop with the lights all parallel, smooth_partial_row likewise (in both its builds,
    AVX's encoding where the processor has it and SSE2's: rows_sse2): each grey that
-   differs, each region's count that differs from smooth_row's, and another count of the
-   points the inner filter leaves to the chain (inner_declines) than smooth_row's. */
+   differs, each region's count that differs from smooth_row's, another count of the
+   points the inner filter leaves to the chain (inner_declines) than smooth_row's, and
+   another count of pairs the lit pairs' filter declines (lit_declines) in one build than
+   in the other. */
 
 /* smooth_phong_row on m by one of the ways its rows are built: 0, four points a step (AVX,
    where the processor has it) with AVX-512's short chain (where it has AVX-512VL); 1, the
@@ -707,7 +709,7 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
   if (L->e.smooth != EFFECTS_SMOOTH_PHONG && parallel && smooth_rows(&L->m, &L->e, lights)) {
     double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
     int gu[SMOOTH_ROW];
-    long ru[3] = { 0, 0, 0 }, rx[3] = { 0, 0, 0 }, dec_x = 0, dec_u = 0;
+    long ru[3] = { 0, 0, 0 }, rx[3] = { 0, 0, 0 }, dec_x = 0, dec_u = 0, lit_dec[2] = { 0, 0 };
     for (int k = 0; k < nseg; k++)
       for (int p = at[k]; p < at[k + 1]; p++) {
         xu[p] = X[p][L->m.tri[tri[k]].bu];
@@ -724,8 +726,10 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
       for (int p = 0; p < at[nseg]; p++) gu[p] = -1;
       L->m.rows_sse2 = way == 1;
       L->m.inner_declines = &dec_u;
+      L->m.lit_declines = &lit_dec[way];
       smooth_partial_row(&L->m, &L->r.map, nseg, tri, at, xu, xw, blocked, lights, gu, ru);
       L->m.inner_declines = NULL;
+      L->m.lit_declines = NULL;
       L->m.rows_sse2 = false;
       for (int k = 0; k < nseg; k++)
         for (int p = at[k]; p < at[k + 1]; p++)
@@ -733,6 +737,7 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
       for (int r = 0; r < 3; r++) differ += ru[r] != regions[r];
       differ += dec_u != dec_x;
     }
+    differ += lit_dec[0] != lit_dec[1];     /* the lit pairs' filter declines the same pairs */
   }
   if (L->e.smooth == EFFECTS_SMOOTH_PHONG && parallel && smooth_rows(&L->m, &L->e, lights)) {
     double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
@@ -1875,6 +1880,109 @@ static void test_lit_filter_is_exact(void **state)
   assert_int_equal(border_declines, 2 * borders);
 }
 
+/* smooth_partial_row at points bisected onto the borders between two of the chain's greys
+   (lit_seg_point's segments of test_lit_filter_is_exact, bisected by smooth_grey_at),
+   the two points of a border among other points of the segment in a triangle's stretch
+   of 2 to 9 points, so that they fall in every lane of the AVX build's four-slot steps
+   (lit_quads) and of the SSE2 build's pairs: both builds give each point smooth_grey_at's
+   grey (lit_exact's chain, where the filter declines), and decline the same pairs, at
+   least one a border (the filter's margin: its tests must not take a border's point). */
+static void test_partial_row_lit_borders(void **state)
+{
+  (void)state;
+  static const struct { const char *scene, *fx; } cases[] = {
+    { "scenes/sphere.s74", "smooth=prop:0.15" }, { "scenes/sphere.s74", "smooth=fixed:0.15" },
+    { "scenes/t1-e.s74", "smooth=prop:0.15" },   { "scenes/t1-j.s74", "smooth=prop:0.15" },
+  };
+  long borders = 0, rows = 0, declined_rows = 0, points = 0;
+  int differ = 0;
+  for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+    struct lib L;
+    lib_open(&L, cases[c].scene, cases[c].fx);
+    struct shade_lights lights;
+    shade_lights_init(&lights, L.s);
+    assert_true(smooth_rows(&L.m, &L.e, &lights));
+    for (int t = 0; t < L.m.ntri; t++) {
+      const double *ti = L.m.tri[t].t;
+      for (int k = 0; k < 3; k++) {
+        const int ka = (k + 1) % 3, kb = (k + 2) % 3;
+        double seg[3][2][3];
+        seg[0][0][k] = seg[0][1][k] = 0.4 * ti[k];
+        seg[0][0][ka] = 0.95 - 0.4 * ti[k]; seg[0][0][kb] = 0.05;
+        seg[0][1][ka] = 0.05; seg[0][1][kb] = 0.95 - 0.4 * ti[k];
+        seg[1][0][k] = 0; seg[1][1][k] = ti[k];
+        seg[1][0][ka] = seg[1][1][ka] = 0.5 * (1 - 0.5 * ti[k]);
+        seg[1][0][kb] = 1 - seg[1][0][ka]; seg[1][1][kb] = 1 - ti[k] - seg[1][1][ka];
+        seg[2][0][k] = 1; seg[2][0][ka] = seg[2][0][kb] = 0;
+        seg[2][1][k] = 1 - ti[ka] - ti[kb]; seg[2][1][ka] = ti[ka]; seg[2][1][kb] = ti[kb];
+        for (int j = 0; j < 3; j++) {
+          const double *A = seg[j][0], *B = seg[j][1];
+          double X[SMOOTH_ROW][3];
+          lit_seg_point(&L, t, A, B, 0, X[0]);
+          const int g0 = smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[0], 1.0, 0, &lights,
+                                        NULL, NULL);
+          lit_seg_point(&L, t, A, B, 1, X[0]);
+          if (smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[0], 1.0, 0, &lights, NULL,
+                             NULL) == g0)
+            continue;
+          double s0 = 0, s1 = 1;              /* the chain's grey g0 at s0, another at s1 */
+          for (int it = 0; it < 200; it++) {
+            const double sm = 0.5 * (s0 + s1);
+            if (!(sm > s0 && sm < s1)) break;
+            lit_seg_point(&L, t, A, B, sm, X[0]);
+            if (smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[0], 1.0, 0, &lights, NULL,
+                               NULL) == g0)
+              s0 = sm;
+            else
+              s1 = sm;
+          }
+          borders++;
+          /* stretches of n points: the border's two at slots f and f + 1 (or f + 2), the
+             others along the segment */
+          const int n = 2 + (t + 3 * k + j) % 8, f = (t + k + 2 * j) % (n - 1);
+          const int f1 = f + 2 < n && (t + j) % 2 ? f + 2 : f + 1;
+          unsigned blocked[SMOOTH_ROW];
+          for (int p = 0; p < n; p++) {
+            const double sp = p == f ? s0 : p == f1 ? s1 : (p + 0.5) / n;
+            lit_seg_point(&L, t, A, B, sp, X[p]);
+            blocked[p] = 0;
+          }
+          const int tri[1] = { t }, at[2] = { 0, n };
+          double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
+          for (int p = 0; p < n; p++) {
+            xu[p] = X[p][L.m.tri[t].bu];
+            xw[p] = X[p][L.m.tri[t].bw];
+          }
+          long dec[2] = { 0, 0 };
+          for (int way = 0; way < 2; way++) {  /* AVX (where the processor has it), SSE2 */
+            int g[SMOOTH_ROW];
+            long regions[3] = { 0, 0, 0 };
+            L.m.rows_sse2 = way == 1;
+            L.m.lit_declines = &dec[way];
+            smooth_partial_row(&L.m, &L.r.map, 1, tri, at, xu, xw, blocked, &lights, g,
+                               regions);
+            L.m.lit_declines = NULL;
+            L.m.rows_sse2 = false;
+            for (int p = 0; p < n; p++)
+              differ += g[p] != smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[p], 1.0, 0,
+                                               &lights, NULL, NULL);
+          }
+          differ += dec[0] != dec[1];
+          declined_rows += dec[0] > 0;
+          rows++;
+          points += n;
+        }
+      }
+    }
+    lib_close(&L);
+  }
+  print_message("partial rows at lit borders: %ld borders, %ld rows (%ld points), %ld with "
+                "declines\n", borders, rows, points, declined_rows);
+  assert_int_equal(differ, 0);
+  assert_true(rows > 500);
+  assert_true(declined_rows * 10 > rows * 9);
+}
+
 /* fx_round_ld (effects/poly.h, the shadows' grid points) is llroundl: at integers and
    halves and the long doubles next to them on both sides, positive and negative, from 0
    to 2^61, at random long doubles, and past 2^62 (the library's way). */
@@ -2424,6 +2532,7 @@ int main(void)
     cmocka_unit_test(test_phong_rows_tiny_sum),
     cmocka_unit_test(test_inner_filter_is_exact),
     cmocka_unit_test(test_lit_filter_is_exact),
+    cmocka_unit_test(test_partial_row_lit_borders),
     cmocka_unit_test(test_round_ld_is_llroundl),
     cmocka_unit_test(test_kept_scene_part),
     cmocka_unit_test(test_turned_is_given),
