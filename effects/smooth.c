@@ -2118,6 +2118,232 @@ static inline bool rows_r14(const struct smooth_model *m)
 {
   return !m->phong_sqrt && __builtin_cpu_supports("avx512vl");
 }
+
+/* smooth_phong_row eight points a step (AVX-512F's 512-bit registers), chosen at run time
+   where the processor has AVX-512F and AVX-512VL (rows_zmm): phong_row4_lights' two
+   passes with eight lanes where it has four, and the short chain (phong_tail4 with r14,
+   "The AVX-512 rows' short chain": VRSQRT14PD's bound is the same on 512 bits, so is the
+   proof). Each lane's operations are phong_head4's and phong_tail4's for its point, in
+   their order, each the same IEEE operation on the same doubles (EVEX-encoded; no fused
+   multiply-add: the build's -ffp-contract=off), a compare by the same predicate (into a
+   mask register: a compare under a mask is the AND of the two tests, as VANDPD of the
+   two compares' lanes), a light's blocked lanes made +0 by a zeroing move (as VANDPD
+   with zero): the same greys and the same points declined, bit for bit, as phong_rows4_r14
+   (test_smooth test_phong_rows_borders and test_row_is_single run the rows each way,
+   m->phong_ymm). A run's last step and the row's last step load only their points (masked
+   loads, lanes past them +0: never stored as greys nor counted); the greys under one light
+   go eight in one store, else clamped to 255 (VPMINSD: g > 255 ? 255 : g) and stored
+   under the step's mask. */
+#define PHONG_ZMM_ATTR __attribute__((target("avx512f,avx512vl")))
+/* phong_pts4's places, eight spare past the row's last point */
+#define PHONG_PTS8 (SMOOTH_ROW + 8)
+struct phong_pts8 {
+  _Alignas(64) double n[3][PHONG_PTS8];
+  _Alignas(64) double sg[PHONG_PTS8];
+  _Alignas(64) double mn[PHONG_PTS8];
+  _Alignas(64) double s[PHONG_PTS8];
+  _Alignas(64) double tot[PHONG_PTS8];
+  _Alignas(32) int tri[PHONG_PTS8];
+};
+
+/* A pair's double (struct smooth_lanes) in all eight lanes */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR __m512d lanes8(const double *a)
+{
+  return _mm512_set1_pd(*a);
+}
+
+/* phong_head4 at eight points p .. p + 7 of triangle x into *P: the same operations lane
+   by lane */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
+void phong_head8(const struct smooth_lanes *x, __m512d px, __m512d py, __m512d sg,
+                 __m512d at, struct phong_pts8 *P, int p)
+{
+  const __m512d zero = _mm512_setzero_pd();
+  __m512d w[3], s = zero;
+  for (int k = 0; k < 3; k++) {
+    const __m512d ar = _mm512_sub_pd(
+        _mm512_mul_pd(lanes8(x->xsd[k][0]), _mm512_sub_pd(py, lanes8(x->xa[k][1]))),
+        _mm512_mul_pd(_mm512_sub_pd(px, lanes8(x->xa[k][0])), lanes8(x->xsd[k][1])));
+    w[k] = _mm512_max_pd(ar, zero);         /* MAXPD's: the second operand where equal */
+    s = k ? _mm512_add_pd(s, w[k]) : w[k];
+  }
+  const __m512d mn = _mm512_min_pd(_mm512_min_pd(w[0], w[1]), w[2]);
+  for (int c = 0; c < 3; c++)
+    _mm512_storeu_pd(P->n[c] + p,
+                     _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(w[0], lanes8(x->xcn[0][c])),
+                                                 _mm512_mul_pd(w[1], lanes8(x->xcn[1][c]))),
+                                   _mm512_mul_pd(w[2], lanes8(x->xcn[2][c]))));
+  _mm512_storeu_pd(P->sg + p, sg);
+  _mm512_storeu_pd(P->mn + p, mn);
+  _mm512_storeu_pd(P->s + p, s);
+  _mm512_storeu_pd(P->tot + p, at);
+}
+
+/* phong_tail4 (r14) at points q .. q + cnt - 1 of *P (cnt 1 .. 8; lanes past them not
+   stored nor counted): the same operations lane by lane */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
+void phong_tail8(const struct smooth_model *m, const struct phong_pts8 *P, int q, int cnt,
+                 const double *xu, const double *xw, const unsigned *blocked, bool shadow,
+                 const struct shade_lights *L, const __m512d (*lv)[3], int nlight, int *grey)
+{
+  const __m512d zero = _mm512_setzero_pd();
+  const __mmask8 lanes = (__mmask8)((1u << cnt) - 1);
+  __m256i bv = _mm256_setzero_si256();
+  unsigned bor = 0;
+  if (shadow) {
+    bv = _mm256_maskz_loadu_epi32(lanes, blocked + q);
+    for (int h = 0; h < cnt; h++) bor |= blocked[q + h];
+  }
+  const __m512d N0 = _mm512_load_pd(P->n[0] + q), N1 = _mm512_load_pd(P->n[1] + q);
+  const __m512d N2 = _mm512_load_pd(P->n[2] + q);
+  const __m512d nn = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(N0, N0), _mm512_mul_pd(N1, N1)),
+                                   _mm512_mul_pd(N2, N2));
+  const __m512d sv = _mm512_load_pd(P->s + q);
+  const __m512d at = _mm512_load_pd(P->tot + q);
+  __mmask8 ok = _mm512_cmp_pd_mask(_mm512_load_pd(P->mn + q),
+                                   _mm512_mul_pd(at, _mm512_set1_pd(0x1p-1000)), _CMP_GE_OS);
+  ok = _mm512_mask_cmp_pd_mask(ok, sv, _mm512_mul_pd(at, _mm512_set1_pd(0x1p1000)), _CMP_LE_OS);
+  ok = _mm512_mask_cmp_pd_mask(ok, sv, _mm512_set1_pd(0x1p-500), _CMP_GE_OS);
+  ok = _mm512_mask_cmp_pd_mask(ok, nn,
+                               _mm512_mul_pd(_mm512_mul_pd(sv, sv), _mm512_set1_pd(0x1p-20)),
+                               _CMP_GE_OS);
+  const __m512d sg = _mm512_load_pd(P->sg + q);
+  const __m512d y0 = _mm512_rsqrt14_pd(nn);
+  const __m512d c = _mm512_sub_pd(_mm512_set1_pd(1.5),
+                                  _mm512_mul_pd(_mm512_mul_pd(nn, _mm512_set1_pd(0.5)),
+                                                _mm512_mul_pd(y0, y0)));
+  __m512d sum = zero;
+  for (int k = 0; k < nlight; k++) {
+    const __m512d dot = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(N0, lv[k][0]),
+                                                    _mm512_mul_pd(N1, lv[k][1])),
+                                      _mm512_mul_pd(N2, lv[k][2]));
+    __m512d d = _mm512_max_pd(_mm512_mul_pd(sg, dot), zero);
+    if (shadow && (bor >> k & 1u))          /* +0 where light k is blocked */
+      d = _mm512_maskz_mov_pd(_mm256_testn_epi32_mask(bv, _mm256_set1_epi32((int)(1u << k))), d);
+    sum = k ? _mm512_add_pd(sum, d) : d;
+  }
+  const __m512d f = _mm512_add_pd(
+      _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd((255 - SHADE_AMBIENT) * 1.0), sum),
+                                  y0),
+                    c),
+      _mm512_set1_pd(0.5));
+  const __m512d delta = _mm512_set1_pd(0x1p-15);
+  const __m512d f0v = _mm512_sub_pd(f, delta), f1v = _mm512_add_pd(f, delta);
+  const __m256i t0 = _mm512_cvttpd_epi32(f0v);
+  /* phong_tail's test, lane by lane */
+  const __mmask8 fine = _mm256_mask_cmpeq_epi32_mask(
+      _mm512_mask_cmp_pd_mask(ok, f1v, _mm512_set1_pd(0x1p30), _CMP_LT_OS), t0,
+      _mm512_cvttpd_epi32(f1v));
+  if ((fine & lanes) == lanes) {
+    const __m256i g = _mm256_add_epi32(t0, _mm256_set1_epi32(SHADE_AMBIENT));
+    if (nlight == 1 && cnt == 8)            /* no clamp under one light: phong_tail */
+      _mm256_storeu_si256((__m256i *)(void *)&grey[q], g);
+    else
+      _mm256_mask_storeu_epi32(&grey[q], lanes, _mm256_min_epi32(g, _mm256_set1_epi32(255)));
+    return;
+  }
+  _Alignas(64) double f0[8], f1[8];
+  _mm512_store_pd(f0, f0v);
+  _mm512_store_pd(f1, f1v);
+  for (int h = 0; h < cnt; h++) {          /* phong_filter's last test and grey */
+    int *g = &grey[q + h];
+    if ((ok >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
+      const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
+      *g = gv > 255 ? 255 : gv;
+      continue;
+    }
+    if (m->phong_declines) ++*m->phong_declines;
+    const struct smooth_tri *tr = &m->tri[P->tri[q + h]];
+    double buf[3], ar[3];
+    const double *Xp = phong_point(NULL, xu, xw, tr, q + h, buf);
+    bary_areas(tr, Xp, ar);
+    grey_phong_exact(tr, ar, Xp, 1.0, shadow ? blocked[q + h] : 0, L, g);
+  }
+}
+
+/* phong_row4_lights eight points a step: the first pass a run's points eight a step from
+   its first (the last step's lanes past the run +0, written at the next run's first
+   points, which its first step then writes over, or past the row's last point), the
+   second the row's points eight a step whatever their triangles */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
+void phong_row8_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                       const double *xu, const double *xw, const unsigned *blocked,
+                       bool shadow, const struct shade_lights *L, const __m512d (*lv)[3],
+                       int nlight, int *grey)
+{
+  struct phong_pts8 P;
+  const int n = at[nseg];
+  const __m512d pad = _mm512_set1_pd(1);    /* values of no use, in lanes not ok */
+  for (int k = 0; k < nseg; k++) {
+    const struct smooth_tri *tr = &m->tri[tri[k]];
+    const int q = at[k + 1];
+    const __m256i t = _mm256_set1_epi32(tri[k]);
+    if (tr->btot == 0) {                    /* declined: the exact chain, as phong_alone */
+      for (int p = at[k]; p < q; p += 8) {
+        _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), t);
+        for (int c = 0; c < 3; c++) _mm512_storeu_pd(P.n[c] + p, pad);
+        _mm512_storeu_pd(P.sg + p, pad);
+        _mm512_storeu_pd(P.mn + p, _mm512_setzero_pd());   /* 0 < |tot| 2^-1000 */
+        _mm512_storeu_pd(P.s + p, pad);
+        _mm512_storeu_pd(P.tot + p, pad);
+      }
+      continue;
+    }
+    const struct smooth_lanes *lx = &m->lanes[tri[k]];
+    const __m512d sg = _mm512_set1_pd(tr->front ? 1 : -1);
+    const __m512d av = _mm512_set1_pd(fabs(tr->btot));
+    for (int p = at[k]; p < q; p += 8) {
+      const int c = q - p;
+      __asm__("" : "+r"(lx));               /* (phong_row4_lights) */
+      _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), t);
+      if (c >= 8)
+        phong_head8(lx, _mm512_loadu_pd(xu + p), _mm512_loadu_pd(xw + p), sg, av, &P, p);
+      else {
+        const __mmask8 l = (__mmask8)((1u << c) - 1);
+        phong_head8(lx, _mm512_maskz_loadu_pd(l, xu + p), _mm512_maskz_loadu_pd(l, xw + p),
+                    sg, av, &P, p);
+      }
+    }
+  }
+  for (int c = 0; c < 3; c++)               /* past the last point: set (no lane of a */
+    _mm512_storeu_pd(P.n[c] + n, pad);      /* step reads memory never written) */
+  _mm512_storeu_pd(P.sg + n, pad);
+  _mm512_storeu_pd(P.mn + n, _mm512_setzero_pd());
+  _mm512_storeu_pd(P.s + n, pad);
+  _mm512_storeu_pd(P.tot + n, pad);
+  for (int q = 0; q < n; q += 8)
+    phong_tail8(m, &P, q, n - q < 8 ? n - q : 8, xu, xw, blocked, shadow, L, lv, nlight, grey);
+}
+
+/* phong_rows4_r14 eight points a step (AVX-512F) */
+static PHONG_ZMM_ATTR void phong_rows8(const struct smooth_model *m, int nseg, const int *tri,
+                                       const int *at, const double *xu, const double *xw,
+                                       const unsigned *blocked, const struct shade_lights *L,
+                                       int *grey)
+{
+  __m512d lv[SCENE_LIGHT_MAX][3];
+  for (int k = 0; k < L->n; k++)
+    for (int c = 0; c < 3; c++) lv[k][c] = _mm512_set1_pd(L->v[k][c]);
+  const int n = at[nseg];
+  unsigned bl = 0;
+  for (int p = 0; p < n; p++) bl |= blocked[p];
+  const __m512d (*lc)[3] = (const __m512d (*)[3])lv;
+  if (L->n == 1 && !bl)
+    phong_row8_lights(m, nseg, tri, at, xu, xw, blocked, false, L, lc, 1, grey);
+  else if (L->n == 1)
+    phong_row8_lights(m, nseg, tri, at, xu, xw, blocked, true, L, lc, 1, grey);
+  else
+    phong_row8_lights(m, nseg, tri, at, xu, xw, blocked, true, L, lc, L->n, grey);
+}
+
+/* Whether smooth_phong_row takes its rows eight points a step: where the processor has
+   AVX-512F and AVX-512VL (and the system saves their registers: __builtin_cpu_supports)
+   and m's phong_sqrt and phong_ymm (tests only) are not set. */
+static inline bool rows_zmm(const struct smooth_model *m)
+{
+  return !m->phong_sqrt && !m->phong_ymm && __builtin_cpu_supports("avx512f") &&
+         __builtin_cpu_supports("avx512vl");
+}
 #endif
 
 static void phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
@@ -2133,7 +2359,8 @@ void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, co
 {
 #ifdef PHONG_AVX
   if (rows_avx(m)) {
-    if (rows_r14(m)) phong_rows4_r14(m, nseg, tri, at, xu, xw, blocked, L, grey);
+    if (rows_zmm(m)) phong_rows8(m, nseg, tri, at, xu, xw, blocked, L, grey);
+    else if (rows_r14(m)) phong_rows4_r14(m, nseg, tri, at, xu, xw, blocked, L, grey);
     else phong_rows4(m, nseg, tri, at, xu, xw, blocked, L, grey);
     return;
   }
