@@ -2152,14 +2152,28 @@ static inline __attribute__((always_inline)) PHONG_ZMM_ATTR __m512d lanes8(const
   return _mm512_set1_pd(*a);
 }
 
-/* phong_head4 at eight points p .. p + 7 of triangle x into *P: the same operations lane
-   by lane */
+/* A pair's double of triangle x in the lanes of ka, of triangle y in the others (two
+   false: x's in all eight) */
 static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
-void phong_head8(const struct smooth_lanes *x, __m512d px, __m512d py, __m512d sg,
-                 __m512d at, struct phong_pts8 *P, int p)
+__m512d lanes8ab(const struct smooth_lanes *x, const struct smooth_lanes *y, const double *a,
+                 bool two, __mmask8 ka)
+{
+  if (!two) return lanes8(a);
+  const double *b = (const double *)(const void *)((const char *)y +
+                                                   ((const char *)a - (const char *)x));
+  return _mm512_mask_blend_pd(ka, lanes8(b), lanes8(a));
+}
+
+/* phong_head4 at eight points p .. p + 7 into *P: the same operations lane by lane, with
+   triangle x's constants in the lanes of ka and (two) triangle y's in the others */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
+void phong_head8(const struct smooth_lanes *x, const struct smooth_lanes *y, bool two,
+                 __mmask8 ka, __m512d px, __m512d py, __m512d sg, __m512d at,
+                 struct phong_pts8 *P, int p)
 {
   const __m512d zero = _mm512_setzero_pd();
   __m512d w[3], s = zero;
+#define lanes8(a) lanes8ab(x, y, a, two, ka)
   for (int k = 0; k < 3; k++) {
     const __m512d ar = _mm512_sub_pd(
         _mm512_mul_pd(lanes8(x->xsd[k][0]), _mm512_sub_pd(py, lanes8(x->xa[k][1]))),
@@ -2173,6 +2187,7 @@ void phong_head8(const struct smooth_lanes *x, __m512d px, __m512d py, __m512d s
                      _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(w[0], lanes8(x->xcn[0][c])),
                                                  _mm512_mul_pd(w[1], lanes8(x->xcn[1][c]))),
                                    _mm512_mul_pd(w[2], lanes8(x->xcn[2][c]))));
+#undef lanes8
   _mm512_storeu_pd(P->sg + p, sg);
   _mm512_storeu_pd(P->mn + p, mn);
   _mm512_storeu_pd(P->s + p, s);
@@ -2261,10 +2276,19 @@ void phong_tail8(const struct smooth_model *m, const struct phong_pts8 *P, int q
   }
 }
 
-/* phong_row4_lights eight points a step: the first pass a run's points eight a step from
-   its first (the last step's lanes past the run +0, written at the next run's first
-   points, which its first step then writes over, or past the row's last point), the
-   second the row's points eight a step whatever their triangles */
+/* phong_row4_lights eight points a step. The first pass a run's points eight a step from
+   its first; a step that would hold fewer than eight of them (a run of 1 .. 7 points, or
+   the last 1 .. 7 of a longer one) holds them in its low lanes with their triangle's
+   constants and the next run's first points in the others with that run's (each
+   constant's vector blended under the step's mask: a masked broadcast), where the next
+   run's btot is not 0; the step then goes on from the first of the next run's points it
+   did not hold. The lanes past the step's points (past the row's end, or past a lone
+   run's end) hold +0 (masked loads) and write their values at points a later step then
+   writes over, or past the row's last point. So the sphere's runs of 3.4 points on
+   average take about half as many steps as they would alone (measured: perf's sampling
+   clock, the function's share of the frame's samples in turn, 3 runs each way: t1-g
+   25.7 -> 24.2%, lprism 17.7 -> 16.4%, the sphere about 15 -> 14%). The second pass the
+   row's points eight a step whatever their triangles. */
 static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
 void phong_row8_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                        const double *xu, const double *xw, const unsigned *blocked,
@@ -2274,12 +2298,13 @@ void phong_row8_lights(const struct smooth_model *m, int nseg, const int *tri, c
   struct phong_pts8 P;
   const int n = at[nseg];
   const __m512d pad = _mm512_set1_pd(1);    /* values of no use, in lanes not ok */
-  for (int k = 0; k < nseg; k++) {
+  int k = 0, p = 0;
+  while (k < nseg) {
     const struct smooth_tri *tr = &m->tri[tri[k]];
     const int q = at[k + 1];
-    const __m256i t = _mm256_set1_epi32(tri[k]);
     if (tr->btot == 0) {                    /* declined: the exact chain, as phong_alone */
-      for (int p = at[k]; p < q; p += 8) {
+      const __m256i t = _mm256_set1_epi32(tri[k]);
+      for (; p < q; p += 8) {
         _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), t);
         for (int c = 0; c < 3; c++) _mm512_storeu_pd(P.n[c] + p, pad);
         _mm512_storeu_pd(P.sg + p, pad);
@@ -2287,23 +2312,46 @@ void phong_row8_lights(const struct smooth_model *m, int nseg, const int *tri, c
         _mm512_storeu_pd(P.s + p, pad);
         _mm512_storeu_pd(P.tot + p, pad);
       }
+      p = q;
+      k++;
       continue;
     }
     const struct smooth_lanes *lx = &m->lanes[tri[k]];
-    const __m512d sg = _mm512_set1_pd(tr->front ? 1 : -1);
-    const __m512d av = _mm512_set1_pd(fabs(tr->btot));
-    for (int p = at[k]; p < q; p += 8) {
-      const int c = q - p;
-      __asm__("" : "+r"(lx));               /* (phong_row4_lights) */
-      _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), t);
-      if (c >= 8)
-        phong_head8(lx, _mm512_loadu_pd(xu + p), _mm512_loadu_pd(xw + p), sg, av, &P, p);
-      else {
-        const __mmask8 l = (__mmask8)((1u << c) - 1);
-        phong_head8(lx, _mm512_maskz_loadu_pd(l, xu + p), _mm512_maskz_loadu_pd(l, xw + p),
-                    sg, av, &P, p);
-      }
+    __m512d sg = _mm512_set1_pd(tr->front ? 1 : -1);
+    __m512d av = _mm512_set1_pd(fabs(tr->btot));
+    const int c = q - p;
+    __asm__("" : "+r"(lx));                 /* (phong_row4_lights) */
+    if (c >= 8) {
+      _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), _mm256_set1_epi32(tri[k]));
+      phong_head8(lx, lx, false, 0xff, _mm512_loadu_pd(xu + p), _mm512_loadu_pd(xw + p), sg,
+                  av, &P, p);
+      p += 8;
+      k += p == q;
+      continue;
     }
+    const struct smooth_tri *tb = k + 1 < nseg ? &m->tri[tri[k + 1]] : NULL;
+    if (tb && tb->btot != 0) {              /* run k's last c points, then run k + 1's */
+      const int q2 = at[k + 2], e = q2 - p < 8 ? q2 : p + 8;
+      const __mmask8 ka = (__mmask8)((1u << c) - 1), l = (__mmask8)((1u << (e - p)) - 1);
+      const struct smooth_lanes *ly = &m->lanes[tri[k + 1]];
+      __asm__("" : "+r"(ly));
+      sg = _mm512_mask_blend_pd(ka, _mm512_set1_pd(tb->front ? 1 : -1), sg);
+      av = _mm512_mask_blend_pd(ka, _mm512_set1_pd(fabs(tb->btot)), av);
+      _mm256_storeu_si256((__m256i *)(void *)(P.tri + p),
+                          _mm256_mask_blend_epi32(ka, _mm256_set1_epi32(tri[k + 1]),
+                                                  _mm256_set1_epi32(tri[k])));
+      phong_head8(lx, ly, true, ka, _mm512_maskz_loadu_pd(l, xu + p),
+                  _mm512_maskz_loadu_pd(l, xw + p), sg, av, &P, p);
+      p = e;
+      k += 1 + (e == q2);
+      continue;
+    }
+    const __mmask8 l = (__mmask8)((1u << c) - 1);
+    _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), _mm256_set1_epi32(tri[k]));
+    phong_head8(lx, lx, false, 0xff, _mm512_maskz_loadu_pd(l, xu + p),
+                _mm512_maskz_loadu_pd(l, xw + p), sg, av, &P, p);
+    p = q;
+    k++;
   }
   for (int c = 0; c < 3; c++)               /* past the last point: set (no lane of a */
     _mm512_storeu_pd(P.n[c] + n, pad);      /* step reads memory never written) */
