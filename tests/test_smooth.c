@@ -861,8 +861,11 @@ static void test_row_is_single(void **state)
    the eight-point rows' first pass takes whole steps of eight, a last step of 1 to 7 and
    runs longer than two steps), rows of up to SMOOTH_ROW points (whose last step in the
    second pass holds 1 to 8), under one parallel light unblocked, one blocked at some
-   points and two blocked at some (each light's lanes apart). Every grey the same, the
-   same points declined (the short chain: at least the filter's). */
+   points and two blocked at some (each light's lanes apart); then again with every
+   fourth triangle's btot made 0 (its lanes made again: smooth_lanes_remake), whose points
+   every way leaves to the exact chain (the eight-point rows' first pass then pairs no
+   run with it). Every grey the same, the same points declined (the short chain: at
+   least the filter's). */
 static void test_phong_rows_long(void **state)
 {
   (void)state;
@@ -874,10 +877,18 @@ static void test_phong_rows_long(void **state)
   lib_open(&L, "scenes/sphere.s74", "smooth=phong");
   int differ = 0, greys[256] = { 0 }, lens[SMOOTH_ROW + 1] = { 0 }, ends[9] = { 0 };
   long seen[3] = { 0, 0, 0 }, declines = 0, points = 0;
-  for (int light = 0; light < 3; light++) {
+  struct smooth_tri *keep = malloc((size_t)L.m.ntri * sizeof *keep);
+  assert_non_null(keep);
+  memcpy(keep, L.m.tri, (size_t)L.m.ntri * sizeof *keep);
+  for (int light = 0; light < 4; light++) {
     struct shade_lights lights;
     shade_lights_init(&lights, L.s);
     if (light == 2) second_light(&lights);
+    if (light == 3)                         /* one light, every fourth triangle's btot 0 */
+      for (int t = 1; t < L.m.ntri; t += 4) {
+        L.m.tri[t].btot = 0;
+        smooth_lanes_remake(&L.m, t);
+      }
     assert_true(smooth_rows(&L.m, &L.e, &lights));
     for (int t0 = 0; t0 < L.m.ntri; t0++) {
       double X[SMOOTH_ROW][3];
@@ -890,8 +901,8 @@ static void test_phong_rows_long(void **state)
         if (len <= 0) break;
         for (int p = n; p < n + len; p++) {
           tri_point(&L, t, w[(p * 5 + t) % nw], X[p]);
-          blocked[p] = light == 0 ? 0
-                                  : (unsigned)((t + p) % 3 == 0) |
+          blocked[p] = light % 3 == 0 ? 0
+                                      : (unsigned)((t + p) % 3 == 0) |
                                         (unsigned)(light == 2 && (t + 2 * p) % 5 == 0) << 1;
         }
         lens[len]++;
@@ -905,6 +916,11 @@ static void test_phong_rows_long(void **state)
                               greys, seen, &declines);
     }
   }
+  for (int t = 1; t < L.m.ntri; t += 4) {
+    L.m.tri[t] = keep[t];
+    smooth_lanes_remake(&L.m, t);
+  }
+  free(keep);
   print_message("Phong rows, long runs: %ld points, %ld declined\n", points, declines);
   assert_int_equal(differ, 0);
   for (int len = 1; len <= 21; len++) assert_true(lens[len] > 0);
