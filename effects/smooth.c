@@ -2120,86 +2120,94 @@ static inline bool rows_r14(const struct smooth_model *m)
 }
 
 /* smooth_phong_row eight points a step (AVX-512F's 512-bit registers), chosen at run time
-   where the processor has AVX-512F and AVX-512VL (rows_zmm): phong_row4_lights' two
-   passes with eight lanes where it has four, and the short chain (phong_tail4 with r14,
-   "The AVX-512 rows' short chain": VRSQRT14PD's bound is the same on 512 bits, so is the
-   proof). Each lane's operations are phong_head4's and phong_tail4's for its point, in
-   their order, each the same IEEE operation on the same doubles (EVEX-encoded; no fused
-   multiply-add: the build's -ffp-contract=off), a compare by the same predicate (into a
-   mask register: a compare under a mask is the AND of the two tests, as VANDPD of the
-   two compares' lanes), a light's blocked lanes made +0 by a zeroing move (as VANDPD
-   with zero): the same greys and the same points declined, bit for bit, as phong_rows4_r14
-   (test_smooth test_phong_rows_borders and test_row_is_single run the rows each way,
-   m->phong_ymm). A run's last step and the row's last step load only their points (masked
-   loads, lanes past them +0: never stored as greys nor counted); the greys under one light
-   go eight in one store, else clamped to 255 (VPMINSD: g > 255 ? 255 : g) and stored
-   under the step's mask. */
+   where the processor has AVX-512F and AVX-512VL (rows_zmm), always with the short chain
+   ("The AVX-512 rows' short chain": VRSQRT14PD's bound is the same on 512 bits, and so
+   the proof). Each lane's operations are phong_head4's and phong_tail4's (r14) for its
+   point, in their order, each the same IEEE operation on the same doubles (EVEX-encoded;
+   no fused multiply-add: the build's -ffp-contract=off, and no FMA target), a compare by
+   the same predicate into a mask register (a compare under a mask is the AND of the two
+   tests, as VANDPD of the two compares' lanes), a light's blocked lanes made +0 by a
+   zeroing move (as VANDPD with zero): the same greys and the same points declined, bit for
+   bit, as phong_rows4_r14 (test_smooth's test_phong_rows_borders, test_phong_rows_long,
+   test_row_is_single and the others run the rows each way: phong_row_way, m->phong_ymm).
+   Unlike phong_row4_lights, one pass: each step makes its points' greys from its own
+   registers (phong_head8, then phong_tail8), nothing stored between two passes.
+   A step holds up to eight points of a run, from its first; where fewer than eight of the
+   run are left (a run of 1 .. 7 points, or the last 1 .. 7 of a longer one) the step
+   holds them in its low lanes with their triangle's constants and the next run's first
+   points in the others with that run's (each constant's vector blended under the step's
+   mask: a masked broadcast), where the next run's btot is not 0; the next step then
+   starts at the first of the next run's points this one did not hold. Lanes past the
+   step's points hold +0 (masked loads), and are neither stored nor counted.
+   Measured on a Zen 5 host (full-width AVX-512; perf's sampling clock, the rows' share of
+   the frame's samples, 3 runs each way in turn, under load): eight points a step in the
+   AVX rows' two passes against phong_rows4_r14, t1-g 27.4 -> 22.8%; then the steps
+   across two runs, t1-g 25.7 -> 24.2%, lprism 17.7 -> 16.4%, the sphere 15.3 -> 14.1%
+   (its runs hold 3.4 points on average); then one pass, t1-g 23.1 -> 21.3%, the sphere
+   14.1 -> 13.6%: the processor's window holds several steps' chains (round 39's host
+   did not: there the second pass eight points a step lost). Tried and not kept (the same
+   greys): every step blended, so that the step has no branch on the run's length (t1-g
+   23.3 -> 26.4%, the sphere level); the 22 constants a step reads (phong_head8's) kept
+   together in the triangle's lanes, a few cache lines a run instead of nine (level). */
 #define PHONG_ZMM_ATTR __attribute__((target("avx512f,avx512vl")))
-/* phong_pts4's places, eight spare past the row's last point */
-#define PHONG_PTS8 (SMOOTH_ROW + 8)
-struct phong_pts8 {
-  _Alignas(64) double n[3][PHONG_PTS8];
-  _Alignas(64) double sg[PHONG_PTS8];
-  _Alignas(64) double mn[PHONG_PTS8];
-  _Alignas(64) double s[PHONG_PTS8];
-  _Alignas(64) double tot[PHONG_PTS8];
-  _Alignas(32) int tri[PHONG_PTS8];
-};
 
-/* A pair's double (struct smooth_lanes) in all eight lanes */
-static inline __attribute__((always_inline)) PHONG_ZMM_ATTR __m512d lanes8(const double *a)
-{
-  return _mm512_set1_pd(*a);
-}
-
-/* A pair's double of triangle x in the lanes of ka, of triangle y in the others (two
-   false: x's in all eight) */
+/* A pair's double (struct smooth_lanes) in all eight lanes: x's double at a where two is
+   false, else in the lanes of ka, and in the others y's double at the same place in y */
 static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
-__m512d lanes8ab(const struct smooth_lanes *x, const struct smooth_lanes *y, const double *a,
-                 bool two, __mmask8 ka)
+__m512d lanes8(const struct smooth_lanes *x, const struct smooth_lanes *y, const double *a,
+               bool two, __mmask8 ka)
 {
-  if (!two) return lanes8(a);
+  if (!two) return _mm512_set1_pd(*a);
   const double *b = (const double *)(const void *)((const char *)y +
                                                    ((const char *)a - (const char *)x));
-  return _mm512_mask_blend_pd(ka, lanes8(b), lanes8(a));
+  return _mm512_mask_blend_pd(ka, _mm512_set1_pd(*b), _mm512_set1_pd(*a));
 }
 
-/* phong_head4 at eight points p .. p + 7 into *P: the same operations lane by lane, with
-   triangle x's constants in the lanes of ka and (two) triangle y's in the others */
+/* Eight points' values between phong_head8 and phong_tail8, as phong_pts4's: the normal's
+   sums N, the least clamped area mn, their sum s, the triangle's |tot|, the eye's side */
+struct phong_v8 {
+  __m512d n[3], mn, s, at, sg;
+};
+
+/* phong_head4 at eight points (coordinates px, py on their triangles' axes), triangle x's
+   constants in the lanes of ka and (two) triangle y's in the others: the same operations
+   lane by lane, into *V (with sg and at, the lanes' sides and |tot|) */
 static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
 void phong_head8(const struct smooth_lanes *x, const struct smooth_lanes *y, bool two,
                  __mmask8 ka, __m512d px, __m512d py, __m512d sg, __m512d at,
-                 struct phong_pts8 *P, int p)
+                 struct phong_v8 *V)
 {
   const __m512d zero = _mm512_setzero_pd();
   __m512d w[3], s = zero;
-#define lanes8(a) lanes8ab(x, y, a, two, ka)
+#define LANES8(a) lanes8(x, y, a, two, ka)
   for (int k = 0; k < 3; k++) {
     const __m512d ar = _mm512_sub_pd(
-        _mm512_mul_pd(lanes8(x->xsd[k][0]), _mm512_sub_pd(py, lanes8(x->xa[k][1]))),
-        _mm512_mul_pd(_mm512_sub_pd(px, lanes8(x->xa[k][0])), lanes8(x->xsd[k][1])));
+        _mm512_mul_pd(LANES8(x->xsd[k][0]), _mm512_sub_pd(py, LANES8(x->xa[k][1]))),
+        _mm512_mul_pd(_mm512_sub_pd(px, LANES8(x->xa[k][0])), LANES8(x->xsd[k][1])));
     w[k] = _mm512_max_pd(ar, zero);         /* MAXPD's: the second operand where equal */
     s = k ? _mm512_add_pd(s, w[k]) : w[k];
   }
-  const __m512d mn = _mm512_min_pd(_mm512_min_pd(w[0], w[1]), w[2]);
+  V->mn = _mm512_min_pd(_mm512_min_pd(w[0], w[1]), w[2]);
   for (int c = 0; c < 3; c++)
-    _mm512_storeu_pd(P->n[c] + p,
-                     _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(w[0], lanes8(x->xcn[0][c])),
-                                                 _mm512_mul_pd(w[1], lanes8(x->xcn[1][c]))),
-                                   _mm512_mul_pd(w[2], lanes8(x->xcn[2][c]))));
-#undef lanes8
-  _mm512_storeu_pd(P->sg + p, sg);
-  _mm512_storeu_pd(P->mn + p, mn);
-  _mm512_storeu_pd(P->s + p, s);
-  _mm512_storeu_pd(P->tot + p, at);
+    V->n[c] = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(w[0], LANES8(x->xcn[0][c])),
+                                          _mm512_mul_pd(w[1], LANES8(x->xcn[1][c]))),
+                            _mm512_mul_pd(w[2], LANES8(x->xcn[2][c])));
+#undef LANES8
+  V->s = s;
+  V->at = at;
+  V->sg = sg;
 }
 
-/* phong_tail4 (r14) at points q .. q + cnt - 1 of *P (cnt 1 .. 8; lanes past them not
-   stored nor counted): the same operations lane by lane */
+/* phong_tail4 (r14) at points q .. q + cnt - 1 (cnt 1 .. 8; lanes past them neither
+   stored nor counted) from *V: the same operations lane by lane, the same tests, greys
+   and declines (the exact chain, counted in phong_declines; lane h's triangle ta in the
+   lanes of ka, else tb); the greys to grey[q + h], under one light eight in one store,
+   else clamped to 255 (VPMINSD: g > 255 ? 255 : g) and stored under the step's mask */
 static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
-void phong_tail8(const struct smooth_model *m, const struct phong_pts8 *P, int q, int cnt,
-                 const double *xu, const double *xw, const unsigned *blocked, bool shadow,
-                 const struct shade_lights *L, const __m512d (*lv)[3], int nlight, int *grey)
+void phong_tail8(const struct smooth_model *m, const struct phong_v8 *V, int ta, int tb,
+                 __mmask8 ka, int q, int cnt, const double *xu, const double *xw,
+                 const unsigned *blocked, bool shadow, const struct shade_lights *L,
+                 const __m512d (*lv)[3], int nlight, int *grey)
 {
   const __m512d zero = _mm512_setzero_pd();
   const __mmask8 lanes = (__mmask8)((1u << cnt) - 1);
@@ -2209,20 +2217,16 @@ void phong_tail8(const struct smooth_model *m, const struct phong_pts8 *P, int q
     bv = _mm256_maskz_loadu_epi32(lanes, blocked + q);
     for (int h = 0; h < cnt; h++) bor |= blocked[q + h];
   }
-  const __m512d N0 = _mm512_load_pd(P->n[0] + q), N1 = _mm512_load_pd(P->n[1] + q);
-  const __m512d N2 = _mm512_load_pd(P->n[2] + q);
+  const __m512d N0 = V->n[0], N1 = V->n[1], N2 = V->n[2], sv = V->s, at = V->at;
   const __m512d nn = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(N0, N0), _mm512_mul_pd(N1, N1)),
                                    _mm512_mul_pd(N2, N2));
-  const __m512d sv = _mm512_load_pd(P->s + q);
-  const __m512d at = _mm512_load_pd(P->tot + q);
-  __mmask8 ok = _mm512_cmp_pd_mask(_mm512_load_pd(P->mn + q),
-                                   _mm512_mul_pd(at, _mm512_set1_pd(0x1p-1000)), _CMP_GE_OS);
+  __mmask8 ok = _mm512_cmp_pd_mask(V->mn, _mm512_mul_pd(at, _mm512_set1_pd(0x1p-1000)),
+                                   _CMP_GE_OS);
   ok = _mm512_mask_cmp_pd_mask(ok, sv, _mm512_mul_pd(at, _mm512_set1_pd(0x1p1000)), _CMP_LE_OS);
   ok = _mm512_mask_cmp_pd_mask(ok, sv, _mm512_set1_pd(0x1p-500), _CMP_GE_OS);
   ok = _mm512_mask_cmp_pd_mask(ok, nn,
                                _mm512_mul_pd(_mm512_mul_pd(sv, sv), _mm512_set1_pd(0x1p-20)),
                                _CMP_GE_OS);
-  const __m512d sg = _mm512_load_pd(P->sg + q);
   const __m512d y0 = _mm512_rsqrt14_pd(nn);
   const __m512d c = _mm512_sub_pd(_mm512_set1_pd(1.5),
                                   _mm512_mul_pd(_mm512_mul_pd(nn, _mm512_set1_pd(0.5)),
@@ -2232,16 +2236,14 @@ void phong_tail8(const struct smooth_model *m, const struct phong_pts8 *P, int q
     const __m512d dot = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(N0, lv[k][0]),
                                                     _mm512_mul_pd(N1, lv[k][1])),
                                       _mm512_mul_pd(N2, lv[k][2]));
-    __m512d d = _mm512_max_pd(_mm512_mul_pd(sg, dot), zero);
+    __m512d d = _mm512_max_pd(_mm512_mul_pd(V->sg, dot), zero);
     if (shadow && (bor >> k & 1u))          /* +0 where light k is blocked */
       d = _mm512_maskz_mov_pd(_mm256_testn_epi32_mask(bv, _mm256_set1_epi32((int)(1u << k))), d);
     sum = k ? _mm512_add_pd(sum, d) : d;
   }
-  const __m512d f = _mm512_add_pd(
-      _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd((255 - SHADE_AMBIENT) * 1.0), sum),
-                                  y0),
-                    c),
-      _mm512_set1_pd(0.5));
+  const __m512d fr = _mm512_set1_pd((255 - SHADE_AMBIENT) * 1.0);
+  const __m512d f = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(fr, sum), y0), c),
+                                  _mm512_set1_pd(0.5));
   const __m512d delta = _mm512_set1_pd(0x1p-15);
   const __m512d f0v = _mm512_sub_pd(f, delta), f1v = _mm512_add_pd(f, delta);
   const __m256i t0 = _mm512_cvttpd_epi32(f0v);
@@ -2268,7 +2270,7 @@ void phong_tail8(const struct smooth_model *m, const struct phong_pts8 *P, int q
       continue;
     }
     if (m->phong_declines) ++*m->phong_declines;
-    const struct smooth_tri *tr = &m->tri[P->tri[q + h]];
+    const struct smooth_tri *tr = &m->tri[ka >> h & 1 ? ta : tb];
     double buf[3], ar[3];
     const double *Xp = phong_point(NULL, xu, xw, tr, q + h, buf);
     bary_areas(tr, Xp, ar);
@@ -2276,42 +2278,26 @@ void phong_tail8(const struct smooth_model *m, const struct phong_pts8 *P, int q
   }
 }
 
-/* phong_row4_lights eight points a step. The first pass a run's points eight a step from
-   its first; a step that would hold fewer than eight of them (a run of 1 .. 7 points, or
-   the last 1 .. 7 of a longer one) holds them in its low lanes with their triangle's
-   constants and the next run's first points in the others with that run's (each
-   constant's vector blended under the step's mask: a masked broadcast), where the next
-   run's btot is not 0; the step then goes on from the first of the next run's points it
-   did not hold. The lanes past the step's points (past the row's end, or past a lone
-   run's end) hold +0 (masked loads) and write their values at points a later step then
-   writes over, or past the row's last point. So the sphere's runs of 3.4 points on
-   average take about half as many steps as they would alone (measured: perf's sampling
-   clock, the function's share of the frame's samples in turn, 3 runs each way: t1-g
-   25.7 -> 24.2%, lprism 17.7 -> 16.4%, the sphere about 15 -> 14%). The second pass the
-   row's points eight a step whatever their triangles. */
+/* phong_row_lights eight points a step, in one pass (above). A run of a triangle whose
+   btot is 0 is declined (its least w_k taken as 0, below |tot| 2^-1000 = 2^-1000 with
+   |tot| taken as 1), and so takes the exact chain with its areas (bary_areas), counted,
+   as phong_alone takes it in phong_rows. */
 static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
 void phong_row8_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
                        const double *xu, const double *xw, const unsigned *blocked,
                        bool shadow, const struct shade_lights *L, const __m512d (*lv)[3],
                        int nlight, int *grey)
 {
-  struct phong_pts8 P;
-  const int n = at[nseg];
-  const __m512d pad = _mm512_set1_pd(1);    /* values of no use, in lanes not ok */
+  const __m512d one = _mm512_set1_pd(1);    /* values of no use, in lanes not ok */
   int k = 0, p = 0;
   while (k < nseg) {
     const struct smooth_tri *tr = &m->tri[tri[k]];
     const int q = at[k + 1];
     if (tr->btot == 0) {                    /* declined: the exact chain, as phong_alone */
-      const __m256i t = _mm256_set1_epi32(tri[k]);
-      for (; p < q; p += 8) {
-        _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), t);
-        for (int c = 0; c < 3; c++) _mm512_storeu_pd(P.n[c] + p, pad);
-        _mm512_storeu_pd(P.sg + p, pad);
-        _mm512_storeu_pd(P.mn + p, _mm512_setzero_pd());   /* 0 < |tot| 2^-1000 */
-        _mm512_storeu_pd(P.s + p, pad);
-        _mm512_storeu_pd(P.tot + p, pad);
-      }
+      const struct phong_v8 V = { { one, one, one }, _mm512_setzero_pd(), one, one, one };
+      for (; p < q; p += 8)
+        phong_tail8(m, &V, tri[k], tri[k], 0xff, p, q - p < 8 ? q - p : 8, xu, xw, blocked,
+                    shadow, L, lv, nlight, grey);
       p = q;
       k++;
       continue;
@@ -2320,11 +2306,15 @@ void phong_row8_lights(const struct smooth_model *m, int nseg, const int *tri, c
     __m512d sg = _mm512_set1_pd(tr->front ? 1 : -1);
     __m512d av = _mm512_set1_pd(fabs(tr->btot));
     const int c = q - p;
-    __asm__("" : "+r"(lx));                 /* (phong_row4_lights) */
-    if (c >= 8) {
-      _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), _mm256_set1_epi32(tri[k]));
+    /* lx's constants read at each step from their addresses in lx (memory operands), not
+       made and kept on the stack once a run (phong_row4_lights) */
+    __asm__("" : "+r"(lx));
+    struct phong_v8 V;
+    if (c >= 8) {                           /* eight of the run's points */
       phong_head8(lx, lx, false, 0xff, _mm512_loadu_pd(xu + p), _mm512_loadu_pd(xw + p), sg,
-                  av, &P, p);
+                  av, &V);
+      phong_tail8(m, &V, tri[k], tri[k], 0xff, p, 8, xu, xw, blocked, shadow, L, lv, nlight,
+                  grey);
       p += 8;
       k += p == q;
       continue;
@@ -2337,33 +2327,25 @@ void phong_row8_lights(const struct smooth_model *m, int nseg, const int *tri, c
       __asm__("" : "+r"(ly));
       sg = _mm512_mask_blend_pd(ka, _mm512_set1_pd(tb->front ? 1 : -1), sg);
       av = _mm512_mask_blend_pd(ka, _mm512_set1_pd(fabs(tb->btot)), av);
-      _mm256_storeu_si256((__m256i *)(void *)(P.tri + p),
-                          _mm256_mask_blend_epi32(ka, _mm256_set1_epi32(tri[k + 1]),
-                                                  _mm256_set1_epi32(tri[k])));
       phong_head8(lx, ly, true, ka, _mm512_maskz_loadu_pd(l, xu + p),
-                  _mm512_maskz_loadu_pd(l, xw + p), sg, av, &P, p);
+                  _mm512_maskz_loadu_pd(l, xw + p), sg, av, &V);
+      phong_tail8(m, &V, tri[k], tri[k + 1], ka, p, e - p, xu, xw, blocked, shadow, L, lv,
+                  nlight, grey);
       p = e;
       k += 1 + (e == q2);
       continue;
     }
-    const __mmask8 l = (__mmask8)((1u << c) - 1);
-    _mm256_storeu_si256((__m256i *)(void *)(P.tri + p), _mm256_set1_epi32(tri[k]));
+    const __mmask8 l = (__mmask8)((1u << c) - 1);   /* the run's last c points alone */
     phong_head8(lx, lx, false, 0xff, _mm512_maskz_loadu_pd(l, xu + p),
-                _mm512_maskz_loadu_pd(l, xw + p), sg, av, &P, p);
+                _mm512_maskz_loadu_pd(l, xw + p), sg, av, &V);
+    phong_tail8(m, &V, tri[k], tri[k], 0xff, p, c, xu, xw, blocked, shadow, L, lv, nlight,
+                grey);
     p = q;
     k++;
   }
-  for (int c = 0; c < 3; c++)               /* past the last point: set (no lane of a */
-    _mm512_storeu_pd(P.n[c] + n, pad);      /* step reads memory never written) */
-  _mm512_storeu_pd(P.sg + n, pad);
-  _mm512_storeu_pd(P.mn + n, _mm512_setzero_pd());
-  _mm512_storeu_pd(P.s + n, pad);
-  _mm512_storeu_pd(P.tot + n, pad);
-  for (int q = 0; q < n; q += 8)
-    phong_tail8(m, &P, q, n - q < 8 ? n - q : 8, xu, xw, blocked, shadow, L, lv, nlight, grey);
 }
 
-/* phong_rows4_r14 eight points a step (AVX-512F) */
+/* phong_rows4_r14 eight points a step (AVX-512F, rows_zmm) */
 static PHONG_ZMM_ATTR void phong_rows8(const struct smooth_model *m, int nseg, const int *tri,
                                        const int *at, const double *xu, const double *xw,
                                        const unsigned *blocked, const struct shade_lights *L,
