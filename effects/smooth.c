@@ -2145,10 +2145,13 @@ static inline bool rows_r14(const struct smooth_model *m)
    across two runs, t1-g 25.7 -> 24.2%, lprism 17.7 -> 16.4%, the sphere 15.3 -> 14.1%
    (its runs hold 3.4 points on average); then one pass, t1-g 23.1 -> 21.3%, the sphere
    14.1 -> 13.6%: the processor's window holds several steps' chains (round 39's host
-   did not: there the second pass eight points a step lost). Tried and not kept (the same
-   greys): every step blended, so that the step has no branch on the run's length (t1-g
-   23.3 -> 26.4%, the sphere level); the 22 constants a step reads (phong_head8's) kept
-   together in the triangle's lanes, a few cache lines a run instead of nine (level). */
+   did not: there the second pass eight points a step lost). Altogether, against
+   phong_rows4_r14 (3 runs each way in turn): t1-g 25.9 -> 21.4%, t1-h 24.8 -> 19.5%,
+   t1-i 28.0 -> 22.8%, the sphere 15.3 -> 13.3%, lprism 17.9 -> 15.6%. Tried and not
+   kept (the same greys): every step blended, so that the step has no branch on the run's
+   length (t1-g 23.3 -> 26.4%, the sphere level); the 21 constants a step reads
+   (phong_head8's) and |btot| kept together in the triangle's lanes, about 3 cache lines
+   a run instead of about 9 (the sphere level). */
 #define PHONG_ZMM_ATTR __attribute__((target("avx512f,avx512vl")))
 
 /* A pair's double (struct smooth_lanes) in all eight lanes: x's double at a where two is
