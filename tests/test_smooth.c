@@ -858,14 +858,14 @@ static void test_row_is_single(void **state)
 /* The Phong rows (smooth_phong_row) on stretches of long runs, in each of their ways
    (row_vs_single: eight points a step where the processor has AVX-512F, four, two),
    against smooth_grey_at point by point: runs of 1 to 21 points of one triangle (so that
-   the eight-point rows' first pass takes whole steps of eight, a last step of 1 to 7 and
-   runs longer than two steps), rows of up to SMOOTH_ROW points (whose last step in the
-   second pass holds 1 to 8), under one parallel light unblocked, one blocked at some
-   points and two blocked at some (each light's lanes apart); then again with every
-   fourth triangle's btot made 0 (its lanes made again: smooth_lanes_remake), whose points
-   every way leaves to the exact chain (the eight-point rows' first pass then pairs no
-   run with it). Every grey the same, the same points declined (the short chain: at
-   least the filter's). */
+   the eight-point rows take whole steps of eight, steps of a run's last 1 to 7 points
+   with the next run's first ones or alone, and runs longer than two steps), rows of up
+   to SMOOTH_ROW points (the four-point rows' second pass: a last step of 1 to 4), under
+   one parallel light unblocked, one blocked at some points and two blocked at some (each
+   light's lanes apart); then again with every fourth triangle's btot made 0 (its lanes
+   made again: smooth_lanes_remake), whose points every way leaves to the exact chain
+   (the eight-point rows then put no other run's points in a step with them). Every grey
+   the same, the same points declined (the short chain: at least the filter's). */
 static void test_phong_rows_long(void **state)
 {
   (void)state;
