@@ -2118,6 +2118,265 @@ static inline bool rows_r14(const struct smooth_model *m)
 {
   return !m->phong_sqrt && __builtin_cpu_supports("avx512vl");
 }
+
+/* smooth_phong_row eight points a step (AVX-512F's 512-bit registers), chosen at run time
+   where the processor has AVX-512F and AVX-512VL (rows_zmm), always with the short chain
+   ("The AVX-512 rows' short chain": VRSQRT14PD's bound is the same on 512 bits, and so
+   the proof). Each lane's operations are phong_head4's and phong_tail4's (r14) for its
+   point, in their order, each the same IEEE operation on the same doubles (EVEX-encoded;
+   no fused multiply-add: the build's -ffp-contract=off, and no FMA target), a compare by
+   the same predicate into a mask register (a compare under a mask is the AND of the two
+   tests, as VANDPD of the two compares' lanes), a light's blocked lanes made +0 by a
+   zeroing move (as VANDPD with zero): the same greys and the same points declined, bit for
+   bit, as phong_rows4_r14 (test_smooth's test_phong_rows_borders, test_phong_rows_long,
+   test_row_is_single and the others run the rows each way: phong_row_way, m->phong_ymm).
+   Unlike phong_row4_lights, one pass: each step makes its points' greys from its own
+   registers (phong_head8, then phong_tail8), nothing stored between two passes.
+   A step holds up to eight points of a run, from its first; where fewer than eight of the
+   run are left (a run of 1 .. 7 points, or the last 1 .. 7 of a longer one) the step
+   holds them in its low lanes with their triangle's constants and the next run's first
+   points in the others with that run's (each constant's vector blended under the step's
+   mask: a masked broadcast), where the next run's btot is not 0; the next step then
+   starts at the first of the next run's points this one did not hold. Lanes past the
+   step's points hold +0 (masked loads), and are neither stored nor counted.
+   Measured on a Zen 5 host (full-width AVX-512; perf's sampling clock, the rows' share of
+   the frame's samples, 3 runs each way in turn, under load): eight points a step in the
+   AVX rows' two passes against phong_rows4_r14, t1-g 27.4 -> 22.8%; then the steps
+   across two runs, t1-g 25.7 -> 24.2%, lprism 17.7 -> 16.4%, the sphere 15.3 -> 14.1%
+   (its runs hold 3.4 points on average); then one pass, t1-g 23.1 -> 21.3%, the sphere
+   14.1 -> 13.6%: the processor's window holds several steps' chains (round 39's host
+   did not: there the second pass eight points a step lost). Altogether, against
+   phong_rows4_r14 (3 runs each way in turn): t1-g 25.9 -> 21.4%, t1-h 24.8 -> 19.5%,
+   t1-i 28.0 -> 22.8%, the sphere 15.3 -> 13.3%, lprism 17.9 -> 15.6%. Tried and not
+   kept (the same greys): every step blended, so that the step has no branch on the run's
+   length (t1-g 23.3 -> 26.4%, the sphere level); the 21 constants a step reads
+   (phong_head8's) and |btot| kept together in the triangle's lanes, about 3 cache lines
+   a run instead of about 9 (the sphere level). */
+#define PHONG_ZMM_ATTR __attribute__((target("avx512f,avx512vl")))
+
+/* A pair's double (struct smooth_lanes) in all eight lanes: x's double at a where two is
+   false, else in the lanes of ka, and in the others y's double at the same place in y */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
+__m512d lanes8(const struct smooth_lanes *x, const struct smooth_lanes *y, const double *a,
+               bool two, __mmask8 ka)
+{
+  if (!two) return _mm512_set1_pd(*a);
+  const double *b = (const double *)(const void *)((const char *)y +
+                                                   ((const char *)a - (const char *)x));
+  return _mm512_mask_blend_pd(ka, _mm512_set1_pd(*b), _mm512_set1_pd(*a));
+}
+
+/* Eight points' values between phong_head8 and phong_tail8, as phong_pts4's: the normal's
+   sums N, the least clamped area mn, their sum s, the triangle's |tot|, the eye's side */
+struct phong_v8 {
+  __m512d n[3], mn, s, at, sg;
+};
+
+/* phong_head4 at eight points (coordinates px, py on their triangles' axes), triangle x's
+   constants in the lanes of ka and (two) triangle y's in the others: the same operations
+   lane by lane, into *V (with sg and at, the lanes' sides and |tot|) */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
+void phong_head8(const struct smooth_lanes *x, const struct smooth_lanes *y, bool two,
+                 __mmask8 ka, __m512d px, __m512d py, __m512d sg, __m512d at,
+                 struct phong_v8 *V)
+{
+  const __m512d zero = _mm512_setzero_pd();
+  __m512d w[3], s = zero;
+#define LANES8(a) lanes8(x, y, a, two, ka)
+  for (int k = 0; k < 3; k++) {
+    const __m512d ar = _mm512_sub_pd(
+        _mm512_mul_pd(LANES8(x->xsd[k][0]), _mm512_sub_pd(py, LANES8(x->xa[k][1]))),
+        _mm512_mul_pd(_mm512_sub_pd(px, LANES8(x->xa[k][0])), LANES8(x->xsd[k][1])));
+    w[k] = _mm512_max_pd(ar, zero);         /* MAXPD's: the second operand where equal */
+    s = k ? _mm512_add_pd(s, w[k]) : w[k];
+  }
+  V->mn = _mm512_min_pd(_mm512_min_pd(w[0], w[1]), w[2]);
+  for (int c = 0; c < 3; c++)
+    V->n[c] = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(w[0], LANES8(x->xcn[0][c])),
+                                          _mm512_mul_pd(w[1], LANES8(x->xcn[1][c]))),
+                            _mm512_mul_pd(w[2], LANES8(x->xcn[2][c])));
+#undef LANES8
+  V->s = s;
+  V->at = at;
+  V->sg = sg;
+}
+
+/* phong_tail4 (r14) at points q .. q + cnt - 1 (cnt 1 .. 8; lanes past them neither
+   stored nor counted) from *V: the same operations lane by lane, the same tests, greys
+   and declines (the exact chain, counted in phong_declines; lane h's triangle ta in the
+   lanes of ka, else tb); the greys to grey[q + h], under one light eight in one store,
+   else clamped to 255 (VPMINSD: g > 255 ? 255 : g) and stored under the step's mask */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
+void phong_tail8(const struct smooth_model *m, const struct phong_v8 *V, int ta, int tb,
+                 __mmask8 ka, int q, int cnt, const double *xu, const double *xw,
+                 const unsigned *blocked, bool shadow, const struct shade_lights *L,
+                 const __m512d (*lv)[3], int nlight, int *grey)
+{
+  const __m512d zero = _mm512_setzero_pd();
+  const __mmask8 lanes = (__mmask8)((1u << cnt) - 1);
+  __m256i bv = _mm256_setzero_si256();
+  unsigned bor = 0;
+  if (shadow) {
+    bv = _mm256_maskz_loadu_epi32(lanes, blocked + q);
+    for (int h = 0; h < cnt; h++) bor |= blocked[q + h];
+  }
+  const __m512d N0 = V->n[0], N1 = V->n[1], N2 = V->n[2], sv = V->s, at = V->at;
+  const __m512d nn = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(N0, N0), _mm512_mul_pd(N1, N1)),
+                                   _mm512_mul_pd(N2, N2));
+  __mmask8 ok = _mm512_cmp_pd_mask(V->mn, _mm512_mul_pd(at, _mm512_set1_pd(0x1p-1000)),
+                                   _CMP_GE_OS);
+  ok = _mm512_mask_cmp_pd_mask(ok, sv, _mm512_mul_pd(at, _mm512_set1_pd(0x1p1000)), _CMP_LE_OS);
+  ok = _mm512_mask_cmp_pd_mask(ok, sv, _mm512_set1_pd(0x1p-500), _CMP_GE_OS);
+  ok = _mm512_mask_cmp_pd_mask(ok, nn,
+                               _mm512_mul_pd(_mm512_mul_pd(sv, sv), _mm512_set1_pd(0x1p-20)),
+                               _CMP_GE_OS);
+  const __m512d y0 = _mm512_rsqrt14_pd(nn);
+  const __m512d c = _mm512_sub_pd(_mm512_set1_pd(1.5),
+                                  _mm512_mul_pd(_mm512_mul_pd(nn, _mm512_set1_pd(0.5)),
+                                                _mm512_mul_pd(y0, y0)));
+  __m512d sum = zero;
+  for (int k = 0; k < nlight; k++) {
+    const __m512d dot = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(N0, lv[k][0]),
+                                                    _mm512_mul_pd(N1, lv[k][1])),
+                                      _mm512_mul_pd(N2, lv[k][2]));
+    __m512d d = _mm512_max_pd(_mm512_mul_pd(V->sg, dot), zero);
+    if (shadow && (bor >> k & 1u))          /* +0 where light k is blocked */
+      d = _mm512_maskz_mov_pd(_mm256_testn_epi32_mask(bv, _mm256_set1_epi32((int)(1u << k))), d);
+    sum = k ? _mm512_add_pd(sum, d) : d;
+  }
+  const __m512d fr = _mm512_set1_pd((255 - SHADE_AMBIENT) * 1.0);
+  const __m512d f = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(fr, sum), y0), c),
+                                  _mm512_set1_pd(0.5));
+  const __m512d delta = _mm512_set1_pd(0x1p-15);
+  const __m512d f0v = _mm512_sub_pd(f, delta), f1v = _mm512_add_pd(f, delta);
+  const __m256i t0 = _mm512_cvttpd_epi32(f0v);
+  /* phong_tail's test, lane by lane */
+  const __mmask8 fine = _mm256_mask_cmpeq_epi32_mask(
+      _mm512_mask_cmp_pd_mask(ok, f1v, _mm512_set1_pd(0x1p30), _CMP_LT_OS), t0,
+      _mm512_cvttpd_epi32(f1v));
+  if ((fine & lanes) == lanes) {
+    const __m256i g = _mm256_add_epi32(t0, _mm256_set1_epi32(SHADE_AMBIENT));
+    if (nlight == 1 && cnt == 8)            /* no clamp under one light: phong_tail */
+      _mm256_storeu_si256((__m256i *)(void *)&grey[q], g);
+    else
+      _mm256_mask_storeu_epi32(&grey[q], lanes, _mm256_min_epi32(g, _mm256_set1_epi32(255)));
+    return;
+  }
+  _Alignas(64) double f0[8], f1[8];
+  _mm512_store_pd(f0, f0v);
+  _mm512_store_pd(f1, f1v);
+  for (int h = 0; h < cnt; h++) {          /* phong_filter's last test and grey */
+    int *g = &grey[q + h];
+    if ((ok >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
+      const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
+      *g = gv > 255 ? 255 : gv;
+      continue;
+    }
+    if (m->phong_declines) ++*m->phong_declines;
+    const struct smooth_tri *tr = &m->tri[ka >> h & 1 ? ta : tb];
+    double buf[3], ar[3];
+    const double *Xp = phong_point(NULL, xu, xw, tr, q + h, buf);
+    bary_areas(tr, Xp, ar);
+    grey_phong_exact(tr, ar, Xp, 1.0, shadow ? blocked[q + h] : 0, L, g);
+  }
+}
+
+/* phong_row_lights eight points a step, in one pass (above). A run of a triangle whose
+   btot is 0 is declined (its least w_k taken as 0, below |tot| 2^-1000 = 2^-1000 with
+   |tot| taken as 1), and so takes the exact chain with its areas (bary_areas), counted,
+   as phong_alone takes it in phong_rows. */
+static inline __attribute__((always_inline)) PHONG_ZMM_ATTR
+void phong_row8_lights(const struct smooth_model *m, int nseg, const int *tri, const int *at,
+                       const double *xu, const double *xw, const unsigned *blocked,
+                       bool shadow, const struct shade_lights *L, const __m512d (*lv)[3],
+                       int nlight, int *grey)
+{
+  const __m512d one = _mm512_set1_pd(1);    /* values of no use, in lanes not ok */
+  int k = 0, p = 0;
+  while (k < nseg) {
+    const struct smooth_tri *tr = &m->tri[tri[k]];
+    const int q = at[k + 1];
+    if (tr->btot == 0) {                    /* declined: the exact chain, as phong_alone */
+      const struct phong_v8 V = { { one, one, one }, _mm512_setzero_pd(), one, one, one };
+      for (; p < q; p += 8)
+        phong_tail8(m, &V, tri[k], tri[k], 0xff, p, q - p < 8 ? q - p : 8, xu, xw, blocked,
+                    shadow, L, lv, nlight, grey);
+      p = q;
+      k++;
+      continue;
+    }
+    const struct smooth_lanes *lx = &m->lanes[tri[k]];
+    __m512d sg = _mm512_set1_pd(tr->front ? 1 : -1);
+    __m512d av = _mm512_set1_pd(fabs(tr->btot));
+    const int c = q - p;
+    /* lx's constants read at each step from their addresses in lx (memory operands), not
+       made and kept on the stack once a run (phong_row4_lights) */
+    __asm__("" : "+r"(lx));
+    struct phong_v8 V;
+    if (c >= 8) {                           /* eight of the run's points */
+      phong_head8(lx, lx, false, 0xff, _mm512_loadu_pd(xu + p), _mm512_loadu_pd(xw + p), sg,
+                  av, &V);
+      phong_tail8(m, &V, tri[k], tri[k], 0xff, p, 8, xu, xw, blocked, shadow, L, lv, nlight,
+                  grey);
+      p += 8;
+      k += p == q;
+      continue;
+    }
+    const struct smooth_tri *tb = k + 1 < nseg ? &m->tri[tri[k + 1]] : NULL;
+    if (tb && tb->btot != 0) {              /* run k's last c points, then run k + 1's */
+      const int q2 = at[k + 2], e = q2 - p < 8 ? q2 : p + 8;
+      const __mmask8 ka = (__mmask8)((1u << c) - 1), l = (__mmask8)((1u << (e - p)) - 1);
+      const struct smooth_lanes *ly = &m->lanes[tri[k + 1]];
+      __asm__("" : "+r"(ly));
+      sg = _mm512_mask_blend_pd(ka, _mm512_set1_pd(tb->front ? 1 : -1), sg);
+      av = _mm512_mask_blend_pd(ka, _mm512_set1_pd(fabs(tb->btot)), av);
+      phong_head8(lx, ly, true, ka, _mm512_maskz_loadu_pd(l, xu + p),
+                  _mm512_maskz_loadu_pd(l, xw + p), sg, av, &V);
+      phong_tail8(m, &V, tri[k], tri[k + 1], ka, p, e - p, xu, xw, blocked, shadow, L, lv,
+                  nlight, grey);
+      p = e;
+      k += 1 + (e == q2);
+      continue;
+    }
+    const __mmask8 l = (__mmask8)((1u << c) - 1);   /* the run's last c points alone */
+    phong_head8(lx, lx, false, 0xff, _mm512_maskz_loadu_pd(l, xu + p),
+                _mm512_maskz_loadu_pd(l, xw + p), sg, av, &V);
+    phong_tail8(m, &V, tri[k], tri[k], 0xff, p, c, xu, xw, blocked, shadow, L, lv, nlight,
+                grey);
+    p = q;
+    k++;
+  }
+}
+
+/* phong_rows4_r14 eight points a step (AVX-512F, rows_zmm) */
+static PHONG_ZMM_ATTR void phong_rows8(const struct smooth_model *m, int nseg, const int *tri,
+                                       const int *at, const double *xu, const double *xw,
+                                       const unsigned *blocked, const struct shade_lights *L,
+                                       int *grey)
+{
+  __m512d lv[SCENE_LIGHT_MAX][3];
+  for (int k = 0; k < L->n; k++)
+    for (int c = 0; c < 3; c++) lv[k][c] = _mm512_set1_pd(L->v[k][c]);
+  const int n = at[nseg];
+  unsigned bl = 0;
+  for (int p = 0; p < n; p++) bl |= blocked[p];
+  const __m512d (*lc)[3] = (const __m512d (*)[3])lv;
+  if (L->n == 1 && !bl)
+    phong_row8_lights(m, nseg, tri, at, xu, xw, blocked, false, L, lc, 1, grey);
+  else if (L->n == 1)
+    phong_row8_lights(m, nseg, tri, at, xu, xw, blocked, true, L, lc, 1, grey);
+  else
+    phong_row8_lights(m, nseg, tri, at, xu, xw, blocked, true, L, lc, L->n, grey);
+}
+
+/* Whether smooth_phong_row takes its rows eight points a step: where the processor has
+   AVX-512F and AVX-512VL (and the system saves their registers: __builtin_cpu_supports)
+   and m's phong_sqrt and phong_ymm (tests only) are not set. */
+static inline bool rows_zmm(const struct smooth_model *m)
+{
+  return !m->phong_sqrt && !m->phong_ymm && __builtin_cpu_supports("avx512f") &&
+         __builtin_cpu_supports("avx512vl");
+}
 #endif
 
 static void phong_row(const struct smooth_model *m, int nseg, const int *tri, const int *at,
@@ -2133,7 +2392,8 @@ void smooth_phong_row(const struct smooth_model *m, int nseg, const int *tri, co
 {
 #ifdef PHONG_AVX
   if (rows_avx(m)) {
-    if (rows_r14(m)) phong_rows4_r14(m, nseg, tri, at, xu, xw, blocked, L, grey);
+    if (rows_zmm(m)) phong_rows8(m, nseg, tri, at, xu, xw, blocked, L, grey);
+    else if (rows_r14(m)) phong_rows4_r14(m, nseg, tri, at, xu, xw, blocked, L, grey);
     else phong_rows4(m, nseg, tri, at, xu, xw, blocked, L, grey);
     return;
   }

@@ -97,6 +97,9 @@ struct smooth_model {
      and divide where the processor has AVX-512VL (not its reciprocal square root's short
      chain: smooth.c, rows_r14). */
   bool phong_sqrt;
+  /* Tests only too: phong_ymm makes smooth_phong_row take its AVX rows four points a step
+     where the processor has AVX-512F (not its eight-point rows: smooth.c, rows_zmm). */
+  bool phong_ymm;
   /* Tests only too: inner_exact gives every point of the partial smoothing its region by
      the exact chain, without the filter that finds the inner triangle's points (smooth.c,
      "The inner triangle's filter"); inner_declines, when set, counts the points the

@@ -668,21 +668,24 @@ static void test_run_is_single(void **state)
    another count of pairs the lit pairs' filter declines (lit_declines) in one build than
    in the other. */
 
-/* smooth_phong_row on m by one of the ways its rows are built: 0, four points a step (AVX,
-   where the processor has it) with AVX-512's short chain (where it has AVX-512VL); 1, the
-   same with the square root and divide (phong_sqrt); 2, two points a step (SSE2,
-   rows_sse2). The points it declines are counted into *dec where dec is not NULL. */
+/* smooth_phong_row on m by one of the ways its rows are built: 0, eight points a step
+   (AVX-512, where the processor has AVX-512F and AVX-512VL) with the short chain, else as
+   1; 1, four points a step (AVX, where the processor has it) with AVX-512's short chain
+   (where it has AVX-512VL: phong_ymm); 2, four with the square root and divide
+   (phong_sqrt); 3, two points a step (SSE2, rows_sse2). The points it declines are
+   counted into *dec where dec is not NULL. */
 static void phong_row_way(struct smooth_model *m, int way, int nseg, const int *tri,
                           const int *at, const double *xu, const double *xw,
                           const unsigned *blocked, const struct shade_lights *lights, int *grey,
                           long *dec)
 {
-  m->phong_sqrt = way == 1;
-  m->rows_sse2 = way == 2;
+  m->phong_ymm = way == 1;
+  m->phong_sqrt = way == 2;
+  m->rows_sse2 = way == 3;
   m->phong_declines = dec;
   smooth_phong_row(m, nseg, tri, at, xu, xw, blocked, lights, grey);
   m->phong_declines = NULL;
-  m->phong_sqrt = m->rows_sse2 = false;
+  m->phong_ymm = m->phong_sqrt = m->rows_sse2 = false;
 }
 
 static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
@@ -748,10 +751,11 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
         xu[p] = X[p][L->m.tri[tri[k]].bu];
         xw[p] = X[p][L->m.tri[tri[k]].bw];
       }
-    /* each of its ways: four points a step (AVX, where the processor has it) with
-       AVX-512's short chain (where it has AVX-512VL) or with the square root and divide
-       (phong_sqrt), and two (SSE2, rows_sse2) */
-    for (int way = 0; way < 3; way++) {
+    /* each of its ways: eight points a step (AVX-512F) with the short chain, four (AVX,
+       where the processor has it) with AVX-512's short chain (where it has AVX-512VL:
+       phong_ymm) or with the square root and divide (phong_sqrt), and two (SSE2,
+       rows_sse2) */
+    for (int way = 0; way < 4; way++) {
       dec_uv = 0;
       phong_row_way(&L->m, way, nseg, tri, at, xu, xw, blocked, lights, gu,
                     declines ? &dec_uv : NULL);
@@ -760,7 +764,7 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
           differ += gu[p] != smooth_grey_at(&L->m, &L->r.map, L->s, &L->e, tri[k], X[p], 1.0,
                                             blocked[p], lights, NULL, NULL);
       /* the same points declined (the short chain's wider margin: at least those) */
-      if (declines) differ += way ? dec_uv != dec_row : dec_uv < dec_row;
+      if (declines) differ += way >= 2 ? dec_uv != dec_row : dec_uv < dec_row;
     }
   }
   L->m.phong_declines = NULL;
@@ -854,6 +858,82 @@ static void test_row_is_single(void **state)
     if (kind >= 1) assert_true(seen[0] > 0 && seen[1] > 0 && seen[2] > 0);
     lib_close(&L);
   }
+}
+
+/* The Phong rows (smooth_phong_row) on stretches of long runs, in each of their ways
+   (row_vs_single: eight points a step where the processor has AVX-512F, four, two),
+   against smooth_grey_at point by point: runs of 1 to 21 points of one triangle (so that
+   the eight-point rows take whole steps of eight, steps of a run's last 1 to 7 points
+   with the next run's first ones or alone, and runs longer than two steps), rows of up
+   to SMOOTH_ROW points (the four-point rows' second pass: a last step of 1 to 4), under
+   one parallel light unblocked, one blocked at some points and two blocked at some (each
+   light's lanes apart); then again with every fourth triangle's btot made 0 (its lanes
+   made again: smooth_lanes_remake), whose points every way leaves to the exact chain
+   (the eight-point rows then put no other run's points in a step with them). Every grey
+   the same, the same points declined (the short chain: at least the filter's). */
+static void test_phong_rows_long(void **state)
+{
+  (void)state;
+  const double w[][3] = { { 1.0 / 3, 1.0 / 3, 1.0 / 3 }, { 0.7, 0.2, 0.1 }, { 1, 0, 0 },
+                          { 0.5, 0.5, 0 }, { 0.05, 0.9, 0.05 }, { 0.02, 0.49, 0.49 },
+                          { 0.9, 0.05, 0.05 }, { 0.3, 0.3, 0.4 }, { 0.15, 0.25, 0.6 } };
+  const int nw = (int)(sizeof w / sizeof *w);
+  struct lib L;
+  lib_open(&L, "scenes/sphere.s74", "smooth=phong");
+  int differ = 0, greys[256] = { 0 }, lens[SMOOTH_ROW + 1] = { 0 }, ends[9] = { 0 };
+  long seen[3] = { 0, 0, 0 }, declines = 0, points = 0;
+  struct smooth_tri *keep = malloc((size_t)L.m.ntri * sizeof *keep);
+  assert_non_null(keep);
+  memcpy(keep, L.m.tri, (size_t)L.m.ntri * sizeof *keep);
+  for (int light = 0; light < 4; light++) {
+    struct shade_lights lights;
+    shade_lights_init(&lights, L.s);
+    if (light == 2) second_light(&lights);
+    if (light == 3)                         /* one light, every fourth triangle's btot 0 */
+      for (int t = 1; t < L.m.ntri; t += 4) {
+        L.m.tri[t].btot = 0;
+        smooth_lanes_remake(&L.m, t);
+      }
+    assert_true(smooth_rows(&L.m, &L.e, &lights));
+    for (int t0 = 0; t0 < L.m.ntri; t0++) {
+      double X[SMOOTH_ROW][3];
+      unsigned blocked[SMOOTH_ROW];
+      int tri[SMOOTH_ROW], at[SMOOTH_ROW + 1], nseg = 0, n = 0;
+      at[0] = 0;
+      for (int t = t0; t < L.m.ntri; t++) {
+        int len = 1 + (t0 + nseg * 4) % 21;
+        if (n + len > SMOOTH_ROW) len = SMOOTH_ROW - n - t0 % 9;
+        if (len <= 0) break;
+        for (int p = n; p < n + len; p++) {
+          tri_point(&L, t, w[(p * 5 + t) % nw], X[p]);
+          blocked[p] = light % 3 == 0 ? 0
+                                      : (unsigned)((t + p) % 3 == 0) |
+                                        (unsigned)(light == 2 && (t + 2 * p) % 5 == 0) << 1;
+        }
+        lens[len]++;
+        n += len;
+        tri[nseg] = t;
+        at[++nseg] = n;
+      }
+      ends[n % 8 ? n % 8 : 8]++;
+      points += n;
+      differ += row_vs_single(&L, nseg, tri, at, (const double (*)[3])X, blocked, &lights,
+                              greys, seen, &declines);
+    }
+  }
+  for (int t = 1; t < L.m.ntri; t += 4) {
+    L.m.tri[t] = keep[t];
+    smooth_lanes_remake(&L.m, t);
+  }
+  free(keep);
+  print_message("Phong rows, long runs: %ld points, %ld declined\n", points, declines);
+  assert_int_equal(differ, 0);
+  for (int len = 1; len <= 21; len++) assert_true(lens[len] > 0);
+  for (int c = 1; c <= 8; c++) assert_true(ends[c] > 0);
+  int distinct = 0;                       /* the greys vary: the test can tell points apart */
+  for (int gv = 0; gv < 256; gv++) distinct += greys[gv];
+  assert_true(distinct > 20);
+  lib_close(&L);
 }
 
 /* A row's stretch whose points come two or more at a time from one edge band or one corner
@@ -1404,8 +1484,9 @@ static void test_phong_filter_is_exact(void **state)
    test_phong_filter_is_exact finds them (bisected by the exact chain down to neighbouring
    doubles of the parameter), each border's two points in a row with the two ends they
    were bisected between (a step of four points; the third coordinate left out), in each
-   of the rows' ways: AVX-512's short chain where the processor has AVX-512VL, the AVX
-   rows' square root and divide (phong_sqrt), SSE2's two points a step (rows_sse2). Every
+   of the rows' ways: AVX-512's short chain eight points a step where the processor has
+   AVX-512F, four where it has AVX-512VL (phong_ymm), the AVX rows' square root and divide
+   (phong_sqrt), SSE2's two points a step (rows_sse2). Every
    grey is the exact chain's, and every way declines both points of each border (they lie
    far within any of the filters' margins of a change of grey). Fails with the short
    chain's margin (smooth.c, phong_tail4) cut from 2^-15 to 2^-30. */
@@ -1417,7 +1498,7 @@ static void test_phong_rows_borders(void **state)
   struct shade_lights one;
   shade_lights_init(&one, L.s);
   assert_true(smooth_rows(&L.m, &L.e, &one));
-  long borders = 0, declines[3] = { 0, 0, 0 };
+  long borders = 0, declines[4] = { 0, 0, 0, 0 };
   int differ = 0;
   for (int t = 0; t < L.m.ntri; t++) {
     const struct smooth_tri *tr = &L.m.tri[t];
@@ -1459,7 +1540,7 @@ static void test_phong_rows_borders(void **state)
     borders++;
     const int tri1[1] = { t }, at1[2] = { 0, 4 };
     const unsigned none[4] = { 0, 0, 0, 0 };
-    for (int way = 0; way < 3; way++) {
+    for (int way = 0; way < 4; way++) {
       int gr[4];
       long dec = 0;
       phong_row_way(&L.m, way, 1, tri1, at1, xu, xw, none, &one, gr, &dec);
@@ -1467,11 +1548,12 @@ static void test_phong_rows_borders(void **state)
       declines[way] += dec;
     }
   }
-  print_message("Phong rows: %ld borders, declined %ld / %ld / %ld (short chain, AVX, SSE2)\n",
-                borders, declines[0], declines[1], declines[2]);
+  print_message("Phong rows: %ld borders, declined %ld / %ld / %ld / %ld (short chain eight "
+                "and four a step, AVX, SSE2)\n",
+                borders, declines[0], declines[1], declines[2], declines[3]);
   assert_int_equal(differ, 0);
   assert_true(borders > 50);
-  for (int way = 0; way < 3; way++) assert_true(declines[way] >= 2 * borders);
+  for (int way = 0; way < 4; way++) assert_true(declines[way] >= 2 * borders);
   lib_close(&L);
 }
 
@@ -1522,18 +1604,18 @@ static void test_phong_filter_range(void **state)
         assert_int_equal(declines, tiny);
         if (q)
           continue;
-        /* the point as a row of one (smooth_phong_row, the lights parallel), both of its
-           ways (four points a step where the processor has AVX, and SSE2's): the same
-           grey, declined alike (the four-point way makes the range test in its second
-           pass) */
+        /* the point as a row of one (smooth_phong_row, the lights parallel), each of its
+           ways (eight and four points a step where the processor has AVX-512F and AVX,
+           and SSE2's): the same grey, declined alike (the eight- and four-point ways make
+           the range test in their second pass) */
         assert_true(smooth_rows(&L.m, &L.e, &set[0]));
-        for (int way = 0; way < 2; way++) {
+        for (int way = 0; way < 4; way++) {
           const int tri1[1] = { t }, at1[2] = { 0, 1 };
           const double xu[1] = { X[tr->bu] }, xw[1] = { X[tr->bw] };
           const unsigned none[1] = { 0 };
           int gr[1];
           long row_declines = 0;
-          phong_row_way(&L.m, way ? 2 : 0, 1, tri1, at1, xu, xw, none, &set[0], gr,
+          phong_row_way(&L.m, way, 1, tri1, at1, xu, xw, none, &set[0], gr,
                         &row_declines);
           assert_int_equal(gr[0], g[1]);
           assert_int_equal(row_declines, tiny);
@@ -1591,8 +1673,8 @@ static void test_phong_filter_tiny_sum(void **state)
    the scene's parallel light), whose constants are the triangle's lanes (made again from
    the scaled triangle: smooth_lanes_remake): a step of four points at the triangle's
    centre, its coordinates on the axes bu, bw scaled by c, in each of the rows' ways (the
-   short chain where the processor has AVX-512VL, the square root and divide: phong_sqrt,
-   SSE2's: rows_sse2). Each takes the four at c = 2^-255 (s about 2^-497) and declines
+   short chain eight points a step where the processor has AVX-512F, four where it has
+   AVX-512VL: phong_ymm, the square root and divide: phong_sqrt, SSE2's: rows_sse2). Each takes the four at c = 2^-255 (s about 2^-497) and declines
    them at c = 2^-260 (s about 2^-507: the AVX rows' test s >= 2^-500 in their second
    pass), every grey the exact chain's. Fails if the rows' bound is s > 0. */
 static void test_phong_rows_tiny_sum(void **state)
@@ -1624,7 +1706,7 @@ static void test_phong_rows_tiny_sum(void **state)
       const double xw[4] = { X[tr->bw], X[tr->bw], X[tr->bw], X[tr->bw] };
       const int tri1[1] = { t }, at1[2] = { 0, 4 };
       const unsigned none[4] = { 0, 0, 0, 0 };
-      for (int way = 0; way < 3; way++) {
+      for (int way = 0; way < 4; way++) {
         int gr[4];
         long dec = 0;
         phong_row_way(&L.m, way, 1, tri1, at1, xu, xw, none, &one, gr, &dec);
@@ -2521,6 +2603,7 @@ int main(void)
     cmocka_unit_test(test_no_seams),
     cmocka_unit_test(test_run_is_single),
     cmocka_unit_test(test_row_is_single),
+    cmocka_unit_test(test_phong_rows_long),
     cmocka_unit_test(test_row_band_pairs),
     cmocka_unit_test(test_edge_pairs_are_single),
     cmocka_unit_test(test_band_lanes_selections),
