@@ -160,6 +160,31 @@ static void region_blocks(const struct gpoint poly[CONTOUR_STEPS + 2], gcoord (*
   fx_ring_blocks(poly, CONTOUR_STEPS + 2, blk, 0, box);
 }
 
+#ifdef __SSE2__
+/* region_exact's and region_exact512's last step: each block's y extremes into blk and the
+   ring's box from the blocks' keys bl, bh (the doubles 2^52 + r, x and y a lane, that
+   region_exact's REGION_KEY makes), r taken back as the key's bits less those of
+   2^52 + 2^30. */
+static inline void region_keys_out(const __m128d bl[REGION_BLOCKS],
+                                   const __m128d bh[REGION_BLOCKS], gcoord (*blk)[2],
+                                   gcoord box[4])
+{
+  const __m128i back = _mm_set1_epi64x((int64_t)0x4330000000000000 + ((int64_t)1 << 30));
+  __m128d blo = bl[0], bhi = bh[0];
+  for (int b = 0; b < REGION_BLOCKS; b++) {
+    const __m128i l = _mm_sub_epi64(_mm_castpd_si128(bl[b]), back);
+    const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bh[b]), back);
+    _mm_storeu_si128((__m128i *)(void *)blk[b], _mm_unpackhi_epi64(l, h));   /* y lo, y hi */
+    blo = _mm_min_pd(blo, bl[b]);
+    bhi = _mm_max_pd(bhi, bh[b]);
+  }
+  const __m128i l = _mm_sub_epi64(_mm_castpd_si128(blo), back);
+  const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bhi), back);
+  _mm_storeu_si128((__m128i *)(void *)&box[0], _mm_unpacklo_epi64(l, h));    /* x lo, x hi */
+  _mm_storeu_si128((__m128i *)(void *)&box[2], _mm_unpackhi_epi64(l, h));    /* y lo, y hi */
+}
+#endif
+
 static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_STEPS + 2],
                          gcoord (*blk)[2], gcoord box[4])
 {
@@ -204,7 +229,6 @@ static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_ST
      Two instructions a point for the four extremes, where fx_ring_blocks' compares and
      selects make four chains of eight (issue 19: about a quarter of contour_build). */
   const __m128i expo = _mm_set1_epi64x((int64_t)0x4330000000000000);
-  const __m128i back = _mm_set1_epi64x((int64_t)0x4330000000000000 + ((int64_t)1 << 30));
 #define REGION_KEY(p) _mm_castsi128_pd(_mm_or_si128(                                    \
     _mm_add_epi64(_mm_loadu_si128((const __m128i *)(const void *)(p)), off), expo))
   const __m128d k0 = REGION_KEY(&poly[0]), k1 = REGION_KEY(&poly[1]);
@@ -239,18 +263,7 @@ static void region_exact(const struct gpoint q[5], struct gpoint poly[CONTOUR_ST
     bh[REGION_BLOCKS - 1] = _mm_max_pd(_mm_max_pd(hi, k65), k0);
   }
 #undef REGION_KEY
-  __m128d blo = bl[0], bhi = bh[0];
-  for (int b = 0; b < REGION_BLOCKS; b++) {
-    const __m128i l = _mm_sub_epi64(_mm_castpd_si128(bl[b]), back);
-    const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bh[b]), back);
-    _mm_storeu_si128((__m128i *)(void *)blk[b], _mm_unpackhi_epi64(l, h));   /* y lo, y hi */
-    blo = _mm_min_pd(blo, bl[b]);
-    bhi = _mm_max_pd(bhi, bh[b]);
-  }
-  const __m128i l = _mm_sub_epi64(_mm_castpd_si128(blo), back);
-  const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bhi), back);
-  _mm_storeu_si128((__m128i *)(void *)&box[0], _mm_unpacklo_epi64(l, h));    /* x lo, x hi */
-  _mm_storeu_si128((__m128i *)(void *)&box[2], _mm_unpackhi_epi64(l, h));    /* y lo, y hi */
+  region_keys_out(bl, bh, blk, box);
 #else
   for (int i = 1; i < CONTOUR_STEPS; i++) {
     gcoord r[2];
@@ -355,19 +368,7 @@ static REGION512_ATTR void region_exact512(const struct gpoint q[5],
   }
   bl[REGION_BLOCKS - 1] = _mm_min_pd(_mm_min_pd(before, k65), k0);
   bh[REGION_BLOCKS - 1] = _mm_max_pd(_mm_max_pd(before, k65), k0);
-  const __m128i back = _mm_set1_epi64x((int64_t)0x4330000000000000 + ((int64_t)1 << 30));
-  __m128d blo = bl[0], bhi = bh[0];
-  for (int b = 0; b < REGION_BLOCKS; b++) {
-    const __m128i l = _mm_sub_epi64(_mm_castpd_si128(bl[b]), back);
-    const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bh[b]), back);
-    _mm_storeu_si128((__m128i *)(void *)blk[b], _mm_unpackhi_epi64(l, h));   /* y lo, y hi */
-    blo = _mm_min_pd(blo, bl[b]);
-    bhi = _mm_max_pd(bhi, bh[b]);
-  }
-  const __m128i l = _mm_sub_epi64(_mm_castpd_si128(blo), back);
-  const __m128i h = _mm_sub_epi64(_mm_castpd_si128(bhi), back);
-  _mm_storeu_si128((__m128i *)(void *)&box[0], _mm_unpacklo_epi64(l, h));    /* x lo, x hi */
-  _mm_storeu_si128((__m128i *)(void *)&box[2], _mm_unpackhi_epi64(l, h));    /* y lo, y hi */
+  region_keys_out(bl, bh, blk, box);
 }
 
 /* Whether region_with takes region_exact512: where the processor has AVX-512F and DQ (and

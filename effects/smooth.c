@@ -1398,6 +1398,27 @@ static inline const double *phong_point(const double (*X)[3], const double *xu,
   return buf;
 }
 
+/* The Phong rows' last test and grey for one point p of triangle tr, whatever the width of
+   their step: the grey from the filter's two values f0, f1 (phong_filter's) where the lane
+   passed the step's tests (ok) and both give one integer, else (counted as a decline) the
+   exact chain at p's space point (phong_point). */
+static inline void phong_lane_grey(const struct smooth_model *m, const struct smooth_tri *tr,
+                                   const double (*X)[3], const double *xu, const double *xw,
+                                   int p, bool ok, double f0, double f1, double refl,
+                                   unsigned blocked, const struct shade_lights *L, int *g)
+{
+  if (ok && f0 >= 0 && f1 < 0x1p62 && (int64_t)f0 == (int64_t)f1) {
+    const int gv = SHADE_AMBIENT + (int)(int64_t)f0;
+    *g = gv > 255 ? 255 : gv;
+    return;
+  }
+  if (m->phong_declines) ++*m->phong_declines;
+  double buf[3], ar[3];
+  const double *Xp = phong_point(X, xu, xw, tr, p, buf);
+  bary_areas(tr, Xp, ar);
+  grey_phong_exact(tr, ar, Xp, refl, blocked, L, g);
+}
+
 /* smooth_grey_run's Phong grey of one point X of triangle tr (reflectance 1) where
    phong_pairs declines the triangle: its areas, then phong_lanes. */
 static void phong_alone(const struct smooth_model *m, const struct smooth_tri *tr,
@@ -1564,18 +1585,9 @@ void phong_tail(const struct smooth_model *m, const struct phong_steps *S, int j
   _mm_storeu_pd(f0, f0v);
   _mm_storeu_pd(f1, f1v);
   for (int h = 0; h <= (int)two; h++) {       /* phong_filter's last test and grey */
-    int *g = &grey[h ? pb : pa];
-    if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
-      const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
-      *g = gv > 255 ? 255 : gv;
-      continue;
-    }
-    if (m->phong_declines) ++*m->phong_declines;
-    const struct smooth_tri *tr = &m->tri[phong_tri_at(nseg, tri, at, h ? pb : pa)];
-    double buf[3], ar[3];
-    const double *Xp = phong_point(X, xu, xw, tr, h ? pb : pa, buf);
-    bary_areas(tr, Xp, ar);
-    grey_phong_exact(tr, ar, Xp, refl, h ? b1 : b0, L, g);
+    const int p = h ? pb : pa;
+    phong_lane_grey(m, &m->tri[phong_tri_at(nseg, tri, at, p)], X, xu, xw, p, okb >> h & 1,
+                    f0[h], f1[h], refl, h ? b1 : b0, L, &grey[p]);
   }
 }
 
@@ -1984,20 +1996,9 @@ void phong_tail4(const struct smooth_model *m, const struct phong_pts4 *P, int q
   _Alignas(32) double f0[4], f1[4];
   _mm256_store_pd(f0, f0v);
   _mm256_store_pd(f1, f1v);
-  for (int h = 0; h < cnt; h++) {          /* phong_filter's last test and grey */
-    int *g = &grey[q + h];
-    if ((okb >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
-      const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
-      *g = gv > 255 ? 255 : gv;
-      continue;
-    }
-    if (m->phong_declines) ++*m->phong_declines;
-    const struct smooth_tri *tr = &m->tri[P->tri[q + h]];
-    double buf[3], ar[3];
-    const double *Xp = phong_point(NULL, xu, xw, tr, q + h, buf);
-    bary_areas(tr, Xp, ar);
-    grey_phong_exact(tr, ar, Xp, 1.0, b[h], L, g);
-  }
+  for (int h = 0; h < cnt; h++)            /* phong_filter's last test and grey */
+    phong_lane_grey(m, &m->tri[P->tri[q + h]], NULL, xu, xw, q + h, okb >> h & 1, f0[h],
+                    f1[h], 1.0, b[h], L, &grey[q + h]);
 }
 
 /* Four doubles v[p + min(h, c - 1)], h = 0 .. 3 (c >= 1): a step's points, the last
@@ -2265,20 +2266,9 @@ void phong_tail8(const struct smooth_model *m, const struct phong_v8 *V, int ta,
   _Alignas(64) double f0[8], f1[8];
   _mm512_store_pd(f0, f0v);
   _mm512_store_pd(f1, f1v);
-  for (int h = 0; h < cnt; h++) {          /* phong_filter's last test and grey */
-    int *g = &grey[q + h];
-    if ((ok >> h & 1) && f0[h] >= 0 && f1[h] < 0x1p62 && (int64_t)f0[h] == (int64_t)f1[h]) {
-      const int gv = SHADE_AMBIENT + (int)(int64_t)f0[h];
-      *g = gv > 255 ? 255 : gv;
-      continue;
-    }
-    if (m->phong_declines) ++*m->phong_declines;
-    const struct smooth_tri *tr = &m->tri[ka >> h & 1 ? ta : tb];
-    double buf[3], ar[3];
-    const double *Xp = phong_point(NULL, xu, xw, tr, q + h, buf);
-    bary_areas(tr, Xp, ar);
-    grey_phong_exact(tr, ar, Xp, 1.0, shadow ? blocked[q + h] : 0, L, g);
-  }
+  for (int h = 0; h < cnt; h++)            /* phong_filter's last test and grey */
+    phong_lane_grey(m, &m->tri[ka >> h & 1 ? ta : tb], NULL, xu, xw, q + h, ok >> h & 1,
+                    f0[h], f1[h], 1.0, shadow ? blocked[q + h] : 0, L, &grey[q + h]);
 }
 
 /* phong_row_lights eight points a step, in one pass (above). A run of a triangle whose

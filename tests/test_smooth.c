@@ -1854,6 +1854,22 @@ static void lit_seg_point(const struct lib *L, int t, const double a[3], const d
   tri_point(L, t, w, X);
 }
 
+/* Three segments in barycentric coordinates through triangle t's bands (ti: its band
+   widths) at its side k: along side k's band, across it, and from vertex k to the inner
+   corner; seg[j][0] and seg[j][1] are segment j's ends. */
+static void band_segments(const double ti[3], int k, double seg[3][2][3])
+{
+  const int ka = (k + 1) % 3, kb = (k + 2) % 3;
+  seg[0][0][k] = seg[0][1][k] = 0.4 * ti[k];
+  seg[0][0][ka] = 0.95 - 0.4 * ti[k]; seg[0][0][kb] = 0.05;
+  seg[0][1][ka] = 0.05; seg[0][1][kb] = 0.95 - 0.4 * ti[k];
+  seg[1][0][k] = 0; seg[1][1][k] = ti[k];
+  seg[1][0][ka] = seg[1][1][ka] = 0.5 * (1 - 0.5 * ti[k]);
+  seg[1][0][kb] = 1 - seg[1][0][ka]; seg[1][1][kb] = 1 - ti[k] - seg[1][1][ka];
+  seg[2][0][k] = 1; seg[2][0][ka] = seg[2][0][kb] = 0;
+  seg[2][1][k] = 1 - ti[ka] - ti[kb]; seg[2][1][ka] = ti[ka]; seg[2][1][kb] = ti[kb];
+}
+
 /* The lit pairs' filter (smooth.c) gives the chain's grey, bit for bit, under partial
    smoothings of several insets on the globe and the t1 objects: on a grid of points in
    and around every triangle (the bands, the corners and the inner triangle lit), with
@@ -1909,17 +1925,8 @@ static void test_lit_filter_is_exact(void **state)
     for (int t = 0; t < L.m.ntri; t++) {
       const double *ti = L.m.tri[t].t;
       for (int k = 0; k < 3; k++) {
-        const int ka = (k + 1) % 3, kb = (k + 2) % 3;
         double seg[3][2][3];
-        /* along side k's band, across it, and from vertex k to the inner corner */
-        seg[0][0][k] = seg[0][1][k] = 0.4 * ti[k];
-        seg[0][0][ka] = 0.95 - 0.4 * ti[k]; seg[0][0][kb] = 0.05;
-        seg[0][1][ka] = 0.05; seg[0][1][kb] = 0.95 - 0.4 * ti[k];
-        seg[1][0][k] = 0; seg[1][1][k] = ti[k];
-        seg[1][0][ka] = seg[1][1][ka] = 0.5 * (1 - 0.5 * ti[k]);
-        seg[1][0][kb] = 1 - seg[1][0][ka]; seg[1][1][kb] = 1 - ti[k] - seg[1][1][ka];
-        seg[2][0][k] = 1; seg[2][0][ka] = seg[2][0][kb] = 0;
-        seg[2][1][k] = 1 - ti[ka] - ti[kb]; seg[2][1][ka] = ti[ka]; seg[2][1][kb] = ti[kb];
+        band_segments(ti, k, seg);
         for (int j = 0; j < 3; j++) {
           const double *A = seg[j][0], *B = seg[j][1];
           double X[1][3];
@@ -1987,16 +1994,8 @@ static void test_partial_row_lit_borders(void **state)
     for (int t = 0; t < L.m.ntri; t++) {
       const double *ti = L.m.tri[t].t;
       for (int k = 0; k < 3; k++) {
-        const int ka = (k + 1) % 3, kb = (k + 2) % 3;
         double seg[3][2][3];
-        seg[0][0][k] = seg[0][1][k] = 0.4 * ti[k];
-        seg[0][0][ka] = 0.95 - 0.4 * ti[k]; seg[0][0][kb] = 0.05;
-        seg[0][1][ka] = 0.05; seg[0][1][kb] = 0.95 - 0.4 * ti[k];
-        seg[1][0][k] = 0; seg[1][1][k] = ti[k];
-        seg[1][0][ka] = seg[1][1][ka] = 0.5 * (1 - 0.5 * ti[k]);
-        seg[1][0][kb] = 1 - seg[1][0][ka]; seg[1][1][kb] = 1 - ti[k] - seg[1][1][ka];
-        seg[2][0][k] = 1; seg[2][0][ka] = seg[2][0][kb] = 0;
-        seg[2][1][k] = 1 - ti[ka] - ti[kb]; seg[2][1][ka] = ti[ka]; seg[2][1][kb] = ti[kb];
+        band_segments(ti, k, seg);
         for (int j = 0; j < 3; j++) {
           const double *A = seg[j][0], *B = seg[j][1];
           double X[SMOOTH_ROW][3];

@@ -6,11 +6,20 @@
 # agree when the pairs are enough). Used for issue 19's round 39, whose host changed speed
 # by up to 1.8x in phases of seconds, when `tube74 bench speed`'s ratios to the peer moved
 # by a fifth from run to run.
+# AB_ENGINE=1974 times the 1974 engine's whole process instead, as `tube74 bench speed` does
+# (`--engine 1974 --core 268435456`, FRAMES 1 unless given; round 41, its 1974 goals).
 # Usage: tools/ab_pairs.sh OLD_BINARY NEW_BINARY [PAIRS [FRAMES [SCENE...]]]
 #   PAIRS 15, FRAMES 1000, scenes: t1-a t1-e t1-g sphere lprism fig6-room fig6-building street
+#   (a SCENE is a name under scenes/ or a path; an .obj or .off is read with --turn 0,0)
 # Prints a line a scene: the least times (ms) and both ratios; exit 1 when a run fails.
 set -u
-old=$1; new=$2; pairs=${3:-15}; frames=${4:-1000}
+engine=${AB_ENGINE:-points}
+case "$engine" in
+  points) eargs="--engine points"; dframes=1000 ;;
+  1974) eargs="--engine 1974 --core 268435456"; dframes=1 ;;
+  *) echo "ab_pairs: AB_ENGINE is points or 1974" >&2; exit 2 ;;
+esac
+old=$1; new=$2; pairs=${3:-15}; frames=${4:-$dframes}
 [ $# -ge 4 ] && shift 4 || shift $#
 scenes=${*:-"t1-a t1-e t1-g sphere lprism fig6-room fig6-building street"}
 out=$(mktemp -d) || exit 1
@@ -19,12 +28,14 @@ now() { date +%s%N; }
 for s in $scenes; do
   f=scenes/$s.s74
   [ -f "$f" ] || f=$s
+  case "$f" in *.obj|*.off) turn="--turn 0,0" ;; *) turn="" ;; esac
   i=0
   while [ "$i" -lt "$pairs" ]; do
     for b in old new; do
       eval bin=\$$b
       t0=$(now)
-      "$bin" render "$f" --engine points --frames "$frames" -o "$out/$b.png" >/dev/null 2>&1 ||
+      # shellcheck disable=SC2086
+      "$bin" render "$f" $eargs --frames "$frames" -o "$out/$b.png" $turn >/dev/null 2>&1 ||
         { echo "ab_pairs: $bin failed on $f" >&2; exit 1; }
       t1=$(now)
       echo "$s $b $(( (t1 - t0) / 1000 ))" >>"$out/times"
