@@ -504,6 +504,11 @@ const uint16_t *core_high_top(const struct core *c)
   return c->w + (c->size - 1);
 }
 
+uint16_t *core_high_top_w(struct core *c)
+{
+  return c->w + (c->size - 1);
+}
+
 void core_high_set(struct core *c, uint32_t k, uint16_t w)
 {
   assert(k < c->high_len);

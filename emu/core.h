@@ -138,6 +138,9 @@ void core_high_set(struct core *c, uint32_t k, uint16_t w);
    p = core_high_top(c), until the region next grows or is freed, or a growing core
    (core_set_growth) grows. */
 const uint16_t *core_high_top(const struct core *c);
+/* The same pointer, to write through: word k is p[-k] (k < core_high_words), under the
+   same terms (issue 19: a slot's words stored at once, without a call). */
+uint16_t *core_high_top_w(struct core *c);
 /* 2-bit fields in the high region: field i is in word i/8, bits 2*(i%8) .. 2*(i%8)+1. */
 unsigned core_high_get2(const struct core *c, uint64_t i);
 void core_high_set2(struct core *c, uint64_t i, unsigned v);

@@ -146,7 +146,7 @@ static void slot_put(struct prio *pr, uint64_t s, uint32_t i, uint32_t j, unsign
   uint32_t k = (uint32_t)(s * SLOT_WORDS);
   const uint16_t w[SLOT_WORDS] = { (uint16_t)j, (uint16_t)(j >> 16), (uint16_t)i,
                                    (uint16_t)(code << 14 | i >> 16) };
-  core_write_n(pr->core, core_words(pr->core) - SLOT_WORDS - k, w, SLOT_WORDS);
+  memcpy(core_high_top_w(pr->core) - k - (SLOT_WORDS - 1), w, sizeof w);
   if (pr->tag) pr->tag[s] = slot_tag(i);
   COST_ADD_N(pr->cost, COST_MEM, SLOT_WORDS);
 }
@@ -190,9 +190,10 @@ static inline int slot_probe(const uint16_t *top, uint64_t s, uint32_t i, uint32
 
 /* The probe of (i, j) walked through the tags (pr->tag): the code found (CODE_UNKNOWN: not
    held), the slot where the probe stopped (*slot: the pair's, or the empty one where it
-   belongs) and the words it compared, added to *loads; nothing charged. */
-static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i, uint32_t j,
-                                uint64_t *slot, uint64_t *loads)
+   belongs) and the words it compared, added to *loads; nothing charged. top:
+   core_high_top, read once by the caller (the table does not move while it looks). */
+static inline unsigned tag_walk(const struct prio *pr, const uint16_t *top, uint64_t cap,
+                                uint32_t i, uint32_t j, uint64_t *slot, uint64_t *loads)
 {
   const uint8_t *tag = pr->tag;
   const uint8_t q = slot_tag(i);
@@ -226,7 +227,7 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
       continue;
     }
     if (low && !(e >> p & 1u)) { l++; s++; continue; }       /* its i above 2^16 */
-    const uint16_t *top = core_high_top(pr->core);           /* the table must tell */
+                                                             /* the table must tell */
     uint64_t pl;
     int found = slot_probe(top, s, i, j, &pl);
     l += pl;
@@ -241,7 +242,7 @@ static inline unsigned tag_walk(const struct prio *pr, uint64_t cap, uint32_t i,
       if (t & q & TAG_LOW) { l += 2; continue; }        /* i differs, both below 2^16 */
       if ((t ^ q) & TAG_LOW) { l += 1; continue; }       /* one above 2^16, one below */
     }
-    const uint16_t *top = core_high_top(pr->core);     /* the table must tell */
+                                                       /* the table must tell */
     uint64_t pl;
     int stop = slot_probe(top, s, i, j, &pl);
     l += pl;
@@ -264,7 +265,7 @@ static inline uint64_t slot_find(struct prio *pr, uint64_t cap, uint32_t i, uint
   uint64_t s, loads = 0, l;
   charge_home(pr);
   if (pr->tag && !pr->tag_off) {
-    *code = tag_walk(pr, cap, i, j, &s, &loads);
+    *code = tag_walk(pr, core_high_top(pr->core), cap, i, j, &s, &loads);
     pr->tag_looks++;
   } else {
     const uint16_t *top = core_high_top(pr->core);      /* word k at top[-k] */
@@ -361,10 +362,11 @@ static int sparse_rebuild(struct prio *pr, uint64_t slots, struct t74_error *err
      would have charged each */
   bool counted = pr->tag && !pr->tag_off;
   uint64_t loads = 0;
+  const uint16_t *top = core_high_top(pr->core);
   for (uint64_t k = 0; k < n; k++) {
     uint64_t at;
     unsigned held;
-    if (counted) tag_walk(pr, slots, list[k][0], list[k][1], &at, &loads);
+    if (counted) tag_walk(pr, top, slots, list[k][0], list[k][1], &at, &loads);
     else at = slot_find(pr, slots, list[k][0], list[k][1], &held);
     slot_put(pr, at, list[k][0], list[k][1], list[k][2]);
   }
@@ -722,6 +724,8 @@ static bool depth_line(const struct depth *g, const struct gpoint *common, int n
 struct prio_faces {
   int fa, fb;              /* the faces of the first and the second piece; fa < 0: empty */
   uint32_t gen;            /* the frame's stamp (pr->faces_gen) when filled: another, empty */
+  uint32_t fverts;         /* both faces' vertex counts summed (charge_faces): a pair found
+                              kept is charged from it, its faces not read */
   struct depth g;
   struct gpoint common[2];
   int ncommon;
@@ -732,10 +736,16 @@ struct prio_faces {
 
 /* The 1974 work of finding G and the common vertices of faces A and B: depth_of's four
    products, common_points' product a vertex of each face. */
-static void charge_faces(struct prio *pr, const struct mface *A, const struct mface *B)
+static uint32_t face_verts_sum(const struct mface *A, const struct mface *B)
+{
+  return (uint32_t)A->ring_start[A->nring] + (uint32_t)B->ring_start[B->nring];
+}
+
+/* fverts: face_verts_sum of the two faces */
+static void charge_faces(struct prio *pr, uint32_t fverts)
 {
   pr->pend_faces++;                          /* charged by prio_charge_pending */
-  pr->pend_fverts += (uint64_t)A->ring_start[A->nring] + (uint64_t)B->ring_start[B->nring];
+  pr->pend_fverts += fverts;
 }
 
 /* A hint that a host block will be read soon (issue 19: the frame of 2,560 interpenetrating
@@ -782,8 +792,6 @@ static unsigned faces_most(const struct prio *pr)
 /* The face pair (fa, fb), charged: kept in pr->faces, or found into *own. */
 static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio_faces *own)
 {
-  const struct mface *A = &pr->map->f[fa], *B = &pr->map->f[fb];
-  charge_faces(pr, A, B);
   struct prio_faces *e = own;
   if (!pr->faces_off) {
     if (!pr->faces) {
@@ -793,6 +801,7 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
     if (pr->faces) {
       e = face_slot(pr, fa, fb);
       if (e->fa == fa && e->fb == fb && e->gen == pr->faces_gen) {
+        charge_faces(pr, e->fverts);           /* what finding it charges */
         pr->faces_kept++;
         pr->faces_hit++;
         return e;
@@ -810,9 +819,12 @@ static struct prio_faces *face_pair(struct prio *pr, int fa, int fb, struct prio
       }
     }
   }
+  const struct mface *A = &pr->map->f[fa], *B = &pr->map->f[fb];
   e->fa = fa;
   e->fb = fb;
   e->gen = pr->faces_gen;
+  e->fverts = face_verts_sum(A, B);
+  charge_faces(pr, e->fverts);
   const struct depth g = depth_of(pr, A, B);
   store_wide(&e->g.k0, g.k0);
   store_wide(&e->g.k1, g.k1);
@@ -1319,12 +1331,12 @@ static int known_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_
 /* The order of p and q as held in the sparse store (0: not held), looked at through the
    tags: the look counted in *n and the words its probe compared added to *loads, for
    charge_looks. */
-static inline int known_counted(const struct prio *pr, int p, int q, uint64_t *n,
-                                uint64_t *loads)
+static inline int known_counted(const struct prio *pr, const uint16_t *top, int p, int q,
+                                uint64_t *n, uint64_t *loads)
 {
   uint32_t i = (uint32_t)(p < q ? p : q), j = (uint32_t)(p < q ? q : p);
   uint64_t s;
-  unsigned code = tag_walk(pr, pr->hcap, i, j, &s, loads);
+  unsigned code = tag_walk(pr, top, pr->hcap, i, j, &s, loads);
   ++*n;
   if (code == CODE_UNKNOWN) return 0;
   return (code == CODE_HIGHER) == ((uint32_t)p == i) ? PRIO_FIRST : PRIO_SECOND;
@@ -1369,7 +1381,8 @@ int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_ma
   uint32_t i = (uint32_t)(b < c ? b : c), j = (uint32_t)(b < c ? c : b);
   uint64_t n = 1, loads = 0;
   struct probe first;
-  unsigned code = tag_walk(pr, pr->hcap, i, j, &first.slot, &loads);
+  const uint16_t *top = core_high_top(pr->core);
+  unsigned code = tag_walk(pr, top, pr->hcap, i, j, &first.slot, &loads);
   first.loads = loads;
   if (code == CODE_UNKNOWN && pr->faces && !pr->faces_off) {
     /* the pair may be decided next (unless its lineage tells): its faces' slot in the
@@ -1386,17 +1399,17 @@ int prio_order_lineage(struct prio *pr, int b, int c, int pb, int pc, int anc_ma
     const struct piece *sp = pr->seg->p;
     uint64_t up = 0;
     for (int a = pb, k = 0; !r && a >= 0 && k < anc_max; k++) {
-      if ((r = known_counted(pr, a, c, &n, &loads))) break;
+      if ((r = known_counted(pr, top, a, c, &n, &loads))) break;
       a = sp[a].parent;
       up++;
     }
     for (int a = pc, k = 0; !r && a >= 0 && k < anc_max; k++) {
-      if ((r = known_counted(pr, b, a, &n, &loads))) break;
+      if ((r = known_counted(pr, top, b, a, &n, &loads))) break;
       a = sp[a].parent;
       up++;
     }
     COST_ADD_N(cost, COST_MEM, up);
-    if (!r && pb >= 0 && pc >= 0) r = known_counted(pr, pb, pc, &n, &loads);
+    if (!r && pb >= 0 && pc >= 0) r = known_counted(pr, top, pb, pc, &n, &loads);
     if (!r) {                                   /* prio_order's own look */
       n++;
       loads += first.loads;
