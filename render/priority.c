@@ -705,9 +705,12 @@ static bool depth_line(const struct depth *g, const struct gpoint *common, int n
    The host keeps it for the face pairs met last, one a slot of a small table the ordered
    pair hashes into (the newest kept), and charges every use what finding it charges
    (charge_faces), so the counts are those of finding it again. faces_off (tests) finds
-   it every time. The table may grow to about eight slots a face, from 2^6 to 2^15 (2,560
-   interpenetrating triangles: 67,500 of a frame's 157,000 decisions find theirs kept
-   with 2^15 slots, 4.7 MB; the paper's scenes need a few kB). It starts at 2^10 slots
+   it every time. The table may grow to about two slots a face, from 2^6 to 2^15 (2,560
+   interpenetrating triangles: 55,600 of a frame's 157,000 decisions find theirs kept
+   with 2^13 slots, 1.2 MB, against 66,800 with 2^15 slots, 4.7 MB, eight a face; the
+   paper's scenes need a few kB). The smaller table is the faster whole process (issue
+   19, round 42: -2 to -3% at 640 to 2,560 triangles, the frame level): the heap a run
+   touches is faulted in 2 MB at a time, each zeroed by the kernel. It starts at 2^10 slots
    (147 kB) and grows eightfold only while the pairs kept are used: when as many pairs
    as it has slots have been found since it last grew and at least one in
    FACE_HIT_SHARE of them was found kept (the entries move to their slots in the larger
@@ -781,11 +784,11 @@ static void faces_resize(struct prio *pr, unsigned bits)
   pr->faces_new = pr->faces_hit = 0;
 }
 
-/* The face-pair table's largest size: about eight slots a face. */
+/* The face-pair table's largest size: about two slots a face. */
 static unsigned faces_most(const struct prio *pr)
 {
   unsigned most = FACE_BITS_MIN;
-  while (most < FACE_BITS_MAX && (1u << most) < 8u * (unsigned)pr->map->nface) most++;
+  while (most < FACE_BITS_MAX && (1u << most) < 2u * (unsigned)pr->map->nface) most++;
   return most;
 }
 
