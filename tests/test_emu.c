@@ -128,6 +128,31 @@ static void test_high_keeps_contents(void **state)
   core_free(c);
 }
 
+/* core_high_top_w: word k of the high region at p[-k], written through it and read back
+   by core_high_get and core_read (the word at address size - 1 - k), as core_high_top
+   reads it; a word beyond those written stays as it was. */
+static void test_high_top_write(void **state)
+{
+  (void)state;
+  struct t74_error err = { 0 };
+  struct core *c = core_new(64);
+  assert_int_equal(core_high_grow(c, CORE_T_PRIORITY, 8, &err), T74_OK);
+  uint16_t *w = core_high_top_w(c);
+  assert_ptr_equal(w, core_high_top(c));
+  const uint16_t four[4] = { 0x1111, 0x2222, 0x3333, 0x4444 };
+  memcpy(w - 4 - 3, four, sizeof four);               /* words 7, 6, 5, 4 (a slot's) */
+  assert_int_equal(core_high_get(c, 7), 0x1111);
+  assert_int_equal(core_high_get(c, 6), 0x2222);
+  assert_int_equal(core_high_get(c, 5), 0x3333);
+  assert_int_equal(core_high_get(c, 4), 0x4444);
+  assert_int_equal(core_read(c, 63 - 4), 0x4444);
+  assert_int_equal(core_high_get(c, 3), 0);
+  w[0] = 0xBEEF;
+  assert_int_equal(core_read(c, 63), 0xBEEF);
+  assert_int_equal(core_high_top(c)[-5], 0x3333);
+  core_free(c);
+}
+
 static void test_high_meets_low(void **state)
 {
   (void)state;
@@ -1077,6 +1102,7 @@ int main(void)
     cmocka_unit_test(test_alloc_release_stack),
     cmocka_unit_test(test_fill_exactly),
     cmocka_unit_test(test_high_keeps_contents),
+    cmocka_unit_test(test_high_top_write),
     cmocka_unit_test(test_high_meets_low),
     cmocka_unit_test(test_contract_message),
     cmocka_unit_test(test_2bit_fields),
