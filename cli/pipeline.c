@@ -1388,22 +1388,22 @@ static int points_emit(struct pipeline *p, const struct points *pt)
 /* One more frame of the loaded scene for --frames (the job's outputs come from the frame
 ** after these), by the job's engine: the 1974 program (Mapper, Segment Generator,
 ** priorities, visible surfaces, a render of its own on ro, its core to ro->keep) or the
-** points engine (pt's scratch reused); then effects and halftone into a tube of its own,
+** points engine (pt's scratch reused); then effects and halftone into t (erased first),
 ** the machine model counting as in that frame, no hooks (a command's sink sees one
 ** picture). The pipeline's counters are the copy's; the background's display-time disk
 ** state starts afresh (and afresh again for the frame after these), so the statistics are
 ** those of one frame. */
 static int spare_frame(const struct pipeline *p0, const struct scene *s, const struct effects *e,
                        int engine, const struct render_opts *ro, int arith, struct points *pt,
-                       const struct vis_grid *g, double *secs, struct t74_error *err)
+                       const struct vis_grid *g, struct tube *t, double *secs,
+                       struct t74_error *err)
 {
   struct pipeline p = *p0;
   struct render r;
   memset(&r, 0, sizeof r);
   double t0 = now_seconds();
   if (p.scan) scan_display_reset(p.scan);
-  struct tube *t = tube_new();
-  if (!t) return t74_fail(err, T74_EIO, "out of host memory");
+  tube_erase(t);                            /* the job's spare tube, blank as a new one */
   p.hooks = NULL;
   p.out = tube_sink(t);
   p.tube_direct = t;
@@ -1429,7 +1429,6 @@ static int spare_frame(const struct pipeline *p0, const struct scene *s, const s
   }
   if (st == T74_OK && p.face) st = run_effects(&p, s, e, g, &fst, err);
   *secs = now_seconds() - t0;
-  tube_free(t);
   if (engine == JOB_ENGINE_1974) render_free(&r);   /* its core to ro->keep, for the next frame */
   return st;
 }
@@ -1563,8 +1562,13 @@ static int run_scene(const struct job *o, const struct job_hooks *h, uint32_t gr
        the last left in `keep`); the scene stays loaded */
     struct render_opts ro2 = ro;
     ro2.tables = NULL;
+    /* one tube for the spare frames, erased at each (a buffer: half a megabyte the host
+       would otherwise map and fault in afresh every frame) */
+    struct tube *spare = tube_new();
+    if (!spare) st = t74_fail(err, T74_EIO, "out of host memory");
     for (int k = 1; k < nframes && st == T74_OK; k++)
-      st = spare_frame(&p, s, &eff, engine, &ro2, o->arith, &pts, &g, &frame_t[k], err);
+      st = spare_frame(&p, s, &eff, engine, &ro2, o->arith, &pts, &g, spare, &frame_t[k], err);
+    tube_free(spare);
     if (st != T74_OK) { if (h && h->extra.point) sink_abort(&h->extra); goto done; }
     if (p.scan) scan_display_reset(p.scan);
   }

@@ -3,7 +3,7 @@
 */
 #include "effects/fx.h"
 
-#include <stdio.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "effects/aa.h"
@@ -20,12 +20,50 @@ bool fx_wanted(const struct effects *e, const struct scene *s)
   return false;
 }
 
+/* A name's hash over its first FX_NAME_MAX - 1 characters (as many as name[] keeps): its
+** length, then its bytes eight a step, the last step the eight ending at the last byte
+** (overlapping the step before) or, for a name under eight bytes, its bytes alone; *len set
+** to that length, *cut when the name has more. Equal names have equal hashes, so a hash
+** that differs rules a name out; one that agrees is confirmed by strcmp. */
+static uint64_t fx_name_hash(const char *name, size_t *len, bool *cut)
+{
+  const size_t n0 = strnlen(name, FX_NAME_MAX);
+  *cut = n0 > FX_NAME_MAX - 1;
+  const size_t n = *cut ? FX_NAME_MAX - 1 : n0;
+  *len = n;
+  uint64_t h = n * 0x9e3779b97f4a7c15u, w;
+  if (n < 8) {
+    w = 0;
+    for (size_t b = 0; b < n; b++) w |= (uint64_t)(uint8_t)name[b] << (8 * b);
+    h = (h ^ w) * 0x9e3779b97f4a7c15u;
+    return h ^ (h >> 29);
+  }
+  for (size_t at = 0; at + 8 < n; at += 8) {
+    memcpy(&w, name + at, 8);
+    h = (h ^ w) * 0x9e3779b97f4a7c15u;
+    h ^= h >> 29;
+  }
+  memcpy(&w, name + n - 8, 8);
+  h = (h ^ w) * 0x9e3779b97f4a7c15u;
+  return h ^ (h >> 29);
+}
+
 void fx_count(struct fx_stats *st, const char *name, double v, bool integer)
 {
-  for (int k = 0; k < st->n; k++)
-    if (!strcmp(st->name[k], name)) { st->value[k] += v; return; }
+  /* found by its hash, confirmed by strcmp (one strcmp a count, not one a name kept); a
+     name too long for name[] equals none kept (each is at most FX_NAME_MAX - 1) */
+  size_t len;
+  bool cut;
+  const uint64_t h = fx_name_hash(name, &len, &cut);
+  for (int k = 0; k < st->n && !cut; k++)
+    if (st->hash[k] == h && !strcmp(st->name[k], name)) {
+      st->value[k] += v;
+      return;
+    }
   if (st->n == FX_MAX_COUNTERS) return;
-  snprintf(st->name[st->n], FX_NAME_MAX, "%s", name);
+  memcpy(st->name[st->n], name, len);       /* cut as snprintf cut it */
+  st->name[st->n][len] = '\0';
+  st->hash[st->n] = h;                      /* the hash of the name kept */
   st->value[st->n] = v;
   st->integer[st->n] = integer;
   st->n++;

@@ -67,12 +67,14 @@ struct fx_frame {
 #define FX_MAX_COUNTERS 64
 #define FX_NAME_MAX 40
 
-/* Statistics an effect reports: named numbers, written into --stats as they are. */
+/* Statistics an effect reports: named numbers, written into --stats as they are. Only
+   fx_count adds to them (hash[] finds a name again with one string compared). */
 struct fx_stats {
   int n;
   char name[FX_MAX_COUNTERS][FX_NAME_MAX];
   double value[FX_MAX_COUNTERS];
   bool integer[FX_MAX_COUNTERS];    /* print as an integer */
+  uint64_t hash[FX_MAX_COUNTERS];   /* fx_name_hash of name[k] */
 };
 
 struct fx_model;
