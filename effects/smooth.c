@@ -2919,6 +2919,15 @@ void partial_split4(const struct smooth_model *m, const struct mapped *map, int 
 }
 #endif
 
+#ifdef PHONG_AVX
+/* Whether partial_row takes partial_row_zmm (AVX-512F and VL, not the tests' partial_ymm). */
+static inline bool rows_partial_zmm(const struct smooth_model *m)
+{
+  return !m->partial_ymm && __builtin_cpu_supports("avx512f") &&
+         __builtin_cpu_supports("avx512vl");
+}
+#endif
+
 /* smooth_row under smooth=fixed or prop: smooth_grey_run's partial smoothing, its steps
    each over the whole stretch (reflectance 1: flat) and each point with its own
    triangle's constants: the inner triangle's filter a triangle at a time (inner_split,
@@ -3191,6 +3200,37 @@ static PHONG_AVX_ATTR void partial_row_avx(const struct smooth_model *m,
   const int q = lit_quads(m, ns, S.nv, S.sg, S.slot_p, blocked, L, grey);
   if (q < ns) lit_row(m, q, ns, S.nv, S.sg, 1.0, S.slot_p, X, blocked, L, grey);
 }
+
+/* partial_row_avx built for AVX-512F and VL (chosen at run time where the processor has
+   them: rows_partial_zmm), the same C: the same 256-bit (and 128-bit and scalar) IEEE
+   operations on the same doubles in the same order, so the same greys, regions and
+   declines bit for bit (no fused multiply-add: the build's -ffp-contract=off; the
+   compares' predicates as they are, into mask registers or vectors alike; test_smooth
+   runs the rows both ways: test_row_is_single, test_row_band_pairs,
+   test_partial_row_lit_borders). What it gains: EVEX's 32 vector registers (the
+   triangle's 15 constants of inner_split4 and the lighting's held in registers, not
+   spilled to the stack and read back each step) and the mask registers for the
+   compares. Measured (round 42, this Zen 5 host, tools/ab_pairs.sh 15 pairs of 3000
+   frames, the whole process, in turn, median pair ratios of three runs): t1-c 0.965 -
+   0.988, t1-d 0.976 - 0.979, t1-e 0.965 - 0.991, t1-j 0.967 - 0.988 (one run 1.040, its
+   least times 0.953), t1-a 0.989 - 0.998; the phong scenes level. Tried and not kept:
+   inner_split4's steps without branches on the filter's answers (the lanes proved inner
+   by a masked store, the others packed by VCOMPRESSPD and stored four a store):
+   t1-e, t1-j, t1-c about +3% (slower). */
+static PHONG_ZMM_ATTR void partial_row_zmm(const struct smooth_model *m,
+                                           const struct mapped *map, int nseg, const int *tri,
+                                           const int *at, const double *xu, const double *xw,
+                                           const double (*X)[3], const unsigned *blocked,
+                                           const struct shade_lights *L, int *grey,
+                                           long regions[3])
+{
+  struct split sp;
+  struct slots S;
+  partial_split4(m, map, nseg, tri, at, xu, xw, blocked, grey, regions, &sp);
+  const int ns = partial_normals4(m, map, &sp, blocked, grey, regions, &S);
+  const int q = lit_quads(m, ns, S.nv, S.sg, S.slot_p, blocked, L, grey);
+  if (q < ns) lit_row(m, q, ns, S.nv, S.sg, 1.0, S.slot_p, X, blocked, L, grey);
+}
 #endif
 
 static void partial_row(const struct smooth_model *m, const struct mapped *map, int nseg,
@@ -3200,7 +3240,10 @@ static void partial_row(const struct smooth_model *m, const struct mapped *map, 
 {
 #ifdef PHONG_AVX
   if (rows_avx(m)) {
-    partial_row_avx(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
+    if (rows_partial_zmm(m))
+      partial_row_zmm(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
+    else
+      partial_row_avx(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
     return;
   }
 #endif

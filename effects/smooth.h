@@ -100,6 +100,10 @@ struct smooth_model {
   /* Tests only too: phong_ymm makes smooth_phong_row take its AVX rows four points a step
      where the processor has AVX-512F (not its eight-point rows: smooth.c, rows_zmm). */
   bool phong_ymm;
+  /* Tests only too: partial_ymm makes smooth_row and smooth_partial_row take the partial
+     smoothing's AVX rows built for AVX alone where the processor has AVX-512F and VL (not
+     the same rows built for AVX-512F and VL: smooth.c, rows_partial_zmm). */
+  bool partial_ymm;
   /* Tests only too: inner_exact gives every point of the partial smoothing its region by
      the exact chain, without the filter that finds the inner triangle's points (smooth.c,
      "The inner triangle's filter"); inner_declines, when set, counts the points the

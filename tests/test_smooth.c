@@ -712,7 +712,7 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
   if (L->e.smooth != EFFECTS_SMOOTH_PHONG && parallel && smooth_rows(&L->m, &L->e, lights)) {
     double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
     int gu[SMOOTH_ROW];
-    long ru[3] = { 0, 0, 0 }, rx[3] = { 0, 0, 0 }, dec_x = 0, dec_u = 0, lit_dec[2] = { 0, 0 };
+    long ru[3] = { 0, 0, 0 }, rx[3] = { 0, 0, 0 }, dec_x = 0, dec_u = 0, lit_dec[3] = { 0, 0, 0 };
     for (int k = 0; k < nseg; k++)
       for (int p = at[k]; p < at[k + 1]; p++) {
         xu[p] = X[p][L->m.tri[tri[k]].bu];
@@ -721,26 +721,28 @@ static int row_vs_single(struct lib *L, int nseg, const int *tri, const int *at,
     L->m.inner_declines = &dec_x;
     smooth_row(&L->m, &L->r.map, &L->e, nseg, tri, at, X, blocked, lights, gu, rx);
     L->m.inner_declines = NULL;
-    /* both of its builds: AVX's encoding (where the processor has it) and SSE2's
-       (rows_sse2) */
-    for (int way = 0; way < 2; way++) {
+    /* each of its builds: AVX-512F and VL's (where the processor has them), AVX's
+       (where it has AVX; AVX-512's processors: partial_ymm) and SSE2's (rows_sse2) */
+    for (int way = 0; way < 3; way++) {
       for (int r = 0; r < 3; r++) ru[r] = 0;
       dec_u = 0;
       for (int p = 0; p < at[nseg]; p++) gu[p] = -1;
       L->m.rows_sse2 = way == 1;
+      L->m.partial_ymm = way == 2;
       L->m.inner_declines = &dec_u;
       L->m.lit_declines = &lit_dec[way];
       smooth_partial_row(&L->m, &L->r.map, nseg, tri, at, xu, xw, blocked, lights, gu, ru);
       L->m.inner_declines = NULL;
       L->m.lit_declines = NULL;
-      L->m.rows_sse2 = false;
+      L->m.rows_sse2 = L->m.partial_ymm = false;
       for (int k = 0; k < nseg; k++)
         for (int p = at[k]; p < at[k + 1]; p++)
           differ += gu[p] != g[p];
       for (int r = 0; r < 3; r++) differ += ru[r] != regions[r];
       differ += dec_u != dec_x;
     }
-    differ += lit_dec[0] != lit_dec[1];     /* the lit pairs' filter declines the same pairs */
+    /* the lit pairs' filter declines the same pairs */
+    differ += (lit_dec[0] != lit_dec[1]) + (lit_dec[0] != lit_dec[2]);
   }
   if (L->e.smooth == EFFECTS_SMOOTH_PHONG && parallel && smooth_rows(&L->m, &L->e, lights)) {
     double xu[SMOOTH_ROW], xw[SMOOTH_ROW];
@@ -2034,21 +2036,24 @@ static void test_partial_row_lit_borders(void **state)
             xu[p] = X[p][L.m.tri[t].bu];
             xw[p] = X[p][L.m.tri[t].bw];
           }
-          long dec[2] = { 0, 0 };
-          for (int way = 0; way < 2; way++) {  /* AVX (where the processor has it), SSE2 */
+          long dec[3] = { 0, 0, 0 };
+          /* AVX-512F and VL's build, AVX's (partial_ymm; each where the processor has
+             it), SSE2's */
+          for (int way = 0; way < 3; way++) {
             int g[SMOOTH_ROW];
             long regions[3] = { 0, 0, 0 };
             L.m.rows_sse2 = way == 1;
+            L.m.partial_ymm = way == 2;
             L.m.lit_declines = &dec[way];
             smooth_partial_row(&L.m, &L.r.map, 1, tri, at, xu, xw, blocked, &lights, g,
                                regions);
             L.m.lit_declines = NULL;
-            L.m.rows_sse2 = false;
+            L.m.rows_sse2 = L.m.partial_ymm = false;
             for (int p = 0; p < n; p++)
               differ += g[p] != smooth_grey_at(&L.m, &L.r.map, L.s, &L.e, t, X[p], 1.0, 0,
                                                &lights, NULL, NULL);
           }
-          differ += dec[0] != dec[1];
+          differ += (dec[0] != dec[1]) + (dec[0] != dec[2]);
           declined_rows += dec[0] > 0;
           rows++;
           points += n;
