@@ -3186,12 +3186,12 @@ static void partial_row_sse2(const struct smooth_model *m, const struct mapped *
 }
 
 #ifdef PHONG_AVX
-static PHONG_AVX_ATTR void partial_row_avx(const struct smooth_model *m,
-                                           const struct mapped *map, int nseg, const int *tri,
-                                           const int *at, const double *xu, const double *xw,
-                                           const double (*X)[3], const unsigned *blocked,
-                                           const struct shade_lights *L, int *grey,
-                                           long regions[3])
+/* The AVX build's steps, built into partial_row_avx and partial_row_zmm. */
+static inline __attribute__((always_inline)) PHONG_AVX_ATTR
+void partial_row_vex(const struct smooth_model *m, const struct mapped *map, int nseg,
+                     const int *tri, const int *at, const double *xu, const double *xw,
+                     const double (*X)[3], const unsigned *blocked,
+                     const struct shade_lights *L, int *grey, long regions[3])
 {
   struct split sp;
   struct slots S;
@@ -3201,7 +3201,17 @@ static PHONG_AVX_ATTR void partial_row_avx(const struct smooth_model *m,
   if (q < ns) lit_row(m, q, ns, S.nv, S.sg, 1.0, S.slot_p, X, blocked, L, grey);
 }
 
-/* partial_row_avx built for AVX-512F and VL (chosen at run time where the processor has
+static PHONG_AVX_ATTR void partial_row_avx(const struct smooth_model *m,
+                                           const struct mapped *map, int nseg, const int *tri,
+                                           const int *at, const double *xu, const double *xw,
+                                           const double (*X)[3], const unsigned *blocked,
+                                           const struct shade_lights *L, int *grey,
+                                           long regions[3])
+{
+  partial_row_vex(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
+}
+
+/* partial_row_vex built for AVX-512F and VL (chosen at run time where the processor has
    them: rows_partial_zmm), the same C: the same 256-bit (and 128-bit and scalar) IEEE
    operations on the same doubles in the same order, so the same greys, regions and
    declines bit for bit (no fused multiply-add: the build's -ffp-contract=off; the
@@ -3224,12 +3234,7 @@ static PHONG_ZMM_ATTR void partial_row_zmm(const struct smooth_model *m,
                                            const struct shade_lights *L, int *grey,
                                            long regions[3])
 {
-  struct split sp;
-  struct slots S;
-  partial_split4(m, map, nseg, tri, at, xu, xw, blocked, grey, regions, &sp);
-  const int ns = partial_normals4(m, map, &sp, blocked, grey, regions, &S);
-  const int q = lit_quads(m, ns, S.nv, S.sg, S.slot_p, blocked, L, grey);
-  if (q < ns) lit_row(m, q, ns, S.nv, S.sg, 1.0, S.slot_p, X, blocked, L, grey);
+  partial_row_vex(m, map, nseg, tri, at, xu, xw, X, blocked, L, grey, regions);
 }
 #endif
 
