@@ -2281,15 +2281,20 @@ static inline bool cut_index(struct gpoint p0, struct gpoint p1, int64_t yn, int
   /* cross_edge's line (poly.c): la, lb, lc within 64 bits on the grid (geom.h) */
   const int64_t la = p0.y - p1.y, lb = p1.x - p0.x, lc = -(la * p0.x + lb * p0.y);
   int64_t t0, t1, M, D, P, Q;
-  if ((int)__builtin_mul_overflow(lb, yn, &t0) | (int)__builtin_mul_overflow(lc, yd, &t1) |
-      (int)__builtin_add_overflow(t0, t1, &M) | (int)__builtin_mul_overflow(la, yd, &D))
-    return false;
-  if (M == INT64_MIN || D == INT64_MIN) return false;
+  /* the overflow tests without branches, each its own statement: a value one writes
+     another reads, and operands of | are not sequenced (a call's are indeterminately) */
+  bool o = __builtin_mul_overflow(lb, yn, &t0);
+  o |= __builtin_mul_overflow(lc, yd, &t1);
+  o |= __builtin_add_overflow(t0, t1, &M);
+  o |= __builtin_mul_overflow(la, yd, &D);
+  if (o || M == INT64_MIN || D == INT64_MIN) return false;
   const int64_t N = D < 0 ? M : -M;         /* N = -M, both signs changed where D < 0 */
   D = D < 0 ? -D : D;
-  if ((int)__builtin_mul_overflow(N, xd, &t0) | (int)__builtin_mul_overflow(D, Gc, &t1) |
-      (int)__builtin_sub_overflow(t0, t1, &P) | (int)__builtin_mul_overflow(D, Q1, &Q))
-    return false;
+  o = __builtin_mul_overflow(N, xd, &t0);
+  o |= __builtin_mul_overflow(D, Gc, &t1);
+  o |= __builtin_sub_overflow(t0, t1, &P);
+  o |= __builtin_mul_overflow(D, Q1, &Q);
+  if (o) return false;
   /* ceil(P / Q), Q > 0: C's quotient truncates toward 0, the ceiling for P <= 0 and the
      floor for P > 0, one less than the ceiling there when the rest is not 0 */
   const int64_t i = P / Q + (P % Q > 0);
@@ -2389,11 +2394,13 @@ static int cut_bits(struct fx_lines *L, int q, int64_t yn, int64_t yd, int64_t f
   const int64_t S = (int64_t)win[2] - win[0];
   *made = false;
   int64_t t0, t1, c, Gc, Q1;
-  if (xd <= 0 || yd <= 0 || k0 <= -((int64_t)1 << 40) || k0 >= (int64_t)1 << 40 ||
-      ((int)__builtin_mul_overflow(xd, (int64_t)win[0], &t0) |
-       (int)__builtin_mul_overflow(2 * k0 + 1, S, &t1) | (int)__builtin_add_overflow(t0, t1, &c) |
-       (int)__builtin_mul_overflow(GRID_ONE, c, &Gc) | (int)__builtin_mul_overflow(2 * GRID_ONE, S, &Q1)))
-    return T74_OK;
+  if (xd <= 0 || yd <= 0 || k0 <= -((int64_t)1 << 40) || k0 >= (int64_t)1 << 40) return T74_OK;
+  bool o = __builtin_mul_overflow(xd, (int64_t)win[0], &t0);   /* each its own statement */
+  o |= __builtin_mul_overflow(2 * k0 + 1, S, &t1);             /* (as cut_index's) */
+  o |= __builtin_add_overflow(t0, t1, &c);
+  o |= __builtin_mul_overflow(GRID_ONE, c, &Gc);
+  o |= __builtin_mul_overflow(2 * GRID_ONE, S, &Q1);
+  if (o) return T74_OK;
   const int nw = (n + 63) / 64;
   if (!t74_grow((void **)&L->cutbit, &L->cutbitcap, (size_t)nw, sizeof *L->cutbit))
     return t74_fail(err, T74_EIO, "out of host memory");
