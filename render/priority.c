@@ -227,9 +227,8 @@ static inline unsigned tag_walk(const struct prio *pr, const uint16_t *top, uint
       continue;
     }
     if (low && !(e >> p & 1u)) { l++; s++; continue; }       /* its i above 2^16 */
-                                                             /* the table must tell */
     uint64_t pl;
-    int found = slot_probe(top, s, i, j, &pl);
+    int found = slot_probe(top, s, i, j, &pl);               /* the table must tell */
     l += pl;
     if (found) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; goto done; }
     s++;
@@ -242,9 +241,8 @@ static inline unsigned tag_walk(const struct prio *pr, const uint16_t *top, uint
       if (t & q & TAG_LOW) { l += 2; continue; }        /* i differs, both below 2^16 */
       if ((t ^ q) & TAG_LOW) { l += 1; continue; }       /* one above 2^16, one below */
     }
-                                                       /* the table must tell */
     uint64_t pl;
-    int stop = slot_probe(top, s, i, j, &pl);
+    int stop = slot_probe(top, s, i, j, &pl);         /* the table must tell */
     l += pl;
     if (stop) { code = top[-(int64_t)(s * SLOT_WORDS)] >> 14; goto done; }
   }
